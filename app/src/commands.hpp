@@ -1,0 +1,18 @@
+// app/src/commands.hpp: each subcommand registers itself on the CLI11 app.
+// A register function adds the subcommand and its options and sets a callback that
+// does the work; callbacks throw engine::Error on bad input, which main() reports.
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace app {
+
+void registerGenerate(CLI::App& cli);   // cmd_generate.cpp: `ladarvr generate`
+void registerMetric(CLI::App& cli);     // cmd_metric.cpp:   `ladarvr metric`
+void registerView(CLI::App& cli);       // cmd_view.cpp:     `ladarvr view`
+
+// `ladarvr bench WHAT`: benchmark programs (not tests); each adds one sub-subcommand.
+void registerBenchGenerate(CLI::App& bench);  // bench_generate.cpp
+void registerBenchMetric(CLI::App& bench);    // bench_metric.cpp
+void registerBenchView(CLI::App& bench);      // bench_view.cpp
+
+}  // namespace app

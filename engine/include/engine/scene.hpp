@@ -1,0 +1,83 @@
+// engine/scene.hpp: a scene is a list of meshes with roles, loaded from a JSON file.
+//
+// Scene file (JSON):
+//   {
+//     "origin": [x, y, z],          // optional, world metres (double); the local frame's
+//                                   // origin. Default: the first mesh's position.
+//     "meshes": [
+//       { "file": "house.obj",      // any format Assimp reads, relative to the scene file
+//         "role": "environment",    // ground | environment | target
+//         "position": [x, y, z],    // world metres, default [0,0,0]
+//         "yaw_deg": 0,             // rotation about world z, default 0
+//         "scale": 1,               // > 0, default 1
+//         "up": "z" }               // the mesh file's own up axis: y | z, default z
+//     ]
+//   }
+// World vertex = position + Rz(yaw) * scale * (up == y ? (x, -z, y) : (x, y, z)).
+// Unknown keys are errors (they are usually typos).
+#pragma once
+#include <engine/frames.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace engine {
+
+enum class Role : std::uint8_t { Ground = 0, Environment = 1, Target = 2 };
+inline constexpr int kRoleCount = 3;
+
+/// "ground", "environment" or "target".
+std::string_view roleName(Role r);
+/// Parses a role name; throws Error("<context>: role 'x' is not one of ground, environment, target").
+Role parseRole(std::string_view name, std::string_view context);
+
+/// A set of roles as a bit mask (bit i = Role i).
+struct RoleMask {
+    std::uint8_t bits = 0b111;
+    bool has(Role r) const { return (bits >> static_cast<int>(r)) & 1u; }
+    static RoleMask all() { return {}; }
+    static RoleMask of(std::initializer_list<Role> roles);
+    /// Parses "target,environment"; throws Error naming `parameter` on an unknown or empty list.
+    static RoleMask parse(std::string_view list, std::string_view parameter);
+};
+
+/// One triangle mesh in the scene's local frame (world - origin).
+struct Mesh {
+    std::string name;                        // the file name as written in the scene
+    Role role = Role::Environment;
+    std::vector<glm::vec3> vertices;         // local frame, metres
+    std::vector<glm::uvec3> triangles;       // indices into vertices
+};
+
+struct Scene {
+    std::filesystem::path source;            // the scene file, for messages
+    glm::dvec3 origin{0.0};                  // world coordinates of the local frame's origin
+    std::vector<Mesh> meshes;
+    std::size_t skipped_triangles = 0;       // zero-area triangles dropped at load
+
+    /// Bounds (local frame) of the meshes whose role is in `roles`; empty if none.
+    Bounds bounds(RoleMask roles = RoleMask::all()) const;
+    std::size_t triangleCount() const;
+    bool hasRole(Role r) const;
+};
+
+struct SceneLoadOptions {
+    /// Meshes whose role is not in this set are not loaded at all (--roles).
+    RoleMask roles = RoleMask::all();
+    /// Require at least one target mesh in the file (the generator's default).
+    bool require_target = true;
+};
+
+/// Loads and validates a scene file. Throws Error("scene: <file>: ...") naming the file
+/// (scene or mesh) and the reason for: unreadable JSON, unknown key, wrong type, missing
+/// or unreadable mesh, NaN vertices, unknown role, no target, non-finite transform,
+/// non-positive scale. Zero-area triangles are dropped and counted in skipped_triangles.
+Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& options = {});
+
+/// The bundled demo scene (assets/demo/scene.json in the source tree, or installed copy).
+std::filesystem::path demoScenePath();
+
+}  // namespace engine
