@@ -1,0 +1,81 @@
+// render/point_splat.hpp: draws point clouds as square splats of a fixed size in pixels.
+//
+// Shared by the metric (white binary images, paper §IV-B) and the viewer. Points are
+// binned into spatial chunks; each chunk stores float positions relative to its own
+// centre and is drawn with a model-view-projection computed in double precision, so
+// large coordinates never jitter (camera-relative rendering). Chunks whose bounds miss
+// the view frustum are skipped.
+#pragma once
+#include <engine/point_cloud.hpp>
+#include <render/gl.hpp>
+#include <render/shader.hpp>
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace render {
+
+struct SplatStyle {
+    float point_size_px = 1.0f;          // side of the square splat, pixels (>= 1)
+    bool use_point_colours = false;      // true: each point's rgb; false: `colour`
+    glm::vec4 colour{1.0f, 1.0f, 1.0f, 1.0f};
+};
+
+struct SplatDrawStats {
+    std::size_t chunks_drawn = 0;
+    std::size_t chunks_culled = 0;
+    std::size_t points_drawn = 0;
+};
+
+/// GPU point storage + draw. Needs a current GL 4.5 context for its whole life (create,
+/// use and destroy it on the thread where the context is current).
+class PointSplatRenderer {
+public:
+    /// Compiles the splat program; throws engine::Error("shader: ...") on failure.
+    PointSplatRenderer();
+    ~PointSplatRenderer();
+    PointSplatRenderer(const PointSplatRenderer&) = delete;
+    PointSplatRenderer& operator=(const PointSplatRenderer&) = delete;
+
+    /// Replaces the stored points by `cloud`'s, binned into cubic cells of `chunk_size_m`
+    /// (local frame) so that frustum culling can skip whole cells.
+    void setCloud(const engine::PointCloud& cloud, double chunk_size_m = 16.0);
+    /// Appends `points` (local frame of the cloud being streamed) as one more chunk, for
+    /// streaming; the chunk's bounds are computed from its points. Empty spans are ignored.
+    void appendChunk(std::span<const engine::CloudPoint> points);
+    /// Drops every stored point.
+    void clear();
+
+    std::size_t pointCount() const { return point_count_; }
+    std::size_t chunkCount() const { return chunks_.size(); }
+    /// Local-frame bounds of every stored point.
+    const engine::Bounds& bounds() const { return bounds_; }
+
+    /// Draws the stored points into the current framebuffer and viewport with
+    /// `projection * view` (local frame, double precision). With `cull`, chunks outside
+    /// that frustum are skipped. Leaves the depth/blend state to the caller; enables
+    /// GL_PROGRAM_POINT_SIZE. Never throws.
+    SplatDrawStats draw(const glm::dmat4& view, const glm::dmat4& projection, const SplatStyle& style,
+                        bool cull = true) const;
+
+private:
+    struct Chunk {
+        GLuint buffer = 0;
+        GLsizei count = 0;
+        glm::dvec3 centre{0.0};
+        engine::Bounds bounds;
+    };
+    void upload(std::span<const engine::CloudPoint> points, const engine::Bounds& bounds);
+
+    Program program_;
+    GLuint vao_ = 0;
+    GLint u_mvp_ = -1, u_point_size_ = -1, u_colour_ = -1, u_use_point_colours_ = -1;
+    std::vector<Chunk> chunks_;
+    std::size_t point_count_ = 0;
+    engine::Bounds bounds_;
+};
+
+}  // namespace render

@@ -1,0 +1,160 @@
+// render/src/point_splat.cpp: chunked, camera-relative square point splats.
+#include <render/point_splat.hpp>
+#include <render/orbit_camera.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+
+namespace render {
+namespace {
+
+constexpr const char* kVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 a_position;   // relative to the chunk centre
+layout(location = 1) in vec4 a_colour;     // 0x00RRGGBB read as BGRA bytes
+uniform mat4 u_mvp;                        // projection * view * translate(chunk centre)
+uniform float u_point_size;
+uniform vec4 u_colour;
+uniform bool u_use_point_colours;
+out vec4 v_colour;
+void main() {
+    gl_Position = u_mvp * vec4(a_position, 1.0);
+    gl_PointSize = u_point_size;
+    v_colour = u_use_point_colours ? vec4(a_colour.rgb, 1.0) : u_colour;
+}
+)";
+
+constexpr const char* kFragmentShader = R"(#version 450 core
+in vec4 v_colour;
+layout(location = 0) out vec4 f_colour;
+void main() { f_colour = v_colour; }
+)";
+
+struct GpuPoint {
+    glm::vec3 position;
+    std::uint32_t rgb;
+};
+static_assert(sizeof(GpuPoint) == 16);
+
+constexpr std::size_t kMaxChunkPoints = 1u << 18;  // keeps culling useful in dense cells
+
+}  // namespace
+
+PointSplatRenderer::PointSplatRenderer()
+    : program_("point-splat", {{GL_VERTEX_SHADER, kVertexShader}, {GL_FRAGMENT_SHADER, kFragmentShader}}) {
+    u_mvp_ = program_.uniform("u_mvp");
+    u_point_size_ = program_.uniform("u_point_size");
+    u_colour_ = program_.uniform("u_colour");
+    u_use_point_colours_ = program_.uniform("u_use_point_colours");
+    GL_CHECK(glCreateVertexArrays(1, &vao_));
+    glEnableVertexArrayAttrib(vao_, 0);
+    glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, offsetof(GpuPoint, position));
+    glVertexArrayAttribBinding(vao_, 0, 0);
+    glEnableVertexArrayAttrib(vao_, 1);
+    GL_CHECK(glVertexArrayAttribFormat(vao_, 1, GL_BGRA, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(GpuPoint, rgb)));
+    glVertexArrayAttribBinding(vao_, 1, 0);
+}
+
+PointSplatRenderer::~PointSplatRenderer() {
+    clear();
+    if (vao_) glDeleteVertexArrays(1, &vao_);
+}
+
+void PointSplatRenderer::clear() {
+    for (Chunk& c : chunks_) glDeleteBuffers(1, &c.buffer);
+    chunks_.clear();
+    point_count_ = 0;
+    bounds_ = {};
+}
+
+void PointSplatRenderer::upload(std::span<const engine::CloudPoint> points, const engine::Bounds& bounds) {
+    Chunk chunk;
+    chunk.bounds = bounds;
+    chunk.centre = bounds.centre();
+    chunk.count = static_cast<GLsizei>(points.size());
+    std::vector<GpuPoint> data(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        data[i].position = glm::vec3(glm::dvec3(points[i].position) - chunk.centre);
+        data[i].rgb = points[i].rgb;
+    }
+    GL_CHECK(glCreateBuffers(1, &chunk.buffer));
+    GL_CHECK(glNamedBufferStorage(chunk.buffer, static_cast<GLsizeiptr>(data.size() * sizeof(GpuPoint)),
+                                  data.data(), 0));
+    chunks_.push_back(chunk);
+    point_count_ += points.size();
+    bounds_.extend(bounds);
+}
+
+void PointSplatRenderer::appendChunk(std::span<const engine::CloudPoint> points) {
+    for (std::size_t start = 0; start < points.size(); start += kMaxChunkPoints) {
+        const auto part = points.subspan(start, std::min(kMaxChunkPoints, points.size() - start));
+        engine::Bounds b;
+        for (const auto& p : part) b.extend(glm::dvec3(p.position));
+        upload(part, b);
+    }
+}
+
+void PointSplatRenderer::setCloud(const engine::PointCloud& cloud, double chunk_size_m) {
+    clear();
+    if (cloud.points.empty()) return;
+    if (!(chunk_size_m > 0.0)) chunk_size_m = 16.0;
+    // Bin into cells, then upload each cell (split if it is very dense).
+    struct Key {
+        std::int64_t x, y, z;
+        bool operator==(const Key&) const = default;
+    };
+    struct KeyHash {
+        std::size_t operator()(const Key& k) const {
+            return std::hash<std::int64_t>()(k.x * 73856093 ^ k.y * 19349663 ^ k.z * 83492791);
+        }
+    };
+    std::unordered_map<Key, std::vector<std::uint32_t>, KeyHash> cells;
+    for (std::uint32_t i = 0; i < cloud.points.size(); ++i) {
+        const glm::vec3& p = cloud.points[i].position;
+        const Key k{static_cast<std::int64_t>(std::floor(p.x / chunk_size_m)),
+                    static_cast<std::int64_t>(std::floor(p.y / chunk_size_m)),
+                    static_cast<std::int64_t>(std::floor(p.z / chunk_size_m))};
+        cells[k].push_back(i);
+    }
+    std::vector<engine::CloudPoint> buffer;
+    for (auto& [key, indices] : cells) {
+        buffer.clear();
+        for (std::uint32_t i : indices) buffer.push_back(cloud.points[i]);
+        appendChunk(buffer);
+    }
+}
+
+SplatDrawStats PointSplatRenderer::draw(const glm::dmat4& view, const glm::dmat4& projection,
+                                        const SplatStyle& style, bool cull) const {
+    SplatDrawStats stats;
+    if (chunks_.empty()) return stats;
+    const glm::dmat4 view_projection = projection * view;
+    const Frustum frustum = Frustum::fromMatrix(view_projection);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glUseProgram(program_.id());
+    glUniform1f(u_point_size_, std::max(1.0f, style.point_size_px));
+    glUniform4fv(u_colour_, 1, &style.colour[0]);
+    glUniform1i(u_use_point_colours_, style.use_point_colours ? 1 : 0);
+    glBindVertexArray(vao_);
+    for (const Chunk& c : chunks_) {
+        if (cull && !frustum.intersects(c.bounds)) {
+            ++stats.chunks_culled;
+            continue;
+        }
+        // The translation to the chunk centre is folded in double precision, so the
+        // float positions stay small: no jitter far from the origin.
+        glm::dmat4 model(1.0);
+        model[3] = glm::dvec4(c.centre, 1.0);
+        const glm::mat4 mvp(view_projection * model);
+        glUniformMatrix4fv(u_mvp_, 1, GL_FALSE, &mvp[0][0]);
+        glVertexArrayVertexBuffer(vao_, 0, c.buffer, 0, sizeof(GpuPoint));
+        glDrawArrays(GL_POINTS, 0, c.count);
+        ++stats.chunks_drawn;
+        stats.points_drawn += static_cast<std::size_t>(c.count);
+    }
+    glBindVertexArray(0);
+    return stats;
+}
+
+}  // namespace render
