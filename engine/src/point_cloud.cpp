@@ -1,1 +1,12 @@
-// point_cloud: being written.
+// point_cloud: the fused cloud in memory.
+#include <engine/point_cloud.hpp>
+
+namespace engine {
+
+Bounds PointCloud::bounds() const {
+    Bounds b;
+    for (const CloudPoint& p : points) b.extend(glm::dvec3(p.position));
+    return b;
+}
+
+}  // namespace engine

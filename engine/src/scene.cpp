@@ -1,1 +1,382 @@
-// scene: being written.
+// scene: roles, and loading a JSON scene file whose meshes Assimp reads.
+// Every problem with a scene becomes one Error line naming the scene file, the mesh
+// entry and what is allowed (see docs/scene.md for the list).
+#include <engine/error.hpp>
+#include <engine/scene.hpp>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <system_error>
+
+namespace engine {
+
+namespace {
+
+constexpr const char* kRoleList = "ground, environment, target";
+
+std::string formatDouble(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+    return s;
+}
+
+}  // namespace
+
+std::string_view roleName(Role r) {
+    switch (r) {
+        case Role::Ground: return "ground";
+        case Role::Environment: return "environment";
+        case Role::Target: return "target";
+    }
+    return "unknown";
+}
+
+Role parseRole(std::string_view name, std::string_view context) {
+    if (name == "ground") return Role::Ground;
+    if (name == "environment") return Role::Environment;
+    if (name == "target") return Role::Target;
+    throw Error(std::string(context) + ": role '" + std::string(name) + "' is not one of " +
+                kRoleList);
+}
+
+RoleMask RoleMask::of(std::initializer_list<Role> roles) {
+    RoleMask m;
+    m.bits = 0;
+    for (Role r : roles) m.bits |= std::uint8_t(1u << static_cast<int>(r));
+    return m;
+}
+
+RoleMask RoleMask::parse(std::string_view list, std::string_view parameter) {
+    RoleMask m;
+    m.bits = 0;
+    std::string_view rest = list;
+    while (true) {
+        const std::size_t comma = rest.find(',');
+        const std::string_view item = trim(rest.substr(0, comma));
+        if (item.empty())
+            throw Error(std::string(parameter) + ": empty role in '" + std::string(list) +
+                        "'; allowed: a comma-separated list of " + kRoleList);
+        m.bits |= std::uint8_t(1u << static_cast<int>(parseRole(item, parameter)));
+        if (comma == std::string_view::npos) break;
+        rest = rest.substr(comma + 1);
+    }
+    return m;
+}
+
+Bounds Scene::bounds(RoleMask roles) const {
+    Bounds b;
+    for (const Mesh& m : meshes) {
+        if (!roles.has(m.role)) continue;
+        for (const glm::vec3& v : m.vertices) b.extend(glm::dvec3(v));
+    }
+    return b;
+}
+
+std::size_t Scene::triangleCount() const {
+    std::size_t n = 0;
+    for (const Mesh& m : meshes) n += m.triangles.size();
+    return n;
+}
+
+bool Scene::hasRole(Role r) const {
+    for (const Mesh& m : meshes)
+        if (m.role == r) return true;
+    return false;
+}
+
+namespace {
+
+using nlohmann::json;
+
+// One mesh file as read (file coordinates, before the entry's transform).
+struct RawMesh {
+    std::vector<glm::dvec3> vertices;
+    std::vector<glm::uvec3> triangles;
+};
+
+struct Entry {
+    std::string file;
+    Role role = Role::Environment;
+    glm::dvec3 position{0.0};
+    double yaw_deg = 0.0;
+    double scale = 1.0;
+    bool up_y = false;
+};
+
+std::string jsonTypeName(const json& v) { return v.type_name(); }
+
+double finiteNumber(const json& v, const std::string& where, const std::string& key,
+                    const std::string& allowed) {
+    if (!v.is_number())
+        throw Error(where + ": '" + key + "' must be " + allowed + ", not a " + jsonTypeName(v));
+    const double d = v.get<double>();
+    if (!std::isfinite(d))
+        throw Error(where + ": '" + key + "' is not finite; allowed: " + allowed);
+    return d;
+}
+
+glm::dvec3 vec3Field(const json& v, const std::string& where, const std::string& key) {
+    if (!v.is_array() || v.size() != 3)
+        throw Error(where + ": '" + key + "' must be an array of 3 finite numbers [x, y, z] (metres)");
+    glm::dvec3 out;
+    for (int i = 0; i < 3; ++i) {
+        if (!v[i].is_number())
+            throw Error(where + ": '" + key + "' must be an array of 3 finite numbers [x, y, z] "
+                        "(metres); element " + std::to_string(i) + " is a " + jsonTypeName(v[i]));
+        out[i] = v[i].get<double>();
+        if (!std::isfinite(out[i]))
+            throw Error(where + ": '" + key + "' element " + std::to_string(i) +
+                        " is not finite; allowed: finite numbers (metres)");
+    }
+    return out;
+}
+
+Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index) {
+    std::string where = scene_name + ": meshes[" + std::to_string(index) + "]";
+    if (!j.is_object())
+        throw Error(where + ": a mesh entry must be a JSON object with 'file' and 'role', not a " +
+                    jsonTypeName(j));
+    Entry e;
+    // 'file' first so every later message can name it.
+    const auto file_it = j.find("file");
+    if (file_it == j.end())
+        throw Error(where + ": 'file' is missing; it names a mesh file relative to the scene file");
+    if (!file_it->is_string() || file_it->get<std::string>().empty())
+        throw Error(where + ": 'file' must be a non-empty string (a mesh file relative to the "
+                    "scene file), not a " + jsonTypeName(*file_it));
+    e.file = file_it->get<std::string>();
+    where += " ('" + e.file + "')";
+
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        const std::string& key = it.key();
+        const json& v = it.value();
+        if (key == "file" || key == "comment") {
+            if (key == "comment" && !v.is_string())
+                throw Error(where + ": 'comment' must be a string");
+        } else if (key == "role") {
+            if (!v.is_string())
+                throw Error(where + ": 'role' must be a string, one of " + std::string(kRoleList));
+            e.role = parseRole(v.get<std::string>(), where);
+        } else if (key == "position") {
+            e.position = vec3Field(v, where, key);
+        } else if (key == "yaw_deg") {
+            e.yaw_deg = finiteNumber(v, where, key, "a finite number (degrees)");
+        } else if (key == "scale") {
+            e.scale = finiteNumber(v, where, key, "a finite number > 0");
+            if (!(e.scale > 0.0))
+                throw Error(where + ": 'scale' is " + formatDouble(e.scale) +
+                            "; allowed: a finite number > 0");
+        } else if (key == "up") {
+            if (!v.is_string())
+                throw Error(where + ": 'up' must be the string \"y\" or \"z\", not a " +
+                            jsonTypeName(v));
+            const std::string up = v.get<std::string>();
+            if (up != "y" && up != "z")
+                throw Error(where + ": 'up' is '" + up + "'; allowed: y, z");
+            e.up_y = up == "y";
+        } else {
+            throw Error(where + ": unknown key '" + key +
+                        "'; allowed keys: file, role, position, yaw_deg, scale, up, comment");
+        }
+    }
+    if (j.find("role") == j.end())
+        throw Error(where + ": 'role' is missing; allowed: " + std::string(kRoleList));
+    return e;
+}
+
+// Reads a mesh file with Assimp into file coordinates; all meshes of the file merged,
+// node transforms applied (PreTransformVertices).
+RawMesh importMesh(const std::filesystem::path& path, const std::string& where) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::exists(path, ec))
+        throw Error(where + ": mesh file '" + path.string() + "' does not exist");
+    if (!fs::is_regular_file(path, ec))
+        throw Error(where + ": mesh file '" + path.string() + "' is not a regular file");
+    {
+        std::ifstream probe(path, std::ios::binary);
+        if (!probe)
+            throw Error(where + ": mesh file '" + path.string() + "' cannot be read");
+    }
+    Assimp::Importer importer;
+    // Points and lines carry no surface: have Assimp drop them.
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    const aiScene* ai = importer.ReadFile(
+        path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_PreTransformVertices | aiProcess_SortByPType);
+    if (!ai) {
+        std::string reason = importer.GetErrorString();
+        for (char& c : reason)
+            if (c == '\n' || c == '\r') c = ' ';
+        throw Error(where + ": Assimp cannot import mesh file '" + path.string() + "': " +
+                    reason + "; allowed: a triangle mesh in a format Assimp reads (OBJ, PLY, "
+                    "glTF/GLB, AC3D, ...)");
+    }
+    RawMesh raw;
+    for (unsigned mi = 0; mi < ai->mNumMeshes; ++mi) {
+        const aiMesh* m = ai->mMeshes[mi];
+        if (!m || !m->mVertices) continue;
+        const std::size_t base = raw.vertices.size();
+        for (unsigned vi = 0; vi < m->mNumVertices; ++vi) {
+            const aiVector3D& v = m->mVertices[vi];
+            if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+                throw Error(where + ": mesh file '" + path.string() + "': vertex " +
+                            std::to_string(base + vi) + " is not finite (" + formatDouble(v.x) +
+                            ", " + formatDouble(v.y) + ", " + formatDouble(v.z) +
+                            "); allowed: finite coordinates");
+            raw.vertices.emplace_back(v.x, v.y, v.z);
+        }
+        for (unsigned fi = 0; fi < m->mNumFaces; ++fi) {
+            const aiFace& f = m->mFaces[fi];
+            if (f.mNumIndices != 3) continue;
+            if (f.mIndices[0] >= m->mNumVertices || f.mIndices[1] >= m->mNumVertices ||
+                f.mIndices[2] >= m->mNumVertices)
+                throw Error(where + ": mesh file '" + path.string() + "': face " +
+                            std::to_string(fi) + " indexes a vertex that does not exist");
+            raw.triangles.emplace_back(unsigned(base) + f.mIndices[0], unsigned(base) + f.mIndices[1],
+                                       unsigned(base) + f.mIndices[2]);
+        }
+    }
+    if (raw.triangles.empty())
+        throw Error(where + ": mesh file '" + path.string() +
+                    "' contains no triangles; allowed: a mesh with at least one face");
+    return raw;
+}
+
+}  // namespace
+
+Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& options) {
+    namespace fs = std::filesystem;
+    const std::string name = "scene: " + file.string();
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throw Error(name + ": the scene file does not exist");
+    if (!fs::is_regular_file(file, ec)) throw Error(name + ": is not a regular file");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw Error(name + ": the scene file cannot be read");
+    std::stringstream text;
+    text << in.rdbuf();
+
+    json root;
+    try {
+        root = json::parse(text.str());
+    } catch (const json::parse_error& e) {
+        std::string what = e.what();
+        // "[json.exception.parse_error.101] parse error at line 3, column 5: ..." -> keep the tail.
+        const std::size_t at = what.find("parse error");
+        if (at != std::string::npos) what = what.substr(at);
+        throw Error(name + ": JSON syntax error: " + what);
+    }
+    if (!root.is_object())
+        throw Error(name + ": the top level must be a JSON object with 'meshes', not a " +
+                    jsonTypeName(root));
+
+    Scene scene;
+    scene.source = file;
+    bool has_origin = false;
+    const json* meshes = nullptr;
+    for (auto it = root.begin(); it != root.end(); ++it) {
+        if (it.key() == "origin") {
+            scene.origin = vec3Field(it.value(), name, "origin");
+            has_origin = true;
+        } else if (it.key() == "meshes") {
+            meshes = &it.value();
+        } else if (it.key() == "comment") {
+            if (!it.value().is_string()) throw Error(name + ": 'comment' must be a string");
+        } else {
+            throw Error(name + ": unknown key '" + it.key() +
+                        "'; allowed keys: origin, meshes, comment");
+        }
+    }
+    if (!meshes) throw Error(name + ": 'meshes' is missing; it must be an array of mesh entries");
+    if (!meshes->is_array() || meshes->empty())
+        throw Error(name + ": 'meshes' must be a non-empty array of mesh entries");
+
+    std::vector<Entry> entries;
+    entries.reserve(meshes->size());
+    for (std::size_t i = 0; i < meshes->size(); ++i)
+        entries.push_back(parseEntry((*meshes)[i], name, i));
+
+    if (options.require_target) {
+        bool any = false;
+        for (const Entry& e : entries) any = any || e.role == Role::Target;
+        if (!any)
+            throw Error(name + ": no mesh has role 'target'; a scene needs at least one target mesh");
+    }
+    if (!has_origin) scene.origin = entries.front().position;
+
+    // Files used by several entries (trees, houses) are imported once.
+    std::map<fs::path, std::shared_ptr<const RawMesh>> cache;
+    const fs::path dir = file.parent_path();
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        const Entry& e = entries[i];
+        if (!options.roles.has(e.role)) continue;
+        const std::string where = name + ": meshes[" + std::to_string(i) + "] ('" + e.file + "')";
+        const fs::path mesh_path = (dir / e.file).lexically_normal();
+        auto& slot = cache[mesh_path];
+        if (!slot) slot = std::make_shared<const RawMesh>(importMesh(mesh_path, where));
+        const RawMesh& raw = *slot;
+
+        const double yaw_rad = glm::radians(e.yaw_deg);
+        const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);
+        const glm::dvec3 shift = e.position - scene.origin;
+        Mesh mesh;
+        mesh.name = e.file;
+        mesh.role = e.role;
+        mesh.vertices.reserve(raw.vertices.size());
+        for (std::size_t vi = 0; vi < raw.vertices.size(); ++vi) {
+            const glm::dvec3& v = raw.vertices[vi];
+            const glm::dvec3 p = e.scale * (e.up_y ? glm::dvec3(v.x, -v.z, v.y) : v);
+            const glm::dvec3 local = shift + glm::dvec3(c * p.x - s * p.y, s * p.x + c * p.y, p.z);
+            const glm::vec3 f(local);
+            if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z))
+                throw Error(where + ": vertex " + std::to_string(vi) +
+                            " is not finite after the position/yaw/scale transform; allowed: "
+                            "coordinates within float range");
+            mesh.vertices.push_back(f);
+        }
+        mesh.triangles.reserve(raw.triangles.size());
+        for (const glm::uvec3& t : raw.triangles) {
+            const glm::dvec3 a(mesh.vertices[t.x]), b(mesh.vertices[t.y]), d(mesh.vertices[t.z]);
+            const glm::dvec3 n = glm::cross(b - a, d - a);
+            if (glm::dot(n, n) == 0.0) {
+                ++scene.skipped_triangles;
+                continue;
+            }
+            mesh.triangles.push_back(t);
+        }
+        scene.meshes.push_back(std::move(mesh));
+    }
+    return scene;
+}
+
+std::filesystem::path demoScenePath() {
+    namespace fs = std::filesystem;
+    const fs::path built = fs::path(LADARVR_ASSETS_DIR) / "demo" / "scene.json";
+    std::error_code ec;
+    if (fs::exists(built, ec)) return built;
+    // An installed copy: <prefix>/bin/ladarvr -> <prefix>/share/ladarvr/assets.
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const fs::path installed =
+            exe.parent_path().parent_path() / "share" / "ladarvr" / "assets" / "demo" / "scene.json";
+        if (fs::exists(installed, ec)) return installed;
+    }
+    return built;
+}
+
+}  // namespace engine
