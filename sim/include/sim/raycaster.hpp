@@ -31,6 +31,9 @@ struct Hit {
 class RayCaster {
 public:
     explicit RayCaster(const engine::Scene& scene);
+    /// Only the meshes whose role is in `roles` (the others are never hit; geomID is
+    /// still the index into Scene::meshes). Throws engine::Error("embree: ...").
+    RayCaster(const engine::Scene& scene, engine::RoleMask roles);
     ~RayCaster();
     RayCaster(const RayCaster&) = delete;
     RayCaster& operator=(const RayCaster&) = delete;
@@ -42,7 +45,12 @@ public:
     /// Local-frame bounds of all geometry.
     engine::Bounds bounds() const;
 
+    /// Triangles in the BVH.
+    std::size_t triangleCount() const;
+
     struct Impl;
+    /// For sim's own sources (sim/src/raycaster_impl.hpp); opaque to everyone else.
+    const Impl& impl() const { return *impl_; }
 private:
     std::unique_ptr<Impl> impl_;
 };

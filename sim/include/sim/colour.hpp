@@ -1,0 +1,26 @@
+// sim/colour.hpp: height colouring of the fused cloud (paper §III-C, first principle).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace sim {
+
+/// The jet map of the paper: `entries` colours (the paper's 64), red at the minimum height,
+/// blue at the maximum; a height falls in one of `entries` equal bins (no blending).
+struct ColourOptions {
+    int entries = 64;
+};
+
+/// Throws engine::Error("colour: entries = N: allowed [2, 256]").
+void validate(const ColourOptions& o);
+
+/// MATLAB's jet(m) as 0x00RRGGBB, index 0 = dark blue ... m-1 = dark red (channels
+/// rounded from [0, 1] to [0, 255]).
+std::vector<std::uint32_t> jetTable(int entries);
+
+/// Colour of height z in [z_min, z_max] for a table from jetTable(): bin
+/// floor((z - z_min) / (z_max - z_min) * m) clamped to [0, m-1], reversed so the lowest
+/// bin is red. z_max <= z_min (all heights equal) gives the lowest bin's colour.
+std::uint32_t heightColour(float z, float z_min, float z_max, const std::vector<std::uint32_t>& jet);
+
+}  // namespace sim

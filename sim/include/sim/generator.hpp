@@ -1,0 +1,109 @@
+// sim/generator.hpp: the whole Ladar simulation of paper §III: orbit, ray casting, fusion,
+// ground whitening and height colouring, into memory or streamed to a cloud file.
+#pragma once
+#include <engine/cloud_io.hpp>
+#include <engine/point_cloud.hpp>
+#include <engine/scene.hpp>
+#include <sim/colour.hpp>
+#include <sim/ground.hpp>
+#include <sim/orbit.hpp>
+#include <sim/raycaster.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace sim {
+
+/// Every parameter of `ladarvr generate`; defaults are the paper's (§III-A, §III-C).
+struct GenerateOptions {
+    OrbitOptions orbit;
+    /// C, in WORLD coordinates (metres, z up, like the scene file's positions).
+    /// Default: defaultCentre(scene).
+    std::optional<glm::dvec3> centre;
+    ColourOptions colour;
+    GroundOptions ground;
+    /// Meshes to ray-cast (§IV-B's target-only / no-ground clouds); the others are left
+    /// out of the BVH. C is still computed on the whole scene, so clouds of different
+    /// roles share one orbit.
+    engine::RoleMask roles = engine::RoleMask::all();
+    bool white = false;             // no colouring and no RANSAC: every point white
+    int threads = 0;                // 0 = std::thread::hardware_concurrency()
+    std::uint64_t seed = 1;         // RANSAC of view v shuffles with mt19937_64(seed ^ v)
+    /// When rays x sizeof(CloudPoint) exceeds this, the fused cloud is spooled to a file
+    /// next to the output instead of memory (file output only).
+    std::size_t memory_budget_bytes = std::size_t(512) << 20;
+    bool progress = false;          // engine::Progress bar over the views (tty only)
+};
+
+/// Validates every field (orbit, colour, ground, threads, centre finite). Throws
+/// engine::Error naming the parameter and the allowed range.
+void validate(const GenerateOptions& o);
+
+/// The default C, world coordinates: x, y = centre of the target meshes' bounds (of all
+/// meshes if there is no target); z = the highest ground-role triangle above or below
+/// that point (the ground height there), else the lowest z of the ground meshes, else of
+/// the scene. Throws engine::Error("generate: scene '<file>' has no triangles").
+glm::dvec3 defaultCentre(const engine::Scene& scene);
+
+/// Wall-clock seconds of each stage (load is the caller's).
+struct StageSeconds {
+    double bvh = 0, cast = 0, fuse = 0, ransac = 0, colour = 0, write = 0, total = 0;
+};
+
+struct GenerateStats {
+    double drone_radius_m = 0, length_sensed_m = 0, coverage_diameter_m = 0;
+    glm::dvec3 centre{0.0};                 // C, world coordinates
+    std::size_t triangles = 0;              // in the BVH
+    int threads = 1;
+    std::uint64_t rays = 0, points = 0, misses = 0;
+    std::uint64_t ground_found = 0;         // whitened by RANSAC (PG over all views)
+    std::uint64_t ground_truth = 0;         // points whose mesh has role ground
+    std::uint64_t ground_true_positive = 0; // both
+    int planes_accepted = 0, planes_rejected = 0;
+    /// Of the whitening against the labels; empty when undefined (--white, or nothing
+    /// whitened / no ground points).
+    std::optional<double> ground_precision, ground_recall;
+    float z_min = 0, z_max = 0;             // height range used by the colour map (local)
+    bool streamed = false;                  // spooled through a temporary file
+    StageSeconds seconds;
+};
+
+/// One generation run: validates the options, resolves C and builds the BVH at once
+/// (timed as the bvh stage), then run() casts every view. The scene must outlive it.
+class Generator {
+public:
+    /// Throws engine::Error for bad options or Embree failures.
+    Generator(const engine::Scene& scene, GenerateOptions options);
+    ~Generator();
+
+    /// The fused, coloured cloud in memory (origin = the scene's origin).
+    engine::PointCloud run(GenerateStats* stats = nullptr);
+    /// Streams the fused, coloured cloud to `out` (atomically, via engine::CloudWriter);
+    /// the destination is checked before any ray is cast.
+    void run(const std::filesystem::path& out, engine::CloudFormat format,
+             GenerateStats* stats = nullptr);
+
+    /// The rays run() traces for one view, in output order (row-major pixels), for
+    /// baselines and tests. Directions are unit length, so t is metres.
+    void viewRays(int view, std::vector<Ray>& rays) const;
+    const RayCaster& caster() const;
+    const GenerateOptions& options() const;
+    glm::dvec3 centreWorld() const;
+
+    struct State;
+private:
+    std::unique_ptr<State> state_;
+};
+
+/// Convenience: Generator(scene, options).run(stats).
+engine::PointCloud generateCloud(const engine::Scene& scene, const GenerateOptions& options,
+                                 GenerateStats* stats = nullptr);
+/// Convenience: Generator(scene, options).run(out, format, stats).
+void generateToFile(const engine::Scene& scene, const GenerateOptions& options,
+                    const std::filesystem::path& out, engine::CloudFormat format,
+                    GenerateStats* stats = nullptr);
+
+}  // namespace sim

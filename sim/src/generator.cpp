@@ -1,0 +1,428 @@
+// sim/generator.cpp: paper §III-B (one ray per pixel, NoV views on the circular orbit,
+// fusion of all views) and §III-C (ground whitening per view, jet colouring by height).
+//
+// Data flow (see docs/generator.md): views are processed in batches. For a batch, the
+// rays of every (view, block of pixels) task are traced in parallel into per-pixel
+// slots; each view's hits are compacted in pixel order, whitened by the iterative RANSAC
+// (per view, in parallel, seeded per view) and appended in view order to the fused
+// cloud, which lives in memory or, for big runs, in a spool file next to the output.
+// Colouring needs the z range of the whole fused cloud, so it is a last pass that reads
+// the fused points back and streams them into the engine::CloudWriter.
+#include <sim/generator.hpp>
+
+#include "raycaster_impl.hpp"
+#include "thread_pool.hpp"
+
+#include <engine/error.hpp>
+#include <engine/progress.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <string>
+#include <unistd.h>
+
+namespace sim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+constexpr std::size_t kBlockRays = 4096;        // rays per task: one slot range per task
+constexpr std::size_t kBatchRays = 1u << 19;    // rays per batch of views (memory bound)
+constexpr std::size_t kColourChunk = 1u << 20;  // points per colour/write chunk
+constexpr float kMissRange = -1.0f;             // range_m of a pixel slot with no hit
+
+// The fused cloud on disk: raw CloudPoint records, removed when destroyed.
+class Spool {
+public:
+    explicit Spool(std::filesystem::path path) : path_(std::move(path)) {
+        file_ = std::fopen(path_.c_str(), "w+b");
+        if (!file_)
+            throw engine::Error("output: " + path_.string() + ": cannot create spool file: " +
+                                std::strerror(errno));
+    }
+    ~Spool() {
+        if (file_) std::fclose(file_);
+        std::error_code ec;
+        std::filesystem::remove(path_, ec);
+    }
+    Spool(const Spool&) = delete;
+    Spool& operator=(const Spool&) = delete;
+
+    void append(std::span<const engine::CloudPoint> points) {
+        if (points.empty()) return;
+        if (std::fwrite(points.data(), sizeof(engine::CloudPoint), points.size(), file_) != points.size())
+            throw engine::Error("output: " + path_.string() + ": cannot write spool file (disk full?)");
+        count_ += points.size();
+    }
+    void rewind() {
+        if (std::fflush(file_) != 0 || std::fseek(file_, 0, SEEK_SET) != 0)
+            throw engine::Error("output: " + path_.string() + ": cannot rewind spool file");
+    }
+    /// Reads up to out.size() records; returns how many.
+    std::size_t read(std::span<engine::CloudPoint> out) {
+        return std::fread(out.data(), sizeof(engine::CloudPoint), out.size(), file_);
+    }
+    std::size_t count() const { return count_; }
+
+private:
+    std::filesystem::path path_;
+    std::FILE* file_ = nullptr;
+    std::size_t count_ = 0;
+};
+
+// Is (x, y) inside triangle abc projected on the xy plane? Then its z there, via `z_out`.
+bool heightInTriangle(double x, double y, const glm::dvec3& a, const glm::dvec3& b,
+                      const glm::dvec3& c, double& z_out) {
+    const double d = (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
+    if (std::abs(d) < 1e-12) return false;  // vertical or degenerate in projection
+    const double l0 = ((b.y - c.y) * (x - c.x) + (c.x - b.x) * (y - c.y)) / d;
+    const double l1 = ((c.y - a.y) * (x - c.x) + (a.x - c.x) * (y - c.y)) / d;
+    const double l2 = 1.0 - l0 - l1;
+    constexpr double kEps = -1e-9;
+    if (l0 < kEps || l1 < kEps || l2 < kEps) return false;
+    z_out = l0 * a.z + l1 * b.z + l2 * c.z;
+    return true;
+}
+
+}  // namespace
+
+void validate(const GenerateOptions& o) {
+    validate(o.orbit);
+    validate(o.colour);
+    validate(o.ground);
+    if (o.threads < 0 || o.threads > 1024)
+        throw engine::Error("generate: threads = " + std::to_string(o.threads) +
+                            ": allowed [0, 1024] (0 = all cores)");
+    if (o.centre && !(std::isfinite(o.centre->x) && std::isfinite(o.centre->y) &&
+                      std::isfinite(o.centre->z)))
+        throw engine::Error("generate: centre: allowed finite x,y,z");
+    if (o.roles.bits == 0 || o.roles.bits > 0b111)
+        throw engine::Error("generate: roles: allowed a non-empty subset of ground, environment, target");
+    if (o.memory_budget_bytes == 0)
+        throw engine::Error("generate: memory_budget_bytes = 0: allowed > 0");
+}
+
+glm::dvec3 defaultCentre(const engine::Scene& scene) {
+    engine::Bounds all, target, ground;
+    for (const engine::Mesh& m : scene.meshes) {
+        if (m.triangles.empty()) continue;
+        for (const glm::uvec3& t : m.triangles)
+            for (int k = 0; k < 3; ++k) {
+                const glm::dvec3 p(m.vertices[t[k]]);
+                all.extend(p);
+                if (m.role == engine::Role::Target) target.extend(p);
+                if (m.role == engine::Role::Ground) ground.extend(p);
+            }
+    }
+    if (all.empty())
+        throw engine::Error("generate: scene '" + scene.source.string() + "' has no triangles");
+    const glm::dvec3 xy = target.empty() ? all.centre() : target.centre();
+    double z = 0.0;
+    bool found = false;
+    for (const engine::Mesh& m : scene.meshes) {
+        if (m.role != engine::Role::Ground) continue;
+        for (const glm::uvec3& t : m.triangles) {
+            double zt;
+            if (heightInTriangle(xy.x, xy.y, glm::dvec3(m.vertices[t.x]), glm::dvec3(m.vertices[t.y]),
+                                 glm::dvec3(m.vertices[t.z]), zt) &&
+                (!found || zt > z)) {
+                z = zt;
+                found = true;
+            }
+        }
+    }
+    if (!found) z = ground.empty() ? all.lo.z : ground.lo.z;
+    return scene.origin + glm::dvec3(xy.x, xy.y, z);
+}
+
+struct Generator::State {
+    const engine::Scene& scene;
+    GenerateOptions options;
+    glm::dvec3 centre_world{0.0}, centre_local{0.0};
+    std::unique_ptr<RayCaster> caster;
+    double bvh_seconds = 0.0;
+    std::vector<glm::dvec3> sensor_dirs;   // per pixel, row-major, unit, sensor frame
+    std::vector<engine::Pose> poses;       // per view, T_local_sensor
+    std::vector<std::uint32_t> jet;
+
+    State(const engine::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
+
+    // Paper §III-B: traces pixels [begin, end) of `view` into slots[begin, end).
+    void castBlock(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
+        const RayCaster::Impl& impl = caster->impl();
+        const engine::Pose& pose = poses[std::size_t(view)];
+        const glm::vec3 origin(pose.translation);
+        const glm::dvec3 origin_d(origin);
+        const float t_far = std::numeric_limits<float>::infinity();
+        RTCRayHit rh;
+        for (std::size_t i = begin; i < end; ++i) {
+            const glm::vec3 dir(pose.rotation * sensor_dirs[i]);
+            setRay(rh, origin.x, origin.y, origin.z, dir.x, dir.y, dir.z, t_far);
+            rtcIntersect1(impl.scene, &rh);
+            engine::CloudPoint& cp = slots[i];
+            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+                cp.range_m = kMissRange;
+                continue;
+            }
+            const float t = rh.ray.tfar;
+            cp.position = glm::vec3(origin_d + double(t) * glm::dvec3(dir));
+            cp.range_m = t;
+            cp.view = std::uint16_t(view);
+            cp.label = impl.roles[rh.hit.geomID];
+            cp.rgb = 0;
+        }
+    }
+
+    // Runs every view and hands the fused points, in (view, row, column) order, to
+    // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
+    void fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
+                   ThreadPool& pool, GenerateStats& st) const;
+
+    // Jet colours for every point that is not white, from the fused z range.
+    void colour(std::span<engine::CloudPoint> points, ThreadPool& pool, const GenerateStats& st) const {
+        if (options.white) return;
+        const std::size_t chunk = 1u << 16;
+        const std::size_t tasks = (points.size() + chunk - 1) / chunk;
+        pool.run(tasks, [&](std::size_t task, int) {
+            const std::size_t end = std::min(points.size(), (task + 1) * chunk);
+            for (std::size_t i = task * chunk; i < end; ++i)
+                if (points[i].rgb != engine::kWhite)
+                    points[i].rgb = heightColour(points[i].position.z, st.z_min, st.z_max, jet);
+        });
+    }
+};
+
+void Generator::State::fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
+                                 ThreadPool& pool, GenerateStats& st) const {
+    const OrbitOptions& orbit = options.orbit;
+    const std::size_t npix = std::size_t(orbit.xres) * std::size_t(orbit.yres);
+    const std::size_t views = std::size_t(orbit.views);
+    const std::size_t batch_views =
+        std::clamp<std::size_t>(std::max<std::size_t>(kBatchRays / npix, 2 * std::size_t(pool.size())), 1, views);
+    const std::size_t blocks = (npix + kBlockRays - 1) / kBlockRays;
+    std::vector<engine::CloudPoint> slots(batch_views * npix);
+    std::vector<std::vector<engine::CloudPoint>> view_points(batch_views);
+    std::vector<GroundStats> ground_stats(batch_views);
+    std::optional<engine::Progress> progress;
+    if (options.progress) progress.emplace("generate", views);
+
+    float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
+    for (std::size_t first = 0; first < views; first += batch_views) {
+        const std::size_t count = std::min(batch_views, views - first);
+        auto t0 = Clock::now();
+        pool.run(count * blocks, [&](std::size_t task, int) {
+            const std::size_t k = task / blocks, block = task % blocks;
+            castBlock(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
+                      slots.data() + k * npix);
+        });
+        st.seconds.cast += secondsSince(t0);
+
+        t0 = Clock::now();
+        pool.run(count, [&](std::size_t k, int) {
+            auto& out = view_points[k];
+            out.clear();
+            const engine::CloudPoint* s = slots.data() + k * npix;
+            for (std::size_t i = 0; i < npix; ++i)
+                if (s[i].range_m != kMissRange) out.push_back(s[i]);
+            if (options.white)
+                for (auto& p : out) p.rgb = engine::kWhite;
+        });
+        st.seconds.fuse += secondsSince(t0);
+
+        if (!options.white) {
+            t0 = Clock::now();
+            pool.run(count, [&](std::size_t k, int) {
+                auto& pts = view_points[k];
+                std::vector<glm::vec3> positions(pts.size());
+                for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
+                const std::uint64_t view = first + k;
+                const auto is_ground = findGround(positions, options.ground, options.seed ^ view,
+                                                  &ground_stats[k]);
+                for (std::size_t i = 0; i < pts.size(); ++i)
+                    if (is_ground[i]) pts[i].rgb = engine::kWhite;
+            });
+            st.seconds.ransac += secondsSince(t0);
+        }
+
+        t0 = Clock::now();
+        for (std::size_t k = 0; k < count; ++k) {
+            const auto& pts = view_points[k];
+            st.misses += npix - pts.size();
+            st.points += pts.size();
+            for (const auto& p : pts) {
+                z_min = std::min(z_min, p.position.z);
+                z_max = std::max(z_max, p.position.z);
+                const bool truth = p.label == engine::Role::Ground;
+                const bool found = !options.white && p.rgb == engine::kWhite;
+                st.ground_truth += truth;
+                st.ground_found += found;
+                st.ground_true_positive += truth && found;
+            }
+            if (!options.white) {
+                st.planes_accepted += ground_stats[k].planes_accepted;
+                st.planes_rejected += ground_stats[k].planes_rejected;
+            }
+            emit(pts);
+        }
+        st.seconds.fuse += secondsSince(t0);
+        if (progress) progress->advance(count);
+    }
+    if (progress) progress->finish();
+    st.rays = std::uint64_t(npix) * views;
+    if (st.points > 0) {
+        st.z_min = z_min;
+        st.z_max = z_max;
+    }
+    if (!options.white) {
+        if (st.ground_found > 0) st.ground_precision = double(st.ground_true_positive) / double(st.ground_found);
+        if (st.ground_truth > 0) st.ground_recall = double(st.ground_true_positive) / double(st.ground_truth);
+    }
+}
+
+Generator::Generator(const engine::Scene& scene, GenerateOptions options)
+    : state_(std::make_unique<State>(scene, std::move(options))) {
+    State& s = *state_;
+    validate(s.options);
+    s.centre_world = s.options.centre ? *s.options.centre : defaultCentre(scene);
+    s.centre_local = s.centre_world - scene.origin;
+    const OrbitOptions& orbit = s.options.orbit;
+    s.sensor_dirs.resize(std::size_t(orbit.xres) * std::size_t(orbit.yres));
+    for (int py = 0; py < orbit.yres; ++py)
+        for (int px = 0; px < orbit.xres; ++px)
+            s.sensor_dirs[std::size_t(py) * std::size_t(orbit.xres) + std::size_t(px)] =
+                pixelDirection(orbit, px, py);
+    for (int v = 0; v < orbit.views; ++v) s.poses.push_back(sensorPose(orbit, s.centre_local, v));
+    s.jet = jetTable(s.options.colour.entries);
+    const auto t0 = Clock::now();
+    s.caster = std::make_unique<RayCaster>(scene, s.options.roles);
+    s.bvh_seconds = secondsSince(t0);
+}
+
+Generator::~Generator() = default;
+
+namespace {
+
+void initStats(const GenerateOptions& o, const glm::dvec3& centre, std::size_t triangles,
+                      double bvh_seconds, int threads, GenerateStats& st) {
+    st = GenerateStats{};
+    st.drone_radius_m = droneRadius(o.orbit);
+    st.length_sensed_m = lengthSensed(o.orbit);
+    st.coverage_diameter_m = coverageDiameter(o.orbit);
+    st.centre = centre;
+    st.triangles = triangles;
+    st.threads = threads;
+    st.seconds.bvh = bvh_seconds;
+}
+
+}  // namespace
+
+engine::PointCloud Generator::run(GenerateStats* stats) {
+    const State& s = *state_;
+    const auto t0 = Clock::now();
+    GenerateStats st;
+    const int threads = resolveThreads(s.options.threads);
+    initStats(s.options, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
+    ThreadPool pool(threads);
+    engine::PointCloud cloud;
+    cloud.origin = s.scene.origin;
+    cloud.points.reserve(std::size_t(s.options.orbit.xres) * std::size_t(s.options.orbit.yres) *
+                         std::size_t(s.options.orbit.views));
+    s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
+        cloud.points.insert(cloud.points.end(), pts.begin(), pts.end());
+    }, pool, st);
+    auto tc = Clock::now();
+    s.colour(cloud.points, pool, st);
+    st.seconds.colour = secondsSince(tc);
+    st.seconds.total = s.bvh_seconds + secondsSince(t0);
+    if (stats) *stats = st;
+    return cloud;
+}
+
+void Generator::run(const std::filesystem::path& out, engine::CloudFormat format, GenerateStats* stats) {
+    const State& s = *state_;
+    const auto t0 = Clock::now();
+    GenerateStats st;
+    const int threads = resolveThreads(s.options.threads);
+    initStats(s.options, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
+    // Opens "<out>.tmp-<pid>" now: a bad destination fails before any ray is cast, and a
+    // failure later leaves nothing under `out`.
+    engine::CloudWriter writer(out, format, s.scene.origin);
+    ThreadPool pool(threads);
+    const std::size_t rays = std::size_t(s.options.orbit.xres) * std::size_t(s.options.orbit.yres) *
+                             std::size_t(s.options.orbit.views);
+    st.streamed = rays > s.options.memory_budget_bytes / sizeof(engine::CloudPoint);
+    if (!st.streamed) {
+        std::vector<engine::CloudPoint> points;
+        points.reserve(rays);
+        s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
+            points.insert(points.end(), pts.begin(), pts.end());
+        }, pool, st);
+        auto tc = Clock::now();
+        s.colour(points, pool, st);
+        st.seconds.colour = secondsSince(tc);
+        tc = Clock::now();
+        for (std::size_t i = 0; i < points.size(); i += kColourChunk)
+            writer.append(std::span(points).subspan(i, std::min(kColourChunk, points.size() - i)));
+        writer.commit();
+        st.seconds.write = secondsSince(tc);
+    } else {
+        Spool spool(out.string() + ".spool-" + std::to_string(::getpid()));
+        s.fuseViews([&](std::span<const engine::CloudPoint> pts) { spool.append(pts); }, pool, st);
+        spool.rewind();
+        std::vector<engine::CloudPoint> chunk(kColourChunk);
+        for (;;) {
+            auto tc = Clock::now();
+            const std::size_t n = spool.read(chunk);
+            if (n == 0) break;
+            const std::span<engine::CloudPoint> part(chunk.data(), n);
+            s.colour(part, pool, st);
+            st.seconds.colour += secondsSince(tc);
+            tc = Clock::now();
+            writer.append(part);
+            st.seconds.write += secondsSince(tc);
+        }
+        if (writer.count() != st.points)
+            throw engine::Error("output: " + out.string() + ": spool file came back short");
+        const auto tc = Clock::now();
+        writer.commit();
+        st.seconds.write += secondsSince(tc);
+    }
+    st.seconds.total = s.bvh_seconds + secondsSince(t0);
+    if (stats) *stats = st;
+}
+
+void Generator::viewRays(int view, std::vector<Ray>& rays) const {
+    const State& s = *state_;
+    const engine::Pose& pose = s.poses.at(std::size_t(view));
+    rays.resize(s.sensor_dirs.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        rays[i].origin = glm::vec3(pose.translation);
+        rays[i].direction = glm::vec3(pose.rotation * s.sensor_dirs[i]);
+        rays[i].t_far = std::numeric_limits<float>::infinity();
+    }
+}
+
+const RayCaster& Generator::caster() const { return *state_->caster; }
+const GenerateOptions& Generator::options() const { return state_->options; }
+glm::dvec3 Generator::centreWorld() const { return state_->centre_world; }
+
+engine::PointCloud generateCloud(const engine::Scene& scene, const GenerateOptions& options,
+                                 GenerateStats* stats) {
+    return Generator(scene, options).run(stats);
+}
+
+void generateToFile(const engine::Scene& scene, const GenerateOptions& options,
+                    const std::filesystem::path& out, engine::CloudFormat format,
+                    GenerateStats* stats) {
+    Generator(scene, options).run(out, format, stats);
+}
+
+}  // namespace sim

@@ -1,0 +1,121 @@
+// sim/ground_ransac.cpp: paper §III-C, ground whitening by iterative RANSAC with PCL's
+// SACSegmentation (SACMODEL_PLANE, SAC_RANSAC). The only file of sim that sees PCL.
+//
+//   1) PC = points with z in [z_min, z_min + band_m]
+//   2) RANSAC on PC
+//   3) add the plane's inliers to PG if the plane is horizontal. The paper prints
+//      "normal(plane).z < 0.9", which would keep walls and drop the ground, against its
+//      own text ("to remove vertical plane detections ... building walls"); we implement
+//      the intent: |normal.z| >= min_normal_z.
+//   4) remove the plane's inliers from PC. The paper says "remove the PG points"; when the
+//      plane was rejected (a wall) nothing joined PG, PC would not shrink and steps 2-4
+//      would find the same wall forever, so the inliers leave PC either way.
+//   5) repeat from 2) until |PC| < stop_fraction * |PC at step 1| (or max_planes).
+#include <sim/ground.hpp>
+
+#include <engine/error.hpp>
+
+#include <pcl/ModelCoefficients.h>
+#include <pcl/point_types.h>
+#include <pcl/sample_consensus/method_types.h>
+#include <pcl/sample_consensus/model_types.h>
+#include <pcl/segmentation/sac_segmentation.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace sim {
+namespace {
+
+[[noreturn]] void fail(const char* parameter, double value, const char* allowed) {
+    std::ostringstream s;
+    s << "ground: " << parameter << " = " << value << ": allowed " << allowed;
+    throw engine::Error(s.str());
+}
+
+}  // namespace
+
+void validate(const GroundOptions& o) {
+    if (!(std::isfinite(o.band_m) && o.band_m > 0.0)) fail("band_m", o.band_m, "> 0");
+    if (!(std::isfinite(o.distance_threshold_m) && o.distance_threshold_m > 0.0))
+        fail("distance_threshold_m", o.distance_threshold_m, "> 0");
+    if (!(o.min_normal_z >= 0.0 && o.min_normal_z <= 1.0)) fail("min_normal_z", o.min_normal_z, "[0, 1]");
+    if (!(o.stop_fraction >= 0.0 && o.stop_fraction <= 1.0)) fail("stop_fraction", o.stop_fraction, "[0, 1]");
+    if (o.max_planes < 0 || o.max_planes > 100000) fail("max_planes", o.max_planes, "[0, 100000]");
+    if (o.ransac_iterations < 1 || o.ransac_iterations > 10000000)
+        fail("ransac_iterations", o.ransac_iterations, "[1, 10000000]");
+}
+
+std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const GroundOptions& o,
+                                     std::uint64_t seed, GroundStats* stats) {
+    std::vector<std::uint8_t> is_ground(points.size(), 0);
+    GroundStats local;
+    if (points.empty()) {
+        if (stats) *stats = local;
+        return is_ground;
+    }
+    // Step 1: the band above this view's lowest point.
+    float z_min = points[0].z;
+    for (const glm::vec3& p : points) z_min = std::min(z_min, p.z);
+    const double z_top = double(z_min) + o.band_m;
+    std::vector<std::uint32_t> band;  // indices into `points`
+    for (std::size_t i = 0; i < points.size(); ++i)
+        if (double(points[i].z) <= z_top) band.push_back(std::uint32_t(i));
+    local.band_points = band.size();
+    if (band.size() < 3) {
+        if (stats) *stats = local;
+        return is_ground;
+    }
+    std::mt19937_64 rng(seed);
+    std::shuffle(band.begin(), band.end(), rng);
+
+    auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+    cloud->resize(band.size());
+    // Centre the band before PCL fits planes in float: the view's points may be far from
+    // the local origin (they are not, usually, but a large scene can be kilometres wide).
+    const glm::vec3 shift = points[band[0]];
+    for (std::size_t k = 0; k < band.size(); ++k) {
+        const glm::vec3 p = points[band[k]] - shift;
+        (*cloud)[k] = pcl::PointXYZ(p.x, p.y, p.z);
+    }
+
+    pcl::SACSegmentation<pcl::PointXYZ> seg;  // random_ = false: PCL seeds its RNG with 12345
+    seg.setOptimizeCoefficients(true);
+    seg.setModelType(pcl::SACMODEL_PLANE);
+    seg.setMethodType(pcl::SAC_RANSAC);
+    seg.setDistanceThreshold(o.distance_threshold_m);
+    seg.setMaxIterations(o.ransac_iterations);
+    seg.setInputCloud(cloud);
+
+    auto remaining = std::make_shared<pcl::Indices>(band.size());
+    std::iota(remaining->begin(), remaining->end(), 0);
+    const double stop_count = o.stop_fraction * double(band.size());
+    std::vector<std::uint8_t> removed(band.size(), 0);
+    int planes = 0;
+    // Step 5's test before each pass of steps 2-4.
+    while (remaining->size() >= 3 && !(double(remaining->size()) < stop_count) && planes < o.max_planes) {
+        seg.setIndices(remaining);
+        pcl::PointIndices inliers;
+        pcl::ModelCoefficients plane;
+        seg.segment(inliers, plane);                       // step 2
+        if (inliers.indices.empty() || plane.values.size() < 4) break;
+        ++planes;
+        const double n_len = std::hypot(plane.values[0], plane.values[1], plane.values[2]);
+        const bool horizontal = n_len > 0.0 && std::abs(plane.values[2]) / n_len >= o.min_normal_z;
+        (horizontal ? local.planes_accepted : local.planes_rejected)++;
+        for (const auto k : inliers.indices) {
+            if (horizontal) is_ground[band[k]] = 1;         // step 3
+            removed[k] = 1;                                 // step 4
+        }
+        std::erase_if(*remaining, [&](pcl::index_t k) { return removed[k] != 0; });
+    }
+    local.ground_points = std::size_t(std::count(is_ground.begin(), is_ground.end(), 1));
+    if (stats) *stats = local;
+    return is_ground;
+}
+
+}  // namespace sim
