@@ -217,9 +217,12 @@ void CloudWriter::append(std::span<const CloudPoint> points) {
                 buffer_ += ' ';
                 putUnsigned(buffer_, rgb & 0xFFu);
             } else {
-                // PCL writes the packed-float rgb of ASCII files as its uint32 bits.
+                // The packed float as a (tiny) float number: PCL's and Open3D's ASCII
+                // readers parse a TYPE F field as a float and keep its bits.
+                float packed;
+                std::memcpy(&packed, &rgb, 4);
                 buffer_ += ' ';
-                putUnsigned(buffer_, rgb);
+                putFloat(buffer_, packed);
             }
         }
         if (fields_.label) {
@@ -365,6 +368,11 @@ bool parseInt(std::string_view s, T& out) {
     return r.ec == std::errc() && r.ptr == s.data() + s.size();
 }
 
+bool parseFloat(std::string_view s, float& out) {
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
+    return r.ec == std::errc() && r.ptr == s.data() + s.size();
+}
+
 bool parseDouble(std::string_view s, double& out) {
     const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
     if (r.ec == std::errc() && r.ptr == s.data() + s.size()) return true;
@@ -500,6 +508,10 @@ void decodeAscii(Tokens& tokens, std::size_t count, std::size_t per_point, const
     sink.cloud.points.reserve(std::min(count, remaining / (2 * per_point) + 1));
     std::vector<std::string_view> tok(per_point);
     auto number = [&](const Column& c, std::size_t i) {
+        // Floats of 4 bytes parse as float: the shortest text of a float reads back exactly.
+        float f;
+        if (c.type.kind == Kind::Float && c.type.size == 4 && parseFloat(tok[c.token], f))
+            return double(f);
         double v;
         if (!parseDouble(tok[c.token], v))
             throw Error(sink.prefix + ": line " + std::to_string(header_lines + tokens.line_no) +
@@ -518,6 +530,7 @@ void decodeAscii(Tokens& tokens, std::size_t count, std::size_t per_point, const
         CloudPoint p;
         p.position = glm::vec3(float(number(l.x, i)), float(number(l.y, i)), float(number(l.z, i)));
         if (l.rgb.present) {
+            // TYPE F rgb: PCL's writer puts the uint32 bits as an integer, others the float.
             std::uint32_t bits = 0;
             if (!l.rgb_float_ascii || !parseInt(tok[l.rgb.token], bits)) {
                 double v = number(l.rgb, i);
