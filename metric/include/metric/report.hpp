@@ -1,0 +1,30 @@
+// metric/report.hpp: the metric's outputs: views.csv, summary.json, I1..I4 PNGs (paper Fig. 3).
+#pragma once
+#include <metric/visibility.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace metric {
+
+/// CSV, one row per view, columns exactly: view, eye_x, eye_y, eye_z, look_x, look_y,
+/// look_z, up_x, up_y, up_z, vfov_deg, width, height, i1, i2, i3, i4, metric, visible,
+/// exact. Positions in WORLD metres (origin added back); ratios empty when undefined.
+std::string viewsCsv(const MetricResult& result);
+
+/// summary.json: views, views_used, views_excluded (list), metric_mean/min/max,
+/// visible_mean, exact_mean (null when absent), seconds, and the options used.
+std::string summaryJson(const MetricResult& result);
+
+/// Writes DIR/views.csv, DIR/summary.json and, if result.pictures is set,
+/// DIR/view_<K>_i1.png .. _i4.png, each atomically. Returns the paths written.
+/// Throws engine::Error("output: ...") if `dir` cannot be created or written.
+std::vector<std::filesystem::path> writeReport(const MetricResult& result, const std::filesystem::path& dir);
+
+/// An 8-bit greyscale PNG (stored deflate blocks, CRC-32, Adler-32) of `rows_bottom_up`
+/// (GL order, width * height bytes); the file shows the image upright.
+std::string encodePngGray(int width, int height, const std::vector<std::uint8_t>& rows_bottom_up);
+
+}  // namespace metric

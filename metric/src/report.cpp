@@ -1,0 +1,100 @@
+// metric/src/report.cpp: views.csv, summary.json and the I1..I4 PNGs, written atomically.
+#include <metric/report.hpp>
+
+#include <engine/atomic_file.hpp>
+#include <engine/error.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <system_error>
+
+namespace metric {
+namespace {
+
+std::string number(double v, const char* format) {
+    if (std::isnan(v)) return "";
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, format, v);
+    return buffer;
+}
+
+nlohmann::json orNull(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
+
+}  // namespace
+
+std::string viewsCsv(const MetricResult& r) {
+    std::string csv = "view,eye_x,eye_y,eye_z,look_x,look_y,look_z,up_x,up_y,up_z,vfov_deg,width,height,"
+                      "i1,i2,i3,i4,metric,visible,exact\n";
+    for (const ViewResult& v : r.views) {
+        const glm::dvec3 eye = r.origin + v.pose.eye, look = r.origin + v.pose.look_at;
+        csv += std::to_string(v.view);
+        for (double x : {eye.x, eye.y, eye.z, look.x, look.y, look.z}) csv += "," + number(x, "%.4f");
+        for (double x : {v.pose.up.x, v.pose.up.y, v.pose.up.z}) csv += "," + number(x, "%.9f");
+        csv += "," + number(r.options.orbit.vfov_deg, "%.6g");
+        csv += "," + std::to_string(r.options.width) + "," + std::to_string(r.options.height);
+        for (std::int64_t n : {v.i1, v.i2, v.i3, v.i4}) csv += "," + std::to_string(n);
+        csv += "," + number(v.metric, "%.6f") + "," + number(v.visible, "%.6f") + "," + number(v.exact, "%.6f");
+        csv += "\n";
+    }
+    return csv;
+}
+
+std::string summaryJson(const MetricResult& r) {
+    nlohmann::json j;
+    j["views"] = r.views.size();
+    j["views_used"] = r.views_used;
+    nlohmann::json excluded = nlohmann::json::array();
+    int frustum_skipped = 0;
+    for (const ViewResult& v : r.views) {
+        if (!v.used) excluded.push_back(v.view);
+        if (v.frustum_skipped) ++frustum_skipped;
+    }
+    j["views_excluded"] = excluded;  // |I1| = 0: target out of frame or hidden from P1
+    j["views_frustum_skipped"] = frustum_skipped;
+    j["metric_mean"] = orNull(r.metric_mean);
+    j["metric_min"] = orNull(r.metric_min);
+    j["metric_max"] = orNull(r.metric_max);
+    j["visible_mean"] = orNull(r.visible_mean);
+    j["exact_mean"] = r.has_exact ? orNull(r.exact_mean) : nlohmann::json(nullptr);
+    j["seconds"] = r.seconds;
+    j["seconds_render"] = r.seconds_render;
+    j["seconds_exact"] = r.seconds_exact;
+    j["points_drawn"] = r.points_drawn;
+    const glm::dvec3 look = r.origin + r.look_at;
+    j["look_at"] = {look.x, look.y, look.z};
+    j["origin"] = {r.origin.x, r.origin.y, r.origin.z};
+    const auto& o = r.options;
+    j["options"] = {{"radius_m", o.orbit.radius_m}, {"altitude_m", o.orbit.altitude_m},
+                    {"vfov_deg", o.orbit.vfov_deg}, {"width", o.width}, {"height", o.height},
+                    {"splat_px", o.splat_px}, {"skip", o.skip}, {"picture_view", o.picture_view}};
+    return j.dump(2) + "\n";
+}
+
+std::vector<std::filesystem::path> writeReport(const MetricResult& r, const std::filesystem::path& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir))
+        throw engine::Error("output: " + dir.string() + ": cannot create the directory" +
+                            (ec ? " (" + ec.message() + ")" : std::string()));
+    std::vector<std::filesystem::path> written;
+    auto write = [&](const std::string& name, const std::string& content) {
+        const auto path = dir / name;
+        engine::writeFileAtomic(path, content);
+        written.push_back(path);
+    };
+    write("views.csv", viewsCsv(r));
+    if (r.pictures) {
+        const MetricPictures& p = *r.pictures;
+        const std::string stem = "view_" + std::to_string(p.view) + "_";
+        write(stem + "i1.png", encodePngGray(p.width, p.height, p.i1));
+        write(stem + "i2.png", encodePngGray(p.width, p.height, p.i2));
+        write(stem + "i3.png", encodePngGray(p.width, p.height, p.i3));
+        write(stem + "i4.png", encodePngGray(p.width, p.height, p.i4));
+    }
+    write("summary.json", summaryJson(r));  // last: its presence means the run completed
+    return written;
+}
+
+}  // namespace metric

@@ -1,0 +1,400 @@
+// metric/src/visibility.cpp: the visibility metric of paper §IV-B on the GPU, and its
+// exact mesh reference on Embree (see metric/visibility.hpp).
+//
+// Per view (paper §IV-B steps 1-3): the three clouds are splatted into ONE RGBA8 target
+// through colour masks (P1 -> red = I1, P2 -> green = I2, P3 -> blue = I3, white points,
+// no depth: the images are binary), then a compute shader counts |I1|, |I2|, |I3|,
+// |I2 xor I3| and |I3 and not I2| with shared-memory atomics; only 5 integers come back.
+// Skips ("skip what a scene doesn't need"): only the target's screen rectangle is
+// rendered and counted (an off-centre projection + viewport + scissor), views whose
+// frustum misses the target's bounds are not rendered, and point chunks outside the
+// rectangle's frustum are culled.
+#include <metric/visibility.hpp>
+
+#include <engine/error.hpp>
+#include <render/egl_context.hpp>
+#include <render/gl.hpp>
+#include <render/point_splat.hpp>
+#include <render/shader.hpp>
+#include <sim/raycaster.hpp>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+namespace metric {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+constexpr const char* kCountShader = R"(#version 450 core
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(binding = 0, rgba8) uniform readonly image2D u_image;
+layout(std430, binding = 0) buffer Counts { uint counts[8]; };
+uniform ivec2 u_offset;   // first counted pixel
+uniform ivec2 u_size;     // counted pixels
+shared uint s_counts[5];
+void main() {
+    uint i = gl_LocalInvocationIndex;
+    if (i < 5u) s_counts[i] = 0u;
+    barrier();
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (p.x < u_size.x && p.y < u_size.y) {
+        vec4 c = imageLoad(u_image, u_offset + p);
+        bool i1 = c.r > 0.5, i2 = c.g > 0.5, i3 = c.b > 0.5;
+        if (i1) atomicAdd(s_counts[0], 1u);
+        if (i2) atomicAdd(s_counts[1], 1u);
+        if (i3) atomicAdd(s_counts[2], 1u);
+        if (i2 != i3) atomicAdd(s_counts[3], 1u);        // I4 = I2 xor I3
+        if (i3 && !i2) atomicAdd(s_counts[4], 1u);       // visible target
+    }
+    barrier();
+    if (i < 5u && s_counts[i] != 0u) atomicAdd(counts[i], s_counts[i]);
+}
+)";
+
+[[noreturn]] void invalid(const std::string& option, double value, const char* allowed) {
+    std::ostringstream s;
+    s << "metric: --" << option << " = " << value << ": allowed " << allowed;
+    throw engine::Error(s.str());
+}
+
+double seconds(std::chrono::steady_clock::time_point since) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+engine::PointCloud toFrame(const engine::PointCloud& cloud, const glm::dvec3& origin) {
+    engine::PointCloud out = cloud;
+    out.origin = origin;
+    const glm::dvec3 shift = cloud.origin - origin;
+    if (shift != glm::dvec3(0.0))
+        for (auto& p : out.points) p.position = glm::vec3(glm::dvec3(p.position) + shift);
+    return out;
+}
+
+}  // namespace
+
+void validate(const MetricOptions& o) {
+    // Named after the CLI options (cmd_metric.cpp maps them one to one).
+    const auto& c = o.orbit;
+    if (c.views < 1 || c.views > 65535) invalid("views", c.views, "1..65535");
+    if (!std::isfinite(c.radius_m) || c.radius_m <= 0.0) invalid("radius-m", c.radius_m, "> 0 metres");
+    if (!std::isfinite(c.altitude_m)) invalid("altitude-m", c.altitude_m, "a finite number of metres");
+    if (!std::isfinite(c.vfov_deg) || c.vfov_deg <= 0.0 || c.vfov_deg > 170.0)
+        invalid("vfov-deg", c.vfov_deg, "(0, 170] degrees");
+    if (o.width < 16 || o.width > 8192) invalid("width", o.width, "16..8192 pixels");
+    if (o.height < 16 || o.height > 8192) invalid("height", o.height, "16..8192 pixels");
+    if (!std::isfinite(o.splat_px) || o.splat_px < 1.0 || o.splat_px > 64.0)
+        invalid("splat-px", o.splat_px, "[1, 64] pixels");
+    if (o.picture_view < -1 || o.picture_view >= c.views)
+        invalid("picture-view", o.picture_view, "-1 (none) or 0..views-1");
+    if (o.look_at_world && !(std::isfinite(o.look_at_world->x) && std::isfinite(o.look_at_world->y) &&
+                             std::isfinite(o.look_at_world->z)))
+        throw engine::Error("metric: --look-at: not finite; allowed x,y,z in world metres");
+    render::validate(c);  // near/far/start, which the CLI does not expose
+}
+
+double ratio(std::int64_t numerator, std::int64_t i1) {
+    if (i1 <= 0) return kNaN;
+    return static_cast<double>(numerator) / static_cast<double>(i1);
+}
+
+struct Evaluator::Impl {
+    render::EglContext context;
+    glm::dvec3 origin{0.0};
+    engine::Bounds p1_bounds;        // local frame
+    engine::Bounds target_bounds;    // meshes' (exact reference); empty without scene
+    render::PointSplatRenderer p1, p2, p3;
+    render::Program count_program{"metric-count", {{GL_COMPUTE_SHADER, kCountShader}}};
+    GLint u_offset = -1, u_size = -1;
+    GLuint counts_buffer = 0;
+    GLuint texture = 0, fbo = 0;
+    int texture_width = 0, texture_height = 0;
+    std::unique_ptr<sim::RayCaster> target_only, target_and_environment;
+
+    Impl() {
+        u_offset = count_program.uniform("u_offset");
+        u_size = count_program.uniform("u_size");
+        GL_CHECK(glCreateBuffers(1, &counts_buffer));
+        GL_CHECK(glNamedBufferStorage(counts_buffer, 8 * sizeof(GLuint), nullptr,
+                                      GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT));
+    }
+    ~Impl() {
+        if (fbo) glDeleteFramebuffers(1, &fbo);
+        if (texture) glDeleteTextures(1, &texture);
+        if (counts_buffer) glDeleteBuffers(1, &counts_buffer);
+    }
+
+    void ensureTarget(int width, int height) {
+        if (texture && texture_width == width && texture_height == height) return;
+        if (fbo) glDeleteFramebuffers(1, &fbo);
+        if (texture) glDeleteTextures(1, &texture);
+        GL_CHECK(glCreateTextures(GL_TEXTURE_2D, 1, &texture));
+        GL_CHECK(glTextureStorage2D(texture, 1, GL_RGBA8, width, height));
+        GL_CHECK(glCreateFramebuffers(1, &fbo));
+        GL_CHECK(glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, texture, 0));
+        if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw engine::Error("metric: offscreen framebuffer " + std::to_string(width) + "x" +
+                                std::to_string(height) + " is incomplete");
+        texture_width = width;
+        texture_height = height;
+    }
+
+    /// Renders I1, I2, I3 of the pixels `draw` (a sub-rectangle of the image, or all of it)
+    /// into the texture's corner (0, 0)..draw size. Returns points drawn.
+    std::size_t renderImages(const glm::dmat4& view, const glm::dmat4& projection, int width, int height,
+                             const render::PixelRect& draw, double splat_px, bool cull) {
+        const bool full = draw.x0 == 0 && draw.y0 == 0 && draw.x1 == width && draw.y1 == height;
+        const glm::dmat4 p = full ? projection : render::subRectProjection(projection, width, height, draw);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glViewport(0, 0, draw.width(), draw.height());
+        glEnable(GL_SCISSOR_TEST);  // wide points are not clipped to the viewport, only to this
+        glScissor(0, 0, draw.width(), draw.height());
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_BLEND);
+        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        render::SplatStyle style;
+        style.point_size_px = static_cast<float>(splat_px);
+        std::size_t drawn = 0;
+        glColorMaski(0, GL_TRUE, GL_FALSE, GL_FALSE, GL_FALSE);
+        drawn += p1.draw(view, p, style, cull).points_drawn;
+        glColorMaski(0, GL_FALSE, GL_TRUE, GL_FALSE, GL_FALSE);
+        drawn += p2.draw(view, p, style, cull).points_drawn;
+        glColorMaski(0, GL_FALSE, GL_FALSE, GL_TRUE, GL_FALSE);
+        drawn += p3.draw(view, p, style, cull).points_drawn;
+        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDisable(GL_SCISSOR_TEST);
+        return drawn;
+    }
+
+    /// Counts over texture pixels [offset, offset + size): |I1|, |I2|, |I3|, |I4|, visible.
+    std::array<std::int64_t, 5> count(glm::ivec2 offset, glm::ivec2 size) {
+        const GLuint zeros[8] = {};
+        glNamedBufferSubData(counts_buffer, 0, sizeof zeros, zeros);
+        count_program.use();
+        glUniform2i(u_offset, offset.x, offset.y);
+        glUniform2i(u_size, size.x, size.y);
+        glBindImageTexture(0, texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA8);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts_buffer);
+        glDispatchCompute(static_cast<GLuint>((size.x + 15) / 16), static_cast<GLuint>((size.y + 15) / 16), 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        GLuint counts[8] = {};
+        glGetNamedBufferSubData(counts_buffer, 0, sizeof counts, counts);
+        render::checkGl("metric count", __FILE__, __LINE__);
+        return {counts[0], counts[1], counts[2], counts[3], counts[4]};
+    }
+
+    MetricPictures readPictures(int view, int width, int height) {
+        MetricPictures pictures;
+        pictures.view = view;
+        pictures.width = width;
+        pictures.height = height;
+        std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * height * 4);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        GL_CHECK(glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data()));
+        const std::size_t n = static_cast<std::size_t>(width) * height;
+        pictures.i1.resize(n);
+        pictures.i2.resize(n);
+        pictures.i3.resize(n);
+        pictures.i4.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool a = rgba[4 * i] > 127, b = rgba[4 * i + 1] > 127, c = rgba[4 * i + 2] > 127;
+            pictures.i1[i] = a ? 255 : 0;
+            pictures.i2[i] = b ? 255 : 0;
+            pictures.i3[i] = c ? 255 : 0;
+            pictures.i4[i] = (b != c) ? 255 : 0;
+        }
+        return pictures;
+    }
+
+    /// Exact reference for one view over the pixels of `rect` (outside it no ray can hit the
+    /// target): {target pixels, visible target pixels}.
+    std::pair<std::int64_t, std::int64_t> exact(const render::CameraPose& pose, double vfov_deg, int width,
+                                                int height, const render::PixelRect& rect) const {
+        if (rect.empty()) return {0, 0};
+        const std::int64_t n = rect.area();
+        const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+        const std::int64_t per = (n + threads - 1) / threads;
+        auto work = [&](std::int64_t begin, std::int64_t end) {
+            std::vector<sim::Ray> rays;
+            std::vector<sim::Hit> hits;
+            std::int64_t target = 0, visible = 0;
+            constexpr std::int64_t kBatch = 4096;
+            for (std::int64_t b = begin; b < end; b += kBatch) {
+                const std::int64_t e = std::min(end, b + kBatch);
+                rays.resize(static_cast<std::size_t>(e - b));
+                hits.assign(rays.size(), sim::Hit{});
+                for (std::int64_t i = b; i < e; ++i) {
+                    const int px = rect.x0 + static_cast<int>(i % rect.width());
+                    const int py = rect.y0 + static_cast<int>(i / rect.width());
+                    sim::Ray& ray = rays[static_cast<std::size_t>(i - b)];
+                    ray.origin = glm::vec3(pose.eye);
+                    ray.direction = glm::vec3(render::pixelCentreDirection(pose, vfov_deg, width, height, px, py));
+                    ray.t_far = 1e30f;
+                }
+                // First hit among target + environment: the target there is visible.
+                target_and_environment->intersect(rays, hits);
+                std::vector<sim::Ray> again;
+                for (std::size_t i = 0; i < rays.size(); ++i) {
+                    if (hits[i].hit() && hits[i].role == engine::Role::Target) {
+                        ++target;
+                        ++visible;
+                    } else {
+                        again.push_back(rays[i]);
+                    }
+                }
+                // The others are target pixels if the target alone would be hit.
+                std::vector<sim::Hit> again_hits(again.size());
+                target_only->intersect(again, again_hits);
+                for (const sim::Hit& h : again_hits)
+                    if (h.hit()) ++target;
+            }
+            return std::pair<std::int64_t, std::int64_t>{target, visible};
+        };
+        std::vector<std::future<std::pair<std::int64_t, std::int64_t>>> parts;
+        for (unsigned t = 1; t < threads; ++t) {
+            const std::int64_t b = t * per, e = std::min(n, b + per);
+            if (b < e) parts.push_back(std::async(std::launch::async, work, b, e));
+        }
+        auto total = work(0, std::min(n, per));
+        for (auto& f : parts) {
+            const auto r = f.get();
+            total.first += r.first;
+            total.second += r.second;
+        }
+        return total;
+    }
+};
+
+Evaluator::Evaluator(const MetricClouds& clouds, const engine::Scene* scene) {
+    if (clouds.p1.points.empty())
+        throw engine::Error("metric: P1 (the target-only cloud) is empty: the target is never sensed, so "
+                            "|I1| = 0 in every view; check the scene's target mesh or --p1");
+    impl_ = std::make_unique<Impl>();
+    Impl& impl = *impl_;
+    impl.origin = scene ? scene->origin : clouds.p1.origin;
+    const engine::PointCloud p1 = toFrame(clouds.p1, impl.origin);
+    impl.p1_bounds = p1.bounds();
+    impl.p1.setCloud(p1);
+    impl.p2.setCloud(toFrame(clouds.p2, impl.origin));
+    impl.p3.setCloud(toFrame(clouds.p3, impl.origin));
+    if (scene && scene->hasRole(engine::Role::Target)) {
+        impl.target_bounds = scene->bounds(engine::RoleMask::of({engine::Role::Target}));
+        impl.target_only = std::make_unique<sim::RayCaster>(*scene, engine::RoleMask::of({engine::Role::Target}));
+        impl.target_and_environment = std::make_unique<sim::RayCaster>(
+            *scene, engine::RoleMask::of({engine::Role::Target, engine::Role::Environment}));
+    }
+}
+
+Evaluator::~Evaluator() = default;
+
+bool Evaluator::hasExact() const { return impl_->target_only != nullptr; }
+glm::dvec3 Evaluator::origin() const { return impl_->origin; }
+
+MetricResult Evaluator::run(const MetricOptions& options) {
+    validate(options);
+    const auto start = std::chrono::steady_clock::now();
+    Impl& impl = *impl_;
+    impl.context.makeCurrent();
+    MetricResult result;
+    result.origin = impl.origin;
+    result.options = options;
+    result.has_exact = options.exact && hasExact();
+    if (options.look_at_world)
+        result.look_at = *options.look_at_world - impl.origin;
+    else
+        result.look_at = impl.target_bounds.empty() ? impl.p1_bounds.centre() : impl.target_bounds.centre();
+
+    const int w = options.width, h = options.height;
+    impl.ensureTarget(w, h);
+    const auto& orbit = options.orbit;
+    const glm::dmat4 projection =
+        render::projectionMatrix(orbit.vfov_deg, static_cast<double>(w) / h, orbit.near_m, orbit.far_m);
+    // Splats reach splat/2 pixels past their centre; the guard band lets points just
+    // outside the counted rectangle still paint into it.
+    const int guard_px = static_cast<int>(std::ceil(options.splat_px / 2.0)) + 1;
+
+    double metric_sum = 0.0, visible_sum = 0.0, exact_sum = 0.0;
+    int exact_used = 0;
+    result.metric_min = kNaN;
+    result.metric_max = kNaN;
+    for (int k = 0; k < orbit.views; ++k) {
+        ViewResult v;
+        v.view = k;
+        v.pose = render::orbitView(orbit, result.look_at, k);
+        const glm::dmat4 view = render::viewMatrix(v.pose);
+        const glm::dmat4 view_projection = projection * view;
+
+        const auto render_start = std::chrono::steady_clock::now();
+        render::PixelRect counted{0, 0, w, h};
+        if (options.skip) counted = render::projectBounds(view_projection, impl.p1_bounds, w, h, guard_px);
+        if (counted.empty()) {
+            v.frustum_skipped = true;
+            v.rect = counted;
+        } else {
+            v.rect = counted;
+            render::PixelRect drawn = counted;
+            if (options.skip) {
+                drawn.x0 = std::max(0, counted.x0 - guard_px);
+                drawn.y0 = std::max(0, counted.y0 - guard_px);
+                drawn.x1 = std::min(w, counted.x1 + guard_px);
+                drawn.y1 = std::min(h, counted.y1 + guard_px);
+            }
+            result.points_drawn +=
+                impl.renderImages(view, projection, w, h, drawn, options.splat_px, options.skip);
+            const auto c = impl.count({counted.x0 - drawn.x0, counted.y0 - drawn.y0},
+                                      {counted.width(), counted.height()});
+            v.i1 = c[0];
+            v.i2 = c[1];
+            v.i3 = c[2];
+            v.i4 = c[3];
+            v.visible_px = c[4];
+        }
+        if (k == options.picture_view) {
+            impl.renderImages(view, projection, w, h, render::PixelRect{0, 0, w, h}, options.splat_px, false);
+            result.pictures = impl.readPictures(k, w, h);
+        }
+        result.seconds_render += seconds(render_start);
+
+        v.metric = ratio(v.i4, v.i1);
+        v.visible = ratio(v.visible_px, v.i1);
+        v.used = v.i1 > 0;
+        v.exact = kNaN;
+        if (result.has_exact) {
+            const auto exact_start = std::chrono::steady_clock::now();
+            const render::PixelRect rays = render::projectBounds(view_projection, impl.target_bounds, w, h, 1.0);
+            const auto [target, visible] = impl.exact(v.pose, orbit.vfov_deg, w, h, rays);
+            v.exact_target_px = target;
+            v.exact_visible_px = visible;
+            v.exact = ratio(visible, target);
+            result.seconds_exact += seconds(exact_start);
+        }
+        if (v.used) {
+            ++result.views_used;
+            metric_sum += v.metric;
+            visible_sum += v.visible;
+            if (std::isnan(result.metric_min) || v.metric < result.metric_min) result.metric_min = v.metric;
+            if (std::isnan(result.metric_max) || v.metric > result.metric_max) result.metric_max = v.metric;
+            if (!std::isnan(v.exact)) {
+                exact_sum += v.exact;
+                ++exact_used;
+            }
+        }
+        result.views.push_back(v);
+    }
+    result.metric_mean = result.views_used ? metric_sum / result.views_used : kNaN;
+    result.visible_mean = result.views_used ? visible_sum / result.views_used : kNaN;
+    result.exact_mean = exact_used ? exact_sum / exact_used : kNaN;
+    result.seconds = seconds(start);
+    return result;
+}
+
+}  // namespace metric

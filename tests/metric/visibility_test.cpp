@@ -1,0 +1,194 @@
+// The visibility metric of paper §IV-B against closed forms (headless EGL, llvmpipe).
+#include "metric_scenes.hpp"
+
+#include <metric/clouds.hpp>
+#include <metric/visibility.hpp>
+
+#include <engine/error.hpp>
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+
+using doctest::Approx;
+
+namespace {
+
+// Box-behind-wall geometry (metric_scenes.hpp): cube half-size 2 m, walls at 6 m with tops
+// at 0.5 m, camera orbit radius 20 m at the cube's centre height, 4 axis-aligned views.
+constexpr float kA = 2.0f, kD = 6.0f, kWallTop = 0.5f;
+constexpr double kR = 20.0;
+
+metric::MetricOptions axisViews() {
+    metric::MetricOptions o;
+    o.orbit.radius_m = kR;
+    o.orbit.altitude_m = 0.0;
+    o.orbit.views = 4;
+    o.width = 256;
+    o.height = 256;
+    o.splat_px = 3.0;
+    return o;
+}
+
+const metric::MetricClouds& wallClouds() {
+    static const metric::MetricClouds clouds =
+        metric::generateClouds(metric_test::boxBehindWall(kA, kD, kWallTop));
+    return clouds;
+}
+
+}  // namespace
+
+TEST_CASE("paper §IV-B arithmetic: 4733 / 6908 = 68.5 %") {
+    CHECK(metric::ratio(4733, 6908) == Approx(0.685).epsilon(0.0005));
+    CHECK(std::round(metric::ratio(4733, 6908) * 1000.0) == 685.0);
+    CHECK(std::isnan(metric::ratio(10, 0)));
+}
+
+TEST_CASE("box behind a wall: exact reference matches the closed form, point metric close") {
+    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    const double expected = metric_test::closedFormVisible(kA, kD, kWallTop, kR);  // 0.3393
+    REQUIRE(expected == Approx(0.3393).epsilon(0.001));
+    const metric::MetricClouds& clouds = wallClouds();
+    REQUIRE(!clouds.p1.points.empty());
+    REQUIRE(clouds.p2.points.size() < clouds.p3.points.size() + clouds.p1.points.size());
+    metric::Evaluator evaluator(clouds, &scene);
+    REQUIRE(evaluator.hasExact());
+    const metric::MetricResult r = evaluator.run(axisViews());
+    REQUIRE(r.views.size() == 4);
+    CHECK(r.views_used == 4);
+    for (const metric::ViewResult& v : r.views) {
+        INFO("view " << v.view << " exact " << v.exact << " metric " << v.metric << " visible " << v.visible);
+        // Exact: pixel centres sample a ~108 px tall face; the wall's edge falls between two
+        // rows, so |error| <= 1.5 rows / 108 < 0.015.
+        CHECK(std::abs(v.exact - expected) < 0.015);
+        // Point splats (drone clouds at ~0.4 m spacing, 3 px splats): looser, 0.08.
+        CHECK(std::abs(v.metric - expected) < 0.08);
+        CHECK(std::abs(v.visible - expected) < 0.08);
+        CHECK(v.i1 > 5000);
+    }
+    CHECK(std::abs(r.exact_mean - expected) < 0.015);
+    CHECK(std::abs(r.metric_mean - expected) < 0.08);
+    MESSAGE("closed form " << expected << ", exact " << r.exact_mean << ", metric " << r.metric_mean
+                           << ", visible " << r.visible_mean);
+}
+
+TEST_CASE("skips (target rectangle, culling) give the same counts inside the rectangle") {
+    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    metric::Evaluator evaluator(wallClouds(), &scene);
+    metric::MetricOptions o = axisViews();
+    o.exact = false;
+    const metric::MetricResult skip = evaluator.run(o);
+    o.skip = false;
+    const metric::MetricResult full = evaluator.run(o);
+    for (int k = 0; k < 4; ++k) {
+        const auto& a = skip.views[static_cast<std::size_t>(k)];
+        const auto& b = full.views[static_cast<std::size_t>(k)];
+        CHECK(a.rect.area() < b.rect.area());
+        CHECK(a.i1 == b.i1);                   // I1 lies inside the rectangle
+        CHECK(a.visible_px == b.visible_px);   // so does I3 and not I2 (it is within I1's splats)
+        CHECK(a.i4 <= b.i4);                   // xor also counts P2-only pixels anywhere
+        CHECK(std::isnan(a.exact));
+    }
+    CHECK_FALSE(skip.has_exact);
+}
+
+TEST_CASE("a fully hidden target gives 0 (metric, visible and exact)") {
+    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, 4.0f, /*roof=*/true);
+    const metric::MetricClouds clouds = metric::generateClouds(scene);
+    REQUIRE(!clouds.p1.points.empty());
+    metric::Evaluator evaluator(clouds, &scene);
+    metric::MetricOptions o = axisViews();
+    o.orbit.views = 2;
+    const metric::MetricResult r = evaluator.run(o);
+    REQUIRE(r.views_used == 2);
+    for (const metric::ViewResult& v : r.views) {
+        CHECK(v.i1 > 0);
+        CHECK(v.i4 == 0);
+        CHECK(v.metric == 0.0);
+        CHECK(v.visible == 0.0);
+        CHECK(v.exact_target_px > 0);
+        CHECK(v.exact_visible_px == 0);
+        CHECK(v.exact == 0.0);
+    }
+    CHECK(r.metric_mean == 0.0);
+}
+
+TEST_CASE("views with the target out of frame are reported and left out of the means") {
+    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    metric::Evaluator evaluator(wallClouds(), &scene);
+    metric::MetricOptions o = axisViews();
+    // Orbit around a point 40 m east of the target: looking west the target is in frame,
+    // looking east it is behind the camera.
+    o.look_at_world = scene.origin + glm::dvec3(40.0, 0.0, 0.0);
+    o.orbit.radius_m = 10.0;
+    for (bool skip : {true, false}) {
+        o.skip = skip;
+        const metric::MetricResult r = evaluator.run(o);
+        REQUIRE(r.views.size() == 4);
+        const metric::ViewResult& west = r.views[0];   // eye at +50 m looking at +40 m: target ahead
+        const metric::ViewResult& east = r.views[2];   // eye at +30 m looking at +40 m: behind
+        CHECK(west.used);
+        CHECK(west.i1 > 0);
+        CHECK_FALSE(east.used);
+        CHECK(east.i1 == 0);
+        CHECK(std::isnan(east.metric));
+        CHECK(east.frustum_skipped == skip);
+        CHECK(r.views_used < 4);
+        double sum = 0.0;
+        int n = 0;
+        for (const auto& v : r.views)
+            if (v.used) {
+                sum += v.metric;
+                ++n;
+            }
+        CHECK(n == r.views_used);
+        CHECK(r.metric_mean == Approx(sum / n));
+    }
+}
+
+TEST_CASE("all views out of frame: no mean, no division by zero") {
+    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    metric::Evaluator evaluator(wallClouds(), &scene);
+    metric::MetricOptions o = axisViews();
+    o.look_at_world = scene.origin + glm::dvec3(0.0, 0.0, 500.0);  // look at the sky
+    o.orbit.radius_m = 5.0;
+    o.orbit.altitude_m = 1.0;
+    const metric::MetricResult r = evaluator.run(o);
+    CHECK(r.views_used == 0);
+    CHECK(std::isnan(r.metric_mean));
+    CHECK(std::isnan(r.exact_mean));
+}
+
+TEST_CASE("an empty P1 is a clear error") {
+    metric::MetricClouds clouds;
+    engine::CloudPoint p;
+    clouds.p2.points.push_back(p);
+    CHECK_THROWS_WITH_AS(metric::Evaluator(clouds, nullptr),
+                         doctest::Contains("metric: P1 (the target-only cloud) is empty"), engine::Error);
+}
+
+TEST_CASE("options are validated naming the option and the allowed range") {
+    metric::MetricOptions o;
+    o.width = 8;
+    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --width = 8: allowed 16..8192 pixels", engine::Error);
+    o = {};
+    o.splat_px = 0.5;
+    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --splat-px = 0.5: allowed [1, 64] pixels", engine::Error);
+    o = {};
+    o.orbit.views = 0;
+    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --views = 0: allowed 1..65535", engine::Error);
+    o = {};
+    o.picture_view = 100;
+    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--picture-view = 100"), engine::Error);
+    o = {};
+    o.orbit.radius_m = 0.0;
+    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--radius-m = 0"), engine::Error);
+    CHECK_NOTHROW(metric::validate(metric::MetricOptions{}));
+}
+
+TEST_CASE("a scene without a target cannot give the clouds") {
+    engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    scene.meshes.erase(scene.meshes.begin());
+    CHECK_THROWS_WITH_AS(metric::generateClouds(scene), doctest::Contains("has no target mesh"), engine::Error);
+}
