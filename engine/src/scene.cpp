@@ -216,9 +216,26 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where) 
     Assimp::Importer importer;
     // Points and lines carry no surface: have Assimp drop them.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const aiScene* ai = importer.ReadFile(
-        path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                           aiProcess_PreTransformVertices | aiProcess_SortByPType);
+    // Import without post-processing first: JoinIdenticalVertices would silently merge
+    // NaN vertices away, and we want to reject them.
+    const aiScene* ai = importer.ReadFile(path.string(), 0);
+    if (ai) {
+        std::size_t index = 0;
+        for (unsigned mi = 0; mi < ai->mNumMeshes; ++mi) {
+            const aiMesh* m = ai->mMeshes[mi];
+            if (!m || !m->mVertices) continue;
+            for (unsigned vi = 0; vi < m->mNumVertices; ++vi, ++index) {
+                const aiVector3D& v = m->mVertices[vi];
+                if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+                    throw Error(where + ": mesh file '" + path.string() + "': vertex " +
+                                std::to_string(index) + " is not finite (" + formatDouble(v.x) +
+                                ", " + formatDouble(v.y) + ", " + formatDouble(v.z) +
+                                "); allowed: finite coordinates");
+            }
+        }
+        ai = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                          aiProcess_PreTransformVertices | aiProcess_SortByPType);
+    }
     if (!ai) {
         std::string reason = importer.GetErrorString();
         for (char& c : reason)
@@ -234,11 +251,12 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where) 
         const std::size_t base = raw.vertices.size();
         for (unsigned vi = 0; vi < m->mNumVertices; ++vi) {
             const aiVector3D& v = m->mVertices[vi];
+            // Node transforms applied by PreTransformVertices can still overflow.
             if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
                 throw Error(where + ": mesh file '" + path.string() + "': vertex " +
-                            std::to_string(base + vi) + " is not finite (" + formatDouble(v.x) +
-                            ", " + formatDouble(v.y) + ", " + formatDouble(v.z) +
-                            "); allowed: finite coordinates");
+                            std::to_string(base + vi) +
+                            " is not finite after the file's node transforms; allowed: finite "
+                            "coordinates");
             raw.vertices.emplace_back(v.x, v.y, v.z);
         }
         for (unsigned fi = 0; fi < m->mNumFaces; ++fi) {
@@ -280,6 +298,14 @@ Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& optio
         const std::size_t at = what.find("parse error");
         if (at != std::string::npos) what = what.substr(at);
         throw Error(name + ": JSON syntax error: " + what);
+    } catch (const json::out_of_range& e) {
+        // nlohmann reports numbers beyond double range (1e999) here.
+        std::string what = e.what();
+        const std::size_t at = what.find("number overflow");
+        if (at != std::string::npos) what = what.substr(at);
+        throw Error(name + ": " + what + ": the number is not finite; allowed: finite numbers");
+    } catch (const json::exception& e) {
+        throw Error(name + ": invalid JSON: " + std::string(e.what()));
     }
     if (!root.is_object())
         throw Error(name + ": the top level must be a JSON object with 'meshes', not a " +
@@ -359,6 +385,10 @@ Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& optio
             }
             mesh.triangles.push_back(t);
         }
+        if (mesh.triangles.empty())
+            throw Error(where + ": all " + std::to_string(raw.triangles.size()) +
+                        " triangles have zero area; allowed: a mesh with at least one proper "
+                        "triangle");
         scene.meshes.push_back(std::move(mesh));
     }
     return scene;
