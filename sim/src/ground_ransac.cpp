@@ -11,11 +11,20 @@
 //      plane was rejected (a wall) nothing joined PG, PC would not shrink and steps 2-4
 //      would find the same wall forever, so the inliers leave PC either way.
 //   5) repeat from 2) until |PC| < stop_fraction * |PC at step 1| (or max_planes).
+//
+// Our addition (GroundOptions::min_plane_fraction, 0 restores the paper's rule): a
+// horizontal plane must also hold a minimum share of the band. Without it, once the
+// ground is removed RANSAC's best "plane" is often a horizontal slab cut through all the
+// walls at one height, or a vehicle's roof, and both would turn white. Since no smaller
+// plane can be accepted, the loop also stops once PC is smaller than that share, and each
+// RANSAC runs only the iterations needed to find a plane of that share with probability
+// 0.99 (capped by ransac_iterations), which keeps whitening fast.
 #include <sim/ground.hpp>
 
 #include <engine/error.hpp>
 
 #include <pcl/ModelCoefficients.h>
+#include <pcl/console/print.h>
 #include <pcl/point_types.h>
 #include <pcl/sample_consensus/method_types.h>
 #include <pcl/sample_consensus/model_types.h>
@@ -23,6 +32,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -45,6 +55,8 @@ void validate(const GroundOptions& o) {
         fail("distance_threshold_m", o.distance_threshold_m, "> 0");
     if (!(o.min_normal_z >= 0.0 && o.min_normal_z <= 1.0)) fail("min_normal_z", o.min_normal_z, "[0, 1]");
     if (!(o.stop_fraction >= 0.0 && o.stop_fraction <= 1.0)) fail("stop_fraction", o.stop_fraction, "[0, 1]");
+    if (!(o.min_plane_fraction >= 0.0 && o.min_plane_fraction <= 1.0))
+        fail("min_plane_fraction", o.min_plane_fraction, "[0, 1]");
     if (o.max_planes < 0 || o.max_planes > 100000) fail("max_planes", o.max_planes, "[0, 100000]");
     if (o.ransac_iterations < 1 || o.ransac_iterations > 10000000)
         fail("ransac_iterations", o.ransac_iterations, "[1, 10000000]");
@@ -91,13 +103,27 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Gr
     seg.setMaxIterations(o.ransac_iterations);
     seg.setInputCloud(cloud);
 
+    // Degenerate samples (collinear or repeated points) are expected in small remainders
+    // of PC; PCL would print a line for each. Outcomes are reported through GroundStats.
+    static std::once_flag quiet;
+    std::call_once(quiet, [] { pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS); });
+
     auto remaining = std::make_shared<pcl::Indices>(band.size());
     std::iota(remaining->begin(), remaining->end(), 0);
-    const double stop_count = o.stop_fraction * double(band.size());
+    const double min_plane_count = o.min_plane_fraction * double(band.size());
+    const double stop_count = std::max(o.stop_fraction, o.min_plane_fraction) * double(band.size());
     std::vector<std::uint8_t> removed(band.size(), 0);
     int planes = 0;
     // Step 5's test before each pass of steps 2-4.
     while (remaining->size() >= 3 && !(double(remaining->size()) < stop_count) && planes < o.max_planes) {
+        int iterations = o.ransac_iterations;
+        if (min_plane_count > 0.0) {
+            // Trials for a 3-point sample of a plane holding share w of PC: log(0.01) / log(1 - w^3).
+            const double w = std::min(1.0, min_plane_count / double(remaining->size()));
+            const double needed = std::ceil(std::log(0.01) / std::log1p(-std::min(w * w * w, 0.999999)));
+            iterations = int(std::clamp(needed, 1.0, double(o.ransac_iterations)));
+        }
+        seg.setMaxIterations(iterations);
         seg.setIndices(remaining);
         pcl::PointIndices inliers;
         pcl::ModelCoefficients plane;
@@ -106,9 +132,12 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Gr
         ++planes;
         const double n_len = std::hypot(plane.values[0], plane.values[1], plane.values[2]);
         const bool horizontal = n_len > 0.0 && std::abs(plane.values[2]) / n_len >= o.min_normal_z;
-        (horizontal ? local.planes_accepted : local.planes_rejected)++;
+        const bool big_enough = double(inliers.indices.size()) >= min_plane_count;
+        const bool accept = horizontal && big_enough;
+        (accept ? local.planes_accepted : local.planes_rejected)++;
+        if (horizontal && !big_enough) local.planes_too_small++;
         for (const auto k : inliers.indices) {
-            if (horizontal) is_ground[band[k]] = 1;         // step 3
+            if (accept) is_ground[band[k]] = 1;             // step 3
             removed[k] = 1;                                 // step 4
         }
         std::erase_if(*remaining, [&](pcl::index_t k) { return removed[k] != 0; });

@@ -15,6 +15,10 @@ struct GroundOptions {
     double distance_threshold_m = 0.2;  // RANSAC inlier distance (not given by the paper)
     double min_normal_z = 0.9;          // step 3: accept a plane when |normal.z| >= this
     double stop_fraction = 0.01;        // step 5: stop when under this fraction of PC is left
+    /// Ours, not the paper's: a horizontal plane joins PG only if it holds at least this
+    /// fraction of the band (step 1's PC). Rejects the tank's roof and the horizontal
+    /// slabs RANSAC cuts through walls once the ground is gone. 0 = the paper's rule.
+    double min_plane_fraction = 0.05;
     int max_planes = 25;                // cap on steps 2-5 (the paper's loop has none)
     int ransac_iterations = 1000;       // SACSegmentation's max iterations per plane
 };
@@ -27,6 +31,7 @@ struct GroundStats {
     std::size_t ground_points = 0;    // |PG|
     int planes_accepted = 0;          // near-horizontal planes added to PG
     int planes_rejected = 0;          // planes removed from PC without joining PG (walls)
+    int planes_too_small = 0;         // of those, horizontal but under min_plane_fraction
 };
 
 /// Paper §III-C steps 1-5 on one view's points: returns one flag per point, 1 when the

@@ -1,0 +1,279 @@
+// tests/sim/generator_test.cpp: the whole pipeline of paper §III on scenes built in code.
+#include "test_scenes.hpp"
+
+#include <sim/generator.hpp>
+
+#include <engine/cloud_io.hpp>
+#include <engine/error.hpp>
+
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratchDir() {
+    const fs::path dir = fs::temp_directory_path() / ("ladarvr_sim_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+bool samePoint(const engine::CloudPoint& a, const engine::CloudPoint& b) {
+    return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 && a.rgb == b.rgb &&
+           std::memcmp(&a.range_m, &b.range_m, sizeof a.range_m) == 0 && a.view == b.view &&
+           a.label == b.label;
+}
+
+sim::GenerateOptions smallOptions() {
+    sim::GenerateOptions o;
+    o.orbit.xres = 64;
+    o.orbit.yres = 48;
+    o.orbit.views = 12;
+    return o;
+}
+
+}  // namespace
+
+TEST_CASE("paper configuration on a ground covering the footprint: 1,638,400 points, none missed") {
+    // 0.5 m cells over 160 m: 204,800 ground triangles with shared edges and vertices.
+    const engine::Scene scene = sim_test::townScene();
+    sim::GenerateStats st;
+    const engine::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{}, &st);
+    CHECK(st.rays == 1638400);
+    CHECK(st.points == 1638400);
+    CHECK(st.misses == 0);
+    REQUIRE(cloud.points.size() == 1638400);
+    CHECK(cloud.origin == scene.origin);
+    CHECK(st.drone_radius_m == doctest::Approx(326.12).epsilon(1e-4));
+    CHECK(st.length_sensed_m == doctest::Approx(68.36).epsilon(1e-4));
+    // Default C: the tank's centre on the ground, in world coordinates.
+    CHECK(st.centre.x == doctest::Approx(scene.origin.x));
+    CHECK(st.centre.y == doctest::Approx(scene.origin.y));
+    CHECK(st.centre.z == doctest::Approx(scene.origin.z));
+
+    // Order (view, row, column): views never decrease, each view holds xres*yres points.
+    std::size_t per_view[100] = {};
+    std::uint16_t last_view = 0;
+    std::size_t out_of_order = 0, bad_range = 0, off_ground = 0, far_out = 0;
+    std::size_t labels[3] = {};
+    for (const auto& p : cloud.points) {
+        out_of_order += p.view < last_view;
+        last_view = p.view;
+        ++per_view[p.view];
+        ++labels[int(p.label)];
+        // The sensor is ~ 424 m (slant) from the ground: ranges within the footprint's.
+        bad_range += !(p.range_m > 380.0f && p.range_m < 470.0f);
+        if (p.label == engine::Role::Ground) off_ground += std::abs(p.position.z) > 1e-3f;
+        // Every hit lies in the covered disc (radius 62.5 m about C).
+        far_out += std::hypot(p.position.x, p.position.y) > 0.5 * st.coverage_diameter_m + 0.5;
+    }
+    CHECK(out_of_order == 0);
+    CHECK(bad_range == 0);
+    CHECK(off_ground == 0);  // centimetre accuracy: the origin is 4,000 km from zero
+    CHECK(far_out == 0);
+    for (std::size_t v = 0; v < 100; ++v) CHECK(per_view[v] == 16384);
+    CHECK(labels[0] + labels[1] + labels[2] == 1638400);
+    CHECK(labels[int(engine::Role::Target)] > 0);
+    CHECK(labels[int(engine::Role::Environment)] > 0);
+
+    // Colouring: ground white; the (low) target on the red side of the jet map.
+    CHECK(st.ground_precision.has_value());
+    CHECK(st.ground_recall.has_value());
+    MESSAGE("town scene: ground precision ", *st.ground_precision, ", recall ", *st.ground_recall,
+            ", planes ", st.planes_accepted, "/", st.planes_rejected);
+    // Flat ground and box houses: one plane per view holds all the ground, so recall is
+    // ~1. The only false positives are the bottom 0.2 m (the RANSAC distance) of walls
+    // and tank, under 1 % of the ground points; a roof or wall slab turned white would
+    // cost more than 2 % (the tank alone is 1.1 % of all points).
+    CHECK(*st.ground_precision > 0.98);
+    CHECK(*st.ground_recall > 0.99);
+    std::size_t target_not_red = 0, target_coloured = 0;
+    for (const auto& p : cloud.points)
+        if (p.label == engine::Role::Target && p.rgb != engine::kWhite) {
+            ++target_coloured;
+            const unsigned r = p.rgb >> 16 & 255, b = p.rgb & 255;
+            target_not_red += !(r >= 128 && b == 0);
+        }
+    CHECK(target_coloured > 0);
+    CHECK(target_not_red == 0);
+    CHECK(st.z_min == doctest::Approx(0.0).epsilon(1e-3));
+    CHECK(st.z_max == doctest::Approx(13.0).epsilon(1e-3));  // the tallest house
+}
+
+TEST_CASE("the output is bit-identical with 1 and 3 threads") {
+    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    sim::GenerateOptions o = smallOptions();
+    o.threads = 1;
+    sim::GenerateStats st1, st3;
+    const engine::PointCloud one = sim::generateCloud(scene, o, &st1);
+    o.threads = 3;
+    const engine::PointCloud three = sim::generateCloud(scene, o, &st3);
+    REQUIRE(one.points.size() == three.points.size());
+    std::size_t different = 0;
+    for (std::size_t i = 0; i < one.points.size(); ++i) different += !samePoint(one.points[i], three.points[i]);
+    CHECK(different == 0);
+    CHECK(st1.ground_found == st3.ground_found);
+    CHECK(st1.planes_accepted == st3.planes_accepted);
+    CHECK(st3.threads == 3);
+
+    // A different seed may whiten differently, but never changes geometry or order.
+    o.seed = 12345;
+    const engine::PointCloud reseeded = sim::generateCloud(scene, o);
+    REQUIRE(reseeded.points.size() == one.points.size());
+    std::size_t moved = 0;
+    for (std::size_t i = 0; i < one.points.size(); ++i)
+        moved += std::memcmp(&one.points[i].position, &reseeded.points[i].position, 12) != 0;
+    CHECK(moved == 0);
+}
+
+TEST_CASE("streaming through a spool file writes the same bytes as the in-memory path") {
+    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    const fs::path dir = scratchDir();
+    sim::GenerateOptions o = smallOptions();
+    for (const auto format : {engine::CloudFormat::PcdBinary, engine::CloudFormat::PlyAscii}) {
+        sim::GenerateStats in_memory, streamed;
+        o.memory_budget_bytes = std::size_t(1) << 30;
+        sim::generateToFile(scene, o, dir / "memory.out", format, &in_memory);
+        o.memory_budget_bytes = 1000;  // forces the spool
+        sim::generateToFile(scene, o, dir / "spool.out", format, &streamed);
+        CHECK_FALSE(in_memory.streamed);
+        CHECK(streamed.streamed);
+        CHECK(streamed.points == in_memory.points);
+        const std::string a = slurp(dir / "memory.out"), b = slurp(dir / "spool.out");
+        CHECK(a.size() > 1000);
+        CHECK(a == b);
+    }
+    // Nothing else left behind: no spool or temporary files.
+    std::size_t files = 0;
+    for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+    CHECK(files == 2);
+
+    // Read back through the engine: the same points as the in-memory cloud.
+    o.memory_budget_bytes = 1000;
+    sim::GenerateStats st;
+    sim::generateToFile(scene, o, dir / "spool.pcd", engine::CloudFormat::PcdBinary, &st);
+    const engine::PointCloud back = engine::readCloud(dir / "spool.pcd");
+    const engine::PointCloud direct = sim::generateCloud(scene, o);
+    REQUIRE(back.points.size() == st.points);
+    REQUIRE(direct.points.size() == st.points);
+    CHECK(back.origin == scene.origin);
+    std::size_t different = 0;
+    for (std::size_t i = 0; i < st.points; ++i) different += !samePoint(back.points[i], direct.points[i]);
+    CHECK(different == 0);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("bad options fail before any work and leave no output file") {
+    const engine::Scene scene = sim_test::townScene(40.0, 2.0);
+    const fs::path dir = scratchDir();
+    const fs::path out = dir / "cloud.pcd";
+    const auto fails = [&](auto change, const char* what) {
+        sim::GenerateOptions o = smallOptions();
+        change(o);
+        CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, out, engine::CloudFormat::PcdBinary),
+                             doctest::Contains(what), engine::Error);
+        CHECK_FALSE(fs::exists(out));
+        CHECK(fs::is_empty(dir));
+    };
+    fails([](auto& o) { o.orbit.fov_deg = 0; }, "fov_deg");
+    fails([](auto& o) { o.orbit.inclination_deg = 88; }, "inclination_deg + fov_deg/2");
+    fails([](auto& o) { o.orbit.views = 0; }, "views");
+    fails([](auto& o) { o.orbit.xres = -1; }, "xres");
+    fails([](auto& o) { o.orbit.altitude_m = -300; }, "altitude_m");
+    fails([](auto& o) { o.ground.band_m = -3; }, "band_m");
+    fails([](auto& o) { o.colour.entries = 0; }, "entries");
+    fails([](auto& o) { o.threads = -2; }, "threads");
+    fails([](auto& o) { o.centre = glm::dvec3(0, NAN, 0); }, "centre");
+    fails([](auto& o) { o.roles.bits = 0; }, "roles");
+    // A destination whose directory does not exist: refused before casting.
+    CHECK_THROWS_AS(sim::generateToFile(scene, smallOptions(), dir / "missing" / "x.pcd",
+                                        engine::CloudFormat::PcdBinary),
+                    engine::Error);
+    CHECK(fs::is_empty(dir));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("default centre: the target's centre at the ground height beneath it") {
+    engine::Scene s;
+    s.origin = glm::dvec3(1000.0, 2000.0, 50.0);
+    s.meshes.push_back(sim_test::gridMesh(0, 0, 5.0, 20, 10.0));  // ground at local z = 5
+    s.meshes.push_back(sim_test::gridMesh(0, 0, 30.0, 2, 5.0, engine::Role::Environment, "bridge"));
+    s.meshes.push_back(sim_test::boxMesh({28, -22, 5}, {32, -18, 8}, engine::Role::Target, "tank"));
+    glm::dvec3 c = sim::defaultCentre(s);
+    CHECK(c.x == doctest::Approx(1030.0));
+    CHECK(c.y == doctest::Approx(1980.0));
+    CHECK(c.z == doctest::Approx(55.0));  // ground, not the tank roof nor the bridge
+    // Target outside the ground: the lowest ground height instead.
+    s.meshes[2] = sim_test::boxMesh({500, 500, 0}, {504, 504, 3}, engine::Role::Target, "tank");
+    c = sim::defaultCentre(s);
+    CHECK(c.x == doctest::Approx(1502.0));
+    CHECK(c.z == doctest::Approx(55.0));
+    // No ground at all: the scene's lowest point.
+    s.meshes.erase(s.meshes.begin());
+    CHECK(sim::defaultCentre(s).z == doctest::Approx(50.0));
+    s.meshes.clear();
+    CHECK_THROWS_AS(sim::defaultCentre(s), engine::Error);
+}
+
+TEST_CASE("--roles keeps only those meshes and the same orbit; --white makes every point white") {
+    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    sim::GenerateOptions o = smallOptions();
+    o.white = true;
+    sim::GenerateStats all_st, target_st;
+    const engine::PointCloud all = sim::generateCloud(scene, o, &all_st);
+    o.roles = engine::RoleMask::of({engine::Role::Target});
+    const engine::PointCloud target = sim::generateCloud(scene, o, &target_st);
+    CHECK(target_st.centre == all_st.centre);
+    CHECK(target_st.triangles == 12);
+    CHECK(target.points.size() > 0);
+    CHECK(target.points.size() < all.points.size());
+    CHECK(target_st.misses == target_st.rays - target.points.size());
+    std::size_t not_target = 0, not_white = 0;
+    for (const auto& p : target.points) not_target += p.label != engine::Role::Target;
+    for (const auto& p : all.points) not_white += p.rgb != engine::kWhite;
+    CHECK(not_target == 0);
+    CHECK(not_white == 0);
+    CHECK_FALSE(all_st.ground_precision.has_value());
+    CHECK(all_st.ground_found == 0);
+    // Every target point of the target-only cloud lies on the tank's box.
+    std::size_t off_box = 0;
+    for (const auto& p : target.points)
+        off_box += !(std::abs(p.position.x) <= 3.501f && std::abs(p.position.y) <= 1.751f &&
+                     p.position.z >= -0.001f && p.position.z <= 2.401f);
+    CHECK(off_box == 0);
+}
+
+TEST_CASE("viewRays gives the rays the generator traces") {
+    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    sim::GenerateOptions o = smallOptions();
+    o.white = true;
+    sim::Generator generator(scene, o);
+    const engine::PointCloud cloud = generator.run();
+    std::vector<sim::Ray> rays;
+    std::vector<sim::Hit> hits;
+    std::size_t k = 0, mismatched = 0;
+    for (int v = 0; v < o.orbit.views; ++v) {
+        generator.viewRays(v, rays);
+        hits.resize(rays.size());
+        generator.caster().intersect(rays, hits);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            if (!hits[i].hit()) continue;
+            const auto& p = cloud.points.at(k++);
+            mismatched += p.range_m != hits[i].t || p.view != v || p.label != hits[i].role;
+        }
+    }
+    CHECK(k == cloud.points.size());
+    CHECK(mismatched == 0);
+}
