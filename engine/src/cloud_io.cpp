@@ -447,6 +447,12 @@ struct Layout {
     bool colour_float = false;     // PLY red/green/blue as floats in [0, 1]
 };
 
+std::string shortNumber(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
 struct PointSink {
     std::string prefix;  // "pcd: <file>" / "ply: <file>"
     PointCloud cloud;
@@ -458,13 +464,13 @@ struct PointSink {
     }
     Role label(double v, std::size_t i) const {
         if (!(v == 0.0 || v == 1.0 || v == 2.0))
-            throw Error(prefix + ": point " + std::to_string(i) + ": label " + std::to_string(v) +
+            throw Error(prefix + ": point " + std::to_string(i) + ": label " + shortNumber(v) +
                         " is not 0 (ground), 1 (environment) or 2 (target)");
         return Role(std::uint8_t(v));
     }
     std::uint16_t view(double v, std::size_t i) const {
         if (!(v >= 0.0 && v <= 65535.0) || v != std::floor(v))
-            throw Error(prefix + ": point " + std::to_string(i) + ": view " + std::to_string(v) +
+            throw Error(prefix + ": point " + std::to_string(i) + ": view " + shortNumber(v) +
                         " is not an integer in 0..65535");
         return std::uint16_t(v);
     }

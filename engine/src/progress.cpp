@@ -21,7 +21,8 @@ void Progress::advance(std::size_t units) {
     done_ = std::min(total_, done_ + units);
     if (!enabled_ || finished_) return;
     const auto now = std::chrono::steady_clock::now();
-    if (now - last_draw_ >= std::chrono::milliseconds(100) || done_ == total_) {
+    // The final 100 % line is finish()'s (or the destructor's).
+    if (now - last_draw_ >= std::chrono::milliseconds(100) && done_ < total_) {
         last_draw_ = now;
         draw(false);
     }

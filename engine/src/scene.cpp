@@ -118,12 +118,16 @@ struct Entry {
     bool up_y = false;
 };
 
-std::string jsonTypeName(const json& v) { return v.type_name(); }
+// "a string", "an array", ... for messages.
+std::string jsonTypeName(const json& v) {
+    const std::string t = v.type_name();
+    return (t == "array" || t == "object" ? "an " : "a ") + t;
+}
 
 double finiteNumber(const json& v, const std::string& where, const std::string& key,
                     const std::string& allowed) {
     if (!v.is_number())
-        throw Error(where + ": '" + key + "' must be " + allowed + ", not a " + jsonTypeName(v));
+        throw Error(where + ": '" + key + "' must be " + allowed + ", not " + jsonTypeName(v));
     const double d = v.get<double>();
     if (!std::isfinite(d))
         throw Error(where + ": '" + key + "' is not finite; allowed: " + allowed);
@@ -137,7 +141,7 @@ glm::dvec3 vec3Field(const json& v, const std::string& where, const std::string&
     for (int i = 0; i < 3; ++i) {
         if (!v[i].is_number())
             throw Error(where + ": '" + key + "' must be an array of 3 finite numbers [x, y, z] "
-                        "(metres); element " + std::to_string(i) + " is a " + jsonTypeName(v[i]));
+                        "(metres); element " + std::to_string(i) + " is " + jsonTypeName(v[i]));
         out[i] = v[i].get<double>();
         if (!std::isfinite(out[i]))
             throw Error(where + ": '" + key + "' element " + std::to_string(i) +
@@ -149,7 +153,7 @@ glm::dvec3 vec3Field(const json& v, const std::string& where, const std::string&
 Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index) {
     std::string where = scene_name + ": meshes[" + std::to_string(index) + "]";
     if (!j.is_object())
-        throw Error(where + ": a mesh entry must be a JSON object with 'file' and 'role', not a " +
+        throw Error(where + ": a mesh entry must be a JSON object with 'file' and 'role', not " +
                     jsonTypeName(j));
     Entry e;
     // 'file' first so every later message can name it.
@@ -158,7 +162,7 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
         throw Error(where + ": 'file' is missing; it names a mesh file relative to the scene file");
     if (!file_it->is_string() || file_it->get<std::string>().empty())
         throw Error(where + ": 'file' must be a non-empty string (a mesh file relative to the "
-                    "scene file), not a " + jsonTypeName(*file_it));
+                    "scene file), not " + jsonTypeName(*file_it));
     e.file = file_it->get<std::string>();
     where += " ('" + e.file + "')";
 
@@ -183,7 +187,7 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
                             "; allowed: a finite number > 0");
         } else if (key == "up") {
             if (!v.is_string())
-                throw Error(where + ": 'up' must be the string \"y\" or \"z\", not a " +
+                throw Error(where + ": 'up' must be the string \"y\" or \"z\", not " +
                             jsonTypeName(v));
             const std::string up = v.get<std::string>();
             if (up != "y" && up != "z")
@@ -308,7 +312,7 @@ Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& optio
         throw Error(name + ": invalid JSON: " + std::string(e.what()));
     }
     if (!root.is_object())
-        throw Error(name + ": the top level must be a JSON object with 'meshes', not a " +
+        throw Error(name + ": the top level must be a JSON object with 'meshes', not " +
                     jsonTypeName(root));
 
     Scene scene;

@@ -1,0 +1,82 @@
+// Atomic writes: temp sibling + rename, destination checks, nothing partial left behind.
+#include <engine/atomic_file.hpp>
+#include <engine/error.hpp>
+
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+    fs::path path;
+    explicit TempDir(const std::string& name)
+        : path(fs::temp_directory_path() /
+               ("ladarvr_atomic_test_" + name + "_" + std::to_string(::getpid()))) {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    std::size_t entries() const {
+        return std::size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator()));
+    }
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("atomic_file: tempSibling appends .tmp-<pid>") {
+    CHECK(engine::tempSibling("out/cloud.pcd").string() ==
+          "out/cloud.pcd.tmp-" + std::to_string(::getpid()));
+}
+
+TEST_CASE("atomic_file: writeFileAtomic writes, replaces, and leaves no temporary") {
+    TempDir dir("write");
+    const fs::path p = dir.path / "summary.json";
+    engine::writeFileAtomic(p, "first");
+    CHECK(slurp(p) == "first");
+    engine::writeFileAtomic(p, std::string("sec\0ond", 7));
+    CHECK(slurp(p) == std::string("sec\0ond", 7));
+    CHECK(dir.entries() == 1);
+}
+
+TEST_CASE("atomic_file: bad destinations are refused and nothing is written") {
+    TempDir dir("dest");
+    const fs::path missing = dir.path / "no" / "such" / "out.pcd";
+    CHECK_THROWS_WITH_AS(engine::writeFileAtomic(missing, "x"),
+                         ("output: " + missing.string() + ": directory '" +
+                          missing.parent_path().string() + "' does not exist").c_str(),
+                         engine::Error);
+    CHECK_THROWS_WITH_AS(engine::checkWritableDestination(dir.path),
+                         ("output: " + dir.path.string() + ": is a directory; give a file name").c_str(),
+                         engine::Error);
+    std::ofstream(dir.path / "file") << "keep";
+    CHECK_THROWS_WITH_AS(engine::checkWritableDestination(dir.path / "file" / "out.pcd"),
+                         doctest::Contains("is not a directory"), engine::Error);
+    CHECK_THROWS_WITH_AS(engine::checkWritableDestination(""),
+                         doctest::Contains("output: the output path is empty"), engine::Error);
+    CHECK_NOTHROW(engine::checkWritableDestination(dir.path / "new.pcd"));
+    CHECK(slurp(dir.path / "file") == "keep");
+    CHECK(dir.entries() == 1);
+}
+
+TEST_CASE("atomic_file: a failed rename keeps the existing file and removes the temporary") {
+    TempDir dir("rename");
+    // The destination is a non-empty directory: rename(2) fails after the data are written.
+    fs::create_directories(dir.path / "taken" / "inside");
+    CHECK_THROWS_AS(engine::writeFileAtomic(dir.path / "taken", "data"), engine::Error);
+    CHECK(fs::is_directory(dir.path / "taken" / "inside"));
+    CHECK(dir.entries() == 1);
+}
