@@ -1,8 +1,127 @@
-// Placeholder until the view work lands.
+// app/src/cmd_view.cpp: `ladarvr view [CLOUD | --scene S]`, the immersive viewer (paper §IV-A).
+//
+// A cloud file is streamed by the viewer's own loader thread. With no file (or --scene) the
+// cloud is generated here, in memory, by sim::generateCloud on a worker thread and handed to
+// the viewer through viewer::CloudFeed: the app links sim, the viewer never links Embree.
 #include "commands.hpp"
+
+#include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
+#include <engine/scene.hpp>
+#include <sim/generator.hpp>
+#include <viewer/viewer.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+
 namespace app {
-void registerView(CLI::App& cli) {
-    cli.add_subcommand("view", "(not built yet)")->callback([] { throw engine::Error("view: not built yet"); });
+
+namespace {
+struct ViewArgs {
+    std::string cloud, scene, script, screenshot, log_json, mirror = "both", colour = "file";
+    long frames = 0;
+    double timeout_s = 0.0;
+    bool no_xr = false, attenuate = false, no_edl = false;
+    float point_size_px = 2.0f;
+    int width = 1280, height = 720;
+    std::size_t upload_budget = 1u << 18;
+    double orbit_period_s = 60.0;
+};
+
+int runView(const ViewArgs& a) {
+    if (!a.cloud.empty() && !a.scene.empty())
+        throw engine::Error("view: give a cloud file or --scene, not both");
+    viewer::ViewerOptions o;
+    o.use_xr = !a.no_xr;
+    o.mirror = viewer::parseMirrorEyes(a.mirror);
+    o.style.colour = viewer::parseColourMode(a.colour);
+    o.style.point_size_px = a.point_size_px;
+    o.style.attenuate = a.attenuate;
+    o.style.eye_dome = !a.no_edl;
+    o.frames = a.frames;
+    o.timeout_s = a.timeout_s;
+    o.window_width = a.width;
+    o.window_height = a.height;
+    o.upload_points_per_frame = a.upload_budget;
+    o.modes.orbit_period_s = a.orbit_period_s;
+    o.vsync = a.frames == 0;
+    if (!a.script.empty()) o.script = viewer::readScript(a.script);
+    o.screenshot = a.screenshot;
+    o.log_json = a.log_json;
+    viewer::validate(o);
+    if (!o.screenshot.empty()) engine::checkWritableDestination(o.screenshot);
+    if (!o.log_json.empty()) engine::checkWritableDestination(o.log_json);
+
+    viewer::CloudFeed feed;
+    std::thread generator;
+    if (!a.cloud.empty()) {
+        const std::filesystem::path path(a.cloud);
+        if (!std::filesystem::is_regular_file(path))
+            throw engine::Error("view: cloud '" + a.cloud + "': no such file");
+        feed.startFileLoader(path);
+    } else {
+        // Load (and validate) the scene now, so a bad scene fails before a window opens.
+        const std::filesystem::path scene_path = a.scene.empty() ? engine::demoScenePath()
+                                                                 : std::filesystem::path(a.scene);
+        auto scene = std::make_shared<engine::Scene>(engine::loadScene(scene_path));
+        std::fprintf(stderr, "ladarvr: view: generating the cloud of %s (paper parameters)\n",
+                     scene_path.string().c_str());
+        generator = std::thread([&feed, scene] {
+            try {
+                feed.feedCloud(sim::generateCloud(*scene, sim::GenerateOptions{}));
+            } catch (const std::exception& e) {
+                feed.finish(std::string("generate: ") + e.what());
+            }
+        });
+    }
+    int status = 1;
+    try {
+        status = viewer::runViewer(o, feed);
+    } catch (...) {
+        if (generator.joinable()) generator.join();
+        throw;
+    }
+    if (generator.joinable()) generator.join();
+    return status;
 }
+}  // namespace
+
+void registerView(CLI::App& cli) {
+    auto args = std::make_shared<ViewArgs>();
+    CLI::App* cmd = cli.add_subcommand(
+        "view", "view a cloud in an OpenXR HMD with a desktop mirror, or on the desktop "
+                "(space: automatic orbit <-> free mode; see docs/viewer.md)");
+    cmd->add_option("cloud", args->cloud, "PCD or PLY cloud (default: generate the bundled demo scene)");
+    cmd->add_option("--scene", args->scene, "generate this scene's cloud and view it");
+    cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
+    cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
+        ->capture_default_str();
+    cmd->add_option("--colour", args->colour, "point colours: file, height (jet), white")->capture_default_str();
+    cmd->add_option("--point-size", args->point_size_px, "point size in pixels [1, 64] (at 100 m with --attenuate)")
+        ->capture_default_str();
+    cmd->add_flag("--attenuate", args->attenuate, "point size falls off with distance");
+    cmd->add_flag("--no-edl", args->no_edl, "turn eye-dome lighting off");
+    cmd->add_option("--frames", args->frames, "stop after N frames (with OpenXR: submitted frames); 0 = until closed")
+        ->capture_default_str();
+    cmd->add_option("--timeout", args->timeout_s, "give up after this many seconds, exit 1 (0 = never)")
+        ->capture_default_str();
+    cmd->add_option("--script", args->script, "key presses at frames: lines '<frame> space|escape'");
+    cmd->add_option("--screenshot", args->screenshot, "write the mirror as PNG at the last frame");
+    cmd->add_option("--log-json", args->log_json, "write a machine-readable run log (states, frames, poses, modes)");
+    cmd->add_option("--width", args->width, "window width, pixels")->capture_default_str();
+    cmd->add_option("--height", args->height, "window height, pixels")->capture_default_str();
+    cmd->add_option("--upload-budget", args->upload_budget, "points uploaded to the GPU per frame at most")
+        ->capture_default_str();
+    cmd->add_option("--orbit-period", args->orbit_period_s, "seconds per turn of the automatic orbit")
+        ->capture_default_str();
+    cmd->callback([args] {
+        const int status = runView(*args);
+        if (status != 0) throw CLI::RuntimeError(status);
+    });
+}
+
 }  // namespace app

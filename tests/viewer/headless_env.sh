@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# tests/viewer/headless_env.sh: runs a command under a private Xvfb and, with --monado, a
+# private Monado service with its simulated HMD and null compositor (/work/shared/PLATFORM.md):
+#
+#   tests/viewer/headless_env.sh [--monado] [--timeout S] -- COMMAND ARGS...
+#
+# Every process it starts is killed on exit (trap); every wait has a timeout; the exit
+# status is the command's (124 if it ran past --timeout). Used by the viewer's ctest
+# entries and by `ladarvr bench view` runs on machines without a display or an HMD.
+set -euo pipefail
+
+monado=0
+timeout_s=120
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --monado) monado=1; shift ;;
+    --timeout) timeout_s=$2; shift 2 ;;
+    --) shift; break ;;
+    *) echo "headless_env: unknown option '$1'; allowed --monado, --timeout S, --" >&2; exit 2 ;;
+  esac
+done
+[ $# -gt 0 ] || { echo "headless_env: no command given after --" >&2; exit 2; }
+
+work=$(mktemp -d /tmp/ladarvr-headless.XXXXXX)
+pids=()
+cleanup() {
+  local p
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}"; do
+    for _ in $(seq 50); do kill -0 "$p" 2>/dev/null || break; sleep 0.1; done
+    kill -9 "$p" 2>/dev/null || true
+  done
+  rm -rf "$work"
+}
+trap cleanup EXIT INT TERM
+
+# A free display number: no lock file and no socket.
+display=""
+for n in $(seq 90 140); do
+  if [ ! -e "/tmp/.X$n-lock" ] && [ ! -e "/tmp/.X11-unix/X$n" ]; then display=$n; break; fi
+done
+[ -n "$display" ] || { echo "headless_env: no free X display number in 90..140" >&2; exit 1; }
+Xvfb ":$display" -screen 0 1600x900x24 -nolisten tcp >"$work/xvfb.log" 2>&1 &
+pids+=($!)
+for _ in $(seq 100); do
+  [ -e "/tmp/.X11-unix/X$display" ] && break
+  kill -0 "${pids[0]}" 2>/dev/null || { cat "$work/xvfb.log" >&2; echo "headless_env: Xvfb died" >&2; exit 1; }
+  sleep 0.1
+done
+[ -e "/tmp/.X11-unix/X$display" ] || { echo "headless_env: Xvfb did not start in 10 s" >&2; exit 1; }
+export DISPLAY=":$display"
+
+# The OpenXR runtime talks to its clients through a socket in XDG_RUNTIME_DIR.
+export XDG_RUNTIME_DIR="$work/xdg"
+mkdir -m 700 "$XDG_RUNTIME_DIR"
+if [ "$monado" = 1 ]; then
+  command -v monado-service >/dev/null || { echo "headless_env: monado-service is not installed" >&2; exit 1; }
+  # monado-service watches stdin; with /dev/null it fails, so give it a pipe that stays open.
+  ( sleep 600 | XRT_COMPOSITOR_NULL=1 SIMULATED_ENABLE=1 IPC_EXIT_ON_DISCONNECT=1 \
+      XRT_LOG=warning exec monado-service ) >"$work/monado.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 150); do
+    ls "$XDG_RUNTIME_DIR" 2>/dev/null | grep -q monado && break
+    sleep 0.1
+  done
+  ls "$XDG_RUNTIME_DIR" 2>/dev/null | grep -q monado ||
+    { cat "$work/monado.log" >&2; echo "headless_env: monado-service did not open its socket in 15 s" >&2; exit 1; }
+else
+  # No runtime: point the loader at nothing so an installed runtime is not picked up.
+  export XR_RUNTIME_JSON="$work/no-runtime.json"
+fi
+
+status=0
+timeout --kill-after=5 "$timeout_s" "$@" || status=$?
+if [ "$status" != 0 ] && [ "$monado" = 1 ]; then
+  echo "headless_env: command failed ($status); monado-service log:" >&2
+  tail -n 20 "$work/monado.log" >&2 || true
+fi
+exit "$status"

@@ -1,0 +1,100 @@
+// viewer/viewer.hpp: `ladarvr view`, the immersive viewer of paper §IV-A.
+//
+// A GLFW window is the desktop mirror (OpenGL 4.5 core). When an OpenXR runtime with an
+// HMD is present, an OpenXR session renders both eyes every frame into per-eye swapchains
+// and the mirror shows the left, right or both eye images; without one, the window is a
+// desktop viewer with a mouse-and-keyboard camera. Two modes (automatic orbit / free),
+// switched with the space bar or a controller button. See docs/viewer.md.
+#pragma once
+#include <viewer/camera_rig.hpp>
+#include <viewer/cloud_feed.hpp>
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace viewer {
+
+enum class MirrorEyes { Left, Right, Both };
+enum class ColourMode { File, HeightJet, White };
+
+/// "left" / "right" / "both"; throws engine::Error("view: --mirror 'x' is not one of left, right, both").
+MirrorEyes parseMirrorEyes(const std::string& name);
+/// "file" / "height" / "white"; throws engine::Error("view: --colour 'x' is not one of file, height, white").
+ColourMode parseColourMode(const std::string& name);
+const char* colourModeName(ColourMode mode);
+
+/// How points look; the ImGui panel edits it live.
+struct ViewStyle {
+    float point_size_px = 2.0f;        // pixel size, or the size at 100 m when attenuated
+    bool attenuate = false;            // size falls off with distance (size_px * 100 m / d)
+    ColourMode colour = ColourMode::File;
+    bool eye_dome = true;              // eye-dome lighting (Potree / CloudCompare style)
+    float edl_strength = 1.0f;
+    int jet_entries = 64;              // the paper's 64-entry jet map (§III-C)
+};
+
+/// A scripted key press at a frame (for tests and demos): "<frame> <key>" lines.
+struct ScriptEvent {
+    long frame = 0;
+    enum class Key { Space, Escape } key = Key::Space;
+};
+/// Parses a script file: one "<frame> space|escape" per line, '#' comments, blank lines.
+/// Throws engine::Error("view: --script <file> line N: ...") on a bad line.
+std::vector<ScriptEvent> readScript(const std::filesystem::path& file);
+
+struct ViewerOptions {
+    bool use_xr = true;                 // false: --no-xr, desktop mode only
+    MirrorEyes mirror = MirrorEyes::Both;
+    int window_width = 1280, window_height = 720;
+    bool hidden_window = false;         // for benchmarks
+    long frames = 0;                    // stop after N frames (XR: submitted), 0 = until closed
+    double timeout_s = 0.0;             // stop with an error after this long (0 = never)
+    std::vector<ScriptEvent> script;
+    std::filesystem::path screenshot;   // PNG of the mirror at the last frame
+    std::filesystem::path log_json;     // machine-readable run log
+    ViewStyle style;
+    ModeOptions modes;
+    std::size_t upload_points_per_frame = 1u << 18;   // streaming budget per frame
+    bool vsync = true;                  // desktop mode swap interval 1 (off in --frames runs)
+    bool gpu_timing = false;            // GL timer query per frame (waits for the GPU; benchmarks)
+    bool quiet = false;
+};
+
+/// Throws engine::Error("view: ...") for values out of range.
+void validate(const ViewerOptions& o);
+
+/// Runs the viewer until the window closes, Escape, or `frames` frames. Returns 0 on a
+/// clean run, 1 on a timeout or a failed screenshot/log. Throws engine::Error only during
+/// setup (no window could be opened, shaders failed); the frame loop never throws.
+int runViewer(const ViewerOptions& options, CloudFeed& feed);
+/// runViewer that also hands back the run log (the --log-json document) in `log_json`.
+int runViewer(const ViewerOptions& options, CloudFeed& feed, std::string& log_json);
+
+/// One measured configuration of `ladarvr bench view`.
+struct ViewBenchResult {
+    std::string path;                    // "mirror" (desktop window) or "xr" (OpenXR stereo)
+    std::size_t points = 0;
+    int width = 0, height = 0;           // per eye (xr) or the window (mirror)
+    double cpu_ms_median = 0.0;          // CPU time to record and submit the frame's draws
+    double gpu_ms_median = 0.0;          // GL timer query around the frame's draws
+    double frame_ms_median = 0.0;        // wall time between frames (includes pacing)
+    int frames = 0;                      // measured frames (after warm-up)
+    std::string gl;                      // GL vendor / renderer / version
+    std::string note;                    // e.g. why the XR path was skipped
+};
+
+struct ViewBenchOptions {
+    int warmup_frames = 5;               // after every point is on the GPU
+    int frames = 20;
+    bool xr = true;                      // also run the OpenXR path (needs a runtime)
+};
+
+/// Runs the viewer on `cloud` (all points uploaded before measuring) in the desktop mirror
+/// path and, when an OpenXR runtime with an HMD is present, the XR path; medians over
+/// `frames` frames after warm-up. Throws engine::Error on setup failure (no display).
+std::vector<ViewBenchResult> benchmarkViewer(const engine::PointCloud& cloud,
+                                             const ViewBenchOptions& options);
+
+}  // namespace viewer

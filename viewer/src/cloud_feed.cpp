@@ -1,0 +1,94 @@
+// viewer/src/cloud_feed.cpp: the producer/consumer queue that streams a cloud into the viewer.
+#include <viewer/cloud_feed.hpp>
+
+#include "pcd_stream.hpp"
+
+#include <engine/cloud_io.hpp>
+#include <engine/error.hpp>
+
+#include <algorithm>
+#include <exception>
+#include <utility>
+
+namespace viewer {
+
+CloudFeed::~CloudFeed() {
+    if (loader_.joinable()) loader_.join();
+}
+
+void CloudFeed::setOrigin(const glm::dvec3& origin) {
+    std::lock_guard lock(mutex_);
+    origin_ = origin;
+}
+
+void CloudFeed::setFields(const engine::CloudFields& fields) {
+    std::lock_guard lock(mutex_);
+    fields_ = fields;
+}
+
+void CloudFeed::append(std::vector<engine::CloudPoint> chunk) {
+    const std::size_t n = chunk.size();
+    {
+        std::lock_guard lock(mutex_);
+        pending_.push_back(std::move(chunk));
+    }
+    arrived_ += n;
+}
+
+void CloudFeed::finish(std::string error) {
+    {
+        std::lock_guard lock(mutex_);
+        error_ = std::move(error);
+    }
+    finished_ = true;
+}
+
+std::vector<std::vector<engine::CloudPoint>> CloudFeed::take() {
+    std::lock_guard lock(mutex_);
+    return std::exchange(pending_, {});
+}
+
+glm::dvec3 CloudFeed::origin() const {
+    std::lock_guard lock(mutex_);
+    return origin_;
+}
+
+engine::CloudFields CloudFeed::fields() const {
+    std::lock_guard lock(mutex_);
+    return fields_;
+}
+
+std::string CloudFeed::error() const {
+    std::lock_guard lock(mutex_);
+    return error_;
+}
+
+void CloudFeed::feedCloud(engine::PointCloud cloud, std::size_t chunk_points) {
+    setOrigin(cloud.origin);
+    setFields(cloud.fields);
+    chunk_points = std::max<std::size_t>(chunk_points, 1);
+    for (std::size_t i = 0; i < cloud.points.size(); i += chunk_points) {
+        const std::size_t end = std::min(cloud.points.size(), i + chunk_points);
+        append(std::vector<engine::CloudPoint>(cloud.points.begin() + static_cast<std::ptrdiff_t>(i),
+                                               cloud.points.begin() + static_cast<std::ptrdiff_t>(end)));
+    }
+    finish();
+}
+
+void CloudFeed::startFileLoader(std::filesystem::path path, std::size_t chunk_points) {
+    loader_ = std::thread([this, path = std::move(path), chunk_points] {
+        try {
+            // Binary PCD (what `ladarvr generate` writes) streams chunk by chunk; anything
+            // else is read whole by engine::readCloud and then handed over in chunks.
+            if (streamBinaryPcd(path, *this, chunk_points)) {
+                finish();
+                return;
+            }
+            feedCloud(engine::readCloud(path), chunk_points);
+        } catch (const std::exception& e) {
+            finish(e.what());
+        }
+    });
+}
+
+}  // namespace viewer

@@ -1,0 +1,337 @@
+// viewer/src/point_renderer.cpp: streamed, camera-relative point drawing with eye-dome
+// lighting for the immersive viewer (paper §IV-A; the jet map is the paper's §III-C one).
+#include "point_renderer.hpp"
+
+#include <render/orbit_camera.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+
+namespace viewer {
+
+namespace {
+
+struct GpuPoint {
+    float x, y, z;
+    std::uint32_t rgb;   // 0x00RRGGBB: bytes B, G, R, 0 -> read as GL_BGRA
+};
+static_assert(sizeof(GpuPoint) == 16);
+
+constexpr const char* kPointsVs = R"(#version 450 core
+layout(location = 0) in vec3 a_position;   // relative to the chunk centre
+layout(location = 1) in vec4 a_rgb;
+uniform mat4 u_model_view;                 // computed in double on the CPU
+uniform mat4 u_projection;
+uniform float u_chunk_z;                   // chunk centre height (local frame)
+uniform float u_z_min;
+uniform float u_z_max;
+uniform int u_colour_mode;                 // 0 file, 1 height jet, 2 white
+uniform int u_jet_entries;
+uniform float u_size_px;
+uniform int u_attenuate;
+out vec3 v_colour;
+vec3 jet(float t) {  // MATLAB jet: 0 dark blue ... 1 dark red
+    return clamp(vec3(1.5 - abs(4.0 * t - 3.0), 1.5 - abs(4.0 * t - 2.0), 1.5 - abs(4.0 * t - 1.0)), 0.0, 1.0);
+}
+void main() {
+    vec4 p = u_model_view * vec4(a_position, 1.0);
+    gl_Position = u_projection * p;
+    if (u_colour_mode == 0) {
+        v_colour = a_rgb.rgb;
+    } else if (u_colour_mode == 1) {
+        float z = a_position.z + u_chunk_z;
+        float range = max(u_z_max - u_z_min, 1e-6);
+        float m = float(u_jet_entries);
+        float bin = clamp(floor((z - u_z_min) / range * m), 0.0, m - 1.0);
+        v_colour = jet(1.0 - bin / (m - 1.0));   // lowest bin red, highest blue (paper)
+    } else {
+        v_colour = vec3(1.0);
+    }
+    float size = u_size_px;
+    if (u_attenuate != 0) size = u_size_px * 100.0 / max(-p.z, 1e-3);
+    gl_PointSize = clamp(size, 1.0, 64.0);
+}
+)";
+
+constexpr const char* kPointsFs = R"(#version 450 core
+in vec3 v_colour;
+out vec4 o_colour;
+void main() { o_colour = vec4(v_colour, 1.0); }
+)";
+
+constexpr const char* kFullscreenVs = R"(#version 450 core
+void main() {
+    const vec2 corners[3] = vec2[](vec2(-1.0, -1.0), vec2(3.0, -1.0), vec2(-1.0, 3.0));
+    gl_Position = vec4(corners[gl_VertexID], 0.0, 1.0);
+}
+)";
+
+// Eye-dome lighting: darken a point by how much nearer its 8 neighbours are, in log depth.
+constexpr const char* kResolveFs = R"(#version 450 core
+uniform sampler2D u_colour;
+uniform sampler2D u_depth;
+uniform vec4 u_viewport;       // x, y, w, h of the output
+uniform int u_edl;
+uniform float u_strength;
+uniform float u_near;
+uniform float u_far;
+uniform vec3 u_background;
+out vec4 o_colour;
+float linearDepth(float d) {
+    float z = d * 2.0 - 1.0;
+    return 2.0 * u_near * u_far / (u_far + u_near - z * (u_far - u_near));
+}
+void main() {
+    ivec2 size = textureSize(u_colour, 0);
+    ivec2 px = clamp(ivec2((gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw * vec2(size)), ivec2(0), size - 1);
+    float d = texelFetch(u_depth, px, 0).r;
+    if (d >= 1.0) { o_colour = vec4(u_background, 1.0); return; }
+    vec3 c = texelFetch(u_colour, px, 0).rgb;
+    if (u_edl != 0) {
+        float ld = log2(linearDepth(d));
+        const ivec2 offsets[8] = ivec2[](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1),
+                                         ivec2(1, 1), ivec2(-1, -1), ivec2(1, -1), ivec2(-1, 1));
+        float sum = 0.0;
+        for (int i = 0; i < 8; ++i) {
+            ivec2 q = clamp(px + offsets[i], ivec2(0), size - 1);
+            float dn = texelFetch(u_depth, q, 0).r;
+            if (dn < 1.0) sum += max(0.0, ld - log2(linearDepth(dn)));
+        }
+        c *= exp(-sum / 8.0 * 300.0 * u_strength);
+    }
+    o_colour = vec4(c, 1.0);
+}
+)";
+
+// The mode indicator: a coloured plate with the mode's name in a 5x7 bitmap font.
+constexpr const char* kIndicatorVs = R"(#version 450 core
+uniform vec4 u_rect_ndc;   // x0, y0, x1, y1
+void main() {
+    vec2 c = vec2((gl_VertexID & 1) != 0 ? u_rect_ndc.z : u_rect_ndc.x,
+                  (gl_VertexID & 2) != 0 ? u_rect_ndc.w : u_rect_ndc.y);
+    gl_Position = vec4(c, 0.0, 1.0);
+}
+)";
+constexpr const char* kIndicatorFs = R"(#version 450 core
+uniform vec3 u_plate;
+uniform vec2 u_origin_px;  // bottom-left of the plate, window pixels
+uniform float u_cell_px;
+uniform int u_font[70];    // 10 glyphs x 7 rows of 5 bits
+uniform int u_text[12];
+uniform int u_length;
+out vec4 o_colour;
+void main() {
+    ivec2 cell = ivec2(floor((gl_FragCoord.xy - u_origin_px) / u_cell_px));
+    int col = cell.x - 1, row = 7 - cell.y;   // one cell of margin left and bottom
+    bool ink = false;
+    if (col >= 0 && row >= 0 && row < 7 && col / 6 < u_length && col % 6 < 5) {
+        int bits = u_font[u_text[col / 6] * 7 + row];
+        ink = ((bits >> (4 - col % 6)) & 1) != 0;
+    }
+    o_colour = vec4(ink ? vec3(0.0) : u_plate, 1.0);
+}
+)";
+
+// A, U, T, O, M, I, C, F, R, E
+constexpr std::array<int, 70> kFont = {
+    0b01110, 0b10001, 0b10001, 0b11111, 0b10001, 0b10001, 0b10001,   // A
+    0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b01110,   // U
+    0b11111, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100,   // T
+    0b01110, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b01110,   // O
+    0b10001, 0b11011, 0b10101, 0b10101, 0b10001, 0b10001, 0b10001,   // M
+    0b01110, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100, 0b01110,   // I
+    0b01110, 0b10001, 0b10000, 0b10000, 0b10000, 0b10001, 0b01110,   // C
+    0b11111, 0b10000, 0b10000, 0b11110, 0b10000, 0b10000, 0b10000,   // F
+    0b11110, 0b10001, 0b10001, 0b11110, 0b10100, 0b10010, 0b10001,   // R
+    0b11111, 0b10000, 0b10000, 0b11110, 0b10000, 0b10000, 0b11111,   // E
+};
+constexpr const char* kGlyphs = "AUTOMICFRE";
+
+}  // namespace
+
+// --- EyeTarget ----------------------------------------------------------------------------
+bool EyeTarget::ensure(int w, int h) {
+    if (fbo != 0 && w == width && h == height) return true;
+    destroy();
+    width = w;
+    height = h;
+    glCreateTextures(GL_TEXTURE_2D, 1, &colour);
+    glTextureStorage2D(colour, 1, GL_RGBA8, w, h);
+    glCreateTextures(GL_TEXTURE_2D, 1, &depth);
+    glTextureStorage2D(depth, 1, GL_DEPTH_COMPONENT32F, w, h);
+    for (GLuint t : {colour, depth}) {
+        glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    glCreateFramebuffers(1, &fbo);
+    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, colour, 0);
+    glNamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, depth, 0);
+    const bool complete = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    return render::logGl("EyeTarget::ensure", __FILE__, __LINE__) && complete;
+}
+
+void EyeTarget::destroy() {
+    if (fbo) glDeleteFramebuffers(1, &fbo);
+    if (colour) glDeleteTextures(1, &colour);
+    if (depth) glDeleteTextures(1, &depth);
+    fbo = colour = depth = 0;
+    width = height = 0;
+}
+
+// --- PointRenderer ------------------------------------------------------------------------
+PointRenderer::PointRenderer()
+    : points_("viewer points", {{GL_VERTEX_SHADER, kPointsVs}, {GL_FRAGMENT_SHADER, kPointsFs}}),
+      resolve_("viewer eye-dome resolve", {{GL_VERTEX_SHADER, kFullscreenVs}, {GL_FRAGMENT_SHADER, kResolveFs}}),
+      indicator_("viewer mode indicator", {{GL_VERTEX_SHADER, kIndicatorVs}, {GL_FRAGMENT_SHADER, kIndicatorFs}}) {
+    glCreateVertexArrays(1, &vao_);
+    glEnableVertexArrayAttrib(vao_, 0);
+    glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao_, 0, 0);
+    glEnableVertexArrayAttrib(vao_, 1);
+    glVertexArrayAttribFormat(vao_, 1, GL_BGRA, GL_UNSIGNED_BYTE, GL_TRUE, 12);
+    glVertexArrayAttribBinding(vao_, 1, 0);
+    glCreateVertexArrays(1, &empty_vao_);
+    indicator_.use();
+    glUniform1iv(indicator_.uniform("u_font"), 70, kFont.data());
+    GL_CHECK(glUseProgram(0));
+}
+
+PointRenderer::~PointRenderer() {
+    for (auto& c : chunks_)
+        if (c.buffer) glDeleteBuffers(1, &c.buffer);
+    if (vao_) glDeleteVertexArrays(1, &vao_);
+    if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
+}
+
+std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points) {
+    for (auto& points : feed.take()) {
+        if (points.empty()) continue;
+        Chunk chunk;
+        for (const auto& p : points) chunk.bounds.extend(glm::dvec3(p.position));
+        chunk.centre = chunk.bounds.centre();
+        chunk.capacity = points.size();
+        glCreateBuffers(1, &chunk.buffer);
+        glNamedBufferStorage(chunk.buffer, static_cast<GLsizeiptr>(chunk.capacity * sizeof(GpuPoint)),
+                             nullptr, GL_DYNAMIC_STORAGE_BIT);
+        if (!render::logGl("glNamedBufferStorage (point chunk)", __FILE__, __LINE__)) {
+            glDeleteBuffers(1, &chunk.buffer);
+            continue;   // out of GPU memory: show what fits
+        }
+        bounds_.extend(chunk.bounds);
+        pending_points_ += points.size();
+        pending_.push_back({std::move(points), 0, chunks_.size()});
+        chunks_.push_back(chunk);
+    }
+    std::size_t uploaded = 0;
+    std::vector<GpuPoint> staging;
+    while (!pending_.empty() && uploaded < budget_points) {
+        Pending& job = pending_.front();
+        Chunk& chunk = chunks_[job.chunk];
+        const std::size_t n = std::min(budget_points - uploaded, job.points.size() - job.next);
+        staging.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto& p = job.points[job.next + i];
+            const glm::dvec3 rel = glm::dvec3(p.position) - chunk.centre;
+            staging[i] = {float(rel.x), float(rel.y), float(rel.z), p.rgb};
+        }
+        glNamedBufferSubData(chunk.buffer, static_cast<GLintptr>(chunk.count * sizeof(GpuPoint)),
+                             static_cast<GLsizeiptr>(n * sizeof(GpuPoint)), staging.data());
+        chunk.count += n;
+        job.next += n;
+        uploaded += n;
+        pending_points_ -= n;
+        if (job.next == job.points.size()) pending_.pop_front();
+    }
+    uploaded_ += uploaded;
+    if (uploaded) render::logGl("glNamedBufferSubData (point chunk)", __FILE__, __LINE__);
+    return uploaded;
+}
+
+DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style,
+                                 ViewMode mode, GLuint out_fbo, int x, int y, int w, int h) const {
+    DrawStats stats;
+    const glm::vec3 background(0.06f, 0.07f, 0.09f);
+    // 1. points into the eye target
+    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+    glViewport(0, 0, target.width, target.height);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glClearColor(background.r, background.g, background.b, 1.0f);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    points_.use();
+    glBindVertexArray(vao_);
+    glUniformMatrix4fv(points_.uniform("u_projection"), 1, GL_FALSE,
+                       &glm::mat4(eye.projection)[0][0]);
+    glUniform1f(points_.uniform("u_z_min"), bounds_.empty() ? 0.0f : float(bounds_.lo.z));
+    glUniform1f(points_.uniform("u_z_max"), bounds_.empty() ? 1.0f : float(bounds_.hi.z));
+    glUniform1i(points_.uniform("u_colour_mode"), static_cast<int>(style.colour));
+    glUniform1i(points_.uniform("u_jet_entries"), std::max(2, style.jet_entries));
+    glUniform1f(points_.uniform("u_size_px"), style.point_size_px);
+    glUniform1i(points_.uniform("u_attenuate"), style.attenuate ? 1 : 0);
+    const GLint u_model_view = points_.uniform("u_model_view");
+    const GLint u_chunk_z = points_.uniform("u_chunk_z");
+    const auto frustum = render::Frustum::fromMatrix(eye.projection * eye.view);
+    for (const Chunk& c : chunks_) {
+        if (c.count == 0 || !frustum.intersects(c.bounds)) continue;
+        const glm::mat4 mv = chunkModelView(eye.view, c.centre);
+        glUniformMatrix4fv(u_model_view, 1, GL_FALSE, &mv[0][0]);
+        glUniform1f(u_chunk_z, float(c.centre.z));
+        glVertexArrayVertexBuffer(vao_, 0, c.buffer, 0, sizeof(GpuPoint));
+        glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(c.count));
+        stats.points_drawn += c.count;
+        ++stats.chunks_drawn;
+    }
+    // 2. resolve (eye-dome lighting) into the output
+    glBindFramebuffer(GL_FRAMEBUFFER, out_fbo);
+    glViewport(x, y, w, h);
+    glDisable(GL_DEPTH_TEST);
+    resolve_.use();
+    glBindVertexArray(empty_vao_);
+    glBindTextureUnit(0, target.colour);
+    glBindTextureUnit(1, target.depth);
+    glUniform1i(resolve_.uniform("u_colour"), 0);
+    glUniform1i(resolve_.uniform("u_depth"), 1);
+    glUniform4f(resolve_.uniform("u_viewport"), float(x), float(y), float(w), float(h));
+    glUniform1i(resolve_.uniform("u_edl"), style.eye_dome ? 1 : 0);
+    glUniform1f(resolve_.uniform("u_strength"), style.edl_strength);
+    glUniform1f(resolve_.uniform("u_near"), float(eye.near_m));
+    glUniform1f(resolve_.uniform("u_far"), float(eye.far_m));
+    glUniform3f(resolve_.uniform("u_background"), background.r, background.g, background.b);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    // 3. the mode indicator, low in the view (visible in the HMD and the mirror)
+    const char* word = mode == ViewMode::Automatic ? "AUTOMATIC" : "FREE";
+    std::array<int, 12> text{};
+    const int length = static_cast<int>(std::strlen(word));
+    for (int i = 0; i < length; ++i)
+        text[i] = static_cast<int>(std::strchr(kGlyphs, word[i]) - kGlyphs);
+    const float cell = std::max(2.0f, std::floor(float(h) / 150.0f));
+    const float plate_w = (length * 6 + 1) * cell, plate_h = 9 * cell;
+    const float px0 = x + std::floor((w - plate_w) / 2), py0 = y + std::floor(h * 0.18f);
+    auto ndc_x = [&](float p) { return (p - x) / w * 2.0f - 1.0f; };
+    auto ndc_y = [&](float p) { return (p - y) / h * 2.0f - 1.0f; };
+    indicator_.use();
+    glUniform4f(indicator_.uniform("u_rect_ndc"), ndc_x(px0), ndc_y(py0), ndc_x(px0 + plate_w),
+                ndc_y(py0 + plate_h));
+    const glm::vec3 plate = mode == ViewMode::Automatic ? glm::vec3(0.0f, 0.62f, 0.9f)
+                                                        : glm::vec3(1.0f, 0.6f, 0.0f);
+    glUniform3f(indicator_.uniform("u_plate"), plate.r, plate.g, plate.b);
+    glUniform2f(indicator_.uniform("u_origin_px"), px0, py0);
+    glUniform1f(indicator_.uniform("u_cell_px"), cell);
+    glUniform1iv(indicator_.uniform("u_text"), 12, text.data());
+    glUniform1i(indicator_.uniform("u_length"), length);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    render::logGl("PointRenderer::drawEye", __FILE__, __LINE__);
+    return stats;
+}
+
+}  // namespace viewer

@@ -1,0 +1,530 @@
+// viewer/src/xr_session.cpp: OpenXR instance, GLX-bound session, swapchains, actions and the
+// session state machine (paper §IV-A: the HMD side of the immersive setup).
+//
+// This file sees X11/GLX headers (for XrGraphicsBindingOpenGLXlibKHR) and therefore never
+// includes glad; it makes no GL calls. The renderer attaches the swapchain textures.
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <GL/glx.h>
+#include <X11/Xlib.h>
+
+// GLFW's native-access functions (glfw3native.h), declared here because that header pulls
+// in X11/extensions/Xrandr.h, which the build does not otherwise need.
+extern "C" {
+Display* glfwGetX11Display(void);
+GLXContext glfwGetGLXContext(GLFWwindow* window);
+GLXWindow glfwGetGLXWindow(GLFWwindow* window);
+}
+#undef None  // X11 macros that collide with C++ code below
+#undef Status
+#undef Bool
+#undef Always
+
+#define XR_USE_PLATFORM_XLIB
+#define XR_USE_GRAPHICS_API_OPENGL
+#include <openxr/openxr.h>
+#include <openxr/openxr_platform.h>
+
+// OpenXR's idiom `XrFoo foo{XR_TYPE_FOO};` value-initialises the other members on purpose.
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+
+#include "xr_check.hpp"
+#include "xr_session.hpp"
+
+#include <engine/error.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+namespace viewer {
+
+// --- checks ------------------------------------------------------------------------------
+std::string xrResultName(XrInstance instance, XrResult result) {
+    char buffer[XR_MAX_RESULT_STRING_SIZE] = {};
+    if (instance != XR_NULL_HANDLE && XR_SUCCEEDED(xrResultToString(instance, result, buffer)))
+        return buffer;
+    return "XrResult(" + std::to_string(static_cast<int>(result)) + ")";
+}
+
+void xrCheck(XrInstance instance, XrResult result, const char* expression, const char* file, int line) {
+    if (XR_FAILED(result))
+        throw engine::Error("xr: " + std::string(expression) + ": " + xrResultName(instance, result) +
+                            " at " + file + ":" + std::to_string(line));
+}
+
+bool xrLog(XrInstance instance, XrResult result, const char* expression, const char* file, int line) {
+    if (XR_SUCCEEDED(result)) return true;
+    std::fprintf(stderr, "ladarvr: xr: %s: %s at %s:%d\n", expression,
+                 xrResultName(instance, result).c_str(), file, line);
+    return false;
+}
+
+const char* sessionStateName(int state) {
+    switch (static_cast<XrSessionState>(state)) {
+        case XR_SESSION_STATE_IDLE: return "IDLE";
+        case XR_SESSION_STATE_READY: return "READY";
+        case XR_SESSION_STATE_SYNCHRONIZED: return "SYNCHRONIZED";
+        case XR_SESSION_STATE_VISIBLE: return "VISIBLE";
+        case XR_SESSION_STATE_FOCUSED: return "FOCUSED";
+        case XR_SESSION_STATE_STOPPING: return "STOPPING";
+        case XR_SESSION_STATE_LOSS_PENDING: return "LOSS_PENDING";
+        case XR_SESSION_STATE_EXITING: return "EXITING";
+        default: return "UNKNOWN";
+    }
+}
+
+// --- implementation ----------------------------------------------------------------------
+namespace {
+constexpr std::int64_t kGlRgba8 = 0x8058, kGlRgba16 = 0x805B, kGlRgba16f = 0x881A,
+                       kGlSrgb8Alpha8 = 0x8C43, kGlRgb10A2 = 0x8059;
+
+struct EyeSwapchain {
+    XrSwapchain handle = XR_NULL_HANDLE;
+    std::vector<XrSwapchainImageOpenGLKHR> images;
+    bool acquired = false;
+};
+}  // namespace
+
+struct XrStereoSession::Impl {
+    XrInstance instance = XR_NULL_HANDLE;
+    XrSystemId system = XR_NULL_SYSTEM_ID;
+    ::XrSession session = XR_NULL_HANDLE;
+    XrSpace space = XR_NULL_HANDLE;       // LOCAL reference space: the rig's frame
+    XrSpace view_space = XR_NULL_HANDLE;  // the head
+    XrSessionState state = XR_SESSION_STATE_UNKNOWN;
+    bool running = false;
+    bool exit_requested = false;
+    std::array<EyeSwapchain, 2> eyes;
+    int width = 0, height = 0;
+    std::int64_t format = 0;
+    std::array<XrView, 2> views{};
+    XrActionSet action_set = XR_NULL_HANDLE;
+    XrAction toggle_action = XR_NULL_HANDLE, move_action = XR_NULL_HANDLE,
+             turn_action = XR_NULL_HANDLE;
+    RunLog* log = nullptr;
+
+    ~Impl() {
+        for (auto& e : eyes)
+            if (e.handle != XR_NULL_HANDLE) xrDestroySwapchain(e.handle);
+        if (view_space != XR_NULL_HANDLE) xrDestroySpace(view_space);
+        if (space != XR_NULL_HANDLE) xrDestroySpace(space);
+        if (action_set != XR_NULL_HANDLE) xrDestroyActionSet(action_set);
+        if (session != XR_NULL_HANDLE) xrDestroySession(session);
+        if (instance != XR_NULL_HANDLE) xrDestroyInstance(instance);
+    }
+
+    XrPath path(const char* text) {
+        XrPath p = XR_NULL_PATH;
+        XR_CHECK(instance, xrStringToPath(instance, text, &p));
+        return p;
+    }
+
+    void createActions();
+    void suggest(const char* profile, std::initializer_list<std::pair<XrAction, const char*>> bindings);
+};
+
+void XrStereoSession::Impl::suggest(const char* profile,
+                              std::initializer_list<std::pair<XrAction, const char*>> bindings) {
+    std::vector<XrActionSuggestedBinding> list;
+    for (const auto& [action, binding] : bindings) list.push_back({action, path(binding)});
+    XrInteractionProfileSuggestedBinding suggested{XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
+    suggested.interactionProfile = path(profile);
+    suggested.countSuggestedBindings = static_cast<std::uint32_t>(list.size());
+    suggested.suggestedBindings = list.data();
+    // A runtime may not know every profile; that is not an error for the others.
+    XR_LOG(instance, xrSuggestInteractionProfileBindings(instance, &suggested));
+}
+
+void XrStereoSession::Impl::createActions() {
+    XrActionSetCreateInfo set_info{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(set_info.actionSetName, "viewer");
+    std::strcpy(set_info.localizedActionSetName, "Point cloud viewer");
+    XR_CHECK(instance, xrCreateActionSet(instance, &set_info, &action_set));
+
+    auto make = [&](const char* name, const char* label, XrActionType type, XrAction& out) {
+        XrActionCreateInfo info{XR_TYPE_ACTION_CREATE_INFO};
+        std::strcpy(info.actionName, name);
+        std::strcpy(info.localizedActionName, label);
+        info.actionType = type;
+        XR_CHECK(instance, xrCreateAction(action_set, &info, &out));
+    };
+    make("toggle_mode", "Toggle automatic / free mode", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_action);
+    make("move", "Move (free mode)", XR_ACTION_TYPE_VECTOR2F_INPUT, move_action);
+    make("turn", "Turn (free mode)", XR_ACTION_TYPE_FLOAT_INPUT, turn_action);
+
+    suggest("/interaction_profiles/khr/simple_controller",
+            {{toggle_action, "/user/hand/left/input/select/click"},
+             {toggle_action, "/user/hand/right/input/select/click"}});
+    suggest("/interaction_profiles/oculus/touch_controller",
+            {{toggle_action, "/user/hand/right/input/a/click"},
+             {toggle_action, "/user/hand/left/input/x/click"},
+             {move_action, "/user/hand/left/input/thumbstick"},
+             {turn_action, "/user/hand/right/input/thumbstick/x"}});
+    suggest("/interaction_profiles/valve/index_controller",
+            {{toggle_action, "/user/hand/right/input/a/click"},
+             {toggle_action, "/user/hand/left/input/a/click"},
+             {move_action, "/user/hand/left/input/thumbstick"},
+             {turn_action, "/user/hand/right/input/thumbstick/x"}});
+    suggest("/interaction_profiles/htc/vive_controller",
+            {{toggle_action, "/user/hand/left/input/menu/click"},
+             {toggle_action, "/user/hand/right/input/menu/click"},
+             {move_action, "/user/hand/left/input/trackpad"},
+             {turn_action, "/user/hand/right/input/trackpad/x"}});
+
+    XrSessionActionSetsAttachInfo attach{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
+    attach.countActionSets = 1;
+    attach.actionSets = &action_set;
+    XR_CHECK(instance, xrAttachSessionActionSets(session, &attach));
+}
+
+XrStereoSession::XrStereoSession(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+XrStereoSession::~XrStereoSession() = default;
+
+std::unique_ptr<XrStereoSession> XrStereoSession::create(GLFWwindow* window, RunLog& log, std::string& reason) {
+    auto impl = std::make_unique<Impl>();
+    impl->log = &log;
+
+    // Instance: the loader finds the active runtime; none means desktop mode.
+    std::uint32_t ext_count = 0;
+    XrResult r = xrEnumerateInstanceExtensionProperties(nullptr, 0, &ext_count, nullptr);
+    if (XR_FAILED(r)) {
+        reason = "no OpenXR runtime (" + xrResultName(XR_NULL_HANDLE, r) + ")";
+        return nullptr;
+    }
+    std::vector<XrExtensionProperties> exts(ext_count, {XR_TYPE_EXTENSION_PROPERTIES});
+    xrEnumerateInstanceExtensionProperties(nullptr, ext_count, &ext_count, exts.data());
+    const bool has_gl = std::any_of(exts.begin(), exts.end(), [](const auto& e) {
+        return std::strcmp(e.extensionName, XR_KHR_OPENGL_ENABLE_EXTENSION_NAME) == 0;
+    });
+    if (!has_gl) {
+        reason = "the OpenXR runtime does not offer " XR_KHR_OPENGL_ENABLE_EXTENSION_NAME;
+        return nullptr;
+    }
+    const char* enabled[] = {XR_KHR_OPENGL_ENABLE_EXTENSION_NAME};
+    XrInstanceCreateInfo create_info{XR_TYPE_INSTANCE_CREATE_INFO};
+    std::strcpy(create_info.applicationInfo.applicationName, "ladarvr");
+    create_info.applicationInfo.applicationVersion = 1;
+    std::strcpy(create_info.applicationInfo.engineName, "ladarvr");
+    create_info.applicationInfo.apiVersion = XR_API_VERSION_1_0;
+    create_info.enabledExtensionCount = 1;
+    create_info.enabledExtensionNames = enabled;
+    r = xrCreateInstance(&create_info, &impl->instance);
+    if (XR_FAILED(r)) {
+        reason = "no OpenXR runtime (xrCreateInstance: " + xrResultName(XR_NULL_HANDLE, r) + ")";
+        return nullptr;
+    }
+    XrInstance instance = impl->instance;
+    XrInstanceProperties instance_props{XR_TYPE_INSTANCE_PROPERTIES};
+    XR_CHECK(instance, xrGetInstanceProperties(instance, &instance_props));
+    log.set("xr_runtime", std::string(instance_props.runtimeName));
+
+    XrSystemGetInfo system_info{XR_TYPE_SYSTEM_GET_INFO};
+    system_info.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
+    r = xrGetSystem(instance, &system_info, &impl->system);
+    if (XR_FAILED(r)) {
+        reason = std::string("OpenXR runtime '") + instance_props.runtimeName +
+                 "' has no head-mounted display (" + xrResultName(instance, r) + ")";
+        return nullptr;
+    }
+    XrSystemProperties system_props{XR_TYPE_SYSTEM_PROPERTIES};
+    XR_CHECK(instance, xrGetSystemProperties(instance, impl->system, &system_props));
+    log.set("xr_system", std::string(system_props.systemName));
+
+    // OpenGL requirements must be queried before xrCreateSession.
+    PFN_xrGetOpenGLGraphicsRequirementsKHR get_requirements = nullptr;
+    XR_CHECK(instance, xrGetInstanceProcAddr(instance, "xrGetOpenGLGraphicsRequirementsKHR",
+                                             reinterpret_cast<PFN_xrVoidFunction*>(&get_requirements)));
+    XrGraphicsRequirementsOpenGLKHR requirements{XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_KHR};
+    XR_CHECK(instance, get_requirements(instance, impl->system, &requirements));
+    if (XR_MAKE_VERSION(4, 5, 0) < requirements.minApiVersionSupported) {
+        reason = "the OpenXR runtime needs a newer OpenGL than 4.5";
+        return nullptr;
+    }
+
+    // The Xlib/GLX binding comes from the GLFW window and its (current) context.
+    Display* display = glfwGetX11Display();
+    GLXContext context = glfwGetGLXContext(window);
+    GLXWindow drawable = glfwGetGLXWindow(window);
+    if (!display || !context) {
+        reason = "the desktop window has no GLX context (not running on X11?)";
+        return nullptr;
+    }
+    int fbconfig_id = 0;
+    glXQueryContext(display, context, GLX_FBCONFIG_ID, &fbconfig_id);
+    const int attribs[] = {GLX_FBCONFIG_ID, fbconfig_id, 0};
+    int config_count = 0;
+    GLXFBConfig* configs = glXChooseFBConfig(display, DefaultScreen(display), attribs, &config_count);
+    XrGraphicsBindingOpenGLXlibKHR binding{XR_TYPE_GRAPHICS_BINDING_OPENGL_XLIB_KHR};
+    binding.xDisplay = display;
+    binding.glxContext = context;
+    binding.glxDrawable = drawable;
+    if (configs && config_count > 0) {
+        binding.glxFBConfig = configs[0];
+        if (XVisualInfo* visual = glXGetVisualFromFBConfig(display, configs[0])) {
+            binding.visualid = static_cast<std::uint32_t>(visual->visualid);
+            XFree(visual);
+        }
+    }
+    XrSessionCreateInfo session_info{XR_TYPE_SESSION_CREATE_INFO};
+    session_info.next = &binding;
+    session_info.systemId = impl->system;
+    r = xrCreateSession(instance, &session_info, &impl->session);
+    if (configs) XFree(configs);
+    if (XR_FAILED(r)) {
+        reason = "OpenXR session creation failed (" + xrResultName(instance, r) + ")";
+        return nullptr;
+    }
+
+    XrReferenceSpaceCreateInfo space_info{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
+    space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
+    space_info.poseInReferenceSpace.orientation.w = 1.0f;
+    XR_CHECK(instance, xrCreateReferenceSpace(impl->session, &space_info, &impl->space));
+    space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
+    XR_CHECK(instance, xrCreateReferenceSpace(impl->session, &space_info, &impl->view_space));
+
+    // Views and swapchains: one per eye at the recommended size.
+    std::uint32_t view_count = 0;
+    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, impl->system,
+        XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0, &view_count, nullptr));
+    std::vector<XrViewConfigurationView> config_views(view_count, {XR_TYPE_VIEW_CONFIGURATION_VIEW});
+    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, impl->system,
+        XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, view_count, &view_count, config_views.data()));
+    if (view_count != 2) {
+        reason = "the HMD's primary stereo configuration has " + std::to_string(view_count) + " views";
+        return nullptr;
+    }
+    impl->width = static_cast<int>(config_views[0].recommendedImageRectWidth);
+    impl->height = static_cast<int>(config_views[0].recommendedImageRectHeight);
+
+    std::uint32_t format_count = 0;
+    XR_CHECK(instance, xrEnumerateSwapchainFormats(impl->session, 0, &format_count, nullptr));
+    std::vector<std::int64_t> formats(format_count);
+    XR_CHECK(instance, xrEnumerateSwapchainFormats(impl->session, format_count, &format_count, formats.data()));
+    nlohmann::json offered = nlohmann::json::array();
+    for (auto f : formats) offered.push_back(f);
+    log.set("xr_formats_offered", offered);
+    // Linear 8/16-bit formats first: the eye images are blitted in and mirrored out as is.
+    for (std::int64_t want : {kGlRgba8, kGlRgba16, kGlRgb10A2, kGlRgba16f, kGlSrgb8Alpha8}) {
+        if (std::find(formats.begin(), formats.end(), want) != formats.end()) {
+            impl->format = want;
+            break;
+        }
+    }
+    if (impl->format == 0) {
+        if (formats.empty()) {
+            reason = "the OpenXR runtime offers no OpenGL swapchain format";
+            return nullptr;
+        }
+        impl->format = formats.front();
+    }
+    log.set("xr_swapchain_format", impl->format);
+    log.set("xr_eye_size", nlohmann::json::array({impl->width, impl->height}));
+
+    for (auto& eye : impl->eyes) {
+        XrSwapchainCreateInfo sc{XR_TYPE_SWAPCHAIN_CREATE_INFO};
+        sc.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT |
+                        XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT;
+        sc.format = impl->format;
+        sc.sampleCount = 1;
+        sc.width = static_cast<std::uint32_t>(impl->width);
+        sc.height = static_cast<std::uint32_t>(impl->height);
+        sc.faceCount = 1;
+        sc.arraySize = 1;
+        sc.mipCount = 1;
+        XR_CHECK(instance, xrCreateSwapchain(impl->session, &sc, &eye.handle));
+        std::uint32_t image_count = 0;
+        XR_CHECK(instance, xrEnumerateSwapchainImages(eye.handle, 0, &image_count, nullptr));
+        eye.images.assign(image_count, {XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR});
+        XR_CHECK(instance, xrEnumerateSwapchainImages(eye.handle, image_count, &image_count,
+            reinterpret_cast<XrSwapchainImageBaseHeader*>(eye.images.data())));
+    }
+    impl->createActions();
+    for (auto& v : impl->views) v = {XR_TYPE_VIEW};
+    return std::unique_ptr<XrStereoSession>(new XrStereoSession(std::move(impl)));
+}
+
+XrPoll XrStereoSession::pollEvents() {
+    Impl& s = *impl_;
+    for (int guard = 0; guard < 64; ++guard) {
+        XrEventDataBuffer event{XR_TYPE_EVENT_DATA_BUFFER};
+        const XrResult r = xrPollEvent(s.instance, &event);
+        if (r == XR_EVENT_UNAVAILABLE) break;
+        if (!XR_LOG(s.instance, r)) return XrPoll::Lost;
+        switch (event.type) {
+            case XR_TYPE_EVENT_DATA_INSTANCE_LOSS_PENDING:
+                s.log->event("xr: instance loss pending");
+                return XrPoll::Lost;
+            case XR_TYPE_EVENT_DATA_EVENTS_LOST:
+                s.log->event("xr: events lost");
+                break;
+            case XR_TYPE_EVENT_DATA_REFERENCE_SPACE_CHANGE_PENDING:
+                s.log->event("xr: reference space change pending");
+                break;
+            case XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED:
+                s.log->event("xr: interaction profile changed");
+                break;
+            case XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED: {
+                const auto& changed = *reinterpret_cast<const XrEventDataSessionStateChanged*>(&event);
+                s.state = changed.state;
+                s.log->state(sessionStateName(changed.state));
+                switch (changed.state) {
+                    case XR_SESSION_STATE_READY: {
+                        XrSessionBeginInfo begin{XR_TYPE_SESSION_BEGIN_INFO};
+                        begin.primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+                        if (!XR_LOG(s.instance, xrBeginSession(s.session, &begin))) return XrPoll::Lost;
+                        s.running = true;
+                        break;
+                    }
+                    case XR_SESSION_STATE_STOPPING:
+                        s.running = false;
+                        if (!XR_LOG(s.instance, xrEndSession(s.session))) return XrPoll::Lost;
+                        break;
+                    case XR_SESSION_STATE_LOSS_PENDING:
+                        s.running = false;
+                        return XrPoll::Lost;
+                    case XR_SESSION_STATE_EXITING:
+                        s.running = false;
+                        // Our own request (Escape, window closed) ends the app; the runtime
+                        // ending the session on its own leaves the desktop mirror running.
+                        return s.exit_requested ? XrPoll::Exit : XrPoll::Lost;
+                    case XR_SESSION_STATE_IDLE:
+                    case XR_SESSION_STATE_SYNCHRONIZED:
+                    case XR_SESSION_STATE_VISIBLE:
+                    case XR_SESSION_STATE_FOCUSED:
+                    default:
+                        break;
+                }
+                break;
+            }
+            default:
+                break;
+        }
+    }
+    return XrPoll::Ok;
+}
+
+bool XrStereoSession::running() const { return impl_->running; }
+bool XrStereoSession::focused() const { return impl_->state == XR_SESSION_STATE_FOCUSED; }
+int XrStereoSession::eyeWidth() const { return impl_->width; }
+int XrStereoSession::eyeHeight() const { return impl_->height; }
+std::int64_t XrStereoSession::colourFormat() const { return impl_->format; }
+
+bool XrStereoSession::beginFrame(XrFrame& frame) {
+    Impl& s = *impl_;
+    frame = XrFrame{};
+    XrFrameState state{XR_TYPE_FRAME_STATE};
+    XrFrameWaitInfo wait{XR_TYPE_FRAME_WAIT_INFO};
+    if (!XR_LOG(s.instance, xrWaitFrame(s.session, &wait, &state))) return false;
+    XrFrameBeginInfo begin{XR_TYPE_FRAME_BEGIN_INFO};
+    if (!XR_LOG(s.instance, xrBeginFrame(s.session, &begin))) return false;
+    frame.began = true;
+    frame.should_render = state.shouldRender == XR_TRUE;
+    frame.display_time_ns = state.predictedDisplayTime;
+    if (!frame.should_render) return true;
+
+    XrViewLocateInfo locate{XR_TYPE_VIEW_LOCATE_INFO};
+    locate.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+    locate.displayTime = state.predictedDisplayTime;
+    locate.space = s.space;
+    XrViewState view_state{XR_TYPE_VIEW_STATE};
+    std::uint32_t count = 0;
+    for (auto& v : s.views) v = {XR_TYPE_VIEW};
+    if (!XR_LOG(s.instance, xrLocateViews(s.session, &locate, &view_state, 2, &count, s.views.data())))
+        return false;
+    frame.views_valid = count == 2 && (view_state.viewStateFlags & XR_VIEW_STATE_ORIENTATION_VALID_BIT);
+    for (int i = 0; i < 2; ++i) {
+        const XrView& v = s.views[i];
+        XrEye& e = frame.eyes[i];
+        e.orientation = glm::dquat(v.pose.orientation.w, v.pose.orientation.x, v.pose.orientation.y,
+                                   v.pose.orientation.z);
+        e.position = glm::dvec3(v.pose.position.x, v.pose.position.y, v.pose.position.z);
+        e.angle_left = v.fov.angleLeft;
+        e.angle_right = v.fov.angleRight;
+        e.angle_up = v.fov.angleUp;
+        e.angle_down = v.fov.angleDown;
+    }
+    return true;
+}
+
+unsigned XrStereoSession::acquireEye(int eye) {
+    Impl& s = *impl_;
+    EyeSwapchain& sc = s.eyes[eye];
+    std::uint32_t index = 0;
+    XrSwapchainImageAcquireInfo acquire{XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO};
+    if (!XR_LOG(s.instance, xrAcquireSwapchainImage(sc.handle, &acquire, &index))) return 0;
+    sc.acquired = true;
+    XrSwapchainImageWaitInfo wait{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wait.timeout = 1'000'000'000;  // 1 s: a runtime that does not hand the image back is lost
+    if (!XR_LOG(s.instance, xrWaitSwapchainImage(sc.handle, &wait))) return 0;
+    return index < sc.images.size() ? sc.images[index].image : 0;
+}
+
+bool XrStereoSession::releaseEye(int eye) {
+    Impl& s = *impl_;
+    EyeSwapchain& sc = s.eyes[eye];
+    if (!sc.acquired) return true;
+    sc.acquired = false;
+    XrSwapchainImageReleaseInfo release{XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO};
+    return XR_LOG(s.instance, xrReleaseSwapchainImage(sc.handle, &release));
+}
+
+bool XrStereoSession::endFrame(const XrFrame& frame, bool rendered) {
+    Impl& s = *impl_;
+    std::array<XrCompositionLayerProjectionView, 2> views{};
+    XrCompositionLayerProjection layer{XR_TYPE_COMPOSITION_LAYER_PROJECTION};
+    const XrCompositionLayerBaseHeader* layers[] = {
+        reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
+    XrFrameEndInfo end{XR_TYPE_FRAME_END_INFO};
+    end.displayTime = frame.display_time_ns;
+    end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+    if (rendered) {
+        for (int i = 0; i < 2; ++i) {
+            views[i] = {XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW};
+            views[i].pose = s.views[i].pose;
+            views[i].fov = s.views[i].fov;
+            views[i].subImage.swapchain = s.eyes[i].handle;
+            views[i].subImage.imageRect = {{0, 0}, {s.width, s.height}};
+        }
+        layer.space = s.space;
+        layer.viewCount = 2;
+        layer.views = views.data();
+        end.layerCount = 1;
+        end.layers = layers;
+    }
+    return XR_LOG(s.instance, xrEndFrame(s.session, &end));
+}
+
+XrInput XrStereoSession::syncInput() {
+    Impl& s = *impl_;
+    XrInput input;
+    if (s.state != XR_SESSION_STATE_FOCUSED) return input;
+    XrActiveActionSet active{s.action_set, XR_NULL_PATH};
+    XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
+    sync.countActiveActionSets = 1;
+    sync.activeActionSets = &active;
+    if (!XR_LOG(s.instance, xrSyncActions(s.session, &sync))) return input;
+    XrActionStateGetInfo get{XR_TYPE_ACTION_STATE_GET_INFO};
+    get.action = s.toggle_action;
+    XrActionStateBoolean toggle{XR_TYPE_ACTION_STATE_BOOLEAN};
+    if (XR_SUCCEEDED(xrGetActionStateBoolean(s.session, &get, &toggle)))
+        input.toggle_pressed = toggle.isActive && toggle.changedSinceLastSync && toggle.currentState;
+    get.action = s.move_action;
+    XrActionStateVector2f move{XR_TYPE_ACTION_STATE_VECTOR2F};
+    if (XR_SUCCEEDED(xrGetActionStateVector2f(s.session, &get, &move)) && move.isActive)
+        input.move = {move.currentState.x, move.currentState.y};
+    get.action = s.turn_action;
+    XrActionStateFloat turn{XR_TYPE_ACTION_STATE_FLOAT};
+    if (XR_SUCCEEDED(xrGetActionStateFloat(s.session, &get, &turn)) && turn.isActive)
+        input.turn = turn.currentState;
+    return input;
+}
+
+void XrStereoSession::requestExit() {
+    Impl& s = *impl_;
+    s.exit_requested = true;
+    if (s.session != XR_NULL_HANDLE && s.running) XR_LOG(s.instance, xrRequestExitSession(s.session));
+}
+
+}  // namespace viewer

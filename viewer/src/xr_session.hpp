@@ -1,0 +1,96 @@
+// viewer/src/xr_session.hpp: the OpenXR side of the viewer (paper §IV-A's HMD, on any
+// OpenXR runtime): instance, system, session bound to the GLFW window's GLX context
+// (XR_KHR_opengl_enable, Xlib binding), one swapchain per eye, the action set that
+// toggles the mode and moves in free mode, and the whole session lifecycle.
+//
+// Setup (create) throws engine::Error or returns null with a reason; everything called
+// per frame never throws: it returns a status and the caller degrades to the desktop.
+#pragma once
+#include "run_log.hpp"
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+struct GLFWwindow;
+
+namespace viewer {
+
+/// One eye as the runtime located it, in the session's reference space (metres; OpenXR
+/// convention: x right, y up, -z forward). Angles are the asymmetric FoV in radians.
+struct XrEye {
+    glm::dquat orientation{1.0, 0.0, 0.0, 0.0};
+    glm::dvec3 position{0.0};
+    float angle_left = -0.8f, angle_right = 0.8f, angle_up = 0.8f, angle_down = -0.8f;
+};
+
+/// What the session tells the loop each frame.
+struct XrFrame {
+    bool began = false;          // xrBeginFrame succeeded: endFrame must follow
+    bool should_render = false;  // the runtime wants pixels this frame
+    std::int64_t display_time_ns = 0;
+    bool views_valid = false;
+    std::array<XrEye, 2> eyes;
+};
+
+/// Controller input after xrSyncActions (only meaningful while FOCUSED).
+struct XrInput {
+    bool toggle_pressed = false;  // the mode button went down this frame
+    glm::vec2 move{0.0f};         // thumbstick/trackpad: x strafe, y forward
+    float turn = 0.0f;            // right thumbstick x
+};
+
+enum class XrPoll {
+    Ok,          // keep going (the session may or may not be running)
+    Exit,        // the session ended at our request (or the runtime's): leave the app
+    Lost,        // runtime or session lost: fall back to the desktop mode
+};
+
+class XrStereoSession {
+public:
+    /// Tries to start OpenXR on `window`'s current GLX context. Returns null with `reason`
+    /// set when there is no runtime, no HMD, or no OpenGL support; throws engine::Error
+    /// only for programming errors. Records runtime/system/format in `log`.
+    static std::unique_ptr<XrStereoSession> create(GLFWwindow* window, RunLog& log, std::string& reason);
+    ~XrStereoSession();
+    XrStereoSession(const XrStereoSession&) = delete;
+    XrStereoSession& operator=(const XrStereoSession&) = delete;
+
+    /// Drains the event queue and runs the state machine (begin/end session).
+    XrPoll pollEvents();
+    /// True between xrBeginSession and xrEndSession.
+    bool running() const;
+    /// True once FOCUSED (input is live).
+    bool focused() const;
+    /// xrWaitFrame + xrBeginFrame + xrLocateViews. False on a runtime error (caller: Lost).
+    bool beginFrame(XrFrame& frame);
+    /// Acquires and waits the eye's swapchain image; returns its GL texture name (0 on error).
+    unsigned acquireEye(int eye);
+    bool releaseEye(int eye);
+    /// xrEndFrame with a projection layer of both eyes when `rendered`, else no layers.
+    bool endFrame(const XrFrame& frame, bool rendered);
+    /// xrSyncActions and reads the actions; zeroed unless focused.
+    XrInput syncInput();
+    /// Asks the runtime to end the session (Escape / window closed): EXITING follows.
+    void requestExit();
+
+    int eyeWidth() const;
+    int eyeHeight() const;
+    /// GL internal format of the swapchain images.
+    std::int64_t colourFormat() const;
+
+    struct Impl;
+
+private:
+    explicit XrStereoSession(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+/// Session state name as in the spec without the prefix ("FOCUSED").
+const char* sessionStateName(int state);
+
+}  // namespace viewer
