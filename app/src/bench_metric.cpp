@@ -1,8 +1,254 @@
-// Placeholder until the metric benchmark lands.
+// app/src/bench_metric.cpp: `ladarvr bench metric`: run time against error of the point
+// metric (paper §IV-B), over resolutions and splat sizes, with and without the skips.
+// A program, not a test: warm-up, per-view medians over the orbit, ratios against
+// baselines measured in the same run (the same settings without skips; the exact Embree
+// reference's time per view).
 #include "commands.hpp"
+
+#include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
+#include <engine/scene.hpp>
+#include <metric/clouds.hpp>
+#include <metric/visibility.hpp>
+#include <render/gl.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
 namespace app {
-void registerBenchMetric(CLI::App& bench) {
-    bench.add_subcommand("metric", "(not built yet)")->callback([] { throw engine::Error("bench metric: not built yet"); });
+namespace {
+
+struct BenchMetricCli {
+    bool quick = false;
+    int views = 100;
+    std::string md = "BENCHMARKS.md";
+    std::string csv = "out/bench_metric.csv";
+    bool no_md = false;
+};
+
+struct Row {
+    std::string scene;
+    int resolution = 0;
+    double splat_px = 0;
+    bool skip = true;
+    double mae_metric = 0, mae_visible = 0;   // against the exact reference, over shared views
+    double ms_per_view = 0;                   // median over the orbit's views
+    double speedup = 0;                       // no-skip median / this median (skip rows)
+    double metric_mean = 0, exact_mean = 0;
+    int views_used = 0, views_compared = 0;
+    double exact_ms_per_view = 0;             // the exact reference at this resolution
+};
+
+double median(std::vector<double> v) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
+
+std::string readText(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string cpuName() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown CPU";
+}
+
+std::string fmt(const char* format, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, format, v);
+    return b;
+}
+
+/// Replaces (or appends) the `## Metric (ladarvr bench metric)` section of BENCHMARKS.md.
+void updateMarkdown(const std::filesystem::path& path, const std::string& section) {
+    const std::string heading = "## Metric (ladarvr bench metric)";
+    std::string text = std::filesystem::exists(path) ? readText(path) : std::string("# Benchmarks\n");
+    const std::size_t start = text.find(heading);
+    if (start == std::string::npos) {
+        if (!text.empty() && text.back() != '\n') text += '\n';
+        text += "\n" + section;
+    } else {
+        std::size_t end = text.find("\n## ", start + heading.size());
+        end = end == std::string::npos ? text.size() : end + 1;
+        text = text.substr(0, start) + section + (end < text.size() ? "\n" + text.substr(end) : "");
+    }
+    engine::writeFileAtomic(path, text);
+}
+
+void run(const BenchMetricCli& cli) {
+    if (cli.views < 4 || cli.views > 1000)
+        throw engine::Error("bench metric: --views = " + std::to_string(cli.views) + ": allowed 4..1000");
+    const std::vector<int> resolutions = cli.quick ? std::vector<int>{128, 512} : std::vector<int>{128, 256, 512, 1024};
+    const std::vector<double> splats = cli.quick ? std::vector<double>{1, 3} : std::vector<double>{1, 2, 3, 4, 5};
+    const int views = cli.quick ? std::min(cli.views, 20) : cli.views;
+    std::vector<std::pair<std::string, std::filesystem::path>> scenes = {{"demo", engine::demoScenePath()}};
+    const std::filesystem::path hard = engine::demoScenePath().parent_path().parent_path() / "hard" / "scene.json";
+    if (!cli.quick) {
+        if (!std::filesystem::exists(hard))
+            throw engine::Error("bench metric: the hard scene " + hard.string() + " is missing");
+        scenes.emplace_back("hard", hard);
+    }
+    const auto bench_start = std::chrono::steady_clock::now();
+    std::vector<Row> rows;
+    std::string gl, setup_notes;
+    for (const auto& [name, path] : scenes) {
+        const engine::Scene scene = engine::loadScene(path);
+        const auto gen_start = std::chrono::steady_clock::now();
+        const metric::MetricClouds clouds = metric::generateClouds(scene);
+        const double gen_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - gen_start).count();
+        metric::Evaluator evaluator(clouds, &scene);
+        if (gl.empty()) gl = render::glDescription();
+        setup_notes += "- " + name + ": " + std::to_string(scene.triangleCount()) + " triangles; P1/P2/P3 = " +
+                       std::to_string(clouds.p1.points.size()) + " / " + std::to_string(clouds.p2.points.size()) +
+                       " / " + std::to_string(clouds.p3.points.size()) + " points, generated in " +
+                       fmt("%.1f", gen_s) + " s (3 generator runs)\n";
+        std::fprintf(stderr, "bench metric: %s: clouds %zu/%zu/%zu points in %.1f s\n", name.c_str(),
+                     clouds.p1.points.size(), clouds.p2.points.size(), clouds.p3.points.size(), gen_s);
+        metric::MetricOptions base;
+        base.orbit.views = views;
+        {  // warm-up: shaders, textures, caches
+            metric::MetricOptions warm = base;
+            warm.orbit.views = 4;
+            evaluator.run(warm);
+        }
+        for (int res : resolutions) {
+            metric::MetricOptions o = base;
+            o.width = o.height = res;
+            o.exact = true;
+            o.splat_px = splats.front();
+            const metric::MetricResult reference = evaluator.run(o);
+            std::vector<double> exact_ms;
+            for (const auto& v : reference.views) exact_ms.push_back(1e3 * v.seconds_exact);
+            o.exact = false;
+            for (double splat : splats) {
+                o.splat_px = splat;
+                Row pair[2];
+                for (int s = 0; s < 2; ++s) {
+                    o.skip = s == 0;
+                    const metric::MetricResult r = evaluator.run(o);
+                    Row& row = pair[s];
+                    row.scene = name;
+                    row.resolution = res;
+                    row.splat_px = splat;
+                    row.skip = o.skip;
+                    std::vector<double> ms;
+                    double err_m = 0, err_v = 0;
+                    int n = 0;
+                    for (std::size_t k = 0; k < r.views.size(); ++k) {
+                        ms.push_back(1e3 * r.views[k].seconds_render);
+                        const double exact = reference.views[k].exact;
+                        if (!r.views[k].used || std::isnan(exact)) continue;
+                        err_m += std::abs(r.views[k].metric - exact);
+                        err_v += std::abs(r.views[k].visible - exact);
+                        ++n;
+                    }
+                    row.views_compared = n;
+                    row.mae_metric = n ? err_m / n : std::nan("");
+                    row.mae_visible = n ? err_v / n : std::nan("");
+                    row.ms_per_view = median(ms);
+                    row.metric_mean = r.metric_mean;
+                    row.exact_mean = reference.exact_mean;
+                    row.views_used = r.views_used;
+                    row.exact_ms_per_view = median(exact_ms);
+                }
+                pair[0].speedup = pair[1].ms_per_view / pair[0].ms_per_view;
+                pair[1].speedup = 1.0;
+                for (const Row& row : pair) {
+                    std::fprintf(stderr,
+                                 "bench metric: %-4s %4d px splat %.0f %-7s MAE metric %.4f visible %.4f  "
+                                 "%.2f ms/view (x%.1f)  exact %.2f ms/view\n",
+                                 row.scene.c_str(), row.resolution, row.splat_px, row.skip ? "skip" : "no-skip",
+                                 row.mae_metric, row.mae_visible, row.ms_per_view, row.speedup,
+                                 row.exact_ms_per_view);
+                    rows.push_back(row);
+                }
+            }
+        }
+    }
+    const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - bench_start).count();
+
+    // CSV for scripts/plot_metric_bench.py
+    std::string csv = "scene,resolution,splat_px,skip,mae_metric,mae_visible,ms_per_view,speedup,metric_mean,"
+                      "exact_mean,views_used,views_compared,exact_ms_per_view\n";
+    for (const Row& r : rows)
+        csv += r.scene + "," + std::to_string(r.resolution) + "," + fmt("%g", r.splat_px) + "," +
+               (r.skip ? "1" : "0") + "," + fmt("%.6f", r.mae_metric) + "," + fmt("%.6f", r.mae_visible) + "," +
+               fmt("%.4f", r.ms_per_view) + "," + fmt("%.3f", r.speedup) + "," + fmt("%.6f", r.metric_mean) +
+               "," + fmt("%.6f", r.exact_mean) + "," + std::to_string(r.views_used) + "," +
+               std::to_string(r.views_compared) + "," + fmt("%.4f", r.exact_ms_per_view) + "\n";
+    const std::filesystem::path csv_path = cli.csv;
+    if (csv_path.has_parent_path()) std::filesystem::create_directories(csv_path.parent_path());
+    engine::writeFileAtomic(csv_path, csv);
+
+    // Markdown section
+    char date[32];
+    const std::time_t now = std::time(nullptr);
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    std::string md = "## Metric (ladarvr bench metric)\n\n";
+    md += "Command: `./ladarvr bench metric" + std::string(cli.quick ? " --quick" : "") + "`; " + date + "; " +
+          cpuName() + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads; GL: " + gl +
+          "; whole run " + fmt("%.0f", total_s) + " s.\n\n";
+    md += "Orbit: " + std::to_string(views) +
+          " views, defaults of `ladarvr metric` (radius 60 m, altitude 40 m, vfov 30 deg, look-at the "
+          "target's centre). Clouds from the generator's paper defaults:\n" + setup_notes + "\n";
+    md += "MAE: mean over the views (|I1| > 0 and a defined exact value) of |point value - exact "
+          "reference|; the exact reference casts one Embree ray per pixel centre at the same resolution. "
+          "ms/view: median over the orbit of the GPU part (splatting the three clouds + counting on the GPU, "
+          "synchronous read-back). Speed-up: the no-skip median at the same settings / the skip median "
+          "(in-run baseline). Exact ms/view: the Embree reference at that resolution, for scale.\n\n";
+    md += "| scene | px | splat | skips | MAE metric (xor) | MAE visible | ms/view | speed-up | exact ms/view |\n";
+    md += "|---|---|---|---|---|---|---|---|---|\n";
+    for (const Row& r : rows)
+        md += "| " + r.scene + " | " + std::to_string(r.resolution) + " | " + fmt("%g", r.splat_px) + " | " +
+              (r.skip ? "on" : "off") + " | " + fmt("%.4f", r.mae_metric) + " | " + fmt("%.4f", r.mae_visible) +
+              " | " + fmt("%.2f", r.ms_per_view) + " | " + (r.skip ? "x" + fmt("%.1f", r.speedup) : "1") +
+              " | " + fmt("%.2f", r.exact_ms_per_view) + " |\n";
+    md += "\nMean over the orbit at 512 px (metric / exact): ";
+    for (const Row& r : rows)
+        if (r.resolution == 512 && r.skip && r.splat_px == splats[splats.size() / 2])
+            md += r.scene + " " + fmt("%.3f", r.metric_mean) + " / " + fmt("%.3f", r.exact_mean) + " (" +
+                  std::to_string(r.views_used) + " views used); ";
+    md += "\n\nPlot: `python3 scripts/plot_metric_bench.py " + cli.csv +
+          " docs/img/metric_error_vs_time.png` (docs/img/metric_error_vs_time.png); defaults chosen in "
+          "docs/metric.md.\n";
+    std::fputs(md.c_str(), stdout);
+    if (!cli.no_md) {
+        updateMarkdown(cli.md, md);
+        std::fprintf(stderr, "bench metric: updated %s and wrote %s\n", cli.md.c_str(), cli.csv.c_str());
+    }
+}
+
+}  // namespace
+
+void registerBenchMetric(CLI::App& bench) {
+    auto state = std::make_shared<BenchMetricCli>();
+    CLI::App* c = bench.add_subcommand("metric", "visibility metric: error against the exact reference vs time "
+                                                 "per view, resolutions 128..1024, splats 1..5 px, skips on/off");
+    c->add_flag("--quick", state->quick, "demo scene only, 128 and 512 px, splats 1 and 3, 20 views");
+    c->add_option("--views", state->views, "views per orbit, 4..1000")->capture_default_str();
+    c->add_option("--md", state->md, "Markdown file whose metric section is replaced")->capture_default_str();
+    c->add_option("--csv", state->csv, "CSV of every row (input of scripts/plot_metric_bench.py)")
+        ->capture_default_str();
+    c->add_flag("--no-md", state->no_md, "print the Markdown only, do not update the file");
+    c->callback([state] { run(*state); });
+}
+
 }  // namespace app

@@ -1,8 +1,152 @@
-// Placeholder until the metric work lands.
+// app/src/cmd_metric.cpp: `ladarvr metric`: the visibility metric of paper §IV-B.
+// Parses and validates options (metric::validate names the option and the range), makes
+// or reads the three clouds, runs the evaluator, writes DIR/views.csv, summary.json, PNGs.
 #include "commands.hpp"
+
+#include <engine/atomic_file.hpp>
+#include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
+#include <engine/scene.hpp>
+#include <metric/clouds.hpp>
+#include <metric/report.hpp>
+#include <metric/visibility.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+
 namespace app {
-void registerMetric(CLI::App& cli) {
-    cli.add_subcommand("metric", "(not built yet)")->callback([] { throw engine::Error("metric: not built yet"); });
+namespace {
+
+struct MetricCli {
+    std::string scene;
+    std::string out = "out/metric";
+    std::string look_at;
+    std::string p1, p2, p3;
+    bool json = false;
+    bool no_skip = false;
+    bool no_exact = false;
+    metric::MetricOptions options;
+};
+
+glm::dvec3 parseTriple(const std::string& text, const char* option) {
+    glm::dvec3 v{0.0};
+    std::stringstream s(text);
+    std::string part;
+    int n = 0;
+    while (std::getline(s, part, ',')) {
+        if (n >= 3) break;
+        try {
+            std::size_t used = 0;
+            v[n] = std::stod(part, &used);
+            if (used != part.size() || !std::isfinite(v[n])) throw std::invalid_argument(part);
+        } catch (const std::exception&) {
+            throw engine::Error(std::string("metric: ") + option + " '" + text +
+                                "': allowed three finite numbers x,y,z (world metres)");
+        }
+        ++n;
+    }
+    if (n != 3 || s.rdbuf()->in_avail() != 0)
+        throw engine::Error(std::string("metric: ") + option + " '" + text +
+                            "': allowed three finite numbers x,y,z (world metres)");
+    return v;
 }
+
+std::string percent(double v) {
+    if (std::isnan(v)) return "n/a";
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.1f %%", 100.0 * v);
+    return buffer;
+}
+
+void run(MetricCli& cli) {
+    metric::MetricOptions& o = cli.options;
+    o.skip = !cli.no_skip;
+    o.exact = !cli.no_exact;
+    if (!cli.look_at.empty()) o.look_at_world = parseTriple(cli.look_at, "--look-at");
+    const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
+    if (from_files && (cli.p1.empty() || cli.p2.empty() || cli.p3.empty()))
+        throw engine::Error("metric: --p1, --p2 and --p3 go together: give all three clouds");
+    if (from_files && !cli.scene.empty())
+        throw engine::Error("metric: --scene and --p1/--p2/--p3 exclude each other");
+    metric::validate(o);
+
+    // Fail on the destination before the (long) generation.
+    const std::filesystem::path out = cli.out;
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec || !std::filesystem::is_directory(out))
+        throw engine::Error("output: " + out.string() + ": cannot create the directory");
+    engine::checkWritableDestination(out / "summary.json");
+
+    metric::MetricClouds clouds;
+    std::optional<engine::Scene> scene;
+    if (from_files) {
+        clouds.p1 = engine::readCloud(cli.p1);
+        clouds.p2 = engine::readCloud(cli.p2);
+        clouds.p3 = engine::readCloud(cli.p3);
+        if (clouds.p1.points.empty())
+            throw engine::Error("metric: --p1 " + cli.p1 + ": the cloud is empty; P1 must hold the target's points");
+    } else {
+        const std::filesystem::path path = cli.scene.empty() ? engine::demoScenePath() : std::filesystem::path(cli.scene);
+        scene = engine::loadScene(path);
+        if (!cli.json) std::fprintf(stderr, "metric: generating P1, P2, P3 from %s\n", path.string().c_str());
+        clouds = metric::generateClouds(*scene);
+    }
+    metric::Evaluator evaluator(clouds, scene ? &*scene : nullptr);
+    const metric::MetricResult result = evaluator.run(o);
+    metric::writeReport(result, out);
+    if (cli.json) {
+        std::fputs(metric::summaryJson(result).c_str(), stdout);
+    } else {
+        std::printf("metric: %s mean (min %s, max %s) over %d of %zu views; visible %s; exact %s; %.2f s; "
+                    "wrote %s\n",
+                    percent(result.metric_mean).c_str(), percent(result.metric_min).c_str(),
+                    percent(result.metric_max).c_str(), result.views_used, result.views.size(),
+                    percent(result.visible_mean).c_str(),
+                    result.has_exact ? percent(result.exact_mean).c_str() : "absent", result.seconds,
+                    out.string().c_str());
+        if (result.views_used < static_cast<int>(result.views.size()))
+            std::printf("metric: %zu views had |I1| = 0 (target out of frame) and are left out; see views.csv\n",
+                        result.views.size() - static_cast<std::size_t>(result.views_used));
+    }
+}
+
+}  // namespace
+
+void registerMetric(CLI::App& cli) {
+    auto state = std::make_shared<MetricCli>();
+    state->options.picture_view = 0;
+    CLI::App* c = cli.add_subcommand("metric", "visibility metric of the target (paper §IV-B): mean over an "
+                                               "orbit of |I2 xor I3| / |I1|, with an exact mesh reference");
+    metric::MetricOptions& o = state->options;
+    c->add_option("--scene", state->scene, "scene file (default: the bundled demo scene)");
+    c->add_option("--out", state->out, "output directory for views.csv, summary.json, PNGs")->capture_default_str();
+    c->add_option("--p1", state->p1, "existing target-only cloud (PCD/PLY); with --p2 --p3, no exact reference");
+    c->add_option("--p2", state->p2, "existing environment-without-ground cloud");
+    c->add_option("--p3", state->p3, "existing target+environment-without-ground cloud");
+    c->add_option("--views", o.orbit.views, "views on the orbit, 1..65535")->capture_default_str();
+    c->add_option("--radius-m", o.orbit.radius_m, "orbit radius around the look-at point, metres > 0")
+        ->capture_default_str();
+    c->add_option("--altitude-m", o.orbit.altitude_m, "eye height above the look-at point, metres")
+        ->capture_default_str();
+    c->add_option("--look-at", state->look_at, "x,y,z world metres (default: centre of the target's bounds)");
+    c->add_option("--vfov-deg", o.orbit.vfov_deg, "vertical field of view, (0, 170] degrees")
+        ->capture_default_str();
+    c->add_option("--width", o.width, "image width, 16..8192 pixels")->capture_default_str();
+    c->add_option("--height", o.height, "image height, 16..8192 pixels")->capture_default_str();
+    c->add_option("--splat-px", o.splat_px, "square point splat side, [1, 64] pixels")->capture_default_str();
+    c->add_option("--picture-view", o.picture_view, "view whose I1..I4 are written as PNG, -1 for none")
+        ->capture_default_str();
+    c->add_flag("--json", state->json, "print summary.json to stdout");
+    c->add_flag("--no-skip", state->no_skip,
+                "render whole images and every view (the paper's literal xor over the full frame)");
+    c->add_flag("--no-exact", state->no_exact, "skip the exact ray-cast reference");
+    c->callback([state] { run(*state); });
+}
+
 }  // namespace app
