@@ -1,8 +1,253 @@
-// Placeholder until the generate work lands.
+// app/src/cmd_generate.cpp: `ladarvr generate`: the drone Ladar simulation of paper §III.
+// Parses and validates every option before any work (the error names the option and the
+// allowed range), loads the scene, runs sim::Generator streaming into the output file,
+// prints a human summary on stderr and, with --json, a JSON summary on stdout.
 #include "commands.hpp"
+
+#include <engine/atomic_file.hpp>
+#include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
+#include <engine/scene.hpp>
+#include <sim/generator.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+
 namespace app {
-void registerGenerate(CLI::App& cli) {
-    cli.add_subcommand("generate", "(not built yet)")->callback([] { throw engine::Error("generate: not built yet"); });
+namespace {
+
+namespace fs = std::filesystem;
+
+struct GenerateCli {
+    std::string scene;
+    std::string out;
+    std::string format;
+    std::string roles;
+    std::string centre;
+    bool json = false;
+    double memory_mb = 512.0;
+    sim::GenerateOptions options;
+};
+
+glm::dvec3 parseCentre(const std::string& text) {
+    glm::dvec3 v{0.0};
+    std::stringstream s(text);
+    std::string part;
+    int n = 0;
+    const auto bad = [&] {
+        return engine::Error("generate: --centre '" + text + "': allowed three finite numbers x,y,z (world metres)");
+    };
+    while (std::getline(s, part, ',')) {
+        if (n >= 3) throw bad();
+        try {
+            std::size_t used = 0;
+            v[n] = std::stod(part, &used);
+            if (used != part.size() || !std::isfinite(v[n])) throw bad();
+        } catch (const std::exception&) {
+            throw bad();
+        }
+        ++n;
+    }
+    if (n != 3) throw bad();
+    return v;
 }
+
+// Default output: out/<name>.<pcd|ply>, <name> = the scene file's stem, or its folder's
+// name for the usual "<folder>/scene.json".
+fs::path defaultOutput(const fs::path& scene, engine::CloudFormat format) {
+    std::string name = scene.stem().string();
+    if (name == "scene" && !scene.parent_path().filename().empty()) name = scene.parent_path().filename().string();
+    const bool ply = format == engine::CloudFormat::PlyBinary || format == engine::CloudFormat::PlyAscii;
+    return fs::path("out") / (name + (ply ? ".ply" : ".pcd"));
+}
+
+const char* formatName(engine::CloudFormat f) {
+    switch (f) {
+        case engine::CloudFormat::PcdBinary: return "pcd";
+        case engine::CloudFormat::PcdAscii: return "pcd-ascii";
+        case engine::CloudFormat::PlyBinary: return "ply";
+        case engine::CloudFormat::PlyAscii: return "ply-ascii";
+    }
+    return "pcd";
+}
+
+nlohmann::json optionalNumber(const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+std::string percent(const std::optional<double>& v) {
+    if (!v) return "n/a";
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.2f %%", 100.0 * *v);
+    return buffer;
+}
+
+std::string roleList(engine::RoleMask roles) {
+    std::string s;
+    for (int r = 0; r < engine::kRoleCount; ++r)
+        if (roles.has(engine::Role(r))) s += (s.empty() ? "" : ",") + std::string(engine::roleName(engine::Role(r)));
+    return s;
+}
+
+void run(GenerateCli& cli) {
+    sim::GenerateOptions& o = cli.options;
+    // Everything is checked before the scene is read or a ray is cast.
+    if (!cli.roles.empty()) o.roles = engine::RoleMask::parse(cli.roles, "generate: --roles");
+    if (!cli.centre.empty()) o.centre = parseCentre(cli.centre);
+    if (!(std::isfinite(cli.memory_mb) && cli.memory_mb >= 1.0 && cli.memory_mb <= 1048576.0))
+        throw engine::Error("generate: --memory-mb = " + std::to_string(cli.memory_mb) +
+                            ": allowed [1, 1048576]");
+    o.memory_budget_bytes = std::size_t(cli.memory_mb * 1048576.0);
+    sim::validate(o);
+    const fs::path scene_path = cli.scene.empty() ? engine::demoScenePath() : fs::path(cli.scene);
+    std::optional<engine::CloudFormat> format;
+    if (!cli.format.empty()) format = engine::parseCloudFormat(cli.format, "generate: --format");
+    fs::path out;
+    if (cli.out.empty()) {
+        out = defaultOutput(scene_path, format.value_or(engine::CloudFormat::PcdBinary));
+        std::error_code ec;
+        fs::create_directories(out.parent_path(), ec);  // only the default folder is created
+    } else {
+        out = cli.out;
+    }
+    if (!format) format = engine::formatForPath(out);
+    engine::checkWritableDestination(out);
+    o.progress = true;  // drawn only when stderr is a terminal
+
+    const auto t0 = std::chrono::steady_clock::now();
+    const engine::Scene scene = engine::loadScene(scene_path);
+    const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    sim::GenerateStats st;
+    {
+        sim::Generator generator(scene, o);
+        generator.run(out, *format, &st);
+    }
+    const double seconds = load_s + st.seconds.total;
+
+    const sim::OrbitOptions& orbit = o.orbit;
+    std::fprintf(stderr,
+                 "generate: %s -> %s (%s)\n"
+                 "  scene: %zu meshes, %zu triangles in the BVH (roles: %s), origin %.3f %.3f %.3f\n"
+                 "  orbit: altitude %.2f m, CO %.2f m, alpha %.2f deg, FoV %.3f deg, %dx%d px, %d views, "
+                 "centre C %.3f %.3f %.3f\n"
+                 "  derived: drone radius %.2f m, length sensed %.2f m, covered diameter %.2f m\n"
+                 "  rays %llu, hits %llu, misses %llu\n"
+                 "  ground: %llu points whitened (%d planes kept, %d dropped), %llu labelled ground; "
+                 "precision %s, recall %s\n"
+                 "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, RANSAC %.3f s, colour %.3f s, "
+                 "write %.3f s, total %.3f s (%d threads%s)\n",
+                 scene_path.string().c_str(), out.string().c_str(), formatName(*format),
+                 scene.meshes.size(), st.triangles, roleList(o.roles).c_str(),
+                 scene.origin.x, scene.origin.y, scene.origin.z, orbit.altitude_m, orbit.overlap_m,
+                 orbit.inclination_deg, orbit.fov_deg, orbit.xres, orbit.yres, orbit.views, st.centre.x,
+                 st.centre.y, st.centre.z, st.drone_radius_m, st.length_sensed_m, st.coverage_diameter_m,
+                 (unsigned long long)st.rays, (unsigned long long)st.points, (unsigned long long)st.misses,
+                 (unsigned long long)st.ground_found, st.planes_accepted, st.planes_rejected,
+                 (unsigned long long)st.ground_truth, percent(st.ground_precision).c_str(),
+                 percent(st.ground_recall).c_str(), load_s, st.seconds.bvh, st.seconds.cast, st.seconds.fuse,
+                 st.seconds.ransac, st.seconds.colour, st.seconds.write, seconds, st.threads,
+                 st.streamed ? ", streamed through a spool file" : "");
+    if (o.white) std::fprintf(stderr, "  --white: no colouring, no ground whitening\n");
+
+    if (cli.json) {
+        nlohmann::json j;
+        j["output"] = fs::absolute(out).string();
+        j["format"] = formatName(*format);
+        j["scene"] = fs::absolute(scene_path).string();
+        j["origin"] = {scene.origin.x, scene.origin.y, scene.origin.z};
+        j["centre"] = {st.centre.x, st.centre.y, st.centre.z};
+        j["drone_radius_m"] = st.drone_radius_m;
+        j["length_sensed_m"] = st.length_sensed_m;
+        j["coverage_diameter_m"] = st.coverage_diameter_m;
+        j["altitude_m"] = orbit.altitude_m;
+        j["overlap_m"] = orbit.overlap_m;
+        j["alpha_deg"] = orbit.inclination_deg;
+        j["fov_deg"] = orbit.fov_deg;
+        j["xres"] = orbit.xres;
+        j["yres"] = orbit.yres;
+        j["views"] = orbit.views;
+        j["seed"] = o.seed;
+        j["white"] = o.white;
+        j["triangles"] = st.triangles;
+        j["rays"] = st.rays;
+        j["points"] = st.points;
+        j["misses"] = st.misses;
+        j["ground_found"] = st.ground_found;
+        j["ground_truth"] = st.ground_truth;
+        j["planes_accepted"] = st.planes_accepted;
+        j["planes_rejected"] = st.planes_rejected;
+        j["ground_precision"] = optionalNumber(st.ground_precision);
+        j["ground_recall"] = optionalNumber(st.ground_recall);
+        j["z_min_m"] = scene.origin.z + st.z_min;
+        j["z_max_m"] = scene.origin.z + st.z_max;
+        j["threads"] = st.threads;
+        j["streamed"] = st.streamed;
+        j["seconds"] = seconds;
+        j["stage_seconds"] = {{"load", load_s},          {"bvh", st.seconds.bvh},
+                              {"cast", st.seconds.cast},  {"fuse", st.seconds.fuse},
+                              {"ransac", st.seconds.ransac}, {"colour", st.seconds.colour},
+                              {"write", st.seconds.write}};
+        std::printf("%s\n", j.dump(2).c_str());
+    }
+}
+
+}  // namespace
+
+void registerGenerate(CLI::App& cli) {
+    auto state = std::make_shared<GenerateCli>();
+    CLI::App* c = cli.add_subcommand(
+        "generate", "simulate the drone Ladar of paper §III: ray-cast NoV views on a circular orbit, fuse, "
+                    "whiten the ground (iterative RANSAC), colour by height (jet, 64 values)");
+    sim::GenerateOptions& o = state->options;
+    sim::OrbitOptions& orbit = o.orbit;
+    sim::GroundOptions& ground = o.ground;
+    c->add_option("--scene", state->scene, "scene file (JSON); default: the bundled demo scene");
+    c->add_option("--out", state->out, "output cloud; default out/<scene name>.pcd (.ply with --format ply*)");
+    c->add_option("--format", state->format, "pcd (binary, default), pcd-ascii, ply (binary), ply-ascii; "
+                                             "default from the --out extension");
+    c->add_flag("--white", o.white, "write the uncoloured (white) cloud: no colour map, no RANSAC");
+    c->add_option("--roles", state->roles, "ray-cast only these roles, e.g. target,environment "
+                                           "(the orbit stays that of the whole scene)");
+    c->add_option("--altitude-m", orbit.altitude_m, "drone altitude above C, metres > 0")->capture_default_str();
+    c->add_option("--overlap-m", orbit.overlap_m, "CO: how far past C the footprint reaches, metres")
+        ->capture_default_str();
+    c->add_option("--alpha-deg", orbit.inclination_deg, "sensor inclination from the vertical, [0, 90) deg; "
+                                                        "alpha + fov/2 < 89.99")->capture_default_str();
+    c->add_option("--fov-deg", orbit.fov_deg, "vertical field of view, (0, 170] deg")->capture_default_str();
+    c->add_option("--xres", orbit.xres, "pixels across, 1..65536")->capture_default_str();
+    c->add_option("--yres", orbit.yres, "pixels down, 1..65536")->capture_default_str();
+    c->add_option("--views", orbit.views, "NoV: drone positions on the orbit, 1..65535")->capture_default_str();
+    c->add_option("--centre", state->centre, "C as x,y,z world metres; default: the target's centre on the "
+                                             "ground");
+    c->add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
+    c->add_option("--seed", o.seed, "RANSAC seed (view v shuffles with mt19937_64(seed ^ v))")
+        ->capture_default_str();
+    c->add_option("--band-m", ground.band_m, "RANSAC band above each view's lowest point, metres > 0")
+        ->capture_default_str();
+    c->add_option("--ransac-distance-m", ground.distance_threshold_m, "RANSAC inlier distance, metres > 0")
+        ->capture_default_str();
+    c->add_option("--min-normal-z", ground.min_normal_z, "accept planes with |normal.z| >= this, [0, 1]")
+        ->capture_default_str();
+    c->add_option("--stop-fraction", ground.stop_fraction, "stop when PC is under this fraction of the band, "
+                                                           "[0, 1]")->capture_default_str();
+    c->add_option("--min-plane-fraction", ground.min_plane_fraction,
+                  "a ground plane holds at least this fraction of the band, [0, 1]; 0 = the paper's rule")
+        ->capture_default_str();
+    c->add_option("--max-planes", ground.max_planes, "planes per view at most, [0, 100000]")->capture_default_str();
+    c->add_option("--ransac-iterations", ground.ransac_iterations, "RANSAC iterations per plane at most")
+        ->capture_default_str();
+    c->add_option("--colours", o.colour.entries, "entries of the jet map, [2, 256]")->capture_default_str();
+    c->add_option("--memory-mb", state->memory_mb, "above this the fused cloud is spooled to disk")
+        ->capture_default_str();
+    c->add_flag("--json", state->json, "print a JSON summary on stdout");
+    c->callback([state] { run(*state); });
+}
+
 }  // namespace app
