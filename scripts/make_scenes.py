@@ -486,7 +486,7 @@ def make_hard(out):
     ents.append(entry("../common/tree_broadleaf.ac", "environment", 3.0, 1.0, h(3, 1), yaw=200,
                       scale=1.1))
     avoid = [(x, y, 17) for x in (-16.0, 16.0) for y in (-8.0, 8.0)] + [(0, 0, 6)]
-    pts = scatter(rng, 260, 4, 75, avoid, 4.2)
+    pts = scatter(rng, 520, 4, 62, avoid, 3.8)
     ents += tree_entries(rng, pts, h)
     write_scene(os.path.join(d, "scene.json"),
                 "ladarvr hard scene: the tank in a 7 m street between long buildings, under a "
