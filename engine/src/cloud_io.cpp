@@ -604,7 +604,7 @@ bool lzfDecompress(const unsigned char* in, std::size_t in_len, unsigned char* o
     return op == out_len;
 }
 
-PointCloud readPcd(const std::filesystem::path& path, const std::string& data) {
+PointCloud readPcd(const std::filesystem::path& path, std::string_view data) {
     PointSink sink;
     sink.prefix = "pcd: " + path.string();
     const std::string& pre = sink.prefix;
@@ -751,7 +751,7 @@ PointCloud readPcd(const std::filesystem::path& path, const std::string& data) {
     const auto* bytes = reinterpret_cast<const unsigned char*>(data.data()) + body;
 
     if (data_kind == "ascii") {
-        Tokens tokens{std::string_view(data).substr(body)};
+        Tokens tokens{data.substr(body)};
         decodeAscii(tokens, n, token, l, sink, header_lines);
     } else if (data_kind == "binary") {
         if (n > remaining / record)
@@ -817,7 +817,7 @@ bool plyType(std::string_view s, ScalarType& t) {
     return true;
 }
 
-PointCloud readPly(const std::filesystem::path& path, const std::string& data) {
+PointCloud readPly(const std::filesystem::path& path, std::string_view data) {
     PointSink sink;
     sink.prefix = "ply: " + path.string();
     const std::string& pre = sink.prefix;
@@ -920,7 +920,7 @@ PointCloud readPly(const std::filesystem::path& path, const std::string& data) {
     const std::size_t body = lines.pos;
 
     if (format == "ascii") {
-        Tokens tokens{std::string_view(data).substr(body)};
+        Tokens tokens{data.substr(body)};
         // Skip the elements before the vertices.
         for (std::size_t e = 0; e < vi; ++e) {
             if (elements[e].props.empty()) continue;
@@ -996,12 +996,16 @@ PointCloud readPly(const std::filesystem::path& path, const std::string& data) {
 
 }  // namespace
 
+PointCloud readCloudData(std::string_view bytes, const std::filesystem::path& name) {
+    // The content decides, not the extension.
+    if (bytes.size() >= 3 && bytes.substr(0, 3) == "ply") return readPly(name, bytes);
+    return readPcd(name, bytes);
+}
+
 PointCloud readCloud(const std::filesystem::path& path) {
     const bool ply_name = formatForPath(path) == CloudFormat::PlyBinary;
     const std::string data = readWholeFile(path, ply_name ? "ply" : "pcd");
-    // The content decides, not the extension.
-    if (data.size() >= 3 && data.compare(0, 3, "ply") == 0) return readPly(path, data);
-    return readPcd(path, data);
+    return readCloudData(data, path);
 }
 
 }  // namespace engine

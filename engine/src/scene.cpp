@@ -107,6 +107,7 @@ using nlohmann::json;
 struct RawMesh {
     std::vector<glm::dvec3> vertices;
     std::vector<glm::uvec3> triangles;
+    std::size_t nonfinite_triangles = 0;  // dropped (skip_nonfinite only)
 };
 
 struct Entry {
@@ -205,7 +206,8 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
 
 // Reads a mesh file with Assimp into file coordinates; all meshes of the file merged,
 // node transforms applied (PreTransformVertices).
-RawMesh importMesh(const std::filesystem::path& path, const std::string& where) {
+RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
+                   bool skip_nonfinite) {
     namespace fs = std::filesystem;
     std::error_code ec;
     if (!fs::exists(path, ec))
@@ -221,24 +223,29 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where) 
     // Points and lines carry no surface: have Assimp drop them.
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     // Import without post-processing first: JoinIdenticalVertices would silently merge
-    // NaN vertices away, and we want to reject them.
+    // NaN vertices away, and we want to reject them (or, with skip_nonfinite, keep them
+    // apart so the triangles that use them can be dropped below).
     const aiScene* ai = importer.ReadFile(path.string(), 0);
     if (ai) {
+        bool any_nonfinite = false;
         std::size_t index = 0;
         for (unsigned mi = 0; mi < ai->mNumMeshes; ++mi) {
             const aiMesh* m = ai->mMeshes[mi];
             if (!m || !m->mVertices) continue;
             for (unsigned vi = 0; vi < m->mNumVertices; ++vi, ++index) {
                 const aiVector3D& v = m->mVertices[vi];
-                if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+                if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) continue;
+                any_nonfinite = true;
+                if (!skip_nonfinite)
                     throw Error(where + ": mesh file '" + path.string() + "': vertex " +
                                 std::to_string(index) + " is not finite (" + formatDouble(v.x) +
                                 ", " + formatDouble(v.y) + ", " + formatDouble(v.z) +
                                 "); allowed: finite coordinates");
             }
         }
-        ai = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                          aiProcess_PreTransformVertices | aiProcess_SortByPType);
+        unsigned steps = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
+        if (!any_nonfinite) steps |= aiProcess_JoinIdenticalVertices;
+        ai = importer.ApplyPostProcessing(steps);
     }
     if (!ai) {
         std::string reason = importer.GetErrorString();
@@ -253,15 +260,23 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where) 
         const aiMesh* m = ai->mMeshes[mi];
         if (!m || !m->mVertices) continue;
         const std::size_t base = raw.vertices.size();
+        std::vector<bool> bad(m->mNumVertices, false);
         for (unsigned vi = 0; vi < m->mNumVertices; ++vi) {
             const aiVector3D& v = m->mVertices[vi];
+            if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) {
+                raw.vertices.emplace_back(v.x, v.y, v.z);
+                continue;
+            }
+            if (skip_nonfinite) {  // kept as an unused placeholder: its triangles go below
+                bad[vi] = true;
+                raw.vertices.emplace_back(0.0);
+                continue;
+            }
             // Node transforms applied by PreTransformVertices can still overflow.
-            if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
-                throw Error(where + ": mesh file '" + path.string() + "': vertex " +
+            throw Error(where + ": mesh file '" + path.string() + "': vertex " +
                             std::to_string(base + vi) +
                             " is not finite after the file's node transforms; allowed: finite "
                             "coordinates");
-            raw.vertices.emplace_back(v.x, v.y, v.z);
         }
         for (unsigned fi = 0; fi < m->mNumFaces; ++fi) {
             const aiFace& f = m->mFaces[fi];
@@ -270,13 +285,18 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where) 
                 f.mIndices[2] >= m->mNumVertices)
                 throw Error(where + ": mesh file '" + path.string() + "': face " +
                             std::to_string(fi) + " indexes a vertex that does not exist");
+            if (bad[f.mIndices[0]] || bad[f.mIndices[1]] || bad[f.mIndices[2]]) {
+                ++raw.nonfinite_triangles;
+                continue;
+            }
             raw.triangles.emplace_back(unsigned(base) + f.mIndices[0], unsigned(base) + f.mIndices[1],
                                        unsigned(base) + f.mIndices[2]);
         }
     }
     if (raw.triangles.empty())
-        throw Error(where + ": mesh file '" + path.string() +
-                    "' contains no triangles; allowed: a mesh with at least one face");
+        throw Error(where + ": mesh file '" + path.string() + "' contains no triangles" +
+                    (raw.nonfinite_triangles ? " with finite vertices" : "") +
+                    "; allowed: a mesh with at least one face");
     return raw;
 }
 
@@ -292,10 +312,16 @@ Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& optio
     if (!in) throw Error(name + ": the scene file cannot be read");
     std::stringstream text;
     text << in.rdbuf();
+    return loadSceneJson(text.str(), file, options);
+}
 
+Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& file,
+                    const SceneLoadOptions& options) {
+    namespace fs = std::filesystem;
+    const std::string name = "scene: " + file.string();
     json root;
     try {
-        root = json::parse(text.str());
+        root = json::parse(json_text);
     } catch (const json::parse_error& e) {
         std::string what = e.what();
         // "[json.exception.parse_error.101] parse error at line 3, column 5: ..." -> keep the tail.
@@ -358,8 +384,11 @@ Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& optio
         const std::string where = name + ": meshes[" + std::to_string(i) + "] ('" + e.file + "')";
         const fs::path mesh_path = (dir / e.file).lexically_normal();
         auto& slot = cache[mesh_path];
-        if (!slot) slot = std::make_shared<const RawMesh>(importMesh(mesh_path, where));
+        if (!slot)
+            slot = std::make_shared<const RawMesh>(
+                importMesh(mesh_path, where, options.skip_nonfinite));
         const RawMesh& raw = *slot;
+        scene.skipped_nonfinite_triangles += raw.nonfinite_triangles;
 
         const double yaw_rad = glm::radians(e.yaw_deg);
         const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);
@@ -395,6 +424,18 @@ Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& optio
                         "triangle");
         scene.meshes.push_back(std::move(mesh));
     }
+    if (scene.meshes.empty())
+        throw Error(name + ": no mesh has one of the selected roles; the file's roles are " +
+                    [&] {
+                        std::string roles;
+                        for (int r = 0; r < kRoleCount; ++r)
+                            for (const Entry& e : entries)
+                                if (int(e.role) == r) {
+                                    roles += (roles.empty() ? "" : ", ") + std::string(roleName(e.role));
+                                    break;
+                                }
+                        return roles;
+                    }());
     return scene;
 }
 

@@ -506,6 +506,20 @@ TEST_CASE("cloud_io: truncated and corrupt files give a clear error") {
     }
 }
 
+TEST_CASE("cloud_io: readCloudData parses bytes in memory") {
+    const std::string pcd = "# ladarvr origin 1 2 3\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+                            "WIDTH 1\nDATA ascii\n4 5 6\n";
+    const engine::PointCloud r = engine::readCloudData(pcd, "mem.pcd");
+    CHECK(r.origin == glm::dvec3(1, 2, 3));
+    REQUIRE(r.points.size() == 1);
+    CHECK(r.points[0].position == glm::vec3(4, 5, 6));
+    CHECK_THROWS_WITH_AS(engine::readCloudData(std::string_view(pcd).substr(0, 20), "mem.pcd"),
+                         doctest::Contains("pcd: mem.pcd: "), engine::Error);
+    CHECK_THROWS_WITH_AS(engine::readCloudData("", "empty.ply"),
+                         "pcd: empty.ply: the header ends without a DATA line; not a PCD file?",
+                         engine::Error);
+}
+
 TEST_CASE("cloud_io: mutated files never crash the reader") {
     // A small deterministic fuzz: random byte edits, insertions and cuts of valid files
     // must give a cloud or an engine::Error, nothing else (run under ASan in CI).

@@ -308,6 +308,61 @@ TEST_CASE("scene: errors in a later entry are found before any mesh is imported"
     CHECK(contains(loadError(f), "meshes[1] ('missing.obj'): role 'tree' is not one of"));
 }
 
+TEST_CASE("scene: skip_nonfinite drops the triangles of NaN vertices and counts them") {
+    TempDir dir("skipnan");
+    // Two triangles sharing an edge; vertex 3 (only in the second) is NaN.
+    dir.write("some.ply",
+              "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+              "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+              "end_header\n0 0 0\n1 0 0\n0 1 0\nnan 1 0\n3 0 1 2\n3 1 3 2\n");
+    dir.write("some.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 inf 0\nf 1 2 3\nf 2 4 3\n");
+    for (const std::string mesh : {"some.ply", "some.obj"}) {
+        CAPTURE(mesh);
+        const fs::path f = dir.write("scene.json", std::string("{\"meshes\": [{\"file\": \"") +
+                                                        mesh + "\", \"role\": \"target\"}, "
+                                                        "{\"file\": \"" + mesh +
+                                                        "\", \"role\": \"ground\", \"position\": [5, 0, 0]}]}");
+        // The vertex index is Assimp's: OBJ corners get their own vertices.
+        CHECK(contains(loadError(f), mesh == "some.ply" ? "vertex 3 is not finite (nan, 1, 0)"
+                                                        : "vertex 4 is not finite (1, inf, 0)"));
+        engine::SceneLoadOptions o;
+        o.skip_nonfinite = true;
+        const engine::Scene s = engine::loadScene(f, o);
+        REQUIRE(s.meshes.size() == 2);
+        CHECK(s.skipped_nonfinite_triangles == 2);  // one per entry using the file
+        CHECK(s.skipped_triangles == 0);
+        CHECK(s.meshes[0].triangles.size() == 1);
+        const engine::Bounds b = s.bounds();
+        CHECK(b.lo == glm::dvec3(0.0));
+        CHECK(b.hi == glm::dvec3(6.0, 1.0, 0.0));
+    }
+    // A mesh with nothing finite left is still an error.
+    engine::SceneLoadOptions o;
+    o.skip_nonfinite = true;
+    CHECK(contains(loadError(kBad / "nan_vertex.json", o),
+                   "contains no triangles with finite vertices"));
+}
+
+TEST_CASE("scene: --roles that leave no mesh are an error") {
+    engine::SceneLoadOptions o;
+    o.require_target = false;
+    o.roles = RoleMask::of({Role::Target});
+    CHECK(loadError(kBad / "no_target.json", o) ==
+          "scene: " + (kBad / "no_target.json").string() +
+              ": no mesh has one of the selected roles; the file's roles are ground, environment");
+}
+
+TEST_CASE("scene: loadSceneJson reads text in memory relative to the named file") {
+    const engine::Scene s = engine::loadSceneJson(
+        R"({"meshes": [{"file": "box.obj", "role": "target", "position": [1, 1, 1]}]})",
+        kScenes / "basic" / "virtual.json");
+    REQUIRE(s.meshes.size() == 1);
+    CHECK(s.source == kScenes / "basic" / "virtual.json");
+    CHECK(meshBounds(s.meshes[0]).hi == glm::dvec3(1.0));
+    CHECK_THROWS_WITH_AS(engine::loadSceneJson("{", "mem.json"),
+                         doctest::Contains("scene: mem.json: JSON syntax error"), engine::Error);
+}
+
 TEST_CASE("scene: the bundled demo scene matches its description") {
     const fs::path demo = engine::demoScenePath();
     CHECK(demo == kAssets / "demo" / "scene.json");

@@ -61,4 +61,8 @@ void writeCloud(const std::filesystem::path& path, const PointCloud& cloud,
 /// Throws Error("pcd: <file>: ...") / ("ply: <file>: ...") naming the line or field.
 PointCloud readCloud(const std::filesystem::path& path);
 
+/// As readCloud, from the file's bytes already in memory; `name` is used in messages.
+/// Never reads outside `bytes` whatever they hold (the fuzzing entry point).
+PointCloud readCloudData(std::string_view bytes, const std::filesystem::path& name);
+
 }  // namespace engine

@@ -57,6 +57,8 @@ struct Scene {
     glm::dvec3 origin{0.0};                  // world coordinates of the local frame's origin
     std::vector<Mesh> meshes;
     std::size_t skipped_triangles = 0;       // zero-area triangles dropped at load
+    /// Triangles with a NaN/inf vertex dropped at load (only with skip_nonfinite).
+    std::size_t skipped_nonfinite_triangles = 0;
 
     /// Bounds (local frame) of the meshes whose role is in `roles`; empty if none.
     Bounds bounds(RoleMask roles = RoleMask::all()) const;
@@ -69,13 +71,22 @@ struct SceneLoadOptions {
     RoleMask roles = RoleMask::all();
     /// Require at least one target mesh in the file (the generator's default).
     bool require_target = true;
+    /// Drop triangles that use a NaN/inf vertex (counted in skipped_nonfinite_triangles)
+    /// instead of rejecting the scene. Off: such a mesh is an Error naming the vertex.
+    bool skip_nonfinite = false;
 };
 
 /// Loads and validates a scene file. Throws Error("scene: <file>: ...") naming the file
 /// (scene or mesh) and the reason for: unreadable JSON, unknown key, wrong type, missing
 /// or unreadable mesh, NaN vertices, unknown role, no target, non-finite transform,
-/// non-positive scale. Zero-area triangles are dropped and counted in skipped_triangles.
+/// non-positive scale, no mesh left by options.roles. Zero-area triangles are dropped and
+/// counted in skipped_triangles.
 Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& options = {});
+
+/// As loadScene, from JSON text already in memory; `file` names it in messages and mesh
+/// paths are relative to its directory (for fuzzing and for callers that build JSON).
+Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& file,
+                    const SceneLoadOptions& options = {});
 
 /// The bundled demo scene (assets/demo/scene.json in the source tree, or installed copy).
 std::filesystem::path demoScenePath();
