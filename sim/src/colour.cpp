@@ -12,7 +12,7 @@ namespace sim {
 
 void validate(const ColourOptions& o) {
     if (o.entries < 2 || o.entries > 256)
-        throw engine::Error("colour: entries = " + std::to_string(o.entries) + ": allowed [2, 256]");
+        throw engine::Error("colour: entries (--colours) = " + std::to_string(o.entries) + ": allowed [2, 256]");
 }
 
 std::vector<std::uint32_t> jetTable(int m) {

@@ -99,13 +99,13 @@ void validate(const GenerateOptions& o) {
     validate(o.colour);
     validate(o.ground);
     if (o.threads < 0 || o.threads > 1024)
-        throw engine::Error("generate: threads = " + std::to_string(o.threads) +
+        throw engine::Error("generate: threads (--threads) = " + std::to_string(o.threads) +
                             ": allowed [0, 1024] (0 = all cores)");
     if (o.centre && !(std::isfinite(o.centre->x) && std::isfinite(o.centre->y) &&
                       std::isfinite(o.centre->z)))
-        throw engine::Error("generate: centre: allowed finite x,y,z");
+        throw engine::Error("generate: centre (--centre): allowed finite x,y,z");
     if (o.roles.bits == 0 || o.roles.bits > 0b111)
-        throw engine::Error("generate: roles: allowed a non-empty subset of ground, environment, target");
+        throw engine::Error("generate: roles (--roles): allowed a non-empty subset of ground, environment, target");
     if (o.memory_budget_bytes == 0)
         throw engine::Error("generate: memory_budget_bytes = 0: allowed > 0");
 }
@@ -181,6 +181,54 @@ struct Generator::State {
         }
     }
 
+    // The same with rtcIntersect16 packets of 16 consecutive pixels of a row (coherent
+    // rays from one origin): measured faster than rtcIntersect1 here (BENCHMARKS.md).
+    void castBlock16(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
+        const RayCaster::Impl& impl = caster->impl();
+        const engine::Pose& pose = poses[std::size_t(view)];
+        const glm::vec3 origin(pose.translation);
+        const glm::dvec3 origin_d(origin);
+        const float t_far = std::numeric_limits<float>::infinity();
+        RTCRayHit16 rh;
+        alignas(64) int valid[16];
+        RTCIntersectArguments args;
+        rtcInitIntersectArguments(&args);
+        args.flags = RTC_RAY_QUERY_FLAG_COHERENT;
+        glm::vec3 dirs[16];
+        for (std::size_t i = begin; i < end; i += 16) {
+            const std::size_t n = std::min<std::size_t>(16, end - i);
+            for (std::size_t k = 0; k < 16; ++k) {
+                valid[k] = k < n ? -1 : 0;
+                const glm::vec3 dir = k < n ? glm::vec3(pose.rotation * sensor_dirs[i + k]) : glm::vec3(0, 0, -1);
+                dirs[k] = dir;
+                rh.ray.org_x[k] = origin.x; rh.ray.org_y[k] = origin.y; rh.ray.org_z[k] = origin.z;
+                rh.ray.tnear[k] = 0.0f;
+                rh.ray.dir_x[k] = dir.x; rh.ray.dir_y[k] = dir.y; rh.ray.dir_z[k] = dir.z;
+                rh.ray.time[k] = 0.0f;
+                rh.ray.tfar[k] = t_far;
+                rh.ray.mask[k] = 0xFFFFFFFFu;
+                rh.ray.id[k] = unsigned(k);
+                rh.ray.flags[k] = 0;
+                rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+            }
+            rtcIntersect16(valid, impl.scene, &rh, &args);
+            for (std::size_t k = 0; k < n; ++k) {
+                engine::CloudPoint& cp = slots[i + k];
+                if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+                    cp.range_m = kMissRange;
+                    continue;
+                }
+                const float t = rh.ray.tfar[k];
+                cp.position = glm::vec3(origin_d + double(t) * glm::dvec3(dirs[k]));
+                cp.range_m = t;
+                cp.view = std::uint16_t(view);
+                cp.label = impl.roles[rh.hit.geomID[k]];
+                cp.rgb = 0;
+            }
+        }
+    }
+
     // Runs every view and hands the fused points, in (view, row, column) order, to
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
     void fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
@@ -214,13 +262,16 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
     std::optional<engine::Progress> progress;
     if (options.progress) progress.emplace("generate", views);
 
+    const bool use16 = options.packet_rays;
     float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
     for (std::size_t first = 0; first < views; first += batch_views) {
         const std::size_t count = std::min(batch_views, views - first);
         auto t0 = Clock::now();
         pool.run(count * blocks, [&](std::size_t task, int) {
             const std::size_t k = task / blocks, block = task % blocks;
-            castBlock(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
+            if (use16) castBlock16(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
+                      slots.data() + k * npix);
+            else castBlock(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
                       slots.data() + k * npix);
         });
         st.seconds.cast += secondsSince(t0);

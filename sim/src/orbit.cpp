@@ -33,25 +33,25 @@ void requireFinite(const char* parameter, double value) {
 }  // namespace
 
 void validate(const OrbitOptions& o) {
-    requireFinite("altitude_m", o.altitude_m);
-    requireFinite("overlap_m", o.overlap_m);
-    requireFinite("inclination_deg", o.inclination_deg);
-    requireFinite("fov_deg", o.fov_deg);
-    if (!(o.altitude_m > 0.0)) fail("altitude_m", o.altitude_m, "> 0");
-    if (!(o.fov_deg > 0.0 && o.fov_deg <= 170.0)) fail("fov_deg", o.fov_deg, "(0, 170]");
+    requireFinite("altitude_m (--altitude-m)", o.altitude_m);
+    requireFinite("overlap_m (--overlap-m)", o.overlap_m);
+    requireFinite("inclination_deg (alpha, --alpha-deg)", o.inclination_deg);
+    requireFinite("fov_deg (--fov-deg)", o.fov_deg);
+    if (!(o.altitude_m > 0.0)) fail("altitude_m (--altitude-m)", o.altitude_m, "> 0");
+    if (!(o.fov_deg > 0.0 && o.fov_deg <= 170.0)) fail("fov_deg (--fov-deg)", o.fov_deg, "(0, 170]");
     if (!(o.inclination_deg >= 0.0 && o.inclination_deg < 90.0))
-        fail("inclination_deg", o.inclination_deg, "[0, 90)");
+        fail("inclination_deg (alpha, --alpha-deg)", o.inclination_deg, "[0, 90)");
     if (!(o.inclination_deg + 0.5 * o.fov_deg < kMaxGrazingDeg))
-        throw engine::Error("orbit: inclination_deg + fov_deg/2 = " +
+        throw engine::Error("orbit: inclination_deg + fov_deg/2 (--alpha-deg + --fov-deg/2) = " +
                             num(o.inclination_deg + 0.5 * o.fov_deg) +
                             ": allowed < " + num(kMaxGrazingDeg) +
                             " (the top of the image must look below the horizon)");
-    if (o.xres < 1 || o.xres > 65536) fail("xres", o.xres, "[1, 65536]");
-    if (o.yres < 1 || o.yres > 65536) fail("yres", o.yres, "[1, 65536]");
-    if (o.views < 1 || o.views > 65535) fail("views", o.views, "[1, 65535]");
+    if (o.xres < 1 || o.xres > 65536) fail("xres (--xres)", o.xres, "[1, 65536]");
+    if (o.yres < 1 || o.yres > 65536) fail("yres (--yres)", o.yres, "[1, 65536]");
+    if (o.views < 1 || o.views > 65535) fail("views (NoV, --views)", o.views, "[1, 65535]");
     const double reach_m = std::tan((o.inclination_deg + 0.5 * o.fov_deg) * kDegToRad) * o.altitude_m;
     if (!(o.overlap_m < reach_m))
-        fail("overlap_m", o.overlap_m,
+        fail("overlap_m (--overlap-m)", o.overlap_m,
              "< tan(inclination + fov/2) * altitude = " + num(reach_m) +
              " (the drone radius, eq. (1), must be > 0)");
 }

@@ -277,3 +277,16 @@ TEST_CASE("viewRays gives the rays the generator traces") {
     CHECK(k == cloud.points.size());
     CHECK(mismatched == 0);
 }
+
+TEST_CASE("16-ray packets and single rays give the same cloud") {
+    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    sim::GenerateOptions o = smallOptions();
+    o.orbit.xres = 67;  // rows that do not split into whole packets
+    const engine::PointCloud packets = sim::generateCloud(scene, o);
+    o.packet_rays = false;
+    const engine::PointCloud single = sim::generateCloud(scene, o);
+    REQUIRE(packets.points.size() == single.points.size());
+    std::size_t different = 0;
+    for (std::size_t i = 0; i < single.points.size(); ++i) different += !samePoint(packets.points[i], single.points[i]);
+    CHECK(different == 0);
+}

@@ -31,6 +31,7 @@ struct GenerateOptions {
     engine::RoleMask roles = engine::RoleMask::all();
     bool white = false;             // no colouring and no RANSAC: every point white
     int threads = 0;                // 0 = std::thread::hardware_concurrency()
+    bool packet_rays = true;        // trace 16-ray packets (rtcIntersect16); false: rtcIntersect1
     std::uint64_t seed = 1;         // RANSAC of view v shuffles with mt19937_64(seed ^ v)
     /// When rays x sizeof(CloudPoint) exceeds this, the fused cloud is spooled to a file
     /// next to the output instead of memory (file output only).
