@@ -5,7 +5,8 @@ Usage: python3 scripts/plot_metric_bench.py out/bench_metric.csv docs/img/metric
 
 One panel per scene: x = median milliseconds per view (log), y = mean absolute error of the
 point metric (xor) against the exact Embree reference; one marker shape per resolution, the
-splat size written next to each point, filled markers with skips, hollow without.
+splat size written next to each point, filled markers with skips, hollow without; black
+crosses: the GL_POINTS rasteriser baseline.
 """
 import csv
 import sys
@@ -34,6 +35,9 @@ def main(argv):
             res = int(r["resolution"])
             skip = r["skip"] == "1"
             x, y = float(r["ms_per_view"]), float(r["mae_metric"])
+            if r.get("rasterizer", "compute") == "raster":
+                ax.scatter(x, y, marker="x" if skip else "+", s=60, color="k")
+                continue
             ax.scatter(x, y, marker=markers.get(res, "x"), s=45,
                        facecolors=colours.get(res, "k") if skip else "none",
                        edgecolors=colours.get(res, "k"))
@@ -41,6 +45,7 @@ def main(argv):
         for res, m in markers.items():
             ax.scatter([], [], marker=m, color=colours[res], label=f"{res} px")
         ax.scatter([], [], marker="o", facecolors="none", edgecolors="k", label="without skips (hollow)")
+        ax.scatter([], [], marker="x", color="k", label="GL_POINTS baseline, 512 px (+: no skips)")
         ax.set_xscale("log")
         ax.set_xlabel("median time per view, ms (GPU part, llvmpipe)")
         ax.set_ylabel("MAE of |I2 xor I3| / |I1| vs exact")

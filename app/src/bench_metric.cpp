@@ -42,6 +42,8 @@ struct Row {
     double splat_px = 0;
     bool skip = true;
     double mae_metric = 0, mae_visible = 0;   // against the exact reference, over shared views
+    double mae_depth = 0;                     // depth-aware variant (compute rasterizer)
+    std::string rasterizer = "compute";
     double ms_per_view = 0;                   // median over the orbit's views
     double speedup = 0;                       // no-skip median / this median (skip rows)
     double metric_mean = 0, exact_mean = 0;
@@ -97,8 +99,9 @@ void run(const BenchMetricCli& cli) {
     if (cli.views < 4 || cli.views > 1000)
         throw engine::Error("bench metric: --views = " + std::to_string(cli.views) + ": allowed 4..1000");
     const std::vector<int> resolutions = cli.quick ? std::vector<int>{128, 512} : std::vector<int>{128, 256, 512, 1024};
-    const std::vector<double> splats = cli.quick ? std::vector<double>{1, 3} : std::vector<double>{1, 2, 3, 4, 5};
+    const std::vector<double> splats = cli.quick ? std::vector<double>{1, 2} : std::vector<double>{1, 2, 3, 4, 5};
     const int views = cli.quick ? std::min(cli.views, 20) : cli.views;
+    const int raster_resolution = 512;
     std::vector<std::pair<std::string, std::filesystem::path>> scenes = {{"demo", engine::demoScenePath()}};
     const std::filesystem::path hard = engine::demoScenePath().parent_path().parent_path() / "hard" / "scene.json";
     if (!cli.quick) {
@@ -129,71 +132,89 @@ void run(const BenchMetricCli& cli) {
             warm.orbit.views = 4;
             evaluator.run(warm);
         }
+        // One measured configuration against the exact reference of its resolution.
+        auto measure = [&](const metric::MetricOptions& o, const metric::MetricResult& reference) {
+            const metric::MetricResult r = evaluator.run(o);
+            Row row;
+            row.scene = name;
+            row.resolution = o.width;
+            row.splat_px = o.splat_px;
+            row.skip = o.skip;
+            row.rasterizer = o.rasterizer == metric::Rasterizer::Compute ? "compute" : "raster";
+            std::vector<double> ms, exact_ms;
+            double err_m = 0, err_v = 0, err_d = 0;
+            int n = 0;
+            for (std::size_t k = 0; k < r.views.size(); ++k) {
+                ms.push_back(1e3 * r.views[k].seconds_render);
+                exact_ms.push_back(1e3 * reference.views[k].seconds_exact);
+                const double exact = reference.views[k].exact;
+                if (!r.views[k].used || std::isnan(exact)) continue;
+                err_m += std::abs(r.views[k].metric - exact);
+                err_v += std::abs(r.views[k].visible - exact);
+                err_d += std::abs(r.views[k].depth_visible - exact);
+                ++n;
+            }
+            row.views_compared = n;
+            row.mae_metric = n ? err_m / n : std::nan("");
+            row.mae_visible = n ? err_v / n : std::nan("");
+            row.mae_depth = n ? err_d / n : std::nan("");
+            row.ms_per_view = median(ms);
+            row.metric_mean = r.metric_mean;
+            row.exact_mean = reference.exact_mean;
+            row.views_used = r.views_used;
+            row.exact_ms_per_view = median(exact_ms);
+            return row;
+        };
+        auto report = [&](Row& skip_row, Row& full_row) {
+            skip_row.speedup = full_row.ms_per_view / skip_row.ms_per_view;
+            full_row.speedup = 1.0;
+            for (const Row* row : {&skip_row, &full_row}) {
+                std::fprintf(stderr,
+                             "bench metric: %-4s %4d px splat %.0f %-7s %-7s MAE metric %.4f visible %.4f depth "
+                             "%.4f  %.2f ms/view (x%.1f)  exact %.2f ms/view\n",
+                             row->scene.c_str(), row->resolution, row->splat_px, row->rasterizer.c_str(),
+                             row->skip ? "skip" : "no-skip", row->mae_metric, row->mae_visible, row->mae_depth,
+                             row->ms_per_view, row->speedup, row->exact_ms_per_view);
+                rows.push_back(*row);
+            }
+        };
         for (int res : resolutions) {
             metric::MetricOptions o = base;
             o.width = o.height = res;
             o.exact = true;
             o.splat_px = splats.front();
             const metric::MetricResult reference = evaluator.run(o);
-            std::vector<double> exact_ms;
-            for (const auto& v : reference.views) exact_ms.push_back(1e3 * v.seconds_exact);
             o.exact = false;
             for (double splat : splats) {
                 o.splat_px = splat;
-                Row pair[2];
-                for (int s = 0; s < 2; ++s) {
-                    o.skip = s == 0;
-                    const metric::MetricResult r = evaluator.run(o);
-                    Row& row = pair[s];
-                    row.scene = name;
-                    row.resolution = res;
-                    row.splat_px = splat;
-                    row.skip = o.skip;
-                    std::vector<double> ms;
-                    double err_m = 0, err_v = 0;
-                    int n = 0;
-                    for (std::size_t k = 0; k < r.views.size(); ++k) {
-                        ms.push_back(1e3 * r.views[k].seconds_render);
-                        const double exact = reference.views[k].exact;
-                        if (!r.views[k].used || std::isnan(exact)) continue;
-                        err_m += std::abs(r.views[k].metric - exact);
-                        err_v += std::abs(r.views[k].visible - exact);
-                        ++n;
-                    }
-                    row.views_compared = n;
-                    row.mae_metric = n ? err_m / n : std::nan("");
-                    row.mae_visible = n ? err_v / n : std::nan("");
-                    row.ms_per_view = median(ms);
-                    row.metric_mean = r.metric_mean;
-                    row.exact_mean = reference.exact_mean;
-                    row.views_used = r.views_used;
-                    row.exact_ms_per_view = median(exact_ms);
-                }
-                pair[0].speedup = pair[1].ms_per_view / pair[0].ms_per_view;
-                pair[1].speedup = 1.0;
-                for (const Row& row : pair) {
-                    std::fprintf(stderr,
-                                 "bench metric: %-4s %4d px splat %.0f %-7s MAE metric %.4f visible %.4f  "
-                                 "%.2f ms/view (x%.1f)  exact %.2f ms/view\n",
-                                 row.scene.c_str(), row.resolution, row.splat_px, row.skip ? "skip" : "no-skip",
-                                 row.mae_metric, row.mae_visible, row.ms_per_view, row.speedup,
-                                 row.exact_ms_per_view);
-                    rows.push_back(row);
-                }
+                o.skip = true;
+                Row with = measure(o, reference);
+                o.skip = false;
+                Row without = measure(o, reference);
+                report(with, without);
+            }
+            if (res == raster_resolution) {  // in-run baseline: GL_POINTS rasterisation
+                o.rasterizer = metric::Rasterizer::Raster;
+                o.splat_px = metric::MetricOptions{}.splat_px;
+                o.skip = true;
+                Row with = measure(o, reference);
+                o.skip = false;
+                Row without = measure(o, reference);
+                report(with, without);
             }
         }
     }
     const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - bench_start).count();
 
     // CSV for scripts/plot_metric_bench.py
-    std::string csv = "scene,resolution,splat_px,skip,mae_metric,mae_visible,ms_per_view,speedup,metric_mean,"
-                      "exact_mean,views_used,views_compared,exact_ms_per_view\n";
+    std::string csv = "scene,resolution,splat_px,rasterizer,skip,mae_metric,mae_visible,mae_depth,ms_per_view,speedup,"
+                      "metric_mean,exact_mean,views_used,views_compared,exact_ms_per_view\n";
     for (const Row& r : rows)
-        csv += r.scene + "," + std::to_string(r.resolution) + "," + fmt("%g", r.splat_px) + "," +
+        csv += r.scene + "," + std::to_string(r.resolution) + "," + fmt("%g", r.splat_px) + "," + r.rasterizer + "," +
                (r.skip ? "1" : "0") + "," + fmt("%.6f", r.mae_metric) + "," + fmt("%.6f", r.mae_visible) + "," +
-               fmt("%.4f", r.ms_per_view) + "," + fmt("%.3f", r.speedup) + "," + fmt("%.6f", r.metric_mean) +
-               "," + fmt("%.6f", r.exact_mean) + "," + std::to_string(r.views_used) + "," +
-               std::to_string(r.views_compared) + "," + fmt("%.4f", r.exact_ms_per_view) + "\n";
+               fmt("%.6f", r.mae_depth) + "," + fmt("%.4f", r.ms_per_view) + "," + fmt("%.3f", r.speedup) + "," +
+               fmt("%.6f", r.metric_mean) + "," + fmt("%.6f", r.exact_mean) + "," + std::to_string(r.views_used) +
+               "," + std::to_string(r.views_compared) + "," + fmt("%.4f", r.exact_ms_per_view) + "\n";
     const std::filesystem::path csv_path = cli.csv;
     if (csv_path.has_parent_path()) std::filesystem::create_directories(csv_path.parent_path());
     engine::writeFileAtomic(csv_path, csv);
@@ -212,18 +233,22 @@ void run(const BenchMetricCli& cli) {
     md += "MAE: mean over the views (|I1| > 0 and a defined exact value) of |point value - exact "
           "reference|; the exact reference casts one Embree ray per pixel centre at the same resolution. "
           "ms/view: median over the orbit of the GPU part (splatting the three clouds + counting on the GPU, "
-          "synchronous read-back). Speed-up: the no-skip median at the same settings / the skip median "
+          "synchronous read-back); rasterizer `compute` is the default, `raster` (GL_POINTS) the in-run "
+          "baseline at 512 px. Speed-up: the no-skip median at the same settings / the skip median "
           "(in-run baseline). Exact ms/view: the Embree reference at that resolution, for scale.\n\n";
-    md += "| scene | px | splat | skips | MAE metric (xor) | MAE visible | ms/view | speed-up | exact ms/view |\n";
-    md += "|---|---|---|---|---|---|---|---|---|\n";
+    md += "| scene | px | splat | rasterizer | skips | MAE metric (xor) | MAE visible | MAE depth-aware | ms/view | "
+          "speed-up | exact ms/view |\n";
+    md += "|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows)
         md += "| " + r.scene + " | " + std::to_string(r.resolution) + " | " + fmt("%g", r.splat_px) + " | " +
-              (r.skip ? "on" : "off") + " | " + fmt("%.4f", r.mae_metric) + " | " + fmt("%.4f", r.mae_visible) +
-              " | " + fmt("%.2f", r.ms_per_view) + " | " + (r.skip ? "x" + fmt("%.1f", r.speedup) : "1") +
-              " | " + fmt("%.2f", r.exact_ms_per_view) + " |\n";
+              r.rasterizer + " | " + (r.skip ? "on" : "off") + " | " + fmt("%.4f", r.mae_metric) + " | " +
+              fmt("%.4f", r.mae_visible) + " | " + (r.rasterizer == "raster" ? "-" : fmt("%.4f", r.mae_depth)) +
+              " | " + fmt("%.2f", r.ms_per_view) + " | " + (r.skip ? "x" + fmt("%.1f", r.speedup) : "1") + " | " +
+              fmt("%.2f", r.exact_ms_per_view) + " |\n";
     md += "\nMean over the orbit at 512 px (metric / exact): ";
     for (const Row& r : rows)
-        if (r.resolution == 512 && r.skip && r.splat_px == splats[splats.size() / 2])
+        if (r.resolution == 512 && r.skip && r.rasterizer == "compute" &&
+            r.splat_px == metric::MetricOptions{}.splat_px)
             md += r.scene + " " + fmt("%.3f", r.metric_mean) + " / " + fmt("%.3f", r.exact_mean) + " (" +
                   std::to_string(r.views_used) + " views used); ";
     md += "\n\nPlot: `python3 scripts/plot_metric_bench.py " + cli.csv +
@@ -242,7 +267,7 @@ void registerBenchMetric(CLI::App& bench) {
     auto state = std::make_shared<BenchMetricCli>();
     CLI::App* c = bench.add_subcommand("metric", "visibility metric: error against the exact reference vs time "
                                                  "per view, resolutions 128..1024, splats 1..5 px, skips on/off");
-    c->add_flag("--quick", state->quick, "demo scene only, 128 and 512 px, splats 1 and 3, 20 views");
+    c->add_flag("--quick", state->quick, "demo scene only, 128 and 512 px, splats 1 and 2, 20 views");
     c->add_option("--views", state->views, "views per orbit, 4..1000")->capture_default_str();
     c->add_option("--md", state->md, "Markdown file whose metric section is replaced")->capture_default_str();
     c->add_option("--csv", state->csv, "CSV of every row (input of scripts/plot_metric_bench.py)")

@@ -30,6 +30,7 @@ struct MetricCli {
     bool json = false;
     bool no_skip = false;
     bool no_exact = false;
+    std::string rasterizer = "compute";
     metric::MetricOptions options;
 };
 
@@ -67,6 +68,12 @@ void run(MetricCli& cli) {
     metric::MetricOptions& o = cli.options;
     o.skip = !cli.no_skip;
     o.exact = !cli.no_exact;
+    if (cli.rasterizer == "compute")
+        o.rasterizer = metric::Rasterizer::Compute;
+    else if (cli.rasterizer == "raster")
+        o.rasterizer = metric::Rasterizer::Raster;
+    else
+        throw engine::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
     if (!cli.look_at.empty()) o.look_at_world = parseTriple(cli.look_at, "--look-at");
     const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
     if (from_files && (cli.p1.empty() || cli.p2.empty() || cli.p3.empty()))
@@ -103,11 +110,11 @@ void run(MetricCli& cli) {
     if (cli.json) {
         std::fputs(metric::summaryJson(result).c_str(), stdout);
     } else {
-        std::printf("metric: %s mean (min %s, max %s) over %d of %zu views; visible %s; exact %s; %.2f s; "
-                    "wrote %s\n",
+        std::printf("metric: %s mean (min %s, max %s) over %d of %zu views; visible %s; depth-aware %s; exact %s; "
+                    "%.2f s; wrote %s\n",
                     percent(result.metric_mean).c_str(), percent(result.metric_min).c_str(),
                     percent(result.metric_max).c_str(), result.views_used, result.views.size(),
-                    percent(result.visible_mean).c_str(),
+                    percent(result.visible_mean).c_str(), percent(result.depth_visible_mean).c_str(),
                     result.has_exact ? percent(result.exact_mean).c_str() : "absent", result.seconds,
                     out.string().c_str());
         if (result.views_used < static_cast<int>(result.views.size()))
@@ -141,6 +148,11 @@ void registerMetric(CLI::App& cli) {
     c->add_option("--height", o.height, "image height, 16..8192 pixels")->capture_default_str();
     c->add_option("--splat-px", o.splat_px, "square point splat side, [1, 64] pixels")->capture_default_str();
     c->add_option("--picture-view", o.picture_view, "view whose I1..I4 are written as PNG, -1 for none")
+        ->capture_default_str();
+    c->add_option("--rasterizer", state->rasterizer, "how splats are drawn: compute (default) or raster (GL_POINTS)")
+        ->capture_default_str();
+    c->add_option("--depth-margin-m", o.depth_margin_m,
+                  "depth-aware variant: P3 point nearer than every P2 point of its pixel by this, [0, 100] m")
         ->capture_default_str();
     c->add_flag("--json", state->json, "print summary.json to stdout");
     c->add_flag("--no-skip", state->no_skip,

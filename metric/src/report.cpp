@@ -57,6 +57,7 @@ std::string summaryJson(const MetricResult& r) {
     j["metric_min"] = orNull(r.metric_min);
     j["metric_max"] = orNull(r.metric_max);
     j["visible_mean"] = orNull(r.visible_mean);
+    j["depth_visible_mean"] = orNull(r.depth_visible_mean);
     j["exact_mean"] = r.has_exact ? orNull(r.exact_mean) : nlohmann::json(nullptr);
     j["seconds"] = r.seconds;
     j["seconds_render"] = r.seconds_render;
@@ -68,7 +69,9 @@ std::string summaryJson(const MetricResult& r) {
     const auto& o = r.options;
     j["options"] = {{"radius_m", o.orbit.radius_m}, {"altitude_m", o.orbit.altitude_m},
                     {"vfov_deg", o.orbit.vfov_deg}, {"width", o.width}, {"height", o.height},
-                    {"splat_px", o.splat_px}, {"skip", o.skip}, {"picture_view", o.picture_view}};
+                    {"splat_px", o.splat_px}, {"skip", o.skip}, {"picture_view", o.picture_view},
+                    {"rasterizer", o.rasterizer == Rasterizer::Compute ? "compute" : "raster"},
+                    {"depth_margin_m", o.depth_margin_m}};
     return j.dump(2) + "\n";
 }
 

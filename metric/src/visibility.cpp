@@ -1,21 +1,21 @@
 // metric/src/visibility.cpp: the visibility metric of paper §IV-B on the GPU, and its
 // exact mesh reference on Embree (see metric/visibility.hpp).
 //
-// Per view (paper §IV-B steps 1-3): the three clouds are splatted into ONE RGBA8 target
-// through colour masks (P1 -> red = I1, P2 -> green = I2, P3 -> blue = I3, white points,
-// no depth: the images are binary), then a compute shader counts |I1|, |I2|, |I3|,
-// |I2 xor I3| and |I3 and not I2| with shared-memory atomics; only 5 integers come back.
-// Skips ("skip what a scene doesn't need"): only the target's screen rectangle is
-// rendered and counted (an off-centre projection + viewport + scissor), views whose
-// frustum misses the target's bounds are not rendered, and point chunks outside the
-// rectangle's frustum are culled.
+// Per view (paper §IV-B steps 1-3): the three white clouds are splatted into binary
+// images (gpu_images.cpp: by default a compute shader ORs one bit per cloud into an
+// integer mask; no depth, the images are binary), then a compute shader counts |I1|, |I2|,
+// |I3|, |I2 xor I3| and |I3 and not I2| with shared-memory atomics; only a few integers
+// come back. Skips ("skip what a scene doesn't need"): only the target's screen rectangle
+// (plus a guard band of half a splat) is drawn and counted, views whose frustum misses
+// the target's bounds are not drawn, and point cells outside the rectangle's frustum are
+// culled.
 #include <metric/visibility.hpp>
+
+#include "gpu_images.hpp"
 
 #include <engine/error.hpp>
 #include <render/egl_context.hpp>
 #include <render/gl.hpp>
-#include <render/point_splat.hpp>
-#include <render/shader.hpp>
 #include <sim/raycaster.hpp>
 
 #include <algorithm>
@@ -31,32 +31,8 @@ namespace metric {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kCellM = 8.0;  // culling cells: small enough that the target's frustum keeps few
 
-constexpr const char* kCountShader = R"(#version 450 core
-layout(local_size_x = 16, local_size_y = 16) in;
-layout(binding = 0, rgba8) uniform readonly image2D u_image;
-layout(std430, binding = 0) buffer Counts { uint counts[8]; };
-uniform ivec2 u_offset;   // first counted pixel
-uniform ivec2 u_size;     // counted pixels
-shared uint s_counts[5];
-void main() {
-    uint i = gl_LocalInvocationIndex;
-    if (i < 5u) s_counts[i] = 0u;
-    barrier();
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x < u_size.x && p.y < u_size.y) {
-        vec4 c = imageLoad(u_image, u_offset + p);
-        bool i1 = c.r > 0.5, i2 = c.g > 0.5, i3 = c.b > 0.5;
-        if (i1) atomicAdd(s_counts[0], 1u);
-        if (i2) atomicAdd(s_counts[1], 1u);
-        if (i3) atomicAdd(s_counts[2], 1u);
-        if (i2 != i3) atomicAdd(s_counts[3], 1u);        // I4 = I2 xor I3
-        if (i3 && !i2) atomicAdd(s_counts[4], 1u);       // visible target
-    }
-    barrier();
-    if (i < 5u && s_counts[i] != 0u) atomicAdd(counts[i], s_counts[i]);
-}
-)";
 
 [[noreturn]] void invalid(const std::string& option, double value, const char* allowed) {
     std::ostringstream s;
@@ -96,6 +72,8 @@ void validate(const MetricOptions& o) {
     if (o.look_at_world && !(std::isfinite(o.look_at_world->x) && std::isfinite(o.look_at_world->y) &&
                              std::isfinite(o.look_at_world->z)))
         throw engine::Error("metric: --look-at: not finite; allowed x,y,z in world metres");
+    if (!std::isfinite(o.depth_margin_m) || o.depth_margin_m < 0.0 || o.depth_margin_m > 100.0)
+        invalid("depth-margin-m", o.depth_margin_m, "[0, 100] metres");
     render::validate(c);  // near/far/start, which the CLI does not expose
 }
 
@@ -109,111 +87,8 @@ struct Evaluator::Impl {
     glm::dvec3 origin{0.0};
     engine::Bounds p1_bounds;        // local frame
     engine::Bounds target_bounds;    // meshes' (exact reference); empty without scene
-    render::PointSplatRenderer p1, p2, p3;
-    render::Program count_program{"metric-count", {{GL_COMPUTE_SHADER, kCountShader}}};
-    GLint u_offset = -1, u_size = -1;
-    GLuint counts_buffer = 0;
-    GLuint texture = 0, fbo = 0;
-    int texture_width = 0, texture_height = 0;
+    std::unique_ptr<detail::GpuImages> images;
     std::unique_ptr<sim::RayCaster> target_only, target_and_environment;
-
-    Impl() {
-        u_offset = count_program.uniform("u_offset");
-        u_size = count_program.uniform("u_size");
-        GL_CHECK(glCreateBuffers(1, &counts_buffer));
-        GL_CHECK(glNamedBufferStorage(counts_buffer, 8 * sizeof(GLuint), nullptr,
-                                      GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT));
-    }
-    ~Impl() {
-        if (fbo) glDeleteFramebuffers(1, &fbo);
-        if (texture) glDeleteTextures(1, &texture);
-        if (counts_buffer) glDeleteBuffers(1, &counts_buffer);
-    }
-
-    void ensureTarget(int width, int height) {
-        if (texture && texture_width == width && texture_height == height) return;
-        if (fbo) glDeleteFramebuffers(1, &fbo);
-        if (texture) glDeleteTextures(1, &texture);
-        GL_CHECK(glCreateTextures(GL_TEXTURE_2D, 1, &texture));
-        GL_CHECK(glTextureStorage2D(texture, 1, GL_RGBA8, width, height));
-        GL_CHECK(glCreateFramebuffers(1, &fbo));
-        GL_CHECK(glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, texture, 0));
-        if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            throw engine::Error("metric: offscreen framebuffer " + std::to_string(width) + "x" +
-                                std::to_string(height) + " is incomplete");
-        texture_width = width;
-        texture_height = height;
-    }
-
-    /// Renders I1, I2, I3 of the pixels `draw` (a sub-rectangle of the image, or all of it)
-    /// into the texture's corner (0, 0)..draw size. Returns points drawn.
-    std::size_t renderImages(const glm::dmat4& view, const glm::dmat4& projection, int width, int height,
-                             const render::PixelRect& draw, double splat_px, bool cull) {
-        const bool full = draw.x0 == 0 && draw.y0 == 0 && draw.x1 == width && draw.y1 == height;
-        const glm::dmat4 p = full ? projection : render::subRectProjection(projection, width, height, draw);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        glViewport(0, 0, draw.width(), draw.height());
-        glEnable(GL_SCISSOR_TEST);  // wide points are not clipped to the viewport, only to this
-        glScissor(0, 0, draw.width(), draw.height());
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_BLEND);
-        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-        render::SplatStyle style;
-        style.point_size_px = static_cast<float>(splat_px);
-        std::size_t drawn = 0;
-        glColorMaski(0, GL_TRUE, GL_FALSE, GL_FALSE, GL_FALSE);
-        drawn += p1.draw(view, p, style, cull).points_drawn;
-        glColorMaski(0, GL_FALSE, GL_TRUE, GL_FALSE, GL_FALSE);
-        drawn += p2.draw(view, p, style, cull).points_drawn;
-        glColorMaski(0, GL_FALSE, GL_FALSE, GL_TRUE, GL_FALSE);
-        drawn += p3.draw(view, p, style, cull).points_drawn;
-        glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        glDisable(GL_SCISSOR_TEST);
-        return drawn;
-    }
-
-    /// Counts over texture pixels [offset, offset + size): |I1|, |I2|, |I3|, |I4|, visible.
-    std::array<std::int64_t, 5> count(glm::ivec2 offset, glm::ivec2 size) {
-        const GLuint zeros[8] = {};
-        glNamedBufferSubData(counts_buffer, 0, sizeof zeros, zeros);
-        count_program.use();
-        glUniform2i(u_offset, offset.x, offset.y);
-        glUniform2i(u_size, size.x, size.y);
-        glBindImageTexture(0, texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA8);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts_buffer);
-        glDispatchCompute(static_cast<GLuint>((size.x + 15) / 16), static_cast<GLuint>((size.y + 15) / 16), 1);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        GLuint counts[8] = {};
-        glGetNamedBufferSubData(counts_buffer, 0, sizeof counts, counts);
-        render::checkGl("metric count", __FILE__, __LINE__);
-        return {counts[0], counts[1], counts[2], counts[3], counts[4]};
-    }
-
-    MetricPictures readPictures(int view, int width, int height) {
-        MetricPictures pictures;
-        pictures.view = view;
-        pictures.width = width;
-        pictures.height = height;
-        std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * height * 4);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        GL_CHECK(glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data()));
-        const std::size_t n = static_cast<std::size_t>(width) * height;
-        pictures.i1.resize(n);
-        pictures.i2.resize(n);
-        pictures.i3.resize(n);
-        pictures.i4.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const bool a = rgba[4 * i] > 127, b = rgba[4 * i + 1] > 127, c = rgba[4 * i + 2] > 127;
-            pictures.i1[i] = a ? 255 : 0;
-            pictures.i2[i] = b ? 255 : 0;
-            pictures.i3[i] = c ? 255 : 0;
-            pictures.i4[i] = (b != c) ? 255 : 0;
-        }
-        return pictures;
-    }
 
     /// Exact reference for one view over the pixels of `rect` (outside it no ray can hit the
     /// target): {target pixels, visible target pixels}.
@@ -283,9 +158,8 @@ Evaluator::Evaluator(const MetricClouds& clouds, const engine::Scene* scene) {
     impl.origin = scene ? scene->origin : clouds.p1.origin;
     const engine::PointCloud p1 = toFrame(clouds.p1, impl.origin);
     impl.p1_bounds = p1.bounds();
-    impl.p1.setCloud(p1);
-    impl.p2.setCloud(toFrame(clouds.p2, impl.origin));
-    impl.p3.setCloud(toFrame(clouds.p3, impl.origin));
+    impl.images = std::make_unique<detail::GpuImages>(p1, toFrame(clouds.p2, impl.origin),
+                                                      toFrame(clouds.p3, impl.origin), kCellM);
     if (scene && scene->hasRole(engine::Role::Target)) {
         impl.target_bounds = scene->bounds(engine::RoleMask::of({engine::Role::Target}));
         impl.target_only = std::make_unique<sim::RayCaster>(*scene, engine::RoleMask::of({engine::Role::Target}));
@@ -314,7 +188,6 @@ MetricResult Evaluator::run(const MetricOptions& options) {
         result.look_at = impl.target_bounds.empty() ? impl.p1_bounds.centre() : impl.target_bounds.centre();
 
     const int w = options.width, h = options.height;
-    impl.ensureTarget(w, h);
     const auto& orbit = options.orbit;
     const glm::dmat4 projection =
         render::projectionMatrix(orbit.vfov_deg, static_cast<double>(w) / h, orbit.near_m, orbit.far_m);
@@ -322,7 +195,7 @@ MetricResult Evaluator::run(const MetricOptions& options) {
     // outside the counted rectangle still paint into it.
     const int guard_px = static_cast<int>(std::ceil(options.splat_px / 2.0)) + 1;
 
-    double metric_sum = 0.0, visible_sum = 0.0, exact_sum = 0.0;
+    double metric_sum = 0.0, visible_sum = 0.0, depth_sum = 0.0, exact_sum = 0.0;
     int exact_used = 0;
     result.metric_min = kNaN;
     result.metric_max = kNaN;
@@ -348,24 +221,29 @@ MetricResult Evaluator::run(const MetricOptions& options) {
                 drawn.x1 = std::min(w, counted.x1 + guard_px);
                 drawn.y1 = std::min(h, counted.y1 + guard_px);
             }
-            result.points_drawn +=
-                impl.renderImages(view, projection, w, h, drawn, options.splat_px, options.skip);
-            const auto c = impl.count({counted.x0 - drawn.x0, counted.y0 - drawn.y0},
-                                      {counted.width(), counted.height()});
-            v.i1 = c[0];
-            v.i2 = c[1];
-            v.i3 = c[2];
-            v.i4 = c[3];
-            v.visible_px = c[4];
+            const detail::ImageCounts c =
+                impl.images->renderAndCount(view, projection, w, h, drawn, counted, options.splat_px,
+                                            options.depth_margin_m, options.rasterizer, options.skip,
+                                            &result.points_drawn);
+            v.i1 = c.i1;
+            v.i2 = c.i2;
+            v.i3 = c.i3;
+            v.i4 = c.i4;
+            v.visible_px = c.visible;
+            v.depth_visible_px = c.depth_visible;
         }
         if (k == options.picture_view) {
-            impl.renderImages(view, projection, w, h, render::PixelRect{0, 0, w, h}, options.splat_px, false);
-            result.pictures = impl.readPictures(k, w, h);
+            const render::PixelRect whole{0, 0, w, h};
+            impl.images->renderAndCount(view, projection, w, h, whole, whole, options.splat_px,
+                                        options.depth_margin_m, options.rasterizer, false, nullptr);
+            result.pictures = impl.images->readPictures(k, w, h, options.rasterizer);
         }
-        result.seconds_render += seconds(render_start);
+        v.seconds_render = seconds(render_start);
+        result.seconds_render += v.seconds_render;
 
         v.metric = ratio(v.i4, v.i1);
         v.visible = ratio(v.visible_px, v.i1);
+        v.depth_visible = v.depth_visible_px >= 0 ? ratio(v.depth_visible_px, v.i1) : kNaN;
         v.used = v.i1 > 0;
         v.exact = kNaN;
         if (result.has_exact) {
@@ -375,12 +253,14 @@ MetricResult Evaluator::run(const MetricOptions& options) {
             v.exact_target_px = target;
             v.exact_visible_px = visible;
             v.exact = ratio(visible, target);
-            result.seconds_exact += seconds(exact_start);
+            v.seconds_exact = seconds(exact_start);
+            result.seconds_exact += v.seconds_exact;
         }
         if (v.used) {
             ++result.views_used;
             metric_sum += v.metric;
             visible_sum += v.visible;
+            depth_sum += v.depth_visible;  // NaN propagates with the raster rasterizer
             if (std::isnan(result.metric_min) || v.metric < result.metric_min) result.metric_min = v.metric;
             if (std::isnan(result.metric_max) || v.metric > result.metric_max) result.metric_max = v.metric;
             if (!std::isnan(v.exact)) {
@@ -392,6 +272,7 @@ MetricResult Evaluator::run(const MetricOptions& options) {
     }
     result.metric_mean = result.views_used ? metric_sum / result.views_used : kNaN;
     result.visible_mean = result.views_used ? visible_sum / result.views_used : kNaN;
+    result.depth_visible_mean = result.views_used ? depth_sum / result.views_used : kNaN;
     result.exact_mean = exact_used ? exact_sum / exact_used : kNaN;
     result.seconds = seconds(start);
     return result;

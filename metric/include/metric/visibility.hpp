@@ -6,6 +6,8 @@
 // P1, P2, P3 are rendered offscreen (EGL surfaceless, GL 4.5 core, square splats) and
 //   metric  = |I4| / |I1| with I4 = I2 xor I3       (the paper's definition)
 //   visible = |I3 and not I2| / |I1|                (target pixels only; docs/metric.md)
+//   depth_visible = |I1 and (a P3 point nearer than every P2 point)| / |I1|
+//                                                   (occlusion-aware, compute rasterizer only)
 // The exact reference casts a ray through every pixel centre of the same camera against
 // the meshes (sim::RayCaster): the fraction of target pixels (hit the target in the
 // target-only scene) whose first hit in target + environment (no ground) is the target.
@@ -31,6 +33,12 @@ struct MetricClouds {
     engine::PointCloud p3;   // target + environment without ground
 };
 
+/// How the square splats are drawn (same pixels either way, see docs/metric.md).
+enum class Rasterizer {
+    Compute,   // a compute shader ORs each point's bit into an integer mask (fast on llvmpipe)
+    Raster,    // GL_POINTS with gl_PointSize, as the viewer draws (render::PointSplatRenderer)
+};
+
 /// Options of one evaluation; defaults chosen from `ladarvr bench metric` (docs/metric.md).
 struct MetricOptions {
     render::OrbitCameraOptions orbit;        // radius, altitude, vfov (30 deg), views (100)
@@ -43,6 +51,10 @@ struct MetricOptions {
                                              // rectangle; skip views whose frustum misses it
     bool exact = true;                       // compute the exact reference (needs a scene)
     int picture_view = -1;                   // view whose I1..I4 are kept (full frame); -1 none
+    Rasterizer rasterizer = Rasterizer::Compute;
+    double depth_margin_m = 0.5;             // depth-aware variant: a P3 point counts as
+                                             // target when nearer than every P2 point of
+                                             // its pixel by more than this [0, 100] m
 };
 
 /// Throws engine::Error("metric: --<option> = <value>: allowed <range>") for bad options
@@ -59,13 +71,17 @@ struct ViewResult {
     render::PixelRect rect;                  // pixels rendered and counted
     std::int64_t i1 = 0, i2 = 0, i3 = 0, i4 = 0;
     std::int64_t visible_px = 0;             // |I3 and not I2|
+    std::int64_t depth_visible_px = -1;      // -1 with the raster rasterizer
     double metric = 0.0;                     // NaN when i1 == 0
     double visible = 0.0;                    // NaN when i1 == 0
+    double depth_visible = 0.0;              // NaN when i1 == 0 or not computed
     std::int64_t exact_target_px = 0;        // rays through pixel centres hitting the target
     std::int64_t exact_visible_px = 0;       // ... whose first hit with the environment is it
     double exact = 0.0;                      // NaN when absent or exact_target_px == 0
     bool used = false;                       // i1 > 0: counted in the means
     bool frustum_skipped = false;            // skip: target bounds outside the view
+    double seconds_render = 0.0;             // this view's splats + counting (+ picture)
+    double seconds_exact = 0.0;              // this view's exact ray casting
 };
 
 /// Full-frame binary images of the picture view, rows bottom-up (GL order), 0 or 255.
@@ -83,6 +99,7 @@ struct MetricResult {
     int views_used = 0;
     double metric_mean = 0.0, metric_min = 0.0, metric_max = 0.0;  // NaN if no view used
     double visible_mean = 0.0;
+    double depth_visible_mean = 0.0;         // NaN with the raster rasterizer
     double exact_mean = 0.0;                 // NaN when absent; mean over views used with exact
     bool has_exact = false;
     std::optional<MetricPictures> pictures;
