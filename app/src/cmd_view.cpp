@@ -30,11 +30,15 @@ struct ViewArgs {
     int width = 1280, height = 720;
     std::size_t upload_budget = 1u << 18;
     double orbit_period_s = 60.0;
+    sim::OrbitOptions orbit;   // only for the generated cloud
 };
 
 int runView(const ViewArgs& a) {
     if (!a.cloud.empty() && !a.scene.empty())
         throw engine::Error("view: give a cloud file or --scene, not both");
+    const sim::OrbitOptions paper;
+    if (!a.cloud.empty() && (a.orbit.xres != paper.xres || a.orbit.yres != paper.yres || a.orbit.views != paper.views))
+        throw engine::Error("view: --xres/--yres/--views apply to a generated cloud, not to a cloud file");
     viewer::ViewerOptions o;
     o.use_xr = !a.no_xr;
     o.mirror = viewer::parseMirrorEyes(a.mirror);
@@ -68,11 +72,16 @@ int runView(const ViewArgs& a) {
         const std::filesystem::path scene_path = a.scene.empty() ? engine::demoScenePath()
                                                                  : std::filesystem::path(a.scene);
         auto scene = std::make_shared<engine::Scene>(engine::loadScene(scene_path));
-        std::fprintf(stderr, "ladarvr: view: generating the cloud of %s (paper parameters)\n",
+        std::fprintf(stderr, "ladarvr: view: generating the cloud of %s\n",
                      scene_path.string().c_str());
-        generator = std::thread([&feed, scene] {
+        sim::GenerateOptions check;
+        check.orbit = a.orbit;
+        sim::validate(check);
+        generator = std::thread([&feed, scene, orbit = a.orbit] {
             try {
-                feed.feedCloud(sim::generateCloud(*scene, sim::GenerateOptions{}));
+                sim::GenerateOptions g;
+                g.orbit = orbit;
+                feed.feedCloud(sim::generateCloud(*scene, g));
             } catch (const std::exception& e) {
                 feed.finish(std::string("generate: ") + e.what());
             }
@@ -100,7 +109,8 @@ void registerView(CLI::App& cli) {
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
         ->capture_default_str();
-    cmd->add_option("--colour", args->colour, "point colours: file, height (jet), white")->capture_default_str();
+    cmd->add_option("--colour", args->colour, "point colours: file, height (jet), white, label (ground truth: "
+                                              "target red)")->capture_default_str();
     cmd->add_option("--point-size", args->point_size_px, "point size in pixels [1, 64] (at 100 m with --attenuate)")
         ->capture_default_str();
     cmd->add_flag("--attenuate", args->attenuate, "point size falls off with distance");
@@ -118,6 +128,9 @@ void registerView(CLI::App& cli) {
         ->capture_default_str();
     cmd->add_option("--orbit-period", args->orbit_period_s, "seconds per turn of the automatic orbit")
         ->capture_default_str();
+    cmd->add_option("--xres", args->orbit.xres, "generated cloud only: sensor pixels across")->capture_default_str();
+    cmd->add_option("--yres", args->orbit.yres, "generated cloud only: sensor pixels down")->capture_default_str();
+    cmd->add_option("--views", args->orbit.views, "generated cloud only: drone positions (NoV)")->capture_default_str();
     cmd->callback([args] {
         const int status = runView(*args);
         if (status != 0) throw CLI::RuntimeError(status);

@@ -25,10 +25,11 @@ work=$(mktemp -d /tmp/ladarvr-headless.XXXXXX)
 pids=()
 cleanup() {
   local p
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  # Entries are PIDs, or -PGID for a process group; all were started by this script.
+  for p in "${pids[@]}"; do kill -- "$p" 2>/dev/null || true; done
   for p in "${pids[@]}"; do
-    for _ in $(seq 50); do kill -0 "$p" 2>/dev/null || break; sleep 0.1; done
-    kill -9 "$p" 2>/dev/null || true
+    for _ in $(seq 50); do kill -0 -- "$p" 2>/dev/null || break; sleep 0.1; done
+    kill -9 -- "$p" 2>/dev/null || true
   done
   rm -rf "$work"
 }
@@ -44,7 +45,7 @@ Xvfb ":$display" -screen 0 1600x900x24 -nolisten tcp >"$work/xvfb.log" 2>&1 &
 pids+=($!)
 for _ in $(seq 100); do
   [ -e "/tmp/.X11-unix/X$display" ] && break
-  kill -0 "${pids[0]}" 2>/dev/null || { cat "$work/xvfb.log" >&2; echo "headless_env: Xvfb died" >&2; exit 1; }
+  kill -0 -- "${pids[0]}" 2>/dev/null || { cat "$work/xvfb.log" >&2; echo "headless_env: Xvfb died" >&2; exit 1; }
   sleep 0.1
 done
 [ -e "/tmp/.X11-unix/X$display" ] || { echo "headless_env: Xvfb did not start in 10 s" >&2; exit 1; }
@@ -56,9 +57,12 @@ mkdir -m 700 "$XDG_RUNTIME_DIR"
 if [ "$monado" = 1 ]; then
   command -v monado-service >/dev/null || { echo "headless_env: monado-service is not installed" >&2; exit 1; }
   # monado-service watches stdin; with /dev/null it fails, so give it a pipe that stays open.
-  ( sleep 600 | XRT_COMPOSITOR_NULL=1 SIMULATED_ENABLE=1 IPC_EXIT_ON_DISCONNECT=1 \
-      XRT_LOG=warning exec monado-service ) >"$work/monado.log" 2>&1 &
-  pids+=($!)
+  # setsid: the pipe's processes form one process group, killed together (kill -- -PGID).
+  XRT_COMPOSITOR_NULL=1 SIMULATED_ENABLE=1 IPC_EXIT_ON_DISCONNECT=1 XRT_LOG=warning \
+    setsid bash -c 'sleep 600 | exec monado-service' >"$work/monado.log" 2>&1 &
+  monado_pgid=$!
+  pids+=("-$monado_pgid")
+  export LADARVR_MONADO_PGID=$monado_pgid   # lets a test take the runtime away mid-run
   for _ in $(seq 150); do
     ls "$XDG_RUNTIME_DIR" 2>/dev/null | grep -q monado && break
     sleep 0.1

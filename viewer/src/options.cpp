@@ -20,7 +20,8 @@ ColourMode parseColourMode(const std::string& name) {
     if (name == "file") return ColourMode::File;
     if (name == "height") return ColourMode::HeightJet;
     if (name == "white") return ColourMode::White;
-    throw engine::Error("view: --colour '" + name + "' is not one of file, height, white");
+    if (name == "label") return ColourMode::Label;
+    throw engine::Error("view: --colour '" + name + "' is not one of file, height, white, label");
 }
 
 const char* colourModeName(ColourMode mode) {
@@ -28,6 +29,7 @@ const char* colourModeName(ColourMode mode) {
         case ColourMode::File: return "file";
         case ColourMode::HeightJet: return "height";
         case ColourMode::White: return "white";
+        case ColourMode::Label: return "label";
     }
     return "?";
 }

@@ -16,7 +16,7 @@ namespace {
 
 struct GpuPoint {
     float x, y, z;
-    std::uint32_t rgb;   // 0x00RRGGBB: bytes B, G, R, 0 -> read as GL_BGRA
+    std::uint32_t rgb;   // 0xLLRRGGBB (L = label): bytes B, G, R, L -> read as GL_BGRA
 };
 static_assert(sizeof(GpuPoint) == 16);
 
@@ -28,7 +28,7 @@ uniform mat4 u_projection;
 uniform float u_chunk_z;                   // chunk centre height (local frame)
 uniform float u_z_min;
 uniform float u_z_max;
-uniform int u_colour_mode;                 // 0 file, 1 height jet, 2 white
+uniform int u_colour_mode;                 // 0 file, 1 height jet, 2 white, 3 label
 uniform int u_jet_entries;
 uniform float u_size_px;
 uniform int u_attenuate;
@@ -47,8 +47,11 @@ void main() {
         float m = float(u_jet_entries);
         float bin = clamp(floor((z - u_z_min) / range * m), 0.0, m - 1.0);
         v_colour = jet(1.0 - bin / (m - 1.0));   // lowest bin red, highest blue (paper)
-    } else {
+    } else if (u_colour_mode == 2) {
         v_colour = vec3(1.0);
+    } else {
+        int label = int(round(a_rgb.a * 255.0));   // 0 ground, 1 environment, 2 target
+        v_colour = label == 2 ? vec3(1.0, 0.0, 0.0) : label == 1 ? vec3(0.6) : vec3(0.3);
     }
     float size = u_size_px;
     if (u_attenuate != 0) size = u_size_px * 100.0 / max(-p.z, 1e-3);
@@ -235,7 +238,8 @@ std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points) {
         for (std::size_t i = 0; i < n; ++i) {
             const auto& p = job.points[job.next + i];
             const glm::dvec3 rel = glm::dvec3(p.position) - chunk.centre;
-            staging[i] = {float(rel.x), float(rel.y), float(rel.z), p.rgb};
+            staging[i] = {float(rel.x), float(rel.y), float(rel.z),
+                          (p.rgb & 0xFFFFFFu) | (std::uint32_t(p.label) << 24)};
         }
         glNamedBufferSubData(chunk.buffer, static_cast<GLintptr>(chunk.count * sizeof(GpuPoint)),
                              static_cast<GLsizeiptr>(n * sizeof(GpuPoint)), staging.data());

@@ -371,7 +371,7 @@ void ViewerApp::drawPanel(double frame_ms) {
     ImGui::SliderFloat("point size (px)", &style_.point_size_px, 1.0f, 16.0f, "%.1f");
     ImGui::Checkbox("attenuate with distance", &style_.attenuate);
     int colour = static_cast<int>(style_.colour);
-    if (ImGui::Combo("colours", &colour, "file colours\0height jet\0white\0"))
+    if (ImGui::Combo("colours", &colour, "file colours\0height jet\0white\0ground truth (target red)\0"))
         style_.colour = static_cast<ColourMode>(colour);
     ImGui::Checkbox("eye-dome lighting", &style_.eye_dome);
     if (style_.eye_dome) ImGui::SliderFloat("EDL strength", &style_.edl_strength, 0.1f, 4.0f, "%.2f");
@@ -417,7 +417,7 @@ int ViewerApp::run() {
     bool screenshot_done = false;
     Clock::time_point quit_deadline{}, last = Clock::now();
     double frame_ms = 0.0;
-    bool centre_final = false;
+    bool centre_final = false, was_focused = false;
     std::string feed_error_reported;
 
     while (true) {
@@ -446,10 +446,19 @@ int ViewerApp::run() {
             quit_deadline = Clock::now() + std::chrono::seconds(3);
             if (xr_ && xr_->running()) xr_->requestExit();
         }
-        if (quitting && (!xr_ || !xr_->running() || Clock::now() > quit_deadline)) break;
+        // Leave once the session has ended (or the runtime did not answer in time) and the
+        // screenshot, if asked for, has been taken (one more uncounted frame if needed).
+        if (quitting && (!xr_ || !xr_->running() || Clock::now() > quit_deadline) &&
+            (options_.screenshot.empty() || screenshot_done || Clock::now() > quit_deadline))
+            break;
 
         if (xr_) {
             const XrPoll poll = xr_->pollEvents();
+            if (poll == XrPoll::Ok && xr_->focused() != was_focused) {
+                was_focused = xr_->focused();
+                if (!options_.quiet)
+                    std::fprintf(stderr, "ladarvr: view: OpenXR session %s\n", was_focused ? "focused" : "not focused");
+            }
             if (poll == XrPoll::Exit) {
                 log_.event("xr: session exited");
                 xr_.reset();

@@ -24,6 +24,7 @@ GLXWindow glfwGetGLXWindow(GLFWwindow* window);
 #define XR_USE_GRAPHICS_API_OPENGL
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
+#include <openxr/openxr_reflection.h>
 
 // OpenXR's idiom `XrFoo foo{XR_TYPE_FOO};` value-initialises the other members on purpose.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -45,6 +46,12 @@ std::string xrResultName(XrInstance instance, XrResult result) {
     char buffer[XR_MAX_RESULT_STRING_SIZE] = {};
     if (instance != XR_NULL_HANDLE && XR_SUCCEEDED(xrResultToString(instance, result, buffer)))
         return buffer;
+    switch (result) {   // no instance (yet): the names from the spec's reflection header
+#define LADARVR_XR_RESULT_CASE(name, value) case name: return #name;
+        XR_LIST_ENUM_XrResult(LADARVR_XR_RESULT_CASE)
+#undef LADARVR_XR_RESULT_CASE
+        default: break;
+    }
     return "XrResult(" + std::to_string(static_cast<int>(result)) + ")";
 }
 

@@ -17,11 +17,12 @@
 namespace viewer {
 
 enum class MirrorEyes { Left, Right, Both };
-enum class ColourMode { File, HeightJet, White };
+enum class ColourMode { File, HeightJet, White, Label };
 
 /// "left" / "right" / "both"; throws engine::Error("view: --mirror 'x' is not one of left, right, both").
 MirrorEyes parseMirrorEyes(const std::string& name);
-/// "file" / "height" / "white"; throws engine::Error("view: --colour 'x' is not one of file, height, white").
+/// "file" / "height" / "white" / "label"; throws engine::Error("view: --colour 'x' is not one of ...").
+/// "label" shows the ground truth: target red, environment grey, ground dark grey.
 ColourMode parseColourMode(const std::string& name);
 const char* colourModeName(ColourMode mode);
 

@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""tests/viewer/check_view_log.py SCENARIO LOG.json SHOT.png STDERR: the assertions of
+view_headless_test.sh on the viewer's run log (--log-json) and mirror screenshot."""
+import json
+import math
+import struct
+import sys
+import zlib
+
+failures = []
+
+
+def check(condition, message):
+    if not condition:
+        failures.append(message)
+    return condition
+
+
+def read_png(path):
+    """Decodes the viewer's own PNGs (8-bit RGB, filter 0 rows) into (w, h, bytes)."""
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG signature"
+    pos, idat, width, height = 8, b"", 0, 0
+    while pos < len(data):
+        (n,) = struct.unpack(">I", data[pos:pos + 4])
+        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + n]
+        (crc,) = struct.unpack(">I", data[pos + 8 + n:pos + 12 + n])
+        assert zlib.crc32(kind + body) == crc, f"bad CRC in chunk {kind!r}"
+        if kind == b"IHDR":
+            width, height, depth, colour = struct.unpack(">IIBB", body[:10])
+            assert (depth, colour) == (8, 2), "expected 8-bit RGB"
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw = zlib.decompress(idat)
+    row = width * 3
+    assert len(raw) == (row + 1) * height, "wrong image data size"
+    pixels = bytearray()
+    for y in range(height):
+        assert raw[y * (row + 1)] == 0, "unexpected PNG filter"
+        pixels += raw[y * (row + 1) + 1:(y + 1) * (row + 1)]
+    return width, height, pixels
+
+
+def count(pixels, predicate):
+    return sum(1 for i in range(0, len(pixels), 3) if predicate(pixels[i], pixels[i + 1], pixels[i + 2]))
+
+
+def quat_angle_deg(a, b):
+    dot = abs(sum(x * y for x, y in zip(a, b)))
+    return math.degrees(2.0 * math.acos(min(1.0, dot)))
+
+
+def dist(a, b):
+    return math.sqrt(sum((x - y) ** 2 for x, y in zip(a, b)))
+
+
+def check_screenshot(shot, want_label_red):
+    w, h, px = read_png(shot)
+    check((w, h) == (960, 540), f"screenshot is {w}x{h}, expected the 960x540 window")
+    background = (15, 18, 23)  # the clear colour 0.06, 0.07, 0.09
+    lit = count(px, lambda r, g, b: abs(r - background[0]) + abs(g - background[1]) + abs(b - background[2]) > 30
+                and (r, g, b) != (0, 0, 0))
+    check(lit > 0.15 * w * h, f"screenshot nearly empty: {lit} of {w * h} pixels show something")
+    if want_label_red:   # --colour label: pure red is the target's ground-truth colour
+        red = count(px, lambda r, g, b: r > 150 and g < 40 and b < 40)
+    else:                # file colours: the jet map is red at the lowest heights (the target)
+        red = count(px, lambda r, g, b: r > 180 and g < 90 and b < 90)
+    check(red >= 20, f"only {red} red target pixels in the screenshot (want >= 20)")
+    plate = count(px, lambda r, g, b: abs(r - 0) < 12 and abs(g - 158) < 12 and abs(b - 230) < 12)
+    check(plate > 100, f"the AUTOMATIC mode plate is not in the screenshot ({plate} pixels)")
+    print(f"screenshot {w}x{h}: {lit} lit, {red} red, {plate} mode-plate pixels")
+
+
+def check_toggles(log, frames):
+    switches = [(s["frame"], s["from"], s["to"]) for s in log["mode_switches"]]
+    check(switches == [(10, "automatic", "free"), (25, "free", "automatic")],
+          f"mode switches {switches}, expected automatic->free at 10 and back at 25")
+    modes = {f["frame"]: f["mode"] for f in frames}
+    want = {i: ("free" if 11 <= i <= 25 else "automatic") for i in modes}
+    wrong = [i for i in modes if modes[i] != want[i]]
+    check(not wrong, f"frames with the wrong mode: {wrong[:10]}")
+    check(log["mode_final"] == "automatic", "final mode is not automatic")
+
+
+def check_orbit(log, frames):
+    """Automatic frames ride the orbit: 60 m out and 40 m up from the centre (render defaults);
+    free frames stay where the switch left the user (no motion was requested)."""
+    c = log["orbit_centre_local"]
+    for f in frames:
+        p = f["eyes_local"][0]["position"]
+        if f["mode"] == "automatic":
+            r = math.hypot(p[0] - c[0], p[1] - c[1])
+            if not check(abs(r - 60.0) < 0.6 and abs(p[2] - c[2] - 40.0) < 0.6,
+                         f"frame {f['frame']}: automatic eye at radius {r:.2f} m, height {p[2] - c[2]:.2f} m"):
+                return
+    free = [f for f in frames if f["mode"] == "free"]
+    if check(len(free) >= 5, "too few free frames"):
+        spread = max(dist(f["eyes_local"][0]["position"], free[0]["eyes_local"][0]["position"]) for f in free)
+        check(spread < 0.6, f"free mode moved {spread:.2f} m without any motion input")
+
+
+def main():
+    scenario, log_path, shot, stderr_path = sys.argv[1:5]
+    log = json.load(open(log_path))
+    stderr = open(stderr_path).read()
+    frames = log["frames"]
+    print(f"{scenario}: exit={log['exit']} states={log['states']} frames={log['frames_counted']} "
+          f"submitted={log['frames_submitted']} fallback={log['fallback']!r}")
+    check(log["points_uploaded"] == 163840, f"{log['points_uploaded']} points on the GPU, expected 163840")
+
+    if scenario == "xr":
+        states = log["states"]
+        order = ["IDLE", "READY", "SYNCHRONIZED", "VISIBLE", "FOCUSED"]
+        check(states[:5] == order, f"states {states[:5]}, expected {order}")
+        check(states[-3:] == ["STOPPING", "IDLE", "EXITING"], f"clean close: last states {states[-3:]}")
+        check(log["xr_active_at_start"] and log["fallback"] == "", "the XR session did not start")
+        check(log["xr_system"].startswith("Monado"), f"system {log.get('xr_system')}")
+        check(log["xr_swapchain_format"] in log["xr_formats_offered"], "swapchain format not offered")
+        check(log["exit"] == "frames", f"exit {log['exit']}")
+        check(log["frames_submitted"] == 40 and len(frames) == 40,
+              f"{log['frames_submitted']} frames submitted / {len(frames)} logged, expected 40")
+        for f in frames:
+            check(f["xr"] and len(f["eyes_tracking"]) == 2 and len(f["eyes_local"]) == 2,
+                  f"frame {f['frame']}: not both eyes")
+            e = f["eyes_tracking"]
+            ipd = dist(e[0]["position"], e[1]["position"])
+            ipd_local = dist(f["eyes_local"][0]["position"], f["eyes_local"][1]["position"])
+            check(0.04 < ipd < 0.09, f"frame {f['frame']}: eye separation {ipd:.4f} m")
+            # The rig is rigid: the rendered eyes are the runtime's eyes moved as one.
+            check(abs(ipd - ipd_local) < 1e-4, f"frame {f['frame']}: rendered eyes {ipd_local} vs runtime {ipd}")
+            check(all(len(x["fov_rad"]) == 4 for x in e), "fov missing")
+        q = [f["eyes_tracking"][0]["orientation"] for f in frames]
+        p = [f["eyes_tracking"][0]["position"] for f in frames]
+        turn = max(quat_angle_deg(q[0], x) for x in q)
+        move = max(dist(p[0], x) for x in p)
+        distinct = len({tuple(round(v, 6) for v in x) for x in q})
+        print(f"simulated head: turned up to {turn:.2f} deg, moved up to {move * 1000:.1f} mm, "
+              f"{distinct} distinct orientations in {len(q)} frames")
+        check(turn > 0.5 and distinct > len(q) // 2, "the eye poses do not follow the simulated head")
+        check_toggles(log, frames)
+        check_orbit(log, frames)
+        check_screenshot(shot, want_label_red=True)
+    elif scenario == "desktop":
+        lines = [l for l in stderr.splitlines() if "desktop mode" in l]
+        check(len(lines) == 1 and "no OpenXR runtime" in lines[0], f"fallback line(s): {lines}")
+        check(not log["xr_active_at_start"] and log["frames_submitted"] == 0, "XR should not be active")
+        check(log["frames_counted"] == 40 and len(frames) == 40, f"{log['frames_counted']} desktop frames")
+        check(log["states"] == [], "session states without a runtime")
+        check_toggles(log, frames)
+        check_orbit(log, frames)
+        auto = [f for f in frames if f["mode"] == "automatic" and f["frame"] <= 10]
+        swept = dist(auto[0]["eyes_local"][0]["position"], auto[-1]["eyes_local"][0]["position"])
+        check(swept > 0.05, f"the automatic orbit did not move the eye ({swept:.3f} m)")
+        check_screenshot(shot, want_label_red=False)
+    elif scenario == "escape":
+        check(log["exit"] == "escape", f"exit {log['exit']}")
+        check(log["frames_counted"] == 5, f"{log['frames_counted']} frames before Escape, expected 5")
+    elif scenario == "lost":
+        check("FOCUSED" in log["states"], "never FOCUSED before the runtime went away")
+        check(log["frames_submitted"] >= 1, "no XR frame before the runtime went away")
+        check("lost" in log["fallback"] or "failed" in log["fallback"] or "ended" in log["fallback"],
+              f"fallback reason {log['fallback']!r}")
+        check(not log["xr_active_at_end"], "XR still active at the end")
+        check(log["exit"] == "escape" and log["frames_counted"] == 60, f"exit {log['exit']} at {log['frames_counted']}")
+        after = [f for f in frames if not f["xr"]]
+        check(len(after) >= 5 and all(f["points_drawn"] == 163840 for f in after[-3:]),
+              "desktop frames after the loss do not draw the kept cloud")
+    else:
+        check(False, f"unknown scenario {scenario}")
+
+    for f in failures:
+        print("FAIL:", f)
+    print("PASS" if not failures else f"{len(failures)} failure(s)")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

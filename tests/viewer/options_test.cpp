@@ -1,0 +1,76 @@
+// tests/viewer/options_test.cpp: viewer options and scripts: parsing and clear errors.
+#include <viewer/viewer.hpp>
+
+#include <engine/error.hpp>
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+using namespace viewer;
+
+namespace {
+std::filesystem::path writeTemp(const std::string& name, const std::string& text) {
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("ladarvr-viewer-" + std::to_string(::getpid()) + "-" + name);
+    std::ofstream(path) << text;
+    return path;
+}
+}  // namespace
+
+TEST_CASE("a script lists key presses by frame") {
+    const auto path = writeTemp("ok.txt", "# frame key\n10 space\n\n25 space   # back\n40 escape\n");
+    const auto events = readScript(path);
+    REQUIRE(events.size() == 3);
+    CHECK(events[0].frame == 10);
+    CHECK(events[0].key == ScriptEvent::Key::Space);
+    CHECK(events[1].frame == 25);
+    CHECK(events[2].key == ScriptEvent::Key::Escape);
+    std::filesystem::remove(path);
+}
+
+TEST_CASE("bad script lines name the file, the line and what is allowed") {
+    const auto bad_frame = writeTemp("f.txt", "10 space\nten space\n");
+    CHECK_THROWS_WITH_AS(readScript(bad_frame), doctest::Contains("line 2: frame 'ten'"), engine::Error);
+    const auto bad_key = writeTemp("k.txt", "5 jump\n");
+    CHECK_THROWS_WITH_AS(readScript(bad_key), doctest::Contains("key 'jump' is not one of space, escape"),
+                         engine::Error);
+    const auto extra = writeTemp("e.txt", "5 space now\n");
+    CHECK_THROWS_WITH_AS(readScript(extra), doctest::Contains("unexpected 'now'"), engine::Error);
+    const auto negative = writeTemp("n.txt", "-3 space\n");
+    CHECK_THROWS_AS(readScript(negative), engine::Error);
+    CHECK_THROWS_WITH_AS(readScript("/nonexistent/script.txt"), doctest::Contains("cannot open"), engine::Error);
+    for (const auto& p : {bad_frame, bad_key, extra, negative}) std::filesystem::remove(p);
+}
+
+TEST_CASE("mirror and colour names") {
+    CHECK(parseMirrorEyes("left") == MirrorEyes::Left);
+    CHECK(parseMirrorEyes("both") == MirrorEyes::Both);
+    CHECK_THROWS_WITH_AS(parseMirrorEyes("up"), doctest::Contains("not one of left, right, both"), engine::Error);
+    CHECK(parseColourMode("height") == ColourMode::HeightJet);
+    CHECK(parseColourMode("label") == ColourMode::Label);
+    CHECK(std::string(colourModeName(ColourMode::White)) == "white");
+    CHECK_THROWS_WITH_AS(parseColourMode("rainbow"), doctest::Contains("not one of file, height, white, label"),
+                         engine::Error);
+}
+
+TEST_CASE("viewer options are validated before a window opens") {
+    ViewerOptions o;
+    CHECK_NOTHROW(validate(o));
+    o.style.point_size_px = 0.5f;
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--point-size"), engine::Error);
+    o = {};
+    o.frames = -1;
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--frames"), engine::Error);
+    o = {};
+    o.screenshot = "shot.jpg";
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains(".png"), engine::Error);
+    o = {};
+    o.window_width = 10;
+    CHECK_THROWS_AS(validate(o), engine::Error);
+    o = {};
+    o.upload_points_per_frame = 10;
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--upload-budget"), engine::Error);
+}

@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# tests/viewer/view_headless_test.sh LADARVR SCENARIO: drives `ladarvr view` headless and
+# asserts on its run log and screenshot (tests/viewer/check_view_log.py). Scenarios:
+#   xr       Monado's simulated HMD (null compositor) under Xvfb: session reaches FOCUSED,
+#            40 frames submitted with both eyes from the runtime's poses, the poses move,
+#            scripted space bar automatic -> free -> automatic, target pixels in the mirror.
+#   desktop  no OpenXR runtime: one clear line, desktop fallback, same script and checks.
+#   escape   desktop, a scripted Escape at frame 5 closes the viewer cleanly.
+#   lost     the runtime is killed after FOCUSED: the viewer drops to the desktop mode
+#            with the cloud kept and runs on until a scripted Escape.
+# Each run has a timeout; headless_env.sh starts and kills Xvfb and Monado (trap).
+set -euo pipefail
+bin=$(realpath "$1")
+scenario=$2
+here=$(cd "$(dirname "$0")" && pwd)
+work=$(mktemp -d /tmp/ladarvr-viewtest.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+
+printf '# frame key\n10 space\n25 space\n' >"$work/script.txt"
+# A small demo cloud (64x64 pixels x 40 views = 163,840 points) keeps llvmpipe frames short.
+common=(view --xres 64 --yres 64 --views 40 --width 960 --height 540
+        --screenshot "$work/shot.png" --log-json "$work/log.json")
+status=0
+case "$scenario" in
+  xr)
+    "$here/headless_env.sh" --monado --timeout 150 -- "$bin" "${common[@]}" --frames 40 \
+      --script "$work/script.txt" --colour label --mirror left --orbit-period 100000 \
+      2>"$work/stderr" || status=$?
+    ;;
+  desktop)
+    "$here/headless_env.sh" --timeout 150 -- "$bin" "${common[@]}" --frames 40 \
+      --script "$work/script.txt" --orbit-period 20 2>"$work/stderr" || status=$?
+    ;;
+  escape)
+    printf '5 escape\n' >"$work/escape.txt"
+    "$here/headless_env.sh" --timeout 150 -- "$bin" "${common[@]}" --no-xr \
+      --script "$work/escape.txt" 2>"$work/stderr" || status=$?
+    ;;
+  lost)
+    printf '60 escape\n' >"$work/escape.txt"
+    cat >"$work/lost.sh" <<LOST
+set -u
+"$bin" ${common[*]} --script "$work/escape.txt" --timeout 120 --colour label --orbit-period 100000 \
+  2>"$work/stderr" &
+viewer=\$!
+for _ in \$(seq 600); do
+  grep -q "OpenXR session focused" "$work/stderr" && break
+  kill -0 \$viewer 2>/dev/null || break
+  sleep 0.1
+done
+sleep 1
+kill -- -"\$LADARVR_MONADO_PGID"   # take the runtime away (the test's own Monado)
+wait \$viewer
+LOST
+    "$here/headless_env.sh" --monado --timeout 150 -- bash "$work/lost.sh" || status=$?
+    ;;
+  *) echo "view_headless_test: unknown scenario '$scenario'" >&2; exit 2 ;;
+esac
+echo "--- viewer stderr (exit $status) ---"
+grep -v '^\s\|^LOG\|^$' "$work/stderr" || true
+[ "$status" = 0 ] || { echo "FAIL: the viewer exited with status $status"; exit 1; }
+python3 "$here/check_view_log.py" "$scenario" "$work/log.json" "$work/shot.png" "$work/stderr"
