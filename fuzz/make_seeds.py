@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Writes the small seed inputs of the fuzz targets into fuzz/seeds/ (stdlib only,
+byte-identical on every run). Seeds are tiny so libFuzzer's mutations stay cheap:
+every PCD DATA kind and PLY encoding the reader accepts, with our fields and foreign
+layouts (double coordinates, rgba, float colours, list and padding properties)."""
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CLOUD = os.path.join(HERE, "seeds", "cloud")
+SCENE = os.path.join(HERE, "seeds", "scene")
+
+PTS = [(0.0, 0.0, 0.0, 0xFF0000, 0, 0, 10.0), (1.5, -2.0, 0.25, 0x00FF00, 1, 1, 11.5),
+       (3.0, 4.0, -1.0, 0x0000FF, 2, 7, 12.25)]
+
+
+def pcd_header(fields, size, typ, count, n, data, extra=""):
+    return ("# .PCD v0.7 - Point Cloud Data file format\n" + extra + "VERSION 0.7\nFIELDS %s\nSIZE %s\nTYPE %s\n"
+            "COUNT %s\nWIDTH %d\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS %d\nDATA %s\n" %
+            (fields, size, typ, count, n, n, data)).encode()
+
+
+def lzf_literal(raw):
+    """LZF stream using literal runs only (<= 32 bytes each): valid for the decoder."""
+    out = bytearray()
+    for i in range(0, len(raw), 32):
+        chunk = raw[i:i + 32]
+        out.append(len(chunk) - 1)
+        out += chunk
+    return bytes(out)
+
+
+def write(name, data, d=CLOUD):
+    with open(os.path.join(d, name), "wb") as f:
+        f.write(data)
+
+
+def main():
+    os.makedirs(CLOUD, exist_ok=True)
+    os.makedirs(SCENE, exist_ok=True)
+    ours = ("x y z rgb label view range", "4 4 4 4 1 2 4", "F F F F U U F", "1 1 1 1 1 1 1")
+    origin = "# ladarvr origin 1000000.5 -2000000.25 30\n"
+    # ascii, ours
+    body = "".join("%r %r %r %.9g %d %d %r\n" % (x, y, z, struct.unpack("<f", struct.pack("<I", c))[0], l, v, r)
+                   for x, y, z, c, l, v, r in PTS)
+    write("ours_ascii.pcd", pcd_header(*ours, len(PTS), "ascii", origin) + body.encode())
+    # binary, ours
+    rec = b"".join(struct.pack("<fffIBHf", x, y, z, c, l, v, r) for x, y, z, c, l, v, r in PTS)
+    write("ours_binary.pcd", pcd_header(*ours, len(PTS), "binary", origin) + rec)
+    # binary_compressed: SoA columns, LZF literals
+    cols = b"".join(b"".join(struct.pack(fmt, p[i]) for p in PTS)
+                    for i, fmt in enumerate(["<f", "<f", "<f", "<I", "<B", "<H", "<f"]))
+    comp = lzf_literal(cols)
+    write("ours_compressed.pcd", pcd_header(*ours, len(PTS), "binary_compressed", origin) +
+          struct.pack("<II", len(comp), len(cols)) + comp)
+    # xyz only, double coordinates, rgba, padding field with count 3
+    rec = b"".join(struct.pack("<dddI", x, y, z, c | 0xFF000000) + b"\0" * 12 for x, y, z, c, *_ in PTS)
+    write("foreign_binary.pcd", pcd_header("x y z rgba _", "8 8 8 4 4", "F F F U F", "1 1 1 1 3",
+                                           len(PTS), "binary") + rec)
+    write("xyz_ascii.pcd", pcd_header("x y z", "4 4 4", "F F F", "1 1 1", 2, "ascii") + b"1 2 3\n4 5 6\n")
+    # PLY ascii, ours
+    ply_props = ("property float x\nproperty float y\nproperty float z\nproperty uchar red\n"
+                 "property uchar green\nproperty uchar blue\nproperty uchar label\nproperty ushort view\n"
+                 "property float range\n")
+    head = "ply\nformat %s 1.0\ncomment ladarvr origin 5 6 7\nelement vertex %d\n" + ply_props + "end_header\n"
+    body = "".join("%r %r %r %d %d %d %d %d %r\n" % (x, y, z, c >> 16, (c >> 8) & 255, c & 255, l, v, r)
+                   for x, y, z, c, l, v, r in PTS)
+    write("ours_ascii.ply", (head % ("ascii", len(PTS))).encode() + body.encode())
+    for fmt, e in (("binary_little_endian", "<"), ("binary_big_endian", ">")):
+        rec = b"".join(struct.pack(e + "fffBBBBHf", x, y, z, c >> 16, (c >> 8) & 255, c & 255, l, v, r)
+                       for x, y, z, c, l, v, r in PTS)
+        write("ours_%s.ply" % fmt, (head % (fmt, len(PTS))).encode() + rec)
+    # PLY with a face element before the vertices (lists), double coords, float colours
+    head = ("ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+            "element vertex 2\nproperty double x\nproperty double y\nproperty double z\n"
+            "property float red\nproperty float green\nproperty float blue\nend_header\n")
+    data = struct.pack("<B3i", 3, 0, 1, 0) + b"".join(struct.pack("<dddfff", i, 2.0 * i, 3.0, 0.5, 0.25, 1.0)
+                                                     for i in range(2))
+    write("foreign_faces.ply", head.encode() + data)
+
+    # Scenes: mesh names resolve in tests/data/scenes/basic/ (box.obj, ground.obj).
+    write("basic.json", b'{"meshes": [{"file": "ground.obj", "role": "ground"},\n'
+          b' {"file": "box.obj", "role": "target", "position": [2, 3, 0], "yaw_deg": 90, "scale": 2},\n'
+          b' {"file": "box.obj", "role": "environment", "position": [-5, 0, 0], "up": "y"}]}\n', SCENE)
+    write("georef.json", b'{"comment": "far away", "origin": [1e7, -1e6, 12.5],\n'
+          b' "meshes": [{"file": "box.obj", "role": "target", "position": [10000002.0, -1000003.0, 12.5]}]}\n', SCENE)
+    write("errors.json", b'{"meshes": [{"file": "box.obj", "role": "target", "scale": 1e-30, "up": "z", '
+          b'"comment": "x"}, {"file": "nothere.obj", "role": "buildng"}]}\n', SCENE)
+
+
+if __name__ == "__main__":
+    main()
