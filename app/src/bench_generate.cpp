@@ -312,8 +312,19 @@ void run(const BenchGenerateCli& cli) {
     t0 = Clock::now();
     engine::Scene big = demo;
     const std::size_t want = cli.quick ? 500000 : 2000000;
-    while (big.triangleCount() < want)
+    // Whole levels while they stay under the goal, then the largest meshes one by one
+    // until it is reached, so the scene lands just above `want` triangles.
+    while (big.triangleCount() * 4 <= want)
         for (auto& m : big.meshes) m = subdivide(m);
+    std::vector<std::size_t> order(big.meshes.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return big.meshes[a].triangles.size() > big.meshes[b].triangles.size();
+    });
+    for (std::size_t i : order) {
+        if (big.triangleCount() >= want) break;
+        big.meshes[i] = subdivide(big.meshes[i]);
+    }
     const double big_prepare_s = demo_load_s + secondsSince(t0);
     sim::GenerateOptions large;
     large.threads = cli.threads;

@@ -243,6 +243,9 @@ void registerGenerate(CLI::App& cli) {
     c->add_option("--max-planes", ground.max_planes, "planes per view at most, [0, 100000]")->capture_default_str();
     c->add_option("--ransac-iterations", ground.ransac_iterations, "RANSAC iterations per plane at most")
         ->capture_default_str();
+    c->add_option("--ransac-sample-points", ground.ransac_sample_points,
+                  "RANSAC searches planes on at most this many band points, 0 = all")
+        ->capture_default_str();
     c->add_option("--colours", o.colour.entries, "entries of the jet map, [2, 256]")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb, "above this the fused cloud is spooled to disk")
         ->capture_default_str();

@@ -58,6 +58,8 @@ void validate(const GroundOptions& o) {
     if (!(o.min_plane_fraction >= 0.0 && o.min_plane_fraction <= 1.0))
         fail("min_plane_fraction (--min-plane-fraction)", o.min_plane_fraction, "[0, 1]");
     if (o.max_planes < 0 || o.max_planes > 100000) fail("max_planes (--max-planes)", o.max_planes, "[0, 100000]");
+    if (o.ransac_sample_points < 0 || (o.ransac_sample_points > 0 && o.ransac_sample_points < 3))
+        fail("ransac_sample_points (--ransac-sample-points)", o.ransac_sample_points, "0 (all) or >= 3");
     if (o.ransac_iterations < 1 || o.ransac_iterations > 10000000)
         fail("ransac_iterations (--ransac-iterations)", o.ransac_iterations, "[1, 10000000]");
 }
@@ -124,13 +126,28 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Gr
             iterations = int(std::clamp(needed, 1.0, double(o.ransac_iterations)));
         }
         seg.setMaxIterations(iterations);
-        seg.setIndices(remaining);
+        // PC keeps its shuffled order, so its first points are a uniform sample.
+        const bool sampled = o.ransac_sample_points > 0 && remaining->size() > std::size_t(o.ransac_sample_points);
+        seg.setIndices(sampled ? std::make_shared<pcl::Indices>(remaining->begin(),
+                                                                remaining->begin() + o.ransac_sample_points)
+                               : remaining);
         pcl::PointIndices inliers;
         pcl::ModelCoefficients plane;
         seg.segment(inliers, plane);                       // step 2
         if (inliers.indices.empty() || plane.values.size() < 4) break;
         ++planes;
         const double n_len = std::hypot(plane.values[0], plane.values[1], plane.values[2]);
+        if (sampled && n_len > 0.0) {
+            // The plane's inliers among all of PC, as PCL's selectWithinDistance would.
+            const double a = plane.values[0] / n_len, b = plane.values[1] / n_len,
+                         c = plane.values[2] / n_len, d = plane.values[3] / n_len;
+            inliers.indices.clear();
+            for (const pcl::index_t k : *remaining) {
+                const pcl::PointXYZ& p = (*cloud)[std::size_t(k)];
+                if (std::abs(a * p.x + b * p.y + c * p.z + d) <= o.distance_threshold_m)
+                    inliers.indices.push_back(k);
+            }
+        }
         const bool horizontal = n_len > 0.0 && std::abs(plane.values[2]) / n_len >= o.min_normal_z;
         const bool big_enough = double(inliers.indices.size()) >= min_plane_count;
         const bool accept = horizontal && big_enough;

@@ -161,3 +161,23 @@ TEST_CASE("a horizontal plane under min_plane_fraction is not ground (tank roof,
     for (std::size_t i = 0; i < ground.size(); ++i) roof += l.kind[i] == 2 && ground[i];
     CHECK(roof == 100);
 }
+
+TEST_CASE("RANSAC on a sample of a big band finds the same ground as on all of it") {
+    std::mt19937 rng(8);
+    Labelled l;
+    addPatch(l, rng, 60000, -50, 50, -50, 50, 0.0f);
+    std::uniform_real_distribution<float> wy(-20, 20), wz(0.3f, 2.9f), noise(-0.02f, 0.02f);
+    for (int i = 0; i < 8000; ++i) l.add({-7.0f + noise(rng), wy(rng), wz(rng)}, 1);
+    sim::GroundOptions sampled;  // default: plane search on 20,000 of the 68,000 band points
+    sim::GroundOptions full;
+    full.ransac_sample_points = 0;
+    sim::GroundStats st_sampled, st_full;
+    const auto a = sim::findGround(l.points, sampled, 2, &st_sampled);
+    const auto b = sim::findGround(l.points, full, 2, &st_full);
+    std::size_t ground_a = 0, wall_a = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) (l.kind[i] == 0 ? ground_a : wall_a) += a[i];
+    CHECK(ground_a == 60000);  // inliers are taken over all of PC, not just the sample
+    CHECK(wall_a == 0);
+    CHECK(a == b);
+    CHECK(st_sampled.planes_rejected >= 1);
+}
