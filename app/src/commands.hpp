@@ -14,5 +14,7 @@ void registerView(CLI::App& cli);       // cmd_view.cpp:     `ladarvr view`
 void registerBenchGenerate(CLI::App& bench);  // bench_generate.cpp
 void registerBenchMetric(CLI::App& bench);    // bench_metric.cpp
 void registerBenchView(CLI::App& bench);      // bench_view.cpp
+void registerBenchPeers(CLI::App& bench);     // bench_peers.cpp
+void registerBenchAll(CLI::App& bench);       // bench_all.cpp: `bench all` and `bench fuzz`
 
 }  // namespace app

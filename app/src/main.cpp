@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
     app::registerBenchGenerate(*bench);
     app::registerBenchMetric(*bench);
     app::registerBenchView(*bench);
+    app::registerBenchPeers(*bench);
+    app::registerBenchAll(*bench);
     try {
         cli.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,325 @@
+// app/src/bench_all.cpp: `ladarvr bench all` and `ladarvr bench fuzz` (issue 5).
+//
+// bench all regenerates BENCHMARKS.md from scratch on the current machine: it writes the
+// file's header, then runs bench generate, metric, view, peers and fuzz one after the
+// other as child processes of this same executable (each in a fresh process, so GL
+// contexts, Embree devices and thread pools never overlap), with a progress line per
+// step. Each benchmark replaces its own `## ` section; a benchmark that prints its table
+// instead (bench view) gets a section made of its output. The PNG plots are redrawn
+// from the benchmarks' CSV files at the end, and the header is rewritten with the steps'
+// times. bench fuzz runs scripts/fuzz.sh (libFuzzer, clang build in build/fuzz) for a
+// bounded time per target and writes the `## Fuzzing (ladarvr bench fuzz)` section.
+#include "commands.hpp"
+
+#include <engine/atomic_file.hpp>
+#include <engine/error.hpp>
+#include <engine/scene.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace app {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string fmt(const char* format, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, format, v);
+    return b;
+}
+
+std::string cpuName() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown CPU";
+}
+
+std::string utcNow() {
+    std::time_t now = std::time(nullptr);
+    char date[64];
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    return date;
+}
+
+std::string readText(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+fs::path sourceRoot() { return engine::demoScenePath().parent_path().parent_path().parent_path(); }
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+/// Runs `cmd` through the shell; stdout is echoed line by line and returned, stderr
+/// passes through. Returns the exit status in *status.
+std::string runEcho(const std::string& cmd, int* status) {
+    std::string out;
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (!p) throw engine::Error("bench: cannot run '" + cmd + "'");
+    char buf[4096];
+    while (std::fgets(buf, sizeof buf, p)) {
+        out += buf;
+        std::fputs(buf, stdout);
+        std::fflush(stdout);
+    }
+    const int rc = ::pclose(p);
+    *status = WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
+    return out;
+}
+
+/// Replaces (or appends) the section starting with `heading` in `path`.
+void replaceSection(const fs::path& path, const std::string& heading, const std::string& section) {
+    std::string text = fs::exists(path) ? readText(path) : std::string("# Benchmarks\n");
+    const std::size_t start = text.find(heading);
+    if (start == std::string::npos) {
+        if (!text.empty() && text.back() != '\n') text += '\n';
+        text += "\n" + section;
+    } else {
+        std::size_t end = text.find("\n## ", start + heading.size());
+        end = end == std::string::npos ? text.size() : end + 1;
+        text = text.substr(0, start) + section + (end < text.size() ? "\n" + text.substr(end) : "");
+    }
+    engine::writeFileAtomic(path, text);
+}
+
+/// Replaces everything before the first `## ` section of `path` with `header`.
+void replaceHeader(const fs::path& path, const std::string& header) {
+    const std::string text = fs::exists(path) ? readText(path) : std::string();
+    const std::size_t first = text.rfind("## ", 0) == 0 ? 0 : text.find("\n## ");
+    engine::writeFileAtomic(path, header + (first == std::string::npos ? "" : "\n" + text.substr(first + (first ? 1 : 0))));
+}
+
+// --- bench fuzz -------------------------------------------------------------
+
+struct BenchFuzzCli {
+    int seconds = 120;
+    std::string md = "BENCHMARKS.md";
+    bool no_md = false;
+};
+
+struct FuzzRun {
+    std::string target;
+    long long seconds = 0, runs = 0, corpus = 0, cov = 0, crashes = 0;
+    int rc = 0;
+};
+
+long long field(const std::string& line, const std::string& key) {
+    const std::size_t at = line.find(" " + key + "=");
+    return at == std::string::npos ? -1 : std::atoll(line.c_str() + at + key.size() + 2);
+}
+
+void runFuzz(const BenchFuzzCli& cli) {
+    if (cli.seconds < 1 || cli.seconds > 86400)
+        throw engine::Error("bench fuzz: --seconds = " + std::to_string(cli.seconds) + ": allowed [1, 86400]");
+    const fs::path script = sourceRoot() / "scripts" / "fuzz.sh";
+    if (!fs::exists(script)) throw engine::Error("bench fuzz: " + script.string() + " is missing");
+    const auto t0 = Clock::now();
+    int status = 0;
+    std::fprintf(stderr, "bench fuzz: building the clang targets and fuzzing each for %d s\n", cli.seconds);
+    const std::string out = runEcho("bash " + quote(script.string()) + " " + std::to_string(cli.seconds), &status);
+    std::vector<FuzzRun> runs;
+    std::istringstream lines(out);
+    std::string line;
+    while (std::getline(lines, line)) {
+        if (line.rfind("fuzz: ", 0) != 0 || line.find(" runs=") == std::string::npos) continue;
+        FuzzRun r;
+        r.target = line.substr(6, line.find(' ', 6) - 6);
+        r.seconds = field(line, "seconds");
+        r.runs = field(line, "runs");
+        r.corpus = field(line, "corpus");
+        r.cov = field(line, "cov");
+        r.crashes = field(line, "crashes");
+        r.rc = int(field(line, "rc"));
+        runs.push_back(r);
+    }
+    if (runs.empty())
+        throw engine::Error("bench fuzz: " + script.string() + " ran no target (exit " + std::to_string(status) +
+                            "); is clang installed? (BENCH_PACKAGES of ./ladarvr)");
+    std::ostringstream s;
+    s << "## Fuzzing (ladarvr bench fuzz)\n\n"
+      << "Command: `./ladarvr bench fuzz --seconds " << cli.seconds << "` (runs `scripts/fuzz.sh`); machine: "
+      << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
+      << fmt("%.0f", since(t0)) << " s in all, build included. libFuzzer from Debian's clang, the engine "
+      << "compiled with ASan + UBSan (UB aborts), one process per target, seeds from fuzz/seeds, "
+      << "tests/data and earlier runs (corpus kept in build/fuzz/corpus). Not run in CI.\n\n"
+      << "| target | parser | seconds | executions | exec/s | corpus | coverage (edges) | crashes |\n"
+      << "|---|---|---|---|---|---|---|---|\n";
+    long long crashes = 0;
+    for (const FuzzRun& r : runs) {
+        crashes += r.crashes;
+        s << "| " << r.target << " | "
+          << (r.target == "fuzz_scene_json" ? "`engine::loadSceneJson` (scene JSON + Assimp meshes)"
+                                            : "`engine::readCloudData` (PCD ascii/binary/compressed, PLY)")
+          << " | " << r.seconds << " | " << r.runs << " | "
+          << fmt("%.0f", r.seconds > 0 ? double(r.runs) / double(r.seconds) : 0.0) << " | " << r.corpus << " | "
+          << r.cov << " | " << r.crashes << (r.rc != 0 ? " (exit " + std::to_string(r.rc) + ")" : "") << " |\n";
+    }
+    s << "\nCrashes found by earlier runs are kept as regression tests (tests/data/engine/fuzz_regressions/, "
+         "tests/engine/fuzz_regression_test.cpp); docs/stress.md lists them.\n";
+    if (!cli.no_md) {
+        replaceSection(cli.md, "## Fuzzing (ladarvr bench fuzz)", s.str());
+        std::fprintf(stderr, "bench fuzz: wrote the section to %s\n", cli.md.c_str());
+    } else {
+        std::fputs(s.str().c_str(), stdout);
+    }
+    if (crashes > 0 || status != 0)
+        throw engine::Error("bench fuzz: " + std::to_string(crashes) + " crash(es) found; inputs in build/fuzz/artifacts/");
+}
+
+// --- bench all --------------------------------------------------------------
+
+struct BenchAllCli {
+    bool quick = false;
+    bool dry_run = false;
+    int fuzz_seconds = 0;                // 0: 120 (30 with --quick)
+    std::string only;                    // comma-separated subset
+    std::string md = "BENCHMARKS.md";
+    std::string img_dir;                 // default: <source>/docs/img
+    std::string csv_dir = "out";         // where benchmarks leave CSV files for the plots
+};
+
+struct Step {
+    std::string name, args, heading;     // heading: the section the benchmark writes
+    bool writes_md = true;               // false: bench all makes the section from stdout
+    double seconds = 0;
+    int status = 0;
+};
+
+const char* kHeader =
+    "# Benchmarks\n\n"
+    "Figures come from benchmark programs (`./ladarvr bench ...`), never from tests. Each\n"
+    "warms up, repeats, reports medians and compares against a baseline measured in the same\n"
+    "run; the development machines have 2 noisy cores, so read the ratios, not lone times.\n"
+    "`./ladarvr bench all` regenerates this file and its plots on the current machine.\n";
+
+void runAll(const BenchAllCli& cli) {
+    const int fuzz_s = cli.fuzz_seconds > 0 ? cli.fuzz_seconds : cli.quick ? 30 : 120;
+    const std::string q = cli.quick ? " --quick" : "";
+    const std::string md = " --md " + quote(cli.md);
+    std::vector<Step> steps = {
+        {"generate", "generate" + q + md, "## Generator (ladarvr bench generate)"},
+        {"metric", "metric" + q + md + " --csv " + quote((fs::path(cli.csv_dir) / "bench_metric.csv").string()),
+         "## Metric (ladarvr bench metric)"},
+        {"view", std::string("view") + (cli.quick ? " --points 1638400 --frames 5 --warmup 2" : ""),
+         "## Viewer (ladarvr bench view)", false},
+        {"peers", "peers" + q + md, "## Peers (ladarvr bench peers)"},
+        {"fuzz", "fuzz --seconds " + std::to_string(fuzz_s) + md, "## Fuzzing (ladarvr bench fuzz)"},
+    };
+    if (!cli.only.empty()) {
+        std::vector<Step> keep;
+        for (const Step& s : steps)
+            if (("," + cli.only + ",").find("," + s.name + ",") != std::string::npos) keep.push_back(s);
+        if (keep.empty())
+            throw engine::Error("bench all: --only '" + cli.only + "': allowed a list of generate, metric, view, "
+                                "peers, fuzz");
+        steps = keep;
+    }
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) throw engine::Error("bench all: cannot find this executable (/proc/self/exe)");
+    const auto t0 = Clock::now();
+    if (cli.dry_run) {
+        for (std::size_t i = 0; i < steps.size(); ++i)
+            std::printf("bench all: [%zu/%zu] %s bench %s\n", i + 1, steps.size(), exe.c_str(), steps[i].args.c_str());
+        return;
+    }
+    const std::string started = utcNow();
+    // From scratch: the header alone, then each benchmark appends its section.
+    engine::writeFileAtomic(cli.md, std::string(kHeader));
+    int failed = 0;
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        Step& s = steps[i];
+        std::fprintf(stderr, "bench all: [%zu/%zu] bench %s (%.0f s so far)\n", i + 1, steps.size(), s.args.c_str(),
+                     since(t0));
+        const auto t1 = Clock::now();
+        const std::string out = runEcho(quote(exe.string()) + " bench " + s.args, &s.status);
+        s.seconds = since(t1);
+        std::fprintf(stderr, "bench all: [%zu/%zu] bench %s %s in %.0f s\n", i + 1, steps.size(), s.name.c_str(),
+                     s.status == 0 ? "done" : "FAILED", s.seconds);
+        failed += s.status != 0;
+        const bool has_section = readText(cli.md).find(s.heading) != std::string::npos;
+        if (!has_section) {
+            std::string section = s.heading + "\n\nCommand: `./ladarvr bench " + s.args + "` (section written by "
+                                  "`bench all` from the program's output); machine: " +
+                                  std::to_string(std::thread::hardware_concurrency()) + " cores, " + cpuName() +
+                                  "; " + utcNow() + "; " + fmt("%.0f", s.seconds) + " s" +
+                                  (s.status ? ", FAILED with exit status " + std::to_string(s.status) : "") + ".\n\n" +
+                                  out + (out.empty() || out.back() == '\n' ? "" : "\n");
+            replaceSection(cli.md, s.heading, section);
+        }
+    }
+    // Plots from the benchmarks' CSV files.
+    const fs::path root = sourceRoot();
+    const fs::path img = cli.img_dir.empty() ? root / "docs" / "img" : fs::path(cli.img_dir);
+    const fs::path metric_csv = fs::path(cli.csv_dir) / "bench_metric.csv";
+    if (fs::exists(metric_csv) && fs::exists(root / "scripts" / "plot_metric_bench.py")) {
+        int status = 0;
+        fs::create_directories(img, ec);
+        const fs::path png = img / "metric_error_vs_time.png";
+        runEcho("python3 " + quote((root / "scripts" / "plot_metric_bench.py").string()) + " " +
+                    quote(metric_csv.string()) + " " + quote(png.string()),
+                &status);
+        std::fprintf(stderr, "bench all: plot %s %s\n", png.c_str(), status == 0 ? "drawn" : "FAILED");
+        failed += status != 0;
+    }
+    const double total = since(t0);
+    std::ostringstream h;
+    h << kHeader << "\nThis file: `./ladarvr bench all" << (cli.quick ? " --quick" : "")
+      << (cli.only.empty() ? "" : " --only " + cli.only) << "`, started " << started << " on "
+      << std::thread::hardware_concurrency() << " cores (" << cpuName() << "), " << fmt("%.0f", total)
+      << " s in all: ";
+    for (std::size_t i = 0; i < steps.size(); ++i)
+        h << (i ? ", " : "") << steps[i].name << " " << fmt("%.0f s", steps[i].seconds)
+          << (steps[i].status ? " (FAILED)" : "");
+    h << ".\n";
+    replaceHeader(cli.md, h.str());
+    std::fprintf(stderr, "bench all: %s in %.0f s (%s)\n", failed ? "finished with failures" : "done", total,
+                 cli.md.c_str());
+    if (failed) throw engine::Error("bench all: " + std::to_string(failed) + " step(s) failed; see above");
+}
+
+}  // namespace
+
+void registerBenchAll(CLI::App& bench) {
+    auto fuzz = std::make_shared<BenchFuzzCli>();
+    CLI::App* f = bench.add_subcommand("fuzz", "libFuzzer targets of the scene JSON and cloud readers for a bounded "
+                                               "time each (clang build in build/fuzz; not CI)");
+    f->add_option("--seconds", fuzz->seconds, "seconds per target")->capture_default_str();
+    f->add_option("--md", fuzz->md, "markdown file whose fuzzing section is rewritten")->capture_default_str();
+    f->add_flag("--no-md", fuzz->no_md, "print the section, leave the file alone");
+    f->callback([fuzz] { runFuzz(*fuzz); });
+
+    auto all = std::make_shared<BenchAllCli>();
+    CLI::App* a = bench.add_subcommand("all", "every benchmark in sequence (generate, metric, view, peers, fuzz), "
+                                              "BENCHMARKS.md and its plots regenerated from scratch");
+    a->add_flag("--quick", all->quick, "pass --quick (or small sizes) to every benchmark, 30 s of fuzzing");
+    a->add_option("--fuzz-seconds", all->fuzz_seconds, "seconds per fuzz target (default 120, 30 with --quick)");
+    a->add_option("--only", all->only, "comma-separated subset of generate, metric, view, peers, fuzz");
+    a->add_option("--md", all->md, "the markdown file to regenerate")->capture_default_str();
+    a->add_option("--img-dir", all->img_dir, "where the PNG plots go (default: <source>/docs/img)");
+    a->add_option("--csv-dir", all->csv_dir, "where benchmarks write their CSV files")->capture_default_str();
+    a->add_flag("--dry-run", all->dry_run, "print the steps only");
+    a->callback([all] { runAll(*all); });
+}
+
+}  // namespace app

@@ -1,0 +1,474 @@
+// app/src/bench_peers.cpp: `ladarvr bench peers`: our code side by side with peer
+// libraries in one run, on the same scene and the same data (issue 5):
+//   1. ray casting: the generator's cast stage (rtcIntersect16 packets) and a plain
+//      rtcIntersect1 loop (sim::RayCaster::intersect) against Open3D's RaycastingScene
+//      (scripts/peer_open3d.py) on the same triangles and the same 1.64 M rays, with the
+//      hit agreement;
+//   2. binary PCD write and read of the paper's 1.64 M-point cloud against PCL's
+//      savePCDFileBinary / loadPCDFile (same fields), and each reading the other's file;
+//   3. ground whitening (paper §III-C, iterative RANSAC per view) against PCL's
+//      progressive morphological filter: precision, recall and time on the demo and
+//      hilly scenes, against the generator's ground-truth labels.
+// A program, not a test: warm-up, repeats, medians, ratios; the section
+// "## Peers (ladarvr bench peers)" of BENCHMARKS.md is rewritten.
+#include "bench_peers_pcl.hpp"
+#include "commands.hpp"
+
+#include <engine/atomic_file.hpp>
+#include <engine/cloud_io.hpp>
+#include <engine/error.hpp>
+#include <engine/scene.hpp>
+#include <sim/generator.hpp>
+#include <sim/raycaster.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <unistd.h>
+#include <vector>
+
+namespace app {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct BenchPeersCli {
+    bool quick = false;
+    int threads = 0;
+    int repeats = 5;
+    std::string md = "BENCHMARKS.md";
+    bool no_md = false;
+    std::string python = "python3";
+    std::string open3d_script;   // default: <source>/scripts/peer_open3d.py
+    std::string tmp;
+    int pmf_stride = 0;          // 0: from the point budget below
+};
+
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double median(std::vector<double> v) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double quantile(std::vector<double> v, double q) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+std::string fmt(const char* format, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, format, v);
+    return b;
+}
+
+std::string cpuName() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown CPU";
+}
+
+fs::path sourceRoot() { return engine::demoScenePath().parent_path().parent_path().parent_path(); }
+
+/// Replaces (or appends) the `## Peers (ladarvr bench peers)` section of `path`.
+void updateMarkdown(const fs::path& path, const std::string& section) {
+    const std::string heading = "## Peers (ladarvr bench peers)";
+    std::string text = "# Benchmarks\n";
+    if (fs::exists(path)) {
+        std::ifstream in(path, std::ios::binary);
+        std::stringstream b;
+        b << in.rdbuf();
+        text = b.str();
+    }
+    const std::size_t start = text.find(heading);
+    if (start == std::string::npos) {
+        if (!text.empty() && text.back() != '\n') text += '\n';
+        text += "\n" + section;
+    } else {
+        std::size_t end = text.find("\n## ", start + heading.size());
+        end = end == std::string::npos ? text.size() : end + 1;
+        text = text.substr(0, start) + section + (end < text.size() ? "\n" + text.substr(end) : "");
+    }
+    engine::writeFileAtomic(path, text);
+}
+
+/// RayCaster::intersect (rtcIntersect1 per ray) over `rays` on `threads` threads taking
+/// 4096-ray chunks from a shared counter; returns the wall time.
+double plainLoop(const sim::RayCaster& caster, const std::vector<sim::Ray>& rays, std::vector<sim::Hit>& hits,
+                 int threads) {
+    hits.resize(rays.size());
+    constexpr std::size_t kChunk = 4096;
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+        for (;;) {
+            const std::size_t begin = next.fetch_add(kChunk);
+            if (begin >= rays.size()) return;
+            const std::size_t n = std::min(kChunk, rays.size() - begin);
+            caster.intersect(std::span(rays).subspan(begin, n), std::span(hits).subspan(begin, n));
+        }
+    };
+    const auto t0 = Clock::now();
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (auto& t : pool) t.join();
+    return since(t0);
+}
+
+struct RayResult {
+    std::uint64_t rays = 0;
+    std::size_t triangles = 0;
+    double generator_cast_s = 0, plain_s = 0, open3d_s = 0;
+    std::string open3d_version;
+    double same_hit_fraction = 0;
+    std::uint64_t both_hit = 0, differ_1mm = 0;
+    double dt_median_m = 0, dt_p99_m = 0, dt_max_m = 0;
+};
+
+RayResult rayCasting(const engine::Scene& scene, const sim::GenerateOptions& options, const BenchPeersCli& cli,
+                     int threads, const fs::path& dir) {
+    RayResult r;
+    sim::Generator g(scene, options);
+    // All rays of the orbit, in output order.
+    std::vector<sim::Ray> rays, view_rays;
+    for (int v = 0; v < options.orbit.views; ++v) {
+        g.viewRays(v, view_rays);
+        rays.insert(rays.end(), view_rays.begin(), view_rays.end());
+    }
+    r.rays = rays.size();
+    r.triangles = g.caster().triangleCount();
+
+    // Ours: the generator's cast stage (fresh generator per run: its BVH is built in the
+    // constructor, outside the cast stage) and the plain loop on the same BVH.
+    const int repeats = cli.quick ? 3 : cli.repeats;
+    std::vector<double> gen, plain;
+    std::vector<sim::Hit> hits;
+    plainLoop(g.caster(), rays, hits, threads);  // warm-up
+    for (int k = 0; k < repeats + 1; ++k) {
+        sim::GenerateStats st;
+        sim::GenerateOptions o = options;
+        o.white = true;  // no RANSAC: only the cast stage is compared
+        sim::Generator(scene, o).run(&st);
+        if (k > 0) gen.push_back(st.seconds.cast);  // the first is the warm-up
+        plain.push_back(plainLoop(g.caster(), rays, hits, threads));
+    }
+    r.generator_cast_s = median(gen);
+    r.plain_s = median(plain);
+
+    // Open3D: dump the same triangles (the meshes the generator casts, merged) and rays.
+    const fs::path dump = dir / "rays.bin", out_hits = dir / "open3d_hits.bin";
+    {
+        std::vector<float> vertices;
+        std::vector<std::uint32_t> indices;
+        for (const engine::Mesh& m : scene.meshes) {
+            if (!options.roles.has(m.role)) continue;
+            const std::uint32_t base = std::uint32_t(vertices.size() / 3);
+            for (const glm::vec3& v : m.vertices) vertices.insert(vertices.end(), {v.x, v.y, v.z});
+            for (const glm::uvec3& t : m.triangles) indices.insert(indices.end(), {base + t.x, base + t.y, base + t.z});
+        }
+        std::ofstream f(dump, std::ios::binary);
+        const std::uint64_t counts[3] = {vertices.size() / 3, indices.size() / 3, rays.size()};
+        f.write("LVRAYS01", 8);
+        f.write(reinterpret_cast<const char*>(counts), sizeof counts);
+        f.write(reinterpret_cast<const char*>(vertices.data()), std::streamsize(vertices.size() * 4));
+        f.write(reinterpret_cast<const char*>(indices.data()), std::streamsize(indices.size() * 4));
+        std::vector<float> buf;
+        buf.reserve(rays.size() * 6);
+        for (const sim::Ray& ray : rays)
+            buf.insert(buf.end(), {ray.origin.x, ray.origin.y, ray.origin.z, ray.direction.x, ray.direction.y,
+                                   ray.direction.z});
+        f.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size() * 4));
+        if (!f) throw engine::Error("bench peers: cannot write the ray dump " + dump.string());
+    }
+    const fs::path script = cli.open3d_script.empty() ? sourceRoot() / "scripts" / "peer_open3d.py"
+                                                      : fs::path(cli.open3d_script);
+    const std::string cmd = cli.python + " '" + script.string() + "' '" + dump.string() + "' '" +
+                            out_hits.string() + "' --repeats " + std::to_string(repeats) + " --threads " +
+                            std::to_string(threads);
+    std::string output;
+    if (FILE* p = ::popen(cmd.c_str(), "r")) {
+        char buf[4096];
+        while (std::fgets(buf, sizeof buf, p)) output += buf;
+        if (::pclose(p) != 0)
+            throw engine::Error("bench peers: '" + cmd + "' failed (is python3-open3d installed? it is in "
+                                "BENCH_PACKAGES of ./ladarvr): " + output);
+    } else {
+        throw engine::Error("bench peers: cannot run '" + cmd + "'");
+    }
+    const auto line = output.rfind('{');
+    if (line == std::string::npos) throw engine::Error("bench peers: no JSON from " + script.string() + ": " + output);
+    const nlohmann::json j = nlohmann::json::parse(output.substr(line));
+    r.open3d_s = j.at("median_s").get<double>();
+    r.open3d_version = j.at("open3d").get<std::string>();
+
+    // Agreement of the plain loop's hits with Open3D's t_hit (inf = miss).
+    std::vector<float> t3(rays.size());
+    {
+        std::ifstream f(out_hits, std::ios::binary);
+        f.read(reinterpret_cast<char*>(t3.data()), std::streamsize(t3.size() * 4));
+        if (!f) throw engine::Error("bench peers: " + out_hits.string() + " is short");
+    }
+    std::uint64_t same = 0;
+    std::vector<double> dt;
+    dt.reserve(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const bool a = hits[i].hit(), b = std::isfinite(t3[i]);
+        same += a == b;
+        if (a && b) {
+            const double d = std::abs(double(hits[i].t) - double(t3[i]));
+            dt.push_back(d);
+            r.differ_1mm += d > 1e-3;
+        }
+    }
+    r.same_hit_fraction = double(same) / double(rays.size());
+    r.both_hit = dt.size();
+    r.dt_median_m = median(dt);
+    r.dt_p99_m = quantile(dt, 0.99);
+    r.dt_max_m = dt.empty() ? 0.0 : *std::max_element(dt.begin(), dt.end());
+    fs::remove(dump);
+    fs::remove(out_hits);
+    return r;
+}
+
+struct IoResult {
+    std::size_t points = 0;
+    double ours_write_s = 0, ours_read_s = 0, pcl_write_s = 0, pcl_read_s = 0;
+    double file_mib = 0;
+    bool pcl_reads_ours = false, ours_reads_pcl = false, pcl_round_trip = false;
+};
+
+IoResult pcdIo(const engine::PointCloud& cloud, int repeats, const fs::path& dir) {
+    IoResult r;
+    r.points = cloud.points.size();
+    const fs::path ours = dir / "ours.pcd", theirs = dir / "pcl.pcd";
+    std::vector<double> ow, orr, pw, pr;
+    for (int k = 0; k < repeats + 1; ++k) {  // k = 0 is the warm-up
+        fs::remove(ours);
+        auto t0 = Clock::now();
+        engine::writeCloud(ours, cloud, engine::CloudFormat::PcdBinary);
+        const double w = since(t0);
+        t0 = Clock::now();
+        const engine::PointCloud back = engine::readCloud(ours);
+        const double rd = since(t0);
+        if (back.points.size() != cloud.points.size())
+            throw engine::Error("bench peers: our reader read " + std::to_string(back.points.size()) + " points");
+        const peers::PclIo p = peers::pclWriteRead(cloud, theirs);
+        if (k > 0) {
+            ow.push_back(w);
+            orr.push_back(rd);
+            pw.push_back(p.write_s);
+            pr.push_back(p.read_s);
+        }
+        r.pcl_round_trip = p.same_points;
+    }
+    r.ours_write_s = median(ow);
+    r.ours_read_s = median(orr);
+    r.pcl_write_s = median(pw);
+    r.pcl_read_s = median(pr);
+    r.file_mib = double(fs::file_size(ours)) / 1048576.0;
+    // Each reads the other's file.
+    std::size_t n = 0;
+    r.pcl_reads_ours = peers::pclReadsOurs(ours, cloud, &n);
+    const engine::PointCloud from_pcl = engine::readCloud(theirs);
+    r.ours_reads_pcl = from_pcl.points.size() == cloud.points.size();
+    for (std::size_t i = 0; r.ours_reads_pcl && i < cloud.points.size(); ++i) {
+        const auto &a = from_pcl.points[i], &b = cloud.points[i];
+        r.ours_reads_pcl = a.position == b.position && a.rgb == b.rgb && a.label == b.label && a.view == b.view &&
+                           a.range_m == b.range_m;
+    }
+    fs::remove(ours);
+    fs::remove(theirs);
+    return r;
+}
+
+struct GroundResult {
+    std::string scene;
+    std::size_t points = 0, pmf_points = 0;
+    int pmf_stride = 1;
+    double ransac_s = 0, ransac_precision = 0, ransac_recall = 0;
+    double pmf_s = 0, pmf_precision = 0, pmf_recall = 0;
+    int threads = 1;
+};
+
+GroundResult ground(const std::string& name, const engine::Scene& scene, const sim::GenerateOptions& options,
+                    std::size_t pmf_budget, int stride_option) {
+    GroundResult r;
+    r.scene = name;
+    sim::GenerateStats st;
+    const engine::PointCloud cloud = sim::generateCloud(scene, options, &st);
+    r.points = cloud.points.size();
+    r.threads = st.threads;
+    r.ransac_s = st.seconds.ransac;
+    r.ransac_precision = st.ground_precision.value_or(std::nan(""));
+    r.ransac_recall = st.ground_recall.value_or(std::nan(""));
+    // PMF's morphological opening searches a box per point per window: on 1.6 M points
+    // at ~130 points/m^2 that is beyond reach, so it gets every k-th point (airborne Lidar
+    // density, a few points per m^2) and is scored on those points.
+    r.pmf_stride = stride_option > 0 ? stride_option
+                                      : int(std::max<std::size_t>(1, (cloud.points.size() + pmf_budget - 1) / pmf_budget));
+    std::vector<glm::vec3> pts;
+    std::vector<std::uint8_t> truth;
+    for (std::size_t i = 0; i < cloud.points.size(); i += std::size_t(r.pmf_stride)) {
+        pts.push_back(cloud.points[i].position);
+        truth.push_back(cloud.points[i].label == engine::Role::Ground);
+    }
+    r.pmf_points = pts.size();
+    const auto flags = peers::pclGroundPmf(pts, peers::PmfOptions{}, &r.pmf_s);
+    std::size_t found = 0, tp = 0, gt = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        found += flags[i];
+        gt += truth[i];
+        tp += flags[i] && truth[i];
+    }
+    r.pmf_precision = found ? double(tp) / double(found) : std::nan("");
+    r.pmf_recall = gt ? double(tp) / double(gt) : std::nan("");
+    return r;
+}
+
+std::string pct(double v) { return std::isnan(v) ? "n/a" : fmt("%.2f %%", 100.0 * v); }
+
+void run(const BenchPeersCli& cli) {
+    if (cli.threads < 0 || cli.threads > 1024)
+        throw engine::Error("bench peers: --threads = " + std::to_string(cli.threads) + ": allowed [0, 1024]");
+    if (cli.repeats < 1 || cli.repeats > 100)
+        throw engine::Error("bench peers: --repeats = " + std::to_string(cli.repeats) + ": allowed [1, 100]");
+    if (cli.pmf_stride < 0)
+        throw engine::Error("bench peers: --pmf-stride = " + std::to_string(cli.pmf_stride) + ": allowed >= 0");
+    const int threads = cli.threads > 0 ? cli.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    const fs::path dir = cli.tmp.empty() ? fs::temp_directory_path() / ("ladarvr_peers_" + std::to_string(::getpid()))
+                                         : fs::path(cli.tmp);
+    fs::create_directories(dir);
+    const auto start = Clock::now();
+
+    const engine::Scene demo = engine::loadScene(engine::demoScenePath());
+    sim::GenerateOptions paper;  // the paper's configuration: 128 x 128 px x 100 views
+    paper.threads = threads;
+
+    std::fprintf(stderr, "bench peers: 1/3 ray casting vs Open3D (demo scene, %d threads)\n", threads);
+    const RayResult rays = rayCasting(demo, paper, cli, threads, dir);
+    const double gen_mr = double(rays.rays) / rays.generator_cast_s / 1e6;
+    const double plain_mr = double(rays.rays) / rays.plain_s / 1e6;
+    const double o3d_mr = double(rays.rays) / rays.open3d_s / 1e6;
+    std::printf("ray casting, %llu rays, %zu triangles, %d threads: generator %.2f Mrays/s, plain rtcIntersect1 "
+                "%.2f Mrays/s, Open3D %s %.2f Mrays/s; plain/Open3D %.2fx, generator/Open3D %.2fx; same hit/miss "
+                "%.4f %%, |dt| median %.2g m, p99 %.2g m, max %.2g m\n",
+                (unsigned long long)rays.rays, rays.triangles, threads, gen_mr, plain_mr, rays.open3d_version.c_str(),
+                o3d_mr, plain_mr / o3d_mr, gen_mr / o3d_mr, 100.0 * rays.same_hit_fraction, rays.dt_median_m,
+                rays.dt_p99_m, rays.dt_max_m);
+
+    std::fprintf(stderr, "bench peers: 2/3 binary PCD write/read vs PCL (paper cloud)\n");
+    const engine::PointCloud cloud = sim::generateCloud(demo, paper);
+    const IoResult io = pcdIo(cloud, cli.quick ? 2 : cli.repeats, dir);
+    std::printf("PCD binary, %zu points (%.1f MiB): write ours %.3f s, PCL %.3f s (PCL/ours %.2fx); read ours %.3f s, "
+                "PCL %.3f s (PCL/ours %.2fx); PCL reads ours: %s; we read PCL's: %s\n",
+                io.points, io.file_mib, io.ours_write_s, io.pcl_write_s, io.pcl_write_s / io.ours_write_s,
+                io.ours_read_s, io.pcl_read_s, io.pcl_read_s / io.ours_read_s, io.pcl_reads_ours ? "identical" : "NO",
+                io.ours_reads_pcl ? "identical" : "NO");
+
+    std::fprintf(stderr, "bench peers: 3/3 ground: iterative RANSAC vs PCL progressive morphological filter\n");
+    std::vector<GroundResult> grounds;
+    const std::size_t pmf_budget = cli.quick ? 25000 : 60000;
+    grounds.push_back(ground("demo", demo, paper, pmf_budget, cli.pmf_stride));
+    const fs::path hilly_path = engine::demoScenePath().parent_path().parent_path() / "hilly" / "scene.json";
+    const engine::Scene hilly = engine::loadScene(hilly_path);
+    grounds.push_back(ground("hilly", hilly, paper, pmf_budget, cli.pmf_stride));
+    for (const GroundResult& g : grounds)
+        std::printf("ground %s: RANSAC (per view, %d threads) precision %s recall %s in %.3f s on %zu points; PMF "
+                    "precision %s recall %s in %.3f s on %zu points (every %d-th)\n",
+                    g.scene.c_str(), g.threads, pct(g.ransac_precision).c_str(), pct(g.ransac_recall).c_str(),
+                    g.ransac_s, g.points, pct(g.pmf_precision).c_str(), pct(g.pmf_recall).c_str(), g.pmf_s,
+                    g.pmf_points, g.pmf_stride);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    const double total_s = since(start);
+
+    std::time_t now = std::time(nullptr);
+    char date[64];
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    std::ostringstream s;
+    s << "## Peers (ladarvr bench peers)\n\n"
+      << "Command: `./ladarvr bench peers" << (cli.quick ? " --quick" : "") << "`; machine: "
+      << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << date << "; "
+      << fmt("%.0f", total_s) << " s in all. One run, same scene (assets/demo, paper configuration: "
+      << "128 x 128 px x 100 views), same data for both sides; medians of "
+      << (cli.quick ? 3 : cli.repeats) << " runs after a warm-up.\n\n"
+      << "**Ray casting** (" << rays.rays << " rays, " << rays.triangles << " triangles, " << threads
+      << " threads on every side; rays and triangles dumped to a binary file and cast by "
+      << "`scripts/peer_open3d.py`, Open3D " << rays.open3d_version << " `RaycastingScene.cast_rays`):\n\n"
+      << "| caster | Mrays/s | vs Open3D |\n|---|---|---|\n"
+      << "| generator cast stage (rtcIntersect16 packets, hits stored) | " << fmt("%.2f", gen_mr) << " | "
+      << fmt("%.2fx", gen_mr / o3d_mr) << " |\n"
+      << "| plain rtcIntersect1 loop (`sim::RayCaster::intersect`) | " << fmt("%.2f", plain_mr) << " | "
+      << fmt("%.2fx", plain_mr / o3d_mr) << " |\n"
+      << "| Open3D RaycastingScene | " << fmt("%.2f", o3d_mr) << " | 1 |\n\n"
+      << "Hit agreement (plain loop vs Open3D): " << fmt("%.4f %%", 100.0 * rays.same_hit_fraction)
+      << " of rays agree on hit/miss; over the " << rays.both_hit << " rays both hit, |t difference| median "
+      << fmt("%.2g", rays.dt_median_m) << " m, 99th percentile " << fmt("%.2g", rays.dt_p99_m) << " m, max "
+      << fmt("%.3g", rays.dt_max_m) << " m; " << rays.differ_1mm << " differ by more than 1 mm.\n\n"
+      << "**Binary PCD** (the paper's cloud, " << io.points << " points, fields x y z rgb label view range, "
+      << fmt("%.1f", io.file_mib) << " MiB; PCL with a point type of the same fields; new file each time):\n\n"
+      << "| | ours | PCL | PCL / ours |\n|---|---|---|---|\n"
+      << "| write (`engine::writeCloud` vs `pcl::io::savePCDFileBinary`) | " << fmt("%.3f s", io.ours_write_s)
+      << " | " << fmt("%.3f s", io.pcl_write_s) << " | " << fmt("%.2fx", io.pcl_write_s / io.ours_write_s) << " |\n"
+      << "| read (`engine::readCloud` vs `pcl::io::loadPCDFile`) | " << fmt("%.3f s", io.ours_read_s) << " | "
+      << fmt("%.3f s", io.pcl_read_s) << " | " << fmt("%.2fx", io.pcl_read_s / io.ours_read_s) << " |\n\n"
+      << "Interoperability in the same run: PCL reads our file " << (io.pcl_reads_ours ? "field for field" : "NOT identically")
+      << ", we read PCL's " << (io.ours_reads_pcl ? "field for field" : "NOT identically") << ".\n\n"
+      << "**Ground whitening** against the generator's ground-truth labels (paper configuration). Ours: paper "
+      << "§III-C iterative RANSAC on each view (16,384 points), all views, " << grounds.front().threads
+      << " threads. PCL's `ProgressiveMorphologicalFilter` (windows 3-17 m, slope 1, initial distance 0.5 m, "
+      << "max distance 3 m, cell 1 m; one thread) on the fused cloud thinned to every k-th point, because its "
+      << "per-point box searches cannot take 1.6 M points at ~130 points/m^2; it is scored on those points.\n\n"
+      << "| scene | RANSAC precision | RANSAC recall | RANSAC s (points) | PMF precision | PMF recall | PMF s "
+         "(points) | points/s RANSAC / PMF |\n|---|---|---|---|---|---|---|---|\n";
+    for (const GroundResult& g : grounds)
+        s << "| " << g.scene << " | " << pct(g.ransac_precision) << " | " << pct(g.ransac_recall) << " | "
+          << fmt("%.3f", g.ransac_s) << " (" << g.points << ") | " << pct(g.pmf_precision) << " | "
+          << pct(g.pmf_recall) << " | " << fmt("%.3f", g.pmf_s) << " (" << g.pmf_points << ", every "
+          << g.pmf_stride << "th) | "
+          << fmt("%.1fx", (double(g.points) / g.ransac_s) / (double(g.pmf_points) / g.pmf_s)) << " |\n";
+    s << "\n";
+    if (!cli.no_md) {
+        updateMarkdown(cli.md, s.str());
+        std::fprintf(stderr, "bench peers: wrote the section to %s (%.0f s)\n", cli.md.c_str(), total_s);
+    } else {
+        std::fputs(s.str().c_str(), stdout);
+    }
+}
+
+}  // namespace
+
+void registerBenchPeers(CLI::App& bench) {
+    auto state = std::make_shared<BenchPeersCli>();
+    CLI::App* c = bench.add_subcommand("peers", "side by side with peer libraries: ray casting vs Open3D, binary "
+                                                "PCD I/O vs PCL, ground whitening vs PCL's morphological filter");
+    c->add_flag("--quick", state->quick, "3 repeats, a smaller PMF sample (a smoke run)");
+    c->add_option("--threads", state->threads, "threads for every caster, 0 = all")->capture_default_str();
+    c->add_option("--repeats", state->repeats, "timed runs (medians)")->capture_default_str();
+    c->add_option("--md", state->md, "markdown file whose peers section is rewritten")->capture_default_str();
+    c->add_flag("--no-md", state->no_md, "print the section, leave the file alone");
+    c->add_option("--python", state->python, "python interpreter with open3d")->capture_default_str();
+    c->add_option("--open3d-script", state->open3d_script, "default: <source>/scripts/peer_open3d.py");
+    c->add_option("--pmf-stride", state->pmf_stride, "give PMF every k-th point (0: ~60,000 points)");
+    c->add_option("--tmp", state->tmp, "scratch directory (default: a temporary one)");
+    c->callback([state] { run(*state); });
+}
+
+}  // namespace app
