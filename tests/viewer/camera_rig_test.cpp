@@ -52,7 +52,7 @@ TEST_CASE("the automatic rig sits on the shared orbit camera and looks at the ce
     CHECK(std::abs(glm::determinant(rig.rotation) - 1.0) < 1e-12);
 }
 
-TEST_CASE("automatic mode turns at the orbit period; head tracking adds on top") {
+TEST_CASE("automatic mode turns at the orbit period and cannot translate") {
     ModeOptions o;
     o.orbit_period_s = 1.0;
     const glm::dvec3 centre(0.0);
@@ -113,7 +113,7 @@ TEST_CASE("the desktop switch keeps the exact view direction and position") {
     CHECK(pitch == 0.0);
 }
 
-TEST_CASE("OpenXR's symmetric FoV gives the usual perspective") {
+TEST_CASE("a symmetric OpenXR FoV gives the usual perspective") {
     const double half = 30.0 * kPi / 180.0;
     const double aspect = 4.0 / 3.0;
     const double half_x = std::atan(std::tan(half) * aspect);

@@ -166,6 +166,18 @@ def main():
         after = [f for f in frames if not f["xr"]]
         check(len(after) >= 5 and all(f["points_drawn"] == 163840 for f in after[-3:]),
               "desktop frames after the loss do not draw the kept cloud")
+    elif scenario == "stream":
+        uploaded = [f["points_uploaded"] for f in frames]
+        steps = [b - a for a, b in zip([0] + uploaded, uploaded)]
+        print(f"uploaded per frame: {steps}")
+        check(max(steps) <= 20000, f"a frame uploaded {max(steps)} points, budget 20000")
+        check(log["first_points_frame"] <= 3, f"first points drawn only at frame {log['first_points_frame']}")
+        check(uploaded[-1] == 163840 and uploaded.index(163840) >= 8,
+              "the 163,840 points should take at least 9 frames at 20,000 per frame")
+        partial = [f for f in frames if 0 < f["points_drawn"] < 163840]
+        check(len(partial) >= 5, "no frames drew a partly uploaded cloud")
+        check(log["origin"] == [1e6, 2e6, 50.0], f"origin {log['origin']} not the file's")
+        check_screenshot(shot, want_label_red=False)
     else:
         check(False, f"unknown scenario {scenario}")
 

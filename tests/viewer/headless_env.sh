@@ -2,21 +2,25 @@
 # tests/viewer/headless_env.sh: runs a command under a private Xvfb and, with --monado, a
 # private Monado service with its simulated HMD and null compositor (/work/shared/PLATFORM.md):
 #
-#   tests/viewer/headless_env.sh [--monado] [--timeout S] -- COMMAND ARGS...
+#   tests/viewer/headless_env.sh [--monado | --monado-stay] [--timeout S] -- COMMAND ARGS...
 #
+# --monado exits the service when its client disconnects (IPC_EXIT_ON_DISCONNECT=1, what
+# the tests want); --monado-stay keeps it for several clients in a row (benchmarks).
 # Every process it starts is killed on exit (trap); every wait has a timeout; the exit
 # status is the command's (124 if it ran past --timeout). Used by the viewer's ctest
 # entries and by `ladarvr bench view` runs on machines without a display or an HMD.
 set -euo pipefail
 
 monado=0
+exit_on_disconnect=1
 timeout_s=120
 while [ $# -gt 0 ]; do
   case "$1" in
     --monado) monado=1; shift ;;
+    --monado-stay) monado=1; exit_on_disconnect=0; shift ;;
     --timeout) timeout_s=$2; shift 2 ;;
     --) shift; break ;;
-    *) echo "headless_env: unknown option '$1'; allowed --monado, --timeout S, --" >&2; exit 2 ;;
+    *) echo "headless_env: unknown option '$1'; allowed --monado, --monado-stay, --timeout S, --" >&2; exit 2 ;;
   esac
 done
 [ $# -gt 0 ] || { echo "headless_env: no command given after --" >&2; exit 2; }
@@ -58,7 +62,7 @@ if [ "$monado" = 1 ]; then
   command -v monado-service >/dev/null || { echo "headless_env: monado-service is not installed" >&2; exit 1; }
   # monado-service watches stdin; with /dev/null it fails, so give it a pipe that stays open.
   # setsid: the pipe's processes form one process group, killed together (kill -- -PGID).
-  XRT_COMPOSITOR_NULL=1 SIMULATED_ENABLE=1 IPC_EXIT_ON_DISCONNECT=1 XRT_LOG=warning \
+  XRT_COMPOSITOR_NULL=1 SIMULATED_ENABLE=1 IPC_EXIT_ON_DISCONNECT=$exit_on_disconnect XRT_LOG=warning \
     setsid bash -c 'sleep 600 | exec monado-service' >"$work/monado.log" 2>&1 &
   monado_pgid=$!
   pids+=("-$monado_pgid")

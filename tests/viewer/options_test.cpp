@@ -31,7 +31,7 @@ TEST_CASE("a script lists key presses by frame") {
     std::filesystem::remove(path);
 }
 
-TEST_CASE("bad script lines name the file, the line and what is allowed") {
+TEST_CASE("bad script lines name the file and the line and what is allowed") {
     const auto bad_frame = writeTemp("f.txt", "10 space\nten space\n");
     CHECK_THROWS_WITH_AS(readScript(bad_frame), doctest::Contains("line 2: frame 'ten'"), engine::Error);
     const auto bad_key = writeTemp("k.txt", "5 jump\n");

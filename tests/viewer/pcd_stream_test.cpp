@@ -72,7 +72,7 @@ TEST_CASE("a binary PCD streams in chunks with its origin and every field") {
     std::filesystem::remove(path);
 }
 
-TEST_CASE("other formats are left to engine::readCloud; the loader thread feeds them too") {
+TEST_CASE("other formats go through engine::readCloud on the loader thread") {
     const auto cloud = sampleCloud(500);
     for (auto format : {engine::CloudFormat::PcdAscii, engine::CloudFormat::PlyBinary}) {
         const auto path = tempPath(format == engine::CloudFormat::PcdAscii ? "a.pcd" : "b.ply");

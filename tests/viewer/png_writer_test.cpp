@@ -16,7 +16,7 @@ std::uint32_t be32(const std::string& s, std::size_t at) {
 }
 }  // namespace
 
-TEST_CASE("PNG layout: signature, IHDR, one stored-deflate IDAT, IEND") {
+TEST_CASE("PNG layout is signature then IHDR then one stored-deflate IDAT then IEND") {
     const std::vector<std::uint8_t> rgb = {255, 0, 0, 0, 255, 0, 0, 0, 255,   // row 0
                                            1, 2, 3, 4, 5, 6, 7, 8, 9};         // row 1
     const std::string png = encodePng(rgb, 3, 2);

@@ -8,6 +8,9 @@
 #   escape   desktop, a scripted Escape at frame 5 closes the viewer cleanly.
 #   lost     the runtime is killed after FOCUSED: the viewer drops to the desktop mode
 #            with the cloud kept and runs on until a scripted Escape.
+#   stream   a known binary PCD (make_test_pcd.py, origin 10^6 m away) is streamed in: at
+#            most --upload-budget points reach the GPU per frame, points are drawn from the
+#            first frames, the red target block is on screen.
 # Each run has a timeout; headless_env.sh starts and kills Xvfb and Monado (trap).
 set -euo pipefail
 bin=$(realpath "$1")
@@ -53,6 +56,12 @@ kill -- -"\$LADARVR_MONADO_PGID"   # take the runtime away (the test's own Monad
 wait \$viewer
 LOST
     "$here/headless_env.sh" --monado --timeout 150 -- bash "$work/lost.sh" || status=$?
+    ;;
+  stream)
+    python3 "$here/make_test_pcd.py" "$work/demo.pcd"
+    "$here/headless_env.sh" --timeout 150 -- "$bin" view "$work/demo.pcd" --no-xr --upload-budget 20000 \
+      --frames 15 --width 960 --height 540 --screenshot "$work/shot.png" --log-json "$work/log.json" \
+      2>"$work/stderr" || status=$?
     ;;
   *) echo "view_headless_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac

@@ -242,6 +242,7 @@ void ViewerApp::logFrame(bool xr, const std::array<RigPose, 2>& eyes_t, const st
                         {"xr", xr},
                         {"points_drawn", points_drawn_},
                         {"points_uploaded", renderer_->uploadedPoints()},
+                        {"points_arrived", feed_.pointsArrived()},
                         {"cpu_ms", cpu_ms},
                         {"frame_ms", frame_ms_}};
     if (last_gpu_ms_ >= 0.0) f["gpu_ms"] = last_gpu_ms_;

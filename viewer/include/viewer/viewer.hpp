@@ -75,26 +75,33 @@ int runViewer(const ViewerOptions& options, CloudFeed& feed, std::string& log_js
 
 /// One measured configuration of `ladarvr bench view`.
 struct ViewBenchResult {
-    std::string path;                    // "mirror" (desktop window) or "xr" (OpenXR stereo)
+    std::string path;                    // "mirror", "xr" or "stereo-egl"
     std::size_t points = 0;
-    int width = 0, height = 0;           // per eye (xr) or the window (mirror)
+    int width = 0, height = 0;           // per eye (xr, stereo-egl) or the window (mirror)
     double cpu_ms_median = 0.0;          // CPU time to record and submit the frame's draws
     double gpu_ms_median = 0.0;          // GL timer query around the frame's draws
-    double frame_ms_median = 0.0;        // wall time between frames (includes pacing)
+    double frame_ms_median = 0.0;        // wall time of a whole frame (loop period / until glFinish)
     int frames = 0;                      // measured frames (after warm-up)
+    /// stereo-egl only: the same eyes drawn by render::PointSplatRenderer (the metric's plain
+    /// 2 px splats: no eye-dome lighting, no colour modes), the in-run baseline; 0 if not run.
+    double baseline_gpu_ms_median = 0.0;
     std::string gl;                      // GL vendor / renderer / version
-    std::string note;                    // e.g. why the XR path was skipped
+    std::string note;                    // why a path was skipped, or what it stands for
 };
 
 struct ViewBenchOptions {
-    int warmup_frames = 5;               // after every point is on the GPU
-    int frames = 20;
-    bool xr = true;                      // also run the OpenXR path (needs a runtime)
+    int warmup_frames = 3;               // after every point is on the GPU
+    int frames = 10;
+    bool mirror = true;                  // the desktop window (needs a display)
+    bool xr = true;                      // the OpenXR path (needs a runtime with an HMD)
+    bool egl = true;                     // offscreen stereo through EGL (no display, any GPU)
+    int eye_width = 1440, eye_height = 1600;   // stereo-egl eye size (Index / Vive Pro class)
 };
 
-/// Runs the viewer on `cloud` (all points uploaded before measuring) in the desktop mirror
-/// path and, when an OpenXR runtime with an HMD is present, the XR path; medians over
-/// `frames` frames after warm-up. Throws engine::Error on setup failure (no display).
+/// Measures the viewer drawing `cloud` (entirely uploaded before measuring, eye-dome
+/// lighting on): the real frame loop in the desktop mirror path and the OpenXR path, and
+/// the same per-eye drawing in an offscreen EGL stereo loop; medians over `frames` frames
+/// after warm-up. A path that cannot run here is returned with `note` saying why.
 std::vector<ViewBenchResult> benchmarkViewer(const engine::PointCloud& cloud,
                                              const ViewBenchOptions& options);
 
