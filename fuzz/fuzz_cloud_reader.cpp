@@ -12,6 +12,27 @@
 #include <cstdlib>
 #include <string_view>
 
+namespace {
+
+// The house rule for errors: one clear line. A message must hold no control character
+// (a newline or an escape sequence copied from the input would break it), no byte from a binary file and stay short.
+void checkMessage(const char* what) {
+    std::size_t n = 0;
+    for (const char* p = what; *p; ++p, ++n) {
+        const unsigned char c = static_cast<unsigned char>(*p);
+        if (c < 0x20 || c == 0x7f || c >= 0x80) {
+            std::fprintf(stderr, "error message with byte 0x%02x at %zu: %s\n", c, n, what);
+            std::abort();
+        }
+    }
+    if (n > 1000) {
+        std::fprintf(stderr, "error message of %zu bytes: %.200s...\n", n, what);
+        std::abort();
+    }
+}
+
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view bytes(reinterpret_cast<const char*>(data), size);
     try {
@@ -22,6 +43,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (!std::isfinite(cloud.origin.x) || !std::isfinite(cloud.origin.y) || !std::isfinite(cloud.origin.z))
             std::abort();
     } catch (const engine::Error& e) {
+        checkMessage(e.what());
         // The documented way to refuse bad input. LADARVR_FUZZ_VERBOSE=1 shows why (seeds).
         if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());
     }

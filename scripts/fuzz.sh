@@ -41,7 +41,7 @@ for t in "${targets[@]}"; do
   log="$build/$t.log"
   set +e
   "$build/fuzz/$t" "$corpus" -dict="$dict" -max_len=$max_len -max_total_time="$seconds" \
-    -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 -artifact_prefix="$artifacts/" \
+    -rss_limit_mb=2048 -malloc_limit_mb=512 -timeout=10 -print_final_stats=1 -artifact_prefix="$artifacts/" \
     -close_fd_mask=1 >"$log" 2>&1
   rc=$?
   set -e

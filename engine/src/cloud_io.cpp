@@ -5,6 +5,8 @@
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
 
+#include "text.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cerrno>
@@ -521,7 +523,7 @@ void decodeAscii(Tokens& tokens, std::size_t count, std::size_t per_point, const
         double v;
         if (!parseDouble(tok[c.token], v))
             throw Error(sink.prefix + ": line " + std::to_string(header_lines + tokens.line_no) +
-                        ": value '" + std::string(tok[c.token].substr(0, 40)) + "' of point " +
+                        ": value '" + detail::shown(tok[c.token], 40) + "' of point " +
                         std::to_string(i) + " is not a number");
         return v;
     };
@@ -568,7 +570,7 @@ glm::dvec3 parseOrigin(const std::vector<std::string_view>& words, std::size_t f
     for (int k = 0; k < 3; ++k) {
         if (!parseDouble(words[first + std::size_t(k)], o[k]) || !std::isfinite(o[k]))
             throw Error(where + ": the ladarvr origin value '" +
-                        std::string(words[first + std::size_t(k)].substr(0, 40)) +
+                        detail::shown(words[first + std::size_t(k)], 40) +
                         "' is not a finite number");
     }
     return o;
@@ -648,7 +650,7 @@ PointCloud readPcd(const std::filesystem::path& path, std::string_view data) {
             for (std::size_t k = 1; k < words.size(); ++k) {
                 int s = 0;
                 if (!parseInt(words[k], s) || (s != 1 && s != 2 && s != 4 && s != 8))
-                    throw Error(where + ": SIZE '" + std::string(words[k].substr(0, 20)) +
+                    throw Error(where + ": SIZE '" + detail::shown(words[k], 20) +
                                 "' is not one of 1, 2, 4, 8");
                 sizes.push_back(s);
             }
@@ -656,7 +658,7 @@ PointCloud readPcd(const std::filesystem::path& path, std::string_view data) {
             have_type = true;
             for (std::size_t k = 1; k < words.size(); ++k) {
                 if (words[k] != "F" && words[k] != "U" && words[k] != "I")
-                    throw Error(where + ": TYPE '" + std::string(words[k].substr(0, 20)) +
+                    throw Error(where + ": TYPE '" + detail::shown(words[k], 20) +
                                 "' is not one of F, U, I");
                 types.push_back(words[k][0]);
             }
@@ -664,7 +666,7 @@ PointCloud readPcd(const std::filesystem::path& path, std::string_view data) {
             for (std::size_t k = 1; k < words.size(); ++k) {
                 int c = 0;
                 if (!parseInt(words[k], c) || c < 1 || c > 1000000)
-                    throw Error(where + ": COUNT '" + std::string(words[k].substr(0, 20)) +
+                    throw Error(where + ": COUNT '" + detail::shown(words[k], 20) +
                                 "' is not an integer in 1..1000000");
                 counts.push_back(c);
             }
@@ -684,7 +686,7 @@ PointCloud readPcd(const std::filesystem::path& path, std::string_view data) {
                 throw Error(where + ": DATA must be one of ascii, binary, binary_compressed");
             data_kind = std::string(words[1]);
         } else {
-            throw Error(where + ": unknown header keyword '" + std::string(key.substr(0, 40)) +
+            throw Error(where + ": unknown header keyword '" + detail::shown(key, 40) +
                         "'; allowed: VERSION, FIELDS, SIZE, TYPE, COUNT, WIDTH, HEIGHT, "
                         "VIEWPOINT, POINTS, DATA");
         }
@@ -716,7 +718,7 @@ PointCloud readPcd(const std::filesystem::path& path, std::string_view data) {
         const char t = types[f];
         const int s = sizes[f];
         if (t == 'F' && s != 4 && s != 8)
-            throw Error(pre + ": field '" + names[f] + "': TYPE F needs SIZE 4 or 8, not " +
+            throw Error(pre + ": field '" + detail::shown(names[f]) + "': TYPE F needs SIZE 4 or 8, not " +
                         std::to_string(s));
         Column c;
         c.present = true;
@@ -733,10 +735,10 @@ PointCloud readPcd(const std::filesystem::path& path, std::string_view data) {
         else if (nm == "view") slot = &l.view;
         else if (nm == "range") slot = &l.range;
         if (slot && counts[f] != 1)
-            throw Error(pre + ": field '" + nm + "' has COUNT " + std::to_string(counts[f]) +
+            throw Error(pre + ": field '" + detail::shown(nm) + "' has COUNT " + std::to_string(counts[f]) +
                         "; allowed: 1");
         if (slot == &l.rgb && s != 4)
-            throw Error(pre + ": field '" + nm + "' has SIZE " + std::to_string(s) + "; allowed: 4");
+            throw Error(pre + ": field '" + detail::shown(nm) + "' has SIZE " + std::to_string(s) + "; allowed: 4");
         if (slot && !slot->present) *slot = c;
         offset += std::size_t(s) * std::size_t(counts[f]);
         token += std::size_t(counts[f]);
@@ -865,7 +867,7 @@ PointCloud readPly(const std::filesystem::path& path, std::string_view data) {
                 p.name = std::string(words[4]);
             } else if (words.size() == 3) {
                 if (!plyType(words[1], p.type))
-                    throw Error(where + ": property type '" + std::string(words[1].substr(0, 20)) +
+                    throw Error(where + ": property type '" + detail::shown(words[1], 20) +
                                 "' is not one of " + kTypes);
                 p.name = std::string(words[2]);
             } else {
@@ -875,7 +877,7 @@ PointCloud readPly(const std::filesystem::path& path, std::string_view data) {
         } else if (key == "end_header") {
             ended = true;
         } else {
-            throw Error(where + ": unknown header keyword '" + std::string(key.substr(0, 40)) +
+            throw Error(where + ": unknown header keyword '" + detail::shown(key, 40) +
                         "'; allowed: format, comment, obj_info, element, property, end_header");
         }
     }
@@ -892,7 +894,7 @@ PointCloud readPly(const std::filesystem::path& path, std::string_view data) {
     for (std::size_t k = 0; k < vertex.props.size(); ++k) {
         const PlyProperty& p = vertex.props[k];
         if (p.is_list)
-            throw Error(pre + ": vertex property '" + p.name + "' is a list; allowed: scalars");
+            throw Error(pre + ": vertex property '" + detail::shown(p.name) + "' is a list; allowed: scalars");
         Column c;
         c.present = true;
         c.type = p.type;
@@ -929,15 +931,15 @@ PointCloud readPly(const std::filesystem::path& path, std::string_view data) {
                     std::string_view tok;
                     std::size_t items = 1;
                     if (!tokens.next(tok))
-                        throw Error(pre + ": truncated in element '" + elements[e].name + "'");
+                        throw Error(pre + ": truncated in element '" + detail::shown(elements[e].name) + "'");
                     if (p.is_list) {
                         if (!parseInt(tok, items))
                             throw Error(pre + ": line " + std::to_string(header_lines + tokens.line_no) +
-                                        ": list count '" + std::string(tok.substr(0, 20)) +
+                                        ": list count '" + detail::shown(tok, 20) +
                                         "' is not a non-negative integer");
                         for (std::size_t k = 0; k < items; ++k)
                             if (!tokens.next(tok))
-                                throw Error(pre + ": truncated in element '" + elements[e].name + "'");
+                                throw Error(pre + ": truncated in element '" + detail::shown(elements[e].name) + "'");
                     }
                 }
             }
@@ -960,7 +962,7 @@ PointCloud readPly(const std::filesystem::path& path, std::string_view data) {
         }
         if (!has_list) {
             if (el.count > (data.size() - pos) / fixed)
-                throw Error(pre + ": truncated in element '" + el.name + "'");
+                throw Error(pre + ": truncated in element '" + detail::shown(el.name) + "'");
             pos += el.count * fixed;
             continue;
         }
@@ -969,16 +971,16 @@ PointCloud readPly(const std::filesystem::path& path, std::string_view data) {
                 std::size_t items = 1;
                 if (p.is_list) {
                     if (std::size_t(p.count_type.size) > data.size() - pos)
-                        throw Error(pre + ": truncated in element '" + el.name + "'");
+                        throw Error(pre + ": truncated in element '" + detail::shown(el.name) + "'");
                     const double c = loadScalar(bytes + pos, p.count_type, swap);
                     pos += std::size_t(p.count_type.size);
                     if (!(c >= 0.0) || c > 1e12)
-                        throw Error(pre + ": element '" + el.name + "' " + std::to_string(i) +
+                        throw Error(pre + ": element '" + detail::shown(el.name) + "' " + std::to_string(i) +
                                     ": bad list count");
                     items = std::size_t(c);
                 }
                 if (items > (data.size() - pos) / std::size_t(p.type.size))
-                    throw Error(pre + ": truncated in element '" + el.name + "'");
+                    throw Error(pre + ": truncated in element '" + detail::shown(el.name) + "'");
                 pos += items * std::size_t(p.type.size);
             }
         }

@@ -4,6 +4,8 @@
 #include <engine/error.hpp>
 #include <engine/scene.hpp>
 
+#include "text.hpp"
+
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -50,7 +52,7 @@ Role parseRole(std::string_view name, std::string_view context) {
     if (name == "ground") return Role::Ground;
     if (name == "environment") return Role::Environment;
     if (name == "target") return Role::Target;
-    throw Error(std::string(context) + ": role '" + std::string(name) + "' is not one of " +
+    throw Error(std::string(context) + ": role '" + detail::shown(name, 40, true) + "' is not one of " +
                 kRoleList);
 }
 
@@ -165,7 +167,7 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
         throw Error(where + ": 'file' must be a non-empty string (a mesh file relative to the "
                     "scene file), not " + jsonTypeName(*file_it));
     e.file = file_it->get<std::string>();
-    where += " ('" + e.file + "')";
+    where += " ('" + detail::shown(e.file, 120, true) + "')";
 
     for (auto it = j.begin(); it != j.end(); ++it) {
         const std::string& key = it.key();
@@ -192,10 +194,10 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
                             jsonTypeName(v));
             const std::string up = v.get<std::string>();
             if (up != "y" && up != "z")
-                throw Error(where + ": 'up' is '" + up + "'; allowed: y, z");
+                throw Error(where + ": 'up' is '" + detail::shown(up, 20, true) + "'; allowed: y, z");
             e.up_y = up == "y";
         } else {
-            throw Error(where + ": unknown key '" + key +
+            throw Error(where + ": unknown key '" + detail::shown(key, 40, true) +
                         "'; allowed keys: file, role, position, yaw_deg, scale, up, comment");
         }
     }
@@ -209,15 +211,16 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
 RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
                    bool skip_nonfinite) {
     namespace fs = std::filesystem;
+    const std::string shown_path = detail::shown(path.string(), 400, true);
     std::error_code ec;
     if (!fs::exists(path, ec))
-        throw Error(where + ": mesh file '" + path.string() + "' does not exist");
+        throw Error(where + ": mesh file '" + shown_path + "' does not exist");
     if (!fs::is_regular_file(path, ec))
-        throw Error(where + ": mesh file '" + path.string() + "' is not a regular file");
+        throw Error(where + ": mesh file '" + shown_path + "' is not a regular file");
     {
         std::ifstream probe(path, std::ios::binary);
         if (!probe)
-            throw Error(where + ": mesh file '" + path.string() + "' cannot be read");
+            throw Error(where + ": mesh file '" + shown_path + "' cannot be read");
     }
     Assimp::Importer importer;
     // Points and lines carry no surface: have Assimp drop them.
@@ -237,7 +240,7 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
                 if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) continue;
                 any_nonfinite = true;
                 if (!skip_nonfinite)
-                    throw Error(where + ": mesh file '" + path.string() + "': vertex " +
+                    throw Error(where + ": mesh file '" + shown_path + "': vertex " +
                                 std::to_string(index) + " is not finite (" + formatDouble(v.x) +
                                 ", " + formatDouble(v.y) + ", " + formatDouble(v.z) +
                                 "); allowed: finite coordinates");
@@ -251,7 +254,8 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
         std::string reason = importer.GetErrorString();
         for (char& c : reason)
             if (c == '\n' || c == '\r') c = ' ';
-        throw Error(where + ": Assimp cannot import mesh file '" + path.string() + "': " +
+        reason = detail::shown(reason, 300);
+        throw Error(where + ": Assimp cannot import mesh file '" + shown_path + "': " +
                     reason + "; allowed: a triangle mesh in a format Assimp reads (OBJ, PLY, "
                     "glTF/GLB, AC3D, ...)");
     }
@@ -273,7 +277,7 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
                 continue;
             }
             // Node transforms applied by PreTransformVertices can still overflow.
-            throw Error(where + ": mesh file '" + path.string() + "': vertex " +
+            throw Error(where + ": mesh file '" + shown_path + "': vertex " +
                             std::to_string(base + vi) +
                             " is not finite after the file's node transforms; allowed: finite "
                             "coordinates");
@@ -283,7 +287,7 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
             if (f.mNumIndices != 3) continue;
             if (f.mIndices[0] >= m->mNumVertices || f.mIndices[1] >= m->mNumVertices ||
                 f.mIndices[2] >= m->mNumVertices)
-                throw Error(where + ": mesh file '" + path.string() + "': face " +
+                throw Error(where + ": mesh file '" + shown_path + "': face " +
                             std::to_string(fi) + " indexes a vertex that does not exist");
             if (bad[f.mIndices[0]] || bad[f.mIndices[1]] || bad[f.mIndices[2]]) {
                 ++raw.nonfinite_triangles;
@@ -294,7 +298,7 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
         }
     }
     if (raw.triangles.empty())
-        throw Error(where + ": mesh file '" + path.string() + "' contains no triangles" +
+        throw Error(where + ": mesh file '" + shown_path + "' contains no triangles" +
                     (raw.nonfinite_triangles ? " with finite vertices" : "") +
                     "; allowed: a mesh with at least one face");
     return raw;
@@ -327,15 +331,15 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
         // "[json.exception.parse_error.101] parse error at line 3, column 5: ..." -> keep the tail.
         const std::size_t at = what.find("parse error");
         if (at != std::string::npos) what = what.substr(at);
-        throw Error(name + ": JSON syntax error: " + what);
+        throw Error(name + ": JSON syntax error: " + detail::shown(what, 300));
     } catch (const json::out_of_range& e) {
         // nlohmann reports numbers beyond double range (1e999) here.
         std::string what = e.what();
         const std::size_t at = what.find("number overflow");
         if (at != std::string::npos) what = what.substr(at);
-        throw Error(name + ": " + what + ": the number is not finite; allowed: finite numbers");
+        throw Error(name + ": " + detail::shown(what, 300) + ": the number is not finite; allowed: finite numbers");
     } catch (const json::exception& e) {
-        throw Error(name + ": invalid JSON: " + std::string(e.what()));
+        throw Error(name + ": invalid JSON: " + detail::shown(e.what(), 300));
     }
     if (!root.is_object())
         throw Error(name + ": the top level must be a JSON object with 'meshes', not " +
@@ -354,7 +358,7 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
         } else if (it.key() == "comment") {
             if (!it.value().is_string()) throw Error(name + ": 'comment' must be a string");
         } else {
-            throw Error(name + ": unknown key '" + it.key() +
+            throw Error(name + ": unknown key '" + detail::shown(it.key(), 40, true) +
                         "'; allowed keys: origin, meshes, comment");
         }
     }
@@ -381,7 +385,7 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
     for (std::size_t i = 0; i < entries.size(); ++i) {
         const Entry& e = entries[i];
         if (!options.roles.has(e.role)) continue;
-        const std::string where = name + ": meshes[" + std::to_string(i) + "] ('" + e.file + "')";
+        const std::string where = name + ": meshes[" + std::to_string(i) + "] ('" + detail::shown(e.file, 120, true) + "')";
         const fs::path mesh_path = (dir / e.file).lexically_normal();
         auto& slot = cache[mesh_path];
         if (!slot)
