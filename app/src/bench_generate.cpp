@@ -312,14 +312,14 @@ void run(const BenchGenerateCli& cli) {
     t0 = Clock::now();
     engine::Scene big = demo;
     const std::size_t want = cli.quick ? 500000 : 2000000;
-    // Whole levels while they stay under the goal, then the largest meshes one by one
-    // until it is reached, so the scene lands just above `want` triangles.
+    // Whole levels while they stay under the goal, then meshes one by one, smallest
+    // first, until it is reached, so the scene lands just above `want` triangles.
     while (big.triangleCount() * 4 <= want)
         for (auto& m : big.meshes) m = subdivide(m);
     std::vector<std::size_t> order(big.meshes.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return big.meshes[a].triangles.size() > big.meshes[b].triangles.size();
+        return big.meshes[a].triangles.size() < big.meshes[b].triangles.size();
     });
     for (std::size_t i : order) {
         if (big.triangleCount() >= want) break;

@@ -181,8 +181,9 @@ struct Generator::State {
         }
     }
 
-    // The same with rtcIntersect16 packets of 16 consecutive pixels of a row (coherent
-    // rays from one origin): measured faster than rtcIntersect1 here (BENCHMARKS.md).
+    // The same with rtcIntersect16 packets of 16 consecutive pixels in row-major order
+    // (coherent rays from one origin): measured faster than rtcIntersect1 here
+    // (BENCHMARKS.md); the hits are the same (tests/sim/generator_test.cpp).
     void castBlock16(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
         const RayCaster::Impl& impl = caster->impl();
         const engine::Pose& pose = poses[std::size_t(view)];
