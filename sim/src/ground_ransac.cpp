@@ -147,6 +147,7 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Gr
                 if (std::abs(a * p.x + b * p.y + c * p.z + d) <= o.distance_threshold_m)
                     inliers.indices.push_back(k);
             }
+            if (inliers.indices.empty()) break;  // cannot happen (the sample's inliers are in PC)
         }
         const bool horizontal = n_len > 0.0 && std::abs(plane.values[2]) / n_len >= o.min_normal_z;
         const bool big_enough = double(inliers.indices.size()) >= min_plane_count;
