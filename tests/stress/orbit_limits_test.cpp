@@ -112,7 +112,7 @@ TEST_CASE("FoV 0.01 deg, 1 x 1 sensor, NoV = 1: one point where the optical axis
     CHECK(double(p.range_m) == doctest::Approx(300.0 / std::cos(45.0 * kDeg)).epsilon(1e-5));
 }
 
-TEST_CASE("FoV 0.01 deg on 64 x 64 pixels: distinct, ordered points ~0.6 mm apart") {
+TEST_CASE("FoV 0.01 deg on 64 x 64 pixels: distinct points ~1 mm apart") {
     sim::GenerateOptions g;
     g.orbit.fov_deg = 0.01;
     g.orbit.xres = g.orbit.yres = 64;
