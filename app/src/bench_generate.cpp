@@ -354,9 +354,15 @@ void run(const BenchGenerateCli& cli) {
           << "Command: `./ladarvr bench generate" << (cli.quick ? " --quick" : "") << "`; machine: "
           << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << date << "; "
           << fmt("%.0f", secondsSince(start)) << " s in all.\n\n"
-          << "Ray casting: the generator's cast stage (rays made on the fly, rtcIntersect1, hits stored "
-             "per pixel) against a plain loop of rtcIntersect1 over the same rays, same BVH, same thread "
-             "count, run right after each generator run; the ratio is generator / plain throughput.\n\n"
+          << "Ray casting: the generator's cast stage (rays made on the fly, traced as rtcIntersect16 "
+             "packets of 16 pixels, hits stored per pixel; and, in the rtcIntersect1 column, one ray at a "
+             "time) against a plain loop of rtcIntersect1 over the same rays (precomputed), same BVH, same "
+             "thread count, run right after each generator run; ratio = generator / plain throughput. "
+             "Stages: BVH = Embree build; fuse = per-view compaction and appending (to the spool file "
+             "when streamed); colour includes reading the spool back; total = BVH + cast + fuse + RANSAC "
+             "+ colour + write (scene loading excluded, given per row). Peak RSS = VmHWM, reset just "
+             "before the run (so it includes the scene and its BVH). The machine's 2 cores were shared "
+             "with other jobs: read ratios rather than lone times.\n\n"
           << tbl << "\n" << notes(results) << "\n";
         updateMarkdown(cli.md, s.str());
         std::fprintf(stderr, "bench generate: wrote the section to %s\n", cli.md.c_str());
