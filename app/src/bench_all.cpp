@@ -267,12 +267,20 @@ void runAll(const BenchAllCli& cli) {
         failed += s.status != 0;
         const bool has_section = readText(cli.md).find(s.heading) != std::string::npos;
         if (!has_section) {
+            // Markdown tables need a blank line before them: add one where the output has none.
+            std::string body, line, previous;
+            std::istringstream lines(out);
+            while (std::getline(lines, line)) {
+                if (!line.empty() && line[0] == '|' && !previous.empty() && previous[0] != '|') body += "\n";
+                body += line + "\n";
+                previous = line;
+            }
             std::string section = s.heading + "\n\nCommand: `./ladarvr bench " + s.args + "` (section written by "
                                   "`bench all` from the program's output); machine: " +
                                   std::to_string(std::thread::hardware_concurrency()) + " cores, " + cpuName() +
                                   "; " + utcNow() + "; " + fmt("%.0f", s.seconds) + " s" +
                                   (s.status ? ", FAILED with exit status " + std::to_string(s.status) : "") + ".\n\n" +
-                                  out + (out.empty() || out.back() == '\n' ? "" : "\n");
+                                  body;
             replaceSection(cli.md, s.heading, section);
         }
     }
@@ -280,7 +288,10 @@ void runAll(const BenchAllCli& cli) {
     const fs::path root = sourceRoot();
     const fs::path img = cli.img_dir.empty() ? root / "docs" / "img" : fs::path(cli.img_dir);
     const fs::path metric_csv = fs::path(cli.csv_dir) / "bench_metric.csv";
-    if (fs::exists(metric_csv) && fs::exists(root / "scripts" / "plot_metric_bench.py")) {
+    // Only from a CSV this run wrote: a stale one must not overwrite the committed plot.
+    bool metric_ran = false;
+    for (const Step& s : steps) metric_ran = metric_ran || (s.name == "metric" && s.status == 0);
+    if (metric_ran && fs::exists(metric_csv) && fs::exists(root / "scripts" / "plot_metric_bench.py")) {
         int status = 0;
         fs::create_directories(img, ec);
         const fs::path png = img / "metric_error_vs_time.png";
