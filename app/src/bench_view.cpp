@@ -11,6 +11,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <ctime>
 #include <memory>
 #include <random>
@@ -25,7 +27,37 @@ struct BenchViewArgs {
     int frames = 10, warmup = 3;
     std::string paths = "mirror,xr,egl";
     std::string eye = "1440x1600";
+    std::string display = "auto";
 };
+
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+/// Without a display, reruns this benchmark under tests/viewer/headless_env.sh (a private
+/// Xvfb and Monado's simulated HMD), so the mirror and XR paths are measured too.
+/// Returns false when it did not (a display exists, --display none, or no script).
+bool rerunHeadless(const BenchViewArgs& a) {
+    if (a.display != "auto" || std::getenv("DISPLAY")) return false;
+    const std::filesystem::path root = engine::demoScenePath().parent_path().parent_path().parent_path();
+    const std::filesystem::path script = root / "tests" / "viewer" / "headless_env.sh";
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (ec || !std::filesystem::exists(script)) return false;
+    std::string points;
+    for (std::size_t n : a.points) points += (points.empty() ? "" : ",") + std::to_string(n);
+    const std::string command = shellQuote(script.string()) + " --monado-stay --timeout 3000 -- " +
+                                shellQuote(exe.string()) + " bench view --display none --points " + points +
+                                " --frames " + std::to_string(a.frames) + " --warmup " + std::to_string(a.warmup) +
+                                " --paths " + shellQuote(a.paths) + " --eye " + shellQuote(a.eye);
+    std::fprintf(stderr, "bench view: no DISPLAY: running under %s (Xvfb + Monado)\n", script.c_str());
+    std::fflush(stdout);
+    const int status = std::system(command.c_str());
+    if (status != 0) throw engine::Error("bench view: the headless run failed (" + command + ")");
+    return true;
+}
 
 /// `base` replicated (with seeded jitter of up to 0.2 m) until it holds `n` points.
 engine::PointCloud grow(const engine::PointCloud& base, std::size_t n) {
@@ -44,6 +76,9 @@ engine::PointCloud grow(const engine::PointCloud& base, std::size_t n) {
 }
 
 void run(const BenchViewArgs& a) {
+    if (a.display != "auto" && a.display != "none")
+        throw engine::Error("bench view: --display '" + a.display + "' is not one of auto, none");
+    if (rerunHeadless(a)) return;
     viewer::ViewBenchOptions o;
     o.frames = a.frames;
     o.warmup_frames = a.warmup;
@@ -96,11 +131,16 @@ void registerBenchView(CLI::App& bench) {
     auto args = std::make_shared<BenchViewArgs>();
     CLI::App* cmd = bench.add_subcommand("view", "viewer frame times (CPU, GPU timer queries) for 1.6 M and 20 M "
                                                  "points in the mirror, XR and offscreen stereo paths");
-    cmd->add_option("--points", args->points, "cloud sizes to measure")->capture_default_str();
+    cmd->add_option("--points", args->points, "cloud sizes to measure (comma separated)")
+        ->delimiter(',')
+        ->capture_default_str();
     cmd->add_option("--frames", args->frames, "measured frames per configuration")->capture_default_str();
     cmd->add_option("--warmup", args->warmup, "warm-up frames (after the upload)")->capture_default_str();
     cmd->add_option("--paths", args->paths, "any of mirror, xr, egl (comma separated)")->capture_default_str();
     cmd->add_option("--eye", args->eye, "eye size of the offscreen stereo path, WxH")->capture_default_str();
+    cmd->add_option("--display", args->display, "auto: without DISPLAY, rerun under tests/viewer/headless_env.sh "
+                                                "(Xvfb + Monado's simulated HMD); none: run as is")
+        ->capture_default_str();
     cmd->callback([args] { run(*args); });
 }
 

@@ -21,7 +21,7 @@ trap 'rm -rf "$work"' EXIT
 
 printf '# frame key\n10 space\n25 space\n' >"$work/script.txt"
 # A small demo cloud (64x64 pixels x 40 views = 163,840 points) keeps llvmpipe frames short.
-common=(view --xres 64 --yres 64 --views 40 --width 960 --height 540
+common=(view --xres 64 --yres 64 --views 40 --width 960 --height 540 --timeout 120
         --screenshot "$work/shot.png" --log-json "$work/log.json")
 status=0
 case "$scenario" in
@@ -43,7 +43,7 @@ case "$scenario" in
     printf '60 escape\n' >"$work/escape.txt"
     cat >"$work/lost.sh" <<LOST
 set -u
-"$bin" ${common[*]} --script "$work/escape.txt" --timeout 120 --colour label --orbit-period 100000 \
+"$bin" ${common[*]} --script "$work/escape.txt" --colour label --orbit-period 100000 \
   2>"$work/stderr" &
 viewer=\$!
 for _ in \$(seq 600); do

@@ -476,7 +476,20 @@ int ViewerApp::run() {
         if (feed_.finished() && !feed_.error().empty() && feed_error_reported.empty()) {
             feed_error_reported = feed_.error();
             log_.event("load error: " + feed_error_reported);
-            std::fprintf(stderr, "ladarvr: view: %s (showing the points read so far)\n", feed_error_reported.c_str());
+            if (feed_.pointsArrived() == 0) {
+                // Nothing to show: a bad file is an error, not an empty viewer.
+                std::fprintf(stderr, "ladarvr: view: %s\n", feed_error_reported.c_str());
+                if (!quitting) {
+                    quitting = true;
+                    exit_reason = "load error";
+                    status = 1;
+                    quit_deadline = Clock::now() + std::chrono::seconds(3);
+                    if (xr_ && xr_->running()) xr_->requestExit();
+                }
+            } else {
+                std::fprintf(stderr, "ladarvr: view: %s (showing the points read so far)\n",
+                             feed_error_reported.c_str());
+            }
         }
         if (!centre_final && !renderer_->bounds().empty()) {
             modes_.setCentre(renderer_->bounds().centre());
