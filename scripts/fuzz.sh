@@ -30,10 +30,12 @@ for t in "${targets[@]}"; do
   mkdir -p "$corpus" "$artifacts"
   case $t in
     fuzz_scene_json)
-      seeds=("$repo"/fuzz/seeds/scene/* "$repo"/tests/data/scenes/bad/*.json "$repo"/tests/data/scenes/basic/scene.json)
+      seeds=("$repo"/fuzz/seeds/scene/* "$repo"/tests/data/scenes/bad/*.json "$repo"/tests/data/scenes/basic/scene.json
+             "$repo"/tests/data/engine/fuzz_regressions/*.json)
       dict="$repo/fuzz/scene.dict"; max_len=2048 ;;
     fuzz_cloud_reader)
-      seeds=("$repo"/fuzz/seeds/cloud/* "$repo"/tests/data/engine/*.pcd "$repo"/tests/data/engine/fuzz_regressions/*)
+      seeds=("$repo"/fuzz/seeds/cloud/* "$repo"/tests/data/engine/*.pcd "$repo"/tests/data/engine/fuzz_regressions/*.pcd
+             "$repo"/assets/common/*.ply)
       dict="$repo/fuzz/cloud.dict"; max_len=16384 ;;
     *) echo "fuzz: unknown target '$t'; allowed: fuzz_scene_json, fuzz_cloud_reader" >&2; exit 2 ;;
   esac
