@@ -99,8 +99,10 @@ Rect fitRect(int area_x, int area_w, int area_h, int img_w, int img_h) {
 
 class ViewerApp {
 public:
-    ViewerApp(const ViewerOptions& options, CloudFeed& feed) : options_(options), feed_(feed),
-        style_(options.style), modes_(options.modes, glm::dvec3(0.0)) {}
+    /// `record_frames`: keep per-frame records in the log (for --log-json and benchmarks;
+    /// an interactive session would otherwise grow it for nothing).
+    ViewerApp(const ViewerOptions& options, CloudFeed& feed, bool record_frames) : options_(options), feed_(feed),
+        style_(options.style), modes_(options.modes, glm::dvec3(0.0)), record_frames_(record_frames) {}
     ~ViewerApp();
     int run();
     std::string logJson() const { return log_.json().dump(); }
@@ -142,6 +144,7 @@ private:
     GLuint timer_query_ = 0;     // GL_TIME_ELAPSED around the frame's draws (--gpu-timing)
     double last_gpu_ms_ = -1.0;
     double frame_ms_ = 0.0;      // wall time since the previous loop iteration
+    bool record_frames_ = true;
     Clock::time_point start_ = Clock::now();
 };
 
@@ -236,6 +239,7 @@ void ViewerApp::toggleMode(const std::string& source) {
 
 void ViewerApp::logFrame(bool xr, const std::array<RigPose, 2>& eyes_t, const std::array<RigPose, 2>& eyes_local,
                          const XrFrame* xr_frame, double cpu_ms) {
+    if (!record_frames_) return;
     nlohmann::json f = {{"frame", frames_},
                         {"t_s", std::chrono::duration<double>(Clock::now() - start_).count()},
                         {"mode", modeName(modes_.mode())},
@@ -565,13 +569,14 @@ int ViewerApp::run() {
 }  // namespace
 
 int runViewer(const ViewerOptions& options, CloudFeed& feed) {
-    std::string ignored;
-    return runViewer(options, feed, ignored);
+    validate(options);
+    ViewerApp app(options, feed, !options.log_json.empty());
+    return app.run();
 }
 
 int runViewer(const ViewerOptions& options, CloudFeed& feed, std::string& log_json) {
     validate(options);
-    ViewerApp app(options, feed);
+    ViewerApp app(options, feed, true);
     const int status = app.run();
     log_json = app.logJson();
     return status;
