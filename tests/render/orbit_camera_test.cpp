@@ -59,7 +59,7 @@ TEST_CASE("pixel centre rays agree with the GL projection") {
         }
 }
 
-TEST_CASE("bounds project to a screen rectangle; a box behind the camera gives none") {
+TEST_CASE("bounds project to a screen rectangle, a box behind the camera to none") {
     render::CameraPose pose;
     pose.eye = {0.0, 0.0, 0.0};
     pose.look_at = {0.0, 1.0, 0.0};
