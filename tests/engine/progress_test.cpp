@@ -35,7 +35,7 @@ std::string captureStderr(Fn fn) {
 
 }  // namespace
 
-TEST_CASE("progress: forced bar reaches 100 % with its label; silent when not a tty") {
+TEST_CASE("progress: forced bar reaches 100 % with its label, silent when not a tty") {
     const std::string drawn = captureStderr([] {
         engine::Progress p("ray cast", 10, true);
         for (int i = 0; i < 10; ++i) p.advance();

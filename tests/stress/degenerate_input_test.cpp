@@ -31,7 +31,7 @@ fs::path scratch() {
 
 }  // namespace
 
-TEST_CASE("zero-area and NaN triangles are skipped and counted; the rest of the mesh is cast") {
+TEST_CASE("zero-area and NaN triangles are skipped and counted, the rest of the mesh is cast") {
     const fs::path dir = scratch();
     // A 10 m ground quad (2 proper triangles), 3 zero-area triangles (a repeated vertex,
     // three collinear vertices, all corners equal) and 2 triangles that use a NaN vertex.

@@ -27,7 +27,7 @@ engine::Scene flatScene(float half) {
 
 }  // namespace
 
-TEST_CASE("alpha + FoV/2 up to the grazing bound: finite, huge radius; past it a clear error") {
+TEST_CASE("alpha + FoV/2 up to the grazing bound: finite, huge radius, past it a clear error") {
     sim::OrbitOptions o;
     o.fov_deg = 6.5;
     // Just under the bound: eq. (1) gives tan(89.99 deg - 1e-9) * 300 - 10 = ~1.72e6 m.
@@ -133,7 +133,7 @@ TEST_CASE("FoV 0.01 deg on 64 x 64 pixels: distinct points ~1 mm apart") {
     CHECK(collapsed == 0);
 }
 
-TEST_CASE("FoV 170 deg, alpha 2 deg: the footprint reaches ~5.7 km from the drone; all on the ground") {
+TEST_CASE("FoV 170 deg, alpha 2 deg: the footprint reaches ~5.7 km from the drone, all on the ground") {
     sim::GenerateOptions g;
     g.orbit.fov_deg = 170.0;
     g.orbit.inclination_deg = 2.0;  // alpha + FoV/2 = 87 deg < 89.99
@@ -185,7 +185,7 @@ TEST_CASE("nadir (alpha = 0): a valid pose and every ray on the ground" * doctes
     CHECK(cloud.points.size() == 512u);
 }
 
-TEST_CASE("NoV = 1 and NoV = 65535 are valid; 0 and 65536 are not") {
+TEST_CASE("NoV = 1 and NoV = 65535 are valid, 0 and 65536 are not") {
     sim::OrbitOptions o;
     o.views = 1;
     CHECK_NOTHROW(sim::validate(o));
