@@ -87,6 +87,35 @@ TEST_CASE("the generator near grazing (alpha + FoV/2 = 89 deg): every hit lies o
     CHECK(worst_z < 0.1);
 }
 
+TEST_CASE("the generator at the grazing bound (alpha + FoV/2 = 89.98 deg): 859 km out, hits exact") {
+    // Radius 300 tan(89.98 deg) - 10 = 859 km: the drone (a float ray origin, 6 cm steps at
+    // that distance) sees from 2.6 km to the horizon-grazing top edge at C. With 8 rows the
+    // top row's centre ray runs at alpha + atan(tan(3.25 deg) 7/8) = 89.57 deg from the
+    // vertical and lands 300 tan(89.57 deg) = 40 km out; every hit must be on the plane.
+    sim::GenerateOptions g;
+    g.orbit.inclination_deg = 89.98 - 0.5 * g.orbit.fov_deg;
+    g.orbit.xres = g.orbit.yres = 8;
+    g.orbit.views = 2;
+    g.white = true;
+    const engine::Scene scene = flatScene(2.0e6f);
+    sim::GenerateStats st;
+    const engine::PointCloud cloud = sim::generateCloud(scene, g, &st);
+    CHECK(st.drone_radius_m == doctest::Approx(300.0 * std::tan(89.98 * kDeg) - 10.0));
+    CHECK(st.misses == 0);
+    REQUIRE(cloud.points.size() == 8u * 8u * 2u);
+    double worst_z = 0.0, farthest_m = 0.0;
+    for (std::size_t i = 0; i < 64; ++i) {  // view 0: the drone at (r, 0, 300) looks towards -x
+        const auto& p = cloud.points[i];
+        worst_z = std::max(worst_z, double(std::abs(p.position.z)));
+        farthest_m = std::max(farthest_m, st.drone_radius_m - double(p.position.x));
+    }
+    const double top_row_rad = g.orbit.inclination_deg * kDeg + std::atan(std::tan(3.25 * kDeg) * 7.0 / 8.0);
+    MESSAGE("grazing 89.98 deg: radius " << st.drone_radius_m << " m, worst |z| " << worst_z
+                                         << " m, farthest hit " << farthest_m << " m from the drone's foot");
+    CHECK(farthest_m == doctest::Approx(300.0 * std::tan(top_row_rad)).epsilon(1e-3));
+    CHECK(worst_z < 0.01);
+}
+
 TEST_CASE("FoV 0.01 deg, 1 x 1 sensor, NoV = 1: one point where the optical axis meets the ground") {
     sim::GenerateOptions g;
     g.orbit.fov_deg = 0.01;
