@@ -99,8 +99,10 @@ engine::Pose sensorPose(const OrbitOptions& o, const glm::dvec3& centre, int ind
     // Optical axis: horizontally towards C, pitched alpha from the vertical (Fig. 1).
     const glm::dvec3 forward = glm::dvec3(-outward.x * std::sin(alpha), -outward.y * std::sin(alpha),
                                           -std::cos(alpha));
-    // Right = forward x up_world (the horizontal tangent of the orbit), down = forward x right.
-    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0.0, 0.0, 1.0)));
+    // Right = the horizontal tangent of the orbit (forward x up_world, normalised, for
+    // alpha > 0), built from theta directly so that nadir (alpha = 0, forward = -z, where
+    // that cross product is zero) gets a valid frame too; down = forward x right.
+    const glm::dvec3 right(-std::sin(theta), std::cos(theta), 0.0);
     const glm::dvec3 down = glm::cross(forward, right);
     T_world_sensor.rotation = glm::dmat3(right, down, forward);  // columns: sensor x, y, z
     return T_world_sensor;

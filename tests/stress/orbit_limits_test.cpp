@@ -192,11 +192,9 @@ TEST_CASE("FoV 170 deg, alpha 2 deg: the footprint reaches ~5.7 km from the dron
     CHECK_THROWS_AS(sim::validate(g), engine::Error);
 }
 
-// TODO(lead, sim): skipped until sim::sensorPose handles alpha = 0, which validate()
-// accepts ([0, 90)): right = normalize(cross(forward, z)) is normalize(0) = NaN when the
-// axis is vertical, so every ray is NaN and every ray misses (0 points). The tangent
-// (-sin theta, cos theta, 0) is the same vector for alpha > 0 and is defined at alpha = 0.
-TEST_CASE("nadir (alpha = 0): a valid pose and every ray on the ground" * doctest::skip()) {
+// alpha = 0 is accepted by validate() ([0, 90)): the optical axis is vertical, and the
+// sensor's x axis is the orbit's tangent (-sin theta, cos theta, 0), not a NaN.
+TEST_CASE("nadir (alpha = 0): a valid pose and every ray on the ground") {
     sim::OrbitOptions o;
     o.inclination_deg = 0.0;
     const engine::Pose pose = sim::sensorPose(o, glm::dvec3(0.0), 3);
