@@ -227,7 +227,7 @@ TEST_CASE("default centre: the target's centre at the ground height beneath it")
     CHECK_THROWS_AS(sim::defaultCentre(s), engine::Error);
 }
 
-TEST_CASE("--roles keeps only those meshes and the same orbit; --white makes every point white") {
+TEST_CASE("--roles keeps only those meshes and the same orbit, and --white makes every point white") {
     const engine::Scene scene = sim_test::townScene(120.0, 1.0);
     sim::GenerateOptions o = smallOptions();
     o.white = true;

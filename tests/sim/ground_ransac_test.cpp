@@ -27,7 +27,7 @@ void addPatch(Labelled& l, std::mt19937& rng, int n, float x0, float x1, float y
 
 }  // namespace
 
-TEST_CASE("RANSAC recovers a ground plane and rejects a wall; points above the band stay") {
+TEST_CASE("RANSAC recovers a ground plane and rejects a wall, and points above the band stay") {
     std::mt19937 rng(7);
     Labelled l;
     addPatch(l, rng, 4000, -30, 30, -30, 30, 0.0f);
@@ -90,7 +90,7 @@ TEST_CASE("the normal test keeps |n.z| >= 0.9 and rejects steeper planes") {
     }
 }
 
-TEST_CASE("same seed, same ground; degenerate inputs do not crash") {
+TEST_CASE("same seed, same ground, and degenerate inputs do not crash") {
     std::mt19937 rng(5);
     Labelled l;
     addPatch(l, rng, 500, -5, 5, -5, 5, 0.0f);

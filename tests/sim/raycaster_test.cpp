@@ -9,7 +9,7 @@
 
 #include <vector>
 
-TEST_CASE("first hit: distance, mesh index, role; misses report mesh -1") {
+TEST_CASE("first hit: distance, mesh index, role, and misses report mesh -1") {
     engine::Scene s;
     s.meshes.push_back(sim_test::gridMesh(0, 0, 0, 4, 10.0));
     s.meshes.push_back(sim_test::boxMesh({-1, -1, 0}, {1, 1, 3}, engine::Role::Target, "box"));
