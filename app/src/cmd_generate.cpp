@@ -32,6 +32,7 @@ struct GenerateCli {
     std::string roles;
     std::string centre;
     bool json = false;
+    bool skip_nonfinite = false;
     double memory_mb = 512.0;
     sim::GenerateOptions options;
 };
@@ -122,7 +123,13 @@ void run(GenerateCli& cli) {
     o.progress = true;  // drawn only when stderr is a terminal
 
     const auto t0 = std::chrono::steady_clock::now();
-    const engine::Scene scene = engine::loadScene(scene_path);
+    engine::SceneLoadOptions load_options;
+    load_options.skip_nonfinite = cli.skip_nonfinite;
+    const engine::Scene scene = engine::loadScene(scene_path, load_options);
+    if (scene.skipped_triangles > 0 || scene.skipped_nonfinite_triangles > 0)
+        std::fprintf(stderr, "generate: warning: %s: skipped %zu zero-area and %zu non-finite (NaN/inf vertex) "
+                             "triangles\n",
+                     scene_path.string().c_str(), scene.skipped_triangles, scene.skipped_nonfinite_triangles);
     const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     sim::GenerateStats st;
     {
@@ -176,6 +183,8 @@ void run(GenerateCli& cli) {
         j["seed"] = o.seed;
         j["white"] = o.white;
         j["triangles"] = st.triangles;
+        j["skipped_zero_area_triangles"] = st.skipped_zero_area_triangles;
+        j["skipped_nonfinite_triangles"] = st.skipped_nonfinite_triangles;
         j["rays"] = st.rays;
         j["points"] = st.points;
         j["misses"] = st.misses;
@@ -213,6 +222,8 @@ void registerGenerate(CLI::App& cli) {
     c->add_option("--format", state->format, "pcd (binary, default), pcd-ascii, ply (binary), ply-ascii; "
                                              "default from the --out extension");
     c->add_flag("--white", o.white, "write the uncoloured (white) cloud: no colour map, no RANSAC");
+    c->add_flag("--skip-nonfinite", state->skip_nonfinite,
+                "drop triangles with a NaN/inf vertex (counted in a warning) instead of failing");
     c->add_option("--roles", state->roles, "ray-cast only these roles, e.g. target,environment "
                                            "(the orbit stays that of the whole scene)");
     c->add_option("--altitude-m", orbit.altitude_m, "drone altitude above C, metres > 0")->capture_default_str();

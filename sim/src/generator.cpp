@@ -362,9 +362,11 @@ Generator::~Generator() = default;
 
 namespace {
 
-void initStats(const GenerateOptions& o, const glm::dvec3& centre, std::size_t triangles,
-                      double bvh_seconds, int threads, GenerateStats& st) {
+void initStats(const GenerateOptions& o, const engine::Scene& scene, const glm::dvec3& centre,
+               std::size_t triangles, double bvh_seconds, int threads, GenerateStats& st) {
     st = GenerateStats{};
+    st.skipped_zero_area_triangles = scene.skipped_triangles;
+    st.skipped_nonfinite_triangles = scene.skipped_nonfinite_triangles;
     st.drone_radius_m = droneRadius(o.orbit);
     st.length_sensed_m = lengthSensed(o.orbit);
     st.coverage_diameter_m = coverageDiameter(o.orbit);
@@ -381,7 +383,7 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
     const auto t0 = Clock::now();
     GenerateStats st;
     const int threads = resolveThreads(s.options.threads);
-    initStats(s.options, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
+    initStats(s.options, s.scene, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
     ThreadPool pool(threads);
     engine::PointCloud cloud;
     cloud.origin = s.scene.origin;
@@ -403,7 +405,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     const auto t0 = Clock::now();
     GenerateStats st;
     const int threads = resolveThreads(s.options.threads);
-    initStats(s.options, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
+    initStats(s.options, s.scene, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
     // Opens "<out>.tmp-<pid>" now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
     engine::CloudWriter writer(out, format, s.scene.origin);

@@ -62,6 +62,74 @@ count = int([l for l in header.splitlines() if l.startswith("POINTS")][0].split(
 assert count == s["points"], (count, s["points"])
 assert 0.9 < s["ground_precision"] <= 1 and 0.9 < s["ground_recall"] <= 1, s
 EOF
+cp "$dir/err" "$dir/err.good"
 grep -q "drone radius 326.12 m" "$dir/err" || fail "human summary lacks the drone radius: $(cat "$dir/err")"
+# A NaN vertex: by default one error line naming it and no file; with --skip-nonfinite the
+# triangle is dropped, the run goes on and a warning gives the count (issue 5).
+nan_scene=$(dirname "$0")/../data/scenes/bad/nan_vertex.json
+status=0
+"$bin" generate --scene "$nan_scene" --out "$dir/nan.pcd" --views 2 >"$dir/out" 2>"$dir/err" || status=$?
+[ "$status" -eq 1 ] || fail "NaN vertex accepted without --skip-nonfinite (exit $status)"
+grep -qi "nan\|finite" "$dir/err" || fail "NaN vertex error does not say so: $(cat "$dir/err")"
+[ "$(wc -l <"$dir/err")" -eq 1 ] || fail "NaN vertex: more than one line: $(cat "$dir/err")"
+[ ! -e "$dir/nan.pcd" ] || fail "NaN vertex left an output file"
+# A target with one good, one NaN and one zero-area triangle on a 200 m square ground.
+cat >"$dir/ground.ply" <<'EOF2'
+ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+element face 2
+property list uchar int vertex_indices
+end_header
+-100 -100 0
+100 -100 0
+100 100 0
+-100 100 0
+3 0 1 2
+3 0 2 3
+EOF2
+cat >"$dir/mixed.ply" <<'EOF2'
+ply
+format ascii 1.0
+element vertex 5
+property float x
+property float y
+property float z
+element face 3
+property list uchar int vertex_indices
+end_header
+0 0 1
+1 0 1
+0 1 1
+nan 1 1
+1 1 1
+3 0 1 2
+3 0 3 4
+3 0 1 1
+EOF2
+echo '{ "meshes": [ { "file": "ground.ply", "role": "ground" }, { "file": "mixed.ply", "role": "target" } ] }' \
+    >"$dir/mixed.json"
+status=0
+"$bin" generate --scene "$dir/mixed.json" --out "$dir/nan.pcd" --views 2 >"$dir/out" 2>"$dir/err" || status=$?
+[ "$status" -eq 1 ] || fail "NaN vertex in a mixed mesh accepted without --skip-nonfinite (exit $status)"
+[ ! -e "$dir/nan.pcd" ] || fail "NaN vertex left an output file"
+"$bin" generate --scene "$dir/mixed.json" --out "$dir/nan.pcd" --xres 16 --yres 16 --views 2 --skip-nonfinite \
+    --json >"$dir/nan.json" 2>"$dir/err" || fail "--skip-nonfinite run failed: $(cat "$dir/err")"
+grep -q "warning: .*skipped 1 zero-area and 1 non-finite" "$dir/err" ||
+    fail "--skip-nonfinite: no warning with the counts: $(cat "$dir/err")"
+python3 - "$dir" <<'EOF2'
+import json, sys
+s = json.load(open(sys.argv[1] + "/nan.json"))
+assert s["skipped_nonfinite_triangles"] == 1, s
+assert s["skipped_zero_area_triangles"] == 1, s
+assert s["rays"] == 16 * 16 * 2 and s["points"] > 0, s
+EOF2
+# A clean scene gives no warning and zero counts.
+! grep -q "warning" "$dir/err.good" || fail "warning on a clean scene: $(cat "$dir/err.good")"
+python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['skipped_nonfinite_triangles']==0 and s['skipped_zero_area_triangles']==0, s" "$dir/summary.json"
+
 rm -rf "$dir"
 echo "cmd_generate_test: ok"

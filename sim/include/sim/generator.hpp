@@ -67,6 +67,9 @@ struct GenerateStats {
     /// Of the whitening against the labels; empty when undefined (--white, or nothing
     /// whitened / no ground points).
     std::optional<double> ground_precision, ground_recall;
+    /// Triangles the scene loader dropped (engine::Scene::skipped_triangles and
+    /// skipped_nonfinite_triangles): zero-area ones, and NaN/inf ones with skip_nonfinite.
+    std::size_t skipped_zero_area_triangles = 0, skipped_nonfinite_triangles = 0;
     float z_min = 0, z_max = 0;             // height range used by the colour map (local)
     bool streamed = false;                  // spooled through a temporary file
     StageSeconds seconds;
