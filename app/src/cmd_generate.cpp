@@ -145,7 +145,7 @@ void run(GenerateCli& cli) {
                  "  orbit: altitude %.2f m, CO %.2f m, alpha %.2f deg, FoV %.3f deg, %dx%d px, %d views, "
                  "centre C %.3f %.3f %.3f\n"
                  "  derived: drone radius %.2f m, length sensed %.2f m, covered diameter %.2f m\n"
-                 "  rays %llu, hits %llu, misses %llu\n"
+                 "  rays %llu (%llu traced, the others cannot meet the geometry's bounds), hits %llu, misses %llu\n"
                  "  ground: %llu points whitened (%d planes kept, %d dropped), %llu labelled ground; "
                  "precision %s, recall %s\n"
                  "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, RANSAC %.3f s, colour %.3f s, "
@@ -155,7 +155,7 @@ void run(GenerateCli& cli) {
                  scene.origin.x, scene.origin.y, scene.origin.z, orbit.altitude_m, orbit.overlap_m,
                  orbit.inclination_deg, orbit.fov_deg, orbit.xres, orbit.yres, orbit.views, st.centre.x,
                  st.centre.y, st.centre.z, st.drone_radius_m, st.length_sensed_m, st.coverage_diameter_m,
-                 (unsigned long long)st.rays, (unsigned long long)st.points, (unsigned long long)st.misses,
+                 (unsigned long long)st.rays, (unsigned long long)st.rays_traced, (unsigned long long)st.points, (unsigned long long)st.misses,
                  (unsigned long long)st.ground_found, st.planes_accepted, st.planes_rejected,
                  (unsigned long long)st.ground_truth, percent(st.ground_precision).c_str(),
                  percent(st.ground_recall).c_str(), load_s, st.seconds.bvh, st.seconds.cast, st.seconds.fuse,
@@ -188,6 +188,8 @@ void run(GenerateCli& cli) {
         j["rays"] = st.rays;
         j["points"] = st.points;
         j["misses"] = st.misses;
+        j["rays_traced"] = st.rays_traced;
+        j["skip_rays"] = o.skip_rays;
         j["ground_found"] = st.ground_found;
         j["ground_truth"] = st.ground_truth;
         j["planes_accepted"] = st.planes_accepted;
@@ -222,6 +224,9 @@ void registerGenerate(CLI::App& cli) {
     c->add_option("--format", state->format, "pcd (binary, default), pcd-ascii, ply (binary), ply-ascii; "
                                              "default from the --out extension");
     c->add_flag("--white", o.white, "write the uncoloured (white) cloud: no colour map, no RANSAC");
+    c->add_flag("--no-skip-rays{false}", o.skip_rays,
+                "trace every pixel, also those whose rays cannot meet the ray-cast geometry's bounds "
+                "(same cloud, slower; for comparisons)");
     c->add_flag("--skip-nonfinite", state->skip_nonfinite,
                 "drop triangles with a NaN/inf vertex (counted in a warning) instead of failing");
     c->add_option("--roles", state->roles, "ray-cast only these roles, e.g. target,environment "

@@ -23,6 +23,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <unistd.h>
 
@@ -92,6 +93,53 @@ bool heightInTriangle(double x, double y, const glm::dvec3& a, const glm::dvec3&
     return true;
 }
 
+// Pixels of one view that are traced: columns [x0, x1] x rows [y0, y1] (inclusive).
+struct PixelRect {
+    int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+    bool contains(int px, int py) const { return px >= x0 && px <= x1 && py >= y0 && py <= y1; }
+    std::uint64_t count() const {
+        return x1 < x0 || y1 < y0 ? 0 : std::uint64_t(x1 - x0 + 1) * std::uint64_t(y1 - y0 + 1);
+    }
+};
+
+// The pixels of a pinhole at `T_local_sensor` whose rays can meet the box `b` (local
+// frame): the box's 8 corners projected with pixelDirection's inverse, padded by one
+// pixel plus the float slack of the rays. A corner at or behind the image plane (the
+// box reaches the sensor's side) gives the whole image: no skip, never a wrong one.
+PixelRect visiblePixels(const OrbitOptions& o, const engine::Pose& T_local_sensor, const engine::Bounds& b) {
+    const PixelRect all{0, o.xres - 1, 0, o.yres - 1};
+    if (b.empty()) return PixelRect{};
+    const double focal_px = 0.5 * double(o.yres) / std::tan(0.5 * o.fov_deg * std::numbers::pi / 180.0);
+    // Rays are built in float from float origins: pad the box by far more than their error.
+    const glm::dvec3 t = T_local_sensor.translation;
+    const double scale = std::max({glm::length(b.hi - b.lo), glm::length(b.lo - t), glm::length(b.hi - t), 1.0});
+    const double pad_m = 1e-4 * scale;
+    const glm::dvec3 lo = b.lo - pad_m, hi = b.hi + pad_m;
+    const glm::dmat3 R_sensor_local = glm::transpose(T_local_sensor.rotation);
+    double u_min = std::numeric_limits<double>::infinity(), u_max = -u_min, v_min = u_min, v_max = -u_min;
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 p((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+        const glm::dvec3 q = R_sensor_local * (p - t);
+        if (!(q.z > 1e-6 * scale)) return all;
+        // Inverse of pixelDirection: pixel px's ray has x/z = (px + 0.5 - xres/2) / focal.
+        const double u = q.x / q.z * focal_px + 0.5 * double(o.xres) - 0.5;
+        const double v = q.y / q.z * focal_px + 0.5 * double(o.yres) - 0.5;
+        u_min = std::min(u_min, u); u_max = std::max(u_max, u);
+        v_min = std::min(v_min, v); v_max = std::max(v_max, v);
+    }
+    const double margin_px = 1.0 + 1e-4 * focal_px;
+    const auto lowPixel = [&](double x, int n) {
+        return int(std::clamp(std::floor(x - margin_px), -1.0, double(n)));
+    };
+    const auto highPixel = [&](double x, int n) {
+        return int(std::clamp(std::ceil(x + margin_px), -1.0, double(n)));
+    };
+    PixelRect r{std::max(0, lowPixel(u_min, o.xres)), std::min(o.xres - 1, highPixel(u_max, o.xres)),
+                std::max(0, lowPixel(v_min, o.yres)), std::min(o.yres - 1, highPixel(v_max, o.yres))};
+    if (r.x0 > r.x1 || r.y0 > r.y1) return PixelRect{};
+    return r;
+}
+
 }  // namespace
 
 void validate(const GenerateOptions& o) {
@@ -151,12 +199,13 @@ struct Generator::State {
     double bvh_seconds = 0.0;
     std::vector<glm::dvec3> sensor_dirs;   // per pixel, row-major, unit, sensor frame
     std::vector<engine::Pose> poses;       // per view, T_local_sensor
+    std::vector<PixelRect> traced;         // per view, the pixels traced (all without skip_rays)
     std::vector<std::uint32_t> jet;
 
     State(const engine::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
 
     // Paper §III-B: traces pixels [begin, end) of `view` into slots[begin, end).
-    void castBlock(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
+    void castRange(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
         const RayCaster::Impl& impl = caster->impl();
         const engine::Pose& pose = poses[std::size_t(view)];
         const glm::vec3 origin(pose.translation);
@@ -184,7 +233,7 @@ struct Generator::State {
     // The same with rtcIntersect16 packets of 16 consecutive pixels in row-major order
     // (coherent rays from one origin): measured faster than rtcIntersect1 here
     // (BENCHMARKS.md); the hits are the same (tests/sim/generator_test.cpp).
-    void castBlock16(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
+    void castRange16(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
         const RayCaster::Impl& impl = caster->impl();
         const engine::Pose& pose = poses[std::size_t(view)];
         const glm::vec3 origin(pose.translation);
@@ -230,6 +279,29 @@ struct Generator::State {
         }
     }
 
+    // Pixels [begin, end) of `view` (row-major) into slots[begin, end): those outside the
+    // view's traced rectangle are misses without a ray, the others are cast by row runs.
+    void castBlock(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
+        const PixelRect& r = traced[std::size_t(view)];
+        const std::size_t xres = std::size_t(options.orbit.xres);
+        std::size_t i = begin;
+        while (i < end) {
+            const std::size_t row = i / xres, row_end = std::min(end, (row + 1) * xres);
+            std::size_t a = row_end, b = row_end;  // traced run [a, b) of this row
+            if (int(row) >= r.y0 && int(row) <= r.y1) {
+                a = std::clamp(row * xres + std::size_t(r.x0), i, row_end);
+                b = std::clamp(row * xres + std::size_t(r.x1) + 1, i, row_end);
+            }
+            for (std::size_t k = i; k < a; ++k) slots[k].range_m = kMissRange;
+            if (a < b) {
+                if (options.packet_rays) castRange16(view, a, b, slots);
+                else castRange(view, a, b, slots);
+            }
+            for (std::size_t k = std::max(a, b); k < row_end; ++k) slots[k].range_m = kMissRange;
+            i = row_end;
+        }
+    }
+
     // Runs every view and hands the fused points, in (view, row, column) order, to
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
     void fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
@@ -263,18 +335,16 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
     std::optional<engine::Progress> progress;
     if (options.progress) progress.emplace("generate", views);
 
-    const bool use16 = options.packet_rays;
     float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
     for (std::size_t first = 0; first < views; first += batch_views) {
         const std::size_t count = std::min(batch_views, views - first);
         auto t0 = Clock::now();
         pool.run(count * blocks, [&](std::size_t task, int) {
             const std::size_t k = task / blocks, block = task % blocks;
-            if (use16) castBlock16(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
-                      slots.data() + k * npix);
-            else castBlock(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
+            castBlock(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
                       slots.data() + k * npix);
         });
+        for (std::size_t k = 0; k < count; ++k) st.rays_traced += traced[first + k].count();
         st.seconds.cast += secondsSince(t0);
 
         t0 = Clock::now();
@@ -355,6 +425,17 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     s.jet = jetTable(s.options.colour.entries);
     const auto t0 = Clock::now();
     s.caster = std::make_unique<RayCaster>(scene, s.options.roles);
+    // Bounds of the triangles in the BVH (not of the whole scene: with --roles
+    // target,environment most of the footprint holds nothing to hit).
+    engine::Bounds cast_bounds;
+    for (const engine::Mesh& m : scene.meshes) {
+        if (!s.options.roles.has(m.role)) continue;
+        for (const glm::uvec3& t : m.triangles)
+            for (int k = 0; k < 3; ++k) cast_bounds.extend(glm::dvec3(m.vertices[t[k]]));
+    }
+    const PixelRect all{0, orbit.xres - 1, 0, orbit.yres - 1};
+    for (int v = 0; v < orbit.views; ++v)
+        s.traced.push_back(s.options.skip_rays ? visiblePixels(orbit, s.poses[std::size_t(v)], cast_bounds) : all);
     s.bvh_seconds = secondsSince(t0);
 }
 

@@ -320,3 +320,53 @@ TEST_CASE("demo scene, paper configuration: ground precision and recall above th
     CHECK(target_white < target / 10);  // only its lowest 0.2 m may touch the ground plane
     CHECK(target_not_red == 0);
 }
+
+TEST_CASE("pixels that cannot meet the geometry's bounds are not traced, and the cloud is the same") {
+    // A 20 m ground patch with the target on it: most of the ~68 m footprint holds nothing.
+    engine::Scene scene;
+    scene.source = "patch (in code)";
+    scene.origin = glm::dvec3(500000.0, 4000000.0, 120.0);
+    scene.meshes.push_back(sim_test::gridMesh(0.0, 0.0, 0.0, 40, 0.5));
+    scene.meshes.push_back(sim_test::boxMesh({-3.5f, -1.75f, 0.0f}, {3.5f, 1.75f, 2.4f}, engine::Role::Target, "tank"));
+    for (const bool packets : {true, false}) {
+        CAPTURE(packets);
+        sim::GenerateOptions o = smallOptions();
+        o.packet_rays = packets;
+        sim::GenerateStats skip_st, all_st;
+        const engine::PointCloud skipped = sim::generateCloud(scene, o, &skip_st);
+        o.skip_rays = false;
+        const engine::PointCloud all = sim::generateCloud(scene, o, &all_st);
+        CHECK(all_st.rays_traced == all_st.rays);
+        CHECK(skip_st.rays == all_st.rays);
+        // Known answer: the patch spans 20 m of a ~68 m x ~9 m footprint seen from ~440 m.
+        CHECK(skip_st.rays_traced < skip_st.rays / 2);
+        CHECK(skip_st.rays_traced >= skip_st.points);
+        CHECK(skip_st.points > 0);
+        CHECK(skip_st.misses == all_st.misses);
+        CHECK(skip_st.misses > skip_st.rays / 2);
+        CHECK(skip_st.ground_found == all_st.ground_found);
+        REQUIRE(skipped.points.size() == all.points.size());
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < all.points.size(); ++i) differ += !samePoint(skipped.points[i], all.points[i]);
+        CHECK(differ == 0);
+    }
+    // Only the target: a few pixels per view, still the same points.
+    sim::GenerateOptions o = smallOptions();
+    o.roles = engine::RoleMask::parse("target", "test");
+    sim::GenerateStats skip_st, all_st;
+    const engine::PointCloud skipped = sim::generateCloud(scene, o, &skip_st);
+    o.skip_rays = false;
+    const engine::PointCloud all = sim::generateCloud(scene, o, &all_st);
+    CHECK(skip_st.rays_traced < skip_st.rays / 10);
+    REQUIRE(skipped.points.size() == all.points.size());
+    CHECK(skipped.points.size() > 0);
+    for (std::size_t i = 0; i < all.points.size(); ++i) CHECK(samePoint(skipped.points[i], all.points[i]));
+    // Ground larger than the orbit (the box reaches behind the sensor): everything is traced.
+    engine::Scene wide;
+    wide.source = "wide (in code)";
+    wide.meshes.push_back(sim_test::gridMesh(0.0, 0.0, 0.0, 20, 100.0));
+    sim::GenerateStats wide_st;
+    sim::generateCloud(wide, smallOptions(), &wide_st);
+    CHECK(wide_st.rays_traced == wide_st.rays);
+    CHECK(wide_st.misses == 0);
+}

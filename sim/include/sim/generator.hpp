@@ -32,6 +32,10 @@ struct GenerateOptions {
     bool white = false;             // no colouring and no RANSAC: every point white
     int threads = 0;                // 0 = std::thread::hardware_concurrency()
     bool packet_rays = true;        // trace 16-ray packets (rtcIntersect16); false: rtcIntersect1
+    /// Per view, trace only the pixels whose rays can meet the bounds of the ray-cast
+    /// geometry (the box projected into the image, plus a margin); the others are misses
+    /// without a ray. The cloud is the same either way (--no-skip-rays turns it off).
+    bool skip_rays = true;
     std::uint64_t seed = 1;         // RANSAC of view v shuffles with mt19937_64(seed ^ v)
     /// When rays x sizeof(CloudPoint) exceeds this, the fused cloud is spooled to a file
     /// next to the output instead of memory (file output only).
@@ -60,6 +64,7 @@ struct GenerateStats {
     std::size_t triangles = 0;              // in the BVH
     int threads = 1;
     std::uint64_t rays = 0, points = 0, misses = 0;
+    std::uint64_t rays_traced = 0;          // rays actually cast (rays minus skipped pixels)
     std::uint64_t ground_found = 0;         // whitened by RANSAC (PG over all views)
     std::uint64_t ground_truth = 0;         // points whose mesh has role ground
     std::uint64_t ground_true_positive = 0; // both
