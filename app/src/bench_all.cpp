@@ -9,6 +9,7 @@
 // from the benchmarks' CSV files at the end, and the header is rewritten with the steps'
 // times. bench fuzz runs scripts/fuzz.sh (libFuzzer, clang build in build/fuzz) for a
 // bounded time per target and writes the `## Fuzzing (ladarvr bench fuzz)` section.
+#include "bench_common.hpp"
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
@@ -30,38 +31,15 @@
 namespace app {
 namespace {
 
+using bench::cpuName;
+using bench::fmt;
+using bench::readText;
+using bench::utcNow;
+
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-std::string fmt(const char* format, double v) {
-    char b[64];
-    std::snprintf(b, sizeof b, format, v);
-    return b;
-}
-
-std::string cpuName() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
-}
-
-std::string utcNow() {
-    std::time_t now = std::time(nullptr);
-    char date[64];
-    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-    return date;
-}
-
-std::string readText(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 fs::path sourceRoot() { return engine::demoScenePath().parent_path().parent_path().parent_path(); }
 
@@ -86,28 +64,6 @@ std::string runEcho(const std::string& cmd, int* status) {
     const int rc = ::pclose(p);
     *status = WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
     return out;
-}
-
-/// Replaces (or appends) the section starting with `heading` in `path`.
-void replaceSection(const fs::path& path, const std::string& heading, const std::string& section) {
-    std::string text = fs::exists(path) ? readText(path) : std::string("# Benchmarks\n");
-    const std::size_t start = text.find(heading);
-    if (start == std::string::npos) {
-        if (!text.empty() && text.back() != '\n') text += '\n';
-        text += "\n" + section;
-    } else {
-        std::size_t end = text.find("\n## ", start + heading.size());
-        end = end == std::string::npos ? text.size() : end + 1;
-        text = text.substr(0, start) + section + (end < text.size() ? "\n" + text.substr(end) : "");
-    }
-    engine::writeFileAtomic(path, text);
-}
-
-/// Replaces everything before the first `## ` section of `path` with `header`.
-void replaceHeader(const fs::path& path, const std::string& header) {
-    const std::string text = fs::exists(path) ? readText(path) : std::string();
-    const std::size_t first = text.rfind("## ", 0) == 0 ? 0 : text.find("\n## ");
-    engine::writeFileAtomic(path, header + (first == std::string::npos ? "" : "\n" + text.substr(first + (first ? 1 : 0))));
 }
 
 // --- bench fuzz -------------------------------------------------------------
@@ -178,7 +134,7 @@ void runFuzz(const BenchFuzzCli& cli) {
     s << "\nCrashes found by earlier runs are kept as regression tests (tests/data/engine/fuzz_regressions/, "
          "tests/engine/fuzz_regression_test.cpp); docs/stress.md lists them.\n";
     if (!cli.no_md) {
-        replaceSection(cli.md, "## Fuzzing (ladarvr bench fuzz)", s.str());
+        bench::replaceMarkdownSection(cli.md, "## Fuzzing (ladarvr bench fuzz)", s.str());
         std::fprintf(stderr, "bench fuzz: wrote the section to %s\n", cli.md.c_str());
     } else {
         std::fputs(s.str().c_str(), stdout);
@@ -281,7 +237,7 @@ void runAll(const BenchAllCli& cli) {
                                   "; " + utcNow() + "; " + fmt("%.0f", s.seconds) + " s" +
                                   (s.status ? ", FAILED with exit status " + std::to_string(s.status) : "") + ".\n\n" +
                                   body;
-            replaceSection(cli.md, s.heading, section);
+            bench::replaceMarkdownSection(cli.md, s.heading, section);
         }
     }
     // Plots from the benchmarks' CSV files.
@@ -311,7 +267,7 @@ void runAll(const BenchAllCli& cli) {
         h << (i ? ", " : "") << steps[i].name << " " << fmt("%.0f s", steps[i].seconds)
           << (steps[i].status ? " (FAILED)" : "");
     h << ".\n";
-    replaceHeader(cli.md, h.str());
+    bench::replaceMarkdownHeader(cli.md, h.str());
     std::fprintf(stderr, "bench all: %s in %.0f s (%s)\n", failed ? "finished with failures" : "done", total,
                  cli.md.c_str());
     if (failed) throw engine::Error("bench all: " + std::to_string(failed) + " step(s) failed; see above");

@@ -3,6 +3,7 @@
 // A program, not a test: warm-up, per-view medians over the orbit, ratios against
 // baselines measured in the same run (the same settings without skips; the exact Embree
 // reference's time per view).
+#include "bench_common.hpp"
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
@@ -28,6 +29,11 @@
 namespace app {
 namespace {
 
+using bench::cpuName;
+using bench::fmt;
+using bench::median;
+using bench::utcNow;
+
 struct BenchMetricCli {
     bool quick = false;
     int views = 100;
@@ -52,50 +58,6 @@ struct Row {
     int views_used = 0, views_compared = 0;
     double exact_ms_per_view = 0;             // the exact reference at this resolution
 };
-
-double median(std::vector<double> v) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-std::string readText(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-std::string cpuName() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
-}
-
-std::string fmt(const char* format, double v) {
-    char b[64];
-    std::snprintf(b, sizeof b, format, v);
-    return b;
-}
-
-/// Replaces (or appends) the `## Metric (ladarvr bench metric)` section of BENCHMARKS.md.
-void updateMarkdown(const std::filesystem::path& path, const std::string& section) {
-    const std::string heading = "## Metric (ladarvr bench metric)";
-    std::string text = std::filesystem::exists(path) ? readText(path) : std::string("# Benchmarks\n");
-    const std::size_t start = text.find(heading);
-    if (start == std::string::npos) {
-        if (!text.empty() && text.back() != '\n') text += '\n';
-        text += "\n" + section;
-    } else {
-        std::size_t end = text.find("\n## ", start + heading.size());
-        end = end == std::string::npos ? text.size() : end + 1;
-        text = text.substr(0, start) + section + (end < text.size() ? "\n" + text.substr(end) : "");
-    }
-    engine::writeFileAtomic(path, text);
-}
 
 void run(const BenchMetricCli& cli) {
     if (cli.views < 4 || cli.views > 1000)
@@ -236,9 +198,7 @@ void run(const BenchMetricCli& cli) {
     engine::writeFileAtomic(csv_path, csv);
 
     // Markdown section
-    char date[32];
-    const std::time_t now = std::time(nullptr);
-    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    const std::string date = utcNow();
     std::string md = "## Metric (ladarvr bench metric)\n\n";
     md += "Command: `./ladarvr bench metric" + std::string(cli.quick ? " --quick" : "") + "`; " + date + "; " +
           cpuName() + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads; GL: " + gl +
@@ -275,7 +235,7 @@ void run(const BenchMetricCli& cli) {
           "docs/metric.md.\n";
     std::fputs(md.c_str(), stdout);
     if (!cli.no_md) {
-        updateMarkdown(cli.md, md);
+        bench::replaceMarkdownSection(cli.md, "## Metric (ladarvr bench metric)", md);
         std::fprintf(stderr, "bench metric: updated %s and wrote %s\n", cli.md.c_str(), cli.csv.c_str());
     }
 }

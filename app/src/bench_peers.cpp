@@ -12,6 +12,7 @@
 // A program, not a test: warm-up, repeats, medians, ratios; the section
 // "## Peers (ladarvr bench peers)" of BENCHMARKS.md is rewritten.
 #include "bench_peers_pcl.hpp"
+#include "bench_common.hpp"
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
@@ -41,6 +42,12 @@
 namespace app {
 namespace {
 
+using bench::cpuName;
+using bench::fmt;
+using bench::median;
+using bench::quantile;
+using bench::utcNow;
+
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
@@ -58,56 +65,7 @@ struct BenchPeersCli {
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double quantile(std::vector<double> v, double q) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
-}
-
-std::string fmt(const char* format, double v) {
-    char b[64];
-    std::snprintf(b, sizeof b, format, v);
-    return b;
-}
-
-std::string cpuName() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
-}
-
 fs::path sourceRoot() { return engine::demoScenePath().parent_path().parent_path().parent_path(); }
-
-/// Replaces (or appends) the `## Peers (ladarvr bench peers)` section of `path`.
-void updateMarkdown(const fs::path& path, const std::string& section) {
-    const std::string heading = "## Peers (ladarvr bench peers)";
-    std::string text = "# Benchmarks\n";
-    if (fs::exists(path)) {
-        std::ifstream in(path, std::ios::binary);
-        std::stringstream b;
-        b << in.rdbuf();
-        text = b.str();
-    }
-    const std::size_t start = text.find(heading);
-    if (start == std::string::npos) {
-        if (!text.empty() && text.back() != '\n') text += '\n';
-        text += "\n" + section;
-    } else {
-        std::size_t end = text.find("\n## ", start + heading.size());
-        end = end == std::string::npos ? text.size() : end + 1;
-        text = text.substr(0, start) + section + (end < text.size() ? "\n" + text.substr(end) : "");
-    }
-    engine::writeFileAtomic(path, text);
-}
 
 /// RayCaster::intersect (rtcIntersect1 per ray) over `rays` on `threads` threads taking
 /// 4096-ray chunks from a shared counter; returns the wall time.
@@ -399,9 +357,7 @@ void run(const BenchPeersCli& cli) {
     fs::remove_all(dir, ec);
     const double total_s = since(start);
 
-    std::time_t now = std::time(nullptr);
-    char date[64];
-    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    const std::string date = utcNow();
     std::ostringstream s;
     s << "## Peers (ladarvr bench peers)\n\n"
       << "Command: `./ladarvr bench peers" << (cli.quick ? " --quick" : "") << "`; machine: "
@@ -450,7 +406,7 @@ void run(const BenchPeersCli& cli) {
           << fmt("%.1fx", (double(g.points) / g.ransac_s) / (double(g.pmf_points) / g.pmf_s)) << " |\n";
     s << "\n";
     if (!cli.no_md) {
-        updateMarkdown(cli.md, s.str());
+        bench::replaceMarkdownSection(cli.md, "## Peers (ladarvr bench peers)", s.str());
         std::fprintf(stderr, "bench peers: wrote the section to %s (%.0f s)\n", cli.md.c_str(), total_s);
     } else {
         std::fputs(s.str().c_str(), stdout);

@@ -1,0 +1,78 @@
+// app/src/bench_common.cpp: see bench_common.hpp.
+#include "bench_common.hpp"
+
+#include <engine/atomic_file.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+
+namespace app::bench {
+
+double median(std::vector<double> v) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double quantile(std::vector<double> v, double q) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+std::string fmt(const char* format, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, format, v);
+    return b;
+}
+
+std::string cpuName() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown CPU";
+}
+
+std::string utcNow() {
+    const std::time_t now = std::time(nullptr);
+    char date[64];
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    return date;
+}
+
+std::string readText(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+void replaceMarkdownSection(const std::filesystem::path& path, const std::string& heading,
+                            const std::string& section) {
+    std::string text = std::filesystem::exists(path) ? readText(path) : std::string("# Benchmarks\n");
+    const std::size_t start = text.find(heading);
+    if (start == std::string::npos) {
+        if (!text.empty() && text.back() != '\n') text += '\n';
+        text += "\n" + section;
+    } else {
+        std::size_t end = text.find("\n## ", start + heading.size());
+        end = end == std::string::npos ? text.size() : end + 1;
+        text = text.substr(0, start) + section + (end < text.size() ? "\n" + text.substr(end) : "");
+    }
+    engine::writeFileAtomic(path, text);
+}
+
+void replaceMarkdownHeader(const std::filesystem::path& path, const std::string& header) {
+    const std::string text = std::filesystem::exists(path) ? readText(path) : std::string();
+    const std::size_t first = text.rfind("## ", 0) == 0 ? 0 : text.find("\n## ");
+    engine::writeFileAtomic(
+        path, header + (first == std::string::npos ? "" : "\n" + text.substr(first + (first ? 1 : 0))));
+}
+
+}  // namespace app::bench

@@ -1,0 +1,31 @@
+// app/src/bench_common.hpp: what every benchmark program shares: statistics, number
+// formatting, the machine line, and rewriting one section of BENCHMARKS.md.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace app::bench {
+
+/// Median of the samples; NaN when there are none.
+double median(std::vector<double> samples);
+/// The q-quantile (0..1, nearest rank) of the samples; NaN when there are none.
+double quantile(std::vector<double> samples, double q);
+/// printf-style formatting of one number ("%.2f").
+std::string fmt(const char* format, double v);
+/// The CPU's model name from /proc/cpuinfo, or "unknown CPU".
+std::string cpuName();
+/// "YYYY-MM-DD HH:MM UTC" now.
+std::string utcNow();
+/// The whole file as a string; empty if it cannot be read.
+std::string readText(const std::filesystem::path& path);
+
+/// Replaces the section that starts with `heading` (a "## ..." line) up to the next
+/// "## " heading with `section`, or appends it; writes atomically. A missing file
+/// starts as "# Benchmarks".
+void replaceMarkdownSection(const std::filesystem::path& path, const std::string& heading,
+                            const std::string& section);
+/// Replaces everything before the first "## " section with `header`; writes atomically.
+void replaceMarkdownHeader(const std::filesystem::path& path, const std::string& header);
+
+}  // namespace app::bench
