@@ -194,6 +194,7 @@ void run(GenerateCli& cli) {
         j["ground_truth"] = st.ground_truth;
         j["planes_accepted"] = st.planes_accepted;
         j["planes_rejected"] = st.planes_rejected;
+        j["views_without_ransac"] = st.views_without_ransac;
         j["ground_precision"] = optionalNumber(st.ground_precision);
         j["ground_recall"] = optionalNumber(st.ground_recall);
         j["z_min_m"] = scene.origin.z + st.z_min;

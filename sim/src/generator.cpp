@@ -363,6 +363,11 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
             t0 = Clock::now();
             pool.run(count, [&](std::size_t k, int) {
                 auto& pts = view_points[k];
+                if (pts.size() < 3) {  // the band cannot hold 3 points: no RANSAC, no copy
+                    ground_stats[k] = GroundStats{};
+                    ground_stats[k].band_points = pts.size();
+                    return;
+                }
                 std::vector<glm::vec3> positions(pts.size());
                 for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
                 const std::uint64_t view = first + k;
@@ -391,6 +396,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
             if (!options.white) {
                 st.planes_accepted += ground_stats[k].planes_accepted;
                 st.planes_rejected += ground_stats[k].planes_rejected;
+                st.views_without_ransac += ground_stats[k].band_points < 3;
             }
             emit(pts);
         }

@@ -370,3 +370,25 @@ TEST_CASE("pixels that cannot meet the geometry's bounds are not traced, and the
     CHECK(wide_st.rays_traced == wide_st.rays);
     CHECK(wide_st.misses == 0);
 }
+
+TEST_CASE("views that see nothing trace no ray and run no RANSAC") {
+    // C 400 m away from a 20 m patch: no view's image can meet it.
+    engine::Scene scene;
+    scene.source = "patch (in code)";
+    scene.meshes.push_back(sim_test::gridMesh(0.0, 0.0, 0.0, 40, 0.5));
+    sim::GenerateOptions o = smallOptions();
+    o.centre = glm::dvec3(400.0, 0.0, 0.0);
+    sim::GenerateStats st;
+    const engine::PointCloud cloud = sim::generateCloud(scene, o, &st);
+    CHECK(cloud.points.empty());
+    CHECK(st.rays == 64u * 48u * 12u);
+    CHECK(st.rays_traced == 0);
+    CHECK(st.misses == st.rays);
+    CHECK(st.views_without_ransac == 12);
+    CHECK(st.planes_accepted == 0);
+    // On the patch itself every view has a band and runs RANSAC.
+    o.centre.reset();
+    sim::generateCloud(scene, o, &st);
+    CHECK(st.views_without_ransac == 0);
+    CHECK(st.planes_accepted >= 12);
+}

@@ -69,6 +69,8 @@ struct GenerateStats {
     std::uint64_t ground_truth = 0;         // points whose mesh has role ground
     std::uint64_t ground_true_positive = 0; // both
     int planes_accepted = 0, planes_rejected = 0;
+    /// Views whose height band (§III-C step 1) held < 3 points: RANSAC was not run.
+    std::uint64_t views_without_ransac = 0;
     /// Of the whitening against the labels; empty when undefined (--white, or nothing
     /// whitened / no ground points).
     std::optional<double> ground_precision, ground_recall;
