@@ -29,6 +29,8 @@ struct ViewArgs {
     float point_size_px = 2.0f;
     int width = 1280, height = 720;
     std::size_t upload_budget = 1u << 18;
+    std::size_t point_budget = 3000000;
+    bool no_cull = false;
     double orbit_period_s = 60.0;
     sim::OrbitOptions orbit;   // only for the generated cloud
 };
@@ -51,6 +53,8 @@ int runView(const ViewArgs& a) {
     o.window_width = a.width;
     o.window_height = a.height;
     o.upload_points_per_frame = a.upload_budget;
+    o.point_budget = a.point_budget;
+    o.cull = !a.no_cull;
     o.modes.orbit_period_s = a.orbit_period_s;
     o.vsync = a.frames == 0;
     if (!a.script.empty()) o.script = viewer::readScript(a.script);
@@ -126,6 +130,10 @@ void registerView(CLI::App& cli) {
     cmd->add_option("--height", args->height, "window height, pixels")->capture_default_str();
     cmd->add_option("--upload-budget", args->upload_budget, "points uploaded to the GPU per frame at most")
         ->capture_default_str();
+    cmd->add_option("--point-budget", args->point_budget,
+                    "points drawn per eye and frame at most (level of detail by screen size; 0 = unlimited)")
+        ->capture_default_str();
+    cmd->add_flag("--no-cull", args->no_cull, "draw cells outside the view frustum too (for comparisons)");
     cmd->add_option("--orbit-period", args->orbit_period_s, "seconds per turn of the automatic orbit")
         ->capture_default_str();
     cmd->add_option("--xres", args->orbit.xres, "generated cloud only: sensor pixels across")->capture_default_str();

@@ -164,7 +164,10 @@ def main():
         check(not log["xr_active_at_end"], "XR still active at the end")
         check(log["exit"] == "escape" and log["frames_counted"] == 60, f"exit {log['exit']} at {log['frames_counted']}")
         after = [f for f in frames if not f["xr"]]
-        check(len(after) >= 5 and all(f["points_drawn"] == 163840 for f in after[-3:]),
+        # The cloud is kept (all 163,840 points on the GPU); the desktop orbit view draws
+        # most of it (frustum culling skips the cells outside the 16:9 window: ~86 % drawn).
+        check(len(after) >= 5 and all(f["points_uploaded"] == 163840 and 0.6 * 163840 <= f["points_drawn"] <= 163840
+                                      for f in after[-3:]),
               "desktop frames after the loss do not draw the kept cloud")
     elif scenario == "stream":
         uploaded = [f["points_uploaded"] for f in frames]

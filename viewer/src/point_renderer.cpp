@@ -212,9 +212,9 @@ PointRenderer::~PointRenderer() {
 std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points) {
     for (auto& points : feed.take()) {
         if (points.empty()) continue;
+        // LOD order once per chunk, at arrival: spatial cells, each shuffled (lod.hpp).
+        const std::vector<LodCell> lod = buildLodOrder(points);
         Chunk chunk;
-        for (const auto& p : points) chunk.bounds.extend(glm::dvec3(p.position));
-        chunk.centre = chunk.bounds.centre();
         chunk.capacity = points.size();
         glCreateBuffers(1, &chunk.buffer);
         glNamedBufferStorage(chunk.buffer, static_cast<GLsizeiptr>(chunk.capacity * sizeof(GpuPoint)),
@@ -223,9 +223,13 @@ std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points) {
             glDeleteBuffers(1, &chunk.buffer);
             continue;   // out of GPU memory: show what fits
         }
-        bounds_.extend(chunk.bounds);
+        const std::size_t first_cell = cells_.size();
+        for (const LodCell& l : lod) {
+            cells_.push_back({chunks_.size(), l.first, l.count, l.bounds.centre(), l.bounds});
+            bounds_.extend(l.bounds);
+        }
         pending_points_ += points.size();
-        pending_.push_back({std::move(points), 0, chunks_.size()});
+        pending_.push_back({std::move(points), 0, chunks_.size(), first_cell});
         chunks_.push_back(chunk);
     }
     std::size_t uploaded = 0;
@@ -236,8 +240,10 @@ std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points) {
         const std::size_t n = std::min(budget_points - uploaded, job.points.size() - job.next);
         staging.resize(n);
         for (std::size_t i = 0; i < n; ++i) {
-            const auto& p = job.points[job.next + i];
-            const glm::dvec3 rel = glm::dvec3(p.position) - chunk.centre;
+            const std::size_t k = job.next + i;
+            while (k >= cells_[job.cell].first + cells_[job.cell].size) ++job.cell;
+            const auto& p = job.points[k];
+            const glm::dvec3 rel = glm::dvec3(p.position) - cells_[job.cell].centre;
             staging[i] = {float(rel.x), float(rel.y), float(rel.z),
                           (p.rgb & 0xFFFFFFu) | (std::uint32_t(p.label) << 24)};
         }
@@ -252,6 +258,32 @@ std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points) {
     uploaded_ += uploaded;
     if (uploaded) render::logGl("glNamedBufferSubData (point chunk)", __FILE__, __LINE__);
     return uploaded;
+}
+
+void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull) {
+    plan_cull_ = cull;
+    plan_.assign(cells_.size(), 0);
+    planned_points_ = 0;
+    plan_valid_ = true;
+    if (cells_.empty() || eyes.empty()) return;
+    std::vector<render::Frustum> frusta;
+    glm::dvec3 eye_mean(0.0);
+    for (const EyeDraw& e : eyes) {
+        frusta.push_back(render::Frustum::fromMatrix(e.projection * e.view));
+        eye_mean += glm::dvec3(glm::inverse(e.view)[3]) / double(eyes.size());
+    }
+    std::vector<engine::Bounds> boxes(cells_.size());
+    std::vector<std::size_t> sizes(cells_.size());
+    for (std::size_t i = 0; i < cells_.size(); ++i) {
+        boxes[i] = cells_[i].bounds;
+        sizes[i] = available(cells_[i]);
+    }
+    const std::vector<bool> visible = cull ? visibleInAny(frusta, boxes) : std::vector<bool>(boxes.size(), true);
+    std::vector<double> importance(cells_.size(), 0.0);
+    for (std::size_t i = 0; i < cells_.size(); ++i)
+        if (visible[i]) importance[i] = std::max(screenImportance(boxes[i], eye_mean), 1e-12);
+    plan_ = allocateBudget(importance, sizes, point_budget);
+    for (std::size_t n : plan_) planned_points_ += n;
 }
 
 DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style,
@@ -283,14 +315,27 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     const GLint u_model_view = points_.uniform("u_model_view");
     const GLint u_chunk_z = points_.uniform("u_chunk_z");
     const auto frustum = render::Frustum::fromMatrix(eye.projection * eye.view);
-    for (const Chunk& c : chunks_) {
-        if (c.count == 0 || !frustum.intersects(c.bounds)) continue;
+    const bool planned = plan_valid_ && plan_.size() == cells_.size();
+    const bool cull = !planned || plan_cull_;
+    std::size_t bound_chunk = chunks_.size();
+    for (std::size_t i = 0; i < cells_.size(); ++i) {
+        const Cell& c = cells_[i];
+        const std::size_t have = available(c);
+        if (have == 0) continue;
+        const std::size_t n = planned ? std::min(have, plan_[i]) : have;
+        if (n == 0 || (cull && !frustum.intersects(c.bounds))) {
+            ++stats.chunks_culled;
+            continue;
+        }
         const glm::mat4 mv = chunkModelView(eye.view, c.centre);
         glUniformMatrix4fv(u_model_view, 1, GL_FALSE, &mv[0][0]);
         glUniform1f(u_chunk_z, float(c.centre.z));
-        glVertexArrayVertexBuffer(vao_, 0, c.buffer, 0, sizeof(GpuPoint));
-        glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(c.count));
-        stats.points_drawn += c.count;
+        if (bound_chunk != c.chunk) {
+            glVertexArrayVertexBuffer(vao_, 0, chunks_[c.chunk].buffer, 0, sizeof(GpuPoint));
+            bound_chunk = c.chunk;
+        }
+        glDrawArrays(GL_POINTS, static_cast<GLint>(c.first), static_cast<GLsizei>(n));
+        stats.points_drawn += n;
         ++stats.chunks_drawn;
     }
     // 2. resolve (eye-dome lighting) into the output

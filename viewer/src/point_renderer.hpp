@@ -4,6 +4,7 @@
 #pragma once
 #include <viewer/camera_rig.hpp>
 #include <viewer/cloud_feed.hpp>
+#include <viewer/lod.hpp>
 #include <viewer/viewer.hpp>
 
 #include <engine/frames.hpp>
@@ -12,6 +13,7 @@
 
 #include <cstddef>
 #include <deque>
+#include <span>
 #include <vector>
 
 namespace viewer {
@@ -34,7 +36,8 @@ struct EyeDraw {
 
 struct DrawStats {
     std::size_t points_drawn = 0;
-    std::size_t chunks_drawn = 0;
+    std::size_t chunks_drawn = 0;    // cells drawn
+    std::size_t chunks_culled = 0;   // cells with points on the GPU skipped (frustum or budget)
 };
 
 class PointRenderer {
@@ -54,27 +57,49 @@ public:
     /// Bounds (local frame) of everything received so far, and heights for the jet colours.
     const engine::Bounds& bounds() const { return bounds_; }
 
+    /// Picks what this frame draws (issue 5): cells outside the union of `eyes`' frusta get
+    /// nothing (when `cull`); the others share `point_budget` points per eye (0 = unlimited)
+    /// by screen-space importance seen from the eyes' mean position, as prefixes of their
+    /// LOD order. Both eyes then draw the same points (no binocular flicker). Without a call,
+    /// drawEye draws every uploaded point of every cell in its frustum. Never throws.
+    void planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull = true);
+    /// Points the last plan draws per eye at most (before each eye's own frustum test).
+    std::size_t plannedPoints() const { return planned_points_; }
+    std::size_t cellCount() const { return cells_.size(); }
+
     /// Draws the cloud into `target` (cleared), then resolves it with eye-dome lighting (if
     /// on) into the framebuffer `out_fbo` at viewport (x, y, w, h), then the mode indicator.
     DrawStats drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style,
                       ViewMode mode, GLuint out_fbo, int x, int y, int w, int h) const;
 
 private:
-    struct Chunk {
+    struct Chunk {   // one GPU buffer per chunk that arrived from the feed
         GLuint buffer = 0;
-        std::size_t capacity = 0, count = 0;
-        glm::dvec3 centre{0.0};
+        std::size_t capacity = 0, count = 0;   // count: uploaded so far (a prefix)
+    };
+    struct Cell {    // a spatial cell of a chunk: [first, first + size) of its buffer
+        std::size_t chunk = 0, first = 0, size = 0;
+        glm::dvec3 centre{0.0};                // positions are stored relative to it
         engine::Bounds bounds;
     };
+    std::size_t available(const Cell& c) const {
+        const std::size_t up = chunks_[c.chunk].count;
+        return up <= c.first ? 0 : std::min(c.size, up - c.first);
+    }
     struct Pending {
         std::vector<engine::CloudPoint> points;
         std::size_t next = 0;     // first point not uploaded yet
         std::size_t chunk = 0;    // index into chunks_
+        std::size_t cell = 0;     // cell of points[next] (index into cells_)
     };
 
     render::Program points_, resolve_, indicator_;
     GLuint vao_ = 0, empty_vao_ = 0;
     std::vector<Chunk> chunks_;
+    std::vector<Cell> cells_;
+    std::vector<std::size_t> plan_;          // per cell: points to draw (planFrame)
+    bool plan_valid_ = false, plan_cull_ = true;
+    std::size_t planned_points_ = 0;
     std::deque<Pending> pending_;
     std::size_t pending_points_ = 0, uploaded_ = 0;
     engine::Bounds bounds_;

@@ -26,6 +26,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 
@@ -291,15 +292,20 @@ bool ViewerApp::renderXrFrame(bool& rendered) {
         last_head_ = {eyes_t[0].rotation, 0.5 * (eyes_t[0].position + eyes_t[1].position)};
         const RigPose rig = modes_.rig();
         points_drawn_ = 0;
+        std::array<EyeDraw, 2> draws;
         for (int i = 0; i < 2; ++i) {
             eyes_local[i] = compose(rig, eyes_t[i]);
-            EyeDraw draw;
+            EyeDraw& draw = draws[i];
             draw.near_m = options_.modes.orbit.near_m;
             draw.far_m = options_.modes.orbit.far_m;
             draw.view = viewFromPose(eyes_local[i]);
             const XrEye& e = frame.eyes[i];
             draw.projection = projectionFromFov(e.angle_left, e.angle_right, e.angle_up, e.angle_down,
                                                 draw.near_m, draw.far_m);
+        }
+        renderer_->planFrame(draws, options_.point_budget, options_.cull);   // union of both eyes
+        for (int i = 0; i < 2; ++i) {
+            const EyeDraw& draw = draws[i];
             if (!eye_targets_[i].ensure(w, h)) return false;
             const unsigned texture = xr_->acquireEye(i);
             if (texture == 0) return false;
@@ -345,6 +351,7 @@ void ViewerApp::renderDesktop(int fb_w, int fb_h) {
                                                draw.near_m, draw.far_m);
     if (!desktop_target_.ensure(fb_w, fb_h)) return;
     if (timer_query_) glBeginQuery(GL_TIME_ELAPSED, timer_query_);
+    renderer_->planFrame(std::span<const EyeDraw>(&draw, 1), options_.point_budget, options_.cull);
     points_drawn_ = renderer_->drawEye(desktop_target_, draw, style_, modes_.mode(), 0, 0, 0, fb_w, fb_h).points_drawn;
     const double cpu_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     endGpuTimer();
@@ -383,6 +390,9 @@ void ViewerApp::drawPanel(double frame_ms) {
     ImGui::Text("frame %.2f ms (%.0f Hz)", frame_ms, frame_ms > 0 ? 1000.0 / frame_ms : 0.0);
     ImGui::Text("points %zu on GPU / %zu read%s", renderer_->uploadedPoints(), feed_.pointsArrived(),
                 feed_.finished() ? "" : " (loading)");
+    ImGui::Text("points drawn %zu / %zu (budget %s per eye, %zu cells)", points_drawn_, renderer_->uploadedPoints(),
+                options_.point_budget ? std::to_string(options_.point_budget).c_str() : "unlimited",
+                renderer_->cellCount());
     ImGui::End();
     ImGui::Render();
     int fb_w = 0, fb_h = 0;
@@ -554,6 +564,9 @@ int ViewerApp::run() {
     log_.set("first_points_frame", first_points_frame_);
     log_.set("points_arrived", feed_.pointsArrived());
     log_.set("points_uploaded", renderer_->uploadedPoints());
+    log_.set("point_budget", options_.point_budget);
+    log_.set("cull", options_.cull);
+    log_.set("lod_cells", renderer_->cellCount());
     log_.set("mode_final", modeName(modes_.mode()));
     log_.set("fallback", fallback_);
     log_.set("xr_active_at_end", xr_ != nullptr);

@@ -58,6 +58,10 @@ struct ViewerOptions {
     ViewStyle style;
     ModeOptions modes;
     std::size_t upload_points_per_frame = 1u << 18;   // streaming budget per frame
+    /// Points drawn per eye and frame at most (issue 5: LOD prefixes by screen importance);
+    /// 0 = unlimited. 3 M keeps the paper's 1.6 M point cloud whole.
+    std::size_t point_budget = 3000000;
+    bool cull = true;                   // skip cells outside the eyes' frusta
     bool vsync = true;                  // desktop mode swap interval 1 (off in --frames runs)
     bool gpu_timing = false;            // GL timer query per frame (waits for the GPU; benchmarks)
     bool quiet = false;

@@ -1,0 +1,54 @@
+// viewer/lod.hpp: skip what a frame does not need (issue 5): frustum culling of spatial
+// cells and a point budget over a level-of-detail order built once per chunk at load, in
+// the spirit of Potree (Schuetz 2016). Pure maths, no GL: the renderer
+// (viewer/src/point_renderer.cpp) calls these and draws the prefixes they choose.
+//
+// Level of detail: every chunk that arrives from the stream is split into a grid of cells
+// in x/y (about kLodCellPoints points each), and the points of every cell are shuffled with
+// a fixed seed, so any prefix of a cell is a uniform random subsample of it. A frame then
+// draws, per cell, a prefix whose length the budget allocation picks.
+#pragma once
+#include <engine/frames.hpp>
+#include <engine/point_cloud.hpp>
+#include <render/orbit_camera.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace viewer {
+
+struct LodOptions {
+    std::size_t cell_points = 8192;   // target points per cell (grid side = sqrt(n / this))
+    std::uint64_t seed = 0x1ada7;     // fixed: the same file gives the same order every run
+};
+
+/// One cell of a chunk: points [first, first + count) of the reordered chunk.
+struct LodCell {
+    std::size_t first = 0, count = 0;
+    engine::Bounds bounds;
+};
+
+/// Reorders `points` in place into grid cells over its x/y bounds, each cell shuffled with
+/// `options.seed` (a prefix of a cell is a uniform subsample); returns the cells in order
+/// (empty cells left out). Deterministic.
+std::vector<LodCell> buildLodOrder(std::vector<engine::CloudPoint>& points, const LodOptions& options = {});
+
+/// For each box: true if it may be seen by at least one of `frusta` (the union of the eyes'
+/// frusta); false only when it is certainly outside all of them.
+std::vector<bool> visibleInAny(std::span<const render::Frustum> frusta, std::span<const engine::Bounds> boxes);
+
+/// Screen-space importance of a box seen from `eye`: (r / max(d, r))^2 with r the box's
+/// half diagonal and d the distance from the eye to its centre, i.e. about the solid angle
+/// it covers over pi (1 when the eye is inside it). 0 for an empty box.
+double screenImportance(const engine::Bounds& box, const glm::dvec3& eye);
+
+/// Points to draw per cell: count_i = min(sizes_i, floor(lambda * importance_i)) with the
+/// largest lambda that keeps the sum <= budget (water filling), so cells with more
+/// importance get more points, none gets more than it has, and cells with importance 0
+/// get none. budget 0 = unlimited (every cell with importance > 0 gets all of its points).
+std::vector<std::size_t> allocateBudget(std::span<const double> importance, std::span<const std::size_t> sizes,
+                                        std::size_t budget);
+
+}  // namespace viewer
