@@ -200,6 +200,10 @@ struct Generator::State {
     std::vector<glm::dvec3> sensor_dirs;   // per pixel, row-major, unit, sensor frame
     std::vector<engine::Pose> poses;       // per view, T_local_sensor
     std::vector<PixelRect> traced;         // per view, the pixels traced (all without skip_rays)
+    // Per (view, row), the columns traced [x0, x1] when the boxes are per mesh (a union of
+    // rectangles is no rectangle); empty: `traced` alone. See traceablePixels().
+    std::vector<glm::ivec2> row_spans;
+    std::vector<std::uint64_t> traced_count;  // per view, rays traced
     std::vector<std::uint32_t> jet;
 
     State(const engine::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
@@ -283,14 +287,18 @@ struct Generator::State {
     // view's traced rectangle are misses without a ray, the others are cast by row runs.
     void castBlock(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
         const PixelRect& r = traced[std::size_t(view)];
-        const std::size_t xres = std::size_t(options.orbit.xres);
+        const std::size_t xres = std::size_t(options.orbit.xres), yres = std::size_t(options.orbit.yres);
         std::size_t i = begin;
         while (i < end) {
             const std::size_t row = i / xres, row_end = std::min(end, (row + 1) * xres);
             std::size_t a = row_end, b = row_end;  // traced run [a, b) of this row
             if (int(row) >= r.y0 && int(row) <= r.y1) {
-                a = std::clamp(row * xres + std::size_t(r.x0), i, row_end);
-                b = std::clamp(row * xres + std::size_t(r.x1) + 1, i, row_end);
+                glm::ivec2 span(r.x0, r.x1);
+                if (!row_spans.empty()) span = row_spans[std::size_t(view) * yres + row];
+                if (span.x <= span.y) {
+                    a = std::clamp(row * xres + std::size_t(span.x), i, row_end);
+                    b = std::clamp(row * xres + std::size_t(span.y) + 1, i, row_end);
+                }
             }
             for (std::size_t k = i; k < a; ++k) slots[k].range_m = kMissRange;
             if (a < b) {
@@ -344,7 +352,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
             castBlock(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
                       slots.data() + k * npix);
         });
-        for (std::size_t k = 0; k < count; ++k) st.rays_traced += traced[first + k].count();
+        for (std::size_t k = 0; k < count; ++k) st.rays_traced += traced_count[first + k];
         st.seconds.cast += secondsSince(t0);
 
         t0 = Clock::now();
@@ -431,17 +439,52 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     s.jet = jetTable(s.options.colour.entries);
     const auto t0 = Clock::now();
     s.caster = std::make_unique<RayCaster>(scene, s.options.roles);
-    // Bounds of the triangles in the BVH (not of the whole scene: with --roles
-    // target,environment most of the footprint holds nothing to hit).
+    // Bounds of the triangles in the BVH, one box per mesh (with --roles
+    // target,environment the houses and trees are scattered: one box over all of them
+    // would cover the whole footprint). Many meshes, or too many (view, row) spans to
+    // store: one box over all.
+    constexpr std::size_t kMaxBoxes = 256, kMaxSpanRows = std::size_t(1) << 22;
+    std::vector<engine::Bounds> boxes;
     engine::Bounds cast_bounds;
     for (const engine::Mesh& m : scene.meshes) {
-        if (!s.options.roles.has(m.role)) continue;
+        if (!s.options.roles.has(m.role) || m.triangles.empty()) continue;
+        engine::Bounds b;
         for (const glm::uvec3& t : m.triangles)
-            for (int k = 0; k < 3; ++k) cast_bounds.extend(glm::dvec3(m.vertices[t[k]]));
+            for (int k = 0; k < 3; ++k) b.extend(glm::dvec3(m.vertices[t[k]]));
+        boxes.push_back(b);
+        cast_bounds.extend(b);
     }
+    const std::size_t views = std::size_t(orbit.views), yres = std::size_t(orbit.yres);
+    if (boxes.size() > kMaxBoxes || views * yres > kMaxSpanRows) boxes.assign(1, cast_bounds);
     const PixelRect all{0, orbit.xres - 1, 0, orbit.yres - 1};
-    for (int v = 0; v < orbit.views; ++v)
-        s.traced.push_back(s.options.skip_rays ? visiblePixels(orbit, s.poses[std::size_t(v)], cast_bounds) : all);
+    const bool spans = s.options.skip_rays && boxes.size() > 1;
+    if (spans) s.row_spans.assign(views * yres, glm::ivec2(orbit.xres, -1));
+    for (std::size_t v = 0; v < views; ++v) {
+        if (!s.options.skip_rays) {
+            s.traced.push_back(all);
+            s.traced_count.push_back(all.count());
+            continue;
+        }
+        if (!spans) {
+            s.traced.push_back(visiblePixels(orbit, s.poses[v], cast_bounds));
+            s.traced_count.push_back(s.traced.back().count());
+            continue;
+        }
+        PixelRect hull{orbit.xres, -1, orbit.yres, -1};
+        glm::ivec2* row = s.row_spans.data() + v * yres;
+        for (const engine::Bounds& b : boxes) {
+            const PixelRect r = visiblePixels(orbit, s.poses[v], b);
+            if (r.count() == 0) continue;
+            hull = {std::min(hull.x0, r.x0), std::max(hull.x1, r.x1), std::min(hull.y0, r.y0), std::max(hull.y1, r.y1)};
+            for (int y = r.y0; y <= r.y1; ++y)
+                row[y] = glm::ivec2(std::min(row[y].x, r.x0), std::max(row[y].y, r.x1));
+        }
+        std::uint64_t n = 0;
+        for (std::size_t y = 0; y < yres; ++y)
+            if (row[y].x <= row[y].y) n += std::uint64_t(row[y].y - row[y].x + 1);
+        s.traced.push_back(hull.count() == 0 ? PixelRect{} : hull);
+        s.traced_count.push_back(n);
+    }
     s.bvh_seconds = secondsSince(t0);
 }
 
