@@ -28,6 +28,7 @@ struct BenchViewArgs {
     std::string paths = "mirror,xr,egl";
     std::string eye = "1440x1600";
     std::string display = "auto";
+    std::size_t point_budget = 3000000;
 };
 
 std::string shellQuote(const std::string& s) {
@@ -51,7 +52,8 @@ bool rerunHeadless(const BenchViewArgs& a) {
     const std::string command = shellQuote(script.string()) + " --monado-stay --timeout 3000 -- " +
                                 shellQuote(exe.string()) + " bench view --display none --points " + points +
                                 " --frames " + std::to_string(a.frames) + " --warmup " + std::to_string(a.warmup) +
-                                " --paths " + shellQuote(a.paths) + " --eye " + shellQuote(a.eye);
+                                " --paths " + shellQuote(a.paths) + " --eye " + shellQuote(a.eye) +
+                                " --point-budget " + std::to_string(a.point_budget);
     std::fprintf(stderr, "bench view: no DISPLAY: running under %s (Xvfb + Monado)\n", script.c_str());
     std::fflush(stdout);
     const int status = std::system(command.c_str());
@@ -78,15 +80,19 @@ engine::PointCloud grow(const engine::PointCloud& base, std::size_t n) {
 void run(const BenchViewArgs& a) {
     if (a.display != "auto" && a.display != "none")
         throw engine::Error("bench view: --display '" + a.display + "' is not one of auto, none");
-    if (rerunHeadless(a)) return;
     viewer::ViewBenchOptions o;
     o.frames = a.frames;
     o.warmup_frames = a.warmup;
     o.mirror = a.paths.find("mirror") != std::string::npos;
     o.xr = a.paths.find("xr") != std::string::npos;
     o.egl = a.paths.find("egl") != std::string::npos;
+    o.skip = a.paths.find("skip") != std::string::npos;
+    o.point_budget = a.point_budget;
+    // "skip" alone needs no display: EGL only.
+    const bool display_needed = o.mirror || o.xr;
     if (std::sscanf(a.eye.c_str(), "%dx%d", &o.eye_width, &o.eye_height) != 2)
         throw engine::Error("bench view: --eye '" + a.eye + "': expected WIDTHxHEIGHT, e.g. 1440x1600");
+    if (display_needed && rerunHeadless(a)) return;
 
     std::fprintf(stderr, "bench view: generating the demo cloud (paper parameters)\n");
     const engine::Scene scene = engine::loadScene(engine::demoScenePath());
@@ -101,10 +107,15 @@ void run(const BenchViewArgs& a) {
                 "ratio | note |\n");
     std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---|\n");
     std::string gl;
+    std::vector<viewer::ViewBenchResult> skip_rows;
     for (std::size_t n : a.points) {
         const engine::PointCloud cloud = n == demo.points.size() ? demo : grow(demo, n);
         for (const auto& r : viewer::benchmarkViewer(cloud, o)) {
             if (!r.gl.empty()) gl = r.gl;
+            if (r.path == "skip-egl") {
+                skip_rows.push_back(r);
+                continue;
+            }
             if (r.frames == 0) {
                 std::printf("| %s | %zu | - | - | - | - | 0 | - | - | %s |\n", r.path.c_str(), r.points,
                             r.note.c_str());
@@ -121,8 +132,26 @@ void run(const BenchViewArgs& a) {
             std::fflush(stdout);
         }
     }
+    if (!skip_rows.empty()) {
+        std::printf("\nSkip what a frame does not need (offscreen stereo, both eyes; 'nothing skipped' is the "
+                    "in-run baseline of each view):\n");
+        std::printf("| points | size | configuration | points drawn (2 eyes) | CPU submit ms | GPU ms | frame ms | "
+                    "frames | frame ratio |\n");
+        std::printf("|---:|---|---|---:|---:|---:|---:|---:|---:|\n");
+        double base = 0.0;
+        for (const auto& r : skip_rows) {
+            if (r.note.find("nothing skipped") != std::string::npos) base = r.frame_ms_median;
+            if (r.frames == 0) {
+                std::printf("| %zu | - | %s | - | - | - | - | 0 | - |\n", r.points, r.note.c_str());
+                continue;
+            }
+            std::printf("| %zu | %dx%d | %s | %zu | %.2f | %.2f | %.2f | %d | %.2fx |\n", r.points, r.width,
+                        r.height, r.note.c_str(), r.points_drawn, r.cpu_ms_median, r.gpu_ms_median,
+                        r.frame_ms_median, r.frames, base > 0 ? r.frame_ms_median / base : 0.0);
+        }
+    }
     std::printf("GL: %s\n", gl.c_str());
-    std::printf("baseline: render::PointSplatRenderer (the metric's 2 px splats, no eye-dome lighting) drawing the "
+    if (o.egl) std::printf("baseline: render::PointSplatRenderer (the metric's 2 px splats, no eye-dome lighting) drawing the "
                 "same two eyes, interleaved frame by frame; ratio = viewer GPU ms / baseline GPU ms\n");
 }
 }  // namespace
@@ -136,7 +165,12 @@ void registerBenchView(CLI::App& bench) {
         ->capture_default_str();
     cmd->add_option("--frames", args->frames, "measured frames per configuration")->capture_default_str();
     cmd->add_option("--warmup", args->warmup, "warm-up frames (after the upload)")->capture_default_str();
-    cmd->add_option("--paths", args->paths, "any of mirror, xr, egl (comma separated)")->capture_default_str();
+    cmd->add_option("--paths", args->paths,
+                    "any of mirror, xr, egl, skip (comma separated; skip: culling and LOD budget before/after, "
+                    "offscreen stereo)")
+        ->capture_default_str();
+    cmd->add_option("--point-budget", args->point_budget, "skip rows: points per eye with the LOD budget")
+        ->capture_default_str();
     cmd->add_option("--eye", args->eye, "eye size of the offscreen stereo path, WxH")->capture_default_str();
     cmd->add_option("--display", args->display, "auto: without DISPLAY, rerun under tests/viewer/headless_env.sh "
                                                 "(Xvfb + Monado's simulated HMD); none: run as is")

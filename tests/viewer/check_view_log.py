@@ -153,6 +153,13 @@ def main():
         swept = dist(auto[0]["eyes_local"][0]["position"], auto[-1]["eyes_local"][0]["position"])
         check(swept > 0.05, f"the automatic orbit did not move the eye ({swept:.3f} m)")
         check_screenshot(shot, want_label_red=False)
+    elif scenario == "budget":
+        check(log["point_budget"] == 40000 and log["cull"] and log["lod_cells"] >= 4, "budget / LOD cells not in the log")
+        check(log["points_uploaded"] == 163840, f"{log['points_uploaded']} points uploaded")
+        full = [f for f in frames if f["points_uploaded"] == 163840]
+        check(len(full) >= 3 and all(30000 < f["points_drawn"] <= 40000 for f in full),
+              f"points drawn with a 40,000 budget: {[f['points_drawn'] for f in full]}")
+        check_screenshot(shot, want_label_red=True)
     elif scenario == "escape":
         check(log["exit"] == "escape", f"exit {log['exit']}")
         check(log["frames_counted"] == 5, f"{log['frames_counted']} frames before Escape, expected 5")

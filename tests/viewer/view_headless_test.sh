@@ -8,6 +8,8 @@
 #   escape   desktop, a scripted Escape at frame 5 closes the viewer cleanly.
 #   lost     the runtime is killed after FOCUSED: the viewer drops to the desktop mode
 #            with the cloud kept and runs on until a scripted Escape.
+#   budget   desktop run with --point-budget 40000: every frame draws at most 40,000 of the
+#            163,840 points (LOD prefixes), still over 30,000, and the target is still red on screen.
 #   stream   a known binary PCD (make_test_pcd.py, origin 10^6 m away) is streamed in: at
 #            most --upload-budget points reach the GPU per frame, points are drawn from the
 #            first frames, the red target block is on screen.
@@ -64,6 +66,10 @@ LOST
     "$here/headless_env.sh" --timeout 150 -- "$bin" view "$work/demo.pcd" --no-xr --upload-budget 20000 \
       --frames 15 --width 960 --height 540 --screenshot "$work/shot.png" --log-json "$work/log.json" \
       2>"$work/stderr" || status=$?
+    ;;
+  budget)
+    "$here/headless_env.sh" --timeout 150 -- "$bin" "${common[@]}" --no-xr --frames 10 --colour label \
+      --orbit-period 100000 --point-budget 40000 2>"$work/stderr" || status=$?
     ;;
   *) echo "view_headless_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac

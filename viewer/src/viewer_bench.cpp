@@ -13,10 +13,14 @@
 #include <render/gl.hpp>
 #include <render/point_splat.hpp>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <memory>
+#include <numbers>
 #include <exception>
 #include <vector>
 
@@ -176,6 +180,109 @@ ViewBenchResult measureStereoEgl(const engine::PointCloud& cloud, const ViewBenc
     }
     return r;
 }
+
+/// Issue 5 rows: the same eyes drawn with nothing skipped, with frustum culling, and with
+/// culling + the point budget; the orbit view and the same rig turned 180 degrees (looking
+/// away from the cloud's centre). All configurations interleaved frame by frame.
+std::vector<ViewBenchResult> measureSkip(const engine::PointCloud& cloud, const ViewBenchOptions& bench) {
+    struct Config {
+        const char* name;
+        bool away, cull;
+        std::size_t budget;
+    };
+    const std::vector<Config> configs = {
+        {"orbit view, nothing skipped", false, false, 0},
+        {"orbit view, frustum culling", false, true, 0},
+        {"orbit view, culling + point budget", false, true, bench.point_budget},
+        {"view away from the cloud, nothing skipped", true, false, 0},
+        {"view away from the cloud, frustum culling", true, true, 0},
+        {"view away from the cloud, culling + point budget", true, true, bench.point_budget},
+    };
+    std::vector<ViewBenchResult> rows(configs.size());
+    for (std::size_t c = 0; c < configs.size(); ++c) {
+        rows[c].path = "skip-egl";
+        rows[c].points = cloud.points.size();
+        rows[c].width = bench.eye_width;
+        rows[c].height = bench.eye_height;
+        rows[c].note = configs[c].name;
+        if (configs[c].budget) rows[c].note += " " + std::to_string(configs[c].budget);
+    }
+    std::unique_ptr<render::EglContext> context;
+    try {
+        context = std::make_unique<render::EglContext>();
+    } catch (const std::exception& e) {
+        for (auto& r : rows) r.note = std::string("skipped: ") + e.what();
+        return rows;
+    }
+    const std::string gl = render::glDescription();
+    {
+        PointRenderer renderer;
+        CloudFeed feed;
+        feed.feedCloud(cloud, 1u << 20);
+        renderer.stream(feed, cloud.points.size());
+        ModeOptions modes_options;
+        ModeController modes(modes_options, renderer.bounds().centre());
+        modes.update(1.0 / 90.0, {}, RigPose{});
+        std::array<EyeTarget, 2> targets;
+        std::array<GLuint, 2> images{}, fbos{};
+        glCreateTextures(GL_TEXTURE_2D, 2, images.data());
+        glCreateFramebuffers(2, fbos.data());
+        for (int i = 0; i < 2; ++i) {
+            targets[i].ensure(bench.eye_width, bench.eye_height);
+            glTextureStorage2D(images[i], 1, GL_RGBA8, bench.eye_width, bench.eye_height);
+            glNamedFramebufferTexture(fbos[i], GL_COLOR_ATTACHMENT0, images[i], 0);
+        }
+        GLuint query = 0;
+        glCreateQueries(GL_TIME_ELAPSED, 1, &query);
+        const ViewStyle style;
+        std::vector<std::vector<double>> cpu(configs.size()), gpu(configs.size()), frame(configs.size());
+        for (int f = 0; f < bench.warmup_frames + bench.frames; ++f) {
+            for (std::size_t c = 0; c < configs.size(); ++c) {
+                RigPose rig = modes.rig();   // a fixed orbit pose: every configuration sees the same
+                if (configs[c].away)
+                    rig.rotation = glm::dmat3(glm::rotate(glm::dmat4(1.0), std::numbers::pi, glm::dvec3(0, 0, 1))) *
+                                   rig.rotation;
+                const Clock::time_point t0 = Clock::now();
+                std::array<EyeDraw, 2> draws;
+                for (int i = 0; i < 2; ++i) {
+                    RigPose eye = rig;
+                    eye.position = rig.apply(glm::dvec3(i == 0 ? -0.032 : 0.032, 0.0, 0.0));
+                    draws[i].view = viewFromPose(eye);
+                    draws[i].projection = projectionFromFov(-0.95, 0.95, 1.0, -1.0, draws[i].near_m, draws[i].far_m);
+                }
+                renderer.planFrame(draws, configs[c].budget, configs[c].cull);
+                glBeginQuery(GL_TIME_ELAPSED, query);
+                std::size_t drawn = 0;
+                for (int i = 0; i < 2; ++i)
+                    drawn += renderer.drawEye(targets[i], draws[i], style, modes.mode(), fbos[i], 0, 0,
+                                              bench.eye_width, bench.eye_height).points_drawn;
+                glEndQuery(GL_TIME_ELAPSED);
+                const double submit_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+                GLuint64 ns = 0;
+                glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+                glFinish();
+                const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+                rows[c].points_drawn = drawn;
+                if (f < bench.warmup_frames) continue;
+                cpu[c].push_back(submit_ms);
+                gpu[c].push_back(double(ns) * 1e-6);
+                frame[c].push_back(frame_ms);
+            }
+        }
+        glDeleteQueries(1, &query);
+        glDeleteFramebuffers(2, fbos.data());
+        glDeleteTextures(2, images.data());
+        for (auto& t : targets) t.destroy();
+        for (std::size_t c = 0; c < configs.size(); ++c) {
+            rows[c].gl = gl;
+            rows[c].frames = static_cast<int>(cpu[c].size());
+            rows[c].cpu_ms_median = median(cpu[c]);
+            rows[c].gpu_ms_median = median(gpu[c]);
+            rows[c].frame_ms_median = median(frame[c]);
+        }
+    }
+    return rows;
+}
 }  // namespace
 
 std::vector<ViewBenchResult> benchmarkViewer(const engine::PointCloud& cloud, const ViewBenchOptions& options) {
@@ -187,6 +294,8 @@ std::vector<ViewBenchResult> benchmarkViewer(const engine::PointCloud& cloud, co
     if (options.mirror) results.push_back(measureLoop(cloud, options, false));
     if (options.xr) results.push_back(measureLoop(cloud, options, true));
     if (options.egl) results.push_back(measureStereoEgl(cloud, options));
+    if (options.skip)
+        for (auto& r : measureSkip(cloud, options)) results.push_back(std::move(r));
     return results;
 }
 

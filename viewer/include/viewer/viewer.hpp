@@ -91,6 +91,7 @@ struct ViewBenchResult {
     double baseline_gpu_ms_median = 0.0;
     std::string gl;                      // GL vendor / renderer / version
     std::string note;                    // why a path was skipped, or what it stands for
+    std::size_t points_drawn = 0;        // per frame, both eyes (stereo-egl and skip rows)
 };
 
 struct ViewBenchOptions {
@@ -99,6 +100,11 @@ struct ViewBenchOptions {
     bool mirror = true;                  // the desktop window (needs a display)
     bool xr = true;                      // the OpenXR path (needs a runtime with an HMD)
     bool egl = true;                     // offscreen stereo through EGL (no display, any GPU)
+    /// Issue 5 before/after: offscreen stereo (EGL) of the orbit view and of a view turned
+    /// away from the cloud, each with nothing skipped, frustum culling only, and culling +
+    /// `point_budget` (LOD), interleaved frame by frame.
+    bool skip = false;
+    std::size_t point_budget = 3000000;
     int eye_width = 1440, eye_height = 1600;   // stereo-egl eye size (Index / Vive Pro class)
 };
 
