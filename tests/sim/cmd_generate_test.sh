@@ -64,6 +64,20 @@ assert 0.9 < s["ground_precision"] <= 1 and 0.9 < s["ground_recall"] <= 1, s
 EOF
 cp "$dir/err" "$dir/err.good"
 grep -q "drone radius 326.12 m" "$dir/err" || fail "human summary lacks the drone radius: $(cat "$dir/err")"
+# --no-skip-rays traces every pixel and writes the same file (issue 5's ray skip).
+"$bin" generate --out "$dir/skip.pcd" --roles target --xres 32 --yres 24 --views 8 --json >"$dir/skip.json" \
+    2>"$dir/err" || fail "--roles target run failed: $(cat "$dir/err")"
+"$bin" generate --out "$dir/noskip.pcd" --roles target --xres 32 --yres 24 --views 8 --no-skip-rays --json \
+    >"$dir/noskip.json" 2>"$dir/err" || fail "--no-skip-rays run failed: $(cat "$dir/err")"
+cmp -s "$dir/skip.pcd" "$dir/noskip.pcd" || fail "--no-skip-rays wrote a different cloud"
+python3 - "$dir" <<'EOF2'
+import json, sys
+d = sys.argv[1]
+on, off = json.load(open(d + "/skip.json")), json.load(open(d + "/noskip.json"))
+assert off["rays_traced"] == off["rays"] == 32 * 24 * 8, off
+assert 0 < on["rays_traced"] < on["rays"] // 4, on
+assert on["points"] == off["points"] > 0, (on, off)
+EOF2
 # A NaN vertex: by default one error line naming it and no file; with --skip-nonfinite the
 # triangle is dropped, the run goes on and a warning gives the count (issue 5).
 nan_scene=$(dirname "$0")/../data/scenes/bad/nan_vertex.json
