@@ -103,9 +103,11 @@ void run(const BenchViewArgs& a) {
     std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
     std::printf("ladarvr bench view (%s): warm-up %d, median of %d frames; eye-dome lighting on\n", date,
                 a.warmup, a.frames);
-    std::printf("| path | points | size | CPU submit ms | GPU ms | frame ms | frames | baseline GPU ms | "
-                "ratio | note |\n");
-    std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---|\n");
+    if (o.mirror || o.xr || o.egl) {
+        std::printf("| path | points | size | CPU submit ms | GPU ms | frame ms | frames | baseline GPU ms | "
+                    "ratio | note |\n");
+        std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---|\n");
+    }
     std::string gl;
     std::vector<viewer::ViewBenchResult> skip_rows;
     for (std::size_t n : a.points) {
