@@ -373,7 +373,7 @@ void run(const BenchGenerateCli& cli) {
     // clouds use target,environment. Last: C 300 m off the scene, where no view sees it.
     std::vector<SkipRow> skips;
     {
-        const int reps = cli.quick ? 2 : 3;
+        const int reps = cli.quick ? 3 : 7;
         sim::GenerateOptions o = paper;
         skips.push_back(skipRow("demo, all roles", demo, o, reps));
         o.roles = engine::RoleMask::parse("target,environment", "bench");
@@ -444,7 +444,7 @@ void run(const BenchGenerateCli& cli) {
              "with other jobs: read ratios rather than lone times.\n\n"
           << tbl << "\n" << notes(results) << "\n"
           << "Skips (issue 5), paper orbit (128x128 x 100 views), in memory, medians of "
-          << (cli.quick ? 2 : 3) << " interleaved runs after a warm-up. Skip on: only the pixels whose rays "
+          << (cli.quick ? 3 : 7) << " interleaved runs after a warm-up. Skip on: only the pixels whose rays "
              "can meet the bounds of the ray-cast meshes are traced (docs/generator.md); off: "
              "`--no-skip-rays`. RANSAC is never run on a view whose height band has < 3 points (no "
              "switch); its time is that of the skip-on run. Same cloud: positions, colours and views "
