@@ -4,6 +4,7 @@
 // configuration (demo scene) and on one >= 100x larger that streams to disk.
 // Warm-up, repeats, medians; the section "## Generator (ladarvr bench generate)" of
 // BENCHMARKS.md is rewritten with the table, the command and the machine.
+#include "bench_common.hpp"
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
@@ -30,6 +31,10 @@
 namespace app {
 namespace {
 
+using bench::cpuName;
+using bench::fmt;
+using bench::median;
+
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
@@ -43,27 +48,6 @@ struct BenchGenerateCli {
 };
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-std::string fmt(const char* format, double v) {
-    char b[64];
-    std::snprintf(b, sizeof b, format, v);
-    return b;
-}
-
-std::string cpuName() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
-}
 
 // Peak resident set since the last resetPeakRss(), from /proc/self/status (VmHWM), MiB.
 // Writing "5" to clear_refs resets VmHWM (Linux >= 4.0); if that is refused, the peak is
@@ -324,29 +308,6 @@ std::string notes(const std::vector<Result>& results) {
     return s.str();
 }
 
-void updateMarkdown(const fs::path& path, const std::string& section) {
-    const std::string heading = "## Generator (ladarvr bench generate)";
-    std::string text;
-    if (fs::exists(path)) {
-        std::ifstream in(path, std::ios::binary);
-        std::stringstream b;
-        b << in.rdbuf();
-        text = b.str();
-    } else {
-        text = "# Benchmarks\n";
-    }
-    const std::size_t start = text.find(heading);
-    if (start == std::string::npos) {
-        if (!text.empty() && text.back() != '\n') text += '\n';
-        text += "\n" + section;
-    } else {
-        std::size_t end = text.find("\n## ", start + heading.size());
-        end = end == std::string::npos ? text.size() : end + 1;
-        text = text.substr(0, start) + section + (end < text.size() ? "\n" + text.substr(end) : "");
-    }
-    engine::writeFileAtomic(path, text);
-}
-
 void run(const BenchGenerateCli& cli) {
     if (cli.threads < 0 || cli.threads > 1024)
         throw engine::Error("bench generate: --threads = " + std::to_string(cli.threads) + ": allowed [0, 1024]");
@@ -425,9 +386,7 @@ void run(const BenchGenerateCli& cli) {
                 (double(p.rays) / p.cast) / (double(p.rays) / p.plain_cast), p.total, p.prepare_s);
 
     if (!cli.no_md) {
-        std::time_t now = std::time(nullptr);
-        char date[64];
-        std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+        const std::string date = bench::utcNow();
         std::ostringstream s;
         s << "## Generator (ladarvr bench generate)\n\n"
           << "Command: `./ladarvr bench generate" << (cli.quick ? " --quick" : "") << "`; machine: "
@@ -450,7 +409,7 @@ void run(const BenchGenerateCli& cli) {
              "switch); its time is that of the skip-on run. Same cloud: positions, colours and views "
              "equal point by point.\n\n"
           << skip_tbl << "\n";
-        updateMarkdown(cli.md, s.str());
+        bench::replaceMarkdownSection(cli.md, "## Generator (ladarvr bench generate)", s.str());
         std::fprintf(stderr, "bench generate: wrote the section to %s\n", cli.md.c_str());
     }
 }
