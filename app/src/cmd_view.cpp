@@ -65,6 +65,7 @@ int runView(const ViewArgs& a) {
     if (!o.log_json.empty()) engine::checkWritableDestination(o.log_json);
 
     viewer::CloudFeed feed;
+    feed.enableLodOrder();   // LOD order of each chunk on the loader / generator thread (issue 5)
     std::thread generator;
     if (!a.cloud.empty()) {
         const std::filesystem::path path(a.cloud);

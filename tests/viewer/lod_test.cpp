@@ -193,3 +193,25 @@ TEST_CASE("headless draw: looking away from the cloud draws fewer points; the bu
     target.destroy();
     out.destroy();
 }
+
+TEST_CASE("the feed builds the LOD order on the producer's side when enabled") {
+    engine::PointCloud cloud;
+    for (int i = 0; i < 30000; ++i) {
+        engine::CloudPoint p;
+        p.position = {float(i % 300), float(i / 300), 0.0f};
+        p.range_m = float(i);
+        cloud.points.push_back(p);
+    }
+    viewer::CloudFeed feed;
+    feed.enableLodOrder();
+    feed.feedCloud(cloud, 20000);
+    const auto chunks = feed.take();
+    REQUIRE(chunks.size() == 2);
+    std::vector<engine::CloudPoint> first(cloud.points.begin(), cloud.points.begin() + 20000);
+    const auto cells = buildLodOrder(first);   // the same seed: the same order and cells
+    REQUIRE(chunks[0].cells.size() == cells.size());
+    CHECK(chunks[0].cells.size() == 4);        // ceil(sqrt(20000 / 8192)) = 2: a 2 x 2 grid
+    for (std::size_t i = 0; i < first.size(); ++i) REQUIRE(chunks[0].points[i].range_m == first[i].range_m);
+    CHECK(chunks[1].points.size() == 10000);
+    CHECK_FALSE(chunks[1].cells.empty());
+}

@@ -39,8 +39,9 @@ engine::PointCloud sampleCloud(std::size_t n) {
 std::vector<engine::CloudPoint> drain(CloudFeed& feed, std::vector<std::size_t>* sizes = nullptr) {
     std::vector<engine::CloudPoint> all;
     for (auto& chunk : feed.take()) {
-        if (sizes) sizes->push_back(chunk.size());
-        all.insert(all.end(), chunk.begin(), chunk.end());
+        CHECK(chunk.cells.empty());   // no LOD order unless enabled: file order kept
+        if (sizes) sizes->push_back(chunk.points.size());
+        all.insert(all.end(), chunk.points.begin(), chunk.points.end());
     }
     return all;
 }

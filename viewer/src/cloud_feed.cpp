@@ -26,11 +26,27 @@ void CloudFeed::setFields(const engine::CloudFields& fields) {
     fields_ = fields;
 }
 
+void CloudFeed::enableLodOrder(const LodOptions& options) {
+    std::lock_guard lock(mutex_);
+    lod_order_ = true;
+    lod_options_ = options;
+}
+
 void CloudFeed::append(std::vector<engine::CloudPoint> chunk) {
     const std::size_t n = chunk.size();
+    FeedChunk item;
+    bool lod = false;
+    LodOptions options;
     {
         std::lock_guard lock(mutex_);
-        pending_.push_back(std::move(chunk));
+        lod = lod_order_;
+        options = lod_options_;
+    }
+    if (lod) item.cells = buildLodOrder(chunk, options);   // outside the lock: the producer's time
+    item.points = std::move(chunk);
+    {
+        std::lock_guard lock(mutex_);
+        pending_.push_back(std::move(item));
     }
     arrived_ += n;
 }
@@ -43,7 +59,7 @@ void CloudFeed::finish(std::string error) {
     finished_ = true;
 }
 
-std::vector<std::vector<engine::CloudPoint>> CloudFeed::take() {
+std::vector<FeedChunk> CloudFeed::take() {
     std::lock_guard lock(mutex_);
     return std::exchange(pending_, {});
 }

@@ -210,10 +210,12 @@ PointRenderer::~PointRenderer() {
 }
 
 std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points) {
-    for (auto& points : feed.take()) {
+    for (auto& item : feed.take()) {
+        std::vector<engine::CloudPoint>& points = item.points;
         if (points.empty()) continue;
-        // LOD order once per chunk, at arrival: spatial cells, each shuffled (lod.hpp).
-        const std::vector<LodCell> lod = buildLodOrder(points);
+        // LOD order once per chunk, at arrival: spatial cells, each shuffled (lod.hpp); done
+        // by the producer's thread when the feed has it enabled, else here.
+        const std::vector<LodCell> lod = item.cells.empty() ? buildLodOrder(points) : std::move(item.cells);
         Chunk chunk;
         chunk.capacity = points.size();
         glCreateBuffers(1, &chunk.buffer);

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <exception>
@@ -216,6 +217,20 @@ std::vector<ViewBenchResult> measureSkip(const engine::PointCloud& cloud, const 
     }
     const std::string gl = render::glDescription();
     {
+        // The LOD order's CPU cost per streamed chunk (the viewer's 262,144 point chunks).
+        {
+            const std::size_t chunk = 262144;
+            std::vector<double> ms;
+            for (std::size_t i = 0; i + chunk <= cloud.points.size() && ms.size() < 8; i += chunk) {
+                std::vector<engine::CloudPoint> part(cloud.points.begin() + static_cast<std::ptrdiff_t>(i),
+                                                     cloud.points.begin() + static_cast<std::ptrdiff_t>(i + chunk));
+                const Clock::time_point t0 = Clock::now();
+                const auto cells = buildLodOrder(part);
+                ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+            }
+            std::fprintf(stderr, "bench view: LOD order of a 262144 point chunk: median %.2f ms (%zu chunks)\n",
+                         median(ms), ms.size());
+        }
         PointRenderer renderer;
         CloudFeed feed;
         feed.feedCloud(cloud, 1u << 20);
@@ -223,6 +238,17 @@ std::vector<ViewBenchResult> measureSkip(const engine::PointCloud& cloud, const 
         ModeOptions modes_options;
         ModeController modes(modes_options, renderer.bounds().centre());
         modes.update(1.0 / 90.0, {}, RigPose{});
+        {
+            std::array<EyeDraw, 2> draws;
+            for (auto& d : draws) {   // the orbit view: every cell visible, the budget binding at 20 M
+                d.view = viewFromPose(modes.rig());
+                d.projection = projectionFromFov(-0.95, 0.95, 1.0, -1.0, d.near_m, d.far_m);
+            }
+            const Clock::time_point t0 = Clock::now();
+            for (int k = 0; k < 20; ++k) renderer.planFrame(draws, bench.point_budget, true);
+            std::fprintf(stderr, "bench view: planFrame over %zu cells: %.3f ms\n", renderer.cellCount(),
+                         std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / 20.0);
+        }
         std::array<EyeTarget, 2> targets;
         std::array<GLuint, 2> images{}, fbos{};
         glCreateTextures(GL_TEXTURE_2D, 2, images.data());

@@ -5,6 +5,7 @@
 // to the GPU, so the first points appear before the whole file is read (issue 4).
 #pragma once
 #include <engine/point_cloud.hpp>
+#include <viewer/lod.hpp>
 
 #include <atomic>
 #include <cstddef>
@@ -18,6 +19,13 @@
 
 namespace viewer {
 
+/// One chunk as it arrived; `cells` is filled (and `points` in LOD order) when the feed
+/// builds the LOD order on the producer's thread (enableLodOrder), else empty.
+struct FeedChunk {
+    std::vector<engine::CloudPoint> points;
+    std::vector<LodCell> cells;
+};
+
 /// Thread-safe chunk queue between one producer and the viewer.
 class CloudFeed {
 public:
@@ -26,6 +34,9 @@ public:
     CloudFeed(const CloudFeed&) = delete;
     CloudFeed& operator=(const CloudFeed&) = delete;
 
+    /// From now on, append() puts every chunk in LOD order (buildLodOrder) on the producer's
+    /// thread, so the frame loop does not pay for it. Call before the producer starts.
+    void enableLodOrder(const LodOptions& options = {});
     /// Producer side. setOrigin must come before the first append (default origin 0).
     void setOrigin(const glm::dvec3& origin);
     void setFields(const engine::CloudFields& fields);
@@ -34,7 +45,7 @@ public:
     void finish(std::string error = {});
 
     /// Viewer side: moves out every chunk that arrived since the last call.
-    std::vector<std::vector<engine::CloudPoint>> take();
+    std::vector<FeedChunk> take();
     glm::dvec3 origin() const;
     engine::CloudFields fields() const;
     bool finished() const { return finished_.load(); }
@@ -53,7 +64,9 @@ private:
     mutable std::mutex mutex_;
     glm::dvec3 origin_{0.0};
     engine::CloudFields fields_;
-    std::vector<std::vector<engine::CloudPoint>> pending_;
+    std::vector<FeedChunk> pending_;
+    bool lod_order_ = false;
+    LodOptions lod_options_;
     std::string error_;
     std::atomic<bool> finished_{false};
     std::atomic<std::size_t> arrived_{0};
