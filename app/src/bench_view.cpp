@@ -25,7 +25,7 @@ namespace {
 struct BenchViewArgs {
     std::vector<std::size_t> points = {1638400, 20000000};
     int frames = 10, warmup = 3;
-    std::string paths = "mirror,xr,egl";
+    std::string paths = "mirror,xr,egl,skip";
     std::string eye = "1440x1600";
     std::string display = "auto";
     std::size_t point_budget = 3000000;
