@@ -12,31 +12,36 @@
 namespace engine::detail {
 
 /// `s` fit for an error message: control characters, DEL and (unless keep_utf8) every
-/// byte >= 0x80 written as \xNN; at most `max_bytes` of `s` shown, then "...". With
+/// byte >= 0x80 written as \xNN; at most `max_chars` characters of the RESULT, then
+/// "..." (the cap is on what is shown, since escaping makes one byte four characters:
+/// a name of DEL bytes once overflowed the message, found by fuzz_scene_json). With
 /// keep_utf8, bytes >= 0x80 are kept (names from JSON, which nlohmann checks are UTF-8)
 /// and the cut never splits a UTF-8 sequence.
-inline std::string shown(std::string_view s, std::size_t max_bytes = 40, bool keep_utf8 = false) {
-    bool cut = false;
-    if (s.size() > max_bytes) {
-        std::size_t n = max_bytes;
-        if (keep_utf8)
-            while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;
-        s = s.substr(0, n);
-        cut = true;
-    }
+inline std::string shown(std::string_view s, std::size_t max_chars = 40, bool keep_utf8 = false) {
     std::string out;
-    out.reserve(s.size() + 3);
-    for (const char ch : s) {
-        const unsigned char c = static_cast<unsigned char>(ch);
+    out.reserve(s.size() < max_chars ? s.size() : max_chars + 3);
+    std::size_t i = 0;
+    while (i < s.size()) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        std::size_t used = 1;
+        char piece[8];
+        std::string_view view;
         if (c < 0x20 || c == 0x7f || (c >= 0x80 && !keep_utf8)) {
-            char hex[8];
-            std::snprintf(hex, sizeof hex, "\\x%02x", c);
-            out += hex;
+            std::snprintf(piece, sizeof piece, "\\x%02x", c);
+            view = std::string_view(piece, 4);
         } else {
-            out += ch;
+            while (keep_utf8 && c >= 0x80 && i + used < s.size() &&
+                   (static_cast<unsigned char>(s[i + used]) & 0xC0) == 0x80)
+                ++used;  // a whole UTF-8 sequence at once
+            view = s.substr(i, used);
         }
+        if (out.size() + view.size() > max_chars) {
+            out += "...";
+            return out;
+        }
+        out += view;
+        i += used;
     }
-    if (cut) out += "...";
     return out;
 }
 

@@ -112,9 +112,9 @@ TEST_CASE("shown bytes: a long binary token is cut, escaped and marked") {
     } catch (const engine::Error& e) {
         m = e.what();
     }
-    // 20 bytes shown, each as \x01, then "...".
+    // At most 20 characters shown: five bytes, each as \x01, then "...".
     std::string expected = "pcd: long.pcd: line 4: SIZE '";
-    for (int i = 0; i < 20; ++i) expected += "\\x01";
+    for (int i = 0; i < 5; ++i) expected += "\\x01";
     expected += "...' is not one of 1, 2, 4, 8";
     CHECK(m == expected);
 }
