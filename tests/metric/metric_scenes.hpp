@@ -1,23 +1,11 @@
 // tests/metric/metric_scenes.hpp: scenes with closed-form visibility, built in code.
 #pragma once
 #include <engine/scene.hpp>
+#include <mesh_builders.hpp>
 
 #include <string>
 
 namespace metric_test {
-
-/// A closed axis-aligned box [lo, hi] (12 triangles).
-inline engine::Mesh box(glm::vec3 lo, glm::vec3 hi, engine::Role role, std::string name) {
-    engine::Mesh m;
-    m.name = std::move(name);
-    m.role = role;
-    for (int k = 0; k < 8; ++k)
-        m.vertices.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
-    const unsigned f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                               {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-    for (const auto& t : f) m.triangles.emplace_back(t[0], t[1], t[2]);
-    return m;
-}
 
 /// The box-behind-wall scene: a cube target of half-size a centred on (0, 0, 0) inside a
 /// square enclosure of four thin walls at distance D (|x| = D or |y| = D) whose tops are at
@@ -31,14 +19,14 @@ inline engine::Scene boxBehindWall(float a, float distance_d, float wall_top, bo
     engine::Scene s;
     s.source = "box-behind-wall (in code)";
     s.origin = glm::dvec3(651000.0, 6862000.0, 85.0);
-    s.meshes.push_back(box({-a, -a, -a}, {a, a, a}, engine::Role::Target, "cube"));
+    s.meshes.push_back(test_support::boxMesh({-a, -a, -a}, {a, a, a}, engine::Role::Target, "cube"));
     const float t = 0.1f, d = distance_d, bottom = -a - 1.0f;
     const float top = wall_top;
-    s.meshes.push_back(box({d, -d, bottom}, {d + t, d, top}, engine::Role::Environment, "wall+x"));
-    s.meshes.push_back(box({-d - t, -d, bottom}, {-d, d, top}, engine::Role::Environment, "wall-x"));
-    s.meshes.push_back(box({-d, d, bottom}, {d, d + t, top}, engine::Role::Environment, "wall+y"));
-    s.meshes.push_back(box({-d, -d - t, bottom}, {d, -d, top}, engine::Role::Environment, "wall-y"));
-    if (roof) s.meshes.push_back(box({-d - t, -d - t, top}, {d + t, d + t, top + t}, engine::Role::Environment, "roof"));
+    s.meshes.push_back(test_support::boxMesh({d, -d, bottom}, {d + t, d, top}, engine::Role::Environment, "wall+x"));
+    s.meshes.push_back(test_support::boxMesh({-d - t, -d, bottom}, {-d, d, top}, engine::Role::Environment, "wall-x"));
+    s.meshes.push_back(test_support::boxMesh({-d, d, bottom}, {d, d + t, top}, engine::Role::Environment, "wall+y"));
+    s.meshes.push_back(test_support::boxMesh({-d, -d - t, bottom}, {d, -d, top}, engine::Role::Environment, "wall-y"));
+    if (roof) s.meshes.push_back(test_support::boxMesh({-d - t, -d - t, top}, {d + t, d + t, top + t}, engine::Role::Environment, "roof"));
     return s;
 }
 

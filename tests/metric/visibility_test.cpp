@@ -245,8 +245,8 @@ TEST_CASE("environment behind the target: xor counts it as hiding, exact and dep
     // the target's pixels, so I2 xor I3 is 0 there (docs/metric.md, "xor and visible").
     engine::Scene scene;
     scene.source = "cube before a wall (in code)";
-    scene.meshes.push_back(metric_test::box({-kA, -kA, -kA}, {kA, kA, kA}, engine::Role::Target, "cube"));
-    scene.meshes.push_back(metric_test::box({-8.1f, -12.0f, -3.0f}, {-8.0f, 12.0f, 8.0f},
+    scene.meshes.push_back(test_support::boxMesh({-kA, -kA, -kA}, {kA, kA, kA}, engine::Role::Target, "cube"));
+    scene.meshes.push_back(test_support::boxMesh({-8.1f, -12.0f, -3.0f}, {-8.0f, 12.0f, 8.0f},
                                             engine::Role::Environment, "wall"));
     metric::Evaluator evaluator(metric::generateClouds(scene), &scene);
     metric::MetricOptions o = axisViews();
