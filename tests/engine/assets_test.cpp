@@ -1,5 +1,6 @@
 // The bundled scenes are generated: the committed files must be exactly what
 // scripts/make_scenes.py makes, so nobody edits one by hand and the script stays true.
+#include <test_files.hpp>
 #include <doctest/doctest.h>
 
 #include <cstdlib>
@@ -15,12 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using test_support::slurp;
 
 std::set<std::string> filesUnder(const fs::path& root) {
     std::set<std::string> out;

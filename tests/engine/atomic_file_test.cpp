@@ -1,4 +1,5 @@
 // Atomic writes: temp sibling + rename, destination checks, nothing partial left behind.
+#include <test_files.hpp>
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
 
@@ -14,26 +15,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-    fs::path path;
-    explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() /
-               ("ladarvr_atomic_test_" + name + "_" + std::to_string(::getpid()))) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::size_t entries() const {
-        return std::size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator()));
-    }
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using test_support::TempDir;
+using test_support::slurp;
 
 }  // namespace
 

@@ -1,5 +1,6 @@
 // Cloud I/O: exact round trips of every format, atomic streaming writes, files written
 // by PCL (ascii, binary, binary_compressed), foreign layouts, and corrupt input.
+#include <test_files.hpp>
 #include <engine/atomic_file.hpp>
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
@@ -24,26 +25,8 @@ namespace {
 
 const fs::path kData = fs::path(LADARVR_TEST_DATA_DIR) / "engine";
 
-struct TempDir {
-    fs::path path;
-    explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() /
-               ("ladarvr_cloud_test_" + name + "_" + std::to_string(::getpid()))) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::size_t entries() const {
-        return std::size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator()));
-    }
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using test_support::TempDir;
+using test_support::slurp;
 
 void spit(const fs::path& p, const std::string& bytes) {
     std::ofstream(p, std::ios::binary) << bytes;

@@ -2,6 +2,7 @@
 // docs/stress.md) and the fuzz seeds, replayed through the same entry points: each must
 // give a result or an engine::Error whose message is one printable line (the house rule
 // for errors), never another exception.
+#include <test_files.hpp>
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
 #include <engine/scene.hpp>
@@ -21,10 +22,7 @@ const fs::path kData = LADARVR_TEST_DATA_DIR;
 const fs::path kRegressions = kData / "engine" / "fuzz_regressions";
 const fs::path kSeeds = kData.parent_path().parent_path() / "fuzz" / "seeds";
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
+using test_support::slurp;
 
 /// One line of printable text: no control character, no DEL; bytes >= 0x80 only where
 /// `allow_utf8` (names from JSON); short.

@@ -1,5 +1,6 @@
 // Scene loading: transforms, frames, roles, the bundled scenes, and one test per kind
 // of bad scene file (each must give its one-line error naming the file and the reason).
+#include <test_files.hpp>
 #include <engine/error.hpp>
 #include <engine/scene.hpp>
 
@@ -37,21 +38,7 @@ bool contains(const std::string& text, const std::string& part) {
 }
 
 // A fresh directory under /tmp for scenes written by a test; removed at scope exit.
-struct TempDir {
-    fs::path path;
-    explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() /
-               ("ladarvr_scene_test_" + name + "_" + std::to_string(::getpid()))) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    fs::path write(const std::string& name, const std::string& text) const {
-        std::ofstream(path / name) << text;
-        return path / name;
-    }
-};
-
+using test_support::TempDir;
 engine::Bounds meshBounds(const engine::Mesh& m) {
     engine::Bounds b;
     for (const glm::vec3& v : m.vertices) b.extend(glm::dvec3(v));

@@ -1,4 +1,5 @@
 // tests/sim/generator_test.cpp: the whole pipeline of paper §III on scenes built in code.
+#include <test_files.hpp>
 #include "test_scenes.hpp"
 
 #include <sim/generator.hpp>
@@ -25,10 +26,7 @@ fs::path scratchDir() {
     return dir;
 }
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
+using test_support::slurp;
 
 bool samePoint(const engine::CloudPoint& a, const engine::CloudPoint& b) {
     return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 && a.rgb == b.rgb &&
