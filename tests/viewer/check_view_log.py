@@ -85,9 +85,11 @@ def check_toggles(log, frames):
 
 def check_orbit(log, frames):
     """Automatic frames ride the orbit: 60 m out and 40 m up from the centre (render defaults);
-    free frames stay where the switch left the user (no motion was requested)."""
-    c = log["orbit_centre_local"]
+    free frames stay where the switch left the user (no motion was requested).
+    The centre follows the cloud's bounds while it streams in, so each frame is checked
+    against the centre it was drawn with."""
     for f in frames:
+        c = f["orbit_centre_local"]
         p = f["eyes_local"][0]["position"]
         if f["mode"] == "automatic":
             r = math.hypot(p[0] - c[0], p[1] - c[1])

@@ -244,6 +244,7 @@ void ViewerApp::logFrame(bool xr, const std::array<RigPose, 2>& eyes_t, const st
     nlohmann::json f = {{"frame", frames_},
                         {"t_s", std::chrono::duration<double>(Clock::now() - start_).count()},
                         {"mode", modeName(modes_.mode())},
+                        {"orbit_centre_local", vec(modes_.centre())},
                         {"xr", xr},
                         {"points_drawn", points_drawn_},
                         {"points_uploaded", renderer_->uploadedPoints()},
