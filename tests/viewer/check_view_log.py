@@ -109,7 +109,10 @@ def main():
     frames = log["frames"]
     print(f"{scenario}: exit={log['exit']} states={log['states']} frames={log['frames_counted']} "
           f"submitted={log['frames_submitted']} fallback={log['fallback']!r}")
-    check(log["points_uploaded"] == 163840, f"{log['points_uploaded']} points on the GPU, expected 163840")
+    # Escape at frame 5 may come before the generator has finished; every other scenario
+    # runs long enough to have the whole cloud on the GPU.
+    if scenario != "escape":
+        check(log["points_uploaded"] == 163840, f"{log['points_uploaded']} points on the GPU, expected 163840")
 
     if scenario == "xr":
         states = log["states"]
