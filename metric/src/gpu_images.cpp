@@ -3,6 +3,7 @@
 #include "gpu_images.hpp"
 
 #include <engine/error.hpp>
+#include <shaders/shaders.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -11,104 +12,6 @@
 
 namespace metric::detail {
 namespace {
-
-// One invocation per point (grid-stride). `u_ranges` lists the cells kept by culling as
-// (first point, first virtual index) pairs; a binary search maps a virtual index to a point.
-constexpr const char* kSplatShader = R"(#version 450 core
-layout(local_size_x = 128) in;
-layout(std430, binding = 1) readonly buffer Points { vec4 points[]; };
-layout(std430, binding = 2) readonly buffer Ranges { uvec2 ranges[]; };
-layout(binding = 0, r32ui) uniform coherent uimage2D u_mask;
-layout(binding = 1, r32ui) uniform coherent uimage2D u_depth;
-uniform mat4 u_mvp;            // projection * view * translate(cloud centre), folded in double
-uniform mat4 u_mv;             // view * translate(cloud centre)
-uniform uint u_range_count;
-uniform uint u_total;          // points in the kept cells
-uniform vec2 u_image_size;     // the whole image, pixels
-uniform ivec2 u_region_origin; // drawn region, image pixels; mask pixel = image pixel - origin
-uniform ivec2 u_region_size;
-uniform float u_splat;         // square side, pixels
-uniform uint u_bit;
-uniform int u_mode;            // 0 set bit; 1 also keep nearest distance; 2 also bit 8 if nearer
-uniform float u_margin_m;
-void main() {
-    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    for (uint v = gl_GlobalInvocationID.x; v < u_total; v += stride) {
-        uint lo = 0u, hi = u_range_count - 1u;
-        while (lo < hi) {
-            uint mid = (lo + hi + 1u) / 2u;
-            if (ranges[mid].y <= v) lo = mid; else hi = mid - 1u;
-        }
-        vec4 p = vec4(points[ranges[lo].x + (v - ranges[lo].y)].xyz, 1.0);
-        vec4 c = u_mvp * p;
-        // As GL clips points: the centre must lie in the view volume.
-        if (c.w <= 0.0 || abs(c.x) > c.w || abs(c.y) > c.w || abs(c.z) > c.w) continue;
-        vec2 win = (c.xy / c.w * 0.5 + 0.5) * u_image_size;
-        // Pixels whose centres fall in [win - s/2, win + s/2), as GL rasterises a point.
-        ivec2 first = ivec2(ceil(win - 0.5 * u_splat - 0.5)) - u_region_origin;
-        ivec2 last = ivec2(ceil(win + 0.5 * u_splat - 0.5)) - u_region_origin;
-        first = max(first, ivec2(0));
-        last = min(last, u_region_size);
-        if (first.x >= last.x || first.y >= last.y) continue;
-        float dist = (u_mode != 0) ? length((u_mv * p).xyz) : 0.0;
-        uint dist_bits = floatBitsToUint(dist);
-        uint near_bits = floatBitsToUint(dist + u_margin_m);
-        for (int y = first.y; y < last.y; ++y)
-            for (int x = first.x; x < last.x; ++x) {
-                ivec2 q = ivec2(x, y);
-                uint bits = u_bit;
-                if (u_mode == 1) imageAtomicMin(u_depth, q, dist_bits);
-                if (u_mode == 2 && near_bits < imageLoad(u_depth, q).r) bits |= 8u;
-                if ((imageLoad(u_mask, q).r & bits) != bits) imageAtomicOr(u_mask, q, bits);
-            }
-    }
-}
-)";
-
-// Counts: i1, i2, i3, i2 xor i3, i3 and not i2, depth-visible and i1. Shared-memory
-// partial sums, one global atomic per workgroup and counter.
-constexpr const char* kCountShaderHead = R"(#version 450 core
-layout(local_size_x = 16, local_size_y = 16) in;
-layout(std430, binding = 0) buffer Counts { uint counts[8]; };
-uniform ivec2 u_offset;   // first counted pixel
-uniform ivec2 u_size;     // counted pixels
-shared uint s_counts[6];
-)";
-constexpr const char* kCountShaderMask = R"(
-layout(binding = 0, r32ui) uniform readonly uimage2D u_image;
-uint bitsAt(ivec2 p) { return imageLoad(u_image, p).r; }
-)";
-constexpr const char* kCountShaderRgba = R"(
-layout(binding = 0, rgba8) uniform readonly image2D u_image;
-uint bitsAt(ivec2 p) {
-    vec4 c = imageLoad(u_image, p);
-    return (c.r > 0.5 ? 1u : 0u) | (c.g > 0.5 ? 2u : 0u) | (c.b > 0.5 ? 4u : 0u);
-}
-)";
-constexpr const char* kCountShaderMain = R"(
-void main() {
-    uint i = gl_LocalInvocationIndex;
-    if (i < 6u) s_counts[i] = 0u;
-    barrier();
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x < u_size.x && p.y < u_size.y) {
-        uint b = bitsAt(u_offset + p);
-        bool i1 = (b & 1u) != 0u, i2 = (b & 2u) != 0u, i3 = (b & 4u) != 0u, near = (b & 8u) != 0u;
-        if (i1) atomicAdd(s_counts[0], 1u);
-        if (i2) atomicAdd(s_counts[1], 1u);
-        if (i3) atomicAdd(s_counts[2], 1u);
-        if (i2 != i3) atomicAdd(s_counts[3], 1u);     // I4 = I2 xor I3
-        if (i3 && !i2) atomicAdd(s_counts[4], 1u);    // visible target
-        if (near && i1) atomicAdd(s_counts[5], 1u);   // depth-aware visible target
-    }
-    barrier();
-    if (i < 6u && s_counts[i] != 0u) atomicAdd(counts[i], s_counts[i]);
-}
-)";
-
-std::string countSource(bool rgba) {
-    return std::string(kCountShaderHead) + (rgba ? kCountShaderRgba : kCountShaderMask) + kCountShaderMain;
-}
 
 GpuCloud upload(const engine::PointCloud& cloud, double cell_m) {
     GpuCloud gpu;
@@ -156,9 +59,12 @@ glm::mat4 toFloat(const glm::dmat4& m) { return glm::mat4(m); }
 
 GpuImages::GpuImages(const engine::PointCloud& p1, const engine::PointCloud& p2, const engine::PointCloud& p3,
                      double cell_m)
-    : splat_program_("metric-splat", {{GL_COMPUTE_SHADER, kSplatShader}}),
-      count_mask_program_("metric-count-mask", {{GL_COMPUTE_SHADER, countSource(false)}}),
-      count_rgba_program_("metric-count-rgba", {{GL_COMPUTE_SHADER, countSource(true)}}) {
+    : splat_program_("metric-splat",
+                     {{GL_COMPUTE_SHADER, shaders::metric_splat_comp, shaders::metric_splat_comp_files}}),
+      count_mask_program_("metric-count-mask", {{GL_COMPUTE_SHADER, shaders::metric_count_mask_comp,
+                                                 shaders::metric_count_mask_comp_files}}),
+      count_rgba_program_("metric-count-rgba", {{GL_COMPUTE_SHADER, shaders::metric_count_rgba_comp,
+                                                 shaders::metric_count_rgba_comp_files}}) {
     clouds_[0] = upload(p1, cell_m);
     clouds_[1] = upload(p2, cell_m);
     clouds_[2] = upload(p3, cell_m);

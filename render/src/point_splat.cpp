@@ -1,6 +1,7 @@
 // render/src/point_splat.cpp: chunked, camera-relative square point splats.
 #include <render/point_splat.hpp>
 #include <render/orbit_camera.hpp>
+#include <shaders/shaders.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -9,27 +10,6 @@
 
 namespace render {
 namespace {
-
-constexpr const char* kVertexShader = R"(#version 450 core
-layout(location = 0) in vec3 a_position;   // relative to the chunk centre
-layout(location = 1) in vec4 a_colour;     // 0x00RRGGBB read as BGRA bytes
-uniform mat4 u_mvp;                        // projection * view * translate(chunk centre)
-uniform float u_point_size;
-uniform vec4 u_colour;
-uniform bool u_use_point_colours;
-out vec4 v_colour;
-void main() {
-    gl_Position = u_mvp * vec4(a_position, 1.0);
-    gl_PointSize = u_point_size;
-    v_colour = u_use_point_colours ? vec4(a_colour.rgb, 1.0) : u_colour;
-}
-)";
-
-constexpr const char* kFragmentShader = R"(#version 450 core
-in vec4 v_colour;
-layout(location = 0) out vec4 f_colour;
-void main() { f_colour = v_colour; }
-)";
 
 struct GpuPoint {
     glm::vec3 position;
@@ -42,7 +22,8 @@ constexpr std::size_t kMaxChunkPoints = 1u << 18;  // keeps culling useful in de
 }  // namespace
 
 PointSplatRenderer::PointSplatRenderer()
-    : program_("point-splat", {{GL_VERTEX_SHADER, kVertexShader}, {GL_FRAGMENT_SHADER, kFragmentShader}}) {
+    : program_("point-splat", {{GL_VERTEX_SHADER, shaders::point_splat_vert, shaders::point_splat_vert_files},
+                               {GL_FRAGMENT_SHADER, shaders::vertex_colour_frag, shaders::vertex_colour_frag_files}}) {
     u_mvp_ = program_.uniform("u_mvp");
     u_point_size_ = program_.uniform("u_point_size");
     u_colour_ = program_.uniform("u_colour");

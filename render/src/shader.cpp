@@ -55,8 +55,10 @@ Program::Program(std::string_view name, std::initializer_list<ShaderStage> stage
             std::string log(static_cast<std::size_t>(log_length > 0 ? log_length : 1), '\0');
             glGetShaderInfoLog(shader, log_length, nullptr, log.data());
             cleanup();
+            std::string where;
+            if (!stage.files.empty()) where = " (source strings: " + std::string(stage.files) + ")";
             throw engine::Error(std::string("shader: ") + std::string(name) + ": " +
-                                stageName(stage.stage) + " compile failed: " + trimLog(log));
+                                stageName(stage.stage) + " compile failed: " + trimLog(log) + where);
         }
     }
     id_ = glCreateProgram();

@@ -2,6 +2,7 @@
 #include <sim/colour.hpp>
 
 #include <engine/error.hpp>
+#include <engine/jet.hpp>
 #include <engine/point_cloud.hpp>
 
 #include <doctest/doctest.h>
@@ -58,6 +59,17 @@ TEST_CASE("height colours: red at the minimum, blue at the maximum, hue rising w
     CHECK(sim::heightColour(-5.0f, 10.0f, 20.0f, jet) == engine::packRgb(128, 0, 0));
     CHECK(sim::heightColour(99.0f, 10.0f, 20.0f, jet) == engine::packRgb(0, 0, 143));
     CHECK(sim::heightColour(3.0f, 3.0f, 3.0f, jet) == engine::packRgb(128, 0, 0));
+}
+
+TEST_CASE("the generator colours with engine's jet table, the one the viewer shows") {
+    for (int m : {2, 5, 16, 64, 256}) {
+        const auto jet = sim::jetTable(m);
+        CHECK(jet == engine::jetTable(m));
+        for (int k = -2; k <= 42; ++k) {
+            const float z = -1.0f + 0.5f * float(k);
+            CHECK(sim::heightColour(z, 0.0f, 20.0f, jet) == jet[engine::jetIndex(z, 0.0, 20.0, m)]);
+        }
+    }
 }
 
 TEST_CASE("colour options are validated") {

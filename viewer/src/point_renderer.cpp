@@ -1,8 +1,11 @@
 // viewer/src/point_renderer.cpp: streamed, camera-relative point drawing with eye-dome
-// lighting for the immersive viewer (paper §IV-A; the jet map is the paper's §III-C one).
+// lighting for the immersive viewer (paper §IV-A; the jet map is the paper's §III-C one,
+// engine::jetTable, the generator's table). The GLSL lives in shaders/.
 #include "point_renderer.hpp"
 
+#include <engine/jet.hpp>
 #include <render/orbit_camera.hpp>
+#include <shaders/shaders.hpp>
 
 #include <algorithm>
 #include <array>
@@ -19,124 +22,6 @@ struct GpuPoint {
     std::uint32_t rgb;   // 0xLLRRGGBB (L = label): bytes B, G, R, L -> read as GL_BGRA
 };
 static_assert(sizeof(GpuPoint) == 16);
-
-constexpr const char* kPointsVs = R"(#version 450 core
-layout(location = 0) in vec3 a_position;   // relative to the chunk centre
-layout(location = 1) in vec4 a_rgb;
-uniform mat4 u_model_view;                 // computed in double on the CPU
-uniform mat4 u_projection;
-uniform float u_chunk_z;                   // chunk centre height (local frame)
-uniform float u_z_min;
-uniform float u_z_max;
-uniform int u_colour_mode;                 // 0 file, 1 height jet, 2 white, 3 label
-uniform int u_jet_entries;
-uniform float u_size_px;
-uniform int u_attenuate;
-out vec3 v_colour;
-vec3 jet(float t) {  // MATLAB jet: 0 dark blue ... 1 dark red
-    return clamp(vec3(1.5 - abs(4.0 * t - 3.0), 1.5 - abs(4.0 * t - 2.0), 1.5 - abs(4.0 * t - 1.0)), 0.0, 1.0);
-}
-void main() {
-    vec4 p = u_model_view * vec4(a_position, 1.0);
-    gl_Position = u_projection * p;
-    if (u_colour_mode == 0) {
-        v_colour = a_rgb.rgb;
-    } else if (u_colour_mode == 1) {
-        float z = a_position.z + u_chunk_z;
-        float range = max(u_z_max - u_z_min, 1e-6);
-        float m = float(u_jet_entries);
-        float bin = clamp(floor((z - u_z_min) / range * m), 0.0, m - 1.0);
-        v_colour = jet(1.0 - bin / (m - 1.0));   // lowest bin red, highest blue (paper)
-    } else if (u_colour_mode == 2) {
-        v_colour = vec3(1.0);
-    } else {
-        int label = int(round(a_rgb.a * 255.0));   // 0 ground, 1 environment, 2 target
-        v_colour = label == 2 ? vec3(1.0, 0.0, 0.0) : label == 1 ? vec3(0.6) : vec3(0.3);
-    }
-    float size = u_size_px;
-    if (u_attenuate != 0) size = u_size_px * 100.0 / max(-p.z, 1e-3);
-    gl_PointSize = clamp(size, 1.0, 64.0);
-}
-)";
-
-constexpr const char* kPointsFs = R"(#version 450 core
-in vec3 v_colour;
-out vec4 o_colour;
-void main() { o_colour = vec4(v_colour, 1.0); }
-)";
-
-constexpr const char* kFullscreenVs = R"(#version 450 core
-void main() {
-    const vec2 corners[3] = vec2[](vec2(-1.0, -1.0), vec2(3.0, -1.0), vec2(-1.0, 3.0));
-    gl_Position = vec4(corners[gl_VertexID], 0.0, 1.0);
-}
-)";
-
-// Eye-dome lighting: darken a point by how much nearer its 8 neighbours are, in log depth.
-constexpr const char* kResolveFs = R"(#version 450 core
-uniform sampler2D u_colour;
-uniform sampler2D u_depth;
-uniform vec4 u_viewport;       // x, y, w, h of the output
-uniform int u_edl;
-uniform float u_strength;
-uniform float u_near;
-uniform float u_far;
-uniform vec3 u_background;
-out vec4 o_colour;
-float linearDepth(float d) {
-    float z = d * 2.0 - 1.0;
-    return 2.0 * u_near * u_far / (u_far + u_near - z * (u_far - u_near));
-}
-void main() {
-    ivec2 size = textureSize(u_colour, 0);
-    ivec2 px = clamp(ivec2((gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw * vec2(size)), ivec2(0), size - 1);
-    float d = texelFetch(u_depth, px, 0).r;
-    if (d >= 1.0) { o_colour = vec4(u_background, 1.0); return; }
-    vec3 c = texelFetch(u_colour, px, 0).rgb;
-    if (u_edl != 0) {
-        float ld = log2(linearDepth(d));
-        const ivec2 offsets[8] = ivec2[](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1),
-                                         ivec2(1, 1), ivec2(-1, -1), ivec2(1, -1), ivec2(-1, 1));
-        float sum = 0.0;
-        for (int i = 0; i < 8; ++i) {
-            ivec2 q = clamp(px + offsets[i], ivec2(0), size - 1);
-            float dn = texelFetch(u_depth, q, 0).r;
-            if (dn < 1.0) sum += max(0.0, ld - log2(linearDepth(dn)));
-        }
-        c *= exp(-sum / 8.0 * 300.0 * u_strength);
-    }
-    o_colour = vec4(c, 1.0);
-}
-)";
-
-// The mode indicator: a coloured plate with the mode's name in a 5x7 bitmap font.
-constexpr const char* kIndicatorVs = R"(#version 450 core
-uniform vec4 u_rect_ndc;   // x0, y0, x1, y1
-void main() {
-    vec2 c = vec2((gl_VertexID & 1) != 0 ? u_rect_ndc.z : u_rect_ndc.x,
-                  (gl_VertexID & 2) != 0 ? u_rect_ndc.w : u_rect_ndc.y);
-    gl_Position = vec4(c, 0.0, 1.0);
-}
-)";
-constexpr const char* kIndicatorFs = R"(#version 450 core
-uniform vec3 u_plate;
-uniform vec2 u_origin_px;  // bottom-left of the plate, window pixels
-uniform float u_cell_px;
-uniform int u_font[70];    // 10 glyphs x 7 rows of 5 bits
-uniform int u_text[12];
-uniform int u_length;
-out vec4 o_colour;
-void main() {
-    ivec2 cell = ivec2(floor((gl_FragCoord.xy - u_origin_px) / u_cell_px));
-    int col = cell.x - 1, row = 7 - cell.y;   // one cell of margin left and bottom
-    bool ink = false;
-    if (col >= 0 && row >= 0 && row < 7 && col / 6 < u_length && col % 6 < 5) {
-        int bits = u_font[u_text[col / 6] * 7 + row];
-        ink = ((bits >> (4 - col % 6)) & 1) != 0;
-    }
-    o_colour = vec4(ink ? vec3(0.0) : u_plate, 1.0);
-}
-)";
 
 // A, U, T, O, M, I, C, F, R, E
 constexpr std::array<int, 70> kFont = {
@@ -186,9 +71,15 @@ void EyeTarget::destroy() {
 
 // --- PointRenderer ------------------------------------------------------------------------
 PointRenderer::PointRenderer()
-    : points_("viewer points", {{GL_VERTEX_SHADER, kPointsVs}, {GL_FRAGMENT_SHADER, kPointsFs}}),
-      resolve_("viewer eye-dome resolve", {{GL_VERTEX_SHADER, kFullscreenVs}, {GL_FRAGMENT_SHADER, kResolveFs}}),
-      indicator_("viewer mode indicator", {{GL_VERTEX_SHADER, kIndicatorVs}, {GL_FRAGMENT_SHADER, kIndicatorFs}}) {
+    : points_("viewer points",
+              {{GL_VERTEX_SHADER, shaders::viewer_points_vert, shaders::viewer_points_vert_files},
+               {GL_FRAGMENT_SHADER, shaders::vertex_colour_frag, shaders::vertex_colour_frag_files}}),
+      resolve_("viewer eye-dome resolve",
+               {{GL_VERTEX_SHADER, shaders::fullscreen_triangle_vert, shaders::fullscreen_triangle_vert_files},
+                {GL_FRAGMENT_SHADER, shaders::eye_dome_resolve_frag, shaders::eye_dome_resolve_frag_files}}),
+      indicator_("viewer mode indicator",
+                 {{GL_VERTEX_SHADER, shaders::mode_indicator_vert, shaders::mode_indicator_vert_files},
+                  {GL_FRAGMENT_SHADER, shaders::mode_indicator_frag, shaders::mode_indicator_frag_files}}) {
     glCreateVertexArrays(1, &vao_);
     glEnableVertexArrayAttrib(vao_, 0);
     glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
@@ -203,10 +94,28 @@ PointRenderer::PointRenderer()
 }
 
 PointRenderer::~PointRenderer() {
+    if (jet_texture_) glDeleteTextures(1, &jet_texture_);
     for (auto& c : chunks_)
         if (c.buffer) glDeleteBuffers(1, &c.buffer);
     if (vao_) glDeleteVertexArrays(1, &vao_);
     if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
+}
+
+GLuint PointRenderer::jetTexture(int entries) const {
+    entries = std::clamp(entries, 2, 256);   // options.cpp validates; never index past it
+    if (jet_texture_ && jet_entries_ == entries) return jet_texture_;
+    if (jet_texture_) glDeleteTextures(1, &jet_texture_);
+    // Texel i = engine::jetTable entry i. 0x00RRGGBB is stored as bytes B, G, R, 0, read as
+    // GL_BGRA like the points' own colours, so a jet colour reaches the screen byte-exact.
+    const std::vector<std::uint32_t> table = engine::jetTable(entries);
+    glCreateTextures(GL_TEXTURE_1D, 1, &jet_texture_);
+    glTextureStorage1D(jet_texture_, 1, GL_RGBA8, entries);
+    glTextureSubImage1D(jet_texture_, 0, 0, entries, GL_BGRA, GL_UNSIGNED_BYTE, table.data());
+    glTextureParameteri(jet_texture_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(jet_texture_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    jet_entries_ = entries;
+    render::logGl("PointRenderer::jetTexture", __FILE__, __LINE__);
+    return jet_texture_;
 }
 
 std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points) {
@@ -311,7 +220,8 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glUniform1f(points_.uniform("u_z_min"), bounds_.empty() ? 0.0f : float(bounds_.lo.z));
     glUniform1f(points_.uniform("u_z_max"), bounds_.empty() ? 1.0f : float(bounds_.hi.z));
     glUniform1i(points_.uniform("u_colour_mode"), static_cast<int>(style.colour));
-    glUniform1i(points_.uniform("u_jet_entries"), std::max(2, style.jet_entries));
+    glBindTextureUnit(kJetTextureUnit, jetTexture(style.jet_entries));
+    glUniform1i(points_.uniform("u_jet"), kJetTextureUnit);
     glUniform1f(points_.uniform("u_size_px"), style.point_size_px);
     glUniform1i(points_.uniform("u_attenuate"), style.attenuate ? 1 : 0);
     const GLint u_model_view = points_.uniform("u_model_view");

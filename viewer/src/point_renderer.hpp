@@ -82,6 +82,11 @@ private:
         glm::dvec3 centre{0.0};                // positions are stored relative to it
         engine::Bounds bounds;
     };
+    /// The jet table (engine::jetTable(entries)) as a 1D RGBA8 texture, made on first use
+    /// and again when `entries` changes. Never throws (a GL error is logged).
+    GLuint jetTexture(int entries) const;
+    static constexpr GLuint kJetTextureUnit = 2;   // units 0 and 1: the resolve's inputs
+
     std::size_t available(const Cell& c) const {
         const std::size_t up = chunks_[c.chunk].count;
         return up <= c.first ? 0 : std::min(c.size, up - c.first);
@@ -95,6 +100,8 @@ private:
 
     render::Program points_, resolve_, indicator_;
     GLuint vao_ = 0, empty_vao_ = 0;
+    mutable GLuint jet_texture_ = 0;         // jetTexture()'s cache
+    mutable int jet_entries_ = 0;
     std::vector<Chunk> chunks_;
     std::vector<Cell> cells_;
     std::vector<std::size_t> plan_;          // per cell: points to draw (planFrame)

@@ -9,9 +9,13 @@
 namespace render {
 
 /// One stage of a program: GL_VERTEX_SHADER, GL_FRAGMENT_SHADER, GL_COMPUTE_SHADER, ...
+/// `files` says which file each source-string number of the text's #line directives
+/// names ("0 = x.vert, 1 = include/y.glsl", the *_files of <shaders/shaders.hpp>); a
+/// compile error quotes it, so the driver's "1:12" leads to include/y.glsl line 12.
 struct ShaderStage {
     GLenum stage;
     std::string_view source;
+    std::string_view files = {};
 };
 
 /// A linked GL program; deletes it on destruction. Needs a current GL 4.5 context.
@@ -19,7 +23,7 @@ class Program {
 public:
     Program() = default;
     /// Compiles and links; throws engine::Error("shader: <name>: <stage> compile failed:
-    /// <driver log>") or ("shader: <name>: link failed: <log>").
+    /// <driver log> (source strings: <files>)") or ("shader: <name>: link failed: <log>").
     Program(std::string_view name, std::initializer_list<ShaderStage> stages);
     ~Program();
     Program(Program&& other) noexcept;

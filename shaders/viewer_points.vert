@@ -1,0 +1,35 @@
+#version 450 core
+// The viewer's points (viewer::PointRenderer): camera-relative chunks, coloured by the
+// file, by height (the jet table), white, or by ground-truth label; pixel-sized or
+// distance-attenuated.
+#include "include/jet.glsl"
+layout(location = 0) in vec3 a_position;   // relative to the chunk centre
+layout(location = 1) in vec4 a_rgb;        // 0xLLRRGGBB read as BGRA bytes (L = label)
+uniform mat4 u_model_view;                 // computed in double on the CPU
+uniform mat4 u_projection;
+uniform float u_chunk_z;                   // chunk centre height (local frame)
+uniform float u_z_min;
+uniform float u_z_max;
+uniform int u_colour_mode;                 // 0 file, 1 height jet, 2 white, 3 label
+uniform float u_size_px;
+uniform int u_attenuate;
+out vec4 v_colour;
+void main() {
+    vec4 p = u_model_view * vec4(a_position, 1.0);
+    gl_Position = u_projection * p;
+    vec3 colour;
+    if (u_colour_mode == 0) {
+        colour = a_rgb.rgb;
+    } else if (u_colour_mode == 1) {
+        colour = jetColour(a_position.z + u_chunk_z, u_z_min, u_z_max);
+    } else if (u_colour_mode == 2) {
+        colour = vec3(1.0);
+    } else {
+        int label = int(round(a_rgb.a * 255.0));   // 0 ground, 1 environment, 2 target
+        colour = label == 2 ? vec3(1.0, 0.0, 0.0) : label == 1 ? vec3(0.6) : vec3(0.3);
+    }
+    v_colour = vec4(colour, 1.0);
+    float size = u_size_px;
+    if (u_attenuate != 0) size = u_size_px * 100.0 / max(-p.z, 1e-3);
+    gl_PointSize = clamp(size, 1.0, 64.0);
+}

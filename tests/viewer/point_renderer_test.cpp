@@ -1,0 +1,118 @@
+// viewer's height colours: points of known heights drawn headless (EGL) with the "height"
+// colour mode read back as exactly the generator's jet colours, engine::jetTable entry
+// engine::jetIndex (the table sim writes into the files), for 64 entries and for 16.
+#include "point_renderer.hpp"
+
+#include <engine/jet.hpp>
+#include <engine/point_cloud.hpp>
+#include <render/egl_context.hpp>
+
+#include <doctest/doctest.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace {
+
+constexpr int kColumns = 12;       // points on a grid of 1 m cells, seen from straight above
+constexpr int kPixelsPerMetre = 8;
+
+struct Pixel {
+    std::uint8_t r, g, b, a;
+};
+
+// Draws `cloud` from straight above with an orthographic camera (1 m = 8 px, grid cell
+// (i, j) centred on pixel (8i + 4, 8j + 4)) and returns the point pass's colour image.
+std::vector<Pixel> drawFromAbove(const engine::PointCloud& cloud, int rows, const viewer::ViewStyle& style) {
+    viewer::PointRenderer renderer;
+    viewer::CloudFeed feed;
+    feed.feedCloud(cloud);
+    renderer.stream(feed, cloud.points.size());
+    REQUIRE(renderer.uploadedPoints() == cloud.points.size());
+    const int width = kColumns * kPixelsPerMetre, height = rows * kPixelsPerMetre;
+    viewer::EyeTarget target, out;
+    REQUIRE(target.ensure(width, height));
+    REQUIRE(out.ensure(width, height));
+    viewer::EyeDraw eye;
+    eye.view = glm::lookAt(glm::dvec3(0.0, 0.0, 1000.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
+    eye.projection = glm::ortho(-0.5, kColumns - 0.5, -0.5, rows - 0.5, 1.0, 2000.0);
+    eye.near_m = 1.0;
+    eye.far_m = 2000.0;
+    renderer.drawEye(target, eye, style, viewer::ViewMode::Free, out.fbo, 0, 0, width, height);
+    std::vector<Pixel> pixels(static_cast<std::size_t>(width) * height);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(target.colour, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(pixels.size() * 4),
+                      pixels.data());
+    REQUIRE(glGetError() == GL_NO_ERROR);
+    target.destroy();
+    out.destroy();
+    return pixels;
+}
+
+// One point per jet entry at the middle of its height bin over [z_min, z_max], plus one
+// point at each end of the range (which sets the range the viewer colours over).
+void checkHeightColours(int entries) {
+    const double z_min = -3.75, z_max = 21.25;
+    std::vector<double> heights = {z_min, z_max};
+    for (int bin = 0; bin < entries; ++bin) heights.push_back(z_min + (bin + 0.5) * (z_max - z_min) / entries);
+    const int rows = (static_cast<int>(heights.size()) + kColumns - 1) / kColumns;
+    engine::PointCloud cloud;
+    for (std::size_t k = 0; k < heights.size(); ++k) {
+        engine::CloudPoint p;
+        p.position = {float(k % kColumns), float(k / kColumns), float(heights[k])};
+        p.rgb = 0x808080u;   // the file's colour, which the height mode must not show
+        cloud.points.push_back(p);
+    }
+    viewer::ViewStyle style;
+    style.colour = viewer::ColourMode::HeightJet;
+    style.eye_dome = false;
+    style.point_size_px = 5.0f;
+    style.jet_entries = entries;
+    const std::vector<Pixel> pixels = drawFromAbove(cloud, rows, style);
+
+    const std::vector<std::uint32_t> jet = engine::jetTable(entries);
+    for (std::size_t k = 0; k < heights.size(); ++k) {
+        const int x = int(k % kColumns) * kPixelsPerMetre + 4, y = int(k / kColumns) * kPixelsPerMetre + 4;
+        const Pixel got = pixels[static_cast<std::size_t>(y) * kColumns * kPixelsPerMetre + x];
+        const std::uint32_t want = jet[engine::jetIndex(heights[k], z_min, z_max, entries)];
+        CAPTURE(entries);
+        CAPTURE(heights[k]);
+        CHECK(engine::packRgb(got.r, got.g, got.b) == want);
+    }
+    // The ends of the range are the table's ends: red at the bottom, blue at the top.
+    CHECK(engine::jetIndex(z_min, z_min, z_max, entries) == entries - 1);
+    CHECK(engine::jetIndex(z_max, z_min, z_max, entries) == 0);
+}
+
+}  // namespace
+
+TEST_CASE("viewer height colours are the generator's jet table, entry for entry (64 entries)") {
+    render::EglContext context;
+    checkHeightColours(64);
+}
+
+TEST_CASE("viewer height colours follow the table size (16 entries)") {
+    render::EglContext context;
+    checkHeightColours(16);
+}
+
+TEST_CASE("viewer file colours pass through byte-exact") {
+    render::EglContext context;
+    engine::PointCloud cloud;
+    const std::uint32_t colours[3] = {0x00FF0000u, 0x0012AB7Fu, 0x00010203u};
+    for (int k = 0; k < 3; ++k) {
+        engine::CloudPoint p;
+        p.position = {float(k), 0.0f, float(k)};
+        p.rgb = colours[k];
+        cloud.points.push_back(p);
+    }
+    viewer::ViewStyle style;
+    style.eye_dome = false;
+    style.point_size_px = 5.0f;
+    const std::vector<Pixel> pixels = drawFromAbove(cloud, 1, style);
+    for (int k = 0; k < 3; ++k) {
+        const Pixel got = pixels[static_cast<std::size_t>(4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4];
+        CHECK(engine::packRgb(got.r, got.g, got.b) == colours[k]);
+    }
+}
