@@ -1,4 +1,4 @@
-// app/src/bench_all.cpp: `ladarvr bench all` and `ladarvr bench fuzz` (issue 5).
+// bench/src/all.cpp: `ladarvr bench all` and `ladarvr bench fuzz` (issue 5).
 //
 // bench all regenerates BENCHMARKS.md from scratch on the current machine: it writes the
 // file's header, then runs bench generate, metric, view, peers and fuzz one after the
@@ -9,8 +9,8 @@
 // from the benchmarks' CSV files at the end, and the header is rewritten with the steps'
 // times. bench fuzz runs scripts/fuzz.sh (libFuzzer, clang build in build/fuzz) for a
 // bounded time per target and writes the `## Fuzzing (ladarvr bench fuzz)` section.
-#include "bench_common.hpp"
-#include "commands.hpp"
+#include "common.hpp"
+#include "register.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
@@ -28,13 +28,9 @@
 #include <thread>
 #include <vector>
 
-namespace app {
+namespace bench {
 namespace {
 
-using bench::cpuName;
-using bench::fmt;
-using bench::readText;
-using bench::utcNow;
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -134,7 +130,7 @@ void runFuzz(const BenchFuzzCli& cli) {
     s << "\nCrashes found by earlier runs are kept as regression tests (tests/data/engine/fuzz_regressions/, "
          "tests/engine/fuzz_regression_test.cpp); docs/stress.md lists them.\n";
     if (!cli.no_md) {
-        bench::replaceMarkdownSection(cli.md, "## Fuzzing (ladarvr bench fuzz)", s.str());
+        replaceMarkdownSection(cli.md, "## Fuzzing (ladarvr bench fuzz)", s.str());
         std::fprintf(stderr, "bench fuzz: wrote the section to %s\n", cli.md.c_str());
     } else {
         std::fputs(s.str().c_str(), stdout);
@@ -237,7 +233,7 @@ void runAll(const BenchAllCli& cli) {
                                   "; " + utcNow() + "; " + fmt("%.0f", s.seconds) + " s" +
                                   (s.status ? ", FAILED with exit status " + std::to_string(s.status) : "") + ".\n\n" +
                                   body;
-            bench::replaceMarkdownSection(cli.md, s.heading, section);
+            replaceMarkdownSection(cli.md, s.heading, section);
         }
     }
     // Plots from the benchmarks' CSV files.
@@ -267,7 +263,7 @@ void runAll(const BenchAllCli& cli) {
         h << (i ? ", " : "") << steps[i].name << " " << fmt("%.0f s", steps[i].seconds)
           << (steps[i].status ? " (FAILED)" : "");
     h << ".\n";
-    bench::replaceMarkdownHeader(cli.md, h.str());
+    replaceMarkdownHeader(cli.md, h.str());
     std::fprintf(stderr, "bench all: %s in %.0f s (%s)\n", failed ? "finished with failures" : "done", total,
                  cli.md.c_str());
     if (failed) throw engine::Error("bench all: " + std::to_string(failed) + " step(s) failed; see above");
@@ -275,9 +271,9 @@ void runAll(const BenchAllCli& cli) {
 
 }  // namespace
 
-void registerBenchAll(CLI::App& bench) {
+void registerAll(CLI::App& parent) {
     auto fuzz = std::make_shared<BenchFuzzCli>();
-    CLI::App* f = bench.add_subcommand("fuzz", "libFuzzer targets of the scene JSON and cloud readers for a bounded "
+    CLI::App* f = parent.add_subcommand("fuzz", "libFuzzer targets of the scene JSON and cloud readers for a bounded "
                                                "time each (clang build in build/fuzz; not CI)");
     f->add_option("--seconds", fuzz->seconds, "seconds per target")->capture_default_str();
     f->add_option("--md", fuzz->md, "markdown file whose fuzzing section is rewritten")->capture_default_str();
@@ -285,7 +281,7 @@ void registerBenchAll(CLI::App& bench) {
     f->callback([fuzz] { runFuzz(*fuzz); });
 
     auto all = std::make_shared<BenchAllCli>();
-    CLI::App* a = bench.add_subcommand("all", "every benchmark in sequence (generate, metric, view, peers, fuzz), "
+    CLI::App* a = parent.add_subcommand("all", "every benchmark in sequence (generate, metric, view, peers, fuzz), "
                                               "BENCHMARKS.md and its plots regenerated from scratch");
     a->add_flag("--quick", all->quick, "pass --quick (or small sizes) to every benchmark, 30 s of fuzzing");
     a->add_option("--fuzz-seconds", all->fuzz_seconds, "seconds per fuzz target (default 90, 30 with --quick)");
@@ -297,4 +293,4 @@ void registerBenchAll(CLI::App& bench) {
     a->callback([all] { runAll(*all); });
 }
 
-}  // namespace app
+}  // namespace bench

@@ -1,5 +1,5 @@
-// app/src/bench_common.cpp: see bench_common.hpp.
-#include "bench_common.hpp"
+// bench/src/common.cpp: see common.hpp.
+#include "common.hpp"
 
 #include <engine/atomic_file.hpp>
 
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace app::bench {
+namespace bench {
 
 double median(std::vector<double> v) {
     if (v.empty()) return std::nan("");
@@ -75,4 +75,4 @@ void replaceMarkdownHeader(const std::filesystem::path& path, const std::string&
         path, header + (first == std::string::npos ? "" : "\n" + text.substr(first + (first ? 1 : 0))));
 }
 
-}  // namespace app::bench
+}  // namespace bench

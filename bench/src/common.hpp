@@ -1,11 +1,11 @@
-// app/src/bench_common.hpp: what every benchmark program shares: statistics, number
+// bench/src/common.hpp: what every benchmark program shares: statistics, number
 // formatting, the machine line, and rewriting one section of BENCHMARKS.md.
 #pragma once
 #include <filesystem>
 #include <string>
 #include <vector>
 
-namespace app::bench {
+namespace bench {
 
 /// Median of the samples; NaN when there are none.
 double median(std::vector<double> samples);
@@ -28,4 +28,4 @@ void replaceMarkdownSection(const std::filesystem::path& path, const std::string
 /// Replaces everything before the first "## " section with `header`; writes atomically.
 void replaceMarkdownHeader(const std::filesystem::path& path, const std::string& header);
 
-}  // namespace app::bench
+}  // namespace bench

@@ -1,6 +1,6 @@
-// app/src/bench_peers_pcl.cpp: PCL's PCD writer/reader and progressive morphological
-// filter for `ladarvr bench peers` (the only app file that includes PCL).
-#include "bench_peers_pcl.hpp"
+// bench/src/peers_pcl.cpp: PCL's PCD writer/reader and progressive morphological
+// filter for `ladarvr bench peers` (the only file that includes PCL).
+#include "peers_pcl.hpp"
 
 #include <engine/error.hpp>
 
@@ -14,7 +14,7 @@
 #include <chrono>
 #include <cstring>
 
-namespace app::peers {
+namespace bench::peers {
 
 /// Our PCD fields as a PCL point type, so both writers produce the same columns.
 struct EIGEN_ALIGN16 LadarPoint {
@@ -26,13 +26,13 @@ struct EIGEN_ALIGN16 LadarPoint {
     PCL_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-}  // namespace app::peers
+}  // namespace bench::peers
 
-POINT_CLOUD_REGISTER_POINT_STRUCT(app::peers::LadarPoint,
+POINT_CLOUD_REGISTER_POINT_STRUCT(bench::peers::LadarPoint,
                                   (float, x, x)(float, y, y)(float, z, z)(float, rgb, rgb)(std::uint8_t, label, label)(
                                       std::uint16_t, view, view)(float, range, range))
 
-namespace app::peers {
+namespace bench::peers {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -113,4 +113,4 @@ std::vector<std::uint8_t> pclGroundPmf(std::span<const glm::vec3> points, const 
     return flags;
 }
 
-}  // namespace app::peers
+}  // namespace bench::peers

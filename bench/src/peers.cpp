@@ -1,4 +1,4 @@
-// app/src/bench_peers.cpp: `ladarvr bench peers`: our code side by side with peer
+// bench/src/peers.cpp: `ladarvr bench peers`: our code side by side with peer
 // libraries in one run, on the same scene and the same data (issue 5):
 //   1. ray casting: the generator's cast stage (rtcIntersect16 packets) and a plain
 //      rtcIntersect1 loop (sim::RayCaster::intersect) against Open3D's RaycastingScene
@@ -11,9 +11,9 @@
 //      hilly scenes, against the generator's ground-truth labels.
 // A program, not a test: warm-up, repeats, medians, ratios; the section
 // "## Peers (ladarvr bench peers)" of BENCHMARKS.md is rewritten.
-#include "bench_peers_pcl.hpp"
-#include "bench_common.hpp"
-#include "commands.hpp"
+#include "peers_pcl.hpp"
+#include "common.hpp"
+#include "register.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/cloud_io.hpp>
@@ -39,14 +39,9 @@
 #include <unistd.h>
 #include <vector>
 
-namespace app {
+namespace bench {
 namespace {
 
-using bench::cpuName;
-using bench::fmt;
-using bench::median;
-using bench::quantile;
-using bench::utcNow;
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -406,7 +401,7 @@ void run(const BenchPeersCli& cli) {
           << fmt("%.1fx", (double(g.points) / g.ransac_s) / (double(g.pmf_points) / g.pmf_s)) << " |\n";
     s << "\n";
     if (!cli.no_md) {
-        bench::replaceMarkdownSection(cli.md, "## Peers (ladarvr bench peers)", s.str());
+        replaceMarkdownSection(cli.md, "## Peers (ladarvr bench peers)", s.str());
         std::fprintf(stderr, "bench peers: wrote the section to %s (%.0f s)\n", cli.md.c_str(), total_s);
     } else {
         std::fputs(s.str().c_str(), stdout);
@@ -415,9 +410,9 @@ void run(const BenchPeersCli& cli) {
 
 }  // namespace
 
-void registerBenchPeers(CLI::App& bench) {
+void registerPeers(CLI::App& parent) {
     auto state = std::make_shared<BenchPeersCli>();
-    CLI::App* c = bench.add_subcommand("peers", "side by side with peer libraries: ray casting vs Open3D, binary "
+    CLI::App* c = parent.add_subcommand("peers", "side by side with peer libraries: ray casting vs Open3D, binary "
                                                 "PCD I/O vs PCL, ground whitening vs PCL's morphological filter");
     c->add_flag("--quick", state->quick, "3 repeats, a smaller PMF sample (a smoke run)");
     c->add_option("--threads", state->threads, "threads for every caster, 0 = all")->capture_default_str();
@@ -431,4 +426,4 @@ void registerBenchPeers(CLI::App& bench) {
     c->callback([state] { run(*state); });
 }
 
-}  // namespace app
+}  // namespace bench

@@ -1,11 +1,11 @@
-// app/src/bench_generate.cpp: `ladarvr bench generate`: the generator's ray-casting
+// bench/src/generate.cpp: `ladarvr bench generate`: the generator's ray-casting
 // throughput against a plain rtcIntersect1 loop over the same rays and the same BVH (the
 // Embree limit on this machine), and the time of every stage, on the paper's
 // configuration (demo scene) and on one >= 100x larger that streams to disk.
 // Warm-up, repeats, medians; the section "## Generator (ladarvr bench generate)" of
 // BENCHMARKS.md is rewritten with the table, the command and the machine.
-#include "bench_common.hpp"
-#include "commands.hpp"
+#include "common.hpp"
+#include "register.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
@@ -28,12 +28,9 @@
 #include <unordered_map>
 #include <vector>
 
-namespace app {
+namespace bench {
 namespace {
 
-using bench::cpuName;
-using bench::fmt;
-using bench::median;
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -386,7 +383,7 @@ void run(const BenchGenerateCli& cli) {
                 (double(p.rays) / p.cast) / (double(p.rays) / p.plain_cast), p.total, p.prepare_s);
 
     if (!cli.no_md) {
-        const std::string date = bench::utcNow();
+        const std::string date = utcNow();
         std::ostringstream s;
         s << "## Generator (ladarvr bench generate)\n\n"
           << "Command: `./ladarvr bench generate" << (cli.quick ? " --quick" : "") << "`; machine: "
@@ -409,16 +406,16 @@ void run(const BenchGenerateCli& cli) {
              "switch); its time is that of the skip-on run. Same cloud: positions, colours and views "
              "equal point by point.\n\n"
           << skip_tbl << "\n";
-        bench::replaceMarkdownSection(cli.md, "## Generator (ladarvr bench generate)", s.str());
+        replaceMarkdownSection(cli.md, "## Generator (ladarvr bench generate)", s.str());
         std::fprintf(stderr, "bench generate: wrote the section to %s\n", cli.md.c_str());
     }
 }
 
 }  // namespace
 
-void registerBenchGenerate(CLI::App& bench) {
+void registerGenerate(CLI::App& parent) {
     auto state = std::make_shared<BenchGenerateCli>();
-    CLI::App* c = bench.add_subcommand("generate", "generator throughput vs a plain rtcIntersect1 loop, time per "
+    CLI::App* c = parent.add_subcommand("generate", "generator throughput vs a plain rtcIntersect1 loop, time per "
                                                    "stage, paper config and a >= 100x larger streamed one");
     c->add_flag("--quick", state->quick, "smaller large configuration, 2 repeats (a smoke run)");
     c->add_option("--threads", state->threads, "threads for both the generator and the plain loop, 0 = all")
@@ -431,4 +428,4 @@ void registerBenchGenerate(CLI::App& bench) {
     c->callback([state] { run(*state); });
 }
 
-}  // namespace app
+}  // namespace bench
