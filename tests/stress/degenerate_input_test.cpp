@@ -1,7 +1,7 @@
 // tests/stress/degenerate_input_test.cpp: issue 5, zero-area and NaN triangles are skipped
 // and counted; the colour map when every height is equal; RANSAC on fewer than 3 points,
 // on collinear points and on walls only.
-#include "stress_scenes.hpp"
+#include <scene_builders.hpp>
 
 #include <engine/error.hpp>
 #include <sim/colour.hpp>
@@ -80,7 +80,7 @@ TEST_CASE("zero-area and NaN triangles are skipped and counted, the rest of the 
 TEST_CASE("a scene built in code with NaN and zero-area triangles: Embree skips them, no leak") {
     engine::Scene scene;
     scene.source = "nan (in code)";
-    engine::Mesh m = stress::quadMesh(10.0f, 0.0f, engine::Role::Ground, "ground");
+    engine::Mesh m = test_support::quadMesh(10.0f, 0.0f, engine::Role::Ground, "ground");
     const float nan = std::numeric_limits<float>::quiet_NaN();
     m.vertices.push_back({nan, 0.0f, 1.0f});               // 4
     m.vertices.push_back({0.0f, 0.0f, 2.0f});              // 5
@@ -126,7 +126,7 @@ TEST_CASE("colour map with every height equal: one colour (the lowest bin's), no
     // of t (tens of micrometres), and every point is white (ground) or a jet colour.
     engine::Scene flat;
     flat.source = "flat (in code)";
-    flat.meshes.push_back(stress::quadMesh(500.0f, 7.0f, engine::Role::Target, "plate"));
+    flat.meshes.push_back(test_support::quadMesh(500.0f, 7.0f, engine::Role::Target, "plate"));
     sim::GenerateOptions g;
     g.orbit.xres = g.orbit.yres = 32;
     g.orbit.views = 4;
