@@ -2,6 +2,7 @@
 #include "common.hpp"
 
 #include <engine/atomic_file.hpp>
+#include <engine/scene.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,10 @@
 #include <sstream>
 
 namespace bench {
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 double median(std::vector<double> v) {
     if (v.empty()) return std::nan("");
@@ -44,6 +49,16 @@ std::string utcNow() {
     char date[64];
     std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
     return date;
+}
+
+std::filesystem::path sourceRoot() {
+    return engine::demoScenePath().parent_path().parent_path().parent_path();
+}
+
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
 }
 
 std::string readText(const std::filesystem::path& p) {

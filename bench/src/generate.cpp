@@ -5,6 +5,7 @@
 // Warm-up, repeats, medians; the section "## Generator (ladarvr bench generate)" of
 // BENCHMARKS.md is rewritten with the table, the command and the machine.
 #include "common.hpp"
+#include "plain_loop.hpp"
 #include "register.hpp"
 
 #include <engine/atomic_file.hpp>
@@ -31,9 +32,7 @@
 namespace bench {
 namespace {
 
-
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 struct BenchGenerateCli {
     bool quick = false;
@@ -43,8 +42,6 @@ struct BenchGenerateCli {
     bool no_md = false;
     std::string tmp;
 };
-
-double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Peak resident set since the last resetPeakRss(), from /proc/self/status (VmHWM), MiB.
 // Writing "5" to clear_refs resets VmHWM (Linux >= 4.0); if that is refused, the peak is
@@ -105,10 +102,9 @@ struct Result {
     std::optional<double> precision, recall;
 };
 
-// The plain loop: every ray of every view through RayCaster::intersect (rtcIntersect1
-// per ray) on `threads` threads taking 4096-ray chunks from a shared counter. Rays are
-// made per batch of views (not timed); only the intersect loops are timed.
-double plainLoopSeconds(const sim::Generator& g, int threads) {
+// The plain loop over every ray of every view (plain_loop.hpp). Rays are made per batch
+// of views (not timed); only the intersect loops are timed.
+double plainLoopAllViews(const sim::Generator& g, int threads) {
     const sim::OrbitOptions& orbit = g.options().orbit;
     const std::size_t npix = std::size_t(orbit.xres) * std::size_t(orbit.yres);
     const std::size_t batch_views = std::max<std::size_t>(1, (std::size_t(4) << 20) / npix);
@@ -122,23 +118,7 @@ double plainLoopSeconds(const sim::Generator& g, int threads) {
             g.viewRays(v, view_rays);
             rays.insert(rays.end(), view_rays.begin(), view_rays.end());
         }
-        hits.resize(rays.size());
-        constexpr std::size_t kChunk = 4096;
-        std::atomic<std::size_t> next{0};
-        const auto work = [&] {
-            for (;;) {
-                const std::size_t begin = next.fetch_add(kChunk);
-                if (begin >= rays.size()) return;
-                const std::size_t n = std::min(kChunk, rays.size() - begin);
-                g.caster().intersect(std::span(rays).subspan(begin, n), std::span(hits).subspan(begin, n));
-            }
-        };
-        const auto t0 = Clock::now();
-        std::vector<std::thread> pool;
-        for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-        work();
-        for (auto& t : pool) t.join();
-        seconds += secondsSince(t0);
+        seconds += plainLoopSeconds(g.caster(), rays, hits, threads);
     }
     return seconds;
 }
@@ -154,7 +134,7 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
         sim::Generator g(scene, options);
         g.run(out, engine::CloudFormat::PcdBinary);
         fs::remove(out);
-        plainLoopSeconds(g, options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency())));
+        plainLoopAllViews(g, options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency())));
     }
     for (int k = 0; k < repeats; ++k) {
         r.rss_before_mib = statusMiB("VmRSS:");
@@ -181,7 +161,7 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
         r.precision = st.ground_precision;
         r.recall = st.ground_recall;
         // The baseline right after, on the same BVH, same rays, same thread count.
-        plain.push_back(plainLoopSeconds(g, st.threads));
+        plain.push_back(plainLoopAllViews(g, st.threads));
         if (single_too) {  // the generator tracing one ray at a time (rtcIntersect1)
             sim::GenerateOptions one = options;
             one.packet_rays = false;

@@ -29,7 +29,6 @@
 namespace bench {
 namespace {
 
-
 struct BenchMetricCli {
     bool quick = false;
     int views = 100;

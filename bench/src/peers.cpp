@@ -13,6 +13,7 @@
 // "## Peers (ladarvr bench peers)" of BENCHMARKS.md is rewritten.
 #include "peers_pcl.hpp"
 #include "common.hpp"
+#include "plain_loop.hpp"
 #include "register.hpp"
 
 #include <engine/atomic_file.hpp>
@@ -42,9 +43,7 @@
 namespace bench {
 namespace {
 
-
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 struct BenchPeersCli {
     bool quick = false;
@@ -57,33 +56,6 @@ struct BenchPeersCli {
     std::string tmp;
     int pmf_stride = 0;          // 0: from the point budget below
 };
-
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-fs::path sourceRoot() { return engine::demoScenePath().parent_path().parent_path().parent_path(); }
-
-/// RayCaster::intersect (rtcIntersect1 per ray) over `rays` on `threads` threads taking
-/// 4096-ray chunks from a shared counter; returns the wall time.
-double plainLoop(const sim::RayCaster& caster, const std::vector<sim::Ray>& rays, std::vector<sim::Hit>& hits,
-                 int threads) {
-    hits.resize(rays.size());
-    constexpr std::size_t kChunk = 4096;
-    std::atomic<std::size_t> next{0};
-    const auto work = [&] {
-        for (;;) {
-            const std::size_t begin = next.fetch_add(kChunk);
-            if (begin >= rays.size()) return;
-            const std::size_t n = std::min(kChunk, rays.size() - begin);
-            caster.intersect(std::span(rays).subspan(begin, n), std::span(hits).subspan(begin, n));
-        }
-    };
-    const auto t0 = Clock::now();
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-    work();
-    for (auto& t : pool) t.join();
-    return since(t0);
-}
 
 struct RayResult {
     std::uint64_t rays = 0;
@@ -113,14 +85,14 @@ RayResult rayCasting(const engine::Scene& scene, const sim::GenerateOptions& opt
     const int repeats = cli.quick ? 3 : cli.repeats;
     std::vector<double> gen, plain;
     std::vector<sim::Hit> hits;
-    plainLoop(g.caster(), rays, hits, threads);  // warm-up
+    plainLoopSeconds(g.caster(), rays, hits, threads);  // warm-up
     for (int k = 0; k < repeats + 1; ++k) {
         sim::GenerateStats st;
         sim::GenerateOptions o = options;
         o.white = true;  // no RANSAC: only the cast stage is compared
         sim::Generator(scene, o).run(&st);
         if (k > 0) gen.push_back(st.seconds.cast);  // the first is the warm-up
-        plain.push_back(plainLoop(g.caster(), rays, hits, threads));
+        plain.push_back(plainLoopSeconds(g.caster(), rays, hits, threads));
     }
     r.generator_cast_s = median(gen);
     r.plain_s = median(plain);
@@ -216,10 +188,10 @@ IoResult pcdIo(const engine::PointCloud& cloud, int repeats, const fs::path& dir
         fs::remove(ours);
         auto t0 = Clock::now();
         engine::writeCloud(ours, cloud, engine::CloudFormat::PcdBinary);
-        const double w = since(t0);
+        const double w = secondsSince(t0);
         t0 = Clock::now();
         const engine::PointCloud back = engine::readCloud(ours);
-        const double rd = since(t0);
+        const double rd = secondsSince(t0);
         if (back.points.size() != cloud.points.size())
             throw engine::Error("bench peers: our reader read " + std::to_string(back.points.size()) + " points");
         const peers::PclIo p = peers::pclWriteRead(cloud, theirs);
@@ -350,7 +322,7 @@ void run(const BenchPeersCli& cli) {
                     g.pmf_points, g.pmf_stride);
     std::error_code ec;
     fs::remove_all(dir, ec);
-    const double total_s = since(start);
+    const double total_s = secondsSince(start);
 
     const std::string date = utcNow();
     std::ostringstream s;

@@ -2,6 +2,8 @@
 // filter for `ladarvr bench peers` (the only file that includes PCL).
 #include "peers_pcl.hpp"
 
+#include "common.hpp"
+
 #include <engine/error.hpp>
 
 #define PCL_NO_PRECOMPILE
@@ -34,9 +36,6 @@ POINT_CLOUD_REGISTER_POINT_STRUCT(bench::peers::LadarPoint,
 
 namespace bench::peers {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 bool samePoints(const pcl::PointCloud<LadarPoint>& a, const engine::PointCloud& b) {
     if (a.size() != b.points.size()) return false;
@@ -74,12 +73,12 @@ PclIo pclWriteRead(const engine::PointCloud& cloud, const std::filesystem::path&
     auto t0 = Clock::now();
     if (pcl::io::savePCDFileBinary(path.string(), pc) != 0)
         throw engine::Error("bench peers: pcl: savePCDFileBinary failed on " + path.string());
-    r.write_s = since(t0);
+    r.write_s = secondsSince(t0);
     pcl::PointCloud<LadarPoint> back;
     t0 = Clock::now();
     if (pcl::io::loadPCDFile(path.string(), back) != 0)
         throw engine::Error("bench peers: pcl: loadPCDFile failed on " + path.string());
-    r.read_s = since(t0);
+    r.read_s = secondsSince(t0);
     r.points_read = back.size();
     r.same_points = samePoints(back, cloud);
     return r;
@@ -107,7 +106,7 @@ std::vector<std::uint8_t> pclGroundPmf(std::span<const glm::vec3> points, const 
     pcl::Indices ground;
     const auto t0 = Clock::now();
     pmf.extract(ground);
-    if (seconds) *seconds = since(t0);
+    if (seconds) *seconds = secondsSince(t0);
     std::vector<std::uint8_t> flags(points.size(), 0);
     for (const auto i : ground) flags[std::size_t(i)] = 1;
     return flags;

@@ -2,6 +2,7 @@
 // through GL timer queries, whole frame) for the paper's cloud (1,638,400 points: the demo
 // scene generated with the paper's parameters) and a 20 M point cloud (the same cloud
 // replicated with seeded jitter), in the mirror, XR and offscreen stereo paths.
+#include "common.hpp"
 #include "register.hpp"
 #include "view_measure.hpp"
 
@@ -31,19 +32,12 @@ struct BenchViewArgs {
     std::size_t point_budget = 3000000;
 };
 
-std::string shellQuote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
 /// Without a display, reruns this benchmark under tests/viewer/headless_env.sh (a private
 /// Xvfb and Monado's simulated HMD), so the mirror and XR paths are measured too.
 /// Returns false when it did not (a display exists, --display none, or no script).
 bool rerunHeadless(const BenchViewArgs& a) {
     if (a.display != "auto" || std::getenv("DISPLAY")) return false;
-    const std::filesystem::path root = engine::demoScenePath().parent_path().parent_path().parent_path();
-    const std::filesystem::path script = root / "tests" / "viewer" / "headless_env.sh";
+    const std::filesystem::path script = sourceRoot() / "tests" / "viewer" / "headless_env.sh";
     std::error_code ec;
     const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (ec || !std::filesystem::exists(script)) return false;

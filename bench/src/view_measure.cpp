@@ -33,12 +33,6 @@
 namespace bench {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
 /// Medians over samples; 0 when there are none (a path that measured nothing).
 double medianOr0(const std::vector<double>& v) { return v.empty() ? 0.0 : median(v); }
 

@@ -14,17 +14,10 @@
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path scratchDir() {
-    const fs::path dir = fs::temp_directory_path() / ("ladarvr_sim_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
 
 using test_support::slurp;
 
@@ -138,7 +131,8 @@ TEST_CASE("the output is bit-identical with 1 and 3 threads") {
 
 TEST_CASE("streaming through a spool file writes the same bytes as the in-memory path") {
     const engine::Scene scene = test_support::townScene(120.0, 1.0);
-    const fs::path dir = scratchDir();
+    const test_support::TempDir scratch("sim_generator");
+    const fs::path& dir = scratch.path;
     sim::GenerateOptions o = smallOptions();
     for (const auto format : {engine::CloudFormat::PcdBinary, engine::CloudFormat::PlyAscii}) {
         sim::GenerateStats in_memory, streamed;
@@ -170,12 +164,12 @@ TEST_CASE("streaming through a spool file writes the same bytes as the in-memory
     std::size_t different = 0;
     for (std::size_t i = 0; i < st.points; ++i) different += !samePoint(back.points[i], direct.points[i]);
     CHECK(different == 0);
-    fs::remove_all(dir);
 }
 
 TEST_CASE("bad options fail before any work and leave no output file") {
     const engine::Scene scene = test_support::townScene(40.0, 2.0);
-    const fs::path dir = scratchDir();
+    const test_support::TempDir scratch("sim_generator");
+    const fs::path& dir = scratch.path;
     const fs::path out = dir / "cloud.pcd";
     const auto fails = [&](auto change, const char* what) {
         sim::GenerateOptions o = smallOptions();
@@ -200,7 +194,6 @@ TEST_CASE("bad options fail before any work and leave no output file") {
                                         engine::CloudFormat::PcdBinary),
                     engine::Error);
     CHECK(fs::is_empty(dir));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("default centre: the target's centre at the ground height beneath it") {
