@@ -10,11 +10,4 @@ void registerGenerate(CLI::App& cli);   // cmd_generate.cpp: `ladarvr generate`
 void registerMetric(CLI::App& cli);     // cmd_metric.cpp:   `ladarvr metric`
 void registerView(CLI::App& cli);       // cmd_view.cpp:     `ladarvr view`
 
-// `ladarvr bench WHAT`: benchmark programs (not tests); each adds one sub-subcommand.
-void registerBenchGenerate(CLI::App& bench);  // bench_generate.cpp
-void registerBenchMetric(CLI::App& bench);    // bench_metric.cpp
-void registerBenchView(CLI::App& bench);      // bench_view.cpp
-void registerBenchPeers(CLI::App& bench);     // bench_peers.cpp
-void registerBenchAll(CLI::App& bench);       // bench_all.cpp: `bench all` and `bench fuzz`
-
 }  // namespace app

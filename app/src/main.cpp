@@ -1,6 +1,8 @@
 // app/src/main.cpp: the `ladarvr` CLI. Catches every error, prints one line, exits 1.
 #include "commands.hpp"
 
+#include <bench/bench.hpp>
+
 #include <engine/error.hpp>
 
 #include <cstdio>
@@ -13,14 +15,7 @@ int main(int argc, char** argv) {
     app::registerGenerate(cli);
     app::registerMetric(cli);
     app::registerView(cli);
-    CLI::App* bench = cli.add_subcommand("bench", "benchmark programs (warm-up, repeats, medians, "
-                                                  "ratios against an in-run baseline)");
-    bench->require_subcommand(1);
-    app::registerBenchGenerate(*bench);
-    app::registerBenchMetric(*bench);
-    app::registerBenchView(*bench);
-    app::registerBenchPeers(*bench);
-    app::registerBenchAll(*bench);
+    bench::registerBench(cli);   // `ladarvr bench WHAT` (bench/)
     try {
         cli.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,5 +1,5 @@
 // Outputs of the metric: views.csv columns, summary.json fields, PNGs that decode.
-#include "metric_scenes.hpp"
+#include <scene_builders.hpp>
 
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
@@ -112,7 +112,7 @@ TEST_CASE("png encoder: a known 3x2 image round-trips through an independent dec
 }
 
 TEST_CASE("report: views.csv, summary.json and I1..I4 PNGs exist, parse and agree") {
-    const engine::Scene scene = metric_test::boxBehindWall(2.0f, 6.0f, 0.5f);
+    const engine::Scene scene = test_support::boxBehindWall(2.0f, 6.0f, 0.5f);
     metric::Evaluator evaluator(metric::generateClouds(scene), &scene);
     metric::MetricOptions o;
     o.orbit.radius_m = 20.0;

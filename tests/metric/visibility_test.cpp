@@ -1,5 +1,5 @@
 // The visibility metric of paper §IV-B against closed forms (headless EGL, llvmpipe).
-#include "metric_scenes.hpp"
+#include <scene_builders.hpp>
 
 #include <metric/clouds.hpp>
 #include <metric/visibility.hpp>
@@ -18,7 +18,7 @@ using doctest::Approx;
 
 namespace {
 
-// Box-behind-wall geometry (metric_scenes.hpp): cube half-size 2 m, walls at 6 m with tops
+// Box-behind-wall geometry (tests/common/scene_builders.hpp): cube half-size 2 m, walls at 6 m with tops
 // at 0.5 m, camera orbit radius 20 m at the cube's centre height, 4 axis-aligned views.
 constexpr float kA = 2.0f, kD = 6.0f, kWallTop = 0.5f;
 constexpr double kR = 20.0;
@@ -36,7 +36,7 @@ metric::MetricOptions axisViews() {
 
 const metric::MetricClouds& wallClouds() {
     static const metric::MetricClouds clouds =
-        metric::generateClouds(metric_test::boxBehindWall(kA, kD, kWallTop));
+        metric::generateClouds(test_support::boxBehindWall(kA, kD, kWallTop));
     return clouds;
 }
 
@@ -49,8 +49,8 @@ TEST_CASE("paper §IV-B arithmetic: 4733 / 6908 = 68.5 %") {
 }
 
 TEST_CASE("box behind a wall: exact reference matches the closed form, point metric close") {
-    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
-    const double expected = metric_test::closedFormVisible(kA, kD, kWallTop, kR);  // 0.3393
+    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
+    const double expected = test_support::closedFormVisible(kA, kD, kWallTop, kR);  // 0.3393
     REQUIRE(expected == Approx(0.3393).epsilon(0.001));
     const metric::MetricClouds& clouds = wallClouds();
     REQUIRE(!clouds.p1.points.empty());
@@ -77,7 +77,7 @@ TEST_CASE("box behind a wall: exact reference matches the closed form, point met
 }
 
 TEST_CASE("skips (target rectangle, culling) give the same counts inside the rectangle") {
-    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     metric::Evaluator evaluator(wallClouds(), &scene);
     metric::MetricOptions o = axisViews();
     o.exact = false;
@@ -97,7 +97,7 @@ TEST_CASE("skips (target rectangle, culling) give the same counts inside the rec
 }
 
 TEST_CASE("a fully hidden target gives 0 (metric, visible and exact)") {
-    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, 4.0f, /*roof=*/true);
+    const engine::Scene scene = test_support::boxBehindWall(kA, kD, 4.0f, /*roof=*/true);
     const metric::MetricClouds clouds = metric::generateClouds(scene);
     REQUIRE(!clouds.p1.points.empty());
     metric::Evaluator evaluator(clouds, &scene);
@@ -118,7 +118,7 @@ TEST_CASE("a fully hidden target gives 0 (metric, visible and exact)") {
 }
 
 TEST_CASE("views with the target out of frame are reported and left out of the means") {
-    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     metric::Evaluator evaluator(wallClouds(), &scene);
     metric::MetricOptions o = axisViews();
     // Orbit around a point 40 m east of the target: looking west the target is in frame,
@@ -151,7 +151,7 @@ TEST_CASE("views with the target out of frame are reported and left out of the m
 }
 
 TEST_CASE("all views out of frame: no mean, no division by zero") {
-    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     metric::Evaluator evaluator(wallClouds(), &scene);
     metric::MetricOptions o = axisViews();
     o.look_at_world = scene.origin + glm::dvec3(0.0, 0.0, 500.0);  // look at the sky
@@ -191,13 +191,13 @@ TEST_CASE("options are validated naming the option and the allowed range") {
 }
 
 TEST_CASE("a scene without a target cannot give the clouds") {
-    engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     scene.meshes.erase(scene.meshes.begin());
     CHECK_THROWS_WITH_AS(metric::generateClouds(scene), doctest::Contains("has no target mesh"), engine::Error);
 }
 
 TEST_CASE("compute and GL_POINTS rasterisers light the same pixels") {
-    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     metric::Evaluator evaluator(wallClouds(), &scene);
     metric::MetricOptions o = axisViews();
     o.exact = false;
@@ -222,15 +222,15 @@ TEST_CASE("compute and GL_POINTS rasterisers light the same pixels") {
 }
 
 TEST_CASE("depth-aware variant: close to the closed form, 0 when hidden") {
-    const double expected = metric_test::closedFormVisible(kA, kD, kWallTop, kR);
+    const double expected = test_support::closedFormVisible(kA, kD, kWallTop, kR);
     {
-        const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+        const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
         metric::Evaluator evaluator(wallClouds(), &scene);
         const metric::MetricResult r = evaluator.run(axisViews());
         CHECK(std::abs(r.depth_visible_mean - expected) < 0.08);
     }
     {
-        const engine::Scene scene = metric_test::boxBehindWall(kA, kD, 4.0f, /*roof=*/true);
+        const engine::Scene scene = test_support::boxBehindWall(kA, kD, 4.0f, /*roof=*/true);
         metric::Evaluator evaluator(metric::generateClouds(scene), &scene);
         metric::MetricOptions o = axisViews();
         o.orbit.views = 2;
@@ -263,7 +263,7 @@ TEST_CASE("environment behind the target: xor counts it as hiding, exact and dep
 }
 
 TEST_CASE("clouds read back from PCD files give the same counts, without an exact reference") {
-    const engine::Scene scene = metric_test::boxBehindWall(kA, kD, kWallTop);
+    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     const metric::MetricClouds& clouds = wallClouds();
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("ladarvr_metric_files_" + std::to_string(::getpid()));

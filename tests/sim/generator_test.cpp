@@ -1,6 +1,6 @@
 // tests/sim/generator_test.cpp: the whole pipeline of paper §III on scenes built in code.
 #include <test_files.hpp>
-#include "test_scenes.hpp"
+#include <scene_builders.hpp>
 
 #include <sim/generator.hpp>
 
@@ -14,17 +14,10 @@
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path scratchDir() {
-    const fs::path dir = fs::temp_directory_path() / ("ladarvr_sim_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
 
 using test_support::slurp;
 
@@ -46,7 +39,7 @@ sim::GenerateOptions smallOptions() {
 
 TEST_CASE("paper configuration on a ground covering the footprint: 1,638,400 points, none missed") {
     // 0.5 m cells over 160 m: 204,800 ground triangles with shared edges and vertices.
-    const engine::Scene scene = sim_test::townScene();
+    const engine::Scene scene = test_support::townScene();
     sim::GenerateStats st;
     const engine::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{}, &st);
     CHECK(st.rays == 1638400);
@@ -111,7 +104,7 @@ TEST_CASE("paper configuration on a ground covering the footprint: 1,638,400 poi
 }
 
 TEST_CASE("the output is bit-identical with 1 and 3 threads") {
-    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    const engine::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o = smallOptions();
     o.threads = 1;
     sim::GenerateStats st1, st3;
@@ -137,8 +130,9 @@ TEST_CASE("the output is bit-identical with 1 and 3 threads") {
 }
 
 TEST_CASE("streaming through a spool file writes the same bytes as the in-memory path") {
-    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
-    const fs::path dir = scratchDir();
+    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const test_support::TempDir scratch("sim_generator");
+    const fs::path& dir = scratch.path;
     sim::GenerateOptions o = smallOptions();
     for (const auto format : {engine::CloudFormat::PcdBinary, engine::CloudFormat::PlyAscii}) {
         sim::GenerateStats in_memory, streamed;
@@ -170,12 +164,12 @@ TEST_CASE("streaming through a spool file writes the same bytes as the in-memory
     std::size_t different = 0;
     for (std::size_t i = 0; i < st.points; ++i) different += !samePoint(back.points[i], direct.points[i]);
     CHECK(different == 0);
-    fs::remove_all(dir);
 }
 
 TEST_CASE("bad options fail before any work and leave no output file") {
-    const engine::Scene scene = sim_test::townScene(40.0, 2.0);
-    const fs::path dir = scratchDir();
+    const engine::Scene scene = test_support::townScene(40.0, 2.0);
+    const test_support::TempDir scratch("sim_generator");
+    const fs::path& dir = scratch.path;
     const fs::path out = dir / "cloud.pcd";
     const auto fails = [&](auto change, const char* what) {
         sim::GenerateOptions o = smallOptions();
@@ -200,21 +194,20 @@ TEST_CASE("bad options fail before any work and leave no output file") {
                                         engine::CloudFormat::PcdBinary),
                     engine::Error);
     CHECK(fs::is_empty(dir));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("default centre: the target's centre at the ground height beneath it") {
     engine::Scene s;
     s.origin = glm::dvec3(1000.0, 2000.0, 50.0);
-    s.meshes.push_back(sim_test::gridMesh(0, 0, 5.0, 20, 10.0));  // ground at local z = 5
-    s.meshes.push_back(sim_test::gridMesh(0, 0, 30.0, 2, 5.0, engine::Role::Environment, "bridge"));
-    s.meshes.push_back(sim_test::boxMesh({28, -22, 5}, {32, -18, 8}, engine::Role::Target, "tank"));
+    s.meshes.push_back(test_support::gridMesh(0, 0, 5.0, 20, 10.0));  // ground at local z = 5
+    s.meshes.push_back(test_support::gridMesh(0, 0, 30.0, 2, 5.0, engine::Role::Environment, "bridge"));
+    s.meshes.push_back(test_support::boxMesh({28, -22, 5}, {32, -18, 8}, engine::Role::Target, "tank"));
     glm::dvec3 c = sim::defaultCentre(s);
     CHECK(c.x == doctest::Approx(1030.0));
     CHECK(c.y == doctest::Approx(1980.0));
     CHECK(c.z == doctest::Approx(55.0));  // ground, not the tank roof nor the bridge
     // Target outside the ground: the lowest ground height instead.
-    s.meshes[2] = sim_test::boxMesh({500, 500, 0}, {504, 504, 3}, engine::Role::Target, "tank");
+    s.meshes[2] = test_support::boxMesh({500, 500, 0}, {504, 504, 3}, engine::Role::Target, "tank");
     c = sim::defaultCentre(s);
     CHECK(c.x == doctest::Approx(1502.0));
     CHECK(c.z == doctest::Approx(55.0));
@@ -226,7 +219,7 @@ TEST_CASE("default centre: the target's centre at the ground height beneath it")
 }
 
 TEST_CASE("--roles keeps only those meshes and the same orbit, and --white makes every point white") {
-    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    const engine::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o = smallOptions();
     o.white = true;
     sim::GenerateStats all_st, target_st;
@@ -254,7 +247,7 @@ TEST_CASE("--roles keeps only those meshes and the same orbit, and --white makes
 }
 
 TEST_CASE("viewRays gives the rays the generator traces") {
-    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    const engine::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o = smallOptions();
     o.white = true;
     sim::Generator generator(scene, o);
@@ -277,7 +270,7 @@ TEST_CASE("viewRays gives the rays the generator traces") {
 }
 
 TEST_CASE("16-ray packets and single rays give the same cloud") {
-    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    const engine::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o = smallOptions();
     o.orbit.xres = 67;  // rows that do not split into whole packets
     const engine::PointCloud packets = sim::generateCloud(scene, o);
@@ -324,8 +317,8 @@ TEST_CASE("pixels that cannot meet the geometry's bounds are not traced, and the
     engine::Scene scene;
     scene.source = "patch (in code)";
     scene.origin = glm::dvec3(500000.0, 4000000.0, 120.0);
-    scene.meshes.push_back(sim_test::gridMesh(0.0, 0.0, 0.0, 40, 0.5));
-    scene.meshes.push_back(sim_test::boxMesh({-3.5f, -1.75f, 0.0f}, {3.5f, 1.75f, 2.4f}, engine::Role::Target, "tank"));
+    scene.meshes.push_back(test_support::gridMesh(0.0, 0.0, 0.0, 40, 0.5));
+    scene.meshes.push_back(test_support::boxMesh({-3.5f, -1.75f, 0.0f}, {3.5f, 1.75f, 2.4f}, engine::Role::Target, "tank"));
     for (const bool packets : {true, false}) {
         CAPTURE(packets);
         sim::GenerateOptions o = smallOptions();
@@ -362,7 +355,7 @@ TEST_CASE("pixels that cannot meet the geometry's bounds are not traced, and the
     // Ground larger than the orbit (the box reaches behind the sensor): everything is traced.
     engine::Scene wide;
     wide.source = "wide (in code)";
-    wide.meshes.push_back(sim_test::gridMesh(0.0, 0.0, 0.0, 20, 100.0));
+    wide.meshes.push_back(test_support::gridMesh(0.0, 0.0, 0.0, 20, 100.0));
     sim::GenerateStats wide_st;
     sim::generateCloud(wide, smallOptions(), &wide_st);
     CHECK(wide_st.rays_traced == wide_st.rays);
@@ -373,7 +366,7 @@ TEST_CASE("views that see nothing trace no ray and run no RANSAC") {
     // C 400 m away from a 20 m patch: no view's image can meet it.
     engine::Scene scene;
     scene.source = "patch (in code)";
-    scene.meshes.push_back(sim_test::gridMesh(0.0, 0.0, 0.0, 40, 0.5));
+    scene.meshes.push_back(test_support::gridMesh(0.0, 0.0, 0.0, 40, 0.5));
     sim::GenerateOptions o = smallOptions();
     o.centre = glm::dvec3(400.0, 0.0, 0.0);
     sim::GenerateStats st;

@@ -1,5 +1,5 @@
 // tests/sim/raycaster_test.cpp: Embree first-hit casting, watertight shared edges.
-#include "test_scenes.hpp"
+#include <scene_builders.hpp>
 
 #include <sim/raycaster.hpp>
 
@@ -11,8 +11,8 @@
 
 TEST_CASE("first hit: distance, mesh index, role, and misses report mesh -1") {
     engine::Scene s;
-    s.meshes.push_back(sim_test::gridMesh(0, 0, 0, 4, 10.0));
-    s.meshes.push_back(sim_test::boxMesh({-1, -1, 0}, {1, 1, 3}, engine::Role::Target, "box"));
+    s.meshes.push_back(test_support::gridMesh(0, 0, 0, 4, 10.0));
+    s.meshes.push_back(test_support::boxMesh({-1, -1, 0}, {1, 1, 3}, engine::Role::Target, "box"));
     const sim::RayCaster caster(s);
     CHECK(caster.triangleCount() == 32 + 12);
     std::vector<sim::Ray> rays(3);
@@ -43,7 +43,7 @@ TEST_CASE("no ray leaks through the shared edges and vertices of a finely tessel
     engine::Scene s;
     const int cells = 64;
     const double cell_m = 0.5;
-    s.meshes.push_back(sim_test::gridMesh(0, 0, 0, cells, cell_m));
+    s.meshes.push_back(test_support::gridMesh(0, 0, 0, cells, cell_m));
     const sim::RayCaster caster(s);
     std::vector<sim::Ray> rays;
     const double half = 0.5 * cells * cell_m;
@@ -76,7 +76,7 @@ TEST_CASE("no ray leaks through the shared edges and vertices of a finely tessel
 
 TEST_CASE("embree errors become engine::Error naming the mesh") {
     engine::Scene s;
-    engine::Mesh m = sim_test::gridMesh(0, 0, 0, 1, 1.0);
+    engine::Mesh m = test_support::gridMesh(0, 0, 0, 1, 1.0);
     m.name = "broken.obj";
     m.triangles.push_back({0, 1, 99});
     s.meshes.push_back(m);

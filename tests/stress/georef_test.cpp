@@ -1,7 +1,8 @@
 // tests/stress/georef_test.cpp: issue 5, "a scene georeferenced 10^6 m and 10^7 m from the
 // origin gives the same cloud as the same scene at the origin, within 1 mm per point; the
 // metric behaves the same there". World coordinates = cloud origin (double) + local (float).
-#include "stress_scenes.hpp"
+#include <generate_options.hpp>
+#include <scene_builders.hpp>
 
 #include <metric/clouds.hpp>
 #include <metric/visibility.hpp>
@@ -35,8 +36,8 @@ Compared compareWorld(const engine::PointCloud& near, const engine::PointCloud& 
 }  // namespace
 
 TEST_CASE("georeferenced 1e6 m and 1e7 m away: the same cloud within 1 mm per point") {
-    const sim::GenerateOptions options = stress::smallOrbit();
-    const engine::Scene home = stress::basicScene({0, 0, 0}, {0, 0, 0});
+    const sim::GenerateOptions options = test_support::smallOrbit();
+    const engine::Scene home = test_support::basicScene({0, 0, 0}, {0, 0, 0});
     sim::GenerateStats home_stats;
     const engine::PointCloud reference = sim::generateCloud(home, options, &home_stats);
     REQUIRE(reference.points.size() > 20000);  // 27,648 rays, most on the 200 m ground
@@ -45,7 +46,7 @@ TEST_CASE("georeferenced 1e6 m and 1e7 m away: the same cloud within 1 mm per po
         // (a) the local origin on the scene (what the scene file's default does) and (b) an
         // origin 37 m off in every axis, so the local floats differ from the reference's.
         for (const glm::dvec3 origin_shift : {glm::dvec3(0.0), glm::dvec3(37.3, -41.7, 5.9)}) {
-            const engine::Scene far = stress::basicScene(offset, offset + origin_shift);
+            const engine::Scene far = test_support::basicScene(offset, offset + origin_shift);
             CAPTURE(d);
             CAPTURE(origin_shift.x);
             sim::GenerateStats far_stats;
@@ -76,21 +77,21 @@ TEST_CASE("georeferenced 1e6 m and 1e7 m away: the same cloud within 1 mm per po
 }
 
 TEST_CASE("georeferenced 1e7 m away: the same visibility metric, view by view") {
-    sim::GenerateOptions options = stress::smallOrbit();
+    sim::GenerateOptions options = test_support::smallOrbit();
     metric::MetricOptions mo;
     mo.orbit.radius_m = 25.0;
     mo.orbit.altitude_m = 12.0;
     mo.orbit.views = 8;
     mo.width = 256;
     mo.height = 256;
-    const engine::Scene home = stress::basicScene({0, 0, 0}, {0, 0, 0});
+    const engine::Scene home = test_support::basicScene({0, 0, 0}, {0, 0, 0});
     metric::Evaluator home_eval(metric::generateClouds(home, options), &home);
     const metric::MetricResult a = home_eval.run(mo);
     REQUIRE(a.views_used > 0);
     REQUIRE(a.has_exact);
     for (const double d : {1e6, 1e7}) {
         const glm::dvec3 offset(d, -0.5 * d, 250.0);
-        const engine::Scene far = stress::basicScene(offset, offset + glm::dvec3(37.3, -41.7, 5.9));
+        const engine::Scene far = test_support::basicScene(offset, offset + glm::dvec3(37.3, -41.7, 5.9));
         metric::Evaluator far_eval(metric::generateClouds(far, options), &far);
         const metric::MetricResult b = far_eval.run(mo);
         CAPTURE(d);

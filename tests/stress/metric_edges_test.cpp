@@ -1,6 +1,6 @@
 // tests/stress/metric_edges_test.cpp: issue 5, the metric with a fully hidden target and
 // with a target out of every view, on a scene 10^7 m from the world origin.
-#include "stress_scenes.hpp"
+#include <scene_builders.hpp>
 
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
@@ -18,15 +18,9 @@ engine::Scene hut(bool roof) {
     engine::Scene s;
     s.source = "hut (in code)";
     s.origin = glm::dvec3(1e7, 1e7, 310.0);
-    s.meshes.push_back(stress::boxMesh({-2, -2, 0}, {2, 2, 4}, engine::Role::Target, "cube"));
-    const float d = 6.0f, t = 0.2f, top = 5.0f;
-    s.meshes.push_back(stress::boxMesh({d, -d, -1}, {d + t, d, top}, engine::Role::Environment, "wall+x"));
-    s.meshes.push_back(stress::boxMesh({-d - t, -d, -1}, {-d, d, top}, engine::Role::Environment, "wall-x"));
-    s.meshes.push_back(stress::boxMesh({-d, d, -1}, {d, d + t, top}, engine::Role::Environment, "wall+y"));
-    s.meshes.push_back(stress::boxMesh({-d, -d - t, -1}, {d, -d, top}, engine::Role::Environment, "wall-y"));
-    if (roof) s.meshes.push_back(stress::boxMesh({-d - t, -d - t, top}, {d + t, d + t, top + t},
-                                                 engine::Role::Environment, "roof"));
-    s.meshes.push_back(stress::quadMesh(200.0f, 0.0f, engine::Role::Ground, "ground"));
+    s.meshes.push_back(test_support::boxMesh({-2, -2, 0}, {2, 2, 4}, engine::Role::Target, "cube"));
+    test_support::addEnclosure(s, 6.0f, 0.2f, -1.0f, 5.0f, roof);
+    s.meshes.push_back(test_support::quadMesh(200.0f, 0.0f, engine::Role::Ground, "ground"));
     return s;
 }
 

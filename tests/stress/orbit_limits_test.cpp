@@ -1,7 +1,7 @@
 // tests/stress/orbit_limits_test.cpp: issue 5, the orbit at the edges of its documented
 // range: alpha + FoV/2 close to 90 deg (finite huge radius, then the error past
 // sim::kMaxGrazingDeg), FoV 0.01 and 170 deg, a 1 x 1 sensor, NoV = 1.
-#include "stress_scenes.hpp"
+#include <scene_builders.hpp>
 
 #include <engine/error.hpp>
 #include <sim/generator.hpp>
@@ -20,8 +20,8 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 engine::Scene flatScene(float half) {
     engine::Scene s;
     s.source = "flat (in code)";
-    s.meshes.push_back(stress::quadMesh(half, 0.0f, engine::Role::Ground, "ground"));
-    s.meshes.push_back(stress::boxMesh({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.5f}, engine::Role::Target, "target"));
+    s.meshes.push_back(test_support::quadMesh(half, 0.0f, engine::Role::Ground, "ground"));
+    s.meshes.push_back(test_support::boxMesh({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.5f}, engine::Role::Target, "target"));
     return s;
 }
 

@@ -2,7 +2,7 @@
 // rays that hit exactly on shared vertices and edges of the ground, never pass through".
 // sim::RayCaster builds its BVH with RTC_SCENE_FLAG_ROBUST (watertight traversal); these
 // tests pin that: zero leaks, and the hit distance is the plane's.
-#include "stress_scenes.hpp"
+#include <scene_builders.hpp>
 
 #include <sim/raycaster.hpp>
 
@@ -124,7 +124,7 @@ TEST_CASE("rays exactly on the shared centre vertex, spokes and rim of a 64-tria
     scene.source = "fan (in code)";
     scene.meshes.push_back(fanGround(64, 10.0f));
     // A second ring outside the fan so rim rays have a neighbour on both sides.
-    engine::Mesh outer = stress::quadMesh(30.0f, -1.0f, engine::Role::Environment, "below");
+    engine::Mesh outer = test_support::quadMesh(30.0f, -1.0f, engine::Role::Environment, "below");
     scene.meshes.push_back(outer);
     const engine::Mesh& fan = scene.meshes[0];
     std::vector<sim::Ray> rays;

@@ -1,7 +1,8 @@
 // tests/stress/threads_test.cpp: issue 5, "results bit-identical with 1 thread and with N
 // threads" for the generator (RANSAC seeds per view, fusion in view order) on a bundled
 // scene, with packets and single rays; and the metric evaluated twice in one process.
-#include "stress_scenes.hpp"
+#include <generate_options.hpp>
+#include <scene_builders.hpp>
 
 #include <metric/clouds.hpp>
 #include <metric/visibility.hpp>
@@ -58,8 +59,8 @@ TEST_CASE("generator: bit-identical clouds with 1, 2, 5 and 16 threads on the hi
 TEST_CASE("metric: the same evaluation twice gives bit-identical counts") {
     // metric::Evaluator has no thread option; its exact reference may use several threads.
     // Two runs (and a second evaluator) must agree to the pixel.
-    const engine::Scene scene = stress::basicScene({0, 0, 0}, {0, 0, 0});
-    const metric::MetricClouds clouds = metric::generateClouds(scene, stress::smallOrbit());
+    const engine::Scene scene = test_support::basicScene({0, 0, 0}, {0, 0, 0});
+    const metric::MetricClouds clouds = metric::generateClouds(scene, test_support::smallOrbit());
     metric::MetricOptions mo;
     mo.orbit.radius_m = 25.0;
     mo.orbit.altitude_m = 12.0;

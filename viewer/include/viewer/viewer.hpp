@@ -49,7 +49,7 @@ struct ViewerOptions {
     bool use_xr = true;                 // false: --no-xr, desktop mode only
     MirrorEyes mirror = MirrorEyes::Both;
     int window_width = 1280, window_height = 720;
-    bool hidden_window = false;         // for benchmarks
+    bool hidden_window = false;         // open the window unmapped (nothing shown on the desktop)
     long frames = 0;                    // stop after N frames (XR: submitted), 0 = until closed
     double timeout_s = 0.0;             // stop with an error after this long (0 = never)
     std::vector<ScriptEvent> script;
@@ -63,7 +63,7 @@ struct ViewerOptions {
     std::size_t point_budget = 3000000;
     bool cull = true;                   // skip cells outside the eyes' frusta
     bool vsync = true;                  // desktop mode swap interval 1 (off in --frames runs)
-    bool gpu_timing = false;            // GL timer query per frame (waits for the GPU; benchmarks)
+    bool gpu_timing = false;            // GL timer query per frame, logged as gpu_ms (waits for the GPU)
     bool quiet = false;
 };
 
@@ -76,43 +76,5 @@ void validate(const ViewerOptions& o);
 int runViewer(const ViewerOptions& options, CloudFeed& feed);
 /// runViewer that also hands back the run log (the --log-json document) in `log_json`.
 int runViewer(const ViewerOptions& options, CloudFeed& feed, std::string& log_json);
-
-/// One measured configuration of `ladarvr bench view`.
-struct ViewBenchResult {
-    std::string path;                    // "mirror", "xr" or "stereo-egl"
-    std::size_t points = 0;
-    int width = 0, height = 0;           // per eye (xr, stereo-egl) or the window (mirror)
-    double cpu_ms_median = 0.0;          // CPU time to record and submit the frame's draws
-    double gpu_ms_median = 0.0;          // GL timer query around the frame's draws
-    double frame_ms_median = 0.0;        // wall time of a whole frame (loop period / until glFinish)
-    int frames = 0;                      // measured frames (after warm-up)
-    /// stereo-egl only: the same eyes drawn by render::PointSplatRenderer (the metric's plain
-    /// 2 px splats: no eye-dome lighting, no colour modes), the in-run baseline; 0 if not run.
-    double baseline_gpu_ms_median = 0.0;
-    std::string gl;                      // GL vendor / renderer / version
-    std::string note;                    // why a path was skipped, or what it stands for
-    std::size_t points_drawn = 0;        // per frame, both eyes (stereo-egl and skip rows)
-};
-
-struct ViewBenchOptions {
-    int warmup_frames = 3;               // after every point is on the GPU
-    int frames = 10;
-    bool mirror = true;                  // the desktop window (needs a display)
-    bool xr = true;                      // the OpenXR path (needs a runtime with an HMD)
-    bool egl = true;                     // offscreen stereo through EGL (no display, any GPU)
-    /// Issue 5 before/after: offscreen stereo (EGL) of the orbit view and of a view turned
-    /// away from the cloud, each with nothing skipped, frustum culling only, and culling +
-    /// `point_budget` (LOD), interleaved frame by frame.
-    bool skip = false;
-    std::size_t point_budget = 3000000;
-    int eye_width = 1440, eye_height = 1600;   // stereo-egl eye size (Index / Vive Pro class)
-};
-
-/// Measures the viewer drawing `cloud` (entirely uploaded before measuring, eye-dome
-/// lighting on): the real frame loop in the desktop mirror path and the OpenXR path, and
-/// the same per-eye drawing in an offscreen EGL stereo loop; medians over `frames` frames
-/// after warm-up. A path that cannot run here is returned with `note` saying why.
-std::vector<ViewBenchResult> benchmarkViewer(const engine::PointCloud& cloud,
-                                             const ViewBenchOptions& options);
 
 }  // namespace viewer

@@ -1,11 +1,18 @@
-// app/src/bench_common.hpp: what every benchmark program shares: statistics, number
-// formatting, the machine line, and rewriting one section of BENCHMARKS.md.
+// bench/src/common.hpp: what every benchmark program shares: clocks, statistics, number
+// formatting, the machine line, the source tree, shell quoting, and rewriting one section
+// of BENCHMARKS.md.
 #pragma once
+#include <chrono>
 #include <filesystem>
 #include <string>
 #include <vector>
 
-namespace app::bench {
+namespace bench {
+
+using Clock = std::chrono::steady_clock;
+/// Wall time since t0, in seconds / in milliseconds.
+double secondsSince(Clock::time_point t0);
+double msSince(Clock::time_point t0);
 
 /// Median of the samples; NaN when there are none.
 double median(std::vector<double> samples);
@@ -17,6 +24,10 @@ std::string fmt(const char* format, double v);
 std::string cpuName();
 /// "YYYY-MM-DD HH:MM UTC" now.
 std::string utcNow();
+/// The source checkout (where scripts/, tests/ and docs/ are), found from the bundled assets.
+std::filesystem::path sourceRoot();
+/// `s` in single quotes for /bin/sh, embedded quotes escaped.
+std::string shellQuote(const std::string& s);
 /// The whole file as a string; empty if it cannot be read.
 std::string readText(const std::filesystem::path& path);
 
@@ -28,4 +39,4 @@ void replaceMarkdownSection(const std::filesystem::path& path, const std::string
 /// Replaces everything before the first "## " section with `header`; writes atomically.
 void replaceMarkdownHeader(const std::filesystem::path& path, const std::string& header);
 
-}  // namespace app::bench
+}  // namespace bench

@@ -1,6 +1,8 @@
-// app/src/bench_peers_pcl.cpp: PCL's PCD writer/reader and progressive morphological
-// filter for `ladarvr bench peers` (the only app file that includes PCL).
-#include "bench_peers_pcl.hpp"
+// bench/src/peers_pcl.cpp: PCL's PCD writer/reader and progressive morphological
+// filter for `ladarvr bench peers` (the only file that includes PCL).
+#include "peers_pcl.hpp"
+
+#include "common.hpp"
 
 #include <engine/error.hpp>
 
@@ -14,7 +16,7 @@
 #include <chrono>
 #include <cstring>
 
-namespace app::peers {
+namespace bench::peers {
 
 /// Our PCD fields as a PCL point type, so both writers produce the same columns.
 struct EIGEN_ALIGN16 LadarPoint {
@@ -26,17 +28,14 @@ struct EIGEN_ALIGN16 LadarPoint {
     PCL_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-}  // namespace app::peers
+}  // namespace bench::peers
 
-POINT_CLOUD_REGISTER_POINT_STRUCT(app::peers::LadarPoint,
+POINT_CLOUD_REGISTER_POINT_STRUCT(bench::peers::LadarPoint,
                                   (float, x, x)(float, y, y)(float, z, z)(float, rgb, rgb)(std::uint8_t, label, label)(
                                       std::uint16_t, view, view)(float, range, range))
 
-namespace app::peers {
+namespace bench::peers {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 bool samePoints(const pcl::PointCloud<LadarPoint>& a, const engine::PointCloud& b) {
     if (a.size() != b.points.size()) return false;
@@ -74,12 +73,12 @@ PclIo pclWriteRead(const engine::PointCloud& cloud, const std::filesystem::path&
     auto t0 = Clock::now();
     if (pcl::io::savePCDFileBinary(path.string(), pc) != 0)
         throw engine::Error("bench peers: pcl: savePCDFileBinary failed on " + path.string());
-    r.write_s = since(t0);
+    r.write_s = secondsSince(t0);
     pcl::PointCloud<LadarPoint> back;
     t0 = Clock::now();
     if (pcl::io::loadPCDFile(path.string(), back) != 0)
         throw engine::Error("bench peers: pcl: loadPCDFile failed on " + path.string());
-    r.read_s = since(t0);
+    r.read_s = secondsSince(t0);
     r.points_read = back.size();
     r.same_points = samePoints(back, cloud);
     return r;
@@ -107,10 +106,10 @@ std::vector<std::uint8_t> pclGroundPmf(std::span<const glm::vec3> points, const 
     pcl::Indices ground;
     const auto t0 = Clock::now();
     pmf.extract(ground);
-    if (seconds) *seconds = since(t0);
+    if (seconds) *seconds = secondsSince(t0);
     std::vector<std::uint8_t> flags(points.size(), 0);
     for (const auto i : ground) flags[std::size_t(i)] = 1;
     return flags;
 }
 
-}  // namespace app::peers
+}  // namespace bench::peers

@@ -1,4 +1,4 @@
-// app/src/bench_all.cpp: `ladarvr bench all` and `ladarvr bench fuzz` (issue 5).
+// bench/src/all.cpp: `ladarvr bench all` and `ladarvr bench fuzz` (issue 5).
 //
 // bench all regenerates BENCHMARKS.md from scratch on the current machine: it writes the
 // file's header, then runs bench generate, metric, view, peers and fuzz one after the
@@ -9,8 +9,8 @@
 // from the benchmarks' CSV files at the end, and the header is rewritten with the steps'
 // times. bench fuzz runs scripts/fuzz.sh (libFuzzer, clang build in build/fuzz) for a
 // bounded time per target and writes the `## Fuzzing (ladarvr bench fuzz)` section.
-#include "bench_common.hpp"
-#include "commands.hpp"
+#include "common.hpp"
+#include "register.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
@@ -28,26 +28,10 @@
 #include <thread>
 #include <vector>
 
-namespace app {
+namespace bench {
 namespace {
 
-using bench::cpuName;
-using bench::fmt;
-using bench::readText;
-using bench::utcNow;
-
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-fs::path sourceRoot() { return engine::demoScenePath().parent_path().parent_path().parent_path(); }
-
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
 
 /// Runs `cmd` through the shell; stdout is echoed line by line and returned, stderr
 /// passes through. Returns the exit status in *status.
@@ -93,7 +77,7 @@ void runFuzz(const BenchFuzzCli& cli) {
     const auto t0 = Clock::now();
     int status = 0;
     std::fprintf(stderr, "bench fuzz: building the clang targets and fuzzing each for %d s\n", cli.seconds);
-    const std::string out = runEcho("bash " + quote(script.string()) + " " + std::to_string(cli.seconds), &status);
+    const std::string out = runEcho("bash " + shellQuote(script.string()) + " " + std::to_string(cli.seconds), &status);
     std::vector<FuzzRun> runs;
     std::istringstream lines(out);
     std::string line;
@@ -116,7 +100,7 @@ void runFuzz(const BenchFuzzCli& cli) {
     s << "## Fuzzing (ladarvr bench fuzz)\n\n"
       << "Command: `./ladarvr bench fuzz --seconds " << cli.seconds << "` (runs `scripts/fuzz.sh`); machine: "
       << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
-      << fmt("%.0f", since(t0)) << " s in all, build included. libFuzzer from Debian's clang, the engine "
+      << fmt("%.0f", secondsSince(t0)) << " s in all, build included. libFuzzer from Debian's clang, the engine "
       << "compiled with ASan + UBSan (UB aborts), one process per target, seeds from fuzz/seeds, "
       << "tests/data and earlier runs (corpus kept in build/fuzz/corpus). Not run in CI.\n\n"
       << "| target | parser | seconds | executions | exec/s | corpus | coverage (edges) | crashes |\n"
@@ -134,7 +118,7 @@ void runFuzz(const BenchFuzzCli& cli) {
     s << "\nCrashes found by earlier runs are kept as regression tests (tests/data/engine/fuzz_regressions/, "
          "tests/engine/fuzz_regression_test.cpp); docs/stress.md lists them.\n";
     if (!cli.no_md) {
-        bench::replaceMarkdownSection(cli.md, "## Fuzzing (ladarvr bench fuzz)", s.str());
+        replaceMarkdownSection(cli.md, "## Fuzzing (ladarvr bench fuzz)", s.str());
         std::fprintf(stderr, "bench fuzz: wrote the section to %s\n", cli.md.c_str());
     } else {
         std::fputs(s.str().c_str(), stdout);
@@ -172,10 +156,10 @@ const char* kHeader =
 void runAll(const BenchAllCli& cli) {
     const int fuzz_s = cli.fuzz_seconds > 0 ? cli.fuzz_seconds : cli.quick ? 30 : 90;
     const std::string q = cli.quick ? " --quick" : "";
-    const std::string md = " --md " + quote(cli.md);
+    const std::string md = " --md " + shellQuote(cli.md);
     std::vector<Step> steps = {
         {"generate", "generate" + q + md, "## Generator (ladarvr bench generate)"},
-        {"metric", "metric" + q + md + " --csv " + quote((fs::path(cli.csv_dir) / "bench_metric.csv").string()),
+        {"metric", "metric" + q + md + " --csv " + shellQuote((fs::path(cli.csv_dir) / "bench_metric.csv").string()),
          "## Metric (ladarvr bench metric)"},
         {"view", std::string("view") + (cli.quick ? " --points 1638400 --frames 5 --warmup 2" : ""),
          "## Viewer (ladarvr bench view)", false},
@@ -207,7 +191,7 @@ void runAll(const BenchAllCli& cli) {
     for (std::size_t i = 0; i < steps.size(); ++i) {
         Step& s = steps[i];
         std::fprintf(stderr, "bench all: [%zu/%zu] bench %s (%.0f s so far)\n", i + 1, steps.size(), s.args.c_str(),
-                     since(t0));
+                     secondsSince(t0));
         const auto t1 = Clock::now();
         // The viewer's desktop mirror and OpenXR paths need a display and a runtime: without
         // DISPLAY, run it under the viewer tests' private Xvfb + Monado (simulated HMD).
@@ -215,9 +199,9 @@ void runAll(const BenchAllCli& cli) {
         const fs::path headless = sourceRoot() / "tests" / "viewer" / "headless_env.sh";
         const char* display = std::getenv("DISPLAY");
         if (s.name == "view" && (!display || !*display) && fs::exists(headless))
-            prefix = "bash " + quote(headless.string()) + " --monado-stay --timeout 1500 -- ";
-        const std::string out = runEcho(prefix + quote(exe.string()) + " bench " + s.args, &s.status);
-        s.seconds = since(t1);
+            prefix = "bash " + shellQuote(headless.string()) + " --monado-stay --timeout 1500 -- ";
+        const std::string out = runEcho(prefix + shellQuote(exe.string()) + " bench " + s.args, &s.status);
+        s.seconds = secondsSince(t1);
         std::fprintf(stderr, "bench all: [%zu/%zu] bench %s %s in %.0f s\n", i + 1, steps.size(), s.name.c_str(),
                      s.status == 0 ? "done" : "FAILED", s.seconds);
         failed += s.status != 0;
@@ -237,7 +221,7 @@ void runAll(const BenchAllCli& cli) {
                                   "; " + utcNow() + "; " + fmt("%.0f", s.seconds) + " s" +
                                   (s.status ? ", FAILED with exit status " + std::to_string(s.status) : "") + ".\n\n" +
                                   body;
-            bench::replaceMarkdownSection(cli.md, s.heading, section);
+            replaceMarkdownSection(cli.md, s.heading, section);
         }
     }
     // Plots from the benchmarks' CSV files.
@@ -251,13 +235,13 @@ void runAll(const BenchAllCli& cli) {
         int status = 0;
         fs::create_directories(img, ec);
         const fs::path png = img / "metric_error_vs_time.png";
-        runEcho("python3 " + quote((root / "scripts" / "plot_metric_bench.py").string()) + " " +
-                    quote(metric_csv.string()) + " " + quote(png.string()),
+        runEcho("python3 " + shellQuote((root / "scripts" / "plot_metric_bench.py").string()) + " " +
+                    shellQuote(metric_csv.string()) + " " + shellQuote(png.string()),
                 &status);
         std::fprintf(stderr, "bench all: plot %s %s\n", png.c_str(), status == 0 ? "drawn" : "FAILED");
         failed += status != 0;
     }
-    const double total = since(t0);
+    const double total = secondsSince(t0);
     std::ostringstream h;
     h << kHeader << "\nThis file: `./ladarvr bench all" << (cli.quick ? " --quick" : "")
       << (cli.only.empty() ? "" : " --only " + cli.only) << "`, started " << started << " on "
@@ -267,7 +251,7 @@ void runAll(const BenchAllCli& cli) {
         h << (i ? ", " : "") << steps[i].name << " " << fmt("%.0f s", steps[i].seconds)
           << (steps[i].status ? " (FAILED)" : "");
     h << ".\n";
-    bench::replaceMarkdownHeader(cli.md, h.str());
+    replaceMarkdownHeader(cli.md, h.str());
     std::fprintf(stderr, "bench all: %s in %.0f s (%s)\n", failed ? "finished with failures" : "done", total,
                  cli.md.c_str());
     if (failed) throw engine::Error("bench all: " + std::to_string(failed) + " step(s) failed; see above");
@@ -275,9 +259,9 @@ void runAll(const BenchAllCli& cli) {
 
 }  // namespace
 
-void registerBenchAll(CLI::App& bench) {
+void registerAll(CLI::App& parent) {
     auto fuzz = std::make_shared<BenchFuzzCli>();
-    CLI::App* f = bench.add_subcommand("fuzz", "libFuzzer targets of the scene JSON and cloud readers for a bounded "
+    CLI::App* f = parent.add_subcommand("fuzz", "libFuzzer targets of the scene JSON and cloud readers for a bounded "
                                                "time each (clang build in build/fuzz; not CI)");
     f->add_option("--seconds", fuzz->seconds, "seconds per target")->capture_default_str();
     f->add_option("--md", fuzz->md, "markdown file whose fuzzing section is rewritten")->capture_default_str();
@@ -285,7 +269,7 @@ void registerBenchAll(CLI::App& bench) {
     f->callback([fuzz] { runFuzz(*fuzz); });
 
     auto all = std::make_shared<BenchAllCli>();
-    CLI::App* a = bench.add_subcommand("all", "every benchmark in sequence (generate, metric, view, peers, fuzz), "
+    CLI::App* a = parent.add_subcommand("all", "every benchmark in sequence (generate, metric, view, peers, fuzz), "
                                               "BENCHMARKS.md and its plots regenerated from scratch");
     a->add_flag("--quick", all->quick, "pass --quick (or small sizes) to every benchmark, 30 s of fuzzing");
     a->add_option("--fuzz-seconds", all->fuzz_seconds, "seconds per fuzz target (default 90, 30 with --quick)");
@@ -297,4 +281,4 @@ void registerBenchAll(CLI::App& bench) {
     a->callback([all] { runAll(*all); });
 }
 
-}  // namespace app
+}  // namespace bench

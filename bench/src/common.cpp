@@ -1,7 +1,8 @@
-// app/src/bench_common.cpp: see bench_common.hpp.
-#include "bench_common.hpp"
+// bench/src/common.cpp: see common.hpp.
+#include "common.hpp"
 
 #include <engine/atomic_file.hpp>
+#include <engine/scene.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +11,11 @@
 #include <fstream>
 #include <sstream>
 
-namespace app::bench {
+namespace bench {
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 double median(std::vector<double> v) {
     if (v.empty()) return std::nan("");
@@ -46,6 +51,16 @@ std::string utcNow() {
     return date;
 }
 
+std::filesystem::path sourceRoot() {
+    return engine::demoScenePath().parent_path().parent_path().parent_path();
+}
+
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
 std::string readText(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::stringstream s;
@@ -75,4 +90,4 @@ void replaceMarkdownHeader(const std::filesystem::path& path, const std::string&
         path, header + (first == std::string::npos ? "" : "\n" + text.substr(first + (first ? 1 : 0))));
 }
 
-}  // namespace app::bench
+}  // namespace bench

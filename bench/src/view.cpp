@@ -1,13 +1,14 @@
-// app/src/bench_view.cpp: `ladarvr bench view`: frame times of the viewer (CPU submit, GPU
+// bench/src/view.cpp: `ladarvr bench view`: frame times of the viewer (CPU submit, GPU
 // through GL timer queries, whole frame) for the paper's cloud (1,638,400 points: the demo
 // scene generated with the paper's parameters) and a 20 M point cloud (the same cloud
 // replicated with seeded jitter), in the mirror, XR and offscreen stereo paths.
-#include "commands.hpp"
+#include "common.hpp"
+#include "register.hpp"
+#include "view_measure.hpp"
 
 #include <engine/error.hpp>
 #include <engine/scene.hpp>
 #include <sim/generator.hpp>
-#include <viewer/viewer.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -19,7 +20,7 @@
 #include <string>
 #include <vector>
 
-namespace app {
+namespace bench {
 
 namespace {
 struct BenchViewArgs {
@@ -31,19 +32,12 @@ struct BenchViewArgs {
     std::size_t point_budget = 3000000;
 };
 
-std::string shellQuote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
 /// Without a display, reruns this benchmark under tests/viewer/headless_env.sh (a private
 /// Xvfb and Monado's simulated HMD), so the mirror and XR paths are measured too.
 /// Returns false when it did not (a display exists, --display none, or no script).
 bool rerunHeadless(const BenchViewArgs& a) {
     if (a.display != "auto" || std::getenv("DISPLAY")) return false;
-    const std::filesystem::path root = engine::demoScenePath().parent_path().parent_path().parent_path();
-    const std::filesystem::path script = root / "tests" / "viewer" / "headless_env.sh";
+    const std::filesystem::path script = sourceRoot() / "tests" / "viewer" / "headless_env.sh";
     std::error_code ec;
     const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (ec || !std::filesystem::exists(script)) return false;
@@ -80,7 +74,7 @@ engine::PointCloud grow(const engine::PointCloud& base, std::size_t n) {
 void run(const BenchViewArgs& a) {
     if (a.display != "auto" && a.display != "none")
         throw engine::Error("bench view: --display '" + a.display + "' is not one of auto, none");
-    viewer::ViewBenchOptions o;
+    ViewBenchOptions o;
     o.frames = a.frames;
     o.warmup_frames = a.warmup;
     o.mirror = a.paths.find("mirror") != std::string::npos;
@@ -109,10 +103,10 @@ void run(const BenchViewArgs& a) {
         std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---|\n");
     }
     std::string gl;
-    std::vector<viewer::ViewBenchResult> skip_rows;
+    std::vector<ViewBenchResult> skip_rows;
     for (std::size_t n : a.points) {
         const engine::PointCloud cloud = n == demo.points.size() ? demo : grow(demo, n);
-        for (const auto& r : viewer::benchmarkViewer(cloud, o)) {
+        for (const auto& r : measureViewer(cloud, o)) {
             if (!r.gl.empty()) gl = r.gl;
             if (r.path == "skip-egl") {
                 skip_rows.push_back(r);
@@ -158,9 +152,9 @@ void run(const BenchViewArgs& a) {
 }
 }  // namespace
 
-void registerBenchView(CLI::App& bench) {
+void registerView(CLI::App& parent) {
     auto args = std::make_shared<BenchViewArgs>();
-    CLI::App* cmd = bench.add_subcommand("view", "viewer frame times (CPU, GPU timer queries) for 1.6 M and 20 M "
+    CLI::App* cmd = parent.add_subcommand("view", "viewer frame times (CPU, GPU timer queries) for 1.6 M and 20 M "
                                                  "points in the mirror, XR and offscreen stereo paths");
     cmd->add_option("--points", args->points, "cloud sizes to measure (comma separated)")
         ->delimiter(',')
@@ -180,4 +174,4 @@ void registerBenchView(CLI::App& bench) {
     cmd->callback([args] { run(*args); });
 }
 
-}  // namespace app
+}  // namespace bench

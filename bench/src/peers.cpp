@@ -1,4 +1,4 @@
-// app/src/bench_peers.cpp: `ladarvr bench peers`: our code side by side with peer
+// bench/src/peers.cpp: `ladarvr bench peers`: our code side by side with peer
 // libraries in one run, on the same scene and the same data (issue 5):
 //   1. ray casting: the generator's cast stage (rtcIntersect16 packets) and a plain
 //      rtcIntersect1 loop (sim::RayCaster::intersect) against Open3D's RaycastingScene
@@ -11,9 +11,10 @@
 //      hilly scenes, against the generator's ground-truth labels.
 // A program, not a test: warm-up, repeats, medians, ratios; the section
 // "## Peers (ladarvr bench peers)" of BENCHMARKS.md is rewritten.
-#include "bench_peers_pcl.hpp"
-#include "bench_common.hpp"
-#include "commands.hpp"
+#include "peers_pcl.hpp"
+#include "common.hpp"
+#include "plain_loop.hpp"
+#include "register.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/cloud_io.hpp>
@@ -39,17 +40,10 @@
 #include <unistd.h>
 #include <vector>
 
-namespace app {
+namespace bench {
 namespace {
 
-using bench::cpuName;
-using bench::fmt;
-using bench::median;
-using bench::quantile;
-using bench::utcNow;
-
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 struct BenchPeersCli {
     bool quick = false;
@@ -62,33 +56,6 @@ struct BenchPeersCli {
     std::string tmp;
     int pmf_stride = 0;          // 0: from the point budget below
 };
-
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-fs::path sourceRoot() { return engine::demoScenePath().parent_path().parent_path().parent_path(); }
-
-/// RayCaster::intersect (rtcIntersect1 per ray) over `rays` on `threads` threads taking
-/// 4096-ray chunks from a shared counter; returns the wall time.
-double plainLoop(const sim::RayCaster& caster, const std::vector<sim::Ray>& rays, std::vector<sim::Hit>& hits,
-                 int threads) {
-    hits.resize(rays.size());
-    constexpr std::size_t kChunk = 4096;
-    std::atomic<std::size_t> next{0};
-    const auto work = [&] {
-        for (;;) {
-            const std::size_t begin = next.fetch_add(kChunk);
-            if (begin >= rays.size()) return;
-            const std::size_t n = std::min(kChunk, rays.size() - begin);
-            caster.intersect(std::span(rays).subspan(begin, n), std::span(hits).subspan(begin, n));
-        }
-    };
-    const auto t0 = Clock::now();
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-    work();
-    for (auto& t : pool) t.join();
-    return since(t0);
-}
 
 struct RayResult {
     std::uint64_t rays = 0;
@@ -118,14 +85,14 @@ RayResult rayCasting(const engine::Scene& scene, const sim::GenerateOptions& opt
     const int repeats = cli.quick ? 3 : cli.repeats;
     std::vector<double> gen, plain;
     std::vector<sim::Hit> hits;
-    plainLoop(g.caster(), rays, hits, threads);  // warm-up
+    plainLoopSeconds(g.caster(), rays, hits, threads);  // warm-up
     for (int k = 0; k < repeats + 1; ++k) {
         sim::GenerateStats st;
         sim::GenerateOptions o = options;
         o.white = true;  // no RANSAC: only the cast stage is compared
         sim::Generator(scene, o).run(&st);
         if (k > 0) gen.push_back(st.seconds.cast);  // the first is the warm-up
-        plain.push_back(plainLoop(g.caster(), rays, hits, threads));
+        plain.push_back(plainLoopSeconds(g.caster(), rays, hits, threads));
     }
     r.generator_cast_s = median(gen);
     r.plain_s = median(plain);
@@ -221,10 +188,10 @@ IoResult pcdIo(const engine::PointCloud& cloud, int repeats, const fs::path& dir
         fs::remove(ours);
         auto t0 = Clock::now();
         engine::writeCloud(ours, cloud, engine::CloudFormat::PcdBinary);
-        const double w = since(t0);
+        const double w = secondsSince(t0);
         t0 = Clock::now();
         const engine::PointCloud back = engine::readCloud(ours);
-        const double rd = since(t0);
+        const double rd = secondsSince(t0);
         if (back.points.size() != cloud.points.size())
             throw engine::Error("bench peers: our reader read " + std::to_string(back.points.size()) + " points");
         const peers::PclIo p = peers::pclWriteRead(cloud, theirs);
@@ -355,7 +322,7 @@ void run(const BenchPeersCli& cli) {
                     g.pmf_points, g.pmf_stride);
     std::error_code ec;
     fs::remove_all(dir, ec);
-    const double total_s = since(start);
+    const double total_s = secondsSince(start);
 
     const std::string date = utcNow();
     std::ostringstream s;
@@ -406,7 +373,7 @@ void run(const BenchPeersCli& cli) {
           << fmt("%.1fx", (double(g.points) / g.ransac_s) / (double(g.pmf_points) / g.pmf_s)) << " |\n";
     s << "\n";
     if (!cli.no_md) {
-        bench::replaceMarkdownSection(cli.md, "## Peers (ladarvr bench peers)", s.str());
+        replaceMarkdownSection(cli.md, "## Peers (ladarvr bench peers)", s.str());
         std::fprintf(stderr, "bench peers: wrote the section to %s (%.0f s)\n", cli.md.c_str(), total_s);
     } else {
         std::fputs(s.str().c_str(), stdout);
@@ -415,9 +382,9 @@ void run(const BenchPeersCli& cli) {
 
 }  // namespace
 
-void registerBenchPeers(CLI::App& bench) {
+void registerPeers(CLI::App& parent) {
     auto state = std::make_shared<BenchPeersCli>();
-    CLI::App* c = bench.add_subcommand("peers", "side by side with peer libraries: ray casting vs Open3D, binary "
+    CLI::App* c = parent.add_subcommand("peers", "side by side with peer libraries: ray casting vs Open3D, binary "
                                                 "PCD I/O vs PCL, ground whitening vs PCL's morphological filter");
     c->add_flag("--quick", state->quick, "3 repeats, a smaller PMF sample (a smoke run)");
     c->add_option("--threads", state->threads, "threads for every caster, 0 = all")->capture_default_str();
@@ -431,4 +398,4 @@ void registerBenchPeers(CLI::App& bench) {
     c->callback([state] { run(*state); });
 }
 
-}  // namespace app
+}  // namespace bench

@@ -1,5 +1,5 @@
-// app/src/bench_peers_pcl.hpp: the PCL side of `ladarvr bench peers`, behind an interface
-// free of PCL types so that PCL's headers stay in bench_peers_pcl.cpp alone.
+// bench/src/peers_pcl.hpp: the PCL side of `ladarvr bench peers`, behind an interface
+// free of PCL types so that PCL's headers stay in peers_pcl.cpp alone.
 #pragma once
 #include <engine/point_cloud.hpp>
 
@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-namespace app::peers {
+namespace bench::peers {
 
 /// Times (seconds, one run each) of PCL's savePCDFileBinary and loadPCDFile on `cloud`'s
 /// points as a PCL point type with our exact fields (x y z rgb label view range).
@@ -40,4 +40,4 @@ struct PmfOptions {
 std::vector<std::uint8_t> pclGroundPmf(std::span<const glm::vec3> points, const PmfOptions& options,
                                        double* seconds);
 
-}  // namespace app::peers
+}  // namespace bench::peers

@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/sim/cmd_generate_test.sh: `ladarvr generate` as a user runs it.
+# tests/app/cmd_generate_test.sh: `ladarvr generate` as a user runs it.
 # Usage: cmd_generate_test.sh LADARVR_BINARY SCRATCH_DIR
 # Bad parameters: exit 1, one error line naming the option, no file left behind.
 # A small good run: the JSON summary has the required keys and matches the file.

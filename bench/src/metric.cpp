@@ -1,10 +1,10 @@
-// app/src/bench_metric.cpp: `ladarvr bench metric`: run time against error of the point
+// bench/src/metric.cpp: `ladarvr bench metric`: run time against error of the point
 // metric (paper §IV-B), over resolutions and splat sizes, with and without the skips.
 // A program, not a test: warm-up, per-view medians over the orbit, ratios against
 // baselines measured in the same run (the same settings without skips; the exact Embree
 // reference's time per view).
-#include "bench_common.hpp"
-#include "commands.hpp"
+#include "common.hpp"
+#include "register.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
@@ -26,13 +26,8 @@
 #include <thread>
 #include <vector>
 
-namespace app {
+namespace bench {
 namespace {
-
-using bench::cpuName;
-using bench::fmt;
-using bench::median;
-using bench::utcNow;
 
 struct BenchMetricCli {
     bool quick = false;
@@ -235,16 +230,16 @@ void run(const BenchMetricCli& cli) {
           "docs/metric.md.\n";
     std::fputs(md.c_str(), stdout);
     if (!cli.no_md) {
-        bench::replaceMarkdownSection(cli.md, "## Metric (ladarvr bench metric)", md);
+        replaceMarkdownSection(cli.md, "## Metric (ladarvr bench metric)", md);
         std::fprintf(stderr, "bench metric: updated %s and wrote %s\n", cli.md.c_str(), cli.csv.c_str());
     }
 }
 
 }  // namespace
 
-void registerBenchMetric(CLI::App& bench) {
+void registerMetric(CLI::App& parent) {
     auto state = std::make_shared<BenchMetricCli>();
-    CLI::App* c = bench.add_subcommand("metric", "visibility metric: error against the exact reference vs time "
+    CLI::App* c = parent.add_subcommand("metric", "visibility metric: error against the exact reference vs time "
                                                  "per view, resolutions 128..1024, splats 1..5 px, skips on/off");
     c->add_flag("--quick", state->quick, "demo scene only, 128 and 512 px, splats 1 and 2, 20 views");
     c->add_option("--views", state->views, "views per orbit, 4..1000")->capture_default_str();
@@ -255,4 +250,4 @@ void registerBenchMetric(CLI::App& bench) {
     c->callback([state] { run(*state); });
 }
 
-}  // namespace app
+}  // namespace bench

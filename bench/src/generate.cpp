@@ -1,11 +1,12 @@
-// app/src/bench_generate.cpp: `ladarvr bench generate`: the generator's ray-casting
+// bench/src/generate.cpp: `ladarvr bench generate`: the generator's ray-casting
 // throughput against a plain rtcIntersect1 loop over the same rays and the same BVH (the
 // Embree limit on this machine), and the time of every stage, on the paper's
 // configuration (demo scene) and on one >= 100x larger that streams to disk.
 // Warm-up, repeats, medians; the section "## Generator (ladarvr bench generate)" of
 // BENCHMARKS.md is rewritten with the table, the command and the machine.
-#include "bench_common.hpp"
-#include "commands.hpp"
+#include "common.hpp"
+#include "plain_loop.hpp"
+#include "register.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
@@ -28,15 +29,10 @@
 #include <unordered_map>
 #include <vector>
 
-namespace app {
+namespace bench {
 namespace {
 
-using bench::cpuName;
-using bench::fmt;
-using bench::median;
-
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 struct BenchGenerateCli {
     bool quick = false;
@@ -46,8 +42,6 @@ struct BenchGenerateCli {
     bool no_md = false;
     std::string tmp;
 };
-
-double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Peak resident set since the last resetPeakRss(), from /proc/self/status (VmHWM), MiB.
 // Writing "5" to clear_refs resets VmHWM (Linux >= 4.0); if that is refused, the peak is
@@ -108,10 +102,9 @@ struct Result {
     std::optional<double> precision, recall;
 };
 
-// The plain loop: every ray of every view through RayCaster::intersect (rtcIntersect1
-// per ray) on `threads` threads taking 4096-ray chunks from a shared counter. Rays are
-// made per batch of views (not timed); only the intersect loops are timed.
-double plainLoopSeconds(const sim::Generator& g, int threads) {
+// The plain loop over every ray of every view (plain_loop.hpp). Rays are made per batch
+// of views (not timed); only the intersect loops are timed.
+double plainLoopAllViews(const sim::Generator& g, int threads) {
     const sim::OrbitOptions& orbit = g.options().orbit;
     const std::size_t npix = std::size_t(orbit.xres) * std::size_t(orbit.yres);
     const std::size_t batch_views = std::max<std::size_t>(1, (std::size_t(4) << 20) / npix);
@@ -125,23 +118,7 @@ double plainLoopSeconds(const sim::Generator& g, int threads) {
             g.viewRays(v, view_rays);
             rays.insert(rays.end(), view_rays.begin(), view_rays.end());
         }
-        hits.resize(rays.size());
-        constexpr std::size_t kChunk = 4096;
-        std::atomic<std::size_t> next{0};
-        const auto work = [&] {
-            for (;;) {
-                const std::size_t begin = next.fetch_add(kChunk);
-                if (begin >= rays.size()) return;
-                const std::size_t n = std::min(kChunk, rays.size() - begin);
-                g.caster().intersect(std::span(rays).subspan(begin, n), std::span(hits).subspan(begin, n));
-            }
-        };
-        const auto t0 = Clock::now();
-        std::vector<std::thread> pool;
-        for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-        work();
-        for (auto& t : pool) t.join();
-        seconds += secondsSince(t0);
+        seconds += plainLoopSeconds(g.caster(), rays, hits, threads);
     }
     return seconds;
 }
@@ -157,7 +134,7 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
         sim::Generator g(scene, options);
         g.run(out, engine::CloudFormat::PcdBinary);
         fs::remove(out);
-        plainLoopSeconds(g, options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency())));
+        plainLoopAllViews(g, options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency())));
     }
     for (int k = 0; k < repeats; ++k) {
         r.rss_before_mib = statusMiB("VmRSS:");
@@ -184,7 +161,7 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
         r.precision = st.ground_precision;
         r.recall = st.ground_recall;
         // The baseline right after, on the same BVH, same rays, same thread count.
-        plain.push_back(plainLoopSeconds(g, st.threads));
+        plain.push_back(plainLoopAllViews(g, st.threads));
         if (single_too) {  // the generator tracing one ray at a time (rtcIntersect1)
             sim::GenerateOptions one = options;
             one.packet_rays = false;
@@ -386,7 +363,7 @@ void run(const BenchGenerateCli& cli) {
                 (double(p.rays) / p.cast) / (double(p.rays) / p.plain_cast), p.total, p.prepare_s);
 
     if (!cli.no_md) {
-        const std::string date = bench::utcNow();
+        const std::string date = utcNow();
         std::ostringstream s;
         s << "## Generator (ladarvr bench generate)\n\n"
           << "Command: `./ladarvr bench generate" << (cli.quick ? " --quick" : "") << "`; machine: "
@@ -409,16 +386,16 @@ void run(const BenchGenerateCli& cli) {
              "switch); its time is that of the skip-on run. Same cloud: positions, colours and views "
              "equal point by point.\n\n"
           << skip_tbl << "\n";
-        bench::replaceMarkdownSection(cli.md, "## Generator (ladarvr bench generate)", s.str());
+        replaceMarkdownSection(cli.md, "## Generator (ladarvr bench generate)", s.str());
         std::fprintf(stderr, "bench generate: wrote the section to %s\n", cli.md.c_str());
     }
 }
 
 }  // namespace
 
-void registerBenchGenerate(CLI::App& bench) {
+void registerGenerate(CLI::App& parent) {
     auto state = std::make_shared<BenchGenerateCli>();
-    CLI::App* c = bench.add_subcommand("generate", "generator throughput vs a plain rtcIntersect1 loop, time per "
+    CLI::App* c = parent.add_subcommand("generate", "generator throughput vs a plain rtcIntersect1 loop, time per "
                                                    "stage, paper config and a >= 100x larger streamed one");
     c->add_flag("--quick", state->quick, "smaller large configuration, 2 repeats (a smoke run)");
     c->add_option("--threads", state->threads, "threads for both the generator and the plain loop, 0 = all")
@@ -431,4 +408,4 @@ void registerBenchGenerate(CLI::App& bench) {
     c->callback([state] { run(*state); });
 }
 
-}  // namespace app
+}  // namespace bench

@@ -1,0 +1,13 @@
+// bench/src/register.hpp: each benchmark program adds one subcommand under `ladarvr bench`.
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace bench {
+
+void registerGenerate(CLI::App& parent);   // generate.cpp: `bench generate`
+void registerMetric(CLI::App& parent);     // metric.cpp:   `bench metric`
+void registerView(CLI::App& parent);       // view.cpp:     `bench view`
+void registerPeers(CLI::App& parent);      // peers.cpp:    `bench peers`
+void registerAll(CLI::App& parent);        // all.cpp:      `bench all` and `bench fuzz`
+
+}  // namespace bench

@@ -1,0 +1,74 @@
+// viewer/offscreen_stereo.hpp: the viewer's per-eye drawing without a window or an OpenXR
+// session. Both eyes of a head pose are drawn into two offscreen images at headset size by
+// the renderer `ladarvr view` uses (streamed cells, frustum culling and point budget,
+// eye-dome lighting, mode indicator), so the headset path's GPU work can run, be checked
+// and be timed on any GPU with a headless context (render::EglContext).
+#pragma once
+#include <viewer/camera_rig.hpp>
+#include <viewer/viewer.hpp>
+
+#include <engine/frames.hpp>
+#include <engine/point_cloud.hpp>
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace viewer {
+
+/// Eye images and optics of the offscreen pair; the defaults are an Index / Vive Pro class HMD.
+struct StereoOptions {
+    int eye_width_px = 1440, eye_height_px = 1600;   // 16..8192 each
+    double ipd_m = 0.064;                            // eye separation along the head's x axis
+    /// OpenXR-style FoV angles of both eyes (radians; left and down negative).
+    double angle_left_rad = -0.95, angle_right_rad = 0.95;
+    double angle_up_rad = 1.0, angle_down_rad = -1.0;
+};
+
+/// Throws engine::Error("view: offscreen eye size WxH: allowed 16..8192 pixels each") and
+/// the like for values out of range.
+void validate(const StereoOptions& o);
+
+class OffscreenStereo {
+public:
+    /// Needs a current OpenGL 4.5 core context, which must outlive this object. Compiles
+    /// the viewer's programs and allocates both eye images. Throws engine::Error on bad
+    /// options or a shader failure.
+    explicit OffscreenStereo(const StereoOptions& options = {});
+    ~OffscreenStereo();
+    OffscreenStereo(const OffscreenStereo&) = delete;
+    OffscreenStereo& operator=(const OffscreenStereo&) = delete;
+
+    /// Puts every point of `cloud` on the GPU, in the viewer's LOD order and cells.
+    void upload(const engine::PointCloud& cloud);
+    std::size_t uploadedPoints() const;
+    std::size_t cellCount() const;
+    /// Bounds (local frame) of everything uploaded; its centre is the orbit centre.
+    const engine::Bounds& bounds() const;
+
+    /// World(local)-to-eye view of eye 0 (left) or 1 (right) when the head is at `head`
+    /// (pose in the cloud's local frame), and the projection both eyes share.
+    glm::dmat4 eyeView(const RigPose& head, int eye) const;
+    glm::dmat4 projection() const;
+
+    /// Picks what the following draws show, as the viewer does every frame: cells outside
+    /// both eyes' frusta get nothing (when `cull`), the others share `point_budget` points
+    /// per eye (0 = unlimited). Without a call, each eye draws every uploaded point of
+    /// every cell in its frustum. Never throws.
+    void plan(const RigPose& head, std::size_t point_budget, bool cull);
+    /// Draws both eyes into their images. Returns the points drawn, both eyes together.
+    /// Never throws (GL errors are logged).
+    std::size_t draw(const RigPose& head, const ViewStyle& style, ViewMode mode);
+
+    /// Eye 0's or 1's image as RGBA8, rows bottom-up (glReadPixels order).
+    std::vector<std::uint8_t> readEye(int eye) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace viewer

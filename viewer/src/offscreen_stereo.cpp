@@ -1,0 +1,115 @@
+// viewer/src/offscreen_stereo.cpp: see viewer/offscreen_stereo.hpp. The eye images stand
+// where an OpenXR swapchain's images would: the renderer draws each eye into its own
+// offscreen target and resolves it (eye-dome lighting, indicator) into the image.
+#include <viewer/offscreen_stereo.hpp>
+
+#include "point_renderer.hpp"
+
+#include <engine/error.hpp>
+#include <render/gl.hpp>
+
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace viewer {
+
+void validate(const StereoOptions& o) {
+    auto fail = [](const std::string& what) { throw engine::Error("view: offscreen " + what); };
+    if (o.eye_width_px < 16 || o.eye_height_px < 16 || o.eye_width_px > 8192 || o.eye_height_px > 8192)
+        fail("eye size " + std::to_string(o.eye_width_px) + "x" + std::to_string(o.eye_height_px) +
+             ": allowed 16..8192 pixels each");
+    if (!std::isfinite(o.ipd_m) || o.ipd_m < 0.0 || o.ipd_m > 1.0)
+        fail("ipd_m = " + std::to_string(o.ipd_m) + ": allowed 0..1");
+    const bool fov_ok = o.angle_left_rad < o.angle_right_rad && o.angle_down_rad < o.angle_up_rad &&
+                        std::abs(o.angle_left_rad) < 1.55 && std::abs(o.angle_right_rad) < 1.55 &&
+                        std::abs(o.angle_up_rad) < 1.55 && std::abs(o.angle_down_rad) < 1.55;
+    if (!fov_ok) fail("field of view: need left < right, down < up, each angle within +-1.55 rad");
+}
+
+struct OffscreenStereo::Impl {
+    StereoOptions options;
+    PointRenderer renderer;
+    std::array<EyeTarget, 2> targets;
+    std::array<GLuint, 2> images{}, fbos{};
+
+    ~Impl() {
+        for (auto& t : targets) t.destroy();
+        glDeleteFramebuffers(2, fbos.data());
+        glDeleteTextures(2, images.data());
+    }
+
+    std::array<EyeDraw, 2> eyeDraws(const RigPose& head) const {
+        std::array<EyeDraw, 2> draws;
+        for (int i = 0; i < 2; ++i) {
+            RigPose eye = head;
+            eye.position = head.apply(glm::dvec3((i == 0 ? -0.5 : 0.5) * options.ipd_m, 0.0, 0.0));
+            draws[i].view = viewFromPose(eye);
+            draws[i].projection = projectionFromFov(options.angle_left_rad, options.angle_right_rad,
+                                                    options.angle_up_rad, options.angle_down_rad,
+                                                    draws[i].near_m, draws[i].far_m);
+        }
+        return draws;
+    }
+};
+
+OffscreenStereo::OffscreenStereo(const StereoOptions& options) {
+    validate(options);
+    impl_ = std::make_unique<Impl>();   // compiles the programs (throws on a shader failure);
+                                        // what is allocated after is freed by ~Impl on a throw
+    impl_->options = options;
+    glCreateTextures(GL_TEXTURE_2D, 2, impl_->images.data());
+    glCreateFramebuffers(2, impl_->fbos.data());
+    for (int i = 0; i < 2; ++i) {
+        glTextureStorage2D(impl_->images[i], 1, GL_RGBA8, options.eye_width_px, options.eye_height_px);
+        glNamedFramebufferTexture(impl_->fbos[i], GL_COLOR_ATTACHMENT0, impl_->images[i], 0);
+        if (!impl_->targets[i].ensure(options.eye_width_px, options.eye_height_px))
+            throw engine::Error("view: offscreen eye target " + std::to_string(options.eye_width_px) + "x" +
+                                std::to_string(options.eye_height_px) + " could not be allocated");
+    }
+}
+
+OffscreenStereo::~OffscreenStereo() = default;
+
+void OffscreenStereo::upload(const engine::PointCloud& cloud) {
+    CloudFeed feed;
+    feed.feedCloud(cloud, 1u << 20);
+    impl_->renderer.stream(feed, cloud.points.size());
+}
+
+std::size_t OffscreenStereo::uploadedPoints() const { return impl_->renderer.uploadedPoints(); }
+std::size_t OffscreenStereo::cellCount() const { return impl_->renderer.cellCount(); }
+const engine::Bounds& OffscreenStereo::bounds() const { return impl_->renderer.bounds(); }
+
+glm::dmat4 OffscreenStereo::eyeView(const RigPose& head, int eye) const {
+    return impl_->eyeDraws(head)[eye == 0 ? 0 : 1].view;
+}
+
+glm::dmat4 OffscreenStereo::projection() const { return impl_->eyeDraws(RigPose{})[0].projection; }
+
+void OffscreenStereo::plan(const RigPose& head, std::size_t point_budget, bool cull) {
+    const std::array<EyeDraw, 2> draws = impl_->eyeDraws(head);
+    impl_->renderer.planFrame(draws, point_budget, cull);
+}
+
+std::size_t OffscreenStereo::draw(const RigPose& head, const ViewStyle& style, ViewMode mode) {
+    const std::array<EyeDraw, 2> draws = impl_->eyeDraws(head);
+    std::size_t drawn = 0;
+    for (int i = 0; i < 2; ++i)
+        drawn += impl_->renderer
+                     .drawEye(impl_->targets[i], draws[i], style, mode, impl_->fbos[i], 0, 0,
+                              impl_->options.eye_width_px, impl_->options.eye_height_px)
+                     .points_drawn;
+    return drawn;
+}
+
+std::vector<std::uint8_t> OffscreenStereo::readEye(int eye) const {
+    const int w = impl_->options.eye_width_px, h = impl_->options.eye_height_px;
+    std::vector<std::uint8_t> rgba(std::size_t(w) * std::size_t(h) * 4);
+    glFinish();
+    glGetTextureImage(impl_->images[eye == 0 ? 0 : 1], 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()),
+                      rgba.data());
+    return rgba;
+}
+
+}  // namespace viewer
