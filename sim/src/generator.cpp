@@ -11,7 +11,7 @@
 #include <sim/generator.hpp>
 
 #include "raycaster_impl.hpp"
-#include "thread_pool.hpp"
+#include "parallel.hpp"
 
 #include <engine/error.hpp>
 #include <engine/progress.hpp>
@@ -313,14 +313,14 @@ struct Generator::State {
     // Runs every view and hands the fused points, in (view, row, column) order, to
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
     void fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
-                   ThreadPool& pool, GenerateStats& st) const;
+                   Workers& pool, GenerateStats& st) const;
 
     // Jet colours for every point that is not white, from the fused z range.
-    void colour(std::span<engine::CloudPoint> points, ThreadPool& pool, const GenerateStats& st) const {
+    void colour(std::span<engine::CloudPoint> points, Workers& pool, const GenerateStats& st) const {
         if (options.white) return;
         const std::size_t chunk = 1u << 16;
         const std::size_t tasks = (points.size() + chunk - 1) / chunk;
-        pool.run(tasks, [&](std::size_t task, int) {
+        pool.run(tasks, [&](std::size_t task) {
             const std::size_t end = std::min(points.size(), (task + 1) * chunk);
             for (std::size_t i = task * chunk; i < end; ++i)
                 if (points[i].rgb != engine::kWhite)
@@ -330,7 +330,7 @@ struct Generator::State {
 };
 
 void Generator::State::fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
-                                 ThreadPool& pool, GenerateStats& st) const {
+                                 Workers& pool, GenerateStats& st) const {
     const OrbitOptions& orbit = options.orbit;
     const std::size_t npix = std::size_t(orbit.xres) * std::size_t(orbit.yres);
     const std::size_t views = std::size_t(orbit.views);
@@ -347,7 +347,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
     for (std::size_t first = 0; first < views; first += batch_views) {
         const std::size_t count = std::min(batch_views, views - first);
         auto t0 = Clock::now();
-        pool.run(count * blocks, [&](std::size_t task, int) {
+        pool.run(count * blocks, [&](std::size_t task) {
             const std::size_t k = task / blocks, block = task % blocks;
             castBlock(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
                       slots.data() + k * npix);
@@ -356,7 +356,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
         st.seconds.cast += secondsSince(t0);
 
         t0 = Clock::now();
-        pool.run(count, [&](std::size_t k, int) {
+        pool.run(count, [&](std::size_t k) {
             auto& out = view_points[k];
             out.clear();
             const engine::CloudPoint* s = slots.data() + k * npix;
@@ -369,7 +369,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
 
         if (!options.white) {
             t0 = Clock::now();
-            pool.run(count, [&](std::size_t k, int) {
+            pool.run(count, [&](std::size_t k) {
                 auto& pts = view_points[k];
                 if (pts.size() < 3) {  // the band cannot hold 3 points: no RANSAC, no copy
                     ground_stats[k] = GroundStats{};
@@ -514,7 +514,7 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
     GenerateStats st;
     const int threads = resolveThreads(s.options.threads);
     initStats(s.options, s.scene, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
-    ThreadPool pool(threads);
+    Workers pool(threads);
     engine::PointCloud cloud;
     cloud.origin = s.scene.origin;
     cloud.points.reserve(std::size_t(s.options.orbit.xres) * std::size_t(s.options.orbit.yres) *
@@ -539,7 +539,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     // Opens "<out>.tmp-<pid>" now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
     engine::CloudWriter writer(out, format, s.scene.origin);
-    ThreadPool pool(threads);
+    Workers pool(threads);
     const std::size_t rays = std::size_t(s.options.orbit.xres) * std::size_t(s.options.orbit.yres) *
                              std::size_t(s.options.orbit.views);
     st.streamed = rays > s.options.memory_budget_bytes / sizeof(engine::CloudPoint);
