@@ -94,8 +94,10 @@ MemoryPlan planMemory(const MemoryNeeds& n) {
     p.fuse_bytes = planBytes(n, p.batch_views, p.band_rows, p.threads);
     p.view_hits = n.white && p.band_rows < yres ? std::min(n.view_hits, std::uint64_t(p.band_rows) * n.xres)
                                                 : n.view_hits;
-    // Spooled runs read the cloud back in chunks once the fusion's buffers are freed.
-    const std::uint64_t chunk_room = (budget - std::min(budget, n.fixed_bytes + kWriterBytes)) / kPointBytes;
+    // Spooled runs read the cloud back in chunks once the fusion's buffers are freed; the
+    // workers stay.
+    const std::uint64_t kept = n.fixed_bytes + kWriterBytes + std::uint64_t(p.threads) * kThreadBytes;
+    const std::uint64_t chunk_room = (budget - std::min(budget, kept)) / kPointBytes;
     p.colour_chunk = std::size_t(std::clamp(chunk_room, kMinColourChunk, kMaxColourChunk));
     return p;
 }

@@ -40,7 +40,8 @@ struct GenerateOptions {
     /// Bound on the generator's buffers (not the scene and its BVH): views per batch, rows
     /// per tile and threads are planned to fit (the cloud is the same whatever the plan),
     /// and a run that cannot fit is refused before the BVH is built. File output: the
-    /// fused cloud is spooled to a file next to the output when it does not fit too.
+    /// fused cloud is spooled to a file next to the output when it does not fit too; the
+    /// cloud returned by the in-memory run() is the caller's and not counted.
     std::size_t memory_budget_bytes = std::size_t(512) << 20;
     bool progress = false;          // engine::Progress bar over the views (tty only)
 };
