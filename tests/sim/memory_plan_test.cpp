@@ -17,7 +17,9 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <spawn.h>
+#include <unistd.h>
 #include <string>
+#include <sys/mount.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <vector>
@@ -199,6 +201,30 @@ TEST_CASE("free space: a spool larger than the disk's free space stops with one 
                          engine::Error);
     CHECK_THROWS_WITH_AS(sim::checkFreeSpace(dir.path / "missing", 1, "the spool file"),
                          doctest::Contains("cannot read the free space"), engine::Error);
+}
+
+TEST_CASE("a spooled run on a nearly full disk stops before spooling, with one line and no file left") {
+    if (::geteuid() != 0) {
+        MESSAGE("skipped: mounting a small tmpfs needs root");
+        return;
+    }
+    test_support::TempDir dir("disk_full");
+    if (::mount("tmpfs", dir.path.c_str(), "tmpfs", 0, "size=1m") != 0) {
+        MESSAGE("skipped: cannot mount a tmpfs here (" << std::strerror(errno) << ")");
+        return;
+    }
+    const engine::Scene scene = sim_test::townScene(120.0, 1.0);
+    sim::GenerateOptions o;
+    o.orbit.xres = 256;
+    o.orbit.yres = 192;
+    o.orbit.views = 3;
+    o.threads = 2;
+    o.memory_budget_bytes = 14 * kMiB;  // spools ~3.5 MB, more than the 1 MiB free
+    CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, dir.path / "c.pcd", engine::CloudFormat::PcdBinary),
+                         doctest::Contains("MiB free, but the spool file of the fused cloud may need 4 MiB"),
+                         engine::Error);
+    CHECK(dir.entries() == 0);
+    CHECK(::umount(dir.path.c_str()) == 0);
 }
 
 TEST_CASE("peak RSS of `ladarvr generate` stays within --memory-mb (child processes)") {
