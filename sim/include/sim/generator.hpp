@@ -30,7 +30,7 @@ struct GenerateOptions {
     /// roles share one orbit.
     engine::RoleMask roles = engine::RoleMask::all();
     bool white = false;             // no colouring and no RANSAC: every point white
-    int threads = 0;                // 0 = std::thread::hardware_concurrency()
+    int threads = 0;                // 0 = every core (oneTBB's default concurrency)
     bool packet_rays = true;        // trace 16-ray packets (rtcIntersect16); false: rtcIntersect1
     /// Per view, trace only the pixels whose rays can meet the bounds of the ray-cast
     /// geometry (the box projected into the image, plus a margin); the others are misses
