@@ -162,6 +162,8 @@ void run(GenerateCli& cli) {
                  st.seconds.ransac, st.seconds.colour, st.seconds.write, seconds, st.threads,
                  st.streamed ? ", streamed through a spool file" : "");
     if (o.white) std::fprintf(stderr, "  --white: no colouring, no ground whitening\n");
+    if (o.threads > st.threads)
+        std::fprintf(stderr, "  --threads %d lowered to %d to fit --memory-mb\n", o.threads, st.threads);
 
     if (cli.json) {
         nlohmann::json j;
@@ -264,7 +266,9 @@ void registerGenerate(CLI::App& cli) {
                   "RANSAC searches planes on at most this many band points, 0 = all")
         ->capture_default_str();
     c->add_option("--colours", o.colour.entries, "entries of the jet map, [2, 256]")->capture_default_str();
-    c->add_option("--memory-mb", state->memory_mb, "above this the fused cloud is spooled to disk")
+    c->add_option("--memory-mb", state->memory_mb,
+                  "bound on the generator's buffers (batches, tiles, threads are planned to fit; "
+                  "the fused cloud is spooled to disk when it does not)")
         ->capture_default_str();
     c->add_flag("--json", state->json, "print a JSON summary on stdout");
     c->callback([state] { run(*state); });

@@ -1,3 +1,4 @@
+// Kept our own: Debian packages no C++ progress-bar library, and this throttled, tty-only bar is 50 lines.
 // progress: a one-line bar on stderr, redrawn at most ~10 times a second.
 #include <engine/progress.hpp>
 

@@ -3,12 +3,12 @@
 #include "gpu_images.hpp"
 
 #include <engine/error.hpp>
+#include <engine/spatial_hash.hpp>
 #include <shaders/shaders.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
 
 namespace metric::detail {
 namespace {
@@ -19,25 +19,11 @@ GpuCloud upload(const engine::PointCloud& cloud, double cell_m) {
     if (cloud.points.empty()) return gpu;
     const engine::Bounds all = cloud.bounds();
     gpu.centre = all.centre();
-    struct Key {
-        std::int64_t x, y, z;
-        bool operator==(const Key&) const = default;
-    };
-    struct KeyHash {
-        std::size_t operator()(const Key& k) const {
-            return std::hash<std::int64_t>()((k.x * 73856093) ^ (k.y * 19349663) ^ (k.z * 83492791));
-        }
-    };
-    std::unordered_map<Key, std::vector<std::uint32_t>, KeyHash> cells;
-    for (std::uint32_t i = 0; i < cloud.points.size(); ++i) {
-        const glm::vec3& p = cloud.points[i].position;
-        cells[{static_cast<std::int64_t>(std::floor(p.x / cell_m)), static_cast<std::int64_t>(std::floor(p.y / cell_m)),
-               static_cast<std::int64_t>(std::floor(p.z / cell_m))}]
-            .push_back(i);
-    }
+    const engine::CellBins cells = engine::binByCell(cloud.points, cell_m);
     std::vector<glm::vec4> data;
     data.reserve(cloud.points.size());
-    for (const auto& [key, indices] : cells) {
+    for (std::size_t c = 0; c < cells.cells(); ++c) {
+        const auto indices = cells.cell(c);
         GpuCloud::Cell cell;
         cell.first = static_cast<std::uint32_t>(data.size());
         cell.count = static_cast<std::uint32_t>(indices.size());

@@ -3,6 +3,7 @@
 
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
+#include <engine/png.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -91,10 +92,10 @@ std::vector<std::filesystem::path> writeReport(const MetricResult& r, const std:
     if (r.pictures) {
         const MetricPictures& p = *r.pictures;
         const std::string stem = "view_" + std::to_string(p.view) + "_";
-        write(stem + "i1.png", encodePngGray(p.width, p.height, p.i1));
-        write(stem + "i2.png", encodePngGray(p.width, p.height, p.i2));
-        write(stem + "i3.png", encodePngGray(p.width, p.height, p.i3));
-        write(stem + "i4.png", encodePngGray(p.width, p.height, p.i4));
+        write(stem + "i1.png", engine::encodePng(p.i1, p.width, p.height, 1, engine::PngRows::BottomUp));
+        write(stem + "i2.png", engine::encodePng(p.i2, p.width, p.height, 1, engine::PngRows::BottomUp));
+        write(stem + "i3.png", engine::encodePng(p.i3, p.width, p.height, 1, engine::PngRows::BottomUp));
+        write(stem + "i4.png", engine::encodePng(p.i4, p.width, p.height, 1, engine::PngRows::BottomUp));
     }
     write("summary.json", summaryJson(r));  // last: its presence means the run completed
     return written;

@@ -18,14 +18,14 @@
 #include <render/gl.hpp>
 #include <sim/raycaster.hpp>
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <future>
 #include <limits>
 #include <sstream>
-#include <thread>
 
 namespace metric {
 namespace {
@@ -96,54 +96,49 @@ struct Evaluator::Impl {
                                                 int height, const render::PixelRect& rect) const {
         if (rect.empty()) return {0, 0};
         const std::int64_t n = rect.area();
-        const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
-        const std::int64_t per = (n + threads - 1) / threads;
-        auto work = [&](std::int64_t begin, std::int64_t end) {
+        // Batches of pixels on oneTBB's workers; integer counts per batch, summed in batch
+        // order afterwards, so the totals do not depend on the scheduling.
+        constexpr std::int64_t kBatch = 4096;
+        const std::size_t batches = static_cast<std::size_t>((n + kBatch - 1) / kBatch);
+        std::vector<std::pair<std::int64_t, std::int64_t>> counts(batches, {0, 0});
+        tbb::parallel_for(std::size_t{0}, batches, [&](std::size_t batch) {
             std::vector<sim::Ray> rays;
             std::vector<sim::Hit> hits;
             std::int64_t target = 0, visible = 0;
-            constexpr std::int64_t kBatch = 4096;
-            for (std::int64_t b = begin; b < end; b += kBatch) {
-                const std::int64_t e = std::min(end, b + kBatch);
-                rays.resize(static_cast<std::size_t>(e - b));
-                hits.assign(rays.size(), sim::Hit{});
-                for (std::int64_t i = b; i < e; ++i) {
-                    const int px = rect.x0 + static_cast<int>(i % rect.width());
-                    const int py = rect.y0 + static_cast<int>(i / rect.width());
-                    sim::Ray& ray = rays[static_cast<std::size_t>(i - b)];
-                    ray.origin = glm::vec3(pose.eye);
-                    ray.direction = glm::vec3(render::pixelCentreDirection(pose, vfov_deg, width, height, px, py));
-                    ray.t_far = 1e30f;
-                }
-                // First hit among target + environment: the target there is visible.
-                target_and_environment->intersect(rays, hits);
-                std::vector<sim::Ray> again;
-                for (std::size_t i = 0; i < rays.size(); ++i) {
-                    if (hits[i].hit() && hits[i].role == engine::Role::Target) {
-                        ++target;
-                        ++visible;
-                    } else {
-                        again.push_back(rays[i]);
-                    }
-                }
-                // The others are target pixels if the target alone would be hit.
-                std::vector<sim::Hit> again_hits(again.size());
-                target_only->intersect(again, again_hits);
-                for (const sim::Hit& h : again_hits)
-                    if (h.hit()) ++target;
+            const std::int64_t b = static_cast<std::int64_t>(batch) * kBatch;
+            const std::int64_t e = std::min(n, b + kBatch);
+            rays.resize(static_cast<std::size_t>(e - b));
+            hits.assign(rays.size(), sim::Hit{});
+            for (std::int64_t i = b; i < e; ++i) {
+                const int px = rect.x0 + static_cast<int>(i % rect.width());
+                const int py = rect.y0 + static_cast<int>(i / rect.width());
+                sim::Ray& ray = rays[static_cast<std::size_t>(i - b)];
+                ray.origin = glm::vec3(pose.eye);
+                ray.direction = glm::vec3(render::pixelCentreDirection(pose, vfov_deg, width, height, px, py));
+                ray.t_far = 1e30f;
             }
-            return std::pair<std::int64_t, std::int64_t>{target, visible};
-        };
-        std::vector<std::future<std::pair<std::int64_t, std::int64_t>>> parts;
-        for (unsigned t = 1; t < threads; ++t) {
-            const std::int64_t b = t * per, e = std::min(n, b + per);
-            if (b < e) parts.push_back(std::async(std::launch::async, work, b, e));
-        }
-        auto total = work(0, std::min(n, per));
-        for (auto& f : parts) {
-            const auto r = f.get();
-            total.first += r.first;
-            total.second += r.second;
+            // First hit among target + environment: the target there is visible.
+            target_and_environment->intersect(rays, hits);
+            std::vector<sim::Ray> again;
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                if (hits[i].hit() && hits[i].role == engine::Role::Target) {
+                    ++target;
+                    ++visible;
+                } else {
+                    again.push_back(rays[i]);
+                }
+            }
+            // The others are target pixels if the target alone would be hit.
+            std::vector<sim::Hit> again_hits(again.size());
+            target_only->intersect(again, again_hits);
+            for (const sim::Hit& h : again_hits)
+                if (h.hit()) ++target;
+            counts[batch] = {target, visible};
+        });
+        std::pair<std::int64_t, std::int64_t> total{0, 0};
+        for (const auto& [target, visible] : counts) {
+            total.first += target;
+            total.second += visible;
         }
         return total;
     }

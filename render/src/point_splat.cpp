@@ -3,10 +3,11 @@
 #include <render/orbit_camera.hpp>
 #include <shaders/shaders.hpp>
 
+#include <engine/spatial_hash.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
 
 namespace render {
 namespace {
@@ -81,27 +82,11 @@ void PointSplatRenderer::setCloud(const engine::PointCloud& cloud, double chunk_
     if (cloud.points.empty()) return;
     if (!(chunk_size_m > 0.0)) chunk_size_m = 16.0;
     // Bin into cells, then upload each cell (split if it is very dense).
-    struct Key {
-        std::int64_t x, y, z;
-        bool operator==(const Key&) const = default;
-    };
-    struct KeyHash {
-        std::size_t operator()(const Key& k) const {
-            return std::hash<std::int64_t>()(k.x * 73856093 ^ k.y * 19349663 ^ k.z * 83492791);
-        }
-    };
-    std::unordered_map<Key, std::vector<std::uint32_t>, KeyHash> cells;
-    for (std::uint32_t i = 0; i < cloud.points.size(); ++i) {
-        const glm::vec3& p = cloud.points[i].position;
-        const Key k{static_cast<std::int64_t>(std::floor(p.x / chunk_size_m)),
-                    static_cast<std::int64_t>(std::floor(p.y / chunk_size_m)),
-                    static_cast<std::int64_t>(std::floor(p.z / chunk_size_m))};
-        cells[k].push_back(i);
-    }
+    const engine::CellBins cells = engine::binByCell(cloud.points, chunk_size_m);
     std::vector<engine::CloudPoint> buffer;
-    for (auto& [key, indices] : cells) {
+    for (std::size_t c = 0; c < cells.cells(); ++c) {
         buffer.clear();
-        for (std::uint32_t i : indices) buffer.push_back(cloud.points[i]);
+        for (std::uint32_t i : cells.cell(c)) buffer.push_back(cloud.points[i]);
         appendChunk(buffer);
     }
 }

@@ -8,10 +8,16 @@
 // cloud, which lives in memory or, for big runs, in a spool file next to the output.
 // Colouring needs the z range of the whole fused cloud, so it is a last pass that reads
 // the fused points back and streams them into the engine::CloudWriter.
+//
+// Memory (GenerateOptions::memory_budget_bytes, --memory-mb): before the BVH is built a
+// MemoryPlan sizes the buffers against the budget: fewer views per batch first, then a
+// view traced in bands of rows (tiles), then fewer threads; a run that cannot fit even
+// then is refused. Batches, bands and threads change no output bit.
 #include <sim/generator.hpp>
 
 #include "raycaster_impl.hpp"
-#include "thread_pool.hpp"
+#include "memory_plan.hpp"
+#include "parallel.hpp"
 
 #include <engine/error.hpp>
 #include <engine/progress.hpp>
@@ -40,6 +46,10 @@ constexpr std::size_t kBatchRays = 1u << 19;    // rays per batch of views (memo
 constexpr std::size_t kColourChunk = 1u << 20;  // points per colour/write chunk
 constexpr float kMissRange = -1.0f;             // range_m of a pixel slot with no hit
 
+std::string mebibytes(std::uint64_t bytes) {
+    return std::to_string((bytes + (1u << 20) - 1) >> 20);
+}
+
 // The fused cloud on disk: raw CloudPoint records, removed when destroyed.
 class Spool {
 public:
@@ -60,7 +70,8 @@ public:
     void append(std::span<const engine::CloudPoint> points) {
         if (points.empty()) return;
         if (std::fwrite(points.data(), sizeof(engine::CloudPoint), points.size(), file_) != points.size())
-            throw engine::Error("output: " + path_.string() + ": cannot write spool file (disk full?)");
+            throw engine::Error("output: " + path_.string() + ": cannot write the spool file after " +
+                                mebibytes(count_ * sizeof(engine::CloudPoint)) + " MiB: " + std::strerror(errno));
         count_ += points.size();
     }
     void rewind() {
@@ -197,7 +208,8 @@ struct Generator::State {
     glm::dvec3 centre_world{0.0}, centre_local{0.0};
     std::unique_ptr<RayCaster> caster;
     double bvh_seconds = 0.0;
-    std::vector<glm::dvec3> sensor_dirs;   // per pixel, row-major, unit, sensor frame
+    MemoryPlan plan;                       // batches, bands and threads within the budget
+    std::uint64_t hits_bound = 0;          // hits all views can give together (traced pixels)
     std::vector<engine::Pose> poses;       // per view, T_local_sensor
     std::vector<PixelRect> traced;         // per view, the pixels traced (all without skip_rays)
     // Per (view, row), the columns traced [x0, x1] when the boxes are per mesh (a union of
@@ -208,8 +220,16 @@ struct Generator::State {
 
     State(const engine::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
 
-    // Paper §III-B: traces pixels [begin, end) of `view` into slots[begin, end).
-    void castRange(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
+    // A band of rows being traced: pixel i (row-major in the view) has its sensor-frame
+    // direction in dirs[i - first] and its slot in slots[i - first].
+    struct Band {
+        const glm::dvec3* dirs;
+        engine::CloudPoint* slots;
+        std::size_t first;
+    };
+
+    // Paper §III-B: traces pixels [begin, end) of `view` into their slots.
+    void castRange(int view, std::size_t begin, std::size_t end, const Band& band) const {
         const RayCaster::Impl& impl = caster->impl();
         const engine::Pose& pose = poses[std::size_t(view)];
         const glm::vec3 origin(pose.translation);
@@ -217,10 +237,10 @@ struct Generator::State {
         const float t_far = std::numeric_limits<float>::infinity();
         RTCRayHit rh;
         for (std::size_t i = begin; i < end; ++i) {
-            const glm::vec3 dir(pose.rotation * sensor_dirs[i]);
+            const glm::vec3 dir(pose.rotation * band.dirs[i - band.first]);
             setRay(rh, origin.x, origin.y, origin.z, dir.x, dir.y, dir.z, t_far);
             rtcIntersect1(impl.scene, &rh);
-            engine::CloudPoint& cp = slots[i];
+            engine::CloudPoint& cp = band.slots[i - band.first];
             if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
                 cp.range_m = kMissRange;
                 continue;
@@ -237,7 +257,7 @@ struct Generator::State {
     // The same with rtcIntersect16 packets of 16 consecutive pixels in row-major order
     // (coherent rays from one origin): measured faster than rtcIntersect1 here
     // (BENCHMARKS.md); the hits are the same (tests/sim/generator_test.cpp).
-    void castRange16(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
+    void castRange16(int view, std::size_t begin, std::size_t end, const Band& band) const {
         const RayCaster::Impl& impl = caster->impl();
         const engine::Pose& pose = poses[std::size_t(view)];
         const glm::vec3 origin(pose.translation);
@@ -253,7 +273,7 @@ struct Generator::State {
             const std::size_t n = std::min<std::size_t>(16, end - i);
             for (std::size_t k = 0; k < 16; ++k) {
                 valid[k] = k < n ? -1 : 0;
-                const glm::vec3 dir = k < n ? glm::vec3(pose.rotation * sensor_dirs[i + k]) : glm::vec3(0, 0, -1);
+                const glm::vec3 dir = k < n ? glm::vec3(pose.rotation * band.dirs[i + k - band.first]) : glm::vec3(0, 0, -1);
                 dirs[k] = dir;
                 rh.ray.org_x[k] = origin.x; rh.ray.org_y[k] = origin.y; rh.ray.org_z[k] = origin.z;
                 rh.ray.tnear[k] = 0.0f;
@@ -268,7 +288,7 @@ struct Generator::State {
             }
             rtcIntersect16(valid, impl.scene, &rh, &args);
             for (std::size_t k = 0; k < n; ++k) {
-                engine::CloudPoint& cp = slots[i + k];
+                engine::CloudPoint& cp = band.slots[i + k - band.first];
                 if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
                     cp.range_m = kMissRange;
                     continue;
@@ -283,9 +303,9 @@ struct Generator::State {
         }
     }
 
-    // Pixels [begin, end) of `view` (row-major) into slots[begin, end): those outside the
+    // Pixels [begin, end) of `view` (row-major) into their slots: those outside the
     // view's traced rectangle are misses without a ray, the others are cast by row runs.
-    void castBlock(int view, std::size_t begin, std::size_t end, engine::CloudPoint* slots) const {
+    void castBlock(int view, std::size_t begin, std::size_t end, const Band& band) const {
         const PixelRect& r = traced[std::size_t(view)];
         const std::size_t xres = std::size_t(options.orbit.xres), yres = std::size_t(options.orbit.yres);
         std::size_t i = begin;
@@ -300,12 +320,12 @@ struct Generator::State {
                     b = std::clamp(row * xres + std::size_t(span.y) + 1, i, row_end);
                 }
             }
-            for (std::size_t k = i; k < a; ++k) slots[k].range_m = kMissRange;
+            for (std::size_t k = i; k < a; ++k) band.slots[k - band.first].range_m = kMissRange;
             if (a < b) {
-                if (options.packet_rays) castRange16(view, a, b, slots);
-                else castRange(view, a, b, slots);
+                if (options.packet_rays) castRange16(view, a, b, band);
+                else castRange(view, a, b, band);
             }
-            for (std::size_t k = std::max(a, b); k < row_end; ++k) slots[k].range_m = kMissRange;
+            for (std::size_t k = std::max(a, b); k < row_end; ++k) band.slots[k - band.first].range_m = kMissRange;
             i = row_end;
         }
     }
@@ -313,14 +333,14 @@ struct Generator::State {
     // Runs every view and hands the fused points, in (view, row, column) order, to
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
     void fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
-                   ThreadPool& pool, GenerateStats& st) const;
+                   Workers& pool, GenerateStats& st) const;
 
     // Jet colours for every point that is not white, from the fused z range.
-    void colour(std::span<engine::CloudPoint> points, ThreadPool& pool, const GenerateStats& st) const {
+    void colour(std::span<engine::CloudPoint> points, Workers& pool, const GenerateStats& st) const {
         if (options.white) return;
         const std::size_t chunk = 1u << 16;
         const std::size_t tasks = (points.size() + chunk - 1) / chunk;
-        pool.run(tasks, [&](std::size_t task, int) {
+        pool.run(tasks, [&](std::size_t task) {
             const std::size_t end = std::min(points.size(), (task + 1) * chunk);
             for (std::size_t i = task * chunk; i < end; ++i)
                 if (points[i].rgb != engine::kWhite)
@@ -330,46 +350,86 @@ struct Generator::State {
 };
 
 void Generator::State::fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
-                                 ThreadPool& pool, GenerateStats& st) const {
+                                 Workers& pool, GenerateStats& st) const {
     const OrbitOptions& orbit = options.orbit;
-    const std::size_t npix = std::size_t(orbit.xres) * std::size_t(orbit.yres);
+    const std::size_t xres = std::size_t(orbit.xres), yres = std::size_t(orbit.yres);
+    const std::size_t npix = xres * yres;
     const std::size_t views = std::size_t(orbit.views);
-    const std::size_t batch_views =
-        std::clamp<std::size_t>(std::max<std::size_t>(kBatchRays / npix, 2 * std::size_t(pool.size())), 1, views);
-    const std::size_t blocks = (npix + kBlockRays - 1) / kBlockRays;
-    std::vector<engine::CloudPoint> slots(batch_views * npix);
+    const std::size_t batch_views = plan.batch_views, band_rows = plan.band_rows;
+    const std::size_t band_pixels = band_rows * xres;
+    // A tiled view is alone in its batch (the plan tiles only then); white, it needs no
+    // RANSAC, so its hits are handed on band by band instead of waiting for the whole view.
+    const bool emit_per_band = options.white && band_rows < yres;
+    std::vector<glm::dvec3> dirs(band_pixels);  // sensor frame, unit, rows [dirs_row, + band_rows)
+    std::size_t dirs_row = yres;
+    std::vector<engine::CloudPoint> slots(batch_views * band_pixels);
     std::vector<std::vector<engine::CloudPoint>> view_points(batch_views);
+    for (auto& v : view_points) v.reserve(std::size_t(plan.view_hits));
     std::vector<GroundStats> ground_stats(batch_views);
     std::optional<engine::Progress> progress;
     if (options.progress) progress.emplace("generate", views);
 
     float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
+    // Counts `pts`, fused from `pixels` pixels, into the stats and hands them on.
+    const auto fuse = [&](const std::vector<engine::CloudPoint>& pts, std::size_t pixels) {
+        st.misses += pixels - pts.size();
+        st.points += pts.size();
+        for (const auto& p : pts) {
+            z_min = std::min(z_min, p.position.z);
+            z_max = std::max(z_max, p.position.z);
+            const bool truth = p.label == engine::Role::Ground;
+            const bool found = !options.white && p.rgb == engine::kWhite;
+            st.ground_truth += truth;
+            st.ground_found += found;
+            st.ground_true_positive += truth && found;
+        }
+        emit(pts);
+    };
     for (std::size_t first = 0; first < views; first += batch_views) {
         const std::size_t count = std::min(batch_views, views - first);
-        auto t0 = Clock::now();
-        pool.run(count * blocks, [&](std::size_t task, int) {
-            const std::size_t k = task / blocks, block = task % blocks;
-            castBlock(int(first + k), block * kBlockRays, std::min(npix, (block + 1) * kBlockRays),
-                      slots.data() + k * npix);
-        });
-        for (std::size_t k = 0; k < count; ++k) st.rays_traced += traced_count[first + k];
-        st.seconds.cast += secondsSince(t0);
+        for (std::size_t k = 0; k < count; ++k) view_points[k].clear();
+        for (std::size_t row0 = 0; row0 < yres; row0 += band_rows) {
+            const std::size_t rows = std::min(band_rows, yres - row0);
+            const std::size_t p0 = row0 * xres, p1 = p0 + rows * xres;
+            auto t0 = Clock::now();
+            if (dirs_row != row0) {
+                for (std::size_t py = row0; py < row0 + rows; ++py)
+                    for (std::size_t px = 0; px < xres; ++px)
+                        dirs[(py - row0) * xres + px] = pixelDirection(orbit, double(px), double(py));
+                dirs_row = row0;
+            }
+            // Tasks are the blocks of kBlockRays pixels of the whole view cut to this band
+            // (bands start on rows), so a tiled view makes the very same ray calls.
+            const std::size_t block0 = p0 / kBlockRays, blocks = (p1 + kBlockRays - 1) / kBlockRays - block0;
+            pool.run(count * blocks, [&](std::size_t task) {
+                const std::size_t k = task / blocks, block = block0 + task % blocks;
+                const Band band{dirs.data(), slots.data() + k * band_pixels, p0};
+                castBlock(int(first + k), std::max(p0, block * kBlockRays), std::min(p1, (block + 1) * kBlockRays),
+                          band);
+            });
+            st.seconds.cast += secondsSince(t0);
 
-        t0 = Clock::now();
-        pool.run(count, [&](std::size_t k, int) {
-            auto& out = view_points[k];
-            out.clear();
-            const engine::CloudPoint* s = slots.data() + k * npix;
-            for (std::size_t i = 0; i < npix; ++i)
-                if (s[i].range_m != kMissRange) out.push_back(s[i]);
-            if (options.white)
-                for (auto& p : out) p.rgb = engine::kWhite;
-        });
-        st.seconds.fuse += secondsSince(t0);
+            t0 = Clock::now();
+            pool.run(count, [&](std::size_t k) {
+                auto& out = view_points[k];
+                const engine::CloudPoint* s = slots.data() + k * band_pixels;
+                for (std::size_t i = 0; i < rows * xres; ++i)
+                    if (s[i].range_m != kMissRange) {
+                        out.push_back(s[i]);
+                        if (options.white) out.back().rgb = engine::kWhite;
+                    }
+            });
+            if (emit_per_band) {
+                fuse(view_points[0], rows * xres);
+                view_points[0].clear();
+            }
+            st.seconds.fuse += secondsSince(t0);
+        }
+        for (std::size_t k = 0; k < count; ++k) st.rays_traced += traced_count[first + k];
 
         if (!options.white) {
-            t0 = Clock::now();
-            pool.run(count, [&](std::size_t k, int) {
+            const auto t0 = Clock::now();
+            pool.run(count, [&](std::size_t k) {
                 auto& pts = view_points[k];
                 if (pts.size() < 3) {  // the band cannot hold 3 points: no RANSAC, no copy
                     ground_stats[k] = GroundStats{};
@@ -387,27 +447,16 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
             st.seconds.ransac += secondsSince(t0);
         }
 
-        t0 = Clock::now();
-        for (std::size_t k = 0; k < count; ++k) {
-            const auto& pts = view_points[k];
-            st.misses += npix - pts.size();
-            st.points += pts.size();
-            for (const auto& p : pts) {
-                z_min = std::min(z_min, p.position.z);
-                z_max = std::max(z_max, p.position.z);
-                const bool truth = p.label == engine::Role::Ground;
-                const bool found = !options.white && p.rgb == engine::kWhite;
-                st.ground_truth += truth;
-                st.ground_found += found;
-                st.ground_true_positive += truth && found;
+        const auto t0 = Clock::now();
+        if (!emit_per_band)
+            for (std::size_t k = 0; k < count; ++k) {
+                if (!options.white) {
+                    st.planes_accepted += ground_stats[k].planes_accepted;
+                    st.planes_rejected += ground_stats[k].planes_rejected;
+                    st.views_without_ransac += ground_stats[k].band_points < 3;
+                }
+                fuse(view_points[k], npix);
             }
-            if (!options.white) {
-                st.planes_accepted += ground_stats[k].planes_accepted;
-                st.planes_rejected += ground_stats[k].planes_rejected;
-                st.views_without_ransac += ground_stats[k].band_points < 3;
-            }
-            emit(pts);
-        }
         st.seconds.fuse += secondsSince(t0);
         if (progress) progress->advance(count);
     }
@@ -430,19 +479,12 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     s.centre_world = s.options.centre ? *s.options.centre : defaultCentre(scene);
     s.centre_local = s.centre_world - scene.origin;
     const OrbitOptions& orbit = s.options.orbit;
-    s.sensor_dirs.resize(std::size_t(orbit.xres) * std::size_t(orbit.yres));
-    for (int py = 0; py < orbit.yres; ++py)
-        for (int px = 0; px < orbit.xres; ++px)
-            s.sensor_dirs[std::size_t(py) * std::size_t(orbit.xres) + std::size_t(px)] =
-                pixelDirection(orbit, px, py);
     for (int v = 0; v < orbit.views; ++v) s.poses.push_back(sensorPose(orbit, s.centre_local, v));
     s.jet = jetTable(s.options.colour.entries);
-    const auto t0 = Clock::now();
-    s.caster = std::make_unique<RayCaster>(scene, s.options.roles);
-    // Bounds of the triangles in the BVH, one box per mesh (with --roles
+    // Bounds of the triangles to ray-cast, one box per mesh (with --roles
     // target,environment the houses and trees are scattered: one box over all of them
-    // would cover the whole footprint). Many meshes, or too many (view, row) spans to
-    // store: one box over all.
+    // would cover the whole footprint). Many meshes, or more (view, row) spans than fit
+    // comfortably in the memory budget: one box over all (the same cloud either way).
     constexpr std::size_t kMaxBoxes = 256, kMaxSpanRows = std::size_t(1) << 22;
     std::vector<engine::Bounds> boxes;
     engine::Bounds cast_bounds;
@@ -455,7 +497,9 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
         cast_bounds.extend(b);
     }
     const std::size_t views = std::size_t(orbit.views), yres = std::size_t(orbit.yres);
-    if (boxes.size() > kMaxBoxes || views * yres > kMaxSpanRows) boxes.assign(1, cast_bounds);
+    const std::uint64_t budget = s.options.memory_budget_bytes;
+    if (boxes.size() > kMaxBoxes || views * yres > kMaxSpanRows || views * yres * sizeof(glm::ivec2) > budget / 8)
+        boxes.assign(1, cast_bounds);
     const PixelRect all{0, orbit.xres - 1, 0, orbit.yres - 1};
     const bool spans = s.options.skip_rays && boxes.size() > 1;
     if (spans) s.row_spans.assign(views * yres, glm::ivec2(orbit.xres, -1));
@@ -485,6 +529,27 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
         s.traced.push_back(hull.count() == 0 ? PixelRect{} : hull);
         s.traced_count.push_back(n);
     }
+
+    // The buffers, planned against the budget before the BVH is built.
+    MemoryNeeds needs;
+    needs.xres = std::uint64_t(orbit.xres);
+    needs.yres = std::uint64_t(orbit.yres);
+    needs.views = std::uint64_t(orbit.views);
+    for (const std::uint64_t n : s.traced_count) {
+        needs.view_hits = std::max(needs.view_hits, n);
+        s.hits_bound += n;
+    }
+    needs.fixed_bytes = views * (sizeof(engine::Pose) + sizeof(PixelRect) + sizeof(std::uint64_t)) +
+                        s.row_spans.size() * sizeof(glm::ivec2) + s.jet.size() * sizeof(std::uint32_t);
+    needs.white = s.options.white;
+    needs.threads = resolveThreads(s.options.threads);
+    needs.batch_views = std::clamp<std::size_t>(
+        std::max<std::size_t>(kBatchRays / (std::size_t(orbit.xres) * yres), 2 * std::size_t(needs.threads)), 1, views);
+    needs.budget_bytes = budget;
+    s.plan = planMemory(needs);
+
+    const auto t0 = Clock::now();
+    s.caster = std::make_unique<RayCaster>(scene, s.options.roles);
     s.bvh_seconds = secondsSince(t0);
 }
 
@@ -492,18 +557,21 @@ Generator::~Generator() = default;
 
 namespace {
 
-void initStats(const GenerateOptions& o, const engine::Scene& scene, const glm::dvec3& centre,
-               std::size_t triangles, double bvh_seconds, int threads, GenerateStats& st) {
+void initStats(const Generator::State& s, GenerateStats& st) {
+    const GenerateOptions& o = s.options;
     st = GenerateStats{};
-    st.skipped_zero_area_triangles = scene.skipped_triangles;
-    st.skipped_nonfinite_triangles = scene.skipped_nonfinite_triangles;
+    st.skipped_zero_area_triangles = s.scene.skipped_triangles;
+    st.skipped_nonfinite_triangles = s.scene.skipped_nonfinite_triangles;
     st.drone_radius_m = droneRadius(o.orbit);
     st.length_sensed_m = lengthSensed(o.orbit);
     st.coverage_diameter_m = coverageDiameter(o.orbit);
-    st.centre = centre;
-    st.triangles = triangles;
-    st.threads = threads;
-    st.seconds.bvh = bvh_seconds;
+    st.centre = s.centre_world;
+    st.triangles = s.caster->triangleCount();
+    st.threads = s.plan.threads;
+    st.batch_views = s.plan.batch_views;
+    st.tile_rows = s.plan.band_rows;
+    st.memory_planned_bytes = s.plan.fuse_bytes;
+    st.seconds.bvh = s.bvh_seconds;
 }
 
 }  // namespace
@@ -512,13 +580,13 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
     const State& s = *state_;
     const auto t0 = Clock::now();
     GenerateStats st;
-    const int threads = resolveThreads(s.options.threads);
-    initStats(s.options, s.scene, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
-    ThreadPool pool(threads);
+    initStats(s, st);
+    Workers pool(s.plan.threads);
     engine::PointCloud cloud;
     cloud.origin = s.scene.origin;
-    cloud.points.reserve(std::size_t(s.options.orbit.xres) * std::size_t(s.options.orbit.yres) *
-                         std::size_t(s.options.orbit.views));
+    // The cloud is the caller's: reserved up to the budget, beyond it grown as needed.
+    cloud.points.reserve(std::size_t(std::min<std::uint64_t>(
+        s.hits_bound, s.options.memory_budget_bytes / sizeof(engine::CloudPoint))));
     s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
         cloud.points.insert(cloud.points.end(), pts.begin(), pts.end());
     }, pool, st);
@@ -534,18 +602,17 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     const State& s = *state_;
     const auto t0 = Clock::now();
     GenerateStats st;
-    const int threads = resolveThreads(s.options.threads);
-    initStats(s.options, s.scene, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
+    initStats(s, st);
     // Opens "<out>.tmp-<pid>" now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
     engine::CloudWriter writer(out, format, s.scene.origin);
-    ThreadPool pool(threads);
-    const std::size_t rays = std::size_t(s.options.orbit.xres) * std::size_t(s.options.orbit.yres) *
-                             std::size_t(s.options.orbit.views);
-    st.streamed = rays > s.options.memory_budget_bytes / sizeof(engine::CloudPoint);
+    Workers pool(s.plan.threads);
+    // The fused cloud stays in memory when it fits beside the fusion's buffers.
+    const std::uint64_t fused_bytes = s.hits_bound * sizeof(engine::CloudPoint);
+    st.streamed = s.plan.fuse_bytes + fused_bytes > s.options.memory_budget_bytes;
     if (!st.streamed) {
         std::vector<engine::CloudPoint> points;
-        points.reserve(rays);
+        points.reserve(std::size_t(s.hits_bound));
         s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
             points.insert(points.end(), pts.begin(), pts.end());
         }, pool, st);
@@ -558,10 +625,11 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
         writer.commit();
         st.seconds.write = secondsSince(tc);
     } else {
+        checkFreeSpace(out.parent_path(), fused_bytes, "the spool file of the fused cloud");
         Spool spool(out.string() + ".spool-" + std::to_string(::getpid()));
         s.fuseViews([&](std::span<const engine::CloudPoint> pts) { spool.append(pts); }, pool, st);
         spool.rewind();
-        std::vector<engine::CloudPoint> chunk(kColourChunk);
+        std::vector<engine::CloudPoint> chunk(s.plan.colour_chunk);
         for (;;) {
             auto tc = Clock::now();
             const std::size_t n = spool.read(chunk);
@@ -586,10 +654,13 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
 void Generator::viewRays(int view, std::vector<Ray>& rays) const {
     const State& s = *state_;
     const engine::Pose& pose = s.poses.at(std::size_t(view));
-    rays.resize(s.sensor_dirs.size());
+    const OrbitOptions& orbit = s.options.orbit;
+    rays.resize(std::size_t(orbit.xres) * std::size_t(orbit.yres));
     for (std::size_t i = 0; i < rays.size(); ++i) {
+        const glm::dvec3 dir = pixelDirection(orbit, double(i % std::size_t(orbit.xres)),
+                                              double(i / std::size_t(orbit.xres)));
         rays[i].origin = glm::vec3(pose.translation);
-        rays[i].direction = glm::vec3(pose.rotation * s.sensor_dirs[i]);
+        rays[i].direction = glm::vec3(pose.rotation * dir);
         rays[i].t_far = std::numeric_limits<float>::infinity();
     }
 }

@@ -22,6 +22,7 @@
 #include <sim/ground.hpp>
 
 #include <engine/error.hpp>
+#include <engine/shuffle.hpp>
 
 #include <pcl/ModelCoefficients.h>
 #include <pcl/console/print.h>
@@ -85,7 +86,7 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Gr
         return is_ground;
     }
     std::mt19937_64 rng(seed);
-    std::shuffle(band.begin(), band.end(), rng);
+    engine::shuffle(band.begin(), band.end(), rng);
 
     auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
     cloud->resize(band.size());

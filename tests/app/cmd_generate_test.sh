@@ -38,6 +38,8 @@ check_bad "--centre" --centre 1,2
 check_bad "--roles" --roles tank
 check_bad "--format" --format las
 check_bad "does not exist" --scene "$dir/missing.json"
+# Once bad_alloc: a 65536 x 65536 view cannot be whitened within the budget.
+check_bad "--memory-mb 512 is too small" --xres 65536 --yres 65536 --views 1
 
 # A destination in a missing directory fails before any work.
 status=0

@@ -134,11 +134,12 @@ TEST_CASE("streaming through a spool file writes the same bytes as the in-memory
     const test_support::TempDir scratch("sim_generator");
     const fs::path& dir = scratch.path;
     sim::GenerateOptions o = smallOptions();
+    o.threads = 2;  // the budget below is sized for two workers
     for (const auto format : {engine::CloudFormat::PcdBinary, engine::CloudFormat::PlyAscii}) {
         sim::GenerateStats in_memory, streamed;
         o.memory_budget_bytes = std::size_t(1) << 30;
         sim::generateToFile(scene, o, dir / "memory.out", format, &in_memory);
-        o.memory_budget_bytes = 1000;  // forces the spool
+        o.memory_budget_bytes = std::size_t(10) << 20;  // the buffers fit, the fused cloud does not: spool
         sim::generateToFile(scene, o, dir / "spool.out", format, &streamed);
         CHECK_FALSE(in_memory.streamed);
         CHECK(streamed.streamed);
@@ -153,7 +154,7 @@ TEST_CASE("streaming through a spool file writes the same bytes as the in-memory
     CHECK(files == 2);
 
     // Read back through the engine: the same points as the in-memory cloud.
-    o.memory_budget_bytes = 1000;
+    o.memory_budget_bytes = std::size_t(10) << 20;
     sim::GenerateStats st;
     sim::generateToFile(scene, o, dir / "spool.pcd", engine::CloudFormat::PcdBinary, &st);
     const engine::PointCloud back = engine::readCloud(dir / "spool.pcd");

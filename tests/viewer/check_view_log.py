@@ -17,7 +17,7 @@ def check(condition, message):
 
 
 def read_png(path):
-    """Decodes the viewer's own PNGs (8-bit RGB, filter 0 rows) into (w, h, bytes)."""
+    """Decodes 8-bit RGB PNGs (any of the five row filters) into (w, h, bytes)."""
     data = open(path, "rb").read()
     assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG signature"
     pos, idat, width, height = 8, b"", 0, 0
@@ -35,10 +35,26 @@ def read_png(path):
     raw = zlib.decompress(idat)
     row = width * 3
     assert len(raw) == (row + 1) * height, "wrong image data size"
-    pixels = bytearray()
+    pixels, prior = bytearray(), bytearray(row)
     for y in range(height):
-        assert raw[y * (row + 1)] == 0, "unexpected PNG filter"
-        pixels += raw[y * (row + 1) + 1:(y + 1) * (row + 1)]
+        kind, line = raw[y * (row + 1)], bytearray(raw[y * (row + 1) + 1:(y + 1) * (row + 1)])
+        assert kind <= 4, f"unknown PNG filter {kind}"
+        for i in range(row):  # PNG specification, section 9: a = left, b = up, c = up-left
+            a = line[i - 3] if i >= 3 else 0
+            b = prior[i]
+            c = prior[i - 3] if i >= 3 else 0
+            if kind == 1:
+                line[i] = (line[i] + a) & 255
+            elif kind == 2:
+                line[i] = (line[i] + b) & 255
+            elif kind == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif kind == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        pixels += line
+        prior = line
     return width, height, pixels
 
 

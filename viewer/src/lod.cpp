@@ -1,6 +1,8 @@
 // viewer/src/lod.cpp: level-of-detail order, culling and point budget for the viewer
-// (issue 5; paper §IV-A asks for an immersive viewer, the budget keeps it at HMD rates).
+// (paper §IV-A asks for an immersive viewer; the budget keeps it at HMD rates).
 #include <viewer/lod.hpp>
+
+#include <engine/shuffle.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -41,12 +43,8 @@ std::vector<LodCell> buildLodOrder(std::vector<engine::CloudPoint>& points, cons
     for (std::size_t c = 0; c < side * side; ++c) {
         const std::size_t first = start[c], count = start[c + 1] - start[c];
         if (count == 0) continue;
-        // Fisher-Yates with our own index draw (std::uniform_int_distribution is not
-        // specified bit for bit across standard libraries).
-        for (std::size_t i = count - 1; i > 0; --i) {
-            const std::size_t j = static_cast<std::size_t>(rng() % (i + 1));
-            std::swap(sorted[first + i], sorted[first + j]);
-        }
+        const auto cell_begin = sorted.begin() + static_cast<std::ptrdiff_t>(first);
+        engine::shuffle(cell_begin, cell_begin + static_cast<std::ptrdiff_t>(count), rng);
         LodCell cell{first, count, {}};
         for (std::size_t i = first; i < first + count; ++i) cell.bounds.extend(glm::dvec3(sorted[i].position));
         cells.push_back(cell);

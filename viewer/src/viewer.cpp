@@ -13,12 +13,12 @@
 
 #include <viewer/viewer.hpp>
 
-#include "png_writer.hpp"
 #include "point_renderer.hpp"
 #include "run_log.hpp"
 #include "xr_session.hpp"
 
 #include <engine/error.hpp>
+#include <engine/png.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -404,17 +404,14 @@ void ViewerApp::drawPanel(double frame_ms) {
 }
 
 bool ViewerApp::screenshot(int fb_w, int fb_h) {
-    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(fb_w) * fb_h * 3), flipped(pixels.size());
+    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(fb_w) * fb_h * 3);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
     glReadBuffer(GL_BACK);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, fb_w, fb_h, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
     if (!render::logGl("glReadPixels (screenshot)", __FILE__, __LINE__)) return false;
-    const std::size_t row = static_cast<std::size_t>(fb_w) * 3;
-    for (int y = 0; y < fb_h; ++y)
-        std::copy_n(pixels.data() + (fb_h - 1 - y) * row, row, flipped.data() + y * row);
     try {
-        writePng(options_.screenshot, flipped, fb_w, fb_h);
+        engine::writePng(options_.screenshot, pixels, fb_w, fb_h, 3, engine::PngRows::BottomUp);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "ladarvr: view: --screenshot: %s\n", e.what());
         return false;

@@ -23,8 +23,4 @@ std::string summaryJson(const MetricResult& result);
 /// Throws engine::Error("output: ...") if `dir` cannot be created or written.
 std::vector<std::filesystem::path> writeReport(const MetricResult& result, const std::filesystem::path& dir);
 
-/// An 8-bit greyscale PNG (stored deflate blocks, CRC-32, Adler-32) of `rows_bottom_up`
-/// (GL order, width * height bytes); the file shows the image upright.
-std::string encodePngGray(int width, int height, const std::vector<std::uint8_t>& rows_bottom_up);
-
 }  // namespace metric

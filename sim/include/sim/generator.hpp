@@ -30,15 +30,18 @@ struct GenerateOptions {
     /// roles share one orbit.
     engine::RoleMask roles = engine::RoleMask::all();
     bool white = false;             // no colouring and no RANSAC: every point white
-    int threads = 0;                // 0 = std::thread::hardware_concurrency()
+    int threads = 0;                // 0 = every core (oneTBB's default concurrency)
     bool packet_rays = true;        // trace 16-ray packets (rtcIntersect16); false: rtcIntersect1
     /// Per view, trace only the pixels whose rays can meet the bounds of the ray-cast
     /// geometry (the box projected into the image, plus a margin); the others are misses
     /// without a ray. The cloud is the same either way (--no-skip-rays turns it off).
     bool skip_rays = true;
     std::uint64_t seed = 1;         // RANSAC of view v shuffles with mt19937_64(seed ^ v)
-    /// When rays x sizeof(CloudPoint) exceeds this, the fused cloud is spooled to a file
-    /// next to the output instead of memory (file output only).
+    /// Bound on the generator's buffers (not the scene and its BVH): views per batch, rows
+    /// per tile and threads are planned to fit (the cloud is the same whatever the plan),
+    /// and a run that cannot fit is refused before the BVH is built. File output: the
+    /// fused cloud is spooled to a file next to the output when it does not fit too; the
+    /// cloud returned by the in-memory run() is the caller's and not counted.
     std::size_t memory_budget_bytes = std::size_t(512) << 20;
     bool progress = false;          // engine::Progress bar over the views (tty only)
 };
@@ -62,7 +65,10 @@ struct GenerateStats {
     double drone_radius_m = 0, length_sensed_m = 0, coverage_diameter_m = 0;
     glm::dvec3 centre{0.0};                 // C, world coordinates
     std::size_t triangles = 0;              // in the BVH
-    int threads = 1;
+    int threads = 1;                        // used: the request, clamped to the memory budget
+    std::size_t batch_views = 1;            // views traced together
+    std::size_t tile_rows = 0;              // rows of a view traced per pass (yres: untiled)
+    std::uint64_t memory_planned_bytes = 0; // the fusion's buffers as planned (<= the budget)
     std::uint64_t rays = 0, points = 0, misses = 0;
     std::uint64_t rays_traced = 0;          // rays actually cast (rays minus skipped pixels)
     std::uint64_t ground_found = 0;         // whitened by RANSAC (PG over all views)

@@ -39,7 +39,7 @@ struct GroundStats {
 };
 
 /// Paper §III-C steps 1-5 on one view's points: returns one flag per point, 1 when the
-/// point is in PG (ground). PC is shuffled with std::mt19937_64(seed) first (PCL's own RNG
+/// point is in PG (ground). PC is shuffled (engine::shuffle) with std::mt19937_64(seed) first (PCL's own RNG
 /// is fixed-seed), so the result is a pure function of (points, options, seed).
 /// Fewer than 3 points in the band: no RANSAC, no ground. Needs validate(o) passed.
 std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const GroundOptions& o,

@@ -1,0 +1,250 @@
+// tests/sim/memory_plan_test.cpp: --memory-mb bounds a generate run (sim/src/memory_plan.hpp
+// and the generator's batches, tiles and threads): tiled runs are bit-identical to
+// untiled ones, runs that cannot fit are refused naming the option, and a child
+// process's peak RSS stays within the budget.
+#include <test_files.hpp>
+#include "memory_plan.hpp"
+#include <scene_builders.hpp>
+
+#include <sim/generator.hpp>
+
+#include <engine/cloud_io.hpp>
+#include <engine/error.hpp>
+
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <spawn.h>
+#include <unistd.h>
+#include <string>
+#include <sys/mount.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <vector>
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::uint64_t kMiB = 1u << 20;
+
+sim::MemoryNeeds needs(std::uint64_t xres, std::uint64_t yres, std::uint64_t views, bool white, int threads,
+                       std::uint64_t budget) {
+    sim::MemoryNeeds n;
+    n.xres = xres;
+    n.yres = yres;
+    n.views = views;
+    n.view_hits = xres * yres;
+    n.white = white;
+    n.threads = threads;
+    n.batch_views = std::size_t(std::min<std::uint64_t>(views, 2 * std::uint64_t(threads)));
+    n.budget_bytes = budget;
+    return n;
+}
+
+bool identical(const engine::PointCloud& a, const engine::PointCloud& b) {
+    return a.origin == b.origin && a.points.size() == b.points.size() &&
+           std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(engine::CloudPoint)) == 0;
+}
+
+// Runs `args` as a child process; returns its exit status and, through `rss_kib`, its
+// peak resident set (wait4's ru_maxrss).
+int runChild(const std::vector<std::string>& args, long& rss_kib) {
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    pid_t pid = 0;
+    REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
+    posix_spawn_file_actions_destroy(&actions);
+    int status = 0;
+    struct rusage usage {};
+    REQUIRE(::wait4(pid, &status, 0, &usage) == pid);
+    rss_kib = usage.ru_maxrss;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+TEST_CASE("memory plan: a roomy budget keeps the wanted batch, untiled, every thread") {
+    const auto n = needs(128, 128, 100, false, 4, 512 * kMiB);
+    const sim::MemoryPlan p = sim::planMemory(n);
+    CHECK(p.batch_views == 8);
+    CHECK(p.band_rows == 128);
+    CHECK(p.threads == 4);
+    CHECK(p.fuse_bytes == sim::planBytes(n, 8, 128, 4));
+    CHECK(p.fuse_bytes <= n.budget_bytes);
+}
+
+TEST_CASE("memory plan: fewer views per batch, then row bands, then fewer threads, always within the budget") {
+    // 512 x 512 views with RANSAC: ~34 MiB a view untiled, 512 threads wanted.
+    auto n = needs(512, 512, 2048, false, 512, 0);
+    n.batch_views = 1024;
+    for (const std::uint64_t mib : {4096u, 512u, 128u, 40u, 36u}) {
+        n.budget_bytes = mib * kMiB;
+        const sim::MemoryPlan p = sim::planMemory(n);
+        CAPTURE(mib);
+        CHECK(p.fuse_bytes <= n.budget_bytes);
+        CHECK(p.batch_views >= 1);
+        CHECK(p.band_rows >= 1);
+        CHECK(p.threads >= 1);
+        if (mib == 4096) CHECK(p.batch_views > 8);
+        if (mib == 128) {
+            CHECK(p.batch_views < 8);
+            CHECK(p.band_rows == 512);
+        }
+        if (mib <= 40) {
+            CHECK(p.batch_views == 1);
+            CHECK((p.band_rows < 512 || p.threads < 512));
+        }
+    }
+    // --threads 1024 against a small budget: clamped, not refused.
+    auto t = needs(64, 64, 10, true, 1024, 12 * kMiB);
+    const sim::MemoryPlan p = sim::planMemory(t);
+    CHECK(p.threads < 1024);
+    CHECK(p.threads >= 1);
+    CHECK(p.fuse_bytes <= t.budget_bytes);
+}
+
+TEST_CASE("memory plan: a run that cannot fit is refused in one line naming --memory-mb") {
+    // 65536 x 65536 with RANSAC: one view's hits alone are hundreds of GiB.
+    const auto huge = needs(65536, 65536, 1, false, 2, 512 * kMiB);
+    CHECK_THROWS_WITH_AS(sim::planMemory(huge), doctest::Contains("generate: --memory-mb 512 is too small"),
+                         engine::Error);
+    try {
+        sim::planMemory(huge);
+    } catch (const engine::Error& e) {
+        const std::string m = e.what();
+        CHECK(m.find('\n') == std::string::npos);
+        CHECK(m.find("needs at least 3604") != std::string::npos);  // ~352 GiB
+        CHECK(m.find("--white") != std::string::npos);
+    }
+    // White, the same view is traced in bands and fits.
+    const sim::MemoryPlan white = sim::planMemory(needs(65536, 65536, 1, true, 2, 512 * kMiB));
+    CHECK(white.band_rows < 65536);
+    CHECK(white.band_rows > 10);
+    CHECK(white.fuse_bytes <= 512 * kMiB);
+    // Even white, 1 MiB cannot hold the writer's buffer.
+    CHECK_THROWS_WITH_AS(sim::planMemory(needs(64, 64, 1, true, 1, kMiB)), doctest::Contains("--memory-mb 1 is too small"),
+                         engine::Error);
+}
+
+TEST_CASE("generator: tiled views give the same cloud bit for bit, white and whitened") {
+    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    for (const bool white : {true, false}) {
+        sim::GenerateOptions o;
+        o.orbit.xres = 256;
+        o.orbit.yres = 192;
+        o.orbit.views = 3;
+        o.threads = 2;
+        o.white = white;
+        sim::GenerateStats roomy, tight;
+        const engine::PointCloud a = sim::generateCloud(scene, o, &roomy);
+        o.memory_budget_bytes = (white ? 10 : 14) * kMiB;
+        const engine::PointCloud b = sim::generateCloud(scene, o, &tight);
+        CAPTURE(white);
+        CHECK(roomy.tile_rows == 192);
+        CHECK(tight.tile_rows < 192);
+        CHECK(tight.tile_rows > 1);
+        CHECK(tight.batch_views == 1);
+        CHECK(tight.memory_planned_bytes <= o.memory_budget_bytes);
+        REQUIRE(a.points.size() > 10000);
+        CHECK(identical(a, b));
+        CHECK(tight.points == roomy.points);
+        CHECK(tight.misses == roomy.misses);
+        CHECK(tight.ground_found == roomy.ground_found);
+    }
+}
+
+TEST_CASE("generator: a tiled, spooled file is byte-identical to the roomy in-memory one") {
+    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    test_support::TempDir dir("memory_plan");
+    sim::GenerateOptions o;
+    o.orbit.xres = 256;
+    o.orbit.yres = 192;
+    o.orbit.views = 3;
+    o.threads = 2;
+    sim::GenerateStats roomy, tight;
+    sim::generateToFile(scene, o, dir.path / "roomy.pcd", engine::CloudFormat::PcdBinary, &roomy);
+    o.memory_budget_bytes = 14 * kMiB;
+    sim::generateToFile(scene, o, dir.path / "tight.pcd", engine::CloudFormat::PcdBinary, &tight);
+    CHECK_FALSE(roomy.streamed);
+    CHECK(tight.streamed);
+    CHECK(tight.tile_rows < 192);
+    CHECK(test_support::slurp(dir.path / "roomy.pcd") == test_support::slurp(dir.path / "tight.pcd"));
+    CHECK(dir.entries() == 2);  // no spool or temporary file left
+}
+
+TEST_CASE("generator: a budget too small is refused before any work, naming --memory-mb") {
+    const engine::Scene scene = test_support::townScene(40.0, 2.0);
+    test_support::TempDir dir("memory_refuse");
+    sim::GenerateOptions o;
+    o.orbit.xres = o.orbit.yres = 512;
+    o.skip_rays = false;  // every pixel may hit: one view's RANSAC needs ~23 MB
+    o.memory_budget_bytes = 20 * kMiB;
+    CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, dir.path / "x.pcd", engine::CloudFormat::PcdBinary),
+                         doctest::Contains("--memory-mb 20 is too small"), engine::Error);
+    CHECK(dir.entries() == 0);
+}
+
+TEST_CASE("free space: a spool larger than the disk's free space stops with one line") {
+    test_support::TempDir dir("free_space");
+    CHECK_NOTHROW(sim::checkFreeSpace(dir.path, 1, "the spool file"));
+    CHECK_THROWS_WITH_AS(sim::checkFreeSpace(dir.path, std::uint64_t(1) << 62, "the spool file"),
+                         doctest::Contains("MiB free, but the spool file may need 4398046511104 MiB"),
+                         engine::Error);
+    CHECK_THROWS_WITH_AS(sim::checkFreeSpace(dir.path / "missing", 1, "the spool file"),
+                         doctest::Contains("cannot read the free space"), engine::Error);
+}
+
+TEST_CASE("a spooled run on a nearly full disk stops before spooling, with one line and no file left") {
+    if (::geteuid() != 0) {
+        MESSAGE("skipped: mounting a small tmpfs needs root");
+        return;
+    }
+    test_support::TempDir dir("disk_full");
+    if (::mount("tmpfs", dir.path.c_str(), "tmpfs", 0, "size=1m") != 0) {
+        MESSAGE("skipped: cannot mount a tmpfs here (" << std::strerror(errno) << ")");
+        return;
+    }
+    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    sim::GenerateOptions o;
+    o.orbit.xres = 256;
+    o.orbit.yres = 192;
+    o.orbit.views = 3;
+    o.threads = 2;
+    o.memory_budget_bytes = 14 * kMiB;  // spools ~3.5 MB, more than the 1 MiB free
+    CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, dir.path / "c.pcd", engine::CloudFormat::PcdBinary),
+                         doctest::Contains("MiB free, but the spool file of the fused cloud may need 4 MiB"),
+                         engine::Error);
+    CHECK(dir.entries() == 0);
+    CHECK(::umount(dir.path.c_str()) == 0);
+}
+
+TEST_CASE("peak RSS of `ladarvr generate` stays within --memory-mb (child processes)") {
+#if defined(__SANITIZE_ADDRESS__)
+    MESSAGE("skipped: AddressSanitizer's shadow memory and quarantine are not the program's");
+    return;
+#endif
+    test_support::TempDir dir("rss");
+    const auto generate = [&](const std::string& size, int views, const std::string& mib, long& rss_kib) {
+        return runChild({LADARVR_CLI, "generate", "--out", (dir.path / "c.pcd").string(), "--xres", size, "--yres",
+                         size, "--views", std::to_string(views), "--threads", "2", "--memory-mb", mib},
+                        rss_kib);
+    };
+    long base = 0, roomy = 0, tight = 0;
+    // The process without the generator's buffers: libraries, scene, BVH.
+    REQUIRE(generate("16", 1, "4096", base) == 0);
+    REQUIRE(generate("1024", 4, "4096", roomy) == 0);
+    REQUIRE(generate("1024", 4, "128", tight) == 0);
+    MESSAGE("peak RSS: base " << base / 1024 << " MiB, roomy " << roomy / 1024 << " MiB, --memory-mb 128 "
+                              << tight / 1024 << " MiB");
+    CHECK(tight - base <= 128 * 1024);
+    CHECK(roomy - base > 128 * 1024);  // without the budget the same run would exceed it
+}
