@@ -15,6 +15,7 @@
 
 #include <engine/error.hpp>
 #include <engine/progress.hpp>
+#include <engine/safe_file.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -40,19 +41,17 @@ constexpr std::size_t kBatchRays = 1u << 19;    // rays per batch of views (memo
 constexpr std::size_t kColourChunk = 1u << 20;  // points per colour/write chunk
 constexpr float kMissRange = -1.0f;             // range_m of a pixel slot with no hit
 
-// The fused cloud on disk: raw CloudPoint records, removed when destroyed.
+// The fused cloud on disk: raw CloudPoint records in an anonymous file in the output's
+// folder (engine::openScratchFile), so nothing of it outlives the process. `path_` (the
+// output) names it in messages.
 class Spool {
 public:
     explicit Spool(std::filesystem::path path) : path_(std::move(path)) {
-        file_ = std::fopen(path_.c_str(), "w+b");
-        if (!file_)
-            throw engine::Error("output: " + path_.string() + ": cannot create spool file: " +
-                                std::strerror(errno));
+        const std::filesystem::path dir = path_.parent_path();
+        file_ = engine::openScratchFile(dir.empty() ? "." : dir, path_.string());
     }
     ~Spool() {
         if (file_) std::fclose(file_);
-        std::error_code ec;
-        std::filesystem::remove(path_, ec);
     }
     Spool(const Spool&) = delete;
     Spool& operator=(const Spool&) = delete;
@@ -536,7 +535,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     GenerateStats st;
     const int threads = resolveThreads(s.options.threads);
     initStats(s.options, s.scene, s.centre_world, s.caster->triangleCount(), s.bvh_seconds, threads, st);
-    // Opens "<out>.tmp-<pid>" now: a bad destination fails before any ray is cast, and a
+    // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
     engine::CloudWriter writer(out, format, s.scene.origin);
     ThreadPool pool(threads);
@@ -558,7 +557,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
         writer.commit();
         st.seconds.write = secondsSince(tc);
     } else {
-        Spool spool(out.string() + ".spool-" + std::to_string(::getpid()));
+        Spool spool(out);
         s.fuseViews([&](std::span<const engine::CloudPoint> pts) { spool.append(pts); }, pool, st);
         spool.rewind();
         std::vector<engine::CloudPoint> chunk(kColourChunk);
