@@ -49,18 +49,20 @@ extern "C" void onStopSignal(int sig) {
     std::raise(sig);  // delivered with the default action when the handler returns
 }
 
+// Checked at every registration (three cheap system calls), so a process that reset a
+// signal to its default since, e.g. a forked child, gets the handler again.
 void installHandlers() noexcept {
     for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
         struct sigaction old {};
         if (::sigaction(sig, nullptr, &old) != 0) continue;
-        if (old.sa_handler != SIG_DFL) continue;  // ignored (nohup) or someone else's: keep it
+        if ((old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL) continue;  // ignored (nohup),
+                                                                              // ours or someone else's
         struct sigaction sa {};
         sa.sa_handler = onStopSignal;
         sigemptyset(&sa.sa_mask);
         for (int other : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&sa.sa_mask, other);
         ::sigaction(sig, &sa, nullptr);
     }
-    std::atexit([] { removeTemporariesNow(); });
 }
 
 }  // namespace
@@ -73,8 +75,9 @@ void removeTemporariesNow() noexcept {
 namespace detail {
 
 int registerTemporary(int dirfd, const char* name, bool is_dir) noexcept {
-    static const bool installed = (installHandlers(), true);
-    (void)installed;
+    static const bool at_exit = std::atexit([] { removeTemporariesNow(); }) == 0;
+    (void)at_exit;
+    installHandlers();
     if (std::strlen(name) >= sizeof(Slot::name)) return -1;
     for (std::size_t i = 0; i < kSlots; ++i) {
         Slot& s = g_slots[i];

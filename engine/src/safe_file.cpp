@@ -14,7 +14,6 @@
 #include <cstdio>
 #include <cstring>
 #include <mutex>
-#include <set>
 #include <system_error>
 
 #include <dirent.h>
@@ -244,17 +243,6 @@ void checkNotAnInput(const fs::path& path) {
 void removeStaleTemporaries(const fs::path& dir) {
     const int dirfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dirfd < 0) return;
-    struct stat dst {};
-    ::fstat(dirfd, &dst);
-    static std::mutex mutex;
-    static std::set<std::pair<dev_t, ino_t>> done;  // each folder once per process
-    {
-        std::lock_guard lock(mutex);
-        if (!done.insert({dst.st_dev, dst.st_ino}).second) {
-            ::close(dirfd);
-            return;
-        }
-    }
     std::vector<std::string> stale;
     if (DIR* d = ::fdopendir(::dup(dirfd))) {
         while (const dirent* e = ::readdir(d)) {

@@ -128,10 +128,11 @@ public:
                 break;
             case json::parse_event_t::key: {
                 const std::string& key = parsed.get_ref<const std::string&>();
+                Frame& top = stack_->back();
+                top.key.clear();  // where() names the object, not its previous key
                 if (key.find('\0') != std::string::npos)
                     throw Error(name_ + ": " + where() + "a key holds a NUL character (\\u0000): '" +
                                 detail::shown(key, 40, true) + "'; allowed: keys without NUL");
-                Frame& top = stack_->back();
                 if (!top.keys.insert(key).second)
                     throw Error(name_ + ": " + where() + "duplicate key '" + detail::shown(key, 40, true) +
                                 "'; allowed: each key once per object");
