@@ -144,7 +144,7 @@ void registerView(CLI::App& cli) {
     cmd->add_flag("--no-edl", args->no_edl, "turn eye-dome lighting off");
     cmd->add_option("--frames", args->frames, "stop after N frames (with OpenXR: submitted frames); 0 = until closed")
         ->capture_default_str();
-    cmd->add_option("--timeout", args->timeout_s, "give up after this many seconds, exit 1 (0 = never)")
+    cmd->add_option("--timeout", args->timeout_s, "give up this many seconds after the start (start-up included), exit 1 (0 = never)")
         ->capture_default_str();
     cmd->add_option("--script", args->script, "key presses at frames: lines '<frame> space|escape'");
     cmd->add_option("--screenshot", args->screenshot, "write the mirror as PNG at the last frame");
