@@ -82,13 +82,10 @@ void run(MetricCli& cli) {
         throw engine::Error("metric: --scene and --p1/--p2/--p3 exclude each other");
     metric::validate(o);
 
-    // Fail on the destination before the (long) generation.
+    // Fail on the destination before the (long) generation; the folder itself is made
+    // (or replaced as a whole) by writeReport.
     const std::filesystem::path out = cli.out;
-    std::error_code ec;
-    std::filesystem::create_directories(out, ec);
-    if (ec || !std::filesystem::is_directory(out))
-        throw engine::Error("output: " + out.string() + ": cannot create the directory");
-    engine::checkWritableDestination(out / "summary.json");
+    metric::checkReportFolder(out);
 
     metric::MetricClouds clouds;
     std::optional<engine::Scene> scene;

@@ -6,11 +6,16 @@
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
+#include <engine/cleanup.hpp>
 #include <engine/error.hpp>
+#include <engine/safe_file.hpp>
 #include <engine/scene.hpp>
 #include <sim/generator.hpp>
 #include <viewer/viewer.hpp>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -35,7 +40,20 @@ struct ViewArgs {
     sim::OrbitOptions orbit;   // only for the generated cloud
 };
 
+// The frame loop stops at the --timeout deadline by itself and then has up to 3 s to end
+// the OpenXR session and write the log; the watchdog ends whatever still runs after that
+// (a scene that loads for minutes, a runtime that never answers during start-up).
+constexpr double kTimeoutGraceS = 5.0;
+
 int runView(const ViewArgs& a) {
+    const auto start = std::chrono::steady_clock::now();
+    std::unique_ptr<engine::Watchdog> watchdog;
+    if (std::isfinite(a.timeout_s) && a.timeout_s > 0.0) {
+        char message[128];
+        std::snprintf(message, sizeof message, "view: --timeout %g s reached (the run did not end %g s after it)",
+                      a.timeout_s, kTimeoutGraceS);
+        watchdog = std::make_unique<engine::Watchdog>(a.timeout_s + kTimeoutGraceS, message);
+    }
     if (!a.cloud.empty() && !a.scene.empty())
         throw engine::Error("view: give a cloud file or --scene, not both");
     const sim::OrbitOptions paper;
@@ -61,6 +79,8 @@ int runView(const ViewArgs& a) {
     o.screenshot = a.screenshot;
     o.log_json = a.log_json;
     viewer::validate(o);
+    // The cloud first: remembered as an input, so neither output may replace it.
+    if (!a.cloud.empty()) engine::checkInputFile(a.cloud, "view: cloud '" + engine::printable(a.cloud, 400) + "'");
     if (!o.screenshot.empty()) engine::checkWritableDestination(o.screenshot);
     if (!o.log_json.empty()) engine::checkWritableDestination(o.log_json);
 
@@ -69,8 +89,6 @@ int runView(const ViewArgs& a) {
     std::thread generator;
     if (!a.cloud.empty()) {
         const std::filesystem::path path(a.cloud);
-        if (!std::filesystem::is_regular_file(path))
-            throw engine::Error("view: cloud '" + a.cloud + "': no such file");
         feed.startFileLoader(path);
     } else {
         // Load (and validate) the scene now, so a bad scene fails before a window opens.
@@ -92,6 +110,10 @@ int runView(const ViewArgs& a) {
             }
         });
     }
+    // --timeout counts from the start of the command: the loop gets what start-up left.
+    if (o.timeout_s > 0.0)
+        o.timeout_s = std::max(0.001, o.timeout_s - std::chrono::duration<double>(
+                                                       std::chrono::steady_clock::now() - start).count());
     int status = 1;
     try {
         status = viewer::runViewer(o, feed);
@@ -122,7 +144,7 @@ void registerView(CLI::App& cli) {
     cmd->add_flag("--no-edl", args->no_edl, "turn eye-dome lighting off");
     cmd->add_option("--frames", args->frames, "stop after N frames (with OpenXR: submitted frames); 0 = until closed")
         ->capture_default_str();
-    cmd->add_option("--timeout", args->timeout_s, "give up after this many seconds, exit 1 (0 = never)")
+    cmd->add_option("--timeout", args->timeout_s, "give up this many seconds after the start (start-up included), exit 1 (0 = never)")
         ->capture_default_str();
     cmd->add_option("--script", args->script, "key presses at frames: lines '<frame> space|escape'");
     cmd->add_option("--screenshot", args->screenshot, "write the mirror as PNG at the last frame");

@@ -4,6 +4,7 @@
 #include <engine/atomic_file.hpp>
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
+#include <engine/safe_file.hpp>
 
 #include "text.hpp"
 
@@ -142,23 +143,15 @@ CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dv
     checkWritableDestination(path_);
     if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z))
         throw Error("output: " + path_.string() + ": the cloud origin is not finite");
-    tmp_path_ = tempSibling(path_);
-    file_ = std::fopen(tmp_path_.c_str(), "wb");
-    if (!file_)
-        throw Error("output: " + path_.string() + ": cannot create '" + tmp_path_.string() +
-                    "': " + std::strerror(errno));
+    temp_ = std::make_unique<TempFile>(path_);
+    file_ = temp_->file();
     const std::string header = makeHeader(format_, origin, fields_, count_offset_);
     buffer_.reserve(kFlushBytes + 4096);
     buffer_ = header;
 }
 
-CloudWriter::~CloudWriter() {
-    if (file_) {
-        std::fclose(file_);
-        file_ = nullptr;
-        std::remove(tmp_path_.c_str());
-    }
-}
+// The TempFile removes the temporary when destroyed uncommitted.
+CloudWriter::~CloudWriter() = default;
 
 void CloudWriter::append(std::span<const CloudPoint> points) {
     if (!file_) throw Error("output: " + path_.string() + ": append after commit");
@@ -253,9 +246,8 @@ void CloudWriter::commit() {
     if (!file_) throw Error("output: " + path_.string() + ": commit called twice");
     auto fail = [&](const std::string& what) {
         const std::string reason = std::strerror(errno);
-        std::fclose(file_);
         file_ = nullptr;
-        std::remove(tmp_path_.c_str());
+        temp_->discard();
         throw Error("output: " + path_.string() + ": " + what + ": " + reason);
     };
     if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
@@ -273,20 +265,8 @@ void CloudWriter::commit() {
             std::fwrite(count.data(), 1, count.size(), file_) != count.size())
             fail("cannot write the point count");
     }
-    if (std::fflush(file_) != 0) fail("write failed");
-    const int rc = std::fclose(file_);
     file_ = nullptr;
-    if (rc != 0) {
-        const std::string reason = std::strerror(errno);
-        std::remove(tmp_path_.c_str());
-        throw Error("output: " + path_.string() + ": write failed: " + reason);
-    }
-    if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0) {
-        const std::string reason = std::strerror(errno);
-        std::remove(tmp_path_.c_str());
-        throw Error("output: " + path_.string() + ": cannot rename the temporary file into place: " +
-                    reason);
-    }
+    temp_->commit();  // flush, close, rename over path_ (or remove the temporary and throw)
 }
 
 void writeCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format) {

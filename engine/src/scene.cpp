@@ -2,6 +2,7 @@
 // Every problem with a scene becomes one Error line naming the scene file, the mesh
 // entry and what is allowed (see docs/scene.md for the list).
 #include <engine/error.hpp>
+#include <engine/safe_file.hpp>
 #include <engine/scene.hpp>
 
 #include "text.hpp"
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <system_error>
 
@@ -105,6 +107,78 @@ namespace {
 
 using nlohmann::json;
 
+// The parser callback that makes JSON stricter than nlohmann is: a key repeated in one
+// object (nlohmann keeps the last silently) and a NUL character in a key or string (it
+// would cut file names short at the C library) are refused, naming where they are, e.g.
+// "meshes[0].file". Throws Error; nlohmann lets the exception through.
+class StrictKeys {
+public:
+    explicit StrictKeys(std::string scene_name) : name_(std::move(scene_name)) {}
+
+    bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+        switch (event) {
+            case json::parse_event_t::object_start:
+            case json::parse_event_t::array_start:
+                countElement();
+                stack_->push_back({event == json::parse_event_t::array_start, 0, {}, {}});
+                break;
+            case json::parse_event_t::object_end:
+            case json::parse_event_t::array_end:
+                if (!stack_->empty()) stack_->pop_back();
+                break;
+            case json::parse_event_t::key: {
+                const std::string& key = parsed.get_ref<const std::string&>();
+                Frame& top = stack_->back();
+                top.key.clear();  // where() names the object, not its previous key
+                if (key.find('\0') != std::string::npos)
+                    throw Error(name_ + ": " + where() + "a key holds a NUL character (\\u0000): '" +
+                                detail::shown(key, 40, true) + "'; allowed: keys without NUL");
+                if (!top.keys.insert(key).second)
+                    throw Error(name_ + ": " + where() + "duplicate key '" + detail::shown(key, 40, true) +
+                                "'; allowed: each key once per object");
+                top.key = key;
+                break;
+            }
+            case json::parse_event_t::value:
+                countElement();
+                if (parsed.is_string() && parsed.get_ref<const std::string&>().find('\0') != std::string::npos) {
+                    throw Error(name_ + ": " + where() + "the string '" +
+                                detail::shown(parsed.get_ref<const std::string&>(), 60, true) +
+                                "' holds a NUL character (\\u0000); allowed: text without NUL");
+                }
+                break;
+        }
+        return true;
+    }
+
+private:
+    struct Frame {
+        bool array = false;
+        std::size_t index = 0;      // elements seen so far (arrays)
+        std::string key;            // the current key (objects)
+        std::set<std::string> keys;
+    };
+    // An array's element starts: count it, so where() names it.
+    void countElement() {
+        if (!stack_->empty() && stack_->back().array) ++stack_->back().index;
+    }
+    // "meshes[0].file: " for the value being parsed, "" at the top level.
+    std::string where() const {
+        std::string w;
+        for (const Frame& f : *stack_) {
+            if (f.array) {
+                if (f.index > 0) w += "[" + std::to_string(f.index - 1) + "]";
+            } else if (!f.key.empty()) {
+                w += (w.empty() ? "" : ".") + detail::shown(f.key, 40, true);
+            }
+        }
+        return w.empty() ? w : w + ": ";
+    }
+    std::string name_;
+    // Shared: nlohmann copies the callback.
+    std::shared_ptr<std::vector<Frame>> stack_ = std::make_shared<std::vector<Frame>>();
+};
+
 // One mesh file as read (file coordinates, before the entry's transform).
 struct RawMesh {
     std::vector<glm::dvec3> vertices;
@@ -163,9 +237,12 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
     const auto file_it = j.find("file");
     if (file_it == j.end())
         throw Error(where + ": 'file' is missing; it names a mesh file relative to the scene file");
-    if (!file_it->is_string() || file_it->get<std::string>().empty())
+    if (!file_it->is_string())
         throw Error(where + ": 'file' must be a non-empty string (a mesh file relative to the "
                     "scene file), not " + jsonTypeName(*file_it));
+    if (file_it->get<std::string>().empty())
+        throw Error(where + ": 'file' is an empty string; allowed: a mesh file name relative to "
+                    "the scene file");
     e.file = file_it->get<std::string>();
     where += " ('" + detail::shown(e.file, 120, true) + "')";
 
@@ -212,11 +289,9 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
                    bool skip_nonfinite) {
     namespace fs = std::filesystem;
     const std::string shown_path = detail::shown(path.string(), 400, true);
-    std::error_code ec;
-    if (!fs::exists(path, ec))
-        throw Error(where + ": mesh file '" + shown_path + "' does not exist");
-    if (!fs::is_regular_file(path, ec))
-        throw Error(where + ": mesh file '" + shown_path + "' is not a regular file");
+    // A regular file (not a FIFO Assimp would block on, nor a device), remembered as an
+    // input so that no output of this run replaces it.
+    checkInputFile(path, where + ": mesh file '" + shown_path + "'");
     {
         std::ifstream probe(path, std::ios::binary);
         if (!probe)
@@ -308,15 +383,9 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
 
 Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& options) {
     namespace fs = std::filesystem;
-    const std::string name = "scene: " + file.string();
-    std::error_code ec;
-    if (!fs::exists(file, ec)) throw Error(name + ": the scene file does not exist");
-    if (!fs::is_regular_file(file, ec)) throw Error(name + ": is not a regular file");
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(name + ": the scene file cannot be read");
-    std::stringstream text;
-    text << in.rdbuf();
-    return loadSceneJson(text.str(), file, options);
+    const std::string name = "scene: " + detail::shown(file.string(), 400, true);
+    const std::string text = readTextFile(file, kMaxSceneBytes, name + ": the scene file");
+    return loadSceneJson(text, file, options);
 }
 
 Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& file,
@@ -325,7 +394,7 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
     const std::string name = "scene: " + file.string();
     json root;
     try {
-        root = json::parse(json_text);
+        root = json::parse(json_text, StrictKeys(name));
     } catch (const json::parse_error& e) {
         std::string what = e.what();
         // "[json.exception.parse_error.101] parse error at line 3, column 5: ..." -> keep the tail.

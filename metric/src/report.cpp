@@ -1,7 +1,7 @@
-// metric/src/report.cpp: views.csv, summary.json and the I1..I4 PNGs, written atomically.
+// metric/src/report.cpp: views.csv, summary.json and the I1..I4 PNGs, written as one set.
 #include <metric/report.hpp>
 
-#include <engine/atomic_file.hpp>
+#include <engine/safe_file.hpp>
 #include <engine/error.hpp>
 #include <engine/png.hpp>
 
@@ -9,7 +9,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <system_error>
+#include <string_view>
+#include <utility>
 
 namespace metric {
 namespace {
@@ -76,28 +77,39 @@ std::string summaryJson(const MetricResult& r) {
     return j.dump(2) + "\n";
 }
 
+bool isReportFile(const std::string& name) {
+    if (name == "views.csv" || name == "summary.json") return true;
+    // view_<K>_i<1..4>.png
+    constexpr std::string_view kHead = "view_", kTail = ".png";
+    if (name.size() < kHead.size() + 1 + 3 + kTail.size() || name.compare(0, kHead.size(), kHead) != 0 ||
+        name.compare(name.size() - kTail.size(), kTail.size(), kTail) != 0)
+        return false;
+    const std::string middle = name.substr(kHead.size(), name.size() - kHead.size() - kTail.size());
+    const std::size_t digits = middle.find_first_not_of("0123456789");
+    return digits > 0 && digits != std::string::npos && middle.size() == digits + 3 &&
+           middle.compare(digits, 2, "_i") == 0 && middle[digits + 2] >= '1' && middle[digits + 2] <= '4';
+}
+
+void checkReportFolder(const std::filesystem::path& dir) { engine::checkOutputFolder(dir, isReportFile); }
+
 std::vector<std::filesystem::path> writeReport(const MetricResult& r, const std::filesystem::path& dir) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir))
-        throw engine::Error("output: " + dir.string() + ": cannot create the directory" +
-                            (ec ? " (" + ec.message() + ")" : std::string()));
-    std::vector<std::filesystem::path> written;
-    auto write = [&](const std::string& name, const std::string& content) {
-        const auto path = dir / name;
-        engine::writeFileAtomic(path, content);
-        written.push_back(path);
-    };
-    write("views.csv", viewsCsv(r));
+    // The whole set is made in memory, written into a temporary folder and swapped in: a
+    // reader of `dir` sees the previous run's complete set or this one's, never a mix
+    // (and a failed run, e.g. a full disk, leaves the previous set untouched).
+    std::vector<std::pair<std::string, std::string>> files;
+    files.emplace_back("views.csv", viewsCsv(r));
     if (r.pictures) {
         const MetricPictures& p = *r.pictures;
         const std::string stem = "view_" + std::to_string(p.view) + "_";
-        write(stem + "i1.png", engine::encodePng(p.i1, p.width, p.height, 1, engine::PngRows::BottomUp));
-        write(stem + "i2.png", engine::encodePng(p.i2, p.width, p.height, 1, engine::PngRows::BottomUp));
-        write(stem + "i3.png", engine::encodePng(p.i3, p.width, p.height, 1, engine::PngRows::BottomUp));
-        write(stem + "i4.png", engine::encodePng(p.i4, p.width, p.height, 1, engine::PngRows::BottomUp));
+        files.emplace_back(stem + "i1.png", engine::encodePng(p.i1, p.width, p.height, 1, engine::PngRows::BottomUp));
+        files.emplace_back(stem + "i2.png", engine::encodePng(p.i2, p.width, p.height, 1, engine::PngRows::BottomUp));
+        files.emplace_back(stem + "i3.png", engine::encodePng(p.i3, p.width, p.height, 1, engine::PngRows::BottomUp));
+        files.emplace_back(stem + "i4.png", engine::encodePng(p.i4, p.width, p.height, 1, engine::PngRows::BottomUp));
     }
-    write("summary.json", summaryJson(r));  // last: its presence means the run completed
+    files.emplace_back("summary.json", summaryJson(r));
+    engine::writeFolderAtomic(dir, files, isReportFile);
+    std::vector<std::filesystem::path> written;
+    for (const auto& f : files) written.push_back(dir / f.first);
     return written;
 }
 

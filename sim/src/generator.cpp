@@ -21,6 +21,7 @@
 
 #include <engine/error.hpp>
 #include <engine/progress.hpp>
+#include <engine/safe_file.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -50,19 +51,17 @@ std::string mebibytes(std::uint64_t bytes) {
     return std::to_string((bytes + (1u << 20) - 1) >> 20);
 }
 
-// The fused cloud on disk: raw CloudPoint records, removed when destroyed.
+// The fused cloud on disk: raw CloudPoint records in an anonymous file in the output's
+// folder (engine::openScratchFile), so nothing of it outlives the process. `path_` (the
+// output) names it in messages.
 class Spool {
 public:
     explicit Spool(std::filesystem::path path) : path_(std::move(path)) {
-        file_ = std::fopen(path_.c_str(), "w+b");
-        if (!file_)
-            throw engine::Error("output: " + path_.string() + ": cannot create spool file: " +
-                                std::strerror(errno));
+        const std::filesystem::path dir = path_.parent_path();
+        file_ = engine::openScratchFile(dir.empty() ? "." : dir, path_.string());
     }
     ~Spool() {
         if (file_) std::fclose(file_);
-        std::error_code ec;
-        std::filesystem::remove(path_, ec);
     }
     Spool(const Spool&) = delete;
     Spool& operator=(const Spool&) = delete;
@@ -603,7 +602,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     const auto t0 = Clock::now();
     GenerateStats st;
     initStats(s, st);
-    // Opens "<out>.tmp-<pid>" now: a bad destination fails before any ray is cast, and a
+    // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
     engine::CloudWriter writer(out, format, s.scene.origin);
     Workers pool(s.plan.threads);
@@ -626,7 +625,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
         st.seconds.write = secondsSince(tc);
     } else {
         checkFreeSpace(out.parent_path(), fused_bytes, "the spool file of the fused cloud");
-        Spool spool(out.string() + ".spool-" + std::to_string(::getpid()));
+        Spool spool(out);
         s.fuseViews([&](std::span<const engine::CloudPoint> pts) { spool.append(pts); }, pool, st);
         spool.rewind();
         std::vector<engine::CloudPoint> chunk(s.plan.colour_chunk);

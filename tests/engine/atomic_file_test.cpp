@@ -2,6 +2,7 @@
 #include <test_files.hpp>
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
+#include <engine/safe_file.hpp>
 
 #include <doctest/doctest.h>
 
@@ -20,9 +21,15 @@ using test_support::slurp;
 
 }  // namespace
 
-TEST_CASE("atomic_file: tempSibling appends .tmp-<pid>") {
-    CHECK(engine::tempSibling("out/cloud.pcd").string() ==
-          "out/cloud.pcd.tmp-" + std::to_string(::getpid()));
+TEST_CASE("atomic_file: the temporary is a hidden .ladarvr-tmp-<pid>-XXXXXX beside the destination") {
+    TempDir dir("tempname");
+    engine::TempFile t(dir.path / "cloud.pcd");
+    const std::string name = t.path().filename().string();
+    const std::string head = ".ladarvr-tmp-" + std::to_string(::getpid()) + "-";
+    CHECK(t.path().parent_path() == dir.path);
+    REQUIRE(name.size() == head.size() + 6);
+    CHECK(name.compare(0, head.size(), head) == 0);
+    CHECK(fs::exists(t.path()));
 }
 
 TEST_CASE("atomic_file: writeFileAtomic writes, replaces, and leaves no temporary") {

@@ -218,7 +218,7 @@ TEST_CASE("scene: bad scene files give one clear line naming the file and the re
         CHECK(contains(m, "no_such_mesh.obj' does not exist"));
     }
     SUBCASE("unreadable mesh: a directory") {
-        CHECK(contains(loadError(kBad / "mesh_is_directory.json"), "is not a regular file"));
+        CHECK(contains(loadError(kBad / "mesh_is_directory.json"), "is a directory; allowed: a regular file"));
     }
     SUBCASE("unreadable mesh: no read permission") {
         if (::geteuid() == 0) {

@@ -41,7 +41,8 @@ TEST_CASE("bad script lines name the file and the line and what is allowed") {
     CHECK_THROWS_WITH_AS(readScript(extra), doctest::Contains("unexpected 'now'"), engine::Error);
     const auto negative = writeTemp("n.txt", "-3 space\n");
     CHECK_THROWS_AS(readScript(negative), engine::Error);
-    CHECK_THROWS_WITH_AS(readScript("/nonexistent/script.txt"), doctest::Contains("cannot open"), engine::Error);
+    CHECK_THROWS_WITH_AS(readScript("/nonexistent/script.txt"), doctest::Contains("/nonexistent/script.txt: does not exist"),
+                         engine::Error);
     for (const auto& p : {bad_frame, bad_key, extra, negative}) std::filesystem::remove(p);
 }
 

@@ -2,9 +2,9 @@
 #include <viewer/viewer.hpp>
 
 #include <engine/error.hpp>
+#include <engine/safe_file.hpp>
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 namespace viewer {
@@ -35,9 +35,10 @@ const char* colourModeName(ColourMode mode) {
 }
 
 std::vector<ScriptEvent> readScript(const std::filesystem::path& file) {
-    std::ifstream in(file);
-    if (!in) throw engine::Error("view: --script " + file.string() + ": cannot open the file");
+    const std::string name = "view: --script " + engine::printable(file.string(), 400);
+    const std::string text = engine::readTextFile(file, kMaxScriptBytes, name + ":");
     std::vector<ScriptEvent> events;
+    std::istringstream in(text);
     std::string line;
     for (int number = 1; std::getline(in, line); ++number) {
         if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
@@ -45,22 +46,24 @@ std::vector<ScriptEvent> readScript(const std::filesystem::path& file) {
         std::string frame_text, key, extra;
         if (!(ls >> frame_text)) continue;
         auto bad = [&](const std::string& what) {
-            return engine::Error("view: --script " + file.string() + " line " + std::to_string(number) +
-                                 ": " + what + "; allowed '<frame> space|escape'");
+            return engine::Error(name + " line " + std::to_string(number) + ": " + what +
+                                 "; allowed '<frame> space|escape'");
         };
+        // Tokens are quoted escaped and short: a binary file must not reach the terminal.
+        auto quoted = [](const std::string& token) { return "'" + engine::printable(token, 40) + "'"; };
         ScriptEvent ev;
         try {
             std::size_t used = 0;
             ev.frame = std::stol(frame_text, &used);
             if (used != frame_text.size() || ev.frame < 0) throw std::invalid_argument("frame");
         } catch (const std::exception&) {
-            throw bad("frame '" + frame_text + "' is not a whole number >= 0");
+            throw bad("frame " + quoted(frame_text) + " is not a whole number >= 0");
         }
         if (!(ls >> key)) throw bad("missing key");
         if (key == "space") ev.key = ScriptEvent::Key::Space;
         else if (key == "escape") ev.key = ScriptEvent::Key::Escape;
-        else throw bad("key '" + key + "' is not one of space, escape");
-        if (ls >> extra) throw bad("unexpected '" + extra + "'");
+        else throw bad("key " + quoted(key) + " is not one of space, escape");
+        if (ls >> extra) throw bad("unexpected " + quoted(extra));
         events.push_back(ev);
     }
     return events;

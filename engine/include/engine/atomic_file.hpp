@@ -5,15 +5,16 @@
 
 namespace engine {
 
-/// Writes `content` to "<path>.tmp-<pid>" then renames it to `path`. On failure the
-/// temporary file is removed and Error("output: <path>: <reason>") is thrown; an
-/// existing file under `path` is left untouched.
+/// Writes `content` to a fresh temporary in the same folder (engine::TempFile:
+/// O_EXCL|O_NOFOLLOW, random name) then renames it to `path`. On failure the temporary
+/// is removed and Error("output: <path>: <reason>") is thrown; an existing file under
+/// `path` is left untouched.
 void writeFileAtomic(const std::filesystem::path& path, std::string_view content);
 
-/// A temporary sibling of `path`: "<path>.tmp-<pid>".
-std::filesystem::path tempSibling(const std::filesystem::path& path);
-
-/// Throws Error("output: <path>: directory '<dir>' does not exist") etc. before work starts.
+/// Checks a destination before work starts. Throws Error("output: <path>: ...") when the
+/// name is empty, its folder is missing, not a directory or not writable, or the name
+/// exists and is not a regular file (a directory, a symbolic link, a device node, a FIFO
+/// or a socket: never replaced) or is an input of this run (engine/safe_file.hpp).
 void checkWritableDestination(const std::filesystem::path& path);
 
 }  // namespace engine

@@ -10,11 +10,14 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
 
 namespace engine {
+
+class TempFile;
 
 enum class CloudFormat { PcdBinary, PcdAscii, PlyBinary, PlyAscii };
 
@@ -25,12 +28,14 @@ CloudFormat parseCloudFormat(std::string_view name, std::string_view parameter);
 CloudFormat formatForPath(const std::filesystem::path& path);
 
 /// Writes a cloud of unknown final size in a stream: points are appended in chunks,
-/// nothing is held in memory. The data go to "<path>.tmp-<pid>" and commit() renames
-/// it to `path`; destroying the writer without commit() removes the temporary file, so
-/// a failed run never leaves a truncated file under the final name.
+/// nothing is held in memory. The data go to an engine::TempFile in the same folder
+/// (engine/safe_file.hpp) and commit() renames it to `path`; destroying the writer
+/// without commit() removes the temporary file, so a failed run never leaves a truncated
+/// file under the final name.
 class CloudWriter {
 public:
-    /// Throws Error("output: <path>: ...") if the directory is missing or not writable.
+    /// Throws Error("output: <path>: ...") if the directory is missing or not writable, or
+    /// `path` exists and is not a regular file, or is an input of this run.
     CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin,
                 CloudFields fields = {});
     ~CloudWriter();
@@ -43,10 +48,11 @@ public:
     std::size_t count() const { return count_; }
 
 private:
-    std::filesystem::path path_, tmp_path_;
+    std::filesystem::path path_;
     CloudFormat format_;
     CloudFields fields_;
-    std::FILE* file_ = nullptr;
+    std::unique_ptr<TempFile> temp_;
+    std::FILE* file_ = nullptr;  // temp_'s stream while writing
     long count_offset_[2] = {-1, -1};
     std::size_t count_ = 0;
     std::string buffer_;

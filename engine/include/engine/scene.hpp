@@ -18,6 +18,7 @@
 #pragma once
 #include <engine/frames.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -76,10 +77,15 @@ struct SceneLoadOptions {
     bool skip_nonfinite = false;
 };
 
+/// The largest scene file read: scenes list meshes, they are kilobytes; this refuses a
+/// runaway file (or /dev/zero behind a link) before it fills the memory.
+inline constexpr std::size_t kMaxSceneBytes = std::size_t(16) << 20;
+
 /// Loads and validates a scene file. Throws Error("scene: <file>: ...") naming the file
 /// (scene or mesh) and the reason for: unreadable JSON, unknown key, wrong type, missing
 /// or unreadable mesh, NaN vertices, unknown role, no target, non-finite transform,
-/// non-positive scale, no mesh left by options.roles. Zero-area triangles are dropped and
+/// non-positive scale, no mesh left by options.roles, a duplicate key or a NUL character
+/// in the JSON, a scene file that is not a regular file or is over kMaxSceneBytes. Zero-area triangles are dropped and
 /// counted in skipped_triangles.
 Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& options = {});
 

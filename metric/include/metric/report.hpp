@@ -18,9 +18,18 @@ std::string viewsCsv(const MetricResult& result);
 /// visible_mean, exact_mean (null when absent), seconds, and the options used.
 std::string summaryJson(const MetricResult& result);
 
+/// Whether `name` is one of the files writeReport writes (views.csv, summary.json,
+/// view_<K>_i<1..4>.png).
+bool isReportFile(const std::string& name);
+/// Checks before the work that `dir` can take a report: absent, or a folder holding only
+/// report files (it is replaced as a whole). Throws engine::Error("output: <dir>: ...").
+void checkReportFolder(const std::filesystem::path& dir);
+
 /// Writes DIR/views.csv, DIR/summary.json and, if result.pictures is set,
-/// DIR/view_<K>_i1.png .. _i4.png, each atomically. Returns the paths written.
-/// Throws engine::Error("output: ...") if `dir` cannot be created or written.
+/// DIR/view_<K>_i1.png .. _i4.png as one set: into a temporary folder beside DIR that
+/// then replaces DIR atomically (engine::writeFolderAtomic), so DIR never holds a mix of
+/// two runs and a failure leaves the previous set whole. Returns the paths written.
+/// Throws engine::Error("output: ...") as checkReportFolder, or if writing fails.
 std::vector<std::filesystem::path> writeReport(const MetricResult& result, const std::filesystem::path& dir);
 
 }  // namespace metric

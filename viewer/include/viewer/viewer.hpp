@@ -41,8 +41,12 @@ struct ScriptEvent {
     long frame = 0;
     enum class Key { Space, Escape } key = Key::Space;
 };
+/// The largest script read (a line per key press: a megabyte is tens of thousands).
+inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
 /// Parses a script file: one "<frame> space|escape" per line, '#' comments, blank lines.
-/// Throws engine::Error("view: --script <file> line N: ...") on a bad line.
+/// Throws engine::Error("view: --script <file> line N: ...") on a bad line, and
+/// "view: --script <file>: is a directory; ..." for anything but a regular file of at
+/// most kMaxScriptBytes (engine::readTextFile). Bytes of the file are shown escaped.
 std::vector<ScriptEvent> readScript(const std::filesystem::path& file);
 
 struct ViewerOptions {

@@ -1,0 +1,305 @@
+// tests/safety/safe_file_test.cpp: outputs never replace what is not ours, temporaries
+// cannot be hijacked and never outlive the run, inputs are regular files of bounded size.
+// Special files are made in a scratch folder (mknod only as root), never in /dev.
+#include <test_files.hpp>
+#include <engine/atomic_file.hpp>
+#include <engine/cleanup.hpp>
+#include <engine/error.hpp>
+#include <engine/safe_file.hpp>
+
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <thread>
+
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using test_support::slurp;
+using test_support::TempDir;
+
+namespace {
+
+std::string errorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const engine::Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// Names in `dir` that look like our temporaries.
+int temporariesIn(const fs::path& dir) {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().filename().string().rfind(".ladarvr-tmp-", 0) == 0) ++n;
+    return n;
+}
+
+// Runs `child` in a forked process; returns its wait status.
+int inChild(const std::function<void()>& child) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        child();
+        ::_exit(0);
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return status;
+}
+
+// A pid that is certainly not alive: a child that has exited and been reaped.
+pid_t deadPid() {
+    const pid_t pid = ::fork();
+    if (pid == 0) ::_exit(0);
+    ::waitpid(pid, nullptr, 0);
+    return pid;
+}
+
+}  // namespace
+
+TEST_CASE("an existing destination that is not a regular file is refused and left as it is") {
+    TempDir dir("special");
+    SUBCASE("a FIFO (never opened: the call returns at once)") {
+        const fs::path fifo = dir.path / "fifo";
+        REQUIRE(::mkfifo(fifo.c_str(), 0666) == 0);
+        CHECK(contains(errorOf([&] { engine::writeFileAtomic(fifo, "data"); }),
+                       "is a FIFO (named pipe); refusing to replace it"));
+        CHECK(fs::is_fifo(fifo));
+    }
+    SUBCASE("a character device (mknod, as root)") {
+        const fs::path node = dir.path / "null";
+        if (::mknod(node.c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0) {
+            MESSAGE("mknod needs root: character-device case skipped");
+            return;
+        }
+        CHECK(contains(errorOf([&] { engine::writeFileAtomic(node, "data"); }),
+                       "is a character device; refusing to replace it"));
+        CHECK(fs::is_character_file(node));
+    }
+    SUBCASE("a symbolic link, to a file or dangling") {
+        const fs::path victim = dir.write("victim", "keep");
+        fs::create_symlink(victim, dir.path / "link");
+        fs::create_symlink(dir.path / "nowhere", dir.path / "dangling");
+        CHECK(contains(errorOf([&] { engine::writeFileAtomic(dir.path / "link", "data"); }),
+                       "is a symbolic link; refusing to replace it"));
+        CHECK(contains(errorOf([&] { engine::writeFileAtomic(dir.path / "dangling", "data"); }),
+                       "is a symbolic link"));
+        CHECK(slurp(victim) == "keep");
+        CHECK(fs::is_symlink(dir.path / "link"));
+        CHECK_FALSE(fs::exists(dir.path / "nowhere"));
+    }
+    CHECK(temporariesIn(dir.path) == 0);
+}
+
+TEST_CASE("a destination that turns into a FIFO after the check is still not replaced") {
+    TempDir dir("race");
+    const fs::path out = dir.path / "out.txt";
+    engine::TempFile tmp(out);
+    std::fputs("data", tmp.file());
+    REQUIRE(::mkfifo(out.c_str(), 0666) == 0);  // appears while the data are written
+    CHECK(contains(errorOf([&] { tmp.commit(); }), "is a FIFO (named pipe); refusing to replace it"));
+    CHECK(fs::is_fifo(out));
+    CHECK(temporariesIn(dir.path) == 0);
+}
+
+TEST_CASE("temporaries have random names and never follow a planted symbolic link") {
+    TempDir dir("planted");
+    const fs::path victim = dir.write("victim", "unrelated");
+    const fs::path out = dir.path / "out.pcd";
+    // The names an attacker could predict before: <out>.tmp-<pid> and <out>.spool-<pid>.
+    fs::create_symlink(victim, out.string() + ".tmp-" + std::to_string(::getpid()));
+    fs::create_symlink(victim, out.string() + ".spool-" + std::to_string(::getpid()));
+    engine::TempFile a(out), b(out);
+    CHECK(a.path() != b.path());
+    CHECK(fs::is_regular_file(fs::symlink_status(a.path())));
+    std::fputs("new", a.file());
+    a.commit();
+    CHECK(slurp(out) == "new");
+    CHECK(slurp(victim) == "unrelated");
+    b.discard();
+    CHECK(temporariesIn(dir.path) == 0);
+}
+
+TEST_CASE("the scratch file is anonymous: nothing of it is in the folder, even while open") {
+    TempDir dir("scratch");
+    std::FILE* f = engine::openScratchFile(dir.path, "out.pcd");
+    REQUIRE(f != nullptr);
+    CHECK(dir.entries() == 0);
+    const std::string data(100000, 'x');
+    REQUIRE(std::fwrite(data.data(), 1, data.size(), f) == data.size());
+    std::rewind(f);
+    std::string back(data.size(), '\0');
+    CHECK(std::fread(back.data(), 1, back.size(), f) == back.size());
+    CHECK(back == data);
+    std::fclose(f);
+    CHECK(dir.entries() == 0);
+}
+
+TEST_CASE("an output that is an input of the run is refused, through links too") {
+    TempDir dir("input");
+    const fs::path scene = dir.write("scene.json", "{}");
+    CHECK(engine::readTextFile(scene, 1000, "scene") == "{}");
+    fs::create_hard_link(scene, dir.path / "hard");
+    fs::create_directories(dir.path / "real");
+    fs::create_symlink(dir.path, dir.path / "real" / "up");
+    for (const fs::path& out : {scene, dir.path / "hard", dir.path / "real" / "up" / "scene.json"}) {
+        CAPTURE(out);
+        CHECK(contains(errorOf([&] { engine::writeFileAtomic(out, "cloud"); }), "is the input file"));
+    }
+    CHECK(slurp(scene) == "{}");
+    CHECK_NOTHROW(engine::writeFileAtomic(dir.path / "other.json", "fine"));
+}
+
+TEST_CASE("text inputs: regular files only, size capped, messages say what the name is") {
+    TempDir dir("text");
+    const std::string what = "test: the file";
+    CHECK(contains(errorOf([&] { engine::readTextFile("/dev/zero", 1024, what); }),
+                   "test: the file is a character device; allowed: a regular file of at most 1 KiB"));
+    CHECK(contains(errorOf([&] { engine::readTextFile(dir.path, 1024, what); }), "is a directory"));
+    const fs::path fifo = dir.path / "fifo";
+    REQUIRE(::mkfifo(fifo.c_str(), 0666) == 0);
+    CHECK(contains(errorOf([&] { engine::readTextFile(fifo, 1024, what); }), "is a FIFO (named pipe)"));
+    fs::create_symlink("loop", dir.path / "loop");
+    CHECK(contains(errorOf([&] { engine::readTextFile(dir.path / "loop", 1024, what); }),
+                   "is a symbolic link loop"));
+    fs::create_symlink("gone", dir.path / "dangling");
+    CHECK(contains(errorOf([&] { engine::readTextFile(dir.path / "dangling", 1024, what); }),
+                   "is a dangling symbolic link (to 'gone'"));
+    CHECK(contains(errorOf([&] { engine::readTextFile(dir.path / "none", 1024, what); }), "does not exist"));
+    const fs::path exact = dir.write("exact", std::string(1024, 'a'));
+    CHECK(engine::readTextFile(exact, 1024, what).size() == 1024);
+    const fs::path big = dir.write("big", std::string(1025, 'a'));
+    CHECK(contains(errorOf([&] { engine::readTextFile(big, 1024, what); }), "is 1025 bytes; allowed"));
+    // A sparse file claiming 4 GiB is refused from its size, without reading it.
+    const fs::path sparse = dir.path / "sparse";
+    { std::ofstream(sparse) << ""; }
+    fs::resize_file(sparse, std::uintmax_t(4) << 30);
+    CHECK(contains(errorOf([&] { engine::readTextFile(sparse, 1 << 20, what); }), "bytes; allowed"));
+    CHECK(engine::printable(std::string("a\x01\xff\x1b[31m", 8)) == "a\\x01\\xff\\x1b[31m");
+}
+
+TEST_CASE("the next run removes temporaries of dead processes, and only those") {
+    TempDir dir("stale");
+    const std::string dead = std::to_string(deadPid());
+    const fs::path stale_file = dir.write(".ladarvr-tmp-" + dead + "-AbC123", "partial cloud");
+    fs::create_directories(dir.path / (".ladarvr-tmp-" + dead + "-Dir456") / "inside");
+    const fs::path alive = dir.write(".ladarvr-tmp-1-XyZ789", "init's, alive");  // pid 1 lives
+    const fs::path lookalike = dir.write(".ladarvr-tmp-" + dead + "-toolong7", "not our pattern");
+    const fs::path user = dir.write("cloud.pcd", "a user's file");
+    engine::writeFileAtomic(dir.path / "new.txt", "x");
+    CHECK_FALSE(fs::exists(stale_file));
+    CHECK_FALSE(fs::exists(dir.path / (".ladarvr-tmp-" + dead + "-Dir456")));
+    CHECK(fs::exists(alive));
+    CHECK(fs::exists(lookalike));
+    CHECK(slurp(user) == "a user's file");
+}
+
+TEST_CASE("SIGTERM, SIGINT and SIGHUP remove the temporaries and end the process by the signal") {
+    TempDir dir("signal");
+    for (int sig : {SIGTERM, SIGINT, SIGHUP}) {
+        CAPTURE(sig);
+        const int status = inChild([&] {
+            // As in the CLI: default dispositions (the test runner catches signals itself).
+            for (int s : {SIGTERM, SIGINT, SIGHUP}) std::signal(s, SIG_DFL);
+            engine::TempFile a(dir.path / "a.pcd"), b(dir.path / "b.json");
+            std::FILE* spool = engine::openScratchFile(dir.path, "a.pcd");
+            std::fputs("partial", a.file());
+            std::fflush(a.file());
+            (void)spool;
+            ::kill(::getpid(), sig);
+            ::sleep(5);  // the handler ends the process before this returns
+            ::_exit(3);
+        });
+        REQUIRE(WIFSIGNALED(status));
+        CHECK(WTERMSIG(status) == sig);  // the shell reports 128 + sig: 143, 130, 129
+        CHECK(dir.entries() == 0);
+    }
+}
+
+TEST_CASE("the watchdog ends a run stuck past its deadline, removing its temporaries") {
+    TempDir dir("watchdog");
+    const auto t0 = std::chrono::steady_clock::now();
+    const int status = inChild([&] {
+        engine::TempFile a(dir.path / "a.json");
+        engine::Watchdog w(0.3, "test: --timeout 0.3 s reached", 1);
+        ::sleep(10);  // stuck start-up
+        ::_exit(5);
+    });
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 1);
+    CHECK(s < 5.0);
+    CHECK(dir.entries() == 0);
+    // Cancelled by going out of scope in time.
+    { engine::Watchdog w(0.05, "never", 1); }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+}
+
+namespace {
+bool ours(const std::string& name) { return name == "a.txt" || name == "b.txt" || name == "c.txt"; }
+}  // namespace
+
+TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
+    TempDir dir("folder");
+    const fs::path out = dir.path / "report";
+    engine::writeFolderAtomic(out, {{"a.txt", "run1 a"}, {"b.txt", "run1 b"}, {"c.txt", "run1 c"}}, ours);
+    CHECK(slurp(out / "b.txt") == "run1 b");
+    SUBCASE("a smaller second set leaves no stale sibling") {
+        engine::writeFolderAtomic(out, {{"a.txt", "run2 a"}, {"c.txt", "run2 c"}}, ours);
+        CHECK(slurp(out / "a.txt") == "run2 a");
+        CHECK_FALSE(fs::exists(out / "b.txt"));
+        CHECK(slurp(out / "c.txt") == "run2 c");
+    }
+    SUBCASE("a failed write (file size limit) leaves the previous set whole") {
+        struct rlimit old {};
+        ::getrlimit(RLIMIT_FSIZE, &old);
+        const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+        struct rlimit small = old;
+        small.rlim_cur = 4096;
+        ::setrlimit(RLIMIT_FSIZE, &small);
+        const std::string m = errorOf([&] {
+            engine::writeFolderAtomic(out, {{"a.txt", "run2 a"}, {"b.txt", std::string(10000, 'b')},
+                                            {"c.txt", "run2 c"}}, ours);
+        });
+        ::setrlimit(RLIMIT_FSIZE, &old);
+        std::signal(SIGXFSZ, old_handler);
+        CHECK(contains(m, "b.txt: write failed"));
+        CHECK(slurp(out / "a.txt") == "run1 a");
+        CHECK(slurp(out / "b.txt") == "run1 b");
+        CHECK(slurp(out / "c.txt") == "run1 c");
+    }
+    SUBCASE("a folder holding a file we do not write is refused") {
+        std::ofstream(out / "thesis.tex") << "years of work";
+        CHECK(contains(errorOf([&] { engine::writeFolderAtomic(out, {{"a.txt", "x"}}, ours); }),
+                       "holds 'thesis.tex', which this command does not write"));
+        CHECK(contains(errorOf([&] { engine::checkOutputFolder(out, ours); }), "refusing to replace the folder"));
+        CHECK(slurp(out / "thesis.tex") == "years of work");
+        CHECK(slurp(out / "a.txt") == "run1 a");
+    }
+    SUBCASE("a link to a folder: the folder it points to is replaced, the link stays") {
+        fs::create_directory_symlink(out, dir.path / "link");
+        engine::writeFolderAtomic(dir.path / "link", {{"a.txt", "via link"}}, ours);
+        CHECK(fs::is_symlink(dir.path / "link"));
+        CHECK(slurp(out / "a.txt") == "via link");
+        CHECK_FALSE(fs::exists(out / "b.txt"));
+    }
+    SUBCASE("missing parent folders are made") {
+        engine::checkOutputFolder(dir.path / "x" / "y" / "report", ours);
+        engine::writeFolderAtomic(dir.path / "x" / "y" / "report", {{"a.txt", "deep"}}, ours);
+        CHECK(slurp(dir.path / "x" / "y" / "report" / "a.txt") == "deep");
+    }
+    CHECK(temporariesIn(dir.path) == 0);
+}
