@@ -1,6 +1,7 @@
 // app/src/cmd_metric.cpp: `ladarvr metric`: the visibility metric of paper §IV-B.
 // Parses and validates options (metric::validate names the option and the range), makes
 // or reads the three clouds, runs the evaluator, writes DIR/views.csv, summary.json, PNGs.
+#include "cli_common.hpp"
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
@@ -84,10 +85,7 @@ void run(MetricCli& cli) {
 
     // Fail on the destination before the (long) generation.
     const std::filesystem::path out = cli.out;
-    std::error_code ec;
-    std::filesystem::create_directories(out, ec);
-    if (ec || !std::filesystem::is_directory(out))
-        throw engine::Error("output: " + out.string() + ": cannot create the directory");
+    createParentFolders(out / "summary.json", "metric: --out");
     engine::checkWritableDestination(out / "summary.json");
 
     metric::MetricClouds clouds;

@@ -9,6 +9,7 @@ namespace app {
 void registerGenerate(CLI::App& cli);   // cmd_generate.cpp: `ladarvr generate`
 void registerMetric(CLI::App& cli);     // cmd_metric.cpp:   `ladarvr metric`
 void registerView(CLI::App& cli);       // cmd_view.cpp:     `ladarvr view`
+void registerScene(CLI::App& cli);      // cmd_scene.cpp:    `ladarvr scene info`
 
 // `ladarvr bench WHAT`: benchmark programs (not tests); each adds one sub-subcommand.
 void registerBenchGenerate(CLI::App& bench);  // bench_generate.cpp
