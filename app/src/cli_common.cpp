@@ -110,6 +110,9 @@ std::string describe(const CLI::ParseError& e) {
     }
     if (const std::size_t at = what.find(": At Most 1 required but received "); at != std::string::npos)
         return what.substr(0, at) + " is given " + what.substr(at + 34) + " times; allowed once";
+    if (const std::size_t at = what.find(": 1 required "); at != std::string::npos &&
+                                                            what.size() > 8 && what.ends_with(" missing"))
+        return what.substr(0, at) + ": the value is missing";
     if (startsWith(what, "Could not convert: ")) {
         std::string rest = what.substr(19);
         const std::size_t eq = rest.find(" = ");
