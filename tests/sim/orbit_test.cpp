@@ -109,8 +109,8 @@ TEST_CASE("impossible parameters: the error names the parameter and the allowed 
     bad([](auto& o) { o.views = 70000; }, "views", "[1, 65535]");
     bad([](auto& o) { o.altitude_m = 0.0; }, "altitude_m", "(0, 10000000]");
     // Drone positions are float ray origins: beyond 1e7 m they step by metres.
-    bad([](auto& o) { o.altitude_m = 1e12; }, "altitude_m = 1e+12", "(0, 10000000]");
-    bad([](auto& o) { o.overlap_m = -1e300; }, "overlap_m = -1e+300", "[-10000000, 10000000]");
+    bad([](auto& o) { o.altitude_m = 1e12; }, "(--altitude-m) = 1e+12", "(0, 10000000]");
+    bad([](auto& o) { o.overlap_m = -1e300; }, "(--overlap-m) = -1e+300", "[-10000000, 10000000]");
     bad([](auto& o) { o.altitude_m = 1e6; o.inclination_deg = 86.0; }, "drone radius", "<= 10000000");
     bad([](auto& o) { o.altitude_m = std::nan(""); }, "altitude_m", "finite");
     bad([](auto& o) { o.overlap_m = INFINITY; }, "overlap_m", "finite");
