@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -56,22 +57,29 @@ nlohmann::json toJson(const engine::SceneSummary& s, const std::filesystem::path
     return j;
 }
 
-std::string triple(const glm::dvec3& v, const char* format) {
-    char buffer[128];
-    std::snprintf(buffer, sizeof buffer, format, v.x, v.y, v.z);
-    return buffer;
+// x, y, z with `decimals` decimals joined by `separator`; values that round to zero print
+// as 0, never -0.
+std::string triple(const glm::dvec3& v, int decimals, const char* separator = " ") {
+    const double half_step = 0.5 * std::pow(10.0, -decimals);
+    std::string out;
+    for (int k = 0; k < 3; ++k) {
+        char buffer[64];
+        std::snprintf(buffer, sizeof buffer, "%.*f", decimals, std::abs(v[k]) < half_step ? 0.0 : v[k]);
+        out += (k ? separator : "") + std::string(buffer);
+    }
+    return out;
 }
 
 void printHuman(const engine::SceneSummary& s, const std::filesystem::path& path) {
     std::printf("scene %s: %zu meshes, %zu triangles, origin %s\n", path.string().c_str(), s.meshes.size(),
-                s.triangles, triple(s.origin, "%.3f %.3f %.3f").c_str());
+                s.triangles, triple(s.origin, 3).c_str());
     std::printf("  %-4s %-11s %9s  %-26s  %-30s  %s\n", "#", "role", "triangles", "size x y z (m)",
                 "position x y z (m)", "file");
     for (std::size_t i = 0; i < s.meshes.size(); ++i) {
         const engine::MeshSummary& m = s.meshes[i];
         std::printf("  %-4zu %-11s %9zu  %-26s  %-30s  %s\n", i, std::string(engine::roleName(m.role)).c_str(),
-                    m.triangles, triple(m.bounds.size(), "%.2f x %.2f x %.2f").c_str(),
-                    triple(m.position, "%.3f %.3f %.3f").c_str(), m.file.c_str());
+                    m.triangles, triple(m.bounds.size(), 2, " x ").c_str(),
+                    triple(m.position, 3).c_str(), m.file.c_str());
     }
     if (!s.target) {
         std::printf("target: none (generate needs one)\n");
@@ -79,8 +87,8 @@ void printHuman(const engine::SceneSummary& s, const std::filesystem::path& path
     }
     const engine::TargetSummary& t = *s.target;
     std::printf("target: size %s m, centre %s, bottom at z = %.3f\n",
-                triple(t.bounds.size(), "%.2f x %.2f x %.2f").c_str(),
-                triple(s.origin + t.bounds.centre(), "%.3f %.3f %.3f").c_str(), s.origin.z + t.bounds.lo.z);
+                triple(t.bounds.size(), 2, " x ").c_str(),
+                triple(s.origin + t.bounds.centre(), 3).c_str(), s.origin.z + t.bounds.lo.z);
     if (t.height_above_ground_m)
         std::printf("target: height above the ground under its centre %.3f m (ground at z = %.3f)\n",
                     *t.height_above_ground_m, s.origin.z + *t.ground_z);
