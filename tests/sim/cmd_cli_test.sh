@@ -121,6 +121,10 @@ one_error "generate: --out '.*/made/file/x.pcd': '.*/made/file' exists and is no
 [ -f "$dir/made/file" ] || fail "the file in the way was replaced"
 run 1 metric --out "$dir/made/file/metric" --views 1
 one_error "metric: --out '.*/made/file/metric/summary.json': '.*/made/file' exists and is not a folder"
+run 1 view --no-xr --screenshot "$dir/made/file/shot.png"
+one_error "view: --screenshot '.*/made/file/shot.png': '.*/made/file' exists and is not a folder"
+run 1 view --no-xr --log-json "$dir/made/file/log.json"
+one_error "view: --log-json '.*/made/file/log.json': '.*/made/file' exists and is not a folder"
 
 # scene info on the demo scene: the tank (7.0 x 3.5 x 2.5 m, its barrel 3.6 m beyond the
 # bow, yawed 20 deg: a 10.60 x 5.68 x 2.50 m box) standing on the 300 x 300 m ground.
