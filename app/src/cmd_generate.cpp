@@ -2,12 +2,14 @@
 // Parses and validates every option before any work (the error names the option and the
 // allowed range), loads the scene, runs sim::Generator streaming into the output file,
 // prints a human summary on stderr and, with --json, a JSON summary on stdout.
+#include "cli_common.hpp"
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
 #include <engine/scene.hpp>
+#include <engine/scene_info.hpp>
 #include <sim/generator.hpp>
 
 #include <nlohmann/json.hpp>
@@ -33,6 +35,7 @@ struct GenerateCli {
     std::string centre;
     bool json = false;
     bool skip_nonfinite = false;
+    bool no_skip_rays = false;
     double memory_mb = 512.0;
     sim::GenerateOptions options;
 };
@@ -103,22 +106,18 @@ void run(GenerateCli& cli) {
     if (!cli.roles.empty()) o.roles = engine::RoleMask::parse(cli.roles, "generate: --roles");
     if (!cli.centre.empty()) o.centre = parseCentre(cli.centre);
     if (!(std::isfinite(cli.memory_mb) && cli.memory_mb >= 1.0 && cli.memory_mb <= 1048576.0))
-        throw engine::Error("generate: --memory-mb = " + std::to_string(cli.memory_mb) +
+        throw engine::Error("generate: --memory-mb = " + engine::shownNumber(cli.memory_mb) +
                             ": allowed [1, 1048576]");
     o.memory_budget_bytes = std::size_t(cli.memory_mb * 1048576.0);
+    o.skip_rays = !cli.no_skip_rays;
     sim::validate(o);
     const fs::path scene_path = cli.scene.empty() ? engine::demoScenePath() : fs::path(cli.scene);
     std::optional<engine::CloudFormat> format;
     if (!cli.format.empty()) format = engine::parseCloudFormat(cli.format, "generate: --format");
-    fs::path out;
-    if (cli.out.empty()) {
-        out = defaultOutput(scene_path, format.value_or(engine::CloudFormat::PcdBinary));
-        std::error_code ec;
-        fs::create_directories(out.parent_path(), ec);  // only the default folder is created
-    } else {
-        out = cli.out;
-    }
+    const fs::path out =
+        cli.out.empty() ? defaultOutput(scene_path, format.value_or(engine::CloudFormat::PcdBinary)) : fs::path(cli.out);
     if (!format) format = engine::formatForPath(out);
+    createParentFolders(out, "generate: --out");
     engine::checkWritableDestination(out);
     o.progress = true;  // drawn only when stderr is a terminal
 
@@ -127,9 +126,11 @@ void run(GenerateCli& cli) {
     load_options.skip_nonfinite = cli.skip_nonfinite;
     const engine::Scene scene = engine::loadScene(scene_path, load_options);
     if (scene.skipped_triangles > 0 || scene.skipped_nonfinite_triangles > 0)
-        std::fprintf(stderr, "generate: warning: %s: skipped %zu zero-area and %zu non-finite (NaN/inf vertex) "
-                             "triangles\n",
-                     scene_path.string().c_str(), scene.skipped_triangles, scene.skipped_nonfinite_triangles);
+        warn("generate: " + scene_path.string() + ": skipped " + std::to_string(scene.skipped_triangles) +
+             " zero-area and " + std::to_string(scene.skipped_nonfinite_triangles) +
+             " non-finite (NaN/inf vertex) triangles");
+    for (const std::string& w : engine::targetWarnings(engine::summarize(scene)))
+        warn("generate: " + scene_path.string() + ": " + w + " (see 'ladarvr scene info')");
     const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     sim::GenerateStats st;
     {
@@ -137,6 +138,12 @@ void run(GenerateCli& cli) {
         generator.run(out, *format, &st);
     }
     const double seconds = load_s + st.seconds.total;
+    // Misses are expected when only some roles are cast; with all of them, most rays
+    // missing means the orbit looks past the scene.
+    if (o.roles.bits == engine::RoleMask::all().bits && st.rays > 0 && 2 * st.misses > st.rays)
+        warn("generate: " + std::to_string(st.misses) + " of " + std::to_string(st.rays) +
+             " rays missed the scene (more than half): is the orbit (--centre, --altitude-m) or the scene "
+             "misplaced? (see 'ladarvr scene info')");
 
     const sim::OrbitOptions& orbit = o.orbit;
     std::fprintf(stderr,
@@ -227,7 +234,7 @@ void registerGenerate(CLI::App& cli) {
     c->add_option("--format", state->format, "pcd (binary, default), pcd-ascii, ply (binary), ply-ascii; "
                                              "default from the --out extension");
     c->add_flag("--white", o.white, "write the uncoloured (white) cloud: no colour map, no RANSAC");
-    c->add_flag("--no-skip-rays{false}", o.skip_rays,
+    c->add_flag("--no-skip-rays", state->no_skip_rays,
                 "trace every pixel, also those whose rays cannot meet the ray-cast geometry's bounds "
                 "(same cloud, slower; for comparisons)");
     c->add_flag("--skip-nonfinite", state->skip_nonfinite,

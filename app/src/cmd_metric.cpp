@@ -1,6 +1,7 @@
 // app/src/cmd_metric.cpp: `ladarvr metric`: the visibility metric of paper §IV-B.
 // Parses and validates options (metric::validate names the option and the range), makes
 // or reads the three clouds, runs the evaluator, writes DIR/views.csv, summary.json, PNGs.
+#include "cli_common.hpp"
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
@@ -85,6 +86,7 @@ void run(MetricCli& cli) {
     // Fail on the destination before the (long) generation; the folder itself is made
     // (or replaced as a whole) by writeReport.
     const std::filesystem::path out = cli.out;
+    createParentFolders(out, "metric: --out");
     metric::checkReportFolder(out);
 
     metric::MetricClouds clouds;

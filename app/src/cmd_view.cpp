@@ -3,6 +3,7 @@
 // A cloud file is streamed by the viewer's own loader thread. With no file (or --scene) the
 // cloud is generated here, in memory, by sim::generateCloud on a worker thread and handed to
 // the viewer through viewer::CloudFeed: the app links sim, the viewer never links Embree.
+#include "cli_common.hpp"
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
@@ -81,8 +82,14 @@ int runView(const ViewArgs& a) {
     viewer::validate(o);
     // The cloud first: remembered as an input, so neither output may replace it.
     if (!a.cloud.empty()) engine::checkInputFile(a.cloud, "view: cloud '" + engine::printable(a.cloud, 400) + "'");
-    if (!o.screenshot.empty()) engine::checkWritableDestination(o.screenshot);
-    if (!o.log_json.empty()) engine::checkWritableDestination(o.log_json);
+    if (!o.screenshot.empty()) {
+        createParentFolders(o.screenshot, "view: --screenshot");
+        engine::checkWritableDestination(o.screenshot);
+    }
+    if (!o.log_json.empty()) {
+        createParentFolders(o.log_json, "view: --log-json");
+        engine::checkWritableDestination(o.log_json);
+    }
 
     viewer::CloudFeed feed;
     feed.enableLodOrder();   // LOD order of each chunk on the loader / generator thread (issue 5)

@@ -9,5 +9,6 @@ namespace app {
 void registerGenerate(CLI::App& cli);   // cmd_generate.cpp: `ladarvr generate`
 void registerMetric(CLI::App& cli);     // cmd_metric.cpp:   `ladarvr metric`
 void registerView(CLI::App& cli);       // cmd_view.cpp:     `ladarvr view`
+void registerScene(CLI::App& cli);      // cmd_scene.cpp:    `ladarvr scene info`
 
 }  // namespace app

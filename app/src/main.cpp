@@ -1,4 +1,7 @@
-// app/src/main.cpp: the `ladarvr` CLI. Catches every error, prints one line, exits 1.
+// app/src/main.cpp: the `ladarvr` CLI. Every error becomes one line on stderr and an exit
+// status from cli_common.hpp: 1 for a failed run, 2 for a command line that does not
+// parse, 70 for a bug.
+#include "cli_common.hpp"
 #include "commands.hpp"
 
 #include <bench/bench.hpp>
@@ -11,21 +14,28 @@
 int main(int argc, char** argv) {
     CLI::App cli{"ladarvr: simulate a drone Ladar, view its point cloud in VR, "
                  "measure how visible the target is (Berge et al., CEEC 2016)"};
+    cli.set_version_flag("--version", "ladarvr " LADARVR_VERSION, "print the version and exit");
     cli.require_subcommand(1);
     app::registerGenerate(cli);
     app::registerMetric(cli);
     app::registerView(cli);
+    app::registerScene(cli);
     bench::registerBench(cli);   // `ladarvr bench WHAT` (bench/)
+    app::applyConventions(cli);  // after every subcommand: the checks reach all options
     try {
         cli.parse(argc, argv);
+    } catch (const CLI::RuntimeError& e) {  // a subcommand's own exit status (view)
+        return e.get_exit_code();
     } catch (const CLI::ParseError& e) {
-        return cli.exit(e);
+        if (e.get_exit_code() == 0) return cli.exit(e);  // --help, --version
+        std::fprintf(stderr, "ladarvr: error: %s\n", app::usageError(cli, e, argc, argv).c_str());
+        return app::kExitUsage;
     } catch (const engine::Error& e) {
         std::fprintf(stderr, "ladarvr: error: %s\n", e.what());
-        return 1;
+        return app::kExitError;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "ladarvr: internal error: %s\n", e.what());
-        return 2;
+        return app::kExitInternal;
     }
-    return 0;
+    return app::kExitOk;
 }

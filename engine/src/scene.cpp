@@ -12,6 +12,7 @@
 #include <assimp/scene.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -26,12 +27,6 @@ namespace engine {
 namespace {
 
 constexpr const char* kRoleList = "ground, environment, target";
-
-std::string formatDouble(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
 
 std::string_view trim(std::string_view s) {
     while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -223,6 +218,10 @@ glm::dvec3 vec3Field(const json& v, const std::string& where, const std::string&
         if (!std::isfinite(out[i]))
             throw Error(where + ": '" + key + "' element " + std::to_string(i) +
                         " is not finite; allowed: finite numbers (metres)");
+        if (std::abs(out[i]) > kMaxWorldCoordinate_m)
+            throw Error(where + ": '" + key + "' element " + std::to_string(i) + " is " +
+                        shownNumber(out[i]) + "; allowed: [-" + shownNumber(kMaxWorldCoordinate_m) +
+                        ", " + shownNumber(kMaxWorldCoordinate_m) + "] (world metres)");
     }
     return out;
 }
@@ -263,7 +262,7 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
         } else if (key == "scale") {
             e.scale = finiteNumber(v, where, key, "a finite number > 0");
             if (!(e.scale > 0.0))
-                throw Error(where + ": 'scale' is " + formatDouble(e.scale) +
+                throw Error(where + ": 'scale' is " + shownNumber(e.scale) +
                             "; allowed: a finite number > 0");
         } else if (key == "up") {
             if (!v.is_string())
@@ -316,8 +315,8 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
                 any_nonfinite = true;
                 if (!skip_nonfinite)
                     throw Error(where + ": mesh file '" + shown_path + "': vertex " +
-                                std::to_string(index) + " is not finite (" + formatDouble(v.x) +
-                                ", " + formatDouble(v.y) + ", " + formatDouble(v.z) +
+                                std::to_string(index) + " is not finite (" + shownNumber(v.x) +
+                                ", " + shownNumber(v.y) + ", " + shownNumber(v.z) +
                                 "); allowed: finite coordinates");
             }
         }
@@ -469,17 +468,20 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
         Mesh mesh;
         mesh.name = e.file;
         mesh.role = e.role;
+        mesh.position = e.position;
         mesh.vertices.reserve(raw.vertices.size());
         for (std::size_t vi = 0; vi < raw.vertices.size(); ++vi) {
             const glm::dvec3& v = raw.vertices[vi];
             const glm::dvec3 p = e.scale * (e.up_y ? glm::dvec3(v.x, -v.z, v.y) : v);
             const glm::dvec3 local = shift + glm::dvec3(c * p.x - s * p.y, s * p.x + c * p.y, p.z);
-            const glm::vec3 f(local);
-            if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z))
-                throw Error(where + ": vertex " + std::to_string(vi) +
-                            " is not finite after the position/yaw/scale transform; allowed: "
-                            "coordinates within float range");
-            mesh.vertices.push_back(f);
+            // Local coordinates are floats: far out they step by metres (engine/frames.hpp).
+            const double reach_m = std::max({std::abs(local.x), std::abs(local.y), std::abs(local.z)});
+            if (!(reach_m <= kMaxLocalCoordinate_m))
+                throw Error(where + ": vertex " + std::to_string(vi) + " lies " + shownNumber(reach_m) +
+                            " m from the origin after the position/yaw/scale transform; allowed: within " +
+                            shownNumber(kMaxLocalCoordinate_m) + " m of the scene's origin (local "
+                            "coordinates are floats; give 'origin' near the meshes)");
+            mesh.vertices.push_back(glm::vec3(local));
         }
         mesh.triangles.reserve(raw.triangles.size());
         for (const glm::uvec3& t : raw.triangles) {

@@ -22,6 +22,7 @@
 #include <engine/error.hpp>
 #include <engine/progress.hpp>
 #include <engine/safe_file.hpp>
+#include <engine/scene_info.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -89,20 +90,6 @@ private:
     std::size_t count_ = 0;
 };
 
-// Is (x, y) inside triangle abc projected on the xy plane? Then its z there, via `z_out`.
-bool heightInTriangle(double x, double y, const glm::dvec3& a, const glm::dvec3& b,
-                      const glm::dvec3& c, double& z_out) {
-    const double d = (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
-    if (std::abs(d) < 1e-12) return false;  // vertical or degenerate in projection
-    const double l0 = ((b.y - c.y) * (x - c.x) + (c.x - b.x) * (y - c.y)) / d;
-    const double l1 = ((c.y - a.y) * (x - c.x) + (a.x - c.x) * (y - c.y)) / d;
-    const double l2 = 1.0 - l0 - l1;
-    constexpr double kEps = -1e-9;
-    if (l0 < kEps || l1 < kEps || l2 < kEps) return false;
-    z_out = l0 * a.z + l1 * b.z + l2 * c.z;
-    return true;
-}
-
 // Pixels of one view that are traced: columns [x0, x1] x rows [y0, y1] (inclusive).
 struct PixelRect {
     int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
@@ -159,9 +146,13 @@ void validate(const GenerateOptions& o) {
     if (o.threads < 0 || o.threads > 1024)
         throw engine::Error("generate: threads (--threads) = " + std::to_string(o.threads) +
                             ": allowed [0, 1024] (0 = all cores)");
-    if (o.centre && !(std::isfinite(o.centre->x) && std::isfinite(o.centre->y) &&
-                      std::isfinite(o.centre->z)))
-        throw engine::Error("generate: centre (--centre): allowed finite x,y,z");
+    if (o.centre && !(std::abs(o.centre->x) <= engine::kMaxWorldCoordinate_m &&
+                      std::abs(o.centre->y) <= engine::kMaxWorldCoordinate_m &&
+                      std::abs(o.centre->z) <= engine::kMaxWorldCoordinate_m))
+        throw engine::Error("generate: centre (--centre) = " + engine::shownNumber(o.centre->x) + "," +
+                            engine::shownNumber(o.centre->y) + "," + engine::shownNumber(o.centre->z) +
+                            ": allowed x,y,z in [-" + engine::shownNumber(engine::kMaxWorldCoordinate_m) +
+                            ", " + engine::shownNumber(engine::kMaxWorldCoordinate_m) + "] world metres");
     if (o.roles.bits == 0 || o.roles.bits > 0b111)
         throw engine::Error("generate: roles (--roles): allowed a non-empty subset of ground, environment, target");
     if (o.memory_budget_bytes == 0)
@@ -183,21 +174,8 @@ glm::dvec3 defaultCentre(const engine::Scene& scene) {
     if (all.empty())
         throw engine::Error("generate: scene '" + scene.source.string() + "' has no triangles");
     const glm::dvec3 xy = target.empty() ? all.centre() : target.centre();
-    double z = 0.0;
-    bool found = false;
-    for (const engine::Mesh& m : scene.meshes) {
-        if (m.role != engine::Role::Ground) continue;
-        for (const glm::uvec3& t : m.triangles) {
-            double zt;
-            if (heightInTriangle(xy.x, xy.y, glm::dvec3(m.vertices[t.x]), glm::dvec3(m.vertices[t.y]),
-                                 glm::dvec3(m.vertices[t.z]), zt) &&
-                (!found || zt > z)) {
-                z = zt;
-                found = true;
-            }
-        }
-    }
-    if (!found) z = ground.empty() ? all.lo.z : ground.lo.z;
+    const std::optional<double> ground_z = engine::groundHeightAt(scene, xy.x, xy.y);
+    const double z = ground_z ? *ground_z : ground.empty() ? all.lo.z : ground.lo.z;
     return scene.origin + glm::dvec3(xy.x, xy.y, z);
 }
 
@@ -477,6 +455,7 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     validate(s.options);
     s.centre_world = s.options.centre ? *s.options.centre : defaultCentre(scene);
     s.centre_local = s.centre_world - scene.origin;
+    validatePlacement(s.options.orbit, s.centre_local);
     const OrbitOptions& orbit = s.options.orbit;
     for (int v = 0; v < orbit.views; ++v) s.poses.push_back(sensorPose(orbit, s.centre_local, v));
     s.jet = jetTable(s.options.colour.entries);

@@ -7,7 +7,6 @@
 #include <cassert>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <string>
 
 namespace sim {
@@ -15,12 +14,7 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
-std::string num(double v) {
-    std::ostringstream s;
-    s.precision(10);
-    s << v;
-    return s.str();
-}
+std::string num(double v) { return engine::shownNumber(v); }
 
 [[noreturn]] void fail(const std::string& parameter, double value, const std::string& allowed) {
     throw engine::Error("orbit: " + parameter + " = " + num(value) + ": allowed " + allowed);
@@ -37,7 +31,13 @@ void validate(const OrbitOptions& o) {
     requireFinite("overlap_m (--overlap-m)", o.overlap_m);
     requireFinite("inclination_deg (alpha, --alpha-deg)", o.inclination_deg);
     requireFinite("fov_deg (--fov-deg)", o.fov_deg);
-    if (!(o.altitude_m > 0.0)) fail("altitude_m (--altitude-m)", o.altitude_m, "> 0");
+    // Drone positions are float ray origins in the local frame: keep them where floats
+    // still step by at most a metre (engine::kMaxLocalCoordinate_m).
+    const double far_m = engine::kMaxLocalCoordinate_m;
+    if (!(o.altitude_m > 0.0 && o.altitude_m <= far_m))
+        fail("altitude_m (--altitude-m)", o.altitude_m, "(0, " + num(far_m) + "]");
+    if (!(std::abs(o.overlap_m) <= far_m))
+        fail("overlap_m (--overlap-m)", o.overlap_m, "[-" + num(far_m) + ", " + num(far_m) + "]");
     if (!(o.fov_deg > 0.0 && o.fov_deg <= 170.0)) fail("fov_deg (--fov-deg)", o.fov_deg, "(0, 170]");
     if (!(o.inclination_deg >= 0.0 && o.inclination_deg < 90.0))
         fail("inclination_deg (alpha, --alpha-deg)", o.inclination_deg, "[0, 90)");
@@ -54,6 +54,22 @@ void validate(const OrbitOptions& o) {
         fail("overlap_m (--overlap-m)", o.overlap_m,
              "< tan(inclination + fov/2) * altitude = " + num(reach_m) +
              " (the drone radius, eq. (1), must be > 0)");
+    if (!(reach_m - o.overlap_m <= far_m))
+        throw engine::Error("orbit: drone radius tan(inclination + fov/2) * altitude - overlap "
+                            "(--alpha-deg, --fov-deg, --altitude-m, --overlap-m) = " +
+                            num(reach_m - o.overlap_m) + ": allowed <= " + num(far_m) +
+                            " m (drone positions are float ray origins)");
+}
+
+void validatePlacement(const OrbitOptions& o, const glm::dvec3& centre_local) {
+    validate(o);
+    const double radius_m = std::tan((o.inclination_deg + 0.5 * o.fov_deg) * kDegToRad) * o.altitude_m - o.overlap_m;
+    const double reach_m = std::max({std::abs(centre_local.x) + radius_m, std::abs(centre_local.y) + radius_m,
+                                     std::abs(centre_local.z + o.altitude_m)});
+    if (!(reach_m <= engine::kMaxLocalCoordinate_m))
+        throw engine::Error("orbit: the drone flies " + num(reach_m) + " m from the scene's origin around C " +
+                            "(--centre, --altitude-m, --overlap-m): allowed <= " +
+                            num(engine::kMaxLocalCoordinate_m) + " m (drone positions are float ray origins)");
 }
 
 double droneRadius(const OrbitOptions& o) {

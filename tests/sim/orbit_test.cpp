@@ -107,11 +107,30 @@ TEST_CASE("impossible parameters: the error names the parameter and the allowed 
     bad([](auto& o) { o.yres = -5; }, "yres", "[1, 65536]");
     bad([](auto& o) { o.views = 0; }, "views", "[1, 65535]");
     bad([](auto& o) { o.views = 70000; }, "views", "[1, 65535]");
-    bad([](auto& o) { o.altitude_m = 0.0; }, "altitude_m", "> 0");
+    bad([](auto& o) { o.altitude_m = 0.0; }, "altitude_m", "(0, 10000000]");
+    // Drone positions are float ray origins: beyond 1e7 m they step by metres.
+    bad([](auto& o) { o.altitude_m = 1e12; }, "(--altitude-m) = 1e+12", "(0, 10000000]");
+    bad([](auto& o) { o.overlap_m = -1e300; }, "(--overlap-m) = -1e+300", "[-10000000, 10000000]");
+    bad([](auto& o) { o.altitude_m = 1e6; o.inclination_deg = 86.0; }, "drone radius", "<= 10000000");
     bad([](auto& o) { o.altitude_m = std::nan(""); }, "altitude_m", "finite");
     bad([](auto& o) { o.overlap_m = INFINITY; }, "overlap_m", "finite");
     bad([](auto& o) { o.overlap_m = 400.0; }, "overlap_m", "drone radius");
     CHECK(errorOf(sim::OrbitOptions{}).empty());
+}
+
+TEST_CASE("validatePlacement: every drone position within 1e7 m of the local origin") {
+    sim::OrbitOptions o;  // radius 326.12 m, altitude 300 m
+    CHECK_NOTHROW(sim::validatePlacement(o, glm::dvec3(0.0)));
+    CHECK_NOTHROW(sim::validatePlacement(o, glm::dvec3(1e7 - 327.0, 0.0, 0.0)));
+    CHECK_NOTHROW(sim::validatePlacement(o, glm::dvec3(0.0, 0.0, 1e7 - 300.0)));
+    for (const glm::dvec3 c : {glm::dvec3(1e7 - 326.0, 0, 0), glm::dvec3(0, -1e7, 0), glm::dvec3(0, 0, 1e7 - 299.0)}) {
+        CAPTURE(c.x);
+        CAPTURE(c.z);
+        CHECK_THROWS_WITH_AS(sim::validatePlacement(o, c),
+                             doctest::Contains("m from the scene's origin around C (--centre, --altitude-m, --overlap-m): "
+                                               "allowed <= 10000000 m"),
+                             engine::Error);
+    }
 }
 
 TEST_CASE("derived geometry stays finite up to the grazing bound") {

@@ -77,9 +77,9 @@ void validate(const ViewerOptions& o) {
              ": allowed 64..16384 each");
     if (o.frames < 0) fail("--frames " + std::to_string(o.frames) + ": allowed >= 0 (0 = until closed)");
     if (!(std::isfinite(o.timeout_s) && o.timeout_s >= 0.0))
-        fail("--timeout " + std::to_string(o.timeout_s) + ": allowed a finite value >= 0");
+        fail("--timeout " + engine::shownNumber(o.timeout_s) + ": allowed a finite value >= 0");
     if (!(o.style.point_size_px >= 1.0f && o.style.point_size_px <= 64.0f))
-        fail("--point-size " + std::to_string(o.style.point_size_px) + ": allowed [1, 64]");
+        fail("--point-size " + engine::shownNumber(o.style.point_size_px) + ": allowed [1, 64]");
     if (o.style.jet_entries < 2 || o.style.jet_entries > 256)
         fail("jet entries " + std::to_string(o.style.jet_entries) + ": allowed [2, 256]");
     if (o.upload_points_per_frame < 1024)

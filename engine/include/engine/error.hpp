@@ -1,5 +1,6 @@
 // engine/error.hpp: the project's one error type for bad input or configuration.
 #pragma once
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -12,5 +13,13 @@ class Error : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
 };
+
+/// A number as messages show it: "%.10g", so 1e308 reads "1e+308" (not 309 digits),
+/// 0.2 reads "0.2" and limits such as 1048576 keep every digit.
+inline std::string shownNumber(double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.10g", v);
+    return buffer;
+}
 
 }  // namespace engine

@@ -14,6 +14,14 @@
 
 namespace engine {
 
+/// Largest |world coordinate| accepted (scene positions and origin, orbit centre): far
+/// past any Earth-centred (6.4e6 m) or projected (1e7 m) coordinate, and double still
+/// resolves steps under a micrometre there. Beyond it a run would silently lose the scene.
+inline constexpr double kMaxWorldCoordinate_m = 1e9;
+/// Largest |local coordinate| accepted (mesh vertices, drone positions): floats step by
+/// at most 1 m up to 1e7 m (2^23 < 1e7 < 2^24); farther out rays and points fall apart.
+inline constexpr double kMaxLocalCoordinate_m = 1e7;
+
 /// A rigid transform (rotation + translation) in double precision.
 struct Pose {
     glm::dmat3 rotation{1.0};

@@ -49,6 +49,7 @@ struct RoleMask {
 struct Mesh {
     std::string name;                        // the file name as written in the scene
     Role role = Role::Environment;
+    glm::dvec3 position{0.0};                // the entry's 'position', world metres
     std::vector<glm::vec3> vertices;         // local frame, metres
     std::vector<glm::uvec3> triangles;       // indices into vertices
 };

@@ -46,8 +46,10 @@ struct GenerateOptions {
     bool progress = false;          // engine::Progress bar over the views (tty only)
 };
 
-/// Validates every field (orbit, colour, ground, threads, centre finite). Throws
-/// engine::Error naming the parameter and the allowed range.
+/// Validates every field (orbit, colour, ground, threads, centre within
+/// engine::kMaxWorldCoordinate_m). Throws engine::Error naming the parameter and the
+/// allowed range. The Generator also checks, once C is known, that every drone position
+/// lies within engine::kMaxLocalCoordinate_m of the scene's origin (validatePlacement).
 void validate(const GenerateOptions& o);
 
 /// The default C, world coordinates: x, y = centre of the target meshes' bounds (of all

@@ -20,8 +20,13 @@ struct OrbitOptions {
 
 /// Validates every field; throws engine::Error("orbit: <parameter> = <value> ...: allowed ...")
 /// for alpha + fov/2 >= kMaxGrazingDeg, fov outside (0, 170], resolution or views < 1
-/// (or views > 65535), altitude <= 0, overlap non-finite, or any non-finite value.
+/// (or views > 65535), altitude outside (0, 1e7], |overlap| > 1e7, a drone radius over
+/// 1e7 m (engine::kMaxLocalCoordinate_m), or any non-finite value.
 void validate(const OrbitOptions& o);
+
+/// validate(o), then that every drone position around `centre_local` (C in the scene's
+/// local frame) lies within engine::kMaxLocalCoordinate_m of the local origin.
+void validatePlacement(const OrbitOptions& o, const glm::dvec3& centre_local);
 
 /// Largest accepted alpha + fov/2, degrees. Past it the drone radius exceeds ~11,000x the
 /// altitude and the footprint is meaningless; the bound is documented in docs/generator.md.

@@ -1,0 +1,44 @@
+// app/src/cli_common.hpp: conventions every subcommand shares: exit statuses, the checks
+// applied to every option's text, one-line usage errors, warnings, output folders.
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace app {
+
+/// Exit statuses of `ladarvr` (listed in --help's footer and README.md).
+enum ExitStatus : int {
+    kExitOk = 0,
+    kExitError = 1,     // the run failed: bad input file or value, environment, I/O
+    kExitUsage = 2,     // the command line does not parse (see usageError)
+    kExitInternal = 70  // a bug (sysexits' EX_SOFTWARE): an exception that is no engine::Error
+};
+
+/// The --help footer: the exit statuses above, in words.
+inline constexpr const char* kExitStatusHelp =
+    "Exit status: 0 success; 1 the run failed (bad input file or option value, environment, I/O); "
+    "2 usage error (unknown subcommand or option, repeated option, missing, empty or malformed value); "
+    "70 internal error (a bug).";
+
+/// For `app` and all its subcommands: adds to every option that takes a value a check
+/// that refuses an empty value and, for numeric options, text that is not such a number
+/// (CLI11 reads '' as 0), and sets the exit-status footer of --help. Call once, after
+/// every subcommand and option exists.
+void applyConventions(CLI::App& app);
+
+/// The one-line message for a parse error of `cli`: "<subcommand>: <what> (see 'ladarvr
+/// <subcommand> --help')", with unknown and missing subcommands named from argv.
+std::string usageError(const CLI::App& cli, const CLI::ParseError& e, int argc, char** argv);
+
+/// Prints "ladarvr: warning: <what>" on stderr.
+void warn(const std::string& what);
+
+/// Creates the folders above `file` that do not exist yet (mkdir -p). Throws
+/// engine::Error naming `option` when a component exists and is not a folder, or
+/// cannot be created.
+void createParentFolders(const std::filesystem::path& file, std::string_view option);
+
+}  // namespace app
