@@ -120,7 +120,7 @@ run 1 generate --out "$dir/made/file/x.pcd" $small
 one_error "generate: --out '.*/made/file/x.pcd': '.*/made/file' exists and is not a folder"
 [ -f "$dir/made/file" ] || fail "the file in the way was replaced"
 run 1 metric --out "$dir/made/file/metric" --views 1
-one_error "metric: --out '.*/made/file/metric/summary.json': '.*/made/file' exists and is not a folder"
+one_error "metric: --out '.*/made/file/metric': '.*/made/file' exists and is not a folder"
 run 1 view --no-xr --screenshot "$dir/made/file/shot.png"
 one_error "view: --screenshot '.*/made/file/shot.png': '.*/made/file' exists and is not a folder"
 run 1 view --no-xr --log-json "$dir/made/file/log.json"
