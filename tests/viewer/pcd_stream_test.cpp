@@ -1,5 +1,9 @@
-// tests/viewer/pcd_stream_test.cpp: the viewer's streaming PCD reader and its CloudFeed.
-#include "pcd_stream.hpp"
+// tests/viewer/pcd_stream_test.cpp: the viewer's file loader (CloudFeed::feedFile on
+// engine::CloudReader): chunks with every field, the same refusals with the same line
+// as engine::readCloud for every bad file of the shared table, non-finite points
+// dropped, and an empty or broken file ending the feed with an error and no points.
+#include <bad_clouds.hpp>
+#include <test_files.hpp>
 
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
@@ -8,17 +12,20 @@
 #include <doctest/doctest.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <thread>
-#include <unistd.h>
 
 using namespace viewer;
+namespace fs = std::filesystem;
+using test_support::TempDir;
 
 namespace {
-std::filesystem::path tempPath(const std::string& name) {
-    return std::filesystem::temp_directory_path() /
-           ("ladarvr-viewer-" + std::to_string(::getpid()) + "-" + name);
+
+void spit(const fs::path& p, const std::string& bytes) {
+    std::ofstream(p, std::ios::binary) << bytes;
 }
 
 engine::PointCloud sampleCloud(std::size_t n) {
@@ -46,83 +53,135 @@ std::vector<engine::CloudPoint> drain(CloudFeed& feed, std::vector<std::size_t>*
     return all;
 }
 
-void checkSame(const std::vector<engine::CloudPoint>& got, const engine::PointCloud& want) {
-    REQUIRE(got.size() == want.points.size());
+void checkSame(const std::vector<engine::CloudPoint>& got, const std::vector<engine::CloudPoint>& want) {
+    REQUIRE(got.size() == want.size());
     for (std::size_t i = 0; i < got.size(); ++i) {
-        CHECK(got[i].position == want.points[i].position);
-        CHECK(got[i].rgb == want.points[i].rgb);
-        CHECK(got[i].label == want.points[i].label);
-        CHECK(got[i].view == want.points[i].view);
-        CHECK(got[i].range_m == want.points[i].range_m);
+        CHECK(got[i].position == want[i].position);
+        CHECK(got[i].rgb == want[i].rgb);
+        CHECK(got[i].label == want[i].label);
+        CHECK(got[i].view == want[i].view);
+        CHECK(got[i].range_m == want[i].range_m);
     }
 }
+
+std::string engineError(const fs::path& p) {
+    try {
+        engine::readCloud(p);
+    } catch (const engine::Error& e) {
+        return e.what();
+    }
+    return "accepted";
+}
+
 }  // namespace
 
-TEST_CASE("a binary PCD streams in chunks with its origin and every field") {
+TEST_CASE("every format streams in chunks with its origin and every field") {
+    TempDir dir("viewer_stream");
     const auto cloud = sampleCloud(1000);
-    const auto path = tempPath("stream.pcd");
-    engine::writeCloud(path, cloud, engine::CloudFormat::PcdBinary);
-    CloudFeed feed;
-    REQUIRE(streamBinaryPcd(path, feed, 300));
-    std::vector<std::size_t> sizes;
-    const auto got = drain(feed, &sizes);
-    CHECK(sizes == std::vector<std::size_t>{300, 300, 300, 100});
-    CHECK(feed.origin() == cloud.origin);
-    CHECK(feed.pointsArrived() == 1000);
-    checkSame(got, cloud);
-    std::filesystem::remove(path);
-}
-
-TEST_CASE("other formats go through engine::readCloud on the loader thread") {
-    const auto cloud = sampleCloud(500);
-    for (auto format : {engine::CloudFormat::PcdAscii, engine::CloudFormat::PlyBinary}) {
-        const auto path = tempPath(format == engine::CloudFormat::PcdAscii ? "a.pcd" : "b.ply");
+    for (auto format : {engine::CloudFormat::PcdBinary, engine::CloudFormat::PcdAscii,
+                        engine::CloudFormat::PlyBinary, engine::CloudFormat::PlyAscii}) {
+        const bool ply = format == engine::CloudFormat::PlyBinary || format == engine::CloudFormat::PlyAscii;
+        const auto path = dir.path / ("s" + std::to_string(int(format)) + (ply ? ".ply" : ".pcd"));
         engine::writeCloud(path, cloud, format);
-        CloudFeed probe;
-        CHECK_FALSE(streamBinaryPcd(path, probe, 100));
-        CHECK(probe.pointsArrived() == 0);
-
+        CAPTURE(path.string());
         CloudFeed feed;
-        feed.startFileLoader(path, 128);
-        for (int i = 0; i < 500 && !feed.finished(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        feed.feedFile(path, 300);
         REQUIRE(feed.finished());
         CHECK(feed.error().empty());
+        std::vector<std::size_t> sizes;
+        const auto got = drain(feed, &sizes);
+        CHECK(sizes == std::vector<std::size_t>{300, 300, 300, 100});
         CHECK(feed.origin() == cloud.origin);
-        const auto got = drain(feed);
-        REQUIRE(got.size() == 500);
-        CHECK(got[499].position == cloud.points[499].position);
-        CHECK(got[123].label == cloud.points[123].label);
-        std::filesystem::remove(path);
+        CHECK(feed.pointsArrived() == 1000);
+        checkSame(got, cloud.points);
     }
 }
 
-TEST_CASE("a truncated binary PCD keeps the points read and reports the truncation") {
-    const auto cloud = sampleCloud(1000);
-    const auto path = tempPath("cut.pcd");
+TEST_CASE("the loader thread feeds the same points") {
+    TempDir dir("viewer_thread");
+    const auto cloud = sampleCloud(500);
+    const auto path = dir.path / "t.pcd";
     engine::writeCloud(path, cloud, engine::CloudFormat::PcdBinary);
-    // Bytes per point from the file itself: the data follows the "DATA binary" line.
-    std::string text(std::filesystem::file_size(path), '\0');
-    std::ifstream(path, std::ios::binary).read(text.data(), std::streamsize(text.size()));
-    const std::size_t data_at = text.find("DATA binary\n") + 12;
-    const std::size_t stride = (text.size() - data_at) / 1000;
-    REQUIRE(stride * 1000 == text.size() - data_at);
-    std::filesystem::resize_file(path, text.size() - 5000);
-    const std::size_t whole_points = (1000 * stride - 5000) / stride;
     CloudFeed feed;
-    feed.startFileLoader(path, 256);
+    feed.startFileLoader(path, 128);
     for (int i = 0; i < 500 && !feed.finished(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     REQUIRE(feed.finished());
-    CHECK(feed.error().find("truncated") != std::string::npos);
-    CHECK(feed.error().find("cut.pcd") != std::string::npos);
-    CHECK(drain(feed).size() == whole_points / 256 * 256);   // the whole chunks before the cut
-    std::filesystem::remove(path);
+    CHECK(feed.error().empty());
+    checkSame(drain(feed), cloud.points);
+}
+
+TEST_CASE("the viewer refuses exactly the files the engine refuses, with the same line") {
+    TempDir dir("viewer_bad");
+    for (const test_support::BadCloud& bad : test_support::badClouds()) {
+        CAPTURE(bad.name);
+        const fs::path p = dir.path / bad.name;
+        spit(p, bad.bytes);
+        const std::string engine_says = engineError(p);
+        CHECK(engine_says.find(bad.message) != std::string::npos);
+        CloudFeed feed;
+        feed.feedFile(p, 1);   // chunks of one point: nothing of a bad header gets through
+        REQUIRE(feed.finished());
+        CHECK(feed.error() == engine_says);
+        if (!bad.in_records) CHECK(feed.pointsArrived() == 0);
+    }
+}
+
+TEST_CASE("a truncated binary file is refused before any point is shown") {
+    TempDir dir("viewer_cut");
+    const auto cloud = sampleCloud(1000);
+    const auto path = dir.path / "cut.pcd";
+    engine::writeCloud(path, cloud, engine::CloudFormat::PcdBinary);
+    fs::resize_file(path, fs::file_size(path) - 5000);
+    CloudFeed feed;
+    feed.feedFile(path, 256);
+    CHECK(feed.error().find("pcd: " + path.string() + ": truncated: the header says 1000 points") == 0);
+    CHECK(feed.pointsArrived() == 0);
+    CHECK(drain(feed).empty());
+}
+
+TEST_CASE("NaN and inf points are dropped, and a file with no point left is an error") {
+    TempDir dir("viewer_nonfinite");
+    auto cloud = sampleCloud(600);
+    cloud.points[10].position.y = std::numeric_limits<float>::infinity();
+    cloud.points[400].position.x = std::nanf("");
+    const auto path = dir.path / "inf.pcd";
+    engine::writeCloud(path, cloud, engine::CloudFormat::PcdBinary);
+    CloudFeed feed;
+    feed.feedFile(path, 256);
+    CHECK(feed.error().empty());
+    CHECK(feed.pointsArrived() == 598);
+    const auto got = drain(feed);
+    REQUIRE(got.size() == 598);
+    CHECK(got[10].position == cloud.points[11].position);
+    for (const auto& p : got) CHECK(std::isfinite(p.position.x + p.position.y + p.position.z));
+
+    engine::PointCloud none;
+    none.points.resize(3);
+    for (auto& p : none.points) p.position.z = std::numeric_limits<float>::infinity();
+    const auto all_bad = dir.path / "allbad.pcd";
+    engine::writeCloud(all_bad, none, engine::CloudFormat::PcdBinary);
+    CloudFeed bad;
+    bad.feedFile(all_bad, 256);
+    CHECK(bad.error() == "pcd: " + all_bad.string() + ": holds no points to show");
+    CHECK(bad.pointsArrived() == 0);
+}
+
+TEST_CASE("a file of 0 points ends the feed with an error") {
+    TempDir dir("viewer_empty");
+    const auto path = dir.path / "empty.ply";
+    engine::writeCloud(path, engine::PointCloud{}, engine::CloudFormat::PlyBinary);
+    CloudFeed feed;
+    feed.feedFile(path, 256);
+    REQUIRE(feed.finished());
+    CHECK(feed.error() == "ply: " + path.string() + ": holds no points to show");
 }
 
 TEST_CASE("a missing file ends the feed with the reader's error") {
+    TempDir dir("viewer_missing");
     CloudFeed feed;
-    feed.startFileLoader(tempPath("missing.pcd"));
+    feed.startFileLoader(dir.path / "missing.pcd");
     for (int i = 0; i < 500 && !feed.finished(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     REQUIRE(feed.finished());
-    CHECK_FALSE(feed.error().empty());
+    CHECK(feed.error() == "pcd: " + (dir.path / "missing.pcd").string() + ": file does not exist");
     CHECK(feed.pointsArrived() == 0);
 }
