@@ -13,6 +13,9 @@
 #   stream   a known binary PCD (make_test_pcd.py, origin 10^6 m away) is streamed in: at
 #            most --upload-budget points reach the GPU per frame, points are drawn from the
 #            first frames, the red target block is on screen.
+#   refused  files the reader refuses (0 points, label 7, truncated): exit 1 with one line
+#            naming the file, and no screenshot; one inf point among the stream test's
+#            163,840 is dropped with a warning and the other 163,839 are drawn.
 # Each run has a timeout; headless_env.sh starts and kills Xvfb and Monado (trap).
 set -euo pipefail
 bin=$(realpath "$1")
@@ -70,6 +73,50 @@ LOST
   budget)
     "$here/headless_env.sh" --timeout 150 -- "$bin" "${common[@]}" --no-xr --frames 10 --colour label \
       --orbit-period 100000 --point-budget 40000 2>"$work/stderr" || status=$?
+    ;;
+  refused)
+    python3 "$here/make_test_pcd.py" "$work/demo.pcd"
+    python3 - "$work" <<'PY'
+import struct, sys
+work = sys.argv[1]
+data = open(f"{work}/demo.pcd", "rb").read()
+body = data.index(b"DATA binary\n") + 12
+head = data[:body]
+open(f"{work}/empty.pcd", "wb").write(head.replace(b"WIDTH 163840", b"WIDTH 0").replace(b"POINTS 163840", b"POINTS 0"))
+open(f"{work}/cut.pcd", "wb").write(data[:-1000])
+label7 = bytearray(data)
+label7[body + 16] = 7          # point 0's label byte (records x y z rgb label: 17 bytes)
+open(f"{work}/label7.pcd", "wb").write(label7)
+inf = bytearray(data)
+inf[body:body + 4] = struct.pack("<f", float("inf"))   # point 0's x
+open(f"{work}/inf.pcd", "wb").write(inf)
+PY
+    fail=0
+    for name in empty cut label7; do
+      rc=0
+      "$here/headless_env.sh" --timeout 150 -- "$bin" view "$work/$name.pcd" --no-xr --frames 5 \
+        --width 320 --height 180 --screenshot "$work/$name.png" 2>"$work/$name.err" || rc=$?
+      line=$(grep "^ladarvr: view: pcd: $work/$name.pcd: " "$work/$name.err" || true)
+      echo "$name: exit $rc: $line"
+      [ "$rc" = 1 ] || { echo "FAIL: $name: exit $rc, expected 1"; fail=1; }
+      [ "$(printf '%s\n' "$line" | grep -c .)" = 1 ] || { echo "FAIL: $name: no single error line"; fail=1; }
+      [ ! -e "$work/$name.png" ] || { echo "FAIL: $name: a screenshot was written"; fail=1; }
+    done
+    grep -q "holds no points to show" "$work/empty.err" || { echo "FAIL: empty: wrong message"; fail=1; }
+    grep -q "truncated" "$work/cut.err" || { echo "FAIL: cut: wrong message"; fail=1; }
+    grep -q "label 7 is not" "$work/label7.err" || { echo "FAIL: label7: wrong message"; fail=1; }
+    rc=0
+    "$here/headless_env.sh" --timeout 150 -- "$bin" view "$work/inf.pcd" --no-xr --frames 5 \
+      --width 320 --height 180 --screenshot "$work/inf.png" --log-json "$work/inf.json" 2>"$work/inf.err" || rc=$?
+    grep "warning" "$work/inf.err" || true
+    [ "$rc" = 0 ] || { echo "FAIL: inf: exit $rc"; fail=1; }
+    grep -q "^ladarvr: warning: pcd: $work/inf.pcd: dropped 1 of 163840 points with a non-finite" "$work/inf.err" ||
+      { echo "FAIL: inf: no warning line"; fail=1; }
+    python3 -c 'import json,sys; n=json.load(open(sys.argv[1]))["points_arrived"]; print("inf: points arrived", n); sys.exit(n != 163839)' \
+      "$work/inf.json" || { echo "FAIL: inf: not 163,839 points"; fail=1; }
+    [ -s "$work/inf.png" ] || { echo "FAIL: inf: no screenshot"; fail=1; }
+    [ "$fail" = 0 ] && echo PASS
+    exit "$fail"
     ;;
   *) echo "view_headless_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac

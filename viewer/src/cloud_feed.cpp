@@ -1,12 +1,11 @@
 // viewer/src/cloud_feed.cpp: the producer/consumer queue that streams a cloud into the viewer.
 #include <viewer/cloud_feed.hpp>
 
-#include "pcd_stream.hpp"
-
-#include <engine/cloud_io.hpp>
+#include <engine/cloud_reader.hpp>
 #include <engine/error.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <utility>
 
@@ -91,20 +90,34 @@ void CloudFeed::feedCloud(engine::PointCloud cloud, std::size_t chunk_points) {
     finish();
 }
 
-void CloudFeed::startFileLoader(std::filesystem::path path, std::size_t chunk_points) {
-    loader_ = std::thread([this, path = std::move(path), chunk_points] {
-        try {
-            // Binary PCD (what `ladarvr generate` writes) streams chunk by chunk; anything
-            // else is read whole by engine::readCloud and then handed over in chunks.
-            if (streamBinaryPcd(path, *this, chunk_points)) {
-                finish();
-                return;
-            }
-            feedCloud(engine::readCloud(path), chunk_points);
-        } catch (const std::exception& e) {
-            finish(e.what());
+void CloudFeed::feedFile(const std::filesystem::path& path, std::size_t chunk_points) {
+    try {
+        // The same reader as engine::readCloud: the header is checked whole before the
+        // first chunk, so a bad file is refused before anything is shown.
+        engine::CloudReader reader(path);
+        setOrigin(reader.origin());
+        setFields(reader.fields());
+        chunk_points = std::max<std::size_t>(chunk_points, 1);
+        for (;;) {
+            std::vector<engine::CloudPoint> chunk;
+            chunk.reserve(std::min(chunk_points, reader.pointsBound()));
+            if (!reader.nextChunk(chunk, chunk_points)) break;
+            if (!chunk.empty()) append(std::move(chunk));
         }
-    });
+        if (const std::string warning = reader.warning(); !warning.empty())
+            std::fprintf(stderr, "ladarvr: warning: %s\n", warning.c_str());
+        if (pointsArrived() == 0) {
+            finish(reader.where() + ": holds no points to show");
+            return;
+        }
+        finish();
+    } catch (const std::exception& e) {
+        finish(e.what());
+    }
+}
+
+void CloudFeed::startFileLoader(std::filesystem::path path, std::size_t chunk_points) {
+    loader_ = std::thread([this, path = std::move(path), chunk_points] { feedFile(path, chunk_points); });
 }
 
 }  // namespace viewer

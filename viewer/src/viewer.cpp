@@ -431,7 +431,7 @@ int ViewerApp::run() {
     Clock::time_point quit_deadline{}, last = Clock::now();
     double frame_ms = 0.0;
     bool centre_final = false, was_focused = false;
-    std::string feed_error_reported;
+    std::string feed_error_reported;   // non-empty: loading failed
 
     while (true) {
         glfwPollEvents();
@@ -462,7 +462,8 @@ int ViewerApp::run() {
         // Leave once the session has ended (or the runtime did not answer in time) and the
         // screenshot, if asked for, has been taken (one more uncounted frame if needed).
         if (quitting && (!xr_ || !xr_->running() || Clock::now() > quit_deadline) &&
-            (options_.screenshot.empty() || screenshot_done || Clock::now() > quit_deadline))
+            (options_.screenshot.empty() || screenshot_done || !feed_error_reported.empty() ||
+             Clock::now() > quit_deadline))
             break;
 
         if (xr_) {
@@ -488,19 +489,15 @@ int ViewerApp::run() {
         if (feed_.finished() && !feed_.error().empty() && feed_error_reported.empty()) {
             feed_error_reported = feed_.error();
             log_.event("load error: " + feed_error_reported);
-            if (feed_.pointsArrived() == 0) {
-                // Nothing to show: a bad file is an error, not an empty viewer.
-                std::fprintf(stderr, "ladarvr: view: %s\n", feed_error_reported.c_str());
-                if (!quitting) {
-                    quitting = true;
-                    exit_reason = "load error";
-                    status = 1;
-                    quit_deadline = Clock::now() + std::chrono::seconds(3);
-                    if (xr_ && xr_->running()) xr_->requestExit();
-                }
-            } else {
-                std::fprintf(stderr, "ladarvr: view: %s (showing the points read so far)\n",
-                             feed_error_reported.c_str());
+            // A file that does not read whole (or holds no point) is refused: one line,
+            // exit status 1 and no screenshot, whatever was already shown of it.
+            std::fprintf(stderr, "ladarvr: view: %s\n", feed_error_reported.c_str());
+            status = 1;
+            if (!quitting) {
+                quitting = true;
+                exit_reason = "load error";
+                quit_deadline = Clock::now() + std::chrono::seconds(3);
+                if (xr_ && xr_->running()) xr_->requestExit();
             }
         }
         if (!centre_final && !renderer_->bounds().empty()) {
@@ -545,13 +542,14 @@ int ViewerApp::run() {
         }
         drawPanel(frame_ms);
         const bool last_frame = options_.frames > 0 && frames_ >= options_.frames;
-        if (!options_.screenshot.empty() && !screenshot_done && (last_frame || quitting) && fb_w > 0) {
+        if (!options_.screenshot.empty() && !screenshot_done && feed_error_reported.empty() &&
+            (last_frame || quitting) && fb_w > 0) {
             screenshot_done = true;
             if (!screenshot(fb_w, fb_h)) status = 1;
         }
         glfwSwapBuffers(window_);
     }
-    if (!options_.screenshot.empty() && !screenshot_done) {
+    if (!options_.screenshot.empty() && !screenshot_done && feed_error_reported.empty()) {
         std::fprintf(stderr, "ladarvr: view: --screenshot: no frame was rendered\n");
         status = 1;
     }

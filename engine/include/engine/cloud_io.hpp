@@ -62,13 +62,15 @@ private:
 void writeCloud(const std::filesystem::path& path, const PointCloud& cloud,
                 CloudFormat format);
 
-/// Reads PCD (ascii, binary, binary_compressed) or PLY (ascii, binary little endian).
-/// Needs x y z; rgb/rgba, label, view, range are used when present (fields says which).
+/// Reads PCD (ascii, binary, binary_compressed) or PLY (ascii, binary either endian)
+/// whole, through engine::CloudReader (cloud_reader.hpp). Needs x y z; rgb/rgba, label,
+/// view, range are used when present (fields says which). Points with a non-finite x, y,
+/// z or range are dropped, with one warning line on stderr giving the count.
 /// Throws Error("pcd: <file>: ...") / ("ply: <file>: ...") naming the line or field.
 PointCloud readCloud(const std::filesystem::path& path);
 
-/// As readCloud, from the file's bytes already in memory; `name` is used in messages.
-/// Never reads outside `bytes` whatever they hold (the fuzzing entry point).
+/// As readCloud, from the file's bytes already in memory (no warning is printed);
+/// `name` is used in messages. Never reads outside `bytes` whatever they hold.
 PointCloud readCloudData(std::string_view bytes, const std::filesystem::path& name);
 
 }  // namespace engine

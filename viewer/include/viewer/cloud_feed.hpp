@@ -2,7 +2,7 @@
 //
 // A producer (a loader thread reading a file, or code handing over a cloud made in memory)
 // appends chunks; the viewer takes what has arrived each frame and uploads a bounded amount
-// to the GPU, so the first points appear before the whole file is read (issue 4).
+// to the GPU, so the first points appear before the whole file is read.
 #pragma once
 #include <engine/point_cloud.hpp>
 #include <viewer/lod.hpp>
@@ -54,8 +54,13 @@ public:
     /// Points appended so far (all chunks, taken or not).
     std::size_t pointsArrived() const { return arrived_.load(); }
 
-    /// Starts a thread that reads `path` (PCD or PLY, via engine::readCloud) and feeds it
-    /// in chunks of `chunk_points`. The thread is joined by the destructor.
+    /// Reads `path` (PCD or PLY) with engine::CloudReader chunk by chunk, appending each
+    /// chunk of `chunk_points` as it is decoded, and finishes the feed: with the reader's
+    /// error if the file is bad (its header is checked before the first point), or with
+    /// "<pcd|ply>: <file>: holds no points to show" if no point remains. Non-finite points
+    /// are dropped with one warning line on stderr.
+    void feedFile(const std::filesystem::path& path, std::size_t chunk_points = 262144);
+    /// feedFile on a thread, which the destructor joins.
     void startFileLoader(std::filesystem::path path, std::size_t chunk_points = 262144);
     /// Feeds an in-memory cloud in chunks (no thread; the viewer still uploads gradually).
     void feedCloud(engine::PointCloud cloud, std::size_t chunk_points = 262144);

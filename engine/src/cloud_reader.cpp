@@ -1,0 +1,102 @@
+// cloud_reader: picks the format by content, drops non-finite points, and builds the
+// whole-cloud reads (readCloud, readCloudData) on the chunked reader.
+#include <engine/cloud_io.hpp>
+#include <engine/cloud_reader.hpp>
+#include <engine/error.hpp>
+
+#include "cloud_decode.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace engine {
+
+namespace {
+
+/// PLY files start with "ply"; everything else is read as PCD (whose header may start
+/// with any comment).
+bool looksLikePly(detail::ByteSource& source) {
+    return source.size() >= 3 && source.view(0, 3) == "ply";
+}
+
+std::string moduleFor(const std::filesystem::path& path) {
+    return formatForPath(path) == CloudFormat::PlyBinary ? "ply" : "pcd";
+}
+
+}  // namespace
+
+CloudReader::CloudReader(const std::filesystem::path& path)
+    : source_(detail::fileSource(path, moduleFor(path).c_str())) {
+    const bool ply = looksLikePly(*source_);
+    prefix_ = std::string(ply ? "ply: " : "pcd: ") + path.string();
+    format_ = ply ? detail::openPly(*source_, prefix_) : detail::openPcd(*source_, prefix_);
+}
+
+CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name)
+    : source_(detail::memorySource(bytes)) {
+    const bool ply = looksLikePly(*source_);
+    prefix_ = std::string(ply ? "ply: " : "pcd: ") + name.string();
+    format_ = ply ? detail::openPly(*source_, prefix_) : detail::openPcd(*source_, prefix_);
+}
+
+CloudReader::~CloudReader() = default;
+
+const glm::dvec3& CloudReader::origin() const { return format_->origin; }
+const CloudFields& CloudReader::fields() const { return format_->fields; }
+std::size_t CloudReader::declaredPoints() const { return format_->declared; }
+std::size_t CloudReader::pointsBound() const { return format_->bound; }
+
+bool CloudReader::nextChunk(std::vector<CloudPoint>& out, std::size_t max_points) {
+    const std::size_t old = out.size();
+    const std::size_t n = format_->next(out, std::max<std::size_t>(max_points, 1));
+    if (n == 0) return false;
+    read_ += n;
+    const bool range = format_->fields.range;
+    const auto bad = [range](const CloudPoint& p) {
+        return !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
+               !std::isfinite(p.position.z) || (range && !std::isfinite(p.range_m));
+    };
+    const auto first_bad = std::find_if(out.begin() + std::ptrdiff_t(old), out.end(), bad);
+    if (first_bad != out.end()) {
+        const auto end = std::remove_if(first_bad, out.end(), bad);
+        dropped_ += std::size_t(out.end() - end);
+        out.erase(end, out.end());
+    }
+    return true;
+}
+
+std::string CloudReader::warning() const {
+    if (dropped_ == 0) return {};
+    return prefix_ + ": dropped " + std::to_string(dropped_) + " of " + std::to_string(read_) +
+           " points with a non-finite x, y, z or range (NaN or inf)";
+}
+
+namespace {
+
+PointCloud readAll(CloudReader& reader) {
+    PointCloud cloud;
+    cloud.origin = reader.origin();
+    cloud.fields = reader.fields();
+    cloud.points.reserve(reader.pointsBound());
+    while (reader.nextChunk(cloud.points, std::size_t(1) << 20)) {
+    }
+    return cloud;
+}
+
+}  // namespace
+
+PointCloud readCloudData(std::string_view bytes, const std::filesystem::path& name) {
+    CloudReader reader(bytes, name);
+    return readAll(reader);
+}
+
+PointCloud readCloud(const std::filesystem::path& path) {
+    CloudReader reader(path);
+    PointCloud cloud = readAll(reader);
+    if (const std::string w = reader.warning(); !w.empty())
+        std::fprintf(stderr, "ladarvr: warning: %s\n", w.c_str());
+    return cloud;
+}
+
+}  // namespace engine
