@@ -6,7 +6,7 @@
 assets/common/  meshes shared by the scenes (buildings, trees, the tank, the grounds)
 assets/demo/    the demo: a tank beside a house, half under a tree, in a village
 assets/hard/    the tank in a narrow street between long buildings, in a dense forest
-assets/hilly/   a village and the tank on ground with ~15 m of relief (issue 5)
+assets/hilly/   a village and the tank on ground with ~15 m of relief (for terrain-following ground filters)
 
 World frame: metres, z up. The tank's centre sits at the world origin in every scene
 so the default orbit centre is sensible. Several mesh formats are used on purpose

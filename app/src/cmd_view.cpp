@@ -92,7 +92,7 @@ int runView(const ViewArgs& a) {
     }
 
     viewer::CloudFeed feed;
-    feed.enableLodOrder();   // LOD order of each chunk on the loader / generator thread (issue 5)
+    feed.enableLodOrder();   // LOD order of each chunk on the loader / generator thread, not in the frame loop
     std::thread generator;
     if (!a.cloud.empty()) {
         const std::filesystem::path path(a.cloud);

@@ -185,7 +185,7 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
     return r;
 }
 
-// Issue 5's skips on one scene: the same run with and without skip_rays, interleaved,
+// The skips on one scene: the same run with and without skip_rays, interleaved,
 // in memory (no file), medians. RANSAC is never run on a view whose band has < 3 points
 // (sim::findGround; no switch), so its figure is the RANSAC time and how many views
 // skipped it.
@@ -307,7 +307,7 @@ void run(const BenchGenerateCli& cli) {
                                 cli.quick ? 2 : cli.repeats, true, true, out));
     results.back().prepare_s = demo_load_s;
 
-    // Skips (issue 5): the paper's orbit on the demo scene by roles; the metric's P1/P2
+    // Skips: the paper's orbit on the demo scene by roles; the metric's P1/P2
     // clouds use target,environment. Last: C 300 m off the scene, where no view sees it.
     std::vector<SkipRow> skips;
     {
@@ -379,7 +379,7 @@ void run(const BenchGenerateCli& cli) {
              "before the run (so it includes the scene and its BVH). The machine's 2 cores were shared "
              "with other jobs: read ratios rather than lone times.\n\n"
           << tbl << "\n" << notes(results) << "\n"
-          << "Skips (issue 5), paper orbit (128x128 x 100 views), in memory, medians of "
+          << "Skips, paper orbit (128x128 x 100 views), in memory, medians of "
           << (cli.quick ? 3 : 7) << " interleaved runs after a warm-up. Skip on: only the pixels whose rays "
              "can meet the bounds of the ray-cast meshes are traced (docs/generator.md); off: "
              "`--no-skip-rays`. RANSAC is never run on a view whose height band has < 3 points (no "

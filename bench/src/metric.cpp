@@ -62,7 +62,7 @@ void run(const BenchMetricCli& cli) {
     const int views = cli.quick ? std::min(cli.views, 20) : cli.views;
     const int raster_resolution = 512;
     // The no-skip baselines run on every 4th view only (25 of 100, the same circle): on the
-    // 1.4 M-point hard scene they take ~0.2 s a view on llvmpipe.
+    // 1.4 M-point hard scene they are the slowest rows.
     const int baseline_stride = (views % 4 == 0) ? 4 : 1;
     std::vector<std::pair<std::string, std::filesystem::path>> scenes = {{"demo", engine::demoScenePath()}};
     const std::filesystem::path hard = engine::demoScenePath().parent_path().parent_path() / "hard" / "scene.json";

@@ -1,5 +1,5 @@
 // bench/src/peers.cpp: `ladarvr bench peers`: our code side by side with peer
-// libraries in one run, on the same scene and the same data (issue 5):
+// libraries in one run, on the same scene and the same data:
 //   1. ray casting: the generator's cast stage (rtcIntersect16 packets) and a plain
 //      rtcIntersect1 loop (sim::RayCaster::intersect) against Open3D's RaycastingScene
 //      (scripts/peer_open3d.py) on the same triangles and the same 1.64 M rays, with the

@@ -13,8 +13,8 @@ namespace engine::detail {
 
 /// `s` fit for an error message: control characters, DEL and (unless keep_utf8) every
 /// byte >= 0x80 written as \xNN; at most `max_chars` characters of the RESULT, then
-/// "..." (the cap is on what is shown, since escaping makes one byte four characters:
-/// a name of DEL bytes once overflowed the message, found by fuzz_scene_json). With
+/// "..." (the cap is on what is shown, since escaping makes one byte four characters,
+/// so a name of DEL bytes would otherwise overflow the message). With
 /// keep_utf8, bytes >= 0x80 are kept (names from JSON, which nlohmann checks are UTF-8)
 /// and the cut never splits a UTF-8 sequence.
 inline std::string shown(std::string_view s, std::size_t max_chars = 40, bool keep_utf8 = false) {

@@ -61,7 +61,7 @@ assert 0.9 < s["ground_precision"] <= 1 and 0.9 < s["ground_recall"] <= 1, s
 EOF
 cp "$dir/err" "$dir/err.good"
 grep -q "drone radius 326.12 m" "$dir/err" || fail "human summary lacks the drone radius: $(cat "$dir/err")"
-# --no-skip-rays traces every pixel and writes the same file (issue 5's ray skip).
+# --no-skip-rays traces every pixel and writes the same file (the ray skip changes no point).
 "$bin" generate --out "$dir/skip.pcd" --roles target --xres 32 --yres 24 --views 8 --json >"$dir/skip.json" \
     2>"$dir/err" || fail "--roles target run failed: $(cat "$dir/err")"
 "$bin" generate --out "$dir/noskip.pcd" --roles target --xres 32 --yres 24 --views 8 --no-skip-rays --json \
@@ -76,7 +76,7 @@ assert 0 < on["rays_traced"] < on["rays"] // 4, on
 assert on["points"] == off["points"] > 0, (on, off)
 EOF2
 # A NaN vertex: by default one error line naming it and no file; with --skip-nonfinite the
-# triangle is dropped, the run goes on and a warning gives the count (issue 5).
+# triangle is dropped, the run goes on and a warning gives the count.
 nan_scene=$(dirname "$0")/../data/scenes/bad/nan_vertex.json
 status=0
 "$bin" generate --scene "$nan_scene" --out "$dir/nan.pcd" --views 2 >"$dir/out" 2>"$dir/err" || status=$?

@@ -1,4 +1,4 @@
-// tests/stress/degenerate_input_test.cpp: issue 5, zero-area and NaN triangles are skipped
+// tests/stress/degenerate_input_test.cpp: zero-area and NaN triangles are skipped
 // and counted; the colour map when every height is equal; RANSAC on fewer than 3 points,
 // on collinear points and on walls only.
 #include <scene_builders.hpp>
@@ -64,7 +64,7 @@ TEST_CASE("zero-area and NaN triangles are skipped and counted, the rest of the 
     CHECK(st.misses == 0);
     CHECK(cloud.points.size() == 512);
     // TODO(lead): sim::GenerateStats carries no skipped-triangle count, so `ladarvr generate`
-    // cannot warn with it (issue 5); the count lives only in engine::Scene. See docs/stress.md.
+    // cannot warn with it; the count lives only in engine::Scene. See docs/stress.md.
 }
 
 TEST_CASE("a scene built in code with NaN and zero-area triangles: Embree skips them, no leak") {

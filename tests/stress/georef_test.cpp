@@ -1,4 +1,4 @@
-// tests/stress/georef_test.cpp: issue 5, "a scene georeferenced 10^6 m and 10^7 m from the
+// tests/stress/georef_test.cpp: "a scene georeferenced 10^6 m and 10^7 m from the
 // origin gives the same cloud as the same scene at the origin, within 1 mm per point; the
 // metric behaves the same there". World coordinates = cloud origin (double) + local (float).
 #include <generate_options.hpp>

@@ -1,4 +1,4 @@
-// tests/stress/metric_edges_test.cpp: issue 5, the metric with a fully hidden target and
+// tests/stress/metric_edges_test.cpp: the metric with a fully hidden target and
 // with a target out of every view, on a scene 10^7 m from the world origin.
 #include <scene_builders.hpp>
 

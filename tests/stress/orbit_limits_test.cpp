@@ -1,4 +1,4 @@
-// tests/stress/orbit_limits_test.cpp: issue 5, the orbit at the edges of its documented
+// tests/stress/orbit_limits_test.cpp: the orbit at the edges of its documented
 // range: alpha + FoV/2 close to 90 deg (finite huge radius, then the error past
 // sim::kMaxGrazingDeg), FoV 0.01 and 170 deg, a 1 x 1 sensor, NoV = 1.
 #include <scene_builders.hpp>

@@ -1,4 +1,4 @@
-// tests/stress/raycast_edges_test.cpp: issue 5, "rays that graze long thin triangles, and
+// tests/stress/raycast_edges_test.cpp: "rays that graze long thin triangles, and
 // rays that hit exactly on shared vertices and edges of the ground, never pass through".
 // sim::RayCaster builds its BVH with RTC_SCENE_FLAG_ROBUST (watertight traversal); these
 // tests pin that: zero leaks, and the hit distance is the plane's.

@@ -1,4 +1,4 @@
-// tests/stress/threads_test.cpp: issue 5, "results bit-identical with 1 thread and with N
+// tests/stress/threads_test.cpp: "results bit-identical with 1 thread and with N
 // threads" for the generator (RANSAC seeds per view, fusion in view order) on a bundled
 // scene, with packets and single rays; and the metric evaluated twice in one process.
 #include <generate_options.hpp>

@@ -1,4 +1,4 @@
-// Issue 5, viewer: frustum culling of cells (union of the eyes), the LOD order (any prefix of
+// Viewer LOD: frustum culling of cells (union of the eyes), the LOD order (any prefix of
 // a cell is a uniform subsample) and the point budget allocation, with known answers; then a
 // headless EGL draw: a view looking away from the cloud draws fewer points, a budget caps them.
 #include <viewer/lod.hpp>

@@ -57,7 +57,7 @@ public:
     /// Bounds (local frame) of everything received so far, and heights for the jet colours.
     const engine::Bounds& bounds() const { return bounds_; }
 
-    /// Picks what this frame draws (issue 5): cells outside the union of `eyes`' frusta get
+    /// Picks what this frame draws: cells outside the union of `eyes`' frusta get
     /// nothing (when `cull`); the others share `point_budget` points per eye (0 = unlimited)
     /// by screen-space importance seen from the eyes' mean position, as prefixes of their
     /// LOD order. Both eyes then draw the same points (no binocular flicker). Without a call,

@@ -1,4 +1,4 @@
-// viewer/lod.hpp: skip what a frame does not need (issue 5): frustum culling of spatial
+// viewer/lod.hpp: skip what a frame does not need: frustum culling of spatial
 // cells and a point budget over a level-of-detail order built once per chunk at load, in
 // the spirit of Potree (Schuetz 2016). Pure maths, no GL: the renderer
 // (viewer/src/point_renderer.cpp) calls these and draws the prefixes they choose.

@@ -62,7 +62,7 @@ struct ViewerOptions {
     ViewStyle style;
     ModeOptions modes;
     std::size_t upload_points_per_frame = 1u << 18;   // streaming budget per frame
-    /// Points drawn per eye and frame at most (issue 5: LOD prefixes by screen importance);
+    /// Points drawn per eye and frame at most (LOD prefixes by screen importance);
     /// 0 = unlimited. 3 M keeps the paper's 1.6 M point cloud whole.
     std::size_t point_budget = 3000000;
     bool cull = true;                   // skip cells outside the eyes' frusta
