@@ -14,6 +14,7 @@
 #include "gpu_images.hpp"
 
 #include <engine/error.hpp>
+#include <engine/frames.hpp>
 #include <render/egl_context.hpp>
 #include <render/gl.hpp>
 #include <sim/raycaster.hpp>
@@ -59,8 +60,13 @@ void validate(const MetricOptions& o) {
     // Named after the CLI options (cmd_metric.cpp maps them one to one).
     const auto& c = o.orbit;
     if (c.views < 1 || c.views > 65535) invalid("views", c.views, "1..65535");
-    if (!std::isfinite(c.radius_m) || c.radius_m <= 0.0) invalid("radius-m", c.radius_m, "> 0 metres");
-    if (!std::isfinite(c.altitude_m)) invalid("altitude-m", c.altitude_m, "a finite number of metres");
+    // The eye is a float position relative to the scene's origin: beyond
+    // engine::kMaxLocalCoordinate_m the camera steps by metres and the target leaves the frame.
+    constexpr double kMax_m = engine::kMaxLocalCoordinate_m;
+    if (!std::isfinite(c.radius_m) || c.radius_m <= 0.0 || c.radius_m > kMax_m)
+        invalid("radius-m", c.radius_m, "(0, 1e7] metres");
+    if (!std::isfinite(c.altitude_m) || std::abs(c.altitude_m) > kMax_m)
+        invalid("altitude-m", c.altitude_m, "[-1e7, 1e7] metres");
     if (!std::isfinite(c.vfov_deg) || c.vfov_deg <= 0.0 || c.vfov_deg > 170.0)
         invalid("vfov-deg", c.vfov_deg, "(0, 170] degrees");
     if (o.width < 16 || o.width > 8192) invalid("width", o.width, "16..8192 pixels");
@@ -72,6 +78,10 @@ void validate(const MetricOptions& o) {
     if (o.look_at_world && !(std::isfinite(o.look_at_world->x) && std::isfinite(o.look_at_world->y) &&
                              std::isfinite(o.look_at_world->z)))
         throw engine::Error("metric: --look-at: not finite; allowed x,y,z in world metres");
+    if (o.look_at_world && !(std::abs(o.look_at_world->x) <= engine::kMaxWorldCoordinate_m &&
+                             std::abs(o.look_at_world->y) <= engine::kMaxWorldCoordinate_m &&
+                             std::abs(o.look_at_world->z) <= engine::kMaxWorldCoordinate_m))
+        throw engine::Error("metric: --look-at: out of range; allowed x,y,z within 1e9 world metres");
     if (!std::isfinite(o.depth_margin_m) || o.depth_margin_m < 0.0 || o.depth_margin_m > 100.0)
         invalid("depth-margin-m", o.depth_margin_m, "[0, 100] metres");
     render::validate(c);  // near/far/start, which the CLI does not expose

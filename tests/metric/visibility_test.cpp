@@ -187,6 +187,17 @@ TEST_CASE("options are validated naming the option and the allowed range") {
     o = {};
     o.orbit.radius_m = 0.0;
     CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--radius-m = 0"), engine::Error);
+    o = metric::MetricOptions{};
+    o.orbit.altitude_m = 1e12;  // past float's metre steps: the target would leave every frame
+    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --altitude-m = 1e+12: allowed [-1e7, 1e7] metres",
+                         engine::Error);
+    o = metric::MetricOptions{};
+    o.orbit.radius_m = 2e7;
+    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--radius-m = 2e+07: allowed (0, 1e7]"),
+                         engine::Error);
+    o = metric::MetricOptions{};
+    o.look_at_world = glm::dvec3(1e300, 0.0, 0.0);
+    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--look-at: out of range"), engine::Error);
     CHECK_NOTHROW(metric::validate(metric::MetricOptions{}));
 }
 
