@@ -9,6 +9,7 @@ import struct
 HERE = os.path.dirname(os.path.abspath(__file__))
 CLOUD = os.path.join(HERE, "seeds", "cloud")
 SCENE = os.path.join(HERE, "seeds", "scene")
+SCRIPT = os.path.join(HERE, "seeds", "script")
 
 PTS = [(0.0, 0.0, 0.0, 0xFF0000, 0, 0, 10.0), (1.5, -2.0, 0.25, 0x00FF00, 1, 1, 11.5),
        (3.0, 4.0, -1.0, 0x0000FF, 2, 7, 12.25)]
@@ -38,6 +39,7 @@ def write(name, data, d=CLOUD):
 def main():
     os.makedirs(CLOUD, exist_ok=True)
     os.makedirs(SCENE, exist_ok=True)
+    os.makedirs(SCRIPT, exist_ok=True)
     ours = ("x y z rgb label view range", "4 4 4 4 1 2 4", "F F F F U U F", "1 1 1 1 1 1 1")
     origin = "# ladarvr origin 1000000.5 -2000000.25 30\n"
     # ascii, ours
@@ -86,6 +88,11 @@ def main():
           b' "meshes": [{"file": "box.obj", "role": "target", "position": [10000002.0, -1000003.0, 12.5]}]}\n', SCENE)
     write("errors.json", b'{"meshes": [{"file": "box.obj", "role": "target", "scale": 1e-30, "up": "z", '
           b'"comment": "x"}, {"file": "nothere.obj", "role": "buildng"}]}\n', SCENE)
+
+    # Viewer scripts: the documented form, and the lines the parser refuses.
+    write("keys.txt", b"# frame key\n10 space\n\n25 space   # back\n40 escape\n", SCRIPT)
+    write("crlf_tabs.txt", b"0\tspace\r\n7 escape\r\n#\r\n", SCRIPT)
+    write("errors.txt", b"5 space now\n-3 space\nten space\n5 jump\n99999999999999999999 escape\n5\n", SCRIPT)
 
 
 if __name__ == "__main__":

@@ -4,19 +4,34 @@
 #
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      (inside the root: ./ladarvr shell -c ...)
 #
-# SECONDS per target (default 60); targets default to all (fuzz_scene_json,
-# fuzz_cloud_reader). The working corpus lives in build/fuzz/corpus/<target> (seeded
-# from fuzz/seeds and the test data, kept between runs); crashes land in
-# build/fuzz/artifacts/<target>/ and make the script exit 1. The last line of each run
-# is "fuzz: <target> seconds=S runs=N corpus=C cov=V crashes=K".
+# SECONDS per target (default 600); targets default to all (fuzz_scene_json,
+# fuzz_cloud_reader, fuzz_view_script). Targets run as many at a time as the machine
+# has cores (LADARVR_FUZZ_JOBS overrides), each a single libFuzzer process held to
+# -rss_limit_mb=2048 (the whole process, ASan included) and -malloc_limit_mb=512 (one
+# allocation); going over either is reported as a crash (oom-*). The working corpus
+# lives in build/fuzz/corpus/<target> (seeded from fuzz/seeds and the test data, kept
+# between runs); crashes land in build/fuzz/artifacts/<target>/ and make the script
+# exit 1. When all targets are done, one line per target, in the order given:
+# "fuzz: <target> seconds=S runs=N corpus=C cov=V crashes=K rc=R".
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-seconds=${1:-60}
+seconds=${1:-600}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene_json fuzz_cloud_reader)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene_json fuzz_cloud_reader fuzz_view_script)
 build="${LADARVR_FUZZ_BUILD:-$repo/build/fuzz}"
+rss_limit_mb=2048
+malloc_limit_mb=512
+jobs=${LADARVR_FUZZ_JOBS:-$(nproc)}
+[[ $jobs =~ ^[1-9][0-9]*$ ]] || { echo "fuzz: LADARVR_FUZZ_JOBS='$jobs': allowed a whole number >= 1" >&2; exit 2; }
+[[ $seconds =~ ^[1-9][0-9]*$ ]] || { echo "fuzz: SECONDS='$seconds': allowed a whole number >= 1" >&2; exit 2; }
 
+for t in "${targets[@]}"; do
+  case $t in
+    fuzz_scene_json|fuzz_cloud_reader|fuzz_view_script) ;;
+    *) echo "fuzz: unknown target '$t'; allowed: fuzz_scene_json, fuzz_cloud_reader, fuzz_view_script" >&2; exit 2 ;;
+  esac
+done
 command -v clang++ >/dev/null || { echo "fuzz: clang++ is missing (apt-get install clang libclang-rt-dev)" >&2; exit 2; }
 if [ ! -f "$build/build.ninja" ]; then
   CC=clang CXX=clang++ cmake -S "$repo" -B "$build" -G Ninja -DLADARVR_FUZZ=ON \
@@ -24,9 +39,10 @@ if [ ! -f "$build/build.ninja" ]; then
 fi
 cmake --build "$build" --target "${targets[@]}" >/dev/null
 
-status=0
-for t in "${targets[@]}"; do
-  corpus="$build/corpus/$t"; artifacts="$build/artifacts/$t"
+# Runs target $1 and writes its summary line to $build/$1.result.
+run_one() {
+  local t=$1 corpus="$build/corpus/$1" artifacts="$build/artifacts/$1" log="$build/$1.log"
+  local seeds dict max_len rc runs cov crashes
   mkdir -p "$corpus" "$artifacts"
   case $t in
     fuzz_scene_json)
@@ -37,23 +53,45 @@ for t in "${targets[@]}"; do
       seeds=("$repo"/fuzz/seeds/cloud/* "$repo"/tests/data/engine/*.pcd "$repo"/tests/data/engine/fuzz_regressions/*.pcd
              "$repo"/assets/common/*.ply)
       dict="$repo/fuzz/cloud.dict"; max_len=16384 ;;
-    *) echo "fuzz: unknown target '$t'; allowed: fuzz_scene_json, fuzz_cloud_reader" >&2; exit 2 ;;
+    fuzz_view_script)
+      seeds=("$repo"/fuzz/seeds/script/*)
+      dict="$repo/fuzz/script.dict"; max_len=4096 ;;
   esac
   for s in "${seeds[@]}"; do [ -f "$s" ] && cp -n "$s" "$corpus/" 2>/dev/null || true; done
-  log="$build/$t.log"
   set +e
   "$build/fuzz/$t" "$corpus" -dict="$dict" -max_len=$max_len -max_total_time="$seconds" \
-    -rss_limit_mb=2048 -malloc_limit_mb=512 -timeout=10 -print_final_stats=1 -artifact_prefix="$artifacts/" \
-    -close_fd_mask=1 >"$log" 2>&1
+    -rss_limit_mb=$rss_limit_mb -malloc_limit_mb=$malloc_limit_mb -timeout=10 -print_final_stats=1 \
+    -artifact_prefix="$artifacts/" -close_fd_mask=1 >"$log" 2>&1
   rc=$?
   set -e
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
   cov=$(grep -oE '(DONE|pulse|NEW|REDUCE|INITED) +cov: [0-9]+' "$log" | tail -n1 | grep -oE '[0-9]+$' || echo 0)
   crashes=$(find "$artifacts" -type f \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' \) | wc -l)
-  echo "fuzz: $t seconds=$seconds runs=${runs:-0} corpus=$(ls "$corpus" | wc -l) cov=${cov:-0} crashes=$crashes rc=$rc"
+  echo "fuzz: $t seconds=$seconds runs=${runs:-0} corpus=$(ls "$corpus" | wc -l) cov=${cov:-0} crashes=$crashes rc=$rc" \
+    >"$build/$t.result"
   if [ $rc -ne 0 ] || [ "$crashes" -gt 0 ]; then
-    status=1
     grep -m3 -E 'ERROR|SUMMARY|deadly|Test unit written' "$log" >&2 || true
   fi
+  echo "fuzz.sh: $t done (log $log)" >&2
+}
+
+running=0
+for t in "${targets[@]}"; do
+  rm -f "$build/$t.result"
+  if [ $running -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
+  echo "fuzz.sh: $t for $seconds s (rss limit $rss_limit_mb MB, malloc limit $malloc_limit_mb MB)" >&2
+  run_one "$t" &
+  running=$((running + 1))
+done
+wait
+
+status=0
+for t in "${targets[@]}"; do
+  if [ ! -f "$build/$t.result" ]; then
+    echo "fuzz: $t did not report; see $build/$t.log" >&2; status=1; continue
+  fi
+  line=$(cat "$build/$t.result")
+  echo "$line"
+  case $line in *" crashes=0 rc=0") ;; *) status=1 ;; esac
 done
 exit $status

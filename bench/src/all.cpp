@@ -1,4 +1,4 @@
-// bench/src/all.cpp: `ladarvr bench all` and `ladarvr bench fuzz` (issue 5).
+// bench/src/all.cpp: `ladarvr bench all` and `ladarvr bench fuzz`.
 //
 // bench all regenerates BENCHMARKS.md from scratch on the current machine: it writes the
 // file's header, then runs bench generate, metric, view, peers and fuzz one after the
@@ -53,7 +53,7 @@ std::string runEcho(const std::string& cmd, int* status) {
 // --- bench fuzz -------------------------------------------------------------
 
 struct BenchFuzzCli {
-    int seconds = 120;
+    int seconds = 600;   // per target: ten minutes, the least a recorded run fuzzes each parser
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
 };
@@ -67,6 +67,14 @@ struct FuzzRun {
 long long field(const std::string& line, const std::string& key) {
     const std::size_t at = line.find(" " + key + "=");
     return at == std::string::npos ? -1 : std::atoll(line.c_str() + at + key.size() + 2);
+}
+
+/// What a fuzz target exercises, for the table.
+std::string fuzzParser(const std::string& target) {
+    if (target == "fuzz_scene_json") return "`engine::loadSceneJson` (scene JSON + Assimp meshes)";
+    if (target == "fuzz_cloud_reader") return "`engine::readCloudData` (PCD ascii/binary/compressed, PLY)";
+    if (target == "fuzz_view_script") return "`viewer::parseScript` (the viewer's --script files)";
+    return "?";
 }
 
 void runFuzz(const BenchFuzzCli& cli) {
@@ -101,7 +109,8 @@ void runFuzz(const BenchFuzzCli& cli) {
       << "Command: `./ladarvr bench fuzz --seconds " << cli.seconds << "` (runs `scripts/fuzz.sh`); machine: "
       << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
       << fmt("%.0f", secondsSince(t0)) << " s in all, build included. libFuzzer from Debian's clang, the engine "
-      << "compiled with ASan + UBSan (UB aborts), one process per target, seeds from fuzz/seeds, "
+      << "compiled with ASan + UBSan (UB aborts), one process per target (as many at a time as there are cores), "
+      << "each held to -rss_limit_mb=2048 and -malloc_limit_mb=512, seeds from fuzz/seeds, "
       << "tests/data and earlier runs (corpus kept in build/fuzz/corpus). Not run in CI.\n\n"
       << "| target | parser | seconds | executions | exec/s | corpus | coverage (edges) | crashes |\n"
       << "|---|---|---|---|---|---|---|---|\n";
@@ -109,8 +118,7 @@ void runFuzz(const BenchFuzzCli& cli) {
     for (const FuzzRun& r : runs) {
         crashes += r.crashes;
         s << "| " << r.target << " | "
-          << (r.target == "fuzz_scene_json" ? "`engine::loadSceneJson` (scene JSON + Assimp meshes)"
-                                            : "`engine::readCloudData` (PCD ascii/binary/compressed, PLY)")
+          << fuzzParser(r.target)
           << " | " << r.seconds << " | " << r.runs << " | "
           << fmt("%.0f", r.seconds > 0 ? double(r.runs) / double(r.seconds) : 0.0) << " | " << r.corpus << " | "
           << r.cov << " | " << r.crashes << (r.rc != 0 ? " (exit " + std::to_string(r.rc) + ")" : "") << " |\n";
@@ -261,8 +269,8 @@ void runAll(const BenchAllCli& cli) {
 
 void registerAll(CLI::App& parent) {
     auto fuzz = std::make_shared<BenchFuzzCli>();
-    CLI::App* f = parent.add_subcommand("fuzz", "libFuzzer targets of the scene JSON and cloud readers for a bounded "
-                                               "time each (clang build in build/fuzz; not CI)");
+    CLI::App* f = parent.add_subcommand("fuzz", "libFuzzer targets of the scene JSON, cloud and viewer script readers "
+                                               "for a bounded time each (clang build in build/fuzz; not CI)");
     f->add_option("--seconds", fuzz->seconds, "seconds per target")->capture_default_str();
     f->add_option("--md", fuzz->md, "markdown file whose fuzzing section is rewritten")->capture_default_str();
     f->add_flag("--no-md", fuzz->no_md, "print the section, leave the file alone");

@@ -1,11 +1,10 @@
-// viewer/src/options.cpp: parsing and validation of the viewer's options and scripts.
+// viewer/src/options.cpp: parsing and validation of the viewer's options (scripts: script.cpp).
 #include <viewer/viewer.hpp>
 
 #include <engine/error.hpp>
 #include <engine/safe_file.hpp>
 
 #include <cmath>
-#include <sstream>
 
 namespace viewer {
 
@@ -32,41 +31,6 @@ const char* colourModeName(ColourMode mode) {
         case ColourMode::Label: return "label";
     }
     return "?";
-}
-
-std::vector<ScriptEvent> readScript(const std::filesystem::path& file) {
-    const std::string name = "view: --script " + engine::printable(file.string(), 400);
-    const std::string text = engine::readTextFile(file, kMaxScriptBytes, name + ":");
-    std::vector<ScriptEvent> events;
-    std::istringstream in(text);
-    std::string line;
-    for (int number = 1; std::getline(in, line); ++number) {
-        if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-        std::istringstream ls(line);
-        std::string frame_text, key, extra;
-        if (!(ls >> frame_text)) continue;
-        auto bad = [&](const std::string& what) {
-            return engine::Error(name + " line " + std::to_string(number) + ": " + what +
-                                 "; allowed '<frame> space|escape'");
-        };
-        // Tokens are quoted escaped and short: a binary file must not reach the terminal.
-        auto quoted = [](const std::string& token) { return "'" + engine::printable(token, 40) + "'"; };
-        ScriptEvent ev;
-        try {
-            std::size_t used = 0;
-            ev.frame = std::stol(frame_text, &used);
-            if (used != frame_text.size() || ev.frame < 0) throw std::invalid_argument("frame");
-        } catch (const std::exception&) {
-            throw bad("frame " + quoted(frame_text) + " is not a whole number >= 0");
-        }
-        if (!(ls >> key)) throw bad("missing key");
-        if (key == "space") ev.key = ScriptEvent::Key::Space;
-        else if (key == "escape") ev.key = ScriptEvent::Key::Escape;
-        else throw bad("key " + quoted(key) + " is not one of space, escape");
-        if (ls >> extra) throw bad("unexpected " + quoted(extra));
-        events.push_back(ev);
-    }
-    return events;
 }
 
 void validate(const ViewerOptions& o) {

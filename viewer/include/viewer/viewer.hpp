@@ -8,6 +8,7 @@
 #pragma once
 #include <viewer/camera_rig.hpp>
 #include <viewer/cloud_feed.hpp>
+#include <viewer/script.hpp>
 
 #include <cstddef>
 #include <filesystem>
@@ -35,19 +36,6 @@ struct ViewStyle {
     float edl_strength = 1.0f;
     int jet_entries = 64;              // the paper's 64-entry jet map (§III-C)
 };
-
-/// A scripted key press at a frame (for tests and demos): "<frame> <key>" lines.
-struct ScriptEvent {
-    long frame = 0;
-    enum class Key { Space, Escape } key = Key::Space;
-};
-/// The largest script read (a line per key press: a megabyte is tens of thousands).
-inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
-/// Parses a script file: one "<frame> space|escape" per line, '#' comments, blank lines.
-/// Throws engine::Error("view: --script <file> line N: ...") on a bad line, and
-/// "view: --script <file>: is a directory; ..." for anything but a regular file of at
-/// most kMaxScriptBytes (engine::readTextFile). Bytes of the file are shown escaped.
-std::vector<ScriptEvent> readScript(const std::filesystem::path& file);
 
 struct ViewerOptions {
     bool use_xr = true;                 // false: --no-xr, desktop mode only

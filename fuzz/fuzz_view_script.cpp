@@ -1,0 +1,72 @@
+// fuzz/fuzz_view_script.cpp: libFuzzer target for viewer::parseScript, the parser of the
+// viewer's `--script` files (viewer/src/script.cpp, compiled here without the rest of
+// the viewer). The contract: a list of key presses or an engine::Error, nothing else;
+// every accepted frame is >= 0, there is at most one event per line, and writing the
+// events back as "<frame> space|escape" lines parses to the same events. An error is one
+// printable line that names the script and the line.
+#include <viewer/script.hpp>
+
+#include <engine/error.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace {
+
+constexpr const char* kName = "view: --script fuzz.txt";
+
+// The house rule for errors: one clear line, no control byte, short.
+void checkMessage(const char* what) {
+    std::size_t n = 0;
+    for (const char* p = what; *p; ++p, ++n) {
+        const unsigned char c = static_cast<unsigned char>(*p);
+        if (c < 0x20 || c == 0x7f) {
+            std::fprintf(stderr, "error message with byte 0x%02x at %zu: %s\n", c, n, what);
+            std::abort();
+        }
+    }
+    if (n > 1000) {
+        std::fprintf(stderr, "error message of %zu bytes: %.200s...\n", n, what);
+        std::abort();
+    }
+    if (std::string_view(what).rfind(std::string(kName) + " line ", 0) != 0) {
+        std::fprintf(stderr, "error message does not name the script and line: %s\n", what);
+        std::abort();
+    }
+}
+
+std::string format(const std::vector<viewer::ScriptEvent>& events) {
+    std::string text;
+    for (const viewer::ScriptEvent& ev : events)
+        text += std::to_string(ev.frame) + (ev.key == viewer::ScriptEvent::Key::Space ? " space\n" : " escape\n");
+    return text;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    // readScript refuses larger files before parsing.
+    if (size > viewer::kMaxScriptBytes) return -1;
+    const std::string_view text(reinterpret_cast<const char*>(data), size);
+    try {
+        const std::vector<viewer::ScriptEvent> events = viewer::parseScript(text, kName);
+        const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
+        if (events.size() > lines) std::abort();
+        for (const viewer::ScriptEvent& ev : events)
+            if (ev.frame < 0) std::abort();
+        const std::vector<viewer::ScriptEvent> again = viewer::parseScript(format(events), kName);
+        if (again.size() != events.size()) std::abort();
+        for (std::size_t i = 0; i < events.size(); ++i)
+            if (again[i].frame != events[i].frame || again[i].key != events[i].key) std::abort();
+    } catch (const engine::Error& e) {
+        checkMessage(e.what());
+        if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());
+    }
+    return 0;
+}

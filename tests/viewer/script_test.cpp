@@ -1,0 +1,55 @@
+// tests/viewer/script_test.cpp: viewer::parseScript on text in memory (the function the
+// fuzz target fuzz_view_script drives): accepted forms, refused lines, escaped messages.
+#include <viewer/script.hpp>
+
+#include <engine/error.hpp>
+
+#include <doctest/doctest.h>
+
+#include <string>
+
+using viewer::parseScript;
+using viewer::ScriptEvent;
+
+namespace {
+const std::string kName = "view: --script s.txt";
+}
+
+TEST_CASE("script text: tabs, CRLF line ends, comments and blank lines") {
+    const auto events = parseScript("0\tspace\r\n\r\n  7 escape # stop\r\n#only a comment\n", kName);
+    REQUIRE(events.size() == 2);
+    CHECK(events[0].frame == 0);
+    CHECK(events[0].key == ScriptEvent::Key::Space);
+    CHECK(events[1].frame == 7);
+    CHECK(events[1].key == ScriptEvent::Key::Escape);
+    CHECK(parseScript("", kName).empty());
+    CHECK(parseScript("# nothing\n\n", kName).empty());
+    // The last line needs no newline.
+    REQUIRE(parseScript("12 space", kName).size() == 1);
+}
+
+TEST_CASE("script text: refused frames name the line and what is allowed") {
+    CHECK_THROWS_WITH_AS(parseScript("1 space\n99999999999999999999 space\n", kName),
+                         "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
+                         "allowed '<frame> space|escape'",
+                         engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("0x10 space\n", kName), doctest::Contains("line 1: frame '0x10'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1.5 space\n", kName), doctest::Contains("frame '1.5'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("-1 space\n", kName), doctest::Contains("frame '-1'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("\n\n5\n", kName), doctest::Contains("line 3: missing key"), engine::Error);
+}
+
+TEST_CASE("script text: bytes from a binary file are shown escaped and cut") {
+    const std::string key = std::string("sp\x1b[2J") + '\0' + "ace";
+    CHECK_THROWS_WITH_AS(parseScript("3 " + key + "\n", kName),
+                         doctest::Contains("key 'sp\\x1b[2J\\x00ace' is not one of space, escape"), engine::Error);
+    try {
+        parseScript("4 space " + std::string(5000, '\x7f') + "\n", kName);
+        FAIL("a long binary token was accepted");
+    } catch (const engine::Error& e) {
+        const std::string what = e.what();
+        CHECK(what.size() < 400);
+        CHECK(what.find('\x7f') == std::string::npos);
+        CHECK(what.find("...") != std::string::npos);
+    }
+}
