@@ -40,10 +40,14 @@ struct ViewStyle {
 struct ScriptEvent {
     long frame = 0;
     enum class Key { Space, Escape } key = Key::Space;
+    /// "desktop+N": N frames after the drop to desktop mode (a lost runtime), so a test
+    /// acts on that event instead of guessing its frame; waits while none has happened.
+    bool after_desktop = false;
 };
 /// The largest script read (a line per key press: a megabyte is tens of thousands).
 inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
-/// Parses a script file: one "<frame> space|escape" per line, '#' comments, blank lines.
+/// Parses a script file: one "<frame> space|escape" per line (<frame>: N, or desktop+N),
+/// '#' comments, blank lines.
 /// Throws engine::Error("view: --script <file> line N: ...") on a bad line, and
 /// "view: --script <file>: is a directory; ..." for anything but a regular file of at
 /// most kMaxScriptBytes (engine::readTextFile). Bytes of the file are shown escaped.
