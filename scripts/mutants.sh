@@ -97,7 +97,7 @@ for i in "${selected[@]}"; do
   fi
   cp "$root/$file" "$src/$file"   # restore: the next mutant starts from the clean tree
   echo "mutant: $name status=$result seconds=$(( $(date +%s) - t0 )) tests=$killers"
-  rows+=("| $name | \`$file\` | $result | $killers |")
+  rows+=("| $name | \`$file\` | $result | ${killers//|/\\|} |")   # '|' in a test name: escaped for Markdown
 done
 # Rebuild the clean tree so the next run starts from it.
 cmake --build "$build" -j "$jobs" >"$work/build.log" 2>&1 || true
