@@ -121,14 +121,16 @@ struct PixelScene {
         options.look_at_world = origin;
         pose = render::orbitView(options.orbit, glm::dvec3(0.0), 0);
     }
-    /// One point per pixel of [x0, x1) x [y0, y1), `range_m` from the eye along its centre ray.
-    void add(engine::PointCloud& cloud, int x0, int x1, int y0, int y1, double range_m) const {
-        cloud.origin = origin;
+    /// One point per pixel of [x0, x1) x [y0, y1), `range_m` from the eye along its centre ray;
+    /// the cloud's own origin is `origin + cloud_shift_m` (clouds from elsewhere).
+    void add(engine::PointCloud& cloud, int x0, int x1, int y0, int y1, double range_m,
+             glm::dvec3 cloud_shift_m = glm::dvec3(0.0)) const {
+        cloud.origin = origin + cloud_shift_m;
         for (int py = y0; py < y1; ++py)
             for (int px = x0; px < x1; ++px) {
                 engine::CloudPoint p;
                 const glm::dvec3 d = render::pixelCentreDirection(pose, options.orbit.vfov_deg, kSize, kSize, px, py);
-                p.position = glm::vec3(pose.eye + range_m * d);
+                p.position = glm::vec3(pose.eye + range_m * d - cloud_shift_m);
                 cloud.points.push_back(p);
             }
     }
@@ -175,6 +177,30 @@ TEST_CASE("I4 = I2 xor I3 counts environment-only pixels (the target's Ladar sha
             CHECK(v.visible == Approx(25.0 / 75.0).epsilon(1e-12));
             CHECK(r.metric_mean - r.visible_mean == Approx(25.0 / 75.0).epsilon(1e-12));
         }
+}
+
+TEST_CASE("clouds with their own origins are brought into P1's frame: the same pixel counts") {
+    // The xor scene above with P2 and P3 written 1 km away from P1's origin (files from
+    // elsewhere): the evaluator shifts them by (their origin - its origin), same counts.
+    const PixelScene ps;
+    const glm::dvec3 shift_m(1000.0, -500.0, 20.0);
+    metric::MetricClouds c;
+    ps.add(c.p1, 20, 30, 20, 25, 20.0);
+    ps.add(c.p1, 20, 25, 25, 30, 20.0);
+    ps.add(c.p3, 20, 30, 20, 25, 20.0, shift_m);
+    ps.add(c.p3, 20, 25, 25, 30, 20.0, shift_m);
+    ps.add(c.p3, 20, 25, 20, 30, 15.0, shift_m);
+    ps.add(c.p2, 20, 25, 20, 30, 15.0, shift_m);
+    ps.add(c.p2, 25, 30, 25, 30, 30.0, shift_m);
+    metric::Evaluator evaluator(c, nullptr);
+    CHECK(evaluator.origin() == ps.origin);
+    const metric::MetricResult r = evaluator.run(ps.options);
+    REQUIRE(r.views.size() == 1);
+    CHECK(r.views[0].i1 == 75);
+    CHECK(r.views[0].i2 == 75);
+    CHECK(r.views[0].i3 == 75);
+    CHECK(r.views[0].i4 == 50);
+    CHECK(r.views[0].visible_px == 25);
 }
 
 TEST_CASE("a fully hidden target gives 0 (metric, visible and exact)") {
