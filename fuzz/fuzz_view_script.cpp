@@ -2,7 +2,7 @@
 // viewer's `--script` files (viewer/src/script.cpp, compiled here without the rest of
 // the viewer). The contract: a list of key presses or an engine::Error, nothing else;
 // every accepted frame is >= 0, there is at most one event per line, and writing the
-// events back as "<frame> space|escape" lines parses to the same events. An error is one
+// events back as "<frame> space|escape" lines (frame N or desktop+N) parses to the same events. An error is one
 // printable line that names the script and the line.
 #include <viewer/script.hpp>
 
@@ -44,7 +44,8 @@ void checkMessage(const char* what) {
 std::string format(const std::vector<viewer::ScriptEvent>& events) {
     std::string text;
     for (const viewer::ScriptEvent& ev : events)
-        text += std::to_string(ev.frame) + (ev.key == viewer::ScriptEvent::Key::Space ? " space\n" : " escape\n");
+        text += (ev.after_desktop ? "desktop+" : "") + std::to_string(ev.frame) +
+                (ev.key == viewer::ScriptEvent::Key::Space ? " space\n" : " escape\n");
     return text;
 }
 
@@ -63,7 +64,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const std::vector<viewer::ScriptEvent> again = viewer::parseScript(format(events), kName);
         if (again.size() != events.size()) std::abort();
         for (std::size_t i = 0; i < events.size(); ++i)
-            if (again[i].frame != events[i].frame || again[i].key != events[i].key) std::abort();
+            if (again[i].frame != events[i].frame || again[i].key != events[i].key ||
+                again[i].after_desktop != events[i].after_desktop) std::abort();
     } catch (const engine::Error& e) {
         checkMessage(e.what());
         if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());

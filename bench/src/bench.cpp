@@ -14,6 +14,7 @@ void registerBench(CLI::App& cli) {
     registerView(*sub);
     registerPeers(*sub);
     registerAll(*sub);
+    registerMutants(*sub);
 }
 
 }  // namespace bench

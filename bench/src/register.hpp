@@ -9,5 +9,6 @@ void registerMetric(CLI::App& parent);     // metric.cpp:   `bench metric`
 void registerView(CLI::App& parent);       // view.cpp:     `bench view`
 void registerPeers(CLI::App& parent);      // peers.cpp:    `bench peers`
 void registerAll(CLI::App& parent);        // all.cpp:      `bench all` and `bench fuzz`
+void registerMutants(CLI::App& parent);    // mutants.cpp:  `bench mutants`
 
 }  // namespace bench

@@ -52,6 +52,14 @@ inline engine::Mesh gridMesh(double cx, double cy, double z, int cells, double c
     return m;
 }
 
+/// gridMesh's grid with each vertex lifted by `height_m(x, y)` (local metres): terrain.
+template <class HeightFn>
+inline engine::Mesh terrainMesh(int cells, double cell_m, HeightFn height_m, std::string name = "terrain") {
+    engine::Mesh m = gridMesh(0.0, 0.0, 0.0, cells, cell_m, engine::Role::Ground, std::move(name));
+    for (glm::vec3& v : m.vertices) v.z = float(height_m(double(v.x), double(v.y)));
+    return m;
+}
+
 /// A flat square [-half, half]^2 at height z made of two triangles (a one-cell grid).
 inline engine::Mesh quadMesh(float half, float z, engine::Role role, std::string name) {
     return gridMesh(0.0, 0.0, z, 1, 2.0 * half, role, std::move(name));
@@ -88,12 +96,28 @@ inline engine::Scene townScene(double size_m = 160.0, double cell_m = 0.5) {
     return s;
 }
 
+/// Rolling terrain (about 10 m of relief over 160 m, no plane holds a view's 3 m band)
+/// with townScene's target and houses on it: RANSAC's planes, hence the whitening, depend
+/// on its seed here, unlike on a flat ground.
+inline engine::Scene hillyTownScene() {
+    engine::Scene s = townScene(160.0, 1.0);
+    s.source = "hilly town (in code)";
+    s.meshes[0] = terrainMesh(160, 1.0, [](double x, double y) {
+        return 3.0 * std::sin(x / 13.0) * std::cos(y / 9.0) + 2.0 * std::sin((x + 2.0 * y) / 23.0);
+    });
+    return s;
+}
+
+/// Thickness of boxBehindWall's walls, metres.
+inline constexpr float kWallThickness_m = 0.1f;
+
 /// The box-behind-wall scene: a cube target of half-size a centred on (0, 0, 0) inside a
 /// square enclosure of four thin walls at distance D (|x| = D or |y| = D) whose tops are at
-/// z = wall_top and bottoms at z = -a - 1. A camera at (R, 0, 0) looking at the cube's
-/// centre (orbit altitude 0, any of the 4 axis-aligned views) sees only the cube's front face
-/// (on axis), and the front wall hides the face where z < wall_top (R - a) / (R - D); so
-///   visible fraction = (a - wall_top (R - a) / (R - D)) / (2 a)   (closedFormVisible).
+/// z = wall_top and bottoms at z = -a - 1, kWallThickness_m thick outwards (|x| in [D, D + t]).
+/// A camera at (R, 0, 0) looking at the cube's centre (orbit altitude 0, any of the 4
+/// axis-aligned views) sees only the cube's front face (on axis), and the front wall's outer
+/// top edge (x = D + t, z = wall_top) hides the face where z < wall_top (R - a) / (R - D - t); so
+///   visible fraction = (a - wall_top (R - a) / (R - D - t)) / (2 a)   (closedFormVisible).
 /// With `roof`, a lid closes the enclosure: the target is fully hidden from everywhere.
 /// The origin is far from zero to exercise the local frame.
 inline engine::Scene boxBehindWall(float a, float distance_d, float wall_top, bool roof = false) {
@@ -101,12 +125,13 @@ inline engine::Scene boxBehindWall(float a, float distance_d, float wall_top, bo
     s.source = "box-behind-wall (in code)";
     s.origin = glm::dvec3(651000.0, 6862000.0, 85.0);
     s.meshes.push_back(boxMesh({-a, -a, -a}, {a, a, a}, engine::Role::Target, "cube"));
-    addEnclosure(s, distance_d, 0.1f, -a - 1.0f, wall_top, roof);
+    addEnclosure(s, distance_d, kWallThickness_m, -a - 1.0f, wall_top, roof);
     return s;
 }
 
 inline double closedFormVisible(double a, double distance_d, double wall_top, double radius_r) {
-    return (a - wall_top * (radius_r - a) / (radius_r - distance_d)) / (2.0 * a);
+    const double outer_d = distance_d + double(kWallThickness_m);
+    return (a - wall_top * (radius_r - a) / (radius_r - outer_d)) / (2.0 * a);
 }
 
 /// tests/data/scenes/basic, where basicScene's mesh files live.

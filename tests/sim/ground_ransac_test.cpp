@@ -5,7 +5,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -69,24 +71,82 @@ TEST_CASE("RANSAC recovers two terraces in the band, one plane per loop") {
     CHECK(stats.planes_rejected == 0);
 }
 
+namespace {
+
+// 2000 points on the plane z = tan(slope) * (x cos(azimuth) + y sin(azimuth)), +-1 cm
+// noise, over a disc small enough that the whole slope stays inside the 3 m band.
+std::vector<glm::vec3> slopedPatch(double slope_deg, double azimuth_deg, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1, 1), noise(-0.01f, 0.01f);
+    const double deg = std::numbers::pi / 180.0;
+    const double tan_slope = std::tan(slope_deg * deg);
+    const double radius_m = slope_deg > 0.0 ? std::min(5.0, 1.4 / tan_slope) : 5.0;
+    const double ca = std::cos(azimuth_deg * deg), sa = std::sin(azimuth_deg * deg);
+    std::vector<glm::vec3> pts;
+    while (pts.size() < 2000) {
+        const double x = radius_m * u(rng), y = radius_m * u(rng);
+        if (x * x + y * y > radius_m * radius_m) continue;
+        pts.push_back({float(x), float(y), float(tan_slope * (x * ca + y * sa)) + noise(rng)});
+    }
+    return pts;
+}
+
+std::size_t countGround(const std::vector<std::uint8_t>& ground) {
+    std::size_t n = 0;
+    for (auto g : ground) n += g;
+    return n;
+}
+
+}  // namespace
+
 TEST_CASE("the normal test keeps |n.z| >= 0.9 and rejects steeper planes") {
-    for (const double slope_deg : {15.0, 30.0}) {
-        std::mt19937 rng(11);
-        std::uniform_real_distribution<float> u(-5, 5), noise(-0.01f, 0.01f);
-        std::vector<glm::vec3> pts;
-        const float tan_slope = float(std::tan(slope_deg * std::numbers::pi / 180.0));
-        // Small enough that the whole slope stays inside the 3 m band: 10 m * tan(15) = 2.7 m.
-        for (int i = 0; i < 2000; ++i) {
-            const float x = u(rng) * (slope_deg > 20 ? 0.5f : 1.0f), y = u(rng);
-            pts.push_back({x, y, x * tan_slope + noise(rng)});
-        }
+    // 24 deg: cos = 0.9135, 26.5 deg: cos = 0.8949, so these pin the threshold inside
+    // (0.8949, 0.9135]; 15 and 30 deg are the easy cases either side.
+    for (const double slope_deg : {15.0, 24.0, 26.5, 30.0}) {
+        const double cos_slope = std::cos(slope_deg * std::numbers::pi / 180.0);
+        const std::vector<glm::vec3> pts = slopedPatch(slope_deg, 0.0, 11);
         sim::GroundStats stats;
-        const auto ground = sim::findGround(pts, sim::GroundOptions{}, 5, &stats);
-        std::size_t found = 0;
-        for (auto g : ground) found += g;
-        INFO("slope ", slope_deg, " deg, cos = ", std::cos(slope_deg * std::numbers::pi / 180.0));
-        if (slope_deg == 15.0) CHECK(found == 2000);   // cos 15 = 0.966 >= 0.9
-        else CHECK(found == 0);                         // cos 30 = 0.866 < 0.9
+        const std::size_t found = countGround(sim::findGround(pts, sim::GroundOptions{}, 5, &stats));
+        INFO("slope ", slope_deg, " deg, cos = ", cos_slope);
+        REQUIRE(stats.band_points == pts.size());
+        if (cos_slope >= 0.9) {
+            CHECK(found == pts.size());
+            CHECK(stats.planes_accepted == 1);
+        } else {
+            CHECK(found == 0);
+            CHECK(stats.planes_rejected >= 1);
+        }
+    }
+}
+
+TEST_CASE("a plane is ground whatever the sign of its normal (|n.z|, not n.z)") {
+    // PCL's least-squares refinement returns near-horizontal normals with n.z > 0, but a
+    // plane of exactly 3 inliers is not refined: its normal is the sample's cross product,
+    // whose sign follows the order of the 3 points (the shuffle, so the seed). A 3-point
+    // band (a view that grazes the ground) in every order and with several seeds meets both
+    // signs, and must be ground every time; so must a tilted one.
+    for (const float tilt : {0.0f, 0.2f}) {
+        std::vector<glm::vec3> pts = {{0, 0, 0}, {4, 0, 4 * tilt}, {0, 3, 0}};
+        std::sort(pts.begin(), pts.end(), [](glm::vec3 a, glm::vec3 b) { return a.x + 10 * a.y < b.x + 10 * b.y; });
+        do {
+            for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
+                sim::GroundStats stats;
+                const std::size_t found = countGround(sim::findGround(pts, sim::GroundOptions{}, seed, &stats));
+                INFO("tilt ", tilt, " seed ", seed, " first point ", pts[0].x, ",", pts[0].y);
+                CHECK(found == 3);
+                CHECK(stats.planes_accepted == 1);
+            }
+        } while (std::next_permutation(pts.begin(), pts.end(), [](glm::vec3 a, glm::vec3 b) {
+            return a.x + 10 * a.y < b.x + 10 * b.y;
+        }));
+    }
+    // Larger patches (refined normals) in eight tilt directions stay ground too.
+    for (int azimuth_deg = 0; azimuth_deg < 360; azimuth_deg += 45) {
+        const std::vector<glm::vec3> pts = slopedPatch(5.0, azimuth_deg, unsigned(azimuth_deg + 1));
+        sim::GroundStats stats;
+        INFO("azimuth ", azimuth_deg, " deg");
+        CHECK(countGround(sim::findGround(pts, sim::GroundOptions{}, 1, &stats)) == pts.size());
+        CHECK(stats.planes_rejected == 0);
     }
 }
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# tests/viewer/headless_env.sh: runs a command under a private Xvfb and, with --monado, a
+# tests/viewer/headless_env.sh: runs a command under a private Xvfb (on the display number
+# it picks, -displayfd) and, with --monado, a
 # private Monado service with its simulated HMD and null compositor (/work/shared/PLATFORM.md):
 #
 #   tests/viewer/headless_env.sh [--monado | --monado-stay] [--timeout S] -- COMMAND ARGS...
@@ -39,20 +40,21 @@ cleanup() {
 }
 trap cleanup EXIT INT TERM
 
-# A free display number: no lock file and no socket.
-display=""
-for n in $(seq 90 140); do
-  if [ ! -e "/tmp/.X$n-lock" ] && [ ! -e "/tmp/.X11-unix/X$n" ]; then display=$n; break; fi
-done
-[ -n "$display" ] || { echo "headless_env: no free X display number in 90..140" >&2; exit 1; }
-Xvfb ":$display" -screen 0 1600x900x24 -nolisten tcp >"$work/xvfb.log" 2>&1 &
+# Xvfb picks a free display number itself and writes it to fd 3 once it accepts
+# connections (-displayfd): no guessing from lock files, no race with other servers.
+Xvfb -displayfd 3 -screen 0 1600x900x24 -nolisten tcp 3>"$work/display" >"$work/xvfb.log" 2>&1 &
 pids+=($!)
+display=""
 for _ in $(seq 100); do
-  [ -e "/tmp/.X11-unix/X$display" ] && break
+  # The number is complete once its line ends.
+  if [ "$(tail -c 1 "$work/display" 2>/dev/null | od -An -tx1 | tr -d ' ')" = 0a ]; then
+    display=$(tr -dc '0-9' <"$work/display")
+    [ -n "$display" ] && break
+  fi
   kill -0 -- "${pids[0]}" 2>/dev/null || { cat "$work/xvfb.log" >&2; echo "headless_env: Xvfb died" >&2; exit 1; }
   sleep 0.1
 done
-[ -e "/tmp/.X11-unix/X$display" ] || { echo "headless_env: Xvfb did not start in 10 s" >&2; exit 1; }
+[ -n "$display" ] || { echo "headless_env: Xvfb did not report a display in 10 s" >&2; exit 1; }
 export DISPLAY=":$display"
 
 # The OpenXR runtime talks to its clients through a socket in XDG_RUNTIME_DIR.

@@ -28,7 +28,17 @@ TEST_CASE("a script lists key presses by frame") {
     CHECK(events[0].key == ScriptEvent::Key::Space);
     CHECK(events[1].frame == 25);
     CHECK(events[2].key == ScriptEvent::Key::Escape);
+    CHECK_FALSE(events[2].after_desktop);
     std::filesystem::remove(path);
+    // desktop+N: N frames after the drop to desktop mode.
+    const auto after = writeTemp("d.txt", "2 space\ndesktop+20 escape\n");
+    const auto relative = readScript(after);
+    REQUIRE(relative.size() == 2);
+    CHECK_FALSE(relative[0].after_desktop);
+    CHECK(relative[1].after_desktop);
+    CHECK(relative[1].frame == 20);
+    CHECK(relative[1].key == ScriptEvent::Key::Escape);
+    std::filesystem::remove(after);
 }
 
 TEST_CASE("bad script lines name the file and the line and what is allowed") {
@@ -41,6 +51,9 @@ TEST_CASE("bad script lines name the file and the line and what is allowed") {
     CHECK_THROWS_WITH_AS(readScript(extra), doctest::Contains("unexpected 'now'"), engine::Error);
     const auto negative = writeTemp("n.txt", "-3 space\n");
     CHECK_THROWS_AS(readScript(negative), engine::Error);
+    const auto no_count = writeTemp("c.txt", "desktop+ escape\n");
+    CHECK_THROWS_WITH_AS(readScript(no_count), doctest::Contains("line 1: frame 'desktop+'"), engine::Error);
+    std::filesystem::remove(no_count);
     CHECK_THROWS_WITH_AS(readScript("/nonexistent/script.txt"), doctest::Contains("/nonexistent/script.txt: does not exist"),
                          engine::Error);
     for (const auto& p : {bad_frame, bad_key, extra, negative}) std::filesystem::remove(p);

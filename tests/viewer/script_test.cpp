@@ -31,7 +31,7 @@ TEST_CASE("script text: tabs, CRLF line ends, comments and blank lines") {
 TEST_CASE("script text: refused frames name the line and what is allowed") {
     CHECK_THROWS_WITH_AS(parseScript("1 space\n99999999999999999999 space\n", kName),
                          "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
-                         "allowed '<frame> space|escape'",
+                         "allowed '<frame> space|escape', <frame> N or desktop+N",
                          engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("0x10 space\n", kName), doctest::Contains("line 1: frame '0x10'"), engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("1.5 space\n", kName), doctest::Contains("frame '1.5'"), engine::Error);

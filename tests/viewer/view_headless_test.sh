@@ -6,8 +6,9 @@
 #            scripted space bar automatic -> free -> automatic, target pixels in the mirror.
 #   desktop  no OpenXR runtime: one clear line, desktop fallback, same script and checks.
 #   escape   desktop, a scripted Escape at frame 5 closes the viewer cleanly.
-#   lost     the runtime is killed after FOCUSED: the viewer drops to the desktop mode
-#            with the cloud kept and runs on until a scripted Escape.
+#   lost     the runtime is killed once 2 XR frames are submitted (the scripted toggles'
+#            lines): the viewer drops to the desktop mode with the cloud kept and runs
+#            on until a scripted Escape 20 frames after the drop (desktop+20).
 #   budget   desktop run with --point-budget 40000: every frame draws at most 40,000 of the
 #            163,840 points (LOD prefixes), still over 30,000, and the target is still red on screen.
 #   stream   a known binary PCD (make_test_pcd.py, origin 10^6 m away) is streamed in: at
@@ -47,18 +48,21 @@ case "$scenario" in
       --script "$work/escape.txt" 2>"$work/stderr" || status=$?
     ;;
   lost)
-    printf '60 escape\n' >"$work/escape.txt"
+    # Event-driven: the scripted space presses at frames 1 and 2 print "free mode (script)"
+    # and "automatic mode (script)", so once the second line is out at least 2 XR frames
+    # were submitted and the runtime is killed; Escape comes 20 frames after the drop to
+    # the desktop (desktop+20), whenever that happens.
+    printf '1 space\n2 space\ndesktop+20 escape\n' >"$work/escape.txt"
     cat >"$work/lost.sh" <<LOST
 set -u
 "$bin" ${common[*]} --script "$work/escape.txt" --colour label --orbit-period 100000 \
   2>"$work/stderr" &
 viewer=\$!
-for _ in \$(seq 600); do
-  grep -q "OpenXR session focused" "$work/stderr" && break
+for _ in \$(seq 1200); do
+  grep -q "automatic mode (script)" "$work/stderr" && break
   kill -0 \$viewer 2>/dev/null || break
   sleep 0.1
 done
-sleep 1
 kill -- -"\$LADARVR_MONADO_PGID"   # take the runtime away (the test's own Monado)
 wait \$viewer
 LOST

@@ -21,15 +21,18 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         if (!(ls >> frame_text)) continue;
         auto bad = [&](const std::string& what) {
             return engine::Error(name + " line " + std::to_string(number) + ": " + what +
-                                 "; allowed '<frame> space|escape'");
+                                 "; allowed '<frame> space|escape', <frame> N or desktop+N");
         };
         // Tokens are quoted escaped and short: a binary file must not reach the terminal.
         auto quoted = [](const std::string& token) { return "'" + engine::printable(token, 40) + "'"; };
         ScriptEvent ev;
         try {
+            constexpr std::string_view kDesktop = "desktop+";
+            ev.after_desktop = frame_text.starts_with(kDesktop);
+            const std::string number_text = ev.after_desktop ? frame_text.substr(kDesktop.size()) : frame_text;
             std::size_t used = 0;
-            ev.frame = std::stol(frame_text, &used);
-            if (used != frame_text.size() || ev.frame < 0) throw std::invalid_argument("frame");
+            ev.frame = std::stol(number_text, &used);
+            if (used != number_text.size() || ev.frame < 0) throw std::invalid_argument("frame");
         } catch (const std::exception&) {
             throw bad("frame " + quoted(frame_text) + " is not a whole number >= 0");
         }

@@ -141,6 +141,7 @@ private:
     long first_points_frame_ = -1;
     std::size_t points_drawn_ = 0;
     std::string fallback_;
+    long desktop_since_frame_ = -1;   // frames_ when the viewer dropped to desktop mode
     bool quitting_ = false;      // frames after the exit request are not counted
     GLuint timer_query_ = 0;     // GL_TIME_ELAPSED around the frame's draws (--gpu-timing)
     double last_gpu_ms_ = -1.0;
@@ -220,6 +221,7 @@ void ViewerApp::setup() {
 void ViewerApp::fallBackToDesktop(const std::string& reason) {
     xr_.reset();
     fallback_ = reason;
+    desktop_since_frame_ = frames_;
     log_.event("desktop mode: " + reason);
     if (!options_.quiet)
         std::fprintf(stderr, "ladarvr: view: %s; desktop mode (mouse and keyboard camera)\n", reason.c_str());
@@ -436,8 +438,11 @@ int ViewerApp::run() {
     while (true) {
         glfwPollEvents();
         // Scripted keys for the frame about to be counted.
-        while (script_next < options_.script.size() && options_.script[script_next].frame <= frames_) {
-            const auto& ev = options_.script[script_next++];
+        while (script_next < options_.script.size()) {
+            const auto& ev = options_.script[script_next];
+            const long base = ev.after_desktop ? desktop_since_frame_ : 0;
+            if (base < 0 || ev.frame + base > frames_) break;
+            ++script_next;
             if (ev.key == ScriptEvent::Key::Space) toggleMode("script");
             else input_.quit = true;
         }

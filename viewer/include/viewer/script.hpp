@@ -15,14 +15,17 @@ namespace viewer {
 struct ScriptEvent {
     long frame = 0;
     enum class Key { Space, Escape } key = Key::Space;
+    /// "desktop+N": N frames after the drop to desktop mode (a lost runtime), so a test
+    /// acts on that event instead of guessing its frame; waits while none has happened.
+    bool after_desktop = false;
 };
 
 /// The largest script read (a line per key press: a megabyte is tens of thousands).
 inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
 
-/// Parses script text: one "<frame> space|escape" per line, frame a whole number >= 0,
-/// '#' starts a comment, blank lines skipped. Throws engine::Error("<name> line N: ...;
-/// allowed '<frame> space|escape'") on a bad line; tokens quoted in it are shown escaped
+/// Parses script text: one "<frame> space|escape" per line, frame a whole number >= 0 or
+/// desktop+N, '#' starts a comment, blank lines skipped. Throws engine::Error("<name> line
+/// N: ...; allowed '<frame> space|escape', <frame> N or desktop+N") on a bad line; tokens quoted in it are shown escaped
 /// and cut to 40 characters (engine::printable).
 std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& name);
 
