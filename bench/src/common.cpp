@@ -36,6 +36,31 @@ std::string fmt(const char* format, double v) {
     return b;
 }
 
+Spread spread(const std::vector<double>& samples) {
+    Spread s;
+    s.n = samples.size();
+    if (samples.empty()) {
+        s.min = s.median = s.max = std::nan("");
+        return s;
+    }
+    const auto [lo, hi] = std::minmax_element(samples.begin(), samples.end());
+    s.min = *lo;
+    s.max = *hi;
+    s.median = median(samples);
+    return s;
+}
+
+std::string fmtSpread(const char* format, const Spread& s) {
+    if (s.n < 2) return fmt(format, s.median);
+    return fmt(format, s.median) + " [" + fmt(format, s.min) + ".." + fmt(format, s.max) + "]";
+}
+
+bool withinSpread(const Spread& a, const Spread& b) {
+    return a.n >= 2 && b.n >= 2 && a.min <= b.max && b.min <= a.max;
+}
+
+std::string spreadNote(const Spread& a, const Spread& b) { return withinSpread(a, b) ? " (within spread)" : ""; }
+
 std::string cpuName() {
     std::ifstream in("/proc/cpuinfo");
     std::string line;

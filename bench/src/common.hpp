@@ -20,6 +20,22 @@ double median(std::vector<double> samples);
 double quantile(std::vector<double> samples, double q);
 /// printf-style formatting of one number ("%.2f").
 std::string fmt(const char* format, double v);
+
+/// The median of repeated measurements with their smallest and largest value.
+struct Spread {
+    double min = 0, median = 0, max = 0;
+    std::size_t n = 0;   // samples
+};
+/// min, median, max of the samples; all NaN (n = 0) when there are none.
+Spread spread(const std::vector<double>& samples);
+/// "median [min..max]" with `format` for each number ("%.3f"); the median alone when
+/// there are fewer than 2 samples (no spread to show).
+std::string fmtSpread(const char* format, const Spread& s);
+/// Whether the [min, max] ranges of two measurements overlap: a ratio of their medians is
+/// then within the run-to-run spread. False when either has fewer than 2 samples.
+bool withinSpread(const Spread& a, const Spread& b);
+/// " (within spread)" when withinSpread(a, b), else "".
+std::string spreadNote(const Spread& a, const Spread& b);
 /// The CPU's model name from /proc/cpuinfo, or "unknown CPU".
 std::string cpuName();
 /// "YYYY-MM-DD HH:MM UTC" now.

@@ -1,8 +1,9 @@
 // bench/src/generate.cpp: `ladarvr bench generate`: the generator's ray-casting
-// throughput against a plain rtcIntersect1 loop over the same rays and the same BVH (the
-// Embree limit on this machine), and the time of every stage, on the paper's
-// configuration (demo scene) and on one >= 100x larger that streams to disk.
-// Warm-up, repeats, medians; the section "## Generator (ladarvr bench generate)" of
+// throughput against plain loops over the same precomputed rays and the same BVH: one of
+// rtcIntersect16 packets of 16 pixels of a row (the Embree limit for the generator's
+// packets on this machine) and one of rtcIntersect1; and the time of every stage, on the
+// paper's configuration (demo scene) and on one >= 100x larger that streams to disk.
+// Warm-up, repeats interleaved with the baselines, medians with min..max; the section "## Generator (ladarvr bench generate)" of
 // BENCHMARKS.md is rewritten with the table, the command and the machine.
 #include "common.hpp"
 #include "plain_loop.hpp"
@@ -92,9 +93,12 @@ struct Result {
     int threads = 1, repeats = 0;
     double prepare_s = 0;                     // scene load (and subdivision)
     std::uint64_t rays = 0, points = 0, misses = 0;
-    double bvh = 0, cast = 0, fuse = 0, ransac = 0, colour = 0, write = 0, total = 0;  // medians
-    double plain_cast = 0;                    // median of the plain rtcIntersect1 loop
-    double single_cast = 0;                   // median cast stage with packet_rays = false (0: not run)
+    std::uint64_t rays_traced = 0;            // rays the generator cast (the skips answer the rest)
+    Spread bvh, cast, fuse, ransac, colour, write, total;  // seconds per stage
+    // Throughputs in Mrays/s over all `rays`: the generator's cast stage (rtcIntersect16
+    // packets), the plain rtcIntersect16 and rtcIntersect1 loops, and the cast stage with
+    // packet_rays = false (n = 0: not run).
+    Spread gen_mrays, plain16_mrays, plain1_mrays, single_mrays;
     bool streamed = false;
     double peak_rss_mib = 0, rss_before_mib = 0;
     bool peak_reset = false;
@@ -102,9 +106,10 @@ struct Result {
     std::optional<double> precision, recall;
 };
 
-// The plain loop over every ray of every view (plain_loop.hpp). Rays are made per batch
-// of views (not timed); only the intersect loops are timed.
-double plainLoopAllViews(const sim::Generator& g, int threads) {
+// A plain loop over every ray of every view (plain_loop.hpp): rtcIntersect16 packets of
+// 16 pixels of a row, or rtcIntersect1. Rays are made per batch of views (not timed);
+// only the intersect loops are timed.
+double plainLoopAllViews(const sim::Generator& g, int threads, bool packets) {
     const sim::OrbitOptions& orbit = g.options().orbit;
     const std::size_t npix = std::size_t(orbit.xres) * std::size_t(orbit.yres);
     const std::size_t batch_views = std::max<std::size_t>(1, (std::size_t(4) << 20) / npix);
@@ -118,7 +123,8 @@ double plainLoopAllViews(const sim::Generator& g, int threads) {
             g.viewRays(v, view_rays);
             rays.insert(rays.end(), view_rays.begin(), view_rays.end());
         }
-        seconds += plainLoopSeconds(g.caster(), rays, hits, threads);
+        seconds += packets ? plainPacketLoopSeconds(g.caster(), rays, hits, threads, std::size_t(orbit.xres))
+                           : plainLoopSeconds(g.caster(), rays, hits, threads);
     }
     return seconds;
 }
@@ -129,22 +135,35 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
     r.name = name;
     r.orbit = options.orbit;
     r.repeats = repeats;
-    std::vector<double> bvh, cast, fuse, ransac, colour, write, total, plain, single;
+    std::vector<double> bvh, cast, fuse, ransac, colour, write, total, plain1, plain16, single;
     if (warm_up) {
         sim::Generator g(scene, options);
         g.run(out, engine::CloudFormat::PcdBinary);
         fs::remove(out);
-        plainLoopAllViews(g, options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency())));
+        const int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+        plainLoopAllViews(g, threads, true);
+        plainLoopAllViews(g, threads, false);
     }
     for (int k = 0; k < repeats; ++k) {
+        sim::GenerateStats st;
+        sim::Generator g(scene, options);  // builds the BVH both the generator and the baselines use
+        // The baselines on this run's BVH, same rays, the generator's thread count.
+        const auto baselines = [&](int threads) {
+            plain16.push_back(plainLoopAllViews(g, threads, true));
+            plain1.push_back(plainLoopAllViews(g, threads, false));
+        };
+        // Interleaved: even runs time the generator first, odd runs the baselines first
+        // (on the thread count the previous run reported), so neither side always runs
+        // on a machine the other has just warmed or heated.
+        const bool baselines_first = k % 2 == 1;
+        if (baselines_first) baselines(r.threads);
         r.rss_before_mib = statusMiB("VmRSS:");
         r.peak_reset = resetPeakRss();
-        sim::GenerateStats st;
-        sim::Generator g(scene, options);
         g.run(out, engine::CloudFormat::PcdBinary, &st);
         r.peak_rss_mib = std::max(r.peak_rss_mib, statusMiB("VmHWM:"));
         r.output_mib = double(fs::file_size(out)) / 1048576.0;
         fs::remove(out);
+        if (!baselines_first) baselines(st.threads);
         bvh.push_back(st.seconds.bvh);
         cast.push_back(st.seconds.cast);
         fuse.push_back(st.seconds.fuse);
@@ -155,13 +174,12 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
         r.triangles = st.triangles;
         r.threads = st.threads;
         r.rays = st.rays;
+        r.rays_traced = st.rays_traced;
         r.points = st.points;
         r.misses = st.misses;
         r.streamed = st.streamed;
         r.precision = st.ground_precision;
         r.recall = st.ground_recall;
-        // The baseline right after, on the same BVH, same rays, same thread count.
-        plain.push_back(plainLoopAllViews(g, st.threads));
         if (single_too) {  // the generator tracing one ray at a time (rtcIntersect1)
             sim::GenerateOptions one = options;
             one.packet_rays = false;
@@ -170,18 +188,27 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
             fs::remove(out);
             single.push_back(st1.seconds.cast);
         }
-        std::fprintf(stderr, "bench generate: %s run %d/%d: cast %.3f s (plain loop %.3f s), total %.3f s\n",
-                     name.c_str(), k + 1, repeats, st.seconds.cast, plain.back(), st.seconds.total);
+        std::fprintf(stderr,
+                     "bench generate: %s run %d/%d: cast %.3f s (plain rtcIntersect16 loop %.3f s, rtcIntersect1 "
+                     "loop %.3f s), total %.3f s\n",
+                     name.c_str(), k + 1, repeats, st.seconds.cast, plain16.back(), plain1.back(), st.seconds.total);
     }
-    r.bvh = median(bvh);
-    r.cast = median(cast);
-    r.fuse = median(fuse);
-    r.ransac = median(ransac);
-    r.colour = median(colour);
-    r.write = median(write);
-    r.total = median(total);
-    r.plain_cast = median(plain);
-    r.single_cast = median(single);
+    r.bvh = spread(bvh);
+    r.cast = spread(cast);
+    r.fuse = spread(fuse);
+    r.ransac = spread(ransac);
+    r.colour = spread(colour);
+    r.write = spread(write);
+    r.total = spread(total);
+    const auto mrays = [&](const std::vector<double>& seconds) {
+        std::vector<double> v;
+        for (double t : seconds) v.push_back(double(r.rays) / t / 1e6);
+        return spread(v);
+    };
+    r.gen_mrays = mrays(cast);
+    r.plain16_mrays = mrays(plain16);
+    r.plain1_mrays = mrays(plain1);
+    r.single_mrays = mrays(single);
     return r;
 }
 
@@ -193,7 +220,7 @@ struct SkipRow {
     std::string name;
     std::uint64_t rays = 0, traced = 0, points = 0, views_without_ransac = 0;
     int views = 0;
-    double cast_on = 0, cast_off = 0, ransac = 0, total_on = 0, total_off = 0;
+    Spread cast_on, cast_off, ransac, total_on, total_off;  // seconds
     bool same = true;
 };
 
@@ -223,13 +250,13 @@ SkipRow skipRow(const std::string& name, const engine::Scene& scene, sim::Genera
         total_on.push_back(on.seconds.total);
         total_off.push_back(off.seconds.total);
     }
-    r.cast_on = median(cast_on);
-    r.cast_off = median(cast_off);
-    r.ransac = median(ransac);
-    r.total_on = median(total_on);
-    r.total_off = median(total_off);
+    r.cast_on = spread(cast_on);
+    r.cast_off = spread(cast_off);
+    r.ransac = spread(ransac);
+    r.total_on = spread(total_on);
+    r.total_off = spread(total_off);
     std::fprintf(stderr, "bench generate: skip %s: %llu of %llu rays traced, cast %.3f s vs %.3f s\n", name.c_str(),
-                 (unsigned long long)r.traced, (unsigned long long)r.rays, r.cast_on, r.cast_off);
+                 (unsigned long long)r.traced, (unsigned long long)r.rays, r.cast_on.median, r.cast_off.median);
     return r;
 }
 
@@ -240,33 +267,49 @@ std::string skipTable(const std::vector<SkipRow>& rows) {
       << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const SkipRow& r : rows)
         s << "| " << r.name << " | " << r.rays << " | " << r.traced << fmt(" (%.1f %%)", 100.0 * double(r.traced) / double(r.rays))
-          << " | " << r.points << " | " << fmt("%.3f", r.cast_off) << " | " << fmt("%.3f", r.cast_on) << " | "
-          << fmt("%.2fx", r.cast_on > 0 ? r.cast_off / r.cast_on : 0.0) << " | " << fmt("%.3f", r.total_off) << " | "
-          << fmt("%.3f", r.total_on) << " | " << fmt("%.3f", r.ransac) << " | " << r.views_without_ransac << " of "
+          << " | " << r.points << " | " << fmtSpread("%.3f", r.cast_off) << " | " << fmtSpread("%.3f", r.cast_on)
+          << " | " << fmt("%.2fx", r.cast_on.median > 0 ? r.cast_off.median / r.cast_on.median : 0.0)
+          << spreadNote(r.cast_off, r.cast_on) << " | " << fmtSpread("%.3f", r.total_off) << " | "
+          << fmtSpread("%.3f", r.total_on) << " | " << fmtSpread("%.3f", r.ransac) << " | " << r.views_without_ransac << " of "
           << r.views << " | " << (r.same ? "yes" : "NO") << " |\n";
     return s.str();
 }
 
 std::string percent(const std::optional<double>& v) { return v ? fmt("%.2f %%", 100.0 * *v) : "n/a"; }
 
-std::string table(const std::vector<Result>& results) {
+// "1.23x" for a / b of the medians, marked when the two ranges overlap.
+std::string ratio(const Spread& a, const Spread& b) {
+    return fmt("%.2fx", b.median > 0 ? a.median / b.median : 0.0) + spreadNote(a, b);
+}
+
+std::string castTable(const std::vector<Result>& results) {
     std::ostringstream s;
-    s << "| configuration | triangles | rays | threads | plain rtcIntersect1 loop (Mrays/s) | generator cast, "
-         "rtcIntersect16 (Mrays/s) | ratio | generator cast, rtcIntersect1 (Mrays/s) | BVH s | cast s | fuse s | "
-         "RANSAC s | colour s | write s | total s | peak RSS MiB "
-         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    s << "| configuration | triangles | rays | rays traced by the generator | threads | plain rtcIntersect16 loop "
+         "(Mrays/s) | plain rtcIntersect1 loop (Mrays/s) | generator cast, rtcIntersect16 (Mrays/s) | generator / "
+         "plain rtcIntersect16 | generator / plain rtcIntersect1 | generator cast, rtcIntersect1 (Mrays/s) | "
+         "that / plain rtcIntersect1 |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Result& r : results) {
-        const double plain_mrays = double(r.rays) / r.plain_cast / 1e6;
-        const double gen_mrays = double(r.rays) / r.cast / 1e6;
-        s << "| " << r.name << " | " << r.triangles << " | " << r.rays << " | " << r.threads << " | "
-          << fmt("%.2f", plain_mrays) << " | " << fmt("%.2f", gen_mrays) << " | "
-          << fmt("%.2fx", gen_mrays / plain_mrays) << " | "
-          << (r.single_cast > 0 ? fmt("%.2f", double(r.rays) / r.single_cast / 1e6) + fmt(" (%.2fx)", plain_mrays > 0 ? (double(r.rays) / r.single_cast / 1e6) / plain_mrays : 0.0) : std::string("-"))
-          << " | " << fmt("%.3f", r.bvh) << " | "
-          << fmt("%.3f", r.cast) << " | " << fmt("%.3f", r.fuse) << " | " << fmt("%.3f", r.ransac) << " | "
-          << fmt("%.3f", r.colour) << " | " << fmt("%.3f", r.write) << " | " << fmt("%.3f", r.total) << " | "
-          << fmt("%.0f", r.peak_rss_mib) << " |\n";
+        s << "| " << r.name << " | " << r.triangles << " | " << r.rays << " | " << r.rays_traced
+          << fmt(" (%.1f %%)", 100.0 * double(r.rays_traced) / double(r.rays)) << " | " << r.threads << " | "
+          << fmtSpread("%.2f", r.plain16_mrays) << " | " << fmtSpread("%.2f", r.plain1_mrays) << " | "
+          << fmtSpread("%.2f", r.gen_mrays) << " | " << ratio(r.gen_mrays, r.plain16_mrays) << " | "
+          << ratio(r.gen_mrays, r.plain1_mrays) << " | "
+          << (r.single_mrays.n > 0 ? fmtSpread("%.2f", r.single_mrays) + " | " + ratio(r.single_mrays, r.plain1_mrays)
+                                   : std::string("- | -"))
+          << " |\n";
     }
+    return s.str();
+}
+
+std::string stageTable(const std::vector<Result>& results) {
+    std::ostringstream s;
+    s << "| configuration | BVH s | cast s | fuse s | RANSAC s | colour s | write s | total s | peak RSS MiB "
+         "|\n|---|---|---|---|---|---|---|---|---|\n";
+    for (const Result& r : results)
+        s << "| " << r.name << " | " << fmtSpread("%.3f", r.bvh) << " | " << fmtSpread("%.3f", r.cast) << " | "
+          << fmtSpread("%.3f", r.fuse) << " | " << fmtSpread("%.3f", r.ransac) << " | "
+          << fmtSpread("%.3f", r.colour) << " | " << fmtSpread("%.3f", r.write) << " | "
+          << fmtSpread("%.3f", r.total) << " | " << fmt("%.0f", r.peak_rss_mib) << " |\n";
     return s.str();
 }
 
@@ -355,12 +398,14 @@ void run(const BenchGenerateCli& cli) {
     std::error_code ec;
     fs::remove_all(dir, ec);
 
-    const std::string tbl = table(results);
+    const std::string tbl = castTable(results) + "\n" + stageTable(results);
     std::printf("%s\n%s\n%s", tbl.c_str(), notes(results).c_str(), skip_tbl.c_str());
     const Result& p = results.front();
-    std::printf("paper configuration: cast %.2fx the plain rtcIntersect1 loop (goal >= 0.9x); whole run %.3f s "
-                "(BVH + cast + fuse + RANSAC + colour + write; goal < 1 s) + %.3f s scene load\n",
-                (double(p.rays) / p.cast) / (double(p.rays) / p.plain_cast), p.total, p.prepare_s);
+    std::printf("paper configuration: cast %s the plain rtcIntersect16 loop (goal >= 0.95x), %s the plain "
+                "rtcIntersect1 loop; whole run %.3f s (BVH + cast + fuse + RANSAC + colour + write; goal < 1 s) "
+                "+ %.3f s scene load\n",
+                ratio(p.gen_mrays, p.plain16_mrays).c_str(), ratio(p.gen_mrays, p.plain1_mrays).c_str(),
+                p.total.median, p.prepare_s);
 
     if (!cli.no_md) {
         const std::string date = utcNow();
@@ -370,10 +415,16 @@ void run(const BenchGenerateCli& cli) {
           << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << date << "; "
           << fmt("%.0f", secondsSince(start)) << " s in all.\n\n"
           << "Ray casting: the generator's cast stage (rays made on the fly, traced as rtcIntersect16 "
-             "packets of 16 pixels, hits stored per pixel; and, in the rtcIntersect1 column, one ray at a "
-             "time) against a plain loop of rtcIntersect1 over the same rays (precomputed), same BVH, same "
-             "thread count, run right after each generator run; ratio = generator / plain throughput. "
-             "Stages: BVH = Embree build; fuse = per-view compaction and appending (to the spool file "
+             "packets of 16 consecutive pixels of a row, hits stored per pixel; and, in the last two columns, "
+             "one ray at a time) against two plain loops over the same rays (precomputed), the same BVH and "
+             "the same thread count: rtcIntersect16 packets of 16 consecutive pixels of a row (the limit for "
+             "the generator's packets) and rtcIntersect1 per ray. The baselines run on each generator run's "
+             "BVH, interleaved with it: right after it on even runs, right before it on odd runs. "
+             "Throughputs count every pixel of every view; the generator casts only the rays its skips keep "
+             "(column 'rays traced'), the plain loops cast them all. Ratios are of medians; '(within "
+             "spread)' marks a ratio whose two measurements' min..max ranges overlap, i.e. one the run-to-run "
+             "noise could explain. Every figure is 'median [min..max]' over the runs (the median alone for a "
+             "single run). Stages: BVH = Embree build; fuse = per-view compaction and appending (to the spool file "
              "when streamed); colour includes reading the spool back; total = BVH + cast + fuse + RANSAC "
              "+ colour + write (scene loading excluded, given per row). Peak RSS = VmHWM, reset just "
              "before the run (so it includes the scene and its BVH). The machine's 2 cores were shared "
@@ -384,7 +435,8 @@ void run(const BenchGenerateCli& cli) {
              "can meet the bounds of the ray-cast meshes are traced (docs/generator.md); off: "
              "`--no-skip-rays`. RANSAC is never run on a view whose height band has < 3 points (no "
              "switch); its time is that of the skip-on run. Same cloud: positions, colours and views "
-             "equal point by point.\n\n"
+             "equal point by point. Figures are 'median [min..max]'; '(within spread)' marks a ratio "
+             "whose two ranges overlap.\n\n"
           << skip_tbl << "\n";
         replaceMarkdownSection(cli.md, "## Generator (ladarvr bench generate)", s.str());
         std::fprintf(stderr, "bench generate: wrote the section to %s\n", cli.md.c_str());

@@ -137,6 +137,46 @@ void RayCaster::intersect(std::span<const Ray> rays, std::span<Hit> hits) const 
     }
 }
 
+void RayCaster::intersect16(std::span<const Ray> rays, std::span<Hit> hits) const {
+    const Impl& impl = *impl_;
+    assert(rays.size() == hits.size());
+    const std::size_t n = std::min(rays.size(), hits.size());
+    RTCRayHit16 rh;
+    alignas(64) int valid[16];
+    RTCIntersectArguments args;
+    rtcInitIntersectArguments(&args);
+    args.flags = RTC_RAY_QUERY_FLAG_COHERENT;
+    for (std::size_t i = 0; i < n; i += 16) {
+        const std::size_t m = std::min<std::size_t>(16, n - i);
+        for (std::size_t k = 0; k < 16; ++k) {
+            const Ray r = k < m ? rays[i + k] : Ray{};
+            valid[k] = k < m ? -1 : 0;
+            rh.ray.org_x[k] = r.origin.x; rh.ray.org_y[k] = r.origin.y; rh.ray.org_z[k] = r.origin.z;
+            rh.ray.tnear[k] = 0.0f;
+            rh.ray.dir_x[k] = r.direction.x; rh.ray.dir_y[k] = r.direction.y; rh.ray.dir_z[k] = r.direction.z;
+            rh.ray.time[k] = 0.0f;
+            rh.ray.tfar[k] = r.t_far;
+            rh.ray.mask[k] = 0xFFFFFFFFu;
+            rh.ray.id[k] = unsigned(k);
+            rh.ray.flags[k] = 0;
+            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect16(valid, impl.scene, &rh, &args);
+        for (std::size_t k = 0; k < m; ++k) {
+            Hit& h = hits[i + k];
+            if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+                h = Hit{};
+            } else {
+                h.t = rh.ray.tfar[k];
+                h.mesh = static_cast<std::int32_t>(rh.hit.geomID[k]);
+                h.triangle = rh.hit.primID[k];
+                h.role = impl.roles[rh.hit.geomID[k]];
+            }
+        }
+    }
+}
+
 engine::Bounds RayCaster::bounds() const { return impl_->bounds; }
 
 std::size_t RayCaster::triangleCount() const { return impl_->triangles; }

@@ -82,3 +82,34 @@ TEST_CASE("embree errors become engine::Error naming the mesh") {
     s.meshes.push_back(m);
     CHECK_THROWS_WITH_AS(sim::RayCaster{s}, doctest::Contains("broken.obj"), engine::Error);
 }
+
+TEST_CASE("intersect16 gives the hits of intersect, with a partial last packet") {
+    engine::Scene s;
+    s.meshes.push_back(test_support::gridMesh(0, 0, 0, 8, 2.0));
+    s.meshes.push_back(test_support::boxMesh({-1, -1, 0}, {1, 1, 3}, engine::Role::Target, "box"));
+    const sim::RayCaster caster(s);
+    std::vector<sim::Ray> rays;
+    for (int k = 0; k < 37; ++k) {  // two full packets and 5 rays; some on the box, some miss
+        sim::Ray r;
+        // Off the grid's edges and vertices, where the two may pick either adjacent triangle.
+        r.origin = {float(k) - 17.63f, 0.3f * float(k % 5) + 0.11f, 10.0f};
+        r.direction = {0.05f * float(k % 3), 0.0f, -1.0f};
+        if (k == 7) r.t_far = 2.0f;  // stops before the ground: a miss
+        rays.push_back(r);
+    }
+    std::vector<sim::Hit> one(rays.size()), packets(rays.size(), sim::Hit{99.0f, 5, 5});
+    caster.intersect(rays, one);
+    caster.intersect16(rays, packets);
+    std::size_t hits = 0, box = 0;
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+        CHECK(packets[k].mesh == one[k].mesh);
+        CHECK(packets[k].triangle == one[k].triangle);
+        CHECK(packets[k].role == one[k].role);
+        CHECK(packets[k].t == doctest::Approx(one[k].t));
+        hits += one[k].hit();
+        box += one[k].mesh == 1;
+    }
+    CHECK(hits > 10);
+    CHECK(hits < rays.size());
+    CHECK(box > 0);
+}

@@ -41,6 +41,9 @@ public:
     /// Traces rays[i] into hits[i] (same size). Thread-safe: several threads may call
     /// this concurrently on disjoint spans. Does not spawn threads itself.
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
+    /// The same hits, traced as rtcIntersect16 packets of 16 consecutive rays (the last
+    /// one partial) with the coherent-ray flag, as the generator traces pixel rows.
+    void intersect16(std::span<const Ray> rays, std::span<Hit> hits) const;
 
     /// Local-frame bounds of all geometry.
     engine::Bounds bounds() const;
