@@ -3,8 +3,9 @@
 // rtcIntersect16 packets of 16 pixels of a row (the Embree limit for the generator's
 // packets on this machine) and one of rtcIntersect1; and the time of every stage, on the
 // paper's configuration (demo scene) and on one >= 100x larger that streams to disk.
-// Warm-up, repeats interleaved with the baselines, medians with min..max; the section "## Generator (ladarvr bench generate)" of
-// BENCHMARKS.md is rewritten with the table, the command and the machine.
+// Warm-up, repeats interleaved with the baselines, medians with min..max; the section
+// "## Generator (ladarvr bench generate)" of BENCHMARKS.md is rewritten with the tables,
+// the command and the machine.
 #include "common.hpp"
 #include "plain_loop.hpp"
 #include "register.hpp"
@@ -140,7 +141,8 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
         sim::Generator g(scene, options);
         g.run(out, engine::CloudFormat::PcdBinary);
         fs::remove(out);
-        const int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+        const int threads =
+            options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
         plainLoopAllViews(g, threads, true);
         plainLoopAllViews(g, threads, false);
     }
@@ -270,7 +272,8 @@ std::string skipTable(const std::vector<SkipRow>& rows) {
           << " | " << r.points << " | " << fmtSpread("%.3f", r.cast_off) << " | " << fmtSpread("%.3f", r.cast_on)
           << " | " << fmt("%.2fx", r.cast_on.median > 0 ? r.cast_off.median / r.cast_on.median : 0.0)
           << spreadNote(r.cast_off, r.cast_on) << " | " << fmtSpread("%.3f", r.total_off) << " | "
-          << fmtSpread("%.3f", r.total_on) << " | " << fmtSpread("%.3f", r.ransac) << " | " << r.views_without_ransac << " of "
+          << fmtSpread("%.3f", r.total_on) << " | " << fmtSpread("%.3f", r.ransac) << " | "
+          << r.views_without_ransac << " of "
           << r.views << " | " << (r.same ? "yes" : "NO") << " |\n";
     return s.str();
 }
@@ -447,10 +450,11 @@ void run(const BenchGenerateCli& cli) {
 
 void registerGenerate(CLI::App& parent) {
     auto state = std::make_shared<BenchGenerateCli>();
-    CLI::App* c = parent.add_subcommand("generate", "generator throughput vs a plain rtcIntersect1 loop, time per "
-                                                   "stage, paper config and a >= 100x larger streamed one");
+    CLI::App* c = parent.add_subcommand("generate", "generator throughput vs plain rtcIntersect16 and rtcIntersect1 "
+                                                   "loops, time per stage, paper config and a >= 100x larger "
+                                                   "streamed one");
     c->add_flag("--quick", state->quick, "smaller large configuration, 2 repeats (a smoke run)");
-    c->add_option("--threads", state->threads, "threads for both the generator and the plain loop, 0 = all")
+    c->add_option("--threads", state->threads, "threads for the generator and the plain loops, 0 = all")
         ->capture_default_str();
     c->add_option("--repeats", state->repeats, "timed runs of the paper configuration (medians)")
         ->capture_default_str();
