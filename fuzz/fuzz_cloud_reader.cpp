@@ -8,6 +8,7 @@
 #include <engine/cloud_io.hpp>
 #include <engine/cloud_reader.hpp>
 #include <engine/error.hpp>
+#include "check_message.hpp"
 
 #include <cmath>
 #include <cstddef>
@@ -20,23 +21,6 @@
 #include <vector>
 
 namespace {
-
-// The house rule for errors: one clear line. A message must hold no control character
-// (a newline or an escape sequence copied from the input would break it), no byte from a binary file and stay short.
-void checkMessage(const char* what) {
-    std::size_t n = 0;
-    for (const char* p = what; *p; ++p, ++n) {
-        const unsigned char c = static_cast<unsigned char>(*p);
-        if (c < 0x20 || c == 0x7f || c >= 0x80) {
-            std::fprintf(stderr, "error message with byte 0x%02x at %zu: %s\n", c, n, what);
-            std::abort();
-        }
-    }
-    if (n > 1000) {
-        std::fprintf(stderr, "error message of %zu bytes: %.200s...\n", n, what);
-        std::abort();
-    }
-}
 
 bool samePoint(const engine::CloudPoint& a, const engine::CloudPoint& b) {
     return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 && a.rgb == b.rgb &&
@@ -59,7 +43,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (!std::isfinite(whole.origin.x) || !std::isfinite(whole.origin.y) || !std::isfinite(whole.origin.z))
             std::abort();
     } catch (const engine::Error& e) {
-        checkMessage(e.what());
+        fuzz::checkMessage(e.what(), true);
         whole_error = e.what();
         // The documented way to refuse bad input. LADARVR_FUZZ_VERBOSE=1 shows why (seeds).
         if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());

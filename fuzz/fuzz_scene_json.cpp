@@ -3,6 +3,7 @@
 // real meshes through Assimp. The contract: a Scene or an engine::Error, nothing else
 // (no other exception type, no crash, no sanitizer report).
 #include <engine/error.hpp>
+#include "check_message.hpp"
 #include <engine/scene.hpp>
 
 #include <cmath>
@@ -11,27 +12,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string_view>
-
-namespace {
-
-// The house rule for errors: one clear line. A message must hold no control character
-// (a newline or an escape sequence copied from the input would break it) and stay short.
-void checkMessage(const char* what) {
-    std::size_t n = 0;
-    for (const char* p = what; *p; ++p, ++n) {
-        const unsigned char c = static_cast<unsigned char>(*p);
-        if (c < 0x20 || c == 0x7f) {
-            std::fprintf(stderr, "error message with byte 0x%02x at %zu: %s\n", c, n, what);
-            std::abort();
-        }
-    }
-    if (n > 1000) {
-        std::fprintf(stderr, "error message of %zu bytes: %.200s...\n", n, what);
-        std::abort();
-    }
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);
@@ -52,7 +32,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                     std::abort();
         }
     } catch (const engine::Error& e) {
-        checkMessage(e.what());
+        fuzz::checkMessage(e.what());
         // LADARVR_FUZZ_VERBOSE=1 shows why an input was refused (to check the seeds).
         if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());
     }

@@ -2,11 +2,12 @@
 // viewer's `--script` files (viewer/src/script.cpp, compiled here without the rest of
 // the viewer). The contract: a list of key presses or an engine::Error, nothing else;
 // every accepted frame is >= 0, there is at most one event per line, and writing the
-// events back as "<frame> space|escape" lines (frame N or desktop+N) parses to the same events. An error is one
-// printable line that names the script and the line.
+// events back as "<frame> space|escape" lines (frame N or desktop+N) parses to the same
+// events. An error is one printable line that names the script and the line.
 #include <viewer/script.hpp>
 
 #include <engine/error.hpp>
+#include "check_message.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -20,26 +21,6 @@
 namespace {
 
 constexpr const char* kName = "view: --script fuzz.txt";
-
-// The house rule for errors: one clear line, no control byte, short.
-void checkMessage(const char* what) {
-    std::size_t n = 0;
-    for (const char* p = what; *p; ++p, ++n) {
-        const unsigned char c = static_cast<unsigned char>(*p);
-        if (c < 0x20 || c == 0x7f) {
-            std::fprintf(stderr, "error message with byte 0x%02x at %zu: %s\n", c, n, what);
-            std::abort();
-        }
-    }
-    if (n > 1000) {
-        std::fprintf(stderr, "error message of %zu bytes: %.200s...\n", n, what);
-        std::abort();
-    }
-    if (std::string_view(what).rfind(std::string(kName) + " line ", 0) != 0) {
-        std::fprintf(stderr, "error message does not name the script and line: %s\n", what);
-        std::abort();
-    }
-}
 
 std::string format(const std::vector<viewer::ScriptEvent>& events) {
     std::string text;
@@ -67,7 +48,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (again[i].frame != events[i].frame || again[i].key != events[i].key ||
                 again[i].after_desktop != events[i].after_desktop) std::abort();
     } catch (const engine::Error& e) {
-        checkMessage(e.what());
+        fuzz::checkMessage(e.what());
         if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());
     }
     return 0;

@@ -252,16 +252,7 @@ struct Generator::State {
                 valid[k] = k < n ? -1 : 0;
                 const glm::vec3 dir = k < n ? glm::vec3(pose.rotation * band.dirs[i + k - band.first]) : glm::vec3(0, 0, -1);
                 dirs[k] = dir;
-                rh.ray.org_x[k] = origin.x; rh.ray.org_y[k] = origin.y; rh.ray.org_z[k] = origin.z;
-                rh.ray.tnear[k] = 0.0f;
-                rh.ray.dir_x[k] = dir.x; rh.ray.dir_y[k] = dir.y; rh.ray.dir_z[k] = dir.z;
-                rh.ray.time[k] = 0.0f;
-                rh.ray.tfar[k] = t_far;
-                rh.ray.mask[k] = 0xFFFFFFFFu;
-                rh.ray.id[k] = unsigned(k);
-                rh.ray.flags[k] = 0;
-                rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+                setPacketRay(rh, k, origin, dir, t_far);
             }
             rtcIntersect16(valid, impl.scene, &rh, &args);
             for (std::size_t k = 0; k < n; ++k) {

@@ -151,16 +151,7 @@ void RayCaster::intersect16(std::span<const Ray> rays, std::span<Hit> hits) cons
         for (std::size_t k = 0; k < 16; ++k) {
             const Ray r = k < m ? rays[i + k] : Ray{};
             valid[k] = k < m ? -1 : 0;
-            rh.ray.org_x[k] = r.origin.x; rh.ray.org_y[k] = r.origin.y; rh.ray.org_z[k] = r.origin.z;
-            rh.ray.tnear[k] = 0.0f;
-            rh.ray.dir_x[k] = r.direction.x; rh.ray.dir_y[k] = r.direction.y; rh.ray.dir_z[k] = r.direction.z;
-            rh.ray.time[k] = 0.0f;
-            rh.ray.tfar[k] = r.t_far;
-            rh.ray.mask[k] = 0xFFFFFFFFu;
-            rh.ray.id[k] = unsigned(k);
-            rh.ray.flags[k] = 0;
-            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+            setPacketRay(rh, k, r.origin, r.direction, r.t_far);
         }
         rtcIntersect16(valid, impl.scene, &rh, &args);
         for (std::size_t k = 0; k < m; ++k) {

@@ -38,4 +38,19 @@ inline void setRay(RTCRayHit& rh, float ox, float oy, float oz, float dx, float 
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
+/// The same for lane `k` of a 16-ray packet.
+inline void setPacketRay(RTCRayHit16& rh, std::size_t k, const glm::vec3& origin, const glm::vec3& direction,
+                         float t_far) {
+    rh.ray.org_x[k] = origin.x; rh.ray.org_y[k] = origin.y; rh.ray.org_z[k] = origin.z;
+    rh.ray.tnear[k] = 0.0f;
+    rh.ray.dir_x[k] = direction.x; rh.ray.dir_y[k] = direction.y; rh.ray.dir_z[k] = direction.z;
+    rh.ray.time[k] = 0.0f;
+    rh.ray.tfar[k] = t_far;
+    rh.ray.mask[k] = 0xFFFFFFFFu;
+    rh.ray.id[k] = unsigned(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+}
+
 }  // namespace sim
