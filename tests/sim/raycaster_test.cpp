@@ -94,7 +94,8 @@ TEST_CASE("intersect16 gives the hits of intersect, with a partial last packet")
         // Off the grid's edges and vertices, where the two may pick either adjacent triangle.
         r.origin = {float(k) - 17.63f, 0.3f * float(k % 5) + 0.11f, 10.0f};
         r.direction = {0.05f * float(k % 3), 0.0f, -1.0f};
-        if (k == 7) r.t_far = 2.0f;  // stops before the ground: a miss
+        if (k == 7) r.t_far = 2.0f;    // stops before the ground: a miss
+        if (k == 20) r.t_far = 10.01f;  // reaches the ground (t = 10) with 1 cm to spare
         rays.push_back(r);
     }
     std::vector<sim::Hit> one(rays.size()), packets(rays.size(), sim::Hit{99.0f, 5, 5});
@@ -109,6 +110,8 @@ TEST_CASE("intersect16 gives the hits of intersect, with a partial last packet")
         hits += one[k].hit();
         box += one[k].mesh == 1;
     }
+    CHECK(one[20].hit());
+    CHECK(one[20].t == doctest::Approx(10.0f));
     CHECK(hits > 10);
     CHECK(hits < rays.size());
     CHECK(box > 0);
