@@ -2,7 +2,10 @@
 #pragma once
 #include <unistd.h>
 
+#include <engine/error.hpp>
+
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -39,6 +42,16 @@ struct TempDir {
 inline std::string slurp(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), {}};
+}
+
+/// The message of the engine::Error that `f` throws, or "(no error)".
+inline std::string errorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const engine::Error& e) {
+        return e.what();
+    }
+    return "(no error)";
 }
 
 }  // namespace test_support

@@ -17,18 +17,11 @@
 namespace fs = std::filesystem;
 using test_support::TempDir;
 
+using test_support::errorOf;
+
 namespace {
 
 const fs::path kBasic = fs::path(LADARVR_TEST_DATA_DIR) / "scenes" / "basic";
-
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const engine::Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
 
 std::string sceneError(const std::string& json) {
     return errorOf([&] { engine::loadSceneJson(json, kBasic / "test.json"); });

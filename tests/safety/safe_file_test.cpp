@@ -27,16 +27,9 @@ namespace fs = std::filesystem;
 using test_support::slurp;
 using test_support::TempDir;
 
-namespace {
+using test_support::errorOf;
 
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const engine::Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+namespace {
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
