@@ -69,11 +69,14 @@ if [ "$monado" = 1 ]; then
   monado_pgid=$!
   pids+=("-$monado_pgid")
   export LADARVR_MONADO_PGID=$monado_pgid   # lets a test take the runtime away mid-run
+  # Wait for the socket itself: the service creates a lock file beside it first, and a
+  # client that starts between the two finds no socket and falls back to the desktop.
+  socket="$XDG_RUNTIME_DIR/monado_comp_ipc"
   for _ in $(seq 150); do
-    ls "$XDG_RUNTIME_DIR" 2>/dev/null | grep -q monado && break
+    [ -S "$socket" ] && break
     sleep 0.1
   done
-  ls "$XDG_RUNTIME_DIR" 2>/dev/null | grep -q monado ||
+  [ -S "$socket" ] ||
     { cat "$work/monado.log" >&2; echo "headless_env: monado-service did not open its socket in 15 s" >&2; exit 1; }
 else
   # No runtime: point the loader at nothing so an installed runtime is not picked up.
