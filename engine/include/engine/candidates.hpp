@@ -1,0 +1,33 @@
+// engine/candidates.hpp: candidate detections of a 3D ATR, for the operator to validate.
+//
+// File format (JSON, written by `ladarvr detect`, read by `ladarvr view --candidates` and
+// by study plans):
+//   {"candidates": [{"id": "c1", "centre": [x, y, z], "size_m": [l, w, h],
+//                    "yaw_deg": 30.0, "score": 0.8}, ...]}
+// centre in world coordinates (metres, z up, the box's centre); size_m the box's length
+// along its own x, width along its y, height; yaw_deg counter-clockwise about +z from +x;
+// score in [0, 1], higher is more likely a target. Ids are unique, non-empty strings.
+#pragma once
+#include <glm/vec3.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace engine {
+
+struct Candidate {
+    std::string id;
+    glm::dvec3 centre_world{0.0};
+    glm::dvec3 size_m{0.0};
+    double yaw_deg = 0.0;
+    double score = 0.0;
+};
+
+/// Reads a candidates file (regular file, bounded size). Throws engine::Error naming the
+/// file and the field, e.g. "candidates: a.json: candidates[2].score 1.5 is not in [0, 1]".
+std::vector<Candidate> readCandidates(const std::filesystem::path& file);
+/// Writes a candidates file atomically (engine/atomic_file.hpp).
+void writeCandidates(const std::filesystem::path& file, const std::vector<Candidate>& candidates);
+
+}  // namespace engine

@@ -1,0 +1,91 @@
+// viewer/trial.hpp: target validation in the viewer: a study's trials, what the operator
+// decides, and what the viewer reports for the study's log.
+//
+// The viewer runs trials one after another in one window and one XR session. Each trial
+// opens on a ready screen that the operator dismisses (trigger / Enter / script `next`),
+// then starts in automatic mode (the paper's protocol). It ends on confirm, no_target, its
+// time limit, or quit (Escape, window closed, SIGINT/SIGTERM: the remaining trials are not
+// run). Frame numbers of a --script count from the start of the run, not of the trial.
+//
+// Files the study runner writes from these reports (docs/study.md explains every column):
+//   trials.csv: trial, cloud, decision, designated_x, designated_y, designated_z,
+//     target_distance_m, hit, time_to_first_designation_s, time_to_decision_s,
+//     designations, mode_switches, seconds_in_free_mode, visibility_metric
+//   candidates.csv: trial, candidate, score, verdict, t_s
+//   trace_<trial>.csv: t_s, head_x, head_y, head_z, head_qw, head_qx, head_qy, head_qz,
+//     mode, scale, hit_x, hit_y, hit_z   (world coordinates; hit_* empty without a hit)
+#pragma once
+#include <engine/candidates.hpp>
+#include <viewer/camera_rig.hpp>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace viewer {
+
+class CloudFeed;
+
+enum class Decision { Confirm, NoTarget, Timeout, Quit };
+enum class Verdict { Unreviewed, Confirmed, Rejected };
+/// "confirm", "no_target", "timeout", "quit".
+const char* decisionName(Decision d);
+/// "unreviewed", "confirmed", "rejected".
+const char* verdictName(Verdict v);
+
+/// One frame of the operator's trace, world coordinates, double precision.
+struct TraceSample {
+    double t_s = 0.0;                       // since the ready screen was dismissed
+    glm::dvec3 head_world{0.0};             // between the eyes
+    glm::dquat head_orientation{1, 0, 0, 0};
+    ViewMode mode = ViewMode::Automatic;
+    double scale = 1.0;                     // world scale of the zoom (1 = life size)
+    std::optional<glm::dvec3> hit_world;    // where the pointer meets the cloud
+};
+
+/// How a trial ended.
+struct TrialOutcome {
+    Decision decision = Decision::Quit;
+    std::optional<glm::dvec3> designated_world;          // the designation decided on
+    std::optional<double> time_to_first_designation_s;
+    double time_to_decision_s = 0.0;
+    int designations = 0;
+    int mode_switches = 0;
+    double seconds_in_free_mode = 0.0;
+};
+
+/// What a trial shows besides its cloud.
+struct TrialSetup {
+    std::string name;                        // shown on the ready screen
+    std::vector<engine::Candidate> candidates;
+    double time_limit_s = 0.0;               // 0: none
+};
+
+/// Supplies the trials, one at a time.
+class TrialSource {
+public:
+    virtual ~TrialSource() = default;
+    virtual int count() const = 0;
+    /// Starts producing trial `trial`'s cloud into `feed` (a fresh feed per trial; e.g.
+    /// feed.startFileLoader, or a thread the source owns and joins) and returns its setup.
+    virtual TrialSetup begin(int trial, CloudFeed& feed) = 0;
+};
+
+/// Receives what happens during each trial, as it happens (the study runner writes its
+/// files from these calls, so a crash loses at most the trial in flight).
+class TrialObserver {
+public:
+    virtual ~TrialObserver() = default;
+    virtual void onStart(int /*trial*/) {}
+    virtual void onFrame(int /*trial*/, const TraceSample& /*sample*/) {}
+    virtual void onDesignate(int /*trial*/, double /*t_s*/, const glm::dvec3& /*point_world*/) {}
+    virtual void onVerdict(int /*trial*/, double /*t_s*/, const engine::Candidate& /*candidate*/, Verdict /*verdict*/) {}
+    /// Called once per trial that started; candidates never reviewed are reported before it
+    /// with Verdict::Unreviewed.
+    virtual void onEnd(int /*trial*/, const TrialOutcome& /*outcome*/) {}
+};
+
+}  // namespace viewer
