@@ -7,6 +7,8 @@ assets/common/  meshes shared by the scenes (buildings, trees, the tank, the gro
 assets/demo/    the demo: a tank beside a house, half under a tree, in a village
 assets/hard/    the tank in a narrow street between long buildings, in a dense forest
 assets/hilly/   a village and the tank on ground with ~15 m of relief (for terrain-following ground filters)
+assets/slopes/  the tank on a small level pad in steep terrain: ~27 m of relief inside the
+                covered disc, slopes up to 30 %, houses and trees on the slopes
 
 World frame: metres, z up. The tank's centre sits at the world origin in every scene
 so the default orbit centre is sensible. Several mesh formats are used on purpose
@@ -246,6 +248,61 @@ def hilly_height(x, y):
     return (1 - w) * hilly_base(x, y) + w * hilly_base(0.0, 0.0)
 
 
+SLOPES_HALF, SLOPES_CELL, SLOPES_MAX = 150.0, 2.5, 0.265
+_slopes_grid = None
+
+
+def slopes_grid():
+    """Heights of the slopes ground at its grid vertices: a ramp rising ~21 % to the
+    north-east with two long waves, then cut down until no slope exceeds SLOPES_MAX
+    (a slope limiter: each vertex at most its neighbour's height plus the allowed slope
+    times their distance), the allowance falling to 0 within 5 m of the origin, which
+    leaves a level pad there for the target."""
+    global _slopes_grid
+    if _slopes_grid is not None:
+        return _slopes_grid
+    n = int(round(2 * SLOPES_HALF / SLOPES_CELL))
+    at = lambda k: -SLOPES_HALF + k * SLOPES_CELL
+
+    def raw(x, y):
+        return (0.21 * (0.8 * x + 0.6 * y) + 3.0 * math.sin((x + 0.5 * y) / 26.0 + 0.4)
+                + 2.5 * math.cos(y / 30.0 - 0.7))
+
+    def allowed(x, y):
+        t = min(max((math.hypot(x, y) - 5.0) / 15.0, 0.0), 1.0)
+        return SLOPES_MAX * t * t * (3 - 2 * t)
+
+    z = [[raw(at(i), at(j)) for i in range(n + 1)] for j in range(n + 1)]
+    s = [[allowed(at(i), at(j)) for i in range(n + 1)] for j in range(n + 1)]
+    changed = True
+    while changed:
+        changed = False
+        for j in range(n + 1):
+            for i in range(n + 1):
+                for dj in (-1, 0, 1):
+                    for di in (-1, 0, 1):
+                        if (di or dj) and 0 <= i + di <= n and 0 <= j + dj <= n:
+                            lim = (z[j + dj][i + di] + 0.5 * (s[j][i] + s[j + dj][i + di])
+                                   * SLOPES_CELL * math.hypot(di, dj))
+                            if z[j][i] > lim + 1e-9:
+                                z[j][i] = lim
+                                changed = True
+    _slopes_grid = z
+    return z
+
+
+def slopes_height(x, y):
+    """The slopes ground, bilinear between its grid vertices."""
+    z = slopes_grid()
+    n = len(z) - 1
+    fx = min(max((x + SLOPES_HALF) / SLOPES_CELL, 0.0), n - 1e-9)
+    fy = min(max((y + SLOPES_HALF) / SLOPES_CELL, 0.0), n - 1e-9)
+    i, j = int(fx), int(fy)
+    tx, ty = fx - i, fy - j
+    return ((1 - ty) * ((1 - tx) * z[j][i] + tx * z[j][i + 1])
+            + ty * ((1 - tx) * z[j + 1][i] + tx * z[j + 1][i + 1]))
+
+
 # ----------------------------------------------------------------------------------
 # Writers (compact, deterministic)
 # ----------------------------------------------------------------------------------
@@ -400,6 +457,8 @@ def make_common(out):
               "300 x 300 m ground in 2 m cells, relief under 0.45 m")
     write_ply(os.path.join(d, "ground_hilly.ply"), grid(150.0, 2.5, hilly_height),
               "300 x 300 m hilly ground in 2.5 m cells, ~15 m of relief", binary=True)
+    write_ply(os.path.join(d, "ground_slopes.ply"), grid(SLOPES_HALF, SLOPES_CELL, slopes_height),
+              "300 x 300 m steep ground in 2.5 m cells, slopes up to 30 %", binary=True)
 
 
 def ground_entries(kind):
@@ -503,6 +562,42 @@ def make_hilly(out):
                 "comparing ground filters. Made by scripts/make_scenes.py.", ents)
 
 
+def make_slopes(out):
+    d = os.path.join(out, "slopes")
+    os.makedirs(d, exist_ok=True)
+    rng = random.Random(31)
+    h = slopes_height
+
+    def footing(x, y, radius):
+        """The lowest ground under a building's footprint: its walls (which reach 4 m
+        below the mesh origin) then meet the ground on the downhill side."""
+        return min(h(x + radius * math.cos(a), y + radius * math.sin(a))
+                   for a in [k * math.pi / 4 for k in range(8)] + [0.0]) if radius else h(x, y)
+
+    ents = [entry("../common/ground_slopes.ply", "ground"),
+            entry("../common/tank.obj", "target", 0, 0, h(0, 0) - 0.05, yaw=15.0)]
+    ents.append(entry("../common/tree_broadleaf.ac", "environment", -2.5, -2.0, h(-2.5, -2.0),
+                      yaw=80.0, scale=1.1))
+    buildings = [("house_small.obj", 14, 6, 20, 6.5), ("house_large.obj", -22, 18, 70, 9.8),
+                 ("tower.obj", 30, -20, 15, 6.4), ("house_small.obj", -18, -30, -10, 6.5),
+                 ("house_large.obj", 8, 42, 0, 9.8), ("row_building.obj", 48, 28, 35, 15.7),
+                 ("house_small.obj", -48, 2, 25, 6.5), ("house_small.obj", 40, -48, 50, 6.5),
+                 ("house_large.obj", -60, 50, 10, 9.8), ("tower.obj", -40, -60, 0, 6.4)]
+    avoid = [(0, 0, 8)]
+    for f, x, y, yaw, radius in buildings:
+        ents.append(entry("../common/" + f, "environment", x, y, footing(x, y, radius), yaw=yaw))
+        avoid.append((x, y, radius + 5))
+    pts = scatter(rng, 45, 9, 110, avoid, 6.5)
+    for x, y in pts:
+        kind = "../common/tree_broadleaf.ac" if rng.random() < 0.5 else "../common/tree_conifer.ply"
+        ents.append(entry(kind, "environment", x, y, h(x, y) - 0.3, yaw=rng.uniform(0, 360),
+                          scale=rng.uniform(0.8, 1.25), up="z"))
+    write_scene(os.path.join(d, "scene.json"),
+                "ladarvr slopes scene: the tank on a small level pad in steep terrain (~27 m of "
+                "relief inside the covered disc, slopes up to 30 %), houses and trees on the "
+                "slopes, for terrain-following ground filters. Made by scripts/make_scenes.py.", ents)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -513,6 +608,7 @@ def main():
     make_demo(out)
     make_hard(out)
     make_hilly(out)
+    make_slopes(out)
     total = 0
     for root, _, files in os.walk(out):
         for f in files:

@@ -4,6 +4,7 @@
 // prints a human summary on stderr and, with --json, a JSON summary on stdout.
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "ground_options.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/cloud_io.hpp>
@@ -38,6 +39,7 @@ struct GenerateCli {
     bool no_skip_rays = false;
     double memory_mb = 512.0;
     sim::GenerateOptions options;
+    GroundCli ground;
 };
 
 glm::dvec3 parseCentre(const std::string& text) {
@@ -110,6 +112,7 @@ void run(GenerateCli& cli) {
                             ": allowed [1, 1048576]");
     o.memory_budget_bytes = std::size_t(cli.memory_mb * 1048576.0);
     o.skip_rays = !cli.no_skip_rays;
+    applyGroundOptions(cli.ground, o.ground);
     sim::validate(o);
     const fs::path scene_path = cli.scene.empty() ? engine::demoScenePath() : fs::path(cli.scene);
     std::optional<engine::CloudFormat> format;
@@ -169,6 +172,7 @@ void run(GenerateCli& cli) {
                  st.seconds.ransac, st.seconds.colour, st.seconds.write, seconds, st.threads,
                  st.streamed ? ", streamed through a spool file" : "");
     if (o.white) std::fprintf(stderr, "  --white: no colouring, no ground whitening\n");
+    reportGround(cli.ground, o, st, scene.origin);
     if (o.threads > st.threads)
         std::fprintf(stderr, "  --threads %d lowered to %d to fit --memory-mb\n", o.threads, st.threads);
 
@@ -215,6 +219,7 @@ void run(GenerateCli& cli) {
                               {"cast", st.seconds.cast},  {"fuse", st.seconds.fuse},
                               {"ransac", st.seconds.ransac}, {"colour", st.seconds.colour},
                               {"write", st.seconds.write}};
+        addGroundJson(j, cli.ground, st);
         std::printf("%s\n", j.dump(2).c_str());
     }
 }
@@ -272,6 +277,7 @@ void registerGenerate(CLI::App& cli) {
     c->add_option("--ransac-sample-points", ground.ransac_sample_points,
                   "RANSAC searches planes on at most this many band points, 0 = all")
         ->capture_default_str();
+    addGroundOptions(*c, state->ground, ground);
     c->add_option("--colours", o.colour.entries, "entries of the jet map, [2, 256]")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,
                   "bound on the generator's buffers (batches, tiles, threads are planned to fit; "

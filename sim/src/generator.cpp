@@ -16,6 +16,7 @@
 #include <sim/generator.hpp>
 
 #include "raycaster_impl.hpp"
+#include "ground_pass.hpp"
 #include "memory_plan.hpp"
 #include "parallel.hpp"
 
@@ -194,6 +195,7 @@ struct Generator::State {
     std::vector<glm::ivec2> row_spans;
     std::vector<std::uint64_t> traced_count;  // per view, rays traced
     std::vector<std::uint32_t> jet;
+    std::unique_ptr<const GroundFilter> ground_filter;  // options.ground.method's
 
     State(const engine::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
 
@@ -395,7 +397,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
         }
         for (std::size_t k = 0; k < count; ++k) st.rays_traced += traced_count[first + k];
 
-        if (!options.white) {
+        if (!options.white && ground_filter->perView()) {
             const auto t0 = Clock::now();
             pool.run(count, [&](std::size_t k) {
                 auto& pts = view_points[k];
@@ -407,8 +409,8 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
                 std::vector<glm::vec3> positions(pts.size());
                 for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
                 const std::uint64_t view = first + k;
-                const auto is_ground = findGround(positions, options.ground, options.seed ^ view,
-                                                  &ground_stats[k]);
+                const auto is_ground = ground_filter->classifyView(positions, options.seed ^ view,
+                                                                   &ground_stats[k]);
                 for (std::size_t i = 0; i < pts.size(); ++i)
                     if (is_ground[i]) pts[i].rgb = engine::kWhite;
             });
@@ -418,7 +420,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
         const auto t0 = Clock::now();
         if (!emit_per_band)
             for (std::size_t k = 0; k < count; ++k) {
-                if (!options.white) {
+                if (!options.white && ground_filter->perView()) {
                     st.planes_accepted += ground_stats[k].planes_accepted;
                     st.planes_rejected += ground_stats[k].planes_rejected;
                     st.views_without_ransac += ground_stats[k].band_points < 3;
@@ -450,6 +452,7 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     const OrbitOptions& orbit = s.options.orbit;
     for (int v = 0; v < orbit.views; ++v) s.poses.push_back(sensorPose(orbit, s.centre_local, v));
     s.jet = jetTable(s.options.colour.entries);
+    s.ground_filter = makeGroundFilter(s.options.ground);
     // Bounds of the triangles to ray-cast, one box per mesh (with --roles
     // target,environment the houses and trees are scattered: one box over all of them
     // would cover the whole footprint). Many meshes, or more (view, row) spans than fit
@@ -541,6 +544,7 @@ void initStats(const Generator::State& s, GenerateStats& st) {
     st.tile_rows = s.plan.band_rows;
     st.memory_planned_bytes = s.plan.fuse_bytes;
     st.seconds.bvh = s.bvh_seconds;
+    st.ground_method = o.ground.method;
 }
 
 }  // namespace
@@ -556,12 +560,18 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
     // The cloud is the caller's: reserved up to the budget, beyond it grown as needed.
     cloud.points.reserve(std::size_t(std::min<std::uint64_t>(
         s.hits_bound, s.options.memory_budget_bytes / sizeof(engine::CloudPoint))));
+    TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.options.ground_check);
+    cloud.fields.height_above_ground = terrain.whitens();
     s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
         cloud.points.insert(cloud.points.end(), pts.begin(), pts.end());
+        terrain.add(pts);
     }, pool, st);
+    terrain.fit();
+    terrain.classify(cloud.points, pool);
     auto tc = Clock::now();
     s.colour(cloud.points, pool, st);
     st.seconds.colour = secondsSince(tc);
+    terrain.finish(st);
     st.seconds.total = s.bvh_seconds + secondsSince(t0);
     if (stats) *stats = st;
     return cloud;
@@ -574,7 +584,10 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     initStats(s, st);
     // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
-    engine::CloudWriter writer(out, format, s.scene.origin);
+    TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.options.ground_check);
+    engine::CloudFields fields;
+    fields.height_above_ground = terrain.whitens();
+    engine::CloudWriter writer(out, format, s.scene.origin, fields);
     Workers pool(s.plan.threads);
     // The fused cloud stays in memory when it fits beside the fusion's buffers.
     const std::uint64_t fused_bytes = s.hits_bound * sizeof(engine::CloudPoint);
@@ -584,7 +597,10 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
         points.reserve(std::size_t(s.hits_bound));
         s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
             points.insert(points.end(), pts.begin(), pts.end());
+            terrain.add(pts);
         }, pool, st);
+        terrain.fit();
+        terrain.classify(points, pool);
         auto tc = Clock::now();
         s.colour(points, pool, st);
         st.seconds.colour = secondsSince(tc);
@@ -596,7 +612,11 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     } else {
         checkFreeSpace(out.parent_path(), fused_bytes, "the spool file of the fused cloud");
         Spool spool(out);
-        s.fuseViews([&](std::span<const engine::CloudPoint> pts) { spool.append(pts); }, pool, st);
+        s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
+            spool.append(pts);
+            terrain.add(pts);
+        }, pool, st);
+        terrain.fit();
         spool.rewind();
         std::vector<engine::CloudPoint> chunk(s.plan.colour_chunk);
         for (;;) {
@@ -604,6 +624,9 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
             const std::size_t n = spool.read(chunk);
             if (n == 0) break;
             const std::span<engine::CloudPoint> part(chunk.data(), n);
+            st.seconds.colour += secondsSince(tc);
+            terrain.classify(part, pool);
+            tc = Clock::now();
             s.colour(part, pool, st);
             st.seconds.colour += secondsSince(tc);
             tc = Clock::now();
@@ -616,6 +639,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
         writer.commit();
         st.seconds.write += secondsSince(tc);
     }
+    terrain.finish(st);
     st.seconds.total = s.bvh_seconds + secondsSince(t0);
     if (stats) *stats = st;
 }

@@ -19,7 +19,7 @@
 // plane can be accepted, the loop also stops once PC is smaller than that share, and each
 // RANSAC runs only the iterations needed to find a plane of that share with probability
 // 0.99 (capped by ransac_iterations), which keeps whitening fast.
-#include <sim/ground.hpp>
+#include "ground_internal.hpp"
 
 #include <engine/error.hpp>
 #include <engine/shuffle.hpp>
@@ -50,7 +50,7 @@ namespace {
 
 }  // namespace
 
-void validate(const GroundOptions& o) {
+void validateRansac(const GroundOptions& o) {
     if (!(std::isfinite(o.band_m) && o.band_m > 0.0)) fail("band_m (--band-m)", o.band_m, "> 0");
     if (!(std::isfinite(o.distance_threshold_m) && o.distance_threshold_m > 0.0))
         fail("distance_threshold_m (--ransac-distance-m)", o.distance_threshold_m, "> 0");
@@ -165,5 +165,26 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Gr
     if (stats) *stats = local;
     return is_ground;
 }
+
+namespace {
+
+// The paper's filter behind the GroundFilter seam: findGround on each view.
+class RansacFilter final : public GroundFilter {
+public:
+    explicit RansacFilter(const GroundOptions& o) : options_(o) {}
+    GroundMethod method() const override { return GroundMethod::Ransac; }
+    bool perView() const override { return true; }
+    std::vector<std::uint8_t> classifyView(std::span<const glm::vec3> points, std::uint64_t seed,
+                                           GroundStats* stats) const override {
+        return findGround(points, options_, seed, stats);
+    }
+
+private:
+    GroundOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<GroundFilter> makeRansacFilter(const GroundOptions& o) { return std::make_unique<RansacFilter>(o); }
 
 }  // namespace sim

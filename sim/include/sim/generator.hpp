@@ -44,6 +44,10 @@ struct GenerateOptions {
     /// cloud returned by the in-memory run() is the caller's and not counted.
     std::size_t memory_budget_bytes = std::size_t(512) << 20;
     bool progress = false;          // engine::Progress bar over the views (tty only)
+    /// With the per-view RANSAC, also fit SMRF's terrain (ground.smrf) to the fused cloud
+    /// and count the points on it that RANSAC left coloured (GenerateStats::terrain_*).
+    /// Changes no point.
+    bool ground_check = true;
 };
 
 /// Validates every field (orbit, colour, ground, threads, centre within
@@ -59,8 +63,11 @@ void validate(const GenerateOptions& o);
 glm::dvec3 defaultCentre(const engine::Scene& scene);
 
 /// Wall-clock seconds of each stage (load is the caller's).
+/// `ransac` is the ground stage of whichever filter ran (--ground); `ground_check` the
+/// SMRF terrain fitted to check the paper's RANSAC (GenerateOptions::ground_check).
 struct StageSeconds {
     double bvh = 0, cast = 0, fuse = 0, ransac = 0, colour = 0, write = 0, total = 0;
+    double ground_check = 0;
 };
 
 struct GenerateStats {
@@ -87,6 +94,12 @@ struct GenerateStats {
     std::size_t skipped_zero_area_triangles = 0, skipped_nonfinite_triangles = 0;
     float z_min = 0, z_max = 0;             // height range used by the colour map (local)
     bool streamed = false;                  // spooled through a temporary file
+    GroundMethod ground_method = GroundMethod::Ransac;
+    /// Points within the terrain filter's threshold of the fitted terrain (SMRF's, of
+    /// --ground smrf or of the check of RANSAC), and of those the ones left coloured.
+    std::uint64_t terrain_points = 0, terrain_points_coloured = 0;
+    /// The fitted terrain (local frame), when one was fitted.
+    std::shared_ptr<const TerrainGrid> terrain;
     StageSeconds seconds;
 };
 

@@ -1,15 +1,48 @@
-// sim/ground.hpp: ground detection for whitening, paper §III-C's five-step iterative RANSAC.
+// sim/ground.hpp: ground detection for whitening. The paper's five-step iterative RANSAC
+// (§III-C, per view, the default) and terrain-following filters that work on the whole
+// fused cloud (SMRF), behind one GroundFilter seam.
 #pragma once
+#include <engine/point_cloud.hpp>
+
 #include <glm/glm.hpp>
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 namespace sim {
 
+/// Which ground filter whitens the cloud (`ladarvr generate --ground`).
+enum class GroundMethod {
+    Ransac,  // paper §III-C: iterative RANSAC per view (the default)
+    Smrf,    // simple morphological filter (Pingel et al. 2013) on the fused cloud
+};
+/// "ransac" or "smrf".
+const char* groundMethodName(GroundMethod m);
+/// Throws engine::Error("<context> '<text>': allowed ransac, smrf").
+GroundMethod parseGroundMethod(std::string_view text, std::string_view context);
+
+/// Simple morphological filter (Pingel, Clarke, McBride 2013, "An improved simple
+/// morphological filter for the terrain classification of airborne LIDAR data").
+/// Defaults are PDAL's filters.smrf defaults.
+struct SmrfOptions {
+    double cell_m = 1.0;        // cell size of the minimum surface and of the terrain raster
+    double slope = 0.15;        // rise over run: a cell is an object when an opening lowers it
+                                // by more than slope * radius (m)
+    double window_m = 18.0;     // largest opening radius (metres); objects wider than twice
+                                // this stay ground
+    double threshold_m = 0.5;   // a point is ground within threshold_m + scalar * local slope
+    double scalar = 1.25;       // of the fitted terrain (metres per unit slope)
+    /// Ours: the terrain raster may hold at most this many cells (memory bound); a cloud
+    /// wider than that at cell_m is refused, naming cell_m.
+    std::size_t max_cells = std::size_t(1) << 24;
+};
+
 /// Thresholds of the iterative RANSAC; defaults are the paper's where it gives them.
+/// `method` picks the filter; `smrf` holds SMRF's parameters.
 struct GroundOptions {
     double band_m = 3.0;                // step 1: keep z in [z_min, z_min + band_m] (paper: 3 m)
     double distance_threshold_m = 0.2;  // RANSAC inlier distance (not given by the paper)
@@ -25,10 +58,14 @@ struct GroundOptions {
     /// sample: PC is shuffled), then every point of PC within distance_threshold_m of
     /// that plane is an inlier. Same planes on big views, ~10x faster. 0 = all of PC.
     int ransac_sample_points = 20000;
+
+    GroundMethod method = GroundMethod::Ransac;
+    SmrfOptions smrf;
 };
 
 /// Throws engine::Error("ground: <parameter> = <value>: allowed ...").
 void validate(const GroundOptions& o);
+void validate(const SmrfOptions& o);
 
 struct GroundStats {
     std::size_t band_points = 0;      // |PC| at step 1
@@ -44,5 +81,64 @@ struct GroundStats {
 /// Fewer than 3 points in the band: no RANSAC, no ground. Needs validate(o) passed.
 std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const GroundOptions& o,
                                      std::uint64_t seed, GroundStats* stats = nullptr);
+
+/// A terrain surface sampled on a regular grid (the DTM): cell (i, j) has its centre at
+/// (x0_m + i * cell_m, y0_m + j * cell_m) in the cloud's local frame, height z_m[j * nx + i].
+struct TerrainGrid {
+    double x0_m = 0, y0_m = 0, cell_m = 1;
+    int nx = 0, ny = 0;
+    std::vector<float> z_m;
+    /// How many cells held at least one point (the others are interpolated).
+    std::size_t observed_cells = 0;
+
+    bool empty() const { return nx == 0 || ny == 0; }
+    float at(int i, int j) const { return z_m[std::size_t(j) * std::size_t(nx) + std::size_t(i)]; }
+    /// Bilinear height at (x, y); outside the grid, the nearest edge's.
+    double heightAt(double x, double y) const;
+    /// Gradient magnitude (rise over run) of the surface at (x, y), from the nearest cell.
+    double slopeAt(double x, double y) const;
+};
+
+/// One run of a whole-cloud filter: add() sees every point once (any order, any
+/// batching: the fit depends only on the set of points), fit() builds the terrain, then
+/// classify() labels points (thread-safe, const).
+class TerrainFit {
+public:
+    virtual ~TerrainFit() = default;
+    virtual void add(std::span<const engine::CloudPoint> points) = 0;
+    /// Throws engine::Error naming the parameter when the cloud cannot be gridded.
+    virtual void fit() = 0;
+    /// After fit(): the fitted surface (empty when no point was added).
+    virtual const TerrainGrid& surface() const = 0;
+    /// After fit(): true when `p` is ground; `height_m` = p.z - surface height there.
+    virtual bool classify(const glm::vec3& p, float& height_m) const = 0;
+};
+
+/// The seam between the generator and a ground filter. Per-view filters (RANSAC) label
+/// each view's points as the view is traced; whole-cloud filters (SMRF) see the fused
+/// cloud in two streamed passes (TerrainFit), so they also work when it is spooled.
+class GroundFilter {
+public:
+    virtual ~GroundFilter() = default;
+    virtual GroundMethod method() const = 0;
+    virtual bool perView() const = 0;
+    /// Per-view filters: one flag per point, 1 = ground; a pure function of the
+    /// arguments. Whole-cloud filters throw std::logic_error.
+    virtual std::vector<std::uint8_t> classifyView(std::span<const glm::vec3> points, std::uint64_t seed,
+                                                   GroundStats* stats) const;
+    /// Whole-cloud filters: a fresh run. Per-view filters throw std::logic_error.
+    virtual std::unique_ptr<TerrainFit> startCloud() const;
+};
+
+/// The filter `o.method` names, with its options (validate(o) must have passed).
+std::unique_ptr<GroundFilter> makeGroundFilter(const GroundOptions& o);
+/// A whole-cloud SMRF run (also used to check RANSAC's result against the terrain).
+std::unique_ptr<TerrainFit> startSmrf(const SmrfOptions& o);
+
+/// SMRF on points in memory: one flag per point (1 = ground); `surface` gets the fitted
+/// terrain, `height_m` the height of each point above it, when given.
+std::vector<std::uint8_t> findGroundSmrf(std::span<const glm::vec3> points, const SmrfOptions& o,
+                                         TerrainGrid* surface = nullptr,
+                                         std::vector<float>* height_m = nullptr);
 
 }  // namespace sim

@@ -1,0 +1,103 @@
+// app/src/ground_options.cpp: see ground_options.hpp.
+#include "ground_options.hpp"
+
+#include "cli_common.hpp"
+
+#include <engine/atomic_file.hpp>
+#include <engine/error.hpp>
+#include <sim/dtm.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+
+namespace app {
+
+namespace {
+constexpr double kMinRecall = 0.80;            // labelled ground whitened, below which we advise
+constexpr double kMaxColouredTerrain = 0.20;   // share of terrain points left coloured, above which
+
+std::string percentText(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.1f %%", 100.0 * v);
+    return b;
+}
+}  // namespace
+
+void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
+    sim::SmrfOptions& smrf = ground.smrf;
+    c.add_option("--ground", cli.method,
+                 "ground filter: ransac (paper §III-C, per view; flat ground) or smrf (Pingel et al. 2013, "
+                 "whole cloud; follows sloped terrain)")
+        ->capture_default_str();
+    c.add_option("--smrf-cell-m", smrf.cell_m, "SMRF cell of the minimum surface and the DTM, metres [0.01, 1000]")
+        ->capture_default_str();
+    c.add_option("--smrf-slope", smrf.slope, "SMRF slope threshold, rise over run (0, 100]")->capture_default_str();
+    c.add_option("--smrf-window-m", smrf.window_m, "SMRF largest opening radius, metres > 0")->capture_default_str();
+    c.add_option("--smrf-threshold-m", smrf.threshold_m,
+                 "SMRF: ground within this height of the terrain, metres [0, 1000]")
+        ->capture_default_str();
+    c.add_option("--smrf-scalar", smrf.scalar,
+                 "SMRF: plus this many metres per unit of terrain slope, [0, 1000]")
+        ->capture_default_str();
+    c.add_option("--dtm", cli.dtm,
+                 "also write the fitted terrain (SMRF's surface, also with --ground ransac) as an ESRI ASCII "
+                 "grid (.asc), world metres");
+}
+
+void applyGroundOptions(const GroundCli& cli, sim::GroundOptions& ground) {
+    ground.method = sim::parseGroundMethod(cli.method, "generate: --ground");
+    if (!cli.dtm.empty()) {
+        createParentFolders(cli.dtm, "generate: --dtm");
+        engine::checkWritableDestination(cli.dtm);
+    }
+}
+
+std::optional<std::string> groundAdvice(const sim::GenerateStats& st) {
+    if (st.ground_method != sim::GroundMethod::Ransac) return std::nullopt;
+    if (st.ground_truth > 0 && st.ground_recall) {
+        if (*st.ground_recall >= kMinRecall) return std::nullopt;
+        return "generate: ground: RANSAC whitened only " + percentText(*st.ground_recall) +
+               " of the ground-labelled points (the terrain is not flat); --ground smrf follows sloped terrain";
+    }
+    if (st.ground_truth == 0 && st.terrain_points > 0) {
+        const double share = double(st.terrain_points_coloured) / double(st.terrain_points);
+        if (share <= kMaxColouredTerrain) return std::nullopt;
+        return "generate: ground: RANSAC left " + percentText(share) +
+               " of the points on the fitted terrain coloured (the terrain is not flat); --ground smrf follows "
+               "sloped terrain";
+    }
+    return std::nullopt;
+}
+
+void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st,
+                  const glm::dvec3& origin) {
+    if (!o.white && o.ground.method == sim::GroundMethod::Smrf)
+        std::fprintf(stderr,
+                     "  ground filter: smrf (cell %g m, slope %g, window %g m, threshold %g m, scalar %g), "
+                     "terrain %d x %d cells, %.3f s\n",
+                     o.ground.smrf.cell_m, o.ground.smrf.slope, o.ground.smrf.window_m, o.ground.smrf.threshold_m,
+                     o.ground.smrf.scalar, st.terrain ? st.terrain->nx : 0, st.terrain ? st.terrain->ny : 0,
+                     st.seconds.ransac);
+    if (const auto advice = groundAdvice(st)) warn(*advice);
+    if (!cli.dtm.empty()) {
+        if (!st.terrain || st.terrain->empty())
+            throw engine::Error("output: " + cli.dtm + ": no terrain was fitted (--white, or an empty cloud)");
+        sim::writeDtm(cli.dtm, *st.terrain, origin);
+        std::fprintf(stderr, "  DTM: %s (%d x %d cells of %g m)\n", cli.dtm.c_str(), st.terrain->nx, st.terrain->ny,
+                     st.terrain->cell_m);
+    }
+}
+
+void addGroundJson(nlohmann::json& j, const GroundCli& cli, const sim::GenerateStats& st) {
+    j["ground_method"] = sim::groundMethodName(st.ground_method);
+    j["terrain_points"] = st.terrain_points;
+    j["terrain_points_coloured"] = st.terrain_points_coloured;
+    j["ground_advice"] = groundAdvice(st).value_or("");
+    j["dtm"] = cli.dtm.empty() ? nlohmann::json(nullptr)
+                               : nlohmann::json(std::filesystem::absolute(cli.dtm).string());
+    j["stage_seconds"]["ground_check"] = st.seconds.ground_check;
+}
+
+}  // namespace app

@@ -1,0 +1,40 @@
+// app/src/ground_options.hpp: `ladarvr generate`'s ground filter options (--ground,
+// --smrf-*, --dtm), the line that says when RANSAC left the terrain coloured, and the
+// DTM export.
+#pragma once
+#include <sim/generator.hpp>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+#include <optional>
+#include <string>
+
+namespace app {
+
+struct GroundCli {
+    std::string method = "ransac";
+    std::string dtm;  // --dtm: ESRI ASCII grid of the fitted terrain; empty: none
+};
+
+/// Adds --ground, --smrf-cell-m, --smrf-slope, --smrf-window-m, --smrf-threshold-m,
+/// --smrf-scalar and --dtm to `generate`.
+void addGroundOptions(CLI::App& generate, GroundCli& cli, sim::GroundOptions& ground);
+
+/// Before any work: --ground into `ground.method`, --dtm's destination checked.
+void applyGroundOptions(const GroundCli& cli, sim::GroundOptions& ground);
+
+/// The one line saying that the per-view RANSAC left much of the ground coloured and
+/// naming --ground smrf: when the ground-labelled points' recall is under 80 %, or,
+/// without ground labels, when over 20 % of the points on SMRF's fitted terrain stayed
+/// coloured. None otherwise (and never for a terrain-following method).
+std::optional<std::string> groundAdvice(const sim::GenerateStats& st);
+
+/// After the run: prints the filter's summary line and groundAdvice(), writes --dtm.
+void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st,
+                  const glm::dvec3& origin);
+
+/// Ground fields of the JSON summary.
+void addGroundJson(nlohmann::json& j, const GroundCli& cli, const sim::GenerateStats& st);
+
+}  // namespace app

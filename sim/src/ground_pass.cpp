@@ -1,0 +1,122 @@
+// sim/src/ground_pass.cpp: see ground_pass.hpp.
+#include "ground_pass.hpp"
+
+#include <engine/error.hpp>
+
+#include <algorithm>
+#include <array>
+#include <vector>
+
+namespace sim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+TerrainPass::TerrainPass(const GroundFilter& filter, const GroundOptions& options, bool white, bool check) {
+    if (white) return;
+    if (!filter.perView()) {
+        fit_ = filter.startCloud();
+        whitens_ = true;
+    } else if (check) {
+        fit_ = startSmrf(options.smrf);
+    }
+}
+
+void TerrainPass::add(std::span<const engine::CloudPoint> points) {
+    if (!fit_ || failed_) return;
+    const auto t0 = Clock::now();
+    if (!whitens_) {  // the check: every kCheckStride-th point of the cloud
+        sample_.clear();
+        for (std::size_t i = (kCheckStride - added_ % kCheckStride) % kCheckStride; i < points.size(); i += kCheckStride)
+            sample_.push_back(points[i]);
+        added_ += points.size();
+        points = sample_;
+    }
+    try {
+        fit_->add(points);
+    } catch (const engine::Error&) {
+        if (whitens_) throw;
+        failed_ = true;  // only a check: a cloud too wide for its raster goes unchecked
+    }
+    add_seconds_ += secondsSince(t0);
+}
+
+void TerrainPass::fit() {
+    if (!fit_ || failed_) return;
+    const auto t0 = Clock::now();
+    try {
+        fit_->fit();
+    } catch (const engine::Error&) {
+        if (whitens_) throw;
+        failed_ = true;
+    }
+    seconds_ += secondsSince(t0);
+}
+
+void TerrainPass::classify(std::span<engine::CloudPoint> points, Workers& pool) {
+    if (!fit_ || failed_) return;
+    const auto t0 = Clock::now();
+    constexpr std::size_t kChunk = 1u << 16;
+    const std::size_t tasks = (points.size() + kChunk - 1) / kChunk;
+    std::vector<std::array<std::uint64_t, 4>> counts(tasks, {0, 0, 0, 0});
+    const TerrainFit& fit = *fit_;
+    const bool whitens = whitens_;
+    const std::size_t stride = whitens ? 1 : kCheckStride;
+    const std::size_t first = (stride - classified_ % stride) % stride;  // of the sample, in `points`
+    classified_ += points.size();
+    pool.run(tasks, [&](std::size_t task) {
+        auto& c = counts[task];
+        const std::size_t end = std::min(points.size(), (task + 1) * kChunk);
+        std::size_t i = task * kChunk;
+        i += (first + stride - i % stride) % stride;
+        for (; i < end; i += stride) {
+            engine::CloudPoint& p = points[i];
+            float height_m = 0;
+            const bool ground = fit.classify(p.position, height_m);
+            if (whitens) {
+                p.height_above_ground_m = height_m;
+                if (ground) {
+                    p.rgb = engine::kWhite;
+                    c[0] += 1;
+                    c[1] += p.label == engine::Role::Ground;
+                }
+            }
+            if (ground) {
+                c[2] += 1;
+                c[3] += p.rgb != engine::kWhite;
+            }
+        }
+    });
+    for (const auto& c : counts) {
+        found_ += c[0];
+        true_positive_ += c[1];
+        terrain_ += c[2];
+        terrain_coloured_ += c[3];
+    }
+    seconds_ += secondsSince(t0);
+}
+
+void TerrainPass::finish(GenerateStats& st) {
+    if (!fit_) return;
+    st.seconds.fuse = std::max(0.0, st.seconds.fuse - add_seconds_);
+    if (whitens_) {
+        st.ground_found = found_;
+        st.ground_true_positive = true_positive_;
+        st.ground_precision.reset();
+        st.ground_recall.reset();
+        if (st.ground_found > 0) st.ground_precision = double(st.ground_true_positive) / double(st.ground_found);
+        if (st.ground_truth > 0) st.ground_recall = double(st.ground_true_positive) / double(st.ground_truth);
+        st.seconds.ransac += seconds_ + add_seconds_;
+    } else {
+        st.seconds.ground_check += seconds_ + add_seconds_;
+    }
+    if (failed_) return;
+    st.terrain_points = terrain_;
+    st.terrain_points_coloured = terrain_coloured_;
+    st.terrain = std::make_shared<const TerrainGrid>(fit_->surface());
+}
+
+}  // namespace sim

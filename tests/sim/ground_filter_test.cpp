@@ -1,0 +1,229 @@
+// tests/sim/ground_filter_test.cpp: the GroundFilter seam inside the generator: the
+// paper's RANSAC untouched, SMRF on the whole cloud (threads, spool), the DTM file, and
+// the line `generate` prints when RANSAC leaves the terrain coloured.
+#include <test_files.hpp>
+#include <scene_builders.hpp>
+
+#include <sim/dtm.hpp>
+#include <sim/generator.hpp>
+
+#include <engine/error.hpp>
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+sim::GenerateOptions smallOptions(sim::GroundMethod method) {
+    sim::GenerateOptions o;
+    o.orbit.xres = 96;
+    o.orbit.yres = 64;
+    o.orbit.views = 12;
+    o.ground.method = method;
+    return o;
+}
+
+std::size_t differentPoints(const engine::PointCloud& a, const engine::PointCloud& b) {
+    REQUIRE(a.points.size() == b.points.size());
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.points.size(); ++i)
+        n += std::memcmp(&a.points[i], &b.points[i], sizeof(engine::CloudPoint)) != 0;
+    return n;
+}
+
+double hillyHeight(double x, double y) {
+    return 3.0 * std::sin(x / 13.0) * std::cos(y / 9.0) + 2.0 * std::sin((x + 2.0 * y) / 23.0);
+}
+
+}  // namespace
+
+TEST_CASE("the ground filter factory: RANSAC per view (the default), SMRF on the whole cloud") {
+    const sim::GroundOptions defaults;
+    CHECK(defaults.method == sim::GroundMethod::Ransac);
+    const auto ransac = sim::makeGroundFilter(defaults);
+    CHECK(ransac->perView());
+    CHECK_THROWS_AS(ransac->startCloud(), std::logic_error);
+    // Through the seam, RANSAC is findGround itself.
+    std::vector<glm::vec3> pts;
+    for (int i = 0; i < 2000; ++i) pts.emplace_back(float(i % 50), float(i / 50), (i % 7 == 0) ? 5.0f : 0.0f);
+    CHECK(ransac->classifyView(pts, 9, nullptr) == sim::findGround(pts, defaults, 9));
+
+    sim::GroundOptions o;
+    o.method = sim::GroundMethod::Smrf;
+    const auto smrf = sim::makeGroundFilter(o);
+    CHECK_FALSE(smrf->perView());
+    CHECK_THROWS_AS(smrf->classifyView(pts, 9, nullptr), std::logic_error);
+    CHECK(smrf->startCloud() != nullptr);
+
+    CHECK(sim::parseGroundMethod("smrf", "x") == sim::GroundMethod::Smrf);
+    CHECK(std::string(sim::groundMethodName(sim::GroundMethod::Ransac)) == "ransac");
+    CHECK_THROWS_WITH_AS(sim::parseGroundMethod("csf", "generate: --ground"),
+                         "generate: --ground 'csf': allowed ransac, smrf", engine::Error);
+}
+
+TEST_CASE("checking RANSAC against SMRF's terrain changes no point of RANSAC's cloud") {
+    const engine::Scene scene = test_support::hillyTownScene();
+    sim::GenerateOptions o = smallOptions(sim::GroundMethod::Ransac);
+    sim::GenerateStats checked, unchecked;
+    const engine::PointCloud a = sim::generateCloud(scene, o, &checked);
+    o.ground_check = false;
+    const engine::PointCloud b = sim::generateCloud(scene, o, &unchecked);
+    CHECK(differentPoints(a, b) == 0);
+    CHECK_FALSE(a.fields.height_above_ground);
+    CHECK(checked.ground_found == unchecked.ground_found);
+    CHECK(checked.terrain != nullptr);
+    CHECK(unchecked.terrain == nullptr);
+    // Rolling terrain: RANSAC leaves much of it coloured, and the check sees it.
+    CHECK(checked.terrain_points > 1000);
+    CHECK(double(checked.terrain_points_coloured) > 0.3 * double(checked.terrain_points));
+}
+
+TEST_CASE("SMRF in the generator: follows rolling terrain, bit-identical with 1 and 3 threads") {
+    const engine::Scene scene = test_support::hillyTownScene();
+    sim::GenerateOptions o = smallOptions(sim::GroundMethod::Smrf);
+    o.threads = 1;
+    sim::GenerateStats st1, st3;
+    const engine::PointCloud one = sim::generateCloud(scene, o, &st1);
+    o.threads = 3;
+    const engine::PointCloud three = sim::generateCloud(scene, o, &st3);
+    CHECK(differentPoints(one, three) == 0);
+    CHECK(st1.ground_found == st3.ground_found);
+    CHECK(one.fields.height_above_ground);
+    REQUIRE(st1.ground_precision);
+    REQUIRE(st1.ground_recall);
+    CHECK(*st1.ground_precision >= 0.95);
+    CHECK(*st1.ground_recall >= 0.95);
+    CHECK(st1.ground_method == sim::GroundMethod::Smrf);
+    CHECK(st1.planes_accepted == 0);
+    CHECK(st1.views_without_ransac == 0);
+    // Height above ground: ~0 on whitened ground, the roofs well above it.
+    std::size_t roofs = 0;
+    for (const engine::CloudPoint& p : one.points) {
+        if (p.rgb == engine::kWhite) CHECK(std::abs(p.height_above_ground_m) <= 1.5f);
+        if (p.label == engine::Role::Environment && p.position.z > hillyHeight(p.position.x, p.position.y) + 5.0f) {
+            ++roofs;
+            CHECK(p.height_above_ground_m > 3.0f);
+        }
+    }
+    CHECK(roofs > 100);
+}
+
+TEST_CASE("SMRF streamed through a spool file writes the same bytes as in memory") {
+    const engine::Scene scene = test_support::hillyTownScene();
+    const test_support::TempDir scratch("sim_ground_filter");
+    sim::GenerateOptions o = smallOptions(sim::GroundMethod::Smrf);
+    o.threads = 2;
+    o.orbit.views = 40;  // 245,760 hits: 9.4 MiB fused, over the budget below
+    sim::GenerateStats in_memory, streamed;
+    o.memory_budget_bytes = std::size_t(1) << 30;
+    sim::generateToFile(scene, o, scratch.path / "memory.pcd", engine::CloudFormat::PcdBinary, &in_memory);
+    o.memory_budget_bytes = std::size_t(10) << 20;
+    sim::generateToFile(scene, o, scratch.path / "spool.pcd", engine::CloudFormat::PcdBinary, &streamed);
+    CHECK_FALSE(in_memory.streamed);
+    CHECK(streamed.streamed);
+    CHECK(streamed.ground_found == in_memory.ground_found);
+    CHECK(streamed.ground_found > 0);
+    const std::string a = test_support::slurp(scratch.path / "memory.pcd");
+    CHECK(a.size() > 1000);
+    CHECK(a == test_support::slurp(scratch.path / "spool.pcd"));
+}
+
+TEST_CASE("the DTM file holds the known terrain's heights, in world coordinates") {
+    const engine::Scene scene = test_support::hillyTownScene();
+    sim::GenerateOptions o = smallOptions(sim::GroundMethod::Smrf);
+    sim::GenerateStats st;
+    sim::generateCloud(scene, o, &st);
+    REQUIRE(st.terrain);
+    const test_support::TempDir scratch("sim_dtm");
+    const fs::path file = scratch.path / "terrain.asc";
+    sim::writeDtm(file, *st.terrain, scene.origin);
+    std::istringstream in(test_support::slurp(file));
+    std::string key;
+    int ncols = 0, nrows = 0;
+    double xll = 0, yll = 0, cell = 0, nodata = 0;
+    in >> key >> ncols >> key >> nrows >> key >> xll >> key >> yll >> key >> cell >> key >> nodata;
+    CHECK(key == "NODATA_value");
+    CHECK(ncols == st.terrain->nx);
+    CHECK(nrows == st.terrain->ny);
+    CHECK(cell == 1.0);
+    // Compare each observed-area cell with the terrain mesh's height at its centre;
+    // the mesh interpolates hillyHeight linearly over 1 m cells, the cell's minimum
+    // sits below its centre on a slope: a few centimetres, decimetres at worst.
+    std::size_t compared = 0, far = 0;
+    double worst = 0;
+    for (int row = 0; row < nrows; ++row)
+        for (int col = 0; col < ncols; ++col) {
+            double z = 0;
+            REQUIRE(static_cast<bool>(in >> z));
+            const double x = xll + (col + 0.5) * cell - scene.origin.x;
+            const double y = yll + (nrows - 1 - row + 0.5) * cell - scene.origin.y;
+            if (std::hypot(x, y) > 30.0) continue;  // the footprint's well-seen middle
+            // Skip the houses' footprints and the target (interpolated under them).
+            bool under = std::abs(x) < 5 && std::abs(y) < 3;
+            for (int k = 0; k < 8; ++k) {
+                const double a = k * 0.785398, hx = 25 * std::cos(a), hy = 25 * std::sin(a);
+                under |= std::abs(x - hx) < 6.5 && std::abs(y - hy) < 5.5;
+            }
+            if (under) continue;
+            const double err = std::abs(z - scene.origin.z - hillyHeight(x, y));
+            worst = std::max(worst, err);
+            far += err > 0.35;
+            ++compared;
+        }
+    CHECK(compared > 1000);
+    CHECK(far == 0);
+    MESSAGE("DTM worst error " << worst << " m over " << compared << " cells");
+    // An empty terrain is refused, and nothing is written.
+    CHECK_THROWS_AS(sim::writeDtm(scratch.path / "empty.asc", sim::TerrainGrid{}, scene.origin), engine::Error);
+    CHECK_FALSE(fs::exists(scratch.path / "empty.asc"));
+}
+
+TEST_CASE("generate names --ground smrf when RANSAC leaves the bundled hilly scene's ground coloured") {
+    const test_support::TempDir scratch("sim_ground_cli");
+    const fs::path hilly = engine::demoScenePath().parent_path().parent_path() / "hilly" / "scene.json";
+    REQUIRE(fs::exists(hilly));
+    const auto generate = [&](const std::string& method, const std::string& name) {
+        const fs::path err = scratch.path / (name + ".err");
+        const std::string command = std::string(LADARVR_CLI) + " generate --scene '" + hilly.string() + "' --out '" +
+                                    (scratch.path / (name + ".pcd")).string() +
+                                    "' --xres 96 --yres 64 --views 8 --threads 2 --ground " + method + " --dtm '" +
+                                    (scratch.path / (name + ".asc")).string() + "' 2> '" + err.string() + "'";
+        REQUIRE(std::system(command.c_str()) == 0);
+        return test_support::slurp(err);
+    };
+    const std::string ransac = generate("ransac", "ransac");
+    CHECK(ransac.find("--ground smrf") != std::string::npos);
+    CHECK(ransac.find("RANSAC whitened only") != std::string::npos);
+    const std::string smrf = generate("smrf", "smrf");
+    CHECK(smrf.find("--ground smrf") == std::string::npos);
+    CHECK(smrf.find("ground filter: smrf") != std::string::npos);
+    CHECK(fs::file_size(scratch.path / "smrf.asc") > 1000);
+    CHECK(fs::file_size(scratch.path / "ransac.asc") > 1000);
+}
+
+TEST_CASE("generate refuses an unknown --ground and a bad --smrf-* value before any work") {
+    const test_support::TempDir scratch("sim_ground_cli_bad");
+    const auto status = [&](const std::string& args) {
+        const std::string command = std::string(LADARVR_CLI) + " generate --out '" +
+                                    (scratch.path / "x.pcd").string() + "' " + args + " 2> '" +
+                                    (scratch.path / "err").string() + "'";
+        const int rc = std::system(command.c_str());
+        return std::pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, test_support::slurp(scratch.path / "err"));
+    };
+    auto [rc, err] = status("--ground csf");
+    CHECK(rc == 1);
+    CHECK(err.find("--ground 'csf': allowed ransac, smrf") != std::string::npos);
+    std::tie(rc, err) = status("--ground smrf --smrf-window-m -3");
+    CHECK(rc == 1);
+    CHECK(err.find("--smrf-window-m") != std::string::npos);
+    CHECK_FALSE(fs::exists(scratch.path / "x.pcd"));
+}

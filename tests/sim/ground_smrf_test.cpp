@@ -1,0 +1,217 @@
+// tests/sim/ground_smrf_test.cpp: the simple morphological filter on known surfaces
+// (a tilted plane, a Gaussian hill, a terrace with a 2 m step) with box buildings on
+// them: the ground is recovered, the boxes are not, and the fitted terrain is the surface.
+#include <sim/ground.hpp>
+
+#include <engine/error.hpp>
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Height = std::function<double(double, double)>;
+
+struct Box {
+    double cx, cy, half_m, height_m;
+    bool covers(double x, double y) const { return std::abs(x - cx) <= half_m && std::abs(y - cy) <= half_m; }
+};
+
+struct Labelled {
+    std::vector<glm::vec3> points;
+    std::vector<std::uint8_t> ground;      // truth
+    std::vector<std::uint8_t> high_object; // roof or wall point more than 1 m above the terrain
+};
+
+// Ground sampled every 0.25 m (jittered, seeded) over [-half, half]^2, except under the
+// boxes; each box a flat roof height_m above its footprint's highest ground and four
+// walls from the ground up, sampled every 0.25 m.
+Labelled sample(const Height& z, double half_m, const std::vector<Box>& boxes, unsigned seed = 3) {
+    Labelled l;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> jitter(-0.1, 0.1);
+    const double step = 0.25;
+    for (double y = -half_m; y <= half_m; y += step)
+        for (double x = -half_m; x <= half_m; x += step) {
+            const double px = x + jitter(rng), py = y + jitter(rng);
+            if (std::any_of(boxes.begin(), boxes.end(), [&](const Box& b) { return b.covers(px, py); })) continue;
+            l.points.emplace_back(px, py, z(px, py));
+            l.ground.push_back(1);
+            l.high_object.push_back(0);
+        }
+    for (const Box& b : boxes) {
+        double highest = -1e9;
+        for (double y = b.cy - b.half_m; y <= b.cy + b.half_m; y += step)
+            for (double x = b.cx - b.half_m; x <= b.cx + b.half_m; x += step) highest = std::max(highest, z(x, y));
+        const double top = highest + b.height_m;
+        const auto add = [&](double x, double y, double h) {
+            l.points.emplace_back(x, y, h);
+            l.ground.push_back(0);
+            l.high_object.push_back(h > z(x, y) + 1.0);
+        };
+        for (double y = b.cy - b.half_m; y <= b.cy + b.half_m; y += step)
+            for (double x = b.cx - b.half_m; x <= b.cx + b.half_m; x += step) add(x, y, top);
+        const auto wall = [&](double x, double y) {
+            for (double h = z(x, y); h < top; h += step) add(x, y, h);
+        };
+        for (double s = -b.half_m; s <= b.half_m; s += step) {
+            wall(b.cx + s, b.cy - b.half_m);
+            wall(b.cx + s, b.cy + b.half_m);
+            wall(b.cx - b.half_m, b.cy + s);
+            wall(b.cx + b.half_m, b.cy + s);
+        }
+    }
+    return l;
+}
+
+struct Score {
+    double recall = 0;          // of the ground points
+    std::size_t high_found = 0; // roof and wall points > 1 m above the terrain called ground
+    std::size_t high = 0;
+};
+
+Score score(const Labelled& l, const std::vector<std::uint8_t>& found) {
+    Score s;
+    std::size_t truth = 0, hit = 0;
+    for (std::size_t i = 0; i < found.size(); ++i) {
+        truth += l.ground[i];
+        hit += l.ground[i] && found[i];
+        s.high += l.high_object[i];
+        s.high_found += l.high_object[i] && found[i];
+    }
+    s.recall = double(hit) / double(truth);
+    return s;
+}
+
+// Largest |terrain - z| over the cells at least `margin_m` inside the sampled square.
+double surfaceError(const sim::TerrainGrid& g, const Height& z, double half_m, double margin_m) {
+    double worst = 0;
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+            const double x = g.x0_m + i * g.cell_m, y = g.y0_m + j * g.cell_m;
+            if (std::abs(x) > half_m - margin_m || std::abs(y) > half_m - margin_m) continue;
+            worst = std::max(worst, std::abs(double(g.at(i, j)) - z(x, y)));
+        }
+    return worst;
+}
+
+void checkSurface(const char* name, const Height& z, const std::vector<Box>& boxes, double max_error_m) {
+    CAPTURE(std::string(name));
+    const double half = 50.0;
+    const Labelled l = sample(z, half, boxes);
+    sim::TerrainGrid grid;
+    std::vector<float> height;
+    const auto found = sim::findGroundSmrf(l.points, sim::SmrfOptions{}, &grid, &height);
+    REQUIRE(found.size() == l.points.size());
+    const Score s = score(l, found);
+    CHECK(s.recall >= 0.99);
+    CHECK(s.high > 1000);
+    CHECK(s.high_found == 0);
+    CHECK(grid.nx >= 100);
+    // The terrain runs through the ground, under the boxes too (interpolated), within
+    // the minimum surface's bias (the lowest point of a cell sits below its centre's
+    // height on a slope) and the inpainting's error.
+    CHECK(surfaceError(grid, z, half, 2.0) <= max_error_m);
+    // Height above ground: a roof point stands its box's height above the terrain.
+    for (std::size_t i = 0; i < l.points.size(); ++i)
+        if (!l.ground[i] && l.high_object[i]) {
+            CHECK(height[i] == doctest::Approx(double(l.points[i].z) - grid.heightAt(l.points[i].x, l.points[i].y)));
+            break;
+        }
+}
+
+}  // namespace
+
+TEST_CASE("SMRF recovers a tilted plane (30 % slope) and not the buildings on it") {
+    checkSurface("tilted plane", [](double x, double y) { return 0.3 * x + 0.05 * y; },
+                 {{-20, 10, 6, 8}, {15, -15, 9, 5}, {25, 25, 4, 12}}, 0.25);
+}
+
+TEST_CASE("SMRF recovers a Gaussian hill (15 m high) and not the buildings on its flanks") {
+    checkSurface("Gaussian hill",
+                 [](double x, double y) { return 15.0 * std::exp(-(x * x + y * y) / (2.0 * 30.0 * 30.0)); },
+                 {{-25, 0, 6, 7}, {10, 28, 5, 10}, {30, -20, 8, 6}}, 0.35);
+}
+
+TEST_CASE("SMRF recovers a terrace with a 2 m step and not the buildings on either level") {
+    const Height terrace = [](double x, double) { return x < 0.0 ? 0.0 : 2.0; };
+    const double half = 50.0;
+    const Labelled l = sample(terrace, half, {{-25, -20, 7, 6}, {25, 20, 7, 9}, {20, -25, 4, 4}});
+    sim::TerrainGrid grid;
+    const auto found = sim::findGroundSmrf(l.points, sim::SmrfOptions{}, &grid);
+    const Score s = score(l, found);
+    CHECK(s.recall >= 0.99);
+    CHECK(s.high_found == 0);
+    // Away from the step (the bilinear terrain ramps across one cell there) both levels hold.
+    for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i) {
+            const double x = grid.x0_m + i * grid.cell_m;
+            if (std::abs(x) < 1.5 || std::abs(x) > half - 2) continue;
+            CHECK(std::abs(double(grid.at(i, j)) - terrace(x, 0)) <= 0.2);
+        }
+}
+
+TEST_CASE("SMRF: a building wider than twice the window stays ground (the window's meaning)") {
+    const Height flat = [](double, double) { return 0.0; };
+    const Labelled l = sample(flat, 40.0, {{0, 0, 12, 5}});  // 24 m wide
+    sim::SmrfOptions narrow;
+    narrow.window_m = 6.0;  // openings up to 6 m radius cannot remove 12 m of half-width
+    const Score small = score(l, sim::findGroundSmrf(l.points, narrow));
+    CHECK(small.high_found > 1000);
+    const Score wide = score(l, sim::findGroundSmrf(l.points, sim::SmrfOptions{}));
+    CHECK(wide.high_found == 0);
+}
+
+TEST_CASE("SMRF's result depends on the set of points, not their order or batching") {
+    const Labelled l =
+        sample([](double x, double y) { return 0.1 * x + 3.0 * std::sin(y / 15.0); }, 30.0, {{5, 5, 5, 6}});
+    const auto a = sim::findGroundSmrf(l.points, sim::SmrfOptions{});
+    // The same points reversed, through a whole-cloud run fed in uneven batches.
+    std::vector<engine::CloudPoint> cloud(l.points.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) cloud[i].position = l.points[cloud.size() - 1 - i];
+    const auto fit = sim::startSmrf(sim::SmrfOptions{});
+    for (std::size_t i = 0; i < cloud.size(); i += 777)
+        fit->add(std::span(cloud).subspan(i, std::min<std::size_t>(777, cloud.size() - i)));
+    fit->fit();
+    std::size_t different = 0;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+        float h = 0;
+        different += std::uint8_t(fit->classify(cloud[i].position, h)) != a[cloud.size() - 1 - i];
+    }
+    CHECK(different == 0);
+}
+
+TEST_CASE("SMRF options are checked, naming the option and what is allowed") {
+    sim::SmrfOptions o;
+    o.cell_m = 0.0;
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-cell-m"), engine::Error);
+    o = {};
+    o.slope = -1;
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-slope"), engine::Error);
+    o = {};
+    o.window_m = std::nan("");
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-window-m"), engine::Error);
+    o = {};
+    o.threshold_m = -0.1;
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-threshold-m"), engine::Error);
+    o = {};
+    o.scalar = INFINITY;
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-scalar"), engine::Error);
+    // A cloud wider than the raster may hold is refused, naming the cell size.
+    o = {};
+    o.max_cells = 100;
+    std::vector<glm::vec3> wide{{0, 0, 0}, {50, 50, 0}};
+    CHECK_THROWS_WITH_AS(sim::findGroundSmrf(wide, o), doctest::Contains("--smrf-cell-m"), engine::Error);
+}
+
+TEST_CASE("an empty cloud fits an empty terrain and no point is ground") {
+    sim::TerrainGrid grid;
+    CHECK(sim::findGroundSmrf({}, sim::SmrfOptions{}, &grid).empty());
+    CHECK(grid.empty());
+}
