@@ -10,6 +10,7 @@
 #include <engine/scene.hpp>
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
+#include <metric/trace.hpp>
 #include <metric/visibility.hpp>
 
 #include <cmath>
@@ -19,6 +20,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace app {
 namespace {
@@ -32,8 +34,11 @@ struct MetricCli {
     bool no_skip = false;
     bool no_exact = false;
     std::string rasterizer = "compute";
+    std::string trace;
+    double trace_step_s = 0.1;
     metric::MetricOptions options;
 };
+
 
 glm::dvec3 parseTriple(const std::string& text, const char* option) {
     glm::dvec3 v{0.0};
@@ -65,6 +70,19 @@ std::string percent(double v) {
     return buffer;
 }
 
+// Along a trace: the target's visibility from where the operator looked. Views whose
+// |I1| = 0 (target out of view) count as 0 in the whole-trace figure.
+void printTraceSummary(const MetricCli& cli, const metric::MetricResult& r, std::size_t samples) {
+    double visible_sum = 0.0;
+    for (const metric::ViewResult& v : r.views)
+        if (v.used) visible_sum += v.visible;
+    const double whole = r.views.empty() ? 0.0 : visible_sum / double(r.views.size());
+    std::printf("metric: trace %s: %zu of %zu samples used (every %.3g s); target in view in %d; visible %s "
+                "while in view, %s over the whole trace\n",
+                cli.trace.c_str(), r.views.size(), samples, cli.trace_step_s, r.views_used,
+                percent(r.visible_mean).c_str(), percent(whole).c_str());
+}
+
 void run(MetricCli& cli) {
     metric::MetricOptions& o = cli.options;
     o.skip = !cli.no_skip;
@@ -76,6 +94,16 @@ void run(MetricCli& cli) {
     else
         throw engine::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
     if (!cli.look_at.empty()) o.look_at_world = parseTriple(cli.look_at, "--look-at");
+    std::size_t trace_samples = 0;
+    if (!cli.trace.empty()) {
+        if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
+            throw engine::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
+                                ": allowed [0, 3600] seconds");
+        const std::vector<metric::HeadSample> samples = metric::readTrace(cli.trace);
+        trace_samples = samples.size();
+        for (const metric::HeadSample& h : metric::everyStep(samples, cli.trace_step_s))
+            o.poses_world.push_back(metric::cameraFromHead(h));
+    }
     const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
     if (from_files && (cli.p1.empty() || cli.p2.empty() || cli.p3.empty()))
         throw engine::Error("metric: --p1, --p2 and --p3 go together: give all three clouds");
@@ -108,6 +136,10 @@ void run(MetricCli& cli) {
     metric::writeReport(result, out);
     if (cli.json) {
         std::fputs(metric::summaryJson(result).c_str(), stdout);
+    } else if (!cli.trace.empty()) {
+        printTraceSummary(cli, result, trace_samples);
+        std::printf("metric: %s mean over the samples with the target in view; %.2f s; wrote %s\n",
+                    percent(result.metric_mean).c_str(), result.seconds, out.string().c_str());
     } else {
         std::printf("metric: %s mean (min %s, max %s) over %d of %zu views; visible %s; depth-aware %s; exact %s; "
                     "%.2f s; wrote %s\n",
@@ -153,6 +185,14 @@ void registerMetric(CLI::App& cli) {
     c->add_option("--depth-margin-m", o.depth_margin_m,
                   "depth-aware variant: P3 point nearer than every P2 point of its pixel by this, [0, 100] m")
         ->capture_default_str();
+    CLI::Option* trace = c->add_option(
+        "--trace", state->trace,
+        "a study's trace_<trial>.csv: the views are the operator's head poses instead of the orbit (docs/study.md)");
+    c->add_option("--trace-step-s", state->trace_step_s,
+                  "with --trace, use samples at least this far apart, [0, 3600] s (0: every sample)")
+        ->capture_default_str();
+    for (const char* orbit_only : {"--views", "--radius-m", "--altitude-m", "--look-at"})
+        trace->excludes(c->get_option(orbit_only));
     c->add_flag("--json", state->json, "print summary.json to stdout");
     c->add_flag("--no-skip", state->no_skip,
                 "render whole images and every view (the paper's literal xor over the full frame)");

@@ -68,6 +68,7 @@ std::string summaryJson(const MetricResult& r) {
     const glm::dvec3 look = r.origin + r.look_at;
     j["look_at"] = {look.x, look.y, look.z};
     j["origin"] = {r.origin.x, r.origin.y, r.origin.z};
+    j["views_from"] = r.options.poses_world.empty() ? "orbit" : "poses";  // poses: e.g. an operator's trace
     const auto& o = r.options;
     j["options"] = {{"radius_m", o.orbit.radius_m}, {"altitude_m", o.orbit.altitude_m},
                     {"vfov_deg", o.orbit.vfov_deg}, {"width", o.width}, {"height", o.height},

@@ -73,8 +73,22 @@ void validate(const MetricOptions& o) {
     if (o.height < 16 || o.height > 8192) invalid("height", o.height, "16..8192 pixels");
     if (!std::isfinite(o.splat_px) || o.splat_px < 1.0 || o.splat_px > 64.0)
         invalid("splat-px", o.splat_px, "[1, 64] pixels");
-    if (o.picture_view < -1 || o.picture_view >= c.views)
+    const int views = o.poses_world.empty() ? c.views : static_cast<int>(std::min(o.poses_world.size(), kMaxPoses));
+    if (o.picture_view < -1 || o.picture_view >= views)
         invalid("picture-view", o.picture_view, "-1 (none) or 0..views-1");
+    if (o.poses_world.size() > kMaxPoses)
+        throw engine::Error("metric: " + std::to_string(o.poses_world.size()) + " camera poses; allowed at most " +
+                            std::to_string(kMaxPoses));
+    for (const render::CameraPose& p : o.poses_world) {
+        const glm::dvec3 axis = p.look_at - p.eye;
+        const bool finite = std::isfinite(p.eye.x) && std::isfinite(p.eye.y) && std::isfinite(p.eye.z) &&
+                            std::isfinite(p.look_at.x) && std::isfinite(p.look_at.y) && std::isfinite(p.look_at.z) &&
+                            std::isfinite(p.up.x) && std::isfinite(p.up.y) && std::isfinite(p.up.z);
+        if (!finite || glm::length(axis) <= 0.0 || std::abs(glm::length(p.up) - 1.0) > 1e-6 ||
+            std::abs(glm::dot(glm::normalize(axis), p.up)) > 1e-6)
+            throw engine::Error("metric: a camera pose is not finite or its up is not a unit vector orthogonal to "
+                                "its view axis");
+    }
     if (o.look_at_world && !(std::isfinite(o.look_at_world->x) && std::isfinite(o.look_at_world->y) &&
                              std::isfinite(o.look_at_world->z)))
         throw engine::Error("metric: --look-at: not finite; allowed x,y,z in world metres");
@@ -204,10 +218,17 @@ MetricResult Evaluator::run(const MetricOptions& options) {
     int exact_used = 0;
     result.metric_min = kNaN;
     result.metric_max = kNaN;
-    for (int k = 0; k < orbit.views; ++k) {
+    const bool given = !options.poses_world.empty();
+    const int views = given ? static_cast<int>(options.poses_world.size()) : orbit.views;
+    for (int k = 0; k < views; ++k) {
         ViewResult v;
         v.view = k;
-        v.pose = render::orbitView(orbit, result.look_at, k);
+        if (given) {
+            const render::CameraPose& p = options.poses_world[static_cast<std::size_t>(k)];
+            v.pose = {p.eye - impl.origin, p.look_at - impl.origin, p.up};
+        } else {
+            v.pose = render::orbitView(orbit, result.look_at, k);
+        }
         const glm::dmat4 view = render::viewMatrix(v.pose);
         const glm::dmat4 view_projection = projection * view;
 

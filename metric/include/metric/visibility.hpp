@@ -55,7 +55,12 @@ struct MetricOptions {
     double depth_margin_m = 0.5;             // depth-aware variant: a P3 point counts as
                                              // target when nearer than every P2 point of
                                              // its pixel by more than this [0, 100] m
+    /// When not empty, the views are these cameras (world frame, e.g. an operator's head
+    /// path, metric/trace.hpp) instead of the orbit's; orbit.vfov_deg, near_m and far_m
+    /// still apply. At most kMaxPoses.
+    std::vector<render::CameraPose> poses_world;
 };
+inline constexpr std::size_t kMaxPoses = 1000000;
 
 /// Throws engine::Error("metric: --<option> = <value>: allowed <range>") for bad options
 /// (the orbit's fields through render::validate). `views` is options.orbit.views.
@@ -122,7 +127,8 @@ public:
     Evaluator(const Evaluator&) = delete;
     Evaluator& operator=(const Evaluator&) = delete;
 
-    /// Evaluates every view of options.orbit. Throws engine::Error for invalid options.
+    /// Evaluates every view of options.orbit (or options.poses_world). Throws engine::Error
+    /// for invalid options.
     MetricResult run(const MetricOptions& options);
 
     /// Whether the exact reference is available (a scene with a target was given).

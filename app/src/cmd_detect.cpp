@@ -1,0 +1,127 @@
+// app/src/cmd_detect.cpp: `ladarvr detect CLOUD --out candidates.json`: the baseline 3D
+// ATR of sim/detect.hpp, so `view --candidates` and studies have something to validate
+// without an outside detector. Writes engine/candidates.hpp's JSON.
+#include "cli_common.hpp"
+#include "commands.hpp"
+
+#include <engine/candidates.hpp>
+#include <engine/cloud_io.hpp>
+#include <engine/error.hpp>
+#include <sim/detect.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace app {
+namespace {
+
+struct DetectCli {
+    std::string cloud;
+    std::string out;
+    std::vector<double> target_size_m{7.0, 3.5, 2.5};
+    std::string ground = "ransac";
+    bool json = false;
+    sim::DetectOptions options;
+};
+
+sim::GroundSource parseGround(const std::string& name) {
+    if (name == "ransac") return sim::GroundSource::Ransac;
+    if (name == "labels") return sim::GroundSource::Labels;
+    if (name == "white") return sim::GroundSource::White;
+    throw engine::Error("detect: --ground '" + name + "': allowed ransac, labels, white");
+}
+
+void run(DetectCli& cli) {
+    sim::DetectOptions& o = cli.options;
+    o.target_size_m = {cli.target_size_m[0], cli.target_size_m[1], cli.target_size_m[2]};
+    o.ground = parseGround(cli.ground);
+    o.progress = true;  // drawn only when stderr is a terminal
+    sim::validate(o);
+
+    const std::filesystem::path out = cli.out;
+    std::error_code ec;
+    if (std::filesystem::equivalent(cli.cloud, out, ec))
+        throw engine::Error("detect: --out " + cli.out + " is the input cloud; choose another file");
+    createParentFolders(out, "detect: --out");
+
+    const engine::PointCloud cloud = engine::readCloud(cli.cloud);
+    sim::DetectStats stats;
+    const std::vector<sim::Detection> found = sim::detect(cloud, o, &stats);
+    std::vector<engine::Candidate> candidates;
+    for (const sim::Detection& d : found) candidates.push_back(d.candidate);
+    engine::writeCandidates(out, candidates);
+
+    if (cli.json) {
+        nlohmann::json j;
+        j["cloud"] = cli.cloud;
+        j["out"] = cli.out;
+        j["points"] = stats.points;
+        j["ground_points"] = stats.ground_points;
+        j["voxels"] = stats.voxels;
+        j["clusters"] = stats.clusters;
+        j["candidates"] = candidates.size();
+        j["seconds"] = {{"ground", stats.seconds_ground}, {"cluster", stats.seconds_cluster},
+                        {"boxes", stats.seconds_boxes}};
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("detect: %zu points, %zu ground (%s), %zu clusters, %zu candidates with score >= %.2f; "
+                "%.2f s; wrote %s\n",
+                stats.points, stats.ground_points, cli.ground.c_str(), stats.clusters, candidates.size(),
+                o.min_score, stats.seconds_ground + stats.seconds_cluster + stats.seconds_boxes, cli.out.c_str());
+    for (std::size_t k = 0; k < candidates.size() && k < 5; ++k) {
+        const engine::Candidate& c = candidates[k];
+        std::printf("  %-4s score %.3f  centre %.2f %.2f %.2f  size %.2f x %.2f x %.2f m  yaw %.1f deg  %zu points\n",
+                    c.id.c_str(), c.score, c.centre_world.x, c.centre_world.y, c.centre_world.z, c.size_m.x,
+                    c.size_m.y, c.size_m.z, c.yaw_deg, found[k].points.size());
+    }
+    if (candidates.size() > 5) std::printf("  ... %zu more in %s\n", candidates.size() - 5, cli.out.c_str());
+}
+
+}  // namespace
+
+void registerDetect(CLI::App& cli) {
+    auto state = std::make_shared<DetectCli>();
+    sim::DetectOptions& o = state->options;
+    CLI::App* c = cli.add_subcommand(
+        "detect", "baseline 3D ATR: cluster the non-ground points, fit oriented boxes, score them by how well "
+                  "their size matches the target's; writes candidates for `view --candidates`");
+    c->add_option("cloud", state->cloud, "the cloud (PCD or PLY)")->required();
+    c->add_option("--out", state->out, "candidates file to write (JSON)")->required();
+    c->add_option("--target-size-m", state->target_size_m,
+                  "target length width height, metres (default a main battle tank: 7 3.5 2.5)")
+        ->expected(3);
+    c->add_option("--size-tolerance", o.size_tolerance,
+                  "size factor (> 1) that costs one side exp(-1/2) of the score")
+        ->capture_default_str();
+    c->add_option("--ground", state->ground,
+                  "what is ground: ransac (paper's RANSAC per tile), labels (the cloud's ground-truth labels), "
+                  "white (the generator's whitened points)")
+        ->check(CLI::IsMember({"ransac", "labels", "white"}))
+        ->capture_default_str();
+    c->add_option("--ground-tile-m", o.ground_tile_m, "side of the RANSAC tiles, metres > 0")->capture_default_str();
+    c->add_option("--band-m", o.ground_ransac.band_m, "RANSAC height band above each tile's lowest point, metres > 0")
+        ->capture_default_str();
+    c->add_option("--voxel-m", o.voxel_m, "voxel side for clustering, [0.01, 100] m")->capture_default_str();
+    c->add_option("--cluster-tolerance-m", o.cluster_tolerance_m,
+                  "voxels closer than this join one cluster, (voxel/2, 1000] m")
+        ->capture_default_str();
+    c->add_option("--trim-fraction", o.trim_fraction,
+                  "fraction of a cluster's points ignored at each end of each box side (a gun barrel), [0, 0.5)")
+        ->capture_default_str();
+    c->add_option("--min-cluster-points", o.min_cluster_points, "smaller clusters are noise, >= 1")
+        ->capture_default_str();
+    c->add_option("--min-score", o.min_score, "drop candidates scoring below, [0, 1]")->capture_default_str();
+    c->add_option("--max-candidates", o.max_candidates, "keep at most this many, best first")->capture_default_str();
+    c->add_option("--seed", o.seed, "seed of RANSAC's shuffles")->capture_default_str();
+    c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");
+    c->callback([state] { run(*state); });
+}
+
+}  // namespace app

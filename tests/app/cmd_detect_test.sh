@@ -1,0 +1,64 @@
+#!/bin/sh
+# tests/app/cmd_detect_test.sh: `ladarvr detect` on a small cloud of the demo scene, as a
+# user runs it. Usage: cmd_detect_test.sh LADARVR_BINARY SCRATCH_DIR
+#  - the demo's tank (centre at the world origin, turned by 20 deg) is among the candidates
+#    with a high score and its yaw, with both the RANSAC and the labels' ground;
+#  - bad options and inputs: one line `ladarvr: error: ...`, exit 2 (usage) or 1, no file.
+set -eu
+bin=$1
+dir=$2
+rm -rf "$dir"
+mkdir -p "$dir"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$bin" generate --out "$dir/demo.pcd" --xres 128 --yres 128 --views 40 >/dev/null 2>&1 ||
+    fail "generate failed"
+
+for ground in ransac labels; do
+    "$bin" detect "$dir/demo.pcd" --out "$dir/sub/c_$ground.json" --ground "$ground" >"$dir/out" 2>"$dir/err" ||
+        fail "detect --ground $ground: $(cat "$dir/err")"
+    grep -q "wrote $dir/sub/c_$ground.json" "$dir/out" || fail "no summary line: $(cat "$dir/out")"
+    python3 - "$dir/sub/c_$ground.json" <<'PY' || fail "candidates of --ground $ground"
+import json, math, sys
+cands = json.load(open(sys.argv[1]))["candidates"]
+assert cands, "no candidate"
+assert [c["id"] for c in cands] == ["c%d" % (k + 1) for k in range(len(cands))], "ids"
+assert all(a["score"] >= b["score"] for a, b in zip(cands, cands[1:])), "not best first"
+assert all(0.05 <= c["score"] <= 1 for c in cands), "score below --min-score"
+tank = [c for c in cands if math.hypot(c["centre"][0], c["centre"][1]) < 2.0]
+assert len(tank) == 1, "no candidate at the tank: %s" % cands
+t = tank[0]
+assert t["score"] > 0.5, t
+d = abs(t["yaw_deg"] - 20.0) % 180.0
+assert min(d, 180.0 - d) < 5.0, t
+assert 2.0 < t["size_m"][2] < 3.0 and 3.0 < t["size_m"][1] < 4.0, t
+PY
+done
+
+# The target size decides the ranking: looking for 60 m long things finds nothing near.
+"$bin" detect "$dir/demo.pcd" --out "$dir/big.json" --target-size-m 60 40 20 --ground labels >/dev/null 2>&1 ||
+    fail "detect --target-size-m 60 40 20"
+python3 -c "import json,sys; c=json.load(open(sys.argv[1]))['candidates']; assert all(x['score'] < 0.5 for x in c), c" \
+    "$dir/big.json" || fail "a 60 x 40 x 20 target scored high"
+
+# one_error STATUS PATTERN ARGS...: exit STATUS, one line matching PATTERN, no output file.
+one_error() {
+    expect=$1 pattern=$2
+    shift 2
+    rm -f "$dir/bad.json"
+    status=0
+    "$bin" "$@" >"$dir/out" 2>"$dir/err" || status=$?
+    [ "$status" -eq "$expect" ] || fail "ladarvr $* exited $status, expected $expect: $(cat "$dir/err")"
+    [ "$(wc -l <"$dir/err")" -eq 1 ] || fail "not one line: $(cat "$dir/err")"
+    grep -q -e "^ladarvr: error: .*$pattern" "$dir/err" || fail "'$pattern' not in: $(cat "$dir/err")"
+    [ ! -e "$dir/bad.json" ] || fail "ladarvr $* left $dir/bad.json"
+}
+one_error 2 "--ground" detect "$dir/demo.pcd" --out "$dir/bad.json" --ground foo
+one_error 2 "--target-size-m" detect "$dir/demo.pcd" --out "$dir/bad.json" --target-size-m 7 3.5
+one_error 2 "--out" detect "$dir/demo.pcd"
+one_error 1 "--min-score = 2: allowed \[0, 1\]" detect "$dir/demo.pcd" --out "$dir/bad.json" --min-score 2
+one_error 1 "--target-size-m = -7" detect "$dir/demo.pcd" --out "$dir/bad.json" --target-size-m -7 3.5 2.5
+one_error 1 "--cluster-tolerance-m" detect "$dir/demo.pcd" --out "$dir/bad.json" --cluster-tolerance-m 0.1
+one_error 1 "missing.pcd" detect "$dir/missing.pcd" --out "$dir/bad.json"
+one_error 1 "is the input cloud" detect "$dir/demo.pcd" --out "$dir/demo.pcd"
+echo "cmd_detect: ok"

@@ -1,0 +1,161 @@
+// tests/sim/detect_test.cpp: the baseline detector on synthetic clouds with known answers:
+// a tank-sized box, a wall and a tree-like blob on a plane.
+#include <sim/detect.hpp>
+
+#include <engine/error.hpp>
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+void add(engine::PointCloud& c, glm::dvec3 p, engine::Role role) {
+    engine::CloudPoint q;
+    q.position = glm::vec3(p);
+    q.label = role;
+    q.rgb = role == engine::Role::Ground ? engine::kWhite : 0x336699u;
+    c.points.push_back(q);
+}
+
+// The surface of a box (top and four sides, no bottom) of size l x w x h standing on z = 0,
+// centred at (cx, cy), turned by yaw_deg; points every step_m with a little noise.
+void addBox(engine::PointCloud& c, std::mt19937& rng, glm::dvec2 centre, glm::dvec3 size, double yaw_deg,
+            double step_m, engine::Role role) {
+    std::uniform_real_distribution<double> noise(-0.02, 0.02);
+    const double cs = std::cos(yaw_deg * kDeg), sn = std::sin(yaw_deg * kDeg);
+    auto put = [&](double u, double v, double z) {
+        add(c, {centre.x + cs * u - sn * v + noise(rng), centre.y + sn * u + cs * v + noise(rng), z + noise(rng)},
+            role);
+    };
+    const double hl = size.x / 2, hw = size.y / 2;
+    for (double u = -hl; u <= hl; u += step_m)
+        for (double v = -hw; v <= hw; v += step_m) put(u, v, size.z);
+    for (double z = 0.1; z <= size.z; z += step_m) {
+        for (double u = -hl; u <= hl; u += step_m) {
+            put(u, -hw, z);
+            put(u, hw, z);
+        }
+        for (double v = -hw; v <= hw; v += step_m) {
+            put(-hl, v, z);
+            put(hl, v, z);
+        }
+    }
+}
+
+// A flat ground of side 80 m, a 7 x 3.5 x 2.5 box turned by 30 deg at (10, 5), a wall
+// 12 x 0.3 x 4 m and a tree (trunk, 6 m wide crown from 3 to 9 m) well apart.
+engine::PointCloud scene(double tank_yaw_deg = 30.0) {
+    engine::PointCloud c;
+    c.origin = {1000.0, -2000.0, 50.0};
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> noise(-0.02, 0.02);
+    for (double x = -40; x <= 40; x += 0.4)
+        for (double y = -40; y <= 40; y += 0.4) add(c, {x, y, noise(rng)}, engine::Role::Ground);
+    addBox(c, rng, {10, 5}, {7, 3.5, 2.5}, tank_yaw_deg, 0.2, engine::Role::Target);
+    addBox(c, rng, {-20, 15}, {12, 0.3, 4}, 0.0, 0.2, engine::Role::Environment);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (double z = 0.1; z < 3; z += 0.1) add(c, {-15 + noise(rng), -20 + noise(rng), z}, engine::Role::Environment);
+    for (int i = 0; i < 4000; ++i) {
+        glm::dvec3 d{u(rng), u(rng), u(rng)};
+        if (glm::length(d) > 1.0 || glm::length(d) < 0.05) continue;
+        d = d / glm::length(d) * 3.0;
+        add(c, {-15 + d.x, -20 + d.y, 6 + d.z}, engine::Role::Environment);
+    }
+    return c;
+}
+
+double yawDifferenceDeg(double a, double b) {  // modulo 180: a box turned by 180 is the same
+    double d = std::fmod(std::abs(a - b), 180.0);
+    return std::min(d, 180.0 - d);
+}
+
+}  // namespace
+
+TEST_CASE("detect: the tank-sized box scores highest, its box and yaw are recovered") {
+    for (const sim::GroundSource ground : {sim::GroundSource::Labels, sim::GroundSource::Ransac, sim::GroundSource::White}) {
+        for (const double yaw : {30.0, -60.0, 85.0}) {
+            CAPTURE(int(ground));
+            CAPTURE(yaw);
+            const engine::PointCloud c = scene(yaw);
+            sim::DetectOptions o;
+            o.ground = ground;
+            o.min_score = 0.0;  // every cluster, to see the others rank lower
+            sim::DetectStats stats;
+            const std::vector<sim::Detection> found = sim::detect(c, o, &stats);
+            REQUIRE(found.size() >= 3);  // box, wall, tree
+            CHECK(stats.clusters == found.size());
+            const engine::Candidate& best = found[0].candidate;
+            CHECK(best.id == "c1");
+            CHECK(best.score > 0.7);
+            CHECK(found[1].candidate.score < 0.2);
+            CHECK(std::abs(best.centre_world.x - (c.origin.x + 10)) < 0.2);
+            CHECK(std::abs(best.centre_world.y - (c.origin.y + 5)) < 0.2);
+            CHECK(best.size_m.x == doctest::Approx(7.0).epsilon(0.05));
+            CHECK(best.size_m.y == doctest::Approx(3.5).epsilon(0.05));
+            CHECK(best.size_m.z > 2.0);
+            CHECK(yawDifferenceDeg(best.yaw_deg, yaw) < 3.0);
+            CHECK(best.yaw_deg > -90.0);
+            CHECK(best.yaw_deg <= 90.0);
+            // Every point of the winning cluster is the box's.
+            for (const std::uint32_t i : found[0].points) REQUIRE(c.points[i].label == engine::Role::Target);
+        }
+    }
+}
+
+TEST_CASE("detect: the target size decides which cluster wins") {
+    const engine::PointCloud c = scene();
+    sim::DetectOptions o;
+    o.ground = sim::GroundSource::Labels;
+    o.target_size_m = {12.0, 0.3, 4.0};  // looking for walls
+    const std::vector<sim::Detection> found = sim::detect(c, o);
+    REQUIRE(!found.empty());
+    CHECK(std::abs(found[0].candidate.centre_world.x - (c.origin.x - 20)) < 0.3);
+    CHECK(found[0].candidate.size_m.x == doctest::Approx(12.0).epsilon(0.05));
+    // min_score drops the others: the tank box is far from 12 x 0.3 x 4.
+    for (const sim::Detection& d : found) CHECK(d.candidate.score >= o.min_score);
+}
+
+TEST_CASE("detect: score of a box size") {
+    const glm::dvec3 tank{7, 3.5, 2.5};
+    CHECK(sim::sizeScore({7, 3.5, 2.5}, tank, 1.5) == doctest::Approx(1.0));
+    CHECK(sim::sizeScore({3.5, 7, 2.5}, tank, 1.5) == doctest::Approx(1.0));          // sides swapped
+    CHECK(sim::sizeScore({7 * 1.5, 3.5, 2.5}, tank, 1.5) == doctest::Approx(std::exp(-0.5)));
+    CHECK(sim::sizeScore({12, 0.3, 4}, tank, 1.5) < 0.01);                            // a wall
+    CHECK(sim::sizeScore({6, 6, 9}, tank, 1.5) < 0.01);                               // a tree
+    CHECK(sim::sizeScore({7, 0, 2.5}, tank, 1.5) >= 0.0);                             // flat: finite
+}
+
+TEST_CASE("detect: errors name the option and the missing field") {
+    engine::PointCloud c = scene();
+    sim::DetectOptions o;
+    o.target_size_m.y = 0.0;
+    CHECK_THROWS_WITH_AS(sim::detect(c, o), doctest::Contains("--target-size-m"), engine::Error);
+    o = {};
+    o.cluster_tolerance_m = 0.1;
+    CHECK_THROWS_WITH_AS(sim::detect(c, o), doctest::Contains("--cluster-tolerance-m"), engine::Error);
+    o = {};
+    o.ground = sim::GroundSource::Labels;
+    c.fields.label = false;
+    CHECK_THROWS_WITH_AS(sim::detect(c, o), doctest::Contains("no label field"), engine::Error);
+    // An empty cloud gives no detection, not an error.
+    CHECK(sim::detect(engine::PointCloud{}, sim::DetectOptions{}).empty());
+}
+
+TEST_CASE("detect: a thin barrel does not lengthen the box; without trimming it does") {
+    engine::PointCloud c;
+    std::mt19937 rng(5);
+    addBox(c, rng, {0, 0}, {7, 3.5, 2.5}, 0.0, 0.2, engine::Role::Target);
+    const std::size_t hull = c.points.size();
+    for (double x = 3.6; x <= 7.1; x += 0.3) add(c, {x, 0.0, 2.0}, engine::Role::Target);  // 12 points
+    REQUIRE(double(c.points.size() - hull) < 0.01 * double(c.points.size()));
+    std::vector<std::uint32_t> all(c.points.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
+    CHECK(sim::fitBox(c, all, 0.01).size_m.x == doctest::Approx(7.0).epsilon(0.03));
+    CHECK(sim::fitBox(c, all, 0.0).size_m.x == doctest::Approx(10.6).epsilon(0.03));
+}
