@@ -87,6 +87,7 @@ void runStats(const CorpusCli& cli) {
         so.seed = cli.seed;
         so.time_limit_s = cli.time_limit_s;
         so.plan = cli.plan.empty() ? std::filesystem::path(cli.stats) / "plan.json" : std::filesystem::path(cli.plan);
+        createParentFolders(so.plan, "corpus: --plan");
         const corpus::SelectResult r = corpus::selectTrials(cli.stats, so);
         std::fprintf(stderr, "corpus: %zu of %zu items match '%s'; wrote %zu trials to %s\n", r.matching, r.items,
                      cli.select.c_str(), r.written, so.plan.string().c_str());
@@ -96,6 +97,7 @@ void runStats(const CorpusCli& cli) {
     so.column = cli.column;
     so.histogram = cli.histogram.empty() ? std::filesystem::path(cli.stats) / "histogram.png"
                                          : std::filesystem::path(cli.histogram);
+    createParentFolders(so.histogram, "corpus: --histogram");
     const corpus::Stats st = corpus::computeStats(cli.stats, so);
     if (cli.json)
         std::printf("%s\n", corpus::statsJson(st).c_str());

@@ -51,6 +51,32 @@ bool itemIntact(const fs::path& dir, const json& line) {
     return true;
 }
 
+/// A file this command writes and later replaces (a manifest): read whole, bounded, as a
+/// regular file, but not remembered as an input (engine::readTextFile would forbid the
+/// rewrite).
+std::string readOwnFile(const fs::path& file) {
+    const std::string problem = engine::regularFileProblem(file);
+    if (!problem.empty())
+        throw engine::Error("corpus: manifest " + shown(file) + " " + problem + "; allowed: a regular file");
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    if (fd < 0) throw engine::Error("corpus: manifest " + shown(file) + ": cannot open: " + std::strerror(errno));
+    std::string text;
+    char buffer[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(fd, buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        text.append(buffer, std::size_t(n));
+        if (text.size() > kMaxManifestBytes) {
+            ::close(fd);
+            throw engine::Error("corpus: manifest " + shown(file) + " is larger than " +
+                                std::to_string(kMaxManifestBytes) + " bytes; allowed: a manifest of this command");
+        }
+    }
+    ::close(fd);
+    return text;
+}
+
 struct ManifestLine {
     std::size_t index;
     std::string id;
@@ -64,7 +90,7 @@ std::vector<ManifestLine> readLines(const fs::path& file, std::size_t* torn) {
     std::vector<ManifestLine> lines;
     struct stat st {};
     if (::lstat(file.c_str(), &st) != 0) return lines;
-    const std::string text = engine::readTextFile(file, kMaxManifestBytes, "corpus: manifest " + shown(file));
+    const std::string text = readOwnFile(file);
     std::size_t start = 0;
     while (start < text.size()) {
         const std::size_t end = text.find('\n', start);
@@ -96,7 +122,7 @@ std::string joinLines(const std::vector<ManifestLine>& lines) {
 json readCorpusRecord(const fs::path& dir) {
     const fs::path file = dir / "corpus.json";
     try {
-        return json::parse(engine::readTextFile(file, std::size_t(1) << 20, "corpus: " + shown(file)));
+        return json::parse(readOwnFile(file));
     } catch (const json::exception& e) {
         throw engine::Error("corpus: " + shown(file) + ": not valid JSON (" + engine::printable(e.what(), 100) + ")");
     }
