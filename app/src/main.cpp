@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     app::registerView(cli);
     app::registerScene(cli);
     app::registerDetect(cli);
+    app::registerCorpus(cli);
     bench::registerBench(cli);   // `ladarvr bench WHAT` (bench/)
     app::applyConventions(cli);  // after every subcommand: the checks reach all options
     try {

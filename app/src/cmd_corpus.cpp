@@ -1,0 +1,157 @@
+// app/src/cmd_corpus.cpp: `ladarvr corpus`: build a corpus of varied scenes and clouds from
+// a SPEC (resumable, --jobs, --shard I/N or a Slurm array task), merge shard manifests,
+// summarise a corpus and select study trials from it (docs/corpus.md).
+#include "cli_common.hpp"
+#include "commands.hpp"
+
+#include <corpus/run.hpp>
+#include <corpus/stats.hpp>
+
+#include <engine/error.hpp>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+namespace app {
+namespace {
+
+struct CorpusCli {
+    std::string spec;
+    std::string out;
+    std::string merge;
+    std::string stats;
+    std::string shard;
+    std::string select;
+    std::string plan;
+    std::string column;
+    std::string histogram;
+    int jobs = 1;
+    int threads = 0;
+    std::size_t count = 0;
+    std::uint64_t seed = 1;
+    double time_limit_s = 120.0;
+    bool json = false;
+};
+
+std::string firstFew(const std::vector<std::string>& ids) {
+    std::string s;
+    for (std::size_t i = 0; i < ids.size() && i < 10; ++i) s += (i ? ", " : "") + ids[i];
+    if (ids.size() > 10) s += ", ... (" + std::to_string(ids.size()) + " in all)";
+    return s;
+}
+
+void runMerge(const CorpusCli& cli) {
+    const corpus::MergeReport r = corpus::mergeManifests(cli.merge);
+    std::fprintf(stderr, "corpus: merged %zu of %zu items from %zu manifest file(s) into %s/manifest.jsonl\n",
+                 r.merged, r.count, r.sources, cli.merge.c_str());
+    if (!r.duplicated.empty())
+        std::fprintf(stderr, "corpus: %zu item(s) appear in more than one line: %s\n", r.duplicated.size(),
+                     firstFew(r.duplicated).c_str());
+    if (!r.conflicting.empty())
+        throw engine::Error("corpus: --merge " + cli.merge + ": " + std::to_string(r.conflicting.size()) +
+                            " item(s) have lines with different files (SHA-256): " + firstFew(r.conflicting) +
+                            "; were they built from different SPECs or versions?");
+    if (!r.missing.empty())
+        throw engine::Error("corpus: --merge " + cli.merge + ": " + std::to_string(r.missing.size()) +
+                            " item(s) missing: " + firstFew(r.missing) +
+                            "; rerun the shards that hold them (they resume)");
+}
+
+void runBuild(const CorpusCli& cli) {
+    corpus::RunOptions o;
+    o.spec = cli.spec;
+    o.out = cli.out;
+    o.jobs = cli.jobs;
+    o.threads = cli.threads;
+    if (!cli.shard.empty()) {
+        std::tie(o.shard, o.shards) = corpus::parseShard(cli.shard, "--shard");
+        o.sharded = true;
+    } else if (const auto slurm = corpus::shardFromSlurm()) {
+        std::tie(o.shard, o.shards) = *slurm;
+        o.sharded = true;
+    }
+    o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+    const corpus::RunSummary s = corpus::runCorpus(o);
+    std::fprintf(stderr, "corpus: %zu built, %zu already complete, %zu failed; manifest %s\n", s.built, s.skipped,
+                 s.failed.size(), s.manifest.string().c_str());
+    if (!s.failed.empty())
+        throw engine::Error("corpus: " + std::to_string(s.failed.size()) + " item(s) failed, first " + s.failed.front());
+}
+
+void runStats(const CorpusCli& cli) {
+    if (!cli.select.empty()) {
+        corpus::SelectOptions so;
+        so.expression = cli.select;
+        so.count = cli.count;
+        so.seed = cli.seed;
+        so.time_limit_s = cli.time_limit_s;
+        so.plan = cli.plan.empty() ? std::filesystem::path(cli.stats) / "plan.json" : std::filesystem::path(cli.plan);
+        createParentFolders(so.plan, "corpus: --plan");
+        const corpus::SelectResult r = corpus::selectTrials(cli.stats, so);
+        std::fprintf(stderr, "corpus: %zu of %zu items match '%s'; wrote %zu trials to %s\n", r.matching, r.items,
+                     cli.select.c_str(), r.written, so.plan.string().c_str());
+        return;
+    }
+    corpus::StatsOptions so;
+    so.column = cli.column;
+    so.histogram = cli.histogram.empty() ? std::filesystem::path(cli.stats) / "histogram.png"
+                                         : std::filesystem::path(cli.histogram);
+    createParentFolders(so.histogram, "corpus: --histogram");
+    const corpus::Stats st = corpus::computeStats(cli.stats, so);
+    if (cli.json)
+        std::printf("%s\n", corpus::statsJson(st).c_str());
+    else
+        std::printf("%s", corpus::statsText(st).c_str());
+}
+
+void run(const CorpusCli& cli) {
+    const int modes = int(!cli.spec.empty()) + int(!cli.merge.empty()) + int(!cli.stats.empty());
+    if (modes != 1)
+        throw engine::Error("corpus: give one of SPEC (with --out DIR), --merge DIR, --stats DIR (see 'ladarvr corpus "
+                            "--help')");
+    if (!cli.spec.empty()) {
+        if (cli.out.empty()) throw engine::Error("corpus: SPEC needs --out DIR: the folder the items go to");
+        runBuild(cli);
+    } else if (!cli.merge.empty()) {
+        runMerge(cli);
+    } else {
+        if (!cli.select.empty() && cli.count == 0)
+            throw engine::Error("corpus: --select needs --count N (N >= 1): how many trials the plan holds");
+        runStats(cli);
+    }
+}
+
+}  // namespace
+
+void registerCorpus(CLI::App& cli) {
+    auto state = std::make_shared<CorpusCli>();
+    CLI::App* c = cli.add_subcommand(
+        "corpus", "build many varied scenes and clouds from a SPEC (resumable, --jobs, Slurm array shards), "
+                  "merge shard manifests, summarise a corpus, select study trials by difficulty (docs/corpus.md)");
+    c->add_option("SPEC", state->spec, "SPEC.json: the base scene, count, seed and what varies");
+    c->add_option("--out", state->out, "corpus folder: items/<id>/, manifest.jsonl (resumes when it exists)");
+    c->add_option("--jobs", state->jobs, "items built at once, [1, 1024]")->capture_default_str();
+    c->add_option("--threads", state->threads, "generator threads per item; 0 = the cores divided by --jobs")
+        ->capture_default_str();
+    c->add_option("--shard", state->shard, "I/N: build items i with i mod N == I into manifest.<I>.jsonl; default "
+                                           "from SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT");
+    c->add_option("--merge", state->merge, "DIR: merge manifest.<I>.jsonl into manifest.jsonl, sorted by id; "
+                                           "reports missing and duplicated items");
+    c->add_option("--stats", state->stats, "DIR: distribution of the metric and the other columns, histogram PNG");
+    c->add_flag("--json", state->json, "with --stats: print the statistics as JSON on stdout");
+    c->add_option("--column", state->column, "with --stats: the histogram's column (default: metric if present, "
+                                             "else points)");
+    c->add_option("--histogram", state->histogram, "with --stats: the histogram PNG (default DIR/histogram.png)");
+    c->add_option("--select", state->select, "with --stats: items to pick, e.g. \"metric<0.3\" or "
+                                             "\"metric>=0.2,metric<0.5\" (all must hold); writes a study plan");
+    c->add_option("--count", state->count, "with --select: trials in the plan")->capture_default_str();
+    c->add_option("--seed", state->seed, "with --select: which matching items are picked, and the plan's "
+                                         "shuffle_seed")->capture_default_str();
+    c->add_option("--plan", state->plan, "with --select: the plan file (default DIR/plan.json)");
+    c->add_option("--time-limit-s", state->time_limit_s, "with --select: each trial's time limit, seconds > 0")
+        ->capture_default_str();
+    c->callback([state] { run(*state); });
+}
+
+}  // namespace app

@@ -1,0 +1,28 @@
+// corpus/item.hpp: building one item: DIR/items/<id>/ with scene.json, the cloud and, with
+// the metric, summary.json and views.csv, written as one folder that appears whole
+// (engine::writeFolderAtomic), and its manifest line.
+#pragma once
+#include <corpus/plan.hpp>
+
+#include <filesystem>
+#include <string>
+
+namespace corpus {
+
+/// The names an item folder holds (for engine::checkOutputFolder and resume checks).
+bool isItemFile(const std::string& name);
+
+struct ItemOutcome {
+    std::string id;
+    std::string manifest_line;   // one JSON object, no newline
+    double seconds = 0.0;
+    std::uint64_t points = 0;
+    double metric = 0.0;         // NaN without the metric
+};
+
+/// Plans and builds item `index` into `out`/items/<id>/ (replacing a folder left there by
+/// a run killed before its manifest line), with `threads` generator threads (0 = all).
+/// Throws engine::Error naming the item.
+ItemOutcome buildItem(const Planner& planner, std::size_t index, const std::filesystem::path& out, int threads);
+
+}  // namespace corpus

@@ -1,0 +1,156 @@
+// corpus: one item, from its plan to its folder and manifest line. The cloud is made in
+// memory (its points per label are counted there), encoded through a hidden temporary
+// file, then written with the other files as one folder swapped into place.
+#include <corpus/item.hpp>
+#include <corpus/sha256.hpp>
+
+#include <engine/cloud_io.hpp>
+#include <engine/error.hpp>
+#include <engine/safe_file.hpp>
+#include <engine/scene.hpp>
+#include <metric/clouds.hpp>
+#include <metric/report.hpp>
+#include <metric/visibility.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+namespace corpus {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+bool isItemFile(const std::string& name) {
+    return name == "scene.json" || name == "cloud.pcd" || name == "cloud.ply" || name == "summary.json" ||
+           name == "views.csv";
+}
+
+namespace {
+
+json optional(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json triple(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+/// The encoded cloud: written through engine::writeCloud under a hidden temporary name
+/// in `dir` (removed by the next run there if this process dies), read back, removed.
+std::string encodeCloud(const engine::PointCloud& cloud, engine::CloudFormat format, const fs::path& dir,
+                        const std::string& id) {
+    const fs::path scratch = dir / (std::string(engine::kTempPrefix) + std::to_string(::getpid()) + "-cloud-" + id);
+    struct Remove {
+        fs::path path;
+        ~Remove() {
+            std::error_code ec;
+            fs::remove(path, ec);
+        }
+    } remove{scratch};
+    engine::writeCloud(scratch, cloud, format);
+    std::ifstream in(scratch, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof())
+        throw engine::Error("output: " + engine::printable(scratch.string()) + ": cannot read back the cloud");
+    return bytes;
+}
+
+}  // namespace
+
+ItemOutcome buildItem(const Planner& planner, std::size_t index, const fs::path& out, int threads) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const Spec& spec = planner.spec();
+    ItemPlan plan = planner.plan(index);
+    const fs::path items = fs::absolute(out / "items").lexically_normal();
+    const fs::path folder = items / plan.id;
+    plan.options.threads = threads;
+    plan.options.progress = false;
+
+    // The scene is loaded from the absolute-path text (the item folder may not exist yet);
+    // the file written names the same meshes relative to the item folder.
+    const engine::Scene scene = engine::loadSceneJson(plan.sceneText({}), folder / "scene.json");
+    engine::Bounds target_box;
+    for (const engine::Mesh& m : scene.meshes)
+        if (m.role == engine::Role::Target)
+            for (const glm::vec3& v : m.vertices) target_box.extend(scene.origin + glm::dvec3(v));
+
+    sim::GenerateStats st;
+    engine::PointCloud cloud = sim::generateCloud(scene, plan.options, &st);
+    std::uint64_t per_label[engine::kRoleCount] = {0, 0, 0};
+    for (const engine::CloudPoint& p : cloud.points) ++per_label[std::size_t(p.label) % engine::kRoleCount];
+
+    std::vector<std::pair<std::string, std::string>> files;
+    files.emplace_back("scene.json", plan.sceneText(folder));
+    files.emplace_back(spec.cloudName(), encodeCloud(cloud, spec.format, items, plan.id));
+    cloud.points = {};
+    double metric_mean = std::nan(""), exact_mean = std::nan(""), visible_mean = std::nan("");
+    int views_used = 0;
+    if (spec.metric.enabled) {
+        metric::MetricClouds clouds = metric::generateClouds(scene, plan.options);
+        metric::Evaluator evaluator(clouds, &scene);
+        metric::MetricOptions mo;
+        mo.orbit.views = spec.metric.views;
+        mo.width = spec.metric.width;
+        mo.height = spec.metric.height;
+        mo.picture_view = -1;
+        const metric::MetricResult result = evaluator.run(mo);
+        files.emplace_back("summary.json", metric::summaryJson(result));
+        files.emplace_back("views.csv", metric::viewsCsv(result));
+        metric_mean = result.metric_mean;
+        exact_mean = result.has_exact ? result.exact_mean : std::nan("");
+        visible_mean = result.visible_mean;
+        views_used = result.views_used;
+    }
+    engine::writeFolderAtomic(folder, files, isItemFile);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    json line;
+    line["id"] = plan.id;
+    line["index"] = plan.index;
+    line["seed"] = spec.seed;
+    line["item_seed"] = plan.item_seed;
+    json values = json::object();
+    for (const auto& [key, v] : plan.values) values[key] = v;
+    line["values"] = values;
+    json target = json::object();
+    if (!target_box.empty()) {
+        target["file"] = plan.target_file;
+        target["position"] = triple(plan.target_position_world);
+        target["yaw_deg"] = plan.target_yaw_deg;
+        target["box_min"] = triple(target_box.lo);
+        target["box_max"] = triple(target_box.hi);
+        target["placement_draws"] = plan.placement_draws;
+    }
+    line["target"] = target;
+    line["centre"] = triple(st.centre);
+    line["environment_kept"] = plan.environment_kept;
+    line["environment_total"] = plan.environment_total;
+    line["generate"] = plan.generateArgs();
+    line["points_per_label"] = {{"ground", per_label[0]}, {"environment", per_label[1]}, {"target", per_label[2]}};
+    line["points"] = st.points;
+    line["misses"] = st.misses;
+    line["rays"] = st.rays;
+    line["ground_precision"] = optional(st.ground_precision);
+    line["ground_recall"] = optional(st.ground_recall);
+    line["metric"] = finite(metric_mean);
+    line["exact"] = finite(exact_mean);
+    line["visible"] = finite(visible_mean);
+    line["metric_views_used"] = views_used;
+    json listed = json::object();
+    for (const auto& [name, content] : files)
+        listed[name] = {{"bytes", content.size()}, {"sha256", sha256Hex(content)}};
+    line["files"] = listed;
+    line["seconds"] = seconds;
+
+    ItemOutcome o;
+    o.id = plan.id;
+    o.manifest_line = line.dump();
+    o.seconds = seconds;
+    o.points = st.points;
+    o.metric = metric_mean;
+    return o;
+}
+
+}  // namespace corpus

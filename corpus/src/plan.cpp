@@ -1,0 +1,374 @@
+// corpus: planning one item. Every random value comes from its own key's stream
+// (corpus/random.hpp), so the plan of item i depends on (seed, i) and the SPEC alone.
+#include <corpus/plan.hpp>
+#include <corpus/random.hpp>
+
+#include "apply.hpp"
+
+#include <engine/error.hpp>
+#include <engine/safe_file.hpp>
+#include <engine/scene.hpp>
+#include <sim/raycaster.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <iterator>
+#include <cmath>
+#include <numbers>
+
+namespace corpus {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace detail {
+
+void applyToOptions(sim::GenerateOptions& o, std::string_view key, double v) {
+    const int i = int(v);
+    if (key == "altitude_m") o.orbit.altitude_m = v;
+    else if (key == "overlap_m") o.orbit.overlap_m = v;
+    else if (key == "alpha_deg") o.orbit.inclination_deg = v;
+    else if (key == "fov_deg") o.orbit.fov_deg = v;
+    else if (key == "resolution") o.orbit.xres = o.orbit.yres = i;
+    else if (key == "xres") o.orbit.xres = i;
+    else if (key == "yres") o.orbit.yres = i;
+    else if (key == "views") o.orbit.views = i;
+    else if (key == "band_m") o.ground.band_m = v;
+    else if (key == "ransac_distance_m") o.ground.distance_threshold_m = v;
+    else if (key == "min_normal_z") o.ground.min_normal_z = v;
+    else if (key == "stop_fraction") o.ground.stop_fraction = v;
+    else if (key == "min_plane_fraction") o.ground.min_plane_fraction = v;
+    else if (key == "max_planes") o.ground.max_planes = i;
+    else if (key == "ransac_iterations") o.ground.ransac_iterations = i;
+    else if (key == "ransac_sample_points") o.ground.ransac_sample_points = i;
+    else if (key == "colours") o.colour.entries = i;
+    else if (key == "ransac_seed") o.seed = std::uint64_t(v);
+}
+
+}  // namespace detail
+
+namespace {
+
+/// Shortest text that reads back as the same double.
+std::string exactNumber(double v) {
+    char buffer[40];
+    const auto r = std::to_chars(buffer, buffer + sizeof buffer, v);
+    return std::string(buffer, r.ptr);
+}
+
+// The generate option of each vary key that is a generator parameter.
+const std::map<std::string, std::string>& optionNames() {
+    static const std::map<std::string, std::string> names = {
+        {"altitude_m", "--altitude-m"}, {"overlap_m", "--overlap-m"}, {"alpha_deg", "--alpha-deg"},
+        {"fov_deg", "--fov-deg"}, {"xres", "--xres"}, {"yres", "--yres"}, {"views", "--views"},
+        {"band_m", "--band-m"}, {"ransac_distance_m", "--ransac-distance-m"}, {"min_normal_z", "--min-normal-z"},
+        {"stop_fraction", "--stop-fraction"}, {"min_plane_fraction", "--min-plane-fraction"},
+        {"max_planes", "--max-planes"}, {"ransac_iterations", "--ransac-iterations"},
+        {"ransac_sample_points", "--ransac-sample-points"}, {"colours", "--colours"}, {"ransac_seed", "--seed"}};
+    return names;
+}
+
+glm::dvec3 vec3(const json& v) { return {v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()}; }
+
+/// A target model's vertices in its own frame (scale and up applied, no yaw, no position).
+std::vector<glm::dvec3> loadModel(const fs::path& file, const std::string& up, double scale, const fs::path& scene) {
+    json j;
+    j["origin"] = {0.0, 0.0, 0.0};
+    j["meshes"] = json::array({json{{"file", file.string()}, {"role", "target"}, {"up", up}, {"scale", scale}}});
+    const engine::Scene s = engine::loadSceneJson(j.dump(), scene);
+    std::vector<glm::dvec3> out;
+    for (const engine::Mesh& m : s.meshes)
+        for (const glm::vec3& v : m.vertices) out.emplace_back(v);
+    return out;
+}
+
+bool overlaps(const engine::Bounds& a, const engine::Bounds& b) {
+    for (int k = 0; k < 3; ++k)
+        if (a.hi[k] <= b.lo[k] || b.hi[k] <= a.lo[k]) return false;
+    return true;
+}
+
+}  // namespace
+
+std::string ItemPlan::sceneText(const fs::path& folder) const {
+    json j;
+    std::string replay = "ladarvr generate --scene scene.json";
+    for (const std::string& a : generateArgs()) replay += " " + a;
+    j["comment"] = "corpus item " + id + " (index " + std::to_string(index) + "); the cloud again: " + replay;
+    if (origin) j["origin"] = {origin->x, origin->y, origin->z};
+    json list = json::array();
+    for (const MeshEntry& m : meshes) {
+        std::string file = m.file.string();
+        // Relative paths keep a corpus and its meshes movable together; a path that
+        // would climb to the root stays absolute.
+        if (!folder.empty() && std::next(m.file.begin()) != m.file.end() &&
+            std::next(folder.begin()) != folder.end() && *std::next(m.file.begin()) == *std::next(folder.begin())) {
+            const fs::path rel = m.file.lexically_relative(folder);
+            if (!rel.empty()) file = rel.string();
+        }
+        list.push_back(json{{"file", file}, {"role", m.role}, {"position", {m.position.x, m.position.y, m.position.z}},
+                              {"yaw_deg", m.yaw_deg}, {"scale", m.scale}, {"up", m.up}});
+    }
+    j["meshes"] = std::move(list);
+    return j.dump(2) + "\n";
+}
+
+std::vector<std::string> ItemPlan::generateArgs() const {
+    std::vector<std::string> args;
+    for (const auto& [key, value] : values) {
+        if (key == "resolution") {
+            args.insert(args.end(), {"--xres", exactNumber(value), "--yres", exactNumber(value)});
+            continue;
+        }
+        const auto it = optionNames().find(key);
+        if (it != optionNames().end()) args.insert(args.end(), {it->second, exactNumber(value)});
+    }
+    if (centre_world)
+        args.insert(args.end(), {"--centre", exactNumber(centre_world->x) + "," + exactNumber(centre_world->y) + "," +
+                                                 exactNumber(centre_world->z)});
+    return args;
+}
+
+struct Planner::State {
+    Spec spec;
+    std::optional<glm::dvec3> origin;
+    std::vector<MeshEntry> entries;
+    engine::Scene base;
+    std::unique_ptr<sim::RayCaster> ground;   // ground meshes only
+    double ray_top_local = 0.0;               // above every mesh, local frame
+    std::vector<engine::Bounds> boxes;        // world box per mesh (environment ones used)
+    std::vector<std::size_t> environment;     // indices of environment meshes
+    int target = -1;                          // index of the one target mesh, -1 if not one
+    std::vector<std::vector<glm::dvec3>> models;   // per target_files entry, or the base's
+    double clearance_m = 0.0;                 // base target's lowest point above the ground
+};
+
+Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
+    State& s = *state_;
+    s.spec = spec;
+    const std::string prefix = "corpus: " + engine::printable(spec.file.string()) + ": ";
+    const std::string text = engine::readTextFile(spec.scene, engine::kMaxSceneBytes,
+                                                  "corpus: scene " + engine::printable(spec.scene.string()));
+    s.base = engine::loadSceneJson(text, spec.scene);  // validates the scene and every mesh
+    const json j = json::parse(text);
+    if (j.contains("origin")) s.origin = vec3(j["origin"]);
+    const fs::path dir = spec.scene.parent_path();
+    for (const json& m : j.at("meshes")) {
+        MeshEntry e;
+        e.written = m.at("file").get<std::string>();
+        e.file = fs::absolute(dir / e.written).lexically_normal();
+        e.role = m.at("role").get<std::string>();
+        if (m.contains("position")) e.position = vec3(m["position"]);
+        if (m.contains("yaw_deg")) e.yaw_deg = m["yaw_deg"].get<double>();
+        if (m.contains("scale")) e.scale = m["scale"].get<double>();
+        if (m.contains("up")) e.up = m["up"].get<std::string>();
+        s.entries.push_back(std::move(e));
+    }
+    if (s.entries.size() != s.base.meshes.size())
+        throw engine::Error(prefix + "scene: " + std::to_string(s.entries.size()) + " entries but " +
+                            std::to_string(s.base.meshes.size()) + " meshes loaded");
+    int targets = 0;
+    for (std::size_t k = 0; k < s.base.meshes.size(); ++k) {
+        engine::Bounds b;
+        for (const glm::vec3& v : s.base.meshes[k].vertices) b.extend(s.base.origin + glm::dvec3(v));
+        s.boxes.push_back(b);
+        if (s.base.meshes[k].role == engine::Role::Environment) s.environment.push_back(k);
+        if (s.base.meshes[k].role == engine::Role::Target) {
+            ++targets;
+            s.target = int(k);
+        }
+    }
+    const bool moves = spec.varies("target_offset_m") || spec.varies("target_files");
+    if ((moves || spec.varies("target_yaw_deg")) && targets != 1)
+        throw engine::Error(prefix + "vary: the target_* keys need a scene with exactly one target mesh; '" +
+                            engine::printable(spec.scene.string()) + "' has " + std::to_string(targets));
+    if (targets != 1) s.target = -1;
+    if (s.base.hasRole(engine::Role::Ground)) {
+        s.ground = std::make_unique<sim::RayCaster>(s.base, engine::RoleMask::of({engine::Role::Ground}));
+        s.ray_top_local = s.base.bounds().hi.z + 10.0;
+    } else if (moves || spec.varies("centre_offset_m")) {
+        throw engine::Error(prefix + "vary: target_offset_m, target_files and centre_offset_m place things on the "
+                            "ground; '" + engine::printable(spec.scene.string()) + "' has no ground mesh");
+    }
+    if (s.target >= 0) {
+        const MeshEntry& t = s.entries[std::size_t(s.target)];
+        if (spec.target_files.empty()) {
+            s.models.push_back(loadModel(t.file, t.up, t.scale, spec.scene));
+        } else {
+            for (const TargetModel& m : spec.target_files) s.models.push_back(loadModel(m.file, m.up, m.scale, spec.scene));
+        }
+        // The base target's clearance: its lowest vertex above the ground under it.
+        const std::vector<glm::dvec3> base_model = loadModel(t.file, t.up, t.scale, spec.scene);
+        double lo_z = 1e300;
+        for (const glm::dvec3& v : base_model) lo_z = std::min(lo_z, v.z);
+        const std::optional<double> g = groundZ(t.position.x, t.position.y);
+        if (g && !base_model.empty()) s.clearance_m = t.position.z + lo_z - *g;
+    }
+}
+
+Planner::~Planner() = default;
+
+const Spec& Planner::spec() const { return state_->spec; }
+const std::vector<engine::Bounds>& Planner::environmentBoxes() const { return state_->boxes; }
+
+std::string Planner::itemId(std::size_t index) const {
+    const std::size_t digits = std::max<std::size_t>(4, std::to_string(state_->spec.count - 1).size());
+    std::string id = std::to_string(index);
+    return std::string(digits > id.size() ? digits - id.size() : 0, '0') + id;
+}
+
+std::optional<double> Planner::groundZ(double x_world, double y_world) const {
+    const State& s = *state_;
+    if (!s.ground) return std::nullopt;
+    sim::Ray ray;
+    ray.origin = glm::vec3(glm::dvec3(x_world, y_world, 0.0) - glm::dvec3(s.base.origin.x, s.base.origin.y, 0.0));
+    ray.origin.z = float(s.ray_top_local);
+    ray.direction = {0.0f, 0.0f, -1.0f};
+    ray.t_far = 1e30f;
+    sim::Hit hit;
+    s.ground->intersect(std::span<const sim::Ray>(&ray, 1), std::span<sim::Hit>(&hit, 1));
+    if (!hit.hit()) return std::nullopt;
+    return s.base.origin.z + double(ray.origin.z) - double(hit.t);
+}
+
+ItemPlan Planner::plan(std::size_t index) const {
+    const State& s = *state_;
+    const Spec& spec = s.spec;
+    ItemPlan p;
+    p.index = index;
+    p.id = itemId(index);
+    p.item_seed = itemSeed(spec.seed, index);
+    p.origin = s.origin;
+    const std::string where = "corpus: item " + p.id + ": ";
+
+    // Plain values: one draw each from the key's stream.
+    for (const auto& [key, n] : spec.numbers) {
+        if (key == "target_offset_m" || key == "centre_offset_m") continue;  // drawn with their angle below
+        SplitMix64 r = keyStream(p.item_seed, key);
+        double v = n.min;
+        if (n.kind == NumberVary::Kind::Choice)
+            v = n.choices[std::size_t(r.below(n.choices.size()))];
+        else if (n.kind == NumberVary::Kind::Uniform)
+            v = n.integer ? n.min + double(r.below(std::uint64_t(n.max - n.min) + 1)) : r.uniform(n.min, n.max);
+        p.values[key] = v;
+        detail::applyToOptions(p.options, key, v);
+    }
+
+    // Environment meshes kept: a partial Fisher-Yates shuffle of their indices.
+    std::vector<std::size_t> kept = s.environment;
+    p.environment_total = kept.size();
+    if (const auto it = p.values.find("environment_keep_fraction"); it != p.values.end()) {
+        const std::size_t k = std::size_t(std::llround(it->second * double(kept.size())));
+        SplitMix64 r = keyStream(p.item_seed, "environment_keep");
+        for (std::size_t i = 0; i < k; ++i) std::swap(kept[i], kept[i + std::size_t(r.below(kept.size() - i))]);
+        kept.resize(k);
+        std::sort(kept.begin(), kept.end());
+    }
+    p.environment_kept = kept.size();
+    std::vector<bool> keep(s.entries.size(), true);
+    for (std::size_t k : s.environment) keep[k] = false;
+    for (std::size_t k : kept) keep[k] = true;
+
+    // The target: model, yaw, place.
+    std::optional<MeshEntry> target;
+    if (s.target >= 0) {
+        target = s.entries[std::size_t(s.target)];
+        p.target_file = target->written;
+        std::size_t model = 0;
+        if (!spec.target_files.empty()) {
+            model = std::size_t(keyStream(p.item_seed, "target_files").below(spec.target_files.size()));
+            const TargetModel& m = spec.target_files[model];
+            target->file = m.file;
+            target->written = m.written;
+            target->up = m.up;
+            target->scale = m.scale;
+            p.target_file = m.written;
+        }
+        if (const auto it = p.values.find("target_yaw_deg"); it != p.values.end()) target->yaw_deg = it->second;
+        p.target_yaw_deg = target->yaw_deg;
+        const double yaw = target->yaw_deg * std::numbers::pi / 180.0;
+        const double c = std::cos(yaw), sn = std::sin(yaw);
+        engine::Bounds local;  // the model's box after yaw, relative to its position
+        for (const glm::dvec3& v : s.models[model]) local.extend(glm::dvec3(c * v.x - sn * v.y, sn * v.x + c * v.y, v.z));
+        const bool moves = spec.varies("target_offset_m") || spec.varies("target_files");
+        if (moves) {
+            const NumberVary* offset = nullptr;
+            if (const auto it = spec.numbers.find("target_offset_m"); it != spec.numbers.end()) offset = &it->second;
+            SplitMix64 r = keyStream(p.item_seed, "target_offset_m");
+            const glm::dvec3 base = target->position;
+            bool placed = false;
+            for (int draw = 1; draw <= kMaxPlacementDraws && !placed; ++draw) {
+                p.placement_draws = draw;
+                double radius = 0.0;
+                if (offset) {
+                    const double lo = offset->lowest(), hi = offset->highest();
+                    if (offset->kind == NumberVary::Kind::Choice)
+                        radius = offset->choices[std::size_t(r.below(offset->choices.size()))];
+                    else  // uniform over the annulus lo <= r <= hi
+                        radius = std::sqrt(r.uniform(lo * lo, hi * hi));
+                }
+                const double angle = 2.0 * std::numbers::pi * r.unit();
+                const double x = base.x + radius * std::cos(angle), y = base.y + radius * std::sin(angle);
+                const std::optional<double> g = groundZ(x, y);
+                if (!g) continue;  // off the ground: redraw
+                const glm::dvec3 pos(x, y, *g + s.clearance_m - local.lo.z);
+                engine::Bounds box;
+                box.extend(pos + local.lo);
+                box.extend(pos + local.hi);
+                bool clear = true;
+                for (std::size_t k : kept) clear = clear && !overlaps(box, s.boxes[k]);
+                if (!clear) continue;
+                target->position = pos;
+                if (offset) p.values["target_offset_m"] = radius;
+                placed = true;
+            }
+            if (!placed) {
+                std::string range = "0";
+                if (offset) range = "[" + engine::shownNumber(offset->lowest()) + ", " + engine::shownNumber(offset->highest()) + "]";
+                throw engine::Error(where + "the target cannot be placed: " + std::to_string(kMaxPlacementDraws) +
+                                    " draws with target_offset_m " + range +
+                                    " m all met another mesh's box or left the ground; allowed: a wider "
+                                    "target_offset_m, a lower environment_keep_fraction, or more room around the target");
+            }
+        }
+        p.target_position_world = target->position;
+        p.target_box_world.extend(target->position + local.lo);
+        p.target_box_world.extend(target->position + local.hi);
+    }
+
+    // The orbit centre C: moved away from the target when centre_offset_m varies.
+    if (const auto it = spec.numbers.find("centre_offset_m"); it != spec.numbers.end()) {
+        const NumberVary& n = it->second;
+        glm::dvec3 c0 = s.base.origin + s.base.bounds().centre();
+        if (!p.target_box_world.empty()) c0 = p.target_box_world.centre();
+        SplitMix64 r = keyStream(p.item_seed, "centre_offset_m");
+        for (int draw = 1; draw <= kMaxPlacementDraws && !p.centre_world; ++draw) {
+            p.centre_draws = draw;
+            const double radius = n.kind == NumberVary::Kind::Choice
+                                      ? n.choices[std::size_t(r.below(n.choices.size()))]
+                                      : std::sqrt(r.uniform(n.lowest() * n.lowest(), n.highest() * n.highest()));
+            const double angle = 2.0 * std::numbers::pi * r.unit();
+            const double x = c0.x + radius * std::cos(angle), y = c0.y + radius * std::sin(angle);
+            const std::optional<double> g = groundZ(x, y);
+            if (!g) continue;
+            p.centre_world = glm::dvec3(x, y, *g);
+            p.values["centre_offset_m"] = radius;
+        }
+        if (!p.centre_world)
+            throw engine::Error(where + "the orbit centre cannot be placed: " + std::to_string(kMaxPlacementDraws) +
+                                " draws with centre_offset_m [" + engine::shownNumber(n.lowest()) + ", " +
+                                engine::shownNumber(n.highest()) + "] m all left the ground; allowed: a smaller "
+                                "centre_offset_m");
+        p.options.centre = p.centre_world;
+    }
+
+    for (std::size_t k = 0; k < s.entries.size(); ++k) {
+        if (!keep[k]) continue;
+        p.meshes.push_back(int(k) == s.target && target ? *target : s.entries[k]);
+    }
+    return p;
+}
+
+}  // namespace corpus

@@ -1,0 +1,274 @@
+// corpus: SPEC.json parsing. Everything is checked here, before any item is built, so a
+// typo costs one line and no work; sim::validate sees the extreme corners of the ranges.
+#include <corpus/sha256.hpp>
+#include <corpus/spec.hpp>
+
+#include "apply.hpp"
+
+#include <engine/error.hpp>
+#include <engine/safe_file.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace corpus {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kBig = 1e300;
+constexpr double kIntLimit = 2147483647.0;
+
+}  // namespace
+
+const std::vector<VaryKey> kVaryKeys = {
+    {"target_yaw_deg", false, -3600, 3600, "the target's yaw about world z, degrees (replaces the scene's)"},
+    {"target_offset_m", false, 0, 1e6, "distance the target moves from its place, uniform over the disc (annulus)"},
+    {"environment_keep_fraction", false, 0, 1, "fraction of environment meshes kept (the others are left out)"},
+    {"centre_offset_m", false, 0, 1e6, "distance the orbit centre C moves away from the target, uniform over the disc"},
+    {"altitude_m", false, -kBig, kBig, "drone altitude above C (generate --altitude-m)"},
+    {"overlap_m", false, -kBig, kBig, "CO (generate --overlap-m)"},
+    {"alpha_deg", false, -kBig, kBig, "sensor inclination (generate --alpha-deg)"},
+    {"fov_deg", false, -kBig, kBig, "field of view (generate --fov-deg)"},
+    {"resolution", true, 1, 65536, "pixels across and down (generate --xres and --yres together)"},
+    {"xres", true, 1, 65536, "pixels across (generate --xres)"},
+    {"yres", true, 1, 65536, "pixels down (generate --yres)"},
+    {"views", true, 1, 65535, "NoV (generate --views)"},
+    {"band_m", false, -kBig, kBig, "RANSAC band (generate --band-m)"},
+    {"ransac_distance_m", false, -kBig, kBig, "RANSAC inlier distance (generate --ransac-distance-m)"},
+    {"min_normal_z", false, -kBig, kBig, "generate --min-normal-z"},
+    {"stop_fraction", false, -kBig, kBig, "generate --stop-fraction"},
+    {"min_plane_fraction", false, -kBig, kBig, "generate --min-plane-fraction"},
+    {"max_planes", true, -kIntLimit, kIntLimit, "generate --max-planes"},
+    {"ransac_iterations", true, -kIntLimit, kIntLimit, "generate --ransac-iterations"},
+    {"ransac_sample_points", true, -kIntLimit, kIntLimit, "generate --ransac-sample-points"},
+    {"colours", true, -kIntLimit, kIntLimit, "entries of the jet map (generate --colours)"},
+    {"ransac_seed", true, 0, 9007199254740992.0, "RANSAC seed (generate --seed)"},
+};
+
+double NumberVary::lowest() const {
+    return kind == Kind::Choice ? *std::min_element(choices.begin(), choices.end()) : min;
+}
+double NumberVary::highest() const {
+    return kind == Kind::Choice ? *std::max_element(choices.begin(), choices.end()) : max;
+}
+
+bool Spec::varies(std::string_view key) const {
+    if (key == "target_files") return !target_files.empty();
+    return numbers.count(std::string(key)) > 0;
+}
+
+std::string Spec::cloudName() const {
+    const bool ply = format == engine::CloudFormat::PlyBinary || format == engine::CloudFormat::PlyAscii;
+    return ply ? "cloud.ply" : "cloud.pcd";
+}
+
+namespace {
+
+struct Context {
+    std::string prefix;  // "corpus: <spec>: "
+    [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+        throw engine::Error(prefix + key + ": " + what);
+    }
+};
+
+std::string keyList() {
+    std::string s;
+    for (const VaryKey& k : kVaryKeys) s += std::string(k.name) + ", ";
+    return s + "target_files";
+}
+
+std::string rangeText(const VaryKey& k) {
+    if (k.lowest <= -kBig && k.highest >= kBig) return "finite numbers";
+    return std::string(k.integer ? "integers" : "numbers") + " in [" + engine::shownNumber(k.lowest) + ", " +
+           engine::shownNumber(k.highest) + "]";
+}
+
+double numberValue(const Context& c, const std::string& key, const json& v, const VaryKey& k) {
+    if (!v.is_number() || (v.is_number_float() && !std::isfinite(v.get<double>())))
+        c.fail(key, "'" + v.dump() + "' is not a number; allowed " + rangeText(k));
+    const double d = v.get<double>();
+    if (k.integer && (v.is_number_float() && d != std::floor(d)))
+        c.fail(key, engine::shownNumber(d) + " is not an integer; allowed " + rangeText(k));
+    if (d < k.lowest || d > k.highest) c.fail(key, engine::shownNumber(d) + " is out of range; allowed " + rangeText(k));
+    return d;
+}
+
+NumberVary parseNumber(const Context& c, const std::string& key, const json& v, const VaryKey& k) {
+    NumberVary n;
+    n.integer = k.integer;
+    const std::string allowed = "allowed a number, {\"min\": a, \"max\": b} with a <= b, or a non-empty list of " +
+                                rangeText(k);
+    if (v.is_object()) {
+        for (auto it = v.begin(); it != v.end(); ++it)
+            if (it.key() != "min" && it.key() != "max")
+                c.fail(key, "unknown key '" + engine::printable(it.key(), 40) + "' in the range; allowed min, max");
+        if (!v.contains("min") || !v.contains("max"))
+            c.fail(key, std::string("empty range: '") + (v.contains("min") ? "max" : "min") + "' is missing; " + allowed);
+        n.kind = NumberVary::Kind::Uniform;
+        n.min = numberValue(c, key + ".min", v["min"], k);
+        n.max = numberValue(c, key + ".max", v["max"], k);
+        if (n.min > n.max)
+            c.fail(key, "min " + engine::shownNumber(n.min) + " > max " + engine::shownNumber(n.max) + "; " + allowed);
+    } else if (v.is_array()) {
+        if (v.empty()) c.fail(key, "empty list; " + allowed);
+        n.kind = NumberVary::Kind::Choice;
+        for (std::size_t i = 0; i < v.size(); ++i)
+            n.choices.push_back(numberValue(c, key + "[" + std::to_string(i) + "]", v[i], k));
+    } else if (v.is_number()) {
+        n.kind = NumberVary::Kind::Fixed;
+        n.min = n.max = numberValue(c, key, v, k);
+    } else {
+        c.fail(key, "'" + engine::printable(v.dump(), 60) + "' is not a range; " + allowed);
+    }
+    return n;
+}
+
+TargetModel parseTarget(const Context& c, const std::string& key, const json& v, const fs::path& dir) {
+    TargetModel t;
+    const std::string allowed = "allowed a file name or {\"file\": name, \"up\": \"y\"|\"z\", \"scale\": s > 0}";
+    json file;
+    if (v.is_string()) {
+        file = v;
+    } else if (v.is_object()) {
+        for (auto it = v.begin(); it != v.end(); ++it) {
+            if (it.key() == "file") {
+                file = it.value();
+            } else if (it.key() == "up") {
+                if (!it.value().is_string() || (it.value() != "y" && it.value() != "z"))
+                    c.fail(key + ".up", "'" + engine::printable(it.value().dump(), 40) + "'; allowed y, z");
+                t.up = it.value().get<std::string>();
+            } else if (it.key() == "scale") {
+                if (!it.value().is_number() || !(it.value().get<double>() > 0) ||
+                    !std::isfinite(it.value().get<double>()))
+                    c.fail(key + ".scale", "'" + engine::printable(it.value().dump(), 40) + "'; allowed a number > 0");
+                t.scale = it.value().get<double>();
+            } else {
+                c.fail(key, "unknown key '" + engine::printable(it.key(), 40) + "'; allowed file, up, scale");
+            }
+        }
+    }
+    if (!file.is_string() || file.get<std::string>().empty()) c.fail(key, allowed);
+    t.written = file.get<std::string>();
+    t.file = fs::absolute(dir / t.written).lexically_normal();
+    const std::string problem = engine::regularFileProblem(t.file);
+    if (!problem.empty()) c.fail(key, "'" + engine::printable(t.written) + "' " + problem + "; allowed: a mesh file");
+    return t;
+}
+
+}  // namespace
+
+Spec parseSpec(std::string_view text, const fs::path& file) {
+    Spec s;
+    s.file = fs::absolute(file).lexically_normal();
+    const Context c{"corpus: " + engine::printable(file.string()) + ": "};
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::exception& e) {
+        throw engine::Error(c.prefix + "not valid JSON (" + engine::printable(e.what(), 120) + ")");
+    }
+    if (!j.is_object()) throw engine::Error(c.prefix + "allowed a JSON object with scene, count, seed, vary, metric, format");
+    const fs::path dir = s.file.parent_path();
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        const std::string& key = it.key();
+        const json& v = it.value();
+        if (key == "scene") {
+            if (!v.is_string() || v.get<std::string>().empty()) c.fail(key, "allowed a scene file name");
+            s.scene = fs::absolute(dir / v.get<std::string>()).lexically_normal();
+            const std::string problem = engine::regularFileProblem(s.scene);
+            if (!problem.empty())
+                c.fail(key, "'" + engine::printable(v.get<std::string>()) + "' " + problem + "; allowed: a scene file");
+        } else if (key == "count") {
+            if (!v.is_number_integer() || v.get<double>() < 1 || v.get<double>() > double(kMaxItems))
+                c.fail(key, "'" + engine::printable(v.dump(), 40) + "'; allowed an integer in [1, " +
+                                std::to_string(kMaxItems) + "]");
+            s.count = v.get<std::size_t>();
+        } else if (key == "seed") {
+            if (!v.is_number_unsigned())
+                c.fail(key, "'" + engine::printable(v.dump(), 40) + "'; allowed an integer in [0, 2^64)");
+            s.seed = v.get<std::uint64_t>();
+        } else if (key == "metric") {
+            if (v.is_boolean()) {
+                s.metric.enabled = v.get<bool>();
+            } else if (v.is_object()) {
+                s.metric.enabled = true;
+                for (auto m = v.begin(); m != v.end(); ++m) {
+                    int* field = m.key() == "views" ? &s.metric.views : m.key() == "width" ? &s.metric.width
+                                 : m.key() == "height" ? &s.metric.height : nullptr;
+                    if (!field)
+                        c.fail("metric", "unknown key '" + engine::printable(m.key(), 40) +
+                                             "'; allowed views, width, height");
+                    const bool is_views = m.key() == "views";
+                    const double lo = is_views ? 1 : 16, hi = is_views ? 65535 : 8192;
+                    if (!m.value().is_number_integer() || m.value().get<double>() < lo || m.value().get<double>() > hi)
+                        c.fail("metric." + m.key(), "'" + engine::printable(m.value().dump(), 40) +
+                                                        "'; allowed an integer in [" + engine::shownNumber(lo) + ", " +
+                                                        engine::shownNumber(hi) + "]");
+                    *field = m.value().get<int>();
+                }
+            } else {
+                c.fail(key, "allowed true, false or {\"views\": n, \"width\": w, \"height\": h}");
+            }
+        } else if (key == "format") {
+            if (!v.is_string()) c.fail(key, "allowed pcd, pcd-ascii, ply, ply-ascii");
+            s.format = engine::parseCloudFormat(v.get<std::string>(), c.prefix + "format");
+        } else if (key == "vary") {
+            if (!v.is_object()) c.fail(key, "allowed an object whose keys are " + keyList());
+            for (auto m = v.begin(); m != v.end(); ++m) {
+                const std::string name = "vary." + m.key();
+                if (m.key() == "target_files") {
+                    const json& list = m.value();
+                    if (list.is_array()) {
+                        if (list.empty()) c.fail(name, "empty list; allowed a non-empty list of mesh files");
+                        for (std::size_t i = 0; i < list.size(); ++i)
+                            s.target_files.push_back(parseTarget(c, name + "[" + std::to_string(i) + "]", list[i], dir));
+                    } else {
+                        s.target_files.push_back(parseTarget(c, name, list, dir));
+                    }
+                    continue;
+                }
+                const auto k = std::find_if(kVaryKeys.begin(), kVaryKeys.end(),
+                                            [&](const VaryKey& vk) { return vk.name == m.key(); });
+                if (k == kVaryKeys.end())
+                    c.fail(name, "unknown key; allowed " + keyList());
+                s.numbers[m.key()] = parseNumber(c, name, m.value(), *k);
+            }
+        } else if (key == "comment") {
+            if (!v.is_string()) c.fail(key, "allowed a string");
+        } else {
+            c.fail(key, "unknown key; allowed scene, count, seed, vary, metric, format, comment");
+        }
+    }
+    if (s.scene.empty()) c.fail("scene", "missing; allowed a scene file name (relative to the SPEC)");
+    if (s.count == 0) c.fail("count", "missing; allowed an integer in [1, " + std::to_string(kMaxItems) + "]");
+    if (s.numbers.count("resolution") && (s.numbers.count("xres") || s.numbers.count("yres")))
+        c.fail("vary.resolution", "given with xres/yres; allowed one of resolution or xres/yres");
+    // The generator's own limits, at both extreme corners of the ranges (alpha + fov/2,
+    // the drone radius and the memory plan grow with the values).
+    for (const bool high : {false, true}) {
+        sim::GenerateOptions o;
+        for (const auto& [key, n] : s.numbers) detail::applyToOptions(o, key, high ? n.highest() : n.lowest());
+        try {
+            sim::validate(o);
+        } catch (const engine::Error& e) {
+            throw engine::Error(c.prefix + "vary: with every value at its " + (high ? "highest" : "lowest") + ": " +
+                                e.what());
+        }
+    }
+    s.sha256 = sha256Hex(text);
+    return s;
+}
+
+Spec loadSpec(const fs::path& file) {
+    const std::string text = engine::readTextFile(file, kMaxSpecBytes, "corpus: SPEC " + engine::printable(file.string()));
+    Spec s = parseSpec(text, file);
+    return s;
+}
+
+}  // namespace corpus

@@ -1,0 +1,250 @@
+// corpus: statistics over a manifest, the histogram picture, and study plans.
+#include <corpus/random.hpp>
+#include <corpus/run.hpp>
+#include <corpus/stats.hpp>
+
+#include <engine/atomic_file.hpp>
+#include <engine/error.hpp>
+#include <engine/png.hpp>
+#include <engine/safe_file.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+
+namespace corpus {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::vector<std::pair<std::string, double>> manifestColumns(const std::string& line) {
+    std::vector<std::pair<std::string, double>> out;
+    const json j = json::parse(line);
+    for (auto it = j.begin(); it != j.end(); ++it)
+        if (it.value().is_number() && it.key() != "seed" && it.key() != "item_seed")
+            out.emplace_back(it.key(), it.value().get<double>());
+    if (j.contains("values"))
+        for (auto it = j["values"].begin(); it != j["values"].end(); ++it)
+            if (it.value().is_number()) out.emplace_back(it.key(), it.value().get<double>());
+    if (j.contains("points_per_label"))
+        for (auto it = j["points_per_label"].begin(); it != j["points_per_label"].end(); ++it)
+            if (it.value().is_number()) out.emplace_back("points_" + it.key(), it.value().get<double>());
+    return out;
+}
+
+namespace {
+
+double quantile(const std::vector<double>& sorted, double q) {
+    const std::size_t k = std::size_t(std::ceil(q * double(sorted.size())));
+    return sorted[std::min(sorted.size() - 1, k == 0 ? 0 : k - 1)];
+}
+
+std::map<std::string, std::vector<double>> columnsOf(const std::vector<std::string>& lines) {
+    std::map<std::string, std::vector<double>> columns;
+    for (const std::string& line : lines)
+        for (const auto& [name, v] : manifestColumns(line)) columns[name].push_back(v);
+    return columns;
+}
+
+std::string columnList(const std::map<std::string, std::vector<double>>& columns) {
+    std::string s;
+    for (const auto& [name, v] : columns) s += (s.empty() ? "" : ", ") + name;
+    return s;
+}
+
+/// Bars of item counts, white background, dark grey bars, one pixel gap between bins.
+void writeHistogram(const fs::path& path, const std::vector<std::size_t>& bins) {
+    const int width = 480, height = 240, margin = 10;
+    std::vector<std::uint8_t> rgb(std::size_t(width) * height * 3, 255);
+    const std::size_t top = std::max<std::size_t>(1, *std::max_element(bins.begin(), bins.end()));
+    const int bin_w = (width - 2 * margin) / int(bins.size());
+    for (std::size_t b = 0; b < bins.size(); ++b) {
+        const int bar_h = int(std::lround(double(bins[b]) / double(top) * (height - 2 * margin)));
+        for (int y = height - margin - bar_h; y < height - margin; ++y)
+            for (int x = margin + int(b) * bin_w; x < margin + int(b + 1) * bin_w - 1; ++x)
+                for (int c = 0; c < 3; ++c) rgb[(std::size_t(y) * width + x) * 3 + c] = c == 2 ? 160 : 60;
+    }
+    for (int x = margin; x < width - margin; ++x)  // the axis
+        for (int c = 0; c < 3; ++c) rgb[(std::size_t(height - margin) * width + x) * 3 + c] = 0;
+    engine::writePng(path, rgb, width, height, 3);
+}
+
+}  // namespace
+
+Stats computeStats(const fs::path& dir, const StatsOptions& o) {
+    const std::vector<std::string> lines = readManifest(dir);
+    auto columns = columnsOf(lines);
+    Stats st;
+    st.items = lines.size();
+    for (auto& [name, v] : columns) {
+        std::sort(v.begin(), v.end());
+        ColumnStats c;
+        c.name = name;
+        c.n = v.size();
+        c.min = v.front();
+        c.max = v.back();
+        c.p10 = quantile(v, 0.1);
+        c.median = quantile(v, 0.5);
+        c.p90 = quantile(v, 0.9);
+        double sum = 0;
+        for (double x : v) sum += x;
+        c.mean = sum / double(v.size());
+        st.columns.push_back(c);
+    }
+    st.histogram_column = !o.column.empty() ? o.column : columns.count("metric") ? "metric" : "points";
+    const auto it = columns.find(st.histogram_column);
+    if (it == columns.end())
+        throw engine::Error("corpus: --column '" + engine::printable(st.histogram_column, 40) + "' is not in " +
+                            engine::printable(dir.string()) + "'s manifest; allowed " + columnList(columns));
+    if (o.bins < 1 || o.bins > 200) throw engine::Error("corpus: bins: allowed [1, 200]");
+    const std::vector<double>& v = it->second;
+    st.histogram_lo = v.front();
+    st.histogram_hi = v.back();
+    st.histogram.assign(std::size_t(o.bins), 0);
+    const double span = st.histogram_hi - st.histogram_lo;
+    for (double x : v) {
+        std::size_t b = span > 0 ? std::size_t((x - st.histogram_lo) / span * o.bins) : 0;
+        ++st.histogram[std::min(b, st.histogram.size() - 1)];
+    }
+    st.histogram_png = o.histogram;
+    writeHistogram(o.histogram, st.histogram);
+    return st;
+}
+
+std::string statsText(const Stats& st) {
+    std::string s = "corpus: " + std::to_string(st.items) + " items\n";
+    char line[256];
+    std::snprintf(line, sizeof line, "%-26s %6s %12s %12s %12s %12s %12s %12s\n", "column", "n", "min", "p10",
+                  "median", "p90", "max", "mean");
+    s += line;
+    for (const ColumnStats& c : st.columns) {
+        std::snprintf(line, sizeof line, "%-26s %6zu %12.6g %12.6g %12.6g %12.6g %12.6g %12.6g\n", c.name.c_str(), c.n,
+                      c.min, c.p10, c.median, c.p90, c.max, c.mean);
+        s += line;
+    }
+    std::snprintf(line, sizeof line, "histogram of %s over [%.6g, %.6g], %zu bins:", st.histogram_column.c_str(),
+                  st.histogram_lo, st.histogram_hi, st.histogram.size());
+    s += line;
+    for (std::size_t n : st.histogram) s += " " + std::to_string(n);
+    s += "\nwrote " + st.histogram_png.string() + "\n";
+    return s;
+}
+
+std::string statsJson(const Stats& st) {
+    json j;
+    j["items"] = st.items;
+    json cols = json::object();
+    for (const ColumnStats& c : st.columns)
+        cols[c.name] = {{"n", c.n},           {"min", c.min}, {"p10", c.p10}, {"median", c.median},
+                        {"p90", c.p90},       {"max", c.max}, {"mean", c.mean}};
+    j["columns"] = cols;
+    j["histogram"] = {{"column", st.histogram_column}, {"lo", st.histogram_lo}, {"hi", st.histogram_hi},
+                      {"counts", st.histogram}, {"png", st.histogram_png.string()}};
+    return j.dump(2);
+}
+
+namespace {
+
+struct Condition {
+    std::string column, op;
+    double value = 0;
+    bool holds(double x) const {
+        if (op == "<") return x < value;
+        if (op == "<=") return x <= value;
+        if (op == ">") return x > value;
+        if (op == ">=") return x >= value;
+        if (op == "==") return x == value;
+        return x != value;
+    }
+};
+
+std::vector<Condition> parseConditions(const std::string& text, const std::map<std::string, std::vector<double>>& columns) {
+    std::vector<Condition> out;
+    std::size_t start = 0;
+    const auto bad = [&](const std::string& part, const std::string& why) {
+        return engine::Error("corpus: --select '" + engine::printable(text, 80) + "': '" + engine::printable(part, 40) +
+                             "' " + why);
+    };
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        std::string part = text.substr(start, comma - start);
+        part.erase(std::remove(part.begin(), part.end(), ' '), part.end());
+        start = comma + 1;
+        const std::size_t at = part.find_first_of("<>=!");
+        if (part.empty() || at == std::string::npos || at == 0)
+            throw bad(part, "is not COLUMN OP NUMBER; allowed OP <, <=, >, >=, ==, != and conditions joined by ','");
+        Condition c;
+        c.column = part.substr(0, at);
+        const std::size_t after = part.find_first_not_of("<>=!", at);
+        c.op = part.substr(at, after == std::string::npos ? std::string::npos : after - at);
+        if (c.op != "<" && c.op != "<=" && c.op != ">" && c.op != ">=" && c.op != "==" && c.op != "!=")
+            throw bad(part, "has operator '" + c.op + "'; allowed <, <=, >, >=, ==, !=");
+        const std::string number = after == std::string::npos ? "" : part.substr(after);
+        try {
+            std::size_t used = 0;
+            c.value = std::stod(number, &used);
+            if (used != number.size() || !std::isfinite(c.value)) throw std::invalid_argument(number);
+        } catch (const std::exception&) {
+            throw bad(part, "does not end in a finite number");
+        }
+        if (!columns.count(c.column)) throw bad(part, "names no column of the manifest; allowed " + columnList(columns));
+        out.push_back(c);
+    }
+    return out;
+}
+
+}  // namespace
+
+SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
+    if (!(o.time_limit_s > 0) || !std::isfinite(o.time_limit_s))
+        throw engine::Error("corpus: --time-limit-s " + engine::shownNumber(o.time_limit_s) + ": allowed a number > 0");
+    const std::vector<std::string> lines = readManifest(dir);
+    const std::vector<Condition> conditions = parseConditions(o.expression, columnsOf(lines));
+    SelectResult r;
+    r.items = lines.size();
+    std::vector<json> matching;
+    for (const std::string& line : lines) {
+        const auto values = manifestColumns(line);
+        bool all = true;
+        for (const Condition& c : conditions) {
+            const auto it = std::find_if(values.begin(), values.end(), [&](const auto& p) { return p.first == c.column; });
+            all = all && it != values.end() && c.holds(it->second);
+        }
+        if (all) matching.push_back(json::parse(line));
+    }
+    r.matching = matching.size();
+    if (o.count < 1 || o.count > matching.size())
+        throw engine::Error("corpus: --count " + std::to_string(o.count) + ": " + std::to_string(matching.size()) +
+                            " of " + std::to_string(lines.size()) + " items match '" +
+                            engine::printable(o.expression, 80) + "'; allowed 1.." + std::to_string(matching.size()));
+    SplitMix64 r64(mix64(o.seed));
+    for (std::size_t i = 0; i < o.count; ++i) std::swap(matching[i], matching[i + r64.below(matching.size() - i)]);
+    matching.resize(o.count);
+    std::sort(matching.begin(), matching.end(),
+              [](const json& a, const json& b) { return a["index"].get<std::size_t>() < b["index"].get<std::size_t>(); });
+    const fs::path plan_dir = fs::absolute(o.plan).lexically_normal().parent_path();
+    const fs::path items = fs::absolute(dir / "items").lexically_normal();
+    const auto relative = [&](const fs::path& p) {
+        const fs::path rel = p.lexically_relative(plan_dir);
+        return (rel.empty() ? p : rel).generic_string();
+    };
+    json trials = json::array();
+    for (const json& m : matching) {
+        std::string cloud = "cloud.pcd";
+        for (auto it = m["files"].begin(); it != m["files"].end(); ++it)
+            if (it.key().rfind("cloud.", 0) == 0) cloud = it.key();
+        const fs::path folder = items / m["id"].get<std::string>();
+        trials.push_back({{"cloud", relative(folder / cloud)}, {"scene", relative(folder / "scene.json")},
+                          {"time_limit_s", o.time_limit_s}});
+    }
+    json plan{{"trials", trials}, {"shuffle_seed", o.seed}};
+    engine::writeFileAtomic(o.plan, plan.dump(2) + "\n");
+    r.written = o.count;
+    return r;
+}
+
+}  // namespace corpus

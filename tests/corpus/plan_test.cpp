@@ -1,0 +1,161 @@
+// tests/corpus/plan_test.cpp: items planned from (seed, index) alone; sampled values cover
+// their ranges; the target stands on the ground and never meets another mesh's box; an
+// item whose target cannot be placed is an error naming it.
+#include <corpus/plan.hpp>
+
+#include <engine/error.hpp>
+#include <engine/scene.hpp>
+
+#include <doctest/doctest.h>
+
+#include "test_files.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <thread>
+
+using test_support::errorOf;
+
+namespace {
+
+const std::string kScene = std::string(LADARVR_CORPUS_DATA_DIR) + "/scene.json";
+
+corpus::Spec spec(const std::string& vary, std::size_t count = 300) {
+    return corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": )" + std::to_string(count) +
+                                 R"(, "seed": 7, "vary": {)" + vary + "}}",
+                             std::filesystem::path(LADARVR_CORPUS_DATA_DIR) / "spec.json");
+}
+
+const std::string kVaried = R"("target_yaw_deg": {"min": 0, "max": 360}, "target_offset_m": {"min": 0, "max": 20},
+    "environment_keep_fraction": {"min": 0.5, "max": 1.0}, "altitude_m": {"min": 200, "max": 400},
+    "alpha_deg": {"min": 30, "max": 60}, "fov_deg": {"min": 4, "max": 8}, "resolution": [16, 24, 32],
+    "views": {"min": 3, "max": 6}, "centre_offset_m": {"min": 0, "max": 15})";
+
+bool samePlan(const corpus::ItemPlan& a, const corpus::ItemPlan& b) {
+    return a.values == b.values && a.target_position_world == b.target_position_world &&
+           a.target_yaw_deg == b.target_yaw_deg && a.centre_world == b.centre_world && a.sceneText({}) == b.sceneText({}) &&
+           a.generateArgs() == b.generateArgs();
+}
+
+bool overlaps(const engine::Bounds& a, const engine::Bounds& b) {
+    for (int k = 0; k < 3; ++k)
+        if (a.hi[k] <= b.lo[k] || b.hi[k] <= a.lo[k]) return false;
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("plan: sampled values stay in their ranges and cover them") {
+    const corpus::Spec s = spec(kVaried);
+    const corpus::Planner planner(s);
+    std::map<std::string, std::set<int>> bins;  // 10 bins per uniform key
+    std::set<double> resolutions, views;
+    for (std::size_t i = 0; i < s.count; ++i) {
+        const corpus::ItemPlan p = planner.plan(i);
+        for (const auto& [key, n] : s.numbers) {
+            REQUIRE(p.values.count(key));
+            const double v = p.values.at(key);
+            CHECK(v >= n.lowest());
+            CHECK(v <= n.highest());
+            if (n.kind == corpus::NumberVary::Kind::Uniform && !n.integer)
+                bins[key].insert(std::min(9, int((v - n.min) / (n.max - n.min) * 10)));
+        }
+        resolutions.insert(p.values.at("resolution"));
+        views.insert(p.values.at("views"));
+        CHECK(p.options.orbit.xres == int(p.values.at("resolution")));
+        CHECK(p.options.orbit.altitude_m == p.values.at("altitude_m"));
+        CHECK(p.environment_kept >= 2);  // half of 4 environment meshes at least
+        CHECK(p.environment_kept <= 4);
+    }
+    for (const auto& [key, b] : bins) {
+        INFO(key);
+        // target_offset_m is uniform over the disc (the area), so its small radii are rarer
+        // but still drawn in 300 items.
+        CHECK(b.size() == 10);
+    }
+    CHECK(resolutions == std::set<double>{16, 24, 32});
+    CHECK(views == std::set<double>{3, 4, 5, 6});
+}
+
+TEST_CASE("plan: item i depends on (seed, i) alone, not on order, other items or threads") {
+    const corpus::Spec s = spec(kVaried, 40);
+    const corpus::Planner a(s);
+    std::vector<corpus::ItemPlan> forward;
+    for (std::size_t i = 0; i < s.count; ++i) forward.push_back(a.plan(i));
+    const corpus::Planner b(s);
+    std::vector<corpus::ItemPlan> threaded(s.count);
+    std::vector<std::thread> pool;
+    for (int t = 0; t < 4; ++t)
+        pool.emplace_back([&, t] {
+            for (std::size_t i = s.count; i-- > 0;)
+                if (int(i % 4) == t) threaded[i] = b.plan(i);
+        });
+    for (std::thread& t : pool) t.join();
+    for (std::size_t i = 0; i < s.count; ++i) CHECK(samePlan(forward[i], threaded[i]));
+    // Another seed gives other items.
+    corpus::Spec other = s;
+    other.seed = 8;
+    const corpus::Planner c(other);
+    CHECK_FALSE(samePlan(c.plan(3), forward[3]));
+    // Adding a varied key leaves the other keys' values alone (one stream per key).
+    const corpus::Planner d(spec(kVaried + R"(, "band_m": {"min": 2, "max": 4})", 40));
+    CHECK(d.plan(5).values.at("altitude_m") == forward[5].values.at("altitude_m"));
+}
+
+TEST_CASE("plan: the target stands on the ground and never meets another mesh's box") {
+    const corpus::Spec s = spec(R"("target_yaw_deg": {"min": 0, "max": 360}, "target_offset_m": {"min": 0, "max": 30})",
+                                25);
+    const corpus::Planner planner(s);
+    const auto& boxes = planner.environmentBoxes();
+    int moved_far = 0;
+    for (std::size_t i = 0; i < s.count; ++i) {
+        const corpus::ItemPlan p = planner.plan(i);
+        // The concrete scene as the generator loads it.
+        const engine::Scene scene = engine::loadSceneJson(p.sceneText({}), "item.json");
+        engine::Bounds target;
+        for (const engine::Mesh& m : scene.meshes)
+            if (m.role == engine::Role::Target)
+                for (const glm::vec3& v : m.vertices) target.extend(scene.origin + glm::dvec3(v));
+        for (const engine::Mesh& m : scene.meshes) {
+            if (m.role != engine::Role::Environment) continue;
+            engine::Bounds b;
+            for (const glm::vec3& v : m.vertices) b.extend(scene.origin + glm::dvec3(v));
+            INFO("item " << p.id << " mesh " << m.name);
+            CHECK_FALSE(overlaps(target, b));
+        }
+        CHECK(std::abs(target.lo.z - p.target_box_world.lo.z) < 1e-3);
+        // On the (flat, near z = 0) ground, lowest point a few cm from it as in the base scene.
+        const auto g = planner.groundZ(p.target_position_world.x, p.target_position_world.y);
+        REQUIRE(g);
+        CHECK(std::abs(target.lo.z - *g) < 0.5);
+        if (glm::length(glm::dvec2(p.target_position_world) - glm::dvec2(0.0)) > 15.0) ++moved_far;
+    }
+    CHECK(boxes.size() == 6);
+    CHECK(moved_far > 5);
+}
+
+TEST_CASE("plan: an item whose target cannot be placed is an error naming it") {
+    // The ground is 300 m across: 400-500 m away every draw leaves it.
+    const corpus::Planner planner(spec(R"("target_offset_m": {"min": 400, "max": 500})", 3));
+    const std::string e = errorOf([&] { planner.plan(2); });
+    CHECK(e.rfind("corpus: item 0002: the target cannot be placed", 0) == 0);
+    CHECK(e.find("target_offset_m [400, 500]") != std::string::npos);
+    const std::string c = errorOf([&] { corpus::Planner(spec(R"("centre_offset_m": {"min": 400, "max": 500})", 3)).plan(0); });
+    CHECK(c.rfind("corpus: item 0000: the orbit centre cannot be placed", 0) == 0);
+}
+
+TEST_CASE("plan: the scene file names meshes relative to the item folder and replays the options") {
+    const corpus::Spec s = spec(kVaried, 5);
+    const corpus::Planner planner(s);
+    const corpus::ItemPlan p = planner.plan(1);
+    const std::filesystem::path folder = std::filesystem::path(LADARVR_CORPUS_DATA_DIR) / "out" / "items" / p.id;
+    const std::string text = p.sceneText(folder);
+    CHECK(text.find("\"../../../../../../assets/common/tank.obj\"") != std::string::npos);
+    CHECK(text.find("--altitude-m") != std::string::npos);
+    const auto args = p.generateArgs();
+    const auto at = std::find(args.begin(), args.end(), "--centre");
+    REQUIRE(at != args.end());
+    CHECK(std::count(at[1].begin(), at[1].end(), ',') == 2);
+}
