@@ -172,6 +172,7 @@ void runAll(const BenchAllCli& cli) {
         {"view", std::string("view") + (cli.quick ? " --points 1638400 --frames 5 --warmup 2" : ""),
          "## Viewer (ladarvr bench view)", false},
         {"peers", "peers" + q + md, "## Peers (ladarvr bench peers)"},
+        {"detect", "detect" + md, "## Detector (ladarvr bench detect)"},
         {"fuzz", "fuzz --seconds " + std::to_string(fuzz_s) + md, "## Fuzzing (ladarvr bench fuzz)"},
     };
     if (!cli.only.empty()) {
@@ -180,7 +181,7 @@ void runAll(const BenchAllCli& cli) {
             if (("," + cli.only + ",").find("," + s.name + ",") != std::string::npos) keep.push_back(s);
         if (keep.empty())
             throw engine::Error("bench all: --only '" + cli.only + "': allowed a list of generate, metric, view, "
-                                "peers, fuzz");
+                                "peers, detect, fuzz");
         steps = keep;
     }
     std::error_code ec;
@@ -277,11 +278,11 @@ void registerAll(CLI::App& parent) {
     f->callback([fuzz] { runFuzz(*fuzz); });
 
     auto all = std::make_shared<BenchAllCli>();
-    CLI::App* a = parent.add_subcommand("all", "every benchmark in sequence (generate, metric, view, peers, fuzz), "
+    CLI::App* a = parent.add_subcommand("all", "every benchmark in sequence (generate, metric, view, peers, detect, fuzz), "
                                               "BENCHMARKS.md and its plots regenerated from scratch");
     a->add_flag("--quick", all->quick, "pass --quick (or small sizes) to every benchmark, 30 s of fuzzing");
     a->add_option("--fuzz-seconds", all->fuzz_seconds, "seconds per fuzz target (default 90, 30 with --quick)");
-    a->add_option("--only", all->only, "comma-separated subset of generate, metric, view, peers, fuzz");
+    a->add_option("--only", all->only, "comma-separated subset of generate, metric, view, peers, detect, fuzz");
     a->add_option("--md", all->md, "the markdown file to regenerate")->capture_default_str();
     a->add_option("--img-dir", all->img_dir, "where the PNG plots go (default: <source>/docs/img)");
     a->add_option("--csv-dir", all->csv_dir, "where benchmarks write their CSV files")->capture_default_str();

@@ -49,7 +49,7 @@ metric::MetricOptions orbitOptions() {
 
 }  // namespace
 
-TEST_CASE("trace: a trace that retraces the orbit gives the orbit's metric; looking away sees nothing") {
+TEST_CASE("trace: a trace that retraces the orbit gives the orbit's metric, and looking away sees nothing") {
     const engine::Scene scene = test_support::boxBehindWall(2.0f, 6.0f, 0.5f);
     const metric::MetricClouds clouds = metric::generateClouds(scene);
     metric::Evaluator evaluator(clouds, &scene);

@@ -147,7 +147,7 @@ TEST_CASE("detect: errors name the option and the missing field") {
     CHECK(sim::detect(engine::PointCloud{}, sim::DetectOptions{}).empty());
 }
 
-TEST_CASE("detect: a thin barrel does not lengthen the box; without trimming it does") {
+TEST_CASE("detect: a thin barrel does not lengthen the box, and without trimming it does") {
     engine::PointCloud c;
     std::mt19937 rng(5);
     addBox(c, rng, {0, 0}, {7, 3.5, 2.5}, 0.0, 0.2, engine::Role::Target);

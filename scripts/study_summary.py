@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Hit rate and median time to decision per cloud, from a study's trials.csv (python3 stdlib).
+
+    python3 scripts/study_summary.py DIR/trials.csv     (or the study's output folder DIR)
+
+One row per cloud (in order of first appearance), then one for all trials:
+  trials     trials of that cloud in the file
+  decided    trials the operator ended with confirm or no_target
+  timeouts   trials that ran out of time; quits: ended by the experimenter (Escape, Ctrl-C)
+  hit_rate   hits / trials with a hit value (1 or 0; empty when the cloud has no
+             ground-truth target), "n/a" when none has one
+  median_s   median time_to_decision_s over the decided trials, "n/a" when none
+
+docs/study.md explains every column of trials.csv. Exit status 2 with one line on stderr
+for a file that is not a trials.csv (missing column, bad number, unknown decision).
+"""
+
+import csv
+import os
+import statistics
+import sys
+
+REQUIRED = ["trial", "cloud", "decision", "hit", "time_to_decision_s"]
+DECISIONS = {"confirm", "no_target", "timeout", "quit"}
+
+
+def fail(message):
+    print("study_summary: error: " + message, file=sys.stderr)
+    sys.exit(2)
+
+
+def read_trials(path):
+    if os.path.isdir(path):
+        path = os.path.join(path, "trials.csv")
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            rows = list(csv.DictReader(f))
+            header = rows[0].keys() if rows else []
+    except OSError as e:
+        fail("%s: %s" % (path, e.strerror))
+    except (UnicodeDecodeError, csv.Error) as e:
+        fail("%s: not a CSV file (%s)" % (path, e))
+    if not rows:
+        fail("%s: no trials (a header and one row per trial expected)" % path)
+    missing = [c for c in REQUIRED if c not in header]
+    if missing:
+        fail("%s: missing column %s; allowed a trials.csv written by ladarvr study" % (path, ", ".join(missing)))
+    trials = []
+    for line, row in enumerate(rows, start=2):
+        decision = row["decision"]
+        if decision not in DECISIONS:
+            fail("%s: line %d, column decision: '%s' is not one of %s" % (path, line, decision, ", ".join(sorted(DECISIONS))))
+        hit = row["hit"]
+        if hit not in ("", "0", "1"):
+            fail("%s: line %d, column hit: '%s'; allowed 1, 0 or empty" % (path, line, hit))
+        try:
+            seconds = float(row["time_to_decision_s"])
+        except (TypeError, ValueError):
+            fail("%s: line %d, column time_to_decision_s: '%s' is not a number" % (path, line, row["time_to_decision_s"]))
+        if not seconds >= 0.0:
+            fail("%s: line %d, column time_to_decision_s: %s; allowed seconds >= 0" % (path, line, seconds))
+        trials.append({"cloud": row["cloud"], "decision": decision, "hit": None if hit == "" else int(hit),
+                       "seconds": seconds})
+    return trials
+
+
+def summarise(trials):
+    scored = [t["hit"] for t in trials if t["hit"] is not None]
+    decided = [t["seconds"] for t in trials if t["decision"] in ("confirm", "no_target")]
+    hit_rate = "%.2f (%d/%d)" % (sum(scored) / len(scored), sum(scored), len(scored)) if scored else "n/a"
+    median = "%.1f" % statistics.median(decided) if decided else "n/a"
+    return [str(len(trials)), str(len(decided)), str(sum(t["decision"] == "timeout" for t in trials)),
+            str(sum(t["decision"] == "quit" for t in trials)), hit_rate, median]
+
+
+def main():
+    if len(sys.argv) != 2 or sys.argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        sys.exit(0 if len(sys.argv) == 2 else 2)
+    trials = read_trials(sys.argv[1])
+    clouds = list(dict.fromkeys(t["cloud"] for t in trials))
+    table = [["cloud", "trials", "decided", "timeouts", "quits", "hit_rate", "median_s"]]
+    for cloud in clouds:
+        table.append([cloud] + summarise([t for t in trials if t["cloud"] == cloud]))
+    table.append(["all"] + summarise(trials))
+    widths = [max(len(row[k]) for row in table) for k in range(len(table[0]))]
+    for row in table:
+        print("  ".join(cell.ljust(w) if k == 0 else cell.rjust(w) for k, (cell, w) in enumerate(zip(row, widths))).rstrip())
+
+
+if __name__ == "__main__":
+    main()
