@@ -15,6 +15,7 @@ void registerBench(CLI::App& cli) {
     registerPeers(*sub);
     registerAll(*sub);
     registerMutants(*sub);
+    registerCorpus(*sub);
 }
 
 }  // namespace bench

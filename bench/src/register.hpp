@@ -10,5 +10,6 @@ void registerView(CLI::App& parent);       // view.cpp:     `bench view`
 void registerPeers(CLI::App& parent);      // peers.cpp:    `bench peers`
 void registerAll(CLI::App& parent);        // all.cpp:      `bench all` and `bench fuzz`
 void registerMutants(CLI::App& parent);    // mutants.cpp:  `bench mutants`
+void registerCorpus(CLI::App& parent);     // corpus.cpp:   `bench corpus`
 
 }  // namespace bench

@@ -129,22 +129,33 @@ status=0
 "$bin" corpus "$dir/spec12.json" --out "$dir/one" 2>"$dir/err" || status=$?
 [ "$status" -eq 1 ] && grep -q "was made from another SPEC" "$dir/err" || fail "another SPEC into the same folder: $(cat "$dir/err")"
 
-# --- SIGKILL mid-item, then rerun ----------------------------------------------------
+# --- SIGTERM, then SIGKILL mid-item, then rerun --------------------------------------
 sed 's/"resolution": \[8, 12\]/"resolution": [96, 128]/; s/"views": 3/"views": 12/; s/"count": 6/"count": 5/' \
     "$dir/spec.json" >"$dir/slow.json"
-"$bin" corpus "$dir/slow.json" --out "$dir/killed" --threads 1 2>"$dir/killed.log" &
-pid=$!
-tries=0
-while [ "$(cat "$dir/killed/manifest.jsonl" 2>/dev/null | wc -l)" -lt 1 ]; do
-    tries=$((tries + 1))
-    [ "$tries" -lt 600 ] || { kill -9 "$pid"; fail "no item finished within 60 s"; }
-    sleep 0.1
+# Starts a run, waits until its manifest has $2 lines, then sends signal $1 mid-item.
+stop_mid_item() {
+    "$bin" corpus "$dir/slow.json" --out "$dir/killed" --threads 1 2>>"$dir/killed.log" &
+    pid=$!
+    tries=0
+    while [ "$(cat "$dir/killed/manifest.jsonl" 2>/dev/null | wc -l)" -lt "$2" ]; do
+        tries=$((tries + 1))
+        [ "$tries" -lt 600 ] || { kill -9 "$pid"; fail "no item finished within 60 s"; }
+        sleep 0.1
+    done
+    sleep 0.15
+    kill "-$1" "$pid"
+    status=0
+    wait "$pid" 2>/dev/null || status=$?
+}
+stop_mid_item TERM 1
+[ "$status" -eq 143 ] || [ "$status" -eq 0 ] || fail "SIGTERM: exit status $status, expected 143"
+left=$(ls -A "$dir/killed/items" | grep -e '^\.ladarvr-tmp-' || true)
+[ -z "$left" ] || fail "SIGTERM left temporaries: $left"
+stop_mid_item KILL 2
+# What SIGKILL leaves: whole items under their names, at most a hidden temporary.
+for item in "$dir"/killed/items/*; do
+    [ -f "$item/scene.json" ] && [ -f "$item/cloud.pcd" ] || fail "SIGKILL left a partial item $item"
 done
-sleep 0.15
-kill -9 "$pid"
-wait "$pid" 2>/dev/null || true
-before=$(wc -l <"$dir/killed/manifest.jsonl")
-[ "$before" -lt 5 ] || echo "note: every item had finished before the kill"
 # A line torn by the kill (no newline) is dropped by the rerun.
 printf '{"id": "0004", "index": 4, "fil' >>"$dir/killed/manifest.jsonl"
 "$bin" corpus "$dir/slow.json" --out "$dir/killed" 2>"$dir/resume.log" || fail "resume: $(cat "$dir/resume.log")"
