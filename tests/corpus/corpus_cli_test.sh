@@ -53,6 +53,14 @@ check_bad_spec "vary.resolution: empty list" "{\"scene\": \"$scene\", \"count\":
 check_bad_spec "scene: 'nowhere.json' does not exist" "{\"scene\": \"nowhere.json\", \"count\": 2}"
 check_bad_spec "vary.target_files\[0\]: 'truck.obj' does not exist" "{\"scene\": \"$scene\", \"count\": 2, \"vary\": {\"target_files\": [\"truck.obj\"]}}"
 
+# A command line without a mode, or a SPEC without --out, is a usage error (exit 2).
+status=0
+"$bin" corpus "$dir/spec.json" 2>"$dir/err" || status=$?
+[ "$status" -eq 2 ] && grep -q "corpus: SPEC needs --out DIR" "$dir/err" || fail "SPEC without --out: $status $(cat "$dir/err")"
+status=0
+"$bin" corpus --merge "$dir/x" --stats "$dir/x" 2>"$dir/err" || status=$?
+[ "$status" -eq 2 ] && grep -q "give one of SPEC" "$dir/err" || fail "two modes: $status $(cat "$dir/err")"
+
 # --- the same manifest whatever the shards and jobs ---------------------------------
 "$bin" corpus "$dir/spec.json" --out "$dir/one" 2>"$dir/one.log" || fail "one job: $(cat "$dir/one.log")"
 grep -q "corpus: \[6/6\] item 0005 built" "$dir/one.log" || grep -q "corpus: \[6/6\]" "$dir/one.log" ||
