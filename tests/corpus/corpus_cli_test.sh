@@ -144,7 +144,7 @@ fi
 
 if [ "$part" = kill ]; then
 # --- SIGTERM, then SIGKILL mid-item, then rerun --------------------------------------
-sed 's/"resolution": \[8, 12\]/"resolution": [96, 128]/; s/"views": 3/"views": 12/; s/"count": 6/"count": 5/' \
+sed 's/"resolution": \[8, 12\]/"resolution": [160, 192]/; s/"views": 3/"views": 12/; s/"count": 6/"count": 5/' \
     "$dir/spec.json" >"$dir/slow.json"
 # Starts a run, waits until its manifest has $2 lines, then sends signal $1 mid-item.
 stop_mid_item() {
@@ -156,12 +156,20 @@ stop_mid_item() {
         [ "$tries" -lt 600 ] || { kill -9 "$pid"; fail "no item finished within 60 s"; }
         sleep 0.1
     done
+    [ -z "${3:-}" ] || "$3"
     sleep 0.15
     kill "-$1" "$pid"
     status=0
     wait "$pid" 2>/dev/null || status=$?
 }
-stop_mid_item TERM 1
+# While a run works on the manifest, a second run of it is refused.
+second_run_refused() {
+    status=0
+    "$bin" corpus "$dir/slow.json" --out "$dir/killed" 2>"$dir/err" || status=$?
+    [ "$status" -eq 1 ] && grep -q "is in use by another run of the same corpus" "$dir/err" ||
+        fail "a second run of the same corpus: $status $(cat "$dir/err")"
+}
+stop_mid_item TERM 1 second_run_refused
 [ "$status" -eq 143 ] || [ "$status" -eq 0 ] || fail "SIGTERM: exit status $status, expected 143"
 left=$(ls -A "$dir/killed/items" | grep -e '^\.ladarvr-tmp-' || true)
 [ -z "$left" ] || fail "SIGTERM left temporaries: $left"
