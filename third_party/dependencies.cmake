@@ -26,6 +26,7 @@ find_package(glfw3 3.4 REQUIRED)                         # libglfw3-dev
 find_package(OpenXR 1.1 REQUIRED)                        # libopenxr-dev
 find_package(X11 REQUIRED)                               # libx11-dev
 find_package(CLI11 2.4 REQUIRED)                         # libcli11-dev
+find_package(OpenSSL 3.0 REQUIRED COMPONENTS Crypto)    # libssl-dev
 if(LADARVR_BUILD_TESTS)
   find_package(doctest 2.4.11 REQUIRED)                  # doctest-dev
 endif()

@@ -108,16 +108,15 @@ void runStats(const CorpusCli& cli) {
 void run(const CorpusCli& cli) {
     const int modes = int(!cli.spec.empty()) + int(!cli.merge.empty()) + int(!cli.stats.empty());
     if (modes != 1)
-        throw engine::Error("corpus: give one of SPEC (with --out DIR), --merge DIR, --stats DIR (see 'ladarvr corpus "
-                            "--help')");
+        throw CLI::ValidationError("give one of SPEC (with --out DIR), --merge DIR, --stats DIR");
     if (!cli.spec.empty()) {
-        if (cli.out.empty()) throw engine::Error("corpus: SPEC needs --out DIR: the folder the items go to");
+        if (cli.out.empty()) throw CLI::ValidationError("SPEC needs --out DIR: the folder the items go to");
         runBuild(cli);
     } else if (!cli.merge.empty()) {
         runMerge(cli);
     } else {
         if (!cli.select.empty() && cli.count == 0)
-            throw engine::Error("corpus: --select needs --count N (N >= 1): how many trials the plan holds");
+            throw CLI::ValidationError("--select needs --count N (N >= 1): how many trials the plan holds");
         runStats(cli);
     }
 }

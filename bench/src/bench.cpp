@@ -16,6 +16,7 @@ void registerBench(CLI::App& cli) {
     registerAll(*sub);
     registerMutants(*sub);
     registerDetect(*sub);
+    registerCorpus(*sub);
 }
 
 }  // namespace bench

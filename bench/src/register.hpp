@@ -11,5 +11,6 @@ void registerPeers(CLI::App& parent);      // peers.cpp:    `bench peers`
 void registerAll(CLI::App& parent);        // all.cpp:      `bench all` and `bench fuzz`
 void registerMutants(CLI::App& parent);    // mutants.cpp:  `bench mutants`
 void registerDetect(CLI::App& parent);     // detect.cpp:   `bench detect`
+void registerCorpus(CLI::App& parent);     // corpus.cpp:   `bench corpus`
 
 }  // namespace bench

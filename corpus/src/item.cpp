@@ -1,8 +1,10 @@
 // corpus: one item, from its plan to its folder and manifest line. The cloud is made in
-// memory (its points per label are counted there), encoded through a hidden temporary
-// file, then written with the other files as one folder swapped into place.
+// memory (its points per label are counted there) and written with the other files into
+// a hidden folder that moves into place whole (item_folder.hpp).
 #include <corpus/item.hpp>
 #include <corpus/sha256.hpp>
+
+#include "item_folder.hpp"
 
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
@@ -14,12 +16,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 
 namespace corpus {
 
@@ -36,26 +35,6 @@ namespace {
 json optional(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
 json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 json triple(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
-
-/// The encoded cloud: written through engine::writeCloud under a hidden temporary name
-/// in `dir` (removed by the next run there if this process dies), read back, removed.
-std::string encodeCloud(const engine::PointCloud& cloud, engine::CloudFormat format, const fs::path& dir,
-                        const std::string& id) {
-    const fs::path scratch = dir / (std::string(engine::kTempPrefix) + std::to_string(::getpid()) + "-cloud-" + id);
-    struct Remove {
-        fs::path path;
-        ~Remove() {
-            std::error_code ec;
-            fs::remove(path, ec);
-        }
-    } remove{scratch};
-    engine::writeCloud(scratch, cloud, format);
-    std::ifstream in(scratch, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof())
-        throw engine::Error("output: " + engine::printable(scratch.string()) + ": cannot read back the cloud");
-    return bytes;
-}
 
 }  // namespace
 
@@ -81,9 +60,10 @@ ItemOutcome buildItem(const Planner& planner, std::size_t index, const fs::path&
     std::uint64_t per_label[engine::kRoleCount] = {0, 0, 0};
     for (const engine::CloudPoint& p : cloud.points) ++per_label[std::size_t(p.label) % engine::kRoleCount];
 
-    std::vector<std::pair<std::string, std::string>> files;
-    files.emplace_back("scene.json", plan.sceneText(folder));
-    files.emplace_back(spec.cloudName(), encodeCloud(cloud, spec.format, items, plan.id));
+    detail::ItemFolder files(items, plan.id);
+    std::vector<std::string> names = {"scene.json", spec.cloudName()};
+    files.writeText("scene.json", plan.sceneText(folder));
+    files.writeCloud(spec.cloudName(), cloud, spec.format);
     cloud.points = {};
     double metric_mean = std::nan(""), exact_mean = std::nan(""), visible_mean = std::nan("");
     int views_used = 0;
@@ -96,14 +76,22 @@ ItemOutcome buildItem(const Planner& planner, std::size_t index, const fs::path&
         mo.height = spec.metric.height;
         mo.picture_view = -1;
         const metric::MetricResult result = evaluator.run(mo);
-        files.emplace_back("summary.json", metric::summaryJson(result));
-        files.emplace_back("views.csv", metric::viewsCsv(result));
+        files.writeText("summary.json", metric::summaryJson(result));
+        files.writeText("views.csv", metric::viewsCsv(result));
+        names.insert(names.end(), {"summary.json", "views.csv"});
         metric_mean = result.metric_mean;
         exact_mean = result.has_exact ? result.exact_mean : std::nan("");
         visible_mean = result.visible_mean;
         views_used = result.views_used;
     }
-    engine::writeFolderAtomic(folder, files, isItemFile);
+    // Sizes and digests of the files as written (read back from the page cache), then
+    // the folder moves into place.
+    json listed = json::object();
+    for (const std::string& name : names) {
+        const FileDigest d = sha256File(files.path(name));
+        listed[name] = {{"bytes", d.bytes}, {"sha256", d.sha256}};
+    }
+    files.commit();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     json line;
@@ -138,9 +126,6 @@ ItemOutcome buildItem(const Planner& planner, std::size_t index, const fs::path&
     line["exact"] = finite(exact_mean);
     line["visible"] = finite(visible_mean);
     line["metric_views_used"] = views_used;
-    json listed = json::object();
-    for (const auto& [name, content] : files)
-        listed[name] = {{"bytes", content.size()}, {"sha256", sha256Hex(content)}};
     line["files"] = listed;
     line["seconds"] = seconds;
 

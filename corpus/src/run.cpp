@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -204,6 +205,20 @@ RunSummary runCorpus(const RunOptions& o) {
 
     RunSummary summary;
     summary.manifest = o.out / (o.sharded ? "manifest." + std::to_string(o.shard) + ".jsonl" : "manifest.jsonl");
+    // One run per manifest at a time: two would build the same items and append the same
+    // lines. The lock goes with the process (flock), so a killed run never leaves it held.
+    const fs::path lock_path = summary.manifest.string() + ".lock";
+    const int lock_fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (lock_fd < 0)
+        throw engine::Error("output: " + shown(lock_path) + ": cannot open the lock file: " + std::strerror(errno));
+    struct LockCloser {
+        int fd;
+        ~LockCloser() { ::close(fd); }
+    } lock_closer{lock_fd};
+    if (::flock(lock_fd, LOCK_EX | LOCK_NB) != 0)
+        throw engine::Error("corpus: " + shown(summary.manifest) + " is in use by another run of the same " +
+                            (o.sharded ? "shard" : "corpus") + "; allowed: one run per manifest at a time (wait, or "
+                            "stop the other run: this one would resume it)");
 
     // What is done: intact lines of our manifest (torn, duplicated or stale ones dropped,
     // the file rewritten without them) and, for a shard, of the merged manifest.

@@ -25,7 +25,7 @@ std::vector<std::pair<std::string, double>> manifestColumns(const std::string& l
     std::vector<std::pair<std::string, double>> out;
     const json j = json::parse(line);
     for (auto it = j.begin(); it != j.end(); ++it)
-        if (it.value().is_number() && it.key() != "seed" && it.key() != "item_seed")
+        if (it.value().is_number() && it.key() != "seed" && it.key() != "item_seed" && it.key() != "index")
             out.emplace_back(it.key(), it.value().get<double>());
     if (j.contains("values"))
         for (auto it = j["values"].begin(); it != j["values"].end(); ++it)

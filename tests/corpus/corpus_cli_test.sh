@@ -1,6 +1,7 @@
 #!/bin/sh
 # tests/corpus/corpus_cli_test.sh: `ladarvr corpus` as a user runs it.
-# Usage: corpus_cli_test.sh LADARVR_BINARY SCRATCH_DIR SCENE
+# Usage: corpus_cli_test.sh LADARVR_BINARY SCRATCH_DIR SCENE main|kill
+# (two parts, two ctest entries, so that they run side by side)
 # The same SPEC gives the same manifest (timings aside) with 1, 2 or 3 shards and 1 or 2
 # jobs; an item replays with `generate`; a run killed with SIGKILL mid-item and rerun ends
 # with every item once and no partial one; bad SPECs and selections are one line; stats,
@@ -9,6 +10,7 @@ set -eu
 bin=$1
 dir=$2
 scene=$3
+part=$4
 rm -rf "$dir"
 mkdir -p "$dir"
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -32,6 +34,7 @@ cat >"$dir/spec.json" <<END
 }
 END
 
+if [ "$part" = main ]; then
 # --- bad SPECs: one line naming the key, exit 1, nothing made ----------------------
 check_bad_spec() {
     expect=$1
@@ -49,6 +52,14 @@ check_bad_spec "count: .* allowed an integer in \[1," "{\"scene\": \"$scene\", \
 check_bad_spec "vary.resolution: empty list" "{\"scene\": \"$scene\", \"count\": 2, \"vary\": {\"resolution\": []}}"
 check_bad_spec "scene: 'nowhere.json' does not exist" "{\"scene\": \"nowhere.json\", \"count\": 2}"
 check_bad_spec "vary.target_files\[0\]: 'truck.obj' does not exist" "{\"scene\": \"$scene\", \"count\": 2, \"vary\": {\"target_files\": [\"truck.obj\"]}}"
+
+# A command line without a mode, or a SPEC without --out, is a usage error (exit 2).
+status=0
+"$bin" corpus "$dir/spec.json" 2>"$dir/err" || status=$?
+[ "$status" -eq 2 ] && grep -q "corpus: SPEC needs --out DIR" "$dir/err" || fail "SPEC without --out: $status $(cat "$dir/err")"
+status=0
+"$bin" corpus --merge "$dir/x" --stats "$dir/x" 2>"$dir/err" || status=$?
+[ "$status" -eq 2 ] && grep -q "give one of SPEC" "$dir/err" || fail "two modes: $status $(cat "$dir/err")"
 
 # --- the same manifest whatever the shards and jobs ---------------------------------
 "$bin" corpus "$dir/spec.json" --out "$dir/one" 2>"$dir/one.log" || fail "one job: $(cat "$dir/one.log")"
@@ -129,22 +140,44 @@ status=0
 "$bin" corpus "$dir/spec12.json" --out "$dir/one" 2>"$dir/err" || status=$?
 [ "$status" -eq 1 ] && grep -q "was made from another SPEC" "$dir/err" || fail "another SPEC into the same folder: $(cat "$dir/err")"
 
-# --- SIGKILL mid-item, then rerun ----------------------------------------------------
-sed 's/"resolution": \[8, 12\]/"resolution": [96, 128]/; s/"views": 3/"views": 12/; s/"count": 6/"count": 5/' \
+fi
+
+if [ "$part" = kill ]; then
+# --- SIGTERM, then SIGKILL mid-item, then rerun --------------------------------------
+sed 's/"resolution": \[8, 12\]/"resolution": [160, 192]/; s/"views": 3/"views": 12/; s/"count": 6/"count": 5/' \
     "$dir/spec.json" >"$dir/slow.json"
-"$bin" corpus "$dir/slow.json" --out "$dir/killed" --threads 1 2>"$dir/killed.log" &
-pid=$!
-tries=0
-while [ "$(cat "$dir/killed/manifest.jsonl" 2>/dev/null | wc -l)" -lt 1 ]; do
-    tries=$((tries + 1))
-    [ "$tries" -lt 600 ] || { kill -9 "$pid"; fail "no item finished within 60 s"; }
-    sleep 0.1
+# Starts a run, waits until its manifest has $2 lines, then sends signal $1 mid-item.
+stop_mid_item() {
+    "$bin" corpus "$dir/slow.json" --out "$dir/killed" --threads 1 2>>"$dir/killed.log" &
+    pid=$!
+    tries=0
+    while [ "$(cat "$dir/killed/manifest.jsonl" 2>/dev/null | wc -l)" -lt "$2" ]; do
+        tries=$((tries + 1))
+        [ "$tries" -lt 600 ] || { kill -9 "$pid"; fail "no item finished within 60 s"; }
+        sleep 0.1
+    done
+    [ -z "${3:-}" ] || "$3"
+    sleep 0.15
+    kill "-$1" "$pid"
+    status=0
+    wait "$pid" 2>/dev/null || status=$?
+}
+# While a run works on the manifest, a second run of it is refused.
+second_run_refused() {
+    status=0
+    "$bin" corpus "$dir/slow.json" --out "$dir/killed" 2>"$dir/err" || status=$?
+    [ "$status" -eq 1 ] && grep -q "is in use by another run of the same corpus" "$dir/err" ||
+        fail "a second run of the same corpus: $status $(cat "$dir/err")"
+}
+stop_mid_item TERM 1 second_run_refused
+[ "$status" -eq 143 ] || [ "$status" -eq 0 ] || fail "SIGTERM: exit status $status, expected 143"
+left=$(ls -A "$dir/killed/items" | grep -e '^\.ladarvr-tmp-' || true)
+[ -z "$left" ] || fail "SIGTERM left temporaries: $left"
+stop_mid_item KILL 2
+# What SIGKILL leaves: whole items under their names, at most a hidden temporary.
+for item in "$dir"/killed/items/*; do
+    [ -f "$item/scene.json" ] && [ -f "$item/cloud.pcd" ] || fail "SIGKILL left a partial item $item"
 done
-sleep 0.15
-kill -9 "$pid"
-wait "$pid" 2>/dev/null || true
-before=$(wc -l <"$dir/killed/manifest.jsonl")
-[ "$before" -lt 5 ] || echo "note: every item had finished before the kill"
 # A line torn by the kill (no newline) is dropped by the rerun.
 printf '{"id": "0004", "index": 4, "fil' >>"$dir/killed/manifest.jsonl"
 "$bin" corpus "$dir/slow.json" --out "$dir/killed" 2>"$dir/resume.log" || fail "resume: $(cat "$dir/resume.log")"
@@ -167,6 +200,10 @@ for r in rows:
     for name, f in r["files"].items():
         assert os.path.getsize("%s/killed/items/%s/%s" % (d, r["id"], name)) == f["bytes"]
 PY
+
+echo "corpus CLI (kill): all checks passed"
+exit 0
+fi
 
 # --- merge reports missing items -----------------------------------------------------
 "$bin" corpus "$dir/spec.json" --out "$dir/half" --shard 0/2 2>/dev/null || fail "half shard"

@@ -159,3 +159,28 @@ TEST_CASE("plan: the scene file names meshes relative to the item folder and rep
     REQUIRE(at != args.end());
     CHECK(std::count(at[1].begin(), at[1].end(), ',') == 2);
 }
+
+TEST_CASE("plan: target_files draws every model, each placed clear of the buildings") {
+    const std::string assets = LADARVR_ASSETS_DIR;
+    const corpus::Spec s = spec(R"("target_files": [")" + assets + R"(/common/tank.obj", {"file": ")" + assets +
+                                    R"(/common/house_small.obj", "scale": 0.5}], "target_offset_m": {"min": 0, "max": 25})",
+                                60);
+    const corpus::Planner planner(s);
+    const auto& boxes = planner.environmentBoxes();  // scene order: ground, target, 4 environment meshes
+    REQUIRE(boxes.size() == 6);
+    std::set<std::string> drawn;
+    int redrawn = 0;  // items whose first draws met a building: the check did bite
+    for (std::size_t i = 0; i < s.count; ++i) {
+        const corpus::ItemPlan p = planner.plan(i);
+        drawn.insert(p.target_file);
+        redrawn += p.placement_draws > 1;
+        for (std::size_t k = 2; k < boxes.size(); ++k) CHECK_FALSE(overlaps(p.target_box_world, boxes[k]));
+        const auto target = std::find_if(p.meshes.begin(), p.meshes.end(),
+                                         [](const corpus::MeshEntry& m) { return m.role == "target"; });
+        REQUIRE(target != p.meshes.end());
+        CHECK(target->written == p.target_file);
+        CHECK(target->scale == (p.target_file.ends_with("house_small.obj") ? 0.5 : 1.0));
+    }
+    CHECK(drawn.size() == 2);
+    CHECK(redrawn > 0);
+}

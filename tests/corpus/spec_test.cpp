@@ -52,6 +52,14 @@ TEST_CASE("spec: a good SPEC is read as written") {
     CHECK(s.sha256.size() == 64);
     CHECK(s.cloudName() == "cloud.pcd");
     CHECK_FALSE(s.metric.enabled);
+    const corpus::Spec ply = corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "ply",
+        "metric": {"views": 8, "width": 64, "height": 32}})", dir.path / "spec.json");
+    CHECK(ply.cloudName() == "cloud.ply");
+    CHECK(ply.metric.enabled);
+    CHECK(ply.metric.views == 8);
+    CHECK(ply.metric.height == 32);
+    CHECK(errorOf([&] { corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "las"})", "s.json"); })
+              .find("format 'las' is not one of pcd, pcd-ascii, ply, ply-ascii") != std::string::npos);
 }
 
 TEST_CASE("spec: unknown keys, empty ranges, min > max, count < 1 and missing files are one line each") {

@@ -1,6 +1,6 @@
 // corpus/item.hpp: building one item: DIR/items/<id>/ with scene.json, the cloud and, with
-// the metric, summary.json and views.csv, written as one folder that appears whole
-// (engine::writeFolderAtomic), and its manifest line.
+// the metric, summary.json and views.csv, written into a hidden folder that then
+// moves into place whole, and its manifest line.
 #pragma once
 #include <corpus/plan.hpp>
 
