@@ -7,6 +7,7 @@
 
 #include <engine/error.hpp>
 #include <engine/safe_file.hpp>
+#include <engine/strict_json.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -167,12 +168,8 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
     Spec s;
     s.file = fs::absolute(file).lexically_normal();
     const Context c{"corpus: " + engine::printable(file.string()) + ": "};
-    json j;
-    try {
-        j = json::parse(text);
-    } catch (const json::exception& e) {
-        throw engine::Error(c.prefix + "not valid JSON (" + engine::printable(e.what(), 120) + ")");
-    }
+    // Strict: a key given twice or a NUL in a string is refused, naming where it is.
+    const json j = engine::parseStrictJson(text, "corpus: " + engine::printable(file.string()));
     if (!j.is_object()) throw engine::Error(c.prefix + "allowed a JSON object with scene, count, seed, vary, metric, format");
     const fs::path dir = s.file.parent_path();
     for (auto it = j.begin(); it != j.end(); ++it) {

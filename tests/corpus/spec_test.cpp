@@ -89,6 +89,10 @@ TEST_CASE("spec: unknown keys, empty ranges, min > max, count < 1 and missing fi
     checkOneLine(specError(withVary(R"("alpha_deg": {"min": 30, "max": 60}, "fov_deg": {"min": 4, "max": 70})")),
                  "at its highest", "orbit:");
     checkOneLine(specError("[1, 2]"), "corpus: ", "allowed a JSON object");
+    // Strict JSON: the second of two equal keys would otherwise win silently.
+    checkOneLine(specError(R"({"scene": ")" + kScene + R"(", "count": 2, "count": 5})"), "duplicate key 'count'",
+                 "allowed: each key once per object");
+    checkOneLine(specError(R"({"scene": ")" + kScene + R"(", "count": )"), "spec.json", "JSON syntax error");
 }
 
 TEST_CASE("random: SplitMix64 known answer, streams depend on (seed, item, key) only") {
