@@ -28,8 +28,8 @@ std::string percentText(double v) {
 void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
     sim::SmrfOptions& smrf = ground.smrf;
     c.add_option("--ground", cli.method,
-                 "ground filter: ransac (paper §III-C, per view; flat ground) or smrf (Pingel et al. 2013, "
-                 "whole cloud; follows sloped terrain)")
+                 "ground filter: ransac (paper §III-C, per view; flat ground), smrf (Pingel et al. 2013) or csf "
+                 "(Zhang et al. 2016; both on the whole cloud, following sloped terrain)")
         ->capture_default_str();
     c.add_option("--smrf-cell-m", smrf.cell_m, "SMRF cell of the minimum surface and the DTM, metres [0.01, 1000]")
         ->capture_default_str();
@@ -41,9 +41,19 @@ void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
     c.add_option("--smrf-scalar", smrf.scalar,
                  "SMRF: plus this many metres per unit of terrain slope, [0, 1000]")
         ->capture_default_str();
+    sim::CsfOptions& csf = ground.csf;
+    c.add_option("--csf-cloth-m", csf.cloth_m, "CSF cloth resolution (particle spacing, DTM cell), metres [0.01, 1000]")
+        ->capture_default_str();
+    c.add_option("--csf-rigidness", csf.rigidness, "CSF cloth rigidness: 1 steep terrain .. 3 flat")
+        ->capture_default_str();
+    c.add_option("--csf-threshold-m", csf.threshold_m, "CSF: ground within this height of the cloth, metres")
+        ->capture_default_str();
+    c.add_option("--csf-time-step", csf.time_step, "CSF simulation time step, (0, 10]")->capture_default_str();
+    c.add_option("--csf-iterations", csf.iterations, "CSF simulation steps at most, [1, 100000]")
+        ->capture_default_str();
     c.add_option("--dtm", cli.dtm,
-                 "also write the fitted terrain (SMRF's surface, also with --ground ransac) as an ESRI ASCII "
-                 "grid (.asc), world metres");
+                 "also write the fitted terrain (SMRF's or CSF's surface; SMRF's with --ground ransac) as an "
+                 "ESRI ASCII grid (.asc), world metres");
 }
 
 void applyGroundOptions(const GroundCli& cli, sim::GroundOptions& ground) {
@@ -73,6 +83,13 @@ std::optional<std::string> groundAdvice(const sim::GenerateStats& st) {
 
 void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st,
                   const glm::dvec3& origin) {
+    if (!o.white && o.ground.method == sim::GroundMethod::Csf)
+        std::fprintf(stderr,
+                     "  ground filter: csf (cloth %g m, rigidness %d, threshold %g m, time step %g, %d iterations), "
+                     "terrain %d x %d cells, %.3f s\n",
+                     o.ground.csf.cloth_m, o.ground.csf.rigidness, o.ground.csf.threshold_m, o.ground.csf.time_step,
+                     o.ground.csf.iterations, st.terrain ? st.terrain->nx : 0, st.terrain ? st.terrain->ny : 0,
+                     st.seconds.ransac);
     if (!o.white && o.ground.method == sim::GroundMethod::Smrf)
         std::fprintf(stderr,
                      "  ground filter: smrf (cell %g m, slope %g, window %g m, threshold %g m, scalar %g), "
