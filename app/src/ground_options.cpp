@@ -69,14 +69,15 @@ std::optional<std::string> groundAdvice(const sim::GenerateStats& st) {
     if (st.ground_truth > 0 && st.ground_recall) {
         if (*st.ground_recall >= kMinRecall) return std::nullopt;
         return "generate: ground: RANSAC whitened only " + percentText(*st.ground_recall) +
-               " of the ground-labelled points (the terrain is not flat); --ground smrf follows sloped terrain";
+               " of the ground-labelled points (the terrain is not flat); --ground smrf or --ground csf follows "
+               "sloped terrain";
     }
     if (st.ground_truth == 0 && st.terrain_points > 0) {
         const double share = double(st.terrain_points_coloured) / double(st.terrain_points);
         if (share <= kMaxColouredTerrain) return std::nullopt;
         return "generate: ground: RANSAC left " + percentText(share) +
-               " of the points on the fitted terrain coloured (the terrain is not flat); --ground smrf follows "
-               "sloped terrain";
+               " of the points on the fitted terrain coloured (the terrain is not flat); --ground smrf or "
+               "--ground csf follows sloped terrain";
     }
     return std::nullopt;
 }
