@@ -226,6 +226,10 @@ TEST_CASE("generate refuses an unknown --ground and a bad --smrf-* value before 
     std::tie(rc, err) = status("--ground csf --csf-rigidness 5");
     CHECK(rc == 1);
     CHECK(err.find("--csf-rigidness") != std::string::npos);
+    std::tie(rc, err) = status("--white --dtm '" + (scratch.path / "t.asc").string() + "'");
+    CHECK(rc == 1);
+    CHECK(err.find("--dtm: not with --white") != std::string::npos);
+    CHECK_FALSE(fs::exists(scratch.path / "t.asc"));
     std::tie(rc, err) = status("--ground smrf --smrf-window-m -3");
     CHECK(rc == 1);
     CHECK(err.find("--smrf-window-m") != std::string::npos);
