@@ -59,7 +59,8 @@ void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
 void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o) {
     o.ground.method = sim::parseGroundMethod(cli.method, "generate: --ground");
     if (!cli.dtm.empty()) {
-        if (o.white) throw engine::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
+        if (o.white)
+            throw engine::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
         createParentFolders(cli.dtm, "generate: --dtm");
         engine::checkWritableDestination(cli.dtm);
     }

@@ -157,7 +157,8 @@ void validate(const CsfOptions& o) {
         fail("csf threshold_m (--csf-threshold-m)", o.threshold_m, "[0, 1000] metres");
     if (!(std::isfinite(o.time_step) && o.time_step > 0.0 && o.time_step <= 10.0))
         fail("csf time_step (--csf-time-step)", o.time_step, "(0, 10]");
-    if (o.iterations < 1 || o.iterations > 100000) fail("csf iterations (--csf-iterations)", o.iterations, "[1, 100000]");
+    if (o.iterations < 1 || o.iterations > 100000)
+        fail("csf iterations (--csf-iterations)", o.iterations, "[1, 100000]");
     if (o.max_cells < 1) fail("csf max_cells", double(o.max_cells), ">= 1");
 }
 

@@ -94,7 +94,8 @@ RasterFit::RasterFit(double cell_m, std::size_t max_cells, const char* cell_opti
 
 void RasterFit::add(std::span<const engine::CloudPoint> points) {
     for (const engine::CloudPoint& p : points) {
-        const double fx = std::floor(double(p.position.x) * inv_cell_), fy = std::floor(double(p.position.y) * inv_cell_);
+        const double fx = std::floor(double(p.position.x) * inv_cell_);
+        const double fy = std::floor(double(p.position.y) * inv_cell_);
         if (!(std::abs(fx) < 1e9 && std::abs(fy) < 1e9) || !std::isfinite(p.position.z)) continue;
         const int ix = int(fx), iy = int(fy);
         float* tile = tileFor(ix >> kTileBits, iy >> kTileBits);
