@@ -112,7 +112,7 @@ void run(GenerateCli& cli) {
                             ": allowed [1, 1048576]");
     o.memory_budget_bytes = std::size_t(cli.memory_mb * 1048576.0);
     o.skip_rays = !cli.no_skip_rays;
-    applyGroundOptions(cli.ground, o.ground);
+    applyGroundOptions(cli.ground, o);
     sim::validate(o);
     const fs::path scene_path = cli.scene.empty() ? engine::demoScenePath() : fs::path(cli.scene);
     std::optional<engine::CloudFormat> format;

@@ -28,8 +28,8 @@ std::string percentText(double v) {
 void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
     sim::SmrfOptions& smrf = ground.smrf;
     c.add_option("--ground", cli.method,
-                 "ground filter: ransac (paper §III-C, per view; flat ground) or smrf (Pingel et al. 2013, "
-                 "whole cloud; follows sloped terrain)")
+                 "ground filter: ransac (paper §III-C, per view; flat ground), smrf (Pingel et al. 2013) or csf "
+                 "(Zhang et al. 2016; both on the whole cloud, following sloped terrain)")
         ->capture_default_str();
     c.add_option("--smrf-cell-m", smrf.cell_m, "SMRF cell of the minimum surface and the DTM, metres [0.01, 1000]")
         ->capture_default_str();
@@ -41,14 +41,26 @@ void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
     c.add_option("--smrf-scalar", smrf.scalar,
                  "SMRF: plus this many metres per unit of terrain slope, [0, 1000]")
         ->capture_default_str();
+    sim::CsfOptions& csf = ground.csf;
+    c.add_option("--csf-cloth-m", csf.cloth_m, "CSF cloth resolution (particle spacing, DTM cell), metres [0.01, 1000]")
+        ->capture_default_str();
+    c.add_option("--csf-rigidness", csf.rigidness, "CSF cloth rigidness: 1 steep terrain .. 3 flat")
+        ->capture_default_str();
+    c.add_option("--csf-threshold-m", csf.threshold_m, "CSF: ground within this height of the cloth, metres")
+        ->capture_default_str();
+    c.add_option("--csf-time-step", csf.time_step, "CSF simulation time step, (0, 10]")->capture_default_str();
+    c.add_option("--csf-iterations", csf.iterations, "CSF simulation steps at most, [1, 100000]")
+        ->capture_default_str();
     c.add_option("--dtm", cli.dtm,
-                 "also write the fitted terrain (SMRF's surface, also with --ground ransac) as an ESRI ASCII "
-                 "grid (.asc), world metres");
+                 "also write the fitted terrain (SMRF's or CSF's surface; SMRF's with --ground ransac) as an "
+                 "ESRI ASCII grid (.asc), world metres");
 }
 
-void applyGroundOptions(const GroundCli& cli, sim::GroundOptions& ground) {
-    ground.method = sim::parseGroundMethod(cli.method, "generate: --ground");
+void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o) {
+    o.ground.method = sim::parseGroundMethod(cli.method, "generate: --ground");
     if (!cli.dtm.empty()) {
+        if (o.white)
+            throw engine::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
         createParentFolders(cli.dtm, "generate: --dtm");
         engine::checkWritableDestination(cli.dtm);
     }
@@ -59,20 +71,28 @@ std::optional<std::string> groundAdvice(const sim::GenerateStats& st) {
     if (st.ground_truth > 0 && st.ground_recall) {
         if (*st.ground_recall >= kMinRecall) return std::nullopt;
         return "generate: ground: RANSAC whitened only " + percentText(*st.ground_recall) +
-               " of the ground-labelled points (the terrain is not flat); --ground smrf follows sloped terrain";
+               " of the ground-labelled points (the terrain is not flat); --ground smrf or --ground csf follows "
+               "sloped terrain";
     }
     if (st.ground_truth == 0 && st.terrain_points > 0) {
         const double share = double(st.terrain_points_coloured) / double(st.terrain_points);
         if (share <= kMaxColouredTerrain) return std::nullopt;
         return "generate: ground: RANSAC left " + percentText(share) +
-               " of the points on the fitted terrain coloured (the terrain is not flat); --ground smrf follows "
-               "sloped terrain";
+               " of the points on the fitted terrain coloured (the terrain is not flat); --ground smrf or "
+               "--ground csf follows sloped terrain";
     }
     return std::nullopt;
 }
 
 void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st,
                   const glm::dvec3& origin) {
+    if (!o.white && o.ground.method == sim::GroundMethod::Csf)
+        std::fprintf(stderr,
+                     "  ground filter: csf (cloth %g m, rigidness %d, threshold %g m, time step %g, %d iterations), "
+                     "terrain %d x %d cells, %.3f s\n",
+                     o.ground.csf.cloth_m, o.ground.csf.rigidness, o.ground.csf.threshold_m, o.ground.csf.time_step,
+                     o.ground.csf.iterations, st.terrain ? st.terrain->nx : 0, st.terrain ? st.terrain->ny : 0,
+                     st.seconds.ransac);
     if (!o.white && o.ground.method == sim::GroundMethod::Smrf)
         std::fprintf(stderr,
                      "  ground filter: smrf (cell %g m, slope %g, window %g m, threshold %g m, scalar %g), "

@@ -21,8 +21,9 @@ struct GroundCli {
 /// --smrf-scalar and --dtm to `generate`.
 void addGroundOptions(CLI::App& generate, GroundCli& cli, sim::GroundOptions& ground);
 
-/// Before any work: --ground into `ground.method`, --dtm's destination checked.
-void applyGroundOptions(const GroundCli& cli, sim::GroundOptions& ground);
+/// Before any work: --ground into `o.ground.method`; --dtm refused with --white (no
+/// terrain is fitted), its destination checked.
+void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o);
 
 /// The one line saying that the per-view RANSAC left much of the ground coloured and
 /// naming --ground smrf: when the ground-labelled points' recall is under 80 %, or,

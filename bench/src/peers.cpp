@@ -6,8 +6,8 @@
 //      hit agreement;
 //   2. binary PCD write and read of the paper's 1.64 M-point cloud against PCL's
 //      savePCDFileBinary / loadPCDFile (same fields), and each reading the other's file;
-//   3. ground whitening (paper §III-C, iterative RANSAC per view, and our SMRF on the
-//      whole cloud) against PCL's progressive morphological filter: precision, recall
+//   3. ground whitening (paper §III-C, iterative RANSAC per view, and our SMRF and CSF
+//      on the whole cloud) against PCL's progressive morphological filter: precision, recall
 //      and time on the demo, hilly and slopes scenes, against the generator's
 //      ground-truth labels.
 // A program, not a test: warm-up, repeats, medians, ratios; the section
@@ -230,6 +230,7 @@ struct GroundResult {
     int pmf_stride = 1;
     double ransac_s = 0, ransac_precision = 0, ransac_recall = 0;
     double smrf_s = 0, smrf_precision = 0, smrf_recall = 0;
+    double csf_s = 0, csf_precision = 0, csf_recall = 0;
     double pmf_s = 0, pmf_precision = 0, pmf_recall = 0;
     int threads = 1;
 };
@@ -253,6 +254,11 @@ GroundResult ground(const std::string& name, const engine::Scene& scene, const s
         r.smrf_s = ss.seconds.ransac;
         r.smrf_precision = ss.ground_precision.value_or(std::nan(""));
         r.smrf_recall = ss.ground_recall.value_or(std::nan(""));
+        smrf.ground.method = sim::GroundMethod::Csf;
+        sim::generateCloud(scene, smrf, &ss);
+        r.csf_s = ss.seconds.ransac;
+        r.csf_precision = ss.ground_precision.value_or(std::nan(""));
+        r.csf_recall = ss.ground_recall.value_or(std::nan(""));
     }
     // PMF's morphological opening searches a box per point per window: on 1.6 M points
     // at ~130 points/m^2 that is beyond reach, so it gets every k-th point (airborne Lidar
@@ -318,7 +324,7 @@ void run(const BenchPeersCli& cli) {
                 io.ours_read_s, io.pcl_read_s, io.pcl_read_s / io.ours_read_s, io.pcl_reads_ours ? "identical" : "NO",
                 io.ours_reads_pcl ? "identical" : "NO");
 
-    std::fprintf(stderr, "bench peers: 3/3 ground: iterative RANSAC and SMRF vs PCL progressive morphological "
+    std::fprintf(stderr, "bench peers: 3/3 ground: iterative RANSAC, SMRF and CSF vs PCL progressive morphological "
                          "filter\n");
     std::vector<GroundResult> grounds;
     const std::size_t pmf_budget = cli.quick ? 25000 : 60000;
@@ -331,10 +337,11 @@ void run(const BenchPeersCli& cli) {
     grounds.push_back(ground("slopes", slopes, paper, pmf_budget, cli.pmf_stride));
     for (const GroundResult& g : grounds)
         std::printf("ground %s: RANSAC (per view, %d threads) precision %s recall %s in %.3f s on %zu points; SMRF "
-                    "precision %s recall %s in %.3f s; PMF precision %s recall %s in %.3f s on %zu points "
+                    "precision %s recall %s in %.3f s; CSF precision %s recall %s in %.3f s; PMF precision %s recall %s in %.3f s on %zu points "
                     "(every %d-th)\n",
                     g.scene.c_str(), g.threads, pct(g.ransac_precision).c_str(), pct(g.ransac_recall).c_str(),
                     g.ransac_s, g.points, pct(g.smrf_precision).c_str(), pct(g.smrf_recall).c_str(), g.smrf_s,
+                    pct(g.csf_precision).c_str(), pct(g.csf_recall).c_str(), g.csf_s,
                     pct(g.pmf_precision).c_str(), pct(g.pmf_recall).c_str(), g.pmf_s, g.pmf_points, g.pmf_stride);
     std::error_code ec;
     fs::remove_all(dir, ec);
@@ -376,8 +383,9 @@ void run(const BenchPeersCli& cli) {
       << "**Ground whitening** against the generator's ground-truth labels (paper configuration). Ours: paper "
       << "§III-C iterative RANSAC on each view (16,384 points), all views, " << grounds.front().threads
       << " threads (`--ground ransac`); SMRF (Pingel et al. 2013, PDAL's defaults: cell 1 m, slope 0.15, "
-      << "window 18 m, threshold 0.5 m, scalar 1.25) on the whole fused cloud (`--ground smrf`), its "
-      << "ground stage timed as a whole (gridding, fit, classification). PCL's `ProgressiveMorphologicalFilter` "
+      << "window 18 m, threshold 0.5 m, scalar 1.25) and CSF (Zhang et al. 2016, the paper's defaults: cloth "
+      << "1 m, rigidness 3, threshold 0.5 m, time step 0.65, at most 500 iterations) on the whole fused cloud "
+      << "(`--ground smrf`, `--ground csf`), each ground stage timed as a whole (gridding, fit, classification). PCL's `ProgressiveMorphologicalFilter` "
       << "(windows 3-17 m, slope 1, initial distance 0.5 m, max distance 3 m, cell 1 m; one thread) on the "
       << "fused cloud thinned to every k-th point, because its per-point box searches cannot take 1.6 M "
       << "points at ~130 points/m^2; its precision and recall are over those points. Points/s compares "
@@ -389,6 +397,9 @@ void run(const BenchPeersCli& cli) {
           << " |\n";
         s << "| " << g.scene << " | SMRF | " << pct(g.smrf_precision) << " | " << pct(g.smrf_recall) << " | "
           << fmt("%.3f", g.smrf_s) << " (" << g.points << ") | " << fmt("%.3g", double(g.points) / g.smrf_s)
+          << " |\n";
+        s << "| " << g.scene << " | CSF | " << pct(g.csf_precision) << " | " << pct(g.csf_recall) << " | "
+          << fmt("%.3f", g.csf_s) << " (" << g.points << ") | " << fmt("%.3g", double(g.points) / g.csf_s)
           << " |\n";
         s << "| " << g.scene << " | PCL PMF | " << pct(g.pmf_precision) << " | " << pct(g.pmf_recall) << " | "
           << fmt("%.3f", g.pmf_s) << " (" << g.pmf_points << ", every " << g.pmf_stride << "th) | "
@@ -408,7 +419,7 @@ void run(const BenchPeersCli& cli) {
 void registerPeers(CLI::App& parent) {
     auto state = std::make_shared<BenchPeersCli>();
     CLI::App* c = parent.add_subcommand("peers", "side by side with peer libraries: ray casting vs Open3D, binary "
-                                                "PCD I/O vs PCL, ground whitening (RANSAC, SMRF) vs PCL's morphological filter");
+                                                "PCD I/O vs PCL, ground whitening (RANSAC, SMRF, CSF) vs PCL's morphological filter");
     c->add_flag("--quick", state->quick, "3 repeats, a smaller PMF sample (a smoke run)");
     c->add_option("--threads", state->threads, "threads for every caster, 0 = all")->capture_default_str();
     c->add_option("--repeats", state->repeats, "timed runs (medians)")->capture_default_str();

@@ -15,6 +15,7 @@ const char* groundMethodName(GroundMethod m) {
     switch (m) {
         case GroundMethod::Ransac: return "ransac";
         case GroundMethod::Smrf: return "smrf";
+        case GroundMethod::Csf: return "csf";
     }
     return "ransac";
 }
@@ -22,12 +23,14 @@ const char* groundMethodName(GroundMethod m) {
 GroundMethod parseGroundMethod(std::string_view text, std::string_view context) {
     if (text == "ransac") return GroundMethod::Ransac;
     if (text == "smrf") return GroundMethod::Smrf;
-    throw engine::Error(std::string(context) + " '" + std::string(text) + "': allowed ransac, smrf");
+    if (text == "csf") return GroundMethod::Csf;
+    throw engine::Error(std::string(context) + " '" + std::string(text) + "': allowed ransac, smrf, csf");
 }
 
 void validate(const GroundOptions& o) {
     validateRansac(o);
     validate(o.smrf);
+    validate(o.csf);
 }
 
 std::vector<std::uint8_t> GroundFilter::classifyView(std::span<const glm::vec3>, std::uint64_t, GroundStats*) const {
@@ -42,6 +45,7 @@ std::unique_ptr<GroundFilter> makeGroundFilter(const GroundOptions& o) {
     switch (o.method) {
         case GroundMethod::Ransac: return makeRansacFilter(o);
         case GroundMethod::Smrf: return makeSmrfFilter(o.smrf);
+        case GroundMethod::Csf: return makeCsfFilter(o.csf);
     }
     return makeRansacFilter(o);
 }

@@ -13,5 +13,7 @@ void validateRansac(const GroundOptions& o);
 std::unique_ptr<GroundFilter> makeRansacFilter(const GroundOptions& o);
 /// ground_smrf.cpp: the whole-cloud simple morphological filter.
 std::unique_ptr<GroundFilter> makeSmrfFilter(const SmrfOptions& o);
+/// ground_csf.cpp: the whole-cloud cloth simulation filter.
+std::unique_ptr<GroundFilter> makeCsfFilter(const CsfOptions& o);
 
 }  // namespace sim

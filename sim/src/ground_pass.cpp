@@ -30,8 +30,8 @@ void TerrainPass::add(std::span<const engine::CloudPoint> points) {
     const auto t0 = Clock::now();
     if (!whitens_) {  // the check: every kCheckStride-th point of the cloud
         sample_.clear();
-        for (std::size_t i = (kCheckStride - added_ % kCheckStride) % kCheckStride; i < points.size(); i += kCheckStride)
-            sample_.push_back(points[i]);
+        const std::size_t first = (kCheckStride - added_ % kCheckStride) % kCheckStride;
+        for (std::size_t i = first; i < points.size(); i += kCheckStride) sample_.push_back(points[i]);
         added_ += points.size();
         points = sample_;
     }

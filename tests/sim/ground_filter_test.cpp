@@ -66,8 +66,9 @@ TEST_CASE("the ground filter factory: RANSAC per view (the default), SMRF on the
 
     CHECK(sim::parseGroundMethod("smrf", "x") == sim::GroundMethod::Smrf);
     CHECK(std::string(sim::groundMethodName(sim::GroundMethod::Ransac)) == "ransac");
-    CHECK_THROWS_WITH_AS(sim::parseGroundMethod("csf", "generate: --ground"),
-                         "generate: --ground 'csf': allowed ransac, smrf", engine::Error);
+    CHECK(sim::parseGroundMethod("csf", "x") == sim::GroundMethod::Csf);
+    CHECK_THROWS_WITH_AS(sim::parseGroundMethod("pmf", "generate: --ground"),
+                         "generate: --ground 'pmf': allowed ransac, smrf, csf", engine::Error);
 }
 
 TEST_CASE("checking RANSAC against SMRF's terrain changes no point of RANSAC's cloud") {
@@ -219,9 +220,16 @@ TEST_CASE("generate refuses an unknown --ground and a bad --smrf-* value before 
         const int rc = std::system(command.c_str());
         return std::pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, test_support::slurp(scratch.path / "err"));
     };
-    auto [rc, err] = status("--ground csf");
+    auto [rc, err] = status("--ground pmf");
     CHECK(rc == 1);
-    CHECK(err.find("--ground 'csf': allowed ransac, smrf") != std::string::npos);
+    CHECK(err.find("--ground 'pmf': allowed ransac, smrf, csf") != std::string::npos);
+    std::tie(rc, err) = status("--ground csf --csf-rigidness 5");
+    CHECK(rc == 1);
+    CHECK(err.find("--csf-rigidness") != std::string::npos);
+    std::tie(rc, err) = status("--white --dtm '" + (scratch.path / "t.asc").string() + "'");
+    CHECK(rc == 1);
+    CHECK(err.find("--dtm: not with --white") != std::string::npos);
+    CHECK_FALSE(fs::exists(scratch.path / "t.asc"));
     std::tie(rc, err) = status("--ground smrf --smrf-window-m -3");
     CHECK(rc == 1);
     CHECK(err.find("--smrf-window-m") != std::string::npos);

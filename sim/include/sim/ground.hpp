@@ -19,10 +19,11 @@ namespace sim {
 enum class GroundMethod {
     Ransac,  // paper §III-C: iterative RANSAC per view (the default)
     Smrf,    // simple morphological filter (Pingel et al. 2013) on the fused cloud
+    Csf,     // cloth simulation filter (Zhang et al. 2016) on the fused cloud
 };
-/// "ransac" or "smrf".
+/// "ransac", "smrf" or "csf".
 const char* groundMethodName(GroundMethod m);
-/// Throws engine::Error("<context> '<text>': allowed ransac, smrf").
+/// Throws engine::Error("<context> '<text>': allowed ransac, smrf, csf").
 GroundMethod parseGroundMethod(std::string_view text, std::string_view context);
 
 /// Simple morphological filter (Pingel, Clarke, McBride 2013, "An improved simple
@@ -38,6 +39,19 @@ struct SmrfOptions {
     double scalar = 1.25;       // of the fitted terrain (metres per unit slope)
     /// Ours: the terrain raster may hold at most this many cells (memory bound); a cloud
     /// wider than that at cell_m is refused, naming cell_m.
+    std::size_t max_cells = std::size_t(1) << 24;
+};
+
+/// Cloth simulation filter (Zhang, Qi, Wan, Wang, Xie, Wang, Yan 2016, "An easy-to-use
+/// airborne LiDAR data filtering method based on cloth simulation", Remote Sensing 8(6)
+/// 501). Defaults are the paper's (and CloudCompare's plugin's).
+struct CsfOptions {
+    double cloth_m = 1.0;       // cloth resolution: the spacing of its particles
+    int rigidness = 3;          // 1 (steep terrain, a soft cloth) .. 3 (flat terrain, stiff)
+    double threshold_m = 0.5;   // class threshold: a point within this of the cloth is ground
+    double time_step = 0.65;    // the simulation's time step (dimensionless, gravity 0.2)
+    int iterations = 500;       // at most; it stops earlier once the cloth is still
+    /// Ours: the raster may hold at most this many cells (as SmrfOptions::max_cells).
     std::size_t max_cells = std::size_t(1) << 24;
 };
 
@@ -61,11 +75,13 @@ struct GroundOptions {
 
     GroundMethod method = GroundMethod::Ransac;
     SmrfOptions smrf;
+    CsfOptions csf;
 };
 
 /// Throws engine::Error("ground: <parameter> = <value>: allowed ...").
 void validate(const GroundOptions& o);
 void validate(const SmrfOptions& o);
+void validate(const CsfOptions& o);
 
 struct GroundStats {
     std::size_t band_points = 0;      // |PC| at step 1
@@ -134,6 +150,12 @@ public:
 std::unique_ptr<GroundFilter> makeGroundFilter(const GroundOptions& o);
 /// A whole-cloud SMRF run (also used to check RANSAC's result against the terrain).
 std::unique_ptr<TerrainFit> startSmrf(const SmrfOptions& o);
+
+/// A whole-cloud CSF run.
+std::unique_ptr<TerrainFit> startCsf(const CsfOptions& o);
+/// CSF on points in memory, as findGroundSmrf.
+std::vector<std::uint8_t> findGroundCsf(std::span<const glm::vec3> points, const CsfOptions& o,
+                                        TerrainGrid* surface = nullptr, std::vector<float>* height_m = nullptr);
 
 /// SMRF on points in memory: one flag per point (1 = ground); `surface` gets the fitted
 /// terrain, `height_m` the height of each point above it, when given.

@@ -1,0 +1,174 @@
+// sim/src/ground_csf.cpp: the cloth simulation filter, CSF (Zhang, Qi, Wan, Wang, Xie,
+// Wang and Yan 2016, Remote Sensing 8(6) 501), written from the paper, on the whole
+// fused cloud:
+//
+//   1) the cloud is turned upside down (z' = -z); a cloth of particles cloth_m apart,
+//      one per cell of the shared minimum-surface raster, starts above it;
+//   2) each particle's intersection height (IHV) is the inverted height of the lowest
+//      point of its cell (cells without a point: interpolated, ground_raster.hpp);
+//   3) each step moves the movable particles by gravity (Verlet integration with
+//      damping 0.01, gravity 0.2, the time step as given), then pulls each pair of
+//      neighbours towards each other `rigidness` times (a movable particle moves half
+//      the height difference to its neighbour), then a particle that reached its IHV
+//      stops there for good; the simulation ends when no movable particle moved more
+//      than 5 mm in a step, or after `iterations` steps;
+//   4) post-processing on steep slopes: a particle still hanging next to one that
+//      stopped, whose IHV differs from that neighbour's by under 0.3 m, is moved to its
+//      IHV and stops (repeated until none changes), as the paper describes;
+//   5) a point within threshold_m of the cloth (turned back up: the DTM) is ground.
+//
+// The pairs are visited in a fixed order and nothing depends on the order of the points
+// (only per-cell minima), so the result is the same whatever the threads or batching.
+#include "ground_internal.hpp"
+#include "ground_raster.hpp"
+
+#include <engine/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <sstream>
+
+namespace sim {
+namespace {
+
+[[noreturn]] void fail(const char* parameter, double value, const char* allowed) {
+    std::ostringstream s;
+    s << "ground: " << parameter << " = " << value << ": allowed " << allowed;
+    throw engine::Error(s.str());
+}
+
+constexpr double kGravity = 0.2, kDamping = 0.01;
+constexpr double kStill_m = 0.005;      // a step moving no particle more than this ends the run
+constexpr double kSlopeJoin_m = 0.3;    // post-processing: IHV step to a stopped neighbour
+
+class CsfFit final : public RasterFit {
+public:
+    explicit CsfFit(const CsfOptions& o) : RasterFit(o.cloth_m, o.max_cells, "csf cloth_m (--csf-cloth-m)"), o_(o) {}
+
+private:
+    void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) override {
+        const int w = grid_.nx, h = grid_.ny;
+        const std::size_t n = minimum.size();
+        inpaint(minimum, observed, w, h);
+        std::vector<double> ihv(n), z(n), previous(n);
+        double top = -1e300;
+        for (std::size_t c = 0; c < n; ++c) {
+            ihv[c] = -double(minimum[c]);
+            top = std::max(top, ihv[c]);
+        }
+        std::fill(z.begin(), z.end(), top + 1.0);
+        previous = z;
+        std::vector<std::uint8_t> movable(n, 1);
+        const double fall = kGravity * o_.time_step * o_.time_step;
+        // Neighbour pull: the movable ones of a pair move half their height difference
+        // towards each other (both movable: they meet).
+        const auto pull = [&](std::size_t a, std::size_t b) {
+            const double d = 0.5 * (z[b] - z[a]);
+            if (movable[a] && movable[b]) {
+                z[a] += d;
+                z[b] -= d;
+            } else if (movable[a]) {
+                z[a] += d;
+            } else if (movable[b]) {
+                z[b] -= d;
+            }
+        };
+        std::vector<double> before(n);
+        for (int step = 0; step < o_.iterations; ++step) {
+            before = z;
+            for (std::size_t c = 0; c < n; ++c) {
+                if (!movable[c]) continue;
+                const double next = z[c] + (1.0 - kDamping) * (z[c] - previous[c]) - fall;
+                previous[c] = z[c];
+                z[c] = next;
+            }
+            for (int r = 0; r < o_.rigidness; ++r) {
+                for (int j = 0; j < h; ++j)
+                    for (int i = 0; i + 1 < w; ++i) {
+                        const std::size_t c = std::size_t(j) * std::size_t(w) + std::size_t(i);
+                        pull(c, c + 1);
+                    }
+                for (int j = 0; j + 1 < h; ++j)
+                    for (int i = 0; i < w; ++i) {
+                        const std::size_t c = std::size_t(j) * std::size_t(w) + std::size_t(i);
+                        pull(c, c + std::size_t(w));
+                    }
+            }
+            double moved = 0;
+            std::size_t still_movable = 0;
+            for (std::size_t c = 0; c < n; ++c) {
+                if (!movable[c]) continue;
+                if (z[c] <= ihv[c]) {
+                    z[c] = ihv[c];
+                    movable[c] = 0;
+                } else {
+                    ++still_movable;
+                }
+                moved = std::max(moved, std::abs(z[c] - before[c]));
+            }
+            if (still_movable == 0 || (step > 0 && moved < kStill_m)) break;
+        }
+        // 4) slopes: join hanging particles to stopped neighbours with a small IHV step.
+        std::deque<std::size_t> queue;
+        for (std::size_t c = 0; c < n; ++c)
+            if (!movable[c]) queue.push_back(c);
+        while (!queue.empty()) {
+            const std::size_t c = queue.front();
+            queue.pop_front();
+            const int i = int(c % std::size_t(w)), j = int(c / std::size_t(w));
+            const auto visit = [&](bool inside, std::size_t d) {
+                if (!inside || !movable[d] || std::abs(ihv[d] - ihv[c]) >= kSlopeJoin_m) return;
+                z[d] = ihv[d];
+                movable[d] = 0;
+                queue.push_back(d);
+            };
+            visit(i > 0, c - 1);
+            visit(i + 1 < w, c + 1);
+            visit(j > 0, c - std::size_t(w));
+            visit(j + 1 < h, c + std::size_t(w));
+        }
+        grid_.z_m.resize(n);
+        for (std::size_t c = 0; c < n; ++c) grid_.z_m[c] = float(-z[c]);
+        limit_m_.assign(n, float(o_.threshold_m));
+    }
+
+    CsfOptions o_;
+};
+
+class CsfFilter final : public GroundFilter {
+public:
+    explicit CsfFilter(const CsfOptions& o) : options_(o) {}
+    GroundMethod method() const override { return GroundMethod::Csf; }
+    bool perView() const override { return false; }
+    std::unique_ptr<TerrainFit> startCloud() const override { return std::make_unique<CsfFit>(options_); }
+
+private:
+    CsfOptions options_;
+};
+
+}  // namespace
+
+void validate(const CsfOptions& o) {
+    if (!(std::isfinite(o.cloth_m) && o.cloth_m >= 0.01 && o.cloth_m <= 1000.0))
+        fail("csf cloth_m (--csf-cloth-m)", o.cloth_m, "[0.01, 1000] metres");
+    if (o.rigidness < 1 || o.rigidness > 3) fail("csf rigidness (--csf-rigidness)", o.rigidness, "1, 2 or 3");
+    if (!(std::isfinite(o.threshold_m) && o.threshold_m >= 0.0 && o.threshold_m <= 1000.0))
+        fail("csf threshold_m (--csf-threshold-m)", o.threshold_m, "[0, 1000] metres");
+    if (!(std::isfinite(o.time_step) && o.time_step > 0.0 && o.time_step <= 10.0))
+        fail("csf time_step (--csf-time-step)", o.time_step, "(0, 10]");
+    if (o.iterations < 1 || o.iterations > 100000)
+        fail("csf iterations (--csf-iterations)", o.iterations, "[1, 100000]");
+    if (o.max_cells < 1) fail("csf max_cells", double(o.max_cells), ">= 1");
+}
+
+std::unique_ptr<GroundFilter> makeCsfFilter(const CsfOptions& o) { return std::make_unique<CsfFilter>(o); }
+std::unique_ptr<TerrainFit> startCsf(const CsfOptions& o) { return std::make_unique<CsfFit>(o); }
+
+std::vector<std::uint8_t> findGroundCsf(std::span<const glm::vec3> points, const CsfOptions& o, TerrainGrid* surface,
+                                        std::vector<float>* height_m) {
+    CsfFit fit(o);
+    return classifyInMemory(fit, points, surface, height_m);
+}
+
+}  // namespace sim

@@ -1,0 +1,210 @@
+// sim/src/ground_raster.cpp: see ground_raster.hpp.
+#include "ground_raster.hpp"
+
+#include <engine/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace sim {
+namespace {
+constexpr int kTileBits = 6, kTile = 1 << kTileBits;  // cells of a sparse tile: 64 x 64
+}  // namespace
+
+void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny) {
+    const std::size_t n = z.size();
+    std::vector<int> ring(n, -1);  // ring of each cell: 0 known, k filled in the k-th ring
+    std::vector<std::size_t> layer, next_layer, holes;
+    for (std::size_t c = 0; c < n; ++c)
+        if (known[c]) ring[c] = 0;
+    if (std::find(known.begin(), known.end(), 1) == known.end()) return;
+    const auto neighbours = [&](std::size_t c, auto&& visit) {
+        const int i = int(c % std::size_t(nx)), j = int(c / std::size_t(nx));
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+                if ((di == 0 && dj == 0) || i + di < 0 || i + di >= nx || j + dj < 0 || j + dj >= ny) continue;
+                visit(std::size_t(j + dj) * std::size_t(nx) + std::size_t(i + di));
+            }
+    };
+    for (std::size_t c = 0; c < n; ++c) {
+        if (ring[c] >= 0) continue;
+        bool next_to_known = false;
+        neighbours(c, [&](std::size_t d) { next_to_known |= ring[d] == 0; });
+        if (next_to_known) {
+            ring[c] = 1;
+            layer.push_back(c);
+        }
+    }
+    for (int k = 1; !layer.empty(); ++k) {
+        for (const std::size_t c : layer) {
+            double sum = 0;
+            int count = 0;
+            neighbours(c, [&](std::size_t d) {
+                if (ring[d] >= 0 && ring[d] < k) {
+                    sum += z[d];
+                    ++count;
+                }
+            });
+            z[c] = float(sum / count);
+            holes.push_back(c);
+        }
+        next_layer.clear();
+        for (const std::size_t c : layer)
+            neighbours(c, [&](std::size_t d) {
+                if (ring[d] < 0) {
+                    ring[d] = k + 1;
+                    next_layer.push_back(d);
+                }
+            });
+        std::sort(next_layer.begin(), next_layer.end());
+        layer.swap(next_layer);
+    }
+    std::sort(holes.begin(), holes.end());
+    // Successive over-relaxation (factor kOmega) settles in far fewer sweeps than plain
+    // Gauss-Seidel; the sweep order is fixed, so the result is too.
+    constexpr int kMaxSweeps = 100;
+    constexpr double kSettled_m = 1e-3, kOmega = 1.8;
+    for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+        double change = 0;
+        for (const std::size_t c : holes) {
+            const int i = int(c % std::size_t(nx)), j = int(c / std::size_t(nx));
+            double sum = 0;
+            int count = 0;
+            const auto take = [&](bool inside, std::size_t d) {
+                if (!inside) return;
+                sum += z[d];
+                ++count;
+            };
+            take(i > 0, c - 1);
+            take(i + 1 < nx, c + 1);
+            take(j > 0, c - std::size_t(nx));
+            take(j + 1 < ny, c + std::size_t(nx));
+            if (count == 0) continue;
+            const float v = float(z[c] + kOmega * (sum / count - z[c]));
+            change = std::max(change, double(std::abs(v - z[c])));
+            z[c] = v;
+        }
+        if (change < kSettled_m) break;
+    }
+}
+
+RasterFit::RasterFit(double cell_m, std::size_t max_cells, const char* cell_option)
+    : cell_m_(cell_m), inv_cell_(1.0 / cell_m), max_cells_(max_cells), cell_option_(cell_option) {}
+
+void RasterFit::add(std::span<const engine::CloudPoint> points) {
+    for (const engine::CloudPoint& p : points) {
+        const double fx = std::floor(double(p.position.x) * inv_cell_);
+        const double fy = std::floor(double(p.position.y) * inv_cell_);
+        if (!(std::abs(fx) < 1e9 && std::abs(fy) < 1e9) || !std::isfinite(p.position.z)) continue;
+        const int ix = int(fx), iy = int(fy);
+        float* tile = tileFor(ix >> kTileBits, iy >> kTileBits);
+        float& cell = tile[((iy & (kTile - 1)) << kTileBits) | (ix & (kTile - 1))];
+        cell = std::min(cell, p.position.z);
+        ix_min_ = std::min(ix_min_, ix);
+        ix_max_ = std::max(ix_max_, ix);
+        iy_min_ = std::min(iy_min_, iy);
+        iy_max_ = std::max(iy_max_, iy);
+    }
+}
+
+void RasterFit::fit() {
+    grid_ = TerrainGrid{};
+    grid_.cell_m = cell_m_;
+    if (ix_max_ < ix_min_) return;
+    const std::uint64_t nx = std::uint64_t(ix_max_ - ix_min_) + 1, ny = std::uint64_t(iy_max_ - iy_min_) + 1;
+    if (nx * ny > max_cells_) {
+        std::ostringstream s;
+        s << "ground: " << cell_option_ << " = " << cell_m_ << ": the cloud spans " << double(nx) * cell_m_
+          << " x " << double(ny) * cell_m_ << " m, " << nx * ny << " cells; allowed at most " << max_cells_
+          << " cells (raise it)";
+        throw engine::Error(s.str());
+    }
+    const int w = int(nx), h = int(ny);
+    grid_.nx = w;
+    grid_.ny = h;
+    grid_.x0_m = (double(ix_min_) + 0.5) * cell_m_;
+    grid_.y0_m = (double(iy_min_) + 0.5) * cell_m_;
+    // 1) the minimum surface.
+    std::vector<float> minimum(std::size_t(w) * std::size_t(h), kNoPoint);
+    for (const auto& [key, index] : tiles_) {
+        const int tx = int(std::int32_t(std::uint32_t(key >> 32))), ty = int(std::int32_t(std::uint32_t(key)));
+        const float* tile = tile_data_.data() + std::size_t(index) * kTile * kTile;
+        for (int b = 0; b < kTile; ++b)
+            for (int a = 0; a < kTile; ++a) {
+                const float v = tile[(b << kTileBits) | a];
+                if (v == kNoPoint) continue;
+                const int i = (tx << kTileBits) + a - ix_min_, j = (ty << kTileBits) + b - iy_min_;
+                minimum[std::size_t(j) * std::size_t(w) + std::size_t(i)] = v;
+            }
+    }
+    std::vector<std::uint8_t> observed(minimum.size());
+    for (std::size_t c = 0; c < minimum.size(); ++c) observed[c] = minimum[c] != kNoPoint;
+    grid_.observed_cells = std::size_t(std::count(observed.begin(), observed.end(), 1));
+fitTerrain(minimum, observed);
+}
+
+bool RasterFit::classify(const glm::vec3& p, float& height_m) const {
+    if (grid_.empty()) {
+        height_m = 0.0f;
+        return false;
+    }
+    // TerrainGrid::heightAt, inline: bilinear between cell centres, clamped at the edges.
+    const int nx = grid_.nx, ny = grid_.ny;
+    const double fx = std::clamp((double(p.x) - grid_.x0_m) * inv_cell_, 0.0, double(nx - 1));
+    const double fy = std::clamp((double(p.y) - grid_.y0_m) * inv_cell_, 0.0, double(ny - 1));
+    const int i0 = std::min(int(fx), std::max(nx - 2, 0)), j0 = std::min(int(fy), std::max(ny - 2, 0));
+    const int i1 = std::min(i0 + 1, nx - 1), j1 = std::min(j0 + 1, ny - 1);
+    const double tx = fx - i0, ty = fy - j0;
+    const float* z = grid_.z_m.data();
+    const std::size_t r0 = std::size_t(j0) * std::size_t(nx), r1 = std::size_t(j1) * std::size_t(nx);
+    const double low = (1 - tx) * z[r0 + i0] + tx * z[r0 + i1];
+    const double high = (1 - tx) * z[r1 + i0] + tx * z[r1 + i1];
+    const double dz = double(p.z) - ((1 - ty) * low + ty * high);
+    height_m = float(dz);
+    // The threshold of the nearest cell.
+    const std::size_t nearest = std::size_t(tx < 0.5 ? i0 : i1) + (ty < 0.5 ? r0 : r1);
+    return std::abs(dz) <= double(limit_m_[nearest]);
+}
+
+float* RasterFit::tileFor(int tx, int ty) {
+    const std::uint64_t key = (std::uint64_t(std::uint32_t(tx)) << 32) | std::uint32_t(ty);
+    if (key == last_key_ && last_tile_ != nullptr) return last_tile_;
+    auto [it, added] = tiles_.try_emplace(key, std::uint32_t(tiles_.size()));
+    if (added) {
+        if (std::uint64_t(tiles_.size()) * kTile * kTile > 4 * std::uint64_t(max_cells_) + kTile * kTile) {
+            std::ostringstream s;
+            s << "ground: " << cell_option_ << " = " << cell_m_ << ": the cloud covers more than "
+              << max_cells_ << " cells (raise it)";
+            throw engine::Error(s.str());
+        }
+        tile_data_.resize(tile_data_.size() + kTile * kTile, kNoPoint);
+    }
+    last_key_ = key;
+    last_tile_ = tile_data_.data() + std::size_t(it->second) * kTile * kTile;
+    return last_tile_;
+}
+
+std::vector<std::uint8_t> classifyInMemory(TerrainFit& fit, std::span<const glm::vec3> points, TerrainGrid* surface,
+                                           std::vector<float>* height_m) {
+    std::vector<engine::CloudPoint> chunk;
+    constexpr std::size_t kChunk = 1 << 16;
+    for (std::size_t i = 0; i < points.size(); i += kChunk) {
+        const std::size_t n = std::min(kChunk, points.size() - i);
+        chunk.assign(n, engine::CloudPoint{});
+        for (std::size_t k = 0; k < n; ++k) chunk[k].position = points[i + k];
+        fit.add(chunk);
+    }
+    fit.fit();
+    std::vector<std::uint8_t> ground(points.size());
+    if (height_m) height_m->resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        float h = 0;
+        ground[i] = fit.classify(points[i], h);
+        if (height_m) (*height_m)[i] = h;
+    }
+    if (surface) *surface = fit.surface();
+    return ground;
+}
+
+}  // namespace sim
