@@ -53,8 +53,8 @@ std::uint64_t planBytes(const MemoryNeeds& n, std::size_t batch_views, std::size
     const std::uint64_t ransac = n.white ? 0 : std::uint64_t(std::min<std::size_t>(std::size_t(threads), batch_views)) *
                                                    n.view_hits * kRansacBytesPerHit;
     return n.fixed_bytes + kWriterBytes + band_pixels * kDirBytes +
-           std::uint64_t(batch_views) * (band_pixels + view_hits) * kPointBytes + ransac +
-           std::uint64_t(threads) * kThreadBytes;
+           std::uint64_t(batch_views) * (band_pixels * n.slots_per_pixel + view_hits) * kPointBytes + ransac +
+           std::uint64_t(threads) * (kThreadBytes + n.thread_scratch_bytes);
 }
 
 MemoryPlan planMemory(const MemoryNeeds& n) {

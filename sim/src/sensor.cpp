@@ -1,0 +1,251 @@
+// sim/src/sensor.cpp: the seam between the generator and the ray caster (see
+// sim/sensor.hpp). The ideal sensor traces one ray per pixel and keeps its first hit, as
+// paper §III-B does; every other model goes through one path that makes a beam's
+// sub-rays, traces them as 16-ray packets, and turns the echoes into returns with the
+// models of sensor_*.cpp. Embree itself is only called inside RayCaster.
+#include <sim/sensor.hpp>
+
+#include "sensor_models.hpp"
+
+#include <engine/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+namespace sim {
+namespace {
+
+constexpr double kSpeedOfLight_m_per_s = 299792458.0;
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+constexpr int kMaxReturns = 15;           // LAS 1.4 point formats 6-10 hold return numbers 1..15
+constexpr std::size_t kChunkRays = 1024;  // rays traced per call into the RayCaster
+
+bool footprintOn(const SensorOptions& o) { return o.beam_divergence_mrad > 0.0; }
+bool intensityOn(const SensorOptions& o) {
+    return o.intensity || o.min_intensity > 0.0 || footprintOn(o) || o.returns == ReturnMode::Strongest;
+}
+
+void checkRange(double v, double lo, double hi, const char* parameter, const char* option, const char* unit) {
+    if (!(std::isfinite(v) && v >= lo && v <= hi))
+        throw engine::Error(std::string("sensor: ") + parameter + " (" + option + ") = " + engine::shownNumber(v) +
+                            ": allowed [" + engine::shownNumber(lo) + ", " + engine::shownNumber(hi) + "]" + unit);
+}
+
+// Per-thread buffers of one trace call (reused across calls).
+struct Scratch {
+    std::vector<Ray> rays;
+    std::vector<Hit> hits;
+    std::vector<glm::dvec3> dirs;  // sensor frame, per ray
+    std::vector<sensor_model::Echo> echoes;
+};
+thread_local Scratch t_scratch;
+
+}  // namespace
+
+std::string_view returnModeName(ReturnMode m) {
+    switch (m) {
+        case ReturnMode::First: return "first";
+        case ReturnMode::Last: return "last";
+        case ReturnMode::Strongest: return "strongest";
+        case ReturnMode::All: return "all";
+    }
+    return "first";
+}
+
+ReturnMode parseReturnMode(std::string_view text, std::string_view parameter) {
+    for (ReturnMode m : {ReturnMode::First, ReturnMode::Last, ReturnMode::Strongest, ReturnMode::All})
+        if (text == returnModeName(m)) return m;
+    throw engine::Error(std::string(parameter) + ": '" + std::string(text.substr(0, 40)) +
+                        "' is not one of first, last, strongest, all");
+}
+
+void validate(const SensorOptions& o) {
+    checkRange(o.range_noise_m, 0.0, 100.0, "range_noise_m", "--range-noise-m", " metres");
+    checkRange(o.pose_noise_m, 0.0, 100.0, "pose_noise_m", "--pose-noise-m", " metres");
+    checkRange(o.attitude_noise_deg, 0.0, 10.0, "attitude_noise_deg", "--attitude-noise-deg", " degrees");
+    checkRange(o.pose_bias_m, 0.0, 100.0, "pose_bias_m", "--pose-bias-m", " metres");
+    checkRange(o.attitude_bias_deg, 0.0, 10.0, "attitude_bias_deg", "--attitude-bias-deg", " degrees");
+    checkRange(o.max_range_m, 0.0, 1e7, "max_range_m", "--max-range-m", " metres, 0 = no limit");
+    checkRange(o.intensity_reference_range_m, 1e-3, 1e7, "intensity_reference_range_m",
+               "--intensity-reference-range-m", " metres");
+    checkRange(o.min_intensity, 0.0, 65535.0, "min_intensity", "--min-intensity", " (LAS intensity counts)");
+    checkRange(o.beam_divergence_mrad, 0.0, 100.0, "beam_divergence_mrad", "--beam-divergence-mrad",
+               " mrad, 0 = a thin beam");
+    checkRange(o.beam_divergence_y_mrad, 0.0, 100.0, "beam_divergence_y_mrad", "--beam-divergence-y-mrad",
+               " mrad, 0 = circular");
+    if (o.footprint_quality < 1 || o.footprint_quality > 5)
+        throw engine::Error("sensor: footprint_quality (--footprint-quality) = " +
+                            std::to_string(o.footprint_quality) + ": allowed [1, 5]");
+    if (o.max_returns < 1 || o.max_returns > kMaxReturns)
+        throw engine::Error("sensor: max_returns (--max-returns) = " + std::to_string(o.max_returns) +
+                            ": allowed [1, " + std::to_string(kMaxReturns) + "]");
+    checkRange(o.pulse_ns, 0.01, 1000.0, "pulse_ns", "--pulse-ns", " ns");
+    checkRange(o.range_resolution_m, 0.0, 1000.0, "range_resolution_m", "--range-resolution-m",
+               " metres, 0 = c * pulse / 2");
+}
+
+bool isIdeal(const SensorOptions& o) {
+    return o.range_noise_m == 0.0 && o.pose_noise_m == 0.0 && o.attitude_noise_deg == 0.0 && o.pose_bias_m == 0.0 &&
+           o.attitude_bias_deg == 0.0 && o.max_range_m == 0.0 && !intensityOn(o) && !footprintOn(o) &&
+           o.returns == ReturnMode::First;
+}
+
+struct Sensor::State {
+    SensorOptions o;
+    std::uint64_t seed = 1;
+    bool ideal = true;
+    bool intensity = false;
+    std::vector<SubRay> pattern;
+    std::vector<double> reflectance;  // per mesh
+    double resolution_m = 0.0;
+    double min_power = 0.0;
+    std::size_t slots = 1;
+    float t_far = std::numeric_limits<float>::infinity();
+};
+
+Sensor::Sensor(const SensorOptions& o, const engine::Scene& scene, std::uint64_t seed)
+    : state_(std::make_unique<State>()) {
+    validate(o);
+    State& s = *state_;
+    s.o = o;
+    s.seed = seed;
+    s.ideal = isIdeal(o);
+    s.intensity = intensityOn(o);
+    s.pattern = footprintPattern(o);
+    for (const engine::Mesh& m : scene.meshes) s.reflectance.push_back(m.reflectance);
+    s.resolution_m = o.range_resolution_m > 0.0 ? o.range_resolution_m : 0.5 * kSpeedOfLight_m_per_s * o.pulse_ns * 1e-9;
+    s.min_power = o.min_intensity / 65535.0;
+    s.slots = o.returns == ReturnMode::All && footprintOn(o) ? std::size_t(o.max_returns) : 1;
+    if (o.max_range_m > 0.0) s.t_far = float(o.max_range_m);
+}
+
+Sensor::~Sensor() = default;
+
+const SensorOptions& Sensor::options() const { return state_->o; }
+bool Sensor::ideal() const { return state_->ideal; }
+std::size_t Sensor::slotsPerPixel() const { return state_->slots; }
+std::size_t Sensor::raysPerPixel() const { return state_->pattern.size(); }
+
+std::size_t Sensor::scratchBytes() const {
+    const std::size_t per = state_->pattern.size();
+    const std::size_t rays = per == 1 ? kChunkRays : std::max<std::size_t>(1, kChunkRays / per) * per;
+    return rays * (sizeof(Ray) + sizeof(Hit) + sizeof(glm::dvec3) + sizeof(sensor_model::Echo));
+}
+
+engine::CloudFields Sensor::fields() const {
+    const State& s = *state_;
+    engine::CloudFields f;
+    if (s.ideal) return f;
+    f.incidence = true;
+    f.scan_angle = true;
+    f.intensity = s.intensity;
+    f.returns = footprintOn(s.o) || s.o.returns != ReturnMode::First;
+    return f;
+}
+
+SensorView Sensor::view(int index, const engine::Pose& nominal) const {
+    return SensorView{index, nominal, sensor_model::actualPose(state_->o, state_->seed, index, nominal)};
+}
+
+void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t first_pixel,
+                   std::span<const glm::dvec3> dirs, std::span<engine::CloudPoint> slots, bool packets) const {
+    const State& s = *state_;
+    const std::size_t per = s.pattern.size();
+    const glm::vec3 origin(v.actual.translation);
+    Scratch& sc = t_scratch;
+    // Chunks of whole pixels; with one ray per pixel a multiple of 16, so that packets start
+    // at the same pixels however the caller splits its runs into chunks.
+    const std::size_t chunk_pixels = per == 1 ? kChunkRays : std::max<std::size_t>(1, kChunkRays / per);
+    sc.rays.resize(chunk_pixels * per);
+    sc.hits.resize(chunk_pixels * per);
+    for (std::size_t c0 = 0; c0 < dirs.size(); c0 += chunk_pixels) {
+        const std::size_t pixels = std::min(chunk_pixels, dirs.size() - c0);
+        const std::span<Ray> rays(sc.rays.data(), pixels * per);
+        const std::span<Hit> hits(sc.hits.data(), pixels * per);
+
+        if (s.ideal) {
+            // Paper §III-B: one ray per pixel centre from the pose, its first hit.
+            for (std::size_t i = 0; i < pixels; ++i)
+                rays[i] = Ray{origin, glm::vec3(v.actual.rotation * dirs[c0 + i]), s.t_far};
+            if (packets) caster.intersect16(rays, hits);
+            else caster.intersect(rays, hits);
+            const glm::dvec3 origin_d(origin);
+            for (std::size_t i = 0; i < pixels; ++i) {
+                engine::CloudPoint& cp = slots[c0 + i];
+                const Hit& h = hits[i];
+                if (!h.hit()) {
+                    cp.range_m = kNoReturn;
+                    continue;
+                }
+                cp.position = glm::vec3(origin_d + double(h.t) * glm::dvec3(rays[i].direction));
+                cp.range_m = h.t;
+                cp.view = std::uint16_t(v.view);
+                cp.label = h.role;
+                cp.rgb = 0;
+            }
+            continue;
+        }
+
+        // Every other model: the beam's sub-rays from the pose actually flown ...
+        sc.dirs.resize(pixels * per);
+        for (std::size_t i = 0; i < pixels; ++i)
+            for (std::size_t k = 0; k < per; ++k) {
+                const glm::dvec3 d = subRayDirection(dirs[c0 + i], s.pattern[k]);
+                sc.dirs[i * per + k] = d;
+                rays[i * per + k] = Ray{origin, glm::vec3(v.actual.rotation * d), s.t_far};
+            }
+        if (packets) caster.intersect16(rays, hits);
+        else caster.intersect(rays, hits);
+        // ... and the returns placed with the pose the drone believes it flew.
+        const glm::dvec3 origin_n(glm::vec3(v.nominal.translation));
+        sensor_model::Return out[kMaxReturns];
+        for (std::size_t i = 0; i < pixels; ++i) {
+            sc.echoes.clear();
+            for (std::size_t k = 0; k < per; ++k) {
+                const Hit& h = hits[i * per + k];
+                if (!h.hit()) continue;
+                double power = s.pattern[k].weight;
+                if (s.intensity)
+                    power *= sensor_model::echoPower(
+                        s.reflectance[std::size_t(h.mesh)],
+                        sensor_model::cosIncidence(glm::dvec3(rays[i * per + k].direction), glm::dvec3(h.normal)),
+                        double(h.t), s.o.intensity_reference_range_m);
+                sc.echoes.push_back(sensor_model::Echo{h.t, power, std::uint32_t(k)});
+            }
+            int detected = 0, first_rank = 1;
+            const std::size_t n = sensor_model::formReturns(sc.echoes, s.resolution_m, s.min_power, s.o.returns,
+                                                            s.o.max_returns, std::span(out, s.slots), &detected,
+                                                            &first_rank);
+            engine::CloudPoint* px = &slots[(c0 + i) * s.slots];
+            const std::uint64_t pixel = first_pixel + c0 + i;
+            for (std::size_t r = 0; r < n; ++r) {
+                const sensor_model::Echo& e = sc.echoes[out[r].strongest];
+                const std::size_t ray = i * per + e.sub;
+                const Hit& h = hits[ray];
+                const glm::dvec3& d = sc.dirs[ray];
+                const int rank = std::min(kMaxReturns, first_rank + int(r));
+                const double t = std::max(0.0, double(e.t) + sensor_model::rangeError_m(s.o, s.seed, v.view, pixel, rank));
+                const glm::dvec3 dir_n(glm::vec3(v.nominal.rotation * d));
+                engine::CloudPoint& cp = px[r];
+                cp.position = glm::vec3(origin_n + t * dir_n);
+                cp.range_m = float(t);
+                cp.view = std::uint16_t(v.view);
+                cp.label = h.role;
+                cp.rgb = 0;
+                cp.intensity = s.intensity ? sensor_model::intensityCounts(out[r].power) : 0;
+                cp.incidence_deg = float(
+                    std::acos(sensor_model::cosIncidence(glm::dvec3(rays[ray].direction), glm::dvec3(h.normal))) *
+                    kRadToDeg);
+                cp.scan_angle_deg = float(std::copysign(std::acos(std::clamp(d.z, -1.0, 1.0)) * kRadToDeg, d.x));
+                cp.return_number = std::uint8_t(rank);
+                cp.returns = std::uint8_t(std::clamp(detected, rank, kMaxReturns));
+            }
+            for (std::size_t r = n; r < s.slots; ++r) px[r].range_m = kNoReturn;
+        }
+    }
+}
+
+}  // namespace sim
