@@ -347,7 +347,10 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
             }
             st.seconds.fuse += secondsSince(t0);
         }
-        for (std::size_t k = 0; k < count; ++k) st.rays_traced += traced_count[first + k] * sensor->raysPerPixel();
+        for (std::size_t k = 0; k < count; ++k) {
+            st.rays_traced += traced_count[first + k];
+            st.sub_rays_traced += traced_count[first + k] * sensor->raysPerPixel();
+        }
 
         if (!options.white) {
             const auto t0 = Clock::now();

@@ -75,7 +75,8 @@ struct GenerateStats {
     std::size_t tile_rows = 0;              // rows of a view traced per pass (yres: untiled)
     std::uint64_t memory_planned_bytes = 0; // the fusion's buffers as planned (<= the budget)
     std::uint64_t rays = 0, points = 0, misses = 0;
-    std::uint64_t rays_traced = 0;          // rays actually cast: traced pixels x the beam's sub-rays
+    std::uint64_t rays_traced = 0;          // pixels whose rays were cast (rays minus skipped pixels)
+    std::uint64_t sub_rays_traced = 0;      // rays cast counting a beam footprint's sub-rays
     std::uint64_t ground_found = 0;         // whitened by RANSAC (PG over all views)
     std::uint64_t ground_truth = 0;         // points whose mesh has role ground
     std::uint64_t ground_true_positive = 0; // both
