@@ -66,6 +66,12 @@ void addSensorOptions(CLI::App& cmd, sim::SensorOptions& out) {
         "the same down the image for an elliptical footprint, [0, 100] mrad, 0 = circular");
     add("--footprint-quality", &sim::SensorOptions::footprint_quality,
         "q: footprint sampled by 1 + sum_{k<q} int(2 pi k) sub-rays (q = 3: 19), [1, 5]");
+    CLI::Option* exact = cmd.add_flag("--footprint-exact", g.footprint_exact,
+                                      "trace every sub-ray of every beam, also of beams whose neighbourhood "
+                                      "lies on one plane");
+    cli->apply.push_back([exact, c = cli.get()](sim::SensorOptions& o) {
+        if (exact->count() > 0) o.footprint_exact = c->given.footprint_exact;
+    });
     cmd.add_option("--returns", cli->returns, "returns kept per pulse: first (default), last, strongest, all");
     add("--max-returns", &sim::SensorOptions::max_returns, "returns per pulse at most with --returns all, [1, 15]");
     add("--pulse-ns", &sim::SensorOptions::pulse_ns, "pulse width, [0.01, 1000] ns (range resolution c*pulse/2)");

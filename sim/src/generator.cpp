@@ -406,7 +406,7 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     validatePlacement(s.options.orbit, s.centre_local);
     const OrbitOptions& orbit = s.options.orbit;
     for (int v = 0; v < orbit.views; ++v) s.poses.push_back(sensorPose(orbit, s.centre_local, v));
-    s.sensor = std::make_unique<Sensor>(s.options.sensor, scene, s.options.seed);
+    s.sensor = std::make_unique<Sensor>(s.options.sensor, orbit, scene, s.options.seed);
     s.slots_per_pixel = s.sensor->slotsPerPixel();
     for (int v = 0; v < orbit.views; ++v) s.sensor_views.push_back(s.sensor->view(v, s.poses[std::size_t(v)]));
     // Rays leave from the pose actually flown, and a beam's sub-rays spread up to half its

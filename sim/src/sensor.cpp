@@ -40,6 +40,9 @@ struct Scratch {
     std::vector<Hit> hits;
     std::vector<glm::dvec3> dirs;  // sensor frame, per ray
     std::vector<sensor_model::Echo> echoes;
+    std::vector<Ray> nb_rays, todo_rays;   // neighbourhood axes; sub-rays of non-planar beams
+    std::vector<Hit> nb_hits, todo_hits;
+    std::vector<std::uint8_t> nb_valid, planar;
 };
 thread_local Scratch t_scratch;
 
@@ -95,10 +98,12 @@ bool isIdeal(const SensorOptions& o) {
 
 struct Sensor::State {
     SensorOptions o;
+    OrbitOptions orbit;
     std::uint64_t seed = 1;
     bool ideal = true;
     bool intensity = false;
     std::vector<SubRay> pattern;
+    std::vector<glm::dvec2> tans;     // per sub-ray, tan of its offsets
     std::vector<double> reflectance;  // per mesh
     double resolution_m = 0.0;
     double min_power = 0.0;
@@ -106,15 +111,17 @@ struct Sensor::State {
     float t_far = std::numeric_limits<float>::infinity();
 };
 
-Sensor::Sensor(const SensorOptions& o, const engine::Scene& scene, std::uint64_t seed)
+Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::Scene& scene, std::uint64_t seed)
     : state_(std::make_unique<State>()) {
     validate(o);
     State& s = *state_;
     s.o = o;
+    s.orbit = orbit;
     s.seed = seed;
     s.ideal = isIdeal(o);
     s.intensity = intensityOn(o);
     s.pattern = footprintPattern(o);
+    for (const SubRay& r : s.pattern) s.tans.emplace_back(std::tan(r.dx_rad), std::tan(r.dy_rad));
     for (const engine::Mesh& m : scene.meshes) s.reflectance.push_back(m.reflectance);
     s.resolution_m = o.range_resolution_m > 0.0 ? o.range_resolution_m : 0.5 * kSpeedOfLight_m_per_s * o.pulse_ns * 1e-9;
     s.min_power = o.min_intensity / 65535.0;
@@ -123,6 +130,66 @@ Sensor::Sensor(const SensorOptions& o, const engine::Scene& scene, std::uint64_t
 }
 
 Sensor::~Sensor() = default;
+
+namespace {
+
+// For the beams of `dirs` (consecutive pixels of one row from `first_pixel`): traces the
+// axes of their 3x3 neighbourhoods (the row and those above and below, one pixel past each
+// end) and sets sc.planar[i] where all nine hit one mesh within 1 mm + 1e-5 x range of
+// the plane of the centre's triangle. A beam's footprint lies within its pixel's cell, which the
+// neighbours' axes enclose, so such a beam sees that plane alone (a feature narrower than the
+// pixel spacing between the axes can be missed: footprint_exact traces every sub-ray).
+// Planar beams get their axis ray and hit at rays/hits[i * per].
+void markPlanar(const Sensor::State& s, const RayCaster& caster, const SensorView& v, std::uint64_t first_pixel,
+                std::span<const glm::dvec3> dirs, bool packets, std::span<Ray> rays, std::span<Hit> hits,
+                Scratch& sc) {
+    const std::size_t per = s.pattern.size();
+    const std::int64_t xres = s.orbit.xres, yres = s.orbit.yres;
+    const std::int64_t y = std::int64_t(first_pixel) / xres, x0 = std::int64_t(first_pixel) % xres;
+    const std::size_t n = dirs.size(), w = n + 2;
+    const glm::vec3 origin(v.actual.translation);
+    sc.nb_rays.resize(3 * w);
+    sc.nb_hits.resize(3 * w);
+    sc.nb_valid.assign(3 * w, 0);
+    for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t c = 0; c < w; ++c) {
+            const std::int64_t row = y - 1 + std::int64_t(r), col = x0 - 1 + std::int64_t(c);
+            const bool valid = row >= 0 && row < yres && col >= 0 && col < xres;
+            const glm::dvec3 d = r == 1 && c >= 1 && c <= n ? dirs[c - 1]
+                                 : valid ? pixelDirection(s.orbit, double(col), double(row))
+                                         : glm::dvec3(0.0, 0.0, 1.0);
+            sc.nb_valid[r * w + c] = valid;
+            sc.nb_rays[r * w + c] = Ray{origin, glm::vec3(v.actual.rotation * d), s.t_far};
+        }
+    if (packets) caster.intersect16(sc.nb_rays, sc.nb_hits);
+    else caster.intersect(sc.nb_rays, sc.nb_hits);
+    const glm::dvec3 o(origin);
+    const auto point = [&](std::size_t k) {
+        return o + double(sc.nb_hits[k].t) * glm::dvec3(sc.nb_rays[k].direction);
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t centre = w + i + 1;
+        const Hit& hc = sc.nb_hits[centre];
+        if (!hc.hit() || !(glm::length(hc.normal) > 0.0f)) continue;
+        const glm::dvec3 normal = glm::normalize(glm::dvec3(hc.normal));
+        const glm::dvec3 pc = point(centre);
+        const double tolerance_m = 1e-3 + 1e-5 * double(hc.t);
+        bool planar = true;
+        for (std::size_t r = 0; r < 3 && planar; ++r)
+            for (std::size_t c = i; c < i + 3 && planar; ++c) {
+                const std::size_t k = r * w + c;
+                const Hit& h = sc.nb_hits[k];
+                planar = sc.nb_valid[k] && h.hit() && h.mesh == hc.mesh &&
+                         std::abs(glm::dot(normal, point(k) - pc)) <= tolerance_m;
+            }
+        if (!planar) continue;
+        sc.planar[i] = 1;
+        rays[i * per] = sc.nb_rays[centre];
+        hits[i * per] = hc;
+    }
+}
+
+}  // namespace
 
 const SensorOptions& Sensor::options() const { return state_->o; }
 bool Sensor::ideal() const { return state_->ideal; }
@@ -191,23 +258,46 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
 
         // Every other model: the beam's sub-rays from the pose actually flown ...
         sc.dirs.resize(pixels * per);
-        for (std::size_t i = 0; i < pixels; ++i)
+        const bool adaptive = per > 1 && !s.o.footprint_exact;
+        sc.planar.assign(pixels, 0);
+        if (adaptive) markPlanar(s, caster, v, first_pixel + c0, dirs.subspan(c0, pixels), packets, rays, hits, sc);
+        sc.todo_rays.clear();
+        for (std::size_t i = 0; i < pixels; ++i) {
+            if (sc.planar[i]) {
+                sc.dirs[i * per] = dirs[c0 + i];
+                continue;
+            }
+            const BeamFrame frame = per == 1 ? BeamFrame{dirs[c0 + i], {}, {}} : beamFrame(dirs[c0 + i]);
             for (std::size_t k = 0; k < per; ++k) {
-                const glm::dvec3 d = subRayDirection(dirs[c0 + i], s.pattern[k]);
+                const glm::dvec3 d = subRayDirection(frame, s.tans[k].x, s.tans[k].y);
                 sc.dirs[i * per + k] = d;
                 rays[i * per + k] = Ray{origin, glm::vec3(v.actual.rotation * d), s.t_far};
+                if (adaptive) sc.todo_rays.push_back(rays[i * per + k]);
             }
-        if (packets) caster.intersect16(rays, hits);
-        else caster.intersect(rays, hits);
+        }
+        if (!adaptive) {
+            if (packets) caster.intersect16(rays, hits);
+            else caster.intersect(rays, hits);
+        } else {
+            // Only the beams that are not on one plane, their sub-rays one after the other.
+            sc.todo_hits.resize(sc.todo_rays.size());
+            if (packets) caster.intersect16(sc.todo_rays, sc.todo_hits);
+            else caster.intersect(sc.todo_rays, sc.todo_hits);
+            std::size_t next = 0;
+            for (std::size_t i = 0; i < pixels; ++i)
+                if (!sc.planar[i])
+                    for (std::size_t k = 0; k < per; ++k) hits[i * per + k] = sc.todo_hits[next++];
+        }
         // ... and the returns placed with the pose the drone believes it flew.
         const glm::dvec3 origin_n(glm::vec3(v.nominal.translation));
         sensor_model::Return out[kMaxReturns];
         for (std::size_t i = 0; i < pixels; ++i) {
             sc.echoes.clear();
-            for (std::size_t k = 0; k < per; ++k) {
+            const std::size_t used = sc.planar[i] ? 1 : per;  // a planar beam: its axis, all its power
+            for (std::size_t k = 0; k < used; ++k) {
                 const Hit& h = hits[i * per + k];
                 if (!h.hit()) continue;
-                double power = s.pattern[k].weight;
+                double power = sc.planar[i] ? 1.0 : s.pattern[k].weight;
                 if (s.intensity)
                     power *= sensor_model::echoPower(
                         s.reflectance[std::size_t(h.mesh)],

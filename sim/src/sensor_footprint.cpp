@@ -33,15 +33,25 @@ std::vector<SubRay> footprintPattern(const SensorOptions& o) {
     return rays;
 }
 
-glm::dvec3 subRayDirection(const glm::dvec3& axis, const SubRay& s) {
-    if (s.dx_rad == 0.0 && s.dy_rad == 0.0) return axis;
+BeamFrame beamFrame(const glm::dvec3& axis) {
     // Across: perpendicular to the axis in the plane of the axis and the image's x axis;
     // down: completes the frame (the image's y axis for the boresight).
+    BeamFrame f;
+    f.axis = axis;
     glm::dvec3 across = glm::dvec3(1.0, 0.0, 0.0) - axis * axis.x;
     const double len = glm::length(across);
-    across = len > 1e-12 ? across / len : glm::dvec3(0.0, 1.0, 0.0);
-    const glm::dvec3 down = glm::cross(axis, across);
-    return glm::normalize(axis + std::tan(s.dx_rad) * across + std::tan(s.dy_rad) * down);
+    f.across = len > 1e-12 ? across / len : glm::dvec3(0.0, 1.0, 0.0);
+    f.down = glm::cross(axis, f.across);
+    return f;
+}
+
+glm::dvec3 subRayDirection(const BeamFrame& f, double tan_dx, double tan_dy) {
+    if (tan_dx == 0.0 && tan_dy == 0.0) return f.axis;
+    return glm::normalize(f.axis + tan_dx * f.across + tan_dy * f.down);
+}
+
+glm::dvec3 subRayDirection(const glm::dvec3& axis, const SubRay& s) {
+    return subRayDirection(beamFrame(axis), std::tan(s.dx_rad), std::tan(s.dy_rad));
 }
 
 }  // namespace sim

@@ -171,3 +171,30 @@ TEST_CASE("sensor: the strongest return is the surface that fills more of the fo
     CHECK(checked > 0);
     CHECK(wrong == 0);
 }
+
+TEST_CASE("sensor: beams on one plane are not sub-sampled, and give the returns of the exact footprint") {
+    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    sim::GenerateOptions o;
+    o.orbit.xres = 48;
+    o.orbit.yres = 40;
+    o.orbit.views = 6;
+    o.white = true;
+    o.sensor.beam_divergence_mrad = 0.5;
+    o.sensor.returns = sim::ReturnMode::All;
+    sim::GenerateStats st_adaptive, st_exact;
+    const engine::PointCloud adaptive = sim::generateCloud(scene, o, &st_adaptive);
+    o.sensor.footprint_exact = true;
+    const engine::PointCloud exact = sim::generateCloud(scene, o, &st_exact);
+    REQUIRE(adaptive.points.size() == exact.points.size());
+    std::size_t moved = 0, dimmer = 0;
+    for (std::size_t i = 0; i < exact.points.size(); ++i) {
+        const auto& a = adaptive.points[i];
+        const auto& e = exact.points[i];
+        moved += a.position != e.position || a.return_number != e.return_number || a.returns != e.returns;
+        dimmer += std::abs(double(a.intensity) - double(e.intensity)) > 0.01 * double(e.intensity) + 1.0;
+    }
+    CHECK(moved == 0);
+    CHECK(dimmer == 0);
+    // The same run, for a fraction of the sub-rays (the houses' and target's edges only).
+    CHECK(st_exact.sub_rays_traced == 19 * st_exact.rays_traced);
+}

@@ -109,8 +109,9 @@ public:
     void run(const std::filesystem::path& out, engine::CloudFormat format,
              GenerateStats* stats = nullptr);
 
-    /// The rays run() traces for one view, in output order (row-major pixels), for
-    /// baselines and tests. Directions are unit length, so t is metres.
+    /// The rays the ideal sensor traces for one view (what run() traces with every sensor
+    /// model off), in output order (row-major pixels), for baselines and tests. Directions
+    /// are unit length, so t is metres.
     void viewRays(int view, std::vector<Ray>& rays) const;
     const RayCaster& caster() const;
     const GenerateOptions& options() const;

@@ -8,6 +8,7 @@
 #include <engine/frames.hpp>
 #include <engine/point_cloud.hpp>
 #include <engine/scene.hpp>
+#include <sim/orbit.hpp>
 #include <sim/raycaster.hpp>
 
 #include <cstdint>
@@ -41,6 +42,10 @@ struct SensorOptions {
     double beam_divergence_mrad = 0.0;  // full angle at 1/e^2 across the image (x); 0 = a thin beam
     double beam_divergence_y_mrad = 0.0;  // down the image (y); 0 = the same as x (a circular footprint)
     int footprint_quality = 3;          // q: the footprint is sampled by 1 + sum_{k<q} int(2 pi k) sub-rays
+    /// Trace every sub-ray of every beam. Off: a beam whose 3x3 neighbourhood of pixel axes
+    /// hits one plane of one mesh is not sub-sampled (its footprint lies on that plane: one
+    /// return, on its axis, with the beam's whole power); only the others are.
+    bool footprint_exact = false;
     ReturnMode returns = ReturnMode::First;
     int max_returns = 5;                // returns kept per pulse at most with ReturnMode::All (1..15)
     double pulse_ns = 4.0;              // pulse width; sets the default range resolution c*pulse/2
@@ -72,6 +77,14 @@ std::vector<SubRay> footprintPattern(const SensorOptions& o);
 /// perpendicular to the axis). Sub-ray {0, 0} gives `axis` bit for bit.
 glm::dvec3 subRayDirection(const glm::dvec3& axis, const SubRay& s);
 
+/// The same split for speed: a beam's frame once per pixel, then each sub-ray from the
+/// tangents of its offsets.
+struct BeamFrame {
+    glm::dvec3 axis, across, down;
+};
+BeamFrame beamFrame(const glm::dvec3& axis);
+glm::dvec3 subRayDirection(const BeamFrame& frame, double tan_dx, double tan_dy);
+
 /// Per-view state handed to Sensor::trace: the pose the drone believes it flew
 /// (nominal; points are placed with it) and the one it really flew (rays leave from it).
 struct SensorView {
@@ -85,9 +98,9 @@ inline constexpr float kNoReturn = -1.0f;
 
 class Sensor {
 public:
-    /// `seed` seeds every random model; reflectances come from the scene's meshes.
-    /// Throws engine::Error for invalid options.
-    Sensor(const SensorOptions& o, const engine::Scene& scene, std::uint64_t seed);
+    /// `seed` seeds every random model; reflectances come from the scene's meshes; `orbit`
+    /// gives the pixel grid (a beam's neighbours). Throws engine::Error for invalid options.
+    Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::Scene& scene, std::uint64_t seed);
     ~Sensor();
     Sensor(const Sensor&) = delete;
     Sensor& operator=(const Sensor&) = delete;
@@ -108,8 +121,9 @@ public:
     /// per-view and per-flight GNSS/INS error, drawn from (seed, view) alone.
     SensorView view(int index, const engine::Pose& nominal) const;
 
-    /// Traces `dirs.size()` consecutive pixels of a view, the first being pixel
-    /// `first_pixel` (row-major) and dirs their sensor-frame unit directions, into
+    /// Traces `dirs.size()` consecutive pixels of one image row of a view, the first being
+    /// pixel `first_pixel` (row-major) and dirs their sensor-frame unit directions
+    /// (pixelDirection), into
     /// slotsPerPixel() slots each (slots.size() == dirs.size() * slotsPerPixel()); a slot
     /// without a return gets range_m = kNoReturn. Ray calls go through `caster`
     /// (intersect16 with `packets`, else intersect). Deterministic per (seed, view, pixel):
