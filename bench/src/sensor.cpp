@@ -117,7 +117,8 @@ void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& p
          "generator rows above do; 'rays per run' counts every sub-ray of every beam, of which the "
          "default (not --footprint-exact) traces only those of beams not on one plane. Figures are 'median "
          "[min..max]'; cast / ideal is the ratio of medians, '(within spread)' where the two ranges overlap. "
-         "Goal: a 19-ray footprint (q = 3) under 8x the ideal sensor.\n\n"
+         "Goal: a 19-ray footprint (q = 3) under 8x the ideal sensor. The machine's cores may be shared "
+         "with other jobs: read the ratios rather than lone times.\n\n"
       << tbl << "\n";
     replaceMarkdownSection(md, "## Sensor models (ladarvr bench generate)", m.str());
 }
