@@ -5,6 +5,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "ground_options.hpp"
+#include "sensor_options.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/cloud_io.hpp>
@@ -284,6 +285,7 @@ void registerGenerate(CLI::App& cli) {
                   "the fused cloud is spooled to disk when it does not)")
         ->capture_default_str();
     c->add_flag("--json", state->json, "print a JSON summary on stdout");
+    addSensorOptions(*c, o.sensor);
     c->callback([state] { run(*state); });
 }
 

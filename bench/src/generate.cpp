@@ -9,6 +9,7 @@
 #include "common.hpp"
 #include "plain_loop.hpp"
 #include "register.hpp"
+#include "sensor.hpp"
 
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
@@ -369,6 +370,7 @@ void run(const BenchGenerateCli& cli) {
         skips.push_back(skipRow("demo, all roles, C 300 m off the scene", demo, o, reps));
     }
     const std::string skip_tbl = skipTable(skips);
+    benchSensorModels(demo, paper, cli.quick, cli.no_md ? std::string() : cli.md);
 
     // 2. >= 100x larger: 512x512 x 400 views (64x the rays) on the demo scene subdivided to
     // >= 2 M triangles (same surfaces), streamed to disk through the spool file.

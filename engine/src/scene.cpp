@@ -117,6 +117,7 @@ struct Entry {
     double yaw_deg = 0.0;
     double scale = 1.0;
     bool up_y = false;
+    double reflectance = 0.5;
 };
 
 double finiteNumber(const json& v, const std::string& where, const std::string& key,
@@ -187,6 +188,11 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
             if (!(e.scale > 0.0))
                 throw Error(where + ": 'scale' is " + shownNumber(e.scale) +
                             "; allowed: a finite number > 0");
+        } else if (key == "reflectance") {
+            e.reflectance = finiteNumber(v, where, key, "a number in [0, 1]");
+            if (!(e.reflectance >= 0.0 && e.reflectance <= 1.0))
+                throw Error(where + ": 'reflectance' is " + shownNumber(e.reflectance) +
+                            "; allowed: a number in [0, 1]");
         } else if (key == "up") {
             if (!v.is_string())
                 throw Error(where + ": 'up' must be the string \"y\" or \"z\", not " +
@@ -197,7 +203,7 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
             e.up_y = up == "y";
         } else {
             throw Error(where + ": unknown key '" + detail::shown(key, 40, true) +
-                        "'; allowed keys: file, role, position, yaw_deg, scale, up, comment");
+                        "'; allowed keys: file, role, position, yaw_deg, scale, up, reflectance, comment");
         }
     }
     if (j.find("role") == j.end())
@@ -374,6 +380,7 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
         Mesh mesh;
         mesh.name = e.file;
         mesh.role = e.role;
+        mesh.reflectance = e.reflectance;
         mesh.position = e.position;
         mesh.vertices.reserve(raw.vertices.size());
         for (std::size_t vi = 0; vi < raw.vertices.size(); ++vi) {

@@ -15,7 +15,6 @@
 // then is refused. Batches, bands and threads change no output bit.
 #include <sim/generator.hpp>
 
-#include "raycaster_impl.hpp"
 #include "ground_pass.hpp"
 #include "memory_plan.hpp"
 #include "parallel.hpp"
@@ -24,6 +23,7 @@
 #include <engine/progress.hpp>
 #include <engine/safe_file.hpp>
 #include <engine/scene_info.hpp>
+#include <sim/sensor.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -47,7 +47,7 @@ double secondsSince(Clock::time_point t0) {
 constexpr std::size_t kBlockRays = 4096;        // rays per task: one slot range per task
 constexpr std::size_t kBatchRays = 1u << 19;    // rays per batch of views (memory bound)
 constexpr std::size_t kColourChunk = 1u << 20;  // points per colour/write chunk
-constexpr float kMissRange = -1.0f;             // range_m of a pixel slot with no hit
+constexpr float kMissRange = kNoReturn;         // range_m of a pixel slot with no hit
 
 std::string mebibytes(std::uint64_t bytes) {
     return std::to_string((bytes + (1u << 20) - 1) >> 20);
@@ -104,7 +104,8 @@ struct PixelRect {
 // frame): the box's 8 corners projected with pixelDirection's inverse, padded by one
 // pixel plus the float slack of the rays. A corner at or behind the image plane (the
 // box reaches the sensor's side) gives the whole image: no skip, never a wrong one.
-PixelRect visiblePixels(const OrbitOptions& o, const engine::Pose& T_local_sensor, const engine::Bounds& b) {
+PixelRect visiblePixels(const OrbitOptions& o, const engine::Pose& T_local_sensor, const engine::Bounds& b,
+                        double extra_margin_rad = 0.0) {
     const PixelRect all{0, o.xres - 1, 0, o.yres - 1};
     if (b.empty()) return PixelRect{};
     const double focal_px = 0.5 * double(o.yres) / std::tan(0.5 * o.fov_deg * std::numbers::pi / 180.0);
@@ -125,7 +126,7 @@ PixelRect visiblePixels(const OrbitOptions& o, const engine::Pose& T_local_senso
         u_min = std::min(u_min, u); u_max = std::max(u_max, u);
         v_min = std::min(v_min, v); v_max = std::max(v_max, v);
     }
-    const double margin_px = 1.0 + 1e-4 * focal_px;
+    const double margin_px = 1.0 + 1e-4 * focal_px + extra_margin_rad * focal_px;
     const auto lowPixel = [&](double x, int n) {
         return int(std::clamp(std::floor(x - margin_px), -1.0, double(n)));
     };
@@ -144,6 +145,7 @@ void validate(const GenerateOptions& o) {
     validate(o.orbit);
     validate(o.colour);
     validate(o.ground);
+    validate(o.sensor);
     if (o.threads < 0 || o.threads > 1024)
         throw engine::Error("generate: threads (--threads) = " + std::to_string(o.threads) +
                             ": allowed [0, 1024] (0 = all cores)");
@@ -185,6 +187,9 @@ struct Generator::State {
     GenerateOptions options;
     glm::dvec3 centre_world{0.0}, centre_local{0.0};
     std::unique_ptr<RayCaster> caster;
+    std::unique_ptr<Sensor> sensor;        // makes each pixel's rays and turns hits into returns
+    std::vector<SensorView> sensor_views;  // per view, the pose logged and the pose flown
+    std::size_t slots_per_pixel = 1;       // return slots per pixel (Sensor::slotsPerPixel)
     double bvh_seconds = 0.0;
     MemoryPlan plan;                       // batches, bands and threads within the budget
     std::uint64_t hits_bound = 0;          // hits all views can give together (traced pixels)
@@ -200,78 +205,13 @@ struct Generator::State {
     State(const engine::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
 
     // A band of rows being traced: pixel i (row-major in the view) has its sensor-frame
-    // direction in dirs[i - first] and its slot in slots[i - first].
+    // direction in dirs[i - first] and its slots_per_pixel return slots from
+    // slots[(i - first) * slots_per_pixel].
     struct Band {
         const glm::dvec3* dirs;
         engine::CloudPoint* slots;
         std::size_t first;
     };
-
-    // Paper §III-B: traces pixels [begin, end) of `view` into their slots.
-    void castRange(int view, std::size_t begin, std::size_t end, const Band& band) const {
-        const RayCaster::Impl& impl = caster->impl();
-        const engine::Pose& pose = poses[std::size_t(view)];
-        const glm::vec3 origin(pose.translation);
-        const glm::dvec3 origin_d(origin);
-        const float t_far = std::numeric_limits<float>::infinity();
-        RTCRayHit rh;
-        for (std::size_t i = begin; i < end; ++i) {
-            const glm::vec3 dir(pose.rotation * band.dirs[i - band.first]);
-            setRay(rh, origin.x, origin.y, origin.z, dir.x, dir.y, dir.z, t_far);
-            rtcIntersect1(impl.scene, &rh);
-            engine::CloudPoint& cp = band.slots[i - band.first];
-            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-                cp.range_m = kMissRange;
-                continue;
-            }
-            const float t = rh.ray.tfar;
-            cp.position = glm::vec3(origin_d + double(t) * glm::dvec3(dir));
-            cp.range_m = t;
-            cp.view = std::uint16_t(view);
-            cp.label = impl.roles[rh.hit.geomID];
-            cp.rgb = 0;
-        }
-    }
-
-    // The same with rtcIntersect16 packets of 16 consecutive pixels in row-major order
-    // (coherent rays from one origin): measured faster than rtcIntersect1 here
-    // (BENCHMARKS.md); the hits are the same (tests/sim/generator_test.cpp).
-    void castRange16(int view, std::size_t begin, std::size_t end, const Band& band) const {
-        const RayCaster::Impl& impl = caster->impl();
-        const engine::Pose& pose = poses[std::size_t(view)];
-        const glm::vec3 origin(pose.translation);
-        const glm::dvec3 origin_d(origin);
-        const float t_far = std::numeric_limits<float>::infinity();
-        RTCRayHit16 rh;
-        alignas(64) int valid[16];
-        RTCIntersectArguments args;
-        rtcInitIntersectArguments(&args);
-        args.flags = RTC_RAY_QUERY_FLAG_COHERENT;
-        glm::vec3 dirs[16];
-        for (std::size_t i = begin; i < end; i += 16) {
-            const std::size_t n = std::min<std::size_t>(16, end - i);
-            for (std::size_t k = 0; k < 16; ++k) {
-                valid[k] = k < n ? -1 : 0;
-                const glm::vec3 dir = k < n ? glm::vec3(pose.rotation * band.dirs[i + k - band.first]) : glm::vec3(0, 0, -1);
-                dirs[k] = dir;
-                setPacketRay(rh, k, origin, dir, t_far);
-            }
-            rtcIntersect16(valid, impl.scene, &rh, &args);
-            for (std::size_t k = 0; k < n; ++k) {
-                engine::CloudPoint& cp = band.slots[i + k - band.first];
-                if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-                    cp.range_m = kMissRange;
-                    continue;
-                }
-                const float t = rh.ray.tfar[k];
-                cp.position = glm::vec3(origin_d + double(t) * glm::dvec3(dirs[k]));
-                cp.range_m = t;
-                cp.view = std::uint16_t(view);
-                cp.label = impl.roles[rh.hit.geomID[k]];
-                cp.rgb = 0;
-            }
-        }
-    }
 
     // Pixels [begin, end) of `view` (row-major) into their slots: those outside the
     // view's traced rectangle are misses without a ray, the others are cast by row runs.
@@ -290,12 +230,15 @@ struct Generator::State {
                     b = std::clamp(row * xres + std::size_t(span.y) + 1, i, row_end);
                 }
             }
-            for (std::size_t k = i; k < a; ++k) band.slots[k - band.first].range_m = kMissRange;
-            if (a < b) {
-                if (options.packet_rays) castRange16(view, a, b, band);
-                else castRange(view, a, b, band);
-            }
-            for (std::size_t k = std::max(a, b); k < row_end; ++k) band.slots[k - band.first].range_m = kMissRange;
+            const std::size_t n = slots_per_pixel;
+            for (std::size_t k = i * n; k < a * n; ++k) band.slots[k - band.first * n].range_m = kMissRange;
+            // Paper §III-B: the sensor traces the run [a, b) (16-ray packets of consecutive
+            // pixels with packet_rays) and fills its slots.
+            if (a < b)
+                sensor->trace(*caster, sensor_views[std::size_t(view)], a,
+                              std::span(band.dirs + (a - band.first), b - a),
+                              std::span(band.slots + (a - band.first) * n, (b - a) * n), options.packet_rays);
+            for (std::size_t k = std::max(a, b) * n; k < row_end * n; ++k) band.slots[k - band.first * n].range_m = kMissRange;
             i = row_end;
         }
     }
@@ -332,17 +275,18 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
     const bool emit_per_band = options.white && band_rows < yres;
     std::vector<glm::dvec3> dirs(band_pixels);  // sensor frame, unit, rows [dirs_row, + band_rows)
     std::size_t dirs_row = yres;
-    std::vector<engine::CloudPoint> slots(batch_views * band_pixels);
+    std::vector<engine::CloudPoint> slots(batch_views * band_pixels * slots_per_pixel);
     std::vector<std::vector<engine::CloudPoint>> view_points(batch_views);
     for (auto& v : view_points) v.reserve(std::size_t(plan.view_hits));
+    std::vector<std::size_t> view_missed(batch_views);  // pixels without a return
     std::vector<GroundStats> ground_stats(batch_views);
     std::optional<engine::Progress> progress;
     if (options.progress) progress.emplace("generate", views);
 
     float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
-    // Counts `pts`, fused from `pixels` pixels, into the stats and hands them on.
-    const auto fuse = [&](const std::vector<engine::CloudPoint>& pts, std::size_t pixels) {
-        st.misses += pixels - pts.size();
+    // Counts `pts` (and `missed` pixels without a return) into the stats and hands them on.
+    const auto fuse = [&](const std::vector<engine::CloudPoint>& pts, std::size_t missed) {
+        st.misses += missed;
         st.points += pts.size();
         for (const auto& p : pts) {
             z_min = std::min(z_min, p.position.z);
@@ -357,7 +301,10 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
     };
     for (std::size_t first = 0; first < views; first += batch_views) {
         const std::size_t count = std::min(batch_views, views - first);
-        for (std::size_t k = 0; k < count; ++k) view_points[k].clear();
+        for (std::size_t k = 0; k < count; ++k) {
+            view_points[k].clear();
+            view_missed[k] = 0;
+        }
         for (std::size_t row0 = 0; row0 < yres; row0 += band_rows) {
             const std::size_t rows = std::min(band_rows, yres - row0);
             const std::size_t p0 = row0 * xres, p1 = p0 + rows * xres;
@@ -373,7 +320,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
             const std::size_t block0 = p0 / kBlockRays, blocks = (p1 + kBlockRays - 1) / kBlockRays - block0;
             pool.run(count * blocks, [&](std::size_t task) {
                 const std::size_t k = task / blocks, block = block0 + task % blocks;
-                const Band band{dirs.data(), slots.data() + k * band_pixels, p0};
+                const Band band{dirs.data(), slots.data() + k * band_pixels * slots_per_pixel, p0};
                 castBlock(int(first + k), std::max(p0, block * kBlockRays), std::min(p1, (block + 1) * kBlockRays),
                           band);
             });
@@ -382,20 +329,30 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
             t0 = Clock::now();
             pool.run(count, [&](std::size_t k) {
                 auto& out = view_points[k];
-                const engine::CloudPoint* s = slots.data() + k * band_pixels;
-                for (std::size_t i = 0; i < rows * xres; ++i)
-                    if (s[i].range_m != kMissRange) {
-                        out.push_back(s[i]);
-                        if (options.white) out.back().rgb = engine::kWhite;
-                    }
+                const std::size_t n = slots_per_pixel;
+                const engine::CloudPoint* s = slots.data() + k * band_pixels * n;
+                for (std::size_t i = 0; i < rows * xres; ++i) {
+                    bool missed = true;
+                    for (std::size_t r = i * n; r < (i + 1) * n; ++r)
+                        if (s[r].range_m != kMissRange) {
+                            missed = false;
+                            out.push_back(s[r]);
+                            if (options.white) out.back().rgb = engine::kWhite;
+                        }
+                    view_missed[k] += missed;
+                }
             });
             if (emit_per_band) {
-                fuse(view_points[0], rows * xres);
+                fuse(view_points[0], view_missed[0]);
                 view_points[0].clear();
+                view_missed[0] = 0;
             }
             st.seconds.fuse += secondsSince(t0);
         }
-        for (std::size_t k = 0; k < count; ++k) st.rays_traced += traced_count[first + k];
+        for (std::size_t k = 0; k < count; ++k) {
+            st.rays_traced += traced_count[first + k];
+            st.sub_rays_traced += traced_count[first + k] * sensor->raysPerPixel();
+        }
 
         if (!options.white && ground_filter->perView()) {
             const auto t0 = Clock::now();
@@ -425,7 +382,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
                     st.planes_rejected += ground_stats[k].planes_rejected;
                     st.views_without_ransac += ground_stats[k].band_points < 3;
                 }
-                fuse(view_points[k], npix);
+                fuse(view_points[k], view_missed[k]);
             }
         st.seconds.fuse += secondsSince(t0);
         if (progress) progress->advance(count);
@@ -451,6 +408,13 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     validatePlacement(s.options.orbit, s.centre_local);
     const OrbitOptions& orbit = s.options.orbit;
     for (int v = 0; v < orbit.views; ++v) s.poses.push_back(sensorPose(orbit, s.centre_local, v));
+    s.sensor = std::make_unique<Sensor>(s.options.sensor, orbit, scene, s.options.seed);
+    s.slots_per_pixel = s.sensor->slotsPerPixel();
+    for (int v = 0; v < orbit.views; ++v) s.sensor_views.push_back(s.sensor->view(v, s.poses[std::size_t(v)]));
+    // Rays leave from the pose actually flown, and a beam's sub-rays spread up to half its
+    // divergence off the pixel's axis: the traced pixels are found for both.
+    const SensorOptions& so = s.options.sensor;
+    const double spread_rad = 0.5e-3 * std::max(so.beam_divergence_mrad, so.beam_divergence_y_mrad);
     s.jet = jetTable(s.options.colour.entries);
     s.ground_filter = makeGroundFilter(s.options.ground);
     // Bounds of the triangles to ray-cast, one box per mesh (with --roles
@@ -482,14 +446,14 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
             continue;
         }
         if (!spans) {
-            s.traced.push_back(visiblePixels(orbit, s.poses[v], cast_bounds));
+            s.traced.push_back(visiblePixels(orbit, s.sensor_views[v].actual, cast_bounds, spread_rad));
             s.traced_count.push_back(s.traced.back().count());
             continue;
         }
         PixelRect hull{orbit.xres, -1, orbit.yres, -1};
         glm::ivec2* row = s.row_spans.data() + v * yres;
         for (const engine::Bounds& b : boxes) {
-            const PixelRect r = visiblePixels(orbit, s.poses[v], b);
+            const PixelRect r = visiblePixels(orbit, s.sensor_views[v].actual, b, spread_rad);
             if (r.count() == 0) continue;
             hull = {std::min(hull.x0, r.x0), std::max(hull.x1, r.x1), std::min(hull.y0, r.y0), std::max(hull.y1, r.y1)};
             for (int y = r.y0; y <= r.y1; ++y)
@@ -508,12 +472,14 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     needs.yres = std::uint64_t(orbit.yres);
     needs.views = std::uint64_t(orbit.views);
     for (const std::uint64_t n : s.traced_count) {
-        needs.view_hits = std::max(needs.view_hits, n);
-        s.hits_bound += n;
+        needs.view_hits = std::max(needs.view_hits, n * s.slots_per_pixel);
+        s.hits_bound += n * s.slots_per_pixel;
     }
     needs.fixed_bytes = views * (sizeof(engine::Pose) + sizeof(PixelRect) + sizeof(std::uint64_t)) +
                         s.row_spans.size() * sizeof(glm::ivec2) + s.jet.size() * sizeof(std::uint32_t);
     needs.white = s.options.white;
+    needs.slots_per_pixel = s.slots_per_pixel;
+    needs.thread_scratch_bytes = s.sensor->scratchBytes();
     needs.threads = resolveThreads(s.options.threads);
     needs.batch_views = std::clamp<std::size_t>(
         std::max<std::size_t>(kBatchRays / (std::size_t(orbit.xres) * yres), 2 * std::size_t(needs.threads)), 1, views);
@@ -557,6 +523,7 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
     Workers pool(s.plan.threads);
     engine::PointCloud cloud;
     cloud.origin = s.scene.origin;
+    cloud.fields = s.sensor->fields();
     // The cloud is the caller's: reserved up to the budget, beyond it grown as needed.
     cloud.points.reserve(std::size_t(std::min<std::uint64_t>(
         s.hits_bound, s.options.memory_budget_bytes / sizeof(engine::CloudPoint))));
@@ -585,7 +552,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
     TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.options.ground_check);
-    engine::CloudFields fields;
+    engine::CloudFields fields = s.sensor->fields();
     fields.height_above_ground = terrain.whitens();
     engine::CloudWriter writer(out, format, s.scene.origin, fields);
     Workers pool(s.plan.threads);

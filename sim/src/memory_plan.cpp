@@ -49,12 +49,13 @@ std::uint64_t planBytes(const MemoryNeeds& n, std::size_t batch_views, std::size
     const std::uint64_t band_pixels = std::uint64_t(band_rows) * n.xres;
     const bool tiled = band_rows < n.yres;
     // A tiled white view hands its hits on band by band; otherwise a view's hits wait whole.
-    const std::uint64_t view_hits = n.white && tiled ? std::min(n.view_hits, band_pixels) : n.view_hits;
+    const std::uint64_t view_hits =
+        n.white && tiled ? std::min(n.view_hits, band_pixels * n.slots_per_pixel) : n.view_hits;
     const std::uint64_t ransac = n.white ? 0 : std::uint64_t(std::min<std::size_t>(std::size_t(threads), batch_views)) *
                                                    n.view_hits * kRansacBytesPerHit;
     return n.fixed_bytes + kWriterBytes + band_pixels * kDirBytes +
-           std::uint64_t(batch_views) * (band_pixels + view_hits) * kPointBytes + ransac +
-           std::uint64_t(threads) * kThreadBytes;
+           std::uint64_t(batch_views) * (band_pixels * n.slots_per_pixel + view_hits) * kPointBytes + ransac +
+           std::uint64_t(threads) * (kThreadBytes + n.thread_scratch_bytes);
 }
 
 MemoryPlan planMemory(const MemoryNeeds& n) {

@@ -14,6 +14,8 @@ struct MemoryNeeds {
     std::uint64_t view_hits = 0;       // most hits one view can give (its traced pixels)
     std::uint64_t fixed_bytes = 0;     // per-run tables (poses, traced pixel spans)
     bool white = false;                // no RANSAC: a tiled view's hits leave band by band
+    std::uint64_t slots_per_pixel = 1; // return slots per pixel (several returns per pulse)
+    std::uint64_t thread_scratch_bytes = 0;  // the sensor's per-thread ray buffers
     int threads = 1;                   // requested, resolved (> 0)
     std::size_t batch_views = 1;       // views per batch wanted for speed (<= views)
     std::uint64_t budget_bytes = 0;

@@ -1,15 +1,62 @@
 // sim/raycaster.cpp: first-hit ray casting with Embree 4 (paper §III-B: "we use the
 // principle of ray casting ... for each pixel ... we launch a virtual ray").
-#include "raycaster_impl.hpp"
+#include <sim/raycaster.hpp>
+
+#include <embree4/rtcore.h>
 
 #include <engine/error.hpp>
 
 #include <algorithm>
 #include <cassert>
+#include <mutex>
 #include <string>
+#include <vector>
 
 namespace sim {
+
+struct RayCaster::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<engine::Role> roles;   // by geomID (== mesh index)
+    engine::Bounds bounds;
+    std::size_t triangles = 0;
+    std::mutex error_mutex;
+    std::string first_error;           // recorded by the device error callback
+
+    ~Impl();
+};
+
 namespace {
+
+/// Fills an Embree ray/hit record for a first-hit query from `origin` along `direction`.
+void setRay(RTCRayHit& rh, float ox, float oy, float oz, float dx, float dy, float dz,
+                   float t_far) {
+    rh.ray.org_x = ox; rh.ray.org_y = oy; rh.ray.org_z = oz;
+    rh.ray.tnear = 0.0f;
+    rh.ray.dir_x = dx; rh.ray.dir_y = dy; rh.ray.dir_z = dz;
+    rh.ray.time = 0.0f;
+    rh.ray.tfar = t_far;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+/// The same for lane `k` of a 16-ray packet.
+void setPacketRay(RTCRayHit16& rh, std::size_t k, const glm::vec3& origin, const glm::vec3& direction,
+                         float t_far) {
+    rh.ray.org_x[k] = origin.x; rh.ray.org_y[k] = origin.y; rh.ray.org_z[k] = origin.z;
+    rh.ray.tnear[k] = 0.0f;
+    rh.ray.dir_x[k] = direction.x; rh.ray.dir_y[k] = direction.y; rh.ray.dir_z[k] = direction.z;
+    rh.ray.time[k] = 0.0f;
+    rh.ray.tfar[k] = t_far;
+    rh.ray.mask[k] = 0xFFFFFFFFu;
+    rh.ray.id[k] = unsigned(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+}
 
 const char* errorName(RTCError code) {
     switch (code) {
@@ -133,6 +180,7 @@ void RayCaster::intersect(std::span<const Ray> rays, std::span<Hit> hits) const 
             h.mesh = static_cast<std::int32_t>(rh.hit.geomID);
             h.triangle = rh.hit.primID;
             h.role = impl.roles[rh.hit.geomID];
+            h.normal = glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
         }
     }
 }
@@ -163,6 +211,7 @@ void RayCaster::intersect16(std::span<const Ray> rays, std::span<Hit> hits) cons
                 h.mesh = static_cast<std::int32_t>(rh.hit.geomID[k]);
                 h.triangle = rh.hit.primID[k];
                 h.role = impl.roles[rh.hit.geomID[k]];
+                h.normal = glm::vec3(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
             }
         }
     }

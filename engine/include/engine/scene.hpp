@@ -52,6 +52,7 @@ struct Mesh {
     glm::dvec3 position{0.0};                // the entry's 'position', world metres
     std::vector<glm::vec3> vertices;         // local frame, metres
     std::vector<glm::uvec3> triangles;       // indices into vertices
+    double reflectance = 0.5;                // Lambertian reflectance at the Ladar's wavelength, [0, 1]
 };
 
 struct Scene {

@@ -8,6 +8,7 @@
 #include <sim/ground.hpp>
 #include <sim/orbit.hpp>
 #include <sim/raycaster.hpp>
+#include <sim/sensor.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -25,6 +26,8 @@ struct GenerateOptions {
     std::optional<glm::dvec3> centre;
     ColourOptions colour;
     GroundOptions ground;
+    /// The Ladar's models (docs/sensor.md); the default is the paper's ideal sensor.
+    SensorOptions sensor;
     /// Meshes to ray-cast (§IV-B's target-only / no-ground clouds); the others are left
     /// out of the BVH. C is still computed on the whole scene, so clouds of different
     /// roles share one orbit.
@@ -36,7 +39,7 @@ struct GenerateOptions {
     /// geometry (the box projected into the image, plus a margin); the others are misses
     /// without a ray. The cloud is the same either way (--no-skip-rays turns it off).
     bool skip_rays = true;
-    std::uint64_t seed = 1;         // RANSAC of view v shuffles with mt19937_64(seed ^ v)
+    std::uint64_t seed = 1;         // RANSAC of view v shuffles with mt19937_64(seed ^ v); seeds the sensor's models
     /// Bound on the generator's buffers (not the scene and its BVH): views per batch, rows
     /// per tile and threads are planned to fit (the cloud is the same whatever the plan),
     /// and a run that cannot fit is refused before the BVH is built. File output: the
@@ -79,7 +82,8 @@ struct GenerateStats {
     std::size_t tile_rows = 0;              // rows of a view traced per pass (yres: untiled)
     std::uint64_t memory_planned_bytes = 0; // the fusion's buffers as planned (<= the budget)
     std::uint64_t rays = 0, points = 0, misses = 0;
-    std::uint64_t rays_traced = 0;          // rays actually cast (rays minus skipped pixels)
+    std::uint64_t rays_traced = 0;          // pixels whose rays were cast (rays minus skipped pixels)
+    std::uint64_t sub_rays_traced = 0;      // rays cast counting a beam footprint's sub-rays
     std::uint64_t ground_found = 0;         // whitened by RANSAC (PG over all views)
     std::uint64_t ground_truth = 0;         // points whose mesh has role ground
     std::uint64_t ground_true_positive = 0; // both
@@ -118,8 +122,9 @@ public:
     void run(const std::filesystem::path& out, engine::CloudFormat format,
              GenerateStats* stats = nullptr);
 
-    /// The rays run() traces for one view, in output order (row-major pixels), for
-    /// baselines and tests. Directions are unit length, so t is metres.
+    /// The rays the ideal sensor traces for one view (what run() traces with every sensor
+    /// model off), in output order (row-major pixels), for baselines and tests. Directions
+    /// are unit length, so t is metres.
     void viewRays(int view, std::vector<Ray>& rays) const;
     const RayCaster& caster() const;
     const GenerateOptions& options() const;

@@ -1,5 +1,5 @@
 // sim/raycaster.hpp: first-hit ray casting against a Scene with Embree 4 (paper §III-B).
-// Embree stays private to sim; callers see only these types.
+// Every Embree call lives in sim/src/raycaster.cpp; callers see only these types.
 #pragma once
 #include <engine/scene.hpp>
 
@@ -23,6 +23,7 @@ struct Hit {
     std::int32_t mesh = -1;       // index into Scene::meshes
     std::uint32_t triangle = 0;   // triangle index inside that mesh
     engine::Role role = engine::Role::Environment;
+    glm::vec3 normal{0.0f};       // the triangle's geometric normal (not unit length)
     bool hit() const { return mesh >= 0; }
 };
 
@@ -51,9 +52,7 @@ public:
     /// Triangles in the BVH.
     std::size_t triangleCount() const;
 
-    struct Impl;
-    /// For sim's own sources (sim/src/raycaster_impl.hpp); opaque to everyone else.
-    const Impl& impl() const { return *impl_; }
+    struct Impl;   // Embree's state, defined in sim/src/raycaster.cpp only
 private:
     std::unique_ptr<Impl> impl_;
 };
