@@ -44,6 +44,11 @@ struct GenerateOptions {
     /// cloud returned by the in-memory run() is the caller's and not counted.
     std::size_t memory_budget_bytes = std::size_t(512) << 20;
     bool progress = false;          // engine::Progress bar over the views (tty only)
+    /// LAS/LAZ output only (docs/formats.md): the classes of the roles (a mesh's 'class'
+    /// overrides its role's), and the GPS time: view v is reached at
+    /// v x (orbit length / views) / drone_speed_mps (view_interval_s is set from that).
+    engine::LasOptions las;
+    double drone_speed_mps = 10.0;
 };
 
 /// Validates every field (orbit, colour, ground, threads, centre within
