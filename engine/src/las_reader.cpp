@@ -200,7 +200,7 @@ private:
         const std::uint32_t vlrs = le<std::uint32_t>(head, 100);
         const unsigned raw_format = std::uint8_t(head[104]);
         const unsigned format = raw_format & 0x3Fu;
-        const bool compressed = (raw_format & 0x80u) != 0;
+        const bool compressed = (raw_format & 0xC0u) != 0;  // LASzip marks LAZ with bit 7 (or 6)
         const std::size_t record = le<std::uint16_t>(head, 105);
         const std::size_t min_header = minor >= 4 ? 375 : minor == 3 ? 235 : 227;
         if (header_size < min_header || header_size > data_at || data_at > size)
@@ -225,6 +225,7 @@ private:
         if (vlrs > (data_at - header_size) / kVlrHeader)
             throw Error(prefix_ + ": " + std::to_string(vlrs) + " VLRs cannot fit before the point data");
         std::size_t extra_declared = 0;
+        bool laszip_vlr = false;
         for (std::uint32_t v = 0; v < vlrs; ++v) {
             if (data_at - at < kVlrHeader) throw Error(prefix_ + ": VLR " + std::to_string(v) + " runs into the point data");
             const std::string vh(source_.view(at, kVlrHeader));
@@ -234,8 +235,16 @@ private:
             const std::string user(vh.data() + 2, strnlen(vh.data() + 2, 16));
             if (user == "LASF_Spec" && le<std::uint16_t>(vh, 18) == 4)
                 extra_declared = readExtraBytes(std::string(source_.view(at + kVlrHeader, length)));
+            if (user == "laszip encoded" && le<std::uint16_t>(vh, 18) == 22204) {
+                checkLaszipVlr(std::string(source_.view(at + kVlrHeader, length)));
+                laszip_vlr = true;
+            }
             at += kVlrHeader + length;
         }
+        // LASzip leaks its reader when it refuses a LAZ file (its header checks do not free
+        // what they allocated), so what it would refuse is refused here first.
+        if (compressed && !laszip_vlr)
+            throw Error(prefix_ + ": the point format marks compressed (LAZ) data but there is no LASzip VLR");
         if (extra_declared > record - kMinRecord[format])
             throw Error(prefix_ + ": the extra bytes VLR describes " + std::to_string(extra_declared) +
                         " bytes but the records have " + std::to_string(record - kMinRecord[format]));
@@ -264,6 +273,18 @@ private:
         fields.scan_angle = true;
         fields.incidence = incidence_.present;
         fields.height_above_ground = height_.present;
+    }
+
+    // The LASzip VLR: compressor 0..3 (none, pointwise, chunked, layered), the arithmetic
+    // coder, and as many 6-byte item descriptions as it says.
+    void checkLaszipVlr(const std::string& payload) {
+        if (payload.size() < 34) throw Error(prefix_ + ": the LASzip VLR is shorter than 34 bytes");
+        const unsigned compressor = le<std::uint16_t>(payload, 0), coder = le<std::uint16_t>(payload, 2);
+        const std::size_t items = le<std::uint16_t>(payload, 32);
+        if (compressor > 3 || coder != 0 || payload.size() != 34 + 6 * items || items == 0)
+            throw Error(prefix_ + ": the LASzip VLR is not one this reader knows (compressor " +
+                        std::to_string(compressor) + ", coder " + std::to_string(coder) + ", " +
+                        std::to_string(items) + " items in " + std::to_string(payload.size()) + " bytes)");
     }
 
     // LAS 1.4 extra bytes descriptors: our fields by name; returns the bytes they cover.
