@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <istream>
 #include <streambuf>
@@ -155,9 +156,12 @@ public:
             const unsigned char* extra = q.num_extra_bytes >= int(extra_size_) ? q.extra_bytes : nullptr;
             if (label_.present && extra) {
                 const double v = extraValue(extra, label_);
-                if (!(v == 0.0 || v == 1.0 || v == 2.0))
-                    throw Error(prefix_ + ": point " + std::to_string(done_ + k) + ": label " +
-                                std::to_string(long(v)) + " is not 0 (ground), 1 (environment) or 2 (target)");
+                if (!(v == 0.0 || v == 1.0 || v == 2.0)) {
+                    char shown_v[32];  // %g: any double (a float extra byte may hold 1e31 or NaN)
+                    std::snprintf(shown_v, sizeof shown_v, "%g", v);
+                    throw Error(prefix_ + ": point " + std::to_string(done_ + k) + ": label " + shown_v +
+                                " is not 0 (ground), 1 (environment) or 2 (target)");
+                }
                 p.label = Role(std::uint8_t(v));
             } else {
                 const unsigned cls = extended_ ? q.extended_classification : q.classification;
