@@ -7,7 +7,8 @@ Usage: las_interop_test.py CLOUD_TOOL LADARVR SCRATCH_DIR
      reader reads (positions within 1 mm);
   2. LAS 1.2 and LAZ 1.4 written by laspy (not by us), read by our reader;
   3. our PLY read by Open3D: every scalar_* property kept, positions equal;
-  4. `ladarvr generate` to PCD and LAZ: the same points, field for field.
+  4. `ladarvr generate` to PCD and LAZ: the same points, field for field;
+  5. `ladarvr metric --p1/--p2/--p3` on LAZ clouds gives the metric of the PCD ones.
 """
 import os
 import shutil
@@ -156,6 +157,23 @@ if len(las.points) == count:
     check(np.array_equal(np.asarray(las.point_source_id), rec["view"]), "generate: views")
     check(np.array_equal(np.asarray(las.classification), np.array([2, 1, 64])[rec["label"]]), "generate: classes")
     check(np.array_equal(np.asarray(las["range"], dtype=np.float32), rec["range"]), "generate: ranges")
+
+# --- 5. the metric reads LAZ clouds as it reads PCD ----------------------------------------
+import json  # noqa: E402
+
+means = {}
+for ext in ("pcd", "laz"):
+    for name, roles in (("t", ["--roles", "target"]), ("e", ["--roles", "environment", "--white"]),
+                        ("te", ["--roles", "target,environment"])):
+        subprocess.run([ladarvr, "generate", *small, *roles, "--out", os.path.join(scratch, f"{name}.{ext}")],
+                       check=True, capture_output=True)
+    run = subprocess.run([ladarvr, "metric", *(a for k in ("p1", "p2", "p3") for a in (
+        f"--{k}", os.path.join(scratch, {"p1": "t", "p2": "e", "p3": "te"}[k] + "." + ext))),
+        "--views", "4", "--width", "64", "--height", "64", "--json", "--out", os.path.join(scratch, "m_" + ext)],
+        check=True, capture_output=True, text=True)
+    summary = json.loads(run.stdout)
+    means[ext] = (summary["metric_mean"], summary["visible_mean"], summary["depth_visible_mean"])
+check(means["pcd"] == means["laz"] and means["pcd"][0] is not None, f"metric on LAZ {means['laz']} vs PCD {means['pcd']}")
 
 if failures:
     for f in failures:
