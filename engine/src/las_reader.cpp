@@ -135,7 +135,7 @@ public:
         out.reserve(out.size() + n);
         const laszip_point_struct& q = *point_;
         for (std::size_t k = 0; k < n; ++k) {
-            check(laszip_read_point(zip_), ("point " + std::to_string(done_ + k)).c_str());
+            if (laszip_read_point(zip_) != 0) check(1, ("point " + std::to_string(done_ + k)).c_str());
             CloudPoint p;
             p.position = glm::vec3(float(double(q.X) * scale_.x + offset_.x - origin.x),
                                    float(double(q.Y) * scale_.y + offset_.y - origin.y),
@@ -261,7 +261,9 @@ private:
         if (compressed && count > 0 && remaining == 0)
             throw Error(prefix_ + ": truncated: no compressed point data follow the header");
         declared = std::size_t(count);
-        bound = compressed ? std::size_t(std::min<std::uint64_t>(count, remaining * 16)) : declared;
+        // LAZ: at least one byte per point is a safe amount to reserve (the real count
+        // needs its memory anyway; a hostile count on a small file gets the file size).
+        bound = compressed ? std::size_t(std::min<std::uint64_t>(count, remaining)) : declared;
         extended_ = format >= 6;
         // The local frame: whole metres near the middle of the bounds.
         const glm::dvec3 max{le<double>(head, 179), le<double>(head, 195), le<double>(head, 211)};
