@@ -146,6 +146,9 @@ void validate(const GenerateOptions& o) {
     if (o.threads < 0 || o.threads > 1024)
         throw engine::Error("generate: threads (--threads) = " + std::to_string(o.threads) +
                             ": allowed [0, 1024] (0 = all cores)");
+    if (!(std::isfinite(o.drone_speed_mps) && o.drone_speed_mps > 0.0 && o.drone_speed_mps <= 1e4))
+        throw engine::Error("generate: drone speed (--drone-speed-mps) = " + engine::shownNumber(o.drone_speed_mps) +
+                            ": allowed (0, 10000] m/s");
     if (o.centre && !(std::abs(o.centre->x) <= engine::kMaxWorldCoordinate_m &&
                       std::abs(o.centre->y) <= engine::kMaxWorldCoordinate_m &&
                       std::abs(o.centre->z) <= engine::kMaxWorldCoordinate_m))
@@ -568,10 +571,7 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
 }
 
 static engine::LasOptions lasOptions(const engine::Scene& scene, const GenerateOptions& o) {
-    engine::LasOptions las = o.las;
-    if (!(std::isfinite(o.drone_speed_mps) && o.drone_speed_mps > 0.0))
-        throw engine::Error("generate: drone speed = " + engine::shownNumber(o.drone_speed_mps) +
-                            " m/s: allowed > 0");
+    engine::LasOptions las = o.las;  // drone_speed_mps is checked by validate()
     las.view_interval_s = 2.0 * std::numbers::pi * droneRadius(o.orbit) / o.orbit.views / o.drone_speed_mps;
     for (int r = 0; r < engine::kRoleCount; ++r) {
         int cls = -1;
