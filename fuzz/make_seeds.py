@@ -10,6 +10,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CLOUD = os.path.join(HERE, "seeds", "cloud")
 SCENE = os.path.join(HERE, "seeds", "scene")
 SCRIPT = os.path.join(HERE, "seeds", "script")
+LAS = os.path.join(HERE, "seeds", "las")
 
 PTS = [(0.0, 0.0, 0.0, 0xFF0000, 0, 0, 10.0), (1.5, -2.0, 0.25, 0x00FF00, 1, 1, 11.5),
        (3.0, 4.0, -1.0, 0x0000FF, 2, 7, 12.25)]
@@ -36,7 +37,50 @@ def write(name, data, d=CLOUD):
         f.write(data)
 
 
+def las_file(minor, fmt, points, extra=b"", vlrs=b"", nvlrs=0):
+    """An uncompressed LAS 1.<minor> file of point format 3 or 7 (`extra`: the extra
+    bytes after each record, described by `vlrs`)."""
+    header_size = {2: 227, 3: 235, 4: 375}[minor]
+    base = {3: 34, 7: 36}[fmt]
+    record = base + len(extra)
+    xs = [p[0] for p in points]
+    ys = [p[1] for p in points]
+    zs = [p[2] for p in points]
+    h = struct.pack("<4sHH16sBB32s32sHHHIIBHI5I", b"LASF", 0, 16 if minor == 4 else 0, b"", 1, minor,
+                    b"seed", b"make_seeds.py", 1, 2024, header_size, header_size + len(vlrs), nvlrs, fmt,
+                    record, len(points) if fmt < 6 else 0, len(points), 0, 0, 0, 0)
+    h += struct.pack("<12d", 0.001, 0.001, 0.001, 5400000.0, 1000000.0, 0.0,
+                     max(xs), min(xs), max(ys), min(ys), max(zs), min(zs))
+    if minor >= 3:
+        h += struct.pack("<Q", 0)
+    if minor >= 4:
+        h += struct.pack("<QIQ15Q", 0, 0, len(points), len(points), *([0] * 14))
+    assert len(h) == header_size
+    body = b""
+    for i, (x, y, z, cls) in enumerate(points):
+        xyz = (round((x - 5400000.0) / 0.001), round((y - 1000000.0) / 0.001), round(z / 0.001))
+        if fmt == 3:
+            body += struct.pack("<3iHBBbBHd3H", *xyz, 100 * i, 1 | (1 << 3), cls, 0, 0, i, float(i),
+                                65535, 0, 257 * i)
+        else:
+            body += struct.pack("<3iHBBBBhHd3H", *xyz, 100 * i, 1 | (1 << 4), 0, cls, 0, 500 * i, i, float(i),
+                                65535, 0, 257 * i)
+        body += extra
+    return h + vlrs + body
+
+
+def extra_bytes_vlr(fields):
+    """The LAS 1.4 extra bytes VLR for (name, data type) pairs."""
+    payload = b"".join(struct.pack("<2sBB32s4s120s32s", b"", t, 0, n.encode(), b"", b"", b"") for n, t in fields)
+    return struct.pack("<H16sHH32s", 0, b"LASF_Spec", 4, len(payload), b"extra bytes") + payload
+
+
 def main():
+    os.makedirs(LAS, exist_ok=True)
+    geo = [(5400000.125, 1000000.5, 12.0, 2), (5400001.0, 1000001.25, 14.5, 6), (5400002.5, 999999.0, 3.0, 64)]
+    write("asprs_12.las", las_file(2, 3, [(x, y, z, min(c, 31)) for x, y, z, c in geo]), LAS)
+    write("ours_14.las", las_file(4, 7, geo, struct.pack("<fB", 250.5, 1),
+                                  extra_bytes_vlr([("range", 9), ("label", 1)]), 1), LAS)
     os.makedirs(CLOUD, exist_ok=True)
     os.makedirs(SCENE, exist_ok=True)
     os.makedirs(SCRIPT, exist_ok=True)

@@ -12,6 +12,18 @@ find_path(LADARVR_STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED) 
 find_library(LADARVR_STB_LIBRARY NAMES stb REQUIRED)
 find_path(LADARVR_LZF_INCLUDE_DIR lzf.h PATH_SUFFIXES liblzf lzf REQUIRED)  # liblzf-dev
 find_library(LADARVR_LZF_LIBRARY NAMES lzf REQUIRED)
+# LASzip ships neither a CMake package nor a .pc file: the header, the API library and
+# the version from laszip_api_version.h (3.4 has the stream reader and writer we use;
+# they are in liblaszip, not in liblaszip_api).
+find_path(LADARVR_LASZIP_INCLUDE_DIR laszip/laszip_api.h REQUIRED)  # liblaszip-dev
+find_library(LADARVR_LASZIP_LIB NAMES laszip REQUIRED)  # the stream API lives here
+file(STRINGS ${LADARVR_LASZIP_INCLUDE_DIR}/laszip/laszip_api_version.h LADARVR_LASZIP_VERSION_LINES
+     REGEX "#define LASZIP_API_VERSION_(MAJOR|MINOR|PATCH) ")
+string(REGEX REPLACE ".*MAJOR ([0-9]+).*MINOR ([0-9]+).*PATCH ([0-9]+).*" "\\1.\\2.\\3"
+       LADARVR_LASZIP_VERSION "${LADARVR_LASZIP_VERSION_LINES}")
+if(LADARVR_LASZIP_VERSION VERSION_LESS 3.4)
+  message(FATAL_ERROR "LASzip ${LADARVR_LASZIP_VERSION} found; ladarvr needs 3.4 or newer (liblaszip-dev)")
+endif()
 
 if(LADARVR_FUZZ)
   return()  # the fuzz build compiles engine's parsers only

@@ -39,6 +39,7 @@ struct GenerateCli {
     bool skip_nonfinite = false;
     bool no_skip_rays = false;
     double memory_mb = 512.0;
+    int las_target_class = 64;
     sim::GenerateOptions options;
     GroundCli ground;
 };
@@ -72,17 +73,31 @@ fs::path defaultOutput(const fs::path& scene, engine::CloudFormat format) {
     std::string name = scene.stem().string();
     if (name == "scene" && !scene.parent_path().filename().empty()) name = scene.parent_path().filename().string();
     const bool ply = format == engine::CloudFormat::PlyBinary || format == engine::CloudFormat::PlyAscii;
-    return fs::path("out") / (name + (ply ? ".ply" : ".pcd"));
+    const char* ext = ply ? ".ply" : format == engine::CloudFormat::Las ? ".las"
+                    : format == engine::CloudFormat::Laz ? ".laz" : ".pcd";
+    return fs::path("out") / (name + ext);
 }
 
-const char* formatName(engine::CloudFormat f) {
-    switch (f) {
-        case engine::CloudFormat::PcdBinary: return "pcd";
-        case engine::CloudFormat::PcdAscii: return "pcd-ascii";
-        case engine::CloudFormat::PlyBinary: return "ply";
-        case engine::CloudFormat::PlyAscii: return "ply-ascii";
+const char* formatName(engine::CloudFormat f) { return engine::cloudFormatName(f); }
+
+// --format and the --out extension must agree: a cloud never lands under the name of
+// another format (pcd-ascii and ply-ascii go with .pcd and .ply). Other extensions are
+// the user's choice once --format names the format.
+void checkExtension(const fs::path& out, engine::CloudFormat format) {
+    engine::CloudFormat by_name;
+    try {
+        by_name = engine::formatForPath(out, "generate: --out");
+    } catch (const engine::Error&) {
+        return;
     }
-    return "pcd";
+    const auto family = [](engine::CloudFormat f) {
+        if (f == engine::CloudFormat::PcdAscii) return engine::CloudFormat::PcdBinary;
+        if (f == engine::CloudFormat::PlyAscii) return engine::CloudFormat::PlyBinary;
+        return f;
+    };
+    if (family(by_name) != family(format))
+        throw engine::Error("generate: --out " + out.string() + ": the extension does not match --format " +
+                            formatName(format));
 }
 
 nlohmann::json optionalNumber(const std::optional<double>& v) {
@@ -120,7 +135,12 @@ void run(GenerateCli& cli) {
     if (!cli.format.empty()) format = engine::parseCloudFormat(cli.format, "generate: --format");
     const fs::path out =
         cli.out.empty() ? defaultOutput(scene_path, format.value_or(engine::CloudFormat::PcdBinary)) : fs::path(cli.out);
-    if (!format) format = engine::formatForPath(out);
+    if (format) checkExtension(out, *format);
+    else format = engine::formatForPath(out, "generate: --out");
+    if (!(cli.las_target_class >= 0 && cli.las_target_class <= 255))
+        throw engine::Error("generate: --las-target-class = " + std::to_string(cli.las_target_class) +
+                            ": allowed 0..255");
+    o.las.class_of_role[int(engine::Role::Target)] = std::uint8_t(cli.las_target_class);
     createParentFolders(out, "generate: --out");
     engine::checkWritableDestination(out);
     o.progress = true;  // drawn only when stderr is a terminal
@@ -236,9 +256,14 @@ void registerGenerate(CLI::App& cli) {
     sim::OrbitOptions& orbit = o.orbit;
     sim::GroundOptions& ground = o.ground;
     c->add_option("--scene", state->scene, "scene file (JSON); default: the bundled demo scene");
-    c->add_option("--out", state->out, "output cloud; default out/<scene name>.pcd (.ply with --format ply*)");
-    c->add_option("--format", state->format, "pcd (binary, default), pcd-ascii, ply (binary), ply-ascii; "
-                                             "default from the --out extension");
+    c->add_option("--out", state->out, "output cloud (.pcd, .ply, .las, .laz); default out/<scene name>.pcd "
+                                       "(.ply/.las/.laz with --format)");
+    c->add_option("--format", state->format, "pcd (binary, default), pcd-ascii, ply (binary), ply-ascii, las, "
+                                             "laz; default from the --out extension");
+    c->add_option("--las-target-class", state->las_target_class,
+                  "LAS/LAZ: the ASPRS class of target points, 0..255")->capture_default_str();
+    c->add_option("--drone-speed-mps", o.drone_speed_mps,
+                  "LAS/LAZ: drone speed along the orbit, m/s > 0 (sets each view's GPS time)")->capture_default_str();
     c->add_flag("--white", o.white, "write the uncoloured (white) cloud: no colour map, no RANSAC");
     c->add_flag("--no-skip-rays", state->no_skip_rays,
                 "trace every pixel, also those whose rays cannot meet the ray-cast geometry's bounds "

@@ -74,6 +74,7 @@ std::string fuzzParser(const std::string& target) {
     if (target == "fuzz_scene_json") return "`engine::loadSceneJson` (scene JSON + Assimp meshes)";
     if (target == "fuzz_cloud_reader") return "`engine::readCloudData` (PCD ascii/binary/compressed, PLY)";
     if (target == "fuzz_view_script") return "`viewer::parseScript` (the viewer's --script files)";
+    if (target == "fuzz_las_reader") return "`engine::CloudReader` on LAS/LAZ (our checks, then LASzip)";
     return "?";
 }
 

@@ -7,6 +7,7 @@
 // "## Generator (ladarvr bench generate)" of BENCHMARKS.md is rewritten with the tables,
 // the command and the machine.
 #include "common.hpp"
+#include "formats.hpp"
 #include "plain_loop.hpp"
 #include "register.hpp"
 #include "sensor.hpp"
@@ -400,6 +401,7 @@ void run(const BenchGenerateCli& cli) {
                                              : "large: demo subdivided, 512x512 x 400 views";
     results.push_back(runConfig(large_name, big, large, 1, false, false, out));
     results.back().prepare_s = big_prepare_s;
+    benchFormats(big, large, dir, large_name, cli.no_md ? "" : cli.md);
     std::error_code ec;
     fs::remove_all(dir, ec);
 

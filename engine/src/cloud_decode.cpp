@@ -143,6 +143,42 @@ Role checkedLabel(double v, std::size_t i, const std::string& prefix) {
     return Role(std::uint8_t(v));
 }
 
+// Our role from a label value: our own 0..2, or an ASPRS class (Layout::label_codes).
+Role labelRole(double v, const Layout& l, std::size_t i, const std::string& prefix, DecodeStats& stats) {
+    if (l.label_codes == LabelCodes::Roles || (l.label_codes == LabelCodes::RolesThenClasses && v >= 0.0 && v <= 2.0))
+        return checkedLabel(v, i, prefix);
+    if (!(v >= 0.0 && v <= 255.0) || v != std::floor(v))
+        throw Error(prefix + ": point " + std::to_string(i) + ": label " + shortNumber(v) +
+                    " is not an ASPRS class 0..255");
+    bool known = true;
+    const Role r = roleForClass(unsigned(v), known);
+    if (!known && stats.unknown_classes++ == 0) stats.first_unknown = unsigned(v);
+    return r;
+}
+
+std::uint16_t clampedU16(double v) {
+    if (!(v > 0.0)) return 0;  // also NaN
+    if (v >= 65535.0) return 65535;
+    return std::uint16_t(std::lround(v));
+}
+
+std::uint8_t clampedU8(double v) {
+    if (!(v > 0.0)) return 0;
+    if (v >= 255.0) return 255;
+    return std::uint8_t(std::lround(v));
+}
+
+// The optional fields after range; `get(column)` gives a present column's value.
+template <typename Get>
+void decodeExtras(CloudPoint& p, const Layout& l, Get&& get) {
+    if (l.intensity.present) p.intensity = clampedU16(get(l.intensity));
+    if (l.return_number.present) p.return_number = clampedU8(get(l.return_number));
+    if (l.returns.present) p.returns = clampedU8(get(l.returns));
+    if (l.incidence.present) p.incidence_deg = float(get(l.incidence));
+    if (l.scan_angle.present) p.scan_angle_deg = float(get(l.scan_angle));
+    if (l.height_above_ground.present) p.height_above_ground_m = float(get(l.height_above_ground));
+}
+
 std::uint16_t checkedView(double v, std::size_t i, const std::string& prefix) {
     if (!(v >= 0.0 && v <= 65535.0) || v != std::floor(v))
         throw Error(prefix + ": point " + std::to_string(i) + ": view " + shortNumber(v) +
@@ -250,7 +286,52 @@ CloudFields Layout::fields() const {
     f.label = label.present;
     f.view = view.present;
     f.range = range.present;
+    f.intensity = intensity.present;
+    f.returns = return_number.present || returns.present;
+    f.incidence = incidence.present;
+    f.scan_angle = scan_angle.present;
+    f.height_above_ground = height_above_ground.present;
     return f;
+}
+
+bool Layout::wideXyz() const {
+    const auto wide = [](const Column& c) { return !(c.type.kind == Kind::Float && c.type.size == 4); };
+    return wide(x) || wide(y) || wide(z);
+}
+
+Column* columnFor(Layout& l, std::string_view name) {
+    if (name.starts_with("scalar_")) name.remove_prefix(7);
+    if (name == "label" || name == "classification" || name == "Classification") return &l.label;
+    if (name == "view") return &l.view;
+    if (name == "range") return &l.range;
+    if (name == "intensity") return &l.intensity;
+    if (name == "return_number") return &l.return_number;
+    if (name == "number_of_returns") return &l.returns;
+    if (name == "incidence_deg") return &l.incidence;
+    if (name == "scan_angle_deg") return &l.scan_angle;
+    if (name == "height_above_ground_m") return &l.height_above_ground;
+    return nullptr;
+}
+
+glm::dvec3 shiftFor(const glm::dvec3& first) {
+    glm::dvec3 s{0.0};
+    for (int k = 0; k < 3; ++k)
+        if (std::isfinite(first[k]) && std::fabs(first[k]) >= kShiftFrom_m) s[k] = std::round(first[k]);
+    return s;
+}
+
+LabelCodes labelCodesFor(std::string_view name, bool ours) {
+    if (name.starts_with("scalar_")) name.remove_prefix(7);
+    if (name == "classification" || name == "Classification") return LabelCodes::Classes;
+    return ours ? LabelCodes::Roles : LabelCodes::RolesThenClasses;
+}
+
+Role roleForClass(unsigned code, bool& known) {
+    known = true;
+    if (code == 2) return Role::Ground;
+    if (code == kTargetClass) return Role::Target;
+    known = code <= 22;
+    return Role::Environment;
 }
 
 std::vector<std::string_view> splitWords(std::string_view line) {
@@ -316,9 +397,26 @@ void checkPadding(ByteSource& source, std::uint64_t from, const std::string& pre
                     "; the header must count every point");
 }
 
+glm::dvec3 peekBinaryXyz(const unsigned char* record, const Layout& l, bool swap) {
+    return {loadScalar(record + l.x.base, l.x.type, swap), loadScalar(record + l.y.base, l.y.type, swap),
+            loadScalar(record + l.z.base, l.z.type, swap)};
+}
+
+bool peekTextXyz(TextStream& tokens, const Layout& l, std::size_t per_point, glm::dvec3& xyz) {
+    for (std::size_t t = 0; t < per_point; ++t) {
+        std::string_view piece;
+        if (!tokens.next(piece)) return false;
+        for (int k = 0; k < 3; ++k) {
+            const Column& c = k == 0 ? l.x : k == 1 ? l.y : l.z;
+            if (c.token == t && !parseDouble(piece, xyz[k])) return false;
+        }
+    }
+    return true;
+}
+
 void decodeBinary(const unsigned char* data, std::size_t first, std::size_t count,
                   const Layout& l, bool swap, std::size_t number, const std::string& prefix,
-                  std::vector<CloudPoint>& out) {
+                  std::vector<CloudPoint>& out, DecodeStats& stats) {
     auto at = [&](const Column& c, std::size_t k) { return data + c.base + (first + k) * c.stride; };
     const std::size_t old = out.size();
     out.resize(old + count);
@@ -327,7 +425,10 @@ void decodeBinary(const unsigned char* data, std::size_t first, std::size_t coun
     // Fast path for native-endian files of our own layout (and PCL's usual x y z [rgb]):
     // fixed types, no per-value type switch; the general loop below handles the rest.
     const auto is = [](const Column& c, Kind k, int size) { return c.type.kind == k && c.type.size == size; };
+    const bool extras = l.intensity.present || l.return_number.present || l.returns.present ||
+                        l.incidence.present || l.scan_angle.present || l.height_above_ground.present;
     if (!swap && is(l.x, Kind::Float, 4) && is(l.y, Kind::Float, 4) && is(l.z, Kind::Float, 4) &&
+        l.shift == glm::dvec3(0.0) &&
         !rgb_from_channels && (!l.label.present || is(l.label, Kind::UInt, 1)) &&
         (!l.view.present || is(l.view, Kind::UInt, 2)) && (!l.range.present || is(l.range, Kind::Float, 4))) {
         for (std::size_t k = 0; k < count; ++k) {
@@ -342,18 +443,19 @@ void decodeBinary(const unsigned char* data, std::size_t first, std::size_t coun
             }
             if (l.label.present) {
                 const std::uint8_t b = *at(l.label, k);
-                p.label = b <= 2 ? Role(b) : checkedLabel(double(b), number + k, prefix);
+                p.label = b <= 2 && l.label_codes != LabelCodes::Classes ? Role(b) : labelRole(double(b), l, number + k, prefix, stats);
             }
             if (l.view.present) std::memcpy(&p.view, at(l.view, k), 2);
             if (l.range.present) std::memcpy(&p.range_m, at(l.range, k), 4);
+            if (extras) decodeExtras(p, l, [&](const Column& c) { return loadScalar(at(c, k), c.type, false); });
         }
         return;
     }
     for (std::size_t k = 0; k < count; ++k) {
         CloudPoint& p = points[k];
-        p.position = glm::vec3(float(loadScalar(at(l.x, k), l.x.type, swap)),
-                               float(loadScalar(at(l.y, k), l.y.type, swap)),
-                               float(loadScalar(at(l.z, k), l.z.type, swap)));
+        p.position = glm::vec3(float(loadScalar(at(l.x, k), l.x.type, swap) - l.shift.x),
+                               float(loadScalar(at(l.y, k), l.y.type, swap) - l.shift.y),
+                               float(loadScalar(at(l.z, k), l.z.type, swap) - l.shift.z));
         if (l.rgb.present) {
             p.rgb = loadBits32(at(l.rgb, k), swap) & 0xFFFFFFu;
         } else if (rgb_from_channels) {
@@ -362,22 +464,25 @@ void decodeBinary(const unsigned char* data, std::size_t first, std::size_t coun
                             colourByte(loadScalar(at(l.blue, k), l.blue.type, swap), l.colour_float));
         }
         if (l.label.present)
-            p.label = checkedLabel(loadScalar(at(l.label, k), l.label.type, swap), number + k, prefix);
+            p.label = labelRole(loadScalar(at(l.label, k), l.label.type, swap), l, number + k, prefix, stats);
         if (l.view.present)
             p.view = checkedView(loadScalar(at(l.view, k), l.view.type, swap), number + k, prefix);
         if (l.range.present) p.range_m = float(loadScalar(at(l.range, k), l.range.type, swap));
+        if (extras) decodeExtras(p, l, [&](const Column& c) { return loadScalar(at(c, k), c.type, swap); });
     }
 }
 
 void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, const Layout& l,
                 std::size_t number, std::size_t total, std::size_t line_base,
-                const std::string& prefix, std::vector<CloudPoint>& out) {
+                const std::string& prefix, std::vector<CloudPoint>& out, DecodeStats& stats) {
     std::vector<std::string> tok(per_point);
     std::size_t i = number;
+    const bool exact = l.shift == glm::dvec3(0.0);
     auto value = [&](const Column& c) {
-        // Floats of 4 bytes parse as float: the shortest text of a float reads back exactly.
+        // Floats of 4 bytes parse as float: the shortest text of a float reads back exactly
+        // (but not when x, y, z are shifted: then their digits beyond a float count).
         float f;
-        if (c.type.kind == Kind::Float && c.type.size == 4 && parseFloat(tok[c.token], f))
+        if (exact && c.type.kind == Kind::Float && c.type.size == 4 && parseFloat(tok[c.token], f))
             return double(f);
         double v;
         if (!parseDouble(tok[c.token], v))
@@ -397,7 +502,8 @@ void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, co
             tok[t].assign(piece);
         }
         CloudPoint p;
-        p.position = glm::vec3(float(value(l.x)), float(value(l.y)), float(value(l.z)));
+        p.position = glm::vec3(float(value(l.x) - l.shift.x), float(value(l.y) - l.shift.y),
+                               float(value(l.z) - l.shift.z));
         if (l.rgb.present) {
             // TYPE F rgb: PCL's writer puts the uint32 bits as an integer, others the float.
             std::uint32_t bits = 0;
@@ -418,9 +524,10 @@ void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, co
                             colourByte(value(l.green), l.colour_float),
                             colourByte(value(l.blue), l.colour_float));
         }
-        if (l.label.present) p.label = checkedLabel(value(l.label), i, prefix);
+        if (l.label.present) p.label = labelRole(value(l.label), l, i, prefix, stats);
         if (l.view.present) p.view = checkedView(value(l.view), i, prefix);
         if (l.range.present) p.range_m = float(value(l.range));
+        decodeExtras(p, l, value);
         out.push_back(p);
     }
 }

@@ -78,6 +78,15 @@ struct ScalarType {
     int size = 4;
 };
 
+/// The codes of a label field: our roles 0..2 only (files we wrote: the ladarvr origin
+/// comment), ASPRS classes (a field named `classification`), or, in other files' `label`,
+/// our roles for 0..2 and ASPRS classes from 3 on (6 building, ...), which PCL-converted
+/// copies of our clouds and ASPRS-labelled clouds both read as meant.
+enum class LabelCodes : std::uint8_t { Roles, RolesThenClasses, Classes };
+
+/// The label codes a file's field `name` holds; `ours`: the header has the ladarvr origin.
+LabelCodes labelCodesFor(std::string_view name, bool ours);
+
 /// One field we use: where its value sits in the (decoded) data.
 struct Column {
     bool present = false;
@@ -90,9 +99,39 @@ struct Column {
 /// What each field we keep is, in one format's records.
 struct Layout {
     Column x, y, z, rgb, red, green, blue, label, view, range;
+    Column intensity, return_number, returns, incidence, scan_angle, height_above_ground;
     bool rgb_float_text = false;  // PCD rgb of TYPE F in text: uint32 bits or a float
     bool colour_float = false;    // PLY red/green/blue as floats in [0, 1]
+    /// What the label's codes mean (docs/formats.md).
+    LabelCodes label_codes = LabelCodes::Roles;
+    /// Subtracted from x, y, z in double precision before the cast to float, so
+    /// georeferenced double coordinates keep their millimetres (added to the origin).
+    glm::dvec3 shift{0.0};
     CloudFields fields() const;
+    /// Whether x, y, z hold more precision than a float (double or integer columns).
+    bool wideXyz() const;
+};
+
+/// Where a field name is one of ours (x, y, z excepted): "label" and "scalar_label"
+/// (CloudCompare keeps only `scalar_*` properties) alike. Null for unknown names.
+Column* columnFor(Layout& l, std::string_view name);
+
+/// The shift for georeferenced coordinates: per axis, the whole metres of `first` (the
+/// first point) when |first| >= kShiftFrom_m, else 0. Floats of 4 bytes reach 1 mm steps
+/// at 8,192 m, so smaller coordinates are kept exactly as they are.
+glm::dvec3 shiftFor(const glm::dvec3& first);
+inline constexpr double kShiftFrom_m = 4096.0;
+
+/// Our role for an ASPRS class (LAS 1.4 R15 table 17): 2 -> ground, the other standard
+/// classes 0..22 -> environment, kTargetClass -> target. Unknown codes -> environment and
+/// `known` = false.
+Role roleForClass(unsigned code, bool& known);
+inline constexpr unsigned kTargetClass = 64;  // the first user-definable class
+
+/// Counters the decoders keep across chunks (for the reader's warning line).
+struct DecodeStats {
+    std::size_t unknown_classes = 0;
+    unsigned first_unknown = 0;
 };
 
 std::vector<std::string_view> splitWords(std::string_view line);
@@ -113,14 +152,20 @@ void checkPadding(ByteSource& source, std::uint64_t from, const std::string& pre
 /// of the first point in the file, for messages. `swap`: big-endian data.
 void decodeBinary(const unsigned char* data, std::size_t first, std::size_t count,
                   const Layout& l, bool swap, std::size_t number, const std::string& prefix,
-                  std::vector<CloudPoint>& out);
+                  std::vector<CloudPoint>& out, DecodeStats& stats);
 
 /// Decodes `count` text records of `per_point` tokens each (appended to `out`); `number`
 /// is the index of the first, `line_base` the header's line count (for messages), `total`
 /// the declared count (for the truncation message).
 void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, const Layout& l,
                 std::size_t number, std::size_t total, std::size_t line_base,
-                const std::string& prefix, std::vector<CloudPoint>& out);
+                const std::string& prefix, std::vector<CloudPoint>& out, DecodeStats& stats);
+
+/// x, y, z of the first text record (for shiftFor), read through a stream of its own
+/// that starts at the record; false if the data end first or a value is no number.
+bool peekTextXyz(TextStream& tokens, const Layout& l, std::size_t per_point, glm::dvec3& xyz);
+/// x, y, z of the binary record at `record` (for shiftFor).
+glm::dvec3 peekBinaryXyz(const unsigned char* record, const Layout& l, bool swap);
 
 /// One cloud format's reader: the header is read and checked when it is made; next()
 /// then decodes the records in order.
@@ -135,11 +180,14 @@ public:
     CloudFields fields;
     std::size_t declared = 0;  // the header's point count
     std::size_t bound = 0;     // at most this many points fit in the data (for reserve)
+    DecodeStats stats;
 };
 
 /// The PCD v0.7 reader (ascii, binary, binary_compressed). Throws Error("<prefix>: ...").
 std::unique_ptr<FormatReader> openPcd(ByteSource& source, const std::string& prefix);
 /// The PLY 1.0 reader (ascii, binary little and big endian). Throws Error("<prefix>: ...").
 std::unique_ptr<FormatReader> openPly(ByteSource& source, const std::string& prefix);
+/// The LAS 1.0-1.4 / LAZ reader (LASzip). Throws Error("<prefix>: ...").
+std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix);
 
 }  // namespace engine::detail

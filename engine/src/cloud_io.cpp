@@ -7,6 +7,7 @@
 #include <engine/error.hpp>
 #include <engine/safe_file.hpp>
 
+#include "las_sink.hpp"
 #include "text.hpp"
 
 #include <algorithm>
@@ -31,19 +32,35 @@ static_assert(std::endian::native == std::endian::little,
 // ---------------------------------------------------------------------------------
 
 CloudFormat parseCloudFormat(std::string_view name, std::string_view parameter) {
-    if (name == "pcd") return CloudFormat::PcdBinary;
-    if (name == "pcd-ascii") return CloudFormat::PcdAscii;
-    if (name == "ply") return CloudFormat::PlyBinary;
-    if (name == "ply-ascii") return CloudFormat::PlyAscii;
-    throw Error(std::string(parameter) + ": format '" + std::string(name) +
-                "' is not one of pcd, pcd-ascii, ply, ply-ascii");
+    for (CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary,
+                          CloudFormat::PlyAscii, CloudFormat::Las, CloudFormat::Laz})
+        if (name == cloudFormatName(f)) return f;
+    throw Error(std::string(parameter) + ": format '" + detail::shown(name) +
+                "' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz");
 }
 
-CloudFormat formatForPath(const std::filesystem::path& path) {
+const char* cloudFormatName(CloudFormat format) {
+    switch (format) {
+        case CloudFormat::PcdBinary: return "pcd";
+        case CloudFormat::PcdAscii: return "pcd-ascii";
+        case CloudFormat::PlyBinary: return "ply";
+        case CloudFormat::PlyAscii: return "ply-ascii";
+        case CloudFormat::Las: return "las";
+        case CloudFormat::Laz: return "laz";
+    }
+    return "pcd";
+}
+
+CloudFormat formatForPath(const std::filesystem::path& path, std::string_view parameter) {
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
-    return ext == ".ply" ? CloudFormat::PlyBinary : CloudFormat::PcdBinary;
+    if (ext.empty() || ext == ".pcd") return CloudFormat::PcdBinary;
+    if (ext == ".ply") return CloudFormat::PlyBinary;
+    if (ext == ".las") return CloudFormat::Las;
+    if (ext == ".laz") return CloudFormat::Laz;
+    throw Error(std::string(parameter) + ": " + detail::shown(path.string(), 200, true) + ": extension '" +
+                detail::shown(ext, 40, true) + "' is not one of .pcd, .ply, .las, .laz");
 }
 
 namespace {
@@ -69,6 +86,46 @@ std::string paddedCount(std::size_t n) {
     return buf;
 }
 
+// One optional field after x y z and rgb: its names and types in PCD and PLY. PLY names
+// start with "scalar_" and use uchar, int or float, the property types that both
+// CloudCompare (which keeps only one unknown property unless it is named scalar_*) and
+// Open3D (which drops char, short, ushort and uint) keep.
+struct FieldSpec {
+    const char* pcd_name;
+    char pcd_type;      // U or F
+    int pcd_size;
+    const char* ply_name;
+    const char* ply_type;  // uchar, int, float
+    int ply_size;
+};
+
+constexpr FieldSpec kLabel{"label", 'U', 1, "scalar_label", "uchar", 1};
+constexpr FieldSpec kView{"view", 'U', 2, "scalar_view", "int", 4};
+constexpr FieldSpec kRange{"range", 'F', 4, "scalar_range", "float", 4};
+constexpr FieldSpec kIntensity{"intensity", 'U', 2, "scalar_intensity", "int", 4};
+constexpr FieldSpec kReturnNumber{"return_number", 'U', 1, "scalar_return_number", "uchar", 1};
+constexpr FieldSpec kReturns{"number_of_returns", 'U', 1, "scalar_number_of_returns", "uchar", 1};
+constexpr FieldSpec kIncidence{"incidence_deg", 'F', 4, "scalar_incidence_deg", "float", 4};
+constexpr FieldSpec kScanAngle{"scan_angle_deg", 'F', 4, "scalar_scan_angle_deg", "float", 4};
+constexpr FieldSpec kHeight{"height_above_ground_m", 'F', 4, "scalar_height_above_ground_m", "float", 4};
+
+// The optional fields `fields` turns on, in file order.
+std::vector<const FieldSpec*> optionalFields(const CloudFields& f) {
+    std::vector<const FieldSpec*> out;
+    if (f.label) out.push_back(&kLabel);
+    if (f.view) out.push_back(&kView);
+    if (f.range) out.push_back(&kRange);
+    if (f.intensity) out.push_back(&kIntensity);
+    if (f.returns) {
+        out.push_back(&kReturnNumber);
+        out.push_back(&kReturns);
+    }
+    if (f.incidence) out.push_back(&kIncidence);
+    if (f.scan_angle) out.push_back(&kScanAngle);
+    if (f.height_above_ground) out.push_back(&kHeight);
+    return out;
+}
+
 // Header text; `count_at` receives the byte offsets of the padded count fields.
 std::string makeHeader(CloudFormat format, const glm::dvec3& origin, const CloudFields& fields,
                        long count_at[2]) {
@@ -85,23 +142,20 @@ std::string makeHeader(CloudFormat format, const glm::dvec3& origin, const Cloud
         h += zero + "\n";
         h += "property float x\nproperty float y\nproperty float z\n";
         if (fields.rgb) h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-        if (fields.label) h += "property uchar label\n";
-        if (fields.view) h += "property ushort view\n";
-        if (fields.range) h += "property float range\n";
+        for (const FieldSpec* f : optionalFields(fields))
+            h += std::string("property ") + f->ply_type + " " + f->ply_name + "\n";
         h += "end_header\n";
         return h;
     }
     std::string names = "x y z", sizes = "4 4 4", types = "F F F", counts = "1 1 1";
-    auto add = [&](const char* n, const char* s, const char* t) {
+    auto add = [&](const char* n, int s, char t) {
         names += std::string(" ") + n;
-        sizes += std::string(" ") + s;
+        sizes += " " + std::to_string(s);
         types += std::string(" ") + t;
         counts += " 1";
     };
-    if (fields.rgb) add("rgb", "4", "F");
-    if (fields.label) add("label", "1", "U");
-    if (fields.view) add("view", "2", "U");
-    if (fields.range) add("range", "4", "F");
+    if (fields.rgb) add("rgb", 4, 'F');
+    for (const FieldSpec* f : optionalFields(fields)) add(f->pcd_name, f->pcd_size, f->pcd_type);
     h += "# .PCD v0.7 - Point Cloud Data file format (ladarvr: world = origin + (x, y, z))\n";
     h += "# ladarvr origin " + originText(origin) + "\n";
     h += "VERSION 0.7\nFIELDS " + names + "\nSIZE " + sizes + "\nTYPE " + types + "\nCOUNT " +
@@ -139,13 +193,17 @@ void putUnsigned(std::string& s, std::uint32_t v) {
 // ---------------------------------------------------------------------------------
 
 CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin,
-                         CloudFields fields)
+                         CloudFields fields, const LasOptions& las)
     : path_(std::move(path)), format_(format), fields_(fields) {
     checkWritableDestination(path_);
     if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z))
         throw Error("output: " + path_.string() + ": the cloud origin is not finite");
     temp_ = std::make_unique<TempFile>(path_);
     file_ = temp_->file();
+    if (format_ == CloudFormat::Las || format_ == CloudFormat::Laz) {
+        las_ = detail::openLasSink(*temp_, format_ == CloudFormat::Laz, origin, fields_, las);
+        return;
+    }
     const std::string header = makeHeader(format_, origin, fields_, count_offset_);
     buffer_.reserve(kFlushBytes + 4096);
     buffer_ = header;
@@ -156,10 +214,17 @@ CloudWriter::~CloudWriter() = default;
 
 void CloudWriter::append(std::span<const CloudPoint> points) {
     if (!file_) throw Error("output: " + path_.string() + ": append after commit");
+    if (las_) {
+        las_->append(points);
+        count_ += points.size();
+        return;
+    }
     const bool ply = isPly(format_);
     if (!isAscii(format_)) {
-        const std::size_t record = 12 + (fields_.rgb ? (ply ? 3 : 4) : 0) + (fields_.label ? 1 : 0) +
-                                   (fields_.view ? 2 : 0) + (fields_.range ? 4 : 0);
+        std::size_t record = 12 + (fields_.rgb ? (ply ? 3 : 4) : 0);
+        for (const FieldSpec* f : optionalFields(fields_)) record += std::size_t(ply ? f->ply_size : f->pcd_size);
+        const bool extras = fields_.intensity || fields_.returns || fields_.incidence || fields_.scan_angle ||
+                            fields_.height_above_ground;
         std::size_t done = 0;
         while (done < points.size()) {
             const std::size_t room = std::max<std::size_t>(1, (kFlushBytes - std::min(kFlushBytes, buffer_.size())) / record);
@@ -183,8 +248,23 @@ void CloudWriter::append(std::span<const CloudPoint> points) {
                     }
                 }
                 if (fields_.label) putRaw(out, std::uint8_t(p.label));
-                if (fields_.view) putRaw(out, p.view);
+                if (fields_.view) {
+                    if (ply) putRaw(out, std::int32_t(p.view));
+                    else putRaw(out, p.view);
+                }
                 if (fields_.range) putRaw(out, p.range_m);
+                if (!extras) continue;
+                if (fields_.intensity) {
+                    if (ply) putRaw(out, std::int32_t(p.intensity));
+                    else putRaw(out, p.intensity);
+                }
+                if (fields_.returns) {
+                    putRaw(out, p.return_number);
+                    putRaw(out, p.returns);
+                }
+                if (fields_.incidence) putRaw(out, p.incidence_deg);
+                if (fields_.scan_angle) putRaw(out, p.scan_angle_deg);
+                if (fields_.height_above_ground) putRaw(out, p.height_above_ground_m);
             }
             done += n;
             count_ += n;
@@ -233,6 +313,24 @@ void CloudWriter::append(std::span<const CloudPoint> points) {
             buffer_ += ' ';
             putFloat(buffer_, p.range_m);
         }
+        if (fields_.intensity) {
+            buffer_ += ' ';
+            putUnsigned(buffer_, p.intensity);
+        }
+        if (fields_.returns) {
+            buffer_ += ' ';
+            putUnsigned(buffer_, p.return_number);
+            buffer_ += ' ';
+            putUnsigned(buffer_, p.returns);
+        }
+        const std::pair<bool, float> floats[] = {{fields_.incidence, p.incidence_deg},
+                                                  {fields_.scan_angle, p.scan_angle_deg},
+                                                  {fields_.height_above_ground, p.height_above_ground_m}};
+        for (const auto& [on, v] : floats) {
+            if (!on) continue;
+            buffer_ += ' ';
+            putFloat(buffer_, v);
+        }
         buffer_ += '\n';
         ++count_;
         if (buffer_.size() >= kFlushBytes) {
@@ -251,6 +349,13 @@ void CloudWriter::commit() {
         temp_->discard();
         throw Error("output: " + path_.string() + ": " + what + ": " + reason);
     };
+    if (las_) {
+        file_ = nullptr;
+        las_->finish();  // header counts, bounds and (LAZ) the chunk table, then flushed
+        las_.reset();
+        temp_->commit();
+        return;
+    }
     if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
         fail("write failed");
     buffer_.clear();
@@ -270,8 +375,9 @@ void CloudWriter::commit() {
     temp_->commit();  // flush, close, rename over path_ (or remove the temporary and throw)
 }
 
-void writeCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format) {
-    CloudWriter writer(path, format, cloud.origin, cloud.fields);
+void writeCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format,
+                const LasOptions& las) {
+    CloudWriter writer(path, format, cloud.origin, cloud.fields, las);
     writer.append(cloud.points);
     writer.commit();
 }

@@ -7,6 +7,7 @@
 #include "cloud_decode.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 
@@ -14,30 +15,44 @@ namespace engine {
 
 namespace {
 
-/// PLY files start with "ply"; everything else is read as PCD (whose header may start
-/// with any comment).
-bool looksLikePly(detail::ByteSource& source) {
-    return source.size() >= 3 && source.view(0, 3) == "ply";
+/// PLY files start with "ply", LAS and LAZ with "LASF"; everything else is read as PCD
+/// (whose header may start with any comment).
+const char* moduleOf(detail::ByteSource& source) {
+    if (source.size() >= 4 && source.view(0, 4) == "LASF") return "las";
+    if (source.size() >= 3 && source.view(0, 3) == "ply") return "ply";
+    return "pcd";
 }
 
-std::string moduleFor(const std::filesystem::path& path) {
-    return formatForPath(path) == CloudFormat::PlyBinary ? "ply" : "pcd";
+// The module named in messages about a file that cannot be opened, by its extension.
+const char* moduleFor(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".ply") return "ply";
+    if (ext == ".las" || ext == ".laz") return "las";
+    return "pcd";
+}
+
+std::unique_ptr<detail::FormatReader> open(detail::ByteSource& source, const std::string& module,
+                                           const std::string& prefix) {
+    if (module == "las") return detail::openLas(source, prefix);
+    if (module == "ply") return detail::openPly(source, prefix);
+    return detail::openPcd(source, prefix);
 }
 
 }  // namespace
 
 CloudReader::CloudReader(const std::filesystem::path& path)
-    : source_(detail::fileSource(path, moduleFor(path).c_str())) {
-    const bool ply = looksLikePly(*source_);
-    prefix_ = std::string(ply ? "ply: " : "pcd: ") + path.string();
-    format_ = ply ? detail::openPly(*source_, prefix_) : detail::openPcd(*source_, prefix_);
+    : source_(detail::fileSource(path, moduleFor(path))) {
+    const std::string module = moduleOf(*source_);
+    prefix_ = module + ": " + path.string();
+    format_ = open(*source_, module, prefix_);
 }
 
 CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name)
     : source_(detail::memorySource(bytes)) {
-    const bool ply = looksLikePly(*source_);
-    prefix_ = std::string(ply ? "ply: " : "pcd: ") + name.string();
-    format_ = ply ? detail::openPly(*source_, prefix_) : detail::openPcd(*source_, prefix_);
+    const std::string module = moduleOf(*source_);
+    prefix_ = module + ": " + name.string();
+    format_ = open(*source_, module, prefix_);
 }
 
 CloudReader::~CloudReader() = default;
@@ -67,9 +82,15 @@ bool CloudReader::nextChunk(std::vector<CloudPoint>& out, std::size_t max_points
 }
 
 std::string CloudReader::warning() const {
-    if (dropped_ == 0) return {};
-    return prefix_ + ": dropped " + std::to_string(dropped_) + " of " + std::to_string(read_) +
-           " points with a non-finite x, y, z or range (NaN or inf)";
+    std::string w;
+    if (dropped_ > 0)
+        w = prefix_ + ": dropped " + std::to_string(dropped_) + " of " + std::to_string(read_) +
+            " points with a non-finite x, y, z or range (NaN or inf)";
+    if (const detail::DecodeStats& s = format_->stats; s.unknown_classes > 0)
+        w += (w.empty() ? prefix_ + ": " : std::string("; ")) + std::to_string(s.unknown_classes) +
+             " points have an ASPRS class this reader does not know (the first: " +
+             std::to_string(s.first_unknown) + "); read as environment";
+    return w;
 }
 
 namespace {

@@ -23,6 +23,7 @@ namespace {
 
 struct PcdHeader {
     glm::dvec3 origin{0.0};
+    bool ours = false;           // the header has the ladarvr origin comment
     Layout layout;
     std::size_t points = 0;
     std::size_t record = 0;      // bytes per point (binary)
@@ -54,10 +55,13 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
         const std::string where = pre + ": line " + std::to_string(lines.line_no);
         if (words[0].front() == '#') {
             // "# ladarvr origin X Y Z" (also "#ladarvr origin ..."); other comments are free.
-            if (words[0] == "#" && words.size() > 2 && words[1] == "ladarvr" && words[2] == "origin")
+            if (words[0] == "#" && words.size() > 2 && words[1] == "ladarvr" && words[2] == "origin") {
                 h.origin = parseOrigin(words, 3, where);
-            else if (words[0] == "#ladarvr" && words.size() > 1 && words[1] == "origin")
+                h.ours = true;
+            } else if (words[0] == "#ladarvr" && words.size() > 1 && words[1] == "origin") {
                 h.origin = parseOrigin(words, 2, where);
+                h.ours = true;
+            }
             continue;
         }
         const std::string_view key = words[0];
@@ -155,9 +159,9 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
         else if (nm == "y") slot = &l.y;
         else if (nm == "z") slot = &l.z;
         else if (nm == "rgb" || nm == "rgba") slot = &l.rgb;
-        else if (nm == "label") slot = &l.label;
-        else if (nm == "view") slot = &l.view;
-        else if (nm == "range") slot = &l.range;
+        else slot = columnFor(l, nm);
+        // What the label's codes mean: ours, ASPRS classes, or both (LabelCodes).
+        if (slot == &l.label && !l.label.present) l.label_codes = labelCodesFor(nm, h.ours);
         if (slot && counts[f] != 1)
             throw Error(pre + ": field '" + shown(nm) + "' has COUNT " + std::to_string(counts[f]) +
                         "; allowed: 1");
@@ -200,6 +204,7 @@ public:
             decompress(remaining);
             bound = h_.points;
         }
+        shiftOrigin();
     }
 
     std::size_t next(std::vector<CloudPoint>& out, std::size_t max_points) override {
@@ -216,22 +221,41 @@ public:
             return 0;
         }
         if (h_.data == "ascii") {
-            decodeText(tokens_, n, h_.per_point, h_.layout, done_, h_.points, h_.lines, prefix_, out);
+            decodeText(tokens_, n, h_.per_point, h_.layout, done_, h_.points, h_.lines, prefix_, out, stats);
         } else if (h_.data == "binary") {
             const std::string_view bytes = source_.view(h_.body + done_ * h_.record, n * h_.record);
             decodeBinary(reinterpret_cast<const unsigned char*>(bytes.data()), 0, n, h_.layout, false,
-                         done_, prefix_, out);
+                         done_, prefix_, out, stats);
         } else {
-            decodeBinary(plain_.data(), done_, n, h_.layout, false, done_, prefix_, out);
+            decodeBinary(plain_.data(), done_, n, h_.layout, false, done_, prefix_, out, stats);
         }
         done_ += n;
         return n;
     }
 
 private:
-    std::array<Column*, 7> columns() {
+    std::array<Column*, 13> columns() {
         Layout& l = h_.layout;
-        return {&l.x, &l.y, &l.z, &l.rgb, &l.label, &l.view, &l.range};
+        return {&l.x, &l.y, &l.z, &l.rgb, &l.label, &l.view, &l.range, &l.intensity, &l.return_number,
+                &l.returns, &l.incidence, &l.scan_angle, &l.height_above_ground};
+    }
+
+    // Georeferenced coordinates: double (or integer) columns move onto a double origin
+    // taken from the first point before the cast to float.
+    void shiftOrigin() {
+        if (h_.points == 0 || !h_.layout.wideXyz()) return;
+        glm::dvec3 first{0.0};
+        if (h_.data == "ascii") {
+            TextStream peek(source_, h_.body, prefix_);
+            if (!peekTextXyz(peek, h_.layout, h_.per_point, first)) return;
+        } else {
+            const unsigned char* base = h_.data == "binary"
+                ? reinterpret_cast<const unsigned char*>(source_.view(h_.body, h_.record).data())
+                : plain_.data();
+            first = peekBinaryXyz(base, h_.layout, false);  // column bases are point 0's
+        }
+        h_.layout.shift = shiftFor(first);
+        origin += h_.layout.shift;
     }
 
     // binary_compressed: the sizes (compressed, uncompressed) then one LZF block holding

@@ -74,14 +74,28 @@ public:
         : source_(source), prefix_(prefix) {
         parseHeader(headerPrefix(source));
         declared = elements_[vi_].count;
-        tokens_.emplace(source, body_, prefix);
         if (format_ == "ascii") {
+            // Georeferenced coordinates: moved onto a double origin taken from the first
+            // vertex before the cast to float. A stream of its own finds that vertex.
+            tokens_.emplace(source, body_, prefix);
+            skipTextElements();
+            glm::dvec3 first{0.0};
+            if (declared > 0 && layout_.wideXyz() && peekTextXyz(*tokens_, layout_, elements_[vi_].props.size(), first))
+                layout_.shift = shiftFor(first);
+            tokens_.emplace(source, body_, prefix);
             skipTextElements();
             bound = std::min<std::uint64_t>(declared, (source.size() - body_) / (2 * elements_[vi_].props.size()) + 1);
         } else {
+            tokens_.emplace(source, body_, prefix);
             skipBinaryElements();
             bound = declared;
+            if (declared > 0 && layout_.wideXyz()) {
+                const std::string_view first = source_.view(vertex_at_, record_);
+                layout_.shift = shiftFor(peekBinaryXyz(reinterpret_cast<const unsigned char*>(first.data()),
+                                                       layout_, format_ == "binary_big_endian"));
+            }
         }
+        origin += layout_.shift;
     }
 
     std::size_t next(std::vector<CloudPoint>& out, std::size_t max_points) override {
@@ -98,11 +112,12 @@ public:
             return 0;
         }
         if (format_ == "ascii") {
-            decodeText(*tokens_, n, elements_[vi_].props.size(), layout_, done_, declared, lines_, prefix_, out);
+            decodeText(*tokens_, n, elements_[vi_].props.size(), layout_, done_, declared, lines_, prefix_, out,
+                       stats);
         } else {
             const std::string_view bytes = source_.view(vertex_at_ + done_ * record_, n * record_);
             decodeBinary(reinterpret_cast<const unsigned char*>(bytes.data()), 0, n, layout_,
-                         format_ == "binary_big_endian", done_, prefix_, out);
+                         format_ == "binary_big_endian", done_, prefix_, out, stats);
         }
         done_ += n;
         return n;
@@ -136,8 +151,10 @@ private:
                                 "binary_big_endian (version 1.0)");
                 format_ = std::string(words[1]);
             } else if (key == "comment") {
-                if (words.size() > 2 && words[1] == "ladarvr" && words[2] == "origin")
+                if (words.size() > 2 && words[1] == "ladarvr" && words[2] == "origin") {
                     origin = parseOrigin(words, 3, where);
+                    ours = true;
+                }
             } else if (key == "obj_info") {
             } else if (key == "element") {
                 PlyElement e;
@@ -201,9 +218,9 @@ private:
             else if (p.name == "red" || p.name == "r" || p.name == "diffuse_red") slot = &l.red;
             else if (p.name == "green" || p.name == "g" || p.name == "diffuse_green") slot = &l.green;
             else if (p.name == "blue" || p.name == "b" || p.name == "diffuse_blue") slot = &l.blue;
-            else if (p.name == "label") slot = &l.label;
-            else if (p.name == "view") slot = &l.view;
-            else if (p.name == "range") slot = &l.range;
+            else slot = columnFor(l, p.name);
+            // What the label's codes mean: ours, ASPRS classes, or both (LabelCodes).
+            if (slot == &l.label && !l.label.present) l.label_codes = labelCodesFor(p.name, ours);
             if (slot && !slot->present) *slot = c;
             offset += std::size_t(p.type.size);
         }
@@ -212,7 +229,9 @@ private:
         l.colour_float = l.red.present && l.red.type.kind == Kind::Float;
         record_ = offset;
         fields = l.fields();
-        for (Column* c : {&l.x, &l.y, &l.z, &l.red, &l.green, &l.blue, &l.label, &l.view, &l.range})
+        for (Column* c : {&l.x, &l.y, &l.z, &l.red, &l.green, &l.blue, &l.label, &l.view, &l.range,
+                          &l.intensity, &l.return_number, &l.returns, &l.incidence, &l.scan_angle,
+                          &l.height_above_ground})
             c->stride = record_;
     }
 
@@ -290,6 +309,7 @@ private:
     std::string format_;
     std::vector<PlyElement> elements_;
     Layout layout_;
+    bool ours = false;         // the header has the ladarvr origin comment
     std::size_t vi_ = 0;       // the vertex element
     bool last_ = true;         // no element with data follows the vertices
     std::size_t record_ = 0;

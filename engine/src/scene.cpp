@@ -118,6 +118,7 @@ struct Entry {
     double scale = 1.0;
     bool up_y = false;
     double reflectance = 0.5;
+    int asprs_class = -1;
 };
 
 double finiteNumber(const json& v, const std::string& where, const std::string& key,
@@ -201,9 +202,13 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
             if (up != "y" && up != "z")
                 throw Error(where + ": 'up' is '" + detail::shown(up, 20, true) + "'; allowed: y, z");
             e.up_y = up == "y";
+        } else if (key == "class") {
+            if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() > 255)
+                throw Error(where + ": 'class' must be an ASPRS class, an integer in 0..255");
+            e.asprs_class = int(v.get<long long>());
         } else {
             throw Error(where + ": unknown key '" + detail::shown(key, 40, true) +
-                        "'; allowed keys: file, role, position, yaw_deg, scale, up, reflectance, comment");
+                        "'; allowed keys: file, role, position, yaw_deg, scale, up, reflectance, class, comment");
         }
     }
     if (j.find("role") == j.end())
@@ -381,6 +386,7 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
         mesh.name = e.file;
         mesh.role = e.role;
         mesh.reflectance = e.reflectance;
+        mesh.asprs_class = e.asprs_class;
         mesh.position = e.position;
         mesh.vertices.reserve(raw.vertices.size());
         for (std::size_t vi = 0; vi < raw.vertices.size(); ++vi) {

@@ -149,6 +149,9 @@ void validate(const GenerateOptions& o) {
     if (o.threads < 0 || o.threads > 1024)
         throw engine::Error("generate: threads (--threads) = " + std::to_string(o.threads) +
                             ": allowed [0, 1024] (0 = all cores)");
+    if (!(std::isfinite(o.drone_speed_mps) && o.drone_speed_mps > 0.0 && o.drone_speed_mps <= 1e4))
+        throw engine::Error("generate: drone speed (--drone-speed-mps) = " + engine::shownNumber(o.drone_speed_mps) +
+                            ": allowed (0, 10000] m/s");
     if (o.centre && !(std::abs(o.centre->x) <= engine::kMaxWorldCoordinate_m &&
                       std::abs(o.centre->y) <= engine::kMaxWorldCoordinate_m &&
                       std::abs(o.centre->z) <= engine::kMaxWorldCoordinate_m))
@@ -544,6 +547,26 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
     return cloud;
 }
 
+static engine::LasOptions lasOptions(const engine::Scene& scene, const GenerateOptions& o) {
+    engine::LasOptions las = o.las;  // drone_speed_mps is checked by validate()
+    las.view_interval_s = 2.0 * std::numbers::pi * droneRadius(o.orbit) / o.orbit.views / o.drone_speed_mps;
+    for (int r = 0; r < engine::kRoleCount; ++r) {
+        int cls = -1;
+        for (const engine::Mesh& m : scene.meshes) {
+            if (int(m.role) != r || m.asprs_class < 0) continue;
+            if (cls >= 0 && cls != m.asprs_class)
+                throw engine::Error("generate: " + scene.source.string() + ": " +
+                                    std::string(engine::roleName(engine::Role(r))) +
+                                    " meshes give different ASPRS classes (" + std::to_string(cls) + ", " +
+                                    std::to_string(m.asprs_class) +
+                                    "); LAS output holds one class per role, since a point records its role");
+            cls = m.asprs_class;
+        }
+        if (cls >= 0) las.class_of_role[r] = std::uint8_t(cls);
+    }
+    return las;
+}
+
 void Generator::run(const std::filesystem::path& out, engine::CloudFormat format, GenerateStats* stats) {
     const State& s = *state_;
     const auto t0 = Clock::now();
@@ -552,9 +575,11 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
     TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.options.ground_check);
+    const bool las = format == engine::CloudFormat::Las || format == engine::CloudFormat::Laz;
     engine::CloudFields fields = s.sensor->fields();
     fields.height_above_ground = terrain.whitens();
-    engine::CloudWriter writer(out, format, s.scene.origin, fields);
+    fields.rgb = !(las && s.options.white);  // LAS point format 6: no colours to store
+    engine::CloudWriter writer(out, format, s.scene.origin, fields, lasOptions(s.scene, s.options));
     Workers pool(s.plan.threads);
     // The fused cloud stays in memory when it fits beside the fusion's buffers.
     const std::uint64_t fused_bytes = s.hits_bound * sizeof(engine::CloudPoint);

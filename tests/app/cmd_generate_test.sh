@@ -37,6 +37,16 @@ check_bad "--threads" --threads -1
 check_bad "--centre" --centre 1,2
 check_bad "--roles" --roles tank
 check_bad "--format" --format las
+check_bad "--format" --format e57
+check_bad "--drone-speed-mps" --drone-speed-mps 0
+check_bad "--las-target-class" --las-target-class 300
+# An --out extension we cannot write is refused (never a PCD under that name).
+status=0
+"$bin" generate --out "$dir/cloud.e57" --xres 8 --yres 8 --views 1 >"$dir/out" 2>"$dir/err" || status=$?
+[ "$status" -eq 1 ] || fail "--out cloud.e57 exited $status, expected 1"
+grep -q "extension '.e57' is not one of .pcd, .ply, .las, .laz" "$dir/err" || fail "--out cloud.e57: $(cat "$dir/err")"
+[ ! -e "$dir/cloud.e57" ] || fail "--out cloud.e57 wrote a file"
+rm -f "$dir/out" "$dir/err"
 check_bad "does not exist" --scene "$dir/missing.json"
 # Once bad_alloc: a 65536 x 65536 view cannot be whitened within the budget.
 check_bad "--memory-mb 512 is too small" --xres 65536 --yres 65536 --views 1

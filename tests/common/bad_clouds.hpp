@@ -44,8 +44,13 @@ inline std::vector<BadCloud> badClouds() {
     const std::string ply_head =
         "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
         "property float y\nproperty float z\nproperty uchar label\nend_header\n";
+    // Our own files (the ladarvr origin comment) hold roles 0..2 only; other files' labels
+    // from 3 on are ASPRS classes (docs/formats.md).
+    const std::string ply_ours_head =
+        "ply\nformat binary_little_endian 1.0\ncomment ladarvr origin 0 0 0\nelement vertex 2\n"
+        "property float x\nproperty float y\nproperty float z\nproperty uchar label\nend_header\n";
     return {
-        {"label7.pcd", pcdHeader("3", "3") + xyzLabelRecords({0, 7, 2}),
+        {"label7.pcd", pcdHeader("3", "3", "# ladarvr origin 0 0 0\n") + xyzLabelRecords({0, 7, 2}),
          "point 1: label 7 is not 0 (ground), 1 (environment) or 2 (target)", true},
         {"origin_two_values.pcd", pcdHeader("3", "3", "# ladarvr origin 1 2\n") + three,
          "line 2: the ladarvr origin needs 3 numbers X Y Z"},
@@ -72,7 +77,7 @@ inline std::vector<BadCloud> badClouds() {
          "line 13: value 'x' of point 1 is not a number", true},
         {"ascii_cut.pcd", pcdHeader("2", "2", "", "4 4 4 1", "F F F U", "1", "ascii") + "1 2 3 0\n4 5\n",
          "truncated: the header says 2 points but the data end at line 14 inside point 1", true},
-        {"ply_label7.ply", ply_head + xyzLabelRecords({0, 7}),
+        {"ply_label7.ply", ply_ours_head + xyzLabelRecords({0, 7}),
          "point 1: label 7 is not 0 (ground), 1 (environment) or 2 (target)", true},
         {"ply_trailing.ply", ply_head + three,
          "13 bytes of data follow the 2 vertices the header declares; the header must count every point"},

@@ -102,13 +102,21 @@ TEST_CASE("cloud_io: format names and defaults") {
     CHECK(engine::parseCloudFormat("pcd-ascii", "--format") == CloudFormat::PcdAscii);
     CHECK(engine::parseCloudFormat("ply", "--format") == CloudFormat::PlyBinary);
     CHECK(engine::parseCloudFormat("ply-ascii", "--format") == CloudFormat::PlyAscii);
-    CHECK_THROWS_WITH_AS(engine::parseCloudFormat("las", "--format"),
-                         "--format: format 'las' is not one of pcd, pcd-ascii, ply, ply-ascii",
+    CHECK(engine::parseCloudFormat("las", "--format") == CloudFormat::Las);
+    CHECK(engine::parseCloudFormat("laz", "--format") == CloudFormat::Laz);
+    CHECK_THROWS_WITH_AS(engine::parseCloudFormat("e57", "--format"),
+                         "--format: format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz",
                          engine::Error);
     CHECK(engine::formatForPath("a/b.ply") == CloudFormat::PlyBinary);
     CHECK(engine::formatForPath("a/b.PLY") == CloudFormat::PlyBinary);
     CHECK(engine::formatForPath("a/b.pcd") == CloudFormat::PcdBinary);
     CHECK(engine::formatForPath("a/b") == CloudFormat::PcdBinary);
+    CHECK(engine::formatForPath("a/b.las") == CloudFormat::Las);
+    CHECK(engine::formatForPath("a/b.LAZ") == CloudFormat::Laz);
+    // A name we cannot write is refused, never filled with another format.
+    CHECK_THROWS_WITH_AS(engine::formatForPath("a/b.e57", "--out"),
+                         "--out: a/b.e57: extension '.e57' is not one of .pcd, .ply, .las, .laz", engine::Error);
+    CHECK_THROWS_AS(engine::formatForPath("a/cloud.txt"), engine::Error);
 }
 
 TEST_CASE("cloud_io: every format round-trips every field and the origin exactly") {
@@ -204,10 +212,11 @@ TEST_CASE("cloud_io: the binary PCD header is PCL's, with the counts fixed up in
     CHECK(ply.rfind("ply\nformat binary_little_endian 1.0\n", 0) == 0);
     CHECK(contains(ply, "\ncomment ladarvr origin " + std::string(origin) + "\n"));
     CHECK(contains(ply, "element vertex 000000000123\n"));
+    // scalar_* names and uchar/int/float types: CloudCompare and Open3D keep them all.
     CHECK(contains(ply, "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-                        "property uchar label\nproperty ushort view\nproperty float range\n"
+                        "property uchar scalar_label\nproperty int scalar_view\nproperty float scalar_range\n"
                         "end_header\n"));
-    CHECK(ply.size() - (ply.find("end_header\n") + 11) == 123u * 22u);
+    CHECK(ply.size() - (ply.find("end_header\n") + 11) == 123u * 24u);
 }
 
 TEST_CASE("cloud_io: CloudWriter streams many chunks and counts them") {
@@ -346,7 +355,9 @@ TEST_CASE("cloud_io: foreign layouts: x y z only, rgba, padding fields, doubles,
         const engine::PointCloud r = engine::readCloud(p);
         REQUIRE(r.points.size() == 4);
         CHECK(r.fields.rgb);
-        CHECK(r.points[3].position == glm::vec3(3.5f, -6.0f, 1000003.0f));
+        // Doubles move onto a double origin (whole metres of the first point) first.
+        CHECK(r.origin == glm::dvec3(0.0, 0.0, 1e6));
+        CHECK(r.points[3].position == glm::vec3(3.5f, -6.0f, 3.0f));
         CHECK(r.points[3].rgb == 0x306090u);
     }
     SUBCASE("PLY big endian with doubles, float colours, and a face element first") {
@@ -444,7 +455,7 @@ TEST_CASE("cloud_io: truncated and corrupt files give a clear error") {
         CHECK(readError(p) == pre + "line 5: DATA must be one of ascii, binary, binary_compressed");
         spit(p, "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 two 3\n");
         CHECK(readError(p) == pre + "line 6: value 'two' of point 0 is not a number");
-        spit(p, "FIELDS x y z label\nSIZE 4 4 4 1\nTYPE F F F U\nWIDTH 1\nDATA ascii\n1 2 3 7\n");
+        spit(p, "# ladarvr origin 0 0 0\nFIELDS x y z label\nSIZE 4 4 4 1\nTYPE F F F U\nWIDTH 1\nDATA ascii\n1 2 3 7\n");
         CHECK(readError(p) == pre + "point 0: label 7 is not 0 (ground), 1 (environment) or 2 (target)");
         spit(p, "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 99999999999\nDATA binary\n");
         CHECK(contains(readError(p), "truncated: the header says 99999999999 points"));
@@ -471,8 +482,8 @@ TEST_CASE("cloud_io: truncated and corrupt files give a clear error") {
         const std::string qpre = "ply: " + q.string() + ": ";
         const std::string t = slurp(good_ply);
         spit(q, t.substr(0, t.size() - 1));
-        CHECK(readError(q) == qpre + "truncated: the header says 50 vertices of 22 bytes but only " +
-                                  std::to_string(50 * 22 - 1) + " bytes of data follow");
+        CHECK(readError(q) == qpre + "truncated: the header says 50 vertices of 24 bytes but only " +
+                                  std::to_string(50 * 24 - 1) + " bytes of data follow");
         const std::string a = slurp(good_ply_ascii);
         spit(q, a.substr(0, a.size() - 30));
         CHECK(contains(readError(q), qpre + "truncated: the header says 50 points"));

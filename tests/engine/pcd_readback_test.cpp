@@ -58,3 +58,24 @@ TEST_CASE("pcl::io::loadPCDFile reads engine's binary and ASCII PCD with every p
         CHECK(wrong == 0);
     }
 }
+
+TEST_CASE("PCL's count of our PCD and our LAS reader's count of the same cloud's LAS/LAZ agree") {
+    const test_support::TempDir dir("pcl_las_counts");
+    const engine::PointCloud ours = knownCloud();
+    engine::writeCloud(dir.path / "c.pcd", ours, engine::CloudFormat::PcdBinary);
+    pcl::PointCloud<pcl::PointXYZRGBL> theirs;
+    REQUIRE(pcl::io::loadPCDFile((dir.path / "c.pcd").string(), theirs) == 0);
+    for (const auto format : {engine::CloudFormat::Las, engine::CloudFormat::Laz}) {
+        const std::filesystem::path file = dir.path / (format == engine::CloudFormat::Las ? "c.las" : "c.laz");
+        engine::writeCloud(file, ours, format);
+        const engine::PointCloud las = engine::readCloud(file);
+        REQUIRE(las.points.size() == theirs.size());
+        std::size_t wrong = 0;
+        for (std::size_t i = 0; i < theirs.size(); ++i) {
+            const glm::dvec3 w = las.origin + glm::dvec3(las.points[i].position);
+            const glm::dvec3 p = ours.origin + glm::dvec3(theirs[i].x, theirs[i].y, theirs[i].z);
+            wrong += glm::length(w - p) > 0.001 || std::uint32_t(las.points[i].label) != theirs[i].label;
+        }
+        CHECK(wrong == 0);
+    }
+}

@@ -188,7 +188,7 @@ TEST_CASE("scene: bad scene files give one clear line naming the file and the re
     SUBCASE("unknown key in a mesh entry") {
         CHECK(loadError(kBad / "unknown_key.json") ==
               b + "unknown_key.json: meshes[0] ('../basic/box.obj'): unknown key 'rol'; allowed "
-                  "keys: file, role, position, yaw_deg, scale, up, reflectance, comment");
+                  "keys: file, role, position, yaw_deg, scale, up, reflectance, class, comment");
     }
     SUBCASE("unknown top-level key") {
         CHECK(loadError(kBad / "unknown_top_key.json") ==

@@ -122,6 +122,43 @@ PY
     [ "$fail" = 0 ] && echo PASS
     exit "$fail"
     ;;
+  las)
+    # A LAZ from elsewhere (laspy, world coordinates, ASPRS classes, no ladarvr fields)
+    # streams in like a binary PCD: every point arrives, the target class reads as target.
+    python3 "$here/make_test_pcd.py" "$work/demo.pcd"
+    python3 - "$work" <<'PY'
+import sys
+import laspy
+import numpy as np
+work = sys.argv[1]
+data = open(f"{work}/demo.pcd", "rb").read()
+body = data.index(b"DATA binary\n") + 12
+origin = np.array([float(v) for v in data.split(b"# ladarvr origin ")[1].split(b"\n")[0].split()])
+rec = np.frombuffer(data[body:], dtype=np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("rgb", "<u4"), ("label", "u1")]))
+header = laspy.LasHeader(point_format=7, version="1.4")
+header.scales = np.array([0.001, 0.001, 0.001])
+header.offsets = origin
+las = laspy.LasData(header)
+las.x = rec["x"] + origin[0]
+las.y = rec["y"] + origin[1]
+las.z = rec["z"] + origin[2]
+las.red = ((rec["rgb"] >> 16) & 255).astype(np.uint16) * 257
+las.green = ((rec["rgb"] >> 8) & 255).astype(np.uint16) * 257
+las.blue = (rec["rgb"] & 255).astype(np.uint16) * 257
+las.classification = np.array([2, 1, 64], dtype=np.uint8)[rec["label"]]
+las.write(f"{work}/demo.laz", laz_backend=laspy.LazBackend.Laszip)
+PY
+    rc=0
+    "$here/headless_env.sh" --timeout 150 -- "$bin" view "$work/demo.laz" --no-xr --frames 8 --colour label \
+      --width 320 --height 180 --screenshot "$work/las.png" --log-json "$work/las.json" 2>"$work/las.err" || rc=$?
+    fail=0
+    [ "$rc" = 0 ] || { echo "FAIL: las: exit $rc: $(grep error "$work/las.err")"; fail=1; }
+    python3 -c 'import json,sys; n=json.load(open(sys.argv[1]))["points_arrived"]; print("las: points arrived", n); sys.exit(n != 163840)' \
+      "$work/las.json" || { echo "FAIL: las: not 163,840 points"; fail=1; }
+    [ -s "$work/las.png" ] || { echo "FAIL: las: no screenshot"; fail=1; }
+    [ "$fail" = 0 ] && echo PASS
+    exit "$fail"
+    ;;
   *) echo "view_headless_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac
 echo "--- viewer stderr (exit $status) ---"

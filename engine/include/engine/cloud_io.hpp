@@ -1,10 +1,11 @@
-// engine/cloud_io.hpp: PCD and PLY reading and (atomic, streaming) writing.
+// engine/cloud_io.hpp: PCD, PLY and LAS/LAZ reading and (atomic, streaming) writing.
 //
-// Files carry the fields x y z (float, local frame), rgb (PCL's packed float),
-// label (uint8: 0 ground, 1 environment, 2 target), view (uint16), range (float),
-// and the double-precision origin as a header comment
-// ("# ladarvr origin X Y Z" in PCD, "comment ladarvr origin X Y Z" in PLY), so
-// world = origin + (x, y, z). Readers of PCL, Open3D and CloudCompare load them.
+// PCD and PLY files carry the fields x y z (float, local frame), rgb (PCL's packed float;
+// red green blue in PLY), label (uint8: 0 ground, 1 environment, 2 target), view, range
+// (float), the optional fields CloudFields turns on, and the double-precision origin as a
+// header comment ("# ladarvr origin X Y Z" in PCD, "comment ladarvr origin X Y Z" in
+// PLY), so world = origin + (x, y, z). LAS/LAZ hold world coordinates at 1 mm. Readers
+// of PCL, Open3D, CloudCompare, laspy and PDAL load them (docs/formats.md).
 #pragma once
 #include <engine/point_cloud.hpp>
 
@@ -18,14 +19,32 @@
 namespace engine {
 
 class TempFile;
+namespace detail {
+class LasSink;
+}
 
-enum class CloudFormat { PcdBinary, PcdAscii, PlyBinary, PlyAscii };
+enum class CloudFormat { PcdBinary, PcdAscii, PlyBinary, PlyAscii, Las, Laz };
 
-/// From a name: "pcd" (binary), "pcd-ascii", "ply" (binary), "ply-ascii".
-/// Throws Error("<parameter>: format 'x' is not one of pcd, pcd-ascii, ply, ply-ascii").
+/// From a name: "pcd" (binary), "pcd-ascii", "ply" (binary), "ply-ascii", "las", "laz".
+/// Throws Error("<parameter>: format 'x' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz").
 CloudFormat parseCloudFormat(std::string_view name, std::string_view parameter);
-/// The default format for a path: .ply -> PlyBinary, anything else -> PcdBinary.
-CloudFormat formatForPath(const std::filesystem::path& path);
+/// The format for a path's extension: .pcd -> PcdBinary, .ply -> PlyBinary, .las, .laz.
+/// Throws Error("<parameter>: <path>: extension 'x' is not one of .pcd, .ply, .las, .laz")
+/// for any other extension (or none), so a cloud never lands under a misleading name.
+CloudFormat formatForPath(const std::filesystem::path& path, std::string_view parameter = "output");
+/// The name parseCloudFormat takes for `format` ("pcd", ..., "laz").
+const char* cloudFormatName(CloudFormat format);
+
+/// What a LAS/LAZ file needs beyond the points (docs/formats.md).
+struct LasOptions {
+    /// ASPRS classification written for each role (Ground, Environment, Target):
+    /// 2 ground, 1 unclassified, 64 (the first user-definable class).
+    std::uint8_t class_of_role[kRoleCount] = {2, 1, 64};
+    /// GPS time of view v: gps_start_s + v * view_interval_s (the drone's time along
+    /// the orbit).
+    double gps_start_s = 0.0;
+    double view_interval_s = 1.0;
+};
 
 /// Writes a cloud of unknown final size in a stream: points are appended in chunks,
 /// nothing is held in memory. The data go to an engine::TempFile in the same folder
@@ -36,8 +55,9 @@ class CloudWriter {
 public:
     /// Throws Error("output: <path>: ...") if the directory is missing or not writable, or
     /// `path` exists and is not a regular file, or is an input of this run.
+    /// LAS/LAZ use `las`; with fields.rgb off they use point format 6, else 7.
     CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin,
-                CloudFields fields = {});
+                CloudFields fields = {}, const LasOptions& las = {});
     ~CloudWriter();
     CloudWriter(const CloudWriter&) = delete;
     CloudWriter& operator=(const CloudWriter&) = delete;
@@ -56,11 +76,12 @@ private:
     long count_offset_[2] = {-1, -1};
     std::size_t count_ = 0;
     std::string buffer_;
+    std::unique_ptr<detail::LasSink> las_;  // LAS and LAZ (las_writer.cpp)
 };
 
 /// Writes a whole cloud atomically (a CloudWriter in one go).
 void writeCloud(const std::filesystem::path& path, const PointCloud& cloud,
-                CloudFormat format);
+                CloudFormat format, const LasOptions& las = {});
 
 /// Reads PCD (ascii, binary, binary_compressed) or PLY (ascii, binary either endian)
 /// whole, through engine::CloudReader (cloud_reader.hpp). Needs x y z; rgb/rgba, label,

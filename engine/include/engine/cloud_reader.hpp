@@ -27,9 +27,9 @@ class CloudReader {
 public:
     static constexpr std::size_t kChunkPoints = 1u << 18;
 
-    /// Opens a PCD (ascii, binary, binary_compressed) or PLY (ascii, binary either
-    /// endian) file; the content decides, not the extension. Throws
-    /// Error("pcd: <file>: ...") / ("ply: <file>: ...") naming the line or field.
+    /// Opens a PCD (ascii, binary, binary_compressed), PLY (ascii, binary either
+    /// endian) or LAS/LAZ (1.0-1.4) file; the content decides, not the extension. Throws
+    /// Error("pcd: <file>: ...") / ("ply: ...") / ("las: ...") naming the line or field.
     explicit CloudReader(const std::filesystem::path& path);
     /// The same over bytes in memory, which must outlive the reader; `name` is used in
     /// messages. Never reads outside `bytes` whatever they hold (the fuzzing entry point).
@@ -38,7 +38,7 @@ public:
     CloudReader(const CloudReader&) = delete;
     CloudReader& operator=(const CloudReader&) = delete;
 
-    /// "pcd: <file>" or "ply: <file>", as the messages start.
+    /// "pcd: <file>", "ply: <file>" or "las: <file>", as the messages start.
     const std::string& where() const { return prefix_; }
     const glm::dvec3& origin() const;
     const CloudFields& fields() const;
@@ -57,8 +57,9 @@ public:
     /// Records decoded so far, and how many of them were dropped as non-finite.
     std::size_t pointsRead() const { return read_; }
     std::size_t droppedNonFinite() const { return dropped_; }
-    /// "<pcd|ply>: <file>: dropped N of M points with a non-finite x, y, z or range
-    /// (NaN or inf)" when points were dropped, else empty.
+    /// "<pcd|ply|las>: <file>: dropped N of M points with a non-finite x, y, z or range
+    /// (NaN or inf)" when points were dropped, and/or "N points have an ASPRS class this
+    /// reader does not know (the first: C); read as environment", on one line; else empty.
     std::string warning() const;
 
 private:

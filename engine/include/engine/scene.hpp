@@ -10,7 +10,8 @@
 //         "position": [x, y, z],    // world metres, default [0,0,0]
 //         "yaw_deg": 0,             // rotation about world z, default 0
 //         "scale": 1,               // > 0, default 1
-//         "up": "z" }               // the mesh file's own up axis: y | z, default z
+//         "up": "z",                // the mesh file's own up axis: y | z, default z
+//         "class": 6 }              // ASPRS class in LAS output (0..255), default by role
 //     ]
 //   }
 // World vertex = position + Rz(yaw) * scale * (up == y ? (x, -z, y) : (x, y, z)).
@@ -53,6 +54,7 @@ struct Mesh {
     std::vector<glm::vec3> vertices;         // local frame, metres
     std::vector<glm::uvec3> triangles;       // indices into vertices
     double reflectance = 0.5;                // Lambertian reflectance at the Ladar's wavelength, [0, 1]
+    int asprs_class = -1;                    // 'class' (0..255) for LAS output, -1: by role
 };
 
 struct Scene {

@@ -51,6 +51,11 @@ struct GenerateOptions {
     /// and count the points on it that RANSAC left coloured (GenerateStats::terrain_*).
     /// Changes no point.
     bool ground_check = true;
+    /// LAS/LAZ output only (docs/formats.md): the classes of the roles (a mesh's 'class'
+    /// overrides its role's), and the GPS time: view v is reached at
+    /// v x (orbit length / views) / drone_speed_mps (view_interval_s is set from that).
+    engine::LasOptions las;
+    double drone_speed_mps = 10.0;
 };
 
 /// Validates every field (orbit, colour, ground, threads, centre within

@@ -1,0 +1,76 @@
+// fuzz/check_cloud_reader.hpp: the contract every cloud reader target checks (one
+// copy for fuzz_cloud_reader and fuzz_las_reader).
+#pragma once
+#include <engine/cloud_io.hpp>
+#include <engine/cloud_reader.hpp>
+#include <engine/error.hpp>
+#include "check_message.hpp"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fuzz {
+
+inline bool samePoint(const engine::CloudPoint& a, const engine::CloudPoint& b) {
+    return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 && a.rgb == b.rgb &&
+           std::memcmp(&a.range_m, &b.range_m, 4) == 0 && a.view == b.view && a.label == b.label;
+}
+
+/// The reader's contract over `bytes` (see fuzz_cloud_reader.cpp); aborts when broken.
+inline void checkCloudReader(std::string_view bytes) {
+    const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+    const std::size_t size = bytes.size();
+    std::string whole_error;
+    engine::PointCloud whole;
+    try {
+        whole = engine::readCloudData(bytes, "fuzz.pcd");
+        // A cloud that was accepted must be usable: labels in range, everything finite.
+        for (const engine::CloudPoint& p : whole.points)
+            if (static_cast<int>(p.label) > 2 || !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
+                !std::isfinite(p.position.z) || (whole.fields.range && !std::isfinite(p.range_m)))
+                std::abort();
+        if (!std::isfinite(whole.origin.x) || !std::isfinite(whole.origin.y) || !std::isfinite(whole.origin.z))
+            std::abort();
+    } catch (const engine::Error& e) {
+        fuzz::checkMessage(e.what(), true);
+        whole_error = e.what();
+        // The documented way to refuse bad input. LADARVR_FUZZ_VERBOSE=1 shows why (seeds).
+        if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());
+    }
+
+    // The chunked path: a chunk size from the input's last byte (1..256 points).
+    const std::size_t chunk = size == 0 ? 1 : std::size_t(data[size - 1]) + 1;
+    std::vector<engine::CloudPoint> points;
+    std::string chunk_error;
+    try {
+        engine::CloudReader reader(bytes, "fuzz.pcd");
+        if (whole_error.empty() && (reader.origin() != whole.origin || reader.declaredPoints() < whole.points.size()))
+            std::abort();
+        while (reader.nextChunk(points, chunk)) {
+            if (points.size() > reader.pointsRead()) std::abort();
+        }
+        if (reader.pointsRead() != reader.declaredPoints() ||
+            reader.pointsRead() != points.size() + reader.droppedNonFinite())
+            std::abort();
+    } catch (const engine::Error& e) {
+        chunk_error = e.what();
+    }
+    if (chunk_error != whole_error) {
+        std::fprintf(stderr, "chunks of %zu: '%s' but whole: '%s'\n", chunk, chunk_error.c_str(), whole_error.c_str());
+        std::abort();
+    }
+    if (whole_error.empty()) {
+        if (points.size() != whole.points.size()) std::abort();
+        for (std::size_t i = 0; i < points.size(); ++i)
+            if (!samePoint(points[i], whole.points[i])) std::abort();
+    }
+}
+
+}  // namespace fuzz
