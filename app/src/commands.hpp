@@ -10,5 +10,6 @@ void registerGenerate(CLI::App& cli);   // cmd_generate.cpp: `ladarvr generate`
 void registerMetric(CLI::App& cli);     // cmd_metric.cpp:   `ladarvr metric`
 void registerView(CLI::App& cli);       // cmd_view.cpp:     `ladarvr view`
 void registerScene(CLI::App& cli);      // cmd_scene.cpp:    `ladarvr scene info`
+void registerStudy(CLI::App& cli);      // cmd_study.cpp:    `ladarvr study`
 
 }  // namespace app

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     app::registerMetric(cli);
     app::registerView(cli);
     app::registerScene(cli);
+    app::registerStudy(cli);
     bench::registerBench(cli);   // `ladarvr bench WHAT` (bench/)
     app::applyConventions(cli);  // after every subcommand: the checks reach all options
     try {

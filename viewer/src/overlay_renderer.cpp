@@ -1,0 +1,73 @@
+// viewer/src/overlay_renderer.cpp: the overlay's lines and dots (shaders/overlay_lines.vert).
+#include "overlay_renderer.hpp"
+
+#include <shaders/shaders.hpp>
+
+#include <algorithm>
+
+namespace viewer {
+
+namespace {
+struct GpuVertex {
+    float x, y, z;
+    float r, g, b, a;
+};
+}  // namespace
+
+OverlayRenderer::OverlayRenderer()
+    : program_("viewer overlay",
+               {{GL_VERTEX_SHADER, shaders::overlay_lines_vert, shaders::overlay_lines_vert_files},
+                {GL_FRAGMENT_SHADER, shaders::vertex_colour_frag, shaders::vertex_colour_frag_files}}) {
+    glCreateVertexArrays(1, &vao_);
+    glEnableVertexArrayAttrib(vao_, 0);
+    glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao_, 0, 0);
+    glEnableVertexArrayAttrib(vao_, 1);
+    glVertexArrayAttribFormat(vao_, 1, 4, GL_FLOAT, GL_FALSE, 12);
+    glVertexArrayAttribBinding(vao_, 1, 0);
+}
+
+OverlayRenderer::~OverlayRenderer() {
+    if (buffer_) glDeleteBuffers(1, &buffer_);
+    if (vao_) glDeleteVertexArrays(1, &vao_);
+}
+
+void OverlayRenderer::draw(const OverlayList& list, const glm::dmat4& view, const glm::dmat4& projection,
+                           GLuint fbo, int x, int y, int w, int h, float dot_px) const {
+    const std::size_t n = list.lines.size() + list.dots.size();
+    if (n == 0) return;
+    std::vector<GpuVertex> data;
+    data.reserve(n);
+    for (const auto* part : {&list.lines, &list.dots})
+        for (const OverlayVertex& v : *part) {
+            const glm::dvec3 e = glm::dvec3(view * glm::dvec4(v.local, 1.0));
+            data.push_back({float(e.x), float(e.y), float(e.z), v.colour.r, v.colour.g, v.colour.b, v.colour.a});
+        }
+    if (n > capacity_) {
+        if (buffer_) glDeleteBuffers(1, &buffer_);
+        glCreateBuffers(1, &buffer_);
+        capacity_ = std::max<std::size_t>(n, 256);
+        glNamedBufferData(buffer_, static_cast<GLsizeiptr>(capacity_ * sizeof(GpuVertex)), nullptr, GL_DYNAMIC_DRAW);
+    }
+    glNamedBufferSubData(buffer_, 0, static_cast<GLsizeiptr>(n * sizeof(GpuVertex)), data.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(x, y, w, h);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    program_.use();
+    glUniformMatrix4fv(program_.uniform("u_projection"), 1, GL_FALSE, &glm::mat4(projection)[0][0]);
+    glUniform1f(program_.uniform("u_size_px"), dot_px);
+    glBindVertexArray(vao_);
+    glVertexArrayVertexBuffer(vao_, 0, buffer_, 0, sizeof(GpuVertex));
+    if (!list.lines.empty()) glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(list.lines.size()));
+    if (!list.dots.empty())
+        glDrawArrays(GL_POINTS, static_cast<GLint>(list.lines.size()), static_cast<GLsizei>(list.dots.size()));
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glDisable(GL_BLEND);
+    render::logGl("OverlayRenderer::draw", __FILE__, __LINE__);
+}
+
+}  // namespace viewer
