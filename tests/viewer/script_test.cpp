@@ -32,7 +32,7 @@ TEST_CASE("script text: refused frames name the line and what is allowed") {
     CHECK_THROWS_WITH_AS(parseScript("1 space\n99999999999999999999 space\n", kName),
                          "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
                          "allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
-                         "'<frame> grab_scale S', <frame> N or desktop+N",
+                         "'<frame> grab_scale S', <frame> N, desktop+N or +N",
                          engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("0x10 space\n", kName), doctest::Contains("line 1: frame '0x10'"), engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("1.5 space\n", kName), doctest::Contains("frame '1.5'"), engine::Error);
@@ -89,4 +89,20 @@ TEST_CASE("script text: arguments are checked") {
     CHECK_THROWS_WITH_AS(parseScript("1 grab_scale 0\n", kName), doctest::Contains("grab_scale '0' is not a finite number > 0"), engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("1 grab_scale\n", kName), doctest::Contains("grab_scale needs a scale"), engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("1 designate now\n", kName), doctest::Contains("unexpected 'now'"), engine::Error);
+}
+
+TEST_CASE("script text: +N counts from the previous action") {
+    const auto events = parseScript("1 next\n+10 designate\n+0 confirm\n", kName);
+    REQUIRE(events.size() == 3);
+    CHECK_FALSE(events[0].relative);
+    CHECK(events[1].relative);
+    CHECK(events[1].frame == 10);
+    CHECK(events[2].relative);
+    CHECK(events[2].frame == 0);
+    const auto again = parseScript(viewer::formatScript(events), kName);
+    CHECK(again[1].relative);
+    CHECK(again[1].frame == 10);
+    CHECK_THROWS_WITH_AS(parseScript("+ next\n", kName), doctest::Contains("frame '+'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("+-3 next\n", kName), doctest::Contains("frame '+-3'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("++3 next\n", kName), doctest::Contains("frame '++3'"), engine::Error);
 }

@@ -756,8 +756,8 @@ void ViewerApp::applyInput(const OperatorInput& in, double dt) {
 }
 
 int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer) {
+    StopSignal stop_signal;   // before the window: a signal from now on ends the loop cleanly
     setup();
-    StopSignal stop_signal;
     source_ = source;
     observer_ = observer;
     feed_ = feed;
@@ -768,6 +768,7 @@ int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer
     int status = 0;
     std::string exit_reason = "window closed";
     std::size_t script_next = 0;
+    long script_last_frame = 0;   // frames_ when the previous script action ran (+N)
     bool& quitting = quitting_;
     bool screenshot_done = false;
     Clock::time_point quit_deadline{}, last = Clock::now();
@@ -788,12 +789,18 @@ int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer
         // Scripted actions for the frame about to be counted. A `next` waits while the
         // trial's cloud is still loading (the ready screen cannot be dismissed then), so
         // a script does not race the loader.
-        while (script_next < options_.script.size()) {
+        // An action that ends a trial or leaves a ready screen ends this frame's actions:
+        // the next ones act on what follows it.
+        bool script_barrier = false;
+        while (script_next < options_.script.size() && !script_barrier) {
             const auto& ev = options_.script[script_next];
-            const long base = ev.after_desktop ? desktop_since_frame_ : 0;
+            const long base = ev.after_desktop ? desktop_since_frame_ : ev.relative ? script_last_frame : 0;
             if (base < 0 || ev.frame + base > frames_) break;
             if (ev.key == ScriptEvent::Key::Next && trial_.ready_screen && !readyToStart()) break;
             ++script_next;
+            script_last_frame = frames_;
+            script_barrier = ev.key == ScriptEvent::Key::Next || ev.key == ScriptEvent::Key::Confirm ||
+                             ev.key == ScriptEvent::Key::NoTarget;
             switch (ev.key) {
                 case ScriptEvent::Key::Space:
                     if (!trial_.ready_screen) toggleMode("script");

@@ -28,6 +28,9 @@ struct ScriptEvent {
     /// "desktop+N": N frames after the drop to desktop mode (a lost runtime), so a test
     /// acts on that event instead of guessing its frame; waits while none has happened.
     bool after_desktop = false;
+    /// "+N": N frames after the previous line's action ran (so a script can follow a
+    /// ready screen that waits for its cloud, however long that takes).
+    bool relative = false;
     double point[3] = {0.0, 0.0, 0.0};   // Aim: world coordinates (metres)
     double value = 0.0;                  // GrabScale: the scale, > 0
 };
@@ -38,8 +41,8 @@ inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
 /// "space", "escape", "aim", "designate", "confirm", "reject", "no_target", "grab_scale", "next".
 const char* scriptKeyName(ScriptEvent::Key key);
 
-/// Parses script text: one "<frame> <action>" per line, frame a whole number >= 0 or
-/// desktop+N; actions space, escape, aim X Y Z (finite numbers), designate, confirm,
+/// Parses script text: one "<frame> <action>" per line, frame a whole number >= 0,
+/// desktop+N or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
 /// reject, no_target, grab_scale S (a finite number > 0), next; '#' starts a comment,
 /// blank lines skipped. Throws engine::Error("<name> line N: ...; allowed '<frame>
 /// <action>' ...") on a bad line; tokens quoted in it are shown escaped and cut to 40
