@@ -129,9 +129,14 @@ std::optional<PickHit> PickIndex::pick(const glm::dvec3& origin, const glm::dvec
     const double angle_rad = options.angle_deg * std::numbers::pi / 180.0;
     const double tan_a = std::tan(angle_rad);
     // The cone's points lie within tan_a * t of the axis at depth t: clip the walk to the
-    // bounds grown by that much at the far end.
+    // bounds grown by that much at the box's far end.
     double t = 0.0, t_end = options.max_range_m;
-    const glm::dvec3 grow(tan_a * options.max_range_m + 1e-3);
+    double far_m = 0.0;   // no point of the box is further than this from the origin
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 c((corner & 1) ? hi_.x : lo_.x, (corner & 2) ? hi_.y : lo_.y, (corner & 4) ? hi_.z : lo_.z);
+        far_m = std::max(far_m, glm::length(c - origin));
+    }
+    const glm::dvec3 grow(tan_a * std::min(far_m, options.max_range_m) + 1e-3);
     if (!clipToBox(origin, d, lo_ - grow, hi_ + grow, t, t_end)) return std::nullopt;
     t = std::max(t, 0.0);
 
