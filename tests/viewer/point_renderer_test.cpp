@@ -118,10 +118,10 @@ TEST_CASE("viewer file colours pass through byte-exact") {
     }
 }
 
-TEST_CASE("the cutting volume hides the points beyond its radius, in 3D, at any cloud origin") {
+TEST_CASE("the cutting volume hides the points beyond its radius, in 3D") {
     render::EglContext context;
-    // A row of 12 points 1 m apart at z = 0, and a second row 2.5 m up at y = 1; the cloud's
-    // frame sits 10^6 m from the world origin (camera-relative cut centre).
+    // A row of 12 points 1 m apart at z = 0, and a second row 2.5 m up at y = 1. The cut
+    // centre reaches the shader relative to each cell's centre, like the points.
     engine::PointCloud cloud;
     cloud.origin = glm::dvec3(1.0e6, -2.0e6, 300.0);
     for (int k = 0; k < kColumns; ++k)

@@ -17,7 +17,11 @@ struct GpuVertex {
 OverlayRenderer::OverlayRenderer()
     : program_("viewer overlay",
                {{GL_VERTEX_SHADER, shaders::overlay_lines_vert, shaders::overlay_lines_vert_files},
-                {GL_FRAGMENT_SHADER, shaders::vertex_colour_frag, shaders::vertex_colour_frag_files}}) {
+                {GL_FRAGMENT_SHADER, shaders::vertex_colour_frag, shaders::vertex_colour_frag_files}}),
+      vignette_("viewer comfort vignette",
+                {{GL_VERTEX_SHADER, shaders::fullscreen_triangle_vert, shaders::fullscreen_triangle_vert_files},
+                 {GL_FRAGMENT_SHADER, shaders::comfort_vignette_frag, shaders::comfort_vignette_frag_files}}) {
+    glCreateVertexArrays(1, &empty_vao_);
     glCreateVertexArrays(1, &vao_);
     glEnableVertexArrayAttrib(vao_, 0);
     glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
@@ -30,6 +34,28 @@ OverlayRenderer::OverlayRenderer()
 OverlayRenderer::~OverlayRenderer() {
     if (buffer_) glDeleteBuffers(1, &buffer_);
     if (vao_) glDeleteVertexArrays(1, &vao_);
+    if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
+}
+
+void OverlayRenderer::drawVignette(GLuint fbo, int x, int y, int w, int h, float aperture, float feather,
+                                   float strength) const {
+    if (!(strength > 0.0f)) return;
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(x, y, w, h);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    vignette_.use();
+    glUniform4f(vignette_.uniform("u_viewport"), float(x), float(y), float(w), float(h));
+    glUniform1f(vignette_.uniform("u_aperture"), aperture);
+    glUniform1f(vignette_.uniform("u_feather"), feather);
+    glUniform1f(vignette_.uniform("u_strength"), strength);
+    glBindVertexArray(empty_vao_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glDisable(GL_BLEND);
+    render::logGl("OverlayRenderer::drawVignette", __FILE__, __LINE__);
 }
 
 void OverlayRenderer::draw(const OverlayList& list, const glm::dmat4& view, const glm::dmat4& projection,

@@ -43,8 +43,14 @@ public:
     void draw(const OverlayList& list, const glm::dmat4& view, const glm::dmat4& projection, GLuint fbo, int x,
               int y, int w, int h, float dot_px) const;
 
+    /// Darkens the view outside `aperture` (fraction of the half view) with a `feather`
+    /// wide fade, at `strength` in [0, 1] (the comfort vignette). Nothing at strength 0.
+    void drawVignette(GLuint fbo, int x, int y, int w, int h, float aperture, float feather, float strength) const;
+
 private:
     render::Program program_;
+    render::Program vignette_;
+    GLuint empty_vao_ = 0;
     GLuint vao_ = 0;
     mutable GLuint buffer_ = 0;   // grown on demand by draw()
     mutable std::size_t capacity_ = 0;

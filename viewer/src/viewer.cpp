@@ -186,6 +186,7 @@ private:
     bool highlight_candidates_ = false;
     bool snap_turn_ = true, vignette_ = true;
     double last_snap_s_ = -1e9;
+    double vignette_strength_ = 0.0;   // eases to 1 while moving in free mode, back to 0 at rest
     bool reset_zoom_button_ = false;
     nlohmann::json decisions_ = nlohmann::json::array();   // the run log's record of actions
 };
@@ -348,6 +349,9 @@ void ViewerApp::drawEyeAndOverlay(const EyeTarget& target, const EyeDraw& draw, 
     }
     drawn += renderer_->drawEye(target, draw, style_, modes_.mode(), fbo, x, y, w, h, cut).points_drawn;
     overlay_->draw(overlay_list_, draw.view, draw.projection, fbo, x, y, w, h, 8.0f);
+    if (xr_ && vignette_)
+        overlay_->drawVignette(fbo, x, y, w, h, float(options_.vignette_aperture), float(options_.vignette_feather),
+                               float(vignette_strength_));
 }
 
 bool ViewerApp::renderXrFrame(bool& rendered) {
@@ -691,6 +695,11 @@ void ViewerApp::applyInput(const OperatorInput& in, double dt) {
     motion.right *= k;
     motion.up *= k;
     if (trial_.running && modes_.mode() == ViewMode::Free) trial_.outcome.seconds_in_free_mode += dt;
+    // The vignette fades in over 0.2 s of motion (or a snap) and out over 0.3 s at rest.
+    const bool moving = modes_.mode() == ViewMode::Free &&
+                        (std::abs(motion.forward) + std::abs(motion.right) + std::abs(motion.up) + std::abs(motion.turn) >
+                             1e-3 || in.snap_turn != 0);
+    vignette_strength_ = std::clamp(vignette_strength_ + (moving ? dt / 0.2 : -dt / 0.3), 0.0, 1.0);
     modes_.update(dt, motion, zoom_.apply(headTracking()));
 
     // The pointer and the candidates follow this frame's ray.
