@@ -10,6 +10,7 @@
 #include <engine/error.hpp>
 #include <engine/safe_file.hpp>
 #include <engine/scene.hpp>
+#include <engine/strict_json.hpp>
 #include <metric/clouds.hpp>
 #include <metric/visibility.hpp>
 #include <sim/generator.hpp>
@@ -31,6 +32,8 @@ namespace app {
 namespace {
 struct StudyArgs {
     std::string plan, out, script, log_json, mirror = "both", colour = "file";
+    std::string replay, screenshot;
+    int trial = 1;
     long frames = 0;
     double timeout_s = 0.0;
     bool no_xr = false, no_metric = false;
@@ -51,13 +54,73 @@ void prepareOut(const std::filesystem::path& out) {
         throw engine::Error("study: --out " + out.string() + ": not a folder");
     for (const auto& entry : std::filesystem::directory_iterator(out, ec)) {
         const std::string name = entry.path().filename().string();
-        if (name == "trials.csv" || name == "candidates.csv" || (name.starts_with("trace_") && name.ends_with(".csv")))
+        if (name == "trials.csv" || name == "candidates.csv" || name == "study.json" ||
+            (name.starts_with("trace_") && name.ends_with(".csv")))
             throw engine::Error("study: --out " + out.string() + ": already holds a study (" + name +
                                 "); allowed: a new or empty folder");
     }
 }
 
+/// `--replay DIR --trial N`: trial N's trace in the mirror, over its cloud (from the plan
+/// that DIR/study.json names).
+int runReplay(const StudyArgs& a) {
+    const std::filesystem::path dir(a.replay);
+    const std::string shown = engine::printable((dir / "study.json").string(), 400);
+    const nlohmann::json study = engine::parseStrictJson(
+        engine::readTextFile(dir / "study.json", std::size_t(1) << 20, "study: --replay " + shown + ":"),
+        "study: --replay " + shown);
+    if (!study.is_object() || !study.contains("plan") || !study["plan"].is_string() || !study.contains("order") ||
+        !study["order"].is_array())
+        throw engine::Error("study: --replay " + shown + ": not a study's record (needs 'plan' and 'order')");
+    const study::Plan plan = study::readPlan(study["plan"].get<std::string>());
+    std::vector<int> order;
+    for (const auto& v : study["order"]) {
+        if (!v.is_number_unsigned() || v.get<std::size_t>() >= plan.trials.size())
+            throw engine::Error("study: --replay " + shown + ": 'order' does not match the plan's trials");
+        order.push_back(v.get<int>());
+    }
+    if (a.trial < 1 || a.trial > static_cast<int>(order.size()))
+        throw engine::Error("study: --trial " + std::to_string(a.trial) + ": allowed 1.." + std::to_string(order.size()));
+    viewer::ViewerOptions o;
+    o.use_xr = false;
+    o.replay = study::readTrace(dir / ("trace_" + std::to_string(a.trial) + ".csv"));
+    if (o.replay.empty()) throw engine::Error("study: --replay: trace_" + std::to_string(a.trial) + ".csv has no frame");
+    o.mirror = viewer::parseMirrorEyes(a.mirror);
+    o.style.colour = viewer::parseColourMode(a.colour);
+    o.frames = a.frames;
+    o.timeout_s = a.timeout_s;
+    o.window_width = a.width;
+    o.window_height = a.height;
+    o.log_json = a.log_json;
+    o.screenshot = a.screenshot;
+    viewer::validate(o);
+    if (!o.log_json.empty()) {
+        createParentFolders(o.log_json, "study: --log-json");
+        engine::checkWritableDestination(o.log_json);
+    }
+    if (!o.screenshot.empty()) {
+        createParentFolders(o.screenshot, "study: --screenshot");
+        engine::checkWritableDestination(o.screenshot);
+    }
+    study::StudySource source(plan, order);
+    viewer::CloudFeed feed;
+    feed.enableLodOrder();
+    source.begin(a.trial - 1, feed);
+    int status = 1;
+    try {
+        status = viewer::runViewer(o, feed);
+    } catch (...) {
+        source.end(a.trial - 1);
+        throw;
+    }
+    source.end(a.trial - 1);
+    return status;
+}
+
 int runStudy(const StudyArgs& a) {
+    if (!a.replay.empty() && !a.plan.empty()) throw engine::Error("study: give PLAN.json or --replay DIR, not both");
+    if (!a.replay.empty()) return runReplay(a);
+    if (a.plan.empty()) throw engine::Error("study: give PLAN.json (or --replay DIR)");
     const auto start = std::chrono::steady_clock::now();
     std::unique_ptr<engine::Watchdog> watchdog;
     if (std::isfinite(a.timeout_s) && a.timeout_s > 0.0) {
@@ -96,6 +159,9 @@ int runStudy(const StudyArgs& a) {
 
     const std::vector<int> order = study::trialOrder(plan);
     auto source = std::make_unique<study::StudySource>(plan, order);
+    // What --replay needs to find a trial's cloud again: the plan and the order run.
+    engine::writeFileAtomic(out / "study.json",
+                            nlohmann::json{{"plan", std::filesystem::absolute(a.plan).string()}, {"order", order}}.dump(2) + "\n");
 
     // The paper's visibility metric of each scene, before the window opens (it renders
     // with its own EGL context); once per scene however many trials name it.
@@ -147,7 +213,10 @@ void registerStudy(CLI::App& cli) {
     CLI::App* cmd = cli.add_subcommand(
         "study", "run a target-search study: the plan's trials in the viewer, logged to --out "
                  "(see docs/study_running.md)");
-    cmd->add_option("plan", args->plan, "PLAN.json: the trials (clouds or scenes, candidates, time limits)")->required();
+    cmd->add_option("plan", args->plan, "PLAN.json: the trials (clouds or scenes, candidates, time limits)");
+    cmd->add_option("--replay", args->replay, "replay a study's trace in the mirror: the --out folder of a study");
+    cmd->add_option("--trial", args->trial, "with --replay: the trial (1 = the first run)")->capture_default_str();
+    cmd->add_option("--screenshot", args->screenshot, "with --replay: write the mirror as PNG at the last frame");
     cmd->add_option("--out", args->out, "folder for trials.csv, candidates.csv and trace_<N>.csv (new or empty)");
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")->capture_default_str();

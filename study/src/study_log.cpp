@@ -3,6 +3,10 @@
 
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
+#include <engine/safe_file.hpp>
+
+#include <cmath>
+#include <sstream>
 
 #include <cerrno>
 #include <cstring>
@@ -105,6 +109,49 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     trial_rows_.push_back(std::move(row));
     writeAtomic("trials.csv", trialsHeader(), trial_rows_);
     writeAtomic("candidates.csv", candidatesHeader(), candidate_rows_);
+}
+
+std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file) {
+    const std::string name = "study: " + engine::printable(file.string(), 400);
+    const std::string text = engine::readTextFile(file, std::size_t(512) << 20, name + ":");
+    std::istringstream in(text);
+    std::string line;
+    std::vector<viewer::TraceSample> samples;
+    if (!std::getline(in, line) || line != StudyLog::traceHeader())
+        throw engine::Error(name + " line 1: not a trace header; allowed: " + StudyLog::traceHeader());
+    for (int number = 2; std::getline(in, line); ++number) {
+        if (line.empty()) continue;
+        std::vector<std::string> f;
+        std::string field;
+        std::istringstream ls(line);
+        while (std::getline(ls, field, ',')) f.push_back(field);
+        if (!line.empty() && line.back() == ',') f.push_back("");
+        auto bad = [&](const std::string& what) { return engine::Error(name + " line " + std::to_string(number) + ": " + what); };
+        if (f.size() != 13) throw bad(std::to_string(f.size()) + " columns; allowed 13");
+        auto num = [&](int i) {
+            try {
+                std::size_t used = 0;
+                const double v = std::stod(f[std::size_t(i)], &used);
+                if (used == f[std::size_t(i)].size() && std::isfinite(v)) return v;
+            } catch (const std::exception&) {
+            }
+            throw bad("column " + std::to_string(i + 1) + " '" + engine::printable(f[std::size_t(i)], 40) +
+                      "' is not a finite number");
+        };
+        viewer::TraceSample s;
+        s.t_s = num(0);
+        s.head_world = {num(1), num(2), num(3)};
+        s.head_orientation = glm::dquat(num(4), num(5), num(6), num(7));
+        if (f[8] == "automatic") s.mode = viewer::ViewMode::Automatic;
+        else if (f[8] == "free") s.mode = viewer::ViewMode::Free;
+        else throw bad("mode '" + engine::printable(f[8], 40) + "' is not one of automatic, free");
+        s.scale = num(9);
+        if (!(s.scale > 0.0)) throw bad("scale must be > 0");
+        if (!f[10].empty() || !f[11].empty() || !f[12].empty()) s.hit_world = glm::dvec3(num(10), num(11), num(12));
+        if (!samples.empty() && !(s.t_s > samples.back().t_s)) throw bad("t_s does not increase");
+        samples.push_back(s);
+    }
+    return samples;
 }
 
 }  // namespace study

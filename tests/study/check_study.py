@@ -75,6 +75,19 @@ if scenario in ("xr", "desktop"):
     for i in range(min(len(starts), len(ends))):
         # One trace row per counted frame from the start (exclusive) to the end (inclusive).
         check_trace(i + 1, ends[i] - starts[i])
+if scenario == "desktop":
+    with open(os.path.join(work, "replay.json")) as f:
+        replay = json.load(f)
+    check(replay["exit"] == "replay done", f"replay exit {replay['exit']}")
+    origin = replay["origin"]
+    trace = read_csv("trace_1.csv", TRACE_COLUMNS)
+    heads = [(float(r["head_x"]), float(r["head_y"]), float(r["head_z"])) for r in trace]
+    shown = [tuple(f["eyes_local"][0]["position"][i] + origin[i] for i in range(3)) for f in replay["frames"]]
+    # Once loaded, every frame shows one of the trace's heads, and the last frame the last one.
+    on_trace = [p for p in shown if any(max(abs(p[i] - h[i]) for i in range(3)) < 1e-6 for h in heads)]
+    check(len(on_trace) >= 2, f"{len(on_trace)} replay frames at the trace's head poses")
+    check(shown and max(abs(shown[-1][i] - heads[-1][i]) for i in range(3)) < 1e-6, "the replay did not end on the last sample")
+    print(f"replay: {len(replay['frames'])} frames, {len(on_trace)} at the trace's head poses")
 elif scenario == "kill":
     check(len(trials) == 1, f"{len(trials)} rows after the kill, expected 1")
     check(trials and trials[0]["hit"] == "1", "trial 1 is no hit")

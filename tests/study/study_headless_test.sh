@@ -5,7 +5,8 @@
 # cloud: 64 x 64 pixels x 40 views); trial 1 aims at the tank, trial 2 at a house.
 #   xr        on Monado: trial 1 a hit (< 1 m), trial 2 a miss; traces one row per
 #             submitted frame, times increasing; exit 0.
-#   desktop   the same without an OpenXR runtime.
+#   desktop   the same without an OpenXR runtime; then `study --replay` of trial 1 follows
+#             the trace's head poses in the mirror.
 #   kill      SIGKILL once trial 1 has ended (its line on stderr): trials.csv is whole
 #             with one row.
 #   sigterm   SIGTERM once trial 2 has started: the frame finishes, trial 2 is logged as
@@ -50,6 +51,9 @@ case "$scenario" in
     ;;
   desktop)
     "$env_sh" --timeout 220 -- "$bin" "${common[@]}" --no-xr 2>"$work/stderr" || status=$?
+    # Then trial 1's trace replayed in the mirror.
+    [ "$status" = 0 ] && { "$env_sh" --timeout 220 -- "$bin" study --replay "$work/out" --trial 1 --width 320 \
+      --height 180 --log-json "$work/replay.json" 2>"$work/replay.err" || status=$?; }
     ;;
   kill|sigterm)
     if [ "$scenario" = kill ]; then wait_for="study: trial 1 ended"; sig=KILL; want=137

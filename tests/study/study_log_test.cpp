@@ -58,6 +58,14 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     CHECK(rows[0] == study::StudyLog::trialsHeader());
     CHECK(rows[1] == "1,\"village, east.pcd\",confirm,10.000000,20.000000,0.500000,0.250000,1,0.600000,0.800000,1,2,"
                      "0.100000,");
+    const auto samples = study::readTrace(dir.path / "trace_1.csv");   // and back
+    REQUIRE(samples.size() == 2);
+    CHECK(samples[0].t_s == 0.5);
+    CHECK(samples[0].head_world == glm::dvec3(1.0, 2.0, 3.0));
+    CHECK_FALSE(samples[0].hit_world);
+    CHECK(samples[1].mode == viewer::ViewMode::Free);
+    CHECK(samples[1].scale == 2.0);
+    CHECK(*samples[1].hit_world == glm::dvec3(10.0, 20.0, 0.5));
     const auto trace = lines(dir.path / "trace_1.csv");
     REQUIRE(trace.size() == 3);
     CHECK(trace[0] == study::StudyLog::traceHeader());
@@ -100,4 +108,19 @@ TEST_CASE("csv text is quoted only when it must be") {
     CHECK(study::csvText("a.pcd") == "a.pcd");
     CHECK(study::csvText("a,b") == "\"a,b\"");
     CHECK(study::csvText("say \"x\"") == "\"say \"\"x\"\"\"");
+}
+
+TEST_CASE("a bad trace names the line") {
+    test_support::TempDir dir("study_trace_bad");
+    const std::string header = std::string(study::StudyLog::traceHeader()) + "\n";
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("a.csv", "t\n")), doctest::Contains("line 1: not a trace header"),
+                         engine::Error);
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("b.csv", header + "0.1,1,2,3,1,0,0,0,free,1,,\n")),
+                         doctest::Contains("line 2: 12 columns"), engine::Error);
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("c.csv", header + "0.1,x,2,3,1,0,0,0,free,1,,,\n")),
+                         doctest::Contains("line 2: column 2 'x'"), engine::Error);
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("d.csv", header + "0.1,1,2,3,1,0,0,0,walk,1,,,\n")),
+                         doctest::Contains("mode 'walk'"), engine::Error);
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("e.csv", header + "0.2,1,2,3,1,0,0,0,free,1,,,\n0.1,1,2,3,1,0,0,0,free,1,,,\n")),
+                         doctest::Contains("line 3: t_s does not increase"), engine::Error);
 }

@@ -59,6 +59,7 @@ void validate(const ViewerOptions& o) {
         !(o.vignette_feather >= 0.0 && o.vignette_feather <= 1.0))
         fail("vignette aperture " + engine::shownNumber(o.vignette_aperture) + " / feather " +
              engine::shownNumber(o.vignette_feather) + ": allowed (0, 1] / [0, 1]");
+    if (!o.replay.empty() && o.use_xr) fail("a replay runs in the mirror only: use it with --no-xr");
     if (!o.screenshot.empty() && o.screenshot.extension() != ".png")
         fail("--screenshot " + o.screenshot.string() + ": the file name must end in .png");
 }

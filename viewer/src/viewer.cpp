@@ -187,6 +187,11 @@ private:
     bool snap_turn_ = true, vignette_ = true;
     double last_snap_s_ = -1e9;
     double vignette_strength_ = 0.0;   // eases to 1 while moving in free mode, back to 0 at rest
+    // Replay of a trace: the sample shown this frame, and when the replay started.
+    std::optional<TraceSample> replay_sample_;
+    std::optional<Clock::time_point> replay_start_;
+    std::size_t replay_next_ = 0;
+    bool replay_done_ = false;
     bool reset_zoom_button_ = false;
     nlohmann::json decisions_ = nlohmann::json::array();   // the run log's record of actions
 };
@@ -347,7 +352,8 @@ void ViewerApp::drawEyeAndOverlay(const EyeTarget& target, const EyeDraw& draw, 
         glClear(GL_COLOR_BUFFER_BIT);
         return;
     }
-    drawn += renderer_->drawEye(target, draw, style_, modes_.mode(), fbo, x, y, w, h, cut).points_drawn;
+    const ViewMode mode = replay_sample_ ? replay_sample_->mode : modes_.mode();
+    drawn += renderer_->drawEye(target, draw, style_, mode, fbo, x, y, w, h, cut).points_drawn;
     overlay_->draw(overlay_list_, draw.view, draw.projection, fbo, x, y, w, h, 8.0f);
     if (xr_ && vignette_)
         overlay_->drawVignette(fbo, x, y, w, h, float(options_.vignette_aperture), float(options_.vignette_feather),
@@ -426,11 +432,16 @@ void ViewerApp::renderDesktop(int fb_w, int fb_h) {
     if (fb_w <= 0 || fb_h <= 0) return;   // minimised
     const Clock::time_point t0 = Clock::now();
     const RigPose head = headTracking();
-    const RigPose eye = compose(modes_.rig(), zoom_.apply(head));
+    RigPose eye = compose(modes_.rig(), zoom_.apply(head));
+    double scale = zoom_.scale();
+    if (replay_sample_) {   // the recorded head, in the cloud's local frame
+        eye = {glm::mat3_cast(replay_sample_->head_orientation), replay_sample_->head_world - feed_->origin()};
+        scale = replay_sample_->scale;
+    }
     EyeDraw draw;
     draw.near_m = options_.modes.orbit.near_m;
     draw.far_m = options_.modes.orbit.far_m;
-    draw.view = scaledView(eye, zoom_.scale());
+    draw.view = scaledView(eye, scale);
     draw.projection = render::projectionMatrix(options_.modes.orbit.vfov_deg, double(fb_w) / fb_h,
                                                draw.near_m, draw.far_m);
     if (!desktop_target_.ensure(fb_w, fb_h)) return;
@@ -762,6 +773,8 @@ void ViewerApp::applyInput(const OperatorInput& in, double dt) {
         overlay_list_.line(c - glm::dvec3(0, 0, r), c + glm::dvec3(0, 0, r), glm::vec4(1.0f, 0.2f, 1.0f, 1.0f));
     }
     candidates_.draw(overlay_list_, highlight_candidates_);
+    if (replay_sample_ && replay_sample_->hit_world)
+        overlay_list_.dots.push_back({*replay_sample_->hit_world - feed_->origin(), glm::vec4(1.0f, 1.0f, 0.2f, 1.0f)});
 }
 
 int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer) {
@@ -898,6 +911,8 @@ int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer
             in.confirm = in.confirm || xin.confirm_pressed;
             in.reject = in.reject || xin.reject_pressed;
             in.no_target = in.no_target || xin.no_target_pressed;
+            in.cycle_colour = in.cycle_colour || xin.cycle_colour_pressed;
+            in.toggle_cut = in.toggle_cut || xin.toggle_cut_pressed;
             in.motion.forward += xin.move.y;
             in.motion.right += xin.move.x;
             if (snap_turn_) {
@@ -913,6 +928,15 @@ int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer
             }
             if (xin.grab_held[0] && xin.grab_held[1] && xin.aim[0] && xin.aim[1])
                 in.grab_hands = std::make_pair(xin.aim[0]->position, xin.aim[1]->position);
+        }
+        if (!options_.replay.empty() && centre_final_ && !replay_done_) {
+            if (!replay_start_) replay_start_ = Clock::now();
+            const double t = options_.replay.front().t_s + std::chrono::duration<double>(Clock::now() - *replay_start_).count();
+            while (replay_next_ < options_.replay.size() && options_.replay[replay_next_].t_s <= t) ++replay_next_;
+            replay_sample_ = options_.replay[replay_next_ == 0 ? 0 : replay_next_ - 1];
+            if (replay_next_ >= options_.replay.size()) replay_done_ = true;   // the last sample is shown once
+        } else if (replay_done_ && !quitting) {
+            startQuit("replay done");
         }
         applyInput(in, dt);
         // The trial ended: the next one, or the end of the run.

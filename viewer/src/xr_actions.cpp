@@ -62,6 +62,8 @@ void XrActions::create(XrInstance instance, XrSession session) {
     make("move", "Move (free mode)", XR_ACTION_TYPE_VECTOR2F_INPUT, move_, false);
     make("turn", "Turn (free mode)", XR_ACTION_TYPE_FLOAT_INPUT, turn_, false);
     make("aim", "Laser pointer", XR_ACTION_TYPE_POSE_INPUT, aim_, true);
+    make("cycle_colour", "Next colour mode", XR_ACTION_TYPE_BOOLEAN_INPUT, cycle_colour_, false);
+    make("toggle_cut", "Cutting volume on / off", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_cut_, false);
 
     // The simple controller has four buttons (select and menu per hand): designate (right
     // select), confirm (right menu), mode (left select), no target (left menu); reject is
@@ -85,7 +87,9 @@ void XrActions::create(XrInstance instance, XrSession session) {
              {toggle_, "/user/hand/left/input/x/click"},
              {no_target_, "/user/hand/left/input/y/click"},
              {move_, "/user/hand/left/input/thumbstick"},
-             {turn_, "/user/hand/right/input/thumbstick/x"}});
+             {turn_, "/user/hand/right/input/thumbstick/x"},
+             {cycle_colour_, "/user/hand/left/input/thumbstick/click"},
+             {toggle_cut_, "/user/hand/right/input/thumbstick/click"}});
     suggest("/interaction_profiles/valve/index_controller",
             {{aim_, "/user/hand/left/input/aim/pose"},
              {aim_, "/user/hand/right/input/aim/pose"},
@@ -98,7 +102,9 @@ void XrActions::create(XrInstance instance, XrSession session) {
              {toggle_, "/user/hand/left/input/a/click"},
              {no_target_, "/user/hand/left/input/b/click"},
              {move_, "/user/hand/left/input/thumbstick"},
-             {turn_, "/user/hand/right/input/thumbstick/x"}});
+             {turn_, "/user/hand/right/input/thumbstick/x"},
+             {cycle_colour_, "/user/hand/left/input/thumbstick/click"},
+             {toggle_cut_, "/user/hand/right/input/thumbstick/click"}});
     suggest("/interaction_profiles/htc/vive_controller",
             {{aim_, "/user/hand/left/input/aim/pose"},
              {aim_, "/user/hand/right/input/aim/pose"},
@@ -161,6 +167,8 @@ XrInput XrActions::sync(XrSpace space, XrTime time) {
     input.confirm_pressed = went_down(confirm_);
     input.reject_pressed = went_down(reject_);
     input.no_target_pressed = went_down(no_target_);
+    input.cycle_colour_pressed = went_down(cycle_colour_);
+    input.toggle_cut_pressed = went_down(toggle_cut_);
     for (int h = 0; h < 2; ++h) {
         if (went_down(designate_, hands_[h])) {
             input.designate_pressed = true;

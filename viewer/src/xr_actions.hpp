@@ -4,7 +4,8 @@
 //
 // Actions: toggle_mode, designate (also dismisses the ready screen), confirm, reject,
 // no_target, grab (both hands held: grab-and-scale), move (free mode), turn (snap turn
-// in free mode), and an aim pose per hand (the laser pointer). docs/viewer.md has the
+// in free mode), cycle_colour, toggle_cut (the cutting volume), and an aim pose per hand
+// (the laser pointer). docs/viewer.md has the
 // table of buttons per profile.
 #pragma once
 #include "xr_session.hpp"
@@ -37,7 +38,8 @@ private:
     XrActionSet set_ = XR_NULL_HANDLE;
     XrAction toggle_ = XR_NULL_HANDLE, designate_ = XR_NULL_HANDLE, confirm_ = XR_NULL_HANDLE,
              reject_ = XR_NULL_HANDLE, no_target_ = XR_NULL_HANDLE, grab_ = XR_NULL_HANDLE,
-             move_ = XR_NULL_HANDLE, turn_ = XR_NULL_HANDLE, aim_ = XR_NULL_HANDLE;
+             move_ = XR_NULL_HANDLE, turn_ = XR_NULL_HANDLE, aim_ = XR_NULL_HANDLE,
+             cycle_colour_ = XR_NULL_HANDLE, toggle_cut_ = XR_NULL_HANDLE;
     std::array<XrPath, 2> hands_{XR_NULL_PATH, XR_NULL_PATH};
     std::array<XrSpace, 2> aim_spaces_{XR_NULL_HANDLE, XR_NULL_HANDLE};
 };

@@ -52,6 +52,8 @@ struct XrInput {
     bool confirm_pressed = false;
     bool reject_pressed = false;
     bool no_target_pressed = false;
+    bool cycle_colour_pressed = false;
+    bool toggle_cut_pressed = false;
     std::array<bool, 2> grab_held{false, false};   // left, right
     glm::vec2 move{0.0f};         // thumbstick/trackpad: x strafe, y forward
     float turn = 0.0f;            // right thumbstick x

@@ -59,6 +59,10 @@ private:
     std::string error_;
 };
 
+/// Reads a trace_<N>.csv back (regular file, at most 512 MiB). Throws engine::Error
+/// ("study: <file> line L: ...") naming the line and column of a bad value.
+std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file);
+
 /// Formats a CSV field: numbers as given, text quoted when it holds a comma, quote or
 /// line break (RFC 4180).
 std::string csvText(const std::string& text);
