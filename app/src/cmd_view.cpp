@@ -42,7 +42,7 @@ struct ViewArgs {
     double orbit_radius_m = 60.0, orbit_height_m = 40.0;
     double pick_angle_deg = 0.5, cut_radius_m = 15.0;
     std::string candidates;
-    bool no_snap_turn = false, no_vignette = false;
+    bool no_snap_turn = false, no_vignette = false, no_headset_panel = false;
     sim::OrbitOptions orbit;   // only for the generated cloud
 };
 
@@ -86,6 +86,7 @@ int runView(const ViewArgs& a) {
     o.cut_radius_m = a.cut_radius_m;
     o.snap_turn = !a.no_snap_turn;
     o.vignette = !a.no_vignette;
+    o.headset_panel = !a.no_headset_panel;
     if (!a.candidates.empty()) o.candidates = engine::readCandidates(a.candidates);
     o.vsync = a.frames == 0;
     if (!a.script.empty()) o.script = viewer::readScript(a.script);
@@ -190,6 +191,7 @@ void registerView(CLI::App& cli) {
                                                       "confirm or reject");
     cmd->add_flag("--no-snap-turn", args->no_snap_turn, "headset, free mode: turn smoothly instead of 45 deg steps");
     cmd->add_flag("--no-vignette", args->no_vignette, "headset, free mode: no tunnel vignette while moving");
+    cmd->add_flag("--no-headset-panel", args->no_headset_panel, "do not show the ImGui panel in the headset");
     cmd->add_option("--xres", args->orbit.xres, "generated cloud only: sensor pixels across")->capture_default_str();
     cmd->add_option("--yres", args->orbit.yres, "generated cloud only: sensor pixels down")->capture_default_str();
     cmd->add_option("--views", args->orbit.views, "generated cloud only: drone positions (NoV)")->capture_default_str();

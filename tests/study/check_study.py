@@ -69,6 +69,7 @@ if scenario in ("xr", "desktop"):
         check(log.get("fallback") == "" and log["frames_submitted"] == log["frames_counted"] > 0,
           "the XR session did not last the run")
         check("FOCUSED" in log["states"], "never FOCUSED")
+        check(log.get("headset_panel") is True, "the panel was not drawn in the headset")
     starts = [a["frame"] for a in log["actions"] if a["action"] == "start"]
     ends = [a["frame"] for a in log["actions"] if a["action"] == "end"]
     check(len(starts) == 2 and len(ends) == 2, f"starts {starts}, ends {ends}")

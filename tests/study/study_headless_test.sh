@@ -4,7 +4,7 @@
 # checked by check_study.py. The plan: two trials of the bundled demo scene (a small
 # cloud: 64 x 64 pixels x 40 views); trial 1 aims at the tank, trial 2 at a house.
 #   xr        on Monado: trial 1 a hit (< 1 m), trial 2 a miss; traces one row per
-#             submitted frame, times increasing; exit 0.
+#             submitted frame, times increasing; the panel drawn in the headset; exit 0.
 #   desktop   the same without an OpenXR runtime; then `study --replay` of trial 1 follows
 #             the trace's head poses in the mirror.
 #   kill      SIGKILL once trial 1 has ended (its line on stderr): trials.csv is whole

@@ -20,8 +20,21 @@ OverlayRenderer::OverlayRenderer()
                 {GL_FRAGMENT_SHADER, shaders::vertex_colour_frag, shaders::vertex_colour_frag_files}}),
       vignette_("viewer comfort vignette",
                 {{GL_VERTEX_SHADER, shaders::fullscreen_triangle_vert, shaders::fullscreen_triangle_vert_files},
-                 {GL_FRAGMENT_SHADER, shaders::comfort_vignette_frag, shaders::comfort_vignette_frag_files}}) {
+                 {GL_FRAGMENT_SHADER, shaders::comfort_vignette_frag, shaders::comfort_vignette_frag_files}}),
+      panel_("viewer headset panel",
+             {{GL_VERTEX_SHADER, shaders::panel_quad_vert, shaders::panel_quad_vert_files},
+              {GL_FRAGMENT_SHADER, shaders::panel_quad_frag, shaders::panel_quad_frag_files}}) {
     glCreateVertexArrays(1, &empty_vao_);
+    glCreateVertexArrays(1, &panel_vao_);
+    glCreateBuffers(1, &panel_buffer_);
+    glNamedBufferData(panel_buffer_, 4 * 5 * sizeof(float), nullptr, GL_DYNAMIC_DRAW);
+    glEnableVertexArrayAttrib(panel_vao_, 0);
+    glVertexArrayAttribFormat(panel_vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(panel_vao_, 0, 0);
+    glEnableVertexArrayAttrib(panel_vao_, 1);
+    glVertexArrayAttribFormat(panel_vao_, 1, 2, GL_FLOAT, GL_FALSE, 12);
+    glVertexArrayAttribBinding(panel_vao_, 1, 0);
+    glVertexArrayVertexBuffer(panel_vao_, 0, panel_buffer_, 0, 5 * sizeof(float));
     glCreateVertexArrays(1, &vao_);
     glEnableVertexArrayAttrib(vao_, 0);
     glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
@@ -35,6 +48,38 @@ OverlayRenderer::~OverlayRenderer() {
     if (buffer_) glDeleteBuffers(1, &buffer_);
     if (vao_) glDeleteVertexArrays(1, &vao_);
     if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
+    if (panel_vao_) glDeleteVertexArrays(1, &panel_vao_);
+    if (panel_buffer_) glDeleteBuffers(1, &panel_buffer_);
+}
+
+void OverlayRenderer::drawPanelQuad(GLuint texture, const std::array<glm::dvec3, 4>& corners_eye,
+                                    const glm::dmat4& projection, GLuint fbo, int x, int y, int w, int h) const {
+    if (texture == 0) return;
+    const float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    float data[4 * 5];
+    for (int i = 0; i < 4; ++i) {
+        data[i * 5 + 0] = float(corners_eye[i].x);
+        data[i * 5 + 1] = float(corners_eye[i].y);
+        data[i * 5 + 2] = float(corners_eye[i].z);
+        data[i * 5 + 3] = uv[i][0];
+        data[i * 5 + 4] = uv[i][1];
+    }
+    glNamedBufferSubData(panel_buffer_, 0, sizeof data, data);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(x, y, w, h);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    panel_.use();
+    glUniformMatrix4fv(panel_.uniform("u_projection"), 1, GL_FALSE, &glm::mat4(projection)[0][0]);
+    glBindTextureUnit(0, texture);
+    glUniform1i(panel_.uniform("u_panel"), 0);
+    glBindVertexArray(panel_vao_);
+    glDrawArrays(GL_TRIANGLE_FAN, 0, 4);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glDisable(GL_BLEND);
+    render::logGl("OverlayRenderer::drawPanelQuad", __FILE__, __LINE__);
 }
 
 void OverlayRenderer::drawVignette(GLuint fbo, int x, int y, int w, int h, float aperture, float feather,

@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
+
 #include <vector>
 
 namespace viewer {
@@ -47,9 +49,16 @@ public:
     /// wide fade, at `strength` in [0, 1] (the comfort vignette). Nothing at strength 0.
     void drawVignette(GLuint fbo, int x, int y, int w, int h, float aperture, float feather, float strength) const;
 
+    /// Draws `texture` (the ImGui panel) on the quad whose corners are given in eye space
+    /// (bottom left, bottom right, top right, top left), blended over the image.
+    void drawPanelQuad(GLuint texture, const std::array<glm::dvec3, 4>& corners_eye, const glm::dmat4& projection,
+                       GLuint fbo, int x, int y, int w, int h) const;
+
 private:
     render::Program program_;
     render::Program vignette_;
+    render::Program panel_;
+    GLuint panel_vao_ = 0, panel_buffer_ = 0;
     GLuint empty_vao_ = 0;
     GLuint vao_ = 0;
     mutable GLuint buffer_ = 0;   // grown on demand by draw()

@@ -16,25 +16,31 @@ bool drawSettingsPanel(const PanelView& v) {
     ImGui::Text("Mode: %s  (space / controller button)", modeName(v.mode));
     if (!v.xr_state.empty()) ImGui::Text("OpenXR: %s", v.xr_state.c_str());
     else ImGui::Text("Desktop mode (drag: look, WASD/QE: move in free mode)");
-    ImGui::Text("click: designate  Enter: confirm  Backspace: reject  N: no target");
-    ImGui::SliderFloat("point size (px)", &v.style->point_size_px, 1.0f, 16.0f, "%.1f");
-    ImGui::Checkbox("attenuate with distance", &v.style->attenuate);
     int colour = static_cast<int>(v.style->colour);
     if (ImGui::Combo("colours (C)", &colour, "file colours\0height jet\0white\0ground truth (target red)\0"))
         v.style->colour = static_cast<ColourMode>(colour);
-    ImGui::Checkbox("eye-dome lighting", &v.style->eye_dome);
-    if (v.style->eye_dome) ImGui::SliderFloat("EDL strength", &v.style->edl_strength, 0.1f, 4.0f, "%.2f");
-    ImGui::Checkbox("cutting volume (V)", v.cut_enabled);
-    float radius = static_cast<float>(*v.cut_radius_m);
-    if (ImGui::SliderFloat("cut radius (m) [ ]", &radius, 1.0f, 200.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
-        *v.cut_radius_m = radius;
-    if (v.candidates > 0) ImGui::Checkbox("highlight candidates", v.highlight_candidates);
-    ImGui::Text("zoom x%.2f (wheel, two-hand grab)", v.scale);
-    ImGui::SameLine();
-    if (ImGui::Button("reset (R)")) reset = true;
-    ImGui::Checkbox("snap turn", v.snap_turn);
-    ImGui::SameLine();
-    ImGui::Checkbox("vignette while moving", v.vignette);
+    // The rest folds away, so the panel stays small over the cloud.
+    if (ImGui::CollapsingHeader("display")) {
+        ImGui::SliderFloat("point size (px)", &v.style->point_size_px, 1.0f, 16.0f, "%.1f");
+        ImGui::Checkbox("attenuate with distance", &v.style->attenuate);
+        ImGui::Checkbox("eye-dome lighting", &v.style->eye_dome);
+        if (v.style->eye_dome) ImGui::SliderFloat("EDL strength", &v.style->edl_strength, 0.1f, 4.0f, "%.2f");
+    }
+    if (ImGui::CollapsingHeader("tools")) {
+        ImGui::Text("click: designate  Enter: confirm  Backspace: reject  N: no target");
+        ImGui::Checkbox("cutting volume (V)", v.cut_enabled);
+        float radius = static_cast<float>(*v.cut_radius_m);
+        if (ImGui::SliderFloat("cut radius (m) [ ]", &radius, 1.0f, 200.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
+            *v.cut_radius_m = radius;
+        if (v.candidates > 0) ImGui::Checkbox("highlight candidates", v.highlight_candidates);
+        ImGui::Text("zoom x%.2f (wheel, two-hand grab)", v.scale);
+        ImGui::SameLine();
+        if (ImGui::Button("reset (R)")) reset = true;
+        ImGui::Checkbox("snap turn", v.snap_turn);
+        ImGui::SameLine();
+        ImGui::Checkbox("vignette while moving", v.vignette);
+        if (v.headset_panel) ImGui::Checkbox("this panel in the headset", v.headset_panel);
+    }
     if (!v.designation.empty()) ImGui::TextUnformatted(v.designation.c_str());
     ImGui::Text("picking: %s (last pick %.3f ms)", v.picking_ready ? "ready" : "indexing the cloud", v.pick_ms);
     ImGui::Text("frame %.2f ms (%.0f Hz)", v.frame_ms, v.frame_ms > 0 ? 1000.0 / v.frame_ms : 0.0);

@@ -105,7 +105,7 @@ public:
     ViewerApp(const ViewerOptions& options, bool record_frames)
         : options_(options), style_(options.style), modes_(options.modes, glm::dvec3(0.0)),
           pointer_(options.pick), record_frames_(record_frames), cut_radius_m_(options.cut_radius_m),
-          snap_turn_(options.snap_turn), vignette_(options.vignette) {}
+          snap_turn_(options.snap_turn), vignette_(options.vignette), headset_panel_(options.headset_panel) {}
     ~ViewerApp();
     /// A plain run over `feed` (source and observer null), or the trials of `source`.
     int run(CloudFeed* feed, TrialSource* source, TrialObserver* observer);
@@ -193,6 +193,8 @@ private:
     std::size_t replay_next_ = 0;
     bool replay_done_ = false;
     bool reset_zoom_button_ = false;
+    EyeTarget panel_target_;             // the ImGui windows rendered for the headset's quad
+    bool headset_panel_ = true;
     nlohmann::json decisions_ = nlohmann::json::array();   // the run log's record of actions
 };
 
@@ -204,6 +206,7 @@ ViewerApp::~ViewerApp() {
         overlay_.reset();
         for (auto& t : eye_targets_) t.destroy();
         desktop_target_.destroy();
+        panel_target_.destroy();
         if (swapchain_fbo_[0]) glDeleteFramebuffers(2, swapchain_fbo_.data());
         if (timer_query_) glDeleteQueries(1, &timer_query_);
         if (imgui_) {
@@ -300,6 +303,8 @@ void ViewerApp::logFrame(bool xr, const std::array<RigPose, 2>& eyes_t, const st
                         {"cpu_ms", cpu_ms},
                         {"frame_ms", frame_ms_},
                         {"scale", zoom_.scale()},
+                        {"colour", colourModeName(style_.colour)},
+                        {"cut", cut_enabled_},
                         {"pointer", pointer_.log()},
                         {"pick_ms", pointer_.lastPickMs()}};
     if (trial_.index >= 0) f["trial"] = trial_.index;
@@ -402,6 +407,22 @@ bool ViewerApp::renderXrFrame(bool& rendered) {
             if (texture == 0) return false;
             glNamedFramebufferTexture(swapchain_fbo_[i], GL_COLOR_ATTACHMENT0, texture, 0);
             drawEyeAndOverlay(eye_targets_[i], draw, swapchain_fbo_[i], 0, 0, w, h, points_drawn_);
+            if (headset_panel_ && panel_target_.colour != 0) {
+                // The panel hangs 1.1 m ahead of the tracking origin (the head at the
+                // session's start), its centre 0.6 m below eye level (below the gaze, where
+                // the target is not), 0.8 m wide, in the tracking frame: a glance down
+                // reads it, and it stays put when the head turns.
+                const double pw = 0.8, ph = pw * panel_target_.height / std::max(1, panel_target_.width);
+                const glm::dvec3 c(0.0, -0.6, -1.1);
+                const std::array<glm::dvec3, 4> corners_t = {c + glm::dvec3(-pw / 2, -ph / 2, 0),
+                                                             c + glm::dvec3(pw / 2, -ph / 2, 0),
+                                                             c + glm::dvec3(pw / 2, ph / 2, 0),
+                                                             c + glm::dvec3(-pw / 2, ph / 2, 0)};
+                std::array<glm::dvec3, 4> corners_eye;
+                for (int k = 0; k < 4; ++k)
+                    corners_eye[k] = glm::transpose(eyes_t[i].rotation) * (corners_t[k] - eyes_t[i].position);
+                overlay_->drawPanelQuad(panel_target_.colour, corners_eye, draw.projection, swapchain_fbo_[i], 0, 0, w, h);
+            }
             const bool show = options_.mirror == MirrorEyes::Both || (options_.mirror == MirrorEyes::Left && i == 0) ||
                               (options_.mirror == MirrorEyes::Right && i == 1);
             if (show) {
@@ -490,6 +511,7 @@ void ViewerApp::drawPanel(double frame_ms, int fb_w, int fb_h) {
     v.candidates = candidates_.size();
     v.snap_turn = &snap_turn_;
     v.vignette = &vignette_;
+    v.headset_panel = xr_ ? &headset_panel_ : nullptr;
     if (trial_.index >= 0) {
         char text[256];
         std::snprintf(text, sizeof text, "trial %d of %d: %s, %.1f s", trial_.index + 1, trials_total_,
@@ -523,6 +545,14 @@ void ViewerApp::drawPanel(double frame_ms, int fb_w, int fb_h) {
                       headLocal().position, feed_->fields().height_above_ground);
     }
     ImGui::Render();
+    if (xr_ && headset_panel_ && fb_w > 0 && fb_h > 0 && panel_target_.ensure(fb_w, fb_h)) {
+        // The same windows into a texture for the headset's quad (shown from the next frame).
+        glBindFramebuffer(GL_FRAMEBUFFER, panel_target_.fbo);
+        glViewport(0, 0, fb_w, fb_h);
+        glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, fb_w, fb_h);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -988,6 +1018,7 @@ int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer
     log_.set("actions", decisions_);
     log_.set("candidates", candidates_.log());
     log_.set("scale_final", zoom_.scale());
+    log_.set("headset_panel", headset_panel_ && panel_target_.colour != 0);
     if (trial_.designated_local) log_.set("designated_world", vec(*trial_.designated_local + feed_->origin()));
     if (!options_.log_json.empty() && !log_.write(options_.log_json)) status = 1;
     if (!options_.quiet)

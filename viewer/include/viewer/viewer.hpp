@@ -71,6 +71,7 @@ struct ViewerOptions {
     bool vignette = true;               // darken the edges of the view while moving
     double vignette_aperture = 0.7;     // radius of the clear centre (fraction of the half view)
     double vignette_feather = 0.2;      // width of the fade to black
+    bool headset_panel = true;          // the ImGui panel on a quad in the headset (below the gaze)
     /// A recorded trace to replay in the mirror (desktop only): once the cloud has loaded,
     /// the view follows the trace's head poses, zoom and mode in real time, its pointer hit
     /// shown as a dot, and the run ends after its last sample (exit "replay done").
