@@ -62,6 +62,11 @@ if scenario in ("xr", "desktop"):
             check(r["designations"] == "1", f"trial {r['trial']}: {r['designations']} designations")
             check(float(r["time_to_first_designation_s"]) <= float(r["time_to_decision_s"]), "times out of order")
             check(r["visibility_metric"] == "", "visibility_metric given with --no-metric")
+    cands = read_csv("candidates.csv", ["trial", "candidate", "score", "verdict", "t_s"])
+    verdicts = {(r["trial"], r["candidate"]): r["verdict"] for r in cands}
+    print("candidates:", verdicts)
+    check(verdicts == {("1", "house"): "rejected", ("1", "tank"): "confirmed", ("1", "far"): "unreviewed"},
+          f"candidate verdicts {verdicts}")
     with open(os.path.join(work, "log.json")) as f:
         log = json.load(f)
     check(log["exit"] == "trials done", f"exit {log['exit']}")

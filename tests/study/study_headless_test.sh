@@ -2,8 +2,10 @@
 # tests/study/study_headless_test.sh LADARVR SCENARIO: `ladarvr study` driven headless by a
 # script (tests/viewer/headless_env.sh starts Xvfb and, for xr, Monado's simulated HMD),
 # checked by check_study.py. The plan: two trials of the bundled demo scene (a small
-# cloud: 64 x 64 pixels x 40 views); trial 1 aims at the tank, trial 2 at a house.
-#   xr        on Monado: trial 1 a hit (< 1 m), trial 2 a miss; traces one row per
+# cloud: 64 x 64 pixels x 40 views); trial 1 rejects a candidate box on a house and
+# confirms the tank's, trial 2 aims at a house.
+#   xr        on Monado: trial 1 a hit (< 1 m), trial 2 a miss; candidates.csv: house
+#             rejected, tank confirmed, the third unreviewed; traces one row per
 #             submitted frame, times increasing; the panel drawn in the headset; exit 0.
 #   desktop   the same without an OpenXR runtime; then `study --replay` of trial 1 follows
 #             the trace's head poses in the mirror.
@@ -25,16 +27,26 @@ work=$(mktemp -d /tmp/ladarvr-studytest.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 export LSAN_OPTIONS="suppressions=$here/../viewer/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 
+# Trial 1 has candidate boxes: the tank's, a house's (rejected) and one nobody reviews.
+cat >"$work/candidates.json" <<'CANDIDATES'
+{"candidates": [{"id": "tank", "centre": [0, 0, 1.2], "size_m": [7, 3.5, 2.5], "yaw_deg": 20, "score": 0.9},
+                {"id": "house", "centre": [-30, 22, 3], "size_m": [12, 8, 6], "yaw_deg": 75, "score": 0.4},
+                {"id": "far", "centre": [80, -80, 2], "size_m": [7, 3.5, 2.5], "yaw_deg": 0, "score": 0.1}]}
+CANDIDATES
 cat >"$work/plan.json" <<PLAN
-{"trials": [{"scene": "$assets/demo/scene.json", "time_limit_s": 300, "name": "demo A"},
+{"trials": [{"scene": "$assets/demo/scene.json", "candidates": "candidates.json", "time_limit_s": 300,
+             "name": "demo A"},
             {"scene": "$assets/demo/scene.json", "time_limit_s": 300, "name": "demo B"}],
  "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000},
  "generate": {"xres": 64, "yres": 64, "views": 40}}
 PLAN
-# The tank stands at the origin (2.5 m high); a large house at (-30, 22).
+# The tank stands at the origin (2.5 m high); a large house at (-30, 22). Trial 1 rejects
+# the house's box, then designates the tank and confirms its box (which ends the trial).
 cat >"$work/script.txt" <<'SCRIPT'
 1 next
-+8 aim 0 0 1.2
++4 aim -30 22 3
++1 reject
++3 aim 0 0 1.2
 +1 designate
 +6 confirm
 +2 next
@@ -59,8 +71,8 @@ case "$scenario" in
     if [ "$scenario" = kill ]; then wait_for="study: trial 1 ended"; sig=KILL; want=137
     else wait_for="study: trial 2 started"; sig=TERM; want=143; fi
     # The study stops after trial 1's `next` for trial 2 so the kill finds it mid-run.
-    [ "$scenario" = kill ] && sed -i '5,$d' "$work/script.txt"
-    [ "$scenario" = sigterm ] && sed -i '6,$d' "$work/script.txt"
+    [ "$scenario" = kill ] && sed -i '7,$d' "$work/script.txt"
+    [ "$scenario" = sigterm ] && sed -i '8,$d' "$work/script.txt"
     cat >"$work/run.sh" <<RUN
 set -u
 "$bin" ${common[*]} --no-xr 2>"$work/stderr" &

@@ -774,8 +774,14 @@ void ViewerApp::applyInput(const OperatorInput& in, double dt) {
     }
     if (in.confirm) {
         if (const auto i = candidates_.decide(Verdict::Confirmed)) {
+            // Confirming a candidate confirms it as the target: the trial ends with the
+            // designation made, else the pointer's hit, else the box's centre.
             if (observer_ && trial_.running) observer_->onVerdict(trial_.index, t_s, candidates_.candidate(*i), Verdict::Confirmed);
             record("confirm", {{"candidate", candidates_.candidate(*i).id}});
+            if (!trial_.designated_local)
+                trial_.designated_local = pointer_.hit() ? pointer_.hit()->local
+                                                         : candidates_.candidate(*i).centre_world - feed_->origin();
+            endTrial(Decision::Confirm);
         } else if (trial_.designated_local) {
             record("confirm", {{"world", vec(*trial_.designated_local + feed_->origin())}});
             endTrial(Decision::Confirm);
