@@ -718,7 +718,11 @@ void ViewerApp::applyInput(const OperatorInput& in, double dt) {
         zoom_.endGrab();
     }
     if (in.reset_zoom || reset_zoom_button_) zoom_.reset();
-    if (in.cycle_colour) style_.colour = static_cast<ColourMode>((static_cast<int>(style_.colour) + 1) % 4);
+    if (in.cycle_colour) {   // the next mode colourModeName knows, then the first again
+        const int next = static_cast<int>(style_.colour) + 1;
+        style_.colour = std::string(colourModeName(static_cast<ColourMode>(next))) == "?" ? ColourMode::File
+                                                                                          : static_cast<ColourMode>(next);
+    }
     if (in.toggle_cut) cut_enabled_ = !cut_enabled_;
     if (in.cut_radius_step != 0.0) cut_radius_m_ = std::clamp(cut_radius_m_ * std::pow(1.25, in.cut_radius_step), 1.0, 500.0);
     // Comfort: snap turn in free mode (headset).
