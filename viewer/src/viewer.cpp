@@ -104,7 +104,8 @@ public:
     /// an interactive session would otherwise grow it for nothing).
     ViewerApp(const ViewerOptions& options, bool record_frames)
         : options_(options), style_(options.style), modes_(options.modes, glm::dvec3(0.0)),
-          pointer_(options.pick), record_frames_(record_frames), cut_radius_m_(options.cut_radius_m),
+          pointer_(options.pick), record_frames_(record_frames), cut_enabled_(options.cut_enabled),
+          cut_radius_m_(options.cut_radius_m),
           snap_turn_(options.snap_turn), vignette_(options.vignette), headset_panel_(options.headset_panel) {}
     ~ViewerApp();
     /// A plain run over `feed` (source and observer null), or the trials of `source`.
@@ -306,7 +307,8 @@ void ViewerApp::logFrame(bool xr, const std::array<RigPose, 2>& eyes_t, const st
                         {"colour", colourModeName(style_.colour)},
                         {"cut", cut_enabled_},
                         {"pointer", pointer_.log()},
-                        {"pick_ms", pointer_.lastPickMs()}};
+                        {"pick_ms", pointer_.lastPickMs()},
+                        {"pick_ready", pointer_.ready()}};
     if (trial_.index >= 0) f["trial"] = trial_.index;
     if (last_gpu_ms_ >= 0.0) f["gpu_ms"] = last_gpu_ms_;
     nlohmann::json tracking = nlohmann::json::array(), local = nlohmann::json::array();

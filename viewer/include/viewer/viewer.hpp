@@ -63,6 +63,7 @@ struct ViewerOptions {
     bool quiet = false;
     PickOptions pick;                   // the pointer's cone (--pick-angle)
     double cut_radius_m = 15.0;         // the cutting volume's radius when switched on (V / controller)
+    bool cut_enabled = false;           // the cutting volume on from the start (around the designation)
     std::vector<engine::Candidate> candidates;   // --candidates: boxes to confirm or reject
     // Comfort in free mode, in the headset (docs/viewer.md).
     bool snap_turn = true;              // thumbstick turns in steps, not smoothly
