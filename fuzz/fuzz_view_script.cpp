@@ -1,9 +1,9 @@
 // fuzz/fuzz_view_script.cpp: libFuzzer target for viewer::parseScript, the parser of the
 // viewer's `--script` files (viewer/src/script.cpp, compiled here without the rest of
-// the viewer). The contract: a list of key presses or an engine::Error, nothing else;
+// the viewer). The contract: a list of actions or an engine::Error, nothing else;
 // every accepted frame is >= 0, there is at most one event per line, and writing the
-// events back as "<frame> space|escape" lines (frame N or desktop+N) parses to the same
-// events. An error is one printable line that names the script and the line.
+// events back with viewer::formatScript parses to the same events (frames, actions,
+// aim points and scales). An error is one printable line that names the script and the line.
 #include <viewer/script.hpp>
 
 #include <engine/error.hpp>
@@ -22,14 +22,6 @@ namespace {
 
 constexpr const char* kName = "view: --script fuzz.txt";
 
-std::string format(const std::vector<viewer::ScriptEvent>& events) {
-    std::string text;
-    for (const viewer::ScriptEvent& ev : events)
-        text += (ev.after_desktop ? "desktop+" : "") + std::to_string(ev.frame) +
-                (ev.key == viewer::ScriptEvent::Key::Space ? " space\n" : " escape\n");
-    return text;
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -42,11 +34,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (events.size() > lines) std::abort();
         for (const viewer::ScriptEvent& ev : events)
             if (ev.frame < 0) std::abort();
-        const std::vector<viewer::ScriptEvent> again = viewer::parseScript(format(events), kName);
+        const std::vector<viewer::ScriptEvent> again = viewer::parseScript(viewer::formatScript(events), kName);
         if (again.size() != events.size()) std::abort();
         for (std::size_t i = 0; i < events.size(); ++i)
             if (again[i].frame != events[i].frame || again[i].key != events[i].key ||
-                again[i].after_desktop != events[i].after_desktop) std::abort();
+                again[i].after_desktop != events[i].after_desktop || again[i].relative != events[i].relative || again[i].value != events[i].value ||
+                again[i].point[0] != events[i].point[0] || again[i].point[1] != events[i].point[1] ||
+                again[i].point[2] != events[i].point[2]) std::abort();
     } catch (const engine::Error& e) {
         fuzz::checkMessage(e.what());
         if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());

@@ -1,7 +1,7 @@
 #version 450 core
 // The viewer's points (viewer::PointRenderer): camera-relative chunks, coloured by the
 // file, by height (the jet table), white, or by ground-truth label; pixel-sized or
-// distance-attenuated.
+// distance-attenuated; points outside the cutting volume are not drawn.
 #include "include/jet.glsl"
 layout(location = 0) in vec3 a_position;   // relative to the chunk centre
 layout(location = 1) in vec4 a_rgb;        // 0xLLRRGGBB read as BGRA bytes (L = label)
@@ -13,8 +13,16 @@ uniform float u_z_max;
 uniform int u_colour_mode;                 // 0 file, 1 height jet, 2 white, 3 label
 uniform float u_size_px;
 uniform int u_attenuate;
+uniform float u_cut_radius;                // cutting volume: < 0 off
+uniform vec3 u_cut_centre;                 // relative to the chunk centre
 out vec4 v_colour;
 void main() {
+    if (u_cut_radius >= 0.0 && distance(a_position, u_cut_centre) > u_cut_radius) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);   // outside the clip volume: not drawn
+        gl_PointSize = 1.0;
+        v_colour = vec4(0.0);
+        return;
+    }
     vec4 p = u_model_view * vec4(a_position, 1.0);
     gl_Position = u_projection * p;
     vec3 colour;

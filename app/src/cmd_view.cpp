@@ -7,6 +7,7 @@
 #include "commands.hpp"
 
 #include <engine/atomic_file.hpp>
+#include <engine/candidates.hpp>
 #include <engine/cleanup.hpp>
 #include <engine/error.hpp>
 #include <engine/safe_file.hpp>
@@ -38,6 +39,10 @@ struct ViewArgs {
     std::size_t point_budget = 3000000;
     bool no_cull = false;
     double orbit_period_s = 60.0;
+    double orbit_radius_m = 60.0, orbit_height_m = 40.0;
+    double pick_angle_deg = 0.5, cut_radius_m = 15.0;
+    std::string candidates;
+    bool no_snap_turn = false, no_vignette = false, no_headset_panel = false;
     sim::OrbitOptions orbit;   // only for the generated cloud
 };
 
@@ -75,6 +80,14 @@ int runView(const ViewArgs& a) {
     o.point_budget = a.point_budget;
     o.cull = !a.no_cull;
     o.modes.orbit_period_s = a.orbit_period_s;
+    o.modes.orbit.radius_m = a.orbit_radius_m;
+    o.modes.orbit.altitude_m = a.orbit_height_m;
+    o.pick.angle_deg = a.pick_angle_deg;
+    o.cut_radius_m = a.cut_radius_m;
+    o.snap_turn = !a.no_snap_turn;
+    o.vignette = !a.no_vignette;
+    o.headset_panel = !a.no_headset_panel;
+    if (!a.candidates.empty()) o.candidates = engine::readCandidates(a.candidates);
     o.vsync = a.frames == 0;
     if (!a.script.empty()) o.script = viewer::readScript(a.script);
     o.screenshot = a.screenshot;
@@ -153,7 +166,8 @@ void registerView(CLI::App& cli) {
         ->capture_default_str();
     cmd->add_option("--timeout", args->timeout_s, "give up this many seconds after the start (start-up included), exit 1 (0 = never)")
         ->capture_default_str();
-    cmd->add_option("--script", args->script, "key presses at frames: lines '<frame> space|escape'");
+    cmd->add_option("--script", args->script, "operator actions at frames: lines '<frame> space|escape|designate|confirm|reject|no_target|next', "
+                                              "'<frame> aim X Y Z', '<frame> grab_scale S' (docs/viewer.md)");
     cmd->add_option("--screenshot", args->screenshot, "write the mirror as PNG at the last frame");
     cmd->add_option("--log-json", args->log_json, "write a machine-readable run log (states, frames, poses, modes)");
     cmd->add_option("--width", args->width, "window width, pixels")->capture_default_str();
@@ -166,6 +180,18 @@ void registerView(CLI::App& cli) {
     cmd->add_flag("--no-cull", args->no_cull, "draw cells outside the view frustum too (for comparisons)");
     cmd->add_option("--orbit-period", args->orbit_period_s, "seconds per turn of the automatic orbit")
         ->capture_default_str();
+    cmd->add_option("--orbit-radius", args->orbit_radius_m, "automatic orbit radius, metres")->capture_default_str();
+    cmd->add_option("--orbit-height", args->orbit_height_m, "automatic orbit height above the cloud's centre, metres")
+        ->capture_default_str();
+    cmd->add_option("--pick-angle", args->pick_angle_deg, "the pointer's angular radius, degrees (0, 10]")
+        ->capture_default_str();
+    cmd->add_option("--cut-radius", args->cut_radius_m, "cutting volume radius when switched on (V), metres")
+        ->capture_default_str();
+    cmd->add_option("--candidates", args->candidates, "candidate detections (JSON, as `ladarvr detect` writes) to "
+                                                      "confirm or reject");
+    cmd->add_flag("--no-snap-turn", args->no_snap_turn, "headset, free mode: turn smoothly instead of 45 deg steps");
+    cmd->add_flag("--no-vignette", args->no_vignette, "headset, free mode: no tunnel vignette while moving");
+    cmd->add_flag("--no-headset-panel", args->no_headset_panel, "do not show the ImGui panel in the headset");
     cmd->add_option("--xres", args->orbit.xres, "generated cloud only: sensor pixels across")->capture_default_str();
     cmd->add_option("--yres", args->orbit.yres, "generated cloud only: sensor pixels down")->capture_default_str();
     cmd->add_option("--views", args->orbit.views, "generated cloud only: drone positions (NoV)")->capture_default_str();

@@ -12,5 +12,6 @@ void registerView(CLI::App& cli);       // cmd_view.cpp:     `ladarvr view`
 void registerScene(CLI::App& cli);      // cmd_scene.cpp:    `ladarvr scene info`
 void registerDetect(CLI::App& cli);     // cmd_detect.cpp:   `ladarvr detect`
 void registerCorpus(CLI::App& cli);     // cmd_corpus.cpp:   `ladarvr corpus`
+void registerStudy(CLI::App& cli);      // cmd_study.cpp:    `ladarvr study`
 
 }  // namespace app

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     app::registerScene(cli);
     app::registerDetect(cli);
     app::registerCorpus(cli);
+    app::registerStudy(cli);
     bench::registerBench(cli);   // `ladarvr bench WHAT` (bench/)
     app::applyConventions(cli);  // after every subcommand: the checks reach all options
     try {

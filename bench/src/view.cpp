@@ -5,6 +5,7 @@
 #include "common.hpp"
 #include "register.hpp"
 #include "view_measure.hpp"
+#include "view_pick.hpp"
 
 #include <engine/error.hpp>
 #include <engine/scene.hpp>
@@ -26,7 +27,7 @@ namespace {
 struct BenchViewArgs {
     std::vector<std::size_t> points = {1638400, 20000000};
     int frames = 10, warmup = 3;
-    std::string paths = "mirror,xr,egl,skip";
+    std::string paths = "mirror,xr,egl,skip,pick";
     std::string eye = "1440x1600";
     std::string display = "auto";
     std::size_t point_budget = 3000000;
@@ -81,9 +82,11 @@ void run(const BenchViewArgs& a) {
     o.xr = a.paths.find("xr") != std::string::npos;
     o.egl = a.paths.find("egl") != std::string::npos;
     o.skip = a.paths.find("skip") != std::string::npos;
+    o.tools = a.paths.find("tools") != std::string::npos;
     o.point_budget = a.point_budget;
-    // "skip" alone needs no display: EGL only.
-    const bool display_needed = o.mirror || o.xr;
+    const bool pick = a.paths.find("pick") != std::string::npos;
+    // "skip" and "pick" alone need no display: EGL only, or no GL at all.
+    const bool display_needed = o.mirror || o.xr || o.tools;
     if (std::sscanf(a.eye.c_str(), "%dx%d", &o.eye_width, &o.eye_height) != 2)
         throw engine::Error("bench view: --eye '" + a.eye + "': expected WIDTHxHEIGHT, e.g. 1440x1600");
     if (display_needed && rerunHeadless(a)) return;
@@ -97,7 +100,7 @@ void run(const BenchViewArgs& a) {
     std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
     std::printf("ladarvr bench view (%s): warm-up %d, median of %d frames; eye-dome lighting on\n", date,
                 a.warmup, a.frames);
-    if (o.mirror || o.xr || o.egl) {
+    if (o.mirror || o.xr || o.egl || o.tools) {
         std::printf("| path | points | size | CPU submit ms | GPU ms | frame ms | frames | baseline GPU ms | "
                     "ratio | note |\n");
         std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---|\n");
@@ -105,6 +108,7 @@ void run(const BenchViewArgs& a) {
     std::string gl;
     std::vector<ViewBenchResult> skip_rows;
     for (std::size_t n : a.points) {
+        if (!(o.mirror || o.xr || o.egl || o.skip || o.tools)) break;
         const engine::PointCloud cloud = n == demo.points.size() ? demo : grow(demo, n);
         for (const auto& r : measureViewer(cloud, o)) {
             if (!r.gl.empty()) gl = r.gl;
@@ -146,7 +150,13 @@ void run(const BenchViewArgs& a) {
                         r.frame_ms_median, r.frames, base > 0 ? r.frame_ms_median / base : 0.0);
         }
     }
-    std::printf("GL: %s\n", gl.c_str());
+    if (pick) {
+        std::printf("\nThe pointer's pick (nearest point within 0.5 deg of a ray from the automatic orbit's eye to a "
+                    "random point of the cloud; k-d tree, viewer/pick_index.hpp) against a scan of every point:\n");
+        printPickingHeader(stdout);
+        for (std::size_t n : a.points) measurePicking(n == demo.points.size() ? demo : grow(demo, n), 1000, stdout);
+    }
+    if (o.mirror || o.xr || o.egl || o.skip || o.tools) std::printf("GL: %s\n", gl.c_str());
     if (o.egl) std::printf("baseline: render::PointSplatRenderer (the metric's 2 px splats, no eye-dome lighting) drawing the "
                 "same two eyes, interleaved frame by frame; ratio = viewer GPU ms / baseline GPU ms\n");
 }
@@ -162,8 +172,9 @@ void registerView(CLI::App& parent) {
     cmd->add_option("--frames", args->frames, "measured frames per configuration")->capture_default_str();
     cmd->add_option("--warmup", args->warmup, "warm-up frames (after the upload)")->capture_default_str();
     cmd->add_option("--paths", args->paths,
-                    "any of mirror, xr, egl, skip (comma separated; skip: culling and LOD budget before/after, "
-                    "offscreen stereo)")
+                    "any of mirror, xr, egl, skip, pick, tools (comma separated; skip: culling and LOD budget "
+                    "before/after, offscreen stereo; pick: the pointer's pick time; tools: the XR frame with and "
+                    "without the pointer, cutting volume and headset panel)")
         ->capture_default_str();
     cmd->add_option("--point-budget", args->point_budget, "skip rows: points per eye with the LOD budget")
         ->capture_default_str();

@@ -101,9 +101,15 @@ struct Samples {
     }
 };
 
-ViewBenchResult measureLoop(const engine::PointCloud& cloud, const ViewBenchOptions& bench, bool xr) {
+/// `tools`: 0 the plain loop; 1 the XR loop without the operator's tools (no panel in the
+/// headset); 2 with the pointer aimed at the cloud's centre, a designation and the panel
+/// in the headset; 3 the same with the cutting volume on (which hides most points, so it
+/// saves more than it costs). These rows count only frames once the pick index is built
+/// (on a worker thread after the upload, competing for the CPU) and, with the pointer,
+/// once it has a hit.
+ViewBenchResult measureLoop(const engine::PointCloud& cloud, const ViewBenchOptions& bench, bool xr, int tools = 0) {
     ViewBenchResult r;
-    r.path = xr ? "xr" : "mirror";
+    r.path = tools == 1 ? "xr-no-tools" : tools == 2 ? "xr-tools" : tools == 3 ? "xr-tools-cut" : xr ? "xr" : "mirror";
     r.points = cloud.points.size();
     viewer::ViewerOptions o;
     o.use_xr = xr;
@@ -114,6 +120,22 @@ ViewBenchResult measureLoop(const engine::PointCloud& cloud, const ViewBenchOpti
     o.frames = 1 + bench.warmup_frames + bench.frames;
     o.timeout_s = 1200.0;
     o.modes.orbit_period_s = 60.0;
+    if (tools > 0) {
+        o.headset_panel = tools >= 2;
+        o.frames += 60;   // room for the pick index to be built before the measured frames
+    }
+    if (tools >= 2) {
+        const glm::dvec3 centre = cloud.bounds().centre() + cloud.origin;
+        viewer::ScriptEvent aim;
+        aim.frame = 0;
+        aim.key = viewer::ScriptEvent::Key::Aim;
+        for (int i = 0; i < 3; ++i) aim.point[i] = centre[i];
+        viewer::ScriptEvent designate;
+        designate.frame = 1;
+        designate.key = viewer::ScriptEvent::Key::Designate;
+        o.script = {aim, designate};
+        o.cut_enabled = tools == 3;
+    }
     viewer::CloudFeed feed;
     feed.feedCloud(cloud, 1u << 20);
     std::string log_text;
@@ -139,10 +161,19 @@ ViewBenchResult measureLoop(const engine::PointCloud& cloud, const ViewBenchOpti
         r.height = o.window_height;
         r.note = "desktop window, one view";
     }
+    if (tools == 2) r.note += ", pointer + designation + headset panel";
+    if (tools == 3) r.note += ", pointer + designation + headset panel + cutting volume (15 m)";
+    if (tools == 1) r.note += ", no tools, no headset panel";
     Samples samples;
+    int ready_frames = 0;
     for (const auto& f : log["frames"]) {
         if (f.value("frame", 0L) <= 1 + bench.warmup_frames) continue;
         if (f.value("points_uploaded", std::size_t{0}) < cloud.points.size()) continue;
+        if (tools > 0) {   // once the index is built (its thread competes for the CPU), then warm-up again
+            const bool hit = f.contains("pointer") && f["pointer"].contains("hit") && !f["pointer"]["hit"].is_null();
+            if (!f.value("pick_ready", false) || (tools >= 2 && !hit)) continue;
+            if (++ready_frames <= bench.warmup_frames || int(samples.cpu.size()) >= bench.frames) continue;
+        }
         samples.add({f.value("cpu_ms", 0.0), f.value("gpu_ms", 0.0), f.value("frame_ms", 0.0)});
     }
     samples.store(r);
@@ -310,6 +341,11 @@ std::vector<ViewBenchResult> measureViewer(const engine::PointCloud& cloud, cons
     std::vector<ViewBenchResult> results;
     if (options.mirror) results.push_back(measureLoop(cloud, options, false));
     if (options.xr) results.push_back(measureLoop(cloud, options, true));
+    if (options.tools) {
+        results.push_back(measureLoop(cloud, options, true, 1));
+        results.push_back(measureLoop(cloud, options, true, 2));
+        results.push_back(measureLoop(cloud, options, true, 3));
+    }
     if (options.egl) results.push_back(measureStereoEgl(cloud, options));
     if (options.skip)
         for (auto& r : measureSkip(cloud, options)) results.push_back(std::move(r));

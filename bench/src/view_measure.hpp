@@ -37,6 +37,10 @@ struct ViewBenchOptions {
     /// each with nothing skipped, frustum culling only, and culling + `point_budget` (LOD),
     /// interleaved frame by frame.
     bool skip = false;
+    /// The OpenXR path again with the operator's tools at work (the pointer aimed at the
+    /// cloud's centre, a designation, the panel in the headset; then also the cutting
+    /// volume), against a run with none of them (no panel in the headset), run after run.
+    bool tools = false;
     std::size_t point_budget = 3000000;
     int eye_width = 1440, eye_height = 1600;   // stereo-egl eye size (Index / Vive Pro class)
 };

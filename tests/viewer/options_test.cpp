@@ -45,7 +45,7 @@ TEST_CASE("bad script lines name the file and the line and what is allowed") {
     const auto bad_frame = writeTemp("f.txt", "10 space\nten space\n");
     CHECK_THROWS_WITH_AS(readScript(bad_frame), doctest::Contains("line 2: frame 'ten'"), engine::Error);
     const auto bad_key = writeTemp("k.txt", "5 jump\n");
-    CHECK_THROWS_WITH_AS(readScript(bad_key), doctest::Contains("key 'jump' is not one of space, escape"),
+    CHECK_THROWS_WITH_AS(readScript(bad_key), doctest::Contains("action 'jump' is not one of space, escape, aim"),
                          engine::Error);
     const auto extra = writeTemp("e.txt", "5 space now\n");
     CHECK_THROWS_WITH_AS(readScript(extra), doctest::Contains("unexpected 'now'"), engine::Error);

@@ -24,7 +24,8 @@ struct Pixel {
 
 // Draws `cloud` from straight above with an orthographic camera (1 m = 8 px, grid cell
 // (i, j) centred on pixel (8i + 4, 8j + 4)) and returns the point pass's colour image.
-std::vector<Pixel> drawFromAbove(const engine::PointCloud& cloud, int rows, const viewer::ViewStyle& style) {
+std::vector<Pixel> drawFromAbove(const engine::PointCloud& cloud, int rows, const viewer::ViewStyle& style,
+                                 const viewer::CutVolume& cut = {}) {
     viewer::PointRenderer renderer;
     viewer::CloudFeed feed;
     feed.feedCloud(cloud);
@@ -39,7 +40,7 @@ std::vector<Pixel> drawFromAbove(const engine::PointCloud& cloud, int rows, cons
     eye.projection = glm::ortho(-0.5, kColumns - 0.5, -0.5, rows - 0.5, 1.0, 2000.0);
     eye.near_m = 1.0;
     eye.far_m = 2000.0;
-    renderer.drawEye(target, eye, style, viewer::ViewMode::Free, out.fbo, 0, 0, width, height);
+    renderer.drawEye(target, eye, style, viewer::ViewMode::Free, out.fbo, 0, 0, width, height, cut);
     std::vector<Pixel> pixels(static_cast<std::size_t>(width) * height);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glGetTextureImage(target.colour, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(pixels.size() * 4),
@@ -115,4 +116,43 @@ TEST_CASE("viewer file colours pass through byte-exact") {
         const Pixel got = pixels[static_cast<std::size_t>(4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4];
         CHECK(engine::packRgb(got.r, got.g, got.b) == colours[k]);
     }
+}
+
+TEST_CASE("the cutting volume hides the points beyond its radius, in 3D") {
+    render::EglContext context;
+    // A row of 12 points 1 m apart at z = 0, and a second row 2.5 m up at y = 1. The cut
+    // centre reaches the shader relative to each cell's centre, like the points.
+    engine::PointCloud cloud;
+    cloud.origin = glm::dvec3(1.0e6, -2.0e6, 300.0);
+    for (int k = 0; k < kColumns; ++k)
+        for (int row = 0; row < 2; ++row) {
+            engine::CloudPoint p;
+            p.position = {float(k), float(row), row == 0 ? 0.0f : 2.5f};
+            p.rgb = 0x00FFFFFFu;
+            cloud.points.push_back(p);
+        }
+    viewer::ViewStyle style;
+    style.eye_dome = false;
+    style.point_size_px = 5.0f;
+    viewer::CutVolume cut;
+    cut.enabled = true;
+    cut.centre_local = glm::dvec3(5.0, 0.0, 0.0);
+    cut.radius_m = 2.2;
+    const std::vector<Pixel> pixels = drawFromAbove(cloud, 2, style, cut);
+    auto lit = [&](int k, int row) {
+        const Pixel p = pixels[static_cast<std::size_t>(row * kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre +
+                               k * kPixelsPerMetre + 4];
+        return p.r > 200;
+    };
+    for (int k = 0; k < kColumns; ++k) {
+        CAPTURE(k);
+        // Row 0: within 2.2 m of x = 5 are x = 3..7.
+        CHECK(lit(k, 0) == (k >= 3 && k <= 7));
+        // Row 1 is 1 m across and 2.5 m up: sqrt(dx^2 + 1 + 6.25) <= 2.2 holds for none.
+        CHECK_FALSE(lit(k, 1));
+    }
+    // Without the cut, every point is drawn.
+    const std::vector<Pixel> all = drawFromAbove(cloud, 2, style);
+    for (int k = 0; k < kColumns; ++k)
+        CHECK(all[static_cast<std::size_t>(kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4].r > 200);
 }

@@ -31,18 +31,19 @@ TEST_CASE("script text: tabs, CRLF line ends, comments and blank lines") {
 TEST_CASE("script text: refused frames name the line and what is allowed") {
     CHECK_THROWS_WITH_AS(parseScript("1 space\n99999999999999999999 space\n", kName),
                          "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
-                         "allowed '<frame> space|escape', <frame> N or desktop+N",
+                         "allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
+                         "'<frame> grab_scale S', <frame> N, desktop+N or +N",
                          engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("0x10 space\n", kName), doctest::Contains("line 1: frame '0x10'"), engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("1.5 space\n", kName), doctest::Contains("frame '1.5'"), engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("-1 space\n", kName), doctest::Contains("frame '-1'"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("\n\n5\n", kName), doctest::Contains("line 3: missing key"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("\n\n5\n", kName), doctest::Contains("line 3: missing action"), engine::Error);
 }
 
 TEST_CASE("script text: bytes from a binary file are shown escaped and cut") {
     const std::string key = std::string("sp\x1b[2J") + '\0' + "ace";
     CHECK_THROWS_WITH_AS(parseScript("3 " + key + "\n", kName),
-                         doctest::Contains("key 'sp\\x1b[2J\\x00ace' is not one of space, escape"), engine::Error);
+                         doctest::Contains("action 'sp\\x1b[2J\\x00ace' is not one of space, escape"), engine::Error);
     try {
         parseScript("4 space " + std::string(5000, '\x7f') + "\n", kName);
         FAIL("a long binary token was accepted");
@@ -52,4 +53,56 @@ TEST_CASE("script text: bytes from a binary file are shown escaped and cut") {
         CHECK(what.find('\x7f') == std::string::npos);
         CHECK(what.find("...") != std::string::npos);
     }
+}
+
+TEST_CASE("script text: the operator's actions, with their arguments") {
+    const auto events = parseScript("3 next\n5 aim 10.5 -20 1e2\n6 designate\n7 confirm\n8 reject\n"
+                                    "9 no_target\n10 grab_scale 2.5\n", kName);
+    REQUIRE(events.size() == 7);
+    CHECK(events[0].key == ScriptEvent::Key::Next);
+    CHECK(events[1].key == ScriptEvent::Key::Aim);
+    CHECK(events[1].point[0] == 10.5);
+    CHECK(events[1].point[1] == -20.0);
+    CHECK(events[1].point[2] == 100.0);
+    CHECK(events[2].key == ScriptEvent::Key::Designate);
+    CHECK(events[3].key == ScriptEvent::Key::Confirm);
+    CHECK(events[4].key == ScriptEvent::Key::Reject);
+    CHECK(events[5].key == ScriptEvent::Key::NoTarget);
+    CHECK(events[6].key == ScriptEvent::Key::GrabScale);
+    CHECK(events[6].value == 2.5);
+    // Written back, the same events.
+    const auto again = parseScript(viewer::formatScript(events), kName);
+    REQUIRE(again.size() == events.size());
+    for (std::size_t i = 0; i < events.size(); ++i) {
+        CHECK(again[i].key == events[i].key);
+        CHECK(again[i].frame == events[i].frame);
+        CHECK(again[i].value == events[i].value);
+        CHECK(again[i].point[0] == events[i].point[0]);
+    }
+}
+
+TEST_CASE("script text: arguments are checked") {
+    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2\n", kName), doctest::Contains("line 1: aim needs X Y Z"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 inf\n", kName), doctest::Contains("aim coordinate 'inf'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 1e999\n", kName), doctest::Contains("'1e999' is not a finite"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 3 4\n", kName), doctest::Contains("unexpected '4'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale 0\n", kName), doctest::Contains("grab_scale '0' is not a finite number > 0"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale\n", kName), doctest::Contains("grab_scale needs a scale"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 designate now\n", kName), doctest::Contains("unexpected 'now'"), engine::Error);
+}
+
+TEST_CASE("script text: +N counts from the previous action") {
+    const auto events = parseScript("1 next\n+10 designate\n+0 confirm\n", kName);
+    REQUIRE(events.size() == 3);
+    CHECK_FALSE(events[0].relative);
+    CHECK(events[1].relative);
+    CHECK(events[1].frame == 10);
+    CHECK(events[2].relative);
+    CHECK(events[2].frame == 0);
+    const auto again = parseScript(viewer::formatScript(events), kName);
+    CHECK(again[1].relative);
+    CHECK(again[1].frame == 10);
+    CHECK_THROWS_WITH_AS(parseScript("+ next\n", kName), doctest::Contains("frame '+'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("+-3 next\n", kName), doctest::Contains("frame '+-3'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("++3 next\n", kName), doctest::Contains("frame '++3'"), engine::Error);
 }

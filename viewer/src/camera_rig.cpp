@@ -78,6 +78,10 @@ RigPose ModeController::rig() const {
     return levelRig(free_position_, free_heading_rad_);
 }
 
+void ModeController::snapTurn(double deg) {
+    if (mode_ == ViewMode::Free && std::isfinite(deg)) free_heading_rad_ -= deg * std::numbers::pi / 180.0;
+}
+
 void ModeController::update(double dt_s, const Motion& motion, const RigPose& head) {
     if (!(dt_s > 0.0) || !std::isfinite(dt_s)) return;
     dt_s = std::min(dt_s, 0.25);  // a stalled frame must not teleport the user

@@ -48,6 +48,18 @@ void validate(const ViewerOptions& o) {
         fail("jet entries " + std::to_string(o.style.jet_entries) + ": allowed [2, 256]");
     if (o.upload_points_per_frame < 1024)
         fail("--upload-budget " + std::to_string(o.upload_points_per_frame) + ": allowed >= 1024 points");
+    validate(o.pick);
+    if (!(o.cut_radius_m >= 0.1 && o.cut_radius_m <= 10000.0))
+        fail("--cut-radius " + engine::shownNumber(o.cut_radius_m) + ": allowed [0.1, 10000] m");
+    if (!(o.snap_turn_deg > 0.0 && o.snap_turn_deg <= 180.0))
+        fail("--snap-turn-deg " + engine::shownNumber(o.snap_turn_deg) + ": allowed (0, 180]");
+    if (!(o.snap_turn_debounce_s >= 0.0 && o.snap_turn_debounce_s <= 10.0))
+        fail("snap turn debounce " + engine::shownNumber(o.snap_turn_debounce_s) + ": allowed [0, 10] s");
+    if (!(o.vignette_aperture > 0.0 && o.vignette_aperture <= 1.0) ||
+        !(o.vignette_feather >= 0.0 && o.vignette_feather <= 1.0))
+        fail("vignette aperture " + engine::shownNumber(o.vignette_aperture) + " / feather " +
+             engine::shownNumber(o.vignette_feather) + ": allowed (0, 1] / [0, 1]");
+    if (!o.replay.empty() && o.use_xr) fail("a replay runs in the mirror only: use it with --no-xr");
     if (!o.screenshot.empty() && o.screenshot.extension() != ".png")
         fail("--screenshot " + o.screenshot.string() + ": the file name must end in .png");
 }

@@ -118,10 +118,11 @@ GLuint PointRenderer::jetTexture(int entries) const {
     return jet_texture_;
 }
 
-std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points) {
+std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points, std::vector<engine::CloudPoint>* keep) {
     for (auto& item : feed.take()) {
         std::vector<engine::CloudPoint>& points = item.points;
         if (points.empty()) continue;
+        if (keep) keep->insert(keep->end(), points.begin(), points.end());
         // LOD order once per chunk, at arrival: spatial cells, each shuffled (lod.hpp); done
         // by the producer's thread when the feed has it enabled, else here.
         const std::vector<LodCell> lod = item.cells.empty() ? buildLodOrder(points) : std::move(item.cells);
@@ -198,7 +199,8 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
 }
 
 DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style,
-                                 ViewMode mode, GLuint out_fbo, int x, int y, int w, int h) const {
+                                 ViewMode mode, GLuint out_fbo, int x, int y, int w, int h,
+                                 const CutVolume& cut) const {
     DrawStats stats;
     const glm::vec3 background(0.06f, 0.07f, 0.09f);
     // 1. points into the eye target
@@ -226,6 +228,8 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glUniform1i(points_.uniform("u_attenuate"), style.attenuate ? 1 : 0);
     const GLint u_model_view = points_.uniform("u_model_view");
     const GLint u_chunk_z = points_.uniform("u_chunk_z");
+    const GLint u_cut_centre = points_.uniform("u_cut_centre");
+    glUniform1f(points_.uniform("u_cut_radius"), cut.enabled ? float(cut.radius_m) : -1.0f);
     const auto frustum = render::Frustum::fromMatrix(eye.projection * eye.view);
     const bool planned = plan_valid_ && plan_.size() == cells_.size();
     const bool cull = !planned || plan_cull_;
@@ -242,6 +246,10 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
         const glm::mat4 mv = chunkModelView(eye.view, c.centre);
         glUniformMatrix4fv(u_model_view, 1, GL_FALSE, &mv[0][0]);
         glUniform1f(u_chunk_z, float(c.centre.z));
+        if (cut.enabled) {   // relative to the cell's centre, like its points
+            const glm::vec3 rel(cut.centre_local - c.centre);
+            glUniform3f(u_cut_centre, rel.x, rel.y, rel.z);
+        }
         if (bound_chunk != c.chunk) {
             glVertexArrayVertexBuffer(vao_, 0, chunks_[c.chunk].buffer, 0, sizeof(GpuPoint));
             bound_chunk = c.chunk;
@@ -267,15 +275,16 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glUniform1f(resolve_.uniform("u_far"), float(eye.far_m));
     glUniform3f(resolve_.uniform("u_background"), background.r, background.g, background.b);
     glDrawArrays(GL_TRIANGLES, 0, 3);
-    // 3. the mode indicator, low in the view (visible in the HMD and the mirror)
+    // 3. the mode indicator, small near the top edge (visible in the HMD and the mirror,
+    // away from the middle of the view where the target often is)
     const char* word = mode == ViewMode::Automatic ? "AUTOMATIC" : "FREE";
     std::array<int, 12> text{};
     const int length = static_cast<int>(std::strlen(word));
     for (int i = 0; i < length; ++i)
         text[i] = static_cast<int>(std::strchr(kGlyphs, word[i]) - kGlyphs);
-    const float cell = std::max(2.0f, std::floor(float(h) / 150.0f));
+    const float cell = std::max(1.0f, std::floor(float(h) / 300.0f));
     const float plate_w = (length * 6 + 1) * cell, plate_h = 9 * cell;
-    const float px0 = x + std::floor((w - plate_w) / 2), py0 = y + std::floor(h * 0.18f);
+    const float px0 = x + std::floor((w - plate_w) / 2), py0 = y + h - plate_h - std::floor(h * 0.2f);
     auto ndc_x = [&](float p) { return (p - x) / w * 2.0f - 1.0f; };
     auto ndc_y = [&](float p) { return (p - y) / h * 2.0f - 1.0f; };
     indicator_.use();

@@ -34,6 +34,14 @@ struct EyeDraw {
     double near_m = 0.1, far_m = 20000.0;
 };
 
+/// The cutting volume: only points within radius_m of centre_local are drawn (a shader
+/// test per point, so it follows live changes at no upload cost).
+struct CutVolume {
+    bool enabled = false;
+    glm::dvec3 centre_local{0.0};
+    double radius_m = 10.0;
+};
+
 struct DrawStats {
     std::size_t points_drawn = 0;
     std::size_t chunks_drawn = 0;    // cells drawn
@@ -49,8 +57,9 @@ public:
     PointRenderer& operator=(const PointRenderer&) = delete;
 
     /// Takes what the feed delivered and uploads at most `budget_points` points this frame.
-    /// Returns the number uploaded. Never throws.
-    std::size_t stream(CloudFeed& feed, std::size_t budget_points);
+    /// Returns the number uploaded. Never throws. With `keep`, every point that arrives is
+    /// also appended there (the viewer's pick index is built from them).
+    std::size_t stream(CloudFeed& feed, std::size_t budget_points, std::vector<engine::CloudPoint>* keep = nullptr);
     /// Points on the GPU / waiting in CPU memory.
     std::size_t uploadedPoints() const { return uploaded_; }
     std::size_t pendingPoints() const { return pending_points_; }
@@ -68,9 +77,10 @@ public:
     std::size_t cellCount() const { return cells_.size(); }
 
     /// Draws the cloud into `target` (cleared), then resolves it with eye-dome lighting (if
-    /// on) into the framebuffer `out_fbo` at viewport (x, y, w, h), then the mode indicator.
+    /// on) into the framebuffer `out_fbo` at viewport (x, y, w, h), then the mode indicator
+    /// (small, near the top edge). Points outside an enabled `cut` are not drawn.
     DrawStats drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style,
-                      ViewMode mode, GLuint out_fbo, int x, int y, int w, int h) const;
+                      ViewMode mode, GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut = {}) const;
 
 private:
     struct Chunk {   // one GPU buffer per chunk that arrived from the feed

@@ -5,10 +5,40 @@
 #include <engine/error.hpp>
 #include <engine/safe_file.hpp>
 
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace viewer {
+
+namespace {
+using Key = ScriptEvent::Key;
+constexpr std::array<std::pair<Key, const char*>, 9> kKeys = {{
+    {Key::Space, "space"}, {Key::Escape, "escape"}, {Key::Aim, "aim"}, {Key::Designate, "designate"},
+    {Key::Confirm, "confirm"}, {Key::Reject, "reject"}, {Key::NoTarget, "no_target"},
+    {Key::GrabScale, "grab_scale"}, {Key::Next, "next"}}};
+constexpr const char* kAllowed =
+    "; allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
+    "'<frame> grab_scale S', <frame> N, desktop+N or +N";
+
+/// A whole token as a finite double (no hex, no inf/nan), else nullopt.
+bool parseNumber(const std::string& token, double& out) {
+    if (token.empty() || token.find_first_of("xXnNiI") != std::string::npos) return false;
+    char* end = nullptr;
+    out = std::strtod(token.c_str(), &end);
+    return end == token.c_str() + token.size() && std::isfinite(out);
+}
+}  // namespace
+
+const char* scriptKeyName(Key key) {
+    for (const auto& [k, name] : kKeys)
+        if (k == key) return name;
+    return "?";
+}
 
 std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& name) {
     std::vector<ScriptEvent> events;
@@ -20,8 +50,7 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         std::string frame_text, key, extra;
         if (!(ls >> frame_text)) continue;
         auto bad = [&](const std::string& what) {
-            return engine::Error(name + " line " + std::to_string(number) + ": " + what +
-                                 "; allowed '<frame> space|escape', <frame> N or desktop+N");
+            return engine::Error(name + " line " + std::to_string(number) + ": " + what + kAllowed);
         };
         // Tokens are quoted escaped and short: a binary file must not reach the terminal.
         auto quoted = [](const std::string& token) { return "'" + engine::printable(token, 40) + "'"; };
@@ -29,21 +58,62 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         try {
             constexpr std::string_view kDesktop = "desktop+";
             ev.after_desktop = frame_text.starts_with(kDesktop);
-            const std::string number_text = ev.after_desktop ? frame_text.substr(kDesktop.size()) : frame_text;
+            ev.relative = frame_text.starts_with('+');
+            const std::string number_text = ev.after_desktop ? frame_text.substr(kDesktop.size())
+                                            : ev.relative    ? frame_text.substr(1)
+                                                             : frame_text;
+            if (number_text.empty() || number_text[0] < '0' || number_text[0] > '9') throw std::invalid_argument("frame");
             std::size_t used = 0;
             ev.frame = std::stol(number_text, &used);
             if (used != number_text.size() || ev.frame < 0) throw std::invalid_argument("frame");
         } catch (const std::exception&) {
             throw bad("frame " + quoted(frame_text) + " is not a whole number >= 0");
         }
-        if (!(ls >> key)) throw bad("missing key");
-        if (key == "space") ev.key = ScriptEvent::Key::Space;
-        else if (key == "escape") ev.key = ScriptEvent::Key::Escape;
-        else throw bad("key " + quoted(key) + " is not one of space, escape");
+        if (!(ls >> key)) throw bad("missing action");
+        bool known = false;
+        for (const auto& [k, key_name] : kKeys)
+            if (key == key_name) {
+                ev.key = k;
+                known = true;
+            }
+        if (!known)
+            throw bad("action " + quoted(key) +
+                      " is not one of space, escape, aim, designate, confirm, reject, no_target, grab_scale, next");
+        if (ev.key == Key::Aim) {
+            for (int i = 0; i < 3; ++i) {
+                std::string token;
+                if (!(ls >> token)) throw bad("aim needs X Y Z (world metres)");
+                if (!parseNumber(token, ev.point[i])) throw bad("aim coordinate " + quoted(token) + " is not a finite number");
+            }
+        } else if (ev.key == Key::GrabScale) {
+            std::string token;
+            if (!(ls >> token)) throw bad("grab_scale needs a scale S");
+            if (!parseNumber(token, ev.value) || !(ev.value > 0.0))
+                throw bad("grab_scale " + quoted(token) + " is not a finite number > 0");
+        }
         if (ls >> extra) throw bad("unexpected " + quoted(extra));
         events.push_back(ev);
     }
     return events;
+}
+
+std::string formatScript(const std::vector<ScriptEvent>& events) {
+    std::string text;
+    char number[64];
+    for (const ScriptEvent& ev : events) {
+        text += (ev.after_desktop ? "desktop+" : ev.relative ? "+" : "") + std::to_string(ev.frame) + " " + scriptKeyName(ev.key);
+        if (ev.key == Key::Aim)
+            for (double v : ev.point) {
+                std::snprintf(number, sizeof number, " %.17g", v);
+                text += number;
+            }
+        if (ev.key == Key::GrabScale) {
+            std::snprintf(number, sizeof number, " %.17g", ev.value);
+            text += number;
+        }
+        text += "\n";
+    }
+    return text;
 }
 
 std::vector<ScriptEvent> readScript(const std::filesystem::path& file) {

@@ -29,6 +29,7 @@ GLXWindow glfwGetGLXWindow(GLFWwindow* window);
 // OpenXR's idiom `XrFoo foo{XR_TYPE_FOO};` value-initialises the other members on purpose.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 
+#include "xr_actions.hpp"
 #include "xr_check.hpp"
 #include "xr_session.hpp"
 
@@ -107,9 +108,8 @@ struct XrStereoSession::Impl {
     int width = 0, height = 0;
     std::int64_t format = 0;
     std::array<XrView, 2> views{};
-    XrActionSet action_set = XR_NULL_HANDLE;
-    XrAction toggle_action = XR_NULL_HANDLE, move_action = XR_NULL_HANDLE,
-             turn_action = XR_NULL_HANDLE;
+    XrActions actions;
+    XrTime last_display_time = 0;
     RunLog* log = nullptr;
 
     ~Impl() {
@@ -117,74 +117,11 @@ struct XrStereoSession::Impl {
             if (e.handle != XR_NULL_HANDLE) xrDestroySwapchain(e.handle);
         if (view_space != XR_NULL_HANDLE) xrDestroySpace(view_space);
         if (space != XR_NULL_HANDLE) xrDestroySpace(space);
-        if (action_set != XR_NULL_HANDLE) xrDestroyActionSet(action_set);
+        actions.destroy();
         if (session != XR_NULL_HANDLE) xrDestroySession(session);
         if (instance != XR_NULL_HANDLE) xrDestroyInstance(instance);
     }
-
-    XrPath path(const char* text) {
-        XrPath p = XR_NULL_PATH;
-        XR_CHECK(instance, xrStringToPath(instance, text, &p));
-        return p;
-    }
-
-    void createActions();
-    void suggest(const char* profile, std::initializer_list<std::pair<XrAction, const char*>> bindings);
 };
-
-void XrStereoSession::Impl::suggest(const char* profile,
-                              std::initializer_list<std::pair<XrAction, const char*>> bindings) {
-    std::vector<XrActionSuggestedBinding> list;
-    for (const auto& [action, binding] : bindings) list.push_back({action, path(binding)});
-    XrInteractionProfileSuggestedBinding suggested{XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
-    suggested.interactionProfile = path(profile);
-    suggested.countSuggestedBindings = static_cast<std::uint32_t>(list.size());
-    suggested.suggestedBindings = list.data();
-    // A runtime may not know every profile; that is not an error for the others.
-    XR_LOG(instance, xrSuggestInteractionProfileBindings(instance, &suggested));
-}
-
-void XrStereoSession::Impl::createActions() {
-    XrActionSetCreateInfo set_info{XR_TYPE_ACTION_SET_CREATE_INFO};
-    std::strcpy(set_info.actionSetName, "viewer");
-    std::strcpy(set_info.localizedActionSetName, "Point cloud viewer");
-    XR_CHECK(instance, xrCreateActionSet(instance, &set_info, &action_set));
-
-    auto make = [&](const char* name, const char* label, XrActionType type, XrAction& out) {
-        XrActionCreateInfo info{XR_TYPE_ACTION_CREATE_INFO};
-        std::strcpy(info.actionName, name);
-        std::strcpy(info.localizedActionName, label);
-        info.actionType = type;
-        XR_CHECK(instance, xrCreateAction(action_set, &info, &out));
-    };
-    make("toggle_mode", "Toggle automatic / free mode", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_action);
-    make("move", "Move (free mode)", XR_ACTION_TYPE_VECTOR2F_INPUT, move_action);
-    make("turn", "Turn (free mode)", XR_ACTION_TYPE_FLOAT_INPUT, turn_action);
-
-    suggest("/interaction_profiles/khr/simple_controller",
-            {{toggle_action, "/user/hand/left/input/select/click"},
-             {toggle_action, "/user/hand/right/input/select/click"}});
-    suggest("/interaction_profiles/oculus/touch_controller",
-            {{toggle_action, "/user/hand/right/input/a/click"},
-             {toggle_action, "/user/hand/left/input/x/click"},
-             {move_action, "/user/hand/left/input/thumbstick"},
-             {turn_action, "/user/hand/right/input/thumbstick/x"}});
-    suggest("/interaction_profiles/valve/index_controller",
-            {{toggle_action, "/user/hand/right/input/a/click"},
-             {toggle_action, "/user/hand/left/input/a/click"},
-             {move_action, "/user/hand/left/input/thumbstick"},
-             {turn_action, "/user/hand/right/input/thumbstick/x"}});
-    suggest("/interaction_profiles/htc/vive_controller",
-            {{toggle_action, "/user/hand/left/input/menu/click"},
-             {toggle_action, "/user/hand/right/input/menu/click"},
-             {move_action, "/user/hand/left/input/trackpad"},
-             {turn_action, "/user/hand/right/input/trackpad/x"}});
-
-    XrSessionActionSetsAttachInfo attach{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
-    attach.countActionSets = 1;
-    attach.actionSets = &action_set;
-    XR_CHECK(instance, xrAttachSessionActionSets(session, &attach));
-}
 
 XrStereoSession::XrStereoSession(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 XrStereoSession::~XrStereoSession() = default;
@@ -347,7 +284,7 @@ std::unique_ptr<XrStereoSession> XrStereoSession::create(GLFWwindow* window, Run
         XR_CHECK(instance, xrEnumerateSwapchainImages(eye.handle, image_count, &image_count,
             reinterpret_cast<XrSwapchainImageBaseHeader*>(eye.images.data())));
     }
-    impl->createActions();
+    impl->actions.create(instance, impl->session);
     for (auto& v : impl->views) v = {XR_TYPE_VIEW};
     return std::unique_ptr<XrStereoSession>(new XrStereoSession(std::move(impl)));
 }
@@ -429,6 +366,7 @@ bool XrStereoSession::beginFrame(XrFrame& frame) {
     frame.began = true;
     frame.should_render = state.shouldRender == XR_TRUE;
     frame.display_time_ns = state.predictedDisplayTime;
+    s.last_display_time = state.predictedDisplayTime;
     if (!frame.should_render) return true;
 
     XrViewLocateInfo locate{XR_TYPE_VIEW_LOCATE_INFO};
@@ -505,27 +443,8 @@ bool XrStereoSession::endFrame(const XrFrame& frame, bool rendered) {
 
 XrInput XrStereoSession::syncInput() {
     Impl& s = *impl_;
-    XrInput input;
-    if (s.state != XR_SESSION_STATE_FOCUSED) return input;
-    XrActiveActionSet active{s.action_set, XR_NULL_PATH};
-    XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
-    sync.countActiveActionSets = 1;
-    sync.activeActionSets = &active;
-    if (!XR_LOG(s.instance, xrSyncActions(s.session, &sync))) return input;
-    XrActionStateGetInfo get{XR_TYPE_ACTION_STATE_GET_INFO};
-    get.action = s.toggle_action;
-    XrActionStateBoolean toggle{XR_TYPE_ACTION_STATE_BOOLEAN};
-    if (XR_SUCCEEDED(xrGetActionStateBoolean(s.session, &get, &toggle)))
-        input.toggle_pressed = toggle.isActive && toggle.changedSinceLastSync && toggle.currentState;
-    get.action = s.move_action;
-    XrActionStateVector2f move{XR_TYPE_ACTION_STATE_VECTOR2F};
-    if (XR_SUCCEEDED(xrGetActionStateVector2f(s.session, &get, &move)) && move.isActive)
-        input.move = {move.currentState.x, move.currentState.y};
-    get.action = s.turn_action;
-    XrActionStateFloat turn{XR_TYPE_ACTION_STATE_FLOAT};
-    if (XR_SUCCEEDED(xrGetActionStateFloat(s.session, &get, &turn)) && turn.isActive)
-        input.turn = turn.currentState;
-    return input;
+    if (s.state != XR_SESSION_STATE_FOCUSED) return {};
+    return s.actions.sync(s.space, s.last_display_time);
 }
 
 void XrStereoSession::requestExit() {

@@ -1,7 +1,7 @@
 // viewer/src/xr_session.hpp: the OpenXR side of the viewer (paper §IV-A's HMD, on any
 // OpenXR runtime): instance, system, session bound to the GLFW window's GLX context
 // (XR_KHR_opengl_enable, Xlib binding), one swapchain per eye, the action set that
-// toggles the mode and moves in free mode, and the whole session lifecycle.
+// of xr_actions.cpp (mode, decisions, pointer, grab, motion), and the whole session lifecycle.
 //
 // Setup (create) throws engine::Error or returns null with a reason; everything called
 // per frame never throws: it returns a status and the caller degrades to the desktop.
@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 struct GLFWwindow;
@@ -37,11 +38,27 @@ struct XrFrame {
     std::array<XrEye, 2> eyes;
 };
 
-/// Controller input after xrSyncActions (only meaningful while FOCUSED).
+/// One hand's aim pose in the session's reference space.
+struct XrHandPose {
+    glm::dquat orientation{1.0, 0.0, 0.0, 0.0};
+    glm::dvec3 position{0.0};
+};
+
+/// Controller input after xrSyncActions (only meaningful while FOCUSED); the actions and
+/// their bindings are in xr_actions.cpp.
 struct XrInput {
     bool toggle_pressed = false;  // the mode button went down this frame
+    bool designate_pressed = false;
+    bool confirm_pressed = false;
+    bool reject_pressed = false;
+    bool no_target_pressed = false;
+    bool cycle_colour_pressed = false;
+    bool toggle_cut_pressed = false;
+    std::array<bool, 2> grab_held{false, false};   // left, right
     glm::vec2 move{0.0f};         // thumbstick/trackpad: x strafe, y forward
     float turn = 0.0f;            // right thumbstick x
+    std::array<std::optional<XrHandPose>, 2> aim;  // left, right: when tracked
+    int last_designate_hand = 1;  // the hand whose designate went down last (0 left, 1 right)
 };
 
 enum class XrPoll {
@@ -73,7 +90,8 @@ public:
     bool releaseEye(int eye);
     /// xrEndFrame with a projection layer of both eyes when `rendered`, else no layers.
     bool endFrame(const XrFrame& frame, bool rendered);
-    /// xrSyncActions and reads the actions; zeroed unless focused.
+    /// xrSyncActions and reads the actions (aim poses at the last frame's display time);
+    /// zeroed unless focused.
     XrInput syncInput();
     /// Asks the runtime to end the session (Escape / window closed): EXITING follows.
     void requestExit();

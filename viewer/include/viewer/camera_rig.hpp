@@ -63,6 +63,9 @@ public:
     /// Advances by dt: the orbit angle in automatic mode, the position/heading in free mode
     /// (`head` is the tracking-frame head pose, whose gaze gives the direction of travel).
     void update(double dt_s, const Motion& motion, const RigPose& head);
+    /// Free mode: turns the rig's heading by `deg` at once (positive turns right), the
+    /// comfort option of headsets (snap turn); automatic mode: nothing.
+    void snapTurn(double deg);
     /// T_local_tracking for the current mode.
     RigPose rig() const;
     /// Switches mode keeping the head's position and gaze heading in the cloud (no jump in

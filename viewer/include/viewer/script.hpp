@@ -1,4 +1,4 @@
-// viewer/script.hpp: the viewer's `--script` files, scripted key presses by frame.
+// viewer/script.hpp: the viewer's `--script` files, scripted operator actions by frame.
 //
 // Outside input, so the parser depends only on engine and the standard library: the
 // fuzz build (engine only, no GL) compiles viewer/src/script.cpp into fuzz_view_script.
@@ -11,23 +11,47 @@
 
 namespace viewer {
 
-/// A scripted key press at a frame (for tests and demos): "<frame> <key>" lines.
+/// A scripted action at a frame (for tests and demos): "<frame> <action> [args]" lines.
 struct ScriptEvent {
     long frame = 0;
-    enum class Key { Space, Escape } key = Key::Space;
+    enum class Key {
+        Space,       // toggle automatic / free mode
+        Escape,      // quit
+        Aim,         // point the active pointer at world point `point` from the head
+        Designate,   // mark the picked point
+        Confirm,     // this designation (or the candidate pointed at) is the target
+        Reject,      // the candidate pointed at is not a target (else: drop the designation)
+        NoTarget,    // the operator declares there is no target
+        GrabScale,   // set the world scale to `value` about the pointer's hit (or the head)
+        Next,        // dismiss the ready screen (nothing when none is up)
+    } key = Key::Space;
     /// "desktop+N": N frames after the drop to desktop mode (a lost runtime), so a test
     /// acts on that event instead of guessing its frame; waits while none has happened.
     bool after_desktop = false;
+    /// "+N": N frames after the previous line's action ran (so a script can follow a
+    /// ready screen that waits for its cloud, however long that takes).
+    bool relative = false;
+    double point[3] = {0.0, 0.0, 0.0};   // Aim: world coordinates (metres)
+    double value = 0.0;                  // GrabScale: the scale, > 0
 };
 
-/// The largest script read (a line per key press: a megabyte is tens of thousands).
+/// The largest script read (a line per action: a megabyte is tens of thousands).
 inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
 
-/// Parses script text: one "<frame> space|escape" per line, frame a whole number >= 0 or
-/// desktop+N, '#' starts a comment, blank lines skipped. Throws engine::Error("<name> line
-/// N: ...; allowed '<frame> space|escape', <frame> N or desktop+N") on a bad line; tokens quoted in it are shown escaped
-/// and cut to 40 characters (engine::printable).
+/// "space", "escape", "aim", "designate", "confirm", "reject", "no_target", "grab_scale", "next".
+const char* scriptKeyName(ScriptEvent::Key key);
+
+/// Parses script text: one "<frame> <action>" per line, frame a whole number >= 0,
+/// desktop+N or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
+/// reject, no_target, grab_scale S (a finite number > 0), next; '#' starts a comment,
+/// blank lines skipped. Throws engine::Error("<name> line N: ...; allowed '<frame>
+/// <action>' ...") on a bad line; tokens quoted in it are shown escaped and cut to 40
+/// characters (engine::printable).
 std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& name);
+
+/// Writes events back as script text that parses to the same events (numbers with 17
+/// significant digits).
+std::string formatScript(const std::vector<ScriptEvent>& events);
 
 /// Reads and parses a script file (parseScript, named "view: --script <file>").
 /// Throws engine::Error("view: --script <file>: is a directory; ...") for anything but a

@@ -55,6 +55,9 @@ struct TrialOutcome {
     int designations = 0;
     int mode_switches = 0;
     double seconds_in_free_mode = 0.0;
+    /// From the designated point to the nearest point of the cloud labelled target; empty
+    /// without a designation or without target points.
+    std::optional<double> target_distance_m;
 };
 
 /// What a trial shows besides its cloud.
@@ -72,6 +75,9 @@ public:
     /// Starts producing trial `trial`'s cloud into `feed` (a fresh feed per trial; e.g.
     /// feed.startFileLoader, or a thread the source owns and joins) and returns its setup.
     virtual TrialSetup begin(int trial, CloudFeed& feed) = 0;
+    /// Called before trial `trial`'s feed is destroyed (at the next trial and at the end
+    /// of the run): stop producing into it (join the thread that does).
+    virtual void end(int /*trial*/) {}
 };
 
 /// Receives what happens during each trial, as it happens (the study runner writes its

@@ -8,7 +8,11 @@
 #pragma once
 #include <viewer/camera_rig.hpp>
 #include <viewer/cloud_feed.hpp>
+#include <viewer/pick_index.hpp>
 #include <viewer/script.hpp>
+#include <viewer/trial.hpp>
+
+#include <engine/candidates.hpp>
 
 #include <cstddef>
 #include <filesystem>
@@ -57,16 +61,41 @@ struct ViewerOptions {
     bool vsync = true;                  // desktop mode swap interval 1 (off in --frames runs)
     bool gpu_timing = false;            // GL timer query per frame, logged as gpu_ms (waits for the GPU)
     bool quiet = false;
+    PickOptions pick;                   // the pointer's cone (--pick-angle)
+    double cut_radius_m = 15.0;         // the cutting volume's radius when switched on (V / controller)
+    bool cut_enabled = false;           // the cutting volume on from the start (around the designation)
+    std::vector<engine::Candidate> candidates;   // --candidates: boxes to confirm or reject
+    // Comfort in free mode, in the headset (docs/viewer.md).
+    bool snap_turn = true;              // thumbstick turns in steps, not smoothly
+    double snap_turn_deg = 45.0;        // step
+    double snap_turn_debounce_s = 0.5;  // at most one step per this long
+    bool vignette = true;               // darken the edges of the view while moving
+    double vignette_aperture = 0.7;     // radius of the clear centre (fraction of the half view)
+    double vignette_feather = 0.2;      // width of the fade to black
+    bool headset_panel = true;          // the ImGui panel on a quad in the headset (below the gaze)
+    /// A recorded trace to replay in the mirror (desktop only): once the cloud has loaded,
+    /// the view follows the trace's head poses, zoom and mode in real time, its pointer hit
+    /// shown as a dot, and the run ends after its last sample (exit "replay done").
+    std::vector<TraceSample> replay;
 };
 
 /// Throws engine::Error("view: ...") for values out of range.
 void validate(const ViewerOptions& o);
 
-/// Runs the viewer until the window closes, Escape, or `frames` frames. Returns 0 on a
-/// clean run, 1 on a timeout or a failed screenshot/log. Throws engine::Error only during
+/// Runs the viewer until the window closes, Escape, SIGINT / SIGTERM (the frame finishes
+/// and the log is written) or `frames` frames. Returns 0 on a clean run, 1 on a timeout or
+/// a failed screenshot/log, 128 + the signal's number when stopped by one. Throws engine::Error only during
 /// setup (no window could be opened, shaders failed); the frame loop never throws.
 int runViewer(const ViewerOptions& options, CloudFeed& feed);
 /// runViewer that also hands back the run log (the --log-json document) in `log_json`.
 int runViewer(const ViewerOptions& options, CloudFeed& feed, std::string& log_json);
+
+/// Runs `source`'s trials one after another in one window and one XR session
+/// (viewer/trial.hpp: a ready screen per trial, automatic mode at its start, ends on
+/// confirm, no target, its time limit or quit), reporting to `observer` as it goes.
+/// SIGINT / SIGTERM end the run like Escape: the frame finishes, the trial in flight is
+/// reported as quit, the session ends. Returns 0 when every trial ran, 1 on a load error
+/// or a failed log, 128 + the signal's number when stopped by one. Throws like runViewer.
+int runTrials(const ViewerOptions& options, TrialSource& source, TrialObserver& observer);
 
 }  // namespace viewer

@@ -1,0 +1,54 @@
+// study/plan.hpp: a target-search study's plan (PLAN.json), read strictly.
+//
+//   {"trials": [{"cloud": "a.pcd" | "scene": "s.json", "candidates": "c.json",
+//                "time_limit_s": 120, "name": "optional label"}, ...],
+//    "shuffle_seed": 1,                                   (optional: trial order shuffled)
+//    "hit_radius_m": 1.0,                                 (optional)
+//    "orbit": {"radius_m": 60, "height_m": 40, "period_s": 60},   (optional, automatic mode)
+//    "generate": {"xres": 128, "yres": 128, "views": 100}}       (optional, scene trials)
+// Paths are relative to the plan's folder. docs/study_running.md explains each field.
+#pragma once
+#include <engine/candidates.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace study {
+
+struct PlanTrial {
+    std::filesystem::path cloud;        // a cloud file, or
+    std::filesystem::path scene;        // a scene whose cloud is generated at the trial
+    std::filesystem::path candidates;   // optional
+    double time_limit_s = 120.0;        // 0: none
+    std::string name;                   // shown on the ready screen; default: the file name
+    std::string source;                 // the cloud or scene as written in the plan (trials.csv)
+};
+
+struct Plan {
+    std::vector<PlanTrial> trials;
+    std::optional<std::uint64_t> shuffle_seed;
+    double hit_radius_m = 1.0;
+    double orbit_radius_m = 60.0, orbit_height_m = 40.0, orbit_period_s = 60.0;
+    int xres = 128, yres = 128, views = 100;   // generated clouds (the generator's defaults)
+};
+
+/// The largest plan read.
+inline constexpr std::size_t kMaxPlanBytes = std::size_t(1) << 20;
+
+/// Parses plan text; relative paths are taken from `base`. Throws engine::Error("study:
+/// <name>: trials[2].time_limit_s -1 is not in [0, 86400]") naming the field and what is
+/// allowed; unknown keys are refused (a misspelt key would silently change a study).
+Plan parsePlan(std::string_view text, const std::string& name, const std::filesystem::path& base);
+/// Reads a plan file (regular file, at most kMaxPlanBytes) and checks that every cloud,
+/// scene and candidates file it names is a readable regular file.
+Plan readPlan(const std::filesystem::path& file);
+
+/// The order the trials run in: 0..n-1, or shuffled with the plan's seed (engine::shuffle,
+/// the same order on every platform).
+std::vector<int> trialOrder(const Plan& plan);
+
+}  // namespace study

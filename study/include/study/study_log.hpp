@@ -1,0 +1,70 @@
+// study/study_log.hpp: the study's files, written from the viewer's trial reports
+// (viewer::TrialObserver) as they happen, so Ctrl-C or a crash loses at most the trial
+// in flight:
+//   trials.csv       one row per finished trial, the whole file replaced atomically at
+//                    each trial's end
+//   candidates.csv   each candidate's verdict and when it was given, replaced the same way
+//   trace_<N>.csv    one row per frame of trial N, written as the frames come
+// Columns: viewer/trial.hpp; meanings: docs/study.md. Trials are numbered 1.. in the
+// order they ran.
+#pragma once
+#include <viewer/trial.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace study {
+
+/// What the log needs to know of each trial besides the viewer's reports.
+struct TrialInfo {
+    std::string source;                       // the cloud or scene as the plan names it
+    std::optional<double> visibility_metric;  // the paper's metric for a scene trial
+};
+
+class StudyLog : public viewer::TrialObserver {
+public:
+    /// Writes into `dir` (which must exist). `info(trial)` describes trial `trial`
+    /// (0-based run order); `hit_radius_m`: a designation this close to a target point hits.
+    StudyLog(std::filesystem::path dir, std::function<TrialInfo(int)> info, double hit_radius_m);
+    ~StudyLog() override;
+
+    void onStart(int trial) override;
+    void onFrame(int trial, const viewer::TraceSample& sample) override;
+    void onVerdict(int trial, double t_s, const engine::Candidate& candidate, viewer::Verdict verdict) override;
+    void onEnd(int trial, const viewer::TrialOutcome& outcome) override;
+
+    /// Rows of trials.csv so far (header excluded).
+    std::size_t trialsWritten() const { return trial_rows_.size(); }
+    /// The first write error, if any (the run goes on; the command reports it).
+    const std::string& error() const { return error_; }
+
+    static const char* trialsHeader();
+    static const char* candidatesHeader();
+    static const char* traceHeader();
+
+private:
+    void writeAtomic(const std::string& name, const char* header, const std::vector<std::string>& rows);
+    void closeTrace();
+
+    std::filesystem::path dir_;
+    std::function<TrialInfo(int)> info_;
+    double hit_radius_m_ = 1.0;
+    std::vector<std::string> trial_rows_, candidate_rows_;
+    std::FILE* trace_ = nullptr;
+    std::filesystem::path trace_path_;
+    std::string error_;
+};
+
+/// Reads a trace_<N>.csv back (regular file, at most 512 MiB). Throws engine::Error
+/// ("study: <file> line L: ...") naming the line and column of a bad value.
+std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file);
+
+/// Formats a CSV field: numbers as given, text quoted when it holds a comma, quote or
+/// line break (RFC 4180).
+std::string csvText(const std::string& text);
+
+}  // namespace study

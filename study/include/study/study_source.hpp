@@ -1,0 +1,41 @@
+// study/study_source.hpp: a plan's trials for the viewer (viewer::TrialSource): each
+// trial's cloud is streamed from its file, or generated from its scene on a worker
+// thread, into the viewer's feed for that trial.
+#pragma once
+#include <study/plan.hpp>
+#include <viewer/trial.hpp>
+
+#include <engine/candidates.hpp>
+#include <engine/scene.hpp>
+
+#include <memory>
+#include <thread>
+#include <vector>
+
+namespace study {
+
+class StudySource : public viewer::TrialSource {
+public:
+    /// Loads every scene and candidates file of the plan now, so a bad one fails before
+    /// the window opens (engine::Error naming it). `order` from trialOrder().
+    StudySource(const Plan& plan, std::vector<int> order);
+    ~StudySource() override;
+
+    int count() const override { return static_cast<int>(order_.size()); }
+    viewer::TrialSetup begin(int trial, viewer::CloudFeed& feed) override;
+    /// Joins the trial's generator (a scene still generating is finished first).
+    void end(int trial) override;
+    /// The plan's trial that runs at position `trial`.
+    const PlanTrial& planTrial(int trial) const { return plan_.trials[static_cast<std::size_t>(order_[trial])]; }
+
+private:
+    void join();
+
+    Plan plan_;
+    std::vector<int> order_;
+    std::vector<std::shared_ptr<const engine::Scene>> scenes_;          // per plan trial (null: cloud)
+    std::vector<std::vector<engine::Candidate>> candidates_;           // per plan trial
+    std::thread generator_;
+};
+
+}  // namespace study

@@ -1,0 +1,126 @@
+// tests/study/study_log_test.cpp: the study's files from a sequence of trial reports.
+#include <study/study_log.hpp>
+
+#include <test_files.hpp>
+
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace {
+std::vector<std::string> lines(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    std::vector<std::string> out;
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+}
+}  // namespace
+
+TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each ends") {
+    test_support::TempDir dir("study_log");
+    study::StudyLog log(dir.path, [](int trial) {
+        study::TrialInfo info;
+        info.source = trial == 0 ? "village, east.pcd" : "s.json";
+        if (trial == 1) info.visibility_metric = 0.25;
+        return info;
+    }, 1.0);
+    CHECK_FALSE(std::filesystem::exists(dir.path / "trials.csv"));
+
+    log.onStart(0);
+    viewer::TraceSample s;
+    s.t_s = 0.5;
+    s.head_world = {1.0, 2.0, 3.0};
+    log.onFrame(0, s);
+    s.t_s = 0.6;
+    s.hit_world = glm::dvec3(10.0, 20.0, 0.5);
+    s.mode = viewer::ViewMode::Free;
+    s.scale = 2.0;
+    log.onFrame(0, s);
+    log.onDesignate(0, 0.6, {10.0, 20.0, 0.5});
+    engine::Candidate c;
+    c.id = "c1";
+    c.score = 0.75;
+    log.onVerdict(0, 0.7, c, viewer::Verdict::Rejected);
+    viewer::TrialOutcome o;
+    o.decision = viewer::Decision::Confirm;
+    o.designated_world = glm::dvec3(10.0, 20.0, 0.5);
+    o.target_distance_m = 0.25;
+    o.time_to_first_designation_s = 0.6;
+    o.time_to_decision_s = 0.8;
+    o.designations = 1;
+    o.mode_switches = 2;
+    o.seconds_in_free_mode = 0.1;
+    log.onEnd(0, o);
+
+    auto rows = lines(dir.path / "trials.csv");
+    REQUIRE(rows.size() == 2);
+    CHECK(rows[0] == study::StudyLog::trialsHeader());
+    CHECK(rows[1] == "1,\"village, east.pcd\",confirm,10.000000,20.000000,0.500000,0.250000,1,0.600000,0.800000,1,2,"
+                     "0.100000,");
+    const auto samples = study::readTrace(dir.path / "trace_1.csv");   // and back
+    REQUIRE(samples.size() == 2);
+    CHECK(samples[0].t_s == 0.5);
+    CHECK(samples[0].head_world == glm::dvec3(1.0, 2.0, 3.0));
+    CHECK_FALSE(samples[0].hit_world);
+    CHECK(samples[1].mode == viewer::ViewMode::Free);
+    CHECK(samples[1].scale == 2.0);
+    CHECK(*samples[1].hit_world == glm::dvec3(10.0, 20.0, 0.5));
+    const auto trace = lines(dir.path / "trace_1.csv");
+    REQUIRE(trace.size() == 3);
+    CHECK(trace[0] == study::StudyLog::traceHeader());
+    CHECK(trace[1].starts_with("0.500000,1.000000,2.000000,3.000000,1.000000000,0.000000000,"));
+    CHECK(trace[1].ends_with(",automatic,1,,,"));
+    CHECK(trace[2].ends_with(",free,2,10.000000,20.000000,0.500000"));
+    auto cands = lines(dir.path / "candidates.csv");
+    REQUIRE(cands.size() == 2);
+    CHECK(cands[1] == "1,c1,0.750000,rejected,0.700000");
+
+    // Trial 2: far from the target, a timeout; the file is replaced with both rows and no
+    // temporary is left beside it.
+    log.onStart(1);
+    viewer::TrialOutcome miss;
+    miss.decision = viewer::Decision::Timeout;
+    miss.designated_world = glm::dvec3(-30.0, 22.0, 4.0);
+    miss.target_distance_m = 36.5;
+    miss.time_to_decision_s = 120.0;
+    log.onEnd(1, miss);
+    rows = lines(dir.path / "trials.csv");
+    REQUIRE(rows.size() == 3);
+    CHECK(rows[2] == "2,s.json,timeout,-30.000000,22.000000,4.000000,36.500000,0,,120.000000,0,0,0.000000,0.250000");
+    CHECK(lines(dir.path / "trace_2.csv").size() == 1);   // the header only: no frame
+    CHECK(log.trialsWritten() == 2);
+    CHECK(log.error().empty());
+    CHECK(dir.entries() == 4);   // trials, candidates, two traces
+}
+
+TEST_CASE("a trace that exists already is not overwritten and the error is kept") {
+    test_support::TempDir dir("study_log_exists");
+    dir.write("trace_1.csv", "someone else's\n");
+    study::StudyLog log(dir.path, {}, 1.0);
+    log.onStart(0);
+    log.onFrame(0, {});
+    CHECK(log.error().find("trace_1.csv") != std::string::npos);
+    CHECK(lines(dir.path / "trace_1.csv") == std::vector<std::string>{"someone else's"});
+}
+
+TEST_CASE("csv text is quoted only when it must be") {
+    CHECK(study::csvText("a.pcd") == "a.pcd");
+    CHECK(study::csvText("a,b") == "\"a,b\"");
+    CHECK(study::csvText("say \"x\"") == "\"say \"\"x\"\"\"");
+}
+
+TEST_CASE("a bad trace names the line") {
+    test_support::TempDir dir("study_trace_bad");
+    const std::string header = std::string(study::StudyLog::traceHeader()) + "\n";
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("a.csv", "t\n")), doctest::Contains("line 1: not a trace header"),
+                         engine::Error);
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("b.csv", header + "0.1,1,2,3,1,0,0,0,free,1,,\n")),
+                         doctest::Contains("line 2: 12 columns"), engine::Error);
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("c.csv", header + "0.1,x,2,3,1,0,0,0,free,1,,,\n")),
+                         doctest::Contains("line 2: column 2 'x'"), engine::Error);
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("d.csv", header + "0.1,1,2,3,1,0,0,0,walk,1,,,\n")),
+                         doctest::Contains("mode 'walk'"), engine::Error);
+    CHECK_THROWS_WITH_AS(study::readTrace(dir.write("e.csv", header + "0.2,1,2,3,1,0,0,0,free,1,,,\n0.1,1,2,3,1,0,0,0,free,1,,,\n")),
+                         doctest::Contains("line 3: t_s does not increase"), engine::Error);
+}

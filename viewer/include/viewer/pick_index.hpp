@@ -1,0 +1,77 @@
+// viewer/pick_index.hpp: picking a cloud point with a ray (the operator's laser pointer).
+//
+// The picked point is the cloud point nearest the ray's origin among those within an
+// angular radius of the ray (a thin cone), so a pointer that grazes an edge still finds
+// the surface and a point behind it is never chosen over one in front. The points sit in
+// a k-d tree (nanoflann); a pick walks the cone from its apex outwards in short
+// segments, each covered by one sphere query, and stops once no later segment can hold a
+// nearer point: a pick touches the points near the ray, not the whole cloud. Pure maths,
+// no GL; the frame loop builds one index per cloud on a worker thread.
+#pragma once
+#include <engine/point_cloud.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace viewer {
+
+struct PickOptions {
+    double angle_deg = 0.5;       // angular radius of the cone around the ray, (0, 10]
+    double max_range_m = 20000.0; // nothing further than this from the origin is picked
+};
+
+/// Throws engine::Error("view: --pick-angle X: allowed (0, 10] degrees") when out of range.
+void validate(const PickOptions& o);
+
+struct PickHit {
+    std::size_t index = 0;          // into the points the index was built from
+    glm::dvec3 local{0.0};          // the point, cloud local frame
+    double distance_m = 0.0;        // from the ray's origin
+    engine::Role label = engine::Role::Environment;
+    float height_above_ground_m = 0.0f;
+};
+
+class PickIndex {
+public:
+    /// Builds the k-d tree over the points' positions (cloud local frame). Keeps positions,
+    /// labels and heights above ground (21 bytes a point), not the whole points.
+    explicit PickIndex(std::span<const engine::CloudPoint> points);
+    ~PickIndex();
+    PickIndex(const PickIndex&) = delete;
+    PickIndex& operator=(const PickIndex&) = delete;
+
+    std::size_t size() const { return positions_.size(); }
+    /// The pick of the ray from `origin` along `direction` (need not be unit length; a zero
+    /// direction picks nothing), local frame. Never throws.
+    std::optional<PickHit> pick(const glm::dvec3& origin, const glm::dvec3& direction,
+                                const PickOptions& options = {}) const;
+    /// The same answer by testing every point (for tests and the benchmark's baseline).
+    std::optional<PickHit> pickByScan(const glm::dvec3& origin, const glm::dvec3& direction,
+                                      const PickOptions& options = {}) const;
+    /// Distance from `p` to the nearest point labelled target; none without target points.
+    std::optional<double> nearestTargetDistance(const glm::dvec3& p) const;
+    /// Sphere queries the last pick made (for the benchmark's report).
+    std::size_t lastQueries() const { return last_queries_; }
+
+    struct Tree;
+    struct TargetTree;
+
+private:
+    PickHit hitAt(std::size_t i, double distance_m) const;
+
+    std::vector<glm::vec3> positions_;
+    std::vector<engine::Role> labels_;
+    std::vector<float> heights_;
+    std::vector<glm::vec3> targets_;
+    glm::dvec3 lo_{0.0}, hi_{0.0};   // bounds of the positions
+    std::unique_ptr<Tree> tree_;
+    std::unique_ptr<TargetTree> target_tree_;
+    mutable std::size_t last_queries_ = 0;
+};
+
+}  // namespace viewer

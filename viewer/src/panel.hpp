@@ -1,0 +1,45 @@
+// viewer/src/panel.hpp: the ImGui windows on the desktop mirror: the settings panel, the
+// picked point's panel beside it, and a trial's ready screen.
+#pragma once
+#include <viewer/pick_index.hpp>
+#include <viewer/viewer.hpp>
+
+#include <optional>
+#include <string>
+
+namespace viewer {
+
+/// What the settings panel shows and edits.
+struct PanelView {
+    ViewStyle* style = nullptr;
+    ViewMode mode = ViewMode::Automatic;
+    std::string xr_state;           // empty: desktop mode
+    double frame_ms = 0.0;
+    std::size_t points_uploaded = 0, points_arrived = 0, points_drawn = 0, cells = 0, point_budget = 0;
+    bool loading = false;
+    bool picking_ready = false;
+    double pick_ms = 0.0;
+    double scale = 1.0;
+    bool* cut_enabled = nullptr;
+    double* cut_radius_m = nullptr;
+    bool* highlight_candidates = nullptr;
+    std::size_t candidates = 0;
+    bool* snap_turn = nullptr;
+    bool* vignette = nullptr;
+    bool* headset_panel = nullptr;   // null: no headset
+    std::string trial;               // "trial 2 of 5: name, 12.3 s" or empty
+    std::string designation;         // "designated (x, y, z)" or empty
+};
+
+/// The settings panel (top left). Returns true when the zoom reset button was pressed.
+bool drawSettingsPanel(const PanelView& v);
+
+/// The picked point: world position, range from the head, label and height above ground,
+/// in a small window at (x, y) window pixels (beside the dot).
+void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,
+                   bool has_height);
+
+/// A trial's ready screen (centred): its name, and either "loading" or how to start.
+void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded, double time_limit_s);
+
+}  // namespace viewer

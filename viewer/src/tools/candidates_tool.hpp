@@ -1,0 +1,48 @@
+// viewer/src/tools/candidates_tool.hpp: an ATR's candidate detections (engine/candidates.hpp)
+// for the operator to validate: oriented boxes coloured by score (red = likely target,
+// yellow = unlikely), the one the pointer's ray meets highlighted, confirmed ones green,
+// rejected ones grey. Coordinates: world in the file, local (world - origin) here.
+#pragma once
+#include "../overlay_renderer.hpp"
+#include "pointer_tool.hpp"
+
+#include <engine/candidates.hpp>
+#include <viewer/trial.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <vector>
+
+namespace viewer {
+
+/// Distance along the ray to where it enters the oriented box (0 when it starts inside),
+/// or none when it misses. `direction` unit length; box centre in the ray's frame.
+std::optional<double> rayBoxDistance(const LocalRay& ray, const glm::dvec3& centre, const glm::dvec3& size_m,
+                                     double yaw_deg);
+
+class CandidatesTool {
+public:
+    /// `origin`: world coordinates of the cloud's local frame.
+    void set(std::vector<engine::Candidate> candidates, const glm::dvec3& origin);
+    bool empty() const { return candidates_.empty(); }
+    std::size_t size() const { return candidates_.size(); }
+    const engine::Candidate& candidate(std::size_t i) const { return candidates_[i]; }
+    Verdict verdict(std::size_t i) const { return verdicts_[i]; }
+    /// The candidate the ray meets first, if any.
+    void update(const std::optional<LocalRay>& ray);
+    std::optional<std::size_t> pointed() const { return pointed_; }
+    /// Gives the pointed candidate a verdict; returns its index, none when no box is pointed at.
+    std::optional<std::size_t> decide(Verdict verdict);
+    /// Colours by score unless reviewed; `highlight` draws every box brighter and thicker.
+    void draw(OverlayList& out, bool highlight) const;
+    nlohmann::json log() const;
+
+private:
+    std::vector<engine::Candidate> candidates_;
+    std::vector<Verdict> verdicts_;
+    glm::dvec3 origin_{0.0};
+    std::optional<std::size_t> pointed_;
+};
+
+}  // namespace viewer
