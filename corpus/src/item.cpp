@@ -26,7 +26,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 bool isItemFile(const std::string& name) {
-    return name == "scene.json" || name == "cloud.pcd" || name == "cloud.ply" || name == "summary.json" ||
+    return name == "scene.json" || name == "cloud.pcd" || name == "cloud.ply" ||
+           name == "cloud.las" || name == "cloud.laz" || name == "summary.json" ||
            name == "views.csv";
 }
 

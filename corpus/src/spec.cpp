@@ -65,8 +65,13 @@ bool Spec::varies(std::string_view key) const {
 }
 
 std::string Spec::cloudName() const {
-    const bool ply = format == engine::CloudFormat::PlyBinary || format == engine::CloudFormat::PlyAscii;
-    return ply ? "cloud.ply" : "cloud.pcd";
+    switch (format) {
+        case engine::CloudFormat::PlyBinary:
+        case engine::CloudFormat::PlyAscii: return "cloud.ply";
+        case engine::CloudFormat::Las: return "cloud.las";
+        case engine::CloudFormat::Laz: return "cloud.laz";
+        default: return "cloud.pcd";
+    }
 }
 
 namespace {

@@ -58,8 +58,11 @@ TEST_CASE("spec: a good SPEC is read as written") {
     CHECK(ply.metric.enabled);
     CHECK(ply.metric.views == 8);
     CHECK(ply.metric.height == 32);
-    CHECK(errorOf([&] { corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "las"})", "s.json"); })
-              .find("format 'las' is not one of pcd, pcd-ascii, ply, ply-ascii") != std::string::npos);
+    const corpus::Spec laz = corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "laz"})",
+                                               dir.path / "spec.json");
+    CHECK(laz.cloudName() == "cloud.laz");
+    CHECK(errorOf([&] { corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "e57"})", "s.json"); })
+              .find("format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz") != std::string::npos);
 }
 
 TEST_CASE("spec: unknown keys, empty ranges, min > max, count < 1 and missing files are one line each") {
