@@ -157,7 +157,7 @@ void registerView(CLI::App& cli) {
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
         ->capture_default_str();
     cmd->add_option("--colour", args->colour, "point colours: file, height (jet), white, label (ground truth: "
-                                              "target red)")->capture_default_str();
+                                              "target red), above-ground (jet by height above the terrain)")->capture_default_str();
     cmd->add_option("--point-size", args->point_size_px, "point size in pixels [1, 64] (at 100 m with --attenuate)")
         ->capture_default_str();
     cmd->add_flag("--attenuate", args->attenuate, "point size falls off with distance");

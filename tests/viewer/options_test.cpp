@@ -66,7 +66,10 @@ TEST_CASE("mirror and colour names") {
     CHECK(parseColourMode("height") == ColourMode::HeightJet);
     CHECK(parseColourMode("label") == ColourMode::Label);
     CHECK(std::string(colourModeName(ColourMode::White)) == "white");
-    CHECK_THROWS_WITH_AS(parseColourMode("rainbow"), doctest::Contains("not one of file, height, white, label"),
+    CHECK(parseColourMode("above-ground") == ColourMode::AboveGround);
+    CHECK(std::string(colourModeName(ColourMode::AboveGround)) == "above-ground");
+    CHECK_THROWS_WITH_AS(parseColourMode("rainbow"),
+                         doctest::Contains("not one of file, height, white, label, above-ground"),
                          engine::Error);
 }
 

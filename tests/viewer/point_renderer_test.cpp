@@ -86,7 +86,53 @@ void checkHeightColours(int entries) {
     CHECK(engine::jetIndex(z_max, z_min, z_max, entries) == 0);
 }
 
+// Points at the same height z on a sloped stand-in, each with a known height above
+// ground: the above-ground mode must colour by that height (jet over [0, the highest]),
+// not by z, and leave the file's white (whitened ground) white.
+void checkAboveGroundColours() {
+    constexpr int entries = 64;
+    const float top_m = 12.8f;
+    std::vector<float> above = {0.0f, top_m};
+    for (int bin = 0; bin < entries; bin += 3) above.push_back((float(bin) + 0.5f) * top_m / entries);
+    const std::size_t white_points = 4;
+    const std::size_t total = above.size() + white_points;
+    const int rows = (static_cast<int>(total) + kColumns - 1) / kColumns;
+    engine::PointCloud cloud;
+    cloud.fields.height_above_ground = true;
+    for (std::size_t k = 0; k < total; ++k) {
+        engine::CloudPoint p;
+        // z varies against the height above ground, so colouring by z would give other entries.
+        p.position = {float(k % kColumns), float(k / kColumns), 50.0f - float(k)};
+        const bool white = k >= above.size();
+        p.rgb = white ? engine::kWhite : 0x808080u;
+        p.height_above_ground_m = white ? 7.0f : above[k];
+        cloud.points.push_back(p);
+    }
+    viewer::ViewStyle style;
+    style.colour = viewer::ColourMode::AboveGround;
+    style.eye_dome = false;
+    style.point_size_px = 5.0f;
+    style.jet_entries = entries;
+    const std::vector<Pixel> pixels = drawFromAbove(cloud, rows, style);
+    const std::vector<std::uint32_t> jet = engine::jetTable(entries);
+    for (std::size_t k = 0; k < total; ++k) {
+        const int x = int(k % kColumns) * kPixelsPerMetre + 4, y = int(k / kColumns) * kPixelsPerMetre + 4;
+        const Pixel got = pixels[static_cast<std::size_t>(y) * kColumns * kPixelsPerMetre + x];
+        const std::uint32_t want = k >= above.size() ? engine::kWhite
+                                                     : jet[engine::jetIndex(above[k], 0.0, top_m, entries)];
+        CAPTURE(k);
+        CHECK(engine::packRgb(got.r, got.g, got.b) == want);
+    }
+    // Nearest the ground is red, as the lowest heights are in the height mode.
+    CHECK(engine::jetIndex(0.0, 0.0, top_m, entries) == entries - 1);
+}
+
 }  // namespace
+
+TEST_CASE("viewer above-ground colours: the jet by height above the terrain, whitened ground white") {
+    render::EglContext context;
+    checkAboveGroundColours();
+}
 
 TEST_CASE("viewer height colours are the generator's jet table, entry for entry (64 entries)") {
     render::EglContext context;

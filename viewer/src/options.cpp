@@ -20,7 +20,8 @@ ColourMode parseColourMode(const std::string& name) {
     if (name == "height") return ColourMode::HeightJet;
     if (name == "white") return ColourMode::White;
     if (name == "label") return ColourMode::Label;
-    throw engine::Error("view: --colour '" + name + "' is not one of file, height, white, label");
+    if (name == "above-ground") return ColourMode::AboveGround;
+    throw engine::Error("view: --colour '" + name + "' is not one of file, height, white, label, above-ground");
 }
 
 const char* colourModeName(ColourMode mode) {
@@ -29,6 +30,7 @@ const char* colourModeName(ColourMode mode) {
         case ColourMode::HeightJet: return "height";
         case ColourMode::White: return "white";
         case ColourMode::Label: return "label";
+        case ColourMode::AboveGround: return "above-ground";
     }
     return "?";
 }

@@ -17,7 +17,7 @@ bool drawSettingsPanel(const PanelView& v) {
     if (!v.xr_state.empty()) ImGui::Text("OpenXR: %s", v.xr_state.c_str());
     else ImGui::Text("Desktop mode (drag: look, WASD/QE: move in free mode)");
     int colour = static_cast<int>(v.style->colour);
-    if (ImGui::Combo("colours (C)", &colour, "file colours\0height jet\0white\0ground truth (target red)\0"))
+    if (ImGui::Combo("colours (C)", &colour, "file colours\0height jet\0white\0ground truth (target red)\0height above ground\0"))
         v.style->colour = static_cast<ColourMode>(colour);
     // The rest folds away, so the panel stays small over the cloud.
     if (ImGui::CollapsingHeader("display")) {

@@ -20,8 +20,9 @@ namespace {
 struct GpuPoint {
     float x, y, z;
     std::uint32_t rgb;   // 0xLLRRGGBB (L = label): bytes B, G, R, L -> read as GL_BGRA
+    float above_ground_m;   // engine::CloudPoint::height_above_ground_m (0 without the field)
 };
-static_assert(sizeof(GpuPoint) == 16);
+static_assert(sizeof(GpuPoint) == 20);
 
 // A, U, T, O, M, I, C, F, R, E
 constexpr std::array<int, 70> kFont = {
@@ -87,6 +88,9 @@ PointRenderer::PointRenderer()
     glEnableVertexArrayAttrib(vao_, 1);
     glVertexArrayAttribFormat(vao_, 1, GL_BGRA, GL_UNSIGNED_BYTE, GL_TRUE, 12);
     glVertexArrayAttribBinding(vao_, 1, 0);
+    glEnableVertexArrayAttrib(vao_, 2);
+    glVertexArrayAttribFormat(vao_, 2, 1, GL_FLOAT, GL_FALSE, 16);
+    glVertexArrayAttribBinding(vao_, 2, 0);
     glCreateVertexArrays(1, &empty_vao_);
     indicator_.use();
     glUniform1iv(indicator_.uniform("u_font"), 70, kFont.data());
@@ -157,7 +161,8 @@ std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points, st
             const auto& p = job.points[k];
             const glm::dvec3 rel = glm::dvec3(p.position) - cells_[job.cell].centre;
             staging[i] = {float(rel.x), float(rel.y), float(rel.z),
-                          (p.rgb & 0xFFFFFFu) | (std::uint32_t(p.label) << 24)};
+                          (p.rgb & 0xFFFFFFu) | (std::uint32_t(p.label) << 24), p.height_above_ground_m};
+            above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
         }
         glNamedBufferSubData(chunk.buffer, static_cast<GLintptr>(chunk.count * sizeof(GpuPoint)),
                              static_cast<GLsizeiptr>(n * sizeof(GpuPoint)), staging.data());
@@ -222,6 +227,7 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glUniform1f(points_.uniform("u_z_min"), bounds_.empty() ? 0.0f : float(bounds_.lo.z));
     glUniform1f(points_.uniform("u_z_max"), bounds_.empty() ? 1.0f : float(bounds_.hi.z));
     glUniform1i(points_.uniform("u_colour_mode"), static_cast<int>(style.colour));
+    glUniform1f(points_.uniform("u_above_ground_max_m"), above_ground_max_m_);
     glBindTextureUnit(kJetTextureUnit, jetTexture(style.jet_entries));
     glUniform1i(points_.uniform("u_jet"), kJetTextureUnit);
     glUniform1f(points_.uniform("u_size_px"), style.point_size_px);

@@ -120,6 +120,7 @@ private:
     std::deque<Pending> pending_;
     std::size_t pending_points_ = 0, uploaded_ = 0;
     engine::Bounds bounds_;
+    float above_ground_max_m_ = 0.0f;   // highest height above ground uploaded (colour range)
     bool origin_known_ = false;
 };
 

@@ -22,12 +22,14 @@
 namespace viewer {
 
 enum class MirrorEyes { Left, Right, Both };
-enum class ColourMode { File, HeightJet, White, Label };
+enum class ColourMode { File, HeightJet, White, Label, AboveGround };
 
 /// "left" / "right" / "both"; throws engine::Error("view: --mirror 'x' is not one of left, right, both").
 MirrorEyes parseMirrorEyes(const std::string& name);
-/// "file" / "height" / "white" / "label"; throws engine::Error("view: --colour 'x' is not one of ...").
+/// "file" / "height" / "white" / "label" / "above-ground"; throws engine::Error("view: --colour 'x' is not one of ...").
 /// "label" shows the ground truth: target red, environment grey, ground dark grey.
+/// "above-ground" colours by height above the fitted terrain (clouds made with
+/// `generate --ground smrf|csf`), the jet over [0, the cloud's highest], ground left white.
 ColourMode parseColourMode(const std::string& name);
 const char* colourModeName(ColourMode mode);
 
