@@ -32,7 +32,7 @@ TEST_CASE("script text: refused frames name the line and what is allowed") {
     CHECK_THROWS_WITH_AS(parseScript("1 space\n99999999999999999999 space\n", kName),
                          "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
                          "allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
-                         "'<frame> grab_scale S', <frame> N, desktop+N or +N",
+                         "'<frame> grab_scale S', <frame> N, desktop+N, loaded+N or +N",
                          engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("0x10 space\n", kName), doctest::Contains("line 1: frame '0x10'"), engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("1.5 space\n", kName), doctest::Contains("frame '1.5'"), engine::Error);
@@ -105,4 +105,21 @@ TEST_CASE("script text: +N counts from the previous action") {
     CHECK_THROWS_WITH_AS(parseScript("+ next\n", kName), doctest::Contains("frame '+'"), engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("+-3 next\n", kName), doctest::Contains("frame '+-3'"), engine::Error);
     CHECK_THROWS_WITH_AS(parseScript("++3 next\n", kName), doctest::Contains("frame '++3'"), engine::Error);
+}
+
+TEST_CASE("script text: loaded+N counts from the whole cloud being on the GPU") {
+    const auto events = parseScript("loaded+5 escape\ndesktop+2 space\n", kName);
+    REQUIRE(events.size() == 2);
+    CHECK(events[0].after_loaded);
+    CHECK_FALSE(events[0].after_desktop);
+    CHECK_FALSE(events[0].relative);
+    CHECK(events[0].frame == 5);
+    CHECK(events[1].after_desktop);
+    CHECK_FALSE(events[1].after_loaded);
+    const auto again = parseScript(viewer::formatScript(events), kName);
+    REQUIRE(again.size() == 2);
+    CHECK(again[0].after_loaded);
+    CHECK(again[0].frame == 5);
+    CHECK_THROWS_WITH_AS(parseScript("loaded+ escape\n", kName), doctest::Contains("frame 'loaded+'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("loaded5 escape\n", kName), doctest::Contains("frame 'loaded5'"), engine::Error);
 }

@@ -23,7 +23,7 @@ constexpr std::array<std::pair<Key, const char*>, 9> kKeys = {{
     {Key::GrabScale, "grab_scale"}, {Key::Next, "next"}}};
 constexpr const char* kAllowed =
     "; allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
-    "'<frame> grab_scale S', <frame> N, desktop+N or +N";
+    "'<frame> grab_scale S', <frame> N, desktop+N, loaded+N or +N";
 
 /// A whole token as a finite double (no hex, no inf/nan), else nullopt.
 bool parseNumber(const std::string& token, double& out) {
@@ -56,12 +56,14 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         auto quoted = [](const std::string& token) { return "'" + engine::printable(token, 40) + "'"; };
         ScriptEvent ev;
         try {
-            constexpr std::string_view kDesktop = "desktop+";
+            constexpr std::string_view kDesktop = "desktop+", kLoaded = "loaded+";
             ev.after_desktop = frame_text.starts_with(kDesktop);
+            ev.after_loaded = frame_text.starts_with(kLoaded);
             ev.relative = frame_text.starts_with('+');
-            const std::string number_text = ev.after_desktop ? frame_text.substr(kDesktop.size())
-                                            : ev.relative    ? frame_text.substr(1)
-                                                             : frame_text;
+            const std::string number_text = ev.after_desktop  ? frame_text.substr(kDesktop.size())
+                                            : ev.after_loaded ? frame_text.substr(kLoaded.size())
+                                            : ev.relative     ? frame_text.substr(1)
+                                                              : frame_text;
             if (number_text.empty() || number_text[0] < '0' || number_text[0] > '9') throw std::invalid_argument("frame");
             std::size_t used = 0;
             ev.frame = std::stol(number_text, &used);
@@ -101,7 +103,8 @@ std::string formatScript(const std::vector<ScriptEvent>& events) {
     std::string text;
     char number[64];
     for (const ScriptEvent& ev : events) {
-        text += (ev.after_desktop ? "desktop+" : ev.relative ? "+" : "") + std::to_string(ev.frame) + " " + scriptKeyName(ev.key);
+        text += (ev.after_desktop ? "desktop+" : ev.after_loaded ? "loaded+" : ev.relative ? "+" : "") +
+                std::to_string(ev.frame) + " " + scriptKeyName(ev.key);
         if (ev.key == Key::Aim)
             for (double v : ev.point) {
                 std::snprintf(number, sizeof number, " %.17g", v);

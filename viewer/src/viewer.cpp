@@ -168,6 +168,7 @@ private:
     std::size_t points_drawn_ = 0;
     std::string fallback_;
     long desktop_since_frame_ = -1;   // frames_ when the viewer dropped to desktop mode
+    long loaded_since_frame_ = -1;    // frames_ when the whole cloud was first on the GPU
     bool quitting_ = false;      // frames after the exit request are not counted
     GLuint timer_query_ = 0;     // GL_TIME_ELAPSED around the frame's draws (--gpu-timing)
     double last_gpu_ms_ = -1.0;
@@ -592,6 +593,7 @@ void ViewerApp::beginTrial(int index) {
     if (trial_.index >= 0) source_->end(trial_.index);   // before its feed goes
     trial_ = TrialState{};
     trial_.index = index;
+    loaded_since_frame_ = -1;   // loaded+N counts from this trial's cloud
     trial_.ready_screen = true;
     trial_.own_feed = std::make_unique<CloudFeed>();
     trial_.own_feed->enableLodOrder();
@@ -858,7 +860,10 @@ int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer
         bool script_barrier = false;
         while (script_next < options_.script.size() && !script_barrier) {
             const auto& ev = options_.script[script_next];
-            const long base = ev.after_desktop ? desktop_since_frame_ : ev.relative ? script_last_frame : 0;
+            const long base = ev.after_desktop  ? desktop_since_frame_
+                              : ev.after_loaded ? loaded_since_frame_
+                              : ev.relative     ? script_last_frame
+                                                : 0;
             if (base < 0 || ev.frame + base > frames_) break;
             if (ev.key == ScriptEvent::Key::Next && trial_.ready_screen && !readyToStart()) break;
             ++script_next;
@@ -932,6 +937,9 @@ int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer
                 endTrial(Decision::Quit);
             }
         }
+        if (loaded_since_frame_ < 0 && feed_->finished() && feed_->error().empty() &&
+            renderer_->pendingPoints() == 0)
+            loaded_since_frame_ = frames_;
         if (!centre_final_ && !renderer_->bounds().empty()) {
             modes_.setCentre(renderer_->bounds().centre());
             centre_final_ = feed_->finished() && renderer_->pendingPoints() == 0;

@@ -28,6 +28,10 @@ struct ScriptEvent {
     /// "desktop+N": N frames after the drop to desktop mode (a lost runtime), so a test
     /// acts on that event instead of guessing its frame; waits while none has happened.
     bool after_desktop = false;
+    /// "loaded+N": N frames after the whole cloud is on the GPU (the current trial's, in a
+    /// study), so a test that needs the full cloud on screen waits for it, however slowly
+    /// the loader or the generator runs.
+    bool after_loaded = false;
     /// "+N": N frames after the previous line's action ran (so a script can follow a
     /// ready screen that waits for its cloud, however long that takes).
     bool relative = false;
@@ -42,7 +46,7 @@ inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
 const char* scriptKeyName(ScriptEvent::Key key);
 
 /// Parses script text: one "<frame> <action>" per line, frame a whole number >= 0,
-/// desktop+N or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
+/// desktop+N, loaded+N (after the whole cloud is on the GPU) or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
 /// reject, no_target, grab_scale S (a finite number > 0), next; '#' starts a comment,
 /// blank lines skipped. Throws engine::Error("<name> line N: ...; allowed '<frame>
 /// <action>' ...") on a bad line; tokens quoted in it are shown escaped and cut to 40
