@@ -8,7 +8,8 @@ One row per cloud (in order of first appearance), then one for all trials:
   decided    trials the operator ended with confirm or no_target
   timeouts   trials that ran out of time; quits: ended by the experimenter (Escape, Ctrl-C)
   hit_rate   hits / trials with a hit value (1 or 0; empty when the cloud has no
-             ground-truth target), "n/a" when none has one
+             ground-truth target), quits left out (the experimenter stopped them, the
+             operator did not miss); "n/a" when no trial is left
   median_s   median time_to_decision_s over the decided trials, "n/a" when none
 
 docs/study.md explains every column of trials.csv. Exit status 2 with one line on stderr
@@ -65,7 +66,7 @@ def read_trials(path):
 
 
 def summarise(trials):
-    scored = [t["hit"] for t in trials if t["hit"] is not None]
+    scored = [t["hit"] for t in trials if t["hit"] is not None and t["decision"] != "quit"]
     decided = [t["seconds"] for t in trials if t["decision"] in ("confirm", "no_target")]
     hit_rate = "%.2f (%d/%d)" % (sum(scored) / len(scored), sum(scored), len(scored)) if scored else "n/a"
     median = "%.1f" % statistics.median(decided) if decided else "n/a"

@@ -1,5 +1,5 @@
 // app/src/cmd_study.cpp: `ladarvr study PLAN.json --out DIR`, a target-search study in the
-// viewer (docs/study_running.md): the plan's trials one after another, each on a ready
+// viewer (docs/study.md): the plan's trials one after another, each on a ready
 // screen then in automatic mode, the operator designating and deciding; trials.csv,
 // candidates.csv and a trace per trial written as the trials end.
 #include "cli_common.hpp"
@@ -212,7 +212,7 @@ void registerStudy(CLI::App& cli) {
     auto args = std::make_shared<StudyArgs>();
     CLI::App* cmd = cli.add_subcommand(
         "study", "run a target-search study: the plan's trials in the viewer, logged to --out "
-                 "(see docs/study_running.md)");
+                 "(see docs/study.md)");
     cmd->add_option("plan", args->plan, "PLAN.json: the trials (clouds or scenes, candidates, time limits)");
     cmd->add_option("--replay", args->replay, "replay a study's trace in the mirror: the --out folder of a study");
     cmd->add_option("--trial", args->trial, "with --replay: the trial (1 = the first run)")->capture_default_str();

@@ -100,7 +100,16 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     std::string row = std::to_string(trial + 1) + "," + csvText(info.source) + "," + viewer::decisionName(o.decision);
     for (int i = 0; i < 3; ++i) row += "," + (o.designated_world ? fixed((*o.designated_world)[i]) : std::string());
     row += "," + optionalFixed(o.target_distance_m);
-    row += "," + (o.target_distance_m ? std::string(*o.target_distance_m <= hit_radius_m_ ? "1" : "0") : std::string("0"));
+    // hit: empty when the cloud has no ground truth (nothing to hit); else 1 only for a
+    // confirmed point within the radius, 0 otherwise. A designation still standing at
+    // no_target, timeout or quit was not the operator's answer: its distance is kept, its
+    // hit is 0.
+    if (o.target_known)
+        row += (o.decision == viewer::Decision::Confirm && o.target_distance_m && *o.target_distance_m <= hit_radius_m_)
+                   ? ",1"
+                   : ",0";
+    else
+        row += ",";
     row += "," + optionalFixed(o.time_to_first_designation_s);
     row += "," + fixed(o.time_to_decision_s);
     row += "," + std::to_string(o.designations) + "," + std::to_string(o.mode_switches);

@@ -1,7 +1,9 @@
 #!/bin/sh
 # tests/app/study_summary_test.sh SOURCE_DIR SCRATCH_DIR: scripts/study_summary.py on a
-# small hand-made trials.csv (the columns of viewer/trial.hpp): hit rate and median time to
-# decision per cloud, exactly; files that are not a trials.csv give one line and exit 2.
+# small hand-made trials.csv (its header is StudyLog::trialsHeader(), study/src/study_log.cpp;
+# the study's headless tests run the script on a real one too): hit rate and median time to
+# decision per cloud, exactly, a quit's hit of 0 left out of the hit rate; files that are
+# not a trials.csv give one line and exit 2.
 set -eu
 src=$1
 dir=$2
@@ -18,12 +20,13 @@ $header
 3,a.pcd,confirm,25.0,3.0,2.0,25.1,0,8.5,20.0,3,1,6.0,0.41
 4,a.pcd,timeout,,,,,0,,120.0,0,0,0,0.41
 5,b.pcd,quit,,,,,,,5.0,0,0,0,
+6,a.pcd,quit,,,,,0,,7.5,0,0,0,0.41
 CSV
 cat >"$dir/expected" <<'OUT'
 cloud  trials  decided  timeouts  quits    hit_rate  median_s
-a.pcd       3        2         1      0  0.33 (1/3)      15.0
+a.pcd       4        2         1      1  0.33 (1/3)      15.0
 b.pcd       2        1         0      1         n/a      30.0
-all         5        3         1      1  0.33 (1/3)      20.0
+all         6        3         1      2  0.33 (1/3)      20.0
 OUT
 # The folder or the file itself.
 $summary "$dir/study" >"$dir/out" || fail "study_summary on the folder"

@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
 """tests/study/check_study.py SCENARIO WORK: assertions on a headless study's files
-(study_headless_test.sh): trials.csv's rows and columns, the traces, the run log."""
+(study_headless_test.sh): trials.csv's rows and columns, the traces (and the convention of
+their head quaternion, the one `ladarvr metric --trace` reads), the run log, and
+scripts/study_summary.py on the real trials.csv."""
 import csv
 import json
+import math
 import os
+import subprocess
 import sys
 
 scenario, work = sys.argv[1], sys.argv[2]
@@ -44,6 +48,47 @@ def check_trace(n, frames_expected=None):
     return rows
 
 
+def rotate(q, v):
+    """v turned by the unit quaternion q = (w, x, y, z)."""
+    w, x, y, z = q
+    t = [2 * (y * v[2] - z * v[1]), 2 * (z * v[0] - x * v[2]), 2 * (x * v[1] - y * v[0])]
+    return [v[0] + w * t[0] + (y * t[2] - z * t[1]), v[1] + w * t[1] + (z * t[0] - x * t[2]),
+            v[2] + w * t[2] + (x * t[1] - y * t[0])]
+
+
+def check_gaze(rows, centres):
+    """Desktop, automatic mode, mouse untouched: the head looks at the orbit centre. Its gaze
+    as metric/src/trace.cpp reads the quaternion (head -z turned into the world) must point
+    there, and its up (head +y) must point up: a trace written in another convention fails."""
+    worst, lowest_up = 0.0, 1.0
+    for r, centre in zip(rows, centres):
+        if r["mode"] != "automatic":
+            continue
+        head = [float(r[k]) for k in ("head_x", "head_y", "head_z")]
+        q = [float(r[k]) for k in ("head_qw", "head_qx", "head_qy", "head_qz")]
+        check(abs(math.sqrt(sum(c * c for c in q)) - 1.0) < 1e-6, f"quaternion {q} is not a unit one")
+        gaze = rotate(q, (0.0, 0.0, -1.0))
+        to_centre = [c - h for c, h in zip(centre, head)]
+        n = math.sqrt(sum(c * c for c in to_centre))
+        cos = sum(g * c for g, c in zip(gaze, to_centre)) / n
+        worst = max(worst, math.degrees(math.acos(max(-1.0, min(1.0, cos)))))
+        lowest_up = min(lowest_up, rotate(q, (0.0, 1.0, 0.0))[2])
+    check(worst < 1.0, f"the trace's gaze is {worst:.1f} deg off the orbit centre")
+    check(lowest_up > 0.5, f"the trace's head up (+y) has a world z down to {lowest_up:.3f}: not up")
+    print(f"trace gaze: at most {worst:.3f} deg off the orbit centre")
+
+
+def check_summary(expected_all):
+    """scripts/study_summary.py reads the trials.csv the study wrote."""
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "study_summary.py")
+    run = subprocess.run([sys.executable, script, out], capture_output=True, text=True)
+    check(run.returncode == 0, f"study_summary exited {run.returncode}: {run.stderr}")
+    last = run.stdout.strip().splitlines()[-1].split() if run.stdout.strip() else []
+    check(last[:1] == ["all"] and " ".join(last[1:]) == expected_all,
+          f"study_summary's last row {last}, expected all {expected_all}")
+    print("study_summary:", " ".join(last))
+
+
 trials = read_csv("trials.csv", TRIAL_COLUMNS) if scenario != "sigint" else []
 for r in trials:
     print("trial", r["trial"], r["decision"], "distance", r["target_distance_m"], "hit", r["hit"],
@@ -80,7 +125,20 @@ if scenario in ("xr", "desktop"):
     check(len(starts) == 2 and len(ends) == 2, f"starts {starts}, ends {ends}")
     for i in range(min(len(starts), len(ends))):
         # One trace row per counted frame from the start (exclusive) to the end (inclusive).
-        check_trace(i + 1, ends[i] - starts[i])
+        rows = check_trace(i + 1, ends[i] - starts[i])
+        if scenario == "desktop" and i == 0:
+            # Row k of the trace is frame starts + 1 + k; its orbit centre (the cloud's bounds
+            # centre, local frame) from the run log. Both trials show the same scene, so the
+            # run's origin is trial 1's.
+            by_frame = {f["frame"]: f["orbit_centre_local"] for f in log["frames"]}
+            centres = [by_frame.get(starts[0] + 1 + k) for k in range(len(rows))]
+            check(all(c is not None for c in centres), "trace rows without a frame in the run log")
+            if all(c is not None for c in centres):
+                check_gaze(rows, [[c[k] + log["origin"][k] for k in range(3)] for c in centres])
+    # Trial 1 a hit, trial 2 a miss, both confirmed.
+    if len(trials) == 2:
+        median = sum(float(r["time_to_decision_s"]) for r in trials) / 2
+        check_summary("2 2 0 0 0.50 (1/2) %.1f" % median)
 if scenario == "desktop":
     with open(os.path.join(work, "replay.json")) as f:
         replay = json.load(f)
@@ -103,6 +161,10 @@ elif scenario == "sigterm":
     check(len(trials) == 2, f"{len(trials)} rows, expected 2")
     if len(trials) == 2:
         check(trials[1]["decision"] == "quit", f"trial 2: {trials[1]['decision']}")
+        # The quit trial has hit 0 (a cloud with a target, no designation) and is left out of
+        # the hit rate; it is not decided either.
+        check(trials[1]["hit"] == "0" and trials[1]["target_distance_m"] == "", f"trial 2: {trials[1]}")
+        check_summary("2 1 0 1 1.00 (1/1) %.1f" % float(trials[0]["time_to_decision_s"]))
     with open(os.path.join(work, "log.json")) as f:
         log = json.load(f)
     check(log["exit"] == "SIGTERM", f"exit {log['exit']}")

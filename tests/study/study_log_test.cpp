@@ -46,6 +46,7 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     o.decision = viewer::Decision::Confirm;
     o.designated_world = glm::dvec3(10.0, 20.0, 0.5);
     o.target_distance_m = 0.25;
+    o.target_known = true;
     o.time_to_first_designation_s = 0.6;
     o.time_to_decision_s = 0.8;
     o.designations = 1;
@@ -83,6 +84,7 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     miss.decision = viewer::Decision::Timeout;
     miss.designated_world = glm::dvec3(-30.0, 22.0, 4.0);
     miss.target_distance_m = 36.5;
+    miss.target_known = true;
     miss.time_to_decision_s = 120.0;
     log.onEnd(1, miss);
     rows = lines(dir.path / "trials.csv");
@@ -92,6 +94,50 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     CHECK(log.trialsWritten() == 2);
     CHECK(log.error().empty());
     CHECK(dir.entries() == 4);   // trials, candidates, two traces
+}
+
+TEST_CASE("hit: 1 only for a confirmed point near the target, 0 otherwise, empty without ground truth") {
+    test_support::TempDir dir("study_log_hit");
+    study::StudyLog log(dir.path, [](int) { return study::TrialInfo{"a.pcd", {}}; }, 1.0);
+    const viewer::Decision decisions[] = {viewer::Decision::NoTarget, viewer::Decision::Timeout, viewer::Decision::Quit};
+    int trial = 0;
+    for (const bool known : {true, false}) {
+        for (const viewer::Decision d : decisions) {
+            log.onStart(trial);
+            viewer::TrialOutcome o;
+            o.decision = d;
+            o.target_known = known;
+            o.time_to_decision_s = 2.0;
+            log.onEnd(trial++, o);
+        }
+    }
+    const auto rows = lines(dir.path / "trials.csv");
+    REQUIRE(rows.size() == 7);
+    CHECK(rows[1] == "1,a.pcd,no_target,,,,,0,,2.000000,0,0,0.000000,");
+    CHECK(rows[2] == "2,a.pcd,timeout,,,,,0,,2.000000,0,0,0.000000,");
+    CHECK(rows[3] == "3,a.pcd,quit,,,,,0,,2.000000,0,0,0.000000,");
+    CHECK(rows[4] == "4,a.pcd,no_target,,,,,,,2.000000,0,0,0.000000,");
+    CHECK(rows[6] == "6,a.pcd,quit,,,,,,,2.000000,0,0,0.000000,");
+    CHECK(dir.entries() == 8);   // trials, candidates, six traces named trace_1 .. trace_6
+    CHECK(std::filesystem::exists(dir.path / "trace_6.csv"));
+
+    // A designation on the target still standing at no_target or timeout keeps its distance
+    // but is no hit: only a confirmed point is the operator's answer.
+    for (const viewer::Decision d : {viewer::Decision::NoTarget, viewer::Decision::Timeout, viewer::Decision::Confirm}) {
+        log.onStart(trial);
+        viewer::TrialOutcome o;
+        o.decision = d;
+        o.target_known = true;
+        o.designated_world = glm::dvec3(1.0, 2.0, 3.0);
+        o.target_distance_m = 0.5;
+        o.time_to_decision_s = 2.0;
+        log.onEnd(trial++, o);
+    }
+    const auto more = lines(dir.path / "trials.csv");
+    REQUIRE(more.size() == 10);
+    CHECK(more[7] == "7,a.pcd,no_target,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,");
+    CHECK(more[8] == "8,a.pcd,timeout,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,");
+    CHECK(more[9] == "9,a.pcd,confirm,1.000000,2.000000,3.000000,0.500000,1,,2.000000,0,0,0.000000,");
 }
 
 TEST_CASE("a trace that exists already is not overwritten and the error is kept") {

@@ -623,6 +623,7 @@ void ViewerApp::endTrial(Decision decision) {
     TrialOutcome& o = trial_.outcome;
     o.decision = decision;
     o.time_to_decision_s = std::chrono::duration<double>(Clock::now() - trial_.started).count();
+    o.target_known = index_ && index_->hasTargets();
     if (trial_.designated_local) {
         o.designated_world = *trial_.designated_local + feed_->origin();
         if (index_) o.target_distance_m = index_->nearestTargetDistance(*trial_.designated_local);

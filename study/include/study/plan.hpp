@@ -6,7 +6,7 @@
 //    "hit_radius_m": 1.0,                                 (optional)
 //    "orbit": {"radius_m": 60, "height_m": 40, "period_s": 60},   (optional, automatic mode)
 //    "generate": {"xres": 128, "yres": 128, "views": 100}}       (optional, scene trials)
-// Paths are relative to the plan's folder. docs/study_running.md explains each field.
+// Paths are relative to the plan's folder. docs/study.md explains each field.
 #pragma once
 #include <engine/candidates.hpp>
 

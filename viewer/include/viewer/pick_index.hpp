@@ -55,6 +55,8 @@ public:
                                       const PickOptions& options = {}) const;
     /// Distance from `p` to the nearest point labelled target; none without target points.
     std::optional<double> nearestTargetDistance(const glm::dvec3& p) const;
+    /// Whether any point is labelled target.
+    bool hasTargets() const { return !targets_.empty(); }
     /// Sphere queries the last pick made (for the benchmark's report).
     std::size_t lastQueries() const { return last_queries_; }
 

@@ -58,6 +58,8 @@ struct TrialOutcome {
     /// From the designated point to the nearest point of the cloud labelled target; empty
     /// without a designation or without target points.
     std::optional<double> target_distance_m;
+    /// The cloud holds points labelled target (ground truth), so a hit can be judged.
+    bool target_known = false;
 };
 
 /// What a trial shows besides its cloud.
