@@ -57,10 +57,10 @@ TEST_CASE("sensor: a position error of sigma misregisters views by sigma, view t
     sim::SensorOptions s;
     s.pose_noise_m = 0.1;
     const std::vector<double> z = viewHeights(s, views);
-    CHECK(rms(z) == doctest::Approx(0.1).epsilon(0.12));
+    CHECK(rms(z) == doctest::Approx(0.1).epsilon(0.12).scale(0.0));  // relative (doctest's default scale is 1.0)
     std::vector<double> step;
     for (std::size_t v = 1; v < z.size(); ++v) step.push_back(z[v] - z[v - 1]);
-    CHECK(rms(step) == doctest::Approx(0.1 * std::sqrt(2.0)).epsilon(0.12));
+    CHECK(rms(step) == doctest::Approx(0.1 * std::sqrt(2.0)).epsilon(0.12).scale(0.0));
     // A per-flight bias moves every view alike: no misregistration, one common offset.
     sim::SensorOptions b;
     b.pose_bias_m = 0.1;
@@ -73,5 +73,5 @@ TEST_CASE("sensor: an attitude error of sigma misregisters views by altitude * t
     sim::SensorOptions s;
     s.attitude_noise_deg = 0.05;
     const double expected_m = 300.0 * std::tan(45.0 * std::numbers::pi / 180.0) * 0.05 * std::numbers::pi / 180.0;
-    CHECK(rms(viewHeights(s, 400)) == doctest::Approx(expected_m).epsilon(0.15));
+    CHECK(rms(viewHeights(s, 400)) == doctest::Approx(expected_m).epsilon(0.15).scale(0.0));
 }
