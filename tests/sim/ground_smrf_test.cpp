@@ -134,3 +134,19 @@ TEST_CASE("an empty cloud fits an empty terrain and no point is ground") {
     CHECK(sim::findGroundSmrf({}, sim::SmrfOptions{}, &grid).empty());
     CHECK(grid.empty());
 }
+
+TEST_CASE("SMRF keeps rolling ground on a 60 % slope: the threshold grows with the local slope") {
+    // Bumps of 0.5 m on a 60 % incline: the interpolated minimum surface runs up to a metre
+    // under the crests, beyond the plain 0.5 m threshold. Pingel's elevation scalar (1.25 m
+    // per unit slope) is what keeps them ground.
+    const Height z = [](double x, double y) {
+        return 0.6 * x + 0.5 * std::sin(2.0 * M_PI * x / 5.0) * std::cos(2.0 * M_PI * y / 7.0);
+    };
+    const Labelled l = sample(z, 40.0, {});
+    const Score with_scalar = score(l, sim::findGroundSmrf(l.points, sim::SmrfOptions{}));
+    sim::SmrfOptions flat;
+    flat.scalar = 0.0;
+    const Score without = score(l, sim::findGroundSmrf(l.points, flat));
+    CHECK(with_scalar.recall >= 0.95);
+    CHECK(without.recall < 0.92);
+}
