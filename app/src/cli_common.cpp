@@ -1,9 +1,11 @@
 // app/src/cli_common.cpp: the conventions every subcommand shares (cli_common.hpp).
 #include "cli_common.hpp"
 
+#include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
 
 #include <cctype>
+#include <cmath>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -164,6 +166,21 @@ void createParentFolders(const fs::path& file, std::string_view option) {
             throw engine::Error(std::string(option) + " '" + file.string() + "': cannot create the folder '" +
                                 prefix.string() + "': " + (ec ? ec.message() : std::string("unknown reason")));
     }
+}
+
+void prepareOutputFile(const fs::path& file, std::string_view option) {
+    if (file.empty()) return;
+    createParentFolders(file, option);
+    engine::checkWritableDestination(file);
+}
+
+std::unique_ptr<engine::Watchdog> viewerWatchdog(std::string_view command, double timeout_s) {
+    constexpr double kGraceS = 5.0;
+    if (!(std::isfinite(timeout_s) && timeout_s > 0.0)) return nullptr;
+    char message[160];
+    std::snprintf(message, sizeof message, "%.*s: --timeout %g s reached (the run did not end %g s after it)",
+                  int(command.size()), command.data(), timeout_s, kGraceS);
+    return std::make_unique<engine::Watchdog>(timeout_s + kGraceS, message);
 }
 
 }  // namespace app

@@ -3,7 +3,10 @@
 #pragma once
 #include <CLI/CLI.hpp>
 
+#include <engine/cleanup.hpp>
+
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -40,5 +43,16 @@ void warn(const std::string& what);
 /// engine::Error naming `option` when a component exists and is not a folder, or
 /// cannot be created.
 void createParentFolders(const std::filesystem::path& file, std::string_view option);
+
+/// An optional output file of a run (a screenshot, a log): when `file` is not empty,
+/// creates its folders and checks the destination (engine::checkWritableDestination), so a
+/// bad name fails before the run starts.
+void prepareOutputFile(const std::filesystem::path& file, std::string_view option);
+
+/// The viewer's frame loop stops at --timeout by itself and then has up to 3 s to end the
+/// OpenXR session and write its log; this watchdog ends whatever still runs 5 s after the
+/// deadline (a scene that loads for minutes, a runtime that never answers during start-up)
+/// with "<command>: --timeout S s reached ...". None for timeout_s <= 0.
+std::unique_ptr<engine::Watchdog> viewerWatchdog(std::string_view command, double timeout_s);
 
 }  // namespace app

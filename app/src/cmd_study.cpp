@@ -43,7 +43,18 @@ struct StudyArgs {
     double orbit_radius_m = -1.0, orbit_height_m = std::nan(""), orbit_period_s = -1.0;   // unset: the plan's
 };
 
-constexpr double kTimeoutGraceS = 5.0;
+// The window and mirror settings both runs share.
+viewer::ViewerOptions windowOptions(const StudyArgs& a) {
+    viewer::ViewerOptions o;
+    o.mirror = viewer::parseMirrorEyes(a.mirror);
+    o.style.colour = viewer::parseColourMode(a.colour);
+    o.frames = a.frames;
+    o.timeout_s = a.timeout_s;
+    o.window_width = a.width;
+    o.window_height = a.height;
+    o.log_json = a.log_json;
+    return o;
+}
 
 /// Refuses an --out folder that already holds a study, so one run never mixes its rows
 /// with another's; creates it otherwise.
@@ -81,27 +92,14 @@ int runReplay(const StudyArgs& a) {
     }
     if (a.trial < 1 || a.trial > static_cast<int>(order.size()))
         throw engine::Error("study: --trial " + std::to_string(a.trial) + ": allowed 1.." + std::to_string(order.size()));
-    viewer::ViewerOptions o;
+    viewer::ViewerOptions o = windowOptions(a);
     o.use_xr = false;
     o.replay = study::readTrace(dir / ("trace_" + std::to_string(a.trial) + ".csv"));
     if (o.replay.empty()) throw engine::Error("study: --replay: trace_" + std::to_string(a.trial) + ".csv has no frame");
-    o.mirror = viewer::parseMirrorEyes(a.mirror);
-    o.style.colour = viewer::parseColourMode(a.colour);
-    o.frames = a.frames;
-    o.timeout_s = a.timeout_s;
-    o.window_width = a.width;
-    o.window_height = a.height;
-    o.log_json = a.log_json;
     o.screenshot = a.screenshot;
     viewer::validate(o);
-    if (!o.log_json.empty()) {
-        createParentFolders(o.log_json, "study: --log-json");
-        engine::checkWritableDestination(o.log_json);
-    }
-    if (!o.screenshot.empty()) {
-        createParentFolders(o.screenshot, "study: --screenshot");
-        engine::checkWritableDestination(o.screenshot);
-    }
+    prepareOutputFile(o.log_json, "study: --log-json");
+    prepareOutputFile(o.screenshot, "study: --screenshot");
     study::StudySource source(plan, order);
     viewer::CloudFeed feed;
     feed.enableLodOrder();
@@ -122,40 +120,24 @@ int runStudy(const StudyArgs& a) {
     if (!a.replay.empty()) return runReplay(a);
     if (a.plan.empty()) throw engine::Error("study: give PLAN.json (or --replay DIR)");
     const auto start = std::chrono::steady_clock::now();
-    std::unique_ptr<engine::Watchdog> watchdog;
-    if (std::isfinite(a.timeout_s) && a.timeout_s > 0.0) {
-        char message[128];
-        std::snprintf(message, sizeof message, "study: --timeout %g s reached (the run did not end %g s after it)",
-                      a.timeout_s, kTimeoutGraceS);
-        watchdog = std::make_unique<engine::Watchdog>(a.timeout_s + kTimeoutGraceS, message);
-    }
+    const std::unique_ptr<engine::Watchdog> watchdog = viewerWatchdog("study", a.timeout_s);
     if (a.out.empty()) throw engine::Error("study: --out DIR is required (the folder for trials.csv and the traces)");
     study::Plan plan = study::readPlan(a.plan);
     if (a.hit_radius_m >= 0.0) plan.hit_radius_m = a.hit_radius_m;
     if (!(plan.hit_radius_m > 0.0)) throw engine::Error("study: --hit-radius must be > 0 m");
 
-    viewer::ViewerOptions o;
+    viewer::ViewerOptions o = windowOptions(a);
     o.use_xr = !a.no_xr;
-    o.mirror = viewer::parseMirrorEyes(a.mirror);
-    o.style.colour = viewer::parseColourMode(a.colour);
-    o.frames = a.frames;
-    o.timeout_s = a.timeout_s;
-    o.window_width = a.width;
-    o.window_height = a.height;
     o.vsync = a.frames == 0;
     o.pick.angle_deg = a.pick_angle_deg;
     o.modes.orbit.radius_m = a.orbit_radius_m > 0.0 ? a.orbit_radius_m : plan.orbit_radius_m;
     o.modes.orbit.altitude_m = std::isnan(a.orbit_height_m) ? plan.orbit_height_m : a.orbit_height_m;
     o.modes.orbit_period_s = a.orbit_period_s > 0.0 ? a.orbit_period_s : plan.orbit_period_s;
     if (!a.script.empty()) o.script = viewer::readScript(a.script);
-    o.log_json = a.log_json;
     viewer::validate(o);
     const std::filesystem::path out(a.out);
     prepareOut(out);
-    if (!o.log_json.empty()) {
-        createParentFolders(o.log_json, "study: --log-json");
-        engine::checkWritableDestination(o.log_json);
-    }
+    prepareOutputFile(o.log_json, "study: --log-json");
 
     const std::vector<int> order = study::trialOrder(plan);
     auto source = std::make_unique<study::StudySource>(plan, order);

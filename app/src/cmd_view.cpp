@@ -46,20 +46,9 @@ struct ViewArgs {
     sim::OrbitOptions orbit;   // only for the generated cloud
 };
 
-// The frame loop stops at the --timeout deadline by itself and then has up to 3 s to end
-// the OpenXR session and write the log; the watchdog ends whatever still runs after that
-// (a scene that loads for minutes, a runtime that never answers during start-up).
-constexpr double kTimeoutGraceS = 5.0;
-
 int runView(const ViewArgs& a) {
     const auto start = std::chrono::steady_clock::now();
-    std::unique_ptr<engine::Watchdog> watchdog;
-    if (std::isfinite(a.timeout_s) && a.timeout_s > 0.0) {
-        char message[128];
-        std::snprintf(message, sizeof message, "view: --timeout %g s reached (the run did not end %g s after it)",
-                      a.timeout_s, kTimeoutGraceS);
-        watchdog = std::make_unique<engine::Watchdog>(a.timeout_s + kTimeoutGraceS, message);
-    }
+    const std::unique_ptr<engine::Watchdog> watchdog = viewerWatchdog("view", a.timeout_s);
     if (!a.cloud.empty() && !a.scene.empty())
         throw engine::Error("view: give a cloud file or --scene, not both");
     const sim::OrbitOptions paper;
@@ -95,14 +84,8 @@ int runView(const ViewArgs& a) {
     viewer::validate(o);
     // The cloud first: remembered as an input, so neither output may replace it.
     if (!a.cloud.empty()) engine::checkInputFile(a.cloud, "view: cloud '" + engine::printable(a.cloud, 400) + "'");
-    if (!o.screenshot.empty()) {
-        createParentFolders(o.screenshot, "view: --screenshot");
-        engine::checkWritableDestination(o.screenshot);
-    }
-    if (!o.log_json.empty()) {
-        createParentFolders(o.log_json, "view: --log-json");
-        engine::checkWritableDestination(o.log_json);
-    }
+    prepareOutputFile(o.screenshot, "view: --screenshot");
+    prepareOutputFile(o.log_json, "view: --log-json");
 
     viewer::CloudFeed feed;
     feed.enableLodOrder();   // LOD order of each chunk on the loader / generator thread, not in the frame loop

@@ -136,16 +136,7 @@ private:
     CsfOptions o_;
 };
 
-class CsfFilter final : public GroundFilter {
-public:
-    explicit CsfFilter(const CsfOptions& o) : options_(o) {}
-    GroundMethod method() const override { return GroundMethod::Csf; }
-    bool perView() const override { return false; }
-    std::unique_ptr<TerrainFit> startCloud() const override { return std::make_unique<CsfFit>(options_); }
-
-private:
-    CsfOptions options_;
-};
+using CsfFilter = WholeCloudFilter<CsfFit, CsfOptions, GroundMethod::Csf>;
 
 }  // namespace
 

@@ -16,4 +16,17 @@ std::unique_ptr<GroundFilter> makeSmrfFilter(const SmrfOptions& o);
 /// ground_csf.cpp: the whole-cloud cloth simulation filter.
 std::unique_ptr<GroundFilter> makeCsfFilter(const CsfOptions& o);
 
+/// A whole-cloud filter: each run fits a fresh `Fit` (a TerrainFit built from `Options`).
+template <class Fit, class Options, GroundMethod kMethod>
+class WholeCloudFilter final : public GroundFilter {
+public:
+    explicit WholeCloudFilter(const Options& o) : options_(o) {}
+    GroundMethod method() const override { return kMethod; }
+    bool perView() const override { return false; }
+    std::unique_ptr<TerrainFit> startCloud() const override { return std::make_unique<Fit>(options_); }
+
+private:
+    Options options_;
+};
+
 }  // namespace sim

@@ -127,16 +127,7 @@ private:
     SmrfOptions o_;
 };
 
-class SmrfFilter final : public GroundFilter {
-public:
-    explicit SmrfFilter(const SmrfOptions& o) : options_(o) {}
-    GroundMethod method() const override { return GroundMethod::Smrf; }
-    bool perView() const override { return false; }
-    std::unique_ptr<TerrainFit> startCloud() const override { return std::make_unique<SmrfFit>(options_); }
-
-private:
-    SmrfOptions options_;
-};
+using SmrfFilter = WholeCloudFilter<SmrfFit, SmrfOptions, GroundMethod::Smrf>;
 
 }  // namespace
 
