@@ -1,5 +1,5 @@
 // engine/src/las_sink.hpp (internal): the LAS/LAZ side of engine::CloudWriter
-// (las_writer.cpp, through LASzip).
+// (las_writer.cpp: LAS; laz_writer.cpp: LAZ, chunks compressed in parallel).
 #pragma once
 #include <engine/cloud_io.hpp>
 
@@ -25,5 +25,10 @@ public:
 /// Throws Error("output: <path>: ...").
 std::unique_ptr<LasSink> openLasSink(TempFile& file, bool compress, const glm::dvec3& origin,
                                      const CloudFields& fields, const LasOptions& options);
+
+class LasRecord;
+/// The LAZ writer (laz_writer.cpp): LASzip compresses chunks of lazChunkPoints() points
+/// on options.threads threads, the chunks are joined in order with their table.
+std::unique_ptr<LasSink> openLazSink(TempFile& file, LasRecord record, const LasOptions& options);
 
 }  // namespace engine::detail

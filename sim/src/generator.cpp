@@ -579,11 +579,19 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     engine::CloudFields fields = s.sensor->fields();
     fields.height_above_ground = terrain.whitens();
     fields.rgb = !(las && s.options.white);  // LAS point format 6: no colours to store
-    engine::CloudWriter writer(out, format, s.scene.origin, fields, lasOptions(s.scene, s.options));
-    Workers pool(s.plan.threads);
     // The fused cloud stays in memory when it fits beside the fusion's buffers.
     const std::uint64_t fused_bytes = s.hits_bound * sizeof(engine::CloudPoint);
     st.streamed = s.plan.fuse_bytes + fused_bytes > s.options.memory_budget_bytes;
+    // LAZ compresses on the workers, once the fusion's buffers are gone, in what the
+    // budget leaves beside the cloud (in memory, or the chunk read back from the spool).
+    engine::LasOptions las_options = lasOptions(s.scene, s.options);
+    las_options.threads = s.plan.threads;
+    const std::uint64_t held = s.plan.kept_bytes - s.plan.writer_bytes +
+                               (st.streamed ? s.plan.colour_chunk * sizeof(engine::CloudPoint) : fused_bytes);
+    las_options.memory_bytes = std::max(s.plan.writer_bytes,
+                                        s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held));
+    engine::CloudWriter writer(out, format, s.scene.origin, fields, las_options);
+    Workers pool(s.plan.threads);
     if (!st.streamed) {
         std::vector<engine::CloudPoint> points;
         points.reserve(std::size_t(s.hits_bound));

@@ -100,6 +100,8 @@ MemoryPlan planMemory(const MemoryNeeds& n) {
     const std::uint64_t kept = n.fixed_bytes + kWriterBytes + std::uint64_t(p.threads) * kThreadBytes;
     const std::uint64_t chunk_room = (budget - std::min(budget, kept)) / kPointBytes;
     p.colour_chunk = std::size_t(std::clamp(chunk_room, kMinColourChunk, kMaxColourChunk));
+    p.kept_bytes = kept;
+    p.writer_bytes = kWriterBytes;
     return p;
 }
 

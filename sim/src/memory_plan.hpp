@@ -29,6 +29,8 @@ struct MemoryPlan {
     std::uint64_t view_hits = 0;   // capacity of one view's hit buffer
     std::uint64_t fuse_bytes = 0;  // everything held while fusing, fixed tables and writer included
     std::size_t colour_chunk = 1;  // points per colour/write chunk read back from a spool
+    std::uint64_t kept_bytes = 0;  // held once the fusion is done: tables, writer, workers
+    std::uint64_t writer_bytes = 0;  // the cloud writer's share of kept_bytes (at least)
 };
 
 /// Plans within needs.budget_bytes: the wanted batch first, then fewer views per batch,

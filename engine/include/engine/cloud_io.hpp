@@ -44,7 +44,20 @@ struct LasOptions {
     /// the orbit).
     double gps_start_s = 0.0;
     double view_interval_s = 1.0;
+    /// LAZ: chunks of points compressed at once, on this many threads besides the
+    /// caller's (0: all on the caller's thread). The file is the same whatever the count.
+    int threads = 0;
+    /// LAZ: the most the writer holds in chunks waiting or being compressed (at least
+    /// one chunk's worth is always used: lazChunkBytes()).
+    std::uint64_t memory_bytes = std::uint64_t(8) << 20;
 };
+
+/// Points per LAZ chunk (LASzip's default chunk size): the unit a LAZ reader can seek
+/// to, and the unit the writer compresses on one thread.
+std::size_t lazChunkPoints();
+/// What one LAZ chunk waiting for compression holds (its points and their compressed
+/// bytes), for callers that plan memory around LasOptions::memory_bytes.
+std::uint64_t lazChunkBytes();
 
 /// Writes a cloud of unknown final size in a stream: points are appended in chunks,
 /// nothing is held in memory. The data go to an engine::TempFile in the same folder
