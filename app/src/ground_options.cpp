@@ -58,6 +58,7 @@ void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
 
 void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o) {
     o.ground.method = sim::parseGroundMethod(cli.method, "generate: --ground");
+    o.fit_terrain = !cli.dtm.empty();
     if (!cli.dtm.empty()) {
         if (o.white)
             throw engine::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");

@@ -207,6 +207,16 @@ struct Generator::State {
 
     State(const engine::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
 
+    // Whether a per-view filter's result is checked on a fitted terrain: only where ground
+    // labels cannot measure it (no ground mesh is ray-cast), or where the terrain is wanted.
+    bool checkTerrain() const {
+        if (options.fit_terrain) return true;
+        if (!options.ground_check) return false;
+        for (const engine::Mesh& m : scene.meshes)
+            if (m.role == engine::Role::Ground && options.roles.has(m.role)) return false;
+        return true;
+    }
+
     // A band of rows being traced: pixel i (row-major in the view) has its sensor-frame
     // direction in dirs[i - first] and its slots_per_pixel return slots from
     // slots[(i - first) * slots_per_pixel].
@@ -530,7 +540,7 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
     // The cloud is the caller's: reserved up to the budget, beyond it grown as needed.
     cloud.points.reserve(std::size_t(std::min<std::uint64_t>(
         s.hits_bound, s.options.memory_budget_bytes / sizeof(engine::CloudPoint))));
-    TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.options.ground_check);
+    TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.checkTerrain());
     cloud.fields.height_above_ground = terrain.whitens();
     s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
         cloud.points.insert(cloud.points.end(), pts.begin(), pts.end());
@@ -574,7 +584,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     initStats(s, st);
     // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
-    TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.options.ground_check);
+    TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.checkTerrain());
     const bool las = format == engine::CloudFormat::Las || format == engine::CloudFormat::Laz;
     engine::CloudFields fields = s.sensor->fields();
     fields.height_above_ground = terrain.whitens();

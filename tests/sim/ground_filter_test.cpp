@@ -75,7 +75,9 @@ TEST_CASE("checking RANSAC against SMRF's terrain changes no point of RANSAC's c
     const engine::Scene scene = test_support::hillyTownScene();
     sim::GenerateOptions o = smallOptions(sim::GroundMethod::Ransac);
     sim::GenerateStats checked, unchecked;
+    o.fit_terrain = true;  // as --dtm asks
     const engine::PointCloud a = sim::generateCloud(scene, o, &checked);
+    o.fit_terrain = false;
     o.ground_check = false;
     const engine::PointCloud b = sim::generateCloud(scene, o, &unchecked);
     CHECK(differentPoints(a, b) == 0);
@@ -86,6 +88,29 @@ TEST_CASE("checking RANSAC against SMRF's terrain changes no point of RANSAC's c
     // Rolling terrain: RANSAC leaves much of it coloured, and the check sees it.
     CHECK(checked.terrain_points > 1000);
     CHECK(double(checked.terrain_points_coloured) > 0.3 * double(checked.terrain_points));
+}
+
+TEST_CASE("RANSAC's terrain check runs only where no ground labels measure RANSAC") {
+    engine::Scene scene = test_support::hillyTownScene();
+    const sim::GenerateOptions o = smallOptions(sim::GroundMethod::Ransac);
+    sim::GenerateStats labelled, unlabelled;
+    sim::generateCloud(scene, o, &labelled);
+    CHECK(labelled.terrain == nullptr);
+    CHECK(labelled.terrain_points == 0);
+    REQUIRE(labelled.ground_recall);
+    CHECK(*labelled.ground_recall < 0.8);  // the labels alone show RANSAC missing the slopes
+    std::size_t relabelled = 0;
+    for (engine::Mesh& m : scene.meshes)
+        if (m.role == engine::Role::Ground) {
+            m.role = engine::Role::Environment;
+            ++relabelled;
+        }
+    REQUIRE(relabelled > 0);
+    sim::generateCloud(scene, o, &unlabelled);
+    CHECK(unlabelled.ground_truth == 0);
+    CHECK(unlabelled.terrain != nullptr);
+    CHECK(unlabelled.terrain_points > 1000);
+    CHECK(double(unlabelled.terrain_points_coloured) > 0.3 * double(unlabelled.terrain_points));
 }
 
 TEST_CASE("SMRF in the generator: follows rolling terrain, bit-identical with 1 and 3 threads") {

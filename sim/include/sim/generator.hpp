@@ -48,9 +48,13 @@ struct GenerateOptions {
     std::size_t memory_budget_bytes = std::size_t(512) << 20;
     bool progress = false;          // engine::Progress bar over the views (tty only)
     /// With the per-view RANSAC, also fit SMRF's terrain (ground.smrf) to the fused cloud
-    /// and count the points on it that RANSAC left coloured (GenerateStats::terrain_*).
-    /// Changes no point.
+    /// and count the points on it that RANSAC left coloured (GenerateStats::terrain_*),
+    /// when no ground mesh is ray-cast (ground labels then measure RANSAC directly) or
+    /// fit_terrain asks for the terrain. Changes no point.
     bool ground_check = true;
+    /// Fit the terrain (GenerateStats::terrain) whatever the filter and the labels: for
+    /// a DTM export.
+    bool fit_terrain = false;
     /// LAS/LAZ output only (docs/formats.md): the classes of the roles (a mesh's 'class'
     /// overrides its role's), and the GPS time: view v is reached at
     /// v x (orbit length / views) / drone_speed_mps (view_interval_s is set from that).
