@@ -220,17 +220,25 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
                                      std::int64_t(p0 / xres), std::int64_t(p0 % xres), pixels, packets, sc.planar,
                                      sc.axis_rays, sc.axis_hits);
         }
-        sc.rays.clear();
-        sc.dirs.clear();
+        std::size_t traced = 0;
         sc.first.resize(pixels);
         for (std::size_t i = 0; i < pixels; ++i) {
-            sc.first[i] = sc.rays.size();
+            sc.first[i] = traced;
+            traced += sc.planar[i] ? 0 : per;
+        }
+        sc.rays.resize(traced);
+        sc.dirs.resize(traced);
+        Ray* const sub_rays = sc.rays.data();
+        glm::dvec3* const sub_dirs = sc.dirs.data();
+        for (std::size_t i = 0; i < pixels; ++i) {
             if (sc.planar[i]) continue;
             const BeamFrame frame = per == 1 ? BeamFrame{dirs[c0 + i], {}, {}} : beamFrame(dirs[c0 + i]);
-            for (std::size_t k = 0; k < per; ++k) {
-                const glm::dvec3 d = subRayDirection(frame, s.tans[k].x, s.tans[k].y);
-                sc.dirs.push_back(d);
-                sc.rays.push_back(Ray{origin, glm::vec3(v.actual.rotation * d), s.t_far});
+            for (std::size_t k = 0, j = sc.first[i]; k < per; ++k, ++j) {
+                sub_dirs[j] = subRayDirection(frame, s.tans[k].x, s.tans[k].y);
+                Ray& ray = sub_rays[j];
+                ray.origin = origin;
+                ray.direction = glm::vec3(v.actual.rotation * sub_dirs[j]);
+                ray.t_far = s.t_far;
             }
         }
         // ... traced one beam after the other (16-ray packets across beams) ...
