@@ -36,6 +36,16 @@ void checkRange(double v, double lo, double hi, const char* parameter, const cha
                             ": allowed [" + engine::shownNumber(lo) + ", " + engine::shownNumber(hi) + "]" + unit);
 }
 
+// The LAS scan angle of a sensor-frame direction: its angle from the optical axis, signed
+// by its side across the image.
+float scanAngle_deg(const glm::dvec3& d) {
+    return float(std::copysign(std::acos(std::clamp(d.z, -1.0, 1.0)) * kRadToDeg, d.x));
+}
+
+// Images up to this many pixels keep their axes' scan angles in a table (4 bytes each):
+// every view has the same, and the axis places most returns.
+constexpr std::size_t kScanTablePixels = std::size_t(1) << 18;
+
 // Per-thread buffers of one trace call (reused across calls).
 struct Scratch {
     std::vector<Ray> rays;          // the ideal path: one per pixel; else the sub-rays of the
@@ -114,6 +124,7 @@ struct Sensor::State {
     std::size_t slots = 1;
     float t_far = std::numeric_limits<float>::infinity();
     std::uint64_t id = sensor_model::newSensorId();  // keys the per-thread axis cache
+    std::vector<float> axis_scan_angle_deg;  // per pixel (row-major), of its axis; empty: computed
 };
 
 Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::Scene& scene, std::uint64_t seed)
@@ -132,6 +143,14 @@ Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::
     s.min_power = o.min_intensity / 65535.0;
     s.slots = o.returns == ReturnMode::All && footprintOn(o) ? std::size_t(o.max_returns) : 1;
     if (o.max_range_m > 0.0) s.t_far = float(o.max_range_m);
+    const std::size_t pixels = std::size_t(orbit.xres) * std::size_t(orbit.yres);
+    if (!s.ideal && pixels <= kScanTablePixels) {
+        s.axis_scan_angle_deg.resize(pixels);
+        for (int y = 0; y < orbit.yres; ++y)
+            for (int x = 0; x < orbit.xres; ++x)
+                s.axis_scan_angle_deg[std::size_t(y) * std::size_t(orbit.xres) + std::size_t(x)] =
+                    scanAngle_deg(pixelDirection(orbit, double(x), double(y)));
+    }
 }
 
 Sensor::~Sensor() = default;
@@ -248,34 +267,37 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
         // ... and the returns placed with the pose the drone believes it flew.
         const glm::dvec3 origin_n(glm::vec3(v.nominal.translation));
         sensor_model::Return out[kMaxReturns];
+        sc.echoes.resize(per);
         sc.cos_incidence.resize(per);
+        sensor_model::Echo* const echoes = sc.echoes.data();
+        double* const cos_incidence = sc.cos_incidence.data();
         for (std::size_t i = 0; i < pixels; ++i) {
             const bool planar = sc.planar[i];
             const std::size_t used = planar ? 1 : per;  // a planar beam: its axis, all its power
             const Ray* rays = planar ? &sc.axis_rays[i] : sc.rays.data() + sc.first[i];
             const Hit* hits = planar ? &sc.axis_hits[i] : sc.hits.data() + sc.first[i];
             const glm::dvec3* ds = planar ? &dirs[c0 + i] : sc.dirs.data() + sc.first[i];
-            sc.echoes.clear();
+            std::size_t echo_count = 0;
             for (std::size_t k = 0; k < used; ++k) {
                 const Hit& h = hits[k];
                 if (!h.hit()) continue;
                 double power = planar ? 1.0 : s.pattern[k].weight;
                 if (s.intensity) {
-                    sc.cos_incidence[k] =
+                    cos_incidence[k] =
                         sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
-                    power *= sensor_model::echoPower(s.reflectance[std::size_t(h.mesh)], sc.cos_incidence[k],
+                    power *= sensor_model::echoPower(s.reflectance[std::size_t(h.mesh)], cos_incidence[k],
                                                      double(h.t), s.o.intensity_reference_range_m);
                 }
-                sc.echoes.push_back(sensor_model::Echo{h.t, power, std::uint32_t(k)});
+                echoes[echo_count++] = sensor_model::Echo{h.t, power, std::uint32_t(k)};
             }
             int detected = 0, first_rank = 1;
-            const std::size_t n = sensor_model::formReturns(sc.echoes, s.resolution_m, s.min_power, s.o.returns,
-                                                            s.o.max_returns, std::span(out, s.slots), &detected,
-                                                            &first_rank);
+            const std::size_t n =
+                sensor_model::formReturns(std::span(echoes, echo_count), s.resolution_m, s.min_power, s.o.returns,
+                                          s.o.max_returns, std::span(out, s.slots), &detected, &first_rank);
             engine::CloudPoint* px = &slots[(c0 + i) * s.slots];
             const std::uint64_t pixel = first_pixel + c0 + i;
             for (std::size_t r = 0; r < n; ++r) {
-                const sensor_model::Echo& e = sc.echoes[out[r].strongest];
+                const sensor_model::Echo& e = echoes[out[r].strongest];
                 const std::size_t k = e.sub;
                 const Hit& h = hits[k];
                 const glm::dvec3& d = ds[k];
@@ -285,8 +307,8 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
                                        : double(e.t);
                 const glm::dvec3 dir_n = same_pose ? glm::dvec3(rays[k].direction)
                                                    : glm::dvec3(glm::vec3(v.nominal.rotation * d));
-                const double cos_incidence =
-                    s.intensity ? sc.cos_incidence[k]
+                const double cos_i =
+                    s.intensity ? cos_incidence[k]
                                 : sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
                 engine::CloudPoint& cp = px[r];
                 cp.position = glm::vec3(origin_n + t * dir_n);
@@ -295,8 +317,10 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
                 cp.label = h.role;
                 cp.rgb = 0;
                 cp.intensity = s.intensity ? sensor_model::intensityCounts(out[r].power) : 0;
-                cp.incidence_deg = float(std::acos(cos_incidence) * kRadToDeg);
-                cp.scan_angle_deg = float(std::copysign(std::acos(std::clamp(d.z, -1.0, 1.0)) * kRadToDeg, d.x));
+                cp.incidence_deg = float(std::acos(cos_i) * kRadToDeg);
+                // Sub-ray 0 is the axis (of the caller's pixelDirection, which the table holds).
+                cp.scan_angle_deg = k == 0 && !s.axis_scan_angle_deg.empty() ? s.axis_scan_angle_deg[pixel]
+                                                                               : scanAngle_deg(d);
                 cp.return_number = std::uint8_t(rank);
                 cp.returns = std::uint8_t(std::clamp(detected, rank, kMaxReturns));
             }
