@@ -1,0 +1,166 @@
+// tests/sim/sensor_axes_test.cpp: the footprint's planar test (sim/src/sensor_axes.cpp).
+// Each thread keeps the pixel axes of the rows it last traced, so a row's axes serve the
+// rows above and below it; the returns must not depend on that: any order of the calls,
+// any split of the rows, any thread gives the same slots as rows traced in order. And the
+// planar test's one assumption, shown both ways: a wire between the pixel axes is missed
+// by the default footprint and caught by --footprint-exact, which traces every sub-ray.
+#include <scene_builders.hpp>
+
+#include <sim/generator.hpp>
+#include <sim/orbit.hpp>
+#include <sim/raycaster.hpp>
+#include <sim/sensor.hpp>
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <thread>
+#include <vector>
+
+namespace {
+
+// Two views of the town (houses' edges give mixed pixels, the ground planar beams) traced
+// by a footprint sensor, pixel by pixel through Sensor::trace.
+struct Town {
+    engine::Scene scene = test_support::townScene(120.0, 1.0);
+    sim::OrbitOptions orbit;
+    sim::SensorOptions options;
+    std::vector<glm::dvec3> dirs;  // per pixel, row-major
+
+    Town() {
+        orbit.xres = 48;
+        orbit.yres = 40;
+        orbit.views = 6;
+        options.beam_divergence_mrad = 0.5;
+        options.returns = sim::ReturnMode::All;
+        options.intensity = true;
+        for (int y = 0; y < orbit.yres; ++y)
+            for (int x = 0; x < orbit.xres; ++x) dirs.push_back(sim::pixelDirection(orbit, double(x), double(y)));
+    }
+    std::size_t pixels() const { return dirs.size(); }
+};
+
+// A call of Sensor::trace: view index (0 or 1), row, columns [x0, x1).
+struct Call {
+    int view, row, x0, x1;
+};
+
+// The slots of both views (view-major), every call of `calls` made by the thread `calls`
+// is given to (calls[t] on thread t).
+std::vector<engine::CloudPoint> traceCalls(const Town& town, const std::vector<std::vector<Call>>& calls) {
+    const sim::RayCaster caster(town.scene);
+    const sim::Sensor sensor(town.options, town.orbit, town.scene, 7);
+    const glm::dvec3 centre = sim::defaultCentre(town.scene) - town.scene.origin;
+    const sim::SensorView views[2] = {sensor.view(0, sim::sensorPose(town.orbit, centre, 0)),
+                                      sensor.view(1, sim::sensorPose(town.orbit, centre, 3))};
+    const std::size_t slots = sensor.slotsPerPixel(), xres = std::size_t(town.orbit.xres);
+    std::vector<engine::CloudPoint> out(2 * town.pixels() * slots);
+    const auto run = [&](const std::vector<Call>& list) {
+        for (const Call& c : list) {
+            const std::size_t first = std::size_t(c.row) * xres + std::size_t(c.x0), n = std::size_t(c.x1 - c.x0);
+            sensor.trace(caster, views[c.view], first, std::span(town.dirs).subspan(first, n),
+                         std::span(out).subspan((std::size_t(c.view) * town.pixels() + first) * slots, n * slots),
+                         true);
+        }
+    };
+    std::vector<std::thread> threads;
+    for (std::size_t t = 1; t < calls.size(); ++t) threads.emplace_back(run, std::cref(calls[t]));
+    run(calls[0]);
+    for (auto& t : threads) t.join();
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("sensor: the footprint's returns do not depend on the order, split or threads of the calls") {
+    const Town town;
+    const int xres = town.orbit.xres, yres = town.orbit.yres;
+
+    // In order: each view's rows top to bottom, whole rows (the axes of a row are reused).
+    std::vector<Call> in_order;
+    for (int v = 0; v < 2; ++v)
+        for (int y = 0; y < yres; ++y) in_order.push_back({v, y, 0, xres});
+    const auto reference = traceCalls(town, {in_order});
+
+    // Scattered: rows in a stride-7 permutation, each cut into two calls at column 17,
+    // the views alternating call by call, so that no call finds the axes it needs kept.
+    std::vector<Call> scattered;
+    for (int j = 0; j < yres; ++j) {
+        const int y = (7 * j + 3) % yres;
+        for (int v = 0; v < 2; ++v) scattered.push_back({v, y, 0, 17});
+        for (int v = 0; v < 2; ++v) scattered.push_back({v, y, 17, xres});
+    }
+    // Three threads, rows bottom to top, each thread every third row (its neighbours'
+    // axes traced by itself, never kept from the row before).
+    std::vector<std::vector<Call>> threaded(3);
+    for (int v = 0; v < 2; ++v)
+        for (int y = yres - 1; y >= 0; --y) threaded[std::size_t(y % 3)].push_back({v, y, 0, xres});
+
+    std::size_t returns = 0, multiple = 0;
+    for (const auto& p : reference) {
+        returns += p.range_m != sim::kNoReturn;
+        multiple += p.range_m != sim::kNoReturn && p.returns > 1;
+    }
+    CHECK(returns > town.pixels());  // both views see the town
+    CHECK(multiple > 0);             // some beams are sub-sampled (mixed pixels)
+    for (const auto& other : {traceCalls(town, {scattered}), traceCalls(town, threaded)}) {
+        REQUIRE(other.size() == reference.size());
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < reference.size(); ++i) {
+            const engine::CloudPoint &a = reference[i], &b = other[i];
+            if (a.range_m == sim::kNoReturn || b.range_m == sim::kNoReturn) {
+                differ += a.range_m != b.range_m;
+                continue;
+            }
+            differ += a.position != b.position || a.range_m != b.range_m || a.view != b.view || a.label != b.label ||
+                      a.intensity != b.intensity || a.return_number != b.return_number || a.returns != b.returns ||
+                      a.incidence_deg != b.incidence_deg || a.scan_angle_deg != b.scan_angle_deg;
+        }
+        CHECK(differ == 0);
+    }
+}
+
+TEST_CASE("sensor: a wire between the pixel axes is missed by the default footprint, caught by --footprint-exact") {
+    // One nadir view from 100 m over flat ground; image rows run along world x there.
+    sim::GenerateOptions o;
+    o.orbit.altitude_m = 100.0;
+    o.orbit.inclination_deg = 0.0;
+    o.orbit.overlap_m = 0.0;
+    o.orbit.xres = 64;
+    o.orbit.yres = 64;
+    o.orbit.views = 1;
+    o.centre = glm::dvec3(0.0);
+    o.white = true;
+    o.sensor.beam_divergence_mrad = 3.0;  // 0.28 m wide at 95 m; axes 0.17 m apart there
+    o.sensor.returns = sim::ReturnMode::All;
+    constexpr double kWireZ_m = 5.0, kWireWidth_m = 0.05;
+
+    // Where the axes of rows 31 and 32 cross the wire's height: the wire lies midway.
+    const engine::Pose pose = sim::sensorPose(o.orbit, glm::dvec3(0.0), 0);
+    const auto crossing = [&](int row) {
+        const glm::dvec3 d = pose.rotation * sim::pixelDirection(o.orbit, 32.0, double(row));
+        return pose.translation + (kWireZ_m - pose.translation.z) / d.z * d;
+    };
+    const glm::dvec3 a = crossing(31), b = crossing(32);
+    REQUIRE(std::abs(a.y - b.y) < 1e-9);  // rows along x: a wire along y lies between them
+    REQUIRE(b.x - a.x > 3.0 * kWireWidth_m);
+    const float mid = float(0.5 * (a.x + b.x)), half = float(0.5 * kWireWidth_m);
+
+    engine::Scene scene;
+    scene.source = "wire (in code)";
+    scene.meshes.push_back(test_support::quadMesh(1000.0f, 0.0f, engine::Role::Ground, "ground"));
+    scene.meshes.push_back(test_support::boxMesh({mid - half, -50.0f, float(kWireZ_m) - half},
+                                                 {mid + half, 50.0f, float(kWireZ_m) + half},
+                                                 engine::Role::Environment, "wire"));
+    const auto on_wire = [&](const engine::PointCloud& c) {
+        return std::count_if(c.points.begin(), c.points.end(),
+                             [](const engine::CloudPoint& p) { return p.position.z > 4.0f; });
+    };
+    const engine::PointCloud adaptive = sim::generateCloud(scene, o);
+    o.sensor.footprint_exact = true;
+    const engine::PointCloud exact = sim::generateCloud(scene, o);
+    // The default: only the beams at both ends of the two rows (their neighbourhood leaves
+    // the image, so they are always sub-sampled); exact: every beam of both rows.
+    CHECK(on_wire(adaptive) == 4);
+    CHECK(on_wire(exact) >= 2 * 64);
+}
