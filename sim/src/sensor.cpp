@@ -42,9 +42,10 @@ float scanAngle_deg(const glm::dvec3& d) {
     return float(std::copysign(std::acos(std::clamp(d.z, -1.0, 1.0)) * kRadToDeg, d.x));
 }
 
-// Images up to this many pixels keep their axes' scan angles in a table (4 bytes each):
-// every view has the same, and the axis places most returns.
-constexpr std::size_t kScanTablePixels = std::size_t(1) << 18;
+// Images up to this many pixels keep their axes' directions and scan angles in a table
+// (28 bytes a pixel, less than the generator's own buffers for one view): every view has
+// the same, the planar test traces every axis, and the axis places most returns.
+constexpr std::size_t kAxisTablePixels = std::size_t(1) << 18;
 
 // Per-thread buffers of one trace call (reused across calls).
 struct Scratch {
@@ -53,7 +54,7 @@ struct Scratch {
     std::vector<glm::dvec3> dirs;   // sensor frame, per sub-ray of `rays`
     std::vector<std::size_t> first; // per beam: its first sub-ray in `rays`
     std::vector<std::uint8_t> planar;
-    std::vector<Ray> axis_rays;     // per planar beam: its axis ray and hit
+    std::vector<Ray> axis_rays;     // per beam: its axis ray and hit (used where planar)
     std::vector<Hit> axis_hits;
     std::vector<sensor_model::Echo> echoes;
     std::vector<double> cos_incidence;  // per sub-ray of the beam being turned into returns
@@ -124,7 +125,8 @@ struct Sensor::State {
     std::size_t slots = 1;
     float t_far = std::numeric_limits<float>::infinity();
     std::uint64_t id = sensor_model::newSensorId();  // keys the per-thread axis cache
-    std::vector<float> axis_scan_angle_deg;  // per pixel (row-major), of its axis; empty: computed
+    std::vector<glm::dvec3> axis_direction;  // per pixel (row-major), pixelDirection; empty: computed
+    std::vector<float> axis_scan_angle_deg;  // per pixel, of its axis; empty: computed
 };
 
 Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::Scene& scene, std::uint64_t seed)
@@ -144,12 +146,14 @@ Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::
     s.slots = o.returns == ReturnMode::All && footprintOn(o) ? std::size_t(o.max_returns) : 1;
     if (o.max_range_m > 0.0) s.t_far = float(o.max_range_m);
     const std::size_t pixels = std::size_t(orbit.xres) * std::size_t(orbit.yres);
-    if (!s.ideal && pixels <= kScanTablePixels) {
-        s.axis_scan_angle_deg.resize(pixels);
+    if (!s.ideal && pixels <= kAxisTablePixels) {
+        s.axis_direction.reserve(pixels);
+        s.axis_scan_angle_deg.reserve(pixels);
         for (int y = 0; y < orbit.yres; ++y)
-            for (int x = 0; x < orbit.xres; ++x)
-                s.axis_scan_angle_deg[std::size_t(y) * std::size_t(orbit.xres) + std::size_t(x)] =
-                    scanAngle_deg(pixelDirection(orbit, double(x), double(y)));
+            for (int x = 0; x < orbit.xres; ++x) {
+                s.axis_direction.push_back(pixelDirection(orbit, double(x), double(y)));
+                s.axis_scan_angle_deg.push_back(scanAngle_deg(s.axis_direction.back()));
+            }
     }
 }
 
@@ -235,7 +239,7 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
         if (adaptive) {
             const std::uint64_t p0 = first_pixel + c0;
             const std::uint64_t xres = std::uint64_t(s.orbit.xres);
-            sensor_model::markPlanar(sensor_model::AxisSource{s.id, &s.orbit, s.t_far}, caster, v,
+            sensor_model::markPlanar(sensor_model::AxisSource{s.id, &s.orbit, s.t_far, s.axis_direction}, caster, v,
                                      std::int64_t(p0 / xres), std::int64_t(p0 % xres), pixels, packets, sc.planar,
                                      sc.axis_rays, sc.axis_hits);
         }
@@ -246,6 +250,7 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
             traced += sc.planar[i] ? 0 : per;
         }
         sc.rays.resize(traced);
+        sc.hits.resize(traced);
         sc.dirs.resize(traced);
         Ray* const sub_rays = sc.rays.data();
         glm::dvec3* const sub_dirs = sc.dirs.data();
@@ -261,7 +266,6 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
             }
         }
         // ... traced one beam after the other (16-ray packets across beams) ...
-        sc.hits.resize(sc.rays.size());
         if (packets) caster.intersect16(sc.rays, sc.hits);
         else caster.intersect(sc.rays, sc.hits);
         // ... and the returns placed with the pose the drone believes it flew.

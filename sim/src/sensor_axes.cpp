@@ -8,10 +8,12 @@
 // Each row's axes serve three rows of beams (its own, the one above, the one below), and
 // the generator hands a thread consecutive rows of one view. So the axes are kept per
 // thread for the last three rows of the (sensor, view) last traced: a row of n beams
-// traces about n axes rather than 3 (n + 2). An axis is always traced in the packet of
+// traces about n axes rather than 3 (n + 2). Embree's hit of a ray can differ in its last
+// bits with the other rays of its packet, so an axis is always traced in the same packet:
 // the 16 columns of its row from a multiple of 16 (or alone without packets), whichever
-// call first needs it, so its hit is the same whatever the order of the calls and the
-// thread that makes them.
+// call first needs it. Its hit is then the same whatever the order of the calls and the
+// thread that makes them. (For the same reason a beam that is not planar traces its axis
+// again with its sub-rays, one beam after the other, as --footprint-exact lays them out.)
 #include "sensor_axes.hpp"
 
 #include <algorithm>
@@ -73,7 +75,10 @@ const AxisRow& axisRow(AxisCache& cache, const AxisSource& src, const RayCaster&
         const std::int64_t c0 = g * kGroup;
         const std::size_t m = std::size_t(std::min(kGroup, xres - c0));
         for (std::size_t k = 0; k < m; ++k) {
-            const glm::dvec3 d = pixelDirection(*src.orbit, double(c0 + std::int64_t(k)), double(y));
+            const glm::dvec3 d =
+                src.directions.empty()
+                    ? pixelDirection(*src.orbit, double(c0 + std::int64_t(k)), double(y))
+                    : src.directions[std::size_t(y) * std::size_t(xres) + std::size_t(c0) + k];
             cache.rays[k] = Ray{origin, glm::vec3(v.actual.rotation * d), src.t_far};
         }
         const std::span<const Ray> rays(cache.rays, m);
@@ -122,9 +127,14 @@ void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView
         const std::int64_t row = y - 1 + r;
         if (row >= 0 && row < yres) rows[r] = &axisRow(cache, src, caster, v, row, lo, hi);
     }
-    if (!rows[0] || !rows[2]) return;  // the top or bottom row: neighbours outside the image
     const AxisRow& centre = *rows[1];
     const glm::vec3 origin(v.actual.translation);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t x = std::size_t(x0) + i;
+        axis_rays[i] = Ray{origin, centre.direction[x], src.t_far};
+        axis_hits[i] = centre.hit[x];
+    }
+    if (!rows[0] || !rows[2]) return;  // the top or bottom row: neighbours outside the image
     for (std::size_t i = 0; i < n; ++i) {
         const std::int64_t x = x0 + std::int64_t(i);
         if (x < 1 || x + 1 >= xres) continue;  // the first or last column: likewise
@@ -140,10 +150,7 @@ void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView
                 on_plane = h.hit() && h.mesh == hc.mesh &&
                            std::abs(glm::dot(normal, rows[r]->point[c] - pc)) <= tolerance_m;
             }
-        if (!on_plane) continue;
-        planar[i] = 1;
-        axis_rays[i] = Ray{origin, centre.direction[std::size_t(x)], src.t_far};
-        axis_hits[i] = hc;
+        planar[i] = on_plane;
     }
 }
 

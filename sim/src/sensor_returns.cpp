@@ -16,8 +16,9 @@ std::size_t formReturns(std::span<Echo> echoes, double resolution_m, double min_
     *detected = 0;
     *first_rank = 1;
     if (echoes.empty()) return 0;
-    std::sort(echoes.begin(), echoes.end(),
-              [](const Echo& a, const Echo& b) { return a.t < b.t || (a.t == b.t && a.sub < b.sub); });
+    if (echoes.size() > 1)
+        std::sort(echoes.begin(), echoes.end(),
+                  [](const Echo& a, const Echo& b) { return a.t < b.t || (a.t == b.t && a.sub < b.sub); });
     // The pulse's returns, one group of echoes at a time, keeping only what `mode` needs
     // (no list of every group: this runs once per pulse). At most kMaxGroups are counted.
     constexpr std::size_t kMaxGroups = 64;
