@@ -61,6 +61,13 @@ struct Scratch {
 };
 thread_local Scratch t_scratch;
 
+// Makes `v` hold at least n elements; buffers only grow, as resizing down and up would
+// construct the elements anew on every call.
+template <class T>
+void growTo(std::vector<T>& v, std::size_t n) {
+    if (v.size() < n) v.resize(n);
+}
+
 }  // namespace
 
 std::string_view returnModeName(ReturnMode m) {
@@ -204,8 +211,8 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
         const std::size_t pixels = std::min(chunk_pixels, dirs.size() - c0);
 
         if (s.ideal) {
-            sc.rays.resize(pixels);
-            sc.hits.resize(pixels);
+            growTo(sc.rays, pixels);
+            growTo(sc.hits, pixels);
             const std::span<Ray> rays(sc.rays.data(), pixels);
             const std::span<Hit> hits(sc.hits.data(), pixels);
             // Paper §III-B: one ray per pixel centre from the pose, its first hit.
@@ -234,8 +241,8 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
         // on one plane (adaptive) replaced by their axis ...
         const bool adaptive = per > 1 && !s.o.footprint_exact;
         sc.planar.assign(pixels, 0);
-        sc.axis_rays.resize(pixels);
-        sc.axis_hits.resize(pixels);
+        growTo(sc.axis_rays, pixels);
+        growTo(sc.axis_hits, pixels);
         if (adaptive) {
             const std::uint64_t p0 = first_pixel + c0;
             const std::uint64_t xres = std::uint64_t(s.orbit.xres);
@@ -244,14 +251,14 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
                                      sc.axis_rays, sc.axis_hits);
         }
         std::size_t traced = 0;
-        sc.first.resize(pixels);
+        growTo(sc.first, pixels);
         for (std::size_t i = 0; i < pixels; ++i) {
             sc.first[i] = traced;
             traced += sc.planar[i] ? 0 : per;
         }
-        sc.rays.resize(traced);
-        sc.hits.resize(traced);
-        sc.dirs.resize(traced);
+        growTo(sc.rays, traced);
+        growTo(sc.hits, traced);
+        growTo(sc.dirs, traced);
         Ray* const sub_rays = sc.rays.data();
         glm::dvec3* const sub_dirs = sc.dirs.data();
         for (std::size_t i = 0; i < pixels; ++i) {
@@ -266,13 +273,15 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
             }
         }
         // ... traced one beam after the other (16-ray packets across beams) ...
-        if (packets) caster.intersect16(sc.rays, sc.hits);
-        else caster.intersect(sc.rays, sc.hits);
+        const std::span<const Ray> sub_ray_span(sc.rays.data(), traced);
+        const std::span<Hit> sub_hit_span(sc.hits.data(), traced);
+        if (packets) caster.intersect16(sub_ray_span, sub_hit_span);
+        else caster.intersect(sub_ray_span, sub_hit_span);
         // ... and the returns placed with the pose the drone believes it flew.
         const glm::dvec3 origin_n(glm::vec3(v.nominal.translation));
         sensor_model::Return out[kMaxReturns];
-        sc.echoes.resize(per);
-        sc.cos_incidence.resize(per);
+        growTo(sc.echoes, per);
+        growTo(sc.cos_incidence, per);
         sensor_model::Echo* const echoes = sc.echoes.data();
         double* const cos_incidence = sc.cos_incidence.data();
         for (std::size_t i = 0; i < pixels; ++i) {

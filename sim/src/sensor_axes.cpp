@@ -139,7 +139,7 @@ void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView
         const std::int64_t x = x0 + std::int64_t(i);
         if (x < 1 || x + 1 >= xres) continue;  // the first or last column: likewise
         const Hit& hc = centre.hit[std::size_t(x)];
-        if (!hc.hit() || !(glm::length(hc.normal) > 0.0f)) continue;
+        if (!hc.hit() || !(glm::dot(hc.normal, hc.normal) > 0.0f)) continue;  // length > 0, no sqrt
         const glm::dvec3 normal = glm::normalize(glm::dvec3(hc.normal));
         const glm::dvec3& pc = centre.point[std::size_t(x)];
         const double tolerance_m = 1e-3 + 1e-5 * double(hc.t);

@@ -14,6 +14,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -40,26 +41,32 @@ struct Town {
     std::size_t pixels() const { return dirs.size(); }
 };
 
-// A call of Sensor::trace: view index (0 or 1), row, columns [x0, x1).
+// A call of Sensor::trace: a whole row of a view (0 or 1) by one of the sensors.
 struct Call {
-    int view, row, x0, x1;
+    int sensor, view, row;
 };
 
-// The slots of both views (view-major), every call of `calls` made by the thread `calls`
-// is given to (calls[t] on thread t).
-std::vector<engine::CloudPoint> traceCalls(const Town& town, const std::vector<std::vector<Call>>& calls) {
+// Per sensor of `options`, the slots of both views (view-major); thread t makes the calls
+// calls[t] (thread 0 is the caller, the others new threads).
+std::vector<std::vector<engine::CloudPoint>> traceCalls(const Town& town, const std::vector<sim::SensorOptions>& options,
+                                                        const std::vector<std::vector<Call>>& calls) {
     const sim::RayCaster caster(town.scene);
-    const sim::Sensor sensor(town.options, town.orbit, town.scene, 7);
     const glm::dvec3 centre = sim::defaultCentre(town.scene) - town.scene.origin;
-    const sim::SensorView views[2] = {sensor.view(0, sim::sensorPose(town.orbit, centre, 0)),
-                                      sensor.view(1, sim::sensorPose(town.orbit, centre, 3))};
-    const std::size_t slots = sensor.slotsPerPixel(), xres = std::size_t(town.orbit.xres);
-    std::vector<engine::CloudPoint> out(2 * town.pixels() * slots);
+    const engine::Pose poses[2] = {sim::sensorPose(town.orbit, centre, 0), sim::sensorPose(town.orbit, centre, 3)};
+    std::vector<std::unique_ptr<sim::Sensor>> sensors;
+    std::vector<std::vector<engine::CloudPoint>> out;
+    for (const sim::SensorOptions& o : options) {
+        sensors.push_back(std::make_unique<sim::Sensor>(o, town.orbit, town.scene, 7));
+        out.emplace_back(2 * town.pixels() * sensors.back()->slotsPerPixel());
+    }
+    const std::size_t xres = std::size_t(town.orbit.xres);
     const auto run = [&](const std::vector<Call>& list) {
         for (const Call& c : list) {
-            const std::size_t first = std::size_t(c.row) * xres + std::size_t(c.x0), n = std::size_t(c.x1 - c.x0);
-            sensor.trace(caster, views[c.view], first, std::span(town.dirs).subspan(first, n),
-                         std::span(out).subspan((std::size_t(c.view) * town.pixels() + first) * slots, n * slots),
+            const sim::Sensor& sensor = *sensors[std::size_t(c.sensor)];
+            const std::size_t slots = sensor.slotsPerPixel(), first = std::size_t(c.row) * xres;
+            sensor.trace(caster, sensor.view(c.view, poses[c.view]), first, std::span(town.dirs).subspan(first, xres),
+                         std::span(out[std::size_t(c.sensor)])
+                             .subspan((std::size_t(c.view) * town.pixels() + first) * slots, xres * slots),
                          true);
         }
     };
@@ -70,17 +77,34 @@ std::vector<engine::CloudPoint> traceCalls(const Town& town, const std::vector<s
     return out;
 }
 
+// Slots of `a` and `b` that differ (in any field, for slots with a return).
+std::size_t differing(const std::vector<engine::CloudPoint>& a, const std::vector<engine::CloudPoint>& b) {
+    REQUIRE(a.size() == b.size());
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const engine::CloudPoint &p = a[i], &q = b[i];
+        if (p.range_m == sim::kNoReturn || q.range_m == sim::kNoReturn) {
+            n += p.range_m != q.range_m;
+            continue;
+        }
+        n += p.position != q.position || p.range_m != q.range_m || p.view != q.view || p.label != q.label ||
+             p.intensity != q.intensity || p.return_number != q.return_number || p.returns != q.returns ||
+             p.incidence_deg != q.incidence_deg || p.scan_angle_deg != q.scan_angle_deg;
+    }
+    return n;
+}
+
 }  // namespace
 
 TEST_CASE("sensor: the footprint's returns do not depend on the order or threads of the calls") {
     const Town town;
-    const int xres = town.orbit.xres, yres = town.orbit.yres;
+    const int yres = town.orbit.yres;
 
-    // In order: each view's rows top to bottom, whole rows (the axes of a row are reused).
+    // In order: each view's rows top to bottom (the axes of a row are reused).
     std::vector<Call> in_order;
     for (int v = 0; v < 2; ++v)
-        for (int y = 0; y < yres; ++y) in_order.push_back({v, y, 0, xres});
-    const auto reference = traceCalls(town, {in_order});
+        for (int y = 0; y < yres; ++y) in_order.push_back({0, v, y});
+    const auto reference = traceCalls(town, {town.options}, {in_order})[0];
 
     // Scattered: rows in a stride-7 permutation, the views alternating call by call, so
     // that no call finds the axes it needs kept. (Runs stay whole rows: Embree's hit of a
@@ -88,12 +112,12 @@ TEST_CASE("sensor: the footprint's returns do not depend on the order or threads
     // packets must start at the same beams.)
     std::vector<Call> scattered;
     for (int j = 0; j < yres; ++j)
-        for (int v = 0; v < 2; ++v) scattered.push_back({v, (7 * j + 3) % yres, 0, xres});
+        for (int v = 0; v < 2; ++v) scattered.push_back({0, v, (7 * j + 3) % yres});
     // Three threads, rows bottom to top, each thread every third row (its neighbours'
     // axes traced by itself, never kept from the row before).
     std::vector<std::vector<Call>> threaded(3);
     for (int v = 0; v < 2; ++v)
-        for (int y = yres - 1; y >= 0; --y) threaded[std::size_t(y % 3)].push_back({v, y, 0, xres});
+        for (int y = yres - 1; y >= 0; --y) threaded[std::size_t(y % 3)].push_back({0, v, y});
 
     std::size_t returns = 0, multiple = 0;
     for (const auto& p : reference) {
@@ -102,20 +126,37 @@ TEST_CASE("sensor: the footprint's returns do not depend on the order or threads
     }
     CHECK(returns > town.pixels());  // both views see the town
     CHECK(multiple > 0);             // some beams are sub-sampled (mixed pixels)
-    for (const auto& other : {traceCalls(town, {scattered}), traceCalls(town, threaded)}) {
-        REQUIRE(other.size() == reference.size());
-        std::size_t differ = 0;
-        for (std::size_t i = 0; i < reference.size(); ++i) {
-            const engine::CloudPoint &a = reference[i], &b = other[i];
-            if (a.range_m == sim::kNoReturn || b.range_m == sim::kNoReturn) {
-                differ += a.range_m != b.range_m;
-                continue;
-            }
-            differ += a.position != b.position || a.range_m != b.range_m || a.view != b.view || a.label != b.label ||
-                      a.intensity != b.intensity || a.return_number != b.return_number || a.returns != b.returns ||
-                      a.incidence_deg != b.incidence_deg || a.scan_angle_deg != b.scan_angle_deg;
-        }
-        CHECK(differ == 0);
+    CHECK(differing(reference, traceCalls(town, {town.options}, {scattered})[0]) == 0);
+    CHECK(differing(reference, traceCalls(town, {town.options}, threaded)[0]) == 0);
+}
+
+TEST_CASE("sensor: sensors of every kind traced in turn on one thread give the slots each gives alone") {
+    // The per-thread buffers and axes are shared by every sensor a thread traces with.
+    const Town town;
+    std::vector<sim::SensorOptions> kinds(5);
+    kinds[1] = town.options;                     // footprint, planar beams not sub-sampled
+    kinds[2] = town.options;
+    kinds[2].footprint_exact = true;             // every sub-ray
+    kinds[3].range_noise_m = 0.05;               // one ray per pixel, not ideal
+    kinds[3].intensity = true;
+    kinds[4] = town.options;
+    kinds[4].beam_divergence_y_mrad = 1.6;       // another footprint, same rows
+    kinds[4].footprint_quality = 2;
+    // Rows from the middle (few beams to sub-sample: buffers of every size), in turn.
+    std::vector<Call> in_turn;
+    const int yres = town.orbit.yres;
+    for (int j = 0; j < yres; ++j)
+        for (int v = 0; v < 2; ++v)
+            for (int k = 0; k < int(kinds.size()); ++k) in_turn.push_back({k, v, (yres / 2 + 7 * j) % yres});
+    const auto together = traceCalls(town, kinds, {in_turn});
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+        std::vector<Call> own;
+        for (const Call& c : in_turn)
+            if (c.sensor == int(k)) own.push_back({0, c.view, c.row});
+        // Alone: on a new thread, whose buffers no other sensor has used.
+        const auto alone = traceCalls(town, {kinds[k]}, {{}, own})[0];
+        CAPTURE(k);
+        CHECK(differing(together[k], alone) == 0);
     }
 }
 
