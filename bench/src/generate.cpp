@@ -342,7 +342,7 @@ void run(const BenchGenerateCli& cli) {
     if (cli.only == "sensors") {
         sim::GenerateOptions paper;
         paper.threads = cli.threads;
-        benchSensorModels(engine::loadScene(engine::demoScenePath()), paper, cli.quick,
+        benchSensorModels(engine::loadScene(engine::demoScenePath()), paper, cli.quick, true,
                           cli.no_md ? std::string() : cli.md);
         return;
     }
@@ -379,7 +379,7 @@ void run(const BenchGenerateCli& cli) {
         skips.push_back(skipRow("demo, all roles, C 300 m off the scene", demo, o, reps));
     }
     const std::string skip_tbl = skipTable(skips);
-    benchSensorModels(demo, paper, cli.quick, cli.no_md ? std::string() : cli.md);
+    benchSensorModels(demo, paper, cli.quick, false, cli.no_md ? std::string() : cli.md);
 
     // 2. >= 100x larger: 512x512 x 400 views (64x the rays) on the demo scene subdivided to
     // >= 2 M triangles (same surfaces), streamed to disk through the spool file.

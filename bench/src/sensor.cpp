@@ -67,7 +67,7 @@ std::vector<Row> rows() {
 
 }  // namespace
 
-void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& paper, bool quick,
+void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& paper, bool quick, bool alone,
                        const std::string& md) {
     const auto start = Clock::now();
     const int repeats = quick ? 3 : 5;
@@ -106,7 +106,8 @@ void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& p
     if (md.empty()) return;
     std::ostringstream m;
     m << "## Sensor models (ladarvr bench generate)\n\n"
-      << "Command: `./ladarvr bench generate" << (quick ? " --quick" : "") << "`; machine: "
+      << "Command: `./ladarvr bench generate" << (quick ? " --quick" : "") << (alone ? " --only sensors" : "")
+      << "`; machine: "
       << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
       << fmt("%.0f", secondsSince(start)) << " s for these rows.\n\n"
       << "Each row is the paper's configuration on the demo scene (" << o.orbit.xres << "x" << o.orbit.yres
