@@ -54,7 +54,7 @@ struct Scratch {
     std::vector<glm::dvec3> dirs;   // sensor frame, per sub-ray of `rays`
     std::vector<std::size_t> first; // per beam: its first sub-ray in `rays`
     std::vector<std::uint8_t> planar;
-    std::vector<Ray> axis_rays;     // per beam: its axis ray and hit (used where planar)
+    std::vector<Ray> axis_rays;     // per planar beam: its axis ray and hit
     std::vector<Hit> axis_hits;
     std::vector<sensor_model::Echo> echoes;
     std::vector<double> cos_incidence;  // per sub-ray of the beam being turned into returns

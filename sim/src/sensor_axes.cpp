@@ -127,14 +127,9 @@ void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView
         const std::int64_t row = y - 1 + r;
         if (row >= 0 && row < yres) rows[r] = &axisRow(cache, src, caster, v, row, lo, hi);
     }
+    if (!rows[0] || !rows[2]) return;  // the top or bottom row: neighbours outside the image
     const AxisRow& centre = *rows[1];
     const glm::vec3 origin(v.actual.translation);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t x = std::size_t(x0) + i;
-        axis_rays[i] = Ray{origin, centre.direction[x], src.t_far};
-        axis_hits[i] = centre.hit[x];
-    }
-    if (!rows[0] || !rows[2]) return;  // the top or bottom row: neighbours outside the image
     for (std::size_t i = 0; i < n; ++i) {
         const std::int64_t x = x0 + std::int64_t(i);
         if (x < 1 || x + 1 >= xres) continue;  // the first or last column: likewise
@@ -150,7 +145,10 @@ void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView
                 on_plane = h.hit() && h.mesh == hc.mesh &&
                            std::abs(glm::dot(normal, rows[r]->point[c] - pc)) <= tolerance_m;
             }
-        planar[i] = on_plane;
+        if (!on_plane) continue;
+        planar[i] = 1;
+        axis_rays[i] = Ray{origin, centre.direction[std::size_t(x)], src.t_far};
+        axis_hits[i] = hc;
     }
 }
 

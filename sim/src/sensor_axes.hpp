@@ -28,8 +28,9 @@ std::uint64_t newSensorId();
 /// For the n beams of image row y from column x0 (view v, rays leaving from the pose
 /// actually flown): sets planar[i] = 1 where the axes of the beam's 3x3 neighbourhood (one
 /// pixel past each end, the rows above and below) all hit one mesh within 1 mm + 1e-5 x
-/// range of the plane of the centre's triangle, and gives every beam's axis ray and hit in
-/// axis_rays[i] and axis_hits[i]. Beams on the image border are never planar. Each axis is traced once per thread and (view, row) run of
+/// range of the plane of the centre's triangle, and gives such a beam's axis ray and hit
+/// in axis_rays[i] and axis_hits[i] (the others' are left as they are). Beams on the image
+/// border are never planar. Each axis is traced once per thread and (view, row) run of
 /// consecutive calls, in a packet of the 16 columns of its row from a multiple of 16 (or
 /// alone without `packets`), so the results depend on neither the order of the calls nor
 /// the threads.
