@@ -33,7 +33,9 @@ std::uint64_t newSensorId();
 /// border are never planar. Each axis is traced once per thread and (view, row) run of
 /// consecutive calls, in a packet of the 16 columns of its row from a multiple of 16 (or
 /// alone without `packets`), so the results depend on neither the order of the calls nor
-/// the threads.
+/// the threads. Kept axes are told apart by (sensor id, caster address, view, pose flown,
+/// packets): a sensor must not trace one view through a new caster built where an old one
+/// was destroyed (sim::Generator builds its caster and sensor together).
 void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView& v, std::int64_t y,
                 std::int64_t x0, std::size_t n, bool packets, std::span<std::uint8_t> planar,
                 std::span<Ray> axis_rays, std::span<Hit> axis_hits);
