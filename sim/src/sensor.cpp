@@ -259,17 +259,22 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
         growTo(sc.rays, traced);
         growTo(sc.hits, traced);
         growTo(sc.dirs, traced);
+        // (Locals, not members: the stores below could alias them and force reloads.)
         Ray* const sub_rays = sc.rays.data();
         glm::dvec3* const sub_dirs = sc.dirs.data();
+        const glm::dvec2* const tans = s.tans.data();
+        const glm::dmat3 rotation = v.actual.rotation;
+        const float t_far = s.t_far;
         for (std::size_t i = 0; i < pixels; ++i) {
             if (sc.planar[i]) continue;
             const BeamFrame frame = per == 1 ? BeamFrame{dirs[c0 + i], {}, {}} : beamFrame(dirs[c0 + i]);
             for (std::size_t k = 0, j = sc.first[i]; k < per; ++k, ++j) {
-                sub_dirs[j] = subRayDirection(frame, s.tans[k].x, s.tans[k].y);
+                const glm::dvec3 d = subRayDirection(frame, tans[k].x, tans[k].y);
+                sub_dirs[j] = d;
                 Ray& ray = sub_rays[j];
                 ray.origin = origin;
-                ray.direction = glm::vec3(v.actual.rotation * sub_dirs[j]);
-                ray.t_far = s.t_far;
+                ray.direction = glm::vec3(rotation * d);
+                ray.t_far = t_far;
             }
         }
         // ... traced one beam after the other (16-ray packets across beams) ...
@@ -284,6 +289,10 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
         growTo(sc.cos_incidence, per);
         sensor_model::Echo* const echoes = sc.echoes.data();
         double* const cos_incidence = sc.cos_incidence.data();
+        const SubRay* const pattern = s.pattern.data();
+        const double* const reflectance = s.reflectance.data();
+        const double reference_range_m = s.o.intensity_reference_range_m;
+        const bool intensity = s.intensity;
         for (std::size_t i = 0; i < pixels; ++i) {
             const bool planar = sc.planar[i];
             const std::size_t used = planar ? 1 : per;  // a planar beam: its axis, all its power
@@ -294,12 +303,12 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
             for (std::size_t k = 0; k < used; ++k) {
                 const Hit& h = hits[k];
                 if (!h.hit()) continue;
-                double power = planar ? 1.0 : s.pattern[k].weight;
-                if (s.intensity) {
-                    cos_incidence[k] =
-                        sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
-                    power *= sensor_model::echoPower(s.reflectance[std::size_t(h.mesh)], cos_incidence[k],
-                                                     double(h.t), s.o.intensity_reference_range_m);
+                double power = planar ? 1.0 : pattern[k].weight;
+                if (intensity) {
+                    const double c = sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
+                    cos_incidence[k] = c;
+                    power *= sensor_model::echoPower(reflectance[std::size_t(h.mesh)], c, double(h.t),
+                                                     reference_range_m);
                 }
                 echoes[echo_count++] = sensor_model::Echo{h.t, power, std::uint32_t(k)};
             }
