@@ -45,6 +45,7 @@ struct BenchGenerateCli {
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
     std::string tmp;
+    std::string only;  // "sensors": the sensor models' rows alone
 };
 
 // Peak resident set since the last resetPeakRss(), from /proc/self/status (VmHWM), MiB.
@@ -338,6 +339,13 @@ void run(const BenchGenerateCli& cli) {
         throw engine::Error("bench generate: --threads = " + std::to_string(cli.threads) + ": allowed [0, 1024]");
     if (cli.repeats < 1 || cli.repeats > 100)
         throw engine::Error("bench generate: --repeats = " + std::to_string(cli.repeats) + ": allowed [1, 100]");
+    if (cli.only == "sensors") {
+        sim::GenerateOptions paper;
+        paper.threads = cli.threads;
+        benchSensorModels(engine::loadScene(engine::demoScenePath()), paper, cli.quick, true,
+                          cli.no_md ? std::string() : cli.md);
+        return;
+    }
     const fs::path dir = cli.tmp.empty() ? fs::temp_directory_path() / ("ladarvr_bench_" + std::to_string(::getpid()))
                                          : fs::path(cli.tmp);
     fs::create_directories(dir);
@@ -371,7 +379,7 @@ void run(const BenchGenerateCli& cli) {
         skips.push_back(skipRow("demo, all roles, C 300 m off the scene", demo, o, reps));
     }
     const std::string skip_tbl = skipTable(skips);
-    benchSensorModels(demo, paper, cli.quick, cli.no_md ? std::string() : cli.md);
+    benchSensorModels(demo, paper, cli.quick, false, cli.no_md ? std::string() : cli.md);
 
     // 2. >= 100x larger: 512x512 x 400 views (64x the rays) on the demo scene subdivided to
     // >= 2 M triangles (same surfaces), streamed to disk through the spool file.
@@ -464,6 +472,8 @@ void registerGenerate(CLI::App& parent) {
         ->capture_default_str();
     c->add_option("--md", state->md, "markdown file whose generator section is rewritten")->capture_default_str();
     c->add_flag("--no-md", state->no_md, "print only, leave BENCHMARKS.md alone");
+    c->add_option("--only", state->only, "run only these rows: 'sensors' (the sensor models' table)")
+        ->check(CLI::IsMember({"sensors"}));
     c->add_option("--tmp", state->tmp, "scratch directory for the outputs (default: a temporary one)");
     c->callback([state] { run(*state); });
 }

@@ -67,7 +67,7 @@ std::vector<Row> rows() {
 
 }  // namespace
 
-void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& paper, bool quick,
+void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& paper, bool quick, bool alone,
                        const std::string& md) {
     const auto start = Clock::now();
     const int repeats = quick ? 3 : 5;
@@ -106,7 +106,8 @@ void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& p
     if (md.empty()) return;
     std::ostringstream m;
     m << "## Sensor models (ladarvr bench generate)\n\n"
-      << "Command: `./ladarvr bench generate" << (quick ? " --quick" : "") << "`; machine: "
+      << "Command: `./ladarvr bench generate" << (quick ? " --quick" : "") << (alone ? " --only sensors" : "")
+      << "`; machine: "
       << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
       << fmt("%.0f", secondsSince(start)) << " s for these rows.\n\n"
       << "Each row is the paper's configuration on the demo scene (" << o.orbit.xres << "x" << o.orbit.yres
@@ -115,7 +116,8 @@ void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& p
       << repeats << " repeats after a warm-up. Cast = the generator's cast stage (rays made, traced as "
          "16-ray packets, hits turned into returns); pulses/s counts every pixel of every view, as the "
          "generator rows above do; 'rays per run' counts every sub-ray of every beam, of which the "
-         "default (not --footprint-exact) traces only those of beams not on one plane. Figures are 'median "
+         "default (not --footprint-exact) traces only those of beams not on one plane, plus about one axis ray "
+         "per beam for the planar test. Figures are 'median "
          "[min..max]'; cast / ideal is the ratio of medians, '(within spread)' where the two ranges overlap. "
          "Goal: a 19-ray footprint (q = 3) under 8x the ideal sensor. The machine's cores may be shared "
          "with other jobs: read the ratios rather than lone times.\n\n"

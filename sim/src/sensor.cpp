@@ -5,12 +5,14 @@
 // models of sensor_*.cpp. Embree itself is only called inside RayCaster.
 #include <sim/sensor.hpp>
 
+#include "sensor_axes.hpp"
 #include "sensor_models.hpp"
 
 #include <engine/error.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -34,17 +36,37 @@ void checkRange(double v, double lo, double hi, const char* parameter, const cha
                             ": allowed [" + engine::shownNumber(lo) + ", " + engine::shownNumber(hi) + "]" + unit);
 }
 
+// The LAS scan angle of a sensor-frame direction: its angle from the optical axis, signed
+// by its side across the image.
+float scanAngle_deg(const glm::dvec3& d) {
+    return float(std::copysign(std::acos(std::clamp(d.z, -1.0, 1.0)) * kRadToDeg, d.x));
+}
+
+// Images up to this many pixels keep their axes' directions and scan angles in a table
+// (28 bytes a pixel, less than the generator's own buffers for one view): every view has
+// the same, the planar test traces every axis, and the axis places most returns.
+constexpr std::size_t kAxisTablePixels = std::size_t(1) << 18;
+
 // Per-thread buffers of one trace call (reused across calls).
 struct Scratch {
-    std::vector<Ray> rays;
-    std::vector<Hit> hits;
-    std::vector<glm::dvec3> dirs;  // sensor frame, per ray
+    std::vector<Ray> rays;          // the ideal path: one per pixel; else the sub-rays of the
+    std::vector<Hit> hits;          // beams that trace them, beam after beam
+    std::vector<glm::dvec3> dirs;   // sensor frame, per sub-ray of `rays`
+    std::vector<std::size_t> first; // per beam: its first sub-ray in `rays`
+    std::vector<std::uint8_t> planar;
+    std::vector<Ray> axis_rays;     // per planar beam: its axis ray and hit
+    std::vector<Hit> axis_hits;
     std::vector<sensor_model::Echo> echoes;
-    std::vector<Ray> nb_rays, todo_rays;   // neighbourhood axes; sub-rays of non-planar beams
-    std::vector<Hit> nb_hits, todo_hits;
-    std::vector<std::uint8_t> nb_valid, planar;
+    std::vector<double> cos_incidence;  // per sub-ray of the beam being turned into returns
 };
 thread_local Scratch t_scratch;
+
+// Makes `v` hold at least n elements; buffers only grow, as resizing down and up would
+// construct the elements anew on every call.
+template <class T>
+void growTo(std::vector<T>& v, std::size_t n) {
+    if (v.size() < n) v.resize(n);
+}
 
 }  // namespace
 
@@ -109,6 +131,9 @@ struct Sensor::State {
     double min_power = 0.0;
     std::size_t slots = 1;
     float t_far = std::numeric_limits<float>::infinity();
+    std::uint64_t id = sensor_model::newSensorId();  // keys the per-thread axis cache
+    std::vector<glm::dvec3> axis_direction;  // per pixel (row-major), pixelDirection; empty: computed
+    std::vector<float> axis_scan_angle_deg;  // per pixel, of its axis; empty: computed
 };
 
 Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::Scene& scene, std::uint64_t seed)
@@ -127,69 +152,19 @@ Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::
     s.min_power = o.min_intensity / 65535.0;
     s.slots = o.returns == ReturnMode::All && footprintOn(o) ? std::size_t(o.max_returns) : 1;
     if (o.max_range_m > 0.0) s.t_far = float(o.max_range_m);
-}
-
-Sensor::~Sensor() = default;
-
-namespace {
-
-// For the beams of `dirs` (consecutive pixels of one row from `first_pixel`): traces the
-// axes of their 3x3 neighbourhoods (the row and those above and below, one pixel past each
-// end) and sets sc.planar[i] where all nine hit one mesh within 1 mm + 1e-5 x range of
-// the plane of the centre's triangle. A beam's footprint lies within its pixel's cell, which the
-// neighbours' axes enclose, so such a beam sees that plane alone (a feature narrower than the
-// pixel spacing between the axes can be missed: footprint_exact traces every sub-ray).
-// Planar beams get their axis ray and hit at rays/hits[i * per].
-void markPlanar(const Sensor::State& s, const RayCaster& caster, const SensorView& v, std::uint64_t first_pixel,
-                std::span<const glm::dvec3> dirs, bool packets, std::span<Ray> rays, std::span<Hit> hits,
-                Scratch& sc) {
-    const std::size_t per = s.pattern.size();
-    const std::int64_t xres = s.orbit.xres, yres = s.orbit.yres;
-    const std::int64_t y = std::int64_t(first_pixel) / xres, x0 = std::int64_t(first_pixel) % xres;
-    const std::size_t n = dirs.size(), w = n + 2;
-    const glm::vec3 origin(v.actual.translation);
-    sc.nb_rays.resize(3 * w);
-    sc.nb_hits.resize(3 * w);
-    sc.nb_valid.assign(3 * w, 0);
-    for (std::size_t r = 0; r < 3; ++r)
-        for (std::size_t c = 0; c < w; ++c) {
-            const std::int64_t row = y - 1 + std::int64_t(r), col = x0 - 1 + std::int64_t(c);
-            const bool valid = row >= 0 && row < yres && col >= 0 && col < xres;
-            const glm::dvec3 d = r == 1 && c >= 1 && c <= n ? dirs[c - 1]
-                                 : valid ? pixelDirection(s.orbit, double(col), double(row))
-                                         : glm::dvec3(0.0, 0.0, 1.0);
-            sc.nb_valid[r * w + c] = valid;
-            sc.nb_rays[r * w + c] = Ray{origin, glm::vec3(v.actual.rotation * d), s.t_far};
-        }
-    if (packets) caster.intersect16(sc.nb_rays, sc.nb_hits);
-    else caster.intersect(sc.nb_rays, sc.nb_hits);
-    const glm::dvec3 o(origin);
-    const auto point = [&](std::size_t k) {
-        return o + double(sc.nb_hits[k].t) * glm::dvec3(sc.nb_rays[k].direction);
-    };
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t centre = w + i + 1;
-        const Hit& hc = sc.nb_hits[centre];
-        if (!hc.hit() || !(glm::length(hc.normal) > 0.0f)) continue;
-        const glm::dvec3 normal = glm::normalize(glm::dvec3(hc.normal));
-        const glm::dvec3 pc = point(centre);
-        const double tolerance_m = 1e-3 + 1e-5 * double(hc.t);
-        bool planar = true;
-        for (std::size_t r = 0; r < 3 && planar; ++r)
-            for (std::size_t c = i; c < i + 3 && planar; ++c) {
-                const std::size_t k = r * w + c;
-                const Hit& h = sc.nb_hits[k];
-                planar = sc.nb_valid[k] && h.hit() && h.mesh == hc.mesh &&
-                         std::abs(glm::dot(normal, point(k) - pc)) <= tolerance_m;
+    const std::size_t pixels = std::size_t(orbit.xres) * std::size_t(orbit.yres);
+    if (!s.ideal && pixels <= kAxisTablePixels) {
+        s.axis_direction.reserve(pixels);
+        s.axis_scan_angle_deg.reserve(pixels);
+        for (int y = 0; y < orbit.yres; ++y)
+            for (int x = 0; x < orbit.xres; ++x) {
+                s.axis_direction.push_back(pixelDirection(orbit, double(x), double(y)));
+                s.axis_scan_angle_deg.push_back(scanAngle_deg(s.axis_direction.back()));
             }
-        if (!planar) continue;
-        sc.planar[i] = 1;
-        rays[i * per] = sc.nb_rays[centre];
-        hits[i * per] = hc;
     }
 }
 
-}  // namespace
+Sensor::~Sensor() = default;
 
 const SensorOptions& Sensor::options() const { return state_->o; }
 bool Sensor::ideal() const { return state_->ideal; }
@@ -199,7 +174,10 @@ std::size_t Sensor::raysPerPixel() const { return state_->pattern.size(); }
 std::size_t Sensor::scratchBytes() const {
     const std::size_t per = state_->pattern.size();
     const std::size_t rays = per == 1 ? kChunkRays : std::max<std::size_t>(1, kChunkRays / per) * per;
-    return rays * (sizeof(Ray) + sizeof(Hit) + sizeof(glm::dvec3) + sizeof(sensor_model::Echo));
+    const std::size_t pixels = per == 1 ? kChunkRays : rays / per;
+    return rays * (sizeof(Ray) + sizeof(Hit) + sizeof(glm::dvec3) + sizeof(sensor_model::Echo) + sizeof(double)) +
+           pixels * (sizeof(std::size_t) + 1 + sizeof(Ray) + sizeof(Hit)) +
+           (per > 1 && !state_->o.footprint_exact ? sensor_model::axisCacheBytes(state_->orbit.xres) : 0);
 }
 
 engine::CloudFields Sensor::fields() const {
@@ -226,14 +204,17 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
     // Chunks of whole pixels; with one ray per pixel a multiple of 16, so that packets start
     // at the same pixels however the caller splits its runs into chunks.
     const std::size_t chunk_pixels = per == 1 ? kChunkRays : std::max<std::size_t>(1, kChunkRays / per);
-    sc.rays.resize(chunk_pixels * per);
-    sc.hits.resize(chunk_pixels * per);
+    const bool noisy = s.o.range_noise_m > 0.0;
+    // Without a pose error the rays' own directions place the points.
+    const bool same_pose = std::memcmp(&v.nominal.rotation, &v.actual.rotation, sizeof v.actual.rotation) == 0;
     for (std::size_t c0 = 0; c0 < dirs.size(); c0 += chunk_pixels) {
         const std::size_t pixels = std::min(chunk_pixels, dirs.size() - c0);
-        const std::span<Ray> rays(sc.rays.data(), pixels * per);
-        const std::span<Hit> hits(sc.hits.data(), pixels * per);
 
         if (s.ideal) {
+            growTo(sc.rays, pixels);
+            growTo(sc.hits, pixels);
+            const std::span<Ray> rays(sc.rays.data(), pixels);
+            const std::span<Hit> hits(sc.hits.data(), pixels);
             // Paper §III-B: one ray per pixel centre from the pose, its first hit.
             for (std::size_t i = 0; i < pixels; ++i)
                 rays[i] = Ray{origin, glm::vec3(v.actual.rotation * dirs[c0 + i]), s.t_far};
@@ -256,69 +237,101 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
             continue;
         }
 
-        // Every other model: the beam's sub-rays from the pose actually flown ...
-        sc.dirs.resize(pixels * per);
+        // Every other model: the beam's sub-rays from the pose actually flown, those of beams
+        // on one plane (adaptive) replaced by their axis ...
         const bool adaptive = per > 1 && !s.o.footprint_exact;
         sc.planar.assign(pixels, 0);
-        if (adaptive) markPlanar(s, caster, v, first_pixel + c0, dirs.subspan(c0, pixels), packets, rays, hits, sc);
-        sc.todo_rays.clear();
+        growTo(sc.axis_rays, pixels);
+        growTo(sc.axis_hits, pixels);
+        if (adaptive) {
+            const std::uint64_t p0 = first_pixel + c0;
+            const std::uint64_t xres = std::uint64_t(s.orbit.xres);
+            sensor_model::markPlanar(sensor_model::AxisSource{s.id, &s.orbit, s.t_far, s.axis_direction}, caster, v,
+                                     std::int64_t(p0 / xres), std::int64_t(p0 % xres), pixels, packets, sc.planar,
+                                     sc.axis_rays, sc.axis_hits);
+        }
+        std::size_t traced = 0;
+        growTo(sc.first, pixels);
         for (std::size_t i = 0; i < pixels; ++i) {
-            if (sc.planar[i]) {
-                sc.dirs[i * per] = dirs[c0 + i];
-                continue;
-            }
+            sc.first[i] = traced;
+            traced += sc.planar[i] ? 0 : per;
+        }
+        growTo(sc.rays, traced);
+        growTo(sc.hits, traced);
+        growTo(sc.dirs, traced);
+        // (Locals, not members: the stores below could alias them and force reloads.)
+        Ray* const sub_rays = sc.rays.data();
+        glm::dvec3* const sub_dirs = sc.dirs.data();
+        const glm::dvec2* const tans = s.tans.data();
+        const glm::dmat3 rotation = v.actual.rotation;
+        const float t_far = s.t_far;
+        for (std::size_t i = 0; i < pixels; ++i) {
+            if (sc.planar[i]) continue;
             const BeamFrame frame = per == 1 ? BeamFrame{dirs[c0 + i], {}, {}} : beamFrame(dirs[c0 + i]);
-            for (std::size_t k = 0; k < per; ++k) {
-                const glm::dvec3 d = subRayDirection(frame, s.tans[k].x, s.tans[k].y);
-                sc.dirs[i * per + k] = d;
-                rays[i * per + k] = Ray{origin, glm::vec3(v.actual.rotation * d), s.t_far};
-                if (adaptive) sc.todo_rays.push_back(rays[i * per + k]);
+            for (std::size_t k = 0, j = sc.first[i]; k < per; ++k, ++j) {
+                const glm::dvec3 d = subRayDirection(frame, tans[k].x, tans[k].y);
+                sub_dirs[j] = d;
+                Ray& ray = sub_rays[j];
+                ray.origin = origin;
+                ray.direction = glm::vec3(rotation * d);
+                ray.t_far = t_far;
             }
         }
-        if (!adaptive) {
-            if (packets) caster.intersect16(rays, hits);
-            else caster.intersect(rays, hits);
-        } else {
-            // Only the beams that are not on one plane, their sub-rays one after the other.
-            sc.todo_hits.resize(sc.todo_rays.size());
-            if (packets) caster.intersect16(sc.todo_rays, sc.todo_hits);
-            else caster.intersect(sc.todo_rays, sc.todo_hits);
-            std::size_t next = 0;
-            for (std::size_t i = 0; i < pixels; ++i)
-                if (!sc.planar[i])
-                    for (std::size_t k = 0; k < per; ++k) hits[i * per + k] = sc.todo_hits[next++];
-        }
+        // ... traced one beam after the other (16-ray packets across beams) ...
+        const std::span<const Ray> sub_ray_span(sc.rays.data(), traced);
+        const std::span<Hit> sub_hit_span(sc.hits.data(), traced);
+        if (packets) caster.intersect16(sub_ray_span, sub_hit_span);
+        else caster.intersect(sub_ray_span, sub_hit_span);
         // ... and the returns placed with the pose the drone believes it flew.
         const glm::dvec3 origin_n(glm::vec3(v.nominal.translation));
         sensor_model::Return out[kMaxReturns];
+        growTo(sc.echoes, per);
+        growTo(sc.cos_incidence, per);
+        sensor_model::Echo* const echoes = sc.echoes.data();
+        double* const cos_incidence = sc.cos_incidence.data();
+        const SubRay* const pattern = s.pattern.data();
+        const double* const reflectance = s.reflectance.data();
+        const double reference_range_m = s.o.intensity_reference_range_m;
+        const bool intensity = s.intensity;
         for (std::size_t i = 0; i < pixels; ++i) {
-            sc.echoes.clear();
-            const std::size_t used = sc.planar[i] ? 1 : per;  // a planar beam: its axis, all its power
+            const bool planar = sc.planar[i];
+            const std::size_t used = planar ? 1 : per;  // a planar beam: its axis, all its power
+            const Ray* rays = planar ? &sc.axis_rays[i] : sc.rays.data() + sc.first[i];
+            const Hit* hits = planar ? &sc.axis_hits[i] : sc.hits.data() + sc.first[i];
+            const glm::dvec3* ds = planar ? &dirs[c0 + i] : sc.dirs.data() + sc.first[i];
+            std::size_t echo_count = 0;
             for (std::size_t k = 0; k < used; ++k) {
-                const Hit& h = hits[i * per + k];
+                const Hit& h = hits[k];
                 if (!h.hit()) continue;
-                double power = sc.planar[i] ? 1.0 : s.pattern[k].weight;
-                if (s.intensity)
-                    power *= sensor_model::echoPower(
-                        s.reflectance[std::size_t(h.mesh)],
-                        sensor_model::cosIncidence(glm::dvec3(rays[i * per + k].direction), glm::dvec3(h.normal)),
-                        double(h.t), s.o.intensity_reference_range_m);
-                sc.echoes.push_back(sensor_model::Echo{h.t, power, std::uint32_t(k)});
+                double power = planar ? 1.0 : pattern[k].weight;
+                if (intensity) {
+                    const double c = sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
+                    cos_incidence[k] = c;
+                    power *= sensor_model::echoPower(reflectance[std::size_t(h.mesh)], c, double(h.t),
+                                                     reference_range_m);
+                }
+                echoes[echo_count++] = sensor_model::Echo{h.t, power, std::uint32_t(k)};
             }
             int detected = 0, first_rank = 1;
-            const std::size_t n = sensor_model::formReturns(sc.echoes, s.resolution_m, s.min_power, s.o.returns,
-                                                            s.o.max_returns, std::span(out, s.slots), &detected,
-                                                            &first_rank);
+            const std::size_t n =
+                sensor_model::formReturns(std::span(echoes, echo_count), s.resolution_m, s.min_power, s.o.returns,
+                                          s.o.max_returns, std::span(out, s.slots), &detected, &first_rank);
             engine::CloudPoint* px = &slots[(c0 + i) * s.slots];
             const std::uint64_t pixel = first_pixel + c0 + i;
             for (std::size_t r = 0; r < n; ++r) {
-                const sensor_model::Echo& e = sc.echoes[out[r].strongest];
-                const std::size_t ray = i * per + e.sub;
-                const Hit& h = hits[ray];
-                const glm::dvec3& d = sc.dirs[ray];
+                const sensor_model::Echo& e = echoes[out[r].strongest];
+                const std::size_t k = e.sub;
+                const Hit& h = hits[k];
+                const glm::dvec3& d = ds[k];
                 const int rank = std::min(kMaxReturns, first_rank + int(r));
-                const double t = std::max(0.0, double(e.t) + sensor_model::rangeError_m(s.o, s.seed, v.view, pixel, rank));
-                const glm::dvec3 dir_n(glm::vec3(v.nominal.rotation * d));
+                const double t = noisy ? std::max(0.0, double(e.t) + sensor_model::rangeError_m(s.o, s.seed, v.view,
+                                                                                                 pixel, rank))
+                                       : double(e.t);
+                const glm::dvec3 dir_n = same_pose ? glm::dvec3(rays[k].direction)
+                                                   : glm::dvec3(glm::vec3(v.nominal.rotation * d));
+                const double cos_i =
+                    s.intensity ? cos_incidence[k]
+                                : sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
                 engine::CloudPoint& cp = px[r];
                 cp.position = glm::vec3(origin_n + t * dir_n);
                 cp.range_m = float(t);
@@ -326,10 +339,10 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
                 cp.label = h.role;
                 cp.rgb = 0;
                 cp.intensity = s.intensity ? sensor_model::intensityCounts(out[r].power) : 0;
-                cp.incidence_deg = float(
-                    std::acos(sensor_model::cosIncidence(glm::dvec3(rays[ray].direction), glm::dvec3(h.normal))) *
-                    kRadToDeg);
-                cp.scan_angle_deg = float(std::copysign(std::acos(std::clamp(d.z, -1.0, 1.0)) * kRadToDeg, d.x));
+                cp.incidence_deg = float(std::acos(cos_i) * kRadToDeg);
+                // Sub-ray 0 is the axis (of the caller's pixelDirection, which the table holds).
+                cp.scan_angle_deg = k == 0 && !s.axis_scan_angle_deg.empty() ? s.axis_scan_angle_deg[pixel]
+                                                                               : scanAngle_deg(d);
                 cp.return_number = std::uint8_t(rank);
                 cp.returns = std::uint8_t(std::clamp(detected, rank, kMaxReturns));
             }

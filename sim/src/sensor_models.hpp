@@ -1,7 +1,9 @@
 // sim/src/sensor_models.hpp: the sensor models behind sim::Sensor, one file each
-// (sensor_noise.cpp, sensor_pose.cpp, sensor_intensity.cpp, sensor_footprint.cpp,
+// (sensor_noise.cpp, sensor_pose.cpp, sensor_intensity.hpp, sensor_footprint.cpp,
 // sensor_returns.cpp). Equations and parameters: docs/sensor.md.
 #pragma once
+#include "sensor_intensity.hpp"
+
 #include <sim/sensor.hpp>
 
 #include <cstddef>
@@ -30,17 +32,6 @@ double rangeError_m(const SensorOptions& o, std::uint64_t seed, int view, std::u
 /// plus the per-view error (position per axis, attitude as roll/pitch/yaw about the
 /// sensor's axes). The nominal pose itself when both are 0.
 engine::Pose actualPose(const SensorOptions& o, std::uint64_t seed, int view, const engine::Pose& nominal);
-
-// ---- sensor_intensity.cpp: the lidar equation ---------------------------------------
-
-/// cos of the angle between a ray and a surface of geometric normal `normal` (any length,
-/// either side); 1 for a degenerate normal.
-double cosIncidence(const glm::dvec3& ray, const glm::dvec3& normal);
-/// Received power of an extended Lambertian target as a fraction of full scale:
-/// reflectance * cos(incidence) * (R0 / range)^2, unclamped (R0: the reference range).
-double echoPower(double reflectance, double cos_incidence, double range_m, double reference_range_m);
-/// The LAS intensity of a power fraction: round(65535 * min(1, power)).
-std::uint16_t intensityCounts(double power);
 
 // ---- sensor_returns.cpp: echoes of one pulse into returns --------------------------
 

@@ -16,14 +16,19 @@ std::size_t formReturns(std::span<Echo> echoes, double resolution_m, double min_
     *detected = 0;
     *first_rank = 1;
     if (echoes.empty()) return 0;
-    std::sort(echoes.begin(), echoes.end(),
-              [](const Echo& a, const Echo& b) { return a.t < b.t || (a.t == b.t && a.sub < b.sub); });
-    // All returns of the pulse (a footprint has at most a few dozen sub-rays).
+    if (echoes.size() > 1)
+        std::sort(echoes.begin(), echoes.end(),
+                  [](const Echo& a, const Echo& b) { return a.t < b.t || (a.t == b.t && a.sub < b.sub); });
+    // The pulse's returns, one group of echoes at a time, keeping only what `mode` needs
+    // (no list of every group: this runs once per pulse). At most kMaxGroups are counted.
     constexpr std::size_t kMaxGroups = 64;
-    Return groups[kMaxGroups];
-    std::size_t n = 0;
+    const bool all = mode == ReturnMode::All;
+    const std::size_t keep = all ? std::min(out.size(), std::size_t(max_returns)) : 0;
+    std::size_t n = 0, kept = 0;
+    Return chosen;  // first, last, strongest: the one kept, group number chosen_index
+    std::size_t chosen_index = 0;
     std::size_t begin = 0;
-    for (std::size_t i = 1; i <= echoes.size(); ++i) {
+    for (std::size_t i = 1; i <= echoes.size() && n < kMaxGroups; ++i) {
         if (i < echoes.size() && double(echoes[i].t) - double(echoes[i - 1].t) < resolution_m) continue;
         Return r;
         r.strongest = std::uint32_t(begin);
@@ -31,25 +36,22 @@ std::size_t formReturns(std::span<Echo> echoes, double resolution_m, double min_
             r.power += echoes[j].power;
             if (echoes[j].power > echoes[r.strongest].power) r.strongest = std::uint32_t(j);
         }
-        if (r.power >= min_power && n < kMaxGroups) groups[n++] = r;
         begin = i;
+        if (!(r.power >= min_power)) continue;
+        if (all) {
+            if (kept < keep) out[kept++] = r;
+        } else if (n == 0 || mode == ReturnMode::Last ||
+                   (mode == ReturnMode::Strongest && r.power > chosen.power)) {
+            chosen = r;
+            chosen_index = n;
+        }
+        ++n;
     }
     *detected = int(n);
-    if (n == 0) return 0;
-    std::size_t first = 0, count = 1;
-    switch (mode) {
-        case ReturnMode::First: break;
-        case ReturnMode::Last: first = n - 1; break;
-        case ReturnMode::Strongest:
-            for (std::size_t g = 1; g < n; ++g)
-                if (groups[g].power > groups[first].power) first = g;
-            break;
-        case ReturnMode::All: count = std::min<std::size_t>(n, std::size_t(max_returns)); break;
-    }
-    count = std::min(count, out.size());
-    for (std::size_t g = 0; g < count; ++g) out[g] = groups[first + g];
-    *first_rank = int(first) + 1;
-    return count;
+    if (all || n == 0 || out.empty()) return kept;
+    out[0] = chosen;
+    *first_rank = int(chosen_index) + 1;
+    return 1;
 }
 
 }  // namespace sim::sensor_model
