@@ -45,7 +45,7 @@ struct BenchGenerateCli {
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
     std::string tmp;
-    std::string only;  // "sensors": the sensor models' rows alone
+    std::string only;  // "sensors" or "formats": those rows alone
 };
 
 // Peak resident set since the last resetPeakRss(), from /proc/self/status (VmHWM), MiB.
@@ -334,6 +334,40 @@ std::string notes(const std::vector<Result>& results) {
     return s.str();
 }
 
+// The >= 100x configuration's scene: the demo subdivided to just above 2 M triangles
+// (500,000 with --quick), same surfaces.
+engine::Scene largeScene(const engine::Scene& demo, bool quick) {
+    engine::Scene big = demo;
+    const std::size_t want = quick ? 500000 : 2000000;
+    // Whole levels while they stay under the goal, then meshes one by one, smallest
+    // first, until it is reached, so the scene lands just above `want` triangles.
+    while (big.triangleCount() * 4 <= want)
+        for (auto& m : big.meshes) m = subdivide(m);
+    std::vector<std::size_t> order(big.meshes.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return big.meshes[a].triangles.size() < big.meshes[b].triangles.size();
+    });
+    for (std::size_t i : order) {
+        if (big.triangleCount() >= want) break;
+        big.meshes[i] = subdivide(big.meshes[i]);
+    }
+    return big;
+}
+
+sim::GenerateOptions largeOptions(const BenchGenerateCli& cli) {
+    sim::GenerateOptions large;
+    large.threads = cli.threads;
+    large.orbit.xres = large.orbit.yres = cli.quick ? 256 : 512;
+    large.orbit.views = cli.quick ? 100 : 400;
+    large.memory_budget_bytes = std::size_t(64) << 20;  // far below the fused cloud: it streams
+    return large;
+}
+
+std::string largeName(const BenchGenerateCli& cli) {
+    return cli.quick ? "quick large: demo subdivided, 256x256 x 100 views" : "large: demo subdivided, 512x512 x 400 views";
+}
+
 void run(const BenchGenerateCli& cli) {
     if (cli.threads < 0 || cli.threads > 1024)
         throw engine::Error("bench generate: --threads = " + std::to_string(cli.threads) + ": allowed [0, 1024]");
@@ -349,6 +383,13 @@ void run(const BenchGenerateCli& cli) {
     const fs::path dir = cli.tmp.empty() ? fs::temp_directory_path() / ("ladarvr_bench_" + std::to_string(::getpid()))
                                          : fs::path(cli.tmp);
     fs::create_directories(dir);
+    if (cli.only == "formats") {
+        benchFormats(largeScene(engine::loadScene(engine::demoScenePath()), cli.quick), largeOptions(cli), dir,
+                     largeName(cli), cli.no_md ? "" : cli.md);
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+        return;
+    }
     const fs::path out = dir / "bench.pcd";
     const auto start = Clock::now();
     std::vector<Result> results;
@@ -384,29 +425,10 @@ void run(const BenchGenerateCli& cli) {
     // 2. >= 100x larger: 512x512 x 400 views (64x the rays) on the demo scene subdivided to
     // >= 2 M triangles (same surfaces), streamed to disk through the spool file.
     t0 = Clock::now();
-    engine::Scene big = demo;
-    const std::size_t want = cli.quick ? 500000 : 2000000;
-    // Whole levels while they stay under the goal, then meshes one by one, smallest
-    // first, until it is reached, so the scene lands just above `want` triangles.
-    while (big.triangleCount() * 4 <= want)
-        for (auto& m : big.meshes) m = subdivide(m);
-    std::vector<std::size_t> order(big.meshes.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return big.meshes[a].triangles.size() < big.meshes[b].triangles.size();
-    });
-    for (std::size_t i : order) {
-        if (big.triangleCount() >= want) break;
-        big.meshes[i] = subdivide(big.meshes[i]);
-    }
+    const engine::Scene big = largeScene(demo, cli.quick);
     const double big_prepare_s = demo_load_s + secondsSince(t0);
-    sim::GenerateOptions large;
-    large.threads = cli.threads;
-    large.orbit.xres = large.orbit.yres = cli.quick ? 256 : 512;
-    large.orbit.views = cli.quick ? 100 : 400;
-    large.memory_budget_bytes = std::size_t(64) << 20;  // far below the fused cloud: it streams
-    const std::string large_name = cli.quick ? "quick large: demo subdivided, 256x256 x 100 views"
-                                             : "large: demo subdivided, 512x512 x 400 views";
+    const sim::GenerateOptions large = largeOptions(cli);
+    const std::string large_name = largeName(cli);
     results.push_back(runConfig(large_name, big, large, 1, false, false, out));
     results.back().prepare_s = big_prepare_s;
     benchFormats(big, large, dir, large_name, cli.no_md ? "" : cli.md);
@@ -472,8 +494,10 @@ void registerGenerate(CLI::App& parent) {
         ->capture_default_str();
     c->add_option("--md", state->md, "markdown file whose generator section is rewritten")->capture_default_str();
     c->add_flag("--no-md", state->no_md, "print only, leave BENCHMARKS.md alone");
-    c->add_option("--only", state->only, "run only these rows: 'sensors' (the sensor models' table)")
-        ->check(CLI::IsMember({"sensors"}));
+    c->add_option("--only", state->only,
+                  "run only these rows: 'sensors' (the sensor models' table) or 'formats' (LAZ against binary PCD "
+                  "on the large configuration)")
+        ->check(CLI::IsMember({"sensors", "formats"}));
     c->add_option("--tmp", state->tmp, "scratch directory for the outputs (default: a temporary one)");
     c->callback([state] { run(*state); });
 }
