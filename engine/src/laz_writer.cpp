@@ -98,8 +98,9 @@ public:
         const std::int64_t placeholder = 0;  // the table's position, known at the end
         write(&placeholder, 8);
         const std::size_t chunk_bytes = std::size_t(lazChunkBytes());
-        in_flight_max_ = std::clamp<std::size_t>(std::size_t(options.memory_bytes / chunk_bytes), 1,
-                                                 std::size_t(std::max(options.threads, 0)) + 1);
+        // Chunks queued or compressing, besides the one being filled.
+        in_flight_max_ = std::clamp<std::size_t>(std::size_t(options.memory_bytes / chunk_bytes), 2,
+                                                 std::size_t(std::max(options.threads, 0)) + 2) - 1;
         const int workers = std::min<int>(std::max(options.threads, 0), int(in_flight_max_));
         for (int i = 0; i < workers; ++i) workers_.emplace_back([this] { work(); });
     }
@@ -113,6 +114,10 @@ public:
             if (!filling_) {
                 filling_ = std::make_unique<Job>();
                 filling_->first_index = next_index_;
+                if (!spare_.empty()) {  // a written chunk's buffer: no new pages to fault in
+                    filling_->points = std::move(spare_.back());
+                    spare_.pop_back();
+                }
                 filling_->points.reserve(kChunkPoints);
             }
             const std::size_t n = std::min(points.size(), kChunkPoints - filling_->points.size());
@@ -158,7 +163,6 @@ private:
         } catch (...) {
             job.error = std::current_exception();
         }
-        job.points = {};
     }
 
     void work() {
@@ -225,6 +229,8 @@ private:
         write(f.bytes.data() + begin, size);
         chunk_bytes_.push_back(std::uint32_t(size));
         inventory_.merge(job.inventory);
+        job.points.clear();
+        spare_.push_back(std::move(job.points));
         order_.pop_front();
     }
 
@@ -249,6 +255,7 @@ private:
     std::string empty_tail_;  // after the table's position in LASzip's empty file
     std::size_t in_flight_max_ = 1;
     std::unique_ptr<Job> filling_;
+    std::vector<std::vector<CloudPoint>> spare_;  // buffers of written chunks, for the next ones
     std::uint64_t next_index_ = 0;
     std::deque<std::unique_ptr<Job>> order_;  // queued or compressed, in file order
     std::vector<std::uint32_t> chunk_bytes_;

@@ -489,7 +489,8 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
         s.hits_bound += n * s.slots_per_pixel;
     }
     needs.fixed_bytes = views * (sizeof(engine::Pose) + sizeof(PixelRect) + sizeof(std::uint64_t)) +
-                        s.row_spans.size() * sizeof(glm::ivec2) + s.jet.size() * sizeof(std::uint32_t);
+                        s.row_spans.size() * sizeof(glm::ivec2) + s.jet.size() * sizeof(std::uint32_t) +
+                        s.sensor->tableBytes();
     needs.white = s.options.white;
     needs.slots_per_pixel = s.slots_per_pixel;
     needs.thread_scratch_bytes = s.sensor->scratchBytes();

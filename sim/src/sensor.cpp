@@ -180,6 +180,10 @@ std::size_t Sensor::scratchBytes() const {
            (per > 1 && !state_->o.footprint_exact ? sensor_model::axisCacheBytes(state_->orbit.xres) : 0);
 }
 
+std::size_t Sensor::tableBytes() const {
+    return state_->axis_direction.capacity() * sizeof(glm::dvec3) + state_->axis_scan_angle_deg.capacity() * sizeof(float);
+}
+
 engine::CloudFields Sensor::fields() const {
     const State& s = *state_;
     engine::CloudFields f;

@@ -114,6 +114,8 @@ public:
     std::size_t raysPerPixel() const;
     /// Bytes of the per-thread buffers trace() keeps (for the memory plan).
     std::size_t scratchBytes() const;
+    /// Bytes the sensor itself holds for the whole run (its per-pixel tables).
+    std::size_t tableBytes() const;
     /// The CloudFields a cloud of this sensor carries (the ideal four plus those it fills).
     engine::CloudFields fields() const;
 
