@@ -48,6 +48,8 @@ struct LaszipFile {
 // LASzip compresses `points` (at most kChunkPoints: one chunk) into memory, and counts them into `inventory`.
 LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoint> points, std::uint64_t first_index,
                               LasInventory& inventory) {
+    // Before the writer's guard: a writer closed on an error still writes into it.
+    std::ostringstream out(std::ios::out | std::ios::binary);
     struct Zip {
         laszip_POINTER p = nullptr;
         bool open = false;
@@ -61,7 +63,6 @@ LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoin
     record.check(zip.p, laszip_set_chunk_size(zip.p, laszip_U32(kChunkPoints)), "chunk size");
     laszip_point_struct* q = nullptr;
     record.check(zip.p, laszip_get_point_pointer(zip.p, &q), "point");
-    std::ostringstream out(std::ios::out | std::ios::binary);
     record.check(zip.p, laszip_open_writer_stream(zip.p, out, 1, 0), "open");
     zip.open = true;
     for (std::size_t i = 0; i < points.size(); ++i) {
