@@ -17,4 +17,19 @@ inline sim::GenerateOptions smallOrbit() {
     return o;
 }
 
+/// One nadir view from 100 m over the world origin (alpha 0, CO 0: the drone sits above
+/// the origin), 64 x 64 px, white: for sensor tests on known geometry.
+inline sim::GenerateOptions nadirView() {
+    sim::GenerateOptions o;
+    o.orbit.altitude_m = 100.0;
+    o.orbit.inclination_deg = 0.0;
+    o.orbit.overlap_m = 0.0;
+    o.orbit.xres = 64;
+    o.orbit.yres = 64;
+    o.orbit.views = 1;
+    o.centre = glm::dvec3(0.0);
+    o.white = true;
+    return o;
+}
+
 }  // namespace test_support

@@ -11,6 +11,8 @@
 #include <sim/raycaster.hpp>
 #include <sim/sensor.hpp>
 
+#include <generate_options.hpp>
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -162,15 +164,7 @@ TEST_CASE("sensor: sensors of every kind traced in turn on one thread give the s
 
 TEST_CASE("sensor: a wire between the pixel axes is missed by the default footprint, caught by --footprint-exact") {
     // One nadir view from 100 m over flat ground; image rows run along world x there.
-    sim::GenerateOptions o;
-    o.orbit.altitude_m = 100.0;
-    o.orbit.inclination_deg = 0.0;
-    o.orbit.overlap_m = 0.0;
-    o.orbit.xres = 64;
-    o.orbit.yres = 64;
-    o.orbit.views = 1;
-    o.centre = glm::dvec3(0.0);
-    o.white = true;
+    sim::GenerateOptions o = test_support::nadirView();
     o.sensor.beam_divergence_mrad = 3.0;  // 0.28 m wide at 95 m; axes 0.17 m apart there
     o.sensor.returns = sim::ReturnMode::All;
     constexpr double kWireZ_m = 5.0, kWireWidth_m = 0.05;

@@ -8,6 +8,8 @@
 #include <sim/orbit.hpp>
 #include <sim/sensor.hpp>
 
+#include <generate_options.hpp>
+
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -31,15 +33,7 @@ engine::Scene stepScene() {
 // One nadir view from 100 m over the edge (alpha 0, CO 0: the drone sits at y = 0, so the
 // platform's wall is seen edge-on and only its top and the ground can be hit).
 sim::GenerateOptions nadirOptions() {
-    sim::GenerateOptions o;
-    o.orbit.altitude_m = 100.0;
-    o.orbit.inclination_deg = 0.0;
-    o.orbit.overlap_m = 0.0;
-    o.orbit.xres = 64;
-    o.orbit.yres = 64;
-    o.orbit.views = 1;
-    o.centre = glm::dvec3(0.0);
-    o.white = true;
+    sim::GenerateOptions o = test_support::nadirView();
     o.sensor.beam_divergence_mrad = 3.0;  // 0.3 m wide at 100 m, pixels 0.18 m apart
     o.sensor.footprint_quality = 3;
     o.sensor.returns = sim::ReturnMode::All;
