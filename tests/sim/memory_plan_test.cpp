@@ -233,18 +233,22 @@ TEST_CASE("peak RSS of `ladarvr generate` stays within --memory-mb (child proces
     return;
 #endif
     test_support::TempDir dir("rss");
-    const auto generate = [&](const std::string& size, int views, const std::string& mib, long& rss_kib) {
-        return runChild({LADARVR_CLI, "generate", "--out", (dir.path / "c.pcd").string(), "--xres", size, "--yres",
+    const auto generate = [&](const std::string& size, int views, const std::string& mib, long& rss_kib,
+                              const char* out = "c.pcd") {
+        return runChild({LADARVR_CLI, "generate", "--out", (dir.path / out).string(), "--xres", size, "--yres",
                          size, "--views", std::to_string(views), "--threads", "2", "--memory-mb", mib},
                         rss_kib);
     };
-    long base = 0, roomy = 0, tight = 0;
+    long base = 0, roomy = 0, tight = 0, tight_laz = 0;
     // The process without the generator's buffers: libraries, scene, BVH.
     REQUIRE(generate("16", 1, "4096", base) == 0);
     REQUIRE(generate("1024", 4, "4096", roomy) == 0);
     REQUIRE(generate("1024", 4, "128", tight) == 0);
+    // LAZ: chunks waiting for the compression threads come out of the same budget.
+    REQUIRE(generate("1024", 4, "128", tight_laz, "c.laz") == 0);
     MESSAGE("peak RSS: base " << base / 1024 << " MiB, roomy " << roomy / 1024 << " MiB, --memory-mb 128 "
-                              << tight / 1024 << " MiB");
+                              << tight / 1024 << " MiB, the same to LAZ " << tight_laz / 1024 << " MiB");
     CHECK(tight - base <= 128 * 1024);
+    CHECK(tight_laz - base <= 128 * 1024);
     CHECK(roomy - base > 128 * 1024);  // without the budget the same run would exceed it
 }
