@@ -46,7 +46,6 @@ void benchFormats(const engine::Scene& scene, const sim::GenerateOptions& option
     const int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     engine::LasOptions parallel, alone;
     parallel.threads = threads;
-    parallel.memory_bytes = std::uint64_t(threads + 2) * engine::lazChunkBytes();
     alone.threads = 0;
     // One writer over the whole cloud: seconds from opening to the committed file, its size.
     const auto write = [&](engine::CloudFormat format, const engine::LasOptions& las, const fs::path& out,

@@ -100,8 +100,9 @@ public:
         write(&placeholder, 8);
         const std::size_t chunk_bytes = std::size_t(lazChunkBytes());
         // Chunks queued or compressing, besides the one being filled.
-        in_flight_max_ = std::clamp<std::size_t>(std::size_t(options.memory_bytes / chunk_bytes), 2,
-                                                 std::size_t(std::max(options.threads, 0)) + 2) - 1;
+        const std::size_t threads = std::size_t(std::max(options.threads, 0));
+        const std::size_t chunks = options.memory_bytes > 0 ? std::size_t(options.memory_bytes / chunk_bytes) : threads + 2;
+        in_flight_max_ = std::clamp<std::size_t>(chunks, 2, threads + 2) - 1;
         const int workers = std::min<int>(std::max(options.threads, 0), int(in_flight_max_));
         for (int i = 0; i < workers; ++i) workers_.emplace_back([this] { work(); });
     }

@@ -47,9 +47,9 @@ struct LasOptions {
     /// LAZ: chunks of points compressed at once, on this many threads besides the
     /// caller's (0: all on the caller's thread). The file is the same whatever the count.
     int threads = 0;
-    /// LAZ: the most the writer holds in chunks waiting or being compressed (at least
-    /// one chunk's worth is always used: lazChunkBytes()).
-    std::uint64_t memory_bytes = std::uint64_t(8) << 20;
+    /// LAZ: the most the writer holds in chunks being filled, waiting or being compressed
+    /// (lazChunkBytes() each; two at least). 0: what `threads` can use, threads + 2 chunks.
+    std::uint64_t memory_bytes = 0;
 };
 
 /// Points per LAZ chunk (LASzip's default chunk size): the unit a LAZ reader can seek
