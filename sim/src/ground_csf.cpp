@@ -27,16 +27,9 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <sstream>
 
 namespace sim {
 namespace {
-
-[[noreturn]] void fail(const char* parameter, double value, const char* allowed) {
-    std::ostringstream s;
-    s << "ground: " << parameter << " = " << value << ": allowed " << allowed;
-    throw engine::Error(s.str());
-}
 
 constexpr double kGravity = 0.2, kDamping = 0.01;
 constexpr double kStill_m = 0.005;      // a step moving no particle more than this ends the run
@@ -142,15 +135,15 @@ using CsfFilter = WholeCloudFilter<CsfFit, CsfOptions, GroundMethod::Csf>;
 
 void validate(const CsfOptions& o) {
     if (!(std::isfinite(o.cloth_m) && o.cloth_m >= 0.01 && o.cloth_m <= 1000.0))
-        fail("csf cloth_m (--csf-cloth-m)", o.cloth_m, "[0.01, 1000] metres");
-    if (o.rigidness < 1 || o.rigidness > 3) fail("csf rigidness (--csf-rigidness)", o.rigidness, "1, 2 or 3");
+        failGroundOption("csf cloth_m (--csf-cloth-m)", o.cloth_m, "[0.01, 1000] metres");
+    if (o.rigidness < 1 || o.rigidness > 3) failGroundOption("csf rigidness (--csf-rigidness)", o.rigidness, "1, 2 or 3");
     if (!(std::isfinite(o.threshold_m) && o.threshold_m >= 0.0 && o.threshold_m <= 1000.0))
-        fail("csf threshold_m (--csf-threshold-m)", o.threshold_m, "[0, 1000] metres");
+        failGroundOption("csf threshold_m (--csf-threshold-m)", o.threshold_m, "[0, 1000] metres");
     if (!(std::isfinite(o.time_step) && o.time_step > 0.0 && o.time_step <= 10.0))
-        fail("csf time_step (--csf-time-step)", o.time_step, "(0, 10]");
+        failGroundOption("csf time_step (--csf-time-step)", o.time_step, "(0, 10]");
     if (o.iterations < 1 || o.iterations > 100000)
-        fail("csf iterations (--csf-iterations)", o.iterations, "[1, 100000]");
-    if (o.max_cells < 1) fail("csf max_cells", double(o.max_cells), ">= 1");
+        failGroundOption("csf iterations (--csf-iterations)", o.iterations, "[1, 100000]");
+    if (o.max_cells < 1) failGroundOption("csf max_cells", double(o.max_cells), ">= 1");
 }
 
 std::unique_ptr<GroundFilter> makeCsfFilter(const CsfOptions& o) { return std::make_unique<CsfFilter>(o); }

@@ -6,10 +6,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
 namespace sim {
+
+void failGroundOption(const char* parameter, double value, const char* allowed) {
+    std::ostringstream s;
+    s << "ground: " << parameter << " = " << value << ": allowed " << allowed;
+    throw engine::Error(s.str());
+}
 
 const char* groundMethodName(GroundMethod m) {
     switch (m) {

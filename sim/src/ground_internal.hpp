@@ -7,6 +7,10 @@
 
 namespace sim {
 
+/// Throws engine::Error("ground: <parameter> = <value>: allowed <allowed>"), the line
+/// every filter's option check gives (ground_filter.cpp).
+[[noreturn]] void failGroundOption(const char* parameter, double value, const char* allowed);
+
 /// ground_ransac.cpp: checks RANSAC's fields of GroundOptions.
 void validateRansac(const GroundOptions& o);
 /// ground_ransac.cpp: the paper's per-view filter.

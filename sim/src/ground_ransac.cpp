@@ -36,33 +36,23 @@
 #include <mutex>
 #include <numeric>
 #include <random>
-#include <sstream>
 #include <string>
 
 namespace sim {
-namespace {
-
-[[noreturn]] void fail(const char* parameter, double value, const char* allowed) {
-    std::ostringstream s;
-    s << "ground: " << parameter << " = " << value << ": allowed " << allowed;
-    throw engine::Error(s.str());
-}
-
-}  // namespace
 
 void validateRansac(const GroundOptions& o) {
-    if (!(std::isfinite(o.band_m) && o.band_m > 0.0)) fail("band_m (--band-m)", o.band_m, "> 0");
+    if (!(std::isfinite(o.band_m) && o.band_m > 0.0)) failGroundOption("band_m (--band-m)", o.band_m, "> 0");
     if (!(std::isfinite(o.distance_threshold_m) && o.distance_threshold_m > 0.0))
-        fail("distance_threshold_m (--ransac-distance-m)", o.distance_threshold_m, "> 0");
-    if (!(o.min_normal_z >= 0.0 && o.min_normal_z <= 1.0)) fail("min_normal_z (--min-normal-z)", o.min_normal_z, "[0, 1]");
-    if (!(o.stop_fraction >= 0.0 && o.stop_fraction <= 1.0)) fail("stop_fraction (--stop-fraction)", o.stop_fraction, "[0, 1]");
+        failGroundOption("distance_threshold_m (--ransac-distance-m)", o.distance_threshold_m, "> 0");
+    if (!(o.min_normal_z >= 0.0 && o.min_normal_z <= 1.0)) failGroundOption("min_normal_z (--min-normal-z)", o.min_normal_z, "[0, 1]");
+    if (!(o.stop_fraction >= 0.0 && o.stop_fraction <= 1.0)) failGroundOption("stop_fraction (--stop-fraction)", o.stop_fraction, "[0, 1]");
     if (!(o.min_plane_fraction >= 0.0 && o.min_plane_fraction <= 1.0))
-        fail("min_plane_fraction (--min-plane-fraction)", o.min_plane_fraction, "[0, 1]");
-    if (o.max_planes < 0 || o.max_planes > 100000) fail("max_planes (--max-planes)", o.max_planes, "[0, 100000]");
+        failGroundOption("min_plane_fraction (--min-plane-fraction)", o.min_plane_fraction, "[0, 1]");
+    if (o.max_planes < 0 || o.max_planes > 100000) failGroundOption("max_planes (--max-planes)", o.max_planes, "[0, 100000]");
     if (o.ransac_sample_points < 0 || (o.ransac_sample_points > 0 && o.ransac_sample_points < 3))
-        fail("ransac_sample_points (--ransac-sample-points)", o.ransac_sample_points, "0 (all) or >= 3");
+        failGroundOption("ransac_sample_points (--ransac-sample-points)", o.ransac_sample_points, "0 (all) or >= 3");
     if (o.ransac_iterations < 1 || o.ransac_iterations > 10000000)
-        fail("ransac_iterations (--ransac-iterations)", o.ransac_iterations, "[1, 10000000]");
+        failGroundOption("ransac_iterations (--ransac-iterations)", o.ransac_iterations, "[1, 10000000]");
 }
 
 std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const GroundOptions& o,

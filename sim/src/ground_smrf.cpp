@@ -30,17 +30,9 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <sstream>
 
 namespace sim {
 namespace {
-
-[[noreturn]] void fail(const char* parameter, double value, const char* allowed) {
-    std::ostringstream s;
-    s << "ground: " << parameter << " = " << value << ": allowed " << allowed;
-    throw engine::Error(s.str());
-}
-
 
 // out[i] = min (or max) of in[i - r .. i + r] clipped to [0, n): a running window with a
 // monotonic queue of indices, O(n) whatever r.
@@ -133,16 +125,16 @@ using SmrfFilter = WholeCloudFilter<SmrfFit, SmrfOptions, GroundMethod::Smrf>;
 
 void validate(const SmrfOptions& o) {
     if (!(std::isfinite(o.cell_m) && o.cell_m >= 0.01 && o.cell_m <= 1000.0))
-        fail("smrf cell_m (--smrf-cell-m)", o.cell_m, "[0.01, 1000] metres");
+        failGroundOption("smrf cell_m (--smrf-cell-m)", o.cell_m, "[0.01, 1000] metres");
     if (!(std::isfinite(o.slope) && o.slope > 0.0 && o.slope <= 100.0))
-        fail("smrf slope (--smrf-slope)", o.slope, "(0, 100] (rise over run)");
+        failGroundOption("smrf slope (--smrf-slope)", o.slope, "(0, 100] (rise over run)");
     if (!(std::isfinite(o.window_m) && o.window_m > 0.0 && o.window_m / o.cell_m <= 1000.0))
-        fail("smrf window_m (--smrf-window-m)", o.window_m, "> 0 metres and at most 1000 cells of --smrf-cell-m");
+        failGroundOption("smrf window_m (--smrf-window-m)", o.window_m, "> 0 metres and at most 1000 cells of --smrf-cell-m");
     if (!(std::isfinite(o.threshold_m) && o.threshold_m >= 0.0 && o.threshold_m <= 1000.0))
-        fail("smrf threshold_m (--smrf-threshold-m)", o.threshold_m, "[0, 1000] metres");
+        failGroundOption("smrf threshold_m (--smrf-threshold-m)", o.threshold_m, "[0, 1000] metres");
     if (!(std::isfinite(o.scalar) && o.scalar >= 0.0 && o.scalar <= 1000.0))
-        fail("smrf scalar (--smrf-scalar)", o.scalar, "[0, 1000] metres per unit slope");
-    if (o.max_cells < 1) fail("smrf max_cells", double(o.max_cells), ">= 1");
+        failGroundOption("smrf scalar (--smrf-scalar)", o.scalar, "[0, 1000] metres per unit slope");
+    if (o.max_cells < 1) failGroundOption("smrf max_cells", double(o.max_cells), ">= 1");
 }
 
 std::unique_ptr<GroundFilter> makeSmrfFilter(const SmrfOptions& o) { return std::make_unique<SmrfFilter>(o); }
