@@ -8,6 +8,7 @@
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
 #include <engine/scene.hpp>
+#include <engine/trace_file.hpp>
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
 #include <metric/trace.hpp>
@@ -99,9 +100,9 @@ void run(MetricCli& cli) {
         if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
             throw engine::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
                                 ": allowed [0, 3600] seconds");
-        const std::vector<metric::HeadSample> samples = metric::readTrace(cli.trace);
+        const std::vector<engine::TraceRow> samples = engine::readTrace(cli.trace).rows;
         trace_samples = samples.size();
-        for (const metric::HeadSample& h : metric::everyStep(samples, cli.trace_step_s))
+        for (const engine::TraceRow& h : metric::everyStep(samples, cli.trace_step_s))
             o.poses_world.push_back(metric::cameraFromHead(h));
     }
     const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
