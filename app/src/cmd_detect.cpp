@@ -1,13 +1,14 @@
 // app/src/cmd_detect.cpp: `ladarvr detect CLOUD --out candidates.json`: the baseline 3D
-// ATR of sim/detect.hpp, so `view --candidates` and studies have something to validate
-// without an outside detector. Writes engine/candidates.hpp's JSON.
+// ATR of detect/cluster_detector.hpp, so `view --candidates` and studies have something
+// to validate without an outside detector. Writes engine/candidates.hpp's JSON. The
+// options below are the clustering detector's own group; another detector brings its own.
 #include "cli_common.hpp"
 #include "commands.hpp"
 
 #include <engine/candidates.hpp>
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
-#include <sim/detect.hpp>
+#include <detect/cluster_detector.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -27,22 +28,22 @@ struct DetectCli {
     std::vector<double> target_size_m{7.0, 3.5, 2.5};
     std::string ground = "ransac";
     bool json = false;
-    sim::DetectOptions options;
+    detect::ClusterOptions options;
 };
 
-sim::GroundSource parseGround(const std::string& name) {
-    if (name == "ransac") return sim::GroundSource::Ransac;
-    if (name == "labels") return sim::GroundSource::Labels;
-    if (name == "white") return sim::GroundSource::White;
+detect::GroundSource parseGround(const std::string& name) {
+    if (name == "ransac") return detect::GroundSource::Ransac;
+    if (name == "labels") return detect::GroundSource::Labels;
+    if (name == "white") return detect::GroundSource::White;
     throw engine::Error("detect: --ground '" + name + "': allowed ransac, labels, white");
 }
 
 void run(DetectCli& cli) {
-    sim::DetectOptions& o = cli.options;
+    detect::ClusterOptions& o = cli.options;
     o.target_size_m = {cli.target_size_m[0], cli.target_size_m[1], cli.target_size_m[2]};
     o.ground = parseGround(cli.ground);
     o.progress = true;  // drawn only when stderr is a terminal
-    sim::validate(o);
+    const detect::ClusterDetector detector(o);  // validates the options
 
     const std::filesystem::path out = cli.out;
     std::error_code ec;
@@ -51,10 +52,10 @@ void run(DetectCli& cli) {
     createParentFolders(out, "detect: --out");
 
     const engine::PointCloud cloud = engine::readCloud(cli.cloud);
-    sim::DetectStats stats;
-    const std::vector<sim::Detection> found = sim::detect(cloud, o, &stats);
+    detect::ClusterStats stats;
+    const std::vector<detect::Detection> found = detector.detect(cloud, stats);
     std::vector<engine::Candidate> candidates;
-    for (const sim::Detection& d : found) candidates.push_back(d.candidate);
+    for (const detect::Detection& d : found) candidates.push_back(d.candidate);
     engine::writeCandidates(out, candidates);
 
     if (cli.json) {
@@ -88,7 +89,7 @@ void run(DetectCli& cli) {
 
 void registerDetect(CLI::App& cli) {
     auto state = std::make_shared<DetectCli>();
-    sim::DetectOptions& o = state->options;
+    detect::ClusterOptions& o = state->options;
     CLI::App* c = cli.add_subcommand(
         "detect", "baseline 3D ATR: cluster the non-ground points, fit oriented boxes, score them by how well "
                   "their size matches the target's; writes candidates for `view --candidates`");

@@ -179,7 +179,7 @@ void run(GenerateCli& cli) {
                  "  rays %llu (%llu traced, the others cannot meet the geometry's bounds), hits %llu, misses %llu\n"
                  "  ground: %llu points whitened (%d planes kept, %d dropped), %llu labelled ground; "
                  "precision %s, recall %s\n"
-                 "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, RANSAC %.3f s, colour %.3f s, "
+                 "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, ground %.3f s, colour %.3f s, "
                  "write %.3f s, total %.3f s (%d threads%s)\n",
                  scene_path.string().c_str(), out.string().c_str(), formatName(*format),
                  scene.meshes.size(), st.triangles, roleList(o.roles).c_str(),
@@ -190,7 +190,7 @@ void run(GenerateCli& cli) {
                  (unsigned long long)st.ground_found, st.planes_accepted, st.planes_rejected,
                  (unsigned long long)st.ground_truth, percent(st.ground_precision).c_str(),
                  percent(st.ground_recall).c_str(), load_s, st.seconds.bvh, st.seconds.cast, st.seconds.fuse,
-                 st.seconds.ransac, st.seconds.colour, st.seconds.write, seconds, st.threads,
+                 st.seconds.ground, st.seconds.colour, st.seconds.write, seconds, st.threads,
                  st.streamed ? ", streamed through a spool file" : "");
     if (o.white) std::fprintf(stderr, "  --white: no colouring, no ground whitening\n");
     reportGround(cli.ground, o, st, scene.origin);
@@ -238,7 +238,7 @@ void run(GenerateCli& cli) {
         j["seconds"] = seconds;
         j["stage_seconds"] = {{"load", load_s},          {"bvh", st.seconds.bvh},
                               {"cast", st.seconds.cast},  {"fuse", st.seconds.fuse},
-                              {"ransac", st.seconds.ransac}, {"colour", st.seconds.colour},
+                              {"ground", st.seconds.ground}, {"colour", st.seconds.colour},
                               {"write", st.seconds.write}};
         addGroundJson(j, cli.ground, st);
         std::printf("%s\n", j.dump(2).c_str());
@@ -254,7 +254,6 @@ void registerGenerate(CLI::App& cli) {
                     "whiten the ground (iterative RANSAC), colour by height (jet, 64 values)");
     sim::GenerateOptions& o = state->options;
     sim::OrbitOptions& orbit = o.orbit;
-    sim::GroundOptions& ground = o.ground;
     c->add_option("--scene", state->scene, "scene file (JSON); default: the bundled demo scene");
     c->add_option("--out", state->out, "output cloud (.pcd, .ply, .las, .laz); default out/<scene name>.pcd "
                                        "(.ply/.las/.laz with --format)");
@@ -264,7 +263,7 @@ void registerGenerate(CLI::App& cli) {
                   "LAS/LAZ: the ASPRS class of target points, 0..255")->capture_default_str();
     c->add_option("--drone-speed-mps", o.drone_speed_mps,
                   "LAS/LAZ: drone speed along the orbit, m/s > 0 (sets each view's GPS time)")->capture_default_str();
-    c->add_flag("--white", o.white, "write the uncoloured (white) cloud: no colour map, no RANSAC");
+    c->add_flag("--white", o.white, "write the uncoloured (white) cloud: no colour map, no ground filter");
     c->add_flag("--no-skip-rays", state->no_skip_rays,
                 "trace every pixel, also those whose rays cannot meet the ray-cast geometry's bounds "
                 "(same cloud, slower; for comparisons)");
@@ -286,24 +285,7 @@ void registerGenerate(CLI::App& cli) {
     c->add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
     c->add_option("--seed", o.seed, "RANSAC seed (view v shuffles with mt19937_64(seed ^ v))")
         ->capture_default_str();
-    c->add_option("--band-m", ground.band_m, "RANSAC band above each view's lowest point, metres > 0")
-        ->capture_default_str();
-    c->add_option("--ransac-distance-m", ground.distance_threshold_m, "RANSAC inlier distance, metres > 0")
-        ->capture_default_str();
-    c->add_option("--min-normal-z", ground.min_normal_z, "accept planes with |normal.z| >= this, [0, 1]")
-        ->capture_default_str();
-    c->add_option("--stop-fraction", ground.stop_fraction, "stop when PC is under this fraction of the band, "
-                                                           "[0, 1]")->capture_default_str();
-    c->add_option("--min-plane-fraction", ground.min_plane_fraction,
-                  "a ground plane holds at least this fraction of the band, [0, 1]; 0 = the paper's rule")
-        ->capture_default_str();
-    c->add_option("--max-planes", ground.max_planes, "planes per view at most, [0, 100000]")->capture_default_str();
-    c->add_option("--ransac-iterations", ground.ransac_iterations, "RANSAC iterations per plane at most")
-        ->capture_default_str();
-    c->add_option("--ransac-sample-points", ground.ransac_sample_points,
-                  "RANSAC searches planes on at most this many band points, 0 = all")
-        ->capture_default_str();
-    addGroundOptions(*c, state->ground, ground);
+    addGroundOptions(*c, state->ground, o.ground);
     c->add_option("--colours", o.colour.entries, "entries of the jet map, [2, 256]")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,
                   "bound on the generator's buffers (batches, tiles, threads are planned to fit; "

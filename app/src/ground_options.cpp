@@ -25,12 +25,27 @@ std::string percentText(double v) {
 }
 }  // namespace
 
-void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
-    sim::SmrfOptions& smrf = ground.smrf;
-    c.add_option("--ground", cli.method,
-                 "ground filter: ransac (paper §III-C, per view; flat ground), smrf (Pingel et al. 2013) or csf "
-                 "(Zhang et al. 2016; both on the whole cloud, following sloped terrain)")
+void addRansacOptions(CLI::App& c, sim::RansacOptions& ransac) {
+    c.add_option("--band-m", ransac.band_m, "RANSAC band above each view's lowest point, metres > 0")
         ->capture_default_str();
+    c.add_option("--ransac-distance-m", ransac.distance_threshold_m, "RANSAC inlier distance, metres > 0")
+        ->capture_default_str();
+    c.add_option("--min-normal-z", ransac.min_normal_z, "accept planes with |normal.z| >= this, [0, 1]")
+        ->capture_default_str();
+    c.add_option("--stop-fraction", ransac.stop_fraction, "stop when PC is under this fraction of the band, "
+                                                          "[0, 1]")->capture_default_str();
+    c.add_option("--min-plane-fraction", ransac.min_plane_fraction,
+                 "a ground plane holds at least this fraction of the band, [0, 1]; 0 = the paper's rule")
+        ->capture_default_str();
+    c.add_option("--max-planes", ransac.max_planes, "planes per view at most, [0, 100000]")->capture_default_str();
+    c.add_option("--ransac-iterations", ransac.ransac_iterations, "RANSAC iterations per plane at most")
+        ->capture_default_str();
+    c.add_option("--ransac-sample-points", ransac.ransac_sample_points,
+                 "RANSAC searches planes on at most this many band points, 0 = all")
+        ->capture_default_str();
+}
+
+void addSmrfOptions(CLI::App& c, sim::SmrfOptions& smrf) {
     c.add_option("--smrf-cell-m", smrf.cell_m, "SMRF cell of the minimum surface and the DTM, metres [0.01, 1000]")
         ->capture_default_str();
     c.add_option("--smrf-slope", smrf.slope, "SMRF slope threshold, rise over run (0, 100]")->capture_default_str();
@@ -41,7 +56,9 @@ void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
     c.add_option("--smrf-scalar", smrf.scalar,
                  "SMRF: plus this many metres per unit of terrain slope, [0, 1000]")
         ->capture_default_str();
-    sim::CsfOptions& csf = ground.csf;
+}
+
+void addCsfOptions(CLI::App& c, sim::CsfOptions& csf) {
     c.add_option("--csf-cloth-m", csf.cloth_m, "CSF cloth resolution (particle spacing, DTM cell), metres [0.01, 1000]")
         ->capture_default_str();
     c.add_option("--csf-rigidness", csf.rigidness, "CSF cloth rigidness: 1 steep terrain .. 3 flat")
@@ -51,6 +68,16 @@ void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundOptions& ground) {
     c.add_option("--csf-time-step", csf.time_step, "CSF simulation time step, (0, 10]")->capture_default_str();
     c.add_option("--csf-iterations", csf.iterations, "CSF simulation steps at most, [1, 100000]")
         ->capture_default_str();
+}
+
+void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundChoice& ground) {
+    addRansacOptions(c, ground.ransac);
+    c.add_option("--ground", cli.method,
+                 "ground filter: ransac (paper §III-C, per view; flat ground), smrf (Pingel et al. 2013) or csf "
+                 "(Zhang et al. 2016; both on the whole cloud, following sloped terrain)")
+        ->capture_default_str();
+    addSmrfOptions(c, ground.smrf);
+    addCsfOptions(c, ground.csf);
     c.add_option("--dtm", cli.dtm,
                  "also write the fitted terrain (SMRF's or CSF's surface; SMRF's with --ground ransac) as an "
                  "ESRI ASCII grid (.asc), world metres");
@@ -93,14 +120,14 @@ void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim
                      "terrain %d x %d cells, %.3f s\n",
                      o.ground.csf.cloth_m, o.ground.csf.rigidness, o.ground.csf.threshold_m, o.ground.csf.time_step,
                      o.ground.csf.iterations, st.terrain ? st.terrain->nx : 0, st.terrain ? st.terrain->ny : 0,
-                     st.seconds.ransac);
+                     st.seconds.ground);
     if (!o.white && o.ground.method == sim::GroundMethod::Smrf)
         std::fprintf(stderr,
                      "  ground filter: smrf (cell %g m, slope %g, window %g m, threshold %g m, scalar %g), "
                      "terrain %d x %d cells, %.3f s\n",
                      o.ground.smrf.cell_m, o.ground.smrf.slope, o.ground.smrf.window_m, o.ground.smrf.threshold_m,
                      o.ground.smrf.scalar, st.terrain ? st.terrain->nx : 0, st.terrain ? st.terrain->ny : 0,
-                     st.seconds.ransac);
+                     st.seconds.ground);
     if (const auto advice = groundAdvice(st)) warn(*advice);
     if (!cli.dtm.empty()) {
         if (!st.terrain || st.terrain->empty())

@@ -1,6 +1,6 @@
 // app/src/ground_options.hpp: `ladarvr generate`'s ground filter options (--ground,
-// --smrf-*, --dtm), the line that says when RANSAC left the terrain coloured, and the
-// DTM export.
+// each filter's group: RANSAC's, --smrf-*, --csf-*; --dtm), the line that says when
+// RANSAC left the terrain coloured, and the DTM export.
 #pragma once
 #include <sim/generator.hpp>
 
@@ -17,9 +17,15 @@ struct GroundCli {
     std::string dtm;  // --dtm: ESRI ASCII grid of the fitted terrain; empty: none
 };
 
-/// Adds --ground, --smrf-cell-m, --smrf-slope, --smrf-window-m, --smrf-threshold-m,
-/// --smrf-scalar and --dtm to `generate`.
-void addGroundOptions(CLI::App& generate, GroundCli& cli, sim::GroundOptions& ground);
+/// Each filter's own option group: RANSAC's (--band-m, --ransac-distance-m,
+/// --min-normal-z, --stop-fraction, --min-plane-fraction, --max-planes,
+/// --ransac-iterations, --ransac-sample-points), SMRF's (--smrf-*), CSF's (--csf-*).
+void addRansacOptions(CLI::App& command, sim::RansacOptions& ransac);
+void addSmrfOptions(CLI::App& command, sim::SmrfOptions& smrf);
+void addCsfOptions(CLI::App& command, sim::CsfOptions& csf);
+
+/// Adds every filter's group, --ground (the choice) and --dtm to `generate`.
+void addGroundOptions(CLI::App& generate, GroundCli& cli, sim::GroundChoice& ground);
 
 /// Before any work: --ground into `o.ground.method`; --dtm refused with --white (no
 /// terrain is fitted), its destination checked.

@@ -1,5 +1,5 @@
 // bench/src/detect.cpp: `ladarvr bench detect`: how good the baseline detector
-// (sim/detect.hpp) is, against the ground-truth labels of the bundled scenes' clouds.
+// (detect/cluster_detector.hpp) is, against the ground-truth labels of the bundled scenes' clouds.
 //
 // Each scene's cloud is generated with the paper's defaults; the detector runs with its
 // defaults, once with RANSAC ground (what it does on a real cloud) and once with the
@@ -10,10 +10,10 @@
 #include "common.hpp"
 #include "register.hpp"
 
+#include <detect/cluster_detector.hpp>
 #include <engine/error.hpp>
 #include <engine/point_cloud.hpp>
 #include <engine/scene.hpp>
-#include <sim/detect.hpp>
 #include <sim/generator.hpp>
 
 #include <cstdio>
@@ -30,7 +30,7 @@ struct BenchDetectCli {
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
     double threshold = 0.5;   // a second operating point besides the detector's min_score
-    sim::DetectOptions detector;  // the detector's options (defaults unless given)
+    detect::ClusterOptions detector;  // the detector's options (defaults unless given)
 };
 
 struct Row {
@@ -49,26 +49,26 @@ std::string percent(std::size_t a, std::size_t b) {
     return b ? fmt("%.0f %%", 100.0 * double(a) / double(b)) : std::string("n/a");
 }
 
-Row measure(const std::string& name, const engine::PointCloud& cloud, sim::DetectOptions o, sim::GroundSource ground,
+Row measure(const std::string& name, const engine::PointCloud& cloud, detect::ClusterOptions o, detect::GroundSource ground,
             double threshold) {
     Row r;
     r.scene = name;
-    r.ground = ground == sim::GroundSource::Ransac ? "ransac" : "labels";
+    r.ground = ground == detect::GroundSource::Ransac ? "ransac" : "labels";
     r.points = cloud.points.size();
     for (const engine::CloudPoint& p : cloud.points) r.target_points += p.label == engine::Role::Target;
     o.ground = ground;
     const double min_score = o.min_score;
     o.min_score = 0.0;            // every cluster, to find the one holding the target
     o.max_candidates = 1000000;
-    sim::DetectStats stats;
+    detect::ClusterStats stats;
     const auto t0 = Clock::now();
-    const std::vector<sim::Detection> found = sim::detect(cloud, o, &stats);
+    const std::vector<detect::Detection> found = detect::ClusterDetector(o).detect(cloud, stats);
     r.seconds = secondsSince(t0);
     r.clusters = stats.clusters;
     std::size_t most_target = 0;
     int rank = 0;  // among the candidates >= min_score
     for (std::size_t k = 0; k < found.size(); ++k) {
-        const sim::Detection& d = found[k];
+        const detect::Detection& d = found[k];
         std::size_t target = 0;
         for (const std::uint32_t i : d.points) target += cloud.points[i].label == engine::Role::Target;
         if (target > most_target) {
@@ -121,7 +121,7 @@ std::string table(const std::vector<Row>& rows, double min_score, double thresho
 }
 
 void run(const BenchDetectCli& cli) {
-    sim::validate(cli.detector);
+    detect::validate(cli.detector);
     if (!(cli.threshold >= 0.0 && cli.threshold <= 1.0))
         throw engine::Error("bench detect: --threshold = " + fmt("%g", cli.threshold) + ": allowed [0, 1]");
     const auto start = Clock::now();
@@ -131,7 +131,7 @@ void run(const BenchDetectCli& cli) {
         const engine::Scene scene = engine::loadScene(assets / name / "scene.json");
         std::fprintf(stderr, "bench detect: generating %s\n", name);
         const engine::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{});
-        for (const sim::GroundSource g : {sim::GroundSource::Ransac, sim::GroundSource::Labels}) {
+        for (const detect::GroundSource g : {detect::GroundSource::Ransac, detect::GroundSource::Labels}) {
             rows.push_back(measure(name, cloud, cli.detector, g, cli.threshold));
             std::fprintf(stderr, "bench detect: %s, %s ground: %.2f s\n", name, rows.back().ground.c_str(),
                          rows.back().seconds);

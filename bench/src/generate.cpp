@@ -172,7 +172,7 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
         bvh.push_back(st.seconds.bvh);
         cast.push_back(st.seconds.cast);
         fuse.push_back(st.seconds.fuse);
-        ransac.push_back(st.seconds.ransac);
+        ransac.push_back(st.seconds.ground);
         colour.push_back(st.seconds.colour);
         write.push_back(st.seconds.write);
         total.push_back(st.seconds.total);
@@ -251,7 +251,7 @@ SkipRow skipRow(const std::string& name, const engine::Scene& scene, sim::Genera
         if (k == 0) continue;
         cast_on.push_back(on.seconds.cast);
         cast_off.push_back(off.seconds.cast);
-        ransac.push_back(on.seconds.ransac);
+        ransac.push_back(on.seconds.ground);
         total_on.push_back(on.seconds.total);
         total_off.push_back(off.seconds.total);
     }

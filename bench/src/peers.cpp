@@ -243,7 +243,7 @@ GroundResult ground(const std::string& name, const engine::Scene& scene, const s
     const engine::PointCloud cloud = sim::generateCloud(scene, options, &st);
     r.points = cloud.points.size();
     r.threads = st.threads;
-    r.ransac_s = st.seconds.ransac;
+    r.ransac_s = st.seconds.ground;
     r.ransac_precision = st.ground_precision.value_or(std::nan(""));
     r.ransac_recall = st.ground_recall.value_or(std::nan(""));
     {
@@ -251,12 +251,12 @@ GroundResult ground(const std::string& name, const engine::Scene& scene, const s
         smrf.ground.method = sim::GroundMethod::Smrf;
         sim::GenerateStats ss;
         sim::generateCloud(scene, smrf, &ss);
-        r.smrf_s = ss.seconds.ransac;
+        r.smrf_s = ss.seconds.ground;
         r.smrf_precision = ss.ground_precision.value_or(std::nan(""));
         r.smrf_recall = ss.ground_recall.value_or(std::nan(""));
         smrf.ground.method = sim::GroundMethod::Csf;
         sim::generateCloud(scene, smrf, &ss);
-        r.csf_s = ss.seconds.ransac;
+        r.csf_s = ss.seconds.ground;
         r.csf_precision = ss.ground_precision.value_or(std::nan(""));
         r.csf_recall = ss.ground_recall.value_or(std::nan(""));
     }

@@ -3,8 +3,6 @@
 #include <corpus/plan.hpp>
 #include <corpus/random.hpp>
 
-#include "apply.hpp"
-
 #include <engine/error.hpp>
 #include <engine/safe_file.hpp>
 #include <engine/scene.hpp>
@@ -23,32 +21,6 @@ namespace corpus {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace detail {
-
-void applyToOptions(sim::GenerateOptions& o, std::string_view key, double v) {
-    const int i = int(v);
-    if (key == "altitude_m") o.orbit.altitude_m = v;
-    else if (key == "overlap_m") o.orbit.overlap_m = v;
-    else if (key == "alpha_deg") o.orbit.inclination_deg = v;
-    else if (key == "fov_deg") o.orbit.fov_deg = v;
-    else if (key == "resolution") o.orbit.xres = o.orbit.yres = i;
-    else if (key == "xres") o.orbit.xres = i;
-    else if (key == "yres") o.orbit.yres = i;
-    else if (key == "views") o.orbit.views = i;
-    else if (key == "band_m") o.ground.band_m = v;
-    else if (key == "ransac_distance_m") o.ground.distance_threshold_m = v;
-    else if (key == "min_normal_z") o.ground.min_normal_z = v;
-    else if (key == "stop_fraction") o.ground.stop_fraction = v;
-    else if (key == "min_plane_fraction") o.ground.min_plane_fraction = v;
-    else if (key == "max_planes") o.ground.max_planes = i;
-    else if (key == "ransac_iterations") o.ground.ransac_iterations = i;
-    else if (key == "ransac_sample_points") o.ground.ransac_sample_points = i;
-    else if (key == "colours") o.colour.entries = i;
-    else if (key == "ransac_seed") o.seed = std::uint64_t(v);
-}
-
-}  // namespace detail
-
 namespace {
 
 /// Shortest text that reads back as the same double.
@@ -56,18 +28,6 @@ std::string exactNumber(double v) {
     char buffer[40];
     const auto r = std::to_chars(buffer, buffer + sizeof buffer, v);
     return std::string(buffer, r.ptr);
-}
-
-// The generate option of each vary key that is a generator parameter.
-const std::map<std::string, std::string>& optionNames() {
-    static const std::map<std::string, std::string> names = {
-        {"altitude_m", "--altitude-m"}, {"overlap_m", "--overlap-m"}, {"alpha_deg", "--alpha-deg"},
-        {"fov_deg", "--fov-deg"}, {"xres", "--xres"}, {"yres", "--yres"}, {"views", "--views"},
-        {"band_m", "--band-m"}, {"ransac_distance_m", "--ransac-distance-m"}, {"min_normal_z", "--min-normal-z"},
-        {"stop_fraction", "--stop-fraction"}, {"min_plane_fraction", "--min-plane-fraction"},
-        {"max_planes", "--max-planes"}, {"ransac_iterations", "--ransac-iterations"},
-        {"ransac_sample_points", "--ransac-sample-points"}, {"colours", "--colours"}, {"ransac_seed", "--seed"}};
-    return names;
 }
 
 glm::dvec3 vec3(const json& v) { return {v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()}; }
@@ -118,12 +78,14 @@ std::string ItemPlan::sceneText(const fs::path& folder) const {
 std::vector<std::string> ItemPlan::generateArgs() const {
     std::vector<std::string> args;
     for (const auto& [key, value] : values) {
-        if (key == "resolution") {
-            args.insert(args.end(), {"--xres", exactNumber(value), "--yres", exactNumber(value)});
-            continue;
+        const VaryKey* k = findVaryKey(key);
+        if (!k) continue;
+        // Each of the key's options (resolution: --xres and --yres) takes the value.
+        for (std::size_t at = 0; at < k->options.size();) {
+            const std::size_t end = std::min(k->options.find(' ', at), k->options.size());
+            args.insert(args.end(), {std::string(k->options.substr(at, end - at)), exactNumber(value)});
+            at = end + 1;
         }
-        const auto it = optionNames().find(key);
-        if (it != optionNames().end()) args.insert(args.end(), {it->second, exactNumber(value)});
     }
     if (centre_world)
         args.insert(args.end(), {"--centre", exactNumber(centre_world->x) + "," + exactNumber(centre_world->y) + "," +
@@ -213,11 +175,13 @@ Planner::~Planner() = default;
 const Spec& Planner::spec() const { return state_->spec; }
 const std::vector<engine::Bounds>& Planner::environmentBoxes() const { return state_->boxes; }
 
-std::string Planner::itemId(std::size_t index) const {
-    const std::size_t digits = std::max<std::size_t>(4, std::to_string(state_->spec.count - 1).size());
-    std::string id = std::to_string(index);
+std::string itemId(std::size_t index, std::size_t count) {
+    const std::size_t digits = std::max<std::size_t>(4, std::to_string(count > 0 ? count - 1 : 0).size());
+    const std::string id = std::to_string(index);
     return std::string(digits > id.size() ? digits - id.size() : 0, '0') + id;
 }
+
+std::string Planner::itemId(std::size_t index) const { return corpus::itemId(index, state_->spec.count); }
 
 std::optional<double> Planner::groundZ(double x_world, double y_world) const {
     const State& s = *state_;
@@ -253,7 +217,7 @@ ItemPlan Planner::plan(std::size_t index) const {
         else if (n.kind == NumberVary::Kind::Uniform)
             v = n.integer ? n.min + double(r.below(std::uint64_t(n.max - n.min) + 1)) : r.uniform(n.min, n.max);
         p.values[key] = v;
-        detail::applyToOptions(p.options, key, v);
+        applyToOptions(p.options, key, v);
     }
 
     // Environment meshes kept: a partial Fisher-Yates shuffle of their indices.

@@ -358,12 +358,8 @@ MergeReport mergeManifests(const fs::path& dir) {
         present.insert(index);
         lines.push_back(std::move(l));
     }
-    const std::size_t digits = std::max<std::size_t>(4, std::to_string(report.count ? report.count - 1 : 0).size());
     for (std::size_t i = 0; i < report.count; ++i)
-        if (!present.count(i)) {
-            const std::string id = std::to_string(i);
-            report.missing.push_back(std::string(digits > id.size() ? digits - id.size() : 0, '0') + id);
-        }
+        if (!present.count(i)) report.missing.push_back(itemId(i, report.count));
     report.merged = lines.size();
     report.duplicated.assign(duplicated.begin(), duplicated.end());
     report.conflicting.assign(conflicting.begin(), conflicting.end());

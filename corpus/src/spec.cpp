@@ -3,11 +3,10 @@
 #include <corpus/sha256.hpp>
 #include <corpus/spec.hpp>
 
-#include "apply.hpp"
-
 #include <engine/error.hpp>
 #include <engine/safe_file.hpp>
 #include <engine/strict_json.hpp>
+#include <sim/generator.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -24,6 +23,8 @@ namespace {
 
 constexpr double kBig = 1e300;
 constexpr double kIntLimit = 2147483647.0;
+// What a vary key sets; the integer keys' values are whole already (VaryKey::integer).
+using Options = sim::GenerateOptions;
 
 }  // namespace
 
@@ -32,25 +33,53 @@ const std::vector<VaryKey> kVaryKeys = {
     {"target_offset_m", false, 0, 1e6, "distance the target moves from its place, uniform over the disc (annulus)"},
     {"environment_keep_fraction", false, 0, 1, "fraction of environment meshes kept (the others are left out)"},
     {"centre_offset_m", false, 0, 1e6, "distance the orbit centre C moves away from the target, uniform over the disc"},
-    {"altitude_m", false, -kBig, kBig, "drone altitude above C (generate --altitude-m)"},
-    {"overlap_m", false, -kBig, kBig, "CO (generate --overlap-m)"},
-    {"alpha_deg", false, -kBig, kBig, "sensor inclination (generate --alpha-deg)"},
-    {"fov_deg", false, -kBig, kBig, "field of view (generate --fov-deg)"},
-    {"resolution", true, 1, 65536, "pixels across and down (generate --xres and --yres together)"},
-    {"xres", true, 1, 65536, "pixels across (generate --xres)"},
-    {"yres", true, 1, 65536, "pixels down (generate --yres)"},
-    {"views", true, 1, 65535, "NoV (generate --views)"},
-    {"band_m", false, -kBig, kBig, "RANSAC band (generate --band-m)"},
-    {"ransac_distance_m", false, -kBig, kBig, "RANSAC inlier distance (generate --ransac-distance-m)"},
-    {"min_normal_z", false, -kBig, kBig, "generate --min-normal-z"},
-    {"stop_fraction", false, -kBig, kBig, "generate --stop-fraction"},
-    {"min_plane_fraction", false, -kBig, kBig, "generate --min-plane-fraction"},
-    {"max_planes", true, -kIntLimit, kIntLimit, "generate --max-planes"},
-    {"ransac_iterations", true, -kIntLimit, kIntLimit, "generate --ransac-iterations"},
-    {"ransac_sample_points", true, -kIntLimit, kIntLimit, "generate --ransac-sample-points"},
-    {"colours", true, -kIntLimit, kIntLimit, "entries of the jet map (generate --colours)"},
-    {"ransac_seed", true, 0, 9007199254740992.0, "RANSAC seed (generate --seed)"},
+    {"altitude_m", false, -kBig, kBig, "drone altitude above C (generate --altitude-m)", "--altitude-m",
+     [](Options& o, double v) { o.orbit.altitude_m = v; }},
+    {"overlap_m", false, -kBig, kBig, "CO (generate --overlap-m)", "--overlap-m",
+     [](Options& o, double v) { o.orbit.overlap_m = v; }},
+    {"alpha_deg", false, -kBig, kBig, "sensor inclination (generate --alpha-deg)", "--alpha-deg",
+     [](Options& o, double v) { o.orbit.inclination_deg = v; }},
+    {"fov_deg", false, -kBig, kBig, "field of view (generate --fov-deg)", "--fov-deg",
+     [](Options& o, double v) { o.orbit.fov_deg = v; }},
+    {"resolution", true, 1, 65536, "pixels across and down (generate --xres and --yres together)", "--xres --yres",
+     [](Options& o, double v) { o.orbit.xres = o.orbit.yres = int(v); }},
+    {"xres", true, 1, 65536, "pixels across (generate --xres)", "--xres",
+     [](Options& o, double v) { o.orbit.xres = int(v); }},
+    {"yres", true, 1, 65536, "pixels down (generate --yres)", "--yres",
+     [](Options& o, double v) { o.orbit.yres = int(v); }},
+    {"views", true, 1, 65535, "NoV (generate --views)", "--views",
+     [](Options& o, double v) { o.orbit.views = int(v); }},
+    {"band_m", false, -kBig, kBig, "RANSAC band (generate --band-m)", "--band-m",
+     [](Options& o, double v) { o.ground.ransac.band_m = v; }},
+    {"ransac_distance_m", false, -kBig, kBig, "RANSAC inlier distance (generate --ransac-distance-m)",
+     "--ransac-distance-m", [](Options& o, double v) { o.ground.ransac.distance_threshold_m = v; }},
+    {"min_normal_z", false, -kBig, kBig, "generate --min-normal-z", "--min-normal-z",
+     [](Options& o, double v) { o.ground.ransac.min_normal_z = v; }},
+    {"stop_fraction", false, -kBig, kBig, "generate --stop-fraction", "--stop-fraction",
+     [](Options& o, double v) { o.ground.ransac.stop_fraction = v; }},
+    {"min_plane_fraction", false, -kBig, kBig, "generate --min-plane-fraction", "--min-plane-fraction",
+     [](Options& o, double v) { o.ground.ransac.min_plane_fraction = v; }},
+    {"max_planes", true, -kIntLimit, kIntLimit, "generate --max-planes", "--max-planes",
+     [](Options& o, double v) { o.ground.ransac.max_planes = int(v); }},
+    {"ransac_iterations", true, -kIntLimit, kIntLimit, "generate --ransac-iterations", "--ransac-iterations",
+     [](Options& o, double v) { o.ground.ransac.ransac_iterations = int(v); }},
+    {"ransac_sample_points", true, -kIntLimit, kIntLimit, "generate --ransac-sample-points", "--ransac-sample-points",
+     [](Options& o, double v) { o.ground.ransac.ransac_sample_points = int(v); }},
+    {"colours", true, -kIntLimit, kIntLimit, "entries of the jet map (generate --colours)", "--colours",
+     [](Options& o, double v) { o.colour.entries = int(v); }},
+    {"ransac_seed", true, 0, 9007199254740992.0, "RANSAC seed (generate --seed)", "--seed",
+     [](Options& o, double v) { o.seed = std::uint64_t(v); }},
 };
+
+const VaryKey* findVaryKey(std::string_view name) {
+    const auto k = std::find_if(kVaryKeys.begin(), kVaryKeys.end(), [&](const VaryKey& vk) { return vk.name == name; });
+    return k == kVaryKeys.end() ? nullptr : &*k;
+}
+
+void applyToOptions(sim::GenerateOptions& o, std::string_view key, double value) {
+    const VaryKey* k = findVaryKey(key);
+    if (k && k->apply) k->apply(o, value);
+}
 
 double NumberVary::lowest() const {
     return kind == Kind::Choice ? *std::min_element(choices.begin(), choices.end()) : min;
@@ -235,10 +264,8 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
                     }
                     continue;
                 }
-                const auto k = std::find_if(kVaryKeys.begin(), kVaryKeys.end(),
-                                            [&](const VaryKey& vk) { return vk.name == m.key(); });
-                if (k == kVaryKeys.end())
-                    c.fail(name, "unknown key; allowed " + keyList());
+                const VaryKey* k = findVaryKey(m.key());
+                if (!k) c.fail(name, "unknown key; allowed " + keyList());
                 s.numbers[m.key()] = parseNumber(c, name, m.value(), *k);
             }
         } else if (key == "comment") {
@@ -255,7 +282,7 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
     // the drone radius and the memory plan grow with the values).
     for (const bool high : {false, true}) {
         sim::GenerateOptions o;
-        for (const auto& [key, n] : s.numbers) detail::applyToOptions(o, key, high ? n.highest() : n.lowest());
+        for (const auto& [key, n] : s.numbers) applyToOptions(o, key, high ? n.highest() : n.lowest());
         try {
             sim::validate(o);
         } catch (const engine::Error& e) {

@@ -14,8 +14,6 @@ void validate(const ColourOptions& o) {
         throw engine::Error("colour: entries (--colours) = " + std::to_string(o.entries) + ": allowed [2, 256]");
 }
 
-std::vector<std::uint32_t> jetTable(int m) { return engine::jetTable(m); }
-
 std::uint32_t heightColour(float z, float z_min, float z_max, const std::vector<std::uint32_t>& jet) {
     return jet[engine::jetIndex(z, z_min, z_max, int(jet.size()))];
 }

@@ -15,11 +15,12 @@
 // then is refused. Batches, bands and threads change no output bit.
 #include <sim/generator.hpp>
 
-#include "ground_pass.hpp"
 #include "memory_plan.hpp"
 #include "parallel.hpp"
+#include "terrain_stage.hpp"
 
 #include <engine/error.hpp>
+#include <engine/jet.hpp>
 #include <engine/progress.hpp>
 #include <engine/safe_file.hpp>
 #include <engine/scene_info.hpp>
@@ -47,7 +48,6 @@ double secondsSince(Clock::time_point t0) {
 constexpr std::size_t kBlockRays = 4096;        // rays per task: one slot range per task
 constexpr std::size_t kBatchRays = 1u << 19;    // rays per batch of views (memory bound)
 constexpr std::size_t kColourChunk = 1u << 20;  // points per colour/write chunk
-constexpr float kMissRange = kNoReturn;         // range_m of a pixel slot with no hit
 
 std::string mebibytes(std::uint64_t bytes) {
     return std::to_string((bytes + (1u << 20) - 1) >> 20);
@@ -203,7 +203,9 @@ struct Generator::State {
     std::vector<glm::ivec2> row_spans;
     std::vector<std::uint64_t> traced_count;  // per view, rays traced
     std::vector<std::uint32_t> jet;
-    std::unique_ptr<const GroundFilter> ground_filter;  // options.ground.method's
+    // options.ground.method's filter: exactly one of the two, unless the run is white.
+    std::unique_ptr<const ViewGroundFilter> view_filter;
+    std::unique_ptr<const CloudGroundFilter> cloud_filter;
 
     State(const engine::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
 
@@ -244,14 +246,14 @@ struct Generator::State {
                 }
             }
             const std::size_t n = slots_per_pixel;
-            for (std::size_t k = i * n; k < a * n; ++k) band.slots[k - band.first * n].range_m = kMissRange;
+            for (std::size_t k = i * n; k < a * n; ++k) band.slots[k - band.first * n].range_m = kNoReturn;
             // Paper §III-B: the sensor traces the run [a, b) (16-ray packets of consecutive
             // pixels with packet_rays) and fills its slots.
             if (a < b)
                 sensor->trace(*caster, sensor_views[std::size_t(view)], a,
                               std::span(band.dirs + (a - band.first), b - a),
                               std::span(band.slots + (a - band.first) * n, (b - a) * n), options.packet_rays);
-            for (std::size_t k = std::max(a, b) * n; k < row_end * n; ++k) band.slots[k - band.first * n].range_m = kMissRange;
+            for (std::size_t k = std::max(a, b) * n; k < row_end * n; ++k) band.slots[k - band.first * n].range_m = kNoReturn;
             i = row_end;
         }
     }
@@ -347,7 +349,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
                 for (std::size_t i = 0; i < rows * xres; ++i) {
                     bool missed = true;
                     for (std::size_t r = i * n; r < (i + 1) * n; ++r)
-                        if (s[r].range_m != kMissRange) {
+                        if (s[r].range_m != kNoReturn) {
                             missed = false;
                             out.push_back(s[r]);
                             if (options.white) out.back().rgb = engine::kWhite;
@@ -367,7 +369,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
             st.sub_rays_traced += traced_count[first + k] * sensor->raysPerPixel();
         }
 
-        if (!options.white && ground_filter->perView()) {
+        if (!options.white && view_filter) {
             const auto t0 = Clock::now();
             pool.run(count, [&](std::size_t k) {
                 auto& pts = view_points[k];
@@ -379,18 +381,18 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
                 std::vector<glm::vec3> positions(pts.size());
                 for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
                 const std::uint64_t view = first + k;
-                const auto is_ground = ground_filter->classifyView(positions, options.seed ^ view,
-                                                                   &ground_stats[k]);
+                const auto is_ground = view_filter->classifyView(positions, options.seed ^ view,
+                                                                 &ground_stats[k]);
                 for (std::size_t i = 0; i < pts.size(); ++i)
                     if (is_ground[i]) pts[i].rgb = engine::kWhite;
             });
-            st.seconds.ransac += secondsSince(t0);
+            st.seconds.ground += secondsSince(t0);
         }
 
         const auto t0 = Clock::now();
         if (!emit_per_band)
             for (std::size_t k = 0; k < count; ++k) {
-                if (!options.white && ground_filter->perView()) {
+                if (!options.white && view_filter) {
                     st.planes_accepted += ground_stats[k].planes_accepted;
                     st.planes_rejected += ground_stats[k].planes_rejected;
                     st.views_without_ransac += ground_stats[k].band_points < 3;
@@ -428,8 +430,11 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     // divergence off the pixel's axis: the traced pixels are found for both.
     const SensorOptions& so = s.options.sensor;
     const double spread_rad = 0.5e-3 * std::max(so.beam_divergence_mrad, so.beam_divergence_y_mrad);
-    s.jet = jetTable(s.options.colour.entries);
-    s.ground_filter = makeGroundFilter(s.options.ground);
+    s.jet = engine::jetTable(s.options.colour.entries);
+    if (!s.options.white) {
+        s.view_filter = makeViewFilter(s.options.ground);
+        s.cloud_filter = makeCloudFilter(s.options.ground);
+    }
     // Bounds of the triangles to ray-cast, one box per mesh (with --roles
     // target,environment the houses and trees are scattered: one box over all of them
     // would cover the whole footprint). Many meshes, or more (view, row) spans than fit
@@ -521,10 +526,25 @@ void initStats(const Generator::State& s, GenerateStats& st) {
     st.triangles = s.caster->triangleCount();
     st.threads = s.plan.threads;
     st.batch_views = s.plan.batch_views;
-    st.tile_rows = s.plan.band_rows;
+    st.band_rows = s.plan.band_rows;
     st.memory_planned_bytes = s.plan.fuse_bytes;
     st.seconds.bvh = s.bvh_seconds;
     st.ground_method = o.ground.method;
+}
+
+// The cloud in memory: every view fused into `points` (the terrain stage's pass 1 on the
+// way), the terrain fitted, then pass 2 and the colours over all of them.
+void fuseFitColour(const Generator::State& s, std::vector<engine::CloudPoint>& points, TerrainStage& terrain,
+                   Workers& pool, GenerateStats& st) {
+    s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
+        points.insert(points.end(), pts.begin(), pts.end());
+        terrain.add(pts);
+    }, pool, st);
+    terrain.fit();
+    terrain.classify(points, pool);
+    const auto t0 = Clock::now();
+    s.colour(points, pool, st);
+    st.seconds.colour = secondsSince(t0);
 }
 
 }  // namespace
@@ -541,17 +561,9 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
     // The cloud is the caller's: reserved up to the budget, beyond it grown as needed.
     cloud.points.reserve(std::size_t(std::min<std::uint64_t>(
         s.hits_bound, s.options.memory_budget_bytes / sizeof(engine::CloudPoint))));
-    TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.checkTerrain());
+    TerrainStage terrain(s.cloud_filter.get(), s.options.ground.smrf, s.options.white, s.checkTerrain());
     cloud.fields.height_above_ground = terrain.whitens();
-    s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
-        cloud.points.insert(cloud.points.end(), pts.begin(), pts.end());
-        terrain.add(pts);
-    }, pool, st);
-    terrain.fit();
-    terrain.classify(cloud.points, pool);
-    auto tc = Clock::now();
-    s.colour(cloud.points, pool, st);
-    st.seconds.colour = secondsSince(tc);
+    fuseFitColour(s, cloud.points, terrain, pool, st);
     terrain.finish(st);
     st.seconds.total = s.bvh_seconds + secondsSince(t0);
     if (stats) *stats = st;
@@ -585,7 +597,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     initStats(s, st);
     // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
-    TerrainPass terrain(*s.ground_filter, s.options.ground, s.options.white, s.checkTerrain());
+    TerrainStage terrain(s.cloud_filter.get(), s.options.ground.smrf, s.options.white, s.checkTerrain());
     const bool las = format == engine::CloudFormat::Las || format == engine::CloudFormat::Laz;
     engine::CloudFields fields = s.sensor->fields();
     fields.height_above_ground = terrain.whitens();
@@ -606,16 +618,8 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     if (!st.streamed) {
         std::vector<engine::CloudPoint> points;
         points.reserve(std::size_t(s.hits_bound));
-        s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
-            points.insert(points.end(), pts.begin(), pts.end());
-            terrain.add(pts);
-        }, pool, st);
-        terrain.fit();
-        terrain.classify(points, pool);
-        auto tc = Clock::now();
-        s.colour(points, pool, st);
-        st.seconds.colour = secondsSince(tc);
-        tc = Clock::now();
+        fuseFitColour(s, points, terrain, pool, st);
+        const auto tc = Clock::now();
         for (std::size_t i = 0; i < points.size(); i += kColourChunk)
             writer.append(std::span(points).subspan(i, std::min(kColourChunk, points.size() - i)));
         writer.commit();

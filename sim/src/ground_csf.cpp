@@ -146,7 +146,7 @@ void validate(const CsfOptions& o) {
     if (o.max_cells < 1) failGroundOption("csf max_cells", double(o.max_cells), ">= 1");
 }
 
-std::unique_ptr<GroundFilter> makeCsfFilter(const CsfOptions& o) { return std::make_unique<CsfFilter>(o); }
+std::unique_ptr<const CloudGroundFilter> makeCsfFilter(const CsfOptions& o) { return std::make_unique<CsfFilter>(o); }
 std::unique_ptr<TerrainFit> startCsf(const CsfOptions& o) { return std::make_unique<CsfFit>(o); }
 
 std::vector<std::uint8_t> findGroundCsf(std::span<const glm::vec3> points, const CsfOptions& o, TerrainGrid* surface,

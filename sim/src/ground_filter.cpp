@@ -1,4 +1,4 @@
-// sim/src/ground_filter.cpp: the GroundFilter seam: method names, the factory, the
+// sim/src/ground_filter.cpp: the ground filter seams: method names, the factories, the
 // checks shared by every filter, and the terrain raster's interpolation.
 #include "ground_internal.hpp"
 
@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 
 namespace sim {
@@ -34,27 +33,26 @@ GroundMethod parseGroundMethod(std::string_view text, std::string_view context) 
     throw engine::Error(std::string(context) + " '" + std::string(text) + "': allowed ransac, smrf, csf");
 }
 
-void validate(const GroundOptions& o) {
-    validateRansac(o);
+void validate(const GroundChoice& o) {
+    validate(o.ransac);
     validate(o.smrf);
     validate(o.csf);
 }
 
-std::vector<std::uint8_t> GroundFilter::classifyView(std::span<const glm::vec3>, std::uint64_t, GroundStats*) const {
-    throw std::logic_error(std::string("ground: ") + groundMethodName(method()) + " is not a per-view filter");
+bool isPerView(GroundMethod m) { return m == GroundMethod::Ransac; }
+
+std::unique_ptr<const ViewGroundFilter> makeViewFilter(const GroundChoice& o) {
+    if (o.method == GroundMethod::Ransac) return makeRansacFilter(o.ransac);
+    return nullptr;
 }
 
-std::unique_ptr<TerrainFit> GroundFilter::startCloud() const {
-    throw std::logic_error(std::string("ground: ") + groundMethodName(method()) + " is not a whole-cloud filter");
-}
-
-std::unique_ptr<GroundFilter> makeGroundFilter(const GroundOptions& o) {
+std::unique_ptr<const CloudGroundFilter> makeCloudFilter(const GroundChoice& o) {
     switch (o.method) {
-        case GroundMethod::Ransac: return makeRansacFilter(o);
+        case GroundMethod::Ransac: return nullptr;
         case GroundMethod::Smrf: return makeSmrfFilter(o.smrf);
         case GroundMethod::Csf: return makeCsfFilter(o.csf);
     }
-    return makeRansacFilter(o);
+    return nullptr;
 }
 
 double TerrainGrid::heightAt(double x, double y) const {

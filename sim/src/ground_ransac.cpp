@@ -12,7 +12,7 @@
 //      would find the same wall forever, so the inliers leave PC either way.
 //   5) repeat from 2) until |PC| < stop_fraction * |PC at step 1| (or max_planes).
 //
-// Our addition (GroundOptions::min_plane_fraction, 0 restores the paper's rule): a
+// Our addition (RansacOptions::min_plane_fraction, 0 restores the paper's rule): a
 // horizontal plane must also hold a minimum share of the band. Without it, once the
 // ground is removed RANSAC's best "plane" is often a horizontal slab cut through all the
 // walls at one height, or a vehicle's roof, and both would turn white. Since no smaller
@@ -40,7 +40,7 @@
 
 namespace sim {
 
-void validateRansac(const GroundOptions& o) {
+void validate(const RansacOptions& o) {
     if (!(std::isfinite(o.band_m) && o.band_m > 0.0)) failGroundOption("band_m (--band-m)", o.band_m, "> 0");
     if (!(std::isfinite(o.distance_threshold_m) && o.distance_threshold_m > 0.0))
         failGroundOption("distance_threshold_m (--ransac-distance-m)", o.distance_threshold_m, "> 0");
@@ -55,7 +55,7 @@ void validateRansac(const GroundOptions& o) {
         failGroundOption("ransac_iterations (--ransac-iterations)", o.ransac_iterations, "[1, 10000000]");
 }
 
-std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const GroundOptions& o,
+std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const RansacOptions& o,
                                      std::uint64_t seed, GroundStats* stats) {
     std::vector<std::uint8_t> is_ground(points.size(), 0);
     GroundStats local;
@@ -158,23 +158,22 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Gr
 
 namespace {
 
-// The paper's filter behind the GroundFilter seam: findGround on each view.
-class RansacFilter final : public GroundFilter {
+// The paper's filter behind the per-view seam: findGround on each view.
+class RansacFilter final : public ViewGroundFilter {
 public:
-    explicit RansacFilter(const GroundOptions& o) : options_(o) {}
+    explicit RansacFilter(const RansacOptions& o) : options_(o) {}
     GroundMethod method() const override { return GroundMethod::Ransac; }
-    bool perView() const override { return true; }
     std::vector<std::uint8_t> classifyView(std::span<const glm::vec3> points, std::uint64_t seed,
                                            GroundStats* stats) const override {
         return findGround(points, options_, seed, stats);
     }
 
 private:
-    GroundOptions options_;
+    RansacOptions options_;
 };
 
 }  // namespace
 
-std::unique_ptr<GroundFilter> makeRansacFilter(const GroundOptions& o) { return std::make_unique<RansacFilter>(o); }
+std::unique_ptr<const ViewGroundFilter> makeRansacFilter(const RansacOptions& o) { return std::make_unique<RansacFilter>(o); }
 
 }  // namespace sim

@@ -137,7 +137,7 @@ void validate(const SmrfOptions& o) {
     if (o.max_cells < 1) failGroundOption("smrf max_cells", double(o.max_cells), ">= 1");
 }
 
-std::unique_ptr<GroundFilter> makeSmrfFilter(const SmrfOptions& o) { return std::make_unique<SmrfFilter>(o); }
+std::unique_ptr<const CloudGroundFilter> makeSmrfFilter(const SmrfOptions& o) { return std::make_unique<SmrfFilter>(o); }
 std::unique_ptr<TerrainFit> startSmrf(const SmrfOptions& o) { return std::make_unique<SmrfFit>(o); }
 
 std::vector<std::uint8_t> findGroundSmrf(std::span<const glm::vec3> points, const SmrfOptions& o,

@@ -1,5 +1,5 @@
 // sim/src/memory_plan.hpp: how a generate run fits GenerateOptions::memory_budget_bytes
-// (--memory-mb): views per batch, rows per tile, threads; and the free-space check
+// (--memory-mb): views per batch, rows per band, threads; and the free-space check
 // before spooling.
 #pragma once
 #include <cstddef>

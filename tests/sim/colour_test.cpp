@@ -28,7 +28,7 @@ double hueDeg(std::uint32_t rgb) {
 }  // namespace
 
 TEST_CASE("jet(64) matches MATLAB's table at known rows") {
-    const auto jet = sim::jetTable(64);
+    const auto jet = engine::jetTable(64);
     REQUIRE(jet.size() == 64);
     CHECK(jet[0] == engine::packRgb(0, 0, 143));      // [0 0 0.5625]
     CHECK(jet[7] == engine::packRgb(0, 0, 255));      // [0 0 1]
@@ -40,7 +40,7 @@ TEST_CASE("jet(64) matches MATLAB's table at known rows") {
 }
 
 TEST_CASE("height colours: red at the minimum, blue at the maximum, hue rising with height") {
-    const auto jet = sim::jetTable(64);
+    const auto jet = engine::jetTable(64);
     CHECK(sim::heightColour(10.0f, 10.0f, 20.0f, jet) == engine::packRgb(128, 0, 0));
     CHECK(sim::heightColour(20.0f, 10.0f, 20.0f, jet) == engine::packRgb(0, 0, 143));
     double last_hue = -1.0;
@@ -63,8 +63,7 @@ TEST_CASE("height colours: red at the minimum, blue at the maximum, hue rising w
 
 TEST_CASE("the generator colours with engine's jet table, the one the viewer shows") {
     for (int m : {2, 5, 16, 64, 256}) {
-        const auto jet = sim::jetTable(m);
-        CHECK(jet == engine::jetTable(m));
+        const auto jet = engine::jetTable(m);
         for (int k = -2; k <= 42; ++k) {
             const float z = -1.0f + 0.5f * float(k);
             CHECK(sim::heightColour(z, 0.0f, 20.0f, jet) == jet[engine::jetIndex(z, 0.0, 20.0, m)]);

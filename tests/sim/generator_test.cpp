@@ -196,7 +196,7 @@ TEST_CASE("bad options fail before any work and leave no output file") {
     fails([](auto& o) { o.orbit.views = 0; }, "views");
     fails([](auto& o) { o.orbit.xres = -1; }, "xres");
     fails([](auto& o) { o.orbit.altitude_m = -300; }, "altitude_m");
-    fails([](auto& o) { o.ground.band_m = -3; }, "band_m");
+    fails([](auto& o) { o.ground.ransac.band_m = -3; }, "band_m");
     fails([](auto& o) { o.colour.entries = 0; }, "entries");
     fails([](auto& o) { o.threads = -2; }, "threads");
     fails([](auto& o) { o.centre = glm::dvec3(0, NAN, 0); }, "centre");

@@ -1,4 +1,4 @@
-// tests/sim/ground_filter_test.cpp: the GroundFilter seam inside the generator: the
+// tests/sim/ground_filter_test.cpp: the ground filter seams inside the generator: the
 // paper's RANSAC untouched, SMRF on the whole cloud (threads, spool), the DTM file, and
 // the line `generate` prints when RANSAC leaves the terrain coloured.
 #include <test_files.hpp>
@@ -46,23 +46,34 @@ double hillyHeight(double x, double y) {
 
 }  // namespace
 
-TEST_CASE("the ground filter factory: RANSAC per view (the default), SMRF on the whole cloud") {
-    const sim::GroundOptions defaults;
+TEST_CASE("the ground filter factories: RANSAC per view (the default), SMRF and CSF on the whole cloud") {
+    const sim::GroundChoice defaults;
     CHECK(defaults.method == sim::GroundMethod::Ransac);
-    const auto ransac = sim::makeGroundFilter(defaults);
-    CHECK(ransac->perView());
-    CHECK_THROWS_AS(ransac->startCloud(), std::logic_error);
-    // Through the seam, RANSAC is findGround itself.
+    CHECK(sim::isPerView(defaults.method));
+    const auto ransac = sim::makeViewFilter(defaults);
+    REQUIRE(ransac != nullptr);
+    CHECK(ransac->method() == sim::GroundMethod::Ransac);
+    CHECK(sim::makeCloudFilter(defaults) == nullptr);
+    // Through the seam, RANSAC is findGround itself, with the choice's RANSAC options.
     std::vector<glm::vec3> pts;
     for (int i = 0; i < 2000; ++i) pts.emplace_back(float(i % 50), float(i / 50), (i % 7 == 0) ? 5.0f : 0.0f);
-    CHECK(ransac->classifyView(pts, 9, nullptr) == sim::findGround(pts, defaults, 9));
+    CHECK(ransac->classifyView(pts, 9, nullptr) == sim::findGround(pts, defaults.ransac, 9));
+    sim::GroundChoice narrow;
+    narrow.ransac.band_m = 1.0;  // the view's z = 5 points leave the band: never ground
+    const std::vector<std::uint8_t> narrow_flags = sim::makeViewFilter(narrow)->classifyView(pts, 9, nullptr);
+    CHECK(narrow_flags == sim::findGround(pts, narrow.ransac, 9));
+    CHECK(narrow_flags[0] == 0);  // pts[0] is at z = 5
 
-    sim::GroundOptions o;
-    o.method = sim::GroundMethod::Smrf;
-    const auto smrf = sim::makeGroundFilter(o);
-    CHECK_FALSE(smrf->perView());
-    CHECK_THROWS_AS(smrf->classifyView(pts, 9, nullptr), std::logic_error);
-    CHECK(smrf->startCloud() != nullptr);
+    for (const sim::GroundMethod m : {sim::GroundMethod::Smrf, sim::GroundMethod::Csf}) {
+        sim::GroundChoice o;
+        o.method = m;
+        CHECK_FALSE(sim::isPerView(m));
+        CHECK(sim::makeViewFilter(o) == nullptr);
+        const auto cloud = sim::makeCloudFilter(o);
+        REQUIRE(cloud != nullptr);
+        CHECK(cloud->method() == m);
+        CHECK(cloud->startCloud() != nullptr);
+    }
 
     CHECK(sim::parseGroundMethod("smrf", "x") == sim::GroundMethod::Smrf);
     CHECK(std::string(sim::groundMethodName(sim::GroundMethod::Ransac)) == "ransac");

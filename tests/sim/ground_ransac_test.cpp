@@ -40,7 +40,7 @@ TEST_CASE("RANSAC recovers a ground plane and rejects a wall, and points above t
     addPatch(l, rng, 800, 10, 20, 10, 20, 9.0f, 2);
 
     sim::GroundStats stats;
-    const auto ground = sim::findGround(l.points, sim::GroundOptions{}, 42, &stats);
+    const auto ground = sim::findGround(l.points, sim::RansacOptions{}, 42, &stats);
     REQUIRE(ground.size() == l.points.size());
     std::size_t ground_hits = 0, wall_hits = 0, roof_hits = 0;
     for (std::size_t i = 0; i < ground.size(); ++i) {
@@ -63,7 +63,7 @@ TEST_CASE("RANSAC recovers two terraces in the band, one plane per loop") {
     addPatch(l, rng, 3000, -20, 0, -20, 20, 0.0f);
     addPatch(l, rng, 2000, 0.5f, 20, -20, 20, 1.5f, 3);
     sim::GroundStats stats;
-    const auto ground = sim::findGround(l.points, sim::GroundOptions{}, 1, &stats);
+    const auto ground = sim::findGround(l.points, sim::RansacOptions{}, 1, &stats);
     std::size_t found = 0;
     for (auto g : ground) found += g;
     CHECK(found == 5000);
@@ -106,7 +106,7 @@ TEST_CASE("the normal test keeps |n.z| >= 0.9 and rejects steeper planes") {
         const double cos_slope = std::cos(slope_deg * std::numbers::pi / 180.0);
         const std::vector<glm::vec3> pts = slopedPatch(slope_deg, 0.0, 11);
         sim::GroundStats stats;
-        const std::size_t found = countGround(sim::findGround(pts, sim::GroundOptions{}, 5, &stats));
+        const std::size_t found = countGround(sim::findGround(pts, sim::RansacOptions{}, 5, &stats));
         INFO("slope ", slope_deg, " deg, cos = ", cos_slope);
         REQUIRE(stats.band_points == pts.size());
         if (cos_slope >= 0.9) {
@@ -131,7 +131,7 @@ TEST_CASE("a plane is ground whatever the sign of its normal (|n.z|, not n.z)") 
         do {
             for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
                 sim::GroundStats stats;
-                const std::size_t found = countGround(sim::findGround(pts, sim::GroundOptions{}, seed, &stats));
+                const std::size_t found = countGround(sim::findGround(pts, sim::RansacOptions{}, seed, &stats));
                 INFO("tilt ", tilt, " seed ", seed, " first point ", pts[0].x, ",", pts[0].y);
                 CHECK(found == 3);
                 CHECK(stats.planes_accepted == 1);
@@ -145,7 +145,7 @@ TEST_CASE("a plane is ground whatever the sign of its normal (|n.z|, not n.z)") 
         const std::vector<glm::vec3> pts = slopedPatch(5.0, azimuth_deg, unsigned(azimuth_deg + 1));
         sim::GroundStats stats;
         INFO("azimuth ", azimuth_deg, " deg");
-        CHECK(countGround(sim::findGround(pts, sim::GroundOptions{}, 1, &stats)) == pts.size());
+        CHECK(countGround(sim::findGround(pts, sim::RansacOptions{}, 1, &stats)) == pts.size());
         CHECK(stats.planes_rejected == 0);
     }
 }
@@ -172,7 +172,7 @@ TEST_CASE("the stop fraction and the plane cap end the loop") {
     addPatch(l, rng, 2000, -10, 10, -10, 10, 0.0f);
     std::uniform_real_distribution<float> u(-10, 10), h(0.5f, 2.9f);
     for (int i = 0; i < 300; ++i) l.add({u(rng), u(rng), h(rng)}, 2);
-    sim::GroundOptions o;
+    sim::RansacOptions o;
     o.max_planes = 1;
     sim::GroundStats stats;
     sim::findGround(l.points, o, 1, &stats);
@@ -184,7 +184,7 @@ TEST_CASE("the stop fraction and the plane cap end the loop") {
 }
 
 TEST_CASE("ground options are validated with the parameter named") {
-    sim::GroundOptions o;
+    sim::RansacOptions o;
     o.band_m = 0;
     CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("band_m"), engine::Error);
     o = {};
@@ -199,7 +199,7 @@ TEST_CASE("ground options are validated with the parameter named") {
     o = {};
     o.distance_threshold_m = std::nan("");
     CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("distance_threshold_m"), engine::Error);
-    CHECK_NOTHROW(sim::validate(sim::GroundOptions{}));
+    CHECK_NOTHROW(sim::validate(sim::RansacOptions{}));
 }
 
 TEST_CASE("a horizontal plane under min_plane_fraction is not ground (tank roof, wall slabs)") {
@@ -208,13 +208,13 @@ TEST_CASE("a horizontal plane under min_plane_fraction is not ground (tank roof,
     addPatch(l, rng, 5000, -40, 40, -40, 40, 0.0f);
     addPatch(l, rng, 100, -3, 3, -1.5f, 1.5f, 2.4f, 2);  // a vehicle roof, 2 % of the band
     sim::GroundStats stats;
-    auto ground = sim::findGround(l.points, sim::GroundOptions{}, 3, &stats);
+    auto ground = sim::findGround(l.points, sim::RansacOptions{}, 3, &stats);
     std::size_t roof = 0, floor = 0;
     for (std::size_t i = 0; i < ground.size(); ++i) (l.kind[i] == 0 ? floor : roof) += ground[i];
     CHECK(floor == 5000);
     CHECK(roof == 0);
     // The paper's rule (no minimum) whitens the roof too.
-    sim::GroundOptions paper;
+    sim::RansacOptions paper;
     paper.min_plane_fraction = 0.0;
     ground = sim::findGround(l.points, paper, 3, &stats);
     roof = 0;
@@ -228,8 +228,8 @@ TEST_CASE("RANSAC on a sample of a big band finds the same ground as on all of i
     addPatch(l, rng, 60000, -50, 50, -50, 50, 0.0f);
     std::uniform_real_distribution<float> wy(-20, 20), wz(0.3f, 2.9f), noise(-0.02f, 0.02f);
     for (int i = 0; i < 8000; ++i) l.add({-7.0f + noise(rng), wy(rng), wz(rng)}, 1);
-    sim::GroundOptions sampled;  // default: plane search on 20,000 of the 68,000 band points
-    sim::GroundOptions full;
+    sim::RansacOptions sampled;  // default: plane search on 20,000 of the 68,000 band points
+    sim::RansacOptions full;
     full.ransac_sample_points = 0;
     sim::GroundStats st_sampled, st_full;
     const auto a = sim::findGround(l.points, sampled, 2, &st_sampled);

@@ -149,9 +149,9 @@ TEST_CASE("generator: tiled views give the same cloud bit for bit, white and whi
         o.memory_budget_bytes = (white ? 10 : 14) * kMiB;
         const engine::PointCloud b = sim::generateCloud(scene, o, &tight);
         CAPTURE(white);
-        CHECK(roomy.tile_rows == 192);
-        CHECK(tight.tile_rows < 192);
-        CHECK(tight.tile_rows > 1);
+        CHECK(roomy.band_rows == 192);
+        CHECK(tight.band_rows < 192);
+        CHECK(tight.band_rows > 1);
         CHECK(tight.batch_views == 1);
         CHECK(tight.memory_planned_bytes <= o.memory_budget_bytes);
         REQUIRE(a.points.size() > 10000);
@@ -176,7 +176,7 @@ TEST_CASE("generator: a tiled, spooled file is byte-identical to the roomy in-me
     sim::generateToFile(scene, o, dir.path / "tight.pcd", engine::CloudFormat::PcdBinary, &tight);
     CHECK_FALSE(roomy.streamed);
     CHECK(tight.streamed);
-    CHECK(tight.tile_rows < 192);
+    CHECK(tight.band_rows < 192);
     CHECK(test_support::slurp(dir.path / "roomy.pcd") == test_support::slurp(dir.path / "tight.pcd"));
     CHECK(dir.entries() == 2);  // no spool or temporary file left
 }

@@ -5,6 +5,7 @@
 #include <test_files.hpp>
 
 #include <engine/error.hpp>
+#include <engine/jet.hpp>
 #include <sim/colour.hpp>
 #include <sim/generator.hpp>
 #include <sim/ground.hpp>
@@ -101,7 +102,7 @@ TEST_CASE("a scene built in code with NaN and zero-area triangles: Embree skips 
 
 TEST_CASE("colour map with every height equal: one colour (the lowest bin's), nothing undefined") {
     for (const int m : {2, 64, 256}) {
-        const auto jet = sim::jetTable(m);
+        const auto jet = engine::jetTable(m);
         REQUIRE(int(jet.size()) == m);
         for (const float z : {0.0f, -1e30f, 1e30f, 1e-40f, 123.456f}) {
             CHECK(sim::heightColour(z, z, z, jet) == jet[std::size_t(m - 1)]);
@@ -126,7 +127,7 @@ TEST_CASE("colour map with every height equal: one colour (the lowest bin's), no
     REQUIRE(cloud.points.size() == 32u * 32u * 4u);
     CHECK(st.z_max - st.z_min < 1e-3f);
     MESSAGE("flat plate: z range " << (st.z_max - st.z_min) * 1e6 << " micrometres");
-    const auto jet = sim::jetTable(64);
+    const auto jet = engine::jetTable(64);
     std::size_t invalid = 0;
     for (const auto& p : cloud.points)
         invalid += p.rgb != engine::kWhite && std::find(jet.begin(), jet.end(), p.rgb) == jet.end();
@@ -134,7 +135,7 @@ TEST_CASE("colour map with every height equal: one colour (the lowest bin's), no
 }
 
 TEST_CASE("RANSAC: fewer than 3 points, collinear points, walls only: no ground, no crash") {
-    const sim::GroundOptions o;
+    const sim::RansacOptions o;
     sim::GroundStats st;
     CHECK(sim::findGround({}, o, 1, &st).empty());
     CHECK(st.ground_points == 0);

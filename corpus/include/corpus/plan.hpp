@@ -59,6 +59,10 @@ struct ItemPlan {
 /// Most draws of a place before an item is an error.
 inline constexpr int kMaxPlacementDraws = 200;
 
+/// The folder name of item `index` of a corpus of `count` items: the index zero-padded
+/// to at least 4 digits, enough for count - 1.
+std::string itemId(std::size_t index, std::size_t count);
+
 class Planner {
 public:
     /// Loads the base scene and the target models. Throws engine::Error naming the SPEC
@@ -71,7 +75,7 @@ public:
     /// Item `index` (< spec.count). Throws engine::Error("corpus: item <id>: ...") when
     /// its target or C cannot be placed (every draw met another mesh's box or left the ground).
     ItemPlan plan(std::size_t index) const;
-    /// The folder name of item `index`: at least 4 digits, enough for count - 1.
+    /// The folder name of item `index`: itemId(index, spec().count).
     std::string itemId(std::size_t index) const;
     /// World boxes of the environment meshes of the base scene, in scene order.
     const std::vector<engine::Bounds>& environmentBoxes() const;

@@ -22,6 +22,10 @@
 #include <string_view>
 #include <vector>
 
+namespace sim {
+struct GenerateOptions;
+}
+
 namespace corpus {
 
 /// How one numeric parameter varies over the items.
@@ -51,17 +55,31 @@ struct MetricSpec {
     int height = 512;
 };
 
-/// One vary key: its name, whether it is an integer, the range a value must lie in, and
-/// what it changes (for the docs and the messages).
+/// One vary key: its name, whether it is an integer, the range a value must lie in, what
+/// it changes (for the docs and the messages), and, for a generator parameter, the
+/// `generate` options that take its value and how it sets sim::GenerateOptions.
 struct VaryKey {
     std::string_view name;
     bool integer;
     double lowest, highest;          // allowed values (closed), before sim's own checks
     std::string_view what;
+    /// The `generate` options (space-separated) that each take the value in an item's
+    /// replay line; empty for the keys the planner applies itself (placements, kept
+    /// environment).
+    std::string_view options = {};
+    /// Sets the generator parameter to a value (integers already whole); null where
+    /// `options` is empty.
+    void (*apply)(sim::GenerateOptions& o, double value) = nullptr;
 };
 
-/// Every key `vary` accepts, besides target_files.
+/// Every key `vary` accepts, besides target_files: the one table of vary keys.
 extern const std::vector<VaryKey> kVaryKeys;
+/// The entry of kVaryKeys named `name`; null when there is none.
+const VaryKey* findVaryKey(std::string_view name);
+/// Sets the generator parameter named by vary key `key` to `value`; keys that are not
+/// generator parameters (the target's and C's placement, environment_keep_fraction) are
+/// left to the planner and ignored here.
+void applyToOptions(sim::GenerateOptions& o, std::string_view key, double value);
 
 struct Spec {
     std::filesystem::path file;      // the SPEC file, absolute

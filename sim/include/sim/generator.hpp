@@ -25,14 +25,14 @@ struct GenerateOptions {
     /// Default: defaultCentre(scene).
     std::optional<glm::dvec3> centre;
     ColourOptions colour;
-    GroundOptions ground;
+    GroundChoice ground;  // which filter whitens the ground, and each filter's options
     /// The Ladar's models (docs/sensor.md); the default is the paper's ideal sensor.
     SensorOptions sensor;
     /// Meshes to ray-cast (§IV-B's target-only / no-ground clouds); the others are left
     /// out of the BVH. C is still computed on the whole scene, so clouds of different
     /// roles share one orbit.
     engine::RoleMask roles = engine::RoleMask::all();
-    bool white = false;             // no colouring and no RANSAC: every point white
+    bool white = false;             // no colouring and no ground filter: every point white
     int threads = 0;                // 0 = every core (oneTBB's default concurrency)
     bool packet_rays = true;        // trace 16-ray packets (rtcIntersect16); false: rtcIntersect1
     /// Per view, trace only the pixels whose rays can meet the bounds of the ray-cast
@@ -75,10 +75,10 @@ void validate(const GenerateOptions& o);
 glm::dvec3 defaultCentre(const engine::Scene& scene);
 
 /// Wall-clock seconds of each stage (load is the caller's).
-/// `ransac` is the ground stage of whichever filter ran (--ground); `ground_check` the
+/// `ground` is the ground stage of whichever filter ran (--ground); `ground_check` the
 /// SMRF terrain fitted to check the paper's RANSAC (GenerateOptions::ground_check).
 struct StageSeconds {
-    double bvh = 0, cast = 0, fuse = 0, ransac = 0, colour = 0, write = 0, total = 0;
+    double bvh = 0, cast = 0, fuse = 0, ground = 0, colour = 0, write = 0, total = 0;
     double ground_check = 0;
 };
 
@@ -88,12 +88,12 @@ struct GenerateStats {
     std::size_t triangles = 0;              // in the BVH
     int threads = 1;                        // used: the request, clamped to the memory budget
     std::size_t batch_views = 1;            // views traced together
-    std::size_t tile_rows = 0;              // rows of a view traced per pass (yres: untiled)
+    std::size_t band_rows = 0;              // rows of a view traced per pass (yres: one band)
     std::uint64_t memory_planned_bytes = 0; // the fusion's buffers as planned (<= the budget)
     std::uint64_t rays = 0, points = 0, misses = 0;
     std::uint64_t rays_traced = 0;          // pixels whose rays were cast (rays minus skipped pixels)
     std::uint64_t sub_rays_traced = 0;      // rays cast counting a beam footprint's sub-rays
-    std::uint64_t ground_found = 0;         // whitened by RANSAC (PG over all views)
+    std::uint64_t ground_found = 0;         // whitened by the ground filter (RANSAC: PG over all views)
     std::uint64_t ground_truth = 0;         // points whose mesh has role ground
     std::uint64_t ground_true_positive = 0; // both
     int planes_accepted = 0, planes_rejected = 0;
@@ -108,8 +108,9 @@ struct GenerateStats {
     float z_min = 0, z_max = 0;             // height range used by the colour map (local)
     bool streamed = false;                  // spooled through a temporary file
     GroundMethod ground_method = GroundMethod::Ransac;
-    /// Points within the terrain filter's threshold of the fitted terrain (SMRF's, of
-    /// --ground smrf or of the check of RANSAC), and of those the ones left coloured.
+    /// Points within the terrain filter's threshold of the fitted terrain (SMRF's or CSF's
+    /// with --ground smrf or csf, SMRF's for the check of RANSAC), and of those the ones
+    /// left coloured.
     std::uint64_t terrain_points = 0, terrain_points_coloured = 0;
     /// The fitted terrain (local frame), when one was fitted.
     std::shared_ptr<const TerrainGrid> terrain;

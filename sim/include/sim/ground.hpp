@@ -1,6 +1,8 @@
 // sim/ground.hpp: ground detection for whitening. The paper's five-step iterative RANSAC
-// (§III-C, per view, the default) and terrain-following filters that work on the whole
-// fused cloud (SMRF), behind one GroundFilter seam.
+// (§III-C, per view, the default) behind the per-view seam (ViewGroundFilter), and the
+// terrain-following filters that work on the whole fused cloud (SMRF, CSF) behind the
+// whole-cloud seam (CloudGroundFilter). Each filter has its own options struct;
+// GroundChoice says which one the generator runs.
 #pragma once
 #include <engine/point_cloud.hpp>
 
@@ -56,8 +58,7 @@ struct CsfOptions {
 };
 
 /// Thresholds of the iterative RANSAC; defaults are the paper's where it gives them.
-/// `method` picks the filter; `smrf` holds SMRF's parameters.
-struct GroundOptions {
+struct RansacOptions {
     double band_m = 3.0;                // step 1: keep z in [z_min, z_min + band_m] (paper: 3 m)
     double distance_threshold_m = 0.2;  // RANSAC inlier distance (not given by the paper)
     double min_normal_z = 0.9;          // step 3: accept a plane when |normal.z| >= this
@@ -72,17 +73,26 @@ struct GroundOptions {
     /// sample: PC is shuffled), then every point of PC within distance_threshold_m of
     /// that plane is an inlier. Same planes on big views, ~10x faster. 0 = all of PC.
     int ransac_sample_points = 20000;
+};
 
+/// The generator's ground stage: which filter whitens the cloud, and the options of
+/// each. `smrf` also serves the check of RANSAC's result against a fitted terrain
+/// (GenerateOptions::ground_check), whatever the method.
+struct GroundChoice {
     GroundMethod method = GroundMethod::Ransac;
+    RansacOptions ransac;
     SmrfOptions smrf;
     CsfOptions csf;
 };
 
 /// Throws engine::Error("ground: <parameter> = <value>: allowed ...").
-void validate(const GroundOptions& o);
+void validate(const RansacOptions& o);
 void validate(const SmrfOptions& o);
 void validate(const CsfOptions& o);
+/// Every filter's options (a choice may change later; all must be valid).
+void validate(const GroundChoice& o);
 
+/// A per-view filter's counts for one view (RANSAC's §III-C loop).
 struct GroundStats {
     std::size_t band_points = 0;      // |PC| at step 1
     std::size_t ground_points = 0;    // |PG|
@@ -95,7 +105,7 @@ struct GroundStats {
 /// point is in PG (ground). PC is shuffled (engine::shuffle) with std::mt19937_64(seed) first (PCL's own RNG
 /// is fixed-seed), so the result is a pure function of (points, options, seed).
 /// Fewer than 3 points in the band: no RANSAC, no ground. Needs validate(o) passed.
-std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const GroundOptions& o,
+std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const RansacOptions& o,
                                      std::uint64_t seed, GroundStats* stats = nullptr);
 
 /// A terrain surface sampled on a regular grid (the DTM): cell (i, j) has its centre at
@@ -130,24 +140,35 @@ public:
     virtual bool classify(const glm::vec3& p, float& height_m) const = 0;
 };
 
-/// The seam between the generator and a ground filter. Per-view filters (RANSAC) label
-/// each view's points as the view is traced; whole-cloud filters (SMRF) see the fused
-/// cloud in two streamed passes (TerrainFit), so they also work when it is spooled.
-class GroundFilter {
+/// A per-view filter (RANSAC): the generator labels each view's points as the view is
+/// traced.
+class ViewGroundFilter {
 public:
-    virtual ~GroundFilter() = default;
+    virtual ~ViewGroundFilter() = default;
     virtual GroundMethod method() const = 0;
-    virtual bool perView() const = 0;
-    /// Per-view filters: one flag per point, 1 = ground; a pure function of the
-    /// arguments. Whole-cloud filters throw std::logic_error.
+    /// One flag per point, 1 = ground; a pure function of the arguments.
     virtual std::vector<std::uint8_t> classifyView(std::span<const glm::vec3> points, std::uint64_t seed,
-                                                   GroundStats* stats) const;
-    /// Whole-cloud filters: a fresh run. Per-view filters throw std::logic_error.
-    virtual std::unique_ptr<TerrainFit> startCloud() const;
+                                                   GroundStats* stats) const = 0;
 };
 
-/// The filter `o.method` names, with its options (validate(o) must have passed).
-std::unique_ptr<GroundFilter> makeGroundFilter(const GroundOptions& o);
+/// A whole-cloud filter (SMRF, CSF): it sees the fused cloud in two streamed passes
+/// (TerrainFit), so it also works when the cloud is spooled.
+class CloudGroundFilter {
+public:
+    virtual ~CloudGroundFilter() = default;
+    virtual GroundMethod method() const = 0;
+    /// A fresh run.
+    virtual std::unique_ptr<TerrainFit> startCloud() const = 0;
+};
+
+/// Whether `m` names a per-view filter (else a whole-cloud one).
+bool isPerView(GroundMethod m);
+/// The per-view filter `o.method` names, with its options; null when it names a
+/// whole-cloud filter. validate(o) must have passed.
+std::unique_ptr<const ViewGroundFilter> makeViewFilter(const GroundChoice& o);
+/// The whole-cloud filter `o.method` names, with its options; null when it names a
+/// per-view filter. validate(o) must have passed.
+std::unique_ptr<const CloudGroundFilter> makeCloudFilter(const GroundChoice& o);
 /// A whole-cloud SMRF run (also used to check RANSAC's result against the terrain).
 std::unique_ptr<TerrainFit> startSmrf(const SmrfOptions& o);
 

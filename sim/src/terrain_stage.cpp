@@ -1,5 +1,5 @@
-// sim/src/ground_pass.cpp: see ground_pass.hpp.
-#include "ground_pass.hpp"
+// sim/src/terrain_stage.cpp: see terrain_stage.hpp.
+#include "terrain_stage.hpp"
 
 #include <engine/error.hpp>
 
@@ -15,17 +15,18 @@ double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>
 
 }  // namespace
 
-TerrainPass::TerrainPass(const GroundFilter& filter, const GroundOptions& options, bool white, bool check) {
+TerrainStage::TerrainStage(const CloudGroundFilter* filter, const SmrfOptions& check_options, bool white,
+                           bool check) {
     if (white) return;
-    if (!filter.perView()) {
-        fit_ = filter.startCloud();
+    if (filter) {
+        fit_ = filter->startCloud();
         whitens_ = true;
     } else if (check) {
-        fit_ = startSmrf(options.smrf);
+        fit_ = startSmrf(check_options);
     }
 }
 
-void TerrainPass::add(std::span<const engine::CloudPoint> points) {
+void TerrainStage::add(std::span<const engine::CloudPoint> points) {
     if (!fit_ || failed_) return;
     const auto t0 = Clock::now();
     if (!whitens_) {  // the check: every kCheckStride-th point of the cloud
@@ -44,7 +45,7 @@ void TerrainPass::add(std::span<const engine::CloudPoint> points) {
     add_seconds_ += secondsSince(t0);
 }
 
-void TerrainPass::fit() {
+void TerrainStage::fit() {
     if (!fit_ || failed_) return;
     const auto t0 = Clock::now();
     try {
@@ -56,7 +57,7 @@ void TerrainPass::fit() {
     seconds_ += secondsSince(t0);
 }
 
-void TerrainPass::classify(std::span<engine::CloudPoint> points, Workers& pool) {
+void TerrainStage::classify(std::span<engine::CloudPoint> points, Workers& pool) {
     if (!fit_ || failed_) return;
     const auto t0 = Clock::now();
     constexpr std::size_t kChunk = 1u << 16;
@@ -99,7 +100,7 @@ void TerrainPass::classify(std::span<engine::CloudPoint> points, Workers& pool) 
     seconds_ += secondsSince(t0);
 }
 
-void TerrainPass::finish(GenerateStats& st) {
+void TerrainStage::finish(GenerateStats& st) {
     if (!fit_) return;
     st.seconds.fuse = std::max(0.0, st.seconds.fuse - add_seconds_);
     if (whitens_) {
@@ -109,7 +110,7 @@ void TerrainPass::finish(GenerateStats& st) {
         st.ground_recall.reset();
         if (st.ground_found > 0) st.ground_precision = double(st.ground_true_positive) / double(st.ground_found);
         if (st.ground_truth > 0) st.ground_recall = double(st.ground_true_positive) / double(st.ground_truth);
-        st.seconds.ransac += seconds_ + add_seconds_;
+        st.seconds.ground += seconds_ + add_seconds_;
     } else {
         st.seconds.ground_check += seconds_ + add_seconds_;
     }

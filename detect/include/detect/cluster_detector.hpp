@@ -1,6 +1,6 @@
-// sim/detect.hpp: a baseline 3D ATR, so that target validation works without an outside
-// detector: remove the ground, cluster what is left, fit each cluster an oriented box and
-// score the box by how well its size matches the target's.
+// detect/cluster_detector.hpp: the baseline 3D ATR, so that target validation works
+// without an outside detector: remove the ground, cluster what is left, fit each cluster
+// an oriented box and score the box by how well its size matches the target's.
 //
 //   1) ground: the cloud's labels (ground role), the generator's whitening (white points)
 //      or paper §III-C's iterative RANSAC run on square tiles of the cloud (a whole scene
@@ -15,14 +15,16 @@
 //      width, height: 1 for a box of exactly the target's size, exp(-1/2) when one side is
 //      off by the factor size_tolerance, ~0 for a wall or a tree.
 #pragma once
-#include <engine/candidates.hpp>
-#include <engine/point_cloud.hpp>
+#include <detect/detector.hpp>
 #include <sim/ground.hpp>
 
+#include <glm/glm.hpp>
+
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
-namespace sim {
+namespace detect {
 
 enum class GroundSource {
     Ransac,   // §III-C RANSAC per tile (works on any cloud)
@@ -30,12 +32,12 @@ enum class GroundSource {
     White,    // white points (the generator's whitening; needs rgb)
 };
 
-struct DetectOptions {
+struct ClusterOptions {
     glm::dvec3 target_size_m{7.0, 3.5, 2.5};  // length, width, height; default a main battle tank
     double size_tolerance = 1.5;        // factor (> 1) that costs a side exp(-1/2) of the score
     GroundSource ground = GroundSource::Ransac;
     double ground_tile_m = 30.0;        // side of the square RANSAC tiles (> 0)
-    GroundOptions ground_ransac;        // per tile
+    sim::RansacOptions ground_ransac;   // per tile
     double voxel_m = 0.25;              // voxel side of step 2 (> 0)
     double cluster_tolerance_m = 0.5;   // Euclidean cluster distance (> voxel_m / 2)
     /// Fraction of a cluster's points left out at each end of each box axis (quantiles),
@@ -49,25 +51,30 @@ struct DetectOptions {
 };
 
 /// Throws engine::Error("detect: <option> = <value>: allowed <range>").
-void validate(const DetectOptions& o);
+void validate(const ClusterOptions& o);
 
-/// One cluster and its box. Point indices refer to the input cloud.
-struct Detection {
-    engine::Candidate candidate;        // world coordinates (cloud origin added)
-    std::vector<std::uint32_t> points;  // the cluster's points, ascending
-};
-
-struct DetectStats {
+struct ClusterStats {
     std::size_t points = 0, ground_points = 0, voxels = 0, clusters = 0;
     double seconds_ground = 0, seconds_cluster = 0, seconds_boxes = 0;
 };
 
-/// Runs steps 1-4 on `cloud`; returns the detections with score >= min_score, best first
-/// (ties by cluster size), at most max_candidates, ids "c1", "c2", ... in that order.
-/// Throws engine::Error("detect: ...") when the ground source needs a field the cloud
-/// does not carry, or for invalid options.
-std::vector<Detection> detect(const engine::PointCloud& cloud, const DetectOptions& o,
-                              DetectStats* stats = nullptr);
+class ClusterDetector final : public Detector {
+public:
+    /// Throws engine::Error for invalid options (validate).
+    explicit ClusterDetector(const ClusterOptions& o);
+    const ClusterOptions& options() const { return options_; }
+
+    /// Runs steps 1-4 on `cloud`; returns the detections with score >= min_score, best
+    /// first (ties by cluster size), at most max_candidates, ids "c1", "c2", ... in that
+    /// order; each detection's points are its cluster's. Throws engine::Error("detect:
+    /// ...") when the ground source needs a field the cloud does not carry.
+    std::vector<Detection> detect(const engine::PointCloud& cloud) const override;
+    /// The same, and the run's counts and seconds into `stats`.
+    std::vector<Detection> detect(const engine::PointCloud& cloud, ClusterStats& stats) const;
+
+private:
+    ClusterOptions options_;
+};
 
 /// Oriented box of points (local frame) by PCA of x, y: centre (local), size (length >=
 /// width), yaw in degrees (-90, 90]. Each extent runs between the `trim` and 1 - `trim`
@@ -83,4 +90,4 @@ OrientedBox fitBox(const engine::PointCloud& cloud, const std::vector<std::uint3
 /// the horizontal sides are compared longest to longest). In [0, 1].
 double sizeScore(const glm::dvec3& size_m, const glm::dvec3& target_size_m, double size_tolerance);
 
-}  // namespace sim
+}  // namespace detect

@@ -1,6 +1,7 @@
-// sim/detect.cpp: the baseline detector of sim/detect.hpp. PCL is used here for the
-// Euclidean cluster extraction only (its k-d tree answers the radius searches).
-#include <sim/detect.hpp>
+// detect/src/cluster_detector.cpp: the baseline detector of detect/cluster_detector.hpp.
+// PCL is used here for the Euclidean cluster extraction only (its k-d tree answers the
+// radius searches); the RANSAC ground is sim's (sim/ground.hpp).
+#include <detect/cluster_detector.hpp>
 
 #include <engine/error.hpp>
 #include <engine/progress.hpp>
@@ -21,7 +22,7 @@
 #include <string>
 #include <utility>
 
-namespace sim {
+namespace detect {
 namespace {
 
 [[noreturn]] void fail(const char* option, double value, const char* allowed) {
@@ -35,7 +36,7 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 
 // Step 1 with RANSAC: §III-C on each square tile of side tile_m (x, y of the local frame).
-std::vector<std::uint8_t> ransacGroundByTile(const engine::PointCloud& cloud, const DetectOptions& o) {
+std::vector<std::uint8_t> ransacGroundByTile(const engine::PointCloud& cloud, const ClusterOptions& o) {
     const auto& pts = cloud.points;
     std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::uint32_t>> tiles;
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -50,7 +51,7 @@ std::vector<std::uint8_t> ransacGroundByTile(const engine::PointCloud& cloud, co
     for (const auto& [key, indices] : tiles) {
         positions.clear();
         for (const std::uint32_t i : indices) positions.push_back(pts[i].position);
-        const std::vector<std::uint8_t> flags = findGround(positions, o.ground_ransac, o.seed ^ tile_index++);
+        const std::vector<std::uint8_t> flags = sim::findGround(positions, o.ground_ransac, o.seed ^ tile_index++);
         for (std::size_t k = 0; k < indices.size(); ++k) ground[indices[k]] = flags[k];
         if (o.progress) progress.advance();
     }
@@ -58,7 +59,7 @@ std::vector<std::uint8_t> ransacGroundByTile(const engine::PointCloud& cloud, co
     return ground;
 }
 
-std::vector<std::uint8_t> findGroundPoints(const engine::PointCloud& cloud, const DetectOptions& o) {
+std::vector<std::uint8_t> findGroundPoints(const engine::PointCloud& cloud, const ClusterOptions& o) {
     std::vector<std::uint8_t> ground(cloud.points.size(), 0);
     switch (o.ground) {
     case GroundSource::Labels:
@@ -80,7 +81,7 @@ std::vector<std::uint8_t> findGroundPoints(const engine::PointCloud& cloud, cons
 
 }  // namespace
 
-void validate(const DetectOptions& o) {
+void validate(const ClusterOptions& o) {
     for (int k = 0; k < 3; ++k)
         if (!(std::isfinite(o.target_size_m[k]) && o.target_size_m[k] > 0.0 && o.target_size_m[k] <= 1000.0))
             fail("--target-size-m", o.target_size_m[k], "three sizes in (0, 1000] m");
@@ -96,7 +97,7 @@ void validate(const DetectOptions& o) {
     if (o.min_cluster_points < 1) fail("--min-cluster-points", o.min_cluster_points, ">= 1");
     if (!(o.min_score >= 0.0 && o.min_score <= 1.0)) fail("--min-score", o.min_score, "[0, 1]");
     if (o.max_candidates < 1 || o.max_candidates > 1000000) fail("--max-candidates", o.max_candidates, "[1, 1000000]");
-    validate(o.ground_ransac);
+    sim::validate(o.ground_ransac);
 }
 
 double sizeScore(const glm::dvec3& size_m, const glm::dvec3& target_size_m, double size_tolerance) {
@@ -176,9 +177,16 @@ OrientedBox fitBox(const engine::PointCloud& cloud, const std::vector<std::uint3
     return box;
 }
 
-std::vector<Detection> detect(const engine::PointCloud& cloud, const DetectOptions& o, DetectStats* stats) {
-    validate(o);
-    DetectStats local;
+ClusterDetector::ClusterDetector(const ClusterOptions& o) : options_(o) { validate(options_); }
+
+std::vector<Detection> ClusterDetector::detect(const engine::PointCloud& cloud) const {
+    ClusterStats stats;
+    return detect(cloud, stats);
+}
+
+std::vector<Detection> ClusterDetector::detect(const engine::PointCloud& cloud, ClusterStats& stats) const {
+    const ClusterOptions& o = options_;
+    ClusterStats local;
     local.points = cloud.points.size();
     if (cloud.points.size() >= std::size_t(UINT32_MAX))
         throw engine::Error("detect: the cloud has too many points (at most 4294967294)");
@@ -247,8 +255,8 @@ std::vector<Detection> detect(const engine::PointCloud& cloud, const DetectOptio
     if (out.size() > std::size_t(o.max_candidates)) out.resize(std::size_t(o.max_candidates));
     for (std::size_t k = 0; k < out.size(); ++k) out[k].candidate.id = "c" + std::to_string(k + 1);
     local.seconds_boxes = secondsSince(t0);
-    if (stats) *stats = local;
+    stats = local;
     return out;
 }
 
-}  // namespace sim
+}  // namespace detect

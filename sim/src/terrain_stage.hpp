@@ -1,10 +1,10 @@
-// sim/src/ground_pass.hpp: the generator's whole-cloud ground stage. Pass 1 (add) sees
-// the fused points as they are emitted (into memory or the spool file), fit() builds the
-// terrain, pass 2 (classify) runs on each chunk before it is coloured. With a
-// whole-cloud filter it whitens the ground and fills height above ground; with the
-// paper's per-view RANSAC it fits SMRF's terrain only to check RANSAC's result (how many
-// points on the terrain were left coloured, counted on every 8th point), and changes no
-// point.
+// sim/src/terrain_stage.hpp: the generator's terrain stage, a terrain fitted to the
+// whole fused cloud in two streamed passes. Pass 1 (add) sees the fused points as they
+// are emitted (into memory or the spool file), fit() builds the terrain, pass 2
+// (classify) runs on each chunk before it is coloured. With a whole-cloud filter it
+// whitens the ground and fills height above ground; with the paper's per-view RANSAC it
+// fits SMRF's terrain only to check RANSAC's result (how many points on the terrain were
+// left coloured, counted on every 8th point), and changes no point.
 #pragma once
 #include "parallel.hpp"
 
@@ -17,10 +17,12 @@
 
 namespace sim {
 
-class TerrainPass {
+class TerrainStage {
 public:
-    /// `check`: with a per-view filter, fit SMRF to check its result (no effect on points).
-    TerrainPass(const GroundFilter& filter, const GroundOptions& options, bool white, bool check = true);
+    /// `filter`: the whole-cloud filter that whitens, or null with a per-view filter; then
+    /// `check` fits SMRF with `check_options` to check its result (no effect on points).
+    /// `white`: no ground stage at all.
+    TerrainStage(const CloudGroundFilter* filter, const SmrfOptions& check_options, bool white, bool check = true);
     /// Whether pass 2 changes points (a whole-cloud filter ran): the cloud then carries
     /// height above ground.
     bool whitens() const { return whitens_; }

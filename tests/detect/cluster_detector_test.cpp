@@ -1,6 +1,6 @@
-// tests/sim/detect_test.cpp: the baseline detector on synthetic clouds with known answers:
-// a tank-sized box, a wall and a tree-like blob on a plane.
-#include <sim/detect.hpp>
+// tests/detect/cluster_detector_test.cpp: the baseline clustering detector on synthetic
+// clouds with known answers: a tank-sized box, a wall and a tree-like blob on a plane.
+#include <detect/cluster_detector.hpp>
 
 #include <engine/error.hpp>
 
@@ -78,16 +78,17 @@ double yawDifferenceDeg(double a, double b) {  // modulo 180: a box turned by 18
 }  // namespace
 
 TEST_CASE("detect: the tank-sized box scores highest, its box and yaw are recovered") {
-    for (const sim::GroundSource ground : {sim::GroundSource::Labels, sim::GroundSource::Ransac, sim::GroundSource::White}) {
+    for (const detect::GroundSource ground :
+         {detect::GroundSource::Labels, detect::GroundSource::Ransac, detect::GroundSource::White}) {
         for (const double yaw : {30.0, -60.0, 85.0}) {
             CAPTURE(int(ground));
             CAPTURE(yaw);
             const engine::PointCloud c = scene(yaw);
-            sim::DetectOptions o;
+            detect::ClusterOptions o;
             o.ground = ground;
             o.min_score = 0.0;  // every cluster, to see the others rank lower
-            sim::DetectStats stats;
-            const std::vector<sim::Detection> found = sim::detect(c, o, &stats);
+            detect::ClusterStats stats;
+            const std::vector<detect::Detection> found = detect::ClusterDetector(o).detect(c, stats);
             REQUIRE(found.size() >= 3);  // box, wall, tree
             CHECK(stats.clusters == found.size());
             const engine::Candidate& best = found[0].candidate;
@@ -110,41 +111,64 @@ TEST_CASE("detect: the tank-sized box scores highest, its box and yaw are recove
 
 TEST_CASE("detect: the target size decides which cluster wins") {
     const engine::PointCloud c = scene();
-    sim::DetectOptions o;
-    o.ground = sim::GroundSource::Labels;
+    detect::ClusterOptions o;
+    o.ground = detect::GroundSource::Labels;
     o.target_size_m = {12.0, 0.3, 4.0};  // looking for walls
-    const std::vector<sim::Detection> found = sim::detect(c, o);
+    const std::vector<detect::Detection> found = detect::ClusterDetector(o).detect(c);
     REQUIRE(!found.empty());
     CHECK(std::abs(found[0].candidate.centre_world.x - (c.origin.x - 20)) < 0.3);
     CHECK(found[0].candidate.size_m.x == doctest::Approx(12.0).epsilon(0.05));
     // min_score drops the others: the tank box is far from 12 x 0.3 x 4.
-    for (const sim::Detection& d : found) CHECK(d.candidate.score >= o.min_score);
+    for (const detect::Detection& d : found) CHECK(d.candidate.score >= o.min_score);
+}
+
+TEST_CASE("detect: through the Detector interface, the same candidates as with the stats") {
+    const engine::PointCloud c = scene();
+    detect::ClusterOptions o;
+    o.ground = detect::GroundSource::Labels;
+    const detect::ClusterDetector cluster(o);
+    const detect::Detector& detector = cluster;
+    const std::vector<detect::Detection> plain = detector.detect(c);
+    detect::ClusterStats stats;
+    const std::vector<detect::Detection> with_stats = cluster.detect(c, stats);
+    REQUIRE(!plain.empty());
+    REQUIRE(plain.size() == with_stats.size());
+    for (std::size_t k = 0; k < plain.size(); ++k) {
+        CHECK(plain[k].candidate.id == with_stats[k].candidate.id);
+        CHECK(plain[k].candidate.score == with_stats[k].candidate.score);
+        CHECK(plain[k].points == with_stats[k].points);
+    }
+    CHECK(stats.points == c.points.size());
+    CHECK(stats.ground_points > 0);
 }
 
 TEST_CASE("detect: score of a box size") {
     const glm::dvec3 tank{7, 3.5, 2.5};
-    CHECK(sim::sizeScore({7, 3.5, 2.5}, tank, 1.5) == doctest::Approx(1.0));
-    CHECK(sim::sizeScore({3.5, 7, 2.5}, tank, 1.5) == doctest::Approx(1.0));          // sides swapped
-    CHECK(sim::sizeScore({7 * 1.5, 3.5, 2.5}, tank, 1.5) == doctest::Approx(std::exp(-0.5)));
-    CHECK(sim::sizeScore({12, 0.3, 4}, tank, 1.5) < 0.01);                            // a wall
-    CHECK(sim::sizeScore({6, 6, 9}, tank, 1.5) < 0.01);                               // a tree
-    CHECK(sim::sizeScore({7, 0, 2.5}, tank, 1.5) >= 0.0);                             // flat: finite
+    CHECK(detect::sizeScore({7, 3.5, 2.5}, tank, 1.5) == doctest::Approx(1.0));
+    CHECK(detect::sizeScore({3.5, 7, 2.5}, tank, 1.5) == doctest::Approx(1.0));          // sides swapped
+    CHECK(detect::sizeScore({7 * 1.5, 3.5, 2.5}, tank, 1.5) == doctest::Approx(std::exp(-0.5)));
+    CHECK(detect::sizeScore({12, 0.3, 4}, tank, 1.5) < 0.01);                            // a wall
+    CHECK(detect::sizeScore({6, 6, 9}, tank, 1.5) < 0.01);                               // a tree
+    CHECK(detect::sizeScore({7, 0, 2.5}, tank, 1.5) >= 0.0);                             // flat: finite
 }
 
 TEST_CASE("detect: errors name the option and the missing field") {
     engine::PointCloud c = scene();
-    sim::DetectOptions o;
+    detect::ClusterOptions o;
     o.target_size_m.y = 0.0;
-    CHECK_THROWS_WITH_AS(sim::detect(c, o), doctest::Contains("--target-size-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--target-size-m"), engine::Error);
     o = {};
     o.cluster_tolerance_m = 0.1;
-    CHECK_THROWS_WITH_AS(sim::detect(c, o), doctest::Contains("--cluster-tolerance-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--cluster-tolerance-m"), engine::Error);
     o = {};
-    o.ground = sim::GroundSource::Labels;
+    o.ground_ransac.band_m = 0.0;  // the RANSAC ground's own options are checked too
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--band-m"), engine::Error);
+    o = {};
+    o.ground = detect::GroundSource::Labels;
     c.fields.label = false;
-    CHECK_THROWS_WITH_AS(sim::detect(c, o), doctest::Contains("no label field"), engine::Error);
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector(o).detect(c), doctest::Contains("no label field"), engine::Error);
     // An empty cloud gives no detection, not an error.
-    CHECK(sim::detect(engine::PointCloud{}, sim::DetectOptions{}).empty());
+    CHECK(detect::ClusterDetector(detect::ClusterOptions{}).detect(engine::PointCloud{}).empty());
 }
 
 TEST_CASE("detect: a thin barrel does not lengthen the box, and without trimming it does") {
@@ -156,6 +180,6 @@ TEST_CASE("detect: a thin barrel does not lengthen the box, and without trimming
     REQUIRE(double(c.points.size() - hull) < 0.01 * double(c.points.size()));
     std::vector<std::uint32_t> all(c.points.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
-    CHECK(sim::fitBox(c, all, 0.01).size_m.x == doctest::Approx(7.0).epsilon(0.03));
-    CHECK(sim::fitBox(c, all, 0.0).size_m.x == doctest::Approx(10.6).epsilon(0.03));
+    CHECK(detect::fitBox(c, all, 0.01).size_m.x == doctest::Approx(7.0).epsilon(0.03));
+    CHECK(detect::fitBox(c, all, 0.0).size_m.x == doctest::Approx(10.6).epsilon(0.03));
 }

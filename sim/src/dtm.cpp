@@ -1,4 +1,4 @@
-// sim/src/ground_dtm.cpp: the terrain raster as an ESRI ASCII grid, a plain text format
+// sim/src/dtm.cpp: the terrain raster as an ESRI ASCII grid, a plain text format
 // that GDAL, QGIS, ArcGIS and numpy.loadtxt(skiprows=6) read.
 #include <sim/dtm.hpp>
 
