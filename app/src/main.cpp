@@ -4,11 +4,10 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <bench/bench.hpp>
-
 #include <engine/error.hpp>
 
 #include <cstdio>
+#include <cstring>
 #include <exception>
 
 int main(int argc, char** argv) {
@@ -23,8 +22,13 @@ int main(int argc, char** argv) {
     app::registerDetect(cli);
     app::registerCorpus(cli);
     app::registerStudy(cli);
-    bench::registerBench(cli);   // `ladarvr bench WHAT` (bench/)
     app::applyConventions(cli);  // after every subcommand: the checks reach all options
+    // The benchmarks are a program of their own (bench/), built and run from the checkout.
+    if (argc > 1 && std::strcmp(argv[1], "bench") == 0) {
+        std::fprintf(stderr, "ladarvr: error: bench: the benchmarks are not part of this program; run './ladarvr "
+                             "bench WHAT' in the source checkout (see './ladarvr bench --help')\n");
+        return app::kExitUsage;
+    }
     try {
         cli.parse(argc, argv);
     } catch (const CLI::RuntimeError& e) {  // a subcommand's own exit status (view)

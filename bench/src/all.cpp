@@ -1,8 +1,8 @@
 // bench/src/all.cpp: `ladarvr bench all` and `ladarvr bench fuzz`.
 //
 // bench all regenerates BENCHMARKS.md from scratch on the current machine: it writes the
-// file's header, then runs bench generate, metric, view, peers and fuzz one after the
-// other as child processes of this same executable (each in a fresh process, so GL
+// file's header, then runs the benchmarks of its step list (allSteps) one after the other
+// as child processes of this same executable, ladarvr-bench (each in a fresh process, so GL
 // contexts, Embree devices and thread pools never overlap), with a progress line per
 // step. Each benchmark replaces its own `## ` section; a benchmark that prints its table
 // instead (bench view) gets a section made of its output. The PNG plots are redrawn
@@ -162,11 +162,12 @@ const char* kHeader =
     "run; the development machines have 2 noisy cores, so read the ratios, not lone times.\n"
     "`./ladarvr bench all` regenerates this file and its plots on the current machine.\n";
 
-void runAll(const BenchAllCli& cli) {
+/// The benchmarks `bench all` runs, in order, with the arguments `cli` gives them.
+std::vector<Step> allSteps(const BenchAllCli& cli) {
     const int fuzz_s = cli.fuzz_seconds > 0 ? cli.fuzz_seconds : cli.quick ? 30 : 90;
     const std::string q = cli.quick ? " --quick" : "";
     const std::string md = " --md " + shellQuote(cli.md);
-    std::vector<Step> steps = {
+    return {
         {"generate", "generate" + q + md, "## Generator (ladarvr bench generate)"},
         {"metric", "metric" + q + md + " --csv " + shellQuote((fs::path(cli.csv_dir) / "bench_metric.csv").string()),
          "## Metric (ladarvr bench metric)"},
@@ -176,13 +177,23 @@ void runAll(const BenchAllCli& cli) {
         {"detect", "detect" + md, "## Detector (ladarvr bench detect)"},
         {"fuzz", "fuzz --seconds " + std::to_string(fuzz_s) + md, "## Fuzzing (ladarvr bench fuzz)"},
     };
+}
+
+/// "generate, metric, ...": the names of allSteps, for help and messages.
+std::string stepNames() {
+    std::string names;
+    for (const Step& s : allSteps(BenchAllCli{})) names += (names.empty() ? "" : ", ") + s.name;
+    return names;
+}
+
+void runAll(const BenchAllCli& cli) {
+    std::vector<Step> steps = allSteps(cli);
     if (!cli.only.empty()) {
         std::vector<Step> keep;
         for (const Step& s : steps)
             if (("," + cli.only + ",").find("," + s.name + ",") != std::string::npos) keep.push_back(s);
         if (keep.empty())
-            throw engine::Error("bench all: --only '" + cli.only + "': allowed a list of generate, metric, view, "
-                                "peers, detect, fuzz");
+            throw engine::Error("bench all: --only '" + cli.only + "': allowed a list of " + stepNames());
         steps = keep;
     }
     std::error_code ec;
@@ -191,7 +202,7 @@ void runAll(const BenchAllCli& cli) {
     const auto t0 = Clock::now();
     if (cli.dry_run) {
         for (std::size_t i = 0; i < steps.size(); ++i)
-            std::printf("bench all: [%zu/%zu] %s bench %s\n", i + 1, steps.size(), exe.c_str(), steps[i].args.c_str());
+            std::printf("bench all: [%zu/%zu] %s %s\n", i + 1, steps.size(), exe.c_str(), steps[i].args.c_str());
         return;
     }
     const std::string started = utcNow();
@@ -210,7 +221,7 @@ void runAll(const BenchAllCli& cli) {
         const char* display = std::getenv("DISPLAY");
         if (s.name == "view" && (!display || !*display) && fs::exists(headless))
             prefix = "bash " + shellQuote(headless.string()) + " --monado-stay --timeout 1500 -- ";
-        const std::string out = runEcho(prefix + shellQuote(exe.string()) + " bench " + s.args, &s.status);
+        const std::string out = runEcho(prefix + shellQuote(exe.string()) + " " + s.args, &s.status);
         s.seconds = secondsSince(t1);
         std::fprintf(stderr, "bench all: [%zu/%zu] bench %s %s in %.0f s\n", i + 1, steps.size(), s.name.c_str(),
                      s.status == 0 ? "done" : "FAILED", s.seconds);
@@ -279,11 +290,11 @@ void registerAll(CLI::App& parent) {
     f->callback([fuzz] { runFuzz(*fuzz); });
 
     auto all = std::make_shared<BenchAllCli>();
-    CLI::App* a = parent.add_subcommand("all", "every benchmark in sequence (generate, metric, view, peers, detect, fuzz), "
-                                              "BENCHMARKS.md and its plots regenerated from scratch");
+    CLI::App* a = parent.add_subcommand("all", "every benchmark in sequence (" + stepNames() +
+                                                   "), BENCHMARKS.md and its plots regenerated from scratch");
     a->add_flag("--quick", all->quick, "pass --quick (or small sizes) to every benchmark, 30 s of fuzzing");
     a->add_option("--fuzz-seconds", all->fuzz_seconds, "seconds per fuzz target (default 90, 30 with --quick)");
-    a->add_option("--only", all->only, "comma-separated subset of generate, metric, view, peers, detect, fuzz");
+    a->add_option("--only", all->only, "comma-separated subset of " + stepNames());
     a->add_option("--md", all->md, "the markdown file to regenerate")->capture_default_str();
     a->add_option("--img-dir", all->img_dir, "where the PNG plots go (default: <source>/docs/img)");
     a->add_option("--csv-dir", all->csv_dir, "where benchmarks write their CSV files")->capture_default_str();

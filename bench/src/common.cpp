@@ -2,7 +2,6 @@
 #include "common.hpp"
 
 #include <engine/atomic_file.hpp>
-#include <engine/scene.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -76,9 +75,7 @@ std::string utcNow() {
     return date;
 }
 
-std::filesystem::path sourceRoot() {
-    return engine::demoScenePath().parent_path().parent_path().parent_path();
-}
+std::filesystem::path sourceRoot() { return LADARVR_SOURCE_DIR; }
 
 std::string shellQuote(const std::string& s) {
     std::string q = "'";

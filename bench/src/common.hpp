@@ -40,7 +40,8 @@ std::string spreadNote(const Spread& a, const Spread& b);
 std::string cpuName();
 /// "YYYY-MM-DD HH:MM UTC" now.
 std::string utcNow();
-/// The source checkout (where scripts/, tests/ and docs/ are), found from the bundled assets.
+/// The source checkout this program was built from (CMake's source folder, a compile
+/// definition): where scripts/, tests/, assets/ and docs/ are.
 std::filesystem::path sourceRoot();
 /// `s` in single quotes for /bin/sh, embedded quotes escaped.
 std::string shellQuote(const std::string& s);

@@ -65,7 +65,7 @@ void run(const BenchMetricCli& cli) {
     // 1.4 M-point hard scene they are the slowest rows.
     const int baseline_stride = (views % 4 == 0) ? 4 : 1;
     std::vector<std::pair<std::string, std::filesystem::path>> scenes = {{"demo", engine::demoScenePath()}};
-    const std::filesystem::path hard = engine::demoScenePath().parent_path().parent_path() / "hard" / "scene.json";
+    const std::filesystem::path hard = sourceRoot() / "assets" / "hard" / "scene.json";
     if (!cli.quick) {
         if (!std::filesystem::exists(hard))
             throw engine::Error("bench metric: the hard scene " + hard.string() + " is missing");

@@ -329,11 +329,10 @@ void run(const BenchPeersCli& cli) {
     std::vector<GroundResult> grounds;
     const std::size_t pmf_budget = cli.quick ? 25000 : 60000;
     grounds.push_back(ground("demo", demo, paper, pmf_budget, cli.pmf_stride));
-    const fs::path hilly_path = engine::demoScenePath().parent_path().parent_path() / "hilly" / "scene.json";
+    const fs::path hilly_path = sourceRoot() / "assets" / "hilly" / "scene.json";
     const engine::Scene hilly = engine::loadScene(hilly_path);
     grounds.push_back(ground("hilly", hilly, paper, pmf_budget, cli.pmf_stride));
-    const engine::Scene slopes =
-        engine::loadScene(engine::demoScenePath().parent_path().parent_path() / "slopes" / "scene.json");
+    const engine::Scene slopes = engine::loadScene(sourceRoot() / "assets" / "slopes" / "scene.json");
     grounds.push_back(ground("slopes", slopes, paper, pmf_budget, cli.pmf_stride));
     for (const GroundResult& g : grounds)
         std::printf("ground %s: RANSAC (per view, %d threads) precision %s recall %s in %.3f s on %zu points; SMRF "

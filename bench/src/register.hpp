@@ -1,4 +1,5 @@
-// bench/src/register.hpp: each benchmark program adds one subcommand under `ladarvr bench`.
+// bench/src/register.hpp: each benchmark program adds one subcommand under `ladarvr bench`
+// (main.cpp calls them).
 #pragma once
 #include <CLI/CLI.hpp>
 

@@ -45,7 +45,7 @@ bool rerunHeadless(const BenchViewArgs& a) {
     std::string points;
     for (std::size_t n : a.points) points += (points.empty() ? "" : ",") + std::to_string(n);
     const std::string command = shellQuote(script.string()) + " --monado-stay --timeout 3000 -- " +
-                                shellQuote(exe.string()) + " bench view --display none --points " + points +
+                                shellQuote(exe.string()) + " view --display none --points " + points +
                                 " --frames " + std::to_string(a.frames) + " --warmup " + std::to_string(a.warmup) +
                                 " --paths " + shellQuote(a.paths) + " --eye " + shellQuote(a.eye) +
                                 " --point-budget " + std::to_string(a.point_budget);
