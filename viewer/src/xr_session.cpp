@@ -24,7 +24,6 @@ GLXWindow glfwGetGLXWindow(GLFWwindow* window);
 #define XR_USE_GRAPHICS_API_OPENGL
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
-#include <openxr/openxr_reflection.h>
 
 // OpenXR's idiom `XrFoo foo{XR_TYPE_FOO};` value-initialises the other members on purpose.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -41,33 +40,6 @@ GLXWindow glfwGetGLXWindow(GLFWwindow* window);
 #include <vector>
 
 namespace viewer {
-
-// --- checks ------------------------------------------------------------------------------
-std::string xrResultName(XrInstance instance, XrResult result) {
-    char buffer[XR_MAX_RESULT_STRING_SIZE] = {};
-    if (instance != XR_NULL_HANDLE && XR_SUCCEEDED(xrResultToString(instance, result, buffer)))
-        return buffer;
-    switch (result) {   // no instance (yet): the names from the spec's reflection header
-#define LADARVR_XR_RESULT_CASE(name, value) case name: return #name;
-        XR_LIST_ENUM_XrResult(LADARVR_XR_RESULT_CASE)
-#undef LADARVR_XR_RESULT_CASE
-        default: break;
-    }
-    return "XrResult(" + std::to_string(static_cast<int>(result)) + ")";
-}
-
-void xrCheck(XrInstance instance, XrResult result, const char* expression, const char* file, int line) {
-    if (XR_FAILED(result))
-        throw engine::Error("xr: " + std::string(expression) + ": " + xrResultName(instance, result) +
-                            " at " + file + ":" + std::to_string(line));
-}
-
-bool xrLog(XrInstance instance, XrResult result, const char* expression, const char* file, int line) {
-    if (XR_SUCCEEDED(result)) return true;
-    std::fprintf(stderr, "ladarvr: xr: %s: %s at %s:%d\n", expression,
-                 xrResultName(instance, result).c_str(), file, line);
-    return false;
-}
 
 const char* sessionStateName(int state) {
     switch (static_cast<XrSessionState>(state)) {
@@ -100,7 +72,6 @@ struct XrStereoSession::Impl {
     XrSystemId system = XR_NULL_SYSTEM_ID;
     ::XrSession session = XR_NULL_HANDLE;
     XrSpace space = XR_NULL_HANDLE;       // LOCAL reference space: the rig's frame
-    XrSpace view_space = XR_NULL_HANDLE;  // the head
     XrSessionState state = XR_SESSION_STATE_UNKNOWN;
     bool running = false;
     bool exit_requested = false;
@@ -115,7 +86,6 @@ struct XrStereoSession::Impl {
     ~Impl() {
         for (auto& e : eyes)
             if (e.handle != XR_NULL_HANDLE) xrDestroySwapchain(e.handle);
-        if (view_space != XR_NULL_HANDLE) xrDestroySpace(view_space);
         if (space != XR_NULL_HANDLE) xrDestroySpace(space);
         actions.destroy();
         if (session != XR_NULL_HANDLE) xrDestroySession(session);
@@ -225,8 +195,6 @@ std::unique_ptr<XrStereoSession> XrStereoSession::create(GLFWwindow* window, Run
     space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
     space_info.poseInReferenceSpace.orientation.w = 1.0f;
     XR_CHECK(instance, xrCreateReferenceSpace(impl->session, &space_info, &impl->space));
-    space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
-    XR_CHECK(instance, xrCreateReferenceSpace(impl->session, &space_info, &impl->view_space));
 
     // Views and swapchains: one per eye at the recommended size.
     std::uint32_t view_count = 0;
@@ -353,7 +321,6 @@ bool XrStereoSession::running() const { return impl_->running; }
 bool XrStereoSession::focused() const { return impl_->state == XR_SESSION_STATE_FOCUSED; }
 int XrStereoSession::eyeWidth() const { return impl_->width; }
 int XrStereoSession::eyeHeight() const { return impl_->height; }
-std::int64_t XrStereoSession::colourFormat() const { return impl_->format; }
 
 bool XrStereoSession::beginFrame(XrFrame& frame) {
     Impl& s = *impl_;
@@ -363,7 +330,6 @@ bool XrStereoSession::beginFrame(XrFrame& frame) {
     if (!XR_LOG(s.instance, xrWaitFrame(s.session, &wait, &state))) return false;
     XrFrameBeginInfo begin{XR_TYPE_FRAME_BEGIN_INFO};
     if (!XR_LOG(s.instance, xrBeginFrame(s.session, &begin))) return false;
-    frame.began = true;
     frame.should_render = state.shouldRender == XR_TRUE;
     frame.display_time_ns = state.predictedDisplayTime;
     s.last_display_time = state.predictedDisplayTime;
