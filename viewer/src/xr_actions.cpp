@@ -33,39 +33,7 @@ void XrActions::suggest(const char* profile,
     XR_LOG(instance_, xrSuggestInteractionProfileBindings(instance_, &suggested));
 }
 
-void XrActions::create(XrInstance instance, XrSession session) {
-    instance_ = instance;
-    session_ = session;
-    XrActionSetCreateInfo set_info{XR_TYPE_ACTION_SET_CREATE_INFO};
-    std::strcpy(set_info.actionSetName, "viewer");
-    std::strcpy(set_info.localizedActionSetName, "Point cloud viewer");
-    XR_CHECK(instance, xrCreateActionSet(instance, &set_info, &set_));
-    hands_ = {path("/user/hand/left"), path("/user/hand/right")};
-
-    auto make = [&](const char* name, const char* label, XrActionType type, XrAction& out, bool per_hand) {
-        XrActionCreateInfo info{XR_TYPE_ACTION_CREATE_INFO};
-        std::strcpy(info.actionName, name);
-        std::strcpy(info.localizedActionName, label);
-        info.actionType = type;
-        if (per_hand) {
-            info.countSubactionPaths = 2;
-            info.subactionPaths = hands_.data();
-        }
-        XR_CHECK(instance, xrCreateAction(set_, &info, &out));
-    };
-    make("toggle_mode", "Toggle automatic / free mode", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_, false);
-    make("designate", "Designate the picked point / dismiss the ready screen", XR_ACTION_TYPE_BOOLEAN_INPUT,
-         designate_, true);
-    make("confirm", "Confirm: this is the target", XR_ACTION_TYPE_BOOLEAN_INPUT, confirm_, false);
-    make("reject", "Reject: this candidate is not a target", XR_ACTION_TYPE_BOOLEAN_INPUT, reject_, false);
-    make("no_target", "No target in this cloud", XR_ACTION_TYPE_BOOLEAN_INPUT, no_target_, false);
-    make("grab", "Grab the world (both hands: scale)", XR_ACTION_TYPE_BOOLEAN_INPUT, grab_, true);
-    make("move", "Move (free mode)", XR_ACTION_TYPE_VECTOR2F_INPUT, move_, false);
-    make("turn", "Turn (free mode)", XR_ACTION_TYPE_FLOAT_INPUT, turn_, false);
-    make("aim", "Laser pointer", XR_ACTION_TYPE_POSE_INPUT, aim_, true);
-    make("cycle_colour", "Next colour mode", XR_ACTION_TYPE_BOOLEAN_INPUT, cycle_colour_, false);
-    make("toggle_cut", "Cutting volume on / off", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_cut_, false);
-
+void XrActions::suggestBindings() const {
     // The simple controller has four buttons (select and menu per hand): designate (right
     // select), confirm (right menu), mode (left select), no target (left menu); reject is
     // on the other profiles and the desktop's Backspace.
@@ -119,6 +87,42 @@ void XrActions::create(XrInstance instance, XrSession session) {
              {no_target_, "/user/hand/right/input/menu/click"},
              {move_, "/user/hand/left/input/trackpad"},
              {turn_, "/user/hand/right/input/trackpad/x"}});
+}
+
+void XrActions::create(XrInstance instance, XrSession session) {
+    instance_ = instance;
+    session_ = session;
+    XrActionSetCreateInfo set_info{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(set_info.actionSetName, "viewer");
+    std::strcpy(set_info.localizedActionSetName, "Point cloud viewer");
+    XR_CHECK(instance, xrCreateActionSet(instance, &set_info, &set_));
+    hands_ = {path("/user/hand/left"), path("/user/hand/right")};
+
+    auto make = [&](const char* name, const char* label, XrActionType type, XrAction& out, bool per_hand) {
+        XrActionCreateInfo info{XR_TYPE_ACTION_CREATE_INFO};
+        std::strcpy(info.actionName, name);
+        std::strcpy(info.localizedActionName, label);
+        info.actionType = type;
+        if (per_hand) {
+            info.countSubactionPaths = 2;
+            info.subactionPaths = hands_.data();
+        }
+        XR_CHECK(instance, xrCreateAction(set_, &info, &out));
+    };
+    make("toggle_mode", "Toggle automatic / free mode", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_, false);
+    make("designate", "Designate the picked point / dismiss the ready screen", XR_ACTION_TYPE_BOOLEAN_INPUT,
+         designate_, true);
+    make("confirm", "Confirm: this is the target", XR_ACTION_TYPE_BOOLEAN_INPUT, confirm_, false);
+    make("reject", "Reject: this candidate is not a target", XR_ACTION_TYPE_BOOLEAN_INPUT, reject_, false);
+    make("no_target", "No target in this cloud", XR_ACTION_TYPE_BOOLEAN_INPUT, no_target_, false);
+    make("grab", "Grab the world (both hands: scale)", XR_ACTION_TYPE_BOOLEAN_INPUT, grab_, true);
+    make("move", "Move (free mode)", XR_ACTION_TYPE_VECTOR2F_INPUT, move_, false);
+    make("turn", "Turn (free mode)", XR_ACTION_TYPE_FLOAT_INPUT, turn_, false);
+    make("aim", "Laser pointer", XR_ACTION_TYPE_POSE_INPUT, aim_, true);
+    make("cycle_colour", "Next colour mode", XR_ACTION_TYPE_BOOLEAN_INPUT, cycle_colour_, false);
+    make("toggle_cut", "Cutting volume on / off", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_cut_, false);
+
+    suggestBindings();
 
     for (int h = 0; h < 2; ++h) {
         XrActionSpaceCreateInfo space_info{XR_TYPE_ACTION_SPACE_CREATE_INFO};

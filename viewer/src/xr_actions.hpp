@@ -33,6 +33,8 @@ public:
 private:
     XrPath path(const char* text) const;
     void suggest(const char* profile, std::initializer_list<std::pair<XrAction, const char*>> bindings) const;
+    /// Suggests the bindings on every known profile (docs/viewer.md's table).
+    void suggestBindings() const;
     bool pressed(XrAction action, XrPath hand, bool* changed_to_down) const;
 
     XrInstance instance_ = XR_NULL_HANDLE;
