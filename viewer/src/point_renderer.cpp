@@ -107,7 +107,10 @@ void PointRenderer::addNode(const PointNode* node, std::shared_ptr<const NodePoi
     cells.reserve(points->cells.size());
     for (const LodCell& l : points->cells) cells.push_back({l.first, l.count, l.bounds});
     const auto chunk = chunks_.addChunk(points->points.size(), cells);
-    if (!chunk) return;   // out of GPU memory: show what fits
+    if (!chunk) {   // out of GPU memory: show what fits, and do not ask again each frame
+        no_room_.insert(node);
+        return;
+    }
     on_gpu_[node] = *chunk;
     pending_points_ += points->points.size();
     pending_.push_back({std::move(points), 0, *chunk});
@@ -131,8 +134,9 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
     for (const PointNode* node : allNodes(source)) {
         std::shared_ptr<const NodePoints> points = node->points();
         const bool known = on_gpu_.contains(node);
-        if (points && !points->points.empty() && !known) addNode(node, std::move(points));
+        if (points && !points->points.empty() && !known && !no_room_.contains(node)) addNode(node, std::move(points));
         else if (!points && known) dropNode(node);
+        else if (!points) no_room_.erase(node);
     }
     std::size_t uploaded = 0;
     while (!pending_.empty() && uploaded < budget_points) {

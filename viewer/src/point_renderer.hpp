@@ -18,6 +18,7 @@
 #include <deque>
 #include <memory>
 #include <unordered_map>
+#include <unordered_set>
 #include <span>
 #include <vector>
 
@@ -108,6 +109,7 @@ private:
     mutable GLuint jet_texture_ = 0;         // jetTexture()'s cache
     mutable int jet_entries_ = 0;
     std::unordered_map<const PointNode*, std::size_t> on_gpu_;   // node -> its chunk
+    std::unordered_set<const PointNode*> no_room_;               // resident, but the GPU had no room
     std::vector<std::size_t> plan_;          // per cell: points to draw (planFrame)
     bool plan_valid_ = false, plan_cull_ = true;
     std::size_t planned_points_ = 0;

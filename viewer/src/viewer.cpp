@@ -253,8 +253,12 @@ void ViewerApp::render(int fb_w, int fb_h) {
         }
     } else {
         eyes_->renderDesktop(stream_.renderer(), view, fb_w, fb_h, result);
-        if (!headset_.session()) frameCounted(result, false);
-        else std::this_thread::sleep_for(std::chrono::milliseconds(5));   // waiting for READY
+        if (!headset_.session()) {
+            frameCounted(result, false);
+        } else {   // waiting for READY: drawn, not counted
+            if (result.rendered) points_drawn_ = result.points_drawn;
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
     }
 }
 

@@ -63,6 +63,8 @@ public:
     /// Local-frame bounds of every cell ever added.
     const engine::Bounds& bounds() const { return bounds_; }
 
+    /// The GL buffer of chunk `chunk` (0 once removed).
+    GLuint buffer(std::size_t chunk) const { return chunks_[chunk].buffer; }
     /// The vertex array the draws use (attributes 0-2 of GpuPoint).
     GLuint vao() const { return vao_; }
     /// Draws the first `n` points of cell `i` with the bound program; `bound_chunk` tracks
