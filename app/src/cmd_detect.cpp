@@ -93,7 +93,7 @@ void registerDetect(CLI::App& cli) {
     CLI::App* c = cli.add_subcommand(
         "detect", "baseline 3D ATR: cluster the non-ground points, fit oriented boxes, score them by how well "
                   "their size matches the target's; writes candidates for `view --candidates`");
-    c->add_option("cloud", state->cloud, "the cloud (PCD or PLY)")->required();
+    c->add_option("cloud", state->cloud, "the cloud (PCD, PLY, LAS or LAZ)")->required();
     c->add_option("--out", state->out, "candidates file to write (JSON)")->required();
     c->add_option("--target-size-m", state->target_size_m,
                   "target length width height, metres (default a main battle tank: 7 3.5 2.5)")

@@ -134,7 +134,7 @@ void registerView(CLI::App& cli) {
     CLI::App* cmd = cli.add_subcommand(
         "view", "view a cloud in an OpenXR HMD with a desktop mirror, or on the desktop "
                 "(space: automatic orbit <-> free mode; see docs/viewer.md)");
-    cmd->add_option("cloud", args->cloud, "PCD or PLY cloud (default: generate the bundled demo scene)");
+    cmd->add_option("cloud", args->cloud, "PCD, PLY, LAS or LAZ cloud (default: generate the bundled demo scene)");
     cmd->add_option("--scene", args->scene, "generate this scene's cloud and view it");
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")

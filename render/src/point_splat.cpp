@@ -3,20 +3,16 @@
 #include <render/orbit_camera.hpp>
 #include <shaders/shaders.hpp>
 
+#include <engine/error.hpp>
 #include <engine/spatial_hash.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 namespace render {
 namespace {
-
-struct GpuPoint {
-    glm::vec3 position;
-    std::uint32_t rgb;
-};
-static_assert(sizeof(GpuPoint) == 16);
 
 constexpr std::size_t kMaxChunkPoints = 1u << 18;  // keeps culling useful in dense cells
 
@@ -29,51 +25,21 @@ PointSplatRenderer::PointSplatRenderer()
     u_point_size_ = program_.uniform("u_point_size");
     u_colour_ = program_.uniform("u_colour");
     u_use_point_colours_ = program_.uniform("u_use_point_colours");
-    GL_CHECK(glCreateVertexArrays(1, &vao_));
-    glEnableVertexArrayAttrib(vao_, 0);
-    glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, offsetof(GpuPoint, position));
-    glVertexArrayAttribBinding(vao_, 0, 0);
-    glEnableVertexArrayAttrib(vao_, 1);
-    GL_CHECK(glVertexArrayAttribFormat(vao_, 1, GL_BGRA, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(GpuPoint, rgb)));
-    glVertexArrayAttribBinding(vao_, 1, 0);
 }
 
-PointSplatRenderer::~PointSplatRenderer() {
-    clear();
-    if (vao_) glDeleteVertexArrays(1, &vao_);
-}
+PointSplatRenderer::~PointSplatRenderer() = default;
 
-void PointSplatRenderer::clear() {
-    for (Chunk& c : chunks_) glDeleteBuffers(1, &c.buffer);
-    chunks_.clear();
-    point_count_ = 0;
-    bounds_ = {};
-}
-
-void PointSplatRenderer::upload(std::span<const engine::CloudPoint> points, const engine::Bounds& bounds) {
-    Chunk chunk;
-    chunk.bounds = bounds;
-    chunk.centre = bounds.centre();
-    chunk.count = static_cast<GLsizei>(points.size());
-    std::vector<GpuPoint> data(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        data[i].position = glm::vec3(glm::dvec3(points[i].position) - chunk.centre);
-        data[i].rgb = points[i].rgb;
-    }
-    GL_CHECK(glCreateBuffers(1, &chunk.buffer));
-    GL_CHECK(glNamedBufferStorage(chunk.buffer, static_cast<GLsizeiptr>(data.size() * sizeof(GpuPoint)),
-                                  data.data(), 0));
-    chunks_.push_back(chunk);
-    point_count_ += points.size();
-    bounds_.extend(bounds);
-}
+void PointSplatRenderer::clear() { chunks_.clear(); }
 
 void PointSplatRenderer::appendChunk(std::span<const engine::CloudPoint> points) {
     for (std::size_t start = 0; start < points.size(); start += kMaxChunkPoints) {
         const auto part = points.subspan(start, std::min(kMaxChunkPoints, points.size() - start));
-        engine::Bounds b;
-        for (const auto& p : part) b.extend(glm::dvec3(p.position));
-        upload(part, b);
+        CellRange cell{0, part.size(), {}};
+        for (const auto& p : part) cell.bounds.extend(glm::dvec3(p.position));
+        const auto id = chunks_.addChunk(part.size(), std::span<const CellRange>(&cell, 1));
+        if (!id) throw engine::Error("gl: no GPU memory for a chunk of " + std::to_string(part.size()) + " points");
+        chunks_.upload(*id, part);
+        checkGl("PointChunks::upload", __FILE__, __LINE__);
     }
 }
 
@@ -94,7 +60,8 @@ void PointSplatRenderer::setCloud(const engine::PointCloud& cloud, double chunk_
 SplatDrawStats PointSplatRenderer::draw(const glm::dmat4& view, const glm::dmat4& projection,
                                         const SplatStyle& style, bool cull) const {
     SplatDrawStats stats;
-    if (chunks_.empty()) return stats;
+    const auto& cells = chunks_.cells();
+    if (cells.empty()) return stats;
     const glm::dmat4 view_projection = projection * view;
     const Frustum frustum = Frustum::fromMatrix(view_projection);
     glEnable(GL_PROGRAM_POINT_SIZE);
@@ -102,8 +69,10 @@ SplatDrawStats PointSplatRenderer::draw(const glm::dmat4& view, const glm::dmat4
     glUniform1f(u_point_size_, std::max(1.0f, style.point_size_px));
     glUniform4fv(u_colour_, 1, &style.colour[0]);
     glUniform1i(u_use_point_colours_, style.use_point_colours ? 1 : 0);
-    glBindVertexArray(vao_);
-    for (const Chunk& c : chunks_) {
+    glBindVertexArray(chunks_.vao());
+    std::size_t bound = SIZE_MAX;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        const PointChunks::Cell& c = cells[i];
         if (cull && !frustum.intersects(c.bounds)) {
             ++stats.chunks_culled;
             continue;
@@ -114,10 +83,10 @@ SplatDrawStats PointSplatRenderer::draw(const glm::dmat4& view, const glm::dmat4
         model[3] = glm::dvec4(c.centre, 1.0);
         const glm::mat4 mvp(view_projection * model);
         glUniformMatrix4fv(u_mvp_, 1, GL_FALSE, &mvp[0][0]);
-        glVertexArrayVertexBuffer(vao_, 0, c.buffer, 0, sizeof(GpuPoint));
-        glDrawArrays(GL_POINTS, 0, c.count);
+        const std::size_t n = chunks_.available(i);
+        chunks_.drawCell(i, n, bound);
         ++stats.chunks_drawn;
-        stats.points_drawn += static_cast<std::size_t>(c.count);
+        stats.points_drawn += n;
     }
     glBindVertexArray(0);
     return stats;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # tests/viewer/headless_env.sh: runs a command under a private Xvfb (on the display number
 # it picks, -displayfd) and, with --monado, a
-# private Monado service with its simulated HMD and null compositor (/work/shared/PLATFORM.md):
+# private Monado service with its simulated HMD and null compositor (docs/viewer.md,
+# "Headless tests"):
 #
 #   tests/viewer/headless_env.sh [--monado | --monado-stay] [--timeout S] -- COMMAND ARGS...
 #

@@ -1,7 +1,9 @@
 // Viewer LOD: frustum culling of cells (union of the eyes), the LOD order (any prefix of
 // a cell is a uniform subsample) and the point budget allocation, with known answers; then a
 // headless EGL draw: a view looking away from the cloud draws fewer points, a budget caps them.
+#include <viewer/cloud_feed.hpp>
 #include <viewer/lod.hpp>
+#include <viewer/point_source.hpp>
 
 #include "point_renderer.hpp"
 
@@ -160,7 +162,9 @@ TEST_CASE("headless draw: looking away from the cloud draws fewer points; the bu
     }
     viewer::CloudFeed feed;
     feed.feedCloud(cloud, 10000);
-    renderer.stream(feed, cloud.points.size());
+    viewer::CloudFeedSource source(feed);
+    source.poll();
+    renderer.stream(source, cloud.points.size());
     REQUIRE(renderer.uploadedPoints() == 40000);
     REQUIRE(renderer.cellCount() >= 4 * 4);
     viewer::EyeTarget target, out;

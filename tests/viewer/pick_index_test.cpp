@@ -6,7 +6,10 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <memory>
 #include <random>
+#include <span>
 
 using namespace viewer;
 
@@ -110,4 +113,51 @@ TEST_CASE("pick options are validated") {
     CHECK_THROWS_AS(validate(o), engine::Error);
     o.angle_deg = 0.5;
     CHECK_NOTHROW(validate(o));
+}
+
+TEST_CASE("a pick set over the chunks of a stream picks what one index over the whole cloud picks") {
+    // A terrain-like cloud with some targets, streamed as chunks (the point source's leaves):
+    // one PickIndex per chunk in a PickSet against one PickIndex over every point.
+    std::vector<engine::CloudPoint> points;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-150.0f, 150.0f), h(0.0f, 6.0f);
+    for (int i = 0; i < 60000; ++i)
+        points.push_back(at(u(rng), u(rng), i % 7 == 0 ? h(rng) : 0.0f,
+                            i % 500 == 0 ? engine::Role::Target : engine::Role::Environment));
+    const PickIndex whole(points);
+    PickSet set;
+    constexpr std::size_t kChunk = 7000;   // 9 chunks, the last one shorter
+    for (std::size_t first = 0; first < points.size(); first += kChunk) {
+        const std::size_t n = std::min(kChunk, points.size() - first);
+        set.add(std::make_shared<const PickIndex>(std::span<const engine::CloudPoint>(points.data() + first, n)));
+    }
+    REQUIRE(set.nodes() == 9);
+    CHECK(set.size() == points.size());
+    CHECK(set.hasTargets());
+    std::uniform_real_distribution<double> angle(0.0, 6.283), radius(20.0, 250.0);
+    int hits = 0;
+    for (int k = 0; k < 300; ++k) {
+        const double a = angle(rng), r = radius(rng);
+        const glm::dvec3 origin(r * std::cos(a), r * std::sin(a), 30.0 + r * 0.2);
+        const glm::dvec3 target(u(rng) * 0.6, u(rng) * 0.6, 0.0);
+        const auto one = whole.pick(origin, target - origin), per_node = set.pick(origin, target - origin);
+        REQUIRE(bool(one) == bool(per_node));
+        if (!one) continue;
+        ++hits;
+        // The same point: its position, distance and label; its node and index within it
+        // name the same point of the whole cloud.
+        CHECK(per_node->local == one->local);
+        CHECK(per_node->distance_m == one->distance_m);
+        CHECK(per_node->label == one->label);
+        CHECK(points[per_node->node * kChunk + per_node->index].position == points[one->index].position);
+        const glm::dvec3 probe = target + glm::dvec3(0.0, 0.0, 3.0);
+        REQUIRE(set.nearestTargetDistance(probe));
+        CHECK(*set.nearestTargetDistance(probe) == doctest::Approx(*whole.nearestTargetDistance(probe)).epsilon(1e-9));
+    }
+    CHECK(hits > 200);
+    // An empty set picks nothing and knows no target.
+    const PickSet empty;
+    CHECK_FALSE(empty.pick(glm::dvec3(0.0, 0.0, 50.0), glm::dvec3(0.0, 0.0, -1.0)));
+    CHECK_FALSE(empty.nearestTargetDistance(glm::dvec3(0.0)));
+    CHECK_FALSE(empty.hasTargets());
 }

@@ -3,6 +3,9 @@
 // engine::jetIndex (the table sim writes into the files), for 64 entries and for 16.
 #include "point_renderer.hpp"
 
+#include <viewer/cloud_feed.hpp>
+#include <viewer/point_source.hpp>
+
 #include <engine/jet.hpp>
 #include <engine/point_cloud.hpp>
 #include <render/egl_context.hpp>
@@ -29,7 +32,9 @@ std::vector<Pixel> drawFromAbove(const engine::PointCloud& cloud, int rows, cons
     viewer::PointRenderer renderer;
     viewer::CloudFeed feed;
     feed.feedCloud(cloud);
-    renderer.stream(feed, cloud.points.size());
+    viewer::CloudFeedSource source(feed);
+    source.poll();
+    renderer.stream(source, cloud.points.size());
     REQUIRE(renderer.uploadedPoints() == cloud.points.size());
     const int width = kColumns * kPixelsPerMetre, height = rows * kPixelsPerMetre;
     viewer::EyeTarget target, out;

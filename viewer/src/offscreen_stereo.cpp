@@ -5,12 +5,17 @@
 
 #include "point_renderer.hpp"
 
+#include <viewer/cloud_feed.hpp>
+#include <viewer/point_source.hpp>
+
 #include <engine/error.hpp>
 #include <render/gl.hpp>
 
 #include <array>
 #include <cmath>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace viewer {
 
@@ -29,6 +34,10 @@ void validate(const StereoOptions& o) {
 
 struct OffscreenStereo::Impl {
     StereoOptions options;
+    // Every cloud uploaded, as the point sources the renderer follows (kept: the renderer
+    // knows their nodes).
+    std::vector<std::unique_ptr<CloudFeed>> feeds;
+    std::vector<std::unique_ptr<CloudFeedSource>> sources;
     PointRenderer renderer;
     std::array<EyeTarget, 2> targets;
     std::array<GLuint, 2> images{}, fbos{};
@@ -72,9 +81,11 @@ OffscreenStereo::OffscreenStereo(const StereoOptions& options) {
 OffscreenStereo::~OffscreenStereo() = default;
 
 void OffscreenStereo::upload(const engine::PointCloud& cloud) {
-    CloudFeed feed;
-    feed.feedCloud(cloud, 1u << 20);
-    impl_->renderer.stream(feed, cloud.points.size());
+    impl_->feeds.push_back(std::make_unique<CloudFeed>());
+    impl_->feeds.back()->feedCloud(cloud, 1u << 20);
+    impl_->sources.push_back(std::make_unique<CloudFeedSource>(*impl_->feeds.back()));
+    impl_->sources.back()->poll();
+    impl_->renderer.stream(*impl_->sources.back(), cloud.points.size());
 }
 
 std::size_t OffscreenStereo::uploadedPoints() const { return impl_->renderer.uploadedPoints(); }

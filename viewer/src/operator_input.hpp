@@ -1,12 +1,16 @@
 // viewer/src/operator_input.hpp: what the operator asked for in one frame, whatever the
-// source (OpenXR actions, desktop keys and mouse, a --script). The frame loop merges the
-// sources into one OperatorInput and hands it to the tools; no tool reads a device.
+// source (desktop keys and mouse in desktop_input.cpp, OpenXR actions in xr_actions.cpp,
+// a --script in input/script_player.cpp, a recorded trace in input/replay_player.cpp).
+// Each source returns one OperatorInput; the frame loop merges them and hands the result
+// to the tools and the trial controller; no tool reads a device.
 #pragma once
 #include <viewer/camera_rig.hpp>
+#include <viewer/trial.hpp>
 
 #include <glm/vec3.hpp>
 
 #include <optional>
+#include <utility>
 
 namespace viewer {
 
@@ -38,6 +42,17 @@ struct OperatorInput {
     std::optional<TrackingRay> controller_ray;
     /// Both hands' positions while both grab (tracking frame), for grab-and-scale.
     std::optional<std::pair<glm::dvec3, glm::dvec3>> grab_hands;
+    /// A script's aim: the pointer runs from the head to this world point from now on.
+    std::optional<glm::dvec3> aim_world;
+    /// A controller's designate takes the pointer back from a script's aim.
+    bool release_aim = false;
+    /// A replayed trace: the sample to show this frame, and whether its last one was shown.
+    std::optional<TraceSample> replay;
+    bool replay_done = false;
 };
+
+/// Adds `from` to `into`: flags are or-ed, steps and motion summed, and what `from` sets
+/// (a toggle's source, a scale, a ray, a grab, an aim, a replay sample) replaces `into`'s.
+void merge(OperatorInput& into, const OperatorInput& from);
 
 }  // namespace viewer

@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <optional>
 
 #include <vector>
 
@@ -18,10 +19,16 @@ struct OverlayVertex {
     glm::vec4 colour{1.0f};
 };
 
+/// The comfort vignette (OverlayRenderer::drawVignette), drawn in the headset only.
+struct VignetteStyle {
+    float aperture = 0.7f, feather = 0.2f, strength = 0.0f;
+};
+
 /// What the tools draw this frame, local frame.
 struct OverlayList {
     std::vector<OverlayVertex> lines;   // pairs
     std::vector<OverlayVertex> dots;
+    std::optional<VignetteStyle> vignette;
     void line(const glm::dvec3& a, const glm::dvec3& b, const glm::vec4& colour) {
         lines.push_back({a, colour});
         lines.push_back({b, colour});
@@ -29,6 +36,7 @@ struct OverlayList {
     void clear() {
         lines.clear();
         dots.clear();
+        vignette.reset();
     }
 };
 

@@ -1,7 +1,11 @@
 // viewer/src/panel.cpp: the ImGui windows of the desktop mirror.
-#include "panel.hpp"
+#include "panel.hpp"   // glad first (render/gl.hpp)
 
 #include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include <cstdio>
 
 #include <engine/scene.hpp>
 
@@ -77,6 +81,51 @@ void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded
     if (loaded) ImGui::Text("Ready: press the trigger or Enter to start.");
     else ImGui::Text("Loading the cloud...");
     ImGui::End();
+}
+
+bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTarget* headset_target) {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    if (p.trial >= 0) {
+        char text[256];
+        std::snprintf(text, sizeof text, "trial %d of %d: %s, %.1f s", p.trial + 1, p.trials, p.trial_name.c_str(),
+                      p.trial_s);
+        v.trial = text;
+    }
+    if (p.designated_local) {
+        const glm::dvec3 w = *p.designated_local + p.origin;
+        char text[160];
+        std::snprintf(text, sizeof text, "designated %.2f %.2f %.2f (Enter / confirm button to confirm)", w.x, w.y, w.z);
+        v.designation = text;
+    }
+    const bool reset_zoom = drawSettingsPanel(v);
+    if (p.ready_screen) drawReadyScreen(p.trial, p.trials, p.trial_name, p.ready_to_start, p.time_limit_s);
+    // The picked point's panel beside the dot (desktop: where the dot is on screen).
+    if (p.hit && !p.headset && fb_w > 0 && fb_h > 0 && !p.ready_screen) {
+        const glm::dvec4 clip = p.view_projection * glm::dvec4(p.hit->local, 1.0);
+        if (clip.w > 0.0) {
+            const ImVec2 size = ImGui::GetIO().DisplaySize;
+            const float sx = float((clip.x / clip.w * 0.5 + 0.5) * size.x);
+            const float sy = float((0.5 - clip.y / clip.w * 0.5) * size.y);
+            drawPickPanel(sx, sy, *p.hit, p.origin, p.head_local, p.has_height);
+        }
+    } else if (p.hit && p.headset) {
+        drawPickPanel(10.0f, ImGui::GetIO().DisplaySize.y - 90.0f, *p.hit, p.origin, p.head_local, p.has_height);
+    }
+    ImGui::Render();
+    if (headset_target && fb_w > 0 && fb_h > 0 && headset_target->ensure(fb_w, fb_h)) {
+        // The same windows into a texture for the headset's quad (shown from the next frame).
+        glBindFramebuffer(GL_FRAMEBUFFER, headset_target->fbo);
+        glViewport(0, 0, fb_w, fb_h);
+        glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, fb_w, fb_h);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    return reset_zoom;
 }
 
 }  // namespace viewer

@@ -1,6 +1,8 @@
 // viewer/src/panel.hpp: the ImGui windows on the desktop mirror: the settings panel, the
 // picked point's panel beside it, and a trial's ready screen.
 #pragma once
+#include "point_renderer.hpp"
+
 #include <viewer/pick_index.hpp>
 #include <viewer/viewer.hpp>
 
@@ -41,5 +43,25 @@ void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origi
 
 /// A trial's ready screen (centred): its name, and either "loading" or how to start.
 void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded, double time_limit_s);
+
+/// The rest of what a frame's panels show.
+struct PanelFrame {
+    glm::dvec3 origin{0.0};               // world coordinates of the local frame
+    bool has_height = false;              // the cloud has heights above ground
+    int trial = -1, trials = 1;           // trial -1: a plain run
+    std::string trial_name;
+    double trial_s = 0.0, time_limit_s = 0.0;
+    bool ready_screen = false, ready_to_start = false;
+    std::optional<glm::dvec3> designated_local;
+    std::optional<PickHit> hit;
+    bool headset = false;                 // an OpenXR session exists
+    glm::dvec3 head_local{0.0};
+    glm::dmat4 view_projection{1.0};      // the desktop view (where the hit's panel goes)
+};
+
+/// One ImGui frame: the settings panel, the ready screen, the picked point's panel; drawn
+/// into the window's back buffer and, with `headset_target`, into that texture for the
+/// headset's quad. Returns true when the zoom reset button was pressed.
+bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTarget* headset_target);
 
 }  // namespace viewer

@@ -194,4 +194,36 @@ std::optional<double> PickIndex::nearestTargetDistance(const glm::dvec3& p) cons
     return glm::length(glm::dvec3(targets_[index]) - p);
 }
 
+// --- PickSet ---------------------------------------------------------------------------------
+void PickSet::add(std::shared_ptr<const PickIndex> index) {
+    size_ += index->size();
+    indexes_.push_back(std::move(index));
+}
+
+std::optional<PickHit> PickSet::pick(const glm::dvec3& origin, const glm::dvec3& direction,
+                                     const PickOptions& options) const {
+    std::optional<PickHit> best;
+    for (std::size_t i = 0; i < indexes_.size(); ++i) {
+        std::optional<PickHit> hit = indexes_[i]->pick(origin, direction, options);
+        if (hit && (!best || hit->distance_m < best->distance_m)) {
+            hit->node = i;
+            best = hit;
+        }
+    }
+    return best;
+}
+
+std::optional<double> PickSet::nearestTargetDistance(const glm::dvec3& p) const {
+    std::optional<double> best;
+    for (const auto& index : indexes_)
+        if (const auto d = index->nearestTargetDistance(p); d && (!best || *d < *best)) best = d;
+    return best;
+}
+
+bool PickSet::hasTargets() const {
+    for (const auto& index : indexes_)
+        if (index->hasTargets()) return true;
+    return false;
+}
+
 }  // namespace viewer

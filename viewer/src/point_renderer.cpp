@@ -17,13 +17,6 @@ namespace viewer {
 
 namespace {
 
-struct GpuPoint {
-    float x, y, z;
-    std::uint32_t rgb;   // 0xLLRRGGBB (L = label): bytes B, G, R, L -> read as GL_BGRA
-    float above_ground_m;   // engine::CloudPoint::height_above_ground_m (0 without the field)
-};
-static_assert(sizeof(GpuPoint) == 20);
-
 // A, U, T, O, M, I, C, F, R, E
 constexpr std::array<int, 70> kFont = {
     0b01110, 0b10001, 0b10001, 0b11111, 0b10001, 0b10001, 0b10001,   // A
@@ -81,16 +74,6 @@ PointRenderer::PointRenderer()
       indicator_("viewer mode indicator",
                  {{GL_VERTEX_SHADER, shaders::mode_indicator_vert, shaders::mode_indicator_vert_files},
                   {GL_FRAGMENT_SHADER, shaders::mode_indicator_frag, shaders::mode_indicator_frag_files}}) {
-    glCreateVertexArrays(1, &vao_);
-    glEnableVertexArrayAttrib(vao_, 0);
-    glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(vao_, 0, 0);
-    glEnableVertexArrayAttrib(vao_, 1);
-    glVertexArrayAttribFormat(vao_, 1, GL_BGRA, GL_UNSIGNED_BYTE, GL_TRUE, 12);
-    glVertexArrayAttribBinding(vao_, 1, 0);
-    glEnableVertexArrayAttrib(vao_, 2);
-    glVertexArrayAttribFormat(vao_, 2, 1, GL_FLOAT, GL_FALSE, 16);
-    glVertexArrayAttribBinding(vao_, 2, 0);
     glCreateVertexArrays(1, &empty_vao_);
     indicator_.use();
     glUniform1iv(indicator_.uniform("u_font"), 70, kFont.data());
@@ -99,9 +82,6 @@ PointRenderer::PointRenderer()
 
 PointRenderer::~PointRenderer() {
     if (jet_texture_) glDeleteTextures(1, &jet_texture_);
-    for (auto& c : chunks_)
-        if (c.buffer) glDeleteBuffers(1, &c.buffer);
-    if (vao_) glDeleteVertexArrays(1, &vao_);
     if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
 }
 
@@ -122,82 +102,81 @@ GLuint PointRenderer::jetTexture(int entries) const {
     return jet_texture_;
 }
 
-std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points, std::vector<engine::CloudPoint>* keep) {
-    for (auto& item : feed.take()) {
-        std::vector<engine::CloudPoint>& points = item.points;
-        if (points.empty()) continue;
-        if (keep) keep->insert(keep->end(), points.begin(), points.end());
-        // LOD order once per chunk, at arrival: spatial cells, each shuffled (lod.hpp); done
-        // by the producer's thread when the feed has it enabled, else here.
-        const std::vector<LodCell> lod = item.cells.empty() ? buildLodOrder(points) : std::move(item.cells);
-        Chunk chunk;
-        chunk.capacity = points.size();
-        glCreateBuffers(1, &chunk.buffer);
-        glNamedBufferStorage(chunk.buffer, static_cast<GLsizeiptr>(chunk.capacity * sizeof(GpuPoint)),
-                             nullptr, GL_DYNAMIC_STORAGE_BIT);
-        if (!render::logGl("glNamedBufferStorage (point chunk)", __FILE__, __LINE__)) {
-            glDeleteBuffers(1, &chunk.buffer);
-            continue;   // out of GPU memory: show what fits
+void PointRenderer::addNode(const PointNode* node, std::shared_ptr<const NodePoints> points) {
+    std::vector<render::CellRange> cells;
+    cells.reserve(points->cells.size());
+    for (const LodCell& l : points->cells) cells.push_back({l.first, l.count, l.bounds});
+    const auto chunk = chunks_.addChunk(points->points.size(), cells);
+    if (!chunk) {   // out of GPU memory: show what fits, and do not ask again each frame
+        no_room_.insert(node);
+        return;
+    }
+    on_gpu_[node] = *chunk;
+    pending_points_ += points->points.size();
+    pending_.push_back({std::move(points), 0, *chunk});
+}
+
+void PointRenderer::dropNode(const PointNode* node) {
+    const std::size_t chunk = on_gpu_.at(node);
+    for (auto it = pending_.begin(); it != pending_.end();)
+        if (it->chunk == chunk) {
+            pending_points_ -= it->node->points.size() - it->next;
+            it = pending_.erase(it);
+        } else {
+            ++it;
         }
-        const std::size_t first_cell = cells_.size();
-        for (const LodCell& l : lod) {
-            cells_.push_back({chunks_.size(), l.first, l.count, l.bounds.centre(), l.bounds});
-            bounds_.extend(l.bounds);
-        }
-        pending_points_ += points.size();
-        pending_.push_back({std::move(points), 0, chunks_.size(), first_cell});
-        chunks_.push_back(chunk);
+    chunks_.removeChunk(chunk);
+    on_gpu_.erase(node);
+    plan_valid_ = false;
+}
+
+std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_points) {
+    for (const PointNode* node : allNodes(source)) {
+        std::shared_ptr<const NodePoints> points = node->points();
+        const bool known = on_gpu_.contains(node);
+        if (points && !points->points.empty() && !known && !no_room_.contains(node)) addNode(node, std::move(points));
+        else if (!points && known) dropNode(node);
+        else if (!points) no_room_.erase(node);
     }
     std::size_t uploaded = 0;
-    std::vector<GpuPoint> staging;
     while (!pending_.empty() && uploaded < budget_points) {
         Pending& job = pending_.front();
-        Chunk& chunk = chunks_[job.chunk];
-        const std::size_t n = std::min(budget_points - uploaded, job.points.size() - job.next);
-        staging.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t k = job.next + i;
-            while (k >= cells_[job.cell].first + cells_[job.cell].size) ++job.cell;
-            const auto& p = job.points[k];
-            const glm::dvec3 rel = glm::dvec3(p.position) - cells_[job.cell].centre;
-            staging[i] = {float(rel.x), float(rel.y), float(rel.z),
-                          (p.rgb & 0xFFFFFFu) | (std::uint32_t(p.label) << 24), p.height_above_ground_m};
-            above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
-        }
-        glNamedBufferSubData(chunk.buffer, static_cast<GLintptr>(chunk.count * sizeof(GpuPoint)),
-                             static_cast<GLsizeiptr>(n * sizeof(GpuPoint)), staging.data());
-        chunk.count += n;
+        const std::vector<engine::CloudPoint>& points = job.node->points;
+        const std::size_t n = std::min(budget_points - uploaded, points.size() - job.next);
+        const std::span<const engine::CloudPoint> part(points.data() + job.next, n);
+        for (const engine::CloudPoint& p : part) above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
+        chunks_.upload(job.chunk, part);
         job.next += n;
         uploaded += n;
         pending_points_ -= n;
-        if (job.next == job.points.size()) pending_.pop_front();
+        if (job.next == points.size()) pending_.pop_front();
     }
-    uploaded_ += uploaded;
     if (uploaded) render::logGl("glNamedBufferSubData (point chunk)", __FILE__, __LINE__);
     return uploaded;
 }
 
 void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull) {
+    const auto& cells = chunks_.cells();
     plan_cull_ = cull;
-    plan_.assign(cells_.size(), 0);
+    plan_.assign(cells.size(), 0);
     planned_points_ = 0;
     plan_valid_ = true;
-    if (cells_.empty() || eyes.empty()) return;
+    if (cells.empty() || eyes.empty()) return;
     std::vector<render::Frustum> frusta;
     glm::dvec3 eye_mean(0.0);
     for (const EyeDraw& e : eyes) {
         frusta.push_back(render::Frustum::fromMatrix(e.projection * e.view));
         eye_mean += glm::dvec3(glm::inverse(e.view)[3]) / double(eyes.size());
     }
-    std::vector<engine::Bounds> boxes(cells_.size());
-    std::vector<std::size_t> sizes(cells_.size());
-    for (std::size_t i = 0; i < cells_.size(); ++i) {
-        boxes[i] = cells_[i].bounds;
-        sizes[i] = available(cells_[i]);
+    std::vector<engine::Bounds> boxes(cells.size());
+    std::vector<std::size_t> sizes(cells.size());
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        boxes[i] = cells[i].bounds;
+        sizes[i] = chunks_.available(i);
     }
     const std::vector<bool> visible = cull ? visibleInAny(frusta, boxes) : std::vector<bool>(boxes.size(), true);
-    std::vector<double> importance(cells_.size(), 0.0);
-    for (std::size_t i = 0; i < cells_.size(); ++i)
+    std::vector<double> importance(cells.size(), 0.0);
+    for (std::size_t i = 0; i < cells.size(); ++i)
         if (visible[i]) importance[i] = std::max(screenImportance(boxes[i], eye_mean), 1e-12);
     plan_ = allocateBudget(importance, sizes, point_budget);
     for (std::size_t n : plan_) planned_points_ += n;
@@ -221,11 +200,12 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_PROGRAM_POINT_SIZE);
     points_.use();
-    glBindVertexArray(vao_);
+    glBindVertexArray(chunks_.vao());
     glUniformMatrix4fv(points_.uniform("u_projection"), 1, GL_FALSE,
                        &glm::mat4(eye.projection)[0][0]);
-    glUniform1f(points_.uniform("u_z_min"), bounds_.empty() ? 0.0f : float(bounds_.lo.z));
-    glUniform1f(points_.uniform("u_z_max"), bounds_.empty() ? 1.0f : float(bounds_.hi.z));
+    const engine::Bounds& bounds = chunks_.bounds();
+    glUniform1f(points_.uniform("u_z_min"), bounds.empty() ? 0.0f : float(bounds.lo.z));
+    glUniform1f(points_.uniform("u_z_max"), bounds.empty() ? 1.0f : float(bounds.hi.z));
     glUniform1i(points_.uniform("u_colour_mode"), static_cast<int>(style.colour));
     glUniform1f(points_.uniform("u_above_ground_max_m"), above_ground_max_m_);
     glBindTextureUnit(kJetTextureUnit, jetTexture(style.jet_entries));
@@ -237,12 +217,13 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     const GLint u_cut_centre = points_.uniform("u_cut_centre");
     glUniform1f(points_.uniform("u_cut_radius"), cut.enabled ? float(cut.radius_m) : -1.0f);
     const auto frustum = render::Frustum::fromMatrix(eye.projection * eye.view);
-    const bool planned = plan_valid_ && plan_.size() == cells_.size();
+    const auto& cells = chunks_.cells();
+    const bool planned = plan_valid_ && plan_.size() == cells.size();
     const bool cull = !planned || plan_cull_;
-    std::size_t bound_chunk = chunks_.size();
-    for (std::size_t i = 0; i < cells_.size(); ++i) {
-        const Cell& c = cells_[i];
-        const std::size_t have = available(c);
+    std::size_t bound_chunk = SIZE_MAX;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        const render::PointChunks::Cell& c = cells[i];
+        const std::size_t have = chunks_.available(i);
         if (have == 0) continue;
         const std::size_t n = planned ? std::min(have, plan_[i]) : have;
         if (n == 0 || (cull && !frustum.intersects(c.bounds))) {
@@ -256,11 +237,7 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
             const glm::vec3 rel(cut.centre_local - c.centre);
             glUniform3f(u_cut_centre, rel.x, rel.y, rel.z);
         }
-        if (bound_chunk != c.chunk) {
-            glVertexArrayVertexBuffer(vao_, 0, chunks_[c.chunk].buffer, 0, sizeof(GpuPoint));
-            bound_chunk = c.chunk;
-        }
-        glDrawArrays(GL_POINTS, static_cast<GLint>(c.first), static_cast<GLsizei>(n));
+        chunks_.drawCell(i, n, bound_chunk);
         stats.points_drawn += n;
         ++stats.chunks_drawn;
     }

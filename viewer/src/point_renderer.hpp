@@ -1,18 +1,24 @@
-// viewer/src/point_renderer.hpp: the viewer's point drawing: streamed GPU chunks,
-// camera-relative positions, file / height-jet / white colours, pixel or distance-attenuated
-// point size, eye-dome lighting, and the mode indicator drawn into every eye view.
+// viewer/src/point_renderer.hpp: the viewer's point drawing: the resident nodes of a point
+// source (viewer/point_source.hpp) streamed to the GPU in render::PointChunks (the storage
+// the metric's splat renderer draws from too), camera-relative positions, file /
+// height-jet / white colours, pixel or distance-attenuated point size, eye-dome lighting,
+// and the mode indicator drawn into every eye view.
 #pragma once
 #include <viewer/camera_rig.hpp>
-#include <viewer/cloud_feed.hpp>
 #include <viewer/lod.hpp>
+#include <viewer/point_source.hpp>
 #include <viewer/viewer.hpp>
 
 #include <engine/frames.hpp>
 #include <render/gl.hpp>
+#include <render/point_chunks.hpp>
 #include <render/shader.hpp>
 
 #include <cstddef>
 #include <deque>
+#include <memory>
+#include <unordered_map>
+#include <unordered_set>
 #include <span>
 #include <vector>
 
@@ -56,15 +62,15 @@ public:
     PointRenderer(const PointRenderer&) = delete;
     PointRenderer& operator=(const PointRenderer&) = delete;
 
-    /// Takes what the feed delivered and uploads at most `budget_points` points this frame.
-    /// Returns the number uploaded. Never throws. With `keep`, every point that arrives is
-    /// also appended there (the viewer's pick index is built from them).
-    std::size_t stream(CloudFeed& feed, std::size_t budget_points, std::vector<engine::CloudPoint>* keep = nullptr);
+    /// Follows `source`'s residency: a node that became resident is queued for upload, one
+    /// that was evicted leaves the GPU. Then uploads at most `budget_points` queued points.
+    /// Returns the number uploaded. Never throws.
+    std::size_t stream(const PointSource& source, std::size_t budget_points);
     /// Points on the GPU / waiting in CPU memory.
-    std::size_t uploadedPoints() const { return uploaded_; }
+    std::size_t uploadedPoints() const { return chunks_.uploadedPoints(); }
     std::size_t pendingPoints() const { return pending_points_; }
     /// Bounds (local frame) of everything received so far, and heights for the jet colours.
-    const engine::Bounds& bounds() const { return bounds_; }
+    const engine::Bounds& bounds() const { return chunks_.bounds(); }
 
     /// Picks what this frame draws: cells outside the union of `eyes`' frusta get
     /// nothing (when `cull`); the others share `point_budget` points per eye (0 = unlimited)
@@ -74,7 +80,7 @@ public:
     void planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull = true);
     /// Points the last plan draws per eye at most (before each eye's own frustum test).
     std::size_t plannedPoints() const { return planned_points_; }
-    std::size_t cellCount() const { return cells_.size(); }
+    std::size_t cellCount() const { return chunks_.cells().size(); }
 
     /// Draws the cloud into `target` (cleared), then resolves it with eye-dome lighting (if
     /// on) into the framebuffer `out_fbo` at viewport (x, y, w, h), then the mode indicator
@@ -83,45 +89,33 @@ public:
                       ViewMode mode, GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut = {}) const;
 
 private:
-    struct Chunk {   // one GPU buffer per chunk that arrived from the feed
-        GLuint buffer = 0;
-        std::size_t capacity = 0, count = 0;   // count: uploaded so far (a prefix)
-    };
-    struct Cell {    // a spatial cell of a chunk: [first, first + size) of its buffer
-        std::size_t chunk = 0, first = 0, size = 0;
-        glm::dvec3 centre{0.0};                // positions are stored relative to it
-        engine::Bounds bounds;
-    };
     /// The jet table (engine::jetTable(entries)) as a 1D RGBA8 texture, made on first use
     /// and again when `entries` changes. Never throws (a GL error is logged).
     GLuint jetTexture(int entries) const;
     static constexpr GLuint kJetTextureUnit = 2;   // units 0 and 1: the resolve's inputs
 
-    std::size_t available(const Cell& c) const {
-        const std::size_t up = chunks_[c.chunk].count;
-        return up <= c.first ? 0 : std::min(c.size, up - c.first);
-    }
     struct Pending {
-        std::vector<engine::CloudPoint> points;
+        std::shared_ptr<const NodePoints> node;   // kept until uploaded whole
         std::size_t next = 0;     // first point not uploaded yet
-        std::size_t chunk = 0;    // index into chunks_
-        std::size_t cell = 0;     // cell of points[next] (index into cells_)
+        std::size_t chunk = 0;    // the chunk in chunks_
     };
+    /// A node newly resident: its chunk and its place in the upload queue.
+    void addNode(const PointNode* node, std::shared_ptr<const NodePoints> points);
+    void dropNode(const PointNode* node);
 
     render::Program points_, resolve_, indicator_;
-    GLuint vao_ = 0, empty_vao_ = 0;
+    render::PointChunks chunks_;
+    GLuint empty_vao_ = 0;
     mutable GLuint jet_texture_ = 0;         // jetTexture()'s cache
     mutable int jet_entries_ = 0;
-    std::vector<Chunk> chunks_;
-    std::vector<Cell> cells_;
+    std::unordered_map<const PointNode*, std::size_t> on_gpu_;   // node -> its chunk
+    std::unordered_set<const PointNode*> no_room_;               // resident, but the GPU had no room
     std::vector<std::size_t> plan_;          // per cell: points to draw (planFrame)
     bool plan_valid_ = false, plan_cull_ = true;
     std::size_t planned_points_ = 0;
     std::deque<Pending> pending_;
-    std::size_t pending_points_ = 0, uploaded_ = 0;
-    engine::Bounds bounds_;
+    std::size_t pending_points_ = 0;
     float above_ground_max_m_ = 0.0f;   // highest height above ground uploaded (colour range)
-    bool origin_known_ = false;
 };
 
 }  // namespace viewer

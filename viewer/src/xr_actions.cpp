@@ -4,6 +4,7 @@
 
 #include "xr_check.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -32,39 +33,7 @@ void XrActions::suggest(const char* profile,
     XR_LOG(instance_, xrSuggestInteractionProfileBindings(instance_, &suggested));
 }
 
-void XrActions::create(XrInstance instance, XrSession session) {
-    instance_ = instance;
-    session_ = session;
-    XrActionSetCreateInfo set_info{XR_TYPE_ACTION_SET_CREATE_INFO};
-    std::strcpy(set_info.actionSetName, "viewer");
-    std::strcpy(set_info.localizedActionSetName, "Point cloud viewer");
-    XR_CHECK(instance, xrCreateActionSet(instance, &set_info, &set_));
-    hands_ = {path("/user/hand/left"), path("/user/hand/right")};
-
-    auto make = [&](const char* name, const char* label, XrActionType type, XrAction& out, bool per_hand) {
-        XrActionCreateInfo info{XR_TYPE_ACTION_CREATE_INFO};
-        std::strcpy(info.actionName, name);
-        std::strcpy(info.localizedActionName, label);
-        info.actionType = type;
-        if (per_hand) {
-            info.countSubactionPaths = 2;
-            info.subactionPaths = hands_.data();
-        }
-        XR_CHECK(instance, xrCreateAction(set_, &info, &out));
-    };
-    make("toggle_mode", "Toggle automatic / free mode", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_, false);
-    make("designate", "Designate the picked point / dismiss the ready screen", XR_ACTION_TYPE_BOOLEAN_INPUT,
-         designate_, true);
-    make("confirm", "Confirm: this is the target", XR_ACTION_TYPE_BOOLEAN_INPUT, confirm_, false);
-    make("reject", "Reject: this candidate is not a target", XR_ACTION_TYPE_BOOLEAN_INPUT, reject_, false);
-    make("no_target", "No target in this cloud", XR_ACTION_TYPE_BOOLEAN_INPUT, no_target_, false);
-    make("grab", "Grab the world (both hands: scale)", XR_ACTION_TYPE_BOOLEAN_INPUT, grab_, true);
-    make("move", "Move (free mode)", XR_ACTION_TYPE_VECTOR2F_INPUT, move_, false);
-    make("turn", "Turn (free mode)", XR_ACTION_TYPE_FLOAT_INPUT, turn_, false);
-    make("aim", "Laser pointer", XR_ACTION_TYPE_POSE_INPUT, aim_, true);
-    make("cycle_colour", "Next colour mode", XR_ACTION_TYPE_BOOLEAN_INPUT, cycle_colour_, false);
-    make("toggle_cut", "Cutting volume on / off", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_cut_, false);
-
+void XrActions::suggestBindings() const {
     // The simple controller has four buttons (select and menu per hand): designate (right
     // select), confirm (right menu), mode (left select), no target (left menu); reject is
     // on the other profiles and the desktop's Backspace.
@@ -118,6 +87,42 @@ void XrActions::create(XrInstance instance, XrSession session) {
              {no_target_, "/user/hand/right/input/menu/click"},
              {move_, "/user/hand/left/input/trackpad"},
              {turn_, "/user/hand/right/input/trackpad/x"}});
+}
+
+void XrActions::create(XrInstance instance, XrSession session) {
+    instance_ = instance;
+    session_ = session;
+    XrActionSetCreateInfo set_info{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(set_info.actionSetName, "viewer");
+    std::strcpy(set_info.localizedActionSetName, "Point cloud viewer");
+    XR_CHECK(instance, xrCreateActionSet(instance, &set_info, &set_));
+    hands_ = {path("/user/hand/left"), path("/user/hand/right")};
+
+    auto make = [&](const char* name, const char* label, XrActionType type, XrAction& out, bool per_hand) {
+        XrActionCreateInfo info{XR_TYPE_ACTION_CREATE_INFO};
+        std::strcpy(info.actionName, name);
+        std::strcpy(info.localizedActionName, label);
+        info.actionType = type;
+        if (per_hand) {
+            info.countSubactionPaths = 2;
+            info.subactionPaths = hands_.data();
+        }
+        XR_CHECK(instance, xrCreateAction(set_, &info, &out));
+    };
+    make("toggle_mode", "Toggle automatic / free mode", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_, false);
+    make("designate", "Designate the picked point / dismiss the ready screen", XR_ACTION_TYPE_BOOLEAN_INPUT,
+         designate_, true);
+    make("confirm", "Confirm: this is the target", XR_ACTION_TYPE_BOOLEAN_INPUT, confirm_, false);
+    make("reject", "Reject: this candidate is not a target", XR_ACTION_TYPE_BOOLEAN_INPUT, reject_, false);
+    make("no_target", "No target in this cloud", XR_ACTION_TYPE_BOOLEAN_INPUT, no_target_, false);
+    make("grab", "Grab the world (both hands: scale)", XR_ACTION_TYPE_BOOLEAN_INPUT, grab_, true);
+    make("move", "Move (free mode)", XR_ACTION_TYPE_VECTOR2F_INPUT, move_, false);
+    make("turn", "Turn (free mode)", XR_ACTION_TYPE_FLOAT_INPUT, turn_, false);
+    make("aim", "Laser pointer", XR_ACTION_TYPE_POSE_INPUT, aim_, true);
+    make("cycle_colour", "Next colour mode", XR_ACTION_TYPE_BOOLEAN_INPUT, cycle_colour_, false);
+    make("toggle_cut", "Cutting volume on / off", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_cut_, false);
+
+    suggestBindings();
 
     for (int h = 0; h < 2; ++h) {
         XrActionSpaceCreateInfo space_info{XR_TYPE_ACTION_SPACE_CREATE_INFO};
@@ -197,6 +202,37 @@ XrInput XrActions::sync(XrSpace space, XrTime time) {
         }
     }
     return input;
+}
+
+OperatorInput XrInputMapping::map(const XrInput& xin, bool snap_turn) {
+    OperatorInput in;
+    if (xin.toggle_pressed) {
+        in.toggle_mode = true;
+        in.toggle_source = "controller";
+    }
+    in.designate = xin.designate_pressed;
+    in.next = xin.designate_pressed;   // the trigger starts a trial
+    in.confirm = xin.confirm_pressed;
+    in.reject = xin.reject_pressed;
+    in.no_target = xin.no_target_pressed;
+    in.cycle_colour = xin.cycle_colour_pressed;
+    in.toggle_cut = xin.toggle_cut_pressed;
+    in.motion.forward = xin.move.y;
+    in.motion.right = xin.move.x;
+    if (snap_turn) {
+        if (std::abs(xin.turn) > 0.7f) in.snap_turn = xin.turn > 0 ? 1 : -1;
+    } else {
+        in.motion.turn = xin.turn;
+    }
+    if (xin.designate_pressed) pointer_hand_ = xin.last_designate_hand;
+    const auto& aim = xin.aim[pointer_hand_] ? xin.aim[pointer_hand_] : xin.aim[1 - pointer_hand_];
+    if (aim) {
+        in.controller_ray = TrackingRay{aim->position, glm::mat3_cast(aim->orientation) * glm::dvec3(0, 0, -1)};
+        in.release_aim = xin.designate_pressed;   // a controller took over from a script
+    }
+    if (xin.grab_held[0] && xin.grab_held[1] && xin.aim[0] && xin.aim[1])
+        in.grab_hands = std::make_pair(xin.aim[0]->position, xin.aim[1]->position);
+    return in;
 }
 
 }  // namespace viewer

@@ -1,6 +1,7 @@
 // viewer/src/xr_actions.hpp: the viewer's OpenXR actions and their suggested bindings on
-// every controller profile, in one place (hello_xr's input split). The session
-// (xr_session.cpp) creates them once and syncs them each frame.
+// every controller profile, in one place (hello_xr's input split), and their mapping to
+// the operator's input. The session (xr_session.cpp) creates them once and syncs them each
+// frame; XrInputMapping turns what it read into an OperatorInput.
 //
 // Actions: toggle_mode, designate (also dismisses the ready screen), confirm, reject,
 // no_target, grab (both hands held: grab-and-scale), move (free mode), turn (snap turn
@@ -8,6 +9,7 @@
 // (the laser pointer). docs/viewer.md has the
 // table of buttons per profile.
 #pragma once
+#include "operator_input.hpp"
 #include "xr_session.hpp"
 
 #include <openxr/openxr.h>
@@ -31,6 +33,8 @@ public:
 private:
     XrPath path(const char* text) const;
     void suggest(const char* profile, std::initializer_list<std::pair<XrAction, const char*>> bindings) const;
+    /// Suggests the bindings on every known profile (docs/viewer.md's table).
+    void suggestBindings() const;
     bool pressed(XrAction action, XrPath hand, bool* changed_to_down) const;
 
     XrInstance instance_ = XR_NULL_HANDLE;
@@ -42,6 +46,17 @@ private:
              cycle_colour_ = XR_NULL_HANDLE, toggle_cut_ = XR_NULL_HANDLE;
     std::array<XrPath, 2> hands_{XR_NULL_PATH, XR_NULL_PATH};
     std::array<XrSpace, 2> aim_spaces_{XR_NULL_HANDLE, XR_NULL_HANDLE};
+};
+
+/// The controllers as an input source: buttons to actions, the thumbsticks to motion (a
+/// snap turn, or a smooth one), the pointing hand's aim pose to the pointer's ray (the
+/// hand whose designate went down last), both grips held to grab-and-scale.
+class XrInputMapping {
+public:
+    OperatorInput map(const XrInput& xin, bool snap_turn);
+
+private:
+    int pointer_hand_ = 1;   // right
 };
 
 }  // namespace viewer

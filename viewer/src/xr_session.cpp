@@ -24,7 +24,6 @@ GLXWindow glfwGetGLXWindow(GLFWwindow* window);
 #define XR_USE_GRAPHICS_API_OPENGL
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
-#include <openxr/openxr_reflection.h>
 
 // OpenXR's idiom `XrFoo foo{XR_TYPE_FOO};` value-initialises the other members on purpose.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -41,33 +40,6 @@ GLXWindow glfwGetGLXWindow(GLFWwindow* window);
 #include <vector>
 
 namespace viewer {
-
-// --- checks ------------------------------------------------------------------------------
-std::string xrResultName(XrInstance instance, XrResult result) {
-    char buffer[XR_MAX_RESULT_STRING_SIZE] = {};
-    if (instance != XR_NULL_HANDLE && XR_SUCCEEDED(xrResultToString(instance, result, buffer)))
-        return buffer;
-    switch (result) {   // no instance (yet): the names from the spec's reflection header
-#define LADARVR_XR_RESULT_CASE(name, value) case name: return #name;
-        XR_LIST_ENUM_XrResult(LADARVR_XR_RESULT_CASE)
-#undef LADARVR_XR_RESULT_CASE
-        default: break;
-    }
-    return "XrResult(" + std::to_string(static_cast<int>(result)) + ")";
-}
-
-void xrCheck(XrInstance instance, XrResult result, const char* expression, const char* file, int line) {
-    if (XR_FAILED(result))
-        throw engine::Error("xr: " + std::string(expression) + ": " + xrResultName(instance, result) +
-                            " at " + file + ":" + std::to_string(line));
-}
-
-bool xrLog(XrInstance instance, XrResult result, const char* expression, const char* file, int line) {
-    if (XR_SUCCEEDED(result)) return true;
-    std::fprintf(stderr, "ladarvr: xr: %s: %s at %s:%d\n", expression,
-                 xrResultName(instance, result).c_str(), file, line);
-    return false;
-}
 
 const char* sessionStateName(int state) {
     switch (static_cast<XrSessionState>(state)) {
@@ -100,7 +72,6 @@ struct XrStereoSession::Impl {
     XrSystemId system = XR_NULL_SYSTEM_ID;
     ::XrSession session = XR_NULL_HANDLE;
     XrSpace space = XR_NULL_HANDLE;       // LOCAL reference space: the rig's frame
-    XrSpace view_space = XR_NULL_HANDLE;  // the head
     XrSessionState state = XR_SESSION_STATE_UNKNOWN;
     bool running = false;
     bool exit_requested = false;
@@ -115,7 +86,6 @@ struct XrStereoSession::Impl {
     ~Impl() {
         for (auto& e : eyes)
             if (e.handle != XR_NULL_HANDLE) xrDestroySwapchain(e.handle);
-        if (view_space != XR_NULL_HANDLE) xrDestroySpace(view_space);
         if (space != XR_NULL_HANDLE) xrDestroySpace(space);
         actions.destroy();
         if (session != XR_NULL_HANDLE) xrDestroySession(session);
@@ -126,16 +96,18 @@ struct XrStereoSession::Impl {
 XrStereoSession::XrStereoSession(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 XrStereoSession::~XrStereoSession() = default;
 
-std::unique_ptr<XrStereoSession> XrStereoSession::create(GLFWwindow* window, RunLog& log, std::string& reason) {
-    auto impl = std::make_unique<Impl>();
-    impl->log = &log;
+// The steps of create(), in order; each returns false with `reason` set when the runtime
+// cannot give what the viewer needs (desktop mode), and throws engine::Error on a failed
+// call that should not fail.
+namespace {
 
+bool createInstance(XrStereoSession::Impl& s, std::string& reason) {
     // Instance: the loader finds the active runtime; none means desktop mode.
     std::uint32_t ext_count = 0;
     XrResult r = xrEnumerateInstanceExtensionProperties(nullptr, 0, &ext_count, nullptr);
     if (XR_FAILED(r)) {
         reason = "no OpenXR runtime (" + xrResultName(XR_NULL_HANDLE, r) + ")";
-        return nullptr;
+        return false;
     }
     std::vector<XrExtensionProperties> exts(ext_count, {XR_TYPE_EXTENSION_PROPERTIES});
     xrEnumerateInstanceExtensionProperties(nullptr, ext_count, &ext_count, exts.data());
@@ -144,7 +116,7 @@ std::unique_ptr<XrStereoSession> XrStereoSession::create(GLFWwindow* window, Run
     });
     if (!has_gl) {
         reason = "the OpenXR runtime does not offer " XR_KHR_OPENGL_ENABLE_EXTENSION_NAME;
-        return nullptr;
+        return false;
     }
     const char* enabled[] = {XR_KHR_OPENGL_ENABLE_EXTENSION_NAME};
     XrInstanceCreateInfo create_info{XR_TYPE_INSTANCE_CREATE_INFO};
@@ -154,37 +126,43 @@ std::unique_ptr<XrStereoSession> XrStereoSession::create(GLFWwindow* window, Run
     create_info.applicationInfo.apiVersion = XR_API_VERSION_1_0;
     create_info.enabledExtensionCount = 1;
     create_info.enabledExtensionNames = enabled;
-    r = xrCreateInstance(&create_info, &impl->instance);
+    r = xrCreateInstance(&create_info, &s.instance);
     if (XR_FAILED(r)) {
         reason = "no OpenXR runtime (xrCreateInstance: " + xrResultName(XR_NULL_HANDLE, r) + ")";
-        return nullptr;
+        return false;
     }
-    XrInstance instance = impl->instance;
+    const XrInstance instance = s.instance;
     XrInstanceProperties instance_props{XR_TYPE_INSTANCE_PROPERTIES};
     XR_CHECK(instance, xrGetInstanceProperties(instance, &instance_props));
-    log.set("xr_runtime", std::string(instance_props.runtimeName));
+    s.log->set("xr_runtime", std::string(instance_props.runtimeName));
 
     XrSystemGetInfo system_info{XR_TYPE_SYSTEM_GET_INFO};
     system_info.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
-    r = xrGetSystem(instance, &system_info, &impl->system);
+    r = xrGetSystem(instance, &system_info, &s.system);
     if (XR_FAILED(r)) {
         reason = std::string("OpenXR runtime '") + instance_props.runtimeName +
                  "' has no head-mounted display (" + xrResultName(instance, r) + ")";
-        return nullptr;
+        return false;
     }
     XrSystemProperties system_props{XR_TYPE_SYSTEM_PROPERTIES};
-    XR_CHECK(instance, xrGetSystemProperties(instance, impl->system, &system_props));
-    log.set("xr_system", std::string(system_props.systemName));
+    XR_CHECK(instance, xrGetSystemProperties(instance, s.system, &system_props));
+    s.log->set("xr_system", std::string(system_props.systemName));
 
+    return true;
+}
+
+bool createGlSession(XrStereoSession::Impl& s, GLFWwindow* window, std::string& reason) {
+    const XrInstance instance = s.instance;
+    XrResult r = XR_SUCCESS;
     // OpenGL requirements must be queried before xrCreateSession.
     PFN_xrGetOpenGLGraphicsRequirementsKHR get_requirements = nullptr;
     XR_CHECK(instance, xrGetInstanceProcAddr(instance, "xrGetOpenGLGraphicsRequirementsKHR",
                                              reinterpret_cast<PFN_xrVoidFunction*>(&get_requirements)));
     XrGraphicsRequirementsOpenGLKHR requirements{XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_KHR};
-    XR_CHECK(instance, get_requirements(instance, impl->system, &requirements));
+    XR_CHECK(instance, get_requirements(instance, s.system, &requirements));
     if (XR_MAKE_VERSION(4, 5, 0) < requirements.minApiVersionSupported) {
         reason = "the OpenXR runtime needs a newer OpenGL than 4.5";
-        return nullptr;
+        return false;
     }
 
     // The Xlib/GLX binding comes from the GLFW window and its (current) context.
@@ -193,7 +171,7 @@ std::unique_ptr<XrStereoSession> XrStereoSession::create(GLFWwindow* window, Run
     GLXWindow drawable = glfwGetGLXWindow(window);
     if (!display || !context) {
         reason = "the desktop window has no GLX context (not running on X11?)";
-        return nullptr;
+        return false;
     }
     int fbconfig_id = 0;
     glXQueryContext(display, context, GLX_FBCONFIG_ID, &fbconfig_id);
@@ -213,78 +191,91 @@ std::unique_ptr<XrStereoSession> XrStereoSession::create(GLFWwindow* window, Run
     }
     XrSessionCreateInfo session_info{XR_TYPE_SESSION_CREATE_INFO};
     session_info.next = &binding;
-    session_info.systemId = impl->system;
-    r = xrCreateSession(instance, &session_info, &impl->session);
+    session_info.systemId = s.system;
+    r = xrCreateSession(instance, &session_info, &s.session);
     if (configs) XFree(configs);
     if (XR_FAILED(r)) {
         reason = "OpenXR session creation failed (" + xrResultName(instance, r) + ")";
-        return nullptr;
+        return false;
     }
 
     XrReferenceSpaceCreateInfo space_info{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
     space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
     space_info.poseInReferenceSpace.orientation.w = 1.0f;
-    XR_CHECK(instance, xrCreateReferenceSpace(impl->session, &space_info, &impl->space));
-    space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
-    XR_CHECK(instance, xrCreateReferenceSpace(impl->session, &space_info, &impl->view_space));
+    XR_CHECK(instance, xrCreateReferenceSpace(s.session, &space_info, &s.space));
 
+    return true;
+}
+
+bool createSwapchains(XrStereoSession::Impl& s, std::string& reason) {
+    const XrInstance instance = s.instance;
     // Views and swapchains: one per eye at the recommended size.
     std::uint32_t view_count = 0;
-    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, impl->system,
+    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, s.system,
         XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0, &view_count, nullptr));
     std::vector<XrViewConfigurationView> config_views(view_count, {XR_TYPE_VIEW_CONFIGURATION_VIEW});
-    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, impl->system,
+    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, s.system,
         XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, view_count, &view_count, config_views.data()));
     if (view_count != 2) {
         reason = "the HMD's primary stereo configuration has " + std::to_string(view_count) + " views";
-        return nullptr;
+        return false;
     }
-    impl->width = static_cast<int>(config_views[0].recommendedImageRectWidth);
-    impl->height = static_cast<int>(config_views[0].recommendedImageRectHeight);
+    s.width = static_cast<int>(config_views[0].recommendedImageRectWidth);
+    s.height = static_cast<int>(config_views[0].recommendedImageRectHeight);
 
     std::uint32_t format_count = 0;
-    XR_CHECK(instance, xrEnumerateSwapchainFormats(impl->session, 0, &format_count, nullptr));
+    XR_CHECK(instance, xrEnumerateSwapchainFormats(s.session, 0, &format_count, nullptr));
     std::vector<std::int64_t> formats(format_count);
-    XR_CHECK(instance, xrEnumerateSwapchainFormats(impl->session, format_count, &format_count, formats.data()));
+    XR_CHECK(instance, xrEnumerateSwapchainFormats(s.session, format_count, &format_count, formats.data()));
     nlohmann::json offered = nlohmann::json::array();
     for (auto f : formats) offered.push_back(f);
-    log.set("xr_formats_offered", offered);
+    s.log->set("xr_formats_offered", offered);
     // Linear 8/16-bit formats first: the eye images are blitted in and mirrored out as is.
     for (std::int64_t want : {kGlRgba8, kGlRgba16, kGlRgb10A2, kGlRgba16f, kGlSrgb8Alpha8}) {
         if (std::find(formats.begin(), formats.end(), want) != formats.end()) {
-            impl->format = want;
+            s.format = want;
             break;
         }
     }
-    if (impl->format == 0) {
+    if (s.format == 0) {
         if (formats.empty()) {
             reason = "the OpenXR runtime offers no OpenGL swapchain format";
-            return nullptr;
+            return false;
         }
-        impl->format = formats.front();
+        s.format = formats.front();
     }
-    log.set("xr_swapchain_format", impl->format);
-    log.set("xr_eye_size", nlohmann::json::array({impl->width, impl->height}));
+    s.log->set("xr_swapchain_format", s.format);
+    s.log->set("xr_eye_size", nlohmann::json::array({s.width, s.height}));
 
-    for (auto& eye : impl->eyes) {
+    for (auto& eye : s.eyes) {
         XrSwapchainCreateInfo sc{XR_TYPE_SWAPCHAIN_CREATE_INFO};
         sc.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT |
                         XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT;
-        sc.format = impl->format;
+        sc.format = s.format;
         sc.sampleCount = 1;
-        sc.width = static_cast<std::uint32_t>(impl->width);
-        sc.height = static_cast<std::uint32_t>(impl->height);
+        sc.width = static_cast<std::uint32_t>(s.width);
+        sc.height = static_cast<std::uint32_t>(s.height);
         sc.faceCount = 1;
         sc.arraySize = 1;
         sc.mipCount = 1;
-        XR_CHECK(instance, xrCreateSwapchain(impl->session, &sc, &eye.handle));
+        XR_CHECK(instance, xrCreateSwapchain(s.session, &sc, &eye.handle));
         std::uint32_t image_count = 0;
         XR_CHECK(instance, xrEnumerateSwapchainImages(eye.handle, 0, &image_count, nullptr));
         eye.images.assign(image_count, {XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR});
         XR_CHECK(instance, xrEnumerateSwapchainImages(eye.handle, image_count, &image_count,
             reinterpret_cast<XrSwapchainImageBaseHeader*>(eye.images.data())));
     }
-    impl->actions.create(instance, impl->session);
+    return true;
+}
+
+}  // namespace
+
+std::unique_ptr<XrStereoSession> XrStereoSession::create(GLFWwindow* window, RunLog& log, std::string& reason) {
+    auto impl = std::make_unique<Impl>();
+    impl->log = &log;
+    if (!createInstance(*impl, reason) || !createGlSession(*impl, window, reason) || !createSwapchains(*impl, reason))
+        return nullptr;
+    impl->actions.create(impl->instance, impl->session);
     for (auto& v : impl->views) v = {XR_TYPE_VIEW};
     return std::unique_ptr<XrStereoSession>(new XrStereoSession(std::move(impl)));
 }
@@ -353,7 +344,6 @@ bool XrStereoSession::running() const { return impl_->running; }
 bool XrStereoSession::focused() const { return impl_->state == XR_SESSION_STATE_FOCUSED; }
 int XrStereoSession::eyeWidth() const { return impl_->width; }
 int XrStereoSession::eyeHeight() const { return impl_->height; }
-std::int64_t XrStereoSession::colourFormat() const { return impl_->format; }
 
 bool XrStereoSession::beginFrame(XrFrame& frame) {
     Impl& s = *impl_;
@@ -363,7 +353,6 @@ bool XrStereoSession::beginFrame(XrFrame& frame) {
     if (!XR_LOG(s.instance, xrWaitFrame(s.session, &wait, &state))) return false;
     XrFrameBeginInfo begin{XR_TYPE_FRAME_BEGIN_INFO};
     if (!XR_LOG(s.instance, xrBeginFrame(s.session, &begin))) return false;
-    frame.began = true;
     frame.should_render = state.shouldRender == XR_TRUE;
     frame.display_time_ns = state.predictedDisplayTime;
     s.last_display_time = state.predictedDisplayTime;

@@ -1,7 +1,7 @@
 // viewer/src/xr_session.hpp: the OpenXR side of the viewer (paper §IV-A's HMD, on any
 // OpenXR runtime): instance, system, session bound to the GLFW window's GLX context
-// (XR_KHR_opengl_enable, Xlib binding), one swapchain per eye, the action set that
-// of xr_actions.cpp (mode, decisions, pointer, grab, motion), and the whole session lifecycle.
+// (XR_KHR_opengl_enable, Xlib binding), one swapchain per eye, the action set of
+// xr_actions.cpp (mode, decisions, pointer, grab, motion), and the whole session lifecycle.
 //
 // Setup (create) throws engine::Error or returns null with a reason; everything called
 // per frame never throws: it returns a status and the caller degrades to the desktop.
@@ -31,7 +31,6 @@ struct XrEye {
 
 /// What the session tells the loop each frame.
 struct XrFrame {
-    bool began = false;          // xrBeginFrame succeeded: endFrame must follow
     bool should_render = false;  // the runtime wants pixels this frame
     std::int64_t display_time_ns = 0;
     bool views_valid = false;
@@ -98,8 +97,6 @@ public:
 
     int eyeWidth() const;
     int eyeHeight() const;
-    /// GL internal format of the swapchain images.
-    std::int64_t colourFormat() const;
 
     struct Impl;
 

@@ -2,7 +2,7 @@
 //
 // EGL on the surfaceless platform (EGL_PLATFORM_SURFACELESS_MESA) with
 // EGL_KHR_no_config_context and no surface: draw into framebuffer objects only
-// (docs: /work/shared/PLATFORM.md "Headless OpenGL"). Works on Mesa llvmpipe in CI.
+// (docs/render.md). Works on Mesa llvmpipe in CI.
 // Falls back to the EGL device platform (EGL_EXT_platform_device, e.g. NVIDIA's
 // driver) when the surfaceless platform is missing.
 #pragma once

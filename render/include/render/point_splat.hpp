@@ -1,13 +1,15 @@
 // render/point_splat.hpp: draws point clouds as square splats of a fixed size in pixels.
 //
-// Shared by the metric (white binary images, paper §IV-B) and the viewer. Points are
-// binned into spatial chunks; each chunk stores float positions relative to its own
+// The metric's renderer (white binary images, paper §IV-B); the viewer's PointRenderer
+// is its sibling over the same storage (render/point_chunks.hpp). Points are binned into
+// spatial chunks of one cell each; each stores float positions relative to its own
 // centre and is drawn with a model-view-projection computed in double precision, so
 // large coordinates never jitter (camera-relative rendering). Chunks whose bounds miss
 // the view frustum are skipped.
 #pragma once
 #include <engine/point_cloud.hpp>
 #include <render/gl.hpp>
+#include <render/point_chunks.hpp>
 #include <render/shader.hpp>
 
 #include <glm/glm.hpp>
@@ -45,14 +47,15 @@ public:
     void setCloud(const engine::PointCloud& cloud, double chunk_size_m = 16.0);
     /// Appends `points` (local frame of the cloud being streamed) as one more chunk, for
     /// streaming; the chunk's bounds are computed from its points. Empty spans are ignored.
+    /// Throws engine::Error("gl: ...") when the GPU has no room for it.
     void appendChunk(std::span<const engine::CloudPoint> points);
     /// Drops every stored point.
     void clear();
 
-    std::size_t pointCount() const { return point_count_; }
-    std::size_t chunkCount() const { return chunks_.size(); }
+    std::size_t pointCount() const { return chunks_.uploadedPoints(); }
+    std::size_t chunkCount() const { return chunks_.cells().size(); }
     /// Local-frame bounds of every stored point.
-    const engine::Bounds& bounds() const { return bounds_; }
+    const engine::Bounds& bounds() const { return chunks_.bounds(); }
 
     /// Draws the stored points into the current framebuffer and viewport with
     /// `projection * view` (local frame, double precision). With `cull`, chunks outside
@@ -62,20 +65,9 @@ public:
                         bool cull = true) const;
 
 private:
-    struct Chunk {
-        GLuint buffer = 0;
-        GLsizei count = 0;
-        glm::dvec3 centre{0.0};
-        engine::Bounds bounds;
-    };
-    void upload(std::span<const engine::CloudPoint> points, const engine::Bounds& bounds);
-
     Program program_;
-    GLuint vao_ = 0;
     GLint u_mvp_ = -1, u_point_size_ = -1, u_colour_ = -1, u_use_point_colours_ = -1;
-    std::vector<Chunk> chunks_;
-    std::size_t point_count_ = 0;
-    engine::Bounds bounds_;
+    PointChunks chunks_;   // one cell per chunk
 };
 
 }  // namespace render

@@ -54,10 +54,10 @@ public:
     /// Points appended so far (all chunks, taken or not).
     std::size_t pointsArrived() const { return arrived_.load(); }
 
-    /// Reads `path` (PCD or PLY) with engine::CloudReader chunk by chunk, appending each
+    /// Reads `path` (PCD, PLY, LAS or LAZ) with engine::CloudReader chunk by chunk, appending each
     /// chunk of `chunk_points` as it is decoded, and finishes the feed: with the reader's
     /// error if the file is bad (its header is checked before the first point), or with
-    /// "<pcd|ply>: <file>: holds no points to show" if no point remains. Non-finite points
+    /// "<pcd|ply|las>: <file>: holds no points to show" if no point remains. Non-finite points
     /// are dropped with one warning line on stderr.
     void feedFile(const std::filesystem::path& path, std::size_t chunk_points = 262144);
     /// feedFile on a thread, which the destructor joins.

@@ -6,7 +6,8 @@
 // a k-d tree (nanoflann); a pick walks the cone from its apex outwards in short
 // segments, each covered by one sphere query, and stops once no later segment can hold a
 // nearer point: a pick touches the points near the ray, not the whole cloud. Pure maths,
-// no GL; the frame loop builds one index per cloud on a worker thread.
+// no GL. The frame loop keeps one index per node of its point source (point_source.hpp)
+// in a PickSet, built on a worker thread, and picks the nearest of the nodes' picks.
 #pragma once
 #include <engine/point_cloud.hpp>
 
@@ -30,6 +31,7 @@ void validate(const PickOptions& o);
 
 struct PickHit {
     std::size_t index = 0;          // into the points the index was built from
+    std::size_t node = 0;           // PickSet: which of its indexes (in the order added)
     glm::dvec3 local{0.0};          // the point, cloud local frame
     double distance_m = 0.0;        // from the ray's origin
     engine::Role label = engine::Role::Environment;
@@ -74,6 +76,25 @@ private:
     std::unique_ptr<Tree> tree_;
     std::unique_ptr<TargetTree> target_tree_;
     mutable std::size_t last_queries_ = 0;
+};
+
+/// One PickIndex per node of a point source; answers as one index over all their points
+/// would (the nearest of the nodes' picks; on equal distances the node added first).
+class PickSet {
+public:
+    void add(std::shared_ptr<const PickIndex> index);
+    /// Points over all the indexes.
+    std::size_t size() const { return size_; }
+    std::size_t nodes() const { return indexes_.size(); }
+    /// The pick over every node, `node` set in the hit. Never throws.
+    std::optional<PickHit> pick(const glm::dvec3& origin, const glm::dvec3& direction,
+                                const PickOptions& options = {}) const;
+    std::optional<double> nearestTargetDistance(const glm::dvec3& p) const;
+    bool hasTargets() const;
+
+private:
+    std::vector<std::shared_ptr<const PickIndex>> indexes_;
+    std::size_t size_ = 0;
 };
 
 }  // namespace viewer

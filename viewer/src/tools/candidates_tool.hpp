@@ -21,7 +21,7 @@ namespace viewer {
 std::optional<double> rayBoxDistance(const LocalRay& ray, const glm::dvec3& centre, const glm::dvec3& size_m,
                                      double yaw_deg);
 
-class CandidatesTool {
+class CandidatesTool final : public Tool {
 public:
     /// `origin`: world coordinates of the cloud's local frame.
     void set(std::vector<engine::Candidate> candidates, const glm::dvec3& origin);
@@ -31,18 +31,23 @@ public:
     Verdict verdict(std::size_t i) const { return verdicts_[i]; }
     /// The candidate the ray meets first, if any.
     void update(const std::optional<LocalRay>& ray);
+    void update(const OperatorInput&, const ToolFrame& frame) override { update(frame.ray); }
     std::optional<std::size_t> pointed() const { return pointed_; }
     /// Gives the pointed candidate a verdict; returns its index, none when no box is pointed at.
     std::optional<std::size_t> decide(Verdict verdict);
     /// Colours by score unless reviewed; `highlight` draws every box brighter and thicker.
     void draw(OverlayList& out, bool highlight) const;
-    nlohmann::json log() const;
+    void draw(OverlayList& out) const override { draw(out, highlight_); }
+    /// Every box brighter and thicker (the panel's switch).
+    bool& highlight() { return highlight_; }
+    nlohmann::json log() const override;
 
 private:
     std::vector<engine::Candidate> candidates_;
     std::vector<Verdict> verdicts_;
     glm::dvec3 origin_{0.0};
     std::optional<std::size_t> pointed_;
+    bool highlight_ = false;
 };
 
 }  // namespace viewer

@@ -4,8 +4,28 @@
 #include <engine/scene.hpp>
 
 #include <chrono>
+#include <cmath>
+#include <numbers>
 
 namespace viewer {
+
+std::optional<LocalRay> pointerRayOf(const PointerSources& p) {
+    const RigPose& head = p.head_local;
+    if (p.aim_local) {
+        const glm::dvec3 d = *p.aim_local - head.position;
+        if (glm::length(d) > 0.0) return LocalRay{head.position, glm::normalize(d)};
+    }
+    if (p.controller) {
+        const glm::dvec3 o = p.rig.apply(p.zoom->apply(p.controller->origin));
+        return LocalRay{o, glm::normalize(p.rig.rotation * p.controller->direction)};
+    }
+    if (!p.cursor_px || p.window_w <= 0 || p.window_h <= 0) return std::nullopt;
+    const double t = std::tan(p.vfov_deg * std::numbers::pi / 360.0);
+    const double w = p.window_w, h = p.window_h;
+    const double nx = 2.0 * p.cursor_px->x / w - 1.0, ny = 1.0 - 2.0 * p.cursor_px->y / h;
+    const glm::dvec3 dir_eye(nx * t * w / h, ny * t, -1.0);
+    return LocalRay{head.position, glm::normalize(head.rotation * dir_eye)};
+}
 
 void PointerTool::update(const std::optional<LocalRay>& ray) {
     ray_ = ray;
@@ -14,6 +34,11 @@ void PointerTool::update(const std::optional<LocalRay>& ray) {
     const auto t0 = std::chrono::steady_clock::now();
     hit_ = index_->pick(ray_->origin, ray_->direction, options_);
     pick_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void PointerTool::update(const OperatorInput& in, const ToolFrame& frame) {
+    from_eye_ = !in.controller_ray;
+    update(frame.ray);
 }
 
 void PointerTool::draw(OverlayList& out, double miss_length_m, bool from_eye) const {

@@ -1,0 +1,97 @@
+// viewer/point_source.hpp: where the viewer's points come from, as a tree of nodes.
+//
+// A node knows its bounds and point count before its points are in memory, has children
+// (none for a leaf), and loads or drops its points on request() / evict(), as the nodes
+// of Potree's octree and of a COPC file's hierarchy do. The frame loop polls the source
+// once per frame; the renderer draws the points of resident nodes and the pointer picks
+// per node, so a new kind of source (an octree file read node by node) adds a class here
+// and changes neither the loop nor the renderer.
+//
+// CloudFeedSource is the first one: a streamed file or in-memory cloud (cloud_feed.hpp),
+// each chunk a leaf under no parent, resident from its arrival (the LOD order of lod.hpp
+// already built).
+#pragma once
+#include <engine/point_cloud.hpp>
+#include <viewer/lod.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace viewer {
+
+class CloudFeed;
+
+/// A resident node's points in LOD order and their cells (lod.hpp). Shared, so a worker
+/// that indexes them keeps them alive if the node is evicted meanwhile.
+struct NodePoints {
+    std::vector<engine::CloudPoint> points;
+    std::vector<LodCell> cells;
+};
+
+class PointNode {
+public:
+    virtual ~PointNode() = default;
+    /// Local-frame bounds of all the node's points (known whether resident or not).
+    virtual const engine::Bounds& bounds() const = 0;
+    virtual std::size_t pointCount() const = 0;
+    /// Empty for a leaf.
+    virtual std::span<PointNode* const> children() const = 0;
+    /// Asks for the points; they may arrive later (resident() turns true). Never throws.
+    virtual void request() = 0;
+    /// Drops the points from memory (points() becomes null). Never throws.
+    virtual void evict() = 0;
+    bool resident() const { return points() != nullptr; }
+    /// The points while resident, else null.
+    virtual std::shared_ptr<const NodePoints> points() const = 0;
+};
+
+class PointSource {
+public:
+    virtual ~PointSource() = default;
+    /// Takes what arrived since the last call (the frame loop calls it once per frame).
+    /// Returns the number of nodes added. Never throws.
+    virtual std::size_t poll() = 0;
+    /// The top-level nodes known so far, in arrival order (grows while a source streams).
+    virtual std::span<PointNode* const> roots() const = 0;
+    /// World coordinates of the local frame the nodes' points are in.
+    virtual glm::dvec3 origin() const = 0;
+    virtual engine::CloudFields fields() const = 0;
+    /// Every node is known: the stream ended (or failed, see error()).
+    virtual bool finished() const = 0;
+    /// The producer's error, if it failed (valid once finished()).
+    virtual std::string error() const = 0;
+    /// Points that arrived so far, taken by poll() or not.
+    virtual std::size_t pointsArrived() const = 0;
+};
+
+/// Every node under `source`'s roots, parents before their children.
+std::vector<PointNode*> allNodes(const PointSource& source);
+
+/// A CloudFeed seen as a point source: each chunk becomes a leaf when poll() takes it
+/// (its LOD order built there unless the feed built it on the producer's thread). A
+/// stream cannot be read twice: an evicted chunk stays known (bounds, count) but a later
+/// request() cannot bring its points back.
+class CloudFeedSource final : public PointSource {
+public:
+    explicit CloudFeedSource(CloudFeed& feed) : feed_(&feed) {}
+    ~CloudFeedSource() override;
+    std::size_t poll() override;
+    std::span<PointNode* const> roots() const override { return roots_; }
+    glm::dvec3 origin() const override;
+    engine::CloudFields fields() const override;
+    bool finished() const override;
+    std::string error() const override;
+    std::size_t pointsArrived() const override;
+
+private:
+    CloudFeed* feed_;
+    std::vector<std::unique_ptr<PointNode>> nodes_;
+    std::vector<PointNode*> roots_;
+};
+
+}  // namespace viewer

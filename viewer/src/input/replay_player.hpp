@@ -1,0 +1,30 @@
+// viewer/src/input/replay_player.hpp: a recorded trace (--replay) played back in real time
+// as operator input: the sample to show each frame (head pose, zoom, mode, pointer hit).
+#pragma once
+#include "../operator_input.hpp"
+
+#include <chrono>
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+namespace viewer {
+
+class ReplayPlayer {
+public:
+    using Clock = std::chrono::steady_clock;
+    explicit ReplayPlayer(std::vector<TraceSample> trace) : trace_(std::move(trace)) {}
+    /// Nothing until `loaded` (the cloud is whole); then the sample due at `now` counted
+    /// from the first loaded frame. The last sample is shown once; the call after it
+    /// reports replay_done (and keeps showing it). An empty trace gives nothing.
+    OperatorInput take(bool loaded, Clock::time_point now);
+
+private:
+    std::vector<TraceSample> trace_;
+    std::optional<Clock::time_point> start_;
+    std::optional<TraceSample> shown_;
+    std::size_t next_ = 0;
+    bool done_ = false;
+};
+
+}  // namespace viewer

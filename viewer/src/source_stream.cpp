@@ -1,0 +1,56 @@
+// viewer/src/source_stream.cpp: a point source streamed into the renderer and the picking.
+#include "source_stream.hpp"
+
+#include <chrono>
+#include <vector>
+
+namespace viewer {
+
+void SourceStream::start(std::size_t upload_points_per_frame) {
+    budget_ = upload_points_per_frame;
+    renderer_ = std::make_unique<PointRenderer>();
+}
+
+void SourceStream::reset(PointSource& source) {
+    building_ = {};   // waits for a build in flight
+    source_ = &source;
+    renderer_ = std::make_unique<PointRenderer>();
+    picks_.reset();
+    error_.clear();
+    loaded_since_frame_ = -1;
+    centre_changed_ = centre_final_ = false;
+}
+
+SourceEvents SourceStream::update(long frame, RunLog& log) {
+    SourceEvents ev;
+    source_->poll();
+    renderer_->stream(*source_, budget_);
+    const bool finished = source_->finished();
+    const bool whole = finished && source_->error().empty() && renderer_->pendingPoints() == 0;
+    if (!building_.valid() && !picks_ && whole && source_->pointsArrived() > 0) {
+        std::vector<std::shared_ptr<const NodePoints>> nodes;
+        for (const PointNode* node : allNodes(*source_))
+            if (auto points = node->points(); points && !points->points.empty()) nodes.push_back(std::move(points));
+        building_ = std::async(std::launch::async, [nodes = std::move(nodes)] {
+            auto set = std::make_shared<PickSet>();
+            for (const auto& n : nodes) set->add(std::make_shared<const PickIndex>(n->points));
+            return std::shared_ptr<const PickSet>(std::move(set));
+        });
+    }
+    if (building_.valid() && building_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+        picks_ = building_.get();
+        ev.picks_ready = true;
+        log.event("picking ready: " + std::to_string(picks_->size()) + " points indexed");
+    }
+    if (finished && !source_->error().empty() && error_.empty()) {
+        error_ = source_->error();
+        log.event("load error: " + error_);
+        ev.load_error = error_;
+    }
+    if (loaded_since_frame_ < 0 && whole) loaded_since_frame_ = frame;
+    centre_changed_ = !centre_final_ && !renderer_->bounds().empty();
+    if (centre_changed_) centre_final_ = finished && renderer_->pendingPoints() == 0;
+    return ev;
+}
+
+}  // namespace viewer

@@ -1,0 +1,106 @@
+// viewer/src/viewer_app.hpp: the frame loop's state (viewer.cpp): the window, the input
+// sources, the tools, the trial controller, the point source's stream, the eye renderer
+// and the headset, each its own component; ViewerApp only runs them in order.
+#pragma once
+#include <viewer/viewer.hpp>
+
+
+#include "desktop_input.hpp"
+#include "desktop_window.hpp"
+#include "eye_frame.hpp"
+#include "frame_log.hpp"
+#include "headset.hpp"
+#include "input/replay_player.hpp"
+#include "input/script_player.hpp"
+#include "panel.hpp"
+#include "point_renderer.hpp"
+#include "run_log.hpp"
+#include "source_stream.hpp"
+#include "stop_signal.hpp"
+#include "tools/candidates_tool.hpp"
+#include "tools/comfort_tool.hpp"
+#include "tools/cut_tool.hpp"
+#include "tools/pointer_tool.hpp"
+#include "tools/zoom_tool.hpp"
+#include "trial_controller.hpp"
+#include "xr_actions.hpp"
+#include "xr_session.hpp"
+
+
+#include <chrono>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace viewer {
+
+class ViewerApp {
+public:
+    using Clock = std::chrono::steady_clock;
+    /// `record_frames`: keep per-frame records in the log (for --log-json and benchmarks;
+    /// an interactive session would otherwise grow it for nothing).
+    ViewerApp(const ViewerOptions& options, bool record_frames, TrialSource* trials, TrialObserver* observer);
+    /// A plain run over `feed` (no trial source), or the trials of the source.
+    int run(CloudFeed* feed);
+    std::string logJson() const { return log_.json().dump(); }
+
+private:
+    // Stages of a frame.
+    OperatorInput gatherInput();
+    void checkQuit(const OperatorInput& in);
+    bool pollXr();
+    void updateSource();
+    void update(OperatorInput in, double dt);
+    void render(int fb_w, int fb_h);
+    void present(int fb_w, int fb_h);
+    // Helpers.
+    void startQuit(const std::string& reason);
+    void toggleMode(const std::string& source);
+    void beginTrial(int index);
+    bool readyToStart() const;
+    RigPose headTracking() const;
+    RigPose headLocal() const { return compose(modes_.rig(), zoom_.zoom().apply(headTracking())); }
+    std::optional<LocalRay> pointerRay(const OperatorInput& in) const;
+    TrialContext trialContext();
+    void frameCounted(const FrameResult& result, bool xr);
+    void drawPanel(int fb_w, int fb_h);
+    int finish(int status);
+
+    StopSignal stop_signal_;   // before the window: a signal from now on ends the loop cleanly
+    const ViewerOptions& options_;
+    bool record_frames_ = true;
+    RunLog log_;
+    DesktopInput input_;
+    DesktopWindow window_;
+    ScriptPlayer script_;
+    ReplayPlayer replay_;
+    XrInputMapping xr_input_;
+    TrialController trials_;
+    ViewStyle style_;
+    ModeController modes_;
+    PointerTool pointer_;
+    CandidatesTool candidates_;
+    ZoomTool zoom_;
+    CutTool cut_;
+    ComfortTool comfort_;
+    OverlayList overlay_list_;
+    std::unique_ptr<CloudFeedSource> plain_source_;
+    SourceStream stream_;
+    std::unique_ptr<EyeFrameRenderer> eyes_;
+    Headset headset_;
+    Clock::time_point start_ = Clock::now(), last_ = start_, quit_deadline_{};
+    long frames_ = 0;            // counted frames (XR: submitted with both eyes)
+    long frames_submitted_ = 0;
+    long first_points_frame_ = -1;
+    std::size_t points_drawn_ = 0;
+    std::string exit_reason_ = "window closed";
+    bool quitting_ = false;      // frames after the exit request are not counted
+    bool screenshot_done_ = false, reset_zoom_button_ = false, headset_panel_ = true;
+    int status_ = 0;
+    double frame_ms_ = 0.0;      // wall time since the previous loop iteration
+    std::optional<glm::dvec3> aim_world_;   // a script's aim: the pointer follows the head to it
+    std::optional<TraceSample> replay_sample_;
+};
+
+}  // namespace viewer
