@@ -1,7 +1,10 @@
 // las_reader: LAS 1.0-1.4 and LAZ through LASzip, behind engine::CloudReader. The header
 // and the VLRs are checked here first, bounded by the bytes present (LASzip trusts
-// them), then LASzip decodes the points from a stream over the ByteSource, a chunk at a
-// time. Coordinates are computed in double and moved onto a double origin (whole metres
+// them), and so is the layout of compressed data that LASzip would otherwise trust: the
+// LASzip VLR's compressor and items against the point format, the chunk table's place
+// and count against the file, and each layered chunk's layer sizes against the bytes it
+// can have. Then LASzip decodes the points from a stream over the ByteSource, a chunk at
+// a time. Coordinates are computed in double and moved onto a double origin (whole metres
 // near the middle of the header's bounds) before the cast to float. Classes map to roles
 // (roleForClass), unless the file has our `label` extra bytes (docs/formats.md).
 #include "cloud_decode.hpp"
@@ -28,6 +31,14 @@ namespace {
 constexpr std::array<std::size_t, 11> kMinRecord = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
 constexpr std::size_t kVlrHeader = 54;
 constexpr std::size_t kExtraBytesDescriptor = 192;
+
+// LASzip's compressors (the VLR's first field) and item types.
+constexpr unsigned kPointwise = 1, kPointwiseChunked = 2, kLayeredChunked = 3;
+enum ItemType : unsigned {
+    kByte = 0, kPoint10 = 6, kGpsTime11 = 7, kRgb12 = 8, kWavePacket13 = 9,
+    kPoint14 = 10, kRgb14 = 11, kRgbNir14 = 12, kWavePacket14 = 13, kByte14 = 14
+};
+constexpr std::uint32_t kVariableChunks = 0xFFFFFFFFu;  // chunk size of tables with point counts
 
 template <typename T>
 T le(std::string_view bytes, std::size_t at) {
@@ -135,7 +146,7 @@ public:
         out.reserve(out.size() + n);
         const laszip_point_struct& q = *point_;
         for (std::size_t k = 0; k < n; ++k) {
-            if (laszip_read_point(zip_) != 0) check(1, ("point " + std::to_string(done_ + k)).c_str());
+            if (laszip_read_point(zip_) != 0) pointFailed(done_ + k);
             CloudPoint p;
             p.position = glm::vec3(float(double(q.X) * scale_.x + offset_.x - origin.x),
                                    float(double(q.Y) * scale_.y + offset_.y - origin.y),
@@ -181,6 +192,19 @@ public:
     }
 
 private:
+    // LASzip's message ("reading point 0 of 4096 total points") names neither the cause
+    // nor what is allowed: the checks before it leave a decoding failure or a file cut
+    // short inside a chunk.
+    [[noreturn]] void pointFailed(std::size_t index) {
+        laszip_CHAR* message = nullptr;
+        if (zip_) laszip_get_error(zip_, &message);
+        const std::string detail = message ? " (LASzip: " + shown(message, 160, false) + ")" : std::string();
+        throw Error(prefix_ + ": point " + std::to_string(index) + " of " + std::to_string(declared) + ": " +
+                    (compressed_ ? "the compressed point data cannot be decoded; the LAZ file is corrupt or cut short"
+                                 : "the point record cannot be read") +
+                    detail);
+    }
+
     void check(laszip_I32 rc, const char* what) {
         if (rc == 0) return;
         laszip_CHAR* message = nullptr;
@@ -192,6 +216,9 @@ private:
     // LASzip sees them.
     void checkHeader() {
         const std::uint64_t size = source_.size();
+        if (size >= 4 && source_.view(0, 4) != "LASF")
+            throw Error(prefix_ + ": not a LAS file: it starts with '" + shown(source_.view(0, 4), 20, false) +
+                        "'; allowed: 'LASF'");
         if (size < 227) throw Error(prefix_ + ": truncated: a LAS header needs 227 bytes, the file has " + std::to_string(size));
         const std::string_view h = source_.view(0, std::size_t(std::min<std::uint64_t>(size, 375)));
         const std::string head(h);  // the view changes with the next read
@@ -229,7 +256,8 @@ private:
         if (vlrs > (data_at - header_size) / kVlrHeader)
             throw Error(prefix_ + ": " + std::to_string(vlrs) + " VLRs cannot fit before the point data");
         std::size_t extra_declared = 0;
-        bool laszip_vlr = false;
+        bool laszip_vlr = false, extra_vlr = false;
+        LaszipVlr laz;
         for (std::uint32_t v = 0; v < vlrs; ++v) {
             if (data_at - at < kVlrHeader) throw Error(prefix_ + ": VLR " + std::to_string(v) + " runs into the point data");
             const std::string vh(source_.view(at, kVlrHeader));
@@ -237,10 +265,19 @@ private:
             if (data_at - at - kVlrHeader < length)
                 throw Error(prefix_ + ": VLR " + std::to_string(v) + " runs into the point data");
             const std::string user(vh.data() + 2, strnlen(vh.data() + 2, 16));
-            if (user == "LASF_Spec" && le<std::uint16_t>(vh, 18) == 4)
+            // One extra bytes VLR and one LASzip VLR: the fields of one and the sizes of
+            // another would describe different records.
+            if (user == "LASF_Spec" && le<std::uint16_t>(vh, 18) == 4) {
+                if (extra_vlr)
+                    throw Error(prefix_ + ": VLR " + std::to_string(v) +
+                                " is a second extra bytes VLR; allowed: one per file");
                 extra_declared = readExtraBytes(std::string(source_.view(at + kVlrHeader, length)));
+                extra_vlr = true;
+            }
             if (user == "laszip encoded" && le<std::uint16_t>(vh, 18) == 22204) {
-                checkLaszipVlr(std::string(source_.view(at + kVlrHeader, length)));
+                if (laszip_vlr)
+                    throw Error(prefix_ + ": VLR " + std::to_string(v) + " is a second LASzip VLR; allowed: one per file");
+                laz = checkLaszipVlr(std::string(source_.view(at + kVlrHeader, length)), format, record);
                 laszip_vlr = true;
             }
             at += kVlrHeader + length;
@@ -249,6 +286,9 @@ private:
         // what they allocated), so what it would refuse is refused here first.
         if (compressed && !laszip_vlr)
             throw Error(prefix_ + ": the point format marks compressed (LAZ) data but there is no LASzip VLR");
+        if (!compressed && laszip_vlr)
+            throw Error(prefix_ + ": the file has a LASzip VLR but the point format " + std::to_string(raw_format) +
+                        " does not mark compressed (LAZ) data");
         if (extra_declared > record - kMinRecord[format])
             throw Error(prefix_ + ": the extra bytes VLR describes " + std::to_string(extra_declared) +
                         " bytes but the records have " + std::to_string(record - kMinRecord[format]));
@@ -260,6 +300,10 @@ private:
                         " bytes of point data follow");
         if (compressed && count > 0 && remaining == 0)
             throw Error(prefix_ + ": truncated: no compressed point data follow the header");
+        if (!compressed) checkTrailingBytes(head, minor, data_at + count * record, count, record);
+        if (compressed && (laz.compressor == kPointwiseChunked || laz.compressor == kLayeredChunked))
+            checkChunks(laz, data_at, count, record);
+        compressed_ = compressed;
         declared = std::size_t(count);
         // LAZ: at least one byte per point is a safe amount to reserve (the real count
         // needs its memory anyway; a hostile count on a small file gets the file size).
@@ -281,16 +325,162 @@ private:
         fields.height_above_ground = height_.present;
     }
 
-    // The LASzip VLR: compressor 0..3 (none, pointwise, chunked, layered), the arithmetic
-    // coder, and as many 6-byte item descriptions as it says.
-    void checkLaszipVlr(const std::string& payload) {
+    struct LaszipVlr {
+        unsigned compressor = 0;
+        std::uint32_t chunk_points = 0;  // kVariableChunks: each chunk's count is in the table
+        std::size_t layers = 0;          // per chunk, of layered compression
+    };
+
+    // The LASzip VLR: the compressor, the arithmetic coder, the chunk size and the items.
+    // LASzip builds its decoders from the items without checking that they suit the
+    // compressor (LAS 1.4 items are only decoded in layers, the older ones only
+    // point-wise; the wrong kind crashes it), so the items must be exactly those of the
+    // point format and its extra bytes, each in a version of its compressor.
+    LaszipVlr checkLaszipVlr(const std::string& payload, unsigned format, std::size_t record) {
         if (payload.size() < 34) throw Error(prefix_ + ": the LASzip VLR is shorter than 34 bytes");
-        const unsigned compressor = le<std::uint16_t>(payload, 0), coder = le<std::uint16_t>(payload, 2);
+        LaszipVlr laz;
+        laz.compressor = le<std::uint16_t>(payload, 0);
+        const unsigned coder = le<std::uint16_t>(payload, 2);
+        laz.chunk_points = le<std::uint32_t>(payload, 12);
         const std::size_t items = le<std::uint16_t>(payload, 32);
-        if (compressor > 3 || coder != 0 || payload.size() != 34 + 6 * items || items == 0)
+        const bool las14 = format >= 6;
+        const bool compressor_ok = las14 ? laz.compressor == kLayeredChunked
+                                         : laz.compressor == kPointwise || laz.compressor == kPointwiseChunked;
+        if (!compressor_ok || coder != 0 || payload.size() != 34 + 6 * items || items == 0)
             throw Error(prefix_ + ": the LASzip VLR is not one this reader knows (compressor " +
-                        std::to_string(compressor) + ", coder " + std::to_string(coder) + ", " +
-                        std::to_string(items) + " items in " + std::to_string(payload.size()) + " bytes)");
+                        std::to_string(laz.compressor) + ", coder " + std::to_string(coder) + ", " +
+                        std::to_string(items) + " items in " + std::to_string(payload.size()) +
+                        " bytes); allowed for point format " + std::to_string(format) + ": compressor " +
+                        (las14 ? "3 (layered chunks)" : "1 or 2 (point-wise)") + ", coder 0");
+        // The items the point format needs, then its extra bytes.
+        std::vector<unsigned> expected;
+        if (!las14) {
+            expected.push_back(kPoint10);
+            if (format == 1 || format >= 3) expected.push_back(kGpsTime11);
+            if (format == 2 || format == 3 || format == 5) expected.push_back(kRgb12);
+            if (format == 4 || format == 5) expected.push_back(kWavePacket13);
+        } else {
+            expected.push_back(kPoint14);
+            if (format == 7) expected.push_back(kRgb14);
+            if (format == 8 || format == 10) expected.push_back(kRgbNir14);
+            if (format == 9 || format == 10) expected.push_back(kWavePacket14);
+        }
+        const std::size_t extra = record - kMinRecord[format];
+        if (extra > 0) expected.push_back(las14 ? kByte14 : kByte);
+        std::string listed;
+        bool matches = items == expected.size();
+        for (std::size_t i = 0; i < items; ++i) {
+            const unsigned type = le<std::uint16_t>(payload, 34 + 6 * i);
+            const unsigned size = le<std::uint16_t>(payload, 36 + 6 * i);
+            const unsigned version = le<std::uint16_t>(payload, 38 + 6 * i);
+            listed += (i ? ", " : "") + std::to_string(type) + "/" + std::to_string(size) + "/v" + std::to_string(version);
+            if (!matches) continue;
+            const bool bytes = type == kByte || type == kByte14;
+            const std::size_t want_size = bytes ? extra
+                                          : type == kPoint10 ? 20 : type == kGpsTime11 ? 8 : type == kRgb12 || type == kRgb14 ? 6
+                                          : type == kPoint14 ? 30 : type == kRgbNir14 ? 8 : 29;
+            const bool version_ok = las14 ? (version >= 2 && version <= 4 && !(type == kWavePacket14 && version == 2))
+                                          : (version == 1 || (version == 2 && type != kWavePacket13));
+            matches = type == expected[i] && size == want_size && version_ok;
+            if (type == kPoint14) laz.layers += 9;
+            if (type == kRgb14 || type == kWavePacket14) laz.layers += 1;
+            if (type == kRgbNir14) laz.layers += 2;
+            if (type == kByte14) laz.layers += size;  // one layer per byte
+        }
+        if (!matches)
+            throw Error(prefix_ + ": the LASzip VLR's items (type/size/version: " + shown(listed, 200, false) +
+                        ") are not those of point format " + std::to_string(format) + " with " + std::to_string(extra) +
+                        " extra bytes");
+        if (laz.chunk_points == 0) laz.chunk_points = kVariableChunks;  // LASzip reads 0 so
+        return laz;
+    }
+
+    // Chunked LAZ: the 8 bytes before the chunks give the chunk table's place (or -1: in
+    // the file's last 8 bytes; or none, the table's own place: no table, LASzip then
+    // finds the chunks as it reads them). The table must lie inside the file, be version
+    // 0 and count no more chunks than the points and bytes allow (LASzip allocates
+    // by the count and trusts a table cut short). A table of fixed-size chunks counts
+    // exactly the chunks the header's points fill, so trailing chunks are refused.
+    // Layered chunks are then walked: each one's raw first point, point count and layer
+    // sizes, whose sum LASzip allocates and reads in 32 bits.
+    void checkChunks(const LaszipVlr& laz, std::uint64_t data_at, std::uint64_t count, std::size_t record) {
+        const std::uint64_t size = source_.size();
+        const std::uint64_t chunks_at = data_at + 8;
+        if (count == 0) return;
+        if (chunks_at > size) throw Error(prefix_ + ": truncated: the chunk table's position is cut short");
+        std::int64_t table = le<std::int64_t>(std::string(source_.view(data_at, 8)), 0);
+        if (table == -1 && size >= chunks_at + 8) table = le<std::int64_t>(std::string(source_.view(size - 8, 8)), 0);
+        std::uint64_t end = size;  // where the chunks must end
+        std::uint64_t tabled = 0;
+        const bool has_table = table != std::int64_t(data_at);
+        if (has_table) {
+            if (table < std::int64_t(chunks_at) || std::uint64_t(table) > size - std::min<std::uint64_t>(size, 8))
+                throw Error(prefix_ + ": the chunk table's position " + std::to_string(table) +
+                            " is outside the file; allowed: " + std::to_string(chunks_at) + " to " +
+                            std::to_string(size >= 8 ? size - 8 : 0) + " (the table needs 8 bytes)");
+            const std::string t(source_.view(std::uint64_t(table), 8));
+            const std::uint32_t version = le<std::uint32_t>(t, 0);
+            tabled = le<std::uint32_t>(t, 4);
+            if (version != 0)
+                throw Error(prefix_ + ": the chunk table's version is " + std::to_string(version) + "; allowed: 0");
+            const std::uint64_t most = std::min<std::uint64_t>(count, std::uint64_t(table) - chunks_at);
+            if (laz.chunk_points != kVariableChunks) {
+                const std::uint64_t fill = (count + laz.chunk_points - 1) / laz.chunk_points;
+                if (tabled != fill)
+                    throw Error(prefix_ + ": the chunk table lists " + std::to_string(tabled) + " chunks but the header's " +
+                                std::to_string(count) + " points fill " + std::to_string(fill) + " chunks of " +
+                                std::to_string(laz.chunk_points) + (tabled > fill ? " (the header counts fewer points than the data hold)" : ""));
+            } else if (tabled == 0 || tabled > most) {
+                throw Error(prefix_ + ": the chunk table lists " + std::to_string(tabled) + " chunks; allowed: 1 to " +
+                            std::to_string(most) + " for " + std::to_string(count) + " points");
+            }
+            end = std::uint64_t(table);
+        } else if (laz.chunk_points == kVariableChunks) {
+            throw Error(prefix_ + ": chunks of variable size need a chunk table, and the file has none");
+        }
+        if (laz.compressor != kLayeredChunked) return;
+        std::uint64_t at = chunks_at, left = count, chunk = 0;
+        const std::uint64_t head = record + 4 + 4 * std::uint64_t(laz.layers);
+        while (left > 0) {
+            if (end - at < head)
+                throw Error(prefix_ + ": truncated: chunk " + std::to_string(chunk) + " at byte " + std::to_string(at) +
+                            " has no room for its first point and layer sizes before byte " + std::to_string(end));
+            const std::string h(source_.view(at + record, std::size_t(4 + 4 * laz.layers)));
+            const std::uint32_t points = le<std::uint32_t>(h, 0);
+            std::uint64_t bytes = 0;
+            for (std::size_t l = 0; l < laz.layers; ++l) bytes += le<std::uint32_t>(h, 4 + 4 * l);
+            const std::uint64_t want = laz.chunk_points == kVariableChunks ? 0 : std::min<std::uint64_t>(left, laz.chunk_points);
+            if (points == 0 || points > left || (want != 0 && points != want))
+                throw Error(prefix_ + ": chunk " + std::to_string(chunk) + " holds " + std::to_string(points) +
+                            " points; allowed: " + (want != 0 ? std::to_string(want) : "1 to " + std::to_string(left)) +
+                            " (of the header's " + std::to_string(count) + ")");
+            if (bytes > end - at - head)
+                throw Error(prefix_ + ": chunk " + std::to_string(chunk) + "'s layers declare " + std::to_string(bytes) +
+                            " bytes but " + std::to_string(end - at - head) + " remain before byte " + std::to_string(end));
+            at += head + bytes;
+            left -= points;
+            ++chunk;
+        }
+        if (has_table && (at != end || chunk != tabled))
+            throw Error(prefix_ + ": the header's " + std::to_string(count) + " points end at byte " + std::to_string(at) +
+                        " in chunk " + std::to_string(chunk) + " but the chunk table starts at byte " + std::to_string(end) +
+                        " after " + std::to_string(tabled) + " chunks (the header counts fewer points than the data hold?)");
+    }
+
+    // Uncompressed points must end where the file does, or where what LAS 1.3 and 1.4 put
+    // after them begins (waveform data, EVLRs): bytes left over would be points the
+    // header does not count.
+    void checkTrailingBytes(const std::string& head, int minor, std::uint64_t points_end, std::uint64_t count,
+                            std::size_t record) {
+        const std::uint64_t size = source_.size();
+        if (points_end == size) return;
+        if (minor >= 3 && head.size() >= 235 && le<std::uint64_t>(head, 227) == points_end) return;
+        if (minor >= 4 && head.size() >= 247 && le<std::uint32_t>(head, 243) > 0 &&
+            le<std::uint64_t>(head, 235) == points_end)
+            return;
+        throw Error(prefix_ + ": " + std::to_string(size - points_end) + " bytes follow the header's " +
+                    std::to_string(count) + " points of " + std::to_string(record) +
+                    " bytes; allowed: the points end where the file, its waveform data or its EVLRs begin");
     }
 
     // LAS 1.4 extra bytes descriptors: our fields by name; returns the bytes they cover.
@@ -322,6 +512,7 @@ private:
     laszip_point_struct* point_ = nullptr;
     bool open_ = false;
     bool extended_ = false;
+    bool compressed_ = false;
     glm::dvec3 scale_{1.0}, offset_{0.0};
     ExtraField range_, label_, incidence_, height_;
     std::size_t extra_size_ = 0;
