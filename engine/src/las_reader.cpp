@@ -300,6 +300,7 @@ private:
                         " bytes of point data follow");
         if (compressed && count > 0 && remaining == 0)
             throw Error(prefix_ + ": truncated: no compressed point data follow the header");
+        if (minor >= 4) checkEvlrs(head);
         if (!compressed) checkTrailingBytes(head, minor, data_at + count * record, count, record);
         if (compressed && (laz.compressor == kPointwiseChunked || laz.compressor == kLayeredChunked))
             checkChunks(laz, data_at, count, record);
@@ -465,6 +466,30 @@ private:
             throw Error(prefix_ + ": the header's " + std::to_string(count) + " points end at byte " + std::to_string(at) +
                         " in chunk " + std::to_string(chunk) + " but the chunk table starts at byte " + std::to_string(end) +
                         " after " + std::to_string(tabled) + " chunks (the header counts fewer points than the data hold?)");
+    }
+
+    // LAS 1.4's extended VLRs after the points: each with its 64-bit length inside the
+    // file (the trailing-bytes check lets the points end where they begin, so they are
+    // what the rest of the file must hold).
+    void checkEvlrs(const std::string& head) {
+        const std::uint64_t size = source_.size();
+        const std::uint32_t n = le<std::uint32_t>(head, 243);
+        if (n == 0) return;
+        std::uint64_t at = le<std::uint64_t>(head, 235);
+        constexpr std::uint64_t kEvlrHeader = 60;
+        if (at > size || n > (size - at) / kEvlrHeader)
+            throw Error(prefix_ + ": " + std::to_string(n) + " EVLRs from byte " + std::to_string(at) +
+                        " do not fit a file of " + std::to_string(size) + " bytes");
+        for (std::uint32_t e = 0; e < n; ++e) {
+            if (size - at < kEvlrHeader)
+                throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) + " is cut short");
+            const std::uint64_t length = le<std::uint64_t>(std::string(source_.view(at + 20, 8)), 0);
+            if (length > size - at - kEvlrHeader)
+                throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) + " declares " +
+                            std::to_string(length) + " bytes but " + std::to_string(size - at - kEvlrHeader) +
+                            " follow it");
+            at += kEvlrHeader + length;
+        }
     }
 
     // Uncompressed points must end where the file does, or where what LAS 1.3 and 1.4 put

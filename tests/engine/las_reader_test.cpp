@@ -212,3 +212,21 @@ TEST_CASE("las_reader: an empty or foreign file named .las is the LAS reader's t
     CHECK(errorOf([&] { engine::readCloud(dir.path / "text.laz"); }) ==
           "las: " + (dir.path / "text.laz").string() + ": not a LAS file: it starts with '# .P'; allowed: 'LASF'");
 }
+
+TEST_CASE("las_reader: EVLRs after the points are allowed, and must lie inside the file") {
+    std::string las = written(CloudFormat::Las);
+    const std::size_t end = las.size();
+    // One EVLR after the points, of 4 bytes: read.
+    std::string evlr(60, '\0');
+    std::memcpy(evlr.data() + 2, "ladarvr", 7);
+    put<std::uint64_t>(evlr, 20, 4);
+    std::string b = las + evlr + "abcd";
+    put<std::uint64_t>(b, 235, end);
+    put<std::uint32_t>(b, 243, 1);
+    CHECK(readError(b, "x.las") == "ok");
+    put<std::uint64_t>(b, end + 20, std::uint64_t(1) << 50);
+    CHECK(readError(b, "x.las") == "las: x.las: EVLR 0 at byte " + std::to_string(end) + " declares 1125899906842624 bytes "
+                                       "but 4 follow it");
+    put<std::uint32_t>(b, 243, 1000);
+    CHECK(contains(readError(b, "x.las"), "1000 EVLRs from byte " + std::to_string(end) + " do not fit a file of"));
+}
