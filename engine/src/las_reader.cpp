@@ -198,7 +198,10 @@ private:
     [[noreturn]] void pointFailed(std::size_t index) {
         laszip_CHAR* message = nullptr;
         if (zip_) laszip_get_error(zip_, &message);
-        const std::string detail = message ? " (LASzip: " + shown(message, 160, false) + ")" : std::string();
+        // LASzip's own words, unless they only repeat the point's number.
+        const std::string said = message ? std::string(message) : std::string();
+        const std::string detail =
+            said.empty() || said.rfind("reading point ", 0) == 0 ? std::string() : " (LASzip: " + shown(said, 160, false) + ")";
         throw Error(prefix_ + ": point " + std::to_string(index) + " of " + std::to_string(declared) + ": " +
                     (compressed_ ? "the compressed point data cannot be decoded; the LAZ file is corrupt or cut short"
                                  : "the point record cannot be read") +

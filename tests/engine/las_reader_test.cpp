@@ -190,7 +190,7 @@ TEST_CASE("las_reader: two extra bytes VLRs (fields from one, sizes from the oth
                                        " is a second extra bytes VLR; allowed: one per file");
 }
 
-TEST_CASE("las_reader: undecodable compressed points name the point, the file's state and LASzip's words") {
+TEST_CASE("las_reader: undecodable compressed points name the point and what is wrong with the file") {
     std::string laz = written(CloudFormat::Laz);
     const std::size_t record = get<std::uint16_t>(laz, 105);
     const std::size_t sizes = dataAt(laz) + 8 + record + 4;
@@ -199,8 +199,8 @@ TEST_CASE("las_reader: undecodable compressed points name the point, the file's 
     put<std::uint32_t>(laz, sizes, 0u);
     put<std::uint32_t>(laz, sizes + 4, get<std::uint32_t>(laz, sizes + 4) + first);
     const std::string e = readError(laz);
-    CHECK(contains(e, "las: x.laz: point 0 of 400: the compressed point data cannot be decoded; the LAZ file is corrupt "
-                      "or cut short (LASzip: "));
+    CHECK(e == "las: x.laz: point 0 of 400: the compressed point data cannot be decoded; the LAZ file is corrupt or "
+               "cut short");
 }
 
 TEST_CASE("las_reader: an empty or foreign file named .las is the LAS reader's to refuse, not PCD's") {
