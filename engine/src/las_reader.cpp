@@ -15,8 +15,16 @@
 
 #include <laszip/laszip_api.h>
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -127,16 +135,22 @@ public:
     LasReader(ByteSource& source, const std::string& prefix)
         : source_(source), prefix_(prefix), buf_(source), stream_(&buf_) {
         checkHeader();
-        if (laszip_create(&zip_) != 0 || !zip_) throw Error(prefix_ + ": LASzip could not be started");
-        laszip_BOOL compressed = 0;
-        check(laszip_open_reader_stream(zip_, stream_, &compressed), "cannot open");
-        open_ = true;
-        check(laszip_get_point_pointer(zip_, &point_), "cannot read");
+        if (compressed_) {
+            try {
+                startDecoder();
+            } catch (...) {
+                stopDecoder();  // no destructor runs for a constructor that throws
+                throw;
+            }
+        } else {
+            openLaszip();
+        }
     }
 
     ~LasReader() override {
         if (open_) laszip_close_reader(zip_);
         if (zip_) laszip_destroy(zip_);
+        stopDecoder();
     }
     LasReader(const LasReader&) = delete;
     LasReader& operator=(const LasReader&) = delete;
@@ -144,54 +158,235 @@ public:
     std::size_t next(std::vector<CloudPoint>& out, std::size_t max_points) override {
         const std::size_t n = std::min(max_points, declared - done_);
         out.reserve(out.size() + n);
-        const laszip_point_struct& q = *point_;
-        for (std::size_t k = 0; k < n; ++k) {
-            if (laszip_read_point(zip_) != 0) pointFailed(done_ + k);
-            CloudPoint p;
-            p.position = glm::vec3(float(double(q.X) * scale_.x + offset_.x - origin.x),
-                                   float(double(q.Y) * scale_.y + offset_.y - origin.y),
-                                   float(double(q.Z) * scale_.z + offset_.z - origin.z));
-            p.intensity = q.intensity;
-            p.view = q.point_source_ID;
-            if (extended_) {
-                p.return_number = q.extended_return_number;
-                p.returns = q.extended_number_of_returns;
-                p.scan_angle_deg = float(q.extended_scan_angle * 0.006);
-            } else {
-                p.return_number = q.return_number;
-                p.returns = q.number_of_returns;
-                p.scan_angle_deg = float(q.scan_angle_rank);
+        if (compressed_) {
+            for (std::size_t k = 0; k < n;) {
+                if (pending_at_ == pending_.size()) receive(done_ + k);
+                const std::size_t take = std::min(n - k, pending_.size() - pending_at_);
+                out.insert(out.end(), pending_.begin() + std::ptrdiff_t(pending_at_),
+                           pending_.begin() + std::ptrdiff_t(pending_at_ + take));
+                pending_at_ += take;
+                k += take;
             }
-            if (fields.rgb)
-                p.rgb = packRgb(std::uint8_t(q.rgb[0] >> 8), std::uint8_t(q.rgb[1] >> 8), std::uint8_t(q.rgb[2] >> 8));
-            const unsigned char* extra = q.num_extra_bytes >= int(extra_size_) ? q.extra_bytes : nullptr;
-            if (label_.present && extra) {
-                const double v = extraValue(extra, label_);
-                if (!(v == 0.0 || v == 1.0 || v == 2.0)) {
-                    char shown_v[32];  // %g: any double (a float extra byte may hold 1e31 or NaN)
-                    std::snprintf(shown_v, sizeof shown_v, "%g", v);
-                    throw Error(prefix_ + ": point " + std::to_string(done_ + k) + ": label " + shown_v +
-                                " is not 0 (ground), 1 (environment) or 2 (target)");
-                }
-                p.label = Role(std::uint8_t(v));
-            } else {
-                const unsigned cls = extended_ ? q.extended_classification : q.classification;
-                bool known = true;
-                p.label = roleForClass(cls, known);
-                if (!known && stats.unknown_classes++ == 0) stats.first_unknown = cls;
+        } else {
+            for (std::size_t k = 0; k < n; ++k) {
+                if (laszip_read_point(zip_) != 0) pointFailed(done_ + k);
+                out.push_back(convert(*point_, done_ + k));
             }
-            if (extra) {
-                if (range_.present) p.range_m = float(extraValue(extra, range_));
-                if (incidence_.present) p.incidence_deg = float(extraValue(extra, incidence_));
-                if (height_.present) p.height_above_ground_m = float(extraValue(extra, height_));
-            }
-            out.push_back(p);
         }
         done_ += n;
         return n;
     }
 
 private:
+    void openLaszip() {
+        if (laszip_create(&zip_) != 0 || !zip_) throw Error(prefix_ + ": LASzip could not be started");
+        laszip_BOOL compressed = 0;
+        check(laszip_open_reader_stream(zip_, stream_, &compressed), "cannot open");
+        open_ = true;
+        check(laszip_get_point_pointer(zip_, &point_), "cannot read");
+    }
+
+    // The point LASzip decoded, as a CloudPoint in the local frame. Throws Error (a label
+    // other than 0..2); counts unknown classes in `stats`.
+    CloudPoint convert(const laszip_point_struct& q, std::size_t index) {
+        CloudPoint p;
+        p.position = glm::vec3(float(double(q.X) * scale_.x + offset_.x - origin.x),
+                               float(double(q.Y) * scale_.y + offset_.y - origin.y),
+                               float(double(q.Z) * scale_.z + offset_.z - origin.z));
+        p.intensity = q.intensity;
+        p.view = q.point_source_ID;
+        if (extended_) {
+            p.return_number = q.extended_return_number;
+            p.returns = q.extended_number_of_returns;
+            p.scan_angle_deg = float(q.extended_scan_angle * 0.006);
+        } else {
+            p.return_number = q.return_number;
+            p.returns = q.number_of_returns;
+            p.scan_angle_deg = float(q.scan_angle_rank);
+        }
+        if (fields.rgb)
+            p.rgb = packRgb(std::uint8_t(q.rgb[0] >> 8), std::uint8_t(q.rgb[1] >> 8), std::uint8_t(q.rgb[2] >> 8));
+        const unsigned char* extra = q.num_extra_bytes >= int(extra_size_) ? q.extra_bytes : nullptr;
+        if (label_.present && extra) {
+            const double v = extraValue(extra, label_);
+            if (!(v == 0.0 || v == 1.0 || v == 2.0)) {
+                char shown_v[32];  // %g: any double (a float extra byte may hold 1e31 or NaN)
+                std::snprintf(shown_v, sizeof shown_v, "%g", v);
+                throw Error(prefix_ + ": point " + std::to_string(index) + ": label " + shown_v +
+                            " is not 0 (ground), 1 (environment) or 2 (target)");
+            }
+            p.label = Role(std::uint8_t(v));
+        } else {
+            const unsigned cls = extended_ ? q.extended_classification : q.classification;
+            bool known = true;
+            p.label = roleForClass(cls, known);
+            if (!known && stats.unknown_classes++ == 0) stats.first_unknown = cls;
+        }
+        if (extra) {
+            if (range_.present) p.range_m = float(extraValue(extra, range_));
+            if (incidence_.present) p.incidence_deg = float(extraValue(extra, incidence_));
+            if (height_.present) p.height_above_ground_m = float(extraValue(extra, height_));
+        }
+        return p;
+    }
+
+    // Compressed points are decoded in a child process. LASzip trusts the arithmetic-coded
+    // data inside a chunk, and a build with assertions aborts on symbols a corrupt file
+    // makes (ArithmeticDecoder::decodeSymbol), which no check of sizes and offsets can
+    // foresee short of decoding the data; in a child, a fault or an abort of LASzip ends
+    // only the child, and the reader reports it as one line. The child (forked with the
+    // header already checked, reading the same ByteSource) sends frames over a pipe: one
+    // "open" or error frame, then frames of converted points, or an error.
+    struct Frame {
+        char kind = 0;  // 'O' opened, 'P' points, 'E' error message
+        std::uint32_t bytes = 0;
+        std::uint64_t unknown_classes = 0;  // so far, with 'P'
+        std::uint32_t first_unknown = 0;
+    };
+    static constexpr std::size_t kFramePoints = 4096;
+
+    void startDecoder() {
+        // The point the child is decoding, shared, so that a fault can be placed exactly.
+        void* shared = ::mmap(nullptr, sizeof(std::uint64_t), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+        if (shared == MAP_FAILED) throw Error(prefix_ + ": cannot start the LAZ decoder: " + std::strerror(errno));
+        decoding_ = static_cast<std::uint64_t*>(shared);
+        *decoding_ = 0;
+        int fds[2];
+        if (::pipe2(fds, O_CLOEXEC) != 0)
+            throw Error(prefix_ + ": cannot start the LAZ decoder: " + std::strerror(errno));
+        const pid_t pid = ::fork();
+        if (pid < 0) {
+            const int e = errno;
+            ::close(fds[0]);
+            ::close(fds[1]);
+            throw Error(prefix_ + ": cannot start the LAZ decoder: " + std::strerror(e));
+        }
+        if (pid == 0) {
+            ::close(fds[0]);
+            decodeInChild(fds[1]);  // never returns
+        }
+        ::close(fds[1]);
+        ::fcntl(fds[0], F_SETPIPE_SZ, 1 << 20);  // fewer switches between the two; best effort
+        child_ = pid;
+        pipe_ = fds[0];
+        receive(0);  // 'O', or the error of opening
+    }
+
+    [[noreturn]] void decodeInChild(int fd) noexcept {
+        // The parent's handlers (temporary file cleanup) are not the child's to run.
+        std::signal(SIGINT, SIG_DFL);
+        std::signal(SIGTERM, SIG_DFL);
+        std::signal(SIGPIPE, SIG_DFL);
+        // LASzip's own words on stderr (an assertion's) would be a second line: the
+        // parent reports how the child ended.
+        const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+        if (null >= 0) ::dup2(null, STDERR_FILENO);
+        try {
+            openLaszip();
+            send(fd, Frame{'O'}, nullptr);
+            std::vector<CloudPoint> batch;
+            batch.reserve(kFramePoints);
+            for (std::size_t i = 0; i < declared;) {
+                batch.clear();
+                for (; batch.size() < kFramePoints && i < declared; ++i) {
+                    __atomic_store_n(decoding_, std::uint64_t(i), __ATOMIC_RELAXED);
+                    if (laszip_read_point(zip_) != 0) pointFailed(i);
+                    batch.push_back(convert(*point_, i));
+                }
+                Frame f{'P', std::uint32_t(batch.size() * sizeof(CloudPoint)), stats.unknown_classes, stats.first_unknown};
+                send(fd, f, batch.data());
+            }
+        } catch (const Error& e) {
+            const std::string m = e.what();
+            send(fd, Frame{'E', std::uint32_t(std::min<std::size_t>(m.size(), 4096))}, m.data());
+        } catch (...) {
+            const std::string m = prefix_ + ": the LAZ decoder failed";
+            send(fd, Frame{'E', std::uint32_t(m.size())}, m.data());
+        }
+        ::_exit(0);
+    }
+
+    static void send(int fd, const Frame& f, const void* payload) noexcept {
+        if (!writeAll(fd, &f, sizeof f) || (f.bytes > 0 && !writeAll(fd, payload, f.bytes))) ::_exit(0);
+    }
+
+    static bool writeAll(int fd, const void* data, std::size_t n) noexcept {
+        const char* p = static_cast<const char*>(data);
+        while (n > 0) {
+            const ssize_t w = ::write(fd, p, n);
+            if (w < 0 && errno == EINTR) continue;
+            if (w <= 0) return false;
+            p += w;
+            n -= std::size_t(w);
+        }
+        return true;
+    }
+
+    // false at the end of the pipe (the child gone) before `n` bytes.
+    bool readAll(void* data, std::size_t n) {
+        char* p = static_cast<char*>(data);
+        while (n > 0) {
+            const ssize_t r = ::read(pipe_, p, n);
+            if (r < 0 && errno == EINTR) continue;
+            if (r <= 0) return false;
+            p += r;
+            n -= std::size_t(r);
+        }
+        return true;
+    }
+
+    // The next frame: points into pending_, or the child's error, or how it ended.
+    // `index`: the point being waited for, for messages.
+    void receive(std::size_t index) {
+        Frame f;
+        if (!readAll(&f, sizeof f)) decoderDied(index);
+        if (f.kind == 'O') return;
+        if (f.kind == 'E') {
+            std::string m(f.bytes, '\0');
+            if (!readAll(m.data(), m.size())) decoderDied(index);
+            throw Error(m);
+        }
+        if (f.kind != 'P' || f.bytes == 0 || f.bytes % sizeof(CloudPoint) != 0 ||
+            f.bytes / sizeof(CloudPoint) > kFramePoints)
+            decoderDied(index);
+        pending_.resize(f.bytes / sizeof(CloudPoint));
+        pending_at_ = 0;
+        if (!readAll(pending_.data(), f.bytes)) decoderDied(index);
+        stats.unknown_classes = std::size_t(f.unknown_classes);
+        stats.first_unknown = f.first_unknown;
+    }
+
+    [[noreturn]] void decoderDied(std::size_t index) {
+        if (decoding_) index = std::max<std::size_t>(index, std::size_t(__atomic_load_n(decoding_, __ATOMIC_RELAXED)));
+        int status = 0;
+        std::string how = "ended without a word";
+        if (child_ > 0 && ::waitpid(child_, &status, 0) == child_) {
+            child_ = -1;
+            if (WIFSIGNALED(status)) {
+                const char* name = sigabbrev_np(WTERMSIG(status));
+                how = std::string("stopped by SIG") + (name ? name : std::to_string(WTERMSIG(status)).c_str());
+            } else if (WIFEXITED(status)) {
+                how = "exited with status " + std::to_string(WEXITSTATUS(status));
+            }
+        }
+        throw Error(prefix_ + ": point " + std::to_string(index) + " of " + std::to_string(declared) +
+                    ": the compressed point data cannot be decoded; the LAZ file is corrupt (LASzip " + how +
+                    " in the decoding process)");
+    }
+
+    void stopDecoder() noexcept {
+        if (pipe_ >= 0) ::close(pipe_);
+        pipe_ = -1;
+        if (child_ > 0) {
+            ::kill(child_, SIGKILL);  // done or abandoned: nothing of it is needed
+            while (::waitpid(child_, nullptr, 0) < 0 && errno == EINTR) {
+            }
+            child_ = -1;
+        }
+        if (decoding_) ::munmap(decoding_, sizeof(std::uint64_t));
+        decoding_ = nullptr;
+    }
+
     // LASzip's message ("reading point 0 of 4096 total points") names neither the cause
     // nor what is allowed: the checks before it leave a decoding failure or a file cut
     // short inside a chunk.
@@ -541,6 +736,11 @@ private:
     bool open_ = false;
     bool extended_ = false;
     bool compressed_ = false;
+    pid_t child_ = -1;  // the decoding process of compressed data
+    int pipe_ = -1;     // its frames
+    std::uint64_t* decoding_ = nullptr;  // shared with it: the point it is decoding
+    std::vector<CloudPoint> pending_;
+    std::size_t pending_at_ = 0;
     glm::dvec3 scale_{1.0}, offset_{0.0};
     ExtraField range_, label_, incidence_, height_;
     std::size_t extra_size_ = 0;

@@ -230,3 +230,15 @@ TEST_CASE("las_reader: EVLRs after the points are allowed, and must lie inside t
     put<std::uint32_t>(b, 243, 1000);
     CHECK(contains(readError(b, "x.las"), "1000 EVLRs from byte " + std::to_string(end) + " do not fit a file of"));
 }
+
+TEST_CASE("las_reader: LASzip aborting on corrupt compressed data ends only its decoding process") {
+    // Valid header, VLRs, chunk table and layer sizes; corrupt arithmetic-coded points,
+    // on which LASzip (built with assertions) aborts in ArithmeticDecoder::decodeSymbol.
+    const fs::path kept = fs::path(LADARVR_TEST_DATA_DIR) / "engine" / "fuzz_regressions" / "las_laszip_symbol_assert.laz";
+    const std::string e = readError(slurp(kept));
+    CHECK(e == "las: x.laz: point 1 of 475: the compressed point data cannot be decoded; the LAZ file is corrupt "
+               "(LASzip stopped by SIGABRT in the decoding process)");
+    // The reader, and the process, go on: the same file twice, then a good one.
+    CHECK(readError(slurp(kept)) == e);
+    CHECK(readError(written(CloudFormat::Laz)) == "ok");
+}
