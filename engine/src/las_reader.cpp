@@ -273,10 +273,10 @@ private:
     }
 
     [[noreturn]] void decodeInChild(int fd) noexcept {
-        // The parent's handlers (temporary file cleanup) are not the child's to run.
-        std::signal(SIGINT, SIG_DFL);
-        std::signal(SIGTERM, SIG_DFL);
-        std::signal(SIGPIPE, SIG_DFL);
+        // The parent's handlers (temporary file cleanup, a sanitizer's or fuzzer's crash
+        // report) are not the child's to run: it ends by the signal, which the parent reports.
+        for (const int sig : {SIGINT, SIGTERM, SIGPIPE, SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL})
+            std::signal(sig, SIG_DFL);
         // LASzip's own words on stderr (an assertion's) would be a second line: the
         // parent reports how the child ended.
         const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
