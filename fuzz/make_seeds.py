@@ -75,12 +75,70 @@ def extra_bytes_vlr(fields):
     return struct.pack("<H16sHH32s", 0, b"LASF_Spec", 4, len(payload), b"extra bytes") + payload
 
 
+def laz_file(points, extra=b"", vlrs=b"", nvlrs=0, compressor=3, table="ok"):
+    """A LAZ 1.4 file of point format 7 whose chunks hold one point each, so no point
+    needs the arithmetic coder: each chunk is the raw first point, its count (1) and the
+    sizes of its 15 layers (POINT14's 9, RGB14's 1, one per extra byte), of which only
+    the first has bytes (4, what its decoder reads when it starts). `table`: "none" (no
+    table: LASzip finds the chunks as it reads), "ok" (a table of the right count whose
+    coded sizes are left as zeros: LASzip checks each chunk's start against them, so
+    only the reader's checks before it pass), or a (count, cut) pair for crafted ones."""
+    las = las_file(4, 7, points, extra, vlrs, nvlrs)
+    header_size = 375
+    data_at = struct.unpack_from("<I", las, 96)[0]
+    record = struct.unpack_from("<H", las, 105)[0]
+    body = las[data_at:]
+    items = [(10, 30, 3), (11, 6, 3)] + ([(14, len(extra), 3)] if extra else [])
+    payload = struct.pack("<HHBBHIIqqH", compressor, 0, 3, 4, 3, 0, 1, -1, -1, len(items))
+    payload += b"".join(struct.pack("<HHH", *i) for i in items)
+    laszip_vlr = struct.pack("<H16sHH32s", 0, b"laszip encoded", 22204, len(payload), b"seed") + payload
+    layers = 9 + 1 + len(extra)
+    chunks = b""
+    for i in range(len(points)):
+        chunks += body[i * record:(i + 1) * record] + struct.pack("<I", 1)
+        chunks += struct.pack("<%dI" % layers, 4, *([0] * (layers - 1))) + b"\0" * 4
+    head = bytearray(las[:data_at] + laszip_vlr)
+    struct.pack_into("<I", head, 96, len(head))
+    struct.pack_into("<I", head, 100, nvlrs + 1)
+    head[104] = 7 | 0x80
+    table_at = len(head) + 8 + len(chunks)
+    if table == "none":
+        return bytes(head) + struct.pack("<q", len(head)) + chunks
+    count, cut = (len(points), None) if table == "ok" else table
+    out = bytes(head) + struct.pack("<q", table_at) + chunks + struct.pack("<II", 0, count) + b"\0" * 8
+    return out[:cut] if cut is not None else out
+
+
 def main():
     os.makedirs(LAS, exist_ok=True)
     geo = [(5400000.125, 1000000.5, 12.0, 2), (5400001.0, 1000001.25, 14.5, 6), (5400002.5, 999999.0, 3.0, 64)]
     write("asprs_12.las", las_file(2, 3, [(x, y, z, min(c, 31)) for x, y, z, c in geo]), LAS)
-    write("ours_14.las", las_file(4, 7, geo, struct.pack("<fB", 250.5, 1),
-                                  extra_bytes_vlr([("range", 9), ("label", 1)]), 1), LAS)
+    ours = (struct.pack("<fB", 250.5, 1), extra_bytes_vlr([("range", 9), ("label", 1)]), 1)
+    write("ours_14.las", las_file(4, 7, geo, *ours), LAS)
+    # LAZ, and the crafted files that crashed LASzip before the reader checked what it
+    # trusts: compressors that do not suit LAS 1.4 items, a file cut inside the chunk
+    # table, a chunk count with its high byte set; and what else the reader refuses.
+    write("ours_14.laz", laz_file(geo, *ours, table="none"), LAS)
+    write("crafted_compressor1.laz", laz_file(geo, *ours, compressor=1), LAS)
+    write("crafted_compressor2.laz", laz_file(geo, *ours, compressor=2), LAS)
+    full = laz_file(geo, *ours)
+    table_at = struct.unpack_from("<q", full, struct.unpack_from("<I", full, 96)[0])[0]
+    write("crafted_table_cut6.laz", full[:table_at + 6], LAS)
+    write("crafted_table_cut7.laz", full[:table_at + 7], LAS)
+    write("crafted_table_count_high.laz", laz_file(geo, *ours, table=(0x80000003, None)), LAS)
+    wrap = bytearray(full)
+    first = struct.unpack_from("<I", full, 96)[0] + 8 + struct.unpack_from("<H", full, 105)[0] + 4
+    struct.pack_into("<II", wrap, first, 0xFFFFFFFF, 2)  # the layer sizes' 32-bit sum wraps
+    write("crafted_layers_wrap.laz", bytes(wrap), LAS)
+    fewer = bytearray(full)
+    struct.pack_into("<Q", fewer, 247, len(geo) - 1)
+    write("crafted_fewer_points.laz", bytes(fewer), LAS)
+    fewer = bytearray(las_file(4, 7, geo, *ours))
+    struct.pack_into("<Q", fewer, 247, len(geo) - 1)
+    write("crafted_fewer_points.las", bytes(fewer), LAS)
+    # Two extra bytes VLRs: the first's fields (5 bytes) with the second's size (1 byte).
+    two = extra_bytes_vlr([("range", 9), ("label", 1)]) + extra_bytes_vlr([("other", 1)])
+    write("crafted_two_extra_vlrs.las", las_file(4, 7, geo, ours[0], two, 2), LAS)
     os.makedirs(CLOUD, exist_ok=True)
     os.makedirs(SCENE, exist_ok=True)
     os.makedirs(SCRIPT, exist_ok=True)

@@ -16,10 +16,14 @@ namespace engine {
 namespace {
 
 /// PLY files start with "ply", LAS and LAZ with "LASF"; everything else is read as PCD
-/// (whose header may start with any comment).
-const char* moduleOf(detail::ByteSource& source) {
+/// (whose header may start with any comment), except a file named .las or .laz: the LAS
+/// reader says what it lacks (an empty or cut file is no PCD either).
+const char* moduleOf(detail::ByteSource& source, const std::filesystem::path& name) {
     if (source.size() >= 4 && source.view(0, 4) == "LASF") return "las";
     if (source.size() >= 3 && source.view(0, 3) == "ply") return "ply";
+    std::string ext = name.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".las" || ext == ".laz") return "las";
     return "pcd";
 }
 
@@ -43,14 +47,14 @@ std::unique_ptr<detail::FormatReader> open(detail::ByteSource& source, const std
 
 CloudReader::CloudReader(const std::filesystem::path& path)
     : source_(detail::fileSource(path, moduleFor(path))) {
-    const std::string module = moduleOf(*source_);
+    const std::string module = moduleOf(*source_, path);
     prefix_ = module + ": " + path.string();
     format_ = open(*source_, module, prefix_);
 }
 
 CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name)
     : source_(detail::memorySource(bytes)) {
-    const std::string module = moduleOf(*source_);
+    const std::string module = moduleOf(*source_, name);
     prefix_ = module + ": " + name.string();
     format_ = open(*source_, module, prefix_);
 }

@@ -1,7 +1,10 @@
 // las_reader: LAS 1.0-1.4 and LAZ through LASzip, behind engine::CloudReader. The header
 // and the VLRs are checked here first, bounded by the bytes present (LASzip trusts
-// them), then LASzip decodes the points from a stream over the ByteSource, a chunk at a
-// time. Coordinates are computed in double and moved onto a double origin (whole metres
+// them), and so is the layout of compressed data that LASzip would otherwise trust: the
+// LASzip VLR's compressor and items against the point format, the chunk table's place
+// and count against the file, and each layered chunk's layer sizes against the bytes it
+// can have. Then LASzip decodes the points from a stream over the ByteSource, a chunk at
+// a time. Coordinates are computed in double and moved onto a double origin (whole metres
 // near the middle of the header's bounds) before the cast to float. Classes map to roles
 // (roleForClass), unless the file has our `label` extra bytes (docs/formats.md).
 #include "cloud_decode.hpp"
@@ -12,8 +15,16 @@
 
 #include <laszip/laszip_api.h>
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -28,6 +39,14 @@ namespace {
 constexpr std::array<std::size_t, 11> kMinRecord = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
 constexpr std::size_t kVlrHeader = 54;
 constexpr std::size_t kExtraBytesDescriptor = 192;
+
+// LASzip's compressors (the VLR's first field) and item types.
+constexpr unsigned kPointwise = 1, kPointwiseChunked = 2, kLayeredChunked = 3;
+enum ItemType : unsigned {
+    kByte = 0, kPoint10 = 6, kGpsTime11 = 7, kRgb12 = 8, kWavePacket13 = 9,
+    kPoint14 = 10, kRgb14 = 11, kRgbNir14 = 12, kWavePacket14 = 13, kByte14 = 14
+};
+constexpr std::uint32_t kVariableChunks = 0xFFFFFFFFu;  // chunk size of tables with point counts
 
 template <typename T>
 T le(std::string_view bytes, std::size_t at) {
@@ -116,16 +135,22 @@ public:
     LasReader(ByteSource& source, const std::string& prefix)
         : source_(source), prefix_(prefix), buf_(source), stream_(&buf_) {
         checkHeader();
-        if (laszip_create(&zip_) != 0 || !zip_) throw Error(prefix_ + ": LASzip could not be started");
-        laszip_BOOL compressed = 0;
-        check(laszip_open_reader_stream(zip_, stream_, &compressed), "cannot open");
-        open_ = true;
-        check(laszip_get_point_pointer(zip_, &point_), "cannot read");
+        if (compressed_) {
+            try {
+                startDecoder();
+            } catch (...) {
+                stopDecoder();  // no destructor runs for a constructor that throws
+                throw;
+            }
+        } else {
+            openLaszip();
+        }
     }
 
     ~LasReader() override {
         if (open_) laszip_close_reader(zip_);
         if (zip_) laszip_destroy(zip_);
+        stopDecoder();
     }
     LasReader(const LasReader&) = delete;
     LasReader& operator=(const LasReader&) = delete;
@@ -133,54 +158,251 @@ public:
     std::size_t next(std::vector<CloudPoint>& out, std::size_t max_points) override {
         const std::size_t n = std::min(max_points, declared - done_);
         out.reserve(out.size() + n);
-        const laszip_point_struct& q = *point_;
-        for (std::size_t k = 0; k < n; ++k) {
-            if (laszip_read_point(zip_) != 0) check(1, ("point " + std::to_string(done_ + k)).c_str());
-            CloudPoint p;
-            p.position = glm::vec3(float(double(q.X) * scale_.x + offset_.x - origin.x),
-                                   float(double(q.Y) * scale_.y + offset_.y - origin.y),
-                                   float(double(q.Z) * scale_.z + offset_.z - origin.z));
-            p.intensity = q.intensity;
-            p.view = q.point_source_ID;
-            if (extended_) {
-                p.return_number = q.extended_return_number;
-                p.returns = q.extended_number_of_returns;
-                p.scan_angle_deg = float(q.extended_scan_angle * 0.006);
-            } else {
-                p.return_number = q.return_number;
-                p.returns = q.number_of_returns;
-                p.scan_angle_deg = float(q.scan_angle_rank);
+        if (compressed_) {
+            for (std::size_t k = 0; k < n;) {
+                if (pending_at_ == pending_.size()) receive(done_ + k);
+                const std::size_t take = std::min(n - k, pending_.size() - pending_at_);
+                out.insert(out.end(), pending_.begin() + std::ptrdiff_t(pending_at_),
+                           pending_.begin() + std::ptrdiff_t(pending_at_ + take));
+                pending_at_ += take;
+                k += take;
             }
-            if (fields.rgb)
-                p.rgb = packRgb(std::uint8_t(q.rgb[0] >> 8), std::uint8_t(q.rgb[1] >> 8), std::uint8_t(q.rgb[2] >> 8));
-            const unsigned char* extra = q.num_extra_bytes >= int(extra_size_) ? q.extra_bytes : nullptr;
-            if (label_.present && extra) {
-                const double v = extraValue(extra, label_);
-                if (!(v == 0.0 || v == 1.0 || v == 2.0)) {
-                    char shown_v[32];  // %g: any double (a float extra byte may hold 1e31 or NaN)
-                    std::snprintf(shown_v, sizeof shown_v, "%g", v);
-                    throw Error(prefix_ + ": point " + std::to_string(done_ + k) + ": label " + shown_v +
-                                " is not 0 (ground), 1 (environment) or 2 (target)");
-                }
-                p.label = Role(std::uint8_t(v));
-            } else {
-                const unsigned cls = extended_ ? q.extended_classification : q.classification;
-                bool known = true;
-                p.label = roleForClass(cls, known);
-                if (!known && stats.unknown_classes++ == 0) stats.first_unknown = cls;
+        } else {
+            for (std::size_t k = 0; k < n; ++k) {
+                if (laszip_read_point(zip_) != 0) pointFailed(done_ + k);
+                out.push_back(convert(*point_, done_ + k));
             }
-            if (extra) {
-                if (range_.present) p.range_m = float(extraValue(extra, range_));
-                if (incidence_.present) p.incidence_deg = float(extraValue(extra, incidence_));
-                if (height_.present) p.height_above_ground_m = float(extraValue(extra, height_));
-            }
-            out.push_back(p);
         }
         done_ += n;
         return n;
     }
 
 private:
+    void openLaszip() {
+        if (laszip_create(&zip_) != 0 || !zip_) throw Error(prefix_ + ": LASzip could not be started");
+        laszip_BOOL compressed = 0;
+        check(laszip_open_reader_stream(zip_, stream_, &compressed), "cannot open");
+        open_ = true;
+        check(laszip_get_point_pointer(zip_, &point_), "cannot read");
+    }
+
+    // The point LASzip decoded, as a CloudPoint in the local frame. Throws Error (a label
+    // other than 0..2); counts unknown classes in `stats`.
+    CloudPoint convert(const laszip_point_struct& q, std::size_t index) {
+        CloudPoint p;
+        p.position = glm::vec3(float(double(q.X) * scale_.x + offset_.x - origin.x),
+                               float(double(q.Y) * scale_.y + offset_.y - origin.y),
+                               float(double(q.Z) * scale_.z + offset_.z - origin.z));
+        p.intensity = q.intensity;
+        p.view = q.point_source_ID;
+        if (extended_) {
+            p.return_number = q.extended_return_number;
+            p.returns = q.extended_number_of_returns;
+            p.scan_angle_deg = float(q.extended_scan_angle * 0.006);
+        } else {
+            p.return_number = q.return_number;
+            p.returns = q.number_of_returns;
+            p.scan_angle_deg = float(q.scan_angle_rank);
+        }
+        if (fields.rgb)
+            p.rgb = packRgb(std::uint8_t(q.rgb[0] >> 8), std::uint8_t(q.rgb[1] >> 8), std::uint8_t(q.rgb[2] >> 8));
+        const unsigned char* extra = q.num_extra_bytes >= int(extra_size_) ? q.extra_bytes : nullptr;
+        if (label_.present && extra) {
+            const double v = extraValue(extra, label_);
+            if (!(v == 0.0 || v == 1.0 || v == 2.0)) {
+                char shown_v[32];  // %g: any double (a float extra byte may hold 1e31 or NaN)
+                std::snprintf(shown_v, sizeof shown_v, "%g", v);
+                throw Error(prefix_ + ": point " + std::to_string(index) + ": label " + shown_v +
+                            " is not 0 (ground), 1 (environment) or 2 (target)");
+            }
+            p.label = Role(std::uint8_t(v));
+        } else {
+            const unsigned cls = extended_ ? q.extended_classification : q.classification;
+            bool known = true;
+            p.label = roleForClass(cls, known);
+            if (!known && stats.unknown_classes++ == 0) stats.first_unknown = cls;
+        }
+        if (extra) {
+            if (range_.present) p.range_m = float(extraValue(extra, range_));
+            if (incidence_.present) p.incidence_deg = float(extraValue(extra, incidence_));
+            if (height_.present) p.height_above_ground_m = float(extraValue(extra, height_));
+        }
+        return p;
+    }
+
+    // Compressed points are decoded in a child process. LASzip trusts the arithmetic-coded
+    // data inside a chunk, and a build with assertions aborts on symbols a corrupt file
+    // makes (ArithmeticDecoder::decodeSymbol), which no check of sizes and offsets can
+    // foresee short of decoding the data; in a child, a fault or an abort of LASzip ends
+    // only the child, and the reader reports it as one line. The child (forked with the
+    // header already checked, reading the same ByteSource) sends frames over a pipe: one
+    // "open" or error frame, then frames of converted points, or an error.
+    struct Frame {
+        char kind = 0;  // 'O' opened, 'P' points, 'E' error message
+        std::uint32_t bytes = 0;
+        std::uint64_t unknown_classes = 0;  // so far, with 'P'
+        std::uint32_t first_unknown = 0;
+    };
+    static constexpr std::size_t kFramePoints = 4096;
+
+    void startDecoder() {
+        // The point the child is decoding, shared, so that a fault can be placed exactly.
+        void* shared = ::mmap(nullptr, sizeof(std::uint64_t), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+        if (shared == MAP_FAILED) throw Error(prefix_ + ": cannot start the LAZ decoder: " + std::strerror(errno));
+        decoding_ = static_cast<std::uint64_t*>(shared);
+        *decoding_ = 0;
+        int fds[2];
+        if (::pipe2(fds, O_CLOEXEC) != 0)
+            throw Error(prefix_ + ": cannot start the LAZ decoder: " + std::strerror(errno));
+        const pid_t pid = ::fork();
+        if (pid < 0) {
+            const int e = errno;
+            ::close(fds[0]);
+            ::close(fds[1]);
+            throw Error(prefix_ + ": cannot start the LAZ decoder: " + std::strerror(e));
+        }
+        if (pid == 0) {
+            ::close(fds[0]);
+            decodeInChild(fds[1]);  // never returns
+        }
+        ::close(fds[1]);
+        ::fcntl(fds[0], F_SETPIPE_SZ, 1 << 20);  // fewer switches between the two; best effort
+        child_ = pid;
+        pipe_ = fds[0];
+        receive(0);  // 'O', or the error of opening
+    }
+
+    [[noreturn]] void decodeInChild(int fd) noexcept {
+        // The parent's handlers (temporary file cleanup, a sanitizer's or fuzzer's crash
+        // report) are not the child's to run: it ends by the signal, which the parent reports.
+        for (const int sig : {SIGINT, SIGTERM, SIGPIPE, SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL})
+            std::signal(sig, SIG_DFL);
+        // LASzip's own words on stderr (an assertion's) would be a second line: the
+        // parent reports how the child ended.
+        const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+        if (null >= 0) ::dup2(null, STDERR_FILENO);
+        try {
+            openLaszip();
+            send(fd, Frame{'O'}, nullptr);
+            std::vector<CloudPoint> batch;
+            batch.reserve(kFramePoints);
+            for (std::size_t i = 0; i < declared;) {
+                batch.clear();
+                for (; batch.size() < kFramePoints && i < declared; ++i) {
+                    __atomic_store_n(decoding_, std::uint64_t(i), __ATOMIC_RELAXED);
+                    if (laszip_read_point(zip_) != 0) pointFailed(i);
+                    batch.push_back(convert(*point_, i));
+                }
+                Frame f{'P', std::uint32_t(batch.size() * sizeof(CloudPoint)), stats.unknown_classes, stats.first_unknown};
+                send(fd, f, batch.data());
+            }
+        } catch (const Error& e) {
+            const std::string m = e.what();
+            send(fd, Frame{'E', std::uint32_t(std::min<std::size_t>(m.size(), 4096))}, m.data());
+        } catch (...) {
+            const std::string m = prefix_ + ": the LAZ decoder failed";
+            send(fd, Frame{'E', std::uint32_t(m.size())}, m.data());
+        }
+        ::_exit(0);
+    }
+
+    static void send(int fd, const Frame& f, const void* payload) noexcept {
+        if (!writeAll(fd, &f, sizeof f) || (f.bytes > 0 && !writeAll(fd, payload, f.bytes))) ::_exit(0);
+    }
+
+    static bool writeAll(int fd, const void* data, std::size_t n) noexcept {
+        const char* p = static_cast<const char*>(data);
+        while (n > 0) {
+            const ssize_t w = ::write(fd, p, n);
+            if (w < 0 && errno == EINTR) continue;
+            if (w <= 0) return false;
+            p += w;
+            n -= std::size_t(w);
+        }
+        return true;
+    }
+
+    // false at the end of the pipe (the child gone) before `n` bytes.
+    bool readAll(void* data, std::size_t n) {
+        char* p = static_cast<char*>(data);
+        while (n > 0) {
+            const ssize_t r = ::read(pipe_, p, n);
+            if (r < 0 && errno == EINTR) continue;
+            if (r <= 0) return false;
+            p += r;
+            n -= std::size_t(r);
+        }
+        return true;
+    }
+
+    // The next frame: points into pending_, or the child's error, or how it ended.
+    // `index`: the point being waited for, for messages.
+    void receive(std::size_t index) {
+        Frame f;
+        if (!readAll(&f, sizeof f)) decoderDied(index);
+        if (f.kind == 'O') return;
+        if (f.kind == 'E') {
+            std::string m(f.bytes, '\0');
+            if (!readAll(m.data(), m.size())) decoderDied(index);
+            throw Error(m);
+        }
+        if (f.kind != 'P' || f.bytes == 0 || f.bytes % sizeof(CloudPoint) != 0 ||
+            f.bytes / sizeof(CloudPoint) > kFramePoints)
+            decoderDied(index);
+        pending_.resize(f.bytes / sizeof(CloudPoint));
+        pending_at_ = 0;
+        if (!readAll(pending_.data(), f.bytes)) decoderDied(index);
+        stats.unknown_classes = std::size_t(f.unknown_classes);
+        stats.first_unknown = f.first_unknown;
+    }
+
+    [[noreturn]] void decoderDied(std::size_t index) {
+        if (decoding_) index = std::max<std::size_t>(index, std::size_t(__atomic_load_n(decoding_, __ATOMIC_RELAXED)));
+        int status = 0;
+        std::string how = "ended without a word";
+        if (child_ > 0 && ::waitpid(child_, &status, 0) == child_) {
+            child_ = -1;
+            if (WIFSIGNALED(status)) {
+                const char* name = sigabbrev_np(WTERMSIG(status));
+                how = std::string("stopped by SIG") + (name ? name : std::to_string(WTERMSIG(status)).c_str());
+            } else if (WIFEXITED(status)) {
+                how = "exited with status " + std::to_string(WEXITSTATUS(status));
+            }
+        }
+        throw Error(prefix_ + ": point " + std::to_string(index) + " of " + std::to_string(declared) +
+                    ": the compressed point data cannot be decoded; the LAZ file is corrupt (LASzip " + how +
+                    " in the decoding process)");
+    }
+
+    void stopDecoder() noexcept {
+        if (pipe_ >= 0) ::close(pipe_);
+        pipe_ = -1;
+        if (child_ > 0) {
+            ::kill(child_, SIGKILL);  // done or abandoned: nothing of it is needed
+            while (::waitpid(child_, nullptr, 0) < 0 && errno == EINTR) {
+            }
+            child_ = -1;
+        }
+        if (decoding_) ::munmap(decoding_, sizeof(std::uint64_t));
+        decoding_ = nullptr;
+    }
+
+    // LASzip's message ("reading point 0 of 4096 total points") names neither the cause
+    // nor what is allowed: the checks before it leave a decoding failure or a file cut
+    // short inside a chunk.
+    [[noreturn]] void pointFailed(std::size_t index) {
+        laszip_CHAR* message = nullptr;
+        if (zip_) laszip_get_error(zip_, &message);
+        // LASzip's own words, unless they only repeat the point's number.
+        const std::string said = message ? std::string(message) : std::string();
+        const std::string detail =
+            said.empty() || said.rfind("reading point ", 0) == 0 ? std::string() : " (LASzip: " + shown(said, 160, false) + ")";
+        throw Error(prefix_ + ": point " + std::to_string(index) + " of " + std::to_string(declared) + ": " +
+                    (compressed_ ? "the compressed point data cannot be decoded; the LAZ file is corrupt or cut short"
+                                 : "the point record cannot be read") +
+                    detail);
+    }
+
     void check(laszip_I32 rc, const char* what) {
         if (rc == 0) return;
         laszip_CHAR* message = nullptr;
@@ -192,6 +414,9 @@ private:
     // LASzip sees them.
     void checkHeader() {
         const std::uint64_t size = source_.size();
+        if (size >= 4 && source_.view(0, 4) != "LASF")
+            throw Error(prefix_ + ": not a LAS file: it starts with '" + shown(source_.view(0, 4), 20, false) +
+                        "'; allowed: 'LASF'");
         if (size < 227) throw Error(prefix_ + ": truncated: a LAS header needs 227 bytes, the file has " + std::to_string(size));
         const std::string_view h = source_.view(0, std::size_t(std::min<std::uint64_t>(size, 375)));
         const std::string head(h);  // the view changes with the next read
@@ -229,7 +454,8 @@ private:
         if (vlrs > (data_at - header_size) / kVlrHeader)
             throw Error(prefix_ + ": " + std::to_string(vlrs) + " VLRs cannot fit before the point data");
         std::size_t extra_declared = 0;
-        bool laszip_vlr = false;
+        bool laszip_vlr = false, extra_vlr = false;
+        LaszipVlr laz;
         for (std::uint32_t v = 0; v < vlrs; ++v) {
             if (data_at - at < kVlrHeader) throw Error(prefix_ + ": VLR " + std::to_string(v) + " runs into the point data");
             const std::string vh(source_.view(at, kVlrHeader));
@@ -237,10 +463,19 @@ private:
             if (data_at - at - kVlrHeader < length)
                 throw Error(prefix_ + ": VLR " + std::to_string(v) + " runs into the point data");
             const std::string user(vh.data() + 2, strnlen(vh.data() + 2, 16));
-            if (user == "LASF_Spec" && le<std::uint16_t>(vh, 18) == 4)
+            // One extra bytes VLR and one LASzip VLR: the fields of one and the sizes of
+            // another would describe different records.
+            if (user == "LASF_Spec" && le<std::uint16_t>(vh, 18) == 4) {
+                if (extra_vlr)
+                    throw Error(prefix_ + ": VLR " + std::to_string(v) +
+                                " is a second extra bytes VLR; allowed: one per file");
                 extra_declared = readExtraBytes(std::string(source_.view(at + kVlrHeader, length)));
+                extra_vlr = true;
+            }
             if (user == "laszip encoded" && le<std::uint16_t>(vh, 18) == 22204) {
-                checkLaszipVlr(std::string(source_.view(at + kVlrHeader, length)));
+                if (laszip_vlr)
+                    throw Error(prefix_ + ": VLR " + std::to_string(v) + " is a second LASzip VLR; allowed: one per file");
+                laz = checkLaszipVlr(std::string(source_.view(at + kVlrHeader, length)), format, record);
                 laszip_vlr = true;
             }
             at += kVlrHeader + length;
@@ -249,6 +484,9 @@ private:
         // what they allocated), so what it would refuse is refused here first.
         if (compressed && !laszip_vlr)
             throw Error(prefix_ + ": the point format marks compressed (LAZ) data but there is no LASzip VLR");
+        if (!compressed && laszip_vlr)
+            throw Error(prefix_ + ": the file has a LASzip VLR but the point format " + std::to_string(raw_format) +
+                        " does not mark compressed (LAZ) data");
         if (extra_declared > record - kMinRecord[format])
             throw Error(prefix_ + ": the extra bytes VLR describes " + std::to_string(extra_declared) +
                         " bytes but the records have " + std::to_string(record - kMinRecord[format]));
@@ -260,6 +498,11 @@ private:
                         " bytes of point data follow");
         if (compressed && count > 0 && remaining == 0)
             throw Error(prefix_ + ": truncated: no compressed point data follow the header");
+        if (minor >= 4) checkEvlrs(head);
+        if (!compressed) checkTrailingBytes(head, minor, data_at + count * record, count, record);
+        if (compressed && (laz.compressor == kPointwiseChunked || laz.compressor == kLayeredChunked))
+            checkChunks(laz, data_at, count, record);
+        compressed_ = compressed;
         declared = std::size_t(count);
         // LAZ: at least one byte per point is a safe amount to reserve (the real count
         // needs its memory anyway; a hostile count on a small file gets the file size).
@@ -281,16 +524,186 @@ private:
         fields.height_above_ground = height_.present;
     }
 
-    // The LASzip VLR: compressor 0..3 (none, pointwise, chunked, layered), the arithmetic
-    // coder, and as many 6-byte item descriptions as it says.
-    void checkLaszipVlr(const std::string& payload) {
+    struct LaszipVlr {
+        unsigned compressor = 0;
+        std::uint32_t chunk_points = 0;  // kVariableChunks: each chunk's count is in the table
+        std::size_t layers = 0;          // per chunk, of layered compression
+    };
+
+    // The LASzip VLR: the compressor, the arithmetic coder, the chunk size and the items.
+    // LASzip builds its decoders from the items without checking that they suit the
+    // compressor (LAS 1.4 items are only decoded in layers, the older ones only
+    // point-wise; the wrong kind crashes it), so the items must be exactly those of the
+    // point format and its extra bytes, each in a version of its compressor.
+    LaszipVlr checkLaszipVlr(const std::string& payload, unsigned format, std::size_t record) {
         if (payload.size() < 34) throw Error(prefix_ + ": the LASzip VLR is shorter than 34 bytes");
-        const unsigned compressor = le<std::uint16_t>(payload, 0), coder = le<std::uint16_t>(payload, 2);
+        LaszipVlr laz;
+        laz.compressor = le<std::uint16_t>(payload, 0);
+        const unsigned coder = le<std::uint16_t>(payload, 2);
+        laz.chunk_points = le<std::uint32_t>(payload, 12);
         const std::size_t items = le<std::uint16_t>(payload, 32);
-        if (compressor > 3 || coder != 0 || payload.size() != 34 + 6 * items || items == 0)
+        const bool las14 = format >= 6;
+        const bool compressor_ok = las14 ? laz.compressor == kLayeredChunked
+                                         : laz.compressor == kPointwise || laz.compressor == kPointwiseChunked;
+        if (!compressor_ok || coder != 0 || payload.size() != 34 + 6 * items || items == 0)
             throw Error(prefix_ + ": the LASzip VLR is not one this reader knows (compressor " +
-                        std::to_string(compressor) + ", coder " + std::to_string(coder) + ", " +
-                        std::to_string(items) + " items in " + std::to_string(payload.size()) + " bytes)");
+                        std::to_string(laz.compressor) + ", coder " + std::to_string(coder) + ", " +
+                        std::to_string(items) + " items in " + std::to_string(payload.size()) +
+                        " bytes); allowed for point format " + std::to_string(format) + ": compressor " +
+                        (las14 ? "3 (layered chunks)" : "1 or 2 (point-wise)") + ", coder 0");
+        // The items the point format needs, then its extra bytes.
+        std::vector<unsigned> expected;
+        if (!las14) {
+            expected.push_back(kPoint10);
+            if (format == 1 || format >= 3) expected.push_back(kGpsTime11);
+            if (format == 2 || format == 3 || format == 5) expected.push_back(kRgb12);
+            if (format == 4 || format == 5) expected.push_back(kWavePacket13);
+        } else {
+            expected.push_back(kPoint14);
+            if (format == 7) expected.push_back(kRgb14);
+            if (format == 8 || format == 10) expected.push_back(kRgbNir14);
+            if (format == 9 || format == 10) expected.push_back(kWavePacket14);
+        }
+        const std::size_t extra = record - kMinRecord[format];
+        if (extra > 0) expected.push_back(las14 ? kByte14 : kByte);
+        std::string listed;
+        bool matches = items == expected.size();
+        for (std::size_t i = 0; i < items; ++i) {
+            const unsigned type = le<std::uint16_t>(payload, 34 + 6 * i);
+            const unsigned size = le<std::uint16_t>(payload, 36 + 6 * i);
+            const unsigned version = le<std::uint16_t>(payload, 38 + 6 * i);
+            listed += (i ? ", " : "") + std::to_string(type) + "/" + std::to_string(size) + "/v" + std::to_string(version);
+            if (!matches) continue;
+            const bool bytes = type == kByte || type == kByte14;
+            const std::size_t want_size = bytes ? extra
+                                          : type == kPoint10 ? 20 : type == kGpsTime11 ? 8 : type == kRgb12 || type == kRgb14 ? 6
+                                          : type == kPoint14 ? 30 : type == kRgbNir14 ? 8 : 29;
+            const bool version_ok = las14 ? (version >= 2 && version <= 4 && !(type == kWavePacket14 && version == 2))
+                                          : (version == 1 || (version == 2 && type != kWavePacket13));
+            matches = type == expected[i] && size == want_size && version_ok;
+            if (type == kPoint14) laz.layers += 9;
+            if (type == kRgb14 || type == kWavePacket14) laz.layers += 1;
+            if (type == kRgbNir14) laz.layers += 2;
+            if (type == kByte14) laz.layers += size;  // one layer per byte
+        }
+        if (!matches)
+            throw Error(prefix_ + ": the LASzip VLR's items (type/size/version: " + shown(listed, 200, false) +
+                        ") are not those of point format " + std::to_string(format) + " with " + std::to_string(extra) +
+                        " extra bytes");
+        if (laz.chunk_points == 0) laz.chunk_points = kVariableChunks;  // LASzip reads 0 so
+        return laz;
+    }
+
+    // Chunked LAZ: the 8 bytes before the chunks give the chunk table's place (or -1: in
+    // the file's last 8 bytes; or none, the table's own place: no table, LASzip then
+    // finds the chunks as it reads them). The table must lie inside the file, be version
+    // 0 and count no more chunks than the points and bytes allow (LASzip allocates
+    // by the count and trusts a table cut short). A table of fixed-size chunks counts
+    // exactly the chunks the header's points fill, so trailing chunks are refused.
+    // Layered chunks are then walked: each one's raw first point, point count and layer
+    // sizes, whose sum LASzip allocates and reads in 32 bits.
+    void checkChunks(const LaszipVlr& laz, std::uint64_t data_at, std::uint64_t count, std::size_t record) {
+        const std::uint64_t size = source_.size();
+        const std::uint64_t chunks_at = data_at + 8;
+        if (count == 0) return;
+        if (chunks_at > size) throw Error(prefix_ + ": truncated: the chunk table's position is cut short");
+        std::int64_t table = le<std::int64_t>(std::string(source_.view(data_at, 8)), 0);
+        if (table == -1 && size >= chunks_at + 8) table = le<std::int64_t>(std::string(source_.view(size - 8, 8)), 0);
+        std::uint64_t end = size;  // where the chunks must end
+        std::uint64_t tabled = 0;
+        const bool has_table = table != std::int64_t(data_at);
+        if (has_table) {
+            if (table < std::int64_t(chunks_at) || std::uint64_t(table) > size - std::min<std::uint64_t>(size, 8))
+                throw Error(prefix_ + ": the chunk table's position " + std::to_string(table) +
+                            " is outside the file; allowed: " + std::to_string(chunks_at) + " to " +
+                            std::to_string(size >= 8 ? size - 8 : 0) + " (the table needs 8 bytes)");
+            const std::string t(source_.view(std::uint64_t(table), 8));
+            const std::uint32_t version = le<std::uint32_t>(t, 0);
+            tabled = le<std::uint32_t>(t, 4);
+            if (version != 0)
+                throw Error(prefix_ + ": the chunk table's version is " + std::to_string(version) + "; allowed: 0");
+            const std::uint64_t most = std::min<std::uint64_t>(count, std::uint64_t(table) - chunks_at);
+            if (laz.chunk_points != kVariableChunks) {
+                const std::uint64_t fill = (count + laz.chunk_points - 1) / laz.chunk_points;
+                if (tabled != fill)
+                    throw Error(prefix_ + ": the chunk table lists " + std::to_string(tabled) + " chunks but the header's " +
+                                std::to_string(count) + " points fill " + std::to_string(fill) + " chunks of " +
+                                std::to_string(laz.chunk_points) + (tabled > fill ? " (the header counts fewer points than the data hold)" : ""));
+            } else if (tabled == 0 || tabled > most) {
+                throw Error(prefix_ + ": the chunk table lists " + std::to_string(tabled) + " chunks; allowed: 1 to " +
+                            std::to_string(most) + " for " + std::to_string(count) + " points");
+            }
+            end = std::uint64_t(table);
+        } else if (laz.chunk_points == kVariableChunks) {
+            throw Error(prefix_ + ": chunks of variable size need a chunk table, and the file has none");
+        }
+        if (laz.compressor != kLayeredChunked) return;
+        std::uint64_t at = chunks_at, left = count, chunk = 0;
+        const std::uint64_t head = record + 4 + 4 * std::uint64_t(laz.layers);
+        while (left > 0) {
+            if (end - at < head)
+                throw Error(prefix_ + ": truncated: chunk " + std::to_string(chunk) + " at byte " + std::to_string(at) +
+                            " has no room for its first point and layer sizes before byte " + std::to_string(end));
+            const std::string h(source_.view(at + record, std::size_t(4 + 4 * laz.layers)));
+            const std::uint32_t points = le<std::uint32_t>(h, 0);
+            std::uint64_t bytes = 0;
+            for (std::size_t l = 0; l < laz.layers; ++l) bytes += le<std::uint32_t>(h, 4 + 4 * l);
+            const std::uint64_t want = laz.chunk_points == kVariableChunks ? 0 : std::min<std::uint64_t>(left, laz.chunk_points);
+            if (points == 0 || points > left || (want != 0 && points != want))
+                throw Error(prefix_ + ": chunk " + std::to_string(chunk) + " holds " + std::to_string(points) +
+                            " points; allowed: " + (want != 0 ? std::to_string(want) : "1 to " + std::to_string(left)) +
+                            " (of the header's " + std::to_string(count) + ")");
+            if (bytes > end - at - head)
+                throw Error(prefix_ + ": chunk " + std::to_string(chunk) + "'s layers declare " + std::to_string(bytes) +
+                            " bytes but " + std::to_string(end - at - head) + " remain before byte " + std::to_string(end));
+            at += head + bytes;
+            left -= points;
+            ++chunk;
+        }
+        if (has_table && (at != end || chunk != tabled))
+            throw Error(prefix_ + ": the header's " + std::to_string(count) + " points end at byte " + std::to_string(at) +
+                        " in chunk " + std::to_string(chunk) + " but the chunk table starts at byte " + std::to_string(end) +
+                        " after " + std::to_string(tabled) + " chunks (the header counts fewer points than the data hold?)");
+    }
+
+    // LAS 1.4's extended VLRs after the points: each with its 64-bit length inside the
+    // file (the trailing-bytes check lets the points end where they begin, so they are
+    // what the rest of the file must hold).
+    void checkEvlrs(const std::string& head) {
+        const std::uint64_t size = source_.size();
+        const std::uint32_t n = le<std::uint32_t>(head, 243);
+        if (n == 0) return;
+        std::uint64_t at = le<std::uint64_t>(head, 235);
+        constexpr std::uint64_t kEvlrHeader = 60;
+        if (at > size || n > (size - at) / kEvlrHeader)
+            throw Error(prefix_ + ": " + std::to_string(n) + " EVLRs from byte " + std::to_string(at) +
+                        " do not fit a file of " + std::to_string(size) + " bytes");
+        for (std::uint32_t e = 0; e < n; ++e) {
+            if (size - at < kEvlrHeader)
+                throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) + " is cut short");
+            const std::uint64_t length = le<std::uint64_t>(std::string(source_.view(at + 20, 8)), 0);
+            if (length > size - at - kEvlrHeader)
+                throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) + " declares " +
+                            std::to_string(length) + " bytes but " + std::to_string(size - at - kEvlrHeader) +
+                            " follow it");
+            at += kEvlrHeader + length;
+        }
+    }
+
+    // Uncompressed points must end where the file does, or where what LAS 1.3 and 1.4 put
+    // after them begins (waveform data, EVLRs): bytes left over would be points the
+    // header does not count.
+    void checkTrailingBytes(const std::string& head, int minor, std::uint64_t points_end, std::uint64_t count,
+                            std::size_t record) {
+        const std::uint64_t size = source_.size();
+        if (points_end == size) return;
+        if (minor >= 3 && head.size() >= 235 && le<std::uint64_t>(head, 227) == points_end) return;
+        if (minor >= 4 && head.size() >= 247 && le<std::uint32_t>(head, 243) > 0 &&
+            le<std::uint64_t>(head, 235) == points_end)
+            return;
+        throw Error(prefix_ + ": " + std::to_string(size - points_end) + " bytes follow the header's " +
+                    std::to_string(count) + " points of " + std::to_string(record) +
+                    " bytes; allowed: the points end where the file, its waveform data or its EVLRs begin");
     }
 
     // LAS 1.4 extra bytes descriptors: our fields by name; returns the bytes they cover.
@@ -322,6 +735,12 @@ private:
     laszip_point_struct* point_ = nullptr;
     bool open_ = false;
     bool extended_ = false;
+    bool compressed_ = false;
+    pid_t child_ = -1;  // the decoding process of compressed data
+    int pipe_ = -1;     // its frames
+    std::uint64_t* decoding_ = nullptr;  // shared with it: the point it is decoding
+    std::vector<CloudPoint> pending_;
+    std::size_t pending_at_ = 0;
     glm::dvec3 scale_{1.0}, offset_{0.0};
     ExtraField range_, label_, incidence_, height_;
     std::size_t extra_size_ = 0;

@@ -12,7 +12,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <ctime>
+#include <string_view>
 
 namespace engine::detail {
 
@@ -28,6 +31,38 @@ constexpr laszip_U32 kExtraFloat = 8;
 // LAS 1.4 header offsets of the fields written at the end.
 constexpr off_t kBoundsAt = 179;  // max x, min x, max y, min y, max z, min z (doubles)
 constexpr off_t kCountsAt = 247;  // points (u64), then points by return 1..15 (u64)
+constexpr off_t kSoftwareAt = 58;  // generating software, 32 characters, NUL-padded
+constexpr std::size_t kSoftwareSize = 32;
+constexpr std::size_t kDescriptionSize = 32;  // an extra bytes description, NUL-padded
+
+// Extra bytes descriptions: whole words within the 32-character field (with its NUL).
+constexpr const char* kRangeDescription = "sensor-to-hit distance (m)";
+constexpr const char* kLabelDescription = "role: 0 ground, 1 env, 2 target";
+constexpr const char* kIncidenceDescription = "beam-to-normal angle (deg)";
+constexpr const char* kHeightDescription = "above the fitted terrain (m)";
+static_assert(std::string_view(kRangeDescription).size() < kDescriptionSize &&
+              std::string_view(kLabelDescription).size() < kDescriptionSize &&
+              std::string_view(kIncidenceDescription).size() < kDescriptionSize &&
+              std::string_view(kHeightDescription).size() < kDescriptionSize);
+
+constexpr const char* kSoftware = "ladarvr " LADARVR_VERSION;
+static_assert(std::string_view(kSoftware).size() < kSoftwareSize);
+
+LasDate computeDate() {
+    std::time_t t = std::time(nullptr);
+    if (const char* epoch = std::getenv("SOURCE_DATE_EPOCH")) {
+        const std::string_view v(epoch);
+        const bool digits = !v.empty() && v.size() <= 12 && v.find_first_not_of("0123456789") == std::string_view::npos;
+        if (!digits)
+            throw Error("SOURCE_DATE_EPOCH='" + std::string(v.substr(0, 40)) + (v.size() > 40 ? "..." : "") +
+                        "': allowed a whole number of seconds since 1970-01-01 UTC (the LAS creation date)");
+        t = std::time_t(std::strtoll(epoch, nullptr, 10));
+    }
+    std::tm utc{};
+    if (!gmtime_r(&t, &utc) || utc.tm_year + 1900 > 65535)
+        throw Error("SOURCE_DATE_EPOCH: the date is beyond the LAS header's year field (65535)");
+    return LasDate{std::uint16_t(utc.tm_yday + 1), std::uint16_t(utc.tm_year + 1900)};
+}
 
 template <typename T>
 void putLe(unsigned char*& out, T v) {
@@ -36,6 +71,11 @@ void putLe(unsigned char*& out, T v) {
 }
 
 }  // namespace
+
+LasDate lasCreationDate() {
+    static const LasDate date = computeDate();  // a throw here leaves it to the next call
+    return date;
+}
 
 void LasInventory::add(const laszip_point_struct& q) {
     const laszip_I32 xyz[3] = {q.X, q.Y, q.Z};
@@ -68,6 +108,11 @@ void LasInventory::merge(const LasInventory& o) {
 
 LasRecord::LasRecord(std::string where, const glm::dvec3& origin, const CloudFields& fields, const LasOptions& options)
     : where_(std::move(where)), origin_(origin), fields_(fields), options_(options) {
+    try {
+        date_ = lasCreationDate();
+    } catch (const Error& e) {
+        throw Error(where_ + ": " + e.what());
+    }
     int at = 0;
     const auto add = [&](Extra::What what, int size) {
         extras_.push_back({what, at});
@@ -95,8 +140,11 @@ void LasRecord::setUp(laszip_POINTER zip) const {
     h->header_size = 375;
     h->offset_to_point_data = 375;
     h->global_encoding = 1u << 4;  // WKT (required by point formats 6..10); GPS week time
-    std::snprintf(h->generating_software, sizeof h->generating_software, "ladarvr");
+    // LASzip replaces the generating software when it opens the writer (stampSoftware).
+    std::snprintf(h->generating_software, sizeof h->generating_software, "%s", kSoftware);
     std::snprintf(h->system_identifier, sizeof h->system_identifier, "ladarvr simulation");
+    h->file_creation_day = date_.day;
+    h->file_creation_year = date_.year;
     h->point_data_format = fields_.rgb ? 7 : 6;
     h->point_data_record_length = laszip_U16((fields_.rgb ? 36 : 30) + extra_bytes_);
     h->x_scale_factor = h->y_scale_factor = h->z_scale_factor = kScale_m;
@@ -106,19 +154,19 @@ void LasRecord::setUp(laszip_POINTER zip) const {
     for (const Extra& e : extras_) {
         switch (e.what) {
             case Extra::Range:
-                check(zip, laszip_add_attribute(zip, kExtraFloat, "range", "sensor-to-hit distance (m)", 1.0, 0.0), "range");
+                check(zip, laszip_add_attribute(zip, kExtraFloat, "range", kRangeDescription, 1.0, 0.0), "range");
                 break;
             case Extra::Label:
-                check(zip, laszip_add_attribute(zip, kExtraUChar, "label", "ladarvr role: 0 ground 1 env 2 target", 1.0, 0.0),
+                check(zip, laszip_add_attribute(zip, kExtraUChar, "label", kLabelDescription, 1.0, 0.0),
                       "label");
                 break;
             case Extra::Incidence:
-                check(zip, laszip_add_attribute(zip, kExtraFloat, "incidence_deg", "beam-to-normal angle (deg)", 1.0, 0.0),
+                check(zip, laszip_add_attribute(zip, kExtraFloat, "incidence_deg", kIncidenceDescription, 1.0, 0.0),
                       "incidence_deg");
                 break;
             case Extra::Height:
                 check(zip,
-                      laszip_add_attribute(zip, kExtraFloat, "height_above_ground_m", "above the fitted terrain (m)", 1.0, 0.0),
+                      laszip_add_attribute(zip, kExtraFloat, "height_above_ground_m", kHeightDescription, 1.0, 0.0),
                       "height_above_ground_m");
                 break;
         }
@@ -172,7 +220,15 @@ void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t 
     }
 }
 
+void LasRecord::stampSoftware(int fd) const {
+    char field[kSoftwareSize] = {};
+    std::memcpy(field, kSoftware, std::strlen(kSoftware));
+    if (::pwrite(fd, field, sizeof field, kSoftwareAt) != ssize_t(sizeof field))
+        throw Error(where_ + ": writing the header's generating software failed: " + std::strerror(errno));
+}
+
 void LasRecord::patchHeader(int fd, const LasInventory& inv) const {
+    stampSoftware(fd);
     // An empty file keeps the zero counts and bounds it was opened with, as with LASzip.
     if (inv.points == 0) return;
     // The bounds as LASzip computes them: scale times the integer extreme plus the offset.

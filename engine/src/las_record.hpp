@@ -1,6 +1,6 @@
 // engine/src/las_record.hpp (internal): how a CloudPoint becomes a LAS 1.4 point record,
 // shared by the LAS writer (las_writer.cpp) and the LAZ writer (laz_writer.cpp), and the
-// header fields both fill in at the end (counts by return, bounds).
+// header fields both fill in at the end (generating software, counts by return, bounds).
 #pragma once
 #include <engine/cloud_io.hpp>
 
@@ -23,13 +23,24 @@ struct LasInventory {
     void merge(const LasInventory& other);
 };
 
+/// The day of the year (1..366) and the year, in UTC, that LAS headers give as their
+/// creation date: SOURCE_DATE_EPOCH's when it is set (reproducible outputs), else the
+/// day the process first asked; one value for the whole process, so every chunk of a LAZ
+/// file (and a file LASzip writes alone for comparison) gets the same header. Throws
+/// Error when SOURCE_DATE_EPOCH is not a whole number of seconds.
+struct LasDate {
+    std::uint16_t day = 0, year = 0;
+};
+LasDate lasCreationDate();
+
 class LasRecord {
 public:
     /// `where`: "output: <path>" for messages.
     LasRecord(std::string where, const glm::dvec3& origin, const CloudFields& fields, const LasOptions& options);
 
-    /// Sets `zip`'s header (LAS 1.4, point format 7 or 6, scale 0.001 m, offsets = origin)
-    /// and its extra bytes, before it is opened for writing. Throws Error.
+    /// Sets `zip`'s header (LAS 1.4, point format 7 or 6, scale 0.001 m, offsets = origin,
+    /// the creation day and year of lasCreationDate()) and its extra bytes, before it is
+    /// opened for writing. Throws Error.
     void setUp(laszip_POINTER zip) const;
     /// Fills `q` with point `p`, the `index`-th of the file (for messages). Throws
     /// Error(where + ": point N lies beyond ...") when it is out of the 1 mm grid's reach.
@@ -38,8 +49,13 @@ public:
     void check(laszip_POINTER zip, laszip_I32 rc, const char* what) const;
 
     /// Writes the inventory into the header of the file open on `fd` (LAS 1.4 offsets:
-    /// bounds at 179, counts at 247), as LASzip's own inventory does.
+    /// bounds at 179, counts at 247), as LASzip's own inventory does, and the generating
+    /// software (stampSoftware).
     void patchHeader(int fd, const LasInventory& inventory) const;
+    /// Writes "ladarvr <version>" into the generating-software field (offset 58, 32
+    /// bytes) of the file open on `fd`: LASzip stamps its own name there when it opens a
+    /// writer, whatever the header held.
+    void stampSoftware(int fd) const;
 
     const std::string& where() const { return where_; }
 
@@ -54,6 +70,7 @@ private:
     LasOptions options_;
     std::vector<Extra> extras_;
     int extra_bytes_ = 0;
+    LasDate date_;
 };
 
 }  // namespace engine::detail

@@ -1,26 +1,74 @@
 // las_writer: uncompressed LAS 1.4 through LASzip (docs/formats.md), and the factory that
 // picks it or the LAZ writer (laz_writer.cpp). The records go through a std::ostream over
-// the TempFile's descriptor; the header's counts and bounds are written at the end from
-// our own inventory of the records (LasRecord::patchHeader).
+// the TempFile's stream that keeps the reason of a failed write (a full disk is named as
+// such); the header's counts and bounds are written at the end from our own inventory of
+// the records (LasRecord::patchHeader).
 #include "las_record.hpp"
 #include "las_sink.hpp"
 
 #include <engine/error.hpp>
 #include <engine/safe_file.hpp>
 
-#include <ext/stdio_filebuf.h>
+#include <sys/types.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <ostream>
+#include <streambuf>
 
 namespace engine::detail {
 
 namespace {
 
+/// A std::streambuf onto a FILE* that keeps the errno of the first failed write (an
+/// ostream keeps only its fail bit, and LASzip reports only that a write failed).
+class FileBuf final : public std::streambuf {
+public:
+    explicit FileBuf(std::FILE* file) : file_(file) {}
+    /// 0, or the errno of the first write or flush that failed.
+    int error() const { return error_; }
+
+protected:
+    int_type overflow(int_type c) override {
+        if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+        const char ch = traits_type::to_char_type(c);
+        return put(&ch, 1) ? c : traits_type::eof();
+    }
+    std::streamsize xsputn(const char* s, std::streamsize n) override { return put(s, std::size_t(n)) ? n : 0; }
+    int sync() override {
+        if (error_ == 0 && std::fflush(file_) == 0) return 0;
+        if (error_ == 0) error_ = errno ? errno : EIO;
+        return -1;
+    }
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override {
+        if (!(off == 0 && dir == std::ios_base::cur)) {
+            const int whence = dir == std::ios_base::beg ? SEEK_SET : dir == std::ios_base::cur ? SEEK_CUR : SEEK_END;
+            if (::fseeko(file_, off_t(off), whence) != 0) return pos_type(off_type(-1));
+        }
+        return pos_type(off_type(::ftello(file_)));
+    }
+    pos_type seekpos(pos_type pos, std::ios_base::openmode which) override {
+        return seekoff(off_type(pos), std::ios_base::beg, which);
+    }
+
+private:
+    bool put(const char* s, std::size_t n) {
+        if (error_ != 0) return false;
+        errno = 0;
+        if (std::fwrite(s, 1, n, file_) == n) return true;
+        error_ = errno ? errno : EIO;
+        return false;
+    }
+
+    std::FILE* file_;
+    int error_ = 0;
+};
+
 class LasFileSink final : public LasSink {
 public:
     LasFileSink(TempFile& file, const LasRecord& record)
-        : record_(record), fd_(fileno(file.file())), buf_(file.file(), std::ios::out | std::ios::binary),
-          stream_(&buf_) {
+        : record_(record), fd_(fileno(file.file())), buf_(file.file()), stream_(&buf_) {
         if (laszip_create(&zip_) != 0 || !zip_) throw Error(record_.where() + ": LASzip could not be started");
         record_.setUp(zip_);
         check(laszip_get_point_pointer(zip_, &point_), "point");
@@ -46,19 +94,24 @@ public:
         open_ = false;
         check(laszip_close_writer(zip_), "close");
         stream_.flush();
-        if (!stream_) throw Error(record_.where() + ": write failed");
+        if (buf_.error() != 0 || !stream_) throw writeFailed();
         record_.patchHeader(fd_, inventory_);
     }
 
 private:
     void check(laszip_I32 rc, const char* what) {
-        if (!stream_) throw Error(record_.where() + ": LASzip " + what + " failed: write failed");
+        if (buf_.error() != 0 || !stream_) throw writeFailed();
         record_.check(zip_, rc, what);
+    }
+
+    // As the other formats word it: "write failed: No space left on device".
+    Error writeFailed() const {
+        return Error(record_.where() + ": write failed: " + std::strerror(buf_.error() != 0 ? buf_.error() : EIO));
     }
 
     LasRecord record_;
     int fd_;
-    __gnu_cxx::stdio_filebuf<char> buf_;
+    FileBuf buf_;
     std::ostream stream_;
     laszip_POINTER zip_ = nullptr;
     laszip_point_struct* point_ = nullptr;

@@ -13,7 +13,11 @@
 
 #include <laszip/laszip_api.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
 
@@ -57,6 +61,8 @@ std::vector<engine::CloudPoint> scan(std::size_t n, std::uint32_t seed) {
 }
 
 // The same points written by LASzip alone: its own chunking, chunk table and inventory.
+// LASzip stamps its own name as the generating software when it opens a writer, so the
+// field is put back to ours (the one header field LASzip's writer cannot be given).
 std::string laszipAlone(const fs::path& path, const std::vector<engine::CloudPoint>& pts, const glm::dvec3& origin,
                         const engine::CloudFields& fields) {
     engine::detail::LasRecord record("reference", origin, fields, engine::LasOptions{});
@@ -74,6 +80,10 @@ std::string laszipAlone(const fs::path& path, const std::vector<engine::CloudPoi
     }
     REQUIRE(laszip_close_writer(zip) == 0);
     laszip_destroy(zip);
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    REQUIRE(fd >= 0);
+    record.stampSoftware(fd);
+    ::close(fd);
     return slurp(path);
 }
 
@@ -119,6 +129,22 @@ TEST_CASE("laz_writer: chunks compressed in parallel make LASzip's own file, byt
             }
         }
     }
+}
+
+TEST_CASE("laz_writer: the header names ladarvr and its version, and the creation date") {
+    TempDir dir("laz_header");
+    const std::string mine = ours(dir.path / "h.laz", scan(10, 1), glm::dvec3(0.0), ladarFields(true), 1, 10);
+    REQUIRE(mine.size() > 375);
+    CHECK(std::string(mine.data() + 58) == "ladarvr " LADARVR_VERSION);
+    const engine::detail::LasDate date = engine::detail::lasCreationDate();
+    std::uint16_t day = 0, year = 0;
+    std::memcpy(&day, mine.data() + 90, 2);
+    std::memcpy(&year, mine.data() + 92, 2);
+    CHECK(day == date.day);
+    CHECK(year == date.year);
+    CHECK(day >= 1);
+    CHECK(day <= 366);
+    CHECK(year >= 2024);
 }
 
 TEST_CASE("laz_writer: LASzip seeks by our chunk table and reads every point back") {

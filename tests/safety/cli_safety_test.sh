@@ -148,15 +148,52 @@ mkfifo "$dir/cloud_fifo.pcd"
 refused "view: cloud '$dir/cloud_fifo.pcd' is a FIFO (named pipe)" view --no-xr "$dir/cloud_fifo.pcd"
 refused "is a directory; allowed: a regular file" view --no-xr "$dir"
 
+# --- 7. crafted LAS/LAZ: one line and exit 1 from every reader of clouds, never a crash ---
+# Each file is one of ours with the bytes LASzip trusts changed (tests/safety/craft_las.py).
+lz="$dir/crafted"
+mkdir -p "$lz"
+"$bin" generate "${small[@]}" --out "$lz/ok.laz" 2>/dev/null
+"$bin" generate "${small[@]}" --out "$lz/ok.las" 2>/dev/null
+craft() { python3 "$(dirname "$0")/craft_las.py" "$1" "$lz/ok.$2" "$lz/$1.$2"; }
+for c in compressor1:"the LASzip VLR is not one this reader knows (compressor 1" \
+         compressor2:"the LASzip VLR is not one this reader knows (compressor 2" \
+         cut6:"is outside the file" cut7:"is outside the file" count_high:"the chunk table lists" \
+         layers_wrap:"chunk 0's layers declare" fewer_points:"chunk 0 holds"; do
+    name=${c%%:*}
+    craft "$name" laz
+    refused "${c#*:}" detect --out "$lz/c.json" "$lz/$name.laz"
+    refused "${c#*:}" metric --views 2 --p1 "$lz/$name.laz" --p2 "$lz/$name.laz" --p3 "$lz/$name.laz" --out "$lz/m"
+done
+craft two_extra las
+refused "is a second extra bytes VLR; allowed: one per file" detect --out "$lz/c.json" "$lz/two_extra.las"
+craft fewer_points las
+refused "bytes follow the header's" detect --out "$lz/c.json" "$lz/fewer_points.las"
+: >"$lz/empty.las"
+refused "las: $lz/empty.las: truncated: a LAS header needs 227 bytes, the file has 0" detect --out "$lz/c.json" "$lz/empty.las"
+[ ! -e "$lz/c.json" ] && [ ! -e "$lz/m" ] || fail "a refused cloud left an output"
+# The LAS header: ladarvr and its version, the creation date of SOURCE_DATE_EPOCH
+# (2024-03-01 is day 61 of 2024), and a SOURCE_DATE_EPOCH that is no number refused.
+SOURCE_DATE_EPOCH=1709251200 "$bin" generate "${small[@]}" --out "$lz/dated.las" 2>/dev/null
+[ "$(head -c 90 "$lz/dated.las" | tail -c 32 | tr -d '\0' | cut -c1-8)" = "ladarvr " ] || fail "generating software"
+[ "$(od -An -tu2 -j90 -N4 "$lz/dated.las" | tr -s ' ')" = " 61 2024" ] || fail "creation day/year: $(od -An -tu2 -j90 -N4 "$lz/dated.las")"
+SOURCE_DATE_EPOCH=yesterday refused "SOURCE_DATE_EPOCH='yesterday': allowed a whole number of seconds" \
+    generate "${small[@]}" --out "$lz/undated.laz"
+[ ! -e "$lz/undated.laz" ] || fail "a refused SOURCE_DATE_EPOCH left the cloud"
+
 # --- 5/4. a full disk: one line, nothing left on the small file system ---
 mkdir -p "$mnt"
 if [ "$(id -u)" -eq 0 ] && mount -t tmpfs -o size=2m tmpfs "$mnt" 2>/dev/null; then
     refused "No space left on device" generate --xres 128 --yres 128 --views 32 --out "$mnt/full.pcd"
     [ -z "$(ls -A "$mnt")" ] || fail "a full disk left files: $(ls -A "$mnt")"
+    # LAS through LASzip's stream and LAZ through our chunk writer: the same words.
+    refused "write failed: No space left on device" generate --xres 128 --yres 128 --views 32 --out "$mnt/full.las"
+    [ -z "$(ls -A "$mnt")" ] || fail "a full disk left LAS files: $(ls -A "$mnt")"
     # The metric's PNGs are compressed: a much smaller disk fills on them.
     umount "$mnt" && mount -t tmpfs -o size=8k tmpfs "$mnt"
     refused "No space left on device" metric --json --views 2 --width 1024 --height 1024 --no-exact --out "$mnt/report"
     [ -z "$(ls -A "$mnt")" ] || fail "a full disk left metric files: $(ls -A "$mnt")"
+    refused "No space left on device" generate --xres 64 --yres 64 --views 8 --out "$mnt/full.laz"
+    [ -z "$(ls -A "$mnt")" ] || fail "a full disk left LAZ files: $(ls -A "$mnt")"
     umount "$mnt"
 else
     echo "safety.cli: mounting a tmpfs needs root: the disk-full case is skipped"
