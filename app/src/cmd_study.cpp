@@ -5,14 +5,14 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/cleanup.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/scene.hpp>
-#include <engine/strict_json.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
+#include <io/strict_json.hpp>
 #include <metric/clouds.hpp>
 #include <metric/visibility.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/cleanup.hpp>
+#include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
 #include <study/plan.hpp>
 #include <study/study_log.hpp>
@@ -62,12 +62,12 @@ void prepareOut(const std::filesystem::path& out) {
     createParentFolders(out / "trials.csv", "study: --out");
     std::error_code ec;
     if (!std::filesystem::is_directory(out, ec))
-        throw engine::Error("study: --out " + out.string() + ": not a folder");
+        throw core::Error("study: --out " + out.string() + ": not a folder");
     for (const auto& entry : std::filesystem::directory_iterator(out, ec)) {
         const std::string name = entry.path().filename().string();
         if (name == "trials.csv" || name == "candidates.csv" || name == "study.json" ||
             (name.starts_with("trace_") && name.ends_with(".csv")))
-            throw engine::Error("study: --out " + out.string() + ": already holds a study (" + name +
+            throw core::Error("study: --out " + out.string() + ": already holds a study (" + name +
                                 "); allowed: a new or empty folder");
     }
 }
@@ -76,26 +76,26 @@ void prepareOut(const std::filesystem::path& out) {
 /// that DIR/study.json names).
 int runReplay(const StudyArgs& a) {
     const std::filesystem::path dir(a.replay);
-    const std::string shown = engine::printable((dir / "study.json").string(), 400);
-    const nlohmann::json study = engine::parseStrictJson(
-        engine::readTextFile(dir / "study.json", std::size_t(1) << 20, "study: --replay " + shown + ":"),
+    const std::string shown = core::printable((dir / "study.json").string(), 400);
+    const nlohmann::json study = io::parseStrictJson(
+        platform::readTextFile(dir / "study.json", std::size_t(1) << 20, "study: --replay " + shown + ":"),
         "study: --replay " + shown);
     if (!study.is_object() || !study.contains("plan") || !study["plan"].is_string() || !study.contains("order") ||
         !study["order"].is_array())
-        throw engine::Error("study: --replay " + shown + ": not a study's record (needs 'plan' and 'order')");
+        throw core::Error("study: --replay " + shown + ": not a study's record (needs 'plan' and 'order')");
     const study::Plan plan = study::readPlan(study["plan"].get<std::string>());
     std::vector<int> order;
     for (const auto& v : study["order"]) {
         if (!v.is_number_unsigned() || v.get<std::size_t>() >= plan.trials.size())
-            throw engine::Error("study: --replay " + shown + ": 'order' does not match the plan's trials");
+            throw core::Error("study: --replay " + shown + ": 'order' does not match the plan's trials");
         order.push_back(v.get<int>());
     }
     if (a.trial < 1 || a.trial > static_cast<int>(order.size()))
-        throw engine::Error("study: --trial " + std::to_string(a.trial) + ": allowed 1.." + std::to_string(order.size()));
+        throw core::Error("study: --trial " + std::to_string(a.trial) + ": allowed 1.." + std::to_string(order.size()));
     viewer::ViewerOptions o = windowOptions(a);
     o.use_xr = false;
     o.replay = study::readTrace(dir / ("trace_" + std::to_string(a.trial) + ".csv"));
-    if (o.replay.empty()) throw engine::Error("study: --replay: trace_" + std::to_string(a.trial) + ".csv has no frame");
+    if (o.replay.empty()) throw core::Error("study: --replay: trace_" + std::to_string(a.trial) + ".csv has no frame");
     o.screenshot = a.screenshot;
     viewer::validate(o);
     prepareOutputFile(o.log_json, "study: --log-json");
@@ -116,15 +116,15 @@ int runReplay(const StudyArgs& a) {
 }
 
 int runStudy(const StudyArgs& a) {
-    if (!a.replay.empty() && !a.plan.empty()) throw engine::Error("study: give PLAN.json or --replay DIR, not both");
+    if (!a.replay.empty() && !a.plan.empty()) throw core::Error("study: give PLAN.json or --replay DIR, not both");
     if (!a.replay.empty()) return runReplay(a);
-    if (a.plan.empty()) throw engine::Error("study: give PLAN.json (or --replay DIR)");
+    if (a.plan.empty()) throw core::Error("study: give PLAN.json (or --replay DIR)");
     const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<engine::Watchdog> watchdog = viewerWatchdog("study", a.timeout_s);
-    if (a.out.empty()) throw engine::Error("study: --out DIR is required (the folder for trials.csv and the traces)");
+    const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("study", a.timeout_s);
+    if (a.out.empty()) throw core::Error("study: --out DIR is required (the folder for trials.csv and the traces)");
     study::Plan plan = study::readPlan(a.plan);
     if (a.hit_radius_m >= 0.0) plan.hit_radius_m = a.hit_radius_m;
-    if (!(plan.hit_radius_m > 0.0)) throw engine::Error("study: --hit-radius must be > 0 m");
+    if (!(plan.hit_radius_m > 0.0)) throw core::Error("study: --hit-radius must be > 0 m");
 
     viewer::ViewerOptions o = windowOptions(a);
     o.use_xr = !a.no_xr;
@@ -142,7 +142,7 @@ int runStudy(const StudyArgs& a) {
     const std::vector<int> order = study::trialOrder(plan);
     auto source = std::make_unique<study::StudySource>(plan, order);
     // What --replay needs to find a trial's cloud again: the plan and the order run.
-    engine::writeFileAtomic(out / "study.json",
+    platform::writeFileAtomic(out / "study.json",
                             nlohmann::json{{"plan", std::filesystem::absolute(a.plan).string()}, {"order", order}}.dump(2) + "\n");
 
     // The paper's visibility metric of each scene, before the window opens (it renders
@@ -152,7 +152,7 @@ int runStudy(const StudyArgs& a) {
         for (const study::PlanTrial& t : plan.trials) {
             if (t.scene.empty() || metrics.count(t.scene)) continue;
             std::fprintf(stderr, "ladarvr: study: visibility metric of %s\n", t.scene.string().c_str());
-            const engine::Scene scene = engine::loadScene(t.scene);
+            const core::Scene scene = io::loadScene(t.scene);
             sim::GenerateOptions g;
             g.orbit.xres = plan.xres;
             g.orbit.yres = plan.yres;

@@ -10,9 +10,9 @@
 #include "common.hpp"
 #include "register.hpp"
 
-#include <engine/error.hpp>
-#include <engine/point_cloud.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <core/point_cloud.hpp>
+#include <io/scene_file.hpp>
 #include <sim/detect.hpp>
 #include <sim/generator.hpp>
 
@@ -49,13 +49,13 @@ std::string percent(std::size_t a, std::size_t b) {
     return b ? fmt("%.0f %%", 100.0 * double(a) / double(b)) : std::string("n/a");
 }
 
-Row measure(const std::string& name, const engine::PointCloud& cloud, sim::DetectOptions o, sim::GroundSource ground,
+Row measure(const std::string& name, const core::PointCloud& cloud, sim::DetectOptions o, sim::GroundSource ground,
             double threshold) {
     Row r;
     r.scene = name;
     r.ground = ground == sim::GroundSource::Ransac ? "ransac" : "labels";
     r.points = cloud.points.size();
-    for (const engine::CloudPoint& p : cloud.points) r.target_points += p.label == engine::Role::Target;
+    for (const core::CloudPoint& p : cloud.points) r.target_points += p.label == core::Role::Target;
     o.ground = ground;
     const double min_score = o.min_score;
     o.min_score = 0.0;            // every cluster, to find the one holding the target
@@ -70,7 +70,7 @@ Row measure(const std::string& name, const engine::PointCloud& cloud, sim::Detec
     for (std::size_t k = 0; k < found.size(); ++k) {
         const sim::Detection& d = found[k];
         std::size_t target = 0;
-        for (const std::uint32_t i : d.points) target += cloud.points[i].label == engine::Role::Target;
+        for (const std::uint32_t i : d.points) target += cloud.points[i].label == core::Role::Target;
         if (target > most_target) {
             most_target = target;
             r.target_cluster = std::to_string(target) + " of " + std::to_string(d.points.size()) + " points, " +
@@ -123,14 +123,14 @@ std::string table(const std::vector<Row>& rows, double min_score, double thresho
 void run(const BenchDetectCli& cli) {
     sim::validate(cli.detector);
     if (!(cli.threshold >= 0.0 && cli.threshold <= 1.0))
-        throw engine::Error("bench detect: --threshold = " + fmt("%g", cli.threshold) + ": allowed [0, 1]");
+        throw core::Error("bench detect: --threshold = " + fmt("%g", cli.threshold) + ": allowed [0, 1]");
     const auto start = Clock::now();
     const std::filesystem::path assets = sourceRoot() / "assets";
     std::vector<Row> rows;
     for (const char* name : {"demo", "hard", "hilly"}) {
-        const engine::Scene scene = engine::loadScene(assets / name / "scene.json");
+        const core::Scene scene = io::loadScene(assets / name / "scene.json");
         std::fprintf(stderr, "bench detect: generating %s\n", name);
-        const engine::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{});
+        const core::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{});
         for (const sim::GroundSource g : {sim::GroundSource::Ransac, sim::GroundSource::Labels}) {
             rows.push_back(measure(name, cloud, cli.detector, g, cli.threshold));
             std::fprintf(stderr, "bench detect: %s, %s ground: %.2f s\n", name, rows.back().ground.c_str(),

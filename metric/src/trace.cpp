@@ -1,8 +1,8 @@
 // metric/src/trace.cpp: strict reading of a study's head trace (metric/trace.hpp).
 #include <metric/trace.hpp>
 
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/safe_file.hpp>
 
 #include <array>
 #include <charconv>
@@ -32,7 +32,7 @@ std::vector<std::string_view> splitFields(std::string_view line) {
 std::vector<HeadSample> parseTrace(std::string_view text, const std::filesystem::path& name) {
     const std::string where = "trace: " + name.string() + ": ";
     auto fail = [&](std::size_t line, std::string_view column, const std::string& what) {
-        throw engine::Error(where + "line " + std::to_string(line) +
+        throw core::Error(where + "line " + std::to_string(line) +
                             (column.empty() ? std::string() : ", column " + std::string(column)) + ": " + what);
     };
     std::vector<HeadSample> samples;
@@ -49,7 +49,7 @@ std::vector<HeadSample> parseTrace(std::string_view text, const std::filesystem:
             for (std::size_t k = 0; k < kColumns.size(); ++k)
                 if (k >= fields.size() || fields[k] != kColumns[k])
                     fail(1, "", "header column " + std::to_string(k + 1) + " is '" +
-                                    engine::printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
+                                    core::printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
                                     "'; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,"
                                     "head_qy,head_qz");
             header_fields = fields.size();
@@ -64,7 +64,7 @@ std::vector<HeadSample> parseTrace(std::string_view text, const std::filesystem:
             const std::string_view f = fields[k];
             const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), v[k]);
             if (f.empty() || ec != std::errc() || ptr != f.data() + f.size() || !std::isfinite(v[k]))
-                fail(line_no, kColumns[k], "'" + engine::printable(f, 40) + "' is not a finite number");
+                fail(line_no, kColumns[k], "'" + core::printable(f, 40) + "' is not a finite number");
         }
         HeadSample s;
         s.t_s = v[0];
@@ -87,7 +87,7 @@ std::vector<HeadSample> parseTrace(std::string_view text, const std::filesystem:
 }
 
 std::vector<HeadSample> readTrace(const std::filesystem::path& file) {
-    const std::string text = engine::readTextFile(file, kMaxTraceBytes, "trace: " + file.string() + ":");
+    const std::string text = platform::readTextFile(file, kMaxTraceBytes, "trace: " + file.string() + ":");
     return parseTrace(text, file);
 }
 

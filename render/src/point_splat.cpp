@@ -3,7 +3,7 @@
 #include <render/orbit_camera.hpp>
 #include <shaders/shaders.hpp>
 
-#include <engine/spatial_hash.hpp>
+#include <core/spatial_hash.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -50,7 +50,7 @@ void PointSplatRenderer::clear() {
     bounds_ = {};
 }
 
-void PointSplatRenderer::upload(std::span<const engine::CloudPoint> points, const engine::Bounds& bounds) {
+void PointSplatRenderer::upload(std::span<const core::CloudPoint> points, const core::Bounds& bounds) {
     Chunk chunk;
     chunk.bounds = bounds;
     chunk.centre = bounds.centre();
@@ -68,22 +68,22 @@ void PointSplatRenderer::upload(std::span<const engine::CloudPoint> points, cons
     bounds_.extend(bounds);
 }
 
-void PointSplatRenderer::appendChunk(std::span<const engine::CloudPoint> points) {
+void PointSplatRenderer::appendChunk(std::span<const core::CloudPoint> points) {
     for (std::size_t start = 0; start < points.size(); start += kMaxChunkPoints) {
         const auto part = points.subspan(start, std::min(kMaxChunkPoints, points.size() - start));
-        engine::Bounds b;
+        core::Bounds b;
         for (const auto& p : part) b.extend(glm::dvec3(p.position));
         upload(part, b);
     }
 }
 
-void PointSplatRenderer::setCloud(const engine::PointCloud& cloud, double chunk_size_m) {
+void PointSplatRenderer::setCloud(const core::PointCloud& cloud, double chunk_size_m) {
     clear();
     if (cloud.points.empty()) return;
     if (!(chunk_size_m > 0.0)) chunk_size_m = 16.0;
     // Bin into cells, then upload each cell (split if it is very dense).
-    const engine::CellBins cells = engine::binByCell(cloud.points, chunk_size_m);
-    std::vector<engine::CloudPoint> buffer;
+    const core::CellBins cells = core::binByCell(cloud.points, chunk_size_m);
+    std::vector<core::CloudPoint> buffer;
     for (std::size_t c = 0; c < cells.cells(); ++c) {
         buffer.clear();
         for (std::uint32_t i : cells.cell(c)) buffer.push_back(cloud.points[i]);

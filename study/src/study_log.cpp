@@ -1,9 +1,9 @@
 // study/src/study_log.cpp: trials.csv, candidates.csv and the per-trial traces.
 #include <study/study_log.hpp>
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
 
 #include <cmath>
 #include <sstream>
@@ -53,7 +53,7 @@ void StudyLog::writeAtomic(const std::string& name, const char* header, const st
     std::string content = std::string(header) + "\n";
     for (const std::string& r : rows) content += r + "\n";
     try {
-        engine::writeFileAtomic(dir_ / name, content);
+        platform::writeFileAtomic(dir_ / name, content);
     } catch (const std::exception& e) {
         if (error_.empty()) error_ = e.what();
     }
@@ -89,7 +89,7 @@ void StudyLog::onFrame(int, const viewer::TraceSample& s) {
     else std::fputs(",,\n", trace_);
 }
 
-void StudyLog::onVerdict(int trial, double t_s, const engine::Candidate& candidate, viewer::Verdict verdict) {
+void StudyLog::onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) {
     candidate_rows_.push_back(std::to_string(trial + 1) + "," + csvText(candidate.id) + "," + fixed(candidate.score) +
                               "," + viewer::verdictName(verdict) + "," + fixed(t_s));
 }
@@ -121,13 +121,13 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
 }
 
 std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file) {
-    const std::string name = "study: " + engine::printable(file.string(), 400);
-    const std::string text = engine::readTextFile(file, std::size_t(512) << 20, name + ":");
+    const std::string name = "study: " + core::printable(file.string(), 400);
+    const std::string text = platform::readTextFile(file, std::size_t(512) << 20, name + ":");
     std::istringstream in(text);
     std::string line;
     std::vector<viewer::TraceSample> samples;
     if (!std::getline(in, line) || line != StudyLog::traceHeader())
-        throw engine::Error(name + " line 1: not a trace header; allowed: " + StudyLog::traceHeader());
+        throw core::Error(name + " line 1: not a trace header; allowed: " + StudyLog::traceHeader());
     for (int number = 2; std::getline(in, line); ++number) {
         if (line.empty()) continue;
         std::vector<std::string> f;
@@ -135,7 +135,7 @@ std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file) {
         std::istringstream ls(line);
         while (std::getline(ls, field, ',')) f.push_back(field);
         if (!line.empty() && line.back() == ',') f.push_back("");
-        auto bad = [&](const std::string& what) { return engine::Error(name + " line " + std::to_string(number) + ": " + what); };
+        auto bad = [&](const std::string& what) { return core::Error(name + " line " + std::to_string(number) + ": " + what); };
         if (f.size() != 13) throw bad(std::to_string(f.size()) + " columns; allowed 13");
         auto num = [&](int i) {
             try {
@@ -144,7 +144,7 @@ std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file) {
                 if (used == f[std::size_t(i)].size() && std::isfinite(v)) return v;
             } catch (const std::exception&) {
             }
-            throw bad("column " + std::to_string(i + 1) + " '" + engine::printable(f[std::size_t(i)], 40) +
+            throw bad("column " + std::to_string(i + 1) + " '" + core::printable(f[std::size_t(i)], 40) +
                       "' is not a finite number");
         };
         viewer::TraceSample s;
@@ -153,7 +153,7 @@ std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file) {
         s.head_orientation = glm::dquat(num(4), num(5), num(6), num(7));
         if (f[8] == "automatic") s.mode = viewer::ViewMode::Automatic;
         else if (f[8] == "free") s.mode = viewer::ViewMode::Free;
-        else throw bad("mode '" + engine::printable(f[8], 40) + "' is not one of automatic, free");
+        else throw bad("mode '" + core::printable(f[8], 40) + "' is not one of automatic, free");
         s.scale = num(9);
         if (!(s.scale > 0.0)) throw bad("scale must be > 0");
         if (!f[10].empty() || !f[11].empty() || !f[12].empty()) s.hit_world = glm::dvec3(num(10), num(11), num(12));

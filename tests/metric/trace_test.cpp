@@ -6,7 +6,7 @@
 #include <metric/trace.hpp>
 #include <metric/visibility.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -50,7 +50,7 @@ metric::MetricOptions orbitOptions() {
 }  // namespace
 
 TEST_CASE("trace: a trace that retraces the orbit gives the orbit's metric, and looking away sees nothing") {
-    const engine::Scene scene = test_support::boxBehindWall(2.0f, 6.0f, 0.5f);
+    const core::Scene scene = test_support::boxBehindWall(2.0f, 6.0f, 0.5f);
     const metric::MetricClouds clouds = metric::generateClouds(scene);
     metric::Evaluator evaluator(clouds, &scene);
     const metric::MetricOptions o = orbitOptions();
@@ -114,7 +114,7 @@ TEST_CASE("trace: malformed files give one line naming the line and the column")
     auto error = [](const std::string& text) {
         try {
             metric::parseTrace(text, "bad.csv");
-        } catch (const engine::Error& e) {
+        } catch (const core::Error& e) {
             const std::string m = e.what();
             CHECK(m.find('\n') == std::string::npos);
             CHECK(m.rfind("trace: bad.csv: line ", 0) == 0);

@@ -38,7 +38,7 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     s.scale = 2.0;
     log.onFrame(0, s);
     log.onDesignate(0, 0.6, {10.0, 20.0, 0.5});
-    engine::Candidate c;
+    core::Candidate c;
     c.id = "c1";
     c.score = 0.75;
     log.onVerdict(0, 0.7, c, viewer::Verdict::Rejected);
@@ -160,13 +160,13 @@ TEST_CASE("a bad trace names the line") {
     test_support::TempDir dir("study_trace_bad");
     const std::string header = std::string(study::StudyLog::traceHeader()) + "\n";
     CHECK_THROWS_WITH_AS(study::readTrace(dir.write("a.csv", "t\n")), doctest::Contains("line 1: not a trace header"),
-                         engine::Error);
+                         core::Error);
     CHECK_THROWS_WITH_AS(study::readTrace(dir.write("b.csv", header + "0.1,1,2,3,1,0,0,0,free,1,,\n")),
-                         doctest::Contains("line 2: 12 columns"), engine::Error);
+                         doctest::Contains("line 2: 12 columns"), core::Error);
     CHECK_THROWS_WITH_AS(study::readTrace(dir.write("c.csv", header + "0.1,x,2,3,1,0,0,0,free,1,,,\n")),
-                         doctest::Contains("line 2: column 2 'x'"), engine::Error);
+                         doctest::Contains("line 2: column 2 'x'"), core::Error);
     CHECK_THROWS_WITH_AS(study::readTrace(dir.write("d.csv", header + "0.1,1,2,3,1,0,0,0,walk,1,,,\n")),
-                         doctest::Contains("mode 'walk'"), engine::Error);
+                         doctest::Contains("mode 'walk'"), core::Error);
     CHECK_THROWS_WITH_AS(study::readTrace(dir.write("e.csv", header + "0.2,1,2,3,1,0,0,0,free,1,,,\n0.1,1,2,3,1,0,0,0,free,1,,,\n")),
-                         doctest::Contains("line 3: t_s does not increase"), engine::Error);
+                         doctest::Contains("line 3: t_s does not increase"), core::Error);
 }

@@ -1,9 +1,9 @@
 // viewer/src/point_renderer.cpp: streamed, camera-relative point drawing with eye-dome
 // lighting for the immersive viewer (paper §IV-A; the jet map is the paper's §III-C one,
-// engine::jetTable, the generator's table). The GLSL lives in shaders/.
+// core::jetTable, the generator's table). The GLSL lives in shaders/.
 #include "point_renderer.hpp"
 
-#include <engine/jet.hpp>
+#include <core/jet.hpp>
 #include <render/orbit_camera.hpp>
 #include <shaders/shaders.hpp>
 
@@ -20,7 +20,7 @@ namespace {
 struct GpuPoint {
     float x, y, z;
     std::uint32_t rgb;   // 0xLLRRGGBB (L = label): bytes B, G, R, L -> read as GL_BGRA
-    float above_ground_m;   // engine::CloudPoint::height_above_ground_m (0 without the field)
+    float above_ground_m;   // core::CloudPoint::height_above_ground_m (0 without the field)
 };
 static_assert(sizeof(GpuPoint) == 20);
 
@@ -109,9 +109,9 @@ GLuint PointRenderer::jetTexture(int entries) const {
     entries = std::clamp(entries, 2, 256);   // options.cpp validates; never index past it
     if (jet_texture_ && jet_entries_ == entries) return jet_texture_;
     if (jet_texture_) glDeleteTextures(1, &jet_texture_);
-    // Texel i = engine::jetTable entry i. 0x00RRGGBB is stored as bytes B, G, R, 0, read as
+    // Texel i = core::jetTable entry i. 0x00RRGGBB is stored as bytes B, G, R, 0, read as
     // GL_BGRA like the points' own colours, so a jet colour reaches the screen byte-exact.
-    const std::vector<std::uint32_t> table = engine::jetTable(entries);
+    const std::vector<std::uint32_t> table = core::jetTable(entries);
     glCreateTextures(GL_TEXTURE_1D, 1, &jet_texture_);
     glTextureStorage1D(jet_texture_, 1, GL_RGBA8, entries);
     glTextureSubImage1D(jet_texture_, 0, 0, entries, GL_BGRA, GL_UNSIGNED_BYTE, table.data());
@@ -122,9 +122,9 @@ GLuint PointRenderer::jetTexture(int entries) const {
     return jet_texture_;
 }
 
-std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points, std::vector<engine::CloudPoint>* keep) {
+std::size_t PointRenderer::stream(CloudFeed& feed, std::size_t budget_points, std::vector<core::CloudPoint>* keep) {
     for (auto& item : feed.take()) {
-        std::vector<engine::CloudPoint>& points = item.points;
+        std::vector<core::CloudPoint>& points = item.points;
         if (points.empty()) continue;
         if (keep) keep->insert(keep->end(), points.begin(), points.end());
         // LOD order once per chunk, at arrival: spatial cells, each shuffled (lod.hpp); done
@@ -189,7 +189,7 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
         frusta.push_back(render::Frustum::fromMatrix(e.projection * e.view));
         eye_mean += glm::dvec3(glm::inverse(e.view)[3]) / double(eyes.size());
     }
-    std::vector<engine::Bounds> boxes(cells_.size());
+    std::vector<core::Bounds> boxes(cells_.size());
     std::vector<std::size_t> sizes(cells_.size());
     for (std::size_t i = 0; i < cells_.size(); ++i) {
         boxes[i] = cells_[i].bounds;

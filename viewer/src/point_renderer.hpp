@@ -7,7 +7,7 @@
 #include <viewer/lod.hpp>
 #include <viewer/viewer.hpp>
 
-#include <engine/frames.hpp>
+#include <core/frames.hpp>
 #include <render/gl.hpp>
 #include <render/shader.hpp>
 
@@ -50,7 +50,7 @@ struct DrawStats {
 
 class PointRenderer {
 public:
-    /// Compiles the programs; throws engine::Error("shader: ...") (setup path).
+    /// Compiles the programs; throws core::Error("shader: ...") (setup path).
     PointRenderer();
     ~PointRenderer();
     PointRenderer(const PointRenderer&) = delete;
@@ -59,12 +59,12 @@ public:
     /// Takes what the feed delivered and uploads at most `budget_points` points this frame.
     /// Returns the number uploaded. Never throws. With `keep`, every point that arrives is
     /// also appended there (the viewer's pick index is built from them).
-    std::size_t stream(CloudFeed& feed, std::size_t budget_points, std::vector<engine::CloudPoint>* keep = nullptr);
+    std::size_t stream(CloudFeed& feed, std::size_t budget_points, std::vector<core::CloudPoint>* keep = nullptr);
     /// Points on the GPU / waiting in CPU memory.
     std::size_t uploadedPoints() const { return uploaded_; }
     std::size_t pendingPoints() const { return pending_points_; }
     /// Bounds (local frame) of everything received so far, and heights for the jet colours.
-    const engine::Bounds& bounds() const { return bounds_; }
+    const core::Bounds& bounds() const { return bounds_; }
 
     /// Picks what this frame draws: cells outside the union of `eyes`' frusta get
     /// nothing (when `cull`); the others share `point_budget` points per eye (0 = unlimited)
@@ -90,9 +90,9 @@ private:
     struct Cell {    // a spatial cell of a chunk: [first, first + size) of its buffer
         std::size_t chunk = 0, first = 0, size = 0;
         glm::dvec3 centre{0.0};                // positions are stored relative to it
-        engine::Bounds bounds;
+        core::Bounds bounds;
     };
-    /// The jet table (engine::jetTable(entries)) as a 1D RGBA8 texture, made on first use
+    /// The jet table (core::jetTable(entries)) as a 1D RGBA8 texture, made on first use
     /// and again when `entries` changes. Never throws (a GL error is logged).
     GLuint jetTexture(int entries) const;
     static constexpr GLuint kJetTextureUnit = 2;   // units 0 and 1: the resolve's inputs
@@ -102,7 +102,7 @@ private:
         return up <= c.first ? 0 : std::min(c.size, up - c.first);
     }
     struct Pending {
-        std::vector<engine::CloudPoint> points;
+        std::vector<core::CloudPoint> points;
         std::size_t next = 0;     // first point not uploaded yet
         std::size_t chunk = 0;    // index into chunks_
         std::size_t cell = 0;     // cell of points[next] (index into cells_)
@@ -119,7 +119,7 @@ private:
     std::size_t planned_points_ = 0;
     std::deque<Pending> pending_;
     std::size_t pending_points_ = 0, uploaded_ = 0;
-    engine::Bounds bounds_;
+    core::Bounds bounds_;
     float above_ground_max_m_ = 0.0f;   // highest height above ground uploaded (colour range)
     bool origin_known_ = false;
 };

@@ -4,7 +4,7 @@
 //
 // Input comes from three places merged into one OperatorInput per frame: the OpenXR
 // actions (xr_actions.cpp), the desktop (desktop_input.cpp) and a --script; the tools
-// (tools/) read only that. Setup throws engine::Error; once the loop runs nothing
+// (tools/) read only that. Setup throws core::Error; once the loop runs nothing
 // throws: OpenXR failures drop to the desktop mode with the cloud kept, GL errors are
 // logged.
 #include <render/gl.hpp>   // glad first
@@ -31,8 +31,8 @@
 #include "tools/pointer_tool.hpp"
 #include "xr_session.hpp"
 
-#include <engine/error.hpp>
-#include <engine/png.hpp>
+#include <core/error.hpp>
+#include <io/png.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -177,7 +177,7 @@ private:
     Clock::time_point start_ = Clock::now();
     bool centre_final_ = false;
     // The pick index, built on a worker thread once the whole cloud has arrived.
-    std::vector<engine::CloudPoint> index_points_;
+    std::vector<core::CloudPoint> index_points_;
     std::future<std::shared_ptr<const PickIndex>> index_future_;
     std::shared_ptr<const PickIndex> index_;
     // Tools' state.
@@ -224,7 +224,7 @@ ViewerApp::~ViewerApp() {
 void ViewerApp::setup() {
     glfwSetErrorCallback(glfwError);
     if (!glfwInit())
-        throw engine::Error("view: cannot open the desktop window: " + g_glfw_error +
+        throw core::Error("view: cannot open the desktop window: " + g_glfw_error +
                             "; a display is needed (set DISPLAY, or run under Xvfb)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
@@ -234,7 +234,7 @@ void ViewerApp::setup() {
     glfwWindowHint(GLFW_VISIBLE, options_.hidden_window ? GLFW_FALSE : GLFW_TRUE);
     window_ = glfwCreateWindow(options_.window_width, options_.window_height, "ladarvr view", nullptr, nullptr);
     if (!window_)
-        throw engine::Error("view: cannot create an OpenGL 4.5 core window: " + g_glfw_error);
+        throw core::Error("view: cannot create an OpenGL 4.5 core window: " + g_glfw_error);
     glfwMakeContextCurrent(window_);
     render::loadGl(reinterpret_cast<GLADloadfunc>(glfwGetProcAddress));
     log_.set("gl", render::glDescription());
@@ -257,7 +257,7 @@ void ViewerApp::setup() {
         std::string reason;
         try {
             xr_ = XrStereoSession::create(window_, log_, reason);
-        } catch (const engine::Error& e) {
+        } catch (const core::Error& e) {
             reason = e.what();
         }
         if (!xr_) fallBackToDesktop(reason);
@@ -569,7 +569,7 @@ bool ViewerApp::screenshot(int fb_w, int fb_h) {
     glReadPixels(0, 0, fb_w, fb_h, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
     if (!render::logGl("glReadPixels (screenshot)", __FILE__, __LINE__)) return false;
     try {
-        engine::writePng(options_.screenshot, pixels, fb_w, fb_h, 3, engine::PngRows::BottomUp);
+        io::writePng(options_.screenshot, pixels, fb_w, fb_h, 3, io::PngRows::BottomUp);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "ladarvr: view: --screenshot: %s\n", e.what());
         return false;
@@ -767,7 +767,7 @@ void ViewerApp::applyInput(const OperatorInput& in, double dt) {
                 if (!trial_.outcome.time_to_first_designation_s) trial_.outcome.time_to_first_designation_s = t_s;
                 if (observer_) observer_->onDesignate(trial_.index, t_s, w);
             }
-            record("designate", {{"world", vec(w)}, {"label", std::string(engine::roleName(pointer_.hit()->label))}});
+            record("designate", {{"world", vec(w)}, {"label", std::string(core::roleName(pointer_.hit()->label))}});
         } else {
             record("designate", {{"world", nullptr}});
         }
@@ -1068,7 +1068,7 @@ int runViewer(const ViewerOptions& options, CloudFeed& feed, std::string& log_js
 
 int runTrials(const ViewerOptions& options, TrialSource& source, TrialObserver& observer) {
     validate(options);
-    if (source.count() <= 0) throw engine::Error("study: the plan has no trials");
+    if (source.count() <= 0) throw core::Error("study: the plan has no trials");
     ViewerApp app(options, !options.log_json.empty());
     return app.run(nullptr, &source, &observer);
 }

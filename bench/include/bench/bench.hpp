@@ -6,7 +6,7 @@
 namespace bench {
 
 /// Adds the `bench` subcommand to `cli` with one sub-subcommand per benchmark (generate,
-/// metric, view, peers, fuzz, all); each callback throws engine::Error on bad input.
+/// metric, view, peers, fuzz, all); each callback throws core::Error on bad input.
 void registerBench(CLI::App& cli);
 
 }  // namespace bench

@@ -30,7 +30,7 @@ struct HeadSample {
 /// Largest trace file read (a 2 h trial at 90 Hz is about 100 MB).
 inline constexpr std::size_t kMaxTraceBytes = std::size_t(512) << 20;
 
-/// Reads a trace CSV strictly (regular file, at most kMaxTraceBytes). Throws engine::Error
+/// Reads a trace CSV strictly (regular file, at most kMaxTraceBytes). Throws core::Error
 /// "trace: <file>: line N, column <name>: <what>; allowed <what>" for a wrong header, a
 /// field that is not a finite number, a row with too few or too many fields, a quaternion
 /// whose norm is not within 1e-3 of 1, t_s decreasing or negative, or no samples.

@@ -6,7 +6,7 @@
 // large coordinates never jitter (camera-relative rendering). Chunks whose bounds miss
 // the view frustum are skipped.
 #pragma once
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 #include <render/gl.hpp>
 #include <render/shader.hpp>
 
@@ -34,7 +34,7 @@ struct SplatDrawStats {
 /// use and destroy it on the thread where the context is current).
 class PointSplatRenderer {
 public:
-    /// Compiles the splat program; throws engine::Error("shader: ...") on failure.
+    /// Compiles the splat program; throws core::Error("shader: ...") on failure.
     PointSplatRenderer();
     ~PointSplatRenderer();
     PointSplatRenderer(const PointSplatRenderer&) = delete;
@@ -42,17 +42,17 @@ public:
 
     /// Replaces the stored points by `cloud`'s, binned into cubic cells of `chunk_size_m`
     /// (local frame) so that frustum culling can skip whole cells.
-    void setCloud(const engine::PointCloud& cloud, double chunk_size_m = 16.0);
+    void setCloud(const core::PointCloud& cloud, double chunk_size_m = 16.0);
     /// Appends `points` (local frame of the cloud being streamed) as one more chunk, for
     /// streaming; the chunk's bounds are computed from its points. Empty spans are ignored.
-    void appendChunk(std::span<const engine::CloudPoint> points);
+    void appendChunk(std::span<const core::CloudPoint> points);
     /// Drops every stored point.
     void clear();
 
     std::size_t pointCount() const { return point_count_; }
     std::size_t chunkCount() const { return chunks_.size(); }
     /// Local-frame bounds of every stored point.
-    const engine::Bounds& bounds() const { return bounds_; }
+    const core::Bounds& bounds() const { return bounds_; }
 
     /// Draws the stored points into the current framebuffer and viewport with
     /// `projection * view` (local frame, double precision). With `cull`, chunks outside
@@ -66,16 +66,16 @@ private:
         GLuint buffer = 0;
         GLsizei count = 0;
         glm::dvec3 centre{0.0};
-        engine::Bounds bounds;
+        core::Bounds bounds;
     };
-    void upload(std::span<const engine::CloudPoint> points, const engine::Bounds& bounds);
+    void upload(std::span<const core::CloudPoint> points, const core::Bounds& bounds);
 
     Program program_;
     GLuint vao_ = 0;
     GLint u_mvp_ = -1, u_point_size_ = -1, u_colour_ = -1, u_use_point_colours_ = -1;
     std::vector<Chunk> chunks_;
     std::size_t point_count_ = 0;
-    engine::Bounds bounds_;
+    core::Bounds bounds_;
 };
 
 }  // namespace render

@@ -11,16 +11,13 @@ struct ColourOptions {
     int entries = 64;
 };
 
-/// Throws engine::Error("colour: entries = N: allowed [2, 256]").
+/// Throws core::Error("colour: entries = N: allowed [2, 256]").
 void validate(const ColourOptions& o);
 
-/// MATLAB's jet(m) as 0x00RRGGBB, index 0 = dark blue ... m-1 = dark red (channels
-/// rounded from [0, 1] to [0, 255]): engine::jetTable, the table the viewer shows too.
-std::vector<std::uint32_t> jetTable(int entries);
-
-/// Colour of height z in [z_min, z_max] for a table from jetTable(): bin
+/// Colour of height z in [z_min, z_max] for a table from core::jetTable() (the table the
+/// viewer shows too): bin
 /// floor((z - z_min) / (z_max - z_min) * m) clamped to [0, m-1], reversed so the lowest
-/// bin is red (engine::jetIndex). z_max <= z_min (all heights equal) gives the lowest
+/// bin is red (core::jetIndex). z_max <= z_min (all heights equal) gives the lowest
 /// bin's colour.
 std::uint32_t heightColour(float z, float z_min, float z_max, const std::vector<std::uint32_t>& jet);
 

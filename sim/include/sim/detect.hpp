@@ -15,8 +15,8 @@
 //      width, height: 1 for a box of exactly the target's size, exp(-1/2) when one side is
 //      off by the factor size_tolerance, ~0 for a wall or a tree.
 #pragma once
-#include <engine/candidates.hpp>
-#include <engine/point_cloud.hpp>
+#include <core/candidates.hpp>
+#include <core/point_cloud.hpp>
 #include <sim/ground.hpp>
 
 #include <cstdint>
@@ -48,12 +48,12 @@ struct DetectOptions {
     bool progress = false;              // progress bar over the tiles (tty only)
 };
 
-/// Throws engine::Error("detect: <option> = <value>: allowed <range>").
+/// Throws core::Error("detect: <option> = <value>: allowed <range>").
 void validate(const DetectOptions& o);
 
 /// One cluster and its box. Point indices refer to the input cloud.
 struct Detection {
-    engine::Candidate candidate;        // world coordinates (cloud origin added)
+    core::Candidate candidate;        // world coordinates (cloud origin added)
     std::vector<std::uint32_t> points;  // the cluster's points, ascending
 };
 
@@ -64,9 +64,9 @@ struct DetectStats {
 
 /// Runs steps 1-4 on `cloud`; returns the detections with score >= min_score, best first
 /// (ties by cluster size), at most max_candidates, ids "c1", "c2", ... in that order.
-/// Throws engine::Error("detect: ...") when the ground source needs a field the cloud
+/// Throws core::Error("detect: ...") when the ground source needs a field the cloud
 /// does not carry, or for invalid options.
-std::vector<Detection> detect(const engine::PointCloud& cloud, const DetectOptions& o,
+std::vector<Detection> detect(const core::PointCloud& cloud, const DetectOptions& o,
                               DetectStats* stats = nullptr);
 
 /// Oriented box of points (local frame) by PCA of x, y: centre (local), size (length >=
@@ -77,7 +77,7 @@ struct OrientedBox {
     glm::dvec3 size_m{0.0};
     double yaw_deg = 0.0;
 };
-OrientedBox fitBox(const engine::PointCloud& cloud, const std::vector<std::uint32_t>& points, double trim = 0.0);
+OrientedBox fitBox(const core::PointCloud& cloud, const std::vector<std::uint32_t>& points, double trim = 0.0);
 
 /// Step 4's score of a box size against the target size (both length, width, height;
 /// the horizontal sides are compared longest to longest). In [0, 1].

@@ -34,7 +34,7 @@ public:
 
     void onStart(int trial) override;
     void onFrame(int trial, const viewer::TraceSample& sample) override;
-    void onVerdict(int trial, double t_s, const engine::Candidate& candidate, viewer::Verdict verdict) override;
+    void onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) override;
     void onEnd(int trial, const viewer::TrialOutcome& outcome) override;
 
     /// Rows of trials.csv so far (header excluded).
@@ -59,7 +59,7 @@ private:
     std::string error_;
 };
 
-/// Reads a trace_<N>.csv back (regular file, at most 512 MiB). Throws engine::Error
+/// Reads a trace_<N>.csv back (regular file, at most 512 MiB). Throws core::Error
 /// ("study: <file> line L: ...") naming the line and column of a bad value.
 std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file);
 
