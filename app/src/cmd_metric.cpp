@@ -7,6 +7,7 @@
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
 #include <io/scene_file.hpp>
+#include <io/trace_file.hpp>
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
 #include <metric/trace.hpp>
@@ -99,9 +100,9 @@ void run(MetricCli& cli) {
         if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
             throw core::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
                                 ": allowed [0, 3600] seconds");
-        const std::vector<metric::HeadSample> samples = metric::readTrace(cli.trace);
+        const std::vector<io::TraceRow> samples = io::readTrace(cli.trace).rows;
         trace_samples = samples.size();
-        for (const metric::HeadSample& h : metric::everyStep(samples, cli.trace_step_s))
+        for (const io::TraceRow& h : metric::everyStep(samples, cli.trace_step_s))
             o.poses_world.push_back(metric::cameraFromHead(h));
     }
     const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();

@@ -1,12 +1,13 @@
 // study/src/study_log.cpp: trials.csv, candidates.csv and the per-trial traces.
 #include <study/study_log.hpp>
 
+#include <study/study_folder.hpp>
+
 #include <core/error.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
 
 #include <cmath>
-#include <sstream>
 
 #include <cerrno>
 #include <cstring>
@@ -40,8 +41,27 @@ const char* StudyLog::trialsHeader() {
            "visibility_metric";
 }
 const char* StudyLog::candidatesHeader() { return "trial,candidate,score,verdict,t_s"; }
-const char* StudyLog::traceHeader() {
-    return "t_s,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz,mode,scale,hit_x,hit_y,hit_z";
+
+io::TraceRow toTraceRow(const viewer::TraceSample& s) {
+    io::TraceRow r;
+    r.t_s = s.t_s;
+    r.head_world = s.head_world;
+    r.head_orientation = s.head_orientation;
+    r.mode = s.mode == viewer::ViewMode::Free ? io::TraceMode::Free : io::TraceMode::Automatic;
+    r.scale = s.scale;
+    r.hit_world = s.hit_world;
+    return r;
+}
+
+viewer::TraceSample toTraceSample(const io::TraceRow& r) {
+    viewer::TraceSample s;
+    s.t_s = r.t_s;
+    s.head_world = r.head_world;
+    s.head_orientation = r.head_orientation;
+    s.mode = r.mode == io::TraceMode::Free ? viewer::ViewMode::Free : viewer::ViewMode::Automatic;
+    s.scale = r.scale;
+    s.hit_world = r.hit_world;
+    return s;
 }
 
 StudyLog::StudyLog(std::filesystem::path dir, std::function<TrialInfo(int)> info, double hit_radius_m)
@@ -68,7 +88,7 @@ void StudyLog::closeTrace() {
 
 void StudyLog::onStart(int trial) {
     closeTrace();
-    trace_path_ = dir_ / ("trace_" + std::to_string(trial + 1) + ".csv");
+    trace_path_ = dir_ / traceFileName(trial + 1);
     // A new file only, never through a link: the folder is checked for earlier studies
     // before the run, so an existing name here is someone else's file.
     const int fd = ::open(trace_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
@@ -77,16 +97,12 @@ void StudyLog::onStart(int trial) {
         if (error_.empty()) error_ = "output: " + trace_path_.string() + ": cannot create: " + std::strerror(errno);
         return;
     }
-    std::fprintf(trace_, "%s\n", traceHeader());
+    std::fprintf(trace_, "%.*s\n", static_cast<int>(io::kTraceHeader.size()), io::kTraceHeader.data());
 }
 
 void StudyLog::onFrame(int, const viewer::TraceSample& s) {
     if (!trace_) return;
-    std::fprintf(trace_, "%.6f,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f,%s,%.9g,", s.t_s, s.head_world.x, s.head_world.y,
-                 s.head_world.z, s.head_orientation.w, s.head_orientation.x, s.head_orientation.y,
-                 s.head_orientation.z, viewer::modeName(s.mode), s.scale);
-    if (s.hit_world) std::fprintf(trace_, "%.6f,%.6f,%.6f\n", s.hit_world->x, s.hit_world->y, s.hit_world->z);
-    else std::fputs(",,\n", trace_);
+    std::fputs(io::formatTraceRow(toTraceRow(s)).c_str(), trace_);
 }
 
 void StudyLog::onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) {
@@ -118,49 +134,6 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     trial_rows_.push_back(std::move(row));
     writeAtomic("trials.csv", trialsHeader(), trial_rows_);
     writeAtomic("candidates.csv", candidatesHeader(), candidate_rows_);
-}
-
-std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file) {
-    const std::string name = "study: " + core::printable(file.string(), 400);
-    const std::string text = platform::readTextFile(file, std::size_t(512) << 20, name + ":");
-    std::istringstream in(text);
-    std::string line;
-    std::vector<viewer::TraceSample> samples;
-    if (!std::getline(in, line) || line != StudyLog::traceHeader())
-        throw core::Error(name + " line 1: not a trace header; allowed: " + StudyLog::traceHeader());
-    for (int number = 2; std::getline(in, line); ++number) {
-        if (line.empty()) continue;
-        std::vector<std::string> f;
-        std::string field;
-        std::istringstream ls(line);
-        while (std::getline(ls, field, ',')) f.push_back(field);
-        if (!line.empty() && line.back() == ',') f.push_back("");
-        auto bad = [&](const std::string& what) { return core::Error(name + " line " + std::to_string(number) + ": " + what); };
-        if (f.size() != 13) throw bad(std::to_string(f.size()) + " columns; allowed 13");
-        auto num = [&](int i) {
-            try {
-                std::size_t used = 0;
-                const double v = std::stod(f[std::size_t(i)], &used);
-                if (used == f[std::size_t(i)].size() && std::isfinite(v)) return v;
-            } catch (const std::exception&) {
-            }
-            throw bad("column " + std::to_string(i + 1) + " '" + core::printable(f[std::size_t(i)], 40) +
-                      "' is not a finite number");
-        };
-        viewer::TraceSample s;
-        s.t_s = num(0);
-        s.head_world = {num(1), num(2), num(3)};
-        s.head_orientation = glm::dquat(num(4), num(5), num(6), num(7));
-        if (f[8] == "automatic") s.mode = viewer::ViewMode::Automatic;
-        else if (f[8] == "free") s.mode = viewer::ViewMode::Free;
-        else throw bad("mode '" + core::printable(f[8], 40) + "' is not one of automatic, free");
-        s.scale = num(9);
-        if (!(s.scale > 0.0)) throw bad("scale must be > 0");
-        if (!f[10].empty() || !f[11].empty() || !f[12].empty()) s.hit_world = glm::dvec3(num(10), num(11), num(12));
-        if (!samples.empty() && !(s.t_s > samples.back().t_s)) throw bad("t_s does not increase");
-        samples.push_back(s);
-    }
-    return samples;
 }
 
 }  // namespace study

@@ -6,7 +6,9 @@
 #  2. a private monado-service (its own socket folder, started by headless_env.sh outside
 #     the wrapper) is found by `./ladarvr view` through the wrapper: the session reaches
 #     FOCUSED and frames are submitted. Without XDG_RUNTIME_DIR passed on, the viewer
-#     would not find the socket and would fall back to the desktop.
+#     would not find the socket and would fall back to the desktop;
+#  3. a command that dies by a signal gives one line naming the signal and the signal's
+#     exit status, not bash's report of the job.
 # Inside the Debian 13 root (ctest runs there) the wrapper runs natively: the same
 # environment filter, no chroot. Skipped (77) when the binary is not the checkout's
 # build/<preset>/app/ladarvr, which is what the wrapper would run.
@@ -43,4 +45,13 @@ assert "FOCUSED" in log["states"], log["states"]
 xr_frames = [f for f in log["frames"] if f["xr"]]
 assert len(xr_frames) >= 5, len(xr_frames)
 PY
+# 3. Death by signal: one line, the status kept.
+status=0
+env LADARVR_PRESET="$preset" "$src/ladarvr" shell -c 'echo before >&2; kill -TERM $$' >"$work/out" 2>"$work/err" ||
+  status=$?
+[ "$status" -eq 143 ] || fail "a command killed by SIGTERM: exit $status, expected 143"
+[ "$(wc -l <"$work/err")" -eq 2 ] || fail "signal report is not one line: $(cat "$work/err")"
+grep -qx 'before' "$work/err" || fail "the command's own stderr was lost: $(cat "$work/err")"
+grep -qx 'ladarvr: stopped by signal SIGTERM (exit 143)' "$work/err" || fail "no signal line: $(cat "$work/err")"
+
 echo "wrapper_env: ok"

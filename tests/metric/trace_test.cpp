@@ -1,12 +1,13 @@
 // tests/metric/trace_test.cpp: the metric along an operator's head trace (metric/trace.hpp):
-// strict reading of the CSV, and a trace that retraces the orbit gives the orbit's figures.
+// a trace that retraces the orbit gives the orbit's figures, the camera of a head row, and
+// subsampling in time. Reading the CSV: tests/io/trace_file_test.cpp.
 #include <scene_builders.hpp>
 
 #include <metric/clouds.hpp>
 #include <metric/trace.hpp>
 #include <metric/visibility.hpp>
 
-#include <core/error.hpp>
+#include <io/trace_file.hpp>
 
 #include <doctest/doctest.h>
 
@@ -66,7 +67,7 @@ TEST_CASE("trace: a trace that retraces the orbit gives the orbit's metric, and 
         away += row(0.1 * v.view, eye_world, glm::angleAxis(M_PI, glm::dvec3(0, 0, 1)) * q);
     }
     metric::MetricOptions t = o;
-    for (const metric::HeadSample& h : metric::parseTrace(along, "along.csv"))
+    for (const io::TraceRow& h : io::parseTrace(along, "along.csv").rows)
         t.poses_world.push_back(metric::cameraFromHead(h));
     const metric::MetricResult traced = evaluator.run(t);
     REQUIRE(traced.views.size() == orbit.views.size());
@@ -83,60 +84,26 @@ TEST_CASE("trace: a trace that retraces the orbit gives the orbit's metric, and 
     CHECK(orbit.visible_mean > 0.1);  // the test means something: the target is seen
 
     metric::MetricOptions a = o;
-    for (const metric::HeadSample& h : metric::parseTrace(away, "away.csv"))
+    for (const io::TraceRow& h : io::parseTrace(away, "away.csv").rows)
         a.poses_world.push_back(metric::cameraFromHead(h));
     const metric::MetricResult looked_away = evaluator.run(a);
     CHECK(looked_away.views_used == 0);
     for (const metric::ViewResult& v : looked_away.views) CHECK(v.i1 == 0);
 }
 
-TEST_CASE("trace: samples, extra columns, CRLF and subsampling in time") {
+TEST_CASE("trace: subsampling in time, and the camera of a head row") {
     const glm::dquat q = glm::angleAxis(0.3, glm::normalize(glm::dvec3(1, 2, 3)));
     std::string text = std::string(kHeader) + row(0.0, {1, 2, 3}, q) + row(0.05, {1, 2, 3}, q) + row(0.1, {4, 5, 6}, q);
-    const auto samples = metric::parseTrace(text, "t.csv");
+    const auto samples = io::parseTrace(text, "t.csv").rows;
     REQUIRE(samples.size() == 3);
-    CHECK(samples[2].head_world.y == 5.0);
-    CHECK(samples[1].t_s == 0.05);
-    CHECK(std::abs(glm::dot(samples[0].head_orientation, q)) == Approx(1.0));
     CHECK(metric::everyStep(samples, 0.1).size() == 2);
+    CHECK(metric::everyStep(samples, 0.1)[1].head_world.y == 5.0);
     CHECK(metric::everyStep(samples, 0.0).size() == 3);
-    // CRLF line ends and only the eight needed columns.
-    const std::string crlf = "t_s,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz\r\n0,1,2,3,1,0,0,0\r\n";
-    CHECK(metric::parseTrace(crlf, "crlf.csv").size() == 1);
     // The camera looks along the head's -z: identity looks down world -z (straight down).
-    const render::CameraPose pose = metric::cameraFromHead(metric::parseTrace(crlf, "crlf.csv")[0]);
+    io::TraceRow identity;
+    identity.head_world = {1, 2, 3};
+    const render::CameraPose pose = metric::cameraFromHead(identity);
+    CHECK(pose.eye == glm::dvec3(1, 2, 3));
     CHECK(pose.look_at.z == Approx(2.0));
     CHECK(pose.up.y == Approx(1.0));
-}
-
-TEST_CASE("trace: malformed files give one line naming the line and the column") {
-    const std::string good = "0,1,2,3,1,0,0,0,automatic,1,,,\n";
-    auto error = [](const std::string& text) {
-        try {
-            metric::parseTrace(text, "bad.csv");
-        } catch (const core::Error& e) {
-            const std::string m = e.what();
-            CHECK(m.find('\n') == std::string::npos);
-            CHECK(m.rfind("trace: bad.csv: line ", 0) == 0);
-            return m;
-        }
-        FAIL("no error for: " << text);
-        return std::string();
-    };
-    CHECK(error("").find("empty file") != std::string::npos);
-    CHECK(error(kHeader).find("no samples") != std::string::npos);
-    CHECK(error("t_s,head_x,head_y\n0,1,2\n").find("header column 4") != std::string::npos);
-    CHECK(error("t,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz\n").find("header column 1 is 't'") !=
-          std::string::npos);
-    CHECK(error(std::string(kHeader) + good + "0.1,1,2,x3,1,0,0,0,automatic,1,,,\n")
-              .find("line 3, column head_z: 'x3' is not a finite number") != std::string::npos);
-    CHECK(error(std::string(kHeader) + "0,1,2,nan,1,0,0,0,automatic,1,,,\n").find("column head_z") != std::string::npos);
-    CHECK(error(std::string(kHeader) + "0,1,2,3 ,1,0,0,0,automatic,1,,,\n").find("column head_z") != std::string::npos);
-    CHECK(error(std::string(kHeader) + "0,1,2,3,1,0,0,0\n").find("line 2: 8 fields; allowed 13") != std::string::npos);
-    CHECK(error(std::string(kHeader) + "0,1,2,3,2,0,0,0,automatic,1,,,\n").find("quaternion norm") != std::string::npos);
-    CHECK(error(std::string(kHeader) + "1,1,2,3,1,0,0,0,automatic,1,,,\n" + good).find("line 3, column t_s: decreases") !=
-          std::string::npos);
-    CHECK(error(std::string(kHeader) + "-1,1,2,3,1,0,0,0,automatic,1,,,\n").find("negative") != std::string::npos);
-    CHECK(error(std::string(kHeader) + good + "\n" + good).find("line 3: empty line") != std::string::npos);
-    CHECK(error(std::string(kHeader) + "0,1e300,2,3,1,0,0,0,automatic,1,,,\n").find("out of range") != std::string::npos);
 }

@@ -4,11 +4,14 @@
 //   trials.csv       one row per finished trial, the whole file replaced atomically at
 //                    each trial's end
 //   candidates.csv   each candidate's verdict and when it was given, replaced the same way
-//   trace_<N>.csv    one row per frame of trial N, written as the frames come
+//   trace_<N>.csv    one row per frame of trial N, written as the frames come (its format:
+//                    io/trace_file.hpp)
 // Columns: viewer/trial.hpp; meanings: docs/study.md. Trials are numbered 1.. in the
 // order they ran.
 #pragma once
 #include <viewer/trial.hpp>
+
+#include <io/trace_file.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -44,7 +47,6 @@ public:
 
     static const char* trialsHeader();
     static const char* candidatesHeader();
-    static const char* traceHeader();
 
 private:
     void writeAtomic(const std::string& name, const char* header, const std::vector<std::string>& rows);
@@ -59,9 +61,9 @@ private:
     std::string error_;
 };
 
-/// Reads a trace_<N>.csv back (regular file, at most 512 MiB). Throws core::Error
-/// ("study: <file> line L: ...") naming the line and column of a bad value.
-std::vector<viewer::TraceSample> readTrace(const std::filesystem::path& file);
+/// A frame of the viewer's trace as a row of trace_<N>.csv, and back.
+io::TraceRow toTraceRow(const viewer::TraceSample& sample);
+viewer::TraceSample toTraceSample(const io::TraceRow& row);
 
 /// Formats a CSV field: numbers as given, text quoted when it holds a comma, quote or
 /// line break (RFC 4180).

@@ -1,0 +1,105 @@
+// study/src/study_run.cpp: a whole study run and the replay of a trial (study/study_run.hpp).
+#include <study/study_run.hpp>
+
+#include <study/scene_metric.hpp>
+#include <study/study_folder.hpp>
+#include <study/study_log.hpp>
+#include <study/study_source.hpp>
+
+#include <core/error.hpp>
+#include <io/trace_file.hpp>
+#include <platform/safe_file.hpp>
+#include <viewer/cloud_feed.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+
+namespace study {
+
+StudyRun::StudyRun(StudyOptions options) : options_(std::move(options)) {
+    plan_ = readPlan(options_.plan);
+    if (options_.hit_radius_m) plan_.hit_radius_m = *options_.hit_radius_m;
+    if (!(plan_.hit_radius_m > 0.0)) throw core::Error("study: --hit-radius must be > 0 m");
+    viewer::ViewerOptions& o = options_.viewer;
+    o.modes.orbit.radius_m = options_.orbit_radius_m.value_or(plan_.orbit_radius_m);
+    o.modes.orbit.altitude_m = options_.orbit_height_m.value_or(plan_.orbit_height_m);
+    o.modes.orbit_period_s = options_.orbit_period_s.value_or(plan_.orbit_period_s);
+    if (!options_.script.empty()) o.script = viewer::readScript(options_.script);
+    viewer::validate(o);
+}
+
+int StudyRun::run(std::chrono::steady_clock::time_point started) {
+    const std::filesystem::path& out = options_.out;
+    viewer::ViewerOptions o = options_.viewer;
+    const std::vector<int> order = trialOrder(plan_);
+    auto source = std::make_unique<StudySource>(plan_, order);
+    writeStudyRecord(out, options_.plan, order);   // what --replay needs to find a trial's cloud again
+
+    // The metric renders with its own EGL context: before the window opens.
+    const std::map<std::filesystem::path, double> metrics =
+        options_.metric ? sceneMetrics(plan_, o.modes.orbit.radius_m, o.modes.orbit.altitude_m)
+                        : std::map<std::filesystem::path, double>{};
+    StudyLog log(
+        out,
+        [&](int trial) {
+            const PlanTrial& t = source->planTrial(trial);
+            TrialInfo info;
+            info.source = t.source;
+            if (const auto it = metrics.find(t.scene); !t.scene.empty() && it != metrics.end() && std::isfinite(it->second))
+                info.visibility_metric = it->second;
+            return info;
+        },
+        plan_.hit_radius_m);
+    if (o.timeout_s > 0.0)
+        o.timeout_s = std::max(0.001, o.timeout_s - std::chrono::duration<double>(
+                                                       std::chrono::steady_clock::now() - started).count());
+    int status = viewer::runTrials(o, *source, log);
+    if (!log.error().empty()) {
+        std::fprintf(stderr, "ladarvr: study: %s\n", log.error().c_str());
+        if (status == 0) status = 1;
+    }
+    std::fprintf(stderr, "ladarvr: study: %zu of %zu trials written to %s\n", log.trialsWritten(), plan_.trials.size(),
+                 (out / "trials.csv").string().c_str());
+    return status;
+}
+
+Replay::Replay(const std::filesystem::path& dir, int trial_number, viewer::ViewerOptions viewer)
+    : options_(std::move(viewer)) {
+    RecordedStudy recorded = readStudyRecord(dir);
+    plan_ = std::move(recorded.plan);
+    order_ = std::move(recorded.order);
+    if (trial_number < 1 || trial_number > static_cast<int>(order_.size()))
+        throw core::Error("study: --trial " + std::to_string(trial_number) + ": allowed 1.." +
+                            std::to_string(order_.size()));
+    trial_ = trial_number - 1;
+    options_.use_xr = false;
+    const std::filesystem::path file = dir / traceFileName(trial_number);
+    const io::Trace trace = io::readTrace(file);
+    if (!trace.study_columns)
+        throw core::Error("trace: " + core::printable(file.string(), 400) + ": line 1: no mode,scale,hit_x,hit_y,hit_z columns after "
+                            "head_qz; allowed a study's trace (docs/study.md)");
+    for (const io::TraceRow& row : trace.rows) options_.replay.push_back(toTraceSample(row));
+    viewer::validate(options_);
+}
+
+int Replay::run() {
+    StudySource source(plan_, order_);
+    viewer::CloudFeed feed;
+    feed.enableLodOrder();
+    source.begin(trial_, feed);
+    int status = 1;
+    try {
+        status = viewer::runViewer(options_, feed);
+    } catch (...) {
+        source.end(trial_);
+        throw;
+    }
+    source.end(trial_);
+    return status;
+}
+
+}  // namespace study
