@@ -1,9 +1,9 @@
 // fuzz/check_cloud_reader.hpp: the contract every cloud reader target checks (one
 // copy for fuzz_cloud_reader and fuzz_las_reader).
 #pragma once
-#include <engine/cloud_io.hpp>
-#include <engine/cloud_reader.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/cloud_reader.hpp>
 #include "check_message.hpp"
 
 #include <cmath>
@@ -18,7 +18,7 @@
 
 namespace fuzz {
 
-inline bool samePoint(const engine::CloudPoint& a, const engine::CloudPoint& b) {
+inline bool samePoint(const core::CloudPoint& a, const core::CloudPoint& b) {
     return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 && a.rgb == b.rgb &&
            std::memcmp(&a.range_m, &b.range_m, 4) == 0 && a.view == b.view && a.label == b.label;
 }
@@ -28,17 +28,17 @@ inline void checkCloudReader(std::string_view bytes) {
     const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
     const std::size_t size = bytes.size();
     std::string whole_error;
-    engine::PointCloud whole;
+    core::PointCloud whole;
     try {
-        whole = engine::readCloudData(bytes, "fuzz.pcd");
+        whole = io::readCloudData(bytes, "fuzz.pcd");
         // A cloud that was accepted must be usable: labels in range, everything finite.
-        for (const engine::CloudPoint& p : whole.points)
+        for (const core::CloudPoint& p : whole.points)
             if (static_cast<int>(p.label) > 2 || !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
                 !std::isfinite(p.position.z) || (whole.fields.range && !std::isfinite(p.range_m)))
                 std::abort();
         if (!std::isfinite(whole.origin.x) || !std::isfinite(whole.origin.y) || !std::isfinite(whole.origin.z))
             std::abort();
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         fuzz::checkMessage(e.what(), true);
         whole_error = e.what();
         // The documented way to refuse bad input. LADARVR_FUZZ_VERBOSE=1 shows why (seeds).
@@ -47,10 +47,10 @@ inline void checkCloudReader(std::string_view bytes) {
 
     // The chunked path: a chunk size from the input's last byte (1..256 points).
     const std::size_t chunk = size == 0 ? 1 : std::size_t(data[size - 1]) + 1;
-    std::vector<engine::CloudPoint> points;
+    std::vector<core::CloudPoint> points;
     std::string chunk_error;
     try {
-        engine::CloudReader reader(bytes, "fuzz.pcd");
+        io::CloudReader reader(bytes, "fuzz.pcd");
         if (whole_error.empty() && (reader.origin() != whole.origin || reader.declaredPoints() < whole.points.size()))
             std::abort();
         while (reader.nextChunk(points, chunk)) {
@@ -59,7 +59,7 @@ inline void checkCloudReader(std::string_view bytes) {
         if (reader.pointsRead() != reader.declaredPoints() ||
             reader.pointsRead() != points.size() + reader.droppedNonFinite())
             std::abort();
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         chunk_error = e.what();
     }
     if (chunk_error != whole_error) {

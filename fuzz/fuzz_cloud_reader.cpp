@@ -1,7 +1,7 @@
-// fuzz/fuzz_cloud_reader.cpp: libFuzzer target for engine::CloudReader over bytes in
+// fuzz/fuzz_cloud_reader.cpp: libFuzzer target for io::CloudReader over bytes in
 // memory (PCD ascii / binary / binary_compressed and PLY ascii / binary, chosen by
 // content), whole (readCloudData) and chunk by chunk (nextChunk, the viewer's path).
-// The contract: whatever the bytes, the reader returns a cloud or throws engine::Error;
+// The contract: whatever the bytes, the reader returns a cloud or throws core::Error;
 // it never reads outside the input, never crashes, never allocates more than the input
 // can justify; every point it returns is finite with a label in 0..2; and reading in
 // chunks of any size gives exactly the whole read's points, or the same error.

@@ -1,5 +1,5 @@
-// fuzz/fuzz_las_reader.cpp: libFuzzer target for the LAS/LAZ reader (engine/src/
-// las_reader.cpp, LASzip behind our header and VLR checks) through engine::CloudReader,
+// fuzz/fuzz_las_reader.cpp: libFuzzer target for the LAS/LAZ reader (io/src/las/
+// las_reader.cpp, LASzip behind our header and VLR checks) through io::CloudReader,
 // with the contract of fuzz_cloud_reader (check_cloud_reader.hpp). Every input is made to
 // start with "LASF" so each mutation reaches the LAS reader, not the PCD one. Seeds:
 // fuzz/seeds/las (make_seeds.py).

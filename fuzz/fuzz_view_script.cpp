@@ -1,12 +1,12 @@
 // fuzz/fuzz_view_script.cpp: libFuzzer target for viewer::parseScript, the parser of the
 // viewer's `--script` files (viewer/src/script.cpp, compiled here without the rest of
-// the viewer). The contract: a list of actions or an engine::Error, nothing else;
+// the viewer). The contract: a list of actions or an core::Error, nothing else;
 // every accepted frame is >= 0, there is at most one event per line, and writing the
 // events back with viewer::formatScript parses to the same events (frames, actions,
 // aim points and scales). An error is one printable line that names the script and the line.
 #include <viewer/script.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 #include "check_message.hpp"
 
 #include <algorithm>
@@ -41,7 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 again[i].after_desktop != events[i].after_desktop || again[i].relative != events[i].relative || again[i].value != events[i].value ||
                 again[i].point[0] != events[i].point[0] || again[i].point[1] != events[i].point[1] ||
                 again[i].point[2] != events[i].point[2]) std::abort();
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         fuzz::checkMessage(e.what());
         if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());
     }

@@ -47,10 +47,10 @@ run_one() {
   case $t in
     fuzz_scene_json)
       seeds=("$repo"/fuzz/seeds/scene/* "$repo"/tests/data/scenes/bad/*.json "$repo"/tests/data/scenes/basic/scene.json
-             "$repo"/tests/data/engine/fuzz_regressions/*.json)
+             "$repo"/tests/data/io/fuzz_regressions/*.json)
       dict="$repo/fuzz/scene.dict"; max_len=2048 ;;
     fuzz_cloud_reader)
-      seeds=("$repo"/fuzz/seeds/cloud/* "$repo"/tests/data/engine/*.pcd "$repo"/tests/data/engine/fuzz_regressions/*.pcd
+      seeds=("$repo"/fuzz/seeds/cloud/* "$repo"/tests/data/io/*.pcd "$repo"/tests/data/io/fuzz_regressions/*.pcd
              "$repo"/assets/common/*.ply)
       dict="$repo/fuzz/cloud.dict"; max_len=16384 ;;
     fuzz_view_script)

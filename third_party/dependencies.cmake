@@ -26,7 +26,7 @@ if(LADARVR_LASZIP_VERSION VERSION_LESS 3.4)
 endif()
 
 if(LADARVR_FUZZ)
-  return()  # the fuzz build compiles engine's parsers only
+  return()  # the fuzz build compiles the parsers of core and io only
 endif()
 
 find_package(embree 4.3 REQUIRED)                        # libembree-dev

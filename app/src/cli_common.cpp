@@ -1,8 +1,8 @@
 // app/src/cli_common.cpp: the conventions every subcommand shares (cli_common.hpp).
 #include "cli_common.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <platform/atomic_file.hpp>
 
 #include <cctype>
 #include <cmath>
@@ -160,10 +160,10 @@ void createParentFolders(const fs::path& file, std::string_view option) {
         const fs::file_status st = fs::status(prefix, ec);
         if (fs::is_directory(st)) continue;
         if (fs::exists(st))
-            throw engine::Error(std::string(option) + " '" + file.string() + "': '" + prefix.string() +
+            throw core::Error(std::string(option) + " '" + file.string() + "': '" + prefix.string() +
                                 "' exists and is not a folder; allowed: a path whose folders are folders");
         if (!fs::create_directory(prefix, ec) && !fs::is_directory(prefix))
-            throw engine::Error(std::string(option) + " '" + file.string() + "': cannot create the folder '" +
+            throw core::Error(std::string(option) + " '" + file.string() + "': cannot create the folder '" +
                                 prefix.string() + "': " + (ec ? ec.message() : std::string("unknown reason")));
     }
 }
@@ -171,16 +171,16 @@ void createParentFolders(const fs::path& file, std::string_view option) {
 void prepareOutputFile(const fs::path& file, std::string_view option) {
     if (file.empty()) return;
     createParentFolders(file, option);
-    engine::checkWritableDestination(file);
+    platform::checkWritableDestination(file);
 }
 
-std::unique_ptr<engine::Watchdog> viewerWatchdog(std::string_view command, double timeout_s) {
+std::unique_ptr<platform::Watchdog> viewerWatchdog(std::string_view command, double timeout_s) {
     constexpr double kGraceS = 5.0;
     if (!(std::isfinite(timeout_s) && timeout_s > 0.0)) return nullptr;
     char message[160];
     std::snprintf(message, sizeof message, "%.*s: --timeout %g s reached (the run did not end %g s after it)",
                   int(command.size()), command.data(), timeout_s, kGraceS);
-    return std::make_unique<engine::Watchdog>(timeout_s + kGraceS, message);
+    return std::make_unique<platform::Watchdog>(timeout_s + kGraceS, message);
 }
 
 }  // namespace app

@@ -3,7 +3,7 @@
 #pragma once
 #include <CLI/CLI.hpp>
 
-#include <engine/cleanup.hpp>
+#include <platform/cleanup.hpp>
 
 #include <filesystem>
 #include <memory>
@@ -17,7 +17,7 @@ enum ExitStatus : int {
     kExitOk = 0,
     kExitError = 1,     // the run failed: bad input file or value, environment, I/O
     kExitUsage = 2,     // the command line does not parse (see usageError)
-    kExitInternal = 70  // a bug (sysexits' EX_SOFTWARE): an exception that is no engine::Error
+    kExitInternal = 70  // a bug (sysexits' EX_SOFTWARE): an exception that is no core::Error
 };
 
 /// The --help footer: the exit statuses above, in words.
@@ -40,12 +40,12 @@ std::string usageError(const CLI::App& cli, const CLI::ParseError& e, int argc, 
 void warn(const std::string& what);
 
 /// Creates the folders above `file` that do not exist yet (mkdir -p). Throws
-/// engine::Error naming `option` when a component exists and is not a folder, or
+/// core::Error naming `option` when a component exists and is not a folder, or
 /// cannot be created.
 void createParentFolders(const std::filesystem::path& file, std::string_view option);
 
 /// An optional output file of a run (a screenshot, a log): when `file` is not empty,
-/// creates its folders and checks the destination (engine::checkWritableDestination), so a
+/// creates its folders and checks the destination (platform::checkWritableDestination), so a
 /// bad name fails before the run starts.
 void prepareOutputFile(const std::filesystem::path& file, std::string_view option);
 
@@ -53,6 +53,6 @@ void prepareOutputFile(const std::filesystem::path& file, std::string_view optio
 /// OpenXR session and write its log; this watchdog ends whatever still runs 5 s after the
 /// deadline (a scene that loads for minutes, a runtime that never answers during start-up)
 /// with "<command>: --timeout S s reached ...". None for timeout_s <= 0.
-std::unique_ptr<engine::Watchdog> viewerWatchdog(std::string_view command, double timeout_s);
+std::unique_ptr<platform::Watchdog> viewerWatchdog(std::string_view command, double timeout_s);
 
 }  // namespace app

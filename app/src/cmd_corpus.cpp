@@ -7,7 +7,7 @@
 #include <corpus/run.hpp>
 #include <corpus/stats.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <cstdio>
 #include <memory>
@@ -49,11 +49,11 @@ void runMerge(const CorpusCli& cli) {
         std::fprintf(stderr, "corpus: %zu item(s) appear in more than one line: %s\n", r.duplicated.size(),
                      firstFew(r.duplicated).c_str());
     if (!r.conflicting.empty())
-        throw engine::Error("corpus: --merge " + cli.merge + ": " + std::to_string(r.conflicting.size()) +
+        throw core::Error("corpus: --merge " + cli.merge + ": " + std::to_string(r.conflicting.size()) +
                             " item(s) have lines with different files (SHA-256): " + firstFew(r.conflicting) +
                             "; were they built from different SPECs or versions?");
     if (!r.missing.empty())
-        throw engine::Error("corpus: --merge " + cli.merge + ": " + std::to_string(r.missing.size()) +
+        throw core::Error("corpus: --merge " + cli.merge + ": " + std::to_string(r.missing.size()) +
                             " item(s) missing: " + firstFew(r.missing) +
                             "; rerun the shards that hold them (they resume)");
 }
@@ -76,7 +76,7 @@ void runBuild(const CorpusCli& cli) {
     std::fprintf(stderr, "corpus: %zu built, %zu already complete, %zu failed; manifest %s\n", s.built, s.skipped,
                  s.failed.size(), s.manifest.string().c_str());
     if (!s.failed.empty())
-        throw engine::Error("corpus: " + std::to_string(s.failed.size()) + " item(s) failed, first " + s.failed.front());
+        throw core::Error("corpus: " + std::to_string(s.failed.size()) + " item(s) failed, first " + s.failed.front());
 }
 
 void runStats(const CorpusCli& cli) {

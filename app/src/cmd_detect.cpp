@@ -1,14 +1,14 @@
 // app/src/cmd_detect.cpp: `ladarvr detect CLOUD --out candidates.json`: the baseline 3D
 // ATR of detect/cluster_detector.hpp, so `view --candidates` and studies have something
-// to validate without an outside detector. Writes engine/candidates.hpp's JSON. The
+// to validate without an outside detector. Writes io/candidates_file.hpp's JSON. The
 // options below are the clustering detector's own group; another detector brings its own.
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <engine/candidates.hpp>
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
 #include <detect/cluster_detector.hpp>
+#include <io/candidates_file.hpp>
+#include <io/cloud_io.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -35,7 +35,7 @@ detect::GroundSource parseGround(const std::string& name) {
     if (name == "ransac") return detect::GroundSource::Ransac;
     if (name == "labels") return detect::GroundSource::Labels;
     if (name == "white") return detect::GroundSource::White;
-    throw engine::Error("detect: --ground '" + name + "': allowed ransac, labels, white");
+    throw core::Error("detect: --ground '" + name + "': allowed ransac, labels, white");
 }
 
 void run(DetectCli& cli) {
@@ -48,15 +48,15 @@ void run(DetectCli& cli) {
     const std::filesystem::path out = cli.out;
     std::error_code ec;
     if (std::filesystem::equivalent(cli.cloud, out, ec))
-        throw engine::Error("detect: --out " + cli.out + " is the input cloud; choose another file");
+        throw core::Error("detect: --out " + cli.out + " is the input cloud; choose another file");
     createParentFolders(out, "detect: --out");
 
-    const engine::PointCloud cloud = engine::readCloud(cli.cloud);
+    const core::PointCloud cloud = io::readCloud(cli.cloud);
     detect::ClusterStats stats;
     const std::vector<detect::Detection> found = detector.detect(cloud, stats);
-    std::vector<engine::Candidate> candidates;
+    std::vector<core::Candidate> candidates;
     for (const detect::Detection& d : found) candidates.push_back(d.candidate);
-    engine::writeCandidates(out, candidates);
+    io::writeCandidates(out, candidates);
 
     if (cli.json) {
         nlohmann::json j;
@@ -77,7 +77,7 @@ void run(DetectCli& cli) {
                 stats.points, stats.ground_points, cli.ground.c_str(), stats.clusters, candidates.size(),
                 o.min_score, stats.seconds_ground + stats.seconds_cluster + stats.seconds_boxes, cli.out.c_str());
     for (std::size_t k = 0; k < candidates.size() && k < 5; ++k) {
-        const engine::Candidate& c = candidates[k];
+        const core::Candidate& c = candidates[k];
         std::printf("  %-4s score %.3f  centre %.2f %.2f %.2f  size %.2f x %.2f x %.2f m  yaw %.1f deg  %zu points\n",
                     c.id.c_str(), c.score, c.centre_world.x, c.centre_world.y, c.centre_world.z, c.size_m.x,
                     c.size_m.y, c.size_m.z, c.yaw_deg, found[k].points.size());

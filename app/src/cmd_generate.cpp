@@ -7,11 +7,11 @@
 #include "ground_options.hpp"
 #include "sensor_options.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
-#include <engine/scene.hpp>
-#include <engine/scene_info.hpp>
+#include <core/error.hpp>
+#include <core/scene_info.hpp>
+#include <io/cloud_io.hpp>
+#include <io/scene_file.hpp>
+#include <platform/atomic_file.hpp>
 #include <sim/generator.hpp>
 
 #include <nlohmann/json.hpp>
@@ -50,7 +50,7 @@ glm::dvec3 parseCentre(const std::string& text) {
     std::string part;
     int n = 0;
     const auto bad = [&] {
-        return engine::Error("generate: --centre '" + text + "': allowed three finite numbers x,y,z (world metres)");
+        return core::Error("generate: --centre '" + text + "': allowed three finite numbers x,y,z (world metres)");
     };
     while (std::getline(s, part, ',')) {
         if (n >= 3) throw bad();
@@ -69,34 +69,34 @@ glm::dvec3 parseCentre(const std::string& text) {
 
 // Default output: out/<name>.<pcd|ply>, <name> = the scene file's stem, or its folder's
 // name for the usual "<folder>/scene.json".
-fs::path defaultOutput(const fs::path& scene, engine::CloudFormat format) {
+fs::path defaultOutput(const fs::path& scene, io::CloudFormat format) {
     std::string name = scene.stem().string();
     if (name == "scene" && !scene.parent_path().filename().empty()) name = scene.parent_path().filename().string();
-    const bool ply = format == engine::CloudFormat::PlyBinary || format == engine::CloudFormat::PlyAscii;
-    const char* ext = ply ? ".ply" : format == engine::CloudFormat::Las ? ".las"
-                    : format == engine::CloudFormat::Laz ? ".laz" : ".pcd";
+    const bool ply = format == io::CloudFormat::PlyBinary || format == io::CloudFormat::PlyAscii;
+    const char* ext = ply ? ".ply" : format == io::CloudFormat::Las ? ".las"
+                    : format == io::CloudFormat::Laz ? ".laz" : ".pcd";
     return fs::path("out") / (name + ext);
 }
 
-const char* formatName(engine::CloudFormat f) { return engine::cloudFormatName(f); }
+const char* formatName(io::CloudFormat f) { return io::cloudFormatName(f); }
 
 // --format and the --out extension must agree: a cloud never lands under the name of
 // another format (pcd-ascii and ply-ascii go with .pcd and .ply). Other extensions are
 // the user's choice once --format names the format.
-void checkExtension(const fs::path& out, engine::CloudFormat format) {
-    engine::CloudFormat by_name;
+void checkExtension(const fs::path& out, io::CloudFormat format) {
+    io::CloudFormat by_name;
     try {
-        by_name = engine::formatForPath(out, "generate: --out");
-    } catch (const engine::Error&) {
+        by_name = io::formatForPath(out, "generate: --out");
+    } catch (const core::Error&) {
         return;
     }
-    const auto family = [](engine::CloudFormat f) {
-        if (f == engine::CloudFormat::PcdAscii) return engine::CloudFormat::PcdBinary;
-        if (f == engine::CloudFormat::PlyAscii) return engine::CloudFormat::PlyBinary;
+    const auto family = [](io::CloudFormat f) {
+        if (f == io::CloudFormat::PcdAscii) return io::CloudFormat::PcdBinary;
+        if (f == io::CloudFormat::PlyAscii) return io::CloudFormat::PlyBinary;
         return f;
     };
     if (family(by_name) != family(format))
-        throw engine::Error("generate: --out " + out.string() + ": the extension does not match --format " +
+        throw core::Error("generate: --out " + out.string() + ": the extension does not match --format " +
                             formatName(format));
 }
 
@@ -111,49 +111,49 @@ std::string percent(const std::optional<double>& v) {
     return buffer;
 }
 
-std::string roleList(engine::RoleMask roles) {
+std::string roleList(core::RoleMask roles) {
     std::string s;
-    for (int r = 0; r < engine::kRoleCount; ++r)
-        if (roles.has(engine::Role(r))) s += (s.empty() ? "" : ",") + std::string(engine::roleName(engine::Role(r)));
+    for (int r = 0; r < core::kRoleCount; ++r)
+        if (roles.has(core::Role(r))) s += (s.empty() ? "" : ",") + std::string(core::roleName(core::Role(r)));
     return s;
 }
 
 void run(GenerateCli& cli) {
     sim::GenerateOptions& o = cli.options;
     // Everything is checked before the scene is read or a ray is cast.
-    if (!cli.roles.empty()) o.roles = engine::RoleMask::parse(cli.roles, "generate: --roles");
+    if (!cli.roles.empty()) o.roles = core::RoleMask::parse(cli.roles, "generate: --roles");
     if (!cli.centre.empty()) o.centre = parseCentre(cli.centre);
     if (!(std::isfinite(cli.memory_mb) && cli.memory_mb >= 1.0 && cli.memory_mb <= 1048576.0))
-        throw engine::Error("generate: --memory-mb = " + engine::shownNumber(cli.memory_mb) +
+        throw core::Error("generate: --memory-mb = " + core::shownNumber(cli.memory_mb) +
                             ": allowed [1, 1048576]");
     o.memory_budget_bytes = std::size_t(cli.memory_mb * 1048576.0);
     o.skip_rays = !cli.no_skip_rays;
     applyGroundOptions(cli.ground, o);
     sim::validate(o);
-    const fs::path scene_path = cli.scene.empty() ? engine::demoScenePath() : fs::path(cli.scene);
-    std::optional<engine::CloudFormat> format;
-    if (!cli.format.empty()) format = engine::parseCloudFormat(cli.format, "generate: --format");
+    const fs::path scene_path = cli.scene.empty() ? io::demoScenePath() : fs::path(cli.scene);
+    std::optional<io::CloudFormat> format;
+    if (!cli.format.empty()) format = io::parseCloudFormat(cli.format, "generate: --format");
     const fs::path out =
-        cli.out.empty() ? defaultOutput(scene_path, format.value_or(engine::CloudFormat::PcdBinary)) : fs::path(cli.out);
+        cli.out.empty() ? defaultOutput(scene_path, format.value_or(io::CloudFormat::PcdBinary)) : fs::path(cli.out);
     if (format) checkExtension(out, *format);
-    else format = engine::formatForPath(out, "generate: --out");
+    else format = io::formatForPath(out, "generate: --out");
     if (!(cli.las_target_class >= 0 && cli.las_target_class <= 255))
-        throw engine::Error("generate: --las-target-class = " + std::to_string(cli.las_target_class) +
+        throw core::Error("generate: --las-target-class = " + std::to_string(cli.las_target_class) +
                             ": allowed 0..255");
-    o.las.class_of_role[int(engine::Role::Target)] = std::uint8_t(cli.las_target_class);
+    o.las.class_of_role[int(core::Role::Target)] = std::uint8_t(cli.las_target_class);
     createParentFolders(out, "generate: --out");
-    engine::checkWritableDestination(out);
+    platform::checkWritableDestination(out);
     o.progress = true;  // drawn only when stderr is a terminal
 
     const auto t0 = std::chrono::steady_clock::now();
-    engine::SceneLoadOptions load_options;
+    io::SceneLoadOptions load_options;
     load_options.skip_nonfinite = cli.skip_nonfinite;
-    const engine::Scene scene = engine::loadScene(scene_path, load_options);
+    const core::Scene scene = io::loadScene(scene_path, load_options);
     if (scene.skipped_triangles > 0 || scene.skipped_nonfinite_triangles > 0)
         warn("generate: " + scene_path.string() + ": skipped " + std::to_string(scene.skipped_triangles) +
              " zero-area and " + std::to_string(scene.skipped_nonfinite_triangles) +
              " non-finite (NaN/inf vertex) triangles");
-    for (const std::string& w : engine::targetWarnings(engine::summarize(scene)))
+    for (const std::string& w : core::targetWarnings(core::summarize(scene)))
         warn("generate: " + scene_path.string() + ": " + w + " (see 'ladarvr scene info')");
     const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     sim::GenerateStats st;
@@ -164,7 +164,7 @@ void run(GenerateCli& cli) {
     const double seconds = load_s + st.seconds.total;
     // Misses are expected when only some roles are cast; with all of them, most rays
     // missing means the orbit looks past the scene.
-    if (o.roles.bits == engine::RoleMask::all().bits && st.rays > 0 && 2 * st.misses > st.rays)
+    if (o.roles.bits == core::RoleMask::all().bits && st.rays > 0 && 2 * st.misses > st.rays)
         warn("generate: " + std::to_string(st.misses) + " of " + std::to_string(st.rays) +
              " rays missed the scene (more than half): is the orbit (--centre, --altitude-m) or the scene "
              "misplaced? (see 'ladarvr scene info')");

@@ -4,15 +4,15 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
-#include <engine/scene.hpp>
-#include <engine/trace_file.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/scene_file.hpp>
+#include <io/trace_file.hpp>
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
 #include <metric/trace.hpp>
 #include <metric/visibility.hpp>
+#include <platform/atomic_file.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -53,13 +53,13 @@ glm::dvec3 parseTriple(const std::string& text, const char* option) {
             v[n] = std::stod(part, &used);
             if (used != part.size() || !std::isfinite(v[n])) throw std::invalid_argument(part);
         } catch (const std::exception&) {
-            throw engine::Error(std::string("metric: ") + option + " '" + text +
+            throw core::Error(std::string("metric: ") + option + " '" + text +
                                 "': allowed three finite numbers x,y,z (world metres)");
         }
         ++n;
     }
     if (n != 3 || s.rdbuf()->in_avail() != 0)
-        throw engine::Error(std::string("metric: ") + option + " '" + text +
+        throw core::Error(std::string("metric: ") + option + " '" + text +
                             "': allowed three finite numbers x,y,z (world metres)");
     return v;
 }
@@ -93,23 +93,23 @@ void run(MetricCli& cli) {
     else if (cli.rasterizer == "raster")
         o.rasterizer = metric::Rasterizer::Raster;
     else
-        throw engine::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
+        throw core::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
     if (!cli.look_at.empty()) o.look_at_world = parseTriple(cli.look_at, "--look-at");
     std::size_t trace_samples = 0;
     if (!cli.trace.empty()) {
         if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
-            throw engine::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
+            throw core::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
                                 ": allowed [0, 3600] seconds");
-        const std::vector<engine::TraceRow> samples = engine::readTrace(cli.trace).rows;
+        const std::vector<io::TraceRow> samples = io::readTrace(cli.trace).rows;
         trace_samples = samples.size();
-        for (const engine::TraceRow& h : metric::everyStep(samples, cli.trace_step_s))
+        for (const io::TraceRow& h : metric::everyStep(samples, cli.trace_step_s))
             o.poses_world.push_back(metric::cameraFromHead(h));
     }
     const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
     if (from_files && (cli.p1.empty() || cli.p2.empty() || cli.p3.empty()))
-        throw engine::Error("metric: --p1, --p2 and --p3 go together: give all three clouds");
+        throw core::Error("metric: --p1, --p2 and --p3 go together: give all three clouds");
     if (from_files && !cli.scene.empty())
-        throw engine::Error("metric: --scene and --p1/--p2/--p3 exclude each other");
+        throw core::Error("metric: --scene and --p1/--p2/--p3 exclude each other");
     metric::validate(o);
 
     // Fail on the destination before the (long) generation; the folder itself is made
@@ -119,16 +119,16 @@ void run(MetricCli& cli) {
     metric::checkReportFolder(out);
 
     metric::MetricClouds clouds;
-    std::optional<engine::Scene> scene;
+    std::optional<core::Scene> scene;
     if (from_files) {
-        clouds.p1 = engine::readCloud(cli.p1);
-        clouds.p2 = engine::readCloud(cli.p2);
-        clouds.p3 = engine::readCloud(cli.p3);
+        clouds.p1 = io::readCloud(cli.p1);
+        clouds.p2 = io::readCloud(cli.p2);
+        clouds.p3 = io::readCloud(cli.p3);
         if (clouds.p1.points.empty())
-            throw engine::Error("metric: --p1 " + cli.p1 + ": the cloud is empty; P1 must hold the target's points");
+            throw core::Error("metric: --p1 " + cli.p1 + ": the cloud is empty; P1 must hold the target's points");
     } else {
-        const std::filesystem::path path = cli.scene.empty() ? engine::demoScenePath() : std::filesystem::path(cli.scene);
-        scene = engine::loadScene(path);
+        const std::filesystem::path path = cli.scene.empty() ? io::demoScenePath() : std::filesystem::path(cli.scene);
+        scene = io::loadScene(path);
         if (!cli.json) std::fprintf(stderr, "metric: generating P1, P2, P3 from %s\n", path.string().c_str());
         clouds = metric::generateClouds(*scene);
     }

@@ -1,11 +1,11 @@
 // app/src/cmd_scene.cpp: `ladarvr scene info [SCENE]`: what a scene holds, measured
-// (engine::summarize): each mesh's role, file, triangles, size and position, the target's
+// (core::summarize): each mesh's role, file, triangles, size and position, the target's
 // size and height above the ground under it, and the warnings `generate` would print.
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <engine/scene.hpp>
-#include <engine/scene_info.hpp>
+#include <core/scene_info.hpp>
+#include <io/scene_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -29,22 +29,22 @@ nlohmann::json optionalNumber(const std::optional<double>& v) {
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
-nlohmann::json toJson(const engine::SceneSummary& s, const std::filesystem::path& path) {
+nlohmann::json toJson(const core::SceneSummary& s, const std::filesystem::path& path) {
     nlohmann::json j;
     j["scene"] = std::filesystem::absolute(path).string();
     j["origin"] = vec(s.origin);
     j["triangles"] = s.triangles;
     j["bounds_world"] = {{"lo", vec(s.origin + s.bounds.lo)}, {"hi", vec(s.origin + s.bounds.hi)}};
     j["meshes"] = nlohmann::json::array();
-    for (const engine::MeshSummary& m : s.meshes)
+    for (const core::MeshSummary& m : s.meshes)
         j["meshes"].push_back({{"file", m.file},
-                               {"role", std::string(engine::roleName(m.role))},
+                               {"role", std::string(core::roleName(m.role))},
                                {"triangles", m.triangles},
                                {"size_m", vec(m.bounds.size())},
                                {"position", vec(m.position)},
                                {"bounds_world", {{"lo", vec(s.origin + m.bounds.lo)}, {"hi", vec(s.origin + m.bounds.hi)}}}});
     if (s.target) {
-        const engine::TargetSummary& t = *s.target;
+        const core::TargetSummary& t = *s.target;
         j["target"] = {{"size_m", vec(t.bounds.size())},
                        {"centre_world", vec(s.origin + t.bounds.centre())},
                        {"bottom_z_world", s.origin.z + t.bounds.lo.z},
@@ -53,7 +53,7 @@ nlohmann::json toJson(const engine::SceneSummary& s, const std::filesystem::path
     } else {
         j["target"] = nullptr;
     }
-    j["warnings"] = engine::targetWarnings(s);
+    j["warnings"] = core::targetWarnings(s);
     return j;
 }
 
@@ -70,14 +70,14 @@ std::string triple(const glm::dvec3& v, int decimals, const char* separator = " 
     return out;
 }
 
-void printHuman(const engine::SceneSummary& s, const std::filesystem::path& path) {
+void printHuman(const core::SceneSummary& s, const std::filesystem::path& path) {
     std::printf("scene %s: %zu meshes, %zu triangles, origin %s\n", path.string().c_str(), s.meshes.size(),
                 s.triangles, triple(s.origin, 3).c_str());
     std::printf("  %-4s %-11s %9s  %-26s  %-30s  %s\n", "#", "role", "triangles", "size x y z (m)",
                 "position x y z (m)", "file");
     for (std::size_t i = 0; i < s.meshes.size(); ++i) {
-        const engine::MeshSummary& m = s.meshes[i];
-        std::printf("  %-4zu %-11s %9zu  %-26s  %-30s  %s\n", i, std::string(engine::roleName(m.role)).c_str(),
+        const core::MeshSummary& m = s.meshes[i];
+        std::printf("  %-4zu %-11s %9zu  %-26s  %-30s  %s\n", i, std::string(core::roleName(m.role)).c_str(),
                     m.triangles, triple(m.bounds.size(), 2, " x ").c_str(),
                     triple(m.position, 3).c_str(), m.file.c_str());
     }
@@ -85,7 +85,7 @@ void printHuman(const engine::SceneSummary& s, const std::filesystem::path& path
         std::printf("target: none (generate needs one)\n");
         return;
     }
-    const engine::TargetSummary& t = *s.target;
+    const core::TargetSummary& t = *s.target;
     std::printf("target: size %s m, centre %s, bottom at z = %.3f\n",
                 triple(t.bounds.size(), 2, " x ").c_str(),
                 triple(s.origin + t.bounds.centre(), 3).c_str(), s.origin.z + t.bounds.lo.z);
@@ -94,15 +94,15 @@ void printHuman(const engine::SceneSummary& s, const std::filesystem::path& path
                     *t.height_above_ground_m, s.origin.z + *t.ground_z);
     else
         std::printf("target: no ground under its centre\n");
-    for (const std::string& w : engine::targetWarnings(s)) std::printf("warning: %s\n", w.c_str());
+    for (const std::string& w : core::targetWarnings(s)) std::printf("warning: %s\n", w.c_str());
 }
 
 void run(const SceneInfoCli& cli) {
-    const std::filesystem::path path = cli.scene.empty() ? engine::demoScenePath() : std::filesystem::path(cli.scene);
-    engine::SceneLoadOptions options;
+    const std::filesystem::path path = cli.scene.empty() ? io::demoScenePath() : std::filesystem::path(cli.scene);
+    io::SceneLoadOptions options;
     options.require_target = false;  // describe any scene; say so when it has no target
-    const engine::Scene scene = engine::loadScene(path, options);
-    const engine::SceneSummary summary = engine::summarize(scene);
+    const core::Scene scene = io::loadScene(path, options);
+    const core::SceneSummary summary = core::summarize(scene);
     if (cli.json)
         std::printf("%s\n", toJson(summary, path).dump(2).c_str());
     else

@@ -4,8 +4,8 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <engine/cleanup.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <platform/cleanup.hpp>
 #include <study/study_folder.hpp>
 #include <study/study_run.hpp>
 #include <viewer/viewer.hpp>
@@ -56,12 +56,12 @@ int runReplay(const StudyArgs& a) {
 }
 
 int runStudy(const StudyArgs& a) {
-    if (!a.replay.empty() && !a.plan.empty()) throw engine::Error("study: give PLAN.json or --replay DIR, not both");
+    if (!a.replay.empty() && !a.plan.empty()) throw core::Error("study: give PLAN.json or --replay DIR, not both");
     if (!a.replay.empty()) return runReplay(a);
-    if (a.plan.empty()) throw engine::Error("study: give PLAN.json (or --replay DIR)");
+    if (a.plan.empty()) throw core::Error("study: give PLAN.json (or --replay DIR)");
     const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<engine::Watchdog> watchdog = viewerWatchdog("study", a.timeout_s);
-    if (a.out.empty()) throw engine::Error("study: --out DIR is required (the folder for trials.csv and the traces)");
+    const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("study", a.timeout_s);
+    if (a.out.empty()) throw core::Error("study: --out DIR is required (the folder for trials.csv and the traces)");
 
     study::StudyOptions s;
     s.plan = a.plan;

@@ -6,12 +6,12 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/candidates.hpp>
-#include <engine/cleanup.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/candidates_file.hpp>
+#include <io/scene_file.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/cleanup.hpp>
+#include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
 #include <viewer/viewer.hpp>
 
@@ -48,12 +48,12 @@ struct ViewArgs {
 
 int runView(const ViewArgs& a) {
     const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<engine::Watchdog> watchdog = viewerWatchdog("view", a.timeout_s);
+    const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("view", a.timeout_s);
     if (!a.cloud.empty() && !a.scene.empty())
-        throw engine::Error("view: give a cloud file or --scene, not both");
+        throw core::Error("view: give a cloud file or --scene, not both");
     const sim::OrbitOptions paper;
     if (!a.cloud.empty() && (a.orbit.xres != paper.xres || a.orbit.yres != paper.yres || a.orbit.views != paper.views))
-        throw engine::Error("view: --xres/--yres/--views apply to a generated cloud, not to a cloud file");
+        throw core::Error("view: --xres/--yres/--views apply to a generated cloud, not to a cloud file");
     viewer::ViewerOptions o;
     o.use_xr = !a.no_xr;
     o.mirror = viewer::parseMirrorEyes(a.mirror);
@@ -76,14 +76,14 @@ int runView(const ViewArgs& a) {
     o.snap_turn = !a.no_snap_turn;
     o.vignette = !a.no_vignette;
     o.headset_panel = !a.no_headset_panel;
-    if (!a.candidates.empty()) o.candidates = engine::readCandidates(a.candidates);
+    if (!a.candidates.empty()) o.candidates = io::readCandidates(a.candidates);
     o.vsync = a.frames == 0;
     if (!a.script.empty()) o.script = viewer::readScript(a.script);
     o.screenshot = a.screenshot;
     o.log_json = a.log_json;
     viewer::validate(o);
     // The cloud first: remembered as an input, so neither output may replace it.
-    if (!a.cloud.empty()) engine::checkInputFile(a.cloud, "view: cloud '" + engine::printable(a.cloud, 400) + "'");
+    if (!a.cloud.empty()) platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
     prepareOutputFile(o.screenshot, "view: --screenshot");
     prepareOutputFile(o.log_json, "view: --log-json");
 
@@ -95,9 +95,9 @@ int runView(const ViewArgs& a) {
         feed.startFileLoader(path);
     } else {
         // Load (and validate) the scene now, so a bad scene fails before a window opens.
-        const std::filesystem::path scene_path = a.scene.empty() ? engine::demoScenePath()
+        const std::filesystem::path scene_path = a.scene.empty() ? io::demoScenePath()
                                                                  : std::filesystem::path(a.scene);
-        auto scene = std::make_shared<engine::Scene>(engine::loadScene(scene_path));
+        auto scene = std::make_shared<core::Scene>(io::loadScene(scene_path));
         std::fprintf(stderr, "ladarvr: view: generating the cloud of %s\n",
                      scene_path.string().c_str());
         sim::GenerateOptions check;

@@ -1,6 +1,6 @@
 // app/src/commands.hpp: each subcommand registers itself on the CLI11 app.
 // A register function adds the subcommand and its options and sets a callback that
-// does the work; callbacks throw engine::Error on bad input, which main() reports.
+// does the work; callbacks throw core::Error on bad input, which main() reports.
 #pragma once
 #include <CLI/CLI.hpp>
 

@@ -3,8 +3,8 @@
 
 #include "cli_common.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <platform/atomic_file.hpp>
 #include <sim/dtm.hpp>
 
 #include <nlohmann/json.hpp>
@@ -88,9 +88,9 @@ void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o) {
     o.fit_terrain = !cli.dtm.empty();
     if (!cli.dtm.empty()) {
         if (o.white)
-            throw engine::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
+            throw core::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
         createParentFolders(cli.dtm, "generate: --dtm");
-        engine::checkWritableDestination(cli.dtm);
+        platform::checkWritableDestination(cli.dtm);
     }
 }
 
@@ -131,7 +131,7 @@ void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim
     if (const auto advice = groundAdvice(st)) warn(*advice);
     if (!cli.dtm.empty()) {
         if (!st.terrain || st.terrain->empty())
-            throw engine::Error("output: " + cli.dtm + ": no terrain was fitted (--white, or an empty cloud)");
+            throw core::Error("output: " + cli.dtm + ": no terrain was fitted (--white, or an empty cloud)");
         sim::writeDtm(cli.dtm, *st.terrain, origin);
         std::fprintf(stderr, "  DTM: %s (%d x %d cells of %g m)\n", cli.dtm.c_str(), st.terrain->nx, st.terrain->ny,
                      st.terrain->cell_m);

@@ -3,7 +3,7 @@
 // the preset's value for that model alone, whatever the order of the two.
 #include "sensor_options.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <functional>
 #include <memory>

@@ -8,7 +8,7 @@ namespace app {
 
 /// Adds --sensor PRESET and one option per sensor model to `cmd`. Once `cmd` is parsed,
 /// `out` holds the preset with every option given explicitly applied over it, validated
-/// (sim::validate: engine::Error naming the option and the allowed range). `out` must
+/// (sim::validate: core::Error naming the option and the allowed range). `out` must
 /// outlive `cmd`.
 void addSensorOptions(CLI::App& cmd, sim::SensorOptions& out);
 

@@ -12,9 +12,9 @@
 #include "common.hpp"
 #include "register.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
+#include <platform/atomic_file.hpp>
 
 #include <chrono>
 #include <cstdlib>
@@ -38,7 +38,7 @@ namespace fs = std::filesystem;
 std::string runEcho(const std::string& cmd, int* status) {
     std::string out;
     FILE* p = ::popen(cmd.c_str(), "r");
-    if (!p) throw engine::Error("bench: cannot run '" + cmd + "'");
+    if (!p) throw core::Error("bench: cannot run '" + cmd + "'");
     char buf[4096];
     while (std::fgets(buf, sizeof buf, p)) {
         out += buf;
@@ -71,18 +71,18 @@ long long field(const std::string& line, const std::string& key) {
 
 /// What a fuzz target exercises, for the table.
 std::string fuzzParser(const std::string& target) {
-    if (target == "fuzz_scene_json") return "`engine::loadSceneJson` (scene JSON + Assimp meshes)";
-    if (target == "fuzz_cloud_reader") return "`engine::readCloudData` (PCD ascii/binary/compressed, PLY)";
+    if (target == "fuzz_scene_json") return "`io::loadSceneJson` (scene JSON + Assimp meshes)";
+    if (target == "fuzz_cloud_reader") return "`io::readCloudData` (PCD ascii/binary/compressed, PLY)";
     if (target == "fuzz_view_script") return "`viewer::parseScript` (the viewer's --script files)";
-    if (target == "fuzz_las_reader") return "`engine::CloudReader` on LAS/LAZ (our checks, then LASzip)";
+    if (target == "fuzz_las_reader") return "`io::CloudReader` on LAS/LAZ (our checks, then LASzip)";
     return "?";
 }
 
 void runFuzz(const BenchFuzzCli& cli) {
     if (cli.seconds < 1 || cli.seconds > 86400)
-        throw engine::Error("bench fuzz: --seconds = " + std::to_string(cli.seconds) + ": allowed [1, 86400]");
+        throw core::Error("bench fuzz: --seconds = " + std::to_string(cli.seconds) + ": allowed [1, 86400]");
     const fs::path script = sourceRoot() / "scripts" / "fuzz.sh";
-    if (!fs::exists(script)) throw engine::Error("bench fuzz: " + script.string() + " is missing");
+    if (!fs::exists(script)) throw core::Error("bench fuzz: " + script.string() + " is missing");
     const auto t0 = Clock::now();
     int status = 0;
     std::fprintf(stderr, "bench fuzz: building the clang targets and fuzzing each for %d s\n", cli.seconds);
@@ -103,13 +103,13 @@ void runFuzz(const BenchFuzzCli& cli) {
         runs.push_back(r);
     }
     if (runs.empty())
-        throw engine::Error("bench fuzz: " + script.string() + " ran no target (exit " + std::to_string(status) +
+        throw core::Error("bench fuzz: " + script.string() + " ran no target (exit " + std::to_string(status) +
                             "); is clang installed? (BENCH_PACKAGES of ./ladarvr)");
     std::ostringstream s;
     s << "## Fuzzing (ladarvr bench fuzz)\n\n"
       << "Command: `./ladarvr bench fuzz --seconds " << cli.seconds << "` (runs `scripts/fuzz.sh`); machine: "
       << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
-      << fmt("%.0f", secondsSince(t0)) << " s in all, build included. libFuzzer from Debian's clang, the engine "
+      << fmt("%.0f", secondsSince(t0)) << " s in all, build included. libFuzzer from Debian's clang, core, platform and io "
       << "compiled with ASan + UBSan (UB aborts), one process per target (as many at a time as there are cores), "
       << "each held to -rss_limit_mb=2048 and -malloc_limit_mb=512, seeds from fuzz/seeds, "
       << "tests/data and earlier runs (corpus kept in build/fuzz/corpus). Not run in CI.\n\n"
@@ -124,8 +124,8 @@ void runFuzz(const BenchFuzzCli& cli) {
           << fmt("%.0f", r.seconds > 0 ? double(r.runs) / double(r.seconds) : 0.0) << " | " << r.corpus << " | "
           << r.cov << " | " << r.crashes << (r.rc != 0 ? " (exit " + std::to_string(r.rc) + ")" : "") << " |\n";
     }
-    s << "\nCrashes found by earlier runs are kept as regression tests (tests/data/engine/fuzz_regressions/, "
-         "tests/engine/fuzz_regression_test.cpp); docs/stress.md lists them.\n";
+    s << "\nCrashes found by earlier runs are kept as regression tests (tests/data/io/fuzz_regressions/, "
+         "tests/io/fuzz_regression_test.cpp); docs/stress.md lists them.\n";
     if (!cli.no_md) {
         replaceMarkdownSection(cli.md, "## Fuzzing (ladarvr bench fuzz)", s.str());
         std::fprintf(stderr, "bench fuzz: wrote the section to %s\n", cli.md.c_str());
@@ -133,7 +133,7 @@ void runFuzz(const BenchFuzzCli& cli) {
         std::fputs(s.str().c_str(), stdout);
     }
     if (crashes > 0 || status != 0)
-        throw engine::Error("bench fuzz: " + std::to_string(crashes) + " crash(es) found; inputs in build/fuzz/artifacts/");
+        throw core::Error("bench fuzz: " + std::to_string(crashes) + " crash(es) found; inputs in build/fuzz/artifacts/");
 }
 
 // --- bench all --------------------------------------------------------------
@@ -193,12 +193,12 @@ void runAll(const BenchAllCli& cli) {
         for (const Step& s : steps)
             if (("," + cli.only + ",").find("," + s.name + ",") != std::string::npos) keep.push_back(s);
         if (keep.empty())
-            throw engine::Error("bench all: --only '" + cli.only + "': allowed a list of " + stepNames());
+            throw core::Error("bench all: --only '" + cli.only + "': allowed a list of " + stepNames());
         steps = keep;
     }
     std::error_code ec;
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (ec) throw engine::Error("bench all: cannot find this executable (/proc/self/exe)");
+    if (ec) throw core::Error("bench all: cannot find this executable (/proc/self/exe)");
     const auto t0 = Clock::now();
     if (cli.dry_run) {
         for (std::size_t i = 0; i < steps.size(); ++i)
@@ -207,7 +207,7 @@ void runAll(const BenchAllCli& cli) {
     }
     const std::string started = utcNow();
     // From scratch: the header alone, then each benchmark appends its section.
-    engine::writeFileAtomic(cli.md, std::string(kHeader));
+    platform::writeFileAtomic(cli.md, std::string(kHeader));
     int failed = 0;
     for (std::size_t i = 0; i < steps.size(); ++i) {
         Step& s = steps[i];
@@ -275,7 +275,7 @@ void runAll(const BenchAllCli& cli) {
     replaceMarkdownHeader(cli.md, h.str());
     std::fprintf(stderr, "bench all: %s in %.0f s (%s)\n", failed ? "finished with failures" : "done", total,
                  cli.md.c_str());
-    if (failed) throw engine::Error("bench all: " + std::to_string(failed) + " step(s) failed; see above");
+    if (failed) throw core::Error("bench all: " + std::to_string(failed) + " step(s) failed; see above");
 }
 
 }  // namespace

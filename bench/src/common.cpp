@@ -1,7 +1,7 @@
 // bench/src/common.cpp: see common.hpp.
 #include "common.hpp"
 
-#include <engine/atomic_file.hpp>
+#include <platform/atomic_file.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -102,13 +102,13 @@ void replaceMarkdownSection(const std::filesystem::path& path, const std::string
         end = end == std::string::npos ? text.size() : end + 1;
         text = text.substr(0, start) + section + (end < text.size() ? "\n" + text.substr(end) : "");
     }
-    engine::writeFileAtomic(path, text);
+    platform::writeFileAtomic(path, text);
 }
 
 void replaceMarkdownHeader(const std::filesystem::path& path, const std::string& header) {
     const std::string text = std::filesystem::exists(path) ? readText(path) : std::string();
     const std::size_t first = text.rfind("## ", 0) == 0 ? 0 : text.find("\n## ");
-    engine::writeFileAtomic(
+    platform::writeFileAtomic(
         path, header + (first == std::string::npos ? "" : "\n" + text.substr(first + (first ? 1 : 0))));
 }
 

@@ -13,10 +13,10 @@
 #include <corpus/sha256.hpp>
 #include <corpus/spec.hpp>
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
-#include <engine/cloud_io.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/scene_file.hpp>
+#include <platform/atomic_file.hpp>
 #include <sim/generator.hpp>
 
 #include <nlohmann/json.hpp>
@@ -58,7 +58,7 @@ struct Measure {
 };
 
 std::string writeSpec(const fs::path& dir, const std::string& name, int count, int resolution, bool metric) {
-    const fs::path scene = engine::demoScenePath();
+    const fs::path scene = io::demoScenePath();
     nlohmann::json spec{{"scene", fs::absolute(scene).string()},
                         {"count", count},
                         {"seed", 2016},
@@ -69,7 +69,7 @@ std::string writeSpec(const fs::path& dir, const std::string& name, int count, i
                           {"resolution", resolution}}},
                         {"metric", metric}};
     const fs::path file = dir / (name + ".json");
-    engine::writeFileAtomic(file, spec.dump(2));
+    platform::writeFileAtomic(file, spec.dump(2));
     return file.string();
 }
 
@@ -91,7 +91,7 @@ Measure measure(const fs::path& tmp, const std::string& label, const std::string
     m.threads = threads;
     m.items = int(s.built);
     m.rays = rays;
-    if (!s.failed.empty()) throw engine::Error("bench corpus: " + s.failed.front());
+    if (!s.failed.empty()) throw core::Error("bench corpus: " + s.failed.front());
     std::vector<double> per_item;
     for (const std::string& line : corpus::readManifest(out))
         per_item.push_back(nlohmann::json::parse(line)["seconds"].get<double>());
@@ -110,11 +110,11 @@ Spread plainItems(const corpus::Planner& planner, int items, const fs::path& tmp
     for (int i = 0; i < items; ++i) {
         const corpus::ItemPlan p = planner.plan(std::size_t(i));
         const auto t0 = Clock::now();
-        const engine::Scene scene = engine::loadSceneJson(p.sceneText({}), tmp / "plain.json");
+        const core::Scene scene = io::loadSceneJson(p.sceneText({}), tmp / "plain.json");
         sim::GenerateOptions o = p.options;
         o.threads = 0;
-        const engine::PointCloud cloud = sim::generateCloud(scene, o);
-        engine::writeCloud(tmp / "plain.pcd", cloud, engine::CloudFormat::PcdBinary);
+        const core::PointCloud cloud = sim::generateCloud(scene, o);
+        io::writeCloud(tmp / "plain.pcd", cloud, io::CloudFormat::PcdBinary);
         seconds.push_back(secondsSince(t0));
     }
     fs::remove(tmp / "plain.pcd");
@@ -137,7 +137,7 @@ void run(const BenchCorpusCli& cli) {
     const auto start = Clock::now();
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     const int max_jobs = cli.max_jobs > 0 ? cli.max_jobs : cores;
-    if (cli.items < 2 || cli.items > 1000) throw engine::Error("bench corpus: --items: allowed [2, 1000]");
+    if (cli.items < 2 || cli.items > 1000) throw core::Error("bench corpus: --items: allowed [2, 1000]");
     const fs::path tmp = cli.tmp.empty() ? fs::temp_directory_path() / ("ladarvr-bench-corpus-" + std::to_string(::getpid()))
                                          : fs::path(cli.tmp);
     fs::create_directories(tmp);

@@ -10,10 +10,10 @@
 #include "common.hpp"
 #include "register.hpp"
 
+#include <core/error.hpp>
+#include <core/point_cloud.hpp>
 #include <detect/cluster_detector.hpp>
-#include <engine/error.hpp>
-#include <engine/point_cloud.hpp>
-#include <engine/scene.hpp>
+#include <io/scene_file.hpp>
 #include <sim/generator.hpp>
 
 #include <cstdio>
@@ -49,13 +49,13 @@ std::string percent(std::size_t a, std::size_t b) {
     return b ? fmt("%.0f %%", 100.0 * double(a) / double(b)) : std::string("n/a");
 }
 
-Row measure(const std::string& name, const engine::PointCloud& cloud, detect::ClusterOptions o, detect::GroundSource ground,
+Row measure(const std::string& name, const core::PointCloud& cloud, detect::ClusterOptions o, detect::GroundSource ground,
             double threshold) {
     Row r;
     r.scene = name;
     r.ground = ground == detect::GroundSource::Ransac ? "ransac" : "labels";
     r.points = cloud.points.size();
-    for (const engine::CloudPoint& p : cloud.points) r.target_points += p.label == engine::Role::Target;
+    for (const core::CloudPoint& p : cloud.points) r.target_points += p.label == core::Role::Target;
     o.ground = ground;
     const double min_score = o.min_score;
     o.min_score = 0.0;            // every cluster, to find the one holding the target
@@ -70,7 +70,7 @@ Row measure(const std::string& name, const engine::PointCloud& cloud, detect::Cl
     for (std::size_t k = 0; k < found.size(); ++k) {
         const detect::Detection& d = found[k];
         std::size_t target = 0;
-        for (const std::uint32_t i : d.points) target += cloud.points[i].label == engine::Role::Target;
+        for (const std::uint32_t i : d.points) target += cloud.points[i].label == core::Role::Target;
         if (target > most_target) {
             most_target = target;
             r.target_cluster = std::to_string(target) + " of " + std::to_string(d.points.size()) + " points, " +
@@ -123,14 +123,14 @@ std::string table(const std::vector<Row>& rows, double min_score, double thresho
 void run(const BenchDetectCli& cli) {
     detect::validate(cli.detector);
     if (!(cli.threshold >= 0.0 && cli.threshold <= 1.0))
-        throw engine::Error("bench detect: --threshold = " + fmt("%g", cli.threshold) + ": allowed [0, 1]");
+        throw core::Error("bench detect: --threshold = " + fmt("%g", cli.threshold) + ": allowed [0, 1]");
     const auto start = Clock::now();
     const std::filesystem::path assets = sourceRoot() / "assets";
     std::vector<Row> rows;
     for (const char* name : {"demo", "hard", "hilly"}) {
-        const engine::Scene scene = engine::loadScene(assets / name / "scene.json");
+        const core::Scene scene = io::loadScene(assets / name / "scene.json");
         std::fprintf(stderr, "bench detect: generating %s\n", name);
-        const engine::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{});
+        const core::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{});
         for (const detect::GroundSource g : {detect::GroundSource::Ransac, detect::GroundSource::Labels}) {
             rows.push_back(measure(name, cloud, cli.detector, g, cli.threshold));
             std::fprintf(stderr, "bench detect: %s, %s ground: %.2f s\n", name, rows.back().ground.c_str(),

@@ -8,8 +8,8 @@
 
 #include "common.hpp"
 
-#include <engine/cloud_io.hpp>
-#include <engine/cloud_reader.hpp>
+#include <io/cloud_io.hpp>
+#include <io/cloud_reader.hpp>
 
 #include <cstdio>
 #include <thread>
@@ -19,12 +19,12 @@
 
 namespace bench {
 
-void benchFormats(const engine::Scene& scene, const sim::GenerateOptions& options,
+void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options,
                   const std::filesystem::path& dir, const std::string& config, const std::string& md) {
     namespace fs = std::filesystem;
     const auto start = Clock::now();
     const fs::path source = dir / "formats_source.pcd";
-    sim::Generator(scene, options).run(source, engine::CloudFormat::PcdBinary);
+    sim::Generator(scene, options).run(source, io::CloudFormat::PcdBinary);
     struct Remove {
         fs::path p;
         ~Remove() {
@@ -34,25 +34,25 @@ void benchFormats(const engine::Scene& scene, const sim::GenerateOptions& option
     } remove_source{source};
     // The whole cloud in memory first, so that no writer's background work overlaps
     // another's clock or the reading.
-    engine::CloudReader reader(source);
-    std::vector<std::vector<engine::CloudPoint>> chunks;
+    io::CloudReader reader(source);
+    std::vector<std::vector<core::CloudPoint>> chunks;
     std::size_t points = 0;
     for (;;) {
-        std::vector<engine::CloudPoint> chunk;
+        std::vector<core::CloudPoint> chunk;
         if (!reader.nextChunk(chunk, std::size_t(1) << 20)) break;
         points += chunk.size();
         chunks.push_back(std::move(chunk));
     }
     const int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-    engine::LasOptions parallel, alone;
+    io::LasOptions parallel, alone;
     parallel.threads = threads;
     alone.threads = 0;
     // One writer over the whole cloud: seconds from opening to the committed file, its size.
-    const auto write = [&](engine::CloudFormat format, const engine::LasOptions& las, const fs::path& out,
+    const auto write = [&](io::CloudFormat format, const io::LasOptions& las, const fs::path& out,
                            std::uintmax_t& bytes) {
         const auto t0 = Clock::now();
         {
-            engine::CloudWriter w(out, format, reader.origin(), reader.fields(), las);
+            io::CloudWriter w(out, format, reader.origin(), reader.fields(), las);
             for (const auto& chunk : chunks) w.append(chunk);
             w.commit();
         }
@@ -66,10 +66,10 @@ void benchFormats(const engine::Scene& scene, const sim::GenerateOptions& option
     std::vector<double> pcd_runs, laz_runs;
     std::uintmax_t pcd_bytes = 0, laz_bytes = 0, laz1_bytes = 0;
     for (int round = 0; round < 3; ++round) {
-        pcd_runs.push_back(write(engine::CloudFormat::PcdBinary, {}, dir / "formats.pcd", pcd_bytes));
-        laz_runs.push_back(write(engine::CloudFormat::Laz, parallel, dir / "formats.laz", laz_bytes));
+        pcd_runs.push_back(write(io::CloudFormat::PcdBinary, {}, dir / "formats.pcd", pcd_bytes));
+        laz_runs.push_back(write(io::CloudFormat::Laz, parallel, dir / "formats.laz", laz_bytes));
     }
-    const double laz1_s = write(engine::CloudFormat::Laz, alone, dir / "formats_1.laz", laz1_bytes);
+    const double laz1_s = write(io::CloudFormat::Laz, alone, dir / "formats_1.laz", laz1_bytes);
     const double pcd_s = median(pcd_runs), laz_s = median(laz_runs);
     const double pcd_mib = double(pcd_bytes) / 1048576.0, laz_mib = double(laz_bytes) / 1048576.0,
                  laz1_mib = double(laz1_bytes) / 1048576.0;
@@ -83,7 +83,7 @@ void benchFormats(const engine::Scene& scene, const sim::GenerateOptions& option
           << fmt("%.1f", mib) << " | " << fmt("%.2f", mib * 1048576.0 / double(points)) << " | "
           << fmt("%.3fx", mib / pcd_mib) << " | " << fmt("%.2fx", s / pcd_s) << " |\n";
     };
-    row("binary PCD (engine::CloudWriter)", pcd_s, pcd_mib);
+    row("binary PCD (io::CloudWriter)", pcd_s, pcd_mib);
     const std::string laz_name = "LAZ, chunks compressed on " + std::to_string(threads) + " threads";
     row(laz_name.c_str(), laz_s, laz_mib);
     row("LAZ, on the caller's thread alone", laz1_s, laz1_mib);
@@ -102,7 +102,7 @@ void benchFormats(const engine::Scene& scene, const sim::GenerateOptions& option
       << points << " points, fields x y z rgb label view range), read back chunk by chunk and written "
          "again by each writer: binary PCD as the "
          "generator writes it, and LAZ (LAS 1.4 point format 7, 1 mm scale, extra bytes range and label; "
-         "chunks of " << engine::lazChunkPoints() << " points compressed by LASzip on worker threads, "
+         "chunks of " << io::lazChunkPoints() << " points compressed by LASzip on worker threads, "
          "the file LASzip writes alone, byte for byte), then the same LAZ on one thread. The cloud is read into "
          "memory first; each write is timed from opening the writer to the committed file; binary PCD and parallel "
          "LAZ in turn, 3 rounds, medians; LAZ on one thread once.\n\n"

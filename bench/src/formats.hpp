@@ -1,6 +1,6 @@
 // bench/src/formats.hpp: LAZ against binary PCD on a generated cloud (formats.cpp).
 #pragma once
-#include <engine/scene.hpp>
+#include <core/scene.hpp>
 #include <sim/generator.hpp>
 
 #include <filesystem>
@@ -12,7 +12,7 @@ namespace bench {
 /// binary PCD in `dir`, reads it back chunk by chunk and writes the points again as
 /// binary PCD and as LAZ, timing only the writers; prints the table and, unless `md` is
 /// empty, replaces its "## Cloud formats" section. The files are removed after.
-void benchFormats(const engine::Scene& scene, const sim::GenerateOptions& options,
+void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options,
                   const std::filesystem::path& dir, const std::string& config, const std::string& md);
 
 }  // namespace bench

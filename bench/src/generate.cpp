@@ -12,9 +12,9 @@
 #include "register.hpp"
 #include "sensor.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
+#include <platform/atomic_file.hpp>
 #include <sim/generator.hpp>
 
 #include <algorithm>
@@ -67,8 +67,8 @@ double statusMiB(const char* key) {
 
 // Midpoint subdivision (each triangle into 4, shared edges keep shared midpoints, so the
 // mesh stays watertight): the same surfaces with 4x the triangles.
-engine::Mesh subdivide(const engine::Mesh& m) {
-    engine::Mesh out;
+core::Mesh subdivide(const core::Mesh& m) {
+    core::Mesh out;
     out.name = m.name;
     out.role = m.role;
     out.vertices = m.vertices;
@@ -133,7 +133,7 @@ double plainLoopAllViews(const sim::Generator& g, int threads, bool packets) {
     return seconds;
 }
 
-Result runConfig(const std::string& name, const engine::Scene& scene, const sim::GenerateOptions& options,
+Result runConfig(const std::string& name, const core::Scene& scene, const sim::GenerateOptions& options,
                  int repeats, bool warm_up, bool single_too, const fs::path& out) {
     Result r;
     r.name = name;
@@ -142,7 +142,7 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
     std::vector<double> bvh, cast, fuse, ransac, colour, write, total, plain1, plain16, single;
     if (warm_up) {
         sim::Generator g(scene, options);
-        g.run(out, engine::CloudFormat::PcdBinary);
+        g.run(out, io::CloudFormat::PcdBinary);
         fs::remove(out);
         const int threads =
             options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -164,7 +164,7 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
         if (baselines_first) baselines(r.threads);
         r.rss_before_mib = statusMiB("VmRSS:");
         r.peak_reset = resetPeakRss();
-        g.run(out, engine::CloudFormat::PcdBinary, &st);
+        g.run(out, io::CloudFormat::PcdBinary, &st);
         r.peak_rss_mib = std::max(r.peak_rss_mib, statusMiB("VmHWM:"));
         r.output_mib = double(fs::file_size(out)) / 1048576.0;
         fs::remove(out);
@@ -189,7 +189,7 @@ Result runConfig(const std::string& name, const engine::Scene& scene, const sim:
             sim::GenerateOptions one = options;
             one.packet_rays = false;
             sim::GenerateStats st1;
-            sim::Generator(scene, one).run(out, engine::CloudFormat::PcdBinary, &st1);
+            sim::Generator(scene, one).run(out, io::CloudFormat::PcdBinary, &st1);
             fs::remove(out);
             single.push_back(st1.seconds.cast);
         }
@@ -229,7 +229,7 @@ struct SkipRow {
     bool same = true;
 };
 
-SkipRow skipRow(const std::string& name, const engine::Scene& scene, sim::GenerateOptions o, int repeats) {
+SkipRow skipRow(const std::string& name, const core::Scene& scene, sim::GenerateOptions o, int repeats) {
     SkipRow r;
     r.name = name;
     r.views = o.orbit.views;
@@ -237,9 +237,9 @@ SkipRow skipRow(const std::string& name, const engine::Scene& scene, sim::Genera
     for (int k = 0; k <= repeats; ++k) {  // k = 0: warm-up
         sim::GenerateStats on, off;
         o.skip_rays = true;
-        const engine::PointCloud a = sim::generateCloud(scene, o, &on);
+        const core::PointCloud a = sim::generateCloud(scene, o, &on);
         o.skip_rays = false;
-        const engine::PointCloud b = sim::generateCloud(scene, o, &off);
+        const core::PointCloud b = sim::generateCloud(scene, o, &off);
         r.same = r.same && a.points.size() == b.points.size() &&
                  std::equal(a.points.begin(), a.points.end(), b.points.begin(), [](const auto& x, const auto& y) {
                      return x.position == y.position && x.rgb == y.rgb && x.view == y.view;
@@ -336,8 +336,8 @@ std::string notes(const std::vector<Result>& results) {
 
 // The >= 100x configuration's scene: the demo subdivided to just above 2 M triangles
 // (500,000 with --quick), same surfaces.
-engine::Scene largeScene(const engine::Scene& demo, bool quick) {
-    engine::Scene big = demo;
+core::Scene largeScene(const core::Scene& demo, bool quick) {
+    core::Scene big = demo;
     const std::size_t want = quick ? 500000 : 2000000;
     // Whole levels while they stay under the goal, then meshes one by one, smallest
     // first, until it is reached, so the scene lands just above `want` triangles.
@@ -370,13 +370,13 @@ std::string largeName(const BenchGenerateCli& cli) {
 
 void run(const BenchGenerateCli& cli) {
     if (cli.threads < 0 || cli.threads > 1024)
-        throw engine::Error("bench generate: --threads = " + std::to_string(cli.threads) + ": allowed [0, 1024]");
+        throw core::Error("bench generate: --threads = " + std::to_string(cli.threads) + ": allowed [0, 1024]");
     if (cli.repeats < 1 || cli.repeats > 100)
-        throw engine::Error("bench generate: --repeats = " + std::to_string(cli.repeats) + ": allowed [1, 100]");
+        throw core::Error("bench generate: --repeats = " + std::to_string(cli.repeats) + ": allowed [1, 100]");
     if (cli.only == "sensors") {
         sim::GenerateOptions paper;
         paper.threads = cli.threads;
-        benchSensorModels(engine::loadScene(engine::demoScenePath()), paper, cli.quick, true,
+        benchSensorModels(io::loadScene(io::demoScenePath()), paper, cli.quick, true,
                           cli.no_md ? std::string() : cli.md);
         return;
     }
@@ -384,7 +384,7 @@ void run(const BenchGenerateCli& cli) {
                                          : fs::path(cli.tmp);
     fs::create_directories(dir);
     if (cli.only == "formats") {
-        benchFormats(largeScene(engine::loadScene(engine::demoScenePath()), cli.quick), largeOptions(cli), dir,
+        benchFormats(largeScene(io::loadScene(io::demoScenePath()), cli.quick), largeOptions(cli), dir,
                      largeName(cli), cli.no_md ? "" : cli.md);
         std::error_code ec;
         fs::remove_all(dir, ec);
@@ -396,7 +396,7 @@ void run(const BenchGenerateCli& cli) {
 
     // 1. The paper's configuration on the demo scene, fused in memory.
     auto t0 = Clock::now();
-    const engine::Scene demo = engine::loadScene(engine::demoScenePath());
+    const core::Scene demo = io::loadScene(io::demoScenePath());
     const double demo_load_s = secondsSince(t0);
     sim::GenerateOptions paper;
     paper.threads = cli.threads;
@@ -411,11 +411,11 @@ void run(const BenchGenerateCli& cli) {
         const int reps = cli.quick ? 3 : 7;
         sim::GenerateOptions o = paper;
         skips.push_back(skipRow("demo, all roles", demo, o, reps));
-        o.roles = engine::RoleMask::parse("target,environment", "bench");
+        o.roles = core::RoleMask::parse("target,environment", "bench");
         skips.push_back(skipRow("demo, target,environment", demo, o, reps));
-        o.roles = engine::RoleMask::parse("target", "bench");
+        o.roles = core::RoleMask::parse("target", "bench");
         skips.push_back(skipRow("demo, target", demo, o, reps));
-        o.roles = engine::RoleMask::all();
+        o.roles = core::RoleMask::all();
         o.centre = sim::defaultCentre(demo) + glm::dvec3(300.0, 0.0, 0.0);
         skips.push_back(skipRow("demo, all roles, C 300 m off the scene", demo, o, reps));
     }
@@ -425,7 +425,7 @@ void run(const BenchGenerateCli& cli) {
     // 2. >= 100x larger: 512x512 x 400 views (64x the rays) on the demo scene subdivided to
     // >= 2 M triangles (same surfaces), streamed to disk through the spool file.
     t0 = Clock::now();
-    const engine::Scene big = largeScene(demo, cli.quick);
+    const core::Scene big = largeScene(demo, cli.quick);
     const double big_prepare_s = demo_load_s + secondsSince(t0);
     const sim::GenerateOptions large = largeOptions(cli);
     const std::string large_name = largeName(cli);

@@ -7,7 +7,7 @@
 
 #include <cli_common.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <cstdio>
 #include <exception>
@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
         if (e.get_exit_code() == 0) return cli.exit(e);  // --help
         std::fprintf(stderr, "ladarvr: error: %s\n", app::usageError(cli, e, n, args.data()).c_str());
         return app::kExitUsage;
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         std::fprintf(stderr, "ladarvr: error: %s\n", e.what());
         return app::kExitError;
     } catch (const std::exception& e) {

@@ -6,11 +6,11 @@
 #include "common.hpp"
 #include "register.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
 #include <metric/clouds.hpp>
 #include <metric/visibility.hpp>
+#include <platform/atomic_file.hpp>
 #include <render/gl.hpp>
 
 #include <algorithm>
@@ -56,7 +56,7 @@ struct Row {
 
 void run(const BenchMetricCli& cli) {
     if (cli.views < 4 || cli.views > 1000)
-        throw engine::Error("bench metric: --views = " + std::to_string(cli.views) + ": allowed 4..1000");
+        throw core::Error("bench metric: --views = " + std::to_string(cli.views) + ": allowed 4..1000");
     const std::vector<int> resolutions = cli.quick ? std::vector<int>{128, 512} : std::vector<int>{128, 256, 512, 1024};
     const std::vector<double> splats = cli.quick ? std::vector<double>{1, 2} : std::vector<double>{1, 2, 3, 4, 5};
     const int views = cli.quick ? std::min(cli.views, 20) : cli.views;
@@ -64,18 +64,18 @@ void run(const BenchMetricCli& cli) {
     // The no-skip baselines run on every 4th view only (25 of 100, the same circle): on the
     // 1.4 M-point hard scene they are the slowest rows.
     const int baseline_stride = (views % 4 == 0) ? 4 : 1;
-    std::vector<std::pair<std::string, std::filesystem::path>> scenes = {{"demo", engine::demoScenePath()}};
+    std::vector<std::pair<std::string, std::filesystem::path>> scenes = {{"demo", io::demoScenePath()}};
     const std::filesystem::path hard = sourceRoot() / "assets" / "hard" / "scene.json";
     if (!cli.quick) {
         if (!std::filesystem::exists(hard))
-            throw engine::Error("bench metric: the hard scene " + hard.string() + " is missing");
+            throw core::Error("bench metric: the hard scene " + hard.string() + " is missing");
         scenes.emplace_back("hard", hard);
     }
     const auto bench_start = std::chrono::steady_clock::now();
     std::vector<Row> rows;
     std::string gl, setup_notes;
     for (const auto& [name, path] : scenes) {
-        const engine::Scene scene = engine::loadScene(path);
+        const core::Scene scene = io::loadScene(path);
         const auto gen_start = std::chrono::steady_clock::now();
         const metric::MetricClouds clouds = metric::generateClouds(scene);
         const double gen_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - gen_start).count();
@@ -190,7 +190,7 @@ void run(const BenchMetricCli& cli) {
                "," + std::to_string(r.views_compared) + "," + fmt("%.4f", r.exact_ms_per_view) + "\n";
     const std::filesystem::path csv_path = cli.csv;
     if (csv_path.has_parent_path()) std::filesystem::create_directories(csv_path.parent_path());
-    engine::writeFileAtomic(csv_path, csv);
+    platform::writeFileAtomic(csv_path, csv);
 
     // Markdown section
     const std::string date = utcNow();

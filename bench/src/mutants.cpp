@@ -5,7 +5,7 @@
 #include "common.hpp"
 #include "register.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -26,12 +26,12 @@ struct BenchMutantsCli {
 
 void runMutants(const BenchMutantsCli& cli) {
     const std::filesystem::path script = sourceRoot() / "scripts" / "mutants.sh";
-    if (!std::filesystem::exists(script)) throw engine::Error("bench mutants: " + script.string() + " is missing");
+    if (!std::filesystem::exists(script)) throw core::Error("bench mutants: " + script.string() + " is missing");
     std::string cmd = "bash " + shellQuote(script.string());
     for (const std::string& n : cli.names) cmd += " " + shellQuote(n);
     const auto t0 = Clock::now();
     FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) throw engine::Error("bench mutants: cannot run " + script.string());
+    if (!pipe) throw core::Error("bench mutants: cannot run " + script.string());
     std::string table, line;
     bool in_table = false;
     int killed = 0, survived = 0, errors = 0;
@@ -52,7 +52,7 @@ void runMutants(const BenchMutantsCli& cli) {
     const int rc = ::pclose(pipe);
     const int status = WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
     if (table.empty())
-        throw engine::Error("bench mutants: " + script.string() + " printed no table (exit " + std::to_string(status) + ")");
+        throw core::Error("bench mutants: " + script.string() + " printed no table (exit " + std::to_string(status) + ")");
     std::ostringstream s;
     s << "## Mutation check (ladarvr bench mutants)\n\n"
       << "Command: `./ladarvr bench mutants" << (cli.names.empty() ? "" : " NAME...") << "` (runs `scripts/mutants.sh` "
@@ -65,7 +65,7 @@ void runMutants(const BenchMutantsCli& cli) {
         replaceMarkdownSection(cli.md, "## Mutation check (ladarvr bench mutants)", s.str());
         std::fprintf(stderr, "bench mutants: wrote the section to %s\n", cli.md.c_str());
     }
-    if (status != 0) throw engine::Error("bench mutants: " + script.string() + " exited with " + std::to_string(status));
+    if (status != 0) throw core::Error("bench mutants: " + script.string() + " exited with " + std::to_string(status));
 }
 
 }  // namespace

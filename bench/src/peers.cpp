@@ -17,10 +17,10 @@
 #include "plain_loop.hpp"
 #include "register.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/scene_file.hpp>
+#include <platform/atomic_file.hpp>
 #include <sim/generator.hpp>
 #include <sim/raycaster.hpp>
 
@@ -68,7 +68,7 @@ struct RayResult {
     double dt_median_m = 0, dt_p99_m = 0, dt_max_m = 0;
 };
 
-RayResult rayCasting(const engine::Scene& scene, const sim::GenerateOptions& options, const BenchPeersCli& cli,
+RayResult rayCasting(const core::Scene& scene, const sim::GenerateOptions& options, const BenchPeersCli& cli,
                      int threads, const fs::path& dir) {
     RayResult r;
     sim::Generator g(scene, options);
@@ -103,7 +103,7 @@ RayResult rayCasting(const engine::Scene& scene, const sim::GenerateOptions& opt
     {
         std::vector<float> vertices;
         std::vector<std::uint32_t> indices;
-        for (const engine::Mesh& m : scene.meshes) {
+        for (const core::Mesh& m : scene.meshes) {
             if (!options.roles.has(m.role)) continue;
             const std::uint32_t base = std::uint32_t(vertices.size() / 3);
             for (const glm::vec3& v : m.vertices) vertices.insert(vertices.end(), {v.x, v.y, v.z});
@@ -121,7 +121,7 @@ RayResult rayCasting(const engine::Scene& scene, const sim::GenerateOptions& opt
             buf.insert(buf.end(), {ray.origin.x, ray.origin.y, ray.origin.z, ray.direction.x, ray.direction.y,
                                    ray.direction.z});
         f.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size() * 4));
-        if (!f) throw engine::Error("bench peers: cannot write the ray dump " + dump.string());
+        if (!f) throw core::Error("bench peers: cannot write the ray dump " + dump.string());
     }
     const fs::path script = cli.open3d_script.empty() ? sourceRoot() / "scripts" / "peer_open3d.py"
                                                       : fs::path(cli.open3d_script);
@@ -133,13 +133,13 @@ RayResult rayCasting(const engine::Scene& scene, const sim::GenerateOptions& opt
         char buf[4096];
         while (std::fgets(buf, sizeof buf, p)) output += buf;
         if (::pclose(p) != 0)
-            throw engine::Error("bench peers: '" + cmd + "' failed (is python3-open3d installed? it is in "
+            throw core::Error("bench peers: '" + cmd + "' failed (is python3-open3d installed? it is in "
                                 "BENCH_PACKAGES of ./ladarvr): " + output);
     } else {
-        throw engine::Error("bench peers: cannot run '" + cmd + "'");
+        throw core::Error("bench peers: cannot run '" + cmd + "'");
     }
     const auto line = output.rfind('{');
-    if (line == std::string::npos) throw engine::Error("bench peers: no JSON from " + script.string() + ": " + output);
+    if (line == std::string::npos) throw core::Error("bench peers: no JSON from " + script.string() + ": " + output);
     const nlohmann::json j = nlohmann::json::parse(output.substr(line));
     r.open3d_s = j.at("median_s").get<double>();
     r.open3d_version = j.at("open3d").get<std::string>();
@@ -149,7 +149,7 @@ RayResult rayCasting(const engine::Scene& scene, const sim::GenerateOptions& opt
     {
         std::ifstream f(out_hits, std::ios::binary);
         f.read(reinterpret_cast<char*>(t3.data()), std::streamsize(t3.size() * 4));
-        if (!f) throw engine::Error("bench peers: " + out_hits.string() + " is short");
+        if (!f) throw core::Error("bench peers: " + out_hits.string() + " is short");
     }
     std::uint64_t same = 0;
     std::vector<double> dt;
@@ -180,7 +180,7 @@ struct IoResult {
     bool pcl_reads_ours = false, ours_reads_pcl = false, pcl_round_trip = false;
 };
 
-IoResult pcdIo(const engine::PointCloud& cloud, int repeats, const fs::path& dir) {
+IoResult pcdIo(const core::PointCloud& cloud, int repeats, const fs::path& dir) {
     IoResult r;
     r.points = cloud.points.size();
     const fs::path ours = dir / "ours.pcd", theirs = dir / "pcl.pcd";
@@ -188,13 +188,13 @@ IoResult pcdIo(const engine::PointCloud& cloud, int repeats, const fs::path& dir
     for (int k = 0; k < repeats + 1; ++k) {  // k = 0 is the warm-up
         fs::remove(ours);
         auto t0 = Clock::now();
-        engine::writeCloud(ours, cloud, engine::CloudFormat::PcdBinary);
+        io::writeCloud(ours, cloud, io::CloudFormat::PcdBinary);
         const double w = secondsSince(t0);
         t0 = Clock::now();
-        const engine::PointCloud back = engine::readCloud(ours);
+        const core::PointCloud back = io::readCloud(ours);
         const double rd = secondsSince(t0);
         if (back.points.size() != cloud.points.size())
-            throw engine::Error("bench peers: our reader read " + std::to_string(back.points.size()) + " points");
+            throw core::Error("bench peers: our reader read " + std::to_string(back.points.size()) + " points");
         const peers::PclIo p = peers::pclWriteRead(cloud, theirs);
         if (k > 0) {
             ow.push_back(w);
@@ -212,7 +212,7 @@ IoResult pcdIo(const engine::PointCloud& cloud, int repeats, const fs::path& dir
     // Each reads the other's file.
     std::size_t n = 0;
     r.pcl_reads_ours = peers::pclReadsOurs(ours, cloud, &n);
-    const engine::PointCloud from_pcl = engine::readCloud(theirs);
+    const core::PointCloud from_pcl = io::readCloud(theirs);
     r.ours_reads_pcl = from_pcl.points.size() == cloud.points.size();
     for (std::size_t i = 0; r.ours_reads_pcl && i < cloud.points.size(); ++i) {
         const auto &a = from_pcl.points[i], &b = cloud.points[i];
@@ -235,12 +235,12 @@ struct GroundResult {
     int threads = 1;
 };
 
-GroundResult ground(const std::string& name, const engine::Scene& scene, const sim::GenerateOptions& options,
+GroundResult ground(const std::string& name, const core::Scene& scene, const sim::GenerateOptions& options,
                     std::size_t pmf_budget, int stride_option) {
     GroundResult r;
     r.scene = name;
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, options, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, options, &st);
     r.points = cloud.points.size();
     r.threads = st.threads;
     r.ransac_s = st.seconds.ground;
@@ -269,7 +269,7 @@ GroundResult ground(const std::string& name, const engine::Scene& scene, const s
     std::vector<std::uint8_t> truth;
     for (std::size_t i = 0; i < cloud.points.size(); i += std::size_t(r.pmf_stride)) {
         pts.push_back(cloud.points[i].position);
-        truth.push_back(cloud.points[i].label == engine::Role::Ground);
+        truth.push_back(cloud.points[i].label == core::Role::Ground);
     }
     r.pmf_points = pts.size();
     const auto flags = peers::pclGroundPmf(pts, peers::PmfOptions{}, &r.pmf_s);
@@ -288,18 +288,18 @@ std::string pct(double v) { return std::isnan(v) ? "n/a" : fmt("%.2f %%", 100.0 
 
 void run(const BenchPeersCli& cli) {
     if (cli.threads < 0 || cli.threads > 1024)
-        throw engine::Error("bench peers: --threads = " + std::to_string(cli.threads) + ": allowed [0, 1024]");
+        throw core::Error("bench peers: --threads = " + std::to_string(cli.threads) + ": allowed [0, 1024]");
     if (cli.repeats < 1 || cli.repeats > 100)
-        throw engine::Error("bench peers: --repeats = " + std::to_string(cli.repeats) + ": allowed [1, 100]");
+        throw core::Error("bench peers: --repeats = " + std::to_string(cli.repeats) + ": allowed [1, 100]");
     if (cli.pmf_stride < 0)
-        throw engine::Error("bench peers: --pmf-stride = " + std::to_string(cli.pmf_stride) + ": allowed >= 0");
+        throw core::Error("bench peers: --pmf-stride = " + std::to_string(cli.pmf_stride) + ": allowed >= 0");
     const int threads = cli.threads > 0 ? cli.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     const fs::path dir = cli.tmp.empty() ? fs::temp_directory_path() / ("ladarvr_peers_" + std::to_string(::getpid()))
                                          : fs::path(cli.tmp);
     fs::create_directories(dir);
     const auto start = Clock::now();
 
-    const engine::Scene demo = engine::loadScene(engine::demoScenePath());
+    const core::Scene demo = io::loadScene(io::demoScenePath());
     sim::GenerateOptions paper;  // the paper's configuration: 128 x 128 px x 100 views
     paper.threads = threads;
 
@@ -316,7 +316,7 @@ void run(const BenchPeersCli& cli) {
                 rays.dt_p99_m, rays.dt_max_m);
 
     std::fprintf(stderr, "bench peers: 2/3 binary PCD write/read vs PCL (paper cloud)\n");
-    const engine::PointCloud cloud = sim::generateCloud(demo, paper);
+    const core::PointCloud cloud = sim::generateCloud(demo, paper);
     const IoResult io = pcdIo(cloud, cli.quick ? 2 : cli.repeats, dir);
     std::printf("PCD binary, %zu points (%.1f MiB): write ours %.3f s, PCL %.3f s (PCL/ours %.2fx); read ours %.3f s, "
                 "PCL %.3f s (PCL/ours %.2fx); PCL reads ours: %s; we read PCL's: %s\n",
@@ -330,9 +330,9 @@ void run(const BenchPeersCli& cli) {
     const std::size_t pmf_budget = cli.quick ? 25000 : 60000;
     grounds.push_back(ground("demo", demo, paper, pmf_budget, cli.pmf_stride));
     const fs::path hilly_path = sourceRoot() / "assets" / "hilly" / "scene.json";
-    const engine::Scene hilly = engine::loadScene(hilly_path);
+    const core::Scene hilly = io::loadScene(hilly_path);
     grounds.push_back(ground("hilly", hilly, paper, pmf_budget, cli.pmf_stride));
-    const engine::Scene slopes = engine::loadScene(sourceRoot() / "assets" / "slopes" / "scene.json");
+    const core::Scene slopes = io::loadScene(sourceRoot() / "assets" / "slopes" / "scene.json");
     grounds.push_back(ground("slopes", slopes, paper, pmf_budget, cli.pmf_stride));
     for (const GroundResult& g : grounds)
         std::printf("ground %s: RANSAC (per view, %d threads) precision %s recall %s in %.3f s on %zu points; SMRF "
@@ -373,9 +373,9 @@ void run(const BenchPeersCli& cli) {
       << fmt("%.1f", io.file_mib) << " MiB; PCL with a point type of the same fields; a new file each time, "
       << "written to the page cache without fsync and read back from it by both):\n\n"
       << "| | ours | PCL | PCL / ours |\n|---|---|---|---|\n"
-      << "| write (`engine::writeCloud` vs `pcl::io::savePCDFileBinary`) | " << fmt("%.3f s", io.ours_write_s)
+      << "| write (`io::writeCloud` vs `pcl::io::savePCDFileBinary`) | " << fmt("%.3f s", io.ours_write_s)
       << " | " << fmt("%.3f s", io.pcl_write_s) << " | " << fmt("%.2fx", io.pcl_write_s / io.ours_write_s) << " |\n"
-      << "| read (`engine::readCloud` vs `pcl::io::loadPCDFile`) | " << fmt("%.3f s", io.ours_read_s) << " | "
+      << "| read (`io::readCloud` vs `pcl::io::loadPCDFile`) | " << fmt("%.3f s", io.ours_read_s) << " | "
       << fmt("%.3f s", io.pcl_read_s) << " | " << fmt("%.2fx", io.pcl_read_s / io.ours_read_s) << " |\n\n"
       << "Interoperability in the same run: PCL reads our file " << (io.pcl_reads_ours ? "field for field" : "NOT identically")
       << ", we read PCL's " << (io.ours_reads_pcl ? "field for field" : "NOT identically") << ".\n\n"

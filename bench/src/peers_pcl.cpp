@@ -4,7 +4,7 @@
 
 #include "common.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #define PCL_NO_PRECOMPILE
 #include <pcl/io/pcd_io.h>
@@ -37,11 +37,11 @@ POINT_CLOUD_REGISTER_POINT_STRUCT(bench::peers::LadarPoint,
 namespace bench::peers {
 namespace {
 
-bool samePoints(const pcl::PointCloud<LadarPoint>& a, const engine::PointCloud& b) {
+bool samePoints(const pcl::PointCloud<LadarPoint>& a, const core::PointCloud& b) {
     if (a.size() != b.points.size()) return false;
     for (std::size_t i = 0; i < a.size(); ++i) {
         const LadarPoint& p = a[i];
-        const engine::CloudPoint& q = b.points[i];
+        const core::CloudPoint& q = b.points[i];
         std::uint32_t rgb = 0;
         std::memcpy(&rgb, &p.rgb, 4);
         if (p.x != q.position.x || p.y != q.position.y || p.z != q.position.z || rgb != q.rgb ||
@@ -53,11 +53,11 @@ bool samePoints(const pcl::PointCloud<LadarPoint>& a, const engine::PointCloud& 
 
 }  // namespace
 
-PclIo pclWriteRead(const engine::PointCloud& cloud, const std::filesystem::path& path) {
+PclIo pclWriteRead(const core::PointCloud& cloud, const std::filesystem::path& path) {
     pcl::PointCloud<LadarPoint> pc;
     pc.resize(cloud.points.size());
     for (std::size_t i = 0; i < cloud.points.size(); ++i) {
-        const engine::CloudPoint& q = cloud.points[i];
+        const core::CloudPoint& q = cloud.points[i];
         LadarPoint& p = pc[i];
         p.x = q.position.x;
         p.y = q.position.y;
@@ -72,19 +72,19 @@ PclIo pclWriteRead(const engine::PointCloud& cloud, const std::filesystem::path&
     std::filesystem::remove(path, ec);
     auto t0 = Clock::now();
     if (pcl::io::savePCDFileBinary(path.string(), pc) != 0)
-        throw engine::Error("bench peers: pcl: savePCDFileBinary failed on " + path.string());
+        throw core::Error("bench peers: pcl: savePCDFileBinary failed on " + path.string());
     r.write_s = secondsSince(t0);
     pcl::PointCloud<LadarPoint> back;
     t0 = Clock::now();
     if (pcl::io::loadPCDFile(path.string(), back) != 0)
-        throw engine::Error("bench peers: pcl: loadPCDFile failed on " + path.string());
+        throw core::Error("bench peers: pcl: loadPCDFile failed on " + path.string());
     r.read_s = secondsSince(t0);
     r.points_read = back.size();
     r.same_points = samePoints(back, cloud);
     return r;
 }
 
-bool pclReadsOurs(const std::filesystem::path& path, const engine::PointCloud& expected, std::size_t* points) {
+bool pclReadsOurs(const std::filesystem::path& path, const core::PointCloud& expected, std::size_t* points) {
     pcl::PointCloud<LadarPoint> back;
     if (pcl::io::loadPCDFile(path.string(), back) != 0) return false;
     if (points) *points = back.size();

@@ -1,7 +1,7 @@
 // bench/src/peers_pcl.hpp: the PCL side of `ladarvr bench peers`, behind an interface
 // free of PCL types so that PCL's headers stay in peers_pcl.cpp alone.
 #pragma once
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -19,12 +19,12 @@ struct PclIo {
     bool same_points = false;   // what PCL read back equals `cloud` field by field
 };
 /// Writes `path` with pcl::io::savePCDFileBinary, then reads it back with
-/// pcl::io::loadPCDFile. Throws engine::Error("bench peers: pcl: ...") on PCL failures.
-PclIo pclWriteRead(const engine::PointCloud& cloud, const std::filesystem::path& path);
+/// pcl::io::loadPCDFile. Throws core::Error("bench peers: pcl: ...") on PCL failures.
+PclIo pclWriteRead(const core::PointCloud& cloud, const std::filesystem::path& path);
 
 /// Reads a PCD file (ours) with pcl::io::loadPCDFile and returns its point count and
 /// whether every field equals `expected`'s (the interoperability check).
-bool pclReadsOurs(const std::filesystem::path& path, const engine::PointCloud& expected, std::size_t* points);
+bool pclReadsOurs(const std::filesystem::path& path, const core::PointCloud& expected, std::size_t* points);
 
 /// pcl::ProgressiveMorphologicalFilter parameters (PCL's ground-filtering tutorial values
 /// except the window, sized to the largest building of the bundled scenes).

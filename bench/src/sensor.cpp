@@ -67,7 +67,7 @@ std::vector<Row> rows() {
 
 }  // namespace
 
-void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& paper, bool quick, bool alone,
+void benchSensorModels(const core::Scene& scene, const sim::GenerateOptions& paper, bool quick, bool alone,
                        const std::string& md) {
     const auto start = Clock::now();
     const int repeats = quick ? 3 : 5;
@@ -78,7 +78,7 @@ void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& p
         for (Row& row : table) {
             o.sensor = row.sensor;
             sim::GenerateStats st;
-            const engine::PointCloud cloud = sim::generateCloud(scene, o, &st);
+            const core::PointCloud cloud = sim::generateCloud(scene, o, &st);
             row.pulses = st.rays;
             row.rays = st.sub_rays_traced;
             row.points = st.points;

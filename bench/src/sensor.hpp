@@ -1,6 +1,6 @@
 // bench/src/sensor.hpp: the sensor models' rows of `ladarvr bench generate`.
 #pragma once
-#include <engine/scene.hpp>
+#include <core/scene.hpp>
 #include <sim/generator.hpp>
 
 #include <string>
@@ -12,7 +12,7 @@ namespace bench {
 /// the ideal sensor; prints the table and, when `md` is not empty, rewrites the section
 /// "## Sensor models (ladarvr bench generate)" of that file (`alone`: the command was
 /// `bench generate --only sensors`).
-void benchSensorModels(const engine::Scene& scene, const sim::GenerateOptions& paper, bool quick, bool alone,
+void benchSensorModels(const core::Scene& scene, const sim::GenerateOptions& paper, bool quick, bool alone,
                        const std::string& md);
 
 }  // namespace bench

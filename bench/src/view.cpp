@@ -7,8 +7,8 @@
 #include "view_measure.hpp"
 #include "view_pick.hpp"
 
-#include <engine/error.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
 #include <sim/generator.hpp>
 
 #include <chrono>
@@ -52,20 +52,20 @@ bool rerunHeadless(const BenchViewArgs& a) {
     std::fprintf(stderr, "bench view: no DISPLAY: running under %s (Xvfb + Monado)\n", script.c_str());
     std::fflush(stdout);
     const int status = std::system(command.c_str());
-    if (status != 0) throw engine::Error("bench view: the headless run failed (" + command + ")");
+    if (status != 0) throw core::Error("bench view: the headless run failed (" + command + ")");
     return true;
 }
 
 /// `base` replicated (with seeded jitter of up to 0.2 m) until it holds `n` points.
-engine::PointCloud grow(const engine::PointCloud& base, std::size_t n) {
-    engine::PointCloud out;
+core::PointCloud grow(const core::PointCloud& base, std::size_t n) {
+    core::PointCloud out;
     out.origin = base.origin;
     out.fields = base.fields;
     out.points.reserve(n);
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<float> jitter(-0.2f, 0.2f);
     for (std::size_t i = 0; out.points.size() < n; ++i) {
-        engine::CloudPoint p = base.points[i % base.points.size()];
+        core::CloudPoint p = base.points[i % base.points.size()];
         if (i >= base.points.size()) p.position += glm::vec3(jitter(rng), jitter(rng), jitter(rng) * 0.25f);
         out.points.push_back(p);
     }
@@ -74,7 +74,7 @@ engine::PointCloud grow(const engine::PointCloud& base, std::size_t n) {
 
 void run(const BenchViewArgs& a) {
     if (a.display != "auto" && a.display != "none")
-        throw engine::Error("bench view: --display '" + a.display + "' is not one of auto, none");
+        throw core::Error("bench view: --display '" + a.display + "' is not one of auto, none");
     ViewBenchOptions o;
     o.frames = a.frames;
     o.warmup_frames = a.warmup;
@@ -88,12 +88,12 @@ void run(const BenchViewArgs& a) {
     // "skip" and "pick" alone need no display: EGL only, or no GL at all.
     const bool display_needed = o.mirror || o.xr || o.tools;
     if (std::sscanf(a.eye.c_str(), "%dx%d", &o.eye_width, &o.eye_height) != 2)
-        throw engine::Error("bench view: --eye '" + a.eye + "': expected WIDTHxHEIGHT, e.g. 1440x1600");
+        throw core::Error("bench view: --eye '" + a.eye + "': expected WIDTHxHEIGHT, e.g. 1440x1600");
     if (display_needed && rerunHeadless(a)) return;
 
     std::fprintf(stderr, "bench view: generating the demo cloud (paper parameters)\n");
-    const engine::Scene scene = engine::loadScene(engine::demoScenePath());
-    const engine::PointCloud demo = sim::generateCloud(scene, sim::GenerateOptions{});
+    const core::Scene scene = io::loadScene(io::demoScenePath());
+    const core::PointCloud demo = sim::generateCloud(scene, sim::GenerateOptions{});
 
     const std::time_t now = std::time(nullptr);
     char date[32];
@@ -109,7 +109,7 @@ void run(const BenchViewArgs& a) {
     std::vector<ViewBenchResult> skip_rows;
     for (std::size_t n : a.points) {
         if (!(o.mirror || o.xr || o.egl || o.skip || o.tools)) break;
-        const engine::PointCloud cloud = n == demo.points.size() ? demo : grow(demo, n);
+        const core::PointCloud cloud = n == demo.points.size() ? demo : grow(demo, n);
         for (const auto& r : measureViewer(cloud, o)) {
             if (!r.gl.empty()) gl = r.gl;
             if (r.path == "skip-egl") {

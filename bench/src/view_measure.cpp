@@ -10,7 +10,7 @@
 
 #include "common.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 #include <render/egl_context.hpp>
 #include <render/gl.hpp>
 #include <render/point_splat.hpp>
@@ -107,7 +107,7 @@ struct Samples {
 /// saves more than it costs). These rows count only frames once the pick index is built
 /// (on a worker thread after the upload, competing for the CPU) and, with the pointer,
 /// once it has a hit.
-ViewBenchResult measureLoop(const engine::PointCloud& cloud, const ViewBenchOptions& bench, bool xr, int tools = 0) {
+ViewBenchResult measureLoop(const core::PointCloud& cloud, const ViewBenchOptions& bench, bool xr, int tools = 0) {
     ViewBenchResult r;
     r.path = tools == 1 ? "xr-no-tools" : tools == 2 ? "xr-tools" : tools == 3 ? "xr-tools-cut" : xr ? "xr" : "mirror";
     r.points = cloud.points.size();
@@ -190,7 +190,7 @@ std::unique_ptr<render::EglContext> eglContext(std::string& note) {
     }
 }
 
-ViewBenchResult measureStereoEgl(const engine::PointCloud& cloud, const ViewBenchOptions& bench) {
+ViewBenchResult measureStereoEgl(const core::PointCloud& cloud, const ViewBenchOptions& bench) {
     ViewBenchResult r;
     r.path = "stereo-egl";
     r.points = cloud.points.size();
@@ -249,7 +249,7 @@ ViewBenchResult measureStereoEgl(const engine::PointCloud& cloud, const ViewBenc
 /// The same eyes drawn with nothing skipped, with frustum culling, and with culling + the
 /// point budget; the orbit view and the same rig turned 180 degrees (looking away from the
 /// cloud's centre). All configurations interleaved frame by frame.
-std::vector<ViewBenchResult> measureSkip(const engine::PointCloud& cloud, const ViewBenchOptions& bench) {
+std::vector<ViewBenchResult> measureSkip(const core::PointCloud& cloud, const ViewBenchOptions& bench) {
     struct Config {
         const char* name;
         bool away, cull;
@@ -285,7 +285,7 @@ std::vector<ViewBenchResult> measureSkip(const engine::PointCloud& cloud, const 
             const std::size_t chunk = 262144;
             std::vector<double> ms;
             for (std::size_t i = 0; i + chunk <= cloud.points.size() && ms.size() < 8; i += chunk) {
-                std::vector<engine::CloudPoint> part(cloud.points.begin() + static_cast<std::ptrdiff_t>(i),
+                std::vector<core::CloudPoint> part(cloud.points.begin() + static_cast<std::ptrdiff_t>(i),
                                                      cloud.points.begin() + static_cast<std::ptrdiff_t>(i + chunk));
                 const Clock::time_point t0 = Clock::now();
                 const auto cells = viewer::buildLodOrder(part);
@@ -333,11 +333,11 @@ std::vector<ViewBenchResult> measureSkip(const engine::PointCloud& cloud, const 
 }
 }  // namespace
 
-std::vector<ViewBenchResult> measureViewer(const engine::PointCloud& cloud, const ViewBenchOptions& options) {
+std::vector<ViewBenchResult> measureViewer(const core::PointCloud& cloud, const ViewBenchOptions& options) {
     if (options.frames < 1 || options.warmup_frames < 0)
-        throw engine::Error("bench view: --frames must be >= 1 and --warmup >= 0");
+        throw core::Error("bench view: --frames must be >= 1 and --warmup >= 0");
     if (options.eye_width < 16 || options.eye_height < 16 || options.eye_width > 8192 || options.eye_height > 8192)
-        throw engine::Error("bench view: --eye size must be 16..8192 pixels each");
+        throw core::Error("bench view: --eye size must be 16..8192 pixels each");
     std::vector<ViewBenchResult> results;
     if (options.mirror) results.push_back(measureLoop(cloud, options, false));
     if (options.xr) results.push_back(measureLoop(cloud, options, true));

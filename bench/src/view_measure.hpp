@@ -2,7 +2,7 @@
 // configuration: the viewer's real frame loop (desktop mirror, OpenXR) and its offscreen
 // stereo drawing (viewer::OffscreenStereo) against an in-run baseline.
 #pragma once
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 
 #include <cstddef>
 #include <string>
@@ -49,7 +49,7 @@ struct ViewBenchOptions {
 /// lighting on): the real frame loop in the desktop mirror path and the OpenXR path, and
 /// the same per-eye drawing in an offscreen EGL stereo loop; medians over `frames` frames
 /// after warm-up. A path that cannot run here is returned with `note` saying why.
-/// Throws engine::Error("bench view: ...") for frames or eye sizes out of range.
-std::vector<ViewBenchResult> measureViewer(const engine::PointCloud& cloud, const ViewBenchOptions& options);
+/// Throws core::Error("bench view: ...") for frames or eye sizes out of range.
+std::vector<ViewBenchResult> measureViewer(const core::PointCloud& cloud, const ViewBenchOptions& options);
 
 }  // namespace bench

@@ -37,11 +37,11 @@ void printPickingHeader(std::FILE* out) {
     std::fprintf(out, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
 }
 
-void measurePicking(const engine::PointCloud& cloud, int rays, std::FILE* out) {
+void measurePicking(const core::PointCloud& cloud, int rays, std::FILE* out) {
     const auto t_build = Clock::now();
     const viewer::PickIndex index(cloud.points);
     const double build_s = msSince(t_build) / 1000.0;
-    const engine::Bounds bounds = cloud.bounds();
+    const core::Bounds bounds = cloud.bounds();
     const render::OrbitCameraOptions orbit;   // the viewer's automatic mode: 60 m out, 40 m up
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> angle(0.0, 2.0 * std::numbers::pi);

@@ -1,18 +1,16 @@
 // corpus: one item, from its plan to its folder and manifest line. The cloud is made in
 // memory (its points per label are counted there) and written with the other files into
-// a hidden folder that moves into place whole (item_folder.hpp).
+// a hidden folder that moves into place whole (platform/output_folder.hpp).
 #include <corpus/item.hpp>
 #include <corpus/sha256.hpp>
 
-#include "item_folder.hpp"
-
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/scene_file.hpp>
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
 #include <metric/visibility.hpp>
+#include <platform/output_folder.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -50,21 +48,22 @@ ItemOutcome buildItem(const Planner& planner, std::size_t index, const fs::path&
 
     // The scene is loaded from the absolute-path text (the item folder may not exist yet);
     // the file written names the same meshes relative to the item folder.
-    const engine::Scene scene = engine::loadSceneJson(plan.sceneText({}), folder / "scene.json");
-    engine::Bounds target_box;
-    for (const engine::Mesh& m : scene.meshes)
-        if (m.role == engine::Role::Target)
+    const core::Scene scene = io::loadSceneJson(plan.sceneText({}), folder / "scene.json");
+    core::Bounds target_box;
+    for (const core::Mesh& m : scene.meshes)
+        if (m.role == core::Role::Target)
             for (const glm::vec3& v : m.vertices) target_box.extend(scene.origin + glm::dvec3(v));
 
     sim::GenerateStats st;
-    engine::PointCloud cloud = sim::generateCloud(scene, plan.options, &st);
-    std::uint64_t per_label[engine::kRoleCount] = {0, 0, 0};
-    for (const engine::CloudPoint& p : cloud.points) ++per_label[std::size_t(p.label) % engine::kRoleCount];
+    core::PointCloud cloud = sim::generateCloud(scene, plan.options, &st);
+    std::uint64_t per_label[core::kRoleCount] = {0, 0, 0};
+    for (const core::CloudPoint& p : cloud.points) ++per_label[std::size_t(p.label) % core::kRoleCount];
 
-    detail::ItemFolder files(items, plan.id);
+    platform::AtomicFolder files(folder, isItemFile);
     std::vector<std::string> names = {"scene.json", spec.cloudName()};
-    files.writeText("scene.json", plan.sceneText(folder));
-    files.writeCloud(spec.cloudName(), cloud, spec.format);
+    files.writeFile("scene.json", plan.sceneText(folder));
+    io::writeCloud(files.path(spec.cloudName()), cloud, spec.format);
+    files.adopt(spec.cloudName());
     cloud.points = {};
     double metric_mean = std::nan(""), exact_mean = std::nan(""), visible_mean = std::nan("");
     int views_used = 0;
@@ -77,8 +76,8 @@ ItemOutcome buildItem(const Planner& planner, std::size_t index, const fs::path&
         mo.height = spec.metric.height;
         mo.picture_view = -1;
         const metric::MetricResult result = evaluator.run(mo);
-        files.writeText("summary.json", metric::summaryJson(result));
-        files.writeText("views.csv", metric::viewsCsv(result));
+        files.writeFile("summary.json", metric::summaryJson(result));
+        files.writeFile("views.csv", metric::viewsCsv(result));
         names.insert(names.end(), {"summary.json", "views.csv"});
         metric_mean = result.metric_mean;
         exact_mean = result.has_exact ? result.exact_mean : std::nan("");

@@ -3,9 +3,9 @@
 #include <corpus/plan.hpp>
 #include <corpus/random.hpp>
 
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
+#include <platform/safe_file.hpp>
 #include <sim/raycaster.hpp>
 
 #include <nlohmann/json.hpp>
@@ -37,14 +37,14 @@ std::vector<glm::dvec3> loadModel(const fs::path& file, const std::string& up, d
     json j;
     j["origin"] = {0.0, 0.0, 0.0};
     j["meshes"] = json::array({json{{"file", file.string()}, {"role", "target"}, {"up", up}, {"scale", scale}}});
-    const engine::Scene s = engine::loadSceneJson(j.dump(), scene);
+    const core::Scene s = io::loadSceneJson(j.dump(), scene);
     std::vector<glm::dvec3> out;
-    for (const engine::Mesh& m : s.meshes)
+    for (const core::Mesh& m : s.meshes)
         for (const glm::vec3& v : m.vertices) out.emplace_back(v);
     return out;
 }
 
-bool overlaps(const engine::Bounds& a, const engine::Bounds& b) {
+bool overlaps(const core::Bounds& a, const core::Bounds& b) {
     for (int k = 0; k < 3; ++k)
         if (a.hi[k] <= b.lo[k] || b.hi[k] <= a.lo[k]) return false;
     return true;
@@ -97,10 +97,10 @@ struct Planner::State {
     Spec spec;
     std::optional<glm::dvec3> origin;
     std::vector<MeshEntry> entries;
-    engine::Scene base;
+    core::Scene base;
     std::unique_ptr<sim::RayCaster> ground;   // ground meshes only
     double ray_top_local = 0.0;               // above every mesh, local frame
-    std::vector<engine::Bounds> boxes;        // world box per mesh (environment ones used)
+    std::vector<core::Bounds> boxes;        // world box per mesh (environment ones used)
     std::vector<std::size_t> environment;     // indices of environment meshes
     int target = -1;                          // index of the one target mesh, -1 if not one
     std::vector<std::vector<glm::dvec3>> models;   // per target_files entry, or the base's
@@ -110,10 +110,10 @@ struct Planner::State {
 Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
     State& s = *state_;
     s.spec = spec;
-    const std::string prefix = "corpus: " + engine::printable(spec.file.string()) + ": ";
-    const std::string text = engine::readTextFile(spec.scene, engine::kMaxSceneBytes,
-                                                  "corpus: scene " + engine::printable(spec.scene.string()));
-    s.base = engine::loadSceneJson(text, spec.scene);  // validates the scene and every mesh
+    const std::string prefix = "corpus: " + core::printable(spec.file.string()) + ": ";
+    const std::string text = platform::readTextFile(spec.scene, io::kMaxSceneBytes,
+                                                  "corpus: scene " + core::printable(spec.scene.string()));
+    s.base = io::loadSceneJson(text, spec.scene);  // validates the scene and every mesh
     const json j = json::parse(text);
     if (j.contains("origin")) s.origin = vec3(j["origin"]);
     const fs::path dir = spec.scene.parent_path();
@@ -129,30 +129,30 @@ Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
         s.entries.push_back(std::move(e));
     }
     if (s.entries.size() != s.base.meshes.size())
-        throw engine::Error(prefix + "scene: " + std::to_string(s.entries.size()) + " entries but " +
+        throw core::Error(prefix + "scene: " + std::to_string(s.entries.size()) + " entries but " +
                             std::to_string(s.base.meshes.size()) + " meshes loaded");
     int targets = 0;
     for (std::size_t k = 0; k < s.base.meshes.size(); ++k) {
-        engine::Bounds b;
+        core::Bounds b;
         for (const glm::vec3& v : s.base.meshes[k].vertices) b.extend(s.base.origin + glm::dvec3(v));
         s.boxes.push_back(b);
-        if (s.base.meshes[k].role == engine::Role::Environment) s.environment.push_back(k);
-        if (s.base.meshes[k].role == engine::Role::Target) {
+        if (s.base.meshes[k].role == core::Role::Environment) s.environment.push_back(k);
+        if (s.base.meshes[k].role == core::Role::Target) {
             ++targets;
             s.target = int(k);
         }
     }
     const bool moves = spec.varies("target_offset_m") || spec.varies("target_files");
     if ((moves || spec.varies("target_yaw_deg")) && targets != 1)
-        throw engine::Error(prefix + "vary: the target_* keys need a scene with exactly one target mesh; '" +
-                            engine::printable(spec.scene.string()) + "' has " + std::to_string(targets));
+        throw core::Error(prefix + "vary: the target_* keys need a scene with exactly one target mesh; '" +
+                            core::printable(spec.scene.string()) + "' has " + std::to_string(targets));
     if (targets != 1) s.target = -1;
-    if (s.base.hasRole(engine::Role::Ground)) {
-        s.ground = std::make_unique<sim::RayCaster>(s.base, engine::RoleMask::of({engine::Role::Ground}));
+    if (s.base.hasRole(core::Role::Ground)) {
+        s.ground = std::make_unique<sim::RayCaster>(s.base, core::RoleMask::of({core::Role::Ground}));
         s.ray_top_local = s.base.bounds().hi.z + 10.0;
     } else if (moves || spec.varies("centre_offset_m")) {
-        throw engine::Error(prefix + "vary: target_offset_m, target_files and centre_offset_m place things on the "
-                            "ground; '" + engine::printable(spec.scene.string()) + "' has no ground mesh");
+        throw core::Error(prefix + "vary: target_offset_m, target_files and centre_offset_m place things on the "
+                            "ground; '" + core::printable(spec.scene.string()) + "' has no ground mesh");
     }
     if (s.target >= 0) {
         const MeshEntry& t = s.entries[std::size_t(s.target)];
@@ -173,7 +173,7 @@ Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
 Planner::~Planner() = default;
 
 const Spec& Planner::spec() const { return state_->spec; }
-const std::vector<engine::Bounds>& Planner::environmentBoxes() const { return state_->boxes; }
+const std::vector<core::Bounds>& Planner::environmentBoxes() const { return state_->boxes; }
 
 std::string itemId(std::size_t index, std::size_t count) {
     const std::size_t digits = std::max<std::size_t>(4, std::to_string(count > 0 ? count - 1 : 0).size());
@@ -254,7 +254,7 @@ ItemPlan Planner::plan(std::size_t index) const {
         p.target_yaw_deg = target->yaw_deg;
         const double yaw = target->yaw_deg * std::numbers::pi / 180.0;
         const double c = std::cos(yaw), sn = std::sin(yaw);
-        engine::Bounds local;  // the model's box after yaw, relative to its position
+        core::Bounds local;  // the model's box after yaw, relative to its position
         for (const glm::dvec3& v : s.models[model]) local.extend(glm::dvec3(c * v.x - sn * v.y, sn * v.x + c * v.y, v.z));
         const bool moves = spec.varies("target_offset_m") || spec.varies("target_files");
         if (moves) {
@@ -278,7 +278,7 @@ ItemPlan Planner::plan(std::size_t index) const {
                 const std::optional<double> g = groundZ(x, y);
                 if (!g) continue;  // off the ground: redraw
                 const glm::dvec3 pos(x, y, *g + s.clearance_m - local.lo.z);
-                engine::Bounds box;
+                core::Bounds box;
                 box.extend(pos + local.lo);
                 box.extend(pos + local.hi);
                 bool clear = true;
@@ -290,8 +290,8 @@ ItemPlan Planner::plan(std::size_t index) const {
             }
             if (!placed) {
                 std::string range = "0";
-                if (offset) range = "[" + engine::shownNumber(offset->lowest()) + ", " + engine::shownNumber(offset->highest()) + "]";
-                throw engine::Error(where + "the target cannot be placed: " + std::to_string(kMaxPlacementDraws) +
+                if (offset) range = "[" + core::shownNumber(offset->lowest()) + ", " + core::shownNumber(offset->highest()) + "]";
+                throw core::Error(where + "the target cannot be placed: " + std::to_string(kMaxPlacementDraws) +
                                     " draws with target_offset_m " + range +
                                     " m all met another mesh's box or left the ground; allowed: a wider "
                                     "target_offset_m, a lower environment_keep_fraction, or more room around the target");
@@ -321,9 +321,9 @@ ItemPlan Planner::plan(std::size_t index) const {
             p.values["centre_offset_m"] = radius;
         }
         if (!p.centre_world)
-            throw engine::Error(where + "the orbit centre cannot be placed: " + std::to_string(kMaxPlacementDraws) +
-                                " draws with centre_offset_m [" + engine::shownNumber(n.lowest()) + ", " +
-                                engine::shownNumber(n.highest()) + "] m all left the ground; allowed: a smaller "
+            throw core::Error(where + "the orbit centre cannot be placed: " + std::to_string(kMaxPlacementDraws) +
+                                " draws with centre_offset_m [" + core::shownNumber(n.lowest()) + ", " +
+                                core::shownNumber(n.highest()) + "] m all left the ground; allowed: a smaller "
                                 "centre_offset_m");
         p.options.centre = p.centre_world;
     }

@@ -3,9 +3,9 @@
 #include <corpus/plan.hpp>
 #include <corpus/run.hpp>
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -35,7 +35,7 @@ namespace {
 
 constexpr std::size_t kMaxManifestBytes = std::size_t(1) << 30;
 
-std::string shown(const fs::path& p) { return engine::printable(p.string()); }
+std::string shown(const fs::path& p) { return core::printable(p.string()); }
 
 /// Whether the files a manifest line lists are in DIR/items/<id>/ with those sizes.
 bool itemIntact(const fs::path& dir, const json& line) {
@@ -53,14 +53,14 @@ bool itemIntact(const fs::path& dir, const json& line) {
 }
 
 /// A file this command writes and later replaces (a manifest): read whole, bounded, as a
-/// regular file, but not remembered as an input (engine::readTextFile would forbid the
+/// regular file, but not remembered as an input (platform::readTextFile would forbid the
 /// rewrite).
 std::string readOwnFile(const fs::path& file) {
-    const std::string problem = engine::regularFileProblem(file);
+    const std::string problem = platform::regularFileProblem(file);
     if (!problem.empty())
-        throw engine::Error("corpus: manifest " + shown(file) + " " + problem + "; allowed: a regular file");
+        throw core::Error("corpus: manifest " + shown(file) + " " + problem + "; allowed: a regular file");
     const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
-    if (fd < 0) throw engine::Error("corpus: manifest " + shown(file) + ": cannot open: " + std::strerror(errno));
+    if (fd < 0) throw core::Error("corpus: manifest " + shown(file) + ": cannot open: " + std::strerror(errno));
     std::string text;
     char buffer[1 << 16];
     for (;;) {
@@ -70,7 +70,7 @@ std::string readOwnFile(const fs::path& file) {
         text.append(buffer, std::size_t(n));
         if (text.size() > kMaxManifestBytes) {
             ::close(fd);
-            throw engine::Error("corpus: manifest " + shown(file) + " is larger than " +
+            throw core::Error("corpus: manifest " + shown(file) + " is larger than " +
                                 std::to_string(kMaxManifestBytes) + " bytes; allowed: a manifest of this command");
         }
     }
@@ -125,7 +125,7 @@ json readCorpusRecord(const fs::path& dir) {
     try {
         return json::parse(readOwnFile(file));
     } catch (const json::exception& e) {
-        throw engine::Error("corpus: " + shown(file) + ": not valid JSON (" + engine::printable(e.what(), 100) + ")");
+        throw core::Error("corpus: " + shown(file) + ": not valid JSON (" + core::printable(e.what(), 100) + ")");
     }
 }
 
@@ -137,19 +137,19 @@ void recordSpec(const fs::path& dir, const Spec& spec) {
     if (::lstat(file.c_str(), &st) == 0) {
         const json old = readCorpusRecord(dir);
         if (old.value("spec_sha256", "") != spec.sha256)
-            throw engine::Error("corpus: --out " + shown(dir) + " was made from another SPEC (" +
-                                engine::printable(old.value("spec", "?")) +
+            throw core::Error("corpus: --out " + shown(dir) + " was made from another SPEC (" +
+                                core::printable(old.value("spec", "?")) +
                                 ", a different SHA-256); allowed: the same SPEC to resume, or a new --out folder");
         return;
     }
-    engine::writeFileAtomic(file, rec.dump(2) + "\n");
+    platform::writeFileAtomic(file, rec.dump(2) + "\n");
 }
 
 }  // namespace
 
 std::pair<std::size_t, std::size_t> parseShard(const std::string& text, const std::string& option) {
     const auto bad = [&] {
-        return engine::Error("corpus: " + option + " '" + engine::printable(text, 40) +
+        return core::Error("corpus: " + option + " '" + core::printable(text, 40) +
                              "': allowed I/N with integers 0 <= I < N <= 1000000");
     };
     const std::size_t slash = text.find('/');
@@ -171,7 +171,7 @@ std::optional<std::pair<std::size_t, std::size_t>> shardFromSlurm() {
     const auto number = [](const char* s, const char* name) {
         const std::string t = s;
         if (t.empty() || t.size() > 7 || t.find_first_not_of("0123456789") != std::string::npos)
-            throw engine::Error(std::string("corpus: ") + name + "='" + engine::printable(t, 20) +
+            throw core::Error(std::string("corpus: ") + name + "='" + core::printable(t, 20) +
                                 "': allowed a whole number (or give --shard I/N)");
         return std::size_t(std::stoul(t));
     };
@@ -184,10 +184,10 @@ std::optional<std::pair<std::size_t, std::size_t>> shardFromSlurm() {
 
 RunSummary runCorpus(const RunOptions& o) {
     if (o.jobs < 1 || o.jobs > 1024)
-        throw engine::Error("corpus: --jobs " + std::to_string(o.jobs) + ": allowed [1, 1024]");
+        throw core::Error("corpus: --jobs " + std::to_string(o.jobs) + ": allowed [1, 1024]");
     if (o.threads < 0 || o.threads > 1024)
-        throw engine::Error("corpus: --threads " + std::to_string(o.threads) + ": allowed [0, 1024]");
-    if (o.shards < 1 || o.shard >= o.shards) throw engine::Error("corpus: --shard: allowed I/N with 0 <= I < N");
+        throw core::Error("corpus: --threads " + std::to_string(o.threads) + ": allowed [0, 1024]");
+    if (o.shards < 1 || o.shard >= o.shards) throw core::Error("corpus: --shard: allowed I/N with 0 <= I < N");
     const Spec spec = loadSpec(o.spec);
     const Planner planner(spec);  // loads the base scene and the target models: their errors come first
     const auto say = [&](const std::string& s) {
@@ -196,12 +196,12 @@ RunSummary runCorpus(const RunOptions& o) {
 
     struct stat st {};
     if (::stat(o.out.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
-        throw engine::Error("corpus: --out " + shown(o.out) + " exists and is not a folder; allowed a folder");
+        throw core::Error("corpus: --out " + shown(o.out) + " exists and is not a folder; allowed a folder");
     std::error_code ec;
     fs::create_directories(o.out / "items", ec);
-    if (ec) throw engine::Error("corpus: --out " + shown(o.out) + ": cannot create the folder: " + ec.message());
+    if (ec) throw core::Error("corpus: --out " + shown(o.out) + ": cannot create the folder: " + ec.message());
     recordSpec(o.out, spec);
-    engine::removeStaleTemporaries(o.out / "items");
+    platform::removeStaleTemporaries(o.out / "items");
 
     RunSummary summary;
     summary.manifest = o.out / (o.sharded ? "manifest." + std::to_string(o.shard) + ".jsonl" : "manifest.jsonl");
@@ -210,13 +210,13 @@ RunSummary runCorpus(const RunOptions& o) {
     const fs::path lock_path = summary.manifest.string() + ".lock";
     const int lock_fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (lock_fd < 0)
-        throw engine::Error("output: " + shown(lock_path) + ": cannot open the lock file: " + std::strerror(errno));
+        throw core::Error("output: " + shown(lock_path) + ": cannot open the lock file: " + std::strerror(errno));
     struct LockCloser {
         int fd;
         ~LockCloser() { ::close(fd); }
     } lock_closer{lock_fd};
     if (::flock(lock_fd, LOCK_EX | LOCK_NB) != 0)
-        throw engine::Error("corpus: " + shown(summary.manifest) + " is in use by another run of the same " +
+        throw core::Error("corpus: " + shown(summary.manifest) + " is in use by another run of the same " +
                             (o.sharded ? "shard" : "corpus") + "; allowed: one run per manifest at a time (wait, or "
                             "stop the other run: this one would resume it)");
 
@@ -236,7 +236,7 @@ RunSummary runCorpus(const RunOptions& o) {
     }
     summary.dropped_lines = torn;
     if (torn > 0) {
-        engine::writeFileAtomic(summary.manifest, joinLines(kept));
+        platform::writeFileAtomic(summary.manifest, joinLines(kept));
         say("corpus: dropped " + std::to_string(torn) + " torn, duplicated or stale line(s) from " +
             shown(summary.manifest));
     }
@@ -261,13 +261,13 @@ RunSummary runCorpus(const RunOptions& o) {
 
     const int fd = ::open(summary.manifest.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd < 0)
-        throw engine::Error("output: " + shown(summary.manifest) + ": cannot open for appending: " + std::strerror(errno));
+        throw core::Error("output: " + shown(summary.manifest) + ": cannot open for appending: " + std::strerror(errno));
     struct Closer {
         int fd;
         ~Closer() { ::close(fd); }
     } closer{fd};
     if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))
-        throw engine::Error("output: " + shown(summary.manifest) + ": is not a regular file; allowed a regular file");
+        throw core::Error("output: " + shown(summary.manifest) + ": is not a regular file; allowed a regular file");
 
     const int hardware = int(std::max(1u, std::thread::hardware_concurrency()));
     const int threads = o.threads > 0 ? o.threads : std::max(1, hardware / o.jobs);
@@ -286,7 +286,7 @@ RunSummary runCorpus(const RunOptions& o) {
                 // One write of the whole line: appended after the folder is in place.
                 const ssize_t wrote = ::write(fd, line.data(), line.size());
                 if (wrote != ssize_t(line.size()) || ::fdatasync(fd) != 0)
-                    throw engine::Error("output: " + shown(summary.manifest) + ": cannot append: " +
+                    throw core::Error("output: " + shown(summary.manifest) + ": cannot append: " +
                                         std::strerror(errno));
                 ++summary.built;
                 ++finished;
@@ -327,7 +327,7 @@ MergeReport mergeManifests(const fs::path& dir) {
             name.find_first_not_of("0123456789", 9) == name.size() - 6)
             sources.push_back(it->path());
     }
-    if (ec) throw engine::Error("corpus: --merge " + shown(dir) + ": cannot list the folder: " + ec.message());
+    if (ec) throw core::Error("corpus: --merge " + shown(dir) + ": cannot list the folder: " + ec.message());
     std::sort(sources.begin(), sources.end());
     sources.insert(sources.begin(), dir / "manifest.jsonl");
     std::map<std::size_t, ManifestLine> merged;
@@ -363,7 +363,7 @@ MergeReport mergeManifests(const fs::path& dir) {
     report.merged = lines.size();
     report.duplicated.assign(duplicated.begin(), duplicated.end());
     report.conflicting.assign(conflicting.begin(), conflicting.end());
-    engine::writeFileAtomic(dir / "manifest.jsonl", joinLines(lines));
+    platform::writeFileAtomic(dir / "manifest.jsonl", joinLines(lines));
     return report;
 }
 
@@ -381,7 +381,7 @@ std::vector<std::string> readManifest(const fs::path& dir) {
         }
     }
     if (files.empty())
-        throw engine::Error("corpus: " + shown(dir) + ": no manifest.jsonl or manifest.<I>.jsonl; allowed a folder "
+        throw core::Error("corpus: " + shown(dir) + ": no manifest.jsonl or manifest.<I>.jsonl; allowed a folder "
                             "made by 'ladarvr corpus SPEC --out DIR'");
     for (const fs::path& f : files)
         for (ManifestLine& l : readLines(f, nullptr)) by_index.emplace(l.index, std::move(l.text));

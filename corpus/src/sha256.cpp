@@ -1,8 +1,8 @@
 // corpus: SHA-256 through OpenSSL's EVP interface.
 #include <corpus/sha256.hpp>
 
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/safe_file.hpp>
 
 #include <openssl/evp.h>
 
@@ -23,21 +23,21 @@ struct Sha256::Context {
 Sha256::Sha256() : context_(std::make_unique<Context>()) {
     context_->ctx = EVP_MD_CTX_new();
     if (!context_->ctx || EVP_DigestInit_ex(context_->ctx, EVP_sha256(), nullptr) != 1)
-        throw engine::Error("corpus: SHA-256: OpenSSL could not start a digest");
+        throw core::Error("corpus: SHA-256: OpenSSL could not start a digest");
 }
 
 Sha256::~Sha256() { EVP_MD_CTX_free(context_->ctx); }
 
 void Sha256::update(const void* data, std::size_t bytes) {
     if (bytes > 0 && EVP_DigestUpdate(context_->ctx, data, bytes) != 1)
-        throw engine::Error("corpus: SHA-256: OpenSSL digest update failed");
+        throw core::Error("corpus: SHA-256: OpenSSL digest update failed");
 }
 
 std::string Sha256::hex() {
     unsigned char digest[EVP_MAX_MD_SIZE];
     unsigned int length = 0;
     if (EVP_DigestFinal_ex(context_->ctx, digest, &length) != 1 || length != 32)
-        throw engine::Error("corpus: SHA-256: OpenSSL digest failed");
+        throw core::Error("corpus: SHA-256: OpenSSL digest failed");
     static const char* kDigits = "0123456789abcdef";
     std::string out;
     for (unsigned int i = 0; i < length; ++i) {
@@ -56,7 +56,7 @@ std::string sha256Hex(std::string_view text) {
 FileDigest sha256File(const std::filesystem::path& file) {
     const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
     if (fd < 0)
-        throw engine::Error("corpus: " + engine::printable(file.string()) + ": cannot read: " + std::strerror(errno));
+        throw core::Error("corpus: " + core::printable(file.string()) + ": cannot read: " + std::strerror(errno));
     FileDigest d;
     Sha256 s;
     std::vector<char> buffer(std::size_t(1) << 20);
@@ -66,7 +66,7 @@ FileDigest sha256File(const std::filesystem::path& file) {
         if (n < 0) {
             const int e = errno;
             ::close(fd);
-            throw engine::Error("corpus: " + engine::printable(file.string()) + ": cannot read: " + std::strerror(e));
+            throw core::Error("corpus: " + core::printable(file.string()) + ": cannot read: " + std::strerror(e));
         }
         if (n == 0) break;
         s.update(buffer.data(), std::size_t(n));

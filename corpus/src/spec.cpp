@@ -3,9 +3,9 @@
 #include <corpus/sha256.hpp>
 #include <corpus/spec.hpp>
 
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/strict_json.hpp>
+#include <core/error.hpp>
+#include <io/strict_json.hpp>
+#include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
 
 #include <nlohmann/json.hpp>
@@ -95,10 +95,10 @@ bool Spec::varies(std::string_view key) const {
 
 std::string Spec::cloudName() const {
     switch (format) {
-        case engine::CloudFormat::PlyBinary:
-        case engine::CloudFormat::PlyAscii: return "cloud.ply";
-        case engine::CloudFormat::Las: return "cloud.las";
-        case engine::CloudFormat::Laz: return "cloud.laz";
+        case io::CloudFormat::PlyBinary:
+        case io::CloudFormat::PlyAscii: return "cloud.ply";
+        case io::CloudFormat::Las: return "cloud.las";
+        case io::CloudFormat::Laz: return "cloud.laz";
         default: return "cloud.pcd";
     }
 }
@@ -108,7 +108,7 @@ namespace {
 struct Context {
     std::string prefix;  // "corpus: <spec>: "
     [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-        throw engine::Error(prefix + key + ": " + what);
+        throw core::Error(prefix + key + ": " + what);
     }
 };
 
@@ -120,8 +120,8 @@ std::string keyList() {
 
 std::string rangeText(const VaryKey& k) {
     if (k.lowest <= -kBig && k.highest >= kBig) return "finite numbers";
-    return std::string(k.integer ? "integers" : "numbers") + " in [" + engine::shownNumber(k.lowest) + ", " +
-           engine::shownNumber(k.highest) + "]";
+    return std::string(k.integer ? "integers" : "numbers") + " in [" + core::shownNumber(k.lowest) + ", " +
+           core::shownNumber(k.highest) + "]";
 }
 
 double numberValue(const Context& c, const std::string& key, const json& v, const VaryKey& k) {
@@ -129,8 +129,8 @@ double numberValue(const Context& c, const std::string& key, const json& v, cons
         c.fail(key, "'" + v.dump() + "' is not a number; allowed " + rangeText(k));
     const double d = v.get<double>();
     if (k.integer && (v.is_number_float() && d != std::floor(d)))
-        c.fail(key, engine::shownNumber(d) + " is not an integer; allowed " + rangeText(k));
-    if (d < k.lowest || d > k.highest) c.fail(key, engine::shownNumber(d) + " is out of range; allowed " + rangeText(k));
+        c.fail(key, core::shownNumber(d) + " is not an integer; allowed " + rangeText(k));
+    if (d < k.lowest || d > k.highest) c.fail(key, core::shownNumber(d) + " is out of range; allowed " + rangeText(k));
     return d;
 }
 
@@ -142,14 +142,14 @@ NumberVary parseNumber(const Context& c, const std::string& key, const json& v, 
     if (v.is_object()) {
         for (auto it = v.begin(); it != v.end(); ++it)
             if (it.key() != "min" && it.key() != "max")
-                c.fail(key, "unknown key '" + engine::printable(it.key(), 40) + "' in the range; allowed min, max");
+                c.fail(key, "unknown key '" + core::printable(it.key(), 40) + "' in the range; allowed min, max");
         if (!v.contains("min") || !v.contains("max"))
             c.fail(key, std::string("empty range: '") + (v.contains("min") ? "max" : "min") + "' is missing; " + allowed);
         n.kind = NumberVary::Kind::Uniform;
         n.min = numberValue(c, key + ".min", v["min"], k);
         n.max = numberValue(c, key + ".max", v["max"], k);
         if (n.min > n.max)
-            c.fail(key, "min " + engine::shownNumber(n.min) + " > max " + engine::shownNumber(n.max) + "; " + allowed);
+            c.fail(key, "min " + core::shownNumber(n.min) + " > max " + core::shownNumber(n.max) + "; " + allowed);
     } else if (v.is_array()) {
         if (v.empty()) c.fail(key, "empty list; " + allowed);
         n.kind = NumberVary::Kind::Choice;
@@ -159,7 +159,7 @@ NumberVary parseNumber(const Context& c, const std::string& key, const json& v, 
         n.kind = NumberVary::Kind::Fixed;
         n.min = n.max = numberValue(c, key, v, k);
     } else {
-        c.fail(key, "'" + engine::printable(v.dump(), 60) + "' is not a range; " + allowed);
+        c.fail(key, "'" + core::printable(v.dump(), 60) + "' is not a range; " + allowed);
     }
     return n;
 }
@@ -176,23 +176,23 @@ TargetModel parseTarget(const Context& c, const std::string& key, const json& v,
                 file = it.value();
             } else if (it.key() == "up") {
                 if (!it.value().is_string() || (it.value() != "y" && it.value() != "z"))
-                    c.fail(key + ".up", "'" + engine::printable(it.value().dump(), 40) + "'; allowed y, z");
+                    c.fail(key + ".up", "'" + core::printable(it.value().dump(), 40) + "'; allowed y, z");
                 t.up = it.value().get<std::string>();
             } else if (it.key() == "scale") {
                 if (!it.value().is_number() || !(it.value().get<double>() > 0) ||
                     !std::isfinite(it.value().get<double>()))
-                    c.fail(key + ".scale", "'" + engine::printable(it.value().dump(), 40) + "'; allowed a number > 0");
+                    c.fail(key + ".scale", "'" + core::printable(it.value().dump(), 40) + "'; allowed a number > 0");
                 t.scale = it.value().get<double>();
             } else {
-                c.fail(key, "unknown key '" + engine::printable(it.key(), 40) + "'; allowed file, up, scale");
+                c.fail(key, "unknown key '" + core::printable(it.key(), 40) + "'; allowed file, up, scale");
             }
         }
     }
     if (!file.is_string() || file.get<std::string>().empty()) c.fail(key, allowed);
     t.written = file.get<std::string>();
     t.file = fs::absolute(dir / t.written).lexically_normal();
-    const std::string problem = engine::regularFileProblem(t.file);
-    if (!problem.empty()) c.fail(key, "'" + engine::printable(t.written) + "' " + problem + "; allowed: a mesh file");
+    const std::string problem = platform::regularFileProblem(t.file);
+    if (!problem.empty()) c.fail(key, "'" + core::printable(t.written) + "' " + problem + "; allowed: a mesh file");
     return t;
 }
 
@@ -201,10 +201,10 @@ TargetModel parseTarget(const Context& c, const std::string& key, const json& v,
 Spec parseSpec(std::string_view text, const fs::path& file) {
     Spec s;
     s.file = fs::absolute(file).lexically_normal();
-    const Context c{"corpus: " + engine::printable(file.string()) + ": "};
+    const Context c{"corpus: " + core::printable(file.string()) + ": "};
     // Strict: a key given twice or a NUL in a string is refused, naming where it is.
-    const json j = engine::parseStrictJson(text, "corpus: " + engine::printable(file.string()));
-    if (!j.is_object()) throw engine::Error(c.prefix + "allowed a JSON object with scene, count, seed, vary, metric, format");
+    const json j = io::parseStrictJson(text, "corpus: " + core::printable(file.string()));
+    if (!j.is_object()) throw core::Error(c.prefix + "allowed a JSON object with scene, count, seed, vary, metric, format");
     const fs::path dir = s.file.parent_path();
     for (auto it = j.begin(); it != j.end(); ++it) {
         const std::string& key = it.key();
@@ -212,17 +212,17 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
         if (key == "scene") {
             if (!v.is_string() || v.get<std::string>().empty()) c.fail(key, "allowed a scene file name");
             s.scene = fs::absolute(dir / v.get<std::string>()).lexically_normal();
-            const std::string problem = engine::regularFileProblem(s.scene);
+            const std::string problem = platform::regularFileProblem(s.scene);
             if (!problem.empty())
-                c.fail(key, "'" + engine::printable(v.get<std::string>()) + "' " + problem + "; allowed: a scene file");
+                c.fail(key, "'" + core::printable(v.get<std::string>()) + "' " + problem + "; allowed: a scene file");
         } else if (key == "count") {
             if (!v.is_number_integer() || v.get<double>() < 1 || v.get<double>() > double(kMaxItems))
-                c.fail(key, "'" + engine::printable(v.dump(), 40) + "'; allowed an integer in [1, " +
+                c.fail(key, "'" + core::printable(v.dump(), 40) + "'; allowed an integer in [1, " +
                                 std::to_string(kMaxItems) + "]");
             s.count = v.get<std::size_t>();
         } else if (key == "seed") {
             if (!v.is_number_unsigned())
-                c.fail(key, "'" + engine::printable(v.dump(), 40) + "'; allowed an integer in [0, 2^64)");
+                c.fail(key, "'" + core::printable(v.dump(), 40) + "'; allowed an integer in [0, 2^64)");
             s.seed = v.get<std::uint64_t>();
         } else if (key == "metric") {
             if (v.is_boolean()) {
@@ -233,14 +233,14 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
                     int* field = m.key() == "views" ? &s.metric.views : m.key() == "width" ? &s.metric.width
                                  : m.key() == "height" ? &s.metric.height : nullptr;
                     if (!field)
-                        c.fail("metric", "unknown key '" + engine::printable(m.key(), 40) +
+                        c.fail("metric", "unknown key '" + core::printable(m.key(), 40) +
                                              "'; allowed views, width, height");
                     const bool is_views = m.key() == "views";
                     const double lo = is_views ? 1 : 16, hi = is_views ? 65535 : 8192;
                     if (!m.value().is_number_integer() || m.value().get<double>() < lo || m.value().get<double>() > hi)
-                        c.fail("metric." + m.key(), "'" + engine::printable(m.value().dump(), 40) +
-                                                        "'; allowed an integer in [" + engine::shownNumber(lo) + ", " +
-                                                        engine::shownNumber(hi) + "]");
+                        c.fail("metric." + m.key(), "'" + core::printable(m.value().dump(), 40) +
+                                                        "'; allowed an integer in [" + core::shownNumber(lo) + ", " +
+                                                        core::shownNumber(hi) + "]");
                     *field = m.value().get<int>();
                 }
             } else {
@@ -248,7 +248,7 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
             }
         } else if (key == "format") {
             if (!v.is_string()) c.fail(key, "allowed pcd, pcd-ascii, ply, ply-ascii");
-            s.format = engine::parseCloudFormat(v.get<std::string>(), c.prefix + "format");
+            s.format = io::parseCloudFormat(v.get<std::string>(), c.prefix + "format");
         } else if (key == "vary") {
             if (!v.is_object()) c.fail(key, "allowed an object whose keys are " + keyList());
             for (auto m = v.begin(); m != v.end(); ++m) {
@@ -285,8 +285,8 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
         for (const auto& [key, n] : s.numbers) applyToOptions(o, key, high ? n.highest() : n.lowest());
         try {
             sim::validate(o);
-        } catch (const engine::Error& e) {
-            throw engine::Error(c.prefix + "vary: with every value at its " + (high ? "highest" : "lowest") + ": " +
+        } catch (const core::Error& e) {
+            throw core::Error(c.prefix + "vary: with every value at its " + (high ? "highest" : "lowest") + ": " +
                                 e.what());
         }
     }
@@ -295,7 +295,7 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
 }
 
 Spec loadSpec(const fs::path& file) {
-    const std::string text = engine::readTextFile(file, kMaxSpecBytes, "corpus: SPEC " + engine::printable(file.string()));
+    const std::string text = platform::readTextFile(file, kMaxSpecBytes, "corpus: SPEC " + core::printable(file.string()));
     Spec s = parseSpec(text, file);
     return s;
 }

@@ -3,10 +3,10 @@
 #include <corpus/run.hpp>
 #include <corpus/stats.hpp>
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
-#include <engine/png.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <io/png.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -70,7 +70,7 @@ void writeHistogram(const fs::path& path, const std::vector<std::size_t>& bins) 
     }
     for (int x = margin; x < width - margin; ++x)  // the axis
         for (int c = 0; c < 3; ++c) rgb[(std::size_t(height - margin) * width + x) * 3 + c] = 0;
-    engine::writePng(path, rgb, width, height, 3);
+    io::writePng(path, rgb, width, height, 3);
 }
 
 }  // namespace
@@ -98,9 +98,9 @@ Stats computeStats(const fs::path& dir, const StatsOptions& o) {
     st.histogram_column = !o.column.empty() ? o.column : columns.count("metric") ? "metric" : "points";
     const auto it = columns.find(st.histogram_column);
     if (it == columns.end())
-        throw engine::Error("corpus: --column '" + engine::printable(st.histogram_column, 40) + "' is not in " +
-                            engine::printable(dir.string()) + "'s manifest; allowed " + columnList(columns));
-    if (o.bins < 1 || o.bins > 200) throw engine::Error("corpus: bins: allowed [1, 200]");
+        throw core::Error("corpus: --column '" + core::printable(st.histogram_column, 40) + "' is not in " +
+                            core::printable(dir.string()) + "'s manifest; allowed " + columnList(columns));
+    if (o.bins < 1 || o.bins > 200) throw core::Error("corpus: bins: allowed [1, 200]");
     const std::vector<double>& v = it->second;
     st.histogram_lo = v.front();
     st.histogram_hi = v.back();
@@ -166,7 +166,7 @@ std::vector<Condition> parseConditions(const std::string& text, const std::map<s
     std::vector<Condition> out;
     std::size_t start = 0;
     const auto bad = [&](const std::string& part, const std::string& why) {
-        return engine::Error("corpus: --select '" + engine::printable(text, 80) + "': '" + engine::printable(part, 40) +
+        return core::Error("corpus: --select '" + core::printable(text, 80) + "': '" + core::printable(part, 40) +
                              "' " + why);
     };
     while (start <= text.size()) {
@@ -201,7 +201,7 @@ std::vector<Condition> parseConditions(const std::string& text, const std::map<s
 
 SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
     if (!(o.time_limit_s > 0) || !std::isfinite(o.time_limit_s))
-        throw engine::Error("corpus: --time-limit-s " + engine::shownNumber(o.time_limit_s) + ": allowed a number > 0");
+        throw core::Error("corpus: --time-limit-s " + core::shownNumber(o.time_limit_s) + ": allowed a number > 0");
     const std::vector<std::string> lines = readManifest(dir);
     const std::vector<Condition> conditions = parseConditions(o.expression, columnsOf(lines));
     SelectResult r;
@@ -218,9 +218,9 @@ SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
     }
     r.matching = matching.size();
     if (o.count < 1 || o.count > matching.size())
-        throw engine::Error("corpus: --count " + std::to_string(o.count) + ": " + std::to_string(matching.size()) +
+        throw core::Error("corpus: --count " + std::to_string(o.count) + ": " + std::to_string(matching.size()) +
                             " of " + std::to_string(lines.size()) + " items match '" +
-                            engine::printable(o.expression, 80) + "'; allowed 1.." + std::to_string(matching.size()));
+                            core::printable(o.expression, 80) + "'; allowed 1.." + std::to_string(matching.size()));
     SplitMix64 r64(mix64(o.seed));
     for (std::size_t i = 0; i < o.count; ++i) std::swap(matching[i], matching[i + r64.below(matching.size() - i)]);
     matching.resize(o.count);
@@ -242,7 +242,7 @@ SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
                           {"time_limit_s", o.time_limit_s}});
     }
     json plan{{"trials", trials}, {"shuffle_seed", o.seed}};
-    engine::writeFileAtomic(o.plan, plan.dump(2) + "\n");
+    platform::writeFileAtomic(o.plan, plan.dump(2) + "\n");
     r.written = o.count;
     return r;
 }

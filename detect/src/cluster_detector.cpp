@@ -3,9 +3,9 @@
 // radius searches); the RANSAC ground is sim's (sim/ground.hpp).
 #include <detect/cluster_detector.hpp>
 
-#include <engine/error.hpp>
-#include <engine/progress.hpp>
-#include <engine/spatial_hash.hpp>
+#include <core/error.hpp>
+#include <core/spatial_hash.hpp>
+#include <platform/progress.hpp>
 
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
@@ -28,7 +28,7 @@ namespace {
 [[noreturn]] void fail(const char* option, double value, const char* allowed) {
     std::ostringstream s;
     s << "detect: " << option << " = " << value << ": allowed " << allowed;
-    throw engine::Error(s.str());
+    throw core::Error(s.str());
 }
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
@@ -36,7 +36,7 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 
 // Step 1 with RANSAC: §III-C on each square tile of side tile_m (x, y of the local frame).
-std::vector<std::uint8_t> ransacGroundByTile(const engine::PointCloud& cloud, const ClusterOptions& o) {
+std::vector<std::uint8_t> ransacGroundByTile(const core::PointCloud& cloud, const ClusterOptions& o) {
     const auto& pts = cloud.points;
     std::map<std::pair<std::int64_t, std::int64_t>, std::vector<std::uint32_t>> tiles;
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -45,7 +45,7 @@ std::vector<std::uint8_t> ransacGroundByTile(const engine::PointCloud& cloud, co
         tiles[{tx, ty}].push_back(std::uint32_t(i));
     }
     std::vector<std::uint8_t> ground(pts.size(), 0);
-    engine::Progress progress("detect: ground", tiles.size(), false);
+    platform::Progress progress("detect: ground", tiles.size(), false);
     std::vector<glm::vec3> positions;
     std::uint64_t tile_index = 0;
     for (const auto& [key, indices] : tiles) {
@@ -59,19 +59,19 @@ std::vector<std::uint8_t> ransacGroundByTile(const engine::PointCloud& cloud, co
     return ground;
 }
 
-std::vector<std::uint8_t> findGroundPoints(const engine::PointCloud& cloud, const ClusterOptions& o) {
+std::vector<std::uint8_t> findGroundPoints(const core::PointCloud& cloud, const ClusterOptions& o) {
     std::vector<std::uint8_t> ground(cloud.points.size(), 0);
     switch (o.ground) {
     case GroundSource::Labels:
         if (!cloud.fields.label)
-            throw engine::Error("detect: --ground labels: the cloud has no label field; use --ground ransac");
+            throw core::Error("detect: --ground labels: the cloud has no label field; use --ground ransac");
         for (std::size_t i = 0; i < cloud.points.size(); ++i)
-            ground[i] = cloud.points[i].label == engine::Role::Ground;
+            ground[i] = cloud.points[i].label == core::Role::Ground;
         return ground;
     case GroundSource::White:
         if (!cloud.fields.rgb)
-            throw engine::Error("detect: --ground white: the cloud has no rgb field; use --ground ransac");
-        for (std::size_t i = 0; i < cloud.points.size(); ++i) ground[i] = cloud.points[i].rgb == engine::kWhite;
+            throw core::Error("detect: --ground white: the cloud has no rgb field; use --ground ransac");
+        for (std::size_t i = 0; i < cloud.points.size(); ++i) ground[i] = cloud.points[i].rgb == core::kWhite;
         return ground;
     case GroundSource::Ransac:
         break;
@@ -115,7 +115,7 @@ double sizeScore(const glm::dvec3& size_m, const glm::dvec3& target_size_m, doub
     return std::exp(-sum / (2.0 * sigma * sigma));
 }
 
-OrientedBox fitBox(const engine::PointCloud& cloud, const std::vector<std::uint32_t>& points, double trim) {
+OrientedBox fitBox(const core::PointCloud& cloud, const std::vector<std::uint32_t>& points, double trim) {
     // Moments about the first point, in double: the local frame may be far from the cluster.
     const glm::dvec3 ref = glm::dvec3(cloud.points[points.front()].position);
     double mx = 0, my = 0;
@@ -179,17 +179,17 @@ OrientedBox fitBox(const engine::PointCloud& cloud, const std::vector<std::uint3
 
 ClusterDetector::ClusterDetector(const ClusterOptions& o) : options_(o) { validate(options_); }
 
-std::vector<Detection> ClusterDetector::detect(const engine::PointCloud& cloud) const {
+std::vector<Detection> ClusterDetector::detect(const core::PointCloud& cloud) const {
     ClusterStats stats;
     return detect(cloud, stats);
 }
 
-std::vector<Detection> ClusterDetector::detect(const engine::PointCloud& cloud, ClusterStats& stats) const {
+std::vector<Detection> ClusterDetector::detect(const core::PointCloud& cloud, ClusterStats& stats) const {
     const ClusterOptions& o = options_;
     ClusterStats local;
     local.points = cloud.points.size();
     if (cloud.points.size() >= std::size_t(UINT32_MAX))
-        throw engine::Error("detect: the cloud has too many points (at most 4294967294)");
+        throw core::Error("detect: the cloud has too many points (at most 4294967294)");
 
     auto t0 = std::chrono::steady_clock::now();
     const std::vector<std::uint8_t> ground = findGroundPoints(cloud, o);
@@ -198,7 +198,7 @@ std::vector<Detection> ClusterDetector::detect(const engine::PointCloud& cloud, 
 
     // Step 2: voxels of the non-ground points, their centroids clustered.
     t0 = std::chrono::steady_clock::now();
-    std::vector<engine::CloudPoint> above;
+    std::vector<core::CloudPoint> above;
     std::vector<std::uint32_t> above_index;
     above.reserve(cloud.points.size() - local.ground_points);
     for (std::size_t i = 0; i < cloud.points.size(); ++i)
@@ -206,7 +206,7 @@ std::vector<Detection> ClusterDetector::detect(const engine::PointCloud& cloud, 
             above.push_back(cloud.points[i]);
             above_index.push_back(std::uint32_t(i));
         }
-    const engine::CellBins bins = engine::binByCell(above, o.voxel_m);
+    const core::CellBins bins = core::binByCell(above, o.voxel_m);
     local.voxels = bins.cells();
     auto centroids = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
     centroids->resize(bins.cells());

@@ -5,25 +5,25 @@
 // ground."
 #include <metric/clouds.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 namespace metric {
 
-MetricClouds generateClouds(const engine::Scene& scene, const sim::GenerateOptions& base) {
-    if (!scene.hasRole(engine::Role::Target))
-        throw engine::Error("metric: scene '" + scene.source.string() + "' has no target mesh");
-    using engine::Role;
+MetricClouds generateClouds(const core::Scene& scene, const sim::GenerateOptions& base) {
+    if (!scene.hasRole(core::Role::Target))
+        throw core::Error("metric: scene '" + scene.source.string() + "' has no target mesh");
+    using core::Role;
     sim::GenerateOptions options = base;
     options.white = true;
     // One centre C for the three runs (the generator computes it on the whole scene anyway).
     if (!options.centre) options.centre = sim::defaultCentre(scene);
     MetricClouds clouds;
-    options.roles = engine::RoleMask::of({Role::Target});
+    options.roles = core::RoleMask::of({Role::Target});
     clouds.p1 = sim::generateCloud(scene, options);
-    options.roles = engine::RoleMask::of({Role::Environment});
-    clouds.p2 = scene.hasRole(Role::Environment) ? sim::generateCloud(scene, options) : engine::PointCloud{};
+    options.roles = core::RoleMask::of({Role::Environment});
+    clouds.p2 = scene.hasRole(Role::Environment) ? sim::generateCloud(scene, options) : core::PointCloud{};
     clouds.p2.origin = scene.origin;
-    options.roles = engine::RoleMask::of({Role::Target, Role::Environment});
+    options.roles = core::RoleMask::of({Role::Target, Role::Environment});
     clouds.p3 = sim::generateCloud(scene, options);
     return clouds;
 }

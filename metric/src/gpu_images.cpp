@@ -2,8 +2,8 @@
 // see gpu_images.hpp.
 #include "gpu_images.hpp"
 
-#include <engine/error.hpp>
-#include <engine/spatial_hash.hpp>
+#include <core/error.hpp>
+#include <core/spatial_hash.hpp>
 #include <shaders/shaders.hpp>
 
 #include <algorithm>
@@ -13,13 +13,13 @@
 namespace metric::detail {
 namespace {
 
-GpuCloud upload(const engine::PointCloud& cloud, double cell_m) {
+GpuCloud upload(const core::PointCloud& cloud, double cell_m) {
     GpuCloud gpu;
     gpu.points = cloud.points.size();
     if (cloud.points.empty()) return gpu;
-    const engine::Bounds all = cloud.bounds();
+    const core::Bounds all = cloud.bounds();
     gpu.centre = all.centre();
-    const engine::CellBins cells = engine::binByCell(cloud.points, cell_m);
+    const core::CellBins cells = core::binByCell(cloud.points, cell_m);
     std::vector<glm::vec4> data;
     data.reserve(cloud.points.size());
     for (std::size_t c = 0; c < cells.cells(); ++c) {
@@ -43,7 +43,7 @@ glm::mat4 toFloat(const glm::dmat4& m) { return glm::mat4(m); }
 
 }  // namespace
 
-GpuImages::GpuImages(const engine::PointCloud& p1, const engine::PointCloud& p2, const engine::PointCloud& p3,
+GpuImages::GpuImages(const core::PointCloud& p1, const core::PointCloud& p2, const core::PointCloud& p3,
                      double cell_m)
     : splat_program_("metric-splat",
                      {{GL_COMPUTE_SHADER, shaders::metric_splat_comp, shaders::metric_splat_comp_files}}),
@@ -85,7 +85,7 @@ void GpuImages::ensureImages(int width, int height) {
     GL_CHECK(glCreateFramebuffers(1, &fbo_));
     GL_CHECK(glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, rgba_, 0));
     if (glCheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw engine::Error("metric: offscreen framebuffer " + std::to_string(width) + "x" + std::to_string(height) +
+        throw core::Error("metric: offscreen framebuffer " + std::to_string(width) + "x" + std::to_string(height) +
                             " is incomplete");
     width_ = width;
     height_ = height;

@@ -10,7 +10,7 @@
 #pragma once
 #include <metric/visibility.hpp>
 
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 #include <render/gl.hpp>
 #include <render/orbit_camera.hpp>
 #include <render/point_splat.hpp>
@@ -32,7 +32,7 @@ struct GpuCloud {
     glm::dvec3 centre{0.0};
     struct Cell {
         std::uint32_t first = 0, count = 0;
-        engine::Bounds bounds;
+        core::Bounds bounds;
     };
     std::vector<Cell> cells;
     std::size_t points = 0;
@@ -41,7 +41,7 @@ struct GpuCloud {
 class GpuImages {
 public:
     /// Clouds in one local frame. Needs a current GL 4.5 context for its whole life.
-    GpuImages(const engine::PointCloud& p1, const engine::PointCloud& p2, const engine::PointCloud& p3,
+    GpuImages(const core::PointCloud& p1, const core::PointCloud& p2, const core::PointCloud& p3,
               double cell_m);
     ~GpuImages();
     GpuImages(const GpuImages&) = delete;

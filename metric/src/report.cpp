@@ -1,9 +1,10 @@
 // metric/src/report.cpp: views.csv, summary.json and the I1..I4 PNGs, written as one set.
 #include <metric/report.hpp>
 
-#include <engine/safe_file.hpp>
-#include <engine/error.hpp>
-#include <engine/png.hpp>
+#include <core/error.hpp>
+#include <io/png.hpp>
+#include <platform/output_folder.hpp>
+#include <platform/safe_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -91,7 +92,7 @@ bool isReportFile(const std::string& name) {
            middle.compare(digits, 2, "_i") == 0 && middle[digits + 2] >= '1' && middle[digits + 2] <= '4';
 }
 
-void checkReportFolder(const std::filesystem::path& dir) { engine::checkOutputFolder(dir, isReportFile); }
+void checkReportFolder(const std::filesystem::path& dir) { platform::checkOutputFolder(dir, isReportFile); }
 
 std::vector<std::filesystem::path> writeReport(const MetricResult& r, const std::filesystem::path& dir) {
     // The whole set is made in memory, written into a temporary folder and swapped in: a
@@ -102,13 +103,13 @@ std::vector<std::filesystem::path> writeReport(const MetricResult& r, const std:
     if (r.pictures) {
         const MetricPictures& p = *r.pictures;
         const std::string stem = "view_" + std::to_string(p.view) + "_";
-        files.emplace_back(stem + "i1.png", engine::encodePng(p.i1, p.width, p.height, 1, engine::PngRows::BottomUp));
-        files.emplace_back(stem + "i2.png", engine::encodePng(p.i2, p.width, p.height, 1, engine::PngRows::BottomUp));
-        files.emplace_back(stem + "i3.png", engine::encodePng(p.i3, p.width, p.height, 1, engine::PngRows::BottomUp));
-        files.emplace_back(stem + "i4.png", engine::encodePng(p.i4, p.width, p.height, 1, engine::PngRows::BottomUp));
+        files.emplace_back(stem + "i1.png", io::encodePng(p.i1, p.width, p.height, 1, io::PngRows::BottomUp));
+        files.emplace_back(stem + "i2.png", io::encodePng(p.i2, p.width, p.height, 1, io::PngRows::BottomUp));
+        files.emplace_back(stem + "i3.png", io::encodePng(p.i3, p.width, p.height, 1, io::PngRows::BottomUp));
+        files.emplace_back(stem + "i4.png", io::encodePng(p.i4, p.width, p.height, 1, io::PngRows::BottomUp));
     }
     files.emplace_back("summary.json", summaryJson(r));
-    engine::writeFolderAtomic(dir, files, isReportFile);
+    platform::writeFolderAtomic(dir, files, isReportFile);
     std::vector<std::filesystem::path> written;
     for (const auto& f : files) written.push_back(dir / f.first);
     return written;

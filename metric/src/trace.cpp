@@ -3,7 +3,7 @@
 
 namespace metric {
 
-render::CameraPose cameraFromHead(const engine::TraceRow& sample) {
+render::CameraPose cameraFromHead(const io::TraceRow& sample) {
     render::CameraPose pose;
     pose.eye = sample.head_world;
     pose.look_at = sample.head_world + sample.head_orientation * glm::dvec3(0.0, 0.0, -1.0);
@@ -11,9 +11,9 @@ render::CameraPose cameraFromHead(const engine::TraceRow& sample) {
     return pose;
 }
 
-std::vector<engine::TraceRow> everyStep(const std::vector<engine::TraceRow>& samples, double step_s) {
-    std::vector<engine::TraceRow> kept;
-    for (const engine::TraceRow& s : samples)
+std::vector<io::TraceRow> everyStep(const std::vector<io::TraceRow>& samples, double step_s) {
+    std::vector<io::TraceRow> kept;
+    for (const io::TraceRow& s : samples)
         if (kept.empty() || s.t_s - kept.back().t_s >= step_s) kept.push_back(s);
     return kept;
 }

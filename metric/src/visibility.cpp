@@ -13,8 +13,8 @@
 
 #include "gpu_images.hpp"
 
-#include <engine/error.hpp>
-#include <engine/frames.hpp>
+#include <core/error.hpp>
+#include <core/frames.hpp>
 #include <render/egl_context.hpp>
 #include <render/gl.hpp>
 #include <sim/raycaster.hpp>
@@ -38,15 +38,15 @@ constexpr double kCellM = 8.0;  // culling cells: small enough that the target's
 [[noreturn]] void invalid(const std::string& option, double value, const char* allowed) {
     std::ostringstream s;
     s << "metric: --" << option << " = " << value << ": allowed " << allowed;
-    throw engine::Error(s.str());
+    throw core::Error(s.str());
 }
 
 double seconds(std::chrono::steady_clock::time_point since) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-engine::PointCloud toFrame(const engine::PointCloud& cloud, const glm::dvec3& origin) {
-    engine::PointCloud out = cloud;
+core::PointCloud toFrame(const core::PointCloud& cloud, const glm::dvec3& origin) {
+    core::PointCloud out = cloud;
     out.origin = origin;
     const glm::dvec3 shift = cloud.origin - origin;
     if (shift != glm::dvec3(0.0))
@@ -61,8 +61,8 @@ void validate(const MetricOptions& o) {
     const auto& c = o.orbit;
     if (c.views < 1 || c.views > 65535) invalid("views", c.views, "1..65535");
     // The eye is a float position relative to the scene's origin: beyond
-    // engine::kMaxLocalCoordinate_m the camera steps by metres and the target leaves the frame.
-    constexpr double kMax_m = engine::kMaxLocalCoordinate_m;
+    // core::kMaxLocalCoordinate_m the camera steps by metres and the target leaves the frame.
+    constexpr double kMax_m = core::kMaxLocalCoordinate_m;
     if (!std::isfinite(c.radius_m) || c.radius_m <= 0.0 || c.radius_m > kMax_m)
         invalid("radius-m", c.radius_m, "(0, 1e7] metres");
     if (!std::isfinite(c.altitude_m) || std::abs(c.altitude_m) > kMax_m)
@@ -77,7 +77,7 @@ void validate(const MetricOptions& o) {
     if (o.picture_view < -1 || o.picture_view >= views)
         invalid("picture-view", o.picture_view, "-1 (none) or 0..views-1");
     if (o.poses_world.size() > kMaxPoses)
-        throw engine::Error("metric: " + std::to_string(o.poses_world.size()) + " camera poses; allowed at most " +
+        throw core::Error("metric: " + std::to_string(o.poses_world.size()) + " camera poses; allowed at most " +
                             std::to_string(kMaxPoses));
     for (const render::CameraPose& p : o.poses_world) {
         const glm::dvec3 axis = p.look_at - p.eye;
@@ -86,16 +86,16 @@ void validate(const MetricOptions& o) {
                             std::isfinite(p.up.x) && std::isfinite(p.up.y) && std::isfinite(p.up.z);
         if (!finite || glm::length(axis) <= 0.0 || std::abs(glm::length(p.up) - 1.0) > 1e-6 ||
             std::abs(glm::dot(glm::normalize(axis), p.up)) > 1e-6)
-            throw engine::Error("metric: a camera pose is not finite or its up is not a unit vector orthogonal to "
+            throw core::Error("metric: a camera pose is not finite or its up is not a unit vector orthogonal to "
                                 "its view axis");
     }
     if (o.look_at_world && !(std::isfinite(o.look_at_world->x) && std::isfinite(o.look_at_world->y) &&
                              std::isfinite(o.look_at_world->z)))
-        throw engine::Error("metric: --look-at: not finite; allowed x,y,z in world metres");
-    if (o.look_at_world && !(std::abs(o.look_at_world->x) <= engine::kMaxWorldCoordinate_m &&
-                             std::abs(o.look_at_world->y) <= engine::kMaxWorldCoordinate_m &&
-                             std::abs(o.look_at_world->z) <= engine::kMaxWorldCoordinate_m))
-        throw engine::Error("metric: --look-at: out of range; allowed x,y,z within 1e9 world metres");
+        throw core::Error("metric: --look-at: not finite; allowed x,y,z in world metres");
+    if (o.look_at_world && !(std::abs(o.look_at_world->x) <= core::kMaxWorldCoordinate_m &&
+                             std::abs(o.look_at_world->y) <= core::kMaxWorldCoordinate_m &&
+                             std::abs(o.look_at_world->z) <= core::kMaxWorldCoordinate_m))
+        throw core::Error("metric: --look-at: out of range; allowed x,y,z within 1e9 world metres");
     if (!std::isfinite(o.depth_margin_m) || o.depth_margin_m < 0.0 || o.depth_margin_m > 100.0)
         invalid("depth-margin-m", o.depth_margin_m, "[0, 100] metres");
     render::validate(c);  // near/far/start, which the CLI does not expose
@@ -109,8 +109,8 @@ double ratio(std::int64_t numerator, std::int64_t i1) {
 struct Evaluator::Impl {
     render::EglContext context;
     glm::dvec3 origin{0.0};
-    engine::Bounds p1_bounds;        // local frame
-    engine::Bounds target_bounds;    // meshes' (exact reference); empty without scene
+    core::Bounds p1_bounds;        // local frame
+    core::Bounds target_bounds;    // meshes' (exact reference); empty without scene
     std::unique_ptr<detail::GpuImages> images;
     std::unique_ptr<sim::RayCaster> target_only, target_and_environment;
 
@@ -145,7 +145,7 @@ struct Evaluator::Impl {
             target_and_environment->intersect(rays, hits);
             std::vector<sim::Ray> again;
             for (std::size_t i = 0; i < rays.size(); ++i) {
-                if (hits[i].hit() && hits[i].role == engine::Role::Target) {
+                if (hits[i].hit() && hits[i].role == core::Role::Target) {
                     ++target;
                     ++visible;
                 } else {
@@ -168,22 +168,22 @@ struct Evaluator::Impl {
     }
 };
 
-Evaluator::Evaluator(const MetricClouds& clouds, const engine::Scene* scene) {
+Evaluator::Evaluator(const MetricClouds& clouds, const core::Scene* scene) {
     if (clouds.p1.points.empty())
-        throw engine::Error("metric: P1 (the target-only cloud) is empty: the target is never sensed, so "
+        throw core::Error("metric: P1 (the target-only cloud) is empty: the target is never sensed, so "
                             "|I1| = 0 in every view; check the scene's target mesh or --p1");
     impl_ = std::make_unique<Impl>();
     Impl& impl = *impl_;
     impl.origin = scene ? scene->origin : clouds.p1.origin;
-    const engine::PointCloud p1 = toFrame(clouds.p1, impl.origin);
+    const core::PointCloud p1 = toFrame(clouds.p1, impl.origin);
     impl.p1_bounds = p1.bounds();
     impl.images = std::make_unique<detail::GpuImages>(p1, toFrame(clouds.p2, impl.origin),
                                                       toFrame(clouds.p3, impl.origin), kCellM);
-    if (scene && scene->hasRole(engine::Role::Target)) {
-        impl.target_bounds = scene->bounds(engine::RoleMask::of({engine::Role::Target}));
-        impl.target_only = std::make_unique<sim::RayCaster>(*scene, engine::RoleMask::of({engine::Role::Target}));
+    if (scene && scene->hasRole(core::Role::Target)) {
+        impl.target_bounds = scene->bounds(core::RoleMask::of({core::Role::Target}));
+        impl.target_only = std::make_unique<sim::RayCaster>(*scene, core::RoleMask::of({core::Role::Target}));
         impl.target_and_environment = std::make_unique<sim::RayCaster>(
-            *scene, engine::RoleMask::of({engine::Role::Target, engine::Role::Environment}));
+            *scene, core::RoleMask::of({core::Role::Target, core::Role::Environment}));
     }
 }
 

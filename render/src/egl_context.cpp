@@ -2,7 +2,7 @@
 #include <render/egl_context.hpp>
 #include <render/gl.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -37,7 +37,7 @@ std::string eglErrorName(EGLint error) {
 }
 
 [[noreturn]] void fail(const std::string& what) {
-    throw engine::Error("egl: " + what + ": " + eglErrorName(eglGetError()));
+    throw core::Error("egl: " + what + ": " + eglErrorName(eglGetError()));
 }
 
 bool hasExtension(const char* list, const char* name) {
@@ -87,7 +87,7 @@ EglContext::EglContext(const EglContextOptions& options) {
         if (!hasExtension(display_extensions, needed)) {
             eglTerminate(display);
             display_ = nullptr;
-            throw engine::Error(std::string("egl: display (") + platform_ + ") lacks " + needed);
+            throw core::Error(std::string("egl: display (") + platform_ + ") lacks " + needed);
         }
     }
     if (!eglBindAPI(EGL_OPENGL_API)) {
@@ -106,7 +106,7 @@ EglContext::EglContext(const EglContextOptions& options) {
         const std::string error = eglErrorName(eglGetError());
         eglTerminate(display);
         display_ = nullptr;
-        throw engine::Error("egl: eglCreateContext(OpenGL " + std::to_string(options.major) + "." +
+        throw core::Error("egl: eglCreateContext(OpenGL " + std::to_string(options.major) + "." +
                             std::to_string(options.minor) + " core, no config): " + error);
     }
     context_ = context;

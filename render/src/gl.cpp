@@ -1,7 +1,7 @@
 // render/src/gl.cpp: GL error names and checks, loader entry.
 #include <render/gl.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <cstdio>
 #include <string>
@@ -27,10 +27,10 @@ const char* glErrorName(GLenum error) {
 
 void loadGl(GLADloadfunc get_proc_address) {
     const int version = gladLoadGL(get_proc_address);
-    if (version == 0) throw engine::Error("gl: loading the OpenGL entry points failed (gladLoadGL)");
+    if (version == 0) throw core::Error("gl: loading the OpenGL entry points failed (gladLoadGL)");
     const int major = GLAD_VERSION_MAJOR(version), minor = GLAD_VERSION_MINOR(version);
     if (major < 4 || (major == 4 && minor < 5))
-        throw engine::Error("gl: context is OpenGL " + std::to_string(major) + "." +
+        throw core::Error("gl: context is OpenGL " + std::to_string(major) + "." +
                             std::to_string(minor) + "; OpenGL 4.5 core is required");
 }
 
@@ -53,7 +53,7 @@ std::string collectErrors(const char* expression, const char* file, int line, bo
 void checkGl(const char* expression, const char* file, int line) {
     bool any = false;
     std::string message = collectErrors(expression, file, line, any);
-    if (any) throw engine::Error(message);
+    if (any) throw core::Error(message);
 }
 
 bool logGl(const char* expression, const char* file, int line) {

@@ -1,7 +1,7 @@
 // render/src/orbit_camera.cpp: orbit and camera maths (see orbit_camera.hpp; paper §IV-A/B).
 #include <render/orbit_camera.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -18,7 +18,7 @@ constexpr double kPi = 3.14159265358979323846;
 [[noreturn]] void invalid(const char* field, double value, const char* allowed) {
     std::ostringstream s;
     s << "orbit-camera: " << field << " = " << value << ": allowed " << allowed;
-    throw engine::Error(s.str());
+    throw core::Error(s.str());
 }
 
 }  // namespace
@@ -74,7 +74,7 @@ glm::dmat4 subRectProjection(const glm::dmat4& projection, int width, int height
     return crop * projection;
 }
 
-PixelRect projectBounds(const glm::dmat4& view_projection, const engine::Bounds& bounds, int width,
+PixelRect projectBounds(const glm::dmat4& view_projection, const core::Bounds& bounds, int width,
                         int height, double margin_px) {
     PixelRect none{};
     if (bounds.empty()) return none;
@@ -127,7 +127,7 @@ Frustum Frustum::fromMatrix(const glm::dmat4& m) {
     return f;
 }
 
-bool Frustum::intersects(const engine::Bounds& b) const {
+bool Frustum::intersects(const core::Bounds& b) const {
     if (b.empty()) return false;
     for (const glm::dvec4& p : planes) {
         // The box corner farthest along the plane normal.

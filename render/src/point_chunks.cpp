@@ -54,7 +54,7 @@ std::optional<std::size_t> PointChunks::addChunk(std::size_t capacity, std::span
     return id;
 }
 
-void PointChunks::upload(std::size_t id, std::span<const engine::CloudPoint> points) {
+void PointChunks::upload(std::size_t id, std::span<const core::CloudPoint> points) {
     Chunk& chunk = chunks_[id];
     const std::size_t n = std::min(points.size(), chunk.capacity - chunk.count);
     if (n == 0 || chunk.buffer == 0) return;
@@ -64,7 +64,7 @@ void PointChunks::upload(std::size_t id, std::span<const engine::CloudPoint> poi
         const std::size_t k = chunk.count + i;
         while (chunk.next_cell + 1 < end_cell && k >= cells_[chunk.next_cell].first + cells_[chunk.next_cell].size)
             ++chunk.next_cell;
-        const engine::CloudPoint& p = points[i];
+        const core::CloudPoint& p = points[i];
         const glm::dvec3 rel = glm::dvec3(p.position) - cells_[chunk.next_cell].centre;
         staging_[i] = {float(rel.x), float(rel.y), float(rel.z),
                        (p.rgb & 0xFFFFFFu) | (std::uint32_t(p.label) << 24), p.height_above_ground_m};

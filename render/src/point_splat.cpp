@@ -3,8 +3,8 @@
 #include <render/orbit_camera.hpp>
 #include <shaders/shaders.hpp>
 
-#include <engine/error.hpp>
-#include <engine/spatial_hash.hpp>
+#include <core/error.hpp>
+#include <core/spatial_hash.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -31,25 +31,25 @@ PointSplatRenderer::~PointSplatRenderer() = default;
 
 void PointSplatRenderer::clear() { chunks_.clear(); }
 
-void PointSplatRenderer::appendChunk(std::span<const engine::CloudPoint> points) {
+void PointSplatRenderer::appendChunk(std::span<const core::CloudPoint> points) {
     for (std::size_t start = 0; start < points.size(); start += kMaxChunkPoints) {
         const auto part = points.subspan(start, std::min(kMaxChunkPoints, points.size() - start));
         CellRange cell{0, part.size(), {}};
         for (const auto& p : part) cell.bounds.extend(glm::dvec3(p.position));
         const auto id = chunks_.addChunk(part.size(), std::span<const CellRange>(&cell, 1));
-        if (!id) throw engine::Error("gl: no GPU memory for a chunk of " + std::to_string(part.size()) + " points");
+        if (!id) throw core::Error("gl: no GPU memory for a chunk of " + std::to_string(part.size()) + " points");
         chunks_.upload(*id, part);
         checkGl("PointChunks::upload", __FILE__, __LINE__);
     }
 }
 
-void PointSplatRenderer::setCloud(const engine::PointCloud& cloud, double chunk_size_m) {
+void PointSplatRenderer::setCloud(const core::PointCloud& cloud, double chunk_size_m) {
     clear();
     if (cloud.points.empty()) return;
     if (!(chunk_size_m > 0.0)) chunk_size_m = 16.0;
     // Bin into cells, then upload each cell (split if it is very dense).
-    const engine::CellBins cells = engine::binByCell(cloud.points, chunk_size_m);
-    std::vector<engine::CloudPoint> buffer;
+    const core::CellBins cells = core::binByCell(cloud.points, chunk_size_m);
+    std::vector<core::CloudPoint> buffer;
     for (std::size_t c = 0; c < cells.cells(); ++c) {
         buffer.clear();
         for (std::uint32_t i : cells.cell(c)) buffer.push_back(cloud.points[i]);

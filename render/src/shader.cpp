@@ -1,7 +1,7 @@
 // render/src/shader.cpp: GLSL compile/link with the driver's log in the error.
 #include <render/shader.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <string>
 #include <utility>
@@ -39,7 +39,7 @@ Program::Program(std::string_view name, std::initializer_list<ShaderStage> stage
         const GLuint shader = glCreateShader(stage.stage);
         if (shader == 0) {
             cleanup();
-            throw engine::Error(std::string("shader: ") + std::string(name) + ": glCreateShader(" +
+            throw core::Error(std::string("shader: ") + std::string(name) + ": glCreateShader(" +
                                 stageName(stage.stage) + ") failed");
         }
         shaders.push_back(shader);
@@ -57,7 +57,7 @@ Program::Program(std::string_view name, std::initializer_list<ShaderStage> stage
             cleanup();
             std::string where;
             if (!stage.files.empty()) where = " (source strings: " + std::string(stage.files) + ")";
-            throw engine::Error(std::string("shader: ") + std::string(name) + ": " +
+            throw core::Error(std::string("shader: ") + std::string(name) + ": " +
                                 stageName(stage.stage) + " compile failed: " + trimLog(log) + where);
         }
     }
@@ -74,7 +74,7 @@ Program::Program(std::string_view name, std::initializer_list<ShaderStage> stage
         glGetProgramInfoLog(id_, log_length, nullptr, log.data());
         glDeleteProgram(id_);
         id_ = 0;
-        throw engine::Error(std::string("shader: ") + std::string(name) + ": link failed: " + trimLog(log));
+        throw core::Error(std::string("shader: ") + std::string(name) + ": link failed: " + trimLog(log));
     }
 }
 

@@ -2,8 +2,8 @@
 // that GDAL, QGIS, ArcGIS and numpy.loadtxt(skiprows=6) read.
 #include <sim/dtm.hpp>
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <platform/atomic_file.hpp>
 
 #include <cstdio>
 
@@ -29,8 +29,8 @@ std::string dtmAscii(const TerrainGrid& grid, const glm::dvec3& origin) {
 }
 
 void writeDtm(const std::filesystem::path& path, const TerrainGrid& grid, const glm::dvec3& origin) {
-    if (grid.empty()) throw engine::Error("output: " + path.string() + ": no terrain was fitted (the cloud is empty)");
-    engine::writeFileAtomic(path, dtmAscii(grid, origin));
+    if (grid.empty()) throw core::Error("output: " + path.string() + ": no terrain was fitted (the cloud is empty)");
+    platform::writeFileAtomic(path, dtmAscii(grid, origin));
 }
 
 }  // namespace sim

@@ -7,7 +7,7 @@
 // (per view, in parallel, seeded per view) and appended in view order to the fused
 // cloud, which lives in memory or, for big runs, in a spool file next to the output.
 // Colouring needs the z range of the whole fused cloud, so it is a last pass that reads
-// the fused points back and streams them into the engine::CloudWriter.
+// the fused points back and streams them into the io::CloudWriter.
 //
 // Memory (GenerateOptions::memory_budget_bytes, --memory-mb): before the BVH is built a
 // MemoryPlan sizes the buffers against the budget: fewer views per batch first, then a
@@ -19,11 +19,11 @@
 #include "parallel.hpp"
 #include "terrain_stage.hpp"
 
-#include <engine/error.hpp>
-#include <engine/jet.hpp>
-#include <engine/progress.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/scene_info.hpp>
+#include <core/error.hpp>
+#include <core/jet.hpp>
+#include <core/scene_info.hpp>
+#include <platform/progress.hpp>
+#include <platform/safe_file.hpp>
 #include <sim/sensor.hpp>
 
 #include <algorithm>
@@ -54,13 +54,13 @@ std::string mebibytes(std::uint64_t bytes) {
 }
 
 // The fused cloud on disk: raw CloudPoint records in an anonymous file in the output's
-// folder (engine::openScratchFile), so nothing of it outlives the process. `path_` (the
+// folder (platform::openScratchFile), so nothing of it outlives the process. `path_` (the
 // output) names it in messages.
 class Spool {
 public:
     explicit Spool(std::filesystem::path path) : path_(std::move(path)) {
         const std::filesystem::path dir = path_.parent_path();
-        file_ = engine::openScratchFile(dir.empty() ? "." : dir, path_.string());
+        file_ = platform::openScratchFile(dir.empty() ? "." : dir, path_.string());
     }
     ~Spool() {
         if (file_) std::fclose(file_);
@@ -68,20 +68,20 @@ public:
     Spool(const Spool&) = delete;
     Spool& operator=(const Spool&) = delete;
 
-    void append(std::span<const engine::CloudPoint> points) {
+    void append(std::span<const core::CloudPoint> points) {
         if (points.empty()) return;
-        if (std::fwrite(points.data(), sizeof(engine::CloudPoint), points.size(), file_) != points.size())
-            throw engine::Error("output: " + path_.string() + ": cannot write the spool file after " +
-                                mebibytes(count_ * sizeof(engine::CloudPoint)) + " MiB: " + std::strerror(errno));
+        if (std::fwrite(points.data(), sizeof(core::CloudPoint), points.size(), file_) != points.size())
+            throw core::Error("output: " + path_.string() + ": cannot write the spool file after " +
+                                mebibytes(count_ * sizeof(core::CloudPoint)) + " MiB: " + std::strerror(errno));
         count_ += points.size();
     }
     void rewind() {
         if (std::fflush(file_) != 0 || std::fseek(file_, 0, SEEK_SET) != 0)
-            throw engine::Error("output: " + path_.string() + ": cannot rewind spool file");
+            throw core::Error("output: " + path_.string() + ": cannot rewind spool file");
     }
     /// Reads up to out.size() records; returns how many.
-    std::size_t read(std::span<engine::CloudPoint> out) {
-        return std::fread(out.data(), sizeof(engine::CloudPoint), out.size(), file_);
+    std::size_t read(std::span<core::CloudPoint> out) {
+        return std::fread(out.data(), sizeof(core::CloudPoint), out.size(), file_);
     }
     std::size_t count() const { return count_; }
 
@@ -104,7 +104,7 @@ struct PixelRect {
 // frame): the box's 8 corners projected with pixelDirection's inverse, padded by one
 // pixel plus the float slack of the rays. A corner at or behind the image plane (the
 // box reaches the sensor's side) gives the whole image: no skip, never a wrong one.
-PixelRect visiblePixels(const OrbitOptions& o, const engine::Pose& T_local_sensor, const engine::Bounds& b,
+PixelRect visiblePixels(const OrbitOptions& o, const core::Pose& T_local_sensor, const core::Bounds& b,
                         double extra_margin_rad = 0.0) {
     const PixelRect all{0, o.xres - 1, 0, o.yres - 1};
     if (b.empty()) return PixelRect{};
@@ -147,46 +147,46 @@ void validate(const GenerateOptions& o) {
     validate(o.ground);
     validate(o.sensor);
     if (o.threads < 0 || o.threads > 1024)
-        throw engine::Error("generate: threads (--threads) = " + std::to_string(o.threads) +
+        throw core::Error("generate: threads (--threads) = " + std::to_string(o.threads) +
                             ": allowed [0, 1024] (0 = all cores)");
     if (!(std::isfinite(o.drone_speed_mps) && o.drone_speed_mps > 0.0 && o.drone_speed_mps <= 1e4))
-        throw engine::Error("generate: drone speed (--drone-speed-mps) = " + engine::shownNumber(o.drone_speed_mps) +
+        throw core::Error("generate: drone speed (--drone-speed-mps) = " + core::shownNumber(o.drone_speed_mps) +
                             ": allowed (0, 10000] m/s");
-    if (o.centre && !(std::abs(o.centre->x) <= engine::kMaxWorldCoordinate_m &&
-                      std::abs(o.centre->y) <= engine::kMaxWorldCoordinate_m &&
-                      std::abs(o.centre->z) <= engine::kMaxWorldCoordinate_m))
-        throw engine::Error("generate: centre (--centre) = " + engine::shownNumber(o.centre->x) + "," +
-                            engine::shownNumber(o.centre->y) + "," + engine::shownNumber(o.centre->z) +
-                            ": allowed x,y,z in [-" + engine::shownNumber(engine::kMaxWorldCoordinate_m) +
-                            ", " + engine::shownNumber(engine::kMaxWorldCoordinate_m) + "] world metres");
+    if (o.centre && !(std::abs(o.centre->x) <= core::kMaxWorldCoordinate_m &&
+                      std::abs(o.centre->y) <= core::kMaxWorldCoordinate_m &&
+                      std::abs(o.centre->z) <= core::kMaxWorldCoordinate_m))
+        throw core::Error("generate: centre (--centre) = " + core::shownNumber(o.centre->x) + "," +
+                            core::shownNumber(o.centre->y) + "," + core::shownNumber(o.centre->z) +
+                            ": allowed x,y,z in [-" + core::shownNumber(core::kMaxWorldCoordinate_m) +
+                            ", " + core::shownNumber(core::kMaxWorldCoordinate_m) + "] world metres");
     if (o.roles.bits == 0 || o.roles.bits > 0b111)
-        throw engine::Error("generate: roles (--roles): allowed a non-empty subset of ground, environment, target");
+        throw core::Error("generate: roles (--roles): allowed a non-empty subset of ground, environment, target");
     if (o.memory_budget_bytes == 0)
-        throw engine::Error("generate: memory_budget_bytes = 0: allowed > 0");
+        throw core::Error("generate: memory_budget_bytes = 0: allowed > 0");
 }
 
-glm::dvec3 defaultCentre(const engine::Scene& scene) {
-    engine::Bounds all, target, ground;
-    for (const engine::Mesh& m : scene.meshes) {
+glm::dvec3 defaultCentre(const core::Scene& scene) {
+    core::Bounds all, target, ground;
+    for (const core::Mesh& m : scene.meshes) {
         if (m.triangles.empty()) continue;
         for (const glm::uvec3& t : m.triangles)
             for (int k = 0; k < 3; ++k) {
                 const glm::dvec3 p(m.vertices[t[k]]);
                 all.extend(p);
-                if (m.role == engine::Role::Target) target.extend(p);
-                if (m.role == engine::Role::Ground) ground.extend(p);
+                if (m.role == core::Role::Target) target.extend(p);
+                if (m.role == core::Role::Ground) ground.extend(p);
             }
     }
     if (all.empty())
-        throw engine::Error("generate: scene '" + scene.source.string() + "' has no triangles");
+        throw core::Error("generate: scene '" + scene.source.string() + "' has no triangles");
     const glm::dvec3 xy = target.empty() ? all.centre() : target.centre();
-    const std::optional<double> ground_z = engine::groundHeightAt(scene, xy.x, xy.y);
+    const std::optional<double> ground_z = core::groundHeightAt(scene, xy.x, xy.y);
     const double z = ground_z ? *ground_z : ground.empty() ? all.lo.z : ground.lo.z;
     return scene.origin + glm::dvec3(xy.x, xy.y, z);
 }
 
 struct Generator::State {
-    const engine::Scene& scene;
+    const core::Scene& scene;
     GenerateOptions options;
     glm::dvec3 centre_world{0.0}, centre_local{0.0};
     std::unique_ptr<RayCaster> caster;
@@ -196,7 +196,7 @@ struct Generator::State {
     double bvh_seconds = 0.0;
     MemoryPlan plan;                       // batches, bands and threads within the budget
     std::uint64_t hits_bound = 0;          // hits all views can give together (traced pixels)
-    std::vector<engine::Pose> poses;       // per view, T_local_sensor
+    std::vector<core::Pose> poses;       // per view, T_local_sensor
     std::vector<PixelRect> traced;         // per view, the pixels traced (all without skip_rays)
     // Per (view, row), the columns traced [x0, x1] when the boxes are per mesh (a union of
     // rectangles is no rectangle); empty: `traced` alone. See traceablePixels().
@@ -207,15 +207,15 @@ struct Generator::State {
     std::unique_ptr<const ViewGroundFilter> view_filter;
     std::unique_ptr<const CloudGroundFilter> cloud_filter;
 
-    State(const engine::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
+    State(const core::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
 
     // Whether a per-view filter's result is checked on a fitted terrain: only where ground
     // labels cannot measure it (no ground mesh is ray-cast), or where the terrain is wanted.
     bool checkTerrain() const {
         if (options.fit_terrain) return true;
         if (!options.ground_check) return false;
-        for (const engine::Mesh& m : scene.meshes)
-            if (m.role == engine::Role::Ground && options.roles.has(m.role)) return false;
+        for (const core::Mesh& m : scene.meshes)
+            if (m.role == core::Role::Ground && options.roles.has(m.role)) return false;
         return true;
     }
 
@@ -224,7 +224,7 @@ struct Generator::State {
     // slots[(i - first) * slots_per_pixel].
     struct Band {
         const glm::dvec3* dirs;
-        engine::CloudPoint* slots;
+        core::CloudPoint* slots;
         std::size_t first;
     };
 
@@ -260,24 +260,24 @@ struct Generator::State {
 
     // Runs every view and hands the fused points, in (view, row, column) order, to
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
-    void fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
+    void fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit,
                    Workers& pool, GenerateStats& st) const;
 
     // Jet colours for every point that is not white, from the fused z range.
-    void colour(std::span<engine::CloudPoint> points, Workers& pool, const GenerateStats& st) const {
+    void colour(std::span<core::CloudPoint> points, Workers& pool, const GenerateStats& st) const {
         if (options.white) return;
         const std::size_t chunk = 1u << 16;
         const std::size_t tasks = (points.size() + chunk - 1) / chunk;
         pool.run(tasks, [&](std::size_t task) {
             const std::size_t end = std::min(points.size(), (task + 1) * chunk);
             for (std::size_t i = task * chunk; i < end; ++i)
-                if (points[i].rgb != engine::kWhite)
+                if (points[i].rgb != core::kWhite)
                     points[i].rgb = heightColour(points[i].position.z, st.z_min, st.z_max, jet);
         });
     }
 };
 
-void Generator::State::fuseViews(const std::function<void(std::span<const engine::CloudPoint>)>& emit,
+void Generator::State::fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit,
                                  Workers& pool, GenerateStats& st) const {
     const OrbitOptions& orbit = options.orbit;
     const std::size_t xres = std::size_t(orbit.xres), yres = std::size_t(orbit.yres);
@@ -290,24 +290,24 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
     const bool emit_per_band = options.white && band_rows < yres;
     std::vector<glm::dvec3> dirs(band_pixels);  // sensor frame, unit, rows [dirs_row, + band_rows)
     std::size_t dirs_row = yres;
-    std::vector<engine::CloudPoint> slots(batch_views * band_pixels * slots_per_pixel);
-    std::vector<std::vector<engine::CloudPoint>> view_points(batch_views);
+    std::vector<core::CloudPoint> slots(batch_views * band_pixels * slots_per_pixel);
+    std::vector<std::vector<core::CloudPoint>> view_points(batch_views);
     for (auto& v : view_points) v.reserve(std::size_t(plan.view_hits));
     std::vector<std::size_t> view_missed(batch_views);  // pixels without a return
     std::vector<GroundStats> ground_stats(batch_views);
-    std::optional<engine::Progress> progress;
+    std::optional<platform::Progress> progress;
     if (options.progress) progress.emplace("generate", views);
 
     float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
     // Counts `pts` (and `missed` pixels without a return) into the stats and hands them on.
-    const auto fuse = [&](const std::vector<engine::CloudPoint>& pts, std::size_t missed) {
+    const auto fuse = [&](const std::vector<core::CloudPoint>& pts, std::size_t missed) {
         st.misses += missed;
         st.points += pts.size();
         for (const auto& p : pts) {
             z_min = std::min(z_min, p.position.z);
             z_max = std::max(z_max, p.position.z);
-            const bool truth = p.label == engine::Role::Ground;
-            const bool found = !options.white && p.rgb == engine::kWhite;
+            const bool truth = p.label == core::Role::Ground;
+            const bool found = !options.white && p.rgb == core::kWhite;
             st.ground_truth += truth;
             st.ground_found += found;
             st.ground_true_positive += truth && found;
@@ -345,14 +345,14 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
             pool.run(count, [&](std::size_t k) {
                 auto& out = view_points[k];
                 const std::size_t n = slots_per_pixel;
-                const engine::CloudPoint* s = slots.data() + k * band_pixels * n;
+                const core::CloudPoint* s = slots.data() + k * band_pixels * n;
                 for (std::size_t i = 0; i < rows * xres; ++i) {
                     bool missed = true;
                     for (std::size_t r = i * n; r < (i + 1) * n; ++r)
                         if (s[r].range_m != kNoReturn) {
                             missed = false;
                             out.push_back(s[r]);
-                            if (options.white) out.back().rgb = engine::kWhite;
+                            if (options.white) out.back().rgb = core::kWhite;
                         }
                     view_missed[k] += missed;
                 }
@@ -384,7 +384,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
                 const auto is_ground = view_filter->classifyView(positions, options.seed ^ view,
                                                                  &ground_stats[k]);
                 for (std::size_t i = 0; i < pts.size(); ++i)
-                    if (is_ground[i]) pts[i].rgb = engine::kWhite;
+                    if (is_ground[i]) pts[i].rgb = core::kWhite;
             });
             st.seconds.ground += secondsSince(t0);
         }
@@ -414,7 +414,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const engine
     }
 }
 
-Generator::Generator(const engine::Scene& scene, GenerateOptions options)
+Generator::Generator(const core::Scene& scene, GenerateOptions options)
     : state_(std::make_unique<State>(scene, std::move(options))) {
     State& s = *state_;
     validate(s.options);
@@ -430,7 +430,7 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     // divergence off the pixel's axis: the traced pixels are found for both.
     const SensorOptions& so = s.options.sensor;
     const double spread_rad = 0.5e-3 * std::max(so.beam_divergence_mrad, so.beam_divergence_y_mrad);
-    s.jet = engine::jetTable(s.options.colour.entries);
+    s.jet = core::jetTable(s.options.colour.entries);
     if (!s.options.white) {
         s.view_filter = makeViewFilter(s.options.ground);
         s.cloud_filter = makeCloudFilter(s.options.ground);
@@ -440,11 +440,11 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
     // would cover the whole footprint). Many meshes, or more (view, row) spans than fit
     // comfortably in the memory budget: one box over all (the same cloud either way).
     constexpr std::size_t kMaxBoxes = 256, kMaxSpanRows = std::size_t(1) << 22;
-    std::vector<engine::Bounds> boxes;
-    engine::Bounds cast_bounds;
-    for (const engine::Mesh& m : scene.meshes) {
+    std::vector<core::Bounds> boxes;
+    core::Bounds cast_bounds;
+    for (const core::Mesh& m : scene.meshes) {
         if (!s.options.roles.has(m.role) || m.triangles.empty()) continue;
-        engine::Bounds b;
+        core::Bounds b;
         for (const glm::uvec3& t : m.triangles)
             for (int k = 0; k < 3; ++k) b.extend(glm::dvec3(m.vertices[t[k]]));
         boxes.push_back(b);
@@ -470,7 +470,7 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
         }
         PixelRect hull{orbit.xres, -1, orbit.yres, -1};
         glm::ivec2* row = s.row_spans.data() + v * yres;
-        for (const engine::Bounds& b : boxes) {
+        for (const core::Bounds& b : boxes) {
             const PixelRect r = visiblePixels(orbit, s.sensor_views[v].actual, b, spread_rad);
             if (r.count() == 0) continue;
             hull = {std::min(hull.x0, r.x0), std::max(hull.x1, r.x1), std::min(hull.y0, r.y0), std::max(hull.y1, r.y1)};
@@ -493,7 +493,7 @@ Generator::Generator(const engine::Scene& scene, GenerateOptions options)
         needs.view_hits = std::max(needs.view_hits, n * s.slots_per_pixel);
         s.hits_bound += n * s.slots_per_pixel;
     }
-    needs.fixed_bytes = views * (sizeof(engine::Pose) + sizeof(PixelRect) + sizeof(std::uint64_t)) +
+    needs.fixed_bytes = views * (sizeof(core::Pose) + sizeof(PixelRect) + sizeof(std::uint64_t)) +
                         s.row_spans.size() * sizeof(glm::ivec2) + s.jet.size() * sizeof(std::uint32_t) +
                         s.sensor->tableBytes();
     needs.white = s.options.white;
@@ -534,9 +534,9 @@ void initStats(const Generator::State& s, GenerateStats& st) {
 
 // The cloud in memory: every view fused into `points` (the terrain stage's pass 1 on the
 // way), the terrain fitted, then pass 2 and the colours over all of them.
-void fuseFitColour(const Generator::State& s, std::vector<engine::CloudPoint>& points, TerrainStage& terrain,
+void fuseFitColour(const Generator::State& s, std::vector<core::CloudPoint>& points, TerrainStage& terrain,
                    Workers& pool, GenerateStats& st) {
-    s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
+    s.fuseViews([&](std::span<const core::CloudPoint> pts) {
         points.insert(points.end(), pts.begin(), pts.end());
         terrain.add(pts);
     }, pool, st);
@@ -549,18 +549,18 @@ void fuseFitColour(const Generator::State& s, std::vector<engine::CloudPoint>& p
 
 }  // namespace
 
-engine::PointCloud Generator::run(GenerateStats* stats) {
+core::PointCloud Generator::run(GenerateStats* stats) {
     const State& s = *state_;
     const auto t0 = Clock::now();
     GenerateStats st;
     initStats(s, st);
     Workers pool(s.plan.threads);
-    engine::PointCloud cloud;
+    core::PointCloud cloud;
     cloud.origin = s.scene.origin;
     cloud.fields = s.sensor->fields();
     // The cloud is the caller's: reserved up to the budget, beyond it grown as needed.
     cloud.points.reserve(std::size_t(std::min<std::uint64_t>(
-        s.hits_bound, s.options.memory_budget_bytes / sizeof(engine::CloudPoint))));
+        s.hits_bound, s.options.memory_budget_bytes / sizeof(core::CloudPoint))));
     TerrainStage terrain(s.cloud_filter.get(), s.options.ground.smrf, s.options.white, s.checkTerrain());
     cloud.fields.height_above_ground = terrain.whitens();
     fuseFitColour(s, cloud.points, terrain, pool, st);
@@ -570,16 +570,16 @@ engine::PointCloud Generator::run(GenerateStats* stats) {
     return cloud;
 }
 
-static engine::LasOptions lasOptions(const engine::Scene& scene, const GenerateOptions& o) {
-    engine::LasOptions las = o.las;  // drone_speed_mps is checked by validate()
+static io::LasOptions lasOptions(const core::Scene& scene, const GenerateOptions& o) {
+    io::LasOptions las = o.las;  // drone_speed_mps is checked by validate()
     las.view_interval_s = 2.0 * std::numbers::pi * droneRadius(o.orbit) / o.orbit.views / o.drone_speed_mps;
-    for (int r = 0; r < engine::kRoleCount; ++r) {
+    for (int r = 0; r < core::kRoleCount; ++r) {
         int cls = -1;
-        for (const engine::Mesh& m : scene.meshes) {
+        for (const core::Mesh& m : scene.meshes) {
             if (int(m.role) != r || m.asprs_class < 0) continue;
             if (cls >= 0 && cls != m.asprs_class)
-                throw engine::Error("generate: " + scene.source.string() + ": " +
-                                    std::string(engine::roleName(engine::Role(r))) +
+                throw core::Error("generate: " + scene.source.string() + ": " +
+                                    std::string(core::roleName(core::Role(r))) +
                                     " meshes give different ASPRS classes (" + std::to_string(cls) + ", " +
                                     std::to_string(m.asprs_class) +
                                     "); LAS output holds one class per role, since a point records its role");
@@ -590,7 +590,7 @@ static engine::LasOptions lasOptions(const engine::Scene& scene, const GenerateO
     return las;
 }
 
-void Generator::run(const std::filesystem::path& out, engine::CloudFormat format, GenerateStats* stats) {
+void Generator::run(const std::filesystem::path& out, io::CloudFormat format, GenerateStats* stats) {
     const State& s = *state_;
     const auto t0 = Clock::now();
     GenerateStats st;
@@ -598,25 +598,25 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
     TerrainStage terrain(s.cloud_filter.get(), s.options.ground.smrf, s.options.white, s.checkTerrain());
-    const bool las = format == engine::CloudFormat::Las || format == engine::CloudFormat::Laz;
-    engine::CloudFields fields = s.sensor->fields();
+    const bool las = format == io::CloudFormat::Las || format == io::CloudFormat::Laz;
+    core::CloudFields fields = s.sensor->fields();
     fields.height_above_ground = terrain.whitens();
     fields.rgb = !(las && s.options.white);  // LAS point format 6: no colours to store
     // The fused cloud stays in memory when it fits beside the fusion's buffers.
-    const std::uint64_t fused_bytes = s.hits_bound * sizeof(engine::CloudPoint);
+    const std::uint64_t fused_bytes = s.hits_bound * sizeof(core::CloudPoint);
     st.streamed = s.plan.fuse_bytes + fused_bytes > s.options.memory_budget_bytes;
     // LAZ compresses on the workers, once the fusion's buffers are gone, in what the
     // budget leaves beside the cloud (in memory, or the chunk read back from the spool).
-    engine::LasOptions las_options = lasOptions(s.scene, s.options);
+    io::LasOptions las_options = lasOptions(s.scene, s.options);
     las_options.threads = s.plan.threads;
     const std::uint64_t held = s.plan.kept_bytes - s.plan.writer_bytes +
-                               (st.streamed ? s.plan.colour_chunk * sizeof(engine::CloudPoint) : fused_bytes);
+                               (st.streamed ? s.plan.colour_chunk * sizeof(core::CloudPoint) : fused_bytes);
     las_options.memory_bytes = std::max(s.plan.writer_bytes,
                                         s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held));
-    engine::CloudWriter writer(out, format, s.scene.origin, fields, las_options);
+    io::CloudWriter writer(out, format, s.scene.origin, fields, las_options);
     Workers pool(s.plan.threads);
     if (!st.streamed) {
-        std::vector<engine::CloudPoint> points;
+        std::vector<core::CloudPoint> points;
         points.reserve(std::size_t(s.hits_bound));
         fuseFitColour(s, points, terrain, pool, st);
         const auto tc = Clock::now();
@@ -627,18 +627,18 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
     } else {
         checkFreeSpace(out.parent_path(), fused_bytes, "the spool file of the fused cloud");
         Spool spool(out);
-        s.fuseViews([&](std::span<const engine::CloudPoint> pts) {
+        s.fuseViews([&](std::span<const core::CloudPoint> pts) {
             spool.append(pts);
             terrain.add(pts);
         }, pool, st);
         terrain.fit();
         spool.rewind();
-        std::vector<engine::CloudPoint> chunk(s.plan.colour_chunk);
+        std::vector<core::CloudPoint> chunk(s.plan.colour_chunk);
         for (;;) {
             auto tc = Clock::now();
             const std::size_t n = spool.read(chunk);
             if (n == 0) break;
-            const std::span<engine::CloudPoint> part(chunk.data(), n);
+            const std::span<core::CloudPoint> part(chunk.data(), n);
             st.seconds.colour += secondsSince(tc);
             terrain.classify(part, pool);
             tc = Clock::now();
@@ -649,7 +649,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
             st.seconds.write += secondsSince(tc);
         }
         if (writer.count() != st.points)
-            throw engine::Error("output: " + out.string() + ": spool file came back short");
+            throw core::Error("output: " + out.string() + ": spool file came back short");
         const auto tc = Clock::now();
         writer.commit();
         st.seconds.write += secondsSince(tc);
@@ -661,7 +661,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
 
 void Generator::viewRays(int view, std::vector<Ray>& rays) const {
     const State& s = *state_;
-    const engine::Pose& pose = s.poses.at(std::size_t(view));
+    const core::Pose& pose = s.poses.at(std::size_t(view));
     const OrbitOptions& orbit = s.options.orbit;
     rays.resize(std::size_t(orbit.xres) * std::size_t(orbit.yres));
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -677,13 +677,13 @@ const RayCaster& Generator::caster() const { return *state_->caster; }
 const GenerateOptions& Generator::options() const { return state_->options; }
 glm::dvec3 Generator::centreWorld() const { return state_->centre_world; }
 
-engine::PointCloud generateCloud(const engine::Scene& scene, const GenerateOptions& options,
+core::PointCloud generateCloud(const core::Scene& scene, const GenerateOptions& options,
                                  GenerateStats* stats) {
     return Generator(scene, options).run(stats);
 }
 
-void generateToFile(const engine::Scene& scene, const GenerateOptions& options,
-                    const std::filesystem::path& out, engine::CloudFormat format,
+void generateToFile(const core::Scene& scene, const GenerateOptions& options,
+                    const std::filesystem::path& out, io::CloudFormat format,
                     GenerateStats* stats) {
     Generator(scene, options).run(out, format, stats);
 }

@@ -22,7 +22,7 @@
 #include "ground_internal.hpp"
 #include "ground_raster.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <algorithm>
 #include <cmath>

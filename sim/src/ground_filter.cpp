@@ -2,7 +2,7 @@
 // checks shared by every filter, and the terrain raster's interpolation.
 #include "ground_internal.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,7 @@ namespace sim {
 void failGroundOption(const char* parameter, double value, const char* allowed) {
     std::ostringstream s;
     s << "ground: " << parameter << " = " << value << ": allowed " << allowed;
-    throw engine::Error(s.str());
+    throw core::Error(s.str());
 }
 
 const char* groundMethodName(GroundMethod m) {
@@ -30,7 +30,7 @@ GroundMethod parseGroundMethod(std::string_view text, std::string_view context) 
     if (text == "ransac") return GroundMethod::Ransac;
     if (text == "smrf") return GroundMethod::Smrf;
     if (text == "csf") return GroundMethod::Csf;
-    throw engine::Error(std::string(context) + " '" + std::string(text) + "': allowed ransac, smrf, csf");
+    throw core::Error(std::string(context) + " '" + std::string(text) + "': allowed ransac, smrf, csf");
 }
 
 void validate(const GroundChoice& o) {

@@ -7,7 +7,7 @@
 
 namespace sim {
 
-/// Throws engine::Error("ground: <parameter> = <value>: allowed <allowed>"), the line
+/// Throws core::Error("ground: <parameter> = <value>: allowed <allowed>"), the line
 /// every filter's option check gives (ground_filter.cpp).
 [[noreturn]] void failGroundOption(const char* parameter, double value, const char* allowed);
 

@@ -21,8 +21,8 @@
 // 0.99 (capped by ransac_iterations), which keeps whitening fast.
 #include "ground_internal.hpp"
 
-#include <engine/error.hpp>
-#include <engine/shuffle.hpp>
+#include <core/error.hpp>
+#include <core/random.hpp>
 
 #include <pcl/ModelCoefficients.h>
 #include <pcl/console/print.h>
@@ -76,7 +76,7 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Ra
         return is_ground;
     }
     std::mt19937_64 rng(seed);
-    engine::shuffle(band.begin(), band.end(), rng);
+    core::shuffle(band.begin(), band.end(), rng);
 
     auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
     cloud->resize(band.size());

@@ -1,7 +1,7 @@
 // sim/src/ground_raster.cpp: see ground_raster.hpp.
 #include "ground_raster.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -92,8 +92,8 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
 RasterFit::RasterFit(double cell_m, std::size_t max_cells, const char* cell_option)
     : cell_m_(cell_m), inv_cell_(1.0 / cell_m), max_cells_(max_cells), cell_option_(cell_option) {}
 
-void RasterFit::add(std::span<const engine::CloudPoint> points) {
-    for (const engine::CloudPoint& p : points) {
+void RasterFit::add(std::span<const core::CloudPoint> points) {
+    for (const core::CloudPoint& p : points) {
         const double fx = std::floor(double(p.position.x) * inv_cell_);
         const double fy = std::floor(double(p.position.y) * inv_cell_);
         if (!(std::abs(fx) < 1e9 && std::abs(fy) < 1e9) || !std::isfinite(p.position.z)) continue;
@@ -118,7 +118,7 @@ void RasterFit::fit() {
         s << "ground: " << cell_option_ << " = " << cell_m_ << ": the cloud spans " << double(nx) * cell_m_
           << " x " << double(ny) * cell_m_ << " m, " << nx * ny << " cells; allowed at most " << max_cells_
           << " cells (raise it)";
-        throw engine::Error(s.str());
+        throw core::Error(s.str());
     }
     const int w = int(nx), h = int(ny);
     grid_.nx = w;
@@ -176,7 +176,7 @@ float* RasterFit::tileFor(int tx, int ty) {
             std::ostringstream s;
             s << "ground: " << cell_option_ << " = " << cell_m_ << ": the cloud covers more than "
               << max_cells_ << " cells (raise it)";
-            throw engine::Error(s.str());
+            throw core::Error(s.str());
         }
         tile_data_.resize(tile_data_.size() + kTile * kTile, kNoPoint);
     }
@@ -187,11 +187,11 @@ float* RasterFit::tileFor(int tx, int ty) {
 
 std::vector<std::uint8_t> classifyInMemory(TerrainFit& fit, std::span<const glm::vec3> points, TerrainGrid* surface,
                                            std::vector<float>* height_m) {
-    std::vector<engine::CloudPoint> chunk;
+    std::vector<core::CloudPoint> chunk;
     constexpr std::size_t kChunk = 1 << 16;
     for (std::size_t i = 0; i < points.size(); i += kChunk) {
         const std::size_t n = std::min(kChunk, points.size() - i);
-        chunk.assign(n, engine::CloudPoint{});
+        chunk.assign(n, core::CloudPoint{});
         for (std::size_t k = 0; k < n; ++k) chunk[k].position = points[i + k];
         fit.add(chunk);
     }

@@ -25,7 +25,7 @@ class RasterFit : public TerrainFit {
 public:
     /// `cell_option` names the cell size in errors, e.g. "smrf cell_m (--smrf-cell-m)".
     RasterFit(double cell_m, std::size_t max_cells, const char* cell_option);
-    void add(std::span<const engine::CloudPoint> points) override;
+    void add(std::span<const core::CloudPoint> points) override;
     /// Builds the minimum surface over the cells the points touched, then fitTerrain().
     void fit() override;
     const TerrainGrid& surface() const override { return grid_; }

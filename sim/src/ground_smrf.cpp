@@ -23,8 +23,8 @@
 #include "ground_internal.hpp"
 #include "ground_raster.hpp"
 
-#include <engine/error.hpp>
-#include <engine/frames.hpp>
+#include <core/error.hpp>
+#include <core/frames.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -2,8 +2,8 @@
 // generator's buffers hold (vector capacities reserved up front, not grown).
 #include "memory_plan.hpp"
 
-#include <engine/error.hpp>
-#include <engine/point_cloud.hpp>
+#include <core/error.hpp>
+#include <core/point_cloud.hpp>
 
 #include <glm/glm.hpp>
 
@@ -17,14 +17,14 @@
 namespace sim {
 namespace {
 
-constexpr std::uint64_t kPointBytes = sizeof(engine::CloudPoint);
+constexpr std::uint64_t kPointBytes = sizeof(core::CloudPoint);
 constexpr std::uint64_t kDirBytes = sizeof(glm::dvec3);
 // RANSAC of one view, per hit it may see: the positions handed to findGround (12), its
 // band indices with vector growth (8), PCL's cloud (16), PC's indices (4), inlier lists
 // (8), flags (2), rounded up for PCL's own bookkeeping.
 constexpr std::uint64_t kRansacBytesPerHit = 64;
 constexpr std::uint64_t kThreadBytes = 128u << 10;  // a worker's stack and allocator arena in use (measured below 100 KiB)
-constexpr std::uint64_t kWriterBytes = (8u << 20) + (64u << 10);  // engine::CloudWriter's buffer
+constexpr std::uint64_t kWriterBytes = (8u << 20) + (64u << 10);  // io::CloudWriter's buffer
 constexpr std::uint64_t kMinColourChunk = 4096;
 constexpr std::uint64_t kMaxColourChunk = 1u << 20;
 
@@ -84,7 +84,7 @@ MemoryPlan planMemory(const MemoryNeeds& n) {
                                                 " hits, whitened together by RANSAC";
                 char budget_mb[32];
                 std::snprintf(budget_mb, sizeof budget_mb, "%.6g", double(budget) / 1048576.0);
-                throw engine::Error("generate: --memory-mb " + std::string(budget_mb) +
+                throw core::Error("generate: --memory-mb " + std::string(budget_mb) +
                                     " is too small: this run needs at least " + mebibytes(need) + " MiB (" + why +
                                     "); raise --memory-mb" +
                                     (n.white ? std::string() : ", lower --xres/--yres, or use --white"));
@@ -109,10 +109,10 @@ void checkFreeSpace(const std::filesystem::path& dir, std::uint64_t need_bytes, 
     struct statvfs fs {};
     const std::filesystem::path where = dir.empty() ? std::filesystem::path(".") : dir;
     if (::statvfs(where.c_str(), &fs) != 0)
-        throw engine::Error("output: " + where.string() + ": cannot read the free space: " + std::strerror(errno));
+        throw core::Error("output: " + where.string() + ": cannot read the free space: " + std::strerror(errno));
     const std::uint64_t free_bytes = std::uint64_t(fs.f_bavail) * std::uint64_t(fs.f_frsize);
     if (free_bytes < need_bytes)
-        throw engine::Error("output: " + where.string() + ": " + mebibytes(free_bytes) + " MiB free, but " + what +
+        throw core::Error("output: " + where.string() + ": " + mebibytes(free_bytes) + " MiB free, but " + what +
                             " may need " + mebibytes(need_bytes) + " MiB; free space or write elsewhere");
 }
 

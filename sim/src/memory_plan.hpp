@@ -35,14 +35,14 @@ struct MemoryPlan {
 
 /// Plans within needs.budget_bytes: the wanted batch first, then fewer views per batch,
 /// then bands of rows (bit-identical output), then fewer threads. Throws
-/// engine::Error("generate: --memory-mb ...: ...") naming the least that would fit when
+/// core::Error("generate: --memory-mb ...: ...") naming the least that would fit when
 /// even one row band of one view on one thread does not.
 MemoryPlan planMemory(const MemoryNeeds& needs);
 
 /// The buffers of a plan, in bytes (what planMemory compares with the budget).
 std::uint64_t planBytes(const MemoryNeeds& needs, std::size_t batch_views, std::size_t band_rows, int threads);
 
-/// Throws engine::Error("output: <dir>: ...") when the filesystem of `dir` has fewer than
+/// Throws core::Error("output: <dir>: ...") when the filesystem of `dir` has fewer than
 /// need_bytes free for an unprivileged writer, saying what needs them (`what`).
 void checkFreeSpace(const std::filesystem::path& dir, std::uint64_t need_bytes, const char* what);
 

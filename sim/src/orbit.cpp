@@ -1,7 +1,7 @@
 // sim/orbit.cpp: drone flight and Ladar sensor geometry, paper §III-A, Fig. 1, eqs. (1)-(2).
 #include <sim/orbit.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <algorithm>
 #include <cassert>
@@ -14,10 +14,10 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
-std::string num(double v) { return engine::shownNumber(v); }
+std::string num(double v) { return core::shownNumber(v); }
 
 [[noreturn]] void fail(const std::string& parameter, double value, const std::string& allowed) {
-    throw engine::Error("orbit: " + parameter + " = " + num(value) + ": allowed " + allowed);
+    throw core::Error("orbit: " + parameter + " = " + num(value) + ": allowed " + allowed);
 }
 
 void requireFinite(const char* parameter, double value) {
@@ -32,8 +32,8 @@ void validate(const OrbitOptions& o) {
     requireFinite("inclination_deg (alpha, --alpha-deg)", o.inclination_deg);
     requireFinite("fov_deg (--fov-deg)", o.fov_deg);
     // Drone positions are float ray origins in the local frame: keep them where floats
-    // still step by at most a metre (engine::kMaxLocalCoordinate_m).
-    const double far_m = engine::kMaxLocalCoordinate_m;
+    // still step by at most a metre (core::kMaxLocalCoordinate_m).
+    const double far_m = core::kMaxLocalCoordinate_m;
     if (!(o.altitude_m > 0.0 && o.altitude_m <= far_m))
         fail("altitude_m (--altitude-m)", o.altitude_m, "(0, " + num(far_m) + "]");
     if (!(std::abs(o.overlap_m) <= far_m))
@@ -42,7 +42,7 @@ void validate(const OrbitOptions& o) {
     if (!(o.inclination_deg >= 0.0 && o.inclination_deg < 90.0))
         fail("inclination_deg (alpha, --alpha-deg)", o.inclination_deg, "[0, 90)");
     if (!(o.inclination_deg + 0.5 * o.fov_deg < kMaxGrazingDeg))
-        throw engine::Error("orbit: inclination_deg + fov_deg/2 (--alpha-deg + --fov-deg/2) = " +
+        throw core::Error("orbit: inclination_deg + fov_deg/2 (--alpha-deg + --fov-deg/2) = " +
                             num(o.inclination_deg + 0.5 * o.fov_deg) +
                             ": allowed < " + num(kMaxGrazingDeg) +
                             " (the top of the image must look below the horizon)");
@@ -55,7 +55,7 @@ void validate(const OrbitOptions& o) {
              "< tan(inclination + fov/2) * altitude = " + num(reach_m) +
              " (the drone radius, eq. (1), must be > 0)");
     if (!(reach_m - o.overlap_m <= far_m))
-        throw engine::Error("orbit: drone radius tan(inclination + fov/2) * altitude - overlap "
+        throw core::Error("orbit: drone radius tan(inclination + fov/2) * altitude - overlap "
                             "(--alpha-deg, --fov-deg, --altitude-m, --overlap-m) = " +
                             num(reach_m - o.overlap_m) + ": allowed <= " + num(far_m) +
                             " m (drone positions are float ray origins)");
@@ -66,10 +66,10 @@ void validatePlacement(const OrbitOptions& o, const glm::dvec3& centre_local) {
     const double radius_m = std::tan((o.inclination_deg + 0.5 * o.fov_deg) * kDegToRad) * o.altitude_m - o.overlap_m;
     const double reach_m = std::max({std::abs(centre_local.x) + radius_m, std::abs(centre_local.y) + radius_m,
                                      std::abs(centre_local.z + o.altitude_m)});
-    if (!(reach_m <= engine::kMaxLocalCoordinate_m))
-        throw engine::Error("orbit: the drone flies " + num(reach_m) + " m from the scene's origin around C " +
+    if (!(reach_m <= core::kMaxLocalCoordinate_m))
+        throw core::Error("orbit: the drone flies " + num(reach_m) + " m from the scene's origin around C " +
                             "(--centre, --altitude-m, --overlap-m): allowed <= " +
-                            num(engine::kMaxLocalCoordinate_m) + " m (drone positions are float ray origins)");
+                            num(core::kMaxLocalCoordinate_m) + " m (drone positions are float ray origins)");
 }
 
 double droneRadius(const OrbitOptions& o) {
@@ -88,7 +88,7 @@ double coverageDiameter(const OrbitOptions& o) {
     // By symmetry every view covers the same footprint rotated about C; the disc's
     // radius is the farthest ground hit of the four pixel-corner rays of view 0.
     const glm::dvec3 centre(0.0);
-    const engine::Pose T_world_sensor = sensorPose(o, centre, 0);
+    const core::Pose T_world_sensor = sensorPose(o, centre, 0);
     double radius_m = 0.0;
     const double corners[4][2] = {{0.0, 0.0}, {double(o.xres), 0.0},
                                   {0.0, double(o.yres)}, {double(o.xres), double(o.yres)}};
@@ -105,12 +105,12 @@ double coverageDiameter(const OrbitOptions& o) {
     return 2.0 * radius_m;
 }
 
-engine::Pose sensorPose(const OrbitOptions& o, const glm::dvec3& centre, int index) {
+core::Pose sensorPose(const OrbitOptions& o, const glm::dvec3& centre, int index) {
     const double radius_m = droneRadius(o);
     const double theta = 2.0 * std::numbers::pi * double(index) / double(o.views);
     const double alpha = o.inclination_deg * kDegToRad;
     const glm::dvec3 outward(std::cos(theta), std::sin(theta), 0.0);
-    engine::Pose T_world_sensor;
+    core::Pose T_world_sensor;
     T_world_sensor.translation = centre + radius_m * outward + glm::dvec3(0.0, 0.0, o.altitude_m);
     // Optical axis: horizontally towards C, pitched alpha from the vertical (Fig. 1).
     const glm::dvec3 forward = glm::dvec3(-outward.x * std::sin(alpha), -outward.y * std::sin(alpha),

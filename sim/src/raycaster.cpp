@@ -4,7 +4,7 @@
 
 #include <embree4/rtcore.h>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <algorithm>
 #include <cassert>
@@ -17,8 +17,8 @@ namespace sim {
 struct RayCaster::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    std::vector<engine::Role> roles;   // by geomID (== mesh index)
-    engine::Bounds bounds;
+    std::vector<core::Role> roles;   // by geomID (== mesh index)
+    core::Bounds bounds;
     std::size_t triangles = 0;
     std::mutex error_mutex;
     std::string first_error;           // recorded by the device error callback
@@ -89,7 +89,7 @@ void check(RayCaster::Impl& impl, const char* what, const char* file, int line) 
     }
     if (code == RTC_ERROR_NONE && message.empty()) return;
     if (message.empty()) message = errorName(code);
-    throw engine::Error(std::string("embree: ") + what + ": " + message + " (" + file + ":" +
+    throw core::Error(std::string("embree: ") + what + ": " + message + " (" + file + ":" +
                         std::to_string(line) + ")");
 }
 #define SIM_EMBREE_CHECK(impl, what) check(impl, what, __FILE__, __LINE__)
@@ -101,15 +101,15 @@ RayCaster::Impl::~Impl() {
     if (device) rtcReleaseDevice(device);
 }
 
-RayCaster::RayCaster(const engine::Scene& scene) : RayCaster(scene, engine::RoleMask::all()) {}
+RayCaster::RayCaster(const core::Scene& scene) : RayCaster(scene, core::RoleMask::all()) {}
 
-RayCaster::RayCaster(const engine::Scene& scene, engine::RoleMask roles)
+RayCaster::RayCaster(const core::Scene& scene, core::RoleMask roles)
     : impl_(std::make_unique<Impl>()) {
     Impl& impl = *impl_;
     // No threads of our own: Embree's build uses its TBB pool; callers parallelise traversal.
     impl.device = rtcNewDevice(nullptr);
     if (!impl.device)
-        throw engine::Error(std::string("embree: rtcNewDevice failed: ") +
+        throw core::Error(std::string("embree: rtcNewDevice failed: ") +
                             errorName(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(impl.device, onDeviceError, &impl);
     impl.scene = rtcNewScene(impl.device);
@@ -117,16 +117,16 @@ RayCaster::RayCaster(const engine::Scene& scene, engine::RoleMask roles)
     rtcSetSceneBuildQuality(impl.scene, RTC_BUILD_QUALITY_HIGH);
     SIM_EMBREE_CHECK(impl, "rtcNewScene");
 
-    impl.roles.resize(scene.meshes.size(), engine::Role::Environment);
+    impl.roles.resize(scene.meshes.size(), core::Role::Environment);
     for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
-        const engine::Mesh& mesh = scene.meshes[m];
+        const core::Mesh& mesh = scene.meshes[m];
         impl.roles[m] = mesh.role;
         if (!roles.has(mesh.role) || mesh.triangles.empty() || mesh.vertices.empty()) continue;
         const std::size_t nv = mesh.vertices.size();
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
             const glm::uvec3& tri = mesh.triangles[t];
             if (tri.x >= nv || tri.y >= nv || tri.z >= nv)
-                throw engine::Error("embree: mesh '" + mesh.name + "': triangle " + std::to_string(t) +
+                throw core::Error("embree: mesh '" + mesh.name + "': triangle " + std::to_string(t) +
                                     " indexes a vertex past " + std::to_string(nv));
         }
         RTCGeometry geom = rtcNewGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -139,7 +139,7 @@ RayCaster::RayCaster(const engine::Scene& scene, engine::RoleMask roles)
         if (!vertices || !indices) {
             rtcReleaseGeometry(geom);
             SIM_EMBREE_CHECK(impl, "rtcSetNewGeometryBuffer");
-            throw engine::Error("embree: mesh '" + mesh.name + "': cannot allocate buffers");
+            throw core::Error("embree: mesh '" + mesh.name + "': cannot allocate buffers");
         }
         for (std::size_t v = 0; v < nv; ++v) {
             const glm::vec3& p = mesh.vertices[v];
@@ -217,7 +217,7 @@ void RayCaster::intersect16(std::span<const Ray> rays, std::span<Hit> hits) cons
     }
 }
 
-engine::Bounds RayCaster::bounds() const { return impl_->bounds; }
+core::Bounds RayCaster::bounds() const { return impl_->bounds; }
 
 std::size_t RayCaster::triangleCount() const { return impl_->triangles; }
 

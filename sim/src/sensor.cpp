@@ -8,7 +8,7 @@
 #include "sensor_axes.hpp"
 #include "sensor_models.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -32,8 +32,8 @@ bool intensityOn(const SensorOptions& o) {
 
 void checkRange(double v, double lo, double hi, const char* parameter, const char* option, const char* unit) {
     if (!(std::isfinite(v) && v >= lo && v <= hi))
-        throw engine::Error(std::string("sensor: ") + parameter + " (" + option + ") = " + engine::shownNumber(v) +
-                            ": allowed [" + engine::shownNumber(lo) + ", " + engine::shownNumber(hi) + "]" + unit);
+        throw core::Error(std::string("sensor: ") + parameter + " (" + option + ") = " + core::shownNumber(v) +
+                            ": allowed [" + core::shownNumber(lo) + ", " + core::shownNumber(hi) + "]" + unit);
 }
 
 // The LAS scan angle of a sensor-frame direction: its angle from the optical axis, signed
@@ -83,7 +83,7 @@ std::string_view returnModeName(ReturnMode m) {
 ReturnMode parseReturnMode(std::string_view text, std::string_view parameter) {
     for (ReturnMode m : {ReturnMode::First, ReturnMode::Last, ReturnMode::Strongest, ReturnMode::All})
         if (text == returnModeName(m)) return m;
-    throw engine::Error(std::string(parameter) + ": '" + std::string(text.substr(0, 40)) +
+    throw core::Error(std::string(parameter) + ": '" + std::string(text.substr(0, 40)) +
                         "' is not one of first, last, strongest, all");
 }
 
@@ -102,10 +102,10 @@ void validate(const SensorOptions& o) {
     checkRange(o.beam_divergence_y_mrad, 0.0, 100.0, "beam_divergence_y_mrad", "--beam-divergence-y-mrad",
                " mrad, 0 = circular");
     if (o.footprint_quality < 1 || o.footprint_quality > 5)
-        throw engine::Error("sensor: footprint_quality (--footprint-quality) = " +
+        throw core::Error("sensor: footprint_quality (--footprint-quality) = " +
                             std::to_string(o.footprint_quality) + ": allowed [1, 5]");
     if (o.max_returns < 1 || o.max_returns > kMaxReturns)
-        throw engine::Error("sensor: max_returns (--max-returns) = " + std::to_string(o.max_returns) +
+        throw core::Error("sensor: max_returns (--max-returns) = " + std::to_string(o.max_returns) +
                             ": allowed [1, " + std::to_string(kMaxReturns) + "]");
     checkRange(o.pulse_ns, 0.01, 1000.0, "pulse_ns", "--pulse-ns", " ns");
     checkRange(o.range_resolution_m, 0.0, 1000.0, "range_resolution_m", "--range-resolution-m",
@@ -136,7 +136,7 @@ struct Sensor::State {
     std::vector<float> axis_scan_angle_deg;  // per pixel, of its axis; empty: computed
 };
 
-Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::Scene& scene, std::uint64_t seed)
+Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const core::Scene& scene, std::uint64_t seed)
     : state_(std::make_unique<State>()) {
     validate(o);
     State& s = *state_;
@@ -147,7 +147,7 @@ Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::
     s.intensity = intensityOn(o);
     s.pattern = footprintPattern(o);
     for (const SubRay& r : s.pattern) s.tans.emplace_back(std::tan(r.dx_rad), std::tan(r.dy_rad));
-    for (const engine::Mesh& m : scene.meshes) s.reflectance.push_back(m.reflectance);
+    for (const core::Mesh& m : scene.meshes) s.reflectance.push_back(m.reflectance);
     s.resolution_m = o.range_resolution_m > 0.0 ? o.range_resolution_m : 0.5 * kSpeedOfLight_m_per_s * o.pulse_ns * 1e-9;
     s.min_power = o.min_intensity / 65535.0;
     s.slots = o.returns == ReturnMode::All && footprintOn(o) ? std::size_t(o.max_returns) : 1;
@@ -184,9 +184,9 @@ std::size_t Sensor::tableBytes() const {
     return state_->axis_direction.capacity() * sizeof(glm::dvec3) + state_->axis_scan_angle_deg.capacity() * sizeof(float);
 }
 
-engine::CloudFields Sensor::fields() const {
+core::CloudFields Sensor::fields() const {
     const State& s = *state_;
-    engine::CloudFields f;
+    core::CloudFields f;
     if (s.ideal) return f;
     f.incidence = true;
     f.scan_angle = true;
@@ -195,12 +195,12 @@ engine::CloudFields Sensor::fields() const {
     return f;
 }
 
-SensorView Sensor::view(int index, const engine::Pose& nominal) const {
+SensorView Sensor::view(int index, const core::Pose& nominal) const {
     return SensorView{index, nominal, sensor_model::actualPose(state_->o, state_->seed, index, nominal)};
 }
 
 void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t first_pixel,
-                   std::span<const glm::dvec3> dirs, std::span<engine::CloudPoint> slots, bool packets) const {
+                   std::span<const glm::dvec3> dirs, std::span<core::CloudPoint> slots, bool packets) const {
     const State& s = *state_;
     const std::size_t per = s.pattern.size();
     const glm::vec3 origin(v.actual.translation);
@@ -226,7 +226,7 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
             else caster.intersect(rays, hits);
             const glm::dvec3 origin_d(origin);
             for (std::size_t i = 0; i < pixels; ++i) {
-                engine::CloudPoint& cp = slots[c0 + i];
+                core::CloudPoint& cp = slots[c0 + i];
                 const Hit& h = hits[i];
                 if (!h.hit()) {
                     cp.range_m = kNoReturn;
@@ -320,7 +320,7 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
             const std::size_t n =
                 sensor_model::formReturns(std::span(echoes, echo_count), s.resolution_m, s.min_power, s.o.returns,
                                           s.o.max_returns, std::span(out, s.slots), &detected, &first_rank);
-            engine::CloudPoint* px = &slots[(c0 + i) * s.slots];
+            core::CloudPoint* px = &slots[(c0 + i) * s.slots];
             const std::uint64_t pixel = first_pixel + c0 + i;
             for (std::size_t r = 0; r < n; ++r) {
                 const sensor_model::Echo& e = echoes[out[r].strongest];
@@ -336,7 +336,7 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
                 const double cos_i =
                     s.intensity ? cos_incidence[k]
                                 : sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
-                engine::CloudPoint& cp = px[r];
+                core::CloudPoint& cp = px[r];
                 cp.position = glm::vec3(origin_n + t * dir_n);
                 cp.range_m = float(t);
                 cp.view = std::uint16_t(v.view);

@@ -41,7 +41,7 @@ struct AxisCache {
     const RayCaster* caster = nullptr;
     int view = -1;
     bool packets = false;
-    engine::Pose actual;
+    core::Pose actual;
     AxisRow rows[3];  // row y in rows[y % 3]: any three consecutive rows at once
     Ray rays[kGroup];
     Hit hits[kGroup];
@@ -50,7 +50,7 @@ thread_local AxisCache t_axes;
 
 std::atomic<std::uint64_t> g_next_sensor_id{1};
 
-bool samePose(const engine::Pose& a, const engine::Pose& b) {
+bool samePose(const core::Pose& a, const core::Pose& b) {
     // Bit for bit: -0.0 and 0.0 may give different rays.
     return std::memcmp(&a.rotation, &b.rotation, sizeof a.rotation) == 0 &&
            std::memcmp(&a.translation, &b.translation, sizeof a.translation) == 0;

@@ -31,7 +31,7 @@ double rangeError_m(const SensorOptions& o, std::uint64_t seed, int view, std::u
 /// T_local_sensor actually flown at `view`: the nominal pose moved by the per-flight bias
 /// plus the per-view error (position per axis, attitude as roll/pitch/yaw about the
 /// sensor's axes). The nominal pose itself when both are 0.
-engine::Pose actualPose(const SensorOptions& o, std::uint64_t seed, int view, const engine::Pose& nominal);
+core::Pose actualPose(const SensorOptions& o, std::uint64_t seed, int view, const core::Pose& nominal);
 
 // ---- sensor_returns.cpp: echoes of one pulse into returns --------------------------
 

@@ -22,7 +22,7 @@ glm::dmat3 smallRotation(double rx, double ry, double rz) {
 
 }  // namespace
 
-engine::Pose actualPose(const SensorOptions& o, std::uint64_t seed, int view, const engine::Pose& nominal) {
+core::Pose actualPose(const SensorOptions& o, std::uint64_t seed, int view, const core::Pose& nominal) {
     const double position_m[2] = {o.pose_bias_m, o.pose_noise_m};
     const double attitude_rad[2] = {o.attitude_bias_deg * std::numbers::pi / 180.0,
                                     o.attitude_noise_deg * std::numbers::pi / 180.0};
@@ -37,7 +37,7 @@ engine::Pose actualPose(const SensorOptions& o, std::uint64_t seed, int view, co
             angles[axis] += attitude_rad[part] * gaussian(k, std::uint64_t(3 + axis));
         }
     }
-    engine::Pose actual = nominal;
+    core::Pose actual = nominal;
     actual.translation += shift;
     actual.rotation = nominal.rotation * smallRotation(angles.x, angles.y, angles.z);
     return actual;

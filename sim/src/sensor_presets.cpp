@@ -2,7 +2,7 @@
 // public sources are listed in docs/sensor.md; options given explicitly override them.
 #include <sim/sensor.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <array>
 #include <string>
@@ -61,7 +61,7 @@ SensorOptions sensorPreset(std::string_view name) {
     }
     std::string names;
     for (std::string_view n : kPresetNames) names += (names.empty() ? "" : ", ") + std::string(n);
-    throw engine::Error("sensor: --sensor '" + std::string(name.substr(0, 40)) + "' is not one of " + names);
+    throw core::Error("sensor: --sensor '" + std::string(name.substr(0, 40)) + "' is not one of " + names);
 }
 
 }  // namespace sim

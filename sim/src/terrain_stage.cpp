@@ -1,7 +1,7 @@
 // sim/src/terrain_stage.cpp: see terrain_stage.hpp.
 #include "terrain_stage.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <algorithm>
 #include <array>
@@ -26,7 +26,7 @@ TerrainStage::TerrainStage(const CloudGroundFilter* filter, const SmrfOptions& c
     }
 }
 
-void TerrainStage::add(std::span<const engine::CloudPoint> points) {
+void TerrainStage::add(std::span<const core::CloudPoint> points) {
     if (!fit_ || failed_) return;
     const auto t0 = Clock::now();
     if (!whitens_) {  // the check: every kCheckStride-th point of the cloud
@@ -38,7 +38,7 @@ void TerrainStage::add(std::span<const engine::CloudPoint> points) {
     }
     try {
         fit_->add(points);
-    } catch (const engine::Error&) {
+    } catch (const core::Error&) {
         if (whitens_) throw;
         failed_ = true;  // only a check: a cloud too wide for its raster goes unchecked
     }
@@ -50,14 +50,14 @@ void TerrainStage::fit() {
     const auto t0 = Clock::now();
     try {
         fit_->fit();
-    } catch (const engine::Error&) {
+    } catch (const core::Error&) {
         if (whitens_) throw;
         failed_ = true;
     }
     seconds_ += secondsSince(t0);
 }
 
-void TerrainStage::classify(std::span<engine::CloudPoint> points, Workers& pool) {
+void TerrainStage::classify(std::span<core::CloudPoint> points, Workers& pool) {
     if (!fit_ || failed_) return;
     const auto t0 = Clock::now();
     constexpr std::size_t kChunk = 1u << 16;
@@ -74,20 +74,20 @@ void TerrainStage::classify(std::span<engine::CloudPoint> points, Workers& pool)
         std::size_t i = task * kChunk;
         i += (first + stride - i % stride) % stride;
         for (; i < end; i += stride) {
-            engine::CloudPoint& p = points[i];
+            core::CloudPoint& p = points[i];
             float height_m = 0;
             const bool ground = fit.classify(p.position, height_m);
             if (whitens) {
                 p.height_above_ground_m = height_m;
                 if (ground) {
-                    p.rgb = engine::kWhite;
+                    p.rgb = core::kWhite;
                     c[0] += 1;
-                    c[1] += p.label == engine::Role::Ground;
+                    c[1] += p.label == core::Role::Ground;
                 }
             }
             if (ground) {
                 c[2] += 1;
-                c[3] += p.rgb != engine::kWhite;
+                c[3] += p.rgb != core::kWhite;
             }
         }
     });

@@ -26,9 +26,9 @@ public:
     /// Whether pass 2 changes points (a whole-cloud filter ran): the cloud then carries
     /// height above ground.
     bool whitens() const { return whitens_; }
-    void add(std::span<const engine::CloudPoint> points);
+    void add(std::span<const core::CloudPoint> points);
     void fit();
-    void classify(std::span<engine::CloudPoint> points, Workers& pool);
+    void classify(std::span<core::CloudPoint> points, Workers& pool);
     /// Into `st`: the counts of pass 2, precision and recall, the terrain, the seconds
     /// (pass 1 ran inside the fuse stage's clock: its time moves from fuse to ground).
     void finish(GenerateStats& st);
@@ -44,7 +44,7 @@ private:
     // density, and it keeps the check cheap next to RANSAC.
     static constexpr std::size_t kCheckStride = 8;
     std::size_t added_ = 0, classified_ = 0;  // points seen by add(), classify()
-    std::vector<engine::CloudPoint> sample_;
+    std::vector<core::CloudPoint> sample_;
 };
 
 }  // namespace sim

@@ -1,10 +1,10 @@
-// study/src/plan.cpp: PLAN.json, parsed strictly (engine/strict_json.hpp).
+// study/src/plan.cpp: PLAN.json, parsed strictly (io/strict_json.hpp).
 #include <study/plan.hpp>
 
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/shuffle.hpp>
-#include <engine/strict_json.hpp>
+#include <core/error.hpp>
+#include <core/random.hpp>
+#include <io/strict_json.hpp>
+#include <platform/safe_file.hpp>
 
 #include <cmath>
 #include <numeric>
@@ -25,26 +25,26 @@ void onlyKeys(const json& o, const std::string& where, std::initializer_list<con
             allowed += std::string(allowed.empty() ? "" : ", ") + k;
         }
         if (!known)
-            throw engine::Error(where + ": unknown key '" + engine::printable(key, 40) + "'; allowed: " + allowed);
+            throw core::Error(where + ": unknown key '" + core::printable(key, 40) + "'; allowed: " + allowed);
     }
 }
 
 double number(const json& o, const char* key, const std::string& where, double lo, double hi, double fallback) {
     const auto it = o.find(key);
     if (it == o.end()) return fallback;
-    const std::string range = "[" + engine::shownNumber(lo) + ", " + engine::shownNumber(hi) + "]";
+    const std::string range = "[" + core::shownNumber(lo) + ", " + core::shownNumber(hi) + "]";
     if (!it->is_number())
-        throw engine::Error(where + "." + key + " must be a number in " + range + ", not " + engine::jsonTypeName(*it));
+        throw core::Error(where + "." + key + " must be a number in " + range + ", not " + io::jsonTypeName(*it));
     const double v = it->get<double>();
     if (!(std::isfinite(v) && v >= lo && v <= hi))
-        throw engine::Error(where + "." + key + " " + engine::shownNumber(v) + " is not in " + range);
+        throw core::Error(where + "." + key + " " + core::shownNumber(v) + " is not in " + range);
     return v;
 }
 
 int whole(const json& o, const char* key, const std::string& where, int lo, int hi, int fallback) {
     const double v = number(o, key, where, lo, hi, fallback);
     if (v != std::floor(v))
-        throw engine::Error(where + "." + key + " " + engine::shownNumber(v) + " is not a whole number");
+        throw core::Error(where + "." + key + " " + core::shownNumber(v) + " is not a whole number");
     return static_cast<int>(v);
 }
 
@@ -52,8 +52,8 @@ std::string text(const json& o, const char* key, const std::string& where) {
     const auto it = o.find(key);
     if (it == o.end()) return {};
     if (!it->is_string() || it->get<std::string>().empty())
-        throw engine::Error(where + "." + key + " must be a non-empty string, not " +
-                            (it->is_string() ? std::string("an empty one") : engine::jsonTypeName(*it)));
+        throw core::Error(where + "." + key + " must be a non-empty string, not " +
+                            (it->is_string() ? std::string("an empty one") : io::jsonTypeName(*it)));
     return it->get<std::string>();
 }
 
@@ -65,22 +65,22 @@ std::filesystem::path resolve(const std::filesystem::path& base, const std::stri
 
 Plan parsePlan(std::string_view text_in, const std::string& name, const std::filesystem::path& base) {
     const std::string where = "study: " + name;
-    const json root = engine::parseStrictJson(text_in, where);
-    if (!root.is_object()) throw engine::Error(where + ": the plan must be an object, not " + engine::jsonTypeName(root));
+    const json root = io::parseStrictJson(text_in, where);
+    if (!root.is_object()) throw core::Error(where + ": the plan must be an object, not " + io::jsonTypeName(root));
     onlyKeys(root, where, {"trials", "shuffle_seed", "hit_radius_m", "orbit", "generate", "comment"});
     Plan plan;
     const auto trials = root.find("trials");
     if (trials == root.end() || !trials->is_array() || trials->empty())
-        throw engine::Error(where + ": 'trials' must be a non-empty array of trials");
-    if (trials->size() > 10000) throw engine::Error(where + ": " + std::to_string(trials->size()) + " trials; allowed at most 10000");
+        throw core::Error(where + ": 'trials' must be a non-empty array of trials");
+    if (trials->size() > 10000) throw core::Error(where + ": " + std::to_string(trials->size()) + " trials; allowed at most 10000");
     for (std::size_t i = 0; i < trials->size(); ++i) {
         const json& t = (*trials)[i];
         const std::string w = where + ": trials[" + std::to_string(i) + "]";
-        if (!t.is_object()) throw engine::Error(w + " must be an object, not " + engine::jsonTypeName(t));
+        if (!t.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(t));
         onlyKeys(t, w, {"cloud", "scene", "candidates", "time_limit_s", "name"});
         PlanTrial trial;
         const std::string cloud = text(t, "cloud", w), scene = text(t, "scene", w);
-        if (cloud.empty() == scene.empty()) throw engine::Error(w + ": give exactly one of 'cloud' and 'scene'");
+        if (cloud.empty() == scene.empty()) throw core::Error(w + ": give exactly one of 'cloud' and 'scene'");
         if (!cloud.empty()) trial.cloud = resolve(base, cloud);
         if (!scene.empty()) trial.scene = resolve(base, scene);
         trial.source = cloud.empty() ? scene : cloud;
@@ -92,14 +92,14 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
     }
     if (const auto seed = root.find("shuffle_seed"); seed != root.end()) {
         if (!seed->is_number_unsigned())
-            throw engine::Error(where + ".shuffle_seed must be a whole number >= 0, not " +
-                                (seed->is_number() ? engine::shownNumber(seed->get<double>()) : engine::jsonTypeName(*seed)));
+            throw core::Error(where + ".shuffle_seed must be a whole number >= 0, not " +
+                                (seed->is_number() ? core::shownNumber(seed->get<double>()) : io::jsonTypeName(*seed)));
         plan.shuffle_seed = seed->get<std::uint64_t>();
     }
     plan.hit_radius_m = number(root, "hit_radius_m", where, 0.001, 10000.0, plan.hit_radius_m);
     if (const auto orbit = root.find("orbit"); orbit != root.end()) {
         const std::string w = where + ".orbit";
-        if (!orbit->is_object()) throw engine::Error(w + " must be an object, not " + engine::jsonTypeName(*orbit));
+        if (!orbit->is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(*orbit));
         onlyKeys(*orbit, w, {"radius_m", "height_m", "period_s"});
         plan.orbit_radius_m = number(*orbit, "radius_m", w, 0.1, 100000.0, plan.orbit_radius_m);
         plan.orbit_height_m = number(*orbit, "height_m", w, -100000.0, 100000.0, plan.orbit_height_m);
@@ -107,7 +107,7 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
     }
     if (const auto g = root.find("generate"); g != root.end()) {
         const std::string w = where + ".generate";
-        if (!g->is_object()) throw engine::Error(w + " must be an object, not " + engine::jsonTypeName(*g));
+        if (!g->is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(*g));
         onlyKeys(*g, w, {"xres", "yres", "views"});
         plan.xres = whole(*g, "xres", w, 1, 8192, plan.xres);
         plan.yres = whole(*g, "yres", w, 1, 8192, plan.yres);
@@ -117,15 +117,15 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
 }
 
 Plan readPlan(const std::filesystem::path& file) {
-    const std::string shown = engine::printable(file.string(), 400);
-    Plan plan = parsePlan(engine::readTextFile(file, kMaxPlanBytes, "study: " + shown + ":"), shown,
+    const std::string shown = core::printable(file.string(), 400);
+    Plan plan = parsePlan(platform::readTextFile(file, kMaxPlanBytes, "study: " + shown + ":"), shown,
                           file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path());
     for (std::size_t i = 0; i < plan.trials.size(); ++i) {
         const PlanTrial& t = plan.trials[i];
         const std::string w = "study: " + shown + ": trials[" + std::to_string(i) + "]";
         for (const auto& [key, path] : {std::pair{"cloud", &t.cloud}, std::pair{"scene", &t.scene},
                                          std::pair{"candidates", &t.candidates}})
-            if (!path->empty()) engine::checkInputFile(*path, w + "." + key + " '" + engine::printable(path->string(), 400) + "'");
+            if (!path->empty()) platform::checkInputFile(*path, w + "." + key + " '" + core::printable(path->string(), 400) + "'");
     }
     return plan;
 }
@@ -135,7 +135,7 @@ std::vector<int> trialOrder(const Plan& plan) {
     std::iota(order.begin(), order.end(), 0);
     if (plan.shuffle_seed) {
         std::mt19937_64 rng(*plan.shuffle_seed);
-        engine::shuffle(order.begin(), order.end(), rng);
+        core::shuffle(order.begin(), order.end(), rng);
     }
     return order;
 }

@@ -1,7 +1,7 @@
 // study/src/scene_metric.cpp: the visibility metric of each scene of a plan (study/scene_metric.hpp).
 #include <study/scene_metric.hpp>
 
-#include <engine/scene.hpp>
+#include <io/scene_file.hpp>
 #include <metric/clouds.hpp>
 #include <metric/visibility.hpp>
 #include <sim/generator.hpp>
@@ -15,7 +15,7 @@ std::map<std::filesystem::path, double> sceneMetrics(const Plan& plan, double or
     for (const PlanTrial& t : plan.trials) {
         if (t.scene.empty() || metrics.count(t.scene)) continue;
         std::fprintf(stderr, "ladarvr: study: visibility metric of %s\n", t.scene.string().c_str());
-        const engine::Scene scene = engine::loadScene(t.scene);
+        const core::Scene scene = io::loadScene(t.scene);
         sim::GenerateOptions g;
         g.orbit.xres = plan.xres;
         g.orbit.yres = plan.yres;

@@ -3,9 +3,9 @@
 
 #include <study/study_folder.hpp>
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
 
 #include <cmath>
 
@@ -42,23 +42,23 @@ const char* StudyLog::trialsHeader() {
 }
 const char* StudyLog::candidatesHeader() { return "trial,candidate,score,verdict,t_s"; }
 
-engine::TraceRow toTraceRow(const viewer::TraceSample& s) {
-    engine::TraceRow r;
+io::TraceRow toTraceRow(const viewer::TraceSample& s) {
+    io::TraceRow r;
     r.t_s = s.t_s;
     r.head_world = s.head_world;
     r.head_orientation = s.head_orientation;
-    r.mode = s.mode == viewer::ViewMode::Free ? engine::TraceMode::Free : engine::TraceMode::Automatic;
+    r.mode = s.mode == viewer::ViewMode::Free ? io::TraceMode::Free : io::TraceMode::Automatic;
     r.scale = s.scale;
     r.hit_world = s.hit_world;
     return r;
 }
 
-viewer::TraceSample toTraceSample(const engine::TraceRow& r) {
+viewer::TraceSample toTraceSample(const io::TraceRow& r) {
     viewer::TraceSample s;
     s.t_s = r.t_s;
     s.head_world = r.head_world;
     s.head_orientation = r.head_orientation;
-    s.mode = r.mode == engine::TraceMode::Free ? viewer::ViewMode::Free : viewer::ViewMode::Automatic;
+    s.mode = r.mode == io::TraceMode::Free ? viewer::ViewMode::Free : viewer::ViewMode::Automatic;
     s.scale = r.scale;
     s.hit_world = r.hit_world;
     return s;
@@ -73,7 +73,7 @@ void StudyLog::writeAtomic(const std::string& name, const char* header, const st
     std::string content = std::string(header) + "\n";
     for (const std::string& r : rows) content += r + "\n";
     try {
-        engine::writeFileAtomic(dir_ / name, content);
+        platform::writeFileAtomic(dir_ / name, content);
     } catch (const std::exception& e) {
         if (error_.empty()) error_ = e.what();
     }
@@ -97,15 +97,15 @@ void StudyLog::onStart(int trial) {
         if (error_.empty()) error_ = "output: " + trace_path_.string() + ": cannot create: " + std::strerror(errno);
         return;
     }
-    std::fprintf(trace_, "%.*s\n", static_cast<int>(engine::kTraceHeader.size()), engine::kTraceHeader.data());
+    std::fprintf(trace_, "%.*s\n", static_cast<int>(io::kTraceHeader.size()), io::kTraceHeader.data());
 }
 
 void StudyLog::onFrame(int, const viewer::TraceSample& s) {
     if (!trace_) return;
-    std::fputs(engine::formatTraceRow(toTraceRow(s)).c_str(), trace_);
+    std::fputs(io::formatTraceRow(toTraceRow(s)).c_str(), trace_);
 }
 
-void StudyLog::onVerdict(int trial, double t_s, const engine::Candidate& candidate, viewer::Verdict verdict) {
+void StudyLog::onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) {
     candidate_rows_.push_back(std::to_string(trial + 1) + "," + csvText(candidate.id) + "," + fixed(candidate.score) +
                               "," + viewer::verdictName(verdict) + "," + fixed(t_s));
 }

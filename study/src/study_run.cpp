@@ -6,9 +6,9 @@
 #include <study/study_log.hpp>
 #include <study/study_source.hpp>
 
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/trace_file.hpp>
+#include <core/error.hpp>
+#include <io/trace_file.hpp>
+#include <platform/safe_file.hpp>
 #include <viewer/cloud_feed.hpp>
 
 #include <algorithm>
@@ -23,7 +23,7 @@ namespace study {
 StudyRun::StudyRun(StudyOptions options) : options_(std::move(options)) {
     plan_ = readPlan(options_.plan);
     if (options_.hit_radius_m) plan_.hit_radius_m = *options_.hit_radius_m;
-    if (!(plan_.hit_radius_m > 0.0)) throw engine::Error("study: --hit-radius must be > 0 m");
+    if (!(plan_.hit_radius_m > 0.0)) throw core::Error("study: --hit-radius must be > 0 m");
     viewer::ViewerOptions& o = options_.viewer;
     o.modes.orbit.radius_m = options_.orbit_radius_m.value_or(plan_.orbit_radius_m);
     o.modes.orbit.altitude_m = options_.orbit_height_m.value_or(plan_.orbit_height_m);
@@ -73,16 +73,16 @@ Replay::Replay(const std::filesystem::path& dir, int trial_number, viewer::Viewe
     plan_ = std::move(recorded.plan);
     order_ = std::move(recorded.order);
     if (trial_number < 1 || trial_number > static_cast<int>(order_.size()))
-        throw engine::Error("study: --trial " + std::to_string(trial_number) + ": allowed 1.." +
+        throw core::Error("study: --trial " + std::to_string(trial_number) + ": allowed 1.." +
                             std::to_string(order_.size()));
     trial_ = trial_number - 1;
     options_.use_xr = false;
     const std::filesystem::path file = dir / traceFileName(trial_number);
-    const engine::Trace trace = engine::readTrace(file);
+    const io::Trace trace = io::readTrace(file);
     if (!trace.study_columns)
-        throw engine::Error("trace: " + engine::printable(file.string(), 400) + ": line 1: no mode,scale,hit_x,hit_y,hit_z columns after "
+        throw core::Error("trace: " + core::printable(file.string(), 400) + ": line 1: no mode,scale,hit_x,hit_y,hit_z columns after "
                             "head_qz; allowed a study's trace (docs/study.md)");
-    for (const engine::TraceRow& row : trace.rows) options_.replay.push_back(toTraceSample(row));
+    for (const io::TraceRow& row : trace.rows) options_.replay.push_back(toTraceSample(row));
     viewer::validate(options_);
 }
 

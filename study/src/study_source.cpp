@@ -1,6 +1,8 @@
 // study/src/study_source.cpp: clouds for the trials, from files or generated from scenes.
 #include <study/study_source.hpp>
 
+#include <io/candidates_file.hpp>
+#include <io/scene_file.hpp>
 #include <sim/generator.hpp>
 #include <viewer/cloud_feed.hpp>
 
@@ -10,9 +12,9 @@ namespace study {
 
 StudySource::StudySource(const Plan& plan, std::vector<int> order) : plan_(plan), order_(std::move(order)) {
     for (const PlanTrial& t : plan_.trials) {
-        scenes_.push_back(t.scene.empty() ? nullptr : std::make_shared<const engine::Scene>(engine::loadScene(t.scene)));
-        candidates_.push_back(t.candidates.empty() ? std::vector<engine::Candidate>{}
-                                                   : engine::readCandidates(t.candidates));
+        scenes_.push_back(t.scene.empty() ? nullptr : std::make_shared<const core::Scene>(io::loadScene(t.scene)));
+        candidates_.push_back(t.candidates.empty() ? std::vector<core::Candidate>{}
+                                                   : io::readCandidates(t.candidates));
     }
     sim::GenerateOptions check;
     check.orbit.xres = plan_.xres;

@@ -1,7 +1,7 @@
 // tests/common/scene_builders.hpp: meshes and scenes with known geometry, built in code,
-// shared by every test suite (engine types only, so any module's tests may use them).
+// shared by every test suite (core types and the scene loader only, so any module's tests may use them).
 #pragma once
-#include <engine/scene.hpp>
+#include <io/scene_file.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -14,8 +14,8 @@ namespace test_support {
 // --- meshes ------------------------------------------------------------------
 
 /// A closed axis-aligned box [lo, hi] (12 triangles, outward winding).
-inline engine::Mesh boxMesh(glm::vec3 lo, glm::vec3 hi, engine::Role role, std::string name) {
-    engine::Mesh m;
+inline core::Mesh boxMesh(glm::vec3 lo, glm::vec3 hi, core::Role role, std::string name) {
+    core::Mesh m;
     m.name = std::move(name);
     m.role = role;
     for (int k = 0; k < 8; ++k)
@@ -28,9 +28,9 @@ inline engine::Mesh boxMesh(glm::vec3 lo, glm::vec3 hi, engine::Role role, std::
 
 /// A flat square grid at height z, centred on (cx, cy), `cells` x `cells` squares of
 /// `cell_m`, two triangles each (alternating diagonals), all vertices shared.
-inline engine::Mesh gridMesh(double cx, double cy, double z, int cells, double cell_m,
-                             engine::Role role = engine::Role::Ground, std::string name = "grid") {
-    engine::Mesh m;
+inline core::Mesh gridMesh(double cx, double cy, double z, int cells, double cell_m,
+                             core::Role role = core::Role::Ground, std::string name = "grid") {
+    core::Mesh m;
     m.name = std::move(name);
     m.role = role;
     const double half = 0.5 * cells * cell_m;
@@ -54,22 +54,22 @@ inline engine::Mesh gridMesh(double cx, double cy, double z, int cells, double c
 
 /// gridMesh's grid with each vertex lifted by `height_m(x, y)` (local metres): terrain.
 template <class HeightFn>
-inline engine::Mesh terrainMesh(int cells, double cell_m, HeightFn height_m, std::string name = "terrain") {
-    engine::Mesh m = gridMesh(0.0, 0.0, 0.0, cells, cell_m, engine::Role::Ground, std::move(name));
+inline core::Mesh terrainMesh(int cells, double cell_m, HeightFn height_m, std::string name = "terrain") {
+    core::Mesh m = gridMesh(0.0, 0.0, 0.0, cells, cell_m, core::Role::Ground, std::move(name));
     for (glm::vec3& v : m.vertices) v.z = float(height_m(double(v.x), double(v.y)));
     return m;
 }
 
 /// A flat square [-half, half]^2 at height z made of two triangles (a one-cell grid).
-inline engine::Mesh quadMesh(float half, float z, engine::Role role, std::string name) {
+inline core::Mesh quadMesh(float half, float z, core::Role role, std::string name) {
     return gridMesh(0.0, 0.0, z, 1, 2.0 * half, role, std::move(name));
 }
 
 /// Four environment walls of thickness `t` on the square |x| = d, |y| = d (their inner
 /// faces), from z = `bottom` to z = `top`; with `roof`, a lid of the same thickness on top
 /// closes the enclosure, so nothing inside is visible from outside.
-inline void addEnclosure(engine::Scene& s, float d, float t, float bottom, float top, bool roof) {
-    const engine::Role env = engine::Role::Environment;
+inline void addEnclosure(core::Scene& s, float d, float t, float bottom, float top, bool roof) {
+    const core::Role env = core::Role::Environment;
     s.meshes.push_back(boxMesh({d, -d, bottom}, {d + t, d, top}, env, "wall+x"));
     s.meshes.push_back(boxMesh({-d - t, -d, bottom}, {-d, d, top}, env, "wall-x"));
     s.meshes.push_back(boxMesh({-d, d, bottom}, {d, d + t, top}, env, "wall+y"));
@@ -81,17 +81,17 @@ inline void addEnclosure(engine::Scene& s, float d, float t, float bottom, float
 
 /// Ground grid (0.5 m cells over `size_m`), a 7 x 3.5 x 2.4 m target at (0, 0) and a
 /// ring of box buildings around it; origin far from zero to exercise the local frame.
-inline engine::Scene townScene(double size_m = 160.0, double cell_m = 0.5) {
-    engine::Scene s;
+inline core::Scene townScene(double size_m = 160.0, double cell_m = 0.5) {
+    core::Scene s;
     s.source = "town (in code)";
     s.origin = glm::dvec3(500000.0, 4000000.0, 120.0);
     s.meshes.push_back(gridMesh(0.0, 0.0, 0.0, int(size_m / cell_m), cell_m));
-    s.meshes.push_back(boxMesh({-3.5f, -1.75f, 0.0f}, {3.5f, 1.75f, 2.4f}, engine::Role::Target, "tank"));
+    s.meshes.push_back(boxMesh({-3.5f, -1.75f, 0.0f}, {3.5f, 1.75f, 2.4f}, core::Role::Target, "tank"));
     for (int k = 0; k < 8; ++k) {
         const float a = float(k) * 0.785398f;
         const float x = 25.0f * std::cos(a), y = 25.0f * std::sin(a);
         s.meshes.push_back(boxMesh({x - 5.0f, y - 4.0f, 0.0f}, {x + 5.0f, y + 4.0f, 6.0f + float(k)},
-                                   engine::Role::Environment, "house" + std::to_string(k)));
+                                   core::Role::Environment, "house" + std::to_string(k)));
     }
     return s;
 }
@@ -99,8 +99,8 @@ inline engine::Scene townScene(double size_m = 160.0, double cell_m = 0.5) {
 /// Rolling terrain (about 10 m of relief over 160 m, no plane holds a view's 3 m band)
 /// with townScene's target and houses on it: RANSAC's planes, hence the whitening, depend
 /// on its seed here, unlike on a flat ground.
-inline engine::Scene hillyTownScene() {
-    engine::Scene s = townScene(160.0, 1.0);
+inline core::Scene hillyTownScene() {
+    core::Scene s = townScene(160.0, 1.0);
     s.source = "hilly town (in code)";
     s.meshes[0] = terrainMesh(160, 1.0, [](double x, double y) {
         return 3.0 * std::sin(x / 13.0) * std::cos(y / 9.0) + 2.0 * std::sin((x + 2.0 * y) / 23.0);
@@ -120,11 +120,11 @@ inline constexpr float kWallThickness_m = 0.1f;
 ///   visible fraction = (a - wall_top (R - a) / (R - D - t)) / (2 a)   (closedFormVisible).
 /// With `roof`, a lid closes the enclosure: the target is fully hidden from everywhere.
 /// The origin is far from zero to exercise the local frame.
-inline engine::Scene boxBehindWall(float a, float distance_d, float wall_top, bool roof = false) {
-    engine::Scene s;
+inline core::Scene boxBehindWall(float a, float distance_d, float wall_top, bool roof = false) {
+    core::Scene s;
     s.source = "box-behind-wall (in code)";
     s.origin = glm::dvec3(651000.0, 6862000.0, 85.0);
-    s.meshes.push_back(boxMesh({-a, -a, -a}, {a, a, a}, engine::Role::Target, "cube"));
+    s.meshes.push_back(boxMesh({-a, -a, -a}, {a, a, a}, core::Role::Target, "cube"));
     addEnclosure(s, distance_d, kWallThickness_m, -a - 1.0f, wall_top, roof);
     return s;
 }
@@ -161,9 +161,9 @@ inline std::string basicSceneJson(glm::dvec3 offset, glm::dvec3 origin) {
            ", \"scale\": 5}\n ]}\n";
 }
 
-/// Loads basicSceneJson through engine::loadSceneJson (mesh paths resolve in basicDir()).
-inline engine::Scene basicScene(glm::dvec3 offset, glm::dvec3 origin) {
-    return engine::loadSceneJson(basicSceneJson(offset, origin), basicDir() / "stress_generated.json");
+/// Loads basicSceneJson through io::loadSceneJson (mesh paths resolve in basicDir()).
+inline core::Scene basicScene(glm::dvec3 offset, glm::dvec3 origin) {
+    return io::loadSceneJson(basicSceneJson(offset, origin), basicDir() / "stress_generated.json");
 }
 
 }  // namespace test_support

@@ -2,7 +2,7 @@
 #pragma once
 #include <unistd.h>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <filesystem>
 #include <functional>
@@ -44,11 +44,11 @@ inline std::string slurp(const std::filesystem::path& p) {
     return {std::istreambuf_iterator<char>(in), {}};
 }
 
-/// The message of the engine::Error that `f` throws, or "(no error)".
+/// The message of the core::Error that `f` throws, or "(no error)".
 inline std::string errorOf(const std::function<void()>& f) {
     try {
         f();
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         return e.what();
     }
     return "(no error)";

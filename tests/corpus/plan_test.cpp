@@ -3,8 +3,8 @@
 // item whose target cannot be placed is an error naming it.
 #include <corpus/plan.hpp>
 
-#include <engine/error.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
 
 #include <doctest/doctest.h>
 
@@ -39,7 +39,7 @@ bool samePlan(const corpus::ItemPlan& a, const corpus::ItemPlan& b) {
            a.generateArgs() == b.generateArgs();
 }
 
-bool overlaps(const engine::Bounds& a, const engine::Bounds& b) {
+bool overlaps(const core::Bounds& a, const core::Bounds& b) {
     for (int k = 0; k < 3; ++k)
         if (a.hi[k] <= b.lo[k] || b.hi[k] <= a.lo[k]) return false;
     return true;
@@ -113,14 +113,14 @@ TEST_CASE("plan: the target stands on the ground and never meets another mesh's 
     for (std::size_t i = 0; i < s.count; ++i) {
         const corpus::ItemPlan p = planner.plan(i);
         // The concrete scene as the generator loads it.
-        const engine::Scene scene = engine::loadSceneJson(p.sceneText({}), "item.json");
-        engine::Bounds target;
-        for (const engine::Mesh& m : scene.meshes)
-            if (m.role == engine::Role::Target)
+        const core::Scene scene = io::loadSceneJson(p.sceneText({}), "item.json");
+        core::Bounds target;
+        for (const core::Mesh& m : scene.meshes)
+            if (m.role == core::Role::Target)
                 for (const glm::vec3& v : m.vertices) target.extend(scene.origin + glm::dvec3(v));
-        for (const engine::Mesh& m : scene.meshes) {
-            if (m.role != engine::Role::Environment) continue;
-            engine::Bounds b;
+        for (const core::Mesh& m : scene.meshes) {
+            if (m.role != core::Role::Environment) continue;
+            core::Bounds b;
             for (const glm::vec3& v : m.vertices) b.extend(scene.origin + glm::dvec3(v));
             INFO("item " << p.id << " mesh " << m.name);
             CHECK_FALSE(overlaps(target, b));

@@ -2,7 +2,7 @@
 // clouds with known answers: a tank-sized box, a wall and a tree-like blob on a plane.
 #include <detect/cluster_detector.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -15,18 +15,18 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-void add(engine::PointCloud& c, glm::dvec3 p, engine::Role role) {
-    engine::CloudPoint q;
+void add(core::PointCloud& c, glm::dvec3 p, core::Role role) {
+    core::CloudPoint q;
     q.position = glm::vec3(p);
     q.label = role;
-    q.rgb = role == engine::Role::Ground ? engine::kWhite : 0x336699u;
+    q.rgb = role == core::Role::Ground ? core::kWhite : 0x336699u;
     c.points.push_back(q);
 }
 
 // The surface of a box (top and four sides, no bottom) of size l x w x h standing on z = 0,
 // centred at (cx, cy), turned by yaw_deg; points every step_m with a little noise.
-void addBox(engine::PointCloud& c, std::mt19937& rng, glm::dvec2 centre, glm::dvec3 size, double yaw_deg,
-            double step_m, engine::Role role) {
+void addBox(core::PointCloud& c, std::mt19937& rng, glm::dvec2 centre, glm::dvec3 size, double yaw_deg,
+            double step_m, core::Role role) {
     std::uniform_real_distribution<double> noise(-0.02, 0.02);
     const double cs = std::cos(yaw_deg * kDeg), sn = std::sin(yaw_deg * kDeg);
     auto put = [&](double u, double v, double z) {
@@ -50,22 +50,22 @@ void addBox(engine::PointCloud& c, std::mt19937& rng, glm::dvec2 centre, glm::dv
 
 // A flat ground of side 80 m, a 7 x 3.5 x 2.5 box turned by 30 deg at (10, 5), a wall
 // 12 x 0.3 x 4 m and a tree (trunk, 6 m wide crown from 3 to 9 m) well apart.
-engine::PointCloud scene(double tank_yaw_deg = 30.0) {
-    engine::PointCloud c;
+core::PointCloud scene(double tank_yaw_deg = 30.0) {
+    core::PointCloud c;
     c.origin = {1000.0, -2000.0, 50.0};
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> noise(-0.02, 0.02);
     for (double x = -40; x <= 40; x += 0.4)
-        for (double y = -40; y <= 40; y += 0.4) add(c, {x, y, noise(rng)}, engine::Role::Ground);
-    addBox(c, rng, {10, 5}, {7, 3.5, 2.5}, tank_yaw_deg, 0.2, engine::Role::Target);
-    addBox(c, rng, {-20, 15}, {12, 0.3, 4}, 0.0, 0.2, engine::Role::Environment);
+        for (double y = -40; y <= 40; y += 0.4) add(c, {x, y, noise(rng)}, core::Role::Ground);
+    addBox(c, rng, {10, 5}, {7, 3.5, 2.5}, tank_yaw_deg, 0.2, core::Role::Target);
+    addBox(c, rng, {-20, 15}, {12, 0.3, 4}, 0.0, 0.2, core::Role::Environment);
     std::uniform_real_distribution<double> u(-1, 1);
-    for (double z = 0.1; z < 3; z += 0.1) add(c, {-15 + noise(rng), -20 + noise(rng), z}, engine::Role::Environment);
+    for (double z = 0.1; z < 3; z += 0.1) add(c, {-15 + noise(rng), -20 + noise(rng), z}, core::Role::Environment);
     for (int i = 0; i < 4000; ++i) {
         glm::dvec3 d{u(rng), u(rng), u(rng)};
         if (glm::length(d) > 1.0 || glm::length(d) < 0.05) continue;
         d = d / glm::length(d) * 3.0;
-        add(c, {-15 + d.x, -20 + d.y, 6 + d.z}, engine::Role::Environment);
+        add(c, {-15 + d.x, -20 + d.y, 6 + d.z}, core::Role::Environment);
     }
     return c;
 }
@@ -83,7 +83,7 @@ TEST_CASE("detect: the tank-sized box scores highest, its box and yaw are recove
         for (const double yaw : {30.0, -60.0, 85.0}) {
             CAPTURE(int(ground));
             CAPTURE(yaw);
-            const engine::PointCloud c = scene(yaw);
+            const core::PointCloud c = scene(yaw);
             detect::ClusterOptions o;
             o.ground = ground;
             o.min_score = 0.0;  // every cluster, to see the others rank lower
@@ -91,7 +91,7 @@ TEST_CASE("detect: the tank-sized box scores highest, its box and yaw are recove
             const std::vector<detect::Detection> found = detect::ClusterDetector(o).detect(c, stats);
             REQUIRE(found.size() >= 3);  // box, wall, tree
             CHECK(stats.clusters == found.size());
-            const engine::Candidate& best = found[0].candidate;
+            const core::Candidate& best = found[0].candidate;
             CHECK(best.id == "c1");
             CHECK(best.score > 0.7);
             CHECK(found[1].candidate.score < 0.2);
@@ -104,13 +104,13 @@ TEST_CASE("detect: the tank-sized box scores highest, its box and yaw are recove
             CHECK(best.yaw_deg > -90.0);
             CHECK(best.yaw_deg <= 90.0);
             // Every point of the winning cluster is the box's.
-            for (const std::uint32_t i : found[0].points) REQUIRE(c.points[i].label == engine::Role::Target);
+            for (const std::uint32_t i : found[0].points) REQUIRE(c.points[i].label == core::Role::Target);
         }
     }
 }
 
 TEST_CASE("detect: the target size decides which cluster wins") {
-    const engine::PointCloud c = scene();
+    const core::PointCloud c = scene();
     detect::ClusterOptions o;
     o.ground = detect::GroundSource::Labels;
     o.target_size_m = {12.0, 0.3, 4.0};  // looking for walls
@@ -123,7 +123,7 @@ TEST_CASE("detect: the target size decides which cluster wins") {
 }
 
 TEST_CASE("detect: through the Detector interface, the same candidates as with the stats") {
-    const engine::PointCloud c = scene();
+    const core::PointCloud c = scene();
     detect::ClusterOptions o;
     o.ground = detect::GroundSource::Labels;
     const detect::ClusterDetector cluster(o);
@@ -153,30 +153,30 @@ TEST_CASE("detect: score of a box size") {
 }
 
 TEST_CASE("detect: errors name the option and the missing field") {
-    engine::PointCloud c = scene();
+    core::PointCloud c = scene();
     detect::ClusterOptions o;
     o.target_size_m.y = 0.0;
-    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--target-size-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--target-size-m"), core::Error);
     o = {};
     o.cluster_tolerance_m = 0.1;
-    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--cluster-tolerance-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--cluster-tolerance-m"), core::Error);
     o = {};
     o.ground_ransac.band_m = 0.0;  // the RANSAC ground's own options are checked too
-    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--band-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--band-m"), core::Error);
     o = {};
     o.ground = detect::GroundSource::Labels;
     c.fields.label = false;
-    CHECK_THROWS_WITH_AS(detect::ClusterDetector(o).detect(c), doctest::Contains("no label field"), engine::Error);
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector(o).detect(c), doctest::Contains("no label field"), core::Error);
     // An empty cloud gives no detection, not an error.
-    CHECK(detect::ClusterDetector(detect::ClusterOptions{}).detect(engine::PointCloud{}).empty());
+    CHECK(detect::ClusterDetector(detect::ClusterOptions{}).detect(core::PointCloud{}).empty());
 }
 
 TEST_CASE("detect: a thin barrel does not lengthen the box, and without trimming it does") {
-    engine::PointCloud c;
+    core::PointCloud c;
     std::mt19937 rng(5);
-    addBox(c, rng, {0, 0}, {7, 3.5, 2.5}, 0.0, 0.2, engine::Role::Target);
+    addBox(c, rng, {0, 0}, {7, 3.5, 2.5}, 0.0, 0.2, core::Role::Target);
     const std::size_t hull = c.points.size();
-    for (double x = 3.6; x <= 7.1; x += 0.3) add(c, {x, 0.0, 2.0}, engine::Role::Target);  // 12 points
+    for (double x = 3.6; x <= 7.1; x += 0.3) add(c, {x, 0.0, 2.0}, core::Role::Target);  // 12 points
     REQUIRE(double(c.points.size() - hull) < 0.01 * double(c.points.size()));
     std::vector<std::uint32_t> all(c.points.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);

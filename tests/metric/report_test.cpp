@@ -5,7 +5,7 @@
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
@@ -32,7 +32,7 @@ std::string readFile(const fs::path& p) {
 }  // namespace
 
 TEST_CASE("report: views.csv, summary.json and I1..I4 PNGs exist, parse and agree") {
-    const engine::Scene scene = test_support::boxBehindWall(2.0f, 6.0f, 0.5f);
+    const core::Scene scene = test_support::boxBehindWall(2.0f, 6.0f, 0.5f);
     metric::Evaluator evaluator(metric::generateClouds(scene), &scene);
     metric::MetricOptions o;
     o.orbit.radius_m = 20.0;
@@ -104,5 +104,5 @@ TEST_CASE("report: views.csv, summary.json and I1..I4 PNGs exist, parse and agre
 TEST_CASE("report: an unwritable destination is a clear output error") {
     metric::MetricResult r;
     CHECK_THROWS_WITH_AS(metric::writeReport(r, "/proc/ladarvr-no-such-dir/x"), doctest::Contains("output: "),
-                         engine::Error);
+                         core::Error);
 }

@@ -1,13 +1,13 @@
 // tests/metric/trace_test.cpp: the metric along an operator's head trace (metric/trace.hpp):
 // a trace that retraces the orbit gives the orbit's figures, the camera of a head row, and
-// subsampling in time. Reading the CSV: tests/engine/trace_file_test.cpp.
+// subsampling in time. Reading the CSV: tests/io/trace_file_test.cpp.
 #include <scene_builders.hpp>
 
 #include <metric/clouds.hpp>
 #include <metric/trace.hpp>
 #include <metric/visibility.hpp>
 
-#include <engine/trace_file.hpp>
+#include <io/trace_file.hpp>
 
 #include <doctest/doctest.h>
 
@@ -51,7 +51,7 @@ metric::MetricOptions orbitOptions() {
 }  // namespace
 
 TEST_CASE("trace: a trace that retraces the orbit gives the orbit's metric, and looking away sees nothing") {
-    const engine::Scene scene = test_support::boxBehindWall(2.0f, 6.0f, 0.5f);
+    const core::Scene scene = test_support::boxBehindWall(2.0f, 6.0f, 0.5f);
     const metric::MetricClouds clouds = metric::generateClouds(scene);
     metric::Evaluator evaluator(clouds, &scene);
     const metric::MetricOptions o = orbitOptions();
@@ -67,7 +67,7 @@ TEST_CASE("trace: a trace that retraces the orbit gives the orbit's metric, and 
         away += row(0.1 * v.view, eye_world, glm::angleAxis(M_PI, glm::dvec3(0, 0, 1)) * q);
     }
     metric::MetricOptions t = o;
-    for (const engine::TraceRow& h : engine::parseTrace(along, "along.csv").rows)
+    for (const io::TraceRow& h : io::parseTrace(along, "along.csv").rows)
         t.poses_world.push_back(metric::cameraFromHead(h));
     const metric::MetricResult traced = evaluator.run(t);
     REQUIRE(traced.views.size() == orbit.views.size());
@@ -84,7 +84,7 @@ TEST_CASE("trace: a trace that retraces the orbit gives the orbit's metric, and 
     CHECK(orbit.visible_mean > 0.1);  // the test means something: the target is seen
 
     metric::MetricOptions a = o;
-    for (const engine::TraceRow& h : engine::parseTrace(away, "away.csv").rows)
+    for (const io::TraceRow& h : io::parseTrace(away, "away.csv").rows)
         a.poses_world.push_back(metric::cameraFromHead(h));
     const metric::MetricResult looked_away = evaluator.run(a);
     CHECK(looked_away.views_used == 0);
@@ -94,13 +94,13 @@ TEST_CASE("trace: a trace that retraces the orbit gives the orbit's metric, and 
 TEST_CASE("trace: subsampling in time, and the camera of a head row") {
     const glm::dquat q = glm::angleAxis(0.3, glm::normalize(glm::dvec3(1, 2, 3)));
     std::string text = std::string(kHeader) + row(0.0, {1, 2, 3}, q) + row(0.05, {1, 2, 3}, q) + row(0.1, {4, 5, 6}, q);
-    const auto samples = engine::parseTrace(text, "t.csv").rows;
+    const auto samples = io::parseTrace(text, "t.csv").rows;
     REQUIRE(samples.size() == 3);
     CHECK(metric::everyStep(samples, 0.1).size() == 2);
     CHECK(metric::everyStep(samples, 0.1)[1].head_world.y == 5.0);
     CHECK(metric::everyStep(samples, 0.0).size() == 3);
     // The camera looks along the head's -z: identity looks down world -z (straight down).
-    engine::TraceRow identity;
+    io::TraceRow identity;
     identity.head_world = {1, 2, 3};
     const render::CameraPose pose = metric::cameraFromHead(identity);
     CHECK(pose.eye == glm::dvec3(1, 2, 3));

@@ -4,8 +4,8 @@
 #include <metric/clouds.hpp>
 #include <metric/visibility.hpp>
 
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
 
 #include <doctest/doctest.h>
 
@@ -51,7 +51,7 @@ TEST_CASE("paper §IV-B arithmetic: 4733 / 6908 = 68.5 %") {
 }
 
 TEST_CASE("box behind a wall: exact reference matches the closed form, point metric close") {
-    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
+    const core::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     // The wall's outer top edge (x = D + thickness) sets the shadow line: 0.3381 (0.3393
     // if the wall had no thickness).
     const double expected = test_support::closedFormVisible(kA, kD, kWallTop, kR);
@@ -82,7 +82,7 @@ TEST_CASE("box behind a wall: exact reference matches the closed form, point met
 }
 
 TEST_CASE("skips (target rectangle, culling) give the same counts inside the rectangle") {
-    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
+    const core::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     metric::Evaluator evaluator(wallClouds(), &scene);
     metric::MetricOptions o = axisViews();
     o.exact = false;
@@ -123,12 +123,12 @@ struct PixelScene {
     }
     /// One point per pixel of [x0, x1) x [y0, y1), `range_m` from the eye along its centre ray;
     /// the cloud's own origin is `origin + cloud_shift_m` (clouds from elsewhere).
-    void add(engine::PointCloud& cloud, int x0, int x1, int y0, int y1, double range_m,
+    void add(core::PointCloud& cloud, int x0, int x1, int y0, int y1, double range_m,
              glm::dvec3 cloud_shift_m = glm::dvec3(0.0)) const {
         cloud.origin = origin + cloud_shift_m;
         for (int py = y0; py < y1; ++py)
             for (int px = x0; px < x1; ++px) {
-                engine::CloudPoint p;
+                core::CloudPoint p;
                 const glm::dvec3 d = render::pixelCentreDirection(pose, options.orbit.vfov_deg, kSize, kSize, px, py);
                 p.position = glm::vec3(pose.eye + range_m * d - cloud_shift_m);
                 cloud.points.push_back(p);
@@ -204,7 +204,7 @@ TEST_CASE("clouds with their own origins are brought into P1's frame: the same p
 }
 
 TEST_CASE("a fully hidden target gives 0 (metric, visible and exact)") {
-    const engine::Scene scene = test_support::boxBehindWall(kA, kD, 4.0f, /*roof=*/true);
+    const core::Scene scene = test_support::boxBehindWall(kA, kD, 4.0f, /*roof=*/true);
     const metric::MetricClouds clouds = metric::generateClouds(scene);
     REQUIRE(!clouds.p1.points.empty());
     metric::Evaluator evaluator(clouds, &scene);
@@ -225,7 +225,7 @@ TEST_CASE("a fully hidden target gives 0 (metric, visible and exact)") {
 }
 
 TEST_CASE("views with the target out of frame are reported and left out of the means") {
-    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
+    const core::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     metric::Evaluator evaluator(wallClouds(), &scene);
     metric::MetricOptions o = axisViews();
     // Orbit around a point 40 m east of the target: looking west the target is in frame,
@@ -258,7 +258,7 @@ TEST_CASE("views with the target out of frame are reported and left out of the m
 }
 
 TEST_CASE("all views out of frame: no mean, no division by zero") {
-    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
+    const core::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     metric::Evaluator evaluator(wallClouds(), &scene);
     metric::MetricOptions o = axisViews();
     o.look_at_world = scene.origin + glm::dvec3(0.0, 0.0, 500.0);  // look at the sky
@@ -272,50 +272,50 @@ TEST_CASE("all views out of frame: no mean, no division by zero") {
 
 TEST_CASE("an empty P1 is a clear error") {
     metric::MetricClouds clouds;
-    engine::CloudPoint p;
+    core::CloudPoint p;
     clouds.p2.points.push_back(p);
     CHECK_THROWS_WITH_AS(metric::Evaluator(clouds, nullptr),
-                         doctest::Contains("metric: P1 (the target-only cloud) is empty"), engine::Error);
+                         doctest::Contains("metric: P1 (the target-only cloud) is empty"), core::Error);
 }
 
 TEST_CASE("options are validated naming the option and the allowed range") {
     metric::MetricOptions o;
     o.width = 8;
-    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --width = 8: allowed 16..8192 pixels", engine::Error);
+    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --width = 8: allowed 16..8192 pixels", core::Error);
     o = {};
     o.splat_px = 0.5;
-    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --splat-px = 0.5: allowed [1, 64] pixels", engine::Error);
+    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --splat-px = 0.5: allowed [1, 64] pixels", core::Error);
     o = {};
     o.orbit.views = 0;
-    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --views = 0: allowed 1..65535", engine::Error);
+    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --views = 0: allowed 1..65535", core::Error);
     o = {};
     o.picture_view = 100;
-    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--picture-view = 100"), engine::Error);
+    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--picture-view = 100"), core::Error);
     o = {};
     o.orbit.radius_m = 0.0;
-    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--radius-m = 0"), engine::Error);
+    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--radius-m = 0"), core::Error);
     o = metric::MetricOptions{};
     o.orbit.altitude_m = 1e12;  // past float's metre steps: the target would leave every frame
     CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --altitude-m = 1e+12: allowed [-1e7, 1e7] metres",
-                         engine::Error);
+                         core::Error);
     o = metric::MetricOptions{};
     o.orbit.radius_m = 2e7;
     CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--radius-m = 2e+07: allowed (0, 1e7]"),
-                         engine::Error);
+                         core::Error);
     o = metric::MetricOptions{};
     o.look_at_world = glm::dvec3(1e300, 0.0, 0.0);
-    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--look-at: out of range"), engine::Error);
+    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--look-at: out of range"), core::Error);
     CHECK_NOTHROW(metric::validate(metric::MetricOptions{}));
 }
 
 TEST_CASE("a scene without a target cannot give the clouds") {
-    engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
+    core::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     scene.meshes.erase(scene.meshes.begin());
-    CHECK_THROWS_WITH_AS(metric::generateClouds(scene), doctest::Contains("has no target mesh"), engine::Error);
+    CHECK_THROWS_WITH_AS(metric::generateClouds(scene), doctest::Contains("has no target mesh"), core::Error);
 }
 
 TEST_CASE("compute and GL_POINTS rasterisers light the same pixels") {
-    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
+    const core::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     metric::Evaluator evaluator(wallClouds(), &scene);
     metric::MetricOptions o = axisViews();
     o.exact = false;
@@ -342,13 +342,13 @@ TEST_CASE("compute and GL_POINTS rasterisers light the same pixels") {
 TEST_CASE("depth-aware variant: close to the closed form, 0 when hidden") {
     const double expected = test_support::closedFormVisible(kA, kD, kWallTop, kR);
     {
-        const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
+        const core::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
         metric::Evaluator evaluator(wallClouds(), &scene);
         const metric::MetricResult r = evaluator.run(axisViews());
         CHECK(std::abs(r.depth_visible_mean - expected) < 0.08);
     }
     {
-        const engine::Scene scene = test_support::boxBehindWall(kA, kD, 4.0f, /*roof=*/true);
+        const core::Scene scene = test_support::boxBehindWall(kA, kD, 4.0f, /*roof=*/true);
         metric::Evaluator evaluator(metric::generateClouds(scene), &scene);
         metric::MetricOptions o = axisViews();
         o.orbit.views = 2;
@@ -361,11 +361,11 @@ TEST_CASE("environment behind the target: xor counts it as hiding, exact and dep
     // Cube at the origin, a wall 8 m behind it as seen from the camera at +x: nothing is in
     // front of the target, so the exact visible fraction is 1; but P2's wall points land on
     // the target's pixels, so I2 xor I3 is 0 there (docs/metric.md, "xor and visible").
-    engine::Scene scene;
+    core::Scene scene;
     scene.source = "cube before a wall (in code)";
-    scene.meshes.push_back(test_support::boxMesh({-kA, -kA, -kA}, {kA, kA, kA}, engine::Role::Target, "cube"));
+    scene.meshes.push_back(test_support::boxMesh({-kA, -kA, -kA}, {kA, kA, kA}, core::Role::Target, "cube"));
     scene.meshes.push_back(test_support::boxMesh({-8.1f, -12.0f, -3.0f}, {-8.0f, 12.0f, 8.0f},
-                                            engine::Role::Environment, "wall"));
+                                            core::Role::Environment, "wall"));
     metric::Evaluator evaluator(metric::generateClouds(scene), &scene);
     metric::MetricOptions o = axisViews();
     o.orbit.views = 1;  // eye at (+20, 0, 0)
@@ -381,18 +381,18 @@ TEST_CASE("environment behind the target: xor counts it as hiding, exact and dep
 }
 
 TEST_CASE("clouds read back from PCD files give the same counts, without an exact reference") {
-    const engine::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
+    const core::Scene scene = test_support::boxBehindWall(kA, kD, kWallTop);
     const metric::MetricClouds& clouds = wallClouds();
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("ladarvr_metric_files_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
-    engine::writeCloud(dir / "p1.pcd", clouds.p1, engine::CloudFormat::PcdBinary);
-    engine::writeCloud(dir / "p2.pcd", clouds.p2, engine::CloudFormat::PcdBinary);
-    engine::writeCloud(dir / "p3.ply", clouds.p3, engine::CloudFormat::PlyBinary);
+    io::writeCloud(dir / "p1.pcd", clouds.p1, io::CloudFormat::PcdBinary);
+    io::writeCloud(dir / "p2.pcd", clouds.p2, io::CloudFormat::PcdBinary);
+    io::writeCloud(dir / "p3.ply", clouds.p3, io::CloudFormat::PlyBinary);
     metric::MetricClouds files;
-    files.p1 = engine::readCloud(dir / "p1.pcd");
-    files.p2 = engine::readCloud(dir / "p2.pcd");
-    files.p3 = engine::readCloud(dir / "p3.ply");
+    files.p1 = io::readCloud(dir / "p1.pcd");
+    files.p2 = io::readCloud(dir / "p2.pcd");
+    files.p3 = io::readCloud(dir / "p3.ply");
     std::filesystem::remove_all(dir);
     REQUIRE(files.p1.origin == scene.origin);  // the origin travels in the header
     metric::Evaluator from_files(files, nullptr);

@@ -3,7 +3,7 @@
 #include <render/gl.hpp>
 #include <render/shader.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -46,7 +46,7 @@ TEST_CASE("GL_CHECK throws naming the expression and the error") {
     try {
         GL_CHECK(glBindBuffer(0x1234, 0));  // not a buffer target
         FAIL("GL_CHECK did not throw");
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         const std::string message = e.what();
         CHECK(message.find("gl: glBindBuffer(0x1234, 0): GL_INVALID_ENUM at ") == 0);
         CHECK(message.find("egl_context_test.cpp:") != std::string::npos);
@@ -58,7 +58,7 @@ TEST_CASE("shader compile errors are one readable line naming the program and st
     try {
         render::Program bad("broken", {{GL_VERTEX_SHADER, "#version 450 core\nvoid main() { nope(); }\n"}});
         FAIL("bad shader compiled");
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         const std::string message = e.what();
         CHECK(message.find("shader: broken: vertex compile failed:") == 0);
         CHECK(message.find('\n') == std::string::npos);

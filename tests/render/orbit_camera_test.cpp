@@ -1,7 +1,7 @@
 // Orbit camera maths with known answers.
 #include <render/orbit_camera.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -31,13 +31,13 @@ TEST_CASE("orbit views are equally spaced on a circle at the given radius and al
 TEST_CASE("orbit camera options are validated with the field and range") {
     render::OrbitCameraOptions o;
     o.radius_m = -1.0;
-    CHECK_THROWS_WITH_AS(render::validate(o), "orbit-camera: radius_m = -1: allowed > 0 metres", engine::Error);
+    CHECK_THROWS_WITH_AS(render::validate(o), "orbit-camera: radius_m = -1: allowed > 0 metres", core::Error);
     o = {};
     o.vfov_deg = 180.0;
-    CHECK_THROWS_AS(render::validate(o), engine::Error);
+    CHECK_THROWS_AS(render::validate(o), core::Error);
     o = {};
     o.views = 0;
-    CHECK_THROWS_AS(render::validate(o), engine::Error);
+    CHECK_THROWS_AS(render::validate(o), core::Error);
     CHECK_NOTHROW(render::validate(render::OrbitCameraOptions{}));
 }
 
@@ -66,7 +66,7 @@ TEST_CASE("bounds project to a screen rectangle, a box behind the camera to none
     pose.up = {0.0, 0.0, 1.0};
     const int w = 100, h = 100;
     const glm::dmat4 vp = render::projectionMatrix(90.0, 1.0, 0.1, 1000.0) * render::viewMatrix(pose);
-    engine::Bounds box;
+    core::Bounds box;
     box.extend(glm::dvec3(-1.0, 10.0, -1.0));
     box.extend(glm::dvec3(1.0, 10.0, 1.0));
     const render::PixelRect r = render::projectBounds(vp, box, w, h, 0.0);
@@ -74,7 +74,7 @@ TEST_CASE("bounds project to a screen rectangle, a box behind the camera to none
     CHECK(r.x1 == 55);
     CHECK(r.y0 == 45);
     CHECK(r.y1 == 55);
-    engine::Bounds behind;
+    core::Bounds behind;
     behind.extend(glm::dvec3(-1.0, -10.0, -1.0));
     behind.extend(glm::dvec3(1.0, -9.0, 1.0));
     CHECK(render::projectBounds(vp, behind, w, h, 2.0).empty());

@@ -11,18 +11,18 @@
 
 namespace {
 
-std::vector<engine::CloudPoint> row(int n, float x0) {
-    std::vector<engine::CloudPoint> points;
+std::vector<core::CloudPoint> row(int n, float x0) {
+    std::vector<core::CloudPoint> points;
     for (int i = 0; i < n; ++i) {
-        engine::CloudPoint p;
+        core::CloudPoint p;
         p.position = glm::vec3(x0 + float(i), 0.0f, 0.0f);
         points.push_back(p);
     }
     return points;
 }
 
-engine::Bounds boundsOf(const std::vector<engine::CloudPoint>& points, std::size_t first, std::size_t count) {
-    engine::Bounds b;
+core::Bounds boundsOf(const std::vector<core::CloudPoint>& points, std::size_t first, std::size_t count) {
+    core::Bounds b;
     for (std::size_t i = first; i < first + count; ++i) b.extend(glm::dvec3(points[i].position));
     return b;
 }

@@ -50,8 +50,8 @@ TEST_CASE("a point far from the origin lands on its pixel with a size x size spl
     const glm::dmat4 view = render::viewMatrix(pose);
     const glm::dmat4 projection = render::projectionMatrix(30.0, 1.0, 0.1, 1000.0);
     // A point exactly on the ray through pixel (40, 20)'s centre.
-    engine::PointCloud cloud;
-    engine::CloudPoint point;
+    core::PointCloud cloud;
+    core::CloudPoint point;
     point.position = glm::vec3(pose.eye + 30.0 * render::pixelCentreDirection(pose, 30.0, w, h, 40, 20));
     cloud.points.push_back(point);
     splats.setCloud(cloud);
@@ -78,9 +78,9 @@ TEST_CASE("a point far from the origin lands on its pixel with a size x size spl
 TEST_CASE("chunks outside the frustum are culled, those inside drawn") {
     render::EglContext context;
     render::PointSplatRenderer splats;
-    engine::PointCloud cloud;
+    core::PointCloud cloud;
     for (int i = 0; i < 100; ++i) {
-        engine::CloudPoint p;
+        core::CloudPoint p;
         p.position = {static_cast<float>(i) * 10.0f, 0.0f, 0.0f};  // a line along +x, 1 km
         cloud.points.push_back(p);
     }

@@ -5,7 +5,7 @@
 #include <render/shader.hpp>
 #include <shaders/shaders.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -48,7 +48,7 @@ TEST_CASE("embedded shaders: the driver's error in an included file points to th
     try {
         render::Program bad("broken points", {{GL_VERTEX_SHADER, broken, shaders::viewer_points_vert_files}});
         FAIL("a broken shader compiled");
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         const std::string message = e.what();
         CAPTURE(message);
         // Mesa writes "1:10(15): error", NVIDIA "1(10) : error": source string 1, that line.

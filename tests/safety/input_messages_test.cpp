@@ -2,8 +2,8 @@
 // user: duplicate keys, NUL characters, empty names, special files, binary bytes,
 // oversized files. Each gives one line naming the place and what is allowed.
 #include <test_files.hpp>
-#include <engine/error.hpp>
-#include <engine/scene.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
 #include <viewer/viewer.hpp>
 
 #include <doctest/doctest.h>
@@ -24,7 +24,7 @@ namespace {
 const fs::path kBasic = fs::path(LADARVR_TEST_DATA_DIR) / "scenes" / "basic";
 
 std::string sceneError(const std::string& json) {
-    return errorOf([&] { engine::loadSceneJson(json, kBasic / "test.json"); });
+    return errorOf([&] { io::loadSceneJson(json, kBasic / "test.json"); });
 }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
@@ -44,7 +44,7 @@ TEST_CASE("scene JSON: a key given twice is refused, naming the object") {
                                               "role": "ground"}]})"),
                    "meshes[0]: duplicate key 'role'"));
     // The same key in two different objects is fine.
-    CHECK_NOTHROW(engine::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target"},
+    CHECK_NOTHROW(io::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target"},
                                                       {"file": "box.obj", "role": "environment"}]})",
                                         kBasic / "test.json"));
 }
@@ -67,7 +67,7 @@ TEST_CASE("scene JSON: an empty file name says it is empty") {
 
 TEST_CASE("scene files and mesh files that are not regular files are named for what they are") {
     TempDir dir("scene_kinds");
-    auto load = [](const fs::path& p) { return errorOf([&] { engine::loadScene(p); }); };
+    auto load = [](const fs::path& p) { return errorOf([&] { io::loadScene(p); }); };
     fs::create_symlink("loop.json", dir.path / "loop.json");
     CHECK(contains(load(dir.path / "loop.json"), "the scene file is a symbolic link loop"));
     fs::create_symlink("gone.json", dir.path / "dangling.json");
@@ -78,8 +78,8 @@ TEST_CASE("scene files and mesh files that are not regular files are named for w
     CHECK(contains(load(dir.path), "the scene file is a directory"));
     const fs::path huge = dir.path / "huge.json";
     { std::ofstream(huge) << "{"; }
-    fs::resize_file(huge, engine::kMaxSceneBytes + 1);
-    CHECK(contains(load(huge), "the scene file is " + std::to_string(engine::kMaxSceneBytes + 1) + " bytes"));
+    fs::resize_file(huge, io::kMaxSceneBytes + 1);
+    CHECK(contains(load(huge), "the scene file is " + std::to_string(io::kMaxSceneBytes + 1) + " bytes"));
     // A mesh that is a FIFO: refused before Assimp would block on it.
     REQUIRE(::mkfifo((dir.path / "mesh.obj").c_str(), 0666) == 0);
     const fs::path scene = dir.write("scene.json", R"({"meshes": [{"file": "mesh.obj", "role": "target"}]})");

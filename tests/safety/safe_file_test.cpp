@@ -2,10 +2,11 @@
 // cannot be hijacked and never outlive the run, inputs are regular files of bounded size.
 // Special files are made in a scratch folder (mknod only as root), never in /dev.
 #include <test_files.hpp>
-#include <engine/atomic_file.hpp>
-#include <engine/cleanup.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/cleanup.hpp>
+#include <platform/output_folder.hpp>
+#include <platform/safe_file.hpp>
 
 #include <doctest/doctest.h>
 
@@ -68,7 +69,7 @@ TEST_CASE("an existing destination that is not a regular file is refused and lef
     SUBCASE("a FIFO (never opened: the call returns at once)") {
         const fs::path fifo = dir.path / "fifo";
         REQUIRE(::mkfifo(fifo.c_str(), 0666) == 0);
-        CHECK(contains(errorOf([&] { engine::writeFileAtomic(fifo, "data"); }),
+        CHECK(contains(errorOf([&] { platform::writeFileAtomic(fifo, "data"); }),
                        "is a FIFO (named pipe); refusing to replace it"));
         CHECK(fs::is_fifo(fifo));
     }
@@ -78,7 +79,7 @@ TEST_CASE("an existing destination that is not a regular file is refused and lef
             MESSAGE("mknod needs root: character-device case skipped");
             return;
         }
-        CHECK(contains(errorOf([&] { engine::writeFileAtomic(node, "data"); }),
+        CHECK(contains(errorOf([&] { platform::writeFileAtomic(node, "data"); }),
                        "is a character device; refusing to replace it"));
         CHECK(fs::is_character_file(node));
     }
@@ -86,9 +87,9 @@ TEST_CASE("an existing destination that is not a regular file is refused and lef
         const fs::path victim = dir.write("victim", "keep");
         fs::create_symlink(victim, dir.path / "link");
         fs::create_symlink(dir.path / "nowhere", dir.path / "dangling");
-        CHECK(contains(errorOf([&] { engine::writeFileAtomic(dir.path / "link", "data"); }),
+        CHECK(contains(errorOf([&] { platform::writeFileAtomic(dir.path / "link", "data"); }),
                        "is a symbolic link; refusing to replace it"));
-        CHECK(contains(errorOf([&] { engine::writeFileAtomic(dir.path / "dangling", "data"); }),
+        CHECK(contains(errorOf([&] { platform::writeFileAtomic(dir.path / "dangling", "data"); }),
                        "is a symbolic link"));
         CHECK(slurp(victim) == "keep");
         CHECK(fs::is_symlink(dir.path / "link"));
@@ -100,7 +101,7 @@ TEST_CASE("an existing destination that is not a regular file is refused and lef
 TEST_CASE("a destination that turns into a FIFO after the check is still not replaced") {
     TempDir dir("race");
     const fs::path out = dir.path / "out.txt";
-    engine::TempFile tmp(out);
+    platform::TempFile tmp(out);
     std::fputs("data", tmp.file());
     REQUIRE(::mkfifo(out.c_str(), 0666) == 0);  // appears while the data are written
     CHECK(contains(errorOf([&] { tmp.commit(); }), "is a FIFO (named pipe); refusing to replace it"));
@@ -115,7 +116,7 @@ TEST_CASE("temporaries have random names and never follow a planted symbolic lin
     // The names an attacker could predict before: <out>.tmp-<pid> and <out>.spool-<pid>.
     fs::create_symlink(victim, out.string() + ".tmp-" + std::to_string(::getpid()));
     fs::create_symlink(victim, out.string() + ".spool-" + std::to_string(::getpid()));
-    engine::TempFile a(out), b(out);
+    platform::TempFile a(out), b(out);
     CHECK(a.path() != b.path());
     CHECK(fs::is_regular_file(fs::symlink_status(a.path())));
     std::fputs("new", a.file());
@@ -128,7 +129,7 @@ TEST_CASE("temporaries have random names and never follow a planted symbolic lin
 
 TEST_CASE("the scratch file is anonymous: nothing of it is in the folder, even while open") {
     TempDir dir("scratch");
-    std::FILE* f = engine::openScratchFile(dir.path, "out.pcd");
+    std::FILE* f = platform::openScratchFile(dir.path, "out.pcd");
     REQUIRE(f != nullptr);
     CHECK(dir.entries() == 0);
     const std::string data(100000, 'x');
@@ -144,44 +145,44 @@ TEST_CASE("the scratch file is anonymous: nothing of it is in the folder, even w
 TEST_CASE("an output that is an input of the run is refused, through links too") {
     TempDir dir("input");
     const fs::path scene = dir.write("scene.json", "{}");
-    CHECK(engine::readTextFile(scene, 1000, "scene") == "{}");
+    CHECK(platform::readTextFile(scene, 1000, "scene") == "{}");
     fs::create_hard_link(scene, dir.path / "hard");
     fs::create_directories(dir.path / "real");
     fs::create_symlink(dir.path, dir.path / "real" / "up");
     for (const fs::path& out : {scene, dir.path / "hard", dir.path / "real" / "up" / "scene.json"}) {
         CAPTURE(out);
-        CHECK(contains(errorOf([&] { engine::writeFileAtomic(out, "cloud"); }), "is the input file"));
+        CHECK(contains(errorOf([&] { platform::writeFileAtomic(out, "cloud"); }), "is the input file"));
     }
     CHECK(slurp(scene) == "{}");
-    CHECK_NOTHROW(engine::writeFileAtomic(dir.path / "other.json", "fine"));
+    CHECK_NOTHROW(platform::writeFileAtomic(dir.path / "other.json", "fine"));
 }
 
 TEST_CASE("text inputs: regular files only, size capped, messages say what the name is") {
     TempDir dir("text");
     const std::string what = "test: the file";
-    CHECK(contains(errorOf([&] { engine::readTextFile("/dev/zero", 1024, what); }),
+    CHECK(contains(errorOf([&] { platform::readTextFile("/dev/zero", 1024, what); }),
                    "test: the file is a character device; allowed: a regular file of at most 1 KiB"));
-    CHECK(contains(errorOf([&] { engine::readTextFile(dir.path, 1024, what); }), "is a directory"));
+    CHECK(contains(errorOf([&] { platform::readTextFile(dir.path, 1024, what); }), "is a directory"));
     const fs::path fifo = dir.path / "fifo";
     REQUIRE(::mkfifo(fifo.c_str(), 0666) == 0);
-    CHECK(contains(errorOf([&] { engine::readTextFile(fifo, 1024, what); }), "is a FIFO (named pipe)"));
+    CHECK(contains(errorOf([&] { platform::readTextFile(fifo, 1024, what); }), "is a FIFO (named pipe)"));
     fs::create_symlink("loop", dir.path / "loop");
-    CHECK(contains(errorOf([&] { engine::readTextFile(dir.path / "loop", 1024, what); }),
+    CHECK(contains(errorOf([&] { platform::readTextFile(dir.path / "loop", 1024, what); }),
                    "is a symbolic link loop"));
     fs::create_symlink("gone", dir.path / "dangling");
-    CHECK(contains(errorOf([&] { engine::readTextFile(dir.path / "dangling", 1024, what); }),
+    CHECK(contains(errorOf([&] { platform::readTextFile(dir.path / "dangling", 1024, what); }),
                    "is a dangling symbolic link (to 'gone'"));
-    CHECK(contains(errorOf([&] { engine::readTextFile(dir.path / "none", 1024, what); }), "does not exist"));
+    CHECK(contains(errorOf([&] { platform::readTextFile(dir.path / "none", 1024, what); }), "does not exist"));
     const fs::path exact = dir.write("exact", std::string(1024, 'a'));
-    CHECK(engine::readTextFile(exact, 1024, what).size() == 1024);
+    CHECK(platform::readTextFile(exact, 1024, what).size() == 1024);
     const fs::path big = dir.write("big", std::string(1025, 'a'));
-    CHECK(contains(errorOf([&] { engine::readTextFile(big, 1024, what); }), "is 1025 bytes; allowed"));
+    CHECK(contains(errorOf([&] { platform::readTextFile(big, 1024, what); }), "is 1025 bytes; allowed"));
     // A sparse file claiming 4 GiB is refused from its size, without reading it.
     const fs::path sparse = dir.path / "sparse";
     { std::ofstream(sparse) << ""; }
     fs::resize_file(sparse, std::uintmax_t(4) << 30);
-    CHECK(contains(errorOf([&] { engine::readTextFile(sparse, 1 << 20, what); }), "bytes; allowed"));
-    CHECK(engine::printable(std::string("a\x01\xff\x1b[31m", 8)) == "a\\x01\\xff\\x1b[31m");
+    CHECK(contains(errorOf([&] { platform::readTextFile(sparse, 1 << 20, what); }), "bytes; allowed"));
+    CHECK(core::printable(std::string("a\x01\xff\x1b[31m", 8)) == "a\\x01\\xff\\x1b[31m");
 }
 
 TEST_CASE("the next run removes temporaries of dead processes, and only those") {
@@ -192,7 +193,7 @@ TEST_CASE("the next run removes temporaries of dead processes, and only those") 
     const fs::path alive = dir.write(".ladarvr-tmp-1-XyZ789", "init's, alive");  // pid 1 lives
     const fs::path lookalike = dir.write(".ladarvr-tmp-" + dead + "-toolong7", "not our pattern");
     const fs::path user = dir.write("cloud.pcd", "a user's file");
-    engine::writeFileAtomic(dir.path / "new.txt", "x");
+    platform::writeFileAtomic(dir.path / "new.txt", "x");
     CHECK_FALSE(fs::exists(stale_file));
     CHECK_FALSE(fs::exists(dir.path / (".ladarvr-tmp-" + dead + "-Dir456")));
     CHECK(fs::exists(alive));
@@ -207,8 +208,8 @@ TEST_CASE("SIGTERM, SIGINT and SIGHUP remove the temporaries and end the process
         const int status = inChild([&] {
             // As in the CLI: default dispositions (the test runner catches signals itself).
             for (int s : {SIGTERM, SIGINT, SIGHUP}) std::signal(s, SIG_DFL);
-            engine::TempFile a(dir.path / "a.pcd"), b(dir.path / "b.json");
-            std::FILE* spool = engine::openScratchFile(dir.path, "a.pcd");
+            platform::TempFile a(dir.path / "a.pcd"), b(dir.path / "b.json");
+            std::FILE* spool = platform::openScratchFile(dir.path, "a.pcd");
             std::fputs("partial", a.file());
             std::fflush(a.file());
             (void)spool;
@@ -226,8 +227,8 @@ TEST_CASE("the watchdog ends a run stuck past its deadline, removing its tempora
     TempDir dir("watchdog");
     const auto t0 = std::chrono::steady_clock::now();
     const int status = inChild([&] {
-        engine::TempFile a(dir.path / "a.json");
-        engine::Watchdog w(0.3, "test: --timeout 0.3 s reached", 1);
+        platform::TempFile a(dir.path / "a.json");
+        platform::Watchdog w(0.3, "test: --timeout 0.3 s reached", 1);
         ::sleep(10);  // stuck start-up
         ::_exit(5);
     });
@@ -237,7 +238,7 @@ TEST_CASE("the watchdog ends a run stuck past its deadline, removing its tempora
     CHECK(s < 5.0);
     CHECK(dir.entries() == 0);
     // Cancelled by going out of scope in time.
-    { engine::Watchdog w(0.05, "never", 1); }
+    { platform::Watchdog w(0.05, "never", 1); }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
 }
 
@@ -248,10 +249,10 @@ bool ours(const std::string& name) { return name == "a.txt" || name == "b.txt" |
 TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
     TempDir dir("folder");
     const fs::path out = dir.path / "report";
-    engine::writeFolderAtomic(out, {{"a.txt", "run1 a"}, {"b.txt", "run1 b"}, {"c.txt", "run1 c"}}, ours);
+    platform::writeFolderAtomic(out, {{"a.txt", "run1 a"}, {"b.txt", "run1 b"}, {"c.txt", "run1 c"}}, ours);
     CHECK(slurp(out / "b.txt") == "run1 b");
     SUBCASE("a smaller second set leaves no stale sibling") {
-        engine::writeFolderAtomic(out, {{"a.txt", "run2 a"}, {"c.txt", "run2 c"}}, ours);
+        platform::writeFolderAtomic(out, {{"a.txt", "run2 a"}, {"c.txt", "run2 c"}}, ours);
         CHECK(slurp(out / "a.txt") == "run2 a");
         CHECK_FALSE(fs::exists(out / "b.txt"));
         CHECK(slurp(out / "c.txt") == "run2 c");
@@ -264,7 +265,7 @@ TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
         small.rlim_cur = 4096;
         ::setrlimit(RLIMIT_FSIZE, &small);
         const std::string m = errorOf([&] {
-            engine::writeFolderAtomic(out, {{"a.txt", "run2 a"}, {"b.txt", std::string(10000, 'b')},
+            platform::writeFolderAtomic(out, {{"a.txt", "run2 a"}, {"b.txt", std::string(10000, 'b')},
                                             {"c.txt", "run2 c"}}, ours);
         });
         ::setrlimit(RLIMIT_FSIZE, &old);
@@ -276,22 +277,22 @@ TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
     }
     SUBCASE("a folder holding a file we do not write is refused") {
         std::ofstream(out / "thesis.tex") << "years of work";
-        CHECK(contains(errorOf([&] { engine::writeFolderAtomic(out, {{"a.txt", "x"}}, ours); }),
+        CHECK(contains(errorOf([&] { platform::writeFolderAtomic(out, {{"a.txt", "x"}}, ours); }),
                        "holds 'thesis.tex', which this command does not write"));
-        CHECK(contains(errorOf([&] { engine::checkOutputFolder(out, ours); }), "refusing to replace the folder"));
+        CHECK(contains(errorOf([&] { platform::checkOutputFolder(out, ours); }), "refusing to replace the folder"));
         CHECK(slurp(out / "thesis.tex") == "years of work");
         CHECK(slurp(out / "a.txt") == "run1 a");
     }
     SUBCASE("a link to a folder: the folder it points to is replaced, the link stays") {
         fs::create_directory_symlink(out, dir.path / "link");
-        engine::writeFolderAtomic(dir.path / "link", {{"a.txt", "via link"}}, ours);
+        platform::writeFolderAtomic(dir.path / "link", {{"a.txt", "via link"}}, ours);
         CHECK(fs::is_symlink(dir.path / "link"));
         CHECK(slurp(out / "a.txt") == "via link");
         CHECK_FALSE(fs::exists(out / "b.txt"));
     }
     SUBCASE("missing parent folders are made") {
-        engine::checkOutputFolder(dir.path / "x" / "y" / "report", ours);
-        engine::writeFolderAtomic(dir.path / "x" / "y" / "report", {{"a.txt", "deep"}}, ours);
+        platform::checkOutputFolder(dir.path / "x" / "y" / "report", ours);
+        platform::writeFolderAtomic(dir.path / "x" / "y" / "report", {{"a.txt", "deep"}}, ours);
         CHECK(slurp(dir.path / "x" / "y" / "report" / "a.txt") == "deep");
     }
     CHECK(temporariesIn(dir.path) == 0);

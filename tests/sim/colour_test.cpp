@@ -1,9 +1,9 @@
 // tests/sim/colour_test.cpp: the paper's jet map with 64 values, red low, blue high.
 #include <sim/colour.hpp>
 
-#include <engine/error.hpp>
-#include <engine/jet.hpp>
-#include <engine/point_cloud.hpp>
+#include <core/error.hpp>
+#include <core/jet.hpp>
+#include <core/point_cloud.hpp>
 
 #include <doctest/doctest.h>
 
@@ -28,21 +28,21 @@ double hueDeg(std::uint32_t rgb) {
 }  // namespace
 
 TEST_CASE("jet(64) matches MATLAB's table at known rows") {
-    const auto jet = engine::jetTable(64);
+    const auto jet = core::jetTable(64);
     REQUIRE(jet.size() == 64);
-    CHECK(jet[0] == engine::packRgb(0, 0, 143));      // [0 0 0.5625]
-    CHECK(jet[7] == engine::packRgb(0, 0, 255));      // [0 0 1]
-    CHECK(jet[8] == engine::packRgb(0, 16, 255));     // [0 0.0625 1]
-    CHECK(jet[23] == engine::packRgb(0, 255, 255));   // [0 1 1]
-    CHECK(jet[39] == engine::packRgb(255, 255, 0));   // [1 1 0]
-    CHECK(jet[63] == engine::packRgb(128, 0, 0));     // [0.5 0 0]
+    CHECK(jet[0] == core::packRgb(0, 0, 143));      // [0 0 0.5625]
+    CHECK(jet[7] == core::packRgb(0, 0, 255));      // [0 0 1]
+    CHECK(jet[8] == core::packRgb(0, 16, 255));     // [0 0.0625 1]
+    CHECK(jet[23] == core::packRgb(0, 255, 255));   // [0 1 1]
+    CHECK(jet[39] == core::packRgb(255, 255, 0));   // [1 1 0]
+    CHECK(jet[63] == core::packRgb(128, 0, 0));     // [0.5 0 0]
     CHECK(std::set<std::uint32_t>(jet.begin(), jet.end()).size() == 64);  // every colour once
 }
 
 TEST_CASE("height colours: red at the minimum, blue at the maximum, hue rising with height") {
-    const auto jet = engine::jetTable(64);
-    CHECK(sim::heightColour(10.0f, 10.0f, 20.0f, jet) == engine::packRgb(128, 0, 0));
-    CHECK(sim::heightColour(20.0f, 10.0f, 20.0f, jet) == engine::packRgb(0, 0, 143));
+    const auto jet = core::jetTable(64);
+    CHECK(sim::heightColour(10.0f, 10.0f, 20.0f, jet) == core::packRgb(128, 0, 0));
+    CHECK(sim::heightColour(20.0f, 10.0f, 20.0f, jet) == core::packRgb(0, 0, 143));
     double last_hue = -1.0;
     std::set<std::uint32_t> seen;
     for (int k = 0; k <= 640; ++k) {
@@ -56,17 +56,17 @@ TEST_CASE("height colours: red at the minimum, blue at the maximum, hue rising w
     CHECK(last_hue == doctest::Approx(240.0));
     CHECK(seen.size() == 64);  // quantised to the 64 entries
     // Out-of-range heights clamp; equal heights give the lowest colour, never NaN-driven.
-    CHECK(sim::heightColour(-5.0f, 10.0f, 20.0f, jet) == engine::packRgb(128, 0, 0));
-    CHECK(sim::heightColour(99.0f, 10.0f, 20.0f, jet) == engine::packRgb(0, 0, 143));
-    CHECK(sim::heightColour(3.0f, 3.0f, 3.0f, jet) == engine::packRgb(128, 0, 0));
+    CHECK(sim::heightColour(-5.0f, 10.0f, 20.0f, jet) == core::packRgb(128, 0, 0));
+    CHECK(sim::heightColour(99.0f, 10.0f, 20.0f, jet) == core::packRgb(0, 0, 143));
+    CHECK(sim::heightColour(3.0f, 3.0f, 3.0f, jet) == core::packRgb(128, 0, 0));
 }
 
-TEST_CASE("the generator colours with engine's jet table, the one the viewer shows") {
+TEST_CASE("the generator colours with core's jet table, the one the viewer shows") {
     for (int m : {2, 5, 16, 64, 256}) {
-        const auto jet = engine::jetTable(m);
+        const auto jet = core::jetTable(m);
         for (int k = -2; k <= 42; ++k) {
             const float z = -1.0f + 0.5f * float(k);
-            CHECK(sim::heightColour(z, 0.0f, 20.0f, jet) == jet[engine::jetIndex(z, 0.0, 20.0, m)]);
+            CHECK(sim::heightColour(z, 0.0f, 20.0f, jet) == jet[core::jetIndex(z, 0.0, 20.0, m)]);
         }
     }
 }
@@ -74,7 +74,7 @@ TEST_CASE("the generator colours with engine's jet table, the one the viewer sho
 TEST_CASE("colour options are validated") {
     sim::ColourOptions o;
     o.entries = 1;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("entries"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("entries"), core::Error);
     o.entries = 64;
     CHECK_NOTHROW(sim::validate(o));
 }

@@ -4,8 +4,9 @@
 
 #include <sim/generator.hpp>
 
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/scene_file.hpp>
 
 #include <doctest/doctest.h>
 
@@ -26,7 +27,7 @@ using test_support::slurp;
 // epsilon would accept errors of hundreds of metres.
 bool near_m(double a, double b, double tol_m) { return std::abs(a - b) <= tol_m; }
 
-bool samePoint(const engine::CloudPoint& a, const engine::CloudPoint& b) {
+bool samePoint(const core::CloudPoint& a, const core::CloudPoint& b) {
     return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 && a.rgb == b.rgb &&
            std::memcmp(&a.range_m, &b.range_m, sizeof a.range_m) == 0 && a.view == b.view &&
            a.label == b.label;
@@ -44,9 +45,9 @@ sim::GenerateOptions smallOptions() {
 
 TEST_CASE("paper configuration on a ground covering the footprint: 1,638,400 points, none missed") {
     // 0.5 m cells over 160 m: 204,800 ground triangles with shared edges and vertices.
-    const engine::Scene scene = test_support::townScene();
+    const core::Scene scene = test_support::townScene();
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{}, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{}, &st);
     CHECK(st.rays == 1638400);
     CHECK(st.points == 1638400);
     CHECK(st.misses == 0);
@@ -71,7 +72,7 @@ TEST_CASE("paper configuration on a ground covering the footprint: 1,638,400 poi
         ++labels[int(p.label)];
         // The sensor is ~ 424 m (slant) from the ground: ranges within the footprint's.
         bad_range += !(p.range_m > 380.0f && p.range_m < 470.0f);
-        if (p.label == engine::Role::Ground) off_ground += std::abs(p.position.z) > 1e-3f;
+        if (p.label == core::Role::Ground) off_ground += std::abs(p.position.z) > 1e-3f;
         // Every hit lies in the covered disc (radius 62.5 m about C).
         far_out += std::hypot(p.position.x, p.position.y) > 0.5 * st.coverage_diameter_m + 0.5;
     }
@@ -81,8 +82,8 @@ TEST_CASE("paper configuration on a ground covering the footprint: 1,638,400 poi
     CHECK(far_out == 0);
     for (std::size_t v = 0; v < 100; ++v) CHECK(per_view[v] == 16384);
     CHECK(labels[0] + labels[1] + labels[2] == 1638400);
-    CHECK(labels[int(engine::Role::Target)] > 0);
-    CHECK(labels[int(engine::Role::Environment)] > 0);
+    CHECK(labels[int(core::Role::Target)] > 0);
+    CHECK(labels[int(core::Role::Environment)] > 0);
 
     // Colouring: ground white; the (low) target on the red side of the jet map.
     CHECK(st.ground_precision.has_value());
@@ -97,7 +98,7 @@ TEST_CASE("paper configuration on a ground covering the footprint: 1,638,400 poi
     CHECK(*st.ground_recall > 0.99);
     std::size_t target_not_red = 0, target_coloured = 0;
     for (const auto& p : cloud.points)
-        if (p.label == engine::Role::Target && p.rgb != engine::kWhite) {
+        if (p.label == core::Role::Target && p.rgb != core::kWhite) {
             ++target_coloured;
             const unsigned r = p.rgb >> 16 & 255, b = p.rgb & 255;
             target_not_red += !(r >= 128 && b == 0);
@@ -111,13 +112,13 @@ TEST_CASE("paper configuration on a ground covering the footprint: 1,638,400 poi
 TEST_CASE("the output is bit-identical with 1 and 3 threads, on terrain where the RANSAC seed matters") {
     // Hilly ground: each view's RANSAC depends on its seed (checked below), so a seed drawn
     // per worker instead of per view would change the whitening with the thread count.
-    const engine::Scene scene = test_support::hillyTownScene();
+    const core::Scene scene = test_support::hillyTownScene();
     sim::GenerateOptions o = smallOptions();
     o.threads = 1;
     sim::GenerateStats st1, st3;
-    const engine::PointCloud one = sim::generateCloud(scene, o, &st1);
+    const core::PointCloud one = sim::generateCloud(scene, o, &st1);
     o.threads = 3;
-    const engine::PointCloud three = sim::generateCloud(scene, o, &st3);
+    const core::PointCloud three = sim::generateCloud(scene, o, &st3);
     REQUIRE(one.points.size() == three.points.size());
     std::size_t different = 0;
     for (std::size_t i = 0; i < one.points.size(); ++i) different += !samePoint(one.points[i], three.points[i]);
@@ -129,7 +130,7 @@ TEST_CASE("the output is bit-identical with 1 and 3 threads, on terrain where th
     // A different seed whitens differently on this terrain (so the comparison above can
     // fail), but never changes geometry or order.
     o.seed = 12345;
-    const engine::PointCloud reseeded = sim::generateCloud(scene, o);
+    const core::PointCloud reseeded = sim::generateCloud(scene, o);
     REQUIRE(reseeded.points.size() == one.points.size());
     std::size_t moved = 0, recoloured = 0;
     for (std::size_t i = 0; i < one.points.size(); ++i) {
@@ -141,12 +142,12 @@ TEST_CASE("the output is bit-identical with 1 and 3 threads, on terrain where th
 }
 
 TEST_CASE("streaming through a spool file writes the same bytes as the in-memory path") {
-    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
     const test_support::TempDir scratch("sim_generator");
     const fs::path& dir = scratch.path;
     sim::GenerateOptions o = smallOptions();
     o.threads = 2;  // the budget below is sized for two workers
-    for (const auto format : {engine::CloudFormat::PcdBinary, engine::CloudFormat::PlyAscii}) {
+    for (const auto format : {io::CloudFormat::PcdBinary, io::CloudFormat::PlyAscii}) {
         sim::GenerateStats in_memory, streamed;
         o.memory_budget_bytes = std::size_t(1) << 30;
         sim::generateToFile(scene, o, dir / "memory.out", format, &in_memory);
@@ -164,12 +165,12 @@ TEST_CASE("streaming through a spool file writes the same bytes as the in-memory
     for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
     CHECK(files == 2);
 
-    // Read back through the engine: the same points as the in-memory cloud.
+    // Read back through io: the same points as the in-memory cloud.
     o.memory_budget_bytes = std::size_t(10) << 20;
     sim::GenerateStats st;
-    sim::generateToFile(scene, o, dir / "spool.pcd", engine::CloudFormat::PcdBinary, &st);
-    const engine::PointCloud back = engine::readCloud(dir / "spool.pcd");
-    const engine::PointCloud direct = sim::generateCloud(scene, o);
+    sim::generateToFile(scene, o, dir / "spool.pcd", io::CloudFormat::PcdBinary, &st);
+    const core::PointCloud back = io::readCloud(dir / "spool.pcd");
+    const core::PointCloud direct = sim::generateCloud(scene, o);
     REQUIRE(back.points.size() == st.points);
     REQUIRE(direct.points.size() == st.points);
     CHECK(back.origin == scene.origin);
@@ -179,15 +180,15 @@ TEST_CASE("streaming through a spool file writes the same bytes as the in-memory
 }
 
 TEST_CASE("bad options fail before any work and leave no output file") {
-    const engine::Scene scene = test_support::townScene(40.0, 2.0);
+    const core::Scene scene = test_support::townScene(40.0, 2.0);
     const test_support::TempDir scratch("sim_generator");
     const fs::path& dir = scratch.path;
     const fs::path out = dir / "cloud.pcd";
     const auto fails = [&](auto change, const char* what) {
         sim::GenerateOptions o = smallOptions();
         change(o);
-        CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, out, engine::CloudFormat::PcdBinary),
-                             doctest::Contains(what), engine::Error);
+        CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, out, io::CloudFormat::PcdBinary),
+                             doctest::Contains(what), core::Error);
         CHECK_FALSE(fs::exists(out));
         CHECK(fs::is_empty(dir));
     };
@@ -203,23 +204,23 @@ TEST_CASE("bad options fail before any work and leave no output file") {
     fails([](auto& o) { o.roles.bits = 0; }, "roles");
     // A destination whose directory does not exist: refused before casting.
     CHECK_THROWS_AS(sim::generateToFile(scene, smallOptions(), dir / "missing" / "x.pcd",
-                                        engine::CloudFormat::PcdBinary),
-                    engine::Error);
+                                        io::CloudFormat::PcdBinary),
+                    core::Error);
     CHECK(fs::is_empty(dir));
 }
 
 TEST_CASE("default centre: the target's centre at the ground height beneath it") {
-    engine::Scene s;
+    core::Scene s;
     s.origin = glm::dvec3(1000.0, 2000.0, 50.0);
     s.meshes.push_back(test_support::gridMesh(0, 0, 5.0, 20, 10.0));  // ground at local z = 5
-    s.meshes.push_back(test_support::gridMesh(0, 0, 30.0, 2, 5.0, engine::Role::Environment, "bridge"));
-    s.meshes.push_back(test_support::boxMesh({28, -22, 5}, {32, -18, 8}, engine::Role::Target, "tank"));
+    s.meshes.push_back(test_support::gridMesh(0, 0, 30.0, 2, 5.0, core::Role::Environment, "bridge"));
+    s.meshes.push_back(test_support::boxMesh({28, -22, 5}, {32, -18, 8}, core::Role::Target, "tank"));
     glm::dvec3 c = sim::defaultCentre(s);
     CHECK(near_m(c.x, 1030.0, 1e-6));
     CHECK(near_m(c.y, 1980.0, 1e-6));
     CHECK(near_m(c.z, 55.0, 1e-6));  // ground, not the tank roof nor the bridge
     // Target outside the ground: the lowest ground height instead.
-    s.meshes[2] = test_support::boxMesh({500, 500, 0}, {504, 504, 3}, engine::Role::Target, "tank");
+    s.meshes[2] = test_support::boxMesh({500, 500, 0}, {504, 504, 3}, core::Role::Target, "tank");
     c = sim::defaultCentre(s);
     CHECK(near_m(c.x, 1502.0, 1e-6));
     CHECK(near_m(c.z, 55.0, 1e-6));
@@ -227,25 +228,25 @@ TEST_CASE("default centre: the target's centre at the ground height beneath it")
     s.meshes.erase(s.meshes.begin());
     CHECK(near_m(sim::defaultCentre(s).z, 50.0, 1e-6));
     s.meshes.clear();
-    CHECK_THROWS_AS(sim::defaultCentre(s), engine::Error);
+    CHECK_THROWS_AS(sim::defaultCentre(s), core::Error);
 }
 
 TEST_CASE("--roles keeps only those meshes and the same orbit, and --white makes every point white") {
-    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o = smallOptions();
     o.white = true;
     sim::GenerateStats all_st, target_st;
-    const engine::PointCloud all = sim::generateCloud(scene, o, &all_st);
-    o.roles = engine::RoleMask::of({engine::Role::Target});
-    const engine::PointCloud target = sim::generateCloud(scene, o, &target_st);
+    const core::PointCloud all = sim::generateCloud(scene, o, &all_st);
+    o.roles = core::RoleMask::of({core::Role::Target});
+    const core::PointCloud target = sim::generateCloud(scene, o, &target_st);
     CHECK(target_st.centre == all_st.centre);
     CHECK(target_st.triangles == 12);
     CHECK(target.points.size() > 0);
     CHECK(target.points.size() < all.points.size());
     CHECK(target_st.misses == target_st.rays - target.points.size());
     std::size_t not_target = 0, not_white = 0;
-    for (const auto& p : target.points) not_target += p.label != engine::Role::Target;
-    for (const auto& p : all.points) not_white += p.rgb != engine::kWhite;
+    for (const auto& p : target.points) not_target += p.label != core::Role::Target;
+    for (const auto& p : all.points) not_white += p.rgb != core::kWhite;
     CHECK(not_target == 0);
     CHECK(not_white == 0);
     CHECK_FALSE(all_st.ground_precision.has_value());
@@ -259,11 +260,11 @@ TEST_CASE("--roles keeps only those meshes and the same orbit, and --white makes
 }
 
 TEST_CASE("viewRays gives the rays the generator traces") {
-    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o = smallOptions();
     o.white = true;
     sim::Generator generator(scene, o);
-    const engine::PointCloud cloud = generator.run();
+    const core::PointCloud cloud = generator.run();
     std::vector<sim::Ray> rays;
     std::vector<sim::Hit> hits;
     std::size_t k = 0, mismatched = 0;
@@ -282,12 +283,12 @@ TEST_CASE("viewRays gives the rays the generator traces") {
 }
 
 TEST_CASE("16-ray packets and single rays give the same cloud") {
-    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o = smallOptions();
     o.orbit.xres = 67;  // rows that do not split into whole packets
-    const engine::PointCloud packets = sim::generateCloud(scene, o);
+    const core::PointCloud packets = sim::generateCloud(scene, o);
     o.packet_rays = false;
-    const engine::PointCloud single = sim::generateCloud(scene, o);
+    const core::PointCloud single = sim::generateCloud(scene, o);
     REQUIRE(packets.points.size() == single.points.size());
     std::size_t different = 0;
     for (std::size_t i = 0; i < single.points.size(); ++i) different += !samePoint(packets.points[i], single.points[i]);
@@ -301,9 +302,9 @@ TEST_CASE("demo scene, paper configuration: ground precision and recall above th
     // tank, and horizontal surfaces above 5 % of the band inside the 3 m band: precision
     // floor 0.98. Measured 0.9962 / 0.9945 when written; a roof or the tank turned white,
     // or a lost ground plane in a few views, would break the floors.
-    const engine::Scene scene = engine::loadScene(engine::demoScenePath());
+    const core::Scene scene = io::loadScene(io::demoScenePath());
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{}, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{}, &st);
     CHECK(st.points == 1638400);  // the demo ground covers the footprint
     CHECK(st.misses == 0);
     REQUIRE(st.ground_precision.has_value());
@@ -314,9 +315,9 @@ TEST_CASE("demo scene, paper configuration: ground precision and recall above th
     // The target is there and shown in the red half of the map, not whitened away.
     std::size_t target = 0, target_white = 0, target_not_red = 0;
     for (const auto& p : cloud.points) {
-        if (p.label != engine::Role::Target) continue;
+        if (p.label != core::Role::Target) continue;
         ++target;
-        if (p.rgb == engine::kWhite) { ++target_white; continue; }
+        if (p.rgb == core::kWhite) { ++target_white; continue; }
         target_not_red += !((p.rgb >> 16 & 255) >= 128 && (p.rgb & 255) == 0);
     }
     CHECK(target > 100);
@@ -326,19 +327,19 @@ TEST_CASE("demo scene, paper configuration: ground precision and recall above th
 
 TEST_CASE("pixels that cannot meet the geometry's bounds are not traced, and the cloud is the same") {
     // A 20 m ground patch with the target on it: most of the ~68 m footprint holds nothing.
-    engine::Scene scene;
+    core::Scene scene;
     scene.source = "patch (in code)";
     scene.origin = glm::dvec3(500000.0, 4000000.0, 120.0);
     scene.meshes.push_back(test_support::gridMesh(0.0, 0.0, 0.0, 40, 0.5));
-    scene.meshes.push_back(test_support::boxMesh({-3.5f, -1.75f, 0.0f}, {3.5f, 1.75f, 2.4f}, engine::Role::Target, "tank"));
+    scene.meshes.push_back(test_support::boxMesh({-3.5f, -1.75f, 0.0f}, {3.5f, 1.75f, 2.4f}, core::Role::Target, "tank"));
     for (const bool packets : {true, false}) {
         CAPTURE(packets);
         sim::GenerateOptions o = smallOptions();
         o.packet_rays = packets;
         sim::GenerateStats skip_st, all_st;
-        const engine::PointCloud skipped = sim::generateCloud(scene, o, &skip_st);
+        const core::PointCloud skipped = sim::generateCloud(scene, o, &skip_st);
         o.skip_rays = false;
-        const engine::PointCloud all = sim::generateCloud(scene, o, &all_st);
+        const core::PointCloud all = sim::generateCloud(scene, o, &all_st);
         CHECK(all_st.rays_traced == all_st.rays);
         CHECK(skip_st.rays == all_st.rays);
         // Known answer: the patch spans 20 m of a ~68 m x ~9 m footprint seen from ~440 m.
@@ -355,17 +356,17 @@ TEST_CASE("pixels that cannot meet the geometry's bounds are not traced, and the
     }
     // Only the target: a few pixels per view, still the same points.
     sim::GenerateOptions o = smallOptions();
-    o.roles = engine::RoleMask::parse("target", "test");
+    o.roles = core::RoleMask::parse("target", "test");
     sim::GenerateStats skip_st, all_st;
-    const engine::PointCloud skipped = sim::generateCloud(scene, o, &skip_st);
+    const core::PointCloud skipped = sim::generateCloud(scene, o, &skip_st);
     o.skip_rays = false;
-    const engine::PointCloud all = sim::generateCloud(scene, o, &all_st);
+    const core::PointCloud all = sim::generateCloud(scene, o, &all_st);
     CHECK(skip_st.rays_traced < skip_st.rays / 10);
     REQUIRE(skipped.points.size() == all.points.size());
     CHECK(skipped.points.size() > 0);
     for (std::size_t i = 0; i < all.points.size(); ++i) CHECK(samePoint(skipped.points[i], all.points[i]));
     // Ground larger than the orbit (the box reaches behind the sensor): everything is traced.
-    engine::Scene wide;
+    core::Scene wide;
     wide.source = "wide (in code)";
     wide.meshes.push_back(test_support::gridMesh(0.0, 0.0, 0.0, 20, 100.0));
     sim::GenerateStats wide_st;
@@ -376,13 +377,13 @@ TEST_CASE("pixels that cannot meet the geometry's bounds are not traced, and the
 
 TEST_CASE("views that see nothing trace no ray and run no RANSAC") {
     // C 400 m away from a 20 m patch: no view's image can meet it.
-    engine::Scene scene;
+    core::Scene scene;
     scene.source = "patch (in code)";
     scene.meshes.push_back(test_support::gridMesh(0.0, 0.0, 0.0, 40, 0.5));
     sim::GenerateOptions o = smallOptions();
     o.centre = glm::dvec3(400.0, 0.0, 0.0);
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, o, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, o, &st);
     CHECK(cloud.points.empty());
     CHECK(st.rays == 64u * 48u * 12u);
     CHECK(st.rays_traced == 0);

@@ -6,7 +6,7 @@
 #include <sim/generator.hpp>
 #include <sim/ground.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -68,23 +68,23 @@ TEST_CASE("CSF recovers a terrace with a 2 m step and not the buildings on eithe
 TEST_CASE("CSF options are checked, naming the option and what is allowed") {
     sim::CsfOptions o;
     o.cloth_m = 0;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-cloth-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-cloth-m"), core::Error);
     o = {};
     o.rigidness = 4;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-rigidness"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-rigidness"), core::Error);
     o = {};
     o.threshold_m = -1;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-threshold-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-threshold-m"), core::Error);
     o = {};
     o.time_step = 0;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-time-step"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-time-step"), core::Error);
     o = {};
     o.iterations = 0;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-iterations"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--csf-iterations"), core::Error);
 }
 
 TEST_CASE("CSF in the generator: rolling terrain whitened, bit-identical with 1 and 3 threads") {
-    const engine::Scene scene = test_support::hillyTownScene();
+    const core::Scene scene = test_support::hillyTownScene();
     sim::GenerateOptions o;
     o.orbit.xres = 96;
     o.orbit.yres = 64;
@@ -92,13 +92,13 @@ TEST_CASE("CSF in the generator: rolling terrain whitened, bit-identical with 1 
     o.ground.method = sim::GroundMethod::Csf;
     o.threads = 1;
     sim::GenerateStats st1, st3;
-    const engine::PointCloud one = sim::generateCloud(scene, o, &st1);
+    const core::PointCloud one = sim::generateCloud(scene, o, &st1);
     o.threads = 3;
-    const engine::PointCloud three = sim::generateCloud(scene, o, &st3);
+    const core::PointCloud three = sim::generateCloud(scene, o, &st3);
     REQUIRE(one.points.size() == three.points.size());
     std::size_t different = 0;
     for (std::size_t i = 0; i < one.points.size(); ++i)
-        different += std::memcmp(&one.points[i], &three.points[i], sizeof(engine::CloudPoint)) != 0;
+        different += std::memcmp(&one.points[i], &three.points[i], sizeof(core::CloudPoint)) != 0;
     CHECK(different == 0);
     CHECK(one.fields.height_above_ground);
     REQUIRE(st1.ground_precision);

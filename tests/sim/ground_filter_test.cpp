@@ -7,7 +7,8 @@
 #include <sim/dtm.hpp>
 #include <sim/generator.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
 
 #include <doctest/doctest.h>
 
@@ -32,11 +33,11 @@ sim::GenerateOptions smallOptions(sim::GroundMethod method) {
     return o;
 }
 
-std::size_t differentPoints(const engine::PointCloud& a, const engine::PointCloud& b) {
+std::size_t differentPoints(const core::PointCloud& a, const core::PointCloud& b) {
     REQUIRE(a.points.size() == b.points.size());
     std::size_t n = 0;
     for (std::size_t i = 0; i < a.points.size(); ++i)
-        n += std::memcmp(&a.points[i], &b.points[i], sizeof(engine::CloudPoint)) != 0;
+        n += std::memcmp(&a.points[i], &b.points[i], sizeof(core::CloudPoint)) != 0;
     return n;
 }
 
@@ -79,18 +80,18 @@ TEST_CASE("the ground filter factories: RANSAC per view (the default), SMRF and 
     CHECK(std::string(sim::groundMethodName(sim::GroundMethod::Ransac)) == "ransac");
     CHECK(sim::parseGroundMethod("csf", "x") == sim::GroundMethod::Csf);
     CHECK_THROWS_WITH_AS(sim::parseGroundMethod("pmf", "generate: --ground"),
-                         "generate: --ground 'pmf': allowed ransac, smrf, csf", engine::Error);
+                         "generate: --ground 'pmf': allowed ransac, smrf, csf", core::Error);
 }
 
 TEST_CASE("checking RANSAC against SMRF's terrain changes no point of RANSAC's cloud") {
-    const engine::Scene scene = test_support::hillyTownScene();
+    const core::Scene scene = test_support::hillyTownScene();
     sim::GenerateOptions o = smallOptions(sim::GroundMethod::Ransac);
     sim::GenerateStats checked, unchecked;
     o.fit_terrain = true;  // as --dtm asks
-    const engine::PointCloud a = sim::generateCloud(scene, o, &checked);
+    const core::PointCloud a = sim::generateCloud(scene, o, &checked);
     o.fit_terrain = false;
     o.ground_check = false;
-    const engine::PointCloud b = sim::generateCloud(scene, o, &unchecked);
+    const core::PointCloud b = sim::generateCloud(scene, o, &unchecked);
     CHECK(differentPoints(a, b) == 0);
     CHECK_FALSE(a.fields.height_above_ground);
     CHECK(checked.ground_found == unchecked.ground_found);
@@ -102,7 +103,7 @@ TEST_CASE("checking RANSAC against SMRF's terrain changes no point of RANSAC's c
 }
 
 TEST_CASE("RANSAC's terrain check runs only where no ground labels measure RANSAC") {
-    engine::Scene scene = test_support::hillyTownScene();
+    core::Scene scene = test_support::hillyTownScene();
     const sim::GenerateOptions o = smallOptions(sim::GroundMethod::Ransac);
     sim::GenerateStats labelled, unlabelled;
     sim::generateCloud(scene, o, &labelled);
@@ -111,9 +112,9 @@ TEST_CASE("RANSAC's terrain check runs only where no ground labels measure RANSA
     REQUIRE(labelled.ground_recall);
     CHECK(*labelled.ground_recall < 0.8);  // the labels alone show RANSAC missing the slopes
     std::size_t relabelled = 0;
-    for (engine::Mesh& m : scene.meshes)
-        if (m.role == engine::Role::Ground) {
-            m.role = engine::Role::Environment;
+    for (core::Mesh& m : scene.meshes)
+        if (m.role == core::Role::Ground) {
+            m.role = core::Role::Environment;
             ++relabelled;
         }
     REQUIRE(relabelled > 0);
@@ -125,13 +126,13 @@ TEST_CASE("RANSAC's terrain check runs only where no ground labels measure RANSA
 }
 
 TEST_CASE("SMRF in the generator: follows rolling terrain, bit-identical with 1 and 3 threads") {
-    const engine::Scene scene = test_support::hillyTownScene();
+    const core::Scene scene = test_support::hillyTownScene();
     sim::GenerateOptions o = smallOptions(sim::GroundMethod::Smrf);
     o.threads = 1;
     sim::GenerateStats st1, st3;
-    const engine::PointCloud one = sim::generateCloud(scene, o, &st1);
+    const core::PointCloud one = sim::generateCloud(scene, o, &st1);
     o.threads = 3;
-    const engine::PointCloud three = sim::generateCloud(scene, o, &st3);
+    const core::PointCloud three = sim::generateCloud(scene, o, &st3);
     CHECK(differentPoints(one, three) == 0);
     CHECK(st1.ground_found == st3.ground_found);
     CHECK(one.fields.height_above_ground);
@@ -144,9 +145,9 @@ TEST_CASE("SMRF in the generator: follows rolling terrain, bit-identical with 1 
     CHECK(st1.views_without_ransac == 0);
     // Height above ground: ~0 on whitened ground, the roofs well above it.
     std::size_t roofs = 0;
-    for (const engine::CloudPoint& p : one.points) {
-        if (p.rgb == engine::kWhite) CHECK(std::abs(p.height_above_ground_m) <= 1.5f);
-        if (p.label == engine::Role::Environment && p.position.z > hillyHeight(p.position.x, p.position.y) + 5.0f) {
+    for (const core::CloudPoint& p : one.points) {
+        if (p.rgb == core::kWhite) CHECK(std::abs(p.height_above_ground_m) <= 1.5f);
+        if (p.label == core::Role::Environment && p.position.z > hillyHeight(p.position.x, p.position.y) + 5.0f) {
             ++roofs;
             CHECK(p.height_above_ground_m > 3.0f);
         }
@@ -155,16 +156,16 @@ TEST_CASE("SMRF in the generator: follows rolling terrain, bit-identical with 1 
 }
 
 TEST_CASE("SMRF streamed through a spool file writes the same bytes as in memory") {
-    const engine::Scene scene = test_support::hillyTownScene();
+    const core::Scene scene = test_support::hillyTownScene();
     const test_support::TempDir scratch("sim_ground_filter");
     sim::GenerateOptions o = smallOptions(sim::GroundMethod::Smrf);
     o.threads = 2;
     o.orbit.views = 40;  // 245,760 hits: 9.4 MiB fused, over the budget below
     sim::GenerateStats in_memory, streamed;
     o.memory_budget_bytes = std::size_t(1) << 30;
-    sim::generateToFile(scene, o, scratch.path / "memory.pcd", engine::CloudFormat::PcdBinary, &in_memory);
+    sim::generateToFile(scene, o, scratch.path / "memory.pcd", io::CloudFormat::PcdBinary, &in_memory);
     o.memory_budget_bytes = std::size_t(10) << 20;
-    sim::generateToFile(scene, o, scratch.path / "spool.pcd", engine::CloudFormat::PcdBinary, &streamed);
+    sim::generateToFile(scene, o, scratch.path / "spool.pcd", io::CloudFormat::PcdBinary, &streamed);
     CHECK_FALSE(in_memory.streamed);
     CHECK(streamed.streamed);
     CHECK(streamed.ground_found == in_memory.ground_found);
@@ -175,7 +176,7 @@ TEST_CASE("SMRF streamed through a spool file writes the same bytes as in memory
 }
 
 TEST_CASE("the DTM file holds the known terrain's heights, in world coordinates") {
-    const engine::Scene scene = test_support::hillyTownScene();
+    const core::Scene scene = test_support::hillyTownScene();
     sim::GenerateOptions o = smallOptions(sim::GroundMethod::Smrf);
     sim::GenerateStats st;
     sim::generateCloud(scene, o, &st);
@@ -220,13 +221,13 @@ TEST_CASE("the DTM file holds the known terrain's heights, in world coordinates"
     CHECK(far == 0);
     MESSAGE("DTM worst error " << worst << " m over " << compared << " cells");
     // An empty terrain is refused, and nothing is written.
-    CHECK_THROWS_AS(sim::writeDtm(scratch.path / "empty.asc", sim::TerrainGrid{}, scene.origin), engine::Error);
+    CHECK_THROWS_AS(sim::writeDtm(scratch.path / "empty.asc", sim::TerrainGrid{}, scene.origin), core::Error);
     CHECK_FALSE(fs::exists(scratch.path / "empty.asc"));
 }
 
 TEST_CASE("generate names --ground smrf when RANSAC leaves the bundled hilly scene's ground coloured") {
     const test_support::TempDir scratch("sim_ground_cli");
-    const fs::path hilly = engine::demoScenePath().parent_path().parent_path() / "hilly" / "scene.json";
+    const fs::path hilly = io::demoScenePath().parent_path().parent_path() / "hilly" / "scene.json";
     REQUIRE(fs::exists(hilly));
     const auto generate = [&](const std::string& method, const std::string& name) {
         const fs::path err = scratch.path / (name + ".err");

@@ -1,7 +1,7 @@
 // tests/sim/ground_ransac_test.cpp: paper §III-C's iterative RANSAC on synthetic points.
 #include <sim/ground.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -186,19 +186,19 @@ TEST_CASE("the stop fraction and the plane cap end the loop") {
 TEST_CASE("ground options are validated with the parameter named") {
     sim::RansacOptions o;
     o.band_m = 0;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("band_m"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("band_m"), core::Error);
     o = {};
     o.min_normal_z = 1.5;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("min_normal_z"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("min_normal_z"), core::Error);
     o = {};
     o.stop_fraction = -0.1;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("stop_fraction"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("stop_fraction"), core::Error);
     o = {};
     o.ransac_iterations = 0;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("ransac_iterations"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("ransac_iterations"), core::Error);
     o = {};
     o.distance_threshold_m = std::nan("");
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("distance_threshold_m"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("distance_threshold_m"), core::Error);
     CHECK_NOTHROW(sim::validate(sim::RansacOptions{}));
 }
 

@@ -5,7 +5,7 @@
 
 #include <sim/ground.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -92,7 +92,7 @@ TEST_CASE("SMRF's result depends on the set of points, not their order or batchi
         sample([](double x, double y) { return 0.1 * x + 3.0 * std::sin(y / 15.0); }, 30.0, {{5, 5, 5, 6}});
     const auto a = sim::findGroundSmrf(l.points, sim::SmrfOptions{});
     // The same points reversed, through a whole-cloud run fed in uneven batches.
-    std::vector<engine::CloudPoint> cloud(l.points.size());
+    std::vector<core::CloudPoint> cloud(l.points.size());
     for (std::size_t i = 0; i < cloud.size(); ++i) cloud[i].position = l.points[cloud.size() - 1 - i];
     const auto fit = sim::startSmrf(sim::SmrfOptions{});
     for (std::size_t i = 0; i < cloud.size(); i += 777)
@@ -109,24 +109,24 @@ TEST_CASE("SMRF's result depends on the set of points, not their order or batchi
 TEST_CASE("SMRF options are checked, naming the option and what is allowed") {
     sim::SmrfOptions o;
     o.cell_m = 0.0;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-cell-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-cell-m"), core::Error);
     o = {};
     o.slope = -1;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-slope"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-slope"), core::Error);
     o = {};
     o.window_m = std::nan("");
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-window-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-window-m"), core::Error);
     o = {};
     o.threshold_m = -0.1;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-threshold-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-threshold-m"), core::Error);
     o = {};
     o.scalar = INFINITY;
-    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-scalar"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-scalar"), core::Error);
     // A cloud wider than the raster may hold is refused, naming the cell size.
     o = {};
     o.max_cells = 100;
     std::vector<glm::vec3> wide{{0, 0, 0}, {50, 50, 0}};
-    CHECK_THROWS_WITH_AS(sim::findGroundSmrf(wide, o), doctest::Contains("--smrf-cell-m"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::findGroundSmrf(wide, o), doctest::Contains("--smrf-cell-m"), core::Error);
 }
 
 TEST_CASE("an empty cloud fits an empty terrain and no point is ground") {

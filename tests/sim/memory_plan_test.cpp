@@ -8,8 +8,8 @@
 
 #include <sim/generator.hpp>
 
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
 
 #include <doctest/doctest.h>
 
@@ -46,9 +46,9 @@ sim::MemoryNeeds needs(std::uint64_t xres, std::uint64_t yres, std::uint64_t vie
     return n;
 }
 
-bool identical(const engine::PointCloud& a, const engine::PointCloud& b) {
+bool identical(const core::PointCloud& a, const core::PointCloud& b) {
     return a.origin == b.origin && a.points.size() == b.points.size() &&
-           std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(engine::CloudPoint)) == 0;
+           std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(core::CloudPoint)) == 0;
 }
 
 // Runs `args` as a child process; returns its exit status and, through `rss_kib`, its
@@ -116,10 +116,10 @@ TEST_CASE("memory plan: a run that cannot fit is refused in one line naming --me
     // 65536 x 65536 with RANSAC: one view's hits alone are hundreds of GiB.
     const auto huge = needs(65536, 65536, 1, false, 2, 512 * kMiB);
     CHECK_THROWS_WITH_AS(sim::planMemory(huge), doctest::Contains("generate: --memory-mb 512 is too small"),
-                         engine::Error);
+                         core::Error);
     try {
         sim::planMemory(huge);
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         const std::string m = e.what();
         CHECK(m.find('\n') == std::string::npos);
         CHECK(m.find("needs at least 4259") != std::string::npos);  // ~416 GiB
@@ -132,11 +132,11 @@ TEST_CASE("memory plan: a run that cannot fit is refused in one line naming --me
     CHECK(white.fuse_bytes <= 512 * kMiB);
     // Even white, 1 MiB cannot hold the writer's buffer.
     CHECK_THROWS_WITH_AS(sim::planMemory(needs(64, 64, 1, true, 1, kMiB)), doctest::Contains("--memory-mb 1 is too small"),
-                         engine::Error);
+                         core::Error);
 }
 
 TEST_CASE("generator: tiled views give the same cloud bit for bit, white and whitened") {
-    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
     for (const bool white : {true, false}) {
         sim::GenerateOptions o;
         o.orbit.xres = 256;
@@ -145,9 +145,9 @@ TEST_CASE("generator: tiled views give the same cloud bit for bit, white and whi
         o.threads = 2;
         o.white = white;
         sim::GenerateStats roomy, tight;
-        const engine::PointCloud a = sim::generateCloud(scene, o, &roomy);
+        const core::PointCloud a = sim::generateCloud(scene, o, &roomy);
         o.memory_budget_bytes = (white ? 10 : 14) * kMiB;
-        const engine::PointCloud b = sim::generateCloud(scene, o, &tight);
+        const core::PointCloud b = sim::generateCloud(scene, o, &tight);
         CAPTURE(white);
         CHECK(roomy.band_rows == 192);
         CHECK(tight.band_rows < 192);
@@ -163,7 +163,7 @@ TEST_CASE("generator: tiled views give the same cloud bit for bit, white and whi
 }
 
 TEST_CASE("generator: a tiled, spooled file is byte-identical to the roomy in-memory one") {
-    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
     test_support::TempDir dir("memory_plan");
     sim::GenerateOptions o;
     o.orbit.xres = 256;
@@ -171,9 +171,9 @@ TEST_CASE("generator: a tiled, spooled file is byte-identical to the roomy in-me
     o.orbit.views = 3;
     o.threads = 2;
     sim::GenerateStats roomy, tight;
-    sim::generateToFile(scene, o, dir.path / "roomy.pcd", engine::CloudFormat::PcdBinary, &roomy);
+    sim::generateToFile(scene, o, dir.path / "roomy.pcd", io::CloudFormat::PcdBinary, &roomy);
     o.memory_budget_bytes = 14 * kMiB;
-    sim::generateToFile(scene, o, dir.path / "tight.pcd", engine::CloudFormat::PcdBinary, &tight);
+    sim::generateToFile(scene, o, dir.path / "tight.pcd", io::CloudFormat::PcdBinary, &tight);
     CHECK_FALSE(roomy.streamed);
     CHECK(tight.streamed);
     CHECK(tight.band_rows < 192);
@@ -182,14 +182,14 @@ TEST_CASE("generator: a tiled, spooled file is byte-identical to the roomy in-me
 }
 
 TEST_CASE("generator: a budget too small is refused before any work, naming --memory-mb") {
-    const engine::Scene scene = test_support::townScene(40.0, 2.0);
+    const core::Scene scene = test_support::townScene(40.0, 2.0);
     test_support::TempDir dir("memory_refuse");
     sim::GenerateOptions o;
     o.orbit.xres = o.orbit.yres = 512;
     o.skip_rays = false;  // every pixel may hit: one view's RANSAC needs ~23 MB
     o.memory_budget_bytes = 20 * kMiB;
-    CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, dir.path / "x.pcd", engine::CloudFormat::PcdBinary),
-                         doctest::Contains("--memory-mb 20 is too small"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, dir.path / "x.pcd", io::CloudFormat::PcdBinary),
+                         doctest::Contains("--memory-mb 20 is too small"), core::Error);
     CHECK(dir.entries() == 0);
 }
 
@@ -198,9 +198,9 @@ TEST_CASE("free space: a spool larger than the disk's free space stops with one 
     CHECK_NOTHROW(sim::checkFreeSpace(dir.path, 1, "the spool file"));
     CHECK_THROWS_WITH_AS(sim::checkFreeSpace(dir.path, std::uint64_t(1) << 62, "the spool file"),
                          doctest::Contains("MiB free, but the spool file may need 4398046511104 MiB"),
-                         engine::Error);
+                         core::Error);
     CHECK_THROWS_WITH_AS(sim::checkFreeSpace(dir.path / "missing", 1, "the spool file"),
-                         doctest::Contains("cannot read the free space"), engine::Error);
+                         doctest::Contains("cannot read the free space"), core::Error);
 }
 
 TEST_CASE("a spooled run on a nearly full disk stops before spooling, with one line and no file left") {
@@ -213,16 +213,16 @@ TEST_CASE("a spooled run on a nearly full disk stops before spooling, with one l
         MESSAGE("skipped: cannot mount a tmpfs here (" << std::strerror(errno) << ")");
         return;
     }
-    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o;
     o.orbit.xres = 256;
     o.orbit.yres = 192;
     o.orbit.views = 3;
     o.threads = 2;
     o.memory_budget_bytes = 14 * kMiB;  // spools ~6 MB, more than the 1 MiB free
-    CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, dir.path / "c.pcd", engine::CloudFormat::PcdBinary),
+    CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, dir.path / "c.pcd", io::CloudFormat::PcdBinary),
                          doctest::Contains("MiB free, but the spool file of the fused cloud may need 6 MiB"),
-                         engine::Error);
+                         core::Error);
     CHECK(dir.entries() == 0);
     CHECK(::umount(dir.path.c_str()) == 0);
 }

@@ -1,7 +1,7 @@
 // tests/sim/orbit_test.cpp: paper §III-A geometry with the paper's numbers.
 #include <sim/orbit.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -16,7 +16,7 @@ double round2(double v) { return std::round(v * 100.0) / 100.0; }
 std::string errorOf(const sim::OrbitOptions& o) {
     try {
         sim::validate(o);
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         return e.what();
     }
     return "";
@@ -42,7 +42,7 @@ TEST_CASE("sensor pose: the top image edge reaches O = C + CO past C, the axis h
     sim::OrbitOptions o;
     const glm::dvec3 centre(12.0, -7.0, 0.0);
     for (int view : {0, 13, 50, 99}) {
-        const engine::Pose T_world_sensor = sim::sensorPose(o, centre, view);
+        const core::Pose T_world_sensor = sim::sensorPose(o, centre, view);
         const double theta = 2.0 * std::numbers::pi * view / o.views;
         const glm::dvec3 outward(std::cos(theta), std::sin(theta), 0.0);
         CHECK(T_world_sensor.translation.z == doctest::Approx(300.0));
@@ -97,7 +97,7 @@ TEST_CASE("impossible parameters: the error names the parameter and the allowed 
         CHECK(message.rfind("orbit: ", 0) == 0);
         CHECK(message.find(parameter) != std::string::npos);
         CHECK(message.find(allowed) != std::string::npos);
-        CHECK_THROWS_AS(sim::droneRadius(o), engine::Error);
+        CHECK_THROWS_AS(sim::droneRadius(o), core::Error);
     };
     bad([](auto& o) { o.inclination_deg = 87.0; }, "inclination_deg + fov_deg/2", "89.99");
     bad([](auto& o) { o.inclination_deg = 90.0; }, "inclination_deg", "[0, 90)");
@@ -129,7 +129,7 @@ TEST_CASE("validatePlacement: every drone position within 1e7 m of the local ori
         CHECK_THROWS_WITH_AS(sim::validatePlacement(o, c),
                              doctest::Contains("m from the scene's origin around C (--centre, --altitude-m, --overlap-m): "
                                                "allowed <= 10000000 m"),
-                             engine::Error);
+                             core::Error);
     }
 }
 

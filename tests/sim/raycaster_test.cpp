@@ -3,16 +3,16 @@
 
 #include <sim/raycaster.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
 #include <vector>
 
 TEST_CASE("first hit: distance, mesh index, role, and misses report mesh -1") {
-    engine::Scene s;
+    core::Scene s;
     s.meshes.push_back(test_support::gridMesh(0, 0, 0, 4, 10.0));
-    s.meshes.push_back(test_support::boxMesh({-1, -1, 0}, {1, 1, 3}, engine::Role::Target, "box"));
+    s.meshes.push_back(test_support::boxMesh({-1, -1, 0}, {1, 1, 3}, core::Role::Target, "box"));
     const sim::RayCaster caster(s);
     CHECK(caster.triangleCount() == 32 + 12);
     std::vector<sim::Ray> rays(3);
@@ -23,24 +23,24 @@ TEST_CASE("first hit: distance, mesh index, role, and misses report mesh -1") {
     std::vector<sim::Hit> hits(3);
     caster.intersect(rays, hits);
     CHECK(hits[0].mesh == 1);
-    CHECK(hits[0].role == engine::Role::Target);
+    CHECK(hits[0].role == core::Role::Target);
     CHECK(hits[0].t == doctest::Approx(7.0));
     CHECK(hits[1].mesh == 0);
-    CHECK(hits[1].role == engine::Role::Ground);
+    CHECK(hits[1].role == core::Role::Ground);
     CHECK(hits[1].t == doctest::Approx(10.0));
     CHECK_FALSE(hits[2].hit());
 
     // Without the box's role, the same ray goes through to the ground.
-    const sim::RayCaster ground_only(s, engine::RoleMask::of({engine::Role::Ground}));
+    const sim::RayCaster ground_only(s, core::RoleMask::of({core::Role::Ground}));
     ground_only.intersect(std::span(rays).first(1), std::span(hits).first(1));
     CHECK(hits[0].mesh == 0);
     CHECK(hits[0].t == doctest::Approx(10.0));
-    const engine::Bounds b = ground_only.bounds();
+    const core::Bounds b = ground_only.bounds();
     CHECK(b.hi.z == doctest::Approx(0.0));
 }
 
 TEST_CASE("no ray leaks through the shared edges and vertices of a finely tessellated ground") {
-    engine::Scene s;
+    core::Scene s;
     const int cells = 64;
     const double cell_m = 0.5;
     s.meshes.push_back(test_support::gridMesh(0, 0, 0, cells, cell_m));
@@ -74,19 +74,19 @@ TEST_CASE("no ray leaks through the shared edges and vertices of a finely tessel
     CHECK(misses == 0);
 }
 
-TEST_CASE("embree errors become engine::Error naming the mesh") {
-    engine::Scene s;
-    engine::Mesh m = test_support::gridMesh(0, 0, 0, 1, 1.0);
+TEST_CASE("embree errors become core::Error naming the mesh") {
+    core::Scene s;
+    core::Mesh m = test_support::gridMesh(0, 0, 0, 1, 1.0);
     m.name = "broken.obj";
     m.triangles.push_back({0, 1, 99});
     s.meshes.push_back(m);
-    CHECK_THROWS_WITH_AS(sim::RayCaster{s}, doctest::Contains("broken.obj"), engine::Error);
+    CHECK_THROWS_WITH_AS(sim::RayCaster{s}, doctest::Contains("broken.obj"), core::Error);
 }
 
 TEST_CASE("intersect16 gives the hits of intersect, with a partial last packet") {
-    engine::Scene s;
+    core::Scene s;
     s.meshes.push_back(test_support::gridMesh(0, 0, 0, 8, 2.0));
-    s.meshes.push_back(test_support::boxMesh({-1, -1, 0}, {1, 1, 3}, engine::Role::Target, "box"));
+    s.meshes.push_back(test_support::boxMesh({-1, -1, 0}, {1, 1, 3}, core::Role::Target, "box"));
     const sim::RayCaster caster(s);
     std::vector<sim::Ray> rays;
     for (int k = 0; k < 37; ++k) {  // two full packets and 5 rays; some on the box, some miss

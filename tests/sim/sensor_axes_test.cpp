@@ -25,7 +25,7 @@ namespace {
 // Two views of the town (houses' edges give mixed pixels, the ground planar beams) traced
 // by a footprint sensor, pixel by pixel through Sensor::trace.
 struct Town {
-    engine::Scene scene = test_support::townScene(120.0, 1.0);
+    core::Scene scene = test_support::townScene(120.0, 1.0);
     sim::OrbitOptions orbit;
     sim::SensorOptions options;
     std::vector<glm::dvec3> dirs;  // per pixel, row-major
@@ -50,13 +50,13 @@ struct Call {
 
 // Per sensor of `options`, the slots of both views (view-major); thread t makes the calls
 // calls[t] (thread 0 is the caller, the others new threads).
-std::vector<std::vector<engine::CloudPoint>> traceCalls(const Town& town, const std::vector<sim::SensorOptions>& options,
+std::vector<std::vector<core::CloudPoint>> traceCalls(const Town& town, const std::vector<sim::SensorOptions>& options,
                                                         const std::vector<std::vector<Call>>& calls) {
     const sim::RayCaster caster(town.scene);
     const glm::dvec3 centre = sim::defaultCentre(town.scene) - town.scene.origin;
-    const engine::Pose poses[2] = {sim::sensorPose(town.orbit, centre, 0), sim::sensorPose(town.orbit, centre, 3)};
+    const core::Pose poses[2] = {sim::sensorPose(town.orbit, centre, 0), sim::sensorPose(town.orbit, centre, 3)};
     std::vector<std::unique_ptr<sim::Sensor>> sensors;
-    std::vector<std::vector<engine::CloudPoint>> out;
+    std::vector<std::vector<core::CloudPoint>> out;
     for (const sim::SensorOptions& o : options) {
         sensors.push_back(std::make_unique<sim::Sensor>(o, town.orbit, town.scene, 7));
         out.emplace_back(2 * town.pixels() * sensors.back()->slotsPerPixel());
@@ -80,11 +80,11 @@ std::vector<std::vector<engine::CloudPoint>> traceCalls(const Town& town, const 
 }
 
 // Slots of `a` and `b` that differ (in any field, for slots with a return).
-std::size_t differing(const std::vector<engine::CloudPoint>& a, const std::vector<engine::CloudPoint>& b) {
+std::size_t differing(const std::vector<core::CloudPoint>& a, const std::vector<core::CloudPoint>& b) {
     REQUIRE(a.size() == b.size());
     std::size_t n = 0;
     for (std::size_t i = 0; i < a.size(); ++i) {
-        const engine::CloudPoint &p = a[i], &q = b[i];
+        const core::CloudPoint &p = a[i], &q = b[i];
         if (p.range_m == sim::kNoReturn || q.range_m == sim::kNoReturn) {
             n += p.range_m != q.range_m;
             continue;
@@ -170,7 +170,7 @@ TEST_CASE("sensor: a wire between the pixel axes is missed by the default footpr
     constexpr double kWireZ_m = 5.0, kWireWidth_m = 0.05;
 
     // Where the axes of rows 31 and 32 cross the wire's height: the wire lies midway.
-    const engine::Pose pose = sim::sensorPose(o.orbit, glm::dvec3(0.0), 0);
+    const core::Pose pose = sim::sensorPose(o.orbit, glm::dvec3(0.0), 0);
     const auto crossing = [&](int row) {
         const glm::dvec3 d = pose.rotation * sim::pixelDirection(o.orbit, 32.0, double(row));
         return pose.translation + (kWireZ_m - pose.translation.z) / d.z * d;
@@ -180,19 +180,19 @@ TEST_CASE("sensor: a wire between the pixel axes is missed by the default footpr
     REQUIRE(b.x - a.x > 3.0 * kWireWidth_m);
     const float mid = float(0.5 * (a.x + b.x)), half = float(0.5 * kWireWidth_m);
 
-    engine::Scene scene;
+    core::Scene scene;
     scene.source = "wire (in code)";
-    scene.meshes.push_back(test_support::quadMesh(1000.0f, 0.0f, engine::Role::Ground, "ground"));
+    scene.meshes.push_back(test_support::quadMesh(1000.0f, 0.0f, core::Role::Ground, "ground"));
     scene.meshes.push_back(test_support::boxMesh({mid - half, -50.0f, float(kWireZ_m) - half},
                                                  {mid + half, 50.0f, float(kWireZ_m) + half},
-                                                 engine::Role::Environment, "wire"));
-    const auto on_wire = [&](const engine::PointCloud& c) {
+                                                 core::Role::Environment, "wire"));
+    const auto on_wire = [&](const core::PointCloud& c) {
         return std::count_if(c.points.begin(), c.points.end(),
-                             [](const engine::CloudPoint& p) { return p.position.z > 4.0f; });
+                             [](const core::CloudPoint& p) { return p.position.z > 4.0f; });
     };
-    const engine::PointCloud adaptive = sim::generateCloud(scene, o);
+    const core::PointCloud adaptive = sim::generateCloud(scene, o);
     o.sensor.footprint_exact = true;
-    const engine::PointCloud exact = sim::generateCloud(scene, o);
+    const core::PointCloud exact = sim::generateCloud(scene, o);
     // The default: only the beams at both ends of the two rows (their neighbourhood leaves
     // the image, so they are always sub-sampled); exact: every beam of both rows.
     CHECK(on_wire(adaptive) == 4);

@@ -21,12 +21,12 @@ constexpr float kStep_m = 5.0f;
 
 // Ground at z = 0 and, over y > 0, a platform whose top is kStep_m higher: one straight
 // step edge along the x axis.
-engine::Scene stepScene() {
-    engine::Scene s;
+core::Scene stepScene() {
+    core::Scene s;
     s.source = "step (in code)";
-    s.meshes.push_back(test_support::quadMesh(1000.0f, 0.0f, engine::Role::Ground, "ground"));
+    s.meshes.push_back(test_support::quadMesh(1000.0f, 0.0f, core::Role::Ground, "ground"));
     s.meshes.push_back(test_support::boxMesh({-1000.0f, 0.0f, -1.0f}, {1000.0f, 1000.0f, kStep_m},
-                                             engine::Role::Environment, "platform"));
+                                             core::Role::Environment, "platform"));
     return s;
 }
 
@@ -72,16 +72,16 @@ TEST_CASE("sensor: the footprint is sampled as HELIOS++ does, circular or ellipt
 }
 
 TEST_CASE("sensor: a beam across a step edge gives two returns, on the two surfaces at their ranges") {
-    const engine::Scene scene = stepScene();
+    const core::Scene scene = stepScene();
     sim::GenerateOptions o = nadirOptions();
     sim::Generator g(scene, o);
     const glm::dvec3 origin = sim::sensorPose(o.orbit, glm::dvec3(0.0), 0).translation;
-    const engine::PointCloud cloud = g.run();
+    const core::PointCloud cloud = g.run();
     CHECK(cloud.fields.returns);
     CHECK(cloud.fields.intensity);
     std::size_t mixed = 0, single = 0, bad = 0;
     for (std::size_t i = 0; i < cloud.points.size(); ++i) {
-        const engine::CloudPoint& p = cloud.points[i];
+        const core::CloudPoint& p = cloud.points[i];
         // Every return lies on its own sub-ray at its range, on one of the two surfaces.
         const double range = glm::length(glm::dvec3(p.position) - origin);
         bad += std::abs(range - double(p.range_m)) > 2e-3;
@@ -94,7 +94,7 @@ TEST_CASE("sensor: a beam across a step edge gives two returns, on the two surfa
         if (p.return_number != 1) continue;
         ++mixed;
         REQUIRE(i + 1 < cloud.points.size());
-        const engine::CloudPoint& q = cloud.points[i + 1];
+        const core::CloudPoint& q = cloud.points[i + 1];
         // The first return on the platform's top (y >= 0), the second on the ground
         // (y <= 0), kStep_m farther: each placed on the sub-ray hit that made it.
         CHECK(p.returns == 2);
@@ -117,9 +117,9 @@ TEST_CASE("sensor: a beam across a step edge gives two returns, on the two surfa
 
     // The modes: first keeps the platform, last the ground, one return per pulse.
     o.sensor.returns = sim::ReturnMode::First;
-    const engine::PointCloud first = sim::generateCloud(scene, o);
+    const core::PointCloud first = sim::generateCloud(scene, o);
     o.sensor.returns = sim::ReturnMode::Last;
-    const engine::PointCloud last = sim::generateCloud(scene, o);
+    const core::PointCloud last = sim::generateCloud(scene, o);
     REQUIRE(first.points.size() == 64 * 64);
     REQUIRE(last.points.size() == 64 * 64);
     std::size_t first_top = 0, last_ground = 0;
@@ -137,17 +137,17 @@ TEST_CASE("sensor: a beam across a step edge gives two returns, on the two surfa
     // gives one return per pulse.
     o.sensor.returns = sim::ReturnMode::All;
     o.sensor.range_resolution_m = 10.0;
-    const engine::PointCloud merged = sim::generateCloud(scene, o);
+    const core::PointCloud merged = sim::generateCloud(scene, o);
     CHECK(merged.points.size() == 64 * 64);
 }
 
 TEST_CASE("sensor: the strongest return is the surface that fills more of the footprint") {
-    const engine::Scene scene = stepScene();
+    const core::Scene scene = stepScene();
     sim::GenerateOptions o = nadirOptions();
     o.sensor.returns = sim::ReturnMode::All;
-    const engine::PointCloud all = sim::generateCloud(scene, o);
+    const core::PointCloud all = sim::generateCloud(scene, o);
     o.sensor.returns = sim::ReturnMode::Strongest;
-    const engine::PointCloud strongest = sim::generateCloud(scene, o);
+    const core::PointCloud strongest = sim::generateCloud(scene, o);
     REQUIRE(strongest.points.size() == 64 * 64);
     // Walk the pixels of `all` (returns of one pixel are consecutive) alongside `strongest`.
     std::size_t k = 0, checked = 0, wrong = 0;
@@ -167,7 +167,7 @@ TEST_CASE("sensor: the strongest return is the surface that fills more of the fo
 }
 
 TEST_CASE("sensor: beams on one plane are not sub-sampled, and give the returns of the exact footprint") {
-    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o;
     o.orbit.xres = 48;
     o.orbit.yres = 40;
@@ -176,9 +176,9 @@ TEST_CASE("sensor: beams on one plane are not sub-sampled, and give the returns 
     o.sensor.beam_divergence_mrad = 0.5;
     o.sensor.returns = sim::ReturnMode::All;
     sim::GenerateStats st_adaptive, st_exact;
-    const engine::PointCloud adaptive = sim::generateCloud(scene, o, &st_adaptive);
+    const core::PointCloud adaptive = sim::generateCloud(scene, o, &st_adaptive);
     o.sensor.footprint_exact = true;
-    const engine::PointCloud exact = sim::generateCloud(scene, o, &st_exact);
+    const core::PointCloud exact = sim::generateCloud(scene, o, &st_exact);
     REQUIRE(adaptive.points.size() == exact.points.size());
     std::size_t moved = 0, dimmer = 0;
     for (std::size_t i = 0; i < exact.points.size(); ++i) {

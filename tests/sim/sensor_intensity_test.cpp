@@ -8,7 +8,8 @@
 #include <sim/generator.hpp>
 #include <sim/orbit.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <io/scene_file.hpp>
 
 #include <doctest/doctest.h>
 
@@ -18,11 +19,11 @@
 namespace {
 
 // Two ground halves side by side: x < 0 of reflectance `left`, x > 0 of `right`.
-engine::Scene halvesScene(double left, double right) {
-    engine::Scene s;
+core::Scene halvesScene(double left, double right) {
+    core::Scene s;
     s.source = "halves (in code)";
-    s.meshes.push_back(test_support::gridMesh(-500.0, 0.0, 0.0, 1, 1000.0, engine::Role::Ground, "left"));
-    s.meshes.push_back(test_support::gridMesh(500.0, 0.0, 0.0, 1, 1000.0, engine::Role::Ground, "right"));
+    s.meshes.push_back(test_support::gridMesh(-500.0, 0.0, 0.0, 1, 1000.0, core::Role::Ground, "left"));
+    s.meshes.push_back(test_support::gridMesh(500.0, 0.0, 0.0, 1, 1000.0, core::Role::Ground, "right"));
     s.meshes[0].reflectance = left;
     s.meshes[1].reflectance = right;
     return s;
@@ -44,12 +45,12 @@ sim::GenerateOptions intensityOptions(double alpha_deg) {
 }  // namespace
 
 TEST_CASE("sensor: intensity falls with incidence and range as the lidar equation says") {
-    const engine::Scene scene = halvesScene(0.5, 0.5);
+    const core::Scene scene = halvesScene(0.5, 0.5);
     std::size_t checked = 0, wrong_angle = 0, wrong_intensity = 0;
     double lowest_deg = 90.0, highest_deg = 0.0;
     for (const double alpha : {10.0, 45.0, 70.0}) {
         const sim::GenerateOptions o = intensityOptions(alpha);
-        const engine::PointCloud cloud = sim::generateCloud(scene, o);
+        const core::PointCloud cloud = sim::generateCloud(scene, o);
         CHECK(cloud.fields.intensity);
         CHECK(cloud.fields.incidence);
         for (const auto& p : cloud.points) {
@@ -75,9 +76,9 @@ TEST_CASE("sensor: intensity falls with incidence and range as the lidar equatio
 }
 
 TEST_CASE("sensor: intensity scales with the mesh's reflectance, and --min-intensity drops weak echoes") {
-    const engine::Scene scene = halvesScene(0.2, 0.8);
+    const core::Scene scene = halvesScene(0.2, 0.8);
     sim::GenerateOptions o = intensityOptions(20.0);
-    const engine::PointCloud cloud = sim::generateCloud(scene, o);
+    const core::PointCloud cloud = sim::generateCloud(scene, o);
     // Normalised by cos(theta) / R^2, the two halves read 0.2 and 0.8 of full scale at R0.
     double norm[2] = {0.0, 0.0}, n[2] = {0.0, 0.0};
     std::uint16_t dim_max = 0, bright_min = 65535;
@@ -99,7 +100,7 @@ TEST_CASE("sensor: intensity scales with the mesh's reflectance, and --min-inten
     // A threshold between the two halves keeps the bright half only.
     o.sensor.min_intensity = 0.5 * (double(dim_max) + double(bright_min));
     sim::GenerateStats st;
-    const engine::PointCloud kept = sim::generateCloud(scene, o, &st);
+    const core::PointCloud kept = sim::generateCloud(scene, o, &st);
     CHECK(kept.points.size() == std::size_t(n[1]));
     CHECK(st.misses == std::size_t(n[0]));
     for (const auto& p : kept.points) CHECK(p.position.x > 0.0f);
@@ -107,7 +108,7 @@ TEST_CASE("sensor: intensity scales with the mesh's reflectance, and --min-inten
 
 TEST_CASE("scene: 'reflectance' is read per mesh, 0.5 by default, and must lie in [0, 1]") {
     const std::filesystem::path file = test_support::basicDir() / "virtual.json";
-    const engine::Scene s = engine::loadSceneJson(
+    const core::Scene s = io::loadSceneJson(
         R"({"meshes": [{"file": "box.obj", "role": "target", "reflectance": 0.12},
                        {"file": "box.obj", "role": "ground", "position": [5, 0, 0]}]})",
         file);
@@ -115,10 +116,10 @@ TEST_CASE("scene: 'reflectance' is read per mesh, 0.5 by default, and must lie i
     CHECK(s.meshes[0].reflectance == 0.12);
     CHECK(s.meshes[1].reflectance == 0.5);
     CHECK_THROWS_WITH_AS(
-        engine::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target", "reflectance": 1.5}]})", file),
+        io::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target", "reflectance": 1.5}]})", file),
         doctest::Contains("meshes[0] ('box.obj'): 'reflectance' is 1.5; allowed: a number in [0, 1]"),
-        engine::Error);
+        core::Error);
     CHECK_THROWS_WITH_AS(
-        engine::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target", "reflectance": "high"}]})", file),
-        doctest::Contains("'reflectance' must be a number in [0, 1], not a string"), engine::Error);
+        io::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target", "reflectance": "high"}]})", file),
+        doctest::Contains("'reflectance' must be a number in [0, 1], not a string"), core::Error);
 }

@@ -14,19 +14,19 @@
 namespace {
 
 // A flat ground plane at z = 0 far wider than any footprint.
-engine::Scene planeScene() {
-    engine::Scene s;
+core::Scene planeScene() {
+    core::Scene s;
     s.source = "plane (in code)";
-    s.meshes.push_back(test_support::quadMesh(2000.0f, 0.0f, engine::Role::Ground, "plane"));
+    s.meshes.push_back(test_support::quadMesh(2000.0f, 0.0f, core::Role::Ground, "plane"));
     return s;
 }
 
 // Range error of each point of `cloud`: the point lies on its ray at the measured range
 // t'; the ray meets z = 0 at t = -o.z / d.z with d = (p - o) / t', so t' - t = p.z t' / (p.z - o.z).
-std::vector<double> rangeErrors(const engine::PointCloud& cloud, const sim::GenerateOptions& o,
+std::vector<double> rangeErrors(const core::PointCloud& cloud, const sim::GenerateOptions& o,
                                 const glm::dvec3& centre_local) {
     std::vector<double> e;
-    for (const engine::CloudPoint& p : cloud.points) {
+    for (const core::CloudPoint& p : cloud.points) {
         const glm::dvec3 origin = sim::sensorPose(o.orbit, centre_local, p.view).translation;
         const double t = p.range_m, z = p.position.z;
         e.push_back(z * t / (z - origin.z));
@@ -37,7 +37,7 @@ std::vector<double> rangeErrors(const engine::PointCloud& cloud, const sim::Gene
 }  // namespace
 
 TEST_CASE("sensor: range noise of sigma on a flat plane measures sigma within 5 % over 10^5 returns") {
-    const engine::Scene scene = planeScene();
+    const core::Scene scene = planeScene();
     sim::GenerateOptions o;
     o.orbit.xres = 64;
     o.orbit.yres = 64;
@@ -48,7 +48,7 @@ TEST_CASE("sensor: range noise of sigma on a flat plane measures sigma within 5 
 
     // The measure itself: the ideal sensor's errors are float rounding only.
     {
-        const engine::PointCloud ideal = sim::generateCloud(scene, o);
+        const core::PointCloud ideal = sim::generateCloud(scene, o);
         double worst = 0.0;
         for (double e : rangeErrors(ideal, o, centre)) worst = std::max(worst, std::abs(e));
         CHECK(worst < 2e-3);
@@ -56,7 +56,7 @@ TEST_CASE("sensor: range noise of sigma on a flat plane measures sigma within 5 
     const double sigma_m = 0.05;
     o.sensor.range_noise_m = sigma_m;
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, o, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, o, &st);
     REQUIRE(cloud.points.size() == 102400);
     CHECK(st.misses == 0);
     const std::vector<double> e = rangeErrors(cloud, o, centre);
@@ -72,17 +72,17 @@ TEST_CASE("sensor: range noise of sigma on a flat plane measures sigma within 5 
 }
 
 TEST_CASE("sensor: echoes beyond --max-range-m are lost") {
-    const engine::Scene scene = planeScene();
+    const core::Scene scene = planeScene();
     sim::GenerateOptions o;
     o.orbit.xres = 32;
     o.orbit.yres = 32;
     o.orbit.views = 4;
     o.white = true;
     // The paper's orbit sees the plane from 400 to 452 m (alpha +- fov/2 at 300 m).
-    const engine::PointCloud all = sim::generateCloud(scene, o);
+    const core::PointCloud all = sim::generateCloud(scene, o);
     o.sensor.max_range_m = 430.0;
     sim::GenerateStats st;
-    const engine::PointCloud near = sim::generateCloud(scene, o, &st);
+    const core::PointCloud near = sim::generateCloud(scene, o, &st);
     CHECK(near.points.size() < all.points.size());
     CHECK(near.points.size() > all.points.size() / 4);
     CHECK(st.misses == all.points.size() - near.points.size());
@@ -94,7 +94,7 @@ TEST_CASE("sensor: echoes beyond --max-range-m are lost") {
 }
 
 TEST_CASE("sensor: with every model on, 1 and 3 threads give the same bytes, and a new seed other bytes") {
-    const engine::Scene scene = test_support::townScene(120.0, 1.0);
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
     sim::GenerateOptions o;
     o.orbit.xres = 48;
     o.orbit.yres = 40;
@@ -115,17 +115,17 @@ TEST_CASE("sensor: with every model on, 1 and 3 threads give the same bytes, and
     s.returns = sim::ReturnMode::All;
     s.max_returns = 4;
     o.threads = 1;
-    const engine::PointCloud one = sim::generateCloud(scene, o);
+    const core::PointCloud one = sim::generateCloud(scene, o);
     o.threads = 3;
-    const engine::PointCloud three = sim::generateCloud(scene, o);
+    const core::PointCloud three = sim::generateCloud(scene, o);
     REQUIRE(one.points.size() == three.points.size());
     CHECK(one.points.size() > 10000);
-    CHECK(std::memcmp(one.points.data(), three.points.data(), one.points.size() * sizeof(engine::CloudPoint)) == 0);
+    CHECK(std::memcmp(one.points.data(), three.points.data(), one.points.size() * sizeof(core::CloudPoint)) == 0);
     std::size_t multiple = 0;
     for (const auto& p : one.points) multiple += p.returns > 1;
     CHECK(multiple > 0);  // the houses' edges give mixed pixels
     o.seed = 2;
-    const engine::PointCloud other = sim::generateCloud(scene, o);
+    const core::PointCloud other = sim::generateCloud(scene, o);
     CHECK((other.points.size() != one.points.size() ||
-           std::memcmp(one.points.data(), other.points.data(), one.points.size() * sizeof(engine::CloudPoint)) != 0));
+           std::memcmp(one.points.data(), other.points.data(), one.points.size() * sizeof(core::CloudPoint)) != 0));
 }

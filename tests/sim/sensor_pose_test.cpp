@@ -17,10 +17,10 @@
 
 namespace {
 
-engine::Scene planeScene() {
-    engine::Scene s;
+core::Scene planeScene() {
+    core::Scene s;
     s.source = "plane (in code)";
-    s.meshes.push_back(test_support::quadMesh(2000.0f, 0.0f, engine::Role::Ground, "plane"));
+    s.meshes.push_back(test_support::quadMesh(2000.0f, 0.0f, core::Role::Ground, "plane"));
     return s;
 }
 
@@ -33,7 +33,7 @@ std::vector<double> viewHeights(const sim::SensorOptions& sensor, int views) {
     o.white = true;
     o.centre = glm::dvec3(0.0);
     o.sensor = sensor;
-    const engine::PointCloud cloud = sim::generateCloud(planeScene(), o);
+    const core::PointCloud cloud = sim::generateCloud(planeScene(), o);
     std::vector<double> sum(std::size_t(views), 0.0), n(std::size_t(views), 0.0);
     for (const auto& p : cloud.points) {
         sum[p.view] += p.position.z;

@@ -4,8 +4,9 @@
 #include <scene_builders.hpp>
 #include <test_files.hpp>
 
-#include <engine/error.hpp>
-#include <engine/jet.hpp>
+#include <core/error.hpp>
+#include <core/jet.hpp>
+#include <io/scene_file.hpp>
 #include <sim/colour.hpp>
 #include <sim/generator.hpp>
 #include <sim/ground.hpp>
@@ -42,10 +43,10 @@ TEST_CASE("zero-area and NaN triangles are skipped and counted, the rest of the 
                                {"file": "box.obj", "role": "target", "position": [-0.5, -0.5, 0]}]})";
     }
     // Strict (the generator's default): the NaN vertex is an error naming it.
-    CHECK_THROWS_WITH_AS(engine::loadScene(dir / "scene.json"), doctest::Contains("is not finite"), engine::Error);
-    engine::SceneLoadOptions lenient;
+    CHECK_THROWS_WITH_AS(io::loadScene(dir / "scene.json"), doctest::Contains("is not finite"), core::Error);
+    io::SceneLoadOptions lenient;
     lenient.skip_nonfinite = true;
-    const engine::Scene scene = engine::loadScene(dir / "scene.json", lenient);
+    const core::Scene scene = io::loadScene(dir / "scene.json", lenient);
     CHECK(scene.skipped_nonfinite_triangles == 2);
     CHECK(scene.skipped_triangles == 3);
     REQUIRE(scene.meshes.size() == 2);
@@ -61,7 +62,7 @@ TEST_CASE("zero-area and NaN triangles are skipped and counted, the rest of the 
     g.orbit.xres = g.orbit.yres = 16;
     g.orbit.views = 2;
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, g, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, g, &st);
     CHECK(st.misses == 0);
     CHECK(cloud.points.size() == 512);
     // The loader's counts reach the generator's stats (`ladarvr generate` warns with them).
@@ -70,9 +71,9 @@ TEST_CASE("zero-area and NaN triangles are skipped and counted, the rest of the 
 }
 
 TEST_CASE("a scene built in code with NaN and zero-area triangles: Embree skips them, no leak") {
-    engine::Scene scene;
+    core::Scene scene;
     scene.source = "nan (in code)";
-    engine::Mesh m = test_support::quadMesh(10.0f, 0.0f, engine::Role::Ground, "ground");
+    core::Mesh m = test_support::quadMesh(10.0f, 0.0f, core::Role::Ground, "ground");
     const float nan = std::numeric_limits<float>::quiet_NaN();
     m.vertices.push_back({nan, 0.0f, 1.0f});               // 4
     m.vertices.push_back({0.0f, 0.0f, 2.0f});              // 5
@@ -94,7 +95,7 @@ TEST_CASE("a scene built in code with NaN and zero-area triangles: Embree skips 
     for (const auto& h : hits) on_ground += h.hit() && h.t == doctest::Approx(5.0f) && h.triangle < 2;
     CHECK(on_ground == rays.size());
     // The bounds ignore the NaN vertex (they are used for the default centre and culling).
-    const engine::Bounds b = caster.bounds();
+    const core::Bounds b = caster.bounds();
     CHECK(std::isfinite(b.lo.x));
     CHECK(std::isfinite(b.hi.x));
     CHECK(b.hi.z == doctest::Approx(2.0));
@@ -102,7 +103,7 @@ TEST_CASE("a scene built in code with NaN and zero-area triangles: Embree skips 
 
 TEST_CASE("colour map with every height equal: one colour (the lowest bin's), nothing undefined") {
     for (const int m : {2, 64, 256}) {
-        const auto jet = engine::jetTable(m);
+        const auto jet = core::jetTable(m);
         REQUIRE(int(jet.size()) == m);
         for (const float z : {0.0f, -1e30f, 1e30f, 1e-40f, 123.456f}) {
             CHECK(sim::heightColour(z, z, z, jet) == jet[std::size_t(m - 1)]);
@@ -116,21 +117,21 @@ TEST_CASE("colour map with every height equal: one colour (the lowest bin's), no
     }
     // The generator on a flat plate at z = 7: the hits' heights differ only by float rounding
     // of t (tens of micrometres), and every point is white (ground) or a jet colour.
-    engine::Scene flat;
+    core::Scene flat;
     flat.source = "flat (in code)";
-    flat.meshes.push_back(test_support::quadMesh(500.0f, 7.0f, engine::Role::Target, "plate"));
+    flat.meshes.push_back(test_support::quadMesh(500.0f, 7.0f, core::Role::Target, "plate"));
     sim::GenerateOptions g;
     g.orbit.xres = g.orbit.yres = 32;
     g.orbit.views = 4;
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(flat, g, &st);
+    const core::PointCloud cloud = sim::generateCloud(flat, g, &st);
     REQUIRE(cloud.points.size() == 32u * 32u * 4u);
     CHECK(st.z_max - st.z_min < 1e-3f);
     MESSAGE("flat plate: z range " << (st.z_max - st.z_min) * 1e6 << " micrometres");
-    const auto jet = engine::jetTable(64);
+    const auto jet = core::jetTable(64);
     std::size_t invalid = 0;
     for (const auto& p : cloud.points)
-        invalid += p.rgb != engine::kWhite && std::find(jet.begin(), jet.end(), p.rgb) == jet.end();
+        invalid += p.rgb != core::kWhite && std::find(jet.begin(), jet.end(), p.rgb) == jet.end();
     CHECK(invalid == 0);
 }
 

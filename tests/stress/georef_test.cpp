@@ -21,7 +21,7 @@ struct Compared {
 };
 
 /// Point-by-point world distance between `far` and `near` moved by `offset`.
-Compared compareWorld(const engine::PointCloud& near, const engine::PointCloud& far, glm::dvec3 offset) {
+Compared compareWorld(const core::PointCloud& near, const core::PointCloud& far, glm::dvec3 offset) {
     Compared c;
     for (std::size_t i = 0; i < near.points.size(); ++i) {
         const glm::dvec3 a = near.origin + glm::dvec3(near.points[i].position) + offset;
@@ -37,20 +37,20 @@ Compared compareWorld(const engine::PointCloud& near, const engine::PointCloud& 
 
 TEST_CASE("georeferenced 1e6 m and 1e7 m away: the same cloud within 1 mm per point") {
     const sim::GenerateOptions options = test_support::smallOrbit();
-    const engine::Scene home = test_support::basicScene({0, 0, 0}, {0, 0, 0});
+    const core::Scene home = test_support::basicScene({0, 0, 0}, {0, 0, 0});
     sim::GenerateStats home_stats;
-    const engine::PointCloud reference = sim::generateCloud(home, options, &home_stats);
+    const core::PointCloud reference = sim::generateCloud(home, options, &home_stats);
     REQUIRE(reference.points.size() > 20000);  // 27,648 rays, most on the 200 m ground
     for (const double d : {1e6, 1e7}) {
         const glm::dvec3 offset(d, -0.5 * d, 250.0);
         // (a) the local origin on the scene (what the scene file's default does) and (b) an
         // origin 37 m off in every axis, so the local floats differ from the reference's.
         for (const glm::dvec3 origin_shift : {glm::dvec3(0.0), glm::dvec3(37.3, -41.7, 5.9)}) {
-            const engine::Scene far = test_support::basicScene(offset, offset + origin_shift);
+            const core::Scene far = test_support::basicScene(offset, offset + origin_shift);
             CAPTURE(d);
             CAPTURE(origin_shift.x);
             sim::GenerateStats far_stats;
-            const engine::PointCloud cloud = sim::generateCloud(far, options, &far_stats);
+            const core::PointCloud cloud = sim::generateCloud(far, options, &far_stats);
             CHECK(cloud.origin == far.origin);
             CHECK(std::abs(far_stats.centre.x - home_stats.centre.x - offset.x) < 1e-6);
             CHECK(std::abs(far_stats.centre.y - home_stats.centre.y - offset.y) < 1e-6);
@@ -84,14 +84,14 @@ TEST_CASE("georeferenced 1e7 m away: the same visibility metric, view by view") 
     mo.orbit.views = 8;
     mo.width = 256;
     mo.height = 256;
-    const engine::Scene home = test_support::basicScene({0, 0, 0}, {0, 0, 0});
+    const core::Scene home = test_support::basicScene({0, 0, 0}, {0, 0, 0});
     metric::Evaluator home_eval(metric::generateClouds(home, options), &home);
     const metric::MetricResult a = home_eval.run(mo);
     REQUIRE(a.views_used > 0);
     REQUIRE(a.has_exact);
     for (const double d : {1e6, 1e7}) {
         const glm::dvec3 offset(d, -0.5 * d, 250.0);
-        const engine::Scene far = test_support::basicScene(offset, offset + glm::dvec3(37.3, -41.7, 5.9));
+        const core::Scene far = test_support::basicScene(offset, offset + glm::dvec3(37.3, -41.7, 5.9));
         metric::Evaluator far_eval(metric::generateClouds(far, options), &far);
         const metric::MetricResult b = far_eval.run(mo);
         CAPTURE(d);

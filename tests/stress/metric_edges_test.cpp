@@ -14,13 +14,13 @@
 namespace {
 
 /// A 4 m cube target inside a closed 12 m hut (walls and roof), 10^7 m from the origin.
-engine::Scene hut(bool roof) {
-    engine::Scene s;
+core::Scene hut(bool roof) {
+    core::Scene s;
     s.source = "hut (in code)";
     s.origin = glm::dvec3(1e7, 1e7, 310.0);
-    s.meshes.push_back(test_support::boxMesh({-2, -2, 0}, {2, 2, 4}, engine::Role::Target, "cube"));
+    s.meshes.push_back(test_support::boxMesh({-2, -2, 0}, {2, 2, 4}, core::Role::Target, "cube"));
     test_support::addEnclosure(s, 6.0f, 0.2f, -1.0f, 5.0f, roof);
-    s.meshes.push_back(test_support::quadMesh(200.0f, 0.0f, engine::Role::Ground, "ground"));
+    s.meshes.push_back(test_support::quadMesh(200.0f, 0.0f, core::Role::Ground, "ground"));
     return s;
 }
 
@@ -47,7 +47,7 @@ metric::MetricOptions metricOptions() {
 TEST_CASE("a target hidden from every side, 1e7 m away: metric, visible and exact are 0") {
     // The drone's clouds come from the open hut (P1 sees the target); the metric is
     // evaluated against the closed hut's environment: nothing of the target shows.
-    const engine::Scene open_hut = hut(false), closed_hut = hut(true);
+    const core::Scene open_hut = hut(false), closed_hut = hut(true);
     const metric::MetricClouds open_clouds = metric::generateClouds(open_hut, droneOptions());
     const metric::MetricClouds closed_clouds = metric::generateClouds(closed_hut, droneOptions());
     REQUIRE(!closed_clouds.p1.points.empty());
@@ -78,7 +78,7 @@ TEST_CASE("a target hidden from every side, 1e7 m away: metric, visible and exac
 }
 
 TEST_CASE("a target out of every view, 1e7 m away: no view used, NaN means, null in the JSON") {
-    const engine::Scene scene = hut(false);
+    const core::Scene scene = hut(false);
     const metric::MetricClouds clouds = metric::generateClouds(scene, droneOptions());
     metric::Evaluator evaluator(clouds, &scene);
     for (const bool skip : {true, false}) {

@@ -3,7 +3,7 @@
 // sim::kMaxGrazingDeg), FoV 0.01 and 170 deg, a 1 x 1 sensor, NoV = 1.
 #include <scene_builders.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 #include <sim/generator.hpp>
 #include <sim/orbit.hpp>
 
@@ -17,11 +17,11 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 /// A flat ground quad of half-size `half` m at z = 0 and a small target at the centre.
-engine::Scene flatScene(float half) {
-    engine::Scene s;
+core::Scene flatScene(float half) {
+    core::Scene s;
     s.source = "flat (in code)";
-    s.meshes.push_back(test_support::quadMesh(half, 0.0f, engine::Role::Ground, "ground"));
-    s.meshes.push_back(test_support::boxMesh({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.5f}, engine::Role::Target, "target"));
+    s.meshes.push_back(test_support::quadMesh(half, 0.0f, core::Role::Ground, "ground"));
+    s.meshes.push_back(test_support::boxMesh({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.5f}, core::Role::Target, "target"));
     return s;
 }
 
@@ -41,7 +41,7 @@ TEST_CASE("alpha + FoV/2 up to the grazing bound: finite, huge radius, past it a
     CHECK(sim::lengthSensed(o) > 0.0);
     CHECK(std::isfinite(sim::coverageDiameter(o)));
     // The sensor pose is still a rotation (orthonormal) and points at the ground.
-    const engine::Pose pose = sim::sensorPose(o, glm::dvec3(0.0), 0);
+    const core::Pose pose = sim::sensorPose(o, glm::dvec3(0.0), 0);
     const glm::dmat3 rtr = glm::transpose(pose.rotation) * pose.rotation;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) CHECK(rtr[i][j] == doctest::Approx(i == j ? 1.0 : 0.0).epsilon(1e-12));
@@ -50,10 +50,10 @@ TEST_CASE("alpha + FoV/2 up to the grazing bound: finite, huge radius, past it a
     for (const double alpha : {sim::kMaxGrazingDeg - 0.5 * o.fov_deg, 86.8, 89.999, 90.0, 120.0}) {
         o.inclination_deg = alpha;
         CAPTURE(alpha);
-        CHECK_THROWS_AS(sim::validate(o), engine::Error);
+        CHECK_THROWS_AS(sim::validate(o), core::Error);
         try {
             sim::validate(o);
-        } catch (const engine::Error& e) {
+        } catch (const core::Error& e) {
             const std::string what = e.what();
             CHECK(what.rfind("orbit: ", 0) == 0);
             CHECK(what.find("inclination") != std::string::npos);
@@ -70,9 +70,9 @@ TEST_CASE("the generator near grazing (alpha + FoV/2 = 89 deg): every hit lies o
     g.orbit.xres = g.orbit.yres = 16;
     g.orbit.views = 4;
     g.white = true;
-    const engine::Scene scene = flatScene(30000.0f);
+    const core::Scene scene = flatScene(30000.0f);
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, g, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, g, &st);
     CHECK(st.drone_radius_m == doctest::Approx(300.0 * std::tan(89.0 * kDeg) - 10.0));
     CHECK(st.misses == 0);
     REQUIRE(cloud.points.size() == 16u * 16u * 4u);
@@ -97,9 +97,9 @@ TEST_CASE("the generator at the grazing bound (alpha + FoV/2 = 89.98 deg): 859 k
     g.orbit.xres = g.orbit.yres = 8;
     g.orbit.views = 2;
     g.white = true;
-    const engine::Scene scene = flatScene(2.0e6f);
+    const core::Scene scene = flatScene(2.0e6f);
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, g, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, g, &st);
     CHECK(st.drone_radius_m == doctest::Approx(300.0 * std::tan(89.98 * kDeg) - 10.0));
     CHECK(st.misses == 0);
     REQUIRE(cloud.points.size() == 8u * 8u * 2u);
@@ -122,9 +122,9 @@ TEST_CASE("FoV 0.01 deg, 1 x 1 sensor, NoV = 1: one point where the optical axis
     g.orbit.xres = g.orbit.yres = 1;
     g.orbit.views = 1;
     g.white = true;
-    const engine::Scene scene = flatScene(1000.0f);
+    const core::Scene scene = flatScene(1000.0f);
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, g, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, g, &st);
     REQUIRE(cloud.points.size() == 1);
     CHECK(st.rays == 1);
     // The default centre: the target's x, y at the ground height beneath it, z = 0.
@@ -147,8 +147,8 @@ TEST_CASE("FoV 0.01 deg on 64 x 64 pixels: distinct points ~1 mm apart") {
     g.orbit.xres = g.orbit.yres = 64;
     g.orbit.views = 1;
     g.white = true;
-    const engine::Scene scene = flatScene(1000.0f);
-    const engine::PointCloud cloud = sim::generateCloud(scene, g);
+    const core::Scene scene = flatScene(1000.0f);
+    const core::PointCloud cloud = sim::generateCloud(scene, g);
     REQUIRE(cloud.points.size() == 64u * 64u);
     // Pixel pitch on the ground: range 424 m x 0.01 deg / 64 = 1.2 mm across, more along
     // the slant. Along a row the points must move monotonically (no float collapse).
@@ -171,9 +171,9 @@ TEST_CASE("FoV 170 deg, alpha 2 deg: the footprint reaches ~5.7 km from the dron
     g.orbit.views = 1;
     g.white = true;
     REQUIRE_NOTHROW(sim::validate(g));
-    const engine::Scene scene = flatScene(100000.0f);
+    const core::Scene scene = flatScene(100000.0f);
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(scene, g, &st);
+    const core::PointCloud cloud = sim::generateCloud(scene, g, &st);
     CHECK(st.misses == 0);
     REQUIRE(cloud.points.size() == 32u * 32u);
     // Drone at (r, 0, 300), r = 300 tan(87 deg); the image's vertical half-FoV is 85 deg, so
@@ -189,7 +189,7 @@ TEST_CASE("FoV 170 deg, alpha 2 deg: the footprint reaches ~5.7 km from the dron
     CHECK(far_m > 300.0 * std::tan(top_row_rad) * 0.99);
     MESSAGE("FoV 170: farthest point " << far_m << " m from the drone's foot");
     g.orbit.fov_deg = 170.001;
-    CHECK_THROWS_AS(sim::validate(g), engine::Error);
+    CHECK_THROWS_AS(sim::validate(g), core::Error);
 }
 
 // alpha = 0 is accepted by validate() ([0, 90)): the optical axis is vertical, and the
@@ -197,7 +197,7 @@ TEST_CASE("FoV 170 deg, alpha 2 deg: the footprint reaches ~5.7 km from the dron
 TEST_CASE("nadir (alpha = 0): a valid pose and every ray on the ground") {
     sim::OrbitOptions o;
     o.inclination_deg = 0.0;
-    const engine::Pose pose = sim::sensorPose(o, glm::dvec3(0.0), 3);
+    const core::Pose pose = sim::sensorPose(o, glm::dvec3(0.0), 3);
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) CHECK(std::isfinite(pose.rotation[i][j]));
     CHECK(pose.applyDirection({0, 0, 1}).z == doctest::Approx(-1.0));
@@ -207,7 +207,7 @@ TEST_CASE("nadir (alpha = 0): a valid pose and every ray on the ground") {
     g.orbit.views = 2;
     g.white = true;
     sim::GenerateStats st;
-    const engine::PointCloud cloud = sim::generateCloud(flatScene(1000.0f), g, &st);
+    const core::PointCloud cloud = sim::generateCloud(flatScene(1000.0f), g, &st);
     CHECK(st.misses == 0);
     CHECK(cloud.points.size() == 512u);
 }
@@ -216,17 +216,17 @@ TEST_CASE("NoV = 1 and NoV = 65535 are valid, 0 and 65536 are not") {
     sim::OrbitOptions o;
     o.views = 1;
     CHECK_NOTHROW(sim::validate(o));
-    const engine::Pose p = sim::sensorPose(o, glm::dvec3(0.0), 0);
+    const core::Pose p = sim::sensorPose(o, glm::dvec3(0.0), 0);
     CHECK(p.translation.x == doctest::Approx(sim::droneRadius(o)));
     CHECK(std::abs(p.translation.y) < 1e-9);
     o.views = 65535;
     CHECK_NOTHROW(sim::validate(o));
     // The last view is one step short of a full turn.
-    const engine::Pose last = sim::sensorPose(o, glm::dvec3(0.0), 65534);
+    const core::Pose last = sim::sensorPose(o, glm::dvec3(0.0), 65534);
     CHECK(last.translation.y < 0.0);
     CHECK(std::abs(last.translation.y) < sim::droneRadius(o) * 2.0 * std::numbers::pi / 65535.0 * 1.001);
     for (int bad : {0, -1, 65536}) {
         o.views = bad;
-        CHECK_THROWS_AS(sim::validate(o), engine::Error);
+        CHECK_THROWS_AS(sim::validate(o), core::Error);
     }
 }

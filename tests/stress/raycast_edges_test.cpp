@@ -17,10 +17,10 @@ namespace {
 /// A ground of `strips` long thin slivers: strips of `width_m` across y, each `length_m`
 /// long in x, cut into two triangles by a diagonal (aspect ratio length / width), all
 /// vertices shared between neighbouring strips.
-engine::Mesh sliverGround(int strips, float width_m, float length_m) {
-    engine::Mesh m;
+core::Mesh sliverGround(int strips, float width_m, float length_m) {
+    core::Mesh m;
     m.name = "slivers";
-    m.role = engine::Role::Ground;
+    m.role = core::Role::Ground;
     const float y0 = -0.5f * float(strips) * width_m;
     for (int j = 0; j <= strips; ++j) {
         m.vertices.emplace_back(-0.5f * length_m, y0 + float(j) * width_m, 0.0f);
@@ -36,10 +36,10 @@ engine::Mesh sliverGround(int strips, float width_m, float length_m) {
 
 /// A fan of `n` triangles around the centre vertex: all share one vertex and pairwise share
 /// an edge; rays aimed at the centre, at the spokes and at the rim vertices.
-engine::Mesh fanGround(int n, float radius_m) {
-    engine::Mesh m;
+core::Mesh fanGround(int n, float radius_m) {
+    core::Mesh m;
     m.name = "fan";
-    m.role = engine::Role::Ground;
+    m.role = core::Role::Ground;
     m.vertices.emplace_back(0.0f, 0.0f, 0.0f);
     for (int k = 0; k < n; ++k) {
         const double a = 2.0 * 3.14159265358979323846 * k / n;
@@ -55,7 +55,7 @@ struct Traced {
 };
 
 /// Traces each ray and checks a hit at the plane z = 0: t = -origin.z / direction.z.
-Traced traceToPlane(const engine::Scene& scene, const std::vector<sim::Ray>& rays) {
+Traced traceToPlane(const core::Scene& scene, const std::vector<sim::Ray>& rays) {
     sim::RayCaster caster(scene);
     std::vector<sim::Hit> hits(rays.size());
     caster.intersect(rays, hits);
@@ -77,7 +77,7 @@ Traced traceToPlane(const engine::Scene& scene, const std::vector<sim::Ray>& ray
 }  // namespace
 
 TEST_CASE("grazing rays over 2 km x 1 cm slivers (aspect 200,000): no leak, right distance") {
-    engine::Scene scene;
+    core::Scene scene;
     scene.source = "slivers (in code)";
     scene.meshes.push_back(sliverGround(400, 0.01f, 2000.0f));  // 4 m wide, 2 km long
     std::vector<sim::Ray> rays;
@@ -120,13 +120,13 @@ TEST_CASE("grazing rays over 2 km x 1 cm slivers (aspect 200,000): no leak, righ
 }
 
 TEST_CASE("rays exactly on the shared centre vertex, spokes and rim of a 64-triangle fan: no leak") {
-    engine::Scene scene;
+    core::Scene scene;
     scene.source = "fan (in code)";
     scene.meshes.push_back(fanGround(64, 10.0f));
     // A second ring outside the fan so rim rays have a neighbour on both sides.
-    engine::Mesh outer = test_support::quadMesh(30.0f, -1.0f, engine::Role::Environment, "below");
+    core::Mesh outer = test_support::quadMesh(30.0f, -1.0f, core::Role::Environment, "below");
     scene.meshes.push_back(outer);
-    const engine::Mesh& fan = scene.meshes[0];
+    const core::Mesh& fan = scene.meshes[0];
     std::vector<sim::Ray> rays;
     for (std::size_t v = 0; v < fan.vertices.size(); ++v) {
         const glm::vec3 p = fan.vertices[v];
@@ -160,9 +160,9 @@ TEST_CASE("a wall of 1 cm x 20 m vertical slivers stops rays that skim it at 0.0
     // 1000 slivers 1 cm wide (x) and 20 m tall (aspect 2000) side by side form a 10 m wall
     // in the plane y = 0; rays start 5 mm in front of it and run ~5.7 m along it, crossing
     // hundreds of shared vertical edges before they meet it.
-    engine::Mesh wall;
+    core::Mesh wall;
     wall.name = "wall";
-    wall.role = engine::Role::Environment;
+    wall.role = core::Role::Environment;
     for (int i = 0; i <= 1000; ++i) {
         wall.vertices.emplace_back(float(i) * 0.01f, 0.0f, 0.0f);
         wall.vertices.emplace_back(float(i) * 0.01f, 0.0f, 20.0f);
@@ -172,7 +172,7 @@ TEST_CASE("a wall of 1 cm x 20 m vertical slivers stops rays that skim it at 0.0
         wall.triangles.emplace_back(a, a + 2, a + 3);
         wall.triangles.emplace_back(a, a + 3, a + 1);
     }
-    engine::Scene scene;
+    core::Scene scene;
     scene.source = "wall (in code)";
     scene.meshes.push_back(wall);
     std::vector<sim::Ray> rays;

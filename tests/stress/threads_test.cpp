@@ -4,6 +4,7 @@
 #include <generate_options.hpp>
 #include <scene_builders.hpp>
 
+#include <io/scene_file.hpp>
 #include <metric/clouds.hpp>
 #include <metric/visibility.hpp>
 #include <sim/generator.hpp>
@@ -15,7 +16,7 @@
 
 namespace {
 
-bool identical(const engine::PointCloud& a, const engine::PointCloud& b) {
+bool identical(const core::PointCloud& a, const core::PointCloud& b) {
     if (a.points.size() != b.points.size() || a.origin != b.origin) return false;
     for (std::size_t i = 0; i < a.points.size(); ++i) {
         const auto &p = a.points[i], &q = b.points[i];
@@ -31,13 +32,13 @@ bool identical(const engine::PointCloud& a, const engine::PointCloud& b) {
 TEST_CASE("generator: bit-identical clouds with 1, 2, 5 and 16 threads on the hilly scene") {
     const std::filesystem::path hilly =
         std::filesystem::path(LADARVR_ASSETS_DIR) / "hilly" / "scene.json";
-    const engine::Scene scene = engine::loadScene(hilly);
+    const core::Scene scene = io::loadScene(hilly);
     sim::GenerateOptions o;
     o.orbit.xres = o.orbit.yres = 64;
     o.orbit.views = 24;
     o.threads = 1;
     sim::GenerateStats st1;
-    const engine::PointCloud one = sim::generateCloud(scene, o, &st1);
+    const core::PointCloud one = sim::generateCloud(scene, o, &st1);
     REQUIRE(one.points.size() > 90000);
     REQUIRE(st1.ground_found > 0);
     for (const int threads : {2, 5, 16}) {
@@ -45,7 +46,7 @@ TEST_CASE("generator: bit-identical clouds with 1, 2, 5 and 16 threads on the hi
             o.threads = threads;
             o.packet_rays = packets;
             sim::GenerateStats st;
-            const engine::PointCloud many = sim::generateCloud(scene, o, &st);
+            const core::PointCloud many = sim::generateCloud(scene, o, &st);
             CAPTURE(threads);
             CAPTURE(packets);
             CHECK(st.threads == threads);
@@ -59,7 +60,7 @@ TEST_CASE("generator: bit-identical clouds with 1, 2, 5 and 16 threads on the hi
 TEST_CASE("metric: the same evaluation twice gives bit-identical counts") {
     // metric::Evaluator has no thread option; its exact reference may use several threads.
     // Two runs (and a second evaluator) must agree to the pixel.
-    const engine::Scene scene = test_support::basicScene({0, 0, 0}, {0, 0, 0});
+    const core::Scene scene = test_support::basicScene({0, 0, 0}, {0, 0, 0});
     const metric::MetricClouds clouds = metric::generateClouds(scene, test_support::smallOrbit());
     metric::MetricOptions mo;
     mo.orbit.radius_m = 25.0;

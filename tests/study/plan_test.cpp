@@ -1,7 +1,7 @@
 // tests/study/plan_test.cpp: PLAN.json parsing with known answers and refused fields.
 #include <study/plan.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <test_files.hpp>
 
@@ -46,7 +46,7 @@ TEST_CASE("a plan's trials, paths relative to the plan, defaults") {
 TEST_CASE("a plan's refused fields name the field and what is allowed") {
     auto fails = [](const std::string& text, const std::string& part) {
         CAPTURE(text);
-        CHECK_THROWS_WITH_AS(parsePlan(text, "p.json", "/"), doctest::Contains(part.c_str()), engine::Error);
+        CHECK_THROWS_WITH_AS(parsePlan(text, "p.json", "/"), doctest::Contains(part.c_str()), core::Error);
     };
     fails(R"({"trials": []})", "study: p.json: 'trials' must be a non-empty array");
     fails(R"({"trials": [{"cloud": "a", "scene": "b"}]})", "trials[0]: give exactly one of 'cloud' and 'scene'");
@@ -81,7 +81,7 @@ TEST_CASE("readPlan checks the files the plan names") {
     test_support::TempDir dir("study_plan");
     dir.write("a.pcd", "x");
     const auto plan_file = dir.write("plan.json", R"({"trials": [{"cloud": "a.pcd"}, {"cloud": "missing.pcd"}]})");
-    CHECK_THROWS_WITH_AS(study::readPlan(plan_file), doctest::Contains("trials[1].cloud"), engine::Error);
+    CHECK_THROWS_WITH_AS(study::readPlan(plan_file), doctest::Contains("trials[1].cloud"), core::Error);
     const auto ok = dir.write("ok.json", R"({"trials": [{"cloud": "a.pcd"}]})");
     CHECK(study::readPlan(ok).trials[0].cloud == dir.path / "a.pcd");
 }

@@ -2,7 +2,7 @@
 // which folders are refused, the trace's name, and study.json written and read back.
 #include <study/study_folder.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <test_files.hpp>
 

@@ -38,7 +38,7 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     s.scale = 2.0;
     log.onFrame(0, s);
     log.onDesignate(0, 0.6, {10.0, 20.0, 0.5});
-    engine::Candidate c;
+    core::Candidate c;
     c.id = "c1";
     c.score = 0.75;
     log.onVerdict(0, 0.7, c, viewer::Verdict::Rejected);
@@ -60,7 +60,7 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     CHECK(rows[1] == "1,\"village, east.pcd\",confirm,10.000000,20.000000,0.500000,0.250000,1,0.600000,0.800000,1,2,"
                      "0.100000,");
     std::vector<viewer::TraceSample> samples;   // and back
-    for (const engine::TraceRow& r : engine::readTrace(dir.path / "trace_1.csv").rows)
+    for (const io::TraceRow& r : io::readTrace(dir.path / "trace_1.csv").rows)
         samples.push_back(study::toTraceSample(r));
     REQUIRE(samples.size() == 2);
     CHECK(samples[0].t_s == 0.5);
@@ -71,7 +71,7 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     CHECK(*samples[1].hit_world == glm::dvec3(10.0, 20.0, 0.5));
     const auto trace = lines(dir.path / "trace_1.csv");
     REQUIRE(trace.size() == 3);
-    CHECK(trace[0] == engine::kTraceHeader);
+    CHECK(trace[0] == io::kTraceHeader);
     CHECK(trace[1].starts_with("0.500000,1.000000,2.000000,3.000000,1.000000000,0.000000000,"));
     CHECK(trace[1].ends_with(",automatic,1,,,"));
     CHECK(trace[2].ends_with(",free,2,10.000000,20.000000,0.500000"));
@@ -166,8 +166,8 @@ TEST_CASE("a trace sample becomes a row and back, mode, scale and hit kept") {
     s.mode = viewer::ViewMode::Free;
     s.scale = 4.0;
     s.hit_world = glm::dvec3(7.0, 8.0, 9.0);
-    const engine::TraceRow r = study::toTraceRow(s);
-    CHECK(r.mode == engine::TraceMode::Free);
+    const io::TraceRow r = study::toTraceRow(s);
+    CHECK(r.mode == io::TraceMode::Free);
     CHECK(r.head_orientation.x == 1.0);
     const viewer::TraceSample back = study::toTraceSample(r);
     CHECK(back.t_s == 2.5);

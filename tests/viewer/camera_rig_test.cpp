@@ -1,7 +1,7 @@
 // tests/viewer/camera_rig_test.cpp: the modes' camera maths with known answers.
 #include <viewer/camera_rig.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -132,10 +132,10 @@ TEST_CASE("mode options are validated at the boundary") {
     ModeOptions o;
     CHECK_NOTHROW(validate(o));
     o.orbit_period_s = 0.0;
-    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("orbit_period_s"), engine::Error);
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("orbit_period_s"), core::Error);
     o = {};
     o.orbit.radius_m = -1.0;
-    CHECK_THROWS_AS(validate(o), engine::Error);
+    CHECK_THROWS_AS(validate(o), core::Error);
     CHECK(std::string(modeName(ViewMode::Automatic)) == "automatic");
     CHECK(std::string(modeName(ViewMode::Free)) == "free");
 }

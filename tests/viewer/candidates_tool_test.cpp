@@ -23,7 +23,7 @@ TEST_CASE("a ray enters an oriented box where the box's yaw puts its faces") {
 }
 
 TEST_CASE("the candidate pointed at gets the verdict, and the nearest box along the ray is the one pointed at") {
-    std::vector<engine::Candidate> list(2);
+    std::vector<core::Candidate> list(2);
     list[0].id = "far";
     list[0].centre_world = {1000100.0, 0.0, 0.0};
     list[0].size_m = {4.0, 4.0, 4.0};

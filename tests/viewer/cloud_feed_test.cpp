@@ -1,12 +1,12 @@
 // tests/viewer/cloud_feed_test.cpp: the viewer's file loader (CloudFeed::feedFile on
-// engine::CloudReader): chunks with every field, the same refusals with the same line
-// as engine::readCloud for every bad file of the shared table, non-finite points
+// io::CloudReader): chunks with every field, the same refusals with the same line
+// as io::readCloud for every bad file of the shared table, non-finite points
 // dropped, and an empty or broken file ending the feed with an error and no points.
 #include <bad_clouds.hpp>
 #include <test_files.hpp>
 
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
 #include <viewer/cloud_feed.hpp>
 
 #include <doctest/doctest.h>
@@ -28,23 +28,23 @@ void spit(const fs::path& p, const std::string& bytes) {
     std::ofstream(p, std::ios::binary) << bytes;
 }
 
-engine::PointCloud sampleCloud(std::size_t n) {
-    engine::PointCloud cloud;
+core::PointCloud sampleCloud(std::size_t n) {
+    core::PointCloud cloud;
     cloud.origin = glm::dvec3(1.0e6, 2.0e6, 30.0);   // georeferenced far away
     for (std::size_t i = 0; i < n; ++i) {
-        engine::CloudPoint p;
+        core::CloudPoint p;
         p.position = glm::vec3(float(i) * 0.25f, -float(i % 17), float(i % 5) * 0.5f);
-        p.rgb = engine::packRgb(std::uint8_t(i), std::uint8_t(255 - i % 256), 7);
+        p.rgb = core::packRgb(std::uint8_t(i), std::uint8_t(255 - i % 256), 7);
         p.range_m = 300.0f + float(i);
         p.view = std::uint16_t(i % 100);
-        p.label = static_cast<engine::Role>(i % 3);
+        p.label = static_cast<core::Role>(i % 3);
         cloud.points.push_back(p);
     }
     return cloud;
 }
 
-std::vector<engine::CloudPoint> drain(CloudFeed& feed, std::vector<std::size_t>* sizes = nullptr) {
-    std::vector<engine::CloudPoint> all;
+std::vector<core::CloudPoint> drain(CloudFeed& feed, std::vector<std::size_t>* sizes = nullptr) {
+    std::vector<core::CloudPoint> all;
     for (auto& chunk : feed.take()) {
         CHECK(chunk.cells.empty());   // no LOD order unless enabled: file order kept
         if (sizes) sizes->push_back(chunk.points.size());
@@ -53,7 +53,7 @@ std::vector<engine::CloudPoint> drain(CloudFeed& feed, std::vector<std::size_t>*
     return all;
 }
 
-void checkSame(const std::vector<engine::CloudPoint>& got, const std::vector<engine::CloudPoint>& want) {
+void checkSame(const std::vector<core::CloudPoint>& got, const std::vector<core::CloudPoint>& want) {
     REQUIRE(got.size() == want.size());
     for (std::size_t i = 0; i < got.size(); ++i) {
         CHECK(got[i].position == want[i].position);
@@ -66,8 +66,8 @@ void checkSame(const std::vector<engine::CloudPoint>& got, const std::vector<eng
 
 std::string engineError(const fs::path& p) {
     try {
-        engine::readCloud(p);
-    } catch (const engine::Error& e) {
+        io::readCloud(p);
+    } catch (const core::Error& e) {
         return e.what();
     }
     return "accepted";
@@ -78,11 +78,11 @@ std::string engineError(const fs::path& p) {
 TEST_CASE("every format streams in chunks with its origin and every field") {
     TempDir dir("viewer_stream");
     const auto cloud = sampleCloud(1000);
-    for (auto format : {engine::CloudFormat::PcdBinary, engine::CloudFormat::PcdAscii,
-                        engine::CloudFormat::PlyBinary, engine::CloudFormat::PlyAscii}) {
-        const bool ply = format == engine::CloudFormat::PlyBinary || format == engine::CloudFormat::PlyAscii;
+    for (auto format : {io::CloudFormat::PcdBinary, io::CloudFormat::PcdAscii,
+                        io::CloudFormat::PlyBinary, io::CloudFormat::PlyAscii}) {
+        const bool ply = format == io::CloudFormat::PlyBinary || format == io::CloudFormat::PlyAscii;
         const auto path = dir.path / ("s" + std::to_string(int(format)) + (ply ? ".ply" : ".pcd"));
-        engine::writeCloud(path, cloud, format);
+        io::writeCloud(path, cloud, format);
         CAPTURE(path.string());
         CloudFeed feed;
         feed.feedFile(path, 300);
@@ -101,7 +101,7 @@ TEST_CASE("the loader thread feeds the same points") {
     TempDir dir("viewer_thread");
     const auto cloud = sampleCloud(500);
     const auto path = dir.path / "t.pcd";
-    engine::writeCloud(path, cloud, engine::CloudFormat::PcdBinary);
+    io::writeCloud(path, cloud, io::CloudFormat::PcdBinary);
     CloudFeed feed;
     feed.startFileLoader(path, 128);
     for (int i = 0; i < 500 && !feed.finished(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -110,7 +110,7 @@ TEST_CASE("the loader thread feeds the same points") {
     checkSame(drain(feed), cloud.points);
 }
 
-TEST_CASE("the viewer refuses exactly the files the engine refuses, with the same line") {
+TEST_CASE("the viewer refuses exactly the files io refuses, with the same line") {
     TempDir dir("viewer_bad");
     for (const test_support::BadCloud& bad : test_support::badClouds()) {
         CAPTURE(bad.name);
@@ -130,7 +130,7 @@ TEST_CASE("a truncated binary file is refused before any point is shown") {
     TempDir dir("viewer_cut");
     const auto cloud = sampleCloud(1000);
     const auto path = dir.path / "cut.pcd";
-    engine::writeCloud(path, cloud, engine::CloudFormat::PcdBinary);
+    io::writeCloud(path, cloud, io::CloudFormat::PcdBinary);
     fs::resize_file(path, fs::file_size(path) - 5000);
     CloudFeed feed;
     feed.feedFile(path, 256);
@@ -145,7 +145,7 @@ TEST_CASE("NaN and inf points are dropped, and a file with no point left is an e
     cloud.points[10].position.y = std::numeric_limits<float>::infinity();
     cloud.points[400].position.x = std::nanf("");
     const auto path = dir.path / "inf.pcd";
-    engine::writeCloud(path, cloud, engine::CloudFormat::PcdBinary);
+    io::writeCloud(path, cloud, io::CloudFormat::PcdBinary);
     CloudFeed feed;
     feed.feedFile(path, 256);
     CHECK(feed.error().empty());
@@ -155,11 +155,11 @@ TEST_CASE("NaN and inf points are dropped, and a file with no point left is an e
     CHECK(got[10].position == cloud.points[11].position);
     for (const auto& p : got) CHECK(std::isfinite(p.position.x + p.position.y + p.position.z));
 
-    engine::PointCloud none;
+    core::PointCloud none;
     none.points.resize(3);
     for (auto& p : none.points) p.position.z = std::numeric_limits<float>::infinity();
     const auto all_bad = dir.path / "allbad.pcd";
-    engine::writeCloud(all_bad, none, engine::CloudFormat::PcdBinary);
+    io::writeCloud(all_bad, none, io::CloudFormat::PcdBinary);
     CloudFeed bad;
     bad.feedFile(all_bad, 256);
     CHECK(bad.error() == "pcd: " + all_bad.string() + ": holds no points to show");
@@ -169,7 +169,7 @@ TEST_CASE("NaN and inf points are dropped, and a file with no point left is an e
 TEST_CASE("a file of 0 points ends the feed with an error") {
     TempDir dir("viewer_empty");
     const auto path = dir.path / "empty.ply";
-    engine::writeCloud(path, engine::PointCloud{}, engine::CloudFormat::PlyBinary);
+    io::writeCloud(path, core::PointCloud{}, io::CloudFormat::PlyBinary);
     CloudFeed feed;
     feed.feedFile(path, 256);
     REQUIRE(feed.finished());

@@ -23,8 +23,8 @@ using namespace viewer;
 
 namespace {
 
-engine::Bounds box(glm::dvec3 centre, double half) {
-    engine::Bounds b;
+core::Bounds box(glm::dvec3 centre, double half) {
+    core::Bounds b;
     b.extend(centre - glm::dvec3(half));
     b.extend(centre + glm::dvec3(half));
     return b;
@@ -39,7 +39,7 @@ render::Frustum frustumLooking(double dir_x) {
 }  // namespace
 
 TEST_CASE("cells outside the frustum are culled, the others kept (known set)") {
-    const std::vector<engine::Bounds> boxes = {
+    const std::vector<core::Bounds> boxes = {
         box({10, 0, 0}, 1),      // 0 straight ahead: kept
         box({-10, 0, 0}, 1),     // 1 behind: culled
         box({10, 100, 0}, 1),    // 2 far to the left of a 60 deg view: culled
@@ -54,16 +54,16 @@ TEST_CASE("cells outside the frustum are culled, the others kept (known set)") {
     // The union of two eyes looking opposite ways also keeps the box behind.
     const std::vector<render::Frustum> two = {frustumLooking(1.0), frustumLooking(-1.0)};
     CHECK(visibleInAny(two, boxes) == std::vector<bool>{true, true, false, true, true, false, false, true});
-    CHECK(visibleInAny(one, std::vector<engine::Bounds>{engine::Bounds{}}) == std::vector<bool>{false});
+    CHECK(visibleInAny(one, std::vector<core::Bounds>{core::Bounds{}}) == std::vector<bool>{false});
 }
 
 TEST_CASE("screen importance: (r / d)^2, 1 inside, larger when nearer") {
-    const engine::Bounds b = box({0, 0, 0}, 1.0);   // half diagonal sqrt(3)
+    const core::Bounds b = box({0, 0, 0}, 1.0);   // half diagonal sqrt(3)
     const double r = std::sqrt(3.0);
     CHECK(screenImportance(b, {10.0 * r, 0, 0}) == doctest::Approx(0.01));
     CHECK(screenImportance(b, {0.5, 0, 0}) == doctest::Approx(1.0));
     CHECK(screenImportance(b, {20, 0, 0}) > screenImportance(b, {40, 0, 0}));
-    CHECK(screenImportance(engine::Bounds{}, {0, 0, 0}) == 0.0);
+    CHECK(screenImportance(core::Bounds{}, {0, 0, 0}) == 0.0);
 }
 
 TEST_CASE("budget allocation: known answers (proportional share, saturation, culled cells)") {
@@ -109,13 +109,13 @@ TEST_CASE("budget allocation on random cells: sum <= budget, monotone in importa
 TEST_CASE("LOD order: cells partition the points, each prefix is a uniform subsample, deterministic") {
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<float> u(0.0f, 100.0f);
-    std::vector<engine::CloudPoint> points(100000);
+    std::vector<core::CloudPoint> points(100000);
     for (std::size_t i = 0; i < points.size(); ++i) {
         // Sorted along x in the input (like a scan line): a plain prefix would be one strip.
         points[i].position = {float(i) * 100.0f / float(points.size()), u(rng), 0.5f * u(rng)};
         points[i].range_m = float(i);   // identity of the point
     }
-    std::vector<engine::CloudPoint> a = points, b = points;
+    std::vector<core::CloudPoint> a = points, b = points;
     const auto cells = buildLodOrder(a);
     const auto cells_b = buildLodOrder(b);
     REQUIRE(cells.size() == 16);   // ceil(sqrt(100000 / 8192)) = 4 -> 4 x 4 grid, all non-empty
@@ -152,11 +152,11 @@ TEST_CASE("headless draw: looking away from the cloud draws fewer points; the bu
     render::EglContext context;
     viewer::PointRenderer renderer;
     // 40,000 points on a 200 m x 200 m patch in front of the camera (+x side).
-    engine::PointCloud cloud;
+    core::PointCloud cloud;
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<float> u(0.0f, 200.0f);
     for (int i = 0; i < 40000; ++i) {
-        engine::CloudPoint p;
+        core::CloudPoint p;
         p.position = {20.0f + u(rng), u(rng) - 100.0f, 0.0f};
         cloud.points.push_back(p);
     }
@@ -199,9 +199,9 @@ TEST_CASE("headless draw: looking away from the cloud draws fewer points; the bu
 }
 
 TEST_CASE("the feed builds the LOD order on the producer's side when enabled") {
-    engine::PointCloud cloud;
+    core::PointCloud cloud;
     for (int i = 0; i < 30000; ++i) {
-        engine::CloudPoint p;
+        core::CloudPoint p;
         p.position = {float(i % 300), float(i / 300), 0.0f};
         p.range_m = float(i);
         cloud.points.push_back(p);
@@ -211,7 +211,7 @@ TEST_CASE("the feed builds the LOD order on the producer's side when enabled") {
     feed.feedCloud(cloud, 20000);
     const auto chunks = feed.take();
     REQUIRE(chunks.size() == 2);
-    std::vector<engine::CloudPoint> first(cloud.points.begin(), cloud.points.begin() + 20000);
+    std::vector<core::CloudPoint> first(cloud.points.begin(), cloud.points.begin() + 20000);
     const auto cells = buildLodOrder(first);   // the same seed: the same order and cells
     REQUIRE(chunks[0].cells.size() == cells.size());
     CHECK(chunks[0].cells.size() == 4);        // ceil(sqrt(20000 / 8192)) = 2: a 2 x 2 grid

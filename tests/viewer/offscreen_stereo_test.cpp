@@ -3,7 +3,7 @@
 // IPD apart, and bad sizes are refused before any GL work.
 #include <viewer/offscreen_stereo.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 #include <render/egl_context.hpp>
 
 #include <doctest/doctest.h>
@@ -18,13 +18,13 @@ namespace {
 
 /// A 10 x 10 m wall of red points (0.1 m apart) in the plane z = -10: straight ahead of an
 /// identity head pose, whose gaze is -z.
-engine::PointCloud redWall() {
-    engine::PointCloud cloud;
+core::PointCloud redWall() {
+    core::PointCloud cloud;
     for (int j = 0; j <= 100; ++j)
         for (int i = 0; i <= 100; ++i) {
-            engine::CloudPoint p;
+            core::CloudPoint p;
             p.position = glm::vec3(-5.0f + 0.1f * float(i), -5.0f + 0.1f * float(j), -10.0f);
-            p.rgb = engine::packRgb(255, 0, 0);
+            p.rgb = core::packRgb(255, 0, 0);
             cloud.points.push_back(p);
         }
     return cloud;
@@ -42,7 +42,7 @@ TEST_CASE("offscreen stereo: a red wall ahead is red in the centre of both eyes,
     viewer::StereoOptions options;
     options.eye_width_px = options.eye_height_px = 64;
     viewer::OffscreenStereo stereo(options);
-    const engine::PointCloud wall = redWall();
+    const core::PointCloud wall = redWall();
     stereo.upload(wall);
     CHECK(stereo.uploadedPoints() == wall.points.size());
     CHECK(stereo.cellCount() > 0);
@@ -90,12 +90,12 @@ TEST_CASE("offscreen stereo: the eyes' views are an IPD apart along the head's x
 TEST_CASE("offscreen stereo options are validated with the field and range") {
     viewer::StereoOptions o;
     o.eye_width_px = 8;
-    CHECK_THROWS_WITH_AS(viewer::validate(o), doctest::Contains("eye size 8x1600"), engine::Error);
+    CHECK_THROWS_WITH_AS(viewer::validate(o), doctest::Contains("eye size 8x1600"), core::Error);
     o = {};
     o.ipd_m = -0.01;
-    CHECK_THROWS_WITH_AS(viewer::validate(o), doctest::Contains("ipd_m"), engine::Error);
+    CHECK_THROWS_WITH_AS(viewer::validate(o), doctest::Contains("ipd_m"), core::Error);
     o = {};
     o.angle_left_rad = 1.0;
-    CHECK_THROWS_WITH_AS(viewer::validate(o), doctest::Contains("field of view"), engine::Error);
+    CHECK_THROWS_WITH_AS(viewer::validate(o), doctest::Contains("field of view"), core::Error);
     CHECK_NOTHROW(viewer::validate(viewer::StereoOptions{}));
 }

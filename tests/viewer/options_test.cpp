@@ -1,7 +1,7 @@
 // tests/viewer/options_test.cpp: viewer options and scripts: parsing and clear errors.
 #include <viewer/viewer.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -43,26 +43,26 @@ TEST_CASE("a script lists key presses by frame") {
 
 TEST_CASE("bad script lines name the file and the line and what is allowed") {
     const auto bad_frame = writeTemp("f.txt", "10 space\nten space\n");
-    CHECK_THROWS_WITH_AS(readScript(bad_frame), doctest::Contains("line 2: frame 'ten'"), engine::Error);
+    CHECK_THROWS_WITH_AS(readScript(bad_frame), doctest::Contains("line 2: frame 'ten'"), core::Error);
     const auto bad_key = writeTemp("k.txt", "5 jump\n");
     CHECK_THROWS_WITH_AS(readScript(bad_key), doctest::Contains("action 'jump' is not one of space, escape, aim"),
-                         engine::Error);
+                         core::Error);
     const auto extra = writeTemp("e.txt", "5 space now\n");
-    CHECK_THROWS_WITH_AS(readScript(extra), doctest::Contains("unexpected 'now'"), engine::Error);
+    CHECK_THROWS_WITH_AS(readScript(extra), doctest::Contains("unexpected 'now'"), core::Error);
     const auto negative = writeTemp("n.txt", "-3 space\n");
-    CHECK_THROWS_AS(readScript(negative), engine::Error);
+    CHECK_THROWS_AS(readScript(negative), core::Error);
     const auto no_count = writeTemp("c.txt", "desktop+ escape\n");
-    CHECK_THROWS_WITH_AS(readScript(no_count), doctest::Contains("line 1: frame 'desktop+'"), engine::Error);
+    CHECK_THROWS_WITH_AS(readScript(no_count), doctest::Contains("line 1: frame 'desktop+'"), core::Error);
     std::filesystem::remove(no_count);
     CHECK_THROWS_WITH_AS(readScript("/nonexistent/script.txt"), doctest::Contains("/nonexistent/script.txt: does not exist"),
-                         engine::Error);
+                         core::Error);
     for (const auto& p : {bad_frame, bad_key, extra, negative}) std::filesystem::remove(p);
 }
 
 TEST_CASE("mirror and colour names") {
     CHECK(parseMirrorEyes("left") == MirrorEyes::Left);
     CHECK(parseMirrorEyes("both") == MirrorEyes::Both);
-    CHECK_THROWS_WITH_AS(parseMirrorEyes("up"), doctest::Contains("not one of left, right, both"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseMirrorEyes("up"), doctest::Contains("not one of left, right, both"), core::Error);
     CHECK(parseColourMode("height") == ColourMode::HeightJet);
     CHECK(parseColourMode("label") == ColourMode::Label);
     CHECK(std::string(colourModeName(ColourMode::White)) == "white");
@@ -70,24 +70,24 @@ TEST_CASE("mirror and colour names") {
     CHECK(std::string(colourModeName(ColourMode::AboveGround)) == "above-ground");
     CHECK_THROWS_WITH_AS(parseColourMode("rainbow"),
                          doctest::Contains("not one of file, height, white, label, above-ground"),
-                         engine::Error);
+                         core::Error);
 }
 
 TEST_CASE("viewer options are validated before a window opens") {
     ViewerOptions o;
     CHECK_NOTHROW(validate(o));
     o.style.point_size_px = 0.5f;
-    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--point-size"), engine::Error);
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--point-size"), core::Error);
     o = {};
     o.frames = -1;
-    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--frames"), engine::Error);
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--frames"), core::Error);
     o = {};
     o.screenshot = "shot.jpg";
-    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains(".png"), engine::Error);
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains(".png"), core::Error);
     o = {};
     o.window_width = 10;
-    CHECK_THROWS_AS(validate(o), engine::Error);
+    CHECK_THROWS_AS(validate(o), core::Error);
     o = {};
     o.upload_points_per_frame = 10;
-    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--upload-budget"), engine::Error);
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--upload-budget"), core::Error);
 }

@@ -2,7 +2,7 @@
 // against a scan of every point.
 #include <viewer/pick_index.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -14,8 +14,8 @@
 using namespace viewer;
 
 namespace {
-engine::CloudPoint at(double x, double y, double z, engine::Role label = engine::Role::Environment) {
-    engine::CloudPoint p;
+core::CloudPoint at(double x, double y, double z, core::Role label = core::Role::Environment) {
+    core::CloudPoint p;
     p.position = glm::vec3(float(x), float(y), float(z));
     p.label = label;
     return p;
@@ -23,14 +23,14 @@ engine::CloudPoint at(double x, double y, double z, engine::Role label = engine:
 }  // namespace
 
 TEST_CASE("a ray through a known point picks that point") {
-    std::vector<engine::CloudPoint> points;
+    std::vector<core::CloudPoint> points;
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(-50.0f, 50.0f);
     for (int i = 0; i < 20000; ++i) points.push_back(at(u(rng), u(rng), u(rng) * 0.1));
     // The known point sits 1 m above every other point; a ray from above through it
     // meets it first, from any direction that comes down on it.
     const glm::dvec3 known(12.25, -7.5, 6.0);
-    points.push_back(at(known.x, known.y, known.z, engine::Role::Target));
+    points.push_back(at(known.x, known.y, known.z, core::Role::Target));
     const PickIndex index(points);
     for (const glm::dvec3 from : {glm::dvec3(0.0, 0.0, 100.0), glm::dvec3(30.0, 20.0, 80.0), glm::dvec3(-60.0, 0.0, 40.0)}) {
         const glm::dvec3 origin = known + from;
@@ -40,13 +40,13 @@ TEST_CASE("a ray through a known point picks that point") {
         CHECK(glm::length(hit->local - known) < 1e-5);
     }
     // A cloud of the known point alone: it is the pick, with its label and range.
-    const std::vector<engine::CloudPoint> one = {at(known.x, known.y, known.z, engine::Role::Target),
+    const std::vector<core::CloudPoint> one = {at(known.x, known.y, known.z, core::Role::Target),
                                                  at(known.x + 5.0, known.y, known.z)};
     const PickIndex small(one);
     const auto h = small.pick(glm::dvec3(0.0), known);
     REQUIRE(h);
     CHECK(h->index == 0);
-    CHECK(h->label == engine::Role::Target);
+    CHECK(h->label == core::Role::Target);
     CHECK(h->distance_m == doctest::Approx(glm::length(known)).epsilon(1e-6));
     CHECK(glm::length(h->local - known) < 1e-5);
 }
@@ -54,7 +54,7 @@ TEST_CASE("a ray through a known point picks that point") {
 TEST_CASE("the pick is the nearest point inside the cone, not the nearest to the axis") {
     // On the axis at 20 m, and 0.3 deg off the axis at 10 m: the nearer one wins.
     const double off = 10.0 * std::tan(0.3 * 3.14159265358979 / 180.0);
-    const std::vector<engine::CloudPoint> points = {at(20.0, 0.0, 0.0), at(10.0, off, 0.0), at(5.0, 1.0, 0.0)};
+    const std::vector<core::CloudPoint> points = {at(20.0, 0.0, 0.0), at(10.0, off, 0.0), at(5.0, 1.0, 0.0)};
     const PickIndex index(points);
     const auto hit = index.pick(glm::dvec3(0.0), glm::dvec3(1.0, 0.0, 0.0));
     REQUIRE(hit);
@@ -74,7 +74,7 @@ TEST_CASE("the pick is the nearest point inside the cone, not the nearest to the
 }
 
 TEST_CASE("the k-d tree pick equals the scan on random rays over a terrain-like cloud") {
-    std::vector<engine::CloudPoint> points;
+    std::vector<core::CloudPoint> points;
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-200.0f, 200.0f), h(0.0f, 8.0f);
     for (int i = 0; i < 100000; ++i) points.push_back(at(u(rng), u(rng), i % 10 == 0 ? h(rng) : 0.0f));
@@ -96,21 +96,21 @@ TEST_CASE("the k-d tree pick equals the scan on random rays over a terrain-like 
 }
 
 TEST_CASE("distance to the nearest ground-truth target point") {
-    const std::vector<engine::CloudPoint> points = {at(0, 0, 0), at(10, 0, 0, engine::Role::Target),
-                                                    at(12, 0, 0, engine::Role::Target)};
+    const std::vector<core::CloudPoint> points = {at(0, 0, 0), at(10, 0, 0, core::Role::Target),
+                                                    at(12, 0, 0, core::Role::Target)};
     const PickIndex index(points);
     CHECK(*index.nearestTargetDistance(glm::dvec3(10.5, 0.0, 0.0)) == doctest::Approx(0.5));
     CHECK(*index.nearestTargetDistance(glm::dvec3(0.0, 3.0, 0.0)) == doctest::Approx(std::sqrt(109.0)));
-    const std::vector<engine::CloudPoint> none = {at(0, 0, 0)};
+    const std::vector<core::CloudPoint> none = {at(0, 0, 0)};
     CHECK_FALSE(PickIndex(none).nearestTargetDistance(glm::dvec3(0.0)));
 }
 
 TEST_CASE("pick options are validated") {
     PickOptions o;
     o.angle_deg = 0.0;
-    CHECK_THROWS_WITH_AS(validate(o), "view: --pick-angle 0: allowed (0, 10] degrees", engine::Error);
+    CHECK_THROWS_WITH_AS(validate(o), "view: --pick-angle 0: allowed (0, 10] degrees", core::Error);
     o.angle_deg = 11.0;
-    CHECK_THROWS_AS(validate(o), engine::Error);
+    CHECK_THROWS_AS(validate(o), core::Error);
     o.angle_deg = 0.5;
     CHECK_NOTHROW(validate(o));
 }
@@ -118,18 +118,18 @@ TEST_CASE("pick options are validated") {
 TEST_CASE("a pick set over the chunks of a stream picks what one index over the whole cloud picks") {
     // A terrain-like cloud with some targets, streamed as chunks (the point source's leaves):
     // one PickIndex per chunk in a PickSet against one PickIndex over every point.
-    std::vector<engine::CloudPoint> points;
+    std::vector<core::CloudPoint> points;
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(-150.0f, 150.0f), h(0.0f, 6.0f);
     for (int i = 0; i < 60000; ++i)
         points.push_back(at(u(rng), u(rng), i % 7 == 0 ? h(rng) : 0.0f,
-                            i % 500 == 0 ? engine::Role::Target : engine::Role::Environment));
+                            i % 500 == 0 ? core::Role::Target : core::Role::Environment));
     const PickIndex whole(points);
     PickSet set;
     constexpr std::size_t kChunk = 7000;   // 9 chunks, the last one shorter
     for (std::size_t first = 0; first < points.size(); first += kChunk) {
         const std::size_t n = std::min(kChunk, points.size() - first);
-        set.add(std::make_shared<const PickIndex>(std::span<const engine::CloudPoint>(points.data() + first, n)));
+        set.add(std::make_shared<const PickIndex>(std::span<const core::CloudPoint>(points.data() + first, n)));
     }
     REQUIRE(set.nodes() == 9);
     CHECK(set.size() == points.size());

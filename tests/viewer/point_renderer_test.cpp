@@ -1,13 +1,13 @@
 // viewer's height colours: points of known heights drawn headless (EGL) with the "height"
-// colour mode read back as exactly the generator's jet colours, engine::jetTable entry
-// engine::jetIndex (the table sim writes into the files), for 64 entries and for 16.
+// colour mode read back as exactly the generator's jet colours, core::jetTable entry
+// core::jetIndex (the table sim writes into the files), for 64 entries and for 16.
 #include "point_renderer.hpp"
 
 #include <viewer/cloud_feed.hpp>
 #include <viewer/point_source.hpp>
 
-#include <engine/jet.hpp>
-#include <engine/point_cloud.hpp>
+#include <core/jet.hpp>
+#include <core/point_cloud.hpp>
 #include <render/egl_context.hpp>
 
 #include <doctest/doctest.h>
@@ -27,7 +27,7 @@ struct Pixel {
 
 // Draws `cloud` from straight above with an orthographic camera (1 m = 8 px, grid cell
 // (i, j) centred on pixel (8i + 4, 8j + 4)) and returns the point pass's colour image.
-std::vector<Pixel> drawFromAbove(const engine::PointCloud& cloud, int rows, const viewer::ViewStyle& style,
+std::vector<Pixel> drawFromAbove(const core::PointCloud& cloud, int rows, const viewer::ViewStyle& style,
                                  const viewer::CutVolume& cut = {}) {
     viewer::PointRenderer renderer;
     viewer::CloudFeed feed;
@@ -63,9 +63,9 @@ void checkHeightColours(int entries) {
     std::vector<double> heights = {z_min, z_max};
     for (int bin = 0; bin < entries; ++bin) heights.push_back(z_min + (bin + 0.5) * (z_max - z_min) / entries);
     const int rows = (static_cast<int>(heights.size()) + kColumns - 1) / kColumns;
-    engine::PointCloud cloud;
+    core::PointCloud cloud;
     for (std::size_t k = 0; k < heights.size(); ++k) {
-        engine::CloudPoint p;
+        core::CloudPoint p;
         p.position = {float(k % kColumns), float(k / kColumns), float(heights[k])};
         p.rgb = 0x808080u;   // the file's colour, which the height mode must not show
         cloud.points.push_back(p);
@@ -77,18 +77,18 @@ void checkHeightColours(int entries) {
     style.jet_entries = entries;
     const std::vector<Pixel> pixels = drawFromAbove(cloud, rows, style);
 
-    const std::vector<std::uint32_t> jet = engine::jetTable(entries);
+    const std::vector<std::uint32_t> jet = core::jetTable(entries);
     for (std::size_t k = 0; k < heights.size(); ++k) {
         const int x = int(k % kColumns) * kPixelsPerMetre + 4, y = int(k / kColumns) * kPixelsPerMetre + 4;
         const Pixel got = pixels[static_cast<std::size_t>(y) * kColumns * kPixelsPerMetre + x];
-        const std::uint32_t want = jet[engine::jetIndex(heights[k], z_min, z_max, entries)];
+        const std::uint32_t want = jet[core::jetIndex(heights[k], z_min, z_max, entries)];
         CAPTURE(entries);
         CAPTURE(heights[k]);
-        CHECK(engine::packRgb(got.r, got.g, got.b) == want);
+        CHECK(core::packRgb(got.r, got.g, got.b) == want);
     }
     // The ends of the range are the table's ends: red at the bottom, blue at the top.
-    CHECK(engine::jetIndex(z_min, z_min, z_max, entries) == entries - 1);
-    CHECK(engine::jetIndex(z_max, z_min, z_max, entries) == 0);
+    CHECK(core::jetIndex(z_min, z_min, z_max, entries) == entries - 1);
+    CHECK(core::jetIndex(z_max, z_min, z_max, entries) == 0);
 }
 
 // Points at the same height z on a sloped stand-in, each with a known height above
@@ -102,14 +102,14 @@ void checkAboveGroundColours() {
     const std::size_t white_points = 4;
     const std::size_t total = above.size() + white_points;
     const int rows = (static_cast<int>(total) + kColumns - 1) / kColumns;
-    engine::PointCloud cloud;
+    core::PointCloud cloud;
     cloud.fields.height_above_ground = true;
     for (std::size_t k = 0; k < total; ++k) {
-        engine::CloudPoint p;
+        core::CloudPoint p;
         // z varies against the height above ground, so colouring by z would give other entries.
         p.position = {float(k % kColumns), float(k / kColumns), 50.0f - float(k)};
         const bool white = k >= above.size();
-        p.rgb = white ? engine::kWhite : 0x808080u;
+        p.rgb = white ? core::kWhite : 0x808080u;
         p.height_above_ground_m = white ? 7.0f : above[k];
         cloud.points.push_back(p);
     }
@@ -119,17 +119,17 @@ void checkAboveGroundColours() {
     style.point_size_px = 5.0f;
     style.jet_entries = entries;
     const std::vector<Pixel> pixels = drawFromAbove(cloud, rows, style);
-    const std::vector<std::uint32_t> jet = engine::jetTable(entries);
+    const std::vector<std::uint32_t> jet = core::jetTable(entries);
     for (std::size_t k = 0; k < total; ++k) {
         const int x = int(k % kColumns) * kPixelsPerMetre + 4, y = int(k / kColumns) * kPixelsPerMetre + 4;
         const Pixel got = pixels[static_cast<std::size_t>(y) * kColumns * kPixelsPerMetre + x];
-        const std::uint32_t want = k >= above.size() ? engine::kWhite
-                                                     : jet[engine::jetIndex(above[k], 0.0, top_m, entries)];
+        const std::uint32_t want = k >= above.size() ? core::kWhite
+                                                     : jet[core::jetIndex(above[k], 0.0, top_m, entries)];
         CAPTURE(k);
-        CHECK(engine::packRgb(got.r, got.g, got.b) == want);
+        CHECK(core::packRgb(got.r, got.g, got.b) == want);
     }
     // Nearest the ground is red, as the lowest heights are in the height mode.
-    CHECK(engine::jetIndex(0.0, 0.0, top_m, entries) == entries - 1);
+    CHECK(core::jetIndex(0.0, 0.0, top_m, entries) == entries - 1);
 }
 
 }  // namespace
@@ -151,10 +151,10 @@ TEST_CASE("viewer height colours follow the table size (16 entries)") {
 
 TEST_CASE("viewer file colours pass through byte-exact") {
     render::EglContext context;
-    engine::PointCloud cloud;
+    core::PointCloud cloud;
     const std::uint32_t colours[3] = {0x00FF0000u, 0x0012AB7Fu, 0x00010203u};
     for (int k = 0; k < 3; ++k) {
-        engine::CloudPoint p;
+        core::CloudPoint p;
         p.position = {float(k), 0.0f, float(k)};
         p.rgb = colours[k];
         cloud.points.push_back(p);
@@ -165,7 +165,7 @@ TEST_CASE("viewer file colours pass through byte-exact") {
     const std::vector<Pixel> pixels = drawFromAbove(cloud, 1, style);
     for (int k = 0; k < 3; ++k) {
         const Pixel got = pixels[static_cast<std::size_t>(4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4];
-        CHECK(engine::packRgb(got.r, got.g, got.b) == colours[k]);
+        CHECK(core::packRgb(got.r, got.g, got.b) == colours[k]);
     }
 }
 
@@ -173,11 +173,11 @@ TEST_CASE("the cutting volume hides the points beyond its radius, in 3D") {
     render::EglContext context;
     // A row of 12 points 1 m apart at z = 0, and a second row 2.5 m up at y = 1. The cut
     // centre reaches the shader relative to each cell's centre, like the points.
-    engine::PointCloud cloud;
+    core::PointCloud cloud;
     cloud.origin = glm::dvec3(1.0e6, -2.0e6, 300.0);
     for (int k = 0; k < kColumns; ++k)
         for (int row = 0; row < 2; ++row) {
-            engine::CloudPoint p;
+            core::CloudPoint p;
             p.position = {float(k), float(row), row == 0 ? 0.0f : 2.5f};
             p.rgb = 0x00FFFFFFu;
             cloud.points.push_back(p);

@@ -17,11 +17,11 @@ using namespace viewer;
 
 namespace {
 
-engine::PointCloud line(std::size_t n) {   // points 1 m apart along x, rising in z
-    engine::PointCloud cloud;
+core::PointCloud line(std::size_t n) {   // points 1 m apart along x, rising in z
+    core::PointCloud cloud;
     cloud.origin = glm::dvec3(1000.0, 2000.0, 30.0);
     for (std::size_t i = 0; i < n; ++i) {
-        engine::CloudPoint p;
+        core::CloudPoint p;
         p.position = glm::vec3(float(i), 0.5f, float(i % 10));
         cloud.points.push_back(p);
     }

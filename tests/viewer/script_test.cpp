@@ -2,7 +2,7 @@
 // fuzz target fuzz_view_script drives): accepted forms, refused lines, escaped messages.
 #include <viewer/script.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
@@ -33,21 +33,21 @@ TEST_CASE("script text: refused frames name the line and what is allowed") {
                          "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
                          "allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
                          "'<frame> grab_scale S', <frame> N, desktop+N, loaded+N or +N",
-                         engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("0x10 space\n", kName), doctest::Contains("line 1: frame '0x10'"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1.5 space\n", kName), doctest::Contains("frame '1.5'"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("-1 space\n", kName), doctest::Contains("frame '-1'"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("\n\n5\n", kName), doctest::Contains("line 3: missing action"), engine::Error);
+                         core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("0x10 space\n", kName), doctest::Contains("line 1: frame '0x10'"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1.5 space\n", kName), doctest::Contains("frame '1.5'"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("-1 space\n", kName), doctest::Contains("frame '-1'"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("\n\n5\n", kName), doctest::Contains("line 3: missing action"), core::Error);
 }
 
 TEST_CASE("script text: bytes from a binary file are shown escaped and cut") {
     const std::string key = std::string("sp\x1b[2J") + '\0' + "ace";
     CHECK_THROWS_WITH_AS(parseScript("3 " + key + "\n", kName),
-                         doctest::Contains("action 'sp\\x1b[2J\\x00ace' is not one of space, escape"), engine::Error);
+                         doctest::Contains("action 'sp\\x1b[2J\\x00ace' is not one of space, escape"), core::Error);
     try {
         parseScript("4 space " + std::string(5000, '\x7f') + "\n", kName);
         FAIL("a long binary token was accepted");
-    } catch (const engine::Error& e) {
+    } catch (const core::Error& e) {
         const std::string what = e.what();
         CHECK(what.size() < 400);
         CHECK(what.find('\x7f') == std::string::npos);
@@ -82,13 +82,13 @@ TEST_CASE("script text: the operator's actions, with their arguments") {
 }
 
 TEST_CASE("script text: arguments are checked") {
-    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2\n", kName), doctest::Contains("line 1: aim needs X Y Z"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 inf\n", kName), doctest::Contains("aim coordinate 'inf'"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 1e999\n", kName), doctest::Contains("'1e999' is not a finite"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 3 4\n", kName), doctest::Contains("unexpected '4'"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale 0\n", kName), doctest::Contains("grab_scale '0' is not a finite number > 0"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale\n", kName), doctest::Contains("grab_scale needs a scale"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1 designate now\n", kName), doctest::Contains("unexpected 'now'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2\n", kName), doctest::Contains("line 1: aim needs X Y Z"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 inf\n", kName), doctest::Contains("aim coordinate 'inf'"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 1e999\n", kName), doctest::Contains("'1e999' is not a finite"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 3 4\n", kName), doctest::Contains("unexpected '4'"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale 0\n", kName), doctest::Contains("grab_scale '0' is not a finite number > 0"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale\n", kName), doctest::Contains("grab_scale needs a scale"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 designate now\n", kName), doctest::Contains("unexpected 'now'"), core::Error);
 }
 
 TEST_CASE("script text: +N counts from the previous action") {
@@ -102,9 +102,9 @@ TEST_CASE("script text: +N counts from the previous action") {
     const auto again = parseScript(viewer::formatScript(events), kName);
     CHECK(again[1].relative);
     CHECK(again[1].frame == 10);
-    CHECK_THROWS_WITH_AS(parseScript("+ next\n", kName), doctest::Contains("frame '+'"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("+-3 next\n", kName), doctest::Contains("frame '+-3'"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("++3 next\n", kName), doctest::Contains("frame '++3'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("+ next\n", kName), doctest::Contains("frame '+'"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("+-3 next\n", kName), doctest::Contains("frame '+-3'"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("++3 next\n", kName), doctest::Contains("frame '++3'"), core::Error);
 }
 
 TEST_CASE("script text: loaded+N counts from the whole cloud being on the GPU") {
@@ -120,6 +120,6 @@ TEST_CASE("script text: loaded+N counts from the whole cloud being on the GPU") 
     REQUIRE(again.size() == 2);
     CHECK(again[0].after_loaded);
     CHECK(again[0].frame == 5);
-    CHECK_THROWS_WITH_AS(parseScript("loaded+ escape\n", kName), doctest::Contains("frame 'loaded+'"), engine::Error);
-    CHECK_THROWS_WITH_AS(parseScript("loaded5 escape\n", kName), doctest::Contains("frame 'loaded5'"), engine::Error);
+    CHECK_THROWS_WITH_AS(parseScript("loaded+ escape\n", kName), doctest::Contains("frame 'loaded+'"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("loaded5 escape\n", kName), doctest::Contains("frame 'loaded5'"), core::Error);
 }

@@ -1,7 +1,7 @@
 // viewer/src/camera_rig.cpp: automatic orbit and free mode (paper §IV-A).
 #include <viewer/camera_rig.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -18,7 +18,7 @@ void validate(const ModeOptions& o) {
     render::validate(o.orbit);
     auto positive = [](double v, const char* name) {
         if (!(std::isfinite(v) && v > 0.0))
-            throw engine::Error(std::string("view: ") + name + " = " + std::to_string(v) +
+            throw core::Error(std::string("view: ") + name + " = " + std::to_string(v) +
                                 ": allowed a finite value > 0");
     };
     positive(o.orbit_period_s, "orbit_period_s");

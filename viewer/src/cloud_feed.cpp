@@ -1,8 +1,8 @@
 // viewer/src/cloud_feed.cpp: the producer/consumer queue that streams a cloud into the viewer.
 #include <viewer/cloud_feed.hpp>
 
-#include <engine/cloud_reader.hpp>
-#include <engine/error.hpp>
+#include <core/error.hpp>
+#include <io/cloud_reader.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -20,7 +20,7 @@ void CloudFeed::setOrigin(const glm::dvec3& origin) {
     origin_ = origin;
 }
 
-void CloudFeed::setFields(const engine::CloudFields& fields) {
+void CloudFeed::setFields(const core::CloudFields& fields) {
     std::lock_guard lock(mutex_);
     fields_ = fields;
 }
@@ -31,7 +31,7 @@ void CloudFeed::enableLodOrder(const LodOptions& options) {
     lod_options_ = options;
 }
 
-void CloudFeed::append(std::vector<engine::CloudPoint> chunk) {
+void CloudFeed::append(std::vector<core::CloudPoint> chunk) {
     const std::size_t n = chunk.size();
     FeedChunk item;
     bool lod = false;
@@ -68,7 +68,7 @@ glm::dvec3 CloudFeed::origin() const {
     return origin_;
 }
 
-engine::CloudFields CloudFeed::fields() const {
+core::CloudFields CloudFeed::fields() const {
     std::lock_guard lock(mutex_);
     return fields_;
 }
@@ -78,13 +78,13 @@ std::string CloudFeed::error() const {
     return error_;
 }
 
-void CloudFeed::feedCloud(engine::PointCloud cloud, std::size_t chunk_points) {
+void CloudFeed::feedCloud(core::PointCloud cloud, std::size_t chunk_points) {
     setOrigin(cloud.origin);
     setFields(cloud.fields);
     chunk_points = std::max<std::size_t>(chunk_points, 1);
     for (std::size_t i = 0; i < cloud.points.size(); i += chunk_points) {
         const std::size_t end = std::min(cloud.points.size(), i + chunk_points);
-        append(std::vector<engine::CloudPoint>(cloud.points.begin() + static_cast<std::ptrdiff_t>(i),
+        append(std::vector<core::CloudPoint>(cloud.points.begin() + static_cast<std::ptrdiff_t>(i),
                                                cloud.points.begin() + static_cast<std::ptrdiff_t>(end)));
     }
     finish();
@@ -92,14 +92,14 @@ void CloudFeed::feedCloud(engine::PointCloud cloud, std::size_t chunk_points) {
 
 void CloudFeed::feedFile(const std::filesystem::path& path, std::size_t chunk_points) {
     try {
-        // The same reader as engine::readCloud: the header is checked whole before the
+        // The same reader as io::readCloud: the header is checked whole before the
         // first chunk, so a bad file is refused before anything is shown.
-        engine::CloudReader reader(path);
+        io::CloudReader reader(path);
         setOrigin(reader.origin());
         setFields(reader.fields());
         chunk_points = std::max<std::size_t>(chunk_points, 1);
         for (;;) {
-            std::vector<engine::CloudPoint> chunk;
+            std::vector<core::CloudPoint> chunk;
             chunk.reserve(std::min(chunk_points, reader.pointsBound()));
             if (!reader.nextChunk(chunk, chunk_points)) break;
             if (!chunk.empty()) append(std::move(chunk));

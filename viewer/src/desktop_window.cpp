@@ -12,7 +12,7 @@
 #include "desktop_input.hpp"
 #include "desktop_window.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <string>
 
@@ -28,7 +28,7 @@ void glfwError(int code, const char* description) {
 DesktopWindow::DesktopWindow(const ViewerOptions& options, DesktopInput& input) {
     glfwSetErrorCallback(glfwError);
     if (!glfwInit())
-        throw engine::Error("view: cannot open the desktop window: " + g_glfw_error +
+        throw core::Error("view: cannot open the desktop window: " + g_glfw_error +
                             "; a display is needed (set DISPLAY, or run under Xvfb)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
@@ -39,7 +39,7 @@ DesktopWindow::DesktopWindow(const ViewerOptions& options, DesktopInput& input) 
     handle = glfwCreateWindow(options.window_width, options.window_height, "ladarvr view", nullptr, nullptr);
     if (!handle) {
         glfwTerminate();
-        throw engine::Error("view: cannot create an OpenGL 4.5 core window: " + g_glfw_error);
+        throw core::Error("view: cannot create an OpenGL 4.5 core window: " + g_glfw_error);
     }
     glfwMakeContextCurrent(handle);
     render::loadGl(reinterpret_cast<GLADloadfunc>(glfwGetProcAddress));

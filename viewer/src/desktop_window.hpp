@@ -12,7 +12,7 @@ class DesktopInput;
 struct DesktopWindow {
     GLFWwindow* handle = nullptr;
     /// Opens the window (hidden with options.hidden_window), makes its context current,
-    /// installs `input`'s callbacks, then ImGui's. Throws engine::Error("view: ...") when
+    /// installs `input`'s callbacks, then ImGui's. Throws core::Error("view: ...") when
     /// no display or no GL 4.5 core context is available.
     DesktopWindow(const ViewerOptions& options, DesktopInput& input);
     ~DesktopWindow();

@@ -1,7 +1,7 @@
 // viewer/src/eye_frame.cpp: the headset's eyes, the desktop view, overlays and the panel quad.
 #include "eye_frame.hpp"
 
-#include <engine/png.hpp>
+#include <io/png.hpp>
 #include <render/orbit_camera.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -192,7 +192,7 @@ bool writeScreenshot(const std::filesystem::path& path, int fb_w, int fb_h) {
     glReadPixels(0, 0, fb_w, fb_h, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
     if (!render::logGl("glReadPixels (screenshot)", __FILE__, __LINE__)) return false;
     try {
-        engine::writePng(path, pixels, fb_w, fb_h, 3, engine::PngRows::BottomUp);
+        io::writePng(path, pixels, fb_w, fb_h, 3, io::PngRows::BottomUp);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "ladarvr: view: --screenshot: %s\n", e.what());
         return false;

@@ -51,7 +51,7 @@ struct FrameResult {
 
 class EyeFrameRenderer {
 public:
-    /// Needs the window's GL context current; throws engine::Error (setup path).
+    /// Needs the window's GL context current; throws core::Error (setup path).
     explicit EyeFrameRenderer(const ViewerOptions& options);
     ~EyeFrameRenderer();
     EyeFrameRenderer(const EyeFrameRenderer&) = delete;

@@ -1,7 +1,7 @@
 // viewer/src/headset.cpp: starting, polling and dropping the OpenXR session.
 #include "headset.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <cstdio>
 
@@ -12,7 +12,7 @@ void Headset::start(GLFWwindow* window, bool use_xr) {
         std::string reason;
         try {
             xr_ = XrStereoSession::create(window, *log_, reason);
-        } catch (const engine::Error& e) {
+        } catch (const core::Error& e) {
             reason = e.what();
         }
         if (!xr_) fallBack(reason, 0);

@@ -2,7 +2,7 @@
 // (paper §IV-A asks for an immersive viewer; the budget keeps it at HMD rates).
 #include <viewer/lod.hpp>
 
-#include <engine/shuffle.hpp>
+#include <core/random.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -11,11 +11,11 @@
 
 namespace viewer {
 
-std::vector<LodCell> buildLodOrder(std::vector<engine::CloudPoint>& points, const LodOptions& options) {
+std::vector<LodCell> buildLodOrder(std::vector<core::CloudPoint>& points, const LodOptions& options) {
     std::vector<LodCell> cells;
     const std::size_t n = points.size();
     if (n == 0) return cells;
-    engine::Bounds all;
+    core::Bounds all;
     for (const auto& p : points) all.extend(glm::dvec3(p.position));
     const std::size_t per_cell = std::max<std::size_t>(options.cell_points, 1);
     const auto side = static_cast<std::size_t>(
@@ -36,7 +36,7 @@ std::vector<LodCell> buildLodOrder(std::vector<engine::CloudPoint>& points, cons
         ++start[c + 1];
     }
     std::partial_sum(start.begin(), start.end(), start.begin());
-    std::vector<engine::CloudPoint> sorted(n);
+    std::vector<core::CloudPoint> sorted(n);
     std::vector<std::size_t> next(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < n; ++i) sorted[next[cell_of[i]]++] = points[i];
     std::mt19937_64 rng(options.seed);
@@ -44,7 +44,7 @@ std::vector<LodCell> buildLodOrder(std::vector<engine::CloudPoint>& points, cons
         const std::size_t first = start[c], count = start[c + 1] - start[c];
         if (count == 0) continue;
         const auto cell_begin = sorted.begin() + static_cast<std::ptrdiff_t>(first);
-        engine::shuffle(cell_begin, cell_begin + static_cast<std::ptrdiff_t>(count), rng);
+        core::shuffle(cell_begin, cell_begin + static_cast<std::ptrdiff_t>(count), rng);
         LodCell cell{first, count, {}};
         for (std::size_t i = first; i < first + count; ++i) cell.bounds.extend(glm::dvec3(sorted[i].position));
         cells.push_back(cell);
@@ -53,7 +53,7 @@ std::vector<LodCell> buildLodOrder(std::vector<engine::CloudPoint>& points, cons
     return cells;
 }
 
-std::vector<bool> visibleInAny(std::span<const render::Frustum> frusta, std::span<const engine::Bounds> boxes) {
+std::vector<bool> visibleInAny(std::span<const render::Frustum> frusta, std::span<const core::Bounds> boxes) {
     std::vector<bool> visible(boxes.size(), false);
     for (std::size_t i = 0; i < boxes.size(); ++i) {
         if (boxes[i].empty()) continue;
@@ -66,7 +66,7 @@ std::vector<bool> visibleInAny(std::span<const render::Frustum> frusta, std::spa
     return visible;
 }
 
-double screenImportance(const engine::Bounds& box, const glm::dvec3& eye) {
+double screenImportance(const core::Bounds& box, const glm::dvec3& eye) {
     if (box.empty()) return 0.0;
     const double r = std::max(0.5 * glm::length(box.size()), 1e-6);
     const double d = std::max(glm::length(box.centre() - eye), r);

@@ -8,7 +8,7 @@
 #include <viewer/cloud_feed.hpp>
 #include <viewer/point_source.hpp>
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 #include <render/gl.hpp>
 
 #include <array>
@@ -20,7 +20,7 @@
 namespace viewer {
 
 void validate(const StereoOptions& o) {
-    auto fail = [](const std::string& what) { throw engine::Error("view: offscreen " + what); };
+    auto fail = [](const std::string& what) { throw core::Error("view: offscreen " + what); };
     if (o.eye_width_px < 16 || o.eye_height_px < 16 || o.eye_width_px > 8192 || o.eye_height_px > 8192)
         fail("eye size " + std::to_string(o.eye_width_px) + "x" + std::to_string(o.eye_height_px) +
              ": allowed 16..8192 pixels each");
@@ -73,14 +73,14 @@ OffscreenStereo::OffscreenStereo(const StereoOptions& options) {
         glTextureStorage2D(impl_->images[i], 1, GL_RGBA8, options.eye_width_px, options.eye_height_px);
         glNamedFramebufferTexture(impl_->fbos[i], GL_COLOR_ATTACHMENT0, impl_->images[i], 0);
         if (!impl_->targets[i].ensure(options.eye_width_px, options.eye_height_px))
-            throw engine::Error("view: offscreen eye target " + std::to_string(options.eye_width_px) + "x" +
+            throw core::Error("view: offscreen eye target " + std::to_string(options.eye_width_px) + "x" +
                                 std::to_string(options.eye_height_px) + " could not be allocated");
     }
 }
 
 OffscreenStereo::~OffscreenStereo() = default;
 
-void OffscreenStereo::upload(const engine::PointCloud& cloud) {
+void OffscreenStereo::upload(const core::PointCloud& cloud) {
     impl_->feeds.push_back(std::make_unique<CloudFeed>());
     impl_->feeds.back()->feedCloud(cloud, 1u << 20);
     impl_->sources.push_back(std::make_unique<CloudFeedSource>(*impl_->feeds.back()));
@@ -90,7 +90,7 @@ void OffscreenStereo::upload(const engine::PointCloud& cloud) {
 
 std::size_t OffscreenStereo::uploadedPoints() const { return impl_->renderer.uploadedPoints(); }
 std::size_t OffscreenStereo::cellCount() const { return impl_->renderer.cellCount(); }
-const engine::Bounds& OffscreenStereo::bounds() const { return impl_->renderer.bounds(); }
+const core::Bounds& OffscreenStereo::bounds() const { return impl_->renderer.bounds(); }
 
 glm::dmat4 OffscreenStereo::eyeView(const RigPose& head, int eye) const {
     return impl_->eyeDraws(head)[eye == 0 ? 0 : 1].view;

@@ -42,7 +42,7 @@ struct OverlayList {
 
 class OverlayRenderer {
 public:
-    /// Compiles the program; throws engine::Error("shader: ...") (setup path).
+    /// Compiles the program; throws core::Error("shader: ...") (setup path).
     OverlayRenderer();
     ~OverlayRenderer();
     OverlayRenderer(const OverlayRenderer&) = delete;

@@ -7,7 +7,7 @@
 
 #include <cstdio>
 
-#include <engine/scene.hpp>
+#include <core/scene.hpp>
 
 namespace viewer {
 
@@ -64,7 +64,7 @@ void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origi
                      ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
     const glm::dvec3 w = hit.local + origin;
     ImGui::Text("%.2f %.2f %.2f m", w.x, w.y, w.z);
-    ImGui::Text("range %.1f m  %s", glm::length(hit.local - head_local), std::string(engine::roleName(hit.label)).c_str());
+    ImGui::Text("range %.1f m  %s", glm::length(hit.local - head_local), std::string(core::roleName(hit.label)).c_str());
     if (has_height) ImGui::Text("height %.2f m", double(hit.height_above_ground_m));
     ImGui::End();
 }

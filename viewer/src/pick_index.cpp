@@ -1,8 +1,8 @@
 // viewer/src/pick_index.cpp: the pointer's cone pick over a nanoflann k-d tree.
 #include <viewer/pick_index.hpp>
 
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/safe_file.hpp>
 
 #include <nanoflann.hpp>
 
@@ -85,22 +85,22 @@ struct PickIndex::TargetTree : PickIndex::Tree {
 
 void validate(const PickOptions& o) {
     if (!(o.angle_deg > 0.0 && o.angle_deg <= 10.0))
-        throw engine::Error("view: --pick-angle " + engine::shownNumber(o.angle_deg) + ": allowed (0, 10] degrees");
+        throw core::Error("view: --pick-angle " + core::shownNumber(o.angle_deg) + ": allowed (0, 10] degrees");
     if (!(o.max_range_m > 0.0 && std::isfinite(o.max_range_m)))
-        throw engine::Error("view: pick range " + engine::shownNumber(o.max_range_m) + ": allowed a finite value > 0 m");
+        throw core::Error("view: pick range " + core::shownNumber(o.max_range_m) + ": allowed a finite value > 0 m");
 }
 
-PickIndex::PickIndex(std::span<const engine::CloudPoint> points) {
+PickIndex::PickIndex(std::span<const core::CloudPoint> points) {
     positions_.reserve(points.size());
     labels_.reserve(points.size());
     heights_.reserve(points.size());
     lo_ = glm::dvec3(std::numeric_limits<double>::infinity());
     hi_ = -lo_;
-    for (const engine::CloudPoint& p : points) {
+    for (const core::CloudPoint& p : points) {
         positions_.push_back(p.position);
         labels_.push_back(p.label);
         heights_.push_back(p.height_above_ground_m);
-        if (p.label == engine::Role::Target) targets_.push_back(p.position);
+        if (p.label == core::Role::Target) targets_.push_back(p.position);
         lo_ = glm::min(lo_, glm::dvec3(p.position));
         hi_ = glm::max(hi_, glm::dvec3(p.position));
     }

@@ -1,9 +1,9 @@
 // viewer/src/point_renderer.cpp: streamed, camera-relative point drawing with eye-dome
 // lighting for the immersive viewer (paper §IV-A; the jet map is the paper's §III-C one,
-// engine::jetTable, the generator's table). The GLSL lives in shaders/.
+// core::jetTable, the generator's table). The GLSL lives in shaders/.
 #include "point_renderer.hpp"
 
-#include <engine/jet.hpp>
+#include <core/jet.hpp>
 #include <render/orbit_camera.hpp>
 #include <shaders/shaders.hpp>
 
@@ -89,9 +89,9 @@ GLuint PointRenderer::jetTexture(int entries) const {
     entries = std::clamp(entries, 2, 256);   // options.cpp validates; never index past it
     if (jet_texture_ && jet_entries_ == entries) return jet_texture_;
     if (jet_texture_) glDeleteTextures(1, &jet_texture_);
-    // Texel i = engine::jetTable entry i. 0x00RRGGBB is stored as bytes B, G, R, 0, read as
+    // Texel i = core::jetTable entry i. 0x00RRGGBB is stored as bytes B, G, R, 0, read as
     // GL_BGRA like the points' own colours, so a jet colour reaches the screen byte-exact.
-    const std::vector<std::uint32_t> table = engine::jetTable(entries);
+    const std::vector<std::uint32_t> table = core::jetTable(entries);
     glCreateTextures(GL_TEXTURE_1D, 1, &jet_texture_);
     glTextureStorage1D(jet_texture_, 1, GL_RGBA8, entries);
     glTextureSubImage1D(jet_texture_, 0, 0, entries, GL_BGRA, GL_UNSIGNED_BYTE, table.data());
@@ -141,10 +141,10 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
     std::size_t uploaded = 0;
     while (!pending_.empty() && uploaded < budget_points) {
         Pending& job = pending_.front();
-        const std::vector<engine::CloudPoint>& points = job.node->points;
+        const std::vector<core::CloudPoint>& points = job.node->points;
         const std::size_t n = std::min(budget_points - uploaded, points.size() - job.next);
-        const std::span<const engine::CloudPoint> part(points.data() + job.next, n);
-        for (const engine::CloudPoint& p : part) above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
+        const std::span<const core::CloudPoint> part(points.data() + job.next, n);
+        for (const core::CloudPoint& p : part) above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
         chunks_.upload(job.chunk, part);
         job.next += n;
         uploaded += n;
@@ -168,7 +168,7 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
         frusta.push_back(render::Frustum::fromMatrix(e.projection * e.view));
         eye_mean += glm::dvec3(glm::inverse(e.view)[3]) / double(eyes.size());
     }
-    std::vector<engine::Bounds> boxes(cells.size());
+    std::vector<core::Bounds> boxes(cells.size());
     std::vector<std::size_t> sizes(cells.size());
     for (std::size_t i = 0; i < cells.size(); ++i) {
         boxes[i] = cells[i].bounds;
@@ -203,7 +203,7 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glBindVertexArray(chunks_.vao());
     glUniformMatrix4fv(points_.uniform("u_projection"), 1, GL_FALSE,
                        &glm::mat4(eye.projection)[0][0]);
-    const engine::Bounds& bounds = chunks_.bounds();
+    const core::Bounds& bounds = chunks_.bounds();
     glUniform1f(points_.uniform("u_z_min"), bounds.empty() ? 0.0f : float(bounds.lo.z));
     glUniform1f(points_.uniform("u_z_max"), bounds.empty() ? 1.0f : float(bounds.hi.z));
     glUniform1i(points_.uniform("u_colour_mode"), static_cast<int>(style.colour));

@@ -9,7 +9,7 @@
 #include <viewer/point_source.hpp>
 #include <viewer/viewer.hpp>
 
-#include <engine/frames.hpp>
+#include <core/frames.hpp>
 #include <render/gl.hpp>
 #include <render/point_chunks.hpp>
 #include <render/shader.hpp>
@@ -56,7 +56,7 @@ struct DrawStats {
 
 class PointRenderer {
 public:
-    /// Compiles the programs; throws engine::Error("shader: ...") (setup path).
+    /// Compiles the programs; throws core::Error("shader: ...") (setup path).
     PointRenderer();
     ~PointRenderer();
     PointRenderer(const PointRenderer&) = delete;
@@ -70,7 +70,7 @@ public:
     std::size_t uploadedPoints() const { return chunks_.uploadedPoints(); }
     std::size_t pendingPoints() const { return pending_points_; }
     /// Bounds (local frame) of everything received so far, and heights for the jet colours.
-    const engine::Bounds& bounds() const { return chunks_.bounds(); }
+    const core::Bounds& bounds() const { return chunks_.bounds(); }
 
     /// Picks what this frame draws: cells outside the union of `eyes`' frusta get
     /// nothing (when `cull`); the others share `point_budget` points per eye (0 = unlimited)
@@ -89,7 +89,7 @@ public:
                       ViewMode mode, GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut = {}) const;
 
 private:
-    /// The jet table (engine::jetTable(entries)) as a 1D RGBA8 texture, made on first use
+    /// The jet table (core::jetTable(entries)) as a 1D RGBA8 texture, made on first use
     /// and again when `entries` changes. Never throws (a GL error is logged).
     GLuint jetTexture(int entries) const;
     static constexpr GLuint kJetTextureUnit = 2;   // units 0 and 1: the resolve's inputs

@@ -15,7 +15,7 @@ public:
         count_ = points_->points.size();
         for (const LodCell& c : points_->cells) bounds_.extend(c.bounds);
     }
-    const engine::Bounds& bounds() const override { return bounds_; }
+    const core::Bounds& bounds() const override { return bounds_; }
     std::size_t pointCount() const override { return count_; }
     std::span<PointNode* const> children() const override { return {}; }
     void request() override {}   // the stream has passed: nothing to read again
@@ -24,7 +24,7 @@ public:
 
 private:
     std::shared_ptr<const NodePoints> points_;
-    engine::Bounds bounds_;
+    core::Bounds bounds_;
     std::size_t count_ = 0;
 };
 
@@ -60,7 +60,7 @@ std::size_t CloudFeedSource::poll() {
 }
 
 glm::dvec3 CloudFeedSource::origin() const { return feed_->origin(); }
-engine::CloudFields CloudFeedSource::fields() const { return feed_->fields(); }
+core::CloudFields CloudFeedSource::fields() const { return feed_->fields(); }
 bool CloudFeedSource::finished() const { return feed_->finished(); }
 std::string CloudFeedSource::error() const { return feed_->error(); }
 std::size_t CloudFeedSource::pointsArrived() const { return feed_->pointsArrived(); }

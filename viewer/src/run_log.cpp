@@ -1,7 +1,7 @@
 // viewer/src/run_log.cpp
 #include "run_log.hpp"
 
-#include <engine/atomic_file.hpp>
+#include <platform/atomic_file.hpp>
 
 #include <cstdio>
 #include <exception>
@@ -21,7 +21,7 @@ void RunLog::modeSwitch(long frame_index, const std::string& from, const std::st
 
 bool RunLog::write(const std::filesystem::path& path) const {
     try {
-        engine::writeFileAtomic(path, json_.dump(1) + "\n");
+        platform::writeFileAtomic(path, json_.dump(1) + "\n");
         return true;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "ladarvr: view: --log-json: %s\n", e.what());

@@ -23,7 +23,7 @@ public:
     void frame(nlohmann::json record);
     void modeSwitch(long frame_index, const std::string& from, const std::string& to,
                     const std::string& source);
-    /// Writes the JSON atomically (engine::writeFileAtomic); never throws, reports failures.
+    /// Writes the JSON atomically (platform::writeFileAtomic); never throws, reports failures.
     bool write(const std::filesystem::path& path) const;
     const nlohmann::json& json() const { return json_; }
 

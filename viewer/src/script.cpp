@@ -1,9 +1,9 @@
-// viewer/src/script.cpp: the `--script` parser (engine and the standard library only,
+// viewer/src/script.cpp: the `--script` parser (core, io and the standard library only,
 // so the fuzz build compiles it without GL).
 #include <viewer/script.hpp>
 
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/safe_file.hpp>
 
 #include <array>
 #include <cmath>
@@ -50,10 +50,10 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         std::string frame_text, key, extra;
         if (!(ls >> frame_text)) continue;
         auto bad = [&](const std::string& what) {
-            return engine::Error(name + " line " + std::to_string(number) + ": " + what + kAllowed);
+            return core::Error(name + " line " + std::to_string(number) + ": " + what + kAllowed);
         };
         // Tokens are quoted escaped and short: a binary file must not reach the terminal.
-        auto quoted = [](const std::string& token) { return "'" + engine::printable(token, 40) + "'"; };
+        auto quoted = [](const std::string& token) { return "'" + core::printable(token, 40) + "'"; };
         ScriptEvent ev;
         try {
             constexpr std::string_view kDesktop = "desktop+", kLoaded = "loaded+";
@@ -120,8 +120,8 @@ std::string formatScript(const std::vector<ScriptEvent>& events) {
 }
 
 std::vector<ScriptEvent> readScript(const std::filesystem::path& file) {
-    const std::string name = "view: --script " + engine::printable(file.string(), 400);
-    return parseScript(engine::readTextFile(file, kMaxScriptBytes, name + ":"), name);
+    const std::string name = "view: --script " + core::printable(file.string(), 400);
+    return parseScript(platform::readTextFile(file, kMaxScriptBytes, name + ":"), name);
 }
 
 }  // namespace viewer

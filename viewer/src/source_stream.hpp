@@ -24,7 +24,7 @@ struct SourceEvents {
 
 class SourceStream {
 public:
-    /// Makes the renderer (needs the GL context; throws engine::Error on a shader error).
+    /// Makes the renderer (needs the GL context; throws core::Error on a shader error).
     void start(std::size_t upload_points_per_frame);
     /// Shows `source` from now on: a fresh renderer and no pick index.
     void reset(PointSource& source);

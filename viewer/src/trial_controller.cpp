@@ -1,7 +1,7 @@
 // viewer/src/trial_controller.cpp: trial state, decisions and their record.
 #include "trial_controller.hpp"
 
-#include <engine/scene.hpp>
+#include <core/scene.hpp>
 
 #include <cstdio>
 
@@ -83,7 +83,7 @@ void TrialController::decide(const OperatorInput& in, const TrialContext& c) {
                 if (!outcome_.time_to_first_designation_s) outcome_.time_to_first_designation_s = t_s;
                 if (observer_) observer_->onDesignate(index_, t_s, w);
             }
-            record("designate", c.frame, {{"world", vec(w)}, {"label", std::string(engine::roleName(pointer.hit()->label))}});
+            record("designate", c.frame, {{"world", vec(w)}, {"label", std::string(core::roleName(pointer.hit()->label))}});
         } else {
             record("designate", c.frame, {{"world", nullptr}});
         }

@@ -6,7 +6,7 @@
 // the OpenXR mapping in xr_actions.cpp, input/replay_player.cpp); the tools (tools/) and
 // the trial controller (trial_controller.cpp) consume their merge; eye_frame.cpp draws
 // what they decided; frame_log.cpp writes the run log. The points come from a point source
-// (viewer/point_source.hpp). Setup throws engine::Error; once the loop runs nothing
+// (viewer/point_source.hpp). Setup throws core::Error; once the loop runs nothing
 // throws: OpenXR failures drop to the desktop mode with the cloud kept, GL errors are
 // logged.
 #include <render/gl.hpp>   // glad first
@@ -17,7 +17,7 @@
 
 #include "viewer_app.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -379,7 +379,7 @@ int runViewer(const ViewerOptions& options, CloudFeed& feed, std::string& log_js
 
 int runTrials(const ViewerOptions& options, TrialSource& source, TrialObserver& observer) {
     validate(options);
-    if (source.count() <= 0) throw engine::Error("study: the plan has no trials");
+    if (source.count() <= 0) throw core::Error("study: the plan has no trials");
     ViewerApp app(options, !options.log_json.empty(), &source, &observer);
     return app.run(nullptr);
 }

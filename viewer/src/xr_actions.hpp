@@ -23,7 +23,7 @@ namespace viewer {
 class XrActions {
 public:
     /// Creates the action set, the actions and the aim spaces, suggests bindings for
-    /// every known profile and attaches the set to `session`. Throws engine::Error.
+    /// every known profile and attaches the set to `session`. Throws core::Error.
     void create(XrInstance instance, XrSession session);
     void destroy();
     /// xrSyncActions and reads every action; aim poses located in `space` at `time`.

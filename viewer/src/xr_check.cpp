@@ -4,7 +4,7 @@
 
 #include "xr_check.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <cstdio>
 #include <string>
@@ -26,7 +26,7 @@ std::string xrResultName(XrInstance instance, XrResult result) {
 
 void xrCheck(XrInstance instance, XrResult result, const char* expression, const char* file, int line) {
     if (XR_FAILED(result))
-        throw engine::Error("xr: " + std::string(expression) + ": " + xrResultName(instance, result) +
+        throw core::Error("xr: " + std::string(expression) + ": " + xrResultName(instance, result) +
                             " at " + file + ":" + std::to_string(line));
 }
 

@@ -8,7 +8,7 @@ namespace viewer {
 
 /// "XR_ERROR_RUNTIME_FAILURE" etc. (through xrResultToString when an instance exists).
 std::string xrResultName(XrInstance instance, XrResult result);
-/// Throws engine::Error("xr: <expr>: <RESULT> at file:line") when XR_FAILED(result).
+/// Throws core::Error("xr: <expr>: <RESULT> at file:line") when XR_FAILED(result).
 void xrCheck(XrInstance instance, XrResult result, const char* expression, const char* file, int line);
 /// Never throws: prints the same line to stderr and returns false when XR_FAILED(result).
 bool xrLog(XrInstance instance, XrResult result, const char* expression, const char* file, int line);

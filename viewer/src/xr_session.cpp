@@ -32,7 +32,7 @@ GLXWindow glfwGetGLXWindow(GLFWwindow* window);
 #include "xr_check.hpp"
 #include "xr_session.hpp"
 
-#include <engine/error.hpp>
+#include <core/error.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -97,7 +97,7 @@ XrStereoSession::XrStereoSession(std::unique_ptr<Impl> impl) : impl_(std::move(i
 XrStereoSession::~XrStereoSession() = default;
 
 // The steps of create(), in order; each returns false with `reason` set when the runtime
-// cannot give what the viewer needs (desktop mode), and throws engine::Error on a failed
+// cannot give what the viewer needs (desktop mode), and throws core::Error on a failed
 // call that should not fail.
 namespace {
 

@@ -3,7 +3,7 @@
 // (XR_KHR_opengl_enable, Xlib binding), one swapchain per eye, the action set of
 // xr_actions.cpp (mode, decisions, pointer, grab, motion), and the whole session lifecycle.
 //
-// Setup (create) throws engine::Error or returns null with a reason; everything called
+// Setup (create) throws core::Error or returns null with a reason; everything called
 // per frame never throws: it returns a status and the caller degrades to the desktop.
 #pragma once
 #include "run_log.hpp"
@@ -69,7 +69,7 @@ enum class XrPoll {
 class XrStereoSession {
 public:
     /// Tries to start OpenXR on `window`'s current GLX context. Returns null with `reason`
-    /// set when there is no runtime, no HMD, or no OpenGL support; throws engine::Error
+    /// set when there is no runtime, no HMD, or no OpenGL support; throws core::Error
     /// only for programming errors. Records runtime/system/format in `log`.
     static std::unique_ptr<XrStereoSession> create(GLFWwindow* window, RunLog& log, std::string& reason);
     ~XrStereoSession();

@@ -3,13 +3,14 @@
 // moves into place whole, and its manifest line.
 #pragma once
 #include <corpus/plan.hpp>
+#include <platform/output_folder.hpp>
 
 #include <filesystem>
 #include <string>
 
 namespace corpus {
 
-/// The names an item folder holds (for engine::checkOutputFolder and resume checks).
+/// The names an item folder holds (for platform::checkOutputFolder and resume checks).
 bool isItemFile(const std::string& name);
 
 struct ItemOutcome {
@@ -22,7 +23,7 @@ struct ItemOutcome {
 
 /// Plans and builds item `index` into `out`/items/<id>/ (replacing a folder left there by
 /// a run killed before its manifest line), with `threads` generator threads (0 = all).
-/// Throws engine::Error naming the item.
+/// Throws core::Error naming the item.
 ItemOutcome buildItem(const Planner& planner, std::size_t index, const std::filesystem::path& out, int threads);
 
 }  // namespace corpus

@@ -8,7 +8,7 @@
 #pragma once
 #include <corpus/spec.hpp>
 
-#include <engine/frames.hpp>
+#include <core/frames.hpp>
 #include <sim/generator.hpp>
 
 #include <cstdint>
@@ -21,7 +21,7 @@
 
 namespace corpus {
 
-/// One mesh entry of a concrete scene file (engine/scene.hpp's fields).
+/// One mesh entry of a concrete scene file (core/scene.hpp's fields).
 struct MeshEntry {
     std::filesystem::path file;        // absolute
     std::string written;               // as the base scene or the SPEC wrote it
@@ -40,7 +40,7 @@ struct ItemPlan {
     std::string target_file;                 // the target model as written (SPEC or scene)
     double target_yaw_deg = 0.0;
     glm::dvec3 target_position_world{0.0};
-    engine::Bounds target_box_world;         // the placed target's box (world metres)
+    core::Bounds target_box_world;         // the placed target's box (world metres)
     int placement_draws = 0;                 // draws of the target's place (1 = first fit)
     int centre_draws = 0;
     std::size_t environment_kept = 0, environment_total = 0;
@@ -65,20 +65,20 @@ std::string itemId(std::size_t index, std::size_t count);
 
 class Planner {
 public:
-    /// Loads the base scene and the target models. Throws engine::Error naming the SPEC
+    /// Loads the base scene and the target models. Throws core::Error naming the SPEC
     /// key (e.g. target variations on a scene without exactly one target mesh).
     explicit Planner(const Spec& spec);
     ~Planner();
     Planner(const Planner&) = delete;
     Planner& operator=(const Planner&) = delete;
 
-    /// Item `index` (< spec.count). Throws engine::Error("corpus: item <id>: ...") when
+    /// Item `index` (< spec.count). Throws core::Error("corpus: item <id>: ...") when
     /// its target or C cannot be placed (every draw met another mesh's box or left the ground).
     ItemPlan plan(std::size_t index) const;
     /// The folder name of item `index`: itemId(index, spec().count).
     std::string itemId(std::size_t index) const;
     /// World boxes of the environment meshes of the base scene, in scene order.
-    const std::vector<engine::Bounds>& environmentBoxes() const;
+    const std::vector<core::Bounds>& environmentBoxes() const;
     /// The ground's height (world z) under world (x, y) by a vertical ray; empty on a miss.
     std::optional<double> groundZ(double x_world, double y_world) const;
     const Spec& spec() const;

@@ -37,15 +37,15 @@ struct RunSummary {
     std::filesystem::path manifest;
 };
 
-/// Builds the items of one shard. Throws engine::Error before any work for a bad SPEC,
+/// Builds the items of one shard. Throws core::Error before any work for a bad SPEC,
 /// an output folder made from another SPEC, or bad options; an item that fails is listed
 /// in failed (the others still run).
 RunSummary runCorpus(const RunOptions& options);
 
-/// Parses "I/N" (0 <= I < N <= 1e6). Throws engine::Error naming `option`.
+/// Parses "I/N" (0 <= I < N <= 1e6). Throws core::Error naming `option`.
 std::pair<std::size_t, std::size_t> parseShard(const std::string& text, const std::string& option);
 /// The shard from SLURM_ARRAY_TASK_ID (minus SLURM_ARRAY_TASK_MIN) and
-/// SLURM_ARRAY_TASK_COUNT, when both are set. Throws engine::Error on nonsense values.
+/// SLURM_ARRAY_TASK_COUNT, when both are set. Throws core::Error on nonsense values.
 std::optional<std::pair<std::size_t, std::size_t>> shardFromSlurm();
 
 struct MergeReport {
@@ -58,12 +58,12 @@ struct MergeReport {
 };
 
 /// Merges DIR/manifest.jsonl and every DIR/manifest.<I>.jsonl into DIR/manifest.jsonl
-/// (atomically), one line per item sorted by index. Throws engine::Error when DIR is no
+/// (atomically), one line per item sorted by index. Throws core::Error when DIR is no
 /// corpus folder.
 MergeReport mergeManifests(const std::filesystem::path& dir);
 
 /// The manifest lines of DIR (manifest.jsonl, else every shard manifest), one per item,
-/// sorted by index, as JSON text. Throws engine::Error when there is none.
+/// sorted by index, as JSON text. Throws core::Error when there is none.
 std::vector<std::string> readManifest(const std::filesystem::path& dir);
 
 }  // namespace corpus

@@ -31,7 +31,7 @@ private:
 /// The hex SHA-256 of `text`.
 std::string sha256Hex(std::string_view text);
 
-/// Size and hex SHA-256 of a regular file, read in chunks. Throws engine::Error
+/// Size and hex SHA-256 of a regular file, read in chunks. Throws core::Error
 /// ("corpus: <file>: cannot read ...").
 struct FileDigest {
     std::uint64_t bytes = 0;

@@ -9,10 +9,10 @@
 //     "format": "pcd" }               // cloud format: pcd, pcd-ascii, ply, ply-ascii
 //
 // Paths are relative to the SPEC file. Every key is checked before any work; a bad one
-// is an engine::Error("corpus: <spec>: <key>: ...; allowed ...") naming it. The list of
+// is an core::Error("corpus: <spec>: <key>: ...; allowed ...") naming it. The list of
 // vary keys and what each may hold is kVaryKeys (docs/corpus.md shows it as a table).
 #pragma once
-#include <engine/cloud_io.hpp>
+#include <io/cloud_io.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -90,7 +90,7 @@ struct Spec {
     std::map<std::string, NumberVary> numbers;   // vary keys given (not target_files)
     std::vector<TargetModel> target_files;       // empty: the base scene's target
     MetricSpec metric;
-    engine::CloudFormat format = engine::CloudFormat::PcdBinary;
+    io::CloudFormat format = io::CloudFormat::PcdBinary;
 
     bool varies(std::string_view key) const;
     /// The cloud's file name in an item folder: cloud.pcd or cloud.ply.
@@ -101,7 +101,7 @@ struct Spec {
 inline constexpr std::size_t kMaxSpecBytes = std::size_t(1) << 20;
 inline constexpr std::size_t kMaxItems = 100'000'000;
 
-/// Reads and checks a SPEC file (see above). Throws engine::Error naming the key.
+/// Reads and checks a SPEC file (see above). Throws core::Error naming the key.
 Spec loadSpec(const std::filesystem::path& file);
 /// As loadSpec, from text already read; `file` locates relative paths and names messages.
 Spec parseSpec(std::string_view text, const std::filesystem::path& file);

@@ -31,7 +31,7 @@ struct StatsOptions {
 };
 
 /// Reads DIR's manifest (corpus::readManifest) and summarises it; writes the histogram.
-/// Throws engine::Error naming DIR or the column (listing the columns there are).
+/// Throws core::Error naming DIR or the column (listing the columns there are).
 Stats computeStats(const std::filesystem::path& dir, const StatsOptions& options);
 std::string statsText(const Stats& stats);
 std::string statsJson(const Stats& stats);
@@ -53,7 +53,7 @@ struct SelectResult {
 
 /// Picks `count` of the items where the expression holds (a seeded shuffle, then by id)
 /// and writes the plan {"trials": [{"cloud", "scene", "time_limit_s"}], "shuffle_seed"}
-/// with paths relative to the plan file. Throws engine::Error for a bad expression (naming
+/// with paths relative to the plan file. Throws core::Error for a bad expression (naming
 /// the columns), or when fewer than `count` items match.
 SelectResult selectTrials(const std::filesystem::path& dir, const SelectOptions& options);
 

@@ -50,7 +50,7 @@ struct ClusterOptions {
     bool progress = false;              // progress bar over the tiles (tty only)
 };
 
-/// Throws engine::Error("detect: <option> = <value>: allowed <range>").
+/// Throws core::Error("detect: <option> = <value>: allowed <range>").
 void validate(const ClusterOptions& o);
 
 struct ClusterStats {
@@ -60,17 +60,17 @@ struct ClusterStats {
 
 class ClusterDetector final : public Detector {
 public:
-    /// Throws engine::Error for invalid options (validate).
+    /// Throws core::Error for invalid options (validate).
     explicit ClusterDetector(const ClusterOptions& o);
     const ClusterOptions& options() const { return options_; }
 
     /// Runs steps 1-4 on `cloud`; returns the detections with score >= min_score, best
     /// first (ties by cluster size), at most max_candidates, ids "c1", "c2", ... in that
-    /// order; each detection's points are its cluster's. Throws engine::Error("detect:
+    /// order; each detection's points are its cluster's. Throws core::Error("detect:
     /// ...") when the ground source needs a field the cloud does not carry.
-    std::vector<Detection> detect(const engine::PointCloud& cloud) const override;
+    std::vector<Detection> detect(const core::PointCloud& cloud) const override;
     /// The same, and the run's counts and seconds into `stats`.
-    std::vector<Detection> detect(const engine::PointCloud& cloud, ClusterStats& stats) const;
+    std::vector<Detection> detect(const core::PointCloud& cloud, ClusterStats& stats) const;
 
 private:
     ClusterOptions options_;
@@ -84,7 +84,7 @@ struct OrientedBox {
     glm::dvec3 size_m{0.0};
     double yaw_deg = 0.0;
 };
-OrientedBox fitBox(const engine::PointCloud& cloud, const std::vector<std::uint32_t>& points, double trim = 0.0);
+OrientedBox fitBox(const core::PointCloud& cloud, const std::vector<std::uint32_t>& points, double trim = 0.0);
 
 /// Step 4's score of a box size against the target size (both length, width, height;
 /// the horizontal sides are compared longest to longest). In [0, 1].

@@ -10,8 +10,8 @@
 //     option group in app/src/cmd_detect.cpp. Its runtime library is linked PRIVATE to
 //     this module, as PCL is for the clustering.
 #pragma once
-#include <engine/candidates.hpp>
-#include <engine/point_cloud.hpp>
+#include <core/candidates.hpp>
+#include <core/point_cloud.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -20,7 +20,7 @@ namespace detect {
 
 /// One candidate and the points it was found on. Point indices refer to the input cloud.
 struct Detection {
-    engine::Candidate candidate;        // world coordinates (cloud origin added)
+    core::Candidate candidate;        // world coordinates (cloud origin added)
     std::vector<std::uint32_t> points;  // the candidate's points, ascending
 };
 
@@ -28,8 +28,8 @@ class Detector {
 public:
     virtual ~Detector() = default;
     /// The candidates in `cloud`, best first, ids "c1", "c2", ... in that order.
-    /// Throws engine::Error("detect: ...") when the cloud lacks a field the detector needs.
-    virtual std::vector<Detection> detect(const engine::PointCloud& cloud) const = 0;
+    /// Throws core::Error("detect: ...") when the cloud lacks a field the detector needs.
+    virtual std::vector<Detection> detect(const core::PointCloud& cloud) const = 0;
 };
 
 }  // namespace detect

@@ -1,6 +1,7 @@
 // metric/report.hpp: the metric's outputs: views.csv, summary.json, I1..I4 PNGs (paper Fig. 3).
 #pragma once
 #include <metric/visibility.hpp>
+#include <platform/output_folder.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -22,14 +23,14 @@ std::string summaryJson(const MetricResult& result);
 /// view_<K>_i<1..4>.png).
 bool isReportFile(const std::string& name);
 /// Checks before the work that `dir` can take a report: absent, or a folder holding only
-/// report files (it is replaced as a whole). Throws engine::Error("output: <dir>: ...").
+/// report files (it is replaced as a whole). Throws core::Error("output: <dir>: ...").
 void checkReportFolder(const std::filesystem::path& dir);
 
 /// Writes DIR/views.csv, DIR/summary.json and, if result.pictures is set,
 /// DIR/view_<K>_i1.png .. _i4.png as one set: into a temporary folder beside DIR that
-/// then replaces DIR atomically (engine::writeFolderAtomic), so DIR never holds a mix of
+/// then replaces DIR atomically (platform::writeFolderAtomic), so DIR never holds a mix of
 /// two runs and a failure leaves the previous set whole. Returns the paths written.
-/// Throws engine::Error("output: ...") as checkReportFolder, or if writing fails.
+/// Throws core::Error("output: ...") as checkReportFolder, or if writing fails.
 std::vector<std::filesystem::path> writeReport(const MetricResult& result, const std::filesystem::path& dir);
 
 }  // namespace metric

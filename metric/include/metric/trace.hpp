@@ -1,10 +1,10 @@
 // metric/trace.hpp: the operator's head path from a study's trace_<trial>.csv (read by
-// engine/trace_file.hpp, whose rules docs/metric.md repeats), as camera poses for the
+// io/trace_file.hpp, whose rules docs/metric.md repeats), as camera poses for the
 // visibility metric: how visible the target was from where the operator actually looked,
 // instead of from the automatic orbit. Only the head columns (t_s, head_x..z, head_q*)
 // are used; a trace of those eight columns alone is a head path too.
 #pragma once
-#include <engine/trace_file.hpp>
+#include <io/trace_file.hpp>
 #include <render/orbit_camera.hpp>
 
 #include <vector>
@@ -13,10 +13,10 @@ namespace metric {
 
 /// The camera of a trace row (world frame): eye at the head, looking along the head's
 /// -z, with the head's y as up (roll kept).
-render::CameraPose cameraFromHead(const engine::TraceRow& sample);
+render::CameraPose cameraFromHead(const io::TraceRow& sample);
 
 /// The first row, then each row at least `step_s` (>= 0) after the last one kept: a long
 /// trace subsampled in time. step_s = 0 keeps every row.
-std::vector<engine::TraceRow> everyStep(const std::vector<engine::TraceRow>& samples, double step_s);
+std::vector<io::TraceRow> everyStep(const std::vector<io::TraceRow>& samples, double step_s);
 
 }  // namespace metric

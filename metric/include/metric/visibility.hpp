@@ -13,8 +13,8 @@
 // target-only scene) whose first hit in target + environment (no ground) is the target.
 // The final figures are means over the views whose |I1| > 0.
 #pragma once
-#include <engine/point_cloud.hpp>
-#include <engine/scene.hpp>
+#include <core/point_cloud.hpp>
+#include <core/scene.hpp>
 #include <render/orbit_camera.hpp>
 
 #include <cstdint>
@@ -28,9 +28,9 @@ namespace metric {
 /// The three clouds of §IV-B. They may carry different origins (files from elsewhere);
 /// the evaluator brings them into one local frame in double precision.
 struct MetricClouds {
-    engine::PointCloud p1;   // target only
-    engine::PointCloud p2;   // environment without ground
-    engine::PointCloud p3;   // target + environment without ground
+    core::PointCloud p1;   // target only
+    core::PointCloud p2;   // environment without ground
+    core::PointCloud p3;   // target + environment without ground
 };
 
 /// How the square splats are drawn (same pixels either way, see docs/metric.md).
@@ -62,7 +62,7 @@ struct MetricOptions {
 };
 inline constexpr std::size_t kMaxPoses = 1000000;
 
-/// Throws engine::Error("metric: --<option> = <value>: allowed <range>") for bad options
+/// Throws core::Error("metric: --<option> = <value>: allowed <range>") for bad options
 /// (the orbit's fields through render::validate). `views` is options.orbit.views.
 void validate(const MetricOptions& options);
 
@@ -119,15 +119,15 @@ struct MetricResult {
 /// evaluated (the benchmark). Create, run and destroy on one thread.
 class Evaluator {
 public:
-    /// Throws engine::Error("metric: P1 is empty ...") if P1 has no point, ("egl: ...") if
+    /// Throws core::Error("metric: P1 is empty ...") if P1 has no point, ("egl: ...") if
     /// no headless GL context can be made. `scene` (may be null) is only used during
     /// construction; P2/P3 may be empty (nothing hides the target).
-    Evaluator(const MetricClouds& clouds, const engine::Scene* scene);
+    Evaluator(const MetricClouds& clouds, const core::Scene* scene);
     ~Evaluator();
     Evaluator(const Evaluator&) = delete;
     Evaluator& operator=(const Evaluator&) = delete;
 
-    /// Evaluates every view of options.orbit (or options.poses_world). Throws engine::Error
+    /// Evaluates every view of options.orbit (or options.poses_world). Throws core::Error
     /// for invalid options.
     MetricResult run(const MetricOptions& options);
 

@@ -20,14 +20,14 @@ struct EglContextOptions {
 /// with the glad GL entry points loaded through eglGetProcAddress.
 class EglContext {
 public:
-    /// Throws engine::Error("egl: ...") naming the missing extension or the failing call.
+    /// Throws core::Error("egl: ...") naming the missing extension or the failing call.
     explicit EglContext(const EglContextOptions& options = {});
     ~EglContext();
     EglContext(const EglContext&) = delete;
     EglContext& operator=(const EglContext&) = delete;
 
     /// Makes the context current on the calling thread (and loads GL if not yet done).
-    /// Throws engine::Error("egl: eglMakeCurrent ...") on failure.
+    /// Throws core::Error("egl: eglMakeCurrent ...") on failure.
     void makeCurrent();
     /// "surfaceless" or "device": the EGL platform actually used.
     const std::string& platform() const { return platform_; }

@@ -14,10 +14,10 @@ const char* glErrorName(GLenum error);
 
 /// Loads the GL entry points through `get_proc_address` (eglGetProcAddress,
 /// glfwGetProcAddress, ...) for the current context. Throws
-/// engine::Error("gl: ...") if loading fails or the context is older than 4.5 core.
+/// core::Error("gl: ...") if loading fails or the context is older than 4.5 core.
 void loadGl(GLADloadfunc get_proc_address);
 
-/// Drains glGetError(); if any error was pending throws engine::Error("gl: <expr>: <ERROR>
+/// Drains glGetError(); if any error was pending throws core::Error("gl: <expr>: <ERROR>
 /// at file:line"). Used by GL_CHECK on setup paths.
 void checkGl(const char* expression, const char* file, int line);
 
@@ -30,7 +30,7 @@ std::string glDescription();
 
 }  // namespace render
 
-/// Runs a GL call, then throws engine::Error naming the expression, the error and file:line.
+/// Runs a GL call, then throws core::Error naming the expression, the error and file:line.
 #define GL_CHECK(expr)                                  \
     do {                                                \
         expr;                                           \

@@ -4,10 +4,10 @@
 // first mode of the immersive visualization"), plus the camera maths both need.
 //
 // Conventions: positions are in the scene's local frame (world - origin, z up, metres,
-// engine/frames.hpp). GL camera: looks down -z, y up; pixel (px, py) counts from the
+// core/frames.hpp). GL camera: looks down -z, y up; pixel (px, py) counts from the
 // bottom-left corner of the image, its centre is at (px + 0.5, py + 0.5).
 #pragma once
-#include <engine/frames.hpp>
+#include <core/frames.hpp>
 
 #include <glm/glm.hpp>
 
@@ -26,7 +26,7 @@ struct OrbitCameraOptions {
     double far_m = 20000.0;
 };
 
-/// Throws engine::Error("orbit-camera: <field> = <value>: allowed <range>") for any field
+/// Throws core::Error("orbit-camera: <field> = <value>: allowed <range>") for any field
 /// outside the ranges given above or non-finite.
 void validate(const OrbitCameraOptions& o);
 
@@ -68,7 +68,7 @@ glm::dmat4 subRectProjection(const glm::dmat4& projection, int width, int height
 /// Screen rectangle covered by `bounds` (local frame) under `view_projection`, grown by
 /// `margin_px` and clipped to the image. Empty if the box is outside the frustum; the
 /// whole image if the box crosses the eye plane (conservative).
-PixelRect projectBounds(const glm::dmat4& view_projection, const engine::Bounds& bounds,
+PixelRect projectBounds(const glm::dmat4& view_projection, const core::Bounds& bounds,
                         int width, int height, double margin_px);
 
 /// Unit direction (local frame) of the ray from the eye through pixel centre
@@ -82,7 +82,7 @@ struct Frustum {
     /// Planes from `view_projection` (Gribb-Hartmann), normals pointing inwards.
     static Frustum fromMatrix(const glm::dmat4& view_projection);
     /// False only if the box is certainly outside (entirely behind one plane).
-    bool intersects(const engine::Bounds& bounds) const;
+    bool intersects(const core::Bounds& bounds) const;
 };
 
 }  // namespace render

@@ -7,7 +7,7 @@
 // point source evicting a node). The metric's PointSplatRenderer and the viewer's
 // PointRenderer each add their own program and their own choice of which cells to draw.
 #pragma once
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 #include <render/gl.hpp>
 
 #include <cstddef>
@@ -30,7 +30,7 @@ static_assert(sizeof(GpuPoint) == 20);
 /// A range of a chunk's points: [first, first + count), inside `bounds` (local frame).
 struct CellRange {
     std::size_t first = 0, count = 0;
-    engine::Bounds bounds;
+    core::Bounds bounds;
 };
 
 class PointChunks {
@@ -38,7 +38,7 @@ public:
     struct Cell {
         std::size_t chunk = 0, first = 0, size = 0;
         glm::dvec3 centre{0.0};        // the cell's points are stored relative to it
-        engine::Bounds bounds;
+        core::Bounds bounds;
     };
 
     /// Needs a current GL 4.5 context for its whole life.
@@ -51,7 +51,7 @@ public:
     /// Returns its id, none when the GPU has no room (logged): the caller shows what fits.
     std::optional<std::size_t> addChunk(std::size_t capacity, std::span<const CellRange> cells);
     /// Uploads `points`, the next points of chunk `chunk` after those already uploaded.
-    void upload(std::size_t chunk, std::span<const engine::CloudPoint> points);
+    void upload(std::size_t chunk, std::span<const core::CloudPoint> points);
     /// Frees the chunk's buffer and drops its cells.
     void removeChunk(std::size_t chunk);
     void clear();
@@ -61,7 +61,7 @@ public:
     std::size_t available(std::size_t i) const;
     std::size_t uploadedPoints() const { return uploaded_; }
     /// Local-frame bounds of every cell ever added.
-    const engine::Bounds& bounds() const { return bounds_; }
+    const core::Bounds& bounds() const { return bounds_; }
 
     /// The GL buffer of chunk `chunk` (0 once removed).
     GLuint buffer(std::size_t chunk) const { return chunks_[chunk].buffer; }
@@ -83,7 +83,7 @@ private:
     std::vector<Cell> cells_;
     std::vector<GpuPoint> staging_;
     std::size_t uploaded_ = 0;
-    engine::Bounds bounds_;
+    core::Bounds bounds_;
 };
 
 }  // namespace render

@@ -7,7 +7,7 @@
 // large coordinates never jitter (camera-relative rendering). Chunks whose bounds miss
 // the view frustum are skipped.
 #pragma once
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 #include <render/gl.hpp>
 #include <render/point_chunks.hpp>
 #include <render/shader.hpp>
@@ -36,7 +36,7 @@ struct SplatDrawStats {
 /// use and destroy it on the thread where the context is current).
 class PointSplatRenderer {
 public:
-    /// Compiles the splat program; throws engine::Error("shader: ...") on failure.
+    /// Compiles the splat program; throws core::Error("shader: ...") on failure.
     PointSplatRenderer();
     ~PointSplatRenderer();
     PointSplatRenderer(const PointSplatRenderer&) = delete;
@@ -44,18 +44,18 @@ public:
 
     /// Replaces the stored points by `cloud`'s, binned into cubic cells of `chunk_size_m`
     /// (local frame) so that frustum culling can skip whole cells.
-    void setCloud(const engine::PointCloud& cloud, double chunk_size_m = 16.0);
+    void setCloud(const core::PointCloud& cloud, double chunk_size_m = 16.0);
     /// Appends `points` (local frame of the cloud being streamed) as one more chunk, for
     /// streaming; the chunk's bounds are computed from its points. Empty spans are ignored.
-    /// Throws engine::Error("gl: ...") when the GPU has no room for it.
-    void appendChunk(std::span<const engine::CloudPoint> points);
+    /// Throws core::Error("gl: ...") when the GPU has no room for it.
+    void appendChunk(std::span<const core::CloudPoint> points);
     /// Drops every stored point.
     void clear();
 
     std::size_t pointCount() const { return chunks_.uploadedPoints(); }
     std::size_t chunkCount() const { return chunks_.cells().size(); }
     /// Local-frame bounds of every stored point.
-    const engine::Bounds& bounds() const { return chunks_.bounds(); }
+    const core::Bounds& bounds() const { return chunks_.bounds(); }
 
     /// Draws the stored points into the current framebuffer and viewport with
     /// `projection * view` (local frame, double precision). With `cull`, chunks outside

@@ -22,7 +22,7 @@ struct ShaderStage {
 class Program {
 public:
     Program() = default;
-    /// Compiles and links; throws engine::Error("shader: <name>: <stage> compile failed:
+    /// Compiles and links; throws core::Error("shader: <name>: <stage> compile failed:
     /// <driver log> (source strings: <files>)") or ("shader: <name>: link failed: <log>").
     Program(std::string_view name, std::initializer_list<ShaderStage> stages);
     ~Program();

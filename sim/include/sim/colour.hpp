@@ -11,13 +11,13 @@ struct ColourOptions {
     int entries = 64;
 };
 
-/// Throws engine::Error("colour: entries = N: allowed [2, 256]").
+/// Throws core::Error("colour: entries = N: allowed [2, 256]").
 void validate(const ColourOptions& o);
 
-/// Colour of height z in [z_min, z_max] for a table from engine::jetTable() (MATLAB's
+/// Colour of height z in [z_min, z_max] for a table from core::jetTable() (MATLAB's
 /// jet(m), the table the viewer shows too): bin
 /// floor((z - z_min) / (z_max - z_min) * m) clamped to [0, m-1], reversed so the lowest
-/// bin is red (engine::jetIndex). z_max <= z_min (all heights equal) gives the lowest
+/// bin is red (core::jetIndex). z_max <= z_min (all heights equal) gives the lowest
 /// bin's colour.
 std::uint32_t heightColour(float z, float z_min, float z_max, const std::vector<std::uint32_t>& jet);
 

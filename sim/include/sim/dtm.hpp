@@ -16,7 +16,7 @@ namespace sim {
 /// (the unobserved ones interpolated), so NODATA_value never appears.
 std::string dtmAscii(const TerrainGrid& grid, const glm::dvec3& origin);
 
-/// Writes dtmAscii() atomically to `path` (engine::writeFileAtomic). Throws engine::Error
+/// Writes dtmAscii() atomically to `path` (platform::writeFileAtomic). Throws core::Error
 /// ("output: <path>: ...") on failure, or when the grid is empty.
 void writeDtm(const std::filesystem::path& path, const TerrainGrid& grid, const glm::dvec3& origin);
 

@@ -1,9 +1,9 @@
 // sim/generator.hpp: the whole Ladar simulation of paper §III: orbit, ray casting, fusion,
 // ground whitening and height colouring, into memory or streamed to a cloud file.
 #pragma once
-#include <engine/cloud_io.hpp>
-#include <engine/point_cloud.hpp>
-#include <engine/scene.hpp>
+#include <core/point_cloud.hpp>
+#include <core/scene.hpp>
+#include <io/cloud_io.hpp>
 #include <sim/colour.hpp>
 #include <sim/ground.hpp>
 #include <sim/orbit.hpp>
@@ -31,7 +31,7 @@ struct GenerateOptions {
     /// Meshes to ray-cast (§IV-B's target-only / no-ground clouds); the others are left
     /// out of the BVH. C is still computed on the whole scene, so clouds of different
     /// roles share one orbit.
-    engine::RoleMask roles = engine::RoleMask::all();
+    core::RoleMask roles = core::RoleMask::all();
     bool white = false;             // no colouring and no ground filter: every point white
     int threads = 0;                // 0 = every core (oneTBB's default concurrency)
     bool packet_rays = true;        // trace 16-ray packets (rtcIntersect16); false: rtcIntersect1
@@ -46,7 +46,7 @@ struct GenerateOptions {
     /// fused cloud is spooled to a file next to the output when it does not fit too; the
     /// cloud returned by the in-memory run() is the caller's and not counted.
     std::size_t memory_budget_bytes = std::size_t(512) << 20;
-    bool progress = false;          // engine::Progress bar over the views (tty only)
+    bool progress = false;          // platform::Progress bar over the views (tty only)
     /// With the per-view RANSAC, also fit SMRF's terrain (ground.smrf) to the fused cloud
     /// and count the points on it that RANSAC left coloured (GenerateStats::terrain_*),
     /// when no ground mesh is ray-cast (ground labels then measure RANSAC directly) or
@@ -58,21 +58,21 @@ struct GenerateOptions {
     /// LAS/LAZ output only (docs/formats.md): the classes of the roles (a mesh's 'class'
     /// overrides its role's), and the GPS time: view v is reached at
     /// v x (orbit length / views) / drone_speed_mps (view_interval_s is set from that).
-    engine::LasOptions las;
+    io::LasOptions las;
     double drone_speed_mps = 10.0;
 };
 
 /// Validates every field (orbit, colour, ground, threads, centre within
-/// engine::kMaxWorldCoordinate_m). Throws engine::Error naming the parameter and the
+/// core::kMaxWorldCoordinate_m). Throws core::Error naming the parameter and the
 /// allowed range. The Generator also checks, once C is known, that every drone position
-/// lies within engine::kMaxLocalCoordinate_m of the scene's origin (validatePlacement).
+/// lies within core::kMaxLocalCoordinate_m of the scene's origin (validatePlacement).
 void validate(const GenerateOptions& o);
 
 /// The default C, world coordinates: x, y = centre of the target meshes' bounds (of all
 /// meshes if there is no target); z = the highest ground-role triangle above or below
 /// that point (the ground height there), else the lowest z of the ground meshes, else of
-/// the scene. Throws engine::Error("generate: scene '<file>' has no triangles").
-glm::dvec3 defaultCentre(const engine::Scene& scene);
+/// the scene. Throws core::Error("generate: scene '<file>' has no triangles").
+glm::dvec3 defaultCentre(const core::Scene& scene);
 
 /// Wall-clock seconds of each stage (load is the caller's).
 /// `ground` is the ground stage of whichever filter ran (--ground); `ground_check` the
@@ -102,7 +102,7 @@ struct GenerateStats {
     /// Of the whitening against the labels; empty when undefined (--white, or nothing
     /// whitened / no ground points).
     std::optional<double> ground_precision, ground_recall;
-    /// Triangles the scene loader dropped (engine::Scene::skipped_triangles and
+    /// Triangles the scene loader dropped (core::Scene::skipped_triangles and
     /// skipped_nonfinite_triangles): zero-area ones, and NaN/inf ones with skip_nonfinite.
     std::size_t skipped_zero_area_triangles = 0, skipped_nonfinite_triangles = 0;
     float z_min = 0, z_max = 0;             // height range used by the colour map (local)
@@ -121,15 +121,15 @@ struct GenerateStats {
 /// (timed as the bvh stage), then run() casts every view. The scene must outlive it.
 class Generator {
 public:
-    /// Throws engine::Error for bad options or Embree failures.
-    Generator(const engine::Scene& scene, GenerateOptions options);
+    /// Throws core::Error for bad options or Embree failures.
+    Generator(const core::Scene& scene, GenerateOptions options);
     ~Generator();
 
     /// The fused, coloured cloud in memory (origin = the scene's origin).
-    engine::PointCloud run(GenerateStats* stats = nullptr);
-    /// Streams the fused, coloured cloud to `out` (atomically, via engine::CloudWriter);
+    core::PointCloud run(GenerateStats* stats = nullptr);
+    /// Streams the fused, coloured cloud to `out` (atomically, via io::CloudWriter);
     /// the destination is checked before any ray is cast.
-    void run(const std::filesystem::path& out, engine::CloudFormat format,
+    void run(const std::filesystem::path& out, io::CloudFormat format,
              GenerateStats* stats = nullptr);
 
     /// The rays the ideal sensor traces for one view (what run() traces with every sensor
@@ -146,11 +146,11 @@ private:
 };
 
 /// Convenience: Generator(scene, options).run(stats).
-engine::PointCloud generateCloud(const engine::Scene& scene, const GenerateOptions& options,
+core::PointCloud generateCloud(const core::Scene& scene, const GenerateOptions& options,
                                  GenerateStats* stats = nullptr);
 /// Convenience: Generator(scene, options).run(out, format, stats).
-void generateToFile(const engine::Scene& scene, const GenerateOptions& options,
-                    const std::filesystem::path& out, engine::CloudFormat format,
+void generateToFile(const core::Scene& scene, const GenerateOptions& options,
+                    const std::filesystem::path& out, io::CloudFormat format,
                     GenerateStats* stats = nullptr);
 
 }  // namespace sim

@@ -4,7 +4,7 @@
 // whole-cloud seam (CloudGroundFilter). Each filter has its own options struct;
 // GroundChoice says which one the generator runs.
 #pragma once
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 
 #include <glm/glm.hpp>
 
@@ -25,7 +25,7 @@ enum class GroundMethod {
 };
 /// "ransac", "smrf" or "csf".
 const char* groundMethodName(GroundMethod m);
-/// Throws engine::Error("<context> '<text>': allowed ransac, smrf, csf").
+/// Throws core::Error("<context> '<text>': allowed ransac, smrf, csf").
 GroundMethod parseGroundMethod(std::string_view text, std::string_view context);
 
 /// Simple morphological filter (Pingel, Clarke, McBride 2013, "An improved simple
@@ -85,7 +85,7 @@ struct GroundChoice {
     CsfOptions csf;
 };
 
-/// Throws engine::Error("ground: <parameter> = <value>: allowed ...").
+/// Throws core::Error("ground: <parameter> = <value>: allowed ...").
 void validate(const RansacOptions& o);
 void validate(const SmrfOptions& o);
 void validate(const CsfOptions& o);
@@ -102,7 +102,7 @@ struct GroundStats {
 };
 
 /// Paper §III-C steps 1-5 on one view's points: returns one flag per point, 1 when the
-/// point is in PG (ground). PC is shuffled (engine::shuffle) with std::mt19937_64(seed) first (PCL's own RNG
+/// point is in PG (ground). PC is shuffled (core::shuffle) with std::mt19937_64(seed) first (PCL's own RNG
 /// is fixed-seed), so the result is a pure function of (points, options, seed).
 /// Fewer than 3 points in the band: no RANSAC, no ground. Needs validate(o) passed.
 std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const RansacOptions& o,
@@ -131,8 +131,8 @@ struct TerrainGrid {
 class TerrainFit {
 public:
     virtual ~TerrainFit() = default;
-    virtual void add(std::span<const engine::CloudPoint> points) = 0;
-    /// Throws engine::Error naming the parameter when the cloud cannot be gridded.
+    virtual void add(std::span<const core::CloudPoint> points) = 0;
+    /// Throws core::Error naming the parameter when the cloud cannot be gridded.
     virtual void fit() = 0;
     /// After fit(): the fitted surface (empty when no point was added).
     virtual const TerrainGrid& surface() const = 0;

@@ -1,6 +1,6 @@
 // sim/orbit.hpp: drone flight and Ladar sensor geometry (paper §III-A, Fig. 1).
 #pragma once
-#include <engine/frames.hpp>
+#include <core/frames.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -18,14 +18,14 @@ struct OrbitOptions {
     int views = 100;                 // NoV: drone positions equally spaced on the circle
 };
 
-/// Validates every field; throws engine::Error("orbit: <parameter> = <value> ...: allowed ...")
+/// Validates every field; throws core::Error("orbit: <parameter> = <value> ...: allowed ...")
 /// for alpha + fov/2 >= kMaxGrazingDeg, fov outside (0, 170], resolution or views < 1
 /// (or views > 65535), altitude outside (0, 1e7], |overlap| > 1e7, a drone radius over
-/// 1e7 m (engine::kMaxLocalCoordinate_m), or any non-finite value.
+/// 1e7 m (core::kMaxLocalCoordinate_m), or any non-finite value.
 void validate(const OrbitOptions& o);
 
 /// validate(o), then that every drone position around `centre_local` (C in the scene's
-/// local frame) lies within engine::kMaxLocalCoordinate_m of the local origin.
+/// local frame) lies within core::kMaxLocalCoordinate_m of the local origin.
 void validatePlacement(const OrbitOptions& o, const glm::dvec3& centre_local);
 
 /// Largest accepted alpha + fov/2, degrees. Past it the drone radius exceeds ~11,000x the
@@ -45,7 +45,7 @@ double coverageDiameter(const OrbitOptions& o);
 /// drone at C + (r cos t, r sin t, altitude) with t = 2 pi index / views, optical axis
 /// towards the ground point at distance CO past C, pitched alpha from the vertical.
 /// Returns T_world_sensor (sensor frame: x right, y down, z forward).
-engine::Pose sensorPose(const OrbitOptions& o, const glm::dvec3& centre, int index);
+core::Pose sensorPose(const OrbitOptions& o, const glm::dvec3& centre, int index);
 
 /// Unit direction, in the sensor frame, of the ray through pixel (px, py)'s centre
 /// ((px + 0.5, py + 0.5) in pixel units), for a pinhole whose vertical FoV is fov_deg.

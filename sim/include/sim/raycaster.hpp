@@ -1,7 +1,7 @@
 // sim/raycaster.hpp: first-hit ray casting against a Scene with Embree 4 (paper §III-B).
 // Every Embree call lives in sim/src/raycaster.cpp; callers see only these types.
 #pragma once
-#include <engine/scene.hpp>
+#include <core/scene.hpp>
 
 #include <cstdint>
 #include <memory>
@@ -22,19 +22,19 @@ struct Hit {
     float t = 0.0f;               // distance along the ray, in units of |direction|
     std::int32_t mesh = -1;       // index into Scene::meshes
     std::uint32_t triangle = 0;   // triangle index inside that mesh
-    engine::Role role = engine::Role::Environment;
+    core::Role role = core::Role::Environment;
     glm::vec3 normal{0.0f};       // the triangle's geometric normal (not unit length)
     bool hit() const { return mesh >= 0; }
 };
 
 /// Builds one Embree BVH (RTC_SCENE_FLAG_ROBUST, high quality) over every mesh of the
-/// scene. Throws engine::Error("embree: ...") on device or build errors.
+/// scene. Throws core::Error("embree: ...") on device or build errors.
 class RayCaster {
 public:
-    explicit RayCaster(const engine::Scene& scene);
+    explicit RayCaster(const core::Scene& scene);
     /// Only the meshes whose role is in `roles` (the others are never hit; geomID is
-    /// still the index into Scene::meshes). Throws engine::Error("embree: ...").
-    RayCaster(const engine::Scene& scene, engine::RoleMask roles);
+    /// still the index into Scene::meshes). Throws core::Error("embree: ...").
+    RayCaster(const core::Scene& scene, core::RoleMask roles);
     ~RayCaster();
     RayCaster(const RayCaster&) = delete;
     RayCaster& operator=(const RayCaster&) = delete;
@@ -47,7 +47,7 @@ public:
     void intersect16(std::span<const Ray> rays, std::span<Hit> hits) const;
 
     /// Local-frame bounds of all geometry.
-    engine::Bounds bounds() const;
+    core::Bounds bounds() const;
 
     /// Triangles in the BVH.
     std::size_t triangleCount() const;

@@ -5,9 +5,9 @@
 // perfectly known pose; the models of docs/sensor.md (range noise, GNSS/INS pose error,
 // maximum range, intensity, beam divergence with several returns) are each off by default.
 #pragma once
-#include <engine/frames.hpp>
-#include <engine/point_cloud.hpp>
-#include <engine/scene.hpp>
+#include <core/frames.hpp>
+#include <core/point_cloud.hpp>
+#include <core/scene.hpp>
 #include <sim/orbit.hpp>
 #include <sim/raycaster.hpp>
 
@@ -25,7 +25,7 @@ enum class ReturnMode { First, Last, Strongest, All };
 
 /// "first", "last", "strongest", "all".
 std::string_view returnModeName(ReturnMode m);
-/// Throws engine::Error("<parameter>: '<text>' is not one of first, last, strongest, all").
+/// Throws core::Error("<parameter>: '<text>' is not one of first, last, strongest, all").
 ReturnMode parseReturnMode(std::string_view text, std::string_view parameter);
 
 /// Every sensor model's parameters; the defaults are the ideal sensor (every model off).
@@ -52,7 +52,7 @@ struct SensorOptions {
     double range_resolution_m = 0.0;    // echoes closer than this merge into one return; 0 = c*pulse/2
 };
 
-/// Throws engine::Error("sensor: <parameter> (--option) = <value>: allowed <range>").
+/// Throws core::Error("sensor: <parameter> (--option) = <value>: allowed <range>").
 void validate(const SensorOptions& o);
 
 /// True when every model is off: the generator's output is then the paper's ideal cloud.
@@ -60,7 +60,7 @@ bool isIdeal(const SensorOptions& o);
 
 /// Names of the presets: "ideal" and the drone lidar classes of docs/sensor.md.
 std::span<const std::string_view> sensorPresetNames();
-/// A preset's options; throws engine::Error("sensor: --sensor '<name>' is not one of ...").
+/// A preset's options; throws core::Error("sensor: --sensor '<name>' is not one of ...").
 SensorOptions sensorPreset(std::string_view name);
 
 /// The sub-rays of one beam, in the sensor frame: angular offsets (radians, across x and
@@ -89,8 +89,8 @@ glm::dvec3 subRayDirection(const BeamFrame& frame, double tan_dx, double tan_dy)
 /// (nominal; points are placed with it) and the one it really flew (rays leave from it).
 struct SensorView {
     int view = 0;
-    engine::Pose nominal;   // T_local_sensor as logged
-    engine::Pose actual;    // T_local_sensor as flown (nominal plus the GNSS/INS error)
+    core::Pose nominal;   // T_local_sensor as logged
+    core::Pose actual;    // T_local_sensor as flown (nominal plus the GNSS/INS error)
 };
 
 /// A slot of Sensor::trace without a return.
@@ -99,8 +99,8 @@ inline constexpr float kNoReturn = -1.0f;
 class Sensor {
 public:
     /// `seed` seeds every random model; reflectances come from the scene's meshes; `orbit`
-    /// gives the pixel grid (a beam's neighbours). Throws engine::Error for invalid options.
-    Sensor(const SensorOptions& o, const OrbitOptions& orbit, const engine::Scene& scene, std::uint64_t seed);
+    /// gives the pixel grid (a beam's neighbours). Throws core::Error for invalid options.
+    Sensor(const SensorOptions& o, const OrbitOptions& orbit, const core::Scene& scene, std::uint64_t seed);
     ~Sensor();
     Sensor(const Sensor&) = delete;
     Sensor& operator=(const Sensor&) = delete;
@@ -117,11 +117,11 @@ public:
     /// Bytes the sensor itself holds for the whole run (its per-pixel tables).
     std::size_t tableBytes() const;
     /// The CloudFields a cloud of this sensor carries (the ideal four plus those it fills).
-    engine::CloudFields fields() const;
+    core::CloudFields fields() const;
 
     /// The view's nominal pose and the pose actually flown: nominal perturbed by the
     /// per-view and per-flight GNSS/INS error, drawn from (seed, view) alone.
-    SensorView view(int index, const engine::Pose& nominal) const;
+    SensorView view(int index, const core::Pose& nominal) const;
 
     /// Traces `dirs.size()` consecutive pixels of one image row of a view, the first being
     /// pixel `first_pixel` (row-major) and dirs their sensor-frame unit directions
@@ -132,7 +132,7 @@ public:
     /// thread-safe, and the result does not depend on how pixels are split between calls
     /// as long as packets start at the same pixels.
     void trace(const RayCaster& caster, const SensorView& view, std::uint64_t first_pixel,
-               std::span<const glm::dvec3> dirs, std::span<engine::CloudPoint> slots, bool packets) const;
+               std::span<const glm::dvec3> dirs, std::span<core::CloudPoint> slots, bool packets) const;
 
     struct State;
 private:

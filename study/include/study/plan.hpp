@@ -8,7 +8,7 @@
 //    "generate": {"xres": 128, "yres": 128, "views": 100}}       (optional, scene trials)
 // Paths are relative to the plan's folder. docs/study.md explains each field.
 #pragma once
-#include <engine/candidates.hpp>
+#include <core/candidates.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -39,7 +39,7 @@ struct Plan {
 /// The largest plan read.
 inline constexpr std::size_t kMaxPlanBytes = std::size_t(1) << 20;
 
-/// Parses plan text; relative paths are taken from `base`. Throws engine::Error("study:
+/// Parses plan text; relative paths are taken from `base`. Throws core::Error("study:
 /// <name>: trials[2].time_limit_s -1 is not in [0, 86400]") naming the field and what is
 /// allowed; unknown keys are refused (a misspelt key would silently change a study).
 Plan parsePlan(std::string_view text, const std::string& name, const std::filesystem::path& base);
@@ -47,7 +47,7 @@ Plan parsePlan(std::string_view text, const std::string& name, const std::filesy
 /// scene and candidates file it names is a readable regular file.
 Plan readPlan(const std::filesystem::path& file);
 
-/// The order the trials run in: 0..n-1, or shuffled with the plan's seed (engine::shuffle,
+/// The order the trials run in: 0..n-1, or shuffled with the plan's seed (core::shuffle,
 /// the same order on every platform).
 std::vector<int> trialOrder(const Plan& plan);
 

@@ -19,7 +19,7 @@ std::string traceFileName(int trial_number);
 bool isStudyFile(std::string_view name);
 
 /// Checks that `out` (made by the caller) is a folder that holds no study yet, so one run
-/// never mixes its rows with another's. Throws engine::Error("study: --out DIR: not a
+/// never mixes its rows with another's. Throws core::Error("study: --out DIR: not a
 /// folder") or "study: --out DIR: already holds a study (<name>); allowed: a new or empty
 /// folder".
 void checkStudyFolder(const std::filesystem::path& out);
@@ -35,7 +35,7 @@ struct RecordedStudy {
     std::vector<int> order;
 };
 /// Reads DIR/study.json (regular file, at most 1 MiB) and the plan it names, and checks
-/// the order against the plan's trials. Throws engine::Error("study: --replay
+/// the order against the plan's trials. Throws core::Error("study: --replay
 /// DIR/study.json: ...") naming what is wrong, or readPlan's error.
 RecordedStudy readStudyRecord(const std::filesystem::path& dir);
 

@@ -5,13 +5,13 @@
 //                    each trial's end
 //   candidates.csv   each candidate's verdict and when it was given, replaced the same way
 //   trace_<N>.csv    one row per frame of trial N, written as the frames come (its format:
-//                    engine/trace_file.hpp)
+//                    io/trace_file.hpp)
 // Columns: viewer/trial.hpp; meanings: docs/study.md. Trials are numbered 1.. in the
 // order they ran.
 #pragma once
 #include <viewer/trial.hpp>
 
-#include <engine/trace_file.hpp>
+#include <io/trace_file.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -37,7 +37,7 @@ public:
 
     void onStart(int trial) override;
     void onFrame(int trial, const viewer::TraceSample& sample) override;
-    void onVerdict(int trial, double t_s, const engine::Candidate& candidate, viewer::Verdict verdict) override;
+    void onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) override;
     void onEnd(int trial, const viewer::TrialOutcome& outcome) override;
 
     /// Rows of trials.csv so far (header excluded).
@@ -62,8 +62,8 @@ private:
 };
 
 /// A frame of the viewer's trace as a row of trace_<N>.csv, and back.
-engine::TraceRow toTraceRow(const viewer::TraceSample& sample);
-viewer::TraceSample toTraceSample(const engine::TraceRow& row);
+io::TraceRow toTraceRow(const viewer::TraceSample& sample);
+viewer::TraceSample toTraceSample(const io::TraceRow& row);
 
 /// Formats a CSV field: numbers as given, text quoted when it holds a comma, quote or
 /// line break (RFC 4180).

@@ -28,7 +28,7 @@ struct StudyOptions {
 class StudyRun {
 public:
     /// Reads the plan and the script, applies the overrides and validates the viewer's
-    /// options, so bad input fails before anything is written. Throws engine::Error naming
+    /// options, so bad input fails before anything is written. Throws core::Error naming
     /// the file or value (e.g. "study: --hit-radius must be > 0 m").
     explicit StudyRun(StudyOptions options);
 
@@ -53,8 +53,8 @@ private:
 class Replay {
 public:
     /// Reads dir/study.json, the plan and trace_<trial_number>.csv (a trace with the study
-    /// columns, engine/trace_file.hpp) and validates `viewer` (use_xr is turned off).
-    /// Throws engine::Error naming the file, or "study: --trial N: allowed 1..M".
+    /// columns, io/trace_file.hpp) and validates `viewer` (use_xr is turned off).
+    /// Throws core::Error naming the file, or "study: --trial N: allowed 1..M".
     Replay(const std::filesystem::path& dir, int trial_number, viewer::ViewerOptions viewer);
 
     const viewer::ViewerOptions& viewerOptions() const { return options_; }

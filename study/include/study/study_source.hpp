@@ -5,8 +5,8 @@
 #include <study/plan.hpp>
 #include <viewer/trial.hpp>
 
-#include <engine/candidates.hpp>
-#include <engine/scene.hpp>
+#include <core/candidates.hpp>
+#include <core/scene.hpp>
 
 #include <memory>
 #include <thread>
@@ -17,7 +17,7 @@ namespace study {
 class StudySource : public viewer::TrialSource {
 public:
     /// Loads every scene and candidates file of the plan now, so a bad one fails before
-    /// the window opens (engine::Error naming it). `order` from trialOrder().
+    /// the window opens (core::Error naming it). `order` from trialOrder().
     StudySource(const Plan& plan, std::vector<int> order);
     ~StudySource() override;
 
@@ -33,8 +33,8 @@ private:
 
     Plan plan_;
     std::vector<int> order_;
-    std::vector<std::shared_ptr<const engine::Scene>> scenes_;          // per plan trial (null: cloud)
-    std::vector<std::vector<engine::Candidate>> candidates_;           // per plan trial
+    std::vector<std::shared_ptr<const core::Scene>> scenes_;          // per plan trial (null: cloud)
+    std::vector<std::vector<core::Candidate>> candidates_;           // per plan trial
     std::thread generator_;
 };
 

@@ -37,7 +37,7 @@ struct ModeOptions {
     double turn_speed_dps = 90.0;       // thumbstick turn rate in free mode
 };
 
-/// Throws engine::Error("view: <field> = <value>: allowed ...") on bad values.
+/// Throws core::Error("view: <field> = <value>: allowed ...") on bad values.
 void validate(const ModeOptions& o);
 
 /// Free-mode motion request for one frame: components in [-1, 1].

@@ -4,7 +4,7 @@
 // appends chunks; the viewer takes what has arrived each frame and uploads a bounded amount
 // to the GPU, so the first points appear before the whole file is read.
 #pragma once
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 #include <viewer/lod.hpp>
 
 #include <atomic>
@@ -22,7 +22,7 @@ namespace viewer {
 /// One chunk as it arrived; `cells` is filled (and `points` in LOD order) when the feed
 /// builds the LOD order on the producer's thread (enableLodOrder), else empty.
 struct FeedChunk {
-    std::vector<engine::CloudPoint> points;
+    std::vector<core::CloudPoint> points;
     std::vector<LodCell> cells;
 };
 
@@ -39,22 +39,22 @@ public:
     void enableLodOrder(const LodOptions& options = {});
     /// Producer side. setOrigin must come before the first append (default origin 0).
     void setOrigin(const glm::dvec3& origin);
-    void setFields(const engine::CloudFields& fields);
-    void append(std::vector<engine::CloudPoint> chunk);
+    void setFields(const core::CloudFields& fields);
+    void append(std::vector<core::CloudPoint> chunk);
     /// Marks the end of the stream; `error` non-empty means the producer failed with it.
     void finish(std::string error = {});
 
     /// Viewer side: moves out every chunk that arrived since the last call.
     std::vector<FeedChunk> take();
     glm::dvec3 origin() const;
-    engine::CloudFields fields() const;
+    core::CloudFields fields() const;
     bool finished() const { return finished_.load(); }
     /// The producer's error, if it failed (valid once finished()).
     std::string error() const;
     /// Points appended so far (all chunks, taken or not).
     std::size_t pointsArrived() const { return arrived_.load(); }
 
-    /// Reads `path` (PCD, PLY, LAS or LAZ) with engine::CloudReader chunk by chunk, appending each
+    /// Reads `path` (PCD, PLY, LAS or LAZ) with io::CloudReader chunk by chunk, appending each
     /// chunk of `chunk_points` as it is decoded, and finishes the feed: with the reader's
     /// error if the file is bad (its header is checked before the first point), or with
     /// "<pcd|ply|las>: <file>: holds no points to show" if no point remains. Non-finite points
@@ -63,12 +63,12 @@ public:
     /// feedFile on a thread, which the destructor joins.
     void startFileLoader(std::filesystem::path path, std::size_t chunk_points = 262144);
     /// Feeds an in-memory cloud in chunks (no thread; the viewer still uploads gradually).
-    void feedCloud(engine::PointCloud cloud, std::size_t chunk_points = 262144);
+    void feedCloud(core::PointCloud cloud, std::size_t chunk_points = 262144);
 
 private:
     mutable std::mutex mutex_;
     glm::dvec3 origin_{0.0};
-    engine::CloudFields fields_;
+    core::CloudFields fields_;
     std::vector<FeedChunk> pending_;
     bool lod_order_ = false;
     LodOptions lod_options_;

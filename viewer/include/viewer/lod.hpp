@@ -8,8 +8,8 @@
 // a fixed seed, so any prefix of a cell is a uniform random subsample of it. A frame then
 // draws, per cell, a prefix whose length the budget allocation picks.
 #pragma once
-#include <engine/frames.hpp>
-#include <engine/point_cloud.hpp>
+#include <core/frames.hpp>
+#include <core/point_cloud.hpp>
 #include <render/orbit_camera.hpp>
 
 #include <cstddef>
@@ -27,22 +27,22 @@ struct LodOptions {
 /// One cell of a chunk: points [first, first + count) of the reordered chunk.
 struct LodCell {
     std::size_t first = 0, count = 0;
-    engine::Bounds bounds;
+    core::Bounds bounds;
 };
 
 /// Reorders `points` in place into grid cells over its x/y bounds, each cell shuffled with
 /// `options.seed` (a prefix of a cell is a uniform subsample); returns the cells in order
 /// (empty cells left out). Deterministic.
-std::vector<LodCell> buildLodOrder(std::vector<engine::CloudPoint>& points, const LodOptions& options = {});
+std::vector<LodCell> buildLodOrder(std::vector<core::CloudPoint>& points, const LodOptions& options = {});
 
 /// For each box: true if it may be seen by at least one of `frusta` (the union of the eyes'
 /// frusta); false only when it is certainly outside all of them.
-std::vector<bool> visibleInAny(std::span<const render::Frustum> frusta, std::span<const engine::Bounds> boxes);
+std::vector<bool> visibleInAny(std::span<const render::Frustum> frusta, std::span<const core::Bounds> boxes);
 
 /// Screen-space importance of a box seen from `eye`: (r / max(d, r))^2 with r the box's
 /// half diagonal and d the distance from the eye to its centre, i.e. about the solid angle
 /// it covers over pi (1 when the eye is inside it). 0 for an empty box.
-double screenImportance(const engine::Bounds& box, const glm::dvec3& eye);
+double screenImportance(const core::Bounds& box, const glm::dvec3& eye);
 
 /// Points to draw per cell: count_i = min(sizes_i, floor(lambda * importance_i)) with the
 /// largest lambda that keeps the sum <= budget (water filling), so cells with more

@@ -7,8 +7,8 @@
 #include <viewer/camera_rig.hpp>
 #include <viewer/viewer.hpp>
 
-#include <engine/frames.hpp>
-#include <engine/point_cloud.hpp>
+#include <core/frames.hpp>
+#include <core/point_cloud.hpp>
 
 #include <glm/glm.hpp>
 
@@ -28,14 +28,14 @@ struct StereoOptions {
     double angle_up_rad = 1.0, angle_down_rad = -1.0;
 };
 
-/// Throws engine::Error("view: offscreen eye size WxH: allowed 16..8192 pixels each") and
+/// Throws core::Error("view: offscreen eye size WxH: allowed 16..8192 pixels each") and
 /// the like for values out of range.
 void validate(const StereoOptions& o);
 
 class OffscreenStereo {
 public:
     /// Needs a current OpenGL 4.5 core context, which must outlive this object. Compiles
-    /// the viewer's programs and allocates both eye images. Throws engine::Error on bad
+    /// the viewer's programs and allocates both eye images. Throws core::Error on bad
     /// options or a shader failure.
     explicit OffscreenStereo(const StereoOptions& options = {});
     ~OffscreenStereo();
@@ -43,11 +43,11 @@ public:
     OffscreenStereo& operator=(const OffscreenStereo&) = delete;
 
     /// Puts every point of `cloud` on the GPU, in the viewer's LOD order and cells.
-    void upload(const engine::PointCloud& cloud);
+    void upload(const core::PointCloud& cloud);
     std::size_t uploadedPoints() const;
     std::size_t cellCount() const;
     /// Bounds (local frame) of everything uploaded; its centre is the orbit centre.
-    const engine::Bounds& bounds() const;
+    const core::Bounds& bounds() const;
 
     /// World(local)-to-eye view of eye 0 (left) or 1 (right) when the head is at `head`
     /// (pose in the cloud's local frame), and the projection both eyes share.

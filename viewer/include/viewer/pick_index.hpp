@@ -9,7 +9,7 @@
 // no GL. The frame loop keeps one index per node of its point source (point_source.hpp)
 // in a PickSet, built on a worker thread, and picks the nearest of the nodes' picks.
 #pragma once
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 
 #include <glm/vec3.hpp>
 
@@ -26,7 +26,7 @@ struct PickOptions {
     double max_range_m = 20000.0; // nothing further than this from the origin is picked
 };
 
-/// Throws engine::Error("view: --pick-angle X: allowed (0, 10] degrees") when out of range.
+/// Throws core::Error("view: --pick-angle X: allowed (0, 10] degrees") when out of range.
 void validate(const PickOptions& o);
 
 struct PickHit {
@@ -34,7 +34,7 @@ struct PickHit {
     std::size_t node = 0;           // PickSet: which of its indexes (in the order added)
     glm::dvec3 local{0.0};          // the point, cloud local frame
     double distance_m = 0.0;        // from the ray's origin
-    engine::Role label = engine::Role::Environment;
+    core::Role label = core::Role::Environment;
     float height_above_ground_m = 0.0f;
 };
 
@@ -42,7 +42,7 @@ class PickIndex {
 public:
     /// Builds the k-d tree over the points' positions (cloud local frame). Keeps positions,
     /// labels and heights above ground (21 bytes a point), not the whole points.
-    explicit PickIndex(std::span<const engine::CloudPoint> points);
+    explicit PickIndex(std::span<const core::CloudPoint> points);
     ~PickIndex();
     PickIndex(const PickIndex&) = delete;
     PickIndex& operator=(const PickIndex&) = delete;
@@ -69,7 +69,7 @@ private:
     PickHit hitAt(std::size_t i, double distance_m) const;
 
     std::vector<glm::vec3> positions_;
-    std::vector<engine::Role> labels_;
+    std::vector<core::Role> labels_;
     std::vector<float> heights_;
     std::vector<glm::vec3> targets_;
     glm::dvec3 lo_{0.0}, hi_{0.0};   // bounds of the positions

@@ -11,7 +11,7 @@
 // each chunk a leaf under no parent, resident from its arrival (the LOD order of lod.hpp
 // already built).
 #pragma once
-#include <engine/point_cloud.hpp>
+#include <core/point_cloud.hpp>
 #include <viewer/lod.hpp>
 
 #include <glm/vec3.hpp>
@@ -29,7 +29,7 @@ class CloudFeed;
 /// A resident node's points in LOD order and their cells (lod.hpp). Shared, so a worker
 /// that indexes them keeps them alive if the node is evicted meanwhile.
 struct NodePoints {
-    std::vector<engine::CloudPoint> points;
+    std::vector<core::CloudPoint> points;
     std::vector<LodCell> cells;
 };
 
@@ -37,7 +37,7 @@ class PointNode {
 public:
     virtual ~PointNode() = default;
     /// Local-frame bounds of all the node's points (known whether resident or not).
-    virtual const engine::Bounds& bounds() const = 0;
+    virtual const core::Bounds& bounds() const = 0;
     virtual std::size_t pointCount() const = 0;
     /// Empty for a leaf.
     virtual std::span<PointNode* const> children() const = 0;
@@ -60,7 +60,7 @@ public:
     virtual std::span<PointNode* const> roots() const = 0;
     /// World coordinates of the local frame the nodes' points are in.
     virtual glm::dvec3 origin() const = 0;
-    virtual engine::CloudFields fields() const = 0;
+    virtual core::CloudFields fields() const = 0;
     /// Every node is known: the stream ended (or failed, see error()).
     virtual bool finished() const = 0;
     /// The producer's error, if it failed (valid once finished()).
@@ -83,7 +83,7 @@ public:
     std::size_t poll() override;
     std::span<PointNode* const> roots() const override { return roots_; }
     glm::dvec3 origin() const override;
-    engine::CloudFields fields() const override;
+    core::CloudFields fields() const override;
     bool finished() const override;
     std::string error() const override;
     std::size_t pointsArrived() const override;

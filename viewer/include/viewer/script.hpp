@@ -1,7 +1,7 @@
 // viewer/script.hpp: the viewer's `--script` files, scripted operator actions by frame.
 //
-// Outside input, so the parser depends only on engine and the standard library: the
-// fuzz build (engine only, no GL) compiles viewer/src/script.cpp into fuzz_view_script.
+// Outside input, so the parser depends only on core, io and the standard library: the
+// fuzz build (core, platform and io only, no GL) compiles viewer/src/script.cpp into fuzz_view_script.
 #pragma once
 #include <cstddef>
 #include <filesystem>
@@ -48,9 +48,9 @@ const char* scriptKeyName(ScriptEvent::Key key);
 /// Parses script text: one "<frame> <action>" per line, frame a whole number >= 0,
 /// desktop+N, loaded+N (after the whole cloud is on the GPU) or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
 /// reject, no_target, grab_scale S (a finite number > 0), next; '#' starts a comment,
-/// blank lines skipped. Throws engine::Error("<name> line N: ...; allowed '<frame>
+/// blank lines skipped. Throws core::Error("<name> line N: ...; allowed '<frame>
 /// <action>' ...") on a bad line; tokens quoted in it are shown escaped and cut to 40
-/// characters (engine::printable).
+/// characters (core::printable).
 std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& name);
 
 /// Writes events back as script text that parses to the same events (numbers with 17
@@ -58,8 +58,8 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
 std::string formatScript(const std::vector<ScriptEvent>& events);
 
 /// Reads and parses a script file (parseScript, named "view: --script <file>").
-/// Throws engine::Error("view: --script <file>: is a directory; ...") for anything but a
-/// regular file of at most kMaxScriptBytes (engine::readTextFile). Bytes of the file
+/// Throws core::Error("view: --script <file>: is a directory; ...") for anything but a
+/// regular file of at most kMaxScriptBytes (platform::readTextFile). Bytes of the file
 /// are shown escaped.
 std::vector<ScriptEvent> readScript(const std::filesystem::path& file);
 

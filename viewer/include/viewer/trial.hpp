@@ -15,7 +15,7 @@
 //   trace_<trial>.csv: t_s, head_x, head_y, head_z, head_qw, head_qx, head_qy, head_qz,
 //     mode, scale, hit_x, hit_y, hit_z   (world coordinates; hit_* empty without a hit)
 #pragma once
-#include <engine/candidates.hpp>
+#include <core/candidates.hpp>
 #include <viewer/camera_rig.hpp>
 
 #include <glm/gtc/quaternion.hpp>
@@ -65,7 +65,7 @@ struct TrialOutcome {
 /// What a trial shows besides its cloud.
 struct TrialSetup {
     std::string name;                        // shown on the ready screen
-    std::vector<engine::Candidate> candidates;
+    std::vector<core::Candidate> candidates;
     double time_limit_s = 0.0;               // 0: none
 };
 
@@ -90,7 +90,7 @@ public:
     virtual void onStart(int /*trial*/) {}
     virtual void onFrame(int /*trial*/, const TraceSample& /*sample*/) {}
     virtual void onDesignate(int /*trial*/, double /*t_s*/, const glm::dvec3& /*point_world*/) {}
-    virtual void onVerdict(int /*trial*/, double /*t_s*/, const engine::Candidate& /*candidate*/, Verdict /*verdict*/) {}
+    virtual void onVerdict(int /*trial*/, double /*t_s*/, const core::Candidate& /*candidate*/, Verdict /*verdict*/) {}
     /// Called once per trial that started; candidates never reviewed are reported before it
     /// with Verdict::Unreviewed.
     virtual void onEnd(int /*trial*/, const TrialOutcome& /*outcome*/) {}

@@ -12,7 +12,7 @@
 #include <viewer/script.hpp>
 #include <viewer/trial.hpp>
 
-#include <engine/candidates.hpp>
+#include <core/candidates.hpp>
 
 #include <cstddef>
 #include <filesystem>
@@ -24,9 +24,9 @@ namespace viewer {
 enum class MirrorEyes { Left, Right, Both };
 enum class ColourMode { File, HeightJet, White, Label, AboveGround };
 
-/// "left" / "right" / "both"; throws engine::Error("view: --mirror 'x' is not one of left, right, both").
+/// "left" / "right" / "both"; throws core::Error("view: --mirror 'x' is not one of left, right, both").
 MirrorEyes parseMirrorEyes(const std::string& name);
-/// "file" / "height" / "white" / "label" / "above-ground"; throws engine::Error("view: --colour 'x' is not one of ...").
+/// "file" / "height" / "white" / "label" / "above-ground"; throws core::Error("view: --colour 'x' is not one of ...").
 /// "label" shows the ground truth: target red, environment grey, ground dark grey.
 /// "above-ground" colours by height above the fitted terrain (clouds made with
 /// `generate --ground smrf|csf`), the jet over [0, the cloud's highest], ground left white.
@@ -66,7 +66,7 @@ struct ViewerOptions {
     PickOptions pick;                   // the pointer's cone (--pick-angle)
     double cut_radius_m = 15.0;         // the cutting volume's radius when switched on (V / controller)
     bool cut_enabled = false;           // the cutting volume on from the start (around the designation)
-    std::vector<engine::Candidate> candidates;   // --candidates: boxes to confirm or reject
+    std::vector<core::Candidate> candidates;   // --candidates: boxes to confirm or reject
     // Comfort in free mode, in the headset (docs/viewer.md).
     bool snap_turn = true;              // thumbstick turns in steps, not smoothly
     double snap_turn_deg = 45.0;        // step
@@ -81,12 +81,12 @@ struct ViewerOptions {
     std::vector<TraceSample> replay;
 };
 
-/// Throws engine::Error("view: ...") for values out of range.
+/// Throws core::Error("view: ...") for values out of range.
 void validate(const ViewerOptions& o);
 
 /// Runs the viewer until the window closes, Escape, SIGINT / SIGTERM (the frame finishes
 /// and the log is written) or `frames` frames. Returns 0 on a clean run, 1 on a timeout or
-/// a failed screenshot/log, 128 + the signal's number when stopped by one. Throws engine::Error only during
+/// a failed screenshot/log, 128 + the signal's number when stopped by one. Throws core::Error only during
 /// setup (no window could be opened, shaders failed); the frame loop never throws.
 int runViewer(const ViewerOptions& options, CloudFeed& feed);
 /// runViewer that also hands back the run log (the --log-json document) in `log_json`.

@@ -41,7 +41,7 @@ std::optional<double> rayBoxDistance(const LocalRay& ray, const glm::dvec3& cent
     return t0;
 }
 
-void CandidatesTool::set(std::vector<engine::Candidate> candidates, const glm::dvec3& origin) {
+void CandidatesTool::set(std::vector<core::Candidate> candidates, const glm::dvec3& origin) {
     candidates_ = std::move(candidates);
     verdicts_.assign(candidates_.size(), Verdict::Unreviewed);
     origin_ = origin;
@@ -53,7 +53,7 @@ void CandidatesTool::update(const std::optional<LocalRay>& ray) {
     if (!ray) return;
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < candidates_.size(); ++i) {
-        const engine::Candidate& c = candidates_[i];
+        const core::Candidate& c = candidates_[i];
         if (const auto t = rayBoxDistance(*ray, c.centre_world - origin_, c.size_m, c.yaw_deg); t && *t < best) {
             best = *t;
             pointed_ = i;
@@ -69,7 +69,7 @@ std::optional<std::size_t> CandidatesTool::decide(Verdict verdict) {
 
 void CandidatesTool::draw(OverlayList& out, bool highlight) const {
     for (std::size_t i = 0; i < candidates_.size(); ++i) {
-        const engine::Candidate& c = candidates_[i];
+        const core::Candidate& c = candidates_[i];
         glm::vec4 colour;
         switch (verdicts_[i]) {
             case Verdict::Confirmed: colour = {0.1f, 1.0f, 0.2f, 1.0f}; break;

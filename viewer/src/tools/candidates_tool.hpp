@@ -1,4 +1,4 @@
-// viewer/src/tools/candidates_tool.hpp: an ATR's candidate detections (engine/candidates.hpp)
+// viewer/src/tools/candidates_tool.hpp: an ATR's candidate detections (core/candidates.hpp)
 // for the operator to validate: oriented boxes coloured by score (red = likely target,
 // yellow = unlikely), the one the pointer's ray meets highlighted, confirmed ones green,
 // rejected ones grey. Coordinates: world in the file, local (world - origin) here.
@@ -6,7 +6,7 @@
 #include "../overlay_renderer.hpp"
 #include "pointer_tool.hpp"
 
-#include <engine/candidates.hpp>
+#include <core/candidates.hpp>
 #include <viewer/trial.hpp>
 
 #include <nlohmann/json.hpp>
@@ -24,10 +24,10 @@ std::optional<double> rayBoxDistance(const LocalRay& ray, const glm::dvec3& cent
 class CandidatesTool final : public Tool {
 public:
     /// `origin`: world coordinates of the cloud's local frame.
-    void set(std::vector<engine::Candidate> candidates, const glm::dvec3& origin);
+    void set(std::vector<core::Candidate> candidates, const glm::dvec3& origin);
     bool empty() const { return candidates_.empty(); }
     std::size_t size() const { return candidates_.size(); }
-    const engine::Candidate& candidate(std::size_t i) const { return candidates_[i]; }
+    const core::Candidate& candidate(std::size_t i) const { return candidates_[i]; }
     Verdict verdict(std::size_t i) const { return verdicts_[i]; }
     /// The candidate the ray meets first, if any.
     void update(const std::optional<LocalRay>& ray);
@@ -43,7 +43,7 @@ public:
     nlohmann::json log() const override;
 
 private:
-    std::vector<engine::Candidate> candidates_;
+    std::vector<core::Candidate> candidates_;
     std::vector<Verdict> verdicts_;
     glm::dvec3 origin_{0.0};
     std::optional<std::size_t> pointed_;

@@ -1,7 +1,7 @@
 // viewer/src/tools/pointer_tool.cpp: the laser pointer's pick and drawing.
 #include "pointer_tool.hpp"
 
-#include <engine/scene.hpp>
+#include <core/scene.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -54,7 +54,7 @@ void PointerTool::draw(OverlayList& out, double miss_length_m, bool from_eye) co
 nlohmann::json PointerTool::log() const {
     if (!hit_) return {{"hit", nullptr}};
     return {{"hit", {hit_->local.x, hit_->local.y, hit_->local.z}},
-            {"label", std::string(engine::roleName(hit_->label))},
+            {"label", std::string(core::roleName(hit_->label))},
             {"distance_m", hit_->distance_m}};
 }
 

@@ -1,0 +1,109 @@
+// io/cloud_io.hpp: PCD, PLY and LAS/LAZ reading and (atomic, streaming) writing.
+//
+// PCD and PLY files carry the fields x y z (float, local frame), rgb (PCL's packed float;
+// red green blue in PLY), label (uint8: 0 ground, 1 environment, 2 target), view, range
+// (float), the optional fields CloudFields turns on, and the double-precision origin as a
+// header comment ("# ladarvr origin X Y Z" in PCD, "comment ladarvr origin X Y Z" in
+// PLY), so world = origin + (x, y, z). LAS/LAZ hold world coordinates at 1 mm. Readers
+// of PCL, Open3D, CloudCompare, laspy and PDAL load them (docs/formats.md).
+#pragma once
+#include <core/point_cloud.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace platform {
+class TempFile;
+}
+
+namespace io {
+
+namespace detail {
+class FormatWriter;  // one format's writer (io/src/format_writer.hpp)
+}
+
+enum class CloudFormat { PcdBinary, PcdAscii, PlyBinary, PlyAscii, Las, Laz };
+
+/// From a name: "pcd" (binary), "pcd-ascii", "ply" (binary), "ply-ascii", "las", "laz".
+/// Throws Error("<parameter>: format 'x' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz").
+CloudFormat parseCloudFormat(std::string_view name, std::string_view parameter);
+/// The format for a path's extension (any case): .pcd or none -> PcdBinary, .ply ->
+/// PlyBinary, .las, .laz. Throws Error("<parameter>: <path>: extension 'x' is not one of
+/// .pcd, .ply, .las, .laz") for any other extension, so a cloud never lands under a
+/// misleading name.
+CloudFormat formatForPath(const std::filesystem::path& path, std::string_view parameter = "output");
+/// The name parseCloudFormat takes for `format` ("pcd", ..., "laz").
+const char* cloudFormatName(CloudFormat format);
+
+/// What a LAS/LAZ file needs beyond the points (docs/formats.md).
+struct LasOptions {
+    /// ASPRS classification written for each role (Ground, Environment, Target):
+    /// 2 ground, 1 unclassified, 64 (the first user-definable class).
+    std::uint8_t class_of_role[core::kRoleCount] = {2, 1, 64};
+    /// GPS time of view v: gps_start_s + v * view_interval_s (the drone's time along
+    /// the orbit).
+    double gps_start_s = 0.0;
+    double view_interval_s = 1.0;
+    /// LAZ: chunks of points compressed at once, on this many threads besides the
+    /// caller's (0: all on the caller's thread). The file is the same whatever the count.
+    int threads = 0;
+    /// LAZ: the most the writer holds in chunks being filled, waiting or being compressed
+    /// (lazChunkBytes() each; two at least). 0: what `threads` can use, threads + 2 chunks.
+    std::uint64_t memory_bytes = 0;
+};
+
+/// Points per LAZ chunk (LASzip's default chunk size): the unit a LAZ reader can seek
+/// to, and the unit the writer compresses on one thread.
+std::size_t lazChunkPoints();
+/// What one LAZ chunk waiting for compression holds (its points and their compressed
+/// bytes), for callers that plan memory around LasOptions::memory_bytes.
+std::uint64_t lazChunkBytes();
+
+/// Writes a cloud of unknown final size in a stream: points are appended in chunks,
+/// nothing is held in memory. The data go to a platform::TempFile in the same folder
+/// (platform/safe_file.hpp) and commit() renames it to `path`; destroying the writer
+/// without commit() removes the temporary file, so a failed run never leaves a truncated
+/// file under the final name.
+class CloudWriter {
+public:
+    /// Throws Error("output: <path>: ...") if the directory is missing or not writable, or
+    /// `path` exists and is not a regular file, or is an input of this run.
+    /// LAS/LAZ use `las`; with fields.rgb off they use point format 6, else 7.
+    CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin,
+                core::CloudFields fields = {}, const LasOptions& las = {});
+    ~CloudWriter();
+    CloudWriter(const CloudWriter&) = delete;
+    CloudWriter& operator=(const CloudWriter&) = delete;
+
+    void append(std::span<const core::CloudPoint> points);
+    /// Fixes up the point count in the header, flushes, renames into place.
+    void commit();
+    std::size_t count() const { return count_; }
+
+private:
+    std::filesystem::path path_;
+    std::unique_ptr<platform::TempFile> temp_;
+    std::unique_ptr<detail::FormatWriter> writer_;  // null once committed
+    std::size_t count_ = 0;
+};
+
+/// Writes a whole cloud atomically (a CloudWriter in one go).
+void writeCloud(const std::filesystem::path& path, const core::PointCloud& cloud,
+                CloudFormat format, const LasOptions& las = {});
+
+/// Reads PCD (ascii, binary, binary_compressed), PLY (ascii, binary either endian) or
+/// LAS/LAZ whole, through io::CloudReader (cloud_reader.hpp). Needs x y z; rgb/rgba, label,
+/// view, range are used when present (fields says which). Points with a non-finite x, y,
+/// z or range are dropped, with one warning line on stderr giving the count.
+/// Throws Error("pcd: <file>: ...") / ("ply: ...") / ("las: ...") naming the line or field.
+core::PointCloud readCloud(const std::filesystem::path& path);
+
+/// As readCloud, from the file's bytes already in memory (no warning is printed);
+/// `name` is used in messages. Never reads outside `bytes` whatever they hold.
+core::PointCloud readCloudData(std::string_view bytes, const std::filesystem::path& name);
+
+}  // namespace io

@@ -1,0 +1,72 @@
+// io/cloud_reader.hpp: the one point cloud reader, chunk by chunk.
+//
+// Opening a file checks its whole header (every field, the counts against each other and
+// the data size against the file) before the first point; nextChunk then decodes the
+// points in order, a bounded number at a time, so a viewer can show the first points
+// while the rest is read and the whole-cloud readCloud is the same code in one loop.
+// Points with a non-finite x, y, z or range (NaN, inf, or a double beyond float range)
+// are dropped and counted (docs/formats.md).
+#pragma once
+#include <core/point_cloud.hpp>
+
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace io {
+
+namespace detail {
+class ByteSource;
+class FormatReader;
+}  // namespace detail
+
+class CloudReader {
+public:
+    static constexpr std::size_t kChunkPoints = 1u << 18;
+
+    /// Opens a PCD (ascii, binary, binary_compressed), PLY (ascii, binary either
+    /// endian) or LAS/LAZ (1.0-1.4) file; the content decides, not the extension. Throws
+    /// Error("pcd: <file>: ...") / ("ply: ...") / ("las: ...") naming the line or field.
+    explicit CloudReader(const std::filesystem::path& path);
+    /// The same over bytes in memory, which must outlive the reader; `name` is used in
+    /// messages. Never reads outside `bytes` whatever they hold (the fuzzing entry point).
+    CloudReader(std::string_view bytes, const std::filesystem::path& name);
+    ~CloudReader();
+    CloudReader(const CloudReader&) = delete;
+    CloudReader& operator=(const CloudReader&) = delete;
+
+    /// "pcd: <file>", "ply: <file>" or "las: <file>", as the messages start.
+    const std::string& where() const { return prefix_; }
+    const glm::dvec3& origin() const;
+    const core::CloudFields& fields() const;
+    /// The point count the header declares (non-finite points included).
+    std::size_t declaredPoints() const;
+    /// At most this many points can be in the data (the declared count where the file's
+    /// size confirms it): a safe amount to reserve.
+    std::size_t pointsBound() const;
+
+    /// Appends the next points, at most `max_points` (>= 1) of the file's records, to
+    /// `out`, leaving out non-finite ones. Returns false, appending nothing, once every
+    /// point has been read and the end of the data checked. Throws Error on bad data
+    /// (points returned before stay valid).
+    bool nextChunk(std::vector<core::CloudPoint>& out, std::size_t max_points = kChunkPoints);
+
+    /// Records decoded so far, and how many of them were dropped as non-finite.
+    std::size_t pointsRead() const { return read_; }
+    std::size_t droppedNonFinite() const { return dropped_; }
+    /// "<pcd|ply|las>: <file>: dropped N of M points with a non-finite x, y, z or range
+    /// (NaN or inf)" when points were dropped, and/or "N points have an ASPRS class this
+    /// reader does not know (the first: C); read as environment", on one line; else empty.
+    std::string warning() const;
+
+private:
+    std::string prefix_;
+    std::unique_ptr<detail::ByteSource> source_;
+    std::unique_ptr<detail::FormatReader> format_;
+    std::size_t read_ = 0, dropped_ = 0;
+};
+
+}  // namespace io

@@ -1,0 +1,131 @@
+// cloud_reader: picks the format by content, drops non-finite points, and builds the
+// whole-cloud reads (readCloud, readCloudData) on the chunked reader.
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/cloud_reader.hpp>
+
+#include "cloud_decode.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+
+namespace io {
+
+using core::CloudPoint;
+using core::CloudFields;
+using core::PointCloud;
+
+namespace {
+
+/// PLY files start with "ply", LAS and LAZ with "LASF"; everything else is read as PCD
+/// (whose header may start with any comment), except a file named .las or .laz: the LAS
+/// reader says what it lacks (an empty or cut file is no PCD either).
+const char* moduleOf(detail::ByteSource& source, const std::filesystem::path& name) {
+    if (source.size() >= 4 && source.view(0, 4) == "LASF") return "las";
+    if (source.size() >= 3 && source.view(0, 3) == "ply") return "ply";
+    std::string ext = name.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".las" || ext == ".laz") return "las";
+    return "pcd";
+}
+
+// The module named in messages about a file that cannot be opened, by its extension.
+const char* moduleFor(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".ply") return "ply";
+    if (ext == ".las" || ext == ".laz") return "las";
+    return "pcd";
+}
+
+std::unique_ptr<detail::FormatReader> open(detail::ByteSource& source, const std::string& module,
+                                           const std::string& prefix) {
+    if (module == "las") return detail::openLas(source, prefix);
+    if (module == "ply") return detail::openPly(source, prefix);
+    return detail::openPcd(source, prefix);
+}
+
+}  // namespace
+
+CloudReader::CloudReader(const std::filesystem::path& path)
+    : source_(detail::fileSource(path, moduleFor(path))) {
+    const std::string module = moduleOf(*source_, path);
+    prefix_ = module + ": " + path.string();
+    format_ = open(*source_, module, prefix_);
+}
+
+CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name)
+    : source_(detail::memorySource(bytes)) {
+    const std::string module = moduleOf(*source_, name);
+    prefix_ = module + ": " + name.string();
+    format_ = open(*source_, module, prefix_);
+}
+
+CloudReader::~CloudReader() = default;
+
+const glm::dvec3& CloudReader::origin() const { return format_->origin; }
+const CloudFields& CloudReader::fields() const { return format_->fields; }
+std::size_t CloudReader::declaredPoints() const { return format_->declared; }
+std::size_t CloudReader::pointsBound() const { return format_->bound; }
+
+bool CloudReader::nextChunk(std::vector<CloudPoint>& out, std::size_t max_points) {
+    const std::size_t old = out.size();
+    const std::size_t n = format_->next(out, std::max<std::size_t>(max_points, 1));
+    if (n == 0) return false;
+    read_ += n;
+    const bool range = format_->fields.range;
+    const auto bad = [range](const CloudPoint& p) {
+        return !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
+               !std::isfinite(p.position.z) || (range && !std::isfinite(p.range_m));
+    };
+    const auto first_bad = std::find_if(out.begin() + std::ptrdiff_t(old), out.end(), bad);
+    if (first_bad != out.end()) {
+        const auto end = std::remove_if(first_bad, out.end(), bad);
+        dropped_ += std::size_t(out.end() - end);
+        out.erase(end, out.end());
+    }
+    return true;
+}
+
+std::string CloudReader::warning() const {
+    std::string w;
+    if (dropped_ > 0)
+        w = prefix_ + ": dropped " + std::to_string(dropped_) + " of " + std::to_string(read_) +
+            " points with a non-finite x, y, z or range (NaN or inf)";
+    if (const detail::DecodeStats& s = format_->stats; s.unknown_classes > 0)
+        w += (w.empty() ? prefix_ + ": " : std::string("; ")) + std::to_string(s.unknown_classes) +
+             " points have an ASPRS class this reader does not know (the first: " +
+             std::to_string(s.first_unknown) + "); read as environment";
+    return w;
+}
+
+namespace {
+
+PointCloud readAll(CloudReader& reader) {
+    PointCloud cloud;
+    cloud.origin = reader.origin();
+    cloud.fields = reader.fields();
+    cloud.points.reserve(reader.pointsBound());
+    while (reader.nextChunk(cloud.points, std::size_t(1) << 20)) {
+    }
+    return cloud;
+}
+
+}  // namespace
+
+PointCloud readCloudData(std::string_view bytes, const std::filesystem::path& name) {
+    CloudReader reader(bytes, name);
+    return readAll(reader);
+}
+
+PointCloud readCloud(const std::filesystem::path& path) {
+    CloudReader reader(path);
+    PointCloud cloud = readAll(reader);
+    if (const std::string w = reader.warning(); !w.empty())
+        std::fprintf(stderr, "ladarvr: warning: %s\n", w.c_str());
+    return cloud;
+}
+
+}  // namespace io

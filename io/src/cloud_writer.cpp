@@ -1,0 +1,98 @@
+// cloud_writer: the format names, and CloudWriter: a temporary file beside the output that
+// one format's writer fills (pcd/, ply/, las/: format_writer.hpp) and that is renamed into
+// place on commit. The readers are behind io::CloudReader (cloud_reader.cpp).
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
+
+#include "format_writer.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+namespace io {
+
+using core::PointCloud;
+
+using core::Error;
+
+CloudFormat parseCloudFormat(std::string_view name, std::string_view parameter) {
+    for (CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary,
+                          CloudFormat::PlyAscii, CloudFormat::Las, CloudFormat::Laz})
+        if (name == cloudFormatName(f)) return f;
+    throw Error(std::string(parameter) + ": format '" + core::printable(name, 40) +
+                "' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz");
+}
+
+const char* cloudFormatName(CloudFormat format) {
+    switch (format) {
+        case CloudFormat::PcdBinary: return "pcd";
+        case CloudFormat::PcdAscii: return "pcd-ascii";
+        case CloudFormat::PlyBinary: return "ply";
+        case CloudFormat::PlyAscii: return "ply-ascii";
+        case CloudFormat::Las: return "las";
+        case CloudFormat::Laz: return "laz";
+    }
+    return "pcd";
+}
+
+CloudFormat formatForPath(const std::filesystem::path& path, std::string_view parameter) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext.empty() || ext == ".pcd") return CloudFormat::PcdBinary;  // no extension: PCD, the default
+    if (ext == ".ply") return CloudFormat::PlyBinary;
+    if (ext == ".las") return CloudFormat::Las;
+    if (ext == ".laz") return CloudFormat::Laz;
+    throw Error(std::string(parameter) + ": " + core::printable(path.string(), 200, true) + ": extension '" +
+                core::printable(ext, 40, true) + "' is not one of .pcd, .ply, .las, .laz");
+}
+
+CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin,
+                         core::CloudFields fields, const LasOptions& las)
+    : path_(std::move(path)) {
+    platform::checkWritableDestination(path_);
+    if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z))
+        throw Error("output: " + path_.string() + ": the cloud origin is not finite");
+    temp_ = std::make_unique<platform::TempFile>(path_);
+    switch (format) {
+        case CloudFormat::PcdBinary: writer_ = detail::openPcdWriter(*temp_, false, origin, fields); break;
+        case CloudFormat::PcdAscii: writer_ = detail::openPcdWriter(*temp_, true, origin, fields); break;
+        case CloudFormat::PlyBinary: writer_ = detail::openPlyWriter(*temp_, false, origin, fields); break;
+        case CloudFormat::PlyAscii: writer_ = detail::openPlyWriter(*temp_, true, origin, fields); break;
+        case CloudFormat::Las: writer_ = detail::openLasWriter(*temp_, origin, fields, las); break;
+        case CloudFormat::Laz: writer_ = detail::openLazWriter(*temp_, origin, fields, las); break;
+    }
+}
+
+// The TempFile removes the temporary when destroyed uncommitted.
+CloudWriter::~CloudWriter() = default;
+
+void CloudWriter::append(std::span<const core::CloudPoint> points) {
+    if (!writer_) throw Error("output: " + path_.string() + ": append after commit");
+    writer_->append(points);
+    count_ += points.size();
+}
+
+void CloudWriter::commit() {
+    if (!writer_) throw Error("output: " + path_.string() + ": commit called twice");
+    const std::unique_ptr<detail::FormatWriter> writer = std::move(writer_);
+    try {
+        writer->finish();
+    } catch (...) {
+        temp_->discard();
+        throw;
+    }
+    temp_->commit();  // flush, close, rename over path_ (or remove the temporary and throw)
+}
+
+void writeCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format,
+                const LasOptions& las) {
+    CloudWriter writer(path, format, cloud.origin, cloud.fields, las);
+    writer.append(cloud.points);
+    writer.commit();
+}
+
+}  // namespace io

@@ -1,0 +1,38 @@
+// io/src/format_writer.hpp (internal): one cloud format's writer behind io::CloudWriter,
+// as io/src/cloud_decode.hpp's FormatReader is one format's reader behind CloudReader.
+// Each writes into a TempFile that CloudWriter opened and commits after finish().
+#pragma once
+#include <io/cloud_io.hpp>
+
+#include <memory>
+#include <span>
+
+namespace io::detail {
+
+class FormatWriter {
+public:
+    virtual ~FormatWriter() = default;
+    /// Appends points. Throws Error("output: <path>: ...") (a failed write, a point a
+    /// format cannot hold).
+    virtual void append(std::span<const core::CloudPoint> points) = 0;
+    /// Completes the file (the header's counts, LAS bounds, LAZ's chunk table) and
+    /// flushes; the caller then commits the TempFile. Throws Error("output: <path>: ...").
+    virtual void finish() = 0;
+};
+
+/// PCD v0.7, binary or ascii (pcd/pcd_writer.cpp).
+std::unique_ptr<FormatWriter> openPcdWriter(platform::TempFile& file, bool ascii, const glm::dvec3& origin,
+                                            const core::CloudFields& fields);
+/// PLY 1.0, binary little endian or ascii (ply/ply_writer.cpp).
+std::unique_ptr<FormatWriter> openPlyWriter(platform::TempFile& file, bool ascii, const glm::dvec3& origin,
+                                            const core::CloudFields& fields);
+/// LAS 1.4 (las/las_writer.cpp): point format 7 (6 without fields.rgb), scale 0.001 m, the
+/// offsets `origin` (so a point's integer coordinates are its local position in millimetres).
+std::unique_ptr<FormatWriter> openLasWriter(platform::TempFile& file, const glm::dvec3& origin,
+                                            const core::CloudFields& fields, const LasOptions& options);
+/// LAZ (las/laz_writer.cpp): the same records, LASzip compressing chunks of
+/// lazChunkPoints() points on options.threads threads, joined in order with their table.
+std::unique_ptr<FormatWriter> openLazWriter(platform::TempFile& file, const glm::dvec3& origin,
+                                            const core::CloudFields& fields, const LasOptions& options);
+
+}  // namespace io::detail

@@ -1,0 +1,257 @@
+// io/src/las/las_record.cpp: see las_record.hpp. Point format 7 (RGB) or 6, scale
+// 0.001 m and the cloud's double origin as the offsets, so the georeferencing survives
+// any coordinate magnitude; classification from the role, GPS time from the view's time
+// along the orbit, point source ID = view, and extra bytes for our range, label and
+// (when the cloud has them) incidence angle and height above ground (docs/formats.md).
+#include "las_record.hpp"
+
+#include <core/error.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <string_view>
+
+namespace io::detail {
+
+using core::Error;
+using core::kRoleCount;
+using core::CloudPoint;
+using core::CloudFields;
+
+namespace {
+
+constexpr double kScale_m = 0.001;
+constexpr double kScanAngleUnit_deg = 0.006;  // LAS 1.4 point formats 6..10
+
+// LAS extra bytes data types as laszip_add_attribute takes them (LAS code - 1).
+constexpr laszip_U32 kExtraUChar = 0;
+constexpr laszip_U32 kExtraFloat = 8;
+
+// LAS 1.4 header offsets of the fields written at the end.
+constexpr off_t kBoundsAt = 179;  // max x, min x, max y, min y, max z, min z (doubles)
+constexpr off_t kCountsAt = 247;  // points (u64), then points by return 1..15 (u64)
+constexpr off_t kSoftwareAt = 58;  // generating software, 32 characters, NUL-padded
+constexpr std::size_t kSoftwareSize = 32;
+constexpr std::size_t kDescriptionSize = 32;  // an extra bytes description, NUL-padded
+
+// Extra bytes descriptions: whole words within the 32-character field (with its NUL).
+constexpr const char* kRangeDescription = "sensor-to-hit distance (m)";
+constexpr const char* kLabelDescription = "role: 0 ground, 1 env, 2 target";
+constexpr const char* kIncidenceDescription = "beam-to-normal angle (deg)";
+constexpr const char* kHeightDescription = "above the fitted terrain (m)";
+static_assert(std::string_view(kRangeDescription).size() < kDescriptionSize &&
+              std::string_view(kLabelDescription).size() < kDescriptionSize &&
+              std::string_view(kIncidenceDescription).size() < kDescriptionSize &&
+              std::string_view(kHeightDescription).size() < kDescriptionSize);
+
+constexpr const char* kSoftware = "ladarvr " LADARVR_VERSION;
+static_assert(std::string_view(kSoftware).size() < kSoftwareSize);
+
+LasDate computeDate() {
+    std::time_t t = std::time(nullptr);
+    if (const char* epoch = std::getenv("SOURCE_DATE_EPOCH")) {
+        const std::string_view v(epoch);
+        const bool digits = !v.empty() && v.size() <= 12 && v.find_first_not_of("0123456789") == std::string_view::npos;
+        if (!digits)
+            throw Error("SOURCE_DATE_EPOCH='" + std::string(v.substr(0, 40)) + (v.size() > 40 ? "..." : "") +
+                        "': allowed a whole number of seconds since 1970-01-01 UTC (the LAS creation date)");
+        t = std::time_t(std::strtoll(epoch, nullptr, 10));
+    }
+    std::tm utc{};
+    if (!gmtime_r(&t, &utc) || utc.tm_year + 1900 > 65535)
+        throw Error("SOURCE_DATE_EPOCH: the date is beyond the LAS header's year field (65535)");
+    return LasDate{std::uint16_t(utc.tm_yday + 1), std::uint16_t(utc.tm_year + 1900)};
+}
+
+template <typename T>
+void putLe(unsigned char*& out, T v) {
+    std::memcpy(out, &v, sizeof v);  // x86-64 and aarch64 are little-endian, as LAS is
+    out += sizeof v;
+}
+
+}  // namespace
+
+LasDate lasCreationDate() {
+    static const LasDate date = computeDate();  // a throw here leaves it to the next call
+    return date;
+}
+
+void LasInventory::add(const laszip_point_struct& q) {
+    const laszip_I32 xyz[3] = {q.X, q.Y, q.Z};
+    if (points == 0) {
+        for (int k = 0; k < 3; ++k) min[std::size_t(k)] = max[std::size_t(k)] = xyz[k];
+    } else {
+        for (int k = 0; k < 3; ++k) {
+            min[std::size_t(k)] = std::min(min[std::size_t(k)], xyz[k]);
+            max[std::size_t(k)] = std::max(max[std::size_t(k)], xyz[k]);
+        }
+    }
+    ++points;
+    ++by_return[q.extended_return_number & 15u];
+}
+
+void LasInventory::merge(const LasInventory& o) {
+    if (o.points == 0) return;
+    if (points == 0) {
+        min = o.min;
+        max = o.max;
+    } else {
+        for (std::size_t k = 0; k < 3; ++k) {
+            min[k] = std::min(min[k], o.min[k]);
+            max[k] = std::max(max[k], o.max[k]);
+        }
+    }
+    points += o.points;
+    for (std::size_t r = 0; r < by_return.size(); ++r) by_return[r] += o.by_return[r];
+}
+
+LasRecord::LasRecord(std::string where, const glm::dvec3& origin, const CloudFields& fields, const LasOptions& options)
+    : where_(std::move(where)), origin_(origin), fields_(fields), options_(options) {
+    try {
+        date_ = lasCreationDate();
+    } catch (const Error& e) {
+        throw Error(where_ + ": " + e.what());
+    }
+    int at = 0;
+    const auto add = [&](Extra::What what, int size) {
+        extras_.push_back({what, at});
+        at += size;
+    };
+    if (fields.range) add(Extra::Range, 4);
+    if (fields.label) add(Extra::Label, 1);
+    if (fields.incidence) add(Extra::Incidence, 4);
+    if (fields.height_above_ground) add(Extra::Height, 4);
+    extra_bytes_ = at;
+}
+
+void LasRecord::check(laszip_POINTER zip, laszip_I32 rc, const char* what) const {
+    if (rc == 0) return;
+    laszip_CHAR* message = nullptr;
+    if (zip) laszip_get_error(zip, &message);
+    throw Error(where_ + ": LASzip " + what + " failed: " + (message ? std::string(message) : "unknown error"));
+}
+
+void LasRecord::setUp(laszip_POINTER zip) const {
+    laszip_header_struct* h = nullptr;
+    check(zip, laszip_get_header_pointer(zip, &h), "header");
+    h->version_major = 1;
+    h->version_minor = 4;
+    h->header_size = 375;
+    h->offset_to_point_data = 375;
+    h->global_encoding = 1u << 4;  // WKT (required by point formats 6..10); GPS week time
+    // LASzip replaces the generating software when it opens the writer (stampSoftware).
+    std::snprintf(h->generating_software, sizeof h->generating_software, "%s", kSoftware);
+    std::snprintf(h->system_identifier, sizeof h->system_identifier, "ladarvr simulation");
+    h->file_creation_day = date_.day;
+    h->file_creation_year = date_.year;
+    h->point_data_format = fields_.rgb ? 7 : 6;
+    h->point_data_record_length = laszip_U16((fields_.rgb ? 36 : 30) + extra_bytes_);
+    h->x_scale_factor = h->y_scale_factor = h->z_scale_factor = kScale_m;
+    h->x_offset = origin_.x;
+    h->y_offset = origin_.y;
+    h->z_offset = origin_.z;
+    for (const Extra& e : extras_) {
+        switch (e.what) {
+            case Extra::Range:
+                check(zip, laszip_add_attribute(zip, kExtraFloat, "range", kRangeDescription, 1.0, 0.0), "range");
+                break;
+            case Extra::Label:
+                check(zip, laszip_add_attribute(zip, kExtraUChar, "label", kLabelDescription, 1.0, 0.0),
+                      "label");
+                break;
+            case Extra::Incidence:
+                check(zip, laszip_add_attribute(zip, kExtraFloat, "incidence_deg", kIncidenceDescription, 1.0, 0.0),
+                      "incidence_deg");
+                break;
+            case Extra::Height:
+                check(zip,
+                      laszip_add_attribute(zip, kExtraFloat, "height_above_ground_m", kHeightDescription, 1.0, 0.0),
+                      "height_above_ground_m");
+                break;
+        }
+    }
+}
+
+void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t index) const {
+    const double local[3] = {p.position.x, p.position.y, p.position.z};
+    laszip_I32 xyz[3];
+    for (int k = 0; k < 3; ++k) {
+        const double mm = std::round(local[k] / kScale_m);
+        if (!(std::fabs(mm) <= 2147483647.0))
+            throw Error(where_ + ": point " + std::to_string(index) +
+                        " lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm");
+        xyz[k] = laszip_I32(mm);
+    }
+    q.X = xyz[0];
+    q.Y = xyz[1];
+    q.Z = xyz[2];
+    q.intensity = fields_.intensity ? p.intensity : 0;
+    const std::uint8_t rn = std::clamp<std::uint8_t>(p.return_number, 1, 15);
+    const std::uint8_t nr = std::clamp<std::uint8_t>(std::max(p.returns, rn), 1, 15);
+    q.extended_point_type = 1;
+    q.extended_return_number = rn & 15u;
+    q.extended_number_of_returns = nr & 15u;
+    q.return_number = std::min<std::uint8_t>(rn, 7) & 7u;
+    q.number_of_returns = std::min<std::uint8_t>(nr, 7) & 7u;
+    const std::uint8_t cls = options_.class_of_role[std::min<int>(int(p.label), kRoleCount - 1)];
+    q.extended_classification = cls;
+    q.classification = cls < 32 ? cls & 31u : 0u;
+    const double angle = std::clamp(std::round(p.scan_angle_deg / kScanAngleUnit_deg), -30000.0, 30000.0);
+    q.extended_scan_angle = fields_.scan_angle ? laszip_I16(angle) : 0;
+    q.scan_angle_rank = laszip_I8(std::clamp(std::lround(fields_.scan_angle ? p.scan_angle_deg : 0.0f), -90L, 90L));
+    q.point_source_ID = p.view;
+    q.gps_time = options_.gps_start_s + double(p.view) * options_.view_interval_s;
+    if (fields_.rgb) {
+        q.rgb[0] = laszip_U16(((p.rgb >> 16) & 0xFFu) * 257u);
+        q.rgb[1] = laszip_U16(((p.rgb >> 8) & 0xFFu) * 257u);
+        q.rgb[2] = laszip_U16((p.rgb & 0xFFu) * 257u);
+    }
+    if (extra_bytes_ == 0) return;
+    if (q.num_extra_bytes != extra_bytes_ || !q.extra_bytes) throw Error(where_ + ": LASzip did not size the extra bytes");
+    for (const Extra& e : extras_) {
+        unsigned char* at = q.extra_bytes + e.offset;
+        switch (e.what) {
+            case Extra::Range: std::memcpy(at, &p.range_m, 4); break;
+            case Extra::Label: *at = std::uint8_t(p.label); break;
+            case Extra::Incidence: std::memcpy(at, &p.incidence_deg, 4); break;
+            case Extra::Height: std::memcpy(at, &p.height_above_ground_m, 4); break;
+        }
+    }
+}
+
+void LasRecord::stampSoftware(int fd) const {
+    char field[kSoftwareSize] = {};
+    std::memcpy(field, kSoftware, std::strlen(kSoftware));
+    if (::pwrite(fd, field, sizeof field, kSoftwareAt) != ssize_t(sizeof field))
+        throw Error(where_ + ": writing the header's generating software failed: " + std::strerror(errno));
+}
+
+void LasRecord::patchHeader(int fd, const LasInventory& inv) const {
+    stampSoftware(fd);
+    // An empty file keeps the zero counts and bounds it was opened with, as with LASzip.
+    if (inv.points == 0) return;
+    // The bounds as LASzip computes them: scale times the integer extreme plus the offset.
+    unsigned char bounds[48], *b = bounds;
+    const double offsets[3] = {origin_.x, origin_.y, origin_.z};
+    for (std::size_t k = 0; k < 3; ++k) {
+        putLe(b, kScale_m * double(inv.max[k]) + offsets[k]);
+        putLe(b, kScale_m * double(inv.min[k]) + offsets[k]);
+    }
+    unsigned char counts[128], *c = counts;
+    putLe(c, std::uint64_t(inv.points));
+    for (std::size_t r = 1; r <= 15; ++r) putLe(c, std::uint64_t(inv.by_return[r]));
+    const auto put = [&](const unsigned char* data, std::size_t size, off_t at) {
+        if (::pwrite(fd, data, size, at) != ssize_t(size))
+            throw Error(where_ + ": writing the header's counts failed: " + std::strerror(errno));
+    };
+    put(bounds, sizeof bounds, kBoundsAt);
+    put(counts, sizeof counts, kCountsAt);
+}
+
+}  // namespace io::detail

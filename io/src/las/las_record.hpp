@@ -1,0 +1,76 @@
+// io/src/las/las_record.hpp (internal): how a CloudPoint becomes a LAS 1.4 point record,
+// shared by the LAS writer (las_writer.cpp) and the LAZ writer (laz_writer.cpp), and the
+// header fields both fill in at the end (generating software, counts by return, bounds).
+#pragma once
+#include <io/cloud_io.hpp>
+
+#include <laszip/laszip_api.h>
+
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace io::detail {
+
+/// Point counts and integer bounds of the records written, as the LAS header holds them.
+struct LasInventory {
+    std::uint64_t points = 0;
+    std::array<std::uint64_t, 16> by_return{};  // [r]: records with return number r
+    std::array<laszip_I32, 3> min{}, max{};
+    void add(const laszip_point_struct& q);
+    void merge(const LasInventory& other);
+};
+
+/// The day of the year (1..366) and the year, in UTC, that LAS headers give as their
+/// creation date: SOURCE_DATE_EPOCH's when it is set (reproducible outputs), else the
+/// day the process first asked; one value for the whole process, so every chunk of a LAZ
+/// file (and a file LASzip writes alone for comparison) gets the same header. Throws
+/// Error when SOURCE_DATE_EPOCH is not a whole number of seconds.
+struct LasDate {
+    std::uint16_t day = 0, year = 0;
+};
+LasDate lasCreationDate();
+
+class LasRecord {
+public:
+    /// `where`: "output: <path>" for messages.
+    LasRecord(std::string where, const glm::dvec3& origin, const core::CloudFields& fields, const LasOptions& options);
+
+    /// Sets `zip`'s header (LAS 1.4, point format 7 or 6, scale 0.001 m, offsets = origin,
+    /// the creation day and year of lasCreationDate()) and its extra bytes, before it is
+    /// opened for writing. Throws Error.
+    void setUp(laszip_POINTER zip) const;
+    /// Fills `q` with point `p`, the `index`-th of the file (for messages). Throws
+    /// Error(where + ": point N lies beyond ...") when it is out of the 1 mm grid's reach.
+    void fill(laszip_point_struct& q, const core::CloudPoint& p, std::uint64_t index) const;
+    /// Throws Error(where + ": LASzip <what> failed: <its message>") unless rc is 0.
+    void check(laszip_POINTER zip, laszip_I32 rc, const char* what) const;
+
+    /// Writes the inventory into the header of the file open on `fd` (LAS 1.4 offsets:
+    /// bounds at 179, counts at 247), as LASzip's own inventory does, and the generating
+    /// software (stampSoftware).
+    void patchHeader(int fd, const LasInventory& inventory) const;
+    /// Writes "ladarvr <version>" into the generating-software field (offset 58, 32
+    /// bytes) of the file open on `fd`: LASzip stamps its own name there when it opens a
+    /// writer, whatever the header held.
+    void stampSoftware(int fd) const;
+
+    const std::string& where() const { return where_; }
+
+private:
+    struct Extra {
+        enum What { Range, Label, Incidence, Height } what;
+        int offset = 0;  // within the point's extra bytes
+    };
+    std::string where_;
+    glm::dvec3 origin_;
+    core::CloudFields fields_;
+    LasOptions options_;
+    std::vector<Extra> extras_;
+    int extra_bytes_ = 0;
+    LasDate date_;
+};
+
+}  // namespace io::detail

@@ -1,0 +1,239 @@
+// io/src/las/laz_chunk_table.cpp: see laz_chunk_table.hpp.
+//
+// The coder is a 32-bit range coder with adaptive models, the one LAZ uses everywhere:
+// an interval [base, base + length) narrowed by each symbol in proportion to its modelled
+// probability, bytes shifted out from the top whenever length falls under 2^24, a carry
+// rippling back through the bytes already out when base wraps. Models count what they see
+// and refresh their probabilities at growing intervals (the decoder does the same, so
+// the two stay in step).
+#include "laz_chunk_table.hpp"
+
+#include <core/error.hpp>
+
+#include <algorithm>
+#include <vector>
+
+namespace io::detail {
+
+using core::Error;
+namespace {
+
+constexpr std::uint32_t kMinLength = 1u << 24;  // renormalise below this
+constexpr std::uint32_t kMaxLength = 0xFFFFFFFFu;
+constexpr int kSymbolShift = 15;  // symbol models: probabilities in 1/2^15
+constexpr std::uint32_t kSymbolMaxCount = 1u << kSymbolShift;
+constexpr int kBitShift = 13;  // bit models: probabilities in 1/2^13
+constexpr std::uint32_t kBitMaxCount = 1u << kBitShift;
+
+// An adaptive model of `n` symbols: counts, and the cumulative distribution they give.
+class SymbolModel {
+public:
+    explicit SymbolModel(std::uint32_t n) : n_(n), count_(n, 1u), cumulative_(n + 1, 0u) {
+        cycle_ = n;
+        refresh();
+        until_refresh_ = cycle_ = (n + 6) >> 1;
+    }
+    std::uint32_t symbols() const { return n_; }
+    std::uint32_t low(std::uint32_t s) const { return cumulative_[s]; }
+    void saw(std::uint32_t s) {
+        ++count_[s];
+        if (--until_refresh_ == 0) refresh();
+    }
+
+private:
+    void refresh() {
+        if ((total_ += cycle_) > kSymbolMaxCount) {  // halve the counts, keeping each >= 1
+            total_ = 0;
+            for (std::uint32_t& c : count_) total_ += (c = (c + 1) >> 1);
+        }
+        const std::uint32_t scale = 0x80000000u / total_;
+        std::uint32_t sum = 0;
+        for (std::uint32_t k = 0; k < n_; ++k) {
+            cumulative_[k] = (scale * sum) >> (31 - kSymbolShift);
+            sum += count_[k];
+        }
+        cycle_ = (5 * cycle_) >> 2;
+        cycle_ = std::min(cycle_, (n_ + 6) << 3);
+        until_refresh_ = cycle_;
+    }
+
+    std::uint32_t n_;
+    std::vector<std::uint32_t> count_;
+    std::vector<std::uint32_t> cumulative_;  // cumulative_[s]: P(symbol < s) in 1/2^15
+    std::uint32_t total_ = 0, cycle_ = 0, until_refresh_ = 0;
+};
+
+// An adaptive model of one bit.
+class BitModel {
+public:
+    std::uint32_t zeroProbability() const { return p0_; }
+    void saw(bool bit) {
+        if (!bit) ++zeros_;
+        if (--until_refresh_ != 0) return;
+        if ((total_ += cycle_) > kBitMaxCount) {
+            total_ = (total_ + 1) >> 1;
+            zeros_ = (zeros_ + 1) >> 1;
+            if (zeros_ == total_) ++total_;
+        }
+        p0_ = (zeros_ * (0x80000000u / total_)) >> (31 - kBitShift);
+        cycle_ = std::min<std::uint32_t>((5 * cycle_) >> 2, 64);
+        until_refresh_ = cycle_;
+    }
+
+private:
+    std::uint32_t zeros_ = 1, total_ = 2, p0_ = 1u << (kBitShift - 1), cycle_ = 4, until_refresh_ = 4;
+};
+
+class RangeEncoder {
+public:
+    void encode(SymbolModel& m, std::uint32_t s) {
+        const std::uint32_t before = base_;
+        if (s == m.symbols() - 1) {  // the last symbol takes the rest of the interval
+            const std::uint32_t x = m.low(s) * (length_ >> kSymbolShift);
+            base_ += x;
+            length_ -= x;
+        } else {
+            length_ >>= kSymbolShift;
+            const std::uint32_t x = m.low(s) * length_;
+            base_ += x;
+            length_ = m.low(s + 1) * length_ - x;
+        }
+        if (before > base_) carry();
+        if (length_ < kMinLength) renormalise();
+        m.saw(s);
+    }
+    void encode(BitModel& m, bool bit) {
+        const std::uint32_t x = m.zeroProbability() * (length_ >> kBitShift);
+        if (!bit) {
+            length_ = x;
+        } else {
+            const std::uint32_t before = base_;
+            base_ += x;
+            length_ -= x;
+            if (before > base_) carry();
+        }
+        if (length_ < kMinLength) renormalise();
+        m.saw(bit);
+    }
+    // `bits` raw bits (at most 32) of `value`, uniformly distributed.
+    void raw(int bits, std::uint32_t value) {
+        if (bits > 19) {
+            rawPart(16, value & 0xFFFFu);
+            value >>= 16;
+            bits -= 16;
+        }
+        rawPart(bits, value);
+    }
+    // Closes the interval with enough bytes for a decoder to tell it apart, then the zero
+    // bytes a decoder reads ahead.
+    std::vector<std::uint8_t> finish() {
+        const std::uint32_t before = base_;
+        bool third_zero = true;
+        if (length_ > 2 * kMinLength) {
+            base_ += kMinLength;
+            length_ = kMinLength >> 1;
+        } else {
+            base_ += kMinLength >> 1;
+            length_ = kMinLength >> 9;
+            third_zero = false;
+        }
+        if (before > base_) carry();
+        renormalise();
+        out_.push_back(0);
+        out_.push_back(0);
+        if (third_zero) out_.push_back(0);
+        return std::move(out_);
+    }
+
+private:
+    void rawPart(int bits, std::uint32_t value) {
+        const std::uint32_t before = base_;
+        length_ >>= bits;
+        base_ += value * length_;
+        if (before > base_) carry();
+        if (length_ < kMinLength) renormalise();
+    }
+    void carry() {
+        std::size_t i = out_.size();
+        while (i > 0 && out_[i - 1] == 0xFFu) out_[--i] = 0;
+        if (i > 0) ++out_[i - 1];
+    }
+    void renormalise() {
+        do {
+            out_.push_back(std::uint8_t(base_ >> 24));
+            base_ <<= 8;
+        } while ((length_ <<= 8) < kMinLength);
+    }
+
+    std::uint32_t base_ = 0, length_ = kMaxLength;
+    std::vector<std::uint8_t> out_;
+};
+
+// Codes 32-bit integers as corrections to a prediction: k, the number of bits of the
+// correction's magnitude (interval [-(2^k - 1), 2^k]), with a model per context; then
+// the position inside that interval, its top 8 bits modelled per k and the rest raw.
+class IntegerCoder {
+public:
+    explicit IntegerCoder(int contexts) {
+        for (int c = 0; c < contexts; ++c) k_models_.emplace_back(kBits + 1);
+        for (int k = 1; k <= kBits; ++k) low_models_.emplace_back(1u << std::min(k, kHighBits));
+    }
+    void encode(RangeEncoder& e, std::int32_t predicted, std::int32_t actual, int context) {
+        const std::int32_t c = std::int32_t(std::uint32_t(actual) - std::uint32_t(predicted));
+        std::uint32_t magnitude = c <= 0 ? std::uint32_t(0) - std::uint32_t(c) : std::uint32_t(c) - 1u;
+        int k = 0;
+        while (magnitude) {
+            magnitude >>= 1;
+            ++k;
+        }
+        e.encode(k_models_[std::size_t(context)], std::uint32_t(k));
+        if (k == 0) {
+            e.encode(zero_model_, c != 0);  // c is 0 or 1
+            return;
+        }
+        if (k >= kBits) throw Error("LAZ chunk table: a chunk size differs from the previous one by 2^31 bytes or more");
+        // Into [0, 2^k): negative corrections below 2^(k-1), positive ones above.
+        const std::uint32_t at = c < 0 ? std::uint32_t(c) + ((1u << k) - 1u) : std::uint32_t(c) - 1u;
+        if (k <= kHighBits) {
+            e.encode(low_models_[std::size_t(k - 1)], at);
+        } else {
+            const int rest = k - kHighBits;
+            e.encode(low_models_[std::size_t(k - 1)], at >> rest);
+            e.raw(rest, at & ((1u << rest) - 1u));
+        }
+    }
+
+private:
+    static constexpr int kBits = 32, kHighBits = 8;
+    std::vector<SymbolModel> k_models_;    // per context, k in [0, 32]
+    std::vector<SymbolModel> low_models_;  // per k >= 1
+    BitModel zero_model_;                  // k = 0
+};
+
+void putU32(std::string& s, std::uint32_t v) {
+    char b[4];
+    for (int i = 0; i < 4; ++i) b[i] = char((v >> (8 * i)) & 0xFFu);
+    s.append(b, 4);
+}
+
+}  // namespace
+
+std::string lazChunkTable(std::span<const std::uint32_t> chunk_bytes) {
+    std::string table;
+    putU32(table, 0);  // version
+    putU32(table, std::uint32_t(chunk_bytes.size()));
+    if (chunk_bytes.empty()) return table;
+    RangeEncoder e;
+    // Two contexts as LASzip has them: 0 for point counts (tables of variable-size chunks
+    // only), 1 for byte counts.
+    IntegerCoder sizes(2);
+    for (std::size_t i = 0; i < chunk_bytes.size(); ++i) {
+        if (chunk_bytes[i] >= 0x80000000u) throw Error("LAZ chunk table: a chunk of 2 GiB or more");
+        sizes.encode(e, i ? std::int32_t(chunk_bytes[i - 1]) : 0, std::int32_t(chunk_bytes[i]), 1);
+    }
+    const std::vector<std::uint8_t> coded = e.finish();
+    table.append(reinterpret_cast<const char*>(coded.data()), coded.size());
+    return table;
+}
+
+}  // namespace io::detail

@@ -1,0 +1,141 @@
+// trace_file: writing and strictly reading a study's head trace
+// (io/trace_file.hpp).
+#include <io/trace_file.hpp>
+
+#include <core/error.hpp>
+#include <platform/safe_file.hpp>
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+namespace io {
+
+using core::Error;
+using core::printable;
+using platform::readTextFile;
+namespace {
+
+constexpr std::array<std::string_view, 8> kHeadColumns = {"t_s",     "head_x",  "head_y",  "head_z",
+                                                          "head_qw", "head_qx", "head_qy", "head_qz"};
+constexpr std::array<std::string_view, 5> kStudyColumns = {"mode", "scale", "hit_x", "hit_y", "hit_z"};
+
+std::vector<std::string_view> splitFields(std::string_view line) {
+    std::vector<std::string_view> fields;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = line.find(',', start);
+        fields.push_back(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
+        if (comma == std::string_view::npos) break;
+        start = comma + 1;
+    }
+    return fields;
+}
+
+bool hasStudyColumns(const std::vector<std::string_view>& header) {
+    if (header.size() < kHeadColumns.size() + kStudyColumns.size()) return false;
+    for (std::size_t k = 0; k < kStudyColumns.size(); ++k)
+        if (header[kHeadColumns.size() + k] != kStudyColumns[k]) return false;
+    return true;
+}
+
+}  // namespace
+
+const char* traceModeName(TraceMode mode) { return mode == TraceMode::Free ? "free" : "automatic"; }
+
+std::string formatTraceRow(const TraceRow& r) {
+    char buffer[512];
+    int n = std::snprintf(buffer, sizeof buffer, "%.6f,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f,%s,%.9g,", r.t_s,
+                          r.head_world.x, r.head_world.y, r.head_world.z, r.head_orientation.w, r.head_orientation.x,
+                          r.head_orientation.y, r.head_orientation.z, traceModeName(r.mode), r.scale);
+    std::string row(buffer, static_cast<std::size_t>(std::max(n, 0)));
+    if (r.hit_world) {
+        n = std::snprintf(buffer, sizeof buffer, "%.6f,%.6f,%.6f\n", r.hit_world->x, r.hit_world->y, r.hit_world->z);
+        row.append(buffer, static_cast<std::size_t>(std::max(n, 0)));
+    } else {
+        row += ",,\n";
+    }
+    return row;
+}
+
+Trace parseTrace(std::string_view text, const std::filesystem::path& name) {
+    const std::string where = "trace: " + printable(name.string(), 400) + ": ";
+    auto fail = [&](std::size_t line, std::string_view column, const std::string& what) {
+        throw Error(where + "line " + std::to_string(line) +
+                    (column.empty() ? std::string() : ", column " + std::string(column)) + ": " + what);
+    };
+    Trace trace;
+    std::size_t line_no = 0, pos = 0, header_fields = 0;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string_view::npos) end = text.size();
+        std::string_view line = text.substr(pos, end - pos);
+        pos = end + 1;
+        ++line_no;
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        const std::vector<std::string_view> fields = splitFields(line);
+        if (line_no == 1) {
+            for (std::size_t k = 0; k < kHeadColumns.size(); ++k)
+                if (k >= fields.size() || fields[k] != kHeadColumns[k])
+                    fail(1, "", "header column " + std::to_string(k + 1) + " is '" +
+                                    printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
+                                    "'; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,"
+                                    "head_qy,head_qz");
+            header_fields = fields.size();
+            trace.study_columns = hasStudyColumns(fields);
+            continue;
+        }
+        if (line.empty()) fail(line_no, "", "empty line; allowed one sample per line");
+        if (fields.size() != header_fields)
+            fail(line_no, "", std::to_string(fields.size()) + " fields; allowed " + std::to_string(header_fields) +
+                                  " (as the header)");
+        auto number = [&](std::size_t k, std::string_view column) {
+            const std::string_view f = fields[k];
+            double v = 0.0;
+            const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
+            if (f.empty() || ec != std::errc() || ptr != f.data() + f.size() || !std::isfinite(v))
+                fail(line_no, column, "'" + printable(f, 40) + "' is not a finite number");
+            return v;
+        };
+        double v[8];
+        for (std::size_t k = 0; k < kHeadColumns.size(); ++k) v[k] = number(k, kHeadColumns[k]);
+        TraceRow r;
+        r.t_s = v[0];
+        if (r.t_s < 0.0) fail(line_no, "t_s", "negative; allowed seconds >= 0");
+        if (!trace.rows.empty() && r.t_s < trace.rows.back().t_s)
+            fail(line_no, "t_s",
+                 "decreases (" + std::to_string(trace.rows.back().t_s) + " before); allowed times in order");
+        r.head_world = {v[1], v[2], v[3]};
+        if (!(std::abs(v[1]) <= 1e9 && std::abs(v[2]) <= 1e9 && std::abs(v[3]) <= 1e9))
+            fail(line_no, "head_x", "out of range; allowed world coordinates within 1e9 m");
+        const glm::dquat q(v[4], v[5], v[6], v[7]);
+        const double norm = glm::length(q);
+        if (!(std::abs(norm - 1.0) <= 1e-3))
+            fail(line_no, "head_qw",
+                 "quaternion norm " + std::to_string(norm) + "; allowed a unit quaternion (within 1e-3)");
+        r.head_orientation = q / norm;
+        if (trace.study_columns) {
+            const std::size_t m = kHeadColumns.size();
+            if (fields[m] == "automatic") r.mode = TraceMode::Automatic;
+            else if (fields[m] == "free") r.mode = TraceMode::Free;
+            else fail(line_no, "mode", "'" + printable(fields[m], 40) + "'; allowed automatic or free");
+            r.scale = number(m + 1, "scale");
+            if (!(r.scale > 0.0)) fail(line_no, "scale", "'" + printable(fields[m + 1], 40) + "'; allowed a number > 0");
+            if (!fields[m + 2].empty() || !fields[m + 3].empty() || !fields[m + 4].empty())
+                r.hit_world = glm::dvec3(number(m + 2, "hit_x"), number(m + 3, "hit_y"), number(m + 4, "hit_z"));
+        }
+        trace.rows.push_back(r);
+    }
+    if (line_no == 0) fail(1, "", "empty file; allowed a header and samples");
+    if (trace.rows.empty()) fail(line_no, "", "no samples after the header");
+    return trace;
+}
+
+Trace readTrace(const std::filesystem::path& file) {
+    const std::string text = readTextFile(file, kMaxTraceBytes, "trace: " + printable(file.string(), 400) + ":");
+    return parseTrace(text, file);
+}
+
+}  // namespace io

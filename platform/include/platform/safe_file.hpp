@@ -1,0 +1,92 @@
+// platform/safe_file.hpp: reading outside files and creating our own, safely as root.
+//
+// The tool runs as root with the host's /dev bound in, so, like coreutils' install/mv
+// and rsync:
+// - inputs must be regular files (a FIFO would block, /dev/zero never ends, a directory
+//   reads as empty) of a bounded size, and every file read is remembered as an input so
+//   that no output replaces it (compared by device and inode: symlinks and hard links
+//   too);
+// - outputs are written to a fresh temporary in the destination's folder, created with
+//   O_CREAT|O_EXCL|O_NOFOLLOW under a random name ".ladarvr-tmp-<pid>-XXXXXX", and
+//   renamed over the destination only if that is absent or a regular file (never a
+//   symlink, device node, FIFO or socket);
+// - scratch data (the generator's spool) lives in an anonymous file (O_TMPFILE, or
+//   unlinked right after creation), so nothing of it outlives the process;
+// - a stopped run removes its temporaries (platform/cleanup.hpp); the temporaries of a
+//   killed run are removed by the next run that writes into the same folder.
+#pragma once
+#include <cstddef>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace platform {
+
+/// The name prefix of every temporary file or folder the project creates.
+inline constexpr std::string_view kTempPrefix = ".ladarvr-tmp-";
+
+/// Why `path` is not a regular file, in words that follow the file's name ("does not
+/// exist", "is a symbolic link loop", "is a dangling symbolic link", "is a directory",
+/// "is a FIFO (named pipe)", "is a character device", ...); empty when it is one
+/// (symbolic links followed).
+std::string regularFileProblem(const std::filesystem::path& path);
+
+/// Checks that `path` is a regular file and remembers it as an input of this run.
+/// Throws Error("<what> <problem>; allowed: a regular file"), e.g.
+/// "scene: s.json: mesh file 'a.obj' is a FIFO (named pipe); allowed: a regular file".
+void checkInputFile(const std::filesystem::path& path, std::string_view what);
+
+/// The whole of a regular file of at most `max_bytes`, remembered as an input. Never
+/// blocks on a FIFO or reads a device. Throws Error("<what> <problem>") as checkInputFile,
+/// or "<what> is larger than <max_bytes> bytes; allowed: ...", or "... cannot be read: <reason>".
+std::string readTextFile(const std::filesystem::path& path, std::size_t max_bytes,
+                         std::string_view what);
+
+/// Throws Error("output: <path>: is the input file '<input>' of this run; give another
+/// name") when `path` names (via any link) a file remembered by checkInputFile/readTextFile.
+void checkNotAnInput(const std::filesystem::path& path);
+
+/// A new file next to `destination` (same folder) for its content, named
+/// ".ladarvr-tmp-<pid>-XXXXXX", registered for removal on a signal. The first creation
+/// in a folder removes the temporaries of dead processes there. commit() renames it over
+/// `destination`; destroying it uncommitted removes it.
+class TempFile {
+public:
+    /// Throws Error("output: <destination>: ...") naming the reason.
+    explicit TempFile(std::filesystem::path destination);
+    ~TempFile();
+    TempFile(const TempFile&) = delete;
+    TempFile& operator=(const TempFile&) = delete;
+
+    /// The open stream (binary, write); stays owned by the TempFile.
+    std::FILE* file() const { return file_; }
+    /// The temporary's path, for tests and messages.
+    std::filesystem::path path() const;
+    const std::filesystem::path& destination() const { return destination_; }
+    /// Flushes, closes and renames over the destination if that is absent or a regular
+    /// file that is no input. On any failure the temporary is removed and
+    /// Error("output: <destination>: <what failed>: <reason>") is thrown.
+    void commit();
+    /// Closes and removes the temporary now (also what the destructor does).
+    void discard() noexcept;
+
+private:
+    std::filesystem::path destination_;
+    std::string name_;    // the temporary's name inside the folder
+    int dirfd_ = -1;      // the destination's folder
+    int slot_ = -1;       // cleanup registration
+    std::FILE* file_ = nullptr;
+};
+
+/// An anonymous read-write file in `dir` (O_TMPFILE where the file system has it, else
+/// a TempFile-style name unlinked at once): nothing of it survives the process, not
+/// even after SIGKILL. `what` names the output it serves in messages.
+/// Throws Error("output: <what>: cannot create a scratch file in '<dir>': <reason>").
+std::FILE* openScratchFile(const std::filesystem::path& dir, std::string_view what);
+
+/// Removes the ".ladarvr-tmp-<pid>-XXXXXX" files and folders in `dir` whose process is
+/// no longer alive and that belong to this user. Quiet; errors are ignored.
+void removeStaleTemporaries(const std::filesystem::path& dir);
+
+}  // namespace platform

@@ -1,0 +1,367 @@
+// safe_file: the one place where the project opens outside files and creates its own
+// (contract in platform/safe_file.hpp). Every name goes through *at() calls relative to an
+// open folder, so a folder swapped for a symlink half-way cannot redirect a write.
+#include <core/error.hpp>
+#include <platform/cleanup.hpp>
+#include <platform/safe_file.hpp>
+
+#include "file_ops.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <system_error>
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/random.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace platform {
+
+using core::Error;
+namespace fs = std::filesystem;
+
+// Shared with output_folder.cpp (file_ops.hpp).
+
+std::string shownPath(const fs::path& p) { return core::printable(p.string(), 400, true); }
+
+std::string errnoText(int e) { return std::strerror(e); }
+
+const char* kindName(mode_t mode) {
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    if (S_ISLNK(mode)) return "a symbolic link";
+    return "not a regular file";
+}
+
+// ".ladarvr-tmp-<pid>-" followed by six random letters and digits.
+std::string randomTempName() {
+    static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+    unsigned char bytes[6];
+    if (::getrandom(bytes, sizeof bytes, 0) != ssize_t(sizeof bytes)) {
+        // No entropy source: fall back on the clock; O_EXCL still makes creation safe.
+        const auto t = std::uint64_t(std::chrono::steady_clock::now().time_since_epoch().count());
+        for (std::size_t i = 0; i < sizeof bytes; ++i) bytes[i] = static_cast<unsigned char>(t >> (8 * i));
+    }
+    std::string name = std::string(kTempPrefix) + std::to_string(::getpid()) + "-";
+    for (unsigned char b : bytes) name += kAlphabet[b % (sizeof kAlphabet - 1)];
+    return name;
+}
+
+int openFolder(const fs::path& dir, const fs::path& for_output) {
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0)
+        throw Error("output: " + shownPath(for_output) + ": cannot open the folder '" + shownPath(dir) +
+                    "': " + errnoText(errno));
+    return fd;
+}
+
+// Removes a temporary file or folder (not following links) by name inside `dirfd`.
+void removeEntry(int dirfd, const std::string& name, const fs::path& dir) {
+    struct stat st {};
+    if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return;
+    if (S_ISDIR(st.st_mode)) {
+        std::error_code ec;
+        fs::remove_all(dir / name, ec);  // remove_all never follows symlinks inside
+    } else {
+        ::unlinkat(dirfd, name.c_str(), 0);
+    }
+}
+
+namespace {
+
+std::string sizeText(std::size_t bytes) {
+    if (bytes >= (1u << 20) && bytes % (1u << 20) == 0) return std::to_string(bytes >> 20) + " MiB";
+    if (bytes >= (1u << 10) && bytes % (1u << 10) == 0) return std::to_string(bytes >> 10) + " KiB";
+    return std::to_string(bytes) + " bytes";
+}
+
+// The pid of a name made by randomTempName, or -1.
+pid_t tempNamePid(std::string_view name) {
+    if (name.substr(0, kTempPrefix.size()) != kTempPrefix) return -1;
+    name.remove_prefix(kTempPrefix.size());
+    const std::size_t dash = name.find('-');
+    if (dash == 0 || dash == std::string_view::npos || dash > 10 || name.size() != dash + 7) return -1;
+    long long pid = 0;
+    for (char c : name.substr(0, dash)) {
+        if (c < '0' || c > '9') return -1;
+        pid = pid * 10 + (c - '0');
+    }
+    for (char c : name.substr(dash + 1))
+        if (!std::isalnum(static_cast<unsigned char>(c))) return -1;
+    return pid > 0 && pid <= 0x7fffffff ? pid_t(pid) : -1;
+}
+
+// The folder of a destination file and the file's name in it.
+std::pair<fs::path, std::string> splitDestination(const fs::path& destination) {
+    fs::path dir = destination.parent_path();
+    if (dir.empty()) dir = ".";
+    return {dir, destination.filename().string()};
+}
+
+// Files read as inputs of this run, by device and inode.
+struct InputFile {
+    dev_t dev;
+    ino_t ino;
+    std::string path;
+};
+std::mutex g_inputs_mutex;
+std::vector<InputFile> g_inputs;
+
+void rememberInput(const struct stat& st, const fs::path& path) {
+    std::lock_guard lock(g_inputs_mutex);
+    for (const InputFile& f : g_inputs)
+        if (f.dev == st.st_dev && f.ino == st.st_ino) return;
+    g_inputs.push_back({st.st_dev, st.st_ino, path.string()});
+}
+
+}  // namespace
+
+std::string regularFileProblem(const fs::path& path) {
+    if (path.empty()) return "is an empty name";
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0)
+        return S_ISREG(st.st_mode) ? std::string() : std::string("is ") + kindName(st.st_mode);
+    const int e = errno;
+    switch (e) {
+        case ENOENT: {
+            struct stat lst {};
+            if (::lstat(path.c_str(), &lst) == 0 && S_ISLNK(lst.st_mode)) {
+                std::error_code ec;
+                const fs::path target = fs::read_symlink(path, ec);
+                return "is a dangling symbolic link (to '" + shownPath(target) + "', which does not exist)";
+            }
+            return "does not exist";
+        }
+        case ELOOP: return "is a symbolic link loop (too many levels of symbolic links)";
+        case ENOTDIR: return "does not exist (a folder on its path is not a directory)";
+        case EACCES: return "cannot be reached: " + errnoText(e);
+        default: return "cannot be examined: " + errnoText(e);
+    }
+}
+
+void checkInputFile(const fs::path& path, std::string_view what) {
+    const std::string problem = regularFileProblem(path);
+    if (!problem.empty())
+        throw Error(std::string(what) + " " + problem +
+                    (problem.rfind("is a", 0) == 0 ? "; allowed: a regular file" : ""));
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) rememberInput(st, path);
+}
+
+std::string readTextFile(const fs::path& path, std::size_t max_bytes, std::string_view what) {
+    const std::string allowed = "; allowed: a regular file of at most " + sizeText(max_bytes);
+    const std::string problem = regularFileProblem(path);
+    if (!problem.empty())
+        throw Error(std::string(what) + " " + problem + (problem.rfind("is a", 0) == 0 ? allowed : ""));
+    // O_NONBLOCK: should the name have become a FIFO since the check, open() must not wait.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+    if (fd < 0) throw Error(std::string(what) + " cannot be read: " + errnoText(errno));
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) throw Error(std::string(what) + " cannot be read: " + errnoText(errno));
+    if (!S_ISREG(st.st_mode)) throw Error(std::string(what) + " is " + kindName(st.st_mode) + allowed);
+    if (st.st_size > 0 && std::uint64_t(st.st_size) > max_bytes)
+        throw Error(std::string(what) + " is " + std::to_string(st.st_size) + " bytes" + allowed);
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    std::string text;
+    text.resize(std::min<std::size_t>(max_bytes + 1, st.st_size > 0 ? std::size_t(st.st_size) + 1 : 65536));
+    std::size_t used = 0;
+    for (;;) {
+        if (used == text.size()) {
+            if (text.size() > max_bytes) break;
+            text.resize(std::min(max_bytes + 1, text.size() * 2));
+        }
+        const ssize_t n = ::read(fd, text.data() + used, text.size() - used);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            throw Error(std::string(what) + " cannot be read: " + errnoText(errno));
+        }
+        if (n == 0) break;
+        used += std::size_t(n);
+    }
+    if (used > max_bytes)
+        throw Error(std::string(what) + " holds more than " + sizeText(max_bytes) + allowed);
+    text.resize(used);
+    rememberInput(st, path);
+    return text;
+}
+
+void checkNotAnInput(const fs::path& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return;
+    std::lock_guard lock(g_inputs_mutex);
+    for (const InputFile& f : g_inputs)
+        if (f.dev == st.st_dev && f.ino == st.st_ino)
+            throw Error("output: " + shownPath(path) + ": is the input file '" + shownPath(f.path) +
+                        "' of this run; give another name");
+}
+
+// ---------------------------------------------------------------------------------
+// Temporaries
+// ---------------------------------------------------------------------------------
+
+void removeStaleTemporaries(const fs::path& dir) {
+    const int dirfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dirfd < 0) return;
+    std::vector<std::string> stale;
+    if (DIR* d = ::fdopendir(::dup(dirfd))) {
+        while (const dirent* e = ::readdir(d)) {
+            const pid_t pid = tempNamePid(e->d_name);
+            if (pid <= 0 || pid == ::getpid()) continue;
+            if (::kill(pid, 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to ask)
+            stale.emplace_back(e->d_name);
+        }
+        ::closedir(d);
+    }
+    for (const std::string& name : stale) {
+        struct stat st {};
+        if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_uid != ::geteuid())
+            continue;
+        removeEntry(dirfd, name, dir);
+    }
+    ::close(dirfd);
+}
+
+TempFile::TempFile(fs::path destination) : destination_(std::move(destination)) {
+    const auto [dir, base] = splitDestination(destination_);
+    if (base.empty() || base == "." || base == "..")
+        throw Error("output: " + shownPath(destination_) + ": is not a file name");
+    removeStaleTemporaries(dir);
+    dirfd_ = openFolder(dir, destination_);
+    int fd = -1;
+    try {
+        name_ = createUnique([&](const std::string& name) {
+            fd = ::openat(dirfd_, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+            return fd >= 0;
+        }, destination_, dir);
+    } catch (...) {
+        ::close(dirfd_);
+        throw;
+    }
+    slot_ = detail::registerTemporary(dirfd_, name_.c_str(), false);
+    file_ = ::fdopen(fd, "wb");
+    if (!file_) {
+        const int e = errno;
+        ::close(fd);
+        discard();
+        ::close(dirfd_);
+        throw Error("output: " + shownPath(destination_) + ": cannot open a stream: " + errnoText(e));
+    }
+}
+
+TempFile::~TempFile() {
+    discard();
+    if (dirfd_ >= 0) ::close(dirfd_);
+}
+
+fs::path TempFile::path() const { return splitDestination(destination_).first / name_; }
+
+void TempFile::discard() noexcept {
+    if (file_) {
+        std::fclose(file_);
+        file_ = nullptr;
+    }
+    if (!name_.empty()) {
+        ::unlinkat(dirfd_, name_.c_str(), 0);
+        detail::unregisterTemporary(slot_);
+        slot_ = -1;
+        name_.clear();
+    }
+}
+
+void TempFile::commit() {
+    const std::string out = "output: " + shownPath(destination_) + ": ";
+    if (name_.empty()) throw Error(out + "commit called twice");
+    auto fail = [&](const std::string& what, int e) {
+        discard();
+        throw Error(out + what + (e ? ": " + errnoText(e) : std::string()));
+    };
+    if (file_) {
+        const bool flushed = std::fflush(file_) == 0 && !std::ferror(file_);
+        const int flush_errno = errno;
+        const bool closed = std::fclose(file_) == 0;
+        const int close_errno = errno;
+        file_ = nullptr;
+        if (!flushed || !closed) fail("write failed", flushed ? close_errno : flush_errno);
+    }
+    const std::string base = destination_.filename().string();
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        struct stat st {};
+        if (::fstatat(dirfd_, base.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
+            if (!S_ISREG(st.st_mode))
+                fail(std::string("is ") + kindName(st.st_mode) + "; refusing to replace it (only a regular "
+                     "file is replaced)", 0);
+            try {
+                checkNotAnInput(destination_);
+            } catch (const Error&) {
+                discard();
+                throw;
+            }
+            if (::renameat(dirfd_, name_.c_str(), dirfd_, base.c_str()) != 0)
+                fail("cannot rename the temporary file into place", errno);
+        } else if (errno == ENOENT) {
+            // Absent now: make sure nothing (a symlink, a device) appears under the name
+            // between the check and the rename.
+            if (::renameat2(dirfd_, name_.c_str(), dirfd_, base.c_str(), RENAME_NOREPLACE) != 0) {
+                if (errno == EEXIST) continue;
+                if (errno != EINVAL && errno != ENOSYS)
+                    fail("cannot rename the temporary file into place", errno);
+                if (::renameat(dirfd_, name_.c_str(), dirfd_, base.c_str()) != 0)
+                    fail("cannot rename the temporary file into place", errno);
+            }
+        } else {
+            fail("cannot examine the destination", errno);
+        }
+        detail::unregisterTemporary(slot_);
+        slot_ = -1;
+        name_.clear();
+        return;
+    }
+    fail("the destination keeps changing while it is replaced", 0);
+}
+
+std::FILE* openScratchFile(const fs::path& dir, std::string_view what) {
+    const std::string where = "output: " + std::string(what) + ": cannot create a scratch file in '" +
+                              shownPath(dir) + "': ";
+    int fd = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+    if (fd < 0 && (errno == EOPNOTSUPP || errno == EISDIR || errno == EINVAL)) {
+        // No O_TMPFILE here: an exclusive random name, unlinked before any data goes in.
+        removeStaleTemporaries(dir);
+        const int dirfd = openFolder(dir, fs::path(what));
+        try {
+            const std::string name = createUnique([&](const std::string& n) {
+                fd = ::openat(dirfd, n.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+                return fd >= 0;
+            }, fs::path(what), dir);
+            ::unlinkat(dirfd, name.c_str(), 0);
+        } catch (...) {
+            ::close(dirfd);
+            throw;
+        }
+        ::close(dirfd);
+    }
+    if (fd < 0) throw Error(where + errnoText(errno));
+    std::FILE* f = ::fdopen(fd, "w+b");
+    if (!f) {
+        const int e = errno;
+        ::close(fd);
+        throw Error(where + errnoText(e));
+    }
+    return f;
+}
+
+}  // namespace platform

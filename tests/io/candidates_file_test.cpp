@@ -1,0 +1,73 @@
+// Candidate detections files: what `ladarvr detect` writes and the viewer reads back.
+#include <core/error.hpp>
+#include <io/candidates_file.hpp>
+
+#include "../common/test_files.hpp"
+
+#include <doctest/doctest.h>
+
+namespace {
+
+std::string readError(const std::filesystem::path& p) {
+    try {
+        io::readCandidates(p);
+    } catch (const core::Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+}  // namespace
+
+TEST_CASE("candidates: written and read back with every field, at georeferenced coordinates") {
+    test_support::TempDir dir("candidates_rt");
+    std::vector<core::Candidate> in(2);
+    in[0] = {"tank-1", {5.4e6 + 0.123, -3.2e5 + 0.456, 101.5}, {7.0, 3.5, 2.5}, 33.0, 0.875};
+    in[1] = {"c2", {1.0, 2.0, 3.0}, {1.0, 1.0, 1.0}, -90.0, 0.0};
+    const auto file = dir.path / "c.json";
+    io::writeCandidates(file, in);
+    const auto out = io::readCandidates(file);
+    REQUIRE(out.size() == 2);
+    for (std::size_t i = 0; i < 2; ++i) {
+        CHECK(out[i].id == in[i].id);
+        CHECK(out[i].centre_world == in[i].centre_world);   // exact: JSON keeps doubles
+        CHECK(out[i].size_m == in[i].size_m);
+        CHECK(out[i].yaw_deg == in[i].yaw_deg);
+        CHECK(out[i].score == in[i].score);
+    }
+}
+
+TEST_CASE("candidates: bad files are refused in one line naming the field") {
+    test_support::TempDir dir("candidates_bad");
+    struct Case { const char* text; const char* expect; };
+    const Case cases[] = {
+        {"[]", "the top level must be an object with 'candidates'"},
+        {R"({"candidates": [], "extra": 1})", "unknown key 'extra'; allowed: candidates"},
+        {R"({"candidates": [{"id": "a", "centre": [0,0,0], "size_m": [1,1,1], "score": 1.5}]})",
+         "candidates[0].score 1.500000 is not in [0, 1]"},
+        {R"({"candidates": [{"id": "a", "centre": [0,0], "size_m": [1,1,1], "score": 0.5}]})",
+         "candidates[0].centre must be [x, y, z] in world metres, not an array of 2"},
+        {R"({"candidates": [{"id": "a", "centre": [0,0,0], "size_m": [1,0,1], "score": 0.5}]})",
+         "candidates[0].size_m must be > 0 metres"},
+        {R"({"candidates": [{"centre": [0,0,0], "size_m": [1,1,1], "score": 0.5}]})",
+         "candidates[0].id must be a non-empty string"},
+        {R"({"candidates": [{"id": "a", "centre": [0,0,0], "size_m": [1,1,1]}]})", "candidates[0]: missing 'score'"},
+        {R"({"candidates": [{"id": "a", "centre": [0,0,0], "size_m": [1,1,1], "score": 0.5, "colour": 1}]})",
+         "candidates[0]: unknown key 'colour'; allowed: id, centre, size_m, yaw_deg, score"},
+        {R"({"candidates": [{"id": "a", "centre": [0,0,0], "size_m": [1,1,1], "score": 0.5, "score": 0.6}]})",
+         "duplicate key 'score'"},
+        {R"({"candidates": [{"id": "a", "centre": [0,0,0], "size_m": [1,1,1], "score": 0.5},
+                            {"id": "a", "centre": [0,0,0], "size_m": [1,1,1], "score": 0.5}]})",
+         "candidates[1].id 'a' is given twice; allowed: unique ids"},
+        {R"({"candidates": [)", "JSON syntax error"},
+    };
+    int n = 0;
+    for (const Case& c : cases) {
+        const auto p = dir.write("bad" + std::to_string(n++) + ".json", c.text);
+        const std::string m = readError(p);
+        INFO(c.text);
+        CHECK(m.find(c.expect) != std::string::npos);
+        CHECK(m.find(p.filename().string()) != std::string::npos);
+        CHECK(m.find('\n') == std::string::npos);
+    }
+}

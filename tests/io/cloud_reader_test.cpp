@@ -1,0 +1,272 @@
+// io::CloudReader: every malformed header of the shared table refused with its one
+// line, chunked reads equal to whole reads in every format (also across the file
+// window and text blocks), non-finite points dropped and counted, zero padding, special
+// files, and liblzf on PCL's compressed files.
+#include <bad_clouds.hpp>
+#include <test_files.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/cloud_reader.hpp>
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+
+#include <sys/stat.h>
+
+namespace fs = std::filesystem;
+using io::CloudFormat;
+using test_support::TempDir;
+using test_support::slurp;
+
+namespace {
+
+const fs::path kData = fs::path(LADARVR_TEST_DATA_DIR) / "io";
+
+void spit(const fs::path& p, const std::string& bytes) {
+    std::ofstream(p, std::ios::binary) << bytes;
+}
+
+std::string errorOf(const fs::path& p) {
+    try {
+        io::readCloud(p);
+    } catch (const core::Error& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+std::string prefixOf(const fs::path& p) {
+    return (p.extension() == ".ply" ? "ply: " : "pcd: ") + p.string() + ": ";
+}
+
+core::PointCloud knownCloud(std::size_t n) {
+    core::PointCloud c;
+    c.origin = {1.0e6, -2.0e6, 35.5};
+    for (std::size_t i = 0; i < n; ++i) {
+        core::CloudPoint p;
+        p.position = {float(i) * 0.37f - 1000.0f, -float(i % 1013) * 1.25f, float(i % 7) / 3.0f};
+        p.rgb = core::packRgb(std::uint8_t(i), std::uint8_t(i >> 8), std::uint8_t(i * 31));
+        p.label = core::Role(i % 3);
+        p.view = std::uint16_t(i % 65536);
+        p.range_m = 100.0f + float(i) / 8.0f;
+        c.points.push_back(p);
+    }
+    return c;
+}
+
+bool samePoints(const std::vector<core::CloudPoint>& a, const std::vector<core::CloudPoint>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (std::memcmp(&a[i].position, &b[i].position, sizeof a[i].position) != 0 || a[i].rgb != b[i].rgb ||
+            a[i].label != b[i].label || a[i].view != b[i].view || a[i].range_m != b[i].range_m)
+            return false;
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("cloud_reader: every bad file of the shared table is refused with its one line") {
+    TempDir dir("bad_clouds");
+    for (const test_support::BadCloud& bad : test_support::badClouds()) {
+        CAPTURE(bad.name);
+        const fs::path p = dir.path / bad.name;
+        spit(p, bad.bytes);
+        CHECK(errorOf(p) == prefixOf(p) + bad.message);
+        // In memory too (the fuzzing entry point), with the same message.
+        std::string in_memory;
+        try {
+            io::readCloudData(bad.bytes, bad.name);
+        } catch (const core::Error& e) {
+            in_memory = e.what();
+        }
+        CHECK(in_memory == prefixOf(bad.name) + bad.message);
+    }
+}
+
+TEST_CASE("cloud_reader: a bad header is refused when the reader is opened, before any point") {
+    TempDir dir("open_checks");
+    for (const test_support::BadCloud& bad : test_support::badClouds()) {
+        // Only the records themselves (labels, text values, the end of text data) are
+        // checked as they are read; everything else fails in the constructor.
+        CAPTURE(bad.name);
+        const fs::path p = dir.path / bad.name;
+        spit(p, bad.bytes);
+        if (bad.in_records) {
+            io::CloudReader reader(p);
+            std::vector<core::CloudPoint> out;
+            CHECK_THROWS_AS(while (reader.nextChunk(out, 1)) {}, core::Error);
+        } else {
+            CHECK_THROWS_AS(io::CloudReader{p}, core::Error);
+        }
+    }
+}
+
+TEST_CASE("cloud_reader: chunked reads give the whole cloud in every format") {
+    TempDir dir("chunks");
+    // 60,000 points: ~1.4 MB binary and ~4 MB of text, so chunks cross the reader's
+    // 1 MiB file window and text tokens cross its blocks.
+    const core::PointCloud cloud = knownCloud(60000);
+    for (CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary,
+                          CloudFormat::PlyAscii}) {
+        const bool ply = f == CloudFormat::PlyBinary || f == CloudFormat::PlyAscii;
+        const fs::path p = dir.path / (std::string("c") + std::to_string(int(f)) + (ply ? ".ply" : ".pcd"));
+        io::writeCloud(p, cloud, f);
+        for (std::size_t chunk : {std::size_t(1), std::size_t(7777), std::size_t(60000), std::size_t(1) << 20}) {
+            if (chunk == 1 && (f == CloudFormat::PcdAscii || f == CloudFormat::PlyAscii)) continue;  // slow
+            CAPTURE(int(f));
+            CAPTURE(chunk);
+            io::CloudReader reader(p);
+            CHECK(reader.origin() == cloud.origin);
+            CHECK(reader.declaredPoints() == 60000);
+            CHECK(reader.pointsBound() <= 60000);
+            std::vector<core::CloudPoint> all;
+            std::size_t calls = 0;
+            while (reader.nextChunk(all, chunk)) {
+                ++calls;
+                CHECK(all.size() == std::min(calls * chunk, std::size_t(60000)));
+            }
+            CHECK(calls == (60000 + chunk - 1) / chunk);
+            CHECK(samePoints(all, cloud.points));
+            CHECK(reader.pointsRead() == 60000);
+            CHECK(reader.droppedNonFinite() == 0);
+            CHECK(reader.warning().empty());
+            CHECK_FALSE(reader.nextChunk(all, chunk));   // stays at the end
+        }
+    }
+}
+
+TEST_CASE("cloud_reader: NaN and inf points are dropped and counted, everywhere") {
+    TempDir dir("nonfinite");
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");
+    core::PointCloud cloud = knownCloud(1000);
+    cloud.points[3].position.x = inf;
+    cloud.points[500].position.z = nan;
+    cloud.points[999].range_m = -inf;
+    std::vector<core::CloudPoint> finite;
+    for (std::size_t i = 0; i < 1000; ++i)
+        if (i != 3 && i != 500 && i != 999) finite.push_back(cloud.points[i]);
+    for (CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary,
+                          CloudFormat::PlyAscii}) {
+        const bool ply = f == CloudFormat::PlyBinary || f == CloudFormat::PlyAscii;
+        const fs::path p = dir.path / (std::string("n") + std::to_string(int(f)) + (ply ? ".ply" : ".pcd"));
+        io::writeCloud(p, cloud, f);
+        CAPTURE(int(f));
+        const core::PointCloud back = io::readCloud(p);
+        CHECK(samePoints(back.points, finite));
+        io::CloudReader reader(p);
+        std::vector<core::CloudPoint> out;
+        while (reader.nextChunk(out, 100)) {
+        }
+        CHECK(out.size() == 997);
+        CHECK(reader.pointsRead() == 1000);
+        CHECK(reader.droppedNonFinite() == 3);
+        CHECK(reader.warning() == prefixOf(p) + "dropped 3 of 1000 points with a non-finite x, y, z or "
+                                                "range (NaN or inf)");
+    }
+    SUBCASE("text spellings and doubles beyond float range") {
+        const std::string pcd = "FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nWIDTH 6\nDATA ascii\n"
+                                "1 2 3\nnan 0 0\n0 inf 0\n0 0 -inf\n1e39 0 0\n4 5 1e400\n";
+        const core::PointCloud r = io::readCloudData(pcd, "spell.pcd");
+        REQUIRE(r.points.size() == 1);
+        CHECK(r.points[0].position == glm::vec3(1, 2, 3));
+        const double big = 1e300;
+        std::string bin = "FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nWIDTH 2\nDATA binary\n";
+        for (double v : {1.0, 2.0, 3.0, big, 0.0, 0.0}) bin.append(reinterpret_cast<const char*>(&v), 8);
+        const core::PointCloud b = io::readCloudData(bin, "big.pcd");
+        REQUIRE(b.points.size() == 1);
+        CHECK(b.points[0].position == glm::vec3(1, 2, 3));
+    }
+}
+
+TEST_CASE("cloud_reader: a file of 0 points is valid and reads as empty") {
+    const std::string pcd = test_support::pcdHeader("0", "0");
+    io::CloudReader reader(pcd, "empty.pcd");
+    std::vector<core::CloudPoint> out;
+    CHECK_FALSE(reader.nextChunk(out));
+    CHECK(out.empty());
+    CHECK(reader.declaredPoints() == 0);
+}
+
+TEST_CASE("cloud_reader: zero padding after the data is accepted, up to 64 KiB") {
+    const std::string records = test_support::xyzLabelRecords({0, 1, 2});
+    const std::string head = test_support::pcdHeader("3", "3");
+    CHECK(io::readCloudData(head + records + std::string(4000, '\0'), "pad.pcd").points.size() == 3);
+    CHECK_THROWS_WITH_AS(io::readCloudData(head + records + std::string(65537, '\0'), "pad.pcd"),
+                         "pcd: pad.pcd: 65537 bytes of data follow the 3 points the header declares; "
+                         "the header must count every point",
+                         core::Error);
+    CHECK_THROWS_WITH_AS(io::readCloudData(head + records + std::string(3, '\0') + "x", "pad.pcd"),
+                         doctest::Contains("4 bytes of data follow the 3 points"), core::Error);
+}
+
+TEST_CASE("cloud_reader: PCL's files (zero padded, LZF by liblzf) read in chunks") {
+    for (const char* name : {"pcl_binary.pcd", "pcl_binary_compressed.pcd", "pcl_ascii.pcd"}) {
+        CAPTURE(name);
+        const core::PointCloud whole = io::readCloud(kData / name);
+        REQUIRE(whole.points.size() == 300);
+        io::CloudReader reader(kData / name);
+        std::vector<core::CloudPoint> out;
+        int calls = 0;
+        while (reader.nextChunk(out, 64)) ++calls;
+        CHECK(calls == 5);
+        CHECK(samePoints(out, whole.points));
+        CHECK(out[299].position == glm::vec3(74.75f, -1.5f * float(299 % 17), 14.5f));
+    }
+}
+
+TEST_CASE("cloud_reader: LZF blocks are decoded by liblzf, bounded by the header's size") {
+    // One point of x y z: 12 bytes uncompressed, one LZF literal run of 12 bytes.
+    auto file = [](const std::string& block) {
+        std::string s = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA binary_compressed\n";
+        const std::uint32_t sizes[2] = {std::uint32_t(block.size()), 12};
+        s.append(reinterpret_cast<const char*>(sizes), 8);
+        return s + block;
+    };
+    std::string xyz(12, '\0');
+    const float v[3] = {1.5f, -2.0f, 8.0f};
+    std::memcpy(xyz.data(), v, 12);
+    const core::PointCloud ok = io::readCloudData(file(char(11) + xyz), "ok.pcd");
+    REQUIRE(ok.points.size() == 1);
+    CHECK(ok.points[0].position == glm::vec3(1.5f, -2.0f, 8.0f));
+    const char* corrupt = "pcd: c.pcd: binary_compressed: the LZF data are corrupt";
+    // A literal run longer than the block (liblzf's input check).
+    CHECK_THROWS_WITH_AS(io::readCloudData(file(char(31) + xyz), "c.pcd"), corrupt, core::Error);
+    // Fewer bytes than the header implies.
+    CHECK_THROWS_WITH_AS(io::readCloudData(file(char(4) + xyz.substr(0, 5)), "c.pcd"), corrupt,
+                         core::Error);
+    // More bytes than the header implies: liblzf stops at the declared size (E2BIG).
+    CHECK_THROWS_WITH_AS(io::readCloudData(file(char(11) + xyz + char(0) + "x"), "c.pcd"), corrupt,
+                         core::Error);
+    // A back reference before the start of the output.
+    CHECK_THROWS_WITH_AS(io::readCloudData(file(std::string("\x20\x05", 2) + xyz), "c.pcd"), corrupt,
+                         core::Error);
+}
+
+TEST_CASE("cloud_reader: special files and long values are refused with one line") {
+    TempDir dir("special");
+    CHECK(errorOf(dir.path) == "pcd: " + dir.path.string() + ": is a directory, not a regular file");
+    const fs::path fifo = dir.path / "f.pcd";
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    CHECK(errorOf(fifo) == "pcd: " + fifo.string() + ": is not a regular file");   // no hang
+    const fs::path missing = dir.path / "none.ply";
+    CHECK(errorOf(missing) == "ply: " + missing.string() + ": file does not exist");
+    const std::string pcd = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 2 " +
+                            std::string(5000, '7') + "\n";
+    CHECK_THROWS_WITH_AS(io::readCloudData(pcd, "long.pcd"),
+                         "pcd: long.pcd: a value longer than 4096 bytes; not a text cloud?", core::Error);
+    // The same across the reader's 1 MiB text blocks, from a file.
+    const fs::path big = dir.path / "big.pcd";
+    spit(big, "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n" + std::string((1 << 20) - 60, ' ') +
+                  std::string(10000, '1'));
+    CHECK(errorOf(big) == "pcd: " + big.string() + ": a value longer than 4096 bytes; not a text cloud?");
+}
+
+TEST_CASE("cloud_reader: a header longer than 1 MiB is refused") {
+    std::string pcd = "# " + std::string((1 << 20) + 10, 'c') + "\nFIELDS x y z\n";
+    CHECK_THROWS_WITH_AS(io::readCloudData(pcd, "h.pcd"),
+                         "pcd: h.pcd: the header is longer than 1 MiB; not a PCD file?", core::Error);
+}

@@ -1,0 +1,119 @@
+// tests/io/fuzz_regression_test.cpp: inputs found by the libFuzzer targets (fuzz/,
+// docs/stress.md) and the fuzz seeds, replayed through the same entry points: each must
+// give a result or an core::Error whose message is one printable line (the house rule
+// for errors), never another exception.
+#include <test_files.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/scene_file.hpp>
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kData = LADARVR_TEST_DATA_DIR;
+const fs::path kRegressions = kData / "io" / "fuzz_regressions";
+const fs::path kSeeds = kData.parent_path().parent_path() / "fuzz" / "seeds";
+
+using test_support::slurp;
+
+/// One line of printable text: no control character, no DEL; bytes >= 0x80 only where
+/// `allow_utf8` (names from JSON); short.
+bool printableLine(const std::string& m, bool allow_utf8) {
+    for (const char ch : m) {
+        const unsigned char c = static_cast<unsigned char>(ch);
+        if (c < 0x20 || c == 0x7f || (c >= 0x80 && !allow_utf8)) return false;
+    }
+    return m.size() < 1000;
+}
+
+/// "ok" or the core::Error's message; other exceptions escape and fail the test.
+std::string readCloudOutcome(const fs::path& p) {
+    try {
+        io::readCloudData(slurp(p), "fuzz.pcd");
+        return "ok";
+    } catch (const core::Error& e) {
+        return e.what();
+    }
+}
+
+std::string loadSceneOutcome(const fs::path& p) {
+    try {
+        io::loadSceneJson(slurp(p), kData / "scenes" / "basic" / "fuzz.json");
+        return "ok";
+    } catch (const core::Error& e) {
+        return e.what();
+    }
+}
+
+}  // namespace
+
+TEST_CASE("fuzz regression: a binary byte in a PCD header is shown escaped, on one line") {
+    const std::string m = readCloudOutcome(kRegressions / "cloud_message_binary_byte.pcd");
+    CHECK(m == "pcd: fuzz.pcd: line 1: unknown header keyword '\\xff'; allowed: VERSION, FIELDS, SIZE, TYPE, "
+               "COUNT, WIDTH, HEIGHT, VIEWPOINT, POINTS, DATA");
+}
+
+TEST_CASE("fuzz regression: nlohmann's 'last read' bytes are escaped in a JSON syntax error") {
+    const std::string m = loadSceneOutcome(kRegressions / "scene_message_del_byte.json");
+    CHECK(m.find("JSON syntax error: parse error at line 1, column 3") != std::string::npos);
+    CHECK(m.find("last read: '\"\\x7f'") != std::string::npos);
+    CHECK(printableLine(m, false));
+}
+
+TEST_CASE("fuzz regression: a newline and an escape sequence in a mesh name stay on one line") {
+    const std::string m = loadSceneOutcome(kRegressions / "scene_newline_in_file_name.json");
+    CHECK(m.find("meshes[0] ('no\\x0asuch\\x1b[31m.obj'): mesh file '") != std::string::npos);
+    CHECK(m.find("' does not exist") != std::string::npos);
+    CHECK(printableLine(m, false));
+}
+
+TEST_CASE("every kept fuzz input and seed: a result or a one-line core::Error") {
+    int clouds = 0, scenes = 0, accepted = 0;
+    for (const fs::path& dir : {kRegressions, kSeeds / "cloud", kSeeds / "scene", kSeeds / "las"}) {
+        REQUIRE(fs::is_directory(dir));
+        for (const auto& entry : fs::directory_iterator(dir)) {
+            const fs::path& p = entry.path();
+            if (p.extension() == ".md") continue;
+            const bool scene = p.extension() == ".json";
+            const std::string m = scene ? loadSceneOutcome(p) : readCloudOutcome(p);
+            INFO(p.filename().string() << ": " << m);
+            CHECK(printableLine(m, scene));
+            if (m == "ok") {
+                ++accepted;
+            } else {
+                const bool known = m.rfind("ply: ", 0) == 0 || m.rfind("las: ", 0) == 0 || m.rfind("pcd: ", 0) == 0;
+                CHECK((scene ? m.rfind("scene: ", 0) == 0 : known));
+            }
+            (scene ? scenes : clouds) += 1;
+        }
+    }
+    CHECK(clouds >= 10);
+    CHECK(scenes >= 5);
+    // Every cloud seed and two scene seeds are valid input (they seed the fuzzer's corpus).
+    CHECK(accepted >= 13);
+}
+
+TEST_CASE("shown bytes: a long binary token is cut, escaped and marked") {
+    std::string pcd = "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE ";
+    pcd += std::string(100, '\x01');
+    pcd += "\n";
+    std::string m;
+    try {
+        io::readCloudData(pcd, "long.pcd");
+    } catch (const core::Error& e) {
+        m = e.what();
+    }
+    // At most 20 characters shown: five bytes, each as \x01, then "...".
+    std::string expected = "pcd: long.pcd: line 4: SIZE '";
+    for (int i = 0; i < 5; ++i) expected += "\\x01";
+    expected += "...' is not one of 1, 2, 4, 8";
+    CHECK(m == expected);
+}
