@@ -33,6 +33,7 @@
 
 #include <engine/error.hpp>
 #include <engine/png.hpp>
+#include <engine/safe_file.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -929,9 +930,10 @@ int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer
         if (feed_->finished() && !feed_->error().empty() && feed_error_reported.empty()) {
             feed_error_reported = feed_->error();
             log_.event("load error: " + feed_error_reported);
-            // A file that does not read whole (or holds no point) is refused: one line,
-            // exit status 1 and no screenshot, whatever was already shown of it.
-            std::fprintf(stderr, "ladarvr: view: %s\n", feed_error_reported.c_str());
+            // A file that does not read whole (or holds no point) is refused: one error line
+            // (as main prints errors: escaped, capped), exit status 1, no screenshot and no
+            // summary line, whatever was already shown of it.
+            engine::printMessage("error", "view: " + feed_error_reported);
             status = 1;
             if (!quitting) {
                 startQuit("load error");
@@ -1042,7 +1044,7 @@ int ViewerApp::run(CloudFeed* feed, TrialSource* source, TrialObserver* observer
     log_.set("headset_panel", headset_panel_ && panel_target_.colour != 0);
     if (trial_.designated_local) log_.set("designated_world", vec(*trial_.designated_local + feed_->origin()));
     if (!options_.log_json.empty() && !log_.write(options_.log_json)) status = 1;
-    if (!options_.quiet)
+    if (!options_.quiet && feed_error_reported.empty())
         std::fprintf(stderr, "ladarvr: view: %ld frames (%ld submitted to OpenXR), %zu points, exit: %s\n",
                      frames_, frames_submitted_, renderer_->uploadedPoints(), exit_reason.c_str());
     if (const int sig = StopSignal::received(); sig != 0 && status == 0) status = 128 + sig;
