@@ -34,8 +34,9 @@ std::size_t digitsFrom(std::string_view text, std::size_t i) {
     return n;
 }
 
-// Decimal notation, as parseDecimal documents it: the grammar is checked here, so strtod
-// only ever sees text it reads whole and the same way in every locale's "C" digits.
+// Decimal notation, as parseDecimal documents it. The grammar is checked here rather than
+// left to strtod, which also reads hex, inf, nan and leading spaces; strtod then only
+// converts (the program never changes the "C" locale, so '.' is the decimal point).
 bool isDecimal(std::string_view text) {
     std::size_t i = 0;
     if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
