@@ -3,6 +3,7 @@
 
 #include <core/error.hpp>
 #include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
 
 #include <cctype>
 #include <cmath>
@@ -27,29 +28,56 @@ bool isWholeNumber(const std::string& text, bool allow_minus) {
     return true;
 }
 
-bool isNumber(const std::string& text) {
-    if (text.empty() || std::isspace(static_cast<unsigned char>(text.front()))) return false;
-    char* end = nullptr;
-    std::strtod(text.c_str(), &end);
-    return end == text.c_str() + text.size();
+std::size_t digitsFrom(std::string_view text, std::size_t i) {
+    std::size_t n = 0;
+    while (i + n < text.size() && text[i + n] >= '0' && text[i + n] <= '9') ++n;
+    return n;
+}
+
+// Decimal notation, as parseDecimal documents it. The grammar is checked here rather than
+// left to strtod, which also reads hex, inf, nan and leading spaces; strtod then only
+// converts (the program never changes the "C" locale, so '.' is the decimal point).
+bool isDecimal(std::string_view text) {
+    std::size_t i = 0;
+    if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+    const std::size_t whole = digitsFrom(text, i);
+    i += whole;
+    std::size_t fraction = 0;
+    if (i < text.size() && text[i] == '.') {
+        fraction = digitsFrom(text, i + 1);
+        i += 1 + fraction;
+    }
+    if (whole == 0 && fraction == 0) return false;
+    if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+        ++i;
+        if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+        const std::size_t exponent = digitsFrom(text, i);
+        if (exponent == 0) return false;
+        i += exponent;
+    }
+    return i == text.size();
 }
 
 // What an option of CLI11 type `type` accepts, for messages.
 std::string allowedText(const std::string& type) {
     if (type == "INT") return "a whole number";
     if (type == "UINT") return "a whole number >= 0";
-    if (type == "FLOAT") return "a number";
+    if (type == "FLOAT") return "a number";  // parseDecimal's notation
     return "a non-empty value";
 }
 
 // The check run on each value before CLI11 converts it; "" = accepted.
 std::string checkValue(const std::string& type, const std::string& text) {
     if (text.empty()) return "the value is empty; allowed: " + allowedText(type);
+    if (type == "FLOAT" && isDecimal(text) && !parseDecimal(text))
+        return "'" + text + "' is beyond the range of a double; allowed: a finite number";
     const bool ok = type == "INT"    ? isWholeNumber(text, true)
                     : type == "UINT" ? isWholeNumber(text, false)
-                    : type == "FLOAT" ? isNumber(text)
+                    : type == "FLOAT" ? parseDecimal(text).has_value()
                                       : true;
-    if (!ok) return "'" + text + "' is not " + allowedText(type);
+    if (!ok)
+        return "'" + text + "' is not " + allowedText(type) +
+               (type == "FLOAT" ? "; allowed: decimal notation such as 16, -2.5 or 1e3" : "");
     return "";
 }
 
@@ -126,6 +154,34 @@ std::string describe(const CLI::ParseError& e) {
 
 }  // namespace
 
+std::optional<double> parseDecimal(std::string_view text) {
+    if (!isDecimal(text)) return std::nullopt;
+    const std::string copy(text);
+    const double v = std::strtod(copy.c_str(), nullptr);
+    if (!std::isfinite(v)) return std::nullopt;  // overflow (underflow reads as 0 or a denormal)
+    return v;
+}
+
+glm::dvec3 parseWorldTriple(const std::string& text, std::string_view what) {
+    glm::dvec3 v{0.0};
+    std::size_t n = 0, start = 0;
+    bool ok = true;
+    while (ok) {
+        const std::size_t comma = text.find(',', start);
+        const std::string_view part =
+            std::string_view(text).substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        const std::optional<double> value = n < 3 ? parseDecimal(part) : std::nullopt;
+        ok = value.has_value();
+        if (ok) v[int(n++)] = *value;
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    if (!ok || n != 3)
+        throw core::Error(std::string(what) + " '" + core::printable(text, 80) +
+                            "': allowed three finite numbers x,y,z (world metres)");
+    return v;
+}
+
 void applyConventions(CLI::App& app) {
     app.footer(kExitStatusHelp);
     for (CLI::Option* option : app.get_options()) {
@@ -148,7 +204,7 @@ std::string usageError(const CLI::App& cli, const CLI::ParseError& e, int argc, 
     return (path.empty() ? "" : path + ": ") + what + " (see '" + command + " --help')";
 }
 
-void warn(const std::string& what) { std::fprintf(stderr, "ladarvr: warning: %s\n", what.c_str()); }
+void warn(const std::string& what) { platform::printMessage("warning", what); }
 
 void createParentFolders(const fs::path& file, std::string_view option) {
     const fs::path parent = file.parent_path();

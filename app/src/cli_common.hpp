@@ -5,8 +5,11 @@
 
 #include <platform/cleanup.hpp>
 
+#include <glm/vec3.hpp>
+
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -31,6 +34,17 @@ inline constexpr const char* kExitStatusHelp =
 /// (CLI11 reads '' as 0), and sets the exit-status footer of --help. Call once, after
 /// every subcommand and option exists.
 void applyConventions(CLI::App& app);
+
+/// A floating-point option's value: a finite number in decimal notation, [+-]digits[.digits]
+/// or [+-].digits, then an optional exponent e[+-]digits; nullopt for anything else (hex
+/// such as 0x10, inf, nan, spaces, trailing text, a value beyond the double range). The
+/// one reading of numbers typed on the command line, so every option agrees with the
+/// integer options and the files, which refuse hex too.
+std::optional<double> parseDecimal(std::string_view text);
+
+/// "x,y,z": exactly three numbers as parseDecimal reads them. Throws core::Error
+/// "<what> '<text>': allowed three finite numbers x,y,z (world metres)" otherwise.
+glm::dvec3 parseWorldTriple(const std::string& text, std::string_view what);
 
 /// The one-line message for a parse error of `cli`: "<subcommand>: <what> (see 'ladarvr
 /// <subcommand> --help')", with unknown and missing subcommands named from argv.

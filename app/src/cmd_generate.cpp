@@ -21,7 +21,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 #include <string>
 
 namespace app {
@@ -43,29 +42,6 @@ struct GenerateCli {
     sim::GenerateOptions options;
     GroundCli ground;
 };
-
-glm::dvec3 parseCentre(const std::string& text) {
-    glm::dvec3 v{0.0};
-    std::stringstream s(text);
-    std::string part;
-    int n = 0;
-    const auto bad = [&] {
-        return core::Error("generate: --centre '" + text + "': allowed three finite numbers x,y,z (world metres)");
-    };
-    while (std::getline(s, part, ',')) {
-        if (n >= 3) throw bad();
-        try {
-            std::size_t used = 0;
-            v[n] = std::stod(part, &used);
-            if (used != part.size() || !std::isfinite(v[n])) throw bad();
-        } catch (const std::exception&) {
-            throw bad();
-        }
-        ++n;
-    }
-    if (n != 3) throw bad();
-    return v;
-}
 
 // Default output: out/<name>.<pcd|ply>, <name> = the scene file's stem, or its folder's
 // name for the usual "<folder>/scene.json".
@@ -122,7 +98,7 @@ void run(GenerateCli& cli) {
     sim::GenerateOptions& o = cli.options;
     // Everything is checked before the scene is read or a ray is cast.
     if (!cli.roles.empty()) o.roles = core::RoleMask::parse(cli.roles, "generate: --roles");
-    if (!cli.centre.empty()) o.centre = parseCentre(cli.centre);
+    if (!cli.centre.empty()) o.centre = parseWorldTriple(cli.centre, "generate: --centre");
     if (!(std::isfinite(cli.memory_mb) && cli.memory_mb >= 1.0 && cli.memory_mb <= 1048576.0))
         throw core::Error("generate: --memory-mb = " + core::shownNumber(cli.memory_mb) +
                             ": allowed [1, 1048576]");

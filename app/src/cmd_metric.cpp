@@ -19,7 +19,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -40,29 +39,6 @@ struct MetricCli {
     metric::MetricOptions options;
 };
 
-
-glm::dvec3 parseTriple(const std::string& text, const char* option) {
-    glm::dvec3 v{0.0};
-    std::stringstream s(text);
-    std::string part;
-    int n = 0;
-    while (std::getline(s, part, ',')) {
-        if (n >= 3) break;
-        try {
-            std::size_t used = 0;
-            v[n] = std::stod(part, &used);
-            if (used != part.size() || !std::isfinite(v[n])) throw std::invalid_argument(part);
-        } catch (const std::exception&) {
-            throw core::Error(std::string("metric: ") + option + " '" + text +
-                                "': allowed three finite numbers x,y,z (world metres)");
-        }
-        ++n;
-    }
-    if (n != 3 || s.rdbuf()->in_avail() != 0)
-        throw core::Error(std::string("metric: ") + option + " '" + text +
-                            "': allowed three finite numbers x,y,z (world metres)");
-    return v;
-}
 
 std::string percent(double v) {
     if (std::isnan(v)) return "n/a";
@@ -94,7 +70,7 @@ void run(MetricCli& cli) {
         o.rasterizer = metric::Rasterizer::Raster;
     else
         throw core::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
-    if (!cli.look_at.empty()) o.look_at_world = parseTriple(cli.look_at, "--look-at");
+    if (!cli.look_at.empty()) o.look_at_world = parseWorldTriple(cli.look_at, "metric: --look-at");
     std::size_t trace_samples = 0;
     if (!cli.trace.empty()) {
         if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
@@ -191,7 +167,8 @@ void registerMetric(CLI::App& cli) {
         "a study's trace_<trial>.csv: the views are the operator's head poses instead of the orbit (docs/study.md)");
     c->add_option("--trace-step-s", state->trace_step_s,
                   "with --trace, use samples at least this far apart, [0, 3600] s (0: every sample)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->needs(trace);   // alone it would change nothing: refused rather than ignored
     for (const char* orbit_only : {"--views", "--radius-m", "--altitude-m", "--look-at"})
         trace->excludes(c->get_option(orbit_only));
     c->add_flag("--json", state->json, "print summary.json to stdout");

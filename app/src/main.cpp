@@ -1,10 +1,12 @@
 // app/src/main.cpp: the `ladarvr` CLI. Every error becomes one line on stderr and an exit
 // status from cli_common.hpp: 1 for a failed run, 2 for a command line that does not
-// parse, 70 for a bug.
+// parse, 70 for a bug. Messages quote file contents and arguments: they are printed
+// through platform::printMessage, which escapes control bytes and caps the line.
 #include "cli_common.hpp"
 #include "commands.hpp"
 
 #include <core/error.hpp>
+#include <platform/safe_file.hpp>
 
 #include <cstdio>
 #include <cstring>
@@ -35,13 +37,13 @@ int main(int argc, char** argv) {
         return e.get_exit_code();
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return cli.exit(e);  // --help, --version
-        std::fprintf(stderr, "ladarvr: error: %s\n", app::usageError(cli, e, argc, argv).c_str());
+        platform::printMessage("error", app::usageError(cli, e, argc, argv));
         return app::kExitUsage;
     } catch (const core::Error& e) {
-        std::fprintf(stderr, "ladarvr: error: %s\n", e.what());
+        platform::printMessage("error", e.what());
         return app::kExitError;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "ladarvr: internal error: %s\n", e.what());
+        platform::printMessage("internal error", e.what());
         return app::kExitInternal;
     }
     return app::kExitOk;

@@ -1,10 +1,10 @@
 // candidates_file: reading and writing candidate detections (io/candidates_file.hpp).
 #include <core/error.hpp>
+#include <core/frames.hpp>
 #include <io/candidates_file.hpp>
 #include <io/strict_json.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
-
 
 #include <cmath>
 #include <set>
@@ -12,6 +12,7 @@
 namespace io {
 
 using core::Error;
+using core::shownNumber;
 using core::Candidate;
 using platform::readTextFile;
 using platform::writeFileAtomic;
@@ -33,7 +34,9 @@ double number(const json& o, const char* key, const std::string& where, const ch
     return v;
 }
 
-glm::dvec3 triple(const json& o, const char* key, const std::string& where, const char* allowed) {
+// Three finite numbers, each of magnitude at most `max_abs` (the frame's coordinate bound:
+// past it a box would silently fall off the float-precision local frame of the viewer).
+glm::dvec3 triple(const json& o, const char* key, const std::string& where, const char* allowed, double max_abs) {
     const auto it = o.find(key);
     if (it == o.end()) throw Error(where + ": missing '" + key + "'; allowed: " + allowed);
     if (!it->is_array() || it->size() != 3)
@@ -45,6 +48,9 @@ glm::dvec3 triple(const json& o, const char* key, const std::string& where, cons
         if (!e.is_number() || !std::isfinite(e.get<double>()))
             throw Error(where + "." + key + "[" + std::to_string(i) + "] must be a finite number; allowed: " + allowed);
         v[i] = e.get<double>();
+        if (std::abs(v[i]) > max_abs)
+            throw Error(where + "." + key + "[" + std::to_string(i) + "] is " + shownNumber(v[i]) + "; allowed: " +
+                        allowed + ", each in [-" + shownNumber(max_abs) + ", " + shownNumber(max_abs) + "]");
     }
     return v;
 }
@@ -85,8 +91,8 @@ std::vector<Candidate> readCandidates(const std::filesystem::path& file) {
         cand.id = id->get<std::string>();
         if (!ids.insert(cand.id).second)
             throw Error(where + ".id '" + core::printable(cand.id, 40, true) + "' is given twice; allowed: unique ids");
-        cand.centre_world = triple(c, "centre", where, "[x, y, z] in world metres");
-        cand.size_m = triple(c, "size_m", where, "[length, width, height], each > 0 metres");
+        cand.centre_world = triple(c, "centre", where, "[x, y, z] in world metres", core::kMaxWorldCoordinate_m);
+        cand.size_m = triple(c, "size_m", where, "[length, width, height], each > 0 metres", core::kMaxLocalCoordinate_m);
         if (cand.size_m.x <= 0 || cand.size_m.y <= 0 || cand.size_m.z <= 0)
             throw Error(where + ".size_m must be > 0 metres in each dimension");
         cand.yaw_deg = c.contains("yaw_deg") ? number(c, "yaw_deg", where, "degrees") : 0.0;

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <mutex>
 #include <system_error>
+#include <vector>
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -126,6 +127,93 @@ void rememberInput(const struct stat& st, const fs::path& path) {
 }
 
 }  // namespace
+
+namespace {
+
+// The length of the valid UTF-8 sequence of a printable character at s[i] (1 for ASCII),
+// 0 when s[i] starts a control character (C0, DEL, C1) or is not valid UTF-8 there.
+std::size_t printableCharLength(std::string_view s, std::size_t i) {
+    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = byte(i);
+    if (c < 0x20 || c == 0x7f) return 0;
+    if (c < 0x80) return 1;
+    std::size_t n = 0;
+    unsigned char lo = 0x80, hi = 0xBF;  // the range of the second byte
+    if (c >= 0xC2 && c <= 0xDF) n = 2;
+    else if (c == 0xE0) n = 3, lo = 0xA0;
+    else if (c == 0xED) n = 3, hi = 0x9F;                   // no UTF-16 surrogates
+    else if (c >= 0xE1 && c <= 0xEF) n = 3;
+    else if (c == 0xF0) n = 4, lo = 0x90;
+    else if (c == 0xF4) n = 4, hi = 0x8F;                   // nothing past U+10FFFF
+    else if (c >= 0xF1 && c <= 0xF3) n = 4;
+    else return 0;                                          // a stray continuation, C0/C1 overlong, F5..FF
+    if (i + n > s.size() || byte(i + 1) < lo || byte(i + 1) > hi) return 0;
+    for (std::size_t k = 2; k < n; ++k)
+        if ((byte(i + k) & 0xC0) != 0x80) return 0;
+    if (c == 0xC2 && byte(i + 1) < 0xA0) return 0;          // U+0080..U+009F: C1 controls (CSI is U+009B)
+    return n;
+}
+
+// Calls piece(text) for each character of `s` as shown: kept, or "\xNN" per byte.
+template <class Piece>
+void forEachShown(std::string_view s, Piece&& piece) {
+    std::size_t i = 0;
+    while (i < s.size()) {
+        const std::size_t n = printableCharLength(s, i);
+        if (n > 0) {
+            piece(s.substr(i, n));
+            i += n;
+        } else {
+            char escaped[8];
+            std::snprintf(escaped, sizeof escaped, "\\x%02x", static_cast<unsigned char>(s[i]));
+            piece(std::string_view(escaped, 4));
+            ++i;
+        }
+    }
+}
+
+}  // namespace
+
+std::string printableUtf8(std::string_view text, std::size_t max_chars) {
+    std::string out;
+    out.reserve(std::min(text.size(), max_chars) + 3);
+    bool cut = false;
+    forEachShown(text, [&](std::string_view piece) {
+        if (cut) return;
+        if (out.size() + piece.size() > max_chars) {
+            out += "...";
+            cut = true;
+            return;
+        }
+        out += piece;
+    });
+    return out;
+}
+
+std::string messageLine(std::string_view message, std::size_t max_chars) {
+    // Whole characters only: remember where each shown character starts.
+    std::string shown;
+    std::vector<std::size_t> starts;
+    shown.reserve(message.size());
+    forEachShown(message, [&](std::string_view piece) {
+        starts.push_back(shown.size());
+        shown += piece;
+    });
+    if (shown.size() <= max_chars) return shown;
+    constexpr std::string_view kGap = " ... ";
+    const std::size_t budget = max_chars > kGap.size() ? max_chars - kGap.size() : 0;
+    const std::size_t tail_budget = budget / 3, head_budget = budget - tail_budget;
+    // The last character start at or before head_budget, the first at or after the tail's.
+    const std::size_t head = *(std::upper_bound(starts.begin(), starts.end(), head_budget) - 1);
+    const auto tail_it = std::lower_bound(starts.begin(), starts.end(), shown.size() - tail_budget);
+    const std::size_t tail = tail_it == starts.end() ? shown.size() : *tail_it;
+    return shown.substr(0, head) + std::string(kGap) + shown.substr(tail);
+}
+
+void printMessage(std::string_view label, std::string_view what) {
+    const std::string line = "ladarvr: " + std::string(label) + ": " + messageLine(what) + "\n";
+    std::fwrite(line.data(), 1, line.size(), stderr);
+}
 
 std::string regularFileProblem(const fs::path& path) {
     if (path.empty()) return "is an empty name";

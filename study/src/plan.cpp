@@ -86,8 +86,11 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
         trial.source = cloud.empty() ? scene : cloud;
         if (const std::string c = text(t, "candidates", w); !c.empty()) trial.candidates = resolve(base, c);
         trial.time_limit_s = number(t, "time_limit_s", w, 0.0, 86400.0, 120.0);
-        trial.name = text(t, "name", w);
-        if (trial.name.empty()) trial.name = std::filesystem::path(trial.source).filename().string();
+        // A label, echoed on the ready screen and in stderr lines: control characters (a
+        // newline, a terminal escape) escaped and the length capped here, once, for all of them.
+        std::string label = text(t, "name", w);
+        if (label.empty()) label = std::filesystem::path(trial.source).filename().string();
+        trial.name = platform::printableUtf8(label, kMaxTrialNameChars);
         plan.trials.push_back(std::move(trial));
     }
     if (const auto seed = root.find("shuffle_seed"); seed != root.end()) {

@@ -1,9 +1,13 @@
-// tests/safety/input_messages_test.cpp: scene JSON and viewer scripts from a hostile
-// user: duplicate keys, NUL characters, empty names, special files, binary bytes,
-// oversized files. Each gives one line naming the place and what is allowed.
+// tests/safety/input_messages_test.cpp: scene JSON, viewer scripts, study plans and
+// candidate files from a hostile user: duplicate keys, NUL characters, empty names,
+// special files, binary bytes, oversized files and values, terminal escapes in labels,
+// coordinates past any world frame. Each gives one line naming the place and what is
+// allowed, and what is echoed of them is printable.
 #include <test_files.hpp>
 #include <core/error.hpp>
+#include <io/candidates_file.hpp>
 #include <io/scene_file.hpp>
+#include <study/plan.hpp>
 #include <viewer/viewer.hpp>
 
 #include <doctest/doctest.h>
@@ -102,4 +106,36 @@ TEST_CASE("viewer scripts: regular files of at most 1 MiB, binary bytes shown es
     CHECK(contains(read(big), "bytes; allowed: a regular file of at most 1 MiB"));
     const fs::path good = dir.write("good", "# a comment\n10 space\n20 escape\n");
     CHECK(viewer::readScript(good).size() == 2);
+}
+
+TEST_CASE("study plans: a trial's name is shown escaped and capped, whatever the plan holds") {
+    // A newline and ESC[2J (clear the screen) would reach stderr in "trial 1 of 1 (<name>)".
+    const study::Plan plan = study::parsePlan(
+        R"({"trials": [{"cloud": "a.pcd", "name": "one\ntwo\u001b[2J\u0085"},
+                       {"cloud": "b.pcd", "name": "Pr\u00fcfung"}]})", "plan.json", ".");
+    CHECK(plan.trials[0].name == "one\\x0atwo\\x1b[2J\\xc2\\x85");   // U+0085 is a C1 control
+    CHECK(plan.trials[1].name == "Pr\u00fcfung");                   // UTF-8 text is text
+    const std::string huge(1 << 20, 'n');
+    const study::Plan big = study::parsePlan(R"({"trials": [{"cloud": "a.pcd", "name": ")" + huge + R"("}]})",
+                                             "plan.json", ".");
+    CHECK(big.trials[0].name.size() <= study::kMaxTrialNameChars + 3);
+    CHECK(big.trials[0].name.ends_with("nnn..."));
+    // The default name, the file's name, is no safer than a given one.
+    const study::Plan unnamed = study::parsePlan(R"({"trials": [{"cloud": "dir/x\u001b[31m.pcd"}]})", "plan.json", ".");
+    CHECK(unnamed.trials[0].name == "x\\x1b[31m.pcd");
+}
+
+TEST_CASE("candidate files: centres and sizes past any world frame are refused") {
+    TempDir dir("candidates_range");
+    auto read = [&](const std::string& centre, const std::string& size) {
+        const fs::path file = dir.write("c.json", R"({"candidates": [{"id": "c1", "centre": )" + centre +
+                                                      R"(, "size_m": )" + size + R"(, "score": 0.5}]})");
+        return errorOf([&] { io::readCandidates(file); });
+    };
+    CHECK(contains(read("[1e300, 0, 0]", "[1, 1, 1]"),
+                   "candidates[0].centre[0] is 1e+300; allowed: [x, y, z] in world metres, each in [-1000000000, 1000000000]"));
+    CHECK(contains(read("[0, 0, -1e10]", "[1, 1, 1]"), "candidates[0].centre[2] is -1e+10"));
+    CHECK(contains(read("[0, 0, 0]", "[1, 1e300, 1]"), "candidates[0].size_m[1] is 1e+300"));
+    // At the bound: still a box.
+    CHECK(read("[1e9, -1e9, 0]", "[1e7, 1, 1]") == "(no error)");
 }

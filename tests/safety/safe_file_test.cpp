@@ -185,6 +185,31 @@ TEST_CASE("text inputs: regular files only, size capped, messages say what the n
     CHECK(core::printable(std::string("a\x01\xff\x1b[31m", 8)) == "a\\x01\\xff\\x1b[31m");
 }
 
+TEST_CASE("messages: control characters and invalid bytes escaped, UTF-8 kept, long lines cut in the middle") {
+    // C0, DEL and C1 (U+009B is a one-character CSI on some terminals) escaped byte by byte.
+    CHECK(platform::printableUtf8("a\nb\x1b[2J\x7f\xc2\x9b") == "a\\x0ab\\x1b[2J\\x7f\\xc2\\x9b");
+    // Valid UTF-8 kept; a stray continuation, an overlong form, a surrogate and a cut sequence escaped.
+    CHECK(platform::printableUtf8("gr\xc3\xbcn \xe2\x82\xac \xf0\x9f\x99\x82") == "gr\xc3\xbcn \xe2\x82\xac \xf0\x9f\x99\x82");
+    CHECK(platform::printableUtf8("\x80\xc0\xaf\xed\xa0\x80\xe2\x82") ==
+          "\\x80\\xc0\\xaf\\xed\\xa0\\x80\\xe2\\x82");
+    // The cap never splits a character, escaped or not.
+    CHECK(platform::printableUtf8("ab\xc3\xbc", 3) == "ab...");
+    CHECK(platform::printableUtf8("ab\x1b", 5) == "ab...");
+    // Escaped text is left as it is: a message that quoted printable() is unchanged.
+    const std::string once = core::printable("x\x1b[31m\xff");
+    CHECK(platform::messageLine(once) == once);
+    // A megabyte: the start and the end stay, the middle goes, the line is at most the cap.
+    const std::string huge = "module: file: '" + std::string(1 << 20, '\x1b') + "'; allowed: what is allowed";
+    const std::string line = platform::messageLine(huge);
+    CHECK(line.size() <= platform::kMaxMessageChars);
+    CHECK(line.size() > platform::kMaxMessageChars - 8);
+    CHECK(line.starts_with("module: file: '\\x1b\\x1b"));
+    CHECK(line.ends_with("\\x1b'; allowed: what is allowed"));
+    CHECK(line.find("\\x1b ... \\x1b") != std::string::npos);
+    CHECK(line.find('\x1b') == std::string::npos);
+    CHECK(platform::messageLine("short") == "short");
+}
+
 TEST_CASE("the next run removes temporaries of dead processes, and only those") {
     TempDir dir("stale");
     const std::string dead = std::to_string(deadPid());

@@ -105,10 +105,13 @@ PY
       rc=0
       "$here/headless_env.sh" --timeout 150 -- "$bin" view "$work/$name.pcd" --no-xr --frames 5 \
         --width 320 --height 180 --screenshot "$work/$name.png" 2>"$work/$name.err" || rc=$?
-      line=$(grep "^ladarvr: view: pcd: $work/$name.pcd: " "$work/$name.err" || true)
+      line=$(grep "^ladarvr: error: view: pcd: $work/$name.pcd: " "$work/$name.err" || true)
       echo "$name: exit $rc: $line"
       [ "$rc" = 1 ] || { echo "FAIL: $name: exit $rc, expected 1"; fail=1; }
       [ "$(printf '%s\n' "$line" | grep -c .)" = 1 ] || { echo "FAIL: $name: no single error line"; fail=1; }
+      # Besides the start-up line saying which mode the window opened in: nothing (no summary).
+      [ "$(grep -v -c -F -e 'desktop mode' "$work/$name.err")" = 1 ] ||
+        { echo "FAIL: $name: more than the error line: $(cat "$work/$name.err")"; fail=1; }
       [ ! -e "$work/$name.png" ] || { echo "FAIL: $name: a screenshot was written"; fail=1; }
     done
     grep -q "holds no points to show" "$work/empty.err" || { echo "FAIL: empty: wrong message"; fail=1; }

@@ -18,6 +18,7 @@
 #include "viewer_app.hpp"
 
 #include <core/error.hpp>
+#include <platform/safe_file.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -153,9 +154,10 @@ void ViewerApp::updateSource() {
     if (trials_.placeCandidates(stream_.source().finished()))
         candidates_.set(trials_.study() ? trials_.setup().candidates : options_.candidates, stream_.source().origin());
     if (!ev.load_error.empty()) {
-        // A file that does not read whole (or holds no point) is refused: one line, exit
-        // status 1 and no screenshot, whatever was already shown of it.
-        std::fprintf(stderr, "ladarvr: view: %s\n", ev.load_error.c_str());
+        // A file that does not read whole (or holds no point) is refused: one error line
+        // (as main prints errors: escaped, capped), exit status 1, no screenshot and no
+        // summary line, whatever was already shown of it.
+        platform::printMessage("error", "view: " + ev.load_error);
         status_ = 1;
         if (!quitting_) {
             startQuit("load error");
@@ -355,7 +357,7 @@ int ViewerApp::finish(int status) {
     if (trials_.designated()) s.designated_world = *trials_.designated() + stream_.source().origin();
     recordSummary(log_, s);
     if (!options_.log_json.empty() && !log_.write(options_.log_json)) status = 1;
-    if (!options_.quiet)
+    if (!options_.quiet && !stream_.failed())
         std::fprintf(stderr, "ladarvr: view: %ld frames (%ld submitted to OpenXR), %zu points, exit: %s\n", frames_,
                      frames_submitted_, points.uploadedPoints(), exit_reason_.c_str());
     if (const int sig = StopSignal::received(); sig != 0 && status == 0) status = 128 + sig;

@@ -7,6 +7,8 @@
 // centre in world coordinates (metres, z up, the box's centre); size_m the box's length
 // along its own x, width along its y, height; yaw_deg counter-clockwise about +z from +x;
 // score in [0, 1], higher is more likely a target. Ids are unique, non-empty strings.
+// Centre coordinates are bounded like scene positions (|c| <= kMaxWorldCoordinate_m) and
+// sizes like local coordinates (<= kMaxLocalCoordinate_m), core/frames.hpp.
 #pragma once
 #include <core/candidates.hpp>
 

@@ -26,6 +26,26 @@ namespace platform {
 /// The name prefix of every temporary file or folder the project creates.
 inline constexpr std::string_view kTempPrefix = ".ladarvr-tmp-";
 
+/// As core::printable, but valid UTF-8 is kept (text meant as text: names and labels from JSON,
+/// messages): control characters (C0, DEL, C1) and bytes that are not valid UTF-8 as \xNN;
+/// the cut never splits a character. Escaped text stays as it is, so applying it twice
+/// changes nothing.
+std::string printableUtf8(std::string_view text, std::size_t max_chars = 200);
+
+/// The longest line messageLine returns: room for a few quoted paths (400 characters each)
+/// and the words around them.
+inline constexpr std::size_t kMaxMessageChars = 2000;
+
+/// `message` as one line for stderr: printableUtf8's escaping and, over `max_chars`, the
+/// middle cut to " ... " so the start (module, file, field) and the end (what is allowed)
+/// both stay.
+std::string messageLine(std::string_view message, std::size_t max_chars = kMaxMessageChars);
+
+/// Writes "ladarvr: <label>: <messageLine(what)>" and a newline to stderr: the one way
+/// errors ("error", "internal error") and warnings ("warning") reach the terminal, so a
+/// value quoted into a message raw cannot break the line or steer the terminal.
+void printMessage(std::string_view label, std::string_view what);
+
 /// Why `path` is not a regular file, in words that follow the file's name ("does not
 /// exist", "is a symbolic link loop", "is a dangling symbolic link", "is a directory",
 /// "is a FIFO (named pipe)", "is a character device", ...); empty when it is one

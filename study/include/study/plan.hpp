@@ -19,12 +19,16 @@
 
 namespace study {
 
+/// A trial's name is a label for the screen and stderr: at most this many characters shown.
+inline constexpr std::size_t kMaxTrialNameChars = 120;
+
 struct PlanTrial {
     std::filesystem::path cloud;        // a cloud file, or
     std::filesystem::path scene;        // a scene whose cloud is generated at the trial
     std::filesystem::path candidates;   // optional
     double time_limit_s = 120.0;        // 0: none
-    std::string name;                   // shown on the ready screen; default: the file name
+    std::string name;                   // shown on the ready screen and in progress lines; default: the
+                                        // file name; printable (platform::printableUtf8, kMaxTrialNameChars)
     std::string source;                 // the cloud or scene as written in the plan (trials.csv)
 };
 
