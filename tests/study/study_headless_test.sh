@@ -100,7 +100,7 @@ set -um
   2>"$work/stderr" &
 viewer=\$!
 for _ in \$(seq 1800); do
-  grep -q "desktop mode" "$work/stderr" 2>/dev/null && break   # printed once the handlers are in
+  grep -q "first frame drawn" "$work/stderr" 2>/dev/null && break   # after the handlers and one counted frame
   kill -0 \$viewer 2>/dev/null || break
   sleep 0.1
 done

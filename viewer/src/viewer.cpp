@@ -271,6 +271,8 @@ void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
     points_drawn_ = result.points_drawn;
     if (quitting_) return;
     ++frames_;
+    // The first counted frame is an event a caller can wait for (a test's signal, a demo).
+    if (frames_ == 1 && !options_.quiet) std::fprintf(stderr, "ladarvr: view: first frame drawn\n");
     const PointRenderer& points = stream_.renderer();
     if (record_frames_)
         log_.frame(frameRecord({frames_, std::chrono::duration<double>(Clock::now() - start_).count(), modes_.mode(),
