@@ -2,6 +2,8 @@
 // generator's buffers hold (vector capacities reserved up front, not grown).
 #include "memory_plan.hpp"
 
+#include <sim/memory_budget.hpp>
+
 #include <engine/error.hpp>
 #include <engine/point_cloud.hpp>
 
@@ -9,6 +11,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -44,6 +47,22 @@ std::uint64_t largest(std::uint64_t hi, const Fits& fits) {
 }
 
 }  // namespace
+
+std::size_t memoryBudgetBytes(double memory_mb, std::string_view command) {
+    if (!(std::isfinite(memory_mb) && memory_mb >= 1.0 && memory_mb <= 1048576.0))
+        throw engine::Error(std::string(command) + ": --memory-mb = " + engine::shownNumber(memory_mb) +
+                            ": allowed [1, 1048576]");
+    return std::size_t(memory_mb * 1048576.0);
+}
+
+void refuseOverBudget(std::string_view command, std::uint64_t budget_bytes, std::uint64_t need_bytes,
+                      const std::string& why, const std::string& advice) {
+    if (need_bytes <= budget_bytes) return;
+    char budget_mb[32];
+    std::snprintf(budget_mb, sizeof budget_mb, "%.6g", double(budget_bytes) / 1048576.0);
+    throw engine::Error(std::string(command) + ": --memory-mb " + budget_mb + " is too small: this run needs at least " +
+                        mebibytes(need_bytes) + " MiB (" + why + "); " + advice);
+}
 
 std::uint64_t planBytes(const MemoryNeeds& n, std::size_t batch_views, std::size_t band_rows, int threads) {
     const std::uint64_t band_pixels = std::uint64_t(band_rows) * n.xres;
@@ -82,12 +101,9 @@ MemoryPlan planMemory(const MemoryNeeds& n) {
                 std::string why = n.white ? "one row of " + std::to_string(n.xres) + " pixels on one thread"
                                           : "one view's up to " + std::to_string(n.view_hits) +
                                                 " hits, whitened together by RANSAC";
-                char budget_mb[32];
-                std::snprintf(budget_mb, sizeof budget_mb, "%.6g", double(budget) / 1048576.0);
-                throw engine::Error("generate: --memory-mb " + std::string(budget_mb) +
-                                    " is too small: this run needs at least " + mebibytes(need) + " MiB (" + why +
-                                    "); raise --memory-mb" +
-                                    (n.white ? std::string() : ", lower --xres/--yres, or use --white"));
+                refuseOverBudget("generate", budget, std::max(need, budget + 1), why,
+                                 "raise --memory-mb" +
+                                     (n.white ? std::string() : ", lower --xres/--yres, or use --white"));
             }
             p.band_rows = std::size_t(largest(yres, [&](std::uint64_t r) { return fits(1, std::size_t(r), p.threads); }));
         }

@@ -72,6 +72,11 @@ public:
     /// The same, and the run's counts and seconds into `stats`.
     std::vector<Detection> detect(const engine::PointCloud& cloud, ClusterStats& stats) const;
 
+    /// At most what reading a cloud of `points` points and detecting in it holds, in
+    /// bytes: the cloud itself plus every per-point buffer of steps 1-4 (checked against
+    /// --memory-mb before the cloud is read, sim/memory_budget.hpp).
+    static std::uint64_t memoryBytes(std::uint64_t points);
+
 private:
     ClusterOptions options_;
 };

@@ -19,6 +19,7 @@
 namespace engine {
 
 class TempFile;
+class CloudReader;
 namespace detail {
 class LasSink;
 }
@@ -102,6 +103,9 @@ void writeCloud(const std::filesystem::path& path, const PointCloud& cloud,
 /// z or range are dropped, with one warning line on stderr giving the count.
 /// Throws Error("pcd: <file>: ...") / ("ply: <file>: ...") naming the line or field.
 PointCloud readCloud(const std::filesystem::path& path);
+/// As readCloud, from a reader already open (its header checked): a caller can weigh
+/// reader.pointsBound() against a memory budget before a point is read.
+PointCloud readCloud(CloudReader& reader);
 
 /// As readCloud, from the file's bytes already in memory (no warning is printed);
 /// `name` is used in messages. Never reads outside `bytes` whatever they hold.
