@@ -3,6 +3,7 @@
 
 #include <engine/atomic_file.hpp>
 #include <engine/error.hpp>
+#include <engine/safe_file.hpp>
 
 #include <cctype>
 #include <cmath>
@@ -151,6 +152,7 @@ std::string usageError(const CLI::App& cli, const CLI::ParseError& e, int argc, 
 void warn(const std::string& what) { std::fprintf(stderr, "ladarvr: warning: %s\n", what.c_str()); }
 
 void createParentFolders(const fs::path& file, std::string_view option) {
+    engine::checkPathLength(file, option);
     const fs::path parent = file.parent_path();
     if (parent.empty()) return;
     fs::path prefix;
@@ -162,6 +164,10 @@ void createParentFolders(const fs::path& file, std::string_view option) {
         if (fs::exists(st))
             throw engine::Error(std::string(option) + " '" + file.string() + "': '" + prefix.string() +
                                 "' exists and is not a folder; allowed: a path whose folders are folders");
+        if (fs::is_symlink(fs::symlink_status(prefix, ec)))  // dangling, or a loop
+            throw engine::Error(std::string(option) + " '" + engine::printable(file.string(), 400) + "': '" +
+                                engine::printable(prefix.string(), 400) + "' " + engine::regularFileProblem(prefix) +
+                                "; allowed: a path whose folders are folders");
         if (!fs::create_directory(prefix, ec) && !fs::is_directory(prefix))
             throw engine::Error(std::string(option) + " '" + file.string() + "': cannot create the folder '" +
                                 prefix.string() + "': " + (ec ? ec.message() : std::string("unknown reason")));

@@ -7,6 +7,7 @@
 #include <engine/atomic_file.hpp>
 #include <engine/cloud_io.hpp>
 #include <engine/error.hpp>
+#include <engine/safe_file.hpp>
 #include <engine/scene.hpp>
 #include <engine/trace_file.hpp>
 #include <metric/clouds.hpp>
@@ -95,15 +96,21 @@ void run(MetricCli& cli) {
     else
         throw engine::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
     if (!cli.look_at.empty()) o.look_at_world = parseTriple(cli.look_at, "--look-at");
+    const std::filesystem::path out = cli.out;
+    // Before anything is read or made: no input inside the folder this run replaces.
+    engine::checkDistinctPaths("metric", {{"--out", out, engine::PathRole::OutputFolder, {}},
+                                          {"--scene", cli.scene, engine::PathRole::Input, {}},
+                                          {"--p1", cli.p1, engine::PathRole::Input, {}},
+                                          {"--p2", cli.p2, engine::PathRole::Input, {}},
+                                          {"--p3", cli.p3, engine::PathRole::Input, {}},
+                                          {"--trace", cli.trace, engine::PathRole::Input, {}}});
     std::size_t trace_samples = 0;
     if (!cli.trace.empty()) {
         if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
             throw engine::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
                                 ": allowed [0, 3600] seconds");
-        const std::vector<engine::TraceRow> samples = engine::readTrace(cli.trace).rows;
-        trace_samples = samples.size();
-        for (const engine::TraceRow& h : metric::everyStep(samples, cli.trace_step_s))
-            o.poses_world.push_back(metric::cameraFromHead(h));
+        // Streamed: only the kept poses are held, at most as many as the metric evaluates.
+        o.poses_world = metric::tracePoses(cli.trace, cli.trace_step_s, metric::kMaxPoses, trace_samples);
     }
     const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
     if (from_files && (cli.p1.empty() || cli.p2.empty() || cli.p3.empty()))
@@ -114,7 +121,6 @@ void run(MetricCli& cli) {
 
     // Fail on the destination before the (long) generation; the folder itself is made
     // (or replaced as a whole) by writeReport.
-    const std::filesystem::path out = cli.out;
     createParentFolders(out, "metric: --out");
     metric::checkReportFolder(out);
 

@@ -18,6 +18,7 @@ namespace engine {
 void checkWritableDestination(const std::filesystem::path& path) {
     namespace fs = std::filesystem;
     if (path.empty()) throw Error("output: the output path is empty; give a file name");
+    checkPathLength(path, "output");
     const std::string shown = printable(path.string(), 400);
     fs::path dir = path.parent_path();
     if (dir.empty()) dir = ".";

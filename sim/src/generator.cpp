@@ -590,7 +590,8 @@ static engine::LasOptions lasOptions(const engine::Scene& scene, const GenerateO
     return las;
 }
 
-void Generator::run(const std::filesystem::path& out, engine::CloudFormat format, GenerateStats* stats) {
+void Generator::run(const std::filesystem::path& out, engine::CloudFormat format, GenerateStats* stats,
+                    const BeforeCommit& before_commit) {
     const State& s = *state_;
     const auto t0 = Clock::now();
     GenerateStats st;
@@ -622,7 +623,6 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
         const auto tc = Clock::now();
         for (std::size_t i = 0; i < points.size(); i += kColourChunk)
             writer.append(std::span(points).subspan(i, std::min(kColourChunk, points.size() - i)));
-        writer.commit();
         st.seconds.write = secondsSince(tc);
     } else {
         checkFreeSpace(out.parent_path(), fused_bytes, "the spool file of the fused cloud");
@@ -650,11 +650,12 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
         }
         if (writer.count() != st.points)
             throw engine::Error("output: " + out.string() + ": spool file came back short");
-        const auto tc = Clock::now();
-        writer.commit();
-        st.seconds.write += secondsSince(tc);
     }
     terrain.finish(st);
+    if (before_commit) before_commit(st);
+    const auto tc = Clock::now();
+    writer.commit();
+    st.seconds.write += secondsSince(tc);
     st.seconds.total = s.bvh_seconds + secondsSince(t0);
     if (stats) *stats = st;
 }

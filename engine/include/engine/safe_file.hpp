@@ -99,9 +99,46 @@ void removeStaleTemporaries(const std::filesystem::path& dir);
 /// Decides whether a name found in an existing output folder is one we write there.
 using OwnedName = std::function<bool(const std::string& name)>;
 
+/// The longest path (in bytes, without the final NUL) and the longest name in it that
+/// the project accepts for a file it reads or writes: Linux's PATH_MAX - 1 and NAME_MAX.
+inline constexpr std::size_t kMaxPathBytes = 4095;
+inline constexpr std::size_t kMaxNameBytes = 255;
+
+/// Throws Error("<what> '<path, shortened>': the path is N bytes long; allowed at most
+/// 4095 bytes" (or "... a name in it is N bytes long; allowed at most 255 bytes per
+/// name")) when `path` is longer than the system can open; `what` names the option.
+void checkPathLength(const std::filesystem::path& path, std::string_view what);
+
+/// What a path is to a run, for checkDistinctPaths.
+enum class PathRole {
+    Input,         // a file the run reads
+    InputFolder,   // a folder the run reads from (its `names`, or everything in it)
+    Output,        // a file the run writes
+    OutputFolder,  // a folder the run writes into (its `names`) or replaces as a whole
+};
+
+/// One path given to a run: the option that gave it (for messages, e.g. "--out"), the
+/// path, its role and, for folders, the names inside it that the run reads or writes
+/// (tested on the first name below the folder; empty: every name).
+struct RunPath {
+    std::string option;
+    std::filesystem::path path;
+    PathRole role = PathRole::Input;
+    OwnedName names;
+};
+
+/// The check every command runs on its paths before any work: no output is an input or
+/// another output, and no path lies inside an output folder where the run writes (or
+/// that it replaces), nor an output inside an input folder where the run reads. Paths
+/// are compared after resolving links in their existing part (two names of one file,
+/// hard links included, are the same file); empty paths are skipped; each path's length
+/// is checked first (checkPathLength). Throws Error("<command>: <option> '<path>' and
+/// <option> '<path>' <why>; allowed: ..."), one line naming both options.
+void checkDistinctPaths(std::string_view command, const std::vector<RunPath>& paths);
+
 /// Checks, before the work, that `dir` can become an output folder: its parent exists
 /// (or its nearest existing ancestor, as missing parents are made) is a writable folder,
-/// and `dir` is absent or a folder (or a link to one) holding only names `ours` accepts.
+/// and `dir` is absent or a folder (never a symbolic link) holding only names `ours` accepts.
 /// Throws Error("output: <dir>: ...").
 void checkOutputFolder(const std::filesystem::path& dir, const OwnedName& ours);
 
