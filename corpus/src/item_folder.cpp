@@ -1,6 +1,8 @@
 // corpus: the temporary item folder and its move into place.
 #include "item_folder.hpp"
 
+#include <corpus/item.hpp>
+
 #include <engine/atomic_file.hpp>
 #include <engine/cleanup.hpp>
 #include <engine/error.hpp>
@@ -26,11 +28,9 @@ ItemFolder::ItemFolder(const fs::path& items, const std::string& id)
     : items_(items), final_(items / id), id_(id) {
     temp_name_ = std::string(engine::kTempPrefix) + std::to_string(::getpid()) + "-" + id;
     temp_ = items / temp_name_;
-    items_fd_ = ::open(items.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    // DIR/items itself, never a link in its place.
+    items_fd_ = ::open(items.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
     if (items_fd_ < 0) throw engine::Error("output: " + shown(items) + ": cannot open the folder: " + std::strerror(errno));
-    // Ours by name (this process, this item): a leftover of an earlier failure goes.
-    std::error_code ec;
-    fs::remove_all(temp_, ec);
     if (::mkdirat(items_fd_, temp_name_.c_str(), 0777) != 0) {
         const int e = errno;
         ::close(items_fd_);
@@ -49,10 +49,7 @@ ItemFolder::ItemFolder(const fs::path& items, const std::string& id)
 
 ItemFolder::~ItemFolder() {
     for (int slot : slots_) engine::detail::unregisterTemporary(slot);
-    if (!committed_) {
-        std::error_code ec;
-        fs::remove_all(temp_, ec);
-    }
+    if (!committed_) engine::removeOwnFolder(items_fd_, temp_name_, isItemFile);
     if (temp_fd_ >= 0) ::close(temp_fd_);
     if (items_fd_ >= 0) ::close(items_fd_);
 }
@@ -88,8 +85,9 @@ void ItemFolder::commit() {
             throw engine::Error("output: " + shown(final_) + ": cannot move the new item into place: " +
                                 std::strerror(errno));
         committed_ = true;
-        std::error_code ec;
-        fs::remove_all(temp_, ec);  // the old folder, now under the temporary name
+        // The old folder, now under the temporary name; left (hidden) if it holds
+        // anything an item does not.
+        engine::removeOwnFolder(items_fd_, temp_name_, isItemFile);
         return;
     }
     if (::renameat2(items_fd_, temp_name_.c_str(), items_fd_, base.c_str(), RENAME_NOREPLACE) != 0)

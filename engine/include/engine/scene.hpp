@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -46,6 +47,9 @@ struct RoleMask {
     static RoleMask parse(std::string_view list, std::string_view parameter);
 };
 
+/// A mesh entry's 'reflectance' when the scene file gives none.
+inline constexpr double kDefaultReflectance = 0.5;
+
 /// One triangle mesh in the scene's local frame (world - origin).
 struct Mesh {
     std::string name;                        // the file name as written in the scene
@@ -57,9 +61,24 @@ struct Mesh {
     int asprs_class = -1;                    // 'class' (0..255) for LAS output, -1: by role
 };
 
+/// One mesh entry of a scene file, as written (before its mesh file is read): what a
+/// tool that writes scene files (the corpus) copies and changes.
+struct SceneEntry {
+    std::string file;                        // as written, relative to the scene file
+    Role role = Role::Environment;
+    glm::dvec3 position{0.0};                // world metres
+    double yaw_deg = 0.0;
+    double scale = 1.0;
+    bool up_y = false;                       // "up": "y"
+    double reflectance = kDefaultReflectance;
+    int asprs_class = -1;                    // 'class', -1: not given (by role)
+};
+
 struct Scene {
     std::filesystem::path source;            // the scene file, for messages
     glm::dvec3 origin{0.0};                  // world coordinates of the local frame's origin
+    std::optional<glm::dvec3> written_origin;  // the file's "origin", when it has one
+    std::vector<SceneEntry> entries;         // every entry of the file, in order (any role)
     std::vector<Mesh> meshes;
     std::size_t skipped_triangles = 0;       // zero-area triangles dropped at load
     /// Triangles with a NaN/inf vertex dropped at load (only with skip_nonfinite).
@@ -98,6 +117,11 @@ Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& optio
 Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& file,
                     const SceneLoadOptions& options = {});
 
+/// The vertices of one mesh file in its own frame, `scale` and the up axis applied (no
+/// yaw, no position), with the checks loadScene makes of a mesh file; `where` names it
+/// in messages, e.g. Error("<where>: mesh file 'a.obj' is a FIFO (named pipe); ...").
+std::vector<glm::dvec3> loadMeshVertices(const std::filesystem::path& file, bool up_y, double scale,
+                                         const std::string& where);
 /// The bundled demo scene (assets/demo/scene.json in the source tree, or installed copy).
 std::filesystem::path demoScenePath();
 
