@@ -21,15 +21,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     io::SceneLoadOptions options;
     options.skip_nonfinite = (size % 2) == 1;
     try {
-        const core::Scene scene =
-            io::loadSceneJson(text, LADARVR_TEST_DATA_DIR "/scenes/basic/fuzz.json", options);
+        const core::Scene scene = io::loadSceneJson(text, LADARVR_TEST_DATA_DIR "/scenes/basic/fuzz.json", options);
         // An accepted scene has finite vertices and in-range indices.
         for (const core::Mesh& m : scene.meshes) {
             for (const glm::vec3& v : m.vertices)
                 if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) std::abort();
             for (const glm::uvec3& t : m.triangles)
-                if (t.x >= m.vertices.size() || t.y >= m.vertices.size() || t.z >= m.vertices.size())
-                    std::abort();
+                if (t.x >= m.vertices.size() || t.y >= m.vertices.size() || t.z >= m.vertices.size()) std::abort();
         }
     } catch (const core::Error& e) {
         fuzz::checkMessage(e.what());

@@ -38,9 +38,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (again.size() != events.size()) std::abort();
         for (std::size_t i = 0; i < events.size(); ++i)
             if (again[i].frame != events[i].frame || again[i].key != events[i].key ||
-                again[i].after_desktop != events[i].after_desktop || again[i].relative != events[i].relative || again[i].value != events[i].value ||
-                again[i].point[0] != events[i].point[0] || again[i].point[1] != events[i].point[1] ||
-                again[i].point[2] != events[i].point[2]) std::abort();
+                again[i].after_desktop != events[i].after_desktop || again[i].relative != events[i].relative ||
+                again[i].value != events[i].value || again[i].point[0] != events[i].point[0] ||
+                again[i].point[1] != events[i].point[1] || again[i].point[2] != events[i].point[2])
+                std::abort();
     } catch (const core::Error& e) {
         fuzz::checkMessage(e.what());
         if (std::getenv("LADARVR_FUZZ_VERBOSE")) std::fprintf(stderr, "refused: %s\n", e.what());

@@ -71,8 +71,8 @@ std::string checkValue(const std::string& type, const std::string& text) {
     if (text.empty()) return "the value is empty; allowed: " + allowedText(type);
     if (type == "FLOAT" && isDecimal(text) && !parseDecimal(text))
         return "'" + text + "' is beyond the range of a double; allowed: a finite number";
-    const bool ok = type == "INT"    ? isWholeNumber(text, true)
-                    : type == "UINT" ? isWholeNumber(text, false)
+    const bool ok = type == "INT"     ? isWholeNumber(text, true)
+                    : type == "UINT"  ? isWholeNumber(text, false)
                     : type == "FLOAT" ? parseDecimal(text).has_value()
                                       : true;
     if (!ok)
@@ -105,8 +105,7 @@ std::string subcommandNames(const CLI::App& app) {
 std::string subcommandProblem(const CLI::App& cli, int argc, char** argv, std::string& path) {
     const CLI::App* app = &cli;
     for (int i = 1; app->get_require_subcommand_min() > 0; ++i) {
-        if (i >= argc)
-            return "a subcommand is required; allowed: " + subcommandNames(*app);
+        if (i >= argc) return "a subcommand is required; allowed: " + subcommandNames(*app);
         const std::string word = argv[i];
         if (!word.empty() && word.front() == '-') {
             // Options before the subcommand: only this level's own (--help, --version).
@@ -127,8 +126,8 @@ bool startsWith(const std::string& s, const std::string& prefix) { return s.rfin
 // CLI11's message, in this project's words where its own are unclear.
 std::string describe(const CLI::ParseError& e) {
     std::string what = e.what();
-    for (const char* prefix : {"The following argument was not expected: ",
-                               "The following arguments were not expected: "}) {
+    for (const char* prefix :
+         {"The following argument was not expected: ", "The following arguments were not expected: "}) {
         if (!startsWith(what, prefix)) continue;
         // CLI11 lists them last first.
         std::vector<std::string> words;
@@ -140,8 +139,8 @@ std::string describe(const CLI::ParseError& e) {
     }
     if (const std::size_t at = what.find(": At Most 1 required but received "); at != std::string::npos)
         return what.substr(0, at) + " is given " + what.substr(at + 34) + " times; allowed once";
-    if (const std::size_t at = what.find(": 1 required "); at != std::string::npos &&
-                                                            what.size() > 8 && what.ends_with(" missing"))
+    if (const std::size_t at = what.find(": 1 required ");
+        at != std::string::npos && what.size() > 8 && what.ends_with(" missing"))
         return what.substr(0, at) + ": the value is missing";
     if (startsWith(what, "Could not convert: ")) {
         std::string rest = what.substr(19);
@@ -178,7 +177,7 @@ glm::dvec3 parseWorldTriple(const std::string& text, std::string_view what) {
     }
     if (!ok || n != 3)
         throw core::Error(std::string(what) + " '" + core::printable(text, 80) +
-                            "': allowed three finite numbers x,y,z (world metres)");
+                          "': allowed three finite numbers x,y,z (world metres)");
     return v;
 }
 
@@ -217,10 +216,10 @@ void createParentFolders(const fs::path& file, std::string_view option) {
         if (fs::is_directory(st)) continue;
         if (fs::exists(st))
             throw core::Error(std::string(option) + " '" + file.string() + "': '" + prefix.string() +
-                                "' exists and is not a folder; allowed: a path whose folders are folders");
+                              "' exists and is not a folder; allowed: a path whose folders are folders");
         if (!fs::create_directory(prefix, ec) && !fs::is_directory(prefix))
             throw core::Error(std::string(option) + " '" + file.string() + "': cannot create the folder '" +
-                                prefix.string() + "': " + (ec ? ec.message() : std::string("unknown reason")));
+                              prefix.string() + "': " + (ec ? ec.message() : std::string("unknown reason")));
     }
 }
 

@@ -43,19 +43,19 @@ std::string firstFew(const std::vector<std::string>& ids) {
 
 void runMerge(const CorpusCli& cli) {
     const corpus::MergeReport r = corpus::mergeManifests(cli.merge);
-    std::fprintf(stderr, "corpus: merged %zu of %zu items from %zu manifest file(s) into %s/manifest.jsonl\n",
-                 r.merged, r.count, r.sources, cli.merge.c_str());
+    std::fprintf(stderr, "corpus: merged %zu of %zu items from %zu manifest file(s) into %s/manifest.jsonl\n", r.merged,
+                 r.count, r.sources, cli.merge.c_str());
     if (!r.duplicated.empty())
         std::fprintf(stderr, "corpus: %zu item(s) appear in more than one line: %s\n", r.duplicated.size(),
                      firstFew(r.duplicated).c_str());
     if (!r.conflicting.empty())
         throw core::Error("corpus: --merge " + cli.merge + ": " + std::to_string(r.conflicting.size()) +
-                            " item(s) have lines with different files (SHA-256): " + firstFew(r.conflicting) +
-                            "; were they built from different SPECs or versions?");
+                          " item(s) have lines with different files (SHA-256): " + firstFew(r.conflicting) +
+                          "; were they built from different SPECs or versions?");
     if (!r.missing.empty())
         throw core::Error("corpus: --merge " + cli.merge + ": " + std::to_string(r.missing.size()) +
-                            " item(s) missing: " + firstFew(r.missing) +
-                            "; rerun the shards that hold them (they resume)");
+                          " item(s) missing: " + firstFew(r.missing) +
+                          "; rerun the shards that hold them (they resume)");
 }
 
 void runBuild(const CorpusCli& cli) {
@@ -107,8 +107,7 @@ void runStats(const CorpusCli& cli) {
 
 void run(const CorpusCli& cli) {
     const int modes = int(!cli.spec.empty()) + int(!cli.merge.empty()) + int(!cli.stats.empty());
-    if (modes != 1)
-        throw CLI::ValidationError("give one of SPEC (with --out DIR), --merge DIR, --stats DIR");
+    if (modes != 1) throw CLI::ValidationError("give one of SPEC (with --out DIR), --merge DIR, --stats DIR");
     if (!cli.spec.empty()) {
         if (cli.out.empty()) throw CLI::ValidationError("SPEC needs --out DIR: the folder the items go to");
         runBuild(cli);
@@ -126,27 +125,34 @@ void run(const CorpusCli& cli) {
 void registerCorpus(CLI::App& cli) {
     auto state = std::make_shared<CorpusCli>();
     CLI::App* c = cli.add_subcommand(
-        "corpus", "build many varied scenes and clouds from a SPEC (resumable, --jobs, Slurm array shards), "
-                  "merge shard manifests, summarise a corpus, select study trials by difficulty (docs/corpus.md)");
+        "corpus",
+        "build many varied scenes and clouds from a SPEC (resumable, --jobs, Slurm array shards), "
+        "merge shard manifests, summarise a corpus, select study trials by difficulty (docs/corpus.md)");
     c->add_option("SPEC", state->spec, "SPEC.json: the base scene, count, seed and what varies");
     c->add_option("--out", state->out, "corpus folder: items/<id>/, manifest.jsonl (resumes when it exists)");
     c->add_option("--jobs", state->jobs, "items built at once, [1, 1024]")->capture_default_str();
     c->add_option("--threads", state->threads, "generator threads per item; 0 = the cores divided by --jobs")
         ->capture_default_str();
-    c->add_option("--shard", state->shard, "I/N: build items i with i mod N == I into manifest.<I>.jsonl; default "
-                                           "from SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT");
-    c->add_option("--merge", state->merge, "DIR: merge manifest.<I>.jsonl into manifest.jsonl, sorted by id; "
-                                           "reports missing and duplicated items");
+    c->add_option("--shard", state->shard,
+                  "I/N: build items i with i mod N == I into manifest.<I>.jsonl; default "
+                  "from SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT");
+    c->add_option("--merge", state->merge,
+                  "DIR: merge manifest.<I>.jsonl into manifest.jsonl, sorted by id; "
+                  "reports missing and duplicated items");
     c->add_option("--stats", state->stats, "DIR: distribution of the metric and the other columns, histogram PNG");
     c->add_flag("--json", state->json, "with --stats: print the statistics as JSON on stdout");
-    c->add_option("--column", state->column, "with --stats: the histogram's column (default: metric if present, "
-                                             "else points)");
+    c->add_option("--column", state->column,
+                  "with --stats: the histogram's column (default: metric if present, "
+                  "else points)");
     c->add_option("--histogram", state->histogram, "with --stats: the histogram PNG (default DIR/histogram.png)");
-    c->add_option("--select", state->select, "with --stats: items to pick, e.g. \"metric<0.3\" or "
-                                             "\"metric>=0.2,metric<0.5\" (all must hold); writes a study plan");
+    c->add_option("--select", state->select,
+                  "with --stats: items to pick, e.g. \"metric<0.3\" or "
+                  "\"metric>=0.2,metric<0.5\" (all must hold); writes a study plan");
     c->add_option("--count", state->count, "with --select: trials in the plan")->capture_default_str();
-    c->add_option("--seed", state->seed, "with --select: which matching items are picked, and the plan's "
-                                         "shuffle_seed")->capture_default_str();
+    c->add_option("--seed", state->seed,
+                  "with --select: which matching items are picked, and the plan's "
+                  "shuffle_seed")
+        ->capture_default_str();
     c->add_option("--plan", state->plan, "with --select: the plan file (default DIR/plan.json)");
     c->add_option("--time-limit-s", state->time_limit_s, "with --select: each trial's time limit, seconds > 0")
         ->capture_default_str();

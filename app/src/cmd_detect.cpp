@@ -42,7 +42,7 @@ void run(DetectCli& cli) {
     detect::ClusterOptions& o = cli.options;
     o.target_size_m = {cli.target_size_m[0], cli.target_size_m[1], cli.target_size_m[2]};
     o.ground = parseGround(cli.ground);
-    o.progress = true;  // drawn only when stderr is a terminal
+    o.progress = true;                          // drawn only when stderr is a terminal
     const detect::ClusterDetector detector(o);  // validates the options
 
     const std::filesystem::path out = cli.out;
@@ -67,20 +67,21 @@ void run(DetectCli& cli) {
         j["voxels"] = stats.voxels;
         j["clusters"] = stats.clusters;
         j["candidates"] = candidates.size();
-        j["seconds"] = {{"ground", stats.seconds_ground}, {"cluster", stats.seconds_cluster},
-                        {"boxes", stats.seconds_boxes}};
+        j["seconds"] = {
+            {"ground", stats.seconds_ground}, {"cluster", stats.seconds_cluster}, {"boxes", stats.seconds_boxes}};
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
-    std::printf("detect: %zu points, %zu ground (%s), %zu clusters, %zu candidates with score >= %.2f; "
-                "%.2f s; wrote %s\n",
-                stats.points, stats.ground_points, cli.ground.c_str(), stats.clusters, candidates.size(),
-                o.min_score, stats.seconds_ground + stats.seconds_cluster + stats.seconds_boxes, cli.out.c_str());
+    std::printf(
+        "detect: %zu points, %zu ground (%s), %zu clusters, %zu candidates with score >= %.2f; "
+        "%.2f s; wrote %s\n",
+        stats.points, stats.ground_points, cli.ground.c_str(), stats.clusters, candidates.size(), o.min_score,
+        stats.seconds_ground + stats.seconds_cluster + stats.seconds_boxes, cli.out.c_str());
     for (std::size_t k = 0; k < candidates.size() && k < 5; ++k) {
         const core::Candidate& c = candidates[k];
         std::printf("  %-4s score %.3f  centre %.2f %.2f %.2f  size %.2f x %.2f x %.2f m  yaw %.1f deg  %zu points\n",
-                    c.id.c_str(), c.score, c.centre_world.x, c.centre_world.y, c.centre_world.z, c.size_m.x,
-                    c.size_m.y, c.size_m.z, c.yaw_deg, found[k].points.size());
+                    c.id.c_str(), c.score, c.centre_world.x, c.centre_world.y, c.centre_world.z, c.size_m.x, c.size_m.y,
+                    c.size_m.z, c.yaw_deg, found[k].points.size());
     }
     if (candidates.size() > 5) std::printf("  ... %zu more in %s\n", candidates.size() - 5, cli.out.c_str());
 }
@@ -90,16 +91,16 @@ void run(DetectCli& cli) {
 void registerDetect(CLI::App& cli) {
     auto state = std::make_shared<DetectCli>();
     detect::ClusterOptions& o = state->options;
-    CLI::App* c = cli.add_subcommand(
-        "detect", "baseline 3D ATR: cluster the non-ground points, fit oriented boxes, score them by how well "
-                  "their size matches the target's; writes candidates for `view --candidates`");
+    CLI::App* c =
+        cli.add_subcommand("detect",
+                           "baseline 3D ATR: cluster the non-ground points, fit oriented boxes, score them by how well "
+                           "their size matches the target's; writes candidates for `view --candidates`");
     c->add_option("cloud", state->cloud, "the cloud (PCD, PLY, LAS or LAZ)")->required();
     c->add_option("--out", state->out, "candidates file to write (JSON)")->required();
     c->add_option("--target-size-m", state->target_size_m,
                   "target length width height, metres (default a main battle tank: 7 3.5 2.5)")
         ->expected(3);
-    c->add_option("--size-tolerance", o.size_tolerance,
-                  "size factor (> 1) that costs one side exp(-1/2) of the score")
+    c->add_option("--size-tolerance", o.size_tolerance, "size factor (> 1) that costs one side exp(-1/2) of the score")
         ->capture_default_str();
     c->add_option("--ground", state->ground,
                   "what is ground: ransac (paper's RANSAC per tile), labels (the cloud's ground-truth labels), "

@@ -49,8 +49,10 @@ fs::path defaultOutput(const fs::path& scene, io::CloudFormat format) {
     std::string name = scene.stem().string();
     if (name == "scene" && !scene.parent_path().filename().empty()) name = scene.parent_path().filename().string();
     const bool ply = format == io::CloudFormat::PlyBinary || format == io::CloudFormat::PlyAscii;
-    const char* ext = ply ? ".ply" : format == io::CloudFormat::Las ? ".las"
-                    : format == io::CloudFormat::Laz ? ".laz" : ".pcd";
+    const char* ext = ply                              ? ".ply"
+                      : format == io::CloudFormat::Las ? ".las"
+                      : format == io::CloudFormat::Laz ? ".laz"
+                                                       : ".pcd";
     return fs::path("out") / (name + ext);
 }
 
@@ -73,7 +75,7 @@ void checkExtension(const fs::path& out, io::CloudFormat format) {
     };
     if (family(by_name) != family(format))
         throw core::Error("generate: --out " + out.string() + ": the extension does not match --format " +
-                            formatName(format));
+                          formatName(format));
 }
 
 nlohmann::json optionalNumber(const std::optional<double>& v) {
@@ -100,8 +102,7 @@ void run(GenerateCli& cli) {
     if (!cli.roles.empty()) o.roles = core::RoleMask::parse(cli.roles, "generate: --roles");
     if (!cli.centre.empty()) o.centre = parseWorldTriple(cli.centre, "generate: --centre");
     if (!(std::isfinite(cli.memory_mb) && cli.memory_mb >= 1.0 && cli.memory_mb <= 1048576.0))
-        throw core::Error("generate: --memory-mb = " + core::shownNumber(cli.memory_mb) +
-                            ": allowed [1, 1048576]");
+        throw core::Error("generate: --memory-mb = " + core::shownNumber(cli.memory_mb) + ": allowed [1, 1048576]");
     o.memory_budget_bytes = std::size_t(cli.memory_mb * 1048576.0);
     o.skip_rays = !cli.no_skip_rays;
     applyGroundOptions(cli.ground, o);
@@ -111,11 +112,13 @@ void run(GenerateCli& cli) {
     if (!cli.format.empty()) format = io::parseCloudFormat(cli.format, "generate: --format");
     const fs::path out =
         cli.out.empty() ? defaultOutput(scene_path, format.value_or(io::CloudFormat::PcdBinary)) : fs::path(cli.out);
-    if (format) checkExtension(out, *format);
-    else format = io::formatForPath(out, "generate: --out");
+    if (format)
+        checkExtension(out, *format);
+    else
+        format = io::formatForPath(out, "generate: --out");
     if (!(cli.las_target_class >= 0 && cli.las_target_class <= 255))
         throw core::Error("generate: --las-target-class = " + std::to_string(cli.las_target_class) +
-                            ": allowed 0..255");
+                          ": allowed 0..255");
     o.las.class_of_role[int(core::Role::Target)] = std::uint8_t(cli.las_target_class);
     createParentFolders(out, "generate: --out");
     platform::checkWritableDestination(out);
@@ -157,17 +160,16 @@ void run(GenerateCli& cli) {
                  "precision %s, recall %s\n"
                  "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, ground %.3f s, colour %.3f s, "
                  "write %.3f s, total %.3f s (%d threads%s)\n",
-                 scene_path.string().c_str(), out.string().c_str(), formatName(*format),
-                 scene.meshes.size(), st.triangles, roleList(o.roles).c_str(),
-                 scene.origin.x, scene.origin.y, scene.origin.z, orbit.altitude_m, orbit.overlap_m,
-                 orbit.inclination_deg, orbit.fov_deg, orbit.xres, orbit.yres, orbit.views, st.centre.x,
-                 st.centre.y, st.centre.z, st.drone_radius_m, st.length_sensed_m, st.coverage_diameter_m,
-                 (unsigned long long)st.rays, (unsigned long long)st.rays_traced, (unsigned long long)st.points, (unsigned long long)st.misses,
-                 (unsigned long long)st.ground_found, st.planes_accepted, st.planes_rejected,
-                 (unsigned long long)st.ground_truth, percent(st.ground_precision).c_str(),
-                 percent(st.ground_recall).c_str(), load_s, st.seconds.bvh, st.seconds.cast, st.seconds.fuse,
-                 st.seconds.ground, st.seconds.colour, st.seconds.write, seconds, st.threads,
-                 st.streamed ? ", streamed through a spool file" : "");
+                 scene_path.string().c_str(), out.string().c_str(), formatName(*format), scene.meshes.size(),
+                 st.triangles, roleList(o.roles).c_str(), scene.origin.x, scene.origin.y, scene.origin.z,
+                 orbit.altitude_m, orbit.overlap_m, orbit.inclination_deg, orbit.fov_deg, orbit.xres, orbit.yres,
+                 orbit.views, st.centre.x, st.centre.y, st.centre.z, st.drone_radius_m, st.length_sensed_m,
+                 st.coverage_diameter_m, (unsigned long long)st.rays, (unsigned long long)st.rays_traced,
+                 (unsigned long long)st.points, (unsigned long long)st.misses, (unsigned long long)st.ground_found,
+                 st.planes_accepted, st.planes_rejected, (unsigned long long)st.ground_truth,
+                 percent(st.ground_precision).c_str(), percent(st.ground_recall).c_str(), load_s, st.seconds.bvh,
+                 st.seconds.cast, st.seconds.fuse, st.seconds.ground, st.seconds.colour, st.seconds.write, seconds,
+                 st.threads, st.streamed ? ", streamed through a spool file" : "");
     if (o.white) std::fprintf(stderr, "  --white: no colouring, no ground whitening\n");
     reportGround(cli.ground, o, st, scene.origin);
     if (o.threads > st.threads)
@@ -212,9 +214,8 @@ void run(GenerateCli& cli) {
         j["threads"] = st.threads;
         j["streamed"] = st.streamed;
         j["seconds"] = seconds;
-        j["stage_seconds"] = {{"load", load_s},          {"bvh", st.seconds.bvh},
-                              {"cast", st.seconds.cast},  {"fuse", st.seconds.fuse},
-                              {"ground", st.seconds.ground}, {"colour", st.seconds.colour},
+        j["stage_seconds"] = {{"load", load_s},           {"bvh", st.seconds.bvh},       {"cast", st.seconds.cast},
+                              {"fuse", st.seconds.fuse},  {"ground", st.seconds.ground}, {"colour", st.seconds.colour},
                               {"write", st.seconds.write}};
         addGroundJson(j, cli.ground, st);
         std::printf("%s\n", j.dump(2).c_str());
@@ -225,42 +226,49 @@ void run(GenerateCli& cli) {
 
 void registerGenerate(CLI::App& cli) {
     auto state = std::make_shared<GenerateCli>();
-    CLI::App* c = cli.add_subcommand(
-        "generate", "simulate the drone Ladar of paper §III: ray-cast NoV views on a circular orbit, fuse, "
-                    "whiten the ground (iterative RANSAC), colour by height (jet, 64 values)");
+    CLI::App* c =
+        cli.add_subcommand("generate",
+                           "simulate the drone Ladar of paper §III: ray-cast NoV views on a circular orbit, fuse, "
+                           "whiten the ground (iterative RANSAC), colour by height (jet, 64 values)");
     sim::GenerateOptions& o = state->options;
     sim::OrbitOptions& orbit = o.orbit;
     c->add_option("--scene", state->scene, "scene file (JSON); default: the bundled demo scene");
-    c->add_option("--out", state->out, "output cloud (.pcd, .ply, .las, .laz); default out/<scene name>.pcd "
-                                       "(.ply/.las/.laz with --format)");
-    c->add_option("--format", state->format, "pcd (binary, default), pcd-ascii, ply (binary), ply-ascii, las, "
-                                             "laz; default from the --out extension");
-    c->add_option("--las-target-class", state->las_target_class,
-                  "LAS/LAZ: the ASPRS class of target points, 0..255")->capture_default_str();
+    c->add_option("--out", state->out,
+                  "output cloud (.pcd, .ply, .las, .laz); default out/<scene name>.pcd "
+                  "(.ply/.las/.laz with --format)");
+    c->add_option("--format", state->format,
+                  "pcd (binary, default), pcd-ascii, ply (binary), ply-ascii, las, "
+                  "laz; default from the --out extension");
+    c->add_option("--las-target-class", state->las_target_class, "LAS/LAZ: the ASPRS class of target points, 0..255")
+        ->capture_default_str();
     c->add_option("--drone-speed-mps", o.drone_speed_mps,
-                  "LAS/LAZ: drone speed along the orbit, m/s > 0 (sets each view's GPS time)")->capture_default_str();
+                  "LAS/LAZ: drone speed along the orbit, m/s > 0 (sets each view's GPS time)")
+        ->capture_default_str();
     c->add_flag("--white", o.white, "write the uncoloured (white) cloud: no colour map, no ground filter");
     c->add_flag("--no-skip-rays", state->no_skip_rays,
                 "trace every pixel, also those whose rays cannot meet the ray-cast geometry's bounds "
                 "(same cloud, slower; for comparisons)");
     c->add_flag("--skip-nonfinite", state->skip_nonfinite,
                 "drop triangles with a NaN/inf vertex (counted in a warning) instead of failing");
-    c->add_option("--roles", state->roles, "ray-cast only these roles, e.g. target,environment "
-                                           "(the orbit stays that of the whole scene)");
+    c->add_option("--roles", state->roles,
+                  "ray-cast only these roles, e.g. target,environment "
+                  "(the orbit stays that of the whole scene)");
     c->add_option("--altitude-m", orbit.altitude_m, "drone altitude above C, metres > 0")->capture_default_str();
     c->add_option("--overlap-m", orbit.overlap_m, "CO: how far past C the footprint reaches, metres")
         ->capture_default_str();
-    c->add_option("--alpha-deg", orbit.inclination_deg, "sensor inclination from the vertical, [0, 90) deg; "
-                                                        "alpha + fov/2 < 89.99")->capture_default_str();
+    c->add_option("--alpha-deg", orbit.inclination_deg,
+                  "sensor inclination from the vertical, [0, 90) deg; "
+                  "alpha + fov/2 < 89.99")
+        ->capture_default_str();
     c->add_option("--fov-deg", orbit.fov_deg, "vertical field of view, (0, 170] deg")->capture_default_str();
     c->add_option("--xres", orbit.xres, "pixels across, 1..65536")->capture_default_str();
     c->add_option("--yres", orbit.yres, "pixels down, 1..65536")->capture_default_str();
     c->add_option("--views", orbit.views, "NoV: drone positions on the orbit, 1..65535")->capture_default_str();
-    c->add_option("--centre", state->centre, "C as x,y,z world metres; default: the target's centre on the "
-                                             "ground");
+    c->add_option("--centre", state->centre,
+                  "C as x,y,z world metres; default: the target's centre on the "
+                  "ground");
     c->add_option("--threads", o.threads, "worker threads, 0 = all cores")->capture_default_str();
-    c->add_option("--seed", o.seed, "RANSAC seed (view v shuffles with mt19937_64(seed ^ v))")
-        ->capture_default_str();
+    c->add_option("--seed", o.seed, "RANSAC seed (view v shuffles with mt19937_64(seed ^ v))")->capture_default_str();
     addGroundOptions(*c, state->ground, o.ground);
     c->add_option("--colours", o.colour.entries, "entries of the jet map, [2, 256]")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,

@@ -39,7 +39,6 @@ struct MetricCli {
     metric::MetricOptions options;
 };
 
-
 std::string percent(double v) {
     if (std::isnan(v)) return "n/a";
     char buffer[32];
@@ -54,10 +53,11 @@ void printTraceSummary(const MetricCli& cli, const metric::MetricResult& r, std:
     for (const metric::ViewResult& v : r.views)
         if (v.used) visible_sum += v.visible;
     const double whole = r.views.empty() ? 0.0 : visible_sum / double(r.views.size());
-    std::printf("metric: trace %s: %zu of %zu samples used (every %.3g s); target in view in %d; visible %s "
-                "while in view, %s over the whole trace\n",
-                cli.trace.c_str(), r.views.size(), samples, cli.trace_step_s, r.views_used,
-                percent(r.visible_mean).c_str(), percent(whole).c_str());
+    std::printf(
+        "metric: trace %s: %zu of %zu samples used (every %.3g s); target in view in %d; visible %s "
+        "while in view, %s over the whole trace\n",
+        cli.trace.c_str(), r.views.size(), samples, cli.trace_step_s, r.views_used, percent(r.visible_mean).c_str(),
+        percent(whole).c_str());
 }
 
 void run(MetricCli& cli) {
@@ -75,7 +75,7 @@ void run(MetricCli& cli) {
     if (!cli.trace.empty()) {
         if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
             throw core::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
-                                ": allowed [0, 3600] seconds");
+                              ": allowed [0, 3600] seconds");
         const std::vector<io::TraceRow> samples = io::readTrace(cli.trace).rows;
         trace_samples = samples.size();
         for (const io::TraceRow& h : metric::everyStep(samples, cli.trace_step_s))
@@ -84,8 +84,7 @@ void run(MetricCli& cli) {
     const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
     if (from_files && (cli.p1.empty() || cli.p2.empty() || cli.p3.empty()))
         throw core::Error("metric: --p1, --p2 and --p3 go together: give all three clouds");
-    if (from_files && !cli.scene.empty())
-        throw core::Error("metric: --scene and --p1/--p2/--p3 exclude each other");
+    if (from_files && !cli.scene.empty()) throw core::Error("metric: --scene and --p1/--p2/--p3 exclude each other");
     metric::validate(o);
 
     // Fail on the destination before the (long) generation; the folder itself is made
@@ -118,13 +117,13 @@ void run(MetricCli& cli) {
         std::printf("metric: %s mean over the samples with the target in view; %.2f s; wrote %s\n",
                     percent(result.metric_mean).c_str(), result.seconds, out.string().c_str());
     } else {
-        std::printf("metric: %s mean (min %s, max %s) over %d of %zu views; visible %s; depth-aware %s; exact %s; "
-                    "%.2f s; wrote %s\n",
-                    percent(result.metric_mean).c_str(), percent(result.metric_min).c_str(),
-                    percent(result.metric_max).c_str(), result.views_used, result.views.size(),
-                    percent(result.visible_mean).c_str(), percent(result.depth_visible_mean).c_str(),
-                    result.has_exact ? percent(result.exact_mean).c_str() : "absent", result.seconds,
-                    out.string().c_str());
+        std::printf(
+            "metric: %s mean (min %s, max %s) over %d of %zu views; visible %s; depth-aware %s; exact %s; "
+            "%.2f s; wrote %s\n",
+            percent(result.metric_mean).c_str(), percent(result.metric_min).c_str(), percent(result.metric_max).c_str(),
+            result.views_used, result.views.size(), percent(result.visible_mean).c_str(),
+            percent(result.depth_visible_mean).c_str(),
+            result.has_exact ? percent(result.exact_mean).c_str() : "absent", result.seconds, out.string().c_str());
         if (result.views_used < static_cast<int>(result.views.size()))
             std::printf("metric: %zu views had |I1| = 0 (target out of frame) and are left out; see views.csv\n",
                         result.views.size() - static_cast<std::size_t>(result.views_used));
@@ -136,8 +135,9 @@ void run(MetricCli& cli) {
 void registerMetric(CLI::App& cli) {
     auto state = std::make_shared<MetricCli>();
     state->options.picture_view = 0;
-    CLI::App* c = cli.add_subcommand("metric", "visibility metric of the target (paper §IV-B): mean over an "
-                                               "orbit of |I2 xor I3| / |I1|, with an exact mesh reference");
+    CLI::App* c = cli.add_subcommand("metric",
+                                     "visibility metric of the target (paper §IV-B): mean over an "
+                                     "orbit of |I2 xor I3| / |I1|, with an exact mesh reference");
     metric::MetricOptions& o = state->options;
     c->add_option("--scene", state->scene, "scene file (default: the bundled demo scene)");
     c->add_option("--out", state->out, "output directory for views.csv, summary.json, PNGs")->capture_default_str();
@@ -150,8 +150,7 @@ void registerMetric(CLI::App& cli) {
     c->add_option("--altitude-m", o.orbit.altitude_m, "eye height above the look-at point, metres")
         ->capture_default_str();
     c->add_option("--look-at", state->look_at, "x,y,z world metres (default: centre of the target's bounds)");
-    c->add_option("--vfov-deg", o.orbit.vfov_deg, "vertical field of view, (0, 170] degrees")
-        ->capture_default_str();
+    c->add_option("--vfov-deg", o.orbit.vfov_deg, "vertical field of view, (0, 170] degrees")->capture_default_str();
     c->add_option("--width", o.width, "image width, 16..8192 pixels")->capture_default_str();
     c->add_option("--height", o.height, "image height, 16..8192 pixels")->capture_default_str();
     c->add_option("--splat-px", o.splat_px, "square point splat side, [1, 64] pixels")->capture_default_str();
@@ -168,7 +167,7 @@ void registerMetric(CLI::App& cli) {
     c->add_option("--trace-step-s", state->trace_step_s,
                   "with --trace, use samples at least this far apart, [0, 3600] s (0: every sample)")
         ->capture_default_str()
-        ->needs(trace);   // alone it would change nothing: refused rather than ignored
+        ->needs(trace);  // alone it would change nothing: refused rather than ignored
     for (const char* orbit_only : {"--views", "--radius-m", "--altitude-m", "--look-at"})
         trace->excludes(c->get_option(orbit_only));
     c->add_flag("--json", state->json, "print summary.json to stdout");

@@ -37,19 +37,21 @@ nlohmann::json toJson(const core::SceneSummary& s, const std::filesystem::path& 
     j["bounds_world"] = {{"lo", vec(s.origin + s.bounds.lo)}, {"hi", vec(s.origin + s.bounds.hi)}};
     j["meshes"] = nlohmann::json::array();
     for (const core::MeshSummary& m : s.meshes)
-        j["meshes"].push_back({{"file", m.file},
-                               {"role", std::string(core::roleName(m.role))},
-                               {"triangles", m.triangles},
-                               {"size_m", vec(m.bounds.size())},
-                               {"position", vec(m.position)},
-                               {"bounds_world", {{"lo", vec(s.origin + m.bounds.lo)}, {"hi", vec(s.origin + m.bounds.hi)}}}});
+        j["meshes"].push_back(
+            {{"file", m.file},
+             {"role", std::string(core::roleName(m.role))},
+             {"triangles", m.triangles},
+             {"size_m", vec(m.bounds.size())},
+             {"position", vec(m.position)},
+             {"bounds_world", {{"lo", vec(s.origin + m.bounds.lo)}, {"hi", vec(s.origin + m.bounds.hi)}}}});
     if (s.target) {
         const core::TargetSummary& t = *s.target;
-        j["target"] = {{"size_m", vec(t.bounds.size())},
-                       {"centre_world", vec(s.origin + t.bounds.centre())},
-                       {"bottom_z_world", s.origin.z + t.bounds.lo.z},
-                       {"ground_z_world", t.ground_z ? nlohmann::json(s.origin.z + *t.ground_z) : nlohmann::json(nullptr)},
-                       {"height_above_ground_m", optionalNumber(t.height_above_ground_m)}};
+        j["target"] = {
+            {"size_m", vec(t.bounds.size())},
+            {"centre_world", vec(s.origin + t.bounds.centre())},
+            {"bottom_z_world", s.origin.z + t.bounds.lo.z},
+            {"ground_z_world", t.ground_z ? nlohmann::json(s.origin.z + *t.ground_z) : nlohmann::json(nullptr)},
+            {"height_above_ground_m", optionalNumber(t.height_above_ground_m)}};
     } else {
         j["target"] = nullptr;
     }
@@ -71,23 +73,22 @@ std::string triple(const glm::dvec3& v, int decimals, const char* separator = " 
 }
 
 void printHuman(const core::SceneSummary& s, const std::filesystem::path& path) {
-    std::printf("scene %s: %zu meshes, %zu triangles, origin %s\n", path.string().c_str(), s.meshes.size(),
-                s.triangles, triple(s.origin, 3).c_str());
+    std::printf("scene %s: %zu meshes, %zu triangles, origin %s\n", path.string().c_str(), s.meshes.size(), s.triangles,
+                triple(s.origin, 3).c_str());
     std::printf("  %-4s %-11s %9s  %-26s  %-30s  %s\n", "#", "role", "triangles", "size x y z (m)",
                 "position x y z (m)", "file");
     for (std::size_t i = 0; i < s.meshes.size(); ++i) {
         const core::MeshSummary& m = s.meshes[i];
         std::printf("  %-4zu %-11s %9zu  %-26s  %-30s  %s\n", i, std::string(core::roleName(m.role)).c_str(),
-                    m.triangles, triple(m.bounds.size(), 2, " x ").c_str(),
-                    triple(m.position, 3).c_str(), m.file.c_str());
+                    m.triangles, triple(m.bounds.size(), 2, " x ").c_str(), triple(m.position, 3).c_str(),
+                    m.file.c_str());
     }
     if (!s.target) {
         std::printf("target: none (generate needs one)\n");
         return;
     }
     const core::TargetSummary& t = *s.target;
-    std::printf("target: size %s m, centre %s, bottom at z = %.3f\n",
-                triple(t.bounds.size(), 2, " x ").c_str(),
+    std::printf("target: size %s m, centre %s, bottom at z = %.3f\n", triple(t.bounds.size(), 2, " x ").c_str(),
                 triple(s.origin + t.bounds.centre(), 3).c_str(), s.origin.z + t.bounds.lo.z);
     if (t.height_above_ground_m)
         std::printf("target: height above the ground under its centre %.3f m (ground at z = %.3f)\n",
@@ -116,8 +117,9 @@ void registerScene(CLI::App& cli) {
     scene->require_subcommand(1);
     auto state = std::make_shared<SceneInfoCli>();
     CLI::App* info = scene->add_subcommand(
-        "info", "each mesh's role, file, triangles, size and position; the target's size and height above "
-                "the ground under it; what generate would warn about");
+        "info",
+        "each mesh's role, file, triangles, size and position; the target's size and height above "
+        "the ground under it; what generate would warn about");
     info->add_option("scene", state->scene, "scene file (JSON); default: the bundled demo scene");
     info->add_flag("--json", state->json, "print the same as JSON on stdout");
     info->callback([state] { run(*state); });

@@ -28,8 +28,8 @@ struct StudyArgs {
     bool no_xr = false, no_metric = false;
     int width = 1280, height = 720;
     double pick_angle_deg = 0.5;
-    double hit_radius_m = -1.0;                       // < 0: the plan's
-    double orbit_radius_m = -1.0, orbit_height_m = std::nan(""), orbit_period_s = -1.0;   // unset: the plan's
+    double hit_radius_m = -1.0;                                                          // < 0: the plan's
+    double orbit_radius_m = -1.0, orbit_height_m = std::nan(""), orbit_period_s = -1.0;  // unset: the plan's
 };
 
 // The window and mirror settings both runs share.
@@ -86,16 +86,17 @@ int runStudy(const StudyArgs& a) {
 
 void registerStudy(CLI::App& cli) {
     auto args = std::make_shared<StudyArgs>();
-    CLI::App* cmd = cli.add_subcommand(
-        "study", "run a target-search study: the plan's trials in the viewer, logged to --out "
-                 "(see docs/study.md)");
+    CLI::App* cmd = cli.add_subcommand("study",
+                                       "run a target-search study: the plan's trials in the viewer, logged to --out "
+                                       "(see docs/study.md)");
     cmd->add_option("plan", args->plan, "PLAN.json: the trials (clouds or scenes, candidates, time limits)");
     cmd->add_option("--replay", args->replay, "replay a study's trace in the mirror: the --out folder of a study");
     cmd->add_option("--trial", args->trial, "with --replay: the trial (1 = the first run)")->capture_default_str();
     cmd->add_option("--screenshot", args->screenshot, "with --replay: write the mirror as PNG at the last frame");
     cmd->add_option("--out", args->out, "folder for trials.csv, candidates.csv and trace_<N>.csv (new or empty)");
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
-    cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")->capture_default_str();
+    cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
+        ->capture_default_str();
     cmd->add_option("--colour", args->colour, "point colours: file, height, white, label")->capture_default_str();
     cmd->add_option("--frames", args->frames, "stop after N frames of the whole run (0 = until the trials end)")
         ->capture_default_str();
@@ -109,13 +110,17 @@ void registerStudy(CLI::App& cli) {
     cmd->add_option("--height", args->height, "window height, pixels")->capture_default_str();
     cmd->add_option("--pick-angle", args->pick_angle_deg, "the pointer's angular radius, degrees (0, 10]")
         ->capture_default_str();
-    cmd->add_option("--hit-radius", args->hit_radius_m, "a designation this close to a target point is a hit, metres "
-                                                        "(default: the plan's, else 1)");
-    cmd->add_option("--orbit-radius", args->orbit_radius_m, "automatic orbit radius, metres (default: the plan's, else 60)");
-    cmd->add_option("--orbit-height", args->orbit_height_m, "automatic orbit height above the centre, metres "
-                                                            "(default: the plan's, else 40)");
-    cmd->add_option("--orbit-period", args->orbit_period_s, "seconds per turn of the automatic orbit "
-                                                            "(default: the plan's, else 60)");
+    cmd->add_option("--hit-radius", args->hit_radius_m,
+                    "a designation this close to a target point is a hit, metres "
+                    "(default: the plan's, else 1)");
+    cmd->add_option("--orbit-radius", args->orbit_radius_m,
+                    "automatic orbit radius, metres (default: the plan's, else 60)");
+    cmd->add_option("--orbit-height", args->orbit_height_m,
+                    "automatic orbit height above the centre, metres "
+                    "(default: the plan's, else 40)");
+    cmd->add_option("--orbit-period", args->orbit_period_s,
+                    "seconds per turn of the automatic orbit "
+                    "(default: the plan's, else 60)");
     cmd->add_flag("--no-metric", args->no_metric, "leave visibility_metric empty (skip the metric of scene trials)");
     cmd->callback([args] {
         const int status = runStudy(*args);

@@ -43,14 +43,13 @@ struct ViewArgs {
     double pick_angle_deg = 0.5, cut_radius_m = 15.0;
     std::string candidates;
     bool no_snap_turn = false, no_vignette = false, no_headset_panel = false;
-    sim::OrbitOptions orbit;   // only for the generated cloud
+    sim::OrbitOptions orbit;  // only for the generated cloud
 };
 
 int runView(const ViewArgs& a) {
     const auto start = std::chrono::steady_clock::now();
     const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("view", a.timeout_s);
-    if (!a.cloud.empty() && !a.scene.empty())
-        throw core::Error("view: give a cloud file or --scene, not both");
+    if (!a.cloud.empty() && !a.scene.empty()) throw core::Error("view: give a cloud file or --scene, not both");
     const sim::OrbitOptions paper;
     if (!a.cloud.empty() && (a.orbit.xres != paper.xres || a.orbit.yres != paper.yres || a.orbit.views != paper.views))
         throw core::Error("view: --xres/--yres/--views apply to a generated cloud, not to a cloud file");
@@ -88,18 +87,16 @@ int runView(const ViewArgs& a) {
     prepareOutputFile(o.log_json, "view: --log-json");
 
     viewer::CloudFeed feed;
-    feed.enableLodOrder();   // LOD order of each chunk on the loader / generator thread, not in the frame loop
+    feed.enableLodOrder();  // LOD order of each chunk on the loader / generator thread, not in the frame loop
     std::thread generator;
     if (!a.cloud.empty()) {
         const std::filesystem::path path(a.cloud);
         feed.startFileLoader(path);
     } else {
         // Load (and validate) the scene now, so a bad scene fails before a window opens.
-        const std::filesystem::path scene_path = a.scene.empty() ? io::demoScenePath()
-                                                                 : std::filesystem::path(a.scene);
+        const std::filesystem::path scene_path = a.scene.empty() ? io::demoScenePath() : std::filesystem::path(a.scene);
         auto scene = std::make_shared<core::Scene>(io::loadScene(scene_path));
-        std::fprintf(stderr, "ladarvr: view: generating the cloud of %s\n",
-                     scene_path.string().c_str());
+        std::fprintf(stderr, "ladarvr: view: generating the cloud of %s\n", scene_path.string().c_str());
         sim::GenerateOptions check;
         check.orbit = a.orbit;
         sim::validate(check);
@@ -115,8 +112,8 @@ int runView(const ViewArgs& a) {
     }
     // --timeout counts from the start of the command: the loop gets what start-up left.
     if (o.timeout_s > 0.0)
-        o.timeout_s = std::max(0.001, o.timeout_s - std::chrono::duration<double>(
-                                                       std::chrono::steady_clock::now() - start).count());
+        o.timeout_s = std::max(
+            0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     int status = 1;
     try {
         status = viewer::runViewer(o, feed);
@@ -131,26 +128,30 @@ int runView(const ViewArgs& a) {
 
 void registerView(CLI::App& cli) {
     auto args = std::make_shared<ViewArgs>();
-    CLI::App* cmd = cli.add_subcommand(
-        "view", "view a cloud in an OpenXR HMD with a desktop mirror, or on the desktop "
-                "(space: automatic orbit <-> free mode; see docs/viewer.md)");
+    CLI::App* cmd = cli.add_subcommand("view",
+                                       "view a cloud in an OpenXR HMD with a desktop mirror, or on the desktop "
+                                       "(space: automatic orbit <-> free mode; see docs/viewer.md)");
     cmd->add_option("cloud", args->cloud, "PCD, PLY, LAS or LAZ cloud (default: generate the bundled demo scene)");
     cmd->add_option("--scene", args->scene, "generate this scene's cloud and view it");
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
         ->capture_default_str();
-    cmd->add_option("--colour", args->colour, "point colours: file, height (jet), white, label (ground truth: "
-                                              "target red), above-ground (jet by height above the terrain)")->capture_default_str();
+    cmd->add_option("--colour", args->colour,
+                    "point colours: file, height (jet), white, label (ground truth: "
+                    "target red), above-ground (jet by height above the terrain)")
+        ->capture_default_str();
     cmd->add_option("--point-size", args->point_size_px, "point size in pixels [1, 64] (at 100 m with --attenuate)")
         ->capture_default_str();
     cmd->add_flag("--attenuate", args->attenuate, "point size falls off with distance");
     cmd->add_flag("--no-edl", args->no_edl, "turn eye-dome lighting off");
     cmd->add_option("--frames", args->frames, "stop after N frames (with OpenXR: submitted frames); 0 = until closed")
         ->capture_default_str();
-    cmd->add_option("--timeout", args->timeout_s, "give up this many seconds after the start (start-up included), exit 1 (0 = never)")
+    cmd->add_option("--timeout", args->timeout_s,
+                    "give up this many seconds after the start (start-up included), exit 1 (0 = never)")
         ->capture_default_str();
-    cmd->add_option("--script", args->script, "operator actions at frames: lines '<frame> space|escape|designate|confirm|reject|no_target|next', "
-                                              "'<frame> aim X Y Z', '<frame> grab_scale S' (docs/viewer.md)");
+    cmd->add_option("--script", args->script,
+                    "operator actions at frames: lines '<frame> space|escape|designate|confirm|reject|no_target|next', "
+                    "'<frame> aim X Y Z', '<frame> grab_scale S' (docs/viewer.md)");
     cmd->add_option("--screenshot", args->screenshot, "write the mirror as PNG at the last frame");
     cmd->add_option("--log-json", args->log_json, "write a machine-readable run log (states, frames, poses, modes)");
     cmd->add_option("--width", args->width, "window width, pixels")->capture_default_str();
@@ -170,8 +171,9 @@ void registerView(CLI::App& cli) {
         ->capture_default_str();
     cmd->add_option("--cut-radius", args->cut_radius_m, "cutting volume radius when switched on (V), metres")
         ->capture_default_str();
-    cmd->add_option("--candidates", args->candidates, "candidate detections (JSON, as `ladarvr detect` writes) to "
-                                                      "confirm or reject");
+    cmd->add_option("--candidates", args->candidates,
+                    "candidate detections (JSON, as `ladarvr detect` writes) to "
+                    "confirm or reject");
     cmd->add_flag("--no-snap-turn", args->no_snap_turn, "headset, free mode: turn smoothly instead of 45 deg steps");
     cmd->add_flag("--no-vignette", args->no_vignette, "headset, free mode: no tunnel vignette while moving");
     cmd->add_flag("--no-headset-panel", args->no_headset_panel, "do not show the ImGui panel in the headset");

@@ -6,12 +6,12 @@
 
 namespace app {
 
-void registerGenerate(CLI::App& cli);   // cmd_generate.cpp: `ladarvr generate`
-void registerMetric(CLI::App& cli);     // cmd_metric.cpp:   `ladarvr metric`
-void registerView(CLI::App& cli);       // cmd_view.cpp:     `ladarvr view`
-void registerScene(CLI::App& cli);      // cmd_scene.cpp:    `ladarvr scene info`
-void registerDetect(CLI::App& cli);     // cmd_detect.cpp:   `ladarvr detect`
-void registerCorpus(CLI::App& cli);     // cmd_corpus.cpp:   `ladarvr corpus`
-void registerStudy(CLI::App& cli);      // cmd_study.cpp:    `ladarvr study`
+void registerGenerate(CLI::App& cli);  // cmd_generate.cpp: `ladarvr generate`
+void registerMetric(CLI::App& cli);    // cmd_metric.cpp:   `ladarvr metric`
+void registerView(CLI::App& cli);      // cmd_view.cpp:     `ladarvr view`
+void registerScene(CLI::App& cli);     // cmd_scene.cpp:    `ladarvr scene info`
+void registerDetect(CLI::App& cli);    // cmd_detect.cpp:   `ladarvr detect`
+void registerCorpus(CLI::App& cli);    // cmd_corpus.cpp:   `ladarvr corpus`
+void registerStudy(CLI::App& cli);     // cmd_study.cpp:    `ladarvr study`
 
 }  // namespace app

@@ -15,8 +15,8 @@
 namespace app {
 
 namespace {
-constexpr double kMinRecall = 0.80;            // labelled ground whitened, below which we advise
-constexpr double kMaxColouredTerrain = 0.20;   // share of terrain points left coloured, above which
+constexpr double kMinRecall = 0.80;           // labelled ground whitened, below which we advise
+constexpr double kMaxColouredTerrain = 0.20;  // share of terrain points left coloured, above which
 
 std::string percentText(double v) {
     char b[32];
@@ -32,8 +32,10 @@ void addRansacOptions(CLI::App& c, sim::RansacOptions& ransac) {
         ->capture_default_str();
     c.add_option("--min-normal-z", ransac.min_normal_z, "accept planes with |normal.z| >= this, [0, 1]")
         ->capture_default_str();
-    c.add_option("--stop-fraction", ransac.stop_fraction, "stop when PC is under this fraction of the band, "
-                                                          "[0, 1]")->capture_default_str();
+    c.add_option("--stop-fraction", ransac.stop_fraction,
+                 "stop when PC is under this fraction of the band, "
+                 "[0, 1]")
+        ->capture_default_str();
     c.add_option("--min-plane-fraction", ransac.min_plane_fraction,
                  "a ground plane holds at least this fraction of the band, [0, 1]; 0 = the paper's rule")
         ->capture_default_str();
@@ -53,8 +55,7 @@ void addSmrfOptions(CLI::App& c, sim::SmrfOptions& smrf) {
     c.add_option("--smrf-threshold-m", smrf.threshold_m,
                  "SMRF: ground within this height of the terrain, metres [0, 1000]")
         ->capture_default_str();
-    c.add_option("--smrf-scalar", smrf.scalar,
-                 "SMRF: plus this many metres per unit of terrain slope, [0, 1000]")
+    c.add_option("--smrf-scalar", smrf.scalar, "SMRF: plus this many metres per unit of terrain slope, [0, 1000]")
         ->capture_default_str();
 }
 
@@ -143,8 +144,7 @@ void addGroundJson(nlohmann::json& j, const GroundCli& cli, const sim::GenerateS
     j["terrain_points"] = st.terrain_points;
     j["terrain_points_coloured"] = st.terrain_points_coloured;
     j["ground_advice"] = groundAdvice(st).value_or("");
-    j["dtm"] = cli.dtm.empty() ? nlohmann::json(nullptr)
-                               : nlohmann::json(std::filesystem::absolute(cli.dtm).string());
+    j["dtm"] = cli.dtm.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::absolute(cli.dtm).string());
     j["stage_seconds"]["ground_check"] = st.seconds.ground_check;
 }
 

@@ -13,8 +13,9 @@
 #include <exception>
 
 int main(int argc, char** argv) {
-    CLI::App cli{"ladarvr: simulate a drone Ladar, view its point cloud in VR, "
-                 "measure how visible the target is (Berge et al., CEEC 2016)"};
+    CLI::App cli{
+        "ladarvr: simulate a drone Ladar, view its point cloud in VR, "
+        "measure how visible the target is (Berge et al., CEEC 2016)"};
     cli.set_version_flag("--version", "ladarvr " LADARVR_VERSION, "print the version and exit");
     cli.require_subcommand(1);
     app::registerGenerate(cli);
@@ -27,8 +28,9 @@ int main(int argc, char** argv) {
     app::applyConventions(cli);  // after every subcommand: the checks reach all options
     // The benchmarks are a program of their own (bench/), built and run from the checkout.
     if (argc > 1 && std::strcmp(argv[1], "bench") == 0) {
-        std::fprintf(stderr, "ladarvr: error: bench: the benchmarks are not part of this program; run './ladarvr "
-                             "bench WHAT' in the source checkout (see './ladarvr bench --help')\n");
+        std::fprintf(stderr,
+                     "ladarvr: error: bench: the benchmarks are not part of this program; run './ladarvr "
+                     "bench WHAT' in the source checkout (see './ladarvr bench --help')\n");
         return app::kExitUsage;
     }
     try {

@@ -16,7 +16,7 @@ namespace {
 struct SensorCli {
     std::string preset = "ideal";
     std::string returns;
-    sim::SensorOptions given;                              // the values as parsed
+    sim::SensorOptions given;                                     // the values as parsed
     std::vector<std::function<void(sim::SensorOptions&)>> apply;  // copies one given value, if given
 };
 
@@ -32,14 +32,14 @@ void addSensorOptions(CLI::App& cmd, sim::SensorOptions& out) {
     auto cli = std::make_shared<SensorCli>();
     sim::SensorOptions& g = cli->given;
     // Registers option `name` bound to member `field` of the given options.
-    const auto add = [&](const char* name, auto sim::SensorOptions::*field, const std::string& help) {
+    const auto add = [&](const char* name, auto sim::SensorOptions::* field, const std::string& help) {
         CLI::Option* opt = cmd.add_option(name, g.*field, help);
         cli->apply.push_back([opt, field, c = cli.get()](sim::SensorOptions& o) {
             if (opt->count() > 0) o.*field = c->given.*field;
         });
     };
-    cmd.add_option("--sensor", cli->preset, "sensor preset: " + presetList() +
-                                                " (docs/sensor.md); the options below override it")
+    cmd.add_option("--sensor", cli->preset,
+                   "sensor preset: " + presetList() + " (docs/sensor.md); the options below override it")
         ->capture_default_str();
     add("--range-noise-m", &sim::SensorOptions::range_noise_m, "sigma of the Gaussian range error, [0, 100] m");
     add("--pose-noise-m", &sim::SensorOptions::pose_noise_m,

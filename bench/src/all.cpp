@@ -53,7 +53,7 @@ std::string runEcho(const std::string& cmd, int* status) {
 // --- bench fuzz -------------------------------------------------------------
 
 struct BenchFuzzCli {
-    int seconds = 600;   // per target: ten minutes, the least a recorded run fuzzes each parser
+    int seconds = 600;  // per target: ten minutes, the least a recorded run fuzzes each parser
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
 };
@@ -104,12 +104,13 @@ void runFuzz(const BenchFuzzCli& cli) {
     }
     if (runs.empty())
         throw core::Error("bench fuzz: " + script.string() + " ran no target (exit " + std::to_string(status) +
-                            "); is clang installed? (BENCH_PACKAGES of ./ladarvr)");
+                          "); is clang installed? (BENCH_PACKAGES of ./ladarvr)");
     std::ostringstream s;
     s << "## Fuzzing (ladarvr bench fuzz)\n\n"
-      << "Command: `./ladarvr bench fuzz --seconds " << cli.seconds << "` (runs `scripts/fuzz.sh`); machine: "
-      << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
-      << fmt("%.0f", secondsSince(t0)) << " s in all, build included. libFuzzer from Debian's clang, core, platform and io "
+      << "Command: `./ladarvr bench fuzz --seconds " << cli.seconds
+      << "` (runs `scripts/fuzz.sh`); machine: " << std::thread::hardware_concurrency() << " cores, " << cpuName()
+      << "; " << utcNow() << "; " << fmt("%.0f", secondsSince(t0))
+      << " s in all, build included. libFuzzer from Debian's clang, core, platform and io "
       << "compiled with ASan + UBSan (UB aborts), one process per target (as many at a time as there are cores), "
       << "each held to -rss_limit_mb=2048 and -malloc_limit_mb=512, seeds from fuzz/seeds, "
       << "tests/data and earlier runs (corpus kept in build/fuzz/corpus). Not run in CI.\n\n"
@@ -118,9 +119,7 @@ void runFuzz(const BenchFuzzCli& cli) {
     long long crashes = 0;
     for (const FuzzRun& r : runs) {
         crashes += r.crashes;
-        s << "| " << r.target << " | "
-          << fuzzParser(r.target)
-          << " | " << r.seconds << " | " << r.runs << " | "
+        s << "| " << r.target << " | " << fuzzParser(r.target) << " | " << r.seconds << " | " << r.runs << " | "
           << fmt("%.0f", r.seconds > 0 ? double(r.runs) / double(r.seconds) : 0.0) << " | " << r.corpus << " | "
           << r.cov << " | " << r.crashes << (r.rc != 0 ? " (exit " + std::to_string(r.rc) + ")" : "") << " |\n";
     }
@@ -133,7 +132,8 @@ void runFuzz(const BenchFuzzCli& cli) {
         std::fputs(s.str().c_str(), stdout);
     }
     if (crashes > 0 || status != 0)
-        throw core::Error("bench fuzz: " + std::to_string(crashes) + " crash(es) found; inputs in build/fuzz/artifacts/");
+        throw core::Error("bench fuzz: " + std::to_string(crashes) +
+                          " crash(es) found; inputs in build/fuzz/artifacts/");
 }
 
 // --- bench all --------------------------------------------------------------
@@ -141,16 +141,16 @@ void runFuzz(const BenchFuzzCli& cli) {
 struct BenchAllCli {
     bool quick = false;
     bool dry_run = false;
-    int fuzz_seconds = 0;                // 0: 90 (30 with --quick)
-    std::string only;                    // comma-separated subset
+    int fuzz_seconds = 0;  // 0: 90 (30 with --quick)
+    std::string only;      // comma-separated subset
     std::string md = "BENCHMARKS.md";
-    std::string img_dir;                 // default: <source>/docs/img
-    std::string csv_dir = "out";         // where benchmarks leave CSV files for the plots
+    std::string img_dir;          // default: <source>/docs/img
+    std::string csv_dir = "out";  // where benchmarks leave CSV files for the plots
 };
 
 struct Step {
-    std::string name, args, heading;     // heading: the section the benchmark writes
-    bool writes_md = true;               // false: bench all makes the section from stdout
+    std::string name, args, heading;  // heading: the section the benchmark writes
+    bool writes_md = true;            // false: bench all makes the section from stdout
     double seconds = 0;
     int status = 0;
 };
@@ -192,8 +192,7 @@ void runAll(const BenchAllCli& cli) {
         std::vector<Step> keep;
         for (const Step& s : steps)
             if (("," + cli.only + ",").find("," + s.name + ",") != std::string::npos) keep.push_back(s);
-        if (keep.empty())
-            throw core::Error("bench all: --only '" + cli.only + "': allowed a list of " + stepNames());
+        if (keep.empty()) throw core::Error("bench all: --only '" + cli.only + "': allowed a list of " + stepNames());
         steps = keep;
     }
     std::error_code ec;
@@ -236,10 +235,11 @@ void runAll(const BenchAllCli& cli) {
                 body += line + "\n";
                 previous = line;
             }
-            std::string section = s.heading + "\n\nCommand: `./ladarvr bench " + s.args + "` (section written by "
+            std::string section = s.heading + "\n\nCommand: `./ladarvr bench " + s.args +
+                                  "` (section written by "
                                   "`bench all` from the program's output); machine: " +
-                                  std::to_string(std::thread::hardware_concurrency()) + " cores, " + cpuName() +
-                                  "; " + utcNow() + "; " + fmt("%.0f", s.seconds) + " s" +
+                                  std::to_string(std::thread::hardware_concurrency()) + " cores, " + cpuName() + "; " +
+                                  utcNow() + "; " + fmt("%.0f", s.seconds) + " s" +
                                   (s.status ? ", FAILED with exit status " + std::to_string(s.status) : "") + ".\n\n" +
                                   body;
             replaceMarkdownSection(cli.md, s.heading, section);
@@ -266,8 +266,7 @@ void runAll(const BenchAllCli& cli) {
     std::ostringstream h;
     h << kHeader << "\nThis file: `./ladarvr bench all" << (cli.quick ? " --quick" : "")
       << (cli.only.empty() ? "" : " --only " + cli.only) << "`, started " << started << " on "
-      << std::thread::hardware_concurrency() << " cores (" << cpuName() << "), " << fmt("%.0f", total)
-      << " s in all: ";
+      << std::thread::hardware_concurrency() << " cores (" << cpuName() << "), " << fmt("%.0f", total) << " s in all: ";
     for (std::size_t i = 0; i < steps.size(); ++i)
         h << (i ? ", " : "") << steps[i].name << " " << fmt("%.0f s", steps[i].seconds)
           << (steps[i].status ? " (FAILED)" : "");
@@ -282,8 +281,9 @@ void runAll(const BenchAllCli& cli) {
 
 void registerAll(CLI::App& parent) {
     auto fuzz = std::make_shared<BenchFuzzCli>();
-    CLI::App* f = parent.add_subcommand("fuzz", "libFuzzer targets of the scene JSON, cloud and viewer script readers "
-                                               "for a bounded time each (clang build in build/fuzz; not CI)");
+    CLI::App* f = parent.add_subcommand("fuzz",
+                                        "libFuzzer targets of the scene JSON, cloud and viewer script readers "
+                                        "for a bounded time each (clang build in build/fuzz; not CI)");
     f->add_option("--seconds", fuzz->seconds, "seconds per target")->capture_default_str();
     f->add_option("--md", fuzz->md, "markdown file whose fuzzing section is rewritten")->capture_default_str();
     f->add_flag("--no-md", fuzz->no_md, "print the section, leave the file alone");

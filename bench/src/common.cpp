@@ -54,9 +54,7 @@ std::string fmtSpread(const char* format, const Spread& s) {
     return fmt(format, s.median) + " [" + fmt(format, s.min) + ".." + fmt(format, s.max) + "]";
 }
 
-bool withinSpread(const Spread& a, const Spread& b) {
-    return a.n >= 2 && b.n >= 2 && a.min <= b.max && b.min <= a.max;
-}
+bool withinSpread(const Spread& a, const Spread& b) { return a.n >= 2 && b.n >= 2 && a.min <= b.max && b.min <= a.max; }
 
 std::string spreadNote(const Spread& a, const Spread& b) { return withinSpread(a, b) ? " (within spread)" : ""; }
 
@@ -90,8 +88,7 @@ std::string readText(const std::filesystem::path& p) {
     return s.str();
 }
 
-void replaceMarkdownSection(const std::filesystem::path& path, const std::string& heading,
-                            const std::string& section) {
+void replaceMarkdownSection(const std::filesystem::path& path, const std::string& heading, const std::string& section) {
     std::string text = std::filesystem::exists(path) ? readText(path) : std::string("# Benchmarks\n");
     const std::size_t start = text.find(heading);
     if (start == std::string::npos) {
@@ -108,8 +105,8 @@ void replaceMarkdownSection(const std::filesystem::path& path, const std::string
 void replaceMarkdownHeader(const std::filesystem::path& path, const std::string& header) {
     const std::string text = std::filesystem::exists(path) ? readText(path) : std::string();
     const std::size_t first = text.rfind("## ", 0) == 0 ? 0 : text.find("\n## ");
-    platform::writeFileAtomic(
-        path, header + (first == std::string::npos ? "" : "\n" + text.substr(first + (first ? 1 : 0))));
+    platform::writeFileAtomic(path,
+                              header + (first == std::string::npos ? "" : "\n" + text.substr(first + (first ? 1 : 0))));
 }
 
 }  // namespace bench

@@ -24,7 +24,7 @@ std::string fmt(const char* format, double v);
 /// The median of repeated measurements with their smallest and largest value.
 struct Spread {
     double min = 0, median = 0, max = 0;
-    std::size_t n = 0;   // samples
+    std::size_t n = 0;  // samples
 };
 /// min, median, max of the samples; all NaN (n = 0) when there are none.
 Spread spread(const std::vector<double>& samples);
@@ -51,8 +51,7 @@ std::string readText(const std::filesystem::path& path);
 /// Replaces the section that starts with `heading` (a "## ..." line) up to the next
 /// "## " heading with `section`, or appends it; writes atomically. A missing file
 /// starts as "# Benchmarks".
-void replaceMarkdownSection(const std::filesystem::path& path, const std::string& heading,
-                            const std::string& section);
+void replaceMarkdownSection(const std::filesystem::path& path, const std::string& heading, const std::string& section);
 /// Replaces everything before the first "## " section with `header`; writes atomically.
 void replaceMarkdownHeader(const std::filesystem::path& path, const std::string& header);
 

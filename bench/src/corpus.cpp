@@ -41,7 +41,7 @@ namespace fs = std::filesystem;
 
 struct BenchCorpusCli {
     int items = 6;
-    int max_jobs = 0;            // 0 = the cores
+    int max_jobs = 0;  // 0 = the cores
     int node_cores = 32;
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
@@ -53,7 +53,7 @@ struct Measure {
     int jobs = 1, threads = 0, items = 0;
     double rays = 0;
     double wall_s = 0;
-    Spread item_s;               // seconds per item as the manifest records them
+    Spread item_s;  // seconds per item as the manifest records them
     double itemsPerSecond() const { return wall_s > 0 ? items / wall_s : 0; }
 };
 
@@ -138,8 +138,9 @@ void run(const BenchCorpusCli& cli) {
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     const int max_jobs = cli.max_jobs > 0 ? cli.max_jobs : cores;
     if (cli.items < 2 || cli.items > 1000) throw core::Error("bench corpus: --items: allowed [2, 1000]");
-    const fs::path tmp = cli.tmp.empty() ? fs::temp_directory_path() / ("ladarvr-bench-corpus-" + std::to_string(::getpid()))
-                                         : fs::path(cli.tmp);
+    const fs::path tmp = cli.tmp.empty()
+                             ? fs::temp_directory_path() / ("ladarvr-bench-corpus-" + std::to_string(::getpid()))
+                             : fs::path(cli.tmp);
     fs::create_directories(tmp);
     struct Remove {
         fs::path p;
@@ -169,11 +170,12 @@ void run(const BenchCorpusCli& cli) {
         rows.push_back(measure(tmp, "paper, no metric, --jobs " + std::to_string(jobs), paper, jobs, 0, paper_rays));
     addPlain();
     const Spread plain = spread(plain_s);
-    std::fprintf(stderr, "bench corpus: plain generate of the same items: %s s per item\n", fmtSpread("%.3f", plain).c_str());
+    std::fprintf(stderr, "bench corpus: plain generate of the same items: %s s per item\n",
+                 fmtSpread("%.3f", plain).c_str());
     rows.push_back(measure(tmp, "paper, metric, --jobs 1", paper_metric, 1, 0, paper_rays));
     if (max_jobs > 1)
-        rows.push_back(measure(tmp, "paper, metric, --jobs " + std::to_string(max_jobs), paper_metric, max_jobs, 0,
-                               paper_rays));
+        rows.push_back(
+            measure(tmp, "paper, metric, --jobs " + std::to_string(max_jobs), paper_metric, max_jobs, 0, paper_rays));
     rows.push_back(measure(tmp, "4x (256x256 px), no metric, --jobs 1", x4, 1, 0, 4 * paper_rays));
 
     // Determinism: planning each item from (seed, i) alone, and hashing its files.
@@ -200,8 +202,8 @@ void run(const BenchCorpusCli& cli) {
     const double b = (four.item_s.median - one.item_s.median) / (four.rays - one.rays);
     const double a = one.item_s.median - b * one.rays;
     const double t100 = a + b * 100.0 * paper_rays;
-    const auto with_metric = std::find_if(rows.begin(), rows.end(),
-                                          [](const Measure& m) { return m.label == "paper, metric, --jobs 1"; });
+    const auto with_metric =
+        std::find_if(rows.begin(), rows.end(), [](const Measure& m) { return m.label == "paper, metric, --jobs 1"; });
     const double metric_extra = with_metric->item_s.median - one.item_s.median;
     const double t100_metric = t100 + metric_extra * 100.0;  // its three generator runs scale with rays
     // --jobs scaling: items/s at the largest --jobs over --jobs 1 (no metric).
@@ -220,7 +222,8 @@ void run(const BenchCorpusCli& cli) {
       << "Items of `ladarvr corpus` over the demo scene (the target's yaw, a target offset of 0-20 m and a centre "
       << "offset of 0-15 m vary), each run into a fresh folder: wall time of the whole run (SPEC, base scene, items, "
       << "manifest) and the seconds per item the manifest records (median [min..max]). Generator threads per item: "
-      "the cores divided by --jobs. Metric: `ladarvr metric`'s defaults (100 views, 512x512 px, exact reference).\n\n"
+         "the cores divided by --jobs. Metric: `ladarvr metric`'s defaults (100 views, 512x512 px, exact "
+         "reference).\n\n"
       << "| configuration | rays per item | items | wall s | items/s | s per item |\n|---|---|---|---|---|---|\n";
     for (const Measure& m : rows)
         s << "| " << m.label << " | " << fmt("%.0f", m.rays) << " | " << m.items << " | " << fmt("%.2f", m.wall_s)
@@ -252,13 +255,14 @@ void run(const BenchCorpusCli& cli) {
           << hours(1e4 * t100_metric / (nodes * per_node)) << " | " << hours(1e4 * t100 / (nodes * wide)) << " | "
           << hours(1e4 * t100_metric / (nodes * wide)) << " |\n";
     }
-    s << "\nAt " << fmt("%.0f", t100) << " s per item, a 5-15 minute array task holds "
-      << fmt("%.0f", 300.0 / t100) << "-" << fmt("%.0f", 900.0 / t100) << " items per node slot: for 10,000 items, "
+    s << "\nAt " << fmt("%.0f", t100) << " s per item, a 5-15 minute array task holds " << fmt("%.0f", 300.0 / t100)
+      << "-" << fmt("%.0f", 900.0 / t100) << " items per node slot: for 10,000 items, "
       << "--array=0-" << int(std::ceil(1e4 / std::max(1.0, std::floor(600.0 / t100)))) - 1
       << " (about 10 minutes each; docs/corpus.md).\n";
     std::printf("%s", s.str().c_str());
     if (!cli.no_md) {
-        replaceMarkdownSection(cli.md, "## Corpus (ladarvr bench corpus)", "## Corpus (ladarvr bench corpus)\n\n" + s.str() + "\n");
+        replaceMarkdownSection(cli.md, "## Corpus (ladarvr bench corpus)",
+                               "## Corpus (ladarvr bench corpus)\n\n" + s.str() + "\n");
         std::fprintf(stderr, "bench corpus: wrote the section to %s\n", cli.md.c_str());
     }
 }
@@ -267,9 +271,10 @@ void run(const BenchCorpusCli& cli) {
 
 void registerCorpus(CLI::App& parent) {
     auto state = std::make_shared<BenchCorpusCli>();
-    CLI::App* c = parent.add_subcommand("corpus", "items/s of `ladarvr corpus` at the paper configuration with and "
-                                                 "without the metric, --jobs scaling, cost of determinism, "
-                                                 "projection for 10,000 items at 100x on N nodes");
+    CLI::App* c = parent.add_subcommand("corpus",
+                                        "items/s of `ladarvr corpus` at the paper configuration with and "
+                                        "without the metric, --jobs scaling, cost of determinism, "
+                                        "projection for 10,000 items at 100x on N nodes");
     c->add_option("--items", state->items, "items per measured run, [2, 1000]")->capture_default_str();
     c->add_option("--max-jobs", state->max_jobs, "largest --jobs measured (doubling from 1); 0 = the cores")
         ->capture_default_str();

@@ -29,7 +29,7 @@ namespace {
 struct BenchDetectCli {
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
-    double threshold = 0.5;   // a second operating point besides the detector's min_score
+    double threshold = 0.5;           // a second operating point besides the detector's min_score
     detect::ClusterOptions detector;  // the detector's options (defaults unless given)
 };
 
@@ -38,10 +38,10 @@ struct Row {
     std::size_t points = 0, target_points = 0, clusters = 0;
     // At the detector's min_score and at the bench's threshold.
     std::size_t candidates[2] = {0, 0}, true_positives[2] = {0, 0}, target_points_found[2] = {0, 0};
-    int target_rank = 0;          // 1-based rank of the best true positive; 0 if none
-    double target_score = 0.0;    // its score
-    std::string target_box;       // its size
-    std::string target_cluster;   // the cluster holding most target points, whatever its score
+    int target_rank = 0;         // 1-based rank of the best true positive; 0 if none
+    double target_score = 0.0;   // its score
+    std::string target_box;      // its size
+    std::string target_cluster;  // the cluster holding most target points, whatever its score
     double seconds = 0.0;
 };
 
@@ -49,8 +49,8 @@ std::string percent(std::size_t a, std::size_t b) {
     return b ? fmt("%.0f %%", 100.0 * double(a) / double(b)) : std::string("n/a");
 }
 
-Row measure(const std::string& name, const core::PointCloud& cloud, detect::ClusterOptions o, detect::GroundSource ground,
-            double threshold) {
+Row measure(const std::string& name, const core::PointCloud& cloud, detect::ClusterOptions o,
+            detect::GroundSource ground, double threshold) {
     Row r;
     r.scene = name;
     r.ground = ground == detect::GroundSource::Ransac ? "ransac" : "labels";
@@ -58,7 +58,7 @@ Row measure(const std::string& name, const core::PointCloud& cloud, detect::Clus
     for (const core::CloudPoint& p : cloud.points) r.target_points += p.label == core::Role::Target;
     o.ground = ground;
     const double min_score = o.min_score;
-    o.min_score = 0.0;            // every cluster, to find the one holding the target
+    o.min_score = 0.0;  // every cluster, to find the one holding the target
     o.max_candidates = 1000000;
     detect::ClusterStats stats;
     const auto t0 = Clock::now();
@@ -74,8 +74,8 @@ Row measure(const std::string& name, const core::PointCloud& cloud, detect::Clus
         if (target > most_target) {
             most_target = target;
             r.target_cluster = std::to_string(target) + " of " + std::to_string(d.points.size()) + " points, " +
-                               fmt("%.1f", d.candidate.size_m.x) + " x " + fmt("%.1f", d.candidate.size_m.y) +
-                               " x " + fmt("%.1f", d.candidate.size_m.z) + ", score " + fmt("%.2f", d.candidate.score);
+                               fmt("%.1f", d.candidate.size_m.x) + " x " + fmt("%.1f", d.candidate.size_m.y) + " x " +
+                               fmt("%.1f", d.candidate.size_m.z) + ", score " + fmt("%.2f", d.candidate.score);
         }
         if (d.candidate.score < min_score) continue;
         ++rank;
@@ -113,9 +113,11 @@ std::string table(const std::vector<Row>& rows, double min_score, double thresho
             s << " | " << r.candidates[t] << " | " << percent(r.true_positives[t], r.candidates[t]) << " | "
               << percent(r.target_points_found[t], r.target_points);
         s << " | "
-          << (r.target_rank ? std::to_string(r.target_rank) + " (" + fmt("%.2f", r.target_score) + ", " + r.target_box + ")"
-                            : std::string("not found"))
-          << " | " << (r.target_cluster.empty() ? std::string("none") : r.target_cluster) << " | " << fmt("%.2f", r.seconds) << " |\n";
+          << (r.target_rank
+                  ? std::to_string(r.target_rank) + " (" + fmt("%.2f", r.target_score) + ", " + r.target_box + ")"
+                  : std::string("not found"))
+          << " | " << (r.target_cluster.empty() ? std::string("none") : r.target_cluster) << " | "
+          << fmt("%.2f", r.seconds) << " |\n";
     }
     return s.str();
 }
@@ -156,9 +158,10 @@ void run(const BenchDetectCli& cli) {
     s << "## Detector (ladarvr bench detect)\n\n"
       << "Command: `./ladarvr bench detect --voxel-m " << fmt("%g", cli.detector.voxel_m) << " --cluster-tolerance-m "
       << fmt("%g", cli.detector.cluster_tolerance_m) << " --ground-tile-m " << fmt("%g", cli.detector.ground_tile_m)
-      << " --band-m " << fmt("%g", cli.detector.ground_ransac.band_m) << " --min-score " << fmt("%g", cli.detector.min_score)
-      << " --threshold " << fmt("%g", cli.threshold) << "`; machine: " << std::thread::hardware_concurrency() << " cores, "
-      << cpuName() << "; " << utcNow() << "; " << fmt("%.0f", secondsSince(start)) << " s in all.\n\n"
+      << " --band-m " << fmt("%g", cli.detector.ground_ransac.band_m) << " --min-score "
+      << fmt("%g", cli.detector.min_score) << " --threshold " << fmt("%g", cli.threshold)
+      << "`; machine: " << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
+      << fmt("%.0f", secondsSince(start)) << " s in all.\n\n"
       << "The baseline detector of `ladarvr detect` (docs/detect.md) (target 7 x 3.5 x 2.5 m, voxel "
       << fmt("%g", cli.detector.voxel_m) << " m, cluster tolerance " << fmt("%g", cli.detector.cluster_tolerance_m)
       << " m) on each bundled scene's cloud (`ladarvr generate` defaults), "
@@ -168,7 +171,8 @@ void run(const BenchDetectCli& cli) {
          "labelled target; precision = true positives / candidates; target points found = target points in "
          "true-positive clusters / all target points; the target's rank is that of the best true positive "
          "among all candidates the detector keeps, best first. Each scene holds one target.\n\n"
-      << tbl << "\n" << summary.str() << "\n";
+      << tbl << "\n"
+      << summary.str() << "\n";
     replaceMarkdownSection(cli.md, "## Detector (ladarvr bench detect)", s.str());
     std::fprintf(stderr, "bench detect: wrote the section to %s\n", cli.md.c_str());
 }
@@ -177,8 +181,9 @@ void run(const BenchDetectCli& cli) {
 
 void registerDetect(CLI::App& parent) {
     auto state = std::make_shared<BenchDetectCli>();
-    CLI::App* c = parent.add_subcommand("detect", "baseline detector's precision and recall against the ground-truth "
-                                                 "labels of the bundled scenes");
+    CLI::App* c = parent.add_subcommand("detect",
+                                        "baseline detector's precision and recall against the ground-truth "
+                                        "labels of the bundled scenes");
     c->add_option("--threshold", state->threshold, "second score threshold reported, [0, 1]")->capture_default_str();
     c->add_option("--voxel-m", state->detector.voxel_m, "the detector's voxel side, m")->capture_default_str();
     c->add_option("--cluster-tolerance-m", state->detector.cluster_tolerance_m, "the detector's cluster tolerance, m")

@@ -19,8 +19,8 @@
 
 namespace bench {
 
-void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options,
-                  const std::filesystem::path& dir, const std::string& config, const std::string& md) {
+void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options, const std::filesystem::path& dir,
+                  const std::string& config, const std::string& md) {
     namespace fs = std::filesystem;
     const auto start = Clock::now();
     const fs::path source = dir / "formats_source.pcd";
@@ -88,25 +88,28 @@ void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options,
     row(laz_name.c_str(), laz_s, laz_mib);
     row("LAZ, on the caller's thread alone", laz1_s, laz1_mib);
     const bool size_ok = laz_mib <= 0.25 * pcd_mib, time_ok = laz_s <= 2.0 * pcd_s;
-    const std::string verdict = std::string("LAZ: ") + fmt("%.3f", laz_mib / pcd_mib) + " of the bytes (goal <= 0.25: " +
-                                (size_ok ? "met" : "missed") + "), " + fmt("%.2f", laz_s / pcd_s) +
-                                "x the write time (goal <= 2x: " + (time_ok ? "met" : "missed") + "); " +
-                                fmt("%.2f", laz1_s / laz_s) + "x faster than on one thread" +
-                                (same_file ? "" : "; THE TWO LAZ FILES DIFFER IN SIZE");
+    const std::string verdict =
+        std::string("LAZ: ") + fmt("%.3f", laz_mib / pcd_mib) +
+        " of the bytes (goal <= 0.25: " + (size_ok ? "met" : "missed") + "), " + fmt("%.2f", laz_s / pcd_s) +
+        "x the write time (goal <= 2x: " + (time_ok ? "met" : "missed") + "); " + fmt("%.2f", laz1_s / laz_s) +
+        "x faster than on one thread" + (same_file ? "" : "; THE TWO LAZ FILES DIFFER IN SIZE");
     std::printf("\n%s\n%s\n", t.str().c_str(), verdict.c_str());
     if (md.empty()) return;
     std::ostringstream s;
     s << "## Cloud formats (ladarvr bench generate)\n\n"
       << "Command: `./ladarvr bench generate` (or `--only formats`); " << utcNow() << "; " << cpuName() << "; "
-      << fmt("%.0f", secondsSince(start)) << " s. The cloud of the " << config << " configuration ("
-      << points << " points, fields x y z rgb label view range), read back chunk by chunk and written "
+      << fmt("%.0f", secondsSince(start)) << " s. The cloud of the " << config << " configuration (" << points
+      << " points, fields x y z rgb label view range), read back chunk by chunk and written "
          "again by each writer: binary PCD as the "
          "generator writes it, and LAZ (LAS 1.4 point format 7, 1 mm scale, extra bytes range and label; "
-         "chunks of " << io::lazChunkPoints() << " points compressed by LASzip on worker threads, "
+         "chunks of "
+      << io::lazChunkPoints()
+      << " points compressed by LASzip on worker threads, "
          "the file LASzip writes alone, byte for byte), then the same LAZ on one thread. The cloud is read into "
          "memory first; each write is timed from opening the writer to the committed file; binary PCD and parallel "
          "LAZ in turn, 3 rounds, medians; LAZ on one thread once.\n\n"
-      << t.str() << "\n" << verdict << ".\n";
+      << t.str() << "\n"
+      << verdict << ".\n";
     replaceMarkdownSection(md, "## Cloud formats (ladarvr bench generate)", s.str());
 }
 

@@ -12,7 +12,7 @@ namespace bench {
 /// binary PCD in `dir`, reads it back chunk by chunk and writes the points again as
 /// binary PCD and as LAZ, timing only the writers; prints the table and, unless `md` is
 /// empty, replaces its "## Cloud formats" section. The files are removed after.
-void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options,
-                  const std::filesystem::path& dir, const std::string& config, const std::string& md);
+void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options, const std::filesystem::path& dir,
+                  const std::string& config, const std::string& md);
 
 }  // namespace bench

@@ -95,9 +95,9 @@ struct Result {
     std::size_t triangles = 0;
     sim::OrbitOptions orbit;
     int threads = 1, repeats = 0;
-    double prepare_s = 0;                     // scene load (and subdivision)
+    double prepare_s = 0;  // scene load (and subdivision)
     std::uint64_t rays = 0, points = 0, misses = 0;
-    std::uint64_t rays_traced = 0;            // rays the generator cast (the skips answer the rest)
+    std::uint64_t rays_traced = 0;                         // rays the generator cast (the skips answer the rest)
     Spread bvh, cast, fuse, ransac, colour, write, total;  // seconds per stage
     // Throughputs in Mrays/s over all `rays`: the generator's cast stage (rtcIntersect16
     // packets), the plain rtcIntersect16 and rtcIntersect1 loops, and the cast stage with
@@ -133,8 +133,8 @@ double plainLoopAllViews(const sim::Generator& g, int threads, bool packets) {
     return seconds;
 }
 
-Result runConfig(const std::string& name, const core::Scene& scene, const sim::GenerateOptions& options,
-                 int repeats, bool warm_up, bool single_too, const fs::path& out) {
+Result runConfig(const std::string& name, const core::Scene& scene, const sim::GenerateOptions& options, int repeats,
+                 bool warm_up, bool single_too, const fs::path& out) {
     Result r;
     r.name = name;
     r.orbit = options.orbit;
@@ -271,13 +271,13 @@ std::string skipTable(const std::vector<SkipRow>& rows) {
          "cast ratio off/on | total off (s) | total on (s) | RANSAC (s) | views without RANSAC | same cloud |\n"
       << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const SkipRow& r : rows)
-        s << "| " << r.name << " | " << r.rays << " | " << r.traced << fmt(" (%.1f %%)", 100.0 * double(r.traced) / double(r.rays))
-          << " | " << r.points << " | " << fmtSpread("%.3f", r.cast_off) << " | " << fmtSpread("%.3f", r.cast_on)
-          << " | " << fmt("%.2fx", r.cast_on.median > 0 ? r.cast_off.median / r.cast_on.median : 0.0)
+        s << "| " << r.name << " | " << r.rays << " | " << r.traced
+          << fmt(" (%.1f %%)", 100.0 * double(r.traced) / double(r.rays)) << " | " << r.points << " | "
+          << fmtSpread("%.3f", r.cast_off) << " | " << fmtSpread("%.3f", r.cast_on) << " | "
+          << fmt("%.2fx", r.cast_on.median > 0 ? r.cast_off.median / r.cast_on.median : 0.0)
           << spreadNote(r.cast_off, r.cast_on) << " | " << fmtSpread("%.3f", r.total_off) << " | "
-          << fmtSpread("%.3f", r.total_on) << " | " << fmtSpread("%.3f", r.ransac) << " | "
-          << r.views_without_ransac << " of "
-          << r.views << " | " << (r.same ? "yes" : "NO") << " |\n";
+          << fmtSpread("%.3f", r.total_on) << " | " << fmtSpread("%.3f", r.ransac) << " | " << r.views_without_ransac
+          << " of " << r.views << " | " << (r.same ? "yes" : "NO") << " |\n";
     return s.str();
 }
 
@@ -313,22 +313,21 @@ std::string stageTable(const std::vector<Result>& results) {
          "|\n|---|---|---|---|---|---|---|---|---|\n";
     for (const Result& r : results)
         s << "| " << r.name << " | " << fmtSpread("%.3f", r.bvh) << " | " << fmtSpread("%.3f", r.cast) << " | "
-          << fmtSpread("%.3f", r.fuse) << " | " << fmtSpread("%.3f", r.ransac) << " | "
-          << fmtSpread("%.3f", r.colour) << " | " << fmtSpread("%.3f", r.write) << " | "
-          << fmtSpread("%.3f", r.total) << " | " << fmt("%.0f", r.peak_rss_mib) << " |\n";
+          << fmtSpread("%.3f", r.fuse) << " | " << fmtSpread("%.3f", r.ransac) << " | " << fmtSpread("%.3f", r.colour)
+          << " | " << fmtSpread("%.3f", r.write) << " | " << fmtSpread("%.3f", r.total) << " | "
+          << fmt("%.0f", r.peak_rss_mib) << " |\n";
     return s.str();
 }
 
 std::string notes(const std::vector<Result>& results) {
     std::ostringstream s;
     for (const Result& r : results) {
-        s << "- " << r.name << ": " << r.orbit.xres << "x" << r.orbit.yres << " px x " << r.orbit.views
-          << " views; " << r.points << " points, " << r.misses << " misses; ground precision "
-          << percent(r.precision) << ", recall " << percent(r.recall) << "; "
-          << (r.streamed ? "streamed through a spool file" : "fused in memory") << ", output "
-          << fmt("%.0f", r.output_mib) << " MiB binary PCD; scene preparation " << fmt("%.2f", r.prepare_s)
-          << " s (not in total); RSS before the run " << fmt("%.0f", r.rss_before_mib) << " MiB"
-          << (r.peak_reset ? "" : " (peak not resettable: whole-process peak)") << "; medians of "
+        s << "- " << r.name << ": " << r.orbit.xres << "x" << r.orbit.yres << " px x " << r.orbit.views << " views; "
+          << r.points << " points, " << r.misses << " misses; ground precision " << percent(r.precision) << ", recall "
+          << percent(r.recall) << "; " << (r.streamed ? "streamed through a spool file" : "fused in memory")
+          << ", output " << fmt("%.0f", r.output_mib) << " MiB binary PCD; scene preparation "
+          << fmt("%.2f", r.prepare_s) << " s (not in total); RSS before the run " << fmt("%.0f", r.rss_before_mib)
+          << " MiB" << (r.peak_reset ? "" : " (peak not resettable: whole-process peak)") << "; medians of "
           << r.repeats << " run(s)" << (r.repeats > 1 ? " after a warm-up" : "") << ".\n";
     }
     return s.str();
@@ -365,7 +364,8 @@ sim::GenerateOptions largeOptions(const BenchGenerateCli& cli) {
 }
 
 std::string largeName(const BenchGenerateCli& cli) {
-    return cli.quick ? "quick large: demo subdivided, 256x256 x 100 views" : "large: demo subdivided, 512x512 x 400 views";
+    return cli.quick ? "quick large: demo subdivided, 256x256 x 100 views"
+                     : "large: demo subdivided, 512x512 x 400 views";
 }
 
 void run(const BenchGenerateCli& cli) {
@@ -384,8 +384,8 @@ void run(const BenchGenerateCli& cli) {
                                          : fs::path(cli.tmp);
     fs::create_directories(dir);
     if (cli.only == "formats") {
-        benchFormats(largeScene(io::loadScene(io::demoScenePath()), cli.quick), largeOptions(cli), dir,
-                     largeName(cli), cli.no_md ? "" : cli.md);
+        benchFormats(largeScene(io::loadScene(io::demoScenePath()), cli.quick), largeOptions(cli), dir, largeName(cli),
+                     cli.no_md ? "" : cli.md);
         std::error_code ec;
         fs::remove_all(dir, ec);
         return;
@@ -400,8 +400,8 @@ void run(const BenchGenerateCli& cli) {
     const double demo_load_s = secondsSince(t0);
     sim::GenerateOptions paper;
     paper.threads = cli.threads;
-    results.push_back(runConfig("paper: demo scene, 128x128 x 100 views", demo, paper,
-                                cli.quick ? 2 : cli.repeats, true, true, out));
+    results.push_back(
+        runConfig("paper: demo scene, 128x128 x 100 views", demo, paper, cli.quick ? 2 : cli.repeats, true, true, out));
     results.back().prepare_s = demo_load_s;
 
     // Skips: the paper's orbit on the demo scene by roles; the metric's P1/P2
@@ -438,18 +438,19 @@ void run(const BenchGenerateCli& cli) {
     const std::string tbl = castTable(results) + "\n" + stageTable(results);
     std::printf("%s\n%s\n%s", tbl.c_str(), notes(results).c_str(), skip_tbl.c_str());
     const Result& p = results.front();
-    std::printf("paper configuration: cast %s the plain rtcIntersect16 loop (goal >= 0.95x), %s the plain "
-                "rtcIntersect1 loop; whole run %.3f s (BVH + cast + fuse + RANSAC + colour + write; goal < 1 s) "
-                "+ %.3f s scene load\n",
-                ratio(p.gen_mrays, p.plain16_mrays).c_str(), ratio(p.gen_mrays, p.plain1_mrays).c_str(),
-                p.total.median, p.prepare_s);
+    std::printf(
+        "paper configuration: cast %s the plain rtcIntersect16 loop (goal >= 0.95x), %s the plain "
+        "rtcIntersect1 loop; whole run %.3f s (BVH + cast + fuse + RANSAC + colour + write; goal < 1 s) "
+        "+ %.3f s scene load\n",
+        ratio(p.gen_mrays, p.plain16_mrays).c_str(), ratio(p.gen_mrays, p.plain1_mrays).c_str(), p.total.median,
+        p.prepare_s);
 
     if (!cli.no_md) {
         const std::string date = utcNow();
         std::ostringstream s;
         s << "## Generator (ladarvr bench generate)\n\n"
-          << "Command: `./ladarvr bench generate" << (cli.quick ? " --quick" : "") << "`; machine: "
-          << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << date << "; "
+          << "Command: `./ladarvr bench generate" << (cli.quick ? " --quick" : "")
+          << "`; machine: " << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << date << "; "
           << fmt("%.0f", secondsSince(start)) << " s in all.\n\n"
           << "Ray casting: the generator's cast stage (rays made on the fly, traced as rtcIntersect16 "
              "packets of 16 consecutive pixels of a row, hits stored per pixel; and, in the last two columns, "
@@ -466,9 +467,10 @@ void run(const BenchGenerateCli& cli) {
              "+ colour + write (scene loading excluded, given per row). Peak RSS = VmHWM, reset just "
              "before the run (so it includes the scene and its BVH). The machine's 2 cores were shared "
              "with other jobs: read ratios rather than lone times.\n\n"
-          << tbl << "\n" << notes(results) << "\n"
-          << "Skips, paper orbit (128x128 x 100 views), in memory, medians of "
-          << (cli.quick ? 3 : 7) << " interleaved runs after a warm-up. Skip on: only the pixels whose rays "
+          << tbl << "\n"
+          << notes(results) << "\n"
+          << "Skips, paper orbit (128x128 x 100 views), in memory, medians of " << (cli.quick ? 3 : 7)
+          << " interleaved runs after a warm-up. Skip on: only the pixels whose rays "
              "can meet the bounds of the ray-cast meshes are traced (docs/generator.md); off: "
              "`--no-skip-rays`. RANSAC is never run on a view whose height band has < 3 points (no "
              "switch); its time is that of the skip-on run. Same cloud: positions, colours and views "
@@ -484,9 +486,10 @@ void run(const BenchGenerateCli& cli) {
 
 void registerGenerate(CLI::App& parent) {
     auto state = std::make_shared<BenchGenerateCli>();
-    CLI::App* c = parent.add_subcommand("generate", "generator throughput vs plain rtcIntersect16 and rtcIntersect1 "
-                                                   "loops, time per stage, paper config and a >= 100x larger "
-                                                   "streamed one");
+    CLI::App* c = parent.add_subcommand("generate",
+                                        "generator throughput vs plain rtcIntersect16 and rtcIntersect1 "
+                                        "loops, time per stage, paper config and a >= 100x larger "
+                                        "streamed one");
     c->add_flag("--quick", state->quick, "smaller large configuration, 2 repeats (a smoke run)");
     c->add_option("--threads", state->threads, "threads for the generator and the plain loops, 0 = all")
         ->capture_default_str();

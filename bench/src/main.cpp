@@ -16,8 +16,9 @@
 int main(int argc, char** argv) {
     CLI::App cli{"", "ladarvr"};
     cli.require_subcommand(1);
-    CLI::App* sub = cli.add_subcommand("bench", "benchmark programs (warm-up, repeats, medians, "
-                                                "ratios against an in-run baseline)");
+    CLI::App* sub = cli.add_subcommand("bench",
+                                       "benchmark programs (warm-up, repeats, medians, "
+                                       "ratios against an in-run baseline)");
     sub->require_subcommand(1);
     bench::registerGenerate(*sub);
     bench::registerMetric(*sub);

@@ -42,16 +42,16 @@ struct Row {
     int resolution = 0;
     double splat_px = 0;
     bool skip = true;
-    double mae_metric = 0, mae_visible = 0;   // against the exact reference, over shared views
-    double mae_depth = 0;                     // depth-aware variant (compute rasterizer)
+    double mae_metric = 0, mae_visible = 0;  // against the exact reference, over shared views
+    double mae_depth = 0;                    // depth-aware variant (compute rasterizer)
     std::string rasterizer = "compute";
-    int stride = 1;                           // every stride-th view of the orbit
+    int stride = 1;  // every stride-th view of the orbit
     std::vector<double> view_ms;
-    double ms_per_view = 0;                   // median over the orbit's views
-    double speedup = 0;                       // no-skip median / this median (skip rows)
+    double ms_per_view = 0;  // median over the orbit's views
+    double speedup = 0;      // no-skip median / this median (skip rows)
     double metric_mean = 0, exact_mean = 0;
     int views_used = 0, views_compared = 0;
-    double exact_ms_per_view = 0;             // the exact reference at this resolution
+    double exact_ms_per_view = 0;  // the exact reference at this resolution
 };
 
 void run(const BenchMetricCli& cli) {
@@ -81,10 +81,10 @@ void run(const BenchMetricCli& cli) {
         const double gen_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - gen_start).count();
         metric::Evaluator evaluator(clouds, &scene);
         if (gl.empty()) gl = render::glDescription();
-        setup_notes += "- " + name + ": " + std::to_string(scene.triangleCount()) + " triangles; P1/P2/P3 = " +
-                       std::to_string(clouds.p1.points.size()) + " / " + std::to_string(clouds.p2.points.size()) +
-                       " / " + std::to_string(clouds.p3.points.size()) + " points, generated in " +
-                       fmt("%.1f", gen_s) + " s (3 generator runs)\n";
+        setup_notes += "- " + name + ": " + std::to_string(scene.triangleCount()) +
+                       " triangles; P1/P2/P3 = " + std::to_string(clouds.p1.points.size()) + " / " +
+                       std::to_string(clouds.p2.points.size()) + " / " + std::to_string(clouds.p3.points.size()) +
+                       " points, generated in " + fmt("%.1f", gen_s) + " s (3 generator runs)\n";
         std::fprintf(stderr, "bench metric: %s: clouds %zu/%zu/%zu points in %.1f s\n", name.c_str(),
                      clouds.p1.points.size(), clouds.p2.points.size(), clouds.p3.points.size(), gen_s);
         metric::MetricOptions base;
@@ -180,14 +180,15 @@ void run(const BenchMetricCli& cli) {
     const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - bench_start).count();
 
     // CSV for scripts/plot_metric_bench.py
-    std::string csv = "scene,resolution,splat_px,rasterizer,skip,mae_metric,mae_visible,mae_depth,ms_per_view,speedup,"
-                      "metric_mean,exact_mean,views_used,views_compared,exact_ms_per_view\n";
+    std::string csv =
+        "scene,resolution,splat_px,rasterizer,skip,mae_metric,mae_visible,mae_depth,ms_per_view,speedup,"
+        "metric_mean,exact_mean,views_used,views_compared,exact_ms_per_view\n";
     for (const Row& r : rows)
         csv += r.scene + "," + std::to_string(r.resolution) + "," + fmt("%g", r.splat_px) + "," + r.rasterizer + "," +
                (r.skip ? "1" : "0") + "," + fmt("%.6f", r.mae_metric) + "," + fmt("%.6f", r.mae_visible) + "," +
                fmt("%.6f", r.mae_depth) + "," + fmt("%.4f", r.ms_per_view) + "," + fmt("%.3f", r.speedup) + "," +
-               fmt("%.6f", r.metric_mean) + "," + fmt("%.6f", r.exact_mean) + "," + std::to_string(r.views_used) +
-               "," + std::to_string(r.views_compared) + "," + fmt("%.4f", r.exact_ms_per_view) + "\n";
+               fmt("%.6f", r.metric_mean) + "," + fmt("%.6f", r.exact_mean) + "," + std::to_string(r.views_used) + "," +
+               std::to_string(r.views_compared) + "," + fmt("%.4f", r.exact_ms_per_view) + "\n";
     const std::filesystem::path csv_path = cli.csv;
     if (csv_path.has_parent_path()) std::filesystem::create_directories(csv_path.parent_path());
     platform::writeFileAtomic(csv_path, csv);
@@ -200,27 +201,32 @@ void run(const BenchMetricCli& cli) {
           "; whole run " + fmt("%.0f", total_s) + " s.\n\n";
     md += "Orbit: " + std::to_string(views) +
           " views, defaults of `ladarvr metric` (radius 60 m, altitude 40 m, vfov 30 deg, look-at the "
-          "target's centre). Clouds from the generator's paper defaults:\n" + setup_notes + "\n";
-    md += "MAE: mean over the views (|I1| > 0 and a defined exact value) of |point value - exact "
-          "reference|; rows without skips use every " + std::to_string(baseline_stride) +
-          "th view only (" + std::to_string(views / baseline_stride) +
-          " views of the same circle) to keep the run to a few minutes, and their speed-up "
-          "compares medians over those same views; the exact reference casts one Embree ray per pixel centre at the same resolution. "
-          "ms/view: median over the orbit of the GPU part (splatting the three clouds + counting on the GPU, "
-          "synchronous read-back); rasterizer `compute` is the default, `raster` (GL_POINTS) the in-run "
-          "baseline at 512 px. Speed-up: the no-skip median at the same settings / the skip median "
-          "(in-run baseline); it compares two different variants, not one result computed faster: the "
-          "skips drop the environment-only pixels outside the target's rectangle, so the skip and no-skip "
-          "rows count different xor pixels (their MAE columns differ), and the speed-up is the time of the "
-          "skip variant against that of the full one. Exact ms/view: the Embree reference at that resolution, for scale.\n\n";
-    md += "| scene | px | splat | rasterizer | skips | MAE metric (xor) | MAE visible | MAE depth-aware | ms/view | "
-          "speed-up over no-skips (a different variant) | exact ms/view |\n";
+          "target's centre). Clouds from the generator's paper defaults:\n" +
+          setup_notes + "\n";
+    md +=
+        "MAE: mean over the views (|I1| > 0 and a defined exact value) of |point value - exact "
+        "reference|; rows without skips use every " +
+        std::to_string(baseline_stride) + "th view only (" + std::to_string(views / baseline_stride) +
+        " views of the same circle) to keep the run to a few minutes, and their speed-up "
+        "compares medians over those same views; the exact reference casts one Embree ray per pixel centre at the same "
+        "resolution. "
+        "ms/view: median over the orbit of the GPU part (splatting the three clouds + counting on the GPU, "
+        "synchronous read-back); rasterizer `compute` is the default, `raster` (GL_POINTS) the in-run "
+        "baseline at 512 px. Speed-up: the no-skip median at the same settings / the skip median "
+        "(in-run baseline); it compares two different variants, not one result computed faster: the "
+        "skips drop the environment-only pixels outside the target's rectangle, so the skip and no-skip "
+        "rows count different xor pixels (their MAE columns differ), and the speed-up is the time of the "
+        "skip variant against that of the full one. Exact ms/view: the Embree reference at that resolution, for "
+        "scale.\n\n";
+    md +=
+        "| scene | px | splat | rasterizer | skips | MAE metric (xor) | MAE visible | MAE depth-aware | ms/view | "
+        "speed-up over no-skips (a different variant) | exact ms/view |\n";
     md += "|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows)
         md += "| " + r.scene + " | " + std::to_string(r.resolution) + " | " + fmt("%g", r.splat_px) + " | " +
               r.rasterizer + " | " + (r.skip ? "on" : "off") + " | " + fmt("%.4f", r.mae_metric) + " | " +
-              fmt("%.4f", r.mae_visible) + " | " + (r.rasterizer == "raster" ? "-" : fmt("%.4f", r.mae_depth)) +
-              " | " + fmt("%.2f", r.ms_per_view) + " | " + (r.skip ? "x" + fmt("%.1f", r.speedup) : "1") + " | " +
+              fmt("%.4f", r.mae_visible) + " | " + (r.rasterizer == "raster" ? "-" : fmt("%.4f", r.mae_depth)) + " | " +
+              fmt("%.2f", r.ms_per_view) + " | " + (r.skip ? "x" + fmt("%.1f", r.speedup) : "1") + " | " +
               fmt("%.2f", r.exact_ms_per_view) + " |\n";
     md += "\nMean over the orbit at 512 px (metric / exact): ";
     for (const Row& r : rows)
@@ -242,8 +248,9 @@ void run(const BenchMetricCli& cli) {
 
 void registerMetric(CLI::App& parent) {
     auto state = std::make_shared<BenchMetricCli>();
-    CLI::App* c = parent.add_subcommand("metric", "visibility metric: error against the exact reference vs time "
-                                                 "per view, resolutions 128..1024, splats 1..5 px, skips on/off");
+    CLI::App* c = parent.add_subcommand("metric",
+                                        "visibility metric: error against the exact reference vs time "
+                                        "per view, resolutions 128..1024, splats 1..5 px, skips on/off");
     c->add_flag("--quick", state->quick, "demo scene only, 128 and 512 px, splats 1 and 2, 20 views");
     c->add_option("--views", state->views, "views per orbit, 4..1000")->capture_default_str();
     c->add_option("--md", state->md, "Markdown file whose metric section is replaced")->capture_default_str();

@@ -19,7 +19,7 @@ namespace bench {
 namespace {
 
 struct BenchMutantsCli {
-    std::vector<std::string> names;      // empty: every mutant of the list
+    std::vector<std::string> names;  // empty: every mutant of the list
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
 };
@@ -40,9 +40,12 @@ void runMutants(const BenchMutantsCli& cli) {
         line = buf;
         std::fputs(buf, stdout);
         std::fflush(stdout);
-        if (line.rfind("mutants-table-begin", 0) == 0) in_table = true;
-        else if (line.rfind("mutants-table-end", 0) == 0) in_table = false;
-        else if (in_table) table += line;
+        if (line.rfind("mutants-table-begin", 0) == 0)
+            in_table = true;
+        else if (line.rfind("mutants-table-end", 0) == 0)
+            in_table = false;
+        else if (in_table)
+            table += line;
         if (line.rfind("mutant: ", 0) == 0) {
             killed += line.find(" status=killed") != std::string::npos;
             survived += line.find(" status=survived") != std::string::npos;
@@ -52,7 +55,8 @@ void runMutants(const BenchMutantsCli& cli) {
     const int rc = ::pclose(pipe);
     const int status = WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
     if (table.empty())
-        throw core::Error("bench mutants: " + script.string() + " printed no table (exit " + std::to_string(status) + ")");
+        throw core::Error("bench mutants: " + script.string() + " printed no table (exit " + std::to_string(status) +
+                          ")");
     std::ostringstream s;
     s << "## Mutation check (ladarvr bench mutants)\n\n"
       << "Command: `./ladarvr bench mutants" << (cli.names.empty() ? "" : " NAME...") << "` (runs `scripts/mutants.sh` "
@@ -72,8 +76,9 @@ void runMutants(const BenchMutantsCli& cli) {
 
 void registerMutants(CLI::App& parent) {
     auto cli = std::make_shared<BenchMutantsCli>();
-    CLI::App* m = parent.add_subcommand("mutants", "one-line mutants (bench/mutants.txt) each rebuilt in a clean copy "
-                                                   "and run against its module's tests: killed or survived (not CI)");
+    CLI::App* m = parent.add_subcommand("mutants",
+                                        "one-line mutants (bench/mutants.txt) each rebuilt in a clean copy "
+                                        "and run against its module's tests: killed or survived (not CI)");
     m->add_option("names", cli->names, "mutants to run (default: all of bench/mutants.txt)");
     m->add_option("--md", cli->md, "markdown file whose mutation section is rewritten")->capture_default_str();
     m->add_flag("--no-md", cli->no_md, "leave the file alone");

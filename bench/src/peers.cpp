@@ -53,9 +53,9 @@ struct BenchPeersCli {
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
     std::string python = "python3";
-    std::string open3d_script;   // default: <source>/scripts/peer_open3d.py
+    std::string open3d_script;  // default: <source>/scripts/peer_open3d.py
     std::string tmp;
-    int pmf_stride = 0;          // 0: from the point budget below
+    int pmf_stride = 0;  // 0: from the point budget below
 };
 
 struct RayResult {
@@ -118,23 +118,24 @@ RayResult rayCasting(const core::Scene& scene, const sim::GenerateOptions& optio
         std::vector<float> buf;
         buf.reserve(rays.size() * 6);
         for (const sim::Ray& ray : rays)
-            buf.insert(buf.end(), {ray.origin.x, ray.origin.y, ray.origin.z, ray.direction.x, ray.direction.y,
-                                   ray.direction.z});
+            buf.insert(buf.end(),
+                       {ray.origin.x, ray.origin.y, ray.origin.z, ray.direction.x, ray.direction.y, ray.direction.z});
         f.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size() * 4));
         if (!f) throw core::Error("bench peers: cannot write the ray dump " + dump.string());
     }
-    const fs::path script = cli.open3d_script.empty() ? sourceRoot() / "scripts" / "peer_open3d.py"
-                                                      : fs::path(cli.open3d_script);
-    const std::string cmd = cli.python + " '" + script.string() + "' '" + dump.string() + "' '" +
-                            out_hits.string() + "' --repeats " + std::to_string(repeats) + " --threads " +
-                            std::to_string(threads);
+    const fs::path script =
+        cli.open3d_script.empty() ? sourceRoot() / "scripts" / "peer_open3d.py" : fs::path(cli.open3d_script);
+    const std::string cmd = cli.python + " '" + script.string() + "' '" + dump.string() + "' '" + out_hits.string() +
+                            "' --repeats " + std::to_string(repeats) + " --threads " + std::to_string(threads);
     std::string output;
     if (FILE* p = ::popen(cmd.c_str(), "r")) {
         char buf[4096];
         while (std::fgets(buf, sizeof buf, p)) output += buf;
         if (::pclose(p) != 0)
-            throw core::Error("bench peers: '" + cmd + "' failed (is python3-open3d installed? it is in "
-                                "BENCH_PACKAGES of ./ladarvr): " + output);
+            throw core::Error("bench peers: '" + cmd +
+                              "' failed (is python3-open3d installed? it is in "
+                              "BENCH_PACKAGES of ./ladarvr): " +
+                              output);
     } else {
         throw core::Error("bench peers: cannot run '" + cmd + "'");
     }
@@ -263,8 +264,9 @@ GroundResult ground(const std::string& name, const core::Scene& scene, const sim
     // PMF's morphological opening searches a box per point per window: on 1.6 M points
     // at ~130 points/m^2 that is beyond reach, so it gets every k-th point (airborne Lidar
     // density, a few points per m^2) and is scored on those points.
-    r.pmf_stride = stride_option > 0 ? stride_option
-                                      : int(std::max<std::size_t>(1, (cloud.points.size() + pmf_budget - 1) / pmf_budget));
+    r.pmf_stride = stride_option > 0
+                       ? stride_option
+                       : int(std::max<std::size_t>(1, (cloud.points.size() + pmf_budget - 1) / pmf_budget));
     std::vector<glm::vec3> pts;
     std::vector<std::uint8_t> truth;
     for (std::size_t i = 0; i < cloud.points.size(); i += std::size_t(r.pmf_stride)) {
@@ -308,24 +310,27 @@ void run(const BenchPeersCli& cli) {
     const double gen_mr = double(rays.rays) / rays.generator_cast_s / 1e6;
     const double plain_mr = double(rays.rays) / rays.plain_s / 1e6;
     const double o3d_mr = double(rays.rays) / rays.open3d_s / 1e6;
-    std::printf("ray casting, %llu rays, %zu triangles, %d threads: generator %.2f Mrays/s, plain rtcIntersect1 "
-                "%.2f Mrays/s, Open3D %s %.2f Mrays/s; plain/Open3D %.2fx, generator/Open3D %.2fx; same hit/miss "
-                "%.4f %%, |dt| median %.2g m, p99 %.2g m, max %.2g m\n",
-                (unsigned long long)rays.rays, rays.triangles, threads, gen_mr, plain_mr, rays.open3d_version.c_str(),
-                o3d_mr, plain_mr / o3d_mr, gen_mr / o3d_mr, 100.0 * rays.same_hit_fraction, rays.dt_median_m,
-                rays.dt_p99_m, rays.dt_max_m);
+    std::printf(
+        "ray casting, %llu rays, %zu triangles, %d threads: generator %.2f Mrays/s, plain rtcIntersect1 "
+        "%.2f Mrays/s, Open3D %s %.2f Mrays/s; plain/Open3D %.2fx, generator/Open3D %.2fx; same hit/miss "
+        "%.4f %%, |dt| median %.2g m, p99 %.2g m, max %.2g m\n",
+        (unsigned long long)rays.rays, rays.triangles, threads, gen_mr, plain_mr, rays.open3d_version.c_str(), o3d_mr,
+        plain_mr / o3d_mr, gen_mr / o3d_mr, 100.0 * rays.same_hit_fraction, rays.dt_median_m, rays.dt_p99_m,
+        rays.dt_max_m);
 
     std::fprintf(stderr, "bench peers: 2/3 binary PCD write/read vs PCL (paper cloud)\n");
     const core::PointCloud cloud = sim::generateCloud(demo, paper);
     const IoResult io = pcdIo(cloud, cli.quick ? 2 : cli.repeats, dir);
-    std::printf("PCD binary, %zu points (%.1f MiB): write ours %.3f s, PCL %.3f s (PCL/ours %.2fx); read ours %.3f s, "
-                "PCL %.3f s (PCL/ours %.2fx); PCL reads ours: %s; we read PCL's: %s\n",
-                io.points, io.file_mib, io.ours_write_s, io.pcl_write_s, io.pcl_write_s / io.ours_write_s,
-                io.ours_read_s, io.pcl_read_s, io.pcl_read_s / io.ours_read_s, io.pcl_reads_ours ? "identical" : "NO",
-                io.ours_reads_pcl ? "identical" : "NO");
+    std::printf(
+        "PCD binary, %zu points (%.1f MiB): write ours %.3f s, PCL %.3f s (PCL/ours %.2fx); read ours %.3f s, "
+        "PCL %.3f s (PCL/ours %.2fx); PCL reads ours: %s; we read PCL's: %s\n",
+        io.points, io.file_mib, io.ours_write_s, io.pcl_write_s, io.pcl_write_s / io.ours_write_s, io.ours_read_s,
+        io.pcl_read_s, io.pcl_read_s / io.ours_read_s, io.pcl_reads_ours ? "identical" : "NO",
+        io.ours_reads_pcl ? "identical" : "NO");
 
-    std::fprintf(stderr, "bench peers: 3/3 ground: iterative RANSAC, SMRF and CSF vs PCL progressive morphological "
-                         "filter\n");
+    std::fprintf(stderr,
+                 "bench peers: 3/3 ground: iterative RANSAC, SMRF and CSF vs PCL progressive morphological "
+                 "filter\n");
     std::vector<GroundResult> grounds;
     const std::size_t pmf_budget = cli.quick ? 25000 : 60000;
     grounds.push_back(ground("demo", demo, paper, pmf_budget, cli.pmf_stride));
@@ -335,13 +340,15 @@ void run(const BenchPeersCli& cli) {
     const core::Scene slopes = io::loadScene(sourceRoot() / "assets" / "slopes" / "scene.json");
     grounds.push_back(ground("slopes", slopes, paper, pmf_budget, cli.pmf_stride));
     for (const GroundResult& g : grounds)
-        std::printf("ground %s: RANSAC (per view, %d threads) precision %s recall %s in %.3f s on %zu points; SMRF "
-                    "precision %s recall %s in %.3f s; CSF precision %s recall %s in %.3f s; PMF precision %s recall %s in %.3f s on %zu points "
-                    "(every %d-th)\n",
-                    g.scene.c_str(), g.threads, pct(g.ransac_precision).c_str(), pct(g.ransac_recall).c_str(),
-                    g.ransac_s, g.points, pct(g.smrf_precision).c_str(), pct(g.smrf_recall).c_str(), g.smrf_s,
-                    pct(g.csf_precision).c_str(), pct(g.csf_recall).c_str(), g.csf_s,
-                    pct(g.pmf_precision).c_str(), pct(g.pmf_recall).c_str(), g.pmf_s, g.pmf_points, g.pmf_stride);
+        std::printf(
+            "ground %s: RANSAC (per view, %d threads) precision %s recall %s in %.3f s on %zu points; SMRF "
+            "precision %s recall %s in %.3f s; CSF precision %s recall %s in %.3f s; PMF precision %s recall %s in "
+            "%.3f s on %zu points "
+            "(every %d-th)\n",
+            g.scene.c_str(), g.threads, pct(g.ransac_precision).c_str(), pct(g.ransac_recall).c_str(), g.ransac_s,
+            g.points, pct(g.smrf_precision).c_str(), pct(g.smrf_recall).c_str(), g.smrf_s, pct(g.csf_precision).c_str(),
+            pct(g.csf_recall).c_str(), g.csf_s, pct(g.pmf_precision).c_str(), pct(g.pmf_recall).c_str(), g.pmf_s,
+            g.pmf_points, g.pmf_stride);
     std::error_code ec;
     fs::remove_all(dir, ec);
     const double total_s = secondsSince(start);
@@ -349,11 +356,11 @@ void run(const BenchPeersCli& cli) {
     const std::string date = utcNow();
     std::ostringstream s;
     s << "## Peers (ladarvr bench peers)\n\n"
-      << "Command: `./ladarvr bench peers" << (cli.quick ? " --quick" : "") << "`; machine: "
-      << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << date << "; "
+      << "Command: `./ladarvr bench peers" << (cli.quick ? " --quick" : "")
+      << "`; machine: " << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << date << "; "
       << fmt("%.0f", total_s) << " s in all. One run, same scene (assets/demo, paper configuration: "
-      << "128 x 128 px x 100 views), same data for both sides; medians of "
-      << (cli.quick ? 3 : cli.repeats) << " runs after a warm-up.\n\n"
+      << "128 x 128 px x 100 views), same data for both sides; medians of " << (cli.quick ? 3 : cli.repeats)
+      << " runs after a warm-up.\n\n"
       << "**Ray casting** (" << rays.rays << " rays, " << rays.triangles << " triangles, " << threads
       << " threads on every side; rays and triangles dumped to a binary file and cast by "
       << "`scripts/peer_open3d.py`, Open3D " << rays.open3d_version << " `RaycastingScene.cast_rays`):\n\n"
@@ -373,18 +380,20 @@ void run(const BenchPeersCli& cli) {
       << fmt("%.1f", io.file_mib) << " MiB; PCL with a point type of the same fields; a new file each time, "
       << "written to the page cache without fsync and read back from it by both):\n\n"
       << "| | ours | PCL | PCL / ours |\n|---|---|---|---|\n"
-      << "| write (`io::writeCloud` vs `pcl::io::savePCDFileBinary`) | " << fmt("%.3f s", io.ours_write_s)
-      << " | " << fmt("%.3f s", io.pcl_write_s) << " | " << fmt("%.2fx", io.pcl_write_s / io.ours_write_s) << " |\n"
+      << "| write (`io::writeCloud` vs `pcl::io::savePCDFileBinary`) | " << fmt("%.3f s", io.ours_write_s) << " | "
+      << fmt("%.3f s", io.pcl_write_s) << " | " << fmt("%.2fx", io.pcl_write_s / io.ours_write_s) << " |\n"
       << "| read (`io::readCloud` vs `pcl::io::loadPCDFile`) | " << fmt("%.3f s", io.ours_read_s) << " | "
       << fmt("%.3f s", io.pcl_read_s) << " | " << fmt("%.2fx", io.pcl_read_s / io.ours_read_s) << " |\n\n"
-      << "Interoperability in the same run: PCL reads our file " << (io.pcl_reads_ours ? "field for field" : "NOT identically")
-      << ", we read PCL's " << (io.ours_reads_pcl ? "field for field" : "NOT identically") << ".\n\n"
+      << "Interoperability in the same run: PCL reads our file "
+      << (io.pcl_reads_ours ? "field for field" : "NOT identically") << ", we read PCL's "
+      << (io.ours_reads_pcl ? "field for field" : "NOT identically") << ".\n\n"
       << "**Ground whitening** against the generator's ground-truth labels (paper configuration). Ours: paper "
       << "§III-C iterative RANSAC on each view (16,384 points), all views, " << grounds.front().threads
       << " threads (`--ground ransac`); SMRF (Pingel et al. 2013, PDAL's defaults: cell 1 m, slope 0.15, "
       << "window 18 m, threshold 0.5 m, scalar 1.25) and CSF (Zhang et al. 2016, the paper's defaults: cloth "
       << "1 m, rigidness 3, threshold 0.5 m, time step 0.65, at most 500 iterations) on the whole fused cloud "
-      << "(`--ground smrf`, `--ground csf`), each ground stage timed as a whole (gridding, fit, classification). PCL's `ProgressiveMorphologicalFilter` "
+      << "(`--ground smrf`, `--ground csf`), each ground stage timed as a whole (gridding, fit, classification). PCL's "
+         "`ProgressiveMorphologicalFilter` "
       << "(windows 3-17 m, slope 1, initial distance 0.5 m, max distance 3 m, cell 1 m; one thread) on the "
       << "fused cloud thinned to every k-th point, because its per-point box searches cannot take 1.6 M "
       << "points at ~130 points/m^2; its precision and recall are over those points. Points/s compares "
@@ -395,11 +404,9 @@ void run(const BenchPeersCli& cli) {
           << fmt("%.3f", g.ransac_s) << " (" << g.points << ") | " << fmt("%.3g", double(g.points) / g.ransac_s)
           << " |\n";
         s << "| " << g.scene << " | SMRF | " << pct(g.smrf_precision) << " | " << pct(g.smrf_recall) << " | "
-          << fmt("%.3f", g.smrf_s) << " (" << g.points << ") | " << fmt("%.3g", double(g.points) / g.smrf_s)
-          << " |\n";
+          << fmt("%.3f", g.smrf_s) << " (" << g.points << ") | " << fmt("%.3g", double(g.points) / g.smrf_s) << " |\n";
         s << "| " << g.scene << " | CSF | " << pct(g.csf_precision) << " | " << pct(g.csf_recall) << " | "
-          << fmt("%.3f", g.csf_s) << " (" << g.points << ") | " << fmt("%.3g", double(g.points) / g.csf_s)
-          << " |\n";
+          << fmt("%.3f", g.csf_s) << " (" << g.points << ") | " << fmt("%.3g", double(g.points) / g.csf_s) << " |\n";
         s << "| " << g.scene << " | PCL PMF | " << pct(g.pmf_precision) << " | " << pct(g.pmf_recall) << " | "
           << fmt("%.3f", g.pmf_s) << " (" << g.pmf_points << ", every " << g.pmf_stride << "th) | "
           << fmt("%.3g", double(g.pmf_points) / g.pmf_s) << " |\n";
@@ -417,8 +424,10 @@ void run(const BenchPeersCli& cli) {
 
 void registerPeers(CLI::App& parent) {
     auto state = std::make_shared<BenchPeersCli>();
-    CLI::App* c = parent.add_subcommand("peers", "side by side with peer libraries: ray casting vs Open3D, binary "
-                                                "PCD I/O vs PCL, ground whitening (RANSAC, SMRF, CSF) vs PCL's morphological filter");
+    CLI::App* c =
+        parent.add_subcommand("peers",
+                              "side by side with peer libraries: ray casting vs Open3D, binary "
+                              "PCD I/O vs PCL, ground whitening (RANSAC, SMRF, CSF) vs PCL's morphological filter");
     c->add_flag("--quick", state->quick, "3 repeats, a smaller PMF sample (a smoke run)");
     c->add_option("--threads", state->threads, "threads for every caster, 0 = all")->capture_default_str();
     c->add_option("--repeats", state->repeats, "timed runs (medians)")->capture_default_str();

@@ -91,8 +91,7 @@ bool pclReadsOurs(const std::filesystem::path& path, const core::PointCloud& exp
     return samePoints(back, expected);
 }
 
-std::vector<std::uint8_t> pclGroundPmf(std::span<const glm::vec3> points, const PmfOptions& options,
-                                       double* seconds) {
+std::vector<std::uint8_t> pclGroundPmf(std::span<const glm::vec3> points, const PmfOptions& options, double* seconds) {
     pcl::PointCloud<pcl::PointXYZ>::Ptr pc(new pcl::PointCloud<pcl::PointXYZ>);
     pc->resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) (*pc)[i] = pcl::PointXYZ(points[i].x, points[i].y, points[i].z);

@@ -16,7 +16,7 @@ namespace bench::peers {
 struct PclIo {
     double write_s = 0.0, read_s = 0.0;
     std::size_t points_read = 0;
-    bool same_points = false;   // what PCL read back equals `cloud` field by field
+    bool same_points = false;  // what PCL read back equals `cloud` field by field
 };
 /// Writes `path` with pcl::io::savePCDFileBinary, then reads it back with
 /// pcl::io::loadPCDFile. Throws core::Error("bench peers: pcl: ...") on PCL failures.
@@ -29,7 +29,7 @@ bool pclReadsOurs(const std::filesystem::path& path, const core::PointCloud& exp
 /// pcl::ProgressiveMorphologicalFilter parameters (PCL's ground-filtering tutorial values
 /// except the window, sized to the largest building of the bundled scenes).
 struct PmfOptions {
-    int max_window_size = 16;        // windows 3, 5, 9, 17 m (cell 1 m, base 2, exponential)
+    int max_window_size = 16;  // windows 3, 5, 9, 17 m (cell 1 m, base 2, exponential)
     float slope = 1.0f;
     float initial_distance_m = 0.5f;
     float max_distance_m = 3.0f;
@@ -37,7 +37,6 @@ struct PmfOptions {
 };
 /// Runs the filter on `points` (one thread, PCL's implementation) and returns a flag per
 /// point, 1 = ground; `seconds` gets the filter's wall time.
-std::vector<std::uint8_t> pclGroundPmf(std::span<const glm::vec3> points, const PmfOptions& options,
-                                       double* seconds);
+std::vector<std::uint8_t> pclGroundPmf(std::span<const glm::vec3> points, const PmfOptions& options, double* seconds);
 
 }  // namespace bench::peers

@@ -24,8 +24,8 @@ double timedOnThreads(int threads, const Work& work) {
 
 }  // namespace
 
-double plainLoopSeconds(const sim::RayCaster& caster, const std::vector<sim::Ray>& rays,
-                        std::vector<sim::Hit>& hits, int threads) {
+double plainLoopSeconds(const sim::RayCaster& caster, const std::vector<sim::Ray>& rays, std::vector<sim::Hit>& hits,
+                        int threads) {
     hits.resize(rays.size());
     constexpr std::size_t kChunk = 4096;
     std::atomic<std::size_t> next{0};

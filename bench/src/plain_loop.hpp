@@ -11,8 +11,8 @@ namespace bench {
 /// RayCaster::intersect (rtcIntersect1 per ray) over `rays` on `threads` threads (>= 1)
 /// taking 4096-ray chunks from a shared counter; `hits` is resized to match. Returns the
 /// wall time in seconds.
-double plainLoopSeconds(const sim::RayCaster& caster, const std::vector<sim::Ray>& rays,
-                        std::vector<sim::Hit>& hits, int threads);
+double plainLoopSeconds(const sim::RayCaster& caster, const std::vector<sim::Ray>& rays, std::vector<sim::Hit>& hits,
+                        int threads);
 
 /// RayCaster::intersect16 (rtcIntersect16 packets of 16 consecutive rays, coherent) over
 /// `rays`, taken as rows of `row_px` rays (row-major pixels; the packets never straddle

@@ -107,13 +107,14 @@ void benchSensorModels(const core::Scene& scene, const sim::GenerateOptions& pap
     std::ostringstream m;
     m << "## Sensor models (ladarvr bench generate)\n\n"
       << "Command: `./ladarvr bench generate" << (quick ? " --quick" : "") << (alone ? " --only sensors" : "")
-      << "`; machine: "
-      << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
+      << "`; machine: " << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
       << fmt("%.0f", secondsSince(start)) << " s for these rows.\n\n"
-      << "Each row is the paper's configuration on the demo scene (" << o.orbit.xres << "x" << o.orbit.yres
-      << " px x " << o.orbit.views << " views, --white so that RANSAC, which is not the sensor's, is left out) "
+      << "Each row is the paper's configuration on the demo scene (" << o.orbit.xres << "x" << o.orbit.yres << " px x "
+      << o.orbit.views
+      << " views, --white so that RANSAC, which is not the sensor's, is left out) "
          "with one sensor model on (docs/sensor.md); the rows run interleaved, one after the other in each of "
-      << repeats << " repeats after a warm-up. Cast = the generator's cast stage (rays made, traced as "
+      << repeats
+      << " repeats after a warm-up. Cast = the generator's cast stage (rays made, traced as "
          "16-ray packets, hits turned into returns); pulses/s counts every pixel of every view, as the "
          "generator rows above do; 'rays per run' counts every sub-ray of every beam, of which the "
          "default (not --footprint-exact) traces only those of beams not on one plane, plus about one axis ray "

@@ -45,10 +45,10 @@ bool rerunHeadless(const BenchViewArgs& a) {
     std::string points;
     for (std::size_t n : a.points) points += (points.empty() ? "" : ",") + std::to_string(n);
     const std::string command = shellQuote(script.string()) + " --monado-stay --timeout 3000 -- " +
-                                shellQuote(exe.string()) + " view --display none --points " + points +
-                                " --frames " + std::to_string(a.frames) + " --warmup " + std::to_string(a.warmup) +
-                                " --paths " + shellQuote(a.paths) + " --eye " + shellQuote(a.eye) +
-                                " --point-budget " + std::to_string(a.point_budget);
+                                shellQuote(exe.string()) + " view --display none --points " + points + " --frames " +
+                                std::to_string(a.frames) + " --warmup " + std::to_string(a.warmup) + " --paths " +
+                                shellQuote(a.paths) + " --eye " + shellQuote(a.eye) + " --point-budget " +
+                                std::to_string(a.point_budget);
     std::fprintf(stderr, "bench view: no DISPLAY: running under %s (Xvfb + Monado)\n", script.c_str());
     std::fflush(stdout);
     const int status = std::system(command.c_str());
@@ -98,11 +98,12 @@ void run(const BenchViewArgs& a) {
     const std::time_t now = std::time(nullptr);
     char date[32];
     std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
-    std::printf("ladarvr bench view (%s): warm-up %d, median of %d frames; eye-dome lighting on\n", date,
-                a.warmup, a.frames);
+    std::printf("ladarvr bench view (%s): warm-up %d, median of %d frames; eye-dome lighting on\n", date, a.warmup,
+                a.frames);
     if (o.mirror || o.xr || o.egl || o.tools) {
-        std::printf("| path | points | size | CPU submit ms | GPU ms | frame ms | frames | baseline GPU ms | "
-                    "ratio | note |\n");
+        std::printf(
+            "| path | points | size | CPU submit ms | GPU ms | frame ms | frames | baseline GPU ms | "
+            "ratio | note |\n");
         std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---|\n");
     }
     std::string gl;
@@ -125,18 +126,20 @@ void run(const BenchViewArgs& a) {
                     std::snprintf(baseline, sizeof baseline, "%.2f", r.baseline_gpu_ms_median);
                     std::snprintf(ratio, sizeof ratio, "%.2fx", r.gpu_ms_median / r.baseline_gpu_ms_median);
                 }
-                std::printf("| %s | %zu | %dx%d | %.2f | %.2f | %.2f | %d | %s | %s | %s |\n", r.path.c_str(),
-                            r.points, r.width, r.height, r.cpu_ms_median, r.gpu_ms_median, r.frame_ms_median,
-                            r.frames, baseline, ratio, r.note.c_str());
+                std::printf("| %s | %zu | %dx%d | %.2f | %.2f | %.2f | %d | %s | %s | %s |\n", r.path.c_str(), r.points,
+                            r.width, r.height, r.cpu_ms_median, r.gpu_ms_median, r.frame_ms_median, r.frames, baseline,
+                            ratio, r.note.c_str());
             }
             std::fflush(stdout);
         }
     }
     if (!skip_rows.empty()) {
-        std::printf("\nSkip what a frame does not need (offscreen stereo, both eyes; 'nothing skipped' is the "
-                    "in-run baseline of each view):\n");
-        std::printf("| points | size | configuration | points drawn (2 eyes) | CPU submit ms | GPU ms | frame ms | "
-                    "frames | frame ratio |\n");
+        std::printf(
+            "\nSkip what a frame does not need (offscreen stereo, both eyes; 'nothing skipped' is the "
+            "in-run baseline of each view):\n");
+        std::printf(
+            "| points | size | configuration | points drawn (2 eyes) | CPU submit ms | GPU ms | frame ms | "
+            "frames | frame ratio |\n");
         std::printf("|---:|---|---|---:|---:|---:|---:|---:|---:|\n");
         double base = 0.0;
         for (const auto& r : skip_rows) {
@@ -145,27 +148,31 @@ void run(const BenchViewArgs& a) {
                 std::printf("| %zu | - | %s | - | - | - | - | 0 | - |\n", r.points, r.note.c_str());
                 continue;
             }
-            std::printf("| %zu | %dx%d | %s | %zu | %.2f | %.2f | %.2f | %d | %.2fx |\n", r.points, r.width,
-                        r.height, r.note.c_str(), r.points_drawn, r.cpu_ms_median, r.gpu_ms_median,
-                        r.frame_ms_median, r.frames, base > 0 ? r.frame_ms_median / base : 0.0);
+            std::printf("| %zu | %dx%d | %s | %zu | %.2f | %.2f | %.2f | %d | %.2fx |\n", r.points, r.width, r.height,
+                        r.note.c_str(), r.points_drawn, r.cpu_ms_median, r.gpu_ms_median, r.frame_ms_median, r.frames,
+                        base > 0 ? r.frame_ms_median / base : 0.0);
         }
     }
     if (pick) {
-        std::printf("\nThe pointer's pick (nearest point within 0.5 deg of a ray from the automatic orbit's eye to a "
-                    "random point of the cloud; k-d tree, viewer/pick_index.hpp) against a scan of every point:\n");
+        std::printf(
+            "\nThe pointer's pick (nearest point within 0.5 deg of a ray from the automatic orbit's eye to a "
+            "random point of the cloud; k-d tree, viewer/pick_index.hpp) against a scan of every point:\n");
         printPickingHeader(stdout);
         for (std::size_t n : a.points) measurePicking(n == demo.points.size() ? demo : grow(demo, n), 1000, stdout);
     }
     if (o.mirror || o.xr || o.egl || o.skip || o.tools) std::printf("GL: %s\n", gl.c_str());
-    if (o.egl) std::printf("baseline: render::PointSplatRenderer (the metric's 2 px splats, no eye-dome lighting) drawing the "
-                "same two eyes, interleaved frame by frame; ratio = viewer GPU ms / baseline GPU ms\n");
+    if (o.egl)
+        std::printf(
+            "baseline: render::PointSplatRenderer (the metric's 2 px splats, no eye-dome lighting) drawing the "
+            "same two eyes, interleaved frame by frame; ratio = viewer GPU ms / baseline GPU ms\n");
 }
 }  // namespace
 
 void registerView(CLI::App& parent) {
     auto args = std::make_shared<BenchViewArgs>();
-    CLI::App* cmd = parent.add_subcommand("view", "viewer frame times (CPU, GPU timer queries) for 1.6 M and 20 M "
-                                                 "points in the mirror, XR and offscreen stereo paths");
+    CLI::App* cmd = parent.add_subcommand("view",
+                                          "viewer frame times (CPU, GPU timer queries) for 1.6 M and 20 M "
+                                          "points in the mirror, XR and offscreen stereo paths");
     cmd->add_option("--points", args->points, "cloud sizes to measure (comma separated)")
         ->delimiter(',')
         ->capture_default_str();
@@ -179,8 +186,9 @@ void registerView(CLI::App& parent) {
     cmd->add_option("--point-budget", args->point_budget, "skip rows: points per eye with the LOD budget")
         ->capture_default_str();
     cmd->add_option("--eye", args->eye, "eye size of the offscreen stereo path, WxH")->capture_default_str();
-    cmd->add_option("--display", args->display, "auto: without DISPLAY, rerun under tests/viewer/headless_env.sh "
-                                                "(Xvfb + Monado's simulated HMD); none: run as is")
+    cmd->add_option("--display", args->display,
+                    "auto: without DISPLAY, rerun under tests/viewer/headless_env.sh "
+                    "(Xvfb + Monado's simulated HMD); none: run as is")
         ->capture_default_str();
     cmd->callback([args] { run(*args); });
 }

@@ -116,13 +116,13 @@ ViewBenchResult measureLoop(const core::PointCloud& cloud, const ViewBenchOption
     o.quiet = true;
     o.vsync = false;
     o.gpu_timing = true;
-    o.upload_points_per_frame = std::max<std::size_t>(cloud.points.size(), 1024);   // all in frame 1
+    o.upload_points_per_frame = std::max<std::size_t>(cloud.points.size(), 1024);  // all in frame 1
     o.frames = 1 + bench.warmup_frames + bench.frames;
     o.timeout_s = 1200.0;
     o.modes.orbit_period_s = 60.0;
     if (tools > 0) {
         o.headset_panel = tools >= 2;
-        o.frames += 60;   // room for the pick index to be built before the measured frames
+        o.frames += 60;  // room for the pick index to be built before the measured frames
     }
     if (tools >= 2) {
         const glm::dvec3 centre = cloud.bounds().centre() + cloud.origin;
@@ -169,7 +169,7 @@ ViewBenchResult measureLoop(const core::PointCloud& cloud, const ViewBenchOption
     for (const auto& f : log["frames"]) {
         if (f.value("frame", 0L) <= 1 + bench.warmup_frames) continue;
         if (f.value("points_uploaded", std::size_t{0}) < cloud.points.size()) continue;
-        if (tools > 0) {   // once the index is built (its thread competes for the CPU), then warm-up again
+        if (tools > 0) {  // once the index is built (its thread competes for the CPU), then warm-up again
             const bool hit = f.contains("pointer") && f["pointer"].contains("hit") && !f["pointer"]["hit"].is_null();
             if (!f.value("pick_ready", false) || (tools >= 2 && !hit)) continue;
             if (++ready_frames <= bench.warmup_frames || int(samples.cpu.size()) >= bench.frames) continue;
@@ -218,7 +218,7 @@ ViewBenchResult measureStereoEgl(const core::PointCloud& cloud, const ViewBenchO
         std::vector<double> base_gpu;
         const int total = bench.warmup_frames + bench.frames;
         for (int f = 0; f < 2 * total; ++f) {
-            const bool viewer_frame = f % 2 == 0;   // interleaved, so both see the same machine load
+            const bool viewer_frame = f % 2 == 0;  // interleaved, so both see the same machine load
             const Clock::time_point t0 = Clock::now();
             if (viewer_frame) modes.update(1.0 / 90.0, {}, viewer::RigPose{});
             const viewer::RigPose head = modes.rig();
@@ -236,8 +236,10 @@ ViewBenchResult measureStereoEgl(const core::PointCloud& cloud, const ViewBenchO
                 }
             });
             if (f / 2 < bench.warmup_frames) continue;
-            if (viewer_frame) ours.add(t);
-            else base_gpu.push_back(t.gpu_ms);
+            if (viewer_frame)
+                ours.add(t);
+            else
+                base_gpu.push_back(t.gpu_ms);
         }
         glDeleteQueries(1, &query);
         ours.store(r);
@@ -286,7 +288,7 @@ std::vector<ViewBenchResult> measureSkip(const core::PointCloud& cloud, const Vi
             std::vector<double> ms;
             for (std::size_t i = 0; i + chunk <= cloud.points.size() && ms.size() < 8; i += chunk) {
                 std::vector<core::CloudPoint> part(cloud.points.begin() + static_cast<std::ptrdiff_t>(i),
-                                                     cloud.points.begin() + static_cast<std::ptrdiff_t>(i + chunk));
+                                                   cloud.points.begin() + static_cast<std::ptrdiff_t>(i + chunk));
                 const Clock::time_point t0 = Clock::now();
                 const auto cells = viewer::buildLodOrder(part);
                 ms.push_back(msSince(t0));
@@ -311,10 +313,10 @@ std::vector<ViewBenchResult> measureSkip(const core::PointCloud& cloud, const Vi
         std::vector<Samples> samples(configs.size());
         for (int f = 0; f < bench.warmup_frames + bench.frames; ++f) {
             for (std::size_t c = 0; c < configs.size(); ++c) {
-                viewer::RigPose head = modes.rig();   // a fixed orbit pose: every configuration sees the same
+                viewer::RigPose head = modes.rig();  // a fixed orbit pose: every configuration sees the same
                 if (configs[c].away)
-                    head.rotation = glm::dmat3(glm::rotate(glm::dmat4(1.0), std::numbers::pi, glm::dvec3(0, 0, 1))) *
-                                    head.rotation;
+                    head.rotation =
+                        glm::dmat3(glm::rotate(glm::dmat4(1.0), std::numbers::pi, glm::dvec3(0, 0, 1))) * head.rotation;
                 const Clock::time_point t0 = Clock::now();
                 stereo.plan(head, configs[c].budget, configs[c].cull);
                 std::size_t drawn = 0;

@@ -32,8 +32,9 @@ double quantile(std::vector<double> v, double q) {
 }  // namespace
 
 void printPickingHeader(std::FILE* out) {
-    std::fprintf(out, "| points | index build s | rays | hits | pick ms median | p99 | max | CPU ms p99 | CPU ms max | "
-                      "sphere queries median | scan ms median (every point) | speed-up |\n");
+    std::fprintf(out,
+                 "| points | index build s | rays | hits | pick ms median | p99 | max | CPU ms p99 | CPU ms max | "
+                 "sphere queries median | scan ms median (every point) | speed-up |\n");
     std::fprintf(out, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
 }
 
@@ -42,7 +43,7 @@ void measurePicking(const core::PointCloud& cloud, int rays, std::FILE* out) {
     const viewer::PickIndex index(cloud.points);
     const double build_s = msSince(t_build) / 1000.0;
     const core::Bounds bounds = cloud.bounds();
-    const render::OrbitCameraOptions orbit;   // the viewer's automatic mode: 60 m out, 40 m up
+    const render::OrbitCameraOptions orbit;  // the viewer's automatic mode: 60 m out, 40 m up
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> angle(0.0, 2.0 * std::numbers::pi);
     std::uniform_int_distribution<std::size_t> pick_point(0, cloud.points.size() - 1);
@@ -58,7 +59,7 @@ void measurePicking(const core::PointCloud& cloud, int rays, std::FILE* out) {
         cpu_times.push_back(threadCpuMs() - c0);
         queries.push_back(double(index.lastQueries()));
         if (hit) ++hits;
-        if (i < 5) {   // the scan is what a frame would pay without the index
+        if (i < 5) {  // the scan is what a frame would pay without the index
             const auto t1 = Clock::now();
             const auto scan = index.pickByScan(eye.eye, target - eye.eye);
             scans.push_back(msSince(t1));

@@ -13,8 +13,7 @@ namespace {
 // Does the vertical line through (x, y) cross triangle abc? Then, via `z_out`, the
 // height where it does: barycentric coordinates of (x, y) in the triangle seen from
 // above (the xy projection), which weigh the corners' z.
-bool verticalHit(double x, double y, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-                 double& z_out) {
+bool verticalHit(double x, double y, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double& z_out) {
     const double d = (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
     if (std::abs(d) < 1e-12) return false;  // vertical or degenerate seen from above
     const double l0 = ((b.y - c.y) * (x - c.x) + (c.x - b.x) * (y - c.y)) / d;
@@ -47,8 +46,8 @@ std::optional<double> groundHeightAt(const Scene& scene, double x, double y) {
         if (m.role != Role::Ground) continue;
         for (const glm::uvec3& t : m.triangles) {
             double zt;
-            if (verticalHit(x, y, glm::dvec3(m.vertices[t.x]), glm::dvec3(m.vertices[t.y]),
-                            glm::dvec3(m.vertices[t.z]), zt) &&
+            if (verticalHit(x, y, glm::dvec3(m.vertices[t.x]), glm::dvec3(m.vertices[t.y]), glm::dvec3(m.vertices[t.z]),
+                            zt) &&
                 (!z || zt > *z))
                 z = zt;
         }

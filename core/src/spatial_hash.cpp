@@ -21,8 +21,7 @@ std::size_t CellKeyHash::operator()(const CellKey& k) const {
 }
 
 CellBins binByCell(std::span<const CloudPoint> points, double cell_m) {
-    if (!(cell_m > 0.0))
-        throw Error("spatial hash: cell size " + std::to_string(cell_m) + " m: allowed > 0");
+    if (!(cell_m > 0.0)) throw Error("spatial hash: cell size " + std::to_string(cell_m) + " m: allowed > 0");
     if (points.size() >= std::numeric_limits<std::uint32_t>::max())
         throw Error("spatial hash: " + std::to_string(points.size()) + " points: allowed fewer than 2^32 - 1");
     CellBins bins;

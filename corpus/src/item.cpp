@@ -14,7 +14,6 @@
 
 #include <nlohmann/json.hpp>
 
-
 #include <chrono>
 #include <cmath>
 
@@ -24,9 +23,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 bool isItemFile(const std::string& name) {
-    return name == "scene.json" || name == "cloud.pcd" || name == "cloud.ply" ||
-           name == "cloud.las" || name == "cloud.laz" || name == "summary.json" ||
-           name == "views.csv";
+    return name == "scene.json" || name == "cloud.pcd" || name == "cloud.ply" || name == "cloud.las" ||
+           name == "cloud.laz" || name == "summary.json" || name == "views.csv";
 }
 
 namespace {

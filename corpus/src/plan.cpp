@@ -63,13 +63,17 @@ std::string ItemPlan::sceneText(const fs::path& folder) const {
         std::string file = m.file.string();
         // Relative paths keep a corpus and its meshes movable together; a path that
         // would climb to the root stays absolute.
-        if (!folder.empty() && std::next(m.file.begin()) != m.file.end() &&
-            std::next(folder.begin()) != folder.end() && *std::next(m.file.begin()) == *std::next(folder.begin())) {
+        if (!folder.empty() && std::next(m.file.begin()) != m.file.end() && std::next(folder.begin()) != folder.end() &&
+            *std::next(m.file.begin()) == *std::next(folder.begin())) {
             const fs::path rel = m.file.lexically_relative(folder);
             if (!rel.empty()) file = rel.string();
         }
-        list.push_back(json{{"file", file}, {"role", m.role}, {"position", {m.position.x, m.position.y, m.position.z}},
-                              {"yaw_deg", m.yaw_deg}, {"scale", m.scale}, {"up", m.up}});
+        list.push_back(json{{"file", file},
+                            {"role", m.role},
+                            {"position", {m.position.x, m.position.y, m.position.z}},
+                            {"yaw_deg", m.yaw_deg},
+                            {"scale", m.scale},
+                            {"up", m.up}});
     }
     j["meshes"] = std::move(list);
     return j.dump(2) + "\n";
@@ -98,21 +102,21 @@ struct Planner::State {
     std::optional<glm::dvec3> origin;
     std::vector<MeshEntry> entries;
     core::Scene base;
-    std::unique_ptr<sim::RayCaster> ground;   // ground meshes only
-    double ray_top_local = 0.0;               // above every mesh, local frame
-    std::vector<core::Bounds> boxes;        // world box per mesh (environment ones used)
-    std::vector<std::size_t> environment;     // indices of environment meshes
-    int target = -1;                          // index of the one target mesh, -1 if not one
-    std::vector<std::vector<glm::dvec3>> models;   // per target_files entry, or the base's
-    double clearance_m = 0.0;                 // base target's lowest point above the ground
+    std::unique_ptr<sim::RayCaster> ground;       // ground meshes only
+    double ray_top_local = 0.0;                   // above every mesh, local frame
+    std::vector<core::Bounds> boxes;              // world box per mesh (environment ones used)
+    std::vector<std::size_t> environment;         // indices of environment meshes
+    int target = -1;                              // index of the one target mesh, -1 if not one
+    std::vector<std::vector<glm::dvec3>> models;  // per target_files entry, or the base's
+    double clearance_m = 0.0;                     // base target's lowest point above the ground
 };
 
 Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
     State& s = *state_;
     s.spec = spec;
     const std::string prefix = "corpus: " + core::printable(spec.file.string()) + ": ";
-    const std::string text = platform::readTextFile(spec.scene, io::kMaxSceneBytes,
-                                                  "corpus: scene " + core::printable(spec.scene.string()));
+    const std::string text =
+        platform::readTextFile(spec.scene, io::kMaxSceneBytes, "corpus: scene " + core::printable(spec.scene.string()));
     s.base = io::loadSceneJson(text, spec.scene);  // validates the scene and every mesh
     const json j = json::parse(text);
     if (j.contains("origin")) s.origin = vec3(j["origin"]);
@@ -130,7 +134,7 @@ Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
     }
     if (s.entries.size() != s.base.meshes.size())
         throw core::Error(prefix + "scene: " + std::to_string(s.entries.size()) + " entries but " +
-                            std::to_string(s.base.meshes.size()) + " meshes loaded");
+                          std::to_string(s.base.meshes.size()) + " meshes loaded");
     int targets = 0;
     for (std::size_t k = 0; k < s.base.meshes.size(); ++k) {
         core::Bounds b;
@@ -145,21 +149,24 @@ Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
     const bool moves = spec.varies("target_offset_m") || spec.varies("target_files");
     if ((moves || spec.varies("target_yaw_deg")) && targets != 1)
         throw core::Error(prefix + "vary: the target_* keys need a scene with exactly one target mesh; '" +
-                            core::printable(spec.scene.string()) + "' has " + std::to_string(targets));
+                          core::printable(spec.scene.string()) + "' has " + std::to_string(targets));
     if (targets != 1) s.target = -1;
     if (s.base.hasRole(core::Role::Ground)) {
         s.ground = std::make_unique<sim::RayCaster>(s.base, core::RoleMask::of({core::Role::Ground}));
         s.ray_top_local = s.base.bounds().hi.z + 10.0;
     } else if (moves || spec.varies("centre_offset_m")) {
-        throw core::Error(prefix + "vary: target_offset_m, target_files and centre_offset_m place things on the "
-                            "ground; '" + core::printable(spec.scene.string()) + "' has no ground mesh");
+        throw core::Error(prefix +
+                          "vary: target_offset_m, target_files and centre_offset_m place things on the "
+                          "ground; '" +
+                          core::printable(spec.scene.string()) + "' has no ground mesh");
     }
     if (s.target >= 0) {
         const MeshEntry& t = s.entries[std::size_t(s.target)];
         if (spec.target_files.empty()) {
             s.models.push_back(loadModel(t.file, t.up, t.scale, spec.scene));
         } else {
-            for (const TargetModel& m : spec.target_files) s.models.push_back(loadModel(m.file, m.up, m.scale, spec.scene));
+            for (const TargetModel& m : spec.target_files)
+                s.models.push_back(loadModel(m.file, m.up, m.scale, spec.scene));
         }
         // The base target's clearance: its lowest vertex above the ground under it.
         const std::vector<glm::dvec3> base_model = loadModel(t.file, t.up, t.scale, spec.scene);
@@ -255,7 +262,8 @@ ItemPlan Planner::plan(std::size_t index) const {
         const double yaw = target->yaw_deg * std::numbers::pi / 180.0;
         const double c = std::cos(yaw), sn = std::sin(yaw);
         core::Bounds local;  // the model's box after yaw, relative to its position
-        for (const glm::dvec3& v : s.models[model]) local.extend(glm::dvec3(c * v.x - sn * v.y, sn * v.x + c * v.y, v.z));
+        for (const glm::dvec3& v : s.models[model])
+            local.extend(glm::dvec3(c * v.x - sn * v.y, sn * v.x + c * v.y, v.z));
         const bool moves = spec.varies("target_offset_m") || spec.varies("target_files");
         if (moves) {
             const NumberVary* offset = nullptr;
@@ -290,11 +298,13 @@ ItemPlan Planner::plan(std::size_t index) const {
             }
             if (!placed) {
                 std::string range = "0";
-                if (offset) range = "[" + core::shownNumber(offset->lowest()) + ", " + core::shownNumber(offset->highest()) + "]";
+                if (offset)
+                    range =
+                        "[" + core::shownNumber(offset->lowest()) + ", " + core::shownNumber(offset->highest()) + "]";
                 throw core::Error(where + "the target cannot be placed: " + std::to_string(kMaxPlacementDraws) +
-                                    " draws with target_offset_m " + range +
-                                    " m all met another mesh's box or left the ground; allowed: a wider "
-                                    "target_offset_m, a lower environment_keep_fraction, or more room around the target");
+                                  " draws with target_offset_m " + range +
+                                  " m all met another mesh's box or left the ground; allowed: a wider "
+                                  "target_offset_m, a lower environment_keep_fraction, or more room around the target");
             }
         }
         p.target_position_world = target->position;
@@ -322,9 +332,10 @@ ItemPlan Planner::plan(std::size_t index) const {
         }
         if (!p.centre_world)
             throw core::Error(where + "the orbit centre cannot be placed: " + std::to_string(kMaxPlacementDraws) +
-                                " draws with centre_offset_m [" + core::shownNumber(n.lowest()) + ", " +
-                                core::shownNumber(n.highest()) + "] m all left the ground; allowed: a smaller "
-                                "centre_offset_m");
+                              " draws with centre_offset_m [" + core::shownNumber(n.lowest()) + ", " +
+                              core::shownNumber(n.highest()) +
+                              "] m all left the ground; allowed: a smaller "
+                              "centre_offset_m");
         p.options.centre = p.centre_world;
     }
 

@@ -44,7 +44,7 @@ bool itemIntact(const fs::path& dir, const json& line) {
         return false;
     const fs::path folder = dir / "items" / line["id"].get<std::string>();
     for (auto it = line["files"].begin(); it != line["files"].end(); ++it) {
-        struct stat st {};
+        struct stat st{};
         if (!isItemFile(it.key()) || !it.value().contains("bytes")) return false;
         if (::lstat((folder / it.key()).c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
         if (std::uint64_t(st.st_size) != it.value()["bytes"].get<std::uint64_t>()) return false;
@@ -71,7 +71,7 @@ std::string readOwnFile(const fs::path& file) {
         if (text.size() > kMaxManifestBytes) {
             ::close(fd);
             throw core::Error("corpus: manifest " + shown(file) + " is larger than " +
-                                std::to_string(kMaxManifestBytes) + " bytes; allowed: a manifest of this command");
+                              std::to_string(kMaxManifestBytes) + " bytes; allowed: a manifest of this command");
         }
     }
     ::close(fd);
@@ -89,7 +89,7 @@ struct ManifestLine {
 /// `torn` counts what was left out. Absent file: no line.
 std::vector<ManifestLine> readLines(const fs::path& file, std::size_t* torn) {
     std::vector<ManifestLine> lines;
-    struct stat st {};
+    struct stat st{};
     if (::lstat(file.c_str(), &st) != 0) return lines;
     const std::string text = readOwnFile(file);
     std::size_t start = 0;
@@ -133,13 +133,13 @@ json readCorpusRecord(const fs::path& dir) {
 void recordSpec(const fs::path& dir, const Spec& spec) {
     const fs::path file = dir / "corpus.json";
     json rec{{"spec", spec.file.string()}, {"spec_sha256", spec.sha256}, {"count", spec.count}, {"seed", spec.seed}};
-    struct stat st {};
+    struct stat st{};
     if (::lstat(file.c_str(), &st) == 0) {
         const json old = readCorpusRecord(dir);
         if (old.value("spec_sha256", "") != spec.sha256)
             throw core::Error("corpus: --out " + shown(dir) + " was made from another SPEC (" +
-                                core::printable(old.value("spec", "?")) +
-                                ", a different SHA-256); allowed: the same SPEC to resume, or a new --out folder");
+                              core::printable(old.value("spec", "?")) +
+                              ", a different SHA-256); allowed: the same SPEC to resume, or a new --out folder");
         return;
     }
     platform::writeFileAtomic(file, rec.dump(2) + "\n");
@@ -150,7 +150,7 @@ void recordSpec(const fs::path& dir, const Spec& spec) {
 std::pair<std::size_t, std::size_t> parseShard(const std::string& text, const std::string& option) {
     const auto bad = [&] {
         return core::Error("corpus: " + option + " '" + core::printable(text, 40) +
-                             "': allowed I/N with integers 0 <= I < N <= 1000000");
+                           "': allowed I/N with integers 0 <= I < N <= 1000000");
     };
     const std::size_t slash = text.find('/');
     if (slash == std::string::npos) throw bad();
@@ -172,7 +172,7 @@ std::optional<std::pair<std::size_t, std::size_t>> shardFromSlurm() {
         const std::string t = s;
         if (t.empty() || t.size() > 7 || t.find_first_not_of("0123456789") != std::string::npos)
             throw core::Error(std::string("corpus: ") + name + "='" + core::printable(t, 20) +
-                                "': allowed a whole number (or give --shard I/N)");
+                              "': allowed a whole number (or give --shard I/N)");
         return std::size_t(std::stoul(t));
     };
     const std::size_t i = number(id, "SLURM_ARRAY_TASK_ID") - (min ? number(min, "SLURM_ARRAY_TASK_MIN") : 0);
@@ -194,7 +194,7 @@ RunSummary runCorpus(const RunOptions& o) {
         if (o.progress) o.progress(s);
     };
 
-    struct stat st {};
+    struct stat st{};
     if (::stat(o.out.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
         throw core::Error("corpus: --out " + shown(o.out) + " exists and is not a folder; allowed a folder");
     std::error_code ec;
@@ -217,8 +217,9 @@ RunSummary runCorpus(const RunOptions& o) {
     } lock_closer{lock_fd};
     if (::flock(lock_fd, LOCK_EX | LOCK_NB) != 0)
         throw core::Error("corpus: " + shown(summary.manifest) + " is in use by another run of the same " +
-                            (o.sharded ? "shard" : "corpus") + "; allowed: one run per manifest at a time (wait, or "
-                            "stop the other run: this one would resume it)");
+                          (o.sharded ? "shard" : "corpus") +
+                          "; allowed: one run per manifest at a time (wait, or "
+                          "stop the other run: this one would resume it)");
 
     // What is done: intact lines of our manifest (torn, duplicated or stale ones dropped,
     // the file rewritten without them) and, for a shard, of the merged manifest.
@@ -261,7 +262,8 @@ RunSummary runCorpus(const RunOptions& o) {
 
     const int fd = ::open(summary.manifest.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd < 0)
-        throw core::Error("output: " + shown(summary.manifest) + ": cannot open for appending: " + std::strerror(errno));
+        throw core::Error("output: " + shown(summary.manifest) +
+                          ": cannot open for appending: " + std::strerror(errno));
     struct Closer {
         int fd;
         ~Closer() { ::close(fd); }
@@ -286,8 +288,8 @@ RunSummary runCorpus(const RunOptions& o) {
                 // One write of the whole line: appended after the folder is in place.
                 const ssize_t wrote = ::write(fd, line.data(), line.size());
                 if (wrote != ssize_t(line.size()) || ::fdatasync(fd) != 0)
-                    throw core::Error("output: " + shown(summary.manifest) + ": cannot append: " +
-                                        std::strerror(errno));
+                    throw core::Error("output: " + shown(summary.manifest) +
+                                      ": cannot append: " + std::strerror(errno));
                 ++summary.built;
                 ++finished;
                 char text[256];
@@ -334,7 +336,7 @@ MergeReport mergeManifests(const fs::path& dir) {
     std::set<std::string> seen_texts;
     std::set<std::string> duplicated, conflicting;
     for (const fs::path& file : sources) {
-        struct stat st {};
+        struct stat st{};
         if (::lstat(file.c_str(), &st) != 0) continue;
         ++report.sources;
         for (ManifestLine& l : readLines(file, nullptr)) {
@@ -370,7 +372,7 @@ MergeReport mergeManifests(const fs::path& dir) {
 std::vector<std::string> readManifest(const fs::path& dir) {
     std::map<std::size_t, std::string> by_index;
     std::vector<fs::path> files;
-    struct stat st {};
+    struct stat st{};
     if (::lstat((dir / "manifest.jsonl").c_str(), &st) == 0) {
         files.push_back(dir / "manifest.jsonl");
     } else {
@@ -381,8 +383,9 @@ std::vector<std::string> readManifest(const fs::path& dir) {
         }
     }
     if (files.empty())
-        throw core::Error("corpus: " + shown(dir) + ": no manifest.jsonl or manifest.<I>.jsonl; allowed a folder "
-                            "made by 'ladarvr corpus SPEC --out DIR'");
+        throw core::Error("corpus: " + shown(dir) +
+                          ": no manifest.jsonl or manifest.<I>.jsonl; allowed a folder "
+                          "made by 'ladarvr corpus SPEC --out DIR'");
     for (const fs::path& f : files)
         for (ManifestLine& l : readLines(f, nullptr)) by_index.emplace(l.index, std::move(l.text));
     std::vector<std::string> out;

@@ -137,14 +137,15 @@ double numberValue(const Context& c, const std::string& key, const json& v, cons
 NumberVary parseNumber(const Context& c, const std::string& key, const json& v, const VaryKey& k) {
     NumberVary n;
     n.integer = k.integer;
-    const std::string allowed = "allowed a number, {\"min\": a, \"max\": b} with a <= b, or a non-empty list of " +
-                                rangeText(k);
+    const std::string allowed =
+        "allowed a number, {\"min\": a, \"max\": b} with a <= b, or a non-empty list of " + rangeText(k);
     if (v.is_object()) {
         for (auto it = v.begin(); it != v.end(); ++it)
             if (it.key() != "min" && it.key() != "max")
                 c.fail(key, "unknown key '" + core::printable(it.key(), 40) + "' in the range; allowed min, max");
         if (!v.contains("min") || !v.contains("max"))
-            c.fail(key, std::string("empty range: '") + (v.contains("min") ? "max" : "min") + "' is missing; " + allowed);
+            c.fail(key,
+                   std::string("empty range: '") + (v.contains("min") ? "max" : "min") + "' is missing; " + allowed);
         n.kind = NumberVary::Kind::Uniform;
         n.min = numberValue(c, key + ".min", v["min"], k);
         n.max = numberValue(c, key + ".max", v["max"], k);
@@ -204,7 +205,8 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
     const Context c{"corpus: " + core::printable(file.string()) + ": "};
     // Strict: a key given twice or a NUL in a string is refused, naming where it is.
     const json j = io::parseStrictJson(text, "corpus: " + core::printable(file.string()));
-    if (!j.is_object()) throw core::Error(c.prefix + "allowed a JSON object with scene, count, seed, vary, metric, format");
+    if (!j.is_object())
+        throw core::Error(c.prefix + "allowed a JSON object with scene, count, seed, vary, metric, format");
     const fs::path dir = s.file.parent_path();
     for (auto it = j.begin(); it != j.end(); ++it) {
         const std::string& key = it.key();
@@ -230,11 +232,13 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
             } else if (v.is_object()) {
                 s.metric.enabled = true;
                 for (auto m = v.begin(); m != v.end(); ++m) {
-                    int* field = m.key() == "views" ? &s.metric.views : m.key() == "width" ? &s.metric.width
-                                 : m.key() == "height" ? &s.metric.height : nullptr;
+                    int* field = m.key() == "views"    ? &s.metric.views
+                                 : m.key() == "width"  ? &s.metric.width
+                                 : m.key() == "height" ? &s.metric.height
+                                                       : nullptr;
                     if (!field)
-                        c.fail("metric", "unknown key '" + core::printable(m.key(), 40) +
-                                             "'; allowed views, width, height");
+                        c.fail("metric",
+                               "unknown key '" + core::printable(m.key(), 40) + "'; allowed views, width, height");
                     const bool is_views = m.key() == "views";
                     const double lo = is_views ? 1 : 16, hi = is_views ? 65535 : 8192;
                     if (!m.value().is_number_integer() || m.value().get<double>() < lo || m.value().get<double>() > hi)
@@ -258,7 +262,8 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
                     if (list.is_array()) {
                         if (list.empty()) c.fail(name, "empty list; allowed a non-empty list of mesh files");
                         for (std::size_t i = 0; i < list.size(); ++i)
-                            s.target_files.push_back(parseTarget(c, name + "[" + std::to_string(i) + "]", list[i], dir));
+                            s.target_files.push_back(
+                                parseTarget(c, name + "[" + std::to_string(i) + "]", list[i], dir));
                     } else {
                         s.target_files.push_back(parseTarget(c, name, list, dir));
                     }
@@ -287,7 +292,7 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
             sim::validate(o);
         } catch (const core::Error& e) {
             throw core::Error(c.prefix + "vary: with every value at its " + (high ? "highest" : "lowest") + ": " +
-                                e.what());
+                              e.what());
         }
     }
     s.sha256 = sha256Hex(text);
@@ -295,7 +300,8 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
 }
 
 Spec loadSpec(const fs::path& file) {
-    const std::string text = platform::readTextFile(file, kMaxSpecBytes, "corpus: SPEC " + core::printable(file.string()));
+    const std::string text =
+        platform::readTextFile(file, kMaxSpecBytes, "corpus: SPEC " + core::printable(file.string()));
     Spec s = parseSpec(text, file);
     return s;
 }

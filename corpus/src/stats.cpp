@@ -99,7 +99,7 @@ Stats computeStats(const fs::path& dir, const StatsOptions& o) {
     const auto it = columns.find(st.histogram_column);
     if (it == columns.end())
         throw core::Error("corpus: --column '" + core::printable(st.histogram_column, 40) + "' is not in " +
-                            core::printable(dir.string()) + "'s manifest; allowed " + columnList(columns));
+                          core::printable(dir.string()) + "'s manifest; allowed " + columnList(columns));
     if (o.bins < 1 || o.bins > 200) throw core::Error("corpus: bins: allowed [1, 200]");
     const std::vector<double>& v = it->second;
     st.histogram_lo = v.front();
@@ -118,8 +118,8 @@ Stats computeStats(const fs::path& dir, const StatsOptions& o) {
 std::string statsText(const Stats& st) {
     std::string s = "corpus: " + std::to_string(st.items) + " items\n";
     char line[256];
-    std::snprintf(line, sizeof line, "%-26s %6s %12s %12s %12s %12s %12s %12s\n", "column", "n", "min", "p10",
-                  "median", "p90", "max", "mean");
+    std::snprintf(line, sizeof line, "%-26s %6s %12s %12s %12s %12s %12s %12s\n", "column", "n", "min", "p10", "median",
+                  "p90", "max", "mean");
     s += line;
     for (const ColumnStats& c : st.columns) {
         std::snprintf(line, sizeof line, "%-26s %6zu %12.6g %12.6g %12.6g %12.6g %12.6g %12.6g\n", c.name.c_str(), c.n,
@@ -139,11 +139,14 @@ std::string statsJson(const Stats& st) {
     j["items"] = st.items;
     json cols = json::object();
     for (const ColumnStats& c : st.columns)
-        cols[c.name] = {{"n", c.n},           {"min", c.min}, {"p10", c.p10}, {"median", c.median},
-                        {"p90", c.p90},       {"max", c.max}, {"mean", c.mean}};
+        cols[c.name] = {{"n", c.n},     {"min", c.min}, {"p10", c.p10},  {"median", c.median},
+                        {"p90", c.p90}, {"max", c.max}, {"mean", c.mean}};
     j["columns"] = cols;
-    j["histogram"] = {{"column", st.histogram_column}, {"lo", st.histogram_lo}, {"hi", st.histogram_hi},
-                      {"counts", st.histogram}, {"png", st.histogram_png.string()}};
+    j["histogram"] = {{"column", st.histogram_column},
+                      {"lo", st.histogram_lo},
+                      {"hi", st.histogram_hi},
+                      {"counts", st.histogram},
+                      {"png", st.histogram_png.string()}};
     return j.dump(2);
 }
 
@@ -162,12 +165,13 @@ struct Condition {
     }
 };
 
-std::vector<Condition> parseConditions(const std::string& text, const std::map<std::string, std::vector<double>>& columns) {
+std::vector<Condition> parseConditions(const std::string& text,
+                                       const std::map<std::string, std::vector<double>>& columns) {
     std::vector<Condition> out;
     std::size_t start = 0;
     const auto bad = [&](const std::string& part, const std::string& why) {
         return core::Error("corpus: --select '" + core::printable(text, 80) + "': '" + core::printable(part, 40) +
-                             "' " + why);
+                           "' " + why);
     };
     while (start <= text.size()) {
         const std::size_t comma = std::min(text.find(',', start), text.size());
@@ -191,7 +195,8 @@ std::vector<Condition> parseConditions(const std::string& text, const std::map<s
         } catch (const std::exception&) {
             throw bad(part, "does not end in a finite number");
         }
-        if (!columns.count(c.column)) throw bad(part, "names no column of the manifest; allowed " + columnList(columns));
+        if (!columns.count(c.column))
+            throw bad(part, "names no column of the manifest; allowed " + columnList(columns));
         out.push_back(c);
     }
     return out;
@@ -211,7 +216,8 @@ SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
         const auto values = manifestColumns(line);
         bool all = true;
         for (const Condition& c : conditions) {
-            const auto it = std::find_if(values.begin(), values.end(), [&](const auto& p) { return p.first == c.column; });
+            const auto it =
+                std::find_if(values.begin(), values.end(), [&](const auto& p) { return p.first == c.column; });
             all = all && it != values.end() && c.holds(it->second);
         }
         if (all) matching.push_back(json::parse(line));
@@ -219,13 +225,14 @@ SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
     r.matching = matching.size();
     if (o.count < 1 || o.count > matching.size())
         throw core::Error("corpus: --count " + std::to_string(o.count) + ": " + std::to_string(matching.size()) +
-                            " of " + std::to_string(lines.size()) + " items match '" +
-                            core::printable(o.expression, 80) + "'; allowed 1.." + std::to_string(matching.size()));
+                          " of " + std::to_string(lines.size()) + " items match '" + core::printable(o.expression, 80) +
+                          "'; allowed 1.." + std::to_string(matching.size()));
     SplitMix64 r64(mix64(o.seed));
     for (std::size_t i = 0; i < o.count; ++i) std::swap(matching[i], matching[i + r64.below(matching.size() - i)]);
     matching.resize(o.count);
-    std::sort(matching.begin(), matching.end(),
-              [](const json& a, const json& b) { return a["index"].get<std::size_t>() < b["index"].get<std::size_t>(); });
+    std::sort(matching.begin(), matching.end(), [](const json& a, const json& b) {
+        return a["index"].get<std::size_t>() < b["index"].get<std::size_t>();
+    });
     const fs::path plan_dir = fs::absolute(o.plan).lexically_normal().parent_path();
     const fs::path items = fs::absolute(dir / "items").lexically_normal();
     const auto relative = [&](const fs::path& p) {
@@ -238,7 +245,8 @@ SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
         for (auto it = m["files"].begin(); it != m["files"].end(); ++it)
             if (it.key().rfind("cloud.", 0) == 0) cloud = it.key();
         const fs::path folder = items / m["id"].get<std::string>();
-        trials.push_back({{"cloud", relative(folder / cloud)}, {"scene", relative(folder / "scene.json")},
+        trials.push_back({{"cloud", relative(folder / cloud)},
+                          {"scene", relative(folder / "scene.json")},
                           {"time_limit_s", o.time_limit_s}});
     }
     json plan{{"trials", trials}, {"shuffle_seed", o.seed}};

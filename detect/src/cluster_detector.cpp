@@ -62,19 +62,18 @@ std::vector<std::uint8_t> ransacGroundByTile(const core::PointCloud& cloud, cons
 std::vector<std::uint8_t> findGroundPoints(const core::PointCloud& cloud, const ClusterOptions& o) {
     std::vector<std::uint8_t> ground(cloud.points.size(), 0);
     switch (o.ground) {
-    case GroundSource::Labels:
-        if (!cloud.fields.label)
-            throw core::Error("detect: --ground labels: the cloud has no label field; use --ground ransac");
-        for (std::size_t i = 0; i < cloud.points.size(); ++i)
-            ground[i] = cloud.points[i].label == core::Role::Ground;
-        return ground;
-    case GroundSource::White:
-        if (!cloud.fields.rgb)
-            throw core::Error("detect: --ground white: the cloud has no rgb field; use --ground ransac");
-        for (std::size_t i = 0; i < cloud.points.size(); ++i) ground[i] = cloud.points[i].rgb == core::kWhite;
-        return ground;
-    case GroundSource::Ransac:
-        break;
+        case GroundSource::Labels:
+            if (!cloud.fields.label)
+                throw core::Error("detect: --ground labels: the cloud has no label field; use --ground ransac");
+            for (std::size_t i = 0; i < cloud.points.size(); ++i)
+                ground[i] = cloud.points[i].label == core::Role::Ground;
+            return ground;
+        case GroundSource::White:
+            if (!cloud.fields.rgb)
+                throw core::Error("detect: --ground white: the cloud has no rgb field; use --ground ransac");
+            for (std::size_t i = 0; i < cloud.points.size(); ++i) ground[i] = cloud.points[i].rgb == core::kWhite;
+            return ground;
+        case GroundSource::Ransac: break;
     }
     return ransacGroundByTile(cloud, o);
 }
@@ -103,7 +102,8 @@ void validate(const ClusterOptions& o) {
 double sizeScore(const glm::dvec3& size_m, const glm::dvec3& target_size_m, double size_tolerance) {
     // Compare the longer horizontal side with the longer one, the shorter with the shorter.
     const double s_long = std::max(size_m.x, size_m.y), s_short = std::min(size_m.x, size_m.y);
-    const double t_long = std::max(target_size_m.x, target_size_m.y), t_short = std::min(target_size_m.x, target_size_m.y);
+    const double t_long = std::max(target_size_m.x, target_size_m.y),
+                 t_short = std::min(target_size_m.x, target_size_m.y);
     const double kFloor = 0.01;  // a flat or thin cluster: a tiny side, a finite log
     const double sides[3][2] = {{s_long, t_long}, {s_short, t_short}, {size_m.z, target_size_m.z}};
     double sum = 0.0;

@@ -11,12 +11,12 @@
 
 namespace io {
 
+using core::Candidate;
 using core::Error;
 using core::shownNumber;
-using core::Candidate;
+using platform::checkWritableDestination;
 using platform::readTextFile;
 using platform::writeFileAtomic;
-using platform::checkWritableDestination;
 namespace {
 
 using nlohmann::json;
@@ -92,7 +92,8 @@ std::vector<Candidate> readCandidates(const std::filesystem::path& file) {
         if (!ids.insert(cand.id).second)
             throw Error(where + ".id '" + core::printable(cand.id, 40, true) + "' is given twice; allowed: unique ids");
         cand.centre_world = triple(c, "centre", where, "[x, y, z] in world metres", core::kMaxWorldCoordinate_m);
-        cand.size_m = triple(c, "size_m", where, "[length, width, height], each > 0 metres", core::kMaxLocalCoordinate_m);
+        cand.size_m =
+            triple(c, "size_m", where, "[length, width, height], each > 0 metres", core::kMaxLocalCoordinate_m);
         if (cand.size_m.x <= 0 || cand.size_m.y <= 0 || cand.size_m.z <= 0)
             throw Error(where + ".size_m must be > 0 metres in each dimension");
         cand.yaw_deg = c.contains("yaw_deg") ? number(c, "yaw_deg", where, "degrees") : 0.0;

@@ -2,7 +2,6 @@
 // readers (see cloud_decode.hpp).
 #include "cloud_decode.hpp"
 
-
 #include <core/error.hpp>
 
 #include <algorithm>
@@ -21,14 +20,13 @@
 
 namespace io::detail {
 
-using core::Error;
-using core::Role;
-using core::CloudPoint;
 using core::CloudFields;
+using core::CloudPoint;
+using core::Error;
 using core::packRgb;
+using core::Role;
 
-static_assert(std::endian::native == std::endian::little,
-              "decodeBinary reads little-endian records with memcpy");
+static_assert(std::endian::native == std::endian::little, "decodeBinary reads little-endian records with memcpy");
 
 namespace {
 
@@ -37,21 +35,19 @@ constexpr std::size_t kMaxTokenBytes = 4096;
 constexpr std::size_t kMaxPaddingBytes = 64u << 10;
 
 class MemorySource final : public ByteSource {
-public:
+  public:
     explicit MemorySource(std::string_view bytes) : bytes_(bytes) { size_ = bytes.size(); }
     std::string_view view(std::uint64_t offset, std::size_t n) override {
         return bytes_.substr(std::size_t(offset), n);
     }
 
-private:
+  private:
     std::string_view bytes_;
 };
 
 class FileSource final : public ByteSource {
-public:
-    FileSource(int fd, std::uint64_t size, std::string prefix) : fd_(fd), prefix_(std::move(prefix)) {
-        size_ = size;
-    }
+  public:
+    FileSource(int fd, std::uint64_t size, std::string prefix) : fd_(fd), prefix_(std::move(prefix)) { size_ = size; }
     ~FileSource() override { ::close(fd_); }
     FileSource(const FileSource&) = delete;
     FileSource& operator=(const FileSource&) = delete;
@@ -71,7 +67,7 @@ public:
         return large_;
     }
 
-private:
+  private:
     void readAt(std::uint64_t offset, char* out, std::size_t n) {
         std::size_t done = 0;
         while (done < n) {
@@ -101,21 +97,53 @@ double loadScalar(const unsigned char* p, ScalarType t, bool swap) {
     if (swap) std::reverse(b, b + t.size);
     switch (t.kind) {
         case Kind::Float:
-            if (t.size == 4) { float f; std::memcpy(&f, b, 4); return f; }
-            { double d; std::memcpy(&d, b, 8); return d; }
+            if (t.size == 4) {
+                float f;
+                std::memcpy(&f, b, 4);
+                return f;
+            }
+            {
+                double d;
+                std::memcpy(&d, b, 8);
+                return d;
+            }
         case Kind::UInt:
             switch (t.size) {
                 case 1: return b[0];
-                case 2: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-                case 4: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-                default: { std::uint64_t v; std::memcpy(&v, b, 8); return double(v); }
+                case 2: {
+                    std::uint16_t v;
+                    std::memcpy(&v, b, 2);
+                    return v;
+                }
+                case 4: {
+                    std::uint32_t v;
+                    std::memcpy(&v, b, 4);
+                    return v;
+                }
+                default: {
+                    std::uint64_t v;
+                    std::memcpy(&v, b, 8);
+                    return double(v);
+                }
             }
         case Kind::Int:
             switch (t.size) {
                 case 1: return std::int8_t(b[0]);
-                case 2: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-                case 4: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-                default: { std::int64_t v; std::memcpy(&v, b, 8); return double(v); }
+                case 2: {
+                    std::int16_t v;
+                    std::memcpy(&v, b, 2);
+                    return v;
+                }
+                case 4: {
+                    std::int32_t v;
+                    std::memcpy(&v, b, 4);
+                    return v;
+                }
+                default: {
+                    std::int64_t v;
+                    std::memcpy(&v, b, 8);
+                    return double(v);
+                }
             }
     }
     return 0.0;
@@ -129,7 +157,6 @@ std::uint32_t loadBits32(const unsigned char* p, bool swap) {
     std::memcpy(&v, b, 4);
     return v;
 }
-
 
 Role checkedLabel(double v, std::size_t i, const std::string& prefix) {
     if (!(v == 0.0 || v == 1.0 || v == 2.0))
@@ -192,9 +219,7 @@ bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 
 }  // namespace
 
-std::unique_ptr<ByteSource> memorySource(std::string_view bytes) {
-    return std::make_unique<MemorySource>(bytes);
-}
+std::unique_ptr<ByteSource> memorySource(std::string_view bytes) { return std::make_unique<MemorySource>(bytes); }
 
 std::unique_ptr<ByteSource> fileSource(const std::filesystem::path& path, const char* module) {
     const std::string prefix = std::string(module) + ": " + path.string();
@@ -204,7 +229,7 @@ std::unique_ptr<ByteSource> fileSource(const std::filesystem::path& path, const 
         if (errno == ENOENT || errno == ENOTDIR) throw Error(prefix + ": file does not exist");
         throw Error(prefix + ": cannot be read: " + std::strerror(errno));
     }
-    struct stat st {};
+    struct stat st{};
     if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         const bool dir = S_ISDIR(st.st_mode);
         ::close(fd);
@@ -229,8 +254,10 @@ bool TextStream::next(std::string_view& token) {
     for (;;) {
         while (at_ < block_.size()) {
             const char c = block_[at_];
-            if (c == '\n') ++line_no_;
-            else if (!isSpace(c)) break;
+            if (c == '\n')
+                ++line_no_;
+            else if (!isSpace(c))
+                break;
             ++at_;
         }
         if (at_ < block_.size()) break;
@@ -240,8 +267,7 @@ bool TextStream::next(std::string_view& token) {
     while (at_ < block_.size() && !isSpace(block_[at_])) ++at_;
     if (at_ < block_.size() || next_ >= source_.size()) {
         token = block_.substr(start, at_ - start);
-        if (token.size() > kMaxTokenBytes)
-            throw Error(prefix_ + ": a value longer than 4096 bytes; not a text cloud?");
+        if (token.size() > kMaxTokenBytes) throw Error(prefix_ + ": a value longer than 4096 bytes; not a text cloud?");
         return true;
     }
     // The token runs into the next block: gather it (bounded) before the view moves on.
@@ -355,21 +381,18 @@ bool parseDouble(std::string_view s, double& out) {
     return false;
 }
 
-glm::dvec3 parseOrigin(const std::vector<std::string_view>& words, std::size_t first,
-                       const std::string& where) {
-    if (words.size() != first + 3)
-        throw Error(where + ": the ladarvr origin needs 3 numbers X Y Z");
+glm::dvec3 parseOrigin(const std::vector<std::string_view>& words, std::size_t first, const std::string& where) {
+    if (words.size() != first + 3) throw Error(where + ": the ladarvr origin needs 3 numbers X Y Z");
     glm::dvec3 o;
     for (int k = 0; k < 3; ++k) {
         if (!parseDouble(words[first + std::size_t(k)], o[k]) || !std::isfinite(o[k]))
-            throw Error(where + ": the ladarvr origin value '" +
-                        core::printable(words[first + std::size_t(k)], 40) + "' is not a finite number");
+            throw Error(where + ": the ladarvr origin value '" + core::printable(words[first + std::size_t(k)], 40) +
+                        "' is not a finite number");
     }
     return o;
 }
 
-void checkPadding(ByteSource& source, std::uint64_t from, const std::string& prefix,
-                  const std::string& what) {
+void checkPadding(ByteSource& source, std::uint64_t from, const std::string& prefix, const std::string& what) {
     if (from >= source.size()) return;
     const std::uint64_t extra = source.size() - from;
     bool zeros = extra <= kMaxPaddingBytes;
@@ -399,9 +422,8 @@ bool peekTextXyz(TextStream& tokens, const Layout& l, std::size_t per_point, glm
     return true;
 }
 
-void decodeBinary(const unsigned char* data, std::size_t first, std::size_t count,
-                  const Layout& l, bool swap, std::size_t number, const std::string& prefix,
-                  std::vector<CloudPoint>& out, DecodeStats& stats) {
+void decodeBinary(const unsigned char* data, std::size_t first, std::size_t count, const Layout& l, bool swap,
+                  std::size_t number, const std::string& prefix, std::vector<CloudPoint>& out, DecodeStats& stats) {
     auto at = [&](const Column& c, std::size_t k) { return data + c.base + (first + k) * c.stride; };
     const std::size_t old = out.size();
     out.resize(old + count);
@@ -410,11 +432,10 @@ void decodeBinary(const unsigned char* data, std::size_t first, std::size_t coun
     // Fast path for native-endian files of our own layout (and PCL's usual x y z [rgb]):
     // fixed types, no per-value type switch; the general loop below handles the rest.
     const auto is = [](const Column& c, Kind k, int size) { return c.type.kind == k && c.type.size == size; };
-    const bool extras = l.intensity.present || l.return_number.present || l.returns.present ||
-                        l.incidence.present || l.scan_angle.present || l.height_above_ground.present;
+    const bool extras = l.intensity.present || l.return_number.present || l.returns.present || l.incidence.present ||
+                        l.scan_angle.present || l.height_above_ground.present;
     if (!swap && is(l.x, Kind::Float, 4) && is(l.y, Kind::Float, 4) && is(l.z, Kind::Float, 4) &&
-        l.shift == glm::dvec3(0.0) &&
-        !rgb_from_channels && (!l.label.present || is(l.label, Kind::UInt, 1)) &&
+        l.shift == glm::dvec3(0.0) && !rgb_from_channels && (!l.label.present || is(l.label, Kind::UInt, 1)) &&
         (!l.view.present || is(l.view, Kind::UInt, 2)) && (!l.range.present || is(l.range, Kind::Float, 4))) {
         for (std::size_t k = 0; k < count; ++k) {
             CloudPoint& p = points[k];
@@ -428,7 +449,9 @@ void decodeBinary(const unsigned char* data, std::size_t first, std::size_t coun
             }
             if (l.label.present) {
                 const std::uint8_t b = *at(l.label, k);
-                p.label = b <= 2 && l.label_codes != LabelCodes::Classes ? Role(b) : labelRole(double(b), l, number + k, prefix, stats);
+                p.label = b <= 2 && l.label_codes != LabelCodes::Classes
+                              ? Role(b)
+                              : labelRole(double(b), l, number + k, prefix, stats);
             }
             if (l.view.present) std::memcpy(&p.view, at(l.view, k), 2);
             if (l.range.present) std::memcpy(&p.range_m, at(l.range, k), 4);
@@ -450,16 +473,15 @@ void decodeBinary(const unsigned char* data, std::size_t first, std::size_t coun
         }
         if (l.label.present)
             p.label = labelRole(loadScalar(at(l.label, k), l.label.type, swap), l, number + k, prefix, stats);
-        if (l.view.present)
-            p.view = checkedView(loadScalar(at(l.view, k), l.view.type, swap), number + k, prefix);
+        if (l.view.present) p.view = checkedView(loadScalar(at(l.view, k), l.view.type, swap), number + k, prefix);
         if (l.range.present) p.range_m = float(loadScalar(at(l.range, k), l.range.type, swap));
         if (extras) decodeExtras(p, l, [&](const Column& c) { return loadScalar(at(c, k), c.type, swap); });
     }
 }
 
-void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, const Layout& l,
-                std::size_t number, std::size_t total, std::size_t line_base,
-                const std::string& prefix, std::vector<CloudPoint>& out, DecodeStats& stats) {
+void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, const Layout& l, std::size_t number,
+                std::size_t total, std::size_t line_base, const std::string& prefix, std::vector<CloudPoint>& out,
+                DecodeStats& stats) {
     std::vector<std::string> tok(per_point);
     std::size_t i = number;
     const bool exact = l.shift == glm::dvec3(0.0);
@@ -467,8 +489,7 @@ void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, co
         // Floats of 4 bytes parse as float: the shortest text of a float reads back exactly
         // (but not when x, y, z are shifted: then their digits beyond a float count).
         float f;
-        if (exact && c.type.kind == Kind::Float && c.type.size == 4 && parseExact(tok[c.token], f))
-            return double(f);
+        if (exact && c.type.kind == Kind::Float && c.type.size == 4 && parseExact(tok[c.token], f)) return double(f);
         double v;
         if (!parseDouble(tok[c.token], v))
             throw Error(prefix + ": line " + std::to_string(line_base + tokens.lineNo()) + ": value '" +
@@ -481,14 +502,13 @@ void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, co
             std::string_view piece;
             if (!tokens.next(piece))
                 throw Error(prefix + ": truncated: the header says " + std::to_string(total) +
-                            " points but the data end at line " +
-                            std::to_string(line_base + tokens.lineNo()) + " inside point " +
-                            std::to_string(i));
+                            " points but the data end at line " + std::to_string(line_base + tokens.lineNo()) +
+                            " inside point " + std::to_string(i));
             tok[t].assign(piece);
         }
         CloudPoint p;
-        p.position = glm::vec3(float(value(l.x) - l.shift.x), float(value(l.y) - l.shift.y),
-                               float(value(l.z) - l.shift.z));
+        p.position =
+            glm::vec3(float(value(l.x) - l.shift.x), float(value(l.y) - l.shift.y), float(value(l.z) - l.shift.z));
         if (l.rgb.present) {
             // TYPE F rgb: PCL's writer puts the uint32 bits as an integer, others the float.
             std::uint32_t bits = 0;
@@ -505,8 +525,7 @@ void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, co
             }
             p.rgb = bits & 0xFFFFFFu;
         } else if (rgb_from_channels) {
-            p.rgb = packRgb(colourByte(value(l.red), l.colour_float),
-                            colourByte(value(l.green), l.colour_float),
+            p.rgb = packRgb(colourByte(value(l.red), l.colour_float), colourByte(value(l.green), l.colour_float),
                             colourByte(value(l.blue), l.colour_float));
         }
         if (l.label.present) p.label = labelRole(value(l.label), l, i, prefix, stats);

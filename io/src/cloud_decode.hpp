@@ -21,12 +21,12 @@ namespace io::detail {
 /// `offset` (the caller checks offset + n <= size()); the view stays valid until the
 /// next call. Throws Error("<prefix>: ...") if the bytes cannot be read.
 class ByteSource {
-public:
+  public:
     virtual ~ByteSource() = default;
     std::uint64_t size() const { return size_; }
     virtual std::string_view view(std::uint64_t offset, std::size_t n) = 0;
 
-protected:
+  protected:
     std::uint64_t size_ = 0;
 };
 
@@ -41,13 +41,13 @@ std::unique_ptr<ByteSource> fileSource(const std::filesystem::path& path, const 
 /// Whitespace-separated tokens of the text after `begin`, with line numbers (1 = the
 /// first line after `begin`). A token is valid until the next call.
 class TextStream {
-public:
+  public:
     TextStream(ByteSource& source, std::uint64_t begin, std::string prefix);
     /// False at the end of the data. Throws Error for a token longer than 4,096 bytes.
     bool next(std::string_view& token);
     std::size_t lineNo() const { return line_no_; }
 
-private:
+  private:
     bool refill();
     ByteSource& source_;
     std::uint64_t next_;  // file offset just after block_
@@ -146,26 +146,24 @@ bool parseExact(std::string_view s, T& out) {
 /// A number; out of range gives +-inf (overflow) or the nearest denormal/0 (underflow).
 bool parseDouble(std::string_view s, double& out);
 /// "X Y Z" at words[first..first+2], each finite. Throws Error(where + ": ...").
-glm::dvec3 parseOrigin(const std::vector<std::string_view>& words, std::size_t first,
-                       const std::string& where);
+glm::dvec3 parseOrigin(const std::vector<std::string_view>& words, std::size_t first, const std::string& where);
 /// Zero bytes after the declared data are padding (PCL pads its binary files so); up to
 /// 64 KiB of them are accepted, anything else is refused with one line naming `what`.
-void checkPadding(ByteSource& source, std::uint64_t from, const std::string& prefix,
-                  const std::string& what);
+void checkPadding(ByteSource& source, std::uint64_t from, const std::string& prefix, const std::string& what);
 
 /// Decodes `count` binary records into `out` (appended): the record of point k (k from 0)
 /// is read through Column base + (first + k) * stride from `data`; `number` is the index
 /// of the first point in the file, for messages. `swap`: big-endian data.
-void decodeBinary(const unsigned char* data, std::size_t first, std::size_t count,
-                  const Layout& l, bool swap, std::size_t number, const std::string& prefix,
-                  std::vector<core::CloudPoint>& out, DecodeStats& stats);
+void decodeBinary(const unsigned char* data, std::size_t first, std::size_t count, const Layout& l, bool swap,
+                  std::size_t number, const std::string& prefix, std::vector<core::CloudPoint>& out,
+                  DecodeStats& stats);
 
 /// Decodes `count` text records of `per_point` tokens each (appended to `out`); `number`
 /// is the index of the first, `line_base` the header's line count (for messages), `total`
 /// the declared count (for the truncation message).
-void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, const Layout& l,
-                std::size_t number, std::size_t total, std::size_t line_base,
-                const std::string& prefix, std::vector<core::CloudPoint>& out, DecodeStats& stats);
+void decodeText(TextStream& tokens, std::size_t count, std::size_t per_point, const Layout& l, std::size_t number,
+                std::size_t total, std::size_t line_base, const std::string& prefix, std::vector<core::CloudPoint>& out,
+                DecodeStats& stats);
 
 /// x, y, z of the first text record (for shiftFor), read through a stream of its own
 /// that starts at the record; false if the data end first or a value is no number.
@@ -176,7 +174,7 @@ glm::dvec3 peekBinaryXyz(const unsigned char* record, const Layout& l, bool swap
 /// One cloud format's reader: the header is read and checked when it is made; next()
 /// then decodes the records in order.
 class FormatReader {
-public:
+  public:
     virtual ~FormatReader() = default;
     /// Appends up to `max_points` (>= 1) decoded points to `out` and returns how many;
     /// 0 once every declared point is read (and the data end was checked).

@@ -13,8 +13,8 @@
 
 namespace io {
 
-using core::CloudPoint;
 using core::CloudFields;
+using core::CloudPoint;
 using core::PointCloud;
 
 namespace {
@@ -49,8 +49,7 @@ std::unique_ptr<detail::FormatReader> open(detail::ByteSource& source, const std
 
 }  // namespace
 
-CloudReader::CloudReader(const std::filesystem::path& path)
-    : source_(detail::fileSource(path, moduleFor(path))) {
+CloudReader::CloudReader(const std::filesystem::path& path) : source_(detail::fileSource(path, moduleFor(path))) {
     const std::string module = moduleOf(*source_, path);
     prefix_ = module + ": " + path.string();
     format_ = open(*source_, module, prefix_);
@@ -77,8 +76,8 @@ bool CloudReader::nextChunk(std::vector<CloudPoint>& out, std::size_t max_points
     read_ += n;
     const bool range = format_->fields.range;
     const auto bad = [range](const CloudPoint& p) {
-        return !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
-               !std::isfinite(p.position.z) || (range && !std::isfinite(p.range_m));
+        return !std::isfinite(p.position.x) || !std::isfinite(p.position.y) || !std::isfinite(p.position.z) ||
+               (range && !std::isfinite(p.range_m));
     };
     const auto first_bad = std::find_if(out.begin() + std::ptrdiff_t(old), out.end(), bad);
     if (first_bad != out.end()) {
@@ -96,8 +95,8 @@ std::string CloudReader::warning() const {
             " points with a non-finite x, y, z or range (NaN or inf)";
     if (const detail::DecodeStats& s = format_->stats; s.unknown_classes > 0)
         w += (w.empty() ? prefix_ + ": " : std::string("; ")) + std::to_string(s.unknown_classes) +
-             " points have an ASPRS class this reader does not know (the first: " +
-             std::to_string(s.first_unknown) + "); read as environment";
+             " points have an ASPRS class this reader does not know (the first: " + std::to_string(s.first_unknown) +
+             "); read as environment";
     return w;
 }
 
@@ -108,8 +107,7 @@ PointCloud readAll(CloudReader& reader) {
     cloud.origin = reader.origin();
     cloud.fields = reader.fields();
     cloud.points.reserve(reader.pointsBound());
-    while (reader.nextChunk(cloud.points, std::size_t(1) << 20)) {
-    }
+    while (reader.nextChunk(cloud.points, std::size_t(1) << 20)) {}
     return cloud;
 }
 
@@ -123,8 +121,7 @@ PointCloud readCloudData(std::string_view bytes, const std::filesystem::path& na
 PointCloud readCloud(const std::filesystem::path& path) {
     CloudReader reader(path);
     PointCloud cloud = readAll(reader);
-    if (const std::string w = reader.warning(); !w.empty())
-        std::fprintf(stderr, "ladarvr: warning: %s\n", w.c_str());
+    if (const std::string w = reader.warning(); !w.empty()) std::fprintf(stderr, "ladarvr: warning: %s\n", w.c_str());
     return cloud;
 }
 

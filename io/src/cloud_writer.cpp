@@ -19,8 +19,8 @@ using core::PointCloud;
 using core::Error;
 
 CloudFormat parseCloudFormat(std::string_view name, std::string_view parameter) {
-    for (CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary,
-                          CloudFormat::PlyAscii, CloudFormat::Las, CloudFormat::Laz})
+    for (CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary, CloudFormat::PlyAscii,
+                          CloudFormat::Las, CloudFormat::Laz})
         if (name == cloudFormatName(f)) return f;
     throw Error(std::string(parameter) + ": format '" + core::printable(name, 40) +
                 "' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz");
@@ -40,8 +40,7 @@ const char* cloudFormatName(CloudFormat format) {
 
 CloudFormat formatForPath(const std::filesystem::path& path, std::string_view parameter) {
     std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (ext.empty() || ext == ".pcd") return CloudFormat::PcdBinary;  // no extension: PCD, the default
     if (ext == ".ply") return CloudFormat::PlyBinary;
     if (ext == ".las") return CloudFormat::Las;
@@ -50,8 +49,8 @@ CloudFormat formatForPath(const std::filesystem::path& path, std::string_view pa
                 core::printable(ext, 40, true) + "' is not one of .pcd, .ply, .las, .laz");
 }
 
-CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin,
-                         core::CloudFields fields, const LasOptions& las)
+CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin, core::CloudFields fields,
+                         const LasOptions& las)
     : path_(std::move(path)) {
     platform::checkWritableDestination(path_);
     if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z))
@@ -88,8 +87,7 @@ void CloudWriter::commit() {
     temp_->commit();  // flush, close, rename over path_ (or remove the temporary and throw)
 }
 
-void writeCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format,
-                const LasOptions& las) {
+void writeCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format, const LasOptions& las) {
     CloudWriter writer(path, format, cloud.origin, cloud.fields, las);
     writer.append(cloud.points);
     writer.commit();

@@ -78,8 +78,8 @@ void putTextFields(std::string& s, const core::CloudPoint& p, const core::CloudF
         putUnsigned(s, p.returns);
     }
     const std::pair<bool, float> floats[] = {{fields.incidence, p.incidence_deg},
-                                              {fields.scan_angle, p.scan_angle_deg},
-                                              {fields.height_above_ground, p.height_above_ground_m}};
+                                             {fields.scan_angle, p.scan_angle_deg},
+                                             {fields.height_above_ground, p.height_above_ground_m}};
     for (const auto& [on, v] : floats) {
         if (!on) continue;
         s += ' ';

@@ -41,11 +41,11 @@ void putUnsigned(std::string& s, std::uint32_t v);
 void putTextFields(std::string& s, const core::CloudPoint& p, const core::CloudFields& fields);
 
 class CountedWriter : public FormatWriter {
-public:
+  public:
     /// Flushes the records, then writes the point count at each of the header's count fields.
     void finish() override;
 
-protected:
+  protected:
     /// `header` is the text header with paddedCount(0) at each byte offset of `count_at`.
     CountedWriter(platform::TempFile& file, std::string header, std::vector<long> count_at);
 
@@ -77,7 +77,7 @@ protected:
         }
     }
 
-private:
+  private:
     static constexpr std::size_t kFlushBytes = 8u << 20;
     void flushIfFull();
     [[noreturn]] void fail(const std::string& what) const;

@@ -10,7 +10,7 @@
 namespace io::detail {
 
 class FormatWriter {
-public:
+  public:
     virtual ~FormatWriter() = default;
     /// Appends points. Throws Error("output: <path>: ...") (a failed write, a point a
     /// format cannot hold).

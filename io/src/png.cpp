@@ -17,8 +17,7 @@ namespace io {
 using core::Error;
 using platform::writeFileAtomic;
 
-std::string encodePng(std::span<const std::uint8_t> pixels, int width, int height, int channels,
-                      PngRows rows) {
+std::string encodePng(std::span<const std::uint8_t> pixels, int width, int height, int channels, PngRows rows) {
     const bool sizes_ok = width > 0 && height > 0 && (channels == 1 || channels == 3) &&
                           std::size_t(width) * std::size_t(channels) <= std::size_t(std::numeric_limits<int>::max()) &&
                           pixels.size() == std::size_t(width) * std::size_t(height) * std::size_t(channels);

@@ -6,7 +6,6 @@
 #include <io/strict_json.hpp>
 #include <platform/safe_file.hpp>
 
-
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -25,16 +24,16 @@
 namespace io {
 
 using core::Error;
-using core::shownNumber;
-using core::kMaxWorldCoordinate_m;
 using core::kMaxLocalCoordinate_m;
-using core::Role;
+using core::kMaxWorldCoordinate_m;
 using core::kRoleCount;
 using core::kRoleList;
-using core::roleName;
-using core::parseRole;
 using core::Mesh;
+using core::parseRole;
+using core::Role;
+using core::roleName;
 using core::Scene;
+using core::shownNumber;
 using platform::checkInputFile;
 using platform::readTextFile;
 
@@ -60,13 +59,10 @@ struct Entry {
     int asprs_class = -1;
 };
 
-double finiteNumber(const json& v, const std::string& where, const std::string& key,
-                    const std::string& allowed) {
-    if (!v.is_number())
-        throw Error(where + ": '" + key + "' must be " + allowed + ", not " + jsonTypeName(v));
+double finiteNumber(const json& v, const std::string& where, const std::string& key, const std::string& allowed) {
+    if (!v.is_number()) throw Error(where + ": '" + key + "' must be " + allowed + ", not " + jsonTypeName(v));
     const double d = v.get<double>();
-    if (!std::isfinite(d))
-        throw Error(where + ": '" + key + "' is not finite; allowed: " + allowed);
+    if (!std::isfinite(d)) throw Error(where + ": '" + key + "' is not finite; allowed: " + allowed);
     return d;
 }
 
@@ -76,16 +72,18 @@ glm::dvec3 vec3Field(const json& v, const std::string& where, const std::string&
     glm::dvec3 out;
     for (int i = 0; i < 3; ++i) {
         if (!v[i].is_number())
-            throw Error(where + ": '" + key + "' must be an array of 3 finite numbers [x, y, z] "
-                        "(metres); element " + std::to_string(i) + " is " + jsonTypeName(v[i]));
+            throw Error(where + ": '" + key +
+                        "' must be an array of 3 finite numbers [x, y, z] "
+                        "(metres); element " +
+                        std::to_string(i) + " is " + jsonTypeName(v[i]));
         out[i] = v[i].get<double>();
         if (!std::isfinite(out[i]))
             throw Error(where + ": '" + key + "' element " + std::to_string(i) +
                         " is not finite; allowed: finite numbers (metres)");
         if (std::abs(out[i]) > kMaxWorldCoordinate_m)
-            throw Error(where + ": '" + key + "' element " + std::to_string(i) + " is " +
-                        shownNumber(out[i]) + "; allowed: [-" + shownNumber(kMaxWorldCoordinate_m) +
-                        ", " + shownNumber(kMaxWorldCoordinate_m) + "] (world metres)");
+            throw Error(where + ": '" + key + "' element " + std::to_string(i) + " is " + shownNumber(out[i]) +
+                        "; allowed: [-" + shownNumber(kMaxWorldCoordinate_m) + ", " +
+                        shownNumber(kMaxWorldCoordinate_m) + "] (world metres)");
     }
     return out;
 }
@@ -93,18 +91,19 @@ glm::dvec3 vec3Field(const json& v, const std::string& where, const std::string&
 Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index) {
     std::string where = scene_name + ": meshes[" + std::to_string(index) + "]";
     if (!j.is_object())
-        throw Error(where + ": a mesh entry must be a JSON object with 'file' and 'role', not " +
-                    jsonTypeName(j));
+        throw Error(where + ": a mesh entry must be a JSON object with 'file' and 'role', not " + jsonTypeName(j));
     Entry e;
     // 'file' first so every later message can name it.
     const auto file_it = j.find("file");
-    if (file_it == j.end())
-        throw Error(where + ": 'file' is missing; it names a mesh file relative to the scene file");
+    if (file_it == j.end()) throw Error(where + ": 'file' is missing; it names a mesh file relative to the scene file");
     if (!file_it->is_string())
-        throw Error(where + ": 'file' must be a non-empty string (a mesh file relative to the "
-                    "scene file), not " + jsonTypeName(*file_it));
+        throw Error(where +
+                    ": 'file' must be a non-empty string (a mesh file relative to the "
+                    "scene file), not " +
+                    jsonTypeName(*file_it));
     if (file_it->get<std::string>().empty())
-        throw Error(where + ": 'file' is an empty string; allowed: a mesh file name relative to "
+        throw Error(where +
+                    ": 'file' is an empty string; allowed: a mesh file name relative to "
                     "the scene file");
     e.file = file_it->get<std::string>();
     where += " ('" + core::printable(e.file, 120, true) + "')";
@@ -113,11 +112,9 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
         const std::string& key = it.key();
         const json& v = it.value();
         if (key == "file" || key == "comment") {
-            if (key == "comment" && !v.is_string())
-                throw Error(where + ": 'comment' must be a string");
+            if (key == "comment" && !v.is_string()) throw Error(where + ": 'comment' must be a string");
         } else if (key == "role") {
-            if (!v.is_string())
-                throw Error(where + ": 'role' must be a string, one of " + std::string(kRoleList));
+            if (!v.is_string()) throw Error(where + ": 'role' must be a string, one of " + std::string(kRoleList));
             e.role = parseRole(v.get<std::string>(), where);
         } else if (key == "position") {
             e.position = vec3Field(v, where, key);
@@ -126,17 +123,14 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
         } else if (key == "scale") {
             e.scale = finiteNumber(v, where, key, "a finite number > 0");
             if (!(e.scale > 0.0))
-                throw Error(where + ": 'scale' is " + shownNumber(e.scale) +
-                            "; allowed: a finite number > 0");
+                throw Error(where + ": 'scale' is " + shownNumber(e.scale) + "; allowed: a finite number > 0");
         } else if (key == "reflectance") {
             e.reflectance = finiteNumber(v, where, key, "a number in [0, 1]");
             if (!(e.reflectance >= 0.0 && e.reflectance <= 1.0))
                 throw Error(where + ": 'reflectance' is " + shownNumber(e.reflectance) +
                             "; allowed: a number in [0, 1]");
         } else if (key == "up") {
-            if (!v.is_string())
-                throw Error(where + ": 'up' must be the string \"y\" or \"z\", not " +
-                            jsonTypeName(v));
+            if (!v.is_string()) throw Error(where + ": 'up' must be the string \"y\" or \"z\", not " + jsonTypeName(v));
             const std::string up = v.get<std::string>();
             if (up != "y" && up != "z")
                 throw Error(where + ": 'up' is '" + core::printable(up, 20, true) + "'; allowed: y, z");
@@ -150,15 +144,13 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
                         "'; allowed keys: file, role, position, yaw_deg, scale, up, reflectance, class, comment");
         }
     }
-    if (j.find("role") == j.end())
-        throw Error(where + ": 'role' is missing; allowed: " + std::string(kRoleList));
+    if (j.find("role") == j.end()) throw Error(where + ": 'role' is missing; allowed: " + std::string(kRoleList));
     return e;
 }
 
 // Reads a mesh file with Assimp into file coordinates; all meshes of the file merged,
 // node transforms applied (PreTransformVertices).
-RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
-                   bool skip_nonfinite) {
+RawMesh importMesh(const std::filesystem::path& path, const std::string& where, bool skip_nonfinite) {
     namespace fs = std::filesystem;
     const std::string shown_path = core::printable(path.string(), 400, true);
     // A regular file (not a FIFO Assimp would block on, nor a device), remembered as an
@@ -166,8 +158,7 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
     checkInputFile(path, where + ": mesh file '" + shown_path + "'");
     {
         std::ifstream probe(path, std::ios::binary);
-        if (!probe)
-            throw Error(where + ": mesh file '" + shown_path + "' cannot be read");
+        if (!probe) throw Error(where + ": mesh file '" + shown_path + "' cannot be read");
     }
     Assimp::Importer importer;
     // Points and lines carry no surface: have Assimp drop them.
@@ -187,10 +178,9 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
                 if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) continue;
                 any_nonfinite = true;
                 if (!skip_nonfinite)
-                    throw Error(where + ": mesh file '" + shown_path + "': vertex " +
-                                std::to_string(index) + " is not finite (" + shownNumber(v.x) +
-                                ", " + shownNumber(v.y) + ", " + shownNumber(v.z) +
-                                "); allowed: finite coordinates");
+                    throw Error(where + ": mesh file '" + shown_path + "': vertex " + std::to_string(index) +
+                                " is not finite (" + shownNumber(v.x) + ", " + shownNumber(v.y) + ", " +
+                                shownNumber(v.z) + "); allowed: finite coordinates");
             }
         }
         unsigned steps = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
@@ -202,8 +192,8 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
         for (char& c : reason)
             if (c == '\n' || c == '\r') c = ' ';
         reason = core::printable(reason, 300);
-        throw Error(where + ": Assimp cannot import mesh file '" + shown_path + "': " +
-                    reason + "; allowed: a triangle mesh in a format Assimp reads (OBJ, PLY, "
+        throw Error(where + ": Assimp cannot import mesh file '" + shown_path + "': " + reason +
+                    "; allowed: a triangle mesh in a format Assimp reads (OBJ, PLY, "
                     "glTF/GLB, AC3D, ...)");
     }
     RawMesh raw;
@@ -224,18 +214,17 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where,
                 continue;
             }
             // Node transforms applied by PreTransformVertices can still overflow.
-            throw Error(where + ": mesh file '" + shown_path + "': vertex " +
-                            std::to_string(base + vi) +
-                            " is not finite after the file's node transforms; allowed: finite "
-                            "coordinates");
+            throw Error(where + ": mesh file '" + shown_path + "': vertex " + std::to_string(base + vi) +
+                        " is not finite after the file's node transforms; allowed: finite "
+                        "coordinates");
         }
         for (unsigned fi = 0; fi < m->mNumFaces; ++fi) {
             const aiFace& f = m->mFaces[fi];
             if (f.mNumIndices != 3) continue;
             if (f.mIndices[0] >= m->mNumVertices || f.mIndices[1] >= m->mNumVertices ||
                 f.mIndices[2] >= m->mNumVertices)
-                throw Error(where + ": mesh file '" + shown_path + "': face " +
-                            std::to_string(fi) + " indexes a vertex that does not exist");
+                throw Error(where + ": mesh file '" + shown_path + "': face " + std::to_string(fi) +
+                            " indexes a vertex that does not exist");
             if (bad[f.mIndices[0]] || bad[f.mIndices[1]] || bad[f.mIndices[2]]) {
                 ++raw.nonfinite_triangles;
                 continue;
@@ -260,14 +249,12 @@ Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& optio
     return loadSceneJson(text, file, options);
 }
 
-Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& file,
-                    const SceneLoadOptions& options) {
+Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& file, const SceneLoadOptions& options) {
     namespace fs = std::filesystem;
     const std::string name = "scene: " + file.string();
     const json root = parseStrictJson(json_text, name);
     if (!root.is_object())
-        throw Error(name + ": the top level must be a JSON object with 'meshes', not " +
-                    jsonTypeName(root));
+        throw Error(name + ": the top level must be a JSON object with 'meshes', not " + jsonTypeName(root));
 
     Scene scene;
     scene.source = file;
@@ -292,14 +279,12 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
 
     std::vector<Entry> entries;
     entries.reserve(meshes->size());
-    for (std::size_t i = 0; i < meshes->size(); ++i)
-        entries.push_back(parseEntry((*meshes)[i], name, i));
+    for (std::size_t i = 0; i < meshes->size(); ++i) entries.push_back(parseEntry((*meshes)[i], name, i));
 
     if (options.require_target) {
         bool any = false;
         for (const Entry& e : entries) any = any || e.role == Role::Target;
-        if (!any)
-            throw Error(name + ": no mesh has role 'target'; a scene needs at least one target mesh");
+        if (!any) throw Error(name + ": no mesh has role 'target'; a scene needs at least one target mesh");
     }
     if (!has_origin) scene.origin = entries.front().position;
 
@@ -309,12 +294,11 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
     for (std::size_t i = 0; i < entries.size(); ++i) {
         const Entry& e = entries[i];
         if (!options.roles.has(e.role)) continue;
-        const std::string where = name + ": meshes[" + std::to_string(i) + "] ('" + core::printable(e.file, 120, true) + "')";
+        const std::string where =
+            name + ": meshes[" + std::to_string(i) + "] ('" + core::printable(e.file, 120, true) + "')";
         const fs::path mesh_path = (dir / e.file).lexically_normal();
         auto& slot = cache[mesh_path];
-        if (!slot)
-            slot = std::make_shared<const RawMesh>(
-                importMesh(mesh_path, where, options.skip_nonfinite));
+        if (!slot) slot = std::make_shared<const RawMesh>(importMesh(mesh_path, where, options.skip_nonfinite));
         const RawMesh& raw = *slot;
         scene.skipped_nonfinite_triangles += raw.nonfinite_triangles;
 
@@ -337,7 +321,8 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
             if (!(reach_m <= kMaxLocalCoordinate_m))
                 throw Error(where + ": vertex " + std::to_string(vi) + " lies " + shownNumber(reach_m) +
                             " m from the origin after the position/yaw/scale transform; allowed: within " +
-                            shownNumber(kMaxLocalCoordinate_m) + " m of the scene's origin (local "
+                            shownNumber(kMaxLocalCoordinate_m) +
+                            " m of the scene's origin (local "
                             "coordinates are floats; give 'origin' near the meshes)");
             mesh.vertices.push_back(glm::vec3(local));
         }
@@ -358,22 +343,19 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
         scene.meshes.push_back(std::move(mesh));
     }
     if (scene.meshes.empty())
-        throw Error(name + ": no mesh has one of the selected roles; the file's roles are " +
-                    [&] {
-                        std::string roles;
-                        for (int r = 0; r < kRoleCount; ++r)
-                            for (const Entry& e : entries)
-                                if (int(e.role) == r) {
-                                    roles += (roles.empty() ? "" : ", ") + std::string(roleName(e.role));
-                                    break;
-                                }
-                        return roles;
-                    }());
+        throw Error(name + ": no mesh has one of the selected roles; the file's roles are " + [&] {
+            std::string roles;
+            for (int r = 0; r < kRoleCount; ++r)
+                for (const Entry& e : entries)
+                    if (int(e.role) == r) {
+                        roles += (roles.empty() ? "" : ", ") + std::string(roleName(e.role));
+                        break;
+                    }
+            return roles;
+        }());
     return scene;
 }
 
-std::filesystem::path demoScenePath() {
-    return std::filesystem::path(LADARVR_ASSETS_DIR) / "demo" / "scene.json";
-}
+std::filesystem::path demoScenePath() { return std::filesystem::path(LADARVR_ASSETS_DIR) / "demo" / "scene.json"; }
 
 }  // namespace io

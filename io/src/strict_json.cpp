@@ -2,7 +2,6 @@
 #include <core/error.hpp>
 #include <io/strict_json.hpp>
 
-
 #include <memory>
 #include <set>
 #include <vector>
@@ -19,7 +18,7 @@ using nlohmann::json;
 // would cut file names short at the C library) are refused, naming where they are, e.g.
 // "meshes[0].file". Throws Error; nlohmann lets the exception through.
 class StrictKeys {
-public:
+  public:
     explicit StrictKeys(std::string scene_name) : name_(std::move(scene_name)) {}
 
     bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
@@ -58,11 +57,11 @@ public:
         return true;
     }
 
-private:
+  private:
     struct Frame {
         bool array = false;
-        std::size_t index = 0;      // elements seen so far (arrays)
-        std::string key;            // the current key (objects)
+        std::size_t index = 0;  // elements seen so far (arrays)
+        std::string key;        // the current key (objects)
         std::set<std::string> keys;
     };
     // An array's element starts: count it, so where() names it.

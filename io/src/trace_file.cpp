@@ -79,18 +79,20 @@ Trace parseTrace(std::string_view text, const std::filesystem::path& name) {
         if (line_no == 1) {
             for (std::size_t k = 0; k < kHeadColumns.size(); ++k)
                 if (k >= fields.size() || fields[k] != kHeadColumns[k])
-                    fail(1, "", "header column " + std::to_string(k + 1) + " is '" +
-                                    printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
-                                    "'; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,"
-                                    "head_qy,head_qz");
+                    fail(1, "",
+                         "header column " + std::to_string(k + 1) + " is '" +
+                             printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
+                             "'; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,"
+                             "head_qy,head_qz");
             header_fields = fields.size();
             trace.study_columns = hasStudyColumns(fields);
             continue;
         }
         if (line.empty()) fail(line_no, "", "empty line; allowed one sample per line");
         if (fields.size() != header_fields)
-            fail(line_no, "", std::to_string(fields.size()) + " fields; allowed " + std::to_string(header_fields) +
-                                  " (as the header)");
+            fail(line_no, "",
+                 std::to_string(fields.size()) + " fields; allowed " + std::to_string(header_fields) +
+                     " (as the header)");
         auto number = [&](std::size_t k, std::string_view column) {
             const std::string_view f = fields[k];
             double v = 0.0;
@@ -118,11 +120,15 @@ Trace parseTrace(std::string_view text, const std::filesystem::path& name) {
         r.head_orientation = q / norm;
         if (trace.study_columns) {
             const std::size_t m = kHeadColumns.size();
-            if (fields[m] == "automatic") r.mode = TraceMode::Automatic;
-            else if (fields[m] == "free") r.mode = TraceMode::Free;
-            else fail(line_no, "mode", "'" + printable(fields[m], 40) + "'; allowed automatic or free");
+            if (fields[m] == "automatic")
+                r.mode = TraceMode::Automatic;
+            else if (fields[m] == "free")
+                r.mode = TraceMode::Free;
+            else
+                fail(line_no, "mode", "'" + printable(fields[m], 40) + "'; allowed automatic or free");
             r.scale = number(m + 1, "scale");
-            if (!(r.scale > 0.0)) fail(line_no, "scale", "'" + printable(fields[m + 1], 40) + "'; allowed a number > 0");
+            if (!(r.scale > 0.0))
+                fail(line_no, "scale", "'" + printable(fields[m + 1], 40) + "'; allowed a number > 0");
             if (!fields[m + 2].empty() || !fields[m + 3].empty() || !fields[m + 4].empty())
                 r.hit_world = glm::dvec3(number(m + 2, "hit_x"), number(m + 3, "hit_y"), number(m + 4, "hit_z"));
         }

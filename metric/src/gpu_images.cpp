@@ -35,7 +35,8 @@ GpuCloud upload(const core::PointCloud& cloud, double cell_m) {
         gpu.cells.push_back(cell);
     }
     GL_CHECK(glCreateBuffers(1, &gpu.buffer));
-    GL_CHECK(glNamedBufferStorage(gpu.buffer, static_cast<GLsizeiptr>(data.size() * sizeof(glm::vec4)), data.data(), 0));
+    GL_CHECK(
+        glNamedBufferStorage(gpu.buffer, static_cast<GLsizeiptr>(data.size() * sizeof(glm::vec4)), data.data(), 0));
     return gpu;
 }
 
@@ -43,8 +44,7 @@ glm::mat4 toFloat(const glm::dmat4& m) { return glm::mat4(m); }
 
 }  // namespace
 
-GpuImages::GpuImages(const core::PointCloud& p1, const core::PointCloud& p2, const core::PointCloud& p3,
-                     double cell_m)
+GpuImages::GpuImages(const core::PointCloud& p1, const core::PointCloud& p2, const core::PointCloud& p3, double cell_m)
     : splat_program_("metric-splat",
                      {{GL_COMPUTE_SHADER, shaders::metric_splat_comp, shaders::metric_splat_comp_files}}),
       count_mask_program_("metric-count-mask", {{GL_COMPUTE_SHADER, shaders::metric_count_mask_comp,
@@ -86,15 +86,14 @@ void GpuImages::ensureImages(int width, int height) {
     GL_CHECK(glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, rgba_, 0));
     if (glCheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw core::Error("metric: offscreen framebuffer " + std::to_string(width) + "x" + std::to_string(height) +
-                            " is incomplete");
+                          " is incomplete");
     width_ = width;
     height_ = height;
 }
 
 std::size_t GpuImages::drawCompute(const GpuCloud& cloud, const glm::dmat4& view, const glm::dmat4& projection,
-                                   const glm::dmat4& cull_matrix, int width, int height,
-                                   const render::PixelRect& drawn, double splat_px, std::uint32_t bit, int mode,
-                                   double margin_m, bool cull) {
+                                   const glm::dmat4& cull_matrix, int width, int height, const render::PixelRect& drawn,
+                                   double splat_px, std::uint32_t bit, int mode, double margin_m, bool cull) {
     if (cloud.points == 0) return 0;
     const render::Frustum frustum = render::Frustum::fromMatrix(cull_matrix);
     ranges_.clear();
@@ -111,7 +110,8 @@ std::size_t GpuImages::drawCompute(const GpuCloud& cloud, const glm::dmat4& view
         if (ranges_buffer_) glDeleteBuffers(1, &ranges_buffer_);
         ranges_capacity_ = std::max<std::size_t>(bytes, 4096) * 2;
         glCreateBuffers(1, &ranges_buffer_);
-        glNamedBufferStorage(ranges_buffer_, static_cast<GLsizeiptr>(ranges_capacity_), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        glNamedBufferStorage(ranges_buffer_, static_cast<GLsizeiptr>(ranges_capacity_), nullptr,
+                             GL_DYNAMIC_STORAGE_BIT);
     }
     glNamedBufferSubData(ranges_buffer_, 0, static_cast<GLsizeiptr>(bytes), ranges_.data());
     glm::dmat4 model(1.0);
@@ -140,9 +140,8 @@ std::size_t GpuImages::drawCompute(const GpuCloud& cloud, const glm::dmat4& view
 }
 
 ImageCounts GpuImages::renderAndCount(const glm::dmat4& view, const glm::dmat4& projection, int width, int height,
-                                      const render::PixelRect& drawn, const render::PixelRect& counted,
-                                      double splat_px, double depth_margin_m, Rasterizer rasterizer, bool cull,
-                                      std::size_t* points) {
+                                      const render::PixelRect& drawn, const render::PixelRect& counted, double splat_px,
+                                      double depth_margin_m, Rasterizer rasterizer, bool cull, std::size_t* points) {
     ensureImages(width, height);
     const bool full = drawn.x0 == 0 && drawn.y0 == 0 && drawn.x1 == width && drawn.y1 == height;
     const glm::dmat4 region_projection =
@@ -155,8 +154,10 @@ ImageCounts GpuImages::renderAndCount(const glm::dmat4& view, const glm::dmat4& 
                            &far_bits);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
         const glm::dmat4 cull_matrix = region_projection * view;
-        sent += drawCompute(clouds_[0], view, projection, cull_matrix, width, height, drawn, splat_px, 1u, 0, 0.0, cull);
-        sent += drawCompute(clouds_[1], view, projection, cull_matrix, width, height, drawn, splat_px, 2u, 1, 0.0, cull);
+        sent +=
+            drawCompute(clouds_[0], view, projection, cull_matrix, width, height, drawn, splat_px, 1u, 0, 0.0, cull);
+        sent +=
+            drawCompute(clouds_[1], view, projection, cull_matrix, width, height, drawn, splat_px, 2u, 1, 0.0, cull);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // P2's nearest distances are complete
         sent += drawCompute(clouds_[2], view, projection, cull_matrix, width, height, drawn, splat_px, 4u, 2,
                             depth_margin_m, cull);
@@ -173,8 +174,8 @@ ImageCounts GpuImages::renderAndCount(const glm::dmat4& view, const glm::dmat4& 
         glClear(GL_COLOR_BUFFER_BIT);
         render::SplatStyle style;
         style.point_size_px = static_cast<float>(splat_px);
-        const GLboolean masks[3][3] = {{GL_TRUE, GL_FALSE, GL_FALSE}, {GL_FALSE, GL_TRUE, GL_FALSE},
-                                       {GL_FALSE, GL_FALSE, GL_TRUE}};
+        const GLboolean masks[3][3] = {
+            {GL_TRUE, GL_FALSE, GL_FALSE}, {GL_FALSE, GL_TRUE, GL_FALSE}, {GL_FALSE, GL_FALSE, GL_TRUE}};
         for (int c = 0; c < 3; ++c) {
             glColorMaski(0, masks[c][0], masks[c][1], masks[c][2], GL_FALSE);
             sent += raster_[c].draw(view, region_projection, style, cull).points_drawn;
@@ -196,7 +197,8 @@ ImageCounts GpuImages::renderAndCount(const glm::dmat4& view, const glm::dmat4& 
     else
         glBindImageTexture(0, rgba_, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA8);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts_buffer_);
-    glDispatchCompute(static_cast<GLuint>((counted.width() + 15) / 16), static_cast<GLuint>((counted.height() + 15) / 16), 1);
+    glDispatchCompute(static_cast<GLuint>((counted.width() + 15) / 16),
+                      static_cast<GLuint>((counted.height() + 15) / 16), 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     GLuint c[8] = {};
     glGetNamedBufferSubData(counts_buffer_, 0, sizeof c, c);
@@ -227,7 +229,8 @@ MetricPictures GpuImages::readPictures(int view, int width, int height, Rasteriz
         GL_CHECK(glGetTextureSubImage(rgba_, 0, 0, 0, 0, width, height, 1, GL_RGBA, GL_UNSIGNED_BYTE,
                                       static_cast<GLsizei>(rgba.size()), rgba.data()));
         for (std::size_t i = 0; i < n; ++i)
-            bits[i] = (rgba[4 * i] > 127 ? 1u : 0u) | (rgba[4 * i + 1] > 127 ? 2u : 0u) | (rgba[4 * i + 2] > 127 ? 4u : 0u);
+            bits[i] =
+                (rgba[4 * i] > 127 ? 1u : 0u) | (rgba[4 * i + 1] > 127 ? 2u : 0u) | (rgba[4 * i + 2] > 127 ? 4u : 0u);
     }
     pictures.i1.resize(n);
     pictures.i2.resize(n);

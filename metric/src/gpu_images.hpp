@@ -28,7 +28,7 @@ struct ImageCounts {
 
 /// A cloud in one GPU buffer, sorted into spatial cells for culling.
 struct GpuCloud {
-    GLuint buffer = 0;                 // vec4 per point: position - centre
+    GLuint buffer = 0;  // vec4 per point: position - centre
     glm::dvec3 centre{0.0};
     struct Cell {
         std::uint32_t first = 0, count = 0;
@@ -39,10 +39,9 @@ struct GpuCloud {
 };
 
 class GpuImages {
-public:
+  public:
     /// Clouds in one local frame. Needs a current GL 4.5 context for its whole life.
-    GpuImages(const core::PointCloud& p1, const core::PointCloud& p2, const core::PointCloud& p3,
-              double cell_m);
+    GpuImages(const core::PointCloud& p1, const core::PointCloud& p2, const core::PointCloud& p3, double cell_m);
     ~GpuImages();
     GpuImages(const GpuImages&) = delete;
     GpuImages& operator=(const GpuImages&) = delete;
@@ -57,7 +56,7 @@ public:
     /// Full-frame I1..I4 of the last renderAndCount call whose `drawn` was the whole image.
     MetricPictures readPictures(int view, int width, int height, Rasterizer rasterizer);
 
-private:
+  private:
     void ensureImages(int width, int height);
     std::size_t drawCompute(const GpuCloud& cloud, const glm::dmat4& view, const glm::dmat4& projection,
                             const glm::dmat4& cull_matrix, int width, int height, const render::PixelRect& drawn,

@@ -28,8 +28,9 @@ nlohmann::json orNull(double v) { return std::isnan(v) ? nlohmann::json(nullptr)
 }  // namespace
 
 std::string viewsCsv(const MetricResult& r) {
-    std::string csv = "view,eye_x,eye_y,eye_z,look_x,look_y,look_z,up_x,up_y,up_z,vfov_deg,width,height,"
-                      "i1,i2,i3,i4,metric,visible,exact\n";
+    std::string csv =
+        "view,eye_x,eye_y,eye_z,look_x,look_y,look_z,up_x,up_y,up_z,vfov_deg,width,height,"
+        "i1,i2,i3,i4,metric,visible,exact\n";
     for (const ViewResult& v : r.views) {
         const glm::dvec3 eye = r.origin + v.pose.eye, look = r.origin + v.pose.look_at;
         csv += std::to_string(v.view);
@@ -71,9 +72,14 @@ std::string summaryJson(const MetricResult& r) {
     j["origin"] = {r.origin.x, r.origin.y, r.origin.z};
     j["views_from"] = r.options.poses_world.empty() ? "orbit" : "poses";  // poses: e.g. an operator's trace
     const auto& o = r.options;
-    j["options"] = {{"radius_m", o.orbit.radius_m}, {"altitude_m", o.orbit.altitude_m},
-                    {"vfov_deg", o.orbit.vfov_deg}, {"width", o.width}, {"height", o.height},
-                    {"splat_px", o.splat_px}, {"skip", o.skip}, {"picture_view", o.picture_view},
+    j["options"] = {{"radius_m", o.orbit.radius_m},
+                    {"altitude_m", o.orbit.altitude_m},
+                    {"vfov_deg", o.orbit.vfov_deg},
+                    {"width", o.width},
+                    {"height", o.height},
+                    {"splat_px", o.splat_px},
+                    {"skip", o.skip},
+                    {"picture_view", o.picture_view},
                     {"rasterizer", o.rasterizer == Rasterizer::Compute ? "compute" : "raster"},
                     {"depth_margin_m", o.depth_margin_m}};
     return j.dump(2) + "\n";

@@ -34,7 +34,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kCellM = 8.0;  // culling cells: small enough that the target's frustum keeps few
 
-
 [[noreturn]] void invalid(const std::string& option, double value, const char* allowed) {
     std::ostringstream s;
     s << "metric: --" << option << " = " << value << ": allowed " << allowed;
@@ -78,7 +77,7 @@ void validate(const MetricOptions& o) {
         invalid("picture-view", o.picture_view, "-1 (none) or 0..views-1");
     if (o.poses_world.size() > kMaxPoses)
         throw core::Error("metric: " + std::to_string(o.poses_world.size()) + " camera poses; allowed at most " +
-                            std::to_string(kMaxPoses));
+                          std::to_string(kMaxPoses));
     for (const render::CameraPose& p : o.poses_world) {
         const glm::dvec3 axis = p.look_at - p.eye;
         const bool finite = std::isfinite(p.eye.x) && std::isfinite(p.eye.y) && std::isfinite(p.eye.z) &&
@@ -86,11 +85,12 @@ void validate(const MetricOptions& o) {
                             std::isfinite(p.up.x) && std::isfinite(p.up.y) && std::isfinite(p.up.z);
         if (!finite || glm::length(axis) <= 0.0 || std::abs(glm::length(p.up) - 1.0) > 1e-6 ||
             std::abs(glm::dot(glm::normalize(axis), p.up)) > 1e-6)
-            throw core::Error("metric: a camera pose is not finite or its up is not a unit vector orthogonal to "
-                                "its view axis");
+            throw core::Error(
+                "metric: a camera pose is not finite or its up is not a unit vector orthogonal to "
+                "its view axis");
     }
-    if (o.look_at_world && !(std::isfinite(o.look_at_world->x) && std::isfinite(o.look_at_world->y) &&
-                             std::isfinite(o.look_at_world->z)))
+    if (o.look_at_world &&
+        !(std::isfinite(o.look_at_world->x) && std::isfinite(o.look_at_world->y) && std::isfinite(o.look_at_world->z)))
         throw core::Error("metric: --look-at: not finite; allowed x,y,z in world metres");
     if (o.look_at_world && !(std::abs(o.look_at_world->x) <= core::kMaxWorldCoordinate_m &&
                              std::abs(o.look_at_world->y) <= core::kMaxWorldCoordinate_m &&
@@ -109,15 +109,15 @@ double ratio(std::int64_t numerator, std::int64_t i1) {
 struct Evaluator::Impl {
     render::EglContext context;
     glm::dvec3 origin{0.0};
-    core::Bounds p1_bounds;        // local frame
-    core::Bounds target_bounds;    // meshes' (exact reference); empty without scene
+    core::Bounds p1_bounds;      // local frame
+    core::Bounds target_bounds;  // meshes' (exact reference); empty without scene
     std::unique_ptr<detail::GpuImages> images;
     std::unique_ptr<sim::RayCaster> target_only, target_and_environment;
 
     /// Exact reference for one view over the pixels of `rect` (outside it no ray can hit the
     /// target): {target pixels, visible target pixels}.
-    std::pair<std::int64_t, std::int64_t> exact(const render::CameraPose& pose, double vfov_deg, int width,
-                                                int height, const render::PixelRect& rect) const {
+    std::pair<std::int64_t, std::int64_t> exact(const render::CameraPose& pose, double vfov_deg, int width, int height,
+                                                const render::PixelRect& rect) const {
         if (rect.empty()) return {0, 0};
         const std::int64_t n = rect.area();
         // Batches of pixels on oneTBB's workers; integer counts per batch, summed in batch
@@ -170,8 +170,9 @@ struct Evaluator::Impl {
 
 Evaluator::Evaluator(const MetricClouds& clouds, const core::Scene* scene) {
     if (clouds.p1.points.empty())
-        throw core::Error("metric: P1 (the target-only cloud) is empty: the target is never sensed, so "
-                            "|I1| = 0 in every view; check the scene's target mesh or --p1");
+        throw core::Error(
+            "metric: P1 (the target-only cloud) is empty: the target is never sensed, so "
+            "|I1| = 0 in every view; check the scene's target mesh or --p1");
     impl_ = std::make_unique<Impl>();
     Impl& impl = *impl_;
     impl.origin = scene ? scene->origin : clouds.p1.origin;
@@ -182,8 +183,8 @@ Evaluator::Evaluator(const MetricClouds& clouds, const core::Scene* scene) {
     if (scene && scene->hasRole(core::Role::Target)) {
         impl.target_bounds = scene->bounds(core::RoleMask::of({core::Role::Target}));
         impl.target_only = std::make_unique<sim::RayCaster>(*scene, core::RoleMask::of({core::Role::Target}));
-        impl.target_and_environment = std::make_unique<sim::RayCaster>(
-            *scene, core::RoleMask::of({core::Role::Target, core::Role::Environment}));
+        impl.target_and_environment =
+            std::make_unique<sim::RayCaster>(*scene, core::RoleMask::of({core::Role::Target, core::Role::Environment}));
     }
 }
 
@@ -247,10 +248,9 @@ MetricResult Evaluator::run(const MetricOptions& options) {
                 drawn.x1 = std::min(w, counted.x1 + guard_px);
                 drawn.y1 = std::min(h, counted.y1 + guard_px);
             }
-            const detail::ImageCounts c =
-                impl.images->renderAndCount(view, projection, w, h, drawn, counted, options.splat_px,
-                                            options.depth_margin_m, options.rasterizer, options.skip,
-                                            &result.points_drawn);
+            const detail::ImageCounts c = impl.images->renderAndCount(
+                view, projection, w, h, drawn, counted, options.splat_px, options.depth_margin_m, options.rasterizer,
+                options.skip, &result.points_drawn);
             v.i1 = c.i1;
             v.i2 = c.i2;
             v.i3 = c.i3;
@@ -260,8 +260,8 @@ MetricResult Evaluator::run(const MetricOptions& options) {
         }
         if (k == options.picture_view) {
             const render::PixelRect whole{0, 0, w, h};
-            impl.images->renderAndCount(view, projection, w, h, whole, whole, options.splat_px,
-                                        options.depth_margin_m, options.rasterizer, false, nullptr);
+            impl.images->renderAndCount(view, projection, w, h, whole, whole, options.splat_px, options.depth_margin_m,
+                                        options.rasterizer, false, nullptr);
             result.pictures = impl.images->readPictures(k, w, h, options.rasterizer);
         }
         v.seconds_render = seconds(render_start);

@@ -31,15 +31,17 @@ void checkWritableDestination(const std::filesystem::path& path) {
         throw Error("output: " + shown + ": '" + printable(dir.string(), 400) + "' is not a directory");
     if (::access(dir.c_str(), W_OK) != 0)
         throw Error("output: " + shown + ": directory '" + printable(dir.string(), 400) + "' is not writable");
-    struct stat st {};
+    struct stat st{};
     if (::lstat(path.c_str(), &st) == 0) {
         if (S_ISDIR(st.st_mode)) throw Error("output: " + shown + ": is a directory; give a file name");
         if (S_ISLNK(st.st_mode))
-            throw Error("output: " + shown + ": is a symbolic link; refusing to replace it (give the path of "
+            throw Error("output: " + shown +
+                        ": is a symbolic link; refusing to replace it (give the path of "
                         "a regular file or a new name)");
         if (!S_ISREG(st.st_mode)) {
             std::string problem = regularFileProblem(path);
-            throw Error("output: " + shown + ": " + problem + "; refusing to replace it (only a regular "
+            throw Error("output: " + shown + ": " + problem +
+                        "; refusing to replace it (only a regular "
                         "file is replaced)");
         }
     }

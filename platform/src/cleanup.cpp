@@ -53,11 +53,12 @@ extern "C" void onStopSignal(int sig) {
 // signal to its default since, e.g. a forked child, gets the handler again.
 void installHandlers() noexcept {
     for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
-        struct sigaction old {};
+        struct sigaction old{};
         if (::sigaction(sig, nullptr, &old) != 0) continue;
-        if ((old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL) continue;  // ignored (nohup),
-                                                                              // ours or someone else's
-        struct sigaction sa {};
+        if ((old.sa_flags & SA_SIGINFO) || old.sa_handler != SIG_DFL)
+            continue;  // ignored (nohup),
+                       // ours or someone else's
+        struct sigaction sa{};
         sa.sa_handler = onStopSignal;
         sigemptyset(&sa.sa_mask);
         for (int other : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&sa.sa_mask, other);
@@ -102,9 +103,9 @@ void unregisterTemporary(int slot) noexcept {
 
 Watchdog::Watchdog(double seconds, std::string message, int exit_code) {
     if (!(seconds > 0.0) || seconds > 1e9) return;  // 1e9 s: longer than any run; avoids overflow
-    const auto deadline = std::chrono::steady_clock::now() +
-                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                              std::chrono::duration<double>(seconds));
+    const auto deadline =
+        std::chrono::steady_clock::now() +
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
     thread_ = std::thread([this, deadline, message = std::move(message), exit_code] {
         std::unique_lock lock(mutex_);
         if (wake_.wait_until(lock, deadline, [this] { return cancelled_; })) return;

@@ -33,11 +33,11 @@ std::string createUnique(Make make, const std::filesystem::path& for_output, con
         std::string name = randomTempName();
         if (make(name)) return name;
         if (errno != EEXIST)
-            throw core::Error("output: " + shownPath(for_output) + ": cannot create a temporary in '" +
-                              shownPath(dir) + "': " + errnoText(errno));
+            throw core::Error("output: " + shownPath(for_output) + ": cannot create a temporary in '" + shownPath(dir) +
+                              "': " + errnoText(errno));
     }
-    throw core::Error("output: " + shownPath(for_output) + ": cannot find a free temporary name in '" +
-                      shownPath(dir) + "'");
+    throw core::Error("output: " + shownPath(for_output) + ": cannot find a free temporary name in '" + shownPath(dir) +
+                      "'");
 }
 
 }  // namespace platform

@@ -22,7 +22,6 @@ using core::Error;
 
 namespace {
 
-
 bool writeAll(int fd, std::string_view data) {
     while (!data.empty()) {
         const ssize_t n = ::write(fd, data.data(), data.size());
@@ -46,7 +45,7 @@ fs::path resolveOutputFolder(const fs::path& dir, const OwnedName& ours, bool ma
     const std::string base = target.filename().string();
     if (base.empty() || base == "." || base == "..")
         throw Error(out + "cannot replace this folder as a whole; give a sub-folder for the results");
-    struct stat st {};
+    struct stat st{};
     if (::lstat(target.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
         if (::stat(target.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
             throw Error(out + "is a symbolic link to something that is not a folder");
@@ -57,7 +56,7 @@ fs::path resolveOutputFolder(const fs::path& dir, const OwnedName& ours, bool ma
     }
     fs::path parent = target.parent_path();
     if (parent.empty()) parent = ".";
-    struct stat pst {};
+    struct stat pst{};
     if (make_parents && ::stat(parent.c_str(), &pst) != 0) {
         std::error_code ec;
         fs::create_directories(parent, ec);
@@ -65,18 +64,17 @@ fs::path resolveOutputFolder(const fs::path& dir, const OwnedName& ours, bool ma
     }
     while (!make_parents && ::stat(parent.c_str(), &pst) != 0 && errno == ENOENT && parent.has_relative_path())
         parent = parent.parent_path().empty() ? fs::path(".") : parent.parent_path();  // made later
-    if (::stat(parent.c_str(), &pst) != 0)
-        throw Error(out + "folder '" + shownPath(parent) + "' does not exist");
+    if (::stat(parent.c_str(), &pst) != 0) throw Error(out + "folder '" + shownPath(parent) + "' does not exist");
     if (!S_ISDIR(pst.st_mode)) throw Error(out + "'" + shownPath(parent) + "' is not a directory");
-    if (::access(parent.c_str(), W_OK) != 0)
-        throw Error(out + "folder '" + shownPath(parent) + "' is not writable");
+    if (::access(parent.c_str(), W_OK) != 0) throw Error(out + "folder '" + shownPath(parent) + "' is not writable");
     if (::lstat(target.c_str(), &st) != 0) return target;  // absent: created by the swap
     if (!S_ISDIR(st.st_mode)) throw Error(out + "is " + kindName(st.st_mode) + ", not a folder");
     std::error_code ec;
     for (fs::directory_iterator it(target, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string name = it->path().filename().string();
         if (!ours(name))
-            throw Error(out + "holds '" + core::printable(name, 80, true) + "', which this command does not "
+            throw Error(out + "holds '" + core::printable(name, 80, true) +
+                        "', which this command does not "
                         "write; refusing to replace the folder (give a new or empty folder)");
     }
     if (ec) throw Error(out + "cannot list the folder: " + ec.message());
@@ -150,25 +148,26 @@ void AtomicFolder::commit() {
     const int pfd = parent_fd_;
     const std::string base = target_.filename().string();
     std::string tmp = temp_name_;
-    struct stat st {};
+    struct stat st{};
     bool swapped_old = false;
     if (::fstatat(pfd, base.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) {
         if (::renameat2(pfd, tmp.c_str(), pfd, base.c_str(), RENAME_NOREPLACE) != 0 &&
             ((errno != EINVAL && errno != ENOSYS) || ::renameat(pfd, tmp.c_str(), pfd, base.c_str()) != 0))
-            throw Error("output: " + shownPath(dir_) + ": cannot move the new folder into place: " +
-                        errnoText(errno));
+            throw Error("output: " + shownPath(dir_) + ": cannot move the new folder into place: " + errnoText(errno));
     } else if (::renameat2(pfd, tmp.c_str(), pfd, base.c_str(), RENAME_EXCHANGE) == 0) {
         swapped_old = true;  // the previous folder now has the temporary name
     } else if (errno == EINVAL || errno == ENOSYS) {
         // No atomic exchange here: the old folder steps aside, then the new one moves in.
-        const std::string old = createUnique([&](const std::string& n) {
-            struct stat probe {};
-            if (::fstatat(pfd, n.c_str(), &probe, AT_SYMLINK_NOFOLLOW) == 0) {
-                errno = EEXIST;
-                return false;
-            }
-            return ::renameat(pfd, base.c_str(), pfd, n.c_str()) == 0;
-        }, dir_, parent_);
+        const std::string old = createUnique(
+            [&](const std::string& n) {
+                struct stat probe{};
+                if (::fstatat(pfd, n.c_str(), &probe, AT_SYMLINK_NOFOLLOW) == 0) {
+                    errno = EEXIST;
+                    return false;
+                }
+                return ::renameat(pfd, base.c_str(), pfd, n.c_str()) == 0;
+            },
+            dir_, parent_);
         if (::renameat(pfd, tmp.c_str(), pfd, base.c_str()) != 0) {
             const int e = errno;
             ::renameat(pfd, old.c_str(), pfd, base.c_str());

@@ -10,9 +10,11 @@
 namespace platform {
 
 Progress::Progress(std::string label, std::size_t total, bool force)
-    : label_(std::move(label)), total_(total),
+    : label_(std::move(label)),
+      total_(total),
       enabled_(force || ::isatty(STDERR_FILENO) == 1),
-      start_(std::chrono::steady_clock::now()), last_draw_(start_) {
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_) {
     if (enabled_) draw(false);
 }
 
@@ -42,13 +44,12 @@ void Progress::draw(bool final) {
     constexpr int kWidth = 30;
     const double fraction = total_ == 0 ? 1.0 : double(done_) / double(total_);
     const int filled = std::clamp(int(fraction * kWidth + 0.5), 0, kWidth);
-    const double elapsed_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     char bar[kWidth + 1];
     for (int i = 0; i < kWidth; ++i) bar[i] = i < filled ? '#' : '.';
     bar[kWidth] = '\0';
-    std::fprintf(stderr, "\r%s [%s] %3d%% %6.1f s%s", label_.c_str(), bar,
-                 int(fraction * 100.0 + 0.5), elapsed_s, final ? "\n" : "");
+    std::fprintf(stderr, "\r%s [%s] %3d%% %6.1f s%s", label_.c_str(), bar, int(fraction * 100.0 + 0.5), elapsed_s,
+                 final ? "\n" : "");
     std::fflush(stderr);
 }
 

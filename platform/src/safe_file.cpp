@@ -69,7 +69,7 @@ int openFolder(const fs::path& dir, const fs::path& for_output) {
 
 // Removes a temporary file or folder (not following links) by name inside `dirfd`.
 void removeEntry(int dirfd, const std::string& name, const fs::path& dir) {
-    struct stat st {};
+    struct stat st{};
     if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return;
     if (S_ISDIR(st.st_mode)) {
         std::error_code ec;
@@ -139,18 +139,26 @@ std::size_t printableCharLength(std::string_view s, std::size_t i) {
     if (c < 0x80) return 1;
     std::size_t n = 0;
     unsigned char lo = 0x80, hi = 0xBF;  // the range of the second byte
-    if (c >= 0xC2 && c <= 0xDF) n = 2;
-    else if (c == 0xE0) n = 3, lo = 0xA0;
-    else if (c == 0xED) n = 3, hi = 0x9F;                   // no UTF-16 surrogates
-    else if (c >= 0xE1 && c <= 0xEF) n = 3;
-    else if (c == 0xF0) n = 4, lo = 0x90;
-    else if (c == 0xF4) n = 4, hi = 0x8F;                   // nothing past U+10FFFF
-    else if (c >= 0xF1 && c <= 0xF3) n = 4;
-    else return 0;                                          // a stray continuation, C0/C1 overlong, F5..FF
+    if (c >= 0xC2 && c <= 0xDF)
+        n = 2;
+    else if (c == 0xE0)
+        n = 3, lo = 0xA0;
+    else if (c == 0xED)
+        n = 3, hi = 0x9F;  // no UTF-16 surrogates
+    else if (c >= 0xE1 && c <= 0xEF)
+        n = 3;
+    else if (c == 0xF0)
+        n = 4, lo = 0x90;
+    else if (c == 0xF4)
+        n = 4, hi = 0x8F;  // nothing past U+10FFFF
+    else if (c >= 0xF1 && c <= 0xF3)
+        n = 4;
+    else
+        return 0;  // a stray continuation, C0/C1 overlong, F5..FF
     if (i + n > s.size() || byte(i + 1) < lo || byte(i + 1) > hi) return 0;
     for (std::size_t k = 2; k < n; ++k)
         if ((byte(i + k) & 0xC0) != 0x80) return 0;
-    if (c == 0xC2 && byte(i + 1) < 0xA0) return 0;          // U+0080..U+009F: C1 controls (CSI is U+009B)
+    if (c == 0xC2 && byte(i + 1) < 0xA0) return 0;  // U+0080..U+009F: C1 controls (CSI is U+009B)
     return n;
 }
 
@@ -217,13 +225,13 @@ void printMessage(std::string_view label, std::string_view what) {
 
 std::string regularFileProblem(const fs::path& path) {
     if (path.empty()) return "is an empty name";
-    struct stat st {};
+    struct stat st{};
     if (::stat(path.c_str(), &st) == 0)
         return S_ISREG(st.st_mode) ? std::string() : std::string("is ") + kindName(st.st_mode);
     const int e = errno;
     switch (e) {
         case ENOENT: {
-            struct stat lst {};
+            struct stat lst{};
             if (::lstat(path.c_str(), &lst) == 0 && S_ISLNK(lst.st_mode)) {
                 std::error_code ec;
                 const fs::path target = fs::read_symlink(path, ec);
@@ -243,7 +251,7 @@ void checkInputFile(const fs::path& path, std::string_view what) {
     if (!problem.empty())
         throw Error(std::string(what) + " " + problem +
                     (problem.rfind("is a", 0) == 0 ? "; allowed: a regular file" : ""));
-    struct stat st {};
+    struct stat st{};
     if (::stat(path.c_str(), &st) == 0) rememberInput(st, path);
 }
 
@@ -259,7 +267,7 @@ std::string readTextFile(const fs::path& path, std::size_t max_bytes, std::strin
         int fd;
         ~Closer() { ::close(fd); }
     } closer{fd};
-    struct stat st {};
+    struct stat st{};
     if (::fstat(fd, &st) != 0) throw Error(std::string(what) + " cannot be read: " + errnoText(errno));
     if (!S_ISREG(st.st_mode)) throw Error(std::string(what) + " is " + kindName(st.st_mode) + allowed);
     if (st.st_size > 0 && std::uint64_t(st.st_size) > max_bytes)
@@ -281,15 +289,14 @@ std::string readTextFile(const fs::path& path, std::size_t max_bytes, std::strin
         if (n == 0) break;
         used += std::size_t(n);
     }
-    if (used > max_bytes)
-        throw Error(std::string(what) + " holds more than " + sizeText(max_bytes) + allowed);
+    if (used > max_bytes) throw Error(std::string(what) + " holds more than " + sizeText(max_bytes) + allowed);
     text.resize(used);
     rememberInput(st, path);
     return text;
 }
 
 void checkNotAnInput(const fs::path& path) {
-    struct stat st {};
+    struct stat st{};
     if (::stat(path.c_str(), &st) != 0) return;
     std::lock_guard lock(g_inputs_mutex);
     for (const InputFile& f : g_inputs)
@@ -316,9 +323,8 @@ void removeStaleTemporaries(const fs::path& dir) {
         ::closedir(d);
     }
     for (const std::string& name : stale) {
-        struct stat st {};
-        if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_uid != ::geteuid())
-            continue;
+        struct stat st{};
+        if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_uid != ::geteuid()) continue;
         removeEntry(dirfd, name, dir);
     }
     ::close(dirfd);
@@ -332,10 +338,12 @@ TempFile::TempFile(fs::path destination) : destination_(std::move(destination)) 
     dirfd_ = openFolder(dir, destination_);
     int fd = -1;
     try {
-        name_ = createUnique([&](const std::string& name) {
-            fd = ::openat(dirfd_, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-            return fd >= 0;
-        }, destination_, dir);
+        name_ = createUnique(
+            [&](const std::string& name) {
+                fd = ::openat(dirfd_, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+                return fd >= 0;
+            },
+            destination_, dir);
     } catch (...) {
         ::close(dirfd_);
         throw;
@@ -388,11 +396,13 @@ void TempFile::commit() {
     }
     const std::string base = destination_.filename().string();
     for (int attempt = 0; attempt < 3; ++attempt) {
-        struct stat st {};
+        struct stat st{};
         if (::fstatat(dirfd_, base.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0) {
             if (!S_ISREG(st.st_mode))
-                fail(std::string("is ") + kindName(st.st_mode) + "; refusing to replace it (only a regular "
-                     "file is replaced)", 0);
+                fail(std::string("is ") + kindName(st.st_mode) +
+                         "; refusing to replace it (only a regular "
+                         "file is replaced)",
+                     0);
             try {
                 checkNotAnInput(destination_);
             } catch (const Error&) {
@@ -406,8 +416,7 @@ void TempFile::commit() {
             // between the check and the rename.
             if (::renameat2(dirfd_, name_.c_str(), dirfd_, base.c_str(), RENAME_NOREPLACE) != 0) {
                 if (errno == EEXIST) continue;
-                if (errno != EINVAL && errno != ENOSYS)
-                    fail("cannot rename the temporary file into place", errno);
+                if (errno != EINVAL && errno != ENOSYS) fail("cannot rename the temporary file into place", errno);
                 if (::renameat(dirfd_, name_.c_str(), dirfd_, base.c_str()) != 0)
                     fail("cannot rename the temporary file into place", errno);
             }
@@ -423,18 +432,20 @@ void TempFile::commit() {
 }
 
 std::FILE* openScratchFile(const fs::path& dir, std::string_view what) {
-    const std::string where = "output: " + std::string(what) + ": cannot create a scratch file in '" +
-                              shownPath(dir) + "': ";
+    const std::string where =
+        "output: " + std::string(what) + ": cannot create a scratch file in '" + shownPath(dir) + "': ";
     int fd = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
     if (fd < 0 && (errno == EOPNOTSUPP || errno == EISDIR || errno == EINVAL)) {
         // No O_TMPFILE here: an exclusive random name, unlinked before any data goes in.
         removeStaleTemporaries(dir);
         const int dirfd = openFolder(dir, fs::path(what));
         try {
-            const std::string name = createUnique([&](const std::string& n) {
-                fd = ::openat(dirfd, n.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
-                return fd >= 0;
-            }, fs::path(what), dir);
+            const std::string name = createUnique(
+                [&](const std::string& n) {
+                    fd = ::openat(dirfd, n.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+                    return fd >= 0;
+                },
+                fs::path(what), dir);
             ::unlinkat(dirfd, name.c_str(), 0);
         } catch (...) {
             ::close(dirfd);

@@ -48,17 +48,15 @@ bool hasExtension(const char* list, const char* name) {
     return false;
 }
 
-GLADapiproc loadProc(const char* name) {
-    return reinterpret_cast<GLADapiproc>(eglGetProcAddress(name));
-}
+GLADapiproc loadProc(const char* name) { return reinterpret_cast<GLADapiproc>(eglGetProcAddress(name)); }
 
 }  // namespace
 
 EglContext::EglContext(const EglContextOptions& options) {
     const char* client_extensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!client_extensions) fail("no client extensions (EGL 1.5 / EGL_EXT_client_extensions needed)");
-    auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
-        eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    auto get_platform_display =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
     if (!get_platform_display) fail("eglGetPlatformDisplayEXT is missing");
 
     EGLDisplay display = EGL_NO_DISPLAY;
@@ -67,8 +65,7 @@ EglContext::EglContext(const EglContextOptions& options) {
         platform_ = "surfaceless";
     }
     if (display == EGL_NO_DISPLAY && hasExtension(client_extensions, "EGL_EXT_platform_device")) {
-        auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(
-            eglGetProcAddress("eglQueryDevicesEXT"));
+        auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
         EGLDeviceEXT devices[8];
         EGLint count = 0;
         if (query_devices && query_devices(8, devices, &count) && count > 0) {
@@ -95,19 +92,22 @@ EglContext::EglContext(const EglContextOptions& options) {
         display_ = nullptr;
         fail("eglBindAPI(EGL_OPENGL_API)");
     }
-    const EGLint attributes[] = {
-        EGL_CONTEXT_MAJOR_VERSION, options.major,
-        EGL_CONTEXT_MINOR_VERSION, options.minor,
-        EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-        EGL_CONTEXT_OPENGL_DEBUG, options.debug ? EGL_TRUE : EGL_FALSE,
-        EGL_NONE};
+    const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                 options.major,
+                                 EGL_CONTEXT_MINOR_VERSION,
+                                 options.minor,
+                                 EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                 EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                 EGL_CONTEXT_OPENGL_DEBUG,
+                                 options.debug ? EGL_TRUE : EGL_FALSE,
+                                 EGL_NONE};
     EGLContext context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
     if (context == EGL_NO_CONTEXT) {
         const std::string error = eglErrorName(eglGetError());
         eglTerminate(display);
         display_ = nullptr;
         throw core::Error("egl: eglCreateContext(OpenGL " + std::to_string(options.major) + "." +
-                            std::to_string(options.minor) + " core, no config): " + error);
+                          std::to_string(options.minor) + " core, no config): " + error);
     }
     context_ = context;
     try {

@@ -30,8 +30,8 @@ void loadGl(GLADloadfunc get_proc_address) {
     if (version == 0) throw core::Error("gl: loading the OpenGL entry points failed (gladLoadGL)");
     const int major = GLAD_VERSION_MAJOR(version), minor = GLAD_VERSION_MINOR(version);
     if (major < 4 || (major == 4 && minor < 5))
-        throw core::Error("gl: context is OpenGL " + std::to_string(major) + "." +
-                            std::to_string(minor) + "; OpenGL 4.5 core is required");
+        throw core::Error("gl: context is OpenGL " + std::to_string(major) + "." + std::to_string(minor) +
+                          "; OpenGL 4.5 core is required");
 }
 
 namespace {

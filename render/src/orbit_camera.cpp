@@ -74,8 +74,8 @@ glm::dmat4 subRectProjection(const glm::dmat4& projection, int width, int height
     return crop * projection;
 }
 
-PixelRect projectBounds(const glm::dmat4& view_projection, const core::Bounds& bounds, int width,
-                        int height, double margin_px) {
+PixelRect projectBounds(const glm::dmat4& view_projection, const core::Bounds& bounds, int width, int height,
+                        double margin_px) {
     PixelRect none{};
     if (bounds.empty()) return none;
     if (!Frustum::fromMatrix(view_projection).intersects(bounds)) return none;
@@ -102,8 +102,7 @@ PixelRect projectBounds(const glm::dmat4& view_projection, const core::Bounds& b
     return r.empty() ? none : r;
 }
 
-glm::dvec3 pixelCentreDirection(const CameraPose& pose, double vfov_deg, int width, int height, int px,
-                                int py) {
+glm::dvec3 pixelCentreDirection(const CameraPose& pose, double vfov_deg, int width, int height, int px, int py) {
     const glm::dvec3 forward = glm::normalize(pose.look_at - pose.eye);
     const glm::dvec3 right = glm::normalize(glm::cross(forward, pose.up));
     const glm::dvec3 up = glm::cross(right, forward);

@@ -66,8 +66,8 @@ void PointChunks::upload(std::size_t id, std::span<const core::CloudPoint> point
             ++chunk.next_cell;
         const core::CloudPoint& p = points[i];
         const glm::dvec3 rel = glm::dvec3(p.position) - cells_[chunk.next_cell].centre;
-        staging_[i] = {float(rel.x), float(rel.y), float(rel.z),
-                       (p.rgb & 0xFFFFFFu) | (std::uint32_t(p.label) << 24), p.height_above_ground_m};
+        staging_[i] = {float(rel.x), float(rel.y), float(rel.z), (p.rgb & 0xFFFFFFu) | (std::uint32_t(p.label) << 24),
+                       p.height_above_ground_m};
     }
     glNamedBufferSubData(chunk.buffer, static_cast<GLintptr>(chunk.count * sizeof(GpuPoint)),
                          static_cast<GLsizeiptr>(n * sizeof(GpuPoint)), staging_.data());
@@ -87,7 +87,7 @@ void PointChunks::removeChunk(std::size_t id) {
         }
     uploaded_ -= chunk.count;
     chunk = Chunk{};
-    chunk.first_cell = chunk.next_cell = cells_.size();   // no cells: never drawn
+    chunk.first_cell = chunk.next_cell = cells_.size();  // no cells: never drawn
 }
 
 std::size_t PointChunks::available(std::size_t i) const {

@@ -57,8 +57,8 @@ void PointSplatRenderer::setCloud(const core::PointCloud& cloud, double chunk_si
     }
 }
 
-SplatDrawStats PointSplatRenderer::draw(const glm::dmat4& view, const glm::dmat4& projection,
-                                        const SplatStyle& style, bool cull) const {
+SplatDrawStats PointSplatRenderer::draw(const glm::dmat4& view, const glm::dmat4& projection, const SplatStyle& style,
+                                        bool cull) const {
     SplatDrawStats stats;
     const auto& cells = chunks_.cells();
     if (cells.empty()) return stats;

@@ -40,7 +40,7 @@ Program::Program(std::string_view name, std::initializer_list<ShaderStage> stage
         if (shader == 0) {
             cleanup();
             throw core::Error(std::string("shader: ") + std::string(name) + ": glCreateShader(" +
-                                stageName(stage.stage) + ") failed");
+                              stageName(stage.stage) + ") failed");
         }
         shaders.push_back(shader);
         const GLchar* source = stage.source.data();
@@ -57,8 +57,8 @@ Program::Program(std::string_view name, std::initializer_list<ShaderStage> stage
             cleanup();
             std::string where;
             if (!stage.files.empty()) where = " (source strings: " + std::string(stage.files) + ")";
-            throw core::Error(std::string("shader: ") + std::string(name) + ": " +
-                                stageName(stage.stage) + " compile failed: " + trimLog(log) + where);
+            throw core::Error(std::string("shader: ") + std::string(name) + ": " + stageName(stage.stage) +
+                              " compile failed: " + trimLog(log) + where);
         }
     }
     id_ = glCreateProgram();

@@ -41,23 +41,19 @@ namespace sim {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr std::size_t kBlockRays = 4096;        // rays per task: one slot range per task
 constexpr std::size_t kBatchRays = 1u << 19;    // rays per batch of views (memory bound)
 constexpr std::size_t kColourChunk = 1u << 20;  // points per colour/write chunk
 
-std::string mebibytes(std::uint64_t bytes) {
-    return std::to_string((bytes + (1u << 20) - 1) >> 20);
-}
+std::string mebibytes(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20); }
 
 // The fused cloud on disk: raw CloudPoint records in an anonymous file in the output's
 // folder (platform::openScratchFile), so nothing of it outlives the process. `path_` (the
 // output) names it in messages.
 class Spool {
-public:
+  public:
     explicit Spool(std::filesystem::path path) : path_(std::move(path)) {
         const std::filesystem::path dir = path_.parent_path();
         file_ = platform::openScratchFile(dir.empty() ? "." : dir, path_.string());
@@ -72,7 +68,7 @@ public:
         if (points.empty()) return;
         if (std::fwrite(points.data(), sizeof(core::CloudPoint), points.size(), file_) != points.size())
             throw core::Error("output: " + path_.string() + ": cannot write the spool file after " +
-                                mebibytes(count_ * sizeof(core::CloudPoint)) + " MiB: " + std::strerror(errno));
+                              mebibytes(count_ * sizeof(core::CloudPoint)) + " MiB: " + std::strerror(errno));
         count_ += points.size();
     }
     void rewind() {
@@ -85,7 +81,7 @@ public:
     }
     std::size_t count() const { return count_; }
 
-private:
+  private:
     std::filesystem::path path_;
     std::FILE* file_ = nullptr;
     std::size_t count_ = 0;
@@ -123,16 +119,14 @@ PixelRect visiblePixels(const OrbitOptions& o, const core::Pose& T_local_sensor,
         // Inverse of pixelDirection: pixel px's ray has x/z = (px + 0.5 - xres/2) / focal.
         const double u = q.x / q.z * focal_px + 0.5 * double(o.xres) - 0.5;
         const double v = q.y / q.z * focal_px + 0.5 * double(o.yres) - 0.5;
-        u_min = std::min(u_min, u); u_max = std::max(u_max, u);
-        v_min = std::min(v_min, v); v_max = std::max(v_max, v);
+        u_min = std::min(u_min, u);
+        u_max = std::max(u_max, u);
+        v_min = std::min(v_min, v);
+        v_max = std::max(v_max, v);
     }
     const double margin_px = 1.0 + 1e-4 * focal_px + extra_margin_rad * focal_px;
-    const auto lowPixel = [&](double x, int n) {
-        return int(std::clamp(std::floor(x - margin_px), -1.0, double(n)));
-    };
-    const auto highPixel = [&](double x, int n) {
-        return int(std::clamp(std::ceil(x + margin_px), -1.0, double(n)));
-    };
+    const auto lowPixel = [&](double x, int n) { return int(std::clamp(std::floor(x - margin_px), -1.0, double(n))); };
+    const auto highPixel = [&](double x, int n) { return int(std::clamp(std::ceil(x + margin_px), -1.0, double(n))); };
     PixelRect r{std::max(0, lowPixel(u_min, o.xres)), std::min(o.xres - 1, highPixel(u_max, o.xres)),
                 std::max(0, lowPixel(v_min, o.yres)), std::min(o.yres - 1, highPixel(v_max, o.yres))};
     if (r.x0 > r.x1 || r.y0 > r.y1) return PixelRect{};
@@ -148,21 +142,20 @@ void validate(const GenerateOptions& o) {
     validate(o.sensor);
     if (o.threads < 0 || o.threads > 1024)
         throw core::Error("generate: threads (--threads) = " + std::to_string(o.threads) +
-                            ": allowed [0, 1024] (0 = all cores)");
+                          ": allowed [0, 1024] (0 = all cores)");
     if (!(std::isfinite(o.drone_speed_mps) && o.drone_speed_mps > 0.0 && o.drone_speed_mps <= 1e4))
         throw core::Error("generate: drone speed (--drone-speed-mps) = " + core::shownNumber(o.drone_speed_mps) +
-                            ": allowed (0, 10000] m/s");
-    if (o.centre && !(std::abs(o.centre->x) <= core::kMaxWorldCoordinate_m &&
-                      std::abs(o.centre->y) <= core::kMaxWorldCoordinate_m &&
-                      std::abs(o.centre->z) <= core::kMaxWorldCoordinate_m))
+                          ": allowed (0, 10000] m/s");
+    if (o.centre &&
+        !(std::abs(o.centre->x) <= core::kMaxWorldCoordinate_m &&
+          std::abs(o.centre->y) <= core::kMaxWorldCoordinate_m && std::abs(o.centre->z) <= core::kMaxWorldCoordinate_m))
         throw core::Error("generate: centre (--centre) = " + core::shownNumber(o.centre->x) + "," +
-                            core::shownNumber(o.centre->y) + "," + core::shownNumber(o.centre->z) +
-                            ": allowed x,y,z in [-" + core::shownNumber(core::kMaxWorldCoordinate_m) +
-                            ", " + core::shownNumber(core::kMaxWorldCoordinate_m) + "] world metres");
+                          core::shownNumber(o.centre->y) + "," + core::shownNumber(o.centre->z) +
+                          ": allowed x,y,z in [-" + core::shownNumber(core::kMaxWorldCoordinate_m) + ", " +
+                          core::shownNumber(core::kMaxWorldCoordinate_m) + "] world metres");
     if (o.roles.bits == 0 || o.roles.bits > 0b111)
         throw core::Error("generate: roles (--roles): allowed a non-empty subset of ground, environment, target");
-    if (o.memory_budget_bytes == 0)
-        throw core::Error("generate: memory_budget_bytes = 0: allowed > 0");
+    if (o.memory_budget_bytes == 0) throw core::Error("generate: memory_budget_bytes = 0: allowed > 0");
 }
 
 glm::dvec3 defaultCentre(const core::Scene& scene) {
@@ -177,8 +170,7 @@ glm::dvec3 defaultCentre(const core::Scene& scene) {
                 if (m.role == core::Role::Ground) ground.extend(p);
             }
     }
-    if (all.empty())
-        throw core::Error("generate: scene '" + scene.source.string() + "' has no triangles");
+    if (all.empty()) throw core::Error("generate: scene '" + scene.source.string() + "' has no triangles");
     const glm::dvec3 xy = target.empty() ? all.centre() : target.centre();
     const std::optional<double> ground_z = core::groundHeightAt(scene, xy.x, xy.y);
     const double z = ground_z ? *ground_z : ground.empty() ? all.lo.z : ground.lo.z;
@@ -194,10 +186,10 @@ struct Generator::State {
     std::vector<SensorView> sensor_views;  // per view, the pose logged and the pose flown
     std::size_t slots_per_pixel = 1;       // return slots per pixel (Sensor::slotsPerPixel)
     double bvh_seconds = 0.0;
-    MemoryPlan plan;                       // batches, bands and threads within the budget
-    std::uint64_t hits_bound = 0;          // hits all views can give together (traced pixels)
-    std::vector<core::Pose> poses;       // per view, T_local_sensor
-    std::vector<PixelRect> traced;         // per view, the pixels traced (all without skip_rays)
+    MemoryPlan plan;                // batches, bands and threads within the budget
+    std::uint64_t hits_bound = 0;   // hits all views can give together (traced pixels)
+    std::vector<core::Pose> poses;  // per view, T_local_sensor
+    std::vector<PixelRect> traced;  // per view, the pixels traced (all without skip_rays)
     // Per (view, row), the columns traced [x0, x1] when the boxes are per mesh (a union of
     // rectangles is no rectangle); empty: `traced` alone. See traceablePixels().
     std::vector<glm::ivec2> row_spans;
@@ -253,15 +245,16 @@ struct Generator::State {
                 sensor->trace(*caster, sensor_views[std::size_t(view)], a,
                               std::span(band.dirs + (a - band.first), b - a),
                               std::span(band.slots + (a - band.first) * n, (b - a) * n), options.packet_rays);
-            for (std::size_t k = std::max(a, b) * n; k < row_end * n; ++k) band.slots[k - band.first * n].range_m = kNoReturn;
+            for (std::size_t k = std::max(a, b) * n; k < row_end * n; ++k)
+                band.slots[k - band.first * n].range_m = kNoReturn;
             i = row_end;
         }
     }
 
     // Runs every view and hands the fused points, in (view, row, column) order, to
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
-    void fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit,
-                   Workers& pool, GenerateStats& st) const;
+    void fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit, Workers& pool,
+                   GenerateStats& st) const;
 
     // Jet colours for every point that is not white, from the fused z range.
     void colour(std::span<core::CloudPoint> points, Workers& pool, const GenerateStats& st) const {
@@ -277,8 +270,8 @@ struct Generator::State {
     }
 };
 
-void Generator::State::fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit,
-                                 Workers& pool, GenerateStats& st) const {
+void Generator::State::fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit, Workers& pool,
+                                 GenerateStats& st) const {
     const OrbitOptions& orbit = options.orbit;
     const std::size_t xres = std::size_t(orbit.xres), yres = std::size_t(orbit.yres);
     const std::size_t npix = xres * yres;
@@ -381,8 +374,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
                 std::vector<glm::vec3> positions(pts.size());
                 for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
                 const std::uint64_t view = first + k;
-                const auto is_ground = view_filter->classifyView(positions, options.seed ^ view,
-                                                                 &ground_stats[k]);
+                const auto is_ground = view_filter->classifyView(positions, options.seed ^ view, &ground_stats[k]);
                 for (std::size_t i = 0; i < pts.size(); ++i)
                     if (is_ground[i]) pts[i].rgb = core::kWhite;
             });
@@ -474,8 +466,7 @@ Generator::Generator(const core::Scene& scene, GenerateOptions options)
             const PixelRect r = visiblePixels(orbit, s.sensor_views[v].actual, b, spread_rad);
             if (r.count() == 0) continue;
             hull = {std::min(hull.x0, r.x0), std::max(hull.x1, r.x1), std::min(hull.y0, r.y0), std::max(hull.y1, r.y1)};
-            for (int y = r.y0; y <= r.y1; ++y)
-                row[y] = glm::ivec2(std::min(row[y].x, r.x0), std::max(row[y].y, r.x1));
+            for (int y = r.y0; y <= r.y1; ++y) row[y] = glm::ivec2(std::min(row[y].x, r.x0), std::max(row[y].y, r.x1));
         }
         std::uint64_t n = 0;
         for (std::size_t y = 0; y < yres; ++y)
@@ -536,10 +527,12 @@ void initStats(const Generator::State& s, GenerateStats& st) {
 // way), the terrain fitted, then pass 2 and the colours over all of them.
 void fuseFitColour(const Generator::State& s, std::vector<core::CloudPoint>& points, TerrainStage& terrain,
                    Workers& pool, GenerateStats& st) {
-    s.fuseViews([&](std::span<const core::CloudPoint> pts) {
-        points.insert(points.end(), pts.begin(), pts.end());
-        terrain.add(pts);
-    }, pool, st);
+    s.fuseViews(
+        [&](std::span<const core::CloudPoint> pts) {
+            points.insert(points.end(), pts.begin(), pts.end());
+            terrain.add(pts);
+        },
+        pool, st);
     terrain.fit();
     terrain.classify(points, pool);
     const auto t0 = Clock::now();
@@ -559,8 +552,8 @@ core::PointCloud Generator::run(GenerateStats* stats) {
     cloud.origin = s.scene.origin;
     cloud.fields = s.sensor->fields();
     // The cloud is the caller's: reserved up to the budget, beyond it grown as needed.
-    cloud.points.reserve(std::size_t(std::min<std::uint64_t>(
-        s.hits_bound, s.options.memory_budget_bytes / sizeof(core::CloudPoint))));
+    cloud.points.reserve(
+        std::size_t(std::min<std::uint64_t>(s.hits_bound, s.options.memory_budget_bytes / sizeof(core::CloudPoint))));
     TerrainStage terrain(s.cloud_filter.get(), s.options.ground.smrf, s.options.white, s.checkTerrain());
     cloud.fields.height_above_ground = terrain.whitens();
     fuseFitColour(s, cloud.points, terrain, pool, st);
@@ -579,10 +572,10 @@ static io::LasOptions lasOptions(const core::Scene& scene, const GenerateOptions
             if (int(m.role) != r || m.asprs_class < 0) continue;
             if (cls >= 0 && cls != m.asprs_class)
                 throw core::Error("generate: " + scene.source.string() + ": " +
-                                    std::string(core::roleName(core::Role(r))) +
-                                    " meshes give different ASPRS classes (" + std::to_string(cls) + ", " +
-                                    std::to_string(m.asprs_class) +
-                                    "); LAS output holds one class per role, since a point records its role");
+                                  std::string(core::roleName(core::Role(r))) +
+                                  " meshes give different ASPRS classes (" + std::to_string(cls) + ", " +
+                                  std::to_string(m.asprs_class) +
+                                  "); LAS output holds one class per role, since a point records its role");
             cls = m.asprs_class;
         }
         if (cls >= 0) las.class_of_role[r] = std::uint8_t(cls);
@@ -611,8 +604,8 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
     las_options.threads = s.plan.threads;
     const std::uint64_t held = s.plan.kept_bytes - s.plan.writer_bytes +
                                (st.streamed ? s.plan.colour_chunk * sizeof(core::CloudPoint) : fused_bytes);
-    las_options.memory_bytes = std::max(s.plan.writer_bytes,
-                                        s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held));
+    las_options.memory_bytes =
+        std::max(s.plan.writer_bytes, s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held));
     io::CloudWriter writer(out, format, s.scene.origin, fields, las_options);
     Workers pool(s.plan.threads);
     if (!st.streamed) {
@@ -627,10 +620,12 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
     } else {
         checkFreeSpace(out.parent_path(), fused_bytes, "the spool file of the fused cloud");
         Spool spool(out);
-        s.fuseViews([&](std::span<const core::CloudPoint> pts) {
-            spool.append(pts);
-            terrain.add(pts);
-        }, pool, st);
+        s.fuseViews(
+            [&](std::span<const core::CloudPoint> pts) {
+                spool.append(pts);
+                terrain.add(pts);
+            },
+            pool, st);
         terrain.fit();
         spool.rewind();
         std::vector<core::CloudPoint> chunk(s.plan.colour_chunk);
@@ -648,8 +643,7 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
             writer.append(part);
             st.seconds.write += secondsSince(tc);
         }
-        if (writer.count() != st.points)
-            throw core::Error("output: " + out.string() + ": spool file came back short");
+        if (writer.count() != st.points) throw core::Error("output: " + out.string() + ": spool file came back short");
         const auto tc = Clock::now();
         writer.commit();
         st.seconds.write += secondsSince(tc);
@@ -665,8 +659,8 @@ void Generator::viewRays(int view, std::vector<Ray>& rays) const {
     const OrbitOptions& orbit = s.options.orbit;
     rays.resize(std::size_t(orbit.xres) * std::size_t(orbit.yres));
     for (std::size_t i = 0; i < rays.size(); ++i) {
-        const glm::dvec3 dir = pixelDirection(orbit, double(i % std::size_t(orbit.xres)),
-                                              double(i / std::size_t(orbit.xres)));
+        const glm::dvec3 dir =
+            pixelDirection(orbit, double(i % std::size_t(orbit.xres)), double(i / std::size_t(orbit.xres)));
         rays[i].origin = glm::vec3(pose.translation);
         rays[i].direction = glm::vec3(pose.rotation * dir);
         rays[i].t_far = std::numeric_limits<float>::infinity();
@@ -677,14 +671,12 @@ const RayCaster& Generator::caster() const { return *state_->caster; }
 const GenerateOptions& Generator::options() const { return state_->options; }
 glm::dvec3 Generator::centreWorld() const { return state_->centre_world; }
 
-core::PointCloud generateCloud(const core::Scene& scene, const GenerateOptions& options,
-                                 GenerateStats* stats) {
+core::PointCloud generateCloud(const core::Scene& scene, const GenerateOptions& options, GenerateStats* stats) {
     return Generator(scene, options).run(stats);
 }
 
-void generateToFile(const core::Scene& scene, const GenerateOptions& options,
-                    const std::filesystem::path& out, io::CloudFormat format,
-                    GenerateStats* stats) {
+void generateToFile(const core::Scene& scene, const GenerateOptions& options, const std::filesystem::path& out,
+                    io::CloudFormat format, GenerateStats* stats) {
     Generator(scene, options).run(out, format, stats);
 }
 

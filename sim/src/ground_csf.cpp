@@ -32,14 +32,14 @@ namespace sim {
 namespace {
 
 constexpr double kGravity = 0.2, kDamping = 0.01;
-constexpr double kStill_m = 0.005;      // a step moving no particle more than this ends the run
-constexpr double kSlopeJoin_m = 0.3;    // post-processing: IHV step to a stopped neighbour
+constexpr double kStill_m = 0.005;    // a step moving no particle more than this ends the run
+constexpr double kSlopeJoin_m = 0.3;  // post-processing: IHV step to a stopped neighbour
 
 class CsfFit final : public RasterFit {
-public:
+  public:
     explicit CsfFit(const CsfOptions& o) : RasterFit(o.cloth_m, o.max_cells, "csf cloth_m (--csf-cloth-m)"), o_(o) {}
 
-private:
+  private:
     void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) override {
         const int w = grid_.nx, h = grid_.ny;
         const std::size_t n = minimum.size();
@@ -136,7 +136,8 @@ using CsfFilter = WholeCloudFilter<CsfFit, CsfOptions, GroundMethod::Csf>;
 void validate(const CsfOptions& o) {
     if (!(std::isfinite(o.cloth_m) && o.cloth_m >= 0.01 && o.cloth_m <= 1000.0))
         failGroundOption("csf cloth_m (--csf-cloth-m)", o.cloth_m, "[0.01, 1000] metres");
-    if (o.rigidness < 1 || o.rigidness > 3) failGroundOption("csf rigidness (--csf-rigidness)", o.rigidness, "1, 2 or 3");
+    if (o.rigidness < 1 || o.rigidness > 3)
+        failGroundOption("csf rigidness (--csf-rigidness)", o.rigidness, "1, 2 or 3");
     if (!(std::isfinite(o.threshold_m) && o.threshold_m >= 0.0 && o.threshold_m <= 1000.0))
         failGroundOption("csf threshold_m (--csf-threshold-m)", o.threshold_m, "[0, 1000] metres");
     if (!(std::isfinite(o.time_step) && o.time_step > 0.0 && o.time_step <= 10.0))

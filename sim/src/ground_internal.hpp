@@ -21,12 +21,12 @@ std::unique_ptr<const CloudGroundFilter> makeCsfFilter(const CsfOptions& o);
 /// A whole-cloud filter: each run fits a fresh `Fit` (a TerrainFit built from `Options`).
 template <class Fit, class Options, GroundMethod kMethod>
 class WholeCloudFilter final : public CloudGroundFilter {
-public:
+  public:
     explicit WholeCloudFilter(const Options& o) : options_(o) {}
     GroundMethod method() const override { return kMethod; }
     std::unique_ptr<TerrainFit> startCloud() const override { return std::make_unique<Fit>(options_); }
 
-private:
+  private:
     Options options_;
 };
 

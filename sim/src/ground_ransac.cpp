@@ -44,19 +44,22 @@ void validate(const RansacOptions& o) {
     if (!(std::isfinite(o.band_m) && o.band_m > 0.0)) failGroundOption("band_m (--band-m)", o.band_m, "> 0");
     if (!(std::isfinite(o.distance_threshold_m) && o.distance_threshold_m > 0.0))
         failGroundOption("distance_threshold_m (--ransac-distance-m)", o.distance_threshold_m, "> 0");
-    if (!(o.min_normal_z >= 0.0 && o.min_normal_z <= 1.0)) failGroundOption("min_normal_z (--min-normal-z)", o.min_normal_z, "[0, 1]");
-    if (!(o.stop_fraction >= 0.0 && o.stop_fraction <= 1.0)) failGroundOption("stop_fraction (--stop-fraction)", o.stop_fraction, "[0, 1]");
+    if (!(o.min_normal_z >= 0.0 && o.min_normal_z <= 1.0))
+        failGroundOption("min_normal_z (--min-normal-z)", o.min_normal_z, "[0, 1]");
+    if (!(o.stop_fraction >= 0.0 && o.stop_fraction <= 1.0))
+        failGroundOption("stop_fraction (--stop-fraction)", o.stop_fraction, "[0, 1]");
     if (!(o.min_plane_fraction >= 0.0 && o.min_plane_fraction <= 1.0))
         failGroundOption("min_plane_fraction (--min-plane-fraction)", o.min_plane_fraction, "[0, 1]");
-    if (o.max_planes < 0 || o.max_planes > 100000) failGroundOption("max_planes (--max-planes)", o.max_planes, "[0, 100000]");
+    if (o.max_planes < 0 || o.max_planes > 100000)
+        failGroundOption("max_planes (--max-planes)", o.max_planes, "[0, 100000]");
     if (o.ransac_sample_points < 0 || (o.ransac_sample_points > 0 && o.ransac_sample_points < 3))
         failGroundOption("ransac_sample_points (--ransac-sample-points)", o.ransac_sample_points, "0 (all) or >= 3");
     if (o.ransac_iterations < 1 || o.ransac_iterations > 10000000)
         failGroundOption("ransac_iterations (--ransac-iterations)", o.ransac_iterations, "[1, 10000000]");
 }
 
-std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const RansacOptions& o,
-                                     std::uint64_t seed, GroundStats* stats) {
+std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const RansacOptions& o, std::uint64_t seed,
+                                     GroundStats* stats) {
     std::vector<std::uint8_t> is_ground(points.size(), 0);
     GroundStats local;
     if (points.empty()) {
@@ -119,24 +122,23 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Ra
         seg.setMaxIterations(iterations);
         // PC keeps its shuffled order, so its first points are a uniform sample.
         const bool sampled = o.ransac_sample_points > 0 && remaining->size() > std::size_t(o.ransac_sample_points);
-        seg.setIndices(sampled ? std::make_shared<pcl::Indices>(remaining->begin(),
-                                                                remaining->begin() + o.ransac_sample_points)
-                               : remaining);
+        seg.setIndices(
+            sampled ? std::make_shared<pcl::Indices>(remaining->begin(), remaining->begin() + o.ransac_sample_points)
+                    : remaining);
         pcl::PointIndices inliers;
         pcl::ModelCoefficients plane;
-        seg.segment(inliers, plane);                       // step 2
+        seg.segment(inliers, plane);  // step 2
         if (inliers.indices.empty() || plane.values.size() < 4) break;
         ++planes;
         const double n_len = std::hypot(plane.values[0], plane.values[1], plane.values[2]);
         if (sampled && n_len > 0.0) {
             // The plane's inliers among all of PC, as PCL's selectWithinDistance would.
-            const double a = plane.values[0] / n_len, b = plane.values[1] / n_len,
-                         c = plane.values[2] / n_len, d = plane.values[3] / n_len;
+            const double a = plane.values[0] / n_len, b = plane.values[1] / n_len, c = plane.values[2] / n_len,
+                         d = plane.values[3] / n_len;
             inliers.indices.clear();
             for (const pcl::index_t k : *remaining) {
                 const pcl::PointXYZ& p = (*cloud)[std::size_t(k)];
-                if (std::abs(a * p.x + b * p.y + c * p.z + d) <= o.distance_threshold_m)
-                    inliers.indices.push_back(k);
+                if (std::abs(a * p.x + b * p.y + c * p.z + d) <= o.distance_threshold_m) inliers.indices.push_back(k);
             }
             if (inliers.indices.empty()) break;  // cannot happen (the sample's inliers are in PC)
         }
@@ -146,8 +148,8 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Ra
         (accept ? local.planes_accepted : local.planes_rejected)++;
         if (horizontal && !big_enough) local.planes_too_small++;
         for (const auto k : inliers.indices) {
-            if (accept) is_ground[band[k]] = 1;             // step 3
-            removed[k] = 1;                                 // step 4
+            if (accept) is_ground[band[k]] = 1;  // step 3
+            removed[k] = 1;                      // step 4
         }
         std::erase_if(*remaining, [&](pcl::index_t k) { return removed[k] != 0; });
     }
@@ -160,7 +162,7 @@ namespace {
 
 // The paper's filter behind the per-view seam: findGround on each view.
 class RansacFilter final : public ViewGroundFilter {
-public:
+  public:
     explicit RansacFilter(const RansacOptions& o) : options_(o) {}
     GroundMethod method() const override { return GroundMethod::Ransac; }
     std::vector<std::uint8_t> classifyView(std::span<const glm::vec3> points, std::uint64_t seed,
@@ -168,12 +170,14 @@ public:
         return findGround(points, options_, seed, stats);
     }
 
-private:
+  private:
     RansacOptions options_;
 };
 
 }  // namespace
 
-std::unique_ptr<const ViewGroundFilter> makeRansacFilter(const RansacOptions& o) { return std::make_unique<RansacFilter>(o); }
+std::unique_ptr<const ViewGroundFilter> makeRansacFilter(const RansacOptions& o) {
+    return std::make_unique<RansacFilter>(o);
+}
 
 }  // namespace sim

@@ -115,8 +115,8 @@ void RasterFit::fit() {
     const std::uint64_t nx = std::uint64_t(ix_max_ - ix_min_) + 1, ny = std::uint64_t(iy_max_ - iy_min_) + 1;
     if (nx * ny > max_cells_) {
         std::ostringstream s;
-        s << "ground: " << cell_option_ << " = " << cell_m_ << ": the cloud spans " << double(nx) * cell_m_
-          << " x " << double(ny) * cell_m_ << " m, " << nx * ny << " cells; allowed at most " << max_cells_
+        s << "ground: " << cell_option_ << " = " << cell_m_ << ": the cloud spans " << double(nx) * cell_m_ << " x "
+          << double(ny) * cell_m_ << " m, " << nx * ny << " cells; allowed at most " << max_cells_
           << " cells (raise it)";
         throw core::Error(s.str());
     }
@@ -141,7 +141,7 @@ void RasterFit::fit() {
     std::vector<std::uint8_t> observed(minimum.size());
     for (std::size_t c = 0; c < minimum.size(); ++c) observed[c] = minimum[c] != kNoPoint;
     grid_.observed_cells = std::size_t(std::count(observed.begin(), observed.end(), 1));
-fitTerrain(minimum, observed);
+    fitTerrain(minimum, observed);
 }
 
 bool RasterFit::classify(const glm::vec3& p, float& height_m) const {
@@ -174,8 +174,8 @@ float* RasterFit::tileFor(int tx, int ty) {
     if (added) {
         if (std::uint64_t(tiles_.size()) * kTile * kTile > 4 * std::uint64_t(max_cells_) + kTile * kTile) {
             std::ostringstream s;
-            s << "ground: " << cell_option_ << " = " << cell_m_ << ": the cloud covers more than "
-              << max_cells_ << " cells (raise it)";
+            s << "ground: " << cell_option_ << " = " << cell_m_ << ": the cloud covers more than " << max_cells_
+              << " cells (raise it)";
             throw core::Error(s.str());
         }
         tile_data_.resize(tile_data_.size() + kTile * kTile, kNoPoint);

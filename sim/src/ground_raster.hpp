@@ -22,7 +22,7 @@ inline constexpr float kNoPoint = std::numeric_limits<float>::infinity();
 void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny);
 
 class RasterFit : public TerrainFit {
-public:
+  public:
     /// `cell_option` names the cell size in errors, e.g. "smrf cell_m (--smrf-cell-m)".
     RasterFit(double cell_m, std::size_t max_cells, const char* cell_option);
     void add(std::span<const core::CloudPoint> points) override;
@@ -32,7 +32,7 @@ public:
     /// Ground when |z - terrain (bilinear)| <= limit_m_ of the nearest cell.
     bool classify(const glm::vec3& p, float& height_m) const override;
 
-protected:
+  protected:
     /// `minimum` (grid_'s geometry, kNoPoint where no point fell) to grid_.z_m and
     /// limit_m_ (one tolerance per cell).
     virtual void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) = 0;
@@ -40,7 +40,7 @@ protected:
     TerrainGrid grid_;
     std::vector<float> limit_m_;
 
-private:
+  private:
     float* tileFor(int tx, int ty);
 
     double cell_m_, inv_cell_;

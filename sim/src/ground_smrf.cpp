@@ -78,10 +78,10 @@ void diskFilter(const std::vector<float>& in, std::vector<float>& out, int nx, i
 }
 
 class SmrfFit final : public RasterFit {
-public:
+  public:
     explicit SmrfFit(const SmrfOptions& o) : RasterFit(o.cell_m, o.max_cells, "smrf cell_m (--smrf-cell-m)"), o_(o) {}
 
-private:
+  private:
     void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) override {
         const int w = grid_.nx, h = grid_.ny;
         std::vector<float> surface = minimum;
@@ -129,7 +129,8 @@ void validate(const SmrfOptions& o) {
     if (!(std::isfinite(o.slope) && o.slope > 0.0 && o.slope <= 100.0))
         failGroundOption("smrf slope (--smrf-slope)", o.slope, "(0, 100] (rise over run)");
     if (!(std::isfinite(o.window_m) && o.window_m > 0.0 && o.window_m / o.cell_m <= 1000.0))
-        failGroundOption("smrf window_m (--smrf-window-m)", o.window_m, "> 0 metres and at most 1000 cells of --smrf-cell-m");
+        failGroundOption("smrf window_m (--smrf-window-m)", o.window_m,
+                         "> 0 metres and at most 1000 cells of --smrf-cell-m");
     if (!(std::isfinite(o.threshold_m) && o.threshold_m >= 0.0 && o.threshold_m <= 1000.0))
         failGroundOption("smrf threshold_m (--smrf-threshold-m)", o.threshold_m, "[0, 1000] metres");
     if (!(std::isfinite(o.scalar) && o.scalar >= 0.0 && o.scalar <= 1000.0))
@@ -137,11 +138,13 @@ void validate(const SmrfOptions& o) {
     if (o.max_cells < 1) failGroundOption("smrf max_cells", double(o.max_cells), ">= 1");
 }
 
-std::unique_ptr<const CloudGroundFilter> makeSmrfFilter(const SmrfOptions& o) { return std::make_unique<SmrfFilter>(o); }
+std::unique_ptr<const CloudGroundFilter> makeSmrfFilter(const SmrfOptions& o) {
+    return std::make_unique<SmrfFilter>(o);
+}
 std::unique_ptr<TerrainFit> startSmrf(const SmrfOptions& o) { return std::make_unique<SmrfFit>(o); }
 
-std::vector<std::uint8_t> findGroundSmrf(std::span<const glm::vec3> points, const SmrfOptions& o,
-                                         TerrainGrid* surface, std::vector<float>* height_m) {
+std::vector<std::uint8_t> findGroundSmrf(std::span<const glm::vec3> points, const SmrfOptions& o, TerrainGrid* surface,
+                                         std::vector<float>* height_m) {
     SmrfFit fit(o);
     return classifyInMemory(fit, points, surface, height_m);
 }

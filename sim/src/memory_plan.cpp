@@ -23,7 +23,8 @@ constexpr std::uint64_t kDirBytes = sizeof(glm::dvec3);
 // band indices with vector growth (8), PCL's cloud (16), PC's indices (4), inlier lists
 // (8), flags (2), rounded up for PCL's own bookkeeping.
 constexpr std::uint64_t kRansacBytesPerHit = 64;
-constexpr std::uint64_t kThreadBytes = 128u << 10;  // a worker's stack and allocator arena in use (measured below 100 KiB)
+constexpr std::uint64_t kThreadBytes = 128u
+                                       << 10;  // a worker's stack and allocator arena in use (measured below 100 KiB)
 constexpr std::uint64_t kWriterBytes = (8u << 20) + (64u << 10);  // io::CloudWriter's buffer
 constexpr std::uint64_t kMinColourChunk = 4096;
 constexpr std::uint64_t kMaxColourChunk = 1u << 20;
@@ -37,8 +38,10 @@ std::uint64_t largest(std::uint64_t hi, const Fits& fits) {
     std::uint64_t lo = 1;
     while (lo < hi) {
         const std::uint64_t mid = lo + (hi - lo + 1) / 2;
-        if (fits(mid)) lo = mid;
-        else hi = mid - 1;
+        if (fits(mid))
+            lo = mid;
+        else
+            hi = mid - 1;
     }
     return lo;
 }
@@ -51,8 +54,9 @@ std::uint64_t planBytes(const MemoryNeeds& n, std::size_t batch_views, std::size
     // A tiled white view hands its hits on band by band; otherwise a view's hits wait whole.
     const std::uint64_t view_hits =
         n.white && tiled ? std::min(n.view_hits, band_pixels * n.slots_per_pixel) : n.view_hits;
-    const std::uint64_t ransac = n.white ? 0 : std::uint64_t(std::min<std::size_t>(std::size_t(threads), batch_views)) *
-                                                   n.view_hits * kRansacBytesPerHit;
+    const std::uint64_t ransac = n.white ? 0
+                                         : std::uint64_t(std::min<std::size_t>(std::size_t(threads), batch_views)) *
+                                               n.view_hits * kRansacBytesPerHit;
     return n.fixed_bytes + kWriterBytes + band_pixels * kDirBytes +
            std::uint64_t(batch_views) * (band_pixels * n.slots_per_pixel + view_hits) * kPointBytes + ransac +
            std::uint64_t(threads) * (kThreadBytes + n.thread_scratch_bytes);
@@ -79,22 +83,23 @@ MemoryPlan planMemory(const MemoryNeeds& n) {
             p.threads = int(largest(std::uint64_t(p.threads), [&](std::uint64_t t) { return fits(1, 1, int(t)); }));
             if (p.threads == 0) {
                 const std::uint64_t need = planBytes(n, 1, 1, 1) + kMinColourChunk * kPointBytes;
-                std::string why = n.white ? "one row of " + std::to_string(n.xres) + " pixels on one thread"
-                                          : "one view's up to " + std::to_string(n.view_hits) +
-                                                " hits, whitened together by RANSAC";
+                std::string why =
+                    n.white ? "one row of " + std::to_string(n.xres) + " pixels on one thread"
+                            : "one view's up to " + std::to_string(n.view_hits) + " hits, whitened together by RANSAC";
                 char budget_mb[32];
                 std::snprintf(budget_mb, sizeof budget_mb, "%.6g", double(budget) / 1048576.0);
                 throw core::Error("generate: --memory-mb " + std::string(budget_mb) +
-                                    " is too small: this run needs at least " + mebibytes(need) + " MiB (" + why +
-                                    "); raise --memory-mb" +
-                                    (n.white ? std::string() : ", lower --xres/--yres, or use --white"));
+                                  " is too small: this run needs at least " + mebibytes(need) + " MiB (" + why +
+                                  "); raise --memory-mb" +
+                                  (n.white ? std::string() : ", lower --xres/--yres, or use --white"));
             }
-            p.band_rows = std::size_t(largest(yres, [&](std::uint64_t r) { return fits(1, std::size_t(r), p.threads); }));
+            p.band_rows =
+                std::size_t(largest(yres, [&](std::uint64_t r) { return fits(1, std::size_t(r), p.threads); }));
         }
     }
     p.fuse_bytes = planBytes(n, p.batch_views, p.band_rows, p.threads);
-    p.view_hits = n.white && p.band_rows < yres ? std::min(n.view_hits, std::uint64_t(p.band_rows) * n.xres)
-                                                : n.view_hits;
+    p.view_hits =
+        n.white && p.band_rows < yres ? std::min(n.view_hits, std::uint64_t(p.band_rows) * n.xres) : n.view_hits;
     // Spooled runs read the cloud back in chunks once the fusion's buffers are freed; the
     // workers stay.
     const std::uint64_t kept = n.fixed_bytes + kWriterBytes + std::uint64_t(p.threads) * kThreadBytes;
@@ -106,14 +111,14 @@ MemoryPlan planMemory(const MemoryNeeds& n) {
 }
 
 void checkFreeSpace(const std::filesystem::path& dir, std::uint64_t need_bytes, const char* what) {
-    struct statvfs fs {};
+    struct statvfs fs{};
     const std::filesystem::path where = dir.empty() ? std::filesystem::path(".") : dir;
     if (::statvfs(where.c_str(), &fs) != 0)
         throw core::Error("output: " + where.string() + ": cannot read the free space: " + std::strerror(errno));
     const std::uint64_t free_bytes = std::uint64_t(fs.f_bavail) * std::uint64_t(fs.f_frsize);
     if (free_bytes < need_bytes)
         throw core::Error("output: " + where.string() + ": " + mebibytes(free_bytes) + " MiB free, but " + what +
-                            " may need " + mebibytes(need_bytes) + " MiB; free space or write elsewhere");
+                          " may need " + mebibytes(need_bytes) + " MiB; free space or write elsewhere");
 }
 
 }  // namespace sim

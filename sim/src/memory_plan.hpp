@@ -11,25 +11,25 @@ namespace sim {
 /// What a run must hold, from its options and the ray-cast bounds.
 struct MemoryNeeds {
     std::uint64_t xres = 1, yres = 1, views = 1;
-    std::uint64_t view_hits = 0;       // most hits one view can give (its traced pixels)
-    std::uint64_t fixed_bytes = 0;     // per-run tables (poses, traced pixel spans)
-    bool white = false;                // no RANSAC: a tiled view's hits leave band by band
-    std::uint64_t slots_per_pixel = 1; // return slots per pixel (several returns per pulse)
+    std::uint64_t view_hits = 0;             // most hits one view can give (its traced pixels)
+    std::uint64_t fixed_bytes = 0;           // per-run tables (poses, traced pixel spans)
+    bool white = false;                      // no RANSAC: a tiled view's hits leave band by band
+    std::uint64_t slots_per_pixel = 1;       // return slots per pixel (several returns per pulse)
     std::uint64_t thread_scratch_bytes = 0;  // the sensor's per-thread ray buffers
-    int threads = 1;                   // requested, resolved (> 0)
-    std::size_t batch_views = 1;       // views per batch wanted for speed (<= views)
+    int threads = 1;                         // requested, resolved (> 0)
+    std::size_t batch_views = 1;             // views per batch wanted for speed (<= views)
     std::uint64_t budget_bytes = 0;
 };
 
 /// The buffers of one run. Every field is > 0.
 struct MemoryPlan {
-    std::size_t batch_views = 1;   // views traced, whitened and fused together
-    std::size_t band_rows = 1;     // rows of a view traced per pass (yres: untiled)
+    std::size_t batch_views = 1;  // views traced, whitened and fused together
+    std::size_t band_rows = 1;    // rows of a view traced per pass (yres: untiled)
     int threads = 1;
-    std::uint64_t view_hits = 0;   // capacity of one view's hit buffer
-    std::uint64_t fuse_bytes = 0;  // everything held while fusing, fixed tables and writer included
-    std::size_t colour_chunk = 1;  // points per colour/write chunk read back from a spool
-    std::uint64_t kept_bytes = 0;  // held once the fusion is done: tables, writer, workers
+    std::uint64_t view_hits = 0;     // capacity of one view's hit buffer
+    std::uint64_t fuse_bytes = 0;    // everything held while fusing, fixed tables and writer included
+    std::size_t colour_chunk = 1;    // points per colour/write chunk read back from a spool
+    std::uint64_t kept_bytes = 0;    // held once the fusion is done: tables, writer, workers
     std::uint64_t writer_bytes = 0;  // the cloud writer's share of kept_bytes (at least)
 };
 

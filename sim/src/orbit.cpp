@@ -43,22 +43,20 @@ void validate(const OrbitOptions& o) {
         fail("inclination_deg (alpha, --alpha-deg)", o.inclination_deg, "[0, 90)");
     if (!(o.inclination_deg + 0.5 * o.fov_deg < kMaxGrazingDeg))
         throw core::Error("orbit: inclination_deg + fov_deg/2 (--alpha-deg + --fov-deg/2) = " +
-                            num(o.inclination_deg + 0.5 * o.fov_deg) +
-                            ": allowed < " + num(kMaxGrazingDeg) +
-                            " (the top of the image must look below the horizon)");
+                          num(o.inclination_deg + 0.5 * o.fov_deg) + ": allowed < " + num(kMaxGrazingDeg) +
+                          " (the top of the image must look below the horizon)");
     if (o.xres < 1 || o.xres > 65536) fail("xres (--xres)", o.xres, "[1, 65536]");
     if (o.yres < 1 || o.yres > 65536) fail("yres (--yres)", o.yres, "[1, 65536]");
     if (o.views < 1 || o.views > 65535) fail("views (NoV, --views)", o.views, "[1, 65535]");
     const double reach_m = std::tan((o.inclination_deg + 0.5 * o.fov_deg) * kDegToRad) * o.altitude_m;
     if (!(o.overlap_m < reach_m))
         fail("overlap_m (--overlap-m)", o.overlap_m,
-             "< tan(inclination + fov/2) * altitude = " + num(reach_m) +
-             " (the drone radius, eq. (1), must be > 0)");
+             "< tan(inclination + fov/2) * altitude = " + num(reach_m) + " (the drone radius, eq. (1), must be > 0)");
     if (!(reach_m - o.overlap_m <= far_m))
-        throw core::Error("orbit: drone radius tan(inclination + fov/2) * altitude - overlap "
-                            "(--alpha-deg, --fov-deg, --altitude-m, --overlap-m) = " +
-                            num(reach_m - o.overlap_m) + ": allowed <= " + num(far_m) +
-                            " m (drone positions are float ray origins)");
+        throw core::Error(
+            "orbit: drone radius tan(inclination + fov/2) * altitude - overlap "
+            "(--alpha-deg, --fov-deg, --altitude-m, --overlap-m) = " +
+            num(reach_m - o.overlap_m) + ": allowed <= " + num(far_m) + " m (drone positions are float ray origins)");
 }
 
 void validatePlacement(const OrbitOptions& o, const glm::dvec3& centre_local) {
@@ -68,8 +66,8 @@ void validatePlacement(const OrbitOptions& o, const glm::dvec3& centre_local) {
                                      std::abs(centre_local.z + o.altitude_m)});
     if (!(reach_m <= core::kMaxLocalCoordinate_m))
         throw core::Error("orbit: the drone flies " + num(reach_m) + " m from the scene's origin around C " +
-                            "(--centre, --altitude-m, --overlap-m): allowed <= " +
-                            num(core::kMaxLocalCoordinate_m) + " m (drone positions are float ray origins)");
+                          "(--centre, --altitude-m, --overlap-m): allowed <= " + num(core::kMaxLocalCoordinate_m) +
+                          " m (drone positions are float ray origins)");
 }
 
 double droneRadius(const OrbitOptions& o) {
@@ -79,8 +77,7 @@ double droneRadius(const OrbitOptions& o) {
 
 double lengthSensed(const OrbitOptions& o) {
     const double radius_m = droneRadius(o);
-    return radius_m + o.overlap_m -
-           std::tan((o.inclination_deg - 0.5 * o.fov_deg) * kDegToRad) * o.altitude_m;
+    return radius_m + o.overlap_m - std::tan((o.inclination_deg - 0.5 * o.fov_deg) * kDegToRad) * o.altitude_m;
 }
 
 double coverageDiameter(const OrbitOptions& o) {
@@ -90,8 +87,8 @@ double coverageDiameter(const OrbitOptions& o) {
     const glm::dvec3 centre(0.0);
     const core::Pose T_world_sensor = sensorPose(o, centre, 0);
     double radius_m = 0.0;
-    const double corners[4][2] = {{0.0, 0.0}, {double(o.xres), 0.0},
-                                  {0.0, double(o.yres)}, {double(o.xres), double(o.yres)}};
+    const double corners[4][2] = {
+        {0.0, 0.0}, {double(o.xres), 0.0}, {0.0, double(o.yres)}, {double(o.xres), double(o.yres)}};
     for (const auto& c : corners) {
         // pixelDirection adds 0.5 to reach a pixel centre; corners sit 0.5 before it.
         const glm::dvec3 d = T_world_sensor.applyDirection(pixelDirection(o, c[0] - 0.5, c[1] - 0.5));
@@ -113,8 +110,7 @@ core::Pose sensorPose(const OrbitOptions& o, const glm::dvec3& centre, int index
     core::Pose T_world_sensor;
     T_world_sensor.translation = centre + radius_m * outward + glm::dvec3(0.0, 0.0, o.altitude_m);
     // Optical axis: horizontally towards C, pitched alpha from the vertical (Fig. 1).
-    const glm::dvec3 forward = glm::dvec3(-outward.x * std::sin(alpha), -outward.y * std::sin(alpha),
-                                          -std::cos(alpha));
+    const glm::dvec3 forward = glm::dvec3(-outward.x * std::sin(alpha), -outward.y * std::sin(alpha), -std::cos(alpha));
     // Right = the horizontal tangent of the orbit (forward x up_world, normalised, for
     // alpha > 0), built from theta directly so that nadir (alpha = 0, forward = -z, where
     // that cross product is zero) gets a valid frame too; down = forward x right.
@@ -128,8 +124,7 @@ glm::dvec3 pixelDirection(const OrbitOptions& o, double px, double py) {
     // Focal length in pixels from the vertical FoV; square pixels, so the horizontal
     // FoV is 2 atan(tan(fov/2) * xres / yres).
     const double focal_px = 0.5 * double(o.yres) / std::tan(0.5 * o.fov_deg * kDegToRad);
-    const glm::dvec3 d((px + 0.5 - 0.5 * double(o.xres)) / focal_px,
-                       (py + 0.5 - 0.5 * double(o.yres)) / focal_px, 1.0);
+    const glm::dvec3 d((px + 0.5 - 0.5 * double(o.xres)) / focal_px, (py + 0.5 - 0.5 * double(o.yres)) / focal_px, 1.0);
     return glm::normalize(d);
 }
 

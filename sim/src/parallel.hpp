@@ -23,7 +23,7 @@ inline int resolveThreads(int requested) {
 /// worker per core by default; a larger request raises that limit while this object lives,
 /// so `--threads N` means N threads as it says.
 class Workers {
-public:
+  public:
     explicit Workers(int threads) : arena_(std::max(1, threads)) {
         if (threads > tbb::info::default_concurrency())
             allow_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -38,15 +38,16 @@ public:
     void run(std::size_t tasks, const Fn& fn) {
         if (tasks == 0) return;
         arena_.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks, 1),
-                              [&](const tbb::blocked_range<std::size_t>& r) {
-                                  for (std::size_t t = r.begin(); t != r.end(); ++t) fn(t);
-                              },
-                              tbb::simple_partitioner());
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, tasks, 1),
+                [&](const tbb::blocked_range<std::size_t>& r) {
+                    for (std::size_t t = r.begin(); t != r.end(); ++t) fn(t);
+                },
+                tbb::simple_partitioner());
         });
     }
 
-private:
+  private:
     std::unique_ptr<tbb::global_control> allow_;  // before the arena: it outlives its use
     tbb::task_arena arena_;
 };

@@ -17,11 +17,11 @@ namespace sim {
 struct RayCaster::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    std::vector<core::Role> roles;   // by geomID (== mesh index)
+    std::vector<core::Role> roles;  // by geomID (== mesh index)
     core::Bounds bounds;
     std::size_t triangles = 0;
     std::mutex error_mutex;
-    std::string first_error;           // recorded by the device error callback
+    std::string first_error;  // recorded by the device error callback
 
     ~Impl();
 };
@@ -29,11 +29,14 @@ struct RayCaster::Impl {
 namespace {
 
 /// Fills an Embree ray/hit record for a first-hit query from `origin` along `direction`.
-void setRay(RTCRayHit& rh, float ox, float oy, float oz, float dx, float dy, float dz,
-                   float t_far) {
-    rh.ray.org_x = ox; rh.ray.org_y = oy; rh.ray.org_z = oz;
+void setRay(RTCRayHit& rh, float ox, float oy, float oz, float dx, float dy, float dz, float t_far) {
+    rh.ray.org_x = ox;
+    rh.ray.org_y = oy;
+    rh.ray.org_z = oz;
     rh.ray.tnear = 0.0f;
-    rh.ray.dir_x = dx; rh.ray.dir_y = dy; rh.ray.dir_z = dz;
+    rh.ray.dir_x = dx;
+    rh.ray.dir_y = dy;
+    rh.ray.dir_z = dz;
     rh.ray.time = 0.0f;
     rh.ray.tfar = t_far;
     rh.ray.mask = 0xFFFFFFFFu;
@@ -44,11 +47,14 @@ void setRay(RTCRayHit& rh, float ox, float oy, float oz, float dx, float dy, flo
 }
 
 /// The same for lane `k` of a 16-ray packet.
-void setPacketRay(RTCRayHit16& rh, std::size_t k, const glm::vec3& origin, const glm::vec3& direction,
-                         float t_far) {
-    rh.ray.org_x[k] = origin.x; rh.ray.org_y[k] = origin.y; rh.ray.org_z[k] = origin.z;
+void setPacketRay(RTCRayHit16& rh, std::size_t k, const glm::vec3& origin, const glm::vec3& direction, float t_far) {
+    rh.ray.org_x[k] = origin.x;
+    rh.ray.org_y[k] = origin.y;
+    rh.ray.org_z[k] = origin.z;
     rh.ray.tnear[k] = 0.0f;
-    rh.ray.dir_x[k] = direction.x; rh.ray.dir_y[k] = direction.y; rh.ray.dir_z[k] = direction.z;
+    rh.ray.dir_x[k] = direction.x;
+    rh.ray.dir_y[k] = direction.y;
+    rh.ray.dir_z[k] = direction.z;
     rh.ray.time[k] = 0.0f;
     rh.ray.tfar[k] = t_far;
     rh.ray.mask[k] = 0xFFFFFFFFu;
@@ -89,8 +95,7 @@ void check(RayCaster::Impl& impl, const char* what, const char* file, int line) 
     }
     if (code == RTC_ERROR_NONE && message.empty()) return;
     if (message.empty()) message = errorName(code);
-    throw core::Error(std::string("embree: ") + what + ": " + message + " (" + file + ":" +
-                        std::to_string(line) + ")");
+    throw core::Error(std::string("embree: ") + what + ": " + message + " (" + file + ":" + std::to_string(line) + ")");
 }
 #define SIM_EMBREE_CHECK(impl, what) check(impl, what, __FILE__, __LINE__)
 
@@ -103,14 +108,12 @@ RayCaster::Impl::~Impl() {
 
 RayCaster::RayCaster(const core::Scene& scene) : RayCaster(scene, core::RoleMask::all()) {}
 
-RayCaster::RayCaster(const core::Scene& scene, core::RoleMask roles)
-    : impl_(std::make_unique<Impl>()) {
+RayCaster::RayCaster(const core::Scene& scene, core::RoleMask roles) : impl_(std::make_unique<Impl>()) {
     Impl& impl = *impl_;
     // No threads of our own: Embree's build uses its TBB pool; callers parallelise traversal.
     impl.device = rtcNewDevice(nullptr);
     if (!impl.device)
-        throw core::Error(std::string("embree: rtcNewDevice failed: ") +
-                            errorName(rtcGetDeviceError(nullptr)));
+        throw core::Error(std::string("embree: rtcNewDevice failed: ") + errorName(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(impl.device, onDeviceError, &impl);
     impl.scene = rtcNewScene(impl.device);
     rtcSetSceneFlags(impl.scene, RTC_SCENE_FLAG_ROBUST);
@@ -127,15 +130,14 @@ RayCaster::RayCaster(const core::Scene& scene, core::RoleMask roles)
             const glm::uvec3& tri = mesh.triangles[t];
             if (tri.x >= nv || tri.y >= nv || tri.z >= nv)
                 throw core::Error("embree: mesh '" + mesh.name + "': triangle " + std::to_string(t) +
-                                    " indexes a vertex past " + std::to_string(nv));
+                                  " indexes a vertex past " + std::to_string(nv));
         }
         RTCGeometry geom = rtcNewGeometry(impl.device, RTC_GEOMETRY_TYPE_TRIANGLE);
         // Embree-allocated buffers carry the padding its SIMD loads need.
-        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
-        auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-            mesh.triangles.size()));
+        auto* vertices = static_cast<float*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+        auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                       3 * sizeof(unsigned), mesh.triangles.size()));
         if (!vertices || !indices) {
             rtcReleaseGeometry(geom);
             SIM_EMBREE_CHECK(impl, "rtcSetNewGeometryBuffer");
@@ -143,12 +145,16 @@ RayCaster::RayCaster(const core::Scene& scene, core::RoleMask roles)
         }
         for (std::size_t v = 0; v < nv; ++v) {
             const glm::vec3& p = mesh.vertices[v];
-            vertices[3 * v] = p.x; vertices[3 * v + 1] = p.y; vertices[3 * v + 2] = p.z;
+            vertices[3 * v] = p.x;
+            vertices[3 * v + 1] = p.y;
+            vertices[3 * v + 2] = p.z;
             impl.bounds.extend(glm::dvec3(p));
         }
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
             const glm::uvec3& tri = mesh.triangles[t];
-            indices[3 * t] = tri.x; indices[3 * t + 1] = tri.y; indices[3 * t + 2] = tri.z;
+            indices[3 * t] = tri.x;
+            indices[3 * t + 1] = tri.y;
+            indices[3 * t + 2] = tri.z;
         }
         rtcCommitGeometry(geom);
         rtcAttachGeometryByID(impl.scene, geom, static_cast<unsigned>(m));
@@ -169,8 +175,7 @@ void RayCaster::intersect(std::span<const Ray> rays, std::span<Hit> hits) const 
     RTCRayHit rh;
     for (std::size_t i = 0; i < n; ++i) {
         const Ray& r = rays[i];
-        setRay(rh, r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y,
-               r.direction.z, r.t_far);
+        setRay(rh, r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y, r.direction.z, r.t_far);
         rtcIntersect1(impl.scene, &rh);
         Hit& h = hits[i];
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {

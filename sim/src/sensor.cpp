@@ -33,7 +33,7 @@ bool intensityOn(const SensorOptions& o) {
 void checkRange(double v, double lo, double hi, const char* parameter, const char* option, const char* unit) {
     if (!(std::isfinite(v) && v >= lo && v <= hi))
         throw core::Error(std::string("sensor: ") + parameter + " (" + option + ") = " + core::shownNumber(v) +
-                            ": allowed [" + core::shownNumber(lo) + ", " + core::shownNumber(hi) + "]" + unit);
+                          ": allowed [" + core::shownNumber(lo) + ", " + core::shownNumber(hi) + "]" + unit);
 }
 
 // The LAS scan angle of a sensor-frame direction: its angle from the optical axis, signed
@@ -49,12 +49,12 @@ constexpr std::size_t kAxisTablePixels = std::size_t(1) << 18;
 
 // Per-thread buffers of one trace call (reused across calls).
 struct Scratch {
-    std::vector<Ray> rays;          // the ideal path: one per pixel; else the sub-rays of the
-    std::vector<Hit> hits;          // beams that trace them, beam after beam
-    std::vector<glm::dvec3> dirs;   // sensor frame, per sub-ray of `rays`
-    std::vector<std::size_t> first; // per beam: its first sub-ray in `rays`
+    std::vector<Ray> rays;           // the ideal path: one per pixel; else the sub-rays of the
+    std::vector<Hit> hits;           // beams that trace them, beam after beam
+    std::vector<glm::dvec3> dirs;    // sensor frame, per sub-ray of `rays`
+    std::vector<std::size_t> first;  // per beam: its first sub-ray in `rays`
     std::vector<std::uint8_t> planar;
-    std::vector<Ray> axis_rays;     // per planar beam: its axis ray and hit
+    std::vector<Ray> axis_rays;  // per planar beam: its axis ray and hit
     std::vector<Hit> axis_hits;
     std::vector<sensor_model::Echo> echoes;
     std::vector<double> cos_incidence;  // per sub-ray of the beam being turned into returns
@@ -84,7 +84,7 @@ ReturnMode parseReturnMode(std::string_view text, std::string_view parameter) {
     for (ReturnMode m : {ReturnMode::First, ReturnMode::Last, ReturnMode::Strongest, ReturnMode::All})
         if (text == returnModeName(m)) return m;
     throw core::Error(std::string(parameter) + ": '" + std::string(text.substr(0, 40)) +
-                        "' is not one of first, last, strongest, all");
+                      "' is not one of first, last, strongest, all");
 }
 
 void validate(const SensorOptions& o) {
@@ -94,19 +94,19 @@ void validate(const SensorOptions& o) {
     checkRange(o.pose_bias_m, 0.0, 100.0, "pose_bias_m", "--pose-bias-m", " metres");
     checkRange(o.attitude_bias_deg, 0.0, 10.0, "attitude_bias_deg", "--attitude-bias-deg", " degrees");
     checkRange(o.max_range_m, 0.0, 1e7, "max_range_m", "--max-range-m", " metres, 0 = no limit");
-    checkRange(o.intensity_reference_range_m, 1e-3, 1e7, "intensity_reference_range_m",
-               "--intensity-reference-range-m", " metres");
+    checkRange(o.intensity_reference_range_m, 1e-3, 1e7, "intensity_reference_range_m", "--intensity-reference-range-m",
+               " metres");
     checkRange(o.min_intensity, 0.0, 65535.0, "min_intensity", "--min-intensity", " (LAS intensity counts)");
     checkRange(o.beam_divergence_mrad, 0.0, 100.0, "beam_divergence_mrad", "--beam-divergence-mrad",
                " mrad, 0 = a thin beam");
     checkRange(o.beam_divergence_y_mrad, 0.0, 100.0, "beam_divergence_y_mrad", "--beam-divergence-y-mrad",
                " mrad, 0 = circular");
     if (o.footprint_quality < 1 || o.footprint_quality > 5)
-        throw core::Error("sensor: footprint_quality (--footprint-quality) = " +
-                            std::to_string(o.footprint_quality) + ": allowed [1, 5]");
+        throw core::Error("sensor: footprint_quality (--footprint-quality) = " + std::to_string(o.footprint_quality) +
+                          ": allowed [1, 5]");
     if (o.max_returns < 1 || o.max_returns > kMaxReturns)
-        throw core::Error("sensor: max_returns (--max-returns) = " + std::to_string(o.max_returns) +
-                            ": allowed [1, " + std::to_string(kMaxReturns) + "]");
+        throw core::Error("sensor: max_returns (--max-returns) = " + std::to_string(o.max_returns) + ": allowed [1, " +
+                          std::to_string(kMaxReturns) + "]");
     checkRange(o.pulse_ns, 0.01, 1000.0, "pulse_ns", "--pulse-ns", " ns");
     checkRange(o.range_resolution_m, 0.0, 1000.0, "range_resolution_m", "--range-resolution-m",
                " metres, 0 = c * pulse / 2");
@@ -132,8 +132,8 @@ struct Sensor::State {
     std::size_t slots = 1;
     float t_far = std::numeric_limits<float>::infinity();
     std::uint64_t id = sensor_model::newSensorId();  // keys the per-thread axis cache
-    std::vector<glm::dvec3> axis_direction;  // per pixel (row-major), pixelDirection; empty: computed
-    std::vector<float> axis_scan_angle_deg;  // per pixel, of its axis; empty: computed
+    std::vector<glm::dvec3> axis_direction;          // per pixel (row-major), pixelDirection; empty: computed
+    std::vector<float> axis_scan_angle_deg;          // per pixel, of its axis; empty: computed
 };
 
 Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const core::Scene& scene, std::uint64_t seed)
@@ -148,7 +148,8 @@ Sensor::Sensor(const SensorOptions& o, const OrbitOptions& orbit, const core::Sc
     s.pattern = footprintPattern(o);
     for (const SubRay& r : s.pattern) s.tans.emplace_back(std::tan(r.dx_rad), std::tan(r.dy_rad));
     for (const core::Mesh& m : scene.meshes) s.reflectance.push_back(m.reflectance);
-    s.resolution_m = o.range_resolution_m > 0.0 ? o.range_resolution_m : 0.5 * kSpeedOfLight_m_per_s * o.pulse_ns * 1e-9;
+    s.resolution_m =
+        o.range_resolution_m > 0.0 ? o.range_resolution_m : 0.5 * kSpeedOfLight_m_per_s * o.pulse_ns * 1e-9;
     s.min_power = o.min_intensity / 65535.0;
     s.slots = o.returns == ReturnMode::All && footprintOn(o) ? std::size_t(o.max_returns) : 1;
     if (o.max_range_m > 0.0) s.t_far = float(o.max_range_m);
@@ -181,7 +182,8 @@ std::size_t Sensor::scratchBytes() const {
 }
 
 std::size_t Sensor::tableBytes() const {
-    return state_->axis_direction.capacity() * sizeof(glm::dvec3) + state_->axis_scan_angle_deg.capacity() * sizeof(float);
+    return state_->axis_direction.capacity() * sizeof(glm::dvec3) +
+           state_->axis_scan_angle_deg.capacity() * sizeof(float);
 }
 
 core::CloudFields Sensor::fields() const {
@@ -222,8 +224,10 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
             // Paper §III-B: one ray per pixel centre from the pose, its first hit.
             for (std::size_t i = 0; i < pixels; ++i)
                 rays[i] = Ray{origin, glm::vec3(v.actual.rotation * dirs[c0 + i]), s.t_far};
-            if (packets) caster.intersect16(rays, hits);
-            else caster.intersect(rays, hits);
+            if (packets)
+                caster.intersect16(rays, hits);
+            else
+                caster.intersect(rays, hits);
             const glm::dvec3 origin_d(origin);
             for (std::size_t i = 0; i < pixels; ++i) {
                 core::CloudPoint& cp = slots[c0 + i];
@@ -284,8 +288,10 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
         // ... traced one beam after the other (16-ray packets across beams) ...
         const std::span<const Ray> sub_ray_span(sc.rays.data(), traced);
         const std::span<Hit> sub_hit_span(sc.hits.data(), traced);
-        if (packets) caster.intersect16(sub_ray_span, sub_hit_span);
-        else caster.intersect(sub_ray_span, sub_hit_span);
+        if (packets)
+            caster.intersect16(sub_ray_span, sub_hit_span);
+        else
+            caster.intersect(sub_ray_span, sub_hit_span);
         // ... and the returns placed with the pose the drone believes it flew.
         const glm::dvec3 origin_n(glm::vec3(v.nominal.translation));
         sensor_model::Return out[kMaxReturns];
@@ -311,8 +317,8 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
                 if (intensity) {
                     const double c = sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
                     cos_incidence[k] = c;
-                    power *= sensor_model::echoPower(reflectance[std::size_t(h.mesh)], c, double(h.t),
-                                                     reference_range_m);
+                    power *=
+                        sensor_model::echoPower(reflectance[std::size_t(h.mesh)], c, double(h.t), reference_range_m);
                 }
                 echoes[echo_count++] = sensor_model::Echo{h.t, power, std::uint32_t(k)};
             }
@@ -328,11 +334,11 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
                 const Hit& h = hits[k];
                 const glm::dvec3& d = ds[k];
                 const int rank = std::min(kMaxReturns, first_rank + int(r));
-                const double t = noisy ? std::max(0.0, double(e.t) + sensor_model::rangeError_m(s.o, s.seed, v.view,
-                                                                                                 pixel, rank))
-                                       : double(e.t);
-                const glm::dvec3 dir_n = same_pose ? glm::dvec3(rays[k].direction)
-                                                   : glm::dvec3(glm::vec3(v.nominal.rotation * d));
+                const double t =
+                    noisy ? std::max(0.0, double(e.t) + sensor_model::rangeError_m(s.o, s.seed, v.view, pixel, rank))
+                          : double(e.t);
+                const glm::dvec3 dir_n =
+                    same_pose ? glm::dvec3(rays[k].direction) : glm::dvec3(glm::vec3(v.nominal.rotation * d));
                 const double cos_i =
                     s.intensity ? cos_incidence[k]
                                 : sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
@@ -345,8 +351,8 @@ void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t f
                 cp.intensity = s.intensity ? sensor_model::intensityCounts(out[r].power) : 0;
                 cp.incidence_deg = float(std::acos(cos_i) * kRadToDeg);
                 // Sub-ray 0 is the axis (of the caller's pixelDirection, which the table holds).
-                cp.scan_angle_deg = k == 0 && !s.axis_scan_angle_deg.empty() ? s.axis_scan_angle_deg[pixel]
-                                                                               : scanAngle_deg(d);
+                cp.scan_angle_deg =
+                    k == 0 && !s.axis_scan_angle_deg.empty() ? s.axis_scan_angle_deg[pixel] : scanAngle_deg(d);
                 cp.return_number = std::uint8_t(rank);
                 cp.returns = std::uint8_t(std::clamp(detected, rank, kMaxReturns));
             }

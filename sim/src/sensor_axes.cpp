@@ -29,11 +29,11 @@ constexpr std::int64_t kGroup = 16;  // axes traced together: columns [16 g, 16 
 
 // The axes of one image row, traced group by group as calls need them.
 struct AxisRow {
-    std::int64_t row = -1;               // -1: none
-    std::vector<std::uint8_t> traced;    // per group of kGroup columns
-    std::vector<glm::vec3> direction;    // per column: the axis ray's direction (local frame)
+    std::int64_t row = -1;             // -1: none
+    std::vector<std::uint8_t> traced;  // per group of kGroup columns
+    std::vector<glm::vec3> direction;  // per column: the axis ray's direction (local frame)
     std::vector<Hit> hit;
-    std::vector<glm::dvec3> point;       // origin + t * direction, where hit
+    std::vector<glm::dvec3> point;  // origin + t * direction, where hit
 };
 
 struct AxisCache {
@@ -75,16 +75,17 @@ const AxisRow& axisRow(AxisCache& cache, const AxisSource& src, const RayCaster&
         const std::int64_t c0 = g * kGroup;
         const std::size_t m = std::size_t(std::min(kGroup, xres - c0));
         for (std::size_t k = 0; k < m; ++k) {
-            const glm::dvec3 d =
-                src.directions.empty()
-                    ? pixelDirection(*src.orbit, double(c0 + std::int64_t(k)), double(y))
-                    : src.directions[std::size_t(y) * std::size_t(xres) + std::size_t(c0) + k];
+            const glm::dvec3 d = src.directions.empty()
+                                     ? pixelDirection(*src.orbit, double(c0 + std::int64_t(k)), double(y))
+                                     : src.directions[std::size_t(y) * std::size_t(xres) + std::size_t(c0) + k];
             cache.rays[k] = Ray{origin, glm::vec3(v.actual.rotation * d), src.t_far};
         }
         const std::span<const Ray> rays(cache.rays, m);
         const std::span<Hit> hits(cache.hits, m);
-        if (cache.packets) caster.intersect16(rays, hits);
-        else caster.intersect(rays, hits);
+        if (cache.packets)
+            caster.intersect16(rays, hits);
+        else
+            caster.intersect(rays, hits);
         for (std::size_t k = 0; k < m; ++k) {
             const std::size_t c = std::size_t(c0) + k;
             r.direction[c] = rays[k].direction;
@@ -105,9 +106,9 @@ std::size_t axisCacheBytes(int xres) {
     return sizeof(AxisCache) + 3 * std::size_t(std::max(xres, 0)) * per_column;
 }
 
-void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView& v, std::int64_t y,
-                std::int64_t x0, std::size_t n, bool packets, std::span<std::uint8_t> planar,
-                std::span<Ray> axis_rays, std::span<Hit> axis_hits) {
+void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView& v, std::int64_t y, std::int64_t x0,
+                std::size_t n, bool packets, std::span<std::uint8_t> planar, std::span<Ray> axis_rays,
+                std::span<Hit> axis_hits) {
     if (n == 0) return;
     AxisCache& cache = t_axes;
     if (cache.sensor_id != src.sensor_id || cache.caster != &caster || cache.view != v.view ||
@@ -142,8 +143,8 @@ void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView
         for (int r = 0; r < 3 && on_plane; ++r)
             for (std::size_t c = std::size_t(x - 1); c <= std::size_t(x + 1) && on_plane; ++c) {
                 const Hit& h = rows[r]->hit[c];
-                on_plane = h.hit() && h.mesh == hc.mesh &&
-                           std::abs(glm::dot(normal, rows[r]->point[c] - pc)) <= tolerance_m;
+                on_plane =
+                    h.hit() && h.mesh == hc.mesh && std::abs(glm::dot(normal, rows[r]->point[c] - pc)) <= tolerance_m;
             }
         if (!on_plane) continue;
         planar[i] = 1;

@@ -36,9 +36,9 @@ std::uint64_t newSensorId();
 /// the threads. Kept axes are told apart by (sensor id, caster address, view, pose flown,
 /// packets): a sensor must not trace one view through a new caster built where an old one
 /// was destroyed (sim::Generator builds its caster and sensor together).
-void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView& v, std::int64_t y,
-                std::int64_t x0, std::size_t n, bool packets, std::span<std::uint8_t> planar,
-                std::span<Ray> axis_rays, std::span<Hit> axis_hits);
+void markPlanar(const AxisSource& src, const RayCaster& caster, const SensorView& v, std::int64_t y, std::int64_t x0,
+                std::size_t n, bool packets, std::span<std::uint8_t> planar, std::span<Ray> axis_rays,
+                std::span<Hit> axis_hits);
 
 /// Bytes of the per-thread axis cache for an image `xres` pixels wide.
 std::size_t axisCacheBytes(int xres);

@@ -54,7 +54,7 @@ struct Return {
 /// min_power; keeps those `mode` asks for (ReturnMode::All: the first max_returns).
 /// Writes them, in range order, to `out` (capacity max_returns, at least 1) and returns
 /// how many; *detected receives the number of returns the pulse gave (before selection).
-std::size_t formReturns(std::span<Echo> echoes, double resolution_m, double min_power, ReturnMode mode,
-                        int max_returns, std::span<Return> out, int* detected, int* first_rank);
+std::size_t formReturns(std::span<Echo> echoes, double resolution_m, double min_power, ReturnMode mode, int max_returns,
+                        std::span<Return> out, int* detected, int* first_rank);
 
 }  // namespace sim::sensor_model

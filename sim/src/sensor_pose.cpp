@@ -14,9 +14,9 @@ namespace {
 
 // Rotation by small angles (radians) about the sensor's x, y, z axes, in that order.
 glm::dmat3 smallRotation(double rx, double ry, double rz) {
-    const glm::dmat4 r = glm::rotate(glm::rotate(glm::rotate(glm::dmat4(1.0), rz, glm::dvec3(0, 0, 1)), ry,
-                                                 glm::dvec3(0, 1, 0)),
-                                     rx, glm::dvec3(1, 0, 0));
+    const glm::dmat4 r =
+        glm::rotate(glm::rotate(glm::rotate(glm::dmat4(1.0), rz, glm::dvec3(0, 0, 1)), ry, glm::dvec3(0, 1, 0)), rx,
+                    glm::dvec3(1, 0, 0));
     return glm::dmat3(r);
 }
 
@@ -30,8 +30,8 @@ core::Pose actualPose(const SensorOptions& o, std::uint64_t seed, int view, cons
         return nominal;
     glm::dvec3 shift(0.0), angles(0.0);
     for (int part = 0; part < 2; ++part) {  // 0: the flight's bias, 1: this view's error
-        const std::uint64_t k = part == 0 ? key(seed, Stream::PoseFlight, 0, 0)
-                                          : key(seed, Stream::PoseView, std::uint64_t(view), 0);
+        const std::uint64_t k =
+            part == 0 ? key(seed, Stream::PoseFlight, 0, 0) : key(seed, Stream::PoseView, std::uint64_t(view), 0);
         for (int axis = 0; axis < 3; ++axis) {
             shift[axis] += position_m[part] * gaussian(k, std::uint64_t(axis));
             angles[axis] += attitude_rad[part] * gaussian(k, std::uint64_t(3 + axis));

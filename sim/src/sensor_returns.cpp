@@ -11,8 +11,8 @@
 
 namespace sim::sensor_model {
 
-std::size_t formReturns(std::span<Echo> echoes, double resolution_m, double min_power, ReturnMode mode,
-                        int max_returns, std::span<Return> out, int* detected, int* first_rank) {
+std::size_t formReturns(std::span<Echo> echoes, double resolution_m, double min_power, ReturnMode mode, int max_returns,
+                        std::span<Return> out, int* detected, int* first_rank) {
     *detected = 0;
     *first_rank = 1;
     if (echoes.empty()) return 0;
@@ -40,8 +40,7 @@ std::size_t formReturns(std::span<Echo> echoes, double resolution_m, double min_
         if (!(r.power >= min_power)) continue;
         if (all) {
             if (kept < keep) out[kept++] = r;
-        } else if (n == 0 || mode == ReturnMode::Last ||
-                   (mode == ReturnMode::Strongest && r.power > chosen.power)) {
+        } else if (n == 0 || mode == ReturnMode::Last || (mode == ReturnMode::Strongest && r.power > chosen.power)) {
             chosen = r;
             chosen_index = n;
         }

@@ -15,8 +15,7 @@ double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>
 
 }  // namespace
 
-TerrainStage::TerrainStage(const CloudGroundFilter* filter, const SmrfOptions& check_options, bool white,
-                           bool check) {
+TerrainStage::TerrainStage(const CloudGroundFilter* filter, const SmrfOptions& check_options, bool white, bool check) {
     if (white) return;
     if (filter) {
         fit_ = filter->startCloud();

@@ -18,7 +18,7 @@
 namespace sim {
 
 class TerrainStage {
-public:
+  public:
     /// `filter`: the whole-cloud filter that whitens, or null with a per-view filter; then
     /// `check` fits SMRF with `check_options` to check its result (no effect on points).
     /// `white`: no ground stage at all.
@@ -33,7 +33,7 @@ public:
     /// (pass 1 ran inside the fuse stage's clock: its time moves from fuse to ground).
     void finish(GenerateStats& st);
 
-private:
+  private:
     std::unique_ptr<TerrainFit> fit_;
     bool whitens_ = false;
     bool failed_ = false;  // the check's fit could not grid the cloud: no check

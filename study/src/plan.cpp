@@ -24,8 +24,7 @@ void onlyKeys(const json& o, const std::string& where, std::initializer_list<con
             known = known || key == k;
             allowed += std::string(allowed.empty() ? "" : ", ") + k;
         }
-        if (!known)
-            throw core::Error(where + ": unknown key '" + core::printable(key, 40) + "'; allowed: " + allowed);
+        if (!known) throw core::Error(where + ": unknown key '" + core::printable(key, 40) + "'; allowed: " + allowed);
     }
 }
 
@@ -53,7 +52,7 @@ std::string text(const json& o, const char* key, const std::string& where) {
     if (it == o.end()) return {};
     if (!it->is_string() || it->get<std::string>().empty())
         throw core::Error(where + "." + key + " must be a non-empty string, not " +
-                            (it->is_string() ? std::string("an empty one") : io::jsonTypeName(*it)));
+                          (it->is_string() ? std::string("an empty one") : io::jsonTypeName(*it)));
     return it->get<std::string>();
 }
 
@@ -72,7 +71,8 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
     const auto trials = root.find("trials");
     if (trials == root.end() || !trials->is_array() || trials->empty())
         throw core::Error(where + ": 'trials' must be a non-empty array of trials");
-    if (trials->size() > 10000) throw core::Error(where + ": " + std::to_string(trials->size()) + " trials; allowed at most 10000");
+    if (trials->size() > 10000)
+        throw core::Error(where + ": " + std::to_string(trials->size()) + " trials; allowed at most 10000");
     for (std::size_t i = 0; i < trials->size(); ++i) {
         const json& t = (*trials)[i];
         const std::string w = where + ": trials[" + std::to_string(i) + "]";
@@ -96,7 +96,7 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
     if (const auto seed = root.find("shuffle_seed"); seed != root.end()) {
         if (!seed->is_number_unsigned())
             throw core::Error(where + ".shuffle_seed must be a whole number >= 0, not " +
-                                (seed->is_number() ? core::shownNumber(seed->get<double>()) : io::jsonTypeName(*seed)));
+                              (seed->is_number() ? core::shownNumber(seed->get<double>()) : io::jsonTypeName(*seed)));
         plan.shuffle_seed = seed->get<std::uint64_t>();
     }
     plan.hit_radius_m = number(root, "hit_radius_m", where, 0.001, 10000.0, plan.hit_radius_m);
@@ -126,9 +126,10 @@ Plan readPlan(const std::filesystem::path& file) {
     for (std::size_t i = 0; i < plan.trials.size(); ++i) {
         const PlanTrial& t = plan.trials[i];
         const std::string w = "study: " + shown + ": trials[" + std::to_string(i) + "]";
-        for (const auto& [key, path] : {std::pair{"cloud", &t.cloud}, std::pair{"scene", &t.scene},
-                                         std::pair{"candidates", &t.candidates}})
-            if (!path->empty()) platform::checkInputFile(*path, w + "." + key + " '" + core::printable(path->string(), 400) + "'");
+        for (const auto& [key, path] :
+             {std::pair{"cloud", &t.cloud}, std::pair{"scene", &t.scene}, std::pair{"candidates", &t.candidates}})
+            if (!path->empty())
+                platform::checkInputFile(*path, w + "." + key + " '" + core::printable(path->string(), 400) + "'");
     }
     return plan;
 }

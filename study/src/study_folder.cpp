@@ -19,13 +19,12 @@ bool isStudyFile(std::string_view name) {
 
 void checkStudyFolder(const std::filesystem::path& out) {
     std::error_code ec;
-    if (!std::filesystem::is_directory(out, ec))
-        throw core::Error("study: --out " + out.string() + ": not a folder");
+    if (!std::filesystem::is_directory(out, ec)) throw core::Error("study: --out " + out.string() + ": not a folder");
     for (const auto& entry : std::filesystem::directory_iterator(out, ec)) {
         const std::string name = entry.path().filename().string();
         if (isStudyFile(name))
             throw core::Error("study: --out " + out.string() + ": already holds a study (" + name +
-                                "); allowed: a new or empty folder");
+                              "); allowed: a new or empty folder");
     }
 }
 

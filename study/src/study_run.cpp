@@ -37,7 +37,7 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
     viewer::ViewerOptions o = options_.viewer;
     const std::vector<int> order = trialOrder(plan_);
     auto source = std::make_unique<StudySource>(plan_, order);
-    writeStudyRecord(out, options_.plan, order);   // what --replay needs to find a trial's cloud again
+    writeStudyRecord(out, options_.plan, order);  // what --replay needs to find a trial's cloud again
 
     // The metric renders with its own EGL context: before the window opens.
     const std::map<std::filesystem::path, double> metrics =
@@ -49,14 +49,15 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
             const PlanTrial& t = source->planTrial(trial);
             TrialInfo info;
             info.source = t.source;
-            if (const auto it = metrics.find(t.scene); !t.scene.empty() && it != metrics.end() && std::isfinite(it->second))
+            if (const auto it = metrics.find(t.scene);
+                !t.scene.empty() && it != metrics.end() && std::isfinite(it->second))
                 info.visibility_metric = it->second;
             return info;
         },
         plan_.hit_radius_m);
     if (o.timeout_s > 0.0)
-        o.timeout_s = std::max(0.001, o.timeout_s - std::chrono::duration<double>(
-                                                       std::chrono::steady_clock::now() - started).count());
+        o.timeout_s = std::max(
+            0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     int status = viewer::runTrials(o, *source, log);
     if (!log.error().empty()) {
         std::fprintf(stderr, "ladarvr: study: %s\n", log.error().c_str());
@@ -74,14 +75,15 @@ Replay::Replay(const std::filesystem::path& dir, int trial_number, viewer::Viewe
     order_ = std::move(recorded.order);
     if (trial_number < 1 || trial_number > static_cast<int>(order_.size()))
         throw core::Error("study: --trial " + std::to_string(trial_number) + ": allowed 1.." +
-                            std::to_string(order_.size()));
+                          std::to_string(order_.size()));
     trial_ = trial_number - 1;
     options_.use_xr = false;
     const std::filesystem::path file = dir / traceFileName(trial_number);
     const io::Trace trace = io::readTrace(file);
     if (!trace.study_columns)
-        throw core::Error("trace: " + core::printable(file.string(), 400) + ": line 1: no mode,scale,hit_x,hit_y,hit_z columns after "
-                            "head_qz; allowed a study's trace (docs/study.md)");
+        throw core::Error("trace: " + core::printable(file.string(), 400) +
+                          ": line 1: no mode,scale,hit_x,hit_y,hit_z columns after "
+                          "head_qz; allowed a study's trace (docs/study.md)");
     for (const io::TraceRow& row : trace.rows) options_.replay.push_back(toTraceSample(row));
     viewer::validate(options_);
 }

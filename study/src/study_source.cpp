@@ -13,8 +13,7 @@ namespace study {
 StudySource::StudySource(const Plan& plan, std::vector<int> order) : plan_(plan), order_(std::move(order)) {
     for (const PlanTrial& t : plan_.trials) {
         scenes_.push_back(t.scene.empty() ? nullptr : std::make_shared<const core::Scene>(io::loadScene(t.scene)));
-        candidates_.push_back(t.candidates.empty() ? std::vector<core::Candidate>{}
-                                                   : io::readCandidates(t.candidates));
+        candidates_.push_back(t.candidates.empty() ? std::vector<core::Candidate>{} : io::readCandidates(t.candidates));
     }
     sim::GenerateOptions check;
     check.orbit.xres = plan_.xres;
@@ -32,7 +31,7 @@ void StudySource::join() {
 }
 
 viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
-    join();   // end() did already, unless the viewer skipped it
+    join();  // end() did already, unless the viewer skipped it
     const std::size_t k = static_cast<std::size_t>(order_[static_cast<std::size_t>(trial)]);
     const PlanTrial& t = plan_.trials[k];
     if (!t.cloud.empty()) {

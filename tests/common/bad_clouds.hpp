@@ -11,9 +11,9 @@
 namespace test_support {
 
 struct BadCloud {
-    const char* name;      // file name, also the test's label
-    std::string bytes;     // the file
-    std::string message;   // what follows "pcd: <path>: " / "ply: <path>: "
+    const char* name;         // file name, also the test's label
+    std::string bytes;        // the file
+    std::string message;      // what follows "pcd: <path>: " / "ply: <path>: "
     bool in_records = false;  // found while decoding the points, not when opening
 };
 
@@ -30,13 +30,12 @@ inline std::string xyzLabelRecords(std::initializer_list<std::uint8_t> labels) {
 }
 
 /// A binary PCD header for x y z label; `extra` goes before VERSION, the counts are text.
-inline std::string pcdHeader(const std::string& width, const std::string& points,
-                             const std::string& extra = "", const std::string& sizes = "4 4 4 1",
-                             const std::string& types = "F F F U", const std::string& height = "1",
-                             const std::string& data = "binary") {
-    return "# .PCD v0.7\n" + extra + "VERSION 0.7\nFIELDS x y z label\nSIZE " + sizes + "\nTYPE " +
-           types + "\nCOUNT 1 1 1 1\nWIDTH " + width + "\nHEIGHT " + height +
-           "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + points + "\nDATA " + data + "\n";
+inline std::string pcdHeader(const std::string& width, const std::string& points, const std::string& extra = "",
+                             const std::string& sizes = "4 4 4 1", const std::string& types = "F F F U",
+                             const std::string& height = "1", const std::string& data = "binary") {
+    return "# .PCD v0.7\n" + extra + "VERSION 0.7\nFIELDS x y z label\nSIZE " + sizes + "\nTYPE " + types +
+           "\nCOUNT 1 1 1 1\nWIDTH " + width + "\nHEIGHT " + height + "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + points +
+           "\nDATA " + data + "\n";
 }
 
 inline std::vector<BadCloud> badClouds() {
@@ -59,8 +58,7 @@ inline std::vector<BadCloud> badClouds() {
         {"type_f_size_1.pcd", pcdHeader("3", "3", "", "4 4 4 1", "F F F F") + three,
          "field 'label': TYPE F needs SIZE 4 or 8, not 1"},
         {"points_not_width_height.pcd", pcdHeader("3", "2") + three, "POINTS 2 is not WIDTH x HEIGHT = 3"},
-        {"fields_size_mismatch.pcd", pcdHeader("3", "3", "", "4 4 4") + three,
-         "SIZE has 3 entries but FIELDS has 4"},
+        {"fields_size_mismatch.pcd", pcdHeader("3", "3", "", "4 4 4") + three, "SIZE has 3 entries but FIELDS has 4"},
         {"width_height_overflow.pcd", pcdHeader("4294967296", "0", "", "4 4 4 1", "F F F U", "4294967296") + three,
          "WIDTH x HEIGHT overflows"},
         {"width_minus_one.pcd", pcdHeader("-1", "3") + three, "line 7: WIDTH needs one non-negative integer"},

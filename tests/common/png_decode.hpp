@@ -19,8 +19,8 @@ struct DecodedPng {
 inline DecodedPng decodePng(const std::string& file) {
     DecodedPng d;
     std::unique_ptr<stbi_uc, void (*)(void*)> data(
-        stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(file.data()), int(file.size()), &d.width,
-                              &d.height, &d.channels, 0),
+        stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(file.data()), int(file.size()), &d.width, &d.height,
+                              &d.channels, 0),
         stbi_image_free);
     if (!data) return DecodedPng{};
     d.pixels.assign(data.get(), data.get() + std::size_t(d.width) * std::size_t(d.height) * std::size_t(d.channels));

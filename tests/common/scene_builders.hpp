@@ -18,8 +18,7 @@ inline core::Mesh boxMesh(glm::vec3 lo, glm::vec3 hi, core::Role role, std::stri
     core::Mesh m;
     m.name = std::move(name);
     m.role = role;
-    for (int k = 0; k < 8; ++k)
-        m.vertices.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+    for (int k = 0; k < 8; ++k) m.vertices.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
     const unsigned f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                                {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     for (const auto& t : f) m.triangles.emplace_back(t[0], t[1], t[2]);
@@ -29,7 +28,7 @@ inline core::Mesh boxMesh(glm::vec3 lo, glm::vec3 hi, core::Role role, std::stri
 /// A flat square grid at height z, centred on (cx, cy), `cells` x `cells` squares of
 /// `cell_m`, two triangles each (alternating diagonals), all vertices shared.
 inline core::Mesh gridMesh(double cx, double cy, double z, int cells, double cell_m,
-                             core::Role role = core::Role::Ground, std::string name = "grid") {
+                           core::Role role = core::Role::Ground, std::string name = "grid") {
     core::Mesh m;
     m.name = std::move(name);
     m.role = role;
@@ -135,9 +134,7 @@ inline double closedFormVisible(double a, double distance_d, double wall_top, do
 }
 
 /// tests/data/scenes/basic, where basicScene's mesh files live.
-inline std::filesystem::path basicDir() {
-    return std::filesystem::path(LADARVR_TEST_DATA_DIR) / "scenes" / "basic";
-}
+inline std::filesystem::path basicDir() { return std::filesystem::path(LADARVR_TEST_DATA_DIR) / "scenes" / "basic"; }
 
 /// tests/data/scenes/basic's meshes (a 20 m ground scaled to 200 m, unit boxes scaled 2x
 /// and 3x) placed around world point `offset`, with the local origin at `origin`, as scene
@@ -153,12 +150,17 @@ inline std::string basicSceneJson(glm::dvec3 offset, glm::dvec3 origin) {
     };
     return "{\"origin\": [" + num(origin.x) + ", " + num(origin.y) + ", " + num(origin.z) +
            "],\n \"meshes\": [\n"
-           "  {\"file\": \"ground.obj\", \"role\": \"ground\", \"position\": " + at(0, 0, 0) + ", \"scale\": 10},\n"
-           "  {\"file\": \"box.obj\", \"role\": \"target\", \"position\": " + at(-1, -1, 0) + ", \"scale\": 2},\n"
-           "  {\"file\": \"box.obj\", \"role\": \"environment\", \"position\": " + at(2.5, -1.5, 0) +
+           "  {\"file\": \"ground.obj\", \"role\": \"ground\", \"position\": " +
+           at(0, 0, 0) +
+           ", \"scale\": 10},\n"
+           "  {\"file\": \"box.obj\", \"role\": \"target\", \"position\": " +
+           at(-1, -1, 0) +
+           ", \"scale\": 2},\n"
+           "  {\"file\": \"box.obj\", \"role\": \"environment\", \"position\": " +
+           at(2.5, -1.5, 0) +
            ", \"scale\": 3, \"yaw_deg\": 30},\n"
-           "  {\"file\": \"box.obj\", \"role\": \"environment\", \"position\": " + at(-12, 6, 0) +
-           ", \"scale\": 5}\n ]}\n";
+           "  {\"file\": \"box.obj\", \"role\": \"environment\", \"position\": " +
+           at(-12, 6, 0) + ", \"scale\": 5}\n ]}\n";
 }
 
 /// Loads basicSceneJson through io::loadSceneJson (mesh paths resolve in basicDir()).

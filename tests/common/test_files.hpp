@@ -17,8 +17,7 @@ namespace test_support {
 struct TempDir {
     std::filesystem::path path;
     explicit TempDir(const std::string& name)
-        : path(std::filesystem::temp_directory_path() /
-               ("ladarvr_test_" + name + "_" + std::to_string(::getpid()))) {
+        : path(std::filesystem::temp_directory_path() / ("ladarvr_test_" + name + "_" + std::to_string(::getpid()))) {
         std::filesystem::remove_all(path);
         std::filesystem::create_directories(path);
     }
@@ -28,8 +27,8 @@ struct TempDir {
 
     /// How many entries the folder holds (temporary files left behind count).
     std::size_t entries() const {
-        return std::size_t(std::distance(std::filesystem::directory_iterator(path),
-                                         std::filesystem::directory_iterator()));
+        return std::size_t(
+            std::distance(std::filesystem::directory_iterator(path), std::filesystem::directory_iterator()));
     }
     /// Writes `text` to path/name and returns that path.
     std::filesystem::path write(const std::string& name, const std::string& text) const {

@@ -86,7 +86,7 @@ TEST_CASE("random: SplitMix64 gives the reference sequence; below is the high wo
     core::SplitMix64 r(0);
     CHECK(r.next() == 0xe220a8397b1dcdafull);  // the reference SplitMix64's first output for seed 0
     CHECK(r.next() == 0x6e789e6aa1b965f4ull);
-    CHECK(core::mix64(0) == 0);                 // the finaliser is a bijection fixing 0
+    CHECK(core::mix64(0) == 0);  // the finaliser is a bijection fixing 0
     core::SplitMix64 a(12345), b(12345);
     for (std::uint64_t n : {1ull, 2ull, 3ull, 1000ull, 1ull << 40, ~0ull}) {
         const std::uint64_t x = a.next();

@@ -24,8 +24,8 @@ TEST_CASE("spatial hash: cells are floor(p / size), negative coordinates include
 }
 
 TEST_CASE("spatial hash: cells in order of their first point, points in input order") {
-    const std::vector<core::CloudPoint> pts = {at(5, 5, 5), at(0.5f, 0, 0), at(6.5f, 5, 5), at(-3, 0, 0),
-                                                 at(0.1f, 0.9f, 0.2f), at(6, 5.9f, 5)};
+    const std::vector<core::CloudPoint> pts = {at(5, 5, 5),  at(0.5f, 0, 0),       at(6.5f, 5, 5),
+                                               at(-3, 0, 0), at(0.1f, 0.9f, 0.2f), at(6, 5.9f, 5)};
     const core::CellBins bins = core::binByCell(pts, 1.0);
     REQUIRE(bins.cells() == 4);
     CHECK(bins.keys[0] == core::CellKey{5, 5, 5});

@@ -35,8 +35,8 @@ const std::string kVaried = R"("target_yaw_deg": {"min": 0, "max": 360}, "target
 
 bool samePlan(const corpus::ItemPlan& a, const corpus::ItemPlan& b) {
     return a.values == b.values && a.target_position_world == b.target_position_world &&
-           a.target_yaw_deg == b.target_yaw_deg && a.centre_world == b.centre_world && a.sceneText({}) == b.sceneText({}) &&
-           a.generateArgs() == b.generateArgs();
+           a.target_yaw_deg == b.target_yaw_deg && a.centre_world == b.centre_world &&
+           a.sceneText({}) == b.sceneText({}) && a.generateArgs() == b.generateArgs();
 }
 
 bool overlaps(const core::Bounds& a, const core::Bounds& b) {
@@ -105,8 +105,8 @@ TEST_CASE("plan: item i depends on (seed, i) alone, not on order, other items or
 }
 
 TEST_CASE("plan: the target stands on the ground and never meets another mesh's box") {
-    const corpus::Spec s = spec(R"("target_yaw_deg": {"min": 0, "max": 360}, "target_offset_m": {"min": 0, "max": 30})",
-                                25);
+    const corpus::Spec s =
+        spec(R"("target_yaw_deg": {"min": 0, "max": 360}, "target_offset_m": {"min": 0, "max": 30})", 25);
     const corpus::Planner planner(s);
     const auto& boxes = planner.environmentBoxes();
     int moved_far = 0;
@@ -142,7 +142,8 @@ TEST_CASE("plan: an item whose target cannot be placed is an error naming it") {
     const std::string e = errorOf([&] { planner.plan(2); });
     CHECK(e.rfind("corpus: item 0002: the target cannot be placed", 0) == 0);
     CHECK(e.find("target_offset_m [400, 500]") != std::string::npos);
-    const std::string c = errorOf([&] { corpus::Planner(spec(R"("centre_offset_m": {"min": 400, "max": 500})", 3)).plan(0); });
+    const std::string c =
+        errorOf([&] { corpus::Planner(spec(R"("centre_offset_m": {"min": 400, "max": 500})", 3)).plan(0); });
     CHECK(c.rfind("corpus: item 0000: the orbit centre cannot be placed", 0) == 0);
 }
 
@@ -162,9 +163,10 @@ TEST_CASE("plan: the scene file names meshes relative to the item folder and rep
 
 TEST_CASE("plan: target_files draws every model, each placed clear of the buildings") {
     const std::string assets = LADARVR_ASSETS_DIR;
-    const corpus::Spec s = spec(R"("target_files": [")" + assets + R"(/common/tank.obj", {"file": ")" + assets +
-                                    R"(/common/house_small.obj", "scale": 0.5}], "target_offset_m": {"min": 0, "max": 25})",
-                                60);
+    const corpus::Spec s =
+        spec(R"("target_files": [")" + assets + R"(/common/tank.obj", {"file": ")" + assets +
+                 R"(/common/house_small.obj", "scale": 0.5}], "target_offset_m": {"min": 0, "max": 25})",
+             60);
     const corpus::Planner planner(s);
     const auto& boxes = planner.environmentBoxes();  // scene order: ground, target, 4 environment meshes
     REQUIRE(boxes.size() == 6);

@@ -38,8 +38,9 @@ void checkOneLine(const std::string& message, const std::string& key, const std:
 TEST_CASE("spec: a good SPEC is read as written") {
     test_support::TempDir dir("corpus_spec_good");
     const std::string text = withVary(R"("altitude_m": {"min": 200, "max": 400}, "resolution": [16, 32], "views": 5,
-        "target_files": [")" + std::string(LADARVR_ASSETS_DIR) + R"(/common/tank.obj", {"file": ")" +
-                                      std::string(LADARVR_ASSETS_DIR) + R"(/common/tower.obj", "up": "z", "scale": 0.5}])");
+        "target_files": [")" + std::string(LADARVR_ASSETS_DIR) +
+                                      R"(/common/tank.obj", {"file": ")" + std::string(LADARVR_ASSETS_DIR) +
+                                      R"(/common/tower.obj", "up": "z", "scale": 0.5}])");
     const corpus::Spec s = corpus::parseSpec(text, dir.path / "spec.json");
     CHECK(s.count == 3);
     CHECK(s.seed == 1);
@@ -53,23 +54,24 @@ TEST_CASE("spec: a good SPEC is read as written") {
     CHECK(s.cloudName() == "cloud.pcd");
     CHECK_FALSE(s.metric.enabled);
     const corpus::Spec ply = corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "ply",
-        "metric": {"views": 8, "width": 64, "height": 32}})", dir.path / "spec.json");
+        "metric": {"views": 8, "width": 64, "height": 32}})",
+                                               dir.path / "spec.json");
     CHECK(ply.cloudName() == "cloud.ply");
     CHECK(ply.metric.enabled);
     CHECK(ply.metric.views == 8);
     CHECK(ply.metric.height == 32);
-    const corpus::Spec laz = corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "laz"})",
-                                               dir.path / "spec.json");
+    const corpus::Spec laz =
+        corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "laz"})", dir.path / "spec.json");
     CHECK(laz.cloudName() == "cloud.laz");
-    CHECK(errorOf([&] { corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "e57"})", "s.json"); })
-              .find("format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz") != std::string::npos);
+    CHECK(errorOf([&] {
+              corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "e57"})", "s.json");
+          }).find("format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz") != std::string::npos);
 }
 
 TEST_CASE("spec: unknown keys, empty ranges, min > max, count < 1 and missing files are one line each") {
     checkOneLine(specError(R"({"scene": ")" + kScene + R"(", "count": 3, "sed": 1})"), "sed",
                  "allowed scene, count, seed, vary");
-    checkOneLine(specError(withVary(R"("altitude": {"min": 1, "max": 2})")), "vary.altitude",
-                 "allowed target_yaw_deg");
+    checkOneLine(specError(withVary(R"("altitude": {"min": 1, "max": 2})")), "vary.altitude", "allowed target_yaw_deg");
     checkOneLine(specError(withVary(R"("altitude_m": {"min": 400, "max": 200})")), "vary.altitude_m",
                  "min 400 > max 200");
     checkOneLine(specError(withVary(R"("altitude_m": {"min": 400})")), "vary.altitude_m", "empty range");

@@ -25,8 +25,8 @@ void add(core::PointCloud& c, glm::dvec3 p, core::Role role) {
 
 // The surface of a box (top and four sides, no bottom) of size l x w x h standing on z = 0,
 // centred at (cx, cy), turned by yaw_deg; points every step_m with a little noise.
-void addBox(core::PointCloud& c, std::mt19937& rng, glm::dvec2 centre, glm::dvec3 size, double yaw_deg,
-            double step_m, core::Role role) {
+void addBox(core::PointCloud& c, std::mt19937& rng, glm::dvec2 centre, glm::dvec3 size, double yaw_deg, double step_m,
+            core::Role role) {
     std::uniform_real_distribution<double> noise(-0.02, 0.02);
     const double cs = std::cos(yaw_deg * kDeg), sn = std::sin(yaw_deg * kDeg);
     auto put = [&](double u, double v, double z) {
@@ -145,11 +145,11 @@ TEST_CASE("detect: through the Detector interface, the same candidates as with t
 TEST_CASE("detect: score of a box size") {
     const glm::dvec3 tank{7, 3.5, 2.5};
     CHECK(detect::sizeScore({7, 3.5, 2.5}, tank, 1.5) == doctest::Approx(1.0));
-    CHECK(detect::sizeScore({3.5, 7, 2.5}, tank, 1.5) == doctest::Approx(1.0));          // sides swapped
+    CHECK(detect::sizeScore({3.5, 7, 2.5}, tank, 1.5) == doctest::Approx(1.0));  // sides swapped
     CHECK(detect::sizeScore({7 * 1.5, 3.5, 2.5}, tank, 1.5) == doctest::Approx(std::exp(-0.5)));
-    CHECK(detect::sizeScore({12, 0.3, 4}, tank, 1.5) < 0.01);                            // a wall
-    CHECK(detect::sizeScore({6, 6, 9}, tank, 1.5) < 0.01);                               // a tree
-    CHECK(detect::sizeScore({7, 0, 2.5}, tank, 1.5) >= 0.0);                             // flat: finite
+    CHECK(detect::sizeScore({12, 0.3, 4}, tank, 1.5) < 0.01);  // a wall
+    CHECK(detect::sizeScore({6, 6, 9}, tank, 1.5) < 0.01);     // a tree
+    CHECK(detect::sizeScore({7, 0, 2.5}, tank, 1.5) >= 0.0);   // flat: finite
 }
 
 TEST_CASE("detect: errors name the option and the missing field") {

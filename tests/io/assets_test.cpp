@@ -30,8 +30,7 @@ std::set<std::string> filesUnder(const fs::path& root) {
 TEST_CASE("assets: the committed scenes are exactly what scripts/make_scenes.py makes") {
     const fs::path assets = fs::path(LADARVR_ASSETS_DIR);
     const fs::path script = assets.parent_path() / "scripts" / "make_scenes.py";
-    const fs::path out =
-        fs::temp_directory_path() / ("ladarvr_assets_test_" + std::to_string(::getpid()));
+    const fs::path out = fs::temp_directory_path() / ("ladarvr_assets_test_" + std::to_string(::getpid()));
     fs::remove_all(out);
     const std::string cmd = "python3 '" + script.string() + "' --out '" + out.string() + "' > /dev/null";
     REQUIRE(std::system(cmd.c_str()) == 0);

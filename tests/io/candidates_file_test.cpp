@@ -30,7 +30,7 @@ TEST_CASE("candidates: written and read back with every field, at georeferenced 
     REQUIRE(out.size() == 2);
     for (std::size_t i = 0; i < 2; ++i) {
         CHECK(out[i].id == in[i].id);
-        CHECK(out[i].centre_world == in[i].centre_world);   // exact: JSON keeps doubles
+        CHECK(out[i].centre_world == in[i].centre_world);  // exact: JSON keeps doubles
         CHECK(out[i].size_m == in[i].size_m);
         CHECK(out[i].yaw_deg == in[i].yaw_deg);
         CHECK(out[i].score == in[i].score);
@@ -39,7 +39,10 @@ TEST_CASE("candidates: written and read back with every field, at georeferenced 
 
 TEST_CASE("candidates: bad files are refused in one line naming the field") {
     test_support::TempDir dir("candidates_bad");
-    struct Case { const char* text; const char* expect; };
+    struct Case {
+        const char* text;
+        const char* expect;
+    };
     const Case cases[] = {
         {"[]", "the top level must be an object with 'candidates'"},
         {R"({"candidates": [], "extra": 1})", "unknown key 'extra'; allowed: candidates"},

@@ -18,27 +18,25 @@
 #include <unistd.h>
 
 namespace fs = std::filesystem;
-using io::CloudFormat;
 using core::Role;
+using io::CloudFormat;
 
 namespace {
 
 const fs::path kData = fs::path(LADARVR_TEST_DATA_DIR) / "io";
 
-using test_support::TempDir;
 using test_support::slurp;
+using test_support::TempDir;
 
-void spit(const fs::path& p, const std::string& bytes) {
-    std::ofstream(p, std::ios::binary) << bytes;
-}
+void spit(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 
 // Points that exercise every field's corners: awkward floats, every label, the view
 // extremes, colours whose packed float is a denormal (red < 0x80) or zero.
 core::PointCloud awkwardCloud() {
     core::PointCloud c;
     c.origin = {1234567.891011, -9876543.21, 10000000.125};
-    const float specials[] = {0.0f, -0.0f, 1e-7f, -3.4e38f, 3.4e38f, 0.1f, 1.0f / 3.0f,
-                              123456.789f, -1e-38f, 2.5e-42f /* denormal */};
+    const float specials[] = {0.0f, -0.0f,       1e-7f,       -3.4e38f, 3.4e38f,
+                              0.1f, 1.0f / 3.0f, 123456.789f, -1e-38f,  2.5e-42f /* denormal */};
     std::mt19937 rng(42);
     for (int i = 0; i < 500; ++i) {
         core::CloudPoint p;
@@ -84,12 +82,10 @@ std::string readError(const fs::path& p) {
     return {};
 }
 
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-const CloudFormat kAllFormats[] = {CloudFormat::PcdBinary, CloudFormat::PcdAscii,
-                                   CloudFormat::PlyBinary, CloudFormat::PlyAscii};
+const CloudFormat kAllFormats[] = {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary,
+                                   CloudFormat::PlyAscii};
 
 const char* extensionOf(CloudFormat f) {
     return f == CloudFormat::PlyBinary || f == CloudFormat::PlyAscii ? ".ply" : ".pcd";
@@ -105,8 +101,7 @@ TEST_CASE("cloud_io: format names and defaults") {
     CHECK(io::parseCloudFormat("las", "--format") == CloudFormat::Las);
     CHECK(io::parseCloudFormat("laz", "--format") == CloudFormat::Laz);
     CHECK_THROWS_WITH_AS(io::parseCloudFormat("e57", "--format"),
-                         "--format: format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz",
-                         core::Error);
+                         "--format: format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz", core::Error);
     CHECK(io::formatForPath("a/b.ply") == CloudFormat::PlyBinary);
     CHECK(io::formatForPath("a/b.PLY") == CloudFormat::PlyBinary);
     CHECK(io::formatForPath("a/b.pcd") == CloudFormat::PcdBinary);
@@ -152,8 +147,7 @@ TEST_CASE("cloud_io: the origin survives at 1e6 and 1e7 m") {
             const core::PointCloud r = io::readCloud(path);
             CHECK(r.origin == c.origin);
             // world = origin + local keeps the centimetre.
-            CHECK(r.origin.x + double(r.points.at(0).position.x) ==
-                  doctest::Approx(base + 0.133456789).epsilon(1e-15));
+            CHECK(r.origin.x + double(r.points.at(0).position.x) == doctest::Approx(base + 0.133456789).epsilon(1e-15));
         }
     }
 }
@@ -193,8 +187,9 @@ TEST_CASE("cloud_io: the binary PCD header is PCL's, with the counts fixed up in
     char origin[128];
     std::snprintf(origin, sizeof origin, "%.17g %.17g %.17g", c.origin.x, c.origin.y, c.origin.z);
     CHECK(contains(text, "\n# ladarvr origin " + std::string(origin) + "\n"));
-    CHECK(contains(text, "\nFIELDS x y z rgb label view range\nSIZE 4 4 4 4 1 2 4\n"
-                         "TYPE F F F F U U F\nCOUNT 1 1 1 1 1 1 1\n"));
+    CHECK(contains(text,
+                   "\nFIELDS x y z rgb label view range\nSIZE 4 4 4 4 1 2 4\n"
+                   "TYPE F F F F U U F\nCOUNT 1 1 1 1 1 1 1\n"));
     CHECK(contains(text, "\nWIDTH 000000000123\nHEIGHT 1\n"));
     CHECK(contains(text, "\nPOINTS 000000000123\nDATA binary\n"));
     const std::size_t data = text.find("DATA binary\n") + 12;
@@ -213,9 +208,10 @@ TEST_CASE("cloud_io: the binary PCD header is PCL's, with the counts fixed up in
     CHECK(contains(ply, "\ncomment ladarvr origin " + std::string(origin) + "\n"));
     CHECK(contains(ply, "element vertex 000000000123\n"));
     // scalar_* names and uchar/int/float types: CloudCompare and Open3D keep them all.
-    CHECK(contains(ply, "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-                        "property uchar scalar_label\nproperty int scalar_view\nproperty float scalar_range\n"
-                        "end_header\n"));
+    CHECK(contains(ply,
+                   "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                   "property uchar scalar_label\nproperty int scalar_view\nproperty float scalar_range\n"
+                   "end_header\n"));
     CHECK(ply.size() - (ply.find("end_header\n") + 11) == 123u * 24u);
 }
 
@@ -276,24 +272,22 @@ TEST_CASE("cloud_io: a CloudWriter destroyed without commit leaves nothing behin
             io::CloudWriter w(p, CloudFormat::PcdAscii, c.origin);
             w.append(c.points);
             throw core::Error("sim: something failed");
-        } catch (const core::Error&) {
-        }
+        } catch (const core::Error&) {}
         CHECK(dir.entries() == 0);
     }
 }
 
 TEST_CASE("cloud_io: unwritable destinations fail before any work") {
     TempDir dir("dest");
-    CHECK_THROWS_WITH_AS(
-        io::CloudWriter(dir.path / "missing" / "out.pcd", CloudFormat::PcdBinary, {}),
-        ("output: " + (dir.path / "missing" / "out.pcd").string() + ": directory '" +
-         (dir.path / "missing").string() + "' does not exist").c_str(),
-        core::Error);
-    CHECK_THROWS_WITH_AS(io::CloudWriter(dir.path, CloudFormat::PcdBinary, {}),
-                         doctest::Contains("is a directory"), core::Error);
-    CHECK_THROWS_WITH_AS(
-        io::CloudWriter(dir.path / "o.pcd", CloudFormat::PcdBinary, {std::nan(""), 0.0, 0.0}),
-        doctest::Contains("origin is not finite"), core::Error);
+    CHECK_THROWS_WITH_AS(io::CloudWriter(dir.path / "missing" / "out.pcd", CloudFormat::PcdBinary, {}),
+                         ("output: " + (dir.path / "missing" / "out.pcd").string() + ": directory '" +
+                          (dir.path / "missing").string() + "' does not exist")
+                             .c_str(),
+                         core::Error);
+    CHECK_THROWS_WITH_AS(io::CloudWriter(dir.path, CloudFormat::PcdBinary, {}), doctest::Contains("is a directory"),
+                         core::Error);
+    CHECK_THROWS_WITH_AS(io::CloudWriter(dir.path / "o.pcd", CloudFormat::PcdBinary, {std::nan(""), 0.0, 0.0}),
+                         doctest::Contains("origin is not finite"), core::Error);
     CHECK(dir.entries() == 0);
 }
 
@@ -314,8 +308,7 @@ TEST_CASE("cloud_io: files written by PCL read back with their known values") {
             const core::CloudPoint& p = r.points[i];
             const bool ok =
                 p.position == glm::vec3(float(i) * 0.25f, -float(i % 17) * 1.5f, float(i / 10) * 0.5f) &&
-                p.rgb == core::packRgb(std::uint8_t(i % 256), std::uint8_t(i * 7 % 256),
-                                         std::uint8_t(i * 13 % 256)) &&
+                p.rgb == core::packRgb(std::uint8_t(i % 256), std::uint8_t(i * 7 % 256), std::uint8_t(i * 13 % 256)) &&
                 p.label == Role(i % 3) && p.view == i * 11 && p.range_m == 100.0f + float(i) * 0.125f;
             if (!ok && bad++ == 0) CAPTURE(i);
         }
@@ -327,8 +320,9 @@ TEST_CASE("cloud_io: foreign layouts: x y z only, rgba, padding fields, doubles,
     TempDir dir("foreign");
     SUBCASE("PCD with only x y z and no COUNT") {
         const fs::path p = dir.path / "xyz.pcd";
-        spit(p, "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\n"
-                "POINTS 2\nDATA ascii\n1 2 3\n4 5 6\n");
+        spit(p,
+             "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\n"
+             "POINTS 2\nDATA ascii\n1 2 3\n4 5 6\n");
         const core::PointCloud r = io::readCloud(p);
         CHECK_FALSE(r.fields.rgb);
         CHECK_FALSE(r.fields.label);
@@ -349,9 +343,11 @@ TEST_CASE("cloud_io: foreign layouts: x y z only, rgba, padding fields, doubles,
             put(&rgba, 4);
         }
         const fs::path p = dir.path / "org.pcd";
-        spit(p, "# from elsewhere\nVERSION 0.7\nFIELDS x y z normal rgba\nSIZE 8 8 8 4 4\n"
-                "TYPE F F F F U\nCOUNT 1 1 1 3 1\nWIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\n"
-                "POINTS 4\nDATA binary\n" + body);
+        spit(p,
+             "# from elsewhere\nVERSION 0.7\nFIELDS x y z normal rgba\nSIZE 8 8 8 4 4\n"
+             "TYPE F F F F U\nCOUNT 1 1 1 3 1\nWIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\n"
+             "POINTS 4\nDATA binary\n" +
+                 body);
         const core::PointCloud r = io::readCloud(p);
         REQUIRE(r.points.size() == 4);
         CHECK(r.fields.rgb);
@@ -379,10 +375,12 @@ TEST_CASE("cloud_io: foreign layouts: x y z only, rgba, padding fields, doubles,
             be(&view, 2);
         }
         const fs::path p = dir.path / "be.ply";
-        spit(p, "ply\nformat binary_big_endian 1.0\nobj_info x\nelement face 1\n"
-                "property list uchar int vertex_indices\nelement vertex 3\nproperty double x\n"
-                "property double y\nproperty double z\nproperty float red\nproperty float green\n"
-                "property float blue\nproperty ushort view\nend_header\n" + body);
+        spit(p,
+             "ply\nformat binary_big_endian 1.0\nobj_info x\nelement face 1\n"
+             "property list uchar int vertex_indices\nelement vertex 3\nproperty double x\n"
+             "property double y\nproperty double z\nproperty float red\nproperty float green\n"
+             "property float blue\nproperty ushort view\nend_header\n" +
+                 body);
         const core::PointCloud r = io::readCloud(p);
         REQUIRE(r.points.size() == 3);
         CHECK(r.points[2].position == glm::vec3(2, 4, -1));
@@ -393,10 +391,11 @@ TEST_CASE("cloud_io: foreign layouts: x y z only, rgba, padding fields, doubles,
     }
     SUBCASE("ASCII PLY with an element after the vertices") {
         const fs::path p = dir.path / "a.ply";
-        spit(p, "ply\r\nformat ascii 1.0\r\nelement vertex 2\r\nproperty float x\r\n"
-                "property float y\r\nproperty float z\r\nproperty uchar label\r\n"
-                "element face 1\r\nproperty list uchar int vertex_indices\r\nend_header\r\n"
-                "1 2 3 2\r\n4 5 6 0\r\n3 0 1 1\r\n");
+        spit(p,
+             "ply\r\nformat ascii 1.0\r\nelement vertex 2\r\nproperty float x\r\n"
+             "property float y\r\nproperty float z\r\nproperty uchar label\r\n"
+             "element face 1\r\nproperty list uchar int vertex_indices\r\nend_header\r\n"
+             "1 2 3 2\r\n4 5 6 0\r\n3 0 1 1\r\n");
         const core::PointCloud r = io::readCloud(p);
         REQUIRE(r.points.size() == 2);
         CHECK(r.points[0].label == Role::Target);
@@ -420,15 +419,13 @@ TEST_CASE("cloud_io: truncated and corrupt files give a clear error") {
     const std::string pre = "pcd: " + p.string() + ": ";
 
     SUBCASE("missing file") {
-        CHECK(readError(dir.path / "none.pcd") ==
-              "pcd: " + (dir.path / "none.pcd").string() + ": file does not exist");
+        CHECK(readError(dir.path / "none.pcd") == "pcd: " + (dir.path / "none.pcd").string() + ": file does not exist");
     }
     SUBCASE("binary PCD cut short") {
         const std::string t = slurp(good_bin);
         spit(p, t.substr(0, t.size() - 10));
         CHECK(readError(p) == pre + "truncated: the header says 50 points of 23 bytes but only " +
-                                  std::to_string(50 * 23 - 10) +
-                                  " bytes of data follow the header");
+                                  std::to_string(50 * 23 - 10) + " bytes of data follow the header");
     }
     SUBCASE("ASCII PCD cut short") {
         const std::string t = slurp(good_ascii);
@@ -455,7 +452,8 @@ TEST_CASE("cloud_io: truncated and corrupt files give a clear error") {
         CHECK(readError(p) == pre + "line 5: DATA must be one of ascii, binary, binary_compressed");
         spit(p, "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 two 3\n");
         CHECK(readError(p) == pre + "line 6: value 'two' of point 0 is not a number");
-        spit(p, "# ladarvr origin 0 0 0\nFIELDS x y z label\nSIZE 4 4 4 1\nTYPE F F F U\nWIDTH 1\nDATA ascii\n1 2 3 7\n");
+        spit(p,
+             "# ladarvr origin 0 0 0\nFIELDS x y z label\nSIZE 4 4 4 1\nTYPE F F F U\nWIDTH 1\nDATA ascii\n1 2 3 7\n");
         CHECK(readError(p) == pre + "point 0: label 7 is not 0 (ground), 1 (environment) or 2 (target)");
         spit(p, "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 99999999999\nDATA binary\n");
         CHECK(contains(readError(p), "truncated: the header says 99999999999 points"));
@@ -488,11 +486,13 @@ TEST_CASE("cloud_io: truncated and corrupt files give a clear error") {
         spit(q, a.substr(0, a.size() - 30));
         CHECK(contains(readError(q), qpre + "truncated: the header says 50 points"));
         spit(q, "ply\nformat binary_middle_endian 1.0\nend_header\n");
-        CHECK(readError(q) == qpre + "line 2: format must be one of ascii, binary_little_endian, "
-                                     "binary_big_endian (version 1.0)");
+        CHECK(readError(q) == qpre +
+                                  "line 2: format must be one of ascii, binary_little_endian, "
+                                  "binary_big_endian (version 1.0)");
         spit(q, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty quad y\nend_header\n");
-        CHECK(readError(q) == qpre + "line 5: property type 'quad' is not one of char, uchar, "
-                                     "short, ushort, int, uint, float, double");
+        CHECK(readError(q) == qpre +
+                                  "line 5: property type 'quad' is not one of char, uchar, "
+                                  "short, ushort, int, uint, float, double");
         spit(q, "ply\nformat ascii 1.0\nelement face 1\nproperty uchar x\nend_header\n1\n");
         CHECK(readError(q) == qpre + "the header has no 'element vertex'");
         spit(q, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n");
@@ -501,8 +501,9 @@ TEST_CASE("cloud_io: truncated and corrupt files give a clear error") {
 }
 
 TEST_CASE("cloud_io: readCloudData parses bytes in memory") {
-    const std::string pcd = "# ladarvr origin 1 2 3\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
-                            "WIDTH 1\nDATA ascii\n4 5 6\n";
+    const std::string pcd =
+        "# ladarvr origin 1 2 3\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+        "WIDTH 1\nDATA ascii\n4 5 6\n";
     const core::PointCloud r = io::readCloudData(pcd, "mem.pcd");
     CHECK(r.origin == glm::dvec3(1, 2, 3));
     REQUIRE(r.points.size() == 1);
@@ -510,8 +511,7 @@ TEST_CASE("cloud_io: readCloudData parses bytes in memory") {
     CHECK_THROWS_WITH_AS(io::readCloudData(std::string_view(pcd).substr(0, 20), "mem.pcd"),
                          doctest::Contains("pcd: mem.pcd: "), core::Error);
     CHECK_THROWS_WITH_AS(io::readCloudData("", "empty.ply"),
-                         "pcd: empty.ply: the header ends without a DATA line; not a PCD file?",
-                         core::Error);
+                         "pcd: empty.ply: the header ends without a DATA line; not a PCD file?", core::Error);
 }
 
 TEST_CASE("cloud_io: mutated files never crash the reader") {

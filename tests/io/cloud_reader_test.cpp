@@ -19,16 +19,14 @@
 
 namespace fs = std::filesystem;
 using io::CloudFormat;
-using test_support::TempDir;
 using test_support::slurp;
+using test_support::TempDir;
 
 namespace {
 
 const fs::path kData = fs::path(LADARVR_TEST_DATA_DIR) / "io";
 
-void spit(const fs::path& p, const std::string& bytes) {
-    std::ofstream(p, std::ios::binary) << bytes;
-}
+void spit(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 
 std::string errorOf(const fs::path& p) {
     try {
@@ -39,9 +37,7 @@ std::string errorOf(const fs::path& p) {
     return "no error";
 }
 
-std::string prefixOf(const fs::path& p) {
-    return (p.extension() == ".ply" ? "ply: " : "pcd: ") + p.string() + ": ";
-}
+std::string prefixOf(const fs::path& p) { return (p.extension() == ".ply" ? "ply: " : "pcd: ") + p.string() + ": "; }
 
 core::PointCloud knownCloud(std::size_t n) {
     core::PointCloud c;
@@ -98,7 +94,7 @@ TEST_CASE("cloud_reader: a bad header is refused when the reader is opened, befo
         if (bad.in_records) {
             io::CloudReader reader(p);
             std::vector<core::CloudPoint> out;
-            CHECK_THROWS_AS(while (reader.nextChunk(out, 1)) {}, core::Error);
+            CHECK_THROWS_AS(while (reader.nextChunk(out, 1)){}, core::Error);
         } else {
             CHECK_THROWS_AS(io::CloudReader{p}, core::Error);
         }
@@ -110,8 +106,8 @@ TEST_CASE("cloud_reader: chunked reads give the whole cloud in every format") {
     // 60,000 points: ~1.4 MB binary and ~4 MB of text, so chunks cross the reader's
     // 1 MiB file window and text tokens cross its blocks.
     const core::PointCloud cloud = knownCloud(60000);
-    for (CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary,
-                          CloudFormat::PlyAscii}) {
+    for (CloudFormat f :
+         {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary, CloudFormat::PlyAscii}) {
         const bool ply = f == CloudFormat::PlyBinary || f == CloudFormat::PlyAscii;
         const fs::path p = dir.path / (std::string("c") + std::to_string(int(f)) + (ply ? ".ply" : ".pcd"));
         io::writeCloud(p, cloud, f);
@@ -134,7 +130,7 @@ TEST_CASE("cloud_reader: chunked reads give the whole cloud in every format") {
             CHECK(reader.pointsRead() == 60000);
             CHECK(reader.droppedNonFinite() == 0);
             CHECK(reader.warning().empty());
-            CHECK_FALSE(reader.nextChunk(all, chunk));   // stays at the end
+            CHECK_FALSE(reader.nextChunk(all, chunk));  // stays at the end
         }
     }
 }
@@ -149,8 +145,8 @@ TEST_CASE("cloud_reader: NaN and inf points are dropped and counted, everywhere"
     std::vector<core::CloudPoint> finite;
     for (std::size_t i = 0; i < 1000; ++i)
         if (i != 3 && i != 500 && i != 999) finite.push_back(cloud.points[i]);
-    for (CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary,
-                          CloudFormat::PlyAscii}) {
+    for (CloudFormat f :
+         {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary, CloudFormat::PlyAscii}) {
         const bool ply = f == CloudFormat::PlyBinary || f == CloudFormat::PlyAscii;
         const fs::path p = dir.path / (std::string("n") + std::to_string(int(f)) + (ply ? ".ply" : ".pcd"));
         io::writeCloud(p, cloud, f);
@@ -159,17 +155,18 @@ TEST_CASE("cloud_reader: NaN and inf points are dropped and counted, everywhere"
         CHECK(samePoints(back.points, finite));
         io::CloudReader reader(p);
         std::vector<core::CloudPoint> out;
-        while (reader.nextChunk(out, 100)) {
-        }
+        while (reader.nextChunk(out, 100)) {}
         CHECK(out.size() == 997);
         CHECK(reader.pointsRead() == 1000);
         CHECK(reader.droppedNonFinite() == 3);
-        CHECK(reader.warning() == prefixOf(p) + "dropped 3 of 1000 points with a non-finite x, y, z or "
-                                                "range (NaN or inf)");
+        CHECK(reader.warning() == prefixOf(p) +
+                                      "dropped 3 of 1000 points with a non-finite x, y, z or "
+                                      "range (NaN or inf)");
     }
     SUBCASE("text spellings and doubles beyond float range") {
-        const std::string pcd = "FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nWIDTH 6\nDATA ascii\n"
-                                "1 2 3\nnan 0 0\n0 inf 0\n0 0 -inf\n1e39 0 0\n4 5 1e400\n";
+        const std::string pcd =
+            "FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nWIDTH 6\nDATA ascii\n"
+            "1 2 3\nnan 0 0\n0 inf 0\n0 0 -inf\n1e39 0 0\n4 5 1e400\n";
         const core::PointCloud r = io::readCloudData(pcd, "spell.pcd");
         REQUIRE(r.points.size() == 1);
         CHECK(r.points[0].position == glm::vec3(1, 2, 3));
@@ -236,14 +233,11 @@ TEST_CASE("cloud_reader: LZF blocks are decoded by liblzf, bounded by the header
     // A literal run longer than the block (liblzf's input check).
     CHECK_THROWS_WITH_AS(io::readCloudData(file(char(31) + xyz), "c.pcd"), corrupt, core::Error);
     // Fewer bytes than the header implies.
-    CHECK_THROWS_WITH_AS(io::readCloudData(file(char(4) + xyz.substr(0, 5)), "c.pcd"), corrupt,
-                         core::Error);
+    CHECK_THROWS_WITH_AS(io::readCloudData(file(char(4) + xyz.substr(0, 5)), "c.pcd"), corrupt, core::Error);
     // More bytes than the header implies: liblzf stops at the declared size (E2BIG).
-    CHECK_THROWS_WITH_AS(io::readCloudData(file(char(11) + xyz + char(0) + "x"), "c.pcd"), corrupt,
-                         core::Error);
+    CHECK_THROWS_WITH_AS(io::readCloudData(file(char(11) + xyz + char(0) + "x"), "c.pcd"), corrupt, core::Error);
     // A back reference before the start of the output.
-    CHECK_THROWS_WITH_AS(io::readCloudData(file(std::string("\x20\x05", 2) + xyz), "c.pcd"), corrupt,
-                         core::Error);
+    CHECK_THROWS_WITH_AS(io::readCloudData(file(std::string("\x20\x05", 2) + xyz), "c.pcd"), corrupt, core::Error);
 }
 
 TEST_CASE("cloud_reader: special files and long values are refused with one line") {
@@ -251,11 +245,11 @@ TEST_CASE("cloud_reader: special files and long values are refused with one line
     CHECK(errorOf(dir.path) == "pcd: " + dir.path.string() + ": is a directory, not a regular file");
     const fs::path fifo = dir.path / "f.pcd";
     REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
-    CHECK(errorOf(fifo) == "pcd: " + fifo.string() + ": is not a regular file");   // no hang
+    CHECK(errorOf(fifo) == "pcd: " + fifo.string() + ": is not a regular file");  // no hang
     const fs::path missing = dir.path / "none.ply";
     CHECK(errorOf(missing) == "ply: " + missing.string() + ": file does not exist");
-    const std::string pcd = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 2 " +
-                            std::string(5000, '7') + "\n";
+    const std::string pcd =
+        "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 2 " + std::string(5000, '7') + "\n";
     CHECK_THROWS_WITH_AS(io::readCloudData(pcd, "long.pcd"),
                          "pcd: long.pcd: a value longer than 4096 bytes; not a text cloud?", core::Error);
     // The same across the reader's 1 MiB text blocks, from a file.

@@ -57,8 +57,9 @@ std::string loadSceneOutcome(const fs::path& p) {
 
 TEST_CASE("fuzz regression: a binary byte in a PCD header is shown escaped, on one line") {
     const std::string m = readCloudOutcome(kRegressions / "cloud_message_binary_byte.pcd");
-    CHECK(m == "pcd: fuzz.pcd: line 1: unknown header keyword '\\xff'; allowed: VERSION, FIELDS, SIZE, TYPE, "
-               "COUNT, WIDTH, HEIGHT, VIEWPOINT, POINTS, DATA");
+    CHECK(m ==
+          "pcd: fuzz.pcd: line 1: unknown header keyword '\\xff'; allowed: VERSION, FIELDS, SIZE, TYPE, "
+          "COUNT, WIDTH, HEIGHT, VIEWPOINT, POINTS, DATA");
 }
 
 TEST_CASE("fuzz regression: nlohmann's 'last read' bytes are escaped in a JSON syntax error") {

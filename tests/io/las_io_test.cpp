@@ -15,13 +15,13 @@
 #include <string>
 
 namespace fs = std::filesystem;
-using io::CloudFormat;
 using core::Role;
+using io::CloudFormat;
 
 namespace {
 
-using test_support::TempDir;
 using test_support::slurp;
+using test_support::TempDir;
 
 void spit(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 
@@ -192,10 +192,14 @@ TEST_CASE("las_io: doubles at 10^7 m keep their millimetres in PLY, PCD and LAS"
         std::snprintf(line, sizeof line, "%.4f %.4f %.4f\n", xyz[0], xyz[1], xyz[2]);
         text += line;
     }
-    spit(dir.path / "a.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty double x\n"
-                             "property double y\nproperty double z\nend_header\n" + ply_body);
-    spit(dir.path / "b.ply", "ply\nformat ascii 1.0\nelement vertex 10\nproperty double x\n"
-                             "property double y\nproperty double z\nend_header\n" + text);
+    spit(dir.path / "a.ply",
+         "ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty double x\n"
+         "property double y\nproperty double z\nend_header\n" +
+             ply_body);
+    spit(dir.path / "b.ply",
+         "ply\nformat ascii 1.0\nelement vertex 10\nproperty double x\n"
+         "property double y\nproperty double z\nend_header\n" +
+             text);
     spit(dir.path / "c.pcd", "FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nWIDTH 10\nDATA binary\n" + pcd_body);
     spit(dir.path / "d.pcd", "FIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nWIDTH 10\nDATA ascii\n" + text);
     for (const char* name : {"a.ply", "b.ply", "c.pcd", "d.pcd"}) {
@@ -218,12 +222,12 @@ TEST_CASE("las_io: doubles at 10^7 m keep their millimetres in PLY, PCD and LAS"
 TEST_CASE("las_io: ASPRS classes in a label field are roles, not a rejected file") {
     TempDir dir("asprs_labels");
     // Not our file (no ladarvr origin): 0..2 are our roles, 3 on ASPRS classes.
-    spit(dir.path / "a.pcd", "FIELDS x y z label\nSIZE 4 4 4 1\nTYPE F F F U\nWIDTH 4\nDATA ascii\n"
-                             "0 0 0 6\n1 0 0 64\n2 0 0 1\n3 0 0 99\n");
+    spit(dir.path / "a.pcd",
+         "FIELDS x y z label\nSIZE 4 4 4 1\nTYPE F F F U\nWIDTH 4\nDATA ascii\n"
+         "0 0 0 6\n1 0 0 64\n2 0 0 1\n3 0 0 99\n");
     io::CloudReader a(dir.path / "a.pcd");
     std::vector<core::CloudPoint> pts;
-    while (a.nextChunk(pts)) {
-    }
+    while (a.nextChunk(pts)) {}
     REQUIRE(pts.size() == 4);
     CHECK(pts[0].label == Role::Environment);  // 6 building
     CHECK(pts[1].label == Role::Target);       // 64, our target class
@@ -232,8 +236,9 @@ TEST_CASE("las_io: ASPRS classes in a label field are roles, not a rejected file
     CHECK(a.warning().find("1 points have an ASPRS class this reader does not know (the first: 99)") !=
           std::string::npos);
     // A field named classification holds ASPRS classes throughout: 2 is ground.
-    spit(dir.path / "b.ply", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-                             "property float z\nproperty uchar classification\nend_header\n1 2 3 2\n4 5 6 6\n");
+    spit(dir.path / "b.ply",
+         "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+         "property float z\nproperty uchar classification\nend_header\n1 2 3 2\n4 5 6 6\n");
     const core::PointCloud b = io::readCloud(dir.path / "b.ply");
     CHECK(b.points[0].label == Role::Ground);
     CHECK(b.points[1].label == Role::Environment);

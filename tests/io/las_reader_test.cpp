@@ -97,15 +97,17 @@ TEST_CASE("las_reader: a LASzip VLR whose compressor does not suit LAS 1.4 items
         put<std::uint16_t>(b, vlr + 54, compressor);
         const std::string e = readError(b);
         CHECK(contains(e, "las: x.laz: the LASzip VLR is not one this reader knows (compressor " +
-                              std::to_string(compressor) + ", coder 0, 3 items in 52 bytes); allowed for point format 7: "
+                              std::to_string(compressor) +
+                              ", coder 0, 3 items in 52 bytes); allowed for point format 7: "
                               "compressor 3 (layered chunks), coder 0"));
     }
     // Items that are not the point format's: RGB and NIR where format 7 has RGB only, a
     // version of the older point-wise compressor.
     std::string b = laz;
     put<std::uint16_t>(b, vlr + 54 + 34 + 6, 12);  // the second item (RGB14) as RGBNIR14
-    CHECK(contains(readError(b), "the LASzip VLR's items (type/size/version: 10/30/v3, 12/6/v3, 14/5/v3) are not "
-                                 "those of point format 7 with 5 extra bytes"));
+    CHECK(contains(readError(b),
+                   "the LASzip VLR's items (type/size/version: 10/30/v3, 12/6/v3, 14/5/v3) are not "
+                   "those of point format 7 with 5 extra bytes"));
     b = laz;
     put<std::uint16_t>(b, vlr + 54 + 34 + 4, 1);  // POINT14 version 1
     CHECK(contains(readError(b), "are not those of point format 7"));
@@ -136,8 +138,9 @@ TEST_CASE("las_reader: a chunk count with its high byte set is refused before LA
     REQUIRE(get<std::uint32_t>(laz, table + 4) == 1);
     std::string b = laz;
     b[table + 7] = char(0x80);
-    CHECK(contains(readError(b), "las: x.laz: the chunk table lists 2147483649 chunks but the header's 400 points "
-                                 "fill 1 chunks of 50000 (the header counts fewer points than the data hold)"));
+    CHECK(contains(readError(b),
+                   "las: x.laz: the chunk table lists 2147483649 chunks but the header's 400 points "
+                   "fill 1 chunks of 50000 (the header counts fewer points than the data hold)"));
     b = laz;
     b[table + 7] = char(0xFF);
     CHECK(contains(readError(b), "the chunk table lists 4278190081 chunks"));
@@ -162,8 +165,8 @@ TEST_CASE("las_reader: the header counting fewer points than the data hold is re
     std::string las = written(CloudFormat::Las);
     const std::size_t record = get<std::uint16_t>(las, 105);
     put<std::uint64_t>(las, 247, 399);  // LAS 1.4's point count (the legacy one is 0 for format 6)
-    CHECK(readError(las, "x.las") == "las: x.las: " + std::to_string(record) + " bytes follow the header's 399 points of " +
-                                         std::to_string(record) +
+    CHECK(readError(las, "x.las") == "las: x.las: " + std::to_string(record) +
+                                         " bytes follow the header's 399 points of " + std::to_string(record) +
                                          " bytes; allowed: the points end where the file, its waveform data or its "
                                          "EVLRs begin");
     // Bytes appended to a correct file, too.
@@ -199,8 +202,9 @@ TEST_CASE("las_reader: undecodable compressed points name the point and what is 
     put<std::uint32_t>(laz, sizes, 0u);
     put<std::uint32_t>(laz, sizes + 4, get<std::uint32_t>(laz, sizes + 4) + first);
     const std::string e = readError(laz);
-    CHECK(e == "las: x.laz: point 0 of 400: the compressed point data cannot be decoded; the LAZ file is corrupt or "
-               "cut short");
+    CHECK(e ==
+          "las: x.laz: point 0 of 400: the compressed point data cannot be decoded; the LAZ file is corrupt or "
+          "cut short");
 }
 
 TEST_CASE("las_reader: an empty or foreign file named .las is the LAS reader's to refuse, not PCD's") {
@@ -225,7 +229,8 @@ TEST_CASE("las_reader: EVLRs after the points are allowed, and must lie inside t
     put<std::uint32_t>(b, 243, 1);
     CHECK(readError(b, "x.las") == "ok");
     put<std::uint64_t>(b, end + 20, std::uint64_t(1) << 50);
-    CHECK(readError(b, "x.las") == "las: x.las: EVLR 0 at byte " + std::to_string(end) + " declares 1125899906842624 bytes "
+    CHECK(readError(b, "x.las") == "las: x.las: EVLR 0 at byte " + std::to_string(end) +
+                                       " declares 1125899906842624 bytes "
                                        "but 4 follow it");
     put<std::uint32_t>(b, 243, 1000);
     CHECK(contains(readError(b, "x.las"), "1000 EVLRs from byte " + std::to_string(end) + " do not fit a file of"));
@@ -236,8 +241,9 @@ TEST_CASE("las_reader: LASzip aborting on corrupt compressed data ends only its 
     // on which LASzip (built with assertions) aborts in ArithmeticDecoder::decodeSymbol.
     const fs::path kept = fs::path(LADARVR_TEST_DATA_DIR) / "io" / "fuzz_regressions" / "las_laszip_symbol_assert.laz";
     const std::string e = readError(slurp(kept));
-    CHECK(e == "las: x.laz: point 1 of 475: the compressed point data cannot be decoded; the LAZ file is corrupt "
-               "(LASzip stopped by SIGABRT in the decoding process)");
+    CHECK(e ==
+          "las: x.laz: point 1 of 475: the compressed point data cannot be decoded; the LAZ file is corrupt "
+          "(LASzip stopped by SIGABRT in the decoding process)");
     // The reader, and the process, go on: the same file twice, then a good one.
     CHECK(readError(slurp(kept)) == e);
     CHECK(readError(written(CloudFormat::Laz)) == "ok");

@@ -24,8 +24,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using test_support::TempDir;
 using test_support::slurp;
+using test_support::TempDir;
 
 core::CloudFields ladarFields(bool rgb) {
     core::CloudFields f;
@@ -189,8 +189,9 @@ TEST_CASE("laz_writer: a bad point in a worker's chunk is the caller's error, an
         w.commit();
         FAIL("no error");
     } catch (const core::Error& e) {
-        CHECK(std::string(e.what()) == "output: " + path.string() +
-                                           ": point 120000 lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm");
+        CHECK(std::string(e.what()) ==
+              "output: " + path.string() +
+                  ": point 120000 lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm");
     }
     CHECK_FALSE(fs::exists(path));
     std::size_t left = 0;

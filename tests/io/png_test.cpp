@@ -50,8 +50,7 @@ TEST_CASE("png: greyscale masks round-trip and compress far below the raw size")
 
 TEST_CASE("png: wrong sizes and channel counts are one clear error") {
     const std::vector<std::uint8_t> six(6, 0);
-    CHECK_THROWS_WITH_AS(io::encodePng(six, 3, 3, 1), doctest::Contains("png: image 3x3 with 1 channels"),
-                         core::Error);
+    CHECK_THROWS_WITH_AS(io::encodePng(six, 3, 3, 1), doctest::Contains("png: image 3x3 with 1 channels"), core::Error);
     CHECK_THROWS_AS(io::encodePng(six, 2, 2, 3), core::Error);  // RGB needs 12 bytes
     CHECK_NOTHROW(io::encodePng(six, 1, 2, 3));
     CHECK_THROWS_AS(io::encodePng(six, 2, 3, 2), core::Error);  // 2 channels not offered
@@ -65,7 +64,7 @@ TEST_CASE("png: writePng writes atomically and leaves nothing else behind") {
     const auto d = decodePng(test_support::slurp(dir.path / "a.png"));
     CHECK(d.pixels == grey);
     CHECK(dir.entries() == 1);
-    CHECK_THROWS_WITH_AS(io::writePng(dir.path / "missing" / "b.png", grey, 2, 2, 1),
-                         doctest::Contains("output: "), core::Error);
+    CHECK_THROWS_WITH_AS(io::writePng(dir.path / "missing" / "b.png", grey, 2, 2, 1), doctest::Contains("output: "),
+                         core::Error);
     CHECK(dir.entries() == 1);
 }

@@ -33,9 +33,7 @@ std::string loadError(const fs::path& file, io::SceneLoadOptions options = {}) {
     return {};
 }
 
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // A fresh directory under /tmp for scenes written by a test; removed at scope exit.
 using test_support::TempDir;
@@ -70,13 +68,11 @@ TEST_CASE("scene: RoleMask parses comma-separated lists") {
     CHECK(RoleMask::parse("ground", "--roles").bits == 0b001);
     CHECK(RoleMask::of({Role::Target, Role::Ground}).bits == 0b101);
     CHECK(RoleMask::all().bits == 0b111);
-    CHECK_THROWS_WITH_AS(RoleMask::parse("", "--roles"),
-                         doctest::Contains("--roles: empty role"), core::Error);
-    CHECK_THROWS_WITH_AS(RoleMask::parse("target,,ground", "--roles"),
-                         doctest::Contains("--roles: empty role"), core::Error);
-    CHECK_THROWS_WITH_AS(RoleMask::parse("target,trees", "--roles"),
-                         "--roles: role 'trees' is not one of ground, environment, target",
+    CHECK_THROWS_WITH_AS(RoleMask::parse("", "--roles"), doctest::Contains("--roles: empty role"), core::Error);
+    CHECK_THROWS_WITH_AS(RoleMask::parse("target,,ground", "--roles"), doctest::Contains("--roles: empty role"),
                          core::Error);
+    CHECK_THROWS_WITH_AS(RoleMask::parse("target,trees", "--roles"),
+                         "--roles: role 'trees' is not one of ground, environment, target", core::Error);
 }
 
 TEST_CASE("scene: the basic scene loads with position, yaw, scale and up applied") {
@@ -105,8 +101,7 @@ TEST_CASE("scene: the basic scene loads with position, yaw, scale and up applied
     // The +90 deg yaw maps the cube's corner (1, 0, 0) to (0, 1, 0) * 2 + (2, 3, 0).
     bool found = false;
     for (const glm::vec3& v : s.meshes[1].vertices)
-        found = found || (std::abs(v.x - 2.0f) < 1e-5f && std::abs(v.y - 5.0f) < 1e-5f &&
-                          v.z == 0.0f);
+        found = found || (std::abs(v.x - 2.0f) < 1e-5f && std::abs(v.y - 5.0f) < 1e-5f && v.z == 0.0f);
     CHECK(found);
 
     // up: y maps file (x, y, z) to (x, -z, y): the cube at (-5, 0, 0) spans
@@ -138,9 +133,11 @@ TEST_CASE("scene: georeferenced scenes keep centimetres in the local frame") {
     SUBCASE("explicit origin") {
         // Mesh at origin + (10, 20, -100): local vertices are exactly the cube moved there.
         const fs::path f = dir.write("scene.json",
-            "{ \"origin\": [1000000.5, 20000000.25, 100],\n"
-            "  \"meshes\": [ { \"file\": \"" + kBox + "\", \"role\": \"target\",\n"
-            "                  \"position\": [1000010.5, 20000020.25, 0] } ] }");
+                                     "{ \"origin\": [1000000.5, 20000000.25, 100],\n"
+                                     "  \"meshes\": [ { \"file\": \"" +
+                                         kBox +
+                                         "\", \"role\": \"target\",\n"
+                                         "                  \"position\": [1000010.5, 20000020.25, 0] } ] }");
         const core::Scene s = io::loadScene(f);
         CHECK(s.origin == glm::dvec3(1000000.5, 20000000.25, 100.0));
         const core::Bounds b = meshBounds(s.meshes[0]);
@@ -148,11 +145,14 @@ TEST_CASE("scene: georeferenced scenes keep centimetres in the local frame") {
         CHECK(b.hi == glm::dvec3(11.0, 21.0, -99.0));
     }
     SUBCASE("default origin: the first mesh's position") {
-        const fs::path f = dir.write("scene.json",
-            "{ \"meshes\": [ { \"file\": \"" + kBox + "\", \"role\": \"ground\",\n"
-            "                  \"position\": [5123456.78, 3123456.91, 50.5] },\n"
-            "                { \"file\": \"" + kBox + "\", \"role\": \"target\",\n"
-            "                  \"position\": [5123456.79, 3123456.91, 50.5] } ] }");
+        const fs::path f =
+            dir.write("scene.json", "{ \"meshes\": [ { \"file\": \"" + kBox +
+                                        "\", \"role\": \"ground\",\n"
+                                        "                  \"position\": [5123456.78, 3123456.91, 50.5] },\n"
+                                        "                { \"file\": \"" +
+                                        kBox +
+                                        "\", \"role\": \"target\",\n"
+                                        "                  \"position\": [5123456.79, 3123456.91, 50.5] } ] }");
         const core::Scene s = io::loadScene(f);
         CHECK(s.origin == glm::dvec3(5123456.78, 3123456.91, 50.5));
         CHECK(meshBounds(s.meshes[0]).lo == glm::dvec3(0.0));
@@ -173,8 +173,7 @@ TEST_CASE("scene: require_target can be turned off") {
 TEST_CASE("scene: bad scene files give one clear line naming the file and the reason") {
     const std::string b = "scene: " + kBad.string() + "/";
     SUBCASE("missing scene file") {
-        CHECK(loadError(kBad / "nothing_here.json") ==
-              b + "nothing_here.json: the scene file does not exist");
+        CHECK(loadError(kBad / "nothing_here.json") == b + "nothing_here.json: the scene file does not exist");
     }
     SUBCASE("JSON syntax error names the line") {
         const std::string m = loadError(kBad / "syntax.json");
@@ -227,15 +226,14 @@ TEST_CASE("scene: bad scene files give one clear line naming the file and the re
             TempDir dir("perm");
             fs::copy_file(kBox, dir.path / "box.obj");
             fs::permissions(dir.path / "box.obj", fs::perms::none);
-            const fs::path f = dir.write(
-                "scene.json", "{\"meshes\": [{\"file\": \"box.obj\", \"role\": \"target\"}]}");
+            const fs::path f = dir.write("scene.json", "{\"meshes\": [{\"file\": \"box.obj\", \"role\": \"target\"}]}");
             CHECK(contains(loadError(f), "box.obj' cannot be read"));
         }
     }
     SUBCASE("Assimp cannot import the mesh") {
         const std::string m = loadError(kBad / "assimp_fails.json");
         CHECK(contains(m, b + "assimp_fails.json: meshes[0] ('not_a_mesh.xyz123'): Assimp cannot "
-                          "import mesh file"));
+                              "import mesh file"));
         CHECK(contains(m, "allowed: a triangle mesh in a format Assimp reads"));
         CHECK(contains(loadError(kBad / "empty_mesh.json"), "meshes[0] ('empty.obj'): "));
     }
@@ -280,8 +278,7 @@ TEST_CASE("scene: bad scene files give one clear line naming the file and the re
 TEST_CASE("scene: a mesh made only of zero-area triangles is an error") {
     TempDir dir("degenerate");
     dir.write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
-    const fs::path f =
-        dir.write("scene.json", "{\"meshes\": [{\"file\": \"flat.obj\", \"role\": \"target\"}]}");
+    const fs::path f = dir.write("scene.json", "{\"meshes\": [{\"file\": \"flat.obj\", \"role\": \"target\"}]}");
     CHECK(contains(loadError(f), "meshes[0] ('flat.obj'): all 1 triangles have zero area"));
 }
 
@@ -290,8 +287,8 @@ TEST_CASE("scene: errors in a later entry are found before any mesh is imported"
     // first, so the JSON mistake is reported, not the (later) missing file.
     TempDir dir("order");
     const fs::path f = dir.write("scene.json",
-        "{\"meshes\": [{\"file\": \"missing.obj\", \"role\": \"target\"},"
-        " {\"file\": \"missing.obj\", \"role\": \"tree\"}]}");
+                                 "{\"meshes\": [{\"file\": \"missing.obj\", \"role\": \"target\"},"
+                                 " {\"file\": \"missing.obj\", \"role\": \"tree\"}]}");
     CHECK(contains(loadError(f), "meshes[1] ('missing.obj'): role 'tree' is not one of"));
 }
 
@@ -305,10 +302,10 @@ TEST_CASE("scene: skip_nonfinite drops the triangles of NaN vertices and counts 
     dir.write("some.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 inf 0\nf 1 2 3\nf 2 4 3\n");
     for (const std::string mesh : {"some.ply", "some.obj"}) {
         CAPTURE(mesh);
-        const fs::path f = dir.write("scene.json", std::string("{\"meshes\": [{\"file\": \"") +
-                                                        mesh + "\", \"role\": \"target\"}, "
-                                                        "{\"file\": \"" + mesh +
-                                                        "\", \"role\": \"ground\", \"position\": [5, 0, 0]}]}");
+        const fs::path f = dir.write("scene.json", std::string("{\"meshes\": [{\"file\": \"") + mesh +
+                                                       "\", \"role\": \"target\"}, "
+                                                       "{\"file\": \"" +
+                                                       mesh + "\", \"role\": \"ground\", \"position\": [5, 0, 0]}]}");
         // The vertex index is Assimp's: OBJ corners get their own vertices.
         CHECK(contains(loadError(f), mesh == "some.ply" ? "vertex 3 is not finite (nan, 1, 0)"
                                                         : "vertex 4 is not finite (1, inf, 0)"));
@@ -326,8 +323,7 @@ TEST_CASE("scene: skip_nonfinite drops the triangles of NaN vertices and counts 
     // A mesh with nothing finite left is still an error.
     io::SceneLoadOptions o;
     o.skip_nonfinite = true;
-    CHECK(contains(loadError(kBad / "nan_vertex.json", o),
-                   "contains no triangles with finite vertices"));
+    CHECK(contains(loadError(kBad / "nan_vertex.json", o), "contains no triangles with finite vertices"));
 }
 
 TEST_CASE("scene: --roles that leave no mesh are an error") {
@@ -340,14 +336,14 @@ TEST_CASE("scene: --roles that leave no mesh are an error") {
 }
 
 TEST_CASE("scene: loadSceneJson reads text in memory relative to the named file") {
-    const core::Scene s = io::loadSceneJson(
-        R"({"meshes": [{"file": "box.obj", "role": "target", "position": [1, 1, 1]}]})",
-        kScenes / "basic" / "virtual.json");
+    const core::Scene s =
+        io::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target", "position": [1, 1, 1]}]})",
+                          kScenes / "basic" / "virtual.json");
     REQUIRE(s.meshes.size() == 1);
     CHECK(s.source == kScenes / "basic" / "virtual.json");
     CHECK(meshBounds(s.meshes[0]).hi == glm::dvec3(1.0));
-    CHECK_THROWS_WITH_AS(io::loadSceneJson("{", "mem.json"),
-                         doctest::Contains("scene: mem.json: JSON syntax error"), core::Error);
+    CHECK_THROWS_WITH_AS(io::loadSceneJson("{", "mem.json"), doctest::Contains("scene: mem.json: JSON syntax error"),
+                         core::Error);
 }
 
 TEST_CASE("scene: the bundled demo scene matches its description") {

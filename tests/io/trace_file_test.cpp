@@ -63,13 +63,14 @@ TEST_CASE("trace: rows as the study writes them, and read back") {
 }
 
 TEST_CASE("trace: CRLF, a last line without its break, and the eight head columns alone") {
-    const io::Trace crlf = io::parseTrace(kHeadOnly.substr(0, kHeadOnly.size() - 1) + "\r\n0,1,2,3,1,0,0,0\r\n"
-                                                                                             "0.1,1,2,3,1,0,0,0",
-                                                  "crlf.csv");
+    const io::Trace crlf = io::parseTrace(kHeadOnly.substr(0, kHeadOnly.size() - 1) +
+                                              "\r\n0,1,2,3,1,0,0,0\r\n"
+                                              "0.1,1,2,3,1,0,0,0",
+                                          "crlf.csv");
     CHECK_FALSE(crlf.study_columns);
     REQUIRE(crlf.rows.size() == 2);
     CHECK(crlf.rows[1].t_s == 0.1);
-    CHECK(crlf.rows[1].mode == io::TraceMode::Automatic);   // the defaults without the study columns
+    CHECK(crlf.rows[1].mode == io::TraceMode::Automatic);  // the defaults without the study columns
     CHECK(crlf.rows[1].scale == 1.0);
 }
 
@@ -102,9 +103,10 @@ TEST_CASE("trace: extra columns after the study's are ignored, and every row has
     CHECK(extra.rows[0].mode == io::TraceMode::Free);
     CHECK(extra.rows[0].scale == 2.0);
     // Columns after head_qz that are not the study's are ignored whatever they hold.
-    const io::Trace other = io::parseTrace(kHeadOnly.substr(0, kHeadOnly.size() - 1) + ",mode\n"
-                                                                                              "0,1,2,3,1,0,0,0,walk\n",
-                                                   "o.csv");
+    const io::Trace other = io::parseTrace(kHeadOnly.substr(0, kHeadOnly.size() - 1) +
+                                               ",mode\n"
+                                               "0,1,2,3,1,0,0,0,walk\n",
+                                           "o.csv");
     CHECK_FALSE(other.study_columns);
     CHECK(other.rows.size() == 1);
     CHECK(error(kHeader + "0,1,2,3,1,0,0,0\n").find("line 2: 8 fields; allowed 13 (as the header)") !=
@@ -134,8 +136,9 @@ TEST_CASE("trace: a wrong header, number, mode, scale or hit names its line and 
     CHECK(error(kHeader + "0,+1,2,3,1,0,0,0,automatic,1,,,\n").find("column head_x") != std::string::npos);
     CHECK(error(kHeader + "0,1e300,2,3,1,0,0,0,automatic,1,,,\n").find("column head_x: out of range") !=
           std::string::npos);
-    CHECK(error(kHeader + "0,1,2,3,1,0,0,0,walk,1,,,\n").find("line 2, column mode: 'walk'; allowed automatic or free") !=
-          std::string::npos);
+    CHECK(
+        error(kHeader + "0,1,2,3,1,0,0,0,walk,1,,,\n").find("line 2, column mode: 'walk'; allowed automatic or free") !=
+        std::string::npos);
     CHECK(error(kHeader + "0,1,2,3,1,0,0,0,free,0,,,\n").find("line 2, column scale: '0'; allowed a number > 0") !=
           std::string::npos);
     CHECK(error(kHeader + "0,1,2,3,1,0,0,0,free,x,,,\n").find("column scale: 'x' is not a finite number") !=

@@ -51,8 +51,9 @@ TEST_CASE("report: views.csv, summary.json and I1..I4 PNGs exist, parse and agre
     std::istringstream csv(readFile(dir / "out" / "views.csv"));
     std::string line;
     std::getline(csv, line);
-    CHECK(line == "view,eye_x,eye_y,eye_z,look_x,look_y,look_z,up_x,up_y,up_z,vfov_deg,width,height,"
-                  "i1,i2,i3,i4,metric,visible,exact");
+    CHECK(line ==
+          "view,eye_x,eye_y,eye_z,look_x,look_y,look_z,up_x,up_y,up_z,vfov_deg,width,height,"
+          "i1,i2,i3,i4,metric,visible,exact");
     int rows = 0;
     while (std::getline(csv, line)) {
         std::vector<std::string> cells;
@@ -76,8 +77,8 @@ TEST_CASE("report: views.csv, summary.json and I1..I4 PNGs exist, parse and agre
     CHECK(rows == 3);
 
     const auto summary = nlohmann::json::parse(readFile(dir / "out" / "summary.json"));
-    for (const char* key : {"views", "views_used", "metric_mean", "metric_min", "metric_max", "visible_mean",
-                            "exact_mean", "seconds"})
+    for (const char* key :
+         {"views", "views_used", "metric_mean", "metric_min", "metric_max", "visible_mean", "exact_mean", "seconds"})
         CHECK_MESSAGE(summary.contains(key), key);
     CHECK(summary["views"] == 3);
     CHECK(summary["views_used"] == r.views_used);

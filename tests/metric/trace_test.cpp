@@ -21,7 +21,8 @@ using doctest::Approx;
 
 namespace {
 
-constexpr const char* kHeader = "t_s,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz,mode,scale,hit_x,hit_y,hit_z\n";
+constexpr const char* kHeader =
+    "t_s,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz,mode,scale,hit_x,hit_y,hit_z\n";
 
 // The head orientation whose -z looks along the camera's axis with the camera's up as y.
 glm::dquat headOrientation(const render::CameraPose& pose) {

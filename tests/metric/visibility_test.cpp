@@ -37,8 +37,7 @@ metric::MetricOptions axisViews() {
 }
 
 const metric::MetricClouds& wallClouds() {
-    static const metric::MetricClouds clouds =
-        metric::generateClouds(test_support::boxBehindWall(kA, kD, kWallTop));
+    static const metric::MetricClouds clouds = metric::generateClouds(test_support::boxBehindWall(kA, kD, kWallTop));
     return clouds;
 }
 
@@ -77,8 +76,8 @@ TEST_CASE("box behind a wall: exact reference matches the closed form, point met
     }
     CHECK(std::abs(r.exact_mean - expected) < 0.01);
     CHECK(std::abs(r.metric_mean - expected) < 0.01);
-    MESSAGE("closed form " << expected << ", exact " << r.exact_mean << ", metric " << r.metric_mean
-                           << ", visible " << r.visible_mean);
+    MESSAGE("closed form " << expected << ", exact " << r.exact_mean << ", metric " << r.metric_mean << ", visible "
+                           << r.visible_mean);
 }
 
 TEST_CASE("skips (target rectangle, culling) give the same counts inside the rectangle") {
@@ -93,9 +92,9 @@ TEST_CASE("skips (target rectangle, culling) give the same counts inside the rec
         const auto& a = skip.views[static_cast<std::size_t>(k)];
         const auto& b = full.views[static_cast<std::size_t>(k)];
         CHECK(a.rect.area() < b.rect.area());
-        CHECK(a.i1 == b.i1);                   // I1 lies inside the rectangle
-        CHECK(a.visible_px == b.visible_px);   // so does I3 and not I2 (it is within I1's splats)
-        CHECK(a.i4 <= b.i4);                   // xor also counts P2-only pixels anywhere
+        CHECK(a.i1 == b.i1);                  // I1 lies inside the rectangle
+        CHECK(a.visible_px == b.visible_px);  // so does I3 and not I2 (it is within I1's splats)
+        CHECK(a.i4 <= b.i4);                  // xor also counts P2-only pixels anywhere
         CHECK(std::isnan(a.exact));
     }
     CHECK_FALSE(skip.has_exact);
@@ -236,8 +235,8 @@ TEST_CASE("views with the target out of frame are reported and left out of the m
         o.skip = skip;
         const metric::MetricResult r = evaluator.run(o);
         REQUIRE(r.views.size() == 4);
-        const metric::ViewResult& west = r.views[0];   // eye at +50 m looking at +40 m: target ahead
-        const metric::ViewResult& east = r.views[2];   // eye at +30 m looking at +40 m: behind
+        const metric::ViewResult& west = r.views[0];  // eye at +50 m looking at +40 m: target ahead
+        const metric::ViewResult& east = r.views[2];  // eye at +30 m looking at +40 m: behind
         CHECK(west.used);
         CHECK(west.i1 > 0);
         CHECK_FALSE(east.used);
@@ -296,12 +295,10 @@ TEST_CASE("options are validated naming the option and the allowed range") {
     CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--radius-m = 0"), core::Error);
     o = metric::MetricOptions{};
     o.orbit.altitude_m = 1e12;  // past float's metre steps: the target would leave every frame
-    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --altitude-m = 1e+12: allowed [-1e7, 1e7] metres",
-                         core::Error);
+    CHECK_THROWS_WITH_AS(metric::validate(o), "metric: --altitude-m = 1e+12: allowed [-1e7, 1e7] metres", core::Error);
     o = metric::MetricOptions{};
     o.orbit.radius_m = 2e7;
-    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--radius-m = 2e+07: allowed (0, 1e7]"),
-                         core::Error);
+    CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--radius-m = 2e+07: allowed (0, 1e7]"), core::Error);
     o = metric::MetricOptions{};
     o.look_at_world = glm::dvec3(1e300, 0.0, 0.0);
     CHECK_THROWS_WITH_AS(metric::validate(o), doctest::Contains("--look-at: out of range"), core::Error);
@@ -364,8 +361,8 @@ TEST_CASE("environment behind the target: xor counts it as hiding, exact and dep
     core::Scene scene;
     scene.source = "cube before a wall (in code)";
     scene.meshes.push_back(test_support::boxMesh({-kA, -kA, -kA}, {kA, kA, kA}, core::Role::Target, "cube"));
-    scene.meshes.push_back(test_support::boxMesh({-8.1f, -12.0f, -3.0f}, {-8.0f, 12.0f, 8.0f},
-                                            core::Role::Environment, "wall"));
+    scene.meshes.push_back(
+        test_support::boxMesh({-8.1f, -12.0f, -3.0f}, {-8.0f, 12.0f, 8.0f}, core::Role::Environment, "wall"));
     metric::Evaluator evaluator(metric::generateClouds(scene), &scene);
     metric::MetricOptions o = axisViews();
     o.orbit.views = 1;  // eye at (+20, 0, 0)

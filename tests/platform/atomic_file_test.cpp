@@ -16,8 +16,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using test_support::TempDir;
 using test_support::slurp;
+using test_support::TempDir;
 
 }  // namespace
 
@@ -45,18 +45,17 @@ TEST_CASE("atomic_file: writeFileAtomic writes, replaces, and leaves no temporar
 TEST_CASE("atomic_file: bad destinations are refused and nothing is written") {
     TempDir dir("dest");
     const fs::path missing = dir.path / "no" / "such" / "out.pcd";
-    CHECK_THROWS_WITH_AS(platform::writeFileAtomic(missing, "x"),
-                         ("output: " + missing.string() + ": directory '" +
-                          missing.parent_path().string() + "' does not exist").c_str(),
-                         core::Error);
+    CHECK_THROWS_WITH_AS(
+        platform::writeFileAtomic(missing, "x"),
+        ("output: " + missing.string() + ": directory '" + missing.parent_path().string() + "' does not exist").c_str(),
+        core::Error);
     CHECK_THROWS_WITH_AS(platform::checkWritableDestination(dir.path),
-                         ("output: " + dir.path.string() + ": is a directory; give a file name").c_str(),
-                         core::Error);
+                         ("output: " + dir.path.string() + ": is a directory; give a file name").c_str(), core::Error);
     std::ofstream(dir.path / "file") << "keep";
     CHECK_THROWS_WITH_AS(platform::checkWritableDestination(dir.path / "file" / "out.pcd"),
                          doctest::Contains("is not a directory"), core::Error);
-    CHECK_THROWS_WITH_AS(platform::checkWritableDestination(""),
-                         doctest::Contains("output: the output path is empty"), core::Error);
+    CHECK_THROWS_WITH_AS(platform::checkWritableDestination(""), doctest::Contains("output: the output path is empty"),
+                         core::Error);
     CHECK_NOTHROW(platform::checkWritableDestination(dir.path / "new.pcd"));
     CHECK(slurp(dir.path / "file") == "keep");
     CHECK(dir.entries() == 1);

@@ -41,7 +41,7 @@ TEST_CASE("chunks fill in steps, keep their cells' prefixes, and leave whole whe
     REQUIRE(id_a);
     REQUIRE(id_b);
     REQUIRE(chunks.cells().size() == 3);
-    CHECK(chunks.cells()[1].centre.x == doctest::Approx(6.5));   // cell [4, 10): x 4..9
+    CHECK(chunks.cells()[1].centre.x == doctest::Approx(6.5));  // cell [4, 10): x 4..9
     CHECK(chunks.uploadedPoints() == 0);
     CHECK(chunks.available(0) == 0);
     // Three points, then the other seven: the first cell fills before the second starts.
@@ -61,8 +61,8 @@ TEST_CASE("chunks fill in steps, keep their cells' prefixes, and leave whole whe
     REQUIRE(buffer != 0);
     std::vector<render::GpuPoint> stored(10);
     glGetNamedBufferSubData(buffer, 0, GLsizeiptr(stored.size() * sizeof(render::GpuPoint)), stored.data());
-    CHECK(stored[0].x == doctest::Approx(0.0 - 1.5));   // cell [0, 4): centre x 1.5
-    CHECK(stored[4].x == doctest::Approx(4.0 - 6.5));   // cell [4, 10): centre x 6.5
+    CHECK(stored[0].x == doctest::Approx(0.0 - 1.5));  // cell [0, 4): centre x 1.5
+    CHECK(stored[4].x == doctest::Approx(4.0 - 6.5));  // cell [4, 10): centre x 6.5
     CHECK(stored[9].x == doctest::Approx(9.0 - 6.5));
     // Removing chunk a drops its 10 points and 2 cells; chunk b's cell stays drawable.
     chunks.removeChunk(*id_a);
@@ -71,6 +71,6 @@ TEST_CASE("chunks fill in steps, keep their cells' prefixes, and leave whole whe
     CHECK(chunks.cells()[0].chunk == *id_b);
     CHECK(chunks.buffer(*id_a) == 0);
     CHECK(chunks.available(0) == 6);
-    CHECK(chunks.bounds().hi.x == doctest::Approx(105.0));   // bounds keep everything ever added
+    CHECK(chunks.bounds().hi.x == doctest::Approx(105.0));  // bounds keep everything ever added
     CHECK(glGetError() == GL_NO_ERROR);
 }

@@ -91,10 +91,10 @@ TEST_CASE("chunks outside the frustum are culled, those inside drawn") {
     pose.look_at = {0.0, 0.0, 0.0};
     pose.up = {0.0, 0.0, 1.0};
     Target target(32, 32);
-    const render::SplatDrawStats culled = splats.draw(render::viewMatrix(pose),
-        render::projectionMatrix(30.0, 1.0, 0.1, 1000.0), {}, true);
-    const render::SplatDrawStats all = splats.draw(render::viewMatrix(pose),
-        render::projectionMatrix(30.0, 1.0, 0.1, 1000.0), {}, false);
+    const render::SplatDrawStats culled =
+        splats.draw(render::viewMatrix(pose), render::projectionMatrix(30.0, 1.0, 0.1, 1000.0), {}, true);
+    const render::SplatDrawStats all =
+        splats.draw(render::viewMatrix(pose), render::projectionMatrix(30.0, 1.0, 0.1, 1000.0), {}, false);
     CHECK(all.points_drawn == 100);
     CHECK(culled.points_drawn < 10);
     CHECK(culled.points_drawn >= 2);  // x = 0 and 10 m are in view (half width ~13 m)

@@ -40,8 +40,7 @@ bool oneLine(const std::string& s) { return s.find('\n') == std::string::npos &&
 TEST_CASE("scene JSON: a key given twice is refused, naming the object") {
     const std::string top = sceneError(R"({"meshes": [], "meshes": [{"file": "box.obj", "role": "target"}]})");
     CHECK(contains(top, "duplicate key 'meshes'; allowed: each key once per object"));
-    const std::string entry =
-        sceneError(R"({"meshes": [{"file": "ground.obj", "role": "ground"},
+    const std::string entry = sceneError(R"({"meshes": [{"file": "ground.obj", "role": "ground"},
                                   {"file": "nope.obj", "file": "box.obj", "role": "target"}]})");
     CHECK(contains(entry, "test.json: meshes[1]: duplicate key 'file'"));
     CHECK(contains(sceneError(R"({"meshes": [{"file": "box.obj", "role": "target", "position": [0, 0, 0],
@@ -50,7 +49,7 @@ TEST_CASE("scene JSON: a key given twice is refused, naming the object") {
     // The same key in two different objects is fine.
     CHECK_NOTHROW(io::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target"},
                                                       {"file": "box.obj", "role": "environment"}]})",
-                                        kBasic / "test.json"));
+                                    kBasic / "test.json"));
 }
 
 TEST_CASE("scene JSON: a NUL character in a name is refused, not cut short") {
@@ -112,12 +111,13 @@ TEST_CASE("study plans: a trial's name is shown escaped and capped, whatever the
     // A newline and ESC[2J (clear the screen) would reach stderr in "trial 1 of 1 (<name>)".
     const study::Plan plan = study::parsePlan(
         R"({"trials": [{"cloud": "a.pcd", "name": "one\ntwo\u001b[2J\u0085"},
-                       {"cloud": "b.pcd", "name": "Pr\u00fcfung"}]})", "plan.json", ".");
-    CHECK(plan.trials[0].name == "one\\x0atwo\\x1b[2J\\xc2\\x85");   // U+0085 is a C1 control
+                       {"cloud": "b.pcd", "name": "Pr\u00fcfung"}]})",
+        "plan.json", ".");
+    CHECK(plan.trials[0].name == "one\\x0atwo\\x1b[2J\\xc2\\x85");  // U+0085 is a C1 control
     CHECK(plan.trials[1].name == "Pr\u00fcfung");                   // UTF-8 text is text
     const std::string huge(1 << 20, 'n');
-    const study::Plan big = study::parsePlan(R"({"trials": [{"cloud": "a.pcd", "name": ")" + huge + R"("}]})",
-                                             "plan.json", ".");
+    const study::Plan big =
+        study::parsePlan(R"({"trials": [{"cloud": "a.pcd", "name": ")" + huge + R"("}]})", "plan.json", ".");
     CHECK(big.trials[0].name.size() <= study::kMaxTrialNameChars + 3);
     CHECK(big.trials[0].name.ends_with("nnn..."));
     // The default name, the file's name, is no safer than a given one.
@@ -132,8 +132,9 @@ TEST_CASE("candidate files: centres and sizes past any world frame are refused")
                                                       R"(, "size_m": )" + size + R"(, "score": 0.5}]})");
         return errorOf([&] { io::readCandidates(file); });
     };
-    CHECK(contains(read("[1e300, 0, 0]", "[1, 1, 1]"),
-                   "candidates[0].centre[0] is 1e+300; allowed: [x, y, z] in world metres, each in [-1000000000, 1000000000]"));
+    CHECK(contains(
+        read("[1e300, 0, 0]", "[1, 1, 1]"),
+        "candidates[0].centre[0] is 1e+300; allowed: [x, y, z] in world metres, each in [-1000000000, 1000000000]"));
     CHECK(contains(read("[0, 0, -1e10]", "[1, 1, 1]"), "candidates[0].centre[2] is -1e+10"));
     CHECK(contains(read("[0, 0, 0]", "[1, 1e300, 1]"), "candidates[0].size_m[1] is 1e+300"));
     // At the bound: still a box.

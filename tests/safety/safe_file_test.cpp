@@ -89,8 +89,8 @@ TEST_CASE("an existing destination that is not a regular file is refused and lef
         fs::create_symlink(dir.path / "nowhere", dir.path / "dangling");
         CHECK(contains(errorOf([&] { platform::writeFileAtomic(dir.path / "link", "data"); }),
                        "is a symbolic link; refusing to replace it"));
-        CHECK(contains(errorOf([&] { platform::writeFileAtomic(dir.path / "dangling", "data"); }),
-                       "is a symbolic link"));
+        CHECK(
+            contains(errorOf([&] { platform::writeFileAtomic(dir.path / "dangling", "data"); }), "is a symbolic link"));
         CHECK(slurp(victim) == "keep");
         CHECK(fs::is_symlink(dir.path / "link"));
         CHECK_FALSE(fs::exists(dir.path / "nowhere"));
@@ -167,8 +167,7 @@ TEST_CASE("text inputs: regular files only, size capped, messages say what the n
     REQUIRE(::mkfifo(fifo.c_str(), 0666) == 0);
     CHECK(contains(errorOf([&] { platform::readTextFile(fifo, 1024, what); }), "is a FIFO (named pipe)"));
     fs::create_symlink("loop", dir.path / "loop");
-    CHECK(contains(errorOf([&] { platform::readTextFile(dir.path / "loop", 1024, what); }),
-                   "is a symbolic link loop"));
+    CHECK(contains(errorOf([&] { platform::readTextFile(dir.path / "loop", 1024, what); }), "is a symbolic link loop"));
     fs::create_symlink("gone", dir.path / "dangling");
     CHECK(contains(errorOf([&] { platform::readTextFile(dir.path / "dangling", 1024, what); }),
                    "is a dangling symbolic link (to 'gone'"));
@@ -189,9 +188,9 @@ TEST_CASE("messages: control characters and invalid bytes escaped, UTF-8 kept, l
     // C0, DEL and C1 (U+009B is a one-character CSI on some terminals) escaped byte by byte.
     CHECK(platform::printableUtf8("a\nb\x1b[2J\x7f\xc2\x9b") == "a\\x0ab\\x1b[2J\\x7f\\xc2\\x9b");
     // Valid UTF-8 kept; a stray continuation, an overlong form, a surrogate and a cut sequence escaped.
-    CHECK(platform::printableUtf8("gr\xc3\xbcn \xe2\x82\xac \xf0\x9f\x99\x82") == "gr\xc3\xbcn \xe2\x82\xac \xf0\x9f\x99\x82");
-    CHECK(platform::printableUtf8("\x80\xc0\xaf\xed\xa0\x80\xe2\x82") ==
-          "\\x80\\xc0\\xaf\\xed\\xa0\\x80\\xe2\\x82");
+    CHECK(platform::printableUtf8("gr\xc3\xbcn \xe2\x82\xac \xf0\x9f\x99\x82") ==
+          "gr\xc3\xbcn \xe2\x82\xac \xf0\x9f\x99\x82");
+    CHECK(platform::printableUtf8("\x80\xc0\xaf\xed\xa0\x80\xe2\x82") == "\\x80\\xc0\\xaf\\xed\\xa0\\x80\\xe2\\x82");
     // The cap never splits a character, escaped or not.
     CHECK(platform::printableUtf8("ab\xc3\xbc", 3) == "ab...");
     CHECK(platform::printableUtf8("ab\x1b", 5) == "ab...");
@@ -283,15 +282,15 @@ TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
         CHECK(slurp(out / "c.txt") == "run2 c");
     }
     SUBCASE("a failed write (file size limit) leaves the previous set whole") {
-        struct rlimit old {};
+        struct rlimit old{};
         ::getrlimit(RLIMIT_FSIZE, &old);
         const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
         struct rlimit small = old;
         small.rlim_cur = 4096;
         ::setrlimit(RLIMIT_FSIZE, &small);
         const std::string m = errorOf([&] {
-            platform::writeFolderAtomic(out, {{"a.txt", "run2 a"}, {"b.txt", std::string(10000, 'b')},
-                                            {"c.txt", "run2 c"}}, ours);
+            platform::writeFolderAtomic(
+                out, {{"a.txt", "run2 a"}, {"b.txt", std::string(10000, 'b')}, {"c.txt", "run2 c"}}, ours);
         });
         ::setrlimit(RLIMIT_FSIZE, &old);
         std::signal(SIGXFSZ, old_handler);

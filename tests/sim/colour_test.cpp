@@ -19,9 +19,12 @@ double hueDeg(std::uint32_t rgb) {
     const double mx = std::max({r, g, b}), mn = std::min({r, g, b});
     if (mx == mn) return 0.0;
     double h;
-    if (mx == r) h = 60.0 * std::fmod((g - b) / (mx - mn), 6.0);
-    else if (mx == g) h = 60.0 * ((b - r) / (mx - mn) + 2.0);
-    else h = 60.0 * ((r - g) / (mx - mn) + 4.0);
+    if (mx == r)
+        h = 60.0 * std::fmod((g - b) / (mx - mn), 6.0);
+    else if (mx == g)
+        h = 60.0 * ((b - r) / (mx - mn) + 2.0);
+    else
+        h = 60.0 * ((r - g) / (mx - mn) + 4.0);
     return h < 0 ? h + 360.0 : h;
 }
 
@@ -30,12 +33,12 @@ double hueDeg(std::uint32_t rgb) {
 TEST_CASE("jet(64) matches MATLAB's table at known rows") {
     const auto jet = core::jetTable(64);
     REQUIRE(jet.size() == 64);
-    CHECK(jet[0] == core::packRgb(0, 0, 143));      // [0 0 0.5625]
-    CHECK(jet[7] == core::packRgb(0, 0, 255));      // [0 0 1]
-    CHECK(jet[8] == core::packRgb(0, 16, 255));     // [0 0.0625 1]
-    CHECK(jet[23] == core::packRgb(0, 255, 255));   // [0 1 1]
-    CHECK(jet[39] == core::packRgb(255, 255, 0));   // [1 1 0]
-    CHECK(jet[63] == core::packRgb(128, 0, 0));     // [0.5 0 0]
+    CHECK(jet[0] == core::packRgb(0, 0, 143));                            // [0 0 0.5625]
+    CHECK(jet[7] == core::packRgb(0, 0, 255));                            // [0 0 1]
+    CHECK(jet[8] == core::packRgb(0, 16, 255));                           // [0 0.0625 1]
+    CHECK(jet[23] == core::packRgb(0, 255, 255));                         // [0 1 1]
+    CHECK(jet[39] == core::packRgb(255, 255, 0));                         // [1 1 0]
+    CHECK(jet[63] == core::packRgb(128, 0, 0));                           // [0.5 0 0]
     CHECK(std::set<std::uint32_t>(jet.begin(), jet.end()).size() == 64);  // every colour once
 }
 

@@ -29,8 +29,7 @@ bool near_m(double a, double b, double tol_m) { return std::abs(a - b) <= tol_m;
 
 bool samePoint(const core::CloudPoint& a, const core::CloudPoint& b) {
     return std::memcmp(&a.position, &b.position, sizeof a.position) == 0 && a.rgb == b.rgb &&
-           std::memcmp(&a.range_m, &b.range_m, sizeof a.range_m) == 0 && a.view == b.view &&
-           a.label == b.label;
+           std::memcmp(&a.range_m, &b.range_m, sizeof a.range_m) == 0 && a.view == b.view && a.label == b.label;
 }
 
 sim::GenerateOptions smallOptions() {
@@ -88,8 +87,8 @@ TEST_CASE("paper configuration on a ground covering the footprint: 1,638,400 poi
     // Colouring: ground white; the (low) target on the red side of the jet map.
     CHECK(st.ground_precision.has_value());
     CHECK(st.ground_recall.has_value());
-    MESSAGE("town scene: ground precision ", *st.ground_precision, ", recall ", *st.ground_recall,
-            ", planes ", st.planes_accepted, "/", st.planes_rejected);
+    MESSAGE("town scene: ground precision ", *st.ground_precision, ", recall ", *st.ground_recall, ", planes ",
+            st.planes_accepted, "/", st.planes_rejected);
     // Flat ground and box houses: one plane per view holds all the ground, so recall is
     // ~1. The only false positives are the bottom 0.2 m (the RANSAC distance) of walls
     // and tank, under 1 % of the ground points; a roof or wall slab turned white would
@@ -187,8 +186,8 @@ TEST_CASE("bad options fail before any work and leave no output file") {
     const auto fails = [&](auto change, const char* what) {
         sim::GenerateOptions o = smallOptions();
         change(o);
-        CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, out, io::CloudFormat::PcdBinary),
-                             doctest::Contains(what), core::Error);
+        CHECK_THROWS_WITH_AS(sim::generateToFile(scene, o, out, io::CloudFormat::PcdBinary), doctest::Contains(what),
+                             core::Error);
         CHECK_FALSE(fs::exists(out));
         CHECK(fs::is_empty(dir));
     };
@@ -203,8 +202,7 @@ TEST_CASE("bad options fail before any work and leave no output file") {
     fails([](auto& o) { o.centre = glm::dvec3(0, NAN, 0); }, "centre");
     fails([](auto& o) { o.roles.bits = 0; }, "roles");
     // A destination whose directory does not exist: refused before casting.
-    CHECK_THROWS_AS(sim::generateToFile(scene, smallOptions(), dir / "missing" / "x.pcd",
-                                        io::CloudFormat::PcdBinary),
+    CHECK_THROWS_AS(sim::generateToFile(scene, smallOptions(), dir / "missing" / "x.pcd", io::CloudFormat::PcdBinary),
                     core::Error);
     CHECK(fs::is_empty(dir));
 }
@@ -254,8 +252,8 @@ TEST_CASE("--roles keeps only those meshes and the same orbit, and --white makes
     // Every target point of the target-only cloud lies on the tank's box.
     std::size_t off_box = 0;
     for (const auto& p : target.points)
-        off_box += !(std::abs(p.position.x) <= 3.501f && std::abs(p.position.y) <= 1.751f &&
-                     p.position.z >= -0.001f && p.position.z <= 2.401f);
+        off_box += !(std::abs(p.position.x) <= 3.501f && std::abs(p.position.y) <= 1.751f && p.position.z >= -0.001f &&
+                     p.position.z <= 2.401f);
     CHECK(off_box == 0);
 }
 
@@ -317,7 +315,10 @@ TEST_CASE("demo scene, paper configuration: ground precision and recall above th
     for (const auto& p : cloud.points) {
         if (p.label != core::Role::Target) continue;
         ++target;
-        if (p.rgb == core::kWhite) { ++target_white; continue; }
+        if (p.rgb == core::kWhite) {
+            ++target_white;
+            continue;
+        }
         target_not_red += !((p.rgb >> 16 & 255) >= 128 && (p.rgb & 255) == 0);
     }
     CHECK(target > 100);
@@ -331,7 +332,8 @@ TEST_CASE("pixels that cannot meet the geometry's bounds are not traced, and the
     scene.source = "patch (in code)";
     scene.origin = glm::dvec3(500000.0, 4000000.0, 120.0);
     scene.meshes.push_back(test_support::gridMesh(0.0, 0.0, 0.0, 40, 0.5));
-    scene.meshes.push_back(test_support::boxMesh({-3.5f, -1.75f, 0.0f}, {3.5f, 1.75f, 2.4f}, core::Role::Target, "tank"));
+    scene.meshes.push_back(
+        test_support::boxMesh({-3.5f, -1.75f, 0.0f}, {3.5f, 1.75f, 2.4f}, core::Role::Target, "tank"));
     for (const bool packets : {true, false}) {
         CAPTURE(packets);
         sim::GenerateOptions o = smallOptions();

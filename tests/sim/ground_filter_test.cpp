@@ -251,9 +251,8 @@ TEST_CASE("generate names --ground smrf when RANSAC leaves the bundled hilly sce
 TEST_CASE("generate refuses an unknown --ground and a bad --smrf-* value before any work") {
     const test_support::TempDir scratch("sim_ground_cli_bad");
     const auto status = [&](const std::string& args) {
-        const std::string command = std::string(LADARVR_CLI) + " generate --out '" +
-                                    (scratch.path / "x.pcd").string() + "' " + args + " 2> '" +
-                                    (scratch.path / "err").string() + "'";
+        const std::string command = std::string(LADARVR_CLI) + " generate --out '" + (scratch.path / "x.pcd").string() +
+                                    "' " + args + " 2> '" + (scratch.path / "err").string() + "'";
         const int rc = std::system(command.c_str());
         return std::pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, test_support::slurp(scratch.path / "err"));
     };

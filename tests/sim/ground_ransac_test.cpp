@@ -17,12 +17,14 @@ namespace {
 struct Labelled {
     std::vector<glm::vec3> points;
     std::vector<int> kind;  // 0 ground, 1 wall, 2 clutter, 3 other plane
-    void add(glm::vec3 p, int k) { points.push_back(p); kind.push_back(k); }
+    void add(glm::vec3 p, int k) {
+        points.push_back(p);
+        kind.push_back(k);
+    }
 };
 
 // A horizontal ground patch with +-2 cm noise, `n` points over [x0,x1] x [y0,y1] at height z.
-void addPatch(Labelled& l, std::mt19937& rng, int n, float x0, float x1, float y0, float y1, float z,
-              int kind = 0) {
+void addPatch(Labelled& l, std::mt19937& rng, int n, float x0, float x1, float y0, float y1, float z, int kind = 0) {
     std::uniform_real_distribution<float> ux(x0, x1), uy(y0, y1), noise(-0.02f, 0.02f);
     for (int i = 0; i < n; ++i) l.add({ux(rng), uy(rng), z + noise(rng)}, kind);
 }
@@ -136,9 +138,8 @@ TEST_CASE("a plane is ground whatever the sign of its normal (|n.z|, not n.z)") 
                 CHECK(found == 3);
                 CHECK(stats.planes_accepted == 1);
             }
-        } while (std::next_permutation(pts.begin(), pts.end(), [](glm::vec3 a, glm::vec3 b) {
-            return a.x + 10 * a.y < b.x + 10 * b.y;
-        }));
+        } while (std::next_permutation(pts.begin(), pts.end(),
+                                       [](glm::vec3 a, glm::vec3 b) { return a.x + 10 * a.y < b.x + 10 * b.y; }));
     }
     // Larger patches (refined normals) in eight tilt directions stay ground too.
     for (int azimuth_deg = 0; azimuth_deg < 360; azimuth_deg += 45) {

@@ -48,14 +48,15 @@ void checkSurface(const char* name, const Height& z, const std::vector<Box>& box
 }  // namespace
 
 TEST_CASE("SMRF recovers a tilted plane (30 % slope) and not the buildings on it") {
-    checkSurface("tilted plane", [](double x, double y) { return 0.3 * x + 0.05 * y; },
-                 {{-20, 10, 6, 8}, {15, -15, 9, 5}, {25, 25, 4, 12}}, 0.25);
+    checkSurface(
+        "tilted plane", [](double x, double y) { return 0.3 * x + 0.05 * y; },
+        {{-20, 10, 6, 8}, {15, -15, 9, 5}, {25, 25, 4, 12}}, 0.25);
 }
 
 TEST_CASE("SMRF recovers a Gaussian hill (15 m high) and not the buildings on its flanks") {
-    checkSurface("Gaussian hill",
-                 [](double x, double y) { return 15.0 * std::exp(-(x * x + y * y) / (2.0 * 30.0 * 30.0)); },
-                 {{-25, 0, 6, 7}, {10, 28, 5, 10}, {30, -20, 8, 6}}, 0.35);
+    checkSurface(
+        "Gaussian hill", [](double x, double y) { return 15.0 * std::exp(-(x * x + y * y) / (2.0 * 30.0 * 30.0)); },
+        {{-25, 0, 6, 7}, {10, 28, 5, 10}, {30, -20, 8, 6}}, 0.35);
 }
 
 TEST_CASE("SMRF recovers a terrace with a 2 m step and not the buildings on either level") {

@@ -12,7 +12,6 @@
 
 namespace ground_test {
 
-
 using Height = std::function<double(double, double)>;
 
 struct Box {
@@ -22,8 +21,8 @@ struct Box {
 
 struct Labelled {
     std::vector<glm::vec3> points;
-    std::vector<std::uint8_t> ground;      // truth
-    std::vector<std::uint8_t> high_object; // roof or wall point more than 1 m above the terrain
+    std::vector<std::uint8_t> ground;       // truth
+    std::vector<std::uint8_t> high_object;  // roof or wall point more than 1 m above the terrain
 };
 
 // Ground sampled every 0.25 m (jittered, seeded) over [-half, half]^2, except under the
@@ -68,8 +67,8 @@ inline Labelled sample(const Height& z, double half_m, const std::vector<Box>& b
 }
 
 struct Score {
-    double recall = 0;          // of the ground points
-    std::size_t high_found = 0; // roof and wall points > 1 m above the terrain called ground
+    double recall = 0;           // of the ground points
+    std::size_t high_found = 0;  // roof and wall points > 1 m above the terrain called ground
     std::size_t high = 0;
 };
 

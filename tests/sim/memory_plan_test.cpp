@@ -64,7 +64,7 @@ int runChild(const std::vector<std::string>& args, long& rss_kib) {
     REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
     posix_spawn_file_actions_destroy(&actions);
     int status = 0;
-    struct rusage usage {};
+    struct rusage usage{};
     REQUIRE(::wait4(pid, &status, 0, &usage) == pid);
     rss_kib = usage.ru_maxrss;
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -131,8 +131,8 @@ TEST_CASE("memory plan: a run that cannot fit is refused in one line naming --me
     CHECK(white.band_rows > 10);
     CHECK(white.fuse_bytes <= 512 * kMiB);
     // Even white, 1 MiB cannot hold the writer's buffer.
-    CHECK_THROWS_WITH_AS(sim::planMemory(needs(64, 64, 1, true, 1, kMiB)), doctest::Contains("--memory-mb 1 is too small"),
-                         core::Error);
+    CHECK_THROWS_WITH_AS(sim::planMemory(needs(64, 64, 1, true, 1, kMiB)),
+                         doctest::Contains("--memory-mb 1 is too small"), core::Error);
 }
 
 TEST_CASE("generator: tiled views give the same cloud bit for bit, white and whitened") {
@@ -197,8 +197,7 @@ TEST_CASE("free space: a spool larger than the disk's free space stops with one 
     test_support::TempDir dir("free_space");
     CHECK_NOTHROW(sim::checkFreeSpace(dir.path, 1, "the spool file"));
     CHECK_THROWS_WITH_AS(sim::checkFreeSpace(dir.path, std::uint64_t(1) << 62, "the spool file"),
-                         doctest::Contains("MiB free, but the spool file may need 4398046511104 MiB"),
-                         core::Error);
+                         doctest::Contains("MiB free, but the spool file may need 4398046511104 MiB"), core::Error);
     CHECK_THROWS_WITH_AS(sim::checkFreeSpace(dir.path / "missing", 1, "the spool file"),
                          doctest::Contains("cannot read the free space"), core::Error);
 }
@@ -235,8 +234,8 @@ TEST_CASE("peak RSS of `ladarvr generate` stays within --memory-mb (child proces
     test_support::TempDir dir("rss");
     const auto generate = [&](const std::string& size, int views, const std::string& mib, long& rss_kib,
                               const char* out = "c.pcd") {
-        return runChild({LADARVR_CLI, "generate", "--out", (dir.path / out).string(), "--xres", size, "--yres",
-                         size, "--views", std::to_string(views), "--threads", "2", "--memory-mb", mib},
+        return runChild({LADARVR_CLI, "generate", "--out", (dir.path / out).string(), "--xres", size, "--yres", size,
+                         "--views", std::to_string(views), "--threads", "2", "--memory-mb", mib},
                         rss_kib);
     };
     long base = 0, roomy = 0, tight = 0, tight_laz = 0;

@@ -23,9 +23,7 @@ std::string errorOf(const sim::OrbitOptions& o) {
 }
 
 // Where a world-frame ray from `origin` along `d` meets the plane z = 0.
-glm::dvec3 groundHit(const glm::dvec3& origin, const glm::dvec3& d) {
-    return origin + (-origin.z / d.z) * d;
-}
+glm::dvec3 groundHit(const glm::dvec3& origin, const glm::dvec3& d) { return origin + (-origin.z / d.z) * d; }
 
 }  // namespace
 
@@ -46,17 +44,16 @@ TEST_CASE("sensor pose: the top image edge reaches O = C + CO past C, the axis h
         const double theta = 2.0 * std::numbers::pi * view / o.views;
         const glm::dvec3 outward(std::cos(theta), std::sin(theta), 0.0);
         CHECK(T_world_sensor.translation.z == doctest::Approx(300.0));
-        CHECK(glm::length(glm::dvec3(T_world_sensor.translation.x, T_world_sensor.translation.y, 0.0) -
-                          centre) == doctest::Approx(326.1245).epsilon(1e-5));
+        CHECK(glm::length(glm::dvec3(T_world_sensor.translation.x, T_world_sensor.translation.y, 0.0) - centre) ==
+              doctest::Approx(326.1245).epsilon(1e-5));
         // Top edge, middle column (pixel corner row 0): lands CO = 10 m past C.
-        const glm::dvec3 top = T_world_sensor.applyDirection(
-            sim::pixelDirection(o, 0.5 * o.xres - 0.5, -0.5));
+        const glm::dvec3 top = T_world_sensor.applyDirection(sim::pixelDirection(o, 0.5 * o.xres - 0.5, -0.5));
         const glm::dvec3 o_point = groundHit(T_world_sensor.translation, top);
         CHECK(glm::dot(o_point - centre, -outward) == doctest::Approx(10.0).epsilon(1e-6));
         CHECK(std::abs(glm::dot(o_point - centre, glm::dvec3(-outward.y, outward.x, 0.0))) < 1e-6);
         // Bottom edge: length sensed before O.
-        const glm::dvec3 bottom = T_world_sensor.applyDirection(
-            sim::pixelDirection(o, 0.5 * o.xres - 0.5, o.yres - 0.5));
+        const glm::dvec3 bottom =
+            T_world_sensor.applyDirection(sim::pixelDirection(o, 0.5 * o.xres - 0.5, o.yres - 0.5));
         const glm::dvec3 near_point = groundHit(T_world_sensor.translation, bottom);
         CHECK(glm::length(o_point - near_point) == doctest::Approx(sim::lengthSensed(o)).epsilon(1e-6));
         // Optical axis inclined alpha from the vertical.
@@ -111,7 +108,12 @@ TEST_CASE("impossible parameters: the error names the parameter and the allowed 
     // Drone positions are float ray origins: beyond 1e7 m they step by metres.
     bad([](auto& o) { o.altitude_m = 1e12; }, "(--altitude-m) = 1e+12", "(0, 10000000]");
     bad([](auto& o) { o.overlap_m = -1e300; }, "(--overlap-m) = -1e+300", "[-10000000, 10000000]");
-    bad([](auto& o) { o.altitude_m = 1e6; o.inclination_deg = 86.0; }, "drone radius", "<= 10000000");
+    bad(
+        [](auto& o) {
+            o.altitude_m = 1e6;
+            o.inclination_deg = 86.0;
+        },
+        "drone radius", "<= 10000000");
     bad([](auto& o) { o.altitude_m = std::nan(""); }, "altitude_m", "finite");
     bad([](auto& o) { o.overlap_m = INFINITY; }, "overlap_m", "finite");
     bad([](auto& o) { o.overlap_m = 400.0; }, "overlap_m", "drone radius");
@@ -126,10 +128,11 @@ TEST_CASE("validatePlacement: every drone position within 1e7 m of the local ori
     for (const glm::dvec3 c : {glm::dvec3(1e7 - 326.0, 0, 0), glm::dvec3(0, -1e7, 0), glm::dvec3(0, 0, 1e7 - 299.0)}) {
         CAPTURE(c.x);
         CAPTURE(c.z);
-        CHECK_THROWS_WITH_AS(sim::validatePlacement(o, c),
-                             doctest::Contains("m from the scene's origin around C (--centre, --altitude-m, --overlap-m): "
-                                               "allowed <= 10000000 m"),
-                             core::Error);
+        CHECK_THROWS_WITH_AS(
+            sim::validatePlacement(o, c),
+            doctest::Contains("m from the scene's origin around C (--centre, --altitude-m, --overlap-m): "
+                              "allowed <= 10000000 m"),
+            core::Error);
     }
 }
 

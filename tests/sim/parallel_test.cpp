@@ -55,9 +55,11 @@ TEST_CASE("more threads than cores are honoured: every one of them takes part") 
 
 TEST_CASE("an exception in a task reaches the caller and the workers stay usable") {
     sim::Workers workers(3);
-    CHECK_THROWS_WITH_AS(workers.run(100, [](std::size_t task) {
-        if (task == 37) throw std::runtime_error("task 37 failed");
-    }), "task 37 failed", std::runtime_error);
+    CHECK_THROWS_WITH_AS(workers.run(100,
+                                     [](std::size_t task) {
+                                         if (task == 37) throw std::runtime_error("task 37 failed");
+                                     }),
+                         "task 37 failed", std::runtime_error);
     std::atomic<int> count{0};
     workers.run(50, [&](std::size_t) { ++count; });
     CHECK(count == 50);

@@ -16,9 +16,9 @@ TEST_CASE("first hit: distance, mesh index, role, and misses report mesh -1") {
     const sim::RayCaster caster(s);
     CHECK(caster.triangleCount() == 32 + 12);
     std::vector<sim::Ray> rays(3);
-    rays[0].origin = {0, 0, 10};   // onto the box top (z = 3)
-    rays[1].origin = {10, 10, 10}; // onto the ground
-    rays[2].origin = {100, 0, 10}; // past the grid: miss
+    rays[0].origin = {0, 0, 10};    // onto the box top (z = 3)
+    rays[1].origin = {10, 10, 10};  // onto the ground
+    rays[2].origin = {100, 0, 10};  // past the grid: miss
     rays[2].direction = {0, 0, -2};
     std::vector<sim::Hit> hits(3);
     caster.intersect(rays, hits);
@@ -54,8 +54,8 @@ TEST_CASE("no ray leaks through the shared edges and vertices of a finely tessel
         for (int i = 1; i < cells - 1; ++i)
             for (const glm::vec2 offset : {glm::vec2(0, 0), glm::vec2(0.5f, 0), glm::vec2(0, 0.5f),
                                            glm::vec2(0.5f, 0.5f), glm::vec2(0.25f, 0.25f)}) {
-                const glm::vec3 target(float(-half + (i + offset.x) * cell_m),
-                                       float(-half + (j + offset.y) * cell_m), 0.0f);
+                const glm::vec3 target(float(-half + (i + offset.x) * cell_m), float(-half + (j + offset.y) * cell_m),
+                                       0.0f);
                 for (const glm::vec3& d : directions) {
                     sim::Ray r;
                     r.direction = d;
@@ -94,7 +94,7 @@ TEST_CASE("intersect16 gives the hits of intersect, with a partial last packet")
         // Off the grid's edges and vertices, where the two may pick either adjacent triangle.
         r.origin = {float(k) - 17.63f, 0.3f * float(k % 5) + 0.11f, 10.0f};
         r.direction = {0.05f * float(k % 3), 0.0f, -1.0f};
-        if (k == 7) r.t_far = 2.0f;    // stops before the ground: a miss
+        if (k == 7) r.t_far = 2.0f;     // stops before the ground: a miss
         if (k == 20) r.t_far = 10.01f;  // reaches the ground (t = 10) with 1 cm to spare
         rays.push_back(r);
     }

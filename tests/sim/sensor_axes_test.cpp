@@ -51,7 +51,7 @@ struct Call {
 // Per sensor of `options`, the slots of both views (view-major); thread t makes the calls
 // calls[t] (thread 0 is the caller, the others new threads).
 std::vector<std::vector<core::CloudPoint>> traceCalls(const Town& town, const std::vector<sim::SensorOptions>& options,
-                                                        const std::vector<std::vector<Call>>& calls) {
+                                                      const std::vector<std::vector<Call>>& calls) {
     const sim::RayCaster caster(town.scene);
     const glm::dvec3 centre = sim::defaultCentre(town.scene) - town.scene.origin;
     const core::Pose poses[2] = {sim::sensorPose(town.orbit, centre, 0), sim::sensorPose(town.orbit, centre, 3)};
@@ -136,13 +136,13 @@ TEST_CASE("sensor: sensors of every kind traced in turn on one thread give the s
     // The per-thread buffers and axes are shared by every sensor a thread traces with.
     const Town town;
     std::vector<sim::SensorOptions> kinds(5);
-    kinds[1] = town.options;                     // footprint, planar beams not sub-sampled
+    kinds[1] = town.options;  // footprint, planar beams not sub-sampled
     kinds[2] = town.options;
-    kinds[2].footprint_exact = true;             // every sub-ray
-    kinds[3].range_noise_m = 0.05;               // one ray per pixel, not ideal
+    kinds[2].footprint_exact = true;  // every sub-ray
+    kinds[3].range_noise_m = 0.05;    // one ray per pixel, not ideal
     kinds[3].intensity = true;
     kinds[4] = town.options;
-    kinds[4].beam_divergence_y_mrad = 1.6;       // another footprint, same rows
+    kinds[4].beam_divergence_y_mrad = 1.6;  // another footprint, same rows
     kinds[4].footprint_quality = 2;
     // Rows from the middle (few beams to sub-sample: buffers of every size), in turn.
     std::vector<Call> in_turn;
@@ -184,8 +184,8 @@ TEST_CASE("sensor: a wire between the pixel axes is missed by the default footpr
     scene.source = "wire (in code)";
     scene.meshes.push_back(test_support::quadMesh(1000.0f, 0.0f, core::Role::Ground, "ground"));
     scene.meshes.push_back(test_support::boxMesh({mid - half, -50.0f, float(kWireZ_m) - half},
-                                                 {mid + half, 50.0f, float(kWireZ_m) + half},
-                                                 core::Role::Environment, "wire"));
+                                                 {mid + half, 50.0f, float(kWireZ_m) + half}, core::Role::Environment,
+                                                 "wire"));
     const auto on_wire = [&](const core::PointCloud& c) {
         return std::count_if(c.points.begin(), c.points.end(),
                              [](const core::CloudPoint& p) { return p.position.z > 4.0f; });

@@ -88,8 +88,10 @@ TEST_CASE("sensor: intensity scales with the mesh's reflectance, and --min-inten
         const double q = 100.0 / double(p.range_m);
         norm[half] += double(p.intensity) / (65535.0 * cos_theta * q * q);
         n[half] += 1.0;
-        if (half == 0) dim_max = std::max(dim_max, p.intensity);
-        else bright_min = std::min(bright_min, p.intensity);
+        if (half == 0)
+            dim_max = std::max(dim_max, p.intensity);
+        else
+            bright_min = std::min(bright_min, p.intensity);
     }
     REQUIRE(n[0] > 100);
     REQUIRE(n[1] > 100);
@@ -117,8 +119,7 @@ TEST_CASE("scene: 'reflectance' is read per mesh, 0.5 by default, and must lie i
     CHECK(s.meshes[1].reflectance == 0.5);
     CHECK_THROWS_WITH_AS(
         io::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target", "reflectance": 1.5}]})", file),
-        doctest::Contains("meshes[0] ('box.obj'): 'reflectance' is 1.5; allowed: a number in [0, 1]"),
-        core::Error);
+        doctest::Contains("meshes[0] ('box.obj'): 'reflectance' is 1.5; allowed: a number in [0, 1]"), core::Error);
     CHECK_THROWS_WITH_AS(
         io::loadSceneJson(R"({"meshes": [{"file": "box.obj", "role": "target", "reflectance": "high"}]})", file),
         doctest::Contains("'reflectance' must be a number in [0, 1], not a string"), core::Error);

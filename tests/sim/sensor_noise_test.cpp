@@ -66,7 +66,8 @@ TEST_CASE("sensor: range noise of sigma on a flat plane measures sigma within 5 
     for (double x : e) sum2 += (x - mean) * (x - mean);
     const double sd = std::sqrt(sum2 / double(e.size() - 1));
     CHECK(std::abs(mean) < 5.0 * sigma_m / std::sqrt(double(e.size())));
-    CHECK(sd == doctest::Approx(sigma_m).epsilon(0.05).scale(0.0));  // relative: doctest adds 1.0 to the scale by default
+    CHECK(sd ==
+          doctest::Approx(sigma_m).epsilon(0.05).scale(0.0));  // relative: doctest adds 1.0 to the scale by default
     // Noise is along the beam: range_m is the noisy range of the placed point.
     CHECK(cloud.fields.scan_angle);
 }

@@ -30,9 +30,9 @@ TEST_CASE("zero-area and NaN triangles are skipped and counted, the rest of the 
     // three collinear vertices, all corners equal) and 2 triangles that use a NaN vertex.
     {
         std::ofstream obj(dir / "degenerate.obj");
-        obj << "v -5 -5 0\nv 5 -5 0\nv 5 5 0\nv -5 5 0\n"   // 1-4: the quad
-               "v 0 0 0\nv 1 0 0\nv 2 0 0\n"                 // 5-7: collinear
-               "v nan 0 1\n"                                  // 8: NaN
+        obj << "v -5 -5 0\nv 5 -5 0\nv 5 5 0\nv -5 5 0\n"  // 1-4: the quad
+               "v 0 0 0\nv 1 0 0\nv 2 0 0\n"               // 5-7: collinear
+               "v nan 0 1\n"                               // 8: NaN
                "f 1 2 3\nf 1 3 4\n"
                "f 5 5 6\nf 5 6 7\nf 6 6 6\n"
                "f 1 2 8\nf 8 3 4\n";
@@ -75,11 +75,11 @@ TEST_CASE("a scene built in code with NaN and zero-area triangles: Embree skips 
     scene.source = "nan (in code)";
     core::Mesh m = test_support::quadMesh(10.0f, 0.0f, core::Role::Ground, "ground");
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    m.vertices.push_back({nan, 0.0f, 1.0f});               // 4
-    m.vertices.push_back({0.0f, 0.0f, 2.0f});              // 5
-    m.triangles.push_back({0, 1, 4});                      // NaN
-    m.triangles.push_back({5, 5, 5});                      // a point
-    m.triangles.push_back({0, 2, 0});                      // a segment
+    m.vertices.push_back({nan, 0.0f, 1.0f});   // 4
+    m.vertices.push_back({0.0f, 0.0f, 2.0f});  // 5
+    m.triangles.push_back({0, 1, 4});          // NaN
+    m.triangles.push_back({5, 5, 5});          // a point
+    m.triangles.push_back({0, 2, 0});          // a segment
     scene.meshes.push_back(m);
     sim::RayCaster caster(scene);
     std::vector<sim::Ray> rays;
@@ -162,8 +162,10 @@ TEST_CASE("RANSAC: fewer than 3 points, collinear points, walls only: no ground,
         for (int i = 0; i < 100; ++i)
             for (int k = 0; k < 50; ++k) {
                 const float s = -10.0f + 0.2f * float(i), z = 0.2f * float(k);
-                walls.push_back(side == 0 ? glm::vec3(s, -10.0f, z) : side == 1 ? glm::vec3(s, 10.0f, z)
-                                : side == 2 ? glm::vec3(-10.0f, s, z) : glm::vec3(10.0f, s, z));
+                walls.push_back(side == 0   ? glm::vec3(s, -10.0f, z)
+                                : side == 1 ? glm::vec3(s, 10.0f, z)
+                                : side == 2 ? glm::vec3(-10.0f, s, z)
+                                            : glm::vec3(10.0f, s, z));
             }
     const auto on_walls = sim::findGround(walls, o, 7, &st);
     found = 0;

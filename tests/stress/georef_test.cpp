@@ -67,9 +67,9 @@ TEST_CASE("georeferenced 1e6 m and 1e7 m away: the same cloud within 1 mm per po
                 // Same local floats as the reference: the local clouds are bit-identical.
                 bool identical = true;
                 for (std::size_t i = 0; i < cloud.points.size() && identical; ++i)
-                    identical = std::memcmp(&cloud.points[i].position, &reference.points[i].position,
-                                            sizeof(glm::vec3)) == 0 &&
-                                cloud.points[i].rgb == reference.points[i].rgb;
+                    identical =
+                        std::memcmp(&cloud.points[i].position, &reference.points[i].position, sizeof(glm::vec3)) == 0 &&
+                        cloud.points[i].rgb == reference.points[i].rgb;
                 CHECK(identical);
             }
         }

@@ -110,8 +110,8 @@ TEST_CASE("the generator at the grazing bound (alpha + FoV/2 = 89.98 deg): 859 k
         farthest_m = std::max(farthest_m, st.drone_radius_m - double(p.position.x));
     }
     const double top_row_rad = g.orbit.inclination_deg * kDeg + std::atan(std::tan(3.25 * kDeg) * 7.0 / 8.0);
-    MESSAGE("grazing 89.98 deg: radius " << st.drone_radius_m << " m, worst |z| " << worst_z
-                                         << " m, farthest hit " << farthest_m << " m from the drone's foot");
+    MESSAGE("grazing 89.98 deg: radius " << st.drone_radius_m << " m, worst |z| " << worst_z << " m, farthest hit "
+                                         << farthest_m << " m from the drone's foot");
     CHECK(farthest_m == doctest::Approx(300.0 * std::tan(top_row_rad)).epsilon(1e-3));
     CHECK(worst_z < 0.01);
 }

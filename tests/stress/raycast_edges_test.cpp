@@ -134,7 +134,8 @@ TEST_CASE("rays exactly on the shared centre vertex, spokes and rim of a 64-tria
             // Aimed at the vertex from 8 directions (straight down and 7 slanted), and at the
             // midpoints of the spokes (shared edges).
             const float a = 0.785398f * float(k);
-            const glm::vec3 dir = k == 0 ? glm::vec3(0, 0, -1) : glm::vec3(0.5f * std::cos(a), 0.5f * std::sin(a), -1.0f);
+            const glm::vec3 dir =
+                k == 0 ? glm::vec3(0, 0, -1) : glm::vec3(0.5f * std::cos(a), 0.5f * std::sin(a), -1.0f);
             sim::Ray r;
             r.direction = dir;
             const glm::vec3 aim = v == 0 || k % 2 ? p : 0.5f * p;  // vertex, or spoke midpoint

@@ -27,7 +27,7 @@ TEST_CASE("a plan's trials, paths relative to the plan, defaults") {
     CHECK(plan.trials[0].source == "a.pcd");
     CHECK(plan.trials[1].scene == std::filesystem::path("/abs/s.json"));
     CHECK(plan.trials[1].candidates == std::filesystem::path("/plans/c/c.json"));
-    CHECK(plan.trials[1].time_limit_s == 120.0);   // the default
+    CHECK(plan.trials[1].time_limit_s == 120.0);  // the default
     CHECK(plan.trials[1].name == "village");
     CHECK(*plan.shuffle_seed == 7u);
     CHECK(plan.hit_radius_m == 2.5);
@@ -64,7 +64,8 @@ TEST_CASE("a plan's refused fields name the field and what is allowed") {
 
 TEST_CASE("the trial order: as written, or shuffled the same way for the same seed") {
     std::string text = R"({"trials": [)";
-    for (int i = 0; i < 12; ++i) text += std::string(i ? "," : "") + R"({"cloud": "c)" + std::to_string(i) + R"(.pcd"})";
+    for (int i = 0; i < 12; ++i)
+        text += std::string(i ? "," : "") + R"({"cloud": "c)" + std::to_string(i) + R"(.pcd"})";
     const study::Plan plain = parsePlan(text + "]}", "p.json", "/");
     const std::vector<int> order = study::trialOrder(plain);
     for (int i = 0; i < 12; ++i) CHECK(order[std::size_t(i)] == i);

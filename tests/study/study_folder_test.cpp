@@ -15,14 +15,16 @@ TEST_CASE("a folder that holds a study's file is refused, other files are allowe
     CHECK(study::traceFileName(3) == "trace_3.csv");
     for (const char* name : {"trials.csv", "candidates.csv", "study.json", "trace_1.csv", "trace_x.csv"})
         CHECK(study::isStudyFile(name));
-    for (const char* name : {"notes.txt", "trace_1.csv.bak", "trials.csv~", "plan.json"}) CHECK_FALSE(study::isStudyFile(name));
+    for (const char* name : {"notes.txt", "trace_1.csv.bak", "trials.csv~", "plan.json"})
+        CHECK_FALSE(study::isStudyFile(name));
 
-    study::checkStudyFolder(dir.path);   // empty
+    study::checkStudyFolder(dir.path);  // empty
     dir.write("notes.txt", "mine\n");
     study::checkStudyFolder(dir.path);
     dir.write("trace_2.csv", "t_s\n");
     CHECK(errorOf([&] { study::checkStudyFolder(dir.path); }) ==
-          "study: --out " + dir.path.string() + ": already holds a study (trace_2.csv); allowed: a new or empty folder");
+          "study: --out " + dir.path.string() +
+              ": already holds a study (trace_2.csv); allowed: a new or empty folder");
     CHECK(errorOf([&] { study::checkStudyFolder(dir.path / "notes.txt"); }) ==
           "study: --out " + (dir.path / "notes.txt").string() + ": not a folder");
     CHECK(errorOf([&] { study::checkStudyFolder(dir.path / "missing"); }).ends_with(": not a folder"));
@@ -44,7 +46,9 @@ TEST_CASE("study.json records the plan and the order, and is read back against t
     CHECK(recorded.plan.trials[1].name == "again");
 
     dir.write("out/study.json", R"({"plan": ")" + plan.string() + R"(", "order": [2]})");
-    CHECK(errorOf([&] { study::readStudyRecord(out); }).ends_with("study.json: 'order' does not match the plan's trials"));
+    CHECK(errorOf([&] {
+              study::readStudyRecord(out);
+          }).ends_with("study.json: 'order' does not match the plan's trials"));
     dir.write("out/study.json", R"({"order": [0]})");
     CHECK(errorOf([&] { study::readStudyRecord(out); }).ends_with("not a study's record (needs 'plan' and 'order')"));
     CHECK(errorOf([&] { study::readStudyRecord(dir.path / "none"); }).starts_with("study: --replay "));

@@ -19,12 +19,15 @@ std::vector<std::string> lines(const std::filesystem::path& file) {
 
 TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each ends") {
     test_support::TempDir dir("study_log");
-    study::StudyLog log(dir.path, [](int trial) {
-        study::TrialInfo info;
-        info.source = trial == 0 ? "village, east.pcd" : "s.json";
-        if (trial == 1) info.visibility_metric = 0.25;
-        return info;
-    }, 1.0);
+    study::StudyLog log(
+        dir.path,
+        [](int trial) {
+            study::TrialInfo info;
+            info.source = trial == 0 ? "village, east.pcd" : "s.json";
+            if (trial == 1) info.visibility_metric = 0.25;
+            return info;
+        },
+        1.0);
     CHECK_FALSE(std::filesystem::exists(dir.path / "trials.csv"));
 
     log.onStart(0);
@@ -57,9 +60,10 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     auto rows = lines(dir.path / "trials.csv");
     REQUIRE(rows.size() == 2);
     CHECK(rows[0] == study::StudyLog::trialsHeader());
-    CHECK(rows[1] == "1,\"village, east.pcd\",confirm,10.000000,20.000000,0.500000,0.250000,1,0.600000,0.800000,1,2,"
-                     "0.100000,");
-    std::vector<viewer::TraceSample> samples;   // and back
+    CHECK(rows[1] ==
+          "1,\"village, east.pcd\",confirm,10.000000,20.000000,0.500000,0.250000,1,0.600000,0.800000,1,2,"
+          "0.100000,");
+    std::vector<viewer::TraceSample> samples;  // and back
     for (const io::TraceRow& r : io::readTrace(dir.path / "trace_1.csv").rows)
         samples.push_back(study::toTraceSample(r));
     REQUIRE(samples.size() == 2);
@@ -92,16 +96,17 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     rows = lines(dir.path / "trials.csv");
     REQUIRE(rows.size() == 3);
     CHECK(rows[2] == "2,s.json,timeout,-30.000000,22.000000,4.000000,36.500000,0,,120.000000,0,0,0.000000,0.250000");
-    CHECK(lines(dir.path / "trace_2.csv").size() == 1);   // the header only: no frame
+    CHECK(lines(dir.path / "trace_2.csv").size() == 1);  // the header only: no frame
     CHECK(log.trialsWritten() == 2);
     CHECK(log.error().empty());
-    CHECK(dir.entries() == 4);   // trials, candidates, two traces
+    CHECK(dir.entries() == 4);  // trials, candidates, two traces
 }
 
 TEST_CASE("hit: 1 only for a confirmed point near the target, 0 otherwise, empty without ground truth") {
     test_support::TempDir dir("study_log_hit");
     study::StudyLog log(dir.path, [](int) { return study::TrialInfo{"a.pcd", {}}; }, 1.0);
-    const viewer::Decision decisions[] = {viewer::Decision::NoTarget, viewer::Decision::Timeout, viewer::Decision::Quit};
+    const viewer::Decision decisions[] = {viewer::Decision::NoTarget, viewer::Decision::Timeout,
+                                          viewer::Decision::Quit};
     int trial = 0;
     for (const bool known : {true, false}) {
         for (const viewer::Decision d : decisions) {
@@ -120,12 +125,13 @@ TEST_CASE("hit: 1 only for a confirmed point near the target, 0 otherwise, empty
     CHECK(rows[3] == "3,a.pcd,quit,,,,,0,,2.000000,0,0,0.000000,");
     CHECK(rows[4] == "4,a.pcd,no_target,,,,,,,2.000000,0,0,0.000000,");
     CHECK(rows[6] == "6,a.pcd,quit,,,,,,,2.000000,0,0,0.000000,");
-    CHECK(dir.entries() == 8);   // trials, candidates, six traces named trace_1 .. trace_6
+    CHECK(dir.entries() == 8);  // trials, candidates, six traces named trace_1 .. trace_6
     CHECK(std::filesystem::exists(dir.path / "trace_6.csv"));
 
     // A designation on the target still standing at no_target or timeout keeps its distance
     // but is no hit: only a confirmed point is the operator's answer.
-    for (const viewer::Decision d : {viewer::Decision::NoTarget, viewer::Decision::Timeout, viewer::Decision::Confirm}) {
+    for (const viewer::Decision d :
+         {viewer::Decision::NoTarget, viewer::Decision::Timeout, viewer::Decision::Confirm}) {
         log.onStart(trial);
         viewer::TrialOutcome o;
         o.decision = d;

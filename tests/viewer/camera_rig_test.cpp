@@ -42,7 +42,7 @@ TEST_CASE("camera-relative chunks keep millimetres 10^6 m from the origin") {
 }
 
 TEST_CASE("the automatic rig sits on the shared orbit camera and looks at the centre") {
-    ModeOptions o;   // render::OrbitCameraOptions defaults: radius 60 m, altitude 40 m
+    ModeOptions o;  // render::OrbitCameraOptions defaults: radius 60 m, altitude 40 m
     const glm::dvec3 centre(10.0, -5.0, 2.0);
     const RigPose rig = rigFromCamera(render::orbitPose(o.orbit, centre, 0.0));
     CHECK(distance(rig.position, centre + glm::dvec3(60.0, 0.0, 40.0)) < 1e-9);
@@ -57,7 +57,7 @@ TEST_CASE("automatic mode turns at the orbit period and cannot translate") {
     o.orbit_period_s = 1.0;
     const glm::dvec3 centre(0.0);
     ModeController modes(o, centre);
-    modes.update(0.25, {}, RigPose{});   // a quarter turn
+    modes.update(0.25, {}, RigPose{});  // a quarter turn
     CHECK(distance(modes.rig().position, glm::dvec3(0.0, 60.0, 40.0)) < 1e-9);
     // Motion requests do not translate in automatic mode.
     Motion push;
@@ -81,7 +81,7 @@ TEST_CASE("switching modes keeps the head where it is and the gaze heading") {
     CHECK(distance(after.position, before.position) < 1e-9);
     const glm::dvec3 g0 = gaze(before), g1 = gaze(after);
     CHECK(std::abs(std::atan2(g0.y, g0.x) - std::atan2(g1.y, g1.x)) < 1e-9);
-    CHECK(distance(modes.rig().rotation * glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)) < 1e-12);   // level
+    CHECK(distance(modes.rig().rotation * glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)) < 1e-12);  // level
 
     // Free mode flies along the gaze: 1 s forward at 15 m/s (in 0.2 s steps).
     const glm::dvec3 start = compose(modes.rig(), head).position;

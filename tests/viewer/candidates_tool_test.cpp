@@ -31,7 +31,7 @@ TEST_CASE("the candidate pointed at gets the verdict, and the nearest box along 
     list[1].centre_world = {1000050.0, 0.0, 0.0};
     list[1].size_m = {4.0, 4.0, 4.0};
     CandidatesTool tool;
-    tool.set(list, {1000000.0, 0.0, 0.0});   // the cloud's local frame is 10^6 m east
+    tool.set(list, {1000000.0, 0.0, 0.0});  // the cloud's local frame is 10^6 m east
     tool.update(LocalRay{{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}});
     REQUIRE(tool.pointed());
     CHECK(tool.candidate(*tool.pointed()).id == "near");
@@ -39,10 +39,10 @@ TEST_CASE("the candidate pointed at gets the verdict, and the nearest box along 
     CHECK(tool.verdict(1) == Verdict::Rejected);
     CHECK(tool.verdict(0) == Verdict::Unreviewed);
     tool.update(std::nullopt);
-    CHECK_FALSE(tool.decide(Verdict::Confirmed));   // nothing pointed at: no verdict
+    CHECK_FALSE(tool.decide(Verdict::Confirmed));  // nothing pointed at: no verdict
     OverlayList overlay;
     tool.draw(overlay, false);
-    CHECK(overlay.lines.size() == 2 * 12 * 2);   // 12 edges per box, 2 vertices per edge
+    CHECK(overlay.lines.size() == 2 * 12 * 2);  // 12 edges per box, 2 vertices per edge
     CHECK(tool.log()[1]["verdict"] == "rejected");
     CHECK(tool.log()[0]["verdict"] == "unreviewed");
 }

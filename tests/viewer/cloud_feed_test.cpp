@@ -24,13 +24,11 @@ using test_support::TempDir;
 
 namespace {
 
-void spit(const fs::path& p, const std::string& bytes) {
-    std::ofstream(p, std::ios::binary) << bytes;
-}
+void spit(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 
 core::PointCloud sampleCloud(std::size_t n) {
     core::PointCloud cloud;
-    cloud.origin = glm::dvec3(1.0e6, 2.0e6, 30.0);   // georeferenced far away
+    cloud.origin = glm::dvec3(1.0e6, 2.0e6, 30.0);  // georeferenced far away
     for (std::size_t i = 0; i < n; ++i) {
         core::CloudPoint p;
         p.position = glm::vec3(float(i) * 0.25f, -float(i % 17), float(i % 5) * 0.5f);
@@ -46,7 +44,7 @@ core::PointCloud sampleCloud(std::size_t n) {
 std::vector<core::CloudPoint> drain(CloudFeed& feed, std::vector<std::size_t>* sizes = nullptr) {
     std::vector<core::CloudPoint> all;
     for (auto& chunk : feed.take()) {
-        CHECK(chunk.cells.empty());   // no LOD order unless enabled: file order kept
+        CHECK(chunk.cells.empty());  // no LOD order unless enabled: file order kept
         if (sizes) sizes->push_back(chunk.points.size());
         all.insert(all.end(), chunk.points.begin(), chunk.points.end());
     }
@@ -78,8 +76,8 @@ std::string engineError(const fs::path& p) {
 TEST_CASE("every format streams in chunks with its origin and every field") {
     TempDir dir("viewer_stream");
     const auto cloud = sampleCloud(1000);
-    for (auto format : {io::CloudFormat::PcdBinary, io::CloudFormat::PcdAscii,
-                        io::CloudFormat::PlyBinary, io::CloudFormat::PlyAscii}) {
+    for (auto format : {io::CloudFormat::PcdBinary, io::CloudFormat::PcdAscii, io::CloudFormat::PlyBinary,
+                        io::CloudFormat::PlyAscii}) {
         const bool ply = format == io::CloudFormat::PlyBinary || format == io::CloudFormat::PlyAscii;
         const auto path = dir.path / ("s" + std::to_string(int(format)) + (ply ? ".ply" : ".pcd"));
         io::writeCloud(path, cloud, format);
@@ -119,7 +117,7 @@ TEST_CASE("the viewer refuses exactly the files io refuses, with the same line")
         const std::string engine_says = engineError(p);
         CHECK(engine_says.find(bad.message) != std::string::npos);
         CloudFeed feed;
-        feed.feedFile(p, 1);   // chunks of one point: nothing of a bad header gets through
+        feed.feedFile(p, 1);  // chunks of one point: nothing of a bad header gets through
         REQUIRE(feed.finished());
         CHECK(feed.error() == engine_says);
         if (!bad.in_records) CHECK(feed.pointsArrived() == 0);

@@ -40,14 +40,14 @@ render::Frustum frustumLooking(double dir_x) {
 
 TEST_CASE("cells outside the frustum are culled, the others kept (known set)") {
     const std::vector<core::Bounds> boxes = {
-        box({10, 0, 0}, 1),      // 0 straight ahead: kept
-        box({-10, 0, 0}, 1),     // 1 behind: culled
-        box({10, 100, 0}, 1),    // 2 far to the left of a 60 deg view: culled
-        box({0, 0, 0}, 1),       // 3 the eye is inside it: kept
-        box({500, 0, 0}, 5),     // 4 ahead, inside far: kept
-        box({2000, 0, 0}, 5),    // 5 beyond the far plane: culled
-        box({10, 0, 30}, 1),     // 6 above the 30 deg half-FoV: culled
-        box({10, 0, 5}, 1),      // 7 inside the 30 deg half-FoV (atan(5/10) = 26.6 deg): kept
+        box({10, 0, 0}, 1),    // 0 straight ahead: kept
+        box({-10, 0, 0}, 1),   // 1 behind: culled
+        box({10, 100, 0}, 1),  // 2 far to the left of a 60 deg view: culled
+        box({0, 0, 0}, 1),     // 3 the eye is inside it: kept
+        box({500, 0, 0}, 5),   // 4 ahead, inside far: kept
+        box({2000, 0, 0}, 5),  // 5 beyond the far plane: culled
+        box({10, 0, 30}, 1),   // 6 above the 30 deg half-FoV: culled
+        box({10, 0, 5}, 1),    // 7 inside the 30 deg half-FoV (atan(5/10) = 26.6 deg): kept
     };
     const std::vector<render::Frustum> one = {frustumLooking(1.0)};
     CHECK(visibleInAny(one, boxes) == std::vector<bool>{true, false, false, true, true, false, false, true});
@@ -58,7 +58,7 @@ TEST_CASE("cells outside the frustum are culled, the others kept (known set)") {
 }
 
 TEST_CASE("screen importance: (r / d)^2, 1 inside, larger when nearer") {
-    const core::Bounds b = box({0, 0, 0}, 1.0);   // half diagonal sqrt(3)
+    const core::Bounds b = box({0, 0, 0}, 1.0);  // half diagonal sqrt(3)
     const double r = std::sqrt(3.0);
     CHECK(screenImportance(b, {10.0 * r, 0, 0}) == doctest::Approx(0.01));
     CHECK(screenImportance(b, {0.5, 0, 0}) == doctest::Approx(1.0));
@@ -96,10 +96,10 @@ TEST_CASE("budget allocation on random cells: sum <= budget, monotone in importa
         const auto counts = allocateBudget(importance, sizes, budget);
         const std::size_t sum = std::accumulate(counts.begin(), counts.end(), std::size_t{0});
         REQUIRE(sum <= budget);
-        CHECK(sum + n >= std::min(budget, total));   // at most one point lost per cell to rounding
+        CHECK(sum + n >= std::min(budget, total));  // at most one point lost per cell to rounding
         for (std::size_t i = 0; i < n; ++i) {
             REQUIRE(counts[i] <= sizes[i]);
-            for (std::size_t j = 0; j < n; ++j)   // more important and not full -> not fewer points
+            for (std::size_t j = 0; j < n; ++j)  // more important and not full -> not fewer points
                 if (importance[i] > importance[j] && counts[j] > counts[i]) REQUIRE(counts[i] == sizes[i]);
         }
         if (budget >= total) CHECK(counts == sizes);
@@ -113,12 +113,12 @@ TEST_CASE("LOD order: cells partition the points, each prefix is a uniform subsa
     for (std::size_t i = 0; i < points.size(); ++i) {
         // Sorted along x in the input (like a scan line): a plain prefix would be one strip.
         points[i].position = {float(i) * 100.0f / float(points.size()), u(rng), 0.5f * u(rng)};
-        points[i].range_m = float(i);   // identity of the point
+        points[i].range_m = float(i);  // identity of the point
     }
     std::vector<core::CloudPoint> a = points, b = points;
     const auto cells = buildLodOrder(a);
     const auto cells_b = buildLodOrder(b);
-    REQUIRE(cells.size() == 16);   // ceil(sqrt(100000 / 8192)) = 4 -> 4 x 4 grid, all non-empty
+    REQUIRE(cells.size() == 16);  // ceil(sqrt(100000 / 8192)) = 4 -> 4 x 4 grid, all non-empty
     REQUIRE(cells_b.size() == cells.size());
     for (std::size_t i = 0; i < a.size(); ++i) REQUIRE(a[i].range_m == b[i].range_m);
     // A permutation: every point once.
@@ -187,8 +187,8 @@ TEST_CASE("headless draw: looking away from the cloud draws fewer points; the bu
     CHECK(all.points_drawn == 40000);
     const auto ahead = draw(toward, 0, true);
     const auto behind = draw(away, 0, true);
-    CHECK(ahead.points_drawn > 20000);       // most of the patch is in view
-    CHECK(behind.points_drawn < 4000);       // only cells reaching behind the camera
+    CHECK(ahead.points_drawn > 20000);  // most of the patch is in view
+    CHECK(behind.points_drawn < 4000);  // only cells reaching behind the camera
     CHECK(behind.chunks_culled > behind.chunks_drawn);
     const auto budgeted = draw(toward, 5000, true);
     CHECK(budgeted.points_drawn <= 5000);
@@ -212,9 +212,9 @@ TEST_CASE("the feed builds the LOD order on the producer's side when enabled") {
     const auto chunks = feed.take();
     REQUIRE(chunks.size() == 2);
     std::vector<core::CloudPoint> first(cloud.points.begin(), cloud.points.begin() + 20000);
-    const auto cells = buildLodOrder(first);   // the same seed: the same order and cells
+    const auto cells = buildLodOrder(first);  // the same seed: the same order and cells
     REQUIRE(chunks[0].cells.size() == cells.size());
-    CHECK(chunks[0].cells.size() == 4);        // ceil(sqrt(20000 / 8192)) = 2: a 2 x 2 grid
+    CHECK(chunks[0].cells.size() == 4);  // ceil(sqrt(20000 / 8192)) = 2: a 2 x 2 grid
     for (std::size_t i = 0; i < first.size(); ++i) REQUIRE(chunks[0].points[i].range_m == first[i].range_m);
     CHECK(chunks[1].points.size() == 10000);
     CHECK_FALSE(chunks[1].cells.empty());

@@ -61,7 +61,7 @@ TEST_CASE("offscreen stereo: a red wall ahead is red in the centre of both eyes,
         CHECK(int(centre[0]) > 2 * int(centre[2]));
     }
 
-    viewer::RigPose away;   // half a turn about x: the gaze is +z, the wall behind the head
+    viewer::RigPose away;  // half a turn about x: the gaze is +z, the wall behind the head
     away.rotation = glm::dmat3(glm::rotate(glm::dmat4(1.0), std::numbers::pi, glm::dvec3(1, 0, 0)));
     stereo.plan(away, 0, true);
     CHECK(stereo.draw(away, style, viewer::ViewMode::Free) == 0);
@@ -79,7 +79,7 @@ TEST_CASE("offscreen stereo: the eyes' views are an IPD apart along the head's x
     const viewer::OffscreenStereo stereo(options);
     viewer::RigPose head;
     head.position = glm::dvec3(100.0, -20.0, 5.0);
-    const glm::dvec4 point(100.0, -20.0, -5.0, 1.0);   // 10 m straight ahead of the head
+    const glm::dvec4 point(100.0, -20.0, -5.0, 1.0);  // 10 m straight ahead of the head
     const glm::dvec4 left = stereo.eyeView(head, 0) * point, right = stereo.eyeView(head, 1) * point;
     CHECK(left.x == doctest::Approx(0.035));
     CHECK(right.x == doctest::Approx(-0.035));

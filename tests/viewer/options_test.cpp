@@ -13,8 +13,8 @@ using namespace viewer;
 
 namespace {
 std::filesystem::path writeTemp(const std::string& name, const std::string& text) {
-    const auto path = std::filesystem::temp_directory_path() /
-                      ("ladarvr-viewer-" + std::to_string(::getpid()) + "-" + name);
+    const auto path =
+        std::filesystem::temp_directory_path() / ("ladarvr-viewer-" + std::to_string(::getpid()) + "-" + name);
     std::ofstream(path) << text;
     return path;
 }
@@ -54,8 +54,8 @@ TEST_CASE("bad script lines name the file and the line and what is allowed") {
     const auto no_count = writeTemp("c.txt", "desktop+ escape\n");
     CHECK_THROWS_WITH_AS(readScript(no_count), doctest::Contains("line 1: frame 'desktop+'"), core::Error);
     std::filesystem::remove(no_count);
-    CHECK_THROWS_WITH_AS(readScript("/nonexistent/script.txt"), doctest::Contains("/nonexistent/script.txt: does not exist"),
-                         core::Error);
+    CHECK_THROWS_WITH_AS(readScript("/nonexistent/script.txt"),
+                         doctest::Contains("/nonexistent/script.txt: does not exist"), core::Error);
     for (const auto& p : {bad_frame, bad_key, extra, negative}) std::filesystem::remove(p);
 }
 
@@ -69,8 +69,7 @@ TEST_CASE("mirror and colour names") {
     CHECK(parseColourMode("above-ground") == ColourMode::AboveGround);
     CHECK(std::string(colourModeName(ColourMode::AboveGround)) == "above-ground");
     CHECK_THROWS_WITH_AS(parseColourMode("rainbow"),
-                         doctest::Contains("not one of file, height, white, label, above-ground"),
-                         core::Error);
+                         doctest::Contains("not one of file, height, white, label, above-ground"), core::Error);
 }
 
 TEST_CASE("viewer options are validated before a window opens") {

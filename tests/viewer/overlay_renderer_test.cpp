@@ -35,12 +35,12 @@ TEST_CASE("the comfort vignette keeps the centre and darkens the edge, by its st
         return readBack(target);
     };
     const auto full = whiteThenVignette(1.0f);
-    CHECK(red(full, kSize / 2, kSize / 2) == 255);    // centre: clear
-    CHECK(red(full, 0, 0) == 0);                        // corner (radius ~1.4): black
-    CHECK(red(full, kSize / 2, 1) < 10);                // edge (radius ~0.97 > 0.9): black
-    CHECK(red(full, kSize / 2, kSize / 2 - 20) == 255); // radius ~0.63 < 0.7: clear
+    CHECK(red(full, kSize / 2, kSize / 2) == 255);       // centre: clear
+    CHECK(red(full, 0, 0) == 0);                         // corner (radius ~1.4): black
+    CHECK(red(full, kSize / 2, 1) < 10);                 // edge (radius ~0.97 > 0.9): black
+    CHECK(red(full, kSize / 2, kSize / 2 - 20) == 255);  // radius ~0.63 < 0.7: clear
     const auto half = whiteThenVignette(0.5f);
-    CHECK(std::abs(red(half, 0, 0) - 128) <= 2);       // half strength: half dark
+    CHECK(std::abs(red(half, 0, 0) - 128) <= 2);  // half strength: half dark
     const auto none = whiteThenVignette(0.0f);
     CHECK(red(none, 0, 0) == 255);
     REQUIRE(glGetError() == GL_NO_ERROR);
@@ -64,7 +64,7 @@ TEST_CASE("an overlay dot lands where its point projects, at any distance from t
     list.dots.push_back({p, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f)});
     overlay.draw(list, view, projection, target.fbo, 0, 0, kSize, kSize, 3.0f);
     const auto rgba = readBack(target);
-    CHECK(red(rgba, 32 + 8, 32) == 255);   // 8 m east of the eye = 8 px right of the centre
+    CHECK(red(rgba, 32 + 8, 32) == 255);  // 8 m east of the eye = 8 px right of the centre
     CHECK(red(rgba, 32, 32) == 0);
     target.destroy();
 }

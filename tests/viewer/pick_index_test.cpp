@@ -32,7 +32,8 @@ TEST_CASE("a ray through a known point picks that point") {
     const glm::dvec3 known(12.25, -7.5, 6.0);
     points.push_back(at(known.x, known.y, known.z, core::Role::Target));
     const PickIndex index(points);
-    for (const glm::dvec3 from : {glm::dvec3(0.0, 0.0, 100.0), glm::dvec3(30.0, 20.0, 80.0), glm::dvec3(-60.0, 0.0, 40.0)}) {
+    for (const glm::dvec3 from :
+         {glm::dvec3(0.0, 0.0, 100.0), glm::dvec3(30.0, 20.0, 80.0), glm::dvec3(-60.0, 0.0, 40.0)}) {
         const glm::dvec3 origin = known + from;
         const auto hit = index.pick(origin, known - origin);
         REQUIRE(hit);
@@ -41,7 +42,7 @@ TEST_CASE("a ray through a known point picks that point") {
     }
     // A cloud of the known point alone: it is the pick, with its label and range.
     const std::vector<core::CloudPoint> one = {at(known.x, known.y, known.z, core::Role::Target),
-                                                 at(known.x + 5.0, known.y, known.z)};
+                                               at(known.x + 5.0, known.y, known.z)};
     const PickIndex small(one);
     const auto h = small.pick(glm::dvec3(0.0), known);
     REQUIRE(h);
@@ -66,7 +67,7 @@ TEST_CASE("the pick is the nearest point inside the cone, not the nearest to the
     // Behind the origin and off to the side: nothing.
     CHECK_FALSE(index.pick(glm::dvec3(0.0), glm::dvec3(-1.0, 0.0, 0.0)));
     CHECK_FALSE(index.pick(glm::dvec3(0.0), glm::dvec3(0.0, 0.0, 1.0)));
-    CHECK_FALSE(index.pick(glm::dvec3(0.0), glm::dvec3(0.0)));   // no direction
+    CHECK_FALSE(index.pick(glm::dvec3(0.0), glm::dvec3(0.0)));  // no direction
     // Beyond the range: nothing.
     PickOptions short_range;
     short_range.max_range_m = 4.0;
@@ -97,7 +98,7 @@ TEST_CASE("the k-d tree pick equals the scan on random rays over a terrain-like 
 
 TEST_CASE("distance to the nearest ground-truth target point") {
     const std::vector<core::CloudPoint> points = {at(0, 0, 0), at(10, 0, 0, core::Role::Target),
-                                                    at(12, 0, 0, core::Role::Target)};
+                                                  at(12, 0, 0, core::Role::Target)};
     const PickIndex index(points);
     CHECK(*index.nearestTargetDistance(glm::dvec3(10.5, 0.0, 0.0)) == doctest::Approx(0.5));
     CHECK(*index.nearestTargetDistance(glm::dvec3(0.0, 3.0, 0.0)) == doctest::Approx(std::sqrt(109.0)));
@@ -126,7 +127,7 @@ TEST_CASE("a pick set over the chunks of a stream picks what one index over the 
                             i % 500 == 0 ? core::Role::Target : core::Role::Environment));
     const PickIndex whole(points);
     PickSet set;
-    constexpr std::size_t kChunk = 7000;   // 9 chunks, the last one shorter
+    constexpr std::size_t kChunk = 7000;  // 9 chunks, the last one shorter
     for (std::size_t first = 0; first < points.size(); first += kChunk) {
         const std::size_t n = std::min(kChunk, points.size() - first);
         set.add(std::make_shared<const PickIndex>(std::span<const core::CloudPoint>(points.data() + first, n)));

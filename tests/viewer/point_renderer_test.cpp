@@ -18,7 +18,7 @@
 
 namespace {
 
-constexpr int kColumns = 12;       // points on a grid of 1 m cells, seen from straight above
+constexpr int kColumns = 12;  // points on a grid of 1 m cells, seen from straight above
 constexpr int kPixelsPerMetre = 8;
 
 struct Pixel {
@@ -67,7 +67,7 @@ void checkHeightColours(int entries) {
     for (std::size_t k = 0; k < heights.size(); ++k) {
         core::CloudPoint p;
         p.position = {float(k % kColumns), float(k / kColumns), float(heights[k])};
-        p.rgb = 0x808080u;   // the file's colour, which the height mode must not show
+        p.rgb = 0x808080u;  // the file's colour, which the height mode must not show
         cloud.points.push_back(p);
     }
     viewer::ViewStyle style;
@@ -123,8 +123,8 @@ void checkAboveGroundColours() {
     for (std::size_t k = 0; k < total; ++k) {
         const int x = int(k % kColumns) * kPixelsPerMetre + 4, y = int(k / kColumns) * kPixelsPerMetre + 4;
         const Pixel got = pixels[static_cast<std::size_t>(y) * kColumns * kPixelsPerMetre + x];
-        const std::uint32_t want = k >= above.size() ? core::kWhite
-                                                     : jet[core::jetIndex(above[k], 0.0, top_m, entries)];
+        const std::uint32_t want =
+            k >= above.size() ? core::kWhite : jet[core::jetIndex(above[k], 0.0, top_m, entries)];
         CAPTURE(k);
         CHECK(core::packRgb(got.r, got.g, got.b) == want);
     }
@@ -205,5 +205,6 @@ TEST_CASE("the cutting volume hides the points beyond its radius, in 3D") {
     // Without the cut, every point is drawn.
     const std::vector<Pixel> all = drawFromAbove(cloud, 2, style);
     for (int k = 0; k < kColumns; ++k)
-        CHECK(all[static_cast<std::size_t>(kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4].r > 200);
+        CHECK(all[static_cast<std::size_t>(kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4]
+                  .r > 200);
 }

@@ -17,7 +17,7 @@ using namespace viewer;
 
 namespace {
 
-core::PointCloud line(std::size_t n) {   // points 1 m apart along x, rising in z
+core::PointCloud line(std::size_t n) {  // points 1 m apart along x, rising in z
     core::PointCloud cloud;
     cloud.origin = glm::dvec3(1000.0, 2000.0, 30.0);
     for (std::size_t i = 0; i < n; ++i) {
@@ -30,7 +30,8 @@ core::PointCloud line(std::size_t n) {   // points 1 m apart along x, rising in 
 
 std::size_t residentCount(const PointSource& source) {
     const auto nodes = allNodes(source);
-    return static_cast<std::size_t>(std::count_if(nodes.begin(), nodes.end(), [](const PointNode* n) { return n->resident(); }));
+    return static_cast<std::size_t>(
+        std::count_if(nodes.begin(), nodes.end(), [](const PointNode* n) { return n->resident(); }));
 }
 
 }  // namespace
@@ -38,7 +39,7 @@ std::size_t residentCount(const PointSource& source) {
 TEST_CASE("a streamed cloud's chunks are leaves of the point source, resident on arrival") {
     CloudFeed feed;
     CloudFeedSource source(feed);
-    CHECK(source.poll() == 0);   // nothing arrived yet
+    CHECK(source.poll() == 0);  // nothing arrived yet
     CHECK(source.roots().empty());
     feed.feedCloud(line(350), 100);
     REQUIRE(source.finished());
@@ -46,7 +47,7 @@ TEST_CASE("a streamed cloud's chunks are leaves of the point source, resident on
     CHECK(source.origin() == glm::dvec3(1000.0, 2000.0, 30.0));
     CHECK(source.pointsArrived() == 350);
     REQUIRE(source.poll() == 4);
-    CHECK(source.poll() == 0);   // taken once
+    CHECK(source.poll() == 0);  // taken once
     const auto nodes = allNodes(source);
     REQUIRE(nodes.size() == 4);
     const std::size_t counts[] = {100, 100, 100, 50};
@@ -67,7 +68,7 @@ TEST_CASE("a streamed cloud's chunks are leaves of the point source, resident on
 
     // Evicting drops the points but keeps what is known of the node; a stream cannot be
     // read twice, so a request does not bring them back.
-    auto kept = nodes[1]->points();   // a holder (an index being built) keeps its copy alive
+    auto kept = nodes[1]->points();  // a holder (an index being built) keeps its copy alive
     nodes[1]->evict();
     CHECK_FALSE(nodes[1]->resident());
     CHECK(nodes[1]->points() == nullptr);

@@ -56,8 +56,10 @@ TEST_CASE("script text: bytes from a binary file are shown escaped and cut") {
 }
 
 TEST_CASE("script text: the operator's actions, with their arguments") {
-    const auto events = parseScript("3 next\n5 aim 10.5 -20 1e2\n6 designate\n7 confirm\n8 reject\n"
-                                    "9 no_target\n10 grab_scale 2.5\n", kName);
+    const auto events = parseScript(
+        "3 next\n5 aim 10.5 -20 1e2\n6 designate\n7 confirm\n8 reject\n"
+        "9 no_target\n10 grab_scale 2.5\n",
+        kName);
     REQUIRE(events.size() == 7);
     CHECK(events[0].key == ScriptEvent::Key::Next);
     CHECK(events[1].key == ScriptEvent::Key::Aim);
@@ -84,10 +86,13 @@ TEST_CASE("script text: the operator's actions, with their arguments") {
 TEST_CASE("script text: arguments are checked") {
     CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2\n", kName), doctest::Contains("line 1: aim needs X Y Z"), core::Error);
     CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 inf\n", kName), doctest::Contains("aim coordinate 'inf'"), core::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 1e999\n", kName), doctest::Contains("'1e999' is not a finite"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 1e999\n", kName), doctest::Contains("'1e999' is not a finite"),
+                         core::Error);
     CHECK_THROWS_WITH_AS(parseScript("1 aim 1 2 3 4\n", kName), doctest::Contains("unexpected '4'"), core::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale 0\n", kName), doctest::Contains("grab_scale '0' is not a finite number > 0"), core::Error);
-    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale\n", kName), doctest::Contains("grab_scale needs a scale"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale 0\n", kName),
+                         doctest::Contains("grab_scale '0' is not a finite number > 0"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 grab_scale\n", kName), doctest::Contains("grab_scale needs a scale"),
+                         core::Error);
     CHECK_THROWS_WITH_AS(parseScript("1 designate now\n", kName), doctest::Contains("unexpected 'now'"), core::Error);
 }
 

@@ -7,13 +7,13 @@ using namespace viewer;
 
 namespace {
 double distance(const glm::dvec3& a, const glm::dvec3& b) { return glm::length(a - b); }
-}
+}  // namespace
 
 TEST_CASE("the scale gesture keeps the point under the hands fixed") {
     WorldZoom zoom;
-    zoom.scaleAbout(glm::dvec3(3.0, 1.0, -2.0), 2.0);   // some zoom already
+    zoom.scaleAbout(glm::dvec3(3.0, 1.0, -2.0), 2.0);  // some zoom already
     const glm::dvec3 left0(-0.2, 1.2, -0.5), right0(0.2, 1.2, -0.5);
-    const glm::dvec3 under = zoom.apply(0.5 * (left0 + right0));   // what the hands hold
+    const glm::dvec3 under = zoom.apply(0.5 * (left0 + right0));  // what the hands hold
     zoom.beginGrab(left0, right0);
     // Hands move apart to three times their distance, and their midpoint moves.
     const glm::dvec3 left1(-0.7, 1.0, -0.3), right1(0.5, 1.0, -0.3);
@@ -26,7 +26,7 @@ TEST_CASE("the scale gesture keeps the point under the hands fixed") {
     CHECK(glm::length(zoom.apply(left1) - under) == doctest::Approx(0.6 / 6.0));
     zoom.endGrab();
     CHECK_FALSE(zoom.grabbing());
-    zoom.updateGrab(glm::dvec3(0.0), glm::dvec3(5.0, 0, 0));   // ignored after the end
+    zoom.updateGrab(glm::dvec3(0.0), glm::dvec3(5.0, 0, 0));  // ignored after the end
     CHECK(zoom.scale() == doctest::Approx(6.0));
 }
 
@@ -41,7 +41,7 @@ TEST_CASE("scaling about a pivot keeps it fixed, the scale is clamped, reset goe
     CHECK(distance(zoom.apply(glm::dvec3(0.0)), pivot * (1.0 - 1.0 / 8.0)) < 1e-12);
     zoom.scaleAbout(pivot, 1e9);
     CHECK(zoom.scale() == ZoomOptions{}.max_scale);
-    zoom.scaleAbout(pivot, -1.0);   // refused
+    zoom.scaleAbout(pivot, -1.0);  // refused
     CHECK(zoom.scale() == ZoomOptions{}.max_scale);
     zoom.reset();
     CHECK(zoom.scale() == 1.0);

@@ -19,7 +19,7 @@ void validate(const ModeOptions& o) {
     auto positive = [](double v, const char* name) {
         if (!(std::isfinite(v) && v > 0.0))
             throw core::Error(std::string("view: ") + name + " = " + std::to_string(v) +
-                                ": allowed a finite value > 0");
+                              ": allowed a finite value > 0");
     };
     positive(o.orbit_period_s, "orbit_period_s");
     positive(o.free_speed_mps, "free_speed_mps");
@@ -31,7 +31,7 @@ RigPose rigFromCamera(const render::CameraPose& camera) {
     const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
     const glm::dvec3 up = glm::cross(right, forward);
     RigPose rig;
-    rig.rotation = glm::dmat3(right, up, -forward);   // columns: tracking x, y, z in local
+    rig.rotation = glm::dmat3(right, up, -forward);  // columns: tracking x, y, z in local
     rig.position = camera.eye;
     return rig;
 }
@@ -56,8 +56,8 @@ glm::dmat4 viewFromPose(const RigPose& eye) {
     return glm::inverse(camera_to_world);
 }
 
-glm::dmat4 projectionFromFov(double angle_left, double angle_right, double angle_up,
-                             double angle_down, double near_m, double far_m) {
+glm::dmat4 projectionFromFov(double angle_left, double angle_right, double angle_up, double angle_down, double near_m,
+                             double far_m) {
     const double l = std::tan(angle_left) * near_m, r = std::tan(angle_right) * near_m;
     const double t = std::tan(angle_up) * near_m, b = std::tan(angle_down) * near_m;
     return glm::frustum(l, r, b, t, near_m, far_m);
@@ -73,8 +73,7 @@ ModeController::ModeController(const ModeOptions& options, const glm::dvec3& cen
 }
 
 RigPose ModeController::rig() const {
-    if (mode_ == ViewMode::Automatic)
-        return rigFromCamera(render::orbitPose(options_.orbit, centre_, angle_rad_));
+    if (mode_ == ViewMode::Automatic) return rigFromCamera(render::orbitPose(options_.orbit, centre_, angle_rad_));
     return levelRig(free_position_, free_heading_rad_);
 }
 
@@ -94,8 +93,7 @@ void ModeController::update(double dt_s, const Motion& motion, const RigPose& he
     const RigPose r = rig();
     const glm::dvec3 gaze = r.rotation * (head.rotation * glm::dvec3(0, 0, -1));
     const glm::dvec3 right = r.rotation * (head.rotation * glm::dvec3(1, 0, 0));
-    const glm::dvec3 velocity = motion.forward * gaze + motion.right * right +
-                                motion.up * glm::dvec3(0, 0, 1);
+    const glm::dvec3 velocity = motion.forward * gaze + motion.right * right + motion.up * glm::dvec3(0, 0, 1);
     free_position_ += velocity * options_.free_speed_mps * dt_s;
 }
 
@@ -108,13 +106,13 @@ ViewMode ModeController::toggle(const RigPose& head) {
         const glm::dvec3 gaze_w = r.rotation * gaze_t;
         const double heading_w = std::atan2(gaze_w.y, gaze_w.x);
         const double head_yaw = std::atan2(gaze_t.x, -gaze_t.z);
-        free_heading_rad_ = (std::abs(gaze_w.z) > 0.999) ? std::atan2(-r.rotation[2].y, -r.rotation[2].x)
-                                                         : heading_w + head_yaw;
+        free_heading_rad_ =
+            (std::abs(gaze_w.z) > 0.999) ? std::atan2(-r.rotation[2].y, -r.rotation[2].x) : heading_w + head_yaw;
         const RigPose level = levelRig(glm::dvec3(0.0), free_heading_rad_);
         free_position_ = head_local - level.rotation * head.position;
         mode_ = ViewMode::Free;
     } else {
-        mode_ = ViewMode::Automatic;   // resume the orbit where it was
+        mode_ = ViewMode::Automatic;  // resume the orbit where it was
     }
     return mode_;
 }

@@ -41,7 +41,7 @@ void CloudFeed::append(std::vector<core::CloudPoint> chunk) {
         lod = lod_order_;
         options = lod_options_;
     }
-    if (lod) item.cells = buildLodOrder(chunk, options);   // outside the lock: the producer's time
+    if (lod) item.cells = buildLodOrder(chunk, options);  // outside the lock: the producer's time
     item.points = std::move(chunk);
     {
         std::lock_guard lock(mutex_);
@@ -85,7 +85,7 @@ void CloudFeed::feedCloud(core::PointCloud cloud, std::size_t chunk_points) {
     for (std::size_t i = 0; i < cloud.points.size(); i += chunk_points) {
         const std::size_t end = std::min(cloud.points.size(), i + chunk_points);
         append(std::vector<core::CloudPoint>(cloud.points.begin() + static_cast<std::ptrdiff_t>(i),
-                                               cloud.points.begin() + static_cast<std::ptrdiff_t>(end)));
+                                             cloud.points.begin() + static_cast<std::ptrdiff_t>(end)));
     }
     finish();
 }

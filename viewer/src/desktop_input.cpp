@@ -15,15 +15,14 @@ namespace {
 DesktopInput* of(GLFWwindow* window) { return static_cast<DesktopInput*>(glfwGetWindowUserPointer(window)); }
 bool imguiWantsKeys() { return ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureKeyboard; }
 bool imguiWantsMouse() { return ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse; }
-constexpr double kClickSlopPx = 4.0;   // a press that moves less than this is a click
+constexpr double kClickSlopPx = 4.0;  // a press that moves less than this is a click
 }  // namespace
 
 void DesktopInput::install(GLFWwindow* window) {
     glfwSetWindowUserPointer(window, this);
     glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) { of(w)->onKey(key, action); });
-    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
-        of(w)->onButton(w, button, action);
-    });
+    glfwSetMouseButtonCallback(window,
+                               [](GLFWwindow* w, int button, int action, int) { of(w)->onButton(w, button, action); });
     glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { of(w)->onCursor(x, y); });
     glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) { of(w)->onScroll(dy); });
 }
@@ -71,7 +70,7 @@ void DesktopInput::onCursor(double x, double y) {
     cursor_valid_ = true;
     if (!dragging_) return;
     if (click_pending_ && std::hypot(x - press_x_, y - press_y_) < kClickSlopPx) return;
-    click_pending_ = false;   // moved: a drag that looks around, not a click
+    click_pending_ = false;  // moved: a drag that looks around, not a click
     look_yaw_rad_ -= (x - last_x_) * 0.004;
     look_pitch_rad_ = std::clamp(look_pitch_rad_ - (y - last_y_) * 0.004, -1.5, 1.5);
     last_x_ = x;

@@ -12,7 +12,7 @@ struct GLFWwindow;
 namespace viewer {
 
 class DesktopInput {
-public:
+  public:
     /// Installs the callbacks on `window` (its user pointer becomes this object).
     void install(GLFWwindow* window);
     /// The actions gathered since the last call, and this frame's held-key motion.
@@ -32,11 +32,11 @@ public:
     void onCursor(double x, double y);
     void onScroll(double dy);
 
-private:
+  private:
     OperatorInput pending_;
     double look_yaw_rad_ = 0.0, look_pitch_rad_ = 0.0;
     bool dragging_ = false;
-    bool click_pending_ = false;     // left button down, not moved far yet: a click
+    bool click_pending_ = false;  // left button down, not moved far yet: a click
     double press_x_ = 0.0, press_y_ = 0.0;
     double last_x_ = 0.0, last_y_ = 0.0;
     double cursor_x_ = -1.0, cursor_y_ = -1.0;

@@ -1,5 +1,5 @@
 // viewer/src/desktop_window.cpp: GLFW window, GL context and ImGui of the desktop mirror.
-#include <render/gl.hpp>   // glad first
+#include <render/gl.hpp>  // glad first
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
@@ -29,7 +29,7 @@ DesktopWindow::DesktopWindow(const ViewerOptions& options, DesktopInput& input) 
     glfwSetErrorCallback(glfwError);
     if (!glfwInit())
         throw core::Error("view: cannot open the desktop window: " + g_glfw_error +
-                            "; a display is needed (set DISPLAY, or run under Xvfb)");
+                          "; a display is needed (set DISPLAY, or run under Xvfb)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -43,10 +43,10 @@ DesktopWindow::DesktopWindow(const ViewerOptions& options, DesktopInput& input) 
     }
     glfwMakeContextCurrent(handle);
     render::loadGl(reinterpret_cast<GLADloadfunc>(glfwGetProcAddress));
-    input.install(handle);   // before ImGui, which chains to these callbacks
+    input.install(handle);  // before ImGui, which chains to these callbacks
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
-    ImGui::GetIO().IniFilename = nullptr;   // no imgui.ini next to the user's files
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
     ImGui::StyleColorsDark();
     ImGui_ImplGlfw_InitForOpenGL(handle, true);
     ImGui_ImplOpenGL3_Init("#version 450 core");

@@ -59,7 +59,7 @@ EyeFrameRenderer::~EyeFrameRenderer() {
 
 void EyeFrameRenderer::drawEye(const EyeTarget& target, PointRenderer& points, const FrameView& view,
                                const EyeDraw& draw, GLuint fbo, int x, int y, int w, int h, std::size_t& drawn) {
-    if (view.blank) {   // nothing of the cloud before the trial starts
+    if (view.blank) {  // nothing of the cloud before the trial starts
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
         glViewport(x, y, w, h);
         glClearColor(0.02f, 0.02f, 0.03f, 1.0f);
@@ -82,8 +82,9 @@ void EyeFrameRenderer::drawPanelQuad(const RigPose& eye_tracking, const glm::dma
     // head turns.
     const double pw = 0.8, ph = pw * panel_target_.height / std::max(1, panel_target_.width);
     const glm::dvec3 c(0.0, -0.6, -1.1);
-    const std::array<glm::dvec3, 4> corners_t = {c + glm::dvec3(-pw / 2, -ph / 2, 0), c + glm::dvec3(pw / 2, -ph / 2, 0),
-                                                 c + glm::dvec3(pw / 2, ph / 2, 0), c + glm::dvec3(-pw / 2, ph / 2, 0)};
+    const std::array<glm::dvec3, 4> corners_t = {c + glm::dvec3(-pw / 2, -ph / 2, 0),
+                                                 c + glm::dvec3(pw / 2, -ph / 2, 0), c + glm::dvec3(pw / 2, ph / 2, 0),
+                                                 c + glm::dvec3(-pw / 2, ph / 2, 0)};
     std::array<glm::dvec3, 4> corners_eye;
     for (int k = 0; k < 4; ++k)
         corners_eye[k] = glm::transpose(eye_tracking.rotation) * (corners_t[k] - eye_tracking.position);
@@ -92,7 +93,8 @@ void EyeFrameRenderer::drawPanelQuad(const RigPose& eye_tracking, const glm::dma
 
 void EyeFrameRenderer::mirror(int eye, int w, int h, int fb_w, int fb_h) {
     const MirrorEyes m = options_.mirror;
-    const bool show = m == MirrorEyes::Both || (m == MirrorEyes::Left && eye == 0) || (m == MirrorEyes::Right && eye == 1);
+    const bool show =
+        m == MirrorEyes::Both || (m == MirrorEyes::Left && eye == 0) || (m == MirrorEyes::Right && eye == 1);
     if (!show) return;
     const bool both = m == MirrorEyes::Both;
     const int area_w = both ? fb_w / 2 : fb_w;
@@ -101,8 +103,8 @@ void EyeFrameRenderer::mirror(int eye, int w, int h, int fb_w, int fb_h) {
                            GL_LINEAR);
 }
 
-bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, const FrameView& view, int fb_w,
-                                int fb_h, FrameResult& out) {
+bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, const FrameView& view, int fb_w, int fb_h,
+                                FrameResult& out) {
     out = FrameResult{};
     XrFrame& frame = out.xr_frame;
     if (!xr.beginFrame(frame)) return false;
@@ -116,7 +118,8 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
         if (timer_query_) glBeginQuery(GL_TIME_ELAPSED, timer_query_);
         for (int i = 0; i < 2; ++i)
             out.eyes_tracking[i] = {glm::mat3_cast(frame.eyes[i].orientation), frame.eyes[i].position};
-        last_head_ = {out.eyes_tracking[0].rotation, 0.5 * (out.eyes_tracking[0].position + out.eyes_tracking[1].position)};
+        last_head_ = {out.eyes_tracking[0].rotation,
+                      0.5 * (out.eyes_tracking[0].position + out.eyes_tracking[1].position)};
         std::array<EyeDraw, 2> draws;
         for (int i = 0; i < 2; ++i) {
             out.eyes_local[i] = compose(view.rig, view.zoom->apply(out.eyes_tracking[i]));
@@ -125,10 +128,10 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
             draw.far_m = options_.modes.orbit.far_m;
             draw.view = scaledView(out.eyes_local[i], view.zoom->scale());
             const XrEye& e = frame.eyes[i];
-            draw.projection = projectionFromFov(e.angle_left, e.angle_right, e.angle_up, e.angle_down, draw.near_m,
-                                                draw.far_m);
+            draw.projection =
+                projectionFromFov(e.angle_left, e.angle_right, e.angle_up, e.angle_down, draw.near_m, draw.far_m);
         }
-        points.planFrame(draws, options_.point_budget, options_.cull);   // union of both eyes
+        points.planFrame(draws, options_.point_budget, options_.cull);  // union of both eyes
         for (int i = 0; i < 2; ++i) {
             if (!eye_targets_[i].ensure(w, h)) return false;
             const unsigned texture = xr.acquireEye(i);
@@ -151,11 +154,11 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
 void EyeFrameRenderer::renderDesktop(PointRenderer& points, const FrameView& view, int fb_w, int fb_h,
                                      FrameResult& out) {
     out = FrameResult{};
-    if (fb_w <= 0 || fb_h <= 0) return;   // minimised
+    if (fb_w <= 0 || fb_h <= 0) return;  // minimised
     const Clock::time_point t0 = Clock::now();
     RigPose eye = compose(view.rig, view.zoom->apply(view.head_tracking));
     double scale = view.zoom->scale();
-    if (view.replay) {   // the recorded head, in the cloud's local frame
+    if (view.replay) {  // the recorded head, in the cloud's local frame
         eye = {glm::mat3_cast(view.replay->head_orientation), view.replay->head_world - view.origin};
         scale = view.replay->scale;
     }
@@ -180,7 +183,7 @@ void EyeFrameRenderer::endGpuTimer() {
     if (!timer_query_) return;
     glEndQuery(GL_TIME_ELAPSED);
     GLuint64 ns = 0;
-    glGetQueryObjectui64v(timer_query_, GL_QUERY_RESULT, &ns);   // waits: benchmarks only
+    glGetQueryObjectui64v(timer_query_, GL_QUERY_RESULT, &ns);  // waits: benchmarks only
     last_gpu_ms_ = double(ns) * 1e-6;
 }
 

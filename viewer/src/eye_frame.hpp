@@ -27,9 +27,9 @@ glm::dmat4 scaledView(const RigPose& eye, double scale);
 
 /// What a frame shows.
 struct FrameView {
-    RigPose rig;                          // the mode's rig
+    RigPose rig;  // the mode's rig
     const WorldZoom* zoom = nullptr;
-    RigPose head_tracking;                // desktop: the mouse-look camera
+    RigPose head_tracking;  // desktop: the mouse-look camera
     const ViewStyle* style = nullptr;
     ViewMode mode = ViewMode::Automatic;  // on the plate (a replay's recorded mode)
     CutVolume cut;
@@ -42,15 +42,15 @@ struct FrameView {
 
 /// What a frame drew, for the run log.
 struct FrameResult {
-    bool rendered = false;                // both eyes (XR) or the desktop view were drawn
+    bool rendered = false;  // both eyes (XR) or the desktop view were drawn
     std::array<RigPose, 2> eyes_tracking, eyes_local;
-    XrFrame xr_frame;                     // XR frames only
+    XrFrame xr_frame;  // XR frames only
     double cpu_ms = 0.0;
     std::size_t points_drawn = 0;
 };
 
 class EyeFrameRenderer {
-public:
+  public:
     /// Needs the window's GL context current; throws core::Error (setup path).
     explicit EyeFrameRenderer(const ViewerOptions& options);
     ~EyeFrameRenderer();
@@ -69,11 +69,11 @@ public:
     double lastGpuMs() const { return last_gpu_ms_; }
     /// The ImGui windows rendered for the headset's quad (shown from the next frame).
     EyeTarget& panelTarget() { return panel_target_; }
-    bool show_panel = true;   // the headset panel is drawn on its quad
+    bool show_panel = true;  // the headset panel is drawn on its quad
 
-private:
-    void drawEye(const EyeTarget& target, PointRenderer& points, const FrameView& view, const EyeDraw& draw,
-                 GLuint fbo, int x, int y, int w, int h, std::size_t& drawn);
+  private:
+    void drawEye(const EyeTarget& target, PointRenderer& points, const FrameView& view, const EyeDraw& draw, GLuint fbo,
+                 int x, int y, int w, int h, std::size_t& drawn);
     void drawPanelQuad(const RigPose& eye_tracking, const glm::dmat4& projection, GLuint fbo, int w, int h);
     void mirror(int eye, int w, int h, int fb_w, int fb_h);
     void endGpuTimer();
@@ -83,7 +83,7 @@ private:
     std::array<EyeTarget, 2> eye_targets_;
     EyeTarget desktop_target_, panel_target_;
     std::array<GLuint, 2> swapchain_fbo_{};
-    GLuint timer_query_ = 0;   // GL_TIME_ELAPSED around the frame's draws (--gpu-timing)
+    GLuint timer_query_ = 0;  // GL_TIME_ELAPSED around the frame's draws (--gpu-timing)
     double last_gpu_ms_ = -1.0;
     RigPose last_head_;
 };

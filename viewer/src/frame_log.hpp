@@ -18,7 +18,7 @@ nlohmann::json jsonOf(const glm::dvec3& v);
 /// One counted frame.
 struct FrameFacts {
     long frame = 0;
-    double t_s = 0.0;                  // since the run started
+    double t_s = 0.0;  // since the run started
     ViewMode mode = ViewMode::Automatic;
     glm::dvec3 orbit_centre_local{0.0};
     bool xr = false;
@@ -26,11 +26,11 @@ struct FrameFacts {
     double frame_ms = 0.0;
     double scale = 1.0;
     const char* colour = "";
-    nlohmann::json cut, pointer;       // the tools' logs
+    nlohmann::json cut, pointer;  // the tools' logs
     double pick_ms = 0.0;
     bool pick_ready = false;
-    int trial = -1;                    // -1: a plain run
-    double gpu_ms = -1.0;              // < 0: not timed
+    int trial = -1;        // -1: a plain run
+    double gpu_ms = -1.0;  // < 0: not timed
     const FrameResult* result = nullptr;
 };
 nlohmann::json frameRecord(const FrameFacts& f);

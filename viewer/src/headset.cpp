@@ -35,7 +35,8 @@ bool Headset::poll(bool quitting, long frame) {
     const XrPoll poll = xr_->pollEvents();
     if (poll == XrPoll::Ok && xr_->focused() != was_focused_) {
         was_focused_ = xr_->focused();
-        if (!quiet_) std::fprintf(stderr, "ladarvr: view: OpenXR session %s\n", was_focused_ ? "focused" : "not focused");
+        if (!quiet_)
+            std::fprintf(stderr, "ladarvr: view: OpenXR session %s\n", was_focused_ ? "focused" : "not focused");
     }
     if (poll == XrPoll::Exit) {
         log_->event("xr: session exited");

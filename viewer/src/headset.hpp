@@ -13,7 +13,7 @@ struct GLFWwindow;
 namespace viewer {
 
 class Headset {
-public:
+  public:
     Headset(RunLog& log, bool quiet) : log_(&log), quiet_(quiet) {}
     /// Tries OpenXR on `window` (unless `use_xr` is false); falls back to the desktop
     /// with the reason when it cannot start. Never throws.
@@ -31,7 +31,7 @@ public:
     /// The frame count when the viewer dropped to the desktop, -1 if it has not.
     long desktopSinceFrame() const { return desktop_since_frame_; }
 
-private:
+  private:
     RunLog* log_;
     bool quiet_ = false;
     std::unique_ptr<XrStereoSession> xr_;

@@ -18,8 +18,7 @@ std::vector<LodCell> buildLodOrder(std::vector<core::CloudPoint>& points, const 
     core::Bounds all;
     for (const auto& p : points) all.extend(glm::dvec3(p.position));
     const std::size_t per_cell = std::max<std::size_t>(options.cell_points, 1);
-    const auto side = static_cast<std::size_t>(
-        std::max(1.0, std::ceil(std::sqrt(double(n) / double(per_cell)))));
+    const auto side = static_cast<std::size_t>(std::max(1.0, std::ceil(std::sqrt(double(n) / double(per_cell)))));
     const glm::dvec3 size = all.size();
     auto axisCell = [side](double v, double lo, double extent) {
         if (extent <= 0.0) return std::size_t{0};

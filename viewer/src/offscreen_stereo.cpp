@@ -54,9 +54,9 @@ struct OffscreenStereo::Impl {
             RigPose eye = head;
             eye.position = head.apply(glm::dvec3((i == 0 ? -0.5 : 0.5) * options.ipd_m, 0.0, 0.0));
             draws[i].view = viewFromPose(eye);
-            draws[i].projection = projectionFromFov(options.angle_left_rad, options.angle_right_rad,
-                                                    options.angle_up_rad, options.angle_down_rad,
-                                                    draws[i].near_m, draws[i].far_m);
+            draws[i].projection =
+                projectionFromFov(options.angle_left_rad, options.angle_right_rad, options.angle_up_rad,
+                                  options.angle_down_rad, draws[i].near_m, draws[i].far_m);
         }
         return draws;
     }
@@ -64,8 +64,8 @@ struct OffscreenStereo::Impl {
 
 OffscreenStereo::OffscreenStereo(const StereoOptions& options) {
     validate(options);
-    impl_ = std::make_unique<Impl>();   // compiles the programs (throws on a shader failure);
-                                        // what is allocated after is freed by ~Impl on a throw
+    impl_ = std::make_unique<Impl>();  // compiles the programs (throws on a shader failure);
+                                       // what is allocated after is freed by ~Impl on a throw
     impl_->options = options;
     glCreateTextures(GL_TEXTURE_2D, 2, impl_->images.data());
     glCreateFramebuffers(2, impl_->fbos.data());
@@ -74,7 +74,7 @@ OffscreenStereo::OffscreenStereo(const StereoOptions& options) {
         glNamedFramebufferTexture(impl_->fbos[i], GL_COLOR_ATTACHMENT0, impl_->images[i], 0);
         if (!impl_->targets[i].ensure(options.eye_width_px, options.eye_height_px))
             throw core::Error("view: offscreen eye target " + std::to_string(options.eye_width_px) + "x" +
-                                std::to_string(options.eye_height_px) + " could not be allocated");
+                              std::to_string(options.eye_height_px) + " could not be allocated");
     }
 }
 
@@ -118,8 +118,7 @@ std::vector<std::uint8_t> OffscreenStereo::readEye(int eye) const {
     const int w = impl_->options.eye_width_px, h = impl_->options.eye_height_px;
     std::vector<std::uint8_t> rgba(std::size_t(w) * std::size_t(h) * 4);
     glFinish();
-    glGetTextureImage(impl_->images[eye == 0 ? 0 : 1], 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()),
-                      rgba.data());
+    glGetTextureImage(impl_->images[eye == 0 ? 0 : 1], 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(rgba.size()), rgba.data());
     return rgba;
 }
 

@@ -22,19 +22,19 @@ struct TrackingRay {
 
 struct OperatorInput {
     bool toggle_mode = false;
-    const char* toggle_source = "key";   // logged with the mode switch
+    const char* toggle_source = "key";  // logged with the mode switch
     bool designate = false;
     bool confirm = false;
     bool reject = false;
     bool no_target = false;
-    bool next = false;            // dismiss the ready screen
+    bool next = false;  // dismiss the ready screen
     bool quit = false;
     bool reset_zoom = false;
     bool cycle_colour = false;
     bool toggle_cut = false;
-    double cut_radius_step = 0.0; // +1 / -1: grow / shrink the cutting volume
-    double wheel = 0.0;           // mouse wheel steps (+ zooms in)
-    std::optional<double> set_scale;   // script grab_scale
+    double cut_radius_step = 0.0;     // +1 / -1: grow / shrink the cutting volume
+    double wheel = 0.0;               // mouse wheel steps (+ zooms in)
+    std::optional<double> set_scale;  // script grab_scale
     Motion motion;
     /// Snap turn request this frame: +1 right, -1 left (free mode, headset).
     int snap_turn = 0;

@@ -21,9 +21,8 @@ OverlayRenderer::OverlayRenderer()
       vignette_("viewer comfort vignette",
                 {{GL_VERTEX_SHADER, shaders::fullscreen_triangle_vert, shaders::fullscreen_triangle_vert_files},
                  {GL_FRAGMENT_SHADER, shaders::comfort_vignette_frag, shaders::comfort_vignette_frag_files}}),
-      panel_("viewer headset panel",
-             {{GL_VERTEX_SHADER, shaders::panel_quad_vert, shaders::panel_quad_vert_files},
-              {GL_FRAGMENT_SHADER, shaders::panel_quad_frag, shaders::panel_quad_frag_files}}) {
+      panel_("viewer headset panel", {{GL_VERTEX_SHADER, shaders::panel_quad_vert, shaders::panel_quad_vert_files},
+                                      {GL_FRAGMENT_SHADER, shaders::panel_quad_frag, shaders::panel_quad_frag_files}}) {
     glCreateVertexArrays(1, &empty_vao_);
     glCreateVertexArrays(1, &panel_vao_);
     glCreateBuffers(1, &panel_buffer_);
@@ -103,8 +102,8 @@ void OverlayRenderer::drawVignette(GLuint fbo, int x, int y, int w, int h, float
     render::logGl("OverlayRenderer::drawVignette", __FILE__, __LINE__);
 }
 
-void OverlayRenderer::draw(const OverlayList& list, const glm::dmat4& view, const glm::dmat4& projection,
-                           GLuint fbo, int x, int y, int w, int h, float dot_px) const {
+void OverlayRenderer::draw(const OverlayList& list, const glm::dmat4& view, const glm::dmat4& projection, GLuint fbo,
+                           int x, int y, int w, int h, float dot_px) const {
     const std::size_t n = list.lines.size() + list.dots.size();
     if (n == 0) return;
     std::vector<GpuVertex> data;

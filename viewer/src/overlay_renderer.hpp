@@ -26,7 +26,7 @@ struct VignetteStyle {
 
 /// What the tools draw this frame, local frame.
 struct OverlayList {
-    std::vector<OverlayVertex> lines;   // pairs
+    std::vector<OverlayVertex> lines;  // pairs
     std::vector<OverlayVertex> dots;
     std::optional<VignetteStyle> vignette;
     void line(const glm::dvec3& a, const glm::dvec3& b, const glm::vec4& colour) {
@@ -41,7 +41,7 @@ struct OverlayList {
 };
 
 class OverlayRenderer {
-public:
+  public:
     /// Compiles the program; throws core::Error("shader: ...") (setup path).
     OverlayRenderer();
     ~OverlayRenderer();
@@ -50,8 +50,8 @@ public:
 
     /// Draws `list` into framebuffer `fbo` at viewport (x, y, w, h) with `view` (local to
     /// eye, may carry the zoom's scale) and `projection`; no depth test (always on top).
-    void draw(const OverlayList& list, const glm::dmat4& view, const glm::dmat4& projection, GLuint fbo, int x,
-              int y, int w, int h, float dot_px) const;
+    void draw(const OverlayList& list, const glm::dmat4& view, const glm::dmat4& projection, GLuint fbo, int x, int y,
+              int w, int h, float dot_px) const;
 
     /// Darkens the view outside `aperture` (fraction of the half view) with a `feather`
     /// wide fade, at `strength` in [0, 1] (the comfort vignette). Nothing at strength 0.
@@ -62,14 +62,14 @@ public:
     void drawPanelQuad(GLuint texture, const std::array<glm::dvec3, 4>& corners_eye, const glm::dmat4& projection,
                        GLuint fbo, int x, int y, int w, int h) const;
 
-private:
+  private:
     render::Program program_;
     render::Program vignette_;
     render::Program panel_;
     GLuint panel_vao_ = 0, panel_buffer_ = 0;
     GLuint empty_vao_ = 0;
     GLuint vao_ = 0;
-    mutable GLuint buffer_ = 0;   // grown on demand by draw()
+    mutable GLuint buffer_ = 0;  // grown on demand by draw()
     mutable std::size_t capacity_ = 0;
 };
 

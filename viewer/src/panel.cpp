@@ -1,5 +1,5 @@
 // viewer/src/panel.cpp: the ImGui windows of the desktop mirror.
-#include "panel.hpp"   // glad first (render/gl.hpp)
+#include "panel.hpp"  // glad first (render/gl.hpp)
 
 #include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
@@ -18,10 +18,13 @@ bool drawSettingsPanel(const PanelView& v) {
     ImGui::Begin("ladarvr view", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     if (!v.trial.empty()) ImGui::TextUnformatted(v.trial.c_str());
     ImGui::Text("Mode: %s  (space / controller button)", modeName(v.mode));
-    if (!v.xr_state.empty()) ImGui::Text("OpenXR: %s", v.xr_state.c_str());
-    else ImGui::Text("Desktop mode (drag: look, WASD/QE: move in free mode)");
+    if (!v.xr_state.empty())
+        ImGui::Text("OpenXR: %s", v.xr_state.c_str());
+    else
+        ImGui::Text("Desktop mode (drag: look, WASD/QE: move in free mode)");
     int colour = static_cast<int>(v.style->colour);
-    if (ImGui::Combo("colours (C)", &colour, "file colours\0height jet\0white\0ground truth (target red)\0height above ground\0"))
+    if (ImGui::Combo("colours (C)", &colour,
+                     "file colours\0height jet\0white\0ground truth (target red)\0height above ground\0"))
         v.style->colour = static_cast<ColourMode>(colour);
     // The rest folds away, so the panel stays small over the cloud.
     if (ImGui::CollapsingHeader("display")) {
@@ -64,7 +67,8 @@ void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origi
                      ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
     const glm::dvec3 w = hit.local + origin;
     ImGui::Text("%.2f %.2f %.2f m", w.x, w.y, w.z);
-    ImGui::Text("range %.1f m  %s", glm::length(hit.local - head_local), std::string(core::roleName(hit.label)).c_str());
+    ImGui::Text("range %.1f m  %s", glm::length(hit.local - head_local),
+                std::string(core::roleName(hit.label)).c_str());
     if (has_height) ImGui::Text("height %.2f m", double(hit.height_above_ground_m));
     ImGui::End();
 }
@@ -78,8 +82,10 @@ void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded
     if (time_limit_s > 0) ImGui::Text("Time limit: %.0f s", time_limit_s);
     ImGui::Text("Find the target, point at it, designate it and confirm;");
     ImGui::Text("declare 'no target' if there is none.");
-    if (loaded) ImGui::Text("Ready: press the trigger or Enter to start.");
-    else ImGui::Text("Loading the cloud...");
+    if (loaded)
+        ImGui::Text("Ready: press the trigger or Enter to start.");
+    else
+        ImGui::Text("Loading the cloud...");
     ImGui::End();
 }
 
@@ -96,7 +102,8 @@ bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTa
     if (p.designated_local) {
         const glm::dvec3 w = *p.designated_local + p.origin;
         char text[160];
-        std::snprintf(text, sizeof text, "designated %.2f %.2f %.2f (Enter / confirm button to confirm)", w.x, w.y, w.z);
+        std::snprintf(text, sizeof text, "designated %.2f %.2f %.2f (Enter / confirm button to confirm)", w.x, w.y,
+                      w.z);
         v.designation = text;
     }
     const bool reset_zoom = drawSettingsPanel(v);

@@ -15,7 +15,7 @@ namespace viewer {
 struct PanelView {
     ViewStyle* style = nullptr;
     ViewMode mode = ViewMode::Automatic;
-    std::string xr_state;           // empty: desktop mode
+    std::string xr_state;  // empty: desktop mode
     double frame_ms = 0.0;
     std::size_t points_uploaded = 0, points_arrived = 0, points_drawn = 0, cells = 0, point_budget = 0;
     bool loading = false;
@@ -28,9 +28,9 @@ struct PanelView {
     std::size_t candidates = 0;
     bool* snap_turn = nullptr;
     bool* vignette = nullptr;
-    bool* headset_panel = nullptr;   // null: no headset
-    std::string trial;               // "trial 2 of 5: name, 12.3 s" or empty
-    std::string designation;         // "designated (x, y, z)" or empty
+    bool* headset_panel = nullptr;  // null: no headset
+    std::string trial;              // "trial 2 of 5: name, 12.3 s" or empty
+    std::string designation;        // "designated (x, y, z)" or empty
 };
 
 /// The settings panel (top left). Returns true when the zoom reset button was pressed.
@@ -46,17 +46,17 @@ void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded
 
 /// The rest of what a frame's panels show.
 struct PanelFrame {
-    glm::dvec3 origin{0.0};               // world coordinates of the local frame
-    bool has_height = false;              // the cloud has heights above ground
-    int trial = -1, trials = 1;           // trial -1: a plain run
+    glm::dvec3 origin{0.0};      // world coordinates of the local frame
+    bool has_height = false;     // the cloud has heights above ground
+    int trial = -1, trials = 1;  // trial -1: a plain run
     std::string trial_name;
     double trial_s = 0.0, time_limit_s = 0.0;
     bool ready_screen = false, ready_to_start = false;
     std::optional<glm::dvec3> designated_local;
     std::optional<PickHit> hit;
-    bool headset = false;                 // an OpenXR session exists
+    bool headset = false;  // an OpenXR session exists
     glm::dvec3 head_local{0.0};
-    glm::dmat4 view_projection{1.0};      // the desktop view (where the hit's panel goes)
+    glm::dmat4 view_projection{1.0};  // the desktop view (where the hit's panel goes)
 };
 
 /// One ImGui frame: the settings panel, the ready screen, the picked point's panel; drawn

@@ -20,10 +20,12 @@ struct Positions {
     std::size_t kdtree_get_point_count() const { return points->size(); }
     float kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*points)[i][static_cast<int>(dim)]; }
     template <class Box>
-    bool kdtree_get_bbox(Box&) const { return false; }
+    bool kdtree_get_bbox(Box&) const {
+        return false;
+    }
 };
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Positions>, Positions, 3,
-                                                    std::uint32_t>;
+using KdTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Positions>, Positions, 3, std::uint32_t>;
 
 /// The points a sphere query reaches are tested against the cone here, keeping the one
 /// nearest the apex, so no list of candidates is ever built.
@@ -31,9 +33,9 @@ struct ConeResult {
     using DistanceType = float;
     using IndexType = std::uint32_t;
     const std::vector<glm::vec3>* points = nullptr;
-    glm::dvec3 origin{0.0}, direction{0.0};   // direction unit length
-    double cos2_angle = 1.0;                  // cos^2 of the cone's half angle
-    float radius2 = 0.0f;                     // of the sphere query
+    glm::dvec3 origin{0.0}, direction{0.0};  // direction unit length
+    double cos2_angle = 1.0;                 // cos^2 of the cone's half angle
+    float radius2 = 0.0f;                    // of the sphere query
     double best_distance2 = std::numeric_limits<double>::infinity();
     std::optional<std::size_t> best;
 
@@ -57,8 +59,8 @@ struct ConeResult {
 };
 
 /// [t_enter, t_exit] of the ray inside the box (slab test); false when it misses.
-bool clipToBox(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, const glm::dvec3& hi,
-               double& t_enter, double& t_exit) {
+bool clipToBox(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, const glm::dvec3& hi, double& t_enter,
+               double& t_exit) {
     for (int axis = 0; axis < 3; ++axis) {
         if (std::abs(d[axis]) < 1e-300) {
             if (o[axis] < lo[axis] || o[axis] > hi[axis]) return false;
@@ -131,7 +133,7 @@ std::optional<PickHit> PickIndex::pick(const glm::dvec3& origin, const glm::dvec
     // The cone's points lie within tan_a * t of the axis at depth t: clip the walk to the
     // bounds grown by that much at the box's far end.
     double t = 0.0, t_end = options.max_range_m;
-    double far_m = 0.0;   // no point of the box is further than this from the origin
+    double far_m = 0.0;  // no point of the box is further than this from the origin
     for (int corner = 0; corner < 8; ++corner) {
         const glm::dvec3 c((corner & 1) ? hi_.x : lo_.x, (corner & 2) ? hi_.y : lo_.y, (corner & 4) ? hi_.z : lo_.z);
         far_m = std::max(far_m, glm::length(c - origin));
@@ -150,7 +152,7 @@ std::optional<PickHit> PickIndex::pick(const glm::dvec3& origin, const glm::dvec
     // point whose radius reaches the slice's far rim. Segments twice the cone's radius
     // long keep each sphere about 1.4 times the slice's width.
     while (t <= t_end && t * t < result.best_distance2) {
-        const double t1 = t + std::max(kMinSegmentM, 2.0 * tan_a * t) ;
+        const double t1 = t + std::max(kMinSegmentM, 2.0 * tan_a * t);
         const double half = 0.5 * (t1 - t), rim = tan_a * t1;
         const glm::vec3 centre(origin + d * (t + half));
         result.radius2 = static_cast<float>(half * half + rim * rim) * 1.0001f + 1e-6f;

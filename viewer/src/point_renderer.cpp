@@ -19,16 +19,16 @@ namespace {
 
 // A, U, T, O, M, I, C, F, R, E
 constexpr std::array<int, 70> kFont = {
-    0b01110, 0b10001, 0b10001, 0b11111, 0b10001, 0b10001, 0b10001,   // A
-    0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b01110,   // U
-    0b11111, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100,   // T
-    0b01110, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b01110,   // O
-    0b10001, 0b11011, 0b10101, 0b10101, 0b10001, 0b10001, 0b10001,   // M
-    0b01110, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100, 0b01110,   // I
-    0b01110, 0b10001, 0b10000, 0b10000, 0b10000, 0b10001, 0b01110,   // C
-    0b11111, 0b10000, 0b10000, 0b11110, 0b10000, 0b10000, 0b10000,   // F
-    0b11110, 0b10001, 0b10001, 0b11110, 0b10100, 0b10010, 0b10001,   // R
-    0b11111, 0b10000, 0b10000, 0b11110, 0b10000, 0b10000, 0b11111,   // E
+    0b01110, 0b10001, 0b10001, 0b11111, 0b10001, 0b10001, 0b10001,  // A
+    0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b01110,  // U
+    0b11111, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100,  // T
+    0b01110, 0b10001, 0b10001, 0b10001, 0b10001, 0b10001, 0b01110,  // O
+    0b10001, 0b11011, 0b10101, 0b10101, 0b10001, 0b10001, 0b10001,  // M
+    0b01110, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100, 0b01110,  // I
+    0b01110, 0b10001, 0b10000, 0b10000, 0b10000, 0b10001, 0b01110,  // C
+    0b11111, 0b10000, 0b10000, 0b11110, 0b10000, 0b10000, 0b10000,  // F
+    0b11110, 0b10001, 0b10001, 0b11110, 0b10100, 0b10010, 0b10001,  // R
+    0b11111, 0b10000, 0b10000, 0b11110, 0b10000, 0b10000, 0b11111,  // E
 };
 constexpr const char* kGlyphs = "AUTOMICFRE";
 
@@ -65,9 +65,8 @@ void EyeTarget::destroy() {
 
 // --- PointRenderer ------------------------------------------------------------------------
 PointRenderer::PointRenderer()
-    : points_("viewer points",
-              {{GL_VERTEX_SHADER, shaders::viewer_points_vert, shaders::viewer_points_vert_files},
-               {GL_FRAGMENT_SHADER, shaders::vertex_colour_frag, shaders::vertex_colour_frag_files}}),
+    : points_("viewer points", {{GL_VERTEX_SHADER, shaders::viewer_points_vert, shaders::viewer_points_vert_files},
+                                {GL_FRAGMENT_SHADER, shaders::vertex_colour_frag, shaders::vertex_colour_frag_files}}),
       resolve_("viewer eye-dome resolve",
                {{GL_VERTEX_SHADER, shaders::fullscreen_triangle_vert, shaders::fullscreen_triangle_vert_files},
                 {GL_FRAGMENT_SHADER, shaders::eye_dome_resolve_frag, shaders::eye_dome_resolve_frag_files}}),
@@ -86,7 +85,7 @@ PointRenderer::~PointRenderer() {
 }
 
 GLuint PointRenderer::jetTexture(int entries) const {
-    entries = std::clamp(entries, 2, 256);   // options.cpp validates; never index past it
+    entries = std::clamp(entries, 2, 256);  // options.cpp validates; never index past it
     if (jet_texture_ && jet_entries_ == entries) return jet_texture_;
     if (jet_texture_) glDeleteTextures(1, &jet_texture_);
     // Texel i = core::jetTable entry i. 0x00RRGGBB is stored as bytes B, G, R, 0, read as
@@ -107,7 +106,7 @@ void PointRenderer::addNode(const PointNode* node, std::shared_ptr<const NodePoi
     cells.reserve(points->cells.size());
     for (const LodCell& l : points->cells) cells.push_back({l.first, l.count, l.bounds});
     const auto chunk = chunks_.addChunk(points->points.size(), cells);
-    if (!chunk) {   // out of GPU memory: show what fits, and do not ask again each frame
+    if (!chunk) {  // out of GPU memory: show what fits, and do not ask again each frame
         no_room_.insert(node);
         return;
     }
@@ -134,9 +133,12 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
     for (const PointNode* node : allNodes(source)) {
         std::shared_ptr<const NodePoints> points = node->points();
         const bool known = on_gpu_.contains(node);
-        if (points && !points->points.empty() && !known && !no_room_.contains(node)) addNode(node, std::move(points));
-        else if (!points && known) dropNode(node);
-        else if (!points) no_room_.erase(node);
+        if (points && !points->points.empty() && !known && !no_room_.contains(node))
+            addNode(node, std::move(points));
+        else if (!points && known)
+            dropNode(node);
+        else if (!points)
+            no_room_.erase(node);
     }
     std::size_t uploaded = 0;
     while (!pending_.empty() && uploaded < budget_points) {
@@ -144,7 +146,8 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
         const std::vector<core::CloudPoint>& points = job.node->points;
         const std::size_t n = std::min(budget_points - uploaded, points.size() - job.next);
         const std::span<const core::CloudPoint> part(points.data() + job.next, n);
-        for (const core::CloudPoint& p : part) above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
+        for (const core::CloudPoint& p : part)
+            above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
         chunks_.upload(job.chunk, part);
         job.next += n;
         uploaded += n;
@@ -182,9 +185,8 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
     for (std::size_t n : plan_) planned_points_ += n;
 }
 
-DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style,
-                                 ViewMode mode, GLuint out_fbo, int x, int y, int w, int h,
-                                 const CutVolume& cut) const {
+DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style, ViewMode mode,
+                                 GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut) const {
     DrawStats stats;
     const glm::vec3 background(0.06f, 0.07f, 0.09f);
     // 1. points into the eye target
@@ -201,8 +203,7 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glEnable(GL_PROGRAM_POINT_SIZE);
     points_.use();
     glBindVertexArray(chunks_.vao());
-    glUniformMatrix4fv(points_.uniform("u_projection"), 1, GL_FALSE,
-                       &glm::mat4(eye.projection)[0][0]);
+    glUniformMatrix4fv(points_.uniform("u_projection"), 1, GL_FALSE, &glm::mat4(eye.projection)[0][0]);
     const core::Bounds& bounds = chunks_.bounds();
     glUniform1f(points_.uniform("u_z_min"), bounds.empty() ? 0.0f : float(bounds.lo.z));
     glUniform1f(points_.uniform("u_z_max"), bounds.empty() ? 1.0f : float(bounds.hi.z));
@@ -233,7 +234,7 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
         const glm::mat4 mv = chunkModelView(eye.view, c.centre);
         glUniformMatrix4fv(u_model_view, 1, GL_FALSE, &mv[0][0]);
         glUniform1f(u_chunk_z, float(c.centre.z));
-        if (cut.enabled) {   // relative to the cell's centre, like its points
+        if (cut.enabled) {  // relative to the cell's centre, like its points
             const glm::vec3 rel(cut.centre_local - c.centre);
             glUniform3f(u_cut_centre, rel.x, rel.y, rel.z);
         }
@@ -263,18 +264,15 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     const char* word = mode == ViewMode::Automatic ? "AUTOMATIC" : "FREE";
     std::array<int, 12> text{};
     const int length = static_cast<int>(std::strlen(word));
-    for (int i = 0; i < length; ++i)
-        text[i] = static_cast<int>(std::strchr(kGlyphs, word[i]) - kGlyphs);
+    for (int i = 0; i < length; ++i) text[i] = static_cast<int>(std::strchr(kGlyphs, word[i]) - kGlyphs);
     const float cell = std::max(1.0f, std::floor(float(h) / 300.0f));
     const float plate_w = (length * 6 + 1) * cell, plate_h = 9 * cell;
     const float px0 = x + std::floor((w - plate_w) / 2), py0 = y + h - plate_h - std::floor(h * 0.2f);
     auto ndc_x = [&](float p) { return (p - x) / w * 2.0f - 1.0f; };
     auto ndc_y = [&](float p) { return (p - y) / h * 2.0f - 1.0f; };
     indicator_.use();
-    glUniform4f(indicator_.uniform("u_rect_ndc"), ndc_x(px0), ndc_y(py0), ndc_x(px0 + plate_w),
-                ndc_y(py0 + plate_h));
-    const glm::vec3 plate = mode == ViewMode::Automatic ? glm::vec3(0.0f, 0.62f, 0.9f)
-                                                        : glm::vec3(1.0f, 0.6f, 0.0f);
+    glUniform4f(indicator_.uniform("u_rect_ndc"), ndc_x(px0), ndc_y(py0), ndc_x(px0 + plate_w), ndc_y(py0 + plate_h));
+    const glm::vec3 plate = mode == ViewMode::Automatic ? glm::vec3(0.0f, 0.62f, 0.9f) : glm::vec3(1.0f, 0.6f, 0.0f);
     glUniform3f(indicator_.uniform("u_plate"), plate.r, plate.g, plate.b);
     glUniform2f(indicator_.uniform("u_origin_px"), px0, py0);
     glUniform1f(indicator_.uniform("u_cell_px"), cell);

@@ -35,7 +35,7 @@ struct EyeTarget {
 
 /// Per-draw parameters for one eye.
 struct EyeDraw {
-    glm::dmat4 view{1.0};        // world(local)-to-eye, double
+    glm::dmat4 view{1.0};  // world(local)-to-eye, double
     glm::dmat4 projection{1.0};
     double near_m = 0.1, far_m = 20000.0;
 };
@@ -50,12 +50,12 @@ struct CutVolume {
 
 struct DrawStats {
     std::size_t points_drawn = 0;
-    std::size_t chunks_drawn = 0;    // cells drawn
-    std::size_t chunks_culled = 0;   // cells with points on the GPU skipped (frustum or budget)
+    std::size_t chunks_drawn = 0;   // cells drawn
+    std::size_t chunks_culled = 0;  // cells with points on the GPU skipped (frustum or budget)
 };
 
 class PointRenderer {
-public:
+  public:
     /// Compiles the programs; throws core::Error("shader: ...") (setup path).
     PointRenderer();
     ~PointRenderer();
@@ -85,19 +85,19 @@ public:
     /// Draws the cloud into `target` (cleared), then resolves it with eye-dome lighting (if
     /// on) into the framebuffer `out_fbo` at viewport (x, y, w, h), then the mode indicator
     /// (small, near the top edge). Points outside an enabled `cut` are not drawn.
-    DrawStats drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style,
-                      ViewMode mode, GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut = {}) const;
+    DrawStats drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style, ViewMode mode,
+                      GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut = {}) const;
 
-private:
+  private:
     /// The jet table (core::jetTable(entries)) as a 1D RGBA8 texture, made on first use
     /// and again when `entries` changes. Never throws (a GL error is logged).
     GLuint jetTexture(int entries) const;
-    static constexpr GLuint kJetTextureUnit = 2;   // units 0 and 1: the resolve's inputs
+    static constexpr GLuint kJetTextureUnit = 2;  // units 0 and 1: the resolve's inputs
 
     struct Pending {
-        std::shared_ptr<const NodePoints> node;   // kept until uploaded whole
-        std::size_t next = 0;     // first point not uploaded yet
-        std::size_t chunk = 0;    // the chunk in chunks_
+        std::shared_ptr<const NodePoints> node;  // kept until uploaded whole
+        std::size_t next = 0;                    // first point not uploaded yet
+        std::size_t chunk = 0;                   // the chunk in chunks_
     };
     /// A node newly resident: its chunk and its place in the upload queue.
     void addNode(const PointNode* node, std::shared_ptr<const NodePoints> points);
@@ -106,16 +106,16 @@ private:
     render::Program points_, resolve_, indicator_;
     render::PointChunks chunks_;
     GLuint empty_vao_ = 0;
-    mutable GLuint jet_texture_ = 0;         // jetTexture()'s cache
+    mutable GLuint jet_texture_ = 0;  // jetTexture()'s cache
     mutable int jet_entries_ = 0;
-    std::unordered_map<const PointNode*, std::size_t> on_gpu_;   // node -> its chunk
-    std::unordered_set<const PointNode*> no_room_;               // resident, but the GPU had no room
-    std::vector<std::size_t> plan_;          // per cell: points to draw (planFrame)
+    std::unordered_map<const PointNode*, std::size_t> on_gpu_;  // node -> its chunk
+    std::unordered_set<const PointNode*> no_room_;              // resident, but the GPU had no room
+    std::vector<std::size_t> plan_;                             // per cell: points to draw (planFrame)
     bool plan_valid_ = false, plan_cull_ = true;
     std::size_t planned_points_ = 0;
     std::deque<Pending> pending_;
     std::size_t pending_points_ = 0;
-    float above_ground_max_m_ = 0.0f;   // highest height above ground uploaded (colour range)
+    float above_ground_max_m_ = 0.0f;  // highest height above ground uploaded (colour range)
 };
 
 }  // namespace viewer

@@ -10,7 +10,7 @@ namespace {
 
 /// One chunk of the stream: a leaf, resident from its arrival until evicted.
 class FeedLeaf final : public PointNode {
-public:
+  public:
     explicit FeedLeaf(std::shared_ptr<const NodePoints> points) : points_(std::move(points)) {
         count_ = points_->points.size();
         for (const LodCell& c : points_->cells) bounds_.extend(c.bounds);
@@ -18,11 +18,11 @@ public:
     const core::Bounds& bounds() const override { return bounds_; }
     std::size_t pointCount() const override { return count_; }
     std::span<PointNode* const> children() const override { return {}; }
-    void request() override {}   // the stream has passed: nothing to read again
+    void request() override {}  // the stream has passed: nothing to read again
     void evict() override { points_.reset(); }
     std::shared_ptr<const NodePoints> points() const override { return points_; }
 
-private:
+  private:
     std::shared_ptr<const NodePoints> points_;
     core::Bounds bounds_;
     std::size_t count_ = 0;

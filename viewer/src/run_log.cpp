@@ -13,10 +13,8 @@ void RunLog::frame(nlohmann::json record) {
     if (frames.size() < kMaxFrames) frames.push_back(std::move(record));
 }
 
-void RunLog::modeSwitch(long frame_index, const std::string& from, const std::string& to,
-                        const std::string& source) {
-    json_["mode_switches"].push_back(
-        {{"frame", frame_index}, {"from", from}, {"to", to}, {"source", source}});
+void RunLog::modeSwitch(long frame_index, const std::string& from, const std::string& to, const std::string& source) {
+    json_["mode_switches"].push_back({{"frame", frame_index}, {"from", from}, {"to", to}, {"source", source}});
 }
 
 bool RunLog::write(const std::filesystem::path& path) const {

@@ -12,24 +12,26 @@
 namespace viewer {
 
 class RunLog {
-public:
+  public:
     /// Appends a session state name ("IDLE", "READY", ...) in the order reached.
     void state(const std::string& name) { json_["states"].push_back(name); }
     /// A free-form event line ("xr: session lost", "mode: free (key)").
     void event(const std::string& text) { json_["events"].push_back(text); }
     /// Sets a top-level key.
-    template <class T> void set(const std::string& key, const T& value) { json_[key] = value; }
+    template <class T>
+    void set(const std::string& key, const T& value) {
+        json_[key] = value;
+    }
     /// Appends one frame record (only the first `max_frames` are kept, to bound the size).
     void frame(nlohmann::json record);
-    void modeSwitch(long frame_index, const std::string& from, const std::string& to,
-                    const std::string& source);
+    void modeSwitch(long frame_index, const std::string& from, const std::string& to, const std::string& source);
     /// Writes the JSON atomically (platform::writeFileAtomic); never throws, reports failures.
     bool write(const std::filesystem::path& path) const;
     const nlohmann::json& json() const { return json_; }
 
     static constexpr std::size_t kMaxFrames = 20000;
 
-private:
+  private:
     nlohmann::json json_ = {{"states", nlohmann::json::array()},
                             {"events", nlohmann::json::array()},
                             {"frames", nlohmann::json::array()},

@@ -17,10 +17,15 @@ namespace viewer {
 
 namespace {
 using Key = ScriptEvent::Key;
-constexpr std::array<std::pair<Key, const char*>, 9> kKeys = {{
-    {Key::Space, "space"}, {Key::Escape, "escape"}, {Key::Aim, "aim"}, {Key::Designate, "designate"},
-    {Key::Confirm, "confirm"}, {Key::Reject, "reject"}, {Key::NoTarget, "no_target"},
-    {Key::GrabScale, "grab_scale"}, {Key::Next, "next"}}};
+constexpr std::array<std::pair<Key, const char*>, 9> kKeys = {{{Key::Space, "space"},
+                                                               {Key::Escape, "escape"},
+                                                               {Key::Aim, "aim"},
+                                                               {Key::Designate, "designate"},
+                                                               {Key::Confirm, "confirm"},
+                                                               {Key::Reject, "reject"},
+                                                               {Key::NoTarget, "no_target"},
+                                                               {Key::GrabScale, "grab_scale"},
+                                                               {Key::Next, "next"}}};
 constexpr const char* kAllowed =
     "; allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
     "'<frame> grab_scale S', <frame> N, desktop+N, loaded+N or +N";
@@ -64,7 +69,8 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
                                             : ev.after_loaded ? frame_text.substr(kLoaded.size())
                                             : ev.relative     ? frame_text.substr(1)
                                                               : frame_text;
-            if (number_text.empty() || number_text[0] < '0' || number_text[0] > '9') throw std::invalid_argument("frame");
+            if (number_text.empty() || number_text[0] < '0' || number_text[0] > '9')
+                throw std::invalid_argument("frame");
             std::size_t used = 0;
             ev.frame = std::stol(number_text, &used);
             if (used != number_text.size() || ev.frame < 0) throw std::invalid_argument("frame");
@@ -85,7 +91,8 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
             for (int i = 0; i < 3; ++i) {
                 std::string token;
                 if (!(ls >> token)) throw bad("aim needs X Y Z (world metres)");
-                if (!parseNumber(token, ev.point[i])) throw bad("aim coordinate " + quoted(token) + " is not a finite number");
+                if (!parseNumber(token, ev.point[i]))
+                    throw bad("aim coordinate " + quoted(token) + " is not a finite number");
             }
         } else if (ev.key == Key::GrabScale) {
             std::string token;
@@ -103,7 +110,10 @@ std::string formatScript(const std::vector<ScriptEvent>& events) {
     std::string text;
     char number[64];
     for (const ScriptEvent& ev : events) {
-        text += (ev.after_desktop ? "desktop+" : ev.after_loaded ? "loaded+" : ev.relative ? "+" : "") +
+        text += (ev.after_desktop  ? "desktop+"
+                 : ev.after_loaded ? "loaded+"
+                 : ev.relative     ? "+"
+                                   : "") +
                 std::to_string(ev.frame) + " " + scriptKeyName(ev.key);
         if (ev.key == Key::Aim)
             for (double v : ev.point) {

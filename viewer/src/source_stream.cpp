@@ -12,7 +12,7 @@ void SourceStream::start(std::size_t upload_points_per_frame) {
 }
 
 void SourceStream::reset(PointSource& source) {
-    building_ = {};   // waits for a build in flight
+    building_ = {};  // waits for a build in flight
     source_ = &source;
     renderer_ = std::make_unique<PointRenderer>();
     picks_.reset();

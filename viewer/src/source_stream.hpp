@@ -18,12 +18,12 @@ namespace viewer {
 
 /// What changed in one update.
 struct SourceEvents {
-    bool picks_ready = false;   // picks() became available
-    std::string load_error;     // the source failed (reported once)
+    bool picks_ready = false;  // picks() became available
+    std::string load_error;    // the source failed (reported once)
 };
 
 class SourceStream {
-public:
+  public:
     /// Makes the renderer (needs the GL context; throws core::Error on a shader error).
     void start(std::size_t upload_points_per_frame);
     /// Shows `source` from now on: a fresh renderer and no pick index.
@@ -43,7 +43,7 @@ public:
     bool centreChanged() const { return centre_changed_; }
     bool centreFinal() const { return centre_final_; }
 
-private:
+  private:
     std::size_t budget_ = 0;
     PointSource* source_ = nullptr;
     std::unique_ptr<PointRenderer> renderer_;

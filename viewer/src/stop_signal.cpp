@@ -9,8 +9,8 @@ extern "C" void onStop(int sig) { g_received = sig; }
 
 bool install(int sig, struct sigaction& old) {
     if (::sigaction(sig, nullptr, &old) != 0) return false;
-    if (!(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_IGN) return false;   // nohup
-    struct sigaction sa {};
+    if (!(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_IGN) return false;  // nohup
+    struct sigaction sa{};
     sa.sa_handler = onStop;
     sigemptyset(&sa.sa_mask);
     return ::sigaction(sig, &sa, nullptr) == 0;

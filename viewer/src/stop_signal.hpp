@@ -10,7 +10,7 @@ namespace viewer {
 /// process ignores, as under nohup, stay ignored). The destructor restores the previous
 /// handlers.
 class StopSignal {
-public:
+  public:
     StopSignal();
     ~StopSignal();
     StopSignal(const StopSignal&) = delete;
@@ -18,8 +18,8 @@ public:
     /// The signal received, 0 if none.
     static int received();
 
-private:
-    struct sigaction old_int_ {}, old_term_ {};
+  private:
+    struct sigaction old_int_{}, old_term_{};
     bool int_installed_ = false, term_installed_ = false;
 };
 

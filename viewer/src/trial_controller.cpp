@@ -22,7 +22,7 @@ double TrialController::time() const {
 }
 
 PointSource& TrialController::begin(int index) {
-    if (index_ >= 0) source_->end(index_);   // before its feed goes
+    if (index_ >= 0) source_->end(index_);  // before its feed goes
     points_.reset();
     feed_ = std::make_unique<CloudFeed>();
     feed_->enableLodOrder();
@@ -36,7 +36,8 @@ PointSource& TrialController::begin(int index) {
     setup_ = source_->begin(index, *feed_);
     log_->event("trial " + std::to_string(index) + ": ready screen (" + setup_.name + ")");
     if (!quiet_)
-        std::fprintf(stderr, "ladarvr: study: trial %d of %d (%s): ready screen\n", index + 1, total_, setup_.name.c_str());
+        std::fprintf(stderr, "ladarvr: study: trial %d of %d (%s): ready screen\n", index + 1, total_,
+                     setup_.name.c_str());
     return *points_;
 }
 
@@ -83,7 +84,8 @@ void TrialController::decide(const OperatorInput& in, const TrialContext& c) {
                 if (!outcome_.time_to_first_designation_s) outcome_.time_to_first_designation_s = t_s;
                 if (observer_) observer_->onDesignate(index_, t_s, w);
             }
-            record("designate", c.frame, {{"world", vec(w)}, {"label", std::string(core::roleName(pointer.hit()->label))}});
+            record("designate", c.frame,
+                   {{"world", vec(w)}, {"label", std::string(core::roleName(pointer.hit()->label))}});
         } else {
             record("designate", c.frame, {{"world", nullptr}});
         }
@@ -104,7 +106,8 @@ void TrialController::decide(const OperatorInput& in, const TrialContext& c) {
             if (observer_ && running_) observer_->onVerdict(index_, t_s, candidates.candidate(*i), Verdict::Confirmed);
             record("confirm", c.frame, {{"candidate", candidates.candidate(*i).id}});
             if (!designated_local_)
-                designated_local_ = pointer.hit() ? pointer.hit()->local : candidates.candidate(*i).centre_world - c.origin;
+                designated_local_ =
+                    pointer.hit() ? pointer.hit()->local : candidates.candidate(*i).centre_world - c.origin;
             end(Decision::Confirm, c);
         } else if (designated_local_) {
             record("confirm", c.frame, {{"world", vec(*designated_local_ + c.origin)}});
@@ -138,7 +141,8 @@ void TrialController::end(Decision decision, const TrialContext& c) {
                 observer_->onVerdict(index_, o.time_to_decision_s, candidates.candidate(i), Verdict::Unreviewed);
         observer_->onEnd(index_, o);
     }
-    decisions_.push_back({{"trial", index_}, {"frame", c.frame}, {"action", "end"}, {"decision", decisionName(decision)}});
+    decisions_.push_back(
+        {{"trial", index_}, {"frame", c.frame}, {"action", "end"}, {"decision", decisionName(decision)}});
     log_->event("trial " + std::to_string(index_) + ": " + decisionName(decision));
     if (!quiet_)
         std::fprintf(stderr, "ladarvr: study: trial %d ended: %s after %.1f s\n", index_ + 1, decisionName(decision),
@@ -160,7 +164,7 @@ void TrialController::draw(OverlayList& out, double scale) const {
     const glm::vec4 colour(1.0f, 0.2f, 1.0f, 1.0f);
     const glm::dvec3 c = *designated_local_;
     out.dots.push_back({c, colour});
-    const double r = 1.0 / scale;   // a 2 m cross at life size
+    const double r = 1.0 / scale;  // a 2 m cross at life size
     out.line(c - glm::dvec3(r, 0, 0), c + glm::dvec3(r, 0, 0), colour);
     out.line(c - glm::dvec3(0, r, 0), c + glm::dvec3(0, r, 0), colour);
     out.line(c - glm::dvec3(0, 0, r), c + glm::dvec3(0, 0, r), colour);

@@ -25,14 +25,14 @@ namespace viewer {
 /// What the controller reads of the frame when it acts.
 struct TrialContext {
     long frame = 0;
-    glm::dvec3 origin{0.0};                   // world coordinates of the local frame
+    glm::dvec3 origin{0.0};  // world coordinates of the local frame
     const PointerTool* pointer = nullptr;
     CandidatesTool* candidates = nullptr;
-    const PickSet* picks = nullptr;           // null until picking is ready
+    const PickSet* picks = nullptr;  // null until picking is ready
 };
 
 class TrialController {
-public:
+  public:
     using Clock = std::chrono::steady_clock;
     /// `source` and `observer` null: a plain run.
     TrialController(TrialSource* source, TrialObserver* observer, RunLog& log, bool quiet);
@@ -66,8 +66,12 @@ public:
     }
     /// The trial's part of the panels: index, count, name, time, limit, ready screen, designation.
     void describe(PanelFrame& p) const;
-    void countModeSwitch() { if (running_) ++outcome_.mode_switches; }
-    void addFreeModeSeconds(double dt) { if (running_) outcome_.seconds_in_free_mode += dt; }
+    void countModeSwitch() {
+        if (running_) ++outcome_.mode_switches;
+    }
+    void addFreeModeSeconds(double dt) {
+        if (running_) outcome_.seconds_in_free_mode += dt;
+    }
     /// Appends {"frame", "action", "trial"?, ...extra} to the decisions log.
     void record(const char* action, long frame, nlohmann::json extra = nlohmann::json::object());
     /// The designated point: a dot and a cross 2 m wide at life size.
@@ -76,17 +80,17 @@ public:
     /// Candidates go in once the feed has finished (the origin is known then); true once.
     bool placeCandidates(bool feed_finished);
 
-private:
+  private:
     TrialSource* source_ = nullptr;
     TrialObserver* observer_ = nullptr;
     RunLog* log_ = nullptr;
     bool quiet_ = false;
     int index_ = -1, total_ = 1;
     TrialSetup setup_;
-    std::unique_ptr<CloudFeedSource> points_;   // before the feed: it points into it
+    std::unique_ptr<CloudFeedSource> points_;  // before the feed: it points into it
     std::unique_ptr<CloudFeed> feed_;
-    bool ready_screen_ = false;      // waiting for the operator to start
-    bool running_ = false;           // between the ready screen and the decision
+    bool ready_screen_ = false;  // waiting for the operator to start
+    bool running_ = false;       // between the ready screen and the decision
     Clock::time_point started_{};
     TrialOutcome outcome_;
     std::optional<glm::dvec3> designated_local_;

@@ -9,7 +9,7 @@
 // (viewer/point_source.hpp). Setup throws core::Error; once the loop runs nothing
 // throws: OpenXR failures drop to the desktop mode with the cloud kept, GL errors are
 // logged.
-#include <render/gl.hpp>   // glad first
+#include <render/gl.hpp>  // glad first
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
@@ -34,10 +34,19 @@ namespace viewer {
 using Clock = ViewerApp::Clock;
 
 ViewerApp::ViewerApp(const ViewerOptions& options, bool record_frames, TrialSource* trials, TrialObserver* observer)
-    : options_(options), record_frames_(record_frames), window_(options, input_), script_(options.script),
-      replay_(options.replay), trials_(trials, observer, log_, options.quiet), style_(options.style),
-      modes_(options.modes, glm::dvec3(0.0)), pointer_(options.pick), cut_(options.cut_enabled, options.cut_radius_m),
-      comfort_(ComfortOptions::of(options)), headset_(log_, options.quiet), headset_panel_(options.headset_panel) {
+    : options_(options),
+      record_frames_(record_frames),
+      window_(options, input_),
+      script_(options.script),
+      replay_(options.replay),
+      trials_(trials, observer, log_, options.quiet),
+      style_(options.style),
+      modes_(options.modes, glm::dvec3(0.0)),
+      pointer_(options.pick),
+      cut_(options.cut_enabled, options.cut_radius_m),
+      comfort_(ComfortOptions::of(options)),
+      headset_(log_, options.quiet),
+      headset_panel_(options.headset_panel) {
     log_.set("gl", render::glDescription());
     stream_.start(options_.upload_points_per_frame);
     eyes_ = std::make_unique<EyeFrameRenderer>(options_);
@@ -52,8 +61,10 @@ RigPose ViewerApp::headTracking() const {
 
 void ViewerApp::toggleMode(const std::string& source) {
     const ViewMode from = modes_.mode();
-    if (headset_.session()) modes_.toggle(zoom_.zoom().apply(eyes_->lastHead()));
-    else modes_.toggleDesktop(input_.lookYawRad(), input_.lookPitchRad());
+    if (headset_.session())
+        modes_.toggle(zoom_.zoom().apply(eyes_->lastHead()));
+    else
+        modes_.toggleDesktop(input_.lookYawRad(), input_.lookPitchRad());
     log_.modeSwitch(frames_, modeName(from), modeName(modes_.mode()), source);
     trials_.countModeSwitch();
     if (!options_.quiet) std::fprintf(stderr, "ladarvr: view: %s mode (%s)\n", modeName(modes_.mode()), source.c_str());
@@ -72,7 +83,7 @@ bool ViewerApp::readyToStart() const {
 }
 
 void ViewerApp::beginTrial(int index) {
-    stream_.reset(trials_.begin(index));   // a fresh cloud on the GPU
+    stream_.reset(trials_.begin(index));  // a fresh cloud on the GPU
     pointer_.setIndex(nullptr);
     pointer_.update(std::nullopt);
     modes_ = ModeController(options_.modes, glm::dvec3(0.0));
@@ -125,10 +136,14 @@ OperatorInput ViewerApp::gatherInput() {
 void ViewerApp::checkQuit(const OperatorInput& in) {
     if (quitting_) return;
     const double elapsed_s = std::chrono::duration<double>(Clock::now() - start_).count();
-    if (options_.frames > 0 && frames_ >= options_.frames) startQuit("frames");
-    else if (in.quit) startQuit("escape");
-    else if (StopSignal::received()) startQuit(StopSignal::received() == SIGINT ? "SIGINT" : "SIGTERM");
-    else if (glfwWindowShouldClose(window_.handle)) startQuit("window closed");
+    if (options_.frames > 0 && frames_ >= options_.frames)
+        startQuit("frames");
+    else if (in.quit)
+        startQuit("escape");
+    else if (StopSignal::received())
+        startQuit(StopSignal::received() == SIGINT ? "SIGINT" : "SIGTERM");
+    else if (glfwWindowShouldClose(window_.handle))
+        startQuit("window closed");
     else if (options_.timeout_s > 0 && elapsed_s > options_.timeout_s) {
         startQuit("timeout");
         status_ = 1;
@@ -182,13 +197,13 @@ void ViewerApp::update(OperatorInput in, double dt) {
         f.dt_s = dt;
         f.now_s = std::chrono::duration<double>(Clock::now() - start_).count();
         f.modes = &modes_;
-        f.zoom_pivot_tracking = pointer_.hit() ? zoom_.zoom().unapply(glm::transpose(rig.rotation) *
-                                                                      (pointer_.hit()->local - rig.position))
-                                               : headTracking().position;
+        f.zoom_pivot_tracking =
+            pointer_.hit() ? zoom_.zoom().unapply(glm::transpose(rig.rotation) * (pointer_.hit()->local - rig.position))
+                           : headTracking().position;
         in.reset_zoom = in.reset_zoom || reset_zoom_button_;
         zoom_.update(in, f);
         if (in.set_scale) trials_.record("grab_scale", frames_, {{"scale", zoom_.zoom().scale()}});
-        if (in.cycle_colour) {   // the next mode colourModeName knows, then the first again
+        if (in.cycle_colour) {  // the next mode colourModeName knows, then the first again
             const auto next = static_cast<ColourMode>(static_cast<int>(style_.colour) + 1);
             style_.colour = std::string(colourModeName(next)) == "?" ? ColourMode::File : next;
         }
@@ -210,17 +225,27 @@ void ViewerApp::update(OperatorInput in, double dt) {
         candidates_.draw(overlay_list_);
         comfort_.draw(overlay_list_);
         if (replay_sample_ && replay_sample_->hit_world)
-            overlay_list_.dots.push_back({*replay_sample_->hit_world - stream_.source().origin(), {1.0f, 1.0f, 0.2f, 1.0f}});
+            overlay_list_.dots.push_back(
+                {*replay_sample_->hit_world - stream_.source().origin(), {1.0f, 1.0f, 0.2f, 1.0f}});
     }
     // The trial ended: the next one, or the end of the run.
     if (trials_.study() && !trials_.running() && !trials_.readyScreen() && !quitting_) {
-        if (trials_.index() + 1 < trials_.total()) beginTrial(trials_.index() + 1);
-        else startQuit("trials done");
+        if (trials_.index() + 1 < trials_.total())
+            beginTrial(trials_.index() + 1);
+        else
+            startQuit("trials done");
     }
 }
 
 std::optional<LocalRay> ViewerApp::pointerRay(const OperatorInput& in) const {
-    PointerSources p{modes_.rig(), headLocal(), &zoom_.zoom(), std::nullopt, in.controller_ray, std::nullopt, 0, 0,
+    PointerSources p{modes_.rig(),
+                     headLocal(),
+                     &zoom_.zoom(),
+                     std::nullopt,
+                     in.controller_ray,
+                     std::nullopt,
+                     0,
+                     0,
                      options_.modes.orbit.vfov_deg};
     if (aim_world_) p.aim_local = *aim_world_ - stream_.source().origin();
     double cx = 0.0, cy = 0.0;
@@ -257,7 +282,7 @@ void ViewerApp::render(int fb_w, int fb_h) {
         eyes_->renderDesktop(stream_.renderer(), view, fb_w, fb_h, result);
         if (!headset_.session()) {
             frameCounted(result, false);
-        } else {   // waiting for READY: drawn, not counted
+        } else {  // waiting for READY: drawn, not counted
             if (result.rendered) points_drawn_ = result.points_drawn;
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
         }
@@ -275,11 +300,11 @@ void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
     if (frames_ == 1 && !options_.quiet) std::fprintf(stderr, "ladarvr: view: first frame drawn\n");
     const PointRenderer& points = stream_.renderer();
     if (record_frames_)
-        log_.frame(frameRecord({frames_, std::chrono::duration<double>(Clock::now() - start_).count(), modes_.mode(),
-                                modes_.centre(), xr, points_drawn_, points.uploadedPoints(),
-                                stream_.source().pointsArrived(), frame_ms_, zoom_.zoom().scale(),
-                                colourModeName(style_.colour), cut_.log(), pointer_.log(), pointer_.lastPickMs(),
-                                pointer_.ready(), trials_.index(), eyes_->lastGpuMs(), &result}));
+        log_.frame(
+            frameRecord({frames_, std::chrono::duration<double>(Clock::now() - start_).count(), modes_.mode(),
+                         modes_.centre(), xr, points_drawn_, points.uploadedPoints(), stream_.source().pointsArrived(),
+                         frame_ms_, zoom_.zoom().scale(), colourModeName(style_.colour), cut_.log(), pointer_.log(),
+                         pointer_.lastPickMs(), pointer_.ready(), trials_.index(), eyes_->lastGpuMs(), &result}));
     if (first_points_frame_ < 0 && points_drawn_ > 0) first_points_frame_ = frames_;
     if (!trials_.running()) return;
     const RigPose head = headLocal();
@@ -297,8 +322,10 @@ void ViewerApp::present(int fb_w, int fb_h) {
         fb_w > 0) {
         screenshot_done_ = true;
         if (writeScreenshot(options_.screenshot, fb_w, fb_h))
-            log_.set("screenshot", nlohmann::json{{"path", options_.screenshot.string()}, {"width", fb_w},
-                                                  {"height", fb_h}, {"frame", frames_}});
+            log_.set(
+                "screenshot",
+                nlohmann::json{
+                    {"path", options_.screenshot.string()}, {"width", fb_w}, {"height", fb_h}, {"frame", frames_}});
         else
             status_ = 1;
     }
@@ -351,11 +378,25 @@ int ViewerApp::finish(int status) {
     }
     glFinish();
     const PointRenderer& points = stream_.renderer();
-    RunSummary s{exit_reason_, headset_.fallbackReason(), frames_, frames_submitted_, first_points_frame_,
-                 stream_.source().pointsArrived(), points.uploadedPoints(), options_.point_budget, points.cellCount(),
-                 options_.cull, headset_.session() != nullptr, headset_panel_ && eyes_->panelTarget().colour != 0, modes_.mode(),
-                 modes_.centre(), stream_.source().origin(), trials_.decisions(), candidates_.log(),
-                 zoom_.zoom().scale(), std::nullopt};
+    RunSummary s{exit_reason_,
+                 headset_.fallbackReason(),
+                 frames_,
+                 frames_submitted_,
+                 first_points_frame_,
+                 stream_.source().pointsArrived(),
+                 points.uploadedPoints(),
+                 options_.point_budget,
+                 points.cellCount(),
+                 options_.cull,
+                 headset_.session() != nullptr,
+                 headset_panel_ && eyes_->panelTarget().colour != 0,
+                 modes_.mode(),
+                 modes_.centre(),
+                 stream_.source().origin(),
+                 trials_.decisions(),
+                 candidates_.log(),
+                 zoom_.zoom().scale(),
+                 std::nullopt};
     if (trials_.designated()) s.designated_world = *trials_.designated() + stream_.source().origin();
     recordSummary(log_, s);
     if (!options_.log_json.empty() && !log_.write(options_.log_json)) status = 1;

@@ -4,7 +4,6 @@
 #pragma once
 #include <viewer/viewer.hpp>
 
-
 #include "desktop_input.hpp"
 #include "desktop_window.hpp"
 #include "eye_frame.hpp"
@@ -26,7 +25,6 @@
 #include "xr_actions.hpp"
 #include "xr_session.hpp"
 
-
 #include <chrono>
 #include <cstddef>
 #include <memory>
@@ -36,7 +34,7 @@
 namespace viewer {
 
 class ViewerApp {
-public:
+  public:
     using Clock = std::chrono::steady_clock;
     /// `record_frames`: keep per-frame records in the log (for --log-json and benchmarks;
     /// an interactive session would otherwise grow it for nothing).
@@ -45,7 +43,7 @@ public:
     int run(CloudFeed* feed);
     std::string logJson() const { return log_.json().dump(); }
 
-private:
+  private:
     // Stages of a frame.
     OperatorInput gatherInput();
     void checkQuit(const OperatorInput& in);
@@ -67,7 +65,7 @@ private:
     void drawPanel(int fb_w, int fb_h);
     int finish(int status);
 
-    StopSignal stop_signal_;   // before the window: a signal from now on ends the loop cleanly
+    StopSignal stop_signal_;  // before the window: a signal from now on ends the loop cleanly
     const ViewerOptions& options_;
     bool record_frames_ = true;
     RunLog log_;
@@ -90,16 +88,16 @@ private:
     std::unique_ptr<EyeFrameRenderer> eyes_;
     Headset headset_;
     Clock::time_point start_ = Clock::now(), last_ = start_, quit_deadline_{};
-    long frames_ = 0;            // counted frames (XR: submitted with both eyes)
+    long frames_ = 0;  // counted frames (XR: submitted with both eyes)
     long frames_submitted_ = 0;
     long first_points_frame_ = -1;
     std::size_t points_drawn_ = 0;
     std::string exit_reason_ = "window closed";
-    bool quitting_ = false;      // frames after the exit request are not counted
+    bool quitting_ = false;  // frames after the exit request are not counted
     bool screenshot_done_ = false, reset_zoom_button_ = false, headset_panel_ = true;
     int status_ = 0;
-    double frame_ms_ = 0.0;      // wall time since the previous loop iteration
-    std::optional<glm::dvec3> aim_world_;   // a script's aim: the pointer follows the head to it
+    double frame_ms_ = 0.0;                // wall time since the previous loop iteration
+    std::optional<glm::dvec3> aim_world_;  // a script's aim: the pointer follows the head to it
     std::optional<TraceSample> replay_sample_;
 };
 

@@ -21,8 +21,7 @@ XrPath XrActions::path(const char* text) const {
     return p;
 }
 
-void XrActions::suggest(const char* profile,
-                        std::initializer_list<std::pair<XrAction, const char*>> bindings) const {
+void XrActions::suggest(const char* profile, std::initializer_list<std::pair<XrAction, const char*>> bindings) const {
     std::vector<XrActionSuggestedBinding> list;
     for (const auto& [action, binding] : bindings) list.push_back({action, path(binding)});
     XrInteractionProfileSuggestedBinding suggested{XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
@@ -37,13 +36,12 @@ void XrActions::suggestBindings() const {
     // The simple controller has four buttons (select and menu per hand): designate (right
     // select), confirm (right menu), mode (left select), no target (left menu); reject is
     // on the other profiles and the desktop's Backspace.
-    suggest("/interaction_profiles/khr/simple_controller",
-            {{aim_, "/user/hand/left/input/aim/pose"},
-             {aim_, "/user/hand/right/input/aim/pose"},
-             {designate_, "/user/hand/right/input/select/click"},
-             {confirm_, "/user/hand/right/input/menu/click"},
-             {toggle_, "/user/hand/left/input/select/click"},
-             {no_target_, "/user/hand/left/input/menu/click"}});
+    suggest("/interaction_profiles/khr/simple_controller", {{aim_, "/user/hand/left/input/aim/pose"},
+                                                            {aim_, "/user/hand/right/input/aim/pose"},
+                                                            {designate_, "/user/hand/right/input/select/click"},
+                                                            {confirm_, "/user/hand/right/input/menu/click"},
+                                                            {toggle_, "/user/hand/left/input/select/click"},
+                                                            {no_target_, "/user/hand/left/input/menu/click"}});
     suggest("/interaction_profiles/oculus/touch_controller",
             {{aim_, "/user/hand/left/input/aim/pose"},
              {aim_, "/user/hand/right/input/aim/pose"},
@@ -59,34 +57,32 @@ void XrActions::suggestBindings() const {
              {turn_, "/user/hand/right/input/thumbstick/x"},
              {cycle_colour_, "/user/hand/left/input/thumbstick/click"},
              {toggle_cut_, "/user/hand/right/input/thumbstick/click"}});
-    suggest("/interaction_profiles/valve/index_controller",
-            {{aim_, "/user/hand/left/input/aim/pose"},
-             {aim_, "/user/hand/right/input/aim/pose"},
-             {designate_, "/user/hand/left/input/trigger/click"},
-             {designate_, "/user/hand/right/input/trigger/click"},
-             {grab_, "/user/hand/left/input/squeeze/value"},
-             {grab_, "/user/hand/right/input/squeeze/value"},
-             {confirm_, "/user/hand/right/input/a/click"},
-             {reject_, "/user/hand/right/input/b/click"},
-             {toggle_, "/user/hand/left/input/a/click"},
-             {no_target_, "/user/hand/left/input/b/click"},
-             {move_, "/user/hand/left/input/thumbstick"},
-             {turn_, "/user/hand/right/input/thumbstick/x"},
-             {cycle_colour_, "/user/hand/left/input/thumbstick/click"},
-             {toggle_cut_, "/user/hand/right/input/thumbstick/click"}});
-    suggest("/interaction_profiles/htc/vive_controller",
-            {{aim_, "/user/hand/left/input/aim/pose"},
-             {aim_, "/user/hand/right/input/aim/pose"},
-             {designate_, "/user/hand/left/input/trigger/click"},
-             {designate_, "/user/hand/right/input/trigger/click"},
-             {grab_, "/user/hand/left/input/squeeze/click"},
-             {grab_, "/user/hand/right/input/squeeze/click"},
-             {confirm_, "/user/hand/right/input/trackpad/click"},
-             {reject_, "/user/hand/left/input/trackpad/click"},
-             {toggle_, "/user/hand/left/input/menu/click"},
-             {no_target_, "/user/hand/right/input/menu/click"},
-             {move_, "/user/hand/left/input/trackpad"},
-             {turn_, "/user/hand/right/input/trackpad/x"}});
+    suggest("/interaction_profiles/valve/index_controller", {{aim_, "/user/hand/left/input/aim/pose"},
+                                                             {aim_, "/user/hand/right/input/aim/pose"},
+                                                             {designate_, "/user/hand/left/input/trigger/click"},
+                                                             {designate_, "/user/hand/right/input/trigger/click"},
+                                                             {grab_, "/user/hand/left/input/squeeze/value"},
+                                                             {grab_, "/user/hand/right/input/squeeze/value"},
+                                                             {confirm_, "/user/hand/right/input/a/click"},
+                                                             {reject_, "/user/hand/right/input/b/click"},
+                                                             {toggle_, "/user/hand/left/input/a/click"},
+                                                             {no_target_, "/user/hand/left/input/b/click"},
+                                                             {move_, "/user/hand/left/input/thumbstick"},
+                                                             {turn_, "/user/hand/right/input/thumbstick/x"},
+                                                             {cycle_colour_, "/user/hand/left/input/thumbstick/click"},
+                                                             {toggle_cut_, "/user/hand/right/input/thumbstick/click"}});
+    suggest("/interaction_profiles/htc/vive_controller", {{aim_, "/user/hand/left/input/aim/pose"},
+                                                          {aim_, "/user/hand/right/input/aim/pose"},
+                                                          {designate_, "/user/hand/left/input/trigger/click"},
+                                                          {designate_, "/user/hand/right/input/trigger/click"},
+                                                          {grab_, "/user/hand/left/input/squeeze/click"},
+                                                          {grab_, "/user/hand/right/input/squeeze/click"},
+                                                          {confirm_, "/user/hand/right/input/trackpad/click"},
+                                                          {reject_, "/user/hand/left/input/trackpad/click"},
+                                                          {toggle_, "/user/hand/left/input/menu/click"},
+                                                          {no_target_, "/user/hand/right/input/menu/click"},
+                                                          {move_, "/user/hand/left/input/trackpad"},
+                                                          {turn_, "/user/hand/right/input/trackpad/x"}});
 }
 
 void XrActions::create(XrInstance instance, XrSession session) {
@@ -110,8 +106,8 @@ void XrActions::create(XrInstance instance, XrSession session) {
         XR_CHECK(instance, xrCreateAction(set_, &info, &out));
     };
     make("toggle_mode", "Toggle automatic / free mode", XR_ACTION_TYPE_BOOLEAN_INPUT, toggle_, false);
-    make("designate", "Designate the picked point / dismiss the ready screen", XR_ACTION_TYPE_BOOLEAN_INPUT,
-         designate_, true);
+    make("designate", "Designate the picked point / dismiss the ready screen", XR_ACTION_TYPE_BOOLEAN_INPUT, designate_,
+         true);
     make("confirm", "Confirm: this is the target", XR_ACTION_TYPE_BOOLEAN_INPUT, confirm_, false);
     make("reject", "Reject: this candidate is not a target", XR_ACTION_TYPE_BOOLEAN_INPUT, reject_, false);
     make("no_target", "No target in this cloud", XR_ACTION_TYPE_BOOLEAN_INPUT, no_target_, false);
@@ -188,13 +184,13 @@ XrInput XrActions::sync(XrSpace space, XrTime time) {
         input.move = {move.currentState.x, move.currentState.y};
     get.action = turn_;
     XrActionStateFloat turn{XR_TYPE_ACTION_STATE_FLOAT};
-    if (XR_SUCCEEDED(xrGetActionStateFloat(session_, &get, &turn)) && turn.isActive)
-        input.turn = turn.currentState;
+    if (XR_SUCCEEDED(xrGetActionStateFloat(session_, &get, &turn)) && turn.isActive) input.turn = turn.currentState;
     if (time > 0) {
         for (int h = 0; h < 2; ++h) {
             XrSpaceLocation location{XR_TYPE_SPACE_LOCATION};
             if (XR_FAILED(xrLocateSpace(aim_spaces_[h], space, time, &location))) continue;
-            const XrSpaceLocationFlags need = XR_SPACE_LOCATION_POSITION_VALID_BIT | XR_SPACE_LOCATION_ORIENTATION_VALID_BIT;
+            const XrSpaceLocationFlags need =
+                XR_SPACE_LOCATION_POSITION_VALID_BIT | XR_SPACE_LOCATION_ORIENTATION_VALID_BIT;
             if ((location.locationFlags & need) != need) continue;
             const XrPosef& p = location.pose;
             input.aim[h] = XrHandPose{glm::dquat(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z),
@@ -211,7 +207,7 @@ OperatorInput XrInputMapping::map(const XrInput& xin, bool snap_turn) {
         in.toggle_source = "controller";
     }
     in.designate = xin.designate_pressed;
-    in.next = xin.designate_pressed;   // the trigger starts a trial
+    in.next = xin.designate_pressed;  // the trigger starts a trial
     in.confirm = xin.confirm_pressed;
     in.reject = xin.reject_pressed;
     in.no_target = xin.no_target_pressed;
@@ -228,7 +224,7 @@ OperatorInput XrInputMapping::map(const XrInput& xin, bool snap_turn) {
     const auto& aim = xin.aim[pointer_hand_] ? xin.aim[pointer_hand_] : xin.aim[1 - pointer_hand_];
     if (aim) {
         in.controller_ray = TrackingRay{aim->position, glm::mat3_cast(aim->orientation) * glm::dvec3(0, 0, -1)};
-        in.release_aim = xin.designate_pressed;   // a controller took over from a script
+        in.release_aim = xin.designate_pressed;  // a controller took over from a script
     }
     if (xin.grab_held[0] && xin.grab_held[1] && xin.aim[0] && xin.aim[1])
         in.grab_hands = std::make_pair(xin.aim[0]->position, xin.aim[1]->position);

@@ -21,7 +21,7 @@
 namespace viewer {
 
 class XrActions {
-public:
+  public:
     /// Creates the action set, the actions and the aim spaces, suggests bindings for
     /// every known profile and attaches the set to `session`. Throws core::Error.
     void create(XrInstance instance, XrSession session);
@@ -30,7 +30,7 @@ public:
     /// Never throws; returns a zeroed input on a runtime error (logged).
     XrInput sync(XrSpace space, XrTime time);
 
-private:
+  private:
     XrPath path(const char* text) const;
     void suggest(const char* profile, std::initializer_list<std::pair<XrAction, const char*>> bindings) const;
     /// Suggests the bindings on every known profile (docs/viewer.md's table).
@@ -40,10 +40,9 @@ private:
     XrInstance instance_ = XR_NULL_HANDLE;
     XrSession session_ = XR_NULL_HANDLE;
     XrActionSet set_ = XR_NULL_HANDLE;
-    XrAction toggle_ = XR_NULL_HANDLE, designate_ = XR_NULL_HANDLE, confirm_ = XR_NULL_HANDLE,
-             reject_ = XR_NULL_HANDLE, no_target_ = XR_NULL_HANDLE, grab_ = XR_NULL_HANDLE,
-             move_ = XR_NULL_HANDLE, turn_ = XR_NULL_HANDLE, aim_ = XR_NULL_HANDLE,
-             cycle_colour_ = XR_NULL_HANDLE, toggle_cut_ = XR_NULL_HANDLE;
+    XrAction toggle_ = XR_NULL_HANDLE, designate_ = XR_NULL_HANDLE, confirm_ = XR_NULL_HANDLE, reject_ = XR_NULL_HANDLE,
+             no_target_ = XR_NULL_HANDLE, grab_ = XR_NULL_HANDLE, move_ = XR_NULL_HANDLE, turn_ = XR_NULL_HANDLE,
+             aim_ = XR_NULL_HANDLE, cycle_colour_ = XR_NULL_HANDLE, toggle_cut_ = XR_NULL_HANDLE;
     std::array<XrPath, 2> hands_{XR_NULL_PATH, XR_NULL_PATH};
     std::array<XrSpace, 2> aim_spaces_{XR_NULL_HANDLE, XR_NULL_HANDLE};
 };
@@ -52,11 +51,11 @@ private:
 /// snap turn, or a smooth one), the pointing hand's aim pose to the pointer's ray (the
 /// hand whose designate went down last), both grips held to grab-and-scale.
 class XrInputMapping {
-public:
+  public:
     OperatorInput map(const XrInput& xin, bool snap_turn);
 
-private:
-    int pointer_hand_ = 1;   // right
+  private:
+    int pointer_hand_ = 1;  // right
 };
 
 }  // namespace viewer

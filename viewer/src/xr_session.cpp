@@ -57,8 +57,8 @@ const char* sessionStateName(int state) {
 
 // --- implementation ----------------------------------------------------------------------
 namespace {
-constexpr std::int64_t kGlRgba8 = 0x8058, kGlRgba16 = 0x805B, kGlRgba16f = 0x881A,
-                       kGlSrgb8Alpha8 = 0x8C43, kGlRgb10A2 = 0x8059;
+constexpr std::int64_t kGlRgba8 = 0x8058, kGlRgba16 = 0x805B, kGlRgba16f = 0x881A, kGlSrgb8Alpha8 = 0x8C43,
+                       kGlRgb10A2 = 0x8059;
 
 struct EyeSwapchain {
     XrSwapchain handle = XR_NULL_HANDLE;
@@ -71,7 +71,7 @@ struct XrStereoSession::Impl {
     XrInstance instance = XR_NULL_HANDLE;
     XrSystemId system = XR_NULL_SYSTEM_ID;
     ::XrSession session = XR_NULL_HANDLE;
-    XrSpace space = XR_NULL_HANDLE;       // LOCAL reference space: the rig's frame
+    XrSpace space = XR_NULL_HANDLE;  // LOCAL reference space: the rig's frame
     XrSessionState state = XR_SESSION_STATE_UNKNOWN;
     bool running = false;
     bool exit_requested = false;
@@ -140,8 +140,8 @@ bool createInstance(XrStereoSession::Impl& s, std::string& reason) {
     system_info.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
     r = xrGetSystem(instance, &system_info, &s.system);
     if (XR_FAILED(r)) {
-        reason = std::string("OpenXR runtime '") + instance_props.runtimeName +
-                 "' has no head-mounted display (" + xrResultName(instance, r) + ")";
+        reason = std::string("OpenXR runtime '") + instance_props.runtimeName + "' has no head-mounted display (" +
+                 xrResultName(instance, r) + ")";
         return false;
     }
     XrSystemProperties system_props{XR_TYPE_SYSTEM_PROPERTIES};
@@ -211,11 +211,11 @@ bool createSwapchains(XrStereoSession::Impl& s, std::string& reason) {
     const XrInstance instance = s.instance;
     // Views and swapchains: one per eye at the recommended size.
     std::uint32_t view_count = 0;
-    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, s.system,
-        XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0, &view_count, nullptr));
+    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, s.system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
+                                                         0, &view_count, nullptr));
     std::vector<XrViewConfigurationView> config_views(view_count, {XR_TYPE_VIEW_CONFIGURATION_VIEW});
-    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, s.system,
-        XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, view_count, &view_count, config_views.data()));
+    XR_CHECK(instance, xrEnumerateViewConfigurationViews(instance, s.system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
+                                                         view_count, &view_count, config_views.data()));
     if (view_count != 2) {
         reason = "the HMD's primary stereo configuration has " + std::to_string(view_count) + " views";
         return false;
@@ -262,8 +262,9 @@ bool createSwapchains(XrStereoSession::Impl& s, std::string& reason) {
         std::uint32_t image_count = 0;
         XR_CHECK(instance, xrEnumerateSwapchainImages(eye.handle, 0, &image_count, nullptr));
         eye.images.assign(image_count, {XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR});
-        XR_CHECK(instance, xrEnumerateSwapchainImages(eye.handle, image_count, &image_count,
-            reinterpret_cast<XrSwapchainImageBaseHeader*>(eye.images.data())));
+        XR_CHECK(instance,
+                 xrEnumerateSwapchainImages(eye.handle, image_count, &image_count,
+                                            reinterpret_cast<XrSwapchainImageBaseHeader*>(eye.images.data())));
     }
     return true;
 }
@@ -291,15 +292,11 @@ XrPoll XrStereoSession::pollEvents() {
             case XR_TYPE_EVENT_DATA_INSTANCE_LOSS_PENDING:
                 s.log->event("xr: instance loss pending");
                 return XrPoll::Lost;
-            case XR_TYPE_EVENT_DATA_EVENTS_LOST:
-                s.log->event("xr: events lost");
-                break;
+            case XR_TYPE_EVENT_DATA_EVENTS_LOST: s.log->event("xr: events lost"); break;
             case XR_TYPE_EVENT_DATA_REFERENCE_SPACE_CHANGE_PENDING:
                 s.log->event("xr: reference space change pending");
                 break;
-            case XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED:
-                s.log->event("xr: interaction profile changed");
-                break;
+            case XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED: s.log->event("xr: interaction profile changed"); break;
             case XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED: {
                 const auto& changed = *reinterpret_cast<const XrEventDataSessionStateChanged*>(&event);
                 s.state = changed.state;
@@ -316,9 +313,7 @@ XrPoll XrStereoSession::pollEvents() {
                         s.running = false;
                         if (!XR_LOG(s.instance, xrEndSession(s.session))) return XrPoll::Lost;
                         break;
-                    case XR_SESSION_STATE_LOSS_PENDING:
-                        s.running = false;
-                        return XrPoll::Lost;
+                    case XR_SESSION_STATE_LOSS_PENDING: s.running = false; return XrPoll::Lost;
                     case XR_SESSION_STATE_EXITING:
                         s.running = false;
                         // Our own request (Escape, window closed) ends the app; the runtime
@@ -328,13 +323,11 @@ XrPoll XrStereoSession::pollEvents() {
                     case XR_SESSION_STATE_SYNCHRONIZED:
                     case XR_SESSION_STATE_VISIBLE:
                     case XR_SESSION_STATE_FOCUSED:
-                    default:
-                        break;
+                    default: break;
                 }
                 break;
             }
-            default:
-                break;
+            default: break;
         }
     }
     return XrPoll::Ok;
@@ -365,14 +358,13 @@ bool XrStereoSession::beginFrame(XrFrame& frame) {
     XrViewState view_state{XR_TYPE_VIEW_STATE};
     std::uint32_t count = 0;
     for (auto& v : s.views) v = {XR_TYPE_VIEW};
-    if (!XR_LOG(s.instance, xrLocateViews(s.session, &locate, &view_state, 2, &count, s.views.data())))
-        return false;
+    if (!XR_LOG(s.instance, xrLocateViews(s.session, &locate, &view_state, 2, &count, s.views.data()))) return false;
     frame.views_valid = count == 2 && (view_state.viewStateFlags & XR_VIEW_STATE_ORIENTATION_VALID_BIT);
     for (int i = 0; i < 2; ++i) {
         const XrView& v = s.views[i];
         XrEye& e = frame.eyes[i];
-        e.orientation = glm::dquat(v.pose.orientation.w, v.pose.orientation.x, v.pose.orientation.y,
-                                   v.pose.orientation.z);
+        e.orientation =
+            glm::dquat(v.pose.orientation.w, v.pose.orientation.x, v.pose.orientation.y, v.pose.orientation.z);
         e.position = glm::dvec3(v.pose.position.x, v.pose.position.y, v.pose.position.z);
         e.angle_left = v.fov.angleLeft;
         e.angle_right = v.fov.angleRight;
@@ -408,8 +400,7 @@ bool XrStereoSession::endFrame(const XrFrame& frame, bool rendered) {
     Impl& s = *impl_;
     std::array<XrCompositionLayerProjectionView, 2> views{};
     XrCompositionLayerProjection layer{XR_TYPE_COMPOSITION_LAYER_PROJECTION};
-    const XrCompositionLayerBaseHeader* layers[] = {
-        reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
+    const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
     XrFrameEndInfo end{XR_TYPE_FRAME_END_INFO};
     end.displayTime = frame.display_time_ns;
     end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;

@@ -54,20 +54,20 @@ struct XrInput {
     bool cycle_colour_pressed = false;
     bool toggle_cut_pressed = false;
     std::array<bool, 2> grab_held{false, false};   // left, right
-    glm::vec2 move{0.0f};         // thumbstick/trackpad: x strafe, y forward
-    float turn = 0.0f;            // right thumbstick x
+    glm::vec2 move{0.0f};                          // thumbstick/trackpad: x strafe, y forward
+    float turn = 0.0f;                             // right thumbstick x
     std::array<std::optional<XrHandPose>, 2> aim;  // left, right: when tracked
-    int last_designate_hand = 1;  // the hand whose designate went down last (0 left, 1 right)
+    int last_designate_hand = 1;                   // the hand whose designate went down last (0 left, 1 right)
 };
 
 enum class XrPoll {
-    Ok,          // keep going (the session may or may not be running)
-    Exit,        // the session ended at our request (or the runtime's): leave the app
-    Lost,        // runtime or session lost: fall back to the desktop mode
+    Ok,    // keep going (the session may or may not be running)
+    Exit,  // the session ended at our request (or the runtime's): leave the app
+    Lost,  // runtime or session lost: fall back to the desktop mode
 };
 
 class XrStereoSession {
-public:
+  public:
     /// Tries to start OpenXR on `window`'s current GLX context. Returns null with `reason`
     /// set when there is no runtime, no HMD, or no OpenGL support; throws core::Error
     /// only for programming errors. Records runtime/system/format in `log`.
@@ -100,7 +100,7 @@ public:
 
     struct Impl;
 
-private:
+  private:
     explicit XrStereoSession(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };

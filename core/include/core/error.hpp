@@ -12,7 +12,7 @@ namespace core {
 /// starts with the module ("scene: ", "orbit: ", "pcd: ", ...) and names the offending
 /// file, field or parameter and what is allowed. `main` prints it and exits non-zero.
 class Error : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

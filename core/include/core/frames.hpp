@@ -37,8 +37,16 @@ struct Bounds {
     glm::dvec3 hi{-1e300};
 
     bool empty() const { return lo.x > hi.x; }
-    void extend(const glm::dvec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
-    void extend(const Bounds& b) { if (!b.empty()) { extend(b.lo); extend(b.hi); } }
+    void extend(const glm::dvec3& p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void extend(const Bounds& b) {
+        if (!b.empty()) {
+            extend(b.lo);
+            extend(b.hi);
+        }
+    }
     glm::dvec3 centre() const { return 0.5 * (lo + hi); }
     glm::dvec3 size() const { return empty() ? glm::dvec3(0.0) : hi - lo; }
 };

@@ -14,17 +14,17 @@ namespace core {
 /// padding (checked below), so two clouds compare byte for byte.
 struct CloudPoint {
     glm::vec3 position{0.0f};
-    std::uint32_t rgb = 0xFFFFFFu;   // 0x00RRGGBB
-    float range_m = 0.0f;            // sensor-to-hit distance
-    float incidence_deg = 0.0f;      // angle between the beam and the surface normal
-    float scan_angle_deg = 0.0f;     // angle between the beam and the sensor's boresight
+    std::uint32_t rgb = 0xFFFFFFu;       // 0x00RRGGBB
+    float range_m = 0.0f;                // sensor-to-hit distance
+    float incidence_deg = 0.0f;          // angle between the beam and the surface normal
+    float scan_angle_deg = 0.0f;         // angle between the beam and the sensor's boresight
     float height_above_ground_m = 0.0f;  // above the fitted terrain surface
-    std::uint16_t intensity = 0;     // return strength, 0..65535 (the LAS convention)
-    std::uint16_t view = 0;          // index of the drone position, 0..NoV-1
-    Role label = Role::Environment;  // ground truth: the role of the mesh hit
-    std::uint8_t return_number = 1;  // 1-based rank of this return within its pulse
-    std::uint8_t returns = 1;        // number of returns of its pulse
-    std::uint8_t reserved = 0;       // always 0: keeps the layout free of padding
+    std::uint16_t intensity = 0;         // return strength, 0..65535 (the LAS convention)
+    std::uint16_t view = 0;              // index of the drone position, 0..NoV-1
+    Role label = Role::Environment;      // ground truth: the role of the mesh hit
+    std::uint8_t return_number = 1;      // 1-based rank of this return within its pulse
+    std::uint8_t returns = 1;            // number of returns of its pulse
+    std::uint8_t reserved = 0;           // always 0: keeps the layout free of padding
 };
 static_assert(sizeof(CloudPoint) == 40, "CloudPoint must have no padding bytes");
 
@@ -37,14 +37,14 @@ struct CloudFields {
     bool view = true;
     bool range = true;
     bool intensity = false;
-    bool returns = false;              // return_number and returns
+    bool returns = false;  // return_number and returns
     bool incidence = false;
     bool scan_angle = false;
     bool height_above_ground = false;
 };
 
 struct PointCloud {
-    glm::dvec3 origin{0.0};          // world coordinates of the local frame's origin
+    glm::dvec3 origin{0.0};  // world coordinates of the local frame's origin
     CloudFields fields;
     std::vector<CloudPoint> points;
 

@@ -45,7 +45,7 @@ constexpr void multiply64(std::uint64_t a, std::uint64_t b, std::uint64_t& hi, s
 
 /// SplitMix64: a 64-bit state advanced by kGolden, then mixed by mix64.
 class SplitMix64 {
-public:
+  public:
     explicit constexpr SplitMix64(std::uint64_t seed) : state_(seed) {}
     constexpr std::uint64_t next() {
         state_ += kGolden;
@@ -62,7 +62,7 @@ public:
     /// rejection (bias below 2^-40 for n < 2^24; uniformBelow rejects for exactness).
     constexpr std::uint64_t below(std::uint64_t n);
 
-private:
+  private:
     std::uint64_t state_;
 };
 

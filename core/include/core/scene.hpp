@@ -13,20 +13,20 @@ namespace core {
 
 /// One triangle mesh in the scene's local frame (world - origin).
 struct Mesh {
-    std::string name;                        // the file name as written in the scene
+    std::string name;  // the file name as written in the scene
     Role role = Role::Environment;
-    glm::dvec3 position{0.0};                // the entry's 'position', world metres
-    std::vector<glm::vec3> vertices;         // local frame, metres
-    std::vector<glm::uvec3> triangles;       // indices into vertices
-    double reflectance = 0.5;                // Lambertian reflectance at the Ladar's wavelength, [0, 1]
-    int asprs_class = -1;                    // 'class' (0..255) for LAS output, -1: by role
+    glm::dvec3 position{0.0};           // the entry's 'position', world metres
+    std::vector<glm::vec3> vertices;    // local frame, metres
+    std::vector<glm::uvec3> triangles;  // indices into vertices
+    double reflectance = 0.5;           // Lambertian reflectance at the Ladar's wavelength, [0, 1]
+    int asprs_class = -1;               // 'class' (0..255) for LAS output, -1: by role
 };
 
 struct Scene {
-    std::filesystem::path source;            // the scene file, for messages
-    glm::dvec3 origin{0.0};                  // world coordinates of the local frame's origin
+    std::filesystem::path source;  // the scene file, for messages
+    glm::dvec3 origin{0.0};        // world coordinates of the local frame's origin
     std::vector<Mesh> meshes;
-    std::size_t skipped_triangles = 0;       // zero-area triangles dropped at load
+    std::size_t skipped_triangles = 0;  // zero-area triangles dropped at load
     /// Triangles with a NaN/inf vertex dropped at load (only with skip_nonfinite).
     std::size_t skipped_nonfinite_triangles = 0;
 

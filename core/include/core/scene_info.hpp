@@ -12,15 +12,15 @@
 namespace core {
 
 struct MeshSummary {
-    std::string file;                  // as written in the scene
+    std::string file;  // as written in the scene
     Role role = Role::Environment;
     std::size_t triangles = 0;
-    glm::dvec3 position{0.0};          // the entry's 'position', world metres
-    Bounds bounds;                     // of the vertices its triangles use, local frame
+    glm::dvec3 position{0.0};  // the entry's 'position', world metres
+    Bounds bounds;             // of the vertices its triangles use, local frame
 };
 
 struct TargetSummary {
-    Bounds bounds;                     // of every target mesh, local frame
+    Bounds bounds;  // of every target mesh, local frame
     /// Local z of the highest ground triangle crossed by the vertical line through the
     /// centre of `bounds`; empty when no ground triangle lies above or below that point.
     std::optional<double> ground_z;
@@ -31,7 +31,7 @@ struct TargetSummary {
 struct SceneSummary {
     glm::dvec3 origin{0.0};
     std::vector<MeshSummary> meshes;
-    Bounds bounds;                     // of every mesh, local frame
+    Bounds bounds;  // of every mesh, local frame
     std::size_t triangles = 0;
     bool has_ground = false;
     std::optional<TargetSummary> target;  // empty when no mesh has role target

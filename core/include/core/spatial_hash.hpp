@@ -25,9 +25,9 @@ struct CellKeyHash {
 /// Point indices grouped by cell. Cells come in the order of their first point and each
 /// cell lists its points in input order, so the grouping is the same on every platform.
 struct CellBins {
-    std::vector<std::uint32_t> order;       // every point index once, grouped by cell
-    std::vector<std::size_t> starts{0};     // cell c is order[starts[c], starts[c + 1])
-    std::vector<CellKey> keys;              // per cell
+    std::vector<std::uint32_t> order;    // every point index once, grouped by cell
+    std::vector<std::size_t> starts{0};  // cell c is order[starts[c], starts[c + 1])
+    std::vector<CellKey> keys;           // per cell
     std::size_t cells() const { return keys.size(); }
     std::span<const std::uint32_t> cell(std::size_t c) const {
         return std::span(order).subspan(starts[c], starts[c + 1] - starts[c]);

@@ -15,10 +15,10 @@ bool isItemFile(const std::string& name);
 
 struct ItemOutcome {
     std::string id;
-    std::string manifest_line;   // one JSON object, no newline
+    std::string manifest_line;  // one JSON object, no newline
     double seconds = 0.0;
     std::uint64_t points = 0;
-    double metric = 0.0;         // NaN without the metric
+    double metric = 0.0;  // NaN without the metric
 };
 
 /// Plans and builds item `index` into `out`/items/<id>/ (replacing a folder left there by

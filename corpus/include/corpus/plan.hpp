@@ -23,8 +23,8 @@ namespace corpus {
 
 /// One mesh entry of a concrete scene file (core/scene.hpp's fields).
 struct MeshEntry {
-    std::filesystem::path file;        // absolute
-    std::string written;               // as the base scene or the SPEC wrote it
+    std::filesystem::path file;  // absolute
+    std::string written;         // as the base scene or the SPEC wrote it
     std::string role;
     glm::dvec3 position{0.0};
     double yaw_deg = 0.0;
@@ -34,14 +34,14 @@ struct MeshEntry {
 
 struct ItemPlan {
     std::size_t index = 0;
-    std::string id;                          // zero-padded index: the item's folder name
+    std::string id;  // zero-padded index: the item's folder name
     std::uint64_t item_seed = 0;
-    std::map<std::string, double> values;    // every varied numeric key, as drawn
-    std::string target_file;                 // the target model as written (SPEC or scene)
+    std::map<std::string, double> values;  // every varied numeric key, as drawn
+    std::string target_file;               // the target model as written (SPEC or scene)
     double target_yaw_deg = 0.0;
     glm::dvec3 target_position_world{0.0};
-    core::Bounds target_box_world;         // the placed target's box (world metres)
-    int placement_draws = 0;                 // draws of the target's place (1 = first fit)
+    core::Bounds target_box_world;  // the placed target's box (world metres)
+    int placement_draws = 0;        // draws of the target's place (1 = first fit)
     int centre_draws = 0;
     std::size_t environment_kept = 0, environment_total = 0;
     std::optional<glm::dvec3> centre_world;  // C when centre_offset_m varies
@@ -64,7 +64,7 @@ inline constexpr int kMaxPlacementDraws = 200;
 std::string itemId(std::size_t index, std::size_t count);
 
 class Planner {
-public:
+  public:
     /// Loads the base scene and the target models. Throws core::Error naming the SPEC
     /// key (e.g. target variations on a scene without exactly one target mesh).
     explicit Planner(const Spec& spec);
@@ -84,7 +84,8 @@ public:
     const Spec& spec() const;
 
     struct State;
-private:
+
+  private:
     std::unique_ptr<State> state_;
 };
 

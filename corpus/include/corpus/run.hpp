@@ -20,20 +20,20 @@ namespace corpus {
 struct RunOptions {
     std::filesystem::path spec;
     std::filesystem::path out;
-    int jobs = 1;                 // items built at once
-    int threads = 0;              // generator threads per item; 0 = the cores / jobs
-    std::size_t shard = 0;        // this run builds items i with i % shards == shard
+    int jobs = 1;           // items built at once
+    int threads = 0;        // generator threads per item; 0 = the cores / jobs
+    std::size_t shard = 0;  // this run builds items i with i % shards == shard
     std::size_t shards = 1;
-    bool sharded = false;         // write manifest.<shard>.jsonl (else manifest.jsonl)
+    bool sharded = false;                              // write manifest.<shard>.jsonl (else manifest.jsonl)
     std::function<void(const std::string&)> progress;  // one line per event (stderr)
 };
 
 struct RunSummary {
-    std::size_t planned = 0;      // items of this shard
-    std::size_t skipped = 0;      // already complete
+    std::size_t planned = 0;  // items of this shard
+    std::size_t skipped = 0;  // already complete
     std::size_t built = 0;
-    std::vector<std::string> failed;   // "item <id>: <error>"
-    std::size_t dropped_lines = 0;     // torn, duplicated or stale manifest lines dropped
+    std::vector<std::string> failed;  // "item <id>: <error>"
+    std::size_t dropped_lines = 0;    // torn, duplicated or stale manifest lines dropped
     std::filesystem::path manifest;
 };
 
@@ -49,12 +49,12 @@ std::pair<std::size_t, std::size_t> parseShard(const std::string& text, const st
 std::optional<std::pair<std::size_t, std::size_t>> shardFromSlurm();
 
 struct MergeReport {
-    std::size_t count = 0;               // items the SPEC describes
-    std::size_t merged = 0;              // distinct items in manifest.jsonl
-    std::vector<std::string> missing;    // ids absent from every manifest
-    std::vector<std::string> duplicated; // ids with more than one line across the manifests
-    std::vector<std::string> conflicting;// ... whose lines disagree on a file's SHA-256
-    std::size_t sources = 0;             // manifest files read
+    std::size_t count = 0;                 // items the SPEC describes
+    std::size_t merged = 0;                // distinct items in manifest.jsonl
+    std::vector<std::string> missing;      // ids absent from every manifest
+    std::vector<std::string> duplicated;   // ids with more than one line across the manifests
+    std::vector<std::string> conflicting;  // ... whose lines disagree on a file's SHA-256
+    std::size_t sources = 0;               // manifest files read
 };
 
 /// Merges DIR/manifest.jsonl and every DIR/manifest.<I>.jsonl into DIR/manifest.jsonl

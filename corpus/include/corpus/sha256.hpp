@@ -13,7 +13,7 @@ namespace corpus {
 
 /// Incremental SHA-256: update() any number of times, then hex() once.
 class Sha256 {
-public:
+  public:
     Sha256();
     ~Sha256();
     Sha256(const Sha256&) = delete;
@@ -24,7 +24,8 @@ public:
     std::string hex();
 
     struct Context;
-private:
+
+  private:
     std::unique_ptr<Context> context_;
 };
 

@@ -32,18 +32,18 @@ namespace corpus {
 struct NumberVary {
     enum class Kind { Fixed, Uniform, Choice };
     Kind kind = Kind::Fixed;
-    double min = 0.0, max = 0.0;     // Uniform: [min, max]; Fixed: min == max == the value
-    std::vector<double> choices;     // Choice: drawn with equal probability
-    bool integer = false;            // integer parameter: uniform over min..max inclusive
-    double lowest() const;           // the smallest value it can take
-    double highest() const;          // the largest
+    double min = 0.0, max = 0.0;  // Uniform: [min, max]; Fixed: min == max == the value
+    std::vector<double> choices;  // Choice: drawn with equal probability
+    bool integer = false;         // integer parameter: uniform over min..max inclusive
+    double lowest() const;        // the smallest value it can take
+    double highest() const;       // the largest
 };
 
 /// A target model: a mesh file with the scene-file fields that say how to read it.
 struct TargetModel {
-    std::filesystem::path file;      // absolute
-    std::string written;             // as written in the SPEC (for the manifest)
-    std::string up = "z";            // the file's up axis: y | z
+    std::filesystem::path file;  // absolute
+    std::string written;         // as written in the SPEC (for the manifest)
+    std::string up = "z";        // the file's up axis: y | z
     double scale = 1.0;
 };
 
@@ -61,7 +61,7 @@ struct MetricSpec {
 struct VaryKey {
     std::string_view name;
     bool integer;
-    double lowest, highest;          // allowed values (closed), before sim's own checks
+    double lowest, highest;  // allowed values (closed), before sim's own checks
     std::string_view what;
     /// The `generate` options (space-separated) that each take the value in an item's
     /// replay line; empty for the keys the planner applies itself (placements, kept
@@ -82,13 +82,13 @@ const VaryKey* findVaryKey(std::string_view name);
 void applyToOptions(sim::GenerateOptions& o, std::string_view key, double value);
 
 struct Spec {
-    std::filesystem::path file;      // the SPEC file, absolute
-    std::filesystem::path scene;     // the base scene, absolute
-    std::string sha256;              // of the SPEC file's bytes: outputs remember their SPEC
+    std::filesystem::path file;   // the SPEC file, absolute
+    std::filesystem::path scene;  // the base scene, absolute
+    std::string sha256;           // of the SPEC file's bytes: outputs remember their SPEC
     std::size_t count = 0;
     std::uint64_t seed = 0;
-    std::map<std::string, NumberVary> numbers;   // vary keys given (not target_files)
-    std::vector<TargetModel> target_files;       // empty: the base scene's target
+    std::map<std::string, NumberVary> numbers;  // vary keys given (not target_files)
+    std::vector<TargetModel> target_files;      // empty: the base scene's target
     MetricSpec metric;
     io::CloudFormat format = io::CloudFormat::PcdBinary;
 

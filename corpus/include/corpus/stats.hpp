@@ -10,23 +10,23 @@
 namespace corpus {
 
 struct ColumnStats {
-    std::string name;       // "metric", "points", "altitude_m" (a sampled value), "points_target", ...
-    std::size_t n = 0;      // items with a value (null values are left out)
+    std::string name;   // "metric", "points", "altitude_m" (a sampled value), "points_target", ...
+    std::size_t n = 0;  // items with a value (null values are left out)
     double min = 0, p10 = 0, median = 0, p90 = 0, max = 0, mean = 0;
 };
 
 struct Stats {
     std::size_t items = 0;
-    std::vector<ColumnStats> columns;   // sorted by name
+    std::vector<ColumnStats> columns;  // sorted by name
     std::string histogram_column;
-    std::vector<std::size_t> histogram; // item counts per bin over [min, max] of that column
+    std::vector<std::size_t> histogram;  // item counts per bin over [min, max] of that column
     double histogram_lo = 0, histogram_hi = 0;
     std::filesystem::path histogram_png;
 };
 
 struct StatsOptions {
-    std::string column;                 // histogram column; empty: metric if any, else points
-    std::filesystem::path histogram;    // PNG written there
+    std::string column;               // histogram column; empty: metric if any, else points
+    std::filesystem::path histogram;  // PNG written there
     int bins = 20;
 };
 
@@ -40,7 +40,7 @@ std::string statsJson(const Stats& stats);
 std::vector<std::pair<std::string, double>> manifestColumns(const std::string& line);
 
 struct SelectOptions {
-    std::string expression;             // "metric<0.3", conditions joined by ',' all hold
+    std::string expression;  // "metric<0.3", conditions joined by ',' all hold
     std::size_t count = 0;
     std::uint64_t seed = 1;
     double time_limit_s = 120.0;

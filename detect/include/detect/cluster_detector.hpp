@@ -27,27 +27,27 @@
 namespace detect {
 
 enum class GroundSource {
-    Ransac,   // §III-C RANSAC per tile (works on any cloud)
-    Labels,   // points labelled ground (needs a cloud with labels: ground truth)
-    White,    // white points (the generator's whitening; needs rgb)
+    Ransac,  // §III-C RANSAC per tile (works on any cloud)
+    Labels,  // points labelled ground (needs a cloud with labels: ground truth)
+    White,   // white points (the generator's whitening; needs rgb)
 };
 
 struct ClusterOptions {
     glm::dvec3 target_size_m{7.0, 3.5, 2.5};  // length, width, height; default a main battle tank
-    double size_tolerance = 1.5;        // factor (> 1) that costs a side exp(-1/2) of the score
+    double size_tolerance = 1.5;              // factor (> 1) that costs a side exp(-1/2) of the score
     GroundSource ground = GroundSource::Ransac;
-    double ground_tile_m = 30.0;        // side of the square RANSAC tiles (> 0)
-    sim::RansacOptions ground_ransac;   // per tile
-    double voxel_m = 0.25;              // voxel side of step 2 (> 0)
-    double cluster_tolerance_m = 0.5;   // Euclidean cluster distance (> voxel_m / 2)
+    double ground_tile_m = 30.0;       // side of the square RANSAC tiles (> 0)
+    sim::RansacOptions ground_ransac;  // per tile
+    double voxel_m = 0.25;             // voxel side of step 2 (> 0)
+    double cluster_tolerance_m = 0.5;  // Euclidean cluster distance (> voxel_m / 2)
     /// Fraction of a cluster's points left out at each end of each box axis (quantiles),
     /// [0, 0.5): thin protrusions such as a gun barrel do not count in the box's size.
     double trim_fraction = 0.01;
-    int min_cluster_points = 20;        // smaller clusters are noise (>= 1)
-    double min_score = 0.05;            // candidates below are dropped, [0, 1]
-    int max_candidates = 50;            // best first (>= 1)
-    std::uint64_t seed = 1;             // RANSAC's shuffles
-    bool progress = false;              // progress bar over the tiles (tty only)
+    int min_cluster_points = 20;  // smaller clusters are noise (>= 1)
+    double min_score = 0.05;      // candidates below are dropped, [0, 1]
+    int max_candidates = 50;      // best first (>= 1)
+    std::uint64_t seed = 1;       // RANSAC's shuffles
+    bool progress = false;        // progress bar over the tiles (tty only)
 };
 
 /// Throws core::Error("detect: <option> = <value>: allowed <range>").
@@ -59,7 +59,7 @@ struct ClusterStats {
 };
 
 class ClusterDetector final : public Detector {
-public:
+  public:
     /// Throws core::Error for invalid options (validate).
     explicit ClusterDetector(const ClusterOptions& o);
     const ClusterOptions& options() const { return options_; }
@@ -72,7 +72,7 @@ public:
     /// The same, and the run's counts and seconds into `stats`.
     std::vector<Detection> detect(const core::PointCloud& cloud, ClusterStats& stats) const;
 
-private:
+  private:
     ClusterOptions options_;
 };
 

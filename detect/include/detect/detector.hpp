@@ -20,12 +20,12 @@ namespace detect {
 
 /// One candidate and the points it was found on. Point indices refer to the input cloud.
 struct Detection {
-    core::Candidate candidate;        // world coordinates (cloud origin added)
+    core::Candidate candidate;          // world coordinates (cloud origin added)
     std::vector<std::uint32_t> points;  // the candidate's points, ascending
 };
 
 class Detector {
-public:
+  public:
     virtual ~Detector() = default;
     /// The candidates in `cloud`, best first, ids "c1", "c2", ... in that order.
     /// Throws core::Error("detect: ...") when the cloud lacks a field the detector needs.

@@ -69,12 +69,12 @@ std::uint64_t lazChunkBytes();
 /// without commit() removes the temporary file, so a failed run never leaves a truncated
 /// file under the final name.
 class CloudWriter {
-public:
+  public:
     /// Throws Error("output: <path>: ...") if the directory is missing or not writable, or
     /// `path` exists and is not a regular file, or is an input of this run.
     /// LAS/LAZ use `las`; with fields.rgb off they use point format 6, else 7.
-    CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin,
-                core::CloudFields fields = {}, const LasOptions& las = {});
+    CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin, core::CloudFields fields = {},
+                const LasOptions& las = {});
     ~CloudWriter();
     CloudWriter(const CloudWriter&) = delete;
     CloudWriter& operator=(const CloudWriter&) = delete;
@@ -84,7 +84,7 @@ public:
     void commit();
     std::size_t count() const { return count_; }
 
-private:
+  private:
     std::filesystem::path path_;
     std::unique_ptr<platform::TempFile> temp_;
     std::unique_ptr<detail::FormatWriter> writer_;  // null once committed
@@ -92,8 +92,8 @@ private:
 };
 
 /// Writes a whole cloud atomically (a CloudWriter in one go).
-void writeCloud(const std::filesystem::path& path, const core::PointCloud& cloud,
-                CloudFormat format, const LasOptions& las = {});
+void writeCloud(const std::filesystem::path& path, const core::PointCloud& cloud, CloudFormat format,
+                const LasOptions& las = {});
 
 /// Reads PCD (ascii, binary, binary_compressed), PLY (ascii, binary either endian) or
 /// LAS/LAZ whole, through io::CloudReader (cloud_reader.hpp). Needs x y z; rgb/rgba, label,

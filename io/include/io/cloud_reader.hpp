@@ -24,7 +24,7 @@ class FormatReader;
 }  // namespace detail
 
 class CloudReader {
-public:
+  public:
     static constexpr std::size_t kChunkPoints = 1u << 18;
 
     /// Opens a PCD (ascii, binary, binary_compressed), PLY (ascii, binary either
@@ -62,7 +62,7 @@ public:
     /// reader does not know (the first: C); read as environment", on one line; else empty.
     std::string warning() const;
 
-private:
+  private:
     std::string prefix_;
     std::unique_ptr<detail::ByteSource> source_;
     std::unique_ptr<detail::FormatReader> format_;

@@ -9,7 +9,6 @@
 // (roleForClass), unless the file has our `label` extra bytes (docs/formats.md).
 #include "cloud_decode.hpp"
 
-
 #include <core/error.hpp>
 
 #include <laszip/laszip_api.h>
@@ -32,11 +31,11 @@
 
 namespace io::detail {
 
-using core::Error;
-using core::Role;
-using core::CloudPoint;
 using core::CloudFields;
+using core::CloudPoint;
+using core::Error;
 using core::packRgb;
+using core::Role;
 
 namespace {
 
@@ -48,8 +47,16 @@ constexpr std::size_t kExtraBytesDescriptor = 192;
 // LASzip's compressors (the VLR's first field) and item types.
 constexpr unsigned kPointwise = 1, kPointwiseChunked = 2, kLayeredChunked = 3;
 enum ItemType : unsigned {
-    kByte = 0, kPoint10 = 6, kGpsTime11 = 7, kRgb12 = 8, kWavePacket13 = 9,
-    kPoint14 = 10, kRgb14 = 11, kRgbNir14 = 12, kWavePacket14 = 13, kByte14 = 14
+    kByte = 0,
+    kPoint10 = 6,
+    kGpsTime11 = 7,
+    kRgb12 = 8,
+    kWavePacket13 = 9,
+    kPoint14 = 10,
+    kRgb14 = 11,
+    kRgbNir14 = 12,
+    kWavePacket14 = 13,
+    kByte14 = 14
 };
 constexpr std::uint32_t kVariableChunks = 0xFFFFFFFFu;  // chunk size of tables with point counts
 
@@ -63,10 +70,10 @@ T le(std::string_view bytes, std::size_t at) {
 /// A read-only, seekable std::streambuf over a ByteSource (LASzip reads through an
 /// istream and seeks to LAZ's chunk table).
 class SourceBuf final : public std::streambuf {
-public:
+  public:
     explicit SourceBuf(ByteSource& source) : source_(source) {}
 
-protected:
+  protected:
     int_type underflow() override {
         if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
         const std::uint64_t at = base_ + std::uint64_t(egptr() - eback());
@@ -93,8 +100,9 @@ protected:
 
     pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override {
         const std::int64_t here = std::int64_t(base_) + (gptr() - eback());
-        const std::int64_t from = dir == std::ios_base::beg ? 0 : dir == std::ios_base::cur ? here
-                                                                   : std::int64_t(source_.size());
+        const std::int64_t from = dir == std::ios_base::beg   ? 0
+                                  : dir == std::ios_base::cur ? here
+                                                              : std::int64_t(source_.size());
         return seekpos(pos_type(off_type(from + off)), std::ios_base::in);
     }
 
@@ -107,7 +115,7 @@ protected:
         return pos;
     }
 
-private:
+  private:
     static constexpr std::size_t kBlock = 1u << 16;
     ByteSource& source_;
     std::vector<char> block_;
@@ -116,7 +124,7 @@ private:
 
 struct ExtraField {
     bool present = false;
-    int type = 0;          // LAS data type 1..10
+    int type = 0;  // LAS data type 1..10
     std::size_t offset = 0;
 };
 
@@ -124,19 +132,51 @@ double extraValue(const unsigned char* bytes, const ExtraField& f) {
     switch (f.type) {
         case 1: return bytes[f.offset];
         case 2: return std::int8_t(bytes[f.offset]);
-        case 3: { std::uint16_t v; std::memcpy(&v, bytes + f.offset, 2); return v; }
-        case 4: { std::int16_t v; std::memcpy(&v, bytes + f.offset, 2); return v; }
-        case 5: { std::uint32_t v; std::memcpy(&v, bytes + f.offset, 4); return v; }
-        case 6: { std::int32_t v; std::memcpy(&v, bytes + f.offset, 4); return v; }
-        case 7: { std::uint64_t v; std::memcpy(&v, bytes + f.offset, 8); return double(v); }
-        case 8: { std::int64_t v; std::memcpy(&v, bytes + f.offset, 8); return double(v); }
-        case 9: { float v; std::memcpy(&v, bytes + f.offset, 4); return v; }
-        default: { double v; std::memcpy(&v, bytes + f.offset, 8); return v; }
+        case 3: {
+            std::uint16_t v;
+            std::memcpy(&v, bytes + f.offset, 2);
+            return v;
+        }
+        case 4: {
+            std::int16_t v;
+            std::memcpy(&v, bytes + f.offset, 2);
+            return v;
+        }
+        case 5: {
+            std::uint32_t v;
+            std::memcpy(&v, bytes + f.offset, 4);
+            return v;
+        }
+        case 6: {
+            std::int32_t v;
+            std::memcpy(&v, bytes + f.offset, 4);
+            return v;
+        }
+        case 7: {
+            std::uint64_t v;
+            std::memcpy(&v, bytes + f.offset, 8);
+            return double(v);
+        }
+        case 8: {
+            std::int64_t v;
+            std::memcpy(&v, bytes + f.offset, 8);
+            return double(v);
+        }
+        case 9: {
+            float v;
+            std::memcpy(&v, bytes + f.offset, 4);
+            return v;
+        }
+        default: {
+            double v;
+            std::memcpy(&v, bytes + f.offset, 8);
+            return v;
+        }
     }
 }
 
 class LasReader final : public FormatReader {
-public:
+  public:
     LasReader(ByteSource& source, const std::string& prefix)
         : source_(source), prefix_(prefix), buf_(source), stream_(&buf_) {
         checkHeader();
@@ -182,7 +222,7 @@ public:
         return n;
     }
 
-private:
+  private:
     void openLaszip() {
         if (laszip_create(&zip_) != 0 || !zip_) throw Error(prefix_ + ": LASzip could not be started");
         laszip_BOOL compressed = 0;
@@ -252,7 +292,8 @@ private:
 
     void startDecoder() {
         // The point the child is decoding, shared, so that a fault can be placed exactly.
-        void* shared = ::mmap(nullptr, sizeof(std::uint64_t), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+        void* shared =
+            ::mmap(nullptr, sizeof(std::uint64_t), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
         if (shared == MAP_FAILED) throw Error(prefix_ + ": cannot start the LAZ decoder: " + std::strerror(errno));
         decoding_ = static_cast<std::uint64_t*>(shared);
         *decoding_ = 0;
@@ -298,7 +339,8 @@ private:
                     if (laszip_read_point(zip_) != 0) pointFailed(i);
                     batch.push_back(convert(*point_, i));
                 }
-                Frame f{'P', std::uint32_t(batch.size() * sizeof(CloudPoint)), stats.unknown_classes, stats.first_unknown};
+                Frame f{'P', std::uint32_t(batch.size() * sizeof(CloudPoint)), stats.unknown_classes,
+                        stats.first_unknown};
                 send(fd, f, batch.data());
             }
         } catch (const Error& e) {
@@ -384,8 +426,7 @@ private:
         pipe_ = -1;
         if (child_ > 0) {
             ::kill(child_, SIGKILL);  // done or abandoned: nothing of it is needed
-            while (::waitpid(child_, nullptr, 0) < 0 && errno == EINTR) {
-            }
+            while (::waitpid(child_, nullptr, 0) < 0 && errno == EINTR) {}
             child_ = -1;
         }
         if (decoding_) ::munmap(decoding_, sizeof(std::uint64_t));
@@ -400,8 +441,9 @@ private:
         if (zip_) laszip_get_error(zip_, &message);
         // LASzip's own words, unless they only repeat the point's number.
         const std::string said = message ? std::string(message) : std::string();
-        const std::string detail =
-            said.empty() || said.rfind("reading point ", 0) == 0 ? std::string() : " (LASzip: " + core::printable(said, 160, false) + ")";
+        const std::string detail = said.empty() || said.rfind("reading point ", 0) == 0
+                                       ? std::string()
+                                       : " (LASzip: " + core::printable(said, 160, false) + ")";
         throw Error(prefix_ + ": point " + std::to_string(index) + " of " + std::to_string(declared) + ": " +
                     (compressed_ ? "the compressed point data cannot be decoded; the LAZ file is corrupt or cut short"
                                  : "the point record cannot be read") +
@@ -412,7 +454,8 @@ private:
         if (rc == 0) return;
         laszip_CHAR* message = nullptr;
         if (zip_) laszip_get_error(zip_, &message);
-        throw Error(prefix_ + ": " + what + ": " + (message ? core::printable(message, 160, false) : std::string("LASzip failed")));
+        throw Error(prefix_ + ": " + what + ": " +
+                    (message ? core::printable(message, 160, false) : std::string("LASzip failed")));
     }
 
     // The public header block and the VLRs, checked against the file's size before
@@ -420,9 +463,10 @@ private:
     void checkHeader() {
         const std::uint64_t size = source_.size();
         if (size >= 4 && source_.view(0, 4) != "LASF")
-            throw Error(prefix_ + ": not a LAS file: it starts with '" + core::printable(source_.view(0, 4), 20, false) +
-                        "'; allowed: 'LASF'");
-        if (size < 227) throw Error(prefix_ + ": truncated: a LAS header needs 227 bytes, the file has " + std::to_string(size));
+            throw Error(prefix_ + ": not a LAS file: it starts with '" +
+                        core::printable(source_.view(0, 4), 20, false) + "'; allowed: 'LASF'");
+        if (size < 227)
+            throw Error(prefix_ + ": truncated: a LAS header needs 227 bytes, the file has " + std::to_string(size));
         const std::string_view h = source_.view(0, std::size_t(std::min<std::uint64_t>(size, 375)));
         const std::string head(h);  // the view changes with the next read
         const int major = std::uint8_t(head[24]), minor = std::uint8_t(head[25]);
@@ -450,7 +494,8 @@ private:
             scale_[k] = le<double>(head, 131 + 8 * std::size_t(k));
             offset_[k] = le<double>(head, 155 + 8 * std::size_t(k));
             if (!std::isfinite(scale_[k]) || scale_[k] == 0.0 || !std::isfinite(offset_[k]))
-                throw Error(prefix_ + ": the scale and offset of " + "xyz"[k] + " must be finite and the scale non-zero");
+                throw Error(prefix_ + ": the scale and offset of " + "xyz"[k] +
+                            " must be finite and the scale non-zero");
         }
         std::uint64_t count = le<std::uint32_t>(head, 107);
         if (minor >= 4 && count == 0) count = le<std::uint64_t>(head, 247);
@@ -462,7 +507,8 @@ private:
         bool laszip_vlr = false, extra_vlr = false;
         LaszipVlr laz;
         for (std::uint32_t v = 0; v < vlrs; ++v) {
-            if (data_at - at < kVlrHeader) throw Error(prefix_ + ": VLR " + std::to_string(v) + " runs into the point data");
+            if (data_at - at < kVlrHeader)
+                throw Error(prefix_ + ": VLR " + std::to_string(v) + " runs into the point data");
             const std::string vh(source_.view(at, kVlrHeader));
             const std::uint16_t length = le<std::uint16_t>(vh, 20);
             if (data_at - at - kVlrHeader < length)
@@ -479,7 +525,8 @@ private:
             }
             if (user == "laszip encoded" && le<std::uint16_t>(vh, 18) == 22204) {
                 if (laszip_vlr)
-                    throw Error(prefix_ + ": VLR " + std::to_string(v) + " is a second LASzip VLR; allowed: one per file");
+                    throw Error(prefix_ + ": VLR " + std::to_string(v) +
+                                " is a second LASzip VLR; allowed: one per file");
                 laz = checkLaszipVlr(std::string(source_.view(at + kVlrHeader, length)), format, record);
                 laszip_vlr = true;
             }
@@ -577,12 +624,17 @@ private:
             const unsigned type = le<std::uint16_t>(payload, 34 + 6 * i);
             const unsigned size = le<std::uint16_t>(payload, 36 + 6 * i);
             const unsigned version = le<std::uint16_t>(payload, 38 + 6 * i);
-            listed += (i ? ", " : "") + std::to_string(type) + "/" + std::to_string(size) + "/v" + std::to_string(version);
+            listed +=
+                (i ? ", " : "") + std::to_string(type) + "/" + std::to_string(size) + "/v" + std::to_string(version);
             if (!matches) continue;
             const bool bytes = type == kByte || type == kByte14;
-            const std::size_t want_size = bytes ? extra
-                                          : type == kPoint10 ? 20 : type == kGpsTime11 ? 8 : type == kRgb12 || type == kRgb14 ? 6
-                                          : type == kPoint14 ? 30 : type == kRgbNir14 ? 8 : 29;
+            const std::size_t want_size = bytes                              ? extra
+                                          : type == kPoint10                 ? 20
+                                          : type == kGpsTime11               ? 8
+                                          : type == kRgb12 || type == kRgb14 ? 6
+                                          : type == kPoint14                 ? 30
+                                          : type == kRgbNir14                ? 8
+                                                                             : 29;
             const bool version_ok = las14 ? (version >= 2 && version <= 4 && !(type == kWavePacket14 && version == 2))
                                           : (version == 1 || (version == 2 && type != kWavePacket13));
             matches = type == expected[i] && size == want_size && version_ok;
@@ -592,9 +644,9 @@ private:
             if (type == kByte14) laz.layers += size;  // one layer per byte
         }
         if (!matches)
-            throw Error(prefix_ + ": the LASzip VLR's items (type/size/version: " + core::printable(listed, 200, false) +
-                        ") are not those of point format " + std::to_string(format) + " with " + std::to_string(extra) +
-                        " extra bytes");
+            throw Error(prefix_ + ": the LASzip VLR's items (type/size/version: " +
+                        core::printable(listed, 200, false) + ") are not those of point format " +
+                        std::to_string(format) + " with " + std::to_string(extra) + " extra bytes");
         if (laz.chunk_points == 0) laz.chunk_points = kVariableChunks;  // LASzip reads 0 so
         return laz;
     }
@@ -631,9 +683,10 @@ private:
             if (laz.chunk_points != kVariableChunks) {
                 const std::uint64_t fill = (count + laz.chunk_points - 1) / laz.chunk_points;
                 if (tabled != fill)
-                    throw Error(prefix_ + ": the chunk table lists " + std::to_string(tabled) + " chunks but the header's " +
-                                std::to_string(count) + " points fill " + std::to_string(fill) + " chunks of " +
-                                std::to_string(laz.chunk_points) + (tabled > fill ? " (the header counts fewer points than the data hold)" : ""));
+                    throw Error(prefix_ + ": the chunk table lists " + std::to_string(tabled) +
+                                " chunks but the header's " + std::to_string(count) + " points fill " +
+                                std::to_string(fill) + " chunks of " + std::to_string(laz.chunk_points) +
+                                (tabled > fill ? " (the header counts fewer points than the data hold)" : ""));
             } else if (tabled == 0 || tabled > most) {
                 throw Error(prefix_ + ": the chunk table lists " + std::to_string(tabled) + " chunks; allowed: 1 to " +
                             std::to_string(most) + " for " + std::to_string(count) + " points");
@@ -653,22 +706,25 @@ private:
             const std::uint32_t points = le<std::uint32_t>(h, 0);
             std::uint64_t bytes = 0;
             for (std::size_t l = 0; l < laz.layers; ++l) bytes += le<std::uint32_t>(h, 4 + 4 * l);
-            const std::uint64_t want = laz.chunk_points == kVariableChunks ? 0 : std::min<std::uint64_t>(left, laz.chunk_points);
+            const std::uint64_t want =
+                laz.chunk_points == kVariableChunks ? 0 : std::min<std::uint64_t>(left, laz.chunk_points);
             if (points == 0 || points > left || (want != 0 && points != want))
                 throw Error(prefix_ + ": chunk " + std::to_string(chunk) + " holds " + std::to_string(points) +
                             " points; allowed: " + (want != 0 ? std::to_string(want) : "1 to " + std::to_string(left)) +
                             " (of the header's " + std::to_string(count) + ")");
             if (bytes > end - at - head)
-                throw Error(prefix_ + ": chunk " + std::to_string(chunk) + "'s layers declare " + std::to_string(bytes) +
-                            " bytes but " + std::to_string(end - at - head) + " remain before byte " + std::to_string(end));
+                throw Error(prefix_ + ": chunk " + std::to_string(chunk) + "'s layers declare " +
+                            std::to_string(bytes) + " bytes but " + std::to_string(end - at - head) +
+                            " remain before byte " + std::to_string(end));
             at += head + bytes;
             left -= points;
             ++chunk;
         }
         if (has_table && (at != end || chunk != tabled))
-            throw Error(prefix_ + ": the header's " + std::to_string(count) + " points end at byte " + std::to_string(at) +
-                        " in chunk " + std::to_string(chunk) + " but the chunk table starts at byte " + std::to_string(end) +
-                        " after " + std::to_string(tabled) + " chunks (the header counts fewer points than the data hold?)");
+            throw Error(prefix_ + ": the header's " + std::to_string(count) + " points end at byte " +
+                        std::to_string(at) + " in chunk " + std::to_string(chunk) +
+                        " but the chunk table starts at byte " + std::to_string(end) + " after " +
+                        std::to_string(tabled) + " chunks (the header counts fewer points than the data hold?)");
     }
 
     // LAS 1.4's extended VLRs after the points: each with its 64-bit length inside the
@@ -685,7 +741,8 @@ private:
                         " do not fit a file of " + std::to_string(size) + " bytes");
         for (std::uint32_t e = 0; e < n; ++e) {
             if (size - at < kEvlrHeader)
-                throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) + " is cut short");
+                throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) +
+                            " is cut short");
             const std::uint64_t length = le<std::uint64_t>(std::string(source_.view(at + 20, 8)), 0);
             if (length > size - at - kEvlrHeader)
                 throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) + " declares " +
@@ -717,15 +774,21 @@ private:
         std::size_t offset = 0;
         for (std::size_t d = 0; d + kExtraBytesDescriptor <= payload.size(); d += kExtraBytesDescriptor) {
             const int type = std::uint8_t(payload[d + 2]);
-            const std::size_t size = type == 0 ? std::uint8_t(payload[d + 3]) : type < 11 ? kTypeSize[std::size_t(type)] : 0;
+            const std::size_t size = type == 0   ? std::uint8_t(payload[d + 3])
+                                     : type < 11 ? kTypeSize[std::size_t(type)]
+                                                 : 0;
             if (type >= 11) break;  // deprecated array types: the offsets after them are unknown
             const std::string name(payload.data() + d + 4, strnlen(payload.data() + d + 4, 32));
             ExtraField f{true, type, offset};
             if (type != 0) {
-                if (name == "range") range_ = f;
-                else if (name == "label") label_ = f;
-                else if (name == "incidence_deg") incidence_ = f;
-                else if (name == "height_above_ground_m") height_ = f;
+                if (name == "range")
+                    range_ = f;
+                else if (name == "label")
+                    label_ = f;
+                else if (name == "incidence_deg")
+                    incidence_ = f;
+                else if (name == "height_above_ground_m")
+                    height_ = f;
             }
             offset += size;
         }
@@ -741,8 +804,8 @@ private:
     bool open_ = false;
     bool extended_ = false;
     bool compressed_ = false;
-    pid_t child_ = -1;  // the decoding process of compressed data
-    int pipe_ = -1;     // its frames
+    pid_t child_ = -1;                   // the decoding process of compressed data
+    int pipe_ = -1;                      // its frames
     std::uint64_t* decoding_ = nullptr;  // shared with it: the point it is decoding
     std::vector<CloudPoint> pending_;
     std::size_t pending_at_ = 0;

@@ -19,10 +19,10 @@
 
 namespace io::detail {
 
+using core::CloudFields;
+using core::CloudPoint;
 using core::Error;
 using core::kRoleCount;
-using core::CloudPoint;
-using core::CloudFields;
 
 namespace {
 
@@ -34,8 +34,8 @@ constexpr laszip_U32 kExtraUChar = 0;
 constexpr laszip_U32 kExtraFloat = 8;
 
 // LAS 1.4 header offsets of the fields written at the end.
-constexpr off_t kBoundsAt = 179;  // max x, min x, max y, min y, max z, min z (doubles)
-constexpr off_t kCountsAt = 247;  // points (u64), then points by return 1..15 (u64)
+constexpr off_t kBoundsAt = 179;   // max x, min x, max y, min y, max z, min z (doubles)
+constexpr off_t kCountsAt = 247;   // points (u64), then points by return 1..15 (u64)
 constexpr off_t kSoftwareAt = 58;  // generating software, 32 characters, NUL-padded
 constexpr std::size_t kSoftwareSize = 32;
 constexpr std::size_t kDescriptionSize = 32;  // an extra bytes description, NUL-padded
@@ -162,8 +162,7 @@ void LasRecord::setUp(laszip_POINTER zip) const {
                 check(zip, laszip_add_attribute(zip, kExtraFloat, "range", kRangeDescription, 1.0, 0.0), "range");
                 break;
             case Extra::Label:
-                check(zip, laszip_add_attribute(zip, kExtraUChar, "label", kLabelDescription, 1.0, 0.0),
-                      "label");
+                check(zip, laszip_add_attribute(zip, kExtraUChar, "label", kLabelDescription, 1.0, 0.0), "label");
                 break;
             case Extra::Incidence:
                 check(zip, laszip_add_attribute(zip, kExtraFloat, "incidence_deg", kIncidenceDescription, 1.0, 0.0),
@@ -213,7 +212,8 @@ void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t 
         q.rgb[2] = laszip_U16((p.rgb & 0xFFu) * 257u);
     }
     if (extra_bytes_ == 0) return;
-    if (q.num_extra_bytes != extra_bytes_ || !q.extra_bytes) throw Error(where_ + ": LASzip did not size the extra bytes");
+    if (q.num_extra_bytes != extra_bytes_ || !q.extra_bytes)
+        throw Error(where_ + ": LASzip did not size the extra bytes");
     for (const Extra& e : extras_) {
         unsigned char* at = q.extra_bytes + e.offset;
         switch (e.what) {

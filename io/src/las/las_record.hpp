@@ -34,7 +34,7 @@ struct LasDate {
 LasDate lasCreationDate();
 
 class LasRecord {
-public:
+  public:
     /// `where`: "output: <path>" for messages.
     LasRecord(std::string where, const glm::dvec3& origin, const core::CloudFields& fields, const LasOptions& options);
 
@@ -59,7 +59,7 @@ public:
 
     const std::string& where() const { return where_; }
 
-private:
+  private:
     struct Extra {
         enum What { Range, Label, Incidence, Height } what;
         int offset = 0;  // within the point's extra bytes

@@ -18,20 +18,20 @@
 
 namespace io::detail {
 
-using core::Error;
 using core::CloudPoint;
+using core::Error;
 
 namespace {
 
 /// A std::streambuf onto a FILE* that keeps the errno of the first failed write (an
 /// ostream keeps only its fail bit, and LASzip reports only that a write failed).
 class FileBuf final : public std::streambuf {
-public:
+  public:
     explicit FileBuf(std::FILE* file) : file_(file) {}
     /// 0, or the errno of the first write or flush that failed.
     int error() const { return error_; }
 
-protected:
+  protected:
     int_type overflow(int_type c) override {
         if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
         const char ch = traits_type::to_char_type(c);
@@ -54,7 +54,7 @@ protected:
         return seekoff(off_type(pos), std::ios_base::beg, which);
     }
 
-private:
+  private:
     bool put(const char* s, std::size_t n) {
         if (error_ != 0) return false;
         errno = 0;
@@ -68,7 +68,7 @@ private:
 };
 
 class LasWriter final : public FormatWriter {
-public:
+  public:
     LasWriter(platform::TempFile& file, const LasRecord& record)
         : record_(record), fd_(fileno(file.file())), buf_(file.file()), stream_(&buf_) {
         if (laszip_create(&zip_) != 0 || !zip_) throw Error(record_.where() + ": LASzip could not be started");
@@ -100,7 +100,7 @@ public:
         record_.patchHeader(fd_, inventory_);
     }
 
-private:
+  private:
     void check(laszip_I32 rc, const char* what) {
         if (buf_.error() != 0 || !stream_) throw writeFailed();
         record_.check(zip_, rc, what);
@@ -125,7 +125,8 @@ private:
 
 std::unique_ptr<FormatWriter> openLasWriter(platform::TempFile& file, const glm::dvec3& origin,
                                             const core::CloudFields& fields, const LasOptions& options) {
-    return std::make_unique<LasWriter>(file, LasRecord("output: " + file.destination().string(), origin, fields, options));
+    return std::make_unique<LasWriter>(file,
+                                       LasRecord("output: " + file.destination().string(), origin, fields, options));
 }
 
 }  // namespace io::detail

@@ -27,7 +27,7 @@ constexpr std::uint32_t kBitMaxCount = 1u << kBitShift;
 
 // An adaptive model of `n` symbols: counts, and the cumulative distribution they give.
 class SymbolModel {
-public:
+  public:
     explicit SymbolModel(std::uint32_t n) : n_(n), count_(n, 1u), cumulative_(n + 1, 0u) {
         cycle_ = n;
         refresh();
@@ -40,7 +40,7 @@ public:
         if (--until_refresh_ == 0) refresh();
     }
 
-private:
+  private:
     void refresh() {
         if ((total_ += cycle_) > kSymbolMaxCount) {  // halve the counts, keeping each >= 1
             total_ = 0;
@@ -65,7 +65,7 @@ private:
 
 // An adaptive model of one bit.
 class BitModel {
-public:
+  public:
     std::uint32_t zeroProbability() const { return p0_; }
     void saw(bool bit) {
         if (!bit) ++zeros_;
@@ -80,12 +80,12 @@ public:
         until_refresh_ = cycle_;
     }
 
-private:
+  private:
     std::uint32_t zeros_ = 1, total_ = 2, p0_ = 1u << (kBitShift - 1), cycle_ = 4, until_refresh_ = 4;
 };
 
 class RangeEncoder {
-public:
+  public:
     void encode(SymbolModel& m, std::uint32_t s) {
         const std::uint32_t before = base_;
         if (s == m.symbols() - 1) {  // the last symbol takes the rest of the interval
@@ -145,7 +145,7 @@ public:
         return std::move(out_);
     }
 
-private:
+  private:
     void rawPart(int bits, std::uint32_t value) {
         const std::uint32_t before = base_;
         length_ >>= bits;
@@ -173,7 +173,7 @@ private:
 // correction's magnitude (interval [-(2^k - 1), 2^k]), with a model per context; then
 // the position inside that interval, its top 8 bits modelled per k and the rest raw.
 class IntegerCoder {
-public:
+  public:
     explicit IntegerCoder(int contexts) {
         for (int c = 0; c < contexts; ++c) k_models_.emplace_back(kBits + 1);
         for (int k = 1; k <= kBits; ++k) low_models_.emplace_back(1u << std::min(k, kHighBits));
@@ -191,7 +191,8 @@ public:
             e.encode(zero_model_, c != 0);  // c is 0 or 1
             return;
         }
-        if (k >= kBits) throw Error("LAZ chunk table: a chunk size differs from the previous one by 2^31 bytes or more");
+        if (k >= kBits)
+            throw Error("LAZ chunk table: a chunk size differs from the previous one by 2^31 bytes or more");
         // Into [0, 2^k): negative corrections below 2^(k-1), positive ones above.
         const std::uint32_t at = c < 0 ? std::uint32_t(c) + ((1u << k) - 1u) : std::uint32_t(c) - 1u;
         if (k <= kHighBits) {
@@ -203,7 +204,7 @@ public:
         }
     }
 
-private:
+  private:
     static constexpr int kBits = 32, kHighBits = 8;
     std::vector<SymbolModel> k_models_;    // per context, k in [0, 32]
     std::vector<SymbolModel> low_models_;  // per k >= 1

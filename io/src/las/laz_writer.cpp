@@ -31,8 +31,8 @@
 
 namespace io::detail {
 
-using core::Error;
 using core::CloudPoint;
+using core::Error;
 
 namespace {
 
@@ -90,7 +90,7 @@ LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoin
 }
 
 class LazWriter final : public FormatWriter {
-public:
+  public:
     LazWriter(platform::TempFile& file, LasRecord record, const LasOptions& options)
         : record_(std::move(record)), file_(file.file()) {
         // The header and VLRs, as LASzip writes them for a file of these records.
@@ -104,7 +104,8 @@ public:
         const std::size_t chunk_bytes = std::size_t(lazChunkBytes());
         // Chunks queued or compressing, besides the one being filled.
         const std::size_t threads = std::size_t(std::max(options.threads, 0));
-        const std::size_t chunks = options.memory_bytes > 0 ? std::size_t(options.memory_bytes / chunk_bytes) : threads + 2;
+        const std::size_t chunks =
+            options.memory_bytes > 0 ? std::size_t(options.memory_bytes / chunk_bytes) : threads + 2;
         in_flight_max_ = std::clamp<std::size_t>(chunks, 2, threads + 2) - 1;
         const int workers = std::min<int>(std::max(options.threads, 0), int(in_flight_max_));
         for (int i = 0; i < workers; ++i) workers_.emplace_back([this] { work(); });
@@ -152,7 +153,7 @@ public:
         record_.patchHeader(fileno(file_), inventory_);
     }
 
-private:
+  private:
     struct Job {
         std::vector<CloudPoint> points;
         std::uint64_t first_index = 0;

@@ -4,7 +4,6 @@
 // points but zero padding. Why our own PCD/PLY codec: docs/formats.md.
 #include "cloud_decode.hpp"
 
-
 #include <core/error.hpp>
 
 #include <lzf.h>
@@ -17,21 +16,21 @@
 
 namespace io::detail {
 
-using core::Error;
 using core::CloudPoint;
+using core::Error;
 
 namespace {
 
 struct PcdHeader {
     glm::dvec3 origin{0.0};
-    bool ours = false;           // the header has the ladarvr origin comment
+    bool ours = false;  // the header has the ladarvr origin comment
     Layout layout;
     std::size_t points = 0;
-    std::size_t record = 0;      // bytes per point (binary)
-    std::size_t per_point = 0;   // values per point (ascii)
-    std::size_t lines = 0;       // header lines, for messages about the data
-    std::uint64_t body = 0;      // byte offset of the data
-    std::string data;            // ascii, binary, binary_compressed
+    std::size_t record = 0;     // bytes per point (binary)
+    std::size_t per_point = 0;  // values per point (ascii)
+    std::size_t lines = 0;      // header lines, for messages about the data
+    std::uint64_t body = 0;     // byte offset of the data
+    std::string data;           // ascii, binary, binary_compressed
 };
 
 /// Parses and checks the header in `text` (the first bytes of the file).
@@ -46,8 +45,7 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
     bool have_size = false, have_type = false;
     while (h.data.empty()) {
         if (!lines.next(line)) {
-            if (file_size > text.size())
-                throw Error(pre + ": the header is longer than 1 MiB; not a PCD file?");
+            if (file_size > text.size()) throw Error(pre + ": the header is longer than 1 MiB; not a PCD file?");
             throw Error(pre + ": the header ends without a DATA line; not a PCD file?");
         }
         if (lines.line_no > kMaxHeaderLines) throw Error(pre + ": the header is too long; not a PCD file?");
@@ -109,8 +107,7 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
         } else if (key == "POINTS") {
             one(points_field);
         } else if (key == "DATA") {
-            if (words.size() != 2 || (words[1] != "ascii" && words[1] != "binary" &&
-                                      words[1] != "binary_compressed"))
+            if (words.size() != 2 || (words[1] != "ascii" && words[1] != "binary" && words[1] != "binary_compressed"))
                 throw Error(where + ": DATA must be one of ascii, binary, binary_compressed");
             h.data = std::string(words[1]);
         } else {
@@ -138,8 +135,8 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
         throw Error(pre + ": WIDTH x HEIGHT overflows");
     h.points = *width * *height;
     if (points_field && *points_field != h.points)
-        throw Error(pre + ": POINTS " + std::to_string(*points_field) + " is not WIDTH x HEIGHT = " +
-                    std::to_string(h.points));
+        throw Error(pre + ": POINTS " + std::to_string(*points_field) +
+                    " is not WIDTH x HEIGHT = " + std::to_string(h.points));
 
     Layout& l = h.layout;
     std::size_t offset = 0, token = 0;
@@ -156,18 +153,24 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
         c.token = token;
         const std::string& nm = names[f];
         Column* slot = nullptr;
-        if (nm == "x") slot = &l.x;
-        else if (nm == "y") slot = &l.y;
-        else if (nm == "z") slot = &l.z;
-        else if (nm == "rgb" || nm == "rgba") slot = &l.rgb;
-        else slot = columnFor(l, nm);
+        if (nm == "x")
+            slot = &l.x;
+        else if (nm == "y")
+            slot = &l.y;
+        else if (nm == "z")
+            slot = &l.z;
+        else if (nm == "rgb" || nm == "rgba")
+            slot = &l.rgb;
+        else
+            slot = columnFor(l, nm);
         // What the label's codes mean: ours, ASPRS classes, or both (LabelCodes).
         if (slot == &l.label && !l.label.present) l.label_codes = labelCodesFor(nm, h.ours);
         if (slot && counts[f] != 1)
             throw Error(pre + ": field '" + core::printable(nm, 40) + "' has COUNT " + std::to_string(counts[f]) +
                         "; allowed: 1");
         if (slot == &l.rgb && s != 4)
-            throw Error(pre + ": field '" + core::printable(nm, 40) + "' has SIZE " + std::to_string(s) + "; allowed: 4");
+            throw Error(pre + ": field '" + core::printable(nm, 40) + "' has SIZE " + std::to_string(s) +
+                        "; allowed: 4");
         if (slot && !slot->present) *slot = c;
         offset += std::size_t(s) * std::size_t(counts[f]);
         token += std::size_t(counts[f]);
@@ -181,9 +184,10 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
 }
 
 class PcdReader final : public FormatReader {
-public:
+  public:
     PcdReader(ByteSource& source, const std::string& prefix)
-        : source_(source), prefix_(prefix),
+        : source_(source),
+          prefix_(prefix),
           h_(parseHeader(headerPrefix(source), source.size(), prefix)),
           tokens_(source, h_.body, prefix) {
         origin = h_.origin;
@@ -194,9 +198,9 @@ public:
         bound = std::min<std::uint64_t>(h_.points, remaining / (2 * h_.per_point) + 1);
         if (h_.data == "binary") {
             if (h_.points > remaining / h_.record)
-                throw Error(prefix_ + ": truncated: the header says " + std::to_string(h_.points) +
-                            " points of " + std::to_string(h_.record) + " bytes but only " +
-                            std::to_string(remaining) + " bytes of data follow the header");
+                throw Error(prefix_ + ": truncated: the header says " + std::to_string(h_.points) + " points of " +
+                            std::to_string(h_.record) + " bytes but only " + std::to_string(remaining) +
+                            " bytes of data follow the header");
             checkPadding(source, h_.body + h_.points * h_.record, prefix_,
                          std::to_string(h_.points) + " points the header declares");
             for (Column* c : columns()) c->stride = h_.record;
@@ -225,8 +229,8 @@ public:
             decodeText(tokens_, n, h_.per_point, h_.layout, done_, h_.points, h_.lines, prefix_, out, stats);
         } else if (h_.data == "binary") {
             const std::string_view bytes = source_.view(h_.body + done_ * h_.record, n * h_.record);
-            decodeBinary(reinterpret_cast<const unsigned char*>(bytes.data()), 0, n, h_.layout, false,
-                         done_, prefix_, out, stats);
+            decodeBinary(reinterpret_cast<const unsigned char*>(bytes.data()), 0, n, h_.layout, false, done_, prefix_,
+                         out, stats);
         } else {
             decodeBinary(plain_.data(), done_, n, h_.layout, false, done_, prefix_, out, stats);
         }
@@ -234,11 +238,22 @@ public:
         return n;
     }
 
-private:
+  private:
     std::array<Column*, 13> columns() {
         Layout& l = h_.layout;
-        return {&l.x, &l.y, &l.z, &l.rgb, &l.label, &l.view, &l.range, &l.intensity, &l.return_number,
-                &l.returns, &l.incidence, &l.scan_angle, &l.height_above_ground};
+        return {&l.x,
+                &l.y,
+                &l.z,
+                &l.rgb,
+                &l.label,
+                &l.view,
+                &l.range,
+                &l.intensity,
+                &l.return_number,
+                &l.returns,
+                &l.incidence,
+                &l.scan_angle,
+                &l.height_above_ground};
     }
 
     // Georeferenced coordinates: double (or integer) columns move onto a double origin
@@ -250,9 +265,9 @@ private:
             TextStream peek(source_, h_.body, prefix_);
             if (!peekTextXyz(peek, h_.layout, h_.per_point, first)) return;
         } else {
-            const unsigned char* base = h_.data == "binary"
-                ? reinterpret_cast<const unsigned char*>(source_.view(h_.body, h_.record).data())
-                : plain_.data();
+            const unsigned char* base =
+                h_.data == "binary" ? reinterpret_cast<const unsigned char*>(source_.view(h_.body, h_.record).data())
+                                    : plain_.data();
             first = peekBinaryXyz(base, h_.layout, false);  // column bases are point 0's
         }
         h_.layout.shift = shiftFor(first);
@@ -264,8 +279,7 @@ private:
     // must be the header's points x record and is bounded by LZF's ratio to the bytes
     // actually present.
     void decompress(std::uint64_t remaining) {
-        if (remaining < 8)
-            throw Error(prefix_ + ": truncated: binary_compressed data need an 8-byte size header");
+        if (remaining < 8) throw Error(prefix_ + ": truncated: binary_compressed data need an 8-byte size header");
         const std::string_view sizes = source_.view(h_.body, 8);
         std::uint32_t packed = 0, unpacked = 0;
         std::memcpy(&packed, sizes.data(), 4);
@@ -276,8 +290,7 @@ private:
         const std::size_t n = h_.points, record = h_.record;
         if (n > std::numeric_limits<std::uint32_t>::max() / record || unpacked != n * record)
             throw Error(prefix_ + ": binary_compressed: the uncompressed size " + std::to_string(unpacked) +
-                        " is not points x record size = " + std::to_string(n) + " x " +
-                        std::to_string(record));
+                        " is not points x record size = " + std::to_string(n) + " x " + std::to_string(record));
         // LZF expands at most ~90x; a larger claim is corrupt (and would allocate a lot).
         if (unpacked > std::size_t(packed) * 100 + 64)
             throw Error(prefix_ + ": binary_compressed: the uncompressed size " + std::to_string(unpacked) +

@@ -56,7 +56,7 @@ std::string pcdHeader(bool ascii, const glm::dvec3& origin, const core::CloudFie
 }
 
 class PcdWriter final : public CountedWriter {
-public:
+  public:
     PcdWriter(platform::TempFile& file, bool ascii, std::string header, std::vector<long> count_at,
               const core::CloudFields& fields)
         : CountedWriter(file, std::move(header), std::move(count_at)), ascii_(ascii), fields_(fields) {
@@ -65,11 +65,13 @@ public:
     }
 
     void append(std::span<const core::CloudPoint> points) override {
-        if (ascii_) appendText(points, [this](std::string& s, const core::CloudPoint& p) { text(s, p); });
-        else appendBinary(points, record_bytes_, [this](char*& out, const core::CloudPoint& p) { binary(out, p); });
+        if (ascii_)
+            appendText(points, [this](std::string& s, const core::CloudPoint& p) { text(s, p); });
+        else
+            appendBinary(points, record_bytes_, [this](char*& out, const core::CloudPoint& p) { binary(out, p); });
     }
 
-private:
+  private:
     void binary(char*& out, const core::CloudPoint& p) const {
         const core::CloudFields& f = fields_;
         putRaw(out, p.position.x);

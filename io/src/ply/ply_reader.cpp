@@ -5,7 +5,6 @@
 // docs/formats.md.
 #include "cloud_decode.hpp"
 
-
 #include <core/error.hpp>
 
 #include <algorithm>
@@ -14,8 +13,8 @@
 
 namespace io::detail {
 
-using core::Error;
 using core::CloudPoint;
+using core::Error;
 
 namespace {
 
@@ -33,15 +32,24 @@ struct PlyElement {
 };
 
 bool plyType(std::string_view s, ScalarType& t) {
-    if (s == "char" || s == "int8") t = {Kind::Int, 1};
-    else if (s == "uchar" || s == "uint8") t = {Kind::UInt, 1};
-    else if (s == "short" || s == "int16") t = {Kind::Int, 2};
-    else if (s == "ushort" || s == "uint16") t = {Kind::UInt, 2};
-    else if (s == "int" || s == "int32") t = {Kind::Int, 4};
-    else if (s == "uint" || s == "uint32") t = {Kind::UInt, 4};
-    else if (s == "float" || s == "float32") t = {Kind::Float, 4};
-    else if (s == "double" || s == "float64") t = {Kind::Float, 8};
-    else return false;
+    if (s == "char" || s == "int8")
+        t = {Kind::Int, 1};
+    else if (s == "uchar" || s == "uint8")
+        t = {Kind::UInt, 1};
+    else if (s == "short" || s == "int16")
+        t = {Kind::Int, 2};
+    else if (s == "ushort" || s == "uint16")
+        t = {Kind::UInt, 2};
+    else if (s == "int" || s == "int32")
+        t = {Kind::Int, 4};
+    else if (s == "uint" || s == "uint32")
+        t = {Kind::UInt, 4};
+    else if (s == "float" || s == "float32")
+        t = {Kind::Float, 4};
+    else if (s == "double" || s == "float64")
+        t = {Kind::Float, 8};
+    else
+        return false;
     return true;
 }
 
@@ -54,12 +62,14 @@ bool listCount(const unsigned char* p, ScalarType t, bool swap, std::size_t& out
     switch (t.size) {
         case 1: v = t.kind == Kind::Int ? std::int64_t(std::int8_t(b[0])) : std::int64_t(b[0]); break;
         case 2: {
-            std::uint16_t u; std::memcpy(&u, b, 2);
+            std::uint16_t u;
+            std::memcpy(&u, b, 2);
             v = t.kind == Kind::Int ? std::int64_t(std::int16_t(u)) : std::int64_t(u);
             break;
         }
         default: {
-            std::uint32_t u; std::memcpy(&u, b, 4);
+            std::uint32_t u;
+            std::memcpy(&u, b, 4);
             v = t.kind == Kind::Int ? std::int64_t(std::int32_t(u)) : std::int64_t(u);
             break;
         }
@@ -70,9 +80,8 @@ bool listCount(const unsigned char* p, ScalarType t, bool swap, std::size_t& out
 }
 
 class PlyReader final : public FormatReader {
-public:
-    PlyReader(ByteSource& source, const std::string& prefix)
-        : source_(source), prefix_(prefix) {
+  public:
+    PlyReader(ByteSource& source, const std::string& prefix) : source_(source), prefix_(prefix) {
         parseHeader(headerPrefix(source));
         declared = elements_[vi_].count;
         if (format_ == "ascii") {
@@ -92,8 +101,8 @@ public:
             bound = declared;
             if (declared > 0 && layout_.wideXyz()) {
                 const std::string_view first = source_.view(vertex_at_, record_);
-                layout_.shift = shiftFor(peekBinaryXyz(reinterpret_cast<const unsigned char*>(first.data()),
-                                                       layout_, format_ == "binary_big_endian"));
+                layout_.shift = shiftFor(peekBinaryXyz(reinterpret_cast<const unsigned char*>(first.data()), layout_,
+                                                       format_ == "binary_big_endian"));
             }
         }
         origin += layout_.shift;
@@ -113,8 +122,7 @@ public:
             return 0;
         }
         if (format_ == "ascii") {
-            decodeText(*tokens_, n, elements_[vi_].props.size(), layout_, done_, declared, lines_, prefix_, out,
-                       stats);
+            decodeText(*tokens_, n, elements_[vi_].props.size(), layout_, done_, declared, lines_, prefix_, out, stats);
         } else {
             const std::string_view bytes = source_.view(vertex_at_ + done_ * record_, n * record_);
             decodeBinary(reinterpret_cast<const unsigned char*>(bytes.data()), 0, n, layout_,
@@ -124,7 +132,7 @@ public:
         return n;
     }
 
-private:
+  private:
     void parseHeader(const std::string& text) {
         const std::string& pre = prefix_;
         LineReader lines{text};
@@ -146,9 +154,10 @@ private:
             const std::string where = pre + ": line " + std::to_string(lines.line_no);
             const std::string_view key = words[0];
             if (key == "format") {
-                if (words.size() != 3 || (words[1] != "ascii" && words[1] != "binary_little_endian" &&
-                                          words[1] != "binary_big_endian"))
-                    throw Error(where + ": format must be one of ascii, binary_little_endian, "
+                if (words.size() != 3 ||
+                    (words[1] != "ascii" && words[1] != "binary_little_endian" && words[1] != "binary_big_endian"))
+                    throw Error(where +
+                                ": format must be one of ascii, binary_little_endian, "
                                 "binary_big_endian (version 1.0)");
                 format_ = std::string(words[1]);
             } else if (key == "comment") {
@@ -168,15 +177,17 @@ private:
                 PlyProperty p;
                 if (words.size() == 5 && words[1] == "list") {
                     p.is_list = true;
-                    if (!plyType(words[2], p.count_type) || p.count_type.kind == Kind::Float ||
-                        p.count_type.size > 4 || !plyType(words[3], p.type))
-                        throw Error(where + ": list property types must be an integer count type and "
-                                    "one of " + kTypes);
+                    if (!plyType(words[2], p.count_type) || p.count_type.kind == Kind::Float || p.count_type.size > 4 ||
+                        !plyType(words[3], p.type))
+                        throw Error(where +
+                                    ": list property types must be an integer count type and "
+                                    "one of " +
+                                    kTypes);
                     p.name = std::string(words[4]);
                 } else if (words.size() == 3) {
                     if (!plyType(words[1], p.type))
-                        throw Error(where + ": property type '" + core::printable(words[1], 20) +
-                                    "' is not one of " + kTypes);
+                        throw Error(where + ": property type '" + core::printable(words[1], 20) + "' is not one of " +
+                                    kTypes);
                     p.name = std::string(words[2]);
                 } else {
                     throw Error(where + ": 'property' needs a type and a name");
@@ -194,7 +205,10 @@ private:
         body_ = lines.pos;
         vi_ = elements_.size();
         for (std::size_t e = 0; e < elements_.size(); ++e)
-            if (elements_[e].name == "vertex") { vi_ = e; break; }
+            if (elements_[e].name == "vertex") {
+                vi_ = e;
+                break;
+            }
         if (vi_ == elements_.size()) throw Error(pre + ": the header has no 'element vertex'");
         last_ = true;
         for (std::size_t e = vi_ + 1; e < elements_.size(); ++e)
@@ -206,20 +220,28 @@ private:
         for (std::size_t k = 0; k < vertex.props.size(); ++k) {
             const PlyProperty& p = vertex.props[k];
             if (p.is_list)
-                throw Error(pre + ": vertex property '" + core::printable(p.name, 40) + "' is a list; allowed: scalars");
+                throw Error(pre + ": vertex property '" + core::printable(p.name, 40) +
+                            "' is a list; allowed: scalars");
             Column c;
             c.present = true;
             c.type = p.type;
             c.base = offset;
             c.token = k;
             Column* slot = nullptr;
-            if (p.name == "x") slot = &l.x;
-            else if (p.name == "y") slot = &l.y;
-            else if (p.name == "z") slot = &l.z;
-            else if (p.name == "red" || p.name == "r" || p.name == "diffuse_red") slot = &l.red;
-            else if (p.name == "green" || p.name == "g" || p.name == "diffuse_green") slot = &l.green;
-            else if (p.name == "blue" || p.name == "b" || p.name == "diffuse_blue") slot = &l.blue;
-            else slot = columnFor(l, p.name);
+            if (p.name == "x")
+                slot = &l.x;
+            else if (p.name == "y")
+                slot = &l.y;
+            else if (p.name == "z")
+                slot = &l.z;
+            else if (p.name == "red" || p.name == "r" || p.name == "diffuse_red")
+                slot = &l.red;
+            else if (p.name == "green" || p.name == "g" || p.name == "diffuse_green")
+                slot = &l.green;
+            else if (p.name == "blue" || p.name == "b" || p.name == "diffuse_blue")
+                slot = &l.blue;
+            else
+                slot = columnFor(l, p.name);
             // What the label's codes mean: ours, ASPRS classes, or both (LabelCodes).
             if (slot == &l.label && !l.label.present) l.label_codes = labelCodesFor(p.name, ours);
             if (slot && !slot->present) *slot = c;
@@ -230,9 +252,8 @@ private:
         l.colour_float = l.red.present && l.red.type.kind == Kind::Float;
         record_ = offset;
         fields = l.fields();
-        for (Column* c : {&l.x, &l.y, &l.z, &l.red, &l.green, &l.blue, &l.label, &l.view, &l.range,
-                          &l.intensity, &l.return_number, &l.returns, &l.incidence, &l.scan_angle,
-                          &l.height_above_ground})
+        for (Column* c : {&l.x, &l.y, &l.z, &l.red, &l.green, &l.blue, &l.label, &l.view, &l.range, &l.intensity,
+                          &l.return_number, &l.returns, &l.incidence, &l.scan_angle, &l.height_above_ground})
             c->stride = record_;
     }
 
@@ -249,7 +270,8 @@ private:
                     if (p.is_list) {
                         if (!parseExact(tok, items))
                             throw Error(prefix_ + ": line " + std::to_string(lines_ + tokens_->lineNo()) +
-                                        ": list count '" + core::printable(tok, 20) + "' is not a non-negative integer");
+                                        ": list count '" + core::printable(tok, 20) +
+                                        "' is not a non-negative integer");
                         for (std::size_t k = 0; k < items; ++k)
                             if (!tokens_->next(tok)) throw Error(truncated);
                     }
@@ -285,8 +307,8 @@ private:
                         const std::string_view c = source_.view(pos, std::size_t(p.count_type.size));
                         pos += std::size_t(p.count_type.size);
                         if (!listCount(reinterpret_cast<const unsigned char*>(c.data()), p.count_type, swap, items))
-                            throw Error(prefix_ + ": element '" + core::printable(el.name, 40) + "' " + std::to_string(i) +
-                                        ": bad list count");
+                            throw Error(prefix_ + ": element '" + core::printable(el.name, 40) + "' " +
+                                        std::to_string(i) + ": bad list count");
                     }
                     if (items > (size - pos) / std::size_t(p.type.size)) throw Error(truncated);
                     pos += items * std::size_t(p.type.size);
@@ -310,9 +332,9 @@ private:
     std::string format_;
     std::vector<PlyElement> elements_;
     Layout layout_;
-    bool ours = false;         // the header has the ladarvr origin comment
-    std::size_t vi_ = 0;       // the vertex element
-    bool last_ = true;         // no element with data follows the vertices
+    bool ours = false;    // the header has the ladarvr origin comment
+    std::size_t vi_ = 0;  // the vertex element
+    bool last_ = true;    // no element with data follows the vertices
     std::size_t record_ = 0;
     std::size_t lines_ = 0;
     std::uint64_t body_ = 0, vertex_at_ = 0;

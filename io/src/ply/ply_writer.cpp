@@ -51,7 +51,7 @@ std::string plyHeader(bool ascii, const glm::dvec3& origin, const core::CloudFie
 }
 
 class PlyWriter final : public CountedWriter {
-public:
+  public:
     PlyWriter(platform::TempFile& file, bool ascii, std::string header, std::vector<long> count_at,
               const core::CloudFields& fields)
         : CountedWriter(file, std::move(header), std::move(count_at)), ascii_(ascii), fields_(fields) {
@@ -60,11 +60,13 @@ public:
     }
 
     void append(std::span<const core::CloudPoint> points) override {
-        if (ascii_) appendText(points, [this](std::string& s, const core::CloudPoint& p) { text(s, p); });
-        else appendBinary(points, record_bytes_, [this](char*& out, const core::CloudPoint& p) { binary(out, p); });
+        if (ascii_)
+            appendText(points, [this](std::string& s, const core::CloudPoint& p) { text(s, p); });
+        else
+            appendBinary(points, record_bytes_, [this](char*& out, const core::CloudPoint& p) { binary(out, p); });
     }
 
-private:
+  private:
     void binary(char*& out, const core::CloudPoint& p) const {
         const core::CloudFields& f = fields_;
         putRaw(out, p.position.x);

@@ -28,33 +28,33 @@ namespace metric {
 /// The three clouds of §IV-B. They may carry different origins (files from elsewhere);
 /// the evaluator brings them into one local frame in double precision.
 struct MetricClouds {
-    core::PointCloud p1;   // target only
-    core::PointCloud p2;   // environment without ground
-    core::PointCloud p3;   // target + environment without ground
+    core::PointCloud p1;  // target only
+    core::PointCloud p2;  // environment without ground
+    core::PointCloud p3;  // target + environment without ground
 };
 
 /// How the square splats are drawn (same pixels either way, see docs/metric.md).
 enum class Rasterizer {
-    Compute,   // a compute shader ORs each point's bit into an integer mask (fast on llvmpipe)
-    Raster,    // GL_POINTS with gl_PointSize, as the viewer draws (render::PointSplatRenderer)
+    Compute,  // a compute shader ORs each point's bit into an integer mask (fast on llvmpipe)
+    Raster,   // GL_POINTS with gl_PointSize, as the viewer draws (render::PointSplatRenderer)
 };
 
 /// Options of one evaluation; defaults chosen from `ladarvr bench metric` (docs/metric.md).
 struct MetricOptions {
-    render::OrbitCameraOptions orbit;        // radius, altitude, vfov (30 deg), views (100)
-    std::optional<glm::dvec3> look_at_world; // orbit centre and look-at, world metres;
-                                             // default: the centre of the target's bounds
-    int width = 512;                         // image size, pixels (16..8192)
+    render::OrbitCameraOptions orbit;         // radius, altitude, vfov (30 deg), views (100)
+    std::optional<glm::dvec3> look_at_world;  // orbit centre and look-at, world metres;
+                                              // default: the centre of the target's bounds
+    int width = 512;                          // image size, pixels (16..8192)
     int height = 512;
-    double splat_px = 2.0;                   // square splat side, pixels [1, 64]
-    bool skip = true;                        // render/count only the target's screen
-                                             // rectangle; skip views whose frustum misses it
-    bool exact = true;                       // compute the exact reference (needs a scene)
-    int picture_view = -1;                   // view whose I1..I4 are kept (full frame); -1 none
+    double splat_px = 2.0;  // square splat side, pixels [1, 64]
+    bool skip = true;       // render/count only the target's screen
+                            // rectangle; skip views whose frustum misses it
+    bool exact = true;      // compute the exact reference (needs a scene)
+    int picture_view = -1;  // view whose I1..I4 are kept (full frame); -1 none
     Rasterizer rasterizer = Rasterizer::Compute;
-    double depth_margin_m = 0.5;             // depth-aware variant: a P3 point counts as
-                                             // target when nearer than every P2 point of
-                                             // its pixel by more than this [0, 100] m
+    double depth_margin_m = 0.5;  // depth-aware variant: a P3 point counts as
+                                  // target when nearer than every P2 point of
+                                  // its pixel by more than this [0, 100] m
     /// When not empty, the views are these cameras (world frame, e.g. an operator's head
     /// path, metric/trace.hpp) instead of the orbit's; orbit.vfov_deg, near_m and far_m
     /// still apply. At most kMaxPoses.
@@ -73,20 +73,20 @@ double ratio(std::int64_t numerator, std::int64_t i1);
 struct ViewResult {
     int view = 0;
     render::CameraPose pose;
-    render::PixelRect rect;                  // pixels rendered and counted
+    render::PixelRect rect;  // pixels rendered and counted
     std::int64_t i1 = 0, i2 = 0, i3 = 0, i4 = 0;
-    std::int64_t visible_px = 0;             // |I3 and not I2|
-    std::int64_t depth_visible_px = -1;      // -1 with the raster rasterizer
-    double metric = 0.0;                     // NaN when i1 == 0
-    double visible = 0.0;                    // NaN when i1 == 0
-    double depth_visible = 0.0;              // NaN when i1 == 0 or not computed
-    std::int64_t exact_target_px = 0;        // rays through pixel centres hitting the target
-    std::int64_t exact_visible_px = 0;       // ... whose first hit with the environment is it
-    double exact = 0.0;                      // NaN when absent or exact_target_px == 0
-    bool used = false;                       // i1 > 0: counted in the means
-    bool frustum_skipped = false;            // skip: target bounds outside the view
-    double seconds_render = 0.0;             // this view's splats + counting (+ picture)
-    double seconds_exact = 0.0;              // this view's exact ray casting
+    std::int64_t visible_px = 0;         // |I3 and not I2|
+    std::int64_t depth_visible_px = -1;  // -1 with the raster rasterizer
+    double metric = 0.0;                 // NaN when i1 == 0
+    double visible = 0.0;                // NaN when i1 == 0
+    double depth_visible = 0.0;          // NaN when i1 == 0 or not computed
+    std::int64_t exact_target_px = 0;    // rays through pixel centres hitting the target
+    std::int64_t exact_visible_px = 0;   // ... whose first hit with the environment is it
+    double exact = 0.0;                  // NaN when absent or exact_target_px == 0
+    bool used = false;                   // i1 > 0: counted in the means
+    bool frustum_skipped = false;        // skip: target bounds outside the view
+    double seconds_render = 0.0;         // this view's splats + counting (+ picture)
+    double seconds_exact = 0.0;          // this view's exact ray casting
 };
 
 /// Full-frame binary images of the picture view, rows bottom-up (GL order), 0 or 255.
@@ -97,28 +97,28 @@ struct MetricPictures {
 };
 
 struct MetricResult {
-    glm::dvec3 origin{0.0};                  // world = origin + local
-    glm::dvec3 look_at{0.0};                 // local frame
+    glm::dvec3 origin{0.0};   // world = origin + local
+    glm::dvec3 look_at{0.0};  // local frame
     MetricOptions options;
     std::vector<ViewResult> views;
     int views_used = 0;
     double metric_mean = 0.0, metric_min = 0.0, metric_max = 0.0;  // NaN if no view used
     double visible_mean = 0.0;
-    double depth_visible_mean = 0.0;         // NaN with the raster rasterizer
-    double exact_mean = 0.0;                 // NaN when absent; mean over views used with exact
+    double depth_visible_mean = 0.0;  // NaN with the raster rasterizer
+    double exact_mean = 0.0;          // NaN when absent; mean over views used with exact
     bool has_exact = false;
     std::optional<MetricPictures> pictures;
-    double seconds_render = 0.0;             // splat rendering + GPU counting, all views
-    double seconds_exact = 0.0;              // ray casting, all views
-    double seconds = 0.0;                    // the whole run()
-    std::size_t points_drawn = 0;            // over all views and clouds
+    double seconds_render = 0.0;   // splat rendering + GPU counting, all views
+    double seconds_exact = 0.0;    // ray casting, all views
+    double seconds = 0.0;          // the whole run()
+    std::size_t points_drawn = 0;  // over all views and clouds
 };
 
 /// Holds a headless GL context with the three clouds uploaded and, when a scene is given,
 /// the two Embree scenes of the exact reference, so that many option sets can be
 /// evaluated (the benchmark). Create, run and destroy on one thread.
 class Evaluator {
-public:
+  public:
     /// Throws core::Error("metric: P1 is empty ...") if P1 has no point, ("egl: ...") if
     /// no headless GL context can be made. `scene` (may be null) is only used during
     /// construction; P2/P3 may be empty (nothing hides the target).
@@ -136,7 +136,8 @@ public:
     glm::dvec3 origin() const;
 
     struct Impl;
-private:
+
+  private:
     std::unique_ptr<Impl> impl_;
 };
 

@@ -26,13 +26,13 @@ void removeTemporariesNow() noexcept;
 /// `exit_code` (without unwinding: the thread that is late may be stuck anywhere).
 /// Destroying the Watchdog first cancels it. seconds <= 0 or > 1e9 means never.
 class Watchdog {
-public:
+  public:
     Watchdog(double seconds, std::string message, int exit_code = 1);
     ~Watchdog();
     Watchdog(const Watchdog&) = delete;
     Watchdog& operator=(const Watchdog&) = delete;
 
-private:
+  private:
     std::mutex mutex_;
     std::condition_variable wake_;
     bool cancelled_ = false;

@@ -25,7 +25,7 @@ void checkOutputFolder(const std::filesystem::path& dir, const OwnedName& ours);
 /// removal on a signal with everything written into it, platform/cleanup.hpp), then
 /// swapped in by commit(). Destroying it uncommitted removes the temporary folder.
 class AtomicFolder {
-public:
+  public:
     /// Checks `dir` as checkOutputFolder does, making missing parent folders, and creates
     /// the temporary folder. Throws Error("output: <dir>: ...").
     AtomicFolder(std::filesystem::path dir, OwnedName ours);
@@ -48,23 +48,22 @@ public:
     /// folder in place on failure.
     void commit();
 
-private:
+  private:
     void removeTemporary() noexcept;
     std::filesystem::path dir_;     // as given, for messages
     std::filesystem::path target_;  // links resolved
     std::filesystem::path parent_;
     OwnedName ours_;
-    std::string temp_name_;         // the temporary folder's name in parent_
+    std::string temp_name_;  // the temporary folder's name in parent_
     int parent_fd_ = -1, temp_fd_ = -1;
-    int temp_slot_ = -1;            // cleanup registration of the temporary folder
+    int temp_slot_ = -1;                              // cleanup registration of the temporary folder
     std::vector<std::pair<std::string, int>> files_;  // name, cleanup slot
     bool committed_ = false;
 };
 
 /// Writes `files` (name, content) as the folder `dir` through an AtomicFolder, after
 /// removing the temporaries of dead runs beside it (safe_file.hpp).
-void writeFolderAtomic(const std::filesystem::path& dir,
-                       const std::vector<std::pair<std::string, std::string>>& files,
+void writeFolderAtomic(const std::filesystem::path& dir, const std::vector<std::pair<std::string, std::string>>& files,
                        const OwnedName& ours);
 
 }  // namespace platform

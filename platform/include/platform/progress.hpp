@@ -7,7 +7,7 @@
 namespace platform {
 
 class Progress {
-public:
+  public:
     /// `label` is shown before the bar; `total` units of work. Draws only if stderr is a tty
     /// (or force is true), at most ~10 times a second.
     Progress(std::string label, std::size_t total, bool force = false);
@@ -16,7 +16,7 @@ public:
     void advance(std::size_t units = 1);
     void finish();
 
-private:
+  private:
     void draw(bool final);
     std::string label_;
     std::size_t total_, done_ = 0;

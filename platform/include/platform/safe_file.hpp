@@ -60,8 +60,7 @@ void checkInputFile(const std::filesystem::path& path, std::string_view what);
 /// The whole of a regular file of at most `max_bytes`, remembered as an input. Never
 /// blocks on a FIFO or reads a device. Throws Error("<what> <problem>") as checkInputFile,
 /// or "<what> is larger than <max_bytes> bytes; allowed: ...", or "... cannot be read: <reason>".
-std::string readTextFile(const std::filesystem::path& path, std::size_t max_bytes,
-                         std::string_view what);
+std::string readTextFile(const std::filesystem::path& path, std::size_t max_bytes, std::string_view what);
 
 /// Throws Error("output: <path>: is the input file '<input>' of this run; give another
 /// name") when `path` names (via any link) a file remembered by checkInputFile/readTextFile.
@@ -72,7 +71,7 @@ void checkNotAnInput(const std::filesystem::path& path);
 /// in a folder removes the temporaries of dead processes there. commit() renames it over
 /// `destination`; destroying it uncommitted removes it.
 class TempFile {
-public:
+  public:
     /// Throws Error("output: <destination>: ...") naming the reason.
     explicit TempFile(std::filesystem::path destination);
     ~TempFile();
@@ -91,11 +90,11 @@ public:
     /// Closes and removes the temporary now (also what the destructor does).
     void discard() noexcept;
 
-private:
+  private:
     std::filesystem::path destination_;
-    std::string name_;    // the temporary's name inside the folder
-    int dirfd_ = -1;      // the destination's folder
-    int slot_ = -1;       // cleanup registration
+    std::string name_;  // the temporary's name inside the folder
+    int dirfd_ = -1;    // the destination's folder
+    int slot_ = -1;     // cleanup registration
     std::FILE* file_ = nullptr;
 };
 

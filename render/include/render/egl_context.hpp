@@ -11,15 +11,15 @@
 namespace render {
 
 struct EglContextOptions {
-    int major = 4;            // at least 4.5 core is required by render
+    int major = 4;  // at least 4.5 core is required by render
     int minor = 5;
-    bool debug = false;       // EGL_CONTEXT_OPENGL_DEBUG (slower; for diagnosing)
+    bool debug = false;  // EGL_CONTEXT_OPENGL_DEBUG (slower; for diagnosing)
 };
 
 /// Owns an EGLDisplay + EGLContext, current on the creating thread after construction,
 /// with the glad GL entry points loaded through eglGetProcAddress.
 class EglContext {
-public:
+  public:
     /// Throws core::Error("egl: ...") naming the missing extension or the failing call.
     explicit EglContext(const EglContextOptions& options = {});
     ~EglContext();
@@ -32,9 +32,9 @@ public:
     /// "surfaceless" or "device": the EGL platform actually used.
     const std::string& platform() const { return platform_; }
 
-private:
-    void* display_ = nullptr;   // EGLDisplay
-    void* context_ = nullptr;   // EGLContext
+  private:
+    void* display_ = nullptr;  // EGLDisplay
+    void* context_ = nullptr;  // EGLContext
     std::string platform_;
 };
 

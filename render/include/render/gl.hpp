@@ -31,15 +31,15 @@ std::string glDescription();
 }  // namespace render
 
 /// Runs a GL call, then throws core::Error naming the expression, the error and file:line.
-#define GL_CHECK(expr)                                  \
-    do {                                                \
-        expr;                                           \
-        ::render::checkGl(#expr, __FILE__, __LINE__);   \
+#define GL_CHECK(expr)                                \
+    do {                                              \
+        expr;                                         \
+        ::render::checkGl(#expr, __FILE__, __LINE__); \
     } while (0)
 
 /// Runs a GL call, then logs (never throws) any error with the expression and file:line.
-#define GL_LOG(expr)                                    \
-    do {                                                \
-        expr;                                           \
-        ::render::logGl(#expr, __FILE__, __LINE__);     \
+#define GL_LOG(expr)                                \
+    do {                                            \
+        expr;                                       \
+        ::render::logGl(#expr, __FILE__, __LINE__); \
     } while (0)

@@ -17,12 +17,12 @@ namespace render {
 /// the VR orbit; the defaults put a ~7 m target at ~5 degrees, a few thousand pixels at
 /// 512x512 like the paper's Fig. 3 (6908 px), with the whole 125 m scene in view.
 struct OrbitCameraOptions {
-    double radius_m = 60.0;     // horizontal distance from the orbit centre (> 0)
-    double altitude_m = 40.0;   // eye height above the orbit centre (any finite value)
-    double vfov_deg = 30.0;     // vertical field of view, paper §IV-B (0, 170]
-    int views = 100;            // images per turn, paper §IV-B (1..65535)
-    double start_deg = 0.0;     // azimuth of view 0, from +x towards +y
-    double near_m = 0.1;        // clip planes (0 < near < far)
+    double radius_m = 60.0;    // horizontal distance from the orbit centre (> 0)
+    double altitude_m = 40.0;  // eye height above the orbit centre (any finite value)
+    double vfov_deg = 30.0;    // vertical field of view, paper §IV-B (0, 170]
+    int views = 100;           // images per turn, paper §IV-B (1..65535)
+    double start_deg = 0.0;    // azimuth of view 0, from +x towards +y
+    double near_m = 0.1;       // clip planes (0 < near < far)
     double far_m = 20000.0;
 };
 
@@ -68,13 +68,12 @@ glm::dmat4 subRectProjection(const glm::dmat4& projection, int width, int height
 /// Screen rectangle covered by `bounds` (local frame) under `view_projection`, grown by
 /// `margin_px` and clipped to the image. Empty if the box is outside the frustum; the
 /// whole image if the box crosses the eye plane (conservative).
-PixelRect projectBounds(const glm::dmat4& view_projection, const core::Bounds& bounds,
-                        int width, int height, double margin_px);
+PixelRect projectBounds(const glm::dmat4& view_projection, const core::Bounds& bounds, int width, int height,
+                        double margin_px);
 
 /// Unit direction (local frame) of the ray from the eye through pixel centre
 /// (px + 0.5, py + 0.5) of a width x height image: the same pixel grid GL rasterises.
-glm::dvec3 pixelCentreDirection(const CameraPose& pose, double vfov_deg, int width, int height,
-                                int px, int py);
+glm::dvec3 pixelCentreDirection(const CameraPose& pose, double vfov_deg, int width, int height, int px, int py);
 
 /// Six planes of a view-projection matrix (GL clip space), for conservative box culling.
 struct Frustum {

@@ -34,10 +34,10 @@ struct CellRange {
 };
 
 class PointChunks {
-public:
+  public:
     struct Cell {
         std::size_t chunk = 0, first = 0, size = 0;
-        glm::dvec3 centre{0.0};        // the cell's points are stored relative to it
+        glm::dvec3 centre{0.0};  // the cell's points are stored relative to it
         core::Bounds bounds;
     };
 
@@ -71,12 +71,12 @@ public:
     /// which chunk's buffer is attached to the vertex array (start it at SIZE_MAX).
     void drawCell(std::size_t i, std::size_t n, std::size_t& bound_chunk) const;
 
-private:
+  private:
     struct Chunk {
         GLuint buffer = 0;
-        std::size_t capacity = 0, count = 0;   // count: uploaded so far (a prefix)
+        std::size_t capacity = 0, count = 0;  // count: uploaded so far (a prefix)
         std::size_t first_cell = 0, cells = 0;
-        std::size_t next_cell = 0;             // cell of the next point to upload
+        std::size_t next_cell = 0;  // cell of the next point to upload
     };
     GLuint vao_ = 0;
     std::vector<Chunk> chunks_;

@@ -21,8 +21,8 @@
 namespace render {
 
 struct SplatStyle {
-    float point_size_px = 1.0f;          // side of the square splat, pixels (>= 1)
-    bool use_point_colours = false;      // true: each point's rgb; false: `colour`
+    float point_size_px = 1.0f;      // side of the square splat, pixels (>= 1)
+    bool use_point_colours = false;  // true: each point's rgb; false: `colour`
     glm::vec4 colour{1.0f, 1.0f, 1.0f, 1.0f};
 };
 
@@ -35,7 +35,7 @@ struct SplatDrawStats {
 /// GPU point storage + draw. Needs a current GL 4.5 context for its whole life (create,
 /// use and destroy it on the thread where the context is current).
 class PointSplatRenderer {
-public:
+  public:
     /// Compiles the splat program; throws core::Error("shader: ...") on failure.
     PointSplatRenderer();
     ~PointSplatRenderer();
@@ -64,10 +64,10 @@ public:
     SplatDrawStats draw(const glm::dmat4& view, const glm::dmat4& projection, const SplatStyle& style,
                         bool cull = true) const;
 
-private:
+  private:
     Program program_;
     GLint u_mvp_ = -1, u_point_size_ = -1, u_colour_ = -1, u_use_point_colours_ = -1;
-    PointChunks chunks_;   // one cell per chunk
+    PointChunks chunks_;  // one cell per chunk
 };
 
 }  // namespace render

@@ -20,7 +20,7 @@ struct ShaderStage {
 
 /// A linked GL program; deletes it on destruction. Needs a current GL 4.5 context.
 class Program {
-public:
+  public:
     Program() = default;
     /// Compiles and links; throws core::Error("shader: <name>: <stage> compile failed:
     /// <driver log> (source strings: <files>)") or ("shader: <name>: link failed: <log>").
@@ -36,7 +36,7 @@ public:
     /// Uniform location, or -1 if the uniform is absent or was optimised away.
     GLint uniform(const char* name) const { return glGetUniformLocation(id_, name); }
 
-private:
+  private:
     GLuint id_ = 0;
 };
 

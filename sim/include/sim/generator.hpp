@@ -32,21 +32,21 @@ struct GenerateOptions {
     /// out of the BVH. C is still computed on the whole scene, so clouds of different
     /// roles share one orbit.
     core::RoleMask roles = core::RoleMask::all();
-    bool white = false;             // no colouring and no ground filter: every point white
-    int threads = 0;                // 0 = every core (oneTBB's default concurrency)
-    bool packet_rays = true;        // trace 16-ray packets (rtcIntersect16); false: rtcIntersect1
+    bool white = false;       // no colouring and no ground filter: every point white
+    int threads = 0;          // 0 = every core (oneTBB's default concurrency)
+    bool packet_rays = true;  // trace 16-ray packets (rtcIntersect16); false: rtcIntersect1
     /// Per view, trace only the pixels whose rays can meet the bounds of the ray-cast
     /// geometry (the box projected into the image, plus a margin); the others are misses
     /// without a ray. The cloud is the same either way (--no-skip-rays turns it off).
     bool skip_rays = true;
-    std::uint64_t seed = 1;         // RANSAC of view v shuffles with mt19937_64(seed ^ v); seeds the sensor's models
+    std::uint64_t seed = 1;  // RANSAC of view v shuffles with mt19937_64(seed ^ v); seeds the sensor's models
     /// Bound on the generator's buffers (not the scene and its BVH): views per batch, rows
     /// per tile and threads are planned to fit (the cloud is the same whatever the plan),
     /// and a run that cannot fit is refused before the BVH is built. File output: the
     /// fused cloud is spooled to a file next to the output when it does not fit too; the
     /// cloud returned by the in-memory run() is the caller's and not counted.
     std::size_t memory_budget_bytes = std::size_t(512) << 20;
-    bool progress = false;          // platform::Progress bar over the views (tty only)
+    bool progress = false;  // platform::Progress bar over the views (tty only)
     /// With the per-view RANSAC, also fit SMRF's terrain (ground.smrf) to the fused cloud
     /// and count the points on it that RANSAC left coloured (GenerateStats::terrain_*),
     /// when no ground mesh is ray-cast (ground labels then measure RANSAC directly) or
@@ -84,18 +84,18 @@ struct StageSeconds {
 
 struct GenerateStats {
     double drone_radius_m = 0, length_sensed_m = 0, coverage_diameter_m = 0;
-    glm::dvec3 centre{0.0};                 // C, world coordinates
-    std::size_t triangles = 0;              // in the BVH
-    int threads = 1;                        // used: the request, clamped to the memory budget
-    std::size_t batch_views = 1;            // views traced together
-    std::size_t band_rows = 0;              // rows of a view traced per pass (yres: one band)
-    std::uint64_t memory_planned_bytes = 0; // the fusion's buffers as planned (<= the budget)
+    glm::dvec3 centre{0.0};                  // C, world coordinates
+    std::size_t triangles = 0;               // in the BVH
+    int threads = 1;                         // used: the request, clamped to the memory budget
+    std::size_t batch_views = 1;             // views traced together
+    std::size_t band_rows = 0;               // rows of a view traced per pass (yres: one band)
+    std::uint64_t memory_planned_bytes = 0;  // the fusion's buffers as planned (<= the budget)
     std::uint64_t rays = 0, points = 0, misses = 0;
-    std::uint64_t rays_traced = 0;          // pixels whose rays were cast (rays minus skipped pixels)
-    std::uint64_t sub_rays_traced = 0;      // rays cast counting a beam footprint's sub-rays
-    std::uint64_t ground_found = 0;         // whitened by the ground filter (RANSAC: PG over all views)
-    std::uint64_t ground_truth = 0;         // points whose mesh has role ground
-    std::uint64_t ground_true_positive = 0; // both
+    std::uint64_t rays_traced = 0;           // pixels whose rays were cast (rays minus skipped pixels)
+    std::uint64_t sub_rays_traced = 0;       // rays cast counting a beam footprint's sub-rays
+    std::uint64_t ground_found = 0;          // whitened by the ground filter (RANSAC: PG over all views)
+    std::uint64_t ground_truth = 0;          // points whose mesh has role ground
+    std::uint64_t ground_true_positive = 0;  // both
     int planes_accepted = 0, planes_rejected = 0;
     /// Views whose height band (§III-C step 1) held < 3 points: RANSAC was not run.
     std::uint64_t views_without_ransac = 0;
@@ -105,8 +105,8 @@ struct GenerateStats {
     /// Triangles the scene loader dropped (core::Scene::skipped_triangles and
     /// skipped_nonfinite_triangles): zero-area ones, and NaN/inf ones with skip_nonfinite.
     std::size_t skipped_zero_area_triangles = 0, skipped_nonfinite_triangles = 0;
-    float z_min = 0, z_max = 0;             // height range used by the colour map (local)
-    bool streamed = false;                  // spooled through a temporary file
+    float z_min = 0, z_max = 0;  // height range used by the colour map (local)
+    bool streamed = false;       // spooled through a temporary file
     GroundMethod ground_method = GroundMethod::Ransac;
     /// Points within the terrain filter's threshold of the fitted terrain (SMRF's or CSF's
     /// with --ground smrf or csf, SMRF's for the check of RANSAC), and of those the ones
@@ -120,7 +120,7 @@ struct GenerateStats {
 /// One generation run: validates the options, resolves C and builds the BVH at once
 /// (timed as the bvh stage), then run() casts every view. The scene must outlive it.
 class Generator {
-public:
+  public:
     /// Throws core::Error for bad options or Embree failures.
     Generator(const core::Scene& scene, GenerateOptions options);
     ~Generator();
@@ -129,8 +129,7 @@ public:
     core::PointCloud run(GenerateStats* stats = nullptr);
     /// Streams the fused, coloured cloud to `out` (atomically, via io::CloudWriter);
     /// the destination is checked before any ray is cast.
-    void run(const std::filesystem::path& out, io::CloudFormat format,
-             GenerateStats* stats = nullptr);
+    void run(const std::filesystem::path& out, io::CloudFormat format, GenerateStats* stats = nullptr);
 
     /// The rays the ideal sensor traces for one view (what run() traces with every sensor
     /// model off), in output order (row-major pixels), for baselines and tests. Directions
@@ -141,16 +140,16 @@ public:
     glm::dvec3 centreWorld() const;
 
     struct State;
-private:
+
+  private:
     std::unique_ptr<State> state_;
 };
 
 /// Convenience: Generator(scene, options).run(stats).
 core::PointCloud generateCloud(const core::Scene& scene, const GenerateOptions& options,
-                                 GenerateStats* stats = nullptr);
+                               GenerateStats* stats = nullptr);
 /// Convenience: Generator(scene, options).run(out, format, stats).
-void generateToFile(const core::Scene& scene, const GenerateOptions& options,
-                    const std::filesystem::path& out, io::CloudFormat format,
-                    GenerateStats* stats = nullptr);
+void generateToFile(const core::Scene& scene, const GenerateOptions& options, const std::filesystem::path& out,
+                    io::CloudFormat format, GenerateStats* stats = nullptr);
 
 }  // namespace sim

@@ -32,13 +32,13 @@ GroundMethod parseGroundMethod(std::string_view text, std::string_view context);
 /// morphological filter for the terrain classification of airborne LIDAR data").
 /// Defaults are PDAL's filters.smrf defaults.
 struct SmrfOptions {
-    double cell_m = 1.0;        // cell size of the minimum surface and of the terrain raster
-    double slope = 0.15;        // rise over run: a cell is an object when an opening lowers it
-                                // by more than slope * radius (m)
-    double window_m = 18.0;     // largest opening radius (metres); objects wider than twice
-                                // this stay ground
-    double threshold_m = 0.5;   // a point is ground within threshold_m + scalar * local slope
-    double scalar = 1.25;       // of the fitted terrain (metres per unit slope)
+    double cell_m = 1.0;       // cell size of the minimum surface and of the terrain raster
+    double slope = 0.15;       // rise over run: a cell is an object when an opening lowers it
+                               // by more than slope * radius (m)
+    double window_m = 18.0;    // largest opening radius (metres); objects wider than twice
+                               // this stay ground
+    double threshold_m = 0.5;  // a point is ground within threshold_m + scalar * local slope
+    double scalar = 1.25;      // of the fitted terrain (metres per unit slope)
     /// Ours: the terrain raster may hold at most this many cells (memory bound); a cloud
     /// wider than that at cell_m is refused, naming cell_m.
     std::size_t max_cells = std::size_t(1) << 24;
@@ -48,11 +48,11 @@ struct SmrfOptions {
 /// airborne LiDAR data filtering method based on cloth simulation", Remote Sensing 8(6)
 /// 501). Defaults are the paper's (and CloudCompare's plugin's).
 struct CsfOptions {
-    double cloth_m = 1.0;       // cloth resolution: the spacing of its particles
-    int rigidness = 3;          // 1 (steep terrain, a soft cloth) .. 3 (flat terrain, stiff)
-    double threshold_m = 0.5;   // class threshold: a point within this of the cloth is ground
-    double time_step = 0.65;    // the simulation's time step (dimensionless, gravity 0.2)
-    int iterations = 500;       // at most; it stops earlier once the cloth is still
+    double cloth_m = 1.0;      // cloth resolution: the spacing of its particles
+    int rigidness = 3;         // 1 (steep terrain, a soft cloth) .. 3 (flat terrain, stiff)
+    double threshold_m = 0.5;  // class threshold: a point within this of the cloth is ground
+    double time_step = 0.65;   // the simulation's time step (dimensionless, gravity 0.2)
+    int iterations = 500;      // at most; it stops earlier once the cloth is still
     /// Ours: the raster may hold at most this many cells (as SmrfOptions::max_cells).
     std::size_t max_cells = std::size_t(1) << 24;
 };
@@ -67,8 +67,8 @@ struct RansacOptions {
     /// fraction of the band (step 1's PC). Rejects the tank's roof and the horizontal
     /// slabs RANSAC cuts through walls once the ground is gone. 0 = the paper's rule.
     double min_plane_fraction = 0.05;
-    int max_planes = 25;                // cap on steps 2-5 (the paper's loop has none)
-    int ransac_iterations = 1000;       // SACSegmentation's max iterations per plane
+    int max_planes = 25;           // cap on steps 2-5 (the paper's loop has none)
+    int ransac_iterations = 1000;  // SACSegmentation's max iterations per plane
     /// Ours: RANSAC searches the plane on at most this many points of PC (a uniform
     /// sample: PC is shuffled), then every point of PC within distance_threshold_m of
     /// that plane is an inlier. Same planes on big views, ~10x faster. 0 = all of PC.
@@ -94,19 +94,19 @@ void validate(const GroundChoice& o);
 
 /// A per-view filter's counts for one view (RANSAC's §III-C loop).
 struct GroundStats {
-    std::size_t band_points = 0;      // |PC| at step 1
-    std::size_t ground_points = 0;    // |PG|
-    int planes_accepted = 0;          // near-horizontal planes added to PG
-    int planes_rejected = 0;          // planes removed from PC without joining PG (walls)
-    int planes_too_small = 0;         // of those, horizontal but under min_plane_fraction
+    std::size_t band_points = 0;    // |PC| at step 1
+    std::size_t ground_points = 0;  // |PG|
+    int planes_accepted = 0;        // near-horizontal planes added to PG
+    int planes_rejected = 0;        // planes removed from PC without joining PG (walls)
+    int planes_too_small = 0;       // of those, horizontal but under min_plane_fraction
 };
 
 /// Paper §III-C steps 1-5 on one view's points: returns one flag per point, 1 when the
 /// point is in PG (ground). PC is shuffled (core::shuffle) with std::mt19937_64(seed) first (PCL's own RNG
 /// is fixed-seed), so the result is a pure function of (points, options, seed).
 /// Fewer than 3 points in the band: no RANSAC, no ground. Needs validate(o) passed.
-std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const RansacOptions& o,
-                                     std::uint64_t seed, GroundStats* stats = nullptr);
+std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const RansacOptions& o, std::uint64_t seed,
+                                     GroundStats* stats = nullptr);
 
 /// A terrain surface sampled on a regular grid (the DTM): cell (i, j) has its centre at
 /// (x0_m + i * cell_m, y0_m + j * cell_m) in the cloud's local frame, height z_m[j * nx + i].
@@ -129,7 +129,7 @@ struct TerrainGrid {
 /// batching: the fit depends only on the set of points), fit() builds the terrain, then
 /// classify() labels points (thread-safe, const).
 class TerrainFit {
-public:
+  public:
     virtual ~TerrainFit() = default;
     virtual void add(std::span<const core::CloudPoint> points) = 0;
     /// Throws core::Error naming the parameter when the cloud cannot be gridded.
@@ -143,7 +143,7 @@ public:
 /// A per-view filter (RANSAC): the generator labels each view's points as the view is
 /// traced.
 class ViewGroundFilter {
-public:
+  public:
     virtual ~ViewGroundFilter() = default;
     virtual GroundMethod method() const = 0;
     /// One flag per point, 1 = ground; a pure function of the arguments.
@@ -154,7 +154,7 @@ public:
 /// A whole-cloud filter (SMRF, CSF): it sees the fused cloud in two streamed passes
 /// (TerrainFit), so it also works when the cloud is spooled.
 class CloudGroundFilter {
-public:
+  public:
     virtual ~CloudGroundFilter() = default;
     virtual GroundMethod method() const = 0;
     /// A fresh run.
@@ -181,7 +181,6 @@ std::vector<std::uint8_t> findGroundCsf(std::span<const glm::vec3> points, const
 /// SMRF on points in memory: one flag per point (1 = ground); `surface` gets the fitted
 /// terrain, `height_m` the height of each point above it, when given.
 std::vector<std::uint8_t> findGroundSmrf(std::span<const glm::vec3> points, const SmrfOptions& o,
-                                         TerrainGrid* surface = nullptr,
-                                         std::vector<float>* height_m = nullptr);
+                                         TerrainGrid* surface = nullptr, std::vector<float>* height_m = nullptr);
 
 }  // namespace sim

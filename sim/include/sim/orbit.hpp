@@ -9,13 +9,13 @@ namespace sim {
 
 /// Flight and sensor parameters; defaults are the paper's values (§III-A).
 struct OrbitOptions {
-    double altitude_m = 300.0;       // drone height above the centre C
-    double overlap_m = 10.0;         // CO in Fig. 1: how far past C the footprint reaches
-    double inclination_deg = 45.0;   // alpha: angle of the optical axis from the vertical
-    double fov_deg = 6.5;            // sensor field of view (square pixels; vertical FoV)
-    int xres = 128;                  // pixels across
-    int yres = 128;                  // pixels down
-    int views = 100;                 // NoV: drone positions equally spaced on the circle
+    double altitude_m = 300.0;      // drone height above the centre C
+    double overlap_m = 10.0;        // CO in Fig. 1: how far past C the footprint reaches
+    double inclination_deg = 45.0;  // alpha: angle of the optical axis from the vertical
+    double fov_deg = 6.5;           // sensor field of view (square pixels; vertical FoV)
+    int xres = 128;                 // pixels across
+    int yres = 128;                 // pixels down
+    int views = 100;                // NoV: drone positions equally spaced on the circle
 };
 
 /// Validates every field; throws core::Error("orbit: <parameter> = <value> ...: allowed ...")

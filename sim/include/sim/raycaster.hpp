@@ -19,18 +19,18 @@ struct Ray {
 
 /// The first hit of a ray. mesh < 0 means a miss.
 struct Hit {
-    float t = 0.0f;               // distance along the ray, in units of |direction|
-    std::int32_t mesh = -1;       // index into Scene::meshes
-    std::uint32_t triangle = 0;   // triangle index inside that mesh
+    float t = 0.0f;              // distance along the ray, in units of |direction|
+    std::int32_t mesh = -1;      // index into Scene::meshes
+    std::uint32_t triangle = 0;  // triangle index inside that mesh
     core::Role role = core::Role::Environment;
-    glm::vec3 normal{0.0f};       // the triangle's geometric normal (not unit length)
+    glm::vec3 normal{0.0f};  // the triangle's geometric normal (not unit length)
     bool hit() const { return mesh >= 0; }
 };
 
 /// Builds one Embree BVH (RTC_SCENE_FLAG_ROBUST, high quality) over every mesh of the
 /// scene. Throws core::Error("embree: ...") on device or build errors.
 class RayCaster {
-public:
+  public:
     explicit RayCaster(const core::Scene& scene);
     /// Only the meshes whose role is in `roles` (the others are never hit; geomID is
     /// still the index into Scene::meshes). Throws core::Error("embree: ...").
@@ -52,8 +52,8 @@ public:
     /// Triangles in the BVH.
     std::size_t triangleCount() const;
 
-    struct Impl;   // Embree's state, defined in sim/src/raycaster.cpp only
-private:
+    struct Impl;  // Embree's state, defined in sim/src/raycaster.cpp only
+  private:
     std::unique_ptr<Impl> impl_;
 };
 

@@ -30,26 +30,26 @@ ReturnMode parseReturnMode(std::string_view text, std::string_view parameter);
 
 /// Every sensor model's parameters; the defaults are the ideal sensor (every model off).
 struct SensorOptions {
-    double range_noise_m = 0.0;         // sigma of the Gaussian range error along the beam
-    double pose_noise_m = 0.0;          // sigma per axis of the position error, drawn per view
-    double attitude_noise_deg = 0.0;    // sigma per axis (roll, pitch, yaw) of the attitude error, per view
-    double pose_bias_m = 0.0;           // sigma per axis of a position error drawn once per flight
-    double attitude_bias_deg = 0.0;     // sigma per axis of an attitude error drawn once per flight
-    double max_range_m = 0.0;           // echoes farther than this are lost; 0 = no limit
-    bool intensity = false;             // fill intensity and incidence (the lidar equation)
+    double range_noise_m = 0.0;                  // sigma of the Gaussian range error along the beam
+    double pose_noise_m = 0.0;                   // sigma per axis of the position error, drawn per view
+    double attitude_noise_deg = 0.0;             // sigma per axis (roll, pitch, yaw) of the attitude error, per view
+    double pose_bias_m = 0.0;                    // sigma per axis of a position error drawn once per flight
+    double attitude_bias_deg = 0.0;              // sigma per axis of an attitude error drawn once per flight
+    double max_range_m = 0.0;                    // echoes farther than this are lost; 0 = no limit
+    bool intensity = false;                      // fill intensity and incidence (the lidar equation)
     double intensity_reference_range_m = 300.0;  // R0: reflectance 1, normal incidence, R0 -> 65535
-    double min_intensity = 0.0;         // echoes weaker than this (0..65535) are lost; > 0 turns intensity on
-    double beam_divergence_mrad = 0.0;  // full angle at 1/e^2 across the image (x); 0 = a thin beam
-    double beam_divergence_y_mrad = 0.0;  // down the image (y); 0 = the same as x (a circular footprint)
-    int footprint_quality = 3;          // q: the footprint is sampled by 1 + sum_{k<q} int(2 pi k) sub-rays
+    double min_intensity = 0.0;                  // echoes weaker than this (0..65535) are lost; > 0 turns intensity on
+    double beam_divergence_mrad = 0.0;           // full angle at 1/e^2 across the image (x); 0 = a thin beam
+    double beam_divergence_y_mrad = 0.0;         // down the image (y); 0 = the same as x (a circular footprint)
+    int footprint_quality = 3;                   // q: the footprint is sampled by 1 + sum_{k<q} int(2 pi k) sub-rays
     /// Trace every sub-ray of every beam. Off: a beam whose 3x3 neighbourhood of pixel axes
     /// hits one plane of one mesh is not sub-sampled (its footprint lies on that plane: one
     /// return, on its axis, with the beam's whole power); only the others are.
     bool footprint_exact = false;
     ReturnMode returns = ReturnMode::First;
-    int max_returns = 5;                // returns kept per pulse at most with ReturnMode::All (1..15)
-    double pulse_ns = 4.0;              // pulse width; sets the default range resolution c*pulse/2
-    double range_resolution_m = 0.0;    // echoes closer than this merge into one return; 0 = c*pulse/2
+    int max_returns = 5;              // returns kept per pulse at most with ReturnMode::All (1..15)
+    double pulse_ns = 4.0;            // pulse width; sets the default range resolution c*pulse/2
+    double range_resolution_m = 0.0;  // echoes closer than this merge into one return; 0 = c*pulse/2
 };
 
 /// Throws core::Error("sensor: <parameter> (--option) = <value>: allowed <range>").
@@ -89,15 +89,15 @@ glm::dvec3 subRayDirection(const BeamFrame& frame, double tan_dx, double tan_dy)
 /// (nominal; points are placed with it) and the one it really flew (rays leave from it).
 struct SensorView {
     int view = 0;
-    core::Pose nominal;   // T_local_sensor as logged
-    core::Pose actual;    // T_local_sensor as flown (nominal plus the GNSS/INS error)
+    core::Pose nominal;  // T_local_sensor as logged
+    core::Pose actual;   // T_local_sensor as flown (nominal plus the GNSS/INS error)
 };
 
 /// A slot of Sensor::trace without a return.
 inline constexpr float kNoReturn = -1.0f;
 
 class Sensor {
-public:
+  public:
     /// `seed` seeds every random model; reflectances come from the scene's meshes; `orbit`
     /// gives the pixel grid (a beam's neighbours). Throws core::Error for invalid options.
     Sensor(const SensorOptions& o, const OrbitOptions& orbit, const core::Scene& scene, std::uint64_t seed);
@@ -135,7 +135,8 @@ public:
                std::span<const glm::dvec3> dirs, std::span<core::CloudPoint> slots, bool packets) const;
 
     struct State;
-private:
+
+  private:
     std::unique_ptr<State> state_;
 };
 

@@ -23,13 +23,13 @@ namespace study {
 inline constexpr std::size_t kMaxTrialNameChars = 120;
 
 struct PlanTrial {
-    std::filesystem::path cloud;        // a cloud file, or
-    std::filesystem::path scene;        // a scene whose cloud is generated at the trial
-    std::filesystem::path candidates;   // optional
-    double time_limit_s = 120.0;        // 0: none
-    std::string name;                   // shown on the ready screen and in progress lines; default: the
-                                        // file name; printable (platform::printableUtf8, kMaxTrialNameChars)
-    std::string source;                 // the cloud or scene as written in the plan (trials.csv)
+    std::filesystem::path cloud;       // a cloud file, or
+    std::filesystem::path scene;       // a scene whose cloud is generated at the trial
+    std::filesystem::path candidates;  // optional
+    double time_limit_s = 120.0;       // 0: none
+    std::string name;                  // shown on the ready screen and in progress lines; default: the
+                                       // file name; printable (platform::printableUtf8, kMaxTrialNameChars)
+    std::string source;                // the cloud or scene as written in the plan (trials.csv)
 };
 
 struct Plan {
@@ -37,7 +37,7 @@ struct Plan {
     std::optional<std::uint64_t> shuffle_seed;
     double hit_radius_m = 1.0;
     double orbit_radius_m = 60.0, orbit_height_m = 40.0, orbit_period_s = 60.0;
-    int xres = 128, yres = 128, views = 100;   // generated clouds (the generator's defaults)
+    int xres = 128, yres = 128, views = 100;  // generated clouds (the generator's defaults)
 };
 
 /// The largest plan read.

@@ -29,7 +29,7 @@ struct TrialInfo {
 };
 
 class StudyLog : public viewer::TrialObserver {
-public:
+  public:
     /// Writes into `dir` (which must exist). `info(trial)` describes trial `trial`
     /// (0-based run order); `hit_radius_m`: a designation this close to a target point hits.
     StudyLog(std::filesystem::path dir, std::function<TrialInfo(int)> info, double hit_radius_m);
@@ -48,7 +48,7 @@ public:
     static const char* trialsHeader();
     static const char* candidatesHeader();
 
-private:
+  private:
     void writeAtomic(const std::string& name, const char* header, const std::vector<std::string>& rows);
     void closeTrace();
 

@@ -14,19 +14,19 @@
 namespace study {
 
 struct StudyOptions {
-    std::filesystem::path plan;   // PLAN.json
-    std::filesystem::path out;    // the study's folder (study/study_folder.hpp)
-    std::filesystem::path script; // operator actions (viewer::readScript); empty: none
+    std::filesystem::path plan;    // PLAN.json
+    std::filesystem::path out;     // the study's folder (study/study_folder.hpp)
+    std::filesystem::path script;  // operator actions (viewer::readScript); empty: none
     /// The window, mirror, colours, frames, timeout, run log, XR use and pointer; the
     /// automatic orbit is set from the plan and the overrides below.
     viewer::ViewerOptions viewer;
     /// Overrides of the plan's values; empty: the plan's.
     std::optional<double> hit_radius_m, orbit_radius_m, orbit_height_m, orbit_period_s;
-    bool metric = true;           // false: visibility_metric left empty
+    bool metric = true;  // false: visibility_metric left empty
 };
 
 class StudyRun {
-public:
+  public:
     /// Reads the plan and the script, applies the overrides and validates the viewer's
     /// options, so bad input fails before anything is written. Throws core::Error naming
     /// the file or value (e.g. "study: --hit-radius must be > 0 m").
@@ -42,7 +42,7 @@ public:
     /// stderr); prints "ladarvr: study: N of M trials written to DIR/trials.csv".
     int run(std::chrono::steady_clock::time_point started);
 
-private:
+  private:
     StudyOptions options_;
     Plan plan_;
 };
@@ -51,7 +51,7 @@ private:
 /// found through dir/study.json, then its trace's head poses, zoom, mode and pointer hit
 /// in the desktop mirror.
 class Replay {
-public:
+  public:
     /// Reads dir/study.json, the plan and trace_<trial_number>.csv (a trace with the study
     /// columns, io/trace_file.hpp) and validates `viewer` (use_xr is turned off).
     /// Throws core::Error naming the file, or "study: --trial N: allowed 1..M".
@@ -62,10 +62,10 @@ public:
     /// Shows the replay; returns the viewer's exit status.
     int run();
 
-private:
+  private:
     Plan plan_;
     std::vector<int> order_;
-    int trial_ = 0;   // 0-based run position
+    int trial_ = 0;  // 0-based run position
     viewer::ViewerOptions options_;
 };
 

@@ -15,7 +15,7 @@
 namespace study {
 
 class StudySource : public viewer::TrialSource {
-public:
+  public:
     /// Loads every scene and candidates file of the plan now, so a bad one fails before
     /// the window opens (core::Error naming it). `order` from trialOrder().
     StudySource(const Plan& plan, std::vector<int> order);
@@ -28,13 +28,13 @@ public:
     /// The plan's trial that runs at position `trial`.
     const PlanTrial& planTrial(int trial) const { return plan_.trials[static_cast<std::size_t>(order_[trial])]; }
 
-private:
+  private:
     void join();
 
     Plan plan_;
     std::vector<int> order_;
-    std::vector<std::shared_ptr<const core::Scene>> scenes_;          // per plan trial (null: cloud)
-    std::vector<std::vector<core::Candidate>> candidates_;           // per plan trial
+    std::vector<std::shared_ptr<const core::Scene>> scenes_;  // per plan trial (null: cloud)
+    std::vector<std::vector<core::Candidate>> candidates_;    // per plan trial
     std::thread generator_;
 };
 

@@ -31,10 +31,10 @@ struct RigPose {
 
 /// Options of the two modes; defaults shared with the metric's orbit camera.
 struct ModeOptions {
-    render::OrbitCameraOptions orbit;   // radius, altitude, vfov, near/far of the automatic mode
-    double orbit_period_s = 60.0;       // one turn of the automatic orbit (> 0)
-    double free_speed_mps = 15.0;       // keyboard / thumbstick speed in free mode (> 0)
-    double turn_speed_dps = 90.0;       // thumbstick turn rate in free mode
+    render::OrbitCameraOptions orbit;  // radius, altitude, vfov, near/far of the automatic mode
+    double orbit_period_s = 60.0;      // one turn of the automatic orbit (> 0)
+    double free_speed_mps = 15.0;      // keyboard / thumbstick speed in free mode (> 0)
+    double turn_speed_dps = 90.0;      // thumbstick turn rate in free mode
 };
 
 /// Throws core::Error("view: <field> = <value>: allowed ...") on bad values.
@@ -42,15 +42,15 @@ void validate(const ModeOptions& o);
 
 /// Free-mode motion request for one frame: components in [-1, 1].
 struct Motion {
-    double forward = 0.0;   // along the gaze
+    double forward = 0.0;  // along the gaze
     double right = 0.0;
-    double up = 0.0;        // along local z
-    double turn = 0.0;      // positive turns right (thumbstick)
+    double up = 0.0;    // along local z
+    double turn = 0.0;  // positive turns right (thumbstick)
 };
 
 /// The rig of both modes and the switch between them.
 class ModeController {
-public:
+  public:
     /// `centre` is the orbit centre in the cloud's local frame (the cloud's bounds centre).
     ModeController(const ModeOptions& options, const glm::dvec3& centre);
 
@@ -76,13 +76,13 @@ public:
     /// automatic: look straight at the orbit centre again).
     ViewMode toggleDesktop(double& look_yaw_rad, double& look_pitch_rad);
 
-private:
+  private:
     ModeOptions options_;
     glm::dvec3 centre_;
     ViewMode mode_ = ViewMode::Automatic;
     double angle_rad_ = 0.0;
     glm::dvec3 free_position_{0.0};
-    double free_heading_rad_ = 0.0;   // world heading of tracking -z, from +x towards +y
+    double free_heading_rad_ = 0.0;  // world heading of tracking -z, from +x towards +y
 };
 
 /// The orbit rig: tracking -z looks from the orbit camera's eye at its look_at point.
@@ -94,8 +94,8 @@ glm::dquat lookOrientation(double yaw_rad, double pitch_rad);
 /// World-to-eye GL view matrix for an eye whose pose in the cloud is `eye` (-z forward, y up).
 glm::dmat4 viewFromPose(const RigPose& eye);
 /// GL projection (depth -1..1) from OpenXR's asymmetric FoV angles (radians).
-glm::dmat4 projectionFromFov(double angle_left, double angle_right, double angle_up,
-                             double angle_down, double near_m, double far_m);
+glm::dmat4 projectionFromFov(double angle_left, double angle_right, double angle_up, double angle_down, double near_m,
+                             double far_m);
 /// The model-view of a chunk stored relative to `chunk_centre` (local frame): computed in
 /// double, then cast, so float vertices near the chunk centre stay exact far from the origin.
 glm::mat4 chunkModelView(const glm::dmat4& view, const glm::dvec3& chunk_centre);

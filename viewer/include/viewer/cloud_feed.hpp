@@ -28,7 +28,7 @@ struct FeedChunk {
 
 /// Thread-safe chunk queue between one producer and the viewer.
 class CloudFeed {
-public:
+  public:
     CloudFeed() = default;
     ~CloudFeed();
     CloudFeed(const CloudFeed&) = delete;
@@ -65,7 +65,7 @@ public:
     /// Feeds an in-memory cloud in chunks (no thread; the viewer still uploads gradually).
     void feedCloud(core::PointCloud cloud, std::size_t chunk_points = 262144);
 
-private:
+  private:
     mutable std::mutex mutex_;
     glm::dvec3 origin_{0.0};
     core::CloudFields fields_;

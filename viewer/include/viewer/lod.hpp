@@ -20,8 +20,8 @@
 namespace viewer {
 
 struct LodOptions {
-    std::size_t cell_points = 8192;   // target points per cell (grid side = sqrt(n / this))
-    std::uint64_t seed = 0x1ada7;     // fixed: the same file gives the same order every run
+    std::size_t cell_points = 8192;  // target points per cell (grid side = sqrt(n / this))
+    std::uint64_t seed = 0x1ada7;    // fixed: the same file gives the same order every run
 };
 
 /// One cell of a chunk: points [first, first + count) of the reordered chunk.

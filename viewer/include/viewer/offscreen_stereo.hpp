@@ -21,8 +21,8 @@ namespace viewer {
 
 /// Eye images and optics of the offscreen pair; the defaults are an Index / Vive Pro class HMD.
 struct StereoOptions {
-    int eye_width_px = 1440, eye_height_px = 1600;   // 16..8192 each
-    double ipd_m = 0.064;                            // eye separation along the head's x axis
+    int eye_width_px = 1440, eye_height_px = 1600;  // 16..8192 each
+    double ipd_m = 0.064;                           // eye separation along the head's x axis
     /// OpenXR-style FoV angles of both eyes (radians; left and down negative).
     double angle_left_rad = -0.95, angle_right_rad = 0.95;
     double angle_up_rad = 1.0, angle_down_rad = -1.0;
@@ -33,7 +33,7 @@ struct StereoOptions {
 void validate(const StereoOptions& o);
 
 class OffscreenStereo {
-public:
+  public:
     /// Needs a current OpenGL 4.5 core context, which must outlive this object. Compiles
     /// the viewer's programs and allocates both eye images. Throws core::Error on bad
     /// options or a shader failure.
@@ -66,7 +66,7 @@ public:
     /// Eye 0's or 1's image as RGBA8, rows bottom-up (glReadPixels order).
     std::vector<std::uint8_t> readEye(int eye) const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

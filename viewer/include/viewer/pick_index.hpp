@@ -22,24 +22,24 @@
 namespace viewer {
 
 struct PickOptions {
-    double angle_deg = 0.5;       // angular radius of the cone around the ray, (0, 10]
-    double max_range_m = 20000.0; // nothing further than this from the origin is picked
+    double angle_deg = 0.5;        // angular radius of the cone around the ray, (0, 10]
+    double max_range_m = 20000.0;  // nothing further than this from the origin is picked
 };
 
 /// Throws core::Error("view: --pick-angle X: allowed (0, 10] degrees") when out of range.
 void validate(const PickOptions& o);
 
 struct PickHit {
-    std::size_t index = 0;          // into the points the index was built from
-    std::size_t node = 0;           // PickSet: which of its indexes (in the order added)
-    glm::dvec3 local{0.0};          // the point, cloud local frame
-    double distance_m = 0.0;        // from the ray's origin
+    std::size_t index = 0;    // into the points the index was built from
+    std::size_t node = 0;     // PickSet: which of its indexes (in the order added)
+    glm::dvec3 local{0.0};    // the point, cloud local frame
+    double distance_m = 0.0;  // from the ray's origin
     core::Role label = core::Role::Environment;
     float height_above_ground_m = 0.0f;
 };
 
 class PickIndex {
-public:
+  public:
     /// Builds the k-d tree over the points' positions (cloud local frame). Keeps positions,
     /// labels and heights above ground (21 bytes a point), not the whole points.
     explicit PickIndex(std::span<const core::CloudPoint> points);
@@ -65,14 +65,14 @@ public:
     struct Tree;
     struct TargetTree;
 
-private:
+  private:
     PickHit hitAt(std::size_t i, double distance_m) const;
 
     std::vector<glm::vec3> positions_;
     std::vector<core::Role> labels_;
     std::vector<float> heights_;
     std::vector<glm::vec3> targets_;
-    glm::dvec3 lo_{0.0}, hi_{0.0};   // bounds of the positions
+    glm::dvec3 lo_{0.0}, hi_{0.0};  // bounds of the positions
     std::unique_ptr<Tree> tree_;
     std::unique_ptr<TargetTree> target_tree_;
     mutable std::size_t last_queries_ = 0;
@@ -81,7 +81,7 @@ private:
 /// One PickIndex per node of a point source; answers as one index over all their points
 /// would (the nearest of the nodes' picks; on equal distances the node added first).
 class PickSet {
-public:
+  public:
     void add(std::shared_ptr<const PickIndex> index);
     /// Points over all the indexes.
     std::size_t size() const { return size_; }
@@ -92,7 +92,7 @@ public:
     std::optional<double> nearestTargetDistance(const glm::dvec3& p) const;
     bool hasTargets() const;
 
-private:
+  private:
     std::vector<std::shared_ptr<const PickIndex>> indexes_;
     std::size_t size_ = 0;
 };

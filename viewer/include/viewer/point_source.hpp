@@ -34,7 +34,7 @@ struct NodePoints {
 };
 
 class PointNode {
-public:
+  public:
     virtual ~PointNode() = default;
     /// Local-frame bounds of all the node's points (known whether resident or not).
     virtual const core::Bounds& bounds() const = 0;
@@ -51,7 +51,7 @@ public:
 };
 
 class PointSource {
-public:
+  public:
     virtual ~PointSource() = default;
     /// Takes what arrived since the last call (the frame loop calls it once per frame).
     /// Returns the number of nodes added. Never throws.
@@ -77,7 +77,7 @@ std::vector<PointNode*> allNodes(const PointSource& source);
 /// stream cannot be read twice: an evicted chunk stays known (bounds, count) but a later
 /// request() cannot bring its points back.
 class CloudFeedSource final : public PointSource {
-public:
+  public:
     explicit CloudFeedSource(CloudFeed& feed) : feed_(&feed) {}
     ~CloudFeedSource() override;
     std::size_t poll() override;
@@ -88,7 +88,7 @@ public:
     std::string error() const override;
     std::size_t pointsArrived() const override;
 
-private:
+  private:
     CloudFeed* feed_;
     std::vector<std::unique_ptr<PointNode>> nodes_;
     std::vector<PointNode*> roots_;

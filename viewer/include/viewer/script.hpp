@@ -15,15 +15,15 @@ namespace viewer {
 struct ScriptEvent {
     long frame = 0;
     enum class Key {
-        Space,       // toggle automatic / free mode
-        Escape,      // quit
-        Aim,         // point the active pointer at world point `point` from the head
-        Designate,   // mark the picked point
-        Confirm,     // this designation (or the candidate pointed at) is the target
-        Reject,      // the candidate pointed at is not a target (else: drop the designation)
-        NoTarget,    // the operator declares there is no target
-        GrabScale,   // set the world scale to `value` about the pointer's hit (or the head)
-        Next,        // dismiss the ready screen (nothing when none is up)
+        Space,      // toggle automatic / free mode
+        Escape,     // quit
+        Aim,        // point the active pointer at world point `point` from the head
+        Designate,  // mark the picked point
+        Confirm,    // this designation (or the candidate pointed at) is the target
+        Reject,     // the candidate pointed at is not a target (else: drop the designation)
+        NoTarget,   // the operator declares there is no target
+        GrabScale,  // set the world scale to `value` about the pointer's hit (or the head)
+        Next,       // dismiss the ready screen (nothing when none is up)
     } key = Key::Space;
     /// "desktop+N": N frames after the drop to desktop mode (a lost runtime), so a test
     /// acts on that event instead of guessing its frame; waits while none has happened.
@@ -35,8 +35,8 @@ struct ScriptEvent {
     /// "+N": N frames after the previous line's action ran (so a script can follow a
     /// ready screen that waits for its cloud, however long that takes).
     bool relative = false;
-    double point[3] = {0.0, 0.0, 0.0};   // Aim: world coordinates (metres)
-    double value = 0.0;                  // GrabScale: the scale, > 0
+    double point[3] = {0.0, 0.0, 0.0};  // Aim: world coordinates (metres)
+    double value = 0.0;                 // GrabScale: the scale, > 0
 };
 
 /// The largest script read (a line per action: a megabyte is tens of thousands).

@@ -38,18 +38,18 @@ const char* verdictName(Verdict v);
 
 /// One frame of the operator's trace, world coordinates, double precision.
 struct TraceSample {
-    double t_s = 0.0;                       // since the ready screen was dismissed
-    glm::dvec3 head_world{0.0};             // between the eyes
+    double t_s = 0.0;            // since the ready screen was dismissed
+    glm::dvec3 head_world{0.0};  // between the eyes
     glm::dquat head_orientation{1, 0, 0, 0};
     ViewMode mode = ViewMode::Automatic;
-    double scale = 1.0;                     // world scale of the zoom (1 = life size)
-    std::optional<glm::dvec3> hit_world;    // where the pointer meets the cloud
+    double scale = 1.0;                   // world scale of the zoom (1 = life size)
+    std::optional<glm::dvec3> hit_world;  // where the pointer meets the cloud
 };
 
 /// How a trial ended.
 struct TrialOutcome {
     Decision decision = Decision::Quit;
-    std::optional<glm::dvec3> designated_world;          // the designation decided on
+    std::optional<glm::dvec3> designated_world;  // the designation decided on
     std::optional<double> time_to_first_designation_s;
     double time_to_decision_s = 0.0;
     int designations = 0;
@@ -64,14 +64,14 @@ struct TrialOutcome {
 
 /// What a trial shows besides its cloud.
 struct TrialSetup {
-    std::string name;                        // shown on the ready screen
+    std::string name;  // shown on the ready screen
     std::vector<core::Candidate> candidates;
-    double time_limit_s = 0.0;               // 0: none
+    double time_limit_s = 0.0;  // 0: none
 };
 
 /// Supplies the trials, one at a time.
 class TrialSource {
-public:
+  public:
     virtual ~TrialSource() = default;
     virtual int count() const = 0;
     /// Starts producing trial `trial`'s cloud into `feed` (a fresh feed per trial; e.g.
@@ -85,7 +85,7 @@ public:
 /// Receives what happens during each trial, as it happens (the study runner writes its
 /// files from these calls, so a crash loses at most the trial in flight).
 class TrialObserver {
-public:
+  public:
     virtual ~TrialObserver() = default;
     virtual void onStart(int /*trial*/) {}
     virtual void onFrame(int /*trial*/, const TraceSample& /*sample*/) {}

@@ -35,38 +35,38 @@ const char* colourModeName(ColourMode mode);
 
 /// How points look; the ImGui panel edits it live.
 struct ViewStyle {
-    float point_size_px = 2.0f;        // pixel size, or the size at 100 m when attenuated
-    bool attenuate = false;            // size falls off with distance (size_px * 100 m / d)
+    float point_size_px = 2.0f;  // pixel size, or the size at 100 m when attenuated
+    bool attenuate = false;      // size falls off with distance (size_px * 100 m / d)
     ColourMode colour = ColourMode::File;
-    bool eye_dome = true;              // eye-dome lighting (Potree / CloudCompare style)
+    bool eye_dome = true;  // eye-dome lighting (Potree / CloudCompare style)
     float edl_strength = 1.0f;
-    int jet_entries = 64;              // the paper's 64-entry jet map (§III-C)
+    int jet_entries = 64;  // the paper's 64-entry jet map (§III-C)
 };
 
 struct ViewerOptions {
-    bool use_xr = true;                 // false: --no-xr, desktop mode only
+    bool use_xr = true;  // false: --no-xr, desktop mode only
     MirrorEyes mirror = MirrorEyes::Both;
     int window_width = 1280, window_height = 720;
-    bool hidden_window = false;         // open the window unmapped (nothing shown on the desktop)
-    long frames = 0;                    // stop after N frames (XR: submitted), 0 = until closed
-    double timeout_s = 0.0;             // stop with an error after this long (0 = never)
+    bool hidden_window = false;  // open the window unmapped (nothing shown on the desktop)
+    long frames = 0;             // stop after N frames (XR: submitted), 0 = until closed
+    double timeout_s = 0.0;      // stop with an error after this long (0 = never)
     std::vector<ScriptEvent> script;
-    std::filesystem::path screenshot;   // PNG of the mirror at the last frame
-    std::filesystem::path log_json;     // machine-readable run log
+    std::filesystem::path screenshot;  // PNG of the mirror at the last frame
+    std::filesystem::path log_json;    // machine-readable run log
     ViewStyle style;
     ModeOptions modes;
-    std::size_t upload_points_per_frame = 1u << 18;   // streaming budget per frame
+    std::size_t upload_points_per_frame = 1u << 18;  // streaming budget per frame
     /// Points drawn per eye and frame at most (LOD prefixes by screen importance);
     /// 0 = unlimited. 3 M keeps the paper's 1.6 M point cloud whole.
     std::size_t point_budget = 3000000;
-    bool cull = true;                   // skip cells outside the eyes' frusta
-    bool vsync = true;                  // desktop mode swap interval 1 (off in --frames runs)
-    bool gpu_timing = false;            // GL timer query per frame, logged as gpu_ms (waits for the GPU)
+    bool cull = true;         // skip cells outside the eyes' frusta
+    bool vsync = true;        // desktop mode swap interval 1 (off in --frames runs)
+    bool gpu_timing = false;  // GL timer query per frame, logged as gpu_ms (waits for the GPU)
     bool quiet = false;
-    PickOptions pick;                   // the pointer's cone (--pick-angle)
-    double cut_radius_m = 15.0;         // the cutting volume's radius when switched on (V / controller)
-    bool cut_enabled = false;           // the cutting volume on from the start (around the designation)
-    std::vector<core::Candidate> candidates;   // --candidates: boxes to confirm or reject
+    PickOptions pick;                         // the pointer's cone (--pick-angle)
+    double cut_radius_m = 15.0;               // the cutting volume's radius when switched on (V / controller)
+    bool cut_enabled = false;                 // the cutting volume on from the start (around the designation)
+    std::vector<core::Candidate> candidates;  // --candidates: boxes to confirm or reject
     // Comfort in free mode, in the headset (docs/viewer.md).
     bool snap_turn = true;              // thumbstick turns in steps, not smoothly
     double snap_turn_deg = 45.0;        // step

@@ -18,7 +18,7 @@ struct ZoomOptions {
 };
 
 class WorldZoom {
-public:
+  public:
     explicit WorldZoom(const ZoomOptions& options = {}) : options_(options) {}
 
     double scale() const { return scale_; }
@@ -46,13 +46,13 @@ public:
     /// Back to life size, no offset.
     void reset();
 
-private:
+  private:
     ZoomOptions options_;
     double scale_ = 1.0;
     glm::dvec3 offset_{0.0};
     bool grabbing_ = false;
     double grab_scale_ = 1.0, grab_distance_m_ = 1.0;
-    glm::dvec3 grab_point_{0.0};   // the zoomed point between the hands at the start
+    glm::dvec3 grab_point_{0.0};  // the zoomed point between the hands at the start
 };
 
 }  // namespace viewer

@@ -13,7 +13,7 @@ OperatorInput ReplayPlayer::take(bool loaded, Clock::time_point now) {
         const double t = trace_.front().t_s + std::chrono::duration<double>(now - *start_).count();
         while (next_ < trace_.size() && trace_[next_].t_s <= t) ++next_;
         shown_ = trace_[next_ == 0 ? 0 : next_ - 1];
-        if (next_ >= trace_.size()) done_ = true;   // the last sample is shown once
+        if (next_ >= trace_.size()) done_ = true;  // the last sample is shown once
     }
     in.replay = shown_;
     return in;

@@ -11,7 +11,7 @@
 namespace viewer {
 
 class ReplayPlayer {
-public:
+  public:
     using Clock = std::chrono::steady_clock;
     explicit ReplayPlayer(std::vector<TraceSample> trace) : trace_(std::move(trace)) {}
     /// Nothing until `loaded` (the cloud is whole); then the sample due at `now` counted
@@ -19,7 +19,7 @@ public:
     /// reports replay_done (and keeps showing it). An empty trace gives nothing.
     OperatorInput take(bool loaded, Clock::time_point now);
 
-private:
+  private:
     std::vector<TraceSample> trace_;
     std::optional<Clock::time_point> start_;
     std::optional<TraceSample> shown_;

@@ -12,26 +12,26 @@ namespace viewer {
 
 /// The frame counts a script's lines are timed against.
 struct ScriptClock {
-    long frame = 0;                  // frames counted so far
-    long desktop_since_frame = -1;   // when the viewer dropped to desktop mode (-1: not yet)
-    long loaded_since_frame = -1;    // when the whole cloud was first on the GPU (-1: not yet)
+    long frame = 0;                 // frames counted so far
+    long desktop_since_frame = -1;  // when the viewer dropped to desktop mode (-1: not yet)
+    long loaded_since_frame = -1;   // when the whole cloud was first on the GPU (-1: not yet)
     /// A ready screen is up and cannot be dismissed yet (its cloud is loading): a `next`
     /// waits, so a script does not race the loader.
     bool ready_screen_waiting = false;
 };
 
 class ScriptPlayer {
-public:
+  public:
     explicit ScriptPlayer(std::vector<ScriptEvent> events) : events_(std::move(events)) {}
     /// The actions due by `clock`. An action that ends a trial or leaves a ready screen
     /// (next, confirm, no_target) ends this frame's actions: the next ones act on what
     /// follows it.
     OperatorInput take(const ScriptClock& clock);
 
-private:
+  private:
     std::vector<ScriptEvent> events_;
     std::size_t next_ = 0;
-    long last_frame_ = 0;   // the frame the previous action ran at (for +N)
+    long last_frame_ = 0;  // the frame the previous action ran at (for +N)
 };
 
 }  // namespace viewer

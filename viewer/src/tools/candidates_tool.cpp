@@ -74,7 +74,7 @@ void CandidatesTool::draw(OverlayList& out, bool highlight) const {
         switch (verdicts_[i]) {
             case Verdict::Confirmed: colour = {0.1f, 1.0f, 0.2f, 1.0f}; break;
             case Verdict::Rejected: colour = {0.5f, 0.5f, 0.5f, 0.6f}; break;
-            default: {   // score 1 red, 0 yellow
+            default: {  // score 1 red, 0 yellow
                 const float s = static_cast<float>(std::clamp(c.score, 0.0, 1.0));
                 colour = {1.0f, 1.0f - s, 0.0f, highlight ? 1.0f : 0.7f};
             }

@@ -22,7 +22,7 @@ std::optional<double> rayBoxDistance(const LocalRay& ray, const glm::dvec3& cent
                                      double yaw_deg);
 
 class CandidatesTool final : public Tool {
-public:
+  public:
     /// `origin`: world coordinates of the cloud's local frame.
     void set(std::vector<core::Candidate> candidates, const glm::dvec3& origin);
     bool empty() const { return candidates_.empty(); }
@@ -42,7 +42,7 @@ public:
     bool& highlight() { return highlight_; }
     nlohmann::json log() const override;
 
-private:
+  private:
     std::vector<core::Candidate> candidates_;
     std::vector<Verdict> verdicts_;
     glm::dvec3 origin_{0.0};

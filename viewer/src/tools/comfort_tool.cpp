@@ -13,14 +13,15 @@ void ComfortTool::update(const OperatorInput& in, const ToolFrame& frame) {
         last_snap_s_ = frame.now_s;
     }
     const Motion& m = frame.motion;
-    const bool moving =
-        free && (std::abs(m.forward) + std::abs(m.right) + std::abs(m.up) + std::abs(m.turn) > 1e-3 || in.snap_turn != 0);
+    const bool moving = free && (std::abs(m.forward) + std::abs(m.right) + std::abs(m.up) + std::abs(m.turn) > 1e-3 ||
+                                 in.snap_turn != 0);
     strength_ = std::clamp(strength_ + (moving ? frame.dt_s / 0.2 : -frame.dt_s / 0.3), 0.0, 1.0);
 }
 
 void ComfortTool::draw(OverlayList& out) const {
     if (options_.vignette)
-        out.vignette = VignetteStyle{float(options_.vignette_aperture), float(options_.vignette_feather), float(strength_)};
+        out.vignette =
+            VignetteStyle{float(options_.vignette_aperture), float(options_.vignette_feather), float(strength_)};
 }
 
 }  // namespace viewer

@@ -16,12 +16,13 @@ struct ComfortOptions {
     double vignette_aperture = 0.7;
     double vignette_feather = 0.2;
     static ComfortOptions of(const ViewerOptions& o) {
-        return {o.snap_turn, o.snap_turn_deg, o.snap_turn_debounce_s, o.vignette, o.vignette_aperture, o.vignette_feather};
+        return {o.snap_turn, o.snap_turn_deg,     o.snap_turn_debounce_s,
+                o.vignette,  o.vignette_aperture, o.vignette_feather};
     }
 };
 
 class ComfortTool final : public Tool {
-public:
+  public:
     explicit ComfortTool(const ComfortOptions& options) : options_(options) {}
     /// Turns frame.modes on a snap turn in free mode; eases the vignette in over 0.2 s of
     /// motion (or a snap) and out over 0.3 s at rest.
@@ -31,10 +32,10 @@ public:
     bool& snapTurn() { return options_.snap_turn; }
     bool& vignette() { return options_.vignette; }
 
-private:
+  private:
     ComfortOptions options_;
     double last_snap_s_ = -1e9;
-    double strength_ = 0.0;   // 0 at rest, 1 while moving
+    double strength_ = 0.0;  // 0 at rest, 1 while moving
 };
 
 }  // namespace viewer

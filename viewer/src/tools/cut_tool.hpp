@@ -8,7 +8,7 @@
 namespace viewer {
 
 class CutTool final : public Tool {
-public:
+  public:
     CutTool(bool enabled, double radius_m) : enabled_(enabled), radius_m_(radius_m) {}
     void update(const OperatorInput& in, const ToolFrame& frame) override;
     /// Whether it is on (the frame record's "cut").
@@ -18,7 +18,7 @@ public:
     bool& enabled() { return enabled_; }
     double& radiusM() { return radius_m_; }
 
-private:
+  private:
     bool enabled_ = false;
     double radius_m_ = 15.0;
 };

@@ -19,21 +19,21 @@ namespace viewer {
 
 /// Where this frame's pointer ray can come from.
 struct PointerSources {
-    RigPose rig;                              // the mode's rig
-    RigPose head_local;                       // the head in the cloud's local frame
+    RigPose rig;         // the mode's rig
+    RigPose head_local;  // the head in the cloud's local frame
     const WorldZoom* zoom = nullptr;
-    std::optional<glm::dvec3> aim_local;      // a script's aim point
-    std::optional<TrackingRay> controller;    // a controller's aim (tracking frame)
-    std::optional<glm::dvec2> cursor_px;      // the desktop cursor (from the window's top left)
+    std::optional<glm::dvec3> aim_local;    // a script's aim point
+    std::optional<TrackingRay> controller;  // a controller's aim (tracking frame)
+    std::optional<glm::dvec2> cursor_px;    // the desktop cursor (from the window's top left)
     int window_w = 0, window_h = 0;
-    double vfov_deg = 60.0;                   // the desktop view's vertical field of view
+    double vfov_deg = 60.0;  // the desktop view's vertical field of view
 };
 /// A script's aim (from the head to its point), else the controller's ray (through the
 /// zoom and the rig), else the cursor's ray through the desktop view; none without any.
 std::optional<LocalRay> pointerRayOf(const PointerSources& p);
 
 class PointerTool final : public Tool {
-public:
+  public:
     explicit PointerTool(const PickOptions& options) : options_(options) {}
 
     /// The per-node indexes to pick from (null: the cloud is still loading, nothing is picked).
@@ -56,7 +56,7 @@ public:
     /// {"hit": [x, y, z] local, "label", "distance_m"} or {"hit": null}.
     nlohmann::json log() const override;
 
-private:
+  private:
     PickOptions options_;
     std::shared_ptr<const PickSet> index_;
     std::optional<LocalRay> ray_;

@@ -17,21 +17,21 @@ namespace viewer {
 /// A ray in the cloud's local frame.
 struct LocalRay {
     glm::dvec3 origin{0.0};
-    glm::dvec3 direction{0.0, 0.0, -1.0};   // unit length
+    glm::dvec3 direction{0.0, 0.0, -1.0};  // unit length
 };
 
 /// What a tool sees of the frame besides the operator's input.
 struct ToolFrame {
     double dt_s = 0.0;
-    double now_s = 0.0;                      // since the run started
-    ModeController* modes = nullptr;         // the rig (the comfort tool turns it)
-    glm::dvec3 zoom_pivot_tracking{0.0};     // what the wheel and a script's scale zoom about
-    Motion motion;                           // this frame's motion, scaled by the zoom
-    std::optional<LocalRay> ray;             // the pointer's ray
+    double now_s = 0.0;                   // since the run started
+    ModeController* modes = nullptr;      // the rig (the comfort tool turns it)
+    glm::dvec3 zoom_pivot_tracking{0.0};  // what the wheel and a script's scale zoom about
+    Motion motion;                        // this frame's motion, scaled by the zoom
+    std::optional<LocalRay> ray;          // the pointer's ray
 };
 
 class Tool {
-public:
+  public:
     virtual ~Tool() = default;
     /// Never throws.
     virtual void update(const OperatorInput& in, const ToolFrame& frame) = 0;

@@ -10,8 +10,10 @@ void ZoomTool::update(const OperatorInput& in, const ToolFrame& frame) {
     if (in.wheel != 0.0) zoom_.scaleAbout(pivot, zoom_.scale() * std::pow(1.15, in.wheel));
     if (in.set_scale) zoom_.scaleAbout(pivot, *in.set_scale);
     if (in.grab_hands) {
-        if (!zoom_.grabbing()) zoom_.beginGrab(in.grab_hands->first, in.grab_hands->second);
-        else zoom_.updateGrab(in.grab_hands->first, in.grab_hands->second);
+        if (!zoom_.grabbing())
+            zoom_.beginGrab(in.grab_hands->first, in.grab_hands->second);
+        else
+            zoom_.updateGrab(in.grab_hands->first, in.grab_hands->second);
     } else if (zoom_.grabbing()) {
         zoom_.endGrab();
     }

@@ -9,14 +9,14 @@
 namespace viewer {
 
 class ZoomTool final : public Tool {
-public:
+  public:
     void update(const OperatorInput& in, const ToolFrame& frame) override;
     /// {"scale": s}.
     nlohmann::json log() const override { return {{"scale", zoom_.scale()}}; }
     const WorldZoom& zoom() const { return zoom_; }
     void reset() { zoom_.reset(); }
 
-private:
+  private:
     WorldZoom zoom_;
 };
 
