@@ -1,0 +1,87 @@
+// io/copc.hpp: COPC 1.0 (Cloud Optimized Point Cloud) files: the octree they describe,
+// node-by-node reading, and the validator.
+//
+// A COPC file is a LAZ 1.4 file (point format 6, 7 or 8) whose variable-size LAZ chunks are
+// the nodes of an octree. The 160-byte `info` VLR (user "copc", record 1) comes first, right
+// after the 375-byte header, and gives the root cube (centre and half size), the root's point
+// spacing, the root hierarchy page and the GPS time range. The hierarchy (an EVLR, user
+// "copc", record 1000) is a set of pages of 32-byte entries: a node key (level, x, y, z), the
+// offset and byte size of its chunk, and its point count (-1 for an entry that points to a
+// child page, 0 for a node with no points).
+#pragma once
+#include <core/point_cloud.hpp>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace io {
+
+/// A node of the octree: level d (0 the root) and its cell (x, y, z), each in [0, 2^d).
+struct CopcKey {
+    std::int32_t level = 0;
+    std::int32_t x = 0;
+    std::int32_t y = 0;
+    std::int32_t z = 0;
+    friend bool operator==(const CopcKey&, const CopcKey&) = default;
+    friend auto operator<=>(const CopcKey&, const CopcKey&) = default;
+};
+
+/// The info VLR's fields (its 88 reserved bytes are zero).
+struct CopcInfo {
+    std::array<double, 3> center_m{};
+    double halfsize_m = 0.0;
+    double spacing_m = 0.0;
+    std::uint64_t root_hier_offset = 0;
+    std::uint64_t root_hier_size = 0;
+    double gpstime_minimum = 0.0;
+    double gpstime_maximum = 0.0;
+};
+
+/// A node that holds points: where its chunk is and how many points it has.
+struct CopcNode {
+    CopcKey key;
+    std::uint64_t offset = 0;      // of its LAZ chunk in the file
+    std::int32_t byte_size = 0;    // of its LAZ chunk
+    std::int32_t point_count = 0;  // > 0
+};
+
+/// One broken rule of a COPC file: a short rule name ("info-vlr", "hierarchy", "bounds", ...)
+/// and one line saying what is wrong, naming the field, node or point.
+struct CopcFinding {
+    std::string rule;
+    std::string message;
+};
+
+/// Applies the COPC rules to `file` and returns every one it breaks (empty: a valid COPC
+/// file). Reads within bounded memory; a file that is not even a LAS file gives one finding.
+std::vector<CopcFinding> checkCopc(const std::filesystem::path& file);
+
+/// Node-by-node access to a COPC file: its info, every node with points, and one node's
+/// points decoded on demand (the LAZ chunk of that node, reached through the variable chunk
+/// table), so that a reader never holds more than the nodes it asked for.
+class CopcReader {
+public:
+    /// Opens and validates the header, the info VLR and the whole hierarchy; throws
+    /// core::Error naming the file and what is wrong.
+    explicit CopcReader(const std::filesystem::path& file);
+    ~CopcReader();
+    CopcReader(const CopcReader&) = delete;
+    CopcReader& operator=(const CopcReader&) = delete;
+
+    const CopcInfo& info() const;
+    /// Every node with points, in key order.
+    const std::vector<CopcNode>& nodes() const;
+    /// The points of one node, as the LAS reader gives them (world coordinates through the
+    /// cloud's origin, roles from the classes, view from the point source id).
+    core::PointCloud readNode(const CopcKey& key) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace io
