@@ -7,9 +7,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace io {
 
@@ -60,82 +66,108 @@ std::string formatTraceRow(const TraceRow& r) {
     return row;
 }
 
-Trace parseTrace(std::string_view text, const std::filesystem::path& name) {
-    const std::string where = "trace: " + printable(name.string(), 400) + ": ";
-    auto fail = [&](std::size_t line, std::string_view column, const std::string& what) {
-        throw Error(where + "line " + std::to_string(line) +
-                    (column.empty() ? std::string() : ", column " + std::string(column)) + ": " + what);
-    };
-    Trace trace;
-    std::size_t line_no = 0, pos = 0, header_fields = 0;
-    while (pos < text.size()) {
-        std::size_t end = text.find('\n', pos);
-        if (end == std::string_view::npos) end = text.size();
-        std::string_view line = text.substr(pos, end - pos);
-        pos = end + 1;
-        ++line_no;
+namespace {
+
+// The reader's rules, one line at a time: parseTrace feeds it a text, forEachTraceRow a
+// file read in blocks, so both accept and refuse exactly the same traces.
+class TraceParser {
+public:
+    explicit TraceParser(const std::filesystem::path& name) : where_("trace: " + printable(name.string(), 400) + ": ") {}
+
+    bool studyColumns() const { return study_columns_; }
+
+    // One line without its line break; a row when it is a sample, none for the header.
+    std::optional<TraceRow> line(std::string_view line) {
+        ++line_no_;
         if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
         const std::vector<std::string_view> fields = splitFields(line);
-        if (line_no == 1) {
+        if (line_no_ == 1) {
             for (std::size_t k = 0; k < kHeadColumns.size(); ++k)
                 if (k >= fields.size() || fields[k] != kHeadColumns[k])
-                    fail(1, "",
-                         "header column " + std::to_string(k + 1) + " is '" +
-                             printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
-                             "'; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,"
-                             "head_qy,head_qz");
-            header_fields = fields.size();
-            trace.study_columns = hasStudyColumns(fields);
-            continue;
+                    fail(1, "", "header column " + std::to_string(k + 1) + " is '" +
+                                    printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
+                                    "'; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,"
+                                    "head_qy,head_qz");
+            header_fields_ = fields.size();
+            study_columns_ = hasStudyColumns(fields);
+            return std::nullopt;
         }
-        if (line.empty()) fail(line_no, "", "empty line; allowed one sample per line");
-        if (fields.size() != header_fields)
-            fail(line_no, "",
-                 std::to_string(fields.size()) + " fields; allowed " + std::to_string(header_fields) +
-                     " (as the header)");
+        if (line.empty()) fail(line_no_, "", "empty line; allowed one sample per line");
+        if (fields.size() != header_fields_)
+            fail(line_no_, "", std::to_string(fields.size()) + " fields; allowed " + std::to_string(header_fields_) +
+                                   " (as the header)");
         auto number = [&](std::size_t k, std::string_view column) {
             const std::string_view f = fields[k];
             double v = 0.0;
             const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
             if (f.empty() || ec != std::errc() || ptr != f.data() + f.size() || !std::isfinite(v))
-                fail(line_no, column, "'" + printable(f, 40) + "' is not a finite number");
+                fail(line_no_, column, "'" + printable(f, 40) + "' is not a finite number");
             return v;
         };
         double v[8];
         for (std::size_t k = 0; k < kHeadColumns.size(); ++k) v[k] = number(k, kHeadColumns[k]);
         TraceRow r;
         r.t_s = v[0];
-        if (r.t_s < 0.0) fail(line_no, "t_s", "negative; allowed seconds >= 0");
-        if (!trace.rows.empty() && r.t_s < trace.rows.back().t_s)
-            fail(line_no, "t_s",
-                 "decreases (" + std::to_string(trace.rows.back().t_s) + " before); allowed times in order");
+        if (r.t_s < 0.0) fail(line_no_, "t_s", "negative; allowed seconds >= 0");
+        if (rows_ > 0 && r.t_s < last_t_s_)
+            fail(line_no_, "t_s", "decreases (" + std::to_string(last_t_s_) + " before); allowed times in order");
         r.head_world = {v[1], v[2], v[3]};
         if (!(std::abs(v[1]) <= 1e9 && std::abs(v[2]) <= 1e9 && std::abs(v[3]) <= 1e9))
-            fail(line_no, "head_x", "out of range; allowed world coordinates within 1e9 m");
+            fail(line_no_, "head_x", "out of range; allowed world coordinates within 1e9 m");
         const glm::dquat q(v[4], v[5], v[6], v[7]);
         const double norm = glm::length(q);
         if (!(std::abs(norm - 1.0) <= 1e-3))
-            fail(line_no, "head_qw",
+            fail(line_no_, "head_qw",
                  "quaternion norm " + std::to_string(norm) + "; allowed a unit quaternion (within 1e-3)");
         r.head_orientation = q / norm;
-        if (trace.study_columns) {
+        if (study_columns_) {
             const std::size_t m = kHeadColumns.size();
-            if (fields[m] == "automatic")
-                r.mode = TraceMode::Automatic;
-            else if (fields[m] == "free")
-                r.mode = TraceMode::Free;
-            else
-                fail(line_no, "mode", "'" + printable(fields[m], 40) + "'; allowed automatic or free");
+            if (fields[m] == "automatic") r.mode = TraceMode::Automatic;
+            else if (fields[m] == "free") r.mode = TraceMode::Free;
+            else fail(line_no_, "mode", "'" + printable(fields[m], 40) + "'; allowed automatic or free");
             r.scale = number(m + 1, "scale");
-            if (!(r.scale > 0.0))
-                fail(line_no, "scale", "'" + printable(fields[m + 1], 40) + "'; allowed a number > 0");
+            if (!(r.scale > 0.0)) fail(line_no_, "scale", "'" + printable(fields[m + 1], 40) + "'; allowed a number > 0");
             if (!fields[m + 2].empty() || !fields[m + 3].empty() || !fields[m + 4].empty())
                 r.hit_world = glm::dvec3(number(m + 2, "hit_x"), number(m + 3, "hit_y"), number(m + 4, "hit_z"));
         }
-        trace.rows.push_back(r);
+        ++rows_;
+        last_t_s_ = r.t_s;
+        return r;
     }
-    if (line_no == 0) fail(1, "", "empty file; allowed a header and samples");
-    if (trace.rows.empty()) fail(line_no, "", "no samples after the header");
+
+    // After the last line: a trace has a header and at least one sample.
+    void finish() const {
+        if (line_no_ == 0) fail(1, "", "empty file; allowed a header and samples");
+        if (rows_ == 0) fail(line_no_, "", "no samples after the header");
+    }
+
+    std::size_t lineNumber() const { return line_no_; }
+    [[noreturn]] void fail(std::size_t line, std::string_view column, const std::string& what) const {
+        throw Error(where_ + "line " + std::to_string(line) +
+                    (column.empty() ? std::string() : ", column " + std::string(column)) + ": " + what);
+    }
+
+private:
+    std::string where_;
+    std::size_t line_no_ = 0, header_fields_ = 0, rows_ = 0;
+    double last_t_s_ = 0.0;
+    bool study_columns_ = false;
+};
+
+}  // namespace
+
+Trace parseTrace(std::string_view text, const std::filesystem::path& name) {
+    TraceParser parser(name);
+    Trace trace;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string_view::npos) end = text.size();
+        if (std::optional<TraceRow> row = parser.line(text.substr(pos, end - pos))) trace.rows.push_back(*row);
+        pos = end + 1;
+    }
+    parser.finish();
+    trace.study_columns = parser.studyColumns();
     return trace;
 }
 
@@ -144,4 +176,56 @@ Trace readTrace(const std::filesystem::path& file) {
     return parseTrace(text, file);
 }
 
-}  // namespace io
+bool forEachTraceRow(const std::filesystem::path& file, const std::function<void(const TraceRow&)>& visit) {
+    const std::string what = "trace: " + printable(file.string(), 400) + ":";
+    checkInputFile(file, what);
+    // O_NONBLOCK: should the name have become a FIFO since the check, open() must not wait.
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+    if (fd < 0) throw Error(what + " cannot be read: " + std::strerror(errno));
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) throw Error(what + " cannot be read: " + std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) throw Error(what + " is not a regular file; allowed: a regular file");
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    TraceParser parser(file);
+    std::vector<char> block(kTraceBlockBytes);
+    std::string carry;  // the line begun at the end of the previous block
+    for (;;) {
+        const ssize_t n = ::read(fd, block.data(), block.size());
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            throw Error(what + " cannot be read: " + std::strerror(errno));
+        }
+        if (n == 0) break;
+        std::string_view data(block.data(), std::size_t(n));
+        while (!data.empty()) {
+            const std::size_t end = data.find('\n');
+            if (end == std::string_view::npos) {
+                carry.append(data);
+                if (carry.size() > kMaxTraceLineBytes)
+                    parser.fail(parser.lineNumber() + 1, "", "longer than " + std::to_string(kMaxTraceLineBytes) +
+                                                             " bytes; allowed one sample per line");
+                break;
+            }
+            std::optional<TraceRow> row;
+            if (carry.empty()) {
+                row = parser.line(data.substr(0, end));
+            } else {
+                carry.append(data.substr(0, end));
+                row = parser.line(carry);
+                carry.clear();
+            }
+            if (row) visit(*row);
+            data.remove_prefix(end + 1);
+        }
+    }
+    if (!carry.empty())
+        if (std::optional<TraceRow> row = parser.line(carry)) visit(*row);
+    parser.finish();
+    return parser.studyColumns();
+}
+
+}  // namespace engine

@@ -1,6 +1,9 @@
 // metric/src/trace.cpp: camera poses along an operator's head trace (metric/trace.hpp).
 #include <metric/trace.hpp>
 
+#include <engine/error.hpp>
+#include <engine/safe_file.hpp>
+
 namespace metric {
 
 render::CameraPose cameraFromHead(const io::TraceRow& sample) {
@@ -11,11 +14,37 @@ render::CameraPose cameraFromHead(const io::TraceRow& sample) {
     return pose;
 }
 
-std::vector<io::TraceRow> everyStep(const std::vector<io::TraceRow>& samples, double step_s) {
-    std::vector<io::TraceRow> kept;
-    for (const io::TraceRow& s : samples)
-        if (kept.empty() || s.t_s - kept.back().t_s >= step_s) kept.push_back(s);
+namespace {
+
+// everyStep's rule: the first row, then each at least step_s after the last one kept.
+bool keeps(bool first, double last_kept_s, double t_s, double step_s) { return first || t_s - last_kept_s >= step_s; }
+
+}  // namespace
+
+std::vector<engine::TraceRow> everyStep(const std::vector<engine::TraceRow>& samples, double step_s) {
+    std::vector<engine::TraceRow> kept;
+    for (const engine::TraceRow& s : samples)
+        if (keeps(kept.empty(), kept.empty() ? 0.0 : kept.back().t_s, s.t_s, step_s)) kept.push_back(s);
     return kept;
+}
+
+std::vector<render::CameraPose> tracePoses(const std::filesystem::path& file, double step_s, std::size_t max_poses,
+                                           std::size_t& samples) {
+    std::vector<render::CameraPose> poses;
+    double last_kept_s = 0.0;
+    samples = 0;
+    engine::forEachTraceRow(file, [&](const engine::TraceRow& row) {
+        ++samples;
+        if (!keeps(poses.empty(), last_kept_s, row.t_s, step_s)) return;
+        if (poses.size() == max_poses)
+            throw engine::Error("metric: --trace " + engine::printable(file.string(), 400) + ": more than " +
+                                std::to_string(max_poses) + " samples are at least " + engine::shownNumber(step_s) +
+                                " s apart; allowed at most " + std::to_string(max_poses) +
+                                " views (raise --trace-step-s)");
+        poses.push_back(cameraFromHead(row));
+        last_kept_s = row.t_s;
+    });
+    return poses;
 }
 
 }  // namespace metric

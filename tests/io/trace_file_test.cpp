@@ -12,7 +12,10 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <vector>
 
 using doctest::Approx;
 
@@ -145,4 +148,69 @@ TEST_CASE("trace: a wrong header, number, mode, scale or hit names its line and 
           std::string::npos);
     CHECK(error(kHeader + "0,1,2,3,1,0,0,0,free,1,4,,6\n").find("line 2, column hit_y: '' is not a finite number") !=
           std::string::npos);
+}
+
+namespace {
+
+// The rows forEachTraceRow hands on for `text` written to a file, and the error, if any.
+struct Streamed {
+    std::vector<engine::TraceRow> rows;
+    std::string error;
+    bool study_columns = false;
+};
+Streamed stream(const std::string& text) {
+    test_support::TempDir dir("trace_stream");
+    const std::filesystem::path file = dir.path / "trace.csv";
+    std::ofstream(file, std::ios::binary) << text;
+    Streamed s;
+    s.error = test_support::errorOf([&] {
+        s.study_columns = engine::forEachTraceRow(file, [&](const engine::TraceRow& r) { s.rows.push_back(r); });
+    });
+    return s;
+}
+
+// A head-only row at time `t_s` (milliseconds written out), `pad` zeros padding head_x.
+std::string row(std::size_t t_ms, std::size_t pad = 0) {
+    return std::to_string(t_ms / 1000) + "." + std::to_string(1000 + t_ms % 1000).substr(1) + "," +
+           std::string(pad, '0') + "1,2,3,1,0,0,0\n";
+}
+
+}  // namespace
+
+TEST_CASE("trace: read a block at a time, a file gives what its text gives, lines across blocks included") {
+    // Rows of varying length over three blocks, so lines straddle each block boundary.
+    std::string text = kHeadOnly;
+    for (std::size_t i = 0; text.size() < 3 * engine::kTraceBlockBytes; ++i) text += row(i, i % 7);
+    text += "9999.000,1,2,3,1,0,0,0";  // the last line without its break
+    const engine::Trace whole = engine::parseTrace(text, "trace.csv");
+    const Streamed s = stream(text);
+    CHECK(s.error == "(no error)");
+    CHECK_FALSE(s.study_columns);
+    REQUIRE(s.rows.size() == whole.rows.size());
+    for (std::size_t i = 0; i < whole.rows.size(); ++i) {
+        CHECK(s.rows[i].t_s == whole.rows[i].t_s);
+        CHECK(s.rows[i].head_world == whole.rows[i].head_world);
+    }
+    CHECK(stream(kHeader + "0.0,1,2,3,1,0,0,0,free,2,4,5,6\r\n").study_columns);
+}
+
+TEST_CASE("trace: streamed rows are handed on before the file ends; the same refusals as the whole-text reader") {
+    // A bad line after more than a block of good rows: the good ones were handed on first.
+    std::string text = kHeadOnly;
+    std::size_t good = 0;
+    for (; text.size() < 2 * engine::kTraceBlockBytes; ++good) text += row(good);
+    const std::string bad = text + "1.0,1,2,3,1,0,0,0\n";  // time goes back
+    const Streamed s = stream(bad);
+    CHECK(s.rows.size() == good);
+    // The same words as parseTrace's, after the file's name.
+    const std::string whole = error(bad);
+    REQUIRE(s.error.find(": line ") != std::string::npos);
+    CHECK(s.error.substr(s.error.find(": line ")) == whole.substr(whole.find(": line ")));
+    CHECK(s.error.find("line " + std::to_string(good + 2) + ", column t_s: decreases") != std::string::npos);
+    CHECK(stream("").error.find("empty file") != std::string::npos);
+    CHECK(stream(kHeadOnly).error.find("no samples after the header") != std::string::npos);
+    CHECK(stream(kHeadOnly + "\n").error.find("line 2: empty line") != std::string::npos);
+    // A line longer than kMaxTraceLineBytes is refused without holding more of it.
+    const Streamed long_line = stream(kHeadOnly + std::string(engine::kMaxTraceLineBytes + 10, '1'));
+    CHECK(long_line.error.find("line 2: longer than 1048576 bytes") != std::string::npos);
 }

@@ -27,6 +27,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -75,4 +76,17 @@ Trace parseTrace(std::string_view text, const std::filesystem::path& name);
 /// Reads a trace file (regular file, at most kMaxTraceBytes) as parseTrace does.
 Trace readTrace(const std::filesystem::path& file);
 
-}  // namespace io
+/// Bytes read at a time by forEachTraceRow, and the longest line it accepts.
+inline constexpr std::size_t kTraceBlockBytes = std::size_t(1) << 20;
+inline constexpr std::size_t kMaxTraceLineBytes = std::size_t(1) << 20;
+
+/// Reads a trace file of any length by the same rules as parseTrace, a block at a time,
+/// handing each row to `visit` in order and holding no more than a block and a line: a
+/// trace too long for readTrace is read in bounded memory. Throws as parseTrace (a row
+/// handed on before a later line fails stays handed on), "trace: <file>: line N: longer
+/// than 1048576 bytes" for a line beyond kMaxTraceLineBytes, or when the file is not a
+/// regular file (remembered as an input, engine/safe_file.hpp). Returns whether the
+/// header has the study columns.
+bool forEachTraceRow(const std::filesystem::path& file, const std::function<void(const TraceRow&)>& visit);
+
+}  // namespace engine

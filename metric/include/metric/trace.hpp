@@ -7,6 +7,8 @@
 #include <io/trace_file.hpp>
 #include <render/orbit_camera.hpp>
 
+#include <cstddef>
+#include <filesystem>
 #include <vector>
 
 namespace metric {
@@ -18,5 +20,14 @@ render::CameraPose cameraFromHead(const io::TraceRow& sample);
 /// The first row, then each row at least `step_s` (>= 0) after the last one kept: a long
 /// trace subsampled in time. step_s = 0 keeps every row.
 std::vector<io::TraceRow> everyStep(const std::vector<io::TraceRow>& samples, double step_s);
+
+/// The poses of a trace file: the camera of every row everyStep would keep, read with
+/// engine::forEachTraceRow so that only the kept poses are held, never the file or its
+/// rows. `samples` gets the file's row count. Throws engine::Error as the reader does,
+/// or "metric: --trace <file>: more than <max_poses> samples are at least <step_s> s
+/// apart; allowed at most <max_poses> views (raise --trace-step-s)" as soon as one more
+/// pose than max_poses would be kept.
+std::vector<render::CameraPose> tracePoses(const std::filesystem::path& file, double step_s, std::size_t max_poses,
+                                           std::size_t& samples);
 
 }  // namespace metric
