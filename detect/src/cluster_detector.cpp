@@ -179,7 +179,21 @@ OrientedBox fitBox(const core::PointCloud& cloud, const std::vector<std::uint32_
 
 ClusterDetector::ClusterDetector(const ClusterOptions& o) : options_(o) { validate(options_); }
 
-std::vector<Detection> ClusterDetector::detect(const core::PointCloud& cloud) const {
+std::uint64_t ClusterDetector::memoryBytes(std::uint64_t points) {
+    // Per point, at the larger of the two steps (each bound rounded up):
+    // step 1, RANSAC per tile: the cloud (40), tile index lists with vector growth (8), the
+    //   ground flags (1), one tile's positions with growth (24), findGround's buffers (64,
+    //   as in sim's memory plan), its flags (1): 138;
+    // step 2: the cloud, flags, the non-ground copy (40) and its indices with growth (8),
+    //   the voxel bins (16), centroids (16), PCL's k-d tree (40), cluster indices (4): 165.
+    // 256 leaves room for the allocator; the fixed part holds the reader's chunk buffer
+    // (1 Mi points of 40 bytes), PCL's and the process's own.
+    constexpr std::uint64_t kBytesPerPoint = 256;
+    constexpr std::uint64_t kFixedBytes = std::uint64_t(64) << 20;
+    return kFixedBytes + points * kBytesPerPoint;
+}
+
+std::vector<Detection> ClusterDetector::detect(const engine::PointCloud& cloud) const {
     ClusterStats stats;
     return detect(cloud, stats);
 }

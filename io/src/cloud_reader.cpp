@@ -120,6 +120,10 @@ PointCloud readCloudData(std::string_view bytes, const std::filesystem::path& na
 
 PointCloud readCloud(const std::filesystem::path& path) {
     CloudReader reader(path);
+    return readCloud(reader);
+}
+
+PointCloud readCloud(CloudReader& reader) {
     PointCloud cloud = readAll(reader);
     if (const std::string w = reader.warning(); !w.empty()) std::fprintf(stderr, "ladarvr: warning: %s\n", w.c_str());
     return cloud;

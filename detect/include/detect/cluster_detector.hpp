@@ -72,7 +72,12 @@ class ClusterDetector final : public Detector {
     /// The same, and the run's counts and seconds into `stats`.
     std::vector<Detection> detect(const core::PointCloud& cloud, ClusterStats& stats) const;
 
-  private:
+    /// At most what reading a cloud of `points` points and detecting in it holds, in
+    /// bytes: the cloud itself plus every per-point buffer of steps 1-4 (checked against
+    /// --memory-mb before the cloud is read, sim/memory_budget.hpp).
+    static std::uint64_t memoryBytes(std::uint64_t points);
+
+private:
     ClusterOptions options_;
 };
 

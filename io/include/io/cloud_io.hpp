@@ -22,6 +22,7 @@ class TempFile;
 
 namespace io {
 
+class CloudReader;
 namespace detail {
 class FormatWriter;  // one format's writer (io/src/format_writer.hpp)
 }
@@ -99,8 +100,11 @@ void writeCloud(const std::filesystem::path& path, const core::PointCloud& cloud
 /// LAS/LAZ whole, through io::CloudReader (cloud_reader.hpp). Needs x y z; rgb/rgba, label,
 /// view, range are used when present (fields says which). Points with a non-finite x, y,
 /// z or range are dropped, with one warning line on stderr giving the count.
-/// Throws Error("pcd: <file>: ...") / ("ply: ...") / ("las: ...") naming the line or field.
-core::PointCloud readCloud(const std::filesystem::path& path);
+/// Throws Error("pcd: <file>: ...") / ("ply: <file>: ...") naming the line or field.
+PointCloud readCloud(const std::filesystem::path& path);
+/// As readCloud, from a reader already open (its header checked): a caller can weigh
+/// reader.pointsBound() against a memory budget before a point is read.
+PointCloud readCloud(CloudReader& reader);
 
 /// As readCloud, from the file's bytes already in memory (no warning is printed);
 /// `name` is used in messages. Never reads outside `bytes` whatever they hold.
