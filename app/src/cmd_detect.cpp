@@ -5,10 +5,14 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <core/error.hpp>
+#include <engine/candidates.hpp>
+#include <engine/atomic_file.hpp>
+#include <engine/cloud_io.hpp>
+#include <engine/cloud_reader.hpp>
+#include <engine/error.hpp>
+#include <engine/safe_file.hpp>
 #include <detect/cluster_detector.hpp>
-#include <io/candidates_file.hpp>
-#include <io/cloud_io.hpp>
+#include <sim/memory_budget.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -16,7 +20,6 @@
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <system_error>
 #include <vector>
 
 namespace app {
@@ -28,6 +31,7 @@ struct DetectCli {
     std::vector<double> target_size_m{7.0, 3.5, 2.5};
     std::string ground = "ransac";
     bool json = false;
+    double memory_mb = sim::kDefaultMemoryMb;
     detect::ClusterOptions options;
 };
 
@@ -45,13 +49,20 @@ void run(DetectCli& cli) {
     o.progress = true;                          // drawn only when stderr is a terminal
     const detect::ClusterDetector detector(o);  // validates the options
 
-    const std::filesystem::path out = cli.out;
-    std::error_code ec;
-    if (std::filesystem::equivalent(cli.cloud, out, ec))
-        throw core::Error("detect: --out " + cli.out + " is the input cloud; choose another file");
-    createParentFolders(out, "detect: --out");
+    const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "detect");
 
-    const core::PointCloud cloud = io::readCloud(cli.cloud);
+    const std::filesystem::path out = cli.out;
+    engine::checkDistinctPaths("detect", {{"cloud", cli.cloud, engine::PathRole::Input, {}},
+                                          {"--out", out, engine::PathRole::Output, {}}});
+    createParentFolders(out, "detect: --out");
+    engine::checkWritableDestination(out);
+
+    // The header first: a cloud that would not fit the budget is refused before a point is read.
+    engine::CloudReader reader(cli.cloud);
+    sim::refuseOverBudget("detect", budget, detect::ClusterDetector::memoryBytes(reader.pointsBound()),
+                          "a cloud of " + std::to_string(reader.pointsBound()) + " points, read whole",
+                          "raise --memory-mb, or detect in a thinned or cropped cloud");
+    const engine::PointCloud cloud = engine::readCloud(reader);
     detect::ClusterStats stats;
     const std::vector<detect::Detection> found = detector.detect(cloud, stats);
     std::vector<core::Candidate> candidates;
@@ -122,6 +133,10 @@ void registerDetect(CLI::App& cli) {
     c->add_option("--min-score", o.min_score, "drop candidates scoring below, [0, 1]")->capture_default_str();
     c->add_option("--max-candidates", o.max_candidates, "keep at most this many, best first")->capture_default_str();
     c->add_option("--seed", o.seed, "seed of RANSAC's shuffles")->capture_default_str();
+    c->add_option("--memory-mb", state->memory_mb,
+                  "bound on what the run holds, the cloud included, [1, 1048576] MiB: a cloud "
+                  "whose header declares more points than fit is refused before it is read")
+        ->capture_default_str();
     c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");
     c->callback([state] { run(*state); });
 }

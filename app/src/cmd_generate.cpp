@@ -7,12 +7,14 @@
 #include "ground_options.hpp"
 #include "sensor_options.hpp"
 
-#include <core/error.hpp>
-#include <core/scene_info.hpp>
-#include <io/cloud_io.hpp>
-#include <io/scene_file.hpp>
-#include <platform/atomic_file.hpp>
+#include <engine/atomic_file.hpp>
+#include <engine/cloud_io.hpp>
+#include <engine/error.hpp>
+#include <engine/safe_file.hpp>
+#include <engine/scene.hpp>
+#include <engine/scene_info.hpp>
 #include <sim/generator.hpp>
+#include <sim/memory_budget.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -37,7 +39,7 @@ struct GenerateCli {
     bool json = false;
     bool skip_nonfinite = false;
     bool no_skip_rays = false;
-    double memory_mb = 512.0;
+    double memory_mb = sim::kDefaultMemoryMb;
     int las_target_class = 64;
     sim::GenerateOptions options;
     GroundCli ground;
@@ -101,9 +103,7 @@ void run(GenerateCli& cli) {
     // Everything is checked before the scene is read or a ray is cast.
     if (!cli.roles.empty()) o.roles = core::RoleMask::parse(cli.roles, "generate: --roles");
     if (!cli.centre.empty()) o.centre = parseWorldTriple(cli.centre, "generate: --centre");
-    if (!(std::isfinite(cli.memory_mb) && cli.memory_mb >= 1.0 && cli.memory_mb <= 1048576.0))
-        throw core::Error("generate: --memory-mb = " + core::shownNumber(cli.memory_mb) + ": allowed [1, 1048576]");
-    o.memory_budget_bytes = std::size_t(cli.memory_mb * 1048576.0);
+    o.memory_budget_bytes = sim::memoryBudgetBytes(cli.memory_mb, "generate");
     o.skip_rays = !cli.no_skip_rays;
     applyGroundOptions(cli.ground, o);
     sim::validate(o);
@@ -117,11 +117,15 @@ void run(GenerateCli& cli) {
     else
         format = io::formatForPath(out, "generate: --out");
     if (!(cli.las_target_class >= 0 && cli.las_target_class <= 255))
-        throw core::Error("generate: --las-target-class = " + std::to_string(cli.las_target_class) +
-                          ": allowed 0..255");
-    o.las.class_of_role[int(core::Role::Target)] = std::uint8_t(cli.las_target_class);
+        throw engine::Error("generate: --las-target-class = " + std::to_string(cli.las_target_class) +
+                            ": allowed 0..255");
+    o.las.class_of_role[int(engine::Role::Target)] = std::uint8_t(cli.las_target_class);
+    engine::checkDistinctPaths("generate", {{"--scene", scene_path, engine::PathRole::Input, {}},
+                                            {"--out", out, engine::PathRole::Output, {}},
+                                            {"--dtm", cli.ground.dtm, engine::PathRole::Output, {}}});
     createParentFolders(out, "generate: --out");
-    platform::checkWritableDestination(out);
+    engine::checkWritableDestination(out);
+    prepareDtmOutput(cli.ground);
     o.progress = true;  // drawn only when stderr is a terminal
 
     const auto t0 = std::chrono::steady_clock::now();
@@ -135,11 +139,17 @@ void run(GenerateCli& cli) {
     for (const std::string& w : core::targetWarnings(core::summarize(scene)))
         warn("generate: " + scene_path.string() + ": " + w + " (see 'ladarvr scene info')");
     const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // The scene's own files are inputs now: no output may replace one of them either.
+    engine::checkNotAnInput(out);
+    if (!cli.ground.dtm.empty()) engine::checkNotAnInput(cli.ground.dtm);
     sim::GenerateStats st;
+    std::unique_ptr<engine::TempFile> dtm;  // written before the cloud lands, committed after it
     {
         sim::Generator generator(scene, o);
-        generator.run(out, *format, &st);
+        generator.run(out, *format, &st,
+                      [&](const sim::GenerateStats& done) { dtm = stageDtm(cli.ground, done, scene.origin); });
     }
+    if (dtm) dtm->commit();
     const double seconds = load_s + st.seconds.total;
     // Misses are expected when only some roles are cast; with all of them, most rays
     // missing means the orbit looks past the scene.
@@ -171,7 +181,7 @@ void run(GenerateCli& cli) {
                  st.seconds.cast, st.seconds.fuse, st.seconds.ground, st.seconds.colour, st.seconds.write, seconds,
                  st.threads, st.streamed ? ", streamed through a spool file" : "");
     if (o.white) std::fprintf(stderr, "  --white: no colouring, no ground whitening\n");
-    reportGround(cli.ground, o, st, scene.origin);
+    reportGround(cli.ground, o, st);
     if (o.threads > st.threads)
         std::fprintf(stderr, "  --threads %d lowered to %d to fit --memory-mb\n", o.threads, st.threads);
 

@@ -4,10 +4,12 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <core/error.hpp>
-#include <io/cloud_io.hpp>
-#include <io/scene_file.hpp>
-#include <io/trace_file.hpp>
+#include <engine/atomic_file.hpp>
+#include <engine/cloud_io.hpp>
+#include <engine/error.hpp>
+#include <engine/safe_file.hpp>
+#include <engine/scene.hpp>
+#include <engine/trace_file.hpp>
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
 #include <metric/trace.hpp>
@@ -71,15 +73,22 @@ void run(MetricCli& cli) {
     else
         throw core::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
     if (!cli.look_at.empty()) o.look_at_world = parseWorldTriple(cli.look_at, "metric: --look-at");
+        throw engine::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
+    const std::filesystem::path out = cli.out;
+    // Before anything is read or made: no input inside the folder this run replaces.
+    engine::checkDistinctPaths("metric", {{"--out", out, engine::PathRole::OutputFolder, {}},
+                                          {"--scene", cli.scene, engine::PathRole::Input, {}},
+                                          {"--p1", cli.p1, engine::PathRole::Input, {}},
+                                          {"--p2", cli.p2, engine::PathRole::Input, {}},
+                                          {"--p3", cli.p3, engine::PathRole::Input, {}},
+                                          {"--trace", cli.trace, engine::PathRole::Input, {}}});
     std::size_t trace_samples = 0;
     if (!cli.trace.empty()) {
         if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
-            throw core::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
-                              ": allowed [0, 3600] seconds");
-        const std::vector<io::TraceRow> samples = io::readTrace(cli.trace).rows;
-        trace_samples = samples.size();
-        for (const io::TraceRow& h : metric::everyStep(samples, cli.trace_step_s))
-            o.poses_world.push_back(metric::cameraFromHead(h));
+            throw engine::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
+                                ": allowed [0, 3600] seconds");
+        // Streamed: only the kept poses are held, at most as many as the metric evaluates.
+        o.poses_world = metric::tracePoses(cli.trace, cli.trace_step_s, metric::kMaxPoses, trace_samples);
     }
     const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
     if (from_files && (cli.p1.empty() || cli.p2.empty() || cli.p3.empty()))
@@ -89,7 +98,6 @@ void run(MetricCli& cli) {
 
     // Fail on the destination before the (long) generation; the folder itself is made
     // (or replaced as a whole) by writeReport.
-    const std::filesystem::path out = cli.out;
     createParentFolders(out, "metric: --out");
     metric::checkReportFolder(out);
 

@@ -4,8 +4,9 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <core/error.hpp>
-#include <platform/cleanup.hpp>
+#include <engine/cleanup.hpp>
+#include <engine/error.hpp>
+#include <engine/safe_file.hpp>
 #include <study/study_folder.hpp>
 #include <study/study_run.hpp>
 #include <viewer/viewer.hpp>
@@ -32,6 +33,9 @@ struct StudyArgs {
     double orbit_radius_m = -1.0, orbit_height_m = std::nan(""), orbit_period_s = -1.0;  // unset: the plan's
 };
 
+// The names a study writes into --out (and --replay reads there).
+bool studyFile(const std::string& name) { return study::isStudyFile(name); }
+
 // The window and mirror settings both runs share.
 viewer::ViewerOptions windowOptions(const StudyArgs& a) {
     viewer::ViewerOptions o;
@@ -47,6 +51,9 @@ viewer::ViewerOptions windowOptions(const StudyArgs& a) {
 
 /// `--replay DIR --trial N`: trial N's trace in the mirror, over its cloud.
 int runReplay(const StudyArgs& a) {
+    engine::checkDistinctPaths("study", {{"--replay", a.replay, engine::PathRole::InputFolder, studyFile},
+                                         {"--log-json", a.log_json, engine::PathRole::Output, {}},
+                                         {"--screenshot", a.screenshot, engine::PathRole::Output, {}}});
     viewer::ViewerOptions o = windowOptions(a);
     o.screenshot = a.screenshot;
     study::Replay replay(a.replay, a.trial, o);
@@ -60,8 +67,13 @@ int runStudy(const StudyArgs& a) {
     if (!a.replay.empty()) return runReplay(a);
     if (a.plan.empty()) throw core::Error("study: give PLAN.json (or --replay DIR)");
     const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("study", a.timeout_s);
-    if (a.out.empty()) throw core::Error("study: --out DIR is required (the folder for trials.csv and the traces)");
+    const std::unique_ptr<engine::Watchdog> watchdog = viewerWatchdog("study", a.timeout_s);
+    if (a.out.empty()) throw engine::Error("study: --out DIR is required (the folder for trials.csv and the traces)");
+    engine::checkDistinctPaths("study", {{"plan", a.plan, engine::PathRole::Input, {}},
+                                         {"--script", a.script, engine::PathRole::Input, {}},
+                                         {"--out", a.out, engine::PathRole::OutputFolder, studyFile},
+                                         {"--log-json", a.log_json, engine::PathRole::Output, {}},
+                                         {"--screenshot", a.screenshot, engine::PathRole::Output, {}}});
 
     study::StudyOptions s;
     s.plan = a.plan;

@@ -9,7 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cctype>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 namespace app {
@@ -89,10 +92,32 @@ void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o) {
     o.fit_terrain = !cli.dtm.empty();
     if (!cli.dtm.empty()) {
         if (o.white)
-            throw core::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
-        createParentFolders(cli.dtm, "generate: --dtm");
-        platform::checkWritableDestination(cli.dtm);
+            throw engine::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
+        std::string ext = std::filesystem::path(cli.dtm).extension().string();
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (ext != ".asc")
+            throw engine::Error("generate: --dtm " + engine::printable(cli.dtm, 400) +
+                                ": allowed a name ending in .asc (the DTM is written as an ESRI ASCII grid)");
     }
+}
+
+void prepareDtmOutput(const GroundCli& cli) {
+    if (cli.dtm.empty()) return;
+    createParentFolders(cli.dtm, "generate: --dtm");
+    engine::checkWritableDestination(cli.dtm);
+}
+
+std::unique_ptr<engine::TempFile> stageDtm(const GroundCli& cli, const sim::GenerateStats& st,
+                                           const glm::dvec3& origin) {
+    if (cli.dtm.empty()) return nullptr;
+    const std::string out = "output: " + engine::printable(cli.dtm, 400) + ": ";
+    if (!st.terrain || st.terrain->empty())
+        throw engine::Error(out + "no terrain was fitted (--white, or an empty cloud)");
+    const std::string text = sim::dtmAscii(*st.terrain, origin);
+    auto file = std::make_unique<engine::TempFile>(cli.dtm);
+    if (std::fwrite(text.data(), 1, text.size(), file->file()) != text.size() || std::fflush(file->file()) != 0)
+        throw engine::Error(out + "write failed: " + std::strerror(errno));
+    return file;
 }
 
 std::optional<std::string> groundAdvice(const sim::GenerateStats& st) {
@@ -113,8 +138,7 @@ std::optional<std::string> groundAdvice(const sim::GenerateStats& st) {
     return std::nullopt;
 }
 
-void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st,
-                  const glm::dvec3& origin) {
+void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st) {
     if (!o.white && o.ground.method == sim::GroundMethod::Csf)
         std::fprintf(stderr,
                      "  ground filter: csf (cloth %g m, rigidness %d, threshold %g m, time step %g, %d iterations), "
@@ -130,10 +154,7 @@ void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim
                      o.ground.smrf.scalar, st.terrain ? st.terrain->nx : 0, st.terrain ? st.terrain->ny : 0,
                      st.seconds.ground);
     if (const auto advice = groundAdvice(st)) warn(*advice);
-    if (!cli.dtm.empty()) {
-        if (!st.terrain || st.terrain->empty())
-            throw core::Error("output: " + cli.dtm + ": no terrain was fitted (--white, or an empty cloud)");
-        sim::writeDtm(cli.dtm, *st.terrain, origin);
+    if (!cli.dtm.empty() && st.terrain) {
         std::fprintf(stderr, "  DTM: %s (%d x %d cells of %g m)\n", cli.dtm.c_str(), st.terrain->nx, st.terrain->ny,
                      st.terrain->cell_m);
     }

@@ -2,11 +2,13 @@
 // each filter's group: RANSAC's, --smrf-*, --csf-*; --dtm), the line that says when
 // RANSAC left the terrain coloured, and the DTM export.
 #pragma once
+#include <engine/safe_file.hpp>
 #include <sim/generator.hpp>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json_fwd.hpp>
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -28,8 +30,20 @@ void addCsfOptions(CLI::App& command, sim::CsfOptions& csf);
 void addGroundOptions(CLI::App& generate, GroundCli& cli, sim::GroundChoice& ground);
 
 /// Before any work: --ground into `o.ground.method`; --dtm refused with --white (no
-/// terrain is fitted), its destination checked.
+/// terrain is fitted) and unless its name ends in .asc (the format it is written in).
 void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o);
+
+/// Before any work, once the run's paths are known to be distinct: --dtm's folders made
+/// and its destination checked (engine::checkWritableDestination). Nothing without --dtm.
+void prepareDtmOutput(const GroundCli& cli);
+
+/// Called by the generator once the cloud is in its temporary, before it is renamed into
+/// place: writes --dtm to a temporary of its own and flushes it, so that a full disk or a
+/// bad destination fails the run while the cloud can still be discarded. The caller
+/// commits the returned file after the cloud; null without --dtm. Throws engine::Error
+/// ("output: <dtm>: ...") when no terrain was fitted or the write fails.
+std::unique_ptr<engine::TempFile> stageDtm(const GroundCli& cli, const sim::GenerateStats& st,
+                                           const glm::dvec3& origin);
 
 /// The one line saying that the per-view RANSAC left much of the ground coloured and
 /// naming --ground smrf: when the ground-labelled points' recall is under 80 %, or,
@@ -37,9 +51,8 @@ void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o);
 /// coloured. None otherwise (and never for a terrain-following method).
 std::optional<std::string> groundAdvice(const sim::GenerateStats& st);
 
-/// After the run: prints the filter's summary line and groundAdvice(), writes --dtm.
-void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st,
-                  const glm::dvec3& origin);
+/// After the run: prints the filter's summary line, groundAdvice() and where --dtm went.
+void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st);
 
 /// Ground fields of the JSON summary.
 void addGroundJson(nlohmann::json& j, const GroundCli& cli, const sim::GenerateStats& st);

@@ -21,6 +21,7 @@ using core::printable;
 void checkWritableDestination(const std::filesystem::path& path) {
     namespace fs = std::filesystem;
     if (path.empty()) throw Error("output: the output path is empty; give a file name");
+    checkPathLength(path, "output");
     const std::string shown = printable(path.string(), 400);
     fs::path dir = path.parent_path();
     if (dir.empty()) dir = ".";

@@ -34,11 +34,12 @@ bool writeAll(int fd, std::string_view data) {
     return true;
 }
 
-// The folder to replace (links to a folder resolved), after the checks of
+// The folder to replace, after the checks of
 // checkOutputFolder. Missing parent folders are made when `make_parents`, else the
 // nearest existing one must be a writable folder.
 fs::path resolveOutputFolder(const fs::path& dir, const OwnedName& ours, bool make_parents) {
     const std::string out = "output: " + shownPath(dir) + ": ";
+    checkPathLength(dir, "output");
     if (dir.empty()) throw Error("output: the output folder name is empty; give a folder name");
     fs::path target = dir.lexically_normal();
     if (target.filename().empty()) target = target.parent_path();
@@ -46,14 +47,11 @@ fs::path resolveOutputFolder(const fs::path& dir, const OwnedName& ours, bool ma
     if (base.empty() || base == "." || base == "..")
         throw Error(out + "cannot replace this folder as a whole; give a sub-folder for the results");
     struct stat st{};
-    if (::lstat(target.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
-        if (::stat(target.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-            throw Error(out + "is a symbolic link to something that is not a folder");
-        std::error_code ec;
-        target = fs::canonical(target, ec);
-        if (ec) throw Error(out + "cannot resolve the symbolic link: " + ec.message());
-        return resolveOutputFolder(target, ours, make_parents);
-    }
+    // A link is never followed: what it points to is not ours to replace.
+    if (::lstat(target.c_str(), &st) == 0 && S_ISLNK(st.st_mode))
+        throw Error(out +
+                    "is a symbolic link; refusing to follow it (allowed: a new folder, or a folder this "
+                    "command wrote, given by its own path)");
     fs::path parent = target.parent_path();
     if (parent.empty()) parent = ".";
     struct stat pst{};

@@ -42,6 +42,7 @@ const char* kindName(mode_t mode) {
     if (S_ISBLK(mode)) return "a block device";
     if (S_ISSOCK(mode)) return "a socket";
     if (S_ISLNK(mode)) return "a symbolic link";
+    if (S_ISREG(mode)) return "a regular file";
     return "not a regular file";
 }
 
@@ -303,6 +304,112 @@ void checkNotAnInput(const fs::path& path) {
         if (f.dev == st.st_dev && f.ino == st.st_ino)
             throw Error("output: " + shownPath(path) + ": is the input file '" + shownPath(f.path) +
                         "' of this run; give another name");
+}
+
+// ---------------------------------------------------------------------------------
+// Path checks
+// ---------------------------------------------------------------------------------
+
+void checkPathLength(const fs::path& path, std::string_view what) {
+    const std::string& text = path.native();
+    const auto fail = [&](const std::string& why) {
+        throw Error(std::string(what) + ": " + detail::shown(text, 120, true) + ": " + why);
+    };
+    if (text.size() > kMaxPathBytes)
+        fail("the path is " + std::to_string(text.size()) + " bytes long; allowed at most " +
+             std::to_string(kMaxPathBytes) + " bytes");
+    std::size_t start = 0;
+    while (start < text.size()) {
+        std::size_t end = text.find('/', start);
+        if (end == std::string::npos) end = text.size();
+        if (end - start > kMaxNameBytes)
+            fail("a name in it is " + std::to_string(end - start) + " bytes long; allowed at most " +
+                 std::to_string(kMaxNameBytes) + " bytes per name");
+        start = end + 1;
+    }
+}
+
+namespace {
+
+// A run's path as the system resolves it: links in its existing part followed, "." and
+// ".." gone; with the file's identity when it exists.
+struct ResolvedPath {
+    fs::path canonical;
+    bool exists = false;
+    dev_t dev = 0;
+    ino_t ino = 0;
+};
+
+ResolvedPath resolveRunPath(const fs::path& path) {
+    ResolvedPath r;
+    std::error_code ec;
+    fs::path absolute = fs::absolute(path, ec);
+    if (ec) absolute = path;
+    r.canonical = fs::weakly_canonical(absolute, ec);
+    if (ec) r.canonical = absolute.lexically_normal();
+    if (!r.canonical.has_filename() && r.canonical != r.canonical.root_path())
+        r.canonical = r.canonical.parent_path();  // "dir/" and "dir" are one folder
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+        r.exists = true;
+        r.dev = st.st_dev;
+        r.ino = st.st_ino;
+    }
+    return r;
+}
+
+// The first name of `inner` below `outer` when `inner` lies inside it; else empty.
+std::string firstNameInside(const fs::path& inner, const fs::path& outer) {
+    auto i = inner.begin();
+    for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
+        if (o->empty()) continue;  // a trailing separator
+        if (i == inner.end() || *i != *o) return {};
+    }
+    return i == inner.end() ? std::string() : i->string();
+}
+
+bool isInput(PathRole role) { return role == PathRole::Input || role == PathRole::InputFolder; }
+
+}  // namespace
+
+void checkDistinctPaths(std::string_view command, const std::vector<RunPath>& paths) {
+    const std::string head = std::string(command) + ": ";
+    std::vector<ResolvedPath> resolved(paths.size());
+    for (std::size_t k = 0; k < paths.size(); ++k) {
+        if (paths[k].path.empty()) continue;
+        checkPathLength(paths[k].path, head + paths[k].option);
+        resolved[k] = resolveRunPath(paths[k].path);
+    }
+    const auto named = [&](std::size_t k) { return paths[k].option + " '" + shownPath(paths[k].path) + "'"; };
+    for (std::size_t a = 0; a < paths.size(); ++a) {
+        if (paths[a].path.empty()) continue;
+        for (std::size_t b = 0; b < paths.size(); ++b) {
+            if (b == a || paths[b].path.empty()) continue;
+            const ResolvedPath& ra = resolved[a];
+            const ResolvedPath& rb = resolved[b];
+            if (b > a && !(isInput(paths[a].role) && isInput(paths[b].role))) {
+                const bool same = ra.canonical == rb.canonical ||
+                                  (ra.exists && rb.exists && ra.dev == rb.dev && ra.ino == rb.ino);
+                if (same)
+                    throw Error(head + named(a) + " and " + named(b) +
+                                " name the same file; allowed: a distinct path for each output, none of them an "
+                                "input of the run");
+            }
+            const PathRole outer = paths[a].role;
+            const bool writes_inside = outer == PathRole::OutputFolder;
+            const bool reads_inside = outer == PathRole::InputFolder && !isInput(paths[b].role);
+            if (!writes_inside && !reads_inside) continue;
+            const std::string first = firstNameInside(rb.canonical, ra.canonical);
+            if (first.empty() || (paths[a].names && !paths[a].names(first))) continue;
+            if (writes_inside)
+                throw Error(head + named(b) + " lies inside the output folder " + named(a) + ", " +
+                            (paths[a].names ? "where this run writes '" + detail::shown(first, 80, true) + "'"
+                                            : std::string("which this run replaces as a whole")) +
+                            "; allowed: a path outside it");
+            throw Error(head + named(b) + " lies inside the input folder " + named(a) +
+                        ", which this run reads; allowed: an output outside it");
+        }
+    }
 }
 
 // ---------------------------------------------------------------------------------

@@ -583,7 +583,8 @@ static io::LasOptions lasOptions(const core::Scene& scene, const GenerateOptions
     return las;
 }
 
-void Generator::run(const std::filesystem::path& out, io::CloudFormat format, GenerateStats* stats) {
+void Generator::run(const std::filesystem::path& out, engine::CloudFormat format, GenerateStats* stats,
+                    const BeforeCommit& before_commit) {
     const State& s = *state_;
     const auto t0 = Clock::now();
     GenerateStats st;
@@ -615,7 +616,6 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
         const auto tc = Clock::now();
         for (std::size_t i = 0; i < points.size(); i += kColourChunk)
             writer.append(std::span(points).subspan(i, std::min(kColourChunk, points.size() - i)));
-        writer.commit();
         st.seconds.write = secondsSince(tc);
     } else {
         checkFreeSpace(out.parent_path(), fused_bytes, "the spool file of the fused cloud");
@@ -643,12 +643,14 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
             writer.append(part);
             st.seconds.write += secondsSince(tc);
         }
-        if (writer.count() != st.points) throw core::Error("output: " + out.string() + ": spool file came back short");
-        const auto tc = Clock::now();
-        writer.commit();
-        st.seconds.write += secondsSince(tc);
+        if (writer.count() != st.points)
+            throw engine::Error("output: " + out.string() + ": spool file came back short");
     }
     terrain.finish(st);
+    if (before_commit) before_commit(st);
+    const auto tc = Clock::now();
+    writer.commit();
+    st.seconds.write += secondsSince(tc);
     st.seconds.total = s.bvh_seconds + secondsSince(t0);
     if (stats) *stats = st;
 }

@@ -60,5 +60,5 @@ one_error 1 "--min-score = 2: allowed \[0, 1\]" detect "$dir/demo.pcd" --out "$d
 one_error 1 "--target-size-m = -7" detect "$dir/demo.pcd" --out "$dir/bad.json" --target-size-m -7 3.5 2.5
 one_error 1 "--cluster-tolerance-m" detect "$dir/demo.pcd" --out "$dir/bad.json" --cluster-tolerance-m 0.1
 one_error 1 "missing.pcd" detect "$dir/missing.pcd" --out "$dir/bad.json"
-one_error 1 "is the input cloud" detect "$dir/demo.pcd" --out "$dir/demo.pcd"
+one_error 1 "name the same file" detect "$dir/demo.pcd" --out "$dir/demo.pcd"
 echo "cmd_detect: ok"

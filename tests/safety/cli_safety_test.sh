@@ -77,7 +77,7 @@ no_temporaries "$pl"
 in="$dir/inputs"
 cp -r "$scene_src" "$in"
 before=$(cat "$in/scene.json" "$in/box.obj" | sha256sum)
-refused "is the input file" generate "${small[@]}" --scene "$in/scene.json" --format pcd --out "$in/scene.json"
+refused "name the same file" generate "${small[@]}" --scene "$in/scene.json" --format pcd --out "$in/scene.json"
 ln "$in/box.obj" "$in/hard.pcd"
 refused "is the input file" generate "${small[@]}" --scene "$in/scene.json" --out "$in/hard.pcd"
 ln -s "$in" "$dir/inputs_link"

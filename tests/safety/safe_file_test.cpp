@@ -307,12 +307,20 @@ TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
         CHECK(slurp(out / "thesis.tex") == "years of work");
         CHECK(slurp(out / "a.txt") == "run1 a");
     }
-    SUBCASE("a link to a folder: the folder it points to is replaced, the link stays") {
+    SUBCASE("a link to a folder is refused: neither the link nor the folder it points to changes") {
         fs::create_directory_symlink(out, dir.path / "link");
-        platform::writeFolderAtomic(dir.path / "link", {{"a.txt", "via link"}}, ours);
+        CHECK(contains(errorOf([&] { engine::writeFolderAtomic(dir.path / "link", {{"a.txt", "via link"}}, ours); }),
+                       "is a symbolic link; refusing to follow it"));
+        CHECK(contains(errorOf([&] { engine::checkOutputFolder(dir.path / "link", ours); }),
+                       "is a symbolic link; refusing to follow it"));
         CHECK(fs::is_symlink(dir.path / "link"));
-        CHECK(slurp(out / "a.txt") == "via link");
-        CHECK_FALSE(fs::exists(out / "b.txt"));
+        CHECK(slurp(out / "a.txt") == "run1 a");
+        CHECK(slurp(out / "b.txt") == "run1 b");
+    }
+    SUBCASE("a regular file is named as one") {
+        std::ofstream(dir.path / "file.txt") << "text";
+        CHECK(contains(errorOf([&] { engine::checkOutputFolder(dir.path / "file.txt", ours); }),
+                       "is a regular file, not a folder"));
     }
     SUBCASE("missing parent folders are made") {
         platform::checkOutputFolder(dir.path / "x" / "y" / "report", ours);
@@ -320,4 +328,67 @@ TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
         CHECK(slurp(dir.path / "x" / "y" / "report" / "a.txt") == "deep");
     }
     CHECK(temporariesIn(dir.path) == 0);
+}
+
+TEST_CASE("a run's paths: no output onto an input or another output, none inside an output folder") {
+    using engine::PathRole;
+    TempDir dir("distinct");
+    const fs::path scene = dir.path / "scene.json";
+    std::ofstream(scene) << "{}";
+    const auto check = [](const std::vector<engine::RunPath>& paths) {
+        return errorOf([&] { engine::checkDistinctPaths("cmd", paths); });
+    };
+    SUBCASE("two outputs under one name, also spelt differently or absent yet") {
+        CHECK(contains(check({{"--out", dir.path / "x.pcd", PathRole::Output, {}},
+                              {"--dtm", dir.path / "." / "x.pcd", PathRole::Output, {}}}),
+                       "cmd: --out '" + (dir.path / "x.pcd").string() + "' and --dtm '"));
+        CHECK(contains(check({{"--out", dir.path / "x.pcd", PathRole::Output, {}},
+                              {"--dtm", dir.path / "x.pcd", PathRole::Output, {}}}),
+                       "name the same file; allowed: a distinct path for each output"));
+    }
+    SUBCASE("an output onto an input, through a symbolic link or a hard link") {
+        fs::create_symlink(scene, dir.path / "soft.json");
+        fs::create_hard_link(scene, dir.path / "hard.asc");
+        CHECK(contains(check({{"--scene", scene, PathRole::Input, {}},
+                              {"--dtm", dir.path / "soft.json", PathRole::Output, {}}}), "name the same file"));
+        CHECK(contains(check({{"--scene", scene, PathRole::Input, {}},
+                              {"--dtm", dir.path / "hard.asc", PathRole::Output, {}}}), "name the same file"));
+    }
+    SUBCASE("one input given twice is allowed; empty paths are skipped") {
+        CHECK(check({{"--p1", scene, PathRole::Input, {}}, {"--p2", scene, PathRole::Input, {}},
+                     {"--dtm", "", PathRole::Output, {}}, {"--out", "", PathRole::Output, {}}}) == "(no error)");
+    }
+    SUBCASE("an input inside an output folder replaced as a whole") {
+        fs::create_directories(dir.path / "report");
+        std::ofstream(dir.path / "report" / "view_0_i1.png") << "cloud";
+        CHECK(contains(check({{"--out", dir.path / "report", PathRole::OutputFolder, {}},
+                              {"--p1", dir.path / "report" / "view_0_i1.png", PathRole::Input, {}}}),
+                       "lies inside the output folder --out '" + (dir.path / "report").string() +
+                           "', which this run replaces as a whole"));
+    }
+    SUBCASE("an output folder that writes some names: only those conflict") {
+        const engine::OwnedName study = [](const std::string& n) { return n.rfind("trace_", 0) == 0; };
+        CHECK(contains(check({{"--out", dir.path / "d", PathRole::OutputFolder, study},
+                              {"--log-json", dir.path / "d" / "trace_1.csv", PathRole::Output, {}}}),
+                       "where this run writes 'trace_1.csv'"));
+        CHECK(check({{"--out", dir.path / "d", PathRole::OutputFolder, study},
+                     {"--log-json", dir.path / "d" / "log.json", PathRole::Output, {}}}) == "(no error)");
+    }
+    SUBCASE("an output inside an input folder") {
+        CHECK(contains(check({{"--stats", dir.path, PathRole::InputFolder, {}},
+                              {"--histogram", dir.path / "manifest.jsonl", PathRole::Output, {}}}),
+                       "lies inside the input folder --stats"));
+        CHECK(check({{"--stats", dir.path, PathRole::InputFolder, {}},
+                     {"--p1", dir.path / "a.pcd", PathRole::Input, {}}}) == "(no error)");
+    }
+    SUBCASE("a path longer than the system opens: one line, the path shortened") {
+        const std::string long_path = "/tmp/" + std::string(4300, 'a');
+        const std::string m = check({{"--out", long_path, PathRole::Output, {}}});
+        CHECK(contains(m, "cmd: --out: /tmp/aaa"));
+        CHECK(contains(m, "the path is 4305 bytes long; allowed at most 4095 bytes"));
+        CHECK(m.size() < 300);
+        CHECK(contains(check({{"--out", "/tmp/" + std::string(300, 'b') + "/x", PathRole::Output, {}}}),
+                       "a name in it is 300 bytes long; allowed at most 255 bytes per name"));
+        CHECK(contains(errorOf([&] { engine::checkWritableDestination(long_path); }), "allowed at most 4095 bytes"));
+    }
 }

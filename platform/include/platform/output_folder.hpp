@@ -16,7 +16,7 @@ using OwnedName = std::function<bool(const std::string& name)>;
 
 /// Checks, before the work, that `dir` can become an output folder: its parent exists
 /// (or its nearest existing ancestor, as missing parents are made) is a writable folder,
-/// and `dir` is absent or a folder (or a link to one) holding only names `ours` accepts.
+/// and `dir` is absent or a folder (never a symbolic link) holding only names `ours` accepts.
 /// Throws Error("output: <dir>: ...").
 void checkOutputFolder(const std::filesystem::path& dir, const OwnedName& ours);
 

@@ -18,8 +18,10 @@
 #include <cstddef>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace platform {
 
@@ -107,5 +109,42 @@ std::FILE* openScratchFile(const std::filesystem::path& dir, std::string_view wh
 /// Removes the ".ladarvr-tmp-<pid>-XXXXXX" files and folders in `dir` whose process is
 /// no longer alive and that belong to this user. Quiet; errors are ignored.
 void removeStaleTemporaries(const std::filesystem::path& dir);
+
+/// The longest path (in bytes, without the final NUL) and the longest name in it that
+/// the project accepts for a file it reads or writes: Linux's PATH_MAX - 1 and NAME_MAX.
+inline constexpr std::size_t kMaxPathBytes = 4095;
+inline constexpr std::size_t kMaxNameBytes = 255;
+
+/// Throws Error("<what> '<path, shortened>': the path is N bytes long; allowed at most
+/// 4095 bytes" (or "... a name in it is N bytes long; allowed at most 255 bytes per
+/// name")) when `path` is longer than the system can open; `what` names the option.
+void checkPathLength(const std::filesystem::path& path, std::string_view what);
+
+/// What a path is to a run, for checkDistinctPaths.
+enum class PathRole {
+    Input,         // a file the run reads
+    InputFolder,   // a folder the run reads from (its `names`, or everything in it)
+    Output,        // a file the run writes
+    OutputFolder,  // a folder the run writes into (its `names`) or replaces as a whole
+};
+
+/// One path given to a run: the option that gave it (for messages, e.g. "--out"), the
+/// path, its role and, for folders, a test of the names inside it that the run reads or
+/// writes (applied to the first name below the folder; empty: every name).
+struct RunPath {
+    std::string option;
+    std::filesystem::path path;
+    PathRole role = PathRole::Input;
+    std::function<bool(const std::string& name)> names;
+};
+
+/// The check every command runs on its paths before any work: no output is an input or
+/// another output, and no path lies inside an output folder where the run writes (or
+/// that it replaces), nor an output inside an input folder where the run reads. Paths
+/// are compared after resolving links in their existing part (two names of one file,
+/// hard links included, are the same file); empty paths are skipped; each path's length
+/// is checked first (checkPathLength). Throws Error("<command>: <option> '<path>' and
+/// <option> '<path>' <why>; allowed: ..."), one line naming both options.
+void checkDistinctPaths(std::string_view command, const std::vector<RunPath>& paths);
 
 }  // namespace platform
