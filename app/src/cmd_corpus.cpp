@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace app {
 namespace {
@@ -32,7 +34,22 @@ struct CorpusCli {
     std::uint64_t seed = 1;
     double time_limit_s = 120.0;
     bool json = false;
+    // Each option with the modes it belongs to: one given to another mode is refused,
+    // not ignored (a --select beside a SPEC would otherwise build a corpus silently).
+    enum Mode : unsigned { kBuild = 1, kMerge = 2, kStats = 4, kSelect = 8 };
+    std::vector<std::pair<CLI::Option*, unsigned>> options;
 };
+
+void refuseOtherModes(const CorpusCli& cli, CorpusCli::Mode mode, const char* mode_text) {
+    for (const auto& [option, modes] : cli.options)
+        if (option->count() > 0 && !(modes & mode)) {
+            std::string allowed;
+            for (const auto& [other, other_modes] : cli.options)
+                if (other_modes & mode) allowed += (allowed.empty() ? "" : ", ") + other->get_name();
+            throw CLI::ValidationError(option->get_name() + " does not go with " + mode_text + "; allowed with it: " +
+                                       (allowed.empty() ? std::string("no option") : allowed));
+        }
+}
 
 std::string firstFew(const std::vector<std::string>& ids) {
     std::string s;
@@ -109,11 +126,17 @@ void run(const CorpusCli& cli) {
     const int modes = int(!cli.spec.empty()) + int(!cli.merge.empty()) + int(!cli.stats.empty());
     if (modes != 1) throw CLI::ValidationError("give one of SPEC (with --out DIR), --merge DIR, --stats DIR");
     if (!cli.spec.empty()) {
+        refuseOtherModes(cli, CorpusCli::kBuild, "SPEC (building a corpus)");
         if (cli.out.empty()) throw CLI::ValidationError("SPEC needs --out DIR: the folder the items go to");
         runBuild(cli);
     } else if (!cli.merge.empty()) {
+        refuseOtherModes(cli, CorpusCli::kMerge, "--merge");
         runMerge(cli);
     } else {
+        if (cli.select.empty())
+            refuseOtherModes(cli, CorpusCli::kStats, "--stats without --select");
+        else
+            refuseOtherModes(cli, CorpusCli::kSelect, "--stats --select");
         if (!cli.select.empty() && cli.count == 0)
             throw CLI::ValidationError("--select needs --count N (N >= 1): how many trials the plan holds");
         runStats(cli);
@@ -125,37 +148,40 @@ void run(const CorpusCli& cli) {
 void registerCorpus(CLI::App& cli) {
     auto state = std::make_shared<CorpusCli>();
     CLI::App* c = cli.add_subcommand(
-        "corpus",
-        "build many varied scenes and clouds from a SPEC (resumable, --jobs, Slurm array shards), "
-        "merge shard manifests, summarise a corpus, select study trials by difficulty (docs/corpus.md)");
+        "corpus", "build many varied scenes and clouds from a SPEC (resumable, --jobs, Slurm array shards), "
+                  "merge shard manifests, summarise a corpus, select study trials by difficulty (docs/corpus.md)");
+    using M = CorpusCli::Mode;
+    const auto mode = [&](CLI::Option* o, unsigned modes) { state->options.emplace_back(o, modes); };
     c->add_option("SPEC", state->spec, "SPEC.json: the base scene, count, seed and what varies");
-    c->add_option("--out", state->out, "corpus folder: items/<id>/, manifest.jsonl (resumes when it exists)");
-    c->add_option("--jobs", state->jobs, "items built at once, [1, 1024]")->capture_default_str();
-    c->add_option("--threads", state->threads, "generator threads per item; 0 = the cores divided by --jobs")
-        ->capture_default_str();
-    c->add_option("--shard", state->shard,
-                  "I/N: build items i with i mod N == I into manifest.<I>.jsonl; default "
-                  "from SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT");
-    c->add_option("--merge", state->merge,
-                  "DIR: merge manifest.<I>.jsonl into manifest.jsonl, sorted by id; "
-                  "reports missing and duplicated items");
+    mode(c->add_option("--out", state->out, "corpus folder: items/<id>/, manifest.jsonl (resumes when it exists)"),
+         M::kBuild);
+    mode(c->add_option("--jobs", state->jobs, "items built at once, [1, 1024]")->capture_default_str(), M::kBuild);
+    mode(c->add_option("--threads", state->threads, "generator threads per item; 0 = the cores divided by --jobs")
+             ->capture_default_str(),
+         M::kBuild);
+    mode(c->add_option("--shard", state->shard, "I/N: build items i with i mod N == I into manifest.<I>.jsonl; default "
+                                                "from SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT"),
+         M::kBuild);
+    c->add_option("--merge", state->merge, "DIR: merge manifest.<I>.jsonl into manifest.jsonl, sorted by id; "
+                                           "reports missing and duplicated items");
     c->add_option("--stats", state->stats, "DIR: distribution of the metric and the other columns, histogram PNG");
-    c->add_flag("--json", state->json, "with --stats: print the statistics as JSON on stdout");
-    c->add_option("--column", state->column,
-                  "with --stats: the histogram's column (default: metric if present, "
-                  "else points)");
-    c->add_option("--histogram", state->histogram, "with --stats: the histogram PNG (default DIR/histogram.png)");
-    c->add_option("--select", state->select,
-                  "with --stats: items to pick, e.g. \"metric<0.3\" or "
-                  "\"metric>=0.2,metric<0.5\" (all must hold); writes a study plan");
-    c->add_option("--count", state->count, "with --select: trials in the plan")->capture_default_str();
-    c->add_option("--seed", state->seed,
-                  "with --select: which matching items are picked, and the plan's "
-                  "shuffle_seed")
-        ->capture_default_str();
-    c->add_option("--plan", state->plan, "with --select: the plan file (default DIR/plan.json)");
-    c->add_option("--time-limit-s", state->time_limit_s, "with --select: each trial's time limit, seconds > 0")
-        ->capture_default_str();
+    mode(c->add_flag("--json", state->json, "with --stats: print the statistics as JSON on stdout"), M::kStats);
+    mode(c->add_option("--column", state->column, "with --stats: the histogram's column (default: metric if present, "
+                                                  "else points)"),
+         M::kStats);
+    mode(c->add_option("--histogram", state->histogram, "with --stats: the histogram PNG (default DIR/histogram.png)"),
+         M::kStats);
+    mode(c->add_option("--select", state->select, "with --stats: items to pick, e.g. \"metric<0.3\" or "
+                                                  "\"metric>=0.2,metric<0.5\" (all must hold); writes a study plan"),
+         M::kSelect);
+    mode(c->add_option("--count", state->count, "with --select: trials in the plan")->capture_default_str(), M::kSelect);
+    mode(c->add_option("--seed", state->seed, "with --select: which matching items are picked, and the plan's "
+                                              "shuffle_seed")->capture_default_str(),
+         M::kSelect);
+    mode(c->add_option("--plan", state->plan, "with --select: the plan file (default DIR/plan.json)"), M::kSelect);
+    mode(c->add_option("--time-limit-s", state->time_limit_s, "with --select: each trial's time limit, seconds > 0")
+             ->capture_default_str(),
+         M::kSelect);
     c->callback([state] { run(*state); });
 }
 

@@ -14,8 +14,14 @@
 
 #include <nlohmann/json.hpp>
 
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 namespace corpus {
 
@@ -32,6 +38,36 @@ namespace {
 json optional(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
 json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 json triple(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+// The test hook that holds a build mid-item (see item.hpp): with
+// LADARVR_TEST_HOLD_ITEM="<index>:<fifo>", item <index> stops with its files written
+// in its hidden folder and not yet moved into place, tells the FIFO "held <id>", then
+// waits until something opens the FIFO for writing and closes it.
+void holdForTest(std::size_t index, const std::string& id) {
+    const char* hook = std::getenv("LADARVR_TEST_HOLD_ITEM");
+    if (!hook) return;
+    const std::string text = hook;
+    const std::size_t colon = text.find(':');
+    if (colon == std::string::npos || text.substr(0, colon) != std::to_string(index)) return;
+    const std::string fifo = text.substr(colon + 1);
+    struct stat st {};
+    if (::stat(fifo.c_str(), &st) != 0 || !S_ISFIFO(st.st_mode))
+        throw engine::Error("corpus: LADARVR_TEST_HOLD_ITEM: '" + engine::printable(fifo) +
+                            "' is not a FIFO; allowed <index>:<a FIFO> (a test hook)");
+    const std::string line = "held " + id + "\n";
+    int fd = ::open(fifo.c_str(), O_WRONLY | O_CLOEXEC);  // waits for the test to listen
+    if (fd >= 0) {
+        [[maybe_unused]] const ssize_t wrote = ::write(fd, line.data(), line.size());
+        ::close(fd);
+    }
+    fd = ::open(fifo.c_str(), O_RDONLY | O_CLOEXEC);  // waits for the test to release it
+    if (fd >= 0) {
+        char buffer[64];
+        while (::read(fd, buffer, sizeof buffer) > 0) {
+        }
+        ::close(fd);
+    }
+}
 
 }  // namespace
 
@@ -89,6 +125,7 @@ ItemOutcome buildItem(const Planner& planner, std::size_t index, const fs::path&
         const FileDigest d = sha256File(files.path(name));
         listed[name] = {{"bytes", d.bytes}, {"sha256", d.sha256}};
     }
+    holdForTest(index, plan.id);
     files.commit();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 

@@ -30,18 +30,10 @@ std::string exactNumber(double v) {
     return std::string(buffer, r.ptr);
 }
 
-glm::dvec3 vec3(const json& v) { return {v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()}; }
-
-/// A target model's vertices in its own frame (scale and up applied, no yaw, no position).
-std::vector<glm::dvec3> loadModel(const fs::path& file, const std::string& up, double scale, const fs::path& scene) {
-    json j;
-    j["origin"] = {0.0, 0.0, 0.0};
-    j["meshes"] = json::array({json{{"file", file.string()}, {"role", "target"}, {"up", up}, {"scale", scale}}});
-    const core::Scene s = io::loadSceneJson(j.dump(), scene);
-    std::vector<glm::dvec3> out;
-    for (const core::Mesh& m : s.meshes)
-        for (const glm::vec3& v : m.vertices) out.emplace_back(v);
-    return out;
+/// A target model's vertices in its own frame (scale and up applied, no yaw, no position);
+/// `where` names it in messages (the SPEC key or the base scene's entry).
+std::vector<glm::dvec3> loadModel(const fs::path& file, const std::string& up, double scale, const std::string& where) {
+    return engine::loadMeshVertices(file, up == "y", scale, where);
 }
 
 bool overlaps(const core::Bounds& a, const core::Bounds& b) {
@@ -68,12 +60,12 @@ std::string ItemPlan::sceneText(const fs::path& folder) const {
             const fs::path rel = m.file.lexically_relative(folder);
             if (!rel.empty()) file = rel.string();
         }
-        list.push_back(json{{"file", file},
-                            {"role", m.role},
-                            {"position", {m.position.x, m.position.y, m.position.z}},
-                            {"yaw_deg", m.yaw_deg},
-                            {"scale", m.scale},
-                            {"up", m.up}});
+        json entry{{"file", file}, {"role", m.role}, {"position", {m.position.x, m.position.y, m.position.z}},
+                   {"yaw_deg", m.yaw_deg}, {"scale", m.scale}, {"up", m.up}};
+        // Written when they differ from the scene format's defaults (the same scene either way).
+        if (m.reflectance != engine::kDefaultReflectance) entry["reflectance"] = m.reflectance;
+        if (m.asprs_class >= 0) entry["class"] = m.asprs_class;
+        list.push_back(std::move(entry));
     }
     j["meshes"] = std::move(list);
     return j.dump(2) + "\n";
@@ -114,22 +106,24 @@ struct Planner::State {
 Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
     State& s = *state_;
     s.spec = spec;
-    const std::string prefix = "corpus: " + core::printable(spec.file.string()) + ": ";
-    const std::string text =
-        platform::readTextFile(spec.scene, io::kMaxSceneBytes, "corpus: scene " + core::printable(spec.scene.string()));
-    s.base = io::loadSceneJson(text, spec.scene);  // validates the scene and every mesh
-    const json j = json::parse(text);
-    if (j.contains("origin")) s.origin = vec3(j["origin"]);
+    const std::string prefix = "corpus: " + engine::printable(spec.file.string()) + ": ";
+    const std::string text = engine::readTextFile(spec.scene, engine::kMaxSceneBytes,
+                                                  "corpus: scene " + engine::printable(spec.scene.string()));
+    s.base = engine::loadSceneJson(text, spec.scene);  // validates the scene and every mesh
+    // The entries as the scene parser read them: every field an item's scene copies.
+    s.origin = s.base.written_origin;
     const fs::path dir = spec.scene.parent_path();
-    for (const json& m : j.at("meshes")) {
+    for (const engine::SceneEntry& m : s.base.entries) {
         MeshEntry e;
-        e.written = m.at("file").get<std::string>();
+        e.written = m.file;
         e.file = fs::absolute(dir / e.written).lexically_normal();
-        e.role = m.at("role").get<std::string>();
-        if (m.contains("position")) e.position = vec3(m["position"]);
-        if (m.contains("yaw_deg")) e.yaw_deg = m["yaw_deg"].get<double>();
-        if (m.contains("scale")) e.scale = m["scale"].get<double>();
-        if (m.contains("up")) e.up = m["up"].get<std::string>();
+        e.role = std::string(engine::roleName(m.role));
+        e.position = m.position;
+        e.yaw_deg = m.yaw_deg;
+        e.scale = m.scale;
+        e.up = m.up_y ? "y" : "z";
+        e.reflectance = m.reflectance;
+        e.asprs_class = m.asprs_class;
         s.entries.push_back(std::move(e));
     }
     if (s.entries.size() != s.base.meshes.size())
@@ -162,14 +156,20 @@ Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
     }
     if (s.target >= 0) {
         const MeshEntry& t = s.entries[std::size_t(s.target)];
+        const std::string base_where = "corpus: scene " + engine::printable(spec.scene.string()) + ": meshes[" +
+                                       std::to_string(s.target) + "] (the target)";
         if (spec.target_files.empty()) {
-            s.models.push_back(loadModel(t.file, t.up, t.scale, spec.scene));
+            s.models.push_back(loadModel(t.file, t.up, t.scale, base_where));
         } else {
-            for (const TargetModel& m : spec.target_files)
-                s.models.push_back(loadModel(m.file, m.up, m.scale, spec.scene));
+            for (std::size_t i = 0; i < spec.target_files.size(); ++i) {
+                const TargetModel& m = spec.target_files[i];
+                s.models.push_back(loadModel(m.file, m.up, m.scale,
+                                             prefix + "vary.target_files[" + std::to_string(i) + "]"));
+            }
         }
         // The base target's clearance: its lowest vertex above the ground under it.
-        const std::vector<glm::dvec3> base_model = loadModel(t.file, t.up, t.scale, spec.scene);
+        const std::vector<glm::dvec3> base_model =
+            spec.target_files.empty() ? s.models.front() : loadModel(t.file, t.up, t.scale, base_where);
         double lo_z = 1e300;
         for (const glm::dvec3& v : base_model) lo_z = std::min(lo_z, v.z);
         const std::optional<double> g = groundZ(t.position.x, t.position.y);

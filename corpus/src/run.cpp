@@ -34,6 +34,7 @@ using nlohmann::json;
 namespace {
 
 constexpr std::size_t kMaxManifestBytes = std::size_t(1) << 30;
+constexpr std::size_t kMaxRecordBytes = std::size_t(1) << 20;
 
 std::string shown(const fs::path& p) { return core::printable(p.string()); }
 
@@ -52,32 +53,6 @@ bool itemIntact(const fs::path& dir, const json& line) {
     return true;
 }
 
-/// A file this command writes and later replaces (a manifest): read whole, bounded, as a
-/// regular file, but not remembered as an input (platform::readTextFile would forbid the
-/// rewrite).
-std::string readOwnFile(const fs::path& file) {
-    const std::string problem = platform::regularFileProblem(file);
-    if (!problem.empty())
-        throw core::Error("corpus: manifest " + shown(file) + " " + problem + "; allowed: a regular file");
-    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
-    if (fd < 0) throw core::Error("corpus: manifest " + shown(file) + ": cannot open: " + std::strerror(errno));
-    std::string text;
-    char buffer[1 << 16];
-    for (;;) {
-        const ssize_t n = ::read(fd, buffer, sizeof buffer);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        text.append(buffer, std::size_t(n));
-        if (text.size() > kMaxManifestBytes) {
-            ::close(fd);
-            throw core::Error("corpus: manifest " + shown(file) + " is larger than " +
-                              std::to_string(kMaxManifestBytes) + " bytes; allowed: a manifest of this command");
-        }
-    }
-    ::close(fd);
-    return text;
-}
-
 struct ManifestLine {
     std::size_t index;
     std::string id;
@@ -87,11 +62,8 @@ struct ManifestLine {
 
 /// The complete, parseable lines of a manifest file (a torn last line is left out);
 /// `torn` counts what was left out. Absent file: no line.
-std::vector<ManifestLine> readLines(const fs::path& file, std::size_t* torn) {
+std::vector<ManifestLine> parseLines(const std::string& text, std::size_t* torn) {
     std::vector<ManifestLine> lines;
-    struct stat st{};
-    if (::lstat(file.c_str(), &st) != 0) return lines;
-    const std::string text = readOwnFile(file);
     std::size_t start = 0;
     while (start < text.size()) {
         const std::size_t end = text.find('\n', start);
@@ -114,6 +86,13 @@ std::vector<ManifestLine> readLines(const fs::path& file, std::size_t* torn) {
     return lines;
 }
 
+/// parseLines of a manifest this command wrote and may rewrite (engine::readOwnFile).
+std::vector<ManifestLine> readLines(const fs::path& file, std::size_t* torn) {
+    struct stat st {};
+    if (::lstat(file.c_str(), &st) != 0) return {};
+    return parseLines(engine::readOwnFile(file, kMaxManifestBytes, "corpus: manifest"), torn);
+}
+
 std::string joinLines(const std::vector<ManifestLine>& lines) {
     std::string s;
     for (const ManifestLine& l : lines) s += l.text + "\n";
@@ -123,7 +102,7 @@ std::string joinLines(const std::vector<ManifestLine>& lines) {
 json readCorpusRecord(const fs::path& dir) {
     const fs::path file = dir / "corpus.json";
     try {
-        return json::parse(readOwnFile(file));
+        return json::parse(engine::readOwnFile(file, kMaxRecordBytes, "corpus: record"));
     } catch (const json::exception& e) {
         throw core::Error("corpus: " + shown(file) + ": not valid JSON (" + core::printable(e.what(), 100) + ")");
     }
@@ -198,19 +177,19 @@ RunSummary runCorpus(const RunOptions& o) {
     if (::stat(o.out.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
         throw core::Error("corpus: --out " + shown(o.out) + " exists and is not a folder; allowed a folder");
     std::error_code ec;
-    fs::create_directories(o.out / "items", ec);
-    if (ec) throw core::Error("corpus: --out " + shown(o.out) + ": cannot create the folder: " + ec.message());
+    fs::create_directories(o.out, ec);
+    if (ec) throw engine::Error("corpus: --out " + shown(o.out) + ": cannot create the folder: " + ec.message());
+    // DIR/items is ours: a real folder, never a link planted to send the items elsewhere.
+    engine::makeOwnFolder(o.out / "items", "output:");
     recordSpec(o.out, spec);
-    platform::removeStaleTemporaries(o.out / "items");
+    engine::removeStaleTemporaries(o.out / "items", isItemFile);
 
     RunSummary summary;
     summary.manifest = o.out / (o.sharded ? "manifest." + std::to_string(o.shard) + ".jsonl" : "manifest.jsonl");
     // One run per manifest at a time: two would build the same items and append the same
     // lines. The lock goes with the process (flock), so a killed run never leaves it held.
     const fs::path lock_path = summary.manifest.string() + ".lock";
-    const int lock_fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
-    if (lock_fd < 0)
-        throw core::Error("output: " + shown(lock_path) + ": cannot open the lock file: " + std::strerror(errno));
+    const int lock_fd = engine::openOwnFile(lock_path, O_RDWR | O_CREAT, "output: lock file");
     struct LockCloser {
         int fd;
         ~LockCloser() { ::close(fd); }
@@ -246,41 +225,44 @@ RunSummary runCorpus(const RunOptions& o) {
             if (l.index < spec.count && l.id == planner.itemId(l.index) && itemIntact(o.out, l.value))
                 done.insert(l.index);
 
-    std::vector<std::size_t> todo;
-    for (std::size_t i = o.shard; i < spec.count; i += o.shards) {
-        ++summary.planned;
-        if (done.count(i))
-            ++summary.skipped;
-        else
-            todo.push_back(i);
-    }
+    // The items to build are this shard's indices minus `done`, handed out one at a time
+    // (a SPEC may count 10^8 items: no list of them is held).
+    summary.planned = o.shard < spec.count ? (spec.count - o.shard + o.shards - 1) / o.shards : 0;
+    for (std::size_t i : done)
+        if (i % o.shards == o.shard) ++summary.skipped;
+    const std::size_t to_build = summary.planned - summary.skipped;
     say("corpus: " + std::to_string(summary.planned) + " items in this run" +
         (o.shards > 1 ? " (shard " + std::to_string(o.shard) + "/" + std::to_string(o.shards) + ")" : "") + ", " +
-        std::to_string(summary.skipped) + " already complete, " + std::to_string(todo.size()) + " to build with " +
+        std::to_string(summary.skipped) + " already complete, " + std::to_string(to_build) + " to build with " +
         std::to_string(o.jobs) + " job(s)");
-    if (todo.empty()) return summary;
+    if (to_build == 0) return summary;
 
-    const int fd = ::open(summary.manifest.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
-    if (fd < 0)
-        throw core::Error("output: " + shown(summary.manifest) +
-                          ": cannot open for appending: " + std::strerror(errno));
+    const int fd = engine::openOwnFile(summary.manifest, O_WRONLY | O_APPEND | O_CREAT, "output: manifest");
     struct Closer {
         int fd;
         ~Closer() { ::close(fd); }
     } closer{fd};
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))
-        throw core::Error("output: " + shown(summary.manifest) + ": is not a regular file; allowed a regular file");
 
     const int hardware = int(std::max(1u, std::thread::hardware_concurrency()));
     const int threads = o.threads > 0 ? o.threads : std::max(1, hardware / o.jobs);
-    std::atomic<std::size_t> next{0};
     std::mutex mutex;
+    std::size_t next = o.shard;  // the next index to look at, under `mutex`
     std::size_t finished = 0;
+    const auto take = [&]() -> std::optional<std::size_t> {
+        std::lock_guard lock(mutex);
+        for (; next < spec.count; next += o.shards)
+            if (!done.count(next)) {
+                const std::size_t index = next;
+                next += o.shards;
+                return index;
+            }
+        return std::nullopt;
+    };
     const auto work = [&] {
         for (;;) {
-            const std::size_t k = next.fetch_add(1);
-            if (k >= todo.size()) return;
-            const std::size_t index = todo[k];
+            const std::optional<std::size_t> taken = take();
+            if (!taken) return;
+            const std::size_t index = *taken;
             try {
                 const ItemOutcome r = buildItem(planner, index, o.out, threads);
                 const std::string line = r.manifest_line + "\n";
@@ -294,7 +276,7 @@ RunSummary runCorpus(const RunOptions& o) {
                 ++finished;
                 char text[256];
                 std::snprintf(text, sizeof text, "corpus: [%zu/%zu] item %s built in %.2f s, %llu points%s", finished,
-                              todo.size(), r.id.c_str(), r.seconds, (unsigned long long)r.points,
+                              to_build, r.id.c_str(), r.seconds, (unsigned long long)r.points,
                               std::isnan(r.metric) ? "" : (", metric " + std::to_string(r.metric)).c_str());
                 say(text);
             } catch (const std::exception& e) {
@@ -304,13 +286,13 @@ RunSummary runCorpus(const RunOptions& o) {
                 summary.failed.push_back(what.rfind("corpus: item ", 0) == 0
                                              ? what.substr(8)
                                              : "item " + planner.itemId(index) + ": " + what);
-                say("corpus: [" + std::to_string(finished) + "/" + std::to_string(todo.size()) + "] " +
+                say("corpus: [" + std::to_string(finished) + "/" + std::to_string(to_build) + "] " +
                     summary.failed.back());
             }
         }
     };
     std::vector<std::thread> pool;
-    for (int j = 1; j < std::min<int>(o.jobs, int(todo.size())); ++j) pool.emplace_back(work);
+    for (std::size_t j = 1; j < std::min<std::size_t>(std::size_t(o.jobs), to_build); ++j) pool.emplace_back(work);
     work();
     for (std::thread& t : pool) t.join();
     std::sort(summary.failed.begin(), summary.failed.end());
@@ -383,11 +365,19 @@ std::vector<std::string> readManifest(const fs::path& dir) {
         }
     }
     if (files.empty())
-        throw core::Error("corpus: " + shown(dir) +
-                          ": no manifest.jsonl or manifest.<I>.jsonl; allowed a folder "
-                          "made by 'ladarvr corpus SPEC --out DIR'");
+        throw engine::Error("corpus: " + shown(dir) + ": no manifest.jsonl or manifest.<I>.jsonl; allowed a folder "
+                            "made by 'ladarvr corpus SPEC --out DIR'");
+    // A corpus read as an input: its manifests, its record and its items are no place
+    // for this run's outputs; beside them outputs may go (histogram.png, plan.json).
+    engine::rememberInputFolder(dir, [](const std::string& rel) {
+        const std::string first = rel.substr(0, rel.find('/'));
+        return first != "corpus.json" && first != "items" && first.rfind("manifest.", 0) != 0 &&
+               first.rfind(engine::kTempPrefix, 0) != 0;
+    });
     for (const fs::path& f : files)
-        for (ManifestLine& l : readLines(f, nullptr)) by_index.emplace(l.index, std::move(l.text));
+        for (ManifestLine& l : parseLines(engine::readTextFile(f, kMaxManifestBytes, "corpus: manifest " + shown(f)),
+                                          nullptr))
+            by_index.emplace(l.index, std::move(l.text));
     std::vector<std::string> out;
     for (auto& [index, text] : by_index) out.push_back(std::move(text));
     return out;

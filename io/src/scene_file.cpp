@@ -48,16 +48,7 @@ struct RawMesh {
     std::size_t nonfinite_triangles = 0;  // dropped (skip_nonfinite only)
 };
 
-struct Entry {
-    std::string file;
-    Role role = Role::Environment;
-    glm::dvec3 position{0.0};
-    double yaw_deg = 0.0;
-    double scale = 1.0;
-    bool up_y = false;
-    double reflectance = 0.5;
-    int asprs_class = -1;
-};
+using Entry = SceneEntry;
 
 double finiteNumber(const json& v, const std::string& where, const std::string& key, const std::string& allowed) {
     if (!v.is_number()) throw Error(where + ": '" + key + "' must be " + allowed + ", not " + jsonTypeName(v));
@@ -242,6 +233,17 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where, 
 
 }  // namespace
 
+std::vector<glm::dvec3> loadMeshVertices(const std::filesystem::path& file, bool up_y, double scale,
+                                         const std::string& where) {
+    const RawMesh raw = importMesh(file, where, false);
+    std::vector<glm::dvec3> out;
+    out.reserve(raw.vertices.size());
+    // Through float, as loadScene's local frame holds them (the same numbers either way).
+    for (const glm::dvec3& v : raw.vertices)
+        out.emplace_back(glm::vec3(scale * (up_y ? glm::dvec3(v.x, -v.z, v.y) : v)));
+    return out;
+}
+
 Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& options) {
     namespace fs = std::filesystem;
     const std::string name = "scene: " + core::printable(file.string(), 400, true);
@@ -263,6 +265,7 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
     for (auto it = root.begin(); it != root.end(); ++it) {
         if (it.key() == "origin") {
             scene.origin = vec3Field(it.value(), name, "origin");
+            scene.written_origin = scene.origin;
             has_origin = true;
         } else if (it.key() == "meshes") {
             meshes = &it.value();
@@ -287,6 +290,7 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
         if (!any) throw Error(name + ": no mesh has role 'target'; a scene needs at least one target mesh");
     }
     if (!has_origin) scene.origin = entries.front().position;
+    scene.entries = entries;
 
     // Files used by several entries (trees, houses) are imported once.
     std::map<fs::path, std::shared_ptr<const RawMesh>> cache;

@@ -21,9 +21,6 @@ const char* kindName(mode_t mode);
 std::string randomTempName();
 /// Opens `dir` (O_DIRECTORY). Throws Error("output: <for_output>: cannot open the folder ...").
 int openFolder(const std::filesystem::path& dir, const std::filesystem::path& for_output);
-/// Removes a temporary file or folder (not following links) by name inside `dirfd`,
-/// which is open on `dir`.
-void removeEntry(int dirfd, const std::string& name, const std::filesystem::path& dir);
 
 /// Creates a fresh temporary name with `make(name)` (a mkdirat or openat with O_EXCL in
 /// the folder `dir`), retrying on EEXIST. Throws Error("output: <for_output>: ...").

@@ -111,7 +111,7 @@ void AtomicFolder::removeTemporary() noexcept {
     files_.clear();
     if (temp_fd_ >= 0) ::close(temp_fd_);
     temp_fd_ = -1;
-    if (!committed_ && !temp_name_.empty()) removeEntry(parent_fd_, temp_name_, parent_);
+    if (!committed_ && !temp_name_.empty()) removeOwnFolder(parent_fd_, temp_name_, ours_);
     temp_name_.clear();
     detail::unregisterTemporary(temp_slot_);
     temp_slot_ = -1;
@@ -177,7 +177,9 @@ void AtomicFolder::commit() {
         throw Error("output: " + shownPath(dir_) + ": cannot swap the new folder into place: " + errnoText(errno));
     }
     committed_ = true;
-    if (swapped_old) removeEntry(pfd, tmp, parent_);
+    // The previous folder, now under the temporary name; left (hidden) if it holds
+    // anything this command does not write.
+    if (swapped_old) removeOwnFolder(pfd, tmp, ours_);
     removeTemporary();
 }
 
@@ -186,7 +188,7 @@ void writeFolderAtomic(const fs::path& dir, const std::vector<std::pair<std::str
     {
         // The temporaries of dead runs beside the folder go first.
         fs::path parent = resolveOutputFolder(dir, ours, true).parent_path();
-        removeStaleTemporaries(parent.empty() ? fs::path(".") : parent);
+        removeStaleTemporaries(parent.empty() ? fs::path(".") : parent, ours);
     }
     AtomicFolder folder(dir, ours);
     for (const auto& [name, content] : files) folder.writeFile(name, content);

@@ -68,18 +68,6 @@ int openFolder(const fs::path& dir, const fs::path& for_output) {
     return fd;
 }
 
-// Removes a temporary file or folder (not following links) by name inside `dirfd`.
-void removeEntry(int dirfd, const std::string& name, const fs::path& dir) {
-    struct stat st{};
-    if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return;
-    if (S_ISDIR(st.st_mode)) {
-        std::error_code ec;
-        fs::remove_all(dir / name, ec);  // remove_all never follows symlinks inside
-    } else {
-        ::unlinkat(dirfd, name.c_str(), 0);
-    }
-}
-
 namespace {
 
 std::string sizeText(std::size_t bytes) {
@@ -88,12 +76,17 @@ std::string sizeText(std::size_t bytes) {
     return std::to_string(bytes) + " bytes";
 }
 
-// The pid of a name made by randomTempName, or -1.
+// The pid of a temporary's name, ".ladarvr-tmp-<pid>-<tag>", or -1. The tag is the six
+// random characters of randomTempName or a caller's own (a corpus item's id, 4 or more
+// digits): 1 to kMaxTempTagChars letters and digits.
+constexpr std::size_t kMaxTempTagChars = 32;
 pid_t tempNamePid(std::string_view name) {
     if (name.substr(0, kTempPrefix.size()) != kTempPrefix) return -1;
     name.remove_prefix(kTempPrefix.size());
     const std::size_t dash = name.find('-');
-    if (dash == 0 || dash == std::string_view::npos || dash > 10 || name.size() != dash + 7) return -1;
+    if (dash == 0 || dash == std::string_view::npos || dash > 10 || name.size() <= dash + 1 ||
+        name.size() > dash + 1 + kMaxTempTagChars)
+        return -1;
     long long pid = 0;
     for (char c : name.substr(0, dash)) {
         if (c < '0' || c > '9') return -1;
@@ -117,14 +110,33 @@ struct InputFile {
     ino_t ino;
     std::string path;
 };
+// Folders read as inputs, with the outputs that may still go inside them.
+struct InputFolder {
+    fs::path canonical;
+    std::string path;
+    OwnedName may_write;
+};
 std::mutex g_inputs_mutex;
 std::vector<InputFile> g_inputs;
+std::vector<InputFolder> g_input_folders;
 
 void rememberInput(const struct stat& st, const fs::path& path) {
     std::lock_guard lock(g_inputs_mutex);
     for (const InputFile& f : g_inputs)
         if (f.dev == st.st_dev && f.ino == st.st_ino) return;
     g_inputs.push_back({st.st_dev, st.st_ino, path.string()});
+}
+
+
+// Removes a dead run's temporary file (regular, ours) or folder (removeOwnFolder's checks) by name
+// inside `dirfd`; anything else stays.
+void removeStaleEntry(int dirfd, const std::string& name, const OwnedName& folder_holds) {
+    struct stat st {};
+    if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_uid != ::geteuid()) return;
+    if (S_ISDIR(st.st_mode))
+        removeOwnFolder(dirfd, name, folder_holds);
+    else if (S_ISREG(st.st_mode))
+        ::unlinkat(dirfd, name.c_str(), 0);
 }
 
 }  // namespace
@@ -296,14 +308,99 @@ std::string readTextFile(const fs::path& path, std::size_t max_bytes, std::strin
     return text;
 }
 
-void checkNotAnInput(const fs::path& path) {
-    struct stat st{};
-    if (::stat(path.c_str(), &st) != 0) return;
+void rememberInputFolder(const fs::path& dir, const OwnedName& may_write) {
+    std::error_code ec;
+    fs::path canonical = fs::canonical(dir, ec);
+    if (ec) return;  // absent: nothing in it to protect
     std::lock_guard lock(g_inputs_mutex);
+    g_input_folders.push_back({std::move(canonical), dir.string(), may_write});
+}
+
+void checkNotAnInput(const fs::path& path) {
+    std::lock_guard lock(g_inputs_mutex);
+    if (!g_input_folders.empty()) {
+        std::error_code ec;
+        const fs::path full = fs::weakly_canonical(fs::absolute(path, ec), ec);
+        for (const InputFolder& f : g_input_folders) {
+            if (ec) break;
+            const fs::path rel = full.lexically_relative(f.canonical);
+            if (rel.empty() || *rel.begin() == "..") continue;
+            if (rel == "." || !f.may_write || !f.may_write(rel.generic_string()))
+                throw Error("output: " + shownPath(path) + ": is '" + detail::shown(rel.generic_string(), 120, true) +
+                            "' inside the input folder '" + shownPath(f.path) +
+                            "' of this run, which this command reads; give another name");
+        }
+    }
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return;
     for (const InputFile& f : g_inputs)
         if (f.dev == st.st_dev && f.ino == st.st_ino)
             throw Error("output: " + shownPath(path) + ": is the input file '" + shownPath(f.path) +
                         "' of this run; give another name");
+}
+
+int openOwnFile(const fs::path& path, int flags, std::string_view what) {
+    const std::string head = std::string(what) + " " + shownPath(path) + ": ";
+    const std::string allowed = "; allowed: a regular file this command created";
+    const auto refuse = [&](const struct stat& st) {
+        if (!S_ISREG(st.st_mode)) throw Error(head + "is " + kindName(st.st_mode) + allowed);
+        if (st.st_uid != ::geteuid())
+            throw Error(head + "belongs to user id " + std::to_string(st.st_uid) + ", not this one" + allowed);
+    };
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) == 0) refuse(st);
+    const int fd = ::open(path.c_str(), flags | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        const int e = errno;
+        if (e == ELOOP) throw Error(head + "is a symbolic link" + allowed);
+        throw Error(head + "cannot open: " + errnoText(e));
+    }
+    if (::fstat(fd, &st) != 0) {
+        const int e = errno;
+        ::close(fd);
+        throw Error(head + "cannot examine: " + errnoText(e));
+    }
+    try {
+        refuse(st);
+    } catch (...) {
+        ::close(fd);
+        throw;
+    }
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    return fd;
+}
+
+std::string readOwnFile(const fs::path& path, std::size_t max_bytes, std::string_view what) {
+    const int fd = openOwnFile(path, O_RDONLY, what);
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    const std::string head = std::string(what) + " " + shownPath(path) + ": ";
+    std::string text;
+    char buffer[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(fd, buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw Error(head + "cannot be read: " + errnoText(errno));
+        if (n == 0) break;
+        text.append(buffer, std::size_t(n));
+        if (text.size() > max_bytes)
+            throw Error(head + "holds more than " + sizeText(max_bytes) + "; allowed: a file this command wrote");
+    }
+    return text;
+}
+
+void makeOwnFolder(const fs::path& path, std::string_view what) {
+    const std::string head = std::string(what) + " " + shownPath(path) + ": ";
+    if (::mkdir(path.c_str(), 0777) == 0) return;
+    const int e = errno;
+    struct stat st {};
+    if (e != EEXIST || ::lstat(path.c_str(), &st) != 0) throw Error(head + "cannot create the folder: " + errnoText(e));
+    if (!S_ISDIR(st.st_mode)) throw Error(head + "is " + kindName(st.st_mode) + "; allowed: a folder this command made");
+    if (st.st_uid != ::geteuid())
+        throw Error(head + "belongs to user id " + std::to_string(st.st_uid) +
+                    ", not this one; allowed: a folder this command made");
 }
 
 // ---------------------------------------------------------------------------------
@@ -416,7 +513,46 @@ void checkDistinctPaths(std::string_view command, const std::vector<RunPath>& pa
 // Temporaries
 // ---------------------------------------------------------------------------------
 
-void removeStaleTemporaries(const fs::path& dir) {
+bool removeOwnFolder(int parent_fd, const std::string& name, const OwnedName& holds) {
+    struct stat st {};
+    if (::fstatat(parent_fd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISDIR(st.st_mode) ||
+        st.st_uid != ::geteuid())
+        return false;
+    const int fd = ::openat(parent_fd, name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) return false;
+    struct stat opened {};
+    if (::fstat(fd, &opened) != 0 || opened.st_dev != st.st_dev || opened.st_ino != st.st_ino) {
+        ::close(fd);
+        return false;
+    }
+    // Look first, remove after: a folder holding anything we do not write there (another
+    // folder, a link, a FIFO, a device, someone else's file) stays whole.
+    std::vector<std::string> names;
+    bool ours = true;
+    if (DIR* d = ::fdopendir(::dup(fd))) {
+        while (const dirent* e = ::readdir(d)) {
+            const std::string entry = e->d_name;
+            if (entry == "." || entry == "..") continue;
+            struct stat est {};
+            const bool known = tempNamePid(entry) > 0 || (holds && holds(entry));
+            if (!known || ::fstatat(fd, entry.c_str(), &est, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(est.st_mode) ||
+                est.st_uid != ::geteuid()) {
+                ours = false;
+                break;
+            }
+            names.push_back(entry);
+        }
+        ::closedir(d);
+    } else {
+        ours = false;
+    }
+    if (ours)
+        for (const std::string& entry : names) ::unlinkat(fd, entry.c_str(), 0);
+    ::close(fd);
+    return ours && ::unlinkat(parent_fd, name.c_str(), AT_REMOVEDIR) == 0;
+}
+
+void removeStaleTemporaries(const fs::path& dir, const OwnedName& folder_holds) {
     const int dirfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dirfd < 0) return;
     std::vector<std::string> stale;
@@ -430,9 +566,10 @@ void removeStaleTemporaries(const fs::path& dir) {
         ::closedir(d);
     }
     for (const std::string& name : stale) {
-        struct stat st{};
-        if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_uid != ::geteuid()) continue;
-        removeEntry(dirfd, name, dir);
+        struct stat st {};
+        if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_uid != ::geteuid())
+            continue;
+        removeStaleEntry(dirfd, name, folder_holds);
     }
     ::close(dirfd);
 }

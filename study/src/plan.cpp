@@ -28,22 +28,28 @@ void onlyKeys(const json& o, const std::string& where, std::initializer_list<con
     }
 }
 
+// "<where>.<key>" inside a trial or a section ("study: p.json: trials[0].time_limit_s"),
+// "<where>: <key>" at the top ("study: p.json: hit_radius_m"): `where` ends in ':' there.
+std::string field(const std::string& where, const char* key) {
+    return where + (!where.empty() && where.back() == ':' ? " " : ".") + key;
+}
+
 double number(const json& o, const char* key, const std::string& where, double lo, double hi, double fallback) {
     const auto it = o.find(key);
     if (it == o.end()) return fallback;
     const std::string range = "[" + core::shownNumber(lo) + ", " + core::shownNumber(hi) + "]";
     if (!it->is_number())
-        throw core::Error(where + "." + key + " must be a number in " + range + ", not " + io::jsonTypeName(*it));
+        throw engine::Error(field(where, key) + " must be a number in " + range + ", not " + engine::jsonTypeName(*it));
     const double v = it->get<double>();
     if (!(std::isfinite(v) && v >= lo && v <= hi))
-        throw core::Error(where + "." + key + " " + core::shownNumber(v) + " is not in " + range);
+        throw engine::Error(field(where, key) + " " + engine::shownNumber(v) + " is not in " + range);
     return v;
 }
 
 int whole(const json& o, const char* key, const std::string& where, int lo, int hi, int fallback) {
     const double v = number(o, key, where, lo, hi, fallback);
     if (v != std::floor(v))
-        throw core::Error(where + "." + key + " " + core::shownNumber(v) + " is not a whole number");
+        throw engine::Error(field(where, key) + " " + engine::shownNumber(v) + " is not a whole number");
     return static_cast<int>(v);
 }
 
@@ -51,8 +57,8 @@ std::string text(const json& o, const char* key, const std::string& where) {
     const auto it = o.find(key);
     if (it == o.end()) return {};
     if (!it->is_string() || it->get<std::string>().empty())
-        throw core::Error(where + "." + key + " must be a non-empty string, not " +
-                          (it->is_string() ? std::string("an empty one") : io::jsonTypeName(*it)));
+        throw engine::Error(field(where, key) + " must be a non-empty string, not " +
+                            (it->is_string() ? std::string("an empty one") : engine::jsonTypeName(*it)));
     return it->get<std::string>();
 }
 
@@ -95,22 +101,22 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
     }
     if (const auto seed = root.find("shuffle_seed"); seed != root.end()) {
         if (!seed->is_number_unsigned())
-            throw core::Error(where + ".shuffle_seed must be a whole number >= 0, not " +
-                              (seed->is_number() ? core::shownNumber(seed->get<double>()) : io::jsonTypeName(*seed)));
+            throw engine::Error(where + ": shuffle_seed must be a whole number >= 0, not " +
+                                (seed->is_number() ? engine::shownNumber(seed->get<double>()) : engine::jsonTypeName(*seed)));
         plan.shuffle_seed = seed->get<std::uint64_t>();
     }
-    plan.hit_radius_m = number(root, "hit_radius_m", where, 0.001, 10000.0, plan.hit_radius_m);
+    plan.hit_radius_m = number(root, "hit_radius_m", where + ":", 0.001, 10000.0, plan.hit_radius_m);
     if (const auto orbit = root.find("orbit"); orbit != root.end()) {
-        const std::string w = where + ".orbit";
-        if (!orbit->is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(*orbit));
+        const std::string w = where + ": orbit";
+        if (!orbit->is_object()) throw engine::Error(w + " must be an object, not " + engine::jsonTypeName(*orbit));
         onlyKeys(*orbit, w, {"radius_m", "height_m", "period_s"});
         plan.orbit_radius_m = number(*orbit, "radius_m", w, 0.1, 100000.0, plan.orbit_radius_m);
         plan.orbit_height_m = number(*orbit, "height_m", w, -100000.0, 100000.0, plan.orbit_height_m);
         plan.orbit_period_s = number(*orbit, "period_s", w, 0.1, 1e9, plan.orbit_period_s);
     }
     if (const auto g = root.find("generate"); g != root.end()) {
-        const std::string w = where + ".generate";
-        if (!g->is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(*g));
+        const std::string w = where + ": generate";
+        if (!g->is_object()) throw engine::Error(w + " must be an object, not " + engine::jsonTypeName(*g));
         onlyKeys(*g, w, {"xres", "yres", "views"});
         plan.xres = whole(*g, "xres", w, 1, 8192, plan.xres);
         plan.yres = whole(*g, "yres", w, 1, 8192, plan.yres);

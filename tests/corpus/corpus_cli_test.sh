@@ -3,8 +3,9 @@
 # Usage: corpus_cli_test.sh LADARVR_BINARY SCRATCH_DIR SCENE main|kill
 # (two parts, two ctest entries, so that they run side by side)
 # The same SPEC gives the same manifest (timings aside) with 1, 2 or 3 shards and 1 or 2
-# jobs; an item replays with `generate`; a run killed with SIGKILL mid-item and rerun ends
-# with every item once and no partial one; bad SPECs and selections are one line; stats,
+# jobs; an item replays with `generate`; a run killed with SIGKILL mid-item (held there by
+# the LADARVR_TEST_HOLD_ITEM hook) and rerun ends with every item once, no partial one and
+# no hidden folder left; bad SPECs and selections are one line; stats,
 # histogram and study plans; merge reports missing items.
 set -eu
 bin=$1
@@ -144,23 +145,30 @@ fi
 
 if [ "$part" = kill ]; then
 # --- SIGTERM, then SIGKILL mid-item, then rerun --------------------------------------
-sed 's/"resolution": \[8, 12\]/"resolution": [160, 192]/; s/"views": 3/"views": 12/; s/"count": 6/"count": 5/' \
-    "$dir/spec.json" >"$dir/slow.json"
-# Starts a run, waits until its manifest has $2 lines, then sends signal $1 mid-item.
+# Event-driven: LADARVR_TEST_HOLD_ITEM holds the run at item $2 with its files written in
+# its hidden folder (not yet in place) and says "held <id>" on a FIFO; the signal goes then.
+sed 's/"count": 6/"count": 5/' "$dir/spec.json" >"$dir/slow.json"
 stop_mid_item() {
-    "$bin" corpus "$dir/slow.json" --out "$dir/killed" --threads 1 2>>"$dir/killed.log" &
-    pid=$!
-    tries=0
-    while [ "$(cat "$dir/killed/manifest.jsonl" 2>/dev/null | wc -l)" -lt "$2" ]; do
-        tries=$((tries + 1))
-        [ "$tries" -lt 600 ] || { kill -9 "$pid"; fail "no item finished within 60 s"; }
-        sleep 0.1
-    done
+    rm -f "$dir/hold" "$dir/run.status"
+    mkfifo "$dir/hold"
+    (
+        LADARVR_TEST_HOLD_ITEM="$2:$dir/hold" "$bin" corpus "$dir/slow.json" --out "$dir/killed" --threads 1 \
+            2>>"$dir/killed.log" &
+        echo $! >"$dir/run.pid"
+        s=0
+        wait $! || s=$?
+        echo "$s" >"$dir/run.status"
+        # Wakes the reader below should the run end without holding (O_RDWR: never waits).
+        echo "exited $s" 1<>"$dir/hold"
+    ) &
+    wrapper=$!
+    held=
+    read -r held <"$dir/hold" || true
+    [ "$held" = "held 000$2" ] || fail "the run did not hold at item $2: '$held' $(cat "$dir/killed.log")"
     [ -z "${3:-}" ] || "$3"
-    sleep 0.15
-    kill "-$1" "$pid"
-    status=0
-    wait "$pid" 2>/dev/null || status=$?
+    kill "-$1" "$(cat "$dir/run.pid")"
+    wait "$wrapper" || true
+    status=$(cat "$dir/run.status")
 }
 # While a run works on the manifest, a second run of it is refused.
 second_run_refused() {
@@ -170,11 +178,14 @@ second_run_refused() {
         fail "a second run of the same corpus: $status $(cat "$dir/err")"
 }
 stop_mid_item TERM 1 second_run_refused
-[ "$status" -eq 143 ] || [ "$status" -eq 0 ] || fail "SIGTERM: exit status $status, expected 143"
+[ "$status" -eq 143 ] || fail "SIGTERM: exit status $status, expected 143"
 left=$(ls -A "$dir/killed/items" | grep -e '^\.ladarvr-tmp-' || true)
 [ -z "$left" ] || fail "SIGTERM left temporaries: $left"
 stop_mid_item KILL 2
-# What SIGKILL leaves: whole items under their names, at most a hidden temporary.
+[ "$status" -eq 137 ] || fail "SIGKILL: exit status $status, expected 137"
+# What SIGKILL leaves: whole items under their names and the held item's hidden folder.
+ls -A "$dir/killed/items" | grep -q -e '^\.ladarvr-tmp-[0-9]*-0002$' ||
+    fail "SIGKILL at item 2 left no hidden folder: $(ls -A "$dir/killed/items")"
 for item in "$dir"/killed/items/*; do
     [ -f "$item/scene.json" ] && [ -f "$item/cloud.pcd" ] || fail "SIGKILL left a partial item $item"
 done
@@ -233,9 +244,11 @@ p = json.load(open(d + "/plans/plan.json"))
 assert set(p) == {"trials", "shuffle_seed"} and p["shuffle_seed"] == 3, p
 assert len(p["trials"]) == 4
 for t in p["trials"]:
-    assert set(t) == {"cloud", "scene", "time_limit_s"} and t["time_limit_s"] == 120, t
+    # A cloud trial, as study/plan.hpp takes it (one of cloud and scene).
+    assert set(t) == {"cloud", "name", "time_limit_s"} and t["time_limit_s"] == 120, t
     assert t["cloud"].startswith("../one/items/") and t["cloud"].endswith("/cloud.pcd"), t
-    assert os.path.isfile(os.path.join(d, "plans", t["cloud"])) and os.path.isfile(os.path.join(d, "plans", t["scene"]))
+    assert t["name"] == "item " + t["cloud"].split("/")[3], t
+    assert os.path.isfile(os.path.join(d, "plans", t["cloud"]))
 PY
 status=0
 "$bin" corpus --stats "$dir/one" --select "difficulty<0.3" --count 2 2>"$dir/err" || status=$?

@@ -212,17 +212,38 @@ TEST_CASE("messages: control characters and invalid bytes escaped, UTF-8 kept, l
 TEST_CASE("the next run removes temporaries of dead processes, and only those") {
     TempDir dir("stale");
     const std::string dead = std::to_string(deadPid());
-    const fs::path stale_file = dir.write(".ladarvr-tmp-" + dead + "-AbC123", "partial cloud");
-    fs::create_directories(dir.path / (".ladarvr-tmp-" + dead + "-Dir456") / "inside");
+    const std::string stale = ".ladarvr-tmp-" + dead + "-";
+    const fs::path stale_file = dir.write(stale + "AbC123", "partial cloud");
+    const fs::path item_file = dir.write(stale + "00012", "a corpus item's id as the tag");
+    // A folder of ours holds our files only: a dead run's temporary folder goes.
+    fs::create_directories(dir.path / (stale + "Own456"));
+    std::ofstream(dir.path / (stale + "Own456") / (stale + "Q1w2E3")) << "x";
+    // Whatever we cannot have made stays: a folder tree, a FIFO, a link, a folder with a
+    // file the command does not write there.
+    fs::create_directories(dir.path / (stale + "Dir456") / "inside");
+    const fs::path fifo = dir.path / (stale + "fifo01");
+    REQUIRE(::mkfifo(fifo.c_str(), 0666) == 0);
+    fs::create_symlink("cloud.pcd", dir.path / (stale + "link01"));
+    fs::create_directories(dir.path / (stale + "Mix789"));
+    std::ofstream(dir.path / (stale + "Mix789") / "notes.txt") << "a user's";
     const fs::path alive = dir.write(".ladarvr-tmp-1-XyZ789", "init's, alive");  // pid 1 lives
-    const fs::path lookalike = dir.write(".ladarvr-tmp-" + dead + "-toolong7", "not our pattern");
+    const fs::path lookalike = dir.write(stale + "not.ours", "not our pattern");
     const fs::path user = dir.write("cloud.pcd", "a user's file");
     platform::writeFileAtomic(dir.path / "new.txt", "x");
     CHECK_FALSE(fs::exists(stale_file));
-    CHECK_FALSE(fs::exists(dir.path / (".ladarvr-tmp-" + dead + "-Dir456")));
+    CHECK_FALSE(fs::exists(item_file));
+    CHECK_FALSE(fs::exists(dir.path / (stale + "Own456")));
+    CHECK(fs::exists(dir.path / (stale + "Dir456") / "inside"));
+    CHECK(fs::is_fifo(fifo));
+    CHECK(fs::is_symlink(dir.path / (stale + "link01")));
+    CHECK(slurp(dir.path / (stale + "Mix789") / "notes.txt") == "a user's");
     CHECK(fs::exists(alive));
     CHECK(fs::exists(lookalike));
     CHECK(slurp(user) == "a user's file");
+    // With the names a folder of the command holds, such a folder goes too.
+    engine::removeStaleTemporaries(dir.path, [](const std::string& name) { return name == "notes.txt"; });
+    CHECK_FALSE(fs::exists(dir.path / (stale + "Mix789")));
+    CHECK(fs::exists(dir.path / (stale + "Dir456") / "inside"));
 }
 
 TEST_CASE("SIGTERM, SIGINT and SIGHUP remove the temporaries and end the process by the signal") {

@@ -60,6 +60,11 @@ TEST_CASE("a plan's refused fields name the field and what is allowed") {
     fails(R"({"trials": [{"cloud": "a"}], "generate": {"xres": 2.5}})", "generate.xres 2.5 is not a whole number");
     fails(R"({"trials": [{"cloud": "a"}], "trials": [{"cloud": "b"}]})", "duplicate key 'trials'");
     fails(R"([1])", "the plan must be an object");
+    // Top-level keys follow the plan's name after ": ", never glued to it with a dot.
+    fails(R"({"trials": [{"cloud": "a"}], "hit_radius_m": 0})", "study: p.json: hit_radius_m 0 is not in");
+    fails(R"({"trials": [{"cloud": "a"}], "orbit": {"radius_m": 0}})", "study: p.json: orbit.radius_m 0 is not in");
+    fails(R"({"trials": [{"cloud": "a"}], "generate": {"xres": 2.5}})", "study: p.json: generate.xres 2.5");
+    fails(R"({"trials": [{"cloud": "a"}], "shuffle_seed": -1})", "study: p.json: shuffle_seed must be");
 }
 
 TEST_CASE("the trial order: as written, or shuffled the same way for the same seed") {

@@ -23,7 +23,13 @@ struct ItemOutcome {
 
 /// Plans and builds item `index` into `out`/items/<id>/ (replacing a folder left there by
 /// a run killed before its manifest line), with `threads` generator threads (0 = all).
-/// Throws core::Error naming the item.
+/// Throws engine::Error naming the item.
+///
+/// Test hook: with the environment variable LADARVR_TEST_HOLD_ITEM="<index>:<fifo>" (a
+/// FIFO the test made), item <index> is held with its files written into its hidden
+/// temporary folder and not yet moved into place: the run writes "held <id>" into the
+/// FIFO (opening it waits for the test to read) and then waits until the FIFO is opened
+/// for writing and closed (`: >fifo` releases it). Tests signal the run at that point.
 ItemOutcome buildItem(const Planner& planner, std::size_t index, const std::filesystem::path& out, int threads);
 
 }  // namespace corpus

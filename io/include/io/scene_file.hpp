@@ -52,6 +52,12 @@ core::Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions&
 core::Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& file,
                           const SceneLoadOptions& options = {});
 
+/// The vertices of one mesh file in its own frame, `scale` and the up axis applied (no
+/// yaw, no position), with the checks loadScene makes of a mesh file; `where` names it
+/// in messages, e.g. Error("<where>: mesh file 'a.obj' is a FIFO (named pipe); ...").
+std::vector<glm::dvec3> loadMeshVertices(const std::filesystem::path& file, bool up_y, double scale,
+                                         const std::string& where);
+
 /// The bundled demo scene: assets/demo/scene.json of the source tree this binary was built
 /// from (nothing installs the assets elsewhere). Whether it exists is loadScene's to check.
 std::filesystem::path demoScenePath();

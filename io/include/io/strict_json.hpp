@@ -7,14 +7,21 @@
 #pragma once
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
 namespace io {
 
-/// Parses `text`. Throws core::Error("<name>: JSON syntax error: parse error at line L,
+/// The deepest nesting of arrays and objects parsed. Every file of the project nests a
+/// few levels; the bound keeps every later recursive walk (dump, comparison, messages)
+/// far from the stack's end.
+inline constexpr std::size_t kMaxJsonDepth = 256;
+
+/// Parses `text`. Throws engine::Error("<name>: JSON syntax error: parse error at line L,
 /// column C: ..."), "<name>: <where>: duplicate key 'k'; allowed: each key once per
-/// object", a NUL in a key or string, or a number beyond double range.
+/// object", a NUL in a key or string, a number beyond double range, or nesting deeper
+/// than kMaxJsonDepth.
 nlohmann::json parseStrictJson(std::string_view text, const std::string& name);
 
 /// "a string", "an array", "an object", "a number", ... for messages.

@@ -2,6 +2,8 @@
 // folder, each corpus item): a reader sees the whole previous set of files or the whole
 // new one, never a mix, and a failed or stopped run leaves the previous folder untouched.
 #pragma once
+#include <platform/safe_file.hpp>
+
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -10,9 +12,6 @@
 #include <vector>
 
 namespace platform {
-
-/// Decides whether a name found in an existing output folder is one we write there.
-using OwnedName = std::function<bool(const std::string& name)>;
 
 /// Checks, before the work, that `dir` can become an output folder: its parent exists
 /// (or its nearest existing ancestor, as missing parents are made) is a writable folder,

@@ -106,9 +106,17 @@ class TempFile {
 /// Throws Error("output: <what>: cannot create a scratch file in '<dir>': <reason>").
 std::FILE* openScratchFile(const std::filesystem::path& dir, std::string_view what);
 
-/// Removes the ".ladarvr-tmp-<pid>-XXXXXX" files and folders in `dir` whose process is
-/// no longer alive and that belong to this user. Quiet; errors are ignored.
-void removeStaleTemporaries(const std::filesystem::path& dir);
+/// Decides whether a name found in an existing output folder is one we write there.
+using OwnedName = std::function<bool(const std::string& name)>;
+
+/// Removes the ".ladarvr-tmp-<pid>-<tag>" entries in `dir` (tag: 1 to 32 letters and
+/// digits: TempFile's six random ones, a corpus item's id) whose process is no longer
+/// alive, and only what our own runs can have made: regular files of this user, and
+/// folders of this user that hold nothing but regular files of this user named as
+/// `folder_holds` accepts (or temporaries). Links, FIFOs, devices, sockets and other
+/// folders stay. Quiet; errors are ignored.
+void removeStaleTemporaries(const std::filesystem::path& dir, const OwnedName& folder_holds = {});
+
 
 /// The longest path (in bytes, without the final NUL) and the longest name in it that
 /// the project accepts for a file it reads or writes: Linux's PATH_MAX - 1 and NAME_MAX.
@@ -135,8 +143,37 @@ struct RunPath {
     std::string option;
     std::filesystem::path path;
     PathRole role = PathRole::Input;
-    std::function<bool(const std::string& name)> names;
+    OwnedName names;
 };
+
+/// Removes the folder `name` inside the open folder `parent_fd` if it is a real folder
+/// (no link) of this user holding only regular files of this user whose names `holds`
+/// accepts or are temporaries; returns whether it did. Anything else is left whole.
+bool removeOwnFolder(int parent_fd, const std::string& name, const OwnedName& holds);
+
+/// Opens a file this command creates and keeps (a lock file, an appended manifest):
+/// `flags` (O_RDONLY, O_RDWR, O_WRONLY | O_APPEND, with O_CREAT to create it) plus
+/// O_NOFOLLOW, O_NONBLOCK (cleared after the open) and O_NOCTTY. The name must be absent
+/// (with O_CREAT) or a regular file of this user, checked before the open and on the
+/// open descriptor: a symbolic link, a device node, a FIFO, a socket, a folder or
+/// another user's file is refused with Error("<what> <path>: is ...; allowed: a regular
+/// file this command created"). Returns the descriptor.
+int openOwnFile(const std::filesystem::path& path, int flags, std::string_view what);
+
+/// The whole of a file this command wrote and now reads back (openOwnFile's checks), at
+/// most `max_bytes`. Not remembered as an input: the command may replace it. Throws
+/// Error("<what> <path>: ...").
+std::string readOwnFile(const std::filesystem::path& path, std::size_t max_bytes, std::string_view what);
+
+/// Makes the folder `path` if it is absent (its parent must exist) or checks the one
+/// there: a real folder of this user, not a symbolic link. Throws Error("<what> <path>:
+/// is ...; allowed: a folder this command made").
+void makeOwnFolder(const std::filesystem::path& path, std::string_view what);
+
+/// Remembers `dir` as an input folder of this run: checkNotAnInput then refuses any
+/// output inside it (at any depth, via any link) whose path relative to `dir` (generic,
+/// '/'-separated) `may_write` does not accept.
+void rememberInputFolder(const std::filesystem::path& dir, const OwnedName& may_write);
 
 /// The check every command runs on its paths before any work: no output is an input or
 /// another output, and no path lies inside an output folder where the run writes (or
