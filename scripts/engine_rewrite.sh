@@ -31,17 +31,20 @@ perl -0777 -i -pe '
       CloudFields PointCloud packRgb kWhite MeshSummary TargetSummary SceneSummary summarize
       groundHeightAt kMaxTargetSize_m kMaxTargetGroundGap_m targetWarnings Candidate jetTable
       jetIndex CellKey cellOf CellKeyHash CellBins binByCell multiply64 uniformBelow shuffle
-      SplitMix64 mix64);
+      SplitMix64 mix64 SceneEntry kDefaultReflectance);
     $ns{$_} = "io" for qw(CloudFormat parseCloudFormat formatForPath cloudFormatName LasOptions
       lazChunkPoints lazChunkBytes CloudWriter writeCloud readCloud readCloudData CloudReader
       PngRows encodePng writePng parseStrictJson jsonTypeName SceneLoadOptions kMaxSceneBytes
       loadScene loadSceneJson demoScenePath readCandidates writeCandidates
       TraceMode traceModeName TraceRow Trace kTraceHeader kMaxTraceBytes formatTraceRow
-      parseTrace readTrace);
+      parseTrace readTrace forEachTraceRow kTraceBlockBytes kMaxTraceLineBytes kMaxJsonDepth
+      loadMeshVertices);
     $ns{$_} = "platform" for qw(kTempPrefix regularFileProblem checkInputFile readTextFile
       checkNotAnInput TempFile openScratchFile removeStaleTemporaries OwnedName
       checkOutputFolder writeFolderAtomic AtomicFolder writeFileAtomic
-      checkWritableDestination removeTemporariesNow Watchdog Progress);
+      checkWritableDestination removeTemporariesNow Watchdog Progress kMaxPathBytes kMaxNameBytes
+      checkPathLength PathRole RunPath checkDistinctPaths removeOwnFolder openOwnFile readOwnFile
+      makeOwnFolder rememberInputFolder);
     %detail = ();
     $detail{$_} = "platform" for qw(registerTemporary unregisterTemporary);
     $detail{$_} = "io" for qw(LasRecord LasInventory LasSink ByteSource FormatReader

@@ -1,9 +1,9 @@
 // app/src/cli_common.cpp: the conventions every subcommand shares (cli_common.hpp).
 #include "cli_common.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
 
 #include <cctype>
 #include <cmath>
@@ -206,7 +206,7 @@ std::string usageError(const CLI::App& cli, const CLI::ParseError& e, int argc, 
 void warn(const std::string& what) { platform::printMessage("warning", what); }
 
 void createParentFolders(const fs::path& file, std::string_view option) {
-    engine::checkPathLength(file, option);
+    platform::checkPathLength(file, option);
     const fs::path parent = file.parent_path();
     if (parent.empty()) return;
     fs::path prefix;
@@ -216,12 +216,12 @@ void createParentFolders(const fs::path& file, std::string_view option) {
         const fs::file_status st = fs::status(prefix, ec);
         if (fs::is_directory(st)) continue;
         if (fs::exists(st))
-            throw engine::Error(std::string(option) + " '" + file.string() + "': '" + prefix.string() +
-                                "' exists and is not a folder; allowed: a path whose folders are folders");
+            throw core::Error(std::string(option) + " '" + file.string() + "': '" + prefix.string() +
+                              "' exists and is not a folder; allowed: a path whose folders are folders");
         if (fs::is_symlink(fs::symlink_status(prefix, ec)))  // dangling, or a loop
-            throw engine::Error(std::string(option) + " '" + engine::printable(file.string(), 400) + "': '" +
-                                engine::printable(prefix.string(), 400) + "' " + engine::regularFileProblem(prefix) +
-                                "; allowed: a path whose folders are folders");
+            throw core::Error(std::string(option) + " '" + core::printable(file.string(), 400) + "': '" +
+                              core::printable(prefix.string(), 400) + "' " + platform::regularFileProblem(prefix) +
+                              "; allowed: a path whose folders are folders");
         if (!fs::create_directory(prefix, ec) && !fs::is_directory(prefix))
             throw core::Error(std::string(option) + " '" + file.string() + "': cannot create the folder '" +
                               prefix.string() + "': " + (ec ? ec.message() : std::string("unknown reason")));

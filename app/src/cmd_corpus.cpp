@@ -46,8 +46,8 @@ void refuseOtherModes(const CorpusCli& cli, CorpusCli::Mode mode, const char* mo
             std::string allowed;
             for (const auto& [other, other_modes] : cli.options)
                 if (other_modes & mode) allowed += (allowed.empty() ? "" : ", ") + other->get_name();
-            throw CLI::ValidationError(option->get_name() + " does not go with " + mode_text + "; allowed with it: " +
-                                       (allowed.empty() ? std::string("no option") : allowed));
+            throw CLI::ValidationError(option->get_name() + " does not go with " + mode_text +
+                                       "; allowed with it: " + (allowed.empty() ? std::string("no option") : allowed));
         }
 }
 
@@ -148,8 +148,9 @@ void run(const CorpusCli& cli) {
 void registerCorpus(CLI::App& cli) {
     auto state = std::make_shared<CorpusCli>();
     CLI::App* c = cli.add_subcommand(
-        "corpus", "build many varied scenes and clouds from a SPEC (resumable, --jobs, Slurm array shards), "
-                  "merge shard manifests, summarise a corpus, select study trials by difficulty (docs/corpus.md)");
+        "corpus",
+        "build many varied scenes and clouds from a SPEC (resumable, --jobs, Slurm array shards), "
+        "merge shard manifests, summarise a corpus, select study trials by difficulty (docs/corpus.md)");
     using M = CorpusCli::Mode;
     const auto mode = [&](CLI::Option* o, unsigned modes) { state->options.emplace_back(o, modes); };
     c->add_option("SPEC", state->spec, "SPEC.json: the base scene, count, seed and what varies");
@@ -159,24 +160,31 @@ void registerCorpus(CLI::App& cli) {
     mode(c->add_option("--threads", state->threads, "generator threads per item; 0 = the cores divided by --jobs")
              ->capture_default_str(),
          M::kBuild);
-    mode(c->add_option("--shard", state->shard, "I/N: build items i with i mod N == I into manifest.<I>.jsonl; default "
-                                                "from SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT"),
+    mode(c->add_option("--shard", state->shard,
+                       "I/N: build items i with i mod N == I into manifest.<I>.jsonl; default "
+                       "from SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT"),
          M::kBuild);
-    c->add_option("--merge", state->merge, "DIR: merge manifest.<I>.jsonl into manifest.jsonl, sorted by id; "
-                                           "reports missing and duplicated items");
+    c->add_option("--merge", state->merge,
+                  "DIR: merge manifest.<I>.jsonl into manifest.jsonl, sorted by id; "
+                  "reports missing and duplicated items");
     c->add_option("--stats", state->stats, "DIR: distribution of the metric and the other columns, histogram PNG");
     mode(c->add_flag("--json", state->json, "with --stats: print the statistics as JSON on stdout"), M::kStats);
-    mode(c->add_option("--column", state->column, "with --stats: the histogram's column (default: metric if present, "
-                                                  "else points)"),
+    mode(c->add_option("--column", state->column,
+                       "with --stats: the histogram's column (default: metric if present, "
+                       "else points)"),
          M::kStats);
     mode(c->add_option("--histogram", state->histogram, "with --stats: the histogram PNG (default DIR/histogram.png)"),
          M::kStats);
-    mode(c->add_option("--select", state->select, "with --stats: items to pick, e.g. \"metric<0.3\" or "
-                                                  "\"metric>=0.2,metric<0.5\" (all must hold); writes a study plan"),
+    mode(c->add_option("--select", state->select,
+                       "with --stats: items to pick, e.g. \"metric<0.3\" or "
+                       "\"metric>=0.2,metric<0.5\" (all must hold); writes a study plan"),
          M::kSelect);
-    mode(c->add_option("--count", state->count, "with --select: trials in the plan")->capture_default_str(), M::kSelect);
-    mode(c->add_option("--seed", state->seed, "with --select: which matching items are picked, and the plan's "
-                                              "shuffle_seed")->capture_default_str(),
+    mode(c->add_option("--count", state->count, "with --select: trials in the plan")->capture_default_str(),
+         M::kSelect);
+    mode(c->add_option("--seed", state->seed,
+                       "with --select: which matching items are picked, and the plan's "
+                       "shuffle_seed")
+             ->capture_default_str(),
          M::kSelect);
     mode(c->add_option("--plan", state->plan, "with --select: the plan file (default DIR/plan.json)"), M::kSelect);
     mode(c->add_option("--time-limit-s", state->time_limit_s, "with --select: each trial's time limit, seconds > 0")

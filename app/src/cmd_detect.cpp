@@ -5,13 +5,13 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <engine/candidates.hpp>
-#include <engine/atomic_file.hpp>
-#include <engine/cloud_io.hpp>
-#include <engine/cloud_reader.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
 #include <detect/cluster_detector.hpp>
+#include <io/candidates_file.hpp>
+#include <io/cloud_io.hpp>
+#include <io/cloud_reader.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
 #include <sim/memory_budget.hpp>
 
 #include <nlohmann/json.hpp>
@@ -52,17 +52,17 @@ void run(DetectCli& cli) {
     const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "detect");
 
     const std::filesystem::path out = cli.out;
-    engine::checkDistinctPaths("detect", {{"cloud", cli.cloud, engine::PathRole::Input, {}},
-                                          {"--out", out, engine::PathRole::Output, {}}});
+    platform::checkDistinctPaths("detect", {{"cloud", cli.cloud, platform::PathRole::Input, {}},
+                                            {"--out", out, platform::PathRole::Output, {}}});
     createParentFolders(out, "detect: --out");
-    engine::checkWritableDestination(out);
+    platform::checkWritableDestination(out);
 
     // The header first: a cloud that would not fit the budget is refused before a point is read.
-    engine::CloudReader reader(cli.cloud);
+    io::CloudReader reader(cli.cloud);
     sim::refuseOverBudget("detect", budget, detect::ClusterDetector::memoryBytes(reader.pointsBound()),
                           "a cloud of " + std::to_string(reader.pointsBound()) + " points, read whole",
                           "raise --memory-mb, or detect in a thinned or cropped cloud");
-    const engine::PointCloud cloud = engine::readCloud(reader);
+    const core::PointCloud cloud = io::readCloud(reader);
     detect::ClusterStats stats;
     const std::vector<detect::Detection> found = detector.detect(cloud, stats);
     std::vector<core::Candidate> candidates;

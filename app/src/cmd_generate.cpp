@@ -7,12 +7,12 @@
 #include "ground_options.hpp"
 #include "sensor_options.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/scene.hpp>
-#include <engine/scene_info.hpp>
+#include <core/error.hpp>
+#include <core/scene_info.hpp>
+#include <io/cloud_io.hpp>
+#include <io/scene_file.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
 #include <sim/memory_budget.hpp>
 
@@ -117,14 +117,14 @@ void run(GenerateCli& cli) {
     else
         format = io::formatForPath(out, "generate: --out");
     if (!(cli.las_target_class >= 0 && cli.las_target_class <= 255))
-        throw engine::Error("generate: --las-target-class = " + std::to_string(cli.las_target_class) +
-                            ": allowed 0..255");
-    o.las.class_of_role[int(engine::Role::Target)] = std::uint8_t(cli.las_target_class);
-    engine::checkDistinctPaths("generate", {{"--scene", scene_path, engine::PathRole::Input, {}},
-                                            {"--out", out, engine::PathRole::Output, {}},
-                                            {"--dtm", cli.ground.dtm, engine::PathRole::Output, {}}});
+        throw core::Error("generate: --las-target-class = " + std::to_string(cli.las_target_class) +
+                          ": allowed 0..255");
+    o.las.class_of_role[int(core::Role::Target)] = std::uint8_t(cli.las_target_class);
+    platform::checkDistinctPaths("generate", {{"--scene", scene_path, platform::PathRole::Input, {}},
+                                              {"--out", out, platform::PathRole::Output, {}},
+                                              {"--dtm", cli.ground.dtm, platform::PathRole::Output, {}}});
     createParentFolders(out, "generate: --out");
-    engine::checkWritableDestination(out);
+    platform::checkWritableDestination(out);
     prepareDtmOutput(cli.ground);
     o.progress = true;  // drawn only when stderr is a terminal
 
@@ -140,10 +140,10 @@ void run(GenerateCli& cli) {
         warn("generate: " + scene_path.string() + ": " + w + " (see 'ladarvr scene info')");
     const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // The scene's own files are inputs now: no output may replace one of them either.
-    engine::checkNotAnInput(out);
-    if (!cli.ground.dtm.empty()) engine::checkNotAnInput(cli.ground.dtm);
+    platform::checkNotAnInput(out);
+    if (!cli.ground.dtm.empty()) platform::checkNotAnInput(cli.ground.dtm);
     sim::GenerateStats st;
-    std::unique_ptr<engine::TempFile> dtm;  // written before the cloud lands, committed after it
+    std::unique_ptr<platform::TempFile> dtm;  // written before the cloud lands, committed after it
     {
         sim::Generator generator(scene, o);
         generator.run(out, *format, &st,

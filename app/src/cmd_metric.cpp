@@ -4,17 +4,17 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <engine/atomic_file.hpp>
-#include <engine/cloud_io.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
-#include <engine/scene.hpp>
-#include <engine/trace_file.hpp>
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/scene_file.hpp>
+#include <io/trace_file.hpp>
 #include <metric/clouds.hpp>
 #include <metric/report.hpp>
 #include <metric/trace.hpp>
 #include <metric/visibility.hpp>
 #include <platform/atomic_file.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -73,20 +73,19 @@ void run(MetricCli& cli) {
     else
         throw core::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
     if (!cli.look_at.empty()) o.look_at_world = parseWorldTriple(cli.look_at, "metric: --look-at");
-        throw engine::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
     const std::filesystem::path out = cli.out;
     // Before anything is read or made: no input inside the folder this run replaces.
-    engine::checkDistinctPaths("metric", {{"--out", out, engine::PathRole::OutputFolder, {}},
-                                          {"--scene", cli.scene, engine::PathRole::Input, {}},
-                                          {"--p1", cli.p1, engine::PathRole::Input, {}},
-                                          {"--p2", cli.p2, engine::PathRole::Input, {}},
-                                          {"--p3", cli.p3, engine::PathRole::Input, {}},
-                                          {"--trace", cli.trace, engine::PathRole::Input, {}}});
+    platform::checkDistinctPaths("metric", {{"--out", out, platform::PathRole::OutputFolder, {}},
+                                            {"--scene", cli.scene, platform::PathRole::Input, {}},
+                                            {"--p1", cli.p1, platform::PathRole::Input, {}},
+                                            {"--p2", cli.p2, platform::PathRole::Input, {}},
+                                            {"--p3", cli.p3, platform::PathRole::Input, {}},
+                                            {"--trace", cli.trace, platform::PathRole::Input, {}}});
     std::size_t trace_samples = 0;
     if (!cli.trace.empty()) {
         if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
-            throw engine::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
-                                ": allowed [0, 3600] seconds");
+            throw core::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
+                              ": allowed [0, 3600] seconds");
         // Streamed: only the kept poses are held, at most as many as the metric evaluates.
         o.poses_world = metric::tracePoses(cli.trace, cli.trace_step_s, metric::kMaxPoses, trace_samples);
     }

@@ -4,9 +4,9 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 
-#include <engine/cleanup.hpp>
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/cleanup.hpp>
+#include <platform/safe_file.hpp>
 #include <study/study_folder.hpp>
 #include <study/study_run.hpp>
 #include <viewer/viewer.hpp>
@@ -51,9 +51,9 @@ viewer::ViewerOptions windowOptions(const StudyArgs& a) {
 
 /// `--replay DIR --trial N`: trial N's trace in the mirror, over its cloud.
 int runReplay(const StudyArgs& a) {
-    engine::checkDistinctPaths("study", {{"--replay", a.replay, engine::PathRole::InputFolder, studyFile},
-                                         {"--log-json", a.log_json, engine::PathRole::Output, {}},
-                                         {"--screenshot", a.screenshot, engine::PathRole::Output, {}}});
+    platform::checkDistinctPaths("study", {{"--replay", a.replay, platform::PathRole::InputFolder, studyFile},
+                                           {"--log-json", a.log_json, platform::PathRole::Output, {}},
+                                           {"--screenshot", a.screenshot, platform::PathRole::Output, {}}});
     viewer::ViewerOptions o = windowOptions(a);
     o.screenshot = a.screenshot;
     study::Replay replay(a.replay, a.trial, o);
@@ -67,13 +67,13 @@ int runStudy(const StudyArgs& a) {
     if (!a.replay.empty()) return runReplay(a);
     if (a.plan.empty()) throw core::Error("study: give PLAN.json (or --replay DIR)");
     const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<engine::Watchdog> watchdog = viewerWatchdog("study", a.timeout_s);
-    if (a.out.empty()) throw engine::Error("study: --out DIR is required (the folder for trials.csv and the traces)");
-    engine::checkDistinctPaths("study", {{"plan", a.plan, engine::PathRole::Input, {}},
-                                         {"--script", a.script, engine::PathRole::Input, {}},
-                                         {"--out", a.out, engine::PathRole::OutputFolder, studyFile},
-                                         {"--log-json", a.log_json, engine::PathRole::Output, {}},
-                                         {"--screenshot", a.screenshot, engine::PathRole::Output, {}}});
+    const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("study", a.timeout_s);
+    if (a.out.empty()) throw core::Error("study: --out DIR is required (the folder for trials.csv and the traces)");
+    platform::checkDistinctPaths("study", {{"plan", a.plan, platform::PathRole::Input, {}},
+                                           {"--script", a.script, platform::PathRole::Input, {}},
+                                           {"--out", a.out, platform::PathRole::OutputFolder, studyFile},
+                                           {"--log-json", a.log_json, platform::PathRole::Output, {}},
+                                           {"--screenshot", a.screenshot, platform::PathRole::Output, {}}});
 
     study::StudyOptions s;
     s.plan = a.plan;

@@ -52,13 +52,13 @@ int runView(const ViewArgs& a) {
     if (!a.cloud.empty() && !a.scene.empty()) throw core::Error("view: give a cloud file or --scene, not both");
     const sim::OrbitOptions paper;
     if (!a.cloud.empty() && (a.orbit.xres != paper.xres || a.orbit.yres != paper.yres || a.orbit.views != paper.views))
-        throw engine::Error("view: --xres/--yres/--views apply to a generated cloud, not to a cloud file");
-    engine::checkDistinctPaths("view", {{"cloud", a.cloud, engine::PathRole::Input, {}},
-                                        {"--scene", a.scene, engine::PathRole::Input, {}},
-                                        {"--script", a.script, engine::PathRole::Input, {}},
-                                        {"--candidates", a.candidates, engine::PathRole::Input, {}},
-                                        {"--screenshot", a.screenshot, engine::PathRole::Output, {}},
-                                        {"--log-json", a.log_json, engine::PathRole::Output, {}}});
+        throw core::Error("view: --xres/--yres/--views apply to a generated cloud, not to a cloud file");
+    platform::checkDistinctPaths("view", {{"cloud", a.cloud, platform::PathRole::Input, {}},
+                                          {"--scene", a.scene, platform::PathRole::Input, {}},
+                                          {"--script", a.script, platform::PathRole::Input, {}},
+                                          {"--candidates", a.candidates, platform::PathRole::Input, {}},
+                                          {"--screenshot", a.screenshot, platform::PathRole::Output, {}},
+                                          {"--log-json", a.log_json, platform::PathRole::Output, {}}});
     viewer::ViewerOptions o;
     o.use_xr = !a.no_xr;
     o.mirror = viewer::parseMirrorEyes(a.mirror);

@@ -92,31 +92,31 @@ void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o) {
     o.fit_terrain = !cli.dtm.empty();
     if (!cli.dtm.empty()) {
         if (o.white)
-            throw engine::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
+            throw core::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
         std::string ext = std::filesystem::path(cli.dtm).extension().string();
         for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
         if (ext != ".asc")
-            throw engine::Error("generate: --dtm " + engine::printable(cli.dtm, 400) +
-                                ": allowed a name ending in .asc (the DTM is written as an ESRI ASCII grid)");
+            throw core::Error("generate: --dtm " + core::printable(cli.dtm, 400) +
+                              ": allowed a name ending in .asc (the DTM is written as an ESRI ASCII grid)");
     }
 }
 
 void prepareDtmOutput(const GroundCli& cli) {
     if (cli.dtm.empty()) return;
     createParentFolders(cli.dtm, "generate: --dtm");
-    engine::checkWritableDestination(cli.dtm);
+    platform::checkWritableDestination(cli.dtm);
 }
 
-std::unique_ptr<engine::TempFile> stageDtm(const GroundCli& cli, const sim::GenerateStats& st,
-                                           const glm::dvec3& origin) {
+std::unique_ptr<platform::TempFile> stageDtm(const GroundCli& cli, const sim::GenerateStats& st,
+                                             const glm::dvec3& origin) {
     if (cli.dtm.empty()) return nullptr;
-    const std::string out = "output: " + engine::printable(cli.dtm, 400) + ": ";
+    const std::string out = "output: " + core::printable(cli.dtm, 400) + ": ";
     if (!st.terrain || st.terrain->empty())
-        throw engine::Error(out + "no terrain was fitted (--white, or an empty cloud)");
+        throw core::Error(out + "no terrain was fitted (--white, or an empty cloud)");
     const std::string text = sim::dtmAscii(*st.terrain, origin);
-    auto file = std::make_unique<engine::TempFile>(cli.dtm);
+    auto file = std::make_unique<platform::TempFile>(cli.dtm);
     if (std::fwrite(text.data(), 1, text.size(), file->file()) != text.size() || std::fflush(file->file()) != 0)
-        throw engine::Error(out + "write failed: " + std::strerror(errno));
+        throw core::Error(out + "write failed: " + std::strerror(errno));
     return file;
 }
 

@@ -2,7 +2,7 @@
 // each filter's group: RANSAC's, --smrf-*, --csf-*; --dtm), the line that says when
 // RANSAC left the terrain coloured, and the DTM export.
 #pragma once
-#include <engine/safe_file.hpp>
+#include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
 
 #include <CLI/CLI.hpp>
@@ -34,16 +34,16 @@ void addGroundOptions(CLI::App& generate, GroundCli& cli, sim::GroundChoice& gro
 void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o);
 
 /// Before any work, once the run's paths are known to be distinct: --dtm's folders made
-/// and its destination checked (engine::checkWritableDestination). Nothing without --dtm.
+/// and its destination checked (platform::checkWritableDestination). Nothing without --dtm.
 void prepareDtmOutput(const GroundCli& cli);
 
 /// Called by the generator once the cloud is in its temporary, before it is renamed into
 /// place: writes --dtm to a temporary of its own and flushes it, so that a full disk or a
 /// bad destination fails the run while the cloud can still be discarded. The caller
-/// commits the returned file after the cloud; null without --dtm. Throws engine::Error
+/// commits the returned file after the cloud; null without --dtm. Throws core::Error
 /// ("output: <dtm>: ...") when no terrain was fitted or the write fails.
-std::unique_ptr<engine::TempFile> stageDtm(const GroundCli& cli, const sim::GenerateStats& st,
-                                           const glm::dvec3& origin);
+std::unique_ptr<platform::TempFile> stageDtm(const GroundCli& cli, const sim::GenerateStats& st,
+                                             const glm::dvec3& origin);
 
 /// The one line saying that the per-view RANSAC left much of the ground coloured and
 /// naming --ground smrf: when the ground-labelled points' recall is under 80 %, or,

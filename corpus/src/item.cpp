@@ -14,7 +14,6 @@
 
 #include <nlohmann/json.hpp>
 
-
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -50,10 +49,10 @@ void holdForTest(std::size_t index, const std::string& id) {
     const std::size_t colon = text.find(':');
     if (colon == std::string::npos || text.substr(0, colon) != std::to_string(index)) return;
     const std::string fifo = text.substr(colon + 1);
-    struct stat st {};
+    struct stat st{};
     if (::stat(fifo.c_str(), &st) != 0 || !S_ISFIFO(st.st_mode))
-        throw engine::Error("corpus: LADARVR_TEST_HOLD_ITEM: '" + engine::printable(fifo) +
-                            "' is not a FIFO; allowed <index>:<a FIFO> (a test hook)");
+        throw core::Error("corpus: LADARVR_TEST_HOLD_ITEM: '" + core::printable(fifo) +
+                          "' is not a FIFO; allowed <index>:<a FIFO> (a test hook)");
     const std::string line = "held " + id + "\n";
     int fd = ::open(fifo.c_str(), O_WRONLY | O_CLOEXEC);  // waits for the test to listen
     if (fd >= 0) {
@@ -63,8 +62,7 @@ void holdForTest(std::size_t index, const std::string& id) {
     fd = ::open(fifo.c_str(), O_RDONLY | O_CLOEXEC);  // waits for the test to release it
     if (fd >= 0) {
         char buffer[64];
-        while (::read(fd, buffer, sizeof buffer) > 0) {
-        }
+        while (::read(fd, buffer, sizeof buffer) > 0) {}
         ::close(fd);
     }
 }

@@ -33,7 +33,7 @@ std::string exactNumber(double v) {
 /// A target model's vertices in its own frame (scale and up applied, no yaw, no position);
 /// `where` names it in messages (the SPEC key or the base scene's entry).
 std::vector<glm::dvec3> loadModel(const fs::path& file, const std::string& up, double scale, const std::string& where) {
-    return engine::loadMeshVertices(file, up == "y", scale, where);
+    return io::loadMeshVertices(file, up == "y", scale, where);
 }
 
 bool overlaps(const core::Bounds& a, const core::Bounds& b) {
@@ -60,10 +60,10 @@ std::string ItemPlan::sceneText(const fs::path& folder) const {
             const fs::path rel = m.file.lexically_relative(folder);
             if (!rel.empty()) file = rel.string();
         }
-        json entry{{"file", file}, {"role", m.role}, {"position", {m.position.x, m.position.y, m.position.z}},
+        json entry{{"file", file},         {"role", m.role},   {"position", {m.position.x, m.position.y, m.position.z}},
                    {"yaw_deg", m.yaw_deg}, {"scale", m.scale}, {"up", m.up}};
         // Written when they differ from the scene format's defaults (the same scene either way).
-        if (m.reflectance != engine::kDefaultReflectance) entry["reflectance"] = m.reflectance;
+        if (m.reflectance != core::kDefaultReflectance) entry["reflectance"] = m.reflectance;
         if (m.asprs_class >= 0) entry["class"] = m.asprs_class;
         list.push_back(std::move(entry));
     }
@@ -106,18 +106,18 @@ struct Planner::State {
 Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
     State& s = *state_;
     s.spec = spec;
-    const std::string prefix = "corpus: " + engine::printable(spec.file.string()) + ": ";
-    const std::string text = engine::readTextFile(spec.scene, engine::kMaxSceneBytes,
-                                                  "corpus: scene " + engine::printable(spec.scene.string()));
-    s.base = engine::loadSceneJson(text, spec.scene);  // validates the scene and every mesh
+    const std::string prefix = "corpus: " + core::printable(spec.file.string()) + ": ";
+    const std::string text =
+        platform::readTextFile(spec.scene, io::kMaxSceneBytes, "corpus: scene " + core::printable(spec.scene.string()));
+    s.base = io::loadSceneJson(text, spec.scene);  // validates the scene and every mesh
     // The entries as the scene parser read them: every field an item's scene copies.
     s.origin = s.base.written_origin;
     const fs::path dir = spec.scene.parent_path();
-    for (const engine::SceneEntry& m : s.base.entries) {
+    for (const core::SceneEntry& m : s.base.entries) {
         MeshEntry e;
         e.written = m.file;
         e.file = fs::absolute(dir / e.written).lexically_normal();
-        e.role = std::string(engine::roleName(m.role));
+        e.role = std::string(core::roleName(m.role));
         e.position = m.position;
         e.yaw_deg = m.yaw_deg;
         e.scale = m.scale;
@@ -156,15 +156,15 @@ Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
     }
     if (s.target >= 0) {
         const MeshEntry& t = s.entries[std::size_t(s.target)];
-        const std::string base_where = "corpus: scene " + engine::printable(spec.scene.string()) + ": meshes[" +
+        const std::string base_where = "corpus: scene " + core::printable(spec.scene.string()) + ": meshes[" +
                                        std::to_string(s.target) + "] (the target)";
         if (spec.target_files.empty()) {
             s.models.push_back(loadModel(t.file, t.up, t.scale, base_where));
         } else {
             for (std::size_t i = 0; i < spec.target_files.size(); ++i) {
                 const TargetModel& m = spec.target_files[i];
-                s.models.push_back(loadModel(m.file, m.up, m.scale,
-                                             prefix + "vary.target_files[" + std::to_string(i) + "]"));
+                s.models.push_back(
+                    loadModel(m.file, m.up, m.scale, prefix + "vary.target_files[" + std::to_string(i) + "]"));
             }
         }
         // The base target's clearance: its lowest vertex above the ground under it.

@@ -86,11 +86,11 @@ std::vector<ManifestLine> parseLines(const std::string& text, std::size_t* torn)
     return lines;
 }
 
-/// parseLines of a manifest this command wrote and may rewrite (engine::readOwnFile).
+/// parseLines of a manifest this command wrote and may rewrite (platform::readOwnFile).
 std::vector<ManifestLine> readLines(const fs::path& file, std::size_t* torn) {
-    struct stat st {};
+    struct stat st{};
     if (::lstat(file.c_str(), &st) != 0) return {};
-    return parseLines(engine::readOwnFile(file, kMaxManifestBytes, "corpus: manifest"), torn);
+    return parseLines(platform::readOwnFile(file, kMaxManifestBytes, "corpus: manifest"), torn);
 }
 
 std::string joinLines(const std::vector<ManifestLine>& lines) {
@@ -102,7 +102,7 @@ std::string joinLines(const std::vector<ManifestLine>& lines) {
 json readCorpusRecord(const fs::path& dir) {
     const fs::path file = dir / "corpus.json";
     try {
-        return json::parse(engine::readOwnFile(file, kMaxRecordBytes, "corpus: record"));
+        return json::parse(platform::readOwnFile(file, kMaxRecordBytes, "corpus: record"));
     } catch (const json::exception& e) {
         throw core::Error("corpus: " + shown(file) + ": not valid JSON (" + core::printable(e.what(), 100) + ")");
     }
@@ -178,18 +178,18 @@ RunSummary runCorpus(const RunOptions& o) {
         throw core::Error("corpus: --out " + shown(o.out) + " exists and is not a folder; allowed a folder");
     std::error_code ec;
     fs::create_directories(o.out, ec);
-    if (ec) throw engine::Error("corpus: --out " + shown(o.out) + ": cannot create the folder: " + ec.message());
+    if (ec) throw core::Error("corpus: --out " + shown(o.out) + ": cannot create the folder: " + ec.message());
     // DIR/items is ours: a real folder, never a link planted to send the items elsewhere.
-    engine::makeOwnFolder(o.out / "items", "output:");
+    platform::makeOwnFolder(o.out / "items", "output:");
     recordSpec(o.out, spec);
-    engine::removeStaleTemporaries(o.out / "items", isItemFile);
+    platform::removeStaleTemporaries(o.out / "items", isItemFile);
 
     RunSummary summary;
     summary.manifest = o.out / (o.sharded ? "manifest." + std::to_string(o.shard) + ".jsonl" : "manifest.jsonl");
     // One run per manifest at a time: two would build the same items and append the same
     // lines. The lock goes with the process (flock), so a killed run never leaves it held.
     const fs::path lock_path = summary.manifest.string() + ".lock";
-    const int lock_fd = engine::openOwnFile(lock_path, O_RDWR | O_CREAT, "output: lock file");
+    const int lock_fd = platform::openOwnFile(lock_path, O_RDWR | O_CREAT, "output: lock file");
     struct LockCloser {
         int fd;
         ~LockCloser() { ::close(fd); }
@@ -237,7 +237,7 @@ RunSummary runCorpus(const RunOptions& o) {
         std::to_string(o.jobs) + " job(s)");
     if (to_build == 0) return summary;
 
-    const int fd = engine::openOwnFile(summary.manifest, O_WRONLY | O_APPEND | O_CREAT, "output: manifest");
+    const int fd = platform::openOwnFile(summary.manifest, O_WRONLY | O_APPEND | O_CREAT, "output: manifest");
     struct Closer {
         int fd;
         ~Closer() { ::close(fd); }
@@ -365,18 +365,19 @@ std::vector<std::string> readManifest(const fs::path& dir) {
         }
     }
     if (files.empty())
-        throw engine::Error("corpus: " + shown(dir) + ": no manifest.jsonl or manifest.<I>.jsonl; allowed a folder "
-                            "made by 'ladarvr corpus SPEC --out DIR'");
+        throw core::Error("corpus: " + shown(dir) +
+                          ": no manifest.jsonl or manifest.<I>.jsonl; allowed a folder "
+                          "made by 'ladarvr corpus SPEC --out DIR'");
     // A corpus read as an input: its manifests, its record and its items are no place
     // for this run's outputs; beside them outputs may go (histogram.png, plan.json).
-    engine::rememberInputFolder(dir, [](const std::string& rel) {
+    platform::rememberInputFolder(dir, [](const std::string& rel) {
         const std::string first = rel.substr(0, rel.find('/'));
         return first != "corpus.json" && first != "items" && first.rfind("manifest.", 0) != 0 &&
-               first.rfind(engine::kTempPrefix, 0) != 0;
+               first.rfind(platform::kTempPrefix, 0) != 0;
     });
     for (const fs::path& f : files)
-        for (ManifestLine& l : parseLines(engine::readTextFile(f, kMaxManifestBytes, "corpus: manifest " + shown(f)),
-                                          nullptr))
+        for (ManifestLine& l :
+             parseLines(platform::readTextFile(f, kMaxManifestBytes, "corpus: manifest " + shown(f)), nullptr))
             by_index.emplace(l.index, std::move(l.text));
     std::vector<std::string> out;
     for (auto& [index, text] : by_index) out.push_back(std::move(text));

@@ -52,7 +52,7 @@ std::map<std::string, std::vector<double>> columnsOf(const std::vector<std::stri
 
 std::string columnList(const std::map<std::string, std::vector<double>>& columns) {
     std::string s;
-    for (const auto& [name, v] : columns) s += (s.empty() ? "" : ", ") + engine::printable(name, 40);
+    for (const auto& [name, v] : columns) s += (s.empty() ? "" : ", ") + core::printable(name, 40);
     return s.empty() ? "none (the manifest's lines hold no numeric column)" : s;
 }
 
@@ -77,7 +77,7 @@ void writeHistogram(const fs::path& path, const std::vector<std::size_t>& bins) 
 
 Stats computeStats(const fs::path& dir, const StatsOptions& o) {
     const std::vector<std::string> lines = readManifest(dir);
-    engine::checkWritableDestination(o.histogram);  // before any work: not one of the inputs
+    platform::checkWritableDestination(o.histogram);  // before any work: not one of the inputs
     auto columns = columnsOf(lines);
     Stats st;
     st.items = lines.size();
@@ -209,7 +209,7 @@ SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
     if (!(o.time_limit_s > 0) || !std::isfinite(o.time_limit_s))
         throw core::Error("corpus: --time-limit-s " + core::shownNumber(o.time_limit_s) + ": allowed a number > 0");
     const std::vector<std::string> lines = readManifest(dir);
-    engine::checkWritableDestination(o.plan);  // before any work: not one of the inputs
+    platform::checkWritableDestination(o.plan);  // before any work: not one of the inputs
     const std::vector<Condition> conditions = parseConditions(o.expression, columnsOf(lines));
     SelectResult r;
     r.items = lines.size();
@@ -250,7 +250,8 @@ SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
         // A cloud trial (study/plan.hpp takes a cloud or a scene): the item's cloud is
         // the one its manifest line describes, labelled per point; its scene.json
         // replays it. The item id names the trial.
-        trials.push_back({{"cloud", relative(folder / cloud)}, {"name", "item " + m["id"].get<std::string>()},
+        trials.push_back({{"cloud", relative(folder / cloud)},
+                          {"name", "item " + m["id"].get<std::string>()},
                           {"time_limit_s", o.time_limit_s}});
     }
     json plan{{"trials", trials}, {"shuffle_seed", o.seed}};

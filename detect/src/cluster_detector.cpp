@@ -193,7 +193,7 @@ std::uint64_t ClusterDetector::memoryBytes(std::uint64_t points) {
     return kFixedBytes + points * kBytesPerPoint;
 }
 
-std::vector<Detection> ClusterDetector::detect(const engine::PointCloud& cloud) const {
+std::vector<Detection> ClusterDetector::detect(const core::PointCloud& cloud) const {
     ClusterStats stats;
     return detect(cloud, stats);
 }

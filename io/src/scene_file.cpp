@@ -48,7 +48,7 @@ struct RawMesh {
     std::size_t nonfinite_triangles = 0;  // dropped (skip_nonfinite only)
 };
 
-using Entry = SceneEntry;
+using Entry = core::SceneEntry;
 
 double finiteNumber(const json& v, const std::string& where, const std::string& key, const std::string& allowed) {
     if (!v.is_number()) throw Error(where + ": '" + key + "' must be " + allowed + ", not " + jsonTypeName(v));

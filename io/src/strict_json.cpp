@@ -27,9 +27,8 @@ class StrictKeys {
             case json::parse_event_t::array_start:
                 countElement();
                 if (stack_->size() >= kMaxJsonDepth)
-                    throw Error(name_ + ": arrays and objects nested deeper than " +
-                                std::to_string(kMaxJsonDepth) + " levels; allowed at most " +
-                                std::to_string(kMaxJsonDepth));
+                    throw Error(name_ + ": arrays and objects nested deeper than " + std::to_string(kMaxJsonDepth) +
+                                " levels; allowed at most " + std::to_string(kMaxJsonDepth));
                 stack_->push_back({event == json::parse_event_t::array_start, 0, {}, {}});
                 break;
             case json::parse_event_t::object_end:

@@ -71,8 +71,9 @@ namespace {
 // The reader's rules, one line at a time: parseTrace feeds it a text, forEachTraceRow a
 // file read in blocks, so both accept and refuse exactly the same traces.
 class TraceParser {
-public:
-    explicit TraceParser(const std::filesystem::path& name) : where_("trace: " + printable(name.string(), 400) + ": ") {}
+  public:
+    explicit TraceParser(const std::filesystem::path& name)
+        : where_("trace: " + printable(name.string(), 400) + ": ") {}
 
     bool studyColumns() const { return study_columns_; }
 
@@ -84,18 +85,20 @@ public:
         if (line_no_ == 1) {
             for (std::size_t k = 0; k < kHeadColumns.size(); ++k)
                 if (k >= fields.size() || fields[k] != kHeadColumns[k])
-                    fail(1, "", "header column " + std::to_string(k + 1) + " is '" +
-                                    printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
-                                    "'; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,"
-                                    "head_qy,head_qz");
+                    fail(1, "",
+                         "header column " + std::to_string(k + 1) + " is '" +
+                             printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
+                             "'; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,"
+                             "head_qy,head_qz");
             header_fields_ = fields.size();
             study_columns_ = hasStudyColumns(fields);
             return std::nullopt;
         }
         if (line.empty()) fail(line_no_, "", "empty line; allowed one sample per line");
         if (fields.size() != header_fields_)
-            fail(line_no_, "", std::to_string(fields.size()) + " fields; allowed " + std::to_string(header_fields_) +
-                                   " (as the header)");
+            fail(line_no_, "",
+                 std::to_string(fields.size()) + " fields; allowed " + std::to_string(header_fields_) +
+                     " (as the header)");
         auto number = [&](std::size_t k, std::string_view column) {
             const std::string_view f = fields[k];
             double v = 0.0;
@@ -122,11 +125,15 @@ public:
         r.head_orientation = q / norm;
         if (study_columns_) {
             const std::size_t m = kHeadColumns.size();
-            if (fields[m] == "automatic") r.mode = TraceMode::Automatic;
-            else if (fields[m] == "free") r.mode = TraceMode::Free;
-            else fail(line_no_, "mode", "'" + printable(fields[m], 40) + "'; allowed automatic or free");
+            if (fields[m] == "automatic")
+                r.mode = TraceMode::Automatic;
+            else if (fields[m] == "free")
+                r.mode = TraceMode::Free;
+            else
+                fail(line_no_, "mode", "'" + printable(fields[m], 40) + "'; allowed automatic or free");
             r.scale = number(m + 1, "scale");
-            if (!(r.scale > 0.0)) fail(line_no_, "scale", "'" + printable(fields[m + 1], 40) + "'; allowed a number > 0");
+            if (!(r.scale > 0.0))
+                fail(line_no_, "scale", "'" + printable(fields[m + 1], 40) + "'; allowed a number > 0");
             if (!fields[m + 2].empty() || !fields[m + 3].empty() || !fields[m + 4].empty())
                 r.hit_world = glm::dvec3(number(m + 2, "hit_x"), number(m + 3, "hit_y"), number(m + 4, "hit_z"));
         }
@@ -147,7 +154,7 @@ public:
                     (column.empty() ? std::string() : ", column " + std::string(column)) + ": " + what);
     }
 
-private:
+  private:
     std::string where_;
     std::size_t line_no_ = 0, header_fields_ = 0, rows_ = 0;
     double last_t_s_ = 0.0;
@@ -178,7 +185,7 @@ Trace readTrace(const std::filesystem::path& file) {
 
 bool forEachTraceRow(const std::filesystem::path& file, const std::function<void(const TraceRow&)>& visit) {
     const std::string what = "trace: " + printable(file.string(), 400) + ":";
-    checkInputFile(file, what);
+    platform::checkInputFile(file, what);
     // O_NONBLOCK: should the name have become a FIFO since the check, open() must not wait.
     const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
     if (fd < 0) throw Error(what + " cannot be read: " + std::strerror(errno));
@@ -186,7 +193,7 @@ bool forEachTraceRow(const std::filesystem::path& file, const std::function<void
         int fd;
         ~Closer() { ::close(fd); }
     } closer{fd};
-    struct stat st {};
+    struct stat st{};
     if (::fstat(fd, &st) != 0) throw Error(what + " cannot be read: " + std::strerror(errno));
     if (!S_ISREG(st.st_mode)) throw Error(what + " is not a regular file; allowed: a regular file");
     ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
@@ -206,8 +213,9 @@ bool forEachTraceRow(const std::filesystem::path& file, const std::function<void
             if (end == std::string_view::npos) {
                 carry.append(data);
                 if (carry.size() > kMaxTraceLineBytes)
-                    parser.fail(parser.lineNumber() + 1, "", "longer than " + std::to_string(kMaxTraceLineBytes) +
-                                                             " bytes; allowed one sample per line");
+                    parser.fail(
+                        parser.lineNumber() + 1, "",
+                        "longer than " + std::to_string(kMaxTraceLineBytes) + " bytes; allowed one sample per line");
                 break;
             }
             std::optional<TraceRow> row;
@@ -228,4 +236,4 @@ bool forEachTraceRow(const std::filesystem::path& file, const std::function<void
     return parser.studyColumns();
 }
 
-}  // namespace engine
+}  // namespace io

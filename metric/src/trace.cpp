@@ -1,8 +1,8 @@
 // metric/src/trace.cpp: camera poses along an operator's head trace (metric/trace.hpp).
 #include <metric/trace.hpp>
 
-#include <engine/error.hpp>
-#include <engine/safe_file.hpp>
+#include <core/error.hpp>
+#include <platform/safe_file.hpp>
 
 namespace metric {
 
@@ -21,9 +21,9 @@ bool keeps(bool first, double last_kept_s, double t_s, double step_s) { return f
 
 }  // namespace
 
-std::vector<engine::TraceRow> everyStep(const std::vector<engine::TraceRow>& samples, double step_s) {
-    std::vector<engine::TraceRow> kept;
-    for (const engine::TraceRow& s : samples)
+std::vector<io::TraceRow> everyStep(const std::vector<io::TraceRow>& samples, double step_s) {
+    std::vector<io::TraceRow> kept;
+    for (const io::TraceRow& s : samples)
         if (keeps(kept.empty(), kept.empty() ? 0.0 : kept.back().t_s, s.t_s, step_s)) kept.push_back(s);
     return kept;
 }
@@ -33,14 +33,14 @@ std::vector<render::CameraPose> tracePoses(const std::filesystem::path& file, do
     std::vector<render::CameraPose> poses;
     double last_kept_s = 0.0;
     samples = 0;
-    engine::forEachTraceRow(file, [&](const engine::TraceRow& row) {
+    io::forEachTraceRow(file, [&](const io::TraceRow& row) {
         ++samples;
         if (!keeps(poses.empty(), last_kept_s, row.t_s, step_s)) return;
         if (poses.size() == max_poses)
-            throw engine::Error("metric: --trace " + engine::printable(file.string(), 400) + ": more than " +
-                                std::to_string(max_poses) + " samples are at least " + engine::shownNumber(step_s) +
-                                " s apart; allowed at most " + std::to_string(max_poses) +
-                                " views (raise --trace-step-s)");
+            throw core::Error("metric: --trace " + core::printable(file.string(), 400) + ": more than " +
+                              std::to_string(max_poses) + " samples are at least " + core::shownNumber(step_s) +
+                              " s apart; allowed at most " + std::to_string(max_poses) +
+                              " views (raise --trace-step-s)");
         poses.push_back(cameraFromHead(row));
         last_kept_s = row.t_s;
     });

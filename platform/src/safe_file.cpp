@@ -127,11 +127,10 @@ void rememberInput(const struct stat& st, const fs::path& path) {
     g_inputs.push_back({st.st_dev, st.st_ino, path.string()});
 }
 
-
 // Removes a dead run's temporary file (regular, ours) or folder (removeOwnFolder's checks) by name
 // inside `dirfd`; anything else stays.
 void removeStaleEntry(int dirfd, const std::string& name, const OwnedName& folder_holds) {
-    struct stat st {};
+    struct stat st{};
     if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_uid != ::geteuid()) return;
     if (S_ISDIR(st.st_mode))
         removeOwnFolder(dirfd, name, folder_holds);
@@ -326,12 +325,12 @@ void checkNotAnInput(const fs::path& path) {
             const fs::path rel = full.lexically_relative(f.canonical);
             if (rel.empty() || *rel.begin() == "..") continue;
             if (rel == "." || !f.may_write || !f.may_write(rel.generic_string()))
-                throw Error("output: " + shownPath(path) + ": is '" + detail::shown(rel.generic_string(), 120, true) +
+                throw Error("output: " + shownPath(path) + ": is '" + core::printable(rel.generic_string(), 120, true) +
                             "' inside the input folder '" + shownPath(f.path) +
                             "' of this run, which this command reads; give another name");
         }
     }
-    struct stat st {};
+    struct stat st{};
     if (::stat(path.c_str(), &st) != 0) return;
     for (const InputFile& f : g_inputs)
         if (f.dev == st.st_dev && f.ino == st.st_ino)
@@ -347,7 +346,7 @@ int openOwnFile(const fs::path& path, int flags, std::string_view what) {
         if (st.st_uid != ::geteuid())
             throw Error(head + "belongs to user id " + std::to_string(st.st_uid) + ", not this one" + allowed);
     };
-    struct stat st {};
+    struct stat st{};
     if (::lstat(path.c_str(), &st) == 0) refuse(st);
     const int fd = ::open(path.c_str(), flags | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC, 0666);
     if (fd < 0) {
@@ -395,9 +394,10 @@ void makeOwnFolder(const fs::path& path, std::string_view what) {
     const std::string head = std::string(what) + " " + shownPath(path) + ": ";
     if (::mkdir(path.c_str(), 0777) == 0) return;
     const int e = errno;
-    struct stat st {};
+    struct stat st{};
     if (e != EEXIST || ::lstat(path.c_str(), &st) != 0) throw Error(head + "cannot create the folder: " + errnoText(e));
-    if (!S_ISDIR(st.st_mode)) throw Error(head + "is " + kindName(st.st_mode) + "; allowed: a folder this command made");
+    if (!S_ISDIR(st.st_mode))
+        throw Error(head + "is " + kindName(st.st_mode) + "; allowed: a folder this command made");
     if (st.st_uid != ::geteuid())
         throw Error(head + "belongs to user id " + std::to_string(st.st_uid) +
                     ", not this one; allowed: a folder this command made");
@@ -410,7 +410,7 @@ void makeOwnFolder(const fs::path& path, std::string_view what) {
 void checkPathLength(const fs::path& path, std::string_view what) {
     const std::string& text = path.native();
     const auto fail = [&](const std::string& why) {
-        throw Error(std::string(what) + ": " + detail::shown(text, 120, true) + ": " + why);
+        throw Error(std::string(what) + ": " + core::printable(text, 120, true) + ": " + why);
     };
     if (text.size() > kMaxPathBytes)
         fail("the path is " + std::to_string(text.size()) + " bytes long; allowed at most " +
@@ -446,7 +446,7 @@ ResolvedPath resolveRunPath(const fs::path& path) {
     if (ec) r.canonical = absolute.lexically_normal();
     if (!r.canonical.has_filename() && r.canonical != r.canonical.root_path())
         r.canonical = r.canonical.parent_path();  // "dir/" and "dir" are one folder
-    struct stat st {};
+    struct stat st{};
     if (::stat(path.c_str(), &st) == 0) {
         r.exists = true;
         r.dev = st.st_dev;
@@ -485,8 +485,8 @@ void checkDistinctPaths(std::string_view command, const std::vector<RunPath>& pa
             const ResolvedPath& ra = resolved[a];
             const ResolvedPath& rb = resolved[b];
             if (b > a && !(isInput(paths[a].role) && isInput(paths[b].role))) {
-                const bool same = ra.canonical == rb.canonical ||
-                                  (ra.exists && rb.exists && ra.dev == rb.dev && ra.ino == rb.ino);
+                const bool same =
+                    ra.canonical == rb.canonical || (ra.exists && rb.exists && ra.dev == rb.dev && ra.ino == rb.ino);
                 if (same)
                     throw Error(head + named(a) + " and " + named(b) +
                                 " name the same file; allowed: a distinct path for each output, none of them an "
@@ -500,7 +500,7 @@ void checkDistinctPaths(std::string_view command, const std::vector<RunPath>& pa
             if (first.empty() || (paths[a].names && !paths[a].names(first))) continue;
             if (writes_inside)
                 throw Error(head + named(b) + " lies inside the output folder " + named(a) + ", " +
-                            (paths[a].names ? "where this run writes '" + detail::shown(first, 80, true) + "'"
+                            (paths[a].names ? "where this run writes '" + core::printable(first, 80, true) + "'"
                                             : std::string("which this run replaces as a whole")) +
                             "; allowed: a path outside it");
             throw Error(head + named(b) + " lies inside the input folder " + named(a) +
@@ -514,13 +514,13 @@ void checkDistinctPaths(std::string_view command, const std::vector<RunPath>& pa
 // ---------------------------------------------------------------------------------
 
 bool removeOwnFolder(int parent_fd, const std::string& name, const OwnedName& holds) {
-    struct stat st {};
+    struct stat st{};
     if (::fstatat(parent_fd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISDIR(st.st_mode) ||
         st.st_uid != ::geteuid())
         return false;
     const int fd = ::openat(parent_fd, name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
     if (fd < 0) return false;
-    struct stat opened {};
+    struct stat opened{};
     if (::fstat(fd, &opened) != 0 || opened.st_dev != st.st_dev || opened.st_ino != st.st_ino) {
         ::close(fd);
         return false;
@@ -533,7 +533,7 @@ bool removeOwnFolder(int parent_fd, const std::string& name, const OwnedName& ho
         while (const dirent* e = ::readdir(d)) {
             const std::string entry = e->d_name;
             if (entry == "." || entry == "..") continue;
-            struct stat est {};
+            struct stat est{};
             const bool known = tempNamePid(entry) > 0 || (holds && holds(entry));
             if (!known || ::fstatat(fd, entry.c_str(), &est, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(est.st_mode) ||
                 est.st_uid != ::geteuid()) {
@@ -566,9 +566,8 @@ void removeStaleTemporaries(const fs::path& dir, const OwnedName& folder_holds) 
         ::closedir(d);
     }
     for (const std::string& name : stale) {
-        struct stat st {};
-        if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_uid != ::geteuid())
-            continue;
+        struct stat st{};
+        if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0 || st.st_uid != ::geteuid()) continue;
         removeStaleEntry(dirfd, name, folder_holds);
     }
     ::close(dirfd);

@@ -583,7 +583,7 @@ static io::LasOptions lasOptions(const core::Scene& scene, const GenerateOptions
     return las;
 }
 
-void Generator::run(const std::filesystem::path& out, engine::CloudFormat format, GenerateStats* stats,
+void Generator::run(const std::filesystem::path& out, io::CloudFormat format, GenerateStats* stats,
                     const BeforeCommit& before_commit) {
     const State& s = *state_;
     const auto t0 = Clock::now();
@@ -643,8 +643,7 @@ void Generator::run(const std::filesystem::path& out, engine::CloudFormat format
             writer.append(part);
             st.seconds.write += secondsSince(tc);
         }
-        if (writer.count() != st.points)
-            throw engine::Error("output: " + out.string() + ": spool file came back short");
+        if (writer.count() != st.points) throw core::Error("output: " + out.string() + ": spool file came back short");
     }
     terrain.finish(st);
     if (before_commit) before_commit(st);

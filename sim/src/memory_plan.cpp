@@ -4,8 +4,8 @@
 
 #include <sim/memory_budget.hpp>
 
-#include <engine/error.hpp>
-#include <engine/point_cloud.hpp>
+#include <core/error.hpp>
+#include <core/point_cloud.hpp>
 
 #include <glm/glm.hpp>
 
@@ -53,8 +53,8 @@ std::uint64_t largest(std::uint64_t hi, const Fits& fits) {
 
 std::size_t memoryBudgetBytes(double memory_mb, std::string_view command) {
     if (!(std::isfinite(memory_mb) && memory_mb >= 1.0 && memory_mb <= 1048576.0))
-        throw engine::Error(std::string(command) + ": --memory-mb = " + engine::shownNumber(memory_mb) +
-                            ": allowed [1, 1048576]");
+        throw core::Error(std::string(command) + ": --memory-mb = " + core::shownNumber(memory_mb) +
+                          ": allowed [1, 1048576]");
     return std::size_t(memory_mb * 1048576.0);
 }
 
@@ -63,8 +63,8 @@ void refuseOverBudget(std::string_view command, std::uint64_t budget_bytes, std:
     if (need_bytes <= budget_bytes) return;
     char budget_mb[32];
     std::snprintf(budget_mb, sizeof budget_mb, "%.6g", double(budget_bytes) / 1048576.0);
-    throw engine::Error(std::string(command) + ": --memory-mb " + budget_mb + " is too small: this run needs at least " +
-                        mebibytes(need_bytes) + " MiB (" + why + "); " + advice);
+    throw core::Error(std::string(command) + ": --memory-mb " + budget_mb + " is too small: this run needs at least " +
+                      mebibytes(need_bytes) + " MiB (" + why + "); " + advice);
 }
 
 std::uint64_t planBytes(const MemoryNeeds& n, std::size_t batch_views, std::size_t band_rows, int threads) {
@@ -102,12 +102,12 @@ MemoryPlan planMemory(const MemoryNeeds& n) {
             p.threads = int(largest(std::uint64_t(p.threads), [&](std::uint64_t t) { return fits(1, 1, int(t)); }));
             if (p.threads == 0) {
                 const std::uint64_t need = planBytes(n, 1, 1, 1) + kMinColourChunk * kPointBytes;
-                std::string why = n.white ? "one row of " + std::to_string(n.xres) + " pixels on one thread"
-                                          : "one view's up to " + std::to_string(n.view_hits) +
-                                                " hits, whitened together by RANSAC";
-                refuseOverBudget("generate", budget, std::max(need, budget + 1), why,
-                                 "raise --memory-mb" +
-                                     (n.white ? std::string() : ", lower --xres/--yres, or use --white"));
+                std::string why =
+                    n.white ? "one row of " + std::to_string(n.xres) + " pixels on one thread"
+                            : "one view's up to " + std::to_string(n.view_hits) + " hits, whitened together by RANSAC";
+                refuseOverBudget(
+                    "generate", budget, std::max(need, budget + 1), why,
+                    "raise --memory-mb" + (n.white ? std::string() : ", lower --xres/--yres, or use --white"));
             }
             p.band_rows =
                 std::size_t(largest(yres, [&](std::uint64_t r) { return fits(1, std::size_t(r), p.threads); }));

@@ -39,17 +39,17 @@ double number(const json& o, const char* key, const std::string& where, double l
     if (it == o.end()) return fallback;
     const std::string range = "[" + core::shownNumber(lo) + ", " + core::shownNumber(hi) + "]";
     if (!it->is_number())
-        throw engine::Error(field(where, key) + " must be a number in " + range + ", not " + engine::jsonTypeName(*it));
+        throw core::Error(field(where, key) + " must be a number in " + range + ", not " + io::jsonTypeName(*it));
     const double v = it->get<double>();
     if (!(std::isfinite(v) && v >= lo && v <= hi))
-        throw engine::Error(field(where, key) + " " + engine::shownNumber(v) + " is not in " + range);
+        throw core::Error(field(where, key) + " " + core::shownNumber(v) + " is not in " + range);
     return v;
 }
 
 int whole(const json& o, const char* key, const std::string& where, int lo, int hi, int fallback) {
     const double v = number(o, key, where, lo, hi, fallback);
     if (v != std::floor(v))
-        throw engine::Error(field(where, key) + " " + engine::shownNumber(v) + " is not a whole number");
+        throw core::Error(field(where, key) + " " + core::shownNumber(v) + " is not a whole number");
     return static_cast<int>(v);
 }
 
@@ -57,8 +57,8 @@ std::string text(const json& o, const char* key, const std::string& where) {
     const auto it = o.find(key);
     if (it == o.end()) return {};
     if (!it->is_string() || it->get<std::string>().empty())
-        throw engine::Error(field(where, key) + " must be a non-empty string, not " +
-                            (it->is_string() ? std::string("an empty one") : engine::jsonTypeName(*it)));
+        throw core::Error(field(where, key) + " must be a non-empty string, not " +
+                          (it->is_string() ? std::string("an empty one") : io::jsonTypeName(*it)));
     return it->get<std::string>();
 }
 
@@ -101,14 +101,14 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
     }
     if (const auto seed = root.find("shuffle_seed"); seed != root.end()) {
         if (!seed->is_number_unsigned())
-            throw engine::Error(where + ": shuffle_seed must be a whole number >= 0, not " +
-                                (seed->is_number() ? engine::shownNumber(seed->get<double>()) : engine::jsonTypeName(*seed)));
+            throw core::Error(where + ": shuffle_seed must be a whole number >= 0, not " +
+                              (seed->is_number() ? core::shownNumber(seed->get<double>()) : io::jsonTypeName(*seed)));
         plan.shuffle_seed = seed->get<std::uint64_t>();
     }
     plan.hit_radius_m = number(root, "hit_radius_m", where + ":", 0.001, 10000.0, plan.hit_radius_m);
     if (const auto orbit = root.find("orbit"); orbit != root.end()) {
         const std::string w = where + ": orbit";
-        if (!orbit->is_object()) throw engine::Error(w + " must be an object, not " + engine::jsonTypeName(*orbit));
+        if (!orbit->is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(*orbit));
         onlyKeys(*orbit, w, {"radius_m", "height_m", "period_s"});
         plan.orbit_radius_m = number(*orbit, "radius_m", w, 0.1, 100000.0, plan.orbit_radius_m);
         plan.orbit_height_m = number(*orbit, "height_m", w, -100000.0, 100000.0, plan.orbit_height_m);
@@ -116,7 +116,7 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
     }
     if (const auto g = root.find("generate"); g != root.end()) {
         const std::string w = where + ": generate";
-        if (!g->is_object()) throw engine::Error(w + " must be an object, not " + engine::jsonTypeName(*g));
+        if (!g->is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(*g));
         onlyKeys(*g, w, {"xres", "yres", "views"});
         plan.xres = whole(*g, "xres", w, 1, 8192, plan.xres);
         plan.yres = whole(*g, "yres", w, 1, 8192, plan.yres);

@@ -184,7 +184,7 @@ left=$(ls -A "$dir/killed/items" | grep -e '^\.ladarvr-tmp-' || true)
 stop_mid_item KILL 2
 [ "$status" -eq 137 ] || fail "SIGKILL: exit status $status, expected 137"
 # What SIGKILL leaves: whole items under their names and the held item's hidden folder.
-ls -A "$dir/killed/items" | grep -q -e '^\.ladarvr-tmp-[0-9]*-0002$' ||
+ls -A "$dir/killed/items" | grep -q -e '^\.ladarvr-tmp-[0-9]*-[A-Za-z0-9]*$' ||
     fail "SIGKILL at item 2 left no hidden folder: $(ls -A "$dir/killed/items")"
 for item in "$dir"/killed/items/*; do
     [ -f "$item/scene.json" ] && [ -f "$item/cloud.pcd" ] || fail "SIGKILL left a partial item $item"

@@ -154,7 +154,7 @@ namespace {
 
 // The rows forEachTraceRow hands on for `text` written to a file, and the error, if any.
 struct Streamed {
-    std::vector<engine::TraceRow> rows;
+    std::vector<io::TraceRow> rows;
     std::string error;
     bool study_columns = false;
 };
@@ -163,9 +163,8 @@ Streamed stream(const std::string& text) {
     const std::filesystem::path file = dir.path / "trace.csv";
     std::ofstream(file, std::ios::binary) << text;
     Streamed s;
-    s.error = test_support::errorOf([&] {
-        s.study_columns = engine::forEachTraceRow(file, [&](const engine::TraceRow& r) { s.rows.push_back(r); });
-    });
+    s.error = test_support::errorOf(
+        [&] { s.study_columns = io::forEachTraceRow(file, [&](const io::TraceRow& r) { s.rows.push_back(r); }); });
     return s;
 }
 
@@ -180,9 +179,9 @@ std::string row(std::size_t t_ms, std::size_t pad = 0) {
 TEST_CASE("trace: read a block at a time, a file gives what its text gives, lines across blocks included") {
     // Rows of varying length over three blocks, so lines straddle each block boundary.
     std::string text = kHeadOnly;
-    for (std::size_t i = 0; text.size() < 3 * engine::kTraceBlockBytes; ++i) text += row(i, i % 7);
+    for (std::size_t i = 0; text.size() < 3 * io::kTraceBlockBytes; ++i) text += row(i, i % 7);
     text += "9999.000,1,2,3,1,0,0,0";  // the last line without its break
-    const engine::Trace whole = engine::parseTrace(text, "trace.csv");
+    const io::Trace whole = io::parseTrace(text, "trace.csv");
     const Streamed s = stream(text);
     CHECK(s.error == "(no error)");
     CHECK_FALSE(s.study_columns);
@@ -198,7 +197,7 @@ TEST_CASE("trace: streamed rows are handed on before the file ends; the same ref
     // A bad line after more than a block of good rows: the good ones were handed on first.
     std::string text = kHeadOnly;
     std::size_t good = 0;
-    for (; text.size() < 2 * engine::kTraceBlockBytes; ++good) text += row(good);
+    for (; text.size() < 2 * io::kTraceBlockBytes; ++good) text += row(good);
     const std::string bad = text + "1.0,1,2,3,1,0,0,0\n";  // time goes back
     const Streamed s = stream(bad);
     CHECK(s.rows.size() == good);
@@ -211,6 +210,6 @@ TEST_CASE("trace: streamed rows are handed on before the file ends; the same ref
     CHECK(stream(kHeadOnly).error.find("no samples after the header") != std::string::npos);
     CHECK(stream(kHeadOnly + "\n").error.find("line 2: empty line") != std::string::npos);
     // A line longer than kMaxTraceLineBytes is refused without holding more of it.
-    const Streamed long_line = stream(kHeadOnly + std::string(engine::kMaxTraceLineBytes + 10, '1'));
+    const Streamed long_line = stream(kHeadOnly + std::string(io::kMaxTraceLineBytes + 10, '1'));
     CHECK(long_line.error.find("line 2: longer than 1048576 bytes") != std::string::npos);
 }

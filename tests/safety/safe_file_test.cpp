@@ -241,7 +241,7 @@ TEST_CASE("the next run removes temporaries of dead processes, and only those") 
     CHECK(fs::exists(lookalike));
     CHECK(slurp(user) == "a user's file");
     // With the names a folder of the command holds, such a folder goes too.
-    engine::removeStaleTemporaries(dir.path, [](const std::string& name) { return name == "notes.txt"; });
+    platform::removeStaleTemporaries(dir.path, [](const std::string& name) { return name == "notes.txt"; });
     CHECK_FALSE(fs::exists(dir.path / (stale + "Mix789")));
     CHECK(fs::exists(dir.path / (stale + "Dir456") / "inside"));
 }
@@ -330,9 +330,9 @@ TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
     }
     SUBCASE("a link to a folder is refused: neither the link nor the folder it points to changes") {
         fs::create_directory_symlink(out, dir.path / "link");
-        CHECK(contains(errorOf([&] { engine::writeFolderAtomic(dir.path / "link", {{"a.txt", "via link"}}, ours); }),
+        CHECK(contains(errorOf([&] { platform::writeFolderAtomic(dir.path / "link", {{"a.txt", "via link"}}, ours); }),
                        "is a symbolic link; refusing to follow it"));
-        CHECK(contains(errorOf([&] { engine::checkOutputFolder(dir.path / "link", ours); }),
+        CHECK(contains(errorOf([&] { platform::checkOutputFolder(dir.path / "link", ours); }),
                        "is a symbolic link; refusing to follow it"));
         CHECK(fs::is_symlink(dir.path / "link"));
         CHECK(slurp(out / "a.txt") == "run1 a");
@@ -340,7 +340,7 @@ TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
     }
     SUBCASE("a regular file is named as one") {
         std::ofstream(dir.path / "file.txt") << "text";
-        CHECK(contains(errorOf([&] { engine::checkOutputFolder(dir.path / "file.txt", ours); }),
+        CHECK(contains(errorOf([&] { platform::checkOutputFolder(dir.path / "file.txt", ours); }),
                        "is a regular file, not a folder"));
     }
     SUBCASE("missing parent folders are made") {
@@ -352,12 +352,12 @@ TEST_CASE("an output folder is replaced as a whole: never a mix of two runs") {
 }
 
 TEST_CASE("a run's paths: no output onto an input or another output, none inside an output folder") {
-    using engine::PathRole;
+    using platform::PathRole;
     TempDir dir("distinct");
     const fs::path scene = dir.path / "scene.json";
     std::ofstream(scene) << "{}";
-    const auto check = [](const std::vector<engine::RunPath>& paths) {
-        return errorOf([&] { engine::checkDistinctPaths("cmd", paths); });
+    const auto check = [](const std::vector<platform::RunPath>& paths) {
+        return errorOf([&] { platform::checkDistinctPaths("cmd", paths); });
     };
     SUBCASE("two outputs under one name, also spelt differently or absent yet") {
         CHECK(contains(check({{"--out", dir.path / "x.pcd", PathRole::Output, {}},
@@ -370,14 +370,18 @@ TEST_CASE("a run's paths: no output onto an input or another output, none inside
     SUBCASE("an output onto an input, through a symbolic link or a hard link") {
         fs::create_symlink(scene, dir.path / "soft.json");
         fs::create_hard_link(scene, dir.path / "hard.asc");
-        CHECK(contains(check({{"--scene", scene, PathRole::Input, {}},
-                              {"--dtm", dir.path / "soft.json", PathRole::Output, {}}}), "name the same file"));
-        CHECK(contains(check({{"--scene", scene, PathRole::Input, {}},
-                              {"--dtm", dir.path / "hard.asc", PathRole::Output, {}}}), "name the same file"));
+        CHECK(contains(
+            check({{"--scene", scene, PathRole::Input, {}}, {"--dtm", dir.path / "soft.json", PathRole::Output, {}}}),
+            "name the same file"));
+        CHECK(contains(
+            check({{"--scene", scene, PathRole::Input, {}}, {"--dtm", dir.path / "hard.asc", PathRole::Output, {}}}),
+            "name the same file"));
     }
     SUBCASE("one input given twice is allowed; empty paths are skipped") {
-        CHECK(check({{"--p1", scene, PathRole::Input, {}}, {"--p2", scene, PathRole::Input, {}},
-                     {"--dtm", "", PathRole::Output, {}}, {"--out", "", PathRole::Output, {}}}) == "(no error)");
+        CHECK(check({{"--p1", scene, PathRole::Input, {}},
+                     {"--p2", scene, PathRole::Input, {}},
+                     {"--dtm", "", PathRole::Output, {}},
+                     {"--out", "", PathRole::Output, {}}}) == "(no error)");
     }
     SUBCASE("an input inside an output folder replaced as a whole") {
         fs::create_directories(dir.path / "report");
@@ -388,7 +392,7 @@ TEST_CASE("a run's paths: no output onto an input or another output, none inside
                            "', which this run replaces as a whole"));
     }
     SUBCASE("an output folder that writes some names: only those conflict") {
-        const engine::OwnedName study = [](const std::string& n) { return n.rfind("trace_", 0) == 0; };
+        const platform::OwnedName study = [](const std::string& n) { return n.rfind("trace_", 0) == 0; };
         CHECK(contains(check({{"--out", dir.path / "d", PathRole::OutputFolder, study},
                               {"--log-json", dir.path / "d" / "trace_1.csv", PathRole::Output, {}}}),
                        "where this run writes 'trace_1.csv'"));
@@ -410,6 +414,6 @@ TEST_CASE("a run's paths: no output onto an input or another output, none inside
         CHECK(m.size() < 300);
         CHECK(contains(check({{"--out", "/tmp/" + std::string(300, 'b') + "/x", PathRole::Output, {}}}),
                        "a name in it is 300 bytes long; allowed at most 255 bytes per name"));
-        CHECK(contains(errorOf([&] { engine::checkWritableDestination(long_path); }), "allowed at most 4095 bytes"));
+        CHECK(contains(errorOf([&] { platform::checkWritableDestination(long_path); }), "allowed at most 4095 bytes"));
     }
 }

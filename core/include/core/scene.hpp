@@ -19,11 +19,11 @@ inline constexpr double kDefaultReflectance = 0.5;
 struct Mesh {
     std::string name;  // the file name as written in the scene
     Role role = Role::Environment;
-    glm::dvec3 position{0.0};           // the entry's 'position', world metres
-    std::vector<glm::vec3> vertices;    // local frame, metres
-    std::vector<glm::uvec3> triangles;  // indices into vertices
+    glm::dvec3 position{0.0};                  // the entry's 'position', world metres
+    std::vector<glm::vec3> vertices;           // local frame, metres
+    std::vector<glm::uvec3> triangles;         // indices into vertices
     double reflectance = kDefaultReflectance;  // Lambertian reflectance at the Ladar's wavelength, [0, 1]
-    int asprs_class = -1;               // 'class' (0..255) for LAS output, -1: by role
+    int asprs_class = -1;                      // 'class' (0..255) for LAS output, -1: by role
 };
 
 /// One mesh entry of a scene file, as written (before its mesh file is read): what a

@@ -23,7 +23,7 @@ struct ItemOutcome {
 
 /// Plans and builds item `index` into `out`/items/<id>/ (replacing a folder left there by
 /// a run killed before its manifest line), with `threads` generator threads (0 = all).
-/// Throws engine::Error naming the item.
+/// Throws core::Error naming the item.
 ///
 /// Test hook: with the environment variable LADARVR_TEST_HOLD_ITEM="<index>:<fifo>" (a
 /// FIFO the test made), item <index> is held with its files written into its hidden

@@ -8,8 +8,8 @@
 #pragma once
 #include <corpus/spec.hpp>
 
-#include <engine/frames.hpp>
-#include <engine/scene.hpp>
+#include <core/frames.hpp>
+#include <core/scene.hpp>
 #include <sim/generator.hpp>
 
 #include <cstdint>
@@ -31,8 +31,8 @@ struct MeshEntry {
     double yaw_deg = 0.0;
     double scale = 1.0;
     std::string up = "z";
-    double reflectance = engine::kDefaultReflectance;
-    int asprs_class = -1;              // 'class'; -1: not given (by role)
+    double reflectance = core::kDefaultReflectance;
+    int asprs_class = -1;  // 'class'; -1: not given (by role)
 };
 
 struct ItemPlan {

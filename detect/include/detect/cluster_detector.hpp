@@ -77,7 +77,7 @@ class ClusterDetector final : public Detector {
     /// --memory-mb before the cloud is read, sim/memory_budget.hpp).
     static std::uint64_t memoryBytes(std::uint64_t points);
 
-private:
+  private:
     ClusterOptions options_;
 };
 

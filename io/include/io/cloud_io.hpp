@@ -101,10 +101,10 @@ void writeCloud(const std::filesystem::path& path, const core::PointCloud& cloud
 /// view, range are used when present (fields says which). Points with a non-finite x, y,
 /// z or range are dropped, with one warning line on stderr giving the count.
 /// Throws Error("pcd: <file>: ...") / ("ply: <file>: ...") naming the line or field.
-PointCloud readCloud(const std::filesystem::path& path);
+core::PointCloud readCloud(const std::filesystem::path& path);
 /// As readCloud, from a reader already open (its header checked): a caller can weigh
 /// reader.pointsBound() against a memory budget before a point is read.
-PointCloud readCloud(CloudReader& reader);
+core::PointCloud readCloud(CloudReader& reader);
 
 /// As readCloud, from the file's bytes already in memory (no warning is printed);
 /// `name` is used in messages. Never reads outside `bytes` whatever they hold.

@@ -18,7 +18,7 @@ namespace io {
 /// far from the stack's end.
 inline constexpr std::size_t kMaxJsonDepth = 256;
 
-/// Parses `text`. Throws engine::Error("<name>: JSON syntax error: parse error at line L,
+/// Parses `text`. Throws core::Error("<name>: JSON syntax error: parse error at line L,
 /// column C: ..."), "<name>: <where>: duplicate key 'k'; allowed: each key once per
 /// object", a NUL in a key or string, a number beyond double range, or nesting deeper
 /// than kMaxJsonDepth.

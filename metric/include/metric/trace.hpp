@@ -22,8 +22,8 @@ render::CameraPose cameraFromHead(const io::TraceRow& sample);
 std::vector<io::TraceRow> everyStep(const std::vector<io::TraceRow>& samples, double step_s);
 
 /// The poses of a trace file: the camera of every row everyStep would keep, read with
-/// engine::forEachTraceRow so that only the kept poses are held, never the file or its
-/// rows. `samples` gets the file's row count. Throws engine::Error as the reader does,
+/// io::forEachTraceRow so that only the kept poses are held, never the file or its
+/// rows. `samples` gets the file's row count. Throws core::Error as the reader does,
 /// or "metric: --trace <file>: more than <max_poses> samples are at least <step_s> s
 /// apart; allowed at most <max_poses> views (raise --trace-step-s)" as soon as one more
 /// pose than max_poses would be kept.

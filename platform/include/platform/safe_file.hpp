@@ -117,7 +117,6 @@ using OwnedName = std::function<bool(const std::string& name)>;
 /// folders stay. Quiet; errors are ignored.
 void removeStaleTemporaries(const std::filesystem::path& dir, const OwnedName& folder_holds = {});
 
-
 /// The longest path (in bytes, without the final NUL) and the longest name in it that
 /// the project accepts for a file it reads or writes: Linux's PATH_MAX - 1 and NAME_MAX.
 inline constexpr std::size_t kMaxPathBytes = 4095;

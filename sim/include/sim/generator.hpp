@@ -127,16 +127,16 @@ class Generator {
     ~Generator();
 
     /// The fused, coloured cloud in memory (origin = the scene's origin).
-    engine::PointCloud run(GenerateStats* stats = nullptr);
+    core::PointCloud run(GenerateStats* stats = nullptr);
     /// Called once the whole cloud is in its temporary, before it is renamed into place,
     /// with the run's figures (the fitted terrain included): the caller writes the run's
     /// other outputs there, so that when one of them fails (a full disk) it throws and
     /// the cloud's temporary is removed: no output lands before all are written.
     using BeforeCommit = std::function<void(const GenerateStats&)>;
-    /// Streams the fused, coloured cloud to `out` (atomically, via engine::CloudWriter);
+    /// Streams the fused, coloured cloud to `out` (atomically, via io::CloudWriter);
     /// the destination is checked before any ray is cast.
-    void run(const std::filesystem::path& out, engine::CloudFormat format,
-             GenerateStats* stats = nullptr, const BeforeCommit& before_commit = {});
+    void run(const std::filesystem::path& out, io::CloudFormat format, GenerateStats* stats = nullptr,
+             const BeforeCommit& before_commit = {});
 
     /// The rays the ideal sensor traces for one view (what run() traces with every sensor
     /// model off), in output order (row-major pixels), for baselines and tests. Directions

@@ -13,11 +13,11 @@ namespace sim {
 /// The default of every --memory-mb option, MiB.
 inline constexpr double kDefaultMemoryMb = 512.0;
 
-/// --memory-mb in bytes. Throws engine::Error("<command>: --memory-mb = <mb>: allowed
+/// --memory-mb in bytes. Throws core::Error("<command>: --memory-mb = <mb>: allowed
 /// [1, 1048576]") for a value outside that range (or not finite).
 std::size_t memoryBudgetBytes(double memory_mb, std::string_view command);
 
-/// Throws engine::Error("<command>: --memory-mb <mb> is too small: this run needs at
+/// Throws core::Error("<command>: --memory-mb <mb> is too small: this run needs at
 /// least <need> MiB (<why>); <advice>") when need_bytes > budget_bytes; nothing else.
 void refuseOverBudget(std::string_view command, std::uint64_t budget_bytes, std::uint64_t need_bytes,
                       const std::string& why, const std::string& advice);
