@@ -2,6 +2,7 @@
 // Parses and validates options (metric::validate names the option and the range), makes
 // or reads the three clouds, runs the evaluator, writes DIR/views.csv, summary.json, PNGs.
 #include "cli_common.hpp"
+#include "cloud_budget.hpp"
 #include "commands.hpp"
 
 #include <core/error.hpp>
@@ -38,6 +39,7 @@ struct MetricCli {
     std::string rasterizer = "compute";
     std::string trace;
     double trace_step_s = 0.1;
+    double memory_mb = 0.0;
     metric::MetricOptions options;
 };
 
@@ -103,6 +105,10 @@ void run(MetricCli& cli) {
     metric::MetricClouds clouds;
     std::optional<core::Scene> scene;
     if (from_files) {
+        // Each cloud is held as read and again in the scene's frame (40 bytes a point each),
+        // then uploaded for the GPU splats and the rasterizer (20 bytes a point each).
+        refuseCloudsOverBudget("metric", cli.memory_mb, {cli.p1, cli.p2, cli.p3}, 2 * 40 + 2 * 20,
+                               "--p1, --p2 and --p3 read whole");
         clouds.p1 = io::readCloud(cli.p1);
         clouds.p2 = io::readCloud(cli.p2);
         clouds.p3 = io::readCloud(cli.p3);
@@ -147,6 +153,7 @@ void registerMetric(CLI::App& cli) {
                                      "orbit of |I2 xor I3| / |I1|, with an exact mesh reference");
     metric::MetricOptions& o = state->options;
     c->add_option("--scene", state->scene, "scene file (default: the bundled demo scene)");
+    addCloudMemoryOption(*c, state->memory_mb, "the clouds of --p1, --p2 and --p3");
     c->add_option("--out", state->out, "output directory for views.csv, summary.json, PNGs")->capture_default_str();
     c->add_option("--p1", state->p1, "existing target-only cloud (PCD/PLY); with --p2 --p3, no exact reference");
     c->add_option("--p2", state->p2, "existing environment-without-ground cloud");

@@ -4,6 +4,7 @@
 // cloud is generated here, in memory, by sim::generateCloud on a worker thread and handed to
 // the viewer through viewer::CloudFeed: the app links sim, the viewer never links Embree.
 #include "cli_common.hpp"
+#include "cloud_budget.hpp"
 #include "commands.hpp"
 
 #include <core/error.hpp>
@@ -43,6 +44,7 @@ struct ViewArgs {
     double pick_angle_deg = 0.5, cut_radius_m = 15.0;
     std::string candidates;
     bool no_snap_turn = false, no_vignette = false, no_headset_panel = false;
+    double memory_mb = 0.0;
     sim::OrbitOptions orbit;  // only for the generated cloud
 };
 
@@ -88,7 +90,18 @@ int runView(const ViewArgs& a) {
     o.log_json = a.log_json;
     viewer::validate(o);
     // The cloud first: remembered as an input, so neither output may replace it.
-    if (!a.cloud.empty()) platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
+    if (!a.cloud.empty()) {
+        platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
+        // Held whole: the points as read (40 bytes), their GPU chunks (20) and the pick
+        // index over them (24).
+        try {
+            refuseCloudsOverBudget("view", a.memory_mb, {a.cloud}, 40 + 20 + 24, "the cloud file held whole");
+        } catch (const core::Error& e) {
+            const std::string what = e.what();
+            // The header's own errors read as the loader's do ("view: pcd: <file>: ...").
+            throw core::Error(what.rfind("view: ", 0) == 0 ? what : "view: " + what);
+        }
+    }
     prepareOutputFile(o.screenshot, "view: --screenshot");
     prepareOutputFile(o.log_json, "view: --log-json");
 
@@ -139,6 +152,7 @@ void registerView(CLI::App& cli) {
                                        "(space: automatic orbit <-> free mode; see docs/viewer.md)");
     cmd->add_option("cloud", args->cloud, "PCD, PLY, LAS or LAZ cloud (default: generate the bundled demo scene)");
     cmd->add_option("--scene", args->scene, "generate this scene's cloud and view it");
+    addCloudMemoryOption(*cmd, args->memory_mb, "a cloud file");
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
         ->capture_default_str();

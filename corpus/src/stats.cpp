@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -189,13 +190,12 @@ std::vector<Condition> parseConditions(const std::string& text,
         if (c.op != "<" && c.op != "<=" && c.op != ">" && c.op != ">=" && c.op != "==" && c.op != "!=")
             throw bad(part, "has operator '" + c.op + "'; allowed <, <=, >, >=, ==, !=");
         const std::string number = after == std::string::npos ? "" : part.substr(after);
-        try {
-            std::size_t used = 0;
-            c.value = std::stod(number, &used);
-            if (used != number.size() || !std::isfinite(c.value)) throw std::invalid_argument(number);
-        } catch (const std::exception&) {
-            throw bad(part, "does not end in a finite number");
-        }
+        // Decimal notation only (from_chars' general format): no hex, as every number
+        // option of the command line.
+        const char* end = number.data() + number.size();
+        const auto [stop, ec] = std::from_chars(number.data(), end, c.value, std::chars_format::general);
+        if (number.empty() || ec != std::errc() || stop != end || !std::isfinite(c.value))
+            throw bad(part, "does not end in a finite decimal number such as 2.5 or 1e3");
         if (!columns.count(c.column))
             throw bad(part, "names no column of the manifest; allowed " + columnList(columns));
         out.push_back(c);

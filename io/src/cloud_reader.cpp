@@ -3,6 +3,7 @@
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
+#include <platform/safe_file.hpp>
 
 #include "cloud_decode.hpp"
 
@@ -125,7 +126,7 @@ PointCloud readCloud(const std::filesystem::path& path) {
 
 PointCloud readCloud(CloudReader& reader) {
     PointCloud cloud = readAll(reader);
-    if (const std::string w = reader.warning(); !w.empty()) std::fprintf(stderr, "ladarvr: warning: %s\n", w.c_str());
+    if (const std::string w = reader.warning(); !w.empty()) platform::printMessage("warning", w);
     return cloud;
 }
 

@@ -169,4 +169,15 @@ mkdir -p "$dir/bare"
 printf '{"index": 0, "id": "0000"}\n' >"$dir/bare/manifest.jsonl"
 refused "allowed none (the manifest's lines hold no numeric column)" corpus --stats "$dir/bare" --column metric
 
+# --- numbers in --select are decimal, as every number option -------------------------
+refused "does not end in a finite decimal number" corpus --stats "$c" --select "points>0x10" --count 1
+refused "does not end in a finite decimal number" corpus --stats "$c" --select "points>nan" --count 1
+
+# --- an output path longer than the system can open ----------------------------------
+long=$dir/$(printf 'a%.0s' $(seq 1 200))
+for _ in $(seq 1 21); do long=$long/$(printf 'b%.0s' $(seq 1 200)); done
+refused "bytes long; allowed at most 4095 bytes" corpus --stats "$c" --histogram "$long/h.png"
+grep -q -F "$(printf 'b%.0s' $(seq 1 200))/$(printf 'b%.0s' $(seq 1 200))" "$dir/err" &&
+    fail "the long path is not shortened in the message: $(wc -c <"$dir/err") bytes"
+
 echo "corpus safety: all checks passed"

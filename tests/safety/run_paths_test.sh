@@ -139,6 +139,14 @@ refused "detect: --memory-mb = 0: allowed [1, 1048576]" detect "$dir/cloud.pcd" 
 "$bin" detect --help | grep -q -F -e "--memory-mb" || fail "detect --help does not list --memory-mb"
 "$bin" detect --help | grep -- "--memory-mb" | grep -q "512" || fail "detect --help does not give --memory-mb's default"
 "$bin" detect "$dir/cloud.pcd" --out "$dir/c.json" >/dev/null 2>"$dir/err.txt" || fail "detect failed: $(cat "$dir/err.txt")"
+# metric --p1/--p2/--p3 and view's cloud file: the same rule, from the headers.
+refused "metric: --memory-mb 100 is too small: this run needs at least" metric --p1 "$big" --p2 "$dir/cloud.pcd" \
+    --p3 "$dir/cloud.pcd" --out "$dir/m_big" --memory-mb 100
+grep -q -F "points, --p1, --p2 and --p3 read whole" "$dir/err.txt" || fail "metric does not say why: $(cat "$dir/err.txt")"
+[ ! -e "$dir/m_big" ] || fail "metric made its folder although it refused"
+refused "view: --memory-mb 100 is too small: this run needs at least" view "$big" --no-xr --frames 1 --memory-mb 100
+refused "view: --memory-mb = 0: allowed [1, 1048576]" view "$dir/cloud.pcd" --no-xr --frames 1 --memory-mb 0
+"$bin" metric --help | grep -- "--memory-mb" | grep -q "512" || fail "metric --help does not give --memory-mb's default"
 
 # --- metric --trace: streamed, and the poses it keeps are capped ---
 # Peak resident memory of a command (python's getrusage of its child), in MiB.

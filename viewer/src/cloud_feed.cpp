@@ -3,6 +3,7 @@
 
 #include <core/error.hpp>
 #include <io/cloud_reader.hpp>
+#include <platform/safe_file.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -104,8 +105,7 @@ void CloudFeed::feedFile(const std::filesystem::path& path, std::size_t chunk_po
             if (!reader.nextChunk(chunk, chunk_points)) break;
             if (!chunk.empty()) append(std::move(chunk));
         }
-        if (const std::string warning = reader.warning(); !warning.empty())
-            std::fprintf(stderr, "ladarvr: warning: %s\n", warning.c_str());
+        if (const std::string warning = reader.warning(); !warning.empty()) platform::printMessage("warning", warning);
         if (pointsArrived() == 0) {
             finish(reader.where() + ": holds no points to show");
             return;
