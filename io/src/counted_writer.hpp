@@ -34,6 +34,23 @@ void putRaw(char*& out, T v) {
     std::memcpy(out, &v, sizeof v);
     out += sizeof v;
 }
+/// The optional fields of `p` that `fields` turns on, as the binary PCD and PLY records
+/// hold them (file order); the view and the intensity as `ViewInt` and `IntensityInt`
+/// (PCD keeps their 16 bits, PLY widens them to int).
+template <typename ViewInt, typename IntensityInt>
+void putBinaryFields(char*& out, const core::CloudPoint& p, const core::CloudFields& f) {
+    if (f.label) putRaw(out, std::uint8_t(p.label));
+    if (f.view) putRaw(out, ViewInt(p.view));
+    if (f.range) putRaw(out, p.range_m);
+    if (f.intensity) putRaw(out, IntensityInt(p.intensity));
+    if (f.returns) {
+        putRaw(out, p.return_number);
+        putRaw(out, p.returns);
+    }
+    if (f.incidence) putRaw(out, p.incidence_deg);
+    if (f.scan_angle) putRaw(out, p.scan_angle_deg);
+    if (f.height_above_ground) putRaw(out, p.height_above_ground_m);
+}
 void putFloat(std::string& s, float v);
 void putUnsigned(std::string& s, std::uint32_t v);
 /// The optional fields of `p` that `fields` turns on, each after a space, as the ascii

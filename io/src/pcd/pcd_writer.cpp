@@ -78,17 +78,7 @@ class PcdWriter final : public CountedWriter {
         putRaw(out, p.position.y);
         putRaw(out, p.position.z);
         if (f.rgb) putRaw(out, std::uint32_t(p.rgb & 0xFFFFFFu));  // PCL's packed float: the same 4 bytes
-        if (f.label) putRaw(out, std::uint8_t(p.label));
-        if (f.view) putRaw(out, p.view);
-        if (f.range) putRaw(out, p.range_m);
-        if (f.intensity) putRaw(out, p.intensity);
-        if (f.returns) {
-            putRaw(out, p.return_number);
-            putRaw(out, p.returns);
-        }
-        if (f.incidence) putRaw(out, p.incidence_deg);
-        if (f.scan_angle) putRaw(out, p.scan_angle_deg);
-        if (f.height_above_ground) putRaw(out, p.height_above_ground_m);
+        putBinaryFields<std::uint16_t, std::uint16_t>(out, p, f);
     }
 
     void text(std::string& s, const core::CloudPoint& p) const {

@@ -78,17 +78,7 @@ class PlyWriter final : public CountedWriter {
             putRaw(out, std::uint8_t(rgb >> 8));
             putRaw(out, std::uint8_t(rgb));
         }
-        if (f.label) putRaw(out, std::uint8_t(p.label));
-        if (f.view) putRaw(out, std::int32_t(p.view));
-        if (f.range) putRaw(out, p.range_m);
-        if (f.intensity) putRaw(out, std::int32_t(p.intensity));
-        if (f.returns) {
-            putRaw(out, p.return_number);
-            putRaw(out, p.returns);
-        }
-        if (f.incidence) putRaw(out, p.incidence_deg);
-        if (f.scan_angle) putRaw(out, p.scan_angle_deg);
-        if (f.height_above_ground) putRaw(out, p.height_above_ground_m);
+        putBinaryFields<std::int32_t, std::int32_t>(out, p, f);
     }
 
     void text(std::string& s, const core::CloudPoint& p) const {
