@@ -2,6 +2,7 @@
 // DIR --trial N` (docs/study.md): the options, parsed into study::StudyOptions and the
 // viewer's options; the run itself is study/study_run.hpp.
 #include "cli_common.hpp"
+#include "cloud_budget.hpp"
 #include "commands.hpp"
 
 #include <core/error.hpp>
@@ -27,6 +28,7 @@ struct StudyArgs {
     long frames = 0;
     double timeout_s = 0.0;
     bool no_xr = false, no_metric = false;
+    double memory_mb = 0.0;
     int width = 1280, height = 720;
     double pick_angle_deg = 0.5;
     double hit_radius_m = -1.0;                                                          // < 0: the plan's
@@ -89,6 +91,11 @@ int runStudy(const StudyArgs& a) {
     if (a.orbit_period_s > 0.0) s.orbit_period_s = a.orbit_period_s;
     s.metric = !a.no_metric;
     study::StudyRun run(std::move(s));
+    // A trial's cloud file is held whole while it runs, as view holds it (one at a time).
+    for (std::size_t k = 0; k < run.plan().trials.size(); ++k)
+        if (const std::filesystem::path& cloud = run.plan().trials[k].cloud; !cloud.empty())
+            refuseCloudsOverBudget("study", a.memory_mb, {cloud}, 40 + 20 + 24,
+                                   "trial " + std::to_string(k + 1) + "'s cloud held whole");
     createParentFolders(std::filesystem::path(a.out) / "trials.csv", "study: --out");
     study::checkStudyFolder(a.out);
     prepareOutputFile(run.viewerOptions().log_json, "study: --log-json");
@@ -133,6 +140,7 @@ void registerStudy(CLI::App& cli) {
     cmd->add_option("--orbit-period", args->orbit_period_s,
                     "seconds per turn of the automatic orbit "
                     "(default: the plan's, else 60)");
+    addCloudMemoryOption(*cmd, args->memory_mb, "a trial's cloud file");
     cmd->add_flag("--no-metric", args->no_metric, "leave visibility_metric empty (skip the metric of scene trials)");
     cmd->callback([args] {
         const int status = runStudy(*args);

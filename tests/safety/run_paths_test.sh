@@ -147,6 +147,11 @@ grep -q -F "points, --p1, --p2 and --p3 read whole" "$dir/err.txt" || fail "metr
 refused "view: --memory-mb 100 is too small: this run needs at least" view "$big" --no-xr --frames 1 --memory-mb 100
 refused "view: --memory-mb = 0: allowed [1, 1048576]" view "$dir/cloud.pcd" --no-xr --frames 1 --memory-mb 0
 "$bin" metric --help | grep -- "--memory-mb" | grep -q "512" || fail "metric --help does not give --memory-mb's default"
+printf '{"trials": [{"cloud": "%s"}]}\n' "$big" >"$dir/bigplan.json"
+refused "study: --memory-mb 100 is too small: this run needs at least" study "$dir/bigplan.json" --no-xr \
+    --out "$dir/s_big" --memory-mb 100
+grep -q -F "trial 1's cloud held whole" "$dir/err.txt" || fail "study does not say why: $(cat "$dir/err.txt")"
+[ ! -e "$dir/s_big" ] || fail "study made its folder although it refused"
 
 # --- metric --trace: streamed, and the poses it keeps are capped ---
 # Peak resident memory of a command (python's getrusage of its child), in MiB.

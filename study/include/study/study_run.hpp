@@ -34,6 +34,8 @@ class StudyRun {
 
     /// The viewer's options the trials run with (the orbit from the plan).
     const viewer::ViewerOptions& viewerOptions() const { return options_.viewer; }
+    /// The plan as read (trials in the plan's order).
+    const Plan& plan() const { return plan_; }
 
     /// Runs the study into options.out, which the caller has made and checked with
     /// checkStudyFolder: writes study.json, computes the scenes' metric, then runs the
