@@ -1,0 +1,38 @@
+#!/bin/sh
+# copcjs_test.sh COPC_TOOL NODE_MODULES SCRATCH [FILE]: copc.js, a real COPC client, reads
+# FILE (default: the hand-made valid COPC file that `copc_tool make` writes into SCRATCH)
+# and must report the same info, nodes, point counts, bounds, coordinate sums and roles as
+# io::CopcReader (`copc_tool dump`). node runs under a time limit and never outlives the test.
+set -eu
+tool="$1"
+modules="$2/node_modules"
+scratch="$3"
+here="$(cd "$(dirname "$0")" && pwd)"
+rm -rf "$scratch"
+mkdir -p "$scratch"
+file="${4:-$scratch/handmade.copc.laz}"
+[ $# -ge 4 ] || "$tool" make "$file"
+"$tool" dump "$file" >"$scratch/ours.json"
+timeout -k 5 120 node "$here/copcjs_read.mjs" "$modules" "$file" >"$scratch/copcjs.json"
+python3 - "$scratch/ours.json" "$scratch/copcjs.json" <<'PY'
+import json, math, sys
+ours, theirs = (json.load(open(p)) for p in sys.argv[1:3])
+def same(a, b, path):
+    if isinstance(a, dict):
+        assert isinstance(b, dict) and sorted(a) == sorted(b), f"{path}: keys {sorted(a)} vs {sorted(b)}"
+        for k in a: same(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert isinstance(b, list) and len(a) == len(b), f"{path}: {a} vs {b}"
+        for i, (x, y) in enumerate(zip(a, b)): same(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) or isinstance(b, float):
+        # the info's centre and halfsize come back from copc.js through its cube
+        assert math.isclose(a, b, rel_tol=1e-12, abs_tol=1e-9), f"{path}: {a} vs {b}"
+    else:
+        assert a == b, f"{path}: ours {a}, copc.js {b}"
+try:
+    same(ours, theirs, "")
+except AssertionError as e:
+    sys.exit(f"copcjs_test: io::CopcReader and copc.js differ at {e}")
+assert ours["points"] > 0 and ours["node_count"] > 0
+print(f"copcjs_test: copc.js and io::CopcReader agree: {ours['node_count']} nodes, {ours['points']} points")
+PY
