@@ -64,6 +64,12 @@ TEST_CASE("copc check: the hand-made file is valid COPC") {
     CHECK(fs.empty());
 }
 
+TEST_CASE("copc check: a file of 73 nodes (a chunk table whose coder adapts) is valid COPC") {
+    const std::vector<io::CopcFinding> fs = checkBytes(copc_test::make({}, true).bytes);
+    INFO("findings:" << shown(fs));
+    CHECK(fs.empty());
+}
+
 TEST_CASE("copc check: the LAS header rules") {
     SUBCASE("minor-version") {
         expectRule("minor-version", {"las", "chunk-decode"}, [](std::string& b) { b[25] = 3; });

@@ -83,6 +83,24 @@ TEST_CASE("copc reader: info, nodes and every node's points") {
     CHECK(whole.points.size() == total);
 }
 
+TEST_CASE("copc reader: 73 nodes in one page, read alone and whole") {
+    test_support::TempDir dir("copc_reader_many");
+    const copc_test::File f = copc_test::make({}, true);
+    const io::CopcReader reader(writeFile(dir, f.bytes));
+    REQUIRE(reader.nodes().size() == 73);
+    std::size_t total = 0;
+    for (const copc_test::Node& want : f.nodes) {
+        const core::PointCloud cloud = reader.readNode(want.key);
+        REQUIRE(cloud.points.size() == want.points.size());
+        const copc_test::RawPoint& r = want.points.back();
+        CHECK(std::abs(cloud.origin.x + double(cloud.points.back().position.x) -
+                       (double(r.X) * copc_test::kScale + copc_test::kOffset[0])) < 1e-4);
+        total += cloud.points.size();
+    }
+    // LASzip reads the whole file through the 73 chunks of the variable chunk table.
+    CHECK(io::readCloud(dir.path / "t.copc.laz").points.size() == total);
+}
+
 TEST_CASE("copc reader: keys without points and broken files give one line") {
     test_support::TempDir dir("copc_reader_errors");
     const copc_test::File f = copc_test::make();

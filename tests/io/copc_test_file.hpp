@@ -319,12 +319,26 @@ inline std::string entry(const io::CopcKey& k, std::uint64_t offset, std::int32_
 }
 
 /// The valid file; `edit` may change the nodes' points before they are compressed.
-inline File make(const std::function<void(std::vector<Node>&)>& edit = {}) {
+/// `many`: instead of the two pages above, one root page of 73 nodes (the root and every
+/// node of levels 1 and 2, 5 to 54 points each), so that the chunk table is long enough
+/// for its coder's adaptive models to refresh several times.
+inline File make(const std::function<void(std::vector<Node>&)>& edit = {}, bool many = false) {
     File f;
-    const io::CopcKey keys[] = {{0, 0, 0, 0}, {1, 0, 0, 0}, {1, 1, 0, 0}, {2, 3, 3, 3},
-                                {1, 0, 1, 0}, {2, 0, 2, 0}, {2, 1, 3, 1}};
-    const int counts[] = {300, 120, 90, 40, 150, 70, 55};
-    for (int i = 0; i < 7; ++i) f.nodes.push_back({keys[i], pointsIn(keys[i], counts[i], 11 * i + 3)});
+    if (!many) {
+        const io::CopcKey keys[] = {{0, 0, 0, 0}, {1, 0, 0, 0}, {1, 1, 0, 0}, {2, 3, 3, 3},
+                                    {1, 0, 1, 0}, {2, 0, 2, 0}, {2, 1, 3, 1}};
+        const int counts[] = {300, 120, 90, 40, 150, 70, 55};
+        for (int i = 0; i < 7; ++i) f.nodes.push_back({keys[i], pointsIn(keys[i], counts[i], 11 * i + 3)});
+    } else {
+        int i = 0;
+        for (int level = 0; level <= 2; ++level)
+            for (int x = 0; x < (1 << level); ++x)
+                for (int y = 0; y < (1 << level); ++y)
+                    for (int z = 0; z < (1 << level); ++z, ++i) {
+                        const io::CopcKey k{level, x, y, z};
+                        f.nodes.push_back({k, pointsIn(k, 5 + (i * 37) % 50, i)});
+                    }
+    }
     if (edit) edit(f.nodes);
     // Each node's chunk, and LASzip's VLR, from the files LASzip writes.
     std::vector<std::string> chunks;
@@ -406,17 +420,17 @@ inline File make(const std::function<void(std::vector<Node>&)>& edit = {}) {
         put<double>(b, 179 + 16 * std::size_t(k), double(hi[k]) * kScale + kOffset[k]);
         put<double>(b, 187 + 16 * std::size_t(k), double(lo[k]) * kScale + kOffset[k]);
     }
-    // The hierarchy EVLR: the root page, then the child page of 1-0-1-0.
+    // The hierarchy EVLR: the root page, then the child page of 1-0-1-0 (none with `many`).
     f.evlr_at = b.size();
     f.root_page_at = f.evlr_at + 60;
-    f.root_page_size = 6 * 32;
-    f.child_page_at = f.root_page_at + f.root_page_size;
-    f.child_page_size = 3 * 32;
     std::string root, child;
+    const std::size_t in_root = many ? f.nodes.size() : 4;
+    f.root_page_size = (many ? in_root : 6) * 32;
+    f.child_page_at = f.root_page_at + f.root_page_size;
     for (std::size_t i = 0; i < f.nodes.size(); ++i) {
         Node& n = f.nodes[i];
         const std::string e = entry(n.key, n.chunk_at, std::int32_t(n.chunk_bytes), std::int32_t(n.points.size()));
-        if (i < 4) {
+        if (i < in_root) {
             n.entry_at = f.root_page_at + root.size();
             root += e;
         } else {
@@ -424,10 +438,13 @@ inline File make(const std::function<void(std::vector<Node>&)>& edit = {}) {
             child += e;
         }
     }
-    f.empty_entry_at = f.root_page_at + root.size();
-    root += entry({1, 1, 1, 1}, 0, 0, 0);
-    f.pointer_entry_at = f.root_page_at + root.size();
-    root += entry({1, 0, 1, 0}, f.child_page_at, std::int32_t(f.child_page_size), -1);
+    f.child_page_size = child.size();
+    if (!many) {
+        f.empty_entry_at = f.root_page_at + root.size();
+        root += entry({1, 1, 1, 1}, 0, 0, 0);
+        f.pointer_entry_at = f.root_page_at + root.size();
+        root += entry({1, 0, 1, 0}, f.child_page_at, std::int32_t(f.child_page_size), -1);
+    }
     std::string eh(60, '\0');
     std::memcpy(eh.data() + 2, "copc", 4);
     put<std::uint16_t>(eh, 18, 1000);

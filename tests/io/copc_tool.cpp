@@ -1,5 +1,6 @@
 // copc_tool: the COPC side of the tests in other languages.
 //   copc_tool make <out>   writes the hand-made valid COPC file (copc_test_file.hpp)
+//   copc_tool many <out>   the same with 73 nodes in one page
 //   copc_tool dump <in>    what io::CopcReader reads, as one JSON object: the info, the
 //                          nodes and their point counts, and over all points the count,
 //                          the bounds and sums of the coordinates in whole millimetres and
@@ -18,12 +19,12 @@
 int main(int argc, char** argv) {
     try {
         const std::string what = argc == 3 ? argv[1] : "";
-        if (what == "make") {
-            std::ofstream(argv[2], std::ios::binary) << copc_test::make().bytes;
+        if (what == "make" || what == "many") {
+            std::ofstream(argv[2], std::ios::binary) << copc_test::make({}, what == "many").bytes;
             return 0;
         }
         if (what != "dump") {
-            std::fprintf(stderr, "usage: copc_tool make OUT | dump IN\n");
+            std::fprintf(stderr, "usage: copc_tool make OUT | many OUT | dump IN\n");
             return 2;
         }
         const io::CopcReader reader(argv[2]);
