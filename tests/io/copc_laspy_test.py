@@ -29,7 +29,7 @@ def summary(points):
         "points": int(len(cls)),
         "min_mm": [int(a.min()) for a in mm],
         "max_mm": [int(a.max()) for a in mm],
-        "sum_mm": [int(a.sum()) for a in mm],
+        "sum_mm": [str(int(a.sum())) for a in mm],
         "roles": [int((cls == 2).sum()), int(((cls != 2) & (cls != 64)).sum()), int((cls == 64).sum())],
     }
 

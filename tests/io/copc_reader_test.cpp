@@ -124,6 +124,21 @@ TEST_CASE("copc reader: keys without points and broken files give one line") {
     const std::string e = test_support::errorOf([&] { io::CopcReader r(q); });
     CHECK(e.find("node-chunk: node 1-1-0-0 declares") != std::string::npos);
     CHECK(e.find('\n') == std::string::npos);
+    // What leaves every node readable is accepted: a node taken out of the hierarchy (its
+    // chunk unreferenced, the header's count then too high) and bytes in no page.
+    b = f.bytes;
+    const copc_test::Node& leaf = f.nodes[3];
+    REQUIRE(leaf.key == io::CopcKey{2, 3, 3, 3});
+    copc_test::put<std::uint64_t>(b, leaf.entry_at + 16, 0u);
+    copc_test::put<std::int32_t>(b, leaf.entry_at + 24, 0);
+    copc_test::put<std::int32_t>(b, leaf.entry_at + 28, 0);
+    copc_test::put<std::uint64_t>(b, f.evlr_at + 20, copc_test::get<std::uint64_t>(b, f.evlr_at + 20) + 32);
+    b.append(32, '\0');
+    std::ofstream(q, std::ios::binary | std::ios::trunc) << b;
+    const io::CopcReader lenient(q);
+    CHECK(lenient.nodes().size() == f.nodes.size() - 1);
+    CHECK(lenient.readNode({2, 0, 2, 0}).points.size() == f.nodes[5].points.size());
+
     CHECK(test_support::errorOf([&] { io::CopcReader r(dir.path / "none.copc.laz"); }) ==
           "copc: " + (dir.path / "none.copc.laz").string() + ": file does not exist");
 }

@@ -4,7 +4,8 @@
 //   copc_tool dump <in>    what io::CopcReader reads, as one JSON object: the info, the
 //                          nodes and their point counts, and over all points the count,
 //                          the bounds and sums of the coordinates in whole millimetres and
-//                          the count of each role (what tests/io/copcjs_read.mjs prints)
+//                          the count of each role (what tests/io/copcjs_read.mjs prints;
+//                          the sums as decimal strings, exact beyond 2^53)
 #include <core/error.hpp>
 #include <io/copc.hpp>
 
@@ -56,8 +57,8 @@ int main(int argc, char** argv) {
             }
         }
         std::printf("},\n \"points\": %" PRIu64 ", \"min_mm\": [%" PRId64 ", %" PRId64 ", %" PRId64
-                    "], \"max_mm\": [%" PRId64 ", %" PRId64 ", %" PRId64 "],\n \"sum_mm\": [%" PRId64 ", %" PRId64
-                    ", %" PRId64 "], \"roles\": [%" PRIu64 ", %" PRIu64 ", %" PRIu64 "]}\n",
+                    "], \"max_mm\": [%" PRId64 ", %" PRId64 ", %" PRId64 "],\n \"sum_mm\": [\"%" PRId64 "\", \"%" PRId64
+                    "\", \"%" PRId64 "\"], \"roles\": [%" PRIu64 ", %" PRIu64 ", %" PRIu64 "]}\n",
                     points, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], sum[0], sum[1], sum[2], roles[0], roles[1],
                     roles[2]);
         return 0;

@@ -2,7 +2,7 @@
 // `copc`, decoding through laz-perf) and prints, as one JSON object, what
 // `copc_tool dump FILE` prints from io::CopcReader: the info, the nodes with points and
 // their counts, and over all points the count, the bounds and the sums of the coordinates
-// in whole millimetres and the count of each role (ASPRS class 2 ground, 64 target, any
+// in whole millimetres (as decimal strings) and the count of each role (ASPRS class 2 ground, 64 target, any
 // other environment, as the LAS reader maps them). Every hierarchy page is loaded and
 // every node's points decoded.
 import { createRequire } from 'node:module'
@@ -37,7 +37,7 @@ const keys = Object.keys(nodes)
   })
 
 const min = [Infinity, Infinity, Infinity], max = [-Infinity, -Infinity, -Infinity]
-const sum = [0, 0, 0], roles = [0, 0, 0]
+const sum = [0n, 0n, 0n], roles = [0, 0, 0]
 let points = 0
 const counts = {}
 for (const key of keys) {
@@ -47,19 +47,24 @@ for (const key of keys) {
   counts[key] = view.pointCount
   const get = ['X', 'Y', 'Z'].map((d) => view.getter(d))
   const cls = view.getter('Classification')
+  // A node's sums stay exact in doubles (below 2^53 mm); the file's add up as BigInts.
+  const nodeSum = [0, 0, 0]
   for (let i = 0; i < view.pointCount; ++i) {
     for (let k = 0; k < 3; ++k) {
       const mm = Math.round(get[k](i) * 1000)
       if (mm < min[k]) min[k] = mm
       if (mm > max[k]) max[k] = mm
-      sum[k] += mm
+      nodeSum[k] += mm
     }
     const c = cls(i)
     ++roles[c === 2 ? 0 : c === 64 ? 2 : 1]
     ++points
   }
+  for (let k = 0; k < 3; ++k) {
+    if (!Number.isSafeInteger(nodeSum[k])) throw new Error(`node ${key}: the coordinate sums exceed 2^53 mm`)
+    sum[k] += BigInt(nodeSum[k])
+  }
 }
-for (const s of sum) if (!Number.isSafeInteger(s)) throw new Error('the coordinate sums exceed 2^53 mm')
 console.log(JSON.stringify({
   info: {
     center: [0, 1, 2].map((k) => (cube[k] + cube[k + 3]) / 2),
@@ -74,6 +79,6 @@ console.log(JSON.stringify({
   points,
   min_mm: min,
   max_mm: max,
-  sum_mm: sum,
+  sum_mm: sum.map(String),
   roles,
 }))

@@ -1,23 +1,24 @@
 #!/bin/sh
 # copcjs_test.sh COPC_TOOL NODE_MODULES SCRATCH [FILE]: copc.js, a real COPC client, reads
 # FILE (default: the hand-made valid COPC file that `copc_tool make` writes into SCRATCH;
-# `many`: its variant of 73 nodes, `copc_tool many`)
-# and must report the same info, nodes, point counts, bounds, coordinate sums and roles as
-# io::CopcReader (`copc_tool dump`). node runs under a time limit and never outlives the test.
+# `many`: its variant of 73 nodes, `copc_tool many`; any other path: that COPC file) and
+# must report the same info, nodes, point counts, bounds, coordinate sums and roles as
+# io::CopcReader (`copc_tool dump`). node runs under a time limit (COPCJS_TIMEOUT_S,
+# default 120 s) and never outlives the test.
 set -eu
 tool="$1"
 modules="$2/node_modules"
 scratch="$3"
 here="$(cd "$(dirname "$0")" && pwd)"
-rm -rf "$scratch"
 mkdir -p "$scratch"
+rm -f "$scratch/ours.json" "$scratch/copcjs.json"
 case "${4:-}" in
   "") file="$scratch/handmade.copc.laz"; "$tool" make "$file" ;;
   many) file="$scratch/many.copc.laz"; "$tool" many "$file" ;;
   *) file="$4" ;;
 esac
 "$tool" dump "$file" >"$scratch/ours.json"
-timeout -k 5 120 node "$here/copcjs_read.mjs" "$modules" "$file" >"$scratch/copcjs.json"
+timeout -k 5 "${COPCJS_TIMEOUT_S:-120}" node "$here/copcjs_read.mjs" "$modules" "$file" >"$scratch/copcjs.json"
 python3 - "$scratch/ours.json" "$scratch/copcjs.json" <<'PY'
 import json, math, sys
 ours, theirs = (json.load(open(p)) for p in sys.argv[1:3])

@@ -64,7 +64,7 @@ std::vector<CopcFinding> checkCopc(const std::filesystem::path& file);
 /// points decoded on demand (the LAZ chunk of that node, reached through the variable chunk
 /// table), so that a reader never holds more than the nodes it asked for.
 class CopcReader {
-public:
+  public:
     /// Opens and validates the header, the info VLR and the whole hierarchy; throws
     /// core::Error naming the file and what is wrong.
     explicit CopcReader(const std::filesystem::path& file);
@@ -79,7 +79,7 @@ public:
     /// cloud's origin, roles from the classes, view from the point source id).
     core::PointCloud readNode(const CopcKey& key) const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -317,7 +317,7 @@ class Parser {
                 else if (infos == 1)
                     info(payload);
             } else if (user == "copc" && record == 1000) {
-                hierarchy(at + kVlrHeader, length);
+                foundHierarchy(at + kVlrHeader, length);
             } else if (user == "laszip encoded" && record == 22204) {
                 if (++laszips == 1) l_.laszip_vlr = vh + payload;
             } else if (user == "LASF_Spec" && record == 4) {
@@ -365,7 +365,7 @@ class Parser {
                                              n2s(le<std::uint64_t>(p, 72 + 8 * r)) + "; allowed: 0");
     }
 
-    void hierarchy(std::uint64_t at, std::uint64_t length) {
+    void foundHierarchy(std::uint64_t at, std::uint64_t length) {
         if (++hierarchies_ == 1) {
             hier_at_ = at;
             hier_size_ = length;
@@ -389,7 +389,7 @@ class Parser {
                                            " bytes but " + n2s(size - at - kEvlrHeader) + " follow it");
                     break;
                 }
-                if (userId(eh) == "copc" && le<std::uint16_t>(eh, 18) == 1000) hierarchy(at + kEvlrHeader, length);
+                if (userId(eh) == "copc" && le<std::uint16_t>(eh, 18) == 1000) foundHierarchy(at + kEvlrHeader, length);
                 at += kEvlrHeader + length;
             }
         }
@@ -450,9 +450,10 @@ class Parser {
             finding("chunk-table", "the chunk table's version is " + n2s(version) + "; allowed: 0");
             return;
         }
-        const std::uint64_t span = l_.table_at - first;  // every chunk has at least one byte
-        if (n == 0 || n > span) {
-            finding("chunk-table", "the chunk table lists " + n2s(n) + " chunks; allowed: 1 to " + n2s(span) +
+        // Every chunk holds at least its raw first point and its point count.
+        const std::uint64_t span = l_.table_at - first, most = span / (l_.record + 4);
+        if (n == 0 || n > most) {
+            finding("chunk-table", "the chunk table lists " + n2s(n) + " chunks; allowed: 1 to " + n2s(most) +
                                        " in the " + n2s(span) + " bytes of chunks");
             return;
         }
@@ -460,9 +461,11 @@ class Parser {
         // bytes when they give the table's place).
         std::uint64_t end = size;
         if (evlr_count_ > 0 && evlr_at_ > l_.table_at && evlr_at_ <= size) end = evlr_at_;
+        // A chunk's two integers take well under 20 bytes of code, however the models stand.
         const std::uint64_t coded_at = l_.table_at + 8;
+        const std::uint64_t coded_bytes = std::min<std::uint64_t>(end > coded_at ? end - coded_at : 0, 20 * n + 64);
         std::string coded;
-        fetch(s_, coded_at, std::size_t(end > coded_at ? end - coded_at : 0), coded);
+        fetch(s_, coded_at, std::size_t(coded_bytes), coded);
         RangeDecoder d(coded);
         IntegerDecoder ic(2);
         std::int32_t points = 0, bytes = 0;

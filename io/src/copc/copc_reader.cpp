@@ -23,11 +23,23 @@ struct CopcReader::Impl {
     detail::CopcLayout layout;
 };
 
+namespace {
+
+// Findings that leave every node readable as its entry declares it: the reader accepts
+// them (the validator reports them), as readers of COPC written elsewhere should.
+bool readable(const CopcFinding& f) {
+    return f.rule == "info-reserved" || f.rule == "hierarchy-dead-space" || f.rule == "chunk-unreferenced" ||
+           f.rule == "point-count" || f.rule == "bounds-within-cube";
+}
+
+}  // namespace
+
 CopcReader::CopcReader(const std::filesystem::path& file) : impl_(std::make_unique<Impl>()) {
     impl_->prefix = "copc: " + file.string();
     impl_->source = detail::fileSource(file, "copc");
     std::vector<CopcFinding> findings;
     const bool ok = detail::parseCopc(*impl_->source, impl_->layout, findings);
+    findings.erase(std::remove_if(findings.begin(), findings.end(), readable), findings.end());
     if (!findings.empty())
         throw Error(impl_->prefix + ": " + findings.front().rule + ": " + findings.front().message +
                     (findings.size() > 1 ? " (and " + std::to_string(findings.size() - 1) + " more findings)" : ""));
