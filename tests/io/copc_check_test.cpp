@@ -47,7 +47,12 @@ void expectRule(const char* rule, std::set<std::string> allowed, const std::func
     allowed.insert(rule);
     INFO("findings:" << shown(fs));
     CHECK(std::any_of(fs.begin(), fs.end(), [&](const io::CopcFinding& f) { return f.rule == rule; }));
-    for (const io::CopcFinding& f : fs) CHECK_MESSAGE(allowed.count(f.rule), "unexpected rule " << f.rule);
+    for (const io::CopcFinding& f : fs) {
+        CHECK_MESSAGE(allowed.count(f.rule), "unexpected rule " << f.rule);
+        // The caller names the file; a finding names what in it is wrong, on one line.
+        CHECK(f.message.find("t.copc.laz") == std::string::npos);
+        CHECK(f.message.find('\n') == std::string::npos);
+    }
 }
 
 const copc_test::Node& nodeOf(const io::CopcKey& k) {
@@ -263,6 +268,7 @@ TEST_CASE("copc check: files that are not COPC give findings, never a crash") {
         const std::vector<io::CopcFinding> fs = io::checkCopc(dir.path / "missing.copc.laz");
         REQUIRE(fs.size() == 1);
         CHECK(fs[0].rule == "not-las");
+        CHECK(fs[0].message == "file does not exist");
     }
     SUBCASE("our LAS and LAZ, and the LAS fuzz regressions") {
         core::PointCloud c;

@@ -141,6 +141,12 @@ bool decodeNode(const std::string& laz, const detail::CopcLayout& l, const CopcN
 std::string n2s(std::uint64_t v) { return std::to_string(v); }
 std::string num(double v) { return core::shownNumber(v, 10); }
 
+// A reader's message without its "<module>: <file>: " start: the finding is about that file.
+std::string aboutFile(const std::string& message, const char* module, const std::filesystem::path& file) {
+    const std::string start = std::string(module) + ": " + file.string() + ": ";
+    return message.rfind(start, 0) == 0 ? message.substr(start.size()) : message;
+}
+
 // At most 20 findings per rule, then one line counting the rest.
 std::vector<CopcFinding> capped(const std::vector<CopcFinding>& all) {
     std::vector<CopcFinding> out;
@@ -160,7 +166,7 @@ std::vector<CopcFinding> checkCopc(const std::filesystem::path& file) {
     try {
         source = detail::fileSource(file, "copc");
     } catch (const Error& e) {
-        return {{"not-las", e.what()}};
+        return {{"not-las", aboutFile(e.what(), "copc", file)}};
     }
     detail::CopcLayout l;
     const bool ok = detail::parseCopc(*source, l, f);
@@ -168,7 +174,7 @@ std::vector<CopcFinding> checkCopc(const std::filesystem::path& file) {
         try {
             CloudReader whole(file);
         } catch (const Error& e) {
-            f.push_back({"las", e.what()});
+            f.push_back({"las", aboutFile(e.what(), "las", file)});
         }
     }
     // Nodes are decoded only in a file of COPC's point formats whose layout could be read.
