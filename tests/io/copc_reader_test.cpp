@@ -1,0 +1,144 @@
+// Tests of io::CopcReader on the hand-made COPC file: the info and every node as written,
+// each node's points decoded alone and equal to what was compressed, the whole file read
+// as a plain LAZ (LASzip through the variable chunk table), and one-line errors.
+#include <doctest/doctest.h>
+
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/copc.hpp>
+
+#include "copc_test_file.hpp"
+#include "test_files.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+namespace {
+
+std::filesystem::path writeFile(const test_support::TempDir& dir, const std::string& bytes) {
+    const std::filesystem::path p = dir.path / "t.copc.laz";
+    std::ofstream(p, std::ios::binary) << bytes;
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("copc reader: info, nodes and every node's points") {
+    test_support::TempDir dir("copc_reader");
+    const copc_test::File f = copc_test::make();
+    const io::CopcReader reader(writeFile(dir, f.bytes));
+    const io::CopcInfo& info = reader.info();
+    CHECK(info.center_m[0] == copc_test::kCenter[0]);
+    CHECK(info.center_m[1] == copc_test::kCenter[1]);
+    CHECK(info.center_m[2] == copc_test::kCenter[2]);
+    CHECK(info.halfsize_m == copc_test::kHalf);
+    CHECK(info.spacing_m == 1.0);
+    CHECK(info.root_hier_offset == f.root_page_at);
+    CHECK(info.root_hier_size == f.root_page_size);
+    CHECK(info.gpstime_minimum == copc_test::kGpsMin);
+    CHECK(info.gpstime_maximum == copc_test::kGpsMax);
+
+    const std::vector<io::CopcNode>& nodes = reader.nodes();
+    REQUIRE(nodes.size() == f.nodes.size());
+    CHECK(std::is_sorted(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) { return a.key < b.key; }));
+    std::size_t total = 0;
+    for (const copc_test::Node& want : f.nodes) {
+        const auto it =
+            std::find_if(nodes.begin(), nodes.end(), [&](const io::CopcNode& n) { return n.key == want.key; });
+        REQUIRE(it != nodes.end());
+        CHECK(it->offset == want.chunk_at);
+        CHECK(std::size_t(it->byte_size) == want.chunk_bytes);
+        REQUIRE(std::size_t(it->point_count) == want.points.size());
+        const core::PointCloud cloud = reader.readNode(want.key);
+        REQUIRE(cloud.points.size() == want.points.size());
+        CHECK(cloud.fields.rgb);
+        for (std::size_t i = 0; i < want.points.size(); ++i) {
+            const copc_test::RawPoint& r = want.points[i];
+            const core::CloudPoint& p = cloud.points[i];
+            const std::int32_t raw[3] = {r.X, r.Y, r.Z};
+            for (int k = 0; k < 3; ++k) {
+                const double w = cloud.origin[k] + double(p.position[k]);
+                CHECK(std::abs(w - (double(raw[k]) * copc_test::kScale + copc_test::kOffset[k])) < 1e-4);
+            }
+            CHECK(p.view == r.source);
+            CHECK(p.intensity == r.intensity);
+            CHECK(p.return_number == r.return_number);
+            CHECK(p.returns == r.returns);
+            const core::Role role = r.classification == 2    ? core::Role::Ground
+                                    : r.classification == 64 ? core::Role::Target
+                                                             : core::Role::Environment;
+            CHECK(p.label == role);
+            CHECK(p.rgb ==
+                  core::packRgb(std::uint8_t(r.rgb[0] >> 8), std::uint8_t(r.rgb[1] >> 8), std::uint8_t(r.rgb[2] >> 8)));
+        }
+        total += cloud.points.size();
+    }
+    // One origin for every node: the file's.
+    CHECK(reader.readNode({0, 0, 0, 0}).origin == reader.readNode({2, 3, 3, 3}).origin);
+
+    // The same file read whole as LAZ: LASzip follows the variable chunk table.
+    const core::PointCloud whole = io::readCloud(dir.path / "t.copc.laz");
+    CHECK(whole.points.size() == total);
+}
+
+TEST_CASE("copc reader: 73 nodes in one page, read alone and whole") {
+    test_support::TempDir dir("copc_reader_many");
+    const copc_test::File f = copc_test::make({}, true);
+    const io::CopcReader reader(writeFile(dir, f.bytes));
+    REQUIRE(reader.nodes().size() == 73);
+    std::size_t total = 0;
+    for (const copc_test::Node& want : f.nodes) {
+        const core::PointCloud cloud = reader.readNode(want.key);
+        REQUIRE(cloud.points.size() == want.points.size());
+        const copc_test::RawPoint& r = want.points.back();
+        CHECK(std::abs(cloud.origin.x + double(cloud.points.back().position.x) -
+                       (double(r.X) * copc_test::kScale + copc_test::kOffset[0])) < 1e-4);
+        total += cloud.points.size();
+    }
+    // LASzip reads the whole file through the 73 chunks of the variable chunk table.
+    CHECK(io::readCloud(dir.path / "t.copc.laz").points.size() == total);
+}
+
+TEST_CASE("copc reader: keys without points and broken files give one line") {
+    test_support::TempDir dir("copc_reader_errors");
+    const copc_test::File f = copc_test::make();
+    const std::filesystem::path p = writeFile(dir, f.bytes);
+    const io::CopcReader reader(p);
+    CHECK(test_support::errorOf([&] { reader.readNode({1, 1, 1, 1}); }) ==
+          "copc: " + p.string() + " node 1-1-1-1: the file has no node with points of that key");
+    CHECK(test_support::errorOf([&] { reader.readNode({5, 0, 0, 0}); }).find("no node with points") !=
+          std::string::npos);
+
+    std::string b = f.bytes;
+    std::memcpy(b.data() + f.info_at - 54 + 2, "copx", 4);
+    const std::filesystem::path q = dir.path / "noinfo.copc.laz";
+    std::ofstream(q, std::ios::binary) << b;
+    CHECK(test_support::errorOf([&] { io::CopcReader r(q); }) ==
+          "copc: " + q.string() + ": copc-info: no info VLR (user \"copc\", record 1); a COPC file needs one");
+
+    b = f.bytes;
+    copc_test::put<std::int32_t>(b, f.nodes[2].entry_at + 24, std::int32_t(f.nodes[2].chunk_bytes) + 3);
+    std::ofstream(q, std::ios::binary | std::ios::trunc) << b;
+    const std::string e = test_support::errorOf([&] { io::CopcReader r(q); });
+    CHECK(e.find("node-chunk: node 1-1-0-0 declares") != std::string::npos);
+    CHECK(e.find('\n') == std::string::npos);
+    // What leaves every node readable is accepted: a node taken out of the hierarchy (its
+    // chunk unreferenced, the header's count then too high) and bytes in no page.
+    b = f.bytes;
+    const copc_test::Node& leaf = f.nodes[3];
+    REQUIRE(leaf.key == io::CopcKey{2, 3, 3, 3});
+    copc_test::put<std::uint64_t>(b, leaf.entry_at + 16, 0u);
+    copc_test::put<std::int32_t>(b, leaf.entry_at + 24, 0);
+    copc_test::put<std::int32_t>(b, leaf.entry_at + 28, 0);
+    copc_test::put<std::uint64_t>(b, f.evlr_at + 20, copc_test::get<std::uint64_t>(b, f.evlr_at + 20) + 32);
+    b.append(32, '\0');
+    std::ofstream(q, std::ios::binary | std::ios::trunc) << b;
+    const io::CopcReader lenient(q);
+    CHECK(lenient.nodes().size() == f.nodes.size() - 1);
+    CHECK(lenient.readNode({2, 0, 2, 0}).points.size() == f.nodes[5].points.size());
+
+    CHECK(test_support::errorOf([&] { io::CopcReader r(dir.path / "none.copc.laz"); }) ==
+          "copc: " + (dir.path / "none.copc.laz").string() + ": file does not exist");
+}
