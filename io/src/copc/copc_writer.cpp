@@ -75,18 +75,30 @@ class CopcWriter final : public FormatWriter {
                const CopcOptions& copc)
         : record_(std::move(record)), file_(file.file()), origin_(origin), las_(las), copc_(copc) {}
 
+    // The points are held in blocks, so that the store never reallocates (a vector that
+    // doubles would hold up to three times the points while it grows).
     void append(std::span<const CloudPoint> points) override {
-        points_.insert(points_.end(), points.begin(), points.end());
+        while (!points.empty()) {
+            if (blocks_.empty() || blocks_.back().size() == kBlockPoints) {
+                blocks_.emplace_back();
+                blocks_.back().reserve(kBlockPoints);
+            }
+            std::vector<CloudPoint>& b = blocks_.back();
+            const std::size_t n = std::min(points.size(), kBlockPoints - b.size());
+            b.insert(b.end(), points.begin(), points.begin() + std::ptrdiff_t(n));
+            points = points.subspan(n);
+            count_ += n;
+        }
     }
 
     void finish() override {
-        if (points_.size() >= std::numeric_limits<std::uint32_t>::max())
+        if (count_ >= std::numeric_limits<std::uint32_t>::max())
             throw Error(record_.where() + ": COPC output holds at most 4294967294 points");
         // The points' integer coordinates, as the records will hold them.
-        std::vector<std::array<std::int32_t, 3>> xyz(points_.size());
+        std::vector<std::array<std::int32_t, 3>> xyz(count_);
         std::array<std::int32_t, 3> lo{}, hi{};
-        for (std::size_t i = 0; i < points_.size(); ++i) {
-            xyz[i] = record_.quantize(points_[i], i);
+        for (std::size_t i = 0; i < count_; ++i) {
+            xyz[i] = record_.quantize(point(i), i);
             for (std::size_t k = 0; k < 3; ++k) {
                 lo[k] = i ? std::min(lo[k], xyz[i][k]) : xyz[i][k];
                 hi[k] = i ? std::max(hi[k], xyz[i][k]) : xyz[i][k];
@@ -130,7 +142,7 @@ class CopcWriter final : public FormatWriter {
                 if (node.points.empty()) return;
                 std::vector<CloudPoint> pts;
                 pts.reserve(node.points.size());
-                for (std::uint32_t p : node.points) pts.push_back(points_[p]);
+                for (std::uint32_t p : node.points) pts.push_back(point(p));
                 done[i] = compressWithLaszip(record_, pts, 0, counted[i], kVariableChunks);
             });
             for (std::size_t i = 0; i < n; ++i) {
@@ -195,6 +207,11 @@ class CopcWriter final : public FormatWriter {
     }
 
   private:
+    static constexpr std::size_t kBlockBits = 20;
+    static constexpr std::size_t kBlockPoints = std::size_t(1) << kBlockBits;
+
+    const CloudPoint& point(std::size_t i) const { return blocks_[i >> kBlockBits][i & (kBlockPoints - 1)]; }
+
     static void patch(std::string& s, std::size_t at, std::uint32_t v) { std::memcpy(s.data() + at, &v, 4); }
 
     void pwriteAll(int fd, const void* data, std::size_t size, std::uint64_t at) const {
@@ -212,7 +229,8 @@ class CopcWriter final : public FormatWriter {
     glm::dvec3 origin_;
     LasOptions las_;
     CopcOptions copc_;
-    std::vector<CloudPoint> points_;
+    std::vector<std::vector<CloudPoint>> blocks_;
+    std::size_t count_ = 0;
 };
 
 }  // namespace
