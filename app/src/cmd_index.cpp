@@ -1,8 +1,7 @@
 // app/src/cmd_index.cpp: `ladarvr index IN... --out OUT.copc.laz`: any clouds we read
 // (PCD, PLY, LAS, LAZ, COPC), merged, to one COPC file (io/copc_writer.hpp). The inputs
-// must carry the same fields. The writer holds the merged cloud in memory while it builds
-// the octree, so the run is planned against --memory-mb before anything is read, and
-// refused when the inputs' points would not fit.
+// must carry the same fields. The writer works within --memory-mb: a cloud that does not
+// fit is spilled to scratch files beside the output and indexed a part at a time.
 #include "cli_common.hpp"
 #include "commands.hpp"
 
@@ -97,19 +96,21 @@ void run(IndexCli& cli) {
     createParentFolders(out, "index: --out");
     platform::checkWritableDestination(out);
 
-    // Plan-or-refuse: the writer holds every point until the octree is built.
+    // Plan-or-refuse: the reader's chunk, and the writer within the rest (past it, it
+    // spills the points to scratch files and builds the octree a part at a time).
     const std::uint64_t budget = std::uint64_t(cli.memory_mb * 1048576.0);
-    const std::uint64_t need = bound * io::copcBytesPerPoint() + io::copcFixedBytes(threads - 1) +
-                               io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
-    if (need > budget)
-        throw core::Error("index: " + std::to_string(bound) + " points need about " + std::to_string(need >> 20) +
-                          " MiB while the octree is built in memory, more than --memory-mb " +
-                          core::shownNumber(cli.memory_mb) + "; raise --memory-mb");
-
+    const std::uint64_t reading = io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
+    const std::uint64_t least = io::copcMinimumBytes(threads - 1) + reading;
+    if (budget < least)
+        throw core::Error("index: --memory-mb " + core::shownNumber(cli.memory_mb) + " is below the " +
+                          std::to_string((least >> 20) + 1) + " MiB indexing needs with " + std::to_string(threads) +
+                          " threads; raise --memory-mb or lower --threads");
+    io::CopcOptions copc;
+    copc.memory_bytes = budget - reading;
     io::LasOptions las;
     las.threads = threads - 1;
     const glm::dvec3 origin = readers.front()->origin();
-    io::CloudWriter writer(out, io::CloudFormat::Copc, origin, readers.front()->fields(), las);
+    io::CloudWriter writer(out, io::CloudFormat::Copc, origin, readers.front()->fields(), las, &copc);
     platform::Progress progress("index: reading", std::size_t(bound));
     std::vector<core::CloudPoint> chunk;
     for (auto& reader : readers) {
@@ -148,8 +149,8 @@ void registerIndex(CLI::App& cli) {
     c->add_option("--out", state->out, "the COPC file to write, a name ending in .copc.laz")->required();
     c->add_option("--threads", state->threads, "threads, 0 = all cores")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,
-                  "bound on memory; the merged cloud is held in memory while its octree is built, and a run that "
-                  "would not fit is refused before it starts")
+                  "bound on memory; a cloud that does not fit is spilled to scratch files beside the output and "
+                  "indexed a part at a time")
         ->capture_default_str();
     c->callback([state] { run(*state); });
 }

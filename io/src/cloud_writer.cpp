@@ -56,7 +56,7 @@ CloudFormat formatForPath(const std::filesystem::path& path, std::string_view pa
 }
 
 CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin, core::CloudFields fields,
-                         const LasOptions& las)
+                         const LasOptions& las, const CopcOptions* copc)
     : path_(std::move(path)) {
     platform::checkWritableDestination(path_);
     if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z))
@@ -69,7 +69,9 @@ CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dv
         case CloudFormat::PlyAscii: writer_ = detail::openPlyWriter(*temp_, true, origin, fields); break;
         case CloudFormat::Las: writer_ = detail::openLasWriter(*temp_, origin, fields, las); break;
         case CloudFormat::Laz: writer_ = detail::openLazWriter(*temp_, origin, fields, las); break;
-        case CloudFormat::Copc: writer_ = detail::openCopcWriter(*temp_, origin, fields, las, CopcOptions{}); break;
+        case CloudFormat::Copc:
+            writer_ = detail::openCopcWriter(*temp_, origin, fields, las, copc ? *copc : CopcOptions{});
+            break;
     }
 }
 

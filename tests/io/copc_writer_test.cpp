@@ -455,3 +455,30 @@ TEST_CASE("copc_writer: a point out of LAS's reach is one error, and no file is 
               ": point 700 lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm");
     CHECK(dir.entries() == 0);
 }
+
+TEST_CASE("copc_writer: past its memory bound it spills and builds a part at a time, and writes the same file") {
+    TempDir dir("copc_spill");
+    const core::PointCloud c = terrain(60000, 13, glm::dvec3(1.0e7, 1.0e7, 0.0));
+    for (const int threads : {0, 2}) {
+        CAPTURE(threads);
+        io::LasOptions las;
+        las.threads = threads;
+        io::CopcOptions copc;
+        copc.max_node_points = 200;
+        io::writeCopc(dir.path / "memory.copc.laz", c, las, copc);
+        // Less than the points need in memory (64 bytes each: 3.8 MB), room for buckets of
+        // about 8000 points: many buckets, levels above them.
+        copc.memory_bytes = io::copcFixedBytes(threads) + 1800000;
+        io::writeCopc(dir.path / "spilled.copc.laz", c, las, copc);
+        const std::string a = slurp(dir.path / "memory.copc.laz"), b = slurp(dir.path / "spilled.copc.laz");
+        CHECK(a.size() == b.size());
+        CHECK(a == b);
+        CHECK(dir.entries() == 2);  // the scratch files are gone
+    }
+    // A bound below one node's room is one error naming the least allowed.
+    io::CopcOptions tight;
+    tight.memory_bytes = io::copcMinimumBytes(0) / 2;
+    const std::string e = test_support::errorOf([&] { io::writeCopc(dir.path / "tight.copc.laz", c, {}, tight); });
+    CHECK(e.find("leaves no room for a node of 100000 points; allowed at least") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.path / "tight.copc.laz"));
+}

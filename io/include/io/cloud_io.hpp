@@ -22,6 +22,8 @@ class TempFile;
 
 namespace io {
 
+struct CopcOptions;  // io/copc_writer.hpp
+
 namespace detail {
 class FormatWriter;  // one format's writer (io/src/format_writer.hpp)
 }
@@ -75,8 +77,9 @@ class CloudWriter {
     /// `path` exists and is not a regular file, or is an input of this run.
     /// LAS/LAZ/COPC use `las`; with fields.rgb off they use point format 6, else 7. COPC
     /// holds the points in memory until commit() (io/copc_writer.hpp).
+    /// COPC uses `copc` when given, else the default CopcOptions.
     CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin, core::CloudFields fields = {},
-                const LasOptions& las = {});
+                const LasOptions& las = {}, const CopcOptions* copc = nullptr);
     ~CloudWriter();
     CloudWriter(const CloudWriter&) = delete;
     CloudWriter& operator=(const CloudWriter&) = delete;

@@ -16,25 +16,11 @@ namespace io::detail {
 
 namespace {
 
-constexpr int kGridBits = 7;  // a node's sampling grid: 2^7 = 128 cells per axis
-
 struct TreeNode {
     CopcKey key;
     std::vector<std::uint32_t> points;
     std::vector<std::uint32_t> pending;  // a subtree left for a worker
     std::array<std::unique_ptr<TreeNode>, 8> child;
-};
-
-// Per-thread marks of the occupied grid cells (2^21 of them), reset by a new generation.
-struct Marks {
-    std::vector<std::uint32_t> cell = std::vector<std::uint32_t>(std::size_t(1) << (3 * kGridBits), 0u);
-    std::uint32_t generation = 0;
-    void reset() {
-        if (++generation == 0) {
-            std::fill(cell.begin(), cell.end(), 0u);
-            generation = 1;
-        }
-    }
 };
 
 class Builder {
@@ -97,35 +83,10 @@ class Builder {
     }
 
     void sample(TreeNode& node, Marks& marks) const {
-        std::vector<std::uint32_t> candidates;
+        std::vector<std::vector<std::uint32_t>*> children;
         for (auto& c : node.child)
-            if (c) candidates.insert(candidates.end(), c->points.begin(), c->points.end());
-        std::sort(candidates.begin(), candidates.end());
-        const int node_bits = cube_.bits - node.key.level;
-        std::vector<std::uint32_t> chosen;
-        for (int s = std::max(0, node_bits - kGridBits); s <= node_bits; ++s) {
-            marks.reset();
-            chosen.clear();
-            constexpr std::int64_t kMask = (std::int64_t(1) << kGridBits) - 1;
-            for (std::uint32_t i : candidates) {
-                std::size_t cell = 0;
-                for (std::size_t k = 0; k < 3; ++k)
-                    cell |= std::size_t(((std::int64_t(xyz_[i][k]) - cube_.corner[k]) >> s) & kMask) << (kGridBits * k);
-                if (marks.cell[cell] == marks.generation) continue;
-                marks.cell[cell] = marks.generation;
-                chosen.push_back(i);
-            }
-            if (chosen.size() <= cap_) break;
-        }
-        for (auto& c : node.child) {
-            if (!c) continue;
-            std::vector<std::uint32_t> kept;
-            kept.reserve(c->points.size());
-            std::set_difference(c->points.begin(), c->points.end(), chosen.begin(), chosen.end(),
-                                std::back_inserter(kept));
-            c->points = std::move(kept);
-        }
-        node.points = std::move(chosen);
+            if (c) children.push_back(&c->points);
+        node.points = gridSample(xyz_, cube_, node.key.level, children, cap_, marks);
     }
 
     std::span<const std::array<std::int32_t, 3>> xyz_;
@@ -140,6 +101,45 @@ void flatten(TreeNode& node, std::vector<OctreeNode>& out) {
 }
 
 }  // namespace
+
+void Marks::reset() {
+    if (cell.empty()) cell.assign(std::size_t(1) << (3 * kGridBits), 0u);
+    if (++generation == 0) {
+        std::fill(cell.begin(), cell.end(), 0u);
+        generation = 1;
+    }
+}
+
+std::vector<std::uint32_t> gridSample(std::span<const std::array<std::int32_t, 3>> xyz, const OctreeCube& cube,
+                                      int level, std::span<std::vector<std::uint32_t>* const> children, std::size_t cap,
+                                      Marks& marks) {
+    std::vector<std::uint32_t> candidates;
+    for (const std::vector<std::uint32_t>* c : children) candidates.insert(candidates.end(), c->begin(), c->end());
+    std::sort(candidates.begin(), candidates.end());
+    const int node_bits = cube.bits - level;
+    std::vector<std::uint32_t> chosen;
+    for (int s = std::max(0, node_bits - kGridBits); s <= node_bits; ++s) {
+        marks.reset();
+        chosen.clear();
+        constexpr std::int64_t kMask = (std::int64_t(1) << kGridBits) - 1;
+        for (std::uint32_t i : candidates) {
+            std::size_t cell = 0;
+            for (std::size_t k = 0; k < 3; ++k)
+                cell |= std::size_t(((std::int64_t(xyz[i][k]) - cube.corner[k]) >> s) & kMask) << (kGridBits * k);
+            if (marks.cell[cell] == marks.generation) continue;
+            marks.cell[cell] = marks.generation;
+            chosen.push_back(i);
+        }
+        if (chosen.size() <= cap) break;
+    }
+    for (std::vector<std::uint32_t>* c : children) {
+        std::vector<std::uint32_t> kept;
+        kept.reserve(c->size());
+        std::set_difference(c->begin(), c->end(), chosen.begin(), chosen.end(), std::back_inserter(kept));
+        *c = std::move(kept);
+    }
+    return chosen;
+}
 
 OctreeCube enclosingCube(const std::array<std::int32_t, 3>& min, const std::array<std::int32_t, 3>& max) {
     std::int64_t extent = 0;

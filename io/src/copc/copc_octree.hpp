@@ -40,6 +40,24 @@ struct OctreeNode {
     std::vector<std::uint32_t> points;  // indices into the input, ascending
 };
 
+inline constexpr int kGridBits = 7;  // a node's sampling grid: 2^7 = 128 cells per axis
+
+/// Marks of the occupied grid cells (2^21 of them, 8 MiB once used), one per thread,
+/// cleared by a new generation.
+struct Marks {
+    std::vector<std::uint32_t> cell;
+    std::uint32_t generation = 0;
+    void reset();
+};
+
+/// The grid sample of the node at `level` whose children hold `children` (indices into
+/// `xyz`, ascending): per occupied cell of its grid the point of the lowest index, the grid
+/// coarsened until at most `cap` are kept. The chosen points leave the children. Returns
+/// them, ascending.
+std::vector<std::uint32_t> gridSample(std::span<const std::array<std::int32_t, 3>> xyz, const OctreeCube& cube,
+                                      int level, std::span<std::vector<std::uint32_t>* const> children, std::size_t cap,
+                                      Marks& marks);
+
 /// Builds the octree of `xyz` (all inside `cube`) on `threads` threads besides the caller's
 /// (the result is the same for any count). Returns every node, those left with no points
 /// (whose descendants hold points) included, in depth-first order: a node, then its

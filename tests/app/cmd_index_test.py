@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""tests/io/copc_interop_test.py: `ladarvr index` and `generate --out X.copc.laz` as a user
+"""tests/app/cmd_index_test.py: `ladarvr index` and `generate --out X.copc.laz` as a user
 runs them, their COPC files read by the real laspy (LAZ through python3-laszip) and taken
 apart by a parser of the COPC layout written here.
 
-Usage: copc_interop_test.py LADARVR SCRATCH_DIR
+Usage: cmd_index_test.py LADARVR SCRATCH_DIR
   1. `generate` to PCD, PLY, LAS and LAZ; `index` of each gives a COPC file that laspy reads
      whole: the input's point count, class counts and positions (to the millimetre);
   2. every file: the info VLR first at 375, the LASzip VLR with variable chunks, the
