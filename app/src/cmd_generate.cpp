@@ -51,10 +51,11 @@ fs::path defaultOutput(const fs::path& scene, io::CloudFormat format) {
     std::string name = scene.stem().string();
     if (name == "scene" && !scene.parent_path().filename().empty()) name = scene.parent_path().filename().string();
     const bool ply = format == io::CloudFormat::PlyBinary || format == io::CloudFormat::PlyAscii;
-    const char* ext = ply                              ? ".ply"
-                      : format == io::CloudFormat::Las ? ".las"
-                      : format == io::CloudFormat::Laz ? ".laz"
-                                                       : ".pcd";
+    const char* ext = ply                               ? ".ply"
+                      : format == io::CloudFormat::Las  ? ".las"
+                      : format == io::CloudFormat::Laz  ? ".laz"
+                      : format == io::CloudFormat::Copc ? ".copc.laz"
+                                                        : ".pcd";
     return fs::path("out") / (name + ext);
 }
 
@@ -62,7 +63,8 @@ const char* formatName(io::CloudFormat f) { return io::cloudFormatName(f); }
 
 // --format and the --out extension must agree: a cloud never lands under the name of
 // another format (pcd-ascii and ply-ascii go with .pcd and .ply). Other extensions are
-// the user's choice once --format names the format.
+// the user's choice once --format names the format. A COPC file is a LAZ file, so
+// --format copc may go with a .laz name; a .copc.laz name is COPC only.
 void checkExtension(const fs::path& out, io::CloudFormat format) {
     io::CloudFormat by_name;
     try {
@@ -75,6 +77,7 @@ void checkExtension(const fs::path& out, io::CloudFormat format) {
         if (f == io::CloudFormat::PlyAscii) return io::CloudFormat::PlyBinary;
         return f;
     };
+    if (by_name == io::CloudFormat::Laz && format == io::CloudFormat::Copc) return;
     if (family(by_name) != family(format))
         throw core::Error("generate: --out " + out.string() + ": the extension does not match --format " +
                           formatName(format));
@@ -244,11 +247,11 @@ void registerGenerate(CLI::App& cli) {
     sim::OrbitOptions& orbit = o.orbit;
     c->add_option("--scene", state->scene, "scene file (JSON); default: the bundled demo scene");
     c->add_option("--out", state->out,
-                  "output cloud (.pcd, .ply, .las, .laz); default out/<scene name>.pcd "
-                  "(.ply/.las/.laz with --format)");
+                  "output cloud (.pcd, .ply, .las, .laz, .copc.laz); default out/<scene name>.pcd "
+                  "(.ply/.las/.laz/.copc.laz with --format)");
     c->add_option("--format", state->format,
                   "pcd (binary, default), pcd-ascii, ply (binary), ply-ascii, las, "
-                  "laz; default from the --out extension");
+                  "laz, copc; default from the --out extension");
     c->add_option("--las-target-class", state->las_target_class, "LAS/LAZ: the ASPRS class of target points, 0..255")
         ->capture_default_str();
     c->add_option("--drone-speed-mps", o.drone_speed_mps,

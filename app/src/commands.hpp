@@ -13,5 +13,6 @@ void registerScene(CLI::App& cli);     // cmd_scene.cpp:    `ladarvr scene info`
 void registerDetect(CLI::App& cli);    // cmd_detect.cpp:   `ladarvr detect`
 void registerCorpus(CLI::App& cli);    // cmd_corpus.cpp:   `ladarvr corpus`
 void registerStudy(CLI::App& cli);     // cmd_study.cpp:    `ladarvr study`
+void registerIndex(CLI::App& cli);     // cmd_index.cpp:    `ladarvr index`
 
 }  // namespace app

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
     bench::registerMutants(*sub);
     bench::registerDetect(*sub);
     bench::registerCorpus(*sub);
+    bench::registerIndex(*sub);
     app::applyConventions(cli);
 
     // argv with "bench" after the program name: `ladarvr-bench generate` is `ladarvr bench generate`.

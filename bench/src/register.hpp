@@ -13,5 +13,6 @@ void registerAll(CLI::App& parent);       // all.cpp:      `bench all` and `benc
 void registerMutants(CLI::App& parent);   // mutants.cpp:  `bench mutants`
 void registerDetect(CLI::App& parent);    // detect.cpp:   `bench detect`
 void registerCorpus(CLI::App& parent);    // corpus.cpp:   `bench corpus`
+void registerIndex(CLI::App& parent);     // index.cpp:    `bench index`
 
 }  // namespace bench

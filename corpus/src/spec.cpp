@@ -99,6 +99,7 @@ std::string Spec::cloudName() const {
         case io::CloudFormat::PlyAscii: return "cloud.ply";
         case io::CloudFormat::Las: return "cloud.las";
         case io::CloudFormat::Laz: return "cloud.laz";
+        case io::CloudFormat::Copc: return "cloud.copc.laz";
         default: return "cloud.pcd";
     }
 }

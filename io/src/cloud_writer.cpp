@@ -1,5 +1,5 @@
 // cloud_writer: the format names, and CloudWriter: a temporary file beside the output that
-// one format's writer fills (pcd/, ply/, las/: format_writer.hpp) and that is renamed into
+// one format's writer fills (pcd/, ply/, las/, copc/: format_writer.hpp) and that is renamed into
 // place on commit. The readers are behind io::CloudReader (cloud_reader.cpp).
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
@@ -20,10 +20,10 @@ using core::Error;
 
 CloudFormat parseCloudFormat(std::string_view name, std::string_view parameter) {
     for (CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PcdAscii, CloudFormat::PlyBinary, CloudFormat::PlyAscii,
-                          CloudFormat::Las, CloudFormat::Laz})
+                          CloudFormat::Las, CloudFormat::Laz, CloudFormat::Copc})
         if (name == cloudFormatName(f)) return f;
     throw Error(std::string(parameter) + ": format '" + core::printable(name, 40) +
-                "' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz");
+                "' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz, copc");
 }
 
 const char* cloudFormatName(CloudFormat format) {
@@ -34,23 +34,29 @@ const char* cloudFormatName(CloudFormat format) {
         case CloudFormat::PlyAscii: return "ply-ascii";
         case CloudFormat::Las: return "las";
         case CloudFormat::Laz: return "laz";
+        case CloudFormat::Copc: return "copc";
     }
     return "pcd";
 }
 
 CloudFormat formatForPath(const std::filesystem::path& path, std::string_view parameter) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const auto lower = [](std::string s) {
+        std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        return s;
+    };
+    const std::string name = lower(path.filename().string());
+    if (name.size() > 9 && name.ends_with(".copc.laz")) return CloudFormat::Copc;  // never a plain LAZ
+    const std::string ext = lower(path.extension().string());
     if (ext.empty() || ext == ".pcd") return CloudFormat::PcdBinary;  // no extension: PCD, the default
     if (ext == ".ply") return CloudFormat::PlyBinary;
     if (ext == ".las") return CloudFormat::Las;
     if (ext == ".laz") return CloudFormat::Laz;
     throw Error(std::string(parameter) + ": " + core::printable(path.string(), 200, true) + ": extension '" +
-                core::printable(ext, 40, true) + "' is not one of .pcd, .ply, .las, .laz");
+                core::printable(ext, 40, true) + "' is not one of .pcd, .ply, .las, .laz, .copc.laz");
 }
 
 CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin, core::CloudFields fields,
-                         const LasOptions& las)
+                         const LasOptions& las, const CopcOptions* copc)
     : path_(std::move(path)) {
     platform::checkWritableDestination(path_);
     if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z))
@@ -63,6 +69,9 @@ CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dv
         case CloudFormat::PlyAscii: writer_ = detail::openPlyWriter(*temp_, true, origin, fields); break;
         case CloudFormat::Las: writer_ = detail::openLasWriter(*temp_, origin, fields, las); break;
         case CloudFormat::Laz: writer_ = detail::openLazWriter(*temp_, origin, fields, las); break;
+        case CloudFormat::Copc:
+            writer_ = detail::openCopcWriter(*temp_, origin, fields, las, copc ? *copc : CopcOptions{});
+            break;
     }
 }
 

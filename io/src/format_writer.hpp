@@ -3,6 +3,7 @@
 // Each writes into a TempFile that CloudWriter opened and commits after finish().
 #pragma once
 #include <io/cloud_io.hpp>
+#include <io/copc_writer.hpp>
 
 #include <memory>
 #include <span>
@@ -34,5 +35,11 @@ std::unique_ptr<FormatWriter> openLasWriter(platform::TempFile& file, const glm:
 /// lazChunkPoints() points on options.threads threads, joined in order with their table.
 std::unique_ptr<FormatWriter> openLazWriter(platform::TempFile& file, const glm::dvec3& origin,
                                             const core::CloudFields& fields, const LasOptions& options);
+
+/// COPC (copc/copc_writer.cpp): the LAZ writer's records in an octree of variable-size
+/// chunks, built once every point has arrived (the points are held in memory).
+std::unique_ptr<FormatWriter> openCopcWriter(platform::TempFile& file, const glm::dvec3& origin,
+                                             const core::CloudFields& fields, const LasOptions& las,
+                                             const CopcOptions& copc);
 
 }  // namespace io::detail

@@ -22,6 +22,7 @@
 #include <core/error.hpp>
 #include <core/jet.hpp>
 #include <core/scene_info.hpp>
+#include <io/copc_writer.hpp>
 #include <platform/progress.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/sensor.hpp>
@@ -592,7 +593,8 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
     // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
     // failure later leaves nothing under `out`.
     TerrainStage terrain(s.cloud_filter.get(), s.options.ground.smrf, s.options.white, s.checkTerrain());
-    const bool las = format == io::CloudFormat::Las || format == io::CloudFormat::Laz;
+    const bool las =
+        format == io::CloudFormat::Las || format == io::CloudFormat::Laz || format == io::CloudFormat::Copc;
     core::CloudFields fields = s.sensor->fields();
     fields.height_above_ground = terrain.whitens();
     fields.rgb = !(las && s.options.white);  // LAS point format 6: no colours to store
@@ -607,6 +609,16 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
                                (st.streamed ? s.plan.colour_chunk * sizeof(core::CloudPoint) : fused_bytes);
     las_options.memory_bytes =
         std::max(s.plan.writer_bytes, s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held));
+    if (format == io::CloudFormat::Copc) {
+        // The COPC writer holds every point until it has built the octree: refused up front
+        // when the most points the rays can give would not fit beside what the run holds.
+        const std::uint64_t need = held + s.hits_bound * io::copcBytesPerPoint() + io::copcFixedBytes(s.plan.threads);
+        if (need > s.options.memory_budget_bytes)
+            throw core::Error("generate: COPC output holds the cloud in memory to build its octree: up to " +
+                              std::to_string(s.hits_bound) + " points need " + std::to_string(need >> 20) +
+                              " MiB, more than --memory-mb " + std::to_string(s.options.memory_budget_bytes >> 20) +
+                              "; raise --memory-mb, or write .laz and convert it with 'ladarvr index'");
+    }
     io::CloudWriter writer(out, format, s.scene.origin, fields, las_options);
     Workers pool(s.plan.threads);
     if (!st.streamed) {

@@ -44,7 +44,7 @@ check_bad "--las-target-class" --las-target-class 300
 status=0
 "$bin" generate --out "$dir/cloud.e57" --xres 8 --yres 8 --views 1 >"$dir/out" 2>"$dir/err" || status=$?
 [ "$status" -eq 1 ] || fail "--out cloud.e57 exited $status, expected 1"
-grep -q "extension '.e57' is not one of .pcd, .ply, .las, .laz" "$dir/err" || fail "--out cloud.e57: $(cat "$dir/err")"
+grep -q "extension '.e57' is not one of .pcd, .ply, .las, .laz, .copc.laz" "$dir/err" || fail "--out cloud.e57: $(cat "$dir/err")"
 [ ! -e "$dir/cloud.e57" ] || fail "--out cloud.e57 wrote a file"
 rm -f "$dir/out" "$dir/err"
 check_bad "does not exist" --scene "$dir/missing.json"

@@ -32,7 +32,7 @@ usage() {
 
 run 0 --help
 grep -q "ladarvr bench" "$dir/out" || fail "--help does not read as 'ladarvr bench': $(cat "$dir/out")"
-for what in generate metric view peers fuzz all mutants detect corpus; do
+for what in generate metric view peers fuzz all mutants detect corpus index; do
     grep -q "^  $what  " "$dir/out" || fail "--help does not list $what: $(cat "$dir/out")"
 done
 run 0 generate --help

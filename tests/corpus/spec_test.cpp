@@ -65,7 +65,7 @@ TEST_CASE("spec: a good SPEC is read as written") {
     CHECK(laz.cloudName() == "cloud.laz");
     CHECK(errorOf([&] {
               corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "e57"})", "s.json");
-          }).find("format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz") != std::string::npos);
+          }).find("format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz, copc") != std::string::npos);
 }
 
 TEST_CASE("spec: unknown keys, empty ranges, min > max, count < 1 and missing files are one line each") {

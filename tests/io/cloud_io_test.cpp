@@ -101,7 +101,8 @@ TEST_CASE("cloud_io: format names and defaults") {
     CHECK(io::parseCloudFormat("las", "--format") == CloudFormat::Las);
     CHECK(io::parseCloudFormat("laz", "--format") == CloudFormat::Laz);
     CHECK_THROWS_WITH_AS(io::parseCloudFormat("e57", "--format"),
-                         "--format: format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz", core::Error);
+                         "--format: format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz, copc",
+                         core::Error);
     CHECK(io::formatForPath("a/b.ply") == CloudFormat::PlyBinary);
     CHECK(io::formatForPath("a/b.PLY") == CloudFormat::PlyBinary);
     CHECK(io::formatForPath("a/b.pcd") == CloudFormat::PcdBinary);
@@ -110,7 +111,8 @@ TEST_CASE("cloud_io: format names and defaults") {
     CHECK(io::formatForPath("a/b.LAZ") == CloudFormat::Laz);
     // A name we cannot write is refused, never filled with another format.
     CHECK_THROWS_WITH_AS(io::formatForPath("a/b.e57", "--out"),
-                         "--out: a/b.e57: extension '.e57' is not one of .pcd, .ply, .las, .laz", core::Error);
+                         "--out: a/b.e57: extension '.e57' is not one of .pcd, .ply, .las, .laz, .copc.laz",
+                         core::Error);
     CHECK_THROWS_AS(io::formatForPath("a/cloud.txt"), core::Error);
 }
 

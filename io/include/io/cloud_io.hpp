@@ -23,21 +23,24 @@ class TempFile;
 namespace io {
 
 class CloudReader;
+struct CopcOptions;  // io/copc_writer.hpp
+
 namespace detail {
 class FormatWriter;  // one format's writer (io/src/format_writer.hpp)
 }
 
-enum class CloudFormat { PcdBinary, PcdAscii, PlyBinary, PlyAscii, Las, Laz };
+enum class CloudFormat { PcdBinary, PcdAscii, PlyBinary, PlyAscii, Las, Laz, Copc };
 
-/// From a name: "pcd" (binary), "pcd-ascii", "ply" (binary), "ply-ascii", "las", "laz".
-/// Throws Error("<parameter>: format 'x' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz").
+/// From a name: "pcd" (binary), "pcd-ascii", "ply" (binary), "ply-ascii", "las", "laz",
+/// "copc" (a COPC 1.0 LAZ file, io/copc_writer.hpp).
+/// Throws Error("<parameter>: format 'x' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz, copc").
 CloudFormat parseCloudFormat(std::string_view name, std::string_view parameter);
 /// The format for a path's extension (any case): .pcd or none -> PcdBinary, .ply ->
-/// PlyBinary, .las, .laz. Throws Error("<parameter>: <path>: extension 'x' is not one of
-/// .pcd, .ply, .las, .laz") for any other extension, so a cloud never lands under a
-/// misleading name.
+/// PlyBinary, .las, .laz, and Copc for a name ending in .copc.laz. Throws
+/// Error("<parameter>: <path>: extension 'x' is not one of .pcd, .ply, .las, .laz,
+/// .copc.laz") for any other extension, so a cloud never lands under a misleading name.
 CloudFormat formatForPath(const std::filesystem::path& path, std::string_view parameter = "output");
-/// The name parseCloudFormat takes for `format` ("pcd", ..., "laz").
+/// The name parseCloudFormat takes for `format` ("pcd", ..., "laz", "copc").
 const char* cloudFormatName(CloudFormat format);
 
 /// What a LAS/LAZ file needs beyond the points (docs/formats.md).
@@ -73,9 +76,11 @@ class CloudWriter {
   public:
     /// Throws Error("output: <path>: ...") if the directory is missing or not writable, or
     /// `path` exists and is not a regular file, or is an input of this run.
-    /// LAS/LAZ use `las`; with fields.rgb off they use point format 6, else 7.
+    /// LAS/LAZ/COPC use `las`; with fields.rgb off they use point format 6, else 7. COPC
+    /// holds the points in memory until commit() (io/copc_writer.hpp).
+    /// COPC uses `copc` when given, else the default CopcOptions.
     CloudWriter(std::filesystem::path path, CloudFormat format, glm::dvec3 origin, core::CloudFields fields = {},
-                const LasOptions& las = {});
+                const LasOptions& las = {}, const CopcOptions* copc = nullptr);
     ~CloudWriter();
     CloudWriter(const CloudWriter&) = delete;
     CloudWriter& operator=(const CloudWriter&) = delete;

@@ -86,7 +86,10 @@ void LasInventory::add(const laszip_point_struct& q) {
     const laszip_I32 xyz[3] = {q.X, q.Y, q.Z};
     if (points == 0) {
         for (int k = 0; k < 3; ++k) min[std::size_t(k)] = max[std::size_t(k)] = xyz[k];
+        gps_min_s = gps_max_s = q.gps_time;
     } else {
+        gps_min_s = std::min(gps_min_s, q.gps_time);
+        gps_max_s = std::max(gps_max_s, q.gps_time);
         for (int k = 0; k < 3; ++k) {
             min[std::size_t(k)] = std::min(min[std::size_t(k)], xyz[k]);
             max[std::size_t(k)] = std::max(max[std::size_t(k)], xyz[k]);
@@ -101,7 +104,11 @@ void LasInventory::merge(const LasInventory& o) {
     if (points == 0) {
         min = o.min;
         max = o.max;
+        gps_min_s = o.gps_min_s;
+        gps_max_s = o.gps_max_s;
     } else {
+        gps_min_s = std::min(gps_min_s, o.gps_min_s);
+        gps_max_s = std::max(gps_max_s, o.gps_max_s);
         for (std::size_t k = 0; k < 3; ++k) {
             min[k] = std::min(min[k], o.min[k]);
             max[k] = std::max(max[k], o.max[k]);
@@ -177,16 +184,25 @@ void LasRecord::setUp(laszip_POINTER zip) const {
     }
 }
 
-void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t index) const {
+std::array<laszip_I32, 3> LasRecord::quantize(const CloudPoint& p, std::uint64_t index) const {
     const double local[3] = {p.position.x, p.position.y, p.position.z};
-    laszip_I32 xyz[3];
-    for (int k = 0; k < 3; ++k) {
+    std::array<laszip_I32, 3> xyz{};
+    for (std::size_t k = 0; k < 3; ++k) {
         const double mm = std::round(local[k] / kScale_m);
         if (!(std::fabs(mm) <= 2147483647.0))
             throw Error(where_ + ": point " + std::to_string(index) +
                         " lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm");
         xyz[k] = laszip_I32(mm);
     }
+    return xyz;
+}
+
+double LasRecord::gpsTime(const CloudPoint& p) const {
+    return options_.gps_start_s + double(p.view) * options_.view_interval_s;
+}
+
+void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t index) const {
+    const std::array<laszip_I32, 3> xyz = quantize(p, index);
     q.X = xyz[0];
     q.Y = xyz[1];
     q.Z = xyz[2];
@@ -205,7 +221,7 @@ void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t 
     q.extended_scan_angle = fields_.scan_angle ? laszip_I16(angle) : 0;
     q.scan_angle_rank = laszip_I8(std::clamp(std::lround(fields_.scan_angle ? p.scan_angle_deg : 0.0f), -90L, 90L));
     q.point_source_ID = p.view;
-    q.gps_time = options_.gps_start_s + double(p.view) * options_.view_interval_s;
+    q.gps_time = gpsTime(p);
     if (fields_.rgb) {
         q.rgb[0] = laszip_U16(((p.rgb >> 16) & 0xFFu) * 257u);
         q.rgb[1] = laszip_U16(((p.rgb >> 8) & 0xFFu) * 257u);

@@ -19,6 +19,7 @@ struct LasInventory {
     std::uint64_t points = 0;
     std::array<std::uint64_t, 16> by_return{};  // [r]: records with return number r
     std::array<laszip_I32, 3> min{}, max{};
+    double gps_min_s = 0.0, gps_max_s = 0.0;  // of the records' GPS times (0 when none)
     void add(const laszip_point_struct& q);
     void merge(const LasInventory& other);
 };
@@ -45,6 +46,11 @@ class LasRecord {
     /// Fills `q` with point `p`, the `index`-th of the file (for messages). Throws
     /// Error(where + ": point N lies beyond ...") when it is out of the 1 mm grid's reach.
     void fill(laszip_point_struct& q, const core::CloudPoint& p, std::uint64_t index) const;
+    /// The integer coordinates fill() gives point `p` (millimetres from the origin). Throws
+    /// as fill() does.
+    std::array<laszip_I32, 3> quantize(const core::CloudPoint& p, std::uint64_t index) const;
+    /// The GPS time fill() gives point `p`.
+    double gpsTime(const core::CloudPoint& p) const;
     /// Throws Error(where + ": LASzip <what> failed: <its message>") unless rc is 0.
     void check(laszip_POINTER zip, laszip_I32 rc, const char* what) const;
 

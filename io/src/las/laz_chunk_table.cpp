@@ -11,6 +11,7 @@
 #include <core/error.hpp>
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 namespace io::detail {
@@ -219,7 +220,11 @@ void putU32(std::string& s, std::uint32_t v) {
 
 }  // namespace
 
-std::string lazChunkTable(std::span<const std::uint32_t> chunk_bytes) {
+namespace {
+
+// Version, count, then the coded entries: each chunk's point count (context 0) when
+// `chunk_points` is given, and its byte count (context 1).
+std::string codeTable(std::span<const std::uint32_t> chunk_points, std::span<const std::uint32_t> chunk_bytes) {
     std::string table;
     putU32(table, 0);  // version
     putU32(table, std::uint32_t(chunk_bytes.size()));
@@ -228,13 +233,31 @@ std::string lazChunkTable(std::span<const std::uint32_t> chunk_bytes) {
     // Two contexts as LASzip has them: 0 for point counts (tables of variable-size chunks
     // only), 1 for byte counts.
     IntegerCoder sizes(2);
+    const bool variable = !chunk_points.empty();
     for (std::size_t i = 0; i < chunk_bytes.size(); ++i) {
+        if (variable) {
+            if (chunk_points[i] >= 0x80000000u) throw Error("LAZ chunk table: a chunk of 2^31 points or more");
+            sizes.encode(e, i ? std::int32_t(chunk_points[i - 1]) : 0, std::int32_t(chunk_points[i]), 0);
+        }
         if (chunk_bytes[i] >= 0x80000000u) throw Error("LAZ chunk table: a chunk of 2 GiB or more");
         sizes.encode(e, i ? std::int32_t(chunk_bytes[i - 1]) : 0, std::int32_t(chunk_bytes[i]), 1);
     }
     const std::vector<std::uint8_t> coded = e.finish();
     table.append(reinterpret_cast<const char*>(coded.data()), coded.size());
     return table;
+}
+
+}  // namespace
+
+std::string lazChunkTable(std::span<const std::uint32_t> chunk_bytes) { return codeTable({}, chunk_bytes); }
+
+std::string lazVariableChunkTable(std::span<const std::uint32_t> chunk_points,
+                                  std::span<const std::uint32_t> chunk_bytes) {
+    if (chunk_points.size() != chunk_bytes.size())
+        throw Error("LAZ chunk table: " + std::to_string(chunk_points.size()) + " point counts for " +
+                    std::to_string(chunk_bytes.size()) + " chunks");
+    if (chunk_bytes.empty()) return codeTable({}, chunk_bytes);
+    return codeTable(chunk_points, chunk_bytes);
 }
 
 }  // namespace io::detail

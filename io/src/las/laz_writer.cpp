@@ -12,6 +12,7 @@
 #include "las_record.hpp"
 #include "format_writer.hpp"
 #include "laz_chunk_table.hpp"
+#include "laz_compress.hpp"
 
 #include <core/error.hpp>
 #include <platform/safe_file.hpp>
@@ -34,23 +35,8 @@ namespace io::detail {
 using core::CloudPoint;
 using core::Error;
 
-namespace {
-
-constexpr std::size_t kChunkPoints = 50000;  // LASzip's default chunk size
-// A chunk's compressed bytes and LASzip's own buffers, per point, at most (LAZ takes
-// 2-10 bytes per point; this leaves room for incompressible extra bytes).
-constexpr std::size_t kCompressedBytesPerPoint = 24;
-
-// A file LASzip wrote into memory: its header and VLRs, its one chunk.
-struct LaszipFile {
-    std::string bytes;
-    std::size_t point_data_at = 0;  // offset_to_point_data
-    std::size_t table_at = 0;       // where the chunk table starts
-};
-
-// LASzip compresses `points` (at most kChunkPoints: one chunk) into memory, and counts them into `inventory`.
 LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoint> points, std::uint64_t first_index,
-                              LasInventory& inventory) {
+                              LasInventory& inventory, laszip_U32 chunk_size) {
     // Before the writer's guard: a writer closed on an error still writes into it.
     std::ostringstream out(std::ios::out | std::ios::binary);
     struct Zip {
@@ -63,7 +49,7 @@ LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoin
     } zip;
     if (laszip_create(&zip.p) != 0 || !zip.p) throw Error(record.where() + ": LASzip could not be started");
     record.setUp(zip.p);
-    record.check(zip.p, laszip_set_chunk_size(zip.p, laszip_U32(kChunkPoints)), "chunk size");
+    record.check(zip.p, laszip_set_chunk_size(zip.p, chunk_size), "chunk size");
     laszip_point_struct* q = nullptr;
     record.check(zip.p, laszip_get_point_pointer(zip.p, &q), "point");
     record.check(zip.p, laszip_open_writer_stream(zip.p, out, 1, 0), "open");
@@ -89,13 +75,20 @@ LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoin
     return f;
 }
 
+namespace {
+
+constexpr std::size_t kChunkPoints = 50000;  // LASzip's default chunk size
+// A chunk's compressed bytes and LASzip's own buffers, per point, at most (LAZ takes
+// 2-10 bytes per point; this leaves room for incompressible extra bytes).
+constexpr std::size_t kCompressedBytesPerPoint = 24;
+
 class LazWriter final : public FormatWriter {
   public:
     LazWriter(platform::TempFile& file, LasRecord record, const LasOptions& options)
         : record_(std::move(record)), file_(file.file()) {
         // The header and VLRs, as LASzip writes them for a file of these records.
         LasInventory none;
-        const LaszipFile empty = compressWithLaszip(record_, {}, 0, none);
+        const LaszipFile empty = compressWithLaszip(record_, {}, 0, none, laszip_U32(kChunkPoints));
         header_.assign(empty.bytes, 0, empty.point_data_at);
         empty_tail_.assign(empty.bytes, empty.point_data_at + 8, std::string::npos);
         write(header_.data(), header_.size());
@@ -165,7 +158,8 @@ class LazWriter final : public FormatWriter {
 
     void run(Job& job) const {
         try {
-            job.result = compressWithLaszip(record_, job.points, job.first_index, job.inventory);
+            job.result =
+                compressWithLaszip(record_, job.points, job.first_index, job.inventory, laszip_U32(kChunkPoints));
         } catch (...) {
             job.error = std::current_exception();
         }

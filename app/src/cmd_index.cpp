@@ -1,0 +1,158 @@
+// app/src/cmd_index.cpp: `ladarvr index IN... --out OUT.copc.laz`: any clouds we read
+// (PCD, PLY, LAS, LAZ, COPC), merged, to one COPC file (io/copc_writer.hpp). The inputs
+// must carry the same fields. The writer works within --memory-mb: a cloud that does not
+// fit is spilled to scratch files beside the output and indexed a part at a time.
+#include "cli_common.hpp"
+#include "commands.hpp"
+
+#include <core/error.hpp>
+#include <io/cloud_io.hpp>
+#include <io/cloud_reader.hpp>
+#include <io/copc_writer.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/progress.hpp>
+#include <platform/safe_file.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Inputs further than this from the first one's origin would lose the millimetre in the
+// points' float coordinates relative to that origin.
+constexpr double kMaxOriginShift_m = 10000.0;
+
+struct IndexCli {
+    std::vector<std::string> inputs;
+    std::string out;
+    int threads = 0;
+    double memory_mb = 1024.0;
+};
+
+std::string fieldList(const core::CloudFields& f) {
+    std::string s = "x y z";
+    const auto add = [&](bool on, const char* name) {
+        if (on) s += std::string(" ") + name;
+    };
+    add(f.rgb, "rgb");
+    add(f.label, "label");
+    add(f.view, "view");
+    add(f.range, "range");
+    add(f.intensity, "intensity");
+    add(f.returns, "returns");
+    add(f.incidence, "incidence");
+    add(f.scan_angle, "scan_angle");
+    add(f.height_above_ground, "height_above_ground");
+    return s;
+}
+
+bool sameFields(const core::CloudFields& a, const core::CloudFields& b) {
+    return a.rgb == b.rgb && a.label == b.label && a.view == b.view && a.range == b.range &&
+           a.intensity == b.intensity && a.returns == b.returns && a.incidence == b.incidence &&
+           a.scan_angle == b.scan_angle && a.height_above_ground == b.height_above_ground;
+}
+
+void run(IndexCli& cli) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const fs::path out = cli.out;
+    if (io::formatForPath(out, "index: --out") != io::CloudFormat::Copc)
+        throw core::Error("index: --out " + cli.out + ": allowed a name ending in .copc.laz");
+    if (cli.threads < 0 || cli.threads > 1024) throw core::Error("index: --threads: allowed 0 (all cores) to 1024");
+    if (!(std::isfinite(cli.memory_mb) && cli.memory_mb >= 1.0 && cli.memory_mb <= 1048576.0))
+        throw core::Error("index: --memory-mb = " + core::shownNumber(cli.memory_mb) + ": allowed [1, 1048576]");
+    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = cli.threads == 0 ? cores : cli.threads;
+
+    // Every input's header first: a bad input fails before anything is written, and the
+    // inputs are known as such before the output is checked.
+    std::vector<std::unique_ptr<io::CloudReader>> readers;
+    std::uint64_t bound = 0;
+    for (const std::string& in : cli.inputs) {
+        platform::checkInputFile(in, "index: input " + in);  // remembered: the output may not be it
+        readers.push_back(std::make_unique<io::CloudReader>(in));
+        const io::CloudReader& r = *readers.back();
+        const io::CloudReader& first = *readers.front();
+        if (!sameFields(r.fields(), first.fields()))
+            throw core::Error("index: " + r.where() + ": its fields (" + fieldList(r.fields()) + ") differ from " +
+                              first.where() + "'s (" + fieldList(first.fields()) +
+                              "); merged inputs must carry the same fields");
+        const glm::dvec3 shift = r.origin() - first.origin();
+        if (!(std::fabs(shift.x) <= kMaxOriginShift_m && std::fabs(shift.y) <= kMaxOriginShift_m &&
+              std::fabs(shift.z) <= kMaxOriginShift_m))
+            throw core::Error("index: " + r.where() + ": its origin lies more than 10 km from " + first.where() +
+                              "'s; merged inputs must lie within 10 km of each other");
+        bound += r.pointsBound();
+    }
+    createParentFolders(out, "index: --out");
+    platform::checkWritableDestination(out);
+
+    // Plan-or-refuse: the reader's chunk, and the writer within the rest (past it, it
+    // spills the points to scratch files and builds the octree a part at a time).
+    const std::uint64_t budget = std::uint64_t(cli.memory_mb * 1048576.0);
+    const std::uint64_t reading = io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
+    const std::uint64_t least = io::copcMinimumBytes(threads - 1) + reading;
+    if (budget < least)
+        throw core::Error("index: --memory-mb " + core::shownNumber(cli.memory_mb) + " is below the " +
+                          std::to_string((least >> 20) + 1) + " MiB indexing needs with " + std::to_string(threads) +
+                          " threads; raise --memory-mb or lower --threads");
+    io::CopcOptions copc;
+    copc.memory_bytes = budget - reading;
+    io::LasOptions las;
+    las.threads = threads - 1;
+    const glm::dvec3 origin = readers.front()->origin();
+    io::CloudWriter writer(out, io::CloudFormat::Copc, origin, readers.front()->fields(), las, &copc);
+    platform::Progress progress("index: reading", std::size_t(bound));
+    std::vector<core::CloudPoint> chunk;
+    for (auto& reader : readers) {
+        const glm::dvec3 shift = reader->origin() - origin;
+        chunk.clear();
+        while (reader->nextChunk(chunk)) {
+            if (shift != glm::dvec3(0.0))
+                for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + shift);
+            writer.append(chunk);
+            progress.advance(chunk.size());
+            chunk.clear();
+        }
+        if (const std::string w = reader->warning(); !w.empty()) warn(w);
+        reader.reset();
+    }
+    progress.finish();
+    const std::size_t points = writer.count();
+    writer.commit();
+    std::error_code ec;
+    const auto bytes = fs::file_size(out, ec);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "index: wrote %s: %zu points from %zu input%s, %llu bytes, %.3f s (threads: %d)\n",
+                 out.string().c_str(), points, cli.inputs.size(), cli.inputs.size() == 1 ? "" : "s",
+                 static_cast<unsigned long long>(ec ? 0 : bytes), seconds, threads);
+}
+
+}  // namespace
+
+void registerIndex(CLI::App& cli) {
+    auto state = std::make_shared<IndexCli>();
+    CLI::App* c = cli.add_subcommand(
+        "index",
+        "write clouds (PCD, PLY, LAS, LAZ, COPC; several are merged) as one COPC 1.0 file: a LAZ file "
+        "whose chunks are the nodes of a level-of-detail octree");
+    c->add_option("inputs", state->inputs, "the input clouds; they must carry the same fields")->required();
+    c->add_option("--out", state->out, "the COPC file to write, a name ending in .copc.laz")->required();
+    c->add_option("--threads", state->threads, "threads, 0 = all cores")->capture_default_str();
+    c->add_option("--memory-mb", state->memory_mb,
+                  "bound on memory; a cloud that does not fit is spilled to scratch files beside the output and "
+                  "indexed a part at a time")
+        ->capture_default_str();
+    c->callback([state] { run(*state); });
+}
+
+}  // namespace app

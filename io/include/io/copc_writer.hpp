@@ -1,0 +1,45 @@
+// io/copc_writer.hpp: writing clouds as COPC 1.0 files (io/copc.hpp describes the format).
+//
+// The writer holds the cloud in memory (or spills it to scratch files past a bound), builds the octree (io/src/copc/copc_octree.hpp:
+// a cube around the points, grid-sampled nodes of at most CopcOptions::max_node_points),
+// has LASzip compress each node as one variable-size LAZ chunk on LasOptions::threads
+// threads, and writes the file through the same temporary-and-rename path as every cloud
+// writer (CloudWriter with CloudFormat::Copc). The points' records are the LAS writer's
+// (point format 7, or 6 without colour; our extra bytes; scale 1 mm, offsets = origin).
+// The file is the same for any thread count.
+#pragma once
+#include <core/point_cloud.hpp>
+#include <io/cloud_io.hpp>
+
+#include <cstdint>
+#include <filesystem>
+
+namespace io {
+
+struct CopcOptions {
+    /// The most points a node holds (a node whose cube is 1 mm wide holds all its points).
+    std::uint32_t max_node_points = 100000;
+    /// The most the writer holds (0: no bound, every point in memory). Past it the points
+    /// go to anonymous scratch files in the output's folder and the octree is built a part
+    /// at a time (io/src/copc/copc_writer.cpp); the file is the same either way. Throws
+    /// at finish when the bound is below what one node needs (copcMinimumBytes).
+    std::uint64_t memory_bytes = 0;
+};
+
+/// Bytes the COPC writer holds per point while it builds and writes a file (the points,
+/// their integer coordinates, the octree's indices), for callers that plan memory.
+std::uint64_t copcBytesPerPoint();
+/// Bytes the COPC writer holds besides its points (the nodes being compressed, the
+/// sampling grids of its threads), with `threads` worker threads.
+std::uint64_t copcFixedBytes(int threads);
+
+/// The least CopcOptions::memory_bytes that a cloud of any size can be written in, with
+/// `threads` worker threads and the default node size.
+std::uint64_t copcMinimumBytes(int threads);
+
+/// Writes `cloud` as a COPC file at `path`, atomically (as writeCloud does). Throws
+/// Error("output: <path>: ...").
+void writeCopc(const std::filesystem::path& path, const core::PointCloud& cloud, const LasOptions& las = {},
+               const CopcOptions& copc = {});
+
+}  // namespace io

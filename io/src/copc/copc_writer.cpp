@@ -1,0 +1,697 @@
+// io/src/copc/copc_writer.cpp: COPC output (io/copc_writer.hpp).
+//
+// The layout: the 375-byte LAS 1.4 header; the `copc` info VLR (record 1, 160 bytes) at
+// offset 375; LASzip's VLRs (the LASzip VLR with chunk size UINT32_MAX, the extra bytes
+// VLR when there are extra bytes); the 8-byte position of the chunk table; one LAZ chunk
+// per node with points, in the octree's depth-first order; the variable chunk table
+// (point and byte counts, laz_chunk_table.cpp); the `copc` hierarchy EVLR (record 1000)
+// holding every hierarchy page (copc_hierarchy.hpp), the root page first. The header
+// and the VLRs LASzip makes come from a file LASzip writes with no points; each node's
+// chunk is cut out of a file LASzip writes for that node alone, in memory, on a worker.
+#include "copc_hierarchy.hpp"
+#include "copc_octree.hpp"
+#include "format_writer.hpp"
+#include "las/laz_chunk_table.hpp"
+#include "las/laz_compress.hpp"
+
+#include <core/error.hpp>
+#include <io/copc_writer.hpp>
+#include <platform/atomic_file.hpp>
+#include <platform/safe_file.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace io::detail {
+
+using core::CloudPoint;
+using core::Error;
+
+namespace {
+
+constexpr std::size_t kHeaderSize = 375;
+constexpr std::size_t kVlrHeaderSize = 54;
+constexpr std::size_t kEvlrHeaderSize = 60;
+constexpr std::size_t kInfoSize = 160;
+constexpr double kScale_m = 0.001;
+constexpr laszip_U32 kVariableChunks = std::numeric_limits<laszip_U32>::max();
+// Nodes compressed at once per thread before they are written in order.
+constexpr std::size_t kNodesPerThread = 4;
+// A compressed node's bytes per point, at most (as the LAZ writer's chunks).
+constexpr std::uint64_t kCompressedBytesPerPoint = 24;
+// Out of core, the upper levels' counts come from a histogram of the points over the
+// cells of one level: this one (128^3 cells, 16 MiB of counts) at most, and at most an
+// eighth of the memory bound.
+constexpr int kHistogramLevel = 7;
+
+template <typename T>
+void put(std::string& s, T v) {
+    char b[sizeof v];
+    std::memcpy(b, &v, sizeof v);  // x86-64 and aarch64 are little-endian, as LAS is
+    s.append(b, sizeof v);
+}
+
+// A VLR or EVLR header: reserved, user id "copc", record id, length, description.
+std::string recordHeader(std::uint16_t record_id, std::uint64_t length, const char* description, bool extended) {
+    std::string h;
+    put(h, std::uint16_t(0));
+    char user[16] = "copc";
+    h.append(user, sizeof user);
+    put(h, record_id);
+    if (extended)
+        put(h, length);
+    else
+        put(h, std::uint16_t(length));
+    char text[32] = {};
+    std::memcpy(text, description, std::min<std::size_t>(std::strlen(description), 31));
+    h.append(text, sizeof text);
+    return h;
+}
+
+// Writes the file around the chunks handed to it in file order: the header and VLRs at
+// construction, each chunk as it comes, then the table, the hierarchy and the header fields.
+class Assembler {
+  public:
+    Assembler(const LasRecord& record, std::FILE* file, const glm::dvec3& origin)
+        : record_(record), file_(file), origin_(origin) {
+        // The header and VLRs: LASzip's, with the info VLR first.
+        LasInventory none;
+        const LaszipFile empty = compressWithLaszip(record_, {}, 0, none, kVariableChunks);
+        laszip_header_ = empty.bytes.substr(0, empty.point_data_at);
+        empty_table_ = empty.bytes.substr(empty.point_data_at + 8);  // LASzip's table of no chunks
+        if (laszip_header_.size() < kHeaderSize)
+            throw Error(record_.where() + ": LASzip wrote a LAZ layout this writer does not know");
+        header_ = laszip_header_.substr(0, kHeaderSize);
+        header_ += recordHeader(1, kInfoSize, "copc info", false);
+        header_.append(kInfoSize, '\0');  // filled in at the end
+        header_ += laszip_header_.substr(kHeaderSize);
+        patch(header_, 96, std::uint32_t(header_.size()));  // offset to point data
+        std::uint32_t vlrs = 0;
+        std::memcpy(&vlrs, header_.data() + 100, 4);
+        patch(header_, 100, vlrs + 1);
+        write(header_.data(), header_.size());
+        const std::int64_t placeholder = 0;  // the chunk table's position
+        write(&placeholder, 8);
+        at_ = header_.size() + 8;
+    }
+
+    /// The chunk of one node cut out of the file LASzip wrote for it.
+    void add(const CopcKey& key, const LaszipFile& f, std::size_t points, const LasInventory& inventory) {
+        const std::size_t begin = f.point_data_at + 8;
+        if (f.bytes.compare(0, begin - 8, laszip_header_) != 0)
+            throw Error(record_.where() + ": LASzip wrote a chunk under a different header");
+        addBytes(key, f.bytes.data() + begin, f.table_at - begin, points, inventory);
+    }
+
+    void addBytes(const CopcKey& key, const char* data, std::size_t size, std::size_t points,
+                  const LasInventory& inventory) {
+        if (size >= 0x80000000u || points >= 0x80000000u)
+            throw Error(record_.where() + ": a COPC node of 2 GiB or 2^31 points or more");
+        write(data, size);
+        entries_.push_back({key, at_, std::int32_t(size), std::int32_t(points)});
+        at_ += size;
+        chunk_points_.push_back(std::uint32_t(points));
+        chunk_bytes_.push_back(std::uint32_t(size));
+        inventory_.merge(inventory);
+    }
+
+    /// Counts records whose chunks came through addBytes() uncounted.
+    void count(const LasInventory& inventory) { inventory_.merge(inventory); }
+
+    /// A node whose points all went to its ancestors.
+    void addEmpty(const CopcKey& key) { entries_.push_back({key, 0, 0, 0}); }
+
+    void finish(const OctreeCube& cube) {
+        const std::uint64_t table_at = at_;
+        const std::string table =
+            chunk_bytes_.empty() ? empty_table_ : lazVariableChunkTable(chunk_points_, chunk_bytes_);
+        write(table.data(), table.size());
+        at_ += table.size();
+        // The hierarchy EVLR.
+        const std::uint64_t evlr_at = at_;
+        const HierarchyPages pages = encodeHierarchy(std::move(entries_), evlr_at + kEvlrHeaderSize);
+        const std::string evlr = recordHeader(1000, pages.bytes.size(), "copc hierarchy", true);
+        write(evlr.data(), evlr.size());
+        write(pages.bytes.data(), pages.bytes.size());
+        // The info VLR, the table's position, the EVLR's place, the counts and bounds.
+        std::string info;
+        const double halfsize_m = kScale_m * std::ldexp(1.0, cube.bits - 1);
+        const double o[3] = {origin_.x, origin_.y, origin_.z};
+        for (std::size_t k = 0; k < 3; ++k) put(info, o[k] + kScale_m * (double(cube.corner[k]) - 0.5) + halfsize_m);
+        put(info, halfsize_m);
+        put(info, 2.0 * halfsize_m / 128.0);
+        put(info, evlr_at + kEvlrHeaderSize);
+        put(info, pages.root_size);
+        put(info, inventory_.gps_min_s);
+        put(info, inventory_.gps_max_s);
+        info.append(kInfoSize - info.size(), '\0');
+        if (std::fflush(file_) != 0) throw Error(record_.where() + ": write failed: " + std::strerror(errno));
+        const int fd = fileno(file_);
+        pwriteAll(fd, info.data(), info.size(), kHeaderSize + kVlrHeaderSize);
+        const std::int64_t position = std::int64_t(table_at);
+        pwriteAll(fd, &position, 8, header_.size());
+        std::string evlr_fields;
+        put(evlr_fields, evlr_at);
+        put(evlr_fields, std::uint32_t(1));
+        pwriteAll(fd, evlr_fields.data(), evlr_fields.size(), 235);
+        record_.patchHeader(fd, inventory_);
+    }
+
+  private:
+    static void patch(std::string& s, std::size_t at, std::uint32_t v) { std::memcpy(s.data() + at, &v, 4); }
+
+    void pwriteAll(int fd, const void* data, std::size_t size, std::uint64_t at) const {
+        if (::pwrite(fd, data, size, off_t(at)) != ssize_t(size))
+            throw Error(record_.where() + ": write failed: " + std::strerror(errno));
+    }
+
+    void write(const void* data, std::size_t size) {
+        if (size > 0 && std::fwrite(data, 1, size, file_) != size)
+            throw Error(record_.where() + ": write failed: " + std::strerror(errno));
+    }
+
+    const LasRecord& record_;
+    std::FILE* file_;
+    glm::dvec3 origin_;
+    std::string laszip_header_, empty_table_, header_;
+    std::uint64_t at_ = 0;
+    std::vector<CopcNode> entries_;
+    std::vector<std::uint32_t> chunk_points_, chunk_bytes_;
+    LasInventory inventory_;
+};
+
+// A scratch file's buffered reading and writing, with the writer's messages.
+struct Scratch {
+    std::FILE* f = nullptr;
+    std::string where;
+    Scratch(const std::filesystem::path& dir, const std::string& w) : where(w) {
+        f = platform::openScratchFile(dir, where);
+    }
+    ~Scratch() {
+        if (f) std::fclose(f);
+    }
+    Scratch(const Scratch&) = delete;
+    Scratch& operator=(const Scratch&) = delete;
+    void write(const void* data, std::size_t size) {
+        if (size > 0 && std::fwrite(data, 1, size, f) != size)
+            throw Error("output: " + where + ": writing a scratch file failed: " + std::strerror(errno));
+    }
+    void read(void* data, std::size_t size) {
+        if (size > 0 && std::fread(data, 1, size, f) != size)
+            throw Error("output: " + where + ": reading a scratch file back failed");
+    }
+    void rewind() {
+        if (std::fflush(f) != 0 || ::fseeko(f, 0, SEEK_SET) != 0)
+            throw Error("output: " + where + ": rewinding a scratch file failed: " + std::strerror(errno));
+    }
+};
+
+// A point spilled to a bucket: the point and its index in the input.
+struct Spilled {
+    CloudPoint point;
+    std::uint64_t index;
+};
+
+class CopcWriter final : public FormatWriter {
+  public:
+    CopcWriter(platform::TempFile& file, LasRecord record, const glm::dvec3& origin, const LasOptions& las,
+               const CopcOptions& copc)
+        : record_(std::move(record)),
+          file_(file.file()),
+          dir_(file.destination().parent_path().empty() ? std::filesystem::path(".")
+                                                        : file.destination().parent_path()),
+          where_(file.destination().string()),
+          origin_(origin),
+          las_(las),
+          copc_(copc) {
+        threads_ = std::max(las_.threads, 0);
+        cap_ = std::max<std::uint32_t>(copc_.max_node_points, 1);
+    }
+
+    // The points are held in blocks, so that the store never reallocates (a vector that
+    // doubles would hold up to three times the points while it grows). Past
+    // CopcOptions::memory_bytes they go to a scratch file instead.
+    void append(std::span<const CloudPoint> points) override {
+        if (spill_) {
+            spillAppend(points);
+            return;
+        }
+        while (!points.empty()) {
+            if (blocks_.empty() || blocks_.back().size() == kBlockPoints) {
+                blocks_.emplace_back();
+                blocks_.back().reserve(kBlockPoints);
+            }
+            std::vector<CloudPoint>& b = blocks_.back();
+            const std::size_t n = std::min(points.size(), kBlockPoints - b.size());
+            b.insert(b.end(), points.begin(), points.begin() + std::ptrdiff_t(n));
+            points = points.subspan(n);
+            count_ += n;
+        }
+        if (copc_.memory_bytes > 0 && count_ * copcBytesPerPoint() + copcFixedBytes(threads_) > copc_.memory_bytes) {
+            spill_ = std::make_unique<Scratch>(dir_, where_);
+            const std::size_t held = count_;
+            count_ = 0;
+            for (std::vector<CloudPoint>& b : blocks_) {
+                spillAppend(b);
+                std::vector<CloudPoint>().swap(b);
+            }
+            blocks_.clear();
+            if (count_ != held) throw Error(record_.where() + ": spilling lost points");
+        }
+    }
+
+    void finish() override {
+        if (count_ >= std::numeric_limits<std::uint32_t>::max())
+            throw Error(record_.where() + ": COPC output holds at most 4294967294 points");
+        if (spill_)
+            finishSpilled();
+        else
+            finishInMemory();
+    }
+
+  private:
+    static constexpr std::size_t kBlockBits = 20;
+    static constexpr std::size_t kBlockPoints = std::size_t(1) << kBlockBits;
+
+    const CloudPoint& point(std::size_t i) const { return blocks_[i >> kBlockBits][i & (kBlockPoints - 1)]; }
+
+    // Widens the bounds by the point of index count_.
+    void bound(const std::array<std::int32_t, 3>& xyz) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            lo_[k] = count_ ? std::min(lo_[k], xyz[k]) : xyz[k];
+            hi_[k] = count_ ? std::max(hi_[k], xyz[k]) : xyz[k];
+        }
+    }
+
+    void spillAppend(std::span<const CloudPoint> points) {
+        for (const CloudPoint& p : points) {
+            bound(record_.quantize(p, count_));
+            ++count_;
+        }
+        spill_->write(points.data(), points.size_bytes());
+    }
+
+    // Compresses `nodes` (their points given by `pointOf`) a batch at a time on the
+    // threads, handing each to `done` in order.
+    template <typename PointOf, typename Done>
+    void compressNodes(std::vector<OctreeNode>& nodes, PointOf pointOf, Done done) {
+        const std::size_t batch = kNodesPerThread * std::size_t(threads_ + 1);
+        for (std::size_t first = 0; first < nodes.size(); first += batch) {
+            const std::size_t n = std::min(batch, nodes.size() - first);
+            std::vector<LaszipFile> files(n);
+            std::vector<LasInventory> counted(n);
+            parallelFor(n, threads_, [&](std::size_t i, std::size_t) {
+                const OctreeNode& node = nodes[first + i];
+                if (node.points.empty()) return;
+                std::vector<CloudPoint> pts;
+                pts.reserve(node.points.size());
+                for (std::uint32_t p : node.points) pts.push_back(pointOf(p));
+                files[i] = compressWithLaszip(record_, pts, 0, counted[i], kVariableChunks);
+            });
+            for (std::size_t i = 0; i < n; ++i) {
+                done(nodes[first + i], files[i], counted[i]);
+                std::vector<std::uint32_t>().swap(nodes[first + i].points);
+                files[i] = LaszipFile{};
+            }
+        }
+    }
+
+    void finishInMemory() {
+        // The points' integer coordinates, as the records will hold them.
+        std::vector<std::array<std::int32_t, 3>> xyz(count_);
+        for (std::size_t i = 0; i < count_; ++i) {
+            xyz[i] = record_.quantize(point(i), i);
+            for (std::size_t k = 0; k < 3; ++k) {
+                lo_[k] = i ? std::min(lo_[k], xyz[i][k]) : xyz[i][k];
+                hi_[k] = i ? std::max(hi_[k], xyz[i][k]) : xyz[i][k];
+            }
+        }
+        const OctreeCube cube = enclosingCube(lo_, hi_);
+        std::vector<OctreeNode> nodes = buildOctree(xyz, cube, cap_, threads_);
+        std::vector<std::array<std::int32_t, 3>>().swap(xyz);
+        Assembler out(record_, file_, origin_);
+        compressNodes(
+            nodes, [&](std::uint32_t p) -> const CloudPoint& { return point(p); },
+            [&](const OctreeNode& node, const LaszipFile& f, const LasInventory& inv) {
+                if (node.points.empty())
+                    out.addEmpty(node.key);
+                else
+                    out.add(node.key, f, node.points.size(), inv);
+            });
+        out.finish(cube);
+    }
+
+    // The top of the tree, above the buckets that are built in memory one at a time.
+    struct Top {
+        CopcKey key;
+        std::uint64_t count = 0;
+        std::array<int, 8> child{-1, -1, -1, -1, -1, -1, -1, -1};  // into tops_
+        int bucket = -1;                                           // a bucket's root, else -1
+        std::vector<std::uint32_t> points;                         // into lifted_, ascending
+    };
+    struct Bucket {
+        int top = -1;  // its node in tops_
+        std::unique_ptr<Scratch> file;
+        std::uint64_t count = 0;
+        // Its nodes below its root, compressed: key, place in chunks_, size, points.
+        struct Chunk {
+            CopcKey key;
+            std::uint64_t at = 0, size = 0, points = 0;
+        };
+        std::vector<Chunk> chunks;
+    };
+
+    // Out of core: the points are in spill_ in input order; their bounds are known.
+    //  1. A histogram of the points over the cells of a fixed level (at most 128^3) gives
+    //     every upper node's count, hence the top of the tree: the nodes that split (more
+    //     than the cap) and hold more than a bucket may; their children are the buckets.
+    //  2. One pass over the spill (or more, 256 buckets at a time) sorts the points into
+    //     one scratch file per bucket, in input order, each with its input index.
+    //  3. Each bucket's subtree is built in memory as the in-memory writer builds it; its
+    //     nodes below its root are compressed into a scratch file of chunks, and its
+    //     root's points are kept (lifted) for the top.
+    //  4. The top nodes sample their children's points bottom-up, as in memory.
+    //  5. The file is written in the in-memory writer's depth-first order, the buckets'
+    //     chunks copied from the scratch file: the same file, byte for byte.
+    void finishSpilled() {
+        const OctreeCube cube = enclosingCube(lo_, hi_);
+        const std::uint64_t fixed = copcFixedBytes(threads_);
+        const std::uint64_t per_point = copcBytesPerPoint() + sizeof(Spilled);
+        const std::uint64_t room = copc_.memory_bytes > fixed ? copc_.memory_bytes - fixed : 0;
+        hist_level_ = 1;
+        while (hist_level_ < kHistogramLevel && (std::uint64_t(8) << (3 * (hist_level_ + 1))) <= room / 8)
+            ++hist_level_;
+        hist_level_ = std::min(cube.bits, hist_level_);
+        const std::uint64_t hist_bytes = std::uint64_t(8) << (3 * hist_level_);
+        bucket_points_ = (room - std::min(room, hist_bytes)) / per_point / 2;  // half for the lifted points
+        if (bucket_points_ <= cap_)
+            throw Error(record_.where() + ": a memory bound of " + std::to_string(copc_.memory_bytes >> 20) +
+                        " MiB leaves no room for a node of " + std::to_string(cap_) + " points; allowed at least " +
+                        std::to_string((fixed + 2 * per_point * (cap_ + 1) * 8 / 7 + (1u << 20)) >> 20) + " MiB");
+        histogram(cube);
+        makeTop(cube, CopcKey{});
+        distribute(cube);
+        lifted_xyz_.clear();
+        for (std::size_t b = 0; b < buckets_.size(); ++b) buildBucket(cube, b);
+        liftedOrder();
+        Marks marks;
+        sampleTop(cube, 0, marks);
+        // The file, in depth-first order.
+        Assembler out(record_, file_, origin_);
+        chunks_->rewind();
+        emit(out, 0);
+        out.count(inventory_);
+        out.finish(cube);
+    }
+
+    std::size_t histCell(const OctreeCube& cube, const std::array<std::int32_t, 3>& xyz) const {
+        const int shift = cube.bits - hist_level_;
+        std::size_t cell = 0;
+        for (std::size_t k = 0; k < 3; ++k)
+            cell |= std::size_t((std::int64_t(xyz[k]) - cube.corner[k]) >> shift) << (std::size_t(hist_level_) * k);
+        return cell;
+    }
+
+    void histogram(const OctreeCube& cube) {
+        hist_.assign(std::size_t(1) << (3 * hist_level_), 0);
+        spill_->rewind();
+        std::vector<CloudPoint> buf(1u << 16);
+        for (std::uint64_t done = 0; done < count_;) {
+            const std::size_t n = std::size_t(std::min<std::uint64_t>(buf.size(), count_ - done));
+            spill_->read(buf.data(), n * sizeof(CloudPoint));
+            for (std::size_t i = 0; i < n; ++i) ++hist_[histCell(cube, record_.quantize(buf[i], done + i))];
+            done += n;
+        }
+    }
+
+    std::uint64_t countOf(const CopcKey& key) const {
+        const int up = hist_level_ - key.level;  // key.level <= hist_level_
+        std::uint64_t n = 0;
+        const int side = 1 << up;
+        for (int z = 0; z < side; ++z)
+            for (int y = 0; y < side; ++y)
+                for (int x = 0; x < side; ++x) {
+                    const std::size_t cx = std::size_t((key.x << up) + x), cy = std::size_t((key.y << up) + y),
+                                      cz = std::size_t((key.z << up) + z);
+                    const std::size_t h = std::size_t(hist_level_);
+                    n += hist_[cx | (cy << h) | (cz << (2 * h))];
+                }
+        return n;
+    }
+
+    int makeTop(const OctreeCube& cube, const CopcKey& key) {
+        const std::uint64_t n = countOf(key);
+        const int index = int(tops_.size());
+        tops_.push_back(Top{key, n, {-1, -1, -1, -1, -1, -1, -1, -1}, -1, {}});
+        if (n <= cap_ || key.level >= cube.bits || n <= bucket_points_) {
+            tops_[std::size_t(index)].bucket = int(buckets_.size());
+            buckets_.push_back(Bucket{index, nullptr, n, {}});
+            return index;
+        }
+        if (key.level >= hist_level_)
+            throw Error(record_.where() + ": " + std::to_string(n) + " points lie within " +
+                        std::to_string(std::ldexp(kScale_m, cube.bits - key.level)) +
+                        " m of each other, more than the memory bound lets one part of the octree hold; raise it");
+        for (int o = 0; o < 8; ++o) {
+            const CopcKey c{key.level + 1, 2 * key.x + (o & 1), 2 * key.y + ((o >> 1) & 1), 2 * key.z + ((o >> 2) & 1)};
+            if (countOf(c) == 0) continue;
+            const int child = makeTop(cube, c);
+            tops_[std::size_t(index)].child[std::size_t(o)] = child;
+        }
+        return index;
+    }
+
+    // The bucket a point goes to: down the top from the root by its histogram cell.
+    int bucketOf(const OctreeCube& cube, const std::array<std::int32_t, 3>& xyz) const {
+        int t = 0;
+        for (;;) {
+            const Top& top = tops_[std::size_t(t)];
+            if (top.bucket >= 0) return top.bucket;
+            const int shift = cube.bits - top.key.level - 1;
+            int o = 0;
+            for (std::size_t k = 0; k < 3; ++k) o |= int(((std::int64_t(xyz[k]) - cube.corner[k]) >> shift) & 1) << k;
+            t = top.child[std::size_t(o)];
+        }
+    }
+
+    void distribute(const OctreeCube& cube) {
+        constexpr std::size_t kOpenAtOnce = 256;
+        std::vector<CloudPoint> buf(1u << 16);
+        for (std::size_t first = 0; first < buckets_.size(); first += kOpenAtOnce) {
+            const std::size_t last = std::min(buckets_.size(), first + kOpenAtOnce);
+            for (std::size_t b = first; b < last; ++b) buckets_[b].file = std::make_unique<Scratch>(dir_, where_);
+            spill_->rewind();
+            for (std::uint64_t done = 0; done < count_;) {
+                const std::size_t n = std::size_t(std::min<std::uint64_t>(buf.size(), count_ - done));
+                spill_->read(buf.data(), n * sizeof(CloudPoint));
+                for (std::size_t i = 0; i < n; ++i) {
+                    const std::size_t b = std::size_t(bucketOf(cube, record_.quantize(buf[i], done + i)));
+                    if (b < first || b >= last) continue;
+                    const Spilled s{buf[i], done + i};
+                    buckets_[b].file->write(&s, sizeof s);
+                }
+                done += n;
+            }
+            // Buckets are built one at a time later; their files stay, rewound.
+            for (std::size_t b = first; b < last; ++b) buckets_[b].file->rewind();
+        }
+        spill_.reset();  // every point is in a bucket now
+    }
+
+    void buildBucket(const OctreeCube& cube, std::size_t b) {
+        Bucket& bucket = buckets_[b];
+        Top& root = tops_[std::size_t(bucket.top)];
+        std::vector<Spilled> pts(bucket.count);
+        bucket.file->read(pts.data(), pts.size() * sizeof(Spilled));
+        bucket.file.reset();
+        std::vector<std::array<std::int32_t, 3>> xyz(pts.size());
+        for (std::size_t i = 0; i < pts.size(); ++i) xyz[i] = record_.quantize(pts[i].point, pts[i].index);
+        OctreeCube sub;
+        sub.bits = cube.bits - root.key.level;
+        const int key[3] = {root.key.x, root.key.y, root.key.z};
+        for (std::size_t k = 0; k < 3; ++k) sub.corner[k] = cube.corner[k] + (std::int64_t(key[k]) << sub.bits);
+        std::vector<OctreeNode> nodes = buildOctree(xyz, sub, cap_, threads_);
+        // Keys from the bucket's subtree to the whole tree's.
+        for (OctreeNode& n : nodes) {
+            const int l = n.key.level;
+            n.key = {root.key.level + l, (root.key.x << l) + n.key.x, (root.key.y << l) + n.key.y,
+                     (root.key.z << l) + n.key.z};
+        }
+        // The root's points go up; the others are final.
+        for (std::uint32_t i : nodes.front().points) {
+            lifted_.push_back(pts[i]);
+            lifted_xyz_.push_back(xyz[i]);
+        }
+        lifted_bucket_.insert(lifted_bucket_.end(), nodes.front().points.size(), int(b));
+        if (lifted_.size() * (sizeof(Spilled) + 12 + 8) > copc_.memory_bytes / 2)
+            throw Error(record_.where() +
+                        ": the octree's upper levels hold more points than half the memory bound "
+                        "lets them; raise it");
+        nodes.erase(nodes.begin());
+        if (!chunks_) chunks_ = std::make_unique<Scratch>(dir_, where_);
+        compressNodes(
+            nodes, [&](std::uint32_t p) -> const CloudPoint& { return pts[p].point; },
+            [&](const OctreeNode& node, const LaszipFile& f, const LasInventory& inv) {
+                Bucket::Chunk c{node.key, chunks_at_, 0, node.points.size()};
+                if (!node.points.empty()) {
+                    const std::size_t begin = f.point_data_at + 8;
+                    c.size = f.table_at - begin;
+                    chunks_->write(f.bytes.data() + begin, c.size);
+                    chunks_at_ += c.size;
+                    inventory_.merge(inv);
+                }
+                bucket.chunks.push_back(c);
+            });
+    }
+
+    // Orders the lifted points by input index (the order the in-memory writer samples in)
+    // and gives each top node holding a bucket root its points.
+    void liftedOrder() {
+        std::vector<std::uint32_t> order(lifted_.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = std::uint32_t(i);
+        std::sort(order.begin(), order.end(),
+                  [&](std::uint32_t a, std::uint32_t b) { return lifted_[a].index < lifted_[b].index; });
+        std::vector<Spilled> sorted(lifted_.size());
+        std::vector<std::array<std::int32_t, 3>> sorted_xyz(lifted_.size());
+        for (std::size_t i = 0; i < order.size(); ++i) {
+            sorted[i] = lifted_[order[i]];
+            sorted_xyz[i] = lifted_xyz_[order[i]];
+            tops_[std::size_t(buckets_[std::size_t(lifted_bucket_[order[i]])].top)].points.push_back(std::uint32_t(i));
+        }
+        lifted_ = std::move(sorted);
+        lifted_xyz_ = std::move(sorted_xyz);
+        std::vector<int>().swap(lifted_bucket_);
+    }
+
+    void sampleTop(const OctreeCube& cube, int t, Marks& marks) {
+        Top& top = tops_[std::size_t(t)];
+        if (top.bucket >= 0) return;
+        std::vector<std::vector<std::uint32_t>*> children;
+        for (int c : top.child)
+            if (c >= 0) {
+                sampleTop(cube, c, marks);
+                children.push_back(&tops_[std::size_t(c)].points);
+            }
+        top.points = gridSample(lifted_xyz_, cube, top.key.level, children, cap_, marks);
+    }
+
+    // Writes the top node `t` and what lies below it, depth first.
+    void emit(Assembler& out, int t) {
+        Top& top = tops_[std::size_t(t)];
+        if (top.points.empty()) {
+            out.addEmpty(top.key);
+        } else {
+            std::vector<CloudPoint> pts;
+            pts.reserve(top.points.size());
+            for (std::uint32_t i : top.points) pts.push_back(lifted_[i].point);
+            LasInventory inv;
+            const LaszipFile f = compressWithLaszip(record_, pts, 0, inv, kVariableChunks);
+            out.add(top.key, f, pts.size(), inv);
+        }
+        if (top.bucket >= 0) {
+            Bucket& bucket = buckets_[std::size_t(top.bucket)];
+            std::string bytes;
+            LasInventory none;
+            for (const Bucket::Chunk& c : bucket.chunks) {
+                if (c.points == 0) {
+                    out.addEmpty(c.key);
+                    continue;
+                }
+                bytes.resize(std::size_t(c.size));
+                chunks_->read(bytes.data(), bytes.size());
+                out.addBytes(c.key, bytes.data(), bytes.size(), std::size_t(c.points), none);
+            }
+            return;
+        }
+        for (int c : top.child)
+            if (c >= 0) emit(out, c);
+    }
+
+    LasRecord record_;
+    std::FILE* file_;
+    std::filesystem::path dir_;
+    std::string where_;
+    glm::dvec3 origin_;
+    LasOptions las_;
+    CopcOptions copc_;
+    int threads_ = 0;
+    std::uint32_t cap_ = 1;
+    std::vector<std::vector<CloudPoint>> blocks_;
+    std::size_t count_ = 0;
+    std::array<std::int32_t, 3> lo_{}, hi_{};
+    // Out of core.
+    std::unique_ptr<Scratch> spill_;
+    std::uint64_t bucket_points_ = 0;
+    int hist_level_ = 0;
+    std::vector<std::uint64_t> hist_;
+    std::vector<Top> tops_;
+    std::vector<Bucket> buckets_;
+    std::vector<Spilled> lifted_;
+    std::vector<std::array<std::int32_t, 3>> lifted_xyz_;
+    std::vector<int> lifted_bucket_;
+    std::unique_ptr<Scratch> chunks_;
+    std::uint64_t chunks_at_ = 0;
+    LasInventory inventory_;  // of the buckets' chunks
+};
+
+}  // namespace
+
+std::unique_ptr<FormatWriter> openCopcWriter(platform::TempFile& file, const glm::dvec3& origin,
+                                             const core::CloudFields& fields, const LasOptions& las,
+                                             const CopcOptions& copc) {
+    LasRecord record("output: " + file.destination().string(), origin, fields, las);
+    return std::make_unique<CopcWriter>(file, std::move(record), origin, las, copc);
+}
+
+}  // namespace io::detail
+
+namespace io {
+
+std::uint64_t copcBytesPerPoint() {
+    // The point, its integer coordinates, its index in the octree (split twice over while
+    // a node's parts are built) and the sampling's copies.
+    return sizeof(core::CloudPoint) + 12 + 3 * sizeof(std::uint32_t);
+}
+
+std::uint64_t copcFixedBytes(int threads) {
+    const std::uint64_t per_thread = (std::uint64_t(1) << 21) * sizeof(std::uint32_t) +
+                                     detail::kNodesPerThread * CopcOptions{}.max_node_points *
+                                         (sizeof(core::CloudPoint) + detail::kCompressedBytesPerPoint);
+    return std::uint64_t(std::max(threads, 0) + 1) * per_thread;
+}
+
+std::uint64_t copcMinimumBytes(int threads) {
+    const std::uint64_t per_point = copcBytesPerPoint() + sizeof(detail::Spilled);
+    return copcFixedBytes(threads) + 2 * per_point * (std::uint64_t(CopcOptions{}.max_node_points) + 1) * 8 / 7 +
+           (1u << 20);
+}
+
+void writeCopc(const std::filesystem::path& path, const core::PointCloud& cloud, const LasOptions& las,
+               const CopcOptions& copc) {
+    platform::checkWritableDestination(path);
+    if (!std::isfinite(cloud.origin.x) || !std::isfinite(cloud.origin.y) || !std::isfinite(cloud.origin.z))
+        throw core::Error("output: " + path.string() + ": the cloud origin is not finite");
+    platform::TempFile temp(path);
+    {
+        const std::unique_ptr<detail::FormatWriter> writer =
+            detail::openCopcWriter(temp, cloud.origin, cloud.fields, las, copc);
+        writer->append(cloud.points);
+        try {
+            writer->finish();
+        } catch (...) {
+            temp.discard();
+            throw;
+        }
+    }
+    temp.commit();
+}
+
+}  // namespace io

@@ -1,0 +1,28 @@
+// io/src/las/laz_compress.hpp (internal): LASzip compressing points into a LAZ file in
+// memory, the unit both the LAZ writer (laz_writer.cpp, one chunk per file) and the COPC
+// writer (copc/, one octree node per file) cut their chunks from.
+#pragma once
+#include "las_record.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace io::detail {
+
+/// A file LASzip wrote into memory: its header and VLRs, the 8-byte position of its
+/// chunk table, its chunks, its table.
+struct LaszipFile {
+    std::string bytes;
+    std::size_t point_data_at = 0;  // offset_to_point_data
+    std::size_t table_at = 0;       // where the chunk table starts
+};
+
+/// LASzip compresses `points` (`first_index` the first one's index in the whole file, for
+/// messages) with LAZ chunks of `chunk_size` points (UINT32_MAX: variable chunks, here
+/// one), and counts them into `inventory`. Throws Error(record.where() + ": ...").
+LaszipFile compressWithLaszip(const LasRecord& record, std::span<const core::CloudPoint> points,
+                              std::uint64_t first_index, LasInventory& inventory, laszip_U32 chunk_size);
+
+}  // namespace io::detail
