@@ -8,6 +8,7 @@
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
+#include <io/copc.hpp>
 #include <io/copc_writer.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/progress.hpp>
@@ -35,6 +36,7 @@ constexpr double kMaxOriginShift_m = 10000.0;
 struct IndexCli {
     std::vector<std::string> inputs;
     std::string out;
+    std::string check;
     int threads = 0;
     double memory_mb = 1024.0;
 };
@@ -62,7 +64,39 @@ bool sameFields(const core::CloudFields& a, const core::CloudFields& b) {
            a.scan_angle == b.scan_angle && a.height_above_ground == b.height_above_ground;
 }
 
+// `index --check FILE`: the COPC rules (io::checkCopc), one line on stdout per broken rule,
+// exit 1 when any is broken; a valid file says so with its node and point counts.
+int check(const std::string& file) {
+    platform::checkInputFile(file, "index: --check " + core::printable(file, 400) + ":");
+    const std::vector<io::CopcFinding> findings = io::checkCopc(file);
+    const std::string shown = core::printable(file, 400);
+    for (const io::CopcFinding& f : findings)
+        std::printf("%s\n",
+                    platform::messageLine("index --check: " + shown + ": " + f.rule + ": " + f.message).c_str());
+    if (!findings.empty()) {
+        std::fflush(stdout);
+        platform::printMessage("error", "index --check: " + shown + ": not a valid COPC file (" +
+                                            std::to_string(findings.size()) + " rule" +
+                                            (findings.size() == 1 ? "" : "s") + " broken, listed on stdout)");
+        return 1;
+    }
+    const io::CopcReader reader(file);
+    std::uint64_t points = 0;
+    for (const io::CopcNode& n : reader.nodes()) points += std::uint64_t(n.point_count);
+    std::printf("index --check: %s: valid COPC (%zu nodes with points, %llu points)\n", shown.c_str(),
+                reader.nodes().size(), static_cast<unsigned long long>(points));
+    return 0;
+}
+
 void run(IndexCli& cli) {
+    if (!cli.check.empty()) {
+        if (!cli.inputs.empty() || !cli.out.empty())
+            throw core::Error("index: --check FILE goes alone; allowed: index --check FILE, or index IN... --out OUT");
+        if (const int status = check(cli.check); status != 0) throw CLI::RuntimeError(status);
+        return;
+    }
+    if (cli.inputs.empty() || cli.out.empty())
+        throw core::Error("index: give the input clouds and --out OUT.copc.laz (or --check FILE)");
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path out = cli.out;
     if (io::formatForPath(out, "index: --out") != io::CloudFormat::Copc)
@@ -145,8 +179,11 @@ void registerIndex(CLI::App& cli) {
         "index",
         "write clouds (PCD, PLY, LAS, LAZ, COPC; several are merged) as one COPC 1.0 file: a LAZ file "
         "whose chunks are the nodes of a level-of-detail octree");
-    c->add_option("inputs", state->inputs, "the input clouds; they must carry the same fields")->required();
-    c->add_option("--out", state->out, "the COPC file to write, a name ending in .copc.laz")->required();
+    c->add_option("inputs", state->inputs, "the input clouds; they must carry the same fields");
+    c->add_option("--out", state->out, "the COPC file to write, a name ending in .copc.laz");
+    c->add_option("--check", state->check,
+                  "check FILE against the COPC 1.0 rules instead (one line per broken rule on stdout; exit 1 "
+                  "if any)");
     c->add_option("--threads", state->threads, "threads, 0 = all cores")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,
                   "bound on memory; a cloud that does not fit is spilled to scratch files beside the output and "
