@@ -53,6 +53,9 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
     setup.name = t.name;
     setup.candidates = candidates_[k];
     setup.time_limit_s = t.time_limit_s;
+    setup.min_ready_s = t.min_ready_s;
+    setup.colour = t.colour;
+    setup.eye_dome = t.eye_dome;
     return setup;
 }
 

@@ -3,6 +3,7 @@
 
 #include <core/scene.hpp>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace viewer {
@@ -21,6 +22,11 @@ double TrialController::time() const {
     return std::chrono::duration<double>(Clock::now() - started_).count();
 }
 
+double TrialController::breakLeft() const {
+    if (!ready_screen_ || setup_.min_ready_s <= 0.0) return 0.0;
+    return std::max(0.0, setup_.min_ready_s - std::chrono::duration<double>(Clock::now() - ready_since_).count());
+}
+
 PointSource& TrialController::begin(int index) {
     if (index_ >= 0) source_->end(index_);  // before its feed goes
     points_.reset();
@@ -34,6 +40,7 @@ PointSource& TrialController::begin(int index) {
     designated_local_.reset();
     candidates_placed_ = false;
     setup_ = source_->begin(index, *feed_);
+    ready_since_ = Clock::now();
     log_->event("trial " + std::to_string(index) + ": ready screen (" + setup_.name + ")");
     if (!quiet_)
         std::fprintf(stderr, "ladarvr: study: trial %d of %d (%s): ready screen\n", index + 1, total_,
@@ -60,12 +67,15 @@ void TrialController::record(const char* action, long frame, nlohmann::json extr
 
 bool TrialController::handleReadyScreen(const OperatorInput& in, bool ready, long frame) {
     if (!ready_screen_) return false;
-    if (in.next && ready) {
+    if (in.next && ready && breakLeft() <= 0.0) {
         ready_screen_ = false;
         running_ = true;
         started_ = Clock::now();
         if (observer_) observer_->onStart(index_);
-        record("start", frame);
+        record("start", frame,
+               setup_.min_ready_s > 0.0
+                   ? nlohmann::json{{"ready_screen_s", std::chrono::duration<double>(started_ - ready_since_).count()}}
+                   : nlohmann::json::object());
         if (!quiet_) std::fprintf(stderr, "ladarvr: study: trial %d started\n", index_ + 1);
     }
     return true;
@@ -156,6 +166,7 @@ void TrialController::describe(PanelFrame& p) const {
     p.trial_s = time();
     p.time_limit_s = setup_.time_limit_s;
     p.ready_screen = ready_screen_;
+    p.break_left_s = breakLeft();
     p.designated_local = designated_local_;
 }
 

@@ -28,6 +28,7 @@
 namespace viewer {
 
 class CloudFeed;
+enum class ColourMode;  // viewer/viewer.hpp
 
 enum class Decision { Confirm, NoTarget, Timeout, Quit };
 enum class Verdict { Unreviewed, Confirmed, Rejected };
@@ -67,6 +68,12 @@ struct TrialSetup {
     std::string name;  // shown on the ready screen
     std::vector<core::Candidate> candidates;
     double time_limit_s = 0.0;  // 0: none
+    /// The ready screen cannot be dismissed before it has been up this long (a break
+    /// between a study's conditions); 0: as soon as the cloud is ready.
+    double min_ready_s = 0.0;
+    /// Per-trial display settings (a study's condition); unset: the run's, as they stand.
+    std::optional<ColourMode> colour;
+    std::optional<bool> eye_dome;
 };
 
 /// Supplies the trials, one at a time.
