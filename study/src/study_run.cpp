@@ -61,8 +61,8 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
                      (out / "trials.csv").string().c_str());
         return 0;
     }
-    auto source =
-        std::make_unique<StudySource>(plan_, std::vector<int>(order.begin() + std::ptrdiff_t(done), order.end()));
+    auto source = std::make_unique<StudySource>(
+        plan_, std::vector<int>(order.begin() + std::ptrdiff_t(done), order.end()), static_cast<int>(done));
     // What --replay needs to find a trial's cloud again (a resumed session has it already).
     if (design_ && !resume_) {
         std::vector<std::string> names;

@@ -10,7 +10,8 @@
 
 namespace study {
 
-StudySource::StudySource(const Plan& plan, std::vector<int> order) : plan_(plan), order_(std::move(order)) {
+StudySource::StudySource(const Plan& plan, std::vector<int> order, int first)
+    : plan_(plan), order_(std::move(order)), first_(first) {
     for (const PlanTrial& t : plan_.trials) {
         scenes_.push_back(t.scene.empty() ? nullptr : std::make_shared<const core::Scene>(io::loadScene(t.scene)));
         candidates_.push_back(t.candidates.empty() ? std::vector<core::Candidate>{} : io::readCandidates(t.candidates));

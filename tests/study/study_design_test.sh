@@ -101,6 +101,9 @@ RUN
     done
     run P01 "$work/resumed" "$work/resumed.log.json" 2>"$work/resumed.err" || { echo "FAIL: resumed run"; cat "$work/resumed.err"; exit 1; }
     grep -q "resuming participant P01's session at trial 4 of 9" "$work/resumed.err" || { echo "FAIL: no resume line"; cat "$work/resumed.err"; exit 1; }
+    # The resumed run numbers its trials as the session does: 4 to 9 of 9.
+    grep -q "study: trial 4 of 9 (practice): ready screen" "$work/resumed.err" &&
+      grep -q "study: trial 9 ended: confirm" "$work/resumed.err" || { echo "FAIL: resumed trials misnumbered"; cat "$work/resumed.err"; exit 1; }
     ;;
   *) echo "study_design_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac

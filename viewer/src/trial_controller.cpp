@@ -14,7 +14,10 @@ nlohmann::json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
 TrialController::TrialController(TrialSource* source, TrialObserver* observer, RunLog& log, bool quiet)
     : source_(source), observer_(observer), log_(&log), quiet_(quiet) {
-    if (source_) total_ = source_->count();
+    if (source_) {
+        offset_ = source_->numberOffset();
+        total_ = source_->count();
+    }
 }
 
 double TrialController::time() const {
@@ -43,8 +46,8 @@ PointSource& TrialController::begin(int index) {
     ready_since_ = Clock::now();
     log_->event("trial " + std::to_string(index) + ": ready screen (" + setup_.name + ")");
     if (!quiet_)
-        std::fprintf(stderr, "ladarvr: study: trial %d of %d (%s): ready screen\n", index + 1, total_,
-                     setup_.name.c_str());
+        std::fprintf(stderr, "ladarvr: study: trial %d of %d (%s): ready screen\n", offset_ + index + 1,
+                     offset_ + total_, setup_.name.c_str());
     return *points_;
 }
 
@@ -76,7 +79,7 @@ bool TrialController::handleReadyScreen(const OperatorInput& in, bool ready, lon
                setup_.min_ready_s > 0.0
                    ? nlohmann::json{{"ready_screen_s", std::chrono::duration<double>(started_ - ready_since_).count()}}
                    : nlohmann::json::object());
-        if (!quiet_) std::fprintf(stderr, "ladarvr: study: trial %d started\n", index_ + 1);
+        if (!quiet_) std::fprintf(stderr, "ladarvr: study: trial %d started\n", offset_ + index_ + 1);
     }
     return true;
 }
@@ -155,13 +158,13 @@ void TrialController::end(Decision decision, const TrialContext& c) {
         {{"trial", index_}, {"frame", c.frame}, {"action", "end"}, {"decision", decisionName(decision)}});
     log_->event("trial " + std::to_string(index_) + ": " + decisionName(decision));
     if (!quiet_)
-        std::fprintf(stderr, "ladarvr: study: trial %d ended: %s after %.1f s\n", index_ + 1, decisionName(decision),
-                     o.time_to_decision_s);
+        std::fprintf(stderr, "ladarvr: study: trial %d ended: %s after %.1f s\n", offset_ + index_ + 1,
+                     decisionName(decision), o.time_to_decision_s);
 }
 
 void TrialController::describe(PanelFrame& p) const {
-    p.trial = index_;
-    p.trials = total_;
+    p.trial = offset_ + index_;
+    p.trials = offset_ + total_;
     p.trial_name = setup_.name;
     p.trial_s = time();
     p.time_limit_s = setup_.time_limit_s;

@@ -89,6 +89,7 @@ class TrialController {
     RunLog* log_ = nullptr;
     bool quiet_ = false;
     int index_ = -1, total_ = 1;
+    int offset_ = 0;  // the source's numberOffset(): trials run before this run
     TrialSetup setup_;
     std::unique_ptr<CloudFeedSource> points_;  // before the feed: it points into it
     std::unique_ptr<CloudFeed> feed_;

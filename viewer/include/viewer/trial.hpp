@@ -81,6 +81,10 @@ class TrialSource {
   public:
     virtual ~TrialSource() = default;
     virtual int count() const = 0;
+    /// Trials of the study that ran before this run (a resumed session): the ready screen
+    /// and the progress lines number trial k as numberOffset() + k + 1 of
+    /// numberOffset() + count(). The observer and the run log still count from 0.
+    virtual int numberOffset() const { return 0; }
     /// Starts producing trial `trial`'s cloud into `feed` (a fresh feed per trial; e.g.
     /// feed.startFileLoader, or a thread the source owns and joins) and returns its setup.
     virtual TrialSetup begin(int trial, CloudFeed& feed) = 0;
