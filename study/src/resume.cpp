@@ -9,6 +9,7 @@
 #include <platform/safe_file.hpp>
 
 #include <cerrno>
+#include <charconv>
 #include <cstring>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -125,9 +126,9 @@ std::optional<ResumePoint> findResumePoint(const std::filesystem::path& out, con
         for (std::size_t i = 1; i < rows.size(); ++i) {
             const std::vector<std::string> f = splitCsvLine(rows[i], w + ": line " + std::to_string(i + 1));
             std::size_t trial = 0;
-            for (char c : f[0])
-                trial = (c >= '0' && c <= '9' && trial < 1000000) ? trial * 10 + std::size_t(c - '0') : 0;
-            if (trial == 0)
+            const char* end = f[0].data() + f[0].size();
+            const auto [ptr, ec] = std::from_chars(f[0].data(), end, trial);
+            if (ec != std::errc() || ptr != end || trial == 0)
                 throw core::Error(w + ": line " + std::to_string(i + 1) + ": trial '" + core::printable(f[0], 20) +
                                   "' is not a trial number");
             if (trial <= point.trials_done) point.candidate_rows.push_back(rows[i]);

@@ -8,7 +8,8 @@
 #   run      P01 and P02 each run their session: trials.csv's participant, condition,
 #            block and practice columns follow each one's row of the Williams square, the
 #            frames of each trial show its condition's colours, the breaks held the ready
-#            screen, candidates.csv has rows only where the condition shows candidates.
+#            screen, candidates.csv has rows only where the condition shows candidates;
+#            `study --replay` of one of P02's trials finds its cloud through the design.
 #   resume   P01's session is killed (SIGKILL) once trial 4 has started (its line on
 #            stderr), then run again with the same command: the files equal an
 #            uninterrupted run's (times aside); the folder is refused to P02 and to a
@@ -63,6 +64,11 @@ case "$scenario" in
     for p in P01 P02; do
       run "$p" "$work/$p" "$work/$p.log.json" 2>"$work/$p.err" || { echo "FAIL: $p's run exited $?"; cat "$work/$p.err"; exit 1; }
     done
+    # --replay finds a session's trial through study.json and the design (P02's trial 5:
+    # condition label, block first).
+    "$env_sh" --timeout 220 -- "$bin" study --replay "$work/P02" --trial 5 --width 320 --height 180 \
+      --log-json "$work/replay.json" 2>"$work/replay.err" || { echo "FAIL: replay"; cat "$work/replay.err"; exit 1; }
+    grep -q '"exit": *"replay done"' "$work/replay.json" || { echo "FAIL: the replay did not end as 'replay done'"; exit 1; }
     ;;
   resume)
     run P01 "$work/whole" "$work/whole.log.json" 2>"$work/whole.err" || { echo "FAIL: uninterrupted run"; cat "$work/whole.err"; exit 1; }
