@@ -8,6 +8,7 @@
 #include <core/error.hpp>
 #include <platform/cleanup.hpp>
 #include <platform/safe_file.hpp>
+#include <study/design.hpp>
 #include <study/study_folder.hpp>
 #include <study/study_run.hpp>
 #include <viewer/viewer.hpp>
@@ -22,7 +23,7 @@ namespace app {
 
 namespace {
 struct StudyArgs {
-    std::string plan, out, script, log_json, mirror = "both", colour = "file";
+    std::string plan, participant, out, script, log_json, mirror = "both", colour = "file";
     std::string replay, screenshot;
     int trial = 1;
     long frames = 0;
@@ -78,7 +79,17 @@ int runStudy(const StudyArgs& a) {
                                            {"--screenshot", a.screenshot, platform::PathRole::Output, {}}});
 
     study::StudyOptions s;
-    s.plan = a.plan;
+    // A design (a top-level "conditions" key) runs one participant's session; a plan its trials.
+    const bool design = study::isDesignText(
+        platform::readTextFile(a.plan, study::kMaxDesignBytes, "study: " + core::printable(a.plan, 400) + ":"));
+    if (design && a.participant.empty())
+        throw core::Error("study: " + core::printable(a.plan, 400) +
+                          " is a design (it has 'conditions'): give --participant ID, one of its participants");
+    if (!design && !a.participant.empty())
+        throw core::Error("study: --participant is for a design (a file with 'conditions'); " +
+                          core::printable(a.plan, 400) + " is a plan");
+    (design ? s.design : s.plan) = a.plan;
+    s.participant = a.participant;
     s.out = a.out;
     s.script = a.script;
     s.viewer = windowOptions(a);
@@ -97,7 +108,7 @@ int runStudy(const StudyArgs& a) {
             refuseCloudsOverBudget("study", a.memory_mb, {cloud}, 40 + 20 + 24,
                                    "trial " + std::to_string(k + 1) + "'s cloud held whole");
     createParentFolders(std::filesystem::path(a.out) / "trials.csv", "study: --out");
-    study::checkStudyFolder(a.out);
+    run.checkFolder();
     prepareOutputFile(run.viewerOptions().log_json, "study: --log-json");
     return run.run(start);
 }
@@ -108,11 +119,17 @@ void registerStudy(CLI::App& cli) {
     CLI::App* cmd = cli.add_subcommand("study",
                                        "run a target-search study: the plan's trials in the viewer, logged to --out "
                                        "(see docs/study.md)");
-    cmd->add_option("plan", args->plan, "PLAN.json: the trials (clouds or scenes, candidates, time limits)");
+    cmd->add_option("plan", args->plan,
+                    "PLAN.json: the trials (clouds or scenes, candidates, time limits); or DESIGN.json: "
+                    "conditions, blocks and participants (a top-level 'conditions' key)");
+    cmd->add_option("--participant", args->participant,
+                    "with a design: the participant whose session runs (resumed when --out holds it)");
     cmd->add_option("--replay", args->replay, "replay a study's trace in the mirror: the --out folder of a study");
     cmd->add_option("--trial", args->trial, "with --replay: the trial (1 = the first run)")->capture_default_str();
     cmd->add_option("--screenshot", args->screenshot, "with --replay: write the mirror as PNG at the last frame");
-    cmd->add_option("--out", args->out, "folder for trials.csv, candidates.csv and trace_<N>.csv (new or empty)");
+    cmd->add_option("--out", args->out,
+                    "folder for trials.csv, candidates.csv and trace_<N>.csv (new or empty; or, with a design, "
+                    "the participant's stopped session to resume)");
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
         ->capture_default_str();

@@ -267,13 +267,14 @@ void checkInputFile(const fs::path& path, std::string_view what) {
     if (::stat(path.c_str(), &st) == 0) rememberInput(st, path);
 }
 
-std::string readTextFile(const fs::path& path, std::size_t max_bytes, std::string_view what) {
+namespace {
+std::string readRegularFile(const fs::path& path, std::size_t max_bytes, std::string_view what, bool own_output) {
     const std::string allowed = "; allowed: a regular file of at most " + sizeText(max_bytes);
     const std::string problem = regularFileProblem(path);
     if (!problem.empty())
         throw Error(std::string(what) + " " + problem + (problem.rfind("is a", 0) == 0 ? allowed : ""));
     // O_NONBLOCK: should the name have become a FIFO since the check, open() must not wait.
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY | (own_output ? O_NOFOLLOW : 0));
     if (fd < 0) throw Error(std::string(what) + " cannot be read: " + errnoText(errno));
     struct Closer {
         int fd;
@@ -303,8 +304,20 @@ std::string readTextFile(const fs::path& path, std::size_t max_bytes, std::strin
     }
     if (used > max_bytes) throw Error(std::string(what) + " holds more than " + sizeText(max_bytes) + allowed);
     text.resize(used);
-    rememberInput(st, path);
+    if (!own_output) rememberInput(st, path);
     return text;
+}
+}  // namespace
+
+std::string readTextFile(const fs::path& path, std::size_t max_bytes, std::string_view what) {
+    return readRegularFile(path, max_bytes, what, false);
+}
+
+std::string readOwnOutput(const fs::path& path, std::size_t max_bytes, std::string_view what) {
+    struct stat st{};
+    if (::lstat(path.c_str(), &st) == 0 && S_ISLNK(st.st_mode))
+        throw Error(std::string(what) + " is a symbolic link; allowed: the regular file a run wrote");
+    return readRegularFile(path, max_bytes, what, true);
 }
 
 void rememberInputFolder(const fs::path& dir, const OwnedName& may_write) {

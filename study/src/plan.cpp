@@ -1,6 +1,8 @@
 // study/src/plan.cpp: PLAN.json, parsed strictly (io/strict_json.hpp).
 #include <study/plan.hpp>
 
+#include "json_fields.hpp"
+
 #include <core/error.hpp>
 #include <core/random.hpp>
 #include <io/strict_json.hpp>
@@ -13,7 +15,7 @@
 
 namespace study {
 
-namespace {
+namespace detail {
 using nlohmann::json;
 
 void onlyKeys(const json& o, const std::string& where, std::initializer_list<const char*> keys) {
@@ -28,8 +30,6 @@ void onlyKeys(const json& o, const std::string& where, std::initializer_list<con
     }
 }
 
-// "<where>.<key>" inside a trial or a section ("study: p.json: trials[0].time_limit_s"),
-// "<where>: <key>" at the top ("study: p.json: hit_radius_m"): `where` ends in ':' there.
 std::string field(const std::string& where, const char* key) {
     return where + (!where.empty() && where.back() == ':' ? " " : ".") + key;
 }
@@ -66,45 +66,27 @@ std::filesystem::path resolve(const std::filesystem::path& base, const std::stri
     const std::filesystem::path path(p);
     return path.is_absolute() ? path : base / path;
 }
-}  // namespace
 
-Plan parsePlan(std::string_view text_in, const std::string& name, const std::filesystem::path& base) {
-    const std::string where = "study: " + name;
-    const json root = io::parseStrictJson(text_in, where);
-    if (!root.is_object()) throw core::Error(where + ": the plan must be an object, not " + io::jsonTypeName(root));
-    onlyKeys(root, where, {"trials", "shuffle_seed", "hit_radius_m", "orbit", "generate", "comment"});
-    Plan plan;
-    const auto trials = root.find("trials");
-    if (trials == root.end() || !trials->is_array() || trials->empty())
-        throw core::Error(where + ": 'trials' must be a non-empty array of trials");
-    if (trials->size() > 10000)
-        throw core::Error(where + ": " + std::to_string(trials->size()) + " trials; allowed at most 10000");
-    for (std::size_t i = 0; i < trials->size(); ++i) {
-        const json& t = (*trials)[i];
-        const std::string w = where + ": trials[" + std::to_string(i) + "]";
-        if (!t.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(t));
-        onlyKeys(t, w, {"cloud", "scene", "candidates", "time_limit_s", "name"});
-        PlanTrial trial;
-        const std::string cloud = text(t, "cloud", w), scene = text(t, "scene", w);
-        if (cloud.empty() == scene.empty()) throw core::Error(w + ": give exactly one of 'cloud' and 'scene'");
-        if (!cloud.empty()) trial.cloud = resolve(base, cloud);
-        if (!scene.empty()) trial.scene = resolve(base, scene);
-        trial.source = cloud.empty() ? scene : cloud;
-        if (const std::string c = text(t, "candidates", w); !c.empty()) trial.candidates = resolve(base, c);
-        trial.time_limit_s = number(t, "time_limit_s", w, 0.0, 86400.0, 120.0);
-        // A label, echoed on the ready screen and in stderr lines: control characters (a
-        // newline, a terminal escape) escaped and the length capped here, once, for all of them.
-        std::string label = text(t, "name", w);
-        if (label.empty()) label = std::filesystem::path(trial.source).filename().string();
-        trial.name = platform::printableUtf8(label, kMaxTrialNameChars);
-        plan.trials.push_back(std::move(trial));
-    }
-    if (const auto seed = root.find("shuffle_seed"); seed != root.end()) {
-        if (!seed->is_number_unsigned())
-            throw core::Error(where + ": shuffle_seed must be a whole number >= 0, not " +
-                              (seed->is_number() ? core::shownNumber(seed->get<double>()) : io::jsonTypeName(*seed)));
-        plan.shuffle_seed = seed->get<std::uint64_t>();
-    }
+PlanTrial parseTrial(const json& t, const std::string& w, const std::filesystem::path& base) {
+    if (!t.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(t));
+    onlyKeys(t, w, {"cloud", "scene", "candidates", "time_limit_s", "name"});
+    PlanTrial trial;
+    const std::string cloud = text(t, "cloud", w), scene = text(t, "scene", w);
+    if (cloud.empty() == scene.empty()) throw core::Error(w + ": give exactly one of 'cloud' and 'scene'");
+    if (!cloud.empty()) trial.cloud = resolve(base, cloud);
+    if (!scene.empty()) trial.scene = resolve(base, scene);
+    trial.source = cloud.empty() ? scene : cloud;
+    if (const std::string c = text(t, "candidates", w); !c.empty()) trial.candidates = resolve(base, c);
+    trial.time_limit_s = number(t, "time_limit_s", w, 0.0, 86400.0, 120.0);
+    // A label, echoed on the ready screen and in stderr lines: control characters (a
+    // newline, a terminal escape) escaped and the length capped here, once, for all of them.
+    std::string label = text(t, "name", w);
+    if (label.empty()) label = std::filesystem::path(trial.source).filename().string();
+    trial.name = platform::printableUtf8(label, kMaxTrialNameChars);
+    return trial;
+}
+
+void parseRunSettings(const json& root, const std::string& where, Plan& plan) {
     plan.hit_radius_m = number(root, "hit_radius_m", where + ":", 0.001, 10000.0, plan.hit_radius_m);
     if (const auto orbit = root.find("orbit"); orbit != root.end()) {
         const std::string w = where + ": orbit";
@@ -122,6 +104,39 @@ Plan parsePlan(std::string_view text_in, const std::string& name, const std::fil
         plan.yres = whole(*g, "yres", w, 1, 8192, plan.yres);
         plan.views = whole(*g, "views", w, 1, 65535, plan.views);
     }
+}
+
+void checkTrialFiles(const PlanTrial& t, const std::string& w) {
+    for (const auto& [key, path] :
+         {std::pair{"cloud", &t.cloud}, std::pair{"scene", &t.scene}, std::pair{"candidates", &t.candidates}})
+        if (!path->empty())
+            platform::checkInputFile(*path, w + "." + key + " '" + core::printable(path->string(), 400) + "'");
+}
+}  // namespace detail
+
+using detail::onlyKeys;
+using nlohmann::json;
+
+Plan parsePlan(std::string_view text_in, const std::string& name, const std::filesystem::path& base) {
+    const std::string where = "study: " + name;
+    const json root = io::parseStrictJson(text_in, where);
+    if (!root.is_object()) throw core::Error(where + ": the plan must be an object, not " + io::jsonTypeName(root));
+    onlyKeys(root, where, {"trials", "shuffle_seed", "hit_radius_m", "orbit", "generate", "comment"});
+    Plan plan;
+    const auto trials = root.find("trials");
+    if (trials == root.end() || !trials->is_array() || trials->empty())
+        throw core::Error(where + ": 'trials' must be a non-empty array of trials");
+    if (trials->size() > 10000)
+        throw core::Error(where + ": " + std::to_string(trials->size()) + " trials; allowed at most 10000");
+    for (std::size_t i = 0; i < trials->size(); ++i)
+        plan.trials.push_back(detail::parseTrial((*trials)[i], where + ": trials[" + std::to_string(i) + "]", base));
+    if (const auto seed = root.find("shuffle_seed"); seed != root.end()) {
+        if (!seed->is_number_unsigned())
+            throw core::Error(where + ": shuffle_seed must be a whole number >= 0, not " +
+                              (seed->is_number() ? core::shownNumber(seed->get<double>()) : io::jsonTypeName(*seed)));
+        plan.shuffle_seed = seed->get<std::uint64_t>();
+    }
+    detail::parseRunSettings(root, where, plan);
     return plan;
 }
 
@@ -129,14 +144,8 @@ Plan readPlan(const std::filesystem::path& file) {
     const std::string shown = core::printable(file.string(), 400);
     Plan plan = parsePlan(platform::readTextFile(file, kMaxPlanBytes, "study: " + shown + ":"), shown,
                           file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path());
-    for (std::size_t i = 0; i < plan.trials.size(); ++i) {
-        const PlanTrial& t = plan.trials[i];
-        const std::string w = "study: " + shown + ": trials[" + std::to_string(i) + "]";
-        for (const auto& [key, path] :
-             {std::pair{"cloud", &t.cloud}, std::pair{"scene", &t.scene}, std::pair{"candidates", &t.candidates}})
-            if (!path->empty())
-                platform::checkInputFile(*path, w + "." + key + " '" + core::printable(path->string(), 400) + "'");
-    }
+    for (std::size_t i = 0; i < plan.trials.size(); ++i)
+        detail::checkTrialFiles(plan.trials[i], "study: " + shown + ": trials[" + std::to_string(i) + "]");
     return plan;
 }
 

@@ -40,6 +40,9 @@ const char* StudyLog::trialsHeader() {
            "time_to_first_designation_s,time_to_decision_s,designations,mode_switches,seconds_in_free_mode,"
            "visibility_metric";
 }
+std::string StudyLog::designTrialsHeader() {
+    return std::string(trialsHeader()) + ",participant,condition,block,practice";
+}
 const char* StudyLog::candidatesHeader() { return "trial,candidate,score,verdict,t_s"; }
 
 io::TraceRow toTraceRow(const viewer::TraceSample& s) {
@@ -69,8 +72,15 @@ StudyLog::StudyLog(std::filesystem::path dir, std::function<TrialInfo(int)> info
 
 StudyLog::~StudyLog() { closeTrace(); }
 
-void StudyLog::writeAtomic(const std::string& name, const char* header, const std::vector<std::string>& rows) {
-    std::string content = std::string(header) + "\n";
+void StudyLog::resumeAt(std::size_t trials_done, std::vector<std::string> trial_rows,
+                        std::vector<std::string> candidate_rows) {
+    offset_ = static_cast<int>(trials_done);
+    trial_rows_ = std::move(trial_rows);
+    candidate_rows_ = std::move(candidate_rows);
+}
+
+void StudyLog::writeAtomic(const std::string& name, const std::string& header, const std::vector<std::string>& rows) {
+    std::string content = header + "\n";
     for (const std::string& r : rows) content += r + "\n";
     try {
         platform::writeFileAtomic(dir_ / name, content);
@@ -88,7 +98,7 @@ void StudyLog::closeTrace() {
 
 void StudyLog::onStart(int trial) {
     closeTrace();
-    trace_path_ = dir_ / traceFileName(trial + 1);
+    trace_path_ = dir_ / traceFileName(offset_ + trial + 1);
     // A new file only, never through a link: the folder is checked for earlier studies
     // before the run, so an existing name here is someone else's file.
     const int fd = ::open(trace_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
@@ -106,14 +116,15 @@ void StudyLog::onFrame(int, const viewer::TraceSample& s) {
 }
 
 void StudyLog::onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) {
-    candidate_rows_.push_back(std::to_string(trial + 1) + "," + csvText(candidate.id) + "," + fixed(candidate.score) +
-                              "," + viewer::verdictName(verdict) + "," + fixed(t_s));
+    candidate_rows_.push_back(std::to_string(offset_ + trial + 1) + "," + csvText(candidate.id) + "," +
+                              fixed(candidate.score) + "," + viewer::verdictName(verdict) + "," + fixed(t_s));
 }
 
 void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     closeTrace();
-    const TrialInfo info = info_ ? info_(trial) : TrialInfo{};
-    std::string row = std::to_string(trial + 1) + "," + csvText(info.source) + "," + viewer::decisionName(o.decision);
+    const TrialInfo info = info_ ? info_(offset_ + trial) : TrialInfo{};
+    std::string row =
+        std::to_string(offset_ + trial + 1) + "," + csvText(info.source) + "," + viewer::decisionName(o.decision);
     for (int i = 0; i < 3; ++i) row += "," + (o.designated_world ? fixed((*o.designated_world)[i]) : std::string());
     row += "," + optionalFixed(o.target_distance_m);
     // hit: empty when the cloud has no ground truth (nothing to hit); else 1 only for a
@@ -131,9 +142,13 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     row += "," + std::to_string(o.designations) + "," + std::to_string(o.mode_switches);
     row += "," + fixed(o.seconds_in_free_mode);
     row += "," + optionalFixed(info.visibility_metric);
+    if (design_columns_)
+        row += "," + info.participant + "," + info.condition + "," + info.block + (info.practice ? ",1" : ",0");
     trial_rows_.push_back(std::move(row));
-    writeAtomic("trials.csv", trialsHeader(), trial_rows_);
+    // candidates.csv first: a trial whose row is in trials.csv has its verdicts written
+    // too, so a resumed session can trust trials.csv as the record of what is done.
     writeAtomic("candidates.csv", candidatesHeader(), candidate_rows_);
+    writeAtomic("trials.csv", design_columns_ ? designTrialsHeader() : trialsHeader(), trial_rows_);
 }
 
 }  // namespace study

@@ -21,7 +21,13 @@
 namespace study {
 
 StudyRun::StudyRun(StudyOptions options) : options_(std::move(options)) {
-    plan_ = readPlan(options_.plan);
+    if (!options_.design.empty()) {
+        design_ = readDesign(options_.design, &design_sha256_);
+        session_ = expandSession(*design_, options_.participant, core::printable(options_.design.string(), 400));
+        plan_ = session_.plan;
+    } else {
+        plan_ = readPlan(options_.plan);
+    }
     if (options_.hit_radius_m) plan_.hit_radius_m = *options_.hit_radius_m;
     if (!(plan_.hit_radius_m > 0.0)) throw core::Error("study: --hit-radius must be > 0 m");
     viewer::ViewerOptions& o = options_.viewer;
@@ -32,12 +38,39 @@ StudyRun::StudyRun(StudyOptions options) : options_(std::move(options)) {
     viewer::validate(o);
 }
 
+void StudyRun::checkFolder() {
+    if (design_)
+        resume_ = findResumePoint(options_.out, design_sha256_, *design_, session_);
+    else
+        checkStudyFolder(options_.out);
+}
+
 int StudyRun::run(std::chrono::steady_clock::time_point started) {
     const std::filesystem::path& out = options_.out;
     viewer::ViewerOptions o = options_.viewer;
-    const std::vector<int> order = trialOrder(plan_);
-    auto source = std::make_unique<StudySource>(plan_, order);
-    writeStudyRecord(out, options_.plan, order);  // what --replay needs to find a trial's cloud again
+    // A design's session runs in its own order (expandSession's); a plan's may be shuffled.
+    std::vector<int> order = design_ ? std::vector<int>(plan_.trials.size()) : trialOrder(plan_);
+    if (design_)
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    const std::size_t done = resume_ ? resume_->trials_done : 0;
+    if (resume_)
+        std::fprintf(stderr, "ladarvr: study: resuming participant %s's session at trial %zu of %zu\n",
+                     session_.participant.c_str(), done + 1, order.size());
+    if (done == order.size()) {
+        std::fprintf(stderr, "ladarvr: study: all %zu trials already written to %s\n", order.size(),
+                     (out / "trials.csv").string().c_str());
+        return 0;
+    }
+    auto source = std::make_unique<StudySource>(
+        plan_, std::vector<int>(order.begin() + std::ptrdiff_t(done), order.end()), static_cast<int>(done));
+    // What --replay needs to find a trial's cloud again (a resumed session has it already).
+    if (design_ && !resume_) {
+        std::vector<std::string> names;
+        for (const Condition& c : design_->conditions) names.push_back(c.name);
+        writeDesignRecord(out, options_.design, design_sha256_, names, session_);
+    } else if (!design_) {
+        writeStudyRecord(out, options_.plan, order);
+    }
 
     // The metric renders with its own EGL context: before the window opens.
     const std::map<std::filesystem::path, double> metrics =
@@ -45,16 +78,25 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
                         : std::map<std::filesystem::path, double>{};
     StudyLog log(
         out,
-        [&](int trial) {
-            const PlanTrial& t = source->planTrial(trial);
+        [&](int position) {
+            const PlanTrial& t = plan_.trials[static_cast<std::size_t>(order[static_cast<std::size_t>(position)])];
             TrialInfo info;
             info.source = t.source;
+            if (design_) {
+                const SessionTrial& s = session_.trials[static_cast<std::size_t>(position)];
+                info.participant = session_.participant;
+                info.condition = design_->conditions[static_cast<std::size_t>(s.condition)].name;
+                if (!s.practice) info.block = design_->blocks[static_cast<std::size_t>(s.block)].name;
+                info.practice = s.practice;
+            }
             if (const auto it = metrics.find(t.scene);
                 !t.scene.empty() && it != metrics.end() && std::isfinite(it->second))
                 info.visibility_metric = it->second;
             return info;
         },
         plan_.hit_radius_m);
+    if (design_) log.addDesignColumns();
+    if (resume_) log.resumeAt(resume_->trials_done, resume_->trial_rows, resume_->candidate_rows);
     if (o.timeout_s > 0.0)
         o.timeout_s = std::max(
             0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());

@@ -10,7 +10,8 @@
 
 namespace study {
 
-StudySource::StudySource(const Plan& plan, std::vector<int> order) : plan_(plan), order_(std::move(order)) {
+StudySource::StudySource(const Plan& plan, std::vector<int> order, int first)
+    : plan_(plan), order_(std::move(order)), first_(first) {
     for (const PlanTrial& t : plan_.trials) {
         scenes_.push_back(t.scene.empty() ? nullptr : std::make_shared<const core::Scene>(io::loadScene(t.scene)));
         candidates_.push_back(t.candidates.empty() ? std::vector<core::Candidate>{} : io::readCandidates(t.candidates));
@@ -53,6 +54,9 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
     setup.name = t.name;
     setup.candidates = candidates_[k];
     setup.time_limit_s = t.time_limit_s;
+    setup.min_ready_s = t.min_ready_s;
+    setup.colour = t.colour;
+    setup.eye_dome = t.eye_dome;
     return setup;
 }
 

@@ -5,6 +5,7 @@
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include <core/scene.hpp>
@@ -73,7 +74,8 @@ void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origi
     ImGui::End();
 }
 
-void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded, double time_limit_s) {
+void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded, double time_limit_s,
+                     double break_left_s) {
     const ImVec2 size = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(size.x * 0.5f, size.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
     ImGui::SetNextWindowBgAlpha(0.9f);
@@ -82,7 +84,9 @@ void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded
     if (time_limit_s > 0) ImGui::Text("Time limit: %.0f s", time_limit_s);
     ImGui::Text("Find the target, point at it, designate it and confirm;");
     ImGui::Text("declare 'no target' if there is none.");
-    if (loaded)
+    if (break_left_s > 0.0)
+        ImGui::Text("Break: please rest, %.0f s left.", std::ceil(break_left_s));
+    else if (loaded)
         ImGui::Text("Ready: press the trigger or Enter to start.");
     else
         ImGui::Text("Loading the cloud...");
@@ -107,7 +111,8 @@ bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTa
         v.designation = text;
     }
     const bool reset_zoom = drawSettingsPanel(v);
-    if (p.ready_screen) drawReadyScreen(p.trial, p.trials, p.trial_name, p.ready_to_start, p.time_limit_s);
+    if (p.ready_screen)
+        drawReadyScreen(p.trial, p.trials, p.trial_name, p.ready_to_start, p.time_limit_s, p.break_left_s);
     // The picked point's panel beside the dot (desktop: where the dot is on screen).
     if (p.hit && !p.headset && fb_w > 0 && fb_h > 0 && !p.ready_screen) {
         const glm::dvec4 clip = p.view_projection * glm::dvec4(p.hit->local, 1.0);

@@ -42,7 +42,9 @@ void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origi
                    bool has_height);
 
 /// A trial's ready screen (centred): its name, and either "loading" or how to start.
-void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded, double time_limit_s);
+/// `break_left_s` > 0: a break, "Break: N s left" instead of how to start.
+void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded, double time_limit_s,
+                     double break_left_s);
 
 /// The rest of what a frame's panels show.
 struct PanelFrame {
@@ -52,6 +54,7 @@ struct PanelFrame {
     std::string trial_name;
     double trial_s = 0.0, time_limit_s = 0.0;
     bool ready_screen = false, ready_to_start = false;
+    double break_left_s = 0.0;  // the ready screen's break still to run
     std::optional<glm::dvec3> designated_local;
     std::optional<PickHit> hit;
     bool headset = false;  // an OpenXR session exists

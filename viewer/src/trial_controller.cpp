@@ -3,6 +3,7 @@
 
 #include <core/scene.hpp>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace viewer {
@@ -13,12 +14,20 @@ nlohmann::json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
 TrialController::TrialController(TrialSource* source, TrialObserver* observer, RunLog& log, bool quiet)
     : source_(source), observer_(observer), log_(&log), quiet_(quiet) {
-    if (source_) total_ = source_->count();
+    if (source_) {
+        offset_ = source_->numberOffset();
+        total_ = source_->count();
+    }
 }
 
 double TrialController::time() const {
     if (!running_) return 0.0;
     return std::chrono::duration<double>(Clock::now() - started_).count();
+}
+
+double TrialController::breakLeft() const {
+    if (!ready_screen_ || setup_.min_ready_s <= 0.0) return 0.0;
+    return std::max(0.0, setup_.min_ready_s - std::chrono::duration<double>(Clock::now() - ready_since_).count());
 }
 
 PointSource& TrialController::begin(int index) {
@@ -34,10 +43,11 @@ PointSource& TrialController::begin(int index) {
     designated_local_.reset();
     candidates_placed_ = false;
     setup_ = source_->begin(index, *feed_);
+    ready_since_ = Clock::now();
     log_->event("trial " + std::to_string(index) + ": ready screen (" + setup_.name + ")");
     if (!quiet_)
-        std::fprintf(stderr, "ladarvr: study: trial %d of %d (%s): ready screen\n", index + 1, total_,
-                     setup_.name.c_str());
+        std::fprintf(stderr, "ladarvr: study: trial %d of %d (%s): ready screen\n", offset_ + index + 1,
+                     offset_ + total_, setup_.name.c_str());
     return *points_;
 }
 
@@ -60,13 +70,16 @@ void TrialController::record(const char* action, long frame, nlohmann::json extr
 
 bool TrialController::handleReadyScreen(const OperatorInput& in, bool ready, long frame) {
     if (!ready_screen_) return false;
-    if (in.next && ready) {
+    if (in.next && ready && breakLeft() <= 0.0) {
         ready_screen_ = false;
         running_ = true;
         started_ = Clock::now();
         if (observer_) observer_->onStart(index_);
-        record("start", frame);
-        if (!quiet_) std::fprintf(stderr, "ladarvr: study: trial %d started\n", index_ + 1);
+        record("start", frame,
+               setup_.min_ready_s > 0.0
+                   ? nlohmann::json{{"ready_screen_s", std::chrono::duration<double>(started_ - ready_since_).count()}}
+                   : nlohmann::json::object());
+        if (!quiet_) std::fprintf(stderr, "ladarvr: study: trial %d started\n", offset_ + index_ + 1);
     }
     return true;
 }
@@ -145,17 +158,18 @@ void TrialController::end(Decision decision, const TrialContext& c) {
         {{"trial", index_}, {"frame", c.frame}, {"action", "end"}, {"decision", decisionName(decision)}});
     log_->event("trial " + std::to_string(index_) + ": " + decisionName(decision));
     if (!quiet_)
-        std::fprintf(stderr, "ladarvr: study: trial %d ended: %s after %.1f s\n", index_ + 1, decisionName(decision),
-                     o.time_to_decision_s);
+        std::fprintf(stderr, "ladarvr: study: trial %d ended: %s after %.1f s\n", offset_ + index_ + 1,
+                     decisionName(decision), o.time_to_decision_s);
 }
 
 void TrialController::describe(PanelFrame& p) const {
-    p.trial = index_;
-    p.trials = total_;
+    p.trial = offset_ + index_;
+    p.trials = offset_ + total_;
     p.trial_name = setup_.name;
     p.trial_s = time();
     p.time_limit_s = setup_.time_limit_s;
     p.ready_screen = ready_screen_;
+    p.break_left_s = breakLeft();
     p.designated_local = designated_local_;
 }
 

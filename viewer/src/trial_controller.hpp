@@ -42,6 +42,9 @@ class TrialController {
     int total() const { return total_; }
     const TrialSetup& setup() const { return setup_; }
     bool readyScreen() const { return ready_screen_; }
+    /// Seconds the ready screen must still stay up (its break, TrialSetup::min_ready_s); 0
+    /// when it may be dismissed or is not up.
+    double breakLeft() const;
     bool running() const { return running_; }
     /// Seconds since the trial started (0 unless running).
     double time() const;
@@ -86,12 +89,14 @@ class TrialController {
     RunLog* log_ = nullptr;
     bool quiet_ = false;
     int index_ = -1, total_ = 1;
+    int offset_ = 0;  // the source's numberOffset(): trials run before this run
     TrialSetup setup_;
     std::unique_ptr<CloudFeedSource> points_;  // before the feed: it points into it
     std::unique_ptr<CloudFeed> feed_;
     bool ready_screen_ = false;  // waiting for the operator to start
     bool running_ = false;       // between the ready screen and the decision
     Clock::time_point started_{};
+    Clock::time_point ready_since_{};  // when the ready screen came up
     TrialOutcome outcome_;
     std::optional<glm::dvec3> designated_local_;
     bool candidates_placed_ = false;

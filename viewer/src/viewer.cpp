@@ -79,11 +79,15 @@ void ViewerApp::startQuit(const std::string& reason) {
 }
 
 bool ViewerApp::readyToStart() const {
-    return (stream_.source().finished() && !stream_.source().error().empty()) || pointer_.ready();
+    return (stream_.source().finished() && !stream_.source().error().empty()) ||
+           (pointer_.ready() && trials_.breakLeft() <= 0.0);
 }
 
 void ViewerApp::beginTrial(int index) {
     stream_.reset(trials_.begin(index));  // a fresh cloud on the GPU
+    // A trial's own display settings (a study's condition); the others stay as they stand.
+    if (trials_.setup().colour) style_.colour = *trials_.setup().colour;
+    if (trials_.setup().eye_dome) style_.eye_dome = *trials_.setup().eye_dome;
     pointer_.setIndex(nullptr);
     pointer_.update(std::nullopt);
     modes_ = ModeController(options_.modes, glm::dvec3(0.0));

@@ -64,6 +64,11 @@ void checkInputFile(const std::filesystem::path& path, std::string_view what);
 /// or "<what> is larger than <max_bytes> bytes; allowed: ...", or "... cannot be read: <reason>".
 std::string readTextFile(const std::filesystem::path& path, std::size_t max_bytes, std::string_view what);
 
+/// readTextFile for a file this run will replace, one an earlier run wrote and this one
+/// continues (a resumed study's trials.csv): not remembered as an input, and never read
+/// through a symbolic link. Throws as readTextFile, or "<what> is a symbolic link; ...".
+std::string readOwnOutput(const std::filesystem::path& path, std::size_t max_bytes, std::string_view what);
+
 /// Throws Error("output: <path>: is the input file '<input>' of this run; give another
 /// name") when `path` names (via any link) a file remembered by checkInputFile/readTextFile.
 void checkNotAnInput(const std::filesystem::path& path);

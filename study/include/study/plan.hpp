@@ -9,6 +9,7 @@
 // Paths are relative to the plan's folder. docs/study.md explains each field.
 #pragma once
 #include <core/candidates.hpp>
+#include <viewer/viewer.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -30,6 +31,10 @@ struct PlanTrial {
     std::string name;                  // shown on the ready screen and in progress lines; default: the
                                        // file name; printable (platform::printableUtf8, kMaxTrialNameChars)
     std::string source;                // the cloud or scene as written in the plan (trials.csv)
+    // A design's condition (study/design.hpp) sets these; a plan leaves them unset.
+    std::optional<viewer::ColourMode> colour;  // point colours for this trial
+    std::optional<bool> eye_dome;              // eye-dome lighting on or off
+    double min_ready_s = 0.0;                  // the ready screen stays up at least this long (a break)
 };
 
 struct Plan {

@@ -26,13 +26,25 @@ namespace study {
 struct TrialInfo {
     std::string source;                       // the cloud or scene as the plan names it
     std::optional<double> visibility_metric;  // the paper's metric for a scene trial
+    // A design's session (study/design.hpp): the columns trials.csv gains then.
+    std::string participant{}, condition{}, block{};  // block: empty for a practice trial
+    bool practice = false;
 };
 
 class StudyLog : public viewer::TrialObserver {
   public:
-    /// Writes into `dir` (which must exist). `info(trial)` describes trial `trial`
-    /// (0-based run order); `hit_radius_m`: a designation this close to a target point hits.
+    /// Writes into `dir` (which must exist). `info(position)` describes the trial at
+    /// `position` (0-based run order of the whole study, resumed trials included);
+    /// `hit_radius_m`: a designation this close to a target point hits.
     StudyLog(std::filesystem::path dir, std::function<TrialInfo(int)> info, double hit_radius_m);
+
+    /// trials.csv gets the design's columns (designTrialsHeader()).
+    void addDesignColumns() { design_columns_ = true; }
+    /// Continues a study whose first `trials_done` trials are written: their rows of
+    /// trials.csv and candidates.csv are kept as given, and the viewer's trial k is
+    /// position trials_done + k (its number, trace and rows).
+    void resumeAt(std::size_t trials_done, std::vector<std::string> trial_rows,
+                  std::vector<std::string> candidate_rows);
     ~StudyLog() override;
 
     void onStart(int trial) override;
@@ -40,21 +52,25 @@ class StudyLog : public viewer::TrialObserver {
     void onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) override;
     void onEnd(int trial, const viewer::TrialOutcome& outcome) override;
 
-    /// Rows of trials.csv so far (header excluded).
+    /// Rows of trials.csv so far (header excluded), resumed ones included.
     std::size_t trialsWritten() const { return trial_rows_.size(); }
     /// The first write error, if any (the run goes on; the command reports it).
     const std::string& error() const { return error_; }
 
     static const char* trialsHeader();
+    /// trialsHeader() followed by participant,condition,block,practice.
+    static std::string designTrialsHeader();
     static const char* candidatesHeader();
 
   private:
-    void writeAtomic(const std::string& name, const char* header, const std::vector<std::string>& rows);
+    void writeAtomic(const std::string& name, const std::string& header, const std::vector<std::string>& rows);
     void closeTrace();
 
     std::filesystem::path dir_;
     std::function<TrialInfo(int)> info_;
     double hit_radius_m_ = 1.0;
+    bool design_columns_ = false;
+    int offset_ = 0;  // trials written before this run (a resumed session)
     std::vector<std::string> trial_rows_, candidate_rows_;
     std::FILE* trace_ = nullptr;
     std::filesystem::path trace_path_;

@@ -4,7 +4,9 @@
 // trial's trace in the mirror. app/ parses the command line into these options and makes
 // the output paths' folders; everything else about a study happens here.
 #pragma once
+#include <study/design.hpp>
 #include <study/plan.hpp>
+#include <study/resume.hpp>
 #include <viewer/viewer.hpp>
 
 #include <chrono>
@@ -15,6 +17,8 @@ namespace study {
 
 struct StudyOptions {
     std::filesystem::path plan;    // PLAN.json
+    std::filesystem::path design;  // DESIGN.json instead of a plan (study/design.hpp)
+    std::string participant;       // with a design: whose session runs
     std::filesystem::path out;     // the study's folder (study/study_folder.hpp)
     std::filesystem::path script;  // operator actions (viewer::readScript); empty: none
     /// The window, mirror, colours, frames, timeout, run log, XR use and pointer; the
@@ -34,8 +38,13 @@ class StudyRun {
 
     /// The viewer's options the trials run with (the orbit from the plan).
     const viewer::ViewerOptions& viewerOptions() const { return options_.viewer; }
-    /// The plan as read (trials in the plan's order).
+    /// The plan as read (trials in the plan's order); for a design, the participant's
+    /// session (trials in run order).
     const Plan& plan() const { return plan_; }
+
+    /// Checks options.out (made by the caller): a plan needs it new or empty
+    /// (checkStudyFolder); a design's session may also resume there (findResumePoint).
+    void checkFolder();
 
     /// Runs the study into options.out, which the caller has made and checked with
     /// checkStudyFolder: writes study.json, computes the scenes' metric, then runs the
@@ -47,6 +56,10 @@ class StudyRun {
   private:
     StudyOptions options_;
     Plan plan_;
+    std::optional<Design> design_;       // a design's session: its design,
+    Session session_;                    // the participant's trials,
+    std::string design_sha256_;          // the design file's SHA-256,
+    std::optional<ResumePoint> resume_;  // and what a stopped run already wrote
 };
 
 /// Replays trial `trial_number` (1.. in run order) of the study in `dir`: its cloud

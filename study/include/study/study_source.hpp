@@ -17,11 +17,13 @@ namespace study {
 class StudySource : public viewer::TrialSource {
   public:
     /// Loads every scene and candidates file of the plan now, so a bad one fails before
-    /// the window opens (core::Error naming it). `order` from trialOrder().
-    StudySource(const Plan& plan, std::vector<int> order);
+    /// the window opens (core::Error naming it). `order` from trialOrder(); `first`: the
+    /// trials of the study already run (a resumed session, numberOffset()).
+    StudySource(const Plan& plan, std::vector<int> order, int first = 0);
     ~StudySource() override;
 
     int count() const override { return static_cast<int>(order_.size()); }
+    int numberOffset() const override { return first_; }
     viewer::TrialSetup begin(int trial, viewer::CloudFeed& feed) override;
     /// Joins the trial's generator (a scene still generating is finished first).
     void end(int trial) override;
@@ -33,6 +35,7 @@ class StudySource : public viewer::TrialSource {
 
     Plan plan_;
     std::vector<int> order_;
+    int first_ = 0;
     std::vector<std::shared_ptr<const core::Scene>> scenes_;  // per plan trial (null: cloud)
     std::vector<std::vector<core::Candidate>> candidates_;    // per plan trial
     std::thread generator_;

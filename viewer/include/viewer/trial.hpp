@@ -28,6 +28,7 @@
 namespace viewer {
 
 class CloudFeed;
+enum class ColourMode;  // viewer/viewer.hpp
 
 enum class Decision { Confirm, NoTarget, Timeout, Quit };
 enum class Verdict { Unreviewed, Confirmed, Rejected };
@@ -67,6 +68,12 @@ struct TrialSetup {
     std::string name;  // shown on the ready screen
     std::vector<core::Candidate> candidates;
     double time_limit_s = 0.0;  // 0: none
+    /// The ready screen cannot be dismissed before it has been up this long (a break
+    /// between a study's conditions); 0: as soon as the cloud is ready.
+    double min_ready_s = 0.0;
+    /// Per-trial display settings (a study's condition); unset: the run's, as they stand.
+    std::optional<ColourMode> colour;
+    std::optional<bool> eye_dome;
 };
 
 /// Supplies the trials, one at a time.
@@ -74,6 +81,10 @@ class TrialSource {
   public:
     virtual ~TrialSource() = default;
     virtual int count() const = 0;
+    /// Trials of the study that ran before this run (a resumed session): the ready screen
+    /// and the progress lines number trial k as numberOffset() + k + 1 of
+    /// numberOffset() + count(). The observer and the run log still count from 0.
+    virtual int numberOffset() const { return 0; }
     /// Starts producing trial `trial`'s cloud into `feed` (a fresh feed per trial; e.g.
     /// feed.startFileLoader, or a thread the source owns and joins) and returns its setup.
     virtual TrialSetup begin(int trial, CloudFeed& feed) = 0;

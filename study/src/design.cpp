@@ -1,0 +1,303 @@
+// study/src/design.cpp: DESIGN.json, parsed strictly, the orders of conditions and a
+// participant's session (study/design.hpp).
+#include <study/design.hpp>
+
+#include "json_fields.hpp"
+
+#include <core/error.hpp>
+#include <core/random.hpp>
+#include <corpus/sha256.hpp>
+#include <io/strict_json.hpp>
+#include <platform/safe_file.hpp>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <set>
+
+namespace study {
+
+namespace {
+using detail::field;
+using detail::onlyKeys;
+using nlohmann::json;
+
+// Condition, block and participant names go into trials.csv and study.json: letters,
+// digits, '_', '-' and '.', 1 to 40 of them, so they need no quoting and show as written.
+bool plainName(const std::string& s) {
+    if (s.empty() || s.size() > 40) return false;
+    return std::all_of(s.begin(), s.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+               c == '.';
+    });
+}
+
+std::string name(const json& o, const char* key, const std::string& where, const std::string& fallback) {
+    const auto it = o.find(key);
+    if (it == o.end()) return fallback;
+    if (!it->is_string() || !plainName(it->get<std::string>()))
+        throw core::Error(field(where, key) + " " +
+                          (it->is_string() ? "'" + core::printable(it->get<std::string>(), 40) + "'"
+                                           : std::string(io::jsonTypeName(*it))) +
+                          " is not a name of 1 to 40 letters, digits, '_', '-' or '.'");
+    return it->get<std::string>();
+}
+
+std::optional<bool> flag(const json& o, const char* key, const std::string& where) {
+    const auto it = o.find(key);
+    if (it == o.end()) return std::nullopt;
+    if (!it->is_boolean())
+        throw core::Error(field(where, key) + " must be true or false, not " + io::jsonTypeName(*it));
+    return it->get<bool>();
+}
+
+const json& array(const json& root, const char* key, const std::string& where, std::size_t most, bool required) {
+    static const json kEmpty = json::array();
+    const auto it = root.find(key);
+    if (it == root.end()) {
+        if (required) throw core::Error(where + ": '" + key + "' is required");
+        return kEmpty;
+    }
+    if (!it->is_array() || (required && it->empty()))
+        throw core::Error(where + ": '" + key + "' must be a " + (required ? "non-empty " : "") + "array, not " +
+                          (it->is_array() ? std::string("an empty one") : io::jsonTypeName(*it)));
+    if (it->size() > most)
+        throw core::Error(where + ": '" + key + "' has " + std::to_string(it->size()) + " entries; allowed at most " +
+                          std::to_string(most));
+    return *it;
+}
+
+Condition parseCondition(const json& c, const std::string& w) {
+    if (!c.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(c));
+    onlyKeys(c, w, {"name", "colour", "eye_dome", "candidates", "time_limit_s", "comment"});
+    Condition condition;
+    if (!c.contains("name")) throw core::Error(w + ": 'name' is required");
+    condition.name = name(c, "name", w, "");
+    if (const auto it = c.find("colour"); it != c.end()) {
+        if (!it->is_string())
+            throw core::Error(field(w, "colour") + " must be a string, not " + io::jsonTypeName(*it) +
+                              "; allowed: file, height, white, label, above-ground");
+        try {
+            condition.colour = viewer::parseColourMode(it->get<std::string>());
+        } catch (const core::Error&) {
+            throw core::Error(field(w, "colour") + " '" + core::printable(it->get<std::string>(), 40) +
+                              "' is not one of file, height, white, label, above-ground");
+        }
+    }
+    condition.eye_dome = flag(c, "eye_dome", w);
+    condition.candidates = flag(c, "candidates", w).value_or(true);
+    if (c.contains("time_limit_s")) condition.time_limit_s = detail::number(c, "time_limit_s", w, 0.0, 86400.0, 0.0);
+    return condition;
+}
+
+std::vector<PlanTrial> parseTrials(const json& list, const std::string& w, const std::filesystem::path& base) {
+    std::vector<PlanTrial> trials;
+    for (std::size_t i = 0; i < list.size(); ++i)
+        trials.push_back(detail::parseTrial(list[i], w + "[" + std::to_string(i) + "]", base));
+    return trials;
+}
+
+std::string listed(const std::vector<std::string>& names) {
+    if (names.size() <= 4) {
+        std::string s;
+        for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+        return s;
+    }
+    return names[0] + ", " + names[1] + ", ..., " + names.back();
+}
+}  // namespace
+
+bool isDesignText(std::string_view text) {
+    try {
+        const json root = io::parseStrictJson(text, "study");
+        return root.is_object() && root.contains("conditions");
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+Design parseDesign(std::string_view text_in, const std::string& name_in, const std::filesystem::path& base) {
+    const std::string where = "study: " + name_in;
+    const json root = io::parseStrictJson(text_in, where);
+    if (!root.is_object()) throw core::Error(where + ": the design must be an object, not " + io::jsonTypeName(root));
+    onlyKeys(root, where,
+             {"conditions", "blocks", "practice", "break_s", "order", "seed", "participants", "hit_radius_m", "orbit",
+              "generate", "comment"});
+    Design design;
+    const json& conditions = array(root, "conditions", where, kMaxConditions, true);
+    std::set<std::string> seen;
+    for (std::size_t i = 0; i < conditions.size(); ++i) {
+        const std::string w = where + ": conditions[" + std::to_string(i) + "]";
+        design.conditions.push_back(parseCondition(conditions[i], w));
+        if (!seen.insert(design.conditions.back().name).second)
+            throw core::Error(w + ".name '" + design.conditions.back().name +
+                              "' is used twice; allowed: a different name per condition");
+    }
+    const json& blocks = array(root, "blocks", where, 1000, true);
+    std::size_t trials = 0;
+    seen.clear();
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+        const std::string w = where + ": blocks[" + std::to_string(i) + "]";
+        const json& b = blocks[i];
+        if (!b.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(b));
+        onlyKeys(b, w, {"name", "trials", "comment"});
+        DesignBlock block;
+        block.name = name(b, "name", w, std::to_string(i + 1));
+        if (!seen.insert(block.name).second)
+            throw core::Error(w + ".name '" + block.name + "' is used twice; allowed: a different name per block");
+        const auto t = b.find("trials");
+        if (t == b.end() || !t->is_array() || t->empty())
+            throw core::Error(w + ".trials must be a non-empty array of trials");
+        block.trials = parseTrials(*t, w + ".trials", base);
+        trials += block.trials.size();
+        design.blocks.push_back(std::move(block));
+    }
+    design.practice = parseTrials(array(root, "practice", where, 1000, false), where + ": practice", base);
+    trials += design.practice.size();
+    // The session runs every block and the practice once per condition.
+    if (trials * design.conditions.size() > 10000)
+        throw core::Error(where + ": " + std::to_string(trials * design.conditions.size()) +
+                          " trials per session (conditions x (practice + blocks' trials)); allowed at most 10000");
+    design.break_s = detail::number(root, "break_s", where + ":", 0.0, 86400.0, 0.0);
+    if (const auto it = root.find("order"); it != root.end()) {
+        const std::string o = it->is_string() ? it->get<std::string>() : "";
+        if (o == "latin")
+            design.order = ConditionOrder::Latin;
+        else if (o == "permutation")
+            design.order = ConditionOrder::Permutation;
+        else if (o == "random")
+            design.order = ConditionOrder::Random;
+        else
+            throw core::Error(where + ": order " +
+                              (it->is_string() ? "'" + core::printable(o, 40) + "'" : io::jsonTypeName(*it)) +
+                              " is not one of latin, permutation, random");
+    }
+    if (const auto seed = root.find("seed"); seed != root.end()) {
+        if (design.order != ConditionOrder::Random)
+            throw core::Error(where + ": seed is only used with order 'random'");
+        if (!seed->is_number_unsigned())
+            throw core::Error(where + ": seed must be a whole number >= 0, not " +
+                              (seed->is_number() ? core::shownNumber(seed->get<double>()) : io::jsonTypeName(*seed)));
+        design.seed = seed->get<std::uint64_t>();
+    } else if (design.order == ConditionOrder::Random) {
+        throw core::Error(where + ": order 'random' needs a 'seed' (a whole number >= 0), so orders are reproducible");
+    }
+    if (design.order == ConditionOrder::Permutation && design.conditions.size() > kMaxPermutationConditions)
+        throw core::Error(where + ": order 'permutation' with " + std::to_string(design.conditions.size()) +
+                          " conditions; allowed at most " + std::to_string(kMaxPermutationConditions) +
+                          " (use 'latin')");
+    const json& participants = array(root, "participants", where, kMaxParticipants, true);
+    seen.clear();
+    for (std::size_t i = 0; i < participants.size(); ++i) {
+        const std::string w = where + ": participants[" + std::to_string(i) + "]";
+        const json& p = participants[i];
+        if (!p.is_string() || !plainName(p.get<std::string>()))
+            throw core::Error(w + " " +
+                              (p.is_string() ? "'" + core::printable(p.get<std::string>(), 40) + "'"
+                                             : std::string(io::jsonTypeName(p))) +
+                              " is not an id of 1 to 40 letters, digits, '_', '-' or '.'");
+        if (!seen.insert(p.get<std::string>()).second)
+            throw core::Error(w + " '" + p.get<std::string>() + "' is listed twice; allowed: each id once");
+        design.participants.push_back(p.get<std::string>());
+    }
+    detail::parseRunSettings(root, where, design.settings);
+    return design;
+}
+
+Design readDesign(const std::filesystem::path& file, std::string* sha256) {
+    const std::string shown = core::printable(file.string(), 400);
+    const std::string text = platform::readTextFile(file, kMaxDesignBytes, "study: " + shown + ":");
+    Design design =
+        parseDesign(text, shown, file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path());
+    for (std::size_t b = 0; b < design.blocks.size(); ++b)
+        for (std::size_t i = 0; i < design.blocks[b].trials.size(); ++i)
+            detail::checkTrialFiles(design.blocks[b].trials[i], "study: " + shown + ": blocks[" + std::to_string(b) +
+                                                                    "].trials[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < design.practice.size(); ++i)
+        detail::checkTrialFiles(design.practice[i], "study: " + shown + ": practice[" + std::to_string(i) + "]");
+    if (sha256) *sha256 = corpus::sha256Hex(text);
+    return design;
+}
+
+std::vector<std::vector<int>> williamsSquare(int n) {
+    // The first row alternates from the two ends: 0, 1, n-1, 2, n-2, ...
+    std::vector<int> first;
+    for (int lo = 0, hi = n - 1, k = 0; k < n; ++k) first.push_back(k == 0 ? lo++ : (k % 2 == 1 ? lo++ : hi--));
+    std::vector<std::vector<int>> rows;
+    for (int r = 0; r < n; ++r) {
+        std::vector<int> row;
+        for (int c : first) row.push_back((c + r) % n);
+        rows.push_back(std::move(row));
+    }
+    if (n % 2 == 1)
+        for (int r = 0; r < n; ++r) rows.emplace_back(rows[std::size_t(r)].rbegin(), rows[std::size_t(r)].rend());
+    return rows;
+}
+
+std::vector<int> conditionOrder(const Design& design, std::size_t participant_index) {
+    const int n = static_cast<int>(design.conditions.size());
+    std::vector<int> order(static_cast<std::size_t>(n));
+    std::iota(order.begin(), order.end(), 0);
+    switch (design.order) {
+        case ConditionOrder::Latin: {
+            const auto rows = williamsSquare(n);
+            return rows[participant_index % rows.size()];
+        }
+        case ConditionOrder::Permutation: {
+            // The k-th permutation in lexicographic order, k written in the factorial base.
+            std::size_t factorial = 1;
+            for (int i = 2; i <= n; ++i) factorial *= std::size_t(i);
+            std::size_t k = participant_index % factorial;
+            std::vector<int> left = order, out;
+            for (int i = n; i >= 1; --i) {
+                factorial /= std::size_t(i);
+                const std::size_t pick = k / factorial;
+                k %= factorial;
+                out.push_back(left[pick]);
+                left.erase(left.begin() + std::ptrdiff_t(pick));
+            }
+            return out;
+        }
+        case ConditionOrder::Random: {
+            std::mt19937_64 rng(core::mix64(design.seed + core::kGolden * (participant_index + 1)));
+            core::shuffle(order.begin(), order.end(), rng);
+            return order;
+        }
+    }
+    return order;
+}
+
+Session expandSession(const Design& design, const std::string& participant, const std::string& name_in) {
+    const auto it = std::find(design.participants.begin(), design.participants.end(), participant);
+    if (it == design.participants.end())
+        throw core::Error("study: --participant '" + core::printable(participant, 40) + "' is not in " + name_in +
+                          "'s participants (" + listed(design.participants) + ")");
+    Session session;
+    session.participant = participant;
+    session.condition_order =
+        conditionOrder(design, static_cast<std::size_t>(std::distance(design.participants.begin(), it)));
+    session.plan = design.settings;
+    session.plan.trials.clear();
+    session.plan.shuffle_seed.reset();
+    for (std::size_t k = 0; k < session.condition_order.size(); ++k) {
+        const int ci = session.condition_order[k];
+        const Condition& c = design.conditions[std::size_t(ci)];
+        const std::size_t first = session.plan.trials.size();
+        auto add = [&](const PlanTrial& t, int block) {
+            PlanTrial trial = t;
+            if (c.colour) trial.colour = c.colour;
+            if (c.eye_dome) trial.eye_dome = c.eye_dome;
+            if (!c.candidates) trial.candidates.clear();
+            if (c.time_limit_s) trial.time_limit_s = *c.time_limit_s;
+            session.plan.trials.push_back(std::move(trial));
+            session.trials.push_back({ci, block, block < 0});
+        };
+        for (const PlanTrial& t : design.practice) add(t, -1);
+        for (std::size_t b = 0; b < design.blocks.size(); ++b)
+            for (const PlanTrial& t : design.blocks[b].trials) add(t, static_cast<int>(b));
+        if (k > 0) session.plan.trials[first].min_ready_s = design.break_s;
+    }
+    return session;
+}
+
+}  // namespace study

@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""tests/study/check_design.py SCENARIO WORK: assertions on the folders of
+study_design_test.sh: trials.csv's design columns against the Williams square computed
+here, study.json, each trial's colours in the run log, the breaks, the candidates per
+condition; and for resume, the resumed folder against the uninterrupted one."""
+import csv
+import hashlib
+import json
+import os
+import sys
+
+scenario, work = sys.argv[1], sys.argv[2]
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+
+
+OLD_COLUMNS = ["trial", "cloud", "decision", "designated_x", "designated_y", "designated_z",
+               "target_distance_m", "hit", "time_to_first_designation_s", "time_to_decision_s",
+               "designations", "mode_switches", "seconds_in_free_mode", "visibility_metric"]
+COLUMNS = OLD_COLUMNS + ["participant", "condition", "block", "practice"]
+CONDITIONS = ["heightedl", "white", "label"]
+COLOUR = {"heightedl": "height", "white": "white", "label": "label"}
+CANDIDATES = {"heightedl": True, "white": False, "label": False}
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], [dict(zip(rows[0], r)) for r in rows[1:]]
+
+
+def williams_row(n, r):
+    """Williams (1949): the first row 0, 1, n-1, 2, n-2, ..., row r adds r mod n; an odd
+    n's rows n..2n-1 are the first n reversed."""
+    first, lo, hi = [0], 1, n - 1
+    for k in range(1, n):
+        if k % 2 == 1:
+            first.append(lo); lo += 1
+        else:
+            first.append(hi); hi -= 1
+    row = [(c + r) % n for c in first]
+    return row if r < n else list(reversed([(c + r - n) % n for c in first]))
+
+
+def expected_session(index):
+    order = [CONDITIONS[c] for c in williams_row(3, index)]
+    trials = []
+    for c in order:
+        trials.append((c, "", "1"))
+        trials.append((c, "first", "0"))
+        trials.append((c, "second", "0"))
+    return order, trials
+
+
+def check_folder(folder, participant, index, log=None):
+    header, rows = read_csv(os.path.join(folder, "trials.csv"))
+    check(header == COLUMNS, f"{folder}: header {header}")
+    order, trials = expected_session(index)
+    check(len(rows) == len(trials), f"{folder}: {len(rows)} rows, expected {len(trials)}")
+    for n, (row, (condition, block, practice)) in enumerate(zip(rows, trials), 1):
+        got = (row["trial"], row["participant"], row["condition"], row["block"], row["practice"])
+        check(got == (str(n), participant, condition, block, practice), f"{folder}: trial {n}: {got}")
+        check(row["decision"] == "confirm" and row["hit"] == "1", f"{folder}: trial {n}: {row['decision']} hit {row['hit']}")
+    study = json.load(open(os.path.join(folder, "study.json")))
+    sha = hashlib.sha256(open(os.path.join(work, "design.json"), "rb").read()).hexdigest()
+    check(study["design_sha256"] == sha, f"{folder}: study.json's SHA-256 {study['design_sha256']}")
+    check(study["participant"] == participant, f"{folder}: study.json participant {study['participant']}")
+    check(study["condition_order"] == order, f"{folder}: study.json condition_order {study['condition_order']}")
+    check(study["order"] == list(range(len(trials))), f"{folder}: study.json order {study['order']}")
+    # Verdicts only for the trials whose condition shows the candidates: one trial of each
+    # block confirms the tank's box, the far box stays unreviewed.
+    _, cands = read_csv(os.path.join(folder, "candidates.csv"))
+    want = []
+    for n, (condition, block, practice) in enumerate(trials, 1):
+        if CANDIDATES[condition] and block:
+            want += [(str(n), "tank", "confirmed"), (str(n), "far", "unreviewed")]
+    got = [(r["trial"], r["candidate"], r["verdict"]) for r in cands]
+    check(got == want, f"{folder}: candidates {got}, expected {want}")
+    for n in range(1, len(trials) + 1):
+        check(os.path.exists(os.path.join(folder, f"trace_{n}.csv")), f"{folder}: no trace_{n}.csv")
+    if log:
+        frames = json.load(open(log))["frames"]
+        for n, (condition, _, _) in enumerate(trials, 1):
+            colours = {f["colour"] for f in frames if f.get("trial") == n - 1}
+            check(colours == {COLOUR[condition]}, f"{log}: trial {n} ({condition}) drawn in {colours}")
+        starts = [a for a in json.load(open(log))["actions"] if a.get("action") == "start"]
+        check(len(starts) == len(trials), f"{log}: {len(starts)} starts")
+        for a in starts:
+            first_of_later_condition = a["trial"] in (3, 6)
+            check(("ready_screen_s" in a) == first_of_later_condition, f"{log}: start {a}")
+            if "ready_screen_s" in a:
+                check(a["ready_screen_s"] >= 0.5, f"{log}: the break lasted {a['ready_screen_s']} s < 0.5 s")
+    print(f"{folder}: {participant}: {order}, {len(rows)} trials")
+    return rows
+
+
+if scenario == "run":
+    check_folder(os.path.join(work, "P01"), "P01", 0, os.path.join(work, "P01.log.json"))
+    check_folder(os.path.join(work, "P02"), "P02", 1, os.path.join(work, "P02.log.json"))
+elif scenario == "resume":
+    whole = check_folder(os.path.join(work, "whole"), "P01", 0, os.path.join(work, "whole.log.json"))
+    resumed = check_folder(os.path.join(work, "resumed"), "P01", 0)
+    timed = {"time_to_first_designation_s", "time_to_decision_s", "seconds_in_free_mode"}
+    for a, b in zip(whole, resumed):
+        check({k: v for k, v in a.items() if k not in timed} == {k: v for k, v in b.items() if k not in timed},
+              f"resumed trial {b['trial']} differs: {a} vs {b}")
+    # The three trials written before the kill are kept byte for byte.
+    killed = open(os.path.join(work, "killed_trials.csv")).read().splitlines()
+    now = open(os.path.join(work, "resumed", "trials.csv")).read().splitlines()
+    check(now[:4] == killed, "the rows written before the kill changed")
+    # Trial 4's trace is the resumed run's alone: its times start again near 0 and increase.
+    with open(os.path.join(work, "resumed", "trace_4.csv")) as f:
+        times = [float(line.split(",")[0]) for line in list(f)[1:]]
+    check(times and times[0] < 1.0 and all(b >= a for a, b in zip(times, times[1:])), f"trace_4 times {times[:5]}")
+    _, cw = read_csv(os.path.join(work, "whole", "candidates.csv"))
+    _, cr = read_csv(os.path.join(work, "resumed", "candidates.csv"))
+    check([(r["trial"], r["candidate"], r["verdict"]) for r in cw] == [(r["trial"], r["candidate"], r["verdict"]) for r in cr],
+          "candidates.csv differs")
+if failures:
+    print("FAIL:\n  " + "\n  ".join(failures))
+    sys.exit(1)
+print("OK")

@@ -1,0 +1,237 @@
+// tests/study/design_test.cpp: DESIGN.json parsing (known answers, refused keys), the
+// balance of the Williams squares, the permutation and seeded random orders, and a
+// participant's expanded session.
+#include <study/design.hpp>
+
+#include <core/error.hpp>
+
+#include <test_files.hpp>
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+namespace {
+std::string conditions(int n) {
+    std::string s = "[";
+    for (int i = 0; i < n; ++i) s += std::string(i ? "," : "") + R"({"name": "c)" + std::to_string(i) + R"("})";
+    return s + "]";
+}
+std::string participants(int n) {
+    std::string s = "[";
+    for (int i = 0; i < n; ++i) s += std::string(i ? "," : "") + "\"P" + std::to_string(i + 1) + "\"";
+    return s + "]";
+}
+study::Design design(int n, const std::string& order = "latin", const std::string& extra = "") {
+    return study::parseDesign(R"({"conditions": )" + conditions(n) + R"(, "blocks": [{"trials": [{"cloud": "a.pcd"}]}],
+        "participants": )" + participants(2 * n) +
+                                  R"(, "order": ")" + order + "\"" + extra + "}",
+                              "d.json", "/d");
+}
+}  // namespace
+
+TEST_CASE("a design's conditions, blocks, practice, break and participants") {
+    const study::Design d = study::parseDesign(R"({
+        "conditions": [{"name": "edl", "colour": "height", "eye_dome": true, "time_limit_s": 60},
+                       {"name": "plain", "eye_dome": false, "candidates": false}],
+        "blocks": [{"name": "easy", "trials": [{"cloud": "a.pcd", "candidates": "a.json"}, {"scene": "s.json"}]},
+                   {"trials": [{"cloud": "b.pcd", "time_limit_s": 30}]}],
+        "practice": [{"cloud": "p.pcd"}], "break_s": 45, "order": "latin",
+        "participants": ["P01", "P02"], "hit_radius_m": 2, "generate": {"xres": 16}})",
+                                               "d.json", "/d");
+    REQUIRE(d.conditions.size() == 2);
+    CHECK(d.conditions[0].name == "edl");
+    CHECK(*d.conditions[0].colour == viewer::ColourMode::HeightJet);
+    CHECK(*d.conditions[0].eye_dome);
+    CHECK(d.conditions[0].candidates);
+    CHECK(*d.conditions[0].time_limit_s == 60.0);
+    CHECK_FALSE(d.conditions[1].colour);
+    CHECK_FALSE(*d.conditions[1].eye_dome);
+    CHECK_FALSE(d.conditions[1].candidates);
+    CHECK_FALSE(d.conditions[1].time_limit_s);
+    REQUIRE(d.blocks.size() == 2);
+    CHECK(d.blocks[0].name == "easy");
+    CHECK(d.blocks[1].name == "2");
+    CHECK(d.blocks[0].trials[0].cloud == std::filesystem::path("/d/a.pcd"));
+    CHECK(d.practice.size() == 1);
+    CHECK(d.break_s == 45.0);
+    CHECK(d.participants == std::vector<std::string>{"P01", "P02"});
+    CHECK(d.settings.hit_radius_m == 2.0);
+    CHECK(d.settings.xres == 16);
+
+    // P02 has the square's second row: plain first, then edl.
+    const study::Session s = study::expandSession(d, "P02", "d.json");
+    CHECK(s.condition_order == std::vector<int>{1, 0});
+    REQUIRE(s.plan.trials.size() == 8);  // 2 conditions x (1 practice + 3 block trials)
+    CHECK(s.trials[0].practice);
+    CHECK(s.trials[0].block == -1);
+    CHECK(s.trials[0].condition == 1);
+    CHECK(s.plan.trials[0].source == "p.pcd");
+    CHECK(s.trials[1].block == 0);
+    CHECK(s.trials[3].block == 1);
+    CHECK(s.plan.trials[1].candidates.empty());  // plain: no candidates
+    CHECK(s.plan.trials[3].time_limit_s == 30.0);
+    CHECK_FALSE(*s.plan.trials[1].eye_dome);
+    CHECK(s.plan.trials[0].min_ready_s == 0.0);  // no break before the first condition
+    CHECK(s.trials[4].condition == 0);
+    CHECK(s.trials[4].practice);
+    CHECK(s.plan.trials[4].min_ready_s == 45.0);  // the break before the second
+    CHECK(s.plan.trials[5].candidates == std::filesystem::path("/d/a.json"));
+    CHECK(s.plan.trials[5].time_limit_s == 60.0);  // edl's limit over the trial's
+    CHECK(s.plan.trials[7].time_limit_s == 60.0);
+    CHECK(*s.plan.trials[5].colour == viewer::ColourMode::HeightJet);
+    CHECK_THROWS_WITH_AS(study::expandSession(d, "P99", "d.json"),
+                         "study: --participant 'P99' is not in d.json's participants (P01, P02)", core::Error);
+}
+
+TEST_CASE("a design's refused keys: one line naming the key and what is allowed") {
+    auto fails = [](const std::string& text, const std::string& message) {
+        CAPTURE(text);
+        CHECK_THROWS_WITH_AS(study::parseDesign(text, "design.json", "/"), message.c_str(), core::Error);
+    };
+    const std::string blocks = R"("blocks": [{"trials": [{"cloud": "a"}]}], "participants": ["P01"])";
+    fails(R"({"conditions": [{"name": "a"}, {"name": "b", "colour": "hue"}], )" + blocks + "}",
+          "study: design.json: conditions[1].colour 'hue' is not one of file, height, white, label, above-ground");
+    fails(R"({"conditions": [], )" + blocks + "}",
+          "study: design.json: 'conditions' must be a non-empty array, not an empty one");
+    fails(R"({"conditions": [{"name": "a", "eye_dome": 1}], )" + blocks + "}",
+          "study: design.json: conditions[0].eye_dome must be true or false, not a number");
+    fails(R"({"conditions": [{"name": "a"}, {"name": "a"}], )" + blocks + "}",
+          "study: design.json: conditions[1].name 'a' is used twice; allowed: a different name per condition");
+    fails(R"({"conditions": [{"name": "a b"}], )" + blocks + "}",
+          "study: design.json: conditions[0].name 'a b' is not a name of 1 to 40 letters, digits, '_', '-' or '.'");
+    fails(R"({"conditions": [{"colour": "file"}], )" + blocks + "}",
+          "study: design.json: conditions[0]: 'name' is required");
+    fails(R"({"conditions": [{"name": "a", "time_limit_s": -2}], )" + blocks + "}",
+          "study: design.json: conditions[0].time_limit_s -2 is not in [0, 86400]");
+    fails(R"({"conditions": [{"name": "a", "tools": []}], )" + blocks + "}",
+          "study: design.json: conditions[0]: unknown key 'tools'; allowed: name, colour, eye_dome, candidates, "
+          "time_limit_s, comment");
+    fails(R"({"conditions": [{"name": "a"}], "blocks": [{"trials": []}], "participants": ["P01"]})",
+          "study: design.json: blocks[0].trials must be a non-empty array of trials");
+    fails(R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a", "time_limit_s": -1}]}],
+              "participants": ["P01"]})",
+          "study: design.json: blocks[0].trials[0].time_limit_s -1 is not in [0, 86400]");
+    fails(R"({"conditions": [{"name": "a"}], "practice": [{}], )" + blocks + "}",
+          "study: design.json: practice[0]: give exactly one of 'cloud' and 'scene'");
+    fails(R"({"conditions": [{"name": "a"}], "order": "abba", )" + blocks + "}",
+          "study: design.json: order 'abba' is not one of latin, permutation, random");
+    fails(R"({"conditions": [{"name": "a"}], "order": "random", )" + blocks + "}",
+          "study: design.json: order 'random' needs a 'seed' (a whole number >= 0), so orders are reproducible");
+    fails(R"({"conditions": [{"name": "a"}], "seed": 3, )" + blocks + "}",
+          "study: design.json: seed is only used with order 'random'");
+    fails(R"({"conditions": [{"name": "a"}], "order": "random", "seed": -3, )" + blocks + "}",
+          "study: design.json: seed must be a whole number >= 0, not -3");
+    fails(R"({"conditions": [{"name": "a"}], "break_s": -1, )" + blocks + "}",
+          "study: design.json: break_s -1 is not in [0, 86400]");
+    fails(
+        R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a"}]}], "participants": ["P01", "P01"]})",
+        "study: design.json: participants[1] 'P01' is listed twice; allowed: each id once");
+    fails(R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a"}]}]})",
+          "study: design.json: 'participants' is required");
+    fails(R"({"conditions": [{"name": "a"}], "trials": [], )" + blocks + "}",
+          "study: design.json: unknown key 'trials'; allowed: conditions, blocks, practice, break_s, order, seed, "
+          "participants, hit_radius_m, orbit, generate, comment");
+    fails(R"({"conditions": )" + conditions(9) + R"(, "order": "permutation", )" + blocks + "}",
+          "study: design.json: order 'permutation' with 9 conditions; allowed at most 8 (use 'latin')");
+}
+
+TEST_CASE("a design is told from a plan by its top-level 'conditions' key") {
+    CHECK(study::isDesignText(R"({"conditions": [], "blocks": []})"));
+    CHECK_FALSE(study::isDesignText(R"({"trials": [{"cloud": "a"}]})"));
+    CHECK_FALSE(study::isDesignText("{not json"));
+    CHECK_FALSE(study::isDesignText("[1]"));
+}
+
+TEST_CASE("Williams squares: positions and (even n) adjacent ordered pairs are balanced") {
+    for (int n = 1; n <= 9; ++n) {
+        CAPTURE(n);
+        const auto rows = study::williamsSquare(n);
+        const std::size_t want_rows = n % 2 == 0 ? std::size_t(n) : 2 * std::size_t(n);
+        CHECK(rows.size() == (n == 1 ? 2 : want_rows));
+        std::map<std::pair<int, int>, int> at;  // (position, condition) -> count
+        std::map<std::pair<int, int>, int> pairs;
+        for (const auto& row : rows) {
+            std::vector<int> sorted = row;
+            std::sort(sorted.begin(), sorted.end());
+            for (int i = 0; i < n; ++i) CHECK(sorted[std::size_t(i)] == i);  // a permutation
+            for (int i = 0; i < n; ++i) ++at[{i, row[std::size_t(i)]}];
+            for (int i = 0; i + 1 < n; ++i) ++pairs[{row[std::size_t(i)], row[std::size_t(i) + 1]}];
+        }
+        const int per_position = static_cast<int>(rows.size()) / n;
+        for (int pos = 0; pos < n; ++pos)
+            for (int c = 0; c < n; ++c) CHECK(at[{pos, c}] == per_position);
+        // Every ordered pair of different conditions is adjacent equally often: once for an
+        // even n, twice over the 2n rows of an odd n.
+        if (n > 1) {
+            CHECK(pairs.size() == std::size_t(n * (n - 1)));
+            for (const auto& [pair, count] : pairs) CHECK(count == (n % 2 == 0 ? 1 : 2));
+        }
+    }
+}
+
+TEST_CASE("the Latin order over a full square of participants puts each condition in each position equally") {
+    for (int n : {3, 4}) {
+        const study::Design d = design(n);
+        std::map<std::pair<int, int>, int> at;
+        for (std::size_t p = 0; p < d.participants.size(); ++p) {
+            const auto order = study::conditionOrder(d, p);
+            for (int i = 0; i < n; ++i) ++at[{i, order[std::size_t(i)]}];
+        }
+        for (const auto& [key, count] : at) CHECK(count == 2);  // 2n participants
+        CHECK(at.size() == std::size_t(n * n));
+        // The first participant has the first row, the n-th (odd n: 2n-th) wraps round.
+        CHECK(study::conditionOrder(d, 0) == study::williamsSquare(n)[0]);
+    }
+    CHECK(study::conditionOrder(design(4), 0) == std::vector<int>{0, 1, 3, 2});
+    CHECK(study::conditionOrder(design(4), 1) == std::vector<int>{1, 2, 0, 3});
+    CHECK(study::conditionOrder(design(4), 4) == std::vector<int>{0, 1, 3, 2});
+    CHECK(study::conditionOrder(design(3), 3) == std::vector<int>{2, 1, 0});  // the reversed first row
+}
+
+TEST_CASE("permutation cycles every order, and random is reproducible from its seed") {
+    const study::Design p = design(3, "permutation");
+    std::set<std::vector<int>> seen;
+    for (std::size_t i = 0; i < 6; ++i) seen.insert(study::conditionOrder(p, i));
+    CHECK(seen.size() == 6);
+    CHECK(study::conditionOrder(p, 0) == std::vector<int>{0, 1, 2});
+    CHECK(study::conditionOrder(p, 1) == std::vector<int>{0, 2, 1});
+    CHECK(study::conditionOrder(p, 5) == std::vector<int>{2, 1, 0});
+    CHECK(study::conditionOrder(p, 6) == std::vector<int>{0, 1, 2});
+
+    const study::Design r = design(5, "random", R"(, "seed": 11)");
+    const study::Design r2 = design(5, "random", R"(, "seed": 11)");
+    const study::Design other = design(5, "random", R"(, "seed": 12)");
+    bool differs_by_participant = false, differs_by_seed = false;
+    for (std::size_t i = 0; i < r.participants.size(); ++i) {
+        const auto order = study::conditionOrder(r, i);
+        CHECK(order == study::conditionOrder(r2, i));
+        std::vector<int> sorted = order;
+        std::sort(sorted.begin(), sorted.end());
+        CHECK(sorted == std::vector<int>{0, 1, 2, 3, 4});
+        differs_by_participant = differs_by_participant || order != study::conditionOrder(r, 0);
+        differs_by_seed = differs_by_seed || order != study::conditionOrder(other, i);
+    }
+    CHECK(differs_by_participant);
+    CHECK(differs_by_seed);
+}
+
+TEST_CASE("readDesign checks the files the design names and gives the file's SHA-256") {
+    test_support::TempDir dir("study_design");
+    dir.write("a.pcd", "x");
+    const auto bad = dir.write("bad.json", R"({"conditions": [{"name": "a"}],
+        "blocks": [{"trials": [{"cloud": "a.pcd"}, {"cloud": "missing.pcd"}]}], "participants": ["P01"]})");
+    CHECK_THROWS_WITH_AS(study::readDesign(bad), doctest::Contains("blocks[0].trials[1].cloud"), core::Error);
+    const std::string text =
+        R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a.pcd"}]}], "participants": ["P01"]})";
+    const auto ok = dir.write("ok.json", text);
+    std::string sha;
+    CHECK(study::readDesign(ok, &sha).blocks[0].trials[0].cloud == dir.path / "a.pcd");
+    CHECK(sha.size() == 64);
+    const auto changed = dir.write("changed.json", text + " ");
+    std::string sha2;
+    study::readDesign(changed, &sha2);
+    CHECK(sha2 != sha);
+}

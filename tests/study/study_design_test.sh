@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# tests/study/study_design_test.sh LADARVR SCENARIO: `ladarvr study DESIGN.json
+# --participant P --out DIR` driven headless (--no-xr, Xvfb from tests/viewer/headless_env.sh)
+# by a script, checked by check_design.py. The design: three conditions (colours, eye-dome
+# lighting, candidates on or off, a time limit), a practice trial and two blocks of one
+# trial each, a break before the second and third condition, two participants, a Latin
+# square. Every trial designates the tank and confirms: 9 trials per participant.
+#   run      P01 and P02 each run their session: trials.csv's participant, condition,
+#            block and practice columns follow each one's row of the Williams square, the
+#            frames of each trial show its condition's colours, the breaks held the ready
+#            screen, candidates.csv has rows only where the condition shows candidates;
+#            `study --replay` of one of P02's trials finds its cloud through the design.
+#   resume   P01's session is killed (SIGKILL) once trial 4 has started (its line on
+#            stderr), then run again with the same command: the files equal an
+#            uninterrupted run's (times aside); the folder is refused to P02 and to a
+#            changed design, with one line each.
+# Event-driven: `next` waits for the trial's cloud and for the end of a break, +N counts
+# frames from the previous action, and the kill waits for the viewer's own line.
+set -euo pipefail
+bin=$(realpath "$1")
+scenario=$2
+here=$(cd "$(dirname "$0")" && pwd)
+env_sh="$here/../viewer/headless_env.sh"
+assets=$(cd "$here/../../assets" && pwd)
+work=$(mktemp -d /tmp/ladarvr-designtest.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+export LSAN_OPTIONS="suppressions=$here/../viewer/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+
+# One small labelled cloud of the demo scene, made once: every trial loads it from disk.
+"$bin" generate --scene "$assets/demo/scene.json" --out "$work/demo.pcd" --xres 64 --yres 64 --views 40 \
+  >/dev/null 2>"$work/generate.err" || { cat "$work/generate.err"; exit 1; }
+cat >"$work/candidates.json" <<'CANDIDATES'
+{"candidates": [{"id": "tank", "centre": [0, 0, 1.2], "size_m": [7, 3.5, 2.5], "yaw_deg": 20, "score": 0.9},
+                {"id": "far", "centre": [80, -80, 2], "size_m": [7, 3.5, 2.5], "yaw_deg": 0, "score": 0.1}]}
+CANDIDATES
+cat >"$work/design.json" <<'DESIGN'
+{"conditions": [{"name": "heightedl", "colour": "height", "eye_dome": true, "candidates": true},
+                {"name": "white", "colour": "white", "eye_dome": false, "candidates": false},
+                {"name": "label", "colour": "label", "eye_dome": true, "candidates": false, "time_limit_s": 250}],
+ "practice": [{"cloud": "demo.pcd", "name": "practice"}],
+ "blocks": [{"name": "first", "trials": [{"cloud": "demo.pcd", "candidates": "candidates.json", "name": "one"}]},
+            {"name": "second", "trials": [{"cloud": "demo.pcd", "candidates": "candidates.json", "name": "two"}]}],
+ "break_s": 0.5,
+ "order": "latin",
+ "participants": ["P01", "P02"],
+ "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000}}
+DESIGN
+# Each trial: start it, designate the tank, confirm (the candidate's box where shown).
+{
+  echo "1 next"
+  echo "+8 aim 0 0 1.2"; echo "+1 designate"; echo "+6 confirm"
+  for _ in 2 3 4 5 6 7 8 9; do
+    echo "+2 next"; echo "+8 aim 0 0 1.2"; echo "+1 designate"; echo "+6 confirm"
+  done
+} >"$work/script.txt"
+
+run() {  # run PARTICIPANT OUT LOG
+  "$env_sh" --timeout 220 -- "$bin" study "$work/design.json" --participant "$1" --out "$2" --no-xr \
+    --width 320 --height 180 --timeout 200 --script "$work/script.txt" --log-json "$3" --no-metric
+}
+
+case "$scenario" in
+  run)
+    for p in P01 P02; do
+      run "$p" "$work/$p" "$work/$p.log.json" 2>"$work/$p.err" || { echo "FAIL: $p's run exited $?"; cat "$work/$p.err"; exit 1; }
+    done
+    # --replay finds a session's trial through study.json and the design (P02's trial 5:
+    # condition label, block first).
+    "$env_sh" --timeout 220 -- "$bin" study --replay "$work/P02" --trial 5 --width 320 --height 180 \
+      --log-json "$work/replay.json" 2>"$work/replay.err" || { echo "FAIL: replay"; cat "$work/replay.err"; exit 1; }
+    grep -q '"exit": *"replay done"' "$work/replay.json" || { echo "FAIL: the replay did not end as 'replay done'"; exit 1; }
+    ;;
+  resume)
+    run P01 "$work/whole" "$work/whole.log.json" 2>"$work/whole.err" || { echo "FAIL: uninterrupted run"; cat "$work/whole.err"; exit 1; }
+    cat >"$work/kill.sh" <<RUN
+set -u
+"$bin" study "$work/design.json" --participant P01 --out "$work/resumed" --no-xr --width 320 --height 180 \
+  --timeout 200 --script "$work/script.txt" --no-metric 2>"$work/killed.err" &
+viewer=\$!
+for _ in \$(seq 1800); do
+  grep -q "study: trial 4 started" "$work/killed.err" && break
+  kill -0 \$viewer 2>/dev/null || break
+  sleep 0.1
+done
+kill -KILL \$viewer
+rc=0
+wait \$viewer || rc=\$?
+echo "exit \$rc" >"$work/rc"
+RUN
+    "$env_sh" --timeout 220 -- bash "$work/kill.sh"
+    rc=$(cut -d' ' -f2 "$work/rc")
+    [ "$rc" = 137 ] || { echo "FAIL: the killed run exited $rc, expected 137"; cat "$work/killed.err"; exit 1; }
+    grep -c . "$work/resumed/trials.csv" | grep -qx 4 || { echo "FAIL: the killed run wrote $(($(grep -c . "$work/resumed/trials.csv") - 1)) trials, expected 3"; exit 1; }
+    [ -f "$work/resumed/trace_4.csv" ] || { echo "FAIL: the killed run left no trace_4.csv"; exit 1; }
+    cp "$work/resumed/trials.csv" "$work/killed_trials.csv"
+    # Another participant, or a changed design, is refused with one line; nothing changes.
+    for refused in P02 changed; do
+      if [ "$refused" = changed ]; then cp "$work/design.json" "$work/design2.json"; echo " " >>"$work/design2.json"
+        args=("$work/design2.json" --participant P01); want="holds a session of another design"
+      else args=("$work/design.json" --participant P02); want="holds participant P01's session"; fi
+      status=0
+      "$bin" study "${args[@]}" --out "$work/resumed" --no-xr --no-metric 2>"$work/refused.err" || status=$?
+      echo "refused ($refused): exit $status: $(cat "$work/refused.err")"
+      [ "$status" = 1 ] && [ "$(wc -l <"$work/refused.err")" = 1 ] && grep -q "$want" "$work/refused.err" ||
+        { echo "FAIL: not refused with one line saying '$want'"; exit 1; }
+      cmp -s "$work/resumed/trials.csv" "$work/killed_trials.csv" || { echo "FAIL: a refused run changed trials.csv"; exit 1; }
+    done
+    run P01 "$work/resumed" "$work/resumed.log.json" 2>"$work/resumed.err" || { echo "FAIL: resumed run"; cat "$work/resumed.err"; exit 1; }
+    grep -q "resuming participant P01's session at trial 4 of 9" "$work/resumed.err" || { echo "FAIL: no resume line"; cat "$work/resumed.err"; exit 1; }
+    # The resumed run numbers its trials as the session does: 4 to 9 of 9.
+    grep -q "study: trial 4 of 9 (practice): ready screen" "$work/resumed.err" &&
+      grep -q "study: trial 9 ended: confirm" "$work/resumed.err" || { echo "FAIL: resumed trials misnumbered"; cat "$work/resumed.err"; exit 1; }
+    ;;
+  *) echo "study_design_test: unknown scenario '$scenario'" >&2; exit 2 ;;
+esac
+python3 "$here/check_design.py" "$scenario" "$work"
