@@ -18,12 +18,32 @@ void SourceStream::reset(PointSource& source) {
     picks_.reset();
     error_.clear();
     loaded_since_frame_ = -1;
+    log_nodes_ = false;
     centre_changed_ = centre_final_ = false;
 }
 
 SourceEvents SourceStream::update(long frame, RunLog& log) {
     SourceEvents ev;
+    // A source that chooses its nodes sees the view the renderer planned last (one frame
+    // behind: the frame draws what is resident and never waits for the choice).
+    if (const std::optional<SourceView>& view = renderer_->lastView()) source_->select(*view);
     source_->poll();
+    if (const std::optional<SourceStats> s = source_->stats()) {
+        if (!log_nodes_ && s->nodes_loaded > 0) {
+            log_nodes_ = true;
+            log.event("first node resident");
+        }
+        log.set("source", nlohmann::json{{"kind", s->kind},
+                                         {"nodes", s->nodes},
+                                         {"nodes_resident", s->nodes_resident},
+                                         {"nodes_loaded", s->nodes_loaded},
+                                         {"nodes_evicted", s->nodes_evicted},
+                                         {"nodes_failed", s->nodes_failed},
+                                         {"wanted_points", s->wanted_points},
+                                         {"cache_bytes", s->cache_bytes},
+                                         {"resident_bytes", s->resident_bytes},
+                                         {"resident_bytes_peak", s->resident_bytes_peak}});
+    }
     renderer_->stream(*source_, budget_);
     const bool finished = source_->finished();
     const bool whole = finished && source_->error().empty() && renderer_->pendingPoints() == 0;

@@ -52,6 +52,7 @@ class SourceStream {
     std::string error_;
     long loaded_since_frame_ = -1;
     bool centre_changed_ = false, centre_final_ = false;
+    bool log_nodes_ = false;  // "first node resident" logged
 };
 
 }  // namespace viewer
