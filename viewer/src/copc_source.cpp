@@ -5,7 +5,6 @@
 #include <viewer/node_selection.hpp>
 
 #include <core/error.hpp>
-#include <io/cloud_reader.hpp>
 #include <io/copc.hpp>
 #include <platform/safe_file.hpp>
 
@@ -53,7 +52,7 @@ class CopcTreeNode final : public PointNode {
     std::shared_ptr<const NodePoints> points_;
     std::size_t bytes = 0;  // while resident
     long last_wanted = -1;  // the selection round that last wanted it (LRU)
-    bool queued = false;    // in the worker's queue (guarded by the owner's mutex)
+    bool queued = false;    // queued, being decoded or not yet polled (owner's mutex)
     bool failed = false;    // its chunk did not decode
 };
 
@@ -70,11 +69,13 @@ struct CopcSource::Impl {
     long round = 0;  // select() calls
     SourceStats stats;
     bool settled = false;
+    bool fields_known = false;  // fields: from the first decoded node
     // Shared with the worker.
     struct Done {
         CopcTreeNode* node = nullptr;
         std::shared_ptr<NodePoints> points;  // null: failed
         std::string error;
+        core::CloudFields fields;
     };
     mutable std::mutex mutex;
     std::condition_variable wake;
@@ -110,14 +111,15 @@ struct CopcSource::Impl {
             wake.wait(lock, [&] { return stop || (!queue.empty() && done.size() < kMaxWaiting); });
             if (stop) return;
             CopcTreeNode* n = queue.front();
-            queue.pop_front();
-            n->queued = false;
+            queue.pop_front();  // queued stays set until poll() takes the result
             busy = true;
             const io::CopcKey key = n->key_;
             lock.unlock();
-            Done d{n, nullptr, {}};
+            Done d;
+            d.node = n;
             try {
                 core::PointCloud cloud = reader->readNode(key);
+                d.fields = cloud.fields;
                 auto points = std::make_shared<NodePoints>();
                 points->points = std::move(cloud.points);
                 points->cells = buildLodOrder(points->points);
@@ -160,12 +162,7 @@ CopcSource::CopcSource(const std::filesystem::path& file, const CopcSourceOption
     m.options = options;
     m.file = file.string();
     m.reader = std::make_unique<io::CopcReader>(file);
-    {
-        // The local frame every node's points come in (the whole file's header decides it).
-        const io::CloudReader header(file);
-        m.origin = header.origin();
-        m.fields = header.fields();
-    }
+    m.origin = m.reader->origin();  // every node's points come in this frame
     const io::CopcInfo& info = m.reader->info();
     const glm::dvec3 centre(info.center_m[0], info.center_m[1], info.center_m[2]);
     std::map<io::CopcKey, CopcTreeNode*> by_key;
@@ -214,14 +211,14 @@ void CopcSource::select(const SourceView& view) {
     m.stats.wanted_points = sel.points;
     {
         // The queue follows the latest choice, most important first; what it no longer
-        // wants is not decoded.
+        // wants is not decoded (a node being decoded or waiting for poll() stays so).
         std::lock_guard lock(m.mutex);
         for (CopcTreeNode* n : m.queue) n->queued = false;
         m.queue.clear();
         for (PointNode* p : sel.wanted) {
             auto* n = static_cast<CopcTreeNode*>(p);
             n->last_wanted = m.round;
-            if (!n->resident() && !n->failed) {
+            if (!n->resident() && !n->failed && !n->queued) {
                 n->queued = true;
                 m.queue.push_back(n);
             }
@@ -237,6 +234,7 @@ std::size_t CopcSource::poll() {
     {
         std::lock_guard lock(m.mutex);
         arrived.swap(m.done);
+        for (Impl::Done& d : arrived) d.node->queued = false;
         idle = m.queue.empty() && !m.busy;
     }
     if (!arrived.empty()) m.wake.notify_one();
@@ -249,6 +247,10 @@ std::size_t CopcSource::poll() {
             if (!m.options.quiet)
                 platform::printMessage("warning", "view: " + d.error + " (node skipped, the rest is drawn)");
             continue;
+        }
+        if (!m.fields_known) {  // the file's fields, as the first decoded node shows them
+            m.fields = d.fields;
+            m.fields_known = true;
         }
         if (n->points_) continue;  // decoded twice (asked again meanwhile): keep the first
         const std::size_t bytes = residentBytes(*d.points);

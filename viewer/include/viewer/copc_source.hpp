@@ -37,6 +37,7 @@ class CopcSource final : public PointSource {
     std::size_t poll() override;
     std::span<PointNode* const> roots() const override;
     glm::dvec3 origin() const override;
+    /// The file's fields as the first decoded node gives them (the defaults until then).
     core::CloudFields fields() const override;
     /// Every node is known from the start; this turns true once the first selection's
     /// nodes have all been decoded (or skipped), the "loaded" mark of the frame loop.
