@@ -3,7 +3,8 @@
 # (Xvfb, desktop mode), asserting on the start-up line, the run log and the screenshot:
 #   1. `copc_tool many` (73 nodes) viewed with a cache far smaller than the file: the
 #      start-up line says COPC, nodes are decoded and drawn, the resident bytes never
-#      exceed the cache, not every node fits, and the mirror shows points.
+#      exceed the cache, not every node fits, the pick index over the resident nodes is
+#      built, and the mirror shows points.
 #   2. `copc_tool bad` (node 1-1-1-1's chunk garbled): one warning line names that node
 #      (it is not decoded again), the run log counts one failed node, and other nodes are
 #      still loaded and drawn.
@@ -57,6 +58,7 @@ check(0 < src.get("nodes_loaded", 0) < 73, f"nodes_loaded {src.get('nodes_loaded
 check(0 < src.get("resident_bytes_peak", 0) <= src.get("cache_bytes", 0),
       f"resident_bytes_peak {src.get('resident_bytes_peak')} over cache_bytes {src.get('cache_bytes')}")
 check("first node resident" in log["events"], f"events: {log['events']}")
+check(any(e.startswith("picking ready: ") for e in log["events"]), f"no pick index: {log['events']}")
 drawn = [f["points_drawn"] for f in log["frames"]]
 check(max(drawn) > 0, f"no points drawn: {drawn}")
 check(lit_pixels(f"{work}/many.png") > 50, "the mirror shows no points")

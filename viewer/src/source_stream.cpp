@@ -2,6 +2,7 @@
 #include "source_stream.hpp"
 
 #include <chrono>
+#include <utility>
 #include <vector>
 
 namespace viewer {
@@ -13,6 +14,8 @@ void SourceStream::start(std::size_t upload_points_per_frame) {
 
 void SourceStream::reset(PointSource& source) {
     building_ = {};  // waits for a build in flight
+    rebuilding_ = {};
+    node_picks_.clear();
     source_ = &source;
     renderer_ = std::make_unique<PointRenderer>();
     picks_.reset();
@@ -47,7 +50,8 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
     renderer_->stream(*source_, budget_);
     const bool finished = source_->finished();
     const bool whole = finished && source_->error().empty() && renderer_->pendingPoints() == 0;
-    if (!building_.valid() && !picks_ && whole && source_->pointsArrived() > 0) {
+    const bool chooses = source_->stats().has_value();  // see below
+    if (!chooses && !building_.valid() && !picks_ && whole && source_->pointsArrived() > 0) {
         std::vector<std::shared_ptr<const NodePoints>> nodes;
         for (const PointNode* node : allNodes(*source_))
             if (auto points = node->points(); points && !points->points.empty()) nodes.push_back(std::move(points));
@@ -61,6 +65,41 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
         picks_ = building_.get();
         ev.picks_ready = true;
         log.event("picking ready: " + std::to_string(picks_->size()) + " points indexed");
+    }
+    // A source that chooses its nodes changes what is resident as the view moves: the
+    // picks follow it once the renderer has caught up (the pointer searches what is drawn).
+    if (chooses) {
+        if (rebuilding_.valid() && rebuilding_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+            NodePicks r = rebuilding_.get();
+            if (!picks_)
+                log.event("picking ready: " + std::to_string(r.set->size()) + " points indexed in " +
+                          std::to_string(r.set->nodes()) + " resident nodes");
+            picks_ = std::move(r.set);
+            node_picks_ = std::move(r.by_node);
+            ev.picks_ready = true;
+        }
+        if (!rebuilding_.valid() && renderer_->pendingPoints() == 0) {
+            std::vector<std::pair<const PointNode*, std::shared_ptr<const NodePoints>>> resident;
+            bool same = true;
+            for (const PointNode* node : allNodes(*source_))
+                if (auto points = node->points(); points && !points->points.empty()) {
+                    same = same && node_picks_.contains(node);
+                    resident.emplace_back(node, std::move(points));
+                }
+            if (!same || resident.size() != node_picks_.size())
+                rebuilding_ = std::async(std::launch::async, [resident = std::move(resident), old = node_picks_] {
+                    NodePicks r;
+                    auto set = std::make_shared<PickSet>();
+                    for (const auto& [node, points] : resident) {
+                        const auto it = old.find(node);
+                        auto index = it != old.end() ? it->second : std::make_shared<const PickIndex>(points->points);
+                        set->add(index);
+                        r.by_node.emplace(node, std::move(index));
+                    }
+                    r.set = std::move(set);
+                    return r;
+                });
+        }
     }
     if (finished && !source_->error().empty() && error_.empty()) {
         error_ = source_->error();
