@@ -1,6 +1,8 @@
 // app/src/cmd_view.cpp: `ladarvr view [CLOUD | --scene S]`, the immersive viewer (paper §IV-A).
 //
-// A cloud file is streamed by the viewer's own loader thread. With no file (or --scene) the
+// A COPC file (a LAZ whose first VLR is COPC's info record) is read node by node by
+// viewer::CopcSource within --cache-mb; any other cloud file is streamed whole by the
+// viewer's own loader thread. With no file (or --scene) the
 // cloud is generated here, in memory, by sim::generateCloud on a worker thread and handed to
 // the viewer through viewer::CloudFeed: the app links sim, the viewer never links Embree.
 #include "cli_common.hpp"
@@ -14,16 +16,21 @@
 #include <platform/cleanup.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
+#include <viewer/copc_source.hpp>
 #include <viewer/viewer.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <array>
+#include <cstring>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
+#include <system_error>
 #include <thread>
 
 namespace app {
@@ -45,8 +52,21 @@ struct ViewArgs {
     std::string candidates;
     bool no_snap_turn = false, no_vignette = false, no_headset_panel = false;
     double memory_mb = 0.0;
+    double cache_mb = 512.0;
     sim::OrbitOptions orbit;  // only for the generated cloud
 };
+
+/// True when `file` starts as a COPC file does: a LAS header whose first VLR (right after
+/// the 375-byte LAS 1.4 header) is COPC's info record (user "copc", record 1). Reads 395
+/// bytes; a shorter or unreadable file is not COPC (the loader then says what is wrong).
+bool startsAsCopc(const std::filesystem::path& file) {
+    std::array<char, 395> head{};
+    std::ifstream in(file, std::ios::binary);
+    if (!in.read(head.data(), head.size())) return false;
+    const char user[16] = "copc";
+    return std::memcmp(head.data(), "LASF", 4) == 0 && std::memcmp(head.data() + 377, user, 16) == 0 &&
+           static_cast<unsigned char>(head[393]) == 1 && head[394] == 0;
+}
 
 int runView(const ViewArgs& a) {
     const auto start = std::chrono::steady_clock::now();
@@ -89,7 +109,25 @@ int runView(const ViewArgs& a) {
     o.screenshot = a.screenshot;
     o.log_json = a.log_json;
     viewer::validate(o);
+    if (!(a.cache_mb >= 1.0 / 64.0 && a.cache_mb <= 1048576.0))
+        throw core::Error("view: --cache-mb " + std::to_string(a.cache_mb) + " is not in [1/64, 1048576]");
     // The cloud first: remembered as an input, so neither output may replace it.
+    if (!a.cloud.empty()) platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
+    std::error_code ec;
+    if (!a.cloud.empty() && std::filesystem::is_regular_file(a.cloud, ec) && startsAsCopc(a.cloud)) {
+        prepareOutputFile(o.screenshot, "view: --screenshot");
+        prepareOutputFile(o.log_json, "view: --log-json");
+        viewer::CopcSourceOptions copc_options;
+        copc_options.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);
+        viewer::CopcSource source(a.cloud, copc_options);
+        std::fprintf(stderr,
+                     "ladarvr: view: %s is COPC: %zu nodes, %zu points, read node by node within a %.6g MB cache\n",
+                     core::printable(a.cloud, 400).c_str(), source.nodeCount(), source.totalPoints(), a.cache_mb);
+        if (o.timeout_s > 0.0)
+            o.timeout_s = std::max(
+                0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        return viewer::runViewer(o, source);
+    }
     if (!a.cloud.empty()) {
         platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
         // Held whole: the points as read (40 bytes), their GPU chunks (20) and the pick
@@ -110,6 +148,8 @@ int runView(const ViewArgs& a) {
     std::thread generator;
     if (!a.cloud.empty()) {
         const std::filesystem::path path(a.cloud);
+        std::fprintf(stderr, "ladarvr: view: %s is not COPC: streamed and held whole\n",
+                     core::printable(a.cloud, 400).c_str());
         feed.startFileLoader(path);
     } else {
         // Load (and validate) the scene now, so a bad scene fails before a window opens.
@@ -153,6 +193,9 @@ void registerView(CLI::App& cli) {
     cmd->add_option("cloud", args->cloud, "PCD, PLY, LAS or LAZ cloud (default: generate the bundled demo scene)");
     cmd->add_option("--scene", args->scene, "generate this scene's cloud and view it");
     addCloudMemoryOption(*cmd, args->memory_mb, "a cloud file");
+    cmd->add_option("--cache-mb", args->cache_mb,
+                    "COPC files: MiB of decoded nodes held in RAM at most (least recently wanted dropped first)")
+        ->capture_default_str();
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
         ->capture_default_str();

@@ -53,6 +53,7 @@ TEST_CASE("copc reader: info, nodes and every node's points") {
         REQUIRE(std::size_t(it->point_count) == want.points.size());
         const core::PointCloud cloud = reader.readNode(want.key);
         REQUIRE(cloud.points.size() == want.points.size());
+        CHECK(cloud.origin == reader.origin());  // known before any node is read
         CHECK(cloud.fields.rgb);
         for (std::size_t i = 0; i < want.points.size(); ++i) {
             const copc_test::RawPoint& r = want.points[i];

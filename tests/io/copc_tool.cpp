@@ -1,6 +1,8 @@
 // copc_tool: the COPC side of the tests in other languages.
 //   copc_tool make <out>   writes the hand-made valid COPC file (copc_test_file.hpp)
 //   copc_tool many <out>   the same with 73 nodes in one page
+//   copc_tool bad <out>    `many` with the chunk of node 1-1-1-1 overwritten by bytes
+//                          that do not decode (a corrupt node in an otherwise valid file)
 //   copc_tool dump <in>    what io::CopcReader reads, as one JSON object: the info, the
 //                          nodes and their point counts, and over all points the count,
 //                          the bounds and sums of the coordinates in whole millimetres and
@@ -24,8 +26,16 @@ int main(int argc, char** argv) {
             std::ofstream(argv[2], std::ios::binary) << copc_test::make({}, what == "many").bytes;
             return 0;
         }
+        if (what == "bad") {
+            copc_test::File f = copc_test::make({}, true);
+            for (const copc_test::Node& n : f.nodes)
+                if (n.key == io::CopcKey{1, 1, 1, 1})
+                    for (std::size_t i = 0; i < n.chunk_bytes; ++i) f.bytes[n.chunk_at + i] = char(0xA5 ^ (i * 7));
+            std::ofstream(argv[2], std::ios::binary) << f.bytes;
+            return 0;
+        }
         if (what != "dump") {
-            std::fprintf(stderr, "usage: copc_tool make OUT | many OUT | dump IN\n");
+            std::fprintf(stderr, "usage: copc_tool make OUT | many OUT | bad OUT | dump IN\n");
             return 2;
         }
         const io::CopcReader reader(argv[2]);

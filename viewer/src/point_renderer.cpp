@@ -164,13 +164,15 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
     plan_.assign(cells.size(), 0);
     planned_points_ = 0;
     plan_valid_ = true;
-    if (cells.empty() || eyes.empty()) return;
+    if (eyes.empty()) return;
     std::vector<render::Frustum> frusta;
     glm::dvec3 eye_mean(0.0);
     for (const EyeDraw& e : eyes) {
         frusta.push_back(render::Frustum::fromMatrix(e.projection * e.view));
         eye_mean += glm::dvec3(glm::inverse(e.view)[3]) / double(eyes.size());
     }
+    last_view_ = SourceView{cull ? frusta : std::vector<render::Frustum>{}, eye_mean, point_budget};
+    if (cells.empty()) return;
     std::vector<core::Bounds> boxes(cells.size());
     std::vector<std::size_t> sizes(cells.size());
     for (std::size_t i = 0; i < cells.size(); ++i) {

@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 #include <span>
@@ -80,6 +81,8 @@ class PointRenderer {
     void planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull = true);
     /// Points the last plan draws per eye at most (before each eye's own frustum test).
     std::size_t plannedPoints() const { return planned_points_; }
+    /// The eyes and budget of the last planFrame (a point source chooses its nodes by it).
+    const std::optional<SourceView>& lastView() const { return last_view_; }
     std::size_t cellCount() const { return chunks_.cells().size(); }
 
     /// Draws the cloud into `target` (cleared), then resolves it with eye-dome lighting (if
@@ -113,6 +116,7 @@ class PointRenderer {
     std::vector<std::size_t> plan_;                             // per cell: points to draw (planFrame)
     bool plan_valid_ = false, plan_cull_ = true;
     std::size_t planned_points_ = 0;
+    std::optional<SourceView> last_view_;
     std::deque<Pending> pending_;
     std::size_t pending_points_ = 0;
     float above_ground_max_m_ = 0.0f;  // highest height above ground uploaded (colour range)

@@ -1,7 +1,9 @@
 // viewer/src/source_stream.hpp: the frame loop's side of a point source: polls it once a
 // frame, streams what is resident to the GPU within the per-frame upload budget, builds
-// the per-node pick indexes on a worker thread once everything is on the GPU, and tracks
-// when the cloud is whole (for the orbit's centre and a script's loaded+N).
+// the per-node pick indexes on a worker thread once everything is on the GPU (and again,
+// reusing the indexes of nodes that stayed, whenever a source that chooses its nodes
+// changed what is resident), and tracks when the cloud is whole (for the orbit's centre
+// and a script's loaded+N).
 #pragma once
 #include "point_renderer.hpp"
 #include "run_log.hpp"
@@ -11,6 +13,7 @@
 
 #include <cstddef>
 #include <future>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -48,10 +51,19 @@ class SourceStream {
     PointSource* source_ = nullptr;
     std::unique_ptr<PointRenderer> renderer_;
     std::future<std::shared_ptr<const PickSet>> building_;
+    /// A source that chooses its nodes: the pick set over its resident nodes, one index per
+    /// node (kept while the node stays resident, so a rebuild indexes only the newcomers).
+    struct NodePicks {
+        std::shared_ptr<const PickSet> set;
+        std::map<const PointNode*, std::shared_ptr<const PickIndex>> by_node;
+    };
+    std::future<NodePicks> rebuilding_;
+    std::map<const PointNode*, std::shared_ptr<const PickIndex>> node_picks_;
     std::shared_ptr<const PickSet> picks_;
     std::string error_;
     long loaded_since_frame_ = -1;
     bool centre_changed_ = false, centre_final_ = false;
+    bool log_nodes_ = false;  // "first node resident" logged
 };
 
 }  // namespace viewer

@@ -101,9 +101,11 @@ TrialContext ViewerApp::trialContext() {
     return {frames_, stream_.source().origin(), &pointer_, &candidates_, stream_.picks().get()};
 }
 
-int ViewerApp::run(CloudFeed* feed) {
+int ViewerApp::run(CloudFeed* feed, PointSource* points) {
     if (trials_.study()) {
         beginTrial(0);
+    } else if (points) {
+        stream_.reset(*points);
     } else {
         plain_source_ = std::make_unique<CloudFeedSource>(*feed);
         stream_.reset(*plain_source_);
@@ -424,6 +426,12 @@ int runViewer(const ViewerOptions& options, CloudFeed& feed, std::string& log_js
     const int status = app.run(&feed);
     log_json = app.logJson();
     return status;
+}
+
+int runViewer(const ViewerOptions& options, PointSource& source) {
+    validate(options);
+    ViewerApp app(options, !options.log_json.empty(), nullptr, nullptr);
+    return app.run(nullptr, &source);
 }
 
 int runTrials(const ViewerOptions& options, TrialSource& source, TrialObserver& observer) {

@@ -39,8 +39,8 @@ class ViewerApp {
     /// `record_frames`: keep per-frame records in the log (for --log-json and benchmarks;
     /// an interactive session would otherwise grow it for nothing).
     ViewerApp(const ViewerOptions& options, bool record_frames, TrialSource* trials, TrialObserver* observer);
-    /// A plain run over `feed` (no trial source), or the trials of the source.
-    int run(CloudFeed* feed);
+    /// A plain run over `feed` or `points` (no trial source), or the trials of the source.
+    int run(CloudFeed* feed, PointSource* points = nullptr);
     std::string logJson() const { return log_.json().dump(); }
 
   private:

@@ -75,6 +75,9 @@ class CopcReader {
     const CopcInfo& info() const;
     /// Every node with points, in key order.
     const std::vector<CopcNode>& nodes() const;
+    /// The local frame readNode's points come in (the LAS reader's: whole metres near the
+    /// middle of the header's bounds), known without decoding a node.
+    glm::dvec3 origin() const;
     /// The points of one node, as the LAS reader gives them (world coordinates through the
     /// cloud's origin, roles from the classes, view from the point source id).
     core::PointCloud readNode(const CopcKey& key) const;

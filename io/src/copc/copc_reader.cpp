@@ -7,6 +7,7 @@
 #include <io/cloud_reader.hpp>
 #include <io/copc.hpp>
 
+#include "../cloud_decode.hpp"
 #include "copc_parse.hpp"
 
 #include <core/error.hpp>
@@ -51,6 +52,8 @@ CopcReader::~CopcReader() = default;
 const CopcInfo& CopcReader::info() const { return impl_->layout.info; }
 
 const std::vector<CopcNode>& CopcReader::nodes() const { return impl_->layout.nodes; }
+
+glm::dvec3 CopcReader::origin() const { return detail::shiftFor(0.5 * (impl_->layout.min + impl_->layout.max)); }
 
 core::PointCloud CopcReader::readNode(const CopcKey& key) const {
     const std::vector<CopcNode>& nodes = impl_->layout.nodes;

@@ -7,6 +7,9 @@
 // per node, so a new kind of source (an octree file read node by node) adds a class here
 // and changes neither the loop nor the renderer.
 //
+// A source that chooses which nodes to hold (CopcSource, copc_source.hpp) is told the last
+// frame's view through select(); a stream ignores it.
+//
 // CloudFeedSource is the first one: a streamed file or in-memory cloud (cloud_feed.hpp),
 // each chunk a leaf under no parent, resident from its arrival (the LOD order of lod.hpp
 // already built).
@@ -14,10 +17,13 @@
 #include <core/point_cloud.hpp>
 #include <viewer/lod.hpp>
 
+#include <render/orbit_camera.hpp>
+
 #include <glm/vec3.hpp>
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -50,6 +56,28 @@ class PointNode {
     virtual std::shared_ptr<const NodePoints> points() const = 0;
 };
 
+/// What the last frame drew from: the union of the eyes' frusta, the eyes' mean position
+/// (local frame) and the point budget per eye (0 = unlimited).
+struct SourceView {
+    std::vector<render::Frustum> frusta;
+    glm::dvec3 eye_local{0.0};
+    std::size_t point_budget = 0;
+};
+
+/// The memory a source that holds nodes by choice reports (the run log's "source").
+struct SourceStats {
+    std::string kind;                // "copc"
+    std::size_t nodes = 0;           // in the tree
+    std::size_t nodes_resident = 0;  // now
+    std::size_t nodes_loaded = 0;    // decoded so far
+    std::size_t nodes_evicted = 0;   // dropped so far
+    std::size_t nodes_failed = 0;    // unreadable, skipped
+    std::size_t wanted_points = 0;   // by the last selection
+    std::size_t cache_bytes = 0;     // the bound on resident bytes
+    std::size_t resident_bytes = 0;  // now
+    std::size_t resident_bytes_peak = 0;
+};
+
 class PointSource {
   public:
     virtual ~PointSource() = default;
@@ -67,6 +95,11 @@ class PointSource {
     virtual std::string error() const = 0;
     /// Points that arrived so far, taken by poll() or not.
     virtual std::size_t pointsArrived() const = 0;
+    /// Chooses what to hold for `view` (the frame loop calls it before poll()); a source
+    /// that holds everything it has ignores it. Never throws.
+    virtual void select(const SourceView& view) { (void)view; }
+    /// The cache's figures, for a source that has one.
+    virtual std::optional<SourceStats> stats() const { return std::nullopt; }
 };
 
 /// Every node under `source`'s roots, parents before their children.

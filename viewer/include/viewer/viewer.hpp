@@ -9,6 +9,7 @@
 #include <viewer/camera_rig.hpp>
 #include <viewer/cloud_feed.hpp>
 #include <viewer/pick_index.hpp>
+#include <viewer/point_source.hpp>
 #include <viewer/script.hpp>
 #include <viewer/trial.hpp>
 
@@ -91,6 +92,10 @@ void validate(const ViewerOptions& o);
 int runViewer(const ViewerOptions& options, CloudFeed& feed);
 /// runViewer that also hands back the run log (the --log-json document) in `log_json`.
 int runViewer(const ViewerOptions& options, CloudFeed& feed, std::string& log_json);
+
+/// runViewer over a point source that holds nodes by choice (a COPC file, copc_source.hpp)
+/// instead of a streamed feed.
+int runViewer(const ViewerOptions& options, PointSource& source);
 
 /// Runs `source`'s trials one after another in one window and one XR session
 /// (viewer/trial.hpp: a ready screen per trial, automatic mode at its start, ends on
