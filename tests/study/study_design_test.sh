@@ -72,17 +72,21 @@ case "$scenario" in
     ;;
   resume)
     run P01 "$work/whole" "$work/whole.log.json" 2>"$work/whole.err" || { echo "FAIL: uninterrupted run"; cat "$work/whole.err"; exit 1; }
+    # The killed run's script starts trial 4 and gives it nothing more to do, so trial 4 waits
+    # for its operator; the run is killed as soon as it says that trial started (stderr read
+    # line by line through a FIFO: no polling, no sleep).
+    head -n 13 "$work/script.txt" >"$work/script_to_4.txt"
+    rm -f "$work/killed.fifo" "$work/killed.err"
+    mkfifo "$work/killed.fifo"
     cat >"$work/kill.sh" <<RUN
 set -u
 "$bin" study "$work/design.json" --participant P01 --out "$work/resumed" --no-xr --width 320 --height 180 \
-  --timeout 200 --script "$work/script.txt" --no-metric 2>"$work/killed.err" &
+  --timeout 200 --script "$work/script_to_4.txt" --no-metric 2>"$work/killed.fifo" &
 viewer=\$!
-for _ in \$(seq 1800); do
-  grep -q "study: trial 4 started" "$work/killed.err" && break
-  kill -0 \$viewer 2>/dev/null || break
-  sleep 0.1
-done
-kill -KILL \$viewer
+while IFS= read -r line; do
+  printf '%s\\n' "\$line" >>"$work/killed.err"
+  case "\$line" in *"study: trial 4 started"*) kill -KILL \$viewer; break ;; esac
+done <"$work/killed.fifo"
 rc=0
 wait \$viewer || rc=\$?
 echo "exit \$rc" >"$work/rc"
