@@ -13,6 +13,7 @@
 #include <platform/atomic_file.hpp>
 #include <platform/progress.hpp>
 #include <platform/safe_file.hpp>
+#include <sim/memory_budget.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -102,8 +103,7 @@ void run(IndexCli& cli) {
     if (io::formatForPath(out, "index: --out") != io::CloudFormat::Copc)
         throw core::Error("index: --out " + cli.out + ": allowed a name ending in .copc.laz");
     if (cli.threads < 0 || cli.threads > 1024) throw core::Error("index: --threads: allowed 0 (all cores) to 1024");
-    if (!(std::isfinite(cli.memory_mb) && cli.memory_mb >= 1.0 && cli.memory_mb <= 1048576.0))
-        throw core::Error("index: --memory-mb = " + core::shownNumber(cli.memory_mb) + ": allowed [1, 1048576]");
+    const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "index");
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     const int threads = cli.threads == 0 ? cores : cli.threads;
 
@@ -132,7 +132,6 @@ void run(IndexCli& cli) {
 
     // Plan-or-refuse: the reader's chunk, and the writer within the rest (past it, it
     // spills the points to scratch files and builds the octree a part at a time).
-    const std::uint64_t budget = std::uint64_t(cli.memory_mb * 1048576.0);
     const std::uint64_t reading = io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
     const std::uint64_t least = io::copcMinimumBytes(threads - 1) + reading;
     if (budget < least)
