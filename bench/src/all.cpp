@@ -75,6 +75,7 @@ std::string fuzzParser(const std::string& target) {
     if (target == "fuzz_cloud_reader") return "`io::readCloudData` (PCD ascii/binary/compressed, PLY)";
     if (target == "fuzz_view_script") return "`viewer::parseScript` (the viewer's --script files)";
     if (target == "fuzz_las_reader") return "`io::CloudReader` on LAS/LAZ (our checks, then LASzip)";
+    if (target == "fuzz_copc_reader") return "`io::checkCopc` and `io::CopcReader::readNode` on COPC";
     return "?";
 }
 

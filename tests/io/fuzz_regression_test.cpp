@@ -5,6 +5,7 @@
 #include <test_files.hpp>
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
+#include <io/copc.hpp>
 #include <io/scene_file.hpp>
 
 #include <doctest/doctest.h>
@@ -100,6 +101,27 @@ TEST_CASE("every kept fuzz input and seed: a result or a one-line core::Error") 
     CHECK(scenes >= 5);
     // Every cloud seed and two scene seeds are valid input (they seed the fuzzer's corpus).
     CHECK(accepted >= 13);
+}
+
+TEST_CASE("every COPC seed is valid COPC that reads node by node") {
+    int seeds = 0;
+    for (const auto& entry : fs::directory_iterator(kSeeds / "copc")) {
+        const fs::path& p = entry.path();
+        INFO(p.filename().string());
+        const std::vector<io::CopcFinding> findings = io::checkCopc(p);
+        for (const io::CopcFinding& f : findings) INFO(f.rule << ": " << f.message);
+        CHECK(findings.empty());
+        io::CopcReader reader(p);
+        std::size_t points = 0;
+        for (const io::CopcNode& node : reader.nodes()) {
+            const core::PointCloud cloud = reader.readNode(node.key);
+            CHECK(cloud.points.size() == std::size_t(node.point_count));
+            points += cloud.points.size();
+        }
+        CHECK(points > 0);
+        ++seeds;
+    }
+    CHECK(seeds >= 3);
 }
 
 TEST_CASE("shown bytes: a long binary token is cut, escaped and marked") {
