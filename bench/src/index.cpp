@@ -6,7 +6,7 @@
 // A synthetic binary PCD of --points points (a terrain with buildings and a dense cluster,
 // seeded) is written once; each repeat then runs in a child process (fork) that reads it
 // and writes COPC, or plain LAZ, as `ladarvr index` does, so that the child's peak RSS is
-// that of one conversion. Reports points per second (median [min..max] over --repeats, after
+// that of one conversion; COPC is written within --memory-mb as the command does. Reports points per second (median [min..max] over --repeats, after
 // one warm-up of each), the children's peak RSS, and COPC bytes / LAZ bytes. Rewrites the
 // section "## Index (ladarvr bench index)" of BENCHMARKS.md.
 #include "common.hpp"
@@ -16,6 +16,7 @@
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
 #include <io/copc_writer.hpp>
+#include <sim/memory_budget.hpp>
 
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -40,7 +41,8 @@ namespace fs = std::filesystem;
 struct BenchIndexCli {
     double points = 1e7;
     int repeats = 3;
-    int threads = 0;  // 0 = the cores
+    int threads = 0;            // 0 = the cores
+    double memory_mb = 1024.0;  // as `ladarvr index --memory-mb`
     bool quick = false;
     std::string tmp;
     std::string md = "BENCHMARKS.md";
@@ -79,12 +81,16 @@ void writeInput(const fs::path& path, std::size_t n) {
     w.commit();
 }
 
-// What `ladarvr index` does, into `format`.
-void convert(const fs::path& in, const fs::path& out, io::CloudFormat format, int threads) {
+// What `ladarvr index` does, into `format`: COPC within `budget` bytes, the reader's chunk
+// included, as the command plans it.
+void convert(const fs::path& in, const fs::path& out, io::CloudFormat format, int threads, std::uint64_t budget) {
     io::CloudReader reader(in);
     io::LasOptions las;
     las.threads = threads - 1;
-    io::CloudWriter writer(out, format, reader.origin(), reader.fields(), las);
+    io::CopcOptions copc;
+    copc.memory_bytes = budget - io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
+    io::CloudWriter writer(out, format, reader.origin(), reader.fields(), las,
+                           format == io::CloudFormat::Copc ? &copc : nullptr);
     std::vector<core::CloudPoint> chunk;
     while (reader.nextChunk(chunk)) {
         writer.append(chunk);
@@ -94,7 +100,7 @@ void convert(const fs::path& in, const fs::path& out, io::CloudFormat format, in
 }
 
 // One conversion in a child process: its wall time and peak RSS.
-Run measure(const fs::path& in, const fs::path& out, io::CloudFormat format, int threads) {
+Run measure(const fs::path& in, const fs::path& out, io::CloudFormat format, int threads, std::uint64_t budget) {
     std::fflush(nullptr);
     const auto t0 = Clock::now();
     const pid_t pid = ::fork();
@@ -102,7 +108,7 @@ Run measure(const fs::path& in, const fs::path& out, io::CloudFormat format, int
     if (pid == 0) {
         int status = 0;
         try {
-            convert(in, out, format, threads);
+            convert(in, out, format, threads, budget);
         } catch (const std::exception& e) {
             std::fprintf(stderr, "bench index: %s\n", e.what());
             status = 1;
@@ -126,6 +132,13 @@ void run(BenchIndexCli& cli) {
     if (cli.repeats < 1) throw core::Error("bench index: --repeats: allowed >= 1");
     const std::size_t n = std::size_t(cli.points);
     const int threads = cli.threads > 0 ? cli.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "bench index");
+    const std::uint64_t least =
+        io::copcMinimumBytes(threads - 1) + io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
+    if (budget < least)
+        throw core::Error("bench index: --memory-mb " + core::shownNumber(cli.memory_mb) + " is below the " +
+                          std::to_string((least >> 20) + 1) + " MiB indexing needs with " + std::to_string(threads) +
+                          " threads");
     const fs::path dir = (cli.tmp.empty() ? fs::temp_directory_path() : fs::path(cli.tmp)) /
                          ("ladarvr-bench-index-" + std::to_string(::getpid()));
     fs::remove_all(dir);
@@ -144,8 +157,8 @@ void run(BenchIndexCli& cli) {
     double copc_rss = 0, laz_rss = 0;
     const int runs = cli.quick ? 1 : cli.repeats + 1;
     for (int r = 0; r < runs; ++r) {  // r = 0: the warm-up (measured in a quick run)
-        const Run c = measure(in, copc, io::CloudFormat::Copc, threads);
-        const Run l = measure(in, laz, io::CloudFormat::Laz, threads);
+        const Run c = measure(in, copc, io::CloudFormat::Copc, threads, budget);
+        const Run l = measure(in, laz, io::CloudFormat::Laz, threads, budget);
         std::fprintf(stderr, "bench index: %s copc %.2f s (%.0f MiB), laz %.2f s (%.0f MiB)\n",
                      r == 0 && !cli.quick ? "warm-up" : ("repeat " + std::to_string(r)).c_str(), c.seconds, c.rss_mib,
                      l.seconds, l.rss_mib);
@@ -160,8 +173,9 @@ void run(BenchIndexCli& cli) {
     std::ostringstream s;
     s << "## Index (ladarvr bench index)\n\n"
       << "`./ladarvr bench index --points " << n << " --repeats " << cli.repeats << "` on " << cpuName() << ", "
-      << threads << " threads, " << utcNow() << ". A binary PCD of synthetic terrain to COPC (what `ladarvr index` "
-      << "does) against the same points to plain LAZ in the same run; each conversion in its own process.\n\n"
+      << threads << " threads, --memory-mb " << core::shownNumber(cli.memory_mb) << ", " << utcNow()
+      << ". A binary PCD of synthetic terrain to COPC (what `ladarvr index` does, within the memory bound) against "
+      << "the same points to plain LAZ in the same run; each conversion in its own process.\n\n"
       << "| output | M points/s | peak RSS MiB | bytes |\n|---|---:|---:|---:|\n"
       << "| COPC | " << fmtSpread("%.2f", {cs.min / 1e6, cs.median / 1e6, cs.max / 1e6, cs.n}) << " | "
       << fmt("%.0f", copc_rss) << " | " << fmt("%.0f", copc_bytes) << " |\n"
@@ -182,6 +196,8 @@ void registerIndex(CLI::App& parent) {
     c->add_option("--points", state->points, "points of the synthetic cloud")->capture_default_str();
     c->add_option("--repeats", state->repeats, "measured runs of each, after one warm-up")->capture_default_str();
     c->add_option("--threads", state->threads, "threads, 0 = the cores")->capture_default_str();
+    c->add_option("--memory-mb", state->memory_mb, "the COPC writer's memory bound, as `ladarvr index --memory-mb`")
+        ->capture_default_str();
     c->add_flag("--quick", state->quick, "a smoke run: 200000 points, one run, BENCHMARKS.md left alone");
     c->add_option("--tmp", state->tmp, "folder for the input and outputs (default: the system's temporary folder)");
     c->add_option("--md", state->md, "markdown file whose index section is rewritten")->capture_default_str();
