@@ -609,17 +609,22 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
                                (st.streamed ? s.plan.colour_chunk * sizeof(core::CloudPoint) : fused_bytes);
     las_options.memory_bytes =
         std::max(s.plan.writer_bytes, s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held));
+    io::CopcOptions copc;
     if (format == io::CloudFormat::Copc) {
-        // The COPC writer holds every point until it has built the octree: refused up front
-        // when the most points the rays can give would not fit beside what the run holds.
-        const std::uint64_t need = held + s.hits_bound * io::copcBytesPerPoint() + io::copcFixedBytes(s.plan.threads);
-        if (need > s.options.memory_budget_bytes)
-            throw core::Error("generate: COPC output holds the cloud in memory to build its octree: up to " +
-                              std::to_string(s.hits_bound) + " points need " + std::to_string(need >> 20) +
-                              " MiB, more than --memory-mb " + std::to_string(s.options.memory_budget_bytes >> 20) +
-                              "; raise --memory-mb, or write .laz and convert it with 'ladarvr index'");
+        // The COPC writer holds the points until it has built the octree, within what the
+        // run leaves it; past that it spills them to scratch files beside the output and
+        // builds the octree a part at a time (the same file).
+        const std::uint64_t room = s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held);
+        const std::uint64_t least = io::copcMinimumBytes(s.plan.threads);
+        if (room < least)
+            throw core::Error("generate: COPC output needs " + std::to_string((least >> 20) + 1) + " MiB beside the " +
+                              std::to_string(held >> 20) + " MiB the run holds, more than --memory-mb " +
+                              std::to_string(s.options.memory_budget_bytes >> 20) +
+                              " leaves; raise --memory-mb, or write .laz and convert it with 'ladarvr index'");
+        copc.memory_bytes = room;
     }
-    io::CloudWriter writer(out, format, s.scene.origin, fields, las_options);
+    io::CloudWriter writer(out, format, s.scene.origin, fields, las_options,
+                           format == io::CloudFormat::Copc ? &copc : nullptr);
     Workers pool(s.plan.threads);
     if (!st.streamed) {
         std::vector<core::CloudPoint> points;

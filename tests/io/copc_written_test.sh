@@ -1,7 +1,8 @@
 #!/bin/sh
 # copc_written_test.sh LADARVR COPC_TOOL NPM_DIR SCRATCH: the COPC files our writer makes
-# (generate --out X.copc.laz, index from memory, index past its memory bound) pass
-# `index --check` (the COPC rules, io::checkCopc) and are read by copc.js, a real client,
+# (generate --out X.copc.laz in memory and past its memory bound, index from memory, index
+# past its memory bound) pass `index --check` (the COPC rules, io::checkCopc) and are read
+# by copc.js, a real client,
 # exactly as io::CopcReader reads them (copcjs_test.sh). A copy with one chunk's bytes
 # broken fails the check with a finding line on stdout and exit 1.
 set -eu
@@ -23,6 +24,13 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 "$bin" index "$dir/plain.pcd" --out "$dir/spill.copc.laz" --memory-mb 120 --threads 1 2>"$dir/spill.log" ||
     fail "index past its bound: $(cat "$dir/spill.log")"
 cmp -s "$dir/mem.copc.laz" "$dir/spill.copc.laz" || fail "index past its memory bound wrote another file"
+# generate to COPC past its memory bound spills too (the octree's upper levels streamed
+# from a scratch file) and writes the file it writes in memory.
+"$bin" generate --xres 128 --yres 128 --views 100 --threads 1 --out "$dir/genmem.copc.laz" 2>"$dir/genmem.log" ||
+    fail "generate to COPC in memory: $(cat "$dir/genmem.log")"
+"$bin" generate --xres 128 --yres 128 --views 100 --threads 1 --memory-mb 160 --out "$dir/genspill.copc.laz" \
+    2>"$dir/genspill.log" || fail "generate to COPC past its bound: $(cat "$dir/genspill.log")"
+cmp -s "$dir/genmem.copc.laz" "$dir/genspill.copc.laz" || fail "generate past its memory bound wrote another file"
 
 for f in gen mem; do
     status=0

@@ -26,6 +26,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <span>
 #include <memory>
 #include <string>
 #include <vector>
@@ -212,12 +213,35 @@ struct Scratch {
         if (std::fflush(f) != 0 || ::fseeko(f, 0, SEEK_SET) != 0)
             throw Error("output: " + where + ": rewinding a scratch file failed: " + std::strerror(errno));
     }
+    // Reads `size` bytes at `offset` without moving the stream (which keeps appending);
+    // flush() first makes what was written readable.
+    void flush() {
+        if (std::fflush(f) != 0)
+            throw Error("output: " + where + ": writing a scratch file failed: " + std::strerror(errno));
+    }
+    void readAt(void* data, std::size_t size, std::uint64_t offset) {
+        auto* bytes = static_cast<char*>(data);
+        while (size > 0) {
+            const ssize_t n = ::pread(::fileno(f), bytes, size, off_t(offset));
+            if (n <= 0) throw Error("output: " + where + ": reading a scratch file back failed");
+            bytes += n;
+            size -= std::size_t(n);
+            offset += std::uint64_t(n);
+        }
+    }
 };
 
 // A point spilled to a bucket: the point and its index in the input.
 struct Spilled {
     CloudPoint point;
     std::uint64_t index;
+};
+
+// A point of an upper node's set, kept in a scratch file: the point, its index in the
+// input and its integer coordinates.
+struct Lifted {
+    Spilled spilled;
+    std::array<std::int32_t, 3> xyz;
 };
 
 class CopcWriter final : public FormatWriter {
@@ -355,7 +379,8 @@ class CopcWriter final : public FormatWriter {
         std::uint64_t count = 0;
         std::array<int, 8> child{-1, -1, -1, -1, -1, -1, -1, -1};  // into tops_
         int bucket = -1;                                           // a bucket's root, else -1
-        std::vector<std::uint32_t> points;                         // into lifted_, ascending
+        // Its points: a run of Lifted records in sets_, ascending by input index.
+        std::uint64_t set_at = 0, set_n = 0;
     };
     struct Bucket {
         int top = -1;  // its node in tops_
@@ -377,8 +402,10 @@ class CopcWriter final : public FormatWriter {
     //     one scratch file per bucket, in input order, each with its input index.
     //  3. Each bucket's subtree is built in memory as the in-memory writer builds it; its
     //     nodes below its root are compressed into a scratch file of chunks, and its
-    //     root's points are kept (lifted) for the top.
-    //  4. The top nodes sample their children's points bottom-up, as in memory.
+    //     root's points go to a scratch file of sets, in input order, for the top.
+    //  4. The top nodes sample their children's points bottom-up, as in memory, each
+    //     streaming its children's sets from the scratch file (so memory holds one node's
+    //     chosen points, never the whole top of the tree).
     //  5. The file is written in the in-memory writer's depth-first order, the buckets'
     //     chunks copied from the scratch file: the same file, byte for byte.
     void finishSpilled() {
@@ -391,7 +418,8 @@ class CopcWriter final : public FormatWriter {
             ++hist_level_;
         hist_level_ = std::min(cube.bits, hist_level_);
         const std::uint64_t hist_bytes = std::uint64_t(8) << (3 * hist_level_);
-        bucket_points_ = (room - std::min(room, hist_bytes)) / per_point / 2;  // half for the lifted points
+        // Half: the other half holds a top node's chosen points and the set buffers.
+        bucket_points_ = (room - std::min(room, hist_bytes)) / per_point / 2;
         if (bucket_points_ <= cap_)
             throw Error(record_.where() + ": a memory bound of " + std::to_string(copc_.memory_bytes >> 20) +
                         " MiB leaves no room for a node of " + std::to_string(cap_) + " points; allowed at least " +
@@ -399,9 +427,8 @@ class CopcWriter final : public FormatWriter {
         histogram(cube);
         makeTop(cube, CopcKey{});
         distribute(cube);
-        lifted_xyz_.clear();
+        sets_ = std::make_unique<Scratch>(dir_, where_);
         for (std::size_t b = 0; b < buckets_.size(); ++b) buildBucket(cube, b);
-        liftedOrder();
         Marks marks;
         sampleTop(cube, 0, marks);
         // The file, in depth-first order.
@@ -450,7 +477,7 @@ class CopcWriter final : public FormatWriter {
     int makeTop(const OctreeCube& cube, const CopcKey& key) {
         const std::uint64_t n = countOf(key);
         const int index = int(tops_.size());
-        tops_.push_back(Top{key, n, {-1, -1, -1, -1, -1, -1, -1, -1}, -1, {}});
+        tops_.push_back(Top{key, n, {-1, -1, -1, -1, -1, -1, -1, -1}, -1, 0, 0});
         if (n <= cap_ || key.level >= cube.bits || n <= bucket_points_) {
             tops_[std::size_t(index)].bucket = int(buckets_.size());
             buckets_.push_back(Bucket{index, nullptr, n, {}});
@@ -525,16 +552,18 @@ class CopcWriter final : public FormatWriter {
             n.key = {root.key.level + l, (root.key.x << l) + n.key.x, (root.key.y << l) + n.key.y,
                      (root.key.z << l) + n.key.z};
         }
-        // The root's points go up; the others are final.
-        for (std::uint32_t i : nodes.front().points) {
-            lifted_.push_back(pts[i]);
-            lifted_xyz_.push_back(xyz[i]);
+        // The root's points go up, in input order, to the sets file; the others are final.
+        {
+            std::vector<std::uint32_t> up = nodes.front().points;
+            std::sort(up.begin(), up.end(),
+                      [&](std::uint32_t a, std::uint32_t c) { return pts[a].index < pts[c].index; });
+            std::vector<Lifted> run;
+            run.reserve(up.size());
+            for (std::uint32_t i : up) run.push_back(Lifted{pts[i], xyz[i]});
+            root.set_at = sets_end_;
+            root.set_n = run.size();
+            appendSet(run);
         }
-        lifted_bucket_.insert(lifted_bucket_.end(), nodes.front().points.size(), int(b));
-        if (lifted_.size() * (sizeof(Spilled) + 12 + 8) > copc_.memory_bytes / 2)
-            throw Error(record_.where() +
-                        ": the octree's upper levels hold more points than half the memory bound "
-                        "lets them; raise it");
         nodes.erase(nodes.begin());
         if (!chunks_) chunks_ = std::make_unique<Scratch>(dir_, where_);
         compressNodes(
@@ -552,46 +581,132 @@ class CopcWriter final : public FormatWriter {
             });
     }
 
-    // Orders the lifted points by input index (the order the in-memory writer samples in)
-    // and gives each top node holding a bucket root its points.
-    void liftedOrder() {
-        std::vector<std::uint32_t> order(lifted_.size());
-        for (std::size_t i = 0; i < order.size(); ++i) order[i] = std::uint32_t(i);
-        std::sort(order.begin(), order.end(),
-                  [&](std::uint32_t a, std::uint32_t b) { return lifted_[a].index < lifted_[b].index; });
-        std::vector<Spilled> sorted(lifted_.size());
-        std::vector<std::array<std::int32_t, 3>> sorted_xyz(lifted_.size());
-        for (std::size_t i = 0; i < order.size(); ++i) {
-            sorted[i] = lifted_[order[i]];
-            sorted_xyz[i] = lifted_xyz_[order[i]];
-            tops_[std::size_t(buckets_[std::size_t(lifted_bucket_[order[i]])].top)].points.push_back(std::uint32_t(i));
-        }
-        lifted_ = std::move(sorted);
-        lifted_xyz_ = std::move(sorted_xyz);
-        std::vector<int>().swap(lifted_bucket_);
+    void appendSet(std::span<const Lifted> run) {
+        sets_->write(run.data(), run.size_bytes());
+        sets_end_ += run.size_bytes();
     }
 
+    // Streams the sets of `tops` (each ascending by input index) merged into one ascending
+    // sequence, a buffer of records per set, and hands each record to `fn` with the
+    // position of its set; stops early when `fn` returns false.
+    template <typename Fn>
+    void mergeSets(std::span<const int> tops, Fn fn) {
+        constexpr std::size_t kBuffer = 4096;
+        struct Cursor {
+            std::uint64_t at = 0, left = 0;
+            std::vector<Lifted> buf;
+            std::size_t next = 0;
+        };
+        std::vector<Cursor> cur(tops.size());
+        sets_->flush();
+        const auto fill = [&](Cursor& c) {
+            const std::size_t n = std::size_t(std::min<std::uint64_t>(kBuffer, c.left));
+            c.buf.resize(n);
+            sets_->readAt(c.buf.data(), n * sizeof(Lifted), c.at);
+            c.at += n * sizeof(Lifted);
+            c.left -= n;
+            c.next = 0;
+        };
+        for (std::size_t i = 0; i < tops.size(); ++i) {
+            const Top& t = tops_[std::size_t(tops[i])];
+            cur[i].at = t.set_at;
+            cur[i].left = t.set_n;
+            fill(cur[i]);
+        }
+        for (;;) {
+            std::size_t best = cur.size();
+            for (std::size_t i = 0; i < cur.size(); ++i) {
+                if (cur[i].next == cur[i].buf.size()) continue;
+                if (best == cur.size() ||
+                    cur[i].buf[cur[i].next].spilled.index < cur[best].buf[cur[best].next].spilled.index)
+                    best = i;
+            }
+            if (best == cur.size()) return;
+            Cursor& c = cur[best];
+            if (!fn(c.buf[c.next], best)) return;
+            if (++c.next == c.buf.size() && c.left > 0) fill(c);
+        }
+    }
+
+    // The grid sample of an upper node, as gridSample() makes it in memory, over its
+    // children's sets streamed from the scratch file: per occupied cell the point of the
+    // lowest input index, the grid coarsened until at most the cap are kept. The chosen
+    // points leave the children (whose sets are written anew) and become the node's set.
     void sampleTop(const OctreeCube& cube, int t, Marks& marks) {
-        Top& top = tops_[std::size_t(t)];
-        if (top.bucket >= 0) return;
-        std::vector<std::vector<std::uint32_t>*> children;
-        for (int c : top.child)
+        if (tops_[std::size_t(t)].bucket >= 0) return;
+        std::vector<int> children;
+        for (int c : tops_[std::size_t(t)].child)
             if (c >= 0) {
                 sampleTop(cube, c, marks);
-                children.push_back(&tops_[std::size_t(c)].points);
+                children.push_back(c);
             }
-        top.points = gridSample(lifted_xyz_, cube, top.key.level, children, cap_, marks);
+        const CopcKey key = tops_[std::size_t(t)].key;
+        const int node_bits = cube.bits - key.level;
+        constexpr std::int64_t kMask = (std::int64_t(1) << kGridBits) - 1;
+        std::vector<std::uint64_t> chosen;  // input indices, ascending
+        for (int shift = std::max(0, node_bits - kGridBits); shift <= node_bits; ++shift) {
+            marks.reset();
+            chosen.clear();
+            mergeSets(children, [&](const Lifted& p, std::size_t) {
+                std::size_t cell = 0;
+                for (std::size_t k = 0; k < 3; ++k)
+                    cell |= std::size_t(((std::int64_t(p.xyz[k]) - cube.corner[k]) >> shift) & kMask)
+                            << (kGridBits * k);
+                if (marks.cell[cell] == marks.generation) return true;
+                marks.cell[cell] = marks.generation;
+                chosen.push_back(p.spilled.index);
+                return chosen.size() <= cap_;  // past the cap this grid is too fine
+            });
+            if (chosen.size() <= cap_) break;
+        }
+        // Each child's set without the chosen points, then the node's own set.
+        std::vector<Lifted> mine;
+        mine.reserve(chosen.size());
+        std::vector<Lifted> rest;
+        for (int c : children) {
+            Top& child = tops_[std::size_t(c)];
+            const std::uint64_t at = sets_end_;
+            std::uint64_t kept = 0;
+            rest.clear();
+            const int one[1] = {c};
+            mergeSets(one, [&](const Lifted& p, std::size_t) {
+                if (std::binary_search(chosen.begin(), chosen.end(), p.spilled.index)) {
+                    mine.push_back(p);
+                } else {
+                    rest.push_back(p);
+                    ++kept;
+                    if (rest.size() == 4096) {
+                        appendSet(rest);
+                        rest.clear();
+                    }
+                }
+                return true;
+            });
+            appendSet(rest);
+            child.set_at = at;
+            child.set_n = kept;
+        }
+        std::sort(mine.begin(), mine.end(),
+                  [](const Lifted& a, const Lifted& b) { return a.spilled.index < b.spilled.index; });
+        Top& top = tops_[std::size_t(t)];
+        top.set_at = sets_end_;
+        top.set_n = mine.size();
+        appendSet(mine);
     }
 
     // Writes the top node `t` and what lies below it, depth first.
     void emit(Assembler& out, int t) {
         Top& top = tops_[std::size_t(t)];
-        if (top.points.empty()) {
+        if (top.set_n == 0) {
             out.addEmpty(top.key);
         } else {
+            std::vector<Lifted> set(std::size_t(top.set_n));
+            sets_->flush();
+            sets_->readAt(set.data(), set.size() * sizeof(Lifted), top.set_at);
             std::vector<CloudPoint> pts;
-            pts.reserve(top.points.size());
-            for (std::uint32_t i : top.points) pts.push_back(lifted_[i].point);
+            pts.reserve(set.size());
+            for (const Lifted& p : set) pts.push_back(p.spilled.point);
+            std::vector<Lifted>().swap(set);
             LasInventory inv;
             const LaszipFile f = compressWithLaszip(record_, pts, 0, inv, kVariableChunks);
             out.add(top.key, f, pts.size(), inv);
@@ -634,9 +749,8 @@ class CopcWriter final : public FormatWriter {
     std::vector<std::uint64_t> hist_;
     std::vector<Top> tops_;
     std::vector<Bucket> buckets_;
-    std::vector<Spilled> lifted_;
-    std::vector<std::array<std::int32_t, 3>> lifted_xyz_;
-    std::vector<int> lifted_bucket_;
+    std::unique_ptr<Scratch> sets_;  // the upper nodes' sets (Lifted runs)
+    std::uint64_t sets_end_ = 0;
     std::unique_ptr<Scratch> chunks_;
     std::uint64_t chunks_at_ = 0;
     LasInventory inventory_;  // of the buckets' chunks
