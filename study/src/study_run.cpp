@@ -1,6 +1,8 @@
 // study/src/study_run.cpp: a whole study run and the replay of a trial (study/study_run.hpp).
 #include <study/study_run.hpp>
 
+#include <study/instruments.hpp>
+#include <study/questionnaire.hpp>
 #include <study/scene_metric.hpp>
 #include <study/study_folder.hpp>
 #include <study/study_log.hpp>
@@ -13,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -54,6 +57,22 @@ viewer::Question screenQuestion(const ScheduledQuestion& q) {
             break;
     }
     return v;
+}
+// The SSQ's scores of each occasion whose 16 answers are all in `rows` (questionnaires.csv's
+// rows), one line each on stderr, for the experimenter at the end of a session.
+void printSsqScores(const std::vector<std::string>& rows) {
+    for (const char* occasion : {"pre", "post"}) {
+        std::vector<int> ratings(std::size_t(kSsqItemCount), -1);
+        for (const std::string& row : rows) {
+            const std::vector<std::string> f = splitCsvLine(row, "questionnaires.csv");
+            if (f.size() != 7 || f[2] != "ssq" || f[3] != occasion) continue;
+            if (const auto i = ssqItemIndex(f[4])) ratings[std::size_t(*i)] = std::atoi(f[5].c_str());
+        }
+        if (std::find(ratings.begin(), ratings.end(), -1) != ratings.end()) continue;
+        const SsqScores s = scoreSsq(ratings);
+        std::fprintf(stderr, "ladarvr: study: SSQ %s: nausea %.2f, oculomotor %.2f, disorientation %.2f, total %.2f\n",
+                     occasion, s.nausea, s.oculomotor, s.disorientation, s.total);
+    }
 }
 }  // namespace
 
@@ -164,6 +183,7 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
     }
     std::fprintf(stderr, "ladarvr: study: %zu of %zu trials written to %s\n", log.trialsWritten(), plan_.trials.size(),
                  (out / "trials.csv").string().c_str());
+    if (questions_left) printSsqScores(log.questionRows());
     return status;
 }
 

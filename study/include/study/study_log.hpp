@@ -66,6 +66,8 @@ class StudyLog : public viewer::TrialObserver {
 
     /// Rows of trials.csv so far (header excluded), resumed ones included.
     std::size_t trialsWritten() const { return trial_rows_.size(); }
+    /// Rows of questionnaires.csv so far (header excluded), resumed ones included.
+    const std::vector<std::string>& questionRows() const { return question_rows_; }
     /// The first write error, if any (the run goes on; the command reports it).
     const std::string& error() const { return error_; }
 
