@@ -98,6 +98,14 @@ def check_folder(folder, participant, index, log=None):
     return rows
 
 
+# The SSQ's symptoms in Kennedy et al.'s (1993) order and its clusters (N nausea, O
+# oculomotor, D disorientation), written out here from the paper's table.
+SSQ = [("general_discomfort", "NO"), ("fatigue", "O"), ("headache", "O"), ("eyestrain", "O"),
+       ("difficulty_focusing", "OD"), ("salivation_increasing", "N"), ("sweating", "N"), ("nausea", "ND"),
+       ("difficulty_concentrating", "NO"), ("fullness_of_head", "D"), ("blurred_vision", "OD"),
+       ("dizziness_eyes_open", "D"), ("dizziness_eyes_closed", "D"), ("vertigo", "D"),
+       ("stomach_awareness", "N"), ("burping", "N")]
+
 if scenario == "run":
     check_folder(os.path.join(work, "P01"), "P01", 0, os.path.join(work, "P01.log.json"))
     check_folder(os.path.join(work, "P02"), "P02", 1, os.path.join(work, "P02.log.json"))
@@ -120,14 +128,24 @@ elif scenario == "resume":
     _, cr = read_csv(os.path.join(work, "resumed", "candidates.csv"))
     check([(r["trial"], r["candidate"], r["verdict"]) for r in cw] == [(r["trial"], r["candidate"], r["verdict"]) for r in cr],
           "candidates.csv differs")
+elif scenario == "questionnaires_xr":
+    answers = json.load(open(os.path.join(work, "answers.json")))
+    want = [("P01", "", "ssq", "pre", item, a) for (item, _), a in zip(SSQ, answers["pre"])]
+    want.append(("P01", "", "text", "pre", "expect", ""))
+    want += [("P01", "white", "ssq", "post", item, a) for (item, _), a in zip(SSQ, answers["post"])]
+    want.append(("P01", "white", "likert", "post", "sure", "4"))
+    _, rows = read_csv(os.path.join(work, "xr", "questionnaires.csv"))
+    got = [(r["participant"], r["condition"], r["instrument"], r["occasion"], r["item"], r["response"]) for r in rows]
+    check(got == want, f"questionnaires.csv rows:\n    {got}\n  expected\n    {want}")
+    log = json.load(open(os.path.join(work, "xr.log.json")))
+    check(log.get("frames_submitted", 0) > 0, f"no frame submitted to OpenXR: {log.get('frames_submitted')}")
+    actions = [a for a in log["actions"] if a["action"] == "answer"]
+    sources = [(a["source"], a["skipped"]) for a in actions]
+    want_sources = [("pointer", False)] * 16 + [("headset", True)] + [("pointer", False)] * 17
+    check(sources == want_sources, f"answers' sources {sources}")
+    _, trials = read_csv(os.path.join(work, "xr", "trials.csv"))
+    check(len(trials) == 1 and trials[0]["decision"] == "confirm", f"trials.csv {trials}")
 elif scenario == "questionnaires":
-    # The SSQ's symptoms in Kennedy et al.'s (1993) order and its clusters (N nausea, O
-    # oculomotor, D disorientation), written out here from the paper's table.
-    SSQ = [("general_discomfort", "NO"), ("fatigue", "O"), ("headache", "O"), ("eyestrain", "O"),
-           ("difficulty_focusing", "OD"), ("salivation_increasing", "N"), ("sweating", "N"), ("nausea", "ND"),
-           ("difficulty_concentrating", "NO"), ("fullness_of_head", "D"), ("blurred_vision", "OD"),
-           ("dizziness_eyes_open", "D"), ("dizziness_eyes_closed", "D"), ("vertigo", "D"),
-           ("stomach_awareness", "N"), ("burping", "N")]
     TLX = ["mental", "physical", "temporal", "performance", "effort", "frustration"]
     answers = json.load(open(os.path.join(work, "answers.json")))
     want = [("P01", "", "ssq", "pre", item, a) for (item, _), a in zip(SSQ, answers["pre"])]

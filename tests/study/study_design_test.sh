@@ -21,6 +21,11 @@
 #            SSQ scores the session prints with its own computation; then the session is
 #            killed after 5 of the post-session SSQ's items and resumed: only the rest is
 #            asked and the files equal the uninterrupted run's (times aside).
+#   questionnaires_xr  on Monado's simulated HMD: the SSQ before and after one trial and a
+#            Likert item after it answered by clicking the headset panel: the script stands
+#            in for the controller (`point_answer N`: a ray from the head to rating N's
+#            button on the panel, and the trigger), which goes through the panel's ray-quad
+#            hit and ImGui's click; the desktop-only text item is skipped with an empty row.
 # Event-driven: `next` waits for the trial's cloud and for the end of a break, +N counts
 # frames from the previous action, and the kill waits for the viewer's own line.
 set -euo pipefail
@@ -189,6 +194,29 @@ RUN
     grep -q "resuming participant P01's session at its last questions (35 of 47 answered)" "$work/qresumed.err" ||
       { echo "FAIL: no resume line"; cat "$work/qresumed.err"; exit 1; }
     grep "SSQ" "$work/qwhole.err" >"$work/qwhole.ssq"; grep "SSQ" "$work/qresumed.err" >"$work/qresumed.ssq" || true
+    ;;
+  questionnaires_xr)
+    cat >"$work/xdesign.json" <<'XDESIGN'
+{"conditions": [{"name": "white", "colour": "white"}],
+ "blocks": [{"trials": [{"cloud": "demo.pcd", "name": "one"}]}],
+ "participants": ["P01"],
+ "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000},
+ "questionnaires": {"ssq": true,
+   "likert": [{"id": "sure", "statement": "I was sure of my answer.", "points": 5, "when": "post"}],
+   "text": [{"id": "expect", "question": "What do you expect?", "when": "pre"}]}}
+XDESIGN
+    pre=(1 0 2 1 0 0 1 0 3 0 1 0 0 1 0 2); post=(2 1 3 2 1 0 2 1 3 1 2 1 0 2 1 3)
+    {
+      for a in "${pre[@]}"; do echo "+1 point_answer $a"; done
+      echo "+2 next"; echo "+8 aim 0 0 1.2"; echo "+1 designate"; echo "+6 confirm"
+      for a in "${post[@]}"; do echo "+1 point_answer $a"; done
+      echo "+1 point_answer 4"
+    } >"$work/xscript.txt"
+    python3 -c 'import json,sys; a=sys.argv[1:]; print(json.dumps({"pre": a[0:16], "post": a[16:32]}))' \
+      "${pre[@]}" "${post[@]}" >"$work/answers.json"
+    "$env_sh" --monado --timeout 220 -- "$bin" study "$work/xdesign.json" --participant P01 --out "$work/xr" \
+      --width 640 --height 360 --timeout 200 --script "$work/xscript.txt" --log-json "$work/xr.log.json" \
+      --no-metric 2>"$work/xr.err" || { echo "FAIL: the XR session exited $?"; cat "$work/xr.err"; exit 1; }
     ;;
   *) echo "study_design_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac

@@ -38,6 +38,9 @@ struct OperatorInput {
     std::optional<double> set_scale;  // script grab_scale
     /// A script's answer to the questionnaire item on screen (a rating's number or text).
     std::optional<std::string> answer;
+    /// A script standing in for the controller: aim at this rating's button on the headset
+    /// panel and pull the trigger.
+    std::optional<int> point_answer;
     Motion motion;
     /// Snap turn request this frame: +1 right, -1 left (free mode, headset).
     int snap_turn = 0;

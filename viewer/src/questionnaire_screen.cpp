@@ -16,6 +16,14 @@ void QuestionnaireScreen::start(int gap, std::vector<Question> questions) {
     selected_.reset();
     text_.clear();
     focus_text_ = true;
+    buttons_.clear();
+    shown_ = false;
+}
+
+std::optional<glm::dvec2> QuestionnaireScreen::buttonCentre(int value) const {
+    for (const auto& [v, centre] : buttons_)
+        if (v == value) return centre;
+    return std::nullopt;
 }
 
 std::string QuestionnaireScreen::check(const Answer& a) const {
@@ -49,6 +57,9 @@ std::optional<Answer> QuestionnaireScreen::draw(bool headset, const std::optiona
     ImGui::SetNextWindowSize(ImVec2(std::min(size.x * 0.9f, 900.0f), 0.0f), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.95f);
     ImGui::Begin("questionnaire", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoSavedSettings);
+    // A window coming back lays out once unseen (its size is fitted): its buttons have
+    // their place from the next frame.
+    const bool appearing = ImGui::IsWindowAppearing();
     ImGui::TextWrapped("%s", q.title.c_str());
     ImGui::Text("Item %d of %d", q.number, q.count);
     ImGui::Separator();
@@ -78,6 +89,7 @@ std::optional<Answer> QuestionnaireScreen::draw(bool headset, const std::optiona
         const float avail = ImGui::GetContentRegionAvail().x;
         const float spacing = ImGui::GetStyle().ItemSpacing.x;
         const float width = std::max(24.0f, (avail - spacing * float(n - 1)) / float(n));
+        if (!appearing) buttons_.clear();
         for (int k = 0; k < n; ++k) {
             const int v = q.min + k * q.step;
             const std::string label =
@@ -88,6 +100,10 @@ std::optional<Answer> QuestionnaireScreen::draw(bool headset, const std::optiona
             const bool highlight = selected_ && *selected_ == v;
             if (highlight) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.9f, 0.6f, 0.1f, 1.0f));
             if (ImGui::Button(label.c_str(), ImVec2(width, 40.0f))) out = Answer{std::to_string(v), false};
+            const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+            if (!appearing)
+                buttons_.emplace_back(v, glm::dvec2(0.5 * (lo.x + hi.x) / std::max(1.0f, size.x),
+                                                    0.5 * (lo.y + hi.y) / std::max(1.0f, size.y)));
             if (highlight) ImGui::PopStyleColor();
         }
         if (!q.low_label.empty() || !q.high_label.empty()) {
@@ -102,6 +118,7 @@ std::optional<Answer> QuestionnaireScreen::draw(bool headset, const std::optiona
                                     : "Click a rating (or use the arrow keys and Enter).");
     }
     ImGui::End();
+    shown_ = shown_ || !appearing;
     if (pointer)  // the controller's pointer on the panel
         ImGui::GetForegroundDrawList()->AddCircleFilled(ImVec2(float(pointer->x) * size.x, float(pointer->y) * size.y),
                                                         6.0f, IM_COL32(255, 230, 40, 255));

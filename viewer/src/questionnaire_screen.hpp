@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace viewer {
@@ -26,6 +27,8 @@ class QuestionnaireScreen {
     /// The index of the item up (into start()'s list); valid while active().
     int index() const { return static_cast<int>(index_); }
     const Question& current() const { return questions_[index_]; }
+    /// The item up has been drawn (its buttons have a place).
+    bool shown() const { return shown_; }
 
     /// Empty when `answer` fits the item up (a whole number from min to max on its step, or
     /// a text of 1 to kMaxAnswerBytes bytes without control characters; a skipped text item
@@ -37,6 +40,8 @@ class QuestionnaireScreen {
         selected_.reset();
         text_.clear();
         focus_text_ = true;
+        buttons_.clear();
+        shown_ = false;
     }
 
     /// The item's window (centred); returns the answer clicked or entered this frame.
@@ -44,13 +49,19 @@ class QuestionnaireScreen {
     /// where the controller's pointer meets the panel (0..1 from its top left), drawn as a dot.
     std::optional<Answer> draw(bool headset, const std::optional<glm::dvec2>& pointer);
 
+    /// Where rating `value`'s button was drawn last (its centre, 0..1 of the display from
+    /// the top left); nullopt before the item's first frame.
+    std::optional<glm::dvec2> buttonCentre(int value) const;
+
   private:
+    std::vector<std::pair<int, glm::dvec2>> buttons_;  // the item's buttons, as last drawn
     std::vector<Question> questions_;
     std::size_t index_ = 0;
     int gap_ = 0;
     std::optional<int> selected_;  // the rating the arrow keys moved to
     std::string text_;             // the text field's contents
     bool focus_text_ = true;       // a new item: its text field takes the keyboard
+    bool shown_ = false;
 };
 
 }  // namespace viewer

@@ -17,7 +17,7 @@ namespace viewer {
 
 namespace {
 using Key = ScriptEvent::Key;
-constexpr std::array<std::pair<Key, const char*>, 10> kKeys = {{{Key::Space, "space"},
+constexpr std::array<std::pair<Key, const char*>, 11> kKeys = {{{Key::Space, "space"},
                                                                 {Key::Escape, "escape"},
                                                                 {Key::Aim, "aim"},
                                                                 {Key::Designate, "designate"},
@@ -26,10 +26,11 @@ constexpr std::array<std::pair<Key, const char*>, 10> kKeys = {{{Key::Space, "sp
                                                                 {Key::NoTarget, "no_target"},
                                                                 {Key::GrabScale, "grab_scale"},
                                                                 {Key::Next, "next"},
-                                                                {Key::Answer, "answer"}}};
+                                                                {Key::Answer, "answer"},
+                                                                {Key::PointAnswer, "point_answer"}}};
 constexpr const char* kAllowed =
     "; allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
-    "'<frame> grab_scale S', '<frame> answer TEXT', <frame> N, desktop+N, loaded+N or +N";
+    "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N or +N";
 
 /// A whole token as a finite double (no hex, no inf/nan), else nullopt.
 bool parseNumber(const std::string& token, double& out) {
@@ -88,7 +89,7 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         if (!known)
             throw bad("action " + quoted(key) +
                       " is not one of space, escape, aim, designate, confirm, reject, no_target, grab_scale, next, "
-                      "answer");
+                      "answer, point_answer");
         if (ev.key == Key::Aim) {
             for (int i = 0; i < 3; ++i) {
                 std::string token;
@@ -101,6 +102,11 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
             if (!(ls >> token)) throw bad("grab_scale needs a scale S");
             if (!parseNumber(token, ev.value) || !(ev.value > 0.0))
                 throw bad("grab_scale " + quoted(token) + " is not a finite number > 0");
+        } else if (ev.key == Key::PointAnswer) {
+            std::string token;
+            if (!(ls >> token)) throw bad("point_answer needs a rating N");
+            if (!parseNumber(token, ev.value) || ev.value != std::floor(ev.value) || std::abs(ev.value) > 1e6)
+                throw bad("point_answer " + quoted(token) + " is not a whole number");
         } else if (ev.key == Key::Answer) {
             std::string rest;
             std::getline(ls, rest);
@@ -132,7 +138,7 @@ std::string formatScript(const std::vector<ScriptEvent>& events) {
                 std::snprintf(number, sizeof number, " %.17g", v);
                 text += number;
             }
-        if (ev.key == Key::GrabScale) {
+        if (ev.key == Key::GrabScale || ev.key == Key::PointAnswer) {
             std::snprintf(number, sizeof number, " %.17g", ev.value);
             text += number;
         }

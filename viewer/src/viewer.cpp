@@ -142,7 +142,8 @@ int ViewerApp::run(CloudFeed* feed, PointSource* points) {
 OperatorInput ViewerApp::gatherInput() {
     OperatorInput in = input_.take(window_.handle);
     const ScriptClock clock{frames_, headset_.desktopSinceFrame(), stream_.loadedSinceFrame(),
-                            trials_.readyScreen() && (!readyToStart() || questions_.active()), questions_.active()};
+                            trials_.readyScreen() && (!readyToStart() || questions_.active()),
+                            questions_.active() && questions_.shown() && !script_point_};
     merge(in, script_.take(clock));
     return in;
 }
@@ -291,6 +292,8 @@ void ViewerApp::answerQuestion(const OperatorInput& in) {
                                    "study: answer '" + answer->response + "' to '" + q.text + "' refused: " + why);
         } else {
             trials_.answered(questions_.gap(), questions_.index(), *answer, source, frames_);
+            script_panel_ray_.reset();
+            script_point_.reset();
             if (!options_.quiet)
                 std::fprintf(stderr, "ladarvr: study: question %d of %d answered (%s)%s\n", q.number, q.count, source,
                              answer->skipped ? ": skipped" : "");
@@ -306,10 +309,42 @@ void ViewerApp::answerQuestion(const OperatorInput& in) {
     panel_pointer_.reset();
     panel_click_ = false;
     const EyeTarget& panel = eyes_->panelTarget();
-    if (headset_.session() && in.controller_ray && panel.width > 0)
-        if (const auto uv = panelHit(headsetPanelQuad(panel.width, panel.height), *in.controller_ray)) {
+    if (!headset_.session() || panel.width <= 0 || !questions_.active()) {
+        script_panel_ray_.reset();
+        script_point_.reset();
+        return;
+    }
+    const PanelQuad quad = headsetPanelQuad(panel.width, panel.height);
+    std::optional<TrackingRay> ray = in.controller_ray;
+    bool click = in.designate;
+    // A script standing in for the controller: a ray from the head to the rating's button
+    // where the panel shows it, held until the item is answered, and a trigger; pulled
+    // again every few frames while the item stays up (a window that moved meanwhile).
+    if (in.point_answer) {
+        script_point_ = *in.point_answer;
+        script_wait_frames_ = 0;
+    } else if (script_point_ && ++script_wait_frames_ >= 4) {
+        script_wait_frames_ = 0;
+    }
+    if (script_point_ && script_wait_frames_ == 0) {
+        if (const auto uv = questions_.buttonCentre(*script_point_)) {
+            const glm::dvec3 on_panel =
+                quad.centre + quad.right * ((uv->x - 0.5) * quad.width_m) + quad.up * ((0.5 - uv->y) * quad.height_m);
+            const glm::dvec3 head = eyes_->lastHead().position;
+            script_panel_ray_ = TrackingRay{head, glm::normalize(on_panel - head)};
+            click = true;
+        } else {
+            platform::printMessage(
+                "warning", "study: point_answer " + std::to_string(*script_point_) + ": no such rating on the item up");
+            script_point_.reset();
+            script_panel_ray_.reset();
+        }
+    }
+    if (script_panel_ray_) ray = script_panel_ray_;
+    if (ray)
+        if (const auto uv = panelHit(quad, *ray)) {
             panel_pointer_ = *uv;
-            panel_click_ = in.designate;
+            panel_click_ = click;
         }
 }
 

@@ -80,11 +80,14 @@ class ViewerApp {
     XrInputMapping xr_input_;
     TrialController trials_;
     QuestionnaireScreen questions_;
-    int asked_gap_ = -1;                       // the last gap whose questions were asked
-    std::optional<Answer> panel_answer_;       // clicked or typed in the last panel frame
-    std::optional<glm::dvec2> panel_pointer_;  // the controller's pointer on the headset panel
-    bool panel_click_ = false;                 // its trigger went down this frame
-    CloudFeed empty_feed_;                     // a run of questions only shows no cloud
+    int asked_gap_ = -1;                           // the last gap whose questions were asked
+    std::optional<Answer> panel_answer_;           // clicked or typed in the last panel frame
+    std::optional<glm::dvec2> panel_pointer_;      // the controller's pointer on the headset panel
+    bool panel_click_ = false;                     // its trigger went down this frame
+    std::optional<int> script_point_;              // a script's point_answer rating, until answered
+    int script_wait_frames_ = 0;                   // frames since its trigger
+    std::optional<TrackingRay> script_panel_ray_;  // a script's point_answer, held until answered
+    CloudFeed empty_feed_;                         // a run of questions only shows no cloud
     ViewStyle style_;
     ModeController modes_;
     PointerTool pointer_;

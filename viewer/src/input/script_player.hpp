@@ -18,7 +18,8 @@ struct ScriptClock {
     /// A ready screen is up and cannot be dismissed yet (its cloud is loading): a `next`
     /// waits, so a script does not race the loader.
     bool ready_screen_waiting = false;
-    /// A questionnaire item is on screen: an `answer` waits for one.
+    /// A questionnaire item is on screen (drawn, no scripted click on it in flight): an
+    /// `answer` or `point_answer` waits for one.
     bool question_up = false;
 };
 
