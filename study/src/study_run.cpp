@@ -114,7 +114,14 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
         design_ ? questionSchedule(*design_, session_) : std::vector<ScheduledQuestion>{};
     const std::size_t answered = resume_ ? resume_->questions_answered : 0;
     std::vector<std::vector<ScheduledQuestion>> pending(order.size() - done + 1);
-    for (std::size_t i = answered; i < schedule.size(); ++i) pending[schedule[i].gap - done].push_back(schedule[i]);
+    for (std::size_t i = answered; i < schedule.size(); ++i) {
+        // findResumePoint refuses a folder whose answers stop before the gap it resumes at.
+        if (schedule[i].gap < done)
+            throw core::Error("study: --out " + core::printable(out.string(), 400) +
+                              ": questionnaires.csv lacks answers asked before trial " +
+                              std::to_string(schedule[i].gap + 1));
+        pending[schedule[i].gap - done].push_back(schedule[i]);
+    }
     const bool questions_left = answered < schedule.size();
     if (resume_ && done < order.size())
         std::fprintf(stderr, "ladarvr: study: resuming participant %s's session at trial %zu of %zu\n",
