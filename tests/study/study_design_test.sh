@@ -20,7 +20,8 @@
 #            checker compares questionnaires.csv's rows with the script's answers and the
 #            SSQ scores the session prints with its own computation; then the session is
 #            killed after 5 of the post-session SSQ's items and resumed: only the rest is
-#            asked and the files equal the uninterrupted run's (times aside).
+#            asked and the files equal the uninterrupted run's (times aside); a copy of the
+#            stopped folder with one answer changed out of range is refused.
 #   questionnaires_xr  on Monado's simulated HMD: the SSQ before and after one trial and a
 #            Likert item after it answered by clicking the headset panel: the script stands
 #            in for the controller (`point_answer N`: a ray from the head to rating N's
@@ -187,6 +188,17 @@ RUN
     rc=$(cut -d' ' -f2 "$work/qrc")
     [ "$rc" = 137 ] || { echo "FAIL: the killed run exited $rc, expected 137"; cat "$work/qkilled.err"; exit 1; }
     cp "$work/qresumed/questionnaires.csv" "$work/qkilled.csv"
+    # A folder whose answers are not this session's (one rating changed out of range) is
+    # refused with one line, before any window.
+    cp -r "$work/qresumed" "$work/qtampered"
+    sed -i '3s/^\(P01,,ssq,pre,fatigue,\)0,/\19,/' "$work/qtampered/questionnaires.csv"
+    grep -q '^P01,,ssq,pre,fatigue,9,' "$work/qtampered/questionnaires.csv" || { echo "FAIL: tampering"; exit 1; }
+    status=0
+    "$bin" study "$work/qdesign.json" --participant P01 --out "$work/qtampered" --no-xr --no-metric \
+      2>"$work/qtampered.err" || status=$?
+    [ "$status" = 1 ] && [ "$(wc -l <"$work/qtampered.err")" = 1 ] &&
+      grep -q "questionnaires.csv: line 3: not the answer to this session's question 2 (ssq fatigue, pre)" \
+        "$work/qtampered.err" || { echo "FAIL: tampered answers not refused: exit $status"; cat "$work/qtampered.err"; exit 1; }
     # The resumed run has no trial left: it asks the 11 SSQ items and the remark only.
     tail -n 12 "$work/qscript.txt" | sed '1s/^+1/1/' >"$work/qscript_rest.txt"
     qrun "$work/qresumed" "$work/qscript_rest.txt" "$work/qresumed.log.json" 2>"$work/qresumed.err" ||
