@@ -138,9 +138,11 @@ void registerStudy(CLI::App& cli) {
         ->capture_default_str();
     cmd->add_option("--timeout", args->timeout_s, "give up this many seconds after the start, exit 1 (0 = never)")
         ->capture_default_str();
-    cmd->add_option("--script", args->script,
-                    "operator actions at frames of the run: '<frame> next|designate|confirm|reject|no_target|space|"
-                    "escape', '<frame> aim X Y Z', '<frame> grab_scale S'");
+    cmd->add_option(
+        "--script", args->script,
+        "operator actions at frames of the run: '<frame> next|designate|confirm|reject|no_target|space|"
+        "escape', '<frame> aim X Y Z', '<frame> grab_scale S', '<frame> answer N|TEXT' (a questionnaire item), "
+        "'<frame> point_answer N' (the same, clicked on the headset panel)");
     cmd->add_option("--log-json", args->log_json, "write the viewer's run log (states, frames, actions)");
     cmd->add_option("--width", args->width, "window width, pixels")->capture_default_str();
     cmd->add_option("--height", args->height, "window height, pixels")->capture_default_str();

@@ -59,7 +59,7 @@ const json& array(const json& root, const char* key, const std::string& where, s
         return kEmpty;
     }
     if (!it->is_array() || (required && it->empty()))
-        throw core::Error(where + ": '" + key + "' must be a " + (required ? "non-empty " : "") + "array, not " +
+        throw core::Error(where + ": '" + key + "' must be " + (required ? "a non-empty " : "an ") + "array, not " +
                           (it->is_array() ? std::string("an empty one") : io::jsonTypeName(*it)));
     if (it->size() > most)
         throw core::Error(where + ": '" + key + "' has " + std::to_string(it->size()) + " entries; allowed at most " +
@@ -90,6 +90,75 @@ Condition parseCondition(const json& c, const std::string& w) {
     return condition;
 }
 
+QuestionWhen parseWhen(const json& o, const std::string& w) {
+    const auto it = o.find("when");
+    if (it == o.end()) throw core::Error(w + ": 'when' is required (pre, post or after_condition)");
+    const std::string v = it->is_string() ? it->get<std::string>() : "";
+    if (v == "pre") return QuestionWhen::Pre;
+    if (v == "post") return QuestionWhen::Post;
+    if (v == "after_condition") return QuestionWhen::AfterCondition;
+    throw core::Error(field(w, "when") + " " +
+                      (it->is_string() ? "'" + core::printable(v, 40) + "'" : std::string(io::jsonTypeName(*it))) +
+                      " is not one of pre, post, after_condition");
+}
+
+// A statement or question shown on the questionnaire screen: one line of 1 to
+// kMaxStatementChars characters without control characters.
+std::string statement(const json& o, const char* key, const std::string& w) {
+    const auto it = o.find(key);
+    if (it == o.end()) throw core::Error(w + ": '" + key + "' is required");
+    const std::string s = it->is_string() ? it->get<std::string>() : "";
+    const bool control = std::any_of(s.begin(), s.end(), [](char c) { return (unsigned char)c < 0x20 || c == 0x7f; });
+    if (!it->is_string() || s.empty() || s.size() > kMaxStatementChars || control)
+        throw core::Error(field(w, key) + " must be a string of 1 to " + std::to_string(kMaxStatementChars) +
+                          " characters without control characters, not " +
+                          (it->is_string() ? "one of " + std::to_string(s.size()) + " characters" +
+                                                 (control ? " with a control character" : "")
+                                           : std::string(io::jsonTypeName(*it))));
+    return s;
+}
+
+Questionnaires parseQuestionnaires(const json& q, const std::string& w) {
+    if (!q.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(q));
+    onlyKeys(q, w, {"ssq", "tlx", "likert", "text", "comment"});
+    Questionnaires out;
+    out.ssq = flag(q, "ssq", w).value_or(false);
+    out.tlx = flag(q, "tlx", w).value_or(false);
+    std::set<std::string> ids;
+    const json& likert = array(q, "likert", w, kMaxQuestionItems, false);
+    for (std::size_t i = 0; i < likert.size(); ++i) {
+        const std::string iw = w + ".likert[" + std::to_string(i) + "]";
+        const json& l = likert[i];
+        if (!l.is_object()) throw core::Error(iw + " must be an object, not " + io::jsonTypeName(l));
+        onlyKeys(l, iw, {"id", "statement", "points", "when", "comment"});
+        if (!l.contains("id")) throw core::Error(iw + ": 'id' is required");
+        LikertItem item;
+        item.id = name(l, "id", iw, "");
+        if (!ids.insert(item.id).second)
+            throw core::Error(iw + ".id '" + item.id + "' is used twice; allowed: a different id per item");
+        item.statement = statement(l, "statement", iw);
+        item.points = detail::whole(l, "points", iw, 2, 11, 7);
+        item.when = parseWhen(l, iw);
+        out.likert.push_back(std::move(item));
+    }
+    const json& text = array(q, "text", w, kMaxQuestionItems, false);
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const std::string iw = w + ".text[" + std::to_string(i) + "]";
+        const json& t = text[i];
+        if (!t.is_object()) throw core::Error(iw + " must be an object, not " + io::jsonTypeName(t));
+        onlyKeys(t, iw, {"id", "question", "when", "comment"});
+        if (!t.contains("id")) throw core::Error(iw + ": 'id' is required");
+        TextItem item;
+        item.id = name(t, "id", iw, "");
+        if (!ids.insert(item.id).second)
+            throw core::Error(iw + ".id '" + item.id + "' is used twice; allowed: a different id per item");
+        item.question = statement(t, "question", iw);
+        item.when = parseWhen(t, iw);
+        out.text.push_back(std::move(item));
+    }
+    return out;
+}
+
 std::vector<PlanTrial> parseTrials(const json& list, const std::string& w, const std::filesystem::path& base) {
     std::vector<PlanTrial> trials;
     for (std::size_t i = 0; i < list.size(); ++i)
@@ -107,6 +176,15 @@ std::string listed(const std::vector<std::string>& names) {
 }
 }  // namespace
 
+const char* questionWhenName(QuestionWhen when) {
+    switch (when) {
+        case QuestionWhen::Pre: return "pre";
+        case QuestionWhen::Post: return "post";
+        case QuestionWhen::AfterCondition: return "after_condition";
+    }
+    return "?";
+}
+
 bool isDesignText(std::string_view text) {
     try {
         const json root = io::parseStrictJson(text, "study");
@@ -122,7 +200,7 @@ Design parseDesign(std::string_view text_in, const std::string& name_in, const s
     if (!root.is_object()) throw core::Error(where + ": the design must be an object, not " + io::jsonTypeName(root));
     onlyKeys(root, where,
              {"conditions", "blocks", "practice", "break_s", "order", "seed", "participants", "hit_radius_m", "orbit",
-              "generate", "comment"});
+              "generate", "questionnaires", "comment"});
     Design design;
     const json& conditions = array(root, "conditions", where, kMaxConditions, true);
     std::set<std::string> seen;
@@ -201,6 +279,8 @@ Design parseDesign(std::string_view text_in, const std::string& name_in, const s
         design.participants.push_back(p.get<std::string>());
     }
     detail::parseRunSettings(root, where, design.settings);
+    if (const auto q = root.find("questionnaires"); q != root.end())
+        design.questionnaires = parseQuestionnaires(*q, where + ": questionnaires");
     return design;
 }
 

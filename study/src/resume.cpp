@@ -1,6 +1,7 @@
 // study/src/resume.cpp: finding where a stopped design session resumes (study/resume.hpp).
 #include <study/resume.hpp>
 
+#include <study/questionnaire.hpp>
 #include <study/study_folder.hpp>
 #include <study/study_log.hpp>
 
@@ -136,6 +137,45 @@ std::optional<ResumePoint> findResumePoint(const std::filesystem::path& out, con
     } else if (point.trials_done > 0) {
         throw core::Error("study: --out " + shown + ": trials.csv has trials but candidates.csv is missing" + allowed);
     }
+
+    // Questionnaires: the answers written are a prefix of the schedule, up to the gap the
+    // session stopped in (the questions before the trial in progress, partly answered or
+    // not), and hold every question of the gaps before it.
+    const std::vector<ScheduledQuestion> schedule = questionSchedule(design, session);
+    const std::filesystem::path questions_file = out / "questionnaires.csv";
+    if (nameExists(questions_file)) {
+        const std::string w = "study: --out " + core::printable(questions_file.string(), 400);
+        const std::vector<std::string> rows =
+            lines(platform::readOwnOutput(questions_file, kMaxQuestionnaireCsvBytes, w + ":"));
+        if (rows.empty() || rows[0] != questionnairesHeader())
+            throw core::Error(w + ": line 1: not the header of a session's questionnaires.csv" + allowed);
+        for (std::size_t i = 1; i < rows.size(); ++i) {
+            const std::string line_where = w + ": line " + std::to_string(i + 1);
+            const std::vector<std::string> f = splitCsvLine(rows[i], line_where);
+            if (i - 1 >= schedule.size() || schedule[i - 1].gap > point.trials_done)
+                throw core::Error(line_where + ": an answer this session had not asked yet (after trial " +
+                                  std::to_string(point.trials_done) + ")" + allowed);
+            const ScheduledQuestion& q = schedule[i - 1];
+            bool ok = f.size() == 7 && f[0] == session.participant && f[1] == q.condition &&
+                      f[2] == instrumentName(q.instrument) && f[3] == questionWhenName(q.when) && f[4] == q.item;
+            if (ok && q.instrument != Instrument::Text) {
+                int v = 0;
+                const char* end = f[5].data() + f[5].size();
+                const auto [ptr, ec] = std::from_chars(f[5].data(), end, v);
+                ok = ec == std::errc() && ptr == end && v >= q.min && v <= q.max && (v - q.min) % q.step == 0;
+            }
+            if (!ok)
+                throw core::Error(line_where + ": not the answer to this session's question " + std::to_string(i) +
+                                  " (" + instrumentName(q.instrument) + " " + q.item + ", " + questionWhenName(q.when) +
+                                  (q.condition.empty() ? "" : ", condition " + q.condition) + ")" + allowed);
+            point.questionnaire_rows.push_back(rows[i]);
+        }
+    }
+    point.questions_answered = point.questionnaire_rows.size();
+    for (std::size_t i = point.questions_answered; i < schedule.size(); ++i)
+        if (schedule[i].gap < point.trials_done)
+            throw core::Error("study: --out " + shown + ": questionnaires.csv lacks the answers asked before trial " +
+                              std::to_string(schedule[i].gap + 1) + allowed);
 
     // The trace of the trial in progress (and any later one) goes: the trial runs again.
     for (std::size_t n = point.trials_done + 1; n <= session.plan.trials.size(); ++n) {

@@ -13,7 +13,7 @@ namespace study {
 std::string traceFileName(int trial_number) { return "trace_" + std::to_string(trial_number) + ".csv"; }
 
 bool isStudyFile(std::string_view name) {
-    return name == "trials.csv" || name == "candidates.csv" || name == "study.json" ||
+    return name == "trials.csv" || name == "candidates.csv" || name == "questionnaires.csv" || name == "study.json" ||
            (name.starts_with("trace_") && name.ends_with(".csv"));
 }
 

@@ -79,6 +79,24 @@ void StudyLog::resumeAt(std::size_t trials_done, std::vector<std::string> trial_
     candidate_rows_ = std::move(candidate_rows);
 }
 
+void StudyLog::setQuestions(std::string participant, std::vector<std::vector<ScheduledQuestion>> by_gap,
+                            std::vector<std::string> rows_kept, std::chrono::steady_clock::time_point session_start) {
+    participant_ = std::move(participant);
+    questions_ = std::move(by_gap);
+    question_rows_ = std::move(rows_kept);
+    session_start_ = session_start;
+}
+
+void StudyLog::onAnswer(int gap, int question, const viewer::Answer& answer) {
+    if (gap < 0 || static_cast<std::size_t>(gap) >= questions_.size() || question < 0 ||
+        static_cast<std::size_t>(question) >= questions_[static_cast<std::size_t>(gap)].size())
+        return;
+    const ScheduledQuestion& q = questions_[static_cast<std::size_t>(gap)][static_cast<std::size_t>(question)];
+    const double t_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start_).count();
+    question_rows_.push_back(questionnaireRow(participant_, q, answer.skipped ? std::string() : answer.response, t_s));
+    writeAtomic("questionnaires.csv", questionnairesHeader(), question_rows_);
+}
+
 void StudyLog::writeAtomic(const std::string& name, const std::string& header, const std::vector<std::string>& rows) {
     std::string content = header + "\n";
     for (const std::string& r : rows) content += r + "\n";

@@ -1,6 +1,8 @@
 // study/src/study_run.cpp: a whole study run and the replay of a trial (study/study_run.hpp).
 #include <study/study_run.hpp>
 
+#include <study/instruments.hpp>
+#include <study/questionnaire.hpp>
 #include <study/scene_metric.hpp>
 #include <study/study_folder.hpp>
 #include <study/study_log.hpp>
@@ -13,12 +15,66 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <map>
 #include <memory>
 #include <string>
 
 namespace study {
+
+namespace {
+// How the questionnaire screen shows a scheduled question.
+viewer::Question screenQuestion(const ScheduledQuestion& q) {
+    viewer::Question v;
+    v.text = q.text;
+    v.min = q.min;
+    v.max = q.max;
+    v.step = q.step;
+    v.number = q.number;
+    v.count = q.count;
+    const std::string when = q.when == QuestionWhen::Pre    ? "before the session"
+                             : q.when == QuestionWhen::Post ? "after the session"
+                                                            : "after this condition";
+    switch (q.instrument) {
+        case Instrument::Ssq:
+            v.title = "Simulator sickness, " + when + ": how much does each symptom affect you right now?";
+            v.labels = {"none", "slight", "moderate", "severe"};
+            break;
+        case Instrument::Tlx:
+            v.title = "Workload of the condition just finished (NASA-TLX)";
+            v.low_label = q.item == "performance" ? "perfect" : "very low";
+            v.high_label = q.item == "performance" ? "failure" : "very high";
+            break;
+        case Instrument::Likert:
+            v.title = "Questions, " + when;
+            v.low_label = "1";
+            v.high_label = std::to_string(q.max);
+            break;
+        case Instrument::Text:
+            v.title = "Questions, " + when;
+            v.free_text = true;
+            break;
+    }
+    return v;
+}
+// The SSQ's scores of each occasion whose 16 answers are all in `rows` (questionnaires.csv's
+// rows), one line each on stderr, for the experimenter at the end of a session.
+void printSsqScores(const std::vector<std::string>& rows) {
+    for (const char* occasion : {"pre", "post"}) {
+        std::vector<int> ratings(std::size_t(kSsqItemCount), -1);
+        for (const std::string& row : rows) {
+            const std::vector<std::string> f = splitCsvLine(row, "questionnaires.csv");
+            if (f.size() != 7 || f[2] != "ssq" || f[3] != occasion) continue;
+            if (const auto i = ssqItemIndex(f[4])) ratings[std::size_t(*i)] = std::atoi(f[5].c_str());
+        }
+        if (std::find(ratings.begin(), ratings.end(), -1) != ratings.end()) continue;
+        const SsqScores s = scoreSsq(ratings);
+        std::fprintf(stderr, "ladarvr: study: SSQ %s: nausea %.2f, oculomotor %.2f, disorientation %.2f, total %.2f\n",
+                     occasion, s.nausea, s.oculomotor, s.disorientation, s.total);
+    }
+}
+}  // namespace
 
 StudyRun::StudyRun(StudyOptions options) : options_(std::move(options)) {
     if (!options_.design.empty()) {
@@ -53,16 +109,40 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
     if (design_)
         for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
     const std::size_t done = resume_ ? resume_->trials_done : 0;
-    if (resume_)
+    // The questions still to ask, by gap of this run (gap g is the session's gap done + g).
+    const std::vector<ScheduledQuestion> schedule =
+        design_ ? questionSchedule(*design_, session_) : std::vector<ScheduledQuestion>{};
+    const std::size_t answered = resume_ ? resume_->questions_answered : 0;
+    std::vector<std::vector<ScheduledQuestion>> pending(order.size() - done + 1);
+    for (std::size_t i = answered; i < schedule.size(); ++i) {
+        // findResumePoint refuses a folder whose answers stop before the gap it resumes at.
+        if (schedule[i].gap < done)
+            throw core::Error("study: --out " + core::printable(out.string(), 400) +
+                              ": questionnaires.csv lacks answers asked before trial " +
+                              std::to_string(schedule[i].gap + 1));
+        pending[schedule[i].gap - done].push_back(schedule[i]);
+    }
+    const bool questions_left = answered < schedule.size();
+    if (resume_ && done < order.size())
         std::fprintf(stderr, "ladarvr: study: resuming participant %s's session at trial %zu of %zu\n",
                      session_.participant.c_str(), done + 1, order.size());
-    if (done == order.size()) {
+    else if (resume_ && questions_left)
+        std::fprintf(stderr,
+                     "ladarvr: study: resuming participant %s's session at its last questions (%zu of %zu answered)\n",
+                     session_.participant.c_str(), answered, schedule.size());
+    if (done == order.size() && !questions_left) {
         std::fprintf(stderr, "ladarvr: study: all %zu trials already written to %s\n", order.size(),
                      (out / "trials.csv").string().c_str());
         return 0;
     }
     auto source = std::make_unique<StudySource>(
         plan_, std::vector<int>(order.begin() + std::ptrdiff_t(done), order.end()), static_cast<int>(done));
+    std::vector<std::vector<viewer::Question>> screens;
+    for (const auto& gap : pending) {
+        screens.emplace_back();
+        for (const ScheduledQuestion& q : gap) screens.back().push_back(screenQuestion(q));
+    }
+    source->setQuestions(std::move(screens));
     // What --replay needs to find a trial's cloud again (a resumed session has it already).
     if (design_ && !resume_) {
         std::vector<std::string> names;
@@ -97,6 +177,9 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
         plan_.hit_radius_m);
     if (design_) log.addDesignColumns();
     if (resume_) log.resumeAt(resume_->trials_done, resume_->trial_rows, resume_->candidate_rows);
+    if (questions_left)
+        log.setQuestions(session_.participant, std::move(pending),
+                         resume_ ? resume_->questionnaire_rows : std::vector<std::string>{}, started);
     if (o.timeout_s > 0.0)
         o.timeout_s = std::max(
             0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
@@ -107,6 +190,7 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
     }
     std::fprintf(stderr, "ladarvr: study: %zu of %zu trials written to %s\n", log.trialsWritten(), plan_.trials.size(),
                  (out / "trials.csv").string().c_str());
+    if (questions_left) printSsqScores(log.questionRows());
     return status;
 }
 

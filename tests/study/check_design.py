@@ -98,6 +98,14 @@ def check_folder(folder, participant, index, log=None):
     return rows
 
 
+# The SSQ's symptoms in Kennedy et al.'s (1993) order and its clusters (N nausea, O
+# oculomotor, D disorientation), written out here from the paper's table.
+SSQ = [("general_discomfort", "NO"), ("fatigue", "O"), ("headache", "O"), ("eyestrain", "O"),
+       ("difficulty_focusing", "OD"), ("salivation_increasing", "N"), ("sweating", "N"), ("nausea", "ND"),
+       ("difficulty_concentrating", "NO"), ("fullness_of_head", "D"), ("blurred_vision", "OD"),
+       ("dizziness_eyes_open", "D"), ("dizziness_eyes_closed", "D"), ("vertigo", "D"),
+       ("stomach_awareness", "N"), ("burping", "N")]
+
 if scenario == "run":
     check_folder(os.path.join(work, "P01"), "P01", 0, os.path.join(work, "P01.log.json"))
     check_folder(os.path.join(work, "P02"), "P02", 1, os.path.join(work, "P02.log.json"))
@@ -120,6 +128,68 @@ elif scenario == "resume":
     _, cr = read_csv(os.path.join(work, "resumed", "candidates.csv"))
     check([(r["trial"], r["candidate"], r["verdict"]) for r in cw] == [(r["trial"], r["candidate"], r["verdict"]) for r in cr],
           "candidates.csv differs")
+elif scenario == "questionnaires_xr":
+    answers = json.load(open(os.path.join(work, "answers.json")))
+    want = [("P01", "", "ssq", "pre", item, a) for (item, _), a in zip(SSQ, answers["pre"])]
+    want.append(("P01", "", "text", "pre", "expect", ""))
+    want += [("P01", "white", "ssq", "post", item, a) for (item, _), a in zip(SSQ, answers["post"])]
+    want.append(("P01", "white", "likert", "post", "sure", "4"))
+    _, rows = read_csv(os.path.join(work, "xr", "questionnaires.csv"))
+    got = [(r["participant"], r["condition"], r["instrument"], r["occasion"], r["item"], r["response"]) for r in rows]
+    check(got == want, f"questionnaires.csv rows:\n    {got}\n  expected\n    {want}")
+    log = json.load(open(os.path.join(work, "xr.log.json")))
+    check(log.get("frames_submitted", 0) > 0, f"no frame submitted to OpenXR: {log.get('frames_submitted')}")
+    actions = [a for a in log["actions"] if a["action"] == "answer"]
+    sources = [(a["source"], a["skipped"]) for a in actions]
+    want_sources = [("pointer", False)] * 16 + [("headset", True)] + [("pointer", False)] * 17
+    check(sources == want_sources, f"answers' sources {sources}")
+    _, trials = read_csv(os.path.join(work, "xr", "trials.csv"))
+    check(len(trials) == 1 and trials[0]["decision"] == "confirm", f"trials.csv {trials}")
+elif scenario == "questionnaires":
+    TLX = ["mental", "physical", "temporal", "performance", "effort", "frustration"]
+    answers = json.load(open(os.path.join(work, "answers.json")))
+    want = [("P01", "", "ssq", "pre", item, a) for (item, _), a in zip(SSQ, answers["pre"])]
+    for condition, sure in (("white", "4"), ("label", "2")):
+        want += [("P01", condition, "tlx", "after_condition", item, a)
+                 for item, a in zip(TLX, answers["tlx_" + condition])]
+        want.append(("P01", condition, "likert", "after_condition", "sure", sure))
+    want += [("P01", "label", "ssq", "post", item, a) for (item, _), a in zip(SSQ, answers["post"])]
+    want.append(("P01", "label", "text", "post", "remarks", answers["remarks"]))
+    header, rows = read_csv(os.path.join(work, "qwhole", "questionnaires.csv"))
+    check(header == ["participant", "condition", "instrument", "occasion", "item", "response", "time_s"],
+          f"questionnaires.csv header {header}")
+    got = [(r["participant"], r["condition"], r["instrument"], r["occasion"], r["item"], r["response"]) for r in rows]
+    check(got == want, f"questionnaires.csv rows:\n    {got}\n  expected\n    {want}")
+    times = [float(r["time_s"]) for r in rows]
+    check(times and times[0] >= 0 and all(b >= a for a, b in zip(times, times[1:])), f"time_s {times}")
+    # The session's SSQ lines against the scores computed here.
+    lines = open(os.path.join(work, "qwhole.ssq")).read().splitlines()
+    for occasion in ("pre", "post"):
+        ratings = [int(a) for a in answers[occasion]]
+        raw = {c: sum(r for (_, cl), r in zip(SSQ, ratings) if c in cl) for c in "NOD"}
+        expected = (f"ladarvr: study: SSQ {occasion}: nausea {raw['N'] * 9.54:.2f}, oculomotor {raw['O'] * 7.58:.2f}, "
+                    f"disorientation {raw['D'] * 13.92:.2f}, total {(raw['N'] + raw['O'] + raw['D']) * 3.74:.2f}")
+        check(expected in lines, f"no line '{expected}' in {lines}")
+        print(expected)
+    actions = [a for a in json.load(open(os.path.join(work, "qwhole.log.json")))["actions"] if a["action"] == "answer"]
+    check(len(actions) == 47 and all(a["source"] == "script" and not a["skipped"] for a in actions),
+          f"{len(actions)} answer actions in the run log, expected 47 from the script")
+    # The killed and resumed session: the 35 rows written before the kill kept byte for
+    # byte, then the rest as the uninterrupted run's (times aside); trials.csv likewise.
+    killed = open(os.path.join(work, "qkilled.csv")).read().splitlines()
+    resumed = open(os.path.join(work, "qresumed", "questionnaires.csv")).read().splitlines()
+    check(len(killed) == 36, f"the killed run wrote {len(killed) - 1} answers, expected 35")
+    check(resumed[:36] == killed, "the answers written before the kill changed")
+    _, rrows = read_csv(os.path.join(work, "qresumed", "questionnaires.csv"))
+    got = [(r["participant"], r["condition"], r["instrument"], r["occasion"], r["item"], r["response"]) for r in rrows]
+    check(got == want, f"resumed questionnaires.csv rows differ: {got}")
+    timed = {"time_to_first_designation_s", "time_to_decision_s", "seconds_in_free_mode"}
+    _, tw = read_csv(os.path.join(work, "qwhole", "trials.csv"))
+    _, tr = read_csv(os.path.join(work, "qresumed", "trials.csv"))
+    check(len(tw) == 2 and [{k: v for k, v in r.items() if k not in timed} for r in tw] ==
+          [{k: v for k, v in r.items() if k not in timed} for r in tr], f"trials.csv differs: {tw} vs {tr}")
+    check(open(os.path.join(work, "qresumed.ssq")).read() == open(os.path.join(work, "qwhole.ssq")).read(),
+          "the resumed session's SSQ scores differ")
 if failures:
     print("FAIL:\n  " + "\n  ".join(failures))
     sys.exit(1)

@@ -133,7 +133,7 @@ TEST_CASE("a design's refused keys: one line naming the key and what is allowed"
           "study: design.json: 'participants' is required");
     fails(R"({"conditions": [{"name": "a"}], "trials": [], )" + blocks + "}",
           "study: design.json: unknown key 'trials'; allowed: conditions, blocks, practice, break_s, order, seed, "
-          "participants, hit_radius_m, orbit, generate, comment");
+          "participants, hit_radius_m, orbit, generate, questionnaires, comment");
     fails(R"({"conditions": )" + conditions(9) + R"(, "order": "permutation", )" + blocks + "}",
           "study: design.json: order 'permutation' with 9 conditions; allowed at most 8 (use 'latin')");
 }
@@ -234,4 +234,82 @@ TEST_CASE("readDesign checks the files the design names and gives the file's SHA
     std::string sha2;
     study::readDesign(changed, &sha2);
     CHECK(sha2 != sha);
+}
+
+TEST_CASE("a design's questionnaires: the SSQ, the TLX, Likert and text items; none by default") {
+    const std::string head = R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a.pcd"}]}],
+        "participants": ["P01"])";
+    const study::Design none = study::parseDesign(head + "}", "d.json", "/d");
+    CHECK_FALSE(none.questionnaires.any());
+    const study::Design d = study::parseDesign(head + R"(, "questionnaires": {"ssq": true, "tlx": true,
+        "likert": [{"id": "confident", "statement": "I was confident in my answers.", "points": 5,
+                    "when": "after_condition"},
+                   {"id": "enjoyed", "statement": "I enjoyed the task.", "when": "post"}],
+        "text": [{"id": "remarks", "question": "Anything else?", "when": "pre"}]}})",
+                                               "d.json", "/d");
+    const study::Questionnaires& q = d.questionnaires;
+    CHECK(q.any());
+    CHECK(q.ssq);
+    CHECK(q.tlx);
+    REQUIRE(q.likert.size() == 2);
+    CHECK(q.likert[0].id == "confident");
+    CHECK(q.likert[0].statement == "I was confident in my answers.");
+    CHECK(q.likert[0].points == 5);
+    CHECK(q.likert[0].when == study::QuestionWhen::AfterCondition);
+    CHECK(q.likert[1].points == 7);  // the default
+    CHECK(q.likert[1].when == study::QuestionWhen::Post);
+    REQUIRE(q.text.size() == 1);
+    CHECK(q.text[0].id == "remarks");
+    CHECK(q.text[0].question == "Anything else?");
+    CHECK(q.text[0].when == study::QuestionWhen::Pre);
+    CHECK(std::string(study::questionWhenName(study::QuestionWhen::AfterCondition)) == "after_condition");
+    const study::Design ssq_only = study::parseDesign(head + R"(, "questionnaires": {"ssq": true}})", "d.json", "/d");
+    CHECK(ssq_only.questionnaires.ssq);
+    CHECK_FALSE(ssq_only.questionnaires.tlx);
+}
+
+TEST_CASE("a design's refused questionnaire keys: one line naming the key and what is allowed") {
+    const std::string head = R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a"}]}],
+        "participants": ["P01"], "questionnaires": )";
+    auto fails = [&](const std::string& q, const std::string& message) {
+        CAPTURE(q);
+        CHECK_THROWS_WITH_AS(study::parseDesign(head + q + "}", "design.json", "/"), message.c_str(), core::Error);
+    };
+    fails("[]", "study: design.json: questionnaires must be an object, not an array");
+    fails(R"({"ssq": "yes"})", "study: design.json: questionnaires.ssq must be true or false, not a string");
+    fails(R"({"tlx": 1})", "study: design.json: questionnaires.tlx must be true or false, not a number");
+    fails(R"({"sus": true})",
+          "study: design.json: questionnaires: unknown key 'sus'; allowed: ssq, tlx, likert, text, comment");
+    fails(R"({"likert": {}})", "study: design.json: questionnaires: 'likert' must be an array, not an object");
+    fails(R"({"likert": [{"statement": "s", "when": "post"}]})",
+          "study: design.json: questionnaires.likert[0]: 'id' is required");
+    fails(R"({"likert": [{"id": "a b", "statement": "s", "when": "post"}]})",
+          "study: design.json: questionnaires.likert[0].id 'a b' is not a name of 1 to 40 letters, digits, '_', '-' "
+          "or '.'");
+    fails(R"({"likert": [{"id": "a", "when": "post"}]})",
+          "study: design.json: questionnaires.likert[0]: 'statement' is required");
+    fails(R"({"likert": [{"id": "a", "statement": "", "when": "post"}]})",
+          "study: design.json: questionnaires.likert[0].statement must be a string of 1 to 300 characters without "
+          "control characters, not one of 0 characters");
+    fails(R"({"likert": [{"id": "a", "statement": "two\nlines", "when": "post"}]})",
+          "study: design.json: questionnaires.likert[0].statement must be a string of 1 to 300 characters without "
+          "control characters, not one of 9 characters with a control character");
+    fails(R"({"likert": [{"id": "a", "statement": "s", "points": 1, "when": "post"}]})",
+          "study: design.json: questionnaires.likert[0].points 1 is not in [2, 11]");
+    fails(R"({"likert": [{"id": "a", "statement": "s", "points": 12, "when": "post"}]})",
+          "study: design.json: questionnaires.likert[0].points 12 is not in [2, 11]");
+    fails(R"({"likert": [{"id": "a", "statement": "s", "points": 4.5, "when": "post"}]})",
+          "study: design.json: questionnaires.likert[0].points 4.5 is not a whole number");
+    fails(R"({"likert": [{"id": "a", "statement": "s"}]})",
+          "study: design.json: questionnaires.likert[0]: 'when' is required (pre, post or after_condition)");
+    fails(R"({"likert": [{"id": "a", "statement": "s", "when": "during"}]})",
+          "study: design.json: questionnaires.likert[0].when 'during' is not one of pre, post, after_condition");
+    fails(R"({"likert": [{"id": "a", "statement": "s", "when": "post", "scale": 5}]})",
+          "study: design.json: questionnaires.likert[0]: unknown key 'scale'; allowed: id, statement, points, when, "
+          "comment");
+    fails(R"({"likert": [{"id": "a", "statement": "s", "when": "post"}], "text": [{"id": "a", "question": "q",
+              "when": "post"}]})",
+          "study: design.json: questionnaires.text[0].id 'a' is used twice; allowed: a different id per item");
+    fails(R"({"text": [{"id": "t", "statement": "q", "when": "post"}]})",
+          "study: design.json: questionnaires.text[0]: unknown key 'statement'; allowed: id, question, when, comment");
 }

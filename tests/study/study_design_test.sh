@@ -14,6 +14,19 @@
 #            stderr), then run again with the same command: the files equal an
 #            uninterrupted run's (times aside); the folder is refused to P02 and to a
 #            changed design, with one line each.
+#   questionnaires  a design of two conditions (one trial each) with the SSQ, the TLX, a
+#            Likert item after each condition and a free-text item after the session: the
+#            script answers every item (one answer refused as out of range first), the
+#            checker compares questionnaires.csv's rows with the script's answers and the
+#            SSQ scores the session prints with its own computation; then the session is
+#            killed after 5 of the post-session SSQ's items and resumed: only the rest is
+#            asked and the files equal the uninterrupted run's (times aside); a copy of the
+#            stopped folder with one answer changed out of range is refused.
+#   questionnaires_xr  on Monado's simulated HMD: the SSQ before and after one trial and a
+#            Likert item after it answered by clicking the headset panel: the script stands
+#            in for the controller (`point_answer N`: a ray from the head to rating N's
+#            button on the panel, and the trigger), which goes through the panel's ray-quad
+#            hit and ImGui's click; the desktop-only text item is skipped with an empty row.
 # Event-driven: `next` waits for the trial's cloud and for the end of a break, +N counts
 # frames from the previous action, and the kill waits for the viewer's own line.
 set -euo pipefail
@@ -114,6 +127,108 @@ RUN
     # The resumed run numbers its trials as the session does: 4 to 9 of 9.
     grep -q "study: trial 4 of 9 (practice): ready screen" "$work/resumed.err" &&
       grep -q "study: trial 9 ended: confirm" "$work/resumed.err" || { echo "FAIL: resumed trials misnumbered"; cat "$work/resumed.err"; exit 1; }
+    ;;
+  questionnaires)
+    cat >"$work/qdesign.json" <<'QDESIGN'
+{"conditions": [{"name": "white", "colour": "white"}, {"name": "label", "colour": "label"}],
+ "blocks": [{"name": "only", "trials": [{"cloud": "demo.pcd", "name": "one"}]}],
+ "participants": ["P01", "P02"],
+ "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000},
+ "questionnaires": {"ssq": true, "tlx": true,
+   "likert": [{"id": "sure", "statement": "I was sure of my answers.", "points": 5, "when": "after_condition"}],
+   "text": [{"id": "remarks", "question": "Any remarks?", "when": "post"}]}}
+QDESIGN
+    # The answers (check_design.py reads the same values from answers.json).
+    pre=(1 0 2 1 0 0 1 0 3 0 1 0 0 1 0 2); post=(2 1 3 2 1 0 2 1 3 1 2 1 0 2 1 3)
+    tlx_white=(35 10 50 20 45 15); tlx_label=(60 5 40 30 55 25)
+    remarks='the label colours helped, mostly "a lot"'
+    trial() { echo "+2 next"; echo "+8 aim 0 0 1.2"; echo "+1 designate"; echo "+6 confirm"; }
+    {
+      echo "1 answer 4"  # out of the SSQ's 0..3: refused, the item stays up
+      for a in "${pre[@]}"; do echo "+1 answer $a"; done
+      trial
+      for a in "${tlx_white[@]}"; do echo "+1 answer $a"; done; echo "+1 answer 4"
+      trial
+      for a in "${tlx_label[@]}"; do echo "+1 answer $a"; done; echo "+1 answer 2"
+      for a in "${post[@]}"; do echo "+1 answer $a"; done
+      echo "+1 answer $remarks"
+    } >"$work/qscript.txt"
+    python3 -c 'import json,sys; a=sys.argv[1:]; print(json.dumps({"pre": a[0:16], "tlx_white": a[16:22], "tlx_label": a[22:28], "post": a[28:44], "remarks": a[44]}))' \
+      "${pre[@]}" "${tlx_white[@]}" "${tlx_label[@]}" "${post[@]}" "$remarks" >"$work/answers.json"
+    qrun() {  # qrun OUT SCRIPT LOG
+      "$env_sh" --timeout 220 -- "$bin" study "$work/qdesign.json" --participant P01 --out "$1" --no-xr \
+        --width 640 --height 360 --timeout 200 --script "$2" --log-json "$3" --no-metric
+    }
+    qrun "$work/qwhole" "$work/qscript.txt" "$work/qwhole.log.json" 2>"$work/qwhole.err" ||
+      { echo "FAIL: uninterrupted run"; cat "$work/qwhole.err"; exit 1; }
+    grep -q "warning: study: answer '4' to 'General discomfort' refused: allowed a whole number from 0 to 3" \
+      "$work/qwhole.err" || { echo "FAIL: the out-of-range answer was not refused"; cat "$work/qwhole.err"; exit 1; }
+    # Killed once 5 of the post-session SSQ's items are answered: the script stops there, so
+    # the run waits on item 6 when the kill comes (stderr read through a FIFO, no polling).
+    head -n $((1 + 16 + 4 + 7 + 4 + 7 + 5)) "$work/qscript.txt" >"$work/qscript_killed.txt"
+    rm -f "$work/q.fifo"; mkfifo "$work/q.fifo"
+    cat >"$work/qkill.sh" <<RUN
+set -u
+"$bin" study "$work/qdesign.json" --participant P01 --out "$work/qresumed" --no-xr --width 640 --height 360 \
+  --timeout 200 --script "$work/qscript_killed.txt" --no-metric 2>"$work/q.fifo" &
+viewer=\$!
+post=0
+while IFS= read -r line; do
+  printf '%s\\n' "\$line" >>"$work/qkilled.err"
+  case "\$line" in
+    *"questionnaire: Simulator sickness, after the session"*) post=1 ;;
+    *"question 5 of 16 answered"*) [ \$post = 1 ] && { kill -KILL \$viewer; break; } ;;
+  esac
+done <"$work/q.fifo"
+rc=0
+wait \$viewer || rc=\$?
+echo "exit \$rc" >"$work/qrc"
+RUN
+    "$env_sh" --timeout 220 -- bash "$work/qkill.sh"
+    rc=$(cut -d' ' -f2 "$work/qrc")
+    [ "$rc" = 137 ] || { echo "FAIL: the killed run exited $rc, expected 137"; cat "$work/qkilled.err"; exit 1; }
+    cp "$work/qresumed/questionnaires.csv" "$work/qkilled.csv"
+    # A folder whose answers are not this session's (one rating changed out of range) is
+    # refused with one line, before any window.
+    cp -r "$work/qresumed" "$work/qtampered"
+    sed -i '3s/^\(P01,,ssq,pre,fatigue,\)0,/\19,/' "$work/qtampered/questionnaires.csv"
+    grep -q '^P01,,ssq,pre,fatigue,9,' "$work/qtampered/questionnaires.csv" || { echo "FAIL: tampering"; exit 1; }
+    status=0
+    "$bin" study "$work/qdesign.json" --participant P01 --out "$work/qtampered" --no-xr --no-metric \
+      2>"$work/qtampered.err" || status=$?
+    [ "$status" = 1 ] && [ "$(wc -l <"$work/qtampered.err")" = 1 ] &&
+      grep -q "questionnaires.csv: line 3: not the answer to this session's question 2 (ssq fatigue, pre)" \
+        "$work/qtampered.err" || { echo "FAIL: tampered answers not refused: exit $status"; cat "$work/qtampered.err"; exit 1; }
+    # The resumed run has no trial left: it asks the 11 SSQ items and the remark only.
+    tail -n 12 "$work/qscript.txt" | sed '1s/^+1/1/' >"$work/qscript_rest.txt"
+    qrun "$work/qresumed" "$work/qscript_rest.txt" "$work/qresumed.log.json" 2>"$work/qresumed.err" ||
+      { echo "FAIL: resumed run"; cat "$work/qresumed.err"; exit 1; }
+    grep -q "resuming participant P01's session at its last questions (35 of 47 answered)" "$work/qresumed.err" ||
+      { echo "FAIL: no resume line"; cat "$work/qresumed.err"; exit 1; }
+    grep "SSQ" "$work/qwhole.err" >"$work/qwhole.ssq"; grep "SSQ" "$work/qresumed.err" >"$work/qresumed.ssq" || true
+    ;;
+  questionnaires_xr)
+    cat >"$work/xdesign.json" <<'XDESIGN'
+{"conditions": [{"name": "white", "colour": "white"}],
+ "blocks": [{"trials": [{"cloud": "demo.pcd", "name": "one"}]}],
+ "participants": ["P01"],
+ "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000},
+ "questionnaires": {"ssq": true,
+   "likert": [{"id": "sure", "statement": "I was sure of my answer.", "points": 5, "when": "post"}],
+   "text": [{"id": "expect", "question": "What do you expect?", "when": "pre"}]}}
+XDESIGN
+    pre=(1 0 2 1 0 0 1 0 3 0 1 0 0 1 0 2); post=(2 1 3 2 1 0 2 1 3 1 2 1 0 2 1 3)
+    {
+      for a in "${pre[@]}"; do echo "+1 point_answer $a"; done
+      echo "+2 next"; echo "+8 aim 0 0 1.2"; echo "+1 designate"; echo "+6 confirm"
+      for a in "${post[@]}"; do echo "+1 point_answer $a"; done
+      echo "+1 point_answer 4"
+    } >"$work/xscript.txt"
+    python3 -c 'import json,sys; a=sys.argv[1:]; print(json.dumps({"pre": a[0:16], "post": a[16:32]}))' \
+      "${pre[@]}" "${post[@]}" >"$work/answers.json"
+    "$env_sh" --monado --timeout 220 -- "$bin" study "$work/xdesign.json" --participant P01 --out "$work/xr" \
+      --width 640 --height 360 --timeout 200 --script "$work/xscript.txt" --log-json "$work/xr.log.json" \
+      --no-metric 2>"$work/xr.err" || { echo "FAIL: the XR session exited $?"; cat "$work/xr.err"; exit 1; }
     ;;
   *) echo "study_design_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac

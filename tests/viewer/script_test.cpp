@@ -29,11 +29,12 @@ TEST_CASE("script text: tabs, CRLF line ends, comments and blank lines") {
 }
 
 TEST_CASE("script text: refused frames name the line and what is allowed") {
-    CHECK_THROWS_WITH_AS(parseScript("1 space\n99999999999999999999 space\n", kName),
-                         "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
-                         "allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
-                         "'<frame> grab_scale S', <frame> N, desktop+N, loaded+N or +N",
-                         core::Error);
+    CHECK_THROWS_WITH_AS(
+        parseScript("1 space\n99999999999999999999 space\n", kName),
+        "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
+        "allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
+        "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N or +N",
+        core::Error);
     CHECK_THROWS_WITH_AS(parseScript("0x10 space\n", kName), doctest::Contains("line 1: frame '0x10'"), core::Error);
     CHECK_THROWS_WITH_AS(parseScript("1.5 space\n", kName), doctest::Contains("frame '1.5'"), core::Error);
     CHECK_THROWS_WITH_AS(parseScript("-1 space\n", kName), doctest::Contains("frame '-1'"), core::Error);
@@ -127,4 +128,28 @@ TEST_CASE("script text: loaded+N counts from the whole cloud being on the GPU") 
     CHECK(again[0].frame == 5);
     CHECK_THROWS_WITH_AS(parseScript("loaded+ escape\n", kName), doctest::Contains("frame 'loaded+'"), core::Error);
     CHECK_THROWS_WITH_AS(parseScript("loaded5 escape\n", kName), doctest::Contains("frame 'loaded5'"), core::Error);
+}
+
+TEST_CASE("script text: answer takes the rest of the line, trimmed, and writes back") {
+    const auto events = parseScript("+1 answer 3\n+1 answer  it was fine, mostly \r\n", kName);
+    REQUIRE(events.size() == 2);
+    CHECK(events[0].key == ScriptEvent::Key::Answer);
+    CHECK(events[0].relative);
+    CHECK(events[0].text == "3");
+    CHECK(events[1].text == "it was fine, mostly");
+    CHECK(viewer::formatScript(events) == "+1 answer 3\n+1 answer it was fine, mostly\n");
+    CHECK(parseScript(viewer::formatScript(events), kName)[1].text == events[1].text);
+    CHECK_THROWS_WITH_AS(parseScript("1 answer   \n", kName),
+                         doctest::Contains("line 1: answer needs a rating or a text"), core::Error);
+    const auto pointed = parseScript("+1 point_answer 35\n", kName);
+    REQUIRE(pointed.size() == 1);
+    CHECK(pointed[0].key == ScriptEvent::Key::PointAnswer);
+    CHECK(pointed[0].value == 35.0);
+    CHECK(viewer::formatScript(pointed) == "+1 point_answer 35\n");
+    CHECK_THROWS_WITH_AS(parseScript("1 point_answer 2.5\n", kName),
+                         doctest::Contains("point_answer '2.5' is not a whole number"), core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 point_answer\n", kName), doctest::Contains("point_answer needs a rating N"),
+                         core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("1 answer " + std::string(1001, 'x') + "\n", kName),
+                         doctest::Contains("answer of 1001 bytes; at most 1000"), core::Error);
 }

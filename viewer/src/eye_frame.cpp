@@ -1,6 +1,8 @@
 // viewer/src/eye_frame.cpp: the headset's eyes, the desktop view, overlays and the panel quad.
 #include "eye_frame.hpp"
 
+#include "panel_quad.hpp"
+
 #include <io/png.hpp>
 #include <render/orbit_camera.hpp>
 
@@ -76,15 +78,8 @@ void EyeFrameRenderer::drawEye(const EyeTarget& target, PointRenderer& points, c
 
 void EyeFrameRenderer::drawPanelQuad(const RigPose& eye_tracking, const glm::dmat4& projection, GLuint fbo, int w,
                                      int h) {
-    // The panel hangs 1.1 m ahead of the tracking origin (the head at the session's
-    // start), its centre 0.6 m below eye level (below the gaze, where the target is not),
-    // 0.8 m wide, in the tracking frame: a glance down reads it, and it stays put when the
-    // head turns.
-    const double pw = 0.8, ph = pw * panel_target_.height / std::max(1, panel_target_.width);
-    const glm::dvec3 c(0.0, -0.6, -1.1);
-    const std::array<glm::dvec3, 4> corners_t = {c + glm::dvec3(-pw / 2, -ph / 2, 0),
-                                                 c + glm::dvec3(pw / 2, -ph / 2, 0), c + glm::dvec3(pw / 2, ph / 2, 0),
-                                                 c + glm::dvec3(-pw / 2, ph / 2, 0)};
+    const std::array<glm::dvec3, 4> corners_t =
+        panelCorners(headsetPanelQuad(panel_target_.width, panel_target_.height));
     std::array<glm::dvec3, 4> corners_eye;
     for (int k = 0; k < 4; ++k)
         corners_eye[k] = glm::transpose(eye_tracking.rotation) * (corners_t[k] - eye_tracking.position);

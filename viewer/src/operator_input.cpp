@@ -27,6 +27,8 @@ void merge(OperatorInput& into, const OperatorInput& from) {
     into.motion.turn += from.motion.turn;
     if (from.snap_turn != 0) into.snap_turn = from.snap_turn;
     if (from.set_scale) into.set_scale = from.set_scale;
+    if (from.answer) into.answer = from.answer;
+    if (from.point_answer) into.point_answer = from.point_answer;
     if (from.controller_ray) into.controller_ray = from.controller_ray;
     if (from.grab_hands) into.grab_hands = from.grab_hands;
     if (from.aim_world) into.aim_world = from.aim_world;

@@ -10,6 +10,7 @@
 #include <glm/vec3.hpp>
 
 #include <optional>
+#include <string>
 #include <utility>
 
 namespace viewer {
@@ -35,6 +36,11 @@ struct OperatorInput {
     double cut_radius_step = 0.0;     // +1 / -1: grow / shrink the cutting volume
     double wheel = 0.0;               // mouse wheel steps (+ zooms in)
     std::optional<double> set_scale;  // script grab_scale
+    /// A script's answer to the questionnaire item on screen (a rating's number or text).
+    std::optional<std::string> answer;
+    /// A script standing in for the controller: aim at this rating's button on the headset
+    /// panel and pull the trigger.
+    std::optional<int> point_answer;
     Motion motion;
     /// Snap turn request this frame: +1 right, -1 left (free mode, headset).
     int snap_turn = 0;

@@ -96,6 +96,17 @@ void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded
 bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTarget* headset_target) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
+    if (p.panel_pointer) {
+        // After the GLFW backend's own events, so the pointer's position wins this frame; a
+        // press and release queued together reach ImGui on two frames (its input trickling),
+        // which is a click on what the pointer is over.
+        ImGuiIO& io = ImGui::GetIO();
+        io.AddMousePosEvent(float(p.panel_pointer->x) * io.DisplaySize.x, float(p.panel_pointer->y) * io.DisplaySize.y);
+        if (p.panel_click) {
+            io.AddMouseButtonEvent(ImGuiMouseButton_Left, true);
+            io.AddMouseButtonEvent(ImGuiMouseButton_Left, false);
+        }
+    }
     ImGui::NewFrame();
     if (p.trial >= 0) {
         char text[256];
@@ -111,10 +122,14 @@ bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTa
         v.designation = text;
     }
     const bool reset_zoom = drawSettingsPanel(v);
-    if (p.ready_screen)
+    const bool asking = p.questionnaire && p.questionnaire->active();
+    if (asking) {
+        std::optional<Answer> a = p.questionnaire->draw(p.headset, p.panel_pointer);
+        if (a && p.answered) *p.answered = std::move(a);
+    } else if (p.ready_screen)
         drawReadyScreen(p.trial, p.trials, p.trial_name, p.ready_to_start, p.time_limit_s, p.break_left_s);
     // The picked point's panel beside the dot (desktop: where the dot is on screen).
-    if (p.hit && !p.headset && fb_w > 0 && fb_h > 0 && !p.ready_screen) {
+    if (p.hit && !p.headset && fb_w > 0 && fb_h > 0 && !p.ready_screen && !asking) {
         const glm::dvec4 clip = p.view_projection * glm::dvec4(p.hit->local, 1.0);
         if (clip.w > 0.0) {
             const ImVec2 size = ImGui::GetIO().DisplaySize;
@@ -122,7 +137,7 @@ bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTa
             const float sy = float((0.5 - clip.y / clip.w * 0.5) * size.y);
             drawPickPanel(sx, sy, *p.hit, p.origin, p.head_local, p.has_height);
         }
-    } else if (p.hit && p.headset) {
+    } else if (p.hit && p.headset && !asking) {
         drawPickPanel(10.0f, ImGui::GetIO().DisplaySize.y - 90.0f, *p.hit, p.origin, p.head_local, p.has_height);
     }
     ImGui::Render();

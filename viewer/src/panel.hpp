@@ -2,6 +2,7 @@
 // picked point's panel beside it, and a trial's ready screen.
 #pragma once
 #include "point_renderer.hpp"
+#include "questionnaire_screen.hpp"
 
 #include <viewer/pick_index.hpp>
 #include <viewer/viewer.hpp>
@@ -60,9 +61,17 @@ struct PanelFrame {
     bool headset = false;  // an OpenXR session exists
     glm::dvec3 head_local{0.0};
     glm::dmat4 view_projection{1.0};  // the desktop view (where the hit's panel goes)
+    /// A questionnaire item up (instead of the ready screen), and where its answer goes.
+    QuestionnaireScreen* questionnaire = nullptr;
+    std::optional<Answer>* answered = nullptr;
+    /// The controller's pointer on the headset panel (0..1 from its top left) and whether
+    /// its trigger went down this frame: a mouse move and click in the panel's windows.
+    std::optional<glm::dvec2> panel_pointer;
+    bool panel_click = false;
 };
 
-/// One ImGui frame: the settings panel, the ready screen, the picked point's panel; drawn
+/// One ImGui frame: the settings panel, the ready screen or a questionnaire item, the
+/// picked point's panel; drawn
 /// into the window's back buffer and, with `headset_target`, into that texture for the
 /// headset's quad. Returns true when the zoom reset button was pressed.
 bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTarget* headset_target);

@@ -17,18 +17,20 @@ namespace viewer {
 
 namespace {
 using Key = ScriptEvent::Key;
-constexpr std::array<std::pair<Key, const char*>, 9> kKeys = {{{Key::Space, "space"},
-                                                               {Key::Escape, "escape"},
-                                                               {Key::Aim, "aim"},
-                                                               {Key::Designate, "designate"},
-                                                               {Key::Confirm, "confirm"},
-                                                               {Key::Reject, "reject"},
-                                                               {Key::NoTarget, "no_target"},
-                                                               {Key::GrabScale, "grab_scale"},
-                                                               {Key::Next, "next"}}};
+constexpr std::array<std::pair<Key, const char*>, 11> kKeys = {{{Key::Space, "space"},
+                                                                {Key::Escape, "escape"},
+                                                                {Key::Aim, "aim"},
+                                                                {Key::Designate, "designate"},
+                                                                {Key::Confirm, "confirm"},
+                                                                {Key::Reject, "reject"},
+                                                                {Key::NoTarget, "no_target"},
+                                                                {Key::GrabScale, "grab_scale"},
+                                                                {Key::Next, "next"},
+                                                                {Key::Answer, "answer"},
+                                                                {Key::PointAnswer, "point_answer"}}};
 constexpr const char* kAllowed =
     "; allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
-    "'<frame> grab_scale S', <frame> N, desktop+N, loaded+N or +N";
+    "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N or +N";
 
 /// A whole token as a finite double (no hex, no inf/nan), else nullopt.
 bool parseNumber(const std::string& token, double& out) {
@@ -86,7 +88,8 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
             }
         if (!known)
             throw bad("action " + quoted(key) +
-                      " is not one of space, escape, aim, designate, confirm, reject, no_target, grab_scale, next");
+                      " is not one of space, escape, aim, designate, confirm, reject, no_target, grab_scale, next, "
+                      "answer, point_answer");
         if (ev.key == Key::Aim) {
             for (int i = 0; i < 3; ++i) {
                 std::string token;
@@ -99,6 +102,21 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
             if (!(ls >> token)) throw bad("grab_scale needs a scale S");
             if (!parseNumber(token, ev.value) || !(ev.value > 0.0))
                 throw bad("grab_scale " + quoted(token) + " is not a finite number > 0");
+        } else if (ev.key == Key::PointAnswer) {
+            std::string token;
+            if (!(ls >> token)) throw bad("point_answer needs a rating N");
+            if (!parseNumber(token, ev.value) || ev.value != std::floor(ev.value) || std::abs(ev.value) > 1e6)
+                throw bad("point_answer " + quoted(token) + " is not a whole number");
+        } else if (ev.key == Key::Answer) {
+            std::string rest;
+            std::getline(ls, rest);
+            const auto first = rest.find_first_not_of(" \t\r");
+            const auto last = rest.find_last_not_of(" \t\r");
+            if (first == std::string::npos) throw bad("answer needs a rating or a text");
+            ev.text = rest.substr(first, last - first + 1);
+            if (ev.text.size() > kMaxScriptAnswerBytes)
+                throw bad("answer of " + std::to_string(ev.text.size()) + " bytes; at most " +
+                          std::to_string(kMaxScriptAnswerBytes));
         }
         if (ls >> extra) throw bad("unexpected " + quoted(extra));
         events.push_back(ev);
@@ -120,10 +138,11 @@ std::string formatScript(const std::vector<ScriptEvent>& events) {
                 std::snprintf(number, sizeof number, " %.17g", v);
                 text += number;
             }
-        if (ev.key == Key::GrabScale) {
+        if (ev.key == Key::GrabScale || ev.key == Key::PointAnswer) {
             std::snprintf(number, sizeof number, " %.17g", ev.value);
             text += number;
         }
+        if (ev.key == Key::Answer) text += " " + ev.text;
         text += "\n";
     }
     return text;

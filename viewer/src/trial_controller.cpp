@@ -84,6 +84,17 @@ bool TrialController::handleReadyScreen(const OperatorInput& in, bool ready, lon
     return true;
 }
 
+void TrialController::answered(int gap, int question, const Answer& answer, const char* source, long frame) {
+    if (observer_) observer_->onAnswer(gap, question, answer);
+    decisions_.push_back({{"frame", frame},
+                          {"action", "answer"},
+                          {"gap", gap},
+                          {"question", question},
+                          {"response", answer.response},
+                          {"skipped", answer.skipped},
+                          {"source", source}});
+}
+
 void TrialController::decide(const OperatorInput& in, const TrialContext& c) {
     const double t_s = time();
     const PointerTool& pointer = *c.pointer;

@@ -60,6 +60,15 @@ class TrialController {
     void decide(const OperatorInput& in, const TrialContext& c);
     /// Ends the running trial (nothing when none runs) and reports it.
     void end(Decision decision, const TrialContext& c);
+    /// The source's questions at gap `gap` of the run (TrialSource::questions).
+    std::vector<Question> questions(int gap) const {
+        return source_ ? source_->questions(gap) : std::vector<Question>{};
+    }
+    /// Reports an answer to the observer and the decisions log ({"action": "answer", "gap",
+    /// "question", "response", "skipped", "source"}).
+    void answered(int gap, int question, const Answer& answer, const char* source, long frame);
+    /// The ready screen's break counts again from now (it came up under a questionnaire).
+    void restartReadyClock() { ready_since_ = Clock::now(); }
     /// After the run: the source's end of the last trial.
     void finish();
 

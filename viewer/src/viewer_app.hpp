@@ -12,6 +12,8 @@
 #include "input/replay_player.hpp"
 #include "input/script_player.hpp"
 #include "panel.hpp"
+#include "panel_quad.hpp"
+#include "questionnaire_screen.hpp"
 #include "point_renderer.hpp"
 #include "run_log.hpp"
 #include "source_stream.hpp"
@@ -56,6 +58,8 @@ class ViewerApp {
     void startQuit(const std::string& reason);
     void toggleMode(const std::string& source);
     void beginTrial(int index);
+    void askGap(int gap);
+    void answerQuestion(const OperatorInput& in);
     bool readyToStart() const;
     RigPose headTracking() const;
     RigPose headLocal() const { return compose(modes_.rig(), zoom_.zoom().apply(headTracking())); }
@@ -75,6 +79,15 @@ class ViewerApp {
     ReplayPlayer replay_;
     XrInputMapping xr_input_;
     TrialController trials_;
+    QuestionnaireScreen questions_;
+    int asked_gap_ = -1;                           // the last gap whose questions were asked
+    std::optional<Answer> panel_answer_;           // clicked or typed in the last panel frame
+    std::optional<glm::dvec2> panel_pointer_;      // the controller's pointer on the headset panel
+    bool panel_click_ = false;                     // its trigger went down this frame
+    std::optional<int> script_point_;              // a script's point_answer rating, until answered
+    int script_wait_frames_ = 0;                   // frames since its trigger
+    std::optional<TrackingRay> script_panel_ray_;  // a script's point_answer, held until answered
+    CloudFeed empty_feed_;                         // a run of questions only shows no cloud
     ViewStyle style_;
     ModeController modes_;
     PointerTool pointer_;

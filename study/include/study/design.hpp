@@ -11,7 +11,11 @@
 //    "practice": [<plan trials>], "break_s": 60,
 //    "order": "latin" | "permutation" | "random", "seed": 1,
 //    "participants": ["P01", "P02", ...],
-//    "hit_radius_m": 1.0, "orbit": {...}, "generate": {...}}     (as in a plan)
+//    "hit_radius_m": 1.0, "orbit": {...}, "generate": {...},     (as in a plan)
+//    "questionnaires": {"ssq": true, "tlx": true,
+//                       "likert": [{"id": "confident", "statement": "...", "points": 7,
+//                                   "when": "after_condition"}],
+//                       "text": [{"id": "remarks", "question": "...", "when": "post"}]}}
 #pragma once
 #include <study/plan.hpp>
 
@@ -41,6 +45,40 @@ struct DesignBlock {
 
 enum class ConditionOrder { Latin, Permutation, Random };
 
+/// When a questionnaire item is asked: before the session's first trial, after its last,
+/// or after each condition's last trial.
+enum class QuestionWhen { Pre, Post, AfterCondition };
+/// "pre", "post", "after_condition" (questionnaires.csv's `occasion`).
+const char* questionWhenName(QuestionWhen when);
+
+/// A Likert item: `statement` rated 1 to `points`.
+struct LikertItem {
+    std::string id;  // the `item` column; a name as for conditions
+    std::string statement;
+    int points = 7;  // 2..11
+    QuestionWhen when = QuestionWhen::Post;
+};
+
+/// A free-text question: answered on the desktop only (a headset has no keyboard).
+struct TextItem {
+    std::string id;
+    std::string question;
+    QuestionWhen when = QuestionWhen::Post;
+};
+
+/// The questionnaires a session asks (study/instruments.hpp has the standard ones).
+struct Questionnaires {
+    bool ssq = false;  // the SSQ before the first trial and after the last
+    bool tlx = false;  // the raw NASA-TLX after each condition's last trial
+    std::vector<LikertItem> likert;
+    std::vector<TextItem> text;
+    bool any() const { return ssq || tlx || !likert.empty() || !text.empty(); }
+};
+
+/// Bounds on the design's own questionnaire items.
+inline constexpr std::size_t kMaxQuestionItems = 100;
+inline constexpr std::size_t kMaxStatementChars = 300;
+
 struct Design {
     std::vector<Condition> conditions;
     std::vector<DesignBlock> blocks;
@@ -49,7 +87,8 @@ struct Design {
     ConditionOrder order = ConditionOrder::Latin;
     std::uint64_t seed = 0;  // ConditionOrder::Random only
     std::vector<std::string> participants;
-    Plan settings;  // hit radius, orbit and generate settings (its trials empty)
+    Plan settings;                  // hit radius, orbit and generate settings (its trials empty)
+    Questionnaires questionnaires;  // none unless the design asks for them
 };
 
 /// The largest design read, and bounds on its lists.

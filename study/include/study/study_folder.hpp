@@ -15,8 +15,8 @@ namespace study {
 /// "trace_<trial_number>.csv"; trials are numbered 1.. in the order they ran.
 std::string traceFileName(int trial_number);
 
-/// A name a study writes into its folder: trials.csv, candidates.csv, study.json or
-/// trace_*.csv.
+/// A name a study writes into its folder: trials.csv, candidates.csv, questionnaires.csv,
+/// study.json or trace_*.csv.
 bool isStudyFile(std::string_view name);
 
 /// Checks that `out` (made by the caller) is a folder that holds no study yet, so one run

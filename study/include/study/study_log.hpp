@@ -6,12 +6,18 @@
 //   candidates.csv   each candidate's verdict and when it was given, replaced the same way
 //   trace_<N>.csv    one row per frame of trial N, written as the frames come (its format:
 //                    io/trace_file.hpp)
+//   questionnaires.csv  a design session's answers, one row per answer, replaced
+//                    atomically at each answer (study/instruments.hpp has its layout)
 // Columns: viewer/trial.hpp; meanings: docs/study.md. Trials are numbered 1.. in the
 // order they ran.
 #pragma once
 #include <viewer/trial.hpp>
 
+#include <study/questionnaire.hpp>
+
 #include <io/trace_file.hpp>
+
+#include <chrono>
 
 #include <cstdio>
 #include <filesystem>
@@ -45,15 +51,23 @@ class StudyLog : public viewer::TrialObserver {
     /// position trials_done + k (its number, trace and rows).
     void resumeAt(std::size_t trials_done, std::vector<std::string> trial_rows,
                   std::vector<std::string> candidate_rows);
+    /// The questions this run asks, by gap of this run (viewer::TrialSource::questions),
+    /// `participant`'s; `rows_kept`: questionnaires.csv's rows a stopped session wrote.
+    /// Answers' time_s counts from `session_start`.
+    void setQuestions(std::string participant, std::vector<std::vector<ScheduledQuestion>> by_gap,
+                      std::vector<std::string> rows_kept, std::chrono::steady_clock::time_point session_start);
     ~StudyLog() override;
 
     void onStart(int trial) override;
     void onFrame(int trial, const viewer::TraceSample& sample) override;
     void onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) override;
     void onEnd(int trial, const viewer::TrialOutcome& outcome) override;
+    void onAnswer(int gap, int question, const viewer::Answer& answer) override;
 
     /// Rows of trials.csv so far (header excluded), resumed ones included.
     std::size_t trialsWritten() const { return trial_rows_.size(); }
+    /// Rows of questionnaires.csv so far (header excluded), resumed ones included.
+    const std::vector<std::string>& questionRows() const { return question_rows_; }
     /// The first write error, if any (the run goes on; the command reports it).
     const std::string& error() const { return error_; }
 
@@ -72,6 +86,10 @@ class StudyLog : public viewer::TrialObserver {
     bool design_columns_ = false;
     int offset_ = 0;  // trials written before this run (a resumed session)
     std::vector<std::string> trial_rows_, candidate_rows_;
+    std::string participant_;
+    std::vector<std::vector<ScheduledQuestion>> questions_;
+    std::vector<std::string> question_rows_;
+    std::chrono::steady_clock::time_point session_start_{};
     std::FILE* trace_ = nullptr;
     std::filesystem::path trace_path_;
     std::string error_;

@@ -27,6 +27,12 @@ class StudySource : public viewer::TrialSource {
     viewer::TrialSetup begin(int trial, viewer::CloudFeed& feed) override;
     /// Joins the trial's generator (a scene still generating is finished first).
     void end(int trial) override;
+    std::vector<viewer::Question> questions(int gap) override {
+        return gap >= 0 && static_cast<std::size_t>(gap) < questions_.size() ? questions_[static_cast<std::size_t>(gap)]
+                                                                             : std::vector<viewer::Question>{};
+    }
+    /// The questions of each gap of this run (questions()).
+    void setQuestions(std::vector<std::vector<viewer::Question>> by_gap) { questions_ = std::move(by_gap); }
     /// The plan's trial that runs at position `trial`.
     const PlanTrial& planTrial(int trial) const { return plan_.trials[static_cast<std::size_t>(order_[trial])]; }
 
@@ -38,6 +44,7 @@ class StudySource : public viewer::TrialSource {
     int first_ = 0;
     std::vector<std::shared_ptr<const core::Scene>> scenes_;  // per plan trial (null: cloud)
     std::vector<std::vector<core::Candidate>> candidates_;    // per plan trial
+    std::vector<std::vector<viewer::Question>> questions_;
     std::thread generator_;
 };
 

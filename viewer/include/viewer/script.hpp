@@ -15,15 +15,18 @@ namespace viewer {
 struct ScriptEvent {
     long frame = 0;
     enum class Key {
-        Space,      // toggle automatic / free mode
-        Escape,     // quit
-        Aim,        // point the active pointer at world point `point` from the head
-        Designate,  // mark the picked point
-        Confirm,    // this designation (or the candidate pointed at) is the target
-        Reject,     // the candidate pointed at is not a target (else: drop the designation)
-        NoTarget,   // the operator declares there is no target
-        GrabScale,  // set the world scale to `value` about the pointer's hit (or the head)
-        Next,       // dismiss the ready screen (nothing when none is up)
+        Space,        // toggle automatic / free mode
+        Escape,       // quit
+        Aim,          // point the active pointer at world point `point` from the head
+        Designate,    // mark the picked point
+        Confirm,      // this designation (or the candidate pointed at) is the target
+        Reject,       // the candidate pointed at is not a target (else: drop the designation)
+        NoTarget,     // the operator declares there is no target
+        GrabScale,    // set the world scale to `value` about the pointer's hit (or the head)
+        Next,         // dismiss the ready screen (nothing when none is up)
+        Answer,       // answer the questionnaire item on screen with `text` (waits for one)
+        PointAnswer,  // headset: aim a controller ray from the head at rating `value`'s button on
+                      // the panel and pull the trigger (waits for an item)
     } key = Key::Space;
     /// "desktop+N": N frames after the drop to desktop mode (a lost runtime), so a test
     /// acts on that event instead of guessing its frame; waits while none has happened.
@@ -37,17 +40,24 @@ struct ScriptEvent {
     bool relative = false;
     double point[3] = {0.0, 0.0, 0.0};  // Aim: world coordinates (metres)
     double value = 0.0;                 // GrabScale: the scale, > 0
+    std::string text;                   // Answer: a rating's number or a text item's text
 };
 
 /// The largest script read (a line per action: a megabyte is tens of thousands).
 inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
 
-/// "space", "escape", "aim", "designate", "confirm", "reject", "no_target", "grab_scale", "next".
+/// The longest `answer` text of a script line.
+inline constexpr std::size_t kMaxScriptAnswerBytes = 1000;
+
+/// "space", "escape", "aim", "designate", "confirm", "reject", "no_target", "grab_scale", "next",
+/// "answer", "point_answer".
 const char* scriptKeyName(ScriptEvent::Key key);
 
 /// Parses script text: one "<frame> <action>" per line, frame a whole number >= 0,
 /// desktop+N, loaded+N (after the whole cloud is on the GPU) or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
-/// reject, no_target, grab_scale S (a finite number > 0), next; '#' starts a comment,
+/// reject, no_target, grab_scale S (a finite number > 0), next, answer TEXT (the rest of
+/// the line, spaces trimmed, 1 to kMaxScriptAnswerBytes bytes), point_answer N (a whole
+/// number); '#' starts a comment,
 /// blank lines skipped. Throws core::Error("<name> line N: ...; allowed '<frame>
 /// <action>' ...") on a bad line; tokens quoted in it are shown escaped and cut to 40
 /// characters (core::printable).

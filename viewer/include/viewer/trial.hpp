@@ -76,6 +76,26 @@ struct TrialSetup {
     std::optional<bool> eye_dome;
 };
 
+/// A questionnaire item shown between trials (a study's questionnaires): a rating from
+/// `min` to `max` in steps of `step`, or, `free_text`, a line of text typed on the
+/// desktop (a headset has no keyboard: the item is skipped there).
+struct Question {
+    std::string title;  // the questionnaire ("Simulator sickness, before the session")
+    std::string text;   // the item
+    int min = 0, max = 3, step = 1;
+    std::vector<std::string> labels;    // one per rating from min, or empty (the numbers)
+    std::string low_label, high_label;  // under the scale's ends, or empty
+    bool free_text = false;
+    int number = 1, count = 1;  // item `number` of `count` of its questionnaire
+};
+
+/// How a question was answered: a rating's number or a text item's text; `skipped`: a
+/// text item in the headset (response empty).
+struct Answer {
+    std::string response;
+    bool skipped = false;
+};
+
 /// Supplies the trials, one at a time.
 class TrialSource {
   public:
@@ -91,6 +111,10 @@ class TrialSource {
     /// Called before trial `trial`'s feed is destroyed (at the next trial and at the end
     /// of the run): stop producing into it (join the thread that does).
     virtual void end(int /*trial*/) {}
+    /// The questions asked at gap `gap` of this run (0..count()): gap 0 before its first
+    /// trial, gap k after trial k - 1 ends and before trial k starts (0-based trials), gap
+    /// count() after the last. A run with count() 0 asks only gap 0's.
+    virtual std::vector<Question> questions(int /*gap*/) { return {}; }
 };
 
 /// Receives what happens during each trial, as it happens (the study runner writes its
@@ -105,6 +129,8 @@ class TrialObserver {
     /// Called once per trial that started; candidates never reviewed are reported before it
     /// with Verdict::Unreviewed.
     virtual void onEnd(int /*trial*/, const TrialOutcome& /*outcome*/) {}
+    /// Question `question` (an index into the source's questions(gap)) answered.
+    virtual void onAnswer(int /*gap*/, int /*question*/, const Answer& /*answer*/) {}
 };
 
 }  // namespace viewer

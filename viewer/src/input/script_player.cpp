@@ -14,10 +14,13 @@ OperatorInput ScriptPlayer::take(const ScriptClock& clock) {
                                             : 0;
         if (base < 0 || ev.frame + base > clock.frame) break;
         if (ev.key == ScriptEvent::Key::Next && clock.ready_screen_waiting) break;
+        if ((ev.key == ScriptEvent::Key::Answer || ev.key == ScriptEvent::Key::PointAnswer) && !clock.question_up)
+            break;
         ++next_;
         last_frame_ = clock.frame;
         barrier = ev.key == ScriptEvent::Key::Next || ev.key == ScriptEvent::Key::Confirm ||
-                  ev.key == ScriptEvent::Key::NoTarget;
+                  ev.key == ScriptEvent::Key::NoTarget || ev.key == ScriptEvent::Key::Answer ||
+                  ev.key == ScriptEvent::Key::PointAnswer;
         switch (ev.key) {
             case ScriptEvent::Key::Space:
                 in.toggle_mode = true;
@@ -31,6 +34,8 @@ OperatorInput ScriptPlayer::take(const ScriptClock& clock) {
             case ScriptEvent::Key::NoTarget: in.no_target = true; break;
             case ScriptEvent::Key::GrabScale: in.set_scale = ev.value; break;
             case ScriptEvent::Key::Next: in.next = true; break;
+            case ScriptEvent::Key::Answer: in.answer = ev.text; break;
+            case ScriptEvent::Key::PointAnswer: in.point_answer = static_cast<int>(ev.value); break;
         }
     }
     return in;

@@ -18,14 +18,17 @@ struct ScriptClock {
     /// A ready screen is up and cannot be dismissed yet (its cloud is loading): a `next`
     /// waits, so a script does not race the loader.
     bool ready_screen_waiting = false;
+    /// A questionnaire item is on screen (drawn, no scripted click on it in flight): an
+    /// `answer` or `point_answer` waits for one.
+    bool question_up = false;
 };
 
 class ScriptPlayer {
   public:
     explicit ScriptPlayer(std::vector<ScriptEvent> events) : events_(std::move(events)) {}
     /// The actions due by `clock`. An action that ends a trial or leaves a ready screen
-    /// (next, confirm, no_target) ends this frame's actions: the next ones act on what
-    /// follows it.
+    /// (next, confirm, no_target) or answers a question ends this frame's actions: the
+    /// next ones act on what follows it.
     OperatorInput take(const ScriptClock& clock);
 
   private:
