@@ -69,7 +69,7 @@ const json& array(const json& root, const char* key, const std::string& where, s
 
 Condition parseCondition(const json& c, const std::string& w) {
     if (!c.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(c));
-    onlyKeys(c, w, {"name", "colour", "eye_dome", "candidates", "time_limit_s", "comment"});
+    onlyKeys(c, w, {"name", "colour", "eye_dome", "candidates", "time_limit_s", "start", "comment"});
     Condition condition;
     if (!c.contains("name")) throw core::Error(w + ": 'name' is required");
     condition.name = name(c, "name", w, "");
@@ -87,6 +87,18 @@ Condition parseCondition(const json& c, const std::string& w) {
     condition.eye_dome = flag(c, "eye_dome", w);
     condition.candidates = flag(c, "candidates", w).value_or(true);
     if (c.contains("time_limit_s")) condition.time_limit_s = detail::number(c, "time_limit_s", w, 0.0, 86400.0, 0.0);
+    if (const auto it = c.find("start"); it != c.end()) {
+        if (!it->is_string())
+            throw core::Error(field(w, "start") + " must be a string, not " + io::jsonTypeName(*it) +
+                              "; allowed: automatic, free");
+        const std::string v = it->get<std::string>();
+        if (v == "automatic")
+            condition.start = viewer::ViewMode::Automatic;
+        else if (v == "free")
+            condition.start = viewer::ViewMode::Free;
+        else
+            throw core::Error(field(w, "start") + " '" + core::printable(v, 40) + "' is not one of automatic, free");
+    }
     return condition;
 }
 
@@ -369,6 +381,7 @@ Session expandSession(const Design& design, const std::string& participant, cons
             if (c.eye_dome) trial.eye_dome = c.eye_dome;
             if (!c.candidates) trial.candidates.clear();
             if (c.time_limit_s) trial.time_limit_s = *c.time_limit_s;
+            if (c.start) trial.start_mode = c.start;
             session.plan.trials.push_back(std::move(trial));
             session.trials.push_back({ci, block, block < 0});
         };

@@ -57,6 +57,7 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
     setup.min_ready_s = t.min_ready_s;
     setup.colour = t.colour;
     setup.eye_dome = t.eye_dome;
+    setup.start_mode = t.start_mode;
     return setup;
 }
 

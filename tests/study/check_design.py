@@ -65,6 +65,10 @@ def check_folder(folder, participant, index, log=None):
         got = (row["trial"], row["participant"], row["condition"], row["block"], row["practice"])
         check(got == (str(n), participant, condition, block, practice), f"{folder}: trial {n}: {got}")
         check(row["decision"] == "confirm" and row["hit"] == "1", f"{folder}: trial {n}: {row['decision']} hit {row['hit']}")
+        # The label condition starts in free mode; that is not one of the operator's switches.
+        check(row["mode_switches"] == "0", f"{folder}: trial {n}: {row['mode_switches']} mode switches")
+        free_s = float(row["seconds_in_free_mode"])
+        check((free_s > 0) == (condition == "label"), f"{folder}: trial {n} ({condition}): {free_s} s in free mode")
     study = json.load(open(os.path.join(folder, "study.json")))
     sha = hashlib.sha256(open(os.path.join(work, "design.json"), "rb").read()).hexdigest()
     check(study["design_sha256"] == sha, f"{folder}: study.json's SHA-256 {study['design_sha256']}")
@@ -87,6 +91,10 @@ def check_folder(folder, participant, index, log=None):
         for n, (condition, _, _) in enumerate(trials, 1):
             colours = {f["colour"] for f in frames if f.get("trial") == n - 1}
             check(colours == {COLOUR[condition]}, f"{log}: trial {n} ({condition}) drawn in {colours}")
+        switches = json.load(open(log)).get("mode_switches", [])
+        labels = sum(1 for condition, _, _ in trials if condition == "label")
+        check([(s["from"], s["to"], s["source"]) for s in switches] == [("automatic", "free", "condition")] * labels,
+              f"{log}: mode switches {switches}")
         starts = [a for a in json.load(open(log))["actions"] if a.get("action") == "start"]
         check(len(starts) == len(trials), f"{log}: {len(starts)} starts")
         for a in starts:

@@ -35,7 +35,7 @@ study::Design design(int n, const std::string& order = "latin", const std::strin
 TEST_CASE("a design's conditions, blocks, practice, break and participants") {
     const study::Design d = study::parseDesign(R"({
         "conditions": [{"name": "edl", "colour": "height", "eye_dome": true, "time_limit_s": 60},
-                       {"name": "plain", "eye_dome": false, "candidates": false}],
+                       {"name": "plain", "eye_dome": false, "candidates": false, "start": "free"}],
         "blocks": [{"name": "easy", "trials": [{"cloud": "a.pcd", "candidates": "a.json"}, {"scene": "s.json"}]},
                    {"trials": [{"cloud": "b.pcd", "time_limit_s": 30}]}],
         "practice": [{"cloud": "p.pcd"}], "break_s": 45, "order": "latin",
@@ -51,6 +51,8 @@ TEST_CASE("a design's conditions, blocks, practice, break and participants") {
     CHECK_FALSE(*d.conditions[1].eye_dome);
     CHECK_FALSE(d.conditions[1].candidates);
     CHECK_FALSE(d.conditions[1].time_limit_s);
+    CHECK_FALSE(d.conditions[0].start);
+    CHECK(*d.conditions[1].start == viewer::ViewMode::Free);
     REQUIRE(d.blocks.size() == 2);
     CHECK(d.blocks[0].name == "easy");
     CHECK(d.blocks[1].name == "2");
@@ -82,6 +84,8 @@ TEST_CASE("a design's conditions, blocks, practice, break and participants") {
     CHECK(s.plan.trials[5].time_limit_s == 60.0);  // edl's limit over the trial's
     CHECK(s.plan.trials[7].time_limit_s == 60.0);
     CHECK(*s.plan.trials[5].colour == viewer::ColourMode::HeightJet);
+    CHECK(*s.plan.trials[1].start_mode == viewer::ViewMode::Free);  // plain starts free
+    CHECK_FALSE(s.plan.trials[5].start_mode);                       // edl: the paper's automatic start
     CHECK_THROWS_WITH_AS(study::expandSession(d, "P99", "d.json"),
                          "study: --participant 'P99' is not in d.json's participants (P01, P02)", core::Error);
 }
@@ -108,7 +112,11 @@ TEST_CASE("a design's refused keys: one line naming the key and what is allowed"
           "study: design.json: conditions[0].time_limit_s -2 is not in [0, 86400]");
     fails(R"({"conditions": [{"name": "a", "tools": []}], )" + blocks + "}",
           "study: design.json: conditions[0]: unknown key 'tools'; allowed: name, colour, eye_dome, candidates, "
-          "time_limit_s, comment");
+          "time_limit_s, start, comment");
+    fails(R"({"conditions": [{"name": "a", "start": "orbit"}], )" + blocks + "}",
+          "study: design.json: conditions[0].start 'orbit' is not one of automatic, free");
+    fails(R"({"conditions": [{"name": "a", "start": 1}], )" + blocks + "}",
+          "study: design.json: conditions[0].start must be a string, not a number; allowed: automatic, free");
     fails(R"({"conditions": [{"name": "a"}], "blocks": [{"trials": []}], "participants": ["P01"]})",
           "study: design.json: blocks[0].trials must be a non-empty array of trials");
     fails(R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a", "time_limit_s": -1}]}],

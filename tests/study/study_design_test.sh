@@ -2,7 +2,7 @@
 # tests/study/study_design_test.sh LADARVR SCENARIO: `ladarvr study DESIGN.json
 # --participant P --out DIR` driven headless (--no-xr, Xvfb from tests/viewer/headless_env.sh)
 # by a script, checked by check_design.py. The design: three conditions (colours, eye-dome
-# lighting, candidates on or off, a time limit), a practice trial and two blocks of one
+# lighting, candidates on or off, a time limit, one starting in free mode), a practice trial and two blocks of one
 # trial each, a break before the second and third condition, two participants, a Latin
 # square. Every trial designates the tank and confirms: 9 trials per participant.
 #   run      P01 and P02 each run their session: trials.csv's participant, condition,
@@ -49,7 +49,8 @@ CANDIDATES
 cat >"$work/design.json" <<'DESIGN'
 {"conditions": [{"name": "heightedl", "colour": "height", "eye_dome": true, "candidates": true},
                 {"name": "white", "colour": "white", "eye_dome": false, "candidates": false},
-                {"name": "label", "colour": "label", "eye_dome": true, "candidates": false, "time_limit_s": 250}],
+                {"name": "label", "colour": "label", "eye_dome": true, "candidates": false, "time_limit_s": 250,
+                 "start": "free"}],
  "practice": [{"cloud": "demo.pcd", "name": "practice"}],
  "blocks": [{"name": "first", "trials": [{"cloud": "demo.pcd", "candidates": "candidates.json", "name": "one"}]},
             {"name": "second", "trials": [{"cloud": "demo.pcd", "candidates": "candidates.json", "name": "two"}]}],

@@ -88,6 +88,7 @@ void ViewerApp::beginTrial(int index) {
     // A trial's own display settings (a study's condition); the others stay as they stand.
     if (trials_.setup().colour) style_.colour = *trials_.setup().colour;
     if (trials_.setup().eye_dome) style_.eye_dome = *trials_.setup().eye_dome;
+    start_free_ = trials_.setup().start_mode == ViewMode::Free;
     pointer_.setIndex(nullptr);
     pointer_.update(std::nullopt);
     modes_ = ModeController(options_.modes, glm::dvec3(0.0));
@@ -208,6 +209,16 @@ void ViewerApp::update(OperatorInput in, double dt) {
     } else if (trials_.handleReadyScreen(in, readyToStart() && stream_.source().error().empty(), frames_)) {
         overlay_list_.clear();
     } else {
+        if (start_free_) {  // the condition's start mode, once the cloud and its centre are in
+            start_free_ = false;
+            if (modes_.mode() != ViewMode::Free) {
+                if (headset_.session())
+                    modes_.toggle(zoom_.zoom().apply(eyes_->lastHead()));
+                else
+                    modes_.toggleDesktop(input_.lookYawRad(), input_.lookPitchRad());
+                log_.modeSwitch(frames_, modeName(ViewMode::Automatic), modeName(ViewMode::Free), "condition");
+            }
+        }
         if (in.toggle_mode) toggleMode(in.toggle_source);
         // The zoom's pivot: the pointer's hit (in the tracking frame), else the head.
         const RigPose rig = modes_.rig();

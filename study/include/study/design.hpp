@@ -34,8 +34,9 @@ struct Condition {
     std::string name;
     std::optional<viewer::ColourMode> colour;
     std::optional<bool> eye_dome;
-    bool candidates = true;              // false: the trials' candidate boxes are not shown
-    std::optional<double> time_limit_s;  // overrides every trial's own limit
+    bool candidates = true;                 // false: the trials' candidate boxes are not shown
+    std::optional<double> time_limit_s;     // overrides every trial's own limit
+    std::optional<viewer::ViewMode> start;  // the mode each trial starts in (automatic: the paper's)
 };
 
 struct DesignBlock {

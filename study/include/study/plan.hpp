@@ -32,9 +32,10 @@ struct PlanTrial {
                                        // file name; printable (platform::printableUtf8, kMaxTrialNameChars)
     std::string source;                // the cloud or scene as written in the plan (trials.csv)
     // A design's condition (study/design.hpp) sets these; a plan leaves them unset.
-    std::optional<viewer::ColourMode> colour;  // point colours for this trial
-    std::optional<bool> eye_dome;              // eye-dome lighting on or off
-    double min_ready_s = 0.0;                  // the ready screen stays up at least this long (a break)
+    std::optional<viewer::ColourMode> colour;    // point colours for this trial
+    std::optional<bool> eye_dome;                // eye-dome lighting on or off
+    std::optional<viewer::ViewMode> start_mode;  // the mode the trial starts in
+    double min_ready_s = 0.0;                    // the ready screen stays up at least this long (a break)
 };
 
 struct Plan {

@@ -74,6 +74,10 @@ struct TrialSetup {
     /// Per-trial display settings (a study's condition); unset: the run's, as they stand.
     std::optional<ColourMode> colour;
     std::optional<bool> eye_dome;
+    /// The mode the trial starts in once its ready screen is dismissed (unset: automatic,
+    /// the paper's protocol). Starting free is logged as a switch from the condition, not
+    /// counted among the operator's switches.
+    std::optional<ViewMode> start_mode;
 };
 
 /// A questionnaire item shown between trials (a study's questionnaires): a rating from
