@@ -102,6 +102,14 @@ void registerTrain(CLI::App& cli) {
     c->add_option("--eta", o.boost.eta, "learning rate, (0, 1]")->capture_default_str();
     c->add_option("--holdout-fraction", o.holdout_fraction, "share of the items held out for the calibration, [0, 0.9]")
         ->capture_default_str();
+    c->add_option("--min-height-m", o.segments.min_height_m,
+                  "points at most this high above the SMRF terrain are ground, [0, 10] m (recorded in the model)")
+        ->capture_default_str();
+    c->add_option("--segment-voxel-m", o.segments.voxel_m, "voxel side of the segmentation, [0.05, 10] m")
+        ->capture_default_str();
+    c->add_option("--segment-tolerance-m", o.segments.cluster_tolerance_m,
+                  "voxels whose centroids are closer join one segment, (voxel / 2, 10] m")
+        ->capture_default_str();
     c->add_option("--threads", o.boost.threads, "threads for the features and XGBoost, >= 1")->capture_default_str();
     c->add_option("--seed", o.boost.seed, "XGBoost's seed")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,
