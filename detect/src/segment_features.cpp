@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <set>
 #include <utility>
+#include <vector>
 
 namespace detect {
 namespace {
@@ -177,11 +177,18 @@ std::vector<float> segmentFeatures(const core::PointCloud& cloud, std::span<cons
     {
         const double c = std::cos(box.yaw_deg * 3.14159265358979323846 / 180.0),
                      s = std::sin(box.yaw_deg * 3.14159265358979323846 / 180.0);
-        std::set<std::pair<long, long>> cells;
+        // Cells as packed keys, sorted and deduplicated (a set of pairs costs a node per point).
+        std::vector<std::uint64_t> cells;
+        cells.reserve(points.size());
         for (const std::uint32_t i : points) {
             const glm::dvec3 p = glm::dvec3(cloud.points[i].position) - box.centre;
-            cells.insert({long(std::floor((c * p.x + s * p.y) / 0.5)), long(std::floor((-s * p.x + c * p.y) / 0.5))});
+            const auto u = std::int64_t(std::floor((c * p.x + s * p.y) / 0.5)),
+                       v = std::int64_t(std::floor((-s * p.x + c * p.y) / 0.5));
+            cells.push_back((std::uint64_t(u + (std::int64_t(1) << 31)) << 32) |
+                            std::uint64_t(v + (std::int64_t(1) << 31)));
         }
+        std::sort(cells.begin(), cells.end());
+        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
         const double footprint = std::max(1.0, std::ceil(length / 0.5) * std::ceil(width / 0.5));
         f.push_back(float(std::min(1.0, double(cells.size()) / footprint)));
     }
