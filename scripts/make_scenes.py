@@ -3,7 +3,8 @@
 
     python3 scripts/make_scenes.py [--out ASSETS_DIR]
 
-assets/common/  meshes shared by the scenes (buildings, trees, the tank, the grounds)
+assets/common/  meshes shared by the scenes (buildings, trees, the tank, the grounds) and a
+                box truck, a second target model the detector benchmark evaluates on
 assets/demo/    the demo: a tank beside a house, half under a tree, in a village
 assets/hard/    the tank in a narrow street between long buildings, in a dense forest
 assets/hilly/   a village and the tank on ground with ~15 m of relief (for terrain-following ground filters)
@@ -210,6 +211,19 @@ def tank():
     parts.append(("hull", h))
     parts.append(("turret", prism(-0.4, 0.0, 1.55, 8, 1.55, 2.5, r_top=1.3, phase=math.pi / 8)))
     parts.append(("barrel", cylinder_x(0.9, 7.1, 0.0, 2.05, 0.11, 8)))
+    return parts
+
+
+def truck():
+    """A box truck of boxes, its long axis along x (cab at +x), centred on the origin,
+    wheels on z = 0: 8.0 m x 2.5 m x 3.4 m. A second target model: the trained detector's
+    benchmark evaluates on it while training only on the tank."""
+    parts = [("chassis", box(-4.0, 4.0, -1.1, 1.1, 0.55, 1.0)),
+             ("cargo", box(-4.0, 1.6, -1.25, 1.25, 1.0, 3.4)),
+             ("cab", box(1.8, 4.0, -1.2, 1.2, 1.0, 2.9))]
+    for i, x in enumerate((-3.0, -1.8, 2.9)):
+        for side, (y0, y1) in (("left", (0.8, 1.2)), ("right", (-1.2, -0.8))):
+            parts.append(("wheel_%d_%s" % (i, side), box(x - 0.5, x + 0.5, y0, y1, 0.0, 1.0)))
     return parts
 
 
@@ -442,6 +456,8 @@ def make_common(out):
     os.makedirs(d, exist_ok=True)
     write_obj(os.path.join(d, "tank.obj"), tank(),
               "tank-like target: 7.0 x 3.5 x 2.5 m, barrel along +x, centred on the origin")
+    write_obj(os.path.join(d, "truck.obj"), truck(),
+              "box truck: 8.0 x 2.5 x 3.4 m, cab along +x, centred on the origin")
     write_obj(os.path.join(d, "house_small.obj"), [("house", house(10.0, 8.0, 5.5, 8.5))],
               "house 10 x 8 m, eaves 5.5 m, ridge 8.5 m (walls from -4 m, below the ground)")
     write_obj(os.path.join(d, "house_large.obj"), [("house", house(16.0, 11.0, 8.0, 12.0))],

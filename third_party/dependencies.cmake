@@ -53,6 +53,8 @@ endif()
 # Libraries that ship headers (and a .so) but no CMake package.
 find_path(LADARVR_IMGUI_INCLUDE_DIR imgui.h PATH_SUFFIXES imgui REQUIRED)   # libimgui-dev
 find_library(LADARVR_IMGUI_LIBRARY NAMES imgui REQUIRED)
+find_path(LADARVR_XGBOOST_INCLUDE_DIR xgboost/c_api.h REQUIRED)  # libxgboost-dev (3.0), under /usr/include
+find_library(LADARVR_XGBOOST_LIBRARY NAMES xgboost REQUIRED)
 
 # Shares compiled objects between clones, worktrees and presets when ccache is there.
 find_program(LADARVR_CCACHE ccache)

@@ -11,6 +11,7 @@ void registerMetric(CLI::App& cli);    // cmd_metric.cpp:   `ladarvr metric`
 void registerView(CLI::App& cli);      // cmd_view.cpp:     `ladarvr view`
 void registerScene(CLI::App& cli);     // cmd_scene.cpp:    `ladarvr scene info`
 void registerDetect(CLI::App& cli);    // cmd_detect.cpp:   `ladarvr detect`
+void registerTrain(CLI::App& cli);     // cmd_train.cpp:    `ladarvr train`
 void registerCorpus(CLI::App& cli);    // cmd_corpus.cpp:   `ladarvr corpus`
 void registerStudy(CLI::App& cli);     // cmd_study.cpp:    `ladarvr study`
 void registerIndex(CLI::App& cli);     // cmd_index.cpp:    `ladarvr index`

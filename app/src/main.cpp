@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     app::registerView(cli);
     app::registerScene(cli);
     app::registerDetect(cli);
+    app::registerTrain(cli);
     app::registerCorpus(cli);
     app::registerStudy(cli);
     app::registerIndex(cli);

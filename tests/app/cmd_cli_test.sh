@@ -54,7 +54,7 @@ grep -q '{false}' "$dir/out" && fail "generate --help shows a '{false}' default"
 grep -q 'Exit status: 0 success; 1 .*2 usage error.*70 internal error' "$dir/out" || fail "no exit statuses in --help"
 
 # Usage errors: exit 2, one line.
-usage "unknown subcommand 'frobnicate'; allowed: generate, metric, view, scene, detect, corpus, study" frobnicate
+usage "unknown subcommand 'frobnicate'; allowed: generate, metric, view, scene, detect, train, corpus, study" frobnicate
 usage "a subcommand is required" 
 usage "scene: unknown subcommand 'inf'" scene inf
 usage "unknown option: --bogus" --bogus

@@ -1,0 +1,20 @@
+// bench/src/detect_trained.hpp: the trained detector against the clustering baseline on
+// clouds neither saw in training (part of `ladarvr bench detect`).
+#pragma once
+#include <filesystem>
+#include <string>
+
+namespace bench {
+
+struct TrainedBenchOptions {
+    bool quick = false;         // tiny corpora and clouds: a smoke run, figures not meaningful
+    std::filesystem::path tmp;  // scratch folder (empty: a new one under the temp dir, removed)
+    int threads = 2;            // the trained detector's and the generator's threads
+};
+
+/// Trains on the corpora of assets/detect/train_*.json, evaluates both detectors on new
+/// corpora (other seeds, terrains, a target model not in training) and on the bundled
+/// scenes seen by the sensor presets; returns the markdown section's body.
+std::string runTrainedComparison(const TrainedBenchOptions& o);
+
+}  // namespace bench

@@ -1,0 +1,48 @@
+// detect/segmentation.hpp: the segments a trained detector classifies. The ground is a
+// fitted terrain, not a plane: SMRF (sim/ground.hpp, Pingel et al. 2013) gives each point
+// its height above a surface that follows hills and slopes, so a target on a slope stands
+// out of it instead of merging into a tilted "ground" left over by a per-tile plane.
+//
+//   1) terrain: SMRF on the whole cloud; every point gets its height above the terrain;
+//   2) the points higher than min_height_m above it (and not SMRF ground) are binned into
+//      voxels of voxel_m; two occupied voxels whose centroids are within
+//      cluster_tolerance_m join one segment (union-find, the Euclidean clustering of
+//      Rusu's thesis on voxel centroids, as the baseline does);
+//   3) segments under min_points points are dropped as noise.
+#pragma once
+#include <core/point_cloud.hpp>
+#include <sim/ground.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace detect {
+
+struct SegmentOptions {
+    sim::SmrfOptions terrain;          // step 1 (PDAL's defaults)
+    double min_height_m = 0.25;        // step 2: points at most this high above the terrain are ground
+    double voxel_m = 0.25;             // step 2's voxel side, [0.05, 10] m
+    double cluster_tolerance_m = 0.5;  // step 2, (voxel_m / 2, 10] m
+    int min_points = 20;               // step 3, >= 1
+};
+
+/// Throws core::Error("detect: <option> = <value>: allowed <range>").
+void validate(const SegmentOptions& o);
+
+struct Segmentation {
+    /// One height above the terrain per point of the cloud, metres.
+    std::vector<float> height_m;
+    /// Each segment's point indices, ascending; segments ordered by their first point.
+    std::vector<std::vector<std::uint32_t>> segments;
+    std::size_t above_points = 0;  // points that went into step 2
+};
+
+/// Steps 1-3 on `cloud`: a pure function of the cloud and the options (single-threaded,
+/// so the same whatever the thread count). Throws core::Error for clouds SMRF cannot grid.
+Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o);
+
+/// At most what segmentCloud holds per point of the cloud, in bytes (for memory plans).
+inline constexpr std::uint64_t kSegmentBytesPerPoint = 96;
+
+}  // namespace detect

@@ -1,0 +1,226 @@
+// detect/src/segment_features.cpp: the per-segment features of detect/segment_features.hpp.
+#include <detect/segment_features.hpp>
+
+#include <detect/cluster_detector.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace detect {
+namespace {
+
+constexpr float kMissing = std::numeric_limits<float>::quiet_NaN();
+
+// Eigenvalues (descending) and eigenvectors (columns, same order) of a symmetric 3x3
+// matrix by cyclic Jacobi rotations: a fixed sequence of operations, so the result is
+// the same on every run.
+void symmetricEigen(double a[3][3], double values[3], double vectors[3][3]) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) vectors[i][j] = i == j ? 1.0 : 0.0;
+    for (int sweep = 0; sweep < 50; ++sweep) {
+        const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        if (off < 1e-30) break;
+        for (int p = 0; p < 2; ++p)
+            for (int q = p + 1; q < 3; ++q) {
+                if (std::abs(a[p][q]) < 1e-300) continue;
+                const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+                const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+                for (int k = 0; k < 3; ++k) {  // A <- A J
+                    const double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; ++k) {  // A <- J^T A
+                    const double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < 3; ++k) {
+                    const double vkp = vectors[k][p], vkq = vectors[k][q];
+                    vectors[k][p] = c * vkp - s * vkq;
+                    vectors[k][q] = s * vkp + c * vkq;
+                }
+            }
+    }
+    int order[3] = {0, 1, 2};
+    std::sort(order, order + 3, [&](int x, int y) { return a[x][x] > a[y][y]; });
+    double v[3][3];
+    for (int k = 0; k < 3; ++k) {
+        values[k] = std::max(0.0, a[order[k]][order[k]]);
+        for (int i = 0; i < 3; ++i) v[i][k] = vectors[i][order[k]];
+    }
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) vectors[i][k] = v[i][k];
+}
+
+double quantile(std::vector<double>& x, double q) {
+    const std::size_t k = std::min(x.size() - 1, std::size_t(q * double(x.size() - 1) + 0.5));
+    std::nth_element(x.begin(), x.begin() + std::ptrdiff_t(k), x.end());
+    return x[k];
+}
+
+}  // namespace
+
+const std::vector<std::string>& segmentFeatureNames() {
+    static const std::vector<std::string> names = {
+        "log_points",
+        "length_m",
+        "width_m",
+        "height_m",
+        "size_match",
+        "hag_max_m",
+        "hag_min_m",
+        "hag_mean_m",
+        "hag_p10_m",
+        "hag_p50_m",
+        "hag_p90_m",
+        "eigen_1",
+        "eigen_2",
+        "eigen_3",
+        "linearity",
+        "planarity",
+        "scattering",
+        "normal_z",
+        "principal_z",
+        "points_per_m2",
+        "points_per_m3",
+        "profile_q1",
+        "profile_q2",
+        "profile_q3",
+        "profile_q4",
+        "top_fraction",
+        "footprint_fill",
+        "multi_return_fraction",
+        "last_return_fraction",
+        "intensity_mean",
+        "intensity_std",
+    };
+    return names;
+}
+
+std::vector<float> segmentFeatures(const core::PointCloud& cloud, std::span<const std::uint32_t> points,
+                                   std::span<const float> height_m, const glm::dvec3& target_size_m) {
+    std::vector<float> f;
+    f.reserve(segmentFeatureNames().size());
+    const double n = double(points.size());
+    const std::vector<std::uint32_t> list(points.begin(), points.end());
+    const OrientedBox box = fitBox(cloud, list, 0.01);
+    const double length = box.size_m.x, width = box.size_m.y, height = box.size_m.z;
+    f.push_back(float(std::log(n)));
+    f.push_back(float(length));
+    f.push_back(float(width));
+    f.push_back(float(height));
+    f.push_back(float(sizeScore(box.size_m, target_size_m, 1.5)));
+
+    // Height above the terrain.
+    std::vector<double> hag(points.size());
+    double hag_sum = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        hag[k] = double(height_m[points[k]]);
+        hag_sum += hag[k];
+    }
+    const auto [hmin_it, hmax_it] = std::minmax_element(hag.begin(), hag.end());
+    const double hag_min = *hmin_it, hag_max = *hmax_it;
+    f.push_back(float(hag_max));
+    f.push_back(float(hag_min));
+    f.push_back(float(hag_sum / n));
+    std::vector<double> sorted = hag;
+    f.push_back(float(quantile(sorted, 0.1)));
+    f.push_back(float(quantile(sorted, 0.5)));
+    f.push_back(float(quantile(sorted, 0.9)));
+
+    // 3D PCA about the centroid (moments relative to the first point, in double).
+    const glm::dvec3 ref = glm::dvec3(cloud.points[points.front()].position);
+    glm::dvec3 mean{0.0};
+    for (const std::uint32_t i : points) mean += glm::dvec3(cloud.points[i].position) - ref;
+    mean /= n;
+    double cov[3][3] = {};
+    for (const std::uint32_t i : points) {
+        const glm::dvec3 d = glm::dvec3(cloud.points[i].position) - ref - mean;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) cov[a][b] += d[a] * d[b];
+    }
+    for (auto& row : cov)
+        for (double& v : row) v /= n;
+    double ev[3], evec[3][3];
+    symmetricEigen(cov, ev, evec);
+    const double sum = ev[0] + ev[1] + ev[2];
+    for (int k = 0; k < 3; ++k) f.push_back(float(sum > 0 ? ev[k] / sum : 0.0));
+    const double l1 = std::max(ev[0], 1e-12);
+    f.push_back(float((ev[0] - ev[1]) / l1));
+    f.push_back(float((ev[1] - ev[2]) / l1));
+    f.push_back(float(ev[2] / l1));
+    f.push_back(float(std::abs(evec[2][2])));  // z of the smallest axis: 1 for a roof, 0 for a wall
+    f.push_back(float(std::abs(evec[2][0])));  // z of the largest axis: 1 for a pole or trunk
+
+    // Density over the box's footprint and volume.
+    f.push_back(float(n / std::max(length * width, 0.01)));
+    f.push_back(float(n / std::max(length * width * height, 0.01)));
+
+    // Vertical profile: the share of points in each quarter of the segment's height range,
+    // and the share within 0.3 m of its top (a roof, a turret).
+    double profile[4] = {0, 0, 0, 0};
+    std::size_t top = 0;
+    const double range = std::max(hag_max - hag_min, 1e-6);
+    for (const double h : hag) {
+        profile[std::min(3, int(4.0 * (h - hag_min) / range))] += 1.0;
+        top += h >= hag_max - 0.3;
+    }
+    for (const double p : profile) f.push_back(float(p / n));
+    f.push_back(float(double(top) / n));
+
+    // Footprint fill: occupied 0.5 m cells over the cells of the box's footprint.
+    {
+        const double c = std::cos(box.yaw_deg * 3.14159265358979323846 / 180.0),
+                     s = std::sin(box.yaw_deg * 3.14159265358979323846 / 180.0);
+        // Cells as packed keys, sorted and deduplicated (a set of pairs costs a node per point).
+        std::vector<std::uint64_t> cells;
+        cells.reserve(points.size());
+        for (const std::uint32_t i : points) {
+            const glm::dvec3 p = glm::dvec3(cloud.points[i].position) - box.centre;
+            const auto u = std::int64_t(std::floor((c * p.x + s * p.y) / 0.5)),
+                       v = std::int64_t(std::floor((-s * p.x + c * p.y) / 0.5));
+            cells.push_back((std::uint64_t(u + (std::int64_t(1) << 31)) << 32) |
+                            std::uint64_t(v + (std::int64_t(1) << 31)));
+        }
+        std::sort(cells.begin(), cells.end());
+        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+        const double footprint = std::max(1.0, std::ceil(length / 0.5) * std::ceil(width / 0.5));
+        f.push_back(float(std::min(1.0, double(cells.size()) / footprint)));
+    }
+
+    // Returns and intensity, when the cloud has them.
+    if (cloud.fields.returns) {
+        std::size_t multi = 0, last = 0;
+        for (const std::uint32_t i : points) {
+            multi += cloud.points[i].returns > 1;
+            last += cloud.points[i].return_number == cloud.points[i].returns;
+        }
+        f.push_back(float(double(multi) / n));
+        f.push_back(float(double(last) / n));
+    } else {
+        f.push_back(kMissing);
+        f.push_back(kMissing);
+    }
+    if (cloud.fields.intensity) {
+        double s1 = 0, s2 = 0;
+        for (const std::uint32_t i : points) {
+            const double v = double(cloud.points[i].intensity) / 65535.0;
+            s1 += v;
+            s2 += v * v;
+        }
+        const double m = s1 / n;
+        f.push_back(float(m));
+        f.push_back(float(std::sqrt(std::max(0.0, s2 / n - m * m))));
+    } else {
+        f.push_back(kMissing);
+        f.push_back(kMissing);
+    }
+    return f;
+}
+
+}  // namespace detect

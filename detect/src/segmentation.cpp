@@ -1,0 +1,142 @@
+// detect/src/segmentation.cpp: the segments of detect/segmentation.hpp.
+#include <detect/segmentation.hpp>
+
+#include <core/error.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+namespace detect {
+namespace {
+
+[[noreturn]] void fail(const char* option, double value, const char* allowed) {
+    std::ostringstream s;
+    s << "detect: " << option << " = " << value << ": allowed " << allowed;
+    throw core::Error(s.str());
+}
+
+// Voxel keys packed into 64 bits: 21 bits per axis, offset so that negative indices fit.
+constexpr std::int64_t kKeyOffset = std::int64_t(1) << 20;
+constexpr std::int64_t kKeyMax = (std::int64_t(1) << 21) - 1;
+
+std::uint64_t packKey(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (std::uint64_t(x + kKeyOffset) << 42) | (std::uint64_t(y + kKeyOffset) << 21) |
+           std::uint64_t(z + kKeyOffset);
+}
+
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t v) {
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+}  // namespace
+
+void validate(const SegmentOptions& o) {
+    sim::validate(o.terrain);
+    if (!(std::isfinite(o.min_height_m) && o.min_height_m >= 0.0 && o.min_height_m <= 10.0))
+        fail("--min-height-m", o.min_height_m, "[0, 10] m");
+    if (!(std::isfinite(o.voxel_m) && o.voxel_m >= 0.05 && o.voxel_m <= 10.0))
+        fail("--segment-voxel-m", o.voxel_m, "[0.05, 10] m");
+    if (!(std::isfinite(o.cluster_tolerance_m) && o.cluster_tolerance_m > o.voxel_m / 2.0 &&
+          o.cluster_tolerance_m <= 10.0))
+        fail("--segment-tolerance-m", o.cluster_tolerance_m, "(voxel / 2, 10] m");
+    if (o.min_points < 1) fail("--segment-min-points", o.min_points, ">= 1");
+}
+
+Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o) {
+    validate(o);
+    if (cloud.points.size() >= std::size_t(UINT32_MAX))
+        throw core::Error("detect: the cloud has too many points (at most 4294967294)");
+    Segmentation out;
+    const std::size_t n = cloud.points.size();
+    if (n == 0) return out;
+
+    // Step 1.
+    std::vector<std::uint8_t> ground;
+    {
+        std::vector<glm::vec3> positions(n);
+        for (std::size_t i = 0; i < n; ++i) positions[i] = cloud.points[i].position;
+        ground = sim::findGroundSmrf(positions, o.terrain, nullptr, &out.height_m);
+    }
+
+    // Step 2: voxels of the points above the terrain, in order of their first point.
+    std::unordered_map<std::uint64_t, std::uint32_t> voxel_of_key;
+    std::vector<std::uint32_t> voxel_of_point(n, UINT32_MAX);
+    std::vector<glm::dvec3> sums;
+    std::vector<std::uint32_t> counts;
+    std::vector<std::array<std::int64_t, 3>> cells;
+    const glm::dvec3 lo = cloud.bounds().lo;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (ground[i] || !(out.height_m[i] > o.min_height_m)) continue;
+        const glm::dvec3 p = glm::dvec3(cloud.points[i].position) - lo;
+        const std::int64_t cx = std::int64_t(std::floor(p.x / o.voxel_m)),
+                           cy = std::int64_t(std::floor(p.y / o.voxel_m)),
+                           cz = std::int64_t(std::floor(p.z / o.voxel_m));
+        if (cx > kKeyMax - kKeyOffset || cy > kKeyMax - kKeyOffset || cz > kKeyMax - kKeyOffset)
+            throw core::Error("detect: the cloud is too wide for --segment-voxel-m " + std::to_string(o.voxel_m) +
+                              " (at most 2^20 voxels across); allowed a larger voxel");
+        const auto [it, added] = voxel_of_key.try_emplace(packKey(cx, cy, cz), std::uint32_t(sums.size()));
+        if (added) {
+            sums.emplace_back(0.0);
+            counts.push_back(0);
+            cells.push_back({cx, cy, cz});
+        }
+        sums[it->second] += p;
+        ++counts[it->second];
+        voxel_of_point[i] = it->second;
+        ++out.above_points;
+    }
+    const std::size_t voxels = sums.size();
+    std::vector<glm::dvec3> centroid(voxels);
+    for (std::size_t v = 0; v < voxels; ++v) centroid[v] = sums[v] / double(counts[v]);
+
+    // Union-find over voxel pairs within reach (cells up to r apart on each axis).
+    std::vector<std::uint32_t> parent(voxels);
+    std::iota(parent.begin(), parent.end(), 0u);
+    const std::int64_t r = std::int64_t(std::ceil(o.cluster_tolerance_m / o.voxel_m));
+    const double tol2 = o.cluster_tolerance_m * o.cluster_tolerance_m;
+    for (std::size_t v = 0; v < voxels; ++v) {
+        const auto& c = cells[v];
+        for (std::int64_t dx = -r; dx <= r; ++dx)
+            for (std::int64_t dy = -r; dy <= r; ++dy)
+                for (std::int64_t dz = -r; dz <= r; ++dz) {
+                    // Each unordered pair once: the neighbour's key is the larger.
+                    if (dx < 0 || (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0)))) continue;
+                    const std::int64_t x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+                    if (x < -kKeyOffset || y < -kKeyOffset || z < -kKeyOffset || x > kKeyMax - kKeyOffset ||
+                        y > kKeyMax - kKeyOffset || z > kKeyMax - kKeyOffset)
+                        continue;
+                    const auto it = voxel_of_key.find(packKey(x, y, z));
+                    if (it == voxel_of_key.end()) continue;
+                    const glm::dvec3 d = centroid[v] - centroid[it->second];
+                    if (glm::dot(d, d) > tol2) continue;
+                    const std::uint32_t a = findRoot(parent, std::uint32_t(v)), b = findRoot(parent, it->second);
+                    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller voxel id is the root
+                }
+    }
+
+    // Step 3: segments in order of their root voxel, which is the order of their first point.
+    std::vector<std::uint32_t> segment_of_root(voxels, UINT32_MAX);
+    std::vector<std::vector<std::uint32_t>> segments;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (voxel_of_point[i] == UINT32_MAX) continue;
+        const std::uint32_t root = findRoot(parent, voxel_of_point[i]);
+        if (segment_of_root[root] == UINT32_MAX) {
+            segment_of_root[root] = std::uint32_t(segments.size());
+            segments.emplace_back();
+        }
+        segments[segment_of_root[root]].push_back(std::uint32_t(i));
+    }
+    for (auto& s : segments)
+        if (s.size() >= std::size_t(o.min_points)) out.segments.push_back(std::move(s));
+    return out;
+}
+
+}  // namespace detect

@@ -1,0 +1,96 @@
+// tests/detect/training_test.cpp: a model trained in the test on a tiny synthetic corpus
+// (labelled clouds with a tank-sized box, trees and a house) separates the box from the
+// trees on a scene it did not see; the corpus listing refuses malformed manifests.
+#include <detect/boosted_detector.hpp>
+#include <detect/training.hpp>
+
+#include "labelled_scenes.hpp"
+#include "test_files.hpp"
+
+#include <doctest/doctest.h>
+
+#include <memory>
+
+namespace {
+
+std::shared_ptr<const detect::BoostedModel> trainTiny(detect::TrainReport& report) {
+    detect::TrainOptions o;
+    o.boost.rounds = 40;
+    o.holdout_fraction = 0.25;
+    std::vector<detect::TrainingItem> items;
+    for (std::uint32_t seed = 1; seed <= 8; ++seed)
+        items.push_back(
+            detect::describeLabelledCloud(test_support::labelledScene(seed, 6), "scene " + std::to_string(seed), o));
+    return std::make_shared<const detect::BoostedModel>(detect::trainDetector(items, o, {}, report));
+}
+
+std::size_t targetPoints(const core::PointCloud& c, const detect::Detection& d) {
+    std::size_t n = 0;
+    for (const std::uint32_t i : d.points) n += c.points[i].label == core::Role::Target;
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("a model trained on a tiny labelled corpus ranks the box first and the trees low") {
+    detect::TrainReport report;
+    const auto model = trainTiny(report);
+    CHECK(report.items == 8);
+    CHECK(report.heldout_items == 2);
+    CHECK(report.positives == 8);  // one box per scene, each its own segment
+    CHECK(report.calibrated_on_heldout);
+
+    glm::dvec2 at;
+    const core::PointCloud scene = test_support::labelledScene(99, 8, &at);
+    detect::BoostedOptions bo;
+    bo.min_probability = 0.0;
+    const std::vector<detect::Detection> found = detect::BoostedDetector(bo, model).detect(scene);
+    REQUIRE(found.size() >= 9);  // the box, the house, 8 trees (a tree's trunk and crown are one segment)
+    CHECK(2 * targetPoints(scene, found[0]) > found[0].points.size());
+    CHECK(found[0].candidate.score > 0.5);
+    const glm::dvec3 centre = found[0].candidate.centre_world - scene.origin;
+    CHECK(std::hypot(centre.x - at.x, centre.y - at.y) < 1.0);
+    for (std::size_t k = 1; k < found.size(); ++k) {
+        CHECK(targetPoints(scene, found[k]) == 0);
+        CHECK(found[k].candidate.score < 0.5);
+    }
+}
+
+TEST_CASE("training refuses clouds without labels and corpora without a target") {
+    detect::TrainOptions o;
+    core::PointCloud unlabelled = test_support::labelledScene(1, 2);
+    unlabelled.fields.label = false;
+    CHECK(test_support::errorOf([&] { detect::describeLabelledCloud(unlabelled, "x.pcd", o); }) ==
+          "train: x.pcd: the cloud has no label field; allowed corpus clouds (labelled points)");
+    core::PointCloud no_target = test_support::labelledScene(2, 3);
+    for (auto& p : no_target.points)
+        if (p.label == core::Role::Target) p.label = core::Role::Environment;
+    const std::vector<detect::TrainingItem> items = {detect::describeLabelledCloud(no_target, "a", o)};
+    detect::TrainReport report;
+    CHECK(test_support::errorOf([&] {
+              detect::trainDetector(items, o, {}, report);
+          }).starts_with("train: no training segment is mostly target-labelled"));
+}
+
+TEST_CASE("the corpus listing reads the manifest's items and refuses malformed lines in one line") {
+    test_support::TempDir dir("detect_listing");
+    dir.write("manifest.jsonl", R"({"id": "0000", "files": {"scene.json": {}, "cloud.pcd": {}}})"
+                                "\n"
+                                R"({"id": "0001", "files": {"cloud.laz": {}}})"
+                                "\n");
+    const detect::CorpusListing l = detect::listCorpus(dir.path);
+    REQUIRE(l.ids.size() == 2);
+    CHECK(l.clouds[0] == dir.path / "items" / "0000" / "cloud.pcd");
+    CHECK(l.clouds[1] == dir.path / "items" / "0001" / "cloud.laz");
+    CHECK(l.manifest_sha256.size() == 64);
+
+    dir.write("manifest.jsonl", R"({"id": "../x", "files": {"cloud.pcd": {}}})"
+                                "\n");
+    const std::string e = test_support::errorOf([&] { detect::listCorpus(dir.path); });
+    CHECK(e.find("manifest.jsonl line 1: id '../x': allowed digits only") != std::string::npos);
+    CHECK(e.find('\n') == std::string::npos);
+    dir.write("manifest.jsonl", R"({"id": "0003", "files": {"scene.json": {}}})"
+                                "\n");
+    CHECK(test_support::errorOf([&] { detect::listCorpus(dir.path); }).find("names no cloud file") !=
+          std::string::npos);
+}
