@@ -67,9 +67,9 @@ const json& array(const json& root, const char* key, const std::string& where, s
     return *it;
 }
 
-Condition parseCondition(const json& c, const std::string& w) {
+Condition parseCondition(const json& c, const std::string& w, const std::filesystem::path& base) {
     if (!c.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(c));
-    onlyKeys(c, w, {"name", "colour", "eye_dome", "candidates", "time_limit_s", "start", "comment"});
+    onlyKeys(c, w, {"name", "colour", "eye_dome", "candidates", "time_limit_s", "start", "detector", "comment"});
     Condition condition;
     if (!c.contains("name")) throw core::Error(w + ": 'name' is required");
     condition.name = name(c, "name", w, "");
@@ -98,6 +98,16 @@ Condition parseCondition(const json& c, const std::string& w) {
             condition.start = viewer::ViewMode::Free;
         else
             throw core::Error(field(w, "start") + " '" + core::printable(v, 40) + "' is not one of automatic, free");
+    }
+    if (const auto it = c.find("detector"); it != c.end()) {
+        if (!it->is_string() || it->get<std::string>().empty())
+            throw core::Error(field(w, "detector") + " must be a non-empty string; allowed: baseline, or a model " +
+                              "file written by 'ladarvr train'");
+        condition.detector = it->get<std::string>();
+        if (condition.detector != "baseline")
+            condition.detector = (base / condition.detector).lexically_normal().string();
+        if (!condition.candidates)
+            throw core::Error(field(w, "detector") + " goes with candidates shown; allowed: drop 'candidates': false");
     }
     return condition;
 }
@@ -218,7 +228,7 @@ Design parseDesign(std::string_view text_in, const std::string& name_in, const s
     std::set<std::string> seen;
     for (std::size_t i = 0; i < conditions.size(); ++i) {
         const std::string w = where + ": conditions[" + std::to_string(i) + "]";
-        design.conditions.push_back(parseCondition(conditions[i], w));
+        design.conditions.push_back(parseCondition(conditions[i], w, base));
         if (!seen.insert(design.conditions.back().name).second)
             throw core::Error(w + ".name '" + design.conditions.back().name +
                               "' is used twice; allowed: a different name per condition");
@@ -293,6 +303,17 @@ Design parseDesign(std::string_view text_in, const std::string& name_in, const s
     detail::parseRunSettings(root, where, design.settings);
     if (const auto q = root.find("questionnaires"); q != root.end())
         design.questionnaires = parseQuestionnaires(*q, where + ": questionnaires");
+    // A detector runs on the trial's cloud file before the session: scenes have none yet.
+    for (std::size_t i = 0; i < design.conditions.size(); ++i) {
+        if (design.conditions[i].detector.empty()) continue;
+        const auto scene = [](const PlanTrial& t) { return !t.scene.empty(); };
+        bool scenes = std::any_of(design.practice.begin(), design.practice.end(), scene);
+        for (const DesignBlock& b : design.blocks)
+            scenes = scenes || std::any_of(b.trials.begin(), b.trials.end(), scene);
+        if (scenes)
+            throw core::Error(where + ": conditions[" + std::to_string(i) +
+                              "].detector runs on cloud files; allowed: trials with 'cloud', not 'scene'");
+    }
     return design;
 }
 
@@ -307,6 +328,10 @@ Design readDesign(const std::filesystem::path& file, std::string* sha256) {
                                                                     "].trials[" + std::to_string(i) + "]");
     for (std::size_t i = 0; i < design.practice.size(); ++i)
         detail::checkTrialFiles(design.practice[i], "study: " + shown + ": practice[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < design.conditions.size(); ++i)
+        if (!design.conditions[i].detector.empty() && design.conditions[i].detector != "baseline")
+            platform::checkInputFile(design.conditions[i].detector,
+                                     "study: " + shown + ": conditions[" + std::to_string(i) + "].detector");
     if (sha256) *sha256 = corpus::sha256Hex(text);
     return design;
 }
@@ -382,6 +407,7 @@ Session expandSession(const Design& design, const std::string& participant, cons
             if (!c.candidates) trial.candidates.clear();
             if (c.time_limit_s) trial.time_limit_s = *c.time_limit_s;
             if (c.start) trial.start_mode = c.start;
+            if (!c.detector.empty()) trial.detector = c.detector;
             session.plan.trials.push_back(std::move(trial));
             session.trials.push_back({ci, block, block < 0});
         };

@@ -1,20 +1,62 @@
 // study/src/study_source.cpp: clouds for the trials, from files or generated from scenes.
 #include <study/study_source.hpp>
 
+#include <core/error.hpp>
+#include <detect/boosted_detector.hpp>
+#include <detect/cluster_detector.hpp>
 #include <io/candidates_file.hpp>
+#include <io/cloud_io.hpp>
 #include <io/scene_file.hpp>
+#include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
 #include <viewer/cloud_feed.hpp>
 
+#include <cstdio>
 #include <exception>
+#include <map>
+#include <utility>
 
 namespace study {
+namespace {
+
+// The candidates a condition's detector finds in a trial's cloud (best first, as `ladarvr
+// detect` writes them), once per cloud and detector.
+std::vector<core::Candidate> detectedCandidates(const PlanTrial& t) {
+    const std::string line = "study: detecting candidates in " + t.cloud.string() + " with " +
+                             (t.detector == "baseline" ? std::string("the clustering baseline") : t.detector);
+    std::fprintf(stderr, "ladarvr: %s\n", platform::messageLine(line).c_str());
+    const core::PointCloud cloud = io::readCloud(t.cloud);
+    std::vector<detect::Detection> found;
+    if (t.detector == "baseline") {
+        found = detect::ClusterDetector(detect::ClusterOptions{}).detect(cloud);
+    } else {
+        detect::BoostedOptions o;
+        o.model = t.detector;
+        found = detect::BoostedDetector(o).detect(cloud);
+    }
+    std::vector<core::Candidate> out;
+    out.reserve(found.size());
+    for (detect::Detection& d : found) out.push_back(std::move(d.candidate));
+    return out;
+}
+
+}  // namespace
 
 StudySource::StudySource(const Plan& plan, std::vector<int> order, int first)
     : plan_(plan), order_(std::move(order)), first_(first) {
+    std::map<std::pair<std::string, std::string>, std::vector<core::Candidate>> detected;
     for (const PlanTrial& t : plan_.trials) {
         scenes_.push_back(t.scene.empty() ? nullptr : std::make_shared<const core::Scene>(io::loadScene(t.scene)));
-        candidates_.push_back(t.candidates.empty() ? std::vector<core::Candidate>{} : io::readCandidates(t.candidates));
+        if (!t.detector.empty()) {
+            if (t.cloud.empty()) throw core::Error("study: a condition's detector runs on cloud files, not scenes");
+            const auto key = std::make_pair(t.cloud.string(), t.detector);
+            auto it = detected.find(key);
+            if (it == detected.end()) it = detected.emplace(key, detectedCandidates(t)).first;
+            candidates_.push_back(it->second);
+        } else {
+            candidates_.push_back(t.candidates.empty() ? std::vector<core::Candidate>{}
+                                                       : io::readCandidates(t.candidates));
+        }
     }
     sim::GenerateOptions check;
     check.orbit.xres = plan_.xres;

@@ -198,6 +198,19 @@ elif scenario == "questionnaires":
           [{k: v for k, v in r.items() if k not in timed} for r in tr], f"trials.csv differs: {tw} vs {tr}")
     check(open(os.path.join(work, "qresumed.ssq")).read() == open(os.path.join(work, "qwhole.ssq")).read(),
           "the resumed session's SSQ scores differ")
+if scenario == "detector":
+    # Each condition's candidates are what `ladarvr detect` finds in the trial's cloud with
+    # that condition's detector; the tank's box, first, is confirmed in both trials.
+    _, trials = read_csv(os.path.join(work, "det", "trials.csv"))
+    _, cands = read_csv(os.path.join(work, "det", "candidates.csv"))
+    check([r["condition"] for r in trials] == ["atr", "base"], f"conditions {[r['condition'] for r in trials]}")
+    for n, name in ((1, "atr"), (2, "base")):
+        want = [c["id"] for c in json.load(open(os.path.join(work, name + ".json")))["candidates"]]
+        rows = [r for r in cands if r["trial"] == str(n)]
+        check([r["candidate"] for r in rows] == want, f"trial {n} ({name}): candidates {[r['candidate'] for r in rows]}, detect gives {want}")
+        check(bool(rows) and rows[0]["verdict"] == "confirmed", f"trial {n} ({name}): c1 not confirmed: {rows[:1]}")
+    lines = [l for l in open(os.path.join(work, "det.err")) if "detecting candidates" in l]
+    check(len(lines) == 2, f"{len(lines)} detector runs, expected one per detector: {lines}")
 if failures:
     print("FAIL:\n  " + "\n  ".join(failures))
     sys.exit(1)

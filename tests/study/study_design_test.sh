@@ -22,6 +22,10 @@
 #            killed after 5 of the post-session SSQ's items and resumed: only the rest is
 #            asked and the files equal the uninterrupted run's (times aside); a copy of the
 #            stopped folder with one answer changed out of range is refused.
+#   detector P01's two conditions take their candidates from a detector run on the trial's
+#            cloud (the shipped trained model, and the clustering baseline): candidates.csv
+#            holds what `ladarvr detect` finds in that cloud, and the tank's box (c1) is
+#            confirmed in both.
 #   questionnaires_xr  on Monado's simulated HMD: the SSQ before and after one trial and a
 #            Likert item after it answered by clicking the headset panel: the script stands
 #            in for the controller (`point_answer N`: a ray from the head to rating N's
@@ -230,6 +234,22 @@ XDESIGN
     "$env_sh" --monado --timeout 220 -- "$bin" study "$work/xdesign.json" --participant P01 --out "$work/xr" \
       --width 640 --height 360 --timeout 200 --script "$work/xscript.txt" --log-json "$work/xr.log.json" \
       --no-metric 2>"$work/xr.err" || { echo "FAIL: the XR session exited $?"; cat "$work/xr.err"; exit 1; }
+    ;;
+  detector)
+    cat >"$work/ddesign.json" <<DDESIGN
+{"conditions": [{"name": "atr", "detector": "$assets/detect/model.ldm"}, {"name": "base", "detector": "baseline"}],
+ "blocks": [{"trials": [{"cloud": "demo.pcd", "name": "one"}]}],
+ "participants": ["P01"],
+ "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000}}
+DDESIGN
+    printf '1 next\n+8 aim 0 0 1.2\n+1 designate\n+6 confirm\n+2 next\n+8 aim 0 0 1.2\n+1 designate\n+6 confirm\n' \
+      >"$work/dscript.txt"
+    "$env_sh" --timeout 220 -- "$bin" study "$work/ddesign.json" --participant P01 --out "$work/det" --no-xr \
+      --width 320 --height 180 --timeout 200 --script "$work/dscript.txt" --no-metric 2>"$work/det.err" ||
+      { echo "FAIL: the detector session exited $?"; cat "$work/det.err"; exit 1; }
+    # The same detectors as `ladarvr detect` runs them, for the checker.
+    "$bin" detect "$work/demo.pcd" --model "$assets/detect/model.ldm" --out "$work/atr.json" 2>/dev/null
+    "$bin" detect "$work/demo.pcd" --out "$work/base.json" 2>/dev/null
     ;;
   *) echo "study_design_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac

@@ -37,6 +37,9 @@ struct Condition {
     bool candidates = true;                 // false: the trials' candidate boxes are not shown
     std::optional<double> time_limit_s;     // overrides every trial's own limit
     std::optional<viewer::ViewMode> start;  // the mode each trial starts in (automatic: the paper's)
+    // The candidates come from this detector run on each trial's cloud instead of the
+    // trial's file: "baseline" (the clustering detector) or a model file of `ladarvr train`.
+    std::string detector;  // empty: the trials' own candidates
 };
 
 struct DesignBlock {
