@@ -14,5 +14,7 @@ void registerDetect(CLI::App& cli);    // cmd_detect.cpp:   `ladarvr detect`
 void registerCorpus(CLI::App& cli);    // cmd_corpus.cpp:   `ladarvr corpus`
 void registerStudy(CLI::App& cli);     // cmd_study.cpp:    `ladarvr study`
 void registerIndex(CLI::App& cli);     // cmd_index.cpp:    `ladarvr index`
+/// cmd_study_report.cpp: `ladarvr study report`, added under `study`; returns it.
+CLI::App* registerStudyReport(CLI::App& study);
 
 }  // namespace app
