@@ -19,7 +19,7 @@ constexpr Colour kDot{110, 110, 110, 170};
 constexpr Colour kBar{70, 130, 180, 255};
 constexpr Colour kWhisker{20, 40, 90, 255};
 constexpr int kWidth = 720, kHeight = 420;
-constexpr int kLeft = 80, kRight = 24, kTop = 48, kBottom = 64;
+constexpr int kLeft = 80, kRight = 24, kTop = 58, kBottom = 64;
 
 std::string tickLabel(double v) {
     char buf[32];
@@ -176,7 +176,7 @@ std::string conditionPlotPng(std::string_view title, std::string_view axis_label
 
 std::string cloudPlotPng(const std::vector<CloudFigures>& clouds) {
     Frame f;
-    f.draw("Per-cloud hit rate against the visibility metric", "hit rate");
+    f.draw("Hit rate per cloud vs visibility", "hit rate (per cloud)");
     for (const double t : ticks(0.0, 1.0)) {
         const int tx = int(std::lround(f.x0 + t * (f.x1 - f.x0)));
         f.canvas.fillRect(tx, f.y0, tx + 1, f.y1, kGrid);
