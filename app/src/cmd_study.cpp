@@ -161,7 +161,10 @@ void registerStudy(CLI::App& cli) {
                     "(default: the plan's, else 60)");
     addCloudMemoryOption(*cmd, args->memory_mb, "a trial's cloud file");
     cmd->add_flag("--no-metric", args->no_metric, "leave visibility_metric empty (skip the metric of scene trials)");
-    cmd->callback([args] {
+    // `study report ...` is its own subcommand; this callback runs after it, with nothing to do.
+    CLI::App* report = registerStudyReport(*cmd);
+    cmd->callback([args, report] {
+        if (report->parsed()) return;
         const int status = runStudy(*args);
         if (status != 0) throw CLI::RuntimeError(status);
     });

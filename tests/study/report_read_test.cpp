@@ -1,0 +1,174 @@
+// Tests of study/src/report_read.cpp: trials.csv and questionnaires.csv read field by field
+// (one line naming the file, line, column and what is allowed), the SSQ and TLX scored
+// from the answers, and the refusals of session folders that do not belong together.
+#include <study/report.hpp>
+
+#include <study/study_log.hpp>
+#include <test_files.hpp>
+
+#include <doctest/doctest.h>
+
+#include <string>
+
+namespace {
+const std::string kHeader = study::StudyLog::designTrialsHeader() + "\n";
+// trial,cloud,decision,x,y,z,distance,hit,first,time,designations,switches,free,metric,
+// participant,condition,block,practice
+const std::string kRows =
+    "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,,1\n"
+    "2,demo.pcd,confirm,5,5,1,7.1,0,1.0,3.0,2,1,0.5,0.4,P01,a,first,0\n"
+    "3,\"b,c.pcd\",no_target,,,,,,,4.0,0,0,0,,P01,b,first,0\n";
+
+std::string errorOfTrials(const std::string& text) {
+    return test_support::errorOf([&] { study::parseReportTrials(text, "T/trials.csv"); });
+}
+
+std::string ssqRows(const std::string& occasion, int rating) {
+    std::string out;
+    for (const study::SsqItem& it : study::ssqItems())
+        out += "P01,,ssq," + occasion + "," + std::string(it.item.id) + "," + std::to_string(rating) + ",1.0\n";
+    return out;
+}
+const std::string kQHeader = "participant,condition,instrument,occasion,item,response,time_s\n";
+
+study::ParticipantResults participant() {
+    study::ParticipantResults p;
+    p.participant = "P01";
+    p.condition_order = {"a", "b"};
+    return p;
+}
+}  // namespace
+
+TEST_CASE("trials.csv: rows read, quoting and empty fields kept") {
+    const std::vector<study::ReportTrial> t = study::parseReportTrials(kHeader + kRows, "T/trials.csv");
+    REQUIRE(t.size() == 3);
+    CHECK(t[0].practice);
+    CHECK(t[0].block.empty());
+    CHECK(t[1].hit == 0);
+    CHECK(*t[1].target_distance_m == doctest::Approx(7.1));
+    CHECK(*t[1].visibility_metric == doctest::Approx(0.4));
+    CHECK(t[2].cloud == "b,c.pcd");
+    CHECK(t[2].decision == study::TrialDecision::NoTarget);
+    CHECK(!t[2].hit);
+    CHECK(t[2].time_to_decision_s == 4.0);
+    CHECK(t[2].condition == "b");
+    CHECK(t[2].participant == "P01");
+}
+
+TEST_CASE("trials.csv: malformed rows are refused with file, line, column and what is allowed") {
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,2,1.5,2.5,1,0,0,,P01,a,first,0\n") ==
+          "T/trials.csv: line 2, column hit: '2'; allowed 1, 0 or empty");
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,maybe,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,first,0\n") ==
+          "T/trials.csv: line 2, column decision: 'maybe'; allowed confirm, no_target, timeout or quit");
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,-2,1,0,0,,P01,a,first,0\n") ==
+          "T/trials.csv: line 2, column time_to_decision_s: '-2'; allowed a number >= 0 (seconds)");
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2,1,0,0,1.5,P01,a,first,0\n") ==
+          "T/trials.csv: line 2, column visibility_metric: '1.5'; allowed a number in [0, 1] or empty");
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2,1,0,0,,P01,a,,0\n") ==
+          "T/trials.csv: line 2, column block: ''; allowed a block's name for a trial that is not practice");
+    CHECK(errorOfTrials(kHeader + "2,demo.pcd,confirm,0,0,1,0.2,1,1.5,2,1,0,0,,P01,a,first,0\n") ==
+          "T/trials.csv: line 2, column trial: '2'; allowed the row's number 1 (trials are numbered 1, 2, ... "
+          "in order)");
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm\n") ==
+          "T/trials.csv: line 2: 3 fields; allowed: 18, as the header");
+    CHECK(errorOfTrials(kHeader + "\n") == "T/trials.csv: line 2: an empty line; allowed: none");
+    CHECK(errorOfTrials("trial,cloud\n").find("line 1: not the header of a design session's trials.csv") !=
+          std::string::npos);
+    CHECK(errorOfTrials(kHeader + "1,\"demo.pcd,confirm\n") == "T/trials.csv: line 2: an unclosed quote");
+}
+
+TEST_CASE("questionnaires.csv: the SSQ before and after, the TLX per condition, last answers count") {
+    study::ParticipantResults p = participant();
+    std::string text = kQHeader + ssqRows("pre", 0) + ssqRows("post", 1) +
+                       "P01,,ssq,post,nausea,3,9.0\n"  // answered again: the last answer counts
+                       "P01,a,tlx,after_condition,mental,50,2\nP01,a,tlx,after_condition,physical,10,2\n"
+                       "P01,a,tlx,after_condition,temporal,20,2\nP01,a,tlx,after_condition,performance,30,2\n"
+                       "P01,a,tlx,after_condition,effort,40,2\nP01,a,tlx,after_condition,frustration,0,2\n"
+                       "P01,b,tlx,after_condition,mental,50,3\n"  // incomplete: not scored
+                       "P01,b,likert,after_condition,liked,4,3\n"
+                       "P01,,text,post,comments,\"fine, thanks\nreally\",10\n";
+    study::parseQuestionnaires(text, "Q", p);
+    REQUIRE(p.ssq_pre);
+    REQUIRE(p.ssq_post);
+    CHECK(p.ssq_pre->total == 0.0);
+    // Post: every symptom 1, nausea 3 (in the nausea and disorientation clusters).
+    CHECK(p.ssq_post->nausea == doctest::Approx((7 + 2) * 9.54));
+    CHECK(p.ssq_post->oculomotor == doctest::Approx(7 * 7.58));
+    CHECK(p.ssq_post->disorientation == doctest::Approx((7 + 2) * 13.92));
+    CHECK(p.ssq_post->total == doctest::Approx((21 + 4) * 3.74));
+    REQUIRE(p.tlx_raw.size() == 1);
+    CHECK(p.tlx_raw.at("a") == doctest::Approx(150.0 / 6.0));
+
+    study::ParticipantResults q = participant();
+    study::parseQuestionnaires(kQHeader + ssqRows("pre", 1), "Q", q);
+    CHECK(q.ssq_pre);
+    CHECK(!q.ssq_post);
+}
+
+TEST_CASE("questionnaires.csv: malformed rows are refused with one line") {
+    const auto err = [](const std::string& rows) {
+        study::ParticipantResults p = participant();
+        return test_support::errorOf([&] { study::parseQuestionnaires(kQHeader + rows, "Q", p); });
+    };
+    CHECK(err("P01,,ssq,pre,nausea,4,1\n") == "Q: line 2, column response: '4'; allowed 0, 1, 2 or 3");
+    CHECK(err("P01,a,tlx,after_condition,mental,52,1\n") ==
+          "Q: line 2, column response: '52'; allowed 0 to 100 in steps of 5");
+    CHECK(err("P02,,ssq,pre,nausea,1,1\n") == "Q: line 2, column participant: 'P02'; allowed 'P01', as study.json");
+    CHECK(err("P01,c,tlx,after_condition,mental,50,1\n").find("column condition: 'c'; allowed one of the session's") !=
+          std::string::npos);
+    CHECK(err("P01,,ssq,pre,itching,1,1\n").find("column item: 'itching'") != std::string::npos);
+    CHECK(err("P01,,poll,pre,x,1,1\n") == "Q: line 2, column instrument: 'poll'; allowed ssq, tlx, likert or text");
+    CHECK(test_support::errorOf([] {
+              study::ParticipantResults p = participant();
+              study::parseQuestionnaires("participant,item\n", "Q", p);
+          }).find("Q: line 1: not the header of questionnaires.csv") != std::string::npos);
+}
+
+TEST_CASE("session folders: different designs and a participant twice are refused") {
+    // Kept to the end of the process: the files read are remembered as this process's
+    // inputs (by inode), and a freed inode reused by a later test's output would be refused.
+    static test_support::TempDir dir("report_read");
+    const auto session = [&](const std::string& name, const std::string& participant, const std::string& sha) {
+        std::filesystem::create_directories(dir.path / name);
+        dir.write(name + "/study.json", "{\"design\": \"/d.json\", \"design_sha256\": \"" + sha +
+                                            "\", \"participant\": \"" + participant +
+                                            "\", \"condition_order\": [\"b\", \"a\"], \"order\": []}");
+        std::string rows = kRows;
+        for (std::size_t at = rows.find("P01"); at != std::string::npos; at = rows.find("P01", at + 1))
+            rows.replace(at, 3, participant);
+        dir.write(name + "/trials.csv", kHeader + rows);
+        return dir.path / name;
+    };
+    const auto a = session("A", "P01", "aaaa");
+    const auto b = session("B", "P02", "aaaa");
+    const study::StudyResults ok = study::readStudyResults(study::findSessionFolders({dir.path}));
+    REQUIRE(ok.participants.size() == 2);
+    CHECK(ok.conditions == std::vector<std::string>{"a", "b"});
+    CHECK(ok.participants[1].participant == "P02");
+    CHECK(ok.participants[1].trials.size() == 3);
+    CHECK(!ok.participants[0].questionnaires);
+
+    const auto c = session("C", "P03", "bbbb");
+    CHECK(test_support::errorOf([&] { study::readStudyResults({a, c}); }) ==
+          "study report: " + (c / "study.json").string() + ": design SHA-256 bbbb differs from " +
+              (a / "study.json").string() + "'s aaaa; allowed: the sessions of one design");
+    const auto d = session("D", "P01", "aaaa");
+    CHECK(test_support::errorOf([&] { study::readStudyResults({a, b, d}); }) ==
+          "study report: " + (d / "study.json").string() + ": participant P01 again (also in " + a.string() +
+              "); allowed: each participant once");
+    dir.write("D/trials.csv", kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P09,a,,1\n");
+    CHECK(test_support::errorOf([&] { study::readStudyResults({d}); }) ==
+          "study report: " + (d / "trials.csv").string() +
+              ": line 2, column participant: 'P09'; allowed 'P01', as "
+              "study.json");
+    dir.write("D/study.json", "{\"plan\": \"/p.json\", \"order\": [0]}");
+    CHECK(test_support::errorOf([&] { study::readStudyResults({d}); }).find("not a design's session") !=
+          std::string::npos);
+    CHECK(test_support::errorOf([&] {
+              study::findSessionFolders({dir.path / "A" / "trials.csv"});
+          }).find("not a folder") != std::string::npos);
+    std::filesystem::create_directories(dir.path / "empty");
+    CHECK(test_support::errorOf([&] {
+              study::findSessionFolders({dir.path / "empty"});
+          }).find("no study.json in it nor in a folder one level below") != std::string::npos);
+}
