@@ -53,6 +53,7 @@ TEST_CASE("a design's conditions, blocks, practice, break and participants") {
     CHECK_FALSE(d.conditions[1].time_limit_s);
     CHECK_FALSE(d.conditions[0].start);
     CHECK(*d.conditions[1].start == viewer::ViewMode::Free);
+    CHECK(d.conditions[0].detector.empty());
     REQUIRE(d.blocks.size() == 2);
     CHECK(d.blocks[0].name == "easy");
     CHECK(d.blocks[1].name == "2");
@@ -112,7 +113,16 @@ TEST_CASE("a design's refused keys: one line naming the key and what is allowed"
           "study: design.json: conditions[0].time_limit_s -2 is not in [0, 86400]");
     fails(R"({"conditions": [{"name": "a", "tools": []}], )" + blocks + "}",
           "study: design.json: conditions[0]: unknown key 'tools'; allowed: name, colour, eye_dome, candidates, "
-          "time_limit_s, start, comment");
+          "time_limit_s, start, detector, comment");
+    fails(R"({"conditions": [{"name": "a", "detector": 3}], )" + blocks + "}",
+          "study: design.json: conditions[0].detector must be a non-empty string; allowed: baseline, or a model file "
+          "written by 'ladarvr train'");
+    fails(R"({"conditions": [{"name": "a", "detector": "baseline", "candidates": false}], )" + blocks + "}",
+          "study: design.json: conditions[0].detector goes with candidates shown; allowed: drop 'candidates': false");
+    fails(
+        R"({"conditions": [{"name": "a"}, {"name": "b", "detector": "m.ldm"}], "blocks": [{"trials": [{"scene": "s"}]}],
+              "participants": ["P01"]})",
+        "study: design.json: conditions[1].detector runs on cloud files; allowed: trials with 'cloud', not 'scene'");
     fails(R"({"conditions": [{"name": "a", "start": "orbit"}], )" + blocks + "}",
           "study: design.json: conditions[0].start 'orbit' is not one of automatic, free");
     fails(R"({"conditions": [{"name": "a", "start": 1}], )" + blocks + "}",
@@ -320,4 +330,22 @@ TEST_CASE("a design's refused questionnaire keys: one line naming the key and wh
           "study: design.json: questionnaires.text[0].id 'a' is used twice; allowed: a different id per item");
     fails(R"({"text": [{"id": "t", "statement": "q", "when": "post"}]})",
           "study: design.json: questionnaires.text[0]: unknown key 'statement'; allowed: id, question, when, comment");
+}
+
+TEST_CASE("a condition's detector: the baseline, or a model file relative to the design") {
+    const study::Design d = study::parseDesign(R"({
+        "conditions": [{"name": "atr", "detector": "models/m.ldm"}, {"name": "base", "detector": "baseline"},
+                       {"name": "none"}],
+        "blocks": [{"trials": [{"cloud": "a.pcd", "candidates": "a.json"}]}], "participants": ["P01"]})",
+                                               "d.json", "/d");
+    CHECK(d.conditions[0].detector == "/d/models/m.ldm");
+    CHECK(d.conditions[1].detector == "baseline");
+    CHECK(d.conditions[2].detector.empty());
+    const study::Session s = study::expandSession(d, "P01", "d.json");
+    REQUIRE(s.plan.trials.size() == 3);
+    for (std::size_t i = 0; i < 3; ++i) {
+        const std::string want = d.conditions[std::size_t(s.trials[i].condition)].detector;
+        CHECK(s.plan.trials[i].detector == want);
+        CHECK(s.plan.trials[i].candidates == std::filesystem::path("/d/a.json"));  // kept; the detector's replace them
+    }
 }
