@@ -123,7 +123,7 @@ class CsfFit final : public RasterFit {
         }
         grid_.z_m.resize(n);
         for (std::size_t c = 0; c < n; ++c) grid_.z_m[c] = float(-z[c]);
-        limit_m_.assign(n, float(o_.threshold_m));
+        limit_m_.assign(n, float(groundThreshold(o_.threshold_m)));
     }
 
     CsfOptions o_;

@@ -12,6 +12,39 @@ namespace {
 constexpr int kTileBits = 6, kTile = 1 << kTileBits;  // cells of a sparse tile: 64 x 64
 }  // namespace
 
+double normalQuantile(double p) {
+    if (p > 0.5) return -normalQuantile(1.0 - p);
+    const double t = std::sqrt(-2.0 * std::log(p));
+    return -(t - (2.515517 + 0.802853 * t + 0.010328 * t * t) /
+                     (1.0 + 1.432788 * t + 0.189269 * t * t + 0.001308 * t * t * t));
+}
+
+CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m) {
+    double q[kCellLowest], sq = 0, sz = 0;
+    for (int k = 0; k < m; ++k) {
+        q[k] = normalQuantile((k + 1 - 0.375) / (double(n) + 0.25));
+        sq += q[k];
+        sz += low[k];
+    }
+    CellLowest out{double(low[0]), 0.0};
+    if (m >= 2) {
+        const double mq = sq / m, mz = sz / m;
+        double sqq = 0, sqz = 0;
+        for (int k = 0; k < m; ++k) {
+            sqq += (q[k] - mq) * (q[k] - mq);
+            sqz += (q[k] - mq) * (double(low[k]) - mz);
+        }
+        if (sqq > 0) out.slope_sigma_m = sqz / sqq;
+    }
+    if (sigma_m >= 0) {
+        double level[kCellLowest];
+        for (int k = 0; k < m; ++k) level[k] = double(low[k]) - sigma_m * q[k];
+        std::sort(level, level + m);
+        out.level_m = m % 2 ? level[m / 2] : 0.5 * (level[m / 2 - 1] + level[m / 2]);
+    }
+    return out;
+}
+
 void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny) {
     const std::size_t n = z.size();
     std::vector<int> ring(n, -1);  // ring of each cell: 0 known, k filled in the k-th ring
@@ -98,9 +131,16 @@ void RasterFit::add(std::span<const core::CloudPoint> points) {
         const double fy = std::floor(double(p.position.y) * inv_cell_);
         if (!(std::abs(fx) < 1e9 && std::abs(fy) < 1e9) || !std::isfinite(p.position.z)) continue;
         const int ix = int(fx), iy = int(fy);
-        float* tile = tileFor(ix >> kTileBits, iy >> kTileBits);
-        float& cell = tile[((iy & (kTile - 1)) << kTileBits) | (ix & (kTile - 1))];
-        cell = std::min(cell, p.position.z);
+        Cell* tile = cellFor(ix >> kTileBits, iy >> kTileBits);
+        Cell& cell = tile[((iy & (kTile - 1)) << kTileBits) | (ix & (kTile - 1))];
+        // The kCellLowest lowest heights, ascending: the same whatever the order they come in.
+        const float z = p.position.z;
+        cell.n += cell.n < std::numeric_limits<std::uint32_t>::max();
+        if (z < cell.low[kCellLowest - 1]) {
+            int k = kCellLowest - 1;
+            for (; k > 0 && cell.low[k - 1] > z; --k) cell.low[k] = cell.low[k - 1];
+            cell.low[k] = z;
+        }
         ix_min_ = std::min(ix_min_, ix);
         ix_max_ = std::max(ix_max_, ix);
         iy_min_ = std::min(iy_min_, iy);
@@ -125,18 +165,36 @@ void RasterFit::fit() {
     grid_.ny = h;
     grid_.x0_m = (double(ix_min_) + 0.5) * cell_m_;
     grid_.y0_m = (double(iy_min_) + 0.5) * cell_m_;
-    // 1) the minimum surface.
-    std::vector<float> minimum(std::size_t(w) * std::size_t(h), kNoPoint);
+    // 1) the ground thickness: the median spread of the lowest heights over the cells
+    // that hold at least kCellLowest points, visited in raster order.
+    std::vector<const Cell*> cells(std::size_t(w) * std::size_t(h), nullptr);
     for (const auto& [key, index] : tiles_) {
         const int tx = int(std::int32_t(std::uint32_t(key >> 32))), ty = int(std::int32_t(std::uint32_t(key)));
-        const float* tile = tile_data_.data() + std::size_t(index) * kTile * kTile;
+        const Cell* tile = tile_data_.data() + std::size_t(index) * kTile * kTile;
         for (int b = 0; b < kTile; ++b)
             for (int a = 0; a < kTile; ++a) {
-                const float v = tile[(b << kTileBits) | a];
-                if (v == kNoPoint) continue;
+                const Cell& cell = tile[(b << kTileBits) | a];
+                if (cell.n == 0) continue;
                 const int i = (tx << kTileBits) + a - ix_min_, j = (ty << kTileBits) + b - iy_min_;
-                minimum[std::size_t(j) * std::size_t(w) + std::size_t(i)] = v;
+                cells[std::size_t(j) * std::size_t(w) + std::size_t(i)] = &cell;
             }
+    }
+    std::vector<double> spreads;
+    for (const Cell* cell : cells)
+        if (cell && cell->n >= std::uint32_t(kCellLowest))
+            spreads.push_back(std::max(0.0, cellLevel(cell->low, kCellLowest, cell->n, -1).slope_sigma_m));
+    if (!spreads.empty()) {
+        const auto mid = spreads.begin() + std::ptrdiff_t(spreads.size() / 2);
+        std::nth_element(spreads.begin(), mid, spreads.end());
+        grid_.ground_sigma_m = *mid;
+    }
+    // 2) the ground-level surface: each cell's level for that thickness.
+    std::vector<float> minimum(cells.size(), kNoPoint);
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+        const Cell* cell = cells[c];
+        if (!cell) continue;
+        const int m = int(std::min<std::uint32_t>(cell->n, kCellLowest));
+        minimum[c] = float(cellLevel(cell->low, m, cell->n, grid_.ground_sigma_m).level_m);
     }
     std::vector<std::uint8_t> observed(minimum.size());
     for (std::size_t c = 0; c < minimum.size(); ++c) observed[c] = minimum[c] != kNoPoint;
@@ -167,7 +225,7 @@ bool RasterFit::classify(const glm::vec3& p, float& height_m) const {
     return std::abs(dz) <= double(limit_m_[nearest]);
 }
 
-float* RasterFit::tileFor(int tx, int ty) {
+RasterFit::Cell* RasterFit::cellFor(int tx, int ty) {
     const std::uint64_t key = (std::uint64_t(std::uint32_t(tx)) << 32) | std::uint32_t(ty);
     if (key == last_key_ && last_tile_ != nullptr) return last_tile_;
     auto [it, added] = tiles_.try_emplace(key, std::uint32_t(tiles_.size()));
@@ -178,7 +236,9 @@ float* RasterFit::tileFor(int tx, int ty) {
               << " cells (raise it)";
             throw core::Error(s.str());
         }
-        tile_data_.resize(tile_data_.size() + kTile * kTile, kNoPoint);
+        Cell empty{};
+        std::fill(std::begin(empty.low), std::end(empty.low), kNoPoint);
+        tile_data_.resize(tile_data_.size() + kTile * kTile, empty);
     }
     last_key_ = key;
     last_tile_ = tile_data_.data() + std::size_t(it->second) * kTile * kTile;

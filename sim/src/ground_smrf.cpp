@@ -113,7 +113,7 @@ class SmrfFit final : public RasterFit {
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i)
                 limit_m_[std::size_t(j) * std::size_t(w) + std::size_t(i)] = float(
-                    o_.threshold_m + o_.scalar * grid_.slopeAt(grid_.x0_m + i * o_.cell_m, grid_.y0_m + j * o_.cell_m));
+                    groundThreshold(o_.threshold_m) + o_.scalar * grid_.slopeAt(grid_.x0_m + i * o_.cell_m, grid_.y0_m + j * o_.cell_m));
     }
 
     SmrfOptions o_;

@@ -103,6 +103,12 @@ struct GenerateStats {
     /// Of the whitening against the labels; empty when undefined (--white, or nothing
     /// whitened / no ground points).
     std::optional<double> ground_precision, ground_recall;
+    /// Target and environment points more than 0.5 m above the scene's true terrain (its
+    /// ground meshes, rasterised), and of those the ones left coloured; the shares are
+    /// empty when undefined (--white, no ground mesh, no such point).
+    std::uint64_t target_above_terrain = 0, target_kept_points = 0;
+    std::uint64_t environment_above_terrain = 0, environment_kept_points = 0;
+    std::optional<double> target_kept, environment_kept;
     /// Triangles the scene loader dropped (core::Scene::skipped_triangles and
     /// skipped_nonfinite_triangles): zero-area ones, and NaN/inf ones with skip_nonfinite.
     std::size_t skipped_zero_area_triangles = 0, skipped_nonfinite_triangles = 0;

@@ -116,6 +116,9 @@ struct TerrainGrid {
     std::vector<float> z_m;
     /// How many cells held at least one point (the others are interpolated).
     std::size_t observed_cells = 0;
+    /// The ground thickness: the median over the well-sampled cells of the spread (one
+    /// sigma) of their lowest heights; noise and misregistered views thicken the ground.
+    double ground_sigma_m = 0;
 
     bool empty() const { return nx == 0 || ny == 0; }
     float at(int i, int j) const { return z_m[std::size_t(j) * std::size_t(nx) + std::size_t(i)]; }
