@@ -37,7 +37,9 @@ constexpr double kSlopeJoin_m = 0.3;  // post-processing: IHV step to a stopped 
 
 class CsfFit final : public RasterFit {
   public:
-    explicit CsfFit(const CsfOptions& o) : RasterFit(o.cloth_m, o.max_cells, "csf cloth_m (--csf-cloth-m)"), o_(o) {}
+    explicit CsfFit(const CsfOptions& o) : RasterFit(o.cloth_m, o.max_cells, "csf cloth_m (--csf-cloth-m)"), o_(o) {
+        threshold_m_ = o.threshold_m;
+    }
 
   private:
     void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) override {

@@ -136,10 +136,31 @@ void RasterFit::add(std::span<const core::CloudPoint> points) {
         // The kCellLowest lowest heights, ascending: the same whatever the order they come in.
         const float z = p.position.z;
         cell.n += cell.n < std::numeric_limits<std::uint32_t>::max();
-        if (z < cell.low[kCellLowest - 1]) {
+        // Ordered by (height, view): ties between views are kept the same way whatever the order.
+        const auto below = [&](int k) { return cell.low[k] > z || (cell.low[k] == z && cell.view[k] > p.view); };
+        if (below(kCellLowest - 1)) {
             int k = kCellLowest - 1;
-            for (; k > 0 && cell.low[k - 1] > z; --k) cell.low[k] = cell.low[k - 1];
+            for (; k > 0 && below(k - 1); --k) {
+                cell.low[k] = cell.low[k - 1];
+                cell.view[k] = cell.view[k - 1];
+            }
             cell.low[k] = z;
+            cell.view[k] = p.view;
+        }
+        if (!too_many_view_blocks_) {
+            const std::uint64_t key = (std::uint64_t(p.view) << 48) |
+                                      (std::uint64_t(std::uint32_t(ix >> 2) & 0xffffffu) << 24) |
+                                      (std::uint32_t(iy >> 2) & 0xffffffu);
+            static_assert(kViewBlock == 4);
+            const ViewLow low{z, p.position.x, p.position.y};
+            auto [it, added] = view_lows_.try_emplace(key, low);
+            const ViewLow& e = it->second;
+            // The lowest point, ties broken by position: the same whatever the order.
+            if (!added && (z < e.z || (z == e.z && (low.x < e.x || (low.x == e.x && low.y < e.y))))) it->second = low;
+            if (view_lows_.size() > max_cells_) {  // bounded like the raster: no correction
+                too_many_view_blocks_ = true;
+                view_lows_ = {};
+            }
         }
         ix_min_ = std::min(ix_min_, ix);
         ix_max_ = std::max(ix_max_, ix);
@@ -188,18 +209,142 @@ void RasterFit::fit() {
         std::nth_element(spreads.begin(), mid, spreads.end());
         grid_.ground_sigma_m = *mid;
     }
-    // 2) the ground-level surface: each cell's level for that thickness.
+    // 2) the ground-level surface: each cell's level for that thickness, then the terrain.
     std::vector<float> minimum(cells.size(), kNoPoint);
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-        const Cell* cell = cells[c];
-        if (!cell) continue;
-        const int m = int(std::min<std::uint32_t>(cell->n, kCellLowest));
-        minimum[c] = float(cellLevel(cell->low, m, cell->n, grid_.ground_sigma_m).level_m);
-    }
+    const auto levels = [&](bool corrected) {
+        minimum.assign(cells.size(), kNoPoint);  // fitTerrain() may have taken it
+        float low[kCellLowest];
+        for (std::size_t c = 0; c < cells.size(); ++c) {
+            const Cell* cell = cells[c];
+            if (!cell) continue;
+            const int m = int(std::min<std::uint32_t>(cell->n, kCellLowest));
+            std::copy(cell->low, cell->low + m, low);
+            if (corrected) {  // each height less its view's error at the cell's centre
+                const double x = grid_.x0_m + double(c % std::size_t(w)) * cell_m_;
+                const double y = grid_.y0_m + double(c / std::size_t(w)) * cell_m_;
+                for (int k = 0; k < m; ++k) low[k] = float(double(low[k]) - viewError(cell->view[k], x, y));
+                std::sort(low, low + m);
+            }
+            minimum[c] = float(cellLevel(low, m, cell->n, grid_.ground_sigma_m).level_m);
+        }
+    };
     std::vector<std::uint8_t> observed(minimum.size());
-    for (std::size_t c = 0; c < minimum.size(); ++c) observed[c] = minimum[c] != kNoPoint;
+    for (std::size_t c = 0; c < minimum.size(); ++c) observed[c] = cells[c] != nullptr;
     grid_.observed_cells = std::size_t(std::count(observed.begin(), observed.end(), 1));
+    levels(false);
     fitTerrain(minimum, observed);
+    // 3) each view's height error against that terrain; when the views were corrected,
+    // the levels again from the corrected heights (a thinner ground), and the terrain.
+    if (correctViews()) {
+        levels(true);
+        fitTerrain(minimum, observed);
+    }
+}
+
+namespace {
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+}
+}  // namespace
+
+bool RasterFit::correctViews() {
+    view_planes_.clear();
+    if (too_many_view_blocks_ || view_lows_.empty() || grid_.empty()) return false;
+    std::vector<std::pair<std::uint64_t, ViewLow>> lows(view_lows_.begin(), view_lows_.end());
+    std::sort(lows.begin(), lows.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const std::size_t views = std::size_t(lows.back().first >> 48) + 1;
+    if ((lows.front().first >> 48) == (lows.back().first >> 48)) return false;  // one view: nothing to register
+    std::vector<ViewPlane> planes(views);
+    std::vector<double> kept_residuals, r, dev;
+    std::size_t corrected = 0;
+    for (std::size_t a = 0; a < lows.size();) {
+        std::size_t b = a;
+        while (b < lows.size() && (lows[b].first >> 48) == (lows[a].first >> 48)) ++b;
+        const std::size_t view = std::size_t(lows[a].first >> 48), n = b - a;
+        ViewPlane plane;
+        if (n >= 3) {
+            for (std::size_t k = a; k < b; ++k) {
+                plane.x0_m += lows[k].second.x / double(n);
+                plane.y0_m += lows[k].second.y / double(n);
+            }
+            r.assign(n, 0);
+            for (std::size_t k = a; k < b; ++k)
+                r[k - a] = double(lows[k].second.z) - grid_.heightAt(lows[k].second.x, lows[k].second.y);
+            // A plane by least squares over the blocks near the current estimate (roofs and
+            // canopies that hide a block's ground lie far above it), twice.
+            plane.offset_m = median(r);
+            for (int pass = 0; pass < 2; ++pass) {
+                dev.resize(n);
+                const auto at = [&](std::size_t k) {
+                    return plane.offset_m + plane.dzdx * (lows[k].second.x - plane.x0_m) +
+                           plane.dzdy * (lows[k].second.y - plane.y0_m);
+                };
+                for (std::size_t k = a; k < b; ++k) dev[k - a] = std::abs(r[k - a] - at(k));
+                const double gate = std::max(kViewGate_m, 3.0 * 1.4826 * median(dev));
+                double sxx = 0, sxy = 0, syy = 0, sx = 0, sy = 0, s1 = 0, sr = 0, sxr = 0, syr = 0;
+                for (std::size_t k = a; k < b; ++k) {
+                    if (dev[k - a] > gate) continue;
+                    const double x = lows[k].second.x - plane.x0_m, y = lows[k].second.y - plane.y0_m, v = r[k - a];
+                    sxx += x * x, sxy += x * y, syy += y * y, sx += x, sy += y, s1 += 1, sr += v, sxr += x * v,
+                        syr += y * v;
+                }
+                if (s1 < 3) break;
+                // Normal equations of v = c0 + c1 x + c2 y, by Cramer's rule.
+                const double m[3][3] = {{s1, sx, sy}, {sx, sxx, sxy}, {sy, sxy, syy}}, rhs[3] = {sr, sxr, syr};
+                const auto det3 = [](const double q[3][3]) {
+                    return q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) -
+                           q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                           q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
+                };
+                const double d = det3(m);
+                if (!(std::abs(d) > 1e-9)) {
+                    plane.offset_m = sr / s1;
+                    break;
+                }
+                double c[3];
+                for (int col = 0; col < 3; ++col) {
+                    double q[3][3];
+                    for (int i = 0; i < 3; ++i)
+                        for (int j = 0; j < 3; ++j) q[i][j] = j == col ? rhs[i] : m[i][j];
+                    c[col] = det3(q) / d;
+                }
+                plane.offset_m = c[0];
+                plane.dzdx = c[1];
+                plane.dzdy = c[2];
+            }
+            const double gate = std::max(kViewGate_m, 3.0 * 1.4826 * median(dev));
+            for (std::size_t k = a; k < b; ++k) {
+                const double v = r[k - a] - (plane.offset_m + plane.dzdx * (lows[k].second.x - plane.x0_m) +
+                                             plane.dzdy * (lows[k].second.y - plane.y0_m));
+                if (std::abs(v) <= gate) kept_residuals.push_back(v);
+            }
+            ++corrected;
+        }
+        planes[view] = plane;
+        a = b;
+    }
+    if (kept_residuals.empty()) return false;
+    for (double& v : kept_residuals) v = std::abs(v);
+    grid_.ground_sigma_uncorrected_m = grid_.ground_sigma_m;
+    grid_.ground_sigma_m = 1.4826 * median(kept_residuals);
+    grid_.views_corrected = corrected;
+    view_planes_ = std::move(planes);
+    return true;
+}
+
+double RasterFit::viewError(std::size_t view, double x, double y) const {
+    if (view >= view_planes_.size()) return 0;
+    const ViewPlane& v = view_planes_[view];
+    return v.offset_m + v.dzdx * (x - v.x0_m) + v.dzdy * (y - v.y0_m);
+}
+
+bool RasterFit::classify(const core::CloudPoint& p, float& height_m) const {
+    if (view_planes_.empty()) return classify(p.position, height_m);
+    const double error_m = viewError(p.view, p.position.x, p.position.y);
+    return classify(glm::vec3(p.position.x, p.position.y, float(double(p.position.z) - error_m)), height_m);
 }
 
 bool RasterFit::classify(const glm::vec3& p, float& height_m) const {

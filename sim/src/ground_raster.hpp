@@ -58,6 +58,8 @@ class RasterFit : public TerrainFit {
     const TerrainGrid& surface() const override { return grid_; }
     /// Ground when |z - terrain (bilinear)| <= limit_m_ of the nearest cell.
     bool classify(const glm::vec3& p, float& height_m) const override;
+    /// Takes the height error of the point's view off first (when views were corrected).
+    bool classify(const core::CloudPoint& p, float& height_m) const override;
 
   protected:
     /// `minimum` (the ground-level surface: grid_'s geometry, kNoPoint where no point
@@ -67,11 +69,32 @@ class RasterFit : public TerrainFit {
     double groundThreshold(double threshold_m) const {
         return std::max(threshold_m, kThicknessSigmas * grid_.ground_sigma_m);
     }
+    /// The filter's threshold (the part of limit_m_ that groundThreshold() widens); set by
+    /// the filter, so that the limits follow the thickness once the views are corrected.
+    double threshold_m_ = 0;
 
     TerrainGrid grid_;
     std::vector<float> limit_m_;
 
   private:
+    // Each view's height error as a plane, offset_m + dzdx * (x - x0_m) + dzdy * (y - y0_m),
+    // fitted to the residuals of its lowest points against the terrain.
+    struct ViewPlane {
+        double x0_m = 0, y0_m = 0, offset_m = 0, dzdx = 0, dzdy = 0;
+    };
+    // The lowest point of one view in one block of kViewBlock x kViewBlock cells.
+    struct ViewLow {
+        float z, x, y;
+    };
+    static constexpr int kViewBlock = 4;
+    static constexpr double kViewGate_m = 0.15;  // residuals this close always count
+    /// Fits view_planes_; false (none) when there is one view or too few points.
+    bool correctViews();
+    double viewError(std::size_t view, double x, double y) const;
+
+    std::unordered_map<std::uint64_t, ViewLow> view_lows_;  // (view, block x, block y) -> lowest point
+    bool too_many_view_blocks_ = false;
+    std::vector<ViewPlane> view_planes_;  // by view; empty: no correction
     double cell_m_, inv_cell_;
     std::size_t max_cells_;
     const char* cell_option_;
@@ -79,6 +102,7 @@ class RasterFit : public TerrainFit {
     // Per cell: its kCellLowest lowest heights (ascending, kNoPoint-padded) and its count.
     struct Cell {
         float low[kCellLowest];
+        std::uint16_t view[kCellLowest];  // the view of each
         std::uint32_t n;
     };
     Cell* cellFor(int tx, int ty);

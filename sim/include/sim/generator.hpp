@@ -115,9 +115,9 @@ struct GenerateStats {
     float z_min = 0, z_max = 0;  // height range used by the colour map (local)
     bool streamed = false;       // spooled through a temporary file
     GroundMethod ground_method = GroundMethod::Ransac;
-    /// Points within the terrain filter's threshold of the fitted terrain (SMRF's or CSF's
-    /// with --ground smrf or csf, SMRF's for the check of RANSAC), and of those the ones
-    /// left coloured.
+    /// Points near the fitted terrain, and of those the ones left coloured: with --ground
+    /// smrf or csf those within 1 m of the filter's terrain; for the check of RANSAC those
+    /// within SMRF's threshold of SMRF's terrain.
     std::uint64_t terrain_points = 0, terrain_points_coloured = 0;
     /// The fitted terrain (local frame), when one was fitted.
     std::shared_ptr<const TerrainGrid> terrain;
