@@ -225,7 +225,17 @@ void RasterFit::fit() {
                 for (int k = 0; k < m; ++k) low[k] = float(double(low[k]) - viewError(cell->view[k], x, y));
                 std::sort(low, low + m);
             }
-            minimum[c] = float(cellLevel(low, m, cell->n, grid_.ground_sigma_m).level_m);
+            if (!corrected && grid_.ground_sigma_m < kThinGround_m) {  // thin: the minimum, as SMRF and CSF have it
+                minimum[c] = low[0];
+                continue;
+            }
+            // Heights far above the third lowest (an object's in a cell it shares with
+            // the ground) are left out; the median below rejects up to two low outliers.
+            const float top =
+                low[std::min(2, m - 1)] + float(kLevelWindowSigmas * grid_.ground_sigma_m + kLevelWindow_m);
+            int kept = 1;
+            while (kept < m && low[kept] <= top) ++kept;
+            minimum[c] = float(cellLevel(low, kept, cell->n, grid_.ground_sigma_m).level_m);
         }
     };
     std::vector<std::uint8_t> observed(minimum.size());

@@ -24,6 +24,15 @@ inline constexpr int kCellLowest = 16;
 /// keeps 98.8 % of Gaussian ground.
 inline constexpr double kThicknessSigmas = 2.5;
 
+/// A cell's level is taken from its lowest heights up to this many ground thicknesses
+/// (plus kLevelWindow_m) above its third lowest.
+inline constexpr double kLevelWindowSigmas = 6.0, kLevelWindow_m = 0.02;
+
+/// Below this ground thickness a cell's level is its lowest height (the filters' own
+/// minimum surface): a thin ground needs no robust level, and the spread the estimate
+/// sees there comes from the terrain's slope within the cell, not from noise.
+inline constexpr double kThinGround_m = 0.1;
+
 /// The standard normal quantile (inverse CDF) at p in (0, 1): Abramowitz and Stegun
 /// 26.2.23, absolute error under 4.5e-4.
 double normalQuantile(double p);

@@ -152,5 +152,22 @@ EOF2
 ! grep -q "warning" "$dir/err.good" || fail "warning on a clean scene: $(cat "$dir/err.good")"
 python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['skipped_nonfinite_triangles']==0 and s['skipped_zero_area_triangles']==0, s" "$dir/summary.json"
 
+# The ground warning for the terrain-following filters: with a tolerance far thinner than
+# the sensor's ground (recall low) it names the filter and what to try; with the defaults
+# (recall high) there is none.
+for m in smrf csf; do
+    "$bin" generate --out "$dir/g.pcd" --xres 48 --yres 48 --views 16 --sensor livox-avia --ground $m \
+        --$m-threshold-m 0.01 --json >"$dir/g.json" 2>"$dir/g.err" || fail "generate --ground $m: $(cat "$dir/g.err")"
+    grep -q "warning: generate: ground: $(echo $m | tr a-z A-Z) whitened only .*--$m-threshold-m" "$dir/g.err" ||
+        fail "no ground warning for --ground $m with a thin threshold: $(cat "$dir/g.err")"
+    python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['ground_recall'] < 0.8 and s['ground_advice'], s" \
+        "$dir/g.json" || fail "--ground $m thin threshold: recall or advice"
+    "$bin" generate --out "$dir/g.pcd" --xres 48 --yres 48 --views 16 --sensor livox-avia --ground $m \
+        --json >"$dir/g.json" 2>"$dir/g.err" || fail "generate --ground $m: $(cat "$dir/g.err")"
+    ! grep -q "warning: generate: ground" "$dir/g.err" || fail "ground warning with the defaults: $(cat "$dir/g.err")"
+    python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['ground_recall'] >= 0.8 and not s['ground_advice'], s" \
+        "$dir/g.json" || fail "--ground $m defaults: recall or advice"
+done
+
 rm -rf "$dir"
 echo "cmd_generate_test: ok"
