@@ -29,8 +29,9 @@ inline constexpr double kThicknessSigmas = 2.5;
 inline constexpr double kLevelWindowSigmas = 6.0, kLevelWindow_m = 0.02;
 
 /// Below this ground thickness a cell's level is its lowest height (the filters' own
-/// minimum surface): a thin ground needs no robust level, and the spread the estimate
-/// sees there comes from the terrain's slope within the cell, not from noise.
+/// minimum surface) and the views are not corrected: a thin ground needs neither, and
+/// the spread the estimate sees there comes from the terrain's slope within the cell,
+/// not from noise.
 inline constexpr double kThinGround_m = 0.1;
 
 /// The standard normal quantile (inverse CDF) at p in (0, 1): Abramowitz and Stegun
