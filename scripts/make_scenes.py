@@ -10,6 +10,8 @@ assets/hard/    the tank in a narrow street between long buildings, in a dense f
 assets/hilly/   a village and the tank on ground with ~15 m of relief (for terrain-following ground filters)
 assets/slopes/  the tank on a small level pad in steep terrain: ~27 m of relief inside the
                 covered disc, slopes up to 30 %, houses and trees on the slopes
+assets/forest/  the slopes' ground under a forest canopy, the tank on a slope half hidden
+                under trees (ground returns only through gaps, as later returns)
 
 World frame: metres, z up. The tank's centre sits at the world origin in every scene
 so the default orbit centre is sensible. Several mesh formats are used on purpose
@@ -614,6 +616,48 @@ def make_slopes(out):
                 "slopes, for terrain-following ground filters. Made by scripts/make_scenes.py.", ents)
 
 
+def make_forest(out):
+    d = os.path.join(out, "forest")
+    os.makedirs(d, exist_ok=True)
+    rng = random.Random(47)
+    h = slopes_height
+
+    def slope(x, y):
+        gx = (h(x + 0.5, y) - h(x - 0.5, y))
+        gy = (h(x, y + 0.5) - h(x, y - 0.5))
+        return gx, gy
+
+    # The tank on the first spot of a ring 30 m out whose slope is 12-18 %, its long
+    # axis along the contour: the slopes' level pad lies elsewhere.
+    tx, ty = 30.0, 0.0
+    for k in range(72):
+        a = k * math.pi / 36
+        x, y = 30.0 * math.cos(a), 30.0 * math.sin(a)
+        gx, gy = slope(x, y)
+        if 0.12 <= math.hypot(gx, gy) <= 0.18:
+            tx, ty = x, y
+            break
+    gx, gy = slope(tx, ty)
+    yaw = math.degrees(math.atan2(gy, gx)) + 90.0
+    ents = [entry("../common/ground_slopes.ply", "ground"),
+            entry("../common/tank.obj", "target", tx, ty, h(tx, ty) - 0.05, yaw=yaw)]
+    # Two trees over half the tank, then a forest all round with gaps between crowns.
+    for dx, dy in ((2.5, 1.5), (-1.0, 3.0)):
+        x, y = tx + dx, ty + dy
+        ents.append(entry("../common/tree_broadleaf.ac", "environment", x, y, h(x, y) - 0.3,
+                          yaw=rng.uniform(0, 360), scale=1.2, up="z"))
+    avoid = [(tx, ty, 4.5), (tx + 2.5, ty + 1.5, 4.0), (tx - 1.0, ty + 3.0, 4.0)]
+    pts = [(x + tx, y + ty) for x, y in scatter(rng, 900, 0, 105, [(ax - tx, ay - ty, ar) for ax, ay, ar in avoid], 4.2)]
+    for x, y in pts:
+        kind = "../common/tree_broadleaf.ac" if rng.random() < 0.5 else "../common/tree_conifer.ply"
+        ents.append(entry(kind, "environment", x, y, h(x, y) - 0.3, yaw=rng.uniform(0, 360),
+                          scale=rng.uniform(0.8, 1.25), up="z"))
+    write_scene(os.path.join(d, "scene.json"),
+                "ladarvr forest scene: the slopes' steep ground under a forest canopy, the tank on a "
+                "12-18 % slope half hidden under two trees; ground returns come only through the "
+                "gaps between crowns. Made by scripts/make_scenes.py.", ents)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -625,6 +669,7 @@ def main():
     make_hard(out)
     make_hilly(out)
     make_slopes(out)
+    make_forest(out)
     total = 0
     for root, _, files in os.walk(out):
         for f in files:

@@ -170,7 +170,7 @@ void run(GenerateCli& cli) {
                  "  derived: drone radius %.2f m, length sensed %.2f m, covered diameter %.2f m\n"
                  "  rays %llu (%llu traced, the others cannot meet the geometry's bounds), hits %llu, misses %llu\n"
                  "  ground: %llu points whitened (%d planes kept, %d dropped), %llu labelled ground; "
-                 "precision %s, recall %s\n"
+                 "precision %s, recall %s; kept coloured 0.5 m above the true terrain: target %s, environment %s\n"
                  "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, ground %.3f s, colour %.3f s, "
                  "write %.3f s, total %.3f s (%d threads%s)\n",
                  scene_path.string().c_str(), out.string().c_str(), formatName(*format), scene.meshes.size(),
@@ -180,7 +180,8 @@ void run(GenerateCli& cli) {
                  st.coverage_diameter_m, (unsigned long long)st.rays, (unsigned long long)st.rays_traced,
                  (unsigned long long)st.points, (unsigned long long)st.misses, (unsigned long long)st.ground_found,
                  st.planes_accepted, st.planes_rejected, (unsigned long long)st.ground_truth,
-                 percent(st.ground_precision).c_str(), percent(st.ground_recall).c_str(), load_s, st.seconds.bvh,
+                 percent(st.ground_precision).c_str(), percent(st.ground_recall).c_str(),
+                 percent(st.target_kept).c_str(), percent(st.environment_kept).c_str(), load_s, st.seconds.bvh,
                  st.seconds.cast, st.seconds.fuse, st.seconds.ground, st.seconds.colour, st.seconds.write, seconds,
                  st.threads, st.streamed ? ", streamed through a spool file" : "");
     if (o.white) std::fprintf(stderr, "  --white: no colouring, no ground whitening\n");
@@ -222,6 +223,10 @@ void run(GenerateCli& cli) {
         j["views_without_ransac"] = st.views_without_ransac;
         j["ground_precision"] = optionalNumber(st.ground_precision);
         j["ground_recall"] = optionalNumber(st.ground_recall);
+        j["target_kept_coloured"] = optionalNumber(st.target_kept);
+        j["environment_kept_coloured"] = optionalNumber(st.environment_kept);
+        j["target_above_terrain"] = st.target_above_terrain;
+        j["environment_above_terrain"] = st.environment_above_terrain;
         j["z_min_m"] = scene.origin.z + st.z_min;
         j["z_max_m"] = scene.origin.z + st.z_max;
         j["threads"] = st.threads;

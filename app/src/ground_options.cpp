@@ -121,19 +121,37 @@ std::unique_ptr<platform::TempFile> stageDtm(const GroundCli& cli, const sim::Ge
 }
 
 std::optional<std::string> groundAdvice(const sim::GenerateStats& st) {
-    if (st.ground_method != sim::GroundMethod::Ransac) return std::nullopt;
+    // What to try, per method.
+    std::string name, next;
+    switch (st.ground_method) {
+        case sim::GroundMethod::Ransac:
+            name = "RANSAC";
+            next = " (the terrain is not flat); --ground smrf or --ground csf follows sloped terrain";
+            break;
+        case sim::GroundMethod::Smrf:
+            name = "SMRF";
+            next =
+                " (the ground is thicker or rougher than its tolerance); raise --smrf-threshold-m, or try --ground csf";
+            break;
+        case sim::GroundMethod::Csf:
+            name = "CSF";
+            next =
+                " (the ground is thicker or steeper than its tolerance); raise --csf-threshold-m, lower "
+                "--csf-rigidness on steep terrain, or try --ground smrf";
+            break;
+    }
     if (st.ground_truth > 0 && st.ground_recall) {
         if (*st.ground_recall >= kMinRecall) return std::nullopt;
-        return "generate: ground: RANSAC whitened only " + percentText(*st.ground_recall) +
-               " of the ground-labelled points (the terrain is not flat); --ground smrf or --ground csf follows "
-               "sloped terrain";
+        return "generate: ground: " + name + " whitened only " + percentText(*st.ground_recall) +
+               " of the ground-labelled points" + next;
     }
     if (st.ground_truth == 0 && st.terrain_points > 0) {
         const double share = double(st.terrain_points_coloured) / double(st.terrain_points);
         if (share <= kMaxColouredTerrain) return std::nullopt;
-        return "generate: ground: RANSAC left " + percentText(share) +
-               " of the points on the fitted terrain coloured (the terrain is not flat); --ground smrf or "
-               "--ground csf follows sloped terrain";
+        return "generate: ground: " + name + " left " + percentText(share) + " of the points " +
+               (st.ground_method == sim::GroundMethod::Ransac ? "on the fitted terrain"
+                                                              : "within 1 m of its fitted terrain") +
+               " coloured" + next;
     }
     return std::nullopt;
 }
@@ -165,6 +183,11 @@ void addGroundJson(nlohmann::json& j, const GroundCli& cli, const sim::GenerateS
     j["terrain_points"] = st.terrain_points;
     j["terrain_points_coloured"] = st.terrain_points_coloured;
     j["ground_advice"] = groundAdvice(st).value_or("");
+    j["ground_thickness_m"] = st.terrain ? st.terrain->ground_sigma_m : 0.0;
+    j["ground_thickness_uncorrected_m"] =
+        st.terrain ? (st.terrain->views_corrected ? st.terrain->ground_sigma_uncorrected_m : st.terrain->ground_sigma_m)
+                   : 0.0;
+    j["views_corrected"] = st.terrain ? st.terrain->views_corrected : 0;
     j["dtm"] = cli.dtm.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::absolute(cli.dtm).string());
     j["stage_seconds"]["ground_check"] = st.seconds.ground_check;
 }

@@ -155,6 +155,8 @@ ItemOutcome buildItem(const Planner& planner, std::size_t index, const fs::path&
     line["rays"] = st.rays;
     line["ground_precision"] = optional(st.ground_precision);
     line["ground_recall"] = optional(st.ground_recall);
+    line["target_kept_coloured"] = optional(st.target_kept);
+    line["environment_kept_coloured"] = optional(st.environment_kept);
     line["metric"] = finite(metric_mean);
     line["exact"] = finite(exact_mean);
     line["visible"] = finite(visible_mean);

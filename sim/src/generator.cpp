@@ -18,6 +18,7 @@
 #include "memory_plan.hpp"
 #include "parallel.hpp"
 #include "terrain_stage.hpp"
+#include "true_terrain.hpp"
 
 #include <core/error.hpp>
 #include <core/jet.hpp>
@@ -28,6 +29,7 @@
 #include <sim/sensor.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -199,6 +201,8 @@ struct Generator::State {
     // options.ground.method's filter: exactly one of the two, unless the run is white.
     std::unique_ptr<const ViewGroundFilter> view_filter;
     std::unique_ptr<const CloudGroundFilter> cloud_filter;
+    // The scene's true terrain over the covered disc, to count the points kept coloured.
+    std::unique_ptr<const TrueTerrain> true_terrain;
 
     State(const core::Scene& s, GenerateOptions o) : scene(s), options(std::move(o)) {}
 
@@ -256,6 +260,36 @@ struct Generator::State {
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
     void fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit, Workers& pool,
                    GenerateStats& st) const;
+
+    // Counts the target and environment points more than kAboveTerrain_m above the true
+    // terrain, and those of them left coloured.
+    void countKept(std::span<const core::CloudPoint> points, Workers& pool, GenerateStats& st) const {
+        if (options.white || !true_terrain) return;
+        const std::size_t chunk = 1u << 16;
+        const std::size_t tasks = (points.size() + chunk - 1) / chunk;
+        std::vector<std::array<std::uint64_t, 4>> counts(tasks, {0, 0, 0, 0});
+        pool.run(tasks, [&](std::size_t task) {
+            auto& c = counts[task];
+            const std::size_t end = std::min(points.size(), (task + 1) * chunk);
+            for (std::size_t i = task * chunk; i < end; ++i) {
+                const core::CloudPoint& p = points[i];
+                if (p.label == core::Role::Ground) continue;
+                double z = 0;
+                if (!true_terrain->heightAt(p.position.x, p.position.y, z) ||
+                    double(p.position.z) - z <= kAboveTerrain_m)
+                    continue;
+                const std::size_t k = p.label == core::Role::Target ? 0 : 2;
+                c[k] += 1;
+                c[k + 1] += p.rgb != core::kWhite;
+            }
+        });
+        for (const auto& c : counts) {
+            st.target_above_terrain += c[0];
+            st.target_kept_points += c[1];
+            st.environment_above_terrain += c[2];
+            st.environment_kept_points += c[3];
+        }
+    }
 
     // Jet colours for every point that is not white, from the fused z range.
     void colour(std::span<core::CloudPoint> points, Workers& pool, const GenerateStats& st) const {
@@ -427,6 +461,10 @@ Generator::Generator(const core::Scene& scene, GenerateOptions options)
     if (!s.options.white) {
         s.view_filter = makeViewFilter(s.options.ground);
         s.cloud_filter = makeCloudFilter(s.options.ground);
+        // The covered disc and a margin for what stands at its edge.
+        auto truth = std::make_unique<TrueTerrain>(scene, s.centre_local.x, s.centre_local.y,
+                                                   0.5 * coverageDiameter(orbit) + 20.0);
+        if (!truth->empty()) s.true_terrain = std::move(truth);
     }
     // Bounds of the triangles to ray-cast, one box per mesh (with --roles
     // target,environment the houses and trees are scattered: one box over all of them
@@ -538,7 +576,14 @@ void fuseFitColour(const Generator::State& s, std::vector<core::CloudPoint>& poi
     terrain.classify(points, pool);
     const auto t0 = Clock::now();
     s.colour(points, pool, st);
+    s.countKept(points, pool, st);
     st.seconds.colour = secondsSince(t0);
+}
+
+void keptShares(GenerateStats& st) {
+    if (st.target_above_terrain > 0) st.target_kept = double(st.target_kept_points) / double(st.target_above_terrain);
+    if (st.environment_above_terrain > 0)
+        st.environment_kept = double(st.environment_kept_points) / double(st.environment_above_terrain);
 }
 
 }  // namespace
@@ -559,6 +604,7 @@ core::PointCloud Generator::run(GenerateStats* stats) {
     cloud.fields.height_above_ground = terrain.whitens();
     fuseFitColour(s, cloud.points, terrain, pool, st);
     terrain.finish(st);
+    keptShares(st);
     st.seconds.total = s.bvh_seconds + secondsSince(t0);
     if (stats) *stats = st;
     return cloud;
@@ -655,6 +701,7 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
             terrain.classify(part, pool);
             tc = Clock::now();
             s.colour(part, pool, st);
+            s.countKept(part, pool, st);
             st.seconds.colour += secondsSince(tc);
             tc = Clock::now();
             writer.append(part);
@@ -663,6 +710,7 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
         if (writer.count() != st.points) throw core::Error("output: " + out.string() + ": spool file came back short");
     }
     terrain.finish(st);
+    keptShares(st);
     if (before_commit) before_commit(st);
     const auto tc = Clock::now();
     writer.commit();

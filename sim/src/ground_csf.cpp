@@ -37,7 +37,9 @@ constexpr double kSlopeJoin_m = 0.3;  // post-processing: IHV step to a stopped 
 
 class CsfFit final : public RasterFit {
   public:
-    explicit CsfFit(const CsfOptions& o) : RasterFit(o.cloth_m, o.max_cells, "csf cloth_m (--csf-cloth-m)"), o_(o) {}
+    explicit CsfFit(const CsfOptions& o) : RasterFit(o.cloth_m, o.max_cells, "csf cloth_m (--csf-cloth-m)"), o_(o) {
+        threshold_m_ = o.threshold_m;
+    }
 
   private:
     void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) override {
@@ -123,7 +125,7 @@ class CsfFit final : public RasterFit {
         }
         grid_.z_m.resize(n);
         for (std::size_t c = 0; c < n; ++c) grid_.z_m[c] = float(-z[c]);
-        limit_m_.assign(n, float(o_.threshold_m));
+        limit_m_.assign(n, float(groundThreshold(o_.threshold_m)));
     }
 
     CsfOptions o_;

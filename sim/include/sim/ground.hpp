@@ -116,6 +116,14 @@ struct TerrainGrid {
     std::vector<float> z_m;
     /// How many cells held at least one point (the others are interpolated).
     std::size_t observed_cells = 0;
+    /// The ground thickness: the median over the well-sampled cells of the spread (one
+    /// sigma) of their lowest heights; noise and misregistered views thicken the ground.
+    double ground_sigma_m = 0;
+    /// The views' height errors were estimated and are taken off each point before it is
+    /// tested (views_corrected of them); ground_sigma_m is then the thickness after that.
+    std::size_t views_corrected = 0;
+    /// The ground thickness before the views' errors were taken off.
+    double ground_sigma_uncorrected_m = 0;
 
     bool empty() const { return nx == 0 || ny == 0; }
     float at(int i, int j) const { return z_m[std::size_t(j) * std::size_t(nx) + std::size_t(i)]; }
@@ -138,6 +146,9 @@ class TerrainFit {
     virtual const TerrainGrid& surface() const = 0;
     /// After fit(): true when `p` is ground; `height_m` = p.z - surface height there.
     virtual bool classify(const glm::vec3& p, float& height_m) const = 0;
+    /// As above for a point of a view: a filter that estimated each view's height error
+    /// (misregistered views of a real sensor) takes it off first.
+    virtual bool classify(const core::CloudPoint& p, float& height_m) const { return classify(p.position, height_m); }
 };
 
 /// A per-view filter (RANSAC): the generator labels each view's points as the view is
