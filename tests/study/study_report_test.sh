@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# tests/study/study_report_test.sh LADARVR: `ladarvr study report` end to end. Two
-# participants run their sessions of a 3-condition, 2-block design headless (--no-xr, Xvfb
-# from tests/viewer/headless_env.sh), driven by scripts that hit the tank, confirm a house
+# tests/study/study_report_test.sh LADARVR: `ladarvr study report` end to end. The first two
+# of a 12-participant, 3-condition, 2-block design run their sessions in Monado's simulated
+# HMD (tests/viewer/headless_env.sh --monado, Xvfb), driven by scripts that hit the tank, confirm a house
 # instead (a false confirmation) or declare no target, with waits that differ per trial;
 # each folder gets a questionnaires.csv (SSQ before and after, raw TLX per condition) in
 # study/instruments.hpp's layout. Then:
@@ -40,7 +40,7 @@ cat >"$work/design.json" <<'DESIGN'
  "blocks": [{"name": "first", "trials": [{"cloud": "demo.pcd", "candidates": "candidates.json", "name": "one"}]},
             {"name": "second", "trials": [{"cloud": "demo.pcd", "candidates": "candidates.json", "name": "two"}]}],
  "order": "latin",
- "participants": ["P01", "P02"],
+ "participants": ["P01", "P02", "P03", "P04", "P05", "P06", "P07", "P08", "P09", "P10", "P11", "P12"],
  "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000}}
 DESIGN
 
@@ -64,9 +64,12 @@ script H N H F H H F H H >"$work/P02.script"
 
 mkdir -p "$work/results"
 for p in P01 P02; do
-  "$env_sh" --timeout 220 -- "$bin" study "$work/design.json" --participant "$p" --out "$work/results/$p" --no-xr \
-    --width 320 --height 180 --timeout 200 --script "$work/$p.script" --no-metric 2>"$work/$p.err" ||
-    { echo "FAIL: $p's session exited $?"; cat "$work/$p.err"; exit 1; }
+  "$env_sh" --monado --timeout 220 -- "$bin" study "$work/design.json" --participant "$p" --out "$work/results/$p" \
+    --width 320 --height 180 --timeout 200 --script "$work/$p.script" --no-metric --log-json "$work/$p.log.json" \
+    2>"$work/$p.err" || { echo "FAIL: $p's session exited $?"; cat "$work/$p.err"; exit 1; }
+  # The session ran in the headset: its frames went to OpenXR.
+  python3 -c 'import json,sys; n=json.load(open(sys.argv[1])).get("frames_submitted", 0); sys.exit(0 if n > 0 else 1)' \
+    "$work/$p.log.json" || { echo "FAIL: $p's session submitted no frame to OpenXR"; cat "$work/$p.err"; exit 1; }
 done
 python3 "$here/check_report.py" questionnaires "$work/results"
 
