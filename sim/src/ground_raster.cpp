@@ -201,9 +201,14 @@ void RasterFit::fit() {
             }
     }
     std::vector<double> spreads;
-    for (const Cell* cell : cells)
-        if (cell && cell->n >= std::uint32_t(kCellLowest))
-            spreads.push_back(std::max(0.0, cellLevel(cell->low, kCellLowest, cell->n, -1).slope_sigma_m));
+    for (const Cell* cell : cells) {
+        if (!cell || cell->n < std::uint32_t(kCellLowest)) continue;
+        const float top = cell->low[2] + float(kThicknessWindow_m);
+        int kept = 3;
+        while (kept < kCellLowest && cell->low[kept] <= top) ++kept;
+        if (kept < kThicknessMinPoints) continue;
+        spreads.push_back(std::max(0.0, cellLevel(cell->low, kept, cell->n, -1).slope_sigma_m));
+    }
     if (!spreads.empty()) {
         const auto mid = spreads.begin() + std::ptrdiff_t(spreads.size() / 2);
         std::nth_element(spreads.begin(), mid, spreads.end());

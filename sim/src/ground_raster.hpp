@@ -27,6 +27,12 @@ inline constexpr double kThicknessSigmas = 2.5;
 /// A cell's level is taken from its lowest heights up to this many ground thicknesses
 /// (plus kLevelWindow_m) above its third lowest.
 inline constexpr double kLevelWindowSigmas = 6.0, kLevelWindow_m = 0.02;
+/// The thickness is measured in the cells whose lowest heights look like ground: at least
+/// kThicknessMinPoints of them within kThicknessWindow_m of the third lowest, the spread
+/// taken over those only. A cell of an object's side or a trunk has fewer; without this a
+/// sparse cloud, whose only well-sampled cells are its objects, read as metres thick.
+inline constexpr double kThicknessWindow_m = 1.0;
+inline constexpr int kThicknessMinPoints = 8;
 
 /// Below this ground thickness a cell's level is its lowest height (the filters' own
 /// minimum surface) and the views are not corrected: a thin ground needs neither, and
