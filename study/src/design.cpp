@@ -69,7 +69,8 @@ const json& array(const json& root, const char* key, const std::string& where, s
 
 Condition parseCondition(const json& c, const std::string& w, const std::filesystem::path& base) {
     if (!c.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(c));
-    onlyKeys(c, w, {"name", "colour", "eye_dome", "candidates", "time_limit_s", "start", "detector", "comment"});
+    onlyKeys(c, w,
+             {"name", "colour", "eye_dome", "candidates", "time_limit_s", "start", "detector", "tools", "comment"});
     Condition condition;
     if (!c.contains("name")) throw core::Error(w + ": 'name' is required");
     condition.name = name(c, "name", w, "");
@@ -98,6 +99,24 @@ Condition parseCondition(const json& c, const std::string& w, const std::filesys
             condition.start = viewer::ViewMode::Free;
         else
             throw core::Error(field(w, "start") + " '" + core::printable(v, 40) + "' is not one of automatic, free");
+    }
+    if (const auto it = c.find("tools"); it != c.end()) {
+        if (!it->is_array() || it->size() > 3)
+            throw core::Error(field(w, "tools") + " must be an array of tool names; allowed: zoom, cut, colour");
+        unsigned tools = 0;
+        for (const json& t : *it) {
+            const std::string v = t.is_string() ? t.get<std::string>() : "";
+            const unsigned bit = v == "zoom"     ? viewer::kToolZoom
+                                 : v == "cut"    ? viewer::kToolCut
+                                 : v == "colour" ? viewer::kToolColour
+                                                 : 0u;
+            if (bit == 0)
+                throw core::Error(field(w, "tools") + " '" +
+                                  (t.is_string() ? core::printable(v, 40) : std::string(io::jsonTypeName(t))) +
+                                  "' is not one of zoom, cut, colour");
+            tools |= bit;
+        }
+        condition.tools = tools;
     }
     if (const auto it = c.find("detector"); it != c.end()) {
         if (!it->is_string() || it->get<std::string>().empty())
@@ -408,6 +427,7 @@ Session expandSession(const Design& design, const std::string& participant, cons
             if (c.time_limit_s) trial.time_limit_s = *c.time_limit_s;
             if (c.start) trial.start_mode = c.start;
             if (!c.detector.empty()) trial.detector = c.detector;
+            if (c.tools) trial.tools = c.tools;
             session.plan.trials.push_back(std::move(trial));
             session.trials.push_back({ci, block, block < 0});
         };

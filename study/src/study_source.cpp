@@ -100,6 +100,7 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
     setup.colour = t.colour;
     setup.eye_dome = t.eye_dome;
     setup.start_mode = t.start_mode;
+    setup.tools = t.tools;
     return setup;
 }
 

@@ -211,6 +211,15 @@ if scenario == "detector":
         check(bool(rows) and rows[0]["verdict"] == "confirmed", f"trial {n} ({name}): c1 not confirmed: {rows[:1]}")
     lines = [l for l in open(os.path.join(work, "det.err")) if "detecting candidates" in l]
     check(len(lines) == 2, f"{len(lines)} detector runs, expected one per detector: {lines}")
+if scenario == "tools":
+    _, trials = read_csv(os.path.join(work, "tools", "trials.csv"))
+    check([r["condition"] for r in trials] == ["all", "none"], f"conditions {[r['condition'] for r in trials]}")
+    log = json.load(open(os.path.join(work, "tools.log.json")))
+    for n, want in ((0, 2.0), (1, 1.0)):
+        scales = {round(f["scale"], 6) for f in log["frames"] if f.get("trial") == n and "scale" in f}
+        check(max(scales, default=0) == want, f"trial {n + 1}: scales {sorted(scales)}, expected at most {want}")
+    grabs = [a for a in log["actions"] if a.get("action") == "grab_scale"]
+    check([a.get("trial") for a in grabs] == [0], f"grab_scale actions {grabs}")
 if failures:
     print("FAIL:\n  " + "\n  ".join(failures))
     sys.exit(1)

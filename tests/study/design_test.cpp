@@ -54,6 +54,7 @@ TEST_CASE("a design's conditions, blocks, practice, break and participants") {
     CHECK_FALSE(d.conditions[0].start);
     CHECK(*d.conditions[1].start == viewer::ViewMode::Free);
     CHECK(d.conditions[0].detector.empty());
+    CHECK_FALSE(d.conditions[0].tools);
     REQUIRE(d.blocks.size() == 2);
     CHECK(d.blocks[0].name == "easy");
     CHECK(d.blocks[1].name == "2");
@@ -111,9 +112,13 @@ TEST_CASE("a design's refused keys: one line naming the key and what is allowed"
           "study: design.json: conditions[0]: 'name' is required");
     fails(R"({"conditions": [{"name": "a", "time_limit_s": -2}], )" + blocks + "}",
           "study: design.json: conditions[0].time_limit_s -2 is not in [0, 86400]");
-    fails(R"({"conditions": [{"name": "a", "tools": []}], )" + blocks + "}",
-          "study: design.json: conditions[0]: unknown key 'tools'; allowed: name, colour, eye_dome, candidates, "
-          "time_limit_s, start, detector, comment");
+    fails(R"({"conditions": [{"name": "a", "sounds": []}], )" + blocks + "}",
+          "study: design.json: conditions[0]: unknown key 'sounds'; allowed: name, colour, eye_dome, candidates, "
+          "time_limit_s, start, detector, tools, comment");
+    fails(R"({"conditions": [{"name": "a", "tools": ["zoom", "laser"]}], )" + blocks + "}",
+          "study: design.json: conditions[0].tools 'laser' is not one of zoom, cut, colour");
+    fails(R"({"conditions": [{"name": "a", "tools": "zoom"}], )" + blocks + "}",
+          "study: design.json: conditions[0].tools must be an array of tool names; allowed: zoom, cut, colour");
     fails(R"({"conditions": [{"name": "a", "detector": 3}], )" + blocks + "}",
           "study: design.json: conditions[0].detector must be a non-empty string; allowed: baseline, or a model file "
           "written by 'ladarvr train'");
@@ -348,4 +353,17 @@ TEST_CASE("a condition's detector: the baseline, or a model file relative to the
         CHECK(s.plan.trials[i].detector == want);
         CHECK(s.plan.trials[i].candidates == std::filesystem::path("/d/a.json"));  // kept; the detector's replace them
     }
+}
+
+TEST_CASE("a condition's tools: the ones named are offered, none with an empty list") {
+    const study::Design d = study::parseDesign(R"({
+        "conditions": [{"name": "all"}, {"name": "some", "tools": ["cut", "zoom"]}, {"name": "none", "tools": []}],
+        "blocks": [{"trials": [{"cloud": "a.pcd"}]}], "participants": ["P01"]})",
+                                               "d.json", "/d");
+    CHECK_FALSE(d.conditions[0].tools);
+    CHECK(*d.conditions[1].tools == (viewer::kToolCut | viewer::kToolZoom));
+    CHECK(*d.conditions[2].tools == 0u);
+    const study::Session s = study::expandSession(d, "P01", "d.json");
+    for (std::size_t i = 0; i < s.plan.trials.size(); ++i)
+        CHECK(s.plan.trials[i].tools == d.conditions[std::size_t(s.trials[i].condition)].tools);
 }

@@ -26,6 +26,9 @@
 #            cloud (the shipped trained model, and the clustering baseline): candidates.csv
 #            holds what `ladarvr detect` finds in that cloud, and the tank's box (c1) is
 #            confirmed in both.
+#   tools    a condition that offers no tools: the operator's grab_scale 2 changes the world
+#            scale in the condition with every tool and is ignored (scale 1, no action
+#            logged) in the one without.
 #   questionnaires_xr  on Monado's simulated HMD: the SSQ before and after one trial and a
 #            Likert item after it answered by clicking the headset panel: the script stands
 #            in for the controller (`point_answer N`: a ray from the head to rating N's
@@ -250,6 +253,20 @@ DDESIGN
     # The same detectors as `ladarvr detect` runs them, for the checker.
     "$bin" detect "$work/demo.pcd" --model "$assets/detect/model.ldm" --out "$work/atr.json" 2>/dev/null
     "$bin" detect "$work/demo.pcd" --out "$work/base.json" 2>/dev/null
+    ;;
+  tools)
+    cat >"$work/tdesign.json" <<'TDESIGN'
+{"conditions": [{"name": "all"}, {"name": "none", "tools": []}],
+ "blocks": [{"trials": [{"cloud": "demo.pcd", "name": "one"}]}],
+ "participants": ["P01"],
+ "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000}}
+TDESIGN
+    # Each trial: the operator sets the world scale to 2, then designates and confirms.
+    printf '1 next\n+4 grab_scale 2\n+4 aim 0 0 1.2\n+1 designate\n+6 confirm\n+2 next\n+4 grab_scale 2\n+4 aim 0 0 1.2\n+1 designate\n+6 confirm\n' \
+      >"$work/tscript.txt"
+    "$env_sh" --timeout 220 -- "$bin" study "$work/tdesign.json" --participant P01 --out "$work/tools" --no-xr \
+      --width 320 --height 180 --timeout 200 --script "$work/tscript.txt" --log-json "$work/tools.log.json" \
+      --no-metric 2>"$work/tools.err" || { echo "FAIL: the tools session exited $?"; cat "$work/tools.err"; exit 1; }
     ;;
   *) echo "study_design_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac

@@ -89,6 +89,7 @@ void ViewerApp::beginTrial(int index) {
     if (trials_.setup().colour) style_.colour = *trials_.setup().colour;
     if (trials_.setup().eye_dome) style_.eye_dome = *trials_.setup().eye_dome;
     start_free_ = trials_.setup().start_mode == ViewMode::Free;
+    tools_ = trials_.setup().tools.value_or(kAllTrialTools);
     pointer_.setIndex(nullptr);
     pointer_.update(std::nullopt);
     modes_ = ModeController(options_.modes, glm::dvec3(0.0));
@@ -230,13 +231,18 @@ void ViewerApp::update(OperatorInput in, double dt) {
             pointer_.hit() ? zoom_.zoom().unapply(glm::transpose(rig.rotation) * (pointer_.hit()->local - rig.position))
                            : headTracking().position;
         in.reset_zoom = in.reset_zoom || reset_zoom_button_;
-        zoom_.update(in, f);
-        if (in.set_scale) trials_.record("grab_scale", frames_, {{"scale", zoom_.zoom().scale()}});
-        if (in.cycle_colour) {  // the next mode colourModeName knows, then the first again
+        if (tools_ & kToolZoom) {
+            zoom_.update(in, f);
+            if (in.set_scale) trials_.record("grab_scale", frames_, {{"scale", zoom_.zoom().scale()}});
+        }
+        if (in.cycle_colour && (tools_ & kToolColour)) {  // the next mode colourModeName knows, then the first again
             const auto next = static_cast<ColourMode>(static_cast<int>(style_.colour) + 1);
             style_.colour = std::string(colourModeName(next)) == "?" ? ColourMode::File : next;
         }
-        cut_.update(in, f);
+        if (tools_ & kToolCut)
+            cut_.update(in, f);
+        else
+            cut_.enabled() = false;  // the panel's switch too
         // Modes advance with real time; free-mode speed follows the zoom.
         const double k = 1.0 / zoom_.zoom().scale();
         f.motion = {in.motion.forward * k, in.motion.right * k, in.motion.up * k, in.motion.turn};

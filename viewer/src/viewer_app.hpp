@@ -106,8 +106,9 @@ class ViewerApp {
     long first_points_frame_ = -1;
     std::size_t points_drawn_ = 0;
     std::string exit_reason_ = "window closed";
-    bool quitting_ = false;    // frames after the exit request are not counted
-    bool start_free_ = false;  // the trial begun starts in free mode (its condition's)
+    bool quitting_ = false;            // frames after the exit request are not counted
+    bool start_free_ = false;          // the trial begun starts in free mode (its condition's)
+    unsigned tools_ = kAllTrialTools;  // the tools the trial offers (TrialTool bits)
     bool screenshot_done_ = false, reset_zoom_button_ = false, headset_panel_ = true;
     int status_ = 0;
     double frame_ms_ = 0.0;                // wall time since the previous loop iteration

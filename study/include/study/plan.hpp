@@ -35,8 +35,9 @@ struct PlanTrial {
     std::optional<viewer::ColourMode> colour;    // point colours for this trial
     std::optional<bool> eye_dome;                // eye-dome lighting on or off
     std::optional<viewer::ViewMode> start_mode;  // the mode the trial starts in
-    std::string detector;      // "baseline" or a model file: candidates detected in the cloud; empty: `candidates`
-    double min_ready_s = 0.0;  // the ready screen stays up at least this long (a break)
+    std::string detector;           // "baseline" or a model file: candidates detected in the cloud; empty: `candidates`
+    std::optional<unsigned> tools;  // viewer::TrialTool bits offered; unset: every tool
+    double min_ready_s = 0.0;       // the ready screen stays up at least this long (a break)
 };
 
 struct Plan {

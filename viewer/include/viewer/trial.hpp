@@ -78,7 +78,15 @@ struct TrialSetup {
     /// the paper's protocol). Starting free is logged as a switch from the condition, not
     /// counted among the operator's switches.
     std::optional<ViewMode> start_mode;
+    /// The operator's tools this trial offers (TrialTool bits); unset: every one. The
+    /// pointer, designation and decisions are always there.
+    std::optional<unsigned> tools;
 };
+
+/// The tools a trial may leave out (TrialSetup::tools): the world zoom (grab scale), the
+/// cutting volume, and cycling the colour mode.
+enum TrialTool : unsigned { kToolZoom = 1u, kToolCut = 2u, kToolColour = 4u };
+inline constexpr unsigned kAllTrialTools = kToolZoom | kToolCut | kToolColour;
 
 /// A questionnaire item shown between trials (a study's questionnaires): a rating from
 /// `min` to `max` in steps of `step`, or, `free_text`, a line of text typed on the
