@@ -205,13 +205,13 @@ std::vector<Condition> parseConditions(const std::string& text,
 
 }  // namespace
 
-SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
-    if (!(o.time_limit_s > 0) || !std::isfinite(o.time_limit_s))
-        throw core::Error("corpus: --time-limit-s " + core::shownNumber(o.time_limit_s) + ": allowed a number > 0");
-    const std::vector<std::string> lines = readManifest(dir);
-    platform::checkWritableDestination(o.plan);  // before any work: not one of the inputs
-    const std::vector<Condition> conditions = parseConditions(o.expression, columnsOf(lines));
-    SelectResult r;
+namespace {
+
+// The manifest lines of the items `expression` holds for, `count` of them picked by a
+// seeded shuffle and put back in index order. `count_name` is how the caller calls the count.
+std::vector<json> pickItems(const std::vector<std::string>& lines, const std::string& expression, std::size_t count,
+                            std::uint64_t seed, const std::string& count_name, SelectResult& r) {
+    const std::vector<Condition> conditions = parseConditions(expression, columnsOf(lines));
     r.items = lines.size();
     std::vector<json> matching;
     for (const std::string& line : lines) {
@@ -225,34 +225,59 @@ SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
         if (all) matching.push_back(json::parse(line));
     }
     r.matching = matching.size();
-    if (o.count < 1 || o.count > matching.size())
-        throw core::Error("corpus: --count " + std::to_string(o.count) + ": " + std::to_string(matching.size()) +
-                          " of " + std::to_string(lines.size()) + " items match '" + core::printable(o.expression, 80) +
-                          "'; allowed 1.." + std::to_string(matching.size()));
-    SplitMix64 r64(mix64(o.seed));
-    for (std::size_t i = 0; i < o.count; ++i) std::swap(matching[i], matching[i + r64.below(matching.size() - i)]);
-    matching.resize(o.count);
+    if (count < 1 || count > matching.size())
+        throw core::Error("corpus: " + count_name + " " + std::to_string(count) + ": " +
+                          std::to_string(matching.size()) + " of " + std::to_string(lines.size()) + " items match '" +
+                          core::printable(expression, 80) + "'; allowed 1.." + std::to_string(matching.size()));
+    SplitMix64 r64(mix64(seed));
+    for (std::size_t i = 0; i < count; ++i) std::swap(matching[i], matching[i + r64.below(matching.size() - i)]);
+    matching.resize(count);
     std::sort(matching.begin(), matching.end(), [](const json& a, const json& b) {
         return a["index"].get<std::size_t>() < b["index"].get<std::size_t>();
     });
+    return matching;
+}
+
+// A picked item's cloud file: the one its manifest line describes, labelled per point.
+SelectedItem selectedItem(const fs::path& dir, const json& m) {
+    std::string cloud = "cloud.pcd";
+    for (auto it = m["files"].begin(); it != m["files"].end(); ++it)
+        if (it.key().rfind("cloud.", 0) == 0) cloud = it.key();
+    const std::string id = m["id"].get<std::string>();
+    return {id, fs::absolute(dir / "items").lexically_normal() / id / cloud};
+}
+
+}  // namespace
+
+std::vector<SelectedItem> selectItems(const fs::path& dir, const std::string& expression, std::size_t count,
+                                      std::uint64_t seed, const std::string& count_name) {
+    const std::vector<std::string> lines = readManifest(dir);
+    SelectResult r;
+    std::vector<SelectedItem> out;
+    for (const json& m : pickItems(lines, expression, count, seed, count_name, r)) out.push_back(selectedItem(dir, m));
+    return out;
+}
+
+SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
+    if (!(o.time_limit_s > 0) || !std::isfinite(o.time_limit_s))
+        throw core::Error("corpus: --time-limit-s " + core::shownNumber(o.time_limit_s) + ": allowed a number > 0");
+    const std::vector<std::string> lines = readManifest(dir);
+    platform::checkWritableDestination(o.plan);  // before any work: not one of the inputs
+    SelectResult r;
+    const std::vector<json> matching = pickItems(lines, o.expression, o.count, o.seed, "--count", r);
     const fs::path plan_dir = fs::absolute(o.plan).lexically_normal().parent_path();
-    const fs::path items = fs::absolute(dir / "items").lexically_normal();
     const auto relative = [&](const fs::path& p) {
         const fs::path rel = p.lexically_relative(plan_dir);
         return (rel.empty() ? p : rel).generic_string();
     };
     json trials = json::array();
     for (const json& m : matching) {
-        std::string cloud = "cloud.pcd";
-        for (auto it = m["files"].begin(); it != m["files"].end(); ++it)
-            if (it.key().rfind("cloud.", 0) == 0) cloud = it.key();
-        const fs::path folder = items / m["id"].get<std::string>();
         // A cloud trial (study/plan.hpp takes a cloud or a scene): the item's cloud is
         // the one its manifest line describes, labelled per point; its scene.json
         // replays it. The item id names the trial.
-        trials.push_back({{"cloud", relative(folder / cloud)},
-                          {"name", "item " + m["id"].get<std::string>()},
-                          {"time_limit_s", o.time_limit_s}});
+        const SelectedItem item = selectedItem(dir, m);
+        trials.push_back(
+            {{"cloud", relative(item.cloud)}, {"name", "item " + item.id}, {"time_limit_s", o.time_limit_s}});
     }
     json plan{{"trials", trials}, {"shuffle_seed", o.seed}};
     platform::writeFileAtomic(o.plan, plan.dump(2) + "\n");

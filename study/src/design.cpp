@@ -7,6 +7,7 @@
 #include <core/error.hpp>
 #include <core/random.hpp>
 #include <corpus/sha256.hpp>
+#include <corpus/stats.hpp>
 #include <io/strict_json.hpp>
 #include <platform/safe_file.hpp>
 
@@ -259,16 +260,33 @@ Design parseDesign(std::string_view text_in, const std::string& name_in, const s
         const std::string w = where + ": blocks[" + std::to_string(i) + "]";
         const json& b = blocks[i];
         if (!b.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(b));
-        onlyKeys(b, w, {"name", "trials", "comment"});
+        onlyKeys(b, w, {"name", "trials", "corpus", "select", "count", "seed", "time_limit_s", "comment"});
         DesignBlock block;
         block.name = name(b, "name", w, std::to_string(i + 1));
         if (!seen.insert(block.name).second)
             throw core::Error(w + ".name '" + block.name + "' is used twice; allowed: a different name per block");
-        const auto t = b.find("trials");
-        if (t == b.end() || !t->is_array() || t->empty())
-            throw core::Error(w + ".trials must be a non-empty array of trials");
-        block.trials = parseTrials(*t, w + ".trials", base);
-        trials += block.trials.size();
+        if (b.contains("corpus")) {  // a selection from a corpus, picked by readDesign
+            if (b.contains("trials"))
+                throw core::Error(w + ": give either 'trials' or 'corpus' with 'select' and 'count', not both");
+            block.corpus = detail::resolve(base, detail::text(b, "corpus", w));
+            block.select = detail::text(b, "select", w);
+            if (block.select.empty())
+                throw core::Error(w +
+                                  ": 'select' is required with 'corpus' (a manifest condition, e.g. \"metric<0.3\")");
+            if (!b.contains("count")) throw core::Error(w + ": 'count' is required with 'corpus' (1 to 1000 items)");
+            block.count = std::size_t(detail::whole(b, "count", w, 1, 1000, 1));
+            block.select_seed = std::uint64_t(detail::whole(b, "seed", w, 0, 2147483647, 1));
+            block.time_limit_s = detail::number(b, "time_limit_s", w, 0.0, 86400.0, 120.0);
+            trials += block.count;
+        } else {
+            for (const char* k : {"select", "count", "seed", "time_limit_s"})
+                if (b.contains(k)) throw core::Error(w + ": '" + k + "' goes with 'corpus'");
+            const auto t = b.find("trials");
+            if (t == b.end() || !t->is_array() || t->empty())
+                throw core::Error(w + ".trials must be a non-empty array of trials");
+            block.trials = parseTrials(*t, w + ".trials", base);
+            trials += block.trials.size();
+        }
         design.blocks.push_back(std::move(block));
     }
     design.practice = parseTrials(array(root, "practice", where, 1000, false), where + ": practice", base);
@@ -341,6 +359,27 @@ Design readDesign(const std::filesystem::path& file, std::string* sha256) {
     const std::string text = platform::readTextFile(file, kMaxDesignBytes, "study: " + shown + ":");
     Design design =
         parseDesign(text, shown, file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path());
+    // A corpus block's trials: the items its condition picks, each a cloud trial named by
+    // its item (as `corpus --select` writes them into a plan).
+    for (std::size_t b = 0; b < design.blocks.size(); ++b) {
+        DesignBlock& block = design.blocks[b];
+        if (block.corpus.empty()) continue;
+        const std::string w = "study: " + shown + ": blocks[" + std::to_string(b) + "]";
+        std::vector<corpus::SelectedItem> items;
+        try {
+            items = corpus::selectItems(block.corpus, block.select, block.count, block.select_seed, "count");
+        } catch (const core::Error& e) {
+            throw core::Error(w + ": " + e.what());
+        }
+        for (const corpus::SelectedItem& item : items) {
+            PlanTrial t;
+            t.cloud = item.cloud;
+            t.source = item.cloud.string();
+            t.name = "item " + item.id;
+            t.time_limit_s = block.time_limit_s;
+            block.trials.push_back(std::move(t));
+        }
+    }
     for (std::size_t b = 0; b < design.blocks.size(); ++b)
         for (std::size_t i = 0; i < design.blocks[b].trials.size(); ++i)
             detail::checkTrialFiles(design.blocks[b].trials[i], "study: " + shown + ": blocks[" + std::to_string(b) +

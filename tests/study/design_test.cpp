@@ -10,6 +10,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -366,4 +367,60 @@ TEST_CASE("a condition's tools: the ones named are offered, none with an empty l
     const study::Session s = study::expandSession(d, "P01", "d.json");
     for (std::size_t i = 0; i < s.plan.trials.size(); ++i)
         CHECK(s.plan.trials[i].tools == d.conditions[std::size_t(s.trials[i].condition)].tools);
+}
+
+TEST_CASE("a block picked from a corpus by difficulty: its items become the block's cloud trials") {
+    test_support::TempDir dir("design_corpus_block");
+    std::string manifest;
+    for (int i = 0; i < 4; ++i) {
+        const std::string id = "000" + std::to_string(i);
+        std::filesystem::create_directories(dir.path / "corpus" / "items" / id);
+        std::ofstream(dir.path / "corpus" / "items" / id / "cloud.pcd") << "x";
+        manifest += R"({"id": ")" + id + R"(", "index": )" + std::to_string(i) + R"(, "metric": )" +
+                    std::to_string(0.1 * (i + 1)) + R"(, "files": {"cloud.pcd": {"bytes": 1}}})" + "\n";
+    }
+    dir.write("corpus/manifest.jsonl", manifest);
+    dir.write("design.json", R"({"conditions": [{"name": "a"}, {"name": "b"}],
+        "blocks": [{"name": "hard", "corpus": "corpus", "select": "metric<0.35", "count": 2, "seed": 3,
+                    "time_limit_s": 45}],
+        "participants": ["P01"]})");
+    const study::Design d = study::readDesign(dir.path / "design.json");
+    REQUIRE(d.blocks.size() == 1);
+    REQUIRE(d.blocks[0].trials.size() == 2);
+    std::set<std::string> names;
+    for (const study::PlanTrial& t : d.blocks[0].trials) {
+        CHECK(t.cloud.filename() == "cloud.pcd");
+        CHECK(std::filesystem::is_regular_file(t.cloud));
+        CHECK(t.time_limit_s == 45.0);
+        names.insert(t.name);
+    }
+    // metric < 0.35: items 0000, 0001, 0002; two of them, the same two on every read.
+    CHECK(names.count("item 0003") == 0);
+    const study::Design again = study::readDesign(dir.path / "design.json");
+    CHECK(again.blocks[0].trials[0].cloud == d.blocks[0].trials[0].cloud);
+    CHECK(again.blocks[0].trials[1].cloud == d.blocks[0].trials[1].cloud);
+    CHECK(study::expandSession(d, "P01", "design.json").plan.trials.size() == 4);
+
+    dir.write("design5.json", R"({"conditions": [{"name": "a"}],
+        "blocks": [{"corpus": "corpus", "select": "metric<0.35", "count": 5}], "participants": ["P01"]})");
+    CHECK_THROWS_WITH_AS(
+        study::readDesign(dir.path / "design5.json"),
+        doctest::Contains("blocks[0]: corpus: count 5: 3 of 4 items match 'metric<0.35'; allowed 1..3"), core::Error);
+}
+
+TEST_CASE("a corpus block's refused forms: one line naming the key") {
+    auto fails = [](const std::string& block, const std::string& message) {
+        const std::string text =
+            R"({"conditions": [{"name": "a"}], "blocks": [)" + block + R"(], "participants": ["P01"]})";
+        CAPTURE(text);
+        CHECK_THROWS_WITH_AS(study::parseDesign(text, "design.json", "/"), message.c_str(), core::Error);
+    };
+    fails(R"({"corpus": "c", "count": 2})",
+          "study: design.json: blocks[0]: 'select' is required with 'corpus' (a manifest condition, e.g. "
+          "\"metric<0.3\")");
+    fails(R"({"corpus": "c", "select": "metric<1"})",
+          "study: design.json: blocks[0]: 'count' is required with 'corpus' (1 to 1000 items)");
+    fails(R"({"corpus": "c", "select": "metric<1", "count": 2, "trials": [{"cloud": "a"}]})",
+          "study: design.json: blocks[0]: give either 'trials' or 'corpus' with 'select' and 'count', not both");
+    fails(R"({"trials": [{"cloud": "a"}], "count": 2})", "study: design.json: blocks[0]: 'count' goes with 'corpus'");
 }

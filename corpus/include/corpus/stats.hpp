@@ -51,6 +51,17 @@ struct SelectResult {
     std::size_t items = 0, matching = 0, written = 0;
 };
 
+/// An item picked by selectItems: its id and its cloud file (absolute).
+struct SelectedItem {
+    std::string id;
+    std::filesystem::path cloud;
+};
+/// Picks `count` of the items of the corpus DIR where `expression` holds, as selectTrials
+/// does, without writing anything; `count_name` names the count in the error when fewer
+/// items match.
+std::vector<SelectedItem> selectItems(const std::filesystem::path& dir, const std::string& expression,
+                                      std::size_t count, std::uint64_t seed, const std::string& count_name);
+
 /// Picks `count` of the items where the expression holds (a seeded shuffle, then by id)
 /// and writes the plan {"trials": [{"cloud", "scene", "time_limit_s"}], "shuffle_seed"}
 /// with paths relative to the plan file. Throws core::Error for a bad expression (naming

@@ -46,6 +46,14 @@ struct Condition {
 struct DesignBlock {
     std::string name;  // default "1", "2", ... (its number)
     std::vector<PlanTrial> trials;
+    // Or a selection from a corpus by difficulty, which readDesign turns into trials: the
+    // corpus folder, the manifest condition (as `corpus --select`), how many items, the
+    // shuffle's seed and each trial's time limit.
+    std::filesystem::path corpus;
+    std::string select;
+    std::size_t count = 0;
+    std::uint64_t select_seed = 1;
+    double time_limit_s = 120.0;
 };
 
 enum class ConditionOrder { Latin, Permutation, Random };
