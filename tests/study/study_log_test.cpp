@@ -98,7 +98,7 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     CHECK(rows[2] == "2,s.json,timeout,-30.000000,22.000000,4.000000,36.500000,0,,120.000000,0,0,0.000000,0.250000");
     CHECK(lines(dir.path / "trace_2.csv").size() == 1);  // the header only: no frame
     CHECK(log.trialsWritten() == 2);
-    CHECK(log.error().empty());
+    CHECK_MESSAGE(log.error().empty(), log.error());
     CHECK(dir.entries() == 4);  // trials, candidates, two traces
 }
 
