@@ -5,6 +5,7 @@
 #include "common.hpp"
 #include "register.hpp"
 #include "view_measure.hpp"
+#include "view_ooc.hpp"
 #include "view_pick.hpp"
 
 #include <core/error.hpp>
@@ -31,6 +32,8 @@ struct BenchViewArgs {
     std::string eye = "1440x1600";
     std::string display = "auto";
     std::size_t point_budget = 3000000;
+    OocBenchOptions ooc;  // --paths ooc
+    bool no_md = false;
 };
 
 /// Without a display, reruns this benchmark under tests/viewer/headless_env.sh (a private
@@ -42,13 +45,22 @@ bool rerunHeadless(const BenchViewArgs& a) {
     std::error_code ec;
     const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (ec || !std::filesystem::exists(script)) return false;
+    std::string ooc_args;
+    if (a.paths.find("ooc") != std::string::npos) {
+        std::string sizes;
+        for (std::size_t n : a.ooc.points) sizes += (sizes.empty() ? "" : ",") + std::to_string(n);
+        ooc_args = " --ooc-points " + sizes + " --head-paths " + shellQuote(a.ooc.head_paths) + " --cache-mb " +
+                   std::to_string(a.ooc.cache_mb) + " --in-core-max " + std::to_string(a.ooc.in_core_max_points) +
+                   (a.ooc.dir.empty() ? std::string() : " --ooc-dir " + shellQuote(a.ooc.dir)) +
+                   (a.no_md ? " --no-md" : "");
+    }
     std::string points;
     for (std::size_t n : a.points) points += (points.empty() ? "" : ",") + std::to_string(n);
     const std::string command = shellQuote(script.string()) + " --monado-stay --timeout 3000 -- " +
                                 shellQuote(exe.string()) + " view --display none --points " + points + " --frames " +
                                 std::to_string(a.frames) + " --warmup " + std::to_string(a.warmup) + " --paths " +
                                 shellQuote(a.paths) + " --eye " + shellQuote(a.eye) + " --point-budget " +
-                                std::to_string(a.point_budget);
+                                std::to_string(a.point_budget) + ooc_args;
     std::fprintf(stderr, "bench view: no DISPLAY: running under %s (Xvfb + Monado)\n", script.c_str());
     std::fflush(stdout);
     const int status = std::system(command.c_str());
@@ -90,6 +102,15 @@ void run(const BenchViewArgs& a) {
     if (std::sscanf(a.eye.c_str(), "%dx%d", &o.eye_width, &o.eye_height) != 2)
         throw core::Error("bench view: --eye '" + a.eye + "': expected WIDTHxHEIGHT, e.g. 1440x1600");
     if (display_needed && rerunHeadless(a)) return;
+    if (a.paths.find("ooc") != std::string::npos) {
+        OocBenchOptions ooc = a.ooc;
+        ooc.point_budget = a.point_budget;
+        ooc.eye_width = o.eye_width;
+        ooc.eye_height = o.eye_height;
+        ooc.md = a.no_md ? "" : "BENCHMARKS.md";
+        runOocBench(ooc, stdout);
+        if (!(o.mirror || o.xr || o.egl || o.skip || o.tools || a.paths.find("pick") != std::string::npos)) return;
+    }
 
     std::fprintf(stderr, "bench view: generating the demo cloud (paper parameters)\n");
     const core::Scene scene = io::loadScene(io::demoScenePath());
@@ -179,10 +200,25 @@ void registerView(CLI::App& parent) {
     cmd->add_option("--frames", args->frames, "measured frames per configuration")->capture_default_str();
     cmd->add_option("--warmup", args->warmup, "warm-up frames (after the upload)")->capture_default_str();
     cmd->add_option("--paths", args->paths,
-                    "any of mirror, xr, egl, skip, pick, tools (comma separated; skip: culling and LOD budget "
+                    "any of mirror, xr, egl, skip, pick, tools, ooc (comma separated; skip: culling and LOD budget "
                     "before/after, offscreen stereo; pick: the pointer's pick time; tools: the XR frame with and "
-                    "without the pointer, cutting volume and headset panel)")
+                    "without the pointer, cutting volume and headset panel; ooc: COPC files viewed out of core "
+                    "along head paths against the in-core path, and the node selection at 10^5 nodes)")
         ->capture_default_str();
+    cmd->add_option("--ooc-points", args->ooc.points, "ooc: cloud sizes, generated as COPC (comma separated)")
+        ->delimiter(',')
+        ->capture_default_str();
+    cmd->add_option("--head-paths", args->ooc.head_paths, "ooc: any of orbit, fly-in, turn (comma separated)")
+        ->capture_default_str();
+    cmd->add_option("--cache-mb", args->ooc.cache_mb, "ooc: the COPC source's RAM cache, as view --cache-mb")
+        ->capture_default_str();
+    cmd->add_option("--in-core-max", args->ooc.in_core_max_points,
+                    "ooc: the in-core baseline only for clouds of at most this many points")
+        ->capture_default_str();
+    cmd->add_option("--ooc-dir", args->ooc.dir,
+                    "ooc: folder where the COPC files are made and kept, reused by later runs (default: a "
+                    "temporary folder, removed)");
+    cmd->add_flag("--no-md", args->no_md, "ooc: print only, leave BENCHMARKS.md alone");
     cmd->add_option("--point-budget", args->point_budget, "skip rows: points per eye with the LOD budget")
         ->capture_default_str();
     cmd->add_option("--eye", args->eye, "eye size of the offscreen stereo path, WxH")->capture_default_str();

@@ -12,6 +12,7 @@
 #include <render/gl.hpp>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -39,6 +40,8 @@ struct OffscreenStereo::Impl {
     std::vector<std::unique_ptr<CloudFeed>> feeds;
     std::vector<std::unique_ptr<CloudFeedSource>> sources;
     PointRenderer renderer;
+    PointSource* followed = nullptr;  // follow()'s source, if any
+    std::array<std::size_t, 2> drawn{};
     std::array<EyeTarget, 2> targets;
     std::array<GLuint, 2> images{}, fbos{};
 
@@ -88,6 +91,35 @@ void OffscreenStereo::upload(const core::PointCloud& cloud) {
     impl_->renderer.stream(*impl_->sources.back(), cloud.points.size());
 }
 
+void OffscreenStereo::follow(PointSource& source) { impl_->followed = &source; }
+
+OffscreenStereo::StreamStep OffscreenStereo::stream(std::size_t upload_points) {
+    StreamStep step;
+    PointSource* source = impl_->followed;
+    if (!source) return step;
+    using Clock = std::chrono::steady_clock;
+    const auto ms = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    const Clock::time_point t0 = Clock::now();
+    if (const std::optional<SourceView>& view = impl_->renderer.lastView()) source->select(*view);
+    const Clock::time_point t1 = Clock::now();
+    step.added_nodes = source->poll();
+    const Clock::time_point t2 = Clock::now();
+    step.uploaded_points = impl_->renderer.stream(*source, upload_points);
+    const Clock::time_point t3 = Clock::now();
+    step.select_ms = ms(t0, t1);
+    step.poll_ms = ms(t1, t2);
+    step.upload_ms = ms(t2, t3);
+    return step;
+}
+
+std::size_t OffscreenStereo::pendingPoints() const { return impl_->renderer.pendingPoints(); }
+
+std::array<std::size_t, 2> OffscreenStereo::lastDrawnPerEye() const { return impl_->drawn; }
+
+const std::optional<SourceView>& OffscreenStereo::lastView() const { return impl_->renderer.lastView(); }
+
 std::size_t OffscreenStereo::uploadedPoints() const { return impl_->renderer.uploadedPoints(); }
 std::size_t OffscreenStereo::cellCount() const { return impl_->renderer.cellCount(); }
 const core::Bounds& OffscreenStereo::bounds() const { return impl_->renderer.bounds(); }
@@ -105,13 +137,12 @@ void OffscreenStereo::plan(const RigPose& head, std::size_t point_budget, bool c
 
 std::size_t OffscreenStereo::draw(const RigPose& head, const ViewStyle& style, ViewMode mode) {
     const std::array<EyeDraw, 2> draws = impl_->eyeDraws(head);
-    std::size_t drawn = 0;
     for (int i = 0; i < 2; ++i)
-        drawn += impl_->renderer
-                     .drawEye(impl_->targets[i], draws[i], style, mode, impl_->fbos[i], 0, 0,
-                              impl_->options.eye_width_px, impl_->options.eye_height_px)
-                     .points_drawn;
-    return drawn;
+        impl_->drawn[i] = impl_->renderer
+                              .drawEye(impl_->targets[i], draws[i], style, mode, impl_->fbos[i], 0, 0,
+                                       impl_->options.eye_width_px, impl_->options.eye_height_px)
+                              .points_drawn;
+    return impl_->drawn[0] + impl_->drawn[1];
 }
 
 std::vector<std::uint8_t> OffscreenStereo::readEye(int eye) const {

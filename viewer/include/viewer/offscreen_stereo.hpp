@@ -5,6 +5,7 @@
 // and be timed on any GPU with a headless context (render::EglContext).
 #pragma once
 #include <viewer/camera_rig.hpp>
+#include <viewer/point_source.hpp>
 #include <viewer/viewer.hpp>
 
 #include <core/frames.hpp>
@@ -13,8 +14,10 @@
 #include <glm/glm.hpp>
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace viewer {
@@ -44,6 +47,24 @@ class OffscreenStereo {
 
     /// Puts every point of `cloud` on the GPU, in the viewer's LOD order and cells.
     void upload(const core::PointCloud& cloud);
+
+    /// What one stream() call did and how long each step took (CPU milliseconds).
+    struct StreamStep {
+        double select_ms = 0.0;  // the source's choice for the last planned view (traversal + scheduling)
+        double poll_ms = 0.0;    // taking the nodes that arrived
+        double upload_ms = 0.0;  // following residency on the GPU, uploads included
+        std::size_t added_nodes = 0;
+        std::size_t uploaded_points = 0;
+    };
+    /// Draws `source`'s resident nodes from now on, besides what upload() put on the GPU;
+    /// `source` must outlive this object. Then each stream() does what the viewer's frame
+    /// loop does before it plans a frame: hands the source the view planned last
+    /// (PointSource::select), takes what arrived (poll) and uploads at most `upload_points`
+    /// points. Never waits for the source's workers.
+    void follow(PointSource& source);
+    StreamStep stream(std::size_t upload_points);
+    /// Points that reached the followed source but are not on the GPU yet.
+    std::size_t pendingPoints() const;
     std::size_t uploadedPoints() const;
     std::size_t cellCount() const;
     /// Bounds (local frame) of everything uploaded; its centre is the orbit centre.
@@ -62,6 +83,11 @@ class OffscreenStereo {
     /// Draws both eyes into their images. Returns the points drawn, both eyes together.
     /// Never throws (GL errors are logged).
     std::size_t draw(const RigPose& head, const ViewStyle& style, ViewMode mode);
+    /// Points the last draw() drew in eye 0 and in eye 1.
+    std::array<std::size_t, 2> lastDrawnPerEye() const;
+    /// The view the last plan() chose from (both eyes' frusta when culling, their mean
+    /// position, the budget), as a point source is handed it.
+    const std::optional<SourceView>& lastView() const;
 
     /// Eye 0's or 1's image as RGBA8, rows bottom-up (glReadPixels order).
     std::vector<std::uint8_t> readEye(int eye) const;
