@@ -154,8 +154,8 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
             if (depth) {
                 const unsigned depth_texture = xr.acquireEyeDepth(i);
                 if (depth_texture == 0) return false;
-                glCopyImageSubData(eye_targets_[i].depth, GL_TEXTURE_2D, 0, 0, 0, 0, depth_texture, GL_TEXTURE_2D, 0,
-                                   0, 0, 0, w, h, 1);
+                glCopyImageSubData(eye_targets_[i].depth, GL_TEXTURE_2D, 0, 0, 0, 0, depth_texture, GL_TEXTURE_2D, 0, 0,
+                                   0, 0, w, h, 1);
                 const bool copied = render::logGl("eye depth into the depth swapchain", __FILE__, __LINE__);
                 if (!xr.releaseEyeDepth(i) || !copied) return false;
             }
@@ -163,7 +163,8 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
         out.cpu_ms = msSince(t0);
         endGpuTimer();
         out.rendered = true;
-        if (depth) out.depth_range = XrDepthRange{float(options_.modes.orbit.near_m), float(options_.modes.orbit.far_m)};
+        if (depth)
+            out.depth_range = XrDepthRange{float(options_.modes.orbit.near_m), float(options_.modes.orbit.far_m)};
     }
     return xr.endFrame(frame, out.rendered, out.depth_range);
 }

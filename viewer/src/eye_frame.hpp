@@ -44,7 +44,7 @@ struct FrameView {
 struct FrameResult {
     bool rendered = false;  // both eyes (XR) or the desktop view were drawn
     std::array<RigPose, 2> eyes_tracking, eyes_local;
-    XrFrame xr_frame;  // XR frames only
+    XrFrame xr_frame;                         // XR frames only
     std::optional<XrDepthRange> depth_range;  // XR frames whose depth went to the compositor
     double cpu_ms = 0.0;
     std::size_t points_drawn = 0;
@@ -93,9 +93,9 @@ class EyeFrameRenderer {
     GLuint timer_query_ = 0;  // GL_TIME_ELAPSED around the frame's draws (--gpu-timing)
     double last_gpu_ms_ = -1.0;
     RigPose last_head_;
-    XrFrame begun_;               // the frame beginXr began
-    bool begun_valid_ = false;    // beginXr ran since the last renderXr
-    bool begun_failed_ = false;   // ... and the runtime failed
+    XrFrame begun_;              // the frame beginXr began
+    bool begun_valid_ = false;   // beginXr ran since the last renderXr
+    bool begun_failed_ = false;  // ... and the runtime failed
 };
 
 /// Reads the window's back buffer into a PNG at `path`. False (one line on stderr) on failure.

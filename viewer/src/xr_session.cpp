@@ -378,9 +378,9 @@ void recordPeriod(XrStereoSession::Impl& s, XrDuration period_ns) {
     s.period_max = s.period_frames == 0 ? period_ns : std::max(s.period_max, period_ns);
     ++s.period_frames;
     s.log->set("xr_display_period_ms", nlohmann::json{{"last", double(s.period_last) * 1e-6},
-                                                       {"min", double(s.period_min) * 1e-6},
-                                                       {"max", double(s.period_max) * 1e-6},
-                                                       {"frames", s.period_frames}});
+                                                      {"min", double(s.period_min) * 1e-6},
+                                                      {"max", double(s.period_max) * 1e-6},
+                                                      {"frames", s.period_frames}});
 }
 }  // namespace
 

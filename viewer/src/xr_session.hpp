@@ -33,7 +33,7 @@ struct XrEye {
 
 /// What the session tells the loop each frame.
 struct XrFrame {
-    bool should_render = false;  // the runtime wants pixels this frame
+    bool should_render = false;          // the runtime wants pixels this frame
     std::int64_t display_time_ns = 0;    // xrWaitFrame's predicted display time: eyes, hands and xrEndFrame
     std::int64_t display_period_ns = 0;  // xrWaitFrame's predicted display period (the frame budget)
     bool views_valid = false;
