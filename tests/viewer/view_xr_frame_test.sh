@@ -6,7 +6,10 @@
 #     (window depth 0..1 for the projection's near and far: the event names them), and the
 #     runtime, which validates each XrCompositionLayerDepthInfoKHR, reports no XR error;
 #   - timing: every XR frame carries xrWaitFrame's predicted display time (increasing) and
-#     period (> 0), and the run log sums the periods up (the frame budget).
+#     period (> 0), and the run log sums the periods up (the frame budget); the controllers
+#     are located at the display time of the frame they are drawn in (once FOCUSED).
+# The simulated HMD has no controllers, but xrSyncActions and the aim spaces' locates run
+# all the same, and the frame records when they ran (input_time_ns).
 # The run ends after --frames frames; headless_env.sh starts and kills Xvfb and Monado.
 set -euo pipefail
 bin=$(realpath "$1")
@@ -46,6 +49,11 @@ check(all(f.get("depth_submitted") is True for f in xr_frames), "a frame without
 check(all(f.get("display_period_ns", 0) > 0 for f in xr_frames), "a frame without a predicted display period")
 times = [f["display_time_ns"] for f in xr_frames]
 check(all(b > a for a, b in zip(times, times[1:])), f"display times not increasing: {times}")
+synced = [f for f in xr_frames if f.get("input_time_ns", 0) != 0]
+check(len(synced) > len(xr_frames) // 2, f"controllers read in {len(synced)} of {len(xr_frames)} frames")
+check(all(f["input_time_ns"] == f["display_time_ns"] for f in synced),
+      "controllers located at another time than the frame's display time: " +
+      str([(f["input_time_ns"], f["display_time_ns"]) for f in synced if f["input_time_ns"] != f["display_time_ns"]][:3]))
 period = log.get("xr_display_period_ms", {})
 check(period.get("frames", 0) >= len(xr_frames), f"xr_display_period_ms {period}")
 check(0 < period.get("min", 0) <= period.get("last", 0) <= period.get("max", 0), f"xr_display_period_ms {period}")

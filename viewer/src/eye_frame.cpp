@@ -115,6 +115,7 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
     begun_valid_ = false;
     if (begun_failed_) return false;
     frame = begun_;
+    frame.input_time_ns = xr.inputTime_ns();
     const int w = xr.eyeWidth(), h = xr.eyeHeight();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, fb_w, fb_h);

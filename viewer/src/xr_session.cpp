@@ -88,6 +88,7 @@ struct XrStereoSession::Impl {
     std::array<XrView, 2> views{};
     XrActions actions;
     XrTime last_display_time = 0;
+    XrTime input_time = 0;  // what syncInput located at since the last beginFrame
     RunLog* log = nullptr;
 
     ~Impl() {
@@ -396,6 +397,7 @@ bool XrStereoSession::beginFrame(XrFrame& frame) {
     frame.display_time_ns = state.predictedDisplayTime;
     frame.display_period_ns = state.predictedDisplayPeriod;
     s.last_display_time = state.predictedDisplayTime;
+    s.input_time = 0;
     recordPeriod(s, state.predictedDisplayPeriod);
     if (!frame.should_render) return true;
 
@@ -450,6 +452,7 @@ unsigned XrStereoSession::acquireEyeDepth(int eye) { return acquire(impl_->insta
 bool XrStereoSession::releaseEyeDepth(int eye) { return release(impl_->instance, impl_->depths[eye]); }
 
 double XrStereoSession::predictedDisplayPeriod_s() const { return double(impl_->period_last) * 1e-9; }
+std::int64_t XrStereoSession::inputTime_ns() const { return impl_->input_time; }
 
 bool XrStereoSession::endFrame(const XrFrame& frame, bool rendered, const std::optional<XrDepthRange>& depth) {
     Impl& s = *impl_;
@@ -499,6 +502,7 @@ bool XrStereoSession::endFrame(const XrFrame& frame, bool rendered, const std::o
 XrInput XrStereoSession::syncInput() {
     Impl& s = *impl_;
     if (s.state != XR_SESSION_STATE_FOCUSED) return {};
+    s.input_time = s.last_display_time;
     return s.actions.sync(s.space, s.last_display_time);
 }
 

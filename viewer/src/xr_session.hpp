@@ -36,6 +36,7 @@ struct XrFrame {
     bool should_render = false;          // the runtime wants pixels this frame
     std::int64_t display_time_ns = 0;    // xrWaitFrame's predicted display time: eyes, hands and xrEndFrame
     std::int64_t display_period_ns = 0;  // xrWaitFrame's predicted display period (the frame budget)
+    std::int64_t input_time_ns = 0;      // the controllers' locate time this frame, 0 when not read
     bool views_valid = false;
     std::array<XrEye, 2> eyes;
 };
@@ -115,6 +116,8 @@ class XrStereoSession {
     XrInput syncInput();
     /// The predicted display period of the frame begun last (the frame budget), 0 before one.
     double predictedDisplayPeriod_s() const;
+    /// The time syncInput located the controllers at since the last beginFrame, 0 if none.
+    std::int64_t inputTime_ns() const;
     /// Asks the runtime to end the session (Escape / window closed): EXITING follows.
     void requestExit();
 
