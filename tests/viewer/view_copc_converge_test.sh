@@ -37,7 +37,7 @@ printf 'loaded+3 escape\n' >"$work/script.txt"
 view() {  # NAME FILE ARGS...
   local name=$1 file=$2 status=0
   shift 2
-  "$here/headless_env.sh" --timeout 150 -- "$bin" view "$file" --no-xr --width 800 --height 600 --timeout 120 \
+  "$here/headless_env.sh" --timeout 150 -- "$bin" view "$file" --no-xr --width 800 --height 720 --timeout 120 \
     --orbit-period 1e12 --script "$work/script.txt" --screenshot "$work/$name.png" --log-json "$work/$name.json" \
     "$@" 2>"$work/$name.err" || status=$?
   [ "$status" = 0 ] ||
@@ -62,7 +62,7 @@ def check(ok, message):
 
 TITLE = (41, 74, 122)    # ImGui's active title bar (the panel at 10,10)
 BORDER = (92, 92, 101)   # its left border over the window background and the points
-PANEL_ROWS = 300         # the panel ends above this row (checked)
+PANEL_ROWS = 360         # the panel ends above this row (checked)
 
 def panel_right(name, w, h, px):
     """The panel's right edge from its title bar; checks that it ends above PANEL_ROWS."""
