@@ -128,6 +128,23 @@ TEST_CASE("a symmetric OpenXR FoV gives the usual perspective") {
     CHECK(edge.y / edge.w == doctest::Approx(1.0));
 }
 
+TEST_CASE("the eyes' depth is what XR_KHR_composition_layer_depth reads with nearZ and farZ") {
+    // The eyes' depth goes to the compositor with minDepth 0, maxDepth 1, nearZ = near and
+    // farZ = far (xr_session.cpp): that holds while projectionFromFov keeps OpenGL's
+    // convention (window depth = (NDC z + 1) / 2, not reversed, far finite), where a point
+    // d metres in front has window depth far (d - near) / (d (far - near)).
+    const double near_m = 0.1, far_m = 20000.0;
+    const glm::dmat4 p = projectionFromFov(-0.9, 0.6, 0.7, -0.8, near_m, far_m);
+    for (double d : {near_m, 0.5, 3.0, 120.0, 4000.0, far_m}) {
+        const glm::dvec4 clip = p * glm::dvec4(0.2 * d, -0.1 * d, -d, 1.0);
+        const double window = 0.5 * (clip.z / clip.w + 1.0);
+        CHECK(window == doctest::Approx(far_m * (d - near_m) / (d * (far_m - near_m))).epsilon(1e-9));
+    }
+    const glm::dvec4 at_near = p * glm::dvec4(0.0, 0.0, -near_m, 1.0), at_far = p * glm::dvec4(0.0, 0.0, -far_m, 1.0);
+    CHECK(0.5 * (at_near.z / at_near.w + 1.0) == doctest::Approx(0.0));
+    CHECK(0.5 * (at_far.z / at_far.w + 1.0) == doctest::Approx(1.0));
+}
+
 TEST_CASE("mode options are validated at the boundary") {
     ModeOptions o;
     CHECK_NOTHROW(validate(o));

@@ -98,11 +98,24 @@ void EyeFrameRenderer::mirror(int eye, int w, int h, int fb_w, int fb_h) {
                            GL_LINEAR);
 }
 
+void EyeFrameRenderer::beginXr(XrStereoSession& xr) {
+    begun_valid_ = true;
+    begun_failed_ = !xr.beginFrame(begun_);
+    if (begun_failed_ || !begun_.should_render || !begun_.views_valid) return;
+    const XrEye& l = begun_.eyes[0];
+    const XrEye& r = begun_.eyes[1];
+    last_head_ = {glm::mat3_cast(l.orientation), 0.5 * (l.position + r.position)};
+}
+
 bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, const FrameView& view, int fb_w, int fb_h,
                                 FrameResult& out) {
     out = FrameResult{};
     XrFrame& frame = out.xr_frame;
-    if (!xr.beginFrame(frame)) return false;
+    if (!begun_valid_) beginXr(xr);
+    begun_valid_ = false;
+    if (begun_failed_) return false;
+    frame = begun_;
+    frame.input_time_ns = xr.inputTime_ns();
     const int w = xr.eyeWidth(), h = xr.eyeHeight();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, fb_w, fb_h);
@@ -113,8 +126,6 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
         if (timer_query_) glBeginQuery(GL_TIME_ELAPSED, timer_query_);
         for (int i = 0; i < 2; ++i)
             out.eyes_tracking[i] = {glm::mat3_cast(frame.eyes[i].orientation), frame.eyes[i].position};
-        last_head_ = {out.eyes_tracking[0].rotation,
-                      0.5 * (out.eyes_tracking[0].position + out.eyes_tracking[1].position)};
         std::array<EyeDraw, 2> draws;
         for (int i = 0; i < 2; ++i) {
             out.eyes_local[i] = compose(view.rig, view.zoom->apply(out.eyes_tracking[i]));
@@ -127,6 +138,9 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
                 projectionFromFov(e.angle_left, e.angle_right, e.angle_up, e.angle_down, draw.near_m, draw.far_m);
         }
         points.planFrame(draws, options_.point_budget, options_.cull);  // union of both eyes
+        // The eye targets' depth (the points only: the overlay, vignette and panel quad
+        // have none) goes to the compositor as drawn; a ready screen has no depth.
+        const bool depth = xr.depthAvailable() && !view.blank;
         for (int i = 0; i < 2; ++i) {
             if (!eye_targets_[i].ensure(w, h)) return false;
             const unsigned texture = xr.acquireEye(i);
@@ -138,12 +152,22 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
             mirror(i, w, h, fb_w, fb_h);
             glNamedFramebufferTexture(swapchain_fbo_[i], GL_COLOR_ATTACHMENT0, 0, 0);
             if (!xr.releaseEye(i)) return false;
+            if (depth) {
+                const unsigned depth_texture = xr.acquireEyeDepth(i);
+                if (depth_texture == 0) return false;
+                glCopyImageSubData(eye_targets_[i].depth, GL_TEXTURE_2D, 0, 0, 0, 0, depth_texture, GL_TEXTURE_2D, 0, 0,
+                                   0, 0, w, h, 1);
+                const bool copied = render::logGl("eye depth into the depth swapchain", __FILE__, __LINE__);
+                if (!xr.releaseEyeDepth(i) || !copied) return false;
+            }
         }
         out.cpu_ms = msSince(t0);
         endGpuTimer();
         out.rendered = true;
+        if (depth)
+            out.depth_range = XrDepthRange{float(options_.modes.orbit.near_m), float(options_.modes.orbit.far_m)};
     }
-    return xr.endFrame(frame, out.rendered);
+    return xr.endFrame(frame, out.rendered, out.depth_range);
 }
 
 void EyeFrameRenderer::renderDesktop(PointRenderer& points, const FrameView& view, int fb_w, int fb_h,

@@ -44,7 +44,8 @@ struct FrameView {
 struct FrameResult {
     bool rendered = false;  // both eyes (XR) or the desktop view were drawn
     std::array<RigPose, 2> eyes_tracking, eyes_local;
-    XrFrame xr_frame;  // XR frames only
+    XrFrame xr_frame;                         // XR frames only
+    std::optional<XrDepthRange> depth_range;  // XR frames whose depth went to the compositor
     double cpu_ms = 0.0;
     std::size_t points_drawn = 0;
 };
@@ -57,8 +58,14 @@ class EyeFrameRenderer {
     EyeFrameRenderer(const EyeFrameRenderer&) = delete;
     EyeFrameRenderer& operator=(const EyeFrameRenderer&) = delete;
 
-    /// One OpenXR frame (begin, both eyes, mirror blits, end). False on a runtime failure
-    /// (the caller drops to the desktop). Never throws.
+    /// Begins an OpenXR frame (xrWaitFrame, xrBeginFrame, the eyes located at its
+    /// predicted display time) before the frame's input is read, so that the controllers
+    /// are located at that same time; lastHead() follows. A failure shows in renderXr.
+    /// Never throws.
+    void beginXr(XrStereoSession& xr);
+    /// One OpenXR frame (begun here unless beginXr came first; both eyes, their depth where
+    /// the session submits it, mirror blits, end). False on a runtime failure (the caller
+    /// drops to the desktop). Never throws.
     bool renderXr(XrStereoSession& xr, PointRenderer& points, const FrameView& view, int fb_w, int fb_h,
                   FrameResult& out);
     /// The desktop view into the window's back buffer. Never throws.
@@ -86,6 +93,9 @@ class EyeFrameRenderer {
     GLuint timer_query_ = 0;  // GL_TIME_ELAPSED around the frame's draws (--gpu-timing)
     double last_gpu_ms_ = -1.0;
     RigPose last_head_;
+    XrFrame begun_;              // the frame beginXr began
+    bool begun_valid_ = false;   // beginXr ran since the last renderXr
+    bool begun_failed_ = false;  // ... and the runtime failed
 };
 
 /// Reads the window's back buffer into a PNG at `path`. False (one line on stderr) on failure.

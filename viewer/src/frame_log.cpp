@@ -43,7 +43,12 @@ nlohmann::json frameRecord(const FrameFacts& f) {
     }
     j["eyes_tracking"] = tracking;
     j["eyes_local"] = local;
-    if (f.xr) j["display_time_ns"] = r.xr_frame.display_time_ns;
+    if (f.xr) {
+        j["display_time_ns"] = r.xr_frame.display_time_ns;
+        j["display_period_ns"] = r.xr_frame.display_period_ns;
+        j["input_time_ns"] = r.xr_frame.input_time_ns;
+        j["depth_submitted"] = r.depth_range.has_value();
+    }
     return j;
 }
 

@@ -130,7 +130,10 @@ int ViewerApp::run(CloudFeed* feed, PointSource* points) {
         const double dt = std::chrono::duration<double>(now - last_).count();
         frame_ms_ = dt * 1000.0;
         last_ = now;
-        if (headset_.running()) merge(in, xr_input_.map(headset_.session()->syncInput(), comfort_.snapTurn()));
+        if (headset_.running()) {  // the frame first: its controllers and eyes share its display time
+            eyes_->beginXr(*headset_.session());
+            merge(in, xr_input_.map(headset_.session()->syncInput(), comfort_.snapTurn()));
+        }
         merge(in, replay_.take(stream_.centreFinal(), Clock::now()));
         update(in, dt);
         int fb_w = 0, fb_h = 0;

@@ -59,6 +59,8 @@ const char* sessionStateName(int state) {
 namespace {
 constexpr std::int64_t kGlRgba8 = 0x8058, kGlRgba16 = 0x805B, kGlRgba16f = 0x881A, kGlSrgb8Alpha8 = 0x8C43,
                        kGlRgb10A2 = 0x8059;
+// The eye targets' depth format: the depth swapchain must match it for a plain image copy.
+constexpr std::int64_t kGlDepth32f = 0x8CAC;
 
 struct EyeSwapchain {
     XrSwapchain handle = XR_NULL_HANDLE;
@@ -76,15 +78,23 @@ struct XrStereoSession::Impl {
     bool running = false;
     bool exit_requested = false;
     std::array<EyeSwapchain, 2> eyes;
+    bool depth_extension = false;        // XR_KHR_composition_layer_depth enabled
+    std::array<EyeSwapchain, 2> depths;  // handles only when depth is submitted
+    long depth_frames = 0;               // frames ended with depth
+    XrDuration period_last = 0, period_min = 0, period_max = 0;
+    long period_frames = 0;
     int width = 0, height = 0;
     std::int64_t format = 0;
     std::array<XrView, 2> views{};
     XrActions actions;
     XrTime last_display_time = 0;
+    XrTime input_time = 0;  // what syncInput located at since the last beginFrame
     RunLog* log = nullptr;
 
     ~Impl() {
         for (auto& e : eyes)
+            if (e.handle != XR_NULL_HANDLE) xrDestroySwapchain(e.handle);
+        for (auto& e : depths)
             if (e.handle != XR_NULL_HANDLE) xrDestroySwapchain(e.handle);
         if (space != XR_NULL_HANDLE) xrDestroySpace(space);
         actions.destroy();
@@ -111,21 +121,25 @@ bool createInstance(XrStereoSession::Impl& s, std::string& reason) {
     }
     std::vector<XrExtensionProperties> exts(ext_count, {XR_TYPE_EXTENSION_PROPERTIES});
     xrEnumerateInstanceExtensionProperties(nullptr, ext_count, &ext_count, exts.data());
-    const bool has_gl = std::any_of(exts.begin(), exts.end(), [](const auto& e) {
-        return std::strcmp(e.extensionName, XR_KHR_OPENGL_ENABLE_EXTENSION_NAME) == 0;
-    });
-    if (!has_gl) {
+    auto offered = [&](const char* name) {
+        return std::any_of(exts.begin(), exts.end(),
+                           [&](const auto& e) { return std::strcmp(e.extensionName, name) == 0; });
+    };
+    if (!offered(XR_KHR_OPENGL_ENABLE_EXTENSION_NAME)) {
         reason = "the OpenXR runtime does not offer " XR_KHR_OPENGL_ENABLE_EXTENSION_NAME;
         return false;
     }
-    const char* enabled[] = {XR_KHR_OPENGL_ENABLE_EXTENSION_NAME};
+    std::vector<const char*> enabled = {XR_KHR_OPENGL_ENABLE_EXTENSION_NAME};
+    // Depth lets the compositor reproject with the scene's depth; optional.
+    s.depth_extension = offered(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
+    if (s.depth_extension) enabled.push_back(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
     XrInstanceCreateInfo create_info{XR_TYPE_INSTANCE_CREATE_INFO};
     std::strcpy(create_info.applicationInfo.applicationName, "ladarvr");
     create_info.applicationInfo.applicationVersion = 1;
     std::strcpy(create_info.applicationInfo.engineName, "ladarvr");
     create_info.applicationInfo.apiVersion = XR_API_VERSION_1_0;
-    create_info.enabledExtensionCount = 1;
-    create_info.enabledExtensionNames = enabled;
+    create_info.enabledExtensionCount = static_cast<std::uint32_t>(enabled.size());
+    create_info.enabledExtensionNames = enabled.data();
     r = xrCreateInstance(&create_info, &s.instance);
     if (XR_FAILED(r)) {
         reason = "no OpenXR runtime (xrCreateInstance: " + xrResultName(XR_NULL_HANDLE, r) + ")";
@@ -247,11 +261,10 @@ bool createSwapchains(XrStereoSession::Impl& s, std::string& reason) {
     s.log->set("xr_swapchain_format", s.format);
     s.log->set("xr_eye_size", nlohmann::json::array({s.width, s.height}));
 
-    for (auto& eye : s.eyes) {
+    auto create = [&](EyeSwapchain& eye, std::int64_t format, XrSwapchainUsageFlags usage) {
         XrSwapchainCreateInfo sc{XR_TYPE_SWAPCHAIN_CREATE_INFO};
-        sc.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT |
-                        XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT;
-        sc.format = s.format;
+        sc.usageFlags = usage;
+        sc.format = format;
         sc.sampleCount = 1;
         sc.width = static_cast<std::uint32_t>(s.width);
         sc.height = static_cast<std::uint32_t>(s.height);
@@ -265,7 +278,27 @@ bool createSwapchains(XrStereoSession::Impl& s, std::string& reason) {
         XR_CHECK(instance,
                  xrEnumerateSwapchainImages(eye.handle, image_count, &image_count,
                                             reinterpret_cast<XrSwapchainImageBaseHeader*>(eye.images.data())));
+    };
+    for (auto& eye : s.eyes)
+        create(eye, s.format,
+               XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT |
+                   XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT);
+
+    // Depth: the eye targets' GL_DEPTH_COMPONENT32F copied as is into a swapchain image of
+    // the same format (an image copy needs identical depth formats).
+    nlohmann::json depth = {{"extension", s.depth_extension}};
+    if (!s.depth_extension) {
+        depth["reason"] = "the OpenXR runtime does not offer " XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME;
+    } else if (std::find(formats.begin(), formats.end(), kGlDepth32f) == formats.end()) {
+        depth["reason"] = "the OpenXR runtime offers no GL_DEPTH_COMPONENT32F swapchain format";
+    } else {
+        for (auto& eye : s.depths)
+            create(eye, kGlDepth32f,
+                   XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT);
+        depth["format"] = kGlDepth32f;
     }
+    depth["submitted"] = s.depths[0].handle != XR_NULL_HANDLE;
+    s.log->set("xr_depth", depth);
     return true;
 }
 
@@ -338,6 +371,20 @@ bool XrStereoSession::focused() const { return impl_->state == XR_SESSION_STATE_
 int XrStereoSession::eyeWidth() const { return impl_->width; }
 int XrStereoSession::eyeHeight() const { return impl_->height; }
 
+namespace {
+/// The predicted display periods so far, as the run log's summary (milliseconds).
+void recordPeriod(XrStereoSession::Impl& s, XrDuration period_ns) {
+    s.period_last = period_ns;
+    s.period_min = s.period_frames == 0 ? period_ns : std::min(s.period_min, period_ns);
+    s.period_max = s.period_frames == 0 ? period_ns : std::max(s.period_max, period_ns);
+    ++s.period_frames;
+    s.log->set("xr_display_period_ms", nlohmann::json{{"last", double(s.period_last) * 1e-6},
+                                                      {"min", double(s.period_min) * 1e-6},
+                                                      {"max", double(s.period_max) * 1e-6},
+                                                      {"frames", s.period_frames}});
+}
+}  // namespace
+
 bool XrStereoSession::beginFrame(XrFrame& frame) {
     Impl& s = *impl_;
     frame = XrFrame{};
@@ -348,7 +395,10 @@ bool XrStereoSession::beginFrame(XrFrame& frame) {
     if (!XR_LOG(s.instance, xrBeginFrame(s.session, &begin))) return false;
     frame.should_render = state.shouldRender == XR_TRUE;
     frame.display_time_ns = state.predictedDisplayTime;
+    frame.display_period_ns = state.predictedDisplayPeriod;
     s.last_display_time = state.predictedDisplayTime;
+    s.input_time = 0;
+    recordPeriod(s, state.predictedDisplayPeriod);
     if (!frame.should_render) return true;
 
     XrViewLocateInfo locate{XR_TYPE_VIEW_LOCATE_INFO};
@@ -374,31 +424,41 @@ bool XrStereoSession::beginFrame(XrFrame& frame) {
     return true;
 }
 
-unsigned XrStereoSession::acquireEye(int eye) {
-    Impl& s = *impl_;
-    EyeSwapchain& sc = s.eyes[eye];
+namespace {
+unsigned acquire(XrInstance instance, EyeSwapchain& sc) {
+    if (sc.handle == XR_NULL_HANDLE) return 0;
     std::uint32_t index = 0;
     XrSwapchainImageAcquireInfo acquire{XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO};
-    if (!XR_LOG(s.instance, xrAcquireSwapchainImage(sc.handle, &acquire, &index))) return 0;
+    if (!XR_LOG(instance, xrAcquireSwapchainImage(sc.handle, &acquire, &index))) return 0;
     sc.acquired = true;
     XrSwapchainImageWaitInfo wait{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
     wait.timeout = 1'000'000'000;  // 1 s: a runtime that does not hand the image back is lost
-    if (!XR_LOG(s.instance, xrWaitSwapchainImage(sc.handle, &wait))) return 0;
+    if (!XR_LOG(instance, xrWaitSwapchainImage(sc.handle, &wait))) return 0;
     return index < sc.images.size() ? sc.images[index].image : 0;
 }
 
-bool XrStereoSession::releaseEye(int eye) {
-    Impl& s = *impl_;
-    EyeSwapchain& sc = s.eyes[eye];
+bool release(XrInstance instance, EyeSwapchain& sc) {
     if (!sc.acquired) return true;
     sc.acquired = false;
-    XrSwapchainImageReleaseInfo release{XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO};
-    return XR_LOG(s.instance, xrReleaseSwapchainImage(sc.handle, &release));
+    XrSwapchainImageReleaseInfo info{XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO};
+    return XR_LOG(instance, xrReleaseSwapchainImage(sc.handle, &info));
 }
+}  // namespace
 
-bool XrStereoSession::endFrame(const XrFrame& frame, bool rendered) {
+unsigned XrStereoSession::acquireEye(int eye) { return acquire(impl_->instance, impl_->eyes[eye]); }
+bool XrStereoSession::releaseEye(int eye) { return release(impl_->instance, impl_->eyes[eye]); }
+bool XrStereoSession::depthAvailable() const { return impl_->depths[0].handle != XR_NULL_HANDLE; }
+unsigned XrStereoSession::acquireEyeDepth(int eye) { return acquire(impl_->instance, impl_->depths[eye]); }
+bool XrStereoSession::releaseEyeDepth(int eye) { return release(impl_->instance, impl_->depths[eye]); }
+
+double XrStereoSession::predictedDisplayPeriod_s() const { return double(impl_->period_last) * 1e-9; }
+std::int64_t XrStereoSession::inputTime_ns() const { return impl_->input_time; }
+
+bool XrStereoSession::endFrame(const XrFrame& frame, bool rendered, const std::optional<XrDepthRange>& depth) {
     Impl& s = *impl_;
     std::array<XrCompositionLayerProjectionView, 2> views{};
+    std::array<XrCompositionLayerDepthInfoKHR, 2> depths{};
+    const bool with_depth = rendered && depth && depthAvailable();
     XrCompositionLayerProjection layer{XR_TYPE_COMPOSITION_LAYER_PROJECTION};
     const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
     XrFrameEndInfo end{XR_TYPE_FRAME_END_INFO};
@@ -411,6 +471,16 @@ bool XrStereoSession::endFrame(const XrFrame& frame, bool rendered) {
             views[i].fov = s.views[i].fov;
             views[i].subImage.swapchain = s.eyes[i].handle;
             views[i].subImage.imageRect = {{0, 0}, {s.width, s.height}};
+            if (with_depth) {
+                depths[i] = {XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR};
+                depths[i].subImage.swapchain = s.depths[i].handle;
+                depths[i].subImage.imageRect = views[i].subImage.imageRect;
+                depths[i].minDepth = 0.0f;
+                depths[i].maxDepth = 1.0f;
+                depths[i].nearZ = depth->near_m;
+                depths[i].farZ = depth->far_m;
+                views[i].next = &depths[i];
+            }
         }
         layer.space = s.space;
         layer.viewCount = 2;
@@ -418,12 +488,21 @@ bool XrStereoSession::endFrame(const XrFrame& frame, bool rendered) {
         end.layerCount = 1;
         end.layers = layers;
     }
-    return XR_LOG(s.instance, xrEndFrame(s.session, &end));
+    if (!XR_LOG(s.instance, xrEndFrame(s.session, &end))) return false;
+    if (with_depth && s.depth_frames++ == 0) {
+        char line[96];
+        std::snprintf(line, sizeof line, "xr: depth submitted (near %g m, far %g m)", double(depth->near_m),
+                      double(depth->far_m));
+        s.log->event(line);
+    }
+    if (with_depth) s.log->set("xr_depth_frames", s.depth_frames);
+    return true;
 }
 
 XrInput XrStereoSession::syncInput() {
     Impl& s = *impl_;
     if (s.state != XR_SESSION_STATE_FOCUSED) return {};
+    s.input_time = s.last_display_time;
     return s.actions.sync(s.space, s.last_display_time);
 }
 

@@ -1,7 +1,9 @@
 // viewer/src/xr_session.hpp: the OpenXR side of the viewer (paper §IV-A's HMD, on any
 // OpenXR runtime): instance, system, session bound to the GLFW window's GLX context
-// (XR_KHR_opengl_enable, Xlib binding), one swapchain per eye, the action set of
-// xr_actions.cpp (mode, decisions, pointer, grab, motion), and the whole session lifecycle.
+// (XR_KHR_opengl_enable, Xlib binding), one colour swapchain per eye, a depth swapchain
+// per eye where the runtime offers XR_KHR_composition_layer_depth (the compositor then
+// reprojects with the points' depth), the action set of xr_actions.cpp (mode, decisions,
+// pointer, grab, motion), and the whole session lifecycle.
 //
 // Setup (create) throws core::Error or returns null with a reason; everything called
 // per frame never throws: it returns a status and the caller degrades to the desktop.
@@ -31,8 +33,10 @@ struct XrEye {
 
 /// What the session tells the loop each frame.
 struct XrFrame {
-    bool should_render = false;  // the runtime wants pixels this frame
-    std::int64_t display_time_ns = 0;
+    bool should_render = false;          // the runtime wants pixels this frame
+    std::int64_t display_time_ns = 0;    // xrWaitFrame's predicted display time: eyes, hands and xrEndFrame
+    std::int64_t display_period_ns = 0;  // xrWaitFrame's predicted display period (the frame budget)
+    std::int64_t input_time_ns = 0;      // the controllers' locate time this frame, 0 when not read
     bool views_valid = false;
     std::array<XrEye, 2> eyes;
 };
@@ -60,6 +64,14 @@ struct XrInput {
     int last_designate_hand = 1;                   // the hand whose designate went down last (0 left, 1 right)
 };
 
+/// The depth range of the projection the eyes were drawn with (camera_rig's
+/// projectionFromFov: OpenGL, not reversed, finite far), in the tracking frame's metres:
+/// window depth 0 is near_m, 1 is far_m.
+struct XrDepthRange {
+    float near_m = 0.1f;
+    float far_m = 20000.0f;
+};
+
 enum class XrPoll {
     Ok,    // keep going (the session may or may not be running)
     Exit,  // the session ended at our request (or the runtime's): leave the app
@@ -82,16 +94,30 @@ class XrStereoSession {
     bool running() const;
     /// True once FOCUSED (input is live).
     bool focused() const;
-    /// xrWaitFrame + xrBeginFrame + xrLocateViews. False on a runtime error (caller: Lost).
+    /// xrWaitFrame + xrBeginFrame + xrLocateViews at the frame's predicted display time.
+    /// False on a runtime error (caller: Lost).
     bool beginFrame(XrFrame& frame);
     /// Acquires and waits the eye's swapchain image; returns its GL texture name (0 on error).
     unsigned acquireEye(int eye);
     bool releaseEye(int eye);
-    /// xrEndFrame with a projection layer of both eyes when `rendered`, else no layers.
-    bool endFrame(const XrFrame& frame, bool rendered);
-    /// xrSyncActions and reads the actions (aim poses at the last frame's display time);
-    /// zeroed unless focused.
+    /// True when depth swapchains exist (the runtime offers XR_KHR_composition_layer_depth
+    /// and a GL_DEPTH_COMPONENT32F swapchain format); the run log says why not otherwise.
+    bool depthAvailable() const;
+    /// The eye's depth swapchain image (GL_DEPTH_COMPONENT32F texture), 0 on error or
+    /// without depthAvailable().
+    unsigned acquireEyeDepth(int eye);
+    bool releaseEyeDepth(int eye);
+    /// xrEndFrame at the frame's predicted display time with a projection layer of both
+    /// eyes when `rendered`, else no layers; with `depth`, each view chains its depth image
+    /// (XrCompositionLayerDepthInfoKHR, window depth 0..1 mapped to depth's near and far).
+    bool endFrame(const XrFrame& frame, bool rendered, const std::optional<XrDepthRange>& depth = std::nullopt);
+    /// xrSyncActions and reads the actions (aim poses at the display time of the frame
+    /// begun last, the one the eyes are drawn for); zeroed unless focused.
     XrInput syncInput();
+    /// The predicted display period of the frame begun last (the frame budget), 0 before one.
+    double predictedDisplayPeriod_s() const;
+    /// The time syncInput located the controllers at since the last beginFrame, 0 if none.
+    std::int64_t inputTime_ns() const;
     /// Asks the runtime to end the session (Escape / window closed): EXITING follows.
     void requestExit();
 
