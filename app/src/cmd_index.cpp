@@ -133,8 +133,8 @@ void run(IndexCli& cli) {
 
     const IndexPlan plan = planIndex(budget, cli.memory_mb, threads, "index");
     platform::Progress progress("index: reading", std::size_t(bound));
-    const std::size_t points = writeIndex(
-        readers, out, plan, [&](std::size_t n) { progress.advance(n); }, [&] { progress.finish(); });
+    const std::size_t points =
+        writeIndex(readers, out, plan, [&](std::size_t n) { progress.advance(n); }, [&] { progress.finish(); });
     std::error_code ec;
     const auto bytes = fs::file_size(out, ec);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

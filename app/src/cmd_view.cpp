@@ -149,8 +149,7 @@ int runView(const ViewArgs& a) {
         viewer::CopcSource& source = *opened;
         std::fprintf(stderr,
                      "ladarvr: view: %s is COPC: %zu nodes, %zu points, read node by node within a %.6g MB cache\n",
-                     core::printable(file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(),
-                     a.cache_mb);
+                     core::printable(file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(), a.cache_mb);
         if (o.timeout_s > 0.0)
             o.timeout_s = std::max(
                 0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

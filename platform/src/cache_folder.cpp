@@ -112,7 +112,8 @@ bool useCachedFile(const fs::path& path, std::string_view what) {
     const bool regular = ::fstat(fd, &fst) == 0 && S_ISREG(fst.st_mode) && fst.st_uid == ::geteuid();
     if (regular) ::futimens(fd, nullptr);  // used now: the bound removes it last
     ::close(fd);
-    if (!regular) throw Error(head + "is not a regular file of this user; allowed: a regular file this command created");
+    if (!regular)
+        throw Error(head + "is not a regular file of this user; allowed: a regular file this command created");
     return true;
 }
 
@@ -137,13 +138,14 @@ std::vector<std::string> boundCacheFolder(const fs::path& dir, const OwnedName& 
             if (!S_ISREG(st.st_mode) || st.st_uid != ::geteuid()) continue;
             total += std::uint64_t(st.st_size);
             if (name == keep) continue;
-            entries.push_back({std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec, name,
-                               std::uint64_t(st.st_size)});
+            entries.push_back(
+                {std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec, name, std::uint64_t(st.st_size)});
         }
         ::closedir(d);
     }
-    std::sort(entries.begin(), entries.end(),
-              [](const Entry& a, const Entry& b) { return std::tie(a.mtime_ns, a.name) < std::tie(b.mtime_ns, b.name); });
+    std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+        return std::tie(a.mtime_ns, a.name) < std::tie(b.mtime_ns, b.name);
+    });
     for (const Entry& e : entries) {
         if (total <= max_bytes) break;
         // Checked again right before: a name swapped for a link or a folder stays.

@@ -11,7 +11,9 @@
 #   5. --in-core and a file under the threshold: streamed whole, nothing indexed;
 #   6. --index-to FILE.copc.laz: indexed there, not into the cache;
 #   7. a cache folder that is a symbolic link: refused with one line, exit 1, nothing
-#      written through it.
+#      written through it;
+#   8. options that do not go together (--index-to with a COPC file or with --in-core,
+#      a name that is not .copc.laz, the cloud itself): one line each, exit 1.
 # Every run ends after --frames frames (no sleeps); headless_env.sh starts and kills Xvfb.
 set -euo pipefail
 bin=$(realpath "$1")
@@ -111,4 +113,19 @@ XDG_CACHE_HOME="$work/linked" "$bin" view "$work/a.pcd" --no-xr --frames 3 --ind
 grep -q "^ladarvr: error: view: index cache $work/linked/ladarvr: is a symbolic link; allowed: a folder of this user$" \
   "$work/link.err" || fail "a linked cache folder: $(cat "$work/link.err")"
 [ -z "$(ls -A "$work/target")" ] || fail "something was written through the link: $(ls -A "$work/target")"
+# 8. Options that do not go together: one line each, exit 1, nothing written.
+refused() {  # refused PATTERN ARGS...
+    local pattern=$1
+    shift
+    local status=0
+    "$bin" view "$@" --no-xr --frames 1 >"$work/refused.out" 2>"$work/refused.err" || status=$?
+    [ "$status" = 1 ] && [ "$(wc -l <"$work/refused.err")" = 1 ] && grep -q -e "$pattern" "$work/refused.err" ||
+      fail "view $*: exit $status: $(cat "$work/refused.err")"
+}
+refused "view: --index-to applies to a cloud file that is not COPC" "$work/out/b.copc.laz" --index-to "$work/x.copc.laz"
+refused "view: --in-core and --index-to exclude each other" "$work/a.pcd" --in-core --index-to "$work/x.copc.laz"
+refused "view: --index-to .*: allowed a name ending in .copc.laz" "$work/a.pcd" --index-to "$work/x.laz"
+refused "view: --index-cache-mb -1: allowed \[0, 1073741824\] MiB" "$work/a.pcd" --index-cache-mb -1
+refused "view: cloud .* and --index-to .* name the same file" "$work/a.pcd" --index-to "$work/a.pcd"
+[ ! -e "$work/x.copc.laz" ] && [ ! -e "$work/x.laz" ] || fail "a refused run wrote an index"
 echo "view_index_test: ok"

@@ -28,12 +28,16 @@ struct ScopedEnv {
     bool had = false;
     ScopedEnv(const char* n, const char* value) : name(n) {
         if (const char* v = std::getenv(n)) had = true, old = v;
-        if (value) ::setenv(n, value, 1);
-        else ::unsetenv(n);
+        if (value)
+            ::setenv(n, value, 1);
+        else
+            ::unsetenv(n);
     }
     ~ScopedEnv() {
-        if (had) ::setenv(name.c_str(), old.c_str(), 1);
-        else ::unsetenv(name.c_str());
+        if (had)
+            ::setenv(name.c_str(), old.c_str(), 1);
+        else
+            ::unsetenv(name.c_str());
     }
 };
 
@@ -84,8 +88,9 @@ TEST_CASE("cache_folder: made 0700 with its parents; a link, a file or a missing
     const std::string link_error = errorOf([&] { platform::makeCacheFolder(dir.path / "link", "view: cache folder"); });
     CHECK(link_error.find("is a symbolic link; allowed: a folder of this user") != std::string::npos);
     writeBytes(dir.path / "file", 3);
-    CHECK(errorOf([&] { platform::makeCacheFolder(dir.path / "file", "view: cache folder"); })
-              .find("is a regular file; allowed: a folder of this user") != std::string::npos);
+    CHECK(errorOf([&] {
+              platform::makeCacheFolder(dir.path / "file", "view: cache folder");
+          }).find("is a regular file; allowed: a folder of this user") != std::string::npos);
 }
 
 TEST_CASE("cache_folder: the key follows every field of a file's identity") {
@@ -128,8 +133,9 @@ TEST_CASE("cache_folder: useCachedFile marks a file used and refuses what is not
     REQUIRE(::stat(f.c_str(), &st) == 0);
     CHECK(st.st_mtim.tv_sec > 1000);
     fs::create_symlink(f, dir.path / "index-b.copc.laz");
-    CHECK(errorOf([&] { platform::useCachedFile(dir.path / "index-b.copc.laz", "view: index"); })
-              .find("is a symbolic link; allowed: a regular file this command created") != std::string::npos);
+    CHECK(errorOf([&] {
+              platform::useCachedFile(dir.path / "index-b.copc.laz", "view: index");
+          }).find("is a symbolic link; allowed: a regular file this command created") != std::string::npos);
 }
 
 TEST_CASE("cache_folder: the bound removes our least recently used files first and nothing else") {
@@ -147,8 +153,7 @@ TEST_CASE("cache_folder: the bound removes our least recently used files first a
     // Within the bound: nothing goes.
     CHECK(platform::boundCacheFolder(dir.path, isIndexName, 300, "").empty());
     // 250 bytes: the oldest goes.
-    CHECK(platform::boundCacheFolder(dir.path, isIndexName, 250, "") ==
-          std::vector<std::string>{"index-old.copc.laz"});
+    CHECK(platform::boundCacheFolder(dir.path, isIndexName, 250, "") == std::vector<std::string>{"index-old.copc.laz"});
     // 0 bytes with the oldest kept (the one in use): the other goes, the kept one stays.
     CHECK(platform::boundCacheFolder(dir.path, isIndexName, 0, "index-mid.copc.laz") ==
           std::vector<std::string>{"index-new.copc.laz"});

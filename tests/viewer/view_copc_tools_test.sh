@@ -35,7 +35,8 @@ pickable+2 aim 1000040 2000040 51
 +2 confirm
 +10 escape
 SCRIPT
-common=(view "$work/demo.copc.laz" --no-xr --width 640 --height 360 --timeout 120 --orbit-period 100000
+common=(view "$work/demo.copc.laz" --no-xr --width 1280 --height 720 --timeout 120 --orbit-period 100000
+        --orbit-radius 40 --orbit-height 25
         --colour label --candidates "$work/candidates.json" --script "$work/script.txt" --point-size 3)
 for run in cut whole; do
   extra=()

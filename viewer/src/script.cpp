@@ -30,7 +30,8 @@ constexpr std::array<std::pair<Key, const char*>, 11> kKeys = {{{Key::Space, "sp
                                                                 {Key::PointAnswer, "point_answer"}}};
 constexpr const char* kAllowed =
     "; allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
-    "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N, pickable+N or +N";
+    "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N, "
+    "pickable+N or +N";
 
 /// A whole token as a finite double (no hex, no inf/nan), else nullopt.
 bool parseNumber(const std::string& token, double& out) {
