@@ -21,9 +21,10 @@ IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, s
     if (fewer_threads)
         while (threads > 1 && budget_bytes < least(threads)) --threads;
     if (budget_bytes < least(threads))
-        throw core::Error(std::string(command) + ": --memory-mb " + core::shownNumber(memory_mb) + " is below the " +
-                          std::to_string((least(threads) >> 20) + 1) + " MiB indexing needs with " +
-                          std::to_string(threads) + " threads; raise --memory-mb or lower --threads");
+        throw core::Error(
+            std::string(command) + ": --memory-mb " + core::shownNumber(memory_mb) + " is below the " +
+            std::to_string((least(threads) >> 20) + 1) + " MiB indexing needs with " + std::to_string(threads) +
+            (fewer_threads ? " thread; raise --memory-mb" : " threads; raise --memory-mb or lower --threads"));
     IndexPlan plan;
     plan.copc.memory_bytes = budget_bytes - reading;
     plan.las.threads = threads - 1;

@@ -28,7 +28,8 @@ struct IndexPlan {
 /// The writer's share of `budget_bytes` (the reader's chunk taken out first) on `threads`
 /// threads; with `fewer_threads`, the most threads (down to one) that fit instead of a
 /// refusal. Throws Error("<command>: --memory-mb <mb> is below the N MiB indexing needs
-/// with T threads; raise --memory-mb or lower --threads").
+/// with T threads; raise --memory-mb or lower --threads") (with `fewer_threads`: "... with
+/// 1 thread; raise --memory-mb").
 IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, std::string_view command,
                     bool fewer_threads = false);
 

@@ -5,7 +5,8 @@
 #   1. a PCD over --index-above-mb is indexed (progress lines, "indexed now") into
 #      $XDG_CACHE_HOME/ladarvr (made 0700) and viewed node by node;
 #   2. the same file again: "cached index ... is reused", no indexing line, no new file;
-#   3. the file's modification time changes: indexed again under another name;
+#   3. the file's modification time changes: indexed again under another name; two views
+#      of a new file at once both run and leave one whole index and no temporary;
 #   4. another file with a cache bound of 2.5 indexes: the least recently used index goes
 #      (one line), the others and files not named as ours stay;
 #   5. --in-core and a file under the threshold: streamed whole, nothing indexed;
@@ -68,6 +69,27 @@ view changed "$work/a.pcd" --index-above-mb 1
 grep -q "is not COPC: indexed now into" "$work/changed.err" || fail "not indexed again: $(cat "$work/changed.err")"
 changed=$(indexes | grep -v -x "$first")
 [ "$(printf '%s\n' "$changed" | grep -c .)" = 1 ] || fail "indexes after the change: $(indexes)"
+
+# 3b. Two views of a new file at once: both index it into their own temporaries and
+# rename them into place; both run, one whole index is left, and no temporary.
+cp "$work/a.pcd" "$work/c.pcd"
+cat >"$work/both.sh" <<BOTH
+"$bin" view "$work/c.pcd" --no-xr --frames 3 --width 320 --height 180 --timeout 120 --index-above-mb 1 \
+  2>"$work/both1.err" & one=\$!
+"$bin" view "$work/c.pcd" --no-xr --frames 3 --width 320 --height 180 --timeout 120 --index-above-mb 1 \
+  2>"$work/both2.err" & two=\$!
+rc=0
+wait \$one || rc=1
+wait \$two || rc=1
+exit \$rc
+BOTH
+"$viewer_tests/headless_env.sh" --timeout 150 -- bash "$work/both.sh" ||
+  fail "two views at once: $(cat "$work/both1.err" "$work/both2.err")"
+both=$(indexes | grep -v -x -e "$first" -e "$changed")
+[ "$(printf '%s\n' "$both" | grep -c .)" = 1 ] || fail "indexes after two views at once: $(indexes)"
+"$bin" index --check "$cache/$both" >/dev/null || fail "two views at once left no valid index"
+[ -z "$(find "$cache" -name '.ladarvr-tmp-*')" ] || fail "temporaries left: $(ls -A "$cache")"
+rm "$cache/$both"
 
 # 4. The bound: three indexes of the same size over a bound of 2.5 of them; the least
 # recently used (the first, reused in run 2 before the change's was written) goes. Files
