@@ -3,6 +3,7 @@
 // must carry the same fields. The writer works within --memory-mb: a cloud that does not
 // fit is spilled to scratch files beside the output and indexed a part at a time.
 #include "cli_common.hpp"
+#include "cloud_index.hpp"
 #include "commands.hpp"
 
 #include <core/error.hpp>
@@ -130,38 +131,10 @@ void run(IndexCli& cli) {
     createParentFolders(out, "index: --out");
     platform::checkWritableDestination(out);
 
-    // Plan-or-refuse: the reader's chunk, and the writer within the rest (past it, it
-    // spills the points to scratch files and builds the octree a part at a time).
-    const std::uint64_t reading = io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
-    const std::uint64_t least = io::copcMinimumBytes(threads - 1) + reading;
-    if (budget < least)
-        throw core::Error("index: --memory-mb " + core::shownNumber(cli.memory_mb) + " is below the " +
-                          std::to_string((least >> 20) + 1) + " MiB indexing needs with " + std::to_string(threads) +
-                          " threads; raise --memory-mb or lower --threads");
-    io::CopcOptions copc;
-    copc.memory_bytes = budget - reading;
-    io::LasOptions las;
-    las.threads = threads - 1;
-    const glm::dvec3 origin = readers.front()->origin();
-    io::CloudWriter writer(out, io::CloudFormat::Copc, origin, readers.front()->fields(), las, &copc);
+    const IndexPlan plan = planIndex(budget, cli.memory_mb, threads, "index");
     platform::Progress progress("index: reading", std::size_t(bound));
-    std::vector<core::CloudPoint> chunk;
-    for (auto& reader : readers) {
-        const glm::dvec3 shift = reader->origin() - origin;
-        chunk.clear();
-        while (reader->nextChunk(chunk)) {
-            if (shift != glm::dvec3(0.0))
-                for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + shift);
-            writer.append(chunk);
-            progress.advance(chunk.size());
-            chunk.clear();
-        }
-        if (const std::string w = reader->warning(); !w.empty()) warn(w);
-        reader.reset();
-    }
-    progress.finish();
-    const std::size_t points = writer.count();
-    writer.commit();
+    const std::size_t points =
+        writeIndex(readers, out, plan, [&](std::size_t n) { progress.advance(n); }, [&] { progress.finish(); });
     std::error_code ec;
     const auto bytes = fs::file_size(out, ec);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

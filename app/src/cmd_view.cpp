@@ -2,12 +2,15 @@
 //
 // A COPC file (a LAZ whose first VLR is COPC's info record) is read node by node by
 // viewer::CopcSource within --cache-mb; any other cloud file is streamed whole by the
-// viewer's own loader thread. With no file (or --scene) the
+// viewer's own loader thread, unless it is large: then it is indexed into COPC first (into
+// the user's cache folder, view_index.hpp) and that index is read node by node. With no
+// file (or --scene) the
 // cloud is generated here, in memory, by sim::generateCloud on a worker thread and handed to
 // the viewer through viewer::CloudFeed: the app links sim, the viewer never links Embree.
 #include "cli_common.hpp"
 #include "cloud_budget.hpp"
 #include "commands.hpp"
+#include "view_index.hpp"
 
 #include <core/error.hpp>
 #include <io/candidates_file.hpp>
@@ -53,6 +56,8 @@ struct ViewArgs {
     bool no_snap_turn = false, no_vignette = false, no_headset_panel = false;
     double memory_mb = 0.0;
     double cache_mb = 512.0;
+    ViewIndexOptions index;   // which path a cloud file that is not COPC takes
+    bool cut = false;         // the cutting volume on from the start
     sim::OrbitOptions orbit;  // only for the generated cloud
 };
 
@@ -80,7 +85,8 @@ int runView(const ViewArgs& a) {
                                           {"--script", a.script, platform::PathRole::Input, {}},
                                           {"--candidates", a.candidates, platform::PathRole::Input, {}},
                                           {"--screenshot", a.screenshot, platform::PathRole::Output, {}},
-                                          {"--log-json", a.log_json, platform::PathRole::Output, {}}});
+                                          {"--log-json", a.log_json, platform::PathRole::Output, {}},
+                                          {"--index-to", a.index.index_to, platform::PathRole::Output, {}}});
     viewer::ViewerOptions o;
     o.use_xr = !a.no_xr;
     o.mirror = viewer::parseMirrorEyes(a.mirror);
@@ -100,6 +106,7 @@ int runView(const ViewArgs& a) {
     o.modes.orbit.altitude_m = a.orbit_height_m;
     o.pick.angle_deg = a.pick_angle_deg;
     o.cut_radius_m = a.cut_radius_m;
+    o.cut_enabled = a.cut;
     o.snap_turn = !a.no_snap_turn;
     o.vignette = !a.no_vignette;
     o.headset_panel = !a.no_headset_panel;
@@ -111,18 +118,38 @@ int runView(const ViewArgs& a) {
     viewer::validate(o);
     if (!(a.cache_mb >= 1.0 / 64.0 && a.cache_mb <= 1048576.0))
         throw core::Error("view: --cache-mb " + std::to_string(a.cache_mb) + " is not in [1/64, 1048576]");
+    validate(a.index);
     // The cloud first: remembered as an input, so neither output may replace it.
     if (!a.cloud.empty()) platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
     std::error_code ec;
-    if (!a.cloud.empty() && std::filesystem::is_regular_file(a.cloud, ec) && startsAsCopc(a.cloud)) {
+    const bool copc = !a.cloud.empty() && std::filesystem::is_regular_file(a.cloud, ec) && startsAsCopc(a.cloud);
+    if (!a.index.index_to.empty() && (a.cloud.empty() || copc))
+        throw core::Error("view: --index-to applies to a cloud file that is not COPC");
+    // A large cloud that is not COPC is indexed (or its cached index found) first, once the
+    // outputs are checked, so a bad name does not wait for the indexing.
+    const bool index = !a.cloud.empty() && !copc && shouldIndex(a.cloud, a.index);
+    if (copc || index) {
         prepareOutputFile(o.screenshot, "view: --screenshot");
         prepareOutputFile(o.log_json, "view: --log-json");
+        ViewCloud indexed;
+        if (index) indexed = indexForView(a.cloud, a.index);
+        const std::filesystem::path file = copc ? std::filesystem::path(a.cloud) : indexed.copc;
         viewer::CopcSourceOptions copc_options;
         copc_options.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);
-        viewer::CopcSource source(a.cloud, copc_options);
+        std::unique_ptr<viewer::CopcSource> opened;
+        try {
+            opened = std::make_unique<viewer::CopcSource>(file, copc_options);
+        } catch (const core::Error& e) {
+            // A cached index that does not open (damaged on disk) is written again, once.
+            if (indexed.path != ViewPath::IndexReused) throw;
+            warn(std::string("view: the cached index does not open (") + e.what() + "); indexing again");
+            indexed = indexForView(a.cloud, a.index, true);
+            opened = std::make_unique<viewer::CopcSource>(indexed.copc, copc_options);
+        }
+        viewer::CopcSource& source = *opened;
         std::fprintf(stderr,
                      "ladarvr: view: %s is COPC: %zu nodes, %zu points, read node by node within a %.6g MB cache\n",
-                     core::printable(a.cloud, 400).c_str(), source.nodeCount(), source.totalPoints(), a.cache_mb);
+                     core::printable(file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(), a.cache_mb);
         if (o.timeout_s > 0.0)
             o.timeout_s = std::max(
                 0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -130,10 +157,9 @@ int runView(const ViewArgs& a) {
     }
     if (!a.cloud.empty()) {
         platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
-        // Held whole: the points as read (40 bytes), their GPU chunks (20) and the pick
-        // index over them (24).
+        // Held whole: the points as read, their GPU chunks and the pick index over them.
         try {
-            refuseCloudsOverBudget("view", a.memory_mb, {a.cloud}, 40 + 20 + 24, "the cloud file held whole");
+            refuseCloudsOverBudget("view", a.memory_mb, {a.cloud}, kInCoreBytesPerPoint, "the cloud file held whole");
         } catch (const core::Error& e) {
             const std::string what = e.what();
             // The header's own errors read as the loader's do ("view: pcd: <file>: ...").
@@ -243,7 +269,23 @@ void registerView(CLI::App& cli) {
     cmd->add_option("--xres", args->orbit.xres, "generated cloud only: sensor pixels across")->capture_default_str();
     cmd->add_option("--yres", args->orbit.yres, "generated cloud only: sensor pixels down")->capture_default_str();
     cmd->add_option("--views", args->orbit.views, "generated cloud only: drone positions (NoV)")->capture_default_str();
+    cmd->add_option("--index-above-mb", args->index.index_above_mb,
+                    "a cloud file that is not COPC and would hold more than this many MiB in core (84 bytes a point, "
+                    "from its header) is indexed into COPC first, into the cache folder, and read node by node")
+        ->capture_default_str();
+    cmd->add_option("--index-cache-mb", args->index.index_cache_mb,
+                    "bound on the index cache folder ($XDG_CACHE_HOME/ladarvr, else ~/.cache/ladarvr), MiB; the "
+                    "least recently used indexes are removed past it")
+        ->capture_default_str();
+    cmd->add_flag("--in-core", args->index.in_core,
+                  "stream a cloud file that is not COPC and hold it whole, whatever its size (within --memory-mb)");
+    cmd->add_option("--index-to", args->index.index_to,
+                    "index the cloud file into this FILE.copc.laz (not the cache folder) and view that");
+    cmd->add_flag("--cut", args->cut,
+                  "the cutting volume on from the start: once a point is designated, only points within "
+                  "--cut-radius of it are drawn (V toggles it)");
     cmd->callback([args] {
+        args->index.memory_mb = args->memory_mb;
         const int status = runView(*args);
         if (status != 0) throw CLI::RuntimeError(status);
     });

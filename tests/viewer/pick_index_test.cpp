@@ -162,3 +162,31 @@ TEST_CASE("a pick set over the chunks of a stream picks what one index over the 
     CHECK_FALSE(empty.nearestTargetDistance(glm::dvec3(0.0)));
     CHECK_FALSE(empty.hasTargets());
 }
+
+TEST_CASE("a pick set's hit names the level of the node it came from") {
+    // Three nodes of an octree: a coarse root (level 0) and two finer nodes (levels 2 and 5),
+    // each one point on a vertical line at a known height; the ray comes down the line.
+    PickSet set;
+    const std::vector<core::CloudPoint> root = {at(0.0, 0.0, 1.0)}, mid = {at(0.0, 0.0, 3.0)},
+                                        fine = {at(0.0, 0.0, 2.0)};
+    set.add(std::make_shared<const PickIndex>(root), 0);
+    set.add(std::make_shared<const PickIndex>(mid), 2);
+    set.add(std::make_shared<const PickIndex>(fine), 5);
+    const glm::dvec3 down(0.0, 0.0, -1.0);
+    // From above, the highest point (level 2) is met first.
+    auto hit = set.pick(glm::dvec3(0.0, 0.0, 10.0), down);
+    REQUIRE(hit);
+    CHECK(hit->node == 1);
+    CHECK(hit->level == 2);
+    // From between 3 m and 2 m, the point at 2 m (level 5) is.
+    hit = set.pick(glm::dvec3(0.0, 0.0, 2.5), down);
+    REQUIRE(hit);
+    CHECK(hit->node == 2);
+    CHECK(hit->level == 5);
+    // A set built without levels (a streamed cloud's chunks) says -1.
+    PickSet plain;
+    plain.add(std::make_shared<const PickIndex>(root));
+    hit = plain.pick(glm::dvec3(0.0, 0.0, 10.0), down);
+    REQUIRE(hit);
+    CHECK(hit->level == -1);
+}

@@ -33,7 +33,8 @@ TEST_CASE("script text: refused frames name the line and what is allowed") {
         parseScript("1 space\n99999999999999999999 space\n", kName),
         "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
         "allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
-        "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N or +N",
+        "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N, "
+        "pickable+N or +N",
         core::Error);
     CHECK_THROWS_WITH_AS(parseScript("0x10 space\n", kName), doctest::Contains("line 1: frame '0x10'"), core::Error);
     CHECK_THROWS_WITH_AS(parseScript("1.5 space\n", kName), doctest::Contains("frame '1.5'"), core::Error);
@@ -128,6 +129,19 @@ TEST_CASE("script text: loaded+N counts from the whole cloud being on the GPU") 
     CHECK(again[0].frame == 5);
     CHECK_THROWS_WITH_AS(parseScript("loaded+ escape\n", kName), doctest::Contains("frame 'loaded+'"), core::Error);
     CHECK_THROWS_WITH_AS(parseScript("loaded5 escape\n", kName), doctest::Contains("frame 'loaded5'"), core::Error);
+}
+
+TEST_CASE("script text: pickable+N counts from the pointer's first pick index") {
+    const auto events = parseScript("pickable+3 designate\nloaded+1 space\n", kName);
+    REQUIRE(events.size() == 2);
+    CHECK(events[0].after_pickable);
+    CHECK_FALSE(events[0].after_loaded);
+    CHECK_FALSE(events[0].relative);
+    CHECK(events[0].frame == 3);
+    CHECK_FALSE(events[1].after_pickable);
+    CHECK(viewer::formatScript(events) == "pickable+3 designate\nloaded+1 space\n");
+    CHECK_THROWS_WITH_AS(parseScript("pickable+ designate\n", kName), doctest::Contains("frame 'pickable+'"),
+                         core::Error);
 }
 
 TEST_CASE("script text: answer takes the rest of the line, trimmed, and writes back") {

@@ -197,9 +197,10 @@ std::optional<double> PickIndex::nearestTargetDistance(const glm::dvec3& p) cons
 }
 
 // --- PickSet ---------------------------------------------------------------------------------
-void PickSet::add(std::shared_ptr<const PickIndex> index) {
+void PickSet::add(std::shared_ptr<const PickIndex> index, int level) {
     size_ += index->size();
     indexes_.push_back(std::move(index));
+    levels_.push_back(level);
 }
 
 std::optional<PickHit> PickSet::pick(const glm::dvec3& origin, const glm::dvec3& direction,
@@ -209,6 +210,7 @@ std::optional<PickHit> PickSet::pick(const glm::dvec3& origin, const glm::dvec3&
         std::optional<PickHit> hit = indexes_[i]->pick(origin, direction, options);
         if (hit && (!best || hit->distance_m < best->distance_m)) {
             hit->node = i;
+            hit->level = levels_[i];
             best = hit;
         }
     }

@@ -30,7 +30,8 @@ constexpr std::array<std::pair<Key, const char*>, 11> kKeys = {{{Key::Space, "sp
                                                                 {Key::PointAnswer, "point_answer"}}};
 constexpr const char* kAllowed =
     "; allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
-    "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N or +N";
+    "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N, "
+    "pickable+N or +N";
 
 /// A whole token as a finite double (no hex, no inf/nan), else nullopt.
 bool parseNumber(const std::string& token, double& out) {
@@ -63,14 +64,16 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         auto quoted = [](const std::string& token) { return "'" + core::printable(token, 40) + "'"; };
         ScriptEvent ev;
         try {
-            constexpr std::string_view kDesktop = "desktop+", kLoaded = "loaded+";
+            constexpr std::string_view kDesktop = "desktop+", kLoaded = "loaded+", kPickable = "pickable+";
             ev.after_desktop = frame_text.starts_with(kDesktop);
             ev.after_loaded = frame_text.starts_with(kLoaded);
+            ev.after_pickable = frame_text.starts_with(kPickable);
             ev.relative = frame_text.starts_with('+');
-            const std::string number_text = ev.after_desktop  ? frame_text.substr(kDesktop.size())
-                                            : ev.after_loaded ? frame_text.substr(kLoaded.size())
-                                            : ev.relative     ? frame_text.substr(1)
-                                                              : frame_text;
+            const std::string number_text = ev.after_desktop    ? frame_text.substr(kDesktop.size())
+                                            : ev.after_loaded   ? frame_text.substr(kLoaded.size())
+                                            : ev.after_pickable ? frame_text.substr(kPickable.size())
+                                            : ev.relative       ? frame_text.substr(1)
+                                                                : frame_text;
             if (number_text.empty() || number_text[0] < '0' || number_text[0] > '9')
                 throw std::invalid_argument("frame");
             std::size_t used = 0;
@@ -128,10 +131,11 @@ std::string formatScript(const std::vector<ScriptEvent>& events) {
     std::string text;
     char number[64];
     for (const ScriptEvent& ev : events) {
-        text += (ev.after_desktop  ? "desktop+"
-                 : ev.after_loaded ? "loaded+"
-                 : ev.relative     ? "+"
-                                   : "") +
+        text += (ev.after_desktop    ? "desktop+"
+                 : ev.after_loaded   ? "loaded+"
+                 : ev.after_pickable ? "pickable+"
+                 : ev.relative       ? "+"
+                                     : "") +
                 std::to_string(ev.frame) + " " + scriptKeyName(ev.key);
         if (ev.key == Key::Aim)
             for (double v : ev.point) {

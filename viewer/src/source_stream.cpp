@@ -2,6 +2,8 @@
 #include "source_stream.hpp"
 
 #include <chrono>
+#include <map>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -79,21 +81,22 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
             ev.picks_ready = true;
         }
         if (!rebuilding_.valid() && renderer_->pendingPoints() == 0) {
-            std::vector<std::pair<const PointNode*, std::shared_ptr<const NodePoints>>> resident;
+            std::vector<std::tuple<const PointNode*, std::shared_ptr<const NodePoints>, int>> resident;
             bool same = true;
+            const std::map<const PointNode*, int> levels = nodeLevels(*source_);
             for (const PointNode* node : allNodes(*source_))
                 if (auto points = node->points(); points && !points->points.empty()) {
                     same = same && node_picks_.contains(node);
-                    resident.emplace_back(node, std::move(points));
+                    resident.emplace_back(node, std::move(points), levels.at(node));
                 }
             if (!same || resident.size() != node_picks_.size())
                 rebuilding_ = std::async(std::launch::async, [resident = std::move(resident), old = node_picks_] {
                     NodePicks r;
                     auto set = std::make_shared<PickSet>();
-                    for (const auto& [node, points] : resident) {
+                    for (const auto& [node, points, level] : resident) {
                         const auto it = old.find(node);
                         auto index = it != old.end() ? it->second : std::make_shared<const PickIndex>(points->points);
-                        set->add(index);
+                        set->add(index, level);  // the hit says which level it came from
                         r.by_node.emplace(node, std::move(index));
                     }
                     r.set = std::move(set);

@@ -108,8 +108,10 @@ void TrialController::decide(const OperatorInput& in, const TrialContext& c) {
                 if (!outcome_.time_to_first_designation_s) outcome_.time_to_first_designation_s = t_s;
                 if (observer_) observer_->onDesignate(index_, t_s, w);
             }
-            record("designate", c.frame,
-                   {{"world", vec(w)}, {"label", std::string(core::roleName(pointer.hit()->label))}});
+            nlohmann::json what = {{"world", vec(w)}, {"label", std::string(core::roleName(pointer.hit()->label))}};
+            // A source of levels (an octree): the level of the node the point was picked from.
+            if (pointer.hit()->level >= 0) what["level"] = pointer.hit()->level;
+            record("designate", c.frame, std::move(what));
         } else {
             record("designate", c.frame, {{"world", nullptr}});
         }

@@ -85,6 +85,7 @@ bool ViewerApp::readyToStart() const {
 
 void ViewerApp::beginTrial(int index) {
     stream_.reset(trials_.begin(index));  // a fresh cloud on the GPU
+    pickable_since_frame_ = -1;           // and no pick index yet
     // A trial's own display settings (a study's condition); the others stay as they stand.
     if (trials_.setup().colour) style_.colour = *trials_.setup().colour;
     if (trials_.setup().eye_dome) style_.eye_dome = *trials_.setup().eye_dome;
@@ -146,9 +147,12 @@ int ViewerApp::run(CloudFeed* feed, PointSource* points) {
 
 OperatorInput ViewerApp::gatherInput() {
     OperatorInput in = input_.take(window_.handle);
-    const ScriptClock clock{frames_, headset_.desktopSinceFrame(), stream_.loadedSinceFrame(),
+    const ScriptClock clock{frames_,
+                            headset_.desktopSinceFrame(),
+                            stream_.loadedSinceFrame(),
                             trials_.readyScreen() && (!readyToStart() || questions_.active()),
-                            questions_.active() && questions_.shown() && !script_point_};
+                            questions_.active() && questions_.shown() && !script_point_,
+                            pickable_since_frame_};
     merge(in, script_.take(clock));
     return in;
 }
@@ -186,6 +190,7 @@ bool ViewerApp::pollXr() {
 void ViewerApp::updateSource() {
     const SourceEvents ev = stream_.update(frames_, log_);
     if (ev.picks_ready) pointer_.setIndex(stream_.picks());
+    if (ev.picks_ready && pickable_since_frame_ < 0) pickable_since_frame_ = frames_;
     if (trials_.placeCandidates(stream_.source().finished()))
         candidates_.set(trials_.study() ? trials_.setup().candidates : options_.candidates, stream_.source().origin());
     if (!ev.load_error.empty()) {

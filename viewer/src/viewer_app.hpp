@@ -85,6 +85,7 @@ class ViewerApp {
     std::optional<glm::dvec2> panel_pointer_;      // the controller's pointer on the headset panel
     bool panel_click_ = false;                     // its trigger went down this frame
     std::optional<int> script_point_;              // a script's point_answer rating, until answered
+    long pickable_since_frame_ = -1;               // when the pointer could first pick (a script's pickable+N)
     int script_wait_frames_ = 0;                   // frames since its trigger
     std::optional<TrackingRay> script_panel_ray_;  // a script's point_answer, held until answered
     CloudFeed empty_feed_;                         // a run of questions only shows no cloud

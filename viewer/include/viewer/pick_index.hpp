@@ -32,6 +32,7 @@ void validate(const PickOptions& o);
 struct PickHit {
     std::size_t index = 0;    // into the points the index was built from
     std::size_t node = 0;     // PickSet: which of its indexes (in the order added)
+    int level = -1;           // PickSet: the octree level (depth) of that node; -1 when not known
     glm::dvec3 local{0.0};    // the point, cloud local frame
     double distance_m = 0.0;  // from the ray's origin
     core::Role label = core::Role::Environment;
@@ -82,11 +83,13 @@ class PickIndex {
 /// would (the nearest of the nodes' picks; on equal distances the node added first).
 class PickSet {
   public:
-    void add(std::shared_ptr<const PickIndex> index);
+    /// Adds a node's index; `level` is the node's depth in its source's tree (0 the root),
+    /// given back in the hits picked from it, -1 when the source has no levels.
+    void add(std::shared_ptr<const PickIndex> index, int level = -1);
     /// Points over all the indexes.
     std::size_t size() const { return size_; }
     std::size_t nodes() const { return indexes_.size(); }
-    /// The pick over every node, `node` set in the hit. Never throws.
+    /// The pick over every node, `node` and `level` set in the hit. Never throws.
     std::optional<PickHit> pick(const glm::dvec3& origin, const glm::dvec3& direction,
                                 const PickOptions& options = {}) const;
     std::optional<double> nearestTargetDistance(const glm::dvec3& p) const;
@@ -94,6 +97,7 @@ class PickSet {
 
   private:
     std::vector<std::shared_ptr<const PickIndex>> indexes_;
+    std::vector<int> levels_;  // one per index
     std::size_t size_ = 0;
 };
 

@@ -22,6 +22,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <map>
 #include <memory>
 #include <optional>
 #include <span>
@@ -104,6 +105,11 @@ class PointSource {
 
 /// Every node under `source`'s roots, parents before their children.
 std::vector<PointNode*> allNodes(const PointSource& source);
+
+/// Every node's level: its depth below the roots (a root 0, its children 1, ...), which
+/// for a COPC file is the key's level (the hierarchy's keys are filled in above their
+/// descendants).
+std::map<const PointNode*, int> nodeLevels(const PointSource& source);
 
 /// A CloudFeed seen as a point source: each chunk becomes a leaf when poll() takes it
 /// (its LOD order built there unless the feed built it on the producer's thread). A

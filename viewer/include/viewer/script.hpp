@@ -35,6 +35,10 @@ struct ScriptEvent {
     /// study), so a test that needs the full cloud on screen waits for it, however slowly
     /// the loader or the generator runs.
     bool after_loaded = false;
+    /// "pickable+N": N frames after the pointer can first pick (the pick index over what is
+    /// on the GPU is built; the current trial's, in a study), so a scripted designation
+    /// never races the indexing.
+    bool after_pickable = false;
     /// "+N": N frames after the previous line's action ran (so a script can follow a
     /// ready screen that waits for its cloud, however long that takes).
     bool relative = false;
@@ -54,7 +58,7 @@ inline constexpr std::size_t kMaxScriptAnswerBytes = 1000;
 const char* scriptKeyName(ScriptEvent::Key key);
 
 /// Parses script text: one "<frame> <action>" per line, frame a whole number >= 0,
-/// desktop+N, loaded+N (after the whole cloud is on the GPU) or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
+/// desktop+N, loaded+N (after the whole cloud is on the GPU), pickable+N (after the pointer can first pick) or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
 /// reject, no_target, grab_scale S (a finite number > 0), next, answer TEXT (the rest of
 /// the line, spaces trimmed, 1 to kMaxScriptAnswerBytes bytes), point_answer N (a whole
 /// number); '#' starts a comment,

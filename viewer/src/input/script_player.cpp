@@ -8,10 +8,11 @@ OperatorInput ScriptPlayer::take(const ScriptClock& clock) {
     bool barrier = false;
     while (next_ < events_.size() && !barrier) {
         const ScriptEvent& ev = events_[next_];
-        const long base = ev.after_desktop  ? clock.desktop_since_frame
-                          : ev.after_loaded ? clock.loaded_since_frame
-                          : ev.relative     ? last_frame_
-                                            : 0;
+        const long base = ev.after_desktop    ? clock.desktop_since_frame
+                          : ev.after_loaded   ? clock.loaded_since_frame
+                          : ev.after_pickable ? clock.pickable_since_frame
+                          : ev.relative       ? last_frame_
+                                              : 0;
         if (base < 0 || ev.frame + base > clock.frame) break;
         if (ev.key == ScriptEvent::Key::Next && clock.ready_screen_waiting) break;
         if ((ev.key == ScriptEvent::Key::Answer || ev.key == ScriptEvent::Key::PointAnswer) && !clock.question_up)

@@ -21,6 +21,7 @@ struct ScriptClock {
     /// A questionnaire item is on screen (drawn, no scripted click on it in flight): an
     /// `answer` or `point_answer` waits for one.
     bool question_up = false;
+    long pickable_since_frame = -1;  // when the pointer could first pick (-1: not yet)
 };
 
 class ScriptPlayer {

@@ -53,9 +53,11 @@ void PointerTool::draw(OverlayList& out, double miss_length_m, bool from_eye) co
 
 nlohmann::json PointerTool::log() const {
     if (!hit_) return {{"hit", nullptr}};
-    return {{"hit", {hit_->local.x, hit_->local.y, hit_->local.z}},
-            {"label", std::string(core::roleName(hit_->label))},
-            {"distance_m", hit_->distance_m}};
+    nlohmann::json out = {{"hit", {hit_->local.x, hit_->local.y, hit_->local.z}},
+                          {"label", std::string(core::roleName(hit_->label))},
+                          {"distance_m", hit_->distance_m}};
+    if (hit_->level >= 0) out["level"] = hit_->level;  // an octree source: the picked node's level
+    return out;
 }
 
 }  // namespace viewer

@@ -1,0 +1,60 @@
+// app/src/cloud_index.cpp: the indexing that `index` and `view` share (cloud_index.hpp).
+#include "cloud_index.hpp"
+
+#include "cli_common.hpp"
+
+#include <core/error.hpp>
+#include <io/cloud_reader.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <string>
+
+namespace app {
+
+IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, std::string_view command,
+                    bool fewer_threads) {
+    // Plan-or-refuse: the reader's chunk, and the writer within the rest (past it, it
+    // spills the points to scratch files and builds the octree a part at a time).
+    const std::uint64_t reading = io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
+    const auto least = [&](int t) { return io::copcMinimumBytes(t - 1) + reading; };
+    if (fewer_threads)
+        while (threads > 1 && budget_bytes < least(threads)) --threads;
+    if (budget_bytes < least(threads))
+        throw core::Error(
+            std::string(command) + ": --memory-mb " + core::shownNumber(memory_mb) + " is below the " +
+            std::to_string((least(threads) >> 20) + 1) + " MiB indexing needs with " + std::to_string(threads) +
+            (fewer_threads ? " thread; raise --memory-mb" : " threads; raise --memory-mb or lower --threads"));
+    IndexPlan plan;
+    plan.copc.memory_bytes = budget_bytes - reading;
+    plan.las.threads = threads - 1;
+    plan.threads = threads;
+    return plan;
+}
+
+std::size_t writeIndex(std::vector<std::unique_ptr<io::CloudReader>>& readers, const std::filesystem::path& out,
+                       const IndexPlan& plan, const std::function<void(std::size_t)>& advance,
+                       const std::function<void()>& read_done) {
+    const glm::dvec3 origin = readers.front()->origin();
+    io::CloudWriter writer(out, io::CloudFormat::Copc, origin, readers.front()->fields(), plan.las, &plan.copc);
+    std::vector<core::CloudPoint> chunk;
+    for (auto& reader : readers) {
+        const glm::dvec3 shift = reader->origin() - origin;
+        chunk.clear();
+        while (reader->nextChunk(chunk)) {
+            if (shift != glm::dvec3(0.0))
+                for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + shift);
+            writer.append(chunk);
+            advance(chunk.size());
+            chunk.clear();
+        }
+        if (const std::string w = reader->warning(); !w.empty()) warn(w);
+        reader.reset();
+    }
+    read_done();
+    const std::size_t points = writer.count();
+    writer.commit();
+    return points;
+}
+
+}  // namespace app
