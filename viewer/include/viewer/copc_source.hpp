@@ -46,6 +46,7 @@ class CopcSource final : public PointSource {
     std::size_t pointsArrived() const override;
     void select(const SourceView& view) override;
     std::optional<SourceStats> stats() const override;
+    std::span<PointNode* const> wanted() const override;
 
     /// Nodes in the tree (with and without points).
     std::size_t nodeCount() const;
