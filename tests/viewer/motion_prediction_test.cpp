@@ -54,6 +54,9 @@ TEST_CASE("predicted motion: constant velocity over the look-ahead") {
     CHECK_FALSE(moves(predictedMotion(std::vector<HeadSample>{line[0], line[0]}, 0.25)));  // no time between
     const std::vector<HeadSample> still = {{0.0, {1, 2, 3}, yaw(0.3)}, {0.5, {1, 2, 3}, yaw(0.3)}};
     CHECK_FALSE(moves(predictedMotion(still, 0.25)));
+    // Rounding in a still head's pose is not motion.
+    const std::vector<HeadSample> jitter = {{0.0, {1, 2, 3}, yaw(0.3)}, {0.5, {1, 2, 3 + 1e-12}, yaw(0.3 + 1e-12)}};
+    CHECK_FALSE(moves(predictedMotion(jitter, 0.25)));
 }
 
 TEST_CASE("the widened frusta see what a turning head will see, and a still head adds nothing") {

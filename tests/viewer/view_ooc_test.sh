@@ -11,7 +11,9 @@
 #      (VmHWM in the log) stays under 400 MiB (what llvmpipe, Xvfb's client side and the
 #      viewer take with these bounds; the cloud held whole would add its points three times);
 #   2. --upload-mb with --upload-budget is refused in one line;
-#   3. without --point-budget and with --adaptive-budget on, the budget comes from the GPU
+#   3. the same cloud as plain LAZ (held whole, streamed) with a 4 MiB arena: one warning line
+#      says the arena holds part of it, and the GPU bytes stay within it in every frame;
+#   4. without --point-budget and with --adaptive-budget on, the budget comes from the GPU
 #      class (llvmpipe: software, 3,000,000) and every frame's budget stays between the
 #      adaptive floor and that ceiling.
 # The runs end after --frames frames (no sleeps); headless_env.sh starts and kills Xvfb.
@@ -45,6 +47,12 @@ status=0
 "$bin" view "$work/cloud.copc.laz" --no-xr --frames 1 --upload-mb 1 --upload-budget 5000 \
   >"$work/both.out" 2>"$work/both.err" || status=$?
 [ "$status" != 0 ] || { echo "view_ooc_test: --upload-mb with --upload-budget was accepted" >&2; exit 1; }
+
+printf 'loaded+5 escape\n' >"$work/loaded.script"
+status=0
+"$here/headless_env.sh" --timeout 120 -- "$bin" view "$work/cloud.laz" "${common[@]}" --frames 2000 \
+  --gpu-mb 4 --script "$work/loaded.script" --log-json "$work/whole.json" 2>"$work/whole.err" || status=$?
+[ "$status" = 0 ] || { cat "$work/whole.err" >&2; echo "view_ooc_test: the held-whole run exited $status" >&2; exit 1; }
 
 status=0
 "$here/headless_env.sh" --timeout 120 -- "$bin" view "$work/cloud.copc.laz" "${common[@]}" --frames 20 \
@@ -99,6 +107,16 @@ check(0 < hwm < 400 * MiB, f"vm_hwm_bytes {hwm} (bound 400 MiB)")
 both = open(f"{work}/both.err").read().strip().splitlines()
 check(len(both) == 1 and "--upload-budget" in both[0] and "--upload-mb" in both[0] and "not both" in both[0],
       f"--upload-mb with --upload-budget: {both}")
+
+whole_err = open(f"{work}/whole.err").read()
+warnings = [l for l in whole_err.splitlines() if "warning" in l]
+check(len(warnings) == 1 and "GPU arena (--gpu-mb, 4194304 bytes) holds" in warnings[0] and "the rest is not drawn" in warnings[0],
+      f"held-whole warning lines: {warnings}")
+whole = json.load(open(f"{work}/whole.json"))
+check(whole.get("exit") == "escape", f"held-whole exit {whole.get('exit')}")
+for f in whole["frames"]:
+    check(f["stream"]["gpu_bytes"] <= 4 * MiB, f"held-whole frame {f['frame']}: gpu_bytes {f['stream']['gpu_bytes']}")
+check(0 < whole["points_uploaded"] < points, f"held-whole points_uploaded {whole['points_uploaded']} of {points}")
 
 auto = json.load(open(f"{work}/auto.json"))
 choice = auto.get("point_budget_choice", {})

@@ -16,13 +16,17 @@ glm::dmat4 predictedMotion(std::span<const HeadSample> history, double lookahead
     const double dt_s = b.t_s - a.t_s;
     if (!(dt_s > 0.0) || !(lookahead_s > 0.0)) return glm::dmat4(1.0);
     const double k = lookahead_s / dt_s;
-    const glm::dvec3 shift = (b.position - a.position) * k;
+    // A still head's poses differ by rounding at most: motion under a micrometre and a
+    // microradian between the samples is none, so a still view selects as if unpredicted.
+    constexpr double kStill_m = 1e-6, kStill_rad = 1e-6;
+    const glm::dvec3 moved = b.position - a.position;
+    const glm::dvec3 shift = glm::length(moved) < kStill_m ? glm::dvec3(0.0) : moved * k;
     // The rotation from a to b, in the local frame, scaled in angle by k.
     glm::dquat step = glm::normalize(b.orientation * glm::inverse(a.orientation));
     if (step.w < 0.0) step = -step;  // the short way round
-    const double angle = 2.0 * std::acos(std::min(1.0, step.w));
+    const double angle = 2.0 * std::atan2(glm::length(glm::dvec3(step.x, step.y, step.z)), step.w);
     glm::dmat4 rotate(1.0);
-    if (angle > 1e-12) {
+    if (angle >= kStill_rad) {
         const glm::dvec3 axis = glm::normalize(glm::dvec3(step.x, step.y, step.z));
         rotate = glm::rotate(glm::dmat4(1.0), angle * k, axis);
     }

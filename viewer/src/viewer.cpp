@@ -440,11 +440,16 @@ void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
     }
     // The adaptive budget judges the frame's own work: streaming, planning and drawing on
     // the CPU, and the GPU's time when it is measured (--gpu-timing), against the display
-    // period: the runtime's (the step between predicted display times) in the headset,
-    // else the monitor's refresh with vsync, else 90 Hz.
+    // period: the runtime's in the headset (the least step between consecutive predicted
+    // display times: a missed frame makes a step of two periods), else the monitor's
+    // refresh with vsync, else 90 Hz.
     double period_ms = 1000.0 / 90.0;
-    if (xr && result.xr_frame.display_time_ns > last_display_ns_ && last_display_ns_ > 0)
-        period_ms = double(result.xr_frame.display_time_ns - last_display_ns_) * 1e-6;
+    if (xr && result.xr_frame.display_time_ns > last_display_ns_ && last_display_ns_ > 0) {
+        const double step_ms = double(result.xr_frame.display_time_ns - last_display_ns_) * 1e-6;
+        display_period_ms_ = display_period_ms_ > 0.0 ? std::min(display_period_ms_, step_ms) : step_ms;
+    }
+    if (xr && display_period_ms_ > 0.0)
+        period_ms = display_period_ms_;
     else if (!xr && options_.vsync)
         if (const GLFWvidmode* mode = glfwGetVideoMode(glfwGetPrimaryMonitor()); mode && mode->refreshRate > 0)
             period_ms = 1000.0 / mode->refreshRate;

@@ -31,7 +31,8 @@ struct HeadSample {
 /// The rigid motion (local frame: x -> R (x - p) + p + v t, p the newest position) the
 /// head makes over `lookahead_s` if it keeps the linear and angular velocity it had from
 /// the oldest to the newest of `history` (in time order). Identity with fewer than two
-/// samples, no time between them, or no motion.
+/// samples, no time between them, or no motion (a move under 1e-6 m and a turn under
+/// 1e-6 rad between them count as none: a still head's poses differ by rounding).
 glm::dmat4 predictedMotion(std::span<const HeadSample> history, double lookahead_s);
 
 /// True when `motion` moves anything (not the identity within 1e-9).
