@@ -6,7 +6,8 @@
 // importance (lod.hpp's screenImportance, seen from the eyes' mean position) among those
 // whose parent was taken; a node that does not fit the remaining budget is passed over
 // with its whole subtree. So parents come before their children, nearer and larger nodes
-// before farther and smaller ones, and the total never exceeds the budget. Pure maths on
+// before farther and smaller ones, and the total never exceeds the budget (points, RAM
+// bytes and GPU bytes: what is drawn is what is on the GPU). Pure maths on
 // the nodes' bounds and counts: no GL, no I/O.
 #pragma once
 #include <viewer/point_source.hpp>
