@@ -58,6 +58,9 @@ struct ViewArgs {
     double cache_mb = 512.0;
     ViewIndexOptions index;   // which path a cloud file that is not COPC takes
     bool cut = false;         // the cutting volume on from the start
+    double gpu_mb = 2048.0, upload_mb = 0.0;
+    std::string adaptive_budget;  // on, off; empty: on unless --frames
+    bool point_budget_given = false, upload_budget_given = false;
     sim::OrbitOptions orbit;  // only for the generated cloud
 };
 
@@ -100,6 +103,18 @@ int runView(const ViewArgs& a) {
     o.window_height = a.height;
     o.upload_points_per_frame = a.upload_budget;
     o.point_budget = a.point_budget;
+    o.point_budget_auto = !a.point_budget_given;
+    if (a.upload_budget_given && a.upload_mb > 0.0)
+        throw core::Error("view: give --upload-budget (points) or --upload-mb (MiB) per frame, not both");
+    if (!(a.gpu_mb >= 1.0 / 64.0 && a.gpu_mb <= 1048576.0))
+        throw core::Error("view: --gpu-mb " + core::shownNumber(a.gpu_mb) + " is not in [1/64, 1048576]");
+    if (!(a.upload_mb == 0.0 || (a.upload_mb >= 1.0 / 64.0 && a.upload_mb <= 65536.0)))
+        throw core::Error("view: --upload-mb " + core::shownNumber(a.upload_mb) + " is not in [1/64, 65536]");
+    o.gpu_bytes = static_cast<std::size_t>(a.gpu_mb * 1048576.0);
+    o.upload_bytes_per_frame = static_cast<std::size_t>(a.upload_mb * 1048576.0);
+    if (a.adaptive_budget != "" && a.adaptive_budget != "on" && a.adaptive_budget != "off")
+        throw core::Error("view: --adaptive-budget '" + a.adaptive_budget + "' is not one of on, off");
+    o.adaptive_budget = a.adaptive_budget.empty() ? a.frames == 0 : a.adaptive_budget == "on";
     o.cull = !a.no_cull;
     o.modes.orbit_period_s = a.orbit_period_s;
     o.modes.orbit.radius_m = a.orbit_radius_m;
@@ -245,11 +260,20 @@ void registerView(CLI::App& cli) {
     cmd->add_option("--log-json", args->log_json, "write a machine-readable run log (states, frames, poses, modes)");
     cmd->add_option("--width", args->width, "window width, pixels")->capture_default_str();
     cmd->add_option("--height", args->height, "window height, pixels")->capture_default_str();
-    cmd->add_option("--upload-budget", args->upload_budget, "points uploaded to the GPU per frame at most")
+    CLI::Option* upload_budget =
+        cmd->add_option("--upload-budget", args->upload_budget, "points uploaded to the GPU per frame at most")
+            ->capture_default_str();
+    cmd->add_option("--upload-mb", args->upload_mb,
+                    "MiB uploaded to the GPU per frame at most (instead of --upload-budget)");
+    CLI::Option* point_budget =
+        cmd->add_option("--point-budget", args->point_budget,
+                        "points drawn per eye and frame at most (level of detail by screen size; 0 = unlimited; "
+                        "default: by the GPU class, 3000000 on a software rasterizer)");
+    cmd->add_option("--gpu-mb", args->gpu_mb,
+                    "MiB of point buffers on the GPU at most (nodes not wanted now leave first)")
         ->capture_default_str();
-    cmd->add_option("--point-budget", args->point_budget,
-                    "points drawn per eye and frame at most (level of detail by screen size; 0 = unlimited)")
-        ->capture_default_str();
+    cmd->add_option("--adaptive-budget", args->adaptive_budget,
+                    "on, off: lower the point budget while frames run late (default: on, off with --frames)");
     cmd->add_flag("--no-cull", args->no_cull, "draw cells outside the view frustum too (for comparisons)");
     cmd->add_option("--orbit-period", args->orbit_period_s, "seconds per turn of the automatic orbit")
         ->capture_default_str();
@@ -284,7 +308,9 @@ void registerView(CLI::App& cli) {
     cmd->add_flag("--cut", args->cut,
                   "the cutting volume on from the start: once a point is designated, only points within "
                   "--cut-radius of it are drawn (V toggles it)");
-    cmd->callback([args] {
+    cmd->callback([args, upload_budget, point_budget] {
+        args->upload_budget_given = upload_budget->count() > 0;
+        args->point_budget_given = point_budget->count() > 0;
         args->index.memory_mb = args->memory_mb;
         const int status = runView(*args);
         if (status != 0) throw CLI::RuntimeError(status);

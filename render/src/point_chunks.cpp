@@ -29,7 +29,9 @@ void PointChunks::clear() {
         if (c.buffer) glDeleteBuffers(1, &c.buffer);
     chunks_.clear();
     cells_.clear();
+    free_ids_.clear();
     uploaded_ = 0;
+    allocated_bytes_ = 0;
     bounds_ = {};
 }
 
@@ -43,14 +45,22 @@ std::optional<std::size_t> PointChunks::addChunk(std::size_t capacity, std::span
         glDeleteBuffers(1, &chunk.buffer);
         return std::nullopt;
     }
-    const std::size_t id = chunks_.size();
+    std::size_t id = chunks_.size();
+    if (!free_ids_.empty()) {  // a removed chunk's slot: the table stays as long as what is held
+        id = free_ids_.back();
+        free_ids_.pop_back();
+    }
     chunk.first_cell = chunk.next_cell = cells_.size();
     chunk.cells = cells.size();
     for (const CellRange& c : cells) {
         cells_.push_back({id, c.first, c.count, c.bounds.centre(), c.bounds});
         bounds_.extend(c.bounds);
     }
-    chunks_.push_back(chunk);
+    if (id == chunks_.size())
+        chunks_.push_back(chunk);
+    else
+        chunks_[id] = chunk;
+    allocated_bytes_ += capacity * sizeof(GpuPoint);
     return id;
 }
 
@@ -77,6 +87,7 @@ void PointChunks::upload(std::size_t id, std::span<const core::CloudPoint> point
 
 void PointChunks::removeChunk(std::size_t id) {
     Chunk& chunk = chunks_[id];
+    if (chunk.buffer == 0) return;  // removed already
     if (chunk.buffer) glDeleteBuffers(1, &chunk.buffer);
     const auto first = cells_.begin() + static_cast<std::ptrdiff_t>(chunk.first_cell);
     cells_.erase(first, first + static_cast<std::ptrdiff_t>(chunk.cells));
@@ -86,8 +97,10 @@ void PointChunks::removeChunk(std::size_t id) {
             c.next_cell -= chunk.cells;
         }
     uploaded_ -= chunk.count;
+    allocated_bytes_ -= chunk.capacity * sizeof(GpuPoint);
     chunk = Chunk{};
     chunk.first_cell = chunk.next_cell = cells_.size();  // no cells: never drawn
+    free_ids_.push_back(id);
 }
 
 std::size_t PointChunks::available(std::size_t i) const {

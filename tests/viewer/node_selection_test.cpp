@@ -150,3 +150,17 @@ TEST_CASE("selectNodes offers resident nodes it does not want for eviction") {
     REQUIRE(s.evictable.size() == 1);
     CHECK(s.evictable[0] == far_leaf);
 }
+
+TEST_CASE("selectNodes keeps the wanted nodes within the GPU arena's bytes") {
+    const Tree tree(4);
+    const glm::dvec3 eye(10.0, 10.0, 80.0);
+    CHECK(gpuBytes(100) == 100 * 20);  // one render::GpuPoint per point
+    const std::size_t gpu = 12 * gpuBytes(100) + 19;
+    const NodeSelection s = selectNodes(tree.roots, {}, eye, {0, 0, gpu});
+    CHECK(s.gpu_bytes <= gpu);
+    CHECK(s.gpu_bytes == s.points * 20);
+    CHECK(s.wanted.size() == 12);
+    // The tightest of the three bounds decides.
+    const NodeSelection t = selectNodes(tree.roots, {}, eye, {500, 0, gpu});
+    CHECK(t.wanted.size() == 5);
+}

@@ -89,4 +89,12 @@ TEST_CASE("viewer options are validated before a window opens") {
     o = {};
     o.upload_points_per_frame = 10;
     CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--upload-budget"), core::Error);
+    o = {};
+    o.gpu_bytes = 1000;
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--gpu-mb"), core::Error);
+    o.gpu_bytes = std::size_t(1) << 14;  // 1/64 MiB, the least
+    CHECK_NOTHROW(validate(o));
+    o = {};
+    o.upload_bytes_per_frame = 100;
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("--upload-mb"), core::Error);
 }

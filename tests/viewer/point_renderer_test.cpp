@@ -13,6 +13,7 @@
 #include <doctest/doctest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -207,4 +208,136 @@ TEST_CASE("the cutting volume hides the points beyond its radius, in 3D") {
     for (int k = 0; k < kColumns; ++k)
         CHECK(all[static_cast<std::size_t>(kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4]
                   .r > 200);
+}
+
+namespace {
+
+// A resident node of `count` points on a line, as a source that chooses its nodes holds it.
+class ArenaNode final : public viewer::PointNode {
+  public:
+    explicit ArenaNode(std::size_t count, float x) {
+        auto p = std::make_shared<viewer::NodePoints>();
+        for (std::size_t i = 0; i < count; ++i) {
+            core::CloudPoint c;
+            c.position = {x, float(i) * 0.01f, 0.0f};
+            p->points.push_back(c);
+        }
+        p->cells = viewer::buildLodOrder(p->points);
+        points_ = p;
+        bounds_.lo = glm::dvec3(x, 0.0, 0.0);
+        bounds_.hi = glm::dvec3(x + 1.0, double(count) * 0.01, 1.0);
+    }
+    const core::Bounds& bounds() const override { return bounds_; }
+    std::size_t pointCount() const override { return points_ ? points_->points.size() : 0; }
+    std::span<viewer::PointNode* const> children() const override { return {}; }
+    void request() override {}
+    void evict() override { points_.reset(); }
+    std::shared_ptr<const viewer::NodePoints> points() const override { return points_; }
+    core::Bounds bounds_;
+    std::shared_ptr<const viewer::NodePoints> points_;
+};
+
+// A source that chooses: its wanted list is what the test sets.
+class ArenaSource final : public viewer::PointSource {
+  public:
+    std::size_t poll() override { return 0; }
+    std::span<viewer::PointNode* const> roots() const override { return roots_; }
+    glm::dvec3 origin() const override { return glm::dvec3(0.0); }
+    core::CloudFields fields() const override { return {}; }
+    bool finished() const override { return true; }
+    std::string error() const override { return {}; }
+    std::size_t pointsArrived() const override { return 0; }
+    std::optional<viewer::SourceStats> stats() const override { return viewer::SourceStats{}; }
+    std::span<viewer::PointNode* const> wanted() const override { return wanted_; }
+    std::vector<viewer::PointNode*> roots_, wanted_;
+};
+
+}  // namespace
+
+TEST_CASE("the GPU arena keeps within its bound, uploads the most important first, evicts the least recently used") {
+    render::EglContext context;
+    constexpr std::size_t kBytes = sizeof(render::GpuPoint);
+    ArenaNode a(100, 0.0f), b(200, 2.0f), c(300, 4.0f), d(400, 6.0f);
+    ArenaSource source;
+    source.roots_ = {&a, &b, &c, &d};
+    {  // Uploads follow the wanted order: with 300 points per frame, C (wanted first) comes whole.
+        viewer::PointRenderer renderer;
+        source.wanted_ = {&c, &a};
+        CHECK(renderer.stream(source, 300) == 300);
+        const auto kept = c.points_;
+        c.evict();  // C leaves RAM, so it leaves the GPU: nothing of A was uploaded yet
+        CHECK(renderer.stream(source, 0) == 0);
+        CHECK(renderer.uploadedPoints() == 0);
+        CHECK(renderer.pendingPoints() == 100);
+        c.points_ = kept;
+    }
+    viewer::PointRenderer renderer;
+    const std::size_t bound = 650 * kBytes;
+    renderer.setGpuBytes(bound);
+    source.wanted_ = {&a, &b, &c, &d};
+    renderer.stream(source, 100000);
+    // A, B, C fit (600 points); D does not and waits.
+    CHECK(renderer.arena().bytes == 600 * kBytes);
+    CHECK(renderer.arena().nodes == 3);
+    CHECK(renderer.arena().nodes_refused == 1);
+    CHECK(renderer.uploadedPoints() == 600);
+    // D wanted with A: the unwanted B and C leave, least recently used first (a tie: the
+    // earlier chunk), until D fits: both must go (100 + 400 + 300 > 650).
+    source.wanted_ = {&d, &a};
+    renderer.stream(source, 100000);
+    CHECK(renderer.arena().bytes == 500 * kBytes);
+    CHECK(renderer.arena().frame_nodes_evicted == 2);
+    CHECK(renderer.arena().frame_nodes_added == 1);
+    CHECK(renderer.uploadedPoints() == 500);
+    // A frame that wants nothing but draws A (only A in view): A was used more recently
+    // than D. Then B is wanted again and comes back from RAM; of the unwanted A and D, D
+    // (least recently used, though the later chunk) leaves for it: 100 + 200 fits.
+    source.wanted_ = {};
+    renderer.stream(source, 100000);
+    viewer::EyeDraw eye;
+    eye.view = glm::lookAt(glm::dvec3(0.5, 0.5, 10.0), glm::dvec3(0.5, 0.5, 0.0), glm::dvec3(0.0, 1.0, 0.0));
+    eye.projection = glm::perspective(glm::radians(10.0), 1.0, 1.0, 1000.0);
+    renderer.planFrame(std::span<const viewer::EyeDraw>(&eye, 1), 0);
+    CHECK(renderer.plannedPoints() == 100);
+    source.wanted_ = {&b};
+    renderer.stream(source, 100000);
+    CHECK(renderer.arena().bytes == 300 * kBytes);
+    CHECK(renderer.uploadedPoints() == 300);
+    CHECK(renderer.arena().nodes_evicted == 3);
+    CHECK(renderer.arena().nodes_added == 5);
+    // Whatever is wanted, the bound holds.
+    std::vector<viewer::PointNode*> all = {&a, &b, &c, &d};
+    for (int round = 0; round < 24; ++round) {
+        source.wanted_.clear();
+        for (int k = 0; k < 4; ++k)
+            if ((round * 7 + k * 3) % 5 < 2) source.wanted_.push_back(all[std::size_t(k)]);
+        std::reverse(source.wanted_.begin(), source.wanted_.end());
+        renderer.stream(source, 150);
+        CHECK(renderer.arena().bytes <= bound);
+        CHECK(renderer.arena().bytes_peak <= bound);
+    }
+}
+
+TEST_CASE("the point budget set on the renderer replaces the one planFrame is handed") {
+    render::EglContext context;
+    ArenaNode a(5000, 0.0f);
+    ArenaSource source;
+    source.roots_ = source.wanted_ = {&a};
+    viewer::PointRenderer renderer;
+    renderer.stream(source, 100000);
+    viewer::EyeDraw eye;
+    eye.view = glm::lookAt(glm::dvec3(0.5, 25.0, 100.0), glm::dvec3(0.5, 25.0, 0.0), glm::dvec3(0.0, 1.0, 0.0));
+    eye.projection = glm::perspective(glm::radians(60.0), 1.0, 1.0, 1000.0);
+    renderer.planFrame(std::span<const viewer::EyeDraw>(&eye, 1), 3000);
+    CHECK(renderer.plannedPoints() <= 3000);
+    CHECK(renderer.plannedPoints() > 1200);
+    renderer.setPointBudget(1200);
+    renderer.planFrame(std::span<const viewer::EyeDraw>(&eye, 1), 3000);
+    CHECK(renderer.plannedPoints() <= 1200);
+    CHECK(renderer.plannedPoints() > 0);
+    REQUIRE(renderer.lastView());
+    CHECK(renderer.lastView()->point_budget == 1200);
+    renderer.setGpuBytes(123456);
+    renderer.planFrame(std::span<const viewer::EyeDraw>(&eye, 1), 3000);
+    CHECK(renderer.lastView()->gpu_bytes == 123456);
 }

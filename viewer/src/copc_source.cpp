@@ -66,7 +66,8 @@ struct CopcSource::Impl {
     std::vector<PointNode*> roots;
     std::size_t total_points = 0;
     // Frame thread only.
-    long round = 0;  // select() calls
+    long round = 0;                  // select() calls
+    std::vector<PointNode*> wanted;  // by the last selection, most important first
     SourceStats stats;
     bool settled = false;
     bool fields_known = false;  // fields: from the first decoded node
@@ -191,6 +192,13 @@ CopcSource::CopcSource(const std::filesystem::path& file, const CopcSourceOption
     m.stats.kind = "copc";
     m.stats.nodes = m.nodes.size();
     m.stats.cache_bytes = options.cache_bytes;
+    // The tree as held: the nodes, their child lists, the root list and the reader's
+    // hierarchy entries.
+    m.stats.hierarchy_bytes = m.nodes.capacity() * sizeof(std::unique_ptr<CopcTreeNode>) +
+                              m.roots.capacity() * sizeof(PointNode*) +
+                              m.reader->nodes().capacity() * sizeof(io::CopcNode);
+    for (const auto& n : m.nodes)
+        m.stats.hierarchy_bytes += sizeof(CopcTreeNode) + n->children_.capacity() * sizeof(PointNode*);
     m.worker = std::thread([&m] { m.work(); });
 }
 
@@ -206,9 +214,10 @@ CopcSource::~CopcSource() {
 void CopcSource::select(const SourceView& view) {
     Impl& m = *impl_;
     ++m.round;
-    const NodeSelection sel =
-        selectNodes(m.roots, view.frusta, view.eye_local, SelectionBudget{view.point_budget, m.options.cache_bytes});
+    const NodeSelection sel = selectNodes(m.roots, view.frusta, view.eye_local,
+                                          SelectionBudget{view.point_budget, m.options.cache_bytes, view.gpu_bytes});
     m.stats.wanted_points = sel.points;
+    m.wanted = sel.wanted;
     {
         // The queue follows the latest choice, most important first; what it no longer
         // wants is not decoded (a node being decoded or waiting for poll() stays so).
@@ -280,6 +289,7 @@ std::size_t CopcSource::pointsArrived() const {
 }
 
 std::optional<SourceStats> CopcSource::stats() const { return impl_->stats; }
+std::span<PointNode* const> CopcSource::wanted() const { return impl_->wanted; }
 std::size_t CopcSource::nodeCount() const { return impl_->nodes.size(); }
 std::size_t CopcSource::totalPoints() const { return impl_->total_points; }
 

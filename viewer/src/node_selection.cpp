@@ -2,6 +2,8 @@
 #include <viewer/lod.hpp>
 #include <viewer/node_selection.hpp>
 
+#include <render/point_chunks.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <queue>
@@ -17,6 +19,8 @@ std::size_t nodeBytes(std::size_t point_count) {
         static_cast<std::size_t>(std::max(1.0, std::ceil(std::sqrt(double(point_count) / double(lod.cell_points)))));
     return sizeof(NodePoints) + point_count * sizeof(core::CloudPoint) + side * side * sizeof(LodCell);
 }
+
+std::size_t gpuBytes(std::size_t point_count) { return point_count * sizeof(render::GpuPoint); }
 
 NodeSelection selectNodes(std::span<PointNode* const> roots, std::span<const render::Frustum> frusta,
                           const glm::dvec3& eye_local, const SelectionBudget& budget) {
@@ -40,13 +44,17 @@ NodeSelection selectNodes(std::span<PointNode* const> roots, std::span<const ren
         queue.pop();
         const std::size_t count = n->pointCount();
         const std::size_t bytes = count ? nodeBytes(count) : 0;
-        if ((budget.points && out.points + count > budget.points) || (budget.bytes && out.bytes + bytes > budget.bytes))
+        const std::size_t gpu = gpuBytes(count);
+        if ((budget.points && out.points + count > budget.points) ||
+            (budget.bytes && out.bytes + bytes > budget.bytes) ||
+            (budget.gpu_bytes && out.gpu_bytes + gpu > budget.gpu_bytes))
             continue;  // does not fit: neither it nor its subtree (its children need it first)
         if (count) {
             out.wanted.push_back(n);
             wanted.insert(n);
             out.points += count;
             out.bytes += bytes;
+            out.gpu_bytes += gpu;
         }
         for (PointNode* c : n->children()) push(c);
     }

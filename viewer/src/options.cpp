@@ -50,6 +50,11 @@ void validate(const ViewerOptions& o) {
         fail("jet entries " + std::to_string(o.style.jet_entries) + ": allowed [2, 256]");
     if (o.upload_points_per_frame < 1024)
         fail("--upload-budget " + std::to_string(o.upload_points_per_frame) + ": allowed >= 1024 points");
+    if (o.gpu_bytes < (std::size_t(1) << 14))
+        fail("--gpu-mb " + core::shownNumber(double(o.gpu_bytes) / 1048576.0) + ": allowed >= 1/64 MiB");
+    if (o.upload_bytes_per_frame != 0 && o.upload_bytes_per_frame < (std::size_t(1) << 14))
+        fail("--upload-mb " + core::shownNumber(double(o.upload_bytes_per_frame) / 1048576.0) +
+             ": allowed >= 1/64 MiB (or none: --upload-budget counts)");
     validate(o.pick);
     if (!(o.cut_radius_m >= 0.1 && o.cut_radius_m <= 10000.0))
         fail("--cut-radius " + core::shownNumber(o.cut_radius_m) + ": allowed [0.1, 10000] m");

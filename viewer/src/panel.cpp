@@ -55,6 +55,19 @@ bool drawSettingsPanel(const PanelView& v) {
     ImGui::Text("points %zu on GPU / %zu read%s", v.points_uploaded, v.points_arrived, v.loading ? " (loading)" : "");
     ImGui::Text("points drawn %zu / %zu (budget %s per eye, %zu cells)", v.points_drawn, v.points_uploaded,
                 v.point_budget ? std::to_string(v.point_budget).c_str() : "unlimited", v.cells);
+    // A source with a cache (COPC): its tree, its RAM cache and the GPU arena, in short
+    // lines (a wider panel would cover the view).
+    if (v.source) {
+        constexpr double kMiB = 1048576.0;
+        const SourceStats& c = *v.source;
+        ImGui::Text("tree %zu nodes, %.1f MiB", c.nodes, c.hierarchy_bytes / kMiB);
+        ImGui::Text("cache %.1f / %.1f MiB (peak %.1f)", c.resident_bytes / kMiB, c.cache_bytes / kMiB,
+                    c.resident_bytes_peak / kMiB);
+        ImGui::Text("GPU %.1f / %.1f MiB (peak %.1f)", v.arena.bytes / kMiB, v.arena.bytes_bound / kMiB,
+                    v.arena.bytes_peak / kMiB);
+        ImGui::Text("nodes %zu in RAM, %zu on GPU (+%zu -%zu)", c.nodes_resident, v.arena.nodes,
+                    v.arena.frame_nodes_added, v.arena.frame_nodes_evicted);
+    }
     ImGui::End();
     return reset;
 }

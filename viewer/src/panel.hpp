@@ -29,9 +29,11 @@ struct PanelView {
     std::size_t candidates = 0;
     bool* snap_turn = nullptr;
     bool* vignette = nullptr;
-    bool* headset_panel = nullptr;  // null: no headset
-    std::string trial;              // "trial 2 of 5: name, 12.3 s" or empty
-    std::string designation;        // "designated (x, y, z)" or empty
+    bool* headset_panel = nullptr;      // null: no headset
+    std::string trial;                  // "trial 2 of 5: name, 12.3 s" or empty
+    std::string designation;            // "designated (x, y, z)" or empty
+    ArenaStats arena;                   // the GPU arena
+    std::optional<SourceStats> source;  // a source with a cache: its hierarchy and cache
 };
 
 /// The settings panel (top left). Returns true when the zoom reset button was pressed.

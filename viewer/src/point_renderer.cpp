@@ -3,6 +3,8 @@
 // core::jetTable, the generator's table). The GLSL lives in shaders/.
 #include "point_renderer.hpp"
 
+#include <viewer/node_selection.hpp>
+
 #include <core/jet.hpp>
 #include <render/orbit_camera.hpp>
 #include <shaders/shaders.hpp>
@@ -101,6 +103,8 @@ GLuint PointRenderer::jetTexture(int entries) const {
     return jet_texture_;
 }
 
+void PointRenderer::setGpuBytes(std::size_t bound) { arena_.bytes_bound = bound; }
+
 void PointRenderer::addNode(const PointNode* node, std::shared_ptr<const NodePoints> points) {
     std::vector<render::CellRange> cells;
     cells.reserve(points->cells.size());
@@ -111,8 +115,18 @@ void PointRenderer::addNode(const PointNode* node, std::shared_ptr<const NodePoi
         return;
     }
     on_gpu_[node] = *chunk;
+    if (chunk_used_.size() <= *chunk) {
+        chunk_used_.resize(*chunk + 1, 0);
+        chunk_node_.resize(*chunk + 1, nullptr);
+    }
+    chunk_used_[*chunk] = tick_;
+    chunk_node_[*chunk] = node;
+    ++arena_.nodes_added;
+    ++arena_.frame_nodes_added;
+    arena_.bytes = chunks_.allocatedBytes();
+    arena_.bytes_peak = std::max(arena_.bytes_peak, arena_.bytes);
     pending_points_ += points->points.size();
-    pending_.push_back({std::move(points), 0, *chunk});
+    pending_.push_back({std::move(points), 0, *chunk, 0});
 }
 
 void PointRenderer::dropNode(const PointNode* node) {
@@ -125,21 +139,78 @@ void PointRenderer::dropNode(const PointNode* node) {
             ++it;
         }
     chunks_.removeChunk(chunk);
+    chunk_node_[chunk] = nullptr;
     on_gpu_.erase(node);
+    arena_.bytes = chunks_.allocatedBytes();
     plan_valid_ = false;
 }
 
-std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_points) {
-    for (const PointNode* node : allNodes(source)) {
-        std::shared_ptr<const NodePoints> points = node->points();
-        const bool known = on_gpu_.contains(node);
-        if (points && !points->points.empty() && !known && !no_room_.contains(node))
-            addNode(node, std::move(points));
-        else if (!points && known)
-            dropNode(node);
-        else if (!points)
-            no_room_.erase(node);
+bool PointRenderer::makeRoom(std::size_t bytes, std::deque<Evictable>& evictable) {
+    const std::size_t bound = arena_.bytes_bound;
+    while (bound != 0 && chunks_.allocatedBytes() + bytes > bound && bytes <= bound && !evictable.empty()) {
+        const auto [c, node] = evictable.front();
+        evictable.pop_front();
+        if (chunk_node_[c] != node) continue;  // gone already (its id may hold a newcomer)
+        dropNode(node);
+        ++arena_.nodes_evicted;
+        ++arena_.frame_nodes_evicted;
     }
+    return bound == 0 || chunks_.allocatedBytes() + bytes <= bound;
+}
+
+std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_points) {
+    ++tick_;
+    arena_.frame_nodes_added = arena_.frame_nodes_evicted = arena_.frame_upload_bytes = 0;
+    arena_.nodes_refused = 0;
+    // Nodes that left RAM leave the GPU (in chunk order: the same run drops the same way).
+    for (std::size_t c = 0; c < chunk_node_.size(); ++c)
+        if (chunk_node_[c] && !chunk_node_[c]->resident()) dropNode(chunk_node_[c]);
+    const bool chooses = source.stats().has_value();
+    const std::span<PointNode* const> chosen = source.wanted();
+    const std::vector<PointNode*> order =
+        chooses ? std::vector<PointNode*>(chosen.begin(), chosen.end()) : allNodes(source);
+    const std::unordered_set<const PointNode*> wanted(order.begin(), order.end());
+    std::unordered_map<const PointNode*, std::size_t> rank;
+    if (chooses)
+        for (std::size_t i = 0; i < order.size(); ++i) rank.emplace(order[i], i);
+    // The chunks of nodes not wanted now, least recently used first (a tie: the earlier
+    // chunk): what makes room when a wanted node does not fit.
+    std::deque<Evictable> evictable;
+    if (arena_.bytes_bound != 0) {
+        for (std::size_t c = 0; c < chunk_node_.size(); ++c)
+            if (chunk_node_[c] && !wanted.contains(chunk_node_[c])) evictable.push_back({c, chunk_node_[c]});
+        std::sort(evictable.begin(), evictable.end(), [&](const Evictable& a, const Evictable& b) {
+            return chunk_used_[a.chunk] != chunk_used_[b.chunk] ? chunk_used_[a.chunk] < chunk_used_[b.chunk]
+                                                                : a.chunk < b.chunk;
+        });
+    }
+    for (PointNode* node : order) {
+        std::shared_ptr<const NodePoints> points = node->points();
+        if (!points) {
+            no_room_.erase(node);
+            continue;
+        }
+        if (const auto it = on_gpu_.find(node); it != on_gpu_.end()) {
+            chunk_used_[it->second] = tick_;
+            continue;
+        }
+        if (points->points.empty() || no_room_.contains(node)) continue;
+        if (!makeRoom(gpuBytes(points->points.size()), evictable)) {
+            ++arena_.nodes_refused;
+            continue;
+        }
+        addNode(node, std::move(points));
+    }
+    if (chooses) {  // the upload queue follows the latest wanted order, most important first
+        for (Pending& p : pending_) {
+            const auto it = rank.find(chunk_node_[p.chunk]);
+            p.rank = it == rank.end() ? SIZE_MAX : it->second;
+        }
+        std::stable_sort(pending_.begin(), pending_.end(),
+                         [](const Pending& a, const Pending& b) { return a.rank < b.rank; });
+    }
+    arena_.nodes = on_gpu_.size();
+    arena_.bytes = chunks_.allocatedBytes();
     std::size_t uploaded = 0;
     while (!pending_.empty() && uploaded < budget_points) {
         Pending& job = pending_.front();
@@ -154,11 +225,13 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
         pending_points_ -= n;
         if (job.next == points.size()) pending_.pop_front();
     }
+    arena_.frame_upload_bytes = uploaded * sizeof(render::GpuPoint);
     if (uploaded) render::logGl("glNamedBufferSubData (point chunk)", __FILE__, __LINE__);
     return uploaded;
 }
 
 void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull) {
+    if (point_budget_) point_budget = *point_budget_;
     const auto& cells = chunks_.cells();
     plan_cull_ = cull;
     plan_.assign(cells.size(), 0);
@@ -171,7 +244,25 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
         frusta.push_back(render::Frustum::fromMatrix(e.projection * e.view));
         eye_mean += glm::dvec3(glm::inverse(e.view)[3]) / double(eyes.size());
     }
-    last_view_ = SourceView{cull ? frusta : std::vector<render::Frustum>{}, eye_mean, point_budget};
+    // The head's pose this frame (the eyes' mean position, the first eye's orientation) and
+    // its motion over the last few frames: the source selects for where it is heading too.
+    constexpr std::size_t kHeadHistory = 6;
+    const double t_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - created_).count();
+    HeadSample head = headOfView(eyes[0].view, t_s);
+    head.position = eye_mean;
+    heads_.push_back(head);
+    if (heads_.size() > kHeadHistory) heads_.pop_front();
+    std::vector<render::Frustum> selection;
+    if (cull) {
+        std::vector<glm::dmat4> views, projections;
+        for (const EyeDraw& e : eyes) {
+            views.push_back(e.view);
+            projections.push_back(e.projection);
+        }
+        const std::vector<HeadSample> history(heads_.begin(), heads_.end());
+        selection = widenedFrusta(views, projections, predictedMotion(history, kSelectionLookahead_s));
+    }
+    last_view_ = SourceView{std::move(selection), eye_mean, point_budget, arena_.bytes_bound};
     if (cells.empty()) return;
     std::vector<core::Bounds> boxes(cells.size());
     std::vector<std::size_t> sizes(cells.size());
@@ -184,7 +275,10 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
     for (std::size_t i = 0; i < cells.size(); ++i)
         if (visible[i]) importance[i] = std::max(screenImportance(boxes[i], eye_mean), 1e-12);
     plan_ = allocateBudget(importance, sizes, point_budget);
-    for (std::size_t n : plan_) planned_points_ += n;
+    for (std::size_t i = 0; i < plan_.size(); ++i) {
+        planned_points_ += plan_[i];
+        if (plan_[i] > 0) chunk_used_[cells[i].chunk] = tick_;  // drawn: recently used
+    }
 }
 
 DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style, ViewMode mode,

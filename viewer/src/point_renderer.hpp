@@ -6,6 +6,7 @@
 #pragma once
 #include <viewer/camera_rig.hpp>
 #include <viewer/lod.hpp>
+#include <viewer/motion_prediction.hpp>
 #include <viewer/point_source.hpp>
 #include <viewer/viewer.hpp>
 
@@ -14,6 +15,7 @@
 #include <render/point_chunks.hpp>
 #include <render/shader.hpp>
 
+#include <chrono>
 #include <cstddef>
 #include <deque>
 #include <memory>
@@ -55,6 +57,16 @@ struct DrawStats {
     std::size_t chunks_culled = 0;  // cells with points on the GPU skipped (frustum or budget)
 };
 
+/// The GPU arena: the bytes the node buffers take (render::PointChunks::allocatedBytes,
+/// exact), its bound and what moved in and out.
+struct ArenaStats {
+    std::size_t bytes = 0, bytes_bound = 0, bytes_peak = 0;  // bound 0: unlimited
+    std::size_t nodes = 0;                                   // on the GPU now
+    std::size_t nodes_added = 0, nodes_evicted = 0;          // so far (evicted: for room, still in RAM)
+    std::size_t nodes_refused = 0;  // wanted, resident and not on the GPU: no room (last stream())
+    std::size_t frame_nodes_added = 0, frame_nodes_evicted = 0, frame_upload_bytes = 0;  // last stream()
+};
+
 class PointRenderer {
   public:
     /// Compiles the programs; throws core::Error("shader: ...") (setup path).
@@ -63,10 +75,22 @@ class PointRenderer {
     PointRenderer(const PointRenderer&) = delete;
     PointRenderer& operator=(const PointRenderer&) = delete;
 
-    /// Follows `source`'s residency: a node that became resident is queued for upload, one
-    /// that was evicted leaves the GPU. Then uploads at most `budget_points` queued points.
+    /// Follows `source`'s residency: a node evicted from RAM leaves the GPU; the nodes it
+    /// wants (a source that chooses: its last selection, most important first; else every
+    /// node) that are resident and not on the GPU get a chunk and a place in the upload
+    /// queue, in that order. With a GPU bound, a node that does not fit first evicts the
+    /// GPU copies of nodes the source does not want now, least recently drawn or wanted
+    /// first (they stay in RAM and come back when wanted); if that is not enough it waits.
+    /// Then uploads at most `budget_points` queued points, most important node first.
     /// Returns the number uploaded. Never throws.
     std::size_t stream(const PointSource& source, std::size_t budget_points);
+    /// Bytes the node buffers may take on the GPU at most (0 = unlimited), never exceeded.
+    void setGpuBytes(std::size_t bound);
+    const ArenaStats& arena() const { return arena_; }
+    /// The points per eye planFrame uses from now on instead of the budget it is handed
+    /// (an adaptive or GPU-class budget the frame loop chose); none: the one handed.
+    void setPointBudget(std::optional<std::size_t> budget) { point_budget_ = budget; }
+    const std::optional<std::size_t>& pointBudget() const { return point_budget_; }
     /// Points on the GPU / waiting in CPU memory.
     std::size_t uploadedPoints() const { return chunks_.uploadedPoints(); }
     std::size_t pendingPoints() const { return pending_points_; }
@@ -81,7 +105,9 @@ class PointRenderer {
     void planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull = true);
     /// Points the last plan draws per eye at most (before each eye's own frustum test).
     std::size_t plannedPoints() const { return planned_points_; }
-    /// The eyes and budget of the last planFrame (a point source chooses its nodes by it).
+    /// The eyes and budget of the last planFrame (a point source chooses its nodes by it):
+    /// with culling, the eyes' frusta and the same moved by the head's predicted motion over
+    /// kSelectionLookahead_s (motion_prediction.hpp), so what comes into view is on its way.
     const std::optional<SourceView>& lastView() const { return last_view_; }
     std::size_t cellCount() const { return chunks_.cells().size(); }
 
@@ -101,10 +127,18 @@ class PointRenderer {
         std::shared_ptr<const NodePoints> node;  // kept until uploaded whole
         std::size_t next = 0;                    // first point not uploaded yet
         std::size_t chunk = 0;                   // the chunk in chunks_
+        std::size_t rank = 0;                    // the node's place in the source's wanted order
     };
     /// A node newly resident: its chunk and its place in the upload queue.
     void addNode(const PointNode* node, std::shared_ptr<const NodePoints> points);
     void dropNode(const PointNode* node);
+    /// Frees GPU room for `bytes` by evicting the nodes of `evictable`'s chunks from its
+    /// front (taking them off it). False if the bound still leaves no room.
+    struct Evictable {
+        std::size_t chunk = 0;
+        const PointNode* node = nullptr;
+    };
+    bool makeRoom(std::size_t bytes, std::deque<Evictable>& evictable);
 
     render::Program points_, resolve_, indicator_;
     render::PointChunks chunks_;
@@ -112,8 +146,15 @@ class PointRenderer {
     mutable GLuint jet_texture_ = 0;  // jetTexture()'s cache
     mutable int jet_entries_ = 0;
     std::unordered_map<const PointNode*, std::size_t> on_gpu_;  // node -> its chunk
-    std::unordered_set<const PointNode*> no_room_;              // resident, but the GPU had no room
-    std::vector<std::size_t> plan_;                             // per cell: points to draw (planFrame)
+    std::vector<long> chunk_used_;                              // per chunk id: tick last wanted or drawn
+    std::vector<const PointNode*> chunk_node_;                  // per chunk id: its node (null: free)
+    long tick_ = 0;                                             // stream() calls
+    ArenaStats arena_;
+    std::optional<std::size_t> point_budget_;
+    std::deque<HeadSample> heads_;  // the last frames' head poses (selection look-ahead)
+    std::chrono::steady_clock::time_point created_ = std::chrono::steady_clock::now();
+    std::unordered_set<const PointNode*> no_room_;  // resident, but the GPU had no room
+    std::vector<std::size_t> plan_;                 // per cell: points to draw (planFrame)
     bool plan_valid_ = false, plan_cull_ = true;
     std::size_t planned_points_ = 0;
     std::optional<SourceView> last_view_;

@@ -4,9 +4,24 @@
 #include <platform/atomic_file.hpp>
 
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <fstream>
+#include <vector>
 
 namespace viewer {
+
+std::optional<std::size_t> peakResidentBytes() {
+    std::ifstream in("/proc/self/status", std::ios::binary);
+    if (!in) return std::nullopt;
+    std::vector<char> text(65536);
+    in.read(text.data(), static_cast<std::streamsize>(text.size() - 1));
+    text[static_cast<std::size_t>(in.gcount())] = '\0';
+    const char* at = std::strstr(text.data(), "\nVmHWM:");
+    unsigned long long kib = 0;
+    if (!at || std::sscanf(at + 7, " %llu kB", &kib) != 1) return std::nullopt;
+    return static_cast<std::size_t>(kib) * 1024;
+}
 
 void RunLog::frame(nlohmann::json record) {
     auto& frames = json_["frames"];

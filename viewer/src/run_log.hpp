@@ -6,10 +6,16 @@
 #pragma once
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace viewer {
+
+/// The process's peak resident set (VmHWM in /proc/self/status), bytes; none where the
+/// file or the line is missing. Reads at most 64 KiB. Never throws.
+std::optional<std::size_t> peakResidentBytes();
 
 class RunLog {
   public:

@@ -1,6 +1,11 @@
 // viewer/src/source_stream.cpp: a point source streamed into the renderer and the picking.
 #include "source_stream.hpp"
 
+#include <platform/safe_file.hpp>
+#include <render/gl.hpp>
+#include <render/point_chunks.hpp>
+
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <tuple>
@@ -9,9 +14,68 @@
 
 namespace viewer {
 
-void SourceStream::start(std::size_t upload_points_per_frame) {
-    budget_ = upload_points_per_frame;
+void SourceStream::start(const ViewerOptions& options, RunLog& log) {
+    budget_ = options.upload_bytes_per_frame
+                  ? std::max<std::size_t>(1, options.upload_bytes_per_frame / sizeof(render::GpuPoint))
+                  : options.upload_points_per_frame;
+    gpu_bytes_ = options.gpu_bytes;
+    quiet_ = options.quiet;
+    budget_points_ = options.point_budget;
+    if (options.point_budget_auto) {
+        auto str = [](GLenum name) {
+            const auto* s = reinterpret_cast<const char*>(glGetString(name));
+            return std::string(s ? s : "");
+        };
+        const GpuClass gpu = classifyGpu(str(GL_RENDERER), str(GL_VENDOR));
+        budget_points_ = defaultPointBudget(gpu);
+        log.set(
+            "point_budget_choice",
+            nlohmann::json{{"from", "gpu class"}, {"gpu_class", gpuClassName(gpu)}, {"point_budget", budget_points_}});
+    } else {
+        log.set("point_budget_choice", nlohmann::json{{"from", "option"}, {"point_budget", budget_points_}});
+    }
+    if (options.adaptive_budget && budget_points_ > 0) adaptive_.emplace(adaptiveFloor(budget_points_), budget_points_);
+    log.set("adaptive_budget", adaptive_
+                                   ? nlohmann::json{{"floor", adaptive_->floor()}, {"ceiling", adaptive_->ceiling()}}
+                                   : nlohmann::json(false));
     renderer_ = std::make_unique<PointRenderer>();
+    applyBudget();
+}
+
+void SourceStream::applyBudget() {
+    renderer_->setGpuBytes(gpu_bytes_);
+    renderer_->setPointBudget(budget_points_);
+}
+
+void SourceStream::frameTimed(double cost_ms, double frame_budget_ms, long frame, RunLog& log) {
+    if (!adaptive_) return;
+    const std::size_t before = adaptive_->budget();
+    const std::size_t after = adaptive_->update(cost_ms, frame_budget_ms);
+    if (after == before) return;
+    budget_points_ = after;
+    renderer_->setPointBudget(budget_points_);
+    char line[160];
+    std::snprintf(line, sizeof line, "point budget %zu -> %zu at frame %ld (frame %.2f of %.2f ms)", before, after,
+                  frame, cost_ms, frame_budget_ms);
+    log.event(line);
+}
+
+nlohmann::json SourceStream::frameFigures() {
+    const ArenaStats& a = renderer_->arena();
+    nlohmann::json j = {{"point_budget", budget_points_},
+                        {"gpu_bytes", a.bytes},
+                        {"gpu_nodes", a.nodes},
+                        {"gpu_nodes_added", a.frame_nodes_added},
+                        {"gpu_nodes_evicted", a.frame_nodes_evicted},
+                        {"upload_bytes", a.frame_upload_bytes}};
+    if (const std::optional<SourceStats> s = source_->stats()) {
+        j["resident_bytes"] = s->resident_bytes;
+        j["nodes_loaded"] = s->nodes_loaded - std::min(last_loaded_, s->nodes_loaded);
+        j["nodes_evicted"] = s->nodes_evicted - std::min(last_evicted_, s->nodes_evicted);
+        last_loaded_ = s->nodes_loaded;
+        last_evicted_ = s->nodes_evicted;
+    }
+    return j;
 }
 
 void SourceStream::reset(PointSource& source) {
@@ -20,6 +84,8 @@ void SourceStream::reset(PointSource& source) {
     node_picks_.clear();
     source_ = &source;
     renderer_ = std::make_unique<PointRenderer>();
+    applyBudget();
+    last_loaded_ = last_evicted_ = 0;
     picks_.reset();
     error_.clear();
     loaded_since_frame_ = -1;
@@ -38,8 +104,13 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
             log_nodes_ = true;
             log.event("first node resident");
         }
+    }
+    renderer_->stream(*source_, budget_);
+    const ArenaStats& arena = renderer_->arena();
+    if (const std::optional<SourceStats> s = source_->stats())
         log.set("source", nlohmann::json{{"kind", s->kind},
                                          {"nodes", s->nodes},
+                                         {"hierarchy_bytes", s->hierarchy_bytes},
                                          {"nodes_resident", s->nodes_resident},
                                          {"nodes_loaded", s->nodes_loaded},
                                          {"nodes_evicted", s->nodes_evicted},
@@ -47,9 +118,22 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
                                          {"wanted_points", s->wanted_points},
                                          {"cache_bytes", s->cache_bytes},
                                          {"resident_bytes", s->resident_bytes},
-                                         {"resident_bytes_peak", s->resident_bytes_peak}});
+                                         {"resident_bytes_peak", s->resident_bytes_peak},
+                                         {"gpu_bytes_bound", arena.bytes_bound},
+                                         {"gpu_bytes", arena.bytes},
+                                         {"gpu_bytes_peak", arena.bytes_peak},
+                                         {"gpu_nodes", arena.nodes},
+                                         {"gpu_nodes_added", arena.nodes_added},
+                                         {"gpu_nodes_evicted", arena.nodes_evicted},
+                                         {"upload_points_per_frame", budget_}});
+    else if (arena.nodes_refused > 0 && arena_warned_.empty() && source_->finished()) {
+        // A cloud held whole that the arena cannot hold: said once, the rest is not drawn.
+        arena_warned_ = "view: the GPU arena (--gpu-mb, " + std::to_string(arena.bytes_bound) + " bytes) holds " +
+                        std::to_string(renderer_->uploadedPoints() + renderer_->pendingPoints()) +
+                        " points of the cloud; the rest is not drawn";
+        log.event(arena_warned_);
+        if (!quiet_) platform::printMessage("warning", arena_warned_);
     }
-    renderer_->stream(*source_, budget_);
     const bool finished = source_->finished();
     const bool whole = finished && source_->error().empty() && renderer_->pendingPoints() == 0;
     const bool chooses = source_->stats().has_value();  // see below

@@ -3,18 +3,23 @@
 // the per-node pick indexes on a worker thread once everything is on the GPU (and again,
 // reusing the indexes of nodes that stayed, whenever a source that chooses its nodes
 // changed what is resident), and tracks when the cloud is whole (for the orbit's centre
-// and a script's loaded+N).
+// and a script's loaded+N). It also holds the point budget the frames draw with: the
+// user's, or the GPU class's default, lowered and raised again by the adaptive budget
+// (viewer/point_budget.hpp) as frames run late or early.
 #pragma once
 #include "point_renderer.hpp"
 #include "run_log.hpp"
 
 #include <viewer/pick_index.hpp>
+#include <viewer/point_budget.hpp>
 #include <viewer/point_source.hpp>
+#include <viewer/viewer.hpp>
 
 #include <cstddef>
 #include <future>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace viewer {
@@ -27,8 +32,22 @@ struct SourceEvents {
 
 class SourceStream {
   public:
-    /// Makes the renderer (needs the GL context; throws core::Error on a shader error).
-    void start(std::size_t upload_points_per_frame);
+    /// Makes the renderer (needs the GL context; throws core::Error on a shader error) with
+    /// `options`' upload budget (--upload-mb as points when given, else --upload-budget),
+    /// GPU arena bound and point budget: --point-budget, or when `point_budget_auto` the
+    /// GPU class's default (GL_RENDERER / GL_VENDOR), recorded in `log`'s
+    /// "point_budget_choice".
+    void start(const ViewerOptions& options, RunLog& log);
+    /// The point budget per eye frames draw with now (0 = unlimited).
+    std::size_t pointBudget() const { return budget_points_; }
+    /// After a counted frame: its cost (CPU + GPU ms spent on it) against the frame budget
+    /// (ms); with the adaptive budget on, a new budget is logged as an event and used from
+    /// the next frame. Never throws.
+    void frameTimed(double cost_ms, double frame_budget_ms, long frame, RunLog& log);
+    /// This frame's figures for its run log record: the budget, the GPU arena, the upload,
+    /// and for a source with a cache its resident bytes and nodes loaded / evicted since
+    /// the last call.
+    nlohmann::json frameFigures();
     /// Shows `source` from now on: a fresh renderer and no pick index.
     void reset(PointSource& source);
     /// One frame's streaming; `frame` is the frame count the loaded mark takes. Never throws.
@@ -47,7 +66,14 @@ class SourceStream {
     bool centreFinal() const { return centre_final_; }
 
   private:
-    std::size_t budget_ = 0;
+    void applyBudget();
+    std::size_t budget_ = 0;  // points uploaded per frame at most
+    std::size_t gpu_bytes_ = 0;
+    std::size_t budget_points_ = 0;  // the point budget frames draw with
+    std::optional<AdaptiveBudget> adaptive_;
+    std::size_t last_loaded_ = 0, last_evicted_ = 0;  // the source's counts at the last frameFigures()
+    bool quiet_ = false;
+    std::string arena_warned_;  // the one warning of a full arena, once given
     PointSource* source_ = nullptr;
     std::unique_ptr<PointRenderer> renderer_;
     std::future<std::shared_ptr<const PickSet>> building_;

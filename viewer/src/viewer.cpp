@@ -48,7 +48,7 @@ ViewerApp::ViewerApp(const ViewerOptions& options, bool record_frames, TrialSour
       headset_(log_, options.quiet),
       headset_panel_(options.headset_panel) {
     log_.set("gl", render::glDescription());
-    stream_.start(options_.upload_points_per_frame);
+    stream_.start(options_, log_);
     eyes_ = std::make_unique<EyeFrameRenderer>(options_);
     headset_.start(window_.handle, options_.use_xr);
     glfwSwapInterval(headset_.session() || !options_.vsync ? 0 : 1);
@@ -126,7 +126,9 @@ int ViewerApp::run(CloudFeed* feed, PointSource* points) {
         OperatorInput in = gatherInput();
         checkQuit(in);
         if (!pollXr()) break;
+        const Clock::time_point source_start = Clock::now();
         updateSource();
+        source_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - source_start).count();
         const Clock::time_point now = Clock::now();
         const double dt = std::chrono::duration<double>(now - last_).count();
         frame_ms_ = dt * 1000.0;
@@ -435,12 +437,32 @@ void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
     // The first counted frame is an event a caller can wait for (a test's signal, a demo).
     if (frames_ == 1 && !options_.quiet) std::fprintf(stderr, "ladarvr: view: first frame drawn\n");
     const PointRenderer& points = stream_.renderer();
-    if (record_frames_)
-        log_.frame(
+    if (record_frames_) {
+        nlohmann::json record =
             frameRecord({frames_, std::chrono::duration<double>(Clock::now() - start_).count(), modes_.mode(),
                          modes_.centre(), xr, points_drawn_, points.uploadedPoints(), stream_.source().pointsArrived(),
                          frame_ms_, zoom_.zoom().scale(), colourModeName(style_.colour), cut_.log(), pointer_.log(),
-                         pointer_.lastPickMs(), pointer_.ready(), trials_.index(), eyes_->lastGpuMs(), &result}));
+                         pointer_.lastPickMs(), pointer_.ready(), trials_.index(), eyes_->lastGpuMs(), &result});
+        record["stream"] = stream_.frameFigures();
+        log_.frame(std::move(record));
+    }
+    // The adaptive budget judges the frame's own work: streaming, planning and drawing on
+    // the CPU, and the GPU's time when it is measured (--gpu-timing), against the display
+    // period: the runtime's in the headset (the least step between consecutive predicted
+    // display times: a missed frame makes a step of two periods), else the monitor's
+    // refresh with vsync, else 90 Hz.
+    double period_ms = 1000.0 / 90.0;
+    if (xr && result.xr_frame.display_time_ns > last_display_ns_ && last_display_ns_ > 0) {
+        const double step_ms = double(result.xr_frame.display_time_ns - last_display_ns_) * 1e-6;
+        display_period_ms_ = display_period_ms_ > 0.0 ? std::min(display_period_ms_, step_ms) : step_ms;
+    }
+    if (xr && display_period_ms_ > 0.0)
+        period_ms = display_period_ms_;
+    else if (!xr && options_.vsync)
+        if (const GLFWvidmode* mode = glfwGetVideoMode(glfwGetPrimaryMonitor()); mode && mode->refreshRate > 0)
+            period_ms = 1000.0 / mode->refreshRate;
+    if (xr) last_display_ns_ = result.xr_frame.display_time_ns;
+    stream_.frameTimed(source_ms_ + result.cpu_ms + std::max(0.0, eyes_->lastGpuMs()), period_ms, frames_, log_);
     if (first_points_frame_ < 0 && points_drawn_ > 0) first_points_frame_ = frames_;
     if (!trials_.running()) return;
     const RigPose head = headLocal();
@@ -479,7 +501,9 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     v.points_arrived = stream_.source().pointsArrived();
     v.points_drawn = points_drawn_;
     v.cells = stream_.renderer().cellCount();
-    v.point_budget = options_.point_budget;
+    v.point_budget = stream_.pointBudget();
+    v.arena = stream_.renderer().arena();
+    v.source = stream_.source().stats();
     v.loading = !stream_.source().finished();
     v.picking_ready = pointer_.ready();
     v.pick_ms = pointer_.lastPickMs();
@@ -526,7 +550,7 @@ int ViewerApp::finish(int status) {
                  first_points_frame_,
                  stream_.source().pointsArrived(),
                  points.uploadedPoints(),
-                 options_.point_budget,
+                 stream_.pointBudget(),
                  points.cellCount(),
                  options_.cull,
                  headset_.session() != nullptr,
@@ -540,6 +564,7 @@ int ViewerApp::finish(int status) {
                  std::nullopt};
     if (trials_.designated()) s.designated_world = *trials_.designated() + stream_.source().origin();
     recordSummary(log_, s);
+    if (const std::optional<std::size_t> hwm = peakResidentBytes()) log_.set("vm_hwm_bytes", *hwm);
     if (!options_.log_json.empty() && !log_.write(options_.log_json)) status = 1;
     if (!options_.quiet && !stream_.failed())
         std::fprintf(stderr, "ladarvr: view: %ld frames (%ld submitted to OpenXR), %zu points, exit: %s\n", frames_,

@@ -102,7 +102,10 @@ class ViewerApp {
     std::unique_ptr<EyeFrameRenderer> eyes_;
     Headset headset_;
     Clock::time_point start_ = Clock::now(), last_ = start_, quit_deadline_{};
-    long frames_ = 0;  // counted frames (XR: submitted with both eyes)
+    long frames_ = 0;                   // counted frames (XR: submitted with both eyes)
+    double source_ms_ = 0.0;            // this frame's updateSource (the adaptive budget's CPU share)
+    std::int64_t last_display_ns_ = 0;  // the last XR frame's predicted display time
+    double display_period_ms_ = 0.0;    // the least step between them so far (0: none yet)
     long frames_submitted_ = 0;
     long first_points_frame_ = -1;
     std::size_t points_drawn_ = 0;

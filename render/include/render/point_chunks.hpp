@@ -52,7 +52,7 @@ class PointChunks {
     std::optional<std::size_t> addChunk(std::size_t capacity, std::span<const CellRange> cells);
     /// Uploads `points`, the next points of chunk `chunk` after those already uploaded.
     void upload(std::size_t chunk, std::span<const core::CloudPoint> points);
-    /// Frees the chunk's buffer and drops its cells.
+    /// Frees the chunk's buffer and drops its cells; its id may be handed out again.
     void removeChunk(std::size_t chunk);
     void clear();
 
@@ -60,6 +60,9 @@ class PointChunks {
     /// Points of cell `i` on the GPU (a prefix of it while its chunk streams).
     std::size_t available(std::size_t i) const;
     std::size_t uploadedPoints() const { return uploaded_; }
+    /// Bytes of the chunks' GL buffers now (capacity x sizeof(GpuPoint) per live chunk,
+    /// allocated whole by addChunk, freed by removeChunk): what a GPU arena bound counts.
+    std::size_t allocatedBytes() const { return allocated_bytes_; }
     /// Local-frame bounds of every cell ever added.
     const core::Bounds& bounds() const { return bounds_; }
 
@@ -82,7 +85,9 @@ class PointChunks {
     std::vector<Chunk> chunks_;
     std::vector<Cell> cells_;
     std::vector<GpuPoint> staging_;
+    std::vector<std::size_t> free_ids_;  // removed chunks' slots, reused by addChunk
     std::size_t uploaded_ = 0;
+    std::size_t allocated_bytes_ = 0;
     core::Bounds bounds_;
 };
 

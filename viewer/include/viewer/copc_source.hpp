@@ -4,7 +4,7 @@
 // its bounds the key's cube, its point count the hierarchy's, so the whole tree is known
 // when the file opens and no point is decoded until a node is wanted. Each frame the loop
 // hands select() the last frame's view; the nodes it picks (node_selection.hpp) within
-// the point budget and the cache are queued for one worker thread that decodes them
+// the point budget, the cache and the renderer's GPU arena are queued for one worker thread that decodes them
 // (CopcReader::readNode) and builds their LOD cells (lod.hpp); poll() makes the decoded
 // ones resident on the frame thread. Resident nodes live in a RAM cache bounded by
 // `cache_bytes`: when room is needed, the least recently wanted nodes that the last
@@ -46,6 +46,8 @@ class CopcSource final : public PointSource {
     std::size_t pointsArrived() const override;
     void select(const SourceView& view) override;
     std::optional<SourceStats> stats() const override;
+    /// The last selection's nodes, most important first.
+    std::span<PointNode* const> wanted() const override;
 
     /// Nodes in the tree (with and without points).
     std::size_t nodeCount() const;

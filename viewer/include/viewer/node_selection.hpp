@@ -6,7 +6,8 @@
 // importance (lod.hpp's screenImportance, seen from the eyes' mean position) among those
 // whose parent was taken; a node that does not fit the remaining budget is passed over
 // with its whole subtree. So parents come before their children, nearer and larger nodes
-// before farther and smaller ones, and the total never exceeds the budget. Pure maths on
+// before farther and smaller ones, and the total never exceeds the budget (points, RAM
+// bytes and GPU bytes: what is drawn is what is on the GPU). Pure maths on
 // the nodes' bounds and counts: no GL, no I/O.
 #pragma once
 #include <viewer/point_source.hpp>
@@ -20,8 +21,9 @@
 namespace viewer {
 
 struct SelectionBudget {
-    std::size_t points = 0;  // points of the wanted nodes at most; 0 = unlimited
-    std::size_t bytes = 0;   // nodeBytes() of the wanted nodes at most; 0 = unlimited
+    std::size_t points = 0;     // points of the wanted nodes at most; 0 = unlimited
+    std::size_t bytes = 0;      // nodeBytes() of the wanted nodes at most (the RAM cache); 0 = unlimited
+    std::size_t gpu_bytes = 0;  // gpuBytes() of the wanted nodes at most (the GPU arena); 0 = unlimited
 };
 
 struct NodeSelection {
@@ -29,12 +31,17 @@ struct NodeSelection {
     std::vector<PointNode*> evictable;  // resident but not wanted this frame
     std::size_t points = 0;             // of the wanted nodes
     std::size_t bytes = 0;              // nodeBytes() of the wanted nodes
+    std::size_t gpu_bytes = 0;          // gpuBytes() of the wanted nodes
 };
 
 /// Memory a node's points take once resident (NodePoints: the points and at most as many
 /// LOD cells as buildLodOrder makes for `point_count` points), an upper bound known before
 /// the points are read.
 std::size_t nodeBytes(std::size_t point_count);
+
+/// GPU memory a node's points take once uploaded: exactly what render::PointChunks
+/// allocates for them (one render::GpuPoint each).
+std::size_t gpuBytes(std::size_t point_count);
 
 /// Picks the nodes under `roots` seen by any of `frusta` (all of them when `frusta` is
 /// empty), by importance seen from `eye_local`, within `budget`. Nodes with no points

@@ -57,12 +57,15 @@ class PointNode {
     virtual std::shared_ptr<const NodePoints> points() const = 0;
 };
 
-/// What the last frame drew from: the union of the eyes' frusta, the eyes' mean position
-/// (local frame) and the point budget per eye (0 = unlimited).
+/// What the last frame drew from: the union of the eyes' frusta (widened by the predicted
+/// head motion, motion_prediction.hpp), the eyes' mean position (local frame), the point
+/// budget per eye (0 = unlimited) and the GPU arena's bound in bytes (0 = unlimited): what
+/// is drawn is what is on the GPU, so a source wants no more than the arena holds.
 struct SourceView {
     std::vector<render::Frustum> frusta;
     glm::dvec3 eye_local{0.0};
     std::size_t point_budget = 0;
+    std::size_t gpu_bytes = 0;
 };
 
 /// The memory a source that holds nodes by choice reports (the run log's "source").
@@ -77,6 +80,7 @@ struct SourceStats {
     std::size_t cache_bytes = 0;     // the bound on resident bytes
     std::size_t resident_bytes = 0;  // now
     std::size_t resident_bytes_peak = 0;
+    std::size_t hierarchy_bytes = 0;  // held for the tree (its nodes, bounds, counts, links)
 };
 
 class PointSource {
@@ -101,6 +105,9 @@ class PointSource {
     virtual void select(const SourceView& view) { (void)view; }
     /// The cache's figures, for a source that has one.
     virtual std::optional<SourceStats> stats() const { return std::nullopt; }
+    /// A source that chooses its nodes: the nodes the last select() wanted, most important
+    /// first (the order the renderer uploads them in). Empty for a source that holds all.
+    virtual std::span<PointNode* const> wanted() const { return {}; }
 };
 
 /// Every node under `source`'s roots, parents before their children.

@@ -80,6 +80,18 @@ struct ViewerOptions {
     /// the view follows the trace's head poses, zoom and mode in real time, its pointer hit
     /// shown as a dot, and the run ends after its last sample (exit "replay done").
     std::vector<TraceSample> replay;
+    // Out of core (docs/viewer.md "Large clouds").
+    /// Bytes the points' GPU buffers take at most (--gpu-mb): nodes the view no longer wants
+    /// leave the GPU, least recently drawn first, to make room for those it wants.
+    std::size_t gpu_bytes = std::size_t(2048) << 20;
+    /// Bytes uploaded to the GPU per frame at most (--upload-mb); 0: upload_points_per_frame counts.
+    std::size_t upload_bytes_per_frame = 0;
+    /// Choose point_budget from the GPU class (GL_RENDERER / GL_VENDOR, point_budget.hpp)
+    /// instead: `view` sets it when no --point-budget is given.
+    bool point_budget_auto = false;
+    /// Lower the point budget while frames run late, raise it again up to point_budget
+    /// (--adaptive-budget; `view` turns it on for interactive runs, off with --frames).
+    bool adaptive_budget = false;
 };
 
 /// Throws core::Error("view: ...") for values out of range.
