@@ -50,7 +50,8 @@ bool rerunHeadless(const BenchViewArgs& a) {
         std::string sizes;
         for (std::size_t n : a.ooc.points) sizes += (sizes.empty() ? "" : ",") + std::to_string(n);
         ooc_args = " --ooc-points " + sizes + " --head-paths " + shellQuote(a.ooc.head_paths) + " --cache-mb " +
-                   std::to_string(a.ooc.cache_mb) + " --in-core-max " + std::to_string(a.ooc.in_core_max_points) +
+                   std::to_string(a.ooc.cache_mb) + " --gpu-mb " + std::to_string(a.ooc.gpu_mb) + " --in-core-max " +
+                   std::to_string(a.ooc.in_core_max_points) +
                    (a.ooc.dir.empty() ? std::string() : " --ooc-dir " + shellQuote(a.ooc.dir)) +
                    (a.no_md ? " --no-md" : "");
     }
@@ -211,6 +212,8 @@ void registerView(CLI::App& parent) {
     cmd->add_option("--head-paths", args->ooc.head_paths, "ooc: any of orbit, fly-in, turn (comma separated)")
         ->capture_default_str();
     cmd->add_option("--cache-mb", args->ooc.cache_mb, "ooc: the COPC source's RAM cache, as view --cache-mb")
+        ->capture_default_str();
+    cmd->add_option("--gpu-mb", args->ooc.gpu_mb, "ooc: the renderer's GPU arena, as view --gpu-mb")
         ->capture_default_str();
     cmd->add_option("--in-core-max", args->ooc.in_core_max_points,
                     "ooc: the in-core baseline only for clouds of at most this many points")

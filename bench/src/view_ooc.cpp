@@ -48,8 +48,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr double kFrameRate_hz = 90.0;   // the head paths advance one 90 Hz step per frame
-constexpr double kGpuPointBytes = 20.0;  // render::GpuPoint
+constexpr double kFrameRate_hz = 90.0;  // the head paths advance one 90 Hz step per frame
 
 /// A head path in the cloud's local frame: the head moves for `moving_frames` frames,
 /// then stays at its last pose (the still phase, where full detail is awaited).
@@ -183,19 +182,20 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     std::unique_ptr<viewer::CloudFeedSource> stream_source;
     glm::dvec3 origin(0.0);
     const std::size_t cache_bytes = std::size_t(o.cache_mb * 1048576.0);
+    const std::size_t gpu_bytes = std::size_t(o.gpu_mb * 1048576.0);
     if (ooc) {
         viewer::CopcSourceOptions co;
         co.cache_bytes = cache_bytes;
         co.quiet = true;
         copc = std::make_unique<viewer::CopcSource>(file, co);
         origin = copc->origin();
-        stereo.follow(*copc);
+        stereo.follow(*copc, gpu_bytes);
     } else {
         origin = io::CloudReader(file).origin();  // the loader's frame (its reader reads the same header)
         feed.enableLodOrder();
         feed.startFileLoader(file);
         stream_source = std::make_unique<viewer::CloudFeedSource>(feed);
-        stereo.follow(*stream_source);
+        stereo.follow(*stream_source, gpu_bytes);
     }
     const double open_s = secondsSince(t_open);
     const viewer::PointSource& source = ooc ? static_cast<viewer::PointSource&>(*copc) : *stream_source;
@@ -235,7 +235,7 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
         const auto drawn = stereo.lastDrawnPerEye();
         max_eye = std::max({max_eye, drawn[0], drawn[1]});
         if (o.point_budget && (drawn[0] > o.point_budget || drawn[1] > o.point_budget)) ++over_budget_frames;
-        gpu_peak_bytes = std::max(gpu_peak_bytes, double(stereo.uploadedPoints()) * kGpuPointBytes);
+        gpu_peak_bytes = std::max(gpu_peak_bytes, double(stereo.gpuBytesPeak()));
         if (ooc) select_ms.push_back(step.select_ms);
         plan_ms.push_back(plan);
         upload_ms.push_back(step.upload_ms);
@@ -254,17 +254,11 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
         if (moving) continue;
         bool full = false;
         if (ooc) {
-            // Full detail: every node the selection wants for this still view is resident
-            // and on the GPU.
-            const std::optional<viewer::SourceView>& view = stereo.lastView();
-            full = view.has_value() && stereo.pendingPoints() == 0;
-            if (full) {
-                const viewer::NodeSelection sel =
-                    viewer::selectNodes(copc->roots(), view->frusta, view->eye_local,
-                                        viewer::SelectionBudget{view->point_budget, cache_bytes});
-                full = std::all_of(sel.wanted.begin(), sel.wanted.end(),
-                                   [](const viewer::PointNode* n) { return n->resident(); });
-            }
+            // Full detail: every node the source wants for this still view (its last
+            // selection) is resident and on the GPU.
+            const std::span<viewer::PointNode* const> wanted = copc->wanted();
+            full = stereo.lastView().has_value() && stereo.pendingPoints() == 0 && stereo.gpuNodesRefused() == 0 &&
+                   std::all_of(wanted.begin(), wanted.end(), [](const viewer::PointNode* n) { return n->resident(); });
         } else {
             full = source.finished() && stereo.pendingPoints() == 0;
         }
@@ -417,8 +411,8 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
     md += "Command: `" + command + "` with --ooc-points";
     for (std::size_t i = 0; i < o.points.size(); ++i) md += (i ? "," : " ") + std::to_string(o.points[i]);
     md += " --head-paths " + o.head_paths + " --point-budget " + std::to_string(o.point_budget) + " --cache-mb " +
-          fmt("%g", o.cache_mb) + " --eye " + std::to_string(o.eye_width) + "x" + std::to_string(o.eye_height) +
-          "; machine: " + cpuName() + "; " + utcNow() + ".\n\n";
+          fmt("%g", o.cache_mb) + " --gpu-mb " + fmt("%g", o.gpu_mb) + " --eye " + std::to_string(o.eye_width) + "x" +
+          std::to_string(o.eye_height) + "; machine: " + cpuName() + "; " + utcNow() + ".\n\n";
     md +=
         "Clouds: the demo scene generated with the paper's orbit at a resolution raised to reach each size, written "
         "as COPC by the generator (`generate --out X.copc.laz`). Each head path is drawn by the viewer's offscreen "
@@ -430,7 +424,7 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
         "is resident and uploaded (ooc) or the whole cloud is on the GPU (in-core). Select: the source's choice "
         "(traversal, selection, scheduling) per stereo frame; plan: the renderer's per-cell budget; both CPU ms "
         "median / p99. GPU ms per eye: a GL timer query over both eyes, halved. GPU MiB: point bytes uploaded "
-        "(20 B a point). '-' where a figure does not apply or was not reached.\n\n";
+        "(20 B a point, within the arena of --gpu-mb). '-' where a figure does not apply or was not reached.\n\n";
     md +=
         "| points | nodes | head path | path | first frame s (frames) | full detail s (frames) | peak RSS MiB | GPU "
         "MiB peak | max drawn per eye | frames over budget | loaded / evicted nodes per frame (max) | select ms | "

@@ -17,6 +17,7 @@ struct OocBenchOptions {
     std::string head_paths = "orbit,fly-in,turn";  // any of orbit, fly-in, turn
     std::size_t point_budget = 3000000;            // per eye, as `view --point-budget`
     double cache_mb = 1024.0;                      // CopcSource's RAM cache, as `view --cache-mb`
+    double gpu_mb = 2048.0;                        // the renderer's GPU arena, as `view --gpu-mb`
     std::size_t upload_points = std::size_t(1) << 18;  // per frame, as `view --upload-budget`
     int eye_width = 1440, eye_height = 1600;
     std::size_t in_core_max_points = 20000000;  // the in-core baseline only up to this size

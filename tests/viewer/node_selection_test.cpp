@@ -1,7 +1,7 @@
 // tests/viewer/node_selection_test.cpp: the per-frame node choice over a hand-built tree
 // (no GL): the budget is never exceeded, parents come before their children, nearer and
-// larger nodes before farther ones, nodes outside every frustum are left out, and what
-// is resident but not wanted is offered for eviction.
+// larger nodes before farther ones, nodes outside every frustum are left out, and the
+// traversal never looks below a node it did not take.
 #include <viewer/node_selection.hpp>
 
 #include <render/orbit_camera.hpp>
@@ -27,7 +27,10 @@ class TestNode final : public PointNode {
     }
     const core::Bounds& bounds() const override { return bounds_; }
     std::size_t pointCount() const override { return count_; }
-    std::span<PointNode* const> children() const override { return children_; }
+    std::span<PointNode* const> children() const override {
+        ++children_calls;
+        return children_;
+    }
     void request() override {}
     void evict() override { points_.reset(); }
     std::shared_ptr<const NodePoints> points() const override { return points_; }
@@ -36,6 +39,7 @@ class TestNode final : public PointNode {
     std::size_t count_;
     std::vector<PointNode*> children_;
     std::shared_ptr<const NodePoints> points_;
+    mutable int children_calls = 0;  // how often the traversal asked for the children
 };
 
 /// An octree of `levels` levels over the cube [0, 64)^3, `per_node` points in each node.
@@ -139,16 +143,18 @@ TEST_CASE("selectNodes leaves out nodes outside every frustum and walks through 
     CHECK(s.wanted.size() < all);
 }
 
-TEST_CASE("selectNodes offers resident nodes it does not want for eviction") {
-    Tree tree(3);
+TEST_CASE("selectNodes looks only at the nodes it takes and their children") {
+    Tree tree(4);  // 1 + 8 + 64 + 512 nodes
     auto points = std::make_shared<NodePoints>();
-    TestNode* far_leaf = tree.nodes.back().get();  // the last leaf: the corner at (48, 48, 48)
-    far_leaf->points_ = points;
-    tree.nodes[0]->points_ = points;  // the root, always wanted first
-    const NodeSelection s = selectNodes(tree.roots, {}, glm::dvec3(1.0), {300, 0});
-    CHECK(std::find(s.wanted.begin(), s.wanted.end(), tree.nodes[0].get()) != s.wanted.end());
-    REQUIRE(s.evictable.size() == 1);
-    CHECK(s.evictable[0] == far_leaf);
+    tree.nodes.back()->points_ = points;  // a resident leaf far from what is taken
+    // Room for the root and its 8 children only.
+    const NodeSelection s = selectNodes(tree.roots, {}, glm::dvec3(1.0), {900, 0});
+    CHECK(s.wanted.size() == 9);
+    CHECK(s.points == 900);
+    std::size_t asked = 0;
+    for (const auto& n : tree.nodes) asked += n->children_calls > 0;
+    CHECK(asked == 9);  // the root and its children, whose own children were pushed and refused
+    CHECK(tree.nodes.back()->children_calls == 0);
 }
 
 TEST_CASE("selectNodes keeps the wanted nodes within the GPU arena's bytes") {

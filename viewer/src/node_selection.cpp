@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <queue>
-#include <unordered_set>
 #include <utility>
 
 namespace viewer {
@@ -38,7 +37,6 @@ NodeSelection selectNodes(std::span<PointNode* const> roots, std::span<const ren
         if (seen(n)) queue.emplace(screenImportance(n->bounds(), eye_local), n);
     };
     for (PointNode* r : roots) push(r);
-    std::unordered_set<const PointNode*> wanted;
     while (!queue.empty()) {
         PointNode* n = queue.top().second;
         queue.pop();
@@ -51,20 +49,11 @@ NodeSelection selectNodes(std::span<PointNode* const> roots, std::span<const ren
             continue;  // does not fit: neither it nor its subtree (its children need it first)
         if (count) {
             out.wanted.push_back(n);
-            wanted.insert(n);
             out.points += count;
             out.bytes += bytes;
             out.gpu_bytes += gpu;
         }
         for (PointNode* c : n->children()) push(c);
-    }
-    // Everything resident that this frame does not want, wherever it is in the tree.
-    std::vector<PointNode*> stack(roots.begin(), roots.end());
-    while (!stack.empty()) {
-        PointNode* n = stack.back();
-        stack.pop_back();
-        if (n->resident() && !wanted.contains(n)) out.evictable.push_back(n);
-        for (PointNode* c : n->children()) stack.push_back(c);
     }
     return out;
 }

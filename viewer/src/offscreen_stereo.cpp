@@ -91,7 +91,10 @@ void OffscreenStereo::upload(const core::PointCloud& cloud) {
     impl_->renderer.stream(*impl_->sources.back(), cloud.points.size());
 }
 
-void OffscreenStereo::follow(PointSource& source) { impl_->followed = &source; }
+void OffscreenStereo::follow(PointSource& source, std::size_t gpu_bytes) {
+    impl_->followed = &source;
+    impl_->renderer.setGpuBytes(gpu_bytes);
+}
 
 OffscreenStereo::StreamStep OffscreenStereo::stream(std::size_t upload_points) {
     StreamStep step;
@@ -115,6 +118,9 @@ OffscreenStereo::StreamStep OffscreenStereo::stream(std::size_t upload_points) {
 }
 
 std::size_t OffscreenStereo::pendingPoints() const { return impl_->renderer.pendingPoints(); }
+std::size_t OffscreenStereo::gpuBytes() const { return impl_->renderer.arena().bytes; }
+std::size_t OffscreenStereo::gpuBytesPeak() const { return impl_->renderer.arena().bytes_peak; }
+std::size_t OffscreenStereo::gpuNodesRefused() const { return impl_->renderer.arena().nodes_refused; }
 
 std::array<std::size_t, 2> OffscreenStereo::lastDrawnPerEye() const { return impl_->drawn; }
 

@@ -82,6 +82,7 @@ void SourceStream::reset(PointSource& source) {
     building_ = {};  // waits for a build in flight
     rebuilding_ = {};
     node_picks_.clear();
+    levels_.clear();
     source_ = &source;
     renderer_ = std::make_unique<PointRenderer>();
     applyBudget();
@@ -167,11 +168,12 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
         if (!rebuilding_.valid() && renderer_->pendingPoints() == 0) {
             std::vector<std::tuple<const PointNode*, std::shared_ptr<const NodePoints>, int>> resident;
             bool same = true;
-            const std::map<const PointNode*, int> levels = nodeLevels(*source_);
+            if (levels_.empty()) levels_ = nodeLevels(*source_);
             for (const PointNode* node : allNodes(*source_))
                 if (auto points = node->points(); points && !points->points.empty()) {
                     same = same && node_picks_.contains(node);
-                    resident.emplace_back(node, std::move(points), levels.at(node));
+                    const auto level = levels_.find(node);
+                    resident.emplace_back(node, std::move(points), level != levels_.end() ? level->second : -1);
                 }
             if (!same || resident.size() != node_picks_.size())
                 rebuilding_ = std::async(std::launch::async, [resident = std::move(resident), old = node_picks_] {

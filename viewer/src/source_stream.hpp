@@ -85,6 +85,9 @@ class SourceStream {
     };
     std::future<NodePicks> rebuilding_;
     std::map<const PointNode*, std::shared_ptr<const PickIndex>> node_picks_;
+    /// Each node's octree level, for a source that chooses its nodes (its tree is whole
+    /// from the start): made once per source, not once per frame.
+    std::map<const PointNode*, int> levels_;
     std::shared_ptr<const PickSet> picks_;
     std::string error_;
     long loaded_since_frame_ = -1;

@@ -7,8 +7,11 @@
 // whose parent was taken; a node that does not fit the remaining budget is passed over
 // with its whole subtree. So parents come before their children, nearer and larger nodes
 // before farther and smaller ones, and the total never exceeds the budget (points, RAM
-// bytes and GPU bytes: what is drawn is what is on the GPU). Pure maths on
-// the nodes' bounds and counts: no GL, no I/O.
+// bytes and GPU bytes: what is drawn is what is on the GPU). Only the taken nodes and
+// their children are looked at, never the rest of the tree, so a frame's cost follows
+// what it draws, not the size of the file (which nodes leave the cache is the source's
+// business: it knows what it holds). Pure maths on the nodes' bounds and counts: no GL,
+// no I/O.
 #pragma once
 #include <viewer/point_source.hpp>
 
@@ -27,11 +30,10 @@ struct SelectionBudget {
 };
 
 struct NodeSelection {
-    std::vector<PointNode*> wanted;     // in traversal order: parents first, most important first
-    std::vector<PointNode*> evictable;  // resident but not wanted this frame
-    std::size_t points = 0;             // of the wanted nodes
-    std::size_t bytes = 0;              // nodeBytes() of the wanted nodes
-    std::size_t gpu_bytes = 0;          // gpuBytes() of the wanted nodes
+    std::vector<PointNode*> wanted;  // in traversal order: parents first, most important first
+    std::size_t points = 0;          // of the wanted nodes
+    std::size_t bytes = 0;           // nodeBytes() of the wanted nodes
+    std::size_t gpu_bytes = 0;       // gpuBytes() of the wanted nodes
 };
 
 /// Memory a node's points take once resident (NodePoints: the points and at most as many

@@ -60,11 +60,17 @@ class OffscreenStereo {
     /// `source` must outlive this object. Then each stream() does what the viewer's frame
     /// loop does before it plans a frame: hands the source the view planned last
     /// (PointSource::select), takes what arrived (poll) and uploads at most `upload_points`
-    /// points. Never waits for the source's workers.
-    void follow(PointSource& source);
+    /// points into a GPU arena of at most `gpu_bytes` (0 = unlimited; the viewer's
+    /// --gpu-mb). Never waits for the source's workers.
+    void follow(PointSource& source, std::size_t gpu_bytes = 0);
     StreamStep stream(std::size_t upload_points);
     /// Points that reached the followed source but are not on the GPU yet.
     std::size_t pendingPoints() const;
+    /// Bytes of the point buffers on the GPU now and at most so far, and the nodes the
+    /// source wants that are resident but found no room in the arena at the last stream().
+    std::size_t gpuBytes() const;
+    std::size_t gpuBytesPeak() const;
+    std::size_t gpuNodesRefused() const;
     std::size_t uploadedPoints() const;
     std::size_t cellCount() const;
     /// Bounds (local frame) of everything uploaded; its centre is the orbit centre.
