@@ -56,8 +56,8 @@ struct ViewArgs {
     bool no_snap_turn = false, no_vignette = false, no_headset_panel = false;
     double memory_mb = 0.0;
     double cache_mb = 512.0;
-    ViewIndexOptions index;   // which path a cloud file that is not COPC takes
-    bool cut = false;         // the cutting volume on from the start
+    ViewIndexOptions index;  // which path a cloud file that is not COPC takes
+    bool cut = false;        // the cutting volume on from the start
     double gpu_mb = 2048.0, upload_mb = 0.0;
     std::string adaptive_budget;  // on, off; empty: on unless --frames
     bool point_budget_given = false, upload_budget_given = false;
