@@ -129,6 +129,11 @@ void run(const BenchDetectCli& cli) {
     if (!(cli.threshold >= 0.0 && cli.threshold <= 1.0))
         throw core::Error("bench detect: --threshold = " + fmt("%g", cli.threshold) + ": allowed [0, 1]");
     const auto start = Clock::now();
+    if (!cli.trained.clouds.empty()) {  // the per-cloud table only; BENCHMARKS.md stays
+        if (cli.trained.model.empty()) throw core::Error("bench detect: --clouds needs --model");
+        std::printf("%s", rankClouds(cli.trained).c_str());
+        return;
+    }
     if (cli.trained.quick) {  // a smoke run of the trained comparison only; BENCHMARKS.md stays
         std::printf("%s", runTrainedComparison(cli.trained).c_str());
         return;
@@ -212,6 +217,9 @@ void registerDetect(CLI::App& parent) {
     c->add_flag("--no-md", state->no_md, "print only, leave BENCHMARKS.md alone");
     c->add_flag("--quick", state->trained.quick,
                 "smoke run: only the trained-against-baseline comparison on tiny corpora; BENCHMARKS.md stays");
+    c->add_option("--clouds", state->trained.clouds,
+                  "only rank the target in these labelled clouds with --model and the baseline; BENCHMARKS.md stays");
+    c->add_option("--model", state->trained.model, "the trained model --clouds uses");
     c->add_option("--tmp", state->trained.tmp, "scratch folder for the corpora (default: a new one, removed)");
     c->add_option("--threads", state->trained.threads, "threads of the trained detector and the generator")
         ->capture_default_str();

@@ -253,4 +253,47 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
     return s.str();
 }
 
+std::string rankClouds(const TrainedBenchOptions& o) {
+    detect::BoostedOptions bo;
+    bo.model = o.model;
+    bo.min_probability = 0.0;
+    bo.max_candidates = 1000000;
+    bo.threads = o.threads;
+    const detect::BoostedDetector trained(bo);
+    detect::ClusterOptions co;
+    co.min_score = 0.0;
+    co.max_candidates = 1000000;
+    const detect::ClusterDetector baseline(co);
+    std::ostringstream s;
+    s << "| cloud | points | target points | ground sigma m | height threshold m | above terrain | segments | "
+         "largest segment | target's segment (target points) | trained rank (score) | baseline rank |\n"
+         "|---|---:|---:|---:|---:|---:|---:|---:|---|---|---:|\n";
+    for (const fs::path& path : o.clouds) {
+        const core::PointCloud c = io::readCloud(path);
+        std::size_t target_points = 0;
+        for (const core::CloudPoint& p : c.points) target_points += p.label == core::Role::Target;
+        detect::BoostedStats st;
+        const std::vector<detect::Detection> found = trained.detect(c, st);
+        std::size_t largest = 0, best = 0, best_target = 0;
+        for (std::size_t k = 0; k < found.size(); ++k) {
+            largest = std::max(largest, found[k].points.size());
+            std::size_t t = 0;
+            for (const std::uint32_t i : found[k].points) t += c.points[i].label == core::Role::Target;
+            if (t > best_target) best_target = t, best = k;
+        }
+        const Outcome t_out = evaluate(trained, c), b_out = evaluate(baseline, c);
+        s << "| " << path.filename().string() << " | " << c.points.size() << " | " << target_points << " | "
+          << fmt("%.3f", st.ground_sigma_m) << " | " << fmt("%.2f", st.min_height_m) << " | " << st.above_points
+          << " | " << st.segments << " | " << largest << " | "
+          << (best_target ? std::to_string(found[best].points.size()) + " (" + std::to_string(best_target) + ")"
+                          : std::string("none"))
+          << " | "
+          << (t_out.rank ? std::to_string(t_out.rank) + " (" + fmt("%.3f", found[t_out.rank - 1].candidate.score) + ")"
+                         : std::string("not found"))
+          << " | " << (b_out.rank ? std::to_string(b_out.rank) : std::string("not found")) << " |\n";
+        std::fprintf(stderr, "bench detect: %s done\n", path.string().c_str());
+    }
+    return s.str();
+}
+
 }  // namespace bench

@@ -91,6 +91,8 @@ std::vector<Detection> BoostedDetector::detect(const core::PointCloud& cloud, Bo
     DescribedSegments described = describeSegments(cloud, info.segments, info.target_size_m, options_.threads);
     local.above_points = described.segmentation.above_points;
     local.segments = described.segmentation.segments.size();
+    local.ground_sigma_m = described.segmentation.ground_sigma_m;
+    local.min_height_m = described.segmentation.min_height_m;
     local.seconds_features = secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
     const std::vector<float> margins = model_->margins(described.rows, options_.threads);

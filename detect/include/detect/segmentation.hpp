@@ -22,8 +22,10 @@ namespace detect {
 struct SegmentOptions {
     sim::SmrfOptions terrain;          // step 1 (PDAL's defaults)
     double min_height_m = 0.25;        // step 2: points at most this high above the terrain are ground
+    double ground_sigmas = 3.0;        // step 2: ... or at most this many ground thicknesses (sigma), [0, 20]
     double voxel_m = 0.25;             // step 2's voxel side, [0.05, 10] m
     double cluster_tolerance_m = 0.5;  // step 2, (voxel_m / 2, 10] m
+    int core_points = 3;               // step 2: a voxel with fewer points joins no two segments, [1, 1000]
     int min_points = 20;               // step 3, >= 1
 };
 
@@ -36,6 +38,8 @@ struct Segmentation {
     /// Each segment's point indices, ascending; segments ordered by their first point.
     std::vector<std::vector<std::uint32_t>> segments;
     std::size_t above_points = 0;  // points that went into step 2
+    double ground_sigma_m = 0;     // the ground thickness step 1 measured (one sigma)
+    double min_height_m = 0;       // the height threshold step 2 used
 };
 
 /// Steps 1-3 on `cloud`: a pure function of the cloud and the options (single-threaded,
