@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <unistd.h>
@@ -48,7 +49,24 @@ struct Outcome {
 struct Cloud {
     std::string name;
     core::PointCloud cloud;
+    bool ideal = true;  // seen by the ideal sensor (else by a preset)
 };
+
+// Each item's sensor preset, from its manifest line's replay options (no --sensor: ideal).
+std::map<std::string, std::string> sensorOfItems(const fs::path& dir) {
+    std::map<std::string, std::string> out;
+    std::istringstream lines(readText(dir / "manifest.jsonl"));
+    for (std::string line; std::getline(lines, line);) {
+        if (line.empty()) continue;
+        const nlohmann::json j = nlohmann::json::parse(line);
+        std::string sensor = "ideal";
+        const auto& args = j.at("generate");
+        for (std::size_t k = 0; k + 1 < args.size(); ++k)
+            if (args[k] == "--sensor") sensor = args[k + 1].get<std::string>();
+        out[j.at("id").get<std::string>()] = sensor;
+    }
+    return out;
+}
 
 Outcome evaluate(const detect::Detector& d, const core::PointCloud& c) {
     Outcome o;
@@ -156,7 +174,7 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
 
     // Training corpora: the shipped model's SPECs (smaller with --quick).
     std::vector<fs::path> train_dirs;
-    for (const char* name : {"train_flat", "train_slopes"}) {
+    for (const char* name : {"train_flat", "train_slopes", "train_flat_sensors", "train_slopes_sensors"}) {
         nlohmann::json spec = nlohmann::json::parse(readText(assets / "detect" / (std::string(name) + ".json")));
         spec["scene"] = (assets / "detect" / spec["scene"].get<std::string>()).lexically_normal().string();
         if (o.quick) {
@@ -183,7 +201,7 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
 
     // Evaluation clouds.
     std::vector<Cloud> clouds;
-    const int eval_count = o.quick ? 1 : 10;
+    const int eval_count = o.quick ? 1 : o.eval_items;
     std::uint64_t seed = 9001;
     for (const char* scene : {"demo", "hilly", "hard", "slopes"}) {
         nlohmann::json spec = {
@@ -195,15 +213,21 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
               {"target_offset_m", {{"min", 0}, {"max", std::string(scene) == "slopes" ? 20 : 40}}},
               {"target_files", {(assets / "common" / "tank.obj").string(), (assets / "common" / "truck.obj").string()}},
               {"environment_keep_fraction", {{"min", 0.7}, {"max", 1.0}}},
-              {"altitude_m", {{"min", 200}, {"max", 400}}},
-              {"alpha_deg", {{"min", 30}, {"max", 60}}},
+              {"sensor_preset", {"ideal", "riegl-vux1uav", "livox-avia"}},
+              // Within the shorter-ranged preset's reach (450 m at 300 m and 45 deg).
+              {"altitude_m", {{"min", 200}, {"max", 300}}},
+              {"alpha_deg", {{"min", 30}, {"max", 45}}},
               {"resolution", 128}}}};
         if (o.quick) spec["vary"]["views"] = 16;
         const fs::path dir = tmp / (std::string("eval_") + scene);
         buildCorpus(writeSpec(tmp, std::string("eval_") + scene, spec), dir, o.threads);
         const detect::CorpusListing l = detect::listCorpus(dir);
-        for (std::size_t k = 0; k < l.clouds.size(); ++k)
-            clouds.push_back({std::string(scene) + " " + l.ids[k], io::readCloud(l.clouds[k])});
+        const std::map<std::string, std::string> sensors = sensorOfItems(dir);
+        for (std::size_t k = 0; k < l.clouds.size(); ++k) {
+            const std::string sensor = sensors.count(l.ids[k]) ? sensors.at(l.ids[k]) : "ideal";
+            clouds.push_back(
+                {std::string(scene) + " " + l.ids[k] + " " + sensor, io::readCloud(l.clouds[k]), sensor == "ideal"});
+        }
     }
     for (const std::string_view preset : sim::sensorPresetNames()) {
         if (preset == "ideal") continue;
@@ -215,7 +239,7 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
             if (o.quick) g.orbit.views = 16;
             std::fprintf(stderr, "bench detect: %s seen by %s\n", scene, std::string(preset).c_str());
             clouds.push_back({std::string(scene) + " " + std::string(preset),
-                              sim::generateCloud(io::loadScene(assets / scene / "scene.json"), g)});
+                              sim::generateCloud(io::loadScene(assets / scene / "scene.json"), g), false});
         }
     }
 
@@ -241,6 +265,11 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
                      b_out.back().rank);
     }
     const Summary ts = summarise(t_out), bs = summarise(b_out);
+    std::vector<Outcome> t_ideal, t_noisy, b_ideal, b_noisy;
+    for (std::size_t k = 0; k < clouds.size(); ++k) {
+        (clouds[k].ideal ? t_ideal : t_noisy).push_back(t_out[k]);
+        (clouds[k].ideal ? b_ideal : b_noisy).push_back(b_out[k]);
+    }
     std::ostringstream s;
     s << "Trained on " << report.items << " items (" << report.heldout_items << " held out for the calibration), "
       << report.segments << " segments, " << report.positives << " target segments, in " << fmt("%.1f", train_s)
@@ -248,7 +277,10 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
       << (o.quick ? " (--quick: tiny corpora and clouds, a smoke run, not a measurement)" : "") << ".\n\n"
       << "| detector | clouds | target ranked 1st | in the top 3 | found at all | threshold for >= 90 % found | "
          "false candidates per cloud there | median detect s |\n|---|---:|---:|---:|---:|---:|---:|---:|\n"
-      << row("trained (`--model`)", ts) << row("clustering baseline", bs) << "\n"
+      << row("trained (`--model`)", ts) << row("clustering baseline", bs)
+      << row("trained, ideal sensor", summarise(t_ideal)) << row("baseline, ideal sensor", summarise(b_ideal))
+      << row("trained, sensor presets", summarise(t_noisy)) << row("baseline, sensor presets", summarise(b_noisy))
+      << "\n"
       << per.str();
     return s.str();
 }

@@ -11,6 +11,7 @@ struct TrainedBenchOptions {
     bool quick = false;                         // tiny corpora and clouds: a smoke run, figures not meaningful
     std::filesystem::path tmp;                  // scratch folder (empty: a new one under the temp dir, removed)
     int threads = 2;                            // the trained detector's and the generator's threads
+    int eval_items = 10;                        // evaluation items per scene
     std::vector<std::filesystem::path> clouds;  // --clouds: only the per-cloud table of these
     std::filesystem::path model;                // --model: the model --clouds uses
 };
