@@ -1,12 +1,15 @@
 // bench/src/detect_trained.cpp: the trained detector (detect/boosted_detector.hpp) against
 // the clustering baseline (detect/cluster_detector.hpp), both on the same evaluation clouds.
 //
-// Training: the corpora of assets/detect/train_flat.json and train_slopes.json (the tank
-// only; flat and sloped village). Evaluation, never seen in training:
+// Training: the corpora of assets/detect/train_*.json (the tank only; flat and sloped
+// village, seen by the ideal sensor and by the sensor presets). Evaluation, never seen in
+// training:
 //   - corpora of the demo (flat), hilly, hard (forest) and slopes scenes with other seeds,
-//     whose target is the tank or a box truck (assets/common/truck.obj, not in training);
+//     whose target is the tank or a box truck (assets/common/truck.obj, not in training),
+//     each item seen by the ideal sensor or one of the presets (the corpus key
+//     sensor_preset);
 //   - the bundled demo, hilly and hard scenes seen by each sensor preset but the ideal one
-//     (noise, footprints, several returns), which training never saw either.
+//     (noise, footprints, several returns).
 // Per cloud, the rank of the first true positive (a candidate most of whose points are
 // labelled target) among all candidates; rank-1 and top-3 shares; the false candidates per
 // cloud at the highest score threshold that still finds >= 90 % of the targets; and the
