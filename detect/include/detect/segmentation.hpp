@@ -3,11 +3,16 @@
 // its height above a surface that follows hills and slopes, so a target on a slope stands
 // out of it instead of merging into a tilted "ground" left over by a per-tile plane.
 //
-//   1) terrain: SMRF on the whole cloud; every point gets its height above the terrain;
-//   2) the points higher than min_height_m above it (and not SMRF ground) are binned into
-//      voxels of voxel_m; two occupied voxels whose centroids are within
-//      cluster_tolerance_m join one segment (union-find, the Euclidean clustering of
-//      Rusu's thesis on voxel centroids, as the baseline does);
+//   1) terrain: SMRF on the whole cloud, fed each point with its view, so on a noisy
+//      sensor's thick ground each view's height error is taken off and the terrain runs
+//      through the ground's centre (sim's whole-cloud fit, docs/ground.md); every point
+//      gets its height above the terrain, and the ground's thickness is measured;
+//   2) the points higher than min_height_m or ground_sigmas thicknesses above it (and not
+//      SMRF ground) are binned into voxels of voxel_m; two dense voxels (core_points
+//      points or more) whose centroids are within cluster_tolerance_m join one segment
+//      (union-find, the Euclidean clustering of Rusu's thesis on voxel centroids, as the
+//      baseline does); a sparse voxel joins the segment of its nearest dense voxel
+//      within reach (DBSCAN's border points), so it never chains two segments;
 //   3) segments under min_points points are dropped as noise.
 #pragma once
 #include <core/point_cloud.hpp>
