@@ -328,8 +328,8 @@ std::string rankClouds(const TrainedBenchOptions& o) {
         }
         const Outcome t_out = evaluate(trained, c), b_out = evaluate(baseline, c);
         s << "| " << path.filename().string() << " | " << c.points.size() << " | " << target_points << " | "
-          << fmt("%.3f", st.ground_sigma_m) << " | " << fmt("%.2f", st.min_height_m) << " | " << st.above_points
-          << " | " << st.segments << " | " << largest << " | "
+          << fmt("%.3f", st.ground_sigma_m) << " | " << fmt("%.2f", st.min_height_m) << ", core " << st.core_points
+          << " | " << st.above_points << " | " << st.segments << " | " << largest << " | "
           << (best_target ? std::to_string(found[best].points.size()) + " (" + std::to_string(best_target) + ")"
                           : std::string("none"))
           << " | "

@@ -84,7 +84,10 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
             fit->add(chunk);
         }
         fit->fit();
-        out.ground_sigma_m = fit->surface().ground_sigma_m;
+        const sim::TerrainGrid& t = fit->surface();
+        out.ground_sigma_m = t.ground_sigma_m;
+        const double observed_m2 = double(t.observed_cells) * t.cell_m * t.cell_m;
+        if (observed_m2 > 0) out.points_per_voxel_face = double(n) / observed_m2 * o.voxel_m * o.voxel_m;
         for (std::size_t i = 0; i < n; ++i) {
             core::CloudPoint p = cloud.points[i];
             if (!cloud.fields.view) p.view = 0;
@@ -129,7 +132,12 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     // axis). A voxel with fewer than core_points points does not join two segments: it
     // is attached to its nearest dense voxel within reach afterwards, so a sparse trail
     // of noise or mixed returns between a crown and a vehicle does not chain them.
-    const auto dense = [&](std::size_t v) { return counts[v] >= std::uint32_t(o.core_points); };
+    // The bar follows the cloud's sampling: at most half the points a voxel's face of
+    // level ground holds on average (the cloud's points over the terrain's observed
+    // area), so a sparsely sampled cloud (few views, a far orbit), whose surfaces hold one
+    // or two points a voxel, still joins them.
+    out.core_points = int(std::clamp(std::floor(out.points_per_voxel_face / 2.0), 1.0, double(o.core_points)));
+    const auto dense = [&](std::size_t v) { return counts[v] >= std::uint32_t(out.core_points); };
     std::vector<std::uint32_t> parent(voxels);
     std::iota(parent.begin(), parent.end(), 0u);
     const std::int64_t r = std::int64_t(std::ceil(o.cluster_tolerance_m / o.voxel_m));

@@ -30,8 +30,9 @@ struct SegmentOptions {
     double ground_sigmas = 3.0;        // step 2: ... or at most this many ground thicknesses (sigma), [0, 20]
     double voxel_m = 0.25;             // step 2's voxel side, [0.05, 10] m
     double cluster_tolerance_m = 0.5;  // step 2, (voxel_m / 2, 10] m
-    int core_points = 3;               // step 2: a voxel with fewer points joins no two segments, [1, 1000]
-    int min_points = 20;               // step 3, >= 1
+    int core_points =
+        3;  // step 2: a voxel with fewer points joins no two segments (at most half a voxel face's share of the points), [1, 1000]
+    int min_points = 20;  // step 3, >= 1
 };
 
 /// Throws core::Error("detect: <option> = <value>: allowed <range>").
@@ -42,9 +43,11 @@ struct Segmentation {
     std::vector<float> height_m;
     /// Each segment's point indices, ascending; segments ordered by their first point.
     std::vector<std::vector<std::uint32_t>> segments;
-    std::size_t above_points = 0;  // points that went into step 2
-    double ground_sigma_m = 0;     // the ground thickness step 1 measured (one sigma)
-    double min_height_m = 0;       // the height threshold step 2 used
+    std::size_t above_points = 0;      // points that went into step 2
+    double ground_sigma_m = 0;         // the ground thickness step 1 measured (one sigma)
+    double min_height_m = 0;           // the height threshold step 2 used
+    double points_per_voxel_face = 0;  // the cloud's points per voxel_m^2 of observed terrain
+    int core_points = 1;               // the dense voxels' bar step 2 used
 };
 
 /// Steps 1-3 on `cloud`: a pure function of the cloud and the options (single-threaded,
