@@ -12,10 +12,10 @@
 
 namespace {
 
-// Ground of side 40 m every 0.2 m whose points belong to `views` views; each view's
+// Ground of side 40 m every step_m whose points belong to `views` views; each view's
 // ground is shifted by its own height error (a misregistered view) and every point has
 // Gaussian range noise of sigma_m.
-core::PointCloud noisyGround(double sigma_m, int views, double view_error_m, std::uint32_t seed) {
+core::PointCloud noisyGround(double sigma_m, int views, double view_error_m, std::uint32_t seed, double step_m = 0.2) {
     core::PointCloud c;
     c.origin = {100.0, 200.0, 30.0};
     std::mt19937 rng(seed);
@@ -23,8 +23,8 @@ core::PointCloud noisyGround(double sigma_m, int views, double view_error_m, std
     std::vector<double> view_shift(static_cast<std::size_t>(views));
     for (double& s : view_shift) s = shift(rng);
     std::uniform_int_distribution<int> pick(0, views - 1);
-    for (double x = -20; x <= 20; x += 0.2)
-        for (double y = -20; y <= 20; y += 0.2) {
+    for (double x = -20; x <= 20; x += step_m)
+        for (double y = -20; y <= 20; y += step_m) {
             core::CloudPoint p;
             const int v = pick(rng);
             p.view = std::uint16_t(v);
@@ -80,7 +80,8 @@ TEST_CASE("segments: the views' height errors are taken off the ground before he
 }
 
 TEST_CASE("segments: a sparse trail of points does not chain a vehicle to the crown above it") {
-    core::PointCloud c = noisyGround(0.02, 1, 0.0, 9);
+    // Sampled as a full paper cloud is: 100 points per square metre, about 6 per voxel face.
+    core::PointCloud c = noisyGround(0.02, 1, 0.0, 9, 0.1);
     std::mt19937 rng(10);
     test_support::addBoxSurface(c, rng, {0.0, 0.0}, {7.0, 3.5, 2.5}, 0.0, 0.1, core::Role::Target);
     // A crown: a dense slab 1.5 m above the vehicle's roof, wider than the vehicle.
@@ -94,6 +95,8 @@ TEST_CASE("segments: a sparse trail of points does not chain a vehicle to the cr
     const detect::Segmentation chained = detect::segmentCloud(c, o);
     o.core_points = 3;
     const detect::Segmentation apart = detect::segmentCloud(c, o);
+    CHECK(apart.core_points == 3);
+    CHECK(apart.points_per_voxel_face > 6.0);
     auto targetShare = [&](const detect::Segmentation& s) {
         // The share of target points in the segment holding most of them.
         double best = 0;
@@ -107,6 +110,24 @@ TEST_CASE("segments: a sparse trail of points does not chain a vehicle to the cr
     CHECK(targetShare(chained) < 0.5);
     CHECK(targetShare(apart) > 0.95);
     CHECK(largestSegment(apart) < largestSegment(chained));
+}
+
+TEST_CASE("segments: a sparsely sampled cloud joins every voxel") {
+    // 6 points per square metre, 0.4 a voxel face: a surface has no voxel of 3 points.
+    core::PointCloud c = noisyGround(0.02, 1, 0.0, 11, 0.4);
+    std::mt19937 rng(12);
+    test_support::addBoxSurface(c, rng, {0.0, 0.0}, {7.0, 3.5, 2.5}, 0.4, 0.4, core::Role::Target);
+    detect::SegmentOptions o;
+    const detect::Segmentation s = detect::segmentCloud(c, o);
+    CHECK(s.core_points == 1);
+    REQUIRE(!s.segments.empty());
+    std::size_t box = 0;
+    for (const core::CloudPoint& p : c.points) box += p.label == core::Role::Target;
+    // The box stands as one segment (less its lowest rows, within SMRF's ground
+    // tolerance); with a bar of 3 no voxel would be dense and it would fall apart.
+    CHECK(largestSegment(s) * 2 > box);
+    o.core_points = 1;
+    CHECK(detect::segmentCloud(c, o).segments == s.segments);
 }
 
 TEST_CASE("segments: options out of range are one line naming the option") {

@@ -17,9 +17,6 @@ std::shared_ptr<const detect::BoostedModel> trainTiny(detect::TrainReport& repor
     detect::TrainOptions o;
     o.boost.rounds = 40;
     o.holdout_fraction = 0.25;
-    // The synthetic surfaces are sampled every 0.2 m, one or two points per 0.25 m voxel:
-    // every voxel must join (a real sensor's vehicle holds several points per voxel).
-    o.segments.core_points = 1;
     std::vector<detect::TrainingItem> items;
     for (std::uint32_t seed = 1; seed <= 8; ++seed)
         items.push_back(
