@@ -105,10 +105,18 @@ void registerTrain(CLI::App& cli) {
     c->add_option("--min-height-m", o.segments.min_height_m,
                   "points at most this high above the SMRF terrain are ground, [0, 10] m (recorded in the model)")
         ->capture_default_str();
+    c->add_option("--ground-sigmas", o.segments.ground_sigmas,
+                  "... or at most this many measured ground thicknesses (one sigma of a noisy sensor's ground), "
+                  "[0, 20] (recorded in the model)")
+        ->capture_default_str();
     c->add_option("--segment-voxel-m", o.segments.voxel_m, "voxel side of the segmentation, [0.05, 10] m")
         ->capture_default_str();
     c->add_option("--segment-tolerance-m", o.segments.cluster_tolerance_m,
                   "voxels whose centroids are closer join one segment, (voxel / 2, 10] m")
+        ->capture_default_str();
+    c->add_option("--segment-core-points", o.segments.core_points,
+                  "a voxel with fewer points does not join two segments (it joins its nearest denser voxel), "
+                  "[1, 1000]")
         ->capture_default_str();
     c->add_option("--threads", o.boost.threads, "threads for the features and XGBoost, >= 1")->capture_default_str();
     c->add_option("--seed", o.boost.seed, "XGBoost's seed")->capture_default_str();

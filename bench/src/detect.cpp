@@ -129,6 +129,11 @@ void run(const BenchDetectCli& cli) {
     if (!(cli.threshold >= 0.0 && cli.threshold <= 1.0))
         throw core::Error("bench detect: --threshold = " + fmt("%g", cli.threshold) + ": allowed [0, 1]");
     const auto start = Clock::now();
+    if (!cli.trained.clouds.empty()) {  // the per-cloud table only; BENCHMARKS.md stays
+        if (cli.trained.model.empty()) throw core::Error("bench detect: --clouds needs --model");
+        std::printf("%s", rankClouds(cli.trained).c_str());
+        return;
+    }
     if (cli.trained.quick) {  // a smoke run of the trained comparison only; BENCHMARKS.md stays
         std::printf("%s", runTrainedComparison(cli.trained).c_str());
         return;
@@ -184,8 +189,10 @@ void run(const BenchDetectCli& cli) {
       << "### The trained detector against the baseline (clouds not seen in training)\n\n"
       << "bench/src/detect_trained.cpp: training on the corpora of assets/detect/train_*.json; evaluation on "
          "new corpora of the demo, hilly, hard and slopes scenes (other seeds, the tank or a box truck not in "
-         "training) and on the bundled scenes seen by the sensor presets; both detectors rank every segment "
-         "or cluster, a true positive is a candidate most of whose points are labelled target.\n\n"
+         "training, each item seen by the ideal sensor or one of the presets; "
+      << cli.trained.eval_items
+      << " items per scene) and on the bundled scenes seen by the sensor presets; both detectors rank every "
+         "segment or cluster, a true positive is a candidate most of whose points are labelled target.\n\n"
       << trained << "\n";
     replaceMarkdownSection(cli.md, "## Detector (ladarvr bench detect)", s.str());
     std::fprintf(stderr, "bench detect: wrote the section to %s\n", cli.md.c_str());
@@ -212,6 +219,13 @@ void registerDetect(CLI::App& parent) {
     c->add_flag("--no-md", state->no_md, "print only, leave BENCHMARKS.md alone");
     c->add_flag("--quick", state->trained.quick,
                 "smoke run: only the trained-against-baseline comparison on tiny corpora; BENCHMARKS.md stays");
+    c->add_option("--clouds", state->trained.clouds,
+                  "only rank the target in these labelled clouds with --model and the baseline; BENCHMARKS.md stays");
+    c->add_option("--model", state->trained.model, "the trained model --clouds uses");
+    c->add_option("--eval-items", state->trained.eval_items,
+                  "evaluation items per scene (each seen by the ideal sensor or a preset), [1, 1000]")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
     c->add_option("--tmp", state->trained.tmp, "scratch folder for the corpora (default: a new one, removed)");
     c->add_option("--threads", state->trained.threads, "threads of the trained detector and the generator")
         ->capture_default_str();

@@ -3,18 +3,27 @@
 #pragma once
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace bench {
 
 struct TrainedBenchOptions {
-    bool quick = false;         // tiny corpora and clouds: a smoke run, figures not meaningful
-    std::filesystem::path tmp;  // scratch folder (empty: a new one under the temp dir, removed)
-    int threads = 2;            // the trained detector's and the generator's threads
+    bool quick = false;                         // tiny corpora and clouds: a smoke run, figures not meaningful
+    std::filesystem::path tmp;                  // scratch folder (empty: a new one under the temp dir, removed)
+    int threads = 2;                            // the trained detector's and the generator's threads
+    int eval_items = 10;                        // evaluation items per scene
+    std::vector<std::filesystem::path> clouds;  // --clouds: only the per-cloud table of these
+    std::filesystem::path model;                // --model: the model --clouds uses
 };
 
 /// Trains on the corpora of assets/detect/train_*.json, evaluates both detectors on new
 /// corpora (other seeds, terrains, a target model not in training) and on the bundled
 /// scenes seen by the sensor presets; returns the markdown section's body.
 std::string runTrainedComparison(const TrainedBenchOptions& o);
+
+/// Each of o.clouds with o.model and the baseline: the target's rank with each, the
+/// segment holding most target points (its size, its target points), the points above
+/// the terrain, the measured ground thickness; returns a markdown table.
+std::string rankClouds(const TrainedBenchOptions& o);
 
 }  // namespace bench

@@ -79,7 +79,8 @@ std::vector<std::string> ItemPlan::generateArgs() const {
         // Each of the key's options (resolution: --xres and --yres) takes the value.
         for (std::size_t at = 0; at < k->options.size();) {
             const std::size_t end = std::min(k->options.find(' ', at), k->options.size());
-            args.insert(args.end(), {std::string(k->options.substr(at, end - at)), exactNumber(value)});
+            args.insert(args.end(), {std::string(k->options.substr(at, end - at)),
+                                     k->names ? std::string(k->names()[std::size_t(value)]) : exactNumber(value)});
             at = end + 1;
         }
     }

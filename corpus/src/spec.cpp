@@ -7,6 +7,7 @@
 #include <io/strict_json.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
+#include <sim/sensor.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -69,6 +70,10 @@ const std::vector<VaryKey> kVaryKeys = {
      [](Options& o, double v) { o.colour.entries = int(v); }},
     {"ransac_seed", true, 0, 9007199254740992.0, "RANSAC seed (generate --seed)", "--seed",
      [](Options& o, double v) { o.seed = std::uint64_t(v); }},
+    {"sensor_preset", true, 0, double(sim::sensorPresetCount() - 1),
+     "the sensor model: a preset's name (generate --sensor), or its place in the list of presets, from 0 (ideal)",
+     "--sensor", [](Options& o, double v) { o.sensor = sim::sensorPreset(sim::sensorPresetNames()[std::size_t(v)]); },
+     sim::sensorPresetNames},
 };
 
 const VaryKey* findVaryKey(std::string_view name) {
@@ -126,6 +131,15 @@ std::string rangeText(const VaryKey& k) {
 }
 
 double numberValue(const Context& c, const std::string& key, const json& v, const VaryKey& k) {
+    if (k.names && v.is_string()) {
+        const auto names = k.names();
+        for (std::size_t i = 0; i < names.size(); ++i)
+            if (names[i] == v.get<std::string>()) return double(i);
+        std::string list;
+        for (const std::string_view n : names) list += (list.empty() ? "" : ", ") + std::string(n);
+        c.fail(key, "'" + core::printable(v.get<std::string>(), 40) + "' is not a name; allowed " + list +
+                        " or their places in that list, " + rangeText(k));
+    }
     if (!v.is_number() || (v.is_number_float() && !std::isfinite(v.get<double>())))
         c.fail(key, "'" + v.dump() + "' is not a number; allowed " + rangeText(k));
     const double d = v.get<double>();
@@ -157,7 +171,7 @@ NumberVary parseNumber(const Context& c, const std::string& key, const json& v, 
         n.kind = NumberVary::Kind::Choice;
         for (std::size_t i = 0; i < v.size(); ++i)
             n.choices.push_back(numberValue(c, key + "[" + std::to_string(i) + "]", v[i], k));
-    } else if (v.is_number()) {
+    } else if (v.is_number() || (k.names && v.is_string())) {
         n.kind = NumberVary::Kind::Fixed;
         n.min = n.max = numberValue(c, key, v, k);
     } else {

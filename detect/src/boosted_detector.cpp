@@ -69,10 +69,12 @@ BoostedDetector::BoostedDetector(const BoostedOptions& o, std::shared_ptr<const 
 }
 
 std::uint64_t BoostedDetector::memoryBytes(std::uint64_t points) {
-    // Per point: the cloud (40), SMRF's positions, flags and heights with its raster's
-    // share (48), the voxel of each point and the voxel tables (24), the segments' index
-    // lists (8), a segment's feature scratch (32): 152, rounded up to 192 for the
-    // allocator. The fixed part holds the reader's chunk buffer, XGBoost and the model.
+    // Per point: the cloud (40), SMRF's flags and heights with its raster's and the
+    // views' corrections' share (48), the voxel of each point and the voxel tables with
+    // each voxel's dense neighbour (24), the segments' index lists (8), a segment's
+    // feature scratch (32): 152, rounded up to 192 for the allocator. The fixed part
+    // holds the reader's chunk buffer, the terrain fit's chunk of points, XGBoost and
+    // the model.
     constexpr std::uint64_t kBytesPerPoint = 192;
     constexpr std::uint64_t kFixedBytes = std::uint64_t(96) << 20;
     return kFixedBytes + points * kBytesPerPoint;
@@ -91,6 +93,9 @@ std::vector<Detection> BoostedDetector::detect(const core::PointCloud& cloud, Bo
     DescribedSegments described = describeSegments(cloud, info.segments, info.target_size_m, options_.threads);
     local.above_points = described.segmentation.above_points;
     local.segments = described.segmentation.segments.size();
+    local.ground_sigma_m = described.segmentation.ground_sigma_m;
+    local.min_height_m = described.segmentation.min_height_m;
+    local.core_points = described.segmentation.core_points;
     local.seconds_features = secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
     const std::vector<float> margins = model_->margins(described.rows, options_.threads);

@@ -72,8 +72,10 @@ nlohmann::json segmentJson(const SegmentOptions& o) {
             {"smrf_threshold_m", o.terrain.threshold_m},
             {"smrf_scalar", o.terrain.scalar},
             {"min_height_m", o.min_height_m},
+            {"ground_sigmas", o.ground_sigmas},
             {"voxel_m", o.voxel_m},
             {"cluster_tolerance_m", o.cluster_tolerance_m},
+            {"core_points", o.core_points},
             {"min_points", o.min_points}};
 }
 
@@ -262,6 +264,13 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
     i.segments.terrain.threshold_m = num("smrf_threshold_m");
     i.segments.terrain.scalar = num("smrf_scalar");
     i.segments.min_height_m = num("min_height_m");
+    // Files written before the threshold followed the ground's thickness were trained without it.
+    i.segments.ground_sigmas = seg.contains("ground_sigmas") ? num("ground_sigmas") : 0.0;
+    // ... and before sparse voxels stopped joining segments, every voxel joined.
+    const double core_points = seg.contains("core_points") ? num("core_points") : 1.0;
+    if (!(core_points >= 1 && core_points <= 1000 && core_points == std::floor(core_points)))
+        throw bad("segmentation.core_points: allowed an integer in [1, 1000]");
+    i.segments.core_points = int(core_points);
     i.segments.voxel_m = num("voxel_m");
     i.segments.cluster_tolerance_m = num("cluster_tolerance_m");
     const double min_points = num("min_points");

@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <numeric>
+#include <span>
 #include <sstream>
 #include <unordered_map>
 
@@ -42,11 +44,14 @@ void validate(const SegmentOptions& o) {
     sim::validate(o.terrain);
     if (!(std::isfinite(o.min_height_m) && o.min_height_m >= 0.0 && o.min_height_m <= 10.0))
         fail("--min-height-m", o.min_height_m, "[0, 10] m");
+    if (!(std::isfinite(o.ground_sigmas) && o.ground_sigmas >= 0.0 && o.ground_sigmas <= 20.0))
+        fail("--ground-sigmas", o.ground_sigmas, "[0, 20]");
     if (!(std::isfinite(o.voxel_m) && o.voxel_m >= 0.05 && o.voxel_m <= 10.0))
         fail("--segment-voxel-m", o.voxel_m, "[0.05, 10] m");
     if (!(std::isfinite(o.cluster_tolerance_m) && o.cluster_tolerance_m > o.voxel_m / 2.0 &&
           o.cluster_tolerance_m <= 10.0))
         fail("--segment-tolerance-m", o.cluster_tolerance_m, "(voxel / 2, 10] m");
+    if (o.core_points < 1 || o.core_points > 1000) fail("--segment-core-points", o.core_points, "[1, 1000]");
     if (o.min_points < 1) fail("--segment-min-points", o.min_points, ">= 1");
 }
 
@@ -58,13 +63,39 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     const std::size_t n = cloud.points.size();
     if (n == 0) return out;
 
-    // Step 1.
-    std::vector<std::uint8_t> ground;
+    // Step 1: the whole-cloud SMRF run sees the points with their views, so on a real
+    // sensor's thick ground it measures the thickness, takes each view's height error off
+    // and levels each cell at its ground's centre (docs/ground.md); on the ideal sensor's
+    // thin ground it is the published minimum-surface SMRF.
+    std::vector<std::uint8_t> ground(n);
+    out.height_m.resize(n);
     {
-        std::vector<glm::vec3> positions(n);
-        for (std::size_t i = 0; i < n; ++i) positions[i] = cloud.points[i].position;
-        ground = sim::findGroundSmrf(positions, o.terrain, nullptr, &out.height_m);
+        const std::unique_ptr<sim::TerrainFit> fit = sim::startSmrf(o.terrain);
+        constexpr std::size_t kChunk = 1 << 16;
+        std::vector<core::CloudPoint> chunk;
+        for (std::size_t i = 0; i < n; i += kChunk) {
+            const std::span<const core::CloudPoint> part(cloud.points.data() + i, std::min(kChunk, n - i));
+            if (cloud.fields.view) {
+                fit->add(part);
+                continue;
+            }
+            chunk.assign(part.begin(), part.end());  // no views recorded: one view
+            for (core::CloudPoint& p : chunk) p.view = 0;
+            fit->add(chunk);
+        }
+        fit->fit();
+        const sim::TerrainGrid& t = fit->surface();
+        out.ground_sigma_m = t.ground_sigma_m;
+        const double observed_m2 = double(t.observed_cells) * t.cell_m * t.cell_m;
+        if (observed_m2 > 0) out.points_per_voxel_face = double(n) / observed_m2 * o.voxel_m * o.voxel_m;
+        for (std::size_t i = 0; i < n; ++i) {
+            core::CloudPoint p = cloud.points[i];
+            if (!cloud.fields.view) p.view = 0;
+            ground[i] = fit->classify(p, out.height_m[i]);
+        }
     }
+    // A thick ground reaches higher: the threshold grows with its measured thickness.
+    out.min_height_m = std::max(o.min_height_m, o.ground_sigmas * out.ground_sigma_m);
 
     // Step 2: voxels of the points above the terrain, in order of their first point.
     std::unordered_map<std::uint64_t, std::uint32_t> voxel_of_key;
@@ -74,7 +105,7 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     std::vector<std::array<std::int64_t, 3>> cells;
     const glm::dvec3 lo = cloud.bounds().lo;
     for (std::size_t i = 0; i < n; ++i) {
-        if (ground[i] || !(out.height_m[i] > o.min_height_m)) continue;
+        if (ground[i] || !(out.height_m[i] > out.min_height_m)) continue;
         const glm::dvec3 p = glm::dvec3(cloud.points[i].position) - lo;
         const std::int64_t cx = std::int64_t(std::floor(p.x / o.voxel_m)),
                            cy = std::int64_t(std::floor(p.y / o.voxel_m)),
@@ -97,18 +128,29 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     std::vector<glm::dvec3> centroid(voxels);
     for (std::size_t v = 0; v < voxels; ++v) centroid[v] = sums[v] / double(counts[v]);
 
-    // Union-find over voxel pairs within reach (cells up to r apart on each axis).
+    // Union-find over pairs of dense voxels within reach (cells up to r apart on each
+    // axis). A voxel with fewer than core_points points does not join two segments: it
+    // is attached to its nearest dense voxel within reach afterwards, so a sparse trail
+    // of noise or mixed returns between a crown and a vehicle does not chain them.
+    // The bar follows the cloud's sampling: at most half the points a voxel's face of
+    // level ground holds on average (the cloud's points over the terrain's observed
+    // area), so a sparsely sampled cloud (few views, a far orbit), whose surfaces hold one
+    // or two points a voxel, still joins them.
+    out.core_points = int(std::clamp(std::floor(out.points_per_voxel_face / 2.0), 1.0, double(o.core_points)));
+    const auto dense = [&](std::size_t v) { return counts[v] >= std::uint32_t(out.core_points); };
     std::vector<std::uint32_t> parent(voxels);
     std::iota(parent.begin(), parent.end(), 0u);
     const std::int64_t r = std::int64_t(std::ceil(o.cluster_tolerance_m / o.voxel_m));
     const double tol2 = o.cluster_tolerance_m * o.cluster_tolerance_m;
-    for (std::size_t v = 0; v < voxels; ++v) {
+    // Calls visit(neighbour, squared distance) for every voxel within reach of v.
+    const auto forNeighbours = [&](std::size_t v, bool forward_only, auto&& visit) {
         const auto& c = cells[v];
         for (std::int64_t dx = -r; dx <= r; ++dx)
             for (std::int64_t dy = -r; dy <= r; ++dy)
                 for (std::int64_t dz = -r; dz <= r; ++dz) {
                     // Each unordered pair once: the neighbour's key is the larger.
-                    if (dx < 0 || (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0)))) continue;
+                    if (forward_only && (dx < 0 || (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))))) continue;
+                    if (dx == 0 && dy == 0 && dz == 0) continue;
                     const std::int64_t x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
                     if (x < -kKeyOffset || y < -kKeyOffset || z < -kKeyOffset || x > kKeyMax - kKeyOffset ||
                         y > kKeyMax - kKeyOffset || z > kKeyMax - kKeyOffset)
@@ -116,11 +158,32 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
                     const auto it = voxel_of_key.find(packKey(x, y, z));
                     if (it == voxel_of_key.end()) continue;
                     const glm::dvec3 d = centroid[v] - centroid[it->second];
-                    if (glm::dot(d, d) > tol2) continue;
-                    const std::uint32_t a = findRoot(parent, std::uint32_t(v)), b = findRoot(parent, it->second);
-                    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller voxel id is the root
+                    const double d2 = glm::dot(d, d);
+                    if (d2 <= tol2) visit(it->second, d2);
                 }
+    };
+    for (std::size_t v = 0; v < voxels; ++v) {
+        if (!dense(v)) continue;
+        forNeighbours(v, true, [&](std::uint32_t w, double) {
+            if (!dense(w)) return;
+            const std::uint32_t a = findRoot(parent, std::uint32_t(v)), b = findRoot(parent, w);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller voxel id is the root
+        });
     }
+    // Sparse voxels: the segment of the nearest dense voxel (ties: the smaller id); alone
+    // when none is within reach. Read only from dense voxels, so the order does not matter.
+    std::vector<std::uint32_t> attached(voxels);
+    for (std::size_t v = 0; v < voxels; ++v) {
+        attached[v] = std::uint32_t(v);
+        if (dense(v)) continue;
+        double best = tol2 + 1.0;
+        forNeighbours(v, false, [&](std::uint32_t w, double d2) {
+            if (!dense(w)) return;
+            if (d2 < best || (d2 == best && w < attached[v])) best = d2, attached[v] = w;
+        });
+    }
+    for (std::size_t v = 0; v < voxels; ++v)
+        if (!dense(v)) parent[v] = attached[v] == v ? std::uint32_t(v) : findRoot(parent, attached[v]);
 
     // Step 3: segments in order of their root voxel, which is the order of their first point.
     std::vector<std::uint32_t> segment_of_root(voxels, UINT32_MAX);

@@ -10,7 +10,7 @@
 namespace sim {
 namespace {
 
-constexpr std::array<std::string_view, 3> kPresetNames = {"ideal", "riegl-vux1uav", "livox-avia"};
+constexpr std::array<std::string_view, sensorPresetCount()> kPresetNames = {"ideal", "riegl-vux1uav", "livox-avia"};
 
 // GNSS/INS of a survey-grade drone system (post-processed): a few cm in position, about
 // half a milliradian (0.03 deg) in attitude; the per-flight bias is of the same order.

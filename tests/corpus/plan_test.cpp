@@ -161,6 +161,15 @@ TEST_CASE("plan: the scene file names meshes relative to the item folder and rep
     CHECK(std::count(at[1].begin(), at[1].end(), ',') == 2);
 }
 
+TEST_CASE("plan: an item's sensor preset is replayed by its name") {
+    const corpus::Planner planner(spec(R"("sensor_preset": "riegl-vux1uav")", 2));
+    const auto args = planner.plan(0).generateArgs();
+    const auto at = std::find(args.begin(), args.end(), "--sensor");
+    REQUIRE(at != args.end());
+    REQUIRE(at + 1 != args.end());
+    CHECK(at[1] == "riegl-vux1uav");
+}
+
 TEST_CASE("plan: target_files draws every model, each placed clear of the buildings") {
     const std::string assets = LADARVR_ASSETS_DIR;
     const corpus::Spec s =

@@ -3,11 +3,15 @@
 #include <corpus/random.hpp>
 #include <corpus/spec.hpp>
 
+#include <sim/generator.hpp>
+#include <sim/sensor.hpp>
+
 #include <doctest/doctest.h>
 
 #include "test_files.hpp"
 
 #include <string>
+#include <vector>
 
 using test_support::errorOf;
 
@@ -66,6 +70,26 @@ TEST_CASE("spec: a good SPEC is read as written") {
     CHECK(errorOf([&] {
               corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": 1, "format": "e57"})", "s.json");
           }).find("format 'e57' is not one of pcd, pcd-ascii, ply, ply-ascii, las, laz, copc") != std::string::npos);
+}
+
+TEST_CASE("spec: sensor_preset takes the presets' names or their places, and sets the generator's sensor") {
+    test_support::TempDir dir("corpus_spec_sensor");
+    const corpus::Spec s =
+        corpus::parseSpec(withVary(R"("sensor_preset": ["ideal", "livox-avia", 1])"), dir.path / "spec.json");
+    const corpus::NumberVary& n = s.numbers.at("sensor_preset");
+    REQUIRE(n.kind == corpus::NumberVary::Kind::Choice);
+    CHECK(n.choices == std::vector<double>{0, 2, 1});
+    sim::GenerateOptions o;
+    corpus::applyToOptions(o, "sensor_preset", 2);
+    const sim::SensorOptions avia = sim::sensorPreset("livox-avia");
+    CHECK(o.sensor.range_noise_m == avia.range_noise_m);
+    CHECK(o.sensor.attitude_noise_deg == avia.attitude_noise_deg);
+    CHECK_FALSE(sim::isIdeal(o.sensor));
+    corpus::applyToOptions(o, "sensor_preset", 0);
+    CHECK(sim::isIdeal(o.sensor));
+    checkOneLine(specError(withVary(R"("sensor_preset": ["lidar-x"])")), "vary.sensor_preset[0]",
+                 "allowed ideal, riegl-vux1uav, livox-avia");
+    checkOneLine(specError(withVary(R"("sensor_preset": 3)")), "vary.sensor_preset", "allowed integers in [0, 2]");
 }
 
 TEST_CASE("spec: unknown keys, empty ranges, min > max, count < 1 and missing files are one line each") {

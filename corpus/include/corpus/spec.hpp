@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -70,6 +71,9 @@ struct VaryKey {
     /// Sets the generator parameter to a value (integers already whole); null where
     /// `options` is empty.
     void (*apply)(sim::GenerateOptions& o, double value) = nullptr;
+    /// For a key that picks one of named things (sensor_preset): the names, value i
+    /// standing for names()[i]; the SPEC may give the names, the replay line writes them.
+    std::span<const std::string_view> (*names)() = nullptr;
 };
 
 /// Every key `vary` accepts, besides target_files: the one table of vary keys.

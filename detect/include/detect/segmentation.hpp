@@ -3,11 +3,16 @@
 // its height above a surface that follows hills and slopes, so a target on a slope stands
 // out of it instead of merging into a tilted "ground" left over by a per-tile plane.
 //
-//   1) terrain: SMRF on the whole cloud; every point gets its height above the terrain;
-//   2) the points higher than min_height_m above it (and not SMRF ground) are binned into
-//      voxels of voxel_m; two occupied voxels whose centroids are within
-//      cluster_tolerance_m join one segment (union-find, the Euclidean clustering of
-//      Rusu's thesis on voxel centroids, as the baseline does);
+//   1) terrain: SMRF on the whole cloud, fed each point with its view, so on a noisy
+//      sensor's thick ground each view's height error is taken off and the terrain runs
+//      through the ground's centre (sim's whole-cloud fit, docs/ground.md); every point
+//      gets its height above the terrain, and the ground's thickness is measured;
+//   2) the points higher than min_height_m or ground_sigmas thicknesses above it (and not
+//      SMRF ground) are binned into voxels of voxel_m; two dense voxels (core_points
+//      points or more) whose centroids are within cluster_tolerance_m join one segment
+//      (union-find, the Euclidean clustering of Rusu's thesis on voxel centroids, as the
+//      baseline does); a sparse voxel joins the segment of its nearest dense voxel
+//      within reach (DBSCAN's border points), so it never chains two segments;
 //   3) segments under min_points points are dropped as noise.
 #pragma once
 #include <core/point_cloud.hpp>
@@ -22,9 +27,12 @@ namespace detect {
 struct SegmentOptions {
     sim::SmrfOptions terrain;          // step 1 (PDAL's defaults)
     double min_height_m = 0.25;        // step 2: points at most this high above the terrain are ground
+    double ground_sigmas = 3.0;        // step 2: ... or at most this many ground thicknesses (sigma), [0, 20]
     double voxel_m = 0.25;             // step 2's voxel side, [0.05, 10] m
     double cluster_tolerance_m = 0.5;  // step 2, (voxel_m / 2, 10] m
-    int min_points = 20;               // step 3, >= 1
+    int core_points =
+        3;  // step 2: a voxel with fewer points joins no two segments (at most half a voxel face's share of the points), [1, 1000]
+    int min_points = 20;  // step 3, >= 1
 };
 
 /// Throws core::Error("detect: <option> = <value>: allowed <range>").
@@ -35,7 +43,11 @@ struct Segmentation {
     std::vector<float> height_m;
     /// Each segment's point indices, ascending; segments ordered by their first point.
     std::vector<std::vector<std::uint32_t>> segments;
-    std::size_t above_points = 0;  // points that went into step 2
+    std::size_t above_points = 0;      // points that went into step 2
+    double ground_sigma_m = 0;         // the ground thickness step 1 measured (one sigma)
+    double min_height_m = 0;           // the height threshold step 2 used
+    double points_per_voxel_face = 0;  // the cloud's points per voxel_m^2 of observed terrain
+    int core_points = 1;               // the dense voxels' bar step 2 used
 };
 
 /// Steps 1-3 on `cloud`: a pure function of the cloud and the options (single-threaded,

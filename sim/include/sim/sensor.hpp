@@ -60,6 +60,8 @@ bool isIdeal(const SensorOptions& o);
 
 /// Names of the presets: "ideal" and the drone lidar classes of docs/sensor.md.
 std::span<const std::string_view> sensorPresetNames();
+/// How many there are (a constant, for tables built before main).
+inline constexpr std::size_t sensorPresetCount() { return 3; }
 /// A preset's options; throws core::Error("sensor: --sensor '<name>' is not one of ...").
 SensorOptions sensorPreset(std::string_view name);
 

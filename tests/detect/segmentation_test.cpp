@@ -1,0 +1,140 @@
+// tests/detect/segmentation_test.cpp: the trained detector's segments under a noisy
+// sensor: the height threshold follows the measured ground thickness, a sparse trail of
+// points (noise, mixed returns) does not chain a vehicle to the crown above it, and the
+// views' height errors are taken off before heights are measured.
+#include <detect/segmentation.hpp>
+
+#include "labelled_scenes.hpp"
+
+#include <doctest/doctest.h>
+
+#include <random>
+
+namespace {
+
+// Ground of side 40 m every step_m whose points belong to `views` views; each view's
+// ground is shifted by its own height error (a misregistered view) and every point has
+// Gaussian range noise of sigma_m.
+core::PointCloud noisyGround(double sigma_m, int views, double view_error_m, std::uint32_t seed, double step_m = 0.2) {
+    core::PointCloud c;
+    c.origin = {100.0, 200.0, 30.0};
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> noise(0.0, sigma_m), shift(0.0, view_error_m);
+    std::vector<double> view_shift(static_cast<std::size_t>(views));
+    for (double& s : view_shift) s = shift(rng);
+    std::uniform_int_distribution<int> pick(0, views - 1);
+    for (double x = -20; x <= 20; x += step_m)
+        for (double y = -20; y <= 20; y += step_m) {
+            core::CloudPoint p;
+            const int v = pick(rng);
+            p.view = std::uint16_t(v);
+            p.position = glm::vec3(glm::dvec3(x, y, view_shift[std::size_t(v)] + noise(rng)));
+            p.label = core::Role::Ground;
+            c.points.push_back(p);
+        }
+    c.fields.rgb = c.fields.label = c.fields.view = true;
+    return c;
+}
+
+std::size_t largestSegment(const detect::Segmentation& s) {
+    std::size_t n = 0;
+    for (const auto& seg : s.segments) n = std::max(n, seg.size());
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("segments: the height threshold grows with the measured ground thickness") {
+    core::PointCloud c = noisyGround(0.2, 1, 0.0, 5);
+    std::mt19937 rng(6);
+    const std::size_t ground_points = c.points.size();
+    test_support::addBoxSurface(c, rng, {0.0, 0.0}, {7.0, 3.5, 2.5}, 0.3, 0.2, core::Role::Target);
+    detect::SegmentOptions o;
+    const detect::Segmentation s = detect::segmentCloud(c, o);
+    CHECK(s.ground_sigma_m == doctest::Approx(0.2).epsilon(0.25));
+    CHECK(s.min_height_m == doctest::Approx(3.0 * s.ground_sigma_m));
+    o.ground_sigmas = 0.0;
+    const detect::Segmentation flat = detect::segmentCloud(c, o);
+    CHECK(flat.min_height_m == o.min_height_m);
+    // The ground points left above the threshold: fewer with the thickness-aware one.
+    std::size_t ground_above = 0, ground_above_flat = 0;
+    for (std::size_t i = 0; i < ground_points; ++i) {
+        ground_above += s.height_m[i] > s.min_height_m;
+        ground_above_flat += flat.height_m[i] > flat.min_height_m;
+    }
+    INFO(ground_above << " against " << ground_above_flat);
+    CHECK(ground_above * 4 < ground_above_flat);
+    CHECK(ground_above_flat > 100);
+}
+
+TEST_CASE("segments: the views' height errors are taken off the ground before heights are measured") {
+    // Eight views each shifted by about 0.6 m: one view's ground stands well above another's.
+    core::PointCloud c = noisyGround(0.03, 8, 0.6, 7);
+    detect::SegmentOptions o;
+    const detect::Segmentation with_views = detect::segmentCloud(c, o);
+    c.fields.view = false;  // the same points without their views: one ground, as thick as all views together
+    const detect::Segmentation without = detect::segmentCloud(c, o);
+    INFO(with_views.ground_sigma_m << " against " << without.ground_sigma_m);
+    CHECK(with_views.ground_sigma_m < 0.06);
+    CHECK(without.ground_sigma_m > 0.15);
+}
+
+TEST_CASE("segments: a sparse trail of points does not chain a vehicle to the crown above it") {
+    // Sampled as a full paper cloud is: 100 points per square metre, about 6 per voxel face.
+    core::PointCloud c = noisyGround(0.02, 1, 0.0, 9, 0.1);
+    std::mt19937 rng(10);
+    test_support::addBoxSurface(c, rng, {0.0, 0.0}, {7.0, 3.5, 2.5}, 0.0, 0.1, core::Role::Target);
+    // A crown: a dense slab 1.5 m above the vehicle's roof, wider than the vehicle.
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int k = 0; k < 12000; ++k)
+        test_support::addPoint(c, {6.0 * u(rng), 4.0 * u(rng), 4.5 + 0.5 * u(rng)}, core::Role::Environment);
+    // The trail: single points every 0.2 m from the roof up to the crown (mixed returns).
+    for (double z = 2.6; z < 4.0; z += 0.2) test_support::addPoint(c, {1.0, 0.5, z}, core::Role::Environment);
+    detect::SegmentOptions o;
+    o.core_points = 1;  // every voxel joins: the trail chains the vehicle and the crown
+    const detect::Segmentation chained = detect::segmentCloud(c, o);
+    o.core_points = 3;
+    const detect::Segmentation apart = detect::segmentCloud(c, o);
+    CHECK(apart.core_points == 3);
+    CHECK(apart.points_per_voxel_face > 6.0);
+    auto targetShare = [&](const detect::Segmentation& s) {
+        // The share of target points in the segment holding most of them.
+        double best = 0;
+        for (const auto& seg : s.segments) {
+            std::size_t t = 0;
+            for (const std::uint32_t i : seg) t += c.points[i].label == core::Role::Target;
+            if (t * 2 > seg.size() || best == 0) best = std::max(best, double(t) / double(seg.size()));
+        }
+        return best;
+    };
+    CHECK(targetShare(chained) < 0.5);
+    CHECK(targetShare(apart) > 0.95);
+    CHECK(largestSegment(apart) < largestSegment(chained));
+}
+
+TEST_CASE("segments: a sparsely sampled cloud joins every voxel") {
+    // 6 points per square metre, 0.4 a voxel face: a surface has no voxel of 3 points.
+    core::PointCloud c = noisyGround(0.02, 1, 0.0, 11, 0.4);
+    std::mt19937 rng(12);
+    test_support::addBoxSurface(c, rng, {0.0, 0.0}, {7.0, 3.5, 2.5}, 0.4, 0.4, core::Role::Target);
+    detect::SegmentOptions o;
+    const detect::Segmentation s = detect::segmentCloud(c, o);
+    CHECK(s.core_points == 1);
+    REQUIRE(!s.segments.empty());
+    std::size_t box = 0;
+    for (const core::CloudPoint& p : c.points) box += p.label == core::Role::Target;
+    // The box stands as one segment (less its lowest rows, within SMRF's ground
+    // tolerance); with a bar of 3 no voxel would be dense and it would fall apart.
+    CHECK(largestSegment(s) * 2 > box);
+    o.core_points = 1;
+    CHECK(detect::segmentCloud(c, o).segments == s.segments);
+}
+
+TEST_CASE("segments: options out of range are one line naming the option") {
+    detect::SegmentOptions o;
+    o.core_points = 0;
+    CHECK_THROWS_WITH(detect::validate(o), doctest::Contains("--segment-core-points = 0: allowed [1, 1000]"));
+    o = {};
+    o.ground_sigmas = -1;
+    CHECK_THROWS_WITH(detect::validate(o), doctest::Contains("--ground-sigmas = -1: allowed [0, 20]"));
+}
