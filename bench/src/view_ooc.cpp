@@ -169,8 +169,7 @@ json toJson(const Summary& s) { return json{{"median", s.median}, {"p99", s.p99}
 
 /// One head path over `file`, out of core (CopcSource) or in core (the file streamed
 /// whole through a CloudFeed, as `view` does with any non-COPC file).
-json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, const glm::dvec3& centre_world,
-                 const glm::dvec3& target_world, const OocBenchOptions& o) {
+json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, const OocBenchOptions& o) {
     render::EglContext context;
     viewer::StereoOptions so;
     so.eye_width_px = o.eye_width;
@@ -199,8 +198,6 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     }
     const double open_s = secondsSince(t_open);
     const viewer::PointSource& source = ooc ? static_cast<viewer::PointSource&>(*copc) : *stream_source;
-    (void)centre_world;
-    (void)target_world;
 
     GLuint query = 0;
     glCreateQueries(GL_TIME_ELAPSED, 1, &query);
@@ -260,7 +257,10 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
             full = stereo.lastView().has_value() && stereo.pendingPoints() == 0 && stereo.gpuNodesRefused() == 0 &&
                    std::all_of(wanted.begin(), wanted.end(), [](const viewer::PointNode* n) { return n->resident(); });
         } else {
-            full = source.finished() && stereo.pendingPoints() == 0;
+            // Every point the loader delivered is on the GPU (finished() may turn true
+            // after this frame's poll, before its last chunk is taken).
+            full =
+                source.finished() && stereo.pendingPoints() == 0 && stereo.uploadedPoints() >= source.pointsArrived();
         }
         if (full) {
             full_s = secondsSince(t_still);
@@ -270,6 +270,7 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
         if (f - still_start >= o.still_frames_max) break;
     }
     glDeleteQueries(1, &query);
+    if (!source.error().empty()) return json{{"error", "the in-core loader failed: " + source.error()}};
     json r;
     r["open_s"] = open_s;
     r["frames"] = f + 1;
@@ -466,7 +467,7 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
                 }
                 std::fprintf(stderr, "bench view: %s, %s, %s\n", file.filename().c_str(), name.c_str(),
                              ooc ? "ooc" : "in-core");
-                rows[k] = inChild([&] { return measurePath(file, ooc, path, centre_world, target_world, o); }, rss[k]);
+                rows[k] = inChild([&] { return measurePath(file, ooc, path, o); }, rss[k]);
                 if (rows[k].contains("gl")) gl = rows[k]["gl"].get<std::string>();
                 std::string line;
                 if (rows[k].contains("error")) {
@@ -493,7 +494,10 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
                 std::fprintf(out, "%s", line.c_str());
                 std::fflush(out);
             }
-            if (!rows[0].contains("error") && !rows[1].contains("error")) {
+            const auto measured = [](const json& r) {
+                return !r.contains("error") && r["first_frame_s"].is_number() && r["frame_ms"]["median"].is_number();
+            };
+            if (measured(rows[0]) && measured(rows[1])) {
                 const auto med = [](const json& r, const char* k) { return r[k]["median"].get<double>(); };
                 ratios +=
                     "- " + std::to_string(n) + " points, " + name + ": in-core / ooc: first frame " +
