@@ -7,7 +7,9 @@
 #      rows, both confirmed hits, with traces and the tank's candidate confirmed;
 #   2. `study --replay` plays trial 1's trace over its COPC cloud to the end;
 #   3. `metric --trace` of trial 1's trace over P1, P2 and P3 given as COPC files gives
-#      the same per-view target figures as over the same clouds given as PCD files.
+#      the same per-view target figures as over the same clouds given as PCD files. Every
+#      trace row is a view (--trace-step-s 0): the script counts frames, so the trial's
+#      length in seconds depends on the machine's frame time and a time step would not.
 # The study ends on the script's last confirm (no sleeps); headless_env.sh starts and
 # kills Xvfb.
 set -euo pipefail
@@ -85,7 +87,7 @@ for role in target environment target,environment; do
 done
 for kind in pcd copc.laz; do
   "$bin" metric --trace "$work/out/trace_1.csv" --p1 "$work/target.$kind" --p2 "$work/environment.$kind" \
-    --p3 "$work/target_environment.$kind" --no-exact --width 64 --height 64 --trace-step-s 0.5 \
+    --p3 "$work/target_environment.$kind" --no-exact --width 64 --height 64 --trace-step-s 0 \
     --out "$work/metric_${kind%%.*}" >"$work/metric_${kind%%.*}.out" 2>"$work/metric_${kind%%.*}.err" ||
     { cat "$work/metric_${kind%%.*}.err" >&2; fail "metric --trace over $kind clouds"; }
 done
