@@ -185,9 +185,10 @@ struct Generator::State {
     GenerateOptions options;
     glm::dvec3 centre_world{0.0}, centre_local{0.0};
     std::unique_ptr<RayCaster> caster;
-    std::unique_ptr<Sensor> sensor;        // makes each pixel's rays and turns hits into returns
-    std::vector<SensorView> sensor_views;  // per view, the pose logged and the pose flown
-    std::size_t slots_per_pixel = 1;       // return slots per pixel (Sensor::slotsPerPixel)
+    std::unique_ptr<Sensor> sensor;            // makes each pixel's rays and turns hits into returns
+    std::vector<SensorView> sensor_views;      // per view, the pose logged and the pose flown
+    std::vector<core::Pose> true_from_placed;  // per view, a placed point to where its ray hit
+    std::size_t slots_per_pixel = 1;           // return slots per pixel (Sensor::slotsPerPixel)
     double bvh_seconds = 0.0;
     MemoryPlan plan;                // batches, bands and threads within the budget
     std::uint64_t hits_bound = 0;   // hits all views can give together (traced pixels)
@@ -262,7 +263,10 @@ struct Generator::State {
                    GenerateStats& st) const;
 
     // Counts the target and environment points more than kAboveTerrain_m above the true
-    // terrain, and those of them left coloured.
+    // terrain, and those of them left coloured. A point is placed with its view's logged
+    // pose while its ray left from the pose flown; its height is judged where the ray
+    // really hit (the point carried from the logged pose to the flown one), so a view
+    // that a pose error lifts does not count the target's tracks as standing above.
     void countKept(std::span<const core::CloudPoint> points, Workers& pool, GenerateStats& st) const {
         if (options.white || !true_terrain) return;
         const std::size_t chunk = 1u << 16;
@@ -273,11 +277,10 @@ struct Generator::State {
             const std::size_t end = std::min(points.size(), (task + 1) * chunk);
             for (std::size_t i = task * chunk; i < end; ++i) {
                 const core::CloudPoint& p = points[i];
-                if (p.label == core::Role::Ground) continue;
+                if (p.label == core::Role::Ground || p.view >= true_from_placed.size()) continue;
+                const glm::dvec3 hit = true_from_placed[p.view].apply(glm::dvec3(p.position));
                 double z = 0;
-                if (!true_terrain->heightAt(p.position.x, p.position.y, z) ||
-                    double(p.position.z) - z <= kAboveTerrain_m)
-                    continue;
+                if (!true_terrain->heightAt(hit.x, hit.y, z) || hit.z - z <= kAboveTerrain_m) continue;
                 const std::size_t k = p.label == core::Role::Target ? 0 : 2;
                 c[k] += 1;
                 c[k + 1] += p.rgb != core::kWhite;
@@ -453,6 +456,10 @@ Generator::Generator(const core::Scene& scene, GenerateOptions options)
     s.sensor = std::make_unique<Sensor>(s.options.sensor, orbit, scene, s.options.seed);
     s.slots_per_pixel = s.sensor->slotsPerPixel();
     for (int v = 0; v < orbit.views; ++v) s.sensor_views.push_back(s.sensor->view(v, s.poses[std::size_t(v)]));
+    for (const SensorView& v : s.sensor_views) {
+        const glm::dmat3 r = v.actual.rotation * glm::transpose(v.nominal.rotation);
+        s.true_from_placed.push_back(core::Pose{r, v.actual.translation - r * v.nominal.translation});
+    }
     // Rays leave from the pose actually flown, and a beam's sub-rays spread up to half its
     // divergence off the pixel's axis: the traced pixels are found for both.
     const SensorOptions& so = s.options.sensor;

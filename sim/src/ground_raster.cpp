@@ -215,6 +215,20 @@ void RasterFit::fit() {
         grid_.ground_sigma_m = *mid;
     }
     // 2) the ground-level surface: each cell's level for that thickness, then the terrain.
+    // A cell's lowest heights, each less its view's error at the cell's centre when
+    // `corrected` (ascending); returns how many there are.
+    const auto lowest = [&](std::size_t c, bool corrected, float* low) {
+        const Cell* cell = cells[c];
+        const int m = int(std::min<std::uint32_t>(cell->n, kCellLowest));
+        std::copy(cell->low, cell->low + m, low);
+        if (corrected) {
+            const double x = grid_.x0_m + double(c % std::size_t(w)) * cell_m_;
+            const double y = grid_.y0_m + double(c / std::size_t(w)) * cell_m_;
+            for (int k = 0; k < m; ++k) low[k] = float(double(low[k]) - viewError(cell->view[k], x, y));
+            std::sort(low, low + m);
+        }
+        return m;
+    };
     std::vector<float> minimum(cells.size(), kNoPoint);
     const auto levels = [&](bool corrected) {
         minimum.assign(cells.size(), kNoPoint);  // fitTerrain() may have taken it
@@ -222,16 +236,13 @@ void RasterFit::fit() {
         for (std::size_t c = 0; c < cells.size(); ++c) {
             const Cell* cell = cells[c];
             if (!cell) continue;
-            const int m = int(std::min<std::uint32_t>(cell->n, kCellLowest));
-            std::copy(cell->low, cell->low + m, low);
-            if (corrected) {  // each height less its view's error at the cell's centre
-                const double x = grid_.x0_m + double(c % std::size_t(w)) * cell_m_;
-                const double y = grid_.y0_m + double(c / std::size_t(w)) * cell_m_;
-                for (int k = 0; k < m; ++k) low[k] = float(double(low[k]) - viewError(cell->view[k], x, y));
-                std::sort(low, low + m);
-            }
+            const int m = lowest(c, corrected, low);
             if (!corrected && grid_.ground_sigma_m < kThinGround_m) {  // thin: the minimum, as SMRF and CSF have it
                 minimum[c] = low[0];
+                continue;
+            }
+            if (corrected) {  // the views line up: the third lowest (two low outliers dropped)
+                minimum[c] = low[std::min(2, m - 1)];
                 continue;
             }
             // Heights far above the third lowest (an object's in a cell it shares with

@@ -129,15 +129,18 @@ double kept(const Seen& s, const std::vector<std::uint8_t>& flags) {
     return above ? double(coloured) / double(above) : 1.0;
 }
 
-// Mean |terrain - z| over the cells at least `margin_m` inside the square.
-double meanError(const sim::TerrainGrid& g, const Height& z, double half_m, double margin_m) {
+// Mean |terrain - z| over the cells at least `margin_m` inside the square, or with
+// `signed_error` mean terrain - z (negative: the terrain lies below the surface).
+double meanError(const sim::TerrainGrid& g, const Height& z, double half_m, double margin_m,
+                 bool signed_error = false) {
     double sum = 0;
     std::size_t n = 0;
     for (int j = 0; j < g.ny; ++j)
         for (int i = 0; i < g.nx; ++i) {
             const double x = g.x0_m + i * g.cell_m, y = g.y0_m + j * g.cell_m;
             if (std::abs(x) > half_m - margin_m || std::abs(y) > half_m - margin_m) continue;
-            sum += std::abs(double(g.at(i, j)) - z(x, y));
+            const double e = double(g.at(i, j)) - z(x, y);
+            sum += signed_error ? e : std::abs(e);
             ++n;
         }
     return sum / double(n);
@@ -159,8 +162,12 @@ TEST_CASE(
             const Seen s = see(*z, half, 24, Errors{}, {});
             auto fit = csf ? sim::startCsf(sim::CsfOptions{}) : sim::startSmrf(sim::SmrfOptions{});
             const Result r = run(*fit, s.points);
-            // The cell minimum sat about 2.5 view sigmas (0.75 m) below the surface.
-            CHECK(meanError(r.grid, *z, half, 3.0) <= 0.12);
+            // The cell minimum sat about 2.5 view sigmas (0.75 m) below the surface. Once
+            // the views line up the level is a cell's third lowest height: on a 30 %
+            // slope that lies near the cell's downhill edge, up to 0.15 m below its centre,
+            // and never above the surface (that would whiten the foot of what stands on it).
+            CHECK(meanError(r.grid, *z, half, 3.0) <= 0.15);
+            CHECK(meanError(r.grid, *z, half, 3.0, true) <= 0.0);
             CHECK(recall(s, r.flags) >= 0.97);
             CHECK(r.grid.views_corrected == 24);
             CHECK(r.grid.ground_sigma_uncorrected_m >= 0.15);
