@@ -56,6 +56,7 @@ struct BenchPeersCli {
     std::string open3d_script;  // default: <source>/scripts/peer_open3d.py
     std::string tmp;
     int pmf_stride = 0;  // 0: from the point budget below
+    bool no_sensors = false;
 };
 
 struct RayResult {
@@ -291,6 +292,37 @@ GroundResult ground(const std::string& name, const core::Scene& scene, const sim
 
 std::string pct(double v) { return std::isnan(v) ? "n/a" : fmt("%.2f %%", 100.0 * v); }
 
+// One scene under one sensor preset: each ground method's figures and ground stage time.
+struct SensorGroundRow {
+    std::string scene, sensor, method;
+    double precision = 0, recall = 0, target_kept = 0, environment_kept = 0, ground_s = 0, ransac_s = 0;
+};
+
+std::vector<SensorGroundRow> groundUnderSensors(const std::vector<std::pair<std::string, core::Scene>>& scenes,
+                                                const sim::GenerateOptions& paper) {
+    std::vector<SensorGroundRow> rows;
+    const std::pair<sim::GroundMethod, const char*> methods[] = {
+        {sim::GroundMethod::Ransac, "RANSAC"}, {sim::GroundMethod::Smrf, "SMRF"}, {sim::GroundMethod::Csf, "CSF"}};
+    for (const auto& [name, scene] : scenes)
+        for (const std::string_view preset : sim::sensorPresetNames()) {
+            double ransac_s = 0;
+            for (const auto& [method, method_name] : methods) {
+                std::fprintf(stderr, "bench peers: ground under sensors: %s, %.*s, %s\n", name.c_str(),
+                             int(preset.size()), preset.data(), method_name);
+                sim::GenerateOptions o = paper;
+                o.sensor = sim::sensorPreset(preset);
+                o.ground.method = method;
+                sim::GenerateStats st;
+                sim::generateCloud(scene, o, &st);
+                if (method == sim::GroundMethod::Ransac) ransac_s = st.seconds.ground;
+                rows.push_back({name, std::string(preset), method_name, st.ground_precision.value_or(std::nan("")),
+                                st.ground_recall.value_or(std::nan("")), st.target_kept.value_or(std::nan("")),
+                                st.environment_kept.value_or(std::nan("")), st.seconds.ground, ransac_s});
+            }
+        }
+    return rows;
+}
+
 void run(const BenchPeersCli& cli) {
     if (cli.threads < 0 || cli.threads > 1024)
         throw core::Error("bench peers: --threads = " + std::to_string(cli.threads) + ": allowed [0, 1024]");
@@ -344,6 +376,19 @@ void run(const BenchPeersCli& cli) {
     grounds.push_back(ground("slopes", slopes, paper, pmf_budget, cli.pmf_stride));
     const core::Scene forest = io::loadScene(sourceRoot() / "assets" / "forest" / "scene.json");
     grounds.push_back(ground("forest", forest, paper, pmf_budget, cli.pmf_stride));
+    std::vector<SensorGroundRow> sensor_rows;
+    if (!cli.no_sensors) {
+        std::fprintf(stderr, "bench peers: ground under the sensor presets (4 scenes x %zu presets x 3 methods)\n",
+                     sim::sensorPresetCount());
+        sensor_rows =
+            groundUnderSensors({{"demo", demo}, {"hilly", hilly}, {"slopes", slopes}, {"forest", forest}}, paper);
+    }
+    for (const SensorGroundRow& r : sensor_rows)
+        std::printf(
+            "ground %s, sensor %s, %s: precision %s recall %s target kept %s environment kept %s in %.3f s "
+            "(%.2fx RANSAC's)\n",
+            r.scene.c_str(), r.sensor.c_str(), r.method.c_str(), pct(r.precision).c_str(), pct(r.recall).c_str(),
+            pct(r.target_kept).c_str(), pct(r.environment_kept).c_str(), r.ground_s, r.ground_s / r.ransac_s);
     for (const GroundResult& g : grounds)
         std::printf(
             "ground %s: RANSAC (per view, %d threads) precision %s recall %s target kept %s in %.3f s on %zu "
@@ -421,6 +466,20 @@ void run(const BenchPeersCli& cli) {
           << fmt("%.3g", double(g.pmf_points) / g.pmf_s) << " |\n";
     }
     s << "\n";
+    if (!sensor_rows.empty()) {
+        s << "**Ground under the sensor presets** (same run; each row one `generate` of the paper configuration "
+             "with `--sensor` and `--ground` as named, the same seed; docs/sensor.md describes the presets). Target "
+             "kept and environment kept: the share of the target's, and of the buildings' and trees' points more "
+             "than 0.5 m above the true terrain (judged where each ray hit) left coloured. Ground s: the ground "
+             "stage as a whole; the last column divides it by RANSAC's on the same scene and sensor.\n\n"
+          << "| scene | sensor | method | precision | recall | target kept | environment kept | ground s | vs "
+             "RANSAC |\n|---|---|---|---|---|---|---|---|---|\n";
+        for (const SensorGroundRow& r : sensor_rows)
+            s << "| " << r.scene << " | " << r.sensor << " | " << r.method << " | " << pct(r.precision) << " | "
+              << pct(r.recall) << " | " << pct(r.target_kept) << " | " << pct(r.environment_kept) << " | "
+              << fmt("%.3f", r.ground_s) << " | " << fmt("%.2fx", r.ground_s / r.ransac_s) << " |\n";
+        s << "\n";
+    }
     if (!cli.no_md) {
         replaceMarkdownSection(cli.md, "## Peers (ladarvr bench peers)", s.str());
         std::fprintf(stderr, "bench peers: wrote the section to %s (%.0f s)\n", cli.md.c_str(), total_s);
@@ -446,6 +505,8 @@ void registerPeers(CLI::App& parent) {
     c->add_option("--open3d-script", state->open3d_script, "default: <source>/scripts/peer_open3d.py");
     c->add_option("--pmf-stride", state->pmf_stride, "give PMF every k-th point (0: ~60,000 points)");
     c->add_option("--tmp", state->tmp, "scratch directory (default: a temporary one)");
+    c->add_flag("--no-sensors", state->no_sensors,
+                "leave out the ground figures under the sensor presets (each scene x preset x method)");
     c->callback([state] { run(*state); });
 }
 
