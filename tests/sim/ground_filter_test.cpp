@@ -227,6 +227,28 @@ TEST_CASE("the DTM file holds the known terrain's heights, in world coordinates"
     CHECK_FALSE(fs::exists(scratch.path / "empty.asc"));
 }
 
+TEST_CASE("CSF under the riegl-vux1uav preset keeps the demo target above 0.5 m and whitens the ground") {
+    // Misregistered views make the ground thick; once they are corrected the terrain must
+    // not sit above the corrected ground, or the foot of the target is whitened with it.
+    const core::Scene scene = io::loadScene(io::demoScenePath());
+    sim::GenerateOptions o;
+    o.orbit.xres = 96;
+    o.orbit.yres = 96;
+    o.orbit.views = 40;
+    o.ground.method = sim::GroundMethod::Csf;
+    o.sensor = sim::sensorPreset("riegl-vux1uav");
+    sim::GenerateStats st;
+    sim::generateCloud(scene, o, &st);
+    REQUIRE(st.terrain);
+    CHECK(st.terrain->views_corrected == 40);
+    REQUIRE(st.target_kept);
+    REQUIRE(st.ground_recall);
+    REQUIRE(st.ground_precision);
+    CHECK(*st.target_kept >= 0.999);
+    CHECK(*st.ground_recall >= 0.999);
+    CHECK(*st.ground_precision >= 0.99);
+}
+
 TEST_CASE("generate names --ground smrf when RANSAC leaves the bundled hilly scene's ground coloured") {
     const test_support::TempDir scratch("sim_ground_cli");
     const fs::path hilly = io::demoScenePath().parent_path().parent_path() / "hilly" / "scene.json";
