@@ -53,12 +53,7 @@ python3 - "$work" "$here" <<'PY'
 import json, sys
 work, here = sys.argv[1], sys.argv[2]
 sys.path.insert(0, here)
-from check_view_log import read_png
-
-failures = []
-def check(ok, message):
-    if not ok:
-        failures.append(message)
+from check_view_log import read_png, check, failures
 
 TITLE = (41, 74, 122)    # ImGui's active title bar (the panel at 10,10)
 BORDER = (92, 92, 101)   # its left border over the window background and the points

@@ -34,12 +34,7 @@ python3 - "$work" "$here" <<'PY'
 import json, sys
 work, here = sys.argv[1], sys.argv[2]
 sys.path.insert(0, here)
-from check_view_log import read_png
-
-failures = []
-def check(ok, message):
-    if not ok:
-        failures.append(message)
+from check_view_log import read_png, check, failures
 
 def lit_pixels(path):
     w, h, px = read_png(path)

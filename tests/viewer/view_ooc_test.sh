@@ -59,13 +59,11 @@ status=0
   --adaptive-budget on --log-json "$work/auto.json" 2>"$work/auto.err" || status=$?
 [ "$status" = 0 ] || { cat "$work/auto.err" >&2; echo "view_ooc_test: the adaptive run exited $status" >&2; exit 1; }
 
-python3 - "$work" <<'PY'
+python3 - "$work" "$here" <<'PY'
 import json, re, sys
 work = sys.argv[1]
-failures = []
-def check(ok, message):
-    if not ok:
-        failures.append(message)
+sys.path.insert(0, sys.argv[2])
+from check_view_log import check, failures
 
 MiB = 1048576
 err = open(f"{work}/ooc.err").read()

@@ -24,13 +24,11 @@ status=0
   2>"$work/stderr" || status=$?
 [ "$status" = 0 ] || { cat "$work/stderr" >&2; echo "view_xr_frame_test: view exited $status" >&2; exit 1; }
 
-python3 - "$work" <<'PY'
+python3 - "$work" "$here" <<'PY'
 import json, sys
 work = sys.argv[1]
-failures = []
-def check(ok, message):
-    if not ok:
-        failures.append(message)
+sys.path.insert(0, sys.argv[2])
+from check_view_log import check, failures
 
 err = open(f"{work}/stderr").read()
 xr_errors = [l for l in err.splitlines() if l.startswith("ladarvr: xr:")]
