@@ -226,16 +226,27 @@ IoResult pcdIo(const core::PointCloud& cloud, int repeats, const fs::path& dir) 
     return r;
 }
 
+// One ground method's figures from a generate run's stats.
+struct MethodFigures {
+    double s = 0, precision = 0, recall = 0, kept = 0, environment_kept = 0;
+};
+
+MethodFigures figures(const sim::GenerateStats& st) {
+    return {st.seconds.ground, st.ground_precision.value_or(std::nan("")), st.ground_recall.value_or(std::nan("")),
+            st.target_kept.value_or(std::nan("")), st.environment_kept.value_or(std::nan(""))};
+}
+
 struct GroundResult {
     std::string scene;
     std::size_t points = 0, pmf_points = 0;
     int pmf_stride = 1;
-    double ransac_s = 0, ransac_precision = 0, ransac_recall = 0, ransac_kept = 0;
-    double smrf_s = 0, smrf_precision = 0, smrf_recall = 0, smrf_kept = 0;
-    double csf_s = 0, csf_precision = 0, csf_recall = 0, csf_kept = 0;
+    MethodFigures ransac, smrf, csf;  // in the order of kGroundMethods
     double pmf_s = 0, pmf_precision = 0, pmf_recall = 0;
     int threads = 1;
 };
+
+constexpr std::pair<sim::GroundMethod, const char*> kGroundMethods[] = {
+    {sim::GroundMethod::Ransac, "RANSAC"}, {sim::GroundMethod::Smrf, "SMRF"}, {sim::GroundMethod::Csf, "CSF"}};
 
 GroundResult ground(const std::string& name, const core::Scene& scene, const sim::GenerateOptions& options,
                     std::size_t pmf_budget, int stride_option) {
@@ -245,25 +256,16 @@ GroundResult ground(const std::string& name, const core::Scene& scene, const sim
     const core::PointCloud cloud = sim::generateCloud(scene, options, &st);
     r.points = cloud.points.size();
     r.threads = st.threads;
-    r.ransac_s = st.seconds.ground;
-    r.ransac_precision = st.ground_precision.value_or(std::nan(""));
-    r.ransac_recall = st.ground_recall.value_or(std::nan(""));
-    r.ransac_kept = st.target_kept.value_or(std::nan(""));
+    r.ransac = figures(st);
     {
-        sim::GenerateOptions smrf = options;
-        smrf.ground.method = sim::GroundMethod::Smrf;
+        sim::GenerateOptions other = options;
         sim::GenerateStats ss;
-        sim::generateCloud(scene, smrf, &ss);
-        r.smrf_s = ss.seconds.ground;
-        r.smrf_precision = ss.ground_precision.value_or(std::nan(""));
-        r.smrf_recall = ss.ground_recall.value_or(std::nan(""));
-        r.smrf_kept = ss.target_kept.value_or(std::nan(""));
-        smrf.ground.method = sim::GroundMethod::Csf;
-        sim::generateCloud(scene, smrf, &ss);
-        r.csf_s = ss.seconds.ground;
-        r.csf_precision = ss.ground_precision.value_or(std::nan(""));
-        r.csf_recall = ss.ground_recall.value_or(std::nan(""));
-        r.csf_kept = ss.target_kept.value_or(std::nan(""));
+        other.ground.method = sim::GroundMethod::Smrf;
+        sim::generateCloud(scene, other, &ss);
+        r.smrf = figures(ss);
+        other.ground.method = sim::GroundMethod::Csf;
+        sim::generateCloud(scene, other, &ss);
+        r.csf = figures(ss);
     }
     // PMF's morphological opening searches a box per point per window: on 1.6 M points
     // at ~130 points/m^2 that is beyond reach, so it gets every k-th point (airborne Lidar
@@ -292,34 +294,44 @@ GroundResult ground(const std::string& name, const core::Scene& scene, const sim
 
 std::string pct(double v) { return std::isnan(v) ? "n/a" : fmt("%.2f %%", 100.0 * v); }
 
-// One scene under one sensor preset: each ground method's figures and ground stage time.
+// One scene under one sensor preset, one ground method.
 struct SensorGroundRow {
     std::string scene, sensor, method;
-    double precision = 0, recall = 0, target_kept = 0, environment_kept = 0, ground_s = 0, ransac_s = 0;
+    MethodFigures f;
+    double ransac_s = 0;  // RANSAC's ground stage on the same scene and sensor
 };
 
+// Every scene of `grounds` under every sensor preset, with each ground method; the ideal
+// sensor's rows are those runs themselves.
 std::vector<SensorGroundRow> groundUnderSensors(const std::vector<std::pair<std::string, core::Scene>>& scenes,
+                                                const std::vector<GroundResult>& grounds,
                                                 const sim::GenerateOptions& paper) {
     std::vector<SensorGroundRow> rows;
-    const std::pair<sim::GroundMethod, const char*> methods[] = {
-        {sim::GroundMethod::Ransac, "RANSAC"}, {sim::GroundMethod::Smrf, "SMRF"}, {sim::GroundMethod::Csf, "CSF"}};
-    for (const auto& [name, scene] : scenes)
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+        const auto& [name, scene] = scenes[i];
         for (const std::string_view preset : sim::sensorPresetNames()) {
+            const sim::SensorOptions sensor = sim::sensorPreset(preset);
+            const MethodFigures* ideal[] = {&grounds[i].ransac, &grounds[i].smrf, &grounds[i].csf};
             double ransac_s = 0;
-            for (const auto& [method, method_name] : methods) {
-                std::fprintf(stderr, "bench peers: ground under sensors: %s, %.*s, %s\n", name.c_str(),
-                             int(preset.size()), preset.data(), method_name);
-                sim::GenerateOptions o = paper;
-                o.sensor = sim::sensorPreset(preset);
-                o.ground.method = method;
-                sim::GenerateStats st;
-                sim::generateCloud(scene, o, &st);
-                if (method == sim::GroundMethod::Ransac) ransac_s = st.seconds.ground;
-                rows.push_back({name, std::string(preset), method_name, st.ground_precision.value_or(std::nan("")),
-                                st.ground_recall.value_or(std::nan("")), st.target_kept.value_or(std::nan("")),
-                                st.environment_kept.value_or(std::nan("")), st.seconds.ground, ransac_s});
+            for (std::size_t m = 0; m < std::size(kGroundMethods); ++m) {
+                MethodFigures f;
+                if (sim::isIdeal(sensor)) {
+                    f = *ideal[m];
+                } else {
+                    std::fprintf(stderr, "bench peers: ground under sensors: %s, %.*s, %s\n", name.c_str(),
+                                 int(preset.size()), preset.data(), kGroundMethods[m].second);
+                    sim::GenerateOptions o = paper;
+                    o.sensor = sensor;
+                    o.ground.method = kGroundMethods[m].first;
+                    sim::GenerateStats st;
+                    sim::generateCloud(scene, o, &st);
+                    f = figures(st);
+                }
+                if (m == 0) ransac_s = f.s;
+                rows.push_back({name, std::string(preset), kGroundMethods[m].second, f, ransac_s});
             }
         }
+    }
     return rows;
 }
 
@@ -380,24 +392,24 @@ void run(const BenchPeersCli& cli) {
     if (!cli.no_sensors) {
         std::fprintf(stderr, "bench peers: ground under the sensor presets (4 scenes x %zu presets x 3 methods)\n",
                      sim::sensorPresetCount());
-        sensor_rows =
-            groundUnderSensors({{"demo", demo}, {"hilly", hilly}, {"slopes", slopes}, {"forest", forest}}, paper);
+        sensor_rows = groundUnderSensors({{"demo", demo}, {"hilly", hilly}, {"slopes", slopes}, {"forest", forest}},
+                                         grounds, paper);
     }
     for (const SensorGroundRow& r : sensor_rows)
         std::printf(
             "ground %s, sensor %s, %s: precision %s recall %s target kept %s environment kept %s in %.3f s "
             "(%.2fx RANSAC's)\n",
-            r.scene.c_str(), r.sensor.c_str(), r.method.c_str(), pct(r.precision).c_str(), pct(r.recall).c_str(),
-            pct(r.target_kept).c_str(), pct(r.environment_kept).c_str(), r.ground_s, r.ground_s / r.ransac_s);
+            r.scene.c_str(), r.sensor.c_str(), r.method.c_str(), pct(r.f.precision).c_str(), pct(r.f.recall).c_str(),
+            pct(r.f.kept).c_str(), pct(r.f.environment_kept).c_str(), r.f.s, r.f.s / r.ransac_s);
     for (const GroundResult& g : grounds)
         std::printf(
             "ground %s: RANSAC (per view, %d threads) precision %s recall %s target kept %s in %.3f s on %zu "
             "points; SMRF precision %s recall %s target kept %s in %.3f s; CSF precision %s recall %s target kept %s "
             "in %.3f s; PMF precision %s recall %s in %.3f s on %zu points (every %d-th)\n",
-            g.scene.c_str(), g.threads, pct(g.ransac_precision).c_str(), pct(g.ransac_recall).c_str(),
-            pct(g.ransac_kept).c_str(), g.ransac_s, g.points, pct(g.smrf_precision).c_str(), pct(g.smrf_recall).c_str(),
-            pct(g.smrf_kept).c_str(), g.smrf_s, pct(g.csf_precision).c_str(), pct(g.csf_recall).c_str(),
-            pct(g.csf_kept).c_str(), g.csf_s, pct(g.pmf_precision).c_str(), pct(g.pmf_recall).c_str(), g.pmf_s,
+            g.scene.c_str(), g.threads, pct(g.ransac.precision).c_str(), pct(g.ransac.recall).c_str(),
+            pct(g.ransac.kept).c_str(), g.ransac.s, g.points, pct(g.smrf.precision).c_str(), pct(g.smrf.recall).c_str(),
+            pct(g.smrf.kept).c_str(), g.smrf.s, pct(g.csf.precision).c_str(), pct(g.csf.recall).c_str(),
+            pct(g.csf.kept).c_str(), g.csf.s, pct(g.pmf_precision).c_str(), pct(g.pmf_recall).c_str(), g.pmf_s,
             g.pmf_points, g.pmf_stride);
     std::error_code ec;
     fs::remove_all(dir, ec);
@@ -452,15 +464,15 @@ void run(const BenchPeersCli& cli) {
       << "| scene | method | precision | recall | target kept | s (points) | points/s |\n"
          "|---|---|---|---|---|---|---|\n";
     for (const GroundResult& g : grounds) {
-        s << "| " << g.scene << " | RANSAC | " << pct(g.ransac_precision) << " | " << pct(g.ransac_recall) << " | "
-          << pct(g.ransac_kept) << " | " << fmt("%.3f", g.ransac_s) << " (" << g.points << ") | "
-          << fmt("%.3g", double(g.points) / g.ransac_s) << " |\n";
-        s << "| " << g.scene << " | SMRF | " << pct(g.smrf_precision) << " | " << pct(g.smrf_recall) << " | "
-          << pct(g.smrf_kept) << " | " << fmt("%.3f", g.smrf_s) << " (" << g.points << ") | "
-          << fmt("%.3g", double(g.points) / g.smrf_s) << " |\n";
-        s << "| " << g.scene << " | CSF | " << pct(g.csf_precision) << " | " << pct(g.csf_recall) << " | "
-          << pct(g.csf_kept) << " | " << fmt("%.3f", g.csf_s) << " (" << g.points << ") | "
-          << fmt("%.3g", double(g.points) / g.csf_s) << " |\n";
+        s << "| " << g.scene << " | RANSAC | " << pct(g.ransac.precision) << " | " << pct(g.ransac.recall) << " | "
+          << pct(g.ransac.kept) << " | " << fmt("%.3f", g.ransac.s) << " (" << g.points << ") | "
+          << fmt("%.3g", double(g.points) / g.ransac.s) << " |\n";
+        s << "| " << g.scene << " | SMRF | " << pct(g.smrf.precision) << " | " << pct(g.smrf.recall) << " | "
+          << pct(g.smrf.kept) << " | " << fmt("%.3f", g.smrf.s) << " (" << g.points << ") | "
+          << fmt("%.3g", double(g.points) / g.smrf.s) << " |\n";
+        s << "| " << g.scene << " | CSF | " << pct(g.csf.precision) << " | " << pct(g.csf.recall) << " | "
+          << pct(g.csf.kept) << " | " << fmt("%.3f", g.csf.s) << " (" << g.points << ") | "
+          << fmt("%.3g", double(g.points) / g.csf.s) << " |\n";
         s << "| " << g.scene << " | PCL PMF | " << pct(g.pmf_precision) << " | " << pct(g.pmf_recall) << " | n/a | "
           << fmt("%.3f", g.pmf_s) << " (" << g.pmf_points << ", every " << g.pmf_stride << "th) | "
           << fmt("%.3g", double(g.pmf_points) / g.pmf_s) << " |\n";
@@ -475,9 +487,9 @@ void run(const BenchPeersCli& cli) {
           << "| scene | sensor | method | precision | recall | target kept | environment kept | ground s | vs "
              "RANSAC |\n|---|---|---|---|---|---|---|---|---|\n";
         for (const SensorGroundRow& r : sensor_rows)
-            s << "| " << r.scene << " | " << r.sensor << " | " << r.method << " | " << pct(r.precision) << " | "
-              << pct(r.recall) << " | " << pct(r.target_kept) << " | " << pct(r.environment_kept) << " | "
-              << fmt("%.3f", r.ground_s) << " | " << fmt("%.2fx", r.ground_s / r.ransac_s) << " |\n";
+            s << "| " << r.scene << " | " << r.sensor << " | " << r.method << " | " << pct(r.f.precision) << " | "
+              << pct(r.f.recall) << " | " << pct(r.f.kept) << " | " << pct(r.f.environment_kept) << " | "
+              << fmt("%.3f", r.f.s) << " | " << fmt("%.2fx", r.f.s / r.ransac_s) << " |\n";
         s << "\n";
     }
     if (!cli.no_md) {
