@@ -431,12 +431,16 @@ def write_scene(path, comment, entries):
         fh.write("\n".join(out) + "\n")
 
 
-def entry(file, role, x=0.0, y=0.0, z=0.0, yaw=0.0, scale=1.0, up=None):
+def entry(file, role, x=0.0, y=0.0, z=0.0, yaw=0.0, scale=1.0, up=None, pitch=0.0, roll=0.0):
     e = {"file": file, "role": role}
     if (x, y, z) != (0.0, 0.0, 0.0):
         e["position"] = [round(x, 3), round(y, 3), round(z, 3)]
     if yaw:
         e["yaw_deg"] = round(yaw, 2)
+    if round(pitch, 2):
+        e["pitch_deg"] = round(pitch, 2)
+    if round(roll, 2):
+        e["roll_deg"] = round(roll, 2)
     if scale != 1.0:
         e["scale"] = round(scale, 3)
     if up:
@@ -639,8 +643,18 @@ def make_forest(out):
             break
     gx, gy = slope(tx, ty)
     yaw = math.degrees(math.atan2(gy, gx)) + 90.0
+    # The tank rests on the slope, as a vehicle does: the plane that best fits the ground
+    # under its 7 x 3.5 m footprint (least squares, in the tank's own axes) gives its pitch
+    # and roll, and its bottom sits 5 cm into that plane as in the other scenes.
+    ca, sa = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+    samples = [(0.25 * i, 0.25 * j) for i in range(-14, 15) for j in range(-7, 8)]
+    zs = [h(tx + ca * u - sa * v, ty + sa * u + ca * v) for u, v in samples]
+    mean = sum(zs) / len(zs)
+    along = sum(u * z for (u, _), z in zip(samples, zs)) / sum(u * u for u, _ in samples)
+    across = sum(v * z for (_, v), z in zip(samples, zs)) / sum(v * v for _, v in samples)
+    pitch, roll = -math.degrees(math.atan(along)), math.degrees(math.atan(across))
     ents = [entry("../common/ground_slopes.ply", "ground"),
-            entry("../common/tank.obj", "target", tx, ty, h(tx, ty) - 0.05, yaw=yaw)]
+            entry("../common/tank.obj", "target", tx, ty, mean - 0.05, yaw=yaw, pitch=pitch, roll=roll)]
     # Two trees over half the tank, then a forest all round with gaps between crowns.
     for dx, dy in ((2.5, 1.5), (-1.0, 3.0)):
         x, y = tx + dx, ty + dy
@@ -653,8 +667,8 @@ def make_forest(out):
         ents.append(entry(kind, "environment", x, y, h(x, y) - 0.3, yaw=rng.uniform(0, 360),
                           scale=rng.uniform(0.8, 1.25), up="z"))
     write_scene(os.path.join(d, "scene.json"),
-                "ladarvr forest scene: the slopes' steep ground under a forest canopy, the tank on a "
-                "12-18 % slope half hidden under two trees; ground returns come only through the "
+                "ladarvr forest scene: the slopes' steep ground under a forest canopy, the tank resting "
+                "on a 12-18 % slope half hidden under two trees; ground returns come only through the "
                 "gaps between crowns. Made by scripts/make_scenes.py.", ents)
 
 

@@ -63,6 +63,8 @@ std::string ItemPlan::sceneText(const fs::path& folder) const {
         json entry{{"file", file},         {"role", m.role},   {"position", {m.position.x, m.position.y, m.position.z}},
                    {"yaw_deg", m.yaw_deg}, {"scale", m.scale}, {"up", m.up}};
         // Written when they differ from the scene format's defaults (the same scene either way).
+        if (m.pitch_deg != 0.0) entry["pitch_deg"] = m.pitch_deg;
+        if (m.roll_deg != 0.0) entry["roll_deg"] = m.roll_deg;
         if (m.reflectance != core::kDefaultReflectance) entry["reflectance"] = m.reflectance;
         if (m.asprs_class >= 0) entry["class"] = m.asprs_class;
         list.push_back(std::move(entry));
@@ -121,6 +123,8 @@ Planner::Planner(const Spec& spec) : state_(std::make_unique<State>()) {
         e.role = std::string(core::roleName(m.role));
         e.position = m.position;
         e.yaw_deg = m.yaw_deg;
+        e.pitch_deg = m.pitch_deg;
+        e.roll_deg = m.roll_deg;
         e.scale = m.scale;
         e.up = m.up_y ? "y" : "z";
         e.reflectance = m.reflectance;
@@ -263,8 +267,10 @@ ItemPlan Planner::plan(std::size_t index) const {
         const double yaw = target->yaw_deg * std::numbers::pi / 180.0;
         const double c = std::cos(yaw), sn = std::sin(yaw);
         core::Bounds local;  // the model's box after yaw, relative to its position
-        for (const glm::dvec3& v : s.models[model])
+        for (const glm::dvec3& m : s.models[model]) {
+            const glm::dvec3 v = core::tilt(m, target->pitch_deg, target->roll_deg);
             local.extend(glm::dvec3(c * v.x - sn * v.y, sn * v.x + c * v.y, v.z));
+        }
         const bool moves = spec.varies("target_offset_m") || spec.varies("target_files");
         if (moves) {
             const NumberVary* offset = nullptr;

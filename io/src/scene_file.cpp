@@ -111,6 +111,11 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
             e.position = vec3Field(v, where, key);
         } else if (key == "yaw_deg") {
             e.yaw_deg = finiteNumber(v, where, key, "a finite number (degrees)");
+        } else if (key == "pitch_deg" || key == "roll_deg") {
+            const double a = finiteNumber(v, where, key, "a number in [-90, 90] (degrees)");
+            if (!(a >= -90.0 && a <= 90.0))
+                throw Error(where + ": '" + key + "' is " + shownNumber(a) + "; allowed: a number in [-90, 90] (degrees)");
+            (key == "pitch_deg" ? e.pitch_deg : e.roll_deg) = a;
         } else if (key == "scale") {
             e.scale = finiteNumber(v, where, key, "a finite number > 0");
             if (!(e.scale > 0.0))
@@ -132,7 +137,8 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
             e.asprs_class = int(v.get<long long>());
         } else {
             throw Error(where + ": unknown key '" + core::printable(key, 40, true) +
-                        "'; allowed keys: file, role, position, yaw_deg, scale, up, reflectance, class, comment");
+                        "'; allowed keys: file, role, position, yaw_deg, pitch_deg, roll_deg, scale, up, reflectance, "
+                        "class, comment");
         }
     }
     if (j.find("role") == j.end()) throw Error(where + ": 'role' is missing; allowed: " + std::string(kRoleList));
@@ -318,13 +324,13 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
         mesh.vertices.reserve(raw.vertices.size());
         for (std::size_t vi = 0; vi < raw.vertices.size(); ++vi) {
             const glm::dvec3& v = raw.vertices[vi];
-            const glm::dvec3 p = e.scale * (e.up_y ? glm::dvec3(v.x, -v.z, v.y) : v);
+            const glm::dvec3 p = core::tilt(e.scale * (e.up_y ? glm::dvec3(v.x, -v.z, v.y) : v), e.pitch_deg, e.roll_deg);
             const glm::dvec3 local = shift + glm::dvec3(c * p.x - s * p.y, s * p.x + c * p.y, p.z);
             // Local coordinates are floats: far out they step by metres (core/frames.hpp).
             const double reach_m = std::max({std::abs(local.x), std::abs(local.y), std::abs(local.z)});
             if (!(reach_m <= kMaxLocalCoordinate_m))
                 throw Error(where + ": vertex " + std::to_string(vi) + " lies " + shownNumber(reach_m) +
-                            " m from the origin after the position/yaw/scale transform; allowed: within " +
+                            " m from the origin after the position/yaw/tilt/scale transform; allowed: within " +
                             shownNumber(kMaxLocalCoordinate_m) +
                             " m of the scene's origin (local "
                             "coordinates are floats; give 'origin' near the meshes)");

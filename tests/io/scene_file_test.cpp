@@ -187,7 +187,7 @@ TEST_CASE("scene: bad scene files give one clear line naming the file and the re
     SUBCASE("unknown key in a mesh entry") {
         CHECK(loadError(kBad / "unknown_key.json") ==
               b + "unknown_key.json: meshes[0] ('../basic/box.obj'): unknown key 'rol'; allowed "
-                  "keys: file, role, position, yaw_deg, scale, up, reflectance, class, comment");
+                  "keys: file, role, position, yaw_deg, pitch_deg, roll_deg, scale, up, reflectance, class, comment");
     }
     SUBCASE("unknown top-level key") {
         CHECK(loadError(kBad / "unknown_top_key.json") ==
@@ -261,7 +261,7 @@ TEST_CASE("scene: bad scene files give one clear line naming the file and the re
     SUBCASE("a transform that overflows float") {
         CHECK(contains(loadError(kBad / "overflow_transform.json"),
                        "meshes[0] ('../basic/box.obj'): vertex 1 lies 1e+300 m from the origin after "
-                       "the position/yaw/scale transform; allowed: within 10000000 m of the scene's origin"));
+                       "the position/yaw/tilt/scale transform; allowed: within 10000000 m of the scene's origin"));
     }
     SUBCASE("scale <= 0") {
         CHECK(loadError(kBad / "zero_scale.json") ==
@@ -344,6 +344,82 @@ TEST_CASE("scene: loadSceneJson reads text in memory relative to the named file"
     CHECK(meshBounds(s.meshes[0]).hi == glm::dvec3(1.0));
     CHECK_THROWS_WITH_AS(io::loadSceneJson("{", "mem.json"), doctest::Contains("scene: mem.json: JSON syntax error"),
                          core::Error);
+}
+
+TEST_CASE("scene: roll and pitch tilt a mesh about its own axes before the yaw") {
+    const fs::path at = kScenes / "basic" / "virtual.json";
+    const auto cube = [&](const std::string& keys) {
+        const core::Scene s = io::loadSceneJson(
+            R"({"meshes": [{"file": "box.obj", "role": "target", "position": [10, 0, 0])" + keys + "}]}", at);
+        REQUIRE(s.meshes.size() == 1);
+        return s.meshes[0];
+    };
+    // The unit cube [0, 1]^3 (the origin is the first position, so local = file + shift 0).
+    const auto has = [](const core::Mesh& m, glm::dvec3 p) {
+        for (const glm::vec3& v : m.vertices)
+            if (glm::length(glm::dvec3(v) - p) < 1e-5) return true;
+        return false;
+    };
+    // Roll +90: +y up, so the corner (0, 1, 0) goes to (0, 0, 1) and (0, 0, 1) to (0, -1, 0).
+    const core::Mesh rolled = cube(R"(, "roll_deg": 90)");
+    CHECK(has(rolled, {0, 0, 1}));
+    CHECK(has(rolled, {0, -1, 0}));
+    CHECK(meshBounds(rolled).lo.y == doctest::Approx(-1.0));
+    // Pitch +90: the nose (+x) down, so (1, 0, 0) goes to (0, 0, -1).
+    const core::Mesh pitched = cube(R"(, "pitch_deg": 90)");
+    CHECK(has(pitched, {0, 0, -1}));
+    CHECK(has(pitched, {1, 0, 0}));  // (0, 0, 1) comes forward
+    // Roll first, then pitch, then yaw: (0, 1, 0) rolls up to (0, 0, 1), pitches forward
+    // to (1, 0, 0) and yaws to (0, 1, 0).
+    const core::Mesh all = cube(R"(, "roll_deg": 90, "pitch_deg": 90, "yaw_deg": 90)");
+    CHECK(has(all, {0, 1, 0}));
+    // A tilt of zero places the vertices exactly as no tilt does.
+    const core::Mesh plain = cube(R"(, "yaw_deg": 33)");
+    const core::Mesh zero = cube(R"(, "yaw_deg": 33, "roll_deg": 0, "pitch_deg": 0)");
+    CHECK(plain.vertices == zero.vertices);
+    const std::string expected =
+        "scene: " + at.string() + ": meshes[0] ('box.obj'): 'roll_deg' is 91; allowed: a number in [-90, 90] (degrees)";
+    CHECK_THROWS_WITH_AS(cube(R"(, "roll_deg": 91)"), expected.c_str(), core::Error);
+    CHECK_THROWS_WITH_AS(cube(R"(, "pitch_deg": "up")"),
+                         doctest::Contains("'pitch_deg' must be a number in [-90, 90] (degrees), not a string"),
+                         core::Error);
+}
+
+TEST_CASE("scene: the forest's tank rests on its slope") {
+    // Tilted to the ground under it: no track corner floats or is buried by more than a
+    // few centimetres (a level tank there floated 0.4 m on one side, buried on the other).
+    const core::Scene s = io::loadScene(kAssets / "forest" / "scene.json");
+    const core::Mesh* tank = nullptr;
+    const core::Mesh* ground = nullptr;
+    for (const core::Mesh& m : s.meshes) {
+        if (m.role == Role::Target) tank = &m;
+        if (m.role == Role::Ground) ground = &m;
+    }
+    REQUIRE(tank != nullptr);
+    REQUIRE(ground != nullptr);
+    // The ground's height under (x, y): the triangle of the ground mesh that holds it.
+    const auto groundAt = [&](double x, double y) {
+        for (const glm::uvec3& t : ground->triangles) {
+            const glm::dvec3 a(ground->vertices[t.x]), b(ground->vertices[t.y]), c(ground->vertices[t.z]);
+            const double d = (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
+            const double l1 = ((b.y - c.y) * (x - c.x) + (c.x - b.x) * (y - c.y)) / d;
+            const double l2 = ((c.y - a.y) * (x - c.x) + (a.x - c.x) * (y - c.y)) / d;
+            if (l1 >= -1e-9 && l2 >= -1e-9 && l1 + l2 <= 1 + 1e-9) return l1 * a.z + l2 * b.z + (1 - l1 - l2) * c.z;
+        }
+        FAIL("no ground under " << x << ", " << y);
+        return 0.0;
+    };
+    // No vertex lies more than a few centimetres under the ground, and both tracks' four
+    // bottom corners (eight vertices) lie on it.
+    double deepest = 1e9;
+    int touching = 0;
+    for (const glm::vec3& v : tank->vertices) {
+        const double gap = double(v.z) - groundAt(v.x, v.y);
+        deepest = std::min(deepest, gap);
+        touching += gap < 0.1;
+    }
+    CHECK(deepest > -0.15);
+    CHECK(touching >= 8);
 }
 
 TEST_CASE("scene: the bundled demo scene matches its description") {

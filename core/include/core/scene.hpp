@@ -33,11 +33,18 @@ struct SceneEntry {
     Role role = Role::Environment;
     glm::dvec3 position{0.0};  // world metres
     double yaw_deg = 0.0;
+    double pitch_deg = 0.0;  // about the mesh's own y axis, before the yaw
+    double roll_deg = 0.0;   // about the mesh's own x axis, before the pitch
     double scale = 1.0;
     bool up_y = false;  // "up": "y"
     double reflectance = kDefaultReflectance;
     int asprs_class = -1;  // 'class', -1: not given (by role)
 };
+
+/// A mesh entry's tilt of `v` (its own frame, scaled, up axis applied), before its yaw:
+/// Ry(pitch) * Rx(roll) * v. A rotation of zero degrees is skipped, not multiplied by one,
+/// so an entry without a tilt places its vertices exactly as the yaw alone does.
+glm::dvec3 tilt(const glm::dvec3& v, double pitch_deg, double roll_deg);
 
 struct Scene {
     std::filesystem::path source;              // the scene file, for messages

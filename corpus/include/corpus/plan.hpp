@@ -29,6 +29,7 @@ struct MeshEntry {
     std::string role;
     glm::dvec3 position{0.0};
     double yaw_deg = 0.0;
+    double pitch_deg = 0.0, roll_deg = 0.0;  // written when not zero
     double scale = 1.0;
     std::string up = "z";
     double reflectance = core::kDefaultReflectance;

@@ -9,12 +9,14 @@
 //         "role": "environment",    // ground | environment | target
 //         "position": [x, y, z],    // world metres, default [0,0,0]
 //         "yaw_deg": 0,             // rotation about world z, default 0
+//         "pitch_deg": 0,           // tilt about the mesh's own y axis, [-90, 90], default 0
+//         "roll_deg": 0,            // tilt about the mesh's own x axis, [-90, 90], default 0
 //         "scale": 1,               // > 0, default 1
 //         "up": "z",                // the mesh file's own up axis: y | z, default z
 //         "class": 6 }              // ASPRS class in LAS output (0..255), default by role
 //     ]
 //   }
-// World vertex = position + Rz(yaw) * scale * (up == y ? (x, -z, y) : (x, y, z)).
+// World vertex = position + Rz(yaw) * Ry(pitch) * Rx(roll) * scale * (up == y ? (x, -z, y) : (x, y, z)).
 // Unknown keys are errors (they are usually typos).
 #pragma once
 #include <core/scene.hpp>
