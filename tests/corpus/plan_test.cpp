@@ -195,3 +195,25 @@ TEST_CASE("plan: target_files draws every model, each placed clear of the buildi
     CHECK(drawn.size() == 2);
     CHECK(redrawn > 0);
 }
+
+TEST_CASE("plan: a tilted mesh keeps its tilt, and the target's box follows it") {
+    // The forest's tank rests tilted across its slope (roll_deg); an item that does not
+    // move it places it exactly as the scene does.
+    const std::string forest = std::string(LADARVR_ASSETS_DIR) + "/forest/scene.json";
+    const corpus::Spec s = corpus::parseSpec(R"({"scene": ")" + forest + R"(", "count": 1, "seed": 3, "vary": {}})",
+                                             std::filesystem::path(LADARVR_CORPUS_DATA_DIR) / "spec.json");
+    const corpus::ItemPlan p = corpus::Planner(s).plan(0);
+    const std::string text = p.sceneText({});
+    CHECK(text.find("\"roll_deg\"") != std::string::npos);
+    const core::Scene item = io::loadSceneJson(text, forest);
+    const core::Scene base = io::loadScene(forest);
+    const core::Bounds a = item.bounds(core::RoleMask::of({core::Role::Target}));
+    const core::Bounds b = base.bounds(core::RoleMask::of({core::Role::Target}));
+    CHECK(a.lo == b.lo);
+    CHECK(a.hi == b.hi);
+    // The planned box (world) is the tilted tank's: its downhill track reaches about
+    // 0.45 m lower than a level tank's would.
+    const glm::dvec3 lo = p.target_box_world.lo - base.origin, hi = p.target_box_world.hi - base.origin;
+    CHECK(lo.z == doctest::Approx(b.lo.z).epsilon(1e-4));
+    CHECK(hi.z == doctest::Approx(b.hi.z).epsilon(1e-4));
+}
