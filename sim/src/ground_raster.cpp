@@ -259,9 +259,9 @@ void RasterFit::fit() {
     grid_.observed_cells = std::size_t(std::count(observed.begin(), observed.end(), 1));
     levels(false);
     fitTerrain(minimum, observed);
-    // 3) a thick ground: each view's height error against that terrain; when the views were corrected,
+    // 3) a ground thicker than kRegisterViews_m: each view's height error against that terrain; when the views were corrected,
     // the levels again from the corrected heights (a thinner ground), and the terrain.
-    if (grid_.ground_sigma_m >= kThinGround_m && correctViews()) {
+    if (grid_.ground_sigma_m >= kRegisterViews_m && correctViews()) {
         levels(true);
         fitTerrain(minimum, observed);
     }

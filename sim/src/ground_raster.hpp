@@ -35,10 +35,19 @@ inline constexpr double kThicknessWindow_m = 1.0;
 inline constexpr int kThicknessMinPoints = 8;
 
 /// Below this ground thickness a cell's level is its lowest height (the filters' own
-/// minimum surface) and the views are not corrected: a thin ground needs neither, and
-/// the spread the estimate sees there comes from the terrain's slope within the cell,
-/// not from noise.
+/// minimum surface) unless the views are corrected (kRegisterViews_m): a thin ground
+/// needs no centre estimate, and the spread the estimate sees there comes from the
+/// terrain's slope within the cell, not from noise.
 inline constexpr double kThinGround_m = 0.1;
+
+/// From this ground thickness on, the views are registered (when there are several) and
+/// the levels taken again from the corrected heights. It lies below kThinGround_m: the
+/// lowest of a dense cell lies ever further below its ground, and a Ladar's ground
+/// 0.09 m thick sampled at 280 points a square metre put the minimum 0.27 m low and left
+/// 4 % of the ground above the 0.5 m threshold. Not lower: the ideal sensor's spread
+/// within a cell, which comes from the slope, reaches 0.077 m on the forest's 26 %
+/// slopes, and its clouds are those of the filters as published.
+inline constexpr double kRegisterViews_m = 0.08;
 
 /// The standard normal quantile (inverse CDF) at p in (0, 1): Abramowitz and Stegun
 /// 26.2.23, absolute error under 4.5e-4.

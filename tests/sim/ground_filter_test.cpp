@@ -249,6 +249,28 @@ TEST_CASE("CSF under the riegl-vux1uav preset keeps the demo target above 0.5 m 
     CHECK(*st.ground_precision >= 0.99);
 }
 
+TEST_CASE("CSF under riegl-vux1uav over a dense, 9 cm thick ground corrects the views and whitens it") {
+    // From 287 m at 34 degrees the demo's ground is about 280 points a square metre and
+    // 0.09 m thick before the views are registered. Taken as a thin ground, each cell's
+    // lowest point lay 0.27 m below its centre and 4 % of the ground stayed coloured.
+    const core::Scene scene = io::loadScene(io::demoScenePath());
+    sim::GenerateOptions o;
+    o.orbit.altitude_m = 287.0;
+    o.orbit.inclination_deg = 34.0;
+    o.ground.method = sim::GroundMethod::Csf;
+    o.sensor = sim::sensorPreset("riegl-vux1uav");
+    sim::GenerateStats st;
+    sim::generateCloud(scene, o, &st);
+    REQUIRE(st.terrain);
+    CHECK(st.terrain->ground_sigma_uncorrected_m > 0.08);
+    CHECK(st.terrain->ground_sigma_uncorrected_m < 0.1);
+    CHECK(st.terrain->views_corrected == 100);
+    REQUIRE(st.ground_recall);
+    REQUIRE(st.target_kept);
+    CHECK(*st.ground_recall >= 0.999);
+    CHECK(*st.target_kept >= 0.999);
+}
+
 TEST_CASE("generate names --ground smrf when RANSAC leaves the bundled hilly scene's ground coloured") {
     const test_support::TempDir scratch("sim_ground_cli");
     const fs::path hilly = io::demoScenePath().parent_path().parent_path() / "hilly" / "scene.json";
