@@ -301,7 +301,18 @@ bool RasterFit::correctViews() {
                 r[k - a] = double(lows[k].second.z) - grid_.heightAt(lows[k].second.x, lows[k].second.y);
             // A plane by least squares over the blocks near the current estimate (roofs and
             // canopies that hide a block's ground lie far above it), twice.
-            plane.offset_m = median(r);
+            // The start: the median of the residuals within kViewReach_m of the terrain
+            // (where most blocks' lowest point is a canopy or a roof, the median of all
+            // of them lies metres up). None there: nothing to register this view by.
+            std::vector<double> near;
+            for (const double v : r)
+                if (std::abs(v) <= kViewReach_m) near.push_back(v);
+            if (near.size() < 3) {
+                planes[view] = plane;
+                a = b;
+                continue;
+            }
+            plane.offset_m = median(near);
             for (int pass = 0; pass < 2; ++pass) {
                 dev.resize(n);
                 const auto at = [&](std::size_t k) {
@@ -309,7 +320,7 @@ bool RasterFit::correctViews() {
                            plane.dzdy * (lows[k].second.y - plane.y0_m);
                 };
                 for (std::size_t k = a; k < b; ++k) dev[k - a] = std::abs(r[k - a] - at(k));
-                const double gate = std::max(kViewGate_m, 3.0 * 1.4826 * median(dev));
+                const double gate = std::clamp(3.0 * 1.4826 * median(dev), kViewGate_m, kViewReach_m);
                 double sxx = 0, sxy = 0, syy = 0, sx = 0, sy = 0, s1 = 0, sr = 0, sxr = 0, syr = 0;
                 for (std::size_t k = a; k < b; ++k) {
                     if (dev[k - a] > gate) continue;
@@ -341,7 +352,7 @@ bool RasterFit::correctViews() {
                 plane.dzdx = c[1];
                 plane.dzdy = c[2];
             }
-            const double gate = std::max(kViewGate_m, 3.0 * 1.4826 * median(dev));
+            const double gate = std::clamp(3.0 * 1.4826 * median(dev), kViewGate_m, kViewReach_m);
             for (std::size_t k = a; k < b; ++k) {
                 const double v = r[k - a] - (plane.offset_m + plane.dzdx * (lows[k].second.x - plane.x0_m) +
                                              plane.dzdy * (lows[k].second.y - plane.y0_m));

@@ -113,6 +113,7 @@ class RasterFit : public TerrainFit {
     };
     static constexpr int kViewBlock = 4;
     static constexpr double kViewGate_m = 0.15;  // residuals this close always count
+    static constexpr double kViewReach_m = 2.0;  // a view's error is within this of the first terrain
     /// Fits view_planes_; false (none) when there is one view or too few points.
     bool correctViews();
     double viewError(std::size_t view, double x, double y) const;
