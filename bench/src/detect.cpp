@@ -188,7 +188,7 @@ void run(const BenchDetectCli& cli) {
       << summary.str() << "\n"
       << "### The trained detector against the baseline (clouds not seen in training)\n\n"
       << "bench/src/detect_trained.cpp: training on the corpora of assets/detect/train_*.json; evaluation on "
-         "new corpora of the demo, hilly, hard and slopes scenes (other seeds, the tank or a box truck not in "
+         "new corpora of the demo, hilly, hard, slopes and forest scenes (other seeds, the tank or a box truck not in "
          "training, each item seen by the ideal sensor or one of the presets; "
       << cli.trained.eval_items
       << " items per scene) and on the bundled scenes seen by the sensor presets; both detectors rank every "
