@@ -114,7 +114,8 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
         } else if (key == "pitch_deg" || key == "roll_deg") {
             const double a = finiteNumber(v, where, key, "a number in [-90, 90] (degrees)");
             if (!(a >= -90.0 && a <= 90.0))
-                throw Error(where + ": '" + key + "' is " + shownNumber(a) + "; allowed: a number in [-90, 90] (degrees)");
+                throw Error(where + ": '" + key + "' is " + shownNumber(a) +
+                            "; allowed: a number in [-90, 90] (degrees)");
             (key == "pitch_deg" ? e.pitch_deg : e.roll_deg) = a;
         } else if (key == "scale") {
             e.scale = finiteNumber(v, where, key, "a finite number > 0");
@@ -324,7 +325,8 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
         mesh.vertices.reserve(raw.vertices.size());
         for (std::size_t vi = 0; vi < raw.vertices.size(); ++vi) {
             const glm::dvec3& v = raw.vertices[vi];
-            const glm::dvec3 p = core::tilt(e.scale * (e.up_y ? glm::dvec3(v.x, -v.z, v.y) : v), e.pitch_deg, e.roll_deg);
+            const glm::dvec3 p =
+                core::tilt(e.scale * (e.up_y ? glm::dvec3(v.x, -v.z, v.y) : v), e.pitch_deg, e.roll_deg);
             const glm::dvec3 local = shift + glm::dvec3(c * p.x - s * p.y, s * p.x + c * p.y, p.z);
             // Local coordinates are floats: far out they step by metres (core/frames.hpp).
             const double reach_m = std::max({std::abs(local.x), std::abs(local.y), std::abs(local.z)});
