@@ -1,15 +1,17 @@
-// bench/src/formats.cpp: the cost of LAZ output against binary PCD, on the same points.
-// The writers get the same chunks of the cloud one after the other (reading is not
-// timed), so the ratios hold on a shared machine: binary PCD, LAZ with its chunks
-// compressed on every core (as `generate` writes it), and LAZ on the caller's thread
-// alone (LASzip's own speed). Goal: LAZ at most a quarter of the bytes at no more than
-// 2x the write time of binary PCD.
+// bench/src/formats.cpp: the cost of LAZ and COPC output against binary PCD, on the same
+// points. The writers get the same chunks of the cloud one after the other (reading is
+// not timed), so the ratios hold on a shared machine: binary PCD, LAZ with its chunks
+// compressed on every core (as `generate` writes it), LAZ on the caller's thread alone
+// (LASzip's own speed), and COPC within the memory bound `ladarvr index` has by default.
+// Goals: LAZ at most a quarter of the bytes at no more than 2x the write time of binary
+// PCD; COPC at most 1.5x the write time of LAZ.
 #include "formats.hpp"
 
 #include "common.hpp"
 
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
+#include <io/copc_writer.hpp>
 
 #include <cstdio>
 #include <thread>
@@ -18,6 +20,10 @@
 #include <vector>
 
 namespace bench {
+
+namespace {
+constexpr int kCopcMemoryMiB = 1024;
+}
 
 void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options, const std::filesystem::path& dir,
                   const std::string& config, const std::string& md) {
@@ -49,10 +55,10 @@ void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options,
     alone.threads = 0;
     // One writer over the whole cloud: seconds from opening to the committed file, its size.
     const auto write = [&](io::CloudFormat format, const io::LasOptions& las, const fs::path& out,
-                           std::uintmax_t& bytes) {
+                           std::uintmax_t& bytes, const io::CopcOptions* copc = nullptr) {
         const auto t0 = Clock::now();
         {
-            io::CloudWriter w(out, format, reader.origin(), reader.fields(), las);
+            io::CloudWriter w(out, format, reader.origin(), reader.fields(), las, copc);
             for (const auto& chunk : chunks) w.append(chunk);
             w.commit();
         }
@@ -70,9 +76,14 @@ void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options,
         laz_runs.push_back(write(io::CloudFormat::Laz, parallel, dir / "formats.laz", laz_bytes));
     }
     const double laz1_s = write(io::CloudFormat::Laz, alone, dir / "formats_1.laz", laz1_bytes);
+    // COPC once (it takes longest), within `ladarvr index`'s default bound of 1 GiB.
+    io::CopcOptions copc;
+    copc.memory_bytes = std::uint64_t(kCopcMemoryMiB) << 20;
+    std::uintmax_t copc_bytes = 0;
+    const double copc_s = write(io::CloudFormat::Copc, parallel, dir / "formats.copc.laz", copc_bytes, &copc);
     const double pcd_s = median(pcd_runs), laz_s = median(laz_runs);
     const double pcd_mib = double(pcd_bytes) / 1048576.0, laz_mib = double(laz_bytes) / 1048576.0,
-                 laz1_mib = double(laz1_bytes) / 1048576.0;
+                 laz1_mib = double(laz1_bytes) / 1048576.0, copc_mib = double(copc_bytes) / 1048576.0;
     const bool same_file = laz_bytes == laz1_bytes;
 
     std::ostringstream t;
@@ -87,12 +98,18 @@ void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options,
     const std::string laz_name = "LAZ, chunks compressed on " + std::to_string(threads) + " threads";
     row(laz_name.c_str(), laz_s, laz_mib);
     row("LAZ, on the caller's thread alone", laz1_s, laz1_mib);
-    const bool size_ok = laz_mib <= 0.25 * pcd_mib, time_ok = laz_s <= 2.0 * pcd_s;
+    const std::string copc_name =
+        "COPC, within " + std::to_string(kCopcMemoryMiB) + " MiB, on " + std::to_string(threads) + " threads";
+    row(copc_name.c_str(), copc_s, copc_mib);
+    const bool size_ok = laz_mib <= 0.25 * pcd_mib, time_ok = laz_s <= 2.0 * pcd_s, copc_ok = copc_s <= 1.5 * laz_s;
     const std::string verdict =
         std::string("LAZ: ") + fmt("%.3f", laz_mib / pcd_mib) +
         " of the bytes (goal <= 0.25: " + (size_ok ? "met" : "missed") + "), " + fmt("%.2f", laz_s / pcd_s) +
         "x the write time (goal <= 2x: " + (time_ok ? "met" : "missed") + "); " + fmt("%.2f", laz1_s / laz_s) +
-        "x faster than on one thread" + (same_file ? "" : "; THE TWO LAZ FILES DIFFER IN SIZE");
+        "x faster than on one thread" + (same_file ? "" : "; THE TWO LAZ FILES DIFFER IN SIZE") +
+        ". COPC: " + fmt("%.2f", copc_s / laz_s) +
+        "x the write time of LAZ (goal <= 1.5x: " + (copc_ok ? "met" : "missed") + "), " +
+        fmt("%.3f", copc_mib / laz_mib) + "x its bytes";
     std::printf("\n%s\n%s\n", t.str().c_str(), verdict.c_str());
     if (md.empty()) return;
     std::ostringstream s;
@@ -105,9 +122,10 @@ void benchFormats(const core::Scene& scene, const sim::GenerateOptions& options,
          "chunks of "
       << io::lazChunkPoints()
       << " points compressed by LASzip on worker threads, "
-         "the file LASzip writes alone, byte for byte), then the same LAZ on one thread. The cloud is read into "
-         "memory first; each write is timed from opening the writer to the committed file; binary PCD and parallel "
-         "LAZ in turn, 3 rounds, medians; LAZ on one thread once.\n\n"
+         "the file LASzip writes alone, byte for byte), then the same LAZ on one thread, then COPC (`generate --out "
+         "X.copc.laz`'s writer, past its memory bound spilling to scratch files and building the octree a part at a "
+         "time). The cloud is read into memory first; each write is timed from opening the writer to the committed "
+         "file; binary PCD and parallel LAZ in turn, 3 rounds, medians; LAZ on one thread and COPC once.\n\n"
       << t.str() << "\n"
       << verdict << ".\n";
     replaceMarkdownSection(md, "## Cloud formats (ladarvr bench generate)", s.str());

@@ -7,9 +7,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <exception>
 #include <iterator>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 namespace io::detail {
@@ -171,6 +173,80 @@ void parallelFor(std::size_t n, int threads, const std::function<void(std::size_
     for (std::size_t t = 0; t < helpers; ++t) pool.emplace_back(work, t + 1);
     work(0);
     for (std::thread& t : pool) t.join();
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
+}
+
+void orderedParallel(std::size_t n, int threads, std::size_t window, const std::function<void(std::size_t)>& work,
+                     const std::function<void(std::size_t)>& emit) {
+    window = std::max<std::size_t>(window, 1);
+    std::mutex m;
+    std::condition_variable changed;
+    std::size_t next = 0, emitted = 0, running = 0;
+    std::vector<char> done(n, 0);
+    std::vector<std::exception_ptr> errors(n);
+    std::exception_ptr emit_error;
+    bool stop = false;
+    const auto canBegin = [&] { return !stop && next < n && next < emitted + window; };
+    // Runs item i with the lock released; returns with it held.
+    const auto run = [&](std::unique_lock<std::mutex>& lock, std::size_t i) {
+        ++running;
+        lock.unlock();
+        try {
+            work(i);
+        } catch (...) {
+            errors[i] = std::current_exception();
+        }
+        lock.lock();
+        --running;
+        done[i] = 1;
+        if (errors[i]) stop = true;
+        changed.notify_all();
+    };
+    const auto helper = [&] {
+        std::unique_lock<std::mutex> lock(m);
+        for (;;) {
+            changed.wait(lock, [&] { return canBegin() || stop || next >= n; });
+            if (!canBegin()) return;
+            run(lock, next++);
+        }
+    };
+    std::vector<std::thread> pool;
+    const std::size_t helpers = std::min<std::size_t>(std::size_t(std::max(threads, 0)), n > 0 ? n - 1 : 0);
+    for (std::size_t t = 0; t < helpers; ++t) pool.emplace_back(helper);
+    {
+        std::unique_lock<std::mutex> lock(m);
+        while (emitted < n) {
+            if (done[emitted] && !errors[emitted] && !stop) {
+                const std::size_t i = emitted;
+                lock.unlock();
+                try {
+                    emit(i);
+                } catch (...) {
+                    emit_error = std::current_exception();
+                }
+                lock.lock();
+                if (emit_error) {
+                    stop = true;
+                    changed.notify_all();
+                    break;
+                }
+                ++emitted;
+                changed.notify_all();
+            } else if (canBegin()) {
+                run(lock, next++);
+            } else if (stop) {
+                break;
+            } else {
+                changed.wait(lock);
+            }
+        }
+        stop = true;
+        changed.notify_all();
+        changed.wait(lock, [&] { return running == 0; });
+    }
+    for (std::thread& t : pool) t.join();
+    if (emit_error) std::rethrow_exception(emit_error);
     for (const std::exception_ptr& e : errors)
         if (e) std::rethrow_exception(e);
 }

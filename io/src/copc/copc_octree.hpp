@@ -70,4 +70,13 @@ std::vector<OctreeNode> buildOctree(std::span<const std::array<std::int32_t, 3>>
 /// that threw, after all have finished.
 void parallelFor(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& fn);
 
+/// Runs work(i) for i in [0, n) on `threads` threads besides the caller's, and emit(i) on
+/// the caller's thread in ascending order of i as soon as work(i) and every emit before it
+/// are done; at most `window` items are begun and not yet emitted at any time (so at most
+/// `window` results are held). No thread waits at the end of a batch: a thread that
+/// finishes takes the next item while the window allows. After an error (the lowest i's
+/// work, or an emit) no item is begun, those begun finish, and the error is rethrown.
+void orderedParallel(std::size_t n, int threads, std::size_t window, const std::function<void(std::size_t)>& work,
+                     const std::function<void(std::size_t)>& emit);
+
 }  // namespace io::detail

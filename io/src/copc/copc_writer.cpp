@@ -10,6 +10,7 @@
 // chunk is cut out of a file LASzip writes for that node alone, in memory, on a worker.
 #include "copc_hierarchy.hpp"
 #include "copc_octree.hpp"
+#include "packed_point.hpp"
 #include "format_writer.hpp"
 #include "las/laz_chunk_table.hpp"
 #include "las/laz_compress.hpp"
@@ -22,9 +23,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <limits>
 #include <span>
 #include <memory>
@@ -246,9 +249,10 @@ struct Lifted {
 
 class CopcWriter final : public FormatWriter {
   public:
-    CopcWriter(platform::TempFile& file, LasRecord record, const glm::dvec3& origin, const LasOptions& las,
-               const CopcOptions& copc)
+    CopcWriter(platform::TempFile& file, LasRecord record, const glm::dvec3& origin, const core::CloudFields& fields,
+               const LasOptions& las, const CopcOptions& copc)
         : record_(std::move(record)),
+          packing_(fields),
           file_(file.file()),
           dir_(file.destination().parent_path().empty() ? std::filesystem::path(".")
                                                         : file.destination().parent_path()),
@@ -303,6 +307,8 @@ class CopcWriter final : public FormatWriter {
 
   private:
     static constexpr std::size_t kBlockBits = 20;
+    // Points a scratch file is read or written by at once.
+    static constexpr std::size_t kScratchBlock = std::size_t(1) << 16;
     static constexpr std::size_t kBlockPoints = std::size_t(1) << kBlockBits;
 
     const CloudPoint& point(std::size_t i) const { return blocks_[i >> kBlockBits][i & (kBlockPoints - 1)]; }
@@ -316,36 +322,51 @@ class CopcWriter final : public FormatWriter {
     }
 
     void spillAppend(std::span<const CloudPoint> points) {
-        for (const CloudPoint& p : points) {
-            bound(record_.quantize(p, count_));
-            ++count_;
+        const std::size_t size = packing_.size();
+        std::vector<unsigned char> packed(std::min<std::size_t>(points.size(), kScratchBlock) * size);
+        while (!points.empty()) {
+            const std::size_t n = std::min<std::size_t>(points.size(), kScratchBlock);
+            for (std::size_t i = 0; i < n; ++i) {
+                bound(record_.quantize(points[i], count_));
+                ++count_;
+                packing_.pack(points[i], packed.data() + i * size);
+            }
+            spill_->write(packed.data(), n * size);
+            points = points.subspan(n);
         }
-        spill_->write(points.data(), points.size_bytes());
     }
 
-    // Compresses `nodes` (their points given by `pointOf`) a batch at a time on the
-    // threads, handing each to `done` in order.
+    // Reads the spill's points [first, first + n) into `out` (of n), unpacked.
+    void readSpill(std::uint64_t first, std::size_t n, std::vector<unsigned char>& bytes, std::span<CloudPoint> out) {
+        const std::size_t size = packing_.size();
+        bytes.resize(n * size);
+        spill_->readAt(bytes.data(), bytes.size(), first * size);
+        for (std::size_t i = 0; i < n; ++i) out[i] = packing_.unpack(bytes.data() + i * size);
+    }
+
+    // Compresses `nodes` (their points given by `pointOf`) on the threads, handing each to
+    // `done` in order on the calling thread; at most kNodesPerThread nodes a thread are
+    // compressed and not yet handed on.
     template <typename PointOf, typename Done>
     void compressNodes(std::vector<OctreeNode>& nodes, PointOf pointOf, Done done) {
-        const std::size_t batch = kNodesPerThread * std::size_t(threads_ + 1);
-        for (std::size_t first = 0; first < nodes.size(); first += batch) {
-            const std::size_t n = std::min(batch, nodes.size() - first);
-            std::vector<LaszipFile> files(n);
-            std::vector<LasInventory> counted(n);
-            parallelFor(n, threads_, [&](std::size_t i, std::size_t) {
-                const OctreeNode& node = nodes[first + i];
+        const std::size_t window = kNodesPerThread * std::size_t(threads_ + 1);
+        std::vector<LaszipFile> files(nodes.size());
+        std::vector<LasInventory> counted(nodes.size());
+        orderedParallel(
+            nodes.size(), threads_, window,
+            [&](std::size_t i) {
+                const OctreeNode& node = nodes[i];
                 if (node.points.empty()) return;
                 std::vector<CloudPoint> pts;
                 pts.reserve(node.points.size());
                 for (std::uint32_t p : node.points) pts.push_back(pointOf(p));
                 files[i] = compressWithLaszip(record_, pts, 0, counted[i], kVariableChunks);
-            });
-            for (std::size_t i = 0; i < n; ++i) {
-                done(nodes[first + i], files[i], counted[i]);
-                std::vector<std::uint32_t>().swap(nodes[first + i].points);
+            },
+            [&](std::size_t i) {
+                done(nodes[i], files[i], counted[i]);
+                std::vector<std::uint32_t>().swap(nodes[i].points);
                 files[i] = LaszipFile{};
-            }
-        }
+            });
     }
 
     void finishInMemory() {
@@ -428,7 +449,7 @@ class CopcWriter final : public FormatWriter {
         makeTop(cube, CopcKey{});
         distribute(cube);
         sets_ = std::make_unique<Scratch>(dir_, where_);
-        for (std::size_t b = 0; b < buckets_.size(); ++b) buildBucket(cube, b);
+        buildBuckets(cube);
         Marks marks;
         sampleTop(cube, 0, marks);
         // The file, in depth-first order.
@@ -447,16 +468,24 @@ class CopcWriter final : public FormatWriter {
         return cell;
     }
 
+    // Counts the points per cell of the histogram's level, the spill's blocks shared among
+    // the threads.
     void histogram(const OctreeCube& cube) {
         hist_.assign(std::size_t(1) << (3 * hist_level_), 0);
-        spill_->rewind();
-        std::vector<CloudPoint> buf(1u << 16);
-        for (std::uint64_t done = 0; done < count_;) {
-            const std::size_t n = std::size_t(std::min<std::uint64_t>(buf.size(), count_ - done));
-            spill_->read(buf.data(), n * sizeof(CloudPoint));
-            for (std::size_t i = 0; i < n; ++i) ++hist_[histCell(cube, record_.quantize(buf[i], done + i))];
-            done += n;
-        }
+        spill_->flush();
+        std::vector<std::vector<unsigned char>> bytes(std::size_t(threads_) + 1);
+        std::vector<std::vector<CloudPoint>> pts(std::size_t(threads_) + 1);
+        const std::size_t blocks = std::size_t((count_ + kScratchBlock - 1) / kScratchBlock);
+        parallelFor(blocks, threads_, [&](std::size_t block, std::size_t worker) {
+            const std::uint64_t first = std::uint64_t(block) * kScratchBlock;
+            const std::size_t n = std::size_t(std::min<std::uint64_t>(kScratchBlock, count_ - first));
+            pts[worker].resize(n);
+            readSpill(first, n, bytes[worker], pts[worker]);
+            for (std::size_t i = 0; i < n; ++i) {
+                const std::size_t cell = histCell(cube, record_.quantize(pts[worker][i], first + i));
+                std::atomic_ref<std::uint64_t>(hist_[cell]).fetch_add(1, std::memory_order_relaxed);
+            }
+        });
     }
 
     std::uint64_t countOf(const CopcKey& key) const {
@@ -509,21 +538,38 @@ class CopcWriter final : public FormatWriter {
         }
     }
 
+    // A bucket file's record: the packed point, then its index in the input (32 bits: the
+    // writer holds fewer than 2^32 points).
+    std::size_t bucketRecordSize() const { return packing_.size() + sizeof(std::uint32_t); }
+
+    // Sorts the spill's points into their buckets' files, in input order. Each block's
+    // buckets are found on the threads, then its records written on this one.
     void distribute(const OctreeCube& cube) {
         constexpr std::size_t kOpenAtOnce = 256;
-        std::vector<CloudPoint> buf(1u << 16);
+        const std::size_t size = packing_.size(), record = bucketRecordSize();
+        std::vector<unsigned char> bytes, out(record);
+        std::vector<std::uint32_t> bucket(kScratchBlock);
+        const std::size_t parts = std::size_t(threads_) + 1;
         for (std::size_t first = 0; first < buckets_.size(); first += kOpenAtOnce) {
             const std::size_t last = std::min(buckets_.size(), first + kOpenAtOnce);
             for (std::size_t b = first; b < last; ++b) buckets_[b].file = std::make_unique<Scratch>(dir_, where_);
-            spill_->rewind();
+            spill_->flush();
             for (std::uint64_t done = 0; done < count_;) {
-                const std::size_t n = std::size_t(std::min<std::uint64_t>(buf.size(), count_ - done));
-                spill_->read(buf.data(), n * sizeof(CloudPoint));
+                const std::size_t n = std::size_t(std::min<std::uint64_t>(kScratchBlock, count_ - done));
+                bytes.resize(n * size);
+                spill_->readAt(bytes.data(), bytes.size(), done * size);
+                parallelFor(parts, threads_, [&](std::size_t part, std::size_t) {
+                    for (std::size_t i = n * part / parts; i < n * (part + 1) / parts; ++i) {
+                        const CloudPoint p = packing_.unpack(bytes.data() + i * size);
+                        bucket[i] = std::uint32_t(bucketOf(cube, record_.quantize(p, done + i)));
+                    }
+                });
                 for (std::size_t i = 0; i < n; ++i) {
-                    const std::size_t b = std::size_t(bucketOf(cube, record_.quantize(buf[i], done + i)));
-                    if (b < first || b >= last) continue;
-                    const Spilled s{buf[i], done + i};
-                    buckets_[b].file->write(&s, sizeof s);
+                    if (bucket[i] < first || bucket[i] >= last) continue;
+                    std::memcpy(out.data(), bytes.data() + i * size, size);
+                    const std::uint32_t index = std::uint32_t(done + i);
+                    std::memcpy(out.data() + size, &index, sizeof index);
+                    buckets_[bucket[i]].file->write(out.data(), record);
                 }
                 done += n;
             }
@@ -533,11 +579,37 @@ class CopcWriter final : public FormatWriter {
         spill_.reset();  // every point is in a bucket now
     }
 
-    void buildBucket(const OctreeCube& cube, std::size_t b) {
+    // A bucket read back and its subtree built, its nodes below its root waiting to be
+    // compressed.
+    struct LoadedBucket {
+        std::size_t bucket = 0;
+        std::vector<Spilled> pts;
+        std::vector<OctreeNode> nodes;
+    };
+
+    LoadedBucket loadBucket(const OctreeCube& cube, std::size_t b) {
         Bucket& bucket = buckets_[b];
         Top& root = tops_[std::size_t(bucket.top)];
-        std::vector<Spilled> pts(bucket.count);
-        bucket.file->read(pts.data(), pts.size() * sizeof(Spilled));
+        LoadedBucket loaded;
+        loaded.bucket = b;
+        std::vector<Spilled>& pts = loaded.pts;
+        pts.resize(std::size_t(bucket.count));
+        {
+            const std::size_t size = packing_.size(), record = bucketRecordSize();
+            std::vector<unsigned char> bytes;
+            for (std::size_t done = 0; done < pts.size();) {
+                const std::size_t n = std::min(kScratchBlock, pts.size() - done);
+                bytes.resize(n * record);
+                bucket.file->read(bytes.data(), bytes.size());
+                for (std::size_t i = 0; i < n; ++i) {
+                    const unsigned char* r = bytes.data() + i * record;
+                    std::uint32_t index = 0;
+                    std::memcpy(&index, r + size, sizeof index);
+                    pts[done + i] = Spilled{packing_.unpack(r), index};
+                }
+                done += n;
+            }
+        }
         bucket.file.reset();
         std::vector<std::array<std::int32_t, 3>> xyz(pts.size());
         for (std::size_t i = 0; i < pts.size(); ++i) xyz[i] = record_.quantize(pts[i].point, pts[i].index);
@@ -545,7 +617,8 @@ class CopcWriter final : public FormatWriter {
         sub.bits = cube.bits - root.key.level;
         const int key[3] = {root.key.x, root.key.y, root.key.z};
         for (std::size_t k = 0; k < 3; ++k) sub.corner[k] = cube.corner[k] + (std::int64_t(key[k]) << sub.bits);
-        std::vector<OctreeNode> nodes = buildOctree(xyz, sub, cap_, threads_);
+        std::vector<OctreeNode>& nodes = loaded.nodes;
+        nodes = buildOctree(xyz, sub, cap_, threads_);
         // Keys from the bucket's subtree to the whole tree's.
         for (OctreeNode& n : nodes) {
             const int l = n.key.level;
@@ -565,9 +638,15 @@ class CopcWriter final : public FormatWriter {
             appendSet(run);
         }
         nodes.erase(nodes.begin());
-        if (!chunks_) chunks_ = std::make_unique<Scratch>(dir_, where_);
+        return loaded;
+    }
+
+    // Compresses a loaded bucket's nodes into the scratch file of chunks, in order.
+    void compressBucket(LoadedBucket& loaded) {
+        Bucket& bucket = buckets_[loaded.bucket];
+        const std::vector<Spilled>& pts = loaded.pts;
         compressNodes(
-            nodes, [&](std::uint32_t p) -> const CloudPoint& { return pts[p].point; },
+            loaded.nodes, [&](std::uint32_t p) -> const CloudPoint& { return pts[p].point; },
             [&](const OctreeNode& node, const LaszipFile& f, const LasInventory& inv) {
                 Bucket::Chunk c{node.key, chunks_at_, 0, node.points.size()};
                 if (!node.points.empty()) {
@@ -579,6 +658,31 @@ class CopcWriter final : public FormatWriter {
                 }
                 bucket.chunks.push_back(c);
             });
+    }
+
+    // Every bucket, in order: with threads, one bucket's nodes are compressed on a thread
+    // of their own while the next bucket is read back and built. Two buckets are then held
+    // at once: the one being built in the half of the bound it was sized for, the one
+    // being compressed (its points and their indices) in the other half, which the top of
+    // the tree uses only once every bucket is done.
+    void buildBuckets(const OctreeCube& cube) {
+        chunks_ = std::make_unique<Scratch>(dir_, where_);
+        if (threads_ == 0) {
+            for (std::size_t b = 0; b < buckets_.size(); ++b) {
+                LoadedBucket loaded = loadBucket(cube, b);
+                compressBucket(loaded);
+            }
+            return;
+        }
+        std::unique_ptr<LoadedBucket> compressing;
+        std::future<void> compressed;  // declared last: waited for before `compressing` goes
+        for (std::size_t b = 0; b < buckets_.size(); ++b) {
+            auto loaded = std::make_unique<LoadedBucket>(loadBucket(cube, b));
+            if (compressed.valid()) compressed.get();
+            compressing = std::move(loaded);
+            compressed = std::async(std::launch::async, [this, raw = compressing.get()] { compressBucket(*raw); });
+        }
+        if (compressed.valid()) compressed.get();
     }
 
     void appendSet(std::span<const Lifted> run) {
@@ -731,6 +835,7 @@ class CopcWriter final : public FormatWriter {
     }
 
     LasRecord record_;
+    PointPacking packing_;  // the scratch files' points
     std::FILE* file_;
     std::filesystem::path dir_;
     std::string where_;
@@ -762,7 +867,7 @@ std::unique_ptr<FormatWriter> openCopcWriter(platform::TempFile& file, const glm
                                              const core::CloudFields& fields, const LasOptions& las,
                                              const CopcOptions& copc) {
     LasRecord record("output: " + file.destination().string(), origin, fields, las);
-    return std::make_unique<CopcWriter>(file, std::move(record), origin, las, copc);
+    return std::make_unique<CopcWriter>(file, std::move(record), origin, fields, las, copc);
 }
 
 }  // namespace io::detail

@@ -1,0 +1,74 @@
+// io/src/copc/packed_point.hpp (internal): a point in as few bytes as the fields a cloud
+// carries, for the COPC writer's scratch files. The record always holds what a LAS
+// record is made of whatever the fields (position, view, label, return number and
+// returns); the optional fields only when the cloud has them. unpack(pack(p)) gives a
+// point that LasRecord::fill() turns into the same record as p; the fields the cloud
+// lacks come back as their defaults.
+#pragma once
+#include <core/point_cloud.hpp>
+
+#include <cstddef>
+#include <cstring>
+
+namespace io::detail {
+
+class PointPacking {
+  public:
+    explicit PointPacking(const core::CloudFields& fields) : fields_(fields) {
+        size_ = 12 + 2 + 1 + 1 + 1;
+        if (fields.rgb) size_ += 4;
+        if (fields.range) size_ += 4;
+        if (fields.incidence) size_ += 4;
+        if (fields.scan_angle) size_ += 4;
+        if (fields.height_above_ground) size_ += 4;
+        if (fields.intensity) size_ += 2;
+    }
+
+    /// Bytes of one packed point.
+    std::size_t size() const { return size_; }
+
+    void pack(const core::CloudPoint& p, unsigned char* out) const {
+        put(out, &p.position, 12);
+        put(out, &p.view, 2);
+        put(out, &p.label, 1);
+        put(out, &p.return_number, 1);
+        put(out, &p.returns, 1);
+        if (fields_.rgb) put(out, &p.rgb, 4);
+        if (fields_.range) put(out, &p.range_m, 4);
+        if (fields_.incidence) put(out, &p.incidence_deg, 4);
+        if (fields_.scan_angle) put(out, &p.scan_angle_deg, 4);
+        if (fields_.height_above_ground) put(out, &p.height_above_ground_m, 4);
+        if (fields_.intensity) put(out, &p.intensity, 2);
+    }
+
+    core::CloudPoint unpack(const unsigned char* in) const {
+        core::CloudPoint p;
+        get(in, &p.position, 12);
+        get(in, &p.view, 2);
+        get(in, &p.label, 1);
+        get(in, &p.return_number, 1);
+        get(in, &p.returns, 1);
+        if (fields_.rgb) get(in, &p.rgb, 4);
+        if (fields_.range) get(in, &p.range_m, 4);
+        if (fields_.incidence) get(in, &p.incidence_deg, 4);
+        if (fields_.scan_angle) get(in, &p.scan_angle_deg, 4);
+        if (fields_.height_above_ground) get(in, &p.height_above_ground_m, 4);
+        if (fields_.intensity) get(in, &p.intensity, 2);
+        return p;
+    }
+
+  private:
+    static void put(unsigned char*& out, const void* field, std::size_t n) {
+        std::memcpy(out, field, n);
+        out += n;
+    }
+    static void get(const unsigned char*& in, void* field, std::size_t n) {
+        std::memcpy(field, in, n);
+        in += n;
+    }
+
+    core::CloudFields fields_;
+    std::size_t size_ = 0;
+};
+
+}  // namespace io::detail
