@@ -47,6 +47,9 @@ constexpr std::size_t kEvlrHeaderSize = 60;
 constexpr std::size_t kInfoSize = 160;
 constexpr double kScale_m = 0.001;
 constexpr laszip_U32 kVariableChunks = std::numeric_limits<laszip_U32>::max();
+// Bytes of records gathered per bucket before they are written (at most 256 buckets are
+// filled at once: 16 MiB).
+constexpr std::size_t kBucketBufferBytes = std::size_t(1) << 16;
 // Nodes compressed at once per thread before they are written in order.
 constexpr std::size_t kNodesPerThread = 4;
 // A compressed node's bytes per point, at most (as the LAZ writer's chunks).
@@ -547,7 +550,8 @@ class CopcWriter final : public FormatWriter {
     void distribute(const OctreeCube& cube) {
         constexpr std::size_t kOpenAtOnce = 256;
         const std::size_t size = packing_.size(), record = bucketRecordSize();
-        std::vector<unsigned char> bytes, out(record);
+        std::vector<unsigned char> bytes;
+        std::vector<std::vector<unsigned char>> gathered(std::min(kOpenAtOnce, buckets_.size()));
         std::vector<std::uint32_t> bucket(kScratchBlock);
         const std::size_t parts = std::size_t(threads_) + 1;
         for (std::size_t first = 0; first < buckets_.size(); first += kOpenAtOnce) {
@@ -566,12 +570,23 @@ class CopcWriter final : public FormatWriter {
                 });
                 for (std::size_t i = 0; i < n; ++i) {
                     if (bucket[i] < first || bucket[i] >= last) continue;
-                    std::memcpy(out.data(), bytes.data() + i * size, size);
+                    std::vector<unsigned char>& g = gathered[bucket[i] - first];
+                    const std::size_t at = g.size();
+                    g.resize(at + record);
+                    std::memcpy(g.data() + at, bytes.data() + i * size, size);
                     const std::uint32_t index = std::uint32_t(done + i);
-                    std::memcpy(out.data() + size, &index, sizeof index);
-                    buckets_[bucket[i]].file->write(out.data(), record);
+                    std::memcpy(g.data() + at + size, &index, sizeof index);
+                    if (g.size() + record > kBucketBufferBytes) {
+                        buckets_[bucket[i]].file->write(g.data(), g.size());
+                        g.clear();
+                    }
                 }
                 done += n;
+            }
+            for (std::size_t b = first; b < last; ++b) {
+                std::vector<unsigned char>& g = gathered[b - first];
+                buckets_[b].file->write(g.data(), g.size());
+                g.clear();
             }
             // Buckets are built one at a time later; their files stay, rewound.
             for (std::size_t b = first; b < last; ++b) buckets_[b].file->rewind();
