@@ -53,7 +53,7 @@ bool rerunHeadless(const BenchViewArgs& a) {
                    std::to_string(a.ooc.cache_mb) + " --gpu-mb " + std::to_string(a.ooc.gpu_mb) + " --in-core-max " +
                    std::to_string(a.ooc.in_core_max_points) +
                    (a.ooc.dir.empty() ? std::string() : " --ooc-dir " + shellQuote(a.ooc.dir)) +
-                   (a.no_md ? " --no-md" : "");
+                   (a.ooc.synthetic ? " --ooc-synthetic" : "") + (a.no_md ? " --no-md" : "");
     }
     std::string points;
     for (std::size_t n : a.points) points += (points.empty() ? "" : ",") + std::to_string(n);
@@ -218,6 +218,9 @@ void registerView(CLI::App& parent) {
     cmd->add_option("--in-core-max", args->ooc.in_core_max_points,
                     "ooc: the in-core baseline only for clouds of at most this many points")
         ->capture_default_str();
+    cmd->add_flag("--ooc-synthetic", args->ooc.synthetic,
+                  "ooc: synthetic surveys written to COPC node by node, not the generator's clouds (sizes whose "
+                  "scratch files would not fit the disk)");
     cmd->add_option("--ooc-dir", args->ooc.dir,
                     "ooc: folder where the COPC files are made and kept, reused by later runs (default: a "
                     "temporary folder, removed)");

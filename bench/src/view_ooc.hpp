@@ -22,7 +22,8 @@ struct OocBenchOptions {
     int eye_width = 1440, eye_height = 1600;
     std::size_t in_core_max_points = 20000000;  // the in-core baseline only up to this size
     int still_frames_max = 600;                 // frames held still waiting for full detail
-    std::string dir;                       // where the COPC files are made and kept (reused); empty: a temporary folder
+    bool synthetic = false;  // synthetic surveys written node by node (synthetic_survey.hpp), not the generator's
+    std::string dir;         // where the COPC files are made and kept (reused); empty: a temporary folder
     std::size_t selection_nodes = 100000;  // the synthetic tree of the selection-only rows
     std::string md;                        // markdown file whose ooc section is rewritten; empty: none
 };

@@ -482,3 +482,70 @@ TEST_CASE("copc_writer: past its memory bound it spills and builds a part at a t
     CHECK(e.find("leaves no room for a node of 100000 points; allowed at least") != std::string::npos);
     CHECK_FALSE(fs::exists(dir.path / "tight.copc.laz"));
 }
+
+TEST_CASE("copc_writer: nodes made by the caller become a valid COPC file that reads back node by node") {
+    TempDir dir("copc_nodes");
+    const fs::path path = dir.path / "nodes.copc.laz";
+    const glm::dvec3 origin(5.0e5, 4.0e6, 100.0);
+    constexpr int bits = 12;  // a cube of 4.096 m centred on the origin
+    // A point at (x, y, z) metres from the origin; its node at `level` by its millimetres.
+    const auto pointAt = [](double x, double y, double z, std::uint16_t view) {
+        core::CloudPoint p;
+        p.position = glm::vec3(float(x), float(y), float(z));
+        p.view = view;
+        p.label = core::Role::Ground;
+        return p;
+    };
+    std::vector<core::CloudPoint> root, child, grandchild;
+    for (int i = 0; i < 50; ++i) root.push_back(pointAt(-1.9 + 0.07 * i, -1.5 + 0.05 * i, 0.3, 1));
+    for (int i = 0; i < 30; ++i) child.push_back(pointAt(0.1 + 0.06 * i, 0.2 + 0.01 * i, 0.5, 2));  // octant 7
+    for (int i = 0; i < 20; ++i) grandchild.push_back(pointAt(-1.9 + 0.02 * i, -1.9, -1.9, 3));     // level 2, 0-0-0
+    {
+        io::LasOptions las;
+        las.threads = 2;
+        io::CopcNodeWriter w(path, origin, core::CloudFields{}, bits, las);
+        const io::CopcNodeWriter::Node first[] = {{io::CopcKey{0, 0, 0, 0}, root}, {io::CopcKey{1, 1, 1, 1}, child}};
+        w.add(first);
+        const io::CopcNodeWriter::Node second[] = {{io::CopcKey{2, 0, 0, 0}, grandchild}};
+        w.add(second);
+        w.commit();
+    }
+    const std::vector<io::CopcFinding> findings = io::checkCopc(path);
+    for (const io::CopcFinding& f : findings) CAPTURE(f.rule + ": " + f.message);
+    CHECK(findings.empty());
+    const io::CopcReader reader(path);
+    CHECK(reader.info().halfsize_m == doctest::Approx(2.048));
+    CHECK(reader.info().center_m[0] == doctest::Approx(origin.x - 0.0005));
+    REQUIRE(reader.nodes().size() == 3);  // level 1, 0-0-0 is an empty ancestor: not listed
+    CHECK(reader.readNode({0, 0, 0, 0}).points.size() == 50);
+    CHECK(reader.readNode({1, 1, 1, 1}).points.size() == 30);
+    const core::PointCloud g = reader.readNode({2, 0, 0, 0});
+    REQUIRE(g.points.size() == 20);
+    CHECK(g.origin.x + double(g.points[0].position.x) == doctest::Approx(origin.x - 1.9).epsilon(1e-12));
+}
+
+TEST_CASE("copc_writer: a caller's node out of its cube, out of the tree or given twice is one error, and no file") {
+    TempDir dir("copc_nodes_bad");
+    const fs::path path = dir.path / "bad.copc.laz";
+    core::CloudPoint p;
+    p.position = glm::vec3(0.5f, 0.5f, 0.5f);  // in octant 7 of a 4.096 m cube
+    const std::vector<core::CloudPoint> one{p};
+    const auto errorFor = [&](const std::vector<io::CopcNodeWriter::Node>& nodes) {
+        return test_support::errorOf([&] {
+            io::CopcNodeWriter w(path, glm::dvec3(0.0), core::CloudFields{}, 12);
+            w.add(nodes);
+            w.commit();
+        });
+    };
+    const std::string where = "output: " + path.string() + ": ";
+    CHECK(errorFor({{io::CopcKey{1, 0, 0, 0}, one}}) == where + "point 0 of node 1-0-0-0 lies outside its cube");
+    CHECK(errorFor({{io::CopcKey{1, 2, 0, 0}, one}}) ==
+          where + "node 1-2-0-0 is outside the octree; allowed levels 0 to 12 and x, y, z in [0, 2^level)");
+    CHECK(errorFor({{io::CopcKey{13, 0, 0, 0}, one}}) ==
+          where + "node 13-0-0-0 is outside the octree; allowed levels 0 to 12 and x, y, z in [0, 2^level)");
+    CHECK(errorFor({{io::CopcKey{1, 1, 1, 1}, one}, {io::CopcKey{1, 1, 1, 1}, one}}) ==
+          where + "node 1-1-1-1 was added before");
+    CHECK(test_support::errorOf([&] { io::CopcNodeWriter w(path, glm::dvec3(0.0), core::CloudFields{}, 40); }) ==
+          where + "a COPC cube of 2^40 mm; allowed bits 1 to 31");
+    CHECK(dir.entries() == 0);
+}

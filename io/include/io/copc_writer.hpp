@@ -11,8 +11,12 @@
 #include <core/point_cloud.hpp>
 #include <io/cloud_io.hpp>
 
+#include <io/copc.hpp>
+
 #include <cstdint>
 #include <filesystem>
+#include <memory>
+#include <span>
 
 namespace io {
 
@@ -41,5 +45,36 @@ std::uint64_t copcMinimumBytes(int threads);
 /// Error("output: <path>: ...").
 void writeCopc(const std::filesystem::path& path, const core::PointCloud& cloud, const LasOptions& las = {},
                const CopcOptions& copc = {});
+
+/// Writes a COPC file from nodes the caller has made already: for data that is an octree
+/// before it is a file (a synthetic survey too large to hold or spill, a tiled source).
+/// The cube is centred on `origin`, with an edge of 2^bits mm; each node's points must
+/// lie in its key's cube, and a key comes once. Ancestors that were never added become
+/// empty nodes of the hierarchy. The records, the layout and the atomic output are those
+/// of writeCopc. Nothing checks that a node's points are a sample of its children's:
+/// that is the caller's promise. Throws Error("output: <path>: ...").
+class CopcNodeWriter {
+  public:
+    struct Node {
+        CopcKey key;
+        std::span<const core::CloudPoint> points;
+    };
+
+    /// `bits` in [1, 31]; LasOptions::threads compress the nodes of each add().
+    CopcNodeWriter(const std::filesystem::path& path, const glm::dvec3& origin, const core::CloudFields& fields,
+                   int bits, const LasOptions& las = {});
+    ~CopcNodeWriter();
+    CopcNodeWriter(const CopcNodeWriter&) = delete;
+    CopcNodeWriter& operator=(const CopcNodeWriter&) = delete;
+
+    /// Compresses `nodes` on the threads and writes them, in this order.
+    void add(std::span<const Node> nodes);
+    /// Writes the chunk table and the hierarchy, then renames the file into place.
+    void commit();
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace io
