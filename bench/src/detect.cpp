@@ -18,6 +18,8 @@
 #include <sim/generator.hpp>
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -167,6 +169,21 @@ void run(const BenchDetectCli& cli) {
     const std::string trained = runTrainedComparison(cli.trained);
     std::printf("\n%s", trained.c_str());
     if (cli.no_md) return;
+    // The precision-recall plot, drawn from the curves this run wrote.
+    std::string plot;
+    if (!cli.trained.pr_csv.empty()) {
+        const std::filesystem::path png = sourceRoot() / "docs" / "img" / "detect_pr.png";
+        const std::string cmd = "python3 " + shellQuote((sourceRoot() / "scripts" / "plot_detect_pr.py").string()) +
+                                " " + shellQuote(cli.trained.pr_csv.string()) + " " + shellQuote(png.string());
+        const int status = std::system(cmd.c_str());
+        std::fprintf(stderr, "bench detect: plot %s %s\n", png.c_str(), status == 0 ? "drawn" : "FAILED");
+        if (status == 0)
+            plot =
+                "Precision-recall curves of both detectors on the evaluation clouds above (`python3 "
+                "scripts/plot_detect_pr.py " +
+                cli.trained.pr_csv.string() +
+                " docs/img/detect_pr.png`):\n\n![precision-recall](docs/img/detect_pr.png)\n";
+    }
     std::ostringstream s;
     s << "## Detector (ladarvr bench detect)\n\n"
       << "Command: `./ladarvr bench detect --voxel-m " << fmt("%g", cli.detector.voxel_m) << " --cluster-tolerance-m "
@@ -193,7 +210,8 @@ void run(const BenchDetectCli& cli) {
       << cli.trained.eval_items
       << " items per scene) and on the bundled scenes seen by the sensor presets; both detectors rank every "
          "segment or cluster, a true positive is a candidate most of whose points are labelled target.\n\n"
-      << trained << "\n";
+      << trained << "\n"
+      << plot;
     replaceMarkdownSection(cli.md, "## Detector (ladarvr bench detect)", s.str());
     std::fprintf(stderr, "bench detect: wrote the section to %s\n", cli.md.c_str());
 }
@@ -225,6 +243,10 @@ void registerDetect(CLI::App& parent) {
     c->add_option("--eval-items", state->trained.eval_items,
                   "evaluation items per scene (each seen by the ideal sensor or a preset), [1, 1000]")
         ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    state->trained.pr_csv = "out/bench_detect_pr.csv";
+    c->add_option("--pr-csv", state->trained.pr_csv,
+                  "where the precision-recall curves of both detectors go (plot: scripts/plot_detect_pr.py)")
         ->capture_default_str();
     c->add_option("--tmp", state->trained.tmp, "scratch folder for the corpora (default: a new one, removed)");
     c->add_option("--threads", state->trained.threads, "threads of the trained detector and the generator")

@@ -130,6 +130,33 @@ Summary summarise(const std::vector<Outcome>& outcomes) {
     return s;
 }
 
+// The precision-recall curve of a detector over the clouds, one row per distinct score
+// threshold from the highest down: precision = true candidates / candidates at or above
+// it, recall = clouds whose target a candidate at or above it finds / clouds, and the
+// false candidates per cloud there.
+std::string prRows(const std::string& detector, const std::vector<Outcome>& outcomes) {
+    struct Entry {
+        double score;
+        bool first_tp, tp;
+    };
+    std::vector<Entry> all;
+    for (const Outcome& o : outcomes)
+        for (std::size_t k = 0; k < o.scored.size(); ++k)
+            all.push_back({o.scored[k].first, o.rank == int(k + 1), o.scored[k].second});
+    std::stable_sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) { return a.score > b.score; });
+    std::ostringstream s;
+    std::size_t found = 0, tps = 0;
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        found += all[k].first_tp;
+        tps += all[k].tp;
+        if (k + 1 < all.size() && all[k + 1].score == all[k].score) continue;
+        s << detector << "," << fmt("%.6f", all[k].score) << "," << fmt("%.6f", double(tps) / double(k + 1)) << ","
+          << fmt("%.6f", double(found) / double(outcomes.size())) << ","
+          << fmt("%.4f", double(k + 1 - tps) / double(outcomes.size())) << "\n";
+    }
+    return s.str();
+}
+
 fs::path writeSpec(const fs::path& dir, const std::string& name, nlohmann::json spec) {
     const fs::path path = dir / (name + ".json");
     platform::writeFileAtomic(path, spec.dump(2));
@@ -279,6 +306,12 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
                      b_out.back().rank);
     }
     const Summary ts = summarise(t_out), bs = summarise(b_out);
+    if (!o.pr_csv.empty()) {
+        if (o.pr_csv.has_parent_path()) fs::create_directories(o.pr_csv.parent_path());
+        platform::writeFileAtomic(o.pr_csv, "detector,threshold,precision,recall,false_per_cloud\n" +
+                                                prRows("trained", t_out) + prRows("baseline", b_out));
+        std::fprintf(stderr, "bench detect: precision-recall curves in %s\n", o.pr_csv.c_str());
+    }
     std::vector<Outcome> t_ideal, t_noisy, b_ideal, b_noisy;
     for (std::size_t k = 0; k < clouds.size(); ++k) {
         (clouds[k].ideal ? t_ideal : t_noisy).push_back(t_out[k]);

@@ -14,6 +14,7 @@ struct TrainedBenchOptions {
     int eval_items = 10;                        // evaluation items per scene
     std::vector<std::filesystem::path> clouds;  // --clouds: only the per-cloud table of these
     std::filesystem::path model;                // --model: the model --clouds uses
+    std::filesystem::path pr_csv;               // the precision-recall curves of both detectors (empty: none)
 };
 
 /// Trains on the corpora of assets/detect/train_*.json, evaluates both detectors on new

@@ -304,15 +304,15 @@ bool RasterFit::correctViews() {
             // The start: the median of the residuals within kViewReach_m of the terrain
             // (where most blocks' lowest point is a canopy or a roof, the median of all
             // of them lies metres up). None there: nothing to register this view by.
-            std::vector<double> near;
+            dev.clear();  // the residuals within reach, until the passes reuse it
             for (const double v : r)
-                if (std::abs(v) <= kViewReach_m) near.push_back(v);
-            if (near.size() < 3) {
+                if (std::abs(v) <= kViewReach_m) dev.push_back(v);
+            if (dev.size() < 3) {
                 planes[view] = plane;
                 a = b;
                 continue;
             }
-            plane.offset_m = median(near);
+            plane.offset_m = median(dev);
             for (int pass = 0; pass < 2; ++pass) {
                 dev.resize(n);
                 const auto at = [&](std::size_t k) {

@@ -227,18 +227,26 @@ TEST_CASE("the DTM file holds the known terrain's heights, in world coordinates"
     CHECK_FALSE(fs::exists(scratch.path / "empty.asc"));
 }
 
-TEST_CASE("CSF under the riegl-vux1uav preset keeps the demo target above 0.5 m and whitens the ground") {
-    // Misregistered views make the ground thick; once they are corrected the terrain must
-    // not sit above the corrected ground, or the foot of the target is whitened with it.
+// The demo scene under CSF and the riegl-vux1uav preset, seen along `orbit`: the run's stats.
+sim::GenerateStats csfUnderVux(const sim::OrbitOptions& orbit) {
     const core::Scene scene = io::loadScene(io::demoScenePath());
     sim::GenerateOptions o;
-    o.orbit.xres = 96;
-    o.orbit.yres = 96;
-    o.orbit.views = 40;
+    o.orbit = orbit;
     o.ground.method = sim::GroundMethod::Csf;
     o.sensor = sim::sensorPreset("riegl-vux1uav");
     sim::GenerateStats st;
     sim::generateCloud(scene, o, &st);
+    return st;
+}
+
+TEST_CASE("CSF under the riegl-vux1uav preset keeps the demo target above 0.5 m and whitens the ground") {
+    // Misregistered views make the ground thick; once they are corrected the terrain must
+    // not sit above the corrected ground, or the foot of the target is whitened with it.
+    sim::OrbitOptions orbit;
+    orbit.xres = 96;
+    orbit.yres = 96;
+    orbit.views = 40;
+    const sim::GenerateStats st = csfUnderVux(orbit);
     REQUIRE(st.terrain);
     CHECK(st.terrain->views_corrected == 40);
     REQUIRE(st.target_kept);
@@ -253,14 +261,10 @@ TEST_CASE("CSF under riegl-vux1uav over a dense, 9 cm thick ground corrects the 
     // From 287 m at 34 degrees the demo's ground is about 280 points a square metre and
     // 0.09 m thick before the views are registered. Taken as a thin ground, each cell's
     // lowest point lay 0.27 m below its centre and 4 % of the ground stayed coloured.
-    const core::Scene scene = io::loadScene(io::demoScenePath());
-    sim::GenerateOptions o;
-    o.orbit.altitude_m = 287.0;
-    o.orbit.inclination_deg = 34.0;
-    o.ground.method = sim::GroundMethod::Csf;
-    o.sensor = sim::sensorPreset("riegl-vux1uav");
-    sim::GenerateStats st;
-    sim::generateCloud(scene, o, &st);
+    sim::OrbitOptions orbit;
+    orbit.altitude_m = 287.0;
+    orbit.inclination_deg = 34.0;
+    const sim::GenerateStats st = csfUnderVux(orbit);
     REQUIRE(st.terrain);
     CHECK(st.terrain->ground_sigma_uncorrected_m > 0.08);
     CHECK(st.terrain->ground_sigma_uncorrected_m < 0.1);
