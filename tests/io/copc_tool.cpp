@@ -3,6 +3,9 @@
 //   copc_tool many <out>   the same with 73 nodes in one page
 //   copc_tool bad <out>    `many` with the chunk of node 1-1-1-1 overwritten by bytes
 //                          that do not decode (a corrupt node in an otherwise valid file)
+//   copc_tool nodes <out>  a file io::CopcNodeWriter writes from nodes made here: a
+//                          chain of nodes from the root to level 5 (so a child page) and
+//                          their siblings, a few dozen points each
 //   copc_tool dump <in>    what io::CopcReader reads, as one JSON object: the info, the
 //                          nodes and their point counts, and over all points the count,
 //                          the bounds and sums of the coordinates in whole millimetres and
@@ -10,6 +13,7 @@
 //                          the sums as decimal strings, exact beyond 2^53)
 #include <core/error.hpp>
 #include <io/copc.hpp>
+#include <io/copc_writer.hpp>
 
 #include "copc_test_file.hpp"
 
@@ -18,12 +22,45 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 int main(int argc, char** argv) {
     try {
         const std::string what = argc == 3 ? argv[1] : "";
         if (what == "make" || what == "many") {
             std::ofstream(argv[2], std::ios::binary) << copc_test::make({}, what == "many").bytes;
+            return 0;
+        }
+        if (what == "nodes") {
+            // A 4.096 m cube around a georeferenced origin; node (level, 0, 0, 0) and its
+            // sibling (level, 1, 1, 1) of every level hold points spread over their cubes.
+            const glm::dvec3 origin(631000.0, 5402000.0, 220.0);
+            constexpr int bits = 12;
+            std::vector<std::vector<core::CloudPoint>> held;
+            std::vector<io::CopcNodeWriter::Node> nodes;
+            for (int level = 0; level <= 5; ++level)
+                for (const int o : {0, 1}) {
+                    if (level == 0 && o == 1) continue;
+                    const double side_m = 4.096 / double(1 << level), low_m = -2.048 + o * side_m;
+                    std::vector<core::CloudPoint> pts;
+                    for (int i = 0; i < 20 + 7 * level; ++i) {
+                        core::CloudPoint p;
+                        const double t = (i + 0.5) / double(20 + 7 * level);
+                        p.position = glm::vec3(float(low_m + side_m * t), float(low_m + side_m * (1.0 - t)),
+                                               float(low_m + side_m * 0.5));
+                        p.rgb = core::packRgb(std::uint8_t(40 * level), std::uint8_t(i), 200);
+                        p.label = core::Role(i % 3);
+                        p.view = std::uint16_t(level);
+                        pts.push_back(p);
+                    }
+                    held.push_back(std::move(pts));
+                    nodes.push_back({io::CopcKey{level, o, o, o}, held.back()});
+                }
+            io::LasOptions las;
+            las.threads = 2;
+            io::CopcNodeWriter w(argv[2], origin, core::CloudFields{}, bits, las);
+            w.add(nodes);
+            w.commit();
             return 0;
         }
         if (what == "bad") {
@@ -35,7 +72,7 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (what != "dump") {
-            std::fprintf(stderr, "usage: copc_tool make OUT | many OUT | bad OUT | dump IN\n");
+            std::fprintf(stderr, "usage: copc_tool make OUT | many OUT | bad OUT | nodes OUT | dump IN\n");
             return 2;
         }
         const io::CopcReader reader(argv[2]);

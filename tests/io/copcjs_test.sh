@@ -1,7 +1,8 @@
 #!/bin/sh
 # copcjs_test.sh COPC_TOOL NODE_MODULES SCRATCH [FILE]: copc.js, a real COPC client, reads
 # FILE (default: the hand-made valid COPC file that `copc_tool make` writes into SCRATCH;
-# `many`: its variant of 73 nodes, `copc_tool many`; any other path: that COPC file) and
+# `many`: its variant of 73 nodes, `copc_tool many`; `nodes`: the file io::CopcNodeWriter
+# writes in `copc_tool nodes`; any other path: that COPC file) and
 # must report the same info, nodes, point counts, bounds, coordinate sums and roles as
 # io::CopcReader (`copc_tool dump`). node runs under a time limit (COPCJS_TIMEOUT_S,
 # default 120 s) and never outlives the test.
@@ -15,6 +16,7 @@ rm -f "$scratch/ours.json" "$scratch/copcjs.json"
 case "${4:-}" in
   "") file="$scratch/handmade.copc.laz"; "$tool" make "$file" ;;
   many) file="$scratch/many.copc.laz"; "$tool" many "$file" ;;
+  nodes) file="$scratch/nodes.copc.laz"; "$tool" nodes "$file" ;;
   *) file="$4" ;;
 esac
 "$tool" dump "$file" >"$scratch/ours.json"
