@@ -1,10 +1,12 @@
 // tests/viewer/point_source_test.cpp: the streamed cloud as a point source: each chunk a
-// leaf with its bounds and count, resident on arrival, evicted on request; and the point
-// renderer following the source's residency (headless, EGL).
+// leaf with its bounds and count, resident on arrival, evicted on request; the point
+// renderer following the source's residency (headless, EGL); and the frame loop's stream
+// judging the cloud whole only once it took the chunks that came before the stream's end.
 #include <viewer/cloud_feed.hpp>
 #include <viewer/point_source.hpp>
 
 #include "point_renderer.hpp"
+#include "source_stream.hpp"
 
 #include <render/egl_context.hpp>
 
@@ -12,6 +14,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <utility>
 
 using namespace viewer;
 
@@ -27,6 +30,29 @@ core::PointCloud line(std::size_t n) {  // points 1 m apart along x, rising in z
     }
     return cloud;
 }
+
+// A stream whose chunk arrives, and whose end comes, just after a poll took what had
+// arrived: what the loader's thread can do between a frame's poll and its look at finished().
+class EndAfterPoll final : public PointSource {
+  public:
+    explicit EndAfterPoll(core::PointCloud cloud) : cloud_(std::move(cloud)) {}
+    std::size_t poll() override {
+        const std::size_t added = source_.poll();
+        if (!feed_.finished()) feed_.feedCloud(std::move(cloud_));  // appends, then ends the feed
+        return added;
+    }
+    std::span<PointNode* const> roots() const override { return source_.roots(); }
+    glm::dvec3 origin() const override { return source_.origin(); }
+    core::CloudFields fields() const override { return source_.fields(); }
+    bool finished() const override { return source_.finished(); }
+    std::string error() const override { return source_.error(); }
+    std::size_t pointsArrived() const override { return source_.pointsArrived(); }
+
+  private:
+    CloudFeed feed_;
+    CloudFeedSource source_{feed_};
+    core::PointCloud cloud_;
+};
 
 std::size_t residentCount(const PointSource& source) {
     const auto nodes = allNodes(source);
@@ -115,4 +141,20 @@ TEST_CASE("the point renderer draws what the source has resident and drops what 
     CHECK(second.pendingPoints() == 250);
     while (second.pendingPoints() > 0) second.stream(source2, 100);
     CHECK(second.uploadedPoints() == 250);
+}
+
+TEST_CASE("a stream is whole and indexed for picking only once a poll after its end took every chunk") {
+    render::EglContext context;
+    RunLog log;
+    EndAfterPoll source(line(300));
+    SourceStream stream;
+    stream.start(ViewerOptions{}, log);
+    stream.reset(source);
+    stream.update(0, log);  // took nothing; the chunk and the end came after the poll
+    CHECK(stream.loadedSinceFrame() == -1);
+    CHECK(stream.picks() == nullptr);
+    stream.update(1, log);  // took the chunk and uploaded it
+    CHECK(stream.loadedSinceFrame() == 1);
+    while (!stream.picks()) stream.update(2, log);  // the index is built on a worker thread
+    CHECK(stream.picks()->size() == 300);
 }

@@ -99,6 +99,10 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
     // A source that chooses its nodes sees the view the renderer planned last (one frame
     // behind: the frame draws what is resident and never waits for the choice).
     if (const std::optional<SourceView>& view = renderer_->lastView()) source_->select(*view);
+    // Read before the poll: a stream's last chunk can arrive, and the stream end, after the
+    // poll took what had arrived; a source that had finished before the poll has every node
+    // after it, so the cloud is whole (and indexed for picking) only with all its points.
+    const bool finished_before_poll = source_->finished();
     source_->poll();
     if (const std::optional<SourceStats> s = source_->stats()) {
         if (!log_nodes_ && s->nodes_loaded > 0) {
@@ -135,7 +139,7 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
         log.event(arena_warned_);
         if (!quiet_) platform::printMessage("warning", arena_warned_);
     }
-    const bool finished = source_->finished();
+    const bool finished = finished_before_poll && source_->finished();
     const bool whole = finished && source_->error().empty() && renderer_->pendingPoints() == 0;
     const bool chooses = source_->stats().has_value();  // see below
     if (!chooses && !building_.valid() && !picks_ && whole && source_->pointsArrived() > 0) {
