@@ -162,9 +162,12 @@ int runView(const ViewArgs& a) {
             opened = std::make_unique<viewer::CopcSource>(indexed.copc, copc_options);
         }
         viewer::CopcSource& source = *opened;
+        const std::size_t pages = source.stats() ? source.stats()->pages_unread : 0;
         std::fprintf(stderr,
-                     "ladarvr: view: %s is COPC: %zu nodes, %zu points, read node by node within a %.6g MB cache\n",
-                     core::printable(file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(), a.cache_mb);
+                     "ladarvr: view: %s is COPC: %zu nodes, %zu points, read node by node within a %.6g MB cache "
+                     "(nodes of the root hierarchy page; %zu child pages read as the view reaches them)\n",
+                     core::printable(file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(), a.cache_mb,
+                     pages);
         if (o.timeout_s > 0.0)
             o.timeout_s = std::max(
                 0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

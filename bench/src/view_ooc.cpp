@@ -258,6 +258,7 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
             // selection) is resident and on the GPU.
             const std::span<viewer::PointNode* const> wanted = copc->wanted();
             full = stereo.lastView().has_value() && stereo.pendingPoints() == 0 && stereo.gpuNodesRefused() == 0 &&
+                   copc->pagesWanted() == 0 &&
                    std::all_of(wanted.begin(), wanted.end(), [](const viewer::PointNode* n) { return n->resident(); });
         } else {
             // Every point the loader delivered is on the GPU (finished() may turn true
@@ -286,6 +287,7 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     r["over_budget_frames"] = over_budget_frames;
     r["points"] = ooc ? copc->totalPoints() : source.pointsArrived();
     r["nodes"] = ooc ? copc->nodeCount() : 0;
+    if (const auto st = source.stats()) r["pages_read"] = st->pages_read;
     r["select_ms"] = toJson(summarise(select_ms));
     r["plan_ms"] = toJson(summarise(plan_ms));
     r["upload_ms"] = toJson(summarise(upload_ms));
@@ -434,12 +436,15 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
         "any non-COPC file), each run in its own process. The head path advances one 90 Hz step per frame "
         "whatever the frame time, then holds still. First frame: from opening the file to the end of the first "
         "frame that drew a point. Full detail: from the first still frame until every node the selection wants "
-        "is resident and uploaded (ooc) or the whole cloud is on the GPU (in-core). Select: the source's choice "
+        "is resident and uploaded and no hierarchy page it reached is unread (ooc), or the whole cloud is on the "
+        "GPU (in-core). Nodes: the tree as the source knows it at the end of the path, and the hierarchy pages it "
+        "read (a page at a time, as the head reaches them). Select: the source's choice "
         "(traversal, selection, scheduling) per stereo frame; plan: the renderer's per-cell budget; both CPU ms "
         "median / p99. GPU ms per eye: a GL timer query over both eyes, halved. GPU MiB: point bytes uploaded "
         "(20 B a point, within the arena of --gpu-mb). '-' where a figure does not apply or was not reached.\n\n";
     md +=
-        "| points | nodes | head path | path | first frame s (frames) | full detail s (frames) | peak RSS MiB | GPU "
+        "| points | nodes (pages read) | head path | path | first frame s (frames) | full detail s (frames) | peak RSS "
+        "MiB | GPU "
         "MiB peak | max drawn per eye | frames over budget | loaded / evicted nodes per frame (max) | select ms | "
         "plan ms | GPU ms per eye | frame ms | frames |\n";
     md += "|---:|---:|---|---|---|---|---:|---:|---:|---:|---|---|---|---|---|---:|\n";
@@ -505,11 +510,14 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
                 } else {
                     const json& r = rows[k];
                     line = "| " + std::to_string(r.value("points", std::size_t{0})) + " | " +
-                           (ooc ? std::to_string(r.value("nodes", std::size_t{0})) : std::string("-")) + " | " + name +
-                           " | " + (ooc ? "ooc" : "in-core") + " | " + num(r, "first_frame_s", "%.2f") + " (" +
-                           std::to_string(r.value("first_frame", -1L)) + ") | " + num(r, "full_detail_s", "%.2f") +
-                           " (" + std::to_string(r.value("full_detail_frames", -1L)) + ") | " + fmt("%.0f", rss[k]) +
-                           " | " + fmt("%.0f", r.value("gpu_peak_bytes", 0.0) / 1048576.0) + " | " +
+                           (ooc ? std::to_string(r.value("nodes", std::size_t{0})) + " (" +
+                                      std::to_string(r.value("pages_read", std::size_t{0})) + ")"
+                                : std::string("-")) +
+                           " | " + name + " | " + (ooc ? "ooc" : "in-core") + " | " + num(r, "first_frame_s", "%.2f") +
+                           " (" + std::to_string(r.value("first_frame", -1L)) + ") | " +
+                           num(r, "full_detail_s", "%.2f") + " (" + std::to_string(r.value("full_detail_frames", -1L)) +
+                           ") | " + fmt("%.0f", rss[k]) + " | " +
+                           fmt("%.0f", r.value("gpu_peak_bytes", 0.0) / 1048576.0) + " | " +
                            std::to_string(r.value("max_drawn_eye", std::size_t{0})) + " | " +
                            std::to_string(r.value("over_budget_frames", std::size_t{0})) + " | " +
                            (ooc ? fmt("%.0f", r["loaded_per_frame"].value("max", 0.0)) + " / " +

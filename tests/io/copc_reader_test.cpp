@@ -143,3 +143,83 @@ TEST_CASE("copc reader: keys without points and broken files give one line") {
     CHECK(test_support::errorOf([&] { io::CopcReader r(dir.path / "none.copc.laz"); }) ==
           "copc: " + (dir.path / "none.copc.laz").string() + ": file does not exist");
 }
+
+TEST_CASE("copc reader: by page, the root page at open and each child page when asked") {
+    test_support::TempDir dir("copc_reader_paged");
+    const copc_test::File f = copc_test::make();
+    const std::filesystem::path p = writeFile(dir, f.bytes);
+    const io::CopcReader whole(p);
+    const io::CopcReader paged(p, io::CopcHierarchy::by_page);
+    CHECK(paged.info().root_hier_offset == whole.info().root_hier_offset);
+    CHECK(paged.pointCount() == whole.pointCount());
+    CHECK(paged.origin() == whole.origin());
+    // The root page: its 4 nodes with points, the empty 1-1-1-1 and the page of 1-0-1-0.
+    REQUIRE(paged.nodes().size() == 4);
+    CHECK(paged.emptyNodes() == std::vector<io::CopcKey>{{1, 1, 1, 1}});
+    REQUIRE(paged.pages().size() == 1);
+    const io::CopcPage page = paged.pages()[0];
+    CHECK(page.key == io::CopcKey{1, 0, 1, 0});
+    CHECK(page.offset == f.child_page_at);
+    CHECK(page.bytes == f.child_page_size);
+    CHECK(whole.pages().empty());
+    // The child page: the rest of the nodes, as the whole read gives them.
+    const io::CopcPageEntries child = paged.readPage(page);
+    CHECK(child.pages.empty());
+    std::vector<io::CopcNode> all = paged.nodes();
+    all.insert(all.end(), child.nodes.begin(), child.nodes.end());
+    std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+    REQUIRE(all.size() == whole.nodes().size());
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        CHECK(all[i].key == whole.nodes()[i].key);
+        CHECK(all[i].offset == whole.nodes()[i].offset);
+        CHECK(all[i].point_count == whole.nodes()[i].point_count);
+    }
+    // A node of the child page reads through its entry, as the whole reader reads it.
+    const io::CopcNode& deep = child.nodes.back();
+    CHECK(deep.key.level == 2);
+    const core::PointCloud a = paged.readNodeEntry(deep), b = whole.readNode(deep.key);
+    REQUIRE(a.points.size() == b.points.size());
+    CHECK(a.points.back().position == b.points.back().position);
+    // An entry outside the point data is refused before any byte is read.
+    io::CopcNode bad = deep;
+    bad.offset = f.bytes.size() - 4;
+    CHECK(test_support::errorOf([&] { paged.readNodeEntry(bad); }).find("is not inside the point data") !=
+          std::string::npos);
+}
+
+TEST_CASE("copc reader: by page, a broken child page gives one line when it is read, not at open") {
+    test_support::TempDir dir("copc_reader_paged_bad");
+    const copc_test::File f = copc_test::make();
+    const std::filesystem::path q = dir.path / "bad.copc.laz";
+    // A key of the child page moved outside the subtree of 1-0-1-0.
+    std::string b = f.bytes;
+    const copc_test::Node& child_node = *std::find_if(
+        f.nodes.begin(), f.nodes.end(), [](const copc_test::Node& n) { return n.key == io::CopcKey{2, 0, 2, 0}; });
+    copc_test::put<std::int32_t>(b, child_node.entry_at + 4, 3);
+    std::ofstream(q, std::ios::binary) << b;
+    CHECK_THROWS(io::CopcReader(q));  // read whole, the page is checked at open
+    const io::CopcReader paged(q, io::CopcHierarchy::by_page);
+    REQUIRE(paged.pages().size() == 1);
+    const std::string e = test_support::errorOf([&] { paged.readPage(paged.pages()[0]); });
+    CHECK(e.find("copc: " + q.string() + " page of 1-0-1-0: node-key: node 2-3-2-0 is in the page of 1-0-1-0") == 0);
+    CHECK(e.find('\n') == std::string::npos);
+    // A child page whose bytes run past the hierarchy record.
+    io::CopcPage outside = paged.pages()[0];
+    outside.bytes += 64;
+    CHECK(test_support::errorOf([&] { paged.readPage(outside); }).find("hierarchy-page: the page of 1-0-1-0") !=
+          std::string::npos);
+    // A child page that names itself as its own child page: refused, not read again and again.
+    b = f.bytes;
+    copc_test::put<std::int32_t>(b, child_node.entry_at + 0, 1);
+    copc_test::put<std::int32_t>(b, child_node.entry_at + 4, 0);
+    copc_test::put<std::int32_t>(b, child_node.entry_at + 8, 1);
+    copc_test::put<std::int32_t>(b, child_node.entry_at + 12, 0);
+    copc_test::put<std::uint64_t>(b, child_node.entry_at + 16, f.child_page_at);
+    copc_test::put<std::int32_t>(b, child_node.entry_at + 24, std::int32_t(f.child_page_size));
+    copc_test::put<std::int32_t>(b, child_node.entry_at + 28, -1);
+    std::ofstream(q, std::ios::binary | std::ios::trunc) << b;
+    const io::CopcReader self(q, io::CopcHierarchy::by_page);
+    CHECK(test_support::errorOf([&] {
+              self.readPage(self.pages()[0]);
+          }).find("points to a child page for its own key") != std::string::npos);
+}

@@ -1,5 +1,6 @@
 // viewer/src/copc_source.cpp: a COPC file read node by node into a bounded RAM cache
-// (copc_source.hpp): the tree from the hierarchy, one decoding worker, LRU eviction.
+// (copc_source.hpp): the tree from the hierarchy, read page by page, workers for pages
+// and nodes, LRU eviction.
 #include <viewer/copc_source.hpp>
 #include <viewer/lod.hpp>
 #include <viewer/node_selection.hpp>
@@ -12,7 +13,6 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
-#include <map>
 #include <mutex>
 #include <thread>
 #include <utility>
@@ -21,8 +21,8 @@ namespace viewer {
 
 namespace {
 
-/// Decoded nodes waiting for poll() at most: with the one being decoded, the memory held
-/// outside the cache is a few nodes, whatever the frame rate.
+/// Decoded nodes waiting for poll() at most: with those being decoded (one per worker),
+/// the memory held outside the cache is a few nodes, whatever the frame rate.
 constexpr std::size_t kMaxWaiting = 4;
 
 std::size_t residentBytes(const NodePoints& p) {
@@ -31,29 +31,37 @@ std::size_t residentBytes(const NodePoints& p) {
 
 }  // namespace
 
+std::size_t defaultCopcWorkers() { return std::clamp<std::size_t>(std::thread::hardware_concurrency() / 2, 1, 4); }
+
 /// One key of the octree (named, not in an anonymous namespace: CopcSource::Impl holds it).
 class CopcTreeNode final : public PointNode {
   public:
-    CopcTreeNode(CopcSource::Impl* owner, const io::CopcKey& key, const core::Bounds& bounds, std::size_t count)
-        : owner_(owner), key_(key), bounds_(bounds), count_(count) {}
+    CopcTreeNode(CopcSource::Impl* owner, const io::CopcKey& key, const core::Bounds& bounds)
+        : owner_(owner), bounds_(bounds) {
+        entry.key = key;
+    }
     const core::Bounds& bounds() const override { return bounds_; }
     /// 0 once the node turned out unreadable: the selection walks through it.
-    std::size_t pointCount() const override { return failed ? 0 : count_; }
+    std::size_t pointCount() const override { return failed ? 0 : std::size_t(entry.point_count); }
     std::span<PointNode* const> children() const override { return children_; }
+    bool unexplored() const override { return page.bytes > 0 && !page_failed; }
     void request() override;
     void evict() override;
     std::shared_ptr<const NodePoints> points() const override { return points_; }
+    const io::CopcKey& key() const { return entry.key; }
 
     CopcSource::Impl* owner_;
-    io::CopcKey key_;
+    io::CopcNode entry;  // point_count 0: no points (or not known yet)
+    io::CopcPage page;   // bytes > 0 while its hierarchy page is not read
     core::Bounds bounds_;
-    std::size_t count_ = 0;
     std::vector<PointNode*> children_;
     std::shared_ptr<const NodePoints> points_;
-    std::size_t bytes = 0;  // while resident
-    long last_wanted = -1;  // the selection round that last wanted it (LRU)
-    bool queued = false;    // queued, being decoded or not yet polled (owner's mutex)
-    bool failed = false;    // its chunk did not decode
+    std::size_t bytes = 0;     // while resident
+    long last_wanted = -1;     // the selection round that last wanted it (LRU)
+    bool queued = false;       // queued, being decoded or not yet polled (owner's mutex)
+    bool failed = false;       // its chunk did not decode
+    bool page_queued = false;  // its page: queued, being read or not yet polled (owner's mutex)
+    bool page_failed = false;  // its page did not read: its subtree stays unknown
 };
 
 struct CopcSource::Impl {
@@ -62,29 +70,35 @@ struct CopcSource::Impl {
     CopcSourceOptions options;
     glm::dvec3 origin{0.0};
     core::CloudFields fields;
+    io::CopcInfo info;
     std::vector<std::unique_ptr<CopcTreeNode>> nodes;
     std::vector<PointNode*> roots;
     std::size_t total_points = 0;
+    std::size_t pages_wanted = 0;  // unexplored nodes the last selection reached
     // Frame thread only.
     long round = 0;                  // select() calls
     std::vector<PointNode*> wanted;  // by the last selection, most important first
     SourceStats stats;
     bool settled = false;
     bool fields_known = false;  // fields: from the first decoded node
-    // Shared with the worker.
+    // Shared with the workers.
     struct Done {
         CopcTreeNode* node = nullptr;
-        std::shared_ptr<NodePoints> points;  // null: failed
-        std::string error;
+        bool page = false;                   // its hierarchy page, not its points
+        std::shared_ptr<NodePoints> points;  // null: failed (a node)
+        io::CopcPageEntries entries;         // a page
+        std::string error;                   // empty: read
         core::CloudFields fields;
     };
     mutable std::mutex mutex;
     std::condition_variable wake;
+    std::deque<CopcTreeNode*> page_queue;  // read before any node: they open the tree below
     std::deque<CopcTreeNode*> queue;
     std::deque<Done> done;
-    bool busy = false, stop = false;
+    std::size_t busy = 0;  // workers reading a page or a node
+    bool stop = false;
     std::size_t points_arrived = 0;
-    std::thread worker;
+    std::vector<std::thread> workers;
 
     void enqueue(CopcTreeNode* n) {
         if (n->resident() || n->failed) return;
@@ -109,17 +123,37 @@ struct CopcSource::Impl {
     void work() {
         std::unique_lock lock(mutex);
         while (true) {
-            wake.wait(lock, [&] { return stop || (!queue.empty() && done.size() < kMaxWaiting); });
+            wake.wait(lock,
+                      [&] { return stop || ((!queue.empty() || !page_queue.empty()) && done.size() < kMaxWaiting); });
             if (stop) return;
-            CopcTreeNode* n = queue.front();
-            queue.pop_front();  // queued stays set until poll() takes the result
-            busy = true;
-            const io::CopcKey key = n->key_;
-            lock.unlock();
             Done d;
-            d.node = n;
+            // queued and page_queued stay set until poll() takes the result.
+            if (!page_queue.empty()) {
+                d.node = page_queue.front();
+                d.page = true;
+                page_queue.pop_front();
+            } else {
+                d.node = queue.front();
+                queue.pop_front();
+            }
+            ++busy;
+            const io::CopcNode entry = d.node->entry;
+            const io::CopcPage page = d.node->page;
+            lock.unlock();
+            if (d.page) {
+                try {
+                    d.entries = reader->readPage(page);
+                } catch (const std::exception& e) {
+                    d.error = e.what();
+                    if (d.error.empty()) d.error = "the page cannot be read";
+                }
+                lock.lock();
+                --busy;
+                done.push_back(std::move(d));
+                continue;
+            }
             try {
-                core::PointCloud cloud = reader->readNode(key);
+                core::PointCloud cloud = reader->readNodeEntry(entry);
                 d.fields = cloud.fields;
                 auto points = std::make_shared<NodePoints>();
                 points->points = std::move(cloud.points);
@@ -131,10 +165,56 @@ struct CopcSource::Impl {
                 d.error = e.what();
             }
             lock.lock();
-            busy = false;
+            --busy;
             if (d.points) points_arrived += d.points->points.size();
             done.push_back(std::move(d));
         }
+    }
+
+    /// The node of `key`, made with every node above it that is not there yet (a key may
+    /// sit below keys the hierarchy leaves out). Frame thread, or the constructor.
+    CopcTreeNode* ensure(const io::CopcKey& k) {
+        CopcTreeNode* parent = nullptr;
+        std::vector<PointNode*>* siblings = &roots;
+        if (k.level > 0) {
+            parent = ensure(io::CopcKey{k.level - 1, k.x >> 1, k.y >> 1, k.z >> 1});
+            siblings = &parent->children_;
+        }
+        for (PointNode* c : *siblings)
+            if (static_cast<CopcTreeNode*>(c)->key() == k) return static_cast<CopcTreeNode*>(c);
+        const double side_m = 2.0 * info.halfsize_m / double(std::int64_t(1) << k.level);
+        const glm::dvec3 centre(info.center_m[0], info.center_m[1], info.center_m[2]);
+        core::Bounds b;
+        b.lo = centre - glm::dvec3(info.halfsize_m) + side_m * glm::dvec3(k.x, k.y, k.z) - origin;
+        b.hi = b.lo + glm::dvec3(side_m);
+        nodes.push_back(std::make_unique<CopcTreeNode>(this, k, b));
+        siblings->push_back(nodes.back().get());
+        return nodes.back().get();
+    }
+
+    /// Adds one page's entries to the tree: its nodes with their chunks and counts, its
+    /// empty nodes, and its child pages as unexplored nodes. An entry for a node already
+    /// described (a page that repeats another's keys) is ignored.
+    void addPage(const io::CopcPageEntries& e) {
+        for (const io::CopcNode& c : e.nodes) {
+            CopcTreeNode* n = ensure(c.key);
+            if (n->entry.point_count != 0 || n->page.bytes > 0) continue;
+            n->entry = c;
+        }
+        for (const io::CopcKey& k : e.empty_nodes) ensure(k);
+        for (const io::CopcPage& p : e.pages) {
+            CopcTreeNode* n = ensure(p.key);
+            if (n->entry.point_count != 0 || n->page.bytes > 0) continue;
+            n->page = p;
+            ++stats.pages_unread;
+        }
+        ++stats.pages_read;
+        stats.nodes = nodes.size();
+        // The tree as held: the nodes, their child lists and the root list.
+        stats.hierarchy_bytes =
+            nodes.capacity() * sizeof(std::unique_ptr<CopcTreeNode>) + roots.capacity() * sizeof(PointNode*);
+        for (const auto& n : nodes)
+            stats.hierarchy_bytes += sizeof(CopcTreeNode) + n->children_.capacity() * sizeof(PointNode*);
     }
 
     /// Makes room for `bytes` by evicting the least recently wanted resident nodes the
@@ -162,44 +242,16 @@ CopcSource::CopcSource(const std::filesystem::path& file, const CopcSourceOption
     Impl& m = *impl_;
     m.options = options;
     m.file = file.string();
-    m.reader = std::make_unique<io::CopcReader>(file);
+    m.reader = std::make_unique<io::CopcReader>(file, io::CopcHierarchy::by_page);
     m.origin = m.reader->origin();  // every node's points come in this frame
-    const io::CopcInfo& info = m.reader->info();
-    const glm::dvec3 centre(info.center_m[0], info.center_m[1], info.center_m[2]);
-    std::map<io::CopcKey, CopcTreeNode*> by_key;
-    // A node, and every node above it (a key may sit below keys the hierarchy leaves out).
-    auto ensure = [&](auto& self, const io::CopcKey& k) -> CopcTreeNode* {
-        if (auto it = by_key.find(k); it != by_key.end()) return it->second;
-        const double side_m = 2.0 * info.halfsize_m / double(std::int64_t(1) << k.level);
-        core::Bounds b;
-        b.lo = centre - glm::dvec3(info.halfsize_m) + side_m * glm::dvec3(k.x, k.y, k.z) - m.origin;
-        b.hi = b.lo + glm::dvec3(side_m);
-        m.nodes.push_back(std::make_unique<CopcTreeNode>(&m, k, b, 0));
-        CopcTreeNode* n = m.nodes.back().get();
-        by_key[k] = n;
-        if (k.level == 0)
-            m.roots.push_back(n);
-        else
-            self(self, io::CopcKey{k.level - 1, k.x >> 1, k.y >> 1, k.z >> 1})->children_.push_back(n);
-        return n;
-    };
-    for (const io::CopcNode& c : m.reader->nodes()) {
-        CopcTreeNode* n = ensure(ensure, c.key);
-        n->count_ = std::size_t(c.point_count);
-        m.total_points += n->count_;
-    }
-    if (m.roots.empty()) ensure(ensure, io::CopcKey{});
+    m.info = m.reader->info();
+    m.total_points = std::size_t(m.reader->pointCount());
     m.stats.kind = "copc";
-    m.stats.nodes = m.nodes.size();
     m.stats.cache_bytes = options.cache_bytes;
-    // The tree as held: the nodes, their child lists, the root list and the reader's
-    // hierarchy entries.
-    m.stats.hierarchy_bytes = m.nodes.capacity() * sizeof(std::unique_ptr<CopcTreeNode>) +
-                              m.roots.capacity() * sizeof(PointNode*) +
-                              m.reader->nodes().capacity() * sizeof(io::CopcNode);
-    for (const auto& n : m.nodes)
-        m.stats.hierarchy_bytes += sizeof(CopcTreeNode) + n->children_.capacity() * sizeof(PointNode*);
-    m.worker = std::thread([&m] { m.work(); });
+    m.ensure(io::CopcKey{});
+    m.addPage({m.reader->nodes(), m.reader->emptyNodes(), m.reader->pages()});
+    const std::size_t workers = std::max<std::size_t>(1, options.workers);
+    for (std::size_t w = 0; w < workers; ++w) m.workers.emplace_back([&m] { m.work(); });
 }
 
 CopcSource::~CopcSource() {
@@ -208,7 +260,7 @@ CopcSource::~CopcSource() {
         impl_->stop = true;
     }
     impl_->wake.notify_all();
-    impl_->worker.join();
+    for (std::thread& t : impl_->workers) t.join();
 }
 
 void CopcSource::select(const SourceView& view) {
@@ -218,10 +270,20 @@ void CopcSource::select(const SourceView& view) {
                                           SelectionBudget{view.point_budget, m.options.cache_bytes, view.gpu_bytes});
     m.stats.wanted_points = sel.points;
     m.wanted = sel.wanted;
+    m.pages_wanted = sel.unexplored.size();
     {
-        // The queue follows the latest choice, most important first; what it no longer
-        // wants is not decoded (a node being decoded or waiting for poll() stays so).
+        // The queues follow the latest choice, most important first; what it no longer
+        // wants is not read (a page or node being read or waiting for poll() stays so).
         std::lock_guard lock(m.mutex);
+        for (CopcTreeNode* n : m.page_queue) n->page_queued = false;
+        m.page_queue.clear();
+        for (PointNode* p : sel.unexplored) {
+            auto* n = static_cast<CopcTreeNode*>(p);
+            if (!n->page_queued) {
+                n->page_queued = true;
+                m.page_queue.push_back(n);
+            }
+        }
         for (CopcTreeNode* n : m.queue) n->queued = false;
         m.queue.clear();
         for (PointNode* p : sel.wanted) {
@@ -243,13 +305,28 @@ std::size_t CopcSource::poll() {
     {
         std::lock_guard lock(m.mutex);
         arrived.swap(m.done);
-        for (Impl::Done& d : arrived) d.node->queued = false;
-        idle = m.queue.empty() && !m.busy;
+        for (Impl::Done& d : arrived) (d.page ? d.node->page_queued : d.node->queued) = false;
+        idle = m.queue.empty() && m.page_queue.empty() && m.busy == 0;
     }
     if (!arrived.empty()) m.wake.notify_one();
     std::size_t added = 0;
     for (Impl::Done& d : arrived) {
         CopcTreeNode* n = d.node;
+        if (d.page) {
+            if (n->page.bytes == 0 || n->page_failed) continue;  // read twice (asked again meanwhile)
+            --m.stats.pages_unread;
+            if (!d.error.empty()) {
+                n->page_failed = true;
+                ++m.stats.pages_failed;
+                if (!m.options.quiet)
+                    platform::printMessage("warning",
+                                           "view: " + d.error + " (the nodes below it are skipped, the rest is drawn)");
+                continue;
+            }
+            n->page = {};
+            m.addPage(d.entries);
+            continue;
+        }
         if (!d.points) {
             n->failed = true;
             ++m.stats.nodes_failed;
@@ -291,6 +368,7 @@ std::size_t CopcSource::pointsArrived() const {
 std::optional<SourceStats> CopcSource::stats() const { return impl_->stats; }
 std::span<PointNode* const> CopcSource::wanted() const { return impl_->wanted; }
 std::size_t CopcSource::nodeCount() const { return impl_->nodes.size(); }
+std::size_t CopcSource::pagesWanted() const { return impl_->pages_wanted; }
 std::size_t CopcSource::totalPoints() const { return impl_->total_points; }
 
 }  // namespace viewer

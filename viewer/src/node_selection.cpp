@@ -47,6 +47,7 @@ NodeSelection selectNodes(std::span<PointNode* const> roots, std::span<const ren
             (budget.bytes && out.bytes + bytes > budget.bytes) ||
             (budget.gpu_bytes && out.gpu_bytes + gpu > budget.gpu_bytes))
             continue;  // does not fit: neither it nor its subtree (its children need it first)
+        if (n->unexplored()) out.unexplored.push_back(n);
         if (count) {
             out.wanted.push_back(n);
             out.points += count;

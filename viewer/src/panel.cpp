@@ -60,7 +60,7 @@ bool drawSettingsPanel(const PanelView& v) {
     if (v.source) {
         constexpr double kMiB = 1048576.0;
         const SourceStats& c = *v.source;
-        ImGui::Text("tree %zu nodes, %.1f MiB", c.nodes, c.hierarchy_bytes / kMiB);
+        ImGui::Text("tree %zu nodes, %zu pages read, %.1f MiB", c.nodes, c.pages_read, c.hierarchy_bytes / kMiB);
         ImGui::Text("cache %.1f / %.1f MiB (peak %.1f)", c.resident_bytes / kMiB, c.cache_bytes / kMiB,
                     c.resident_bytes_peak / kMiB);
         ImGui::Text("GPU %.1f / %.1f MiB (peak %.1f)", v.arena.bytes / kMiB, v.arena.bytes_bound / kMiB,

@@ -49,6 +49,24 @@ struct CopcNode {
     std::int32_t point_count = 0;  // > 0
 };
 
+/// A hierarchy page: the key whose subtree it lists, and its bytes in the file.
+struct CopcPage {
+    CopcKey key;
+    std::uint64_t offset = 0;
+    std::uint64_t bytes = 0;
+};
+
+/// The entries of one hierarchy page.
+struct CopcPageEntries {
+    std::vector<CopcNode> nodes;       // with points, in key order
+    std::vector<CopcKey> empty_nodes;  // with no points, in key order
+    std::vector<CopcPage> pages;       // child pages (entries of point count -1)
+};
+
+/// How much of the hierarchy a reader reads when it opens a file: all of it, or the root
+/// page alone, the child pages then read one by one as a client needs them.
+enum class CopcHierarchy { whole, by_page };
+
 /// One broken rule of a COPC file: a short rule name ("info-vlr", "hierarchy", "bounds", ...)
 /// and one line saying what is wrong, naming the field, node or point.
 struct CopcFinding {
@@ -60,27 +78,42 @@ struct CopcFinding {
 /// file). Reads within bounded memory; a file that is not even a LAS file gives one finding.
 std::vector<CopcFinding> checkCopc(const std::filesystem::path& file);
 
-/// Node-by-node access to a COPC file: its info, every node with points, and one node's
+/// Node-by-node access to a COPC file: its info, its nodes with points, and one node's
 /// points decoded on demand (the LAZ chunk of that node, reached through the variable chunk
-/// table), so that a reader never holds more than the nodes it asked for.
+/// table), so that a reader never holds more than the nodes it asked for. By page, the
+/// hierarchy too is read a page at a time, so that opening a file of any size reads a
+/// few kilobytes of it. readPage, readNode and readNodeEntry may be called from several
+/// threads at once (the file's bytes are read one call at a time, decoded in parallel).
 class CopcReader {
   public:
-    /// Opens and validates the header, the info VLR and the whole hierarchy; throws
-    /// core::Error naming the file and what is wrong.
-    explicit CopcReader(const std::filesystem::path& file);
+    /// Opens and validates the header, the info VLR and the hierarchy (all of it, or by
+    /// page the root page); throws core::Error naming the file and what is wrong.
+    explicit CopcReader(const std::filesystem::path& file, CopcHierarchy hierarchy = CopcHierarchy::whole);
     ~CopcReader();
     CopcReader(const CopcReader&) = delete;
     CopcReader& operator=(const CopcReader&) = delete;
 
     const CopcInfo& info() const;
-    /// Every node with points, in key order.
+    /// Every node with points, in key order (by page: those of the root page).
     const std::vector<CopcNode>& nodes() const;
+    /// By page: the root page's entries with no points and its child pages (whole: the
+    /// empty nodes of every page, no child page).
+    const std::vector<CopcKey>& emptyNodes() const;
+    const std::vector<CopcPage>& pages() const;
+    /// Reads and checks one child page (one of pages() or of an earlier readPage's); throws
+    /// core::Error naming the file, the page and what is wrong.
+    CopcPageEntries readPage(const CopcPage& page) const;
+    /// The points in the file's header (known without reading a hierarchy page).
+    std::uint64_t pointCount() const;
     /// The local frame readNode's points come in (the LAS reader's: whole metres near the
     /// middle of the header's bounds), known without decoding a node.
     glm::dvec3 origin() const;
     /// The points of one node, as the LAS reader gives them (world coordinates through the
     /// cloud's origin, roles from the classes, view from the point source id).
     core::PointCloud readNode(const CopcKey& key) const;
+    /// The same for a node entry of nodes() or of a page readPage returned (by page, the
+    /// nodes below the root page are reached that way).
+    core::PointCloud readNodeEntry(const CopcNode& node) const;
 
   private:
     struct Impl;

@@ -212,15 +212,32 @@ class Parser {
     Parser(ByteSource& source, CopcLayout& layout, std::vector<CopcFinding>& findings)
         : s_(source), l_(layout), f_(findings) {}
 
-    bool run() {
+    bool run(CopcHierarchy mode) {
+        paged_ = mode == CopcHierarchy::by_page;
         l_.file_size = s_.size();
         if (!header()) return false;
         vlrs();
         evlrs();
         infoValues();
-        chunkTable();
-        hierarchy();
+        // By page, only the table's place: its entries are as many as the nodes, and each
+        // node's chunk is then checked against its hierarchy entry alone.
+        if (tablePlace() && !paged_) chunkTable();
+        l_.hier_at = hier_at_;
+        l_.hier_size = hier_size_;
+        if (l_.info_found && hierarchies_ > 0)
+            hierarchy({l_.info.root_hier_offset, l_.info.root_hier_size, CopcKey{}, true});
         return l_.info_found && hierarchy_ok_;
+    }
+
+    // One child page of a layout read by page: the same checks as when the whole
+    // hierarchy is read, its further child pages listed rather than followed.
+    bool childPage(const CopcPage& page) {
+        paged_ = true;
+        hierarchies_ = 1;
+        hier_at_ = l_.hier_at;
+        hier_size_ = l_.hier_size;
+        hierarchy({page.offset, page.bytes, page.key, false});
+        return hierarchy_ok_;
     }
 
   private:
@@ -425,25 +442,33 @@ class Parser {
     }
 
     // The 8 bytes after the VLRs give the chunk table's place (-1: in the file's last 8
-    // bytes); the table lists each chunk's points and bytes, the chunks following one
-    // another from the byte after those 8.
-    void chunkTable() {
+    // bytes): the chunks end there.
+    bool tablePlace() {
         const std::uint64_t size = s_.size();
         const std::uint64_t first = l_.data_at + 8;
         std::string b;
         if (!fetch(s_, l_.data_at, 8, b)) {
             finding("chunk-table",
                     "the chunk table's position (8 bytes at byte " + n2s(l_.data_at) + ") is outside the file");
-            return;
+            return false;
         }
         std::int64_t table = le<std::int64_t>(b, 0);
         if (table == -1 && size >= 8 && fetch(s_, size - 8, 8, b)) table = le<std::int64_t>(b, 0);
         if (table < std::int64_t(first) || std::uint64_t(table) > size - std::min<std::uint64_t>(size, 8)) {
             finding("chunk-table", "the chunk table's position " + std::to_string(table) + " is outside " + n2s(first) +
                                        " to " + n2s(size >= 8 ? size - 8 : 0));
-            return;
+            return false;
         }
         l_.table_at = std::uint64_t(table);
+        return true;
+    }
+
+    // The table lists each chunk's points and bytes, the chunks following one another
+    // from the byte after the 8 that give the table's place.
+    void chunkTable() {
+        const std::uint64_t size = s_.size();
+        const std::uint64_t first = l_.data_at + 8;
+        std::string b;
         fetch(s_, l_.table_at, 8, b);
         const std::uint32_t version = le<std::uint32_t>(b, 0), n = le<std::uint32_t>(b, 4);
         if (version != 0) {
@@ -495,16 +520,18 @@ class Parser {
         l_.table_found = true;
     }
 
-    // Every page from the root on: inside the hierarchy record, a whole number of
-    // entries, not overlapping another; then every entry's key and what it points to.
-    void hierarchy() {
-        if (!l_.info_found || hierarchies_ == 0) return;
-        struct Page {
-            std::uint64_t at, size;
-            CopcKey root;
-            bool top;
-        };
-        std::deque<Page> todo{{l_.info.root_hier_offset, l_.info.root_hier_size, CopcKey{}, true}};
+    struct Page {
+        std::uint64_t at, size;
+        CopcKey root;
+        bool top;
+    };
+
+    // Every page from `first` on: inside the hierarchy record, a whole number of
+    // entries, not overlapping another; then every entry's key and what it points to. By
+    // page, the child pages are listed (l_.pages) rather than read, and the rules that
+    // need the whole tree (parents, dead space, chunks and points counted) are left out.
+    void hierarchy(const Page& first) {
+        std::deque<Page> todo{first};
         std::map<std::uint64_t, std::uint64_t> pages;  // start -> end of every page read
         std::map<CopcKey, int> keys;                   // key -> its entry's point count
         std::set<CopcKey> page_keys;                   // keys of entries that point to a child page
@@ -560,12 +587,20 @@ class Parser {
                     finding("node-key", name + " is in " + where + " but is not " + keyName(p.root) + " or below it");
                 if (count == -1) {
                     if (!page_keys.insert(key).second) finding("node-key", name + " points to a child page twice");
+                    if (paged_ && !p.top && key == p.root) {
+                        // Read whole, the page would overlap itself; by page, say so here.
+                        finding("hierarchy-page", where + " points to a child page for its own key");
+                        hierarchy_ok_ = false;
+                        continue;
+                    }
                     if (bytes <= 0) {
                         finding("hierarchy-page", "the child page of " + keyName(key) + " has " +
                                                       std::to_string(bytes) +
                                                       " bytes; allowed: a positive multiple "
                                                       "of 32");
                         hierarchy_ok_ = false;
+                    } else if (paged_) {
+                        l_.pages.push_back({key, offset, std::uint64_t(bytes)});
                     } else {
                         todo.push_back({offset, std::uint64_t(bytes), key, false});
                     }
@@ -621,6 +656,12 @@ class Parser {
                 used[c->second] = true;
             }
         }
+        std::sort(nodes.begin(), nodes.end(), [](const CopcNode& a, const CopcNode& b) { return a.key < b.key; });
+        std::sort(l_.empty_nodes.begin(), l_.empty_nodes.end());
+        if (paged_) {
+            l_.nodes = std::move(nodes);
+            return;
+        }
         // Every node's parent has an entry (a node, an empty node or a child page's).
         for (const auto& [key, count] : keys) {
             if (key.level == 0) continue;
@@ -654,8 +695,6 @@ class Parser {
         if (total != l_.count)
             finding("point-count",
                     "the hierarchy's nodes hold " + n2s(total) + " points but the header counts " + n2s(l_.count));
-        std::sort(nodes.begin(), nodes.end(), [](const CopcNode& a, const CopcNode& b) { return a.key < b.key; });
-        std::sort(l_.empty_nodes.begin(), l_.empty_nodes.end());
         l_.nodes = std::move(nodes);
     }
 
@@ -682,12 +721,31 @@ class Parser {
     int hierarchies_ = 0;
     std::uint64_t hier_at_ = 0, hier_size_ = 0;
     bool hierarchy_ok_ = false;
+    bool paged_ = false;
 };
 
 }  // namespace
 
-bool parseCopc(ByteSource& source, CopcLayout& layout, std::vector<CopcFinding>& findings) {
-    return Parser(source, layout, findings).run();
+bool parseCopc(ByteSource& source, CopcLayout& layout, std::vector<CopcFinding>& findings, CopcHierarchy mode) {
+    return Parser(source, layout, findings).run(mode);
+}
+
+bool parseCopcPage(ByteSource& source, const CopcLayout& layout, const CopcPage& page, CopcPageEntries& entries,
+                   std::vector<CopcFinding>& findings) {
+    // What the page's checks read of the file's layout; its entries come back in `l`.
+    CopcLayout l;
+    l.file_size = layout.file_size;
+    l.data_at = layout.data_at;
+    l.table_at = layout.table_at;
+    l.info_found = true;
+    l.info = layout.info;
+    l.hier_at = layout.hier_at;
+    l.hier_size = layout.hier_size;
+    const bool ok = Parser(source, l, findings).childPage(page);
+    entries.nodes = std::move(l.nodes);
+    entries.empty_nodes = std::move(l.empty_nodes);
+    entries.pages = std::move(l.pages);
+    return ok;
 }
 
 std::string keyName(const CopcKey& key) {

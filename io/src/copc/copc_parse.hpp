@@ -42,18 +42,29 @@ struct CopcLayout {
     std::string laszip_vlr;  // the VLR's header and payload, as found
     std::string extra_vlr;   // the extra bytes VLR's header and payload, or empty
     bool table_found = false;
-    std::uint64_t table_at = 0;        // the chunk table's place (the chunks end there)
-    std::vector<CopcChunk> chunks;     // decoded from the table
-    std::vector<CopcNode> nodes;       // every entry with points, in key order
-    std::vector<CopcKey> empty_nodes;  // entries with no points
+    std::uint64_t table_at = 0;                // the chunk table's place (the chunks end there)
+    std::vector<CopcChunk> chunks;             // decoded from the table
+    std::vector<CopcNode> nodes;               // every entry with points, in key order
+    std::vector<CopcKey> empty_nodes;          // entries with no points
+    std::uint64_t hier_at = 0, hier_size = 0;  // the hierarchy record's bytes
+    std::vector<CopcPage> pages;               // by page: the root page's child pages, not read
 };
 
 /// Reads the layout of the COPC file in `source` within bounded memory (the hierarchy's
 /// entries and the chunk table are the only things held, each bounded by the file's size),
 /// appending one finding per broken rule of the header, the VLRs and EVLRs, the info VLR,
 /// the hierarchy and the chunk table (docs/formats.md lists the rule names). Returns false
-/// when the file is too far from a COPC file for its nodes to be read at all.
-bool parseCopc(ByteSource& source, CopcLayout& layout, std::vector<CopcFinding>& findings);
+/// when the file is too far from a COPC file for its nodes to be read at all. By page, the
+/// chunk table is not decoded and only the root hierarchy page is read: nodes and
+/// empty_nodes are its entries, pages its child pages.
+bool parseCopc(ByteSource& source, CopcLayout& layout, std::vector<CopcFinding>& findings,
+               CopcHierarchy mode = CopcHierarchy::whole);
+
+/// Reads one child page of a layout parseCopc read by page (`page` one of its pages or of
+/// an earlier page's), with the rules of a page and its entries. Returns false when the
+/// page or one of its entries cannot be used.
+bool parseCopcPage(ByteSource& source, const CopcLayout& layout, const CopcPage& page, CopcPageEntries& entries,
+                   std::vector<CopcFinding>& findings);
 
 /// A LAZ file of one node alone: the file's header (point count, offsets and EVLRs
 /// rewritten), its LASzip VLR (a fixed chunk size of the node's count) and extra bytes

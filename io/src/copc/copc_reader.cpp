@@ -13,6 +13,7 @@
 #include <core/error.hpp>
 
 #include <algorithm>
+#include <mutex>
 
 namespace io {
 
@@ -22,6 +23,7 @@ struct CopcReader::Impl {
     std::string prefix;
     std::unique_ptr<detail::ByteSource> source;
     detail::CopcLayout layout;
+    std::mutex source_mutex;  // the file source reads through one window
 };
 
 namespace {
@@ -35,11 +37,11 @@ bool readable(const CopcFinding& f) {
 
 }  // namespace
 
-CopcReader::CopcReader(const std::filesystem::path& file) : impl_(std::make_unique<Impl>()) {
+CopcReader::CopcReader(const std::filesystem::path& file, CopcHierarchy hierarchy) : impl_(std::make_unique<Impl>()) {
     impl_->prefix = "copc: " + file.string();
     impl_->source = detail::fileSource(file, "copc");
     std::vector<CopcFinding> findings;
-    const bool ok = detail::parseCopc(*impl_->source, impl_->layout, findings);
+    const bool ok = detail::parseCopc(*impl_->source, impl_->layout, findings, hierarchy);
     findings.erase(std::remove_if(findings.begin(), findings.end(), readable), findings.end());
     if (!findings.empty())
         throw Error(impl_->prefix + ": " + findings.front().rule + ": " + findings.front().message +
@@ -53,6 +55,29 @@ const CopcInfo& CopcReader::info() const { return impl_->layout.info; }
 
 const std::vector<CopcNode>& CopcReader::nodes() const { return impl_->layout.nodes; }
 
+const std::vector<CopcKey>& CopcReader::emptyNodes() const { return impl_->layout.empty_nodes; }
+
+const std::vector<CopcPage>& CopcReader::pages() const { return impl_->layout.pages; }
+
+std::uint64_t CopcReader::pointCount() const { return impl_->layout.count; }
+
+CopcPageEntries CopcReader::readPage(const CopcPage& page) const {
+    CopcPageEntries entries;
+    std::vector<CopcFinding> findings;
+    bool ok = false;
+    {
+        std::lock_guard lock(impl_->source_mutex);
+        ok = detail::parseCopcPage(*impl_->source, impl_->layout, page, entries, findings);
+    }
+    findings.erase(std::remove_if(findings.begin(), findings.end(), readable), findings.end());
+    const std::string name = impl_->prefix + " page of " + detail::keyName(page.key);
+    if (!findings.empty())
+        throw Error(name + ": " + findings.front().rule + ": " + findings.front().message +
+                    (findings.size() > 1 ? " (and " + std::to_string(findings.size() - 1) + " more findings)" : ""));
+    if (!ok) throw Error(name + ": the page cannot be read");
+    return entries;
+}
+
 glm::dvec3 CopcReader::origin() const { return detail::shiftFor(0.5 * (impl_->layout.min + impl_->layout.max)); }
 
 core::PointCloud CopcReader::readNode(const CopcKey& key) const {
@@ -61,12 +86,30 @@ core::PointCloud CopcReader::readNode(const CopcKey& key) const {
                                      [](const CopcNode& n, const CopcKey& k) { return n.key < k; });
     const std::string name = impl_->prefix + " node " + detail::keyName(key);
     if (it == nodes.end() || it->key != key) throw Error(name + ": the file has no node with points of that key");
-    const std::string laz = detail::nodeLaz(*impl_->source, impl_->layout, *it);
+    return readNodeEntry(*it);
+}
+
+core::PointCloud CopcReader::readNodeEntry(const CopcNode& node) const {
+    const detail::CopcLayout& l = impl_->layout;
+    const std::string name = impl_->prefix + " node " + detail::keyName(node.key);
+    // An entry of this reader's pages lies in the point data (their checks); any other is
+    // held to the same place before its bytes are read.
+    const std::uint64_t end = l.table_at ? l.table_at : l.file_size;
+    if (node.point_count <= 0 || node.byte_size <= 0 || node.offset < l.data_at + 8 || node.offset > end ||
+        std::uint64_t(node.byte_size) > end - node.offset)
+        throw Error(name + ": its chunk (" + std::to_string(node.byte_size) + " bytes at byte " +
+                    std::to_string(node.offset) + ", " + std::to_string(node.point_count) +
+                    " points) is not inside the point data");
+    std::string laz;
+    {
+        std::lock_guard lock(impl_->source_mutex);  // the bytes copied; decoding runs unlocked
+        laz = detail::nodeLaz(*impl_->source, l, node);
+    }
     CloudReader reader(laz, name);
     core::PointCloud cloud;
     cloud.origin = reader.origin();
     cloud.fields = reader.fields();
-    cloud.points.reserve(std::size_t(it->point_count));
+    cloud.points.reserve(std::size_t(node.point_count));
     while (reader.nextChunk(cloud.points, std::size_t(1) << 16)) {}
     return cloud;
 }

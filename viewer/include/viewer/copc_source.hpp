@@ -1,16 +1,21 @@
 // viewer/copc_source.hpp: a COPC file (io/copc.hpp) as a point source, node by node.
 //
 // The nodes are the file's octree: every key of the hierarchy (and the keys above them),
-// its bounds the key's cube, its point count the hierarchy's, so the whole tree is known
-// when the file opens and no point is decoded until a node is wanted. Each frame the loop
-// hands select() the last frame's view; the nodes it picks (node_selection.hpp) within
-// the point budget, the cache and the renderer's GPU arena are queued for one worker thread that decodes them
-// (CopcReader::readNode) and builds their LOD cells (lod.hpp); poll() makes the decoded
-// ones resident on the frame thread. Resident nodes live in a RAM cache bounded by
-// `cache_bytes`: when room is needed, the least recently wanted nodes that the last
-// selection did not want are evicted. A frame never waits for the worker: what is resident
-// stays drawn (coarse nodes until their children arrive). A node whose chunk does not
-// decode is skipped for good with one warning line, and its children are still read.
+// its bounds the key's cube, its point count the hierarchy's. Opening the file reads the
+// root hierarchy page alone (its levels; the writer's pages hold four), so a file of any
+// size opens in a few kilobytes: a node whose subtree sits in a child page is unexplored
+// until a selection reaches it, and its page is then read by a worker before any node,
+// the subtree joining the tree on the frame thread. No point is decoded until a node is
+// wanted. Each frame the loop hands select() the last frame's view; the nodes it picks
+// (node_selection.hpp) within the point budget, the cache and the renderer's GPU arena are
+// queued for the worker threads (CopcSourceOptions::workers), which decode them
+// (CopcReader::readNodeEntry) and build their LOD cells (lod.hpp); poll() makes the pages
+// and nodes read part of the tree on the frame thread. Resident nodes live in a RAM cache
+// bounded by `cache_bytes`: when room is needed, the least recently wanted nodes that the
+// last selection did not want are evicted. A frame never waits for the workers: what is
+// resident stays drawn (coarse nodes until their children arrive). A node whose chunk
+// does not decode is skipped for good with one warning line, and its children are still
+// read; a page that does not read leaves its subtree out, with one warning line.
 #pragma once
 #include <viewer/point_source.hpp>
 
@@ -20,15 +25,20 @@
 
 namespace viewer {
 
+/// Workers by default: half the cores, 1 to 4 (one on a 2-core machine, the other core
+/// left to the frame loop).
+std::size_t defaultCopcWorkers();
+
 struct CopcSourceOptions {
     std::size_t cache_bytes = std::size_t(512) << 20;  // resident node points at most
     bool quiet = false;                                // no warning lines
+    std::size_t workers = defaultCopcWorkers();        // threads reading pages and decoding nodes
 };
 
 class CopcSource final : public PointSource {
   public:
-    /// Opens `file` (io::CopcReader: header, info and the whole hierarchy) and starts the
-    /// worker. Throws core::Error naming the file and what is wrong.
+    /// Opens `file` (io::CopcReader: header, info and the root hierarchy page) and starts
+    /// the workers. Throws core::Error naming the file and what is wrong.
     CopcSource(const std::filesystem::path& file, const CopcSourceOptions& options);
     ~CopcSource() override;
     CopcSource(const CopcSource&) = delete;
@@ -39,8 +49,8 @@ class CopcSource final : public PointSource {
     glm::dvec3 origin() const override;
     /// The file's fields as the first decoded node gives them (the defaults until then).
     core::CloudFields fields() const override;
-    /// Every node is known from the start; this turns true once the first selection's
-    /// nodes have all been decoded (or skipped), the "loaded" mark of the frame loop.
+    /// True once a selection's pages and nodes have all been read (or skipped), the
+    /// "loaded" mark of the frame loop.
     bool finished() const override;
     std::string error() const override { return {}; }
     std::size_t pointsArrived() const override;
@@ -49,10 +59,13 @@ class CopcSource final : public PointSource {
     /// The last selection's nodes, most important first.
     std::span<PointNode* const> wanted() const override;
 
-    /// Nodes in the tree (with and without points).
+    /// Nodes in the tree as known so far (with and without points; more as pages arrive).
     std::size_t nodeCount() const;
-    /// Points of every node with points.
+    /// The points of the file (its header's count).
     std::size_t totalPoints() const;
+    /// Unexplored nodes the last selection reached: while not 0, the tree below what is
+    /// drawn is still being read.
+    std::size_t pagesWanted() const;
 
     struct Impl;  // copc_source.cpp's (its nodes point back to it)
 

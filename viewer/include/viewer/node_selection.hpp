@@ -30,10 +30,11 @@ struct SelectionBudget {
 };
 
 struct NodeSelection {
-    std::vector<PointNode*> wanted;  // in traversal order: parents first, most important first
-    std::size_t points = 0;          // of the wanted nodes
-    std::size_t bytes = 0;           // nodeBytes() of the wanted nodes
-    std::size_t gpu_bytes = 0;       // gpuBytes() of the wanted nodes
+    std::vector<PointNode*> wanted;      // in traversal order: parents first, most important first
+    std::size_t points = 0;              // of the wanted nodes
+    std::size_t bytes = 0;               // nodeBytes() of the wanted nodes
+    std::size_t gpu_bytes = 0;           // gpuBytes() of the wanted nodes
+    std::vector<PointNode*> unexplored;  // reached and unexplored(): the source reads them next
 };
 
 /// Memory a node's points take once resident (NodePoints: the points and at most as many
@@ -47,7 +48,8 @@ std::size_t gpuBytes(std::size_t point_count);
 
 /// Picks the nodes under `roots` seen by any of `frusta` (all of them when `frusta` is
 /// empty), by importance seen from `eye_local`, within `budget`. Nodes with no points
-/// (empty or unreadable) cost nothing and are walked through to their children.
+/// (empty or unreadable) cost nothing and are walked through to their children; an
+/// unexplored node reached that way is listed, most important first, for its source to read.
 NodeSelection selectNodes(std::span<PointNode* const> roots, std::span<const render::Frustum> frusta,
                           const glm::dvec3& eye_local, const SelectionBudget& budget);
 

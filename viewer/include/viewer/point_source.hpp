@@ -48,6 +48,10 @@ class PointNode {
     virtual std::size_t pointCount() const = 0;
     /// Empty for a leaf.
     virtual std::span<PointNode* const> children() const = 0;
+    /// True while the node's subtree is not known yet (a COPC hierarchy page not read):
+    /// its point count reads 0 and it has no children until the source reads it, which
+    /// it does once a selection reaches the node (NodeSelection::unexplored).
+    virtual bool unexplored() const { return false; }
     /// Asks for the points; they may arrive later (resident() turns true). Never throws.
     virtual void request() = 0;
     /// Drops the points from memory (points() becomes null). Never throws.
@@ -81,6 +85,9 @@ struct SourceStats {
     std::size_t resident_bytes = 0;  // now
     std::size_t resident_bytes_peak = 0;
     std::size_t hierarchy_bytes = 0;  // held for the tree (its nodes, bounds, counts, links)
+    std::size_t pages_read = 0;       // hierarchy pages read so far (the root page included)
+    std::size_t pages_unread = 0;     // hierarchy pages known and not read
+    std::size_t pages_failed = 0;     // hierarchy pages that did not read (their subtrees skipped)
 };
 
 class PointSource {
