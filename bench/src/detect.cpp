@@ -244,6 +244,11 @@ void registerDetect(CLI::App& parent) {
                   "evaluation items per scene (each seen by the ideal sensor or a preset), [1, 1000]")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
+    c->add_option("--train-scale", state->trained.train_scale,
+                  "training corpora of this many times the items of assets/detect/train_*.json (their seeds "
+                  "unchanged), [1, 50]")
+        ->check(CLI::Range(1, 50))
+        ->capture_default_str();
     state->trained.pr_csv = "out/bench_detect_pr.csv";
     c->add_option("--pr-csv", state->trained.pr_csv,
                   "where the precision-recall curves of both detectors go (plot: scripts/plot_detect_pr.py)")

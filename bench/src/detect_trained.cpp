@@ -218,6 +218,8 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
         if (o.quick) {
             spec["count"] = 2;
             spec["vary"]["views"] = 16;
+        } else {
+            spec["count"] = spec["count"].get<int>() * o.train_scale;
         }
         train_dirs.push_back(tmp / name);
         buildCorpus(writeSpec(tmp, name, spec), train_dirs.back(), o.threads);

@@ -12,6 +12,7 @@ struct TrainedBenchOptions {
     std::filesystem::path tmp;                  // scratch folder (empty: a new one under the temp dir, removed)
     int threads = 2;                            // the trained detector's and the generator's threads
     int eval_items = 10;                        // evaluation items per scene
+    int train_scale = 1;                        // training corpora of this many times their SPEC's items
     std::vector<std::filesystem::path> clouds;  // --clouds: only the per-cloud table of these
     std::filesystem::path model;                // --model: the model --clouds uses
     std::filesystem::path pr_csv;               // the precision-recall curves of both detectors (empty: none)
