@@ -16,7 +16,7 @@
 namespace viewer {
 
 /// How far ahead the selection looks: the time from a node being wanted to its points on
-/// the GPU (queued behind a few nodes for the one decoding worker, a node of ~10^5 points
+/// the GPU (queued behind a few nodes for the decoding workers, a node of ~10^5 points
 /// decoded and ordered in tens of ms, made resident at the next poll and uploaded over a
 /// frame or two within the per-frame upload budget), about a quarter of a second.
 constexpr double kSelectionLookahead_s = 0.25;
