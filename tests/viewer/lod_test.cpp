@@ -1,5 +1,5 @@
-// Viewer LOD: frustum culling of cells (union of the eyes), the LOD order (any prefix of
-// a cell is a uniform subsample) and the point budget allocation, with known answers; then a
+// Viewer LOD: frustum culling of cells (union of the eyes), the LOD order (a prefix of a
+// cell is close to a uniform subsample, its layers ordered by place) and the point budget allocation, with known answers; then a
 // headless EGL draw: a view looking away from the cloud draws fewer points, a budget caps them.
 #include <viewer/cloud_feed.hpp>
 #include <viewer/lod.hpp>
@@ -14,6 +14,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -144,8 +145,61 @@ TEST_CASE("LOD order: cells partition the points, each prefix is a uniform subsa
         CHECK(c.bounds.size().x <= 25.01);
         CHECK(std::abs(mean_prefix.x - mean_all.x) < 1.5);
         CHECK(std::abs(mean_prefix.y - mean_all.y) < 1.5);
+        // Prefixes that end inside a layer too (3 %, 30 %, 70 %): each quarter of the cell
+        // holds its share of the prefix's points within a factor of 1.5.
+        for (const double fraction : {0.03, 0.3, 0.7}) {
+            const auto len = static_cast<std::size_t>(fraction * double(c.count));
+            std::array<double, 4> quarter{};
+            const glm::dvec3 mid = c.bounds.centre();
+            for (std::size_t i = 0; i < len; ++i) {
+                const glm::dvec3 p(a[c.first + i].position);
+                quarter[(p.x < mid.x ? 0 : 1) + (p.y < mid.y ? 0 : 2)] += 1.0;
+            }
+            for (const double q : quarter) {
+                CHECK(q > double(len) / 4.0 / 1.5);
+                CHECK(q < double(len) / 4.0 * 1.5);
+            }
+        }
     }
     CHECK(next == points.size());
+}
+
+TEST_CASE("LOD order: each layer is ordered by place, so neighbours in the order are near each other") {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 100.0f);
+    std::vector<core::CloudPoint> points(65536);
+    for (auto& p : points) p.position = {u(rng), u(rng), 0.0f};
+    std::vector<core::CloudPoint> shuffled = points;
+    LodOptions one_cell;
+    one_cell.cell_points = points.size();
+    const auto cells = buildLodOrder(points, one_cell);
+    REQUIRE(cells.size() == 1);
+    // The last layer (the second half): consecutive points about one point spacing apart,
+    // against about half the cell's size for the shuffled order alone.
+    auto meanStep = [](const std::vector<core::CloudPoint>& v, std::size_t from, std::size_t to) {
+        double sum = 0.0;
+        for (std::size_t i = from + 1; i < to; ++i)
+            sum += glm::distance(glm::dvec2(v[i].position.x, v[i].position.y),
+                                 glm::dvec2(v[i - 1].position.x, v[i - 1].position.y));
+        return sum / double(to - from - 1);
+    };
+    const std::size_t n = points.size();
+    CHECK(meanStep(points, n / 2, n) < 2.0);     // spacing of 32768 points in 100 x 100 m: ~0.55 m
+    CHECK(meanStep(shuffled, n / 2, n) > 30.0);  // the input order: uniformly random
+    // The key: Morton order inside each of 8 x 8 blocks, blocks in bit-reversed order, so the
+    // first four blocks are one in each quarter of the box.
+    core::Bounds b;
+    b.extend(glm::dvec3(0.0));
+    b.extend(glm::dvec3(8.0, 8.0, 1.0));
+    std::vector<std::pair<std::uint32_t, int>> blocks;
+    for (int by = 0; by < 8; ++by)
+        for (int bx = 0; bx < 8; ++bx)
+            blocks.push_back({spreadOrderKey(glm::dvec3(bx + 0.5, by + 0.5, 0.0), b), (bx / 4) + 2 * (by / 4)});
+    std::sort(blocks.begin(), blocks.end());
+    std::array<int, 4> seen{};
+    for (int i = 0; i < 4; ++i) seen[static_cast<std::size_t>(blocks[static_cast<std::size_t>(i)].second)]++;
+    CHECK(seen == std::array<int, 4>{1, 1, 1, 1});
+    CHECK(spreadOrderKey(glm::dvec3(0.1, 0.1, 0.0), b) < spreadOrderKey(glm::dvec3(0.9, 0.9, 0.0), b));
 }
 
 TEST_CASE("headless draw: looking away from the cloud draws fewer points; the budget caps them") {

@@ -11,6 +11,33 @@
 
 namespace viewer {
 
+namespace {
+/// Spreads the low 16 bits of v to the even bits of the result.
+std::uint32_t spreadBits(std::uint32_t v) {
+    v &= 0xFFFFu;
+    v = (v | (v << 8)) & 0x00FF00FFu;
+    v = (v | (v << 4)) & 0x0F0F0F0Fu;
+    v = (v | (v << 2)) & 0x33333333u;
+    v = (v | (v << 1)) & 0x55555555u;
+    return v;
+}
+}  // namespace
+
+std::uint32_t spreadOrderKey(const glm::dvec3& p, const core::Bounds& box) {
+    const glm::dvec3 size = box.size();
+    auto unit = [](double v, double lo, double extent) {
+        if (!(extent > 0.0)) return std::uint32_t{0};
+        return static_cast<std::uint32_t>(std::clamp((v - lo) / extent, 0.0, 1.0) * 65535.0);
+    };
+    const std::uint32_t morton =
+        spreadBits(unit(p.x, box.lo.x, size.x)) | (spreadBits(unit(p.y, box.lo.y, size.y)) << 1);
+    // The top 6 bits name one of 8 x 8 blocks; reversed, consecutive blocks lie far apart,
+    // so any run of whole blocks covers the box evenly.
+    std::uint32_t block = morton >> 26, reversed = 0;
+    for (int b = 0; b < 6; ++b) reversed |= ((block >> b) & 1u) << (5 - b);
+    return (reversed << 26) | (morton & ((1u << 26) - 1u));
+}
+
 std::vector<LodCell> buildLodOrder(std::vector<core::CloudPoint>& points, const LodOptions& options) {
     std::vector<LodCell> cells;
     const std::size_t n = points.size();
@@ -39,6 +66,9 @@ std::vector<LodCell> buildLodOrder(std::vector<core::CloudPoint>& points, const 
     std::vector<std::size_t> next(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < n; ++i) sorted[next[cell_of[i]]++] = points[i];
     std::mt19937_64 rng(options.seed);
+    std::vector<std::uint32_t> keys;
+    std::vector<std::uint32_t> order;
+    std::vector<core::CloudPoint> layer;
     for (std::size_t c = 0; c < side * side; ++c) {
         const std::size_t first = start[c], count = start[c + 1] - start[c];
         if (count == 0) continue;
@@ -46,6 +76,29 @@ std::vector<LodCell> buildLodOrder(std::vector<core::CloudPoint>& points, const 
         core::shuffle(cell_begin, cell_begin + static_cast<std::ptrdiff_t>(count), rng);
         LodCell cell{first, count, {}};
         for (std::size_t i = first; i < first + count; ++i) cell.bounds.extend(glm::dvec3(sorted[i].position));
+        // Layers of the shuffled cell: [0, n/64), [n/64, n/32), ... [n/2, n). Each is a
+        // uniform random subsample; ordering each one by place (spreadOrderKey) lets the GPU
+        // write neighbouring pixels together without changing which points a prefix holds
+        // beyond the one layer it ends in.
+        std::size_t lo = 0;
+        for (int k = kLodLayers - 1; k >= 0; --k) {
+            const std::size_t hi = count >> k;
+            if (hi > lo + 1) {
+                const std::size_t m = hi - lo;
+                keys.resize(m);
+                order.resize(m);
+                for (std::size_t i = 0; i < m; ++i) {
+                    keys[i] = spreadOrderKey(glm::dvec3(sorted[first + lo + i].position), cell.bounds);
+                    order[i] = static_cast<std::uint32_t>(i);
+                }
+                std::stable_sort(order.begin(), order.end(),
+                                 [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+                layer.assign(cell_begin + static_cast<std::ptrdiff_t>(lo),
+                             cell_begin + static_cast<std::ptrdiff_t>(hi));
+                for (std::size_t i = 0; i < m; ++i) sorted[first + lo + i] = layer[order[i]];
+            }
+            lo = std::max(lo, hi);
+        }
         cells.push_back(cell);
     }
     points = std::move(sorted);

@@ -6,7 +6,11 @@
 // Level of detail: every chunk that arrives from the stream is split into a grid of cells
 // in x/y (about kLodCellPoints points each), and the points of every cell are shuffled with
 // a fixed seed, so any prefix of a cell is a uniform random subsample of it. A frame then
-// draws, per cell, a prefix whose length the budget allocation picks.
+// draws, per cell, a prefix whose length the budget allocation picks. The shuffled cell is
+// cut into layers of doubling size (1/64, 1/64, 1/32, ... 1/2 of it), and each layer is
+// ordered by place, blocks of the cell taken in a spread-out order: a GPU draws points
+// that land near each other on screen faster than points in random order, and a prefix
+// is still whole random layers plus an evenly spread part of the next one.
 #pragma once
 #include <core/frames.hpp>
 #include <core/point_cloud.hpp>
@@ -30,9 +34,17 @@ struct LodCell {
     core::Bounds bounds;
 };
 
+/// Layers per cell (see the top of this file): the last holds half the cell's points.
+inline constexpr int kLodLayers = 7;
+
+/// The order of a point within its layer: a Morton code of its x/y in `box` (16 bits per
+/// axis) whose top 6 bits, an 8 x 8 block of the box, are bit-reversed.
+std::uint32_t spreadOrderKey(const glm::dvec3& p, const core::Bounds& box);
+
 /// Reorders `points` in place into grid cells over its x/y bounds, each cell shuffled with
-/// `options.seed` (a prefix of a cell is a uniform subsample); returns the cells in order
-/// (empty cells left out). Deterministic.
+/// `options.seed` and its layers ordered by spreadOrderKey (a prefix of a cell is close to
+/// a uniform subsample, exactly one at a layer's end); returns the cells in order (empty
+/// cells left out). Deterministic.
 std::vector<LodCell> buildLodOrder(std::vector<core::CloudPoint>& points, const LodOptions& options = {});
 
 /// For each box: true if it may be seen by at least one of `frusta` (the union of the eyes'
