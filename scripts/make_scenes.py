@@ -3,8 +3,9 @@
 
     python3 scripts/make_scenes.py [--out ASSETS_DIR]
 
-assets/common/  meshes shared by the scenes (buildings, trees, the tank, the grounds) and a
-                box truck, a second target model the detector benchmark evaluates on
+assets/common/  meshes shared by the scenes (buildings, trees, the tank, the grounds), a
+                box truck, a second target model the detector benchmark evaluates on,
+                and an APC and a van, the trained detector's other training targets
 assets/demo/    the demo: a tank beside a house, half under a tree, in a village
 assets/hard/    the tank in a narrow street between long buildings, in a dense forest
 assets/hilly/   a village and the tank on ground with ~15 m of relief (for terrain-following ground filters)
@@ -226,6 +227,52 @@ def truck():
     for i, x in enumerate((-3.0, -1.8, 2.9)):
         for side, (y0, y1) in (("left", (0.8, 1.2)), ("right", (-1.2, -0.8))):
             parts.append(("wheel_%d_%s" % (i, side), box(x - 0.5, x + 0.5, y0, y1, 0.0, 1.0)))
+    return parts
+
+
+def apc():
+    """A wheeled armoured personnel carrier, its long axis along x (sloped nose at +x),
+    centred on the origin, wheels on z = 0: 7.6 m x 2.9 m x 2.6 m with its cupola. A
+    training target beside the tank, so that the trained detector learns a vehicle
+    rather than one mesh."""
+    h = Mesh()
+    # hull: a flat-bottomed box with a sloped glacis and a sloped rear, sides straight
+    prof = [(-3.8, 0.5), (3.2, 0.5), (3.8, 1.3), (3.0, 2.1), (-3.6, 2.1), (-3.8, 1.6)]
+    lo = [h.vert(x, -1.45, z) for x, z in prof]
+    hi = [h.vert(x, 1.45, z) for x, z in prof]
+    n = len(prof)
+    for i in range(n):
+        j = (i + 1) % n
+        h.quad(lo[i], hi[i], hi[j], lo[j])
+    for i in range(1, n - 1):
+        h.tri(lo[0], lo[i], lo[i + 1])
+        h.tri(hi[0], hi[i + 1], hi[i])
+    parts = [("hull", h),
+             ("cupola", prism(0.6, 0.0, 0.7, 8, 2.1, 2.6, r_top=0.6, phase=math.pi / 8))]
+    for i, x in enumerate((-2.6, -1.2, 1.2, 2.6)):
+        for side, (y0, y1) in (("left", (1.0, 1.45)), ("right", (-1.45, -1.0))):
+            parts.append(("wheel_%d_%s" % (i, side), box(x - 0.55, x + 0.55, y0, y1, 0.0, 1.1)))
+    return parts
+
+
+def van():
+    """A panel van, its long axis along x (bonnet at +x), centred on the origin, wheels on
+    z = 0: 6.0 m x 2.2 m x 2.7 m. A second training target (see apc)."""
+    parts = [("body", box(-3.0, 2.0, -1.1, 1.1, 0.45, 2.7)),
+             ("bonnet", box(2.0, 3.0, -1.05, 1.05, 0.45, 1.3))]
+    h = Mesh()  # the windscreen's slope from the bonnet to the roof
+    prof = [(2.0, 1.3), (3.0, 1.3), (2.0, 2.7)]
+    lo = [h.vert(x, -1.05, z) for x, z in prof]
+    hi = [h.vert(x, 1.05, z) for x, z in prof]
+    for i in range(3):
+        j = (i + 1) % 3
+        h.quad(lo[i], hi[i], hi[j], lo[j])
+    h.tri(lo[0], lo[1], lo[2])
+    h.tri(hi[0], hi[2], hi[1])
+    parts.append(("windscreen", h))
+    for i, x in enumerate((-2.0, 2.2)):
+        for side, (y0, y1) in (("left", (0.75, 1.1)), ("right", (-1.1, -0.75))):
+            parts.append(("wheel_%d_%s" % (i, side), box(x - 0.4, x + 0.4, y0, y1, 0.0, 0.8)))
     return parts
 
 
@@ -464,6 +511,10 @@ def make_common(out):
               "tank-like target: 7.0 x 3.5 x 2.5 m, barrel along +x, centred on the origin")
     write_obj(os.path.join(d, "truck.obj"), truck(),
               "box truck: 8.0 x 2.5 x 3.4 m, cab along +x, centred on the origin")
+    write_obj(os.path.join(d, "apc.obj"), apc(),
+              "wheeled APC: 7.6 x 2.9 x 2.6 m, nose along +x, centred on the origin")
+    write_obj(os.path.join(d, "van.obj"), van(),
+              "panel van: 6.0 x 2.2 x 2.7 m, bonnet along +x, centred on the origin")
     write_obj(os.path.join(d, "house_small.obj"), [("house", house(10.0, 8.0, 5.5, 8.5))],
               "house 10 x 8 m, eaves 5.5 m, ridge 8.5 m (walls from -4 m, below the ground)")
     write_obj(os.path.join(d, "house_large.obj"), [("house", house(16.0, 11.0, 8.0, 12.0))],

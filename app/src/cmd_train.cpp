@@ -118,6 +118,10 @@ void registerTrain(CLI::App& cli) {
                   "a voxel with fewer points does not join two segments (it joins its nearest denser voxel), "
                   "[1, 1000]")
         ->capture_default_str();
+    c->add_option("--split-height-m", o.segments.split_height_m,
+                  "a segment reaching above this height over the terrain loses what stands free below it "
+                  "(a vehicle against a wall or under touching crowns), 0 (no split) or [1, 100] m")
+        ->capture_default_str();
     c->add_option("--threads", o.boost.threads, "threads for the features and XGBoost, >= 1")->capture_default_str();
     c->add_option("--seed", o.boost.seed, "XGBoost's seed")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,

@@ -1,7 +1,7 @@
 // bench/src/detect_trained.cpp: the trained detector (detect/boosted_detector.hpp) against
 // the clustering baseline (detect/cluster_detector.hpp), both on the same evaluation clouds.
 //
-// Training: the corpora of assets/detect/train_*.json (the tank only; flat and sloped
+// Training: the corpora of assets/detect/train_*.json (the tank, an APC and a van; flat and sloped
 // village, seen by the ideal sensor and by the sensor presets). Evaluation, never seen in
 // training:
 //   - corpora of the demo (flat), hilly, hard (dense forest), slopes and forest scenes with
@@ -215,6 +215,12 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
     for (const char* name : {"train_flat", "train_slopes", "train_flat_sensors", "train_slopes_sensors"}) {
         nlohmann::json spec = nlohmann::json::parse(readText(assets / "detect" / (std::string(name) + ".json")));
         spec["scene"] = (assets / "detect" / spec["scene"].get<std::string>()).lexically_normal().string();
+        // The copy lives in the bench's folder: its target files' paths made absolute too.
+        if (spec.contains("vary") && spec["vary"].contains("target_files"))
+            for (nlohmann::json& f : spec["vary"]["target_files"]) {
+                nlohmann::json& file = f.is_object() ? f["file"] : f;
+                file = (assets / "detect" / file.get<std::string>()).lexically_normal().string();
+            }
         if (o.quick) {
             spec["count"] = 2;
             spec["vary"]["views"] = 16;

@@ -76,7 +76,8 @@ nlohmann::json segmentJson(const SegmentOptions& o) {
             {"voxel_m", o.voxel_m},
             {"cluster_tolerance_m", o.cluster_tolerance_m},
             {"core_points", o.core_points},
-            {"min_points", o.min_points}};
+            {"min_points", o.min_points},
+            {"split_height_m", o.split_height_m}};
 }
 
 }  // namespace
@@ -276,6 +277,8 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
     const double min_points = num("min_points");
     if (!(min_points >= 1 && min_points <= 1e9)) throw bad("segmentation.min_points: allowed [1, 1e9]");
     i.segments.min_points = int(min_points);
+    // ... and before tall segments were split, none was.
+    i.segments.split_height_m = seg.contains("split_height_m") ? num("split_height_m") : 0.0;
     try {
         validate(i.segments);
     } catch (const core::Error& e) {

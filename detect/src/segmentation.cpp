@@ -38,75 +38,20 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t v) {
     return v;
 }
 
-}  // namespace
-
-void validate(const SegmentOptions& o) {
-    sim::validate(o.terrain);
-    if (!(std::isfinite(o.min_height_m) && o.min_height_m >= 0.0 && o.min_height_m <= 10.0))
-        fail("--min-height-m", o.min_height_m, "[0, 10] m");
-    if (!(std::isfinite(o.ground_sigmas) && o.ground_sigmas >= 0.0 && o.ground_sigmas <= 20.0))
-        fail("--ground-sigmas", o.ground_sigmas, "[0, 20]");
-    if (!(std::isfinite(o.voxel_m) && o.voxel_m >= 0.05 && o.voxel_m <= 10.0))
-        fail("--segment-voxel-m", o.voxel_m, "[0.05, 10] m");
-    if (!(std::isfinite(o.cluster_tolerance_m) && o.cluster_tolerance_m > o.voxel_m / 2.0 &&
-          o.cluster_tolerance_m <= 10.0))
-        fail("--segment-tolerance-m", o.cluster_tolerance_m, "(voxel / 2, 10] m");
-    if (o.core_points < 1 || o.core_points > 1000) fail("--segment-core-points", o.core_points, "[1, 1000]");
-    if (o.min_points < 1) fail("--segment-min-points", o.min_points, ">= 1");
-}
-
-Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o) {
-    validate(o);
-    if (cloud.points.size() >= std::size_t(UINT32_MAX))
-        throw core::Error("detect: the cloud has too many points (at most 4294967294)");
-    Segmentation out;
-    const std::size_t n = cloud.points.size();
-    if (n == 0) return out;
-
-    // Step 1: the whole-cloud SMRF run sees the points with their views, so on a real
-    // sensor's thick ground it measures the thickness, takes each view's height error off
-    // and levels each cell at its ground's centre (docs/ground.md); on the ideal sensor's
-    // thin ground it is the published minimum-surface SMRF.
-    std::vector<std::uint8_t> ground(n);
-    out.height_m.resize(n);
-    {
-        const std::unique_ptr<sim::TerrainFit> fit = sim::startSmrf(o.terrain);
-        constexpr std::size_t kChunk = 1 << 16;
-        std::vector<core::CloudPoint> chunk;
-        for (std::size_t i = 0; i < n; i += kChunk) {
-            const std::span<const core::CloudPoint> part(cloud.points.data() + i, std::min(kChunk, n - i));
-            if (cloud.fields.view) {
-                fit->add(part);
-                continue;
-            }
-            chunk.assign(part.begin(), part.end());  // no views recorded: one view
-            for (core::CloudPoint& p : chunk) p.view = 0;
-            fit->add(chunk);
-        }
-        fit->fit();
-        const sim::TerrainGrid& t = fit->surface();
-        out.ground_sigma_m = t.ground_sigma_m;
-        const double observed_m2 = double(t.observed_cells) * t.cell_m * t.cell_m;
-        if (observed_m2 > 0) out.points_per_voxel_face = double(n) / observed_m2 * o.voxel_m * o.voxel_m;
-        for (std::size_t i = 0; i < n; ++i) {
-            core::CloudPoint p = cloud.points[i];
-            if (!cloud.fields.view) p.view = 0;
-            ground[i] = fit->classify(p, out.height_m[i]);
-        }
-    }
-    // A thick ground reaches higher: the threshold grows with its measured thickness.
-    out.min_height_m = std::max(o.min_height_m, o.ground_sigmas * out.ground_sigma_m);
-
-    // Step 2: voxels of the points above the terrain, in order of their first point.
+// Clusters the points `idx` (ascending indices into the cloud) on voxels of o.voxel_m
+// whose cells are counted from `lo`: union-find over pairs of dense voxels (core_points
+// points or more) whose centroids lie within o.cluster_tolerance_m; a sparse voxel joins
+// the segment of its nearest dense voxel within reach. Groups in order of their first
+// point, each ascending; small ones are not dropped here.
+std::vector<std::vector<std::uint32_t>> clusterPoints(const core::PointCloud& cloud, std::span<const std::uint32_t> idx,
+                                                      const glm::dvec3& lo, const SegmentOptions& o, int core_points) {
     std::unordered_map<std::uint64_t, std::uint32_t> voxel_of_key;
-    std::vector<std::uint32_t> voxel_of_point(n, UINT32_MAX);
+    std::vector<std::uint32_t> voxel_of_point(idx.size());
     std::vector<glm::dvec3> sums;
     std::vector<std::uint32_t> counts;
     std::vector<std::array<std::int64_t, 3>> cells;
-    const glm::dvec3 lo = cloud.bounds().lo;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (ground[i] || !(out.height_m[i] > out.min_height_m)) continue;
-        const glm::dvec3 p = glm::dvec3(cloud.points[i].position) - lo;
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+        const glm::dvec3 p = glm::dvec3(cloud.points[idx[k]].position) - lo;
         const std::int64_t cx = std::int64_t(std::floor(p.x / o.voxel_m)),
                            cy = std::int64_t(std::floor(p.y / o.voxel_m)),
                            cz = std::int64_t(std::floor(p.z / o.voxel_m));
@@ -121,8 +66,7 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
         }
         sums[it->second] += p;
         ++counts[it->second];
-        voxel_of_point[i] = it->second;
-        ++out.above_points;
+        voxel_of_point[k] = it->second;
     }
     const std::size_t voxels = sums.size();
     std::vector<glm::dvec3> centroid(voxels);
@@ -132,12 +76,7 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     // axis). A voxel with fewer than core_points points does not join two segments: it
     // is attached to its nearest dense voxel within reach afterwards, so a sparse trail
     // of noise or mixed returns between a crown and a vehicle does not chain them.
-    // The bar follows the cloud's sampling: at most half the points a voxel's face of
-    // level ground holds on average (the cloud's points over the terrain's observed
-    // area), so a sparsely sampled cloud (few views, a far orbit), whose surfaces hold one
-    // or two points a voxel, still joins them.
-    out.core_points = int(std::clamp(std::floor(out.points_per_voxel_face / 2.0), 1.0, double(o.core_points)));
-    const auto dense = [&](std::size_t v) { return counts[v] >= std::uint32_t(out.core_points); };
+    const auto dense = [&](std::size_t v) { return counts[v] >= std::uint32_t(core_points); };
     std::vector<std::uint32_t> parent(voxels);
     std::iota(parent.begin(), parent.end(), 0u);
     const std::int64_t r = std::int64_t(std::ceil(o.cluster_tolerance_m / o.voxel_m));
@@ -185,20 +124,173 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     for (std::size_t v = 0; v < voxels; ++v)
         if (!dense(v)) parent[v] = attached[v] == v ? std::uint32_t(v) : findRoot(parent, attached[v]);
 
-    // Step 3: segments in order of their root voxel, which is the order of their first point.
+    // Groups in order of their root voxel, which is the order of their first point.
     std::vector<std::uint32_t> segment_of_root(voxels, UINT32_MAX);
     std::vector<std::vector<std::uint32_t>> segments;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (voxel_of_point[i] == UINT32_MAX) continue;
-        const std::uint32_t root = findRoot(parent, voxel_of_point[i]);
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+        const std::uint32_t root = findRoot(parent, voxel_of_point[k]);
         if (segment_of_root[root] == UINT32_MAX) {
             segment_of_root[root] = std::uint32_t(segments.size());
             segments.emplace_back();
         }
-        segments[segment_of_root[root]].push_back(std::uint32_t(i));
+        segments[segment_of_root[root]].push_back(idx[k]);
     }
+    return segments;
+}
+
+// A part carved out of a tall segment holds at least this many times min_points.
+constexpr std::size_t kSplitMinFactor = 10;
+
+}  // namespace
+
+void validate(const SegmentOptions& o) {
+    sim::validate(o.terrain);
+    if (!(std::isfinite(o.min_height_m) && o.min_height_m >= 0.0 && o.min_height_m <= 10.0))
+        fail("--min-height-m", o.min_height_m, "[0, 10] m");
+    if (!(std::isfinite(o.ground_sigmas) && o.ground_sigmas >= 0.0 && o.ground_sigmas <= 20.0))
+        fail("--ground-sigmas", o.ground_sigmas, "[0, 20]");
+    if (!(std::isfinite(o.voxel_m) && o.voxel_m >= 0.05 && o.voxel_m <= 10.0))
+        fail("--segment-voxel-m", o.voxel_m, "[0.05, 10] m");
+    if (!(std::isfinite(o.cluster_tolerance_m) && o.cluster_tolerance_m > o.voxel_m / 2.0 &&
+          o.cluster_tolerance_m <= 10.0))
+        fail("--segment-tolerance-m", o.cluster_tolerance_m, "(voxel / 2, 10] m");
+    if (o.core_points < 1 || o.core_points > 1000) fail("--segment-core-points", o.core_points, "[1, 1000]");
+    if (o.min_points < 1) fail("--segment-min-points", o.min_points, ">= 1");
+    if (!(std::isfinite(o.split_height_m) &&
+          (o.split_height_m == 0.0 || (o.split_height_m >= 1.0 && o.split_height_m <= 100.0))))
+        fail("--split-height-m", o.split_height_m, "0 (no split) or [1, 100] m");
+}
+
+Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o) {
+    validate(o);
+    if (cloud.points.size() >= std::size_t(UINT32_MAX))
+        throw core::Error("detect: the cloud has too many points (at most 4294967294)");
+    Segmentation out;
+    const std::size_t n = cloud.points.size();
+    if (n == 0) return out;
+
+    // Step 1: the whole-cloud SMRF run sees the points with their views, so on a real
+    // sensor's thick ground it measures the thickness, takes each view's height error off
+    // and levels each cell at its ground's centre (docs/ground.md); on the ideal sensor's
+    // thin ground it is the published minimum-surface SMRF.
+    std::vector<std::uint8_t> ground(n);
+    out.height_m.resize(n);
+    {
+        const std::unique_ptr<sim::TerrainFit> fit = sim::startSmrf(o.terrain);
+        constexpr std::size_t kChunk = 1 << 16;
+        std::vector<core::CloudPoint> chunk;
+        for (std::size_t i = 0; i < n; i += kChunk) {
+            const std::span<const core::CloudPoint> part(cloud.points.data() + i, std::min(kChunk, n - i));
+            if (cloud.fields.view) {
+                fit->add(part);
+                continue;
+            }
+            chunk.assign(part.begin(), part.end());  // no views recorded: one view
+            for (core::CloudPoint& p : chunk) p.view = 0;
+            fit->add(chunk);
+        }
+        fit->fit();
+        const sim::TerrainGrid& t = fit->surface();
+        out.ground_sigma_m = t.ground_sigma_m;
+        const double observed_m2 = double(t.observed_cells) * t.cell_m * t.cell_m;
+        if (observed_m2 > 0) out.points_per_voxel_face = double(n) / observed_m2 * o.voxel_m * o.voxel_m;
+        for (std::size_t i = 0; i < n; ++i) {
+            core::CloudPoint p = cloud.points[i];
+            if (!cloud.fields.view) p.view = 0;
+            ground[i] = fit->classify(p, out.height_m[i]);
+        }
+    }
+    // A thick ground reaches higher: the threshold grows with its measured thickness.
+    out.min_height_m = std::max(o.min_height_m, o.ground_sigmas * out.ground_sigma_m);
+
+    // Step 2: voxels of the points above the terrain, clustered.
+    std::vector<std::uint32_t> above;
+    for (std::size_t i = 0; i < n; ++i)
+        if (!ground[i] && out.height_m[i] > out.min_height_m) above.push_back(std::uint32_t(i));
+    out.above_points = above.size();
+    // The bar follows the cloud's sampling: at most half the points a voxel's face of
+    // level ground holds on average (the cloud's points over the terrain's observed
+    // area), so a sparsely sampled cloud (few views, a far orbit), whose surfaces hold one
+    // or two points a voxel, still joins them.
+    out.core_points = int(std::clamp(std::floor(out.points_per_voxel_face / 2.0), 1.0, double(o.core_points)));
+    const glm::dvec3 lo = cloud.bounds().lo;
+    std::vector<std::vector<std::uint32_t>> segments = clusterPoints(cloud, above, lo, o, out.core_points);
+
+    // Step 3: small segments are noise.
     for (auto& s : segments)
         if (s.size() >= std::size_t(o.min_points)) out.segments.push_back(std::move(s));
+
+    // Step 4: a segment that reaches above split_height_m is split into what stands free
+    // below that height and the rest. A column (a voxel_m square of the segment's
+    // footprint) rises when its occupied layers (voxel_m of height above the terrain) run
+    // without a gap beyond the clustering's reach from its lowest point to above
+    // split_height_m: a wall, a trunk, a conifer's branches down to the ground. The
+    // points below split_height_m in columns that do not rise are clustered alone (as in
+    // step 2); each such cluster of kSplitMinFactor x min_points or more becomes a
+    // segment (a smaller one, a shrub or a low branch, stays where it was), and the rest
+    // stays one segment (not clustered again: a canopy does not fall into fragments). A
+    // vehicle parked against a wall or under crowns that touch each other then stands
+    // apart from them; a segment with nothing free is kept whole.
+    if (o.split_height_m > 0) {
+        const auto big = [&](const std::vector<std::uint32_t>& p) { return p.size() >= std::size_t(o.min_points); };
+        const auto layerOf = [&](std::uint32_t i) {
+            return std::int64_t(std::floor(std::max(0.0f, out.height_m[i]) / o.voxel_m));
+        };
+        const auto columnOf = [&](std::uint32_t i) {
+            const glm::dvec3 p = glm::dvec3(cloud.points[i].position) - lo;
+            return packKey(std::int64_t(std::floor(p.x / o.voxel_m)), std::int64_t(std::floor(p.y / o.voxel_m)), 0);
+        };
+        const std::int64_t top_layer = std::int64_t(std::floor(o.split_height_m / o.voxel_m));
+        // Layers this far apart are within the clustering's reach (as step 2's voxels).
+        const std::int64_t reach = std::int64_t(std::ceil(o.cluster_tolerance_m / o.voxel_m));
+        std::vector<std::vector<std::uint32_t>> kept;
+        for (auto& s : out.segments) {
+            const bool tall =
+                std::any_of(s.begin(), s.end(), [&](std::uint32_t i) { return out.height_m[i] > o.split_height_m; });
+            if (!tall) {
+                kept.push_back(std::move(s));
+                continue;
+            }
+            std::unordered_map<std::uint64_t, std::vector<std::int64_t>> layers;
+            for (const std::uint32_t i : s) layers[columnOf(i)].push_back(layerOf(i));
+            std::unordered_map<std::uint64_t, bool> rises;
+            for (auto& [key, l] : layers) {
+                std::sort(l.begin(), l.end());
+                bool up = false;
+                for (std::size_t k = 0; k < l.size(); ++k) {
+                    if (l[k] >= top_layer) {
+                        up = true;
+                        break;
+                    }
+                    if (k + 1 < l.size() && l[k + 1] - l[k] > reach) break;
+                }
+                rises.emplace(key, up);
+            }
+            std::vector<std::uint32_t> free_points, rest;
+            for (const std::uint32_t i : s)
+                (out.height_m[i] <= o.split_height_m && !rises.at(columnOf(i)) ? free_points : rest).push_back(i);
+            std::vector<std::vector<std::uint32_t>> parts,
+                free_parts = clusterPoints(cloud, free_points, lo, o, out.core_points);
+            for (auto& p : free_parts) {
+                if (p.size() >= kSplitMinFactor * std::size_t(o.min_points))
+                    parts.push_back(std::move(p));
+                else
+                    rest.insert(rest.end(), p.begin(), p.end());
+            }
+            if (parts.empty()) {
+                kept.push_back(std::move(s));
+                continue;
+            }
+            std::sort(rest.begin(), rest.end());
+            parts.push_back(std::move(rest));
+            ++out.split_segments;
+            for (auto& p : parts)
+                if (big(p)) kept.push_back(std::move(p));
+        }
+        // Segments in order of their first point again.
+        std::stable_sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.front() < b.front(); });
+        out.segments = std::move(kept);
+    }
     return out;
 }
 

@@ -56,10 +56,20 @@ TEST_CASE("a model file reads back with its record and the same margins") {
     CHECK(r.info().corpus_manifests_sha256 == std::vector<std::string>{std::string(64, 'a')});
     CHECK(r.info().target_size_m == glm::dvec3(7.0, 3.5, 2.5));
     CHECK(r.info().platt_a == m.info().platt_a);
+    CHECK(r.info().segments.split_height_m == m.info().segments.split_height_m);
     CHECK(r.serialize() == m.serialize());
     const std::vector<float> rows(detect::segmentFeatureNames().size() * 2, 1.0f);
     CHECK(r.margins(rows, 1) == m.margins(rows, 1));
     CHECK(dir.entries() == 1);  // no temporary left
+}
+
+TEST_CASE("a model file from before the split height reads as splitting nothing") {
+    test_support::TempDir dir("detect_model_old");
+    const std::string good = smallModel().serialize();
+    const std::string old = editHeader(good, "\"split_height_m\"", "\"split_height_x\"");
+    REQUIRE(old != good);
+    { std::ofstream(dir.path / "old.ldm", std::ios::binary) << old; }
+    CHECK(detect::BoostedModel::read(dir.path / "old.ldm").info().segments.split_height_m == 0.0);
 }
 
 TEST_CASE("a bad or mismatching model file is refused in one line naming the file and the fault") {

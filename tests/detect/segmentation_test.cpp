@@ -1,13 +1,15 @@
 // tests/detect/segmentation_test.cpp: the trained detector's segments under a noisy
 // sensor: the height threshold follows the measured ground thickness, a sparse trail of
-// points (noise, mixed returns) does not chain a vehicle to the crown above it, and the
-// views' height errors are taken off before heights are measured.
+// points (noise, mixed returns) does not chain a vehicle to the crown above it, the
+// views' height errors are taken off before heights are measured, and a vehicle against
+// a wall or under a touching crown is split from them at the split height.
 #include <detect/segmentation.hpp>
 
 #include "labelled_scenes.hpp"
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 
 namespace {
@@ -91,7 +93,8 @@ TEST_CASE("segments: a sparse trail of points does not chain a vehicle to the cr
     // The trail: single points every 0.2 m from the roof up to the crown (mixed returns).
     for (double z = 2.6; z < 4.0; z += 0.2) test_support::addPoint(c, {1.0, 0.5, z}, core::Role::Environment);
     detect::SegmentOptions o;
-    o.core_points = 1;  // every voxel joins: the trail chains the vehicle and the crown
+    o.split_height_m = 0;  // step 2 alone (the split below would part them too)
+    o.core_points = 1;     // every voxel joins: the trail chains the vehicle and the crown
     const detect::Segmentation chained = detect::segmentCloud(c, o);
     o.core_points = 3;
     const detect::Segmentation apart = detect::segmentCloud(c, o);
@@ -110,6 +113,72 @@ TEST_CASE("segments: a sparse trail of points does not chain a vehicle to the cr
     CHECK(targetShare(chained) < 0.5);
     CHECK(targetShare(apart) > 0.95);
     CHECK(largestSegment(apart) < largestSegment(chained));
+}
+
+namespace {
+
+// The share of the target's points in the segment holding most of them, and that
+// segment's share of target points.
+std::pair<double, double> targetSegment(const core::PointCloud& c, const detect::Segmentation& s) {
+    std::size_t total = 0;
+    for (const core::CloudPoint& p : c.points) total += p.label == core::Role::Target;
+    std::size_t best = 0, best_size = 1;
+    for (const auto& seg : s.segments) {
+        std::size_t t = 0;
+        for (const std::uint32_t i : seg) t += c.points[i].label == core::Role::Target;
+        if (t > best) best = t, best_size = seg.size();
+    }
+    return {double(best) / double(std::max<std::size_t>(total, 1)), double(best) / double(best_size)};
+}
+
+// A wall 20 m long, 0.3 m thick and `height_m` tall along y = y0, sampled every 0.1 m.
+void addWall(core::PointCloud& c, double y0, double height_m) {
+    for (double x = -10; x <= 10; x += 0.1)
+        for (double z = 0.05; z <= height_m; z += 0.1) {
+            test_support::addPoint(c, {x, y0, z}, core::Role::Environment);
+            test_support::addPoint(c, {x, y0 - 0.3, z}, core::Role::Environment);
+        }
+}
+
+}  // namespace
+
+TEST_CASE("segments: a vehicle parked 0.3 m from a tall wall is split from it") {
+    core::PointCloud c = noisyGround(0.02, 1, 0.0, 13, 0.1);
+    std::mt19937 rng(14);
+    test_support::addBoxSurface(c, rng, {0.0, 0.0}, {7.0, 3.5, 2.5}, 0.0, 0.1, core::Role::Target);
+    addWall(c, -1.75 - 0.3, 10.0);  // the wall's face 0.3 m from the vehicle's side
+    detect::SegmentOptions o;
+    o.split_height_m = 0;
+    const detect::Segmentation whole = detect::segmentCloud(c, o);
+    CHECK(whole.split_segments == 0);
+    CHECK(targetSegment(c, whole).second < 0.5);  // one segment, mostly wall
+    o.split_height_m = 4.0;
+    const detect::Segmentation split = detect::segmentCloud(c, o);
+    CHECK(split.split_segments == 1);
+    const auto [found, purity] = targetSegment(c, split);
+    INFO(found << " of the vehicle in a segment " << purity << " vehicle");
+    CHECK(found > 0.8);  // less its lowest rows, within the terrain's tolerance
+    CHECK(purity > 0.95);
+    // The wall stays one segment (less its lowest rows), with none of the vehicle.
+    std::size_t wall_points = 0;
+    for (const core::CloudPoint& p : c.points) wall_points += p.label == core::Role::Environment;
+    const auto wall = std::max_element(split.segments.begin(), split.segments.end(),
+                                       [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    CHECK(wall->size() * 10 > wall_points * 9);
+    CHECK(std::none_of(wall->begin(), wall->end(),
+                       [&](std::uint32_t i) { return c.points[i].label == core::Role::Target; }));
+}
+
+TEST_CASE("segments: a tall segment with nothing standing free below the split height is kept whole") {
+    core::PointCloud c = noisyGround(0.02, 1, 0.0, 15, 0.1);
+    std::mt19937 rng(16);
+    addWall(c, 0.0, 10.0);
+    test_support::addTree(c, rng, {0.0, 6.0}, 3.0);  // a trunk rising into a crown up to 9 m
+    detect::SegmentOptions o;
+    const detect::Segmentation s = detect::segmentCloud(c, o);
+    CHECK(s.split_segments == 0);
+    o.split_height_m = 0;
+    CHECK(detect::segmentCloud(c, o).segments == s.segments);
 }
 
 TEST_CASE("segments: a sparsely sampled cloud joins every voxel") {
@@ -137,4 +206,8 @@ TEST_CASE("segments: options out of range are one line naming the option") {
     o = {};
     o.ground_sigmas = -1;
     CHECK_THROWS_WITH(detect::validate(o), doctest::Contains("--ground-sigmas = -1: allowed [0, 20]"));
+    o = {};
+    o.split_height_m = 0.5;
+    CHECK_THROWS_WITH(detect::validate(o),
+                      doctest::Contains("--split-height-m = 0.5: allowed 0 (no split) or [1, 100] m"));
 }

@@ -13,7 +13,12 @@
 //      (union-find, the Euclidean clustering of Rusu's thesis on voxel centroids, as the
 //      baseline does); a sparse voxel joins the segment of its nearest dense voxel
 //      within reach (DBSCAN's border points), so it never chains two segments;
-//   3) segments under min_points points are dropped as noise.
+//   3) segments under min_points points are dropped as noise;
+//   4) a segment reaching above split_height_m gives up what stands free below that
+//      height: the points below it in columns of its footprint that do not rise without
+//      a gap to above it (walls, trunks) are clustered as in step 2, and each cluster of
+//      ten times min_points or more becomes a segment (a vehicle against a wall, or
+//      under crowns that touch each other); the rest stays one segment.
 #pragma once
 #include <core/point_cloud.hpp>
 #include <sim/ground.hpp>
@@ -33,6 +38,9 @@ struct SegmentOptions {
     int core_points =
         3;  // step 2: a voxel with fewer points joins no two segments (at most half a voxel face's share of the points), [1, 1000]
     int min_points = 20;  // step 3, >= 1
+    // step 4: segments reaching above this height over the terrain give up what stands
+    // free below it; 0 splits none, else [1, 100] m
+    double split_height_m = 4.0;
 };
 
 /// Throws core::Error("detect: <option> = <value>: allowed <range>").
@@ -48,6 +56,7 @@ struct Segmentation {
     double min_height_m = 0;           // the height threshold step 2 used
     double points_per_voxel_face = 0;  // the cloud's points per voxel_m^2 of observed terrain
     int core_points = 1;               // the dense voxels' bar step 2 used
+    std::size_t split_segments = 0;    // segments step 4 split
 };
 
 /// Steps 1-3 on `cloud`: a pure function of the cloud and the options (single-threaded,
