@@ -169,6 +169,29 @@ TEST_CASE("segments: a vehicle parked 0.3 m from a tall wall is split from it") 
                        [&](std::uint32_t i) { return c.points[i].label == core::Role::Target; }));
 }
 
+TEST_CASE("segments: a vehicle under a crown that touches a wall keeps its roof below the gap") {
+    // The crown, 1.5 m above the roof, spans the vehicle and reaches the wall: one segment
+    // without the split. The vehicle's columns stop at the gap under the crown, so they do
+    // not rise and the vehicle stands free; the wall's and the crown's stay together.
+    core::PointCloud c = noisyGround(0.02, 1, 0.0, 19, 0.1);
+    std::mt19937 rng(20);
+    test_support::addBoxSurface(c, rng, {0.0, 0.0}, {7.0, 3.5, 2.5}, 0.0, 0.1, core::Role::Target);
+    addWall(c, -1.75 - 0.3, 10.0);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int k = 0; k < 12000; ++k)
+        test_support::addPoint(c, {6.0 * u(rng), 4.0 * u(rng), 4.5 + 0.5 * u(rng)}, core::Role::Environment);
+    detect::SegmentOptions o;
+    o.split_height_m = 0;
+    CHECK(targetSegment(c, detect::segmentCloud(c, o)).second < 0.5);
+    o.split_height_m = 4.0;
+    const detect::Segmentation split = detect::segmentCloud(c, o);
+    CHECK(split.split_segments == 1);
+    const auto [found, purity] = targetSegment(c, split);
+    INFO(found << " of the vehicle in a segment " << purity << " vehicle");
+    CHECK(found > 0.8);
+    CHECK(purity > 0.95);
+}
+
 TEST_CASE("segments: a tall segment with nothing standing free below the split height is kept whole") {
     core::PointCloud c = noisyGround(0.02, 1, 0.0, 15, 0.1);
     std::mt19937 rng(16);
