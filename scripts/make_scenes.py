@@ -98,6 +98,22 @@ def prism(cx, cy, r, n, z0, z1, r_top=None, phase=0.0):
     return m
 
 
+def extrude_y(prof, half_width):
+    """A closed solid: the convex (x, z) polygon `prof` (counter-clockwise seen from -y)
+    swept from y = -half_width to +half_width (a vehicle's hull)."""
+    m = Mesh()
+    lo = [m.vert(x, -half_width, z) for x, z in prof]
+    hi = [m.vert(x, half_width, z) for x, z in prof]
+    n = len(prof)
+    for i in range(n):
+        j = (i + 1) % n
+        m.quad(lo[i], hi[i], hi[j], lo[j])
+    for i in range(1, n - 1):
+        m.tri(lo[0], lo[i], lo[i + 1])
+        m.tri(hi[0], hi[i + 1], hi[i])
+    return m
+
+
 def cylinder_x(x0, x1, cy, cz, r, n):
     """A closed cylinder along x (the tank's barrel)."""
     return prism(0.0, 0.0, r, n, x0, x1).transformed(lambda x, y, z: (z, cy + y, cz - x))
@@ -200,18 +216,8 @@ def tank():
             t.tri(hi[0], hi[i], hi[i + 1])
         parts.append(("track_" + ("left" if side > 0 else "right"), t))
     # hull with a sloped glacis at +x
-    h = Mesh()
     prof = [(-3.4, 0.45), (3.0, 0.45), (3.45, 1.0), (3.0, 1.55), (-3.4, 1.55)]
-    lo = [h.vert(x, -1.25, z) for x, z in prof]
-    hi = [h.vert(x, 1.25, z) for x, z in prof]
-    n = len(prof)
-    for i in range(n):
-        j = (i + 1) % n
-        h.quad(lo[i], hi[i], hi[j], lo[j])
-    for i in range(1, n - 1):
-        h.tri(lo[0], lo[i], lo[i + 1])
-        h.tri(hi[0], hi[i + 1], hi[i])
-    parts.append(("hull", h))
+    parts.append(("hull", extrude_y(prof, 1.25)))
     parts.append(("turret", prism(-0.4, 0.0, 1.55, 8, 1.55, 2.5, r_top=1.3, phase=math.pi / 8)))
     parts.append(("barrel", cylinder_x(0.9, 7.1, 0.0, 2.05, 0.11, 8)))
     return parts
@@ -235,19 +241,9 @@ def apc():
     centred on the origin, wheels on z = 0: 7.6 m x 2.9 m x 2.6 m with its cupola. A
     training target beside the tank, so that the trained detector learns a vehicle
     rather than one mesh."""
-    h = Mesh()
     # hull: a flat-bottomed box with a sloped glacis and a sloped rear, sides straight
     prof = [(-3.8, 0.5), (3.2, 0.5), (3.8, 1.3), (3.0, 2.1), (-3.6, 2.1), (-3.8, 1.6)]
-    lo = [h.vert(x, -1.45, z) for x, z in prof]
-    hi = [h.vert(x, 1.45, z) for x, z in prof]
-    n = len(prof)
-    for i in range(n):
-        j = (i + 1) % n
-        h.quad(lo[i], hi[i], hi[j], lo[j])
-    for i in range(1, n - 1):
-        h.tri(lo[0], lo[i], lo[i + 1])
-        h.tri(hi[0], hi[i + 1], hi[i])
-    parts = [("hull", h),
+    parts = [("hull", extrude_y(prof, 1.45)),
              ("cupola", prism(0.6, 0.0, 0.7, 8, 2.1, 2.6, r_top=0.6, phase=math.pi / 8))]
     for i, x in enumerate((-2.6, -1.2, 1.2, 2.6)):
         for side, (y0, y1) in (("left", (1.0, 1.45)), ("right", (-1.45, -1.0))):
@@ -260,16 +256,8 @@ def van():
     z = 0: 6.0 m x 2.2 m x 2.7 m. A second training target (see apc)."""
     parts = [("body", box(-3.0, 2.0, -1.1, 1.1, 0.45, 2.7)),
              ("bonnet", box(2.0, 3.0, -1.05, 1.05, 0.45, 1.3))]
-    h = Mesh()  # the windscreen's slope from the bonnet to the roof
-    prof = [(2.0, 1.3), (3.0, 1.3), (2.0, 2.7)]
-    lo = [h.vert(x, -1.05, z) for x, z in prof]
-    hi = [h.vert(x, 1.05, z) for x, z in prof]
-    for i in range(3):
-        j = (i + 1) % 3
-        h.quad(lo[i], hi[i], hi[j], lo[j])
-    h.tri(lo[0], lo[1], lo[2])
-    h.tri(hi[0], hi[2], hi[1])
-    parts.append(("windscreen", h))
+    # the windscreen's slope from the bonnet to the roof
+    parts.append(("windscreen", extrude_y([(2.0, 1.3), (3.0, 1.3), (2.0, 2.7)], 1.05)))
     for i, x in enumerate((-2.0, 2.2)):
         for side, (y0, y1) in (("left", (0.75, 1.1)), ("right", (-1.1, -0.75))):
             parts.append(("wheel_%d_%s" % (i, side), box(x - 0.4, x + 0.4, y0, y1, 0.0, 0.8)))

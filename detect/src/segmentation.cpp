@@ -251,8 +251,12 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
                 kept.push_back(std::move(s));
                 continue;
             }
+            std::vector<std::uint64_t> column(s.size());
             std::unordered_map<std::uint64_t, std::vector<std::int64_t>> layers;
-            for (const std::uint32_t i : s) layers[columnOf(i)].push_back(layerOf(i));
+            for (std::size_t k = 0; k < s.size(); ++k) {
+                column[k] = columnOf(s[k]);
+                layers[column[k]].push_back(layerOf(s[k]));
+            }
             std::unordered_map<std::uint64_t, bool> rises;
             for (auto& [key, l] : layers) {
                 std::sort(l.begin(), l.end());
@@ -267,8 +271,8 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
                 rises.emplace(key, up);
             }
             std::vector<std::uint32_t> free_points, rest;
-            for (const std::uint32_t i : s)
-                (out.height_m[i] <= o.split_height_m && !rises.at(columnOf(i)) ? free_points : rest).push_back(i);
+            for (std::size_t k = 0; k < s.size(); ++k)
+                (out.height_m[s[k]] <= o.split_height_m && !rises.at(column[k]) ? free_points : rest).push_back(s[k]);
             std::vector<std::vector<std::uint32_t>> parts,
                 free_parts = clusterPoints(cloud, free_points, lo, o, out.core_points);
             for (auto& p : free_parts) {
