@@ -45,12 +45,11 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t v) {
 // point, each ascending; small ones are not dropped here.
 std::vector<std::vector<std::uint32_t>> clusterPoints(const core::PointCloud& cloud, std::span<const std::uint32_t> idx,
                                                       const glm::dvec3& lo, const SegmentOptions& o, int core_points) {
-    std::unordered_map<std::uint64_t, std::uint32_t> voxel_of_key;
-    std::vector<std::uint32_t> voxel_of_point(idx.size());
-    std::vector<glm::dvec3> sums;
-    std::vector<std::uint32_t> counts;
-    std::vector<std::array<std::int64_t, 3>> cells;
-    for (std::size_t k = 0; k < idx.size(); ++k) {
+    // Each point's voxel key; sorted by key, then by position in idx, the points come in
+    // runs of one voxel each, its points in their original order.
+    const std::size_t n = idx.size();
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+    for (std::size_t k = 0; k < n; ++k) {
         const glm::dvec3 p = glm::dvec3(cloud.points[idx[k]].position) - lo;
         const std::int64_t cx = std::int64_t(std::floor(p.x / o.voxel_m)),
                            cy = std::int64_t(std::floor(p.y / o.voxel_m)),
@@ -58,76 +57,116 @@ std::vector<std::vector<std::uint32_t>> clusterPoints(const core::PointCloud& cl
         if (cx > kKeyMax - kKeyOffset || cy > kKeyMax - kKeyOffset || cz > kKeyMax - kKeyOffset)
             throw core::Error("detect: the cloud is too wide for --segment-voxel-m " + std::to_string(o.voxel_m) +
                               " (at most 2^20 voxels across); allowed a larger voxel");
-        const auto [it, added] = voxel_of_key.try_emplace(packKey(cx, cy, cz), std::uint32_t(sums.size()));
-        if (added) {
-            sums.emplace_back(0.0);
-            counts.push_back(0);
-            cells.push_back({cx, cy, cz});
-        }
-        sums[it->second] += p;
-        ++counts[it->second];
-        voxel_of_point[k] = it->second;
+        keyed[k] = {packKey(cx, cy, cz), std::uint32_t(k)};
     }
-    const std::size_t voxels = sums.size();
-    std::vector<glm::dvec3> centroid(voxels);
-    for (std::size_t v = 0; v < voxels; ++v) centroid[v] = sums[v] / double(counts[v]);
+    std::sort(keyed.begin(), keyed.end());
+
+    // Voxels in key order (s): key, point count, centroid (summed in the points' order).
+    // A voxel's id (v) is the rank of its first point: ids, union-find roots and the
+    // segments' order depend on the points' order only, not on how neighbours are found.
+    std::vector<std::uint64_t> key;
+    std::vector<std::uint32_t> count, first;
+    std::vector<glm::dvec3> centroid;
+    for (std::size_t i = 0; i < n;) {
+        std::size_t j = i;
+        glm::dvec3 sum(0.0);
+        for (; j < n && keyed[j].first == keyed[i].first; ++j)
+            sum += glm::dvec3(cloud.points[idx[keyed[j].second]].position) - lo;
+        key.push_back(keyed[i].first);
+        count.push_back(std::uint32_t(j - i));
+        first.push_back(keyed[i].second);
+        centroid.push_back(sum / double(j - i));
+        i = j;
+    }
+    const std::size_t voxels = key.size();
+    std::vector<std::uint32_t> id_of(voxels), voxel_of_point(n);
+    {
+        std::vector<std::uint32_t> run_of_first(n, UINT32_MAX);
+        for (std::size_t s = 0; s < voxels; ++s) run_of_first[first[s]] = std::uint32_t(s);
+        std::uint32_t next = 0;
+        for (std::size_t k = 0; k < n; ++k)
+            if (run_of_first[k] != UINT32_MAX) id_of[run_of_first[k]] = next++;
+        std::size_t s = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (i > 0 && keyed[i].first != keyed[i - 1].first) ++s;
+            voxel_of_point[keyed[i].second] = id_of[s];
+        }
+    }
+    keyed = {};
 
     // Union-find over pairs of dense voxels within reach (cells up to r apart on each
-    // axis). A voxel with fewer than core_points points does not join two segments: it
-    // is attached to its nearest dense voxel within reach afterwards, so a sparse trail
-    // of noise or mixed returns between a crown and a vehicle does not chain them.
-    const auto dense = [&](std::size_t v) { return counts[v] >= std::uint32_t(core_points); };
+    // axis, centroids within the tolerance). A voxel with fewer than core_points points
+    // does not join two segments: it is attached to its nearest dense voxel within reach
+    // afterwards, so a sparse trail of noise or mixed returns between a crown and a
+    // vehicle does not chain them.
+    const auto dense = [&](std::size_t s) { return count[s] >= std::uint32_t(core_points); };
     std::vector<std::uint32_t> parent(voxels);
     std::iota(parent.begin(), parent.end(), 0u);
     const std::int64_t r = std::int64_t(std::ceil(o.cluster_tolerance_m / o.voxel_m));
     const double tol2 = o.cluster_tolerance_m * o.cluster_tolerance_m;
-    // Calls visit(neighbour, squared distance) for every voxel within reach of v.
-    const auto forNeighbours = [&](std::size_t v, bool forward_only, auto&& visit) {
-        const auto& c = cells[v];
-        for (std::int64_t dx = -r; dx <= r; ++dx)
-            for (std::int64_t dy = -r; dy <= r; ++dy)
-                for (std::int64_t dz = -r; dz <= r; ++dz) {
-                    // Each unordered pair once: the neighbour's key is the larger.
-                    if (forward_only && (dx < 0 || (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))))) continue;
-                    if (dx == 0 && dy == 0 && dz == 0) continue;
-                    const std::int64_t x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-                    if (x < -kKeyOffset || y < -kKeyOffset || z < -kKeyOffset || x > kKeyMax - kKeyOffset ||
-                        y > kKeyMax - kKeyOffset || z > kKeyMax - kKeyOffset)
+    // The neighbours of the voxels, visited in key order: in each column (dx, dy) of the
+    // (2r + 1)^2 around a voxel, the cells dz in [-r, r] are one range of keys, and that
+    // range only moves forward from one voxel to the next, so one cursor per column finds
+    // it without a lookup. `visit(s, t, squared distance)` for every neighbour t of s
+    // within reach; with forward_only each unordered pair once (the neighbour's cell the
+    // larger).
+    const auto sweep = [&](bool forward_only, auto&& wanted, auto&& visit) {
+        const std::int64_t side = 2 * r + 1;
+        std::vector<std::size_t> cursor(std::size_t(side * side), 0);
+        const std::int64_t mask = (std::int64_t(1) << 21) - 1;
+        for (std::size_t s = 0; s < voxels; ++s) {
+            if (!wanted(s)) continue;
+            const std::int64_t x = std::int64_t(key[s] >> 42) - kKeyOffset,
+                               y = std::int64_t((key[s] >> 21) & std::uint64_t(mask)) - kKeyOffset,
+                               z = std::int64_t(key[s] & std::uint64_t(mask)) - kKeyOffset;
+            for (std::int64_t dx = -r; dx <= r; ++dx)
+                for (std::int64_t dy = -r; dy <= r; ++dy) {
+                    if (forward_only && (dx < 0 || (dx == 0 && dy < 0))) continue;
+                    const std::int64_t cx = x + dx, cy = y + dy;
+                    if (cx < -kKeyOffset || cy < -kKeyOffset || cx > kKeyMax - kKeyOffset || cy > kKeyMax - kKeyOffset)
                         continue;
-                    const auto it = voxel_of_key.find(packKey(x, y, z));
-                    if (it == voxel_of_key.end()) continue;
-                    const glm::dvec3 d = centroid[v] - centroid[it->second];
-                    const double d2 = glm::dot(d, d);
-                    if (d2 <= tol2) visit(it->second, d2);
+                    const std::int64_t z0 = std::max(forward_only && dx == 0 && dy == 0 ? z + 1 : z - r, -kKeyOffset),
+                                       z1 = std::min(z + r, kKeyMax - kKeyOffset);
+                    const std::uint64_t k0 = packKey(cx, cy, z0), k1 = packKey(cx, cy, z1);
+                    std::size_t& c = cursor[std::size_t((dx + r) * side + (dy + r))];
+                    while (c < voxels && key[c] < k0) ++c;
+                    for (std::size_t t = c; t < voxels && key[t] <= k1; ++t) {
+                        if (t == s) continue;
+                        const glm::dvec3 d = centroid[s] - centroid[t];
+                        const double d2 = glm::dot(d, d);
+                        if (d2 <= tol2) visit(s, t, d2);
+                    }
                 }
+        }
     };
-    for (std::size_t v = 0; v < voxels; ++v) {
-        if (!dense(v)) continue;
-        forNeighbours(v, true, [&](std::uint32_t w, double) {
-            if (!dense(w)) return;
-            const std::uint32_t a = findRoot(parent, std::uint32_t(v)), b = findRoot(parent, w);
-            if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller voxel id is the root
-        });
-    }
+    sweep(true, dense, [&](std::size_t s, std::size_t t, double) {
+        if (!dense(t)) return;
+        const std::uint32_t a = findRoot(parent, id_of[s]), b = findRoot(parent, id_of[t]);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller voxel id is the root
+    });
     // Sparse voxels: the segment of the nearest dense voxel (ties: the smaller id); alone
     // when none is within reach. Read only from dense voxels, so the order does not matter.
     std::vector<std::uint32_t> attached(voxels);
-    for (std::size_t v = 0; v < voxels; ++v) {
-        attached[v] = std::uint32_t(v);
-        if (dense(v)) continue;
-        double best = tol2 + 1.0;
-        forNeighbours(v, false, [&](std::uint32_t w, double d2) {
-            if (!dense(w)) return;
-            if (d2 < best || (d2 == best && w < attached[v])) best = d2, attached[v] = w;
+    std::vector<double> best(voxels, tol2 + 1.0);
+    for (std::size_t s = 0; s < voxels; ++s) attached[id_of[s]] = id_of[s];
+    sweep(
+        false, [&](std::size_t s) { return !dense(s); },
+        [&](std::size_t s, std::size_t t, double d2) {
+            if (!dense(t)) return;
+            const std::uint32_t v = id_of[s], w = id_of[t];
+            if (d2 < best[s] || (d2 == best[s] && w < attached[v])) best[s] = d2, attached[v] = w;
         });
+    best = {};
+    for (std::size_t s = 0; s < voxels; ++s) {
+        if (dense(s)) continue;
+        const std::uint32_t v = id_of[s];
+        parent[v] = attached[v] == v ? v : findRoot(parent, attached[v]);
     }
-    for (std::size_t v = 0; v < voxels; ++v)
-        if (!dense(v)) parent[v] = attached[v] == v ? std::uint32_t(v) : findRoot(parent, attached[v]);
 
     // Groups in order of their root voxel, which is the order of their first point.
     std::vector<std::uint32_t> segment_of_root(voxels, UINT32_MAX);
     std::vector<std::vector<std::uint32_t>> segments;
-    for (std::size_t k = 0; k < idx.size(); ++k) {
+    for (std::size_t k = 0; k < n; ++k) {
         const std::uint32_t root = findRoot(parent, voxel_of_point[k]);
         if (segment_of_root[root] == UINT32_MAX) {
             segment_of_root[root] = std::uint32_t(segments.size());
