@@ -240,6 +240,10 @@ void registerDetect(CLI::App& parent) {
     c->add_option("--clouds", state->trained.clouds,
                   "only rank the target in these labelled clouds with --model and the baseline; BENCHMARKS.md stays");
     c->add_option("--model", state->trained.model, "the trained model --clouds uses");
+    c->add_option("--explain", state->trained.explain,
+                  "with --clouds: list each cloud's this many best candidates and the target's, [0, 1000]")
+        ->check(CLI::Range(0, 1000))
+        ->capture_default_str();
     c->add_option("--eval-items", state->trained.eval_items,
                   "evaluation items per scene (each seen by the ideal sensor or a preset), [1, 1000]")
         ->check(CLI::Range(1, 1000))

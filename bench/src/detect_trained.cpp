@@ -90,7 +90,7 @@ Outcome evaluate(const detect::Detector& d, const core::PointCloud& c) {
 
 struct Summary {
     std::size_t clouds = 0, rank1 = 0, top3 = 0, found = 0;
-    double threshold = -1, false_per_cloud = -1, median_s = 0;
+    double threshold = -1, false_per_cloud = -1, median_s = 0, max_s = 0;
 };
 
 Summary summarise(const std::vector<Outcome>& outcomes) {
@@ -114,6 +114,7 @@ Summary summarise(const std::vector<Outcome>& outcomes) {
             all.push_back({o.scored[k].first, o.rank == int(k + 1), o.scored[k].second});
     }
     s.median_s = times.empty() ? 0 : median(times);
+    s.max_s = times.empty() ? 0 : *std::max_element(times.begin(), times.end());
     std::stable_sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) { return a.score > b.score; });
     const std::size_t need = (9 * s.clouds + 9) / 10;  // ceil(0.9 n)
     std::size_t found = 0, falses = 0;
@@ -188,7 +189,7 @@ std::string row(const char* name, const Summary& s) {
       << " | "
       << (s.threshold >= 0 ? fmt("%.3f", s.threshold) + " | " + fmt("%.2f", s.false_per_cloud)
                            : std::string("not reached | n/a"))
-      << " | " << fmt("%.2f", s.median_s) << " |\n";
+      << " | " << fmt("%.2f", s.median_s) << " | " << fmt("%.2f", s.max_s) << " |\n";
     return r.str();
 }
 
@@ -303,13 +304,15 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
     const detect::ClusterDetector baseline(co);
     std::vector<Outcome> t_out, b_out;
     std::ostringstream per;
-    per << "| cloud | points | trained rank | baseline rank |\n|---|---:|---:|---:|\n";
+    per << "| cloud | points | trained rank | baseline rank | trained detect s | baseline detect s |\n"
+           "|---|---:|---:|---:|---:|---:|\n";
     for (const Cloud& c : clouds) {
         t_out.push_back(evaluate(trained, c.cloud));
         b_out.push_back(evaluate(baseline, c.cloud));
         per << "| " << c.name << " | " << c.cloud.points.size() << " | "
             << (t_out.back().rank ? std::to_string(t_out.back().rank) : "not found") << " | "
-            << (b_out.back().rank ? std::to_string(b_out.back().rank) : "not found") << " |\n";
+            << (b_out.back().rank ? std::to_string(b_out.back().rank) : "not found") << " | "
+            << fmt("%.2f", t_out.back().seconds) << " | " << fmt("%.2f", b_out.back().seconds) << " |\n";
         std::fprintf(stderr, "bench detect: %s: trained rank %d, baseline rank %d\n", c.name.c_str(), t_out.back().rank,
                      b_out.back().rank);
     }
@@ -334,7 +337,8 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
                    : std::string())
       << ".\n\n"
       << "| detector | clouds | target ranked 1st | in the top 3 | found at all | threshold for >= 90 % found | "
-         "false candidates per cloud there | median detect s |\n|---|---:|---:|---:|---:|---:|---:|---:|\n"
+         "false candidates per cloud there | median detect s | slowest detect s "
+         "|\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
       << row("trained (`--model`)", ts) << row("clustering baseline", bs)
       << row("trained, ideal sensor", summarise(t_ideal)) << row("baseline, ideal sensor", summarise(b_ideal))
       << row("trained, sensor presets", summarise(t_noisy)) << row("baseline, sensor presets", summarise(b_noisy))
@@ -358,32 +362,46 @@ std::string rankClouds(const TrainedBenchOptions& o) {
     s << "| cloud | points | target points | ground sigma m | height threshold m | above terrain | segments | "
          "largest segment | target's segment (target points) | trained rank (score) | baseline rank |\n"
          "|---|---:|---:|---:|---:|---:|---:|---:|---|---|---:|\n";
+    std::ostringstream why;
+    if (o.explain > 0)
+        why << "\n| cloud | rank | probability | points | target points | box m (l x w x h) | centre z m |\n"
+               "|---|---:|---:|---:|---:|---|---:|\n";
     for (const fs::path& path : o.clouds) {
         const core::PointCloud c = io::readCloud(path);
         std::size_t target_points = 0;
         for (const core::CloudPoint& p : c.points) target_points += p.label == core::Role::Target;
         detect::BoostedStats st;
         const std::vector<detect::Detection> found = trained.detect(c, st);
-        std::size_t largest = 0, best = 0, best_target = 0;
+        std::size_t largest = 0, best = 0, best_target = 0, rank = 0;
+        const std::string name = path.string();
         for (std::size_t k = 0; k < found.size(); ++k) {
             largest = std::max(largest, found[k].points.size());
             std::size_t t = 0;
             for (const std::uint32_t i : found[k].points) t += c.points[i].label == core::Role::Target;
             if (t > best_target) best_target = t, best = k;
+            const bool tp = 2 * t > found[k].points.size();
+            if (tp && rank == 0) rank = k + 1;
+            if (int(k) < o.explain || tp) {
+                const core::Candidate& a = found[k].candidate;
+                why << "| " << name << " | " << k + 1 << " | " << fmt("%.3f", a.score) << " | "
+                    << found[k].points.size() << " | " << t << " | " << fmt("%.1f", a.size_m.x) << " x "
+                    << fmt("%.1f", a.size_m.y) << " x " << fmt("%.1f", a.size_m.z) << " | "
+                    << fmt("%.1f", a.centre_world.z) << " |\n";
+            }
         }
-        const Outcome t_out = evaluate(trained, c), b_out = evaluate(baseline, c);
-        s << "| " << path.filename().string() << " | " << c.points.size() << " | " << target_points << " | "
+        const Outcome b_out = evaluate(baseline, c);
+        s << "| " << name << " | " << c.points.size() << " | " << target_points << " | "
           << fmt("%.3f", st.ground_sigma_m) << " | " << fmt("%.2f", st.min_height_m) << ", core " << st.core_points
           << " | " << st.above_points << " | " << st.segments << " | " << largest << " | "
           << (best_target ? std::to_string(found[best].points.size()) + " (" + std::to_string(best_target) + ")"
                           : std::string("none"))
           << " | "
-          << (t_out.rank ? std::to_string(t_out.rank) + " (" + fmt("%.3f", found[t_out.rank - 1].candidate.score) + ")"
-                         : std::string("not found"))
+          << (rank ? std::to_string(rank) + " (" + fmt("%.3f", found[rank - 1].candidate.score) + ")"
+                   : std::string("not found"))
           << " | " << (b_out.rank ? std::to_string(b_out.rank) : std::string("not found")) << " |\n";
         std::fprintf(stderr, "bench detect: %s done\n", path.string().c_str());
     }
-    return s.str();
+    return s.str() + why.str();
 }
 
 }  // namespace bench

@@ -15,6 +15,7 @@ struct TrainedBenchOptions {
     int train_scale = 1;                        // training corpora of this many times their SPEC's items
     std::vector<std::filesystem::path> clouds;  // --clouds: only the per-cloud table of these
     std::filesystem::path model;                // --model: the model --clouds uses
+    int explain = 0;                            // --clouds: list this many best candidates of each cloud
     std::filesystem::path pr_csv;               // the precision-recall curves of both detectors (empty: none)
 };
 
@@ -25,7 +26,9 @@ std::string runTrainedComparison(const TrainedBenchOptions& o);
 
 /// Each of o.clouds with o.model and the baseline: the target's rank with each, the
 /// segment holding most target points (its size, its target points), the points above
-/// the terrain, the measured ground thickness; returns a markdown table.
+/// the terrain, the measured ground thickness; returns a markdown table. With o.explain > 0,
+/// a second table lists each cloud's o.explain best candidates and the target's: what
+/// outranks the target.
 std::string rankClouds(const TrainedBenchOptions& o);
 
 }  // namespace bench

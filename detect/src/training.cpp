@@ -17,6 +17,7 @@ namespace detect {
 namespace {
 
 constexpr std::size_t kMaxManifestBytes = std::size_t(1) << 30;
+constexpr double kMinTargetShare = 0.1;  // of the cloud's target points, for a positive segment
 
 std::string sha256Hex(std::string_view bytes) {
     unsigned char digest[EVP_MAX_MD_SIZE];
@@ -51,11 +52,22 @@ TrainingItem describeLabelledCloud(const core::PointCloud& cloud, const std::str
     const DescribedSegments d = describeSegments(cloud, o.segments, o.target_size_m, o.boost.threads);
     TrainingItem item;
     item.name = name;
-    item.rows = d.rows;
-    for (const auto& seg : d.segmentation.segments) {
+    std::size_t cloud_target = 0;
+    for (const core::CloudPoint& p : cloud.points) cloud_target += p.label == core::Role::Target;
+    const std::size_t columns = segmentFeatureNames().size();
+    for (std::size_t s = 0; s < d.segmentation.segments.size(); ++s) {
+        const auto& seg = d.segmentation.segments[s];
         std::size_t target = 0;
         for (const std::uint32_t i : seg) target += cloud.points[i].label == core::Role::Target;
-        item.labels.push_back(2 * target > seg.size() ? 1.0f : 0.0f);
+        const bool positive = 2 * target > seg.size();
+        // A scrap of the target (mostly target, but a small share of its points) is
+        // neither a vehicle nor not one: learning it as a positive would teach the trees
+        // that any small blob may be the target, as a negative that a vehicle's part is
+        // not. Such segments are left out.
+        if (positive && double(target) < kMinTargetShare * double(cloud_target)) continue;
+        item.rows.insert(item.rows.end(), d.rows.begin() + std::ptrdiff_t(s * columns),
+                         d.rows.begin() + std::ptrdiff_t((s + 1) * columns));
+        item.labels.push_back(positive ? 1.0f : 0.0f);
     }
     return item;
 }

@@ -1,7 +1,9 @@
 // tests/detect/training_test.cpp: a model trained in the test on a tiny synthetic corpus
 // (labelled clouds with a tank-sized box, trees and a house) separates the box from the
-// trees on a scene it did not see; the corpus listing refuses malformed manifests.
+// trees on a scene it did not see; a scrap of the target is left out of the training
+// segments; the corpus listing refuses malformed manifests.
 #include <detect/boosted_detector.hpp>
+#include <detect/segment_features.hpp>
 #include <detect/training.hpp>
 
 #include "labelled_scenes.hpp"
@@ -9,7 +11,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <memory>
+#include <random>
 
 namespace {
 
@@ -70,6 +74,28 @@ TEST_CASE("training refuses clouds without labels and corpora without a target")
     CHECK(test_support::errorOf([&] {
               detect::trainDetector(items, o, {}, report);
           }).starts_with("train: no training segment is mostly target-labelled"));
+}
+
+TEST_CASE("training leaves out a scrap of the target: mostly target points, a small share of the target") {
+    const detect::TrainOptions o;
+    // A 1 x 0.6 x 1.2 m box on free ground (every object of the scene stands at least 1.7 m
+    // away): about 140 points, some 6 % of the target's.
+    auto withScrap = [](core::Role role) {
+        core::PointCloud c = test_support::labelledScene(3, 2);
+        std::mt19937 rng(7);
+        test_support::addBoxSurface(c, rng, {7.0, 7.0}, {1.0, 0.6, 1.2}, 0.0, 0.2, role);
+        return c;
+    };
+    auto positives = [](const detect::TrainingItem& item) {
+        return std::count(item.labels.begin(), item.labels.end(), 1.0f);
+    };
+    const detect::TrainingItem as_environment =
+        detect::describeLabelledCloud(withScrap(core::Role::Environment), "e", o);
+    const detect::TrainingItem as_target = detect::describeLabelledCloud(withScrap(core::Role::Target), "t", o);
+    CHECK(positives(as_environment) == 1);  // the target box; the scrap a negative
+    CHECK(positives(as_target) == 1);       // the target box; the scrap neither
+    CHECK(as_target.labels.size() + 1 == as_environment.labels.size());
+    CHECK(as_target.rows.size() == as_target.labels.size() * detect::segmentFeatureNames().size());
 }
 
 TEST_CASE("the corpus listing reads the manifest's items and refuses malformed lines in one line") {

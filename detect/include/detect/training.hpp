@@ -1,6 +1,8 @@
 // detect/training.hpp: learning the trained detector from labelled clouds (corpus items,
 // whose points carry the ground truth target/environment/ground). A segment is a
-// positive example when more than half of its points are labelled target.
+// positive example when more than half of its points are labelled target, unless it holds
+// less than a tenth of the cloud's target points: such a scrap of the target (a piece the
+// segmentation cut off, a few mixed returns) is left out, neither positive nor negative.
 //
 // The items are split by item (never by segment, so a held-out item's segments are all
 // unseen): every item k with floor((k + 1) f) > floor(k f) is held out (f the holdout
