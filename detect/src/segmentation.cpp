@@ -61,9 +61,10 @@ std::vector<std::vector<std::uint32_t>> clusterPoints(const core::PointCloud& cl
     }
     std::sort(keyed.begin(), keyed.end());
 
-    // Voxels in key order (s): key, point count, centroid (summed in the points' order).
-    // A voxel's id (v) is the rank of its first point: ids, union-find roots and the
-    // segments' order depend on the points' order only, not on how neighbours are found.
+    // Voxels in key order (s): key, point count, centroid (summed in the points' order),
+    // and id, the rank of its first point, which breaks ties between equally near
+    // voxels. The segments (and their order, that of their first points) do not depend
+    // on how neighbours are found.
     std::vector<std::uint64_t> key;
     std::vector<std::uint32_t> count, first;
     std::vector<glm::dvec3> centroid;
@@ -86,10 +87,10 @@ std::vector<std::vector<std::uint32_t>> clusterPoints(const core::PointCloud& cl
         std::uint32_t next = 0;
         for (std::size_t k = 0; k < n; ++k)
             if (run_of_first[k] != UINT32_MAX) id_of[run_of_first[k]] = next++;
-        std::size_t s = 0;
+        std::uint32_t s = 0;
         for (std::size_t i = 0; i < n; ++i) {
             if (i > 0 && keyed[i].first != keyed[i - 1].first) ++s;
-            voxel_of_point[keyed[i].second] = id_of[s];
+            voxel_of_point[keyed[i].second] = s;
         }
     }
     keyed = {};
@@ -141,29 +142,26 @@ std::vector<std::vector<std::uint32_t>> clusterPoints(const core::PointCloud& cl
     };
     sweep(true, dense, [&](std::size_t s, std::size_t t, double) {
         if (!dense(t)) return;
-        const std::uint32_t a = findRoot(parent, id_of[s]), b = findRoot(parent, id_of[t]);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller voxel id is the root
+        const std::uint32_t a = findRoot(parent, std::uint32_t(s)), b = findRoot(parent, std::uint32_t(t));
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
     });
     // Sparse voxels: the segment of the nearest dense voxel (ties: the smaller id); alone
     // when none is within reach. Read only from dense voxels, so the order does not matter.
     std::vector<std::uint32_t> attached(voxels);
     std::vector<double> best(voxels, tol2 + 1.0);
-    for (std::size_t s = 0; s < voxels; ++s) attached[id_of[s]] = id_of[s];
+    std::iota(attached.begin(), attached.end(), 0u);
     sweep(
         false, [&](std::size_t s) { return !dense(s); },
         [&](std::size_t s, std::size_t t, double d2) {
             if (!dense(t)) return;
-            const std::uint32_t v = id_of[s], w = id_of[t];
-            if (d2 < best[s] || (d2 == best[s] && w < attached[v])) best[s] = d2, attached[v] = w;
+            if (d2 < best[s] || (d2 == best[s] && id_of[t] < id_of[attached[s]]))
+                best[s] = d2, attached[s] = std::uint32_t(t);
         });
     best = {};
-    for (std::size_t s = 0; s < voxels; ++s) {
-        if (dense(s)) continue;
-        const std::uint32_t v = id_of[s];
-        parent[v] = attached[v] == v ? v : findRoot(parent, attached[v]);
-    }
+    for (std::size_t s = 0; s < voxels; ++s)
+        if (!dense(s) && attached[s] != s) parent[s] = findRoot(parent, attached[s]);
 
-    // Groups in order of their root voxel, which is the order of their first point.
+    // Groups in the order of their first point, each ascending.
     std::vector<std::uint32_t> segment_of_root(voxels, UINT32_MAX);
     std::vector<std::vector<std::uint32_t>> segments;
     for (std::size_t k = 0; k < n; ++k) {
