@@ -381,7 +381,7 @@ std::string rankClouds(const TrainedBenchOptions& o) {
             if (t > best_target) best_target = t, best = k;
             const bool tp = 2 * t > found[k].points.size();
             if (tp && rank == 0) rank = k + 1;
-            if (int(k) < o.explain || tp) {
+            if (o.explain > 0 && (int(k) < o.explain || tp)) {
                 const core::Candidate& a = found[k].candidate;
                 why << "| " << name << " | " << k + 1 << " | " << fmt("%.3f", a.score) << " | "
                     << found[k].points.size() << " | " << t << " | " << fmt("%.1f", a.size_m.x) << " x "
