@@ -2,7 +2,8 @@
 // sensor: the height threshold follows the measured ground thickness, a sparse trail of
 // points (noise, mixed returns) does not chain a vehicle to the crown above it, the
 // views' height errors are taken off before heights are measured, and a vehicle against
-// a wall or under a touching crown is split from them at the split height.
+// a wall or under a touching crown is split from them at the split height, and the
+// clustering gives what a brute-force reading of its rule gives.
 #include <detect/segmentation.hpp>
 
 #include "labelled_scenes.hpp"
@@ -10,6 +11,9 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
 #include <random>
 
 namespace {
@@ -220,6 +224,88 @@ TEST_CASE("segments: a sparsely sampled cloud joins every voxel") {
     CHECK(largestSegment(s) * 2 > box);
     o.core_points = 1;
     CHECK(detect::segmentCloud(c, o).segments == s.segments);
+}
+
+TEST_CASE("segments: the clustering equals a brute-force reading of its rule") {
+    // Blobs of points of varied density above flat ground (dense voxels, sparse ones, lone
+    // points), clustered by segmentCloud and by the rule done pair by pair: voxels of
+    // voxel_m from the cloud's low corner; dense voxels whose centroids lie within the
+    // tolerance join; a sparse voxel joins its nearest dense voxel within it (ties: the
+    // one whose first point comes first); segments in the order of their first point,
+    // those under min_points dropped.
+    core::PointCloud c = noisyGround(0.02, 1, 0.0, 21, 0.1);
+    const std::size_t ground_points = c.points.size();
+    std::mt19937 rng(22);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int b = 0; b < 12; ++b) {
+        const glm::dvec3 centre{-16.0 + 32.0 * u(rng), -16.0 + 32.0 * u(rng), 1.5 + u(rng)};
+        const glm::dvec3 half{0.3 + 1.7 * u(rng), 0.3 + 1.7 * u(rng), 0.2 + 0.6 * u(rng)};
+        const int points = 30 + int(1500 * u(rng));
+        for (int k = 0; k < points; ++k)
+            test_support::addPoint(c, centre + half * glm::dvec3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1),
+                                   core::Role::Environment);
+    }
+    for (int k = 0; k < 300; ++k)
+        test_support::addPoint(c, {-19.0 + 38.0 * u(rng), -19.0 + 38.0 * u(rng), 1.0 + 2.5 * u(rng)},
+                               core::Role::Environment);
+    detect::SegmentOptions o;
+    o.split_height_m = 0;
+    const detect::Segmentation got = detect::segmentCloud(c, o);
+    REQUIRE(got.above_points == c.points.size() - ground_points);  // every blob point, no ground
+
+    const glm::dvec3 lo = c.bounds().lo;
+    std::vector<std::array<std::int64_t, 3>> cell;
+    std::vector<glm::dvec3> sum;
+    std::vector<std::size_t> count, voxel_of(c.points.size());
+    for (std::size_t i = ground_points; i < c.points.size(); ++i) {
+        const glm::dvec3 p = glm::dvec3(c.points[i].position) - lo;
+        const std::array<std::int64_t, 3> k{std::int64_t(std::floor(p.x / o.voxel_m)),
+                                            std::int64_t(std::floor(p.y / o.voxel_m)),
+                                            std::int64_t(std::floor(p.z / o.voxel_m))};
+        const std::size_t v = std::size_t(std::find(cell.begin(), cell.end(), k) - cell.begin());
+        if (v == cell.size()) cell.push_back(k), sum.emplace_back(0.0), count.push_back(0);
+        sum[v] += p;
+        ++count[v];
+        voxel_of[i] = v;
+    }
+    const std::size_t voxels = cell.size();
+    const double tol2 = o.cluster_tolerance_m * o.cluster_tolerance_m;
+    auto near2 = [&](std::size_t a, std::size_t b) {
+        const glm::dvec3 d = sum[a] / double(count[a]) - sum[b] / double(count[b]);
+        return glm::dot(d, d);
+    };
+    auto dense = [&](std::size_t v) { return count[v] >= std::size_t(got.core_points); };
+    std::vector<std::size_t> group(voxels);
+    std::iota(group.begin(), group.end(), std::size_t(0));
+    for (bool changed = true; changed;) {  // dense pairs: relabel to the smaller group until stable
+        changed = false;
+        for (std::size_t a = 0; a < voxels; ++a)
+            for (std::size_t b = 0; b < voxels; ++b)
+                if (a != b && dense(a) && dense(b) && near2(a, b) <= tol2 && group[b] < group[a])
+                    group[a] = group[b], changed = true;
+    }
+    std::size_t sparse_joined = 0;
+    std::vector<std::size_t> final_group = group;
+    for (std::size_t a = 0; a < voxels; ++a) {
+        if (dense(a)) continue;
+        std::size_t best = voxels;
+        for (std::size_t b = 0; b < voxels; ++b)
+            if (dense(b) && near2(a, b) <= tol2 && (best == voxels || near2(a, b) < near2(a, best)))
+                best = b;  // b ascending: an equally near later one does not replace it
+        if (best != voxels) final_group[a] = group[best], ++sparse_joined;
+    }
+    std::vector<std::vector<std::uint32_t>> want;
+    std::vector<std::size_t> slot(voxels, SIZE_MAX);
+    for (std::size_t i = ground_points; i < c.points.size(); ++i) {
+        std::size_t& s = slot[final_group[voxel_of[i]]];
+        if (s == SIZE_MAX) s = want.size(), want.emplace_back();
+        want[s].push_back(std::uint32_t(i));
+    }
+    std::erase_if(want, [&](const auto& seg) { return seg.size() < std::size_t(o.min_points); });
+    CHECK(got.core_points == 3);
+    CHECK(sparse_joined > 0);
+    CHECK(want.size() >= 5);
+    CHECK(got.segments == want);
 }
 
 TEST_CASE("segments: options out of range are one line naming the option") {
