@@ -178,7 +178,8 @@ void registerDetect(CLI::App& cli) {
     c->add_option("--model", state->model,
                   "a trained detector's model file (`ladarvr train`); without it the clustering baseline runs");
     c->add_option("--threads", state->threads,
-                  "with --model: threads for the features and the trees, [1, 1024] (results do not depend on it)")
+                  "with --model: threads for the segmentation, the features and the trees, [1, 1024] (results do not "
+                  "depend on it)")
         ->capture_default_str();
     c->add_option("--target-size-m", state->target_size_m,
                   "target length width height, metres (default a main battle tank: 7 3.5 2.5); with --model it "

@@ -9,7 +9,10 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
-#include <thread>
+#include <atomic>
+#include <numeric>
+
+#include "parts.hpp"
 
 namespace detect {
 namespace {
@@ -34,27 +37,27 @@ void validate(const BoostedOptions& o) {
 DescribedSegments describeSegments(const core::PointCloud& cloud, const SegmentOptions& segments,
                                    const glm::dvec3& target_size_m, int threads) {
     DescribedSegments out;
-    out.segmentation = segmentCloud(cloud, segments);
+    out.segmentation = segmentCloud(cloud, segments, threads);
     const auto& segs = out.segmentation.segments;
     const std::size_t columns = segmentFeatureNames().size();
     out.rows.assign(segs.size() * columns, 0.0f);
     // Each segment's row is computed alone and written to its own place: the rows are the
-    // same whatever the number of threads.
-    auto work = [&](std::size_t first, std::size_t step) {
-        for (std::size_t s = first; s < segs.size(); s += step) {
+    // same whatever the number of threads. The threads take the segments largest first,
+    // one at a time, so that a forest's canopy does not leave one thread with the rest.
+    std::vector<std::uint32_t> order(segs.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return segs[a].size() > segs[b].size(); });
+    std::atomic<std::size_t> next{0};
+    const std::size_t t =
+        std::min<std::size_t>(std::size_t(std::clamp(threads, 1, 1024)), std::max<std::size_t>(segs.size(), 1));
+    runParts(t, [&](std::size_t) {
+        for (std::size_t k = next++; k < order.size(); k = next++) {
+            const std::uint32_t s = order[k];
             const std::vector<float> f = segmentFeatures(cloud, segs[s], out.segmentation.height_m, target_size_m);
-            std::copy(f.begin(), f.end(), out.rows.begin() + std::ptrdiff_t(s * columns));
+            std::copy(f.begin(), f.end(), out.rows.begin() + std::ptrdiff_t(std::size_t(s) * columns));
         }
-    };
-    const std::size_t t = std::size_t(std::clamp(threads, 1, 1024));
-    if (t == 1 || segs.size() < 2) {
-        work(0, 1);
-        return out;
-    }
-    std::vector<std::thread> pool;
-    for (std::size_t k = 1; k < t; ++k) pool.emplace_back(work, k, t);
-    work(0, t);
-    for (auto& th : pool) th.join();
+    });
     return out;
 }
 
@@ -69,12 +72,15 @@ BoostedDetector::BoostedDetector(const BoostedOptions& o, std::shared_ptr<const 
 }
 
 std::uint64_t BoostedDetector::memoryBytes(std::uint64_t points) {
-    // Per point: the cloud (40), SMRF's flags and heights with its raster's and the
-    // views' corrections' share (48), the voxel of each point and the voxel tables with
-    // each voxel's dense neighbour (24), the segments' index lists (8), a segment's
-    // feature scratch (32): 152, rounded up to 192 for the allocator. The fixed part
-    // holds the reader's chunk buffer, the terrain fit's chunk of points, XGBoost and
-    // the model.
+    // Per point, at the clustering's peak: the cloud (40), the flags, heights and indices
+    // of the points above the terrain (9), then, with every point its own voxel at
+    // worst, each point's voxel (4), the voxels' key, count, first point and centroid
+    // (40), the dense and sparse lists with their keys (12), and the first thread's
+    // union-find (4) with each thread's nearest-voxel table (12, at most 4 threads: 48):
+    // 157. The radix sort's two buffers (32) come before the voxel tables; SMRF's raster
+    // and view tables (48) before that, and a segment's feature scratch (32) after.
+    // Rounded up to 192 for the allocator. The fixed part holds the reader's chunk
+    // buffer, the terrain fit's chunk of points, XGBoost and the model.
     constexpr std::uint64_t kBytesPerPoint = 192;
     constexpr std::uint64_t kFixedBytes = std::uint64_t(96) << 20;
     return kFixedBytes + points * kBytesPerPoint;

@@ -146,28 +146,31 @@ OrientedBox fitBox(const core::PointCloud& cloud, const std::vector<std::uint32_
         std::nth_element(x.begin(), x.begin() + std::ptrdiff_t(x.size() - 1 - k), x.end());
         hi = x[x.size() - 1 - k];
     };
-    auto extents = [&](double angle, double lo[2], double hi[2], double& zlo, double& zhi) {
+    // The extents along u and v at `angle`; z's do not depend on it and are taken once.
+    auto extents = [&](double angle, double lo[2], double hi[2]) {
         const double c = std::cos(angle), s = std::sin(angle);
         for (std::size_t k = 0; k < points.size(); ++k) {
             const glm::dvec3 p = glm::dvec3(cloud.points[points[k]].position) - ref;
             us[k] = c * p.x + s * p.y;
             vs[k] = -s * p.x + c * p.y;
-            zs[k] = p.z;
         }
         quantiles(us, lo[0], hi[0]);
         quantiles(vs, lo[1], hi[1]);
-        quantiles(zs, zlo, zhi);
     };
     double lo[2], hi[2], zlo, zhi;
-    extents(theta, lo, hi, zlo, zhi);
+    for (std::size_t k = 0; k < points.size(); ++k) zs[k] = double(cloud.points[points[k]].position.z) - ref.z;
+    quantiles(zs, zlo, zhi);
+    extents(theta, lo, hi);
     if (hi[1] - lo[1] > hi[0] - lo[0]) {  // length is the longer side
         theta += std::numbers::pi / 2.0;
-        extents(theta, lo, hi, zlo, zhi);
+        extents(theta, lo, hi);
     }
-    // Yaw in (-90, 90] degrees: a box is the same turned by 180.
+    // Yaw in (-90, 90] degrees: a box is the same turned by 180 (the extents are taken
+    // again only when the angle changed).
+    const double measured = theta;
     while (theta > std::numbers::pi / 2.0) theta -= std::numbers::pi;
     while (theta <= -std::numbers::pi / 2.0) theta += std::numbers::pi;
-    extents(theta, lo, hi, zlo, zhi);
+    if (theta != measured) extents(theta, lo, hi);
     const double c = std::cos(theta), s = std::sin(theta);
     const double cu = 0.5 * (lo[0] + hi[0]), cv = 0.5 * (lo[1] + hi[1]);
     OrientedBox box;

@@ -2,8 +2,10 @@
 // sensor: the height threshold follows the measured ground thickness, a sparse trail of
 // points (noise, mixed returns) does not chain a vehicle to the crown above it, the
 // views' height errors are taken off before heights are measured, and a vehicle against
-// a wall or under a touching crown is split from them at the split height, and the
-// clustering gives what a brute-force reading of its rule gives.
+// a wall or under a touching crown is split from them at the split height, the
+// clustering gives what a brute-force reading of its rule gives, and the segments do not
+// depend on the number of threads.
+#include <core/error.hpp>
 #include <detect/segmentation.hpp>
 
 #include "labelled_scenes.hpp"
@@ -269,6 +271,7 @@ TEST_CASE("segments: the clustering equals a brute-force reading of its rule") {
         voxel_of[i] = v;
     }
     const std::size_t voxels = cell.size();
+    CHECK(got.voxels == voxels);
     const double tol2 = o.cluster_tolerance_m * o.cluster_tolerance_m;
     auto near2 = [&](std::size_t a, std::size_t b) {
         const glm::dvec3 d = sum[a] / double(count[a]) - sum[b] / double(count[b]);
@@ -306,6 +309,42 @@ TEST_CASE("segments: the clustering equals a brute-force reading of its rule") {
     CHECK(sparse_joined > 0);
     CHECK(want.size() >= 5);
     CHECK(got.segments == want);
+}
+
+TEST_CASE("segments: the same whatever the thread count, on a cloud the clustering cuts into parts") {
+    // Enough points above the terrain (over 4 x 65536) that the clustering, its sort and
+    // its sweeps run in up to four parts: blobs of varied density, lone points, and a
+    // vehicle beside a tall wall so that the split runs too.
+    core::PointCloud c = noisyGround(0.02, 1, 0.0, 31, 0.1);
+    const std::size_t ground_points = c.points.size();
+    std::mt19937 rng(32);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    test_support::addBoxSurface(c, rng, {0.0, 0.0}, {7.0, 3.5, 2.5}, 0.0, 0.1, core::Role::Target);
+    addWall(c, -1.75 - 0.3, 10.0);
+    while (c.points.size() - ground_points < 300000) {
+        const glm::dvec3 centre{-18.0 + 36.0 * u(rng), -18.0 + 36.0 * u(rng), 1.0 + 4.0 * u(rng)};
+        const glm::dvec3 half{0.2 + 1.5 * u(rng), 0.2 + 1.5 * u(rng), 0.2 + 1.0 * u(rng)};
+        const int points = 5 + int(4000 * u(rng) * u(rng));
+        for (int k = 0; k < points; ++k)
+            test_support::addPoint(c, centre + half * glm::dvec3(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1),
+                                   core::Role::Environment);
+    }
+    detect::SegmentOptions o;
+    o.split_height_m = 4.0;
+    const detect::Segmentation one = detect::segmentCloud(c, o, 1);
+    REQUIRE(one.above_points > 4 * 65536);
+    CHECK(one.split_segments >= 1);
+    CHECK(one.segments.size() >= 20);
+    for (const int threads : {2, 3, 4, 8}) {
+        CAPTURE(threads);
+        const detect::Segmentation many = detect::segmentCloud(c, o, threads);
+        CHECK(many.above_points == one.above_points);
+        CHECK(many.voxels == one.voxels);
+        CHECK(many.split_segments == one.split_segments);
+        CHECK(many.height_m == one.height_m);
+        CHECK(many.segments == one.segments);
+    }
+    CHECK_THROWS_WITH_AS(detect::segmentCloud(c, o, 0), "detect: threads = 0: allowed >= 1", core::Error);
 }
 
 TEST_CASE("segments: options out of range are one line naming the option") {

@@ -19,7 +19,7 @@ struct BoostedOptions {
     std::filesystem::path model;    // a file written by `ladarvr train`
     double min_probability = 0.01;  // candidates below are dropped, [0, 1]
     int max_candidates = 50;        // best first, >= 1
-    int threads = 1;                // feature and tree threads (>= 1); results do not depend on it
+    int threads = 1;                // segmentation, feature and tree threads (>= 1); results do not depend on it
 };
 
 /// Throws core::Error("detect: <option> = <value>: allowed <range>").

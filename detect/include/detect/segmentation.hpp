@@ -52,6 +52,7 @@ struct Segmentation {
     /// Each segment's point indices, ascending; segments ordered by their first point.
     std::vector<std::vector<std::uint32_t>> segments;
     std::size_t above_points = 0;      // points that went into step 2
+    std::size_t voxels = 0;            // the voxels step 2 clustered them on
     double ground_sigma_m = 0;         // the ground thickness step 1 measured (one sigma)
     double min_height_m = 0;           // the height threshold step 2 used
     double points_per_voxel_face = 0;  // the cloud's points per voxel_m^2 of observed terrain
@@ -59,9 +60,10 @@ struct Segmentation {
     std::size_t split_segments = 0;    // segments step 4 split
 };
 
-/// Steps 1-3 on `cloud`: a pure function of the cloud and the options (single-threaded,
-/// so the same whatever the thread count). Throws core::Error for clouds SMRF cannot grid.
-Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o);
+/// Steps 1-4 on `cloud`: a pure function of the cloud and the options, the same whatever
+/// `threads` (the clustering's parts run on up to that many threads, at most 4). Throws
+/// core::Error for clouds SMRF cannot grid.
+Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o, int threads = 1);
 
 /// At most what segmentCloud holds per point of the cloud, in bytes (for memory plans).
 inline constexpr std::uint64_t kSegmentBytesPerPoint = 96;
