@@ -98,20 +98,34 @@ def prism(cx, cy, r, n, z0, z1, r_top=None, phase=0.0):
     return m
 
 
-def extrude_y(prof, half_width):
+def sweep_y(prof, y0, y1, flipped=False):
     """A closed solid: the convex (x, z) polygon `prof` (counter-clockwise seen from -y)
-    swept from y = -half_width to +half_width (a vehicle's hull)."""
+    swept from y = y0 to y1. Its faces wind counter-clockwise seen from outside, or the
+    other way with `flipped` (the tank's tracks were made so; ray casting does not see the
+    winding, and the meshes stay as they are)."""
     m = Mesh()
-    lo = [m.vert(x, -half_width, z) for x, z in prof]
-    hi = [m.vert(x, half_width, z) for x, z in prof]
+    lo = [m.vert(x, y0, z) for x, z in prof]
+    hi = [m.vert(x, y1, z) for x, z in prof]
     n = len(prof)
     for i in range(n):
         j = (i + 1) % n
-        m.quad(lo[i], hi[i], hi[j], lo[j])
+        if flipped:
+            m.quad(lo[i], lo[j], hi[j], hi[i])
+        else:
+            m.quad(lo[i], hi[i], hi[j], lo[j])
     for i in range(1, n - 1):
-        m.tri(lo[0], lo[i], lo[i + 1])
-        m.tri(hi[0], hi[i + 1], hi[i])
+        if flipped:
+            m.tri(lo[0], lo[i + 1], lo[i])
+            m.tri(hi[0], hi[i], hi[i + 1])
+        else:
+            m.tri(lo[0], lo[i], lo[i + 1])
+            m.tri(hi[0], hi[i + 1], hi[i])
     return m
+
+
+def extrude_y(prof, half_width):
+    """`prof` swept from y = -half_width to +half_width (a vehicle's hull)."""
+    return sweep_y(prof, -half_width, half_width)
 
 
 def cylinder_x(x0, x1, cy, cz, r, n):
@@ -203,17 +217,8 @@ def tank():
     # tracks with sloped ends
     for side in (-1, 1):
         y0, y1 = (1.05, 1.75) if side > 0 else (-1.75, -1.05)
-        t = Mesh()
         pts = [(-3.5, 0.5), (-3.2, 0.0), (3.2, 0.0), (3.5, 0.5), (3.3, 1.0), (-3.3, 1.0)]
-        lo = [t.vert(x, y0, z) for x, z in pts]
-        hi = [t.vert(x, y1, z) for x, z in pts]
-        n = len(pts)
-        for i in range(n):
-            j = (i + 1) % n
-            t.quad(lo[i], lo[j], hi[j], hi[i])
-        for i in range(1, n - 1):
-            t.tri(lo[0], lo[i + 1], lo[i])
-            t.tri(hi[0], hi[i], hi[i + 1])
+        t = sweep_y(pts, y0, y1, flipped=True)
         parts.append(("track_" + ("left" if side > 0 else "right"), t))
     # hull with a sloped glacis at +x
     prof = [(-3.4, 0.45), (3.0, 0.45), (3.45, 1.0), (3.0, 1.55), (-3.4, 1.55)]
