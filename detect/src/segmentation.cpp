@@ -335,17 +335,17 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     out.height_m.resize(n);
     {
         const std::unique_ptr<sim::TerrainFit> fit = sim::startSmrf(o.terrain);
-        constexpr std::size_t kChunk = 1 << 16;
-        std::vector<core::CloudPoint> chunk;
-        for (std::size_t i = 0; i < n; i += kChunk) {
-            const std::span<const core::CloudPoint> part(cloud.points.data() + i, std::min(kChunk, n - i));
-            if (cloud.fields.view) {
-                fit->add(part);
-                continue;
+        if (cloud.fields.view) {
+            fit->addAll(cloud.points, threads);
+        } else {
+            constexpr std::size_t kChunk = 1 << 16;
+            std::vector<core::CloudPoint> chunk;
+            for (std::size_t i = 0; i < n; i += kChunk) {
+                chunk.assign(cloud.points.begin() + std::ptrdiff_t(i),
+                             cloud.points.begin() + std::ptrdiff_t(std::min(n, i + kChunk)));
+                for (core::CloudPoint& p : chunk) p.view = 0;  // no views recorded: one view
+                fit->add(chunk);
             }
-            chunk.assign(part.begin(), part.end());  // no views recorded: one view
-            for (core::CloudPoint& p : chunk) p.view = 0;
-            fit->add(chunk);
         }
         fit->fit();
         const sim::TerrainGrid& t = fit->surface();

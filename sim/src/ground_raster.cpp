@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <memory>
 #include <sstream>
+#include <thread>
 
 namespace sim {
 namespace {
@@ -125,6 +128,32 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
 RasterFit::RasterFit(double cell_m, std::size_t max_cells, const char* cell_option)
     : cell_m_(cell_m), inv_cell_(1.0 / cell_m), max_cells_(max_cells), cell_option_(cell_option) {}
 
+void RasterFit::keepLowest(Cell& cell, float z, std::uint16_t view) {
+    // The kCellLowest lowest heights, ascending, ordered by (height, view): the same
+    // whatever the order the points come in, ties between views included.
+    const auto below = [&](int k) { return cell.low[k] > z || (cell.low[k] == z && cell.view[k] > view); };
+    if (!below(kCellLowest - 1)) return;
+    int k = kCellLowest - 1;
+    for (; k > 0 && below(k - 1); --k) {
+        cell.low[k] = cell.low[k - 1];
+        cell.view[k] = cell.view[k - 1];
+    }
+    cell.low[k] = z;
+    cell.view[k] = view;
+}
+
+void RasterFit::keepViewLow(std::uint64_t key, const ViewLow& low) {
+    if (too_many_view_blocks_) return;
+    auto [it, added] = view_lows_.try_emplace(key, low);
+    const ViewLow& e = it->second;
+    // The lowest point, ties broken by position: the same whatever the order.
+    if (!added && (low.z < e.z || (low.z == e.z && (low.x < e.x || (low.x == e.x && low.y < e.y))))) it->second = low;
+    if (view_lows_.size() > max_cells_) {  // bounded like the raster: no correction
+        too_many_view_blocks_ = true;
+        view_lows_ = {};
+    }
+}
+
 void RasterFit::add(std::span<const core::CloudPoint> points) {
     for (const core::CloudPoint& p : points) {
         const double fx = std::floor(double(p.position.x) * inv_cell_);
@@ -133,40 +162,86 @@ void RasterFit::add(std::span<const core::CloudPoint> points) {
         const int ix = int(fx), iy = int(fy);
         Cell* tile = cellFor(ix >> kTileBits, iy >> kTileBits);
         Cell& cell = tile[((iy & (kTile - 1)) << kTileBits) | (ix & (kTile - 1))];
-        // The kCellLowest lowest heights, ascending: the same whatever the order they come in.
-        const float z = p.position.z;
         cell.n += cell.n < std::numeric_limits<std::uint32_t>::max();
-        // Ordered by (height, view): ties between views are kept the same way whatever the order.
-        const auto below = [&](int k) { return cell.low[k] > z || (cell.low[k] == z && cell.view[k] > p.view); };
-        if (below(kCellLowest - 1)) {
-            int k = kCellLowest - 1;
-            for (; k > 0 && below(k - 1); --k) {
-                cell.low[k] = cell.low[k - 1];
-                cell.view[k] = cell.view[k - 1];
-            }
-            cell.low[k] = z;
-            cell.view[k] = p.view;
-        }
-        if (!too_many_view_blocks_) {
-            const std::uint64_t key = (std::uint64_t(p.view) << 48) |
-                                      (std::uint64_t(std::uint32_t(ix >> 2) & 0xffffffu) << 24) |
-                                      (std::uint32_t(iy >> 2) & 0xffffffu);
-            static_assert(kViewBlock == 4);
-            const ViewLow low{z, p.position.x, p.position.y};
-            auto [it, added] = view_lows_.try_emplace(key, low);
-            const ViewLow& e = it->second;
-            // The lowest point, ties broken by position: the same whatever the order.
-            if (!added && (z < e.z || (z == e.z && (low.x < e.x || (low.x == e.x && low.y < e.y))))) it->second = low;
-            if (view_lows_.size() > max_cells_) {  // bounded like the raster: no correction
-                too_many_view_blocks_ = true;
-                view_lows_ = {};
-            }
-        }
+        keepLowest(cell, p.position.z, p.view);
+        static_assert(kViewBlock == 4);
+        keepViewLow((std::uint64_t(p.view) << 48) | (std::uint64_t(std::uint32_t(ix >> 2) & 0xffffffu) << 24) |
+                        (std::uint32_t(iy >> 2) & 0xffffffu),
+                    ViewLow{p.position.z, p.position.x, p.position.y});
         ix_min_ = std::min(ix_min_, ix);
         ix_max_ = std::max(ix_max_, ix);
         iy_min_ = std::min(iy_min_, iy);
         iy_max_ = std::max(iy_max_, iy);
     }
+}
+
+namespace {
+// A raster that only gathers points, for addAll()'s other threads.
+class Gatherer final : public RasterFit {
+  public:
+    using RasterFit::RasterFit;
+
+  private:
+    void fitTerrain(std::vector<float>&, const std::vector<std::uint8_t>&) override {}
+};
+}  // namespace
+
+void RasterFit::addAll(std::span<const core::CloudPoint> points, int threads) {
+    constexpr std::size_t kMinShare = std::size_t(1) << 16;
+    const std::size_t parts = std::clamp<std::size_t>(points.size() / kMinShare, 1, std::size_t(std::max(threads, 1)));
+    if (parts == 1) {
+        add(points);
+        return;
+    }
+    std::vector<std::unique_ptr<Gatherer>> others;
+    for (std::size_t p = 1; p < parts; ++p)
+        others.push_back(std::make_unique<Gatherer>(cell_m_, max_cells_, cell_option_));
+    std::vector<std::exception_ptr> errors(parts);
+    const auto share = [&](std::size_t p) {
+        return points.subspan(points.size() * p / parts, points.size() * (p + 1) / parts - points.size() * p / parts);
+    };
+    std::vector<std::thread> pool;
+    for (std::size_t p = 1; p < parts; ++p)
+        pool.emplace_back([&, p] {
+            try {
+                others[p - 1]->add(share(p));
+            } catch (...) {
+                errors[p] = std::current_exception();
+            }
+        });
+    try {
+        add(share(0));
+    } catch (...) {
+        errors[0] = std::current_exception();
+    }
+    for (std::thread& t : pool) t.join();
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
+    for (const auto& other : others) merge(*other);
+}
+
+void RasterFit::merge(const RasterFit& other) {
+    for (const auto& [key, index] : other.tiles_) {
+        Cell* mine = cellFor(int(std::uint32_t(key >> 32)), int(std::uint32_t(key)));
+        const Cell* theirs = other.tile_data_.data() + std::size_t(index) * kTile * kTile;
+        for (std::size_t c = 0; c < std::size_t(kTile) * kTile; ++c) {
+            const Cell& t = theirs[c];
+            Cell& m = mine[c];
+            m.n = std::uint32_t(
+                std::min<std::uint64_t>(std::uint64_t(m.n) + t.n, std::numeric_limits<std::uint32_t>::max()));
+            for (std::size_t k = 0; k < std::min<std::size_t>(t.n, kCellLowest); ++k)
+                keepLowest(m, t.low[k], t.view[k]);
+        }
+    }
+    if (other.too_many_view_blocks_) {
+        too_many_view_blocks_ = true;
+        view_lows_ = {};
+    }
+    for (const auto& [key, low] : other.view_lows_) keepViewLow(key, low);
+    ix_min_ = std::min(ix_min_, other.ix_min_);
+    ix_max_ = std::max(ix_max_, other.ix_max_);
+    iy_min_ = std::min(iy_min_, other.iy_min_);
+    iy_max_ = std::max(iy_max_, other.iy_max_);
 }
 
 void RasterFit::fit() {

@@ -76,6 +76,10 @@ class RasterFit : public TerrainFit {
     /// `cell_option` names the cell size in errors, e.g. "smrf cell_m (--smrf-cell-m)".
     RasterFit(double cell_m, std::size_t max_cells, const char* cell_option);
     void add(std::span<const core::CloudPoint> points) override;
+    /// add() with the points shared among `threads` threads, each gathering into a raster
+    /// of its own, merged after: the fit depends only on the set of points, so it is the
+    /// same as add()'s.
+    void addAll(std::span<const core::CloudPoint> points, int threads) override;
     /// Builds the ground-level surface over the cells the points touched (each cell's
     /// level from its lowest heights, cellLevel(), with the ground thickness estimated
     /// over all cells), then fitTerrain().
@@ -132,6 +136,9 @@ class RasterFit : public TerrainFit {
         std::uint32_t n;
     };
     Cell* cellFor(int tx, int ty);
+    static void keepLowest(Cell& cell, float z, std::uint16_t view);
+    void keepViewLow(std::uint64_t key, const ViewLow& low);
+    void merge(const RasterFit& other);  // other's points, as if added here
     std::vector<Cell> tile_data_;
     std::uint64_t last_key_ = 0;
     Cell* last_tile_ = nullptr;

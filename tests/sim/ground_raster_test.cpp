@@ -3,7 +3,7 @@
 // GNSS/INS error of the presets' size (a height offset and a tilt) and every point moved
 // by Gaussian range noise: the fitted terrain stays within a stated tolerance of the true
 // surface, the ground is recovered, a vehicle-sized box on a 30 % slope stays coloured,
-// and the result does not depend on the points' order or batching.
+// and the result does not depend on the points' order, batching or gathering threads.
 #include "ground_raster.hpp"
 #include "ground_surfaces.hpp"
 
@@ -265,6 +265,44 @@ TEST_CASE("with misregistered views the fit depends on the set of points, not th
             different += std::uint8_t(b->classify(s.points[i], h)) != ra.flags[i];
         }
         CHECK(different == 0);
+    }
+}
+
+TEST_CASE("with misregistered views the fit is the same when its points are gathered on several threads") {
+    // Enough points that addAll() shares them among up to four rasters, merged after: as
+    // they come (a share is a few views), and highest first, so that the lowest points of
+    // a cell all lie in the last share and the merge must keep every one of them.
+    const Seen s = see(kHill, 40.0, 16, Errors{}, {Vehicle{0.0, 0.0}, Vehicle{12.0, -9.0}});
+    REQUIRE(s.points.size() >= 4 * 65536);
+    std::vector<core::CloudPoint> high_first = s.points;
+    std::stable_sort(high_first.begin(), high_first.end(),
+                     [](const core::CloudPoint& a, const core::CloudPoint& b) { return a.position.z > b.position.z; });
+    for (const bool csf : {false, true}) {
+        CAPTURE(csf);
+        auto a = csf ? sim::startCsf(sim::CsfOptions{}) : sim::startSmrf(sim::SmrfOptions{});
+        const Result ra = run(*a, s.points);
+        for (const int threads : {2, 3, 4}) {
+            CAPTURE(threads);
+            for (const bool sorted : {false, true}) {
+                CAPTURE(sorted);
+                auto b = csf ? sim::startCsf(sim::CsfOptions{}) : sim::startSmrf(sim::SmrfOptions{});
+                b->addAll(sorted ? high_first : s.points, threads);
+                b->fit();
+                const sim::TerrainGrid& g = b->surface();
+                REQUIRE(g.z_m.size() == ra.grid.z_m.size());
+                CHECK(std::memcmp(g.z_m.data(), ra.grid.z_m.data(), g.z_m.size() * sizeof(float)) == 0);
+                CHECK(g.ground_sigma_m == ra.grid.ground_sigma_m);
+                CHECK(g.views_corrected == ra.grid.views_corrected);
+                std::size_t different = 0;
+                for (std::size_t i = 0; i < s.points.size(); ++i) {
+                    float h = 0, h_a = 0;
+                    different += std::uint8_t(b->classify(s.points[i], h)) != ra.flags[i];
+                    a->classify(s.points[i], h_a);
+                    different += h != h_a;
+                }
+                CHECK(different == 0);
+            }
+        }
     }
 }
 

@@ -140,6 +140,12 @@ class TerrainFit {
   public:
     virtual ~TerrainFit() = default;
     virtual void add(std::span<const core::CloudPoint> points) = 0;
+    /// add() on up to `threads` threads where the filter can share the work; the fit is
+    /// the same.
+    virtual void addAll(std::span<const core::CloudPoint> points, int threads) {
+        (void)threads;
+        add(points);
+    }
     /// Throws core::Error naming the parameter when the cloud cannot be gridded.
     virtual void fit() = 0;
     /// After fit(): the fitted surface (empty when no point was added).
