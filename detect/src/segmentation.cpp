@@ -335,6 +335,7 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     out.height_m.resize(n);
     {
         const std::unique_ptr<sim::TerrainFit> fit = sim::startSmrf(o.terrain);
+        fit->setFitThreads(threads);
         if (cloud.fields.view) {
             fit->addAll(cloud.points, threads);
         } else {

@@ -80,6 +80,7 @@ class RasterFit : public TerrainFit {
     /// of its own, merged after: the fit depends only on the set of points, so it is the
     /// same as add()'s.
     void addAll(std::span<const core::CloudPoint> points, int threads) override;
+    void setFitThreads(int threads) override { threads_ = std::max(1, threads); }
     /// Builds the ground-level surface over the cells the points touched (each cell's
     /// level from its lowest heights, cellLevel(), with the ground thickness estimated
     /// over all cells), then fitTerrain().
@@ -101,6 +102,7 @@ class RasterFit : public TerrainFit {
     /// The filter's threshold (the part of limit_m_ that groundThreshold() widens); set by
     /// the filter, so that the limits follow the thickness once the views are corrected.
     double threshold_m_ = 0;
+    int threads_ = 1;  // fitTerrain()'s threads
 
     TerrainGrid grid_;
     std::vector<float> limit_m_;

@@ -22,6 +22,7 @@
 // order it is taken in, so the result is the same whatever the batching or the threads.
 #include "ground_internal.hpp"
 #include "ground_raster.hpp"
+#include "parallel.hpp"
 
 #include <core/error.hpp>
 #include <core/frames.hpp>
@@ -56,24 +57,33 @@ void runningExtreme(const float* in, std::ptrdiff_t stride, float* out, int n, i
 // (the cells whose centres are within r of the centre). The disk is a stack of rows:
 // row dy spans |dx| <= floor(sqrt(r^2 - dy^2)), so each row offset is one running
 // extreme along x, folded into `out` shifted by +-dy. O(r) per cell, O(cells) memory.
+// The rows are shared among `pool`'s workers; each value is computed by the same
+// operations whatever their number.
 void diskFilter(const std::vector<float>& in, std::vector<float>& out, int nx, int ny, int r, bool take_max,
-                std::vector<float>& row_pass, std::vector<int>& queue) {
+                std::vector<float>& row_pass, Workers& pool) {
     row_pass.resize(in.size());
     out.assign(in.size(), take_max ? -kNoPoint : kNoPoint);
     const auto fold = [&](float a, float b) { return take_max ? std::max(a, b) : std::min(a, b); };
+    const std::size_t parts = std::size_t(std::clamp(pool.size(), 1, std::max(1, ny)));
+    const auto first_row = [&](std::size_t part) { return int(std::size_t(ny) * part / parts); };
     for (int dy = 0; dy <= r; ++dy) {
         const int half = int(std::floor(std::sqrt(double(r) * r - double(dy) * dy) + 1e-9));
-        for (int j = 0; j < ny; ++j)
-            runningExtreme(in.data() + std::size_t(j) * nx, 1, row_pass.data() + std::size_t(j) * nx, nx, half,
-                           take_max, queue);
-        for (int j = 0; j < ny; ++j) {
-            float* o = out.data() + std::size_t(j) * nx;
-            for (const int source : {j - dy, j + dy}) {
-                if (source < 0 || source >= ny || (dy == 0 && source != j - dy)) continue;
-                const float* h = row_pass.data() + std::size_t(source) * nx;
-                for (int i = 0; i < nx; ++i) o[i] = fold(o[i], h[i]);
+        pool.run(parts, [&](std::size_t part) {
+            std::vector<int> queue;
+            for (int j = first_row(part); j < first_row(part + 1); ++j)
+                runningExtreme(in.data() + std::size_t(j) * nx, 1, row_pass.data() + std::size_t(j) * nx, nx, half,
+                               take_max, queue);
+        });
+        pool.run(parts, [&](std::size_t part) {
+            for (int j = first_row(part); j < first_row(part + 1); ++j) {
+                float* o = out.data() + std::size_t(j) * nx;
+                for (const int source : {j - dy, j + dy}) {
+                    if (source < 0 || source >= ny || (dy == 0 && source != j - dy)) continue;
+                    const float* h = row_pass.data() + std::size_t(source) * nx;
+                    for (int i = 0; i < nx; ++i) o[i] = fold(o[i], h[i]);
+                }
             }
-        }
+        });
     }
 }
 
@@ -92,11 +102,11 @@ class SmrfFit final : public RasterFit {
         // 2) objects, by openings of growing radius.
         std::vector<std::uint8_t> object(minimum.size(), 0);
         std::vector<float> eroded, opened, scratch;
-        std::vector<int> queue;
+        Workers pool(threads_);
         const int radii = std::max(1, int(std::ceil(o_.window_m / o_.cell_m - 1e-9)));
         for (int r = 1; r <= radii; ++r) {
-            diskFilter(surface, eroded, w, h, r, false, scratch, queue);
-            diskFilter(eroded, opened, w, h, r, true, scratch, queue);
+            diskFilter(surface, eroded, w, h, r, false, scratch, pool);
+            diskFilter(eroded, opened, w, h, r, true, scratch, pool);
             const float limit = float(o_.slope * double(r) * o_.cell_m);
             for (std::size_t c = 0; c < surface.size(); ++c)
                 if (surface[c] - opened[c] > limit) object[c] = 1;

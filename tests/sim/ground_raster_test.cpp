@@ -268,7 +268,7 @@ TEST_CASE("with misregistered views the fit depends on the set of points, not th
     }
 }
 
-TEST_CASE("with misregistered views the fit is the same when its points are gathered on several threads") {
+TEST_CASE("with misregistered views the fit is the same when its points are gathered and fitted on several threads") {
     // Enough points that addAll() shares them among up to four rasters, merged after: as
     // they come (a share is a few views), and highest first, so that the lowest points of
     // a cell all lie in the last share and the merge must keep every one of them.
@@ -286,6 +286,7 @@ TEST_CASE("with misregistered views the fit is the same when its points are gath
             for (const bool sorted : {false, true}) {
                 CAPTURE(sorted);
                 auto b = csf ? sim::startCsf(sim::CsfOptions{}) : sim::startSmrf(sim::SmrfOptions{});
+                b->setFitThreads(threads);
                 b->addAll(sorted ? high_first : s.points, threads);
                 b->fit();
                 const sim::TerrainGrid& g = b->surface();

@@ -146,6 +146,9 @@ class TerrainFit {
         (void)threads;
         add(points);
     }
+    /// Before fit(): how many threads fit() may use where the filter can share its work
+    /// (>= 1; 1 by default). The fit is the same whatever the number.
+    virtual void setFitThreads(int threads) { (void)threads; }
     /// Throws core::Error naming the parameter when the cloud cannot be gridded.
     virtual void fit() = 0;
     /// After fit(): the fitted surface (empty when no point was added).
