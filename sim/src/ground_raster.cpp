@@ -1,14 +1,13 @@
 // sim/src/ground_raster.cpp: see ground_raster.hpp.
 #include "ground_raster.hpp"
+#include "parallel.hpp"
 
 #include <core/error.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <memory>
 #include <sstream>
-#include <thread>
 
 namespace sim {
 namespace {
@@ -196,27 +195,16 @@ void RasterFit::addAll(std::span<const core::CloudPoint> points, int threads) {
     std::vector<std::unique_ptr<Gatherer>> others;
     for (std::size_t p = 1; p < parts; ++p)
         others.push_back(std::make_unique<Gatherer>(cell_m_, max_cells_, cell_option_));
-    std::vector<std::exception_ptr> errors(parts);
     const auto share = [&](std::size_t p) {
         return points.subspan(points.size() * p / parts, points.size() * (p + 1) / parts - points.size() * p / parts);
     };
-    std::vector<std::thread> pool;
-    for (std::size_t p = 1; p < parts; ++p)
-        pool.emplace_back([&, p] {
-            try {
-                others[p - 1]->add(share(p));
-            } catch (...) {
-                errors[p] = std::current_exception();
-            }
-        });
-    try {
-        add(share(0));
-    } catch (...) {
-        errors[0] = std::current_exception();
-    }
-    for (std::thread& t : pool) t.join();
-    for (const std::exception_ptr& e : errors)
-        if (e) std::rethrow_exception(e);
+    Workers pool{int(parts)};
+    pool.run(parts, [&](std::size_t p) {
+        if (p == 0)
+            add(share(0));
+        else
+            others[p - 1]->add(share(p));
+    });
     for (const auto& other : others) merge(*other);
 }
 
