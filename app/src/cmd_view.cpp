@@ -41,6 +41,7 @@ namespace app {
 namespace {
 struct ViewArgs {
     std::string cloud, scene, script, screenshot, log_json, mirror = "both", colour = "file";
+    std::string rasterizer = "auto";
     long frames = 0;
     double timeout_s = 0.0;
     bool no_xr = false, attenuate = false, no_edl = false;
@@ -97,6 +98,10 @@ int runView(const ViewArgs& a) {
     o.style.point_size_px = a.point_size_px;
     o.style.attenuate = a.attenuate;
     o.style.eye_dome = !a.no_edl;
+    if (a.rasterizer != "auto" && a.rasterizer != "points" && a.rasterizer != "compute")
+        throw core::Error("view: --rasterizer '" + a.rasterizer + "' is not one of auto, points, compute");
+    o.rasterizer_auto = a.rasterizer == "auto";
+    if (!o.rasterizer_auto) o.style.rasterizer = viewer::parseRasterizer(a.rasterizer);
     o.frames = a.frames;
     o.timeout_s = a.timeout_s;
     o.window_width = a.width;
@@ -251,6 +256,10 @@ void registerView(CLI::App& cli) {
         ->capture_default_str();
     cmd->add_flag("--attenuate", args->attenuate, "point size falls off with distance");
     cmd->add_flag("--no-edl", args->no_edl, "turn eye-dome lighting off");
+    cmd->add_option("--rasterizer", args->rasterizer,
+                    "how points are drawn: points (GL_POINTS), compute (two compute passes) or auto (compute on "
+                    "discrete GPUs, points elsewhere)")
+        ->capture_default_str();
     cmd->add_option("--frames", args->frames, "stop after N frames (with OpenXR: submitted frames); 0 = until closed")
         ->capture_default_str();
     cmd->add_option("--timeout", args->timeout_s,

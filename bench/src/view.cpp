@@ -32,6 +32,7 @@ struct BenchViewArgs {
     std::string eye = "1440x1600";
     std::string display = "auto";
     std::size_t point_budget = 3000000;
+    std::vector<std::string> rasterizers = {"points"};
     OocBenchOptions ooc;  // --paths ooc
     bool no_md = false;
 };
@@ -55,13 +56,14 @@ bool rerunHeadless(const BenchViewArgs& a) {
                    (a.ooc.dir.empty() ? std::string() : " --ooc-dir " + shellQuote(a.ooc.dir)) +
                    (a.ooc.synthetic ? " --ooc-synthetic" : "") + (a.no_md ? " --no-md" : "");
     }
-    std::string points;
+    std::string points, rasterizers;
     for (std::size_t n : a.points) points += (points.empty() ? "" : ",") + std::to_string(n);
+    for (const std::string& r : a.rasterizers) rasterizers += (rasterizers.empty() ? "" : ",") + r;
     const std::string command = shellQuote(script.string()) + " --monado-stay --timeout 3000 -- " +
                                 shellQuote(exe.string()) + " view --display none --points " + points + " --frames " +
                                 std::to_string(a.frames) + " --warmup " + std::to_string(a.warmup) + " --paths " +
                                 shellQuote(a.paths) + " --eye " + shellQuote(a.eye) + " --point-budget " +
-                                std::to_string(a.point_budget) + ooc_args;
+                                std::to_string(a.point_budget) + " --rasterizer " + shellQuote(rasterizers) + ooc_args;
     std::fprintf(stderr, "bench view: no DISPLAY: running under %s (Xvfb + Monado)\n", script.c_str());
     std::fflush(stdout);
     const int status = std::system(command.c_str());
@@ -102,6 +104,8 @@ void run(const BenchViewArgs& a) {
     const bool display_needed = o.mirror || o.xr || o.tools;
     if (std::sscanf(a.eye.c_str(), "%dx%d", &o.eye_width, &o.eye_height) != 2)
         throw core::Error("bench view: --eye '" + a.eye + "': expected WIDTHxHEIGHT, e.g. 1440x1600");
+    o.rasterizers.clear();
+    for (const std::string& r : a.rasterizers) o.rasterizers.push_back(viewer::parseRasterizer(r));
     if (display_needed && rerunHeadless(a)) return;
     if (a.paths.find("ooc") != std::string::npos) {
         OocBenchOptions ooc = a.ooc;
@@ -109,6 +113,9 @@ void run(const BenchViewArgs& a) {
         ooc.eye_width = o.eye_width;
         ooc.eye_height = o.eye_height;
         ooc.md = a.no_md ? "" : "BENCHMARKS.md";
+        if (a.rasterizers.size() != 1)
+            throw core::Error("bench view: --paths ooc measures one rasterizer: give --rasterizer points or compute");
+        ooc.rasterizer = a.rasterizers.front();
         runOocBench(ooc, stdout);
         if (!(o.mirror || o.xr || o.egl || o.skip || o.tools || a.paths.find("pick") != std::string::npos)) return;
     }
@@ -174,6 +181,17 @@ void run(const BenchViewArgs& a) {
                         r.note.c_str(), r.points_drawn, r.cpu_ms_median, r.gpu_ms_median, r.frame_ms_median, r.frames,
                         base > 0 ? r.frame_ms_median / base : 0.0);
         }
+        // Each configuration's compute row against its points row (same cloud, same run).
+        const std::string points_tag = ", points", compute_tag = ", compute";
+        for (const auto& c : skip_rows) {
+            if (c.frames == 0 || !c.note.ends_with(compute_tag)) continue;
+            const std::string name = c.note.substr(0, c.note.size() - compute_tag.size());
+            for (const auto& p : skip_rows)
+                if (p.points == c.points && p.frames > 0 && p.note == name + points_tag && p.gpu_ms_median > 0)
+                    std::printf("- %zu points, %s: compute / points GPU ms %.2fx, frame ms %.2fx\n", c.points,
+                                name.c_str(), c.gpu_ms_median / p.gpu_ms_median,
+                                p.frame_ms_median > 0 ? c.frame_ms_median / p.frame_ms_median : 0.0);
+        }
     }
     if (pick) {
         std::printf(
@@ -226,6 +244,10 @@ void registerView(CLI::App& parent) {
                     "temporary folder, removed)");
     cmd->add_flag("--no-md", args->no_md, "ooc: print only, leave BENCHMARKS.md alone");
     cmd->add_option("--point-budget", args->point_budget, "skip rows: points per eye with the LOD budget")
+        ->capture_default_str();
+    cmd->add_option("--rasterizer", args->rasterizers,
+                    "egl and skip rows once per rasterizer, any of points, compute (comma separated); ooc: one")
+        ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--eye", args->eye, "eye size of the offscreen stereo path, WxH")->capture_default_str();
     cmd->add_option("--display", args->display,

@@ -190,7 +190,8 @@ std::unique_ptr<render::EglContext> eglContext(std::string& note) {
     }
 }
 
-ViewBenchResult measureStereoEgl(const core::PointCloud& cloud, const ViewBenchOptions& bench) {
+ViewBenchResult measureStereoEgl(const core::PointCloud& cloud, const ViewBenchOptions& bench,
+                                 viewer::Rasterizer rasterizer) {
     ViewBenchResult r;
     r.path = "stereo-egl";
     r.points = cloud.points.size();
@@ -199,12 +200,14 @@ ViewBenchResult measureStereoEgl(const core::PointCloud& cloud, const ViewBenchO
     const std::unique_ptr<render::EglContext> context = eglContext(r.note);
     if (!context) return r;
     r.gl = render::glDescription();
-    r.note = "offscreen, 2 eyes, automatic orbit, IPD 64 mm";
+    r.note =
+        std::string("offscreen, 2 eyes, automatic orbit, IPD 64 mm, rasterizer ") + viewer::rasterizerName(rasterizer);
     {
         viewer::OffscreenStereo stereo(stereoOptions(bench));
         stereo.upload(cloud);
         viewer::ModeController modes(viewer::ModeOptions{}, stereo.bounds().centre());
-        const viewer::ViewStyle style;
+        viewer::ViewStyle style;
+        style.rasterizer = rasterizer;
         // The baseline: the metric's splat renderer on the same points and eyes.
         render::PointSplatRenderer baseline;
         baseline.setCloud(cloud);
@@ -265,14 +268,19 @@ std::vector<ViewBenchResult> measureSkip(const core::PointCloud& cloud, const Vi
         {"view away from the cloud, frustum culling", true, true, 0},
         {"view away from the cloud, culling + point budget", true, true, bench.point_budget},
     };
-    std::vector<ViewBenchResult> rows(configs.size());
-    for (std::size_t c = 0; c < configs.size(); ++c) {
-        rows[c].path = "skip-egl";
-        rows[c].points = cloud.points.size();
-        rows[c].width = bench.eye_width;
-        rows[c].height = bench.eye_height;
-        rows[c].note = configs[c].name;
-        if (configs[c].budget) rows[c].note += " " + std::to_string(configs[c].budget);
+    // Row k: configuration k % configs, rasterizer k / configs.
+    const std::size_t rasterizers = bench.rasterizers.size();
+    std::vector<ViewBenchResult> rows(configs.size() * rasterizers);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+        const std::size_t c = k % configs.size();
+        rows[k].path = "skip-egl";
+        rows[k].points = cloud.points.size();
+        rows[k].width = bench.eye_width;
+        rows[k].height = bench.eye_height;
+        rows[k].note = configs[c].name;
+        if (configs[c].budget) rows[k].note += " " + std::to_string(configs[c].budget);
+        if (rasterizers > 1)
+            rows[k].note += std::string(", ") + viewer::rasterizerName(bench.rasterizers[k / configs.size()]);
     }
     std::string why;
     const std::unique_ptr<render::EglContext> context = eglContext(why);
@@ -309,10 +317,12 @@ std::vector<ViewBenchResult> measureSkip(const core::PointCloud& cloud, const Vi
         }
         GLuint query = 0;
         glCreateQueries(GL_TIME_ELAPSED, 1, &query);
-        const viewer::ViewStyle style;
-        std::vector<Samples> samples(configs.size());
+        std::vector<Samples> samples(rows.size());
         for (int f = 0; f < bench.warmup_frames + bench.frames; ++f) {
-            for (std::size_t c = 0; c < configs.size(); ++c) {
+            for (std::size_t k = 0; k < rows.size(); ++k) {
+                const std::size_t c = k % configs.size();
+                viewer::ViewStyle style;
+                style.rasterizer = bench.rasterizers[k / configs.size()];
                 viewer::RigPose head = modes.rig();  // a fixed orbit pose: every configuration sees the same
                 if (configs[c].away)
                     head.rotation =
@@ -321,14 +331,14 @@ std::vector<ViewBenchResult> measureSkip(const core::PointCloud& cloud, const Vi
                 stereo.plan(head, configs[c].budget, configs[c].cull);
                 std::size_t drawn = 0;
                 const FrameTimes t = timeFrame(query, t0, [&] { drawn = stereo.draw(head, style, modes.mode()); });
-                rows[c].points_drawn = drawn;
-                if (f >= bench.warmup_frames) samples[c].add(t);
+                rows[k].points_drawn = drawn;
+                if (f >= bench.warmup_frames) samples[k].add(t);
             }
         }
         glDeleteQueries(1, &query);
-        for (std::size_t c = 0; c < configs.size(); ++c) {
-            rows[c].gl = gl;
-            samples[c].store(rows[c]);
+        for (std::size_t k = 0; k < rows.size(); ++k) {
+            rows[k].gl = gl;
+            samples[k].store(rows[k]);
         }
     }
     return rows;
@@ -348,7 +358,10 @@ std::vector<ViewBenchResult> measureViewer(const core::PointCloud& cloud, const 
         results.push_back(measureLoop(cloud, options, true, 2));
         results.push_back(measureLoop(cloud, options, true, 3));
     }
-    if (options.egl) results.push_back(measureStereoEgl(cloud, options));
+    if (options.rasterizers.empty())
+        throw core::Error("bench view: --rasterizer needs at least one of points, compute");
+    if (options.egl)
+        for (const viewer::Rasterizer r : options.rasterizers) results.push_back(measureStereoEgl(cloud, options, r));
     if (options.skip)
         for (auto& r : measureSkip(cloud, options)) results.push_back(std::move(r));
     return results;

@@ -3,6 +3,7 @@
 // stereo drawing (viewer::OffscreenStereo) against an in-run baseline.
 #pragma once
 #include <core/point_cloud.hpp>
+#include <viewer/viewer.hpp>
 
 #include <cstddef>
 #include <string>
@@ -43,6 +44,8 @@ struct ViewBenchOptions {
     bool tools = false;
     std::size_t point_budget = 3000000;
     int eye_width = 1440, eye_height = 1600;  // stereo-egl eye size (Index / Vive Pro class)
+    /// The offscreen stereo rows (egl, skip) once per rasterizer, in this order.
+    std::vector<viewer::Rasterizer> rasterizers = {viewer::Rasterizer::Points};
 };
 
 /// Measures the viewer drawing `cloud` (entirely uploaded before measuring, eye-dome

@@ -204,7 +204,8 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
 
     GLuint query = 0;
     glCreateQueries(GL_TIME_ELAPSED, 1, &query);
-    const viewer::ViewStyle style;
+    viewer::ViewStyle style;
+    style.rasterizer = viewer::parseRasterizer(o.rasterizer);
     std::vector<double> select_ms, plan_ms, upload_ms, gpu_eye_ms, frame_ms, loaded, evicted;
     double first_frame_s = NAN, full_s = NAN, gpu_peak_bytes = 0.0;
     long first_frame = -1, full_frames = -1, still_start = -1;
@@ -442,7 +443,8 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
     for (std::size_t i = 0; i < o.points.size(); ++i) md += (i ? "," : " ") + std::to_string(o.points[i]);
     md += " --head-paths " + o.head_paths + " --point-budget " + std::to_string(o.point_budget) + " --cache-mb " +
           fmt("%g", o.cache_mb) + " --gpu-mb " + fmt("%g", o.gpu_mb) + " --eye " + std::to_string(o.eye_width) + "x" +
-          std::to_string(o.eye_height) + "; machine: " + cpuName() + "; " + utcNow() + ".\n\n";
+          std::to_string(o.eye_height) + " --rasterizer " + o.rasterizer + "; machine: " + cpuName() + "; " + utcNow() +
+          ".\n\n";
     md +=
         o.synthetic
             ? std::string(

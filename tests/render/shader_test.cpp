@@ -31,7 +31,8 @@ TEST_CASE("embedded shaders: a stage with includes names its files by source-str
     CHECK(shaders::viewer_points_vert.starts_with("#version 450 core\n"));
     CHECK(shaders::viewer_points_vert.find("#line 1 1\n") != std::string_view::npos);
     CHECK(shaders::viewer_points_vert.find("#include") == std::string_view::npos);
-    CHECK(shaders::viewer_points_vert_files == "0 = viewer_points.vert, 1 = include/jet.glsl");
+    CHECK(shaders::viewer_points_vert_files ==
+          "0 = viewer_points.vert, 1 = include/jet.glsl, 2 = include/viewer_point_style.glsl");
     CHECK(shaders::point_splat_vert_files == "0 = point_splat.vert");
     CHECK(shaders::metric_count_mask_comp_files == "0 = metric_count_mask.comp, 1 = include/metric_counts.glsl");
 }
@@ -54,7 +55,8 @@ TEST_CASE("embedded shaders: the driver's error in an included file points to th
         // Mesa writes "1:10(15): error", NVIDIA "1(10) : error": source string 1, that line.
         const std::string n = std::to_string(line);
         CHECK((message.find("1:" + n + "(") != std::string::npos || message.find("1(" + n + ")") != std::string::npos));
-        CHECK(message.find("(source strings: 0 = viewer_points.vert, 1 = include/jet.glsl)") != std::string::npos);
+        CHECK(message.find("(source strings: 0 = viewer_points.vert, 1 = include/jet.glsl, 2 = "
+                           "include/viewer_point_style.glsl)") != std::string::npos);
         CHECK(message.find('\n') == std::string::npos);
     }
 }

@@ -26,6 +26,11 @@ TEST_CASE("the GPU class from GL_RENDERER / GL_VENDOR and its default budget") {
     CHECK(defaultPointBudget(GpuClass::Discrete) > defaultPointBudget(GpuClass::Software));
     CHECK(defaultPointBudget(GpuClass::Integrated) < defaultPointBudget(GpuClass::Software));
     CHECK(std::string(gpuClassName(GpuClass::Discrete)) == "discrete");
+    // The compute rasterizer by default where it was measured faster: discrete GPUs only.
+    CHECK(computeRasterizerByDefault(GpuClass::Discrete));
+    CHECK_FALSE(computeRasterizerByDefault(GpuClass::Software));
+    CHECK_FALSE(computeRasterizerByDefault(GpuClass::Integrated));
+    CHECK_FALSE(computeRasterizerByDefault(GpuClass::Unknown));
 }
 
 TEST_CASE("adaptive budget: late frames lower it at once, then it settles") {

@@ -1,6 +1,7 @@
 // viewer's height colours: points of known heights drawn headless (EGL) with the "height"
 // colour mode read back as exactly the generator's jet colours, core::jetTable entry
-// core::jetIndex (the table sim writes into the files), for 64 entries and for 16.
+// core::jetIndex (the table sim writes into the files), for 64 entries and for 16; the
+// colour, size and cutting-volume checks run with both rasterizers (GL_POINTS and compute).
 #include "point_renderer.hpp"
 
 #include <viewer/cloud_feed.hpp>
@@ -59,7 +60,7 @@ std::vector<Pixel> drawFromAbove(const core::PointCloud& cloud, int rows, const 
 
 // One point per jet entry at the middle of its height bin over [z_min, z_max], plus one
 // point at each end of the range (which sets the range the viewer colours over).
-void checkHeightColours(int entries) {
+void checkHeightColours(int entries, viewer::Rasterizer rasterizer) {
     const double z_min = -3.75, z_max = 21.25;
     std::vector<double> heights = {z_min, z_max};
     for (int bin = 0; bin < entries; ++bin) heights.push_back(z_min + (bin + 0.5) * (z_max - z_min) / entries);
@@ -95,7 +96,7 @@ void checkHeightColours(int entries) {
 // Points at the same height z on a sloped stand-in, each with a known height above
 // ground: the above-ground mode must colour by that height (jet over [0, the highest]),
 // not by z, and leave the file's white (whitened ground) white.
-void checkAboveGroundColours() {
+void checkAboveGroundColours(viewer::Rasterizer rasterizer) {
     constexpr int entries = 64;
     const float top_m = 12.8f;
     std::vector<float> above = {0.0f, top_m};
@@ -119,6 +120,7 @@ void checkAboveGroundColours() {
     style.eye_dome = false;
     style.point_size_px = 5.0f;
     style.jet_entries = entries;
+    style.rasterizer = rasterizer;
     const std::vector<Pixel> pixels = drawFromAbove(cloud, rows, style);
     const std::vector<std::uint32_t> jet = core::jetTable(entries);
     for (std::size_t k = 0; k < total; ++k) {
@@ -133,81 +135,102 @@ void checkAboveGroundColours() {
     CHECK(core::jetIndex(0.0, 0.0, top_m, entries) == entries - 1);
 }
 
+constexpr viewer::Rasterizer kRasterizers[] = {viewer::Rasterizer::Points, viewer::Rasterizer::Compute};
+
 }  // namespace
 
 TEST_CASE("viewer above-ground colours: the jet by height above the terrain, whitened ground white") {
     render::EglContext context;
-    checkAboveGroundColours();
+    for (const viewer::Rasterizer r : kRasterizers) {
+        CAPTURE(viewer::rasterizerName(r));
+        checkAboveGroundColours(r);
+    }
 }
 
 TEST_CASE("viewer height colours are the generator's jet table, entry for entry (64 entries)") {
     render::EglContext context;
-    checkHeightColours(64);
+    for (const viewer::Rasterizer r : kRasterizers) {
+        CAPTURE(viewer::rasterizerName(r));
+        checkHeightColours(64, r);
+    }
 }
 
 TEST_CASE("viewer height colours follow the table size (16 entries)") {
     render::EglContext context;
-    checkHeightColours(16);
-}
-
-TEST_CASE("viewer file colours pass through byte-exact") {
-    render::EglContext context;
-    core::PointCloud cloud;
-    const std::uint32_t colours[3] = {0x00FF0000u, 0x0012AB7Fu, 0x00010203u};
-    for (int k = 0; k < 3; ++k) {
-        core::CloudPoint p;
-        p.position = {float(k), 0.0f, float(k)};
-        p.rgb = colours[k];
-        cloud.points.push_back(p);
-    }
-    viewer::ViewStyle style;
-    style.eye_dome = false;
-    style.point_size_px = 5.0f;
-    const std::vector<Pixel> pixels = drawFromAbove(cloud, 1, style);
-    for (int k = 0; k < 3; ++k) {
-        const Pixel got = pixels[static_cast<std::size_t>(4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4];
-        CHECK(core::packRgb(got.r, got.g, got.b) == colours[k]);
+    for (const viewer::Rasterizer r : kRasterizers) {
+        CAPTURE(viewer::rasterizerName(r));
+        checkHeightColours(16, r);
     }
 }
 
-TEST_CASE("the cutting volume hides the points beyond its radius, in 3D") {
+TEST_CASE("viewer file colours pass through byte-exact, with either rasterizer") {
     render::EglContext context;
-    // A row of 12 points 1 m apart at z = 0, and a second row 2.5 m up at y = 1. The cut
-    // centre reaches the shader relative to each cell's centre, like the points.
-    core::PointCloud cloud;
-    cloud.origin = glm::dvec3(1.0e6, -2.0e6, 300.0);
-    for (int k = 0; k < kColumns; ++k)
-        for (int row = 0; row < 2; ++row) {
+    for (const viewer::Rasterizer r : kRasterizers) {
+        CAPTURE(viewer::rasterizerName(r));
+        core::PointCloud cloud;
+        const std::uint32_t colours[3] = {0x00FF0000u, 0x0012AB7Fu, 0x00010203u};
+        for (int k = 0; k < 3; ++k) {
             core::CloudPoint p;
-            p.position = {float(k), float(row), row == 0 ? 0.0f : 2.5f};
-            p.rgb = 0x00FFFFFFu;
+            p.position = {float(k), 0.0f, float(k)};
+            p.rgb = colours[k];
             cloud.points.push_back(p);
         }
-    viewer::ViewStyle style;
-    style.eye_dome = false;
-    style.point_size_px = 5.0f;
-    viewer::CutVolume cut;
-    cut.enabled = true;
-    cut.centre_local = glm::dvec3(5.0, 0.0, 0.0);
-    cut.radius_m = 2.2;
-    const std::vector<Pixel> pixels = drawFromAbove(cloud, 2, style, cut);
-    auto lit = [&](int k, int row) {
-        const Pixel p = pixels[static_cast<std::size_t>(row * kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre +
-                               k * kPixelsPerMetre + 4];
-        return p.r > 200;
-    };
-    for (int k = 0; k < kColumns; ++k) {
-        CAPTURE(k);
-        // Row 0: within 2.2 m of x = 5 are x = 3..7.
-        CHECK(lit(k, 0) == (k >= 3 && k <= 7));
-        // Row 1 is 1 m across and 2.5 m up: sqrt(dx^2 + 1 + 6.25) <= 2.2 holds for none.
-        CHECK_FALSE(lit(k, 1));
+        viewer::ViewStyle style;
+        style.eye_dome = false;
+        style.point_size_px = 5.0f;
+        style.rasterizer = r;
+        const std::vector<Pixel> pixels = drawFromAbove(cloud, 1, style);
+        for (int k = 0; k < 3; ++k) {
+            const Pixel got =
+                pixels[static_cast<std::size_t>(4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4];
+            CHECK(core::packRgb(got.r, got.g, got.b) == colours[k]);
+        }
     }
-    // Without the cut, every point is drawn.
-    const std::vector<Pixel> all = drawFromAbove(cloud, 2, style);
-    for (int k = 0; k < kColumns; ++k)
-        CHECK(all[static_cast<std::size_t>(kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre + 4]
-                  .r > 200);
+}
+
+TEST_CASE("the cutting volume hides the points beyond its radius, in 3D, with either rasterizer") {
+    render::EglContext context;
+    for (const viewer::Rasterizer r : kRasterizers) {
+        CAPTURE(viewer::rasterizerName(r));
+        // A row of 12 points 1 m apart at z = 0, and a second row 2.5 m up at y = 1. The cut
+        // centre reaches the shader relative to each cell's centre, like the points.
+        core::PointCloud cloud;
+        cloud.origin = glm::dvec3(1.0e6, -2.0e6, 300.0);
+        for (int k = 0; k < kColumns; ++k)
+            for (int row = 0; row < 2; ++row) {
+                core::CloudPoint p;
+                p.position = {float(k), float(row), row == 0 ? 0.0f : 2.5f};
+                p.rgb = 0x00FFFFFFu;
+                cloud.points.push_back(p);
+            }
+        viewer::ViewStyle style;
+        style.eye_dome = false;
+        style.point_size_px = 5.0f;
+        style.rasterizer = r;
+        viewer::CutVolume cut;
+        cut.enabled = true;
+        cut.centre_local = glm::dvec3(5.0, 0.0, 0.0);
+        cut.radius_m = 2.2;
+        const std::vector<Pixel> pixels = drawFromAbove(cloud, 2, style, cut);
+        auto lit = [&](int k, int row) {
+            const Pixel p = pixels[static_cast<std::size_t>(row * kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre +
+                                   k * kPixelsPerMetre + 4];
+            return p.r > 200;
+        };
+        for (int k = 0; k < kColumns; ++k) {
+            CAPTURE(k);
+            // Row 0: within 2.2 m of x = 5 are x = 3..7.
+            CHECK(lit(k, 0) == (k >= 3 && k <= 7));
+            // Row 1 is 1 m across and 2.5 m up: sqrt(dx^2 + 1 + 6.25) <= 2.2 holds for none.
+            CHECK_FALSE(lit(k, 1));
+        }
+        // Without the cut, every point is drawn.
+        const std::vector<Pixel> all = drawFromAbove(cloud, 2, style);
+        for (int k = 0; k < kColumns; ++k)
+            CHECK(all[static_cast<std::size_t>(kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre + k * kPixelsPerMetre +
+                      4]
+                      .r > 200);
+    }
 }
 
 namespace {

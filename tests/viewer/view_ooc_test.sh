@@ -10,12 +10,14 @@
 #      "source" too; nodes leave the GPU for others and come back; the process's peak RSS
 #      (VmHWM in the log) stays under 400 MiB (what llvmpipe, Xvfb's client side and the
 #      viewer take with these bounds; the cloud held whole would add its points three times);
-#   2. --upload-mb with --upload-budget is refused in one line;
+#      drawn by the compute rasterizer (--rasterizer compute), which the log records;
+#   2. --upload-mb with --upload-budget is refused in one line, and so is an unknown --rasterizer;
 #   3. the same cloud as plain LAZ (held whole, streamed) with a 4 MiB arena: one warning line
 #      says the arena holds part of it, and the GPU bytes stay within it in every frame;
 #   4. without --point-budget and with --adaptive-budget on, the budget comes from the GPU
 #      class (llvmpipe: software, 3,000,000) and every frame's budget stays between the
-#      adaptive floor and that ceiling.
+#      adaptive floor and that ceiling; without --rasterizer, the rasterizer comes from the
+#      GPU class too (software: points).
 # The runs end after --frames frames (no sleeps); headless_env.sh starts and kills Xvfb.
 set -euo pipefail
 bin=$(realpath "$1")
@@ -39,7 +41,7 @@ common=(--no-xr --width 480 --height 270 --timeout 200 --point-size 2)
 status=0
 "$here/headless_env.sh" --timeout 240 -- "$bin" view "$work/cloud.copc.laz" "${common[@]}" --frames 180 \
   --orbit-period 2 --orbit-radius 120 --orbit-height 60 --script "$work/path.script" \
-  --cache-mb 6 --gpu-mb 2 --upload-mb 0.5 --point-budget 80000 \
+  --cache-mb 6 --gpu-mb 2 --upload-mb 0.5 --point-budget 80000 --rasterizer compute \
   --log-json "$work/ooc.json" 2>"$work/ooc.err" || status=$?
 [ "$status" = 0 ] || { cat "$work/ooc.err" >&2; echo "view_ooc_test: the run exited $status" >&2; exit 1; }
 
@@ -47,6 +49,10 @@ status=0
 "$bin" view "$work/cloud.copc.laz" --no-xr --frames 1 --upload-mb 1 --upload-budget 5000 \
   >"$work/both.out" 2>"$work/both.err" || status=$?
 [ "$status" != 0 ] || { echo "view_ooc_test: --upload-mb with --upload-budget was accepted" >&2; exit 1; }
+status=0
+"$bin" view "$work/cloud.copc.laz" --no-xr --frames 1 --rasterizer gl >"$work/raster.out" 2>"$work/raster.err" ||
+  status=$?
+[ "$status" != 0 ] || { echo "view_ooc_test: --rasterizer gl was accepted" >&2; exit 1; }
 
 printf 'loaded+5 escape\n' >"$work/loaded.script"
 status=0
@@ -99,12 +105,17 @@ check(sum(f["stream"].get("gpu_nodes_added", 0) for f in frames) == src.get("gpu
 check(sum(1 for f in frames if f["stream"].get("gpu_nodes_added", 0) > 0) > 3, "nodes were uploaded in 3 frames or fewer")
 check(log.get("adaptive_budget") is False, f"adaptive_budget {log.get('adaptive_budget')} (off with --frames)")
 check(log.get("point_budget_choice", {}).get("from") == "option", f"point_budget_choice {log.get('point_budget_choice')}")
+check(log.get("rasterizer_choice") == {"from": "option", "rasterizer": "compute"},
+      f"rasterizer_choice {log.get('rasterizer_choice')}")
 hwm = log.get("vm_hwm_bytes", 0)
 check(0 < hwm < 400 * MiB, f"vm_hwm_bytes {hwm} (bound 400 MiB)")
 
 both = open(f"{work}/both.err").read().strip().splitlines()
 check(len(both) == 1 and "--upload-budget" in both[0] and "--upload-mb" in both[0] and "not both" in both[0],
       f"--upload-mb with --upload-budget: {both}")
+raster = open(f"{work}/raster.err").read().strip().splitlines()
+check(len(raster) == 1 and raster[0].endswith("view: --rasterizer 'gl' is not one of auto, points, compute"),
+      f"--rasterizer gl: {raster}")
 
 whole_err = open(f"{work}/whole.err").read()
 warnings = [l for l in whole_err.splitlines() if "warning" in l]
@@ -120,6 +131,8 @@ auto = json.load(open(f"{work}/auto.json"))
 choice = auto.get("point_budget_choice", {})
 check(choice.get("from") == "gpu class" and choice.get("gpu_class") == "software" and choice.get("point_budget") == 3000000,
       f"point_budget_choice {choice}")
+check(auto.get("rasterizer_choice") == {"from": "gpu class", "gpu_class": "software", "rasterizer": "points"},
+      f"rasterizer_choice {auto.get('rasterizer_choice')}")
 adaptive = auto.get("adaptive_budget")
 check(isinstance(adaptive, dict) and adaptive.get("floor") == 375000 and adaptive.get("ceiling") == 3000000,
       f"adaptive_budget {adaptive}")

@@ -35,6 +35,14 @@ const char* colourModeName(ColourMode mode) {
     return "?";
 }
 
+Rasterizer parseRasterizer(const std::string& name) {
+    if (name == "points") return Rasterizer::Points;
+    if (name == "compute") return Rasterizer::Compute;
+    throw core::Error("view: --rasterizer '" + name + "' is not one of points, compute");
+}
+
+const char* rasterizerName(Rasterizer rasterizer) { return rasterizer == Rasterizer::Compute ? "compute" : "points"; }
+
 void validate(const ViewerOptions& o) {
     validate(o.modes);
     auto fail = [](const std::string& what) { throw core::Error("view: " + what); };

@@ -52,6 +52,8 @@ std::size_t defaultPointBudget(GpuClass c) {
     return 3000000;
 }
 
+bool computeRasterizerByDefault(GpuClass c) { return c == GpuClass::Discrete; }
+
 std::size_t adaptiveFloor(std::size_t ceiling) { return std::min(ceiling, std::max<std::size_t>(ceiling / 8, 100000)); }
 
 AdaptiveBudget::AdaptiveBudget(std::size_t floor, std::size_t ceiling)

@@ -74,7 +74,12 @@ PointRenderer::PointRenderer()
                 {GL_FRAGMENT_SHADER, shaders::eye_dome_resolve_frag, shaders::eye_dome_resolve_frag_files}}),
       indicator_("viewer mode indicator",
                  {{GL_VERTEX_SHADER, shaders::mode_indicator_vert, shaders::mode_indicator_vert_files},
-                  {GL_FRAGMENT_SHADER, shaders::mode_indicator_frag, shaders::mode_indicator_frag_files}}) {
+                  {GL_FRAGMENT_SHADER, shaders::mode_indicator_frag, shaders::mode_indicator_frag_files}}),
+      splat_("viewer compute rasteriser",
+             {{GL_COMPUTE_SHADER, shaders::viewer_points_splat_comp, shaders::viewer_points_splat_comp_files}}),
+      unpack_("viewer compute rasteriser unpack",
+              {{GL_VERTEX_SHADER, shaders::fullscreen_triangle_vert, shaders::fullscreen_triangle_vert_files},
+               {GL_FRAGMENT_SHADER, shaders::viewer_points_unpack_frag, shaders::viewer_points_unpack_frag_files}}) {
     glCreateVertexArrays(1, &empty_vao_);
     indicator_.use();
     glUniform1iv(indicator_.uniform("u_font"), 70, kFont.data());
@@ -83,6 +88,9 @@ PointRenderer::PointRenderer()
 
 PointRenderer::~PointRenderer() {
     if (jet_texture_) glDeleteTextures(1, &jet_texture_);
+    if (raster_depth_) glDeleteTextures(1, &raster_depth_);
+    if (raster_colour_) glDeleteTextures(1, &raster_colour_);
+    if (raster_cells_) glDeleteBuffers(1, &raster_cells_);
     if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
 }
 
@@ -281,6 +289,129 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
     }
 }
 
+void PointRenderer::setStyleUniforms(const render::Program& program, const ViewStyle& style,
+                                     const CutVolume& cut) const {
+    program.use();
+    const core::Bounds& bounds = chunks_.bounds();
+    glUniform1f(program.uniform("u_z_min"), bounds.empty() ? 0.0f : float(bounds.lo.z));
+    glUniform1f(program.uniform("u_z_max"), bounds.empty() ? 1.0f : float(bounds.hi.z));
+    glUniform1i(program.uniform("u_colour_mode"), static_cast<int>(style.colour));
+    glUniform1f(program.uniform("u_above_ground_max_m"), above_ground_max_m_);
+    glBindTextureUnit(kJetTextureUnit, jetTexture(style.jet_entries));
+    glUniform1i(program.uniform("u_jet"), kJetTextureUnit);
+    glUniform1f(program.uniform("u_size_px"), style.point_size_px);
+    glUniform1i(program.uniform("u_attenuate"), style.attenuate ? 1 : 0);
+    glUniform1f(program.uniform("u_cut_radius"), cut.enabled ? float(cut.radius_m) : -1.0f);
+}
+
+void PointRenderer::rasterizePoints(const EyeDraw& eye, std::span<const DrawnCell> drawn, const CutVolume& cut) const {
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glBindVertexArray(chunks_.vao());
+    glUniformMatrix4fv(points_.uniform("u_projection"), 1, GL_FALSE, &glm::mat4(eye.projection)[0][0]);
+    const GLint u_model_view = points_.uniform("u_model_view");
+    const GLint u_chunk_z = points_.uniform("u_chunk_z");
+    const GLint u_cut_centre = points_.uniform("u_cut_centre");
+    const auto& cells = chunks_.cells();
+    std::size_t bound_chunk = SIZE_MAX;
+    for (const DrawnCell& d : drawn) {
+        const render::PointChunks::Cell& c = cells[d.cell];
+        const glm::mat4 mv = chunkModelView(eye.view, c.centre);
+        glUniformMatrix4fv(u_model_view, 1, GL_FALSE, &mv[0][0]);
+        glUniform1f(u_chunk_z, float(c.centre.z));
+        if (cut.enabled) {  // relative to the cell's centre, like its points
+            const glm::vec3 rel(cut.centre_local - c.centre);
+            glUniform3f(u_cut_centre, rel.x, rel.y, rel.z);
+        }
+        chunks_.drawCell(d.cell, d.count, bound_chunk);
+    }
+}
+
+void PointRenderer::rasterizeCompute(const EyeTarget& target, const EyeDraw& eye, std::span<const DrawnCell> drawn,
+                                     const CutVolume& cut) const {
+    if (target.width > raster_width_ || target.height > raster_height_) {
+        if (raster_depth_) glDeleteTextures(1, &raster_depth_);
+        if (raster_colour_) glDeleteTextures(1, &raster_colour_);
+        raster_width_ = std::max(raster_width_, target.width);
+        raster_height_ = std::max(raster_height_, target.height);
+        for (GLuint* t : {&raster_depth_, &raster_colour_}) {
+            glCreateTextures(GL_TEXTURE_2D, 1, t);
+            glTextureStorage2D(*t, 1, GL_R32UI, raster_width_, raster_height_);
+        }
+        if (!raster_cells_) glCreateBuffers(1, &raster_cells_);
+    }
+    // The last eye's passes and unpack are done with the images before they are cleared.
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    // Both start at the largest value: each pass keeps an atomic minimum.
+    const GLuint empty = 0xFFFFFFFFu;
+    glClearTexImage(raster_depth_, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &empty);
+    glClearTexImage(raster_colour_, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &empty);
+    // The cell table, each chunk's drawn cells together (cells of a chunk are contiguous).
+    struct GpuCell {
+        float model_view[16];
+        float cut_centre[4];
+        std::uint32_t range[4];
+    };
+    static_assert(sizeof(GpuCell) == 96);
+    struct Group {
+        std::size_t chunk = 0, first = 0, cells = 0, points = 0;
+    };
+    const auto& cells = chunks_.cells();
+    std::vector<GpuCell> table;
+    std::vector<Group> groups;
+    table.reserve(drawn.size());
+    for (const DrawnCell& d : drawn) {
+        const render::PointChunks::Cell& c = cells[d.cell];
+        if (groups.empty() || groups.back().chunk != c.chunk) groups.push_back({c.chunk, table.size(), 0, 0});
+        Group& g = groups.back();
+        GpuCell gc{};
+        const glm::mat4 mv = chunkModelView(eye.view, c.centre);
+        std::memcpy(gc.model_view, &mv[0][0], sizeof gc.model_view);
+        const glm::vec3 rel(cut.centre_local - c.centre);
+        gc.cut_centre[0] = rel.x;
+        gc.cut_centre[1] = rel.y;
+        gc.cut_centre[2] = rel.z;
+        gc.cut_centre[3] = float(c.centre.z);
+        gc.range[0] = static_cast<std::uint32_t>(c.first);
+        gc.range[1] = static_cast<std::uint32_t>(d.count);
+        gc.range[2] = static_cast<std::uint32_t>(g.points);
+        table.push_back(gc);
+        ++g.cells;
+        g.points += d.count;
+    }
+    if (!table.empty()) {
+        glNamedBufferData(raster_cells_, static_cast<GLsizeiptr>(table.size() * sizeof(GpuCell)), table.data(),
+                          GL_STREAM_DRAW);
+        glUniformMatrix4fv(splat_.uniform("u_projection"), 1, GL_FALSE, &glm::mat4(eye.projection)[0][0]);
+        glUniform2f(splat_.uniform("u_image_size"), float(target.width), float(target.height));
+        glBindImageTexture(0, raster_depth_, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+        glBindImageTexture(1, raster_colour_, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, raster_cells_);
+        const GLint u_pass = splat_.uniform("u_pass"), u_cell_first = splat_.uniform("u_cell_first");
+        const GLint u_cell_count = splat_.uniform("u_cell_count"), u_total = splat_.uniform("u_total");
+        constexpr std::size_t kGroupSize = 128, kMaxGroups = 4096;  // grid-stride beyond
+        for (int pass = 0; pass < 2; ++pass) {
+            glUniform1i(u_pass, pass);
+            for (const Group& g : groups) {
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, chunks_.buffer(g.chunk));
+                glUniform1ui(u_cell_first, static_cast<GLuint>(g.first));
+                glUniform1ui(u_cell_count, static_cast<GLuint>(g.cells));
+                glUniform1ui(u_total, static_cast<GLuint>(g.points));
+                glDispatchCompute(static_cast<GLuint>(std::min(kMaxGroups, (g.points + kGroupSize - 1) / kGroupSize)),
+                                  1, 1);
+            }
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        }
+    }
+    // Into the target: colour and depth where a point landed.
+    unpack_.use();
+    glBindImageTexture(0, raster_depth_, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+    glBindImageTexture(1, raster_colour_, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+    glBindVertexArray(empty_vao_);
+    glDepthFunc(GL_ALWAYS);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthFunc(GL_LESS);
+}
+
 DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style, ViewMode mode,
                                  GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut) const {
     DrawStats stats;
@@ -296,47 +427,29 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glClearColor(background.r, background.g, background.b, 1.0f);
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_PROGRAM_POINT_SIZE);
-    points_.use();
-    glBindVertexArray(chunks_.vao());
-    glUniformMatrix4fv(points_.uniform("u_projection"), 1, GL_FALSE, &glm::mat4(eye.projection)[0][0]);
-    const core::Bounds& bounds = chunks_.bounds();
-    glUniform1f(points_.uniform("u_z_min"), bounds.empty() ? 0.0f : float(bounds.lo.z));
-    glUniform1f(points_.uniform("u_z_max"), bounds.empty() ? 1.0f : float(bounds.hi.z));
-    glUniform1i(points_.uniform("u_colour_mode"), static_cast<int>(style.colour));
-    glUniform1f(points_.uniform("u_above_ground_max_m"), above_ground_max_m_);
-    glBindTextureUnit(kJetTextureUnit, jetTexture(style.jet_entries));
-    glUniform1i(points_.uniform("u_jet"), kJetTextureUnit);
-    glUniform1f(points_.uniform("u_size_px"), style.point_size_px);
-    glUniform1i(points_.uniform("u_attenuate"), style.attenuate ? 1 : 0);
-    const GLint u_model_view = points_.uniform("u_model_view");
-    const GLint u_chunk_z = points_.uniform("u_chunk_z");
-    const GLint u_cut_centre = points_.uniform("u_cut_centre");
-    glUniform1f(points_.uniform("u_cut_radius"), cut.enabled ? float(cut.radius_m) : -1.0f);
     const auto frustum = render::Frustum::fromMatrix(eye.projection * eye.view);
     const auto& cells = chunks_.cells();
     const bool planned = plan_valid_ && plan_.size() == cells.size();
     const bool cull = !planned || plan_cull_;
-    std::size_t bound_chunk = SIZE_MAX;
+    std::vector<DrawnCell> drawn;
     for (std::size_t i = 0; i < cells.size(); ++i) {
-        const render::PointChunks::Cell& c = cells[i];
         const std::size_t have = chunks_.available(i);
         if (have == 0) continue;
         const std::size_t n = planned ? std::min(have, plan_[i]) : have;
-        if (n == 0 || (cull && !frustum.intersects(c.bounds))) {
+        if (n == 0 || (cull && !frustum.intersects(cells[i].bounds))) {
             ++stats.chunks_culled;
             continue;
         }
-        const glm::mat4 mv = chunkModelView(eye.view, c.centre);
-        glUniformMatrix4fv(u_model_view, 1, GL_FALSE, &mv[0][0]);
-        glUniform1f(u_chunk_z, float(c.centre.z));
-        if (cut.enabled) {  // relative to the cell's centre, like its points
-            const glm::vec3 rel(cut.centre_local - c.centre);
-            glUniform3f(u_cut_centre, rel.x, rel.y, rel.z);
-        }
-        chunks_.drawCell(i, n, bound_chunk);
+        drawn.push_back({i, n});
         stats.points_drawn += n;
         ++stats.chunks_drawn;
+    }
+    if (style.rasterizer == Rasterizer::Compute) {
+        setStyleUniforms(splat_, style, cut);
+        rasterizeCompute(target, eye, drawn, cut);
+    } else {
+        setStyleUniforms(points_, style, cut);
+        rasterizePoints(eye, drawn, cut);
     }
     // 2. resolve (eye-dome lighting) into the output
     glBindFramebuffer(GL_FRAMEBUFFER, out_fbo);

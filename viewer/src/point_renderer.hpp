@@ -118,6 +118,19 @@ class PointRenderer {
                       GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut = {}) const;
 
   private:
+    /// A cell drawEye draws this eye: its index and how many of its points.
+    struct DrawnCell {
+        std::size_t cell = 0, count = 0;
+    };
+    /// The style's uniforms shared by the points' vertex stage and the compute rasteriser
+    /// (shaders/include/viewer_point_style.glsl).
+    void setStyleUniforms(const render::Program& program, const ViewStyle& style, const CutVolume& cut) const;
+    /// `drawn` through GL_POINTS into the bound target.
+    void rasterizePoints(const EyeDraw& eye, std::span<const DrawnCell> drawn, const CutVolume& cut) const;
+    /// `drawn` through the two compute passes into the raster images, then copied into
+    /// `target` (cleared and bound) with its depth.
+    void rasterizeCompute(const EyeTarget& target, const EyeDraw& eye, std::span<const DrawnCell> drawn,
+                          const CutVolume& cut) const;
     /// The jet table (core::jetTable(entries)) as a 1D RGBA8 texture, made on first use
     /// and again when `entries` changes. Never throws (a GL error is logged).
     GLuint jetTexture(int entries) const;
@@ -140,11 +153,15 @@ class PointRenderer {
     };
     bool makeRoom(std::size_t bytes, std::deque<Evictable>& evictable);
 
-    render::Program points_, resolve_, indicator_;
+    render::Program points_, resolve_, indicator_, splat_, unpack_;
     render::PointChunks chunks_;
     GLuint empty_vao_ = 0;
     mutable GLuint jet_texture_ = 0;  // jetTexture()'s cache
     mutable int jet_entries_ = 0;
+    // The compute rasteriser's nearest depth and colour (r32ui), at least the largest target
+    // drawn so far, made on first use; and its per-eye cell table.
+    mutable GLuint raster_depth_ = 0, raster_colour_ = 0, raster_cells_ = 0;
+    mutable int raster_width_ = 0, raster_height_ = 0;
     std::unordered_map<const PointNode*, std::size_t> on_gpu_;  // node -> its chunk
     std::vector<long> chunk_used_;                              // per chunk id: tick last wanted or drawn
     std::vector<const PointNode*> chunk_node_;                  // per chunk id: its node (null: free)

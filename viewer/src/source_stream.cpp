@@ -21,18 +21,27 @@ void SourceStream::start(const ViewerOptions& options, RunLog& log) {
     gpu_bytes_ = options.gpu_bytes;
     quiet_ = options.quiet;
     budget_points_ = options.point_budget;
+    rasterizer_ = options.style.rasterizer;
+    auto str = [](GLenum name) {
+        const auto* s = reinterpret_cast<const char*>(glGetString(name));
+        return std::string(s ? s : "");
+    };
+    const GpuClass gpu = classifyGpu(str(GL_RENDERER), str(GL_VENDOR));
     if (options.point_budget_auto) {
-        auto str = [](GLenum name) {
-            const auto* s = reinterpret_cast<const char*>(glGetString(name));
-            return std::string(s ? s : "");
-        };
-        const GpuClass gpu = classifyGpu(str(GL_RENDERER), str(GL_VENDOR));
         budget_points_ = defaultPointBudget(gpu);
         log.set(
             "point_budget_choice",
             nlohmann::json{{"from", "gpu class"}, {"gpu_class", gpuClassName(gpu)}, {"point_budget", budget_points_}});
     } else {
         log.set("point_budget_choice", nlohmann::json{{"from", "option"}, {"point_budget", budget_points_}});
+    }
+    if (options.rasterizer_auto) {
+        rasterizer_ = computeRasterizerByDefault(gpu) ? Rasterizer::Compute : Rasterizer::Points;
+        log.set("rasterizer_choice", nlohmann::json{{"from", "gpu class"},
+                                                    {"gpu_class", gpuClassName(gpu)},
+                                                    {"rasterizer", rasterizerName(rasterizer_)}});
+    } else {
+        log.set("rasterizer_choice", nlohmann::json{{"from", "option"}, {"rasterizer", rasterizerName(rasterizer_)}});
     }
     if (options.adaptive_budget && budget_points_ > 0) adaptive_.emplace(adaptiveFloor(budget_points_), budget_points_);
     log.set("adaptive_budget", adaptive_

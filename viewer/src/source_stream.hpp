@@ -36,8 +36,11 @@ class SourceStream {
     /// `options`' upload budget (--upload-mb as points when given, else --upload-budget),
     /// GPU arena bound and point budget: --point-budget, or when `point_budget_auto` the
     /// GPU class's default (GL_RENDERER / GL_VENDOR), recorded in `log`'s
-    /// "point_budget_choice".
+    /// "point_budget_choice"; the rasterizer likewise (`rasterizer_auto`), in
+    /// "rasterizer_choice".
     void start(const ViewerOptions& options, RunLog& log);
+    /// The rasterizer start() chose: options.style's, or the GPU class's.
+    Rasterizer rasterizer() const { return rasterizer_; }
     /// The point budget per eye frames draw with now (0 = unlimited).
     std::size_t pointBudget() const { return budget_points_; }
     /// After a counted frame: its cost (CPU + GPU ms spent on it) against the frame budget
@@ -70,6 +73,7 @@ class SourceStream {
     std::size_t budget_ = 0;  // points uploaded per frame at most
     std::size_t gpu_bytes_ = 0;
     std::size_t budget_points_ = 0;  // the point budget frames draw with
+    Rasterizer rasterizer_ = Rasterizer::Points;
     std::optional<AdaptiveBudget> adaptive_;
     std::size_t last_loaded_ = 0, last_evicted_ = 0;  // the source's counts at the last frameFigures()
     bool quiet_ = false;

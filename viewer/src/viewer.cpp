@@ -49,6 +49,7 @@ ViewerApp::ViewerApp(const ViewerOptions& options, bool record_frames, TrialSour
       headset_panel_(options.headset_panel) {
     log_.set("gl", render::glDescription());
     stream_.start(options_, log_);
+    style_.rasterizer = stream_.rasterizer();
     eyes_ = std::make_unique<EyeFrameRenderer>(options_);
     headset_.start(window_.handle, options_.use_xr);
     glfwSwapInterval(headset_.session() || !options_.vsync ? 0 : 1);

@@ -25,6 +25,11 @@ GpuClass classifyGpu(const std::string& gl_renderer, const std::string& gl_vendo
 /// (Potree's default budget).
 std::size_t defaultPointBudget(GpuClass c);
 
+/// Whether the viewer draws points with its compute rasteriser when the user chose none:
+/// on Discrete GPUs (measured faster wherever the cloud fills much of the view, several
+/// times over at millions of points; BENCHMARKS.md), GL_POINTS elsewhere.
+bool computeRasterizerByDefault(GpuClass c);
+
 /// The adaptive point budget: fed each frame's cost (CPU + GPU time spent on it) and the
 /// frame budget (the display period), it returns the budget for the next frame, between
 /// `floor` and `ceiling` (the user's --point-budget). Over 90 % of the frame budget it

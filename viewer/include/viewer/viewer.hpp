@@ -24,6 +24,11 @@ namespace viewer {
 
 enum class MirrorEyes { Left, Right, Both };
 enum class ColourMode { File, HeightJet, White, Label, AboveGround };
+/// How points reach the eye images: GL_POINTS through the graphics pipeline, or two compute
+/// passes (nearest depth by atomic minimum, then the colour of the nearest point) whose result
+/// is copied into the same colour and depth targets. Both give the same picture; which is
+/// faster depends on the GPU (docs/viewer.md).
+enum class Rasterizer { Points, Compute };
 
 /// "left" / "right" / "both"; throws core::Error("view: --mirror 'x' is not one of left, right, both").
 MirrorEyes parseMirrorEyes(const std::string& name);
@@ -33,6 +38,9 @@ MirrorEyes parseMirrorEyes(const std::string& name);
 /// `generate --ground smrf|csf`), the jet over [0, the cloud's highest], ground left white.
 ColourMode parseColourMode(const std::string& name);
 const char* colourModeName(ColourMode mode);
+/// "points" / "compute"; throws core::Error("view: --rasterizer 'x' is not one of points, compute").
+Rasterizer parseRasterizer(const std::string& name);
+const char* rasterizerName(Rasterizer rasterizer);
 
 /// How points look; the ImGui panel edits it live.
 struct ViewStyle {
@@ -42,6 +50,7 @@ struct ViewStyle {
     bool eye_dome = true;  // eye-dome lighting (Potree / CloudCompare style)
     float edl_strength = 1.0f;
     int jet_entries = 64;  // the paper's 64-entry jet map (§III-C)
+    Rasterizer rasterizer = Rasterizer::Points;
 };
 
 struct ViewerOptions {
@@ -89,6 +98,9 @@ struct ViewerOptions {
     /// Choose point_budget from the GPU class (GL_RENDERER / GL_VENDOR, point_budget.hpp)
     /// instead: `view` sets it when no --point-budget is given.
     bool point_budget_auto = false;
+    /// Choose style.rasterizer from the GPU class instead (computeRasterizerByDefault):
+    /// `view` sets it when no --rasterizer is given.
+    bool rasterizer_auto = false;
     /// Lower the point budget while frames run late, raise it again up to point_budget
     /// (--adaptive-budget; `view` turns it on for interactive runs, off with --frames).
     bool adaptive_budget = false;
