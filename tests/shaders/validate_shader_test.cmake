@@ -92,7 +92,7 @@ elseif(CASE STREQUAL "broken_stage_after_include")
   expect_failure(viewer_points.vert ${line})
 elseif(CASE STREQUAL "fragment_stage_rules")
   # gl_VertexID exists in a vertex stage only: the extension picks the stage's rules.
-  break_line(eye_dome_resolve.frag "ivec2 size = textureSize(u_colour, 0);"
+  break_line(eye_dome_resolve.frag "ivec2 size = u_size;"
              "ivec2 size = ivec2(gl_VertexID);" line)
   validate(eye_dome_resolve.frag)
   expect_failure(eye_dome_resolve.frag ${line})

@@ -22,13 +22,15 @@ namespace {
 
 constexpr int kColumns = 12;  // points on a grid of 1 m cells, seen from straight above
 constexpr int kPixelsPerMetre = 8;
+constexpr int kIndicatorRows = 8;
 
 struct Pixel {
     std::uint8_t r, g, b, a;
 };
 
 // Draws `cloud` from straight above with an orthographic camera (1 m = 8 px, grid cell
-// (i, j) centred on pixel (8i + 4, 8j + 4)) and returns the point pass's colour image.
+// (i, j) centred on pixel (8i + 4, 8j + 4)) and returns the resolved image (the points'
+// colours where the style has eye-dome lighting off).
 std::vector<Pixel> drawFromAbove(const core::PointCloud& cloud, int rows, const viewer::ViewStyle& style,
                                  const viewer::CutVolume& cut = {}) {
     viewer::PointRenderer renderer;
@@ -38,20 +40,20 @@ std::vector<Pixel> drawFromAbove(const core::PointCloud& cloud, int rows, const 
     source.poll();
     renderer.stream(source, cloud.points.size());
     REQUIRE(renderer.uploadedPoints() == cloud.points.size());
-    const int width = kColumns * kPixelsPerMetre, height = rows * kPixelsPerMetre;
+    // Empty rows above the grid keep the mode indicator (drawn near the top) off it.
+    const int width = kColumns * kPixelsPerMetre, height = (rows + kIndicatorRows) * kPixelsPerMetre;
     viewer::EyeTarget target, out;
     REQUIRE(target.ensure(width, height));
     REQUIRE(out.ensure(width, height));
     viewer::EyeDraw eye;
     eye.view = glm::lookAt(glm::dvec3(0.0, 0.0, 1000.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
-    eye.projection = glm::ortho(-0.5, kColumns - 0.5, -0.5, rows - 0.5, 1.0, 2000.0);
+    eye.projection = glm::ortho(-0.5, kColumns - 0.5, -0.5, rows + kIndicatorRows - 0.5, 1.0, 2000.0);
     eye.near_m = 1.0;
     eye.far_m = 2000.0;
     renderer.drawEye(target, eye, style, viewer::ViewMode::Free, out.fbo, 0, 0, width, height, cut);
     std::vector<Pixel> pixels(static_cast<std::size_t>(width) * height);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glGetTextureImage(target.colour, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(pixels.size() * 4),
-                      pixels.data());
+    glGetTextureImage(out.colour, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(pixels.size() * 4), pixels.data());
     REQUIRE(glGetError() == GL_NO_ERROR);
     target.destroy();
     out.destroy();

@@ -76,10 +76,7 @@ PointRenderer::PointRenderer()
                  {{GL_VERTEX_SHADER, shaders::mode_indicator_vert, shaders::mode_indicator_vert_files},
                   {GL_FRAGMENT_SHADER, shaders::mode_indicator_frag, shaders::mode_indicator_frag_files}}),
       splat_("viewer compute rasteriser",
-             {{GL_COMPUTE_SHADER, shaders::viewer_points_splat_comp, shaders::viewer_points_splat_comp_files}}),
-      unpack_("viewer compute rasteriser unpack",
-              {{GL_VERTEX_SHADER, shaders::fullscreen_triangle_vert, shaders::fullscreen_triangle_vert_files},
-               {GL_FRAGMENT_SHADER, shaders::viewer_points_unpack_frag, shaders::viewer_points_unpack_frag_files}}) {
+             {{GL_COMPUTE_SHADER, shaders::viewer_points_splat_comp, shaders::viewer_points_splat_comp_files}}) {
     glCreateVertexArrays(1, &empty_vao_);
     indicator_.use();
     glUniform1iv(indicator_.uniform("u_font"), 70, kFont.data());
@@ -339,7 +336,7 @@ void PointRenderer::rasterizeCompute(const EyeTarget& target, const EyeDraw& eye
         }
         if (!raster_cells_) glCreateBuffers(1, &raster_cells_);
     }
-    // The last eye's passes and unpack are done with the images before they are cleared.
+    // The last eye's passes and resolve are done with the images before they are cleared.
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     // Both start at the largest value: each pass keeps an atomic minimum.
     const GLuint empty = 0xFFFFFFFFu;
@@ -402,31 +399,26 @@ void PointRenderer::rasterizeCompute(const EyeTarget& target, const EyeDraw& eye
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         }
     }
-    // Into the target: colour and depth where a point landed.
-    unpack_.use();
-    glBindImageTexture(0, raster_depth_, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
-    glBindImageTexture(1, raster_colour_, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
-    glBindVertexArray(empty_vao_);
-    glDepthFunc(GL_ALWAYS);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glDepthFunc(GL_LESS);
 }
 
 DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style, ViewMode mode,
                                  GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut) const {
     DrawStats stats;
     const glm::vec3 background(0.06f, 0.07f, 0.09f);
-    // 1. points into the eye target
-    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
-    glViewport(0, 0, target.width, target.height);
+    // 1. points into the eye target (GL_POINTS) or the compute rasteriser's images
+    const bool compute = style.rasterizer == Rasterizer::Compute;
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_BLEND);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glClearColor(background.r, background.g, background.b, 1.0f);
-    glClearDepth(1.0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (!compute) {
+        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+        glViewport(0, 0, target.width, target.height);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        glClearColor(background.r, background.g, background.b, 1.0f);
+        glClearDepth(1.0);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
     const auto frustum = render::Frustum::fromMatrix(eye.projection * eye.view);
     const auto& cells = chunks_.cells();
     const bool planned = plan_valid_ && plan_.size() == cells.size();
@@ -444,7 +436,7 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
         stats.points_drawn += n;
         ++stats.chunks_drawn;
     }
-    if (style.rasterizer == Rasterizer::Compute) {
+    if (compute) {
         setStyleUniforms(splat_, style, cut);
         rasterizeCompute(target, eye, drawn, cut);
     } else {
@@ -461,6 +453,12 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glBindTextureUnit(1, target.depth);
     glUniform1i(resolve_.uniform("u_colour"), 0);
     glUniform1i(resolve_.uniform("u_depth"), 1);
+    glUniform1i(resolve_.uniform("u_from_images"), compute ? 1 : 0);
+    glUniform2i(resolve_.uniform("u_size"), target.width, target.height);
+    if (compute) {
+        glBindImageTexture(0, raster_depth_, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+        glBindImageTexture(1, raster_colour_, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+    }
     glUniform4f(resolve_.uniform("u_viewport"), float(x), float(y), float(w), float(h));
     glUniform1i(resolve_.uniform("u_edl"), style.eye_dome ? 1 : 0);
     glUniform1f(resolve_.uniform("u_strength"), style.edl_strength);

@@ -111,8 +111,9 @@ class PointRenderer {
     const std::optional<SourceView>& lastView() const { return last_view_; }
     std::size_t cellCount() const { return chunks_.cells().size(); }
 
-    /// Draws the cloud into `target` (cleared), then resolves it with eye-dome lighting (if
-    /// on) into the framebuffer `out_fbo` at viewport (x, y, w, h), then the mode indicator
+    /// Draws the cloud into `target` (cleared; with the compute rasterizer into the
+    /// renderer's own images instead, and `target` is left as it was), then resolves it with
+    /// eye-dome lighting (if on) into the framebuffer `out_fbo` at viewport (x, y, w, h), then the mode indicator
     /// (small, near the top edge). Points outside an enabled `cut` are not drawn.
     DrawStats drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style, ViewMode mode,
                       GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut = {}) const;
@@ -127,8 +128,8 @@ class PointRenderer {
     void setStyleUniforms(const render::Program& program, const ViewStyle& style, const CutVolume& cut) const;
     /// `drawn` through GL_POINTS into the bound target.
     void rasterizePoints(const EyeDraw& eye, std::span<const DrawnCell> drawn, const CutVolume& cut) const;
-    /// `drawn` through the two compute passes into the raster images, then copied into
-    /// `target` (cleared and bound) with its depth.
+    /// `drawn` through the two compute passes into the raster images (of at least
+    /// `target`'s size), which the eye-dome resolve then reads instead of `target`.
     void rasterizeCompute(const EyeTarget& target, const EyeDraw& eye, std::span<const DrawnCell> drawn,
                           const CutVolume& cut) const;
     /// The jet table (core::jetTable(entries)) as a 1D RGBA8 texture, made on first use
@@ -153,7 +154,7 @@ class PointRenderer {
     };
     bool makeRoom(std::size_t bytes, std::deque<Evictable>& evictable);
 
-    render::Program points_, resolve_, indicator_, splat_, unpack_;
+    render::Program points_, resolve_, indicator_, splat_;
     render::PointChunks chunks_;
     GLuint empty_vao_ = 0;
     mutable GLuint jet_texture_ = 0;  // jetTexture()'s cache
