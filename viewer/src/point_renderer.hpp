@@ -1,8 +1,9 @@
 // viewer/src/point_renderer.hpp: the viewer's point drawing: the resident nodes of a point
 // source (viewer/point_source.hpp) streamed to the GPU in render::PointChunks (the storage
 // the metric's splat renderer draws from too), camera-relative positions, file /
-// height-jet / white colours, pixel or distance-attenuated point size, eye-dome lighting,
-// and the mode indicator drawn into every eye view.
+// height-jet / white colours, pixel or distance-attenuated point size, drawn with GL_POINTS
+// or the compute rasterizer, eye-dome lighting, and the mode indicator drawn into every eye
+// view.
 #pragma once
 #include <viewer/camera_rig.hpp>
 #include <viewer/lod.hpp>
