@@ -260,6 +260,10 @@ void registerDetect(CLI::App& parent) {
     c->add_option("--tmp", state->trained.tmp, "scratch folder for the corpora (default: a new one, removed)");
     c->add_option("--threads", state->trained.threads, "threads of the trained detector and the generator")
         ->capture_default_str();
+    c->add_option("--repeats", state->trained.repeats,
+                  "detections of each evaluation cloud by each detector, timed by their median, [1, 20]")
+        ->check(CLI::Range(1, 20))
+        ->capture_default_str();
     c->callback([state] { run(*state); });
 }
 

@@ -46,8 +46,9 @@ namespace {
 namespace fs = std::filesystem;
 
 struct Outcome {
-    int rank = 0;  // 1-based rank of the first true positive, 0 when none
-    double seconds = 0;
+    int rank = 0;                                 // 1-based rank of the first true positive, 0 when none
+    double seconds = 0;                           // median of the repeated detections
+    double seconds_min = 0, seconds_max = 0;      // their spread
     std::vector<std::pair<double, bool>> scored;  // every candidate: score, true positive
 };
 
@@ -73,11 +74,28 @@ std::map<std::string, std::string> sensorOfItems(const fs::path& dir) {
     return out;
 }
 
-Outcome evaluate(const detect::Detector& d, const core::PointCloud& c) {
+// Detects `repeats` times; the time is the median, the candidates those of the first run,
+// and every run must give the same candidates (detection is deterministic).
+Outcome evaluate(const detect::Detector& d, const core::PointCloud& c, int repeats, const std::string& name) {
     Outcome o;
-    const auto t0 = Clock::now();
-    const std::vector<detect::Detection> found = d.detect(c);
-    o.seconds = secondsSince(t0);
+    std::vector<double> seconds;
+    std::vector<detect::Detection> found;
+    for (int r = 0; r < std::max(1, repeats); ++r) {
+        const auto t0 = Clock::now();
+        std::vector<detect::Detection> again = d.detect(c);
+        seconds.push_back(secondsSince(t0));
+        if (r == 0) {
+            found = std::move(again);
+            continue;
+        }
+        bool same = again.size() == found.size();
+        for (std::size_t k = 0; same && k < found.size(); ++k)
+            same = again[k].points == found[k].points && again[k].candidate.score == found[k].candidate.score;
+        if (!same) throw core::Error("bench detect: " + name + ": a repeated detection gave other candidates");
+    }
+    o.seconds = median(seconds);
+    o.seconds_min = *std::min_element(seconds.begin(), seconds.end());
+    o.seconds_max = *std::max_element(seconds.begin(), seconds.end());
     for (std::size_t k = 0; k < found.size(); ++k) {
         std::size_t target = 0;
         for (const std::uint32_t i : found[k].points) target += c.points[i].label == core::Role::Target;
@@ -304,15 +322,18 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
     const detect::ClusterDetector baseline(co);
     std::vector<Outcome> t_out, b_out;
     std::ostringstream per;
-    per << "| cloud | points | trained rank | baseline rank | trained detect s | baseline detect s |\n"
-           "|---|---:|---:|---:|---:|---:|\n";
+    per << "| cloud | points | trained rank | baseline rank | trained detect s (min-max) | baseline detect s "
+           "(min-max) |\n|---|---:|---:|---:|---:|---:|\n";
+    auto spread = [](const Outcome& x) {
+        return fmt("%.2f", x.seconds) + " (" + fmt("%.2f", x.seconds_min) + "-" + fmt("%.2f", x.seconds_max) + ")";
+    };
     for (const Cloud& c : clouds) {
-        t_out.push_back(evaluate(trained, c.cloud));
-        b_out.push_back(evaluate(baseline, c.cloud));
+        t_out.push_back(evaluate(trained, c.cloud, o.repeats, c.name));
+        b_out.push_back(evaluate(baseline, c.cloud, o.repeats, c.name));
         per << "| " << c.name << " | " << c.cloud.points.size() << " | "
             << (t_out.back().rank ? std::to_string(t_out.back().rank) : "not found") << " | "
-            << (b_out.back().rank ? std::to_string(b_out.back().rank) : "not found") << " | "
-            << fmt("%.2f", t_out.back().seconds) << " | " << fmt("%.2f", b_out.back().seconds) << " |\n";
+            << (b_out.back().rank ? std::to_string(b_out.back().rank) : "not found") << " | " << spread(t_out.back())
+            << " | " << spread(b_out.back()) << " |\n";
         std::fprintf(stderr, "bench detect: %s: trained rank %d, baseline rank %d\n", c.name.c_str(), t_out.back().rank,
                      b_out.back().rank);
     }
@@ -332,6 +353,7 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
     s << "Trained on " << report.items << " items (" << report.heldout_items << " held out for the calibration), "
       << report.segments << " segments, " << report.positives << " target segments, in " << fmt("%.1f", train_s)
       << " s (trees only; the clouds' segments and features before that). Evaluated on " << clouds.size() << " clouds"
+      << ", each detected " << std::max(1, o.repeats) << " times by each detector (detect s: the median)"
       << (o.quick ? " (--quick: tiny corpora and clouds, a smoke run, not a measurement)" : "")
       << (left_out ? "; " + std::to_string(left_out) + " evaluation items were left out (no free place for the target)"
                    : std::string())
@@ -389,7 +411,7 @@ std::string rankClouds(const TrainedBenchOptions& o) {
                     << fmt("%.1f", a.centre_world.z) << " |\n";
             }
         }
-        const Outcome b_out = evaluate(baseline, c);
+        const Outcome b_out = evaluate(baseline, c, 1, name);
         s << "| " << name << " | " << c.points.size() << " | " << target_points << " | "
           << fmt("%.3f", st.ground_sigma_m) << " | " << fmt("%.2f", st.min_height_m) << ", core " << st.core_points
           << " | " << st.above_points << " | " << st.segments << " | " << largest << " | "

@@ -17,6 +17,7 @@ struct TrainedBenchOptions {
     std::filesystem::path model;                // --model: the model --clouds uses
     int explain = 0;                            // --clouds: list this many best candidates of each cloud
     std::filesystem::path pr_csv;               // the precision-recall curves of both detectors (empty: none)
+    int repeats = 3;                            // detections of each cloud by each detector; its time is their median
 };
 
 /// Trains on the corpora of assets/detect/train_*.json, evaluates both detectors on new

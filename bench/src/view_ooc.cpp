@@ -207,6 +207,7 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     viewer::ViewStyle style;
     style.rasterizer = viewer::parseRasterizer(o.rasterizer);
     std::vector<double> select_ms, plan_ms, upload_ms, gpu_eye_ms, frame_ms, loaded, evicted;
+    std::vector<double> gpu_upload_eye_ms, gpu_quiet_eye_ms;  // frames that uploaded points / the others
     double first_frame_s = NAN, full_s = NAN, gpu_peak_bytes = 0.0;
     long first_frame = -1, full_frames = -1, still_start = -1;
     std::size_t max_eye = 0, over_budget_frames = 0;
@@ -241,6 +242,7 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
         plan_ms.push_back(plan);
         upload_ms.push_back(step.upload_ms);
         gpu_eye_ms.push_back(double(ns) * 1e-6 / 2.0);
+        (step.uploaded_points > 0 ? gpu_upload_eye_ms : gpu_quiet_eye_ms).push_back(double(ns) * 1e-6 / 2.0);
         frame_ms.push_back(frame);
         if (const auto s = source.stats()) {
             loaded.push_back(double(s->nodes_loaded - last_loaded));
@@ -314,6 +316,9 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     r["plan_ms"] = toJson(summarise(plan_ms));
     r["upload_ms"] = toJson(summarise(upload_ms));
     r["gpu_eye_ms"] = toJson(summarise(gpu_eye_ms));
+    r["gpu_upload_eye_ms"] = toJson(summarise(gpu_upload_eye_ms));
+    r["gpu_quiet_eye_ms"] = toJson(summarise(gpu_quiet_eye_ms));
+    r["upload_frames"] = gpu_upload_eye_ms.size();
     r["frame_ms"] = toJson(summarise(frame_ms));
     r["lap_gpu_eye_ms"] = toJson(summarise(lap_gpu_eye_ms));
     r["lap_frame_ms"] = toJson(summarise(lap_frame_ms));
@@ -479,7 +484,7 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
     std::fprintf(out, "%s", md.c_str());
     std::fflush(out);
     std::string gl;
-    std::string ratios;
+    std::string ratios, by_frame;
     for (std::size_t n : o.points) {
         sim::GenerateOptions g;
         g.orbit.xres = g.orbit.yres = std::max(1, int(std::lround(std::sqrt(double(n) / double(g.orbit.views)))));
@@ -558,6 +563,13 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
                 md += line;
                 std::fprintf(out, "%s", line.c_str());
                 std::fflush(out);
+                if (const json& r = rows[k]; !r.contains("error"))
+                    by_frame += "- " + std::to_string(r.value("points", std::size_t{0})) + " points, " + name + ", " +
+                                (ooc ? "ooc" : "in-core") + ": frames that uploaded points (" +
+                                std::to_string(r.value("upload_frames", std::size_t{0})) + ") " +
+                                summ(r, "gpu_upload_eye_ms", "%.2f") + ", the other frames " +
+                                summ(r, "gpu_quiet_eye_ms", "%.2f") + ", the second lap " +
+                                summ(r, "lap_gpu_eye_ms", "%.2f") + "\n";
             }
             const auto measured = [](const json& r) {
                 return !r.contains("error") && r["first_frame_s"].is_number() && r["frame_ms"]["median"].is_number();
@@ -583,6 +595,11 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
             }
         }
         if (remove_dir) fs::remove(file);
+    }
+    if (!by_frame.empty()) {
+        const std::string head = "\nGPU ms per eye (median / p99) by kind of frame:\n";
+        md += head + by_frame;
+        std::fprintf(out, "%s%s", head.c_str(), by_frame.c_str());
     }
     if (!ratios.empty()) {
         md += "\nRatios in the same run:\n" + ratios;

@@ -79,6 +79,7 @@ void checkHeightColours(int entries, viewer::Rasterizer rasterizer) {
     style.eye_dome = false;
     style.point_size_px = 5.0f;
     style.jet_entries = entries;
+    style.rasterizer = rasterizer;
     const std::vector<Pixel> pixels = drawFromAbove(cloud, rows, style);
 
     const std::vector<std::uint32_t> jet = core::jetTable(entries);
