@@ -15,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -189,6 +190,55 @@ TEST_CASE("viewer file colours pass through byte-exact, with either rasterizer")
             CHECK(core::packRgb(got.r, got.g, got.b) == colours[k]);
         }
     }
+}
+
+TEST_CASE("the compute rasterizer leaves the depth GL_POINTS leaves, for the OpenXR depth layer") {
+    render::EglContext context;
+    // Points at many heights on the grid, seen from above: each pixel's depth is its point's.
+    core::PointCloud cloud;
+    for (int k = 0; k < kColumns * 3; ++k) {
+        core::CloudPoint p;
+        p.position = {float(k % kColumns), float(k / kColumns), float((k * 7) % 23) - 11.0f};
+        cloud.points.push_back(p);
+    }
+    const int width = 192, height = 96;
+    std::vector<float> depths[2];
+    for (int r = 0; r < 2; ++r) {
+        viewer::PointRenderer renderer;
+        viewer::CloudFeed feed;
+        feed.feedCloud(cloud);
+        viewer::CloudFeedSource source(feed);
+        source.poll();
+        renderer.stream(source, cloud.points.size());
+        viewer::EyeTarget target, out;
+        REQUIRE(target.ensure(width, height));
+        REQUIRE(out.ensure(width, height));
+        viewer::EyeDraw eye;
+        eye.projection = glm::perspective(glm::radians(40.0), double(width) / height, 1.0, 2000.0);
+        eye.view = glm::lookAt(glm::dvec3(5.5, 1.0, 30.0), glm::dvec3(5.5, 1.0, 0.0), glm::dvec3(0.0, 1.0, 0.0));
+        eye.near_m = 1.0;
+        eye.far_m = 2000.0;
+        viewer::ViewStyle style;
+        style.point_size_px = 3.0f;
+        style.rasterizer = kRasterizers[r];
+        renderer.drawEye(target, eye, style, viewer::ViewMode::Free, out.fbo, 0, 0, width, height);
+        renderer.depthInto(target);
+        depths[r].resize(std::size_t(width) * height);
+        glGetTextureImage(target.depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(depths[r].size() * sizeof(float)),
+                          depths[r].data());
+        REQUIRE(glGetError() == GL_NO_ERROR);
+        target.destroy();
+        out.destroy();
+    }
+    std::size_t points = 0, empty = 0, differ = 0;
+    for (std::size_t i = 0; i < depths[0].size(); ++i) {
+        points += depths[0][i] < 1.0f;
+        empty += depths[0][i] == 1.0f;
+        differ += std::abs(depths[0][i] - depths[1][i]) > 1e-6f;
+    }
+    CHECK(points > std::size_t(kColumns * 3 * 4));  // every point covers pixels
+    CHECK(empty > points);
+    CHECK(differ == 0);
 }
 
 TEST_CASE("the cutting volume hides the points beyond its radius, in 3D, with either rasterizer") {

@@ -153,6 +153,7 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
             glNamedFramebufferTexture(swapchain_fbo_[i], GL_COLOR_ATTACHMENT0, 0, 0);
             if (!xr.releaseEye(i)) return false;
             if (depth) {
+                points.depthInto(eye_targets_[i]);
                 const unsigned depth_texture = xr.acquireEyeDepth(i);
                 if (depth_texture == 0) return false;
                 glCopyImageSubData(eye_targets_[i].depth, GL_TEXTURE_2D, 0, 0, 0, 0, depth_texture, GL_TEXTURE_2D, 0, 0,

@@ -76,7 +76,10 @@ PointRenderer::PointRenderer()
                  {{GL_VERTEX_SHADER, shaders::mode_indicator_vert, shaders::mode_indicator_vert_files},
                   {GL_FRAGMENT_SHADER, shaders::mode_indicator_frag, shaders::mode_indicator_frag_files}}),
       splat_("viewer compute rasteriser",
-             {{GL_COMPUTE_SHADER, shaders::viewer_points_splat_comp, shaders::viewer_points_splat_comp_files}}) {
+             {{GL_COMPUTE_SHADER, shaders::viewer_points_splat_comp, shaders::viewer_points_splat_comp_files}}),
+      depth_("viewer compute rasteriser depth",
+             {{GL_VERTEX_SHADER, shaders::fullscreen_triangle_vert, shaders::fullscreen_triangle_vert_files},
+              {GL_FRAGMENT_SHADER, shaders::viewer_points_depth_frag, shaders::viewer_points_depth_frag_files}}) {
     glCreateVertexArrays(1, &empty_vao_);
     indicator_.use();
     glUniform1iv(indicator_.uniform("u_font"), 70, kFont.data());
@@ -401,12 +404,34 @@ void PointRenderer::rasterizeCompute(const EyeTarget& target, const EyeDraw& eye
     }
 }
 
+void PointRenderer::depthInto(const EyeTarget& target) const {
+    if (!raster_last_ || !raster_depth_) return;
+    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo);
+    glViewport(0, 0, target.width, target.height);
+    glDisable(GL_SCISSOR_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    depth_.use();
+    glBindImageTexture(0, raster_depth_, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+    glBindVertexArray(empty_vao_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_DEPTH_TEST);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    render::logGl("PointRenderer::depthInto", __FILE__, __LINE__);
+}
+
 DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style, ViewMode mode,
                                  GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut) const {
     DrawStats stats;
     const glm::vec3 background(0.06f, 0.07f, 0.09f);
     // 1. points into the eye target (GL_POINTS) or the compute rasteriser's images
     const bool compute = style.rasterizer == Rasterizer::Compute;
+    raster_last_ = compute;
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_BLEND);
     if (!compute) {

@@ -119,6 +119,12 @@ class PointRenderer {
     DrawStats drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style, ViewMode mode,
                       GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut = {}) const;
 
+    /// Leaves in `target`'s depth the points' depth of the last drawEye into it, as
+    /// GL_POINTS leaves it (1 where no point is): with the compute rasterizer a full-screen
+    /// pass writes it from the raster images, which still hold that eye (call it before the
+    /// next drawEye); with GL_POINTS it is there already. For an OpenXR depth layer.
+    void depthInto(const EyeTarget& target) const;
+
   private:
     /// A cell drawEye draws this eye: its index and how many of its points.
     struct DrawnCell {
@@ -155,7 +161,7 @@ class PointRenderer {
     };
     bool makeRoom(std::size_t bytes, std::deque<Evictable>& evictable);
 
-    render::Program points_, resolve_, indicator_, splat_;
+    render::Program points_, resolve_, indicator_, splat_, depth_;
     render::PointChunks chunks_;
     GLuint empty_vao_ = 0;
     mutable GLuint jet_texture_ = 0;  // jetTexture()'s cache
@@ -164,6 +170,7 @@ class PointRenderer {
     // drawn so far, made on first use; and its per-eye cell table.
     mutable GLuint raster_depth_ = 0, raster_colour_ = 0, raster_cells_ = 0;
     mutable int raster_width_ = 0, raster_height_ = 0;
+    mutable bool raster_last_ = false;                          // the last drawEye used the compute rasteriser
     std::unordered_map<const PointNode*, std::size_t> on_gpu_;  // node -> its chunk
     std::vector<long> chunk_used_;                              // per chunk id: tick last wanted or drawn
     std::vector<const PointNode*> chunk_node_;                  // per chunk id: its node (null: free)
