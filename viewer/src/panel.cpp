@@ -33,6 +33,9 @@ bool drawSettingsPanel(const PanelView& v) {
         ImGui::Checkbox("attenuate with distance", &v.style->attenuate);
         ImGui::Checkbox("eye-dome lighting", &v.style->eye_dome);
         if (v.style->eye_dome) ImGui::SliderFloat("EDL strength", &v.style->edl_strength, 0.1f, 4.0f, "%.2f");
+        int rasterizer = static_cast<int>(v.style->rasterizer);
+        if (ImGui::Combo("rasterizer", &rasterizer, "GL_POINTS\0compute\0"))
+            v.style->rasterizer = static_cast<Rasterizer>(rasterizer);
     }
     if (ImGui::CollapsingHeader("tools")) {
         ImGui::Text("click: designate  Enter: confirm  Backspace: reject  N: no target");
