@@ -65,7 +65,4 @@ struct Segmentation {
 /// core::Error for clouds SMRF cannot grid.
 Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o, int threads = 1);
 
-/// At most what segmentCloud holds per point of the cloud, in bytes (for memory plans).
-inline constexpr std::uint64_t kSegmentBytesPerPoint = 96;
-
 }  // namespace detect
