@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace {
@@ -29,18 +30,27 @@ struct Pixel {
     std::uint8_t r, g, b, a;
 };
 
+// A renderer with the whole of `cloud` on the GPU (the feed and source it follows kept).
+struct Uploaded {
+    viewer::PointRenderer renderer;
+    viewer::CloudFeed feed;
+    std::unique_ptr<viewer::CloudFeedSource> source;
+    explicit Uploaded(const core::PointCloud& cloud) {
+        feed.feedCloud(cloud);
+        source = std::make_unique<viewer::CloudFeedSource>(feed);
+        source->poll();
+        renderer.stream(*source, cloud.points.size());
+        REQUIRE(renderer.uploadedPoints() == cloud.points.size());
+    }
+};
+
 // Draws `cloud` from straight above with an orthographic camera (1 m = 8 px, grid cell
 // (i, j) centred on pixel (8i + 4, 8j + 4)) and returns the resolved image (the points'
 // colours where the style has eye-dome lighting off).
 std::vector<Pixel> drawFromAbove(const core::PointCloud& cloud, int rows, const viewer::ViewStyle& style,
                                  const viewer::CutVolume& cut = {}) {
-    viewer::PointRenderer renderer;
-    viewer::CloudFeed feed;
-    feed.feedCloud(cloud);
-    viewer::CloudFeedSource source(feed);
-    source.poll();
-    renderer.stream(source, cloud.points.size());
-    REQUIRE(renderer.uploadedPoints() == cloud.points.size());
+    Uploaded uploaded(cloud);
+    viewer::PointRenderer& renderer = uploaded.renderer;
     // Empty rows above the grid keep the mode indicator (drawn near the top) off it.
     const int width = kColumns * kPixelsPerMetre, height = (rows + kIndicatorRows) * kPixelsPerMetre;
     viewer::EyeTarget target, out;
@@ -204,12 +214,8 @@ TEST_CASE("the compute rasterizer leaves the depth GL_POINTS leaves, for the Ope
     const int width = 192, height = 96;
     std::vector<float> depths[2];
     for (int r = 0; r < 2; ++r) {
-        viewer::PointRenderer renderer;
-        viewer::CloudFeed feed;
-        feed.feedCloud(cloud);
-        viewer::CloudFeedSource source(feed);
-        source.poll();
-        renderer.stream(source, cloud.points.size());
+        Uploaded uploaded(cloud);
+        const viewer::PointRenderer& renderer = uploaded.renderer;
         viewer::EyeTarget target, out;
         REQUIRE(target.ensure(width, height));
         REQUIRE(out.ensure(width, height));
