@@ -148,6 +148,8 @@ TEST_CASE("copc source: the tree from the hierarchy, nothing decoded at open") {
     s.poll();
     CHECK(s.pointsArrived() == 0);
     CHECK(!s.finished());
+    // The header gives the local frame: candidate boxes can be placed before any node is in.
+    CHECK(s.originFinal());
     for (const PointNode* n : allNodes(s)) CHECK(!n->resident());
 }
 

@@ -67,8 +67,10 @@ TEST_CASE("a streamed cloud's chunks are leaves of the point source, resident on
     CloudFeedSource source(feed);
     CHECK(source.poll() == 0);  // nothing arrived yet
     CHECK(source.roots().empty());
+    CHECK_FALSE(source.originFinal());  // a stream's frame is final at its end
     feed.feedCloud(line(350), 100);
     REQUIRE(source.finished());
+    CHECK(source.originFinal());
     CHECK(source.error().empty());
     CHECK(source.origin() == glm::dvec3(1000.0, 2000.0, 30.0));
     CHECK(source.pointsArrived() == 350);

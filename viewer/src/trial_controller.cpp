@@ -55,8 +55,8 @@ void TrialController::finish() {
     if (source_ && index_ >= 0) source_->end(index_);
 }
 
-bool TrialController::placeCandidates(bool feed_finished) {
-    if (candidates_placed_ || !feed_finished) return false;
+bool TrialController::placeCandidates(bool origin_final) {
+    if (candidates_placed_ || !origin_final) return false;
     candidates_placed_ = true;
     return true;
 }

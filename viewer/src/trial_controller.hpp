@@ -89,8 +89,8 @@ class TrialController {
     /// The designated point: a dot and a cross 2 m wide at life size.
     void draw(OverlayList& out, double scale) const;
     const nlohmann::json& decisions() const { return decisions_; }
-    /// Candidates go in once the feed has finished (the origin is known then); true once.
-    bool placeCandidates(bool feed_finished);
+    /// Candidates go in once the source's origin is final (PointSource::originFinal); true once.
+    bool placeCandidates(bool origin_final);
 
   private:
     TrialSource* source_ = nullptr;

@@ -194,7 +194,7 @@ void ViewerApp::updateSource() {
     const SourceEvents ev = stream_.update(frames_, log_);
     if (ev.picks_ready) pointer_.setIndex(stream_.picks());
     if (ev.picks_ready && pickable_since_frame_ < 0) pickable_since_frame_ = frames_;
-    if (trials_.placeCandidates(stream_.source().finished()))
+    if (trials_.placeCandidates(stream_.source().originFinal()))
         candidates_.set(trials_.study() ? trials_.setup().candidates : options_.candidates, stream_.source().origin());
     if (!ev.load_error.empty()) {
         // A file that does not read whole (or holds no point) is refused: one error line

@@ -47,6 +47,8 @@ class CopcSource final : public PointSource {
     std::size_t poll() override;
     std::span<PointNode* const> roots() const override;
     glm::dvec3 origin() const override;
+    /// The header's offsets, read at open: final from the start.
+    bool originFinal() const override { return true; }
     /// The file's fields as the first decoded node gives them (the defaults until then).
     core::CloudFields fields() const override;
     /// True once a selection's pages and nodes have all been read (or skipped), the

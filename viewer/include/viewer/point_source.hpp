@@ -100,6 +100,9 @@ class PointSource {
     virtual std::span<PointNode* const> roots() const = 0;
     /// World coordinates of the local frame the nodes' points are in.
     virtual glm::dvec3 origin() const = 0;
+    /// origin() will not change: world positions (candidate boxes, aims) can be placed in
+    /// the local frame. A stream knows it at its end; a file with a header at once.
+    virtual bool originFinal() const { return finished(); }
     virtual core::CloudFields fields() const = 0;
     /// Every node is known: the stream ended (or failed, see error()).
     virtual bool finished() const = 0;
