@@ -161,13 +161,10 @@ OrientedBox fitBox(const core::PointCloud& cloud, const std::vector<std::uint32_
     for (std::size_t k = 0; k < points.size(); ++k) zs[k] = double(cloud.points[points[k]].position.z) - ref.z;
     quantiles(zs, zlo, zhi);
     extents(theta, lo, hi);
-    if (hi[1] - lo[1] > hi[0] - lo[0]) {  // length is the longer side
-        theta += std::numbers::pi / 2.0;
-        extents(theta, lo, hi);
-    }
-    // Yaw in (-90, 90] degrees: a box is the same turned by 180 (the extents are taken
-    // again only when the angle changed).
     const double measured = theta;
+    if (hi[1] - lo[1] > hi[0] - lo[0]) theta += std::numbers::pi / 2.0;  // length is the longer side
+    // Yaw in (-90, 90] degrees: a box is the same turned by 180. The extents are taken
+    // again at the final angle when it is not the one measured.
     while (theta > std::numbers::pi / 2.0) theta -= std::numbers::pi;
     while (theta <= -std::numbers::pi / 2.0) theta += std::numbers::pi;
     if (theta != measured) extents(theta, lo, hi);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -177,20 +178,43 @@ std::vector<float> segmentFeatures(const core::PointCloud& cloud, std::span<cons
     {
         const double c = std::cos(box.yaw_deg * 3.14159265358979323846 / 180.0),
                      s = std::sin(box.yaw_deg * 3.14159265358979323846 / 180.0);
-        // Cells as packed keys, sorted and deduplicated (a set of pairs costs a node per point).
-        std::vector<std::uint64_t> cells;
-        cells.reserve(points.size());
-        for (const std::uint32_t i : points) {
+        // Each point's cell; the occupied ones counted on a bitmap over the cells' range
+        // when it is at most a few bits a point (always, unless a few points lie far out),
+        // else as packed keys sorted and deduplicated (a set of pairs costs a node per point).
+        const auto cellOf = [&](std::uint32_t i) {
             const glm::dvec3 p = glm::dvec3(cloud.points[i].position) - box.centre;
-            const auto u = std::int64_t(std::floor((c * p.x + s * p.y) / 0.5)),
-                       v = std::int64_t(std::floor((-s * p.x + c * p.y) / 0.5));
-            cells.push_back((std::uint64_t(u + (std::int64_t(1) << 31)) << 32) |
-                            std::uint64_t(v + (std::int64_t(1) << 31)));
+            return std::pair<std::int64_t, std::int64_t>{std::int64_t(std::floor((c * p.x + s * p.y) / 0.5)),
+                                                         std::int64_t(std::floor((-s * p.x + c * p.y) / 0.5))};
+        };
+        std::int64_t u0 = INT64_MAX, u1 = INT64_MIN, v0 = INT64_MAX, v1 = INT64_MIN;
+        for (const std::uint32_t i : points) {
+            const auto [u, v] = cellOf(i);
+            u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
         }
-        std::sort(cells.begin(), cells.end());
-        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+        std::size_t occupied = 0;
+        const double range_cells = (double(u1) - double(u0) + 1.0) * (double(v1) - double(v0) + 1.0);
+        if (range_cells <= std::max(65536.0, 16.0 * n)) {
+            const std::size_t su = std::size_t(u1 - u0 + 1);
+            std::vector<bool> seen(std::size_t(range_cells), false);
+            for (const std::uint32_t i : points) {
+                const auto [u, v] = cellOf(i);
+                const std::size_t bit = std::size_t(v - v0) * su + std::size_t(u - u0);
+                occupied += !seen[bit];
+                seen[bit] = true;
+            }
+        } else {
+            std::vector<std::uint64_t> cells;
+            cells.reserve(points.size());
+            for (const std::uint32_t i : points) {
+                const auto [u, v] = cellOf(i);
+                cells.push_back((std::uint64_t(u + (std::int64_t(1) << 31)) << 32) |
+                                std::uint64_t(v + (std::int64_t(1) << 31)));
+            }
+            std::sort(cells.begin(), cells.end());
+            occupied = std::size_t(std::unique(cells.begin(), cells.end()) - cells.begin());
+        }
         const double footprint = std::max(1.0, std::ceil(length / 0.5) * std::ceil(width / 0.5));
-        f.push_back(float(std::min(1.0, double(cells.size()) / footprint)));
+        f.push_back(float(std::min(1.0, double(occupied) / footprint)));
     }
 
     // Returns and intensity, when the cloud has them.

@@ -143,6 +143,10 @@ std::vector<std::vector<std::uint32_t>> clusterPoints(const core::PointCloud& cl
             std::size_t j = i;
             glm::dvec3 sum(0.0);
             for (; j < run_start[part + 1] && keyed[j].first == keyed[i].first; ++j) {
+                // The points are read in key order, scattered over the cloud: ask for the
+                // point 16 places ahead (and, before that, its place in idx) while this sums.
+                if (j + 32 < n) __builtin_prefetch(&idx[keyed[j + 32].second]);
+                if (j + 16 < n) __builtin_prefetch(&cloud.points[idx[keyed[j + 16].second]]);
                 sum += glm::dvec3(cloud.points[idx[keyed[j].second]].position) - lo;
                 voxel_of_point[keyed[j].second] = std::uint32_t(v);
             }

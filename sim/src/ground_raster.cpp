@@ -143,13 +143,24 @@ void RasterFit::keepLowest(Cell& cell, float z, std::uint16_t view) {
 
 void RasterFit::keepViewLow(std::uint64_t key, const ViewLow& low) {
     if (too_many_view_blocks_) return;
-    auto [it, added] = view_lows_.try_emplace(key, low);
-    const ViewLow& e = it->second;
     // The lowest point, ties broken by position: the same whatever the order.
-    if (!added && (low.z < e.z || (low.z == e.z && (low.x < e.x || (low.x == e.x && low.y < e.y))))) it->second = low;
+    const auto lower = [](const ViewLow& a, const ViewLow& b) {
+        return a.z < b.z || (a.z == b.z && (a.x < b.x || (a.x == b.x && a.y < b.y)));
+    };
+    // A scan's next point mostly falls in the same view's block: no lookup then (a map's
+    // elements stay where they are while it grows).
+    if (last_view_low_ != nullptr && key == last_view_key_) {
+        if (lower(low, *last_view_low_)) *last_view_low_ = low;
+        return;
+    }
+    auto [it, added] = view_lows_.try_emplace(key, low);
+    if (!added && lower(low, it->second)) it->second = low;
+    last_view_key_ = key;
+    last_view_low_ = &it->second;
     if (view_lows_.size() > max_cells_) {  // bounded like the raster: no correction
         too_many_view_blocks_ = true;
         view_lows_ = {};
+        last_view_low_ = nullptr;
     }
 }
 
@@ -224,6 +235,7 @@ void RasterFit::merge(const RasterFit& other) {
     if (other.too_many_view_blocks_) {
         too_many_view_blocks_ = true;
         view_lows_ = {};
+        last_view_low_ = nullptr;
     }
     for (const auto& [key, low] : other.view_lows_) keepViewLow(key, low);
     ix_min_ = std::min(ix_min_, other.ix_min_);

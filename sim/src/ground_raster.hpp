@@ -75,6 +75,9 @@ class RasterFit : public TerrainFit {
   public:
     /// `cell_option` names the cell size in errors, e.g. "smrf cell_m (--smrf-cell-m)".
     RasterFit(double cell_m, std::size_t max_cells, const char* cell_option);
+    // It holds pointers into its own tables (the last tile, the last view block).
+    RasterFit(const RasterFit&) = delete;
+    RasterFit& operator=(const RasterFit&) = delete;
     void add(std::span<const core::CloudPoint> points) override;
     /// add() with the points shared among `threads` threads, each gathering into a raster
     /// of its own, merged after: the fit depends only on the set of points, so it is the
@@ -125,6 +128,8 @@ class RasterFit : public TerrainFit {
     double viewError(std::size_t view, double x, double y) const;
 
     std::unordered_map<std::uint64_t, ViewLow> view_lows_;  // (view, block x, block y) -> lowest point
+    std::uint64_t last_view_key_ = 0;                       // the entry keepViewLow touched last
+    ViewLow* last_view_low_ = nullptr;
     bool too_many_view_blocks_ = false;
     std::vector<ViewPlane> view_planes_;  // by view; empty: no correction
     double cell_m_, inv_cell_;

@@ -56,7 +56,8 @@ void runningExtreme(const float* in, std::ptrdiff_t stride, float* out, int n, i
 // Erosion (take_max false) or dilation of an nx x ny raster by the disk of radius r cells
 // (the cells whose centres are within r of the centre). The disk is a stack of rows:
 // row dy spans |dx| <= floor(sqrt(r^2 - dy^2)), so each row offset is one running
-// extreme along x, folded into `out` shifted by +-dy. O(r) per cell, O(cells) memory.
+// extreme along x (rows with the same half width share it), folded into `out` shifted
+// by +-dy. O(r) per cell, O(cells) memory.
 // The rows are shared among `pool`'s workers; each value is computed by the same
 // operations whatever their number.
 void diskFilter(const std::vector<float>& in, std::vector<float>& out, int nx, int ny, int r, bool take_max,
@@ -66,14 +67,17 @@ void diskFilter(const std::vector<float>& in, std::vector<float>& out, int nx, i
     const auto fold = [&](float a, float b) { return take_max ? std::max(a, b) : std::min(a, b); };
     const std::size_t parts = std::size_t(std::clamp(pool.size(), 1, std::max(1, ny)));
     const auto first_row = [&](std::size_t part) { return int(std::size_t(ny) * part / parts); };
+    int row_half = -1;  // the half width row_pass holds (near the disk's middle, rows share one)
     for (int dy = 0; dy <= r; ++dy) {
         const int half = int(std::floor(std::sqrt(double(r) * r - double(dy) * dy) + 1e-9));
-        pool.run(parts, [&](std::size_t part) {
-            std::vector<int> queue;
-            for (int j = first_row(part); j < first_row(part + 1); ++j)
-                runningExtreme(in.data() + std::size_t(j) * nx, 1, row_pass.data() + std::size_t(j) * nx, nx, half,
-                               take_max, queue);
-        });
+        if (half != row_half)
+            pool.run(parts, [&](std::size_t part) {
+                std::vector<int> queue;
+                for (int j = first_row(part); j < first_row(part + 1); ++j)
+                    runningExtreme(in.data() + std::size_t(j) * nx, 1, row_pass.data() + std::size_t(j) * nx, nx, half,
+                                   take_max, queue);
+            });
+        row_half = half;
         pool.run(parts, [&](std::size_t part) {
             for (int j = first_row(part); j < first_row(part + 1); ++j) {
                 float* o = out.data() + std::size_t(j) * nx;
