@@ -423,7 +423,13 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
             }
             // The segment's points by column, each column's layers ascending.
             keyed.resize(s.size());
-            for (std::size_t k = 0; k < s.size(); ++k) keyed[k] = {columnLayerOf(s[k]), std::uint32_t(k)};
+            for (std::size_t k = 0; k < s.size(); ++k) {
+                if (k + 16 < s.size()) {  // a segment's points are scattered over the cloud
+                    __builtin_prefetch(&cloud.points[s[k + 16]]);
+                    __builtin_prefetch(&out.height_m[s[k + 16]]);
+                }
+                keyed[k] = {columnLayerOf(s[k]), std::uint32_t(k)};
+            }
             sortByKey(keyed, work_parts);
             rises.assign(s.size(), 0);
             constexpr std::uint64_t kLayerMask = (std::uint64_t(1) << 21) - 1;
