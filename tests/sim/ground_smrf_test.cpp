@@ -1,6 +1,7 @@
 // tests/sim/ground_smrf_test.cpp: the simple morphological filter on known surfaces
 // (a tilted plane, a Gaussian hill, a terrace with a 2 m step) with box buildings on
-// them: the ground is recovered, the boxes are not, and the fitted terrain is the surface.
+// them: the ground is recovered, the boxes are not, and the fitted terrain is the surface;
+// a cone shows the windows are disks.
 #include "ground_surfaces.hpp"
 
 #include <sim/ground.hpp>
@@ -86,6 +87,22 @@ TEST_CASE("SMRF: a building wider than twice the window stays ground (the window
     CHECK(small.high_found > 1000);
     const Score wide = score(l, sim::findGroundSmrf(l.points, sim::SmrfOptions{}));
     CHECK(wide.high_found == 0);
+}
+
+TEST_CASE("SMRF's windows are disks: a cone steeper than a square's corners allow keeps its top") {
+    // Flanks rising at 0.6 under a slope bar of 0.7: a disk of radius r lowers the top by
+    // 0.6 r, under the bar; a square's corners, r * sqrt(2) away, would lower it by 0.85 r
+    // and take the top for an object.
+    const Height cone = [](double x, double y) { return 20.0 - 0.6 * std::hypot(x, y); };
+    const Labelled l = sample(cone, 30.0, {});
+    sim::SmrfOptions o;
+    o.slope = 0.7;
+    sim::TerrainGrid grid;
+    const auto found = sim::findGroundSmrf(l.points, o, &grid);
+    const Score s = score(l, found);
+    CHECK(s.recall >= 0.999);
+    // The top's cells keep their own minimum surface, not one filled in from around them.
+    CHECK(surfaceError(grid, cone, 30.0, 27.0) <= 0.2);
 }
 
 TEST_CASE("SMRF's result depends on the set of points, not their order or batching") {
