@@ -198,3 +198,38 @@ TEST_CASE("laz_writer: a bad point in a worker's chunk is the caller's error, an
     for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path)) ++left;
     CHECK(left == 0);
 }
+
+TEST_CASE("las_record: quantize rounds as std::round does, half away from zero, up to LAS's reach") {
+    const io::detail::LasRecord record("output: q.laz", glm::dvec3(0.0), ladarFields(true), io::LasOptions{});
+    const auto expected = [](float f) { return std::round(double(f) / io::detail::LasRecord::kScale_m); };
+    std::vector<float> values = {0.0f, -0.0f, 0.0005f,   -0.0005f,   0.0015f,     -0.0025f,
+                                 1.0f, -1.0f, 123.4565f, 2147483.5f, -2147483.5f, std::nextafter(2147483.75f, 0.0f)};
+    // Halves exactly: a float k + 0.5 millimetres is a double k + 0.5 after the division
+    // only sometimes, so take the floats whose quotient is a half.
+    for (int k = -2000; k <= 2000; ++k) {
+        const float f = float((k + 0.5) * 0.001);
+        if (std::fabs(double(f) / io::detail::LasRecord::kScale_m - (k + 0.5)) == 0.0) values.push_back(f);
+    }
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-2.1e6f, 2.1e6f), small(-3.0f, 3.0f);
+    for (int i = 0; i < 200000; ++i) values.push_back(i % 2 ? u(rng) : small(rng));
+    std::size_t halves = 0;
+    for (float f : values) {
+        const double v = double(f) / io::detail::LasRecord::kScale_m;
+        if (std::fabs(v - std::trunc(v)) == 0.5) ++halves;
+        core::CloudPoint p;
+        p.position = glm::vec3(f, -f, f);
+        const auto xyz = record.quantize(p, 0);
+        CHECK(double(xyz[0]) == expected(f));
+        CHECK(double(xyz[1]) == expected(-f));
+    }
+    CHECK(halves > 10);  // the ties were really tried
+    // 2,147,483.6475 m rounds to 2^31 mm, one past the reach.
+    for (float f : {2147483.75f, -2147483.75f, std::nanf(""), INFINITY}) {
+        core::CloudPoint p;
+        p.position.x = f;
+        CHECK_THROWS_WITH_AS(
+            record.quantize(p, 9),
+            "output: q.laz: point 9 lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm", core::Error);
+    }
+}

@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <exception>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -115,9 +116,35 @@ void Marks::reset() {
 std::vector<std::uint32_t> gridSample(std::span<const std::array<std::int32_t, 3>> xyz, const OctreeCube& cube,
                                       int level, std::span<std::vector<std::uint32_t>* const> children, std::size_t cap,
                                       Marks& marks) {
+    // The children's points in input order: each child's are ascending already, so they
+    // are merged (a child's points are in no other child).
     std::vector<std::uint32_t> candidates;
-    for (const std::vector<std::uint32_t>* c : children) candidates.insert(candidates.end(), c->begin(), c->end());
-    std::sort(candidates.begin(), candidates.end());
+    {
+        std::size_t total = 0;
+        for (const std::vector<std::uint32_t>* c : children) total += c->size();
+        candidates.reserve(total);
+        std::vector<std::size_t> head(children.size(), 0);
+        for (;;) {
+            std::size_t best = children.size();
+            std::uint32_t least = 0;
+            for (std::size_t c = 0; c < children.size(); ++c)
+                if (head[c] < children[c]->size() && (best == children.size() || (*children[c])[head[c]] < least)) {
+                    best = c;
+                    least = (*children[c])[head[c]];
+                }
+            if (best == children.size()) break;
+            // The run of the best child below every other child's next point goes at once.
+            std::uint32_t bound = std::numeric_limits<std::uint32_t>::max();
+            for (std::size_t c = 0; c < children.size(); ++c)
+                if (c != best && head[c] < children[c]->size()) bound = std::min(bound, (*children[c])[head[c]]);
+            const std::vector<std::uint32_t>& run = *children[best];
+            std::size_t end = head[best];
+            while (end < run.size() && run[end] < bound) ++end;
+            candidates.insert(candidates.end(), run.begin() + std::ptrdiff_t(head[best]),
+                              run.begin() + std::ptrdiff_t(end));
+            head[best] = end;
+        }
+    }
     const int node_bits = cube.bits - level;
     std::vector<std::uint32_t> chosen;
     for (int s = std::max(0, node_bits - kGridBits); s <= node_bits; ++s) {

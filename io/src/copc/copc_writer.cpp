@@ -51,6 +51,8 @@ constexpr laszip_U32 kVariableChunks = std::numeric_limits<laszip_U32>::max();
 // Bytes of records gathered per bucket before they are written (at most 256 buckets are
 // filled at once: 16 MiB).
 constexpr std::size_t kBucketBufferBytes = std::size_t(1) << 16;
+// Points a scratch file is read or written by at once.
+constexpr std::size_t kScratchBlockPoints = std::size_t(1) << 16;
 // Nodes compressed at once per thread before they are written in order.
 constexpr std::size_t kNodesPerThread = 4;
 // A compressed node's bytes per point, at most (as the LAZ writer's chunks).
@@ -311,33 +313,64 @@ class CopcWriter final : public FormatWriter {
 
   private:
     static constexpr std::size_t kBlockBits = 20;
-    // Points a scratch file is read or written by at once.
-    static constexpr std::size_t kScratchBlock = std::size_t(1) << 16;
+    static constexpr std::size_t kScratchBlock = kScratchBlockPoints;
     static constexpr std::size_t kBlockPoints = std::size_t(1) << kBlockBits;
 
     const CloudPoint& point(std::size_t i) const { return blocks_[i >> kBlockBits][i & (kBlockPoints - 1)]; }
 
-    // Widens the bounds by the point of index count_.
-    void bound(const std::array<std::int32_t, 3>& xyz) {
-        for (std::size_t k = 0; k < 3; ++k) {
-            lo_[k] = count_ ? std::min(lo_[k], xyz[k]) : xyz[k];
-            hi_[k] = count_ ? std::max(hi_[k], xyz[k]) : xyz[k];
+    // Integer bounds of some points.
+    struct Bounds {
+        std::array<std::int32_t, 3> lo{}, hi{};
+        bool any = false;
+        void widen(const std::array<std::int32_t, 3>& xyz) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                lo[k] = any ? std::min(lo[k], xyz[k]) : xyz[k];
+                hi[k] = any ? std::max(hi[k], xyz[k]) : xyz[k];
+            }
+            any = true;
+        }
+    };
+
+    // Packs the points on the threads, a block of kScratchBlock points each, and writes
+    // each round of blocks to the spill on a thread of its own while the next round is
+    // packed. The two rounds' bytes (at most 2 x 2^16 x 39 bytes a thread) fit in what the
+    // bound sets aside for the octree's parts, unused until the spill is read back: the
+    // points held in memory before the spill take 40 of the 64 bytes counted for each.
+    void spillAppend(std::span<const CloudPoint> points) {
+        const std::size_t size = packing_.size();
+        const std::size_t parts = std::size_t(threads_) + 1;
+        while (!points.empty()) {
+            const std::size_t n = std::min(points.size(), kScratchBlock * parts);
+            const std::size_t blocks = (n + kScratchBlock - 1) / kScratchBlock;
+            std::vector<unsigned char>& packed = spill_bytes_[spill_next_];
+            packed.resize(n * size);
+            std::vector<Bounds> bounds(blocks);
+            const std::uint64_t first = count_;
+            parallelFor(blocks, threads_, [&](std::size_t b, std::size_t) {
+                for (std::size_t i = b * kScratchBlock; i < std::min(n, (b + 1) * kScratchBlock); ++i) {
+                    bounds[b].widen(record_.quantize(points[i], first + i));
+                    packing_.pack(points[i], packed.data() + i * size);
+                }
+            });
+            for (const Bounds& b : bounds) {
+                spilled_bounds_.widen(b.lo);
+                spilled_bounds_.widen(b.hi);
+            }
+            count_ += n;
+            waitSpillWrite();
+            if (threads_ == 0)
+                spill_->write(packed.data(), packed.size());
+            else
+                spill_write_ =
+                    std::async(std::launch::async, [this, &packed] { spill_->write(packed.data(), packed.size()); });
+            spill_next_ ^= 1;
+            points = points.subspan(n);
         }
     }
 
-    void spillAppend(std::span<const CloudPoint> points) {
-        const std::size_t size = packing_.size();
-        std::vector<unsigned char> packed(std::min<std::size_t>(points.size(), kScratchBlock) * size);
-        while (!points.empty()) {
-            const std::size_t n = std::min<std::size_t>(points.size(), kScratchBlock);
-            for (std::size_t i = 0; i < n; ++i) {
-                bound(record_.quantize(points[i], count_));
-                ++count_;
-                packing_.pack(points[i], packed.data() + i * size);
-            }
-            spill_->write(packed.data(), n * size);
-            points = points.subspan(n);
-        }
+    // Waits for the spill's last round to be written (and rethrows its error).
+    void waitSpillWrite() {
+        if (spill_write_.valid()) spill_write_.get();
     }
 
     // Reads the spill's points [first, first + n) into `out` (of n), unpacked.
@@ -434,6 +467,11 @@ class CopcWriter final : public FormatWriter {
     //  5. The file is written in the in-memory writer's depth-first order, the buckets'
     //     chunks copied from the scratch file: the same file, byte for byte.
     void finishSpilled() {
+        waitSpillWrite();
+        std::vector<unsigned char>().swap(spill_bytes_[0]);
+        std::vector<unsigned char>().swap(spill_bytes_[1]);
+        lo_ = spilled_bounds_.lo;
+        hi_ = spilled_bounds_.hi;
         const OctreeCube cube = enclosingCube(lo_, hi_);
         const std::uint64_t fixed = copcFixedBytes(threads_);
         const std::uint64_t per_point = copcBytesPerPoint() + sizeof(Spilled);
@@ -546,48 +584,80 @@ class CopcWriter final : public FormatWriter {
     // writer holds fewer than 2^32 points).
     std::size_t bucketRecordSize() const { return packing_.size() + sizeof(std::uint32_t); }
 
-    // Sorts the spill's points into their buckets' files, in input order. Each block's
-    // buckets are found on the threads, then its records written on this one.
+    // Sorts the spill's points into their buckets' files, in input order. A round of
+    // blocks is read and its points' buckets found on the threads while this thread
+    // gathers the round before into the buckets' buffers and writes them out (two rounds
+    // held at once, in the room the parts are built in later).
     void distribute(const OctreeCube& cube) {
         constexpr std::size_t kOpenAtOnce = 256;
         const std::size_t size = packing_.size(), record = bucketRecordSize();
-        std::vector<unsigned char> bytes;
-        std::vector<std::vector<unsigned char>> gathered(std::min(kOpenAtOnce, buckets_.size()));
-        std::vector<std::uint32_t> bucket(kScratchBlock);
         const std::size_t parts = std::size_t(threads_) + 1;
+        struct Round {
+            std::uint64_t first = 0;
+            std::size_t n = 0;
+            std::vector<unsigned char> bytes;
+            std::vector<std::uint32_t> bucket;
+        };
+        const auto prepare = [&](std::uint64_t first, Round& r) {
+            r.first = first;
+            r.n = std::size_t(std::min<std::uint64_t>(kScratchBlock * parts, count_ - first));
+            r.bytes.resize(r.n * size);
+            r.bucket.resize(r.n);
+            spill_->readAt(r.bytes.data(), r.bytes.size(), first * size);
+            const std::size_t blocks = (r.n + kScratchBlock - 1) / kScratchBlock;
+            parallelFor(blocks, threads_, [&](std::size_t b, std::size_t) {
+                for (std::size_t i = b * kScratchBlock; i < std::min(r.n, (b + 1) * kScratchBlock); ++i) {
+                    const CloudPoint p = packing_.unpack(r.bytes.data() + i * size);
+                    r.bucket[i] = std::uint32_t(bucketOf(cube, record_.quantize(p, first + i)));
+                }
+            });
+        };
+        struct Gathered {
+            std::vector<unsigned char> bytes;
+            std::size_t used = 0;
+        };
+        std::vector<Gathered> gathered(std::min(kOpenAtOnce, buckets_.size()));
+        for (Gathered& g : gathered) g.bytes.resize(kBucketBufferBytes);
+        spill_->flush();
         for (std::size_t first = 0; first < buckets_.size(); first += kOpenAtOnce) {
             const std::size_t last = std::min(buckets_.size(), first + kOpenAtOnce);
             for (std::size_t b = first; b < last; ++b) buckets_[b].file = std::make_unique<Scratch>(dir_, where_);
-            spill_->flush();
-            for (std::uint64_t done = 0; done < count_;) {
-                const std::size_t n = std::size_t(std::min<std::uint64_t>(kScratchBlock, count_ - done));
-                bytes.resize(n * size);
-                spill_->readAt(bytes.data(), bytes.size(), done * size);
-                parallelFor(parts, threads_, [&](std::size_t part, std::size_t) {
-                    for (std::size_t i = n * part / parts; i < n * (part + 1) / parts; ++i) {
-                        const CloudPoint p = packing_.unpack(bytes.data() + i * size);
-                        bucket[i] = std::uint32_t(bucketOf(cube, record_.quantize(p, done + i)));
-                    }
-                });
-                for (std::size_t i = 0; i < n; ++i) {
-                    if (bucket[i] < first || bucket[i] >= last) continue;
-                    std::vector<unsigned char>& g = gathered[bucket[i] - first];
-                    const std::size_t at = g.size();
-                    g.resize(at + record);
-                    std::memcpy(g.data() + at, bytes.data() + i * size, size);
-                    const std::uint32_t index = std::uint32_t(done + i);
-                    std::memcpy(g.data() + at + size, &index, sizeof index);
-                    if (g.size() + record > kBucketBufferBytes) {
-                        buckets_[bucket[i]].file->write(g.data(), g.size());
-                        g.clear();
-                    }
+            std::array<Round, 2> rounds;
+            std::size_t cur = 0;
+            if (count_ > 0) prepare(0, rounds[0]);
+            while (rounds[cur].n > 0) {
+                Round& r = rounds[cur];
+                Round& next = rounds[cur ^ 1];
+                const std::uint64_t after = r.first + r.n;
+                next.n = 0;
+                std::future<void> ahead;
+                if (after < count_) {
+                    if (threads_ == 0)
+                        prepare(after, next);
+                    else
+                        ahead = std::async(std::launch::async, [&, after] { prepare(after, next); });
                 }
-                done += n;
+                for (std::size_t i = 0; i < r.n; ++i) {
+                    const std::uint32_t bucket = r.bucket[i];
+                    if (bucket < first || bucket >= last) continue;
+                    Gathered& g = gathered[bucket - first];
+                    if (g.used + record > g.bytes.size()) {
+                        buckets_[bucket].file->write(g.bytes.data(), g.used);
+                        g.used = 0;
+                    }
+                    unsigned char* at = g.bytes.data() + g.used;
+                    std::memcpy(at, r.bytes.data() + i * size, size);
+                    const std::uint32_t index = std::uint32_t(r.first + i);
+                    std::memcpy(at + size, &index, sizeof index);
+                    g.used += record;
+                }
+                if (ahead.valid()) ahead.get();
+                cur ^= 1;
             }
             for (std::size_t b = first; b < last; ++b) {
-                std::vector<unsigned char>& g = gathered[b - first];
-                buckets_[b].file->write(g.data(), g.size());
-                g.clear();
+                Gathered& g = gathered[b - first];
+                buckets_[b].file->write(g.bytes.data(), g.used);
+                g.used = 0;
             }
             // Buckets are built one at a time later; their files stay, rewound.
             for (std::size_t b = first; b < last; ++b) buckets_[b].file->rewind();
@@ -865,6 +935,10 @@ class CopcWriter final : public FormatWriter {
     std::array<std::int32_t, 3> lo_{}, hi_{};
     // Out of core.
     std::unique_ptr<Scratch> spill_;
+    Bounds spilled_bounds_;
+    std::array<std::vector<unsigned char>, 2> spill_bytes_;  // rounds packed, being written
+    std::size_t spill_next_ = 0;                             // the one to pack into next
+    std::future<void> spill_write_;                          // declared after what it writes, so waited for first
     std::uint64_t bucket_points_ = 0;
     int hist_level_ = 0;
     std::vector<std::uint64_t> hist_;

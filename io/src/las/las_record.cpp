@@ -26,7 +26,6 @@ using core::kRoleCount;
 
 namespace {
 
-constexpr double kScale_m = 0.001;
 constexpr double kScanAngleUnit_deg = 0.006;  // LAS 1.4 point formats 6..10
 
 // LAS extra bytes data types as laszip_add_attribute takes them (LAS code - 1).
@@ -184,17 +183,9 @@ void LasRecord::setUp(laszip_POINTER zip) const {
     }
 }
 
-std::array<laszip_I32, 3> LasRecord::quantize(const CloudPoint& p, std::uint64_t index) const {
-    const double local[3] = {p.position.x, p.position.y, p.position.z};
-    std::array<laszip_I32, 3> xyz{};
-    for (std::size_t k = 0; k < 3; ++k) {
-        const double mm = std::round(local[k] / kScale_m);
-        if (!(std::fabs(mm) <= 2147483647.0))
-            throw Error(where_ + ": point " + std::to_string(index) +
-                        " lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm");
-        xyz[k] = laszip_I32(mm);
-    }
-    return xyz;
+void LasRecord::throwBeyondReach(std::uint64_t index) const {
+    throw Error(where_ + ": point " + std::to_string(index) +
+                " lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm");
 }
 
 double LasRecord::gpsTime(const CloudPoint& p) const {
@@ -217,9 +208,14 @@ void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t 
     const std::uint8_t cls = options_.class_of_role[std::min<int>(int(p.label), kRoleCount - 1)];
     q.extended_classification = cls;
     q.classification = cls < 32 ? cls & 31u : 0u;
-    const double angle = std::clamp(std::round(p.scan_angle_deg / kScanAngleUnit_deg), -30000.0, 30000.0);
-    q.extended_scan_angle = fields_.scan_angle ? laszip_I16(angle) : 0;
-    q.scan_angle_rank = laszip_I8(std::clamp(std::lround(fields_.scan_angle ? p.scan_angle_deg : 0.0f), -90L, 90L));
+    if (fields_.scan_angle) {
+        const double angle = std::clamp(std::round(p.scan_angle_deg / kScanAngleUnit_deg), -30000.0, 30000.0);
+        q.extended_scan_angle = laszip_I16(angle);
+        q.scan_angle_rank = laszip_I8(std::clamp(std::lround(p.scan_angle_deg), -90L, 90L));
+    } else {
+        q.extended_scan_angle = 0;
+        q.scan_angle_rank = 0;
+    }
     q.point_source_ID = p.view;
     q.gps_time = gpsTime(p);
     if (fields_.rgb) {

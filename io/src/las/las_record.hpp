@@ -7,6 +7,7 @@
 #include <laszip/laszip_api.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -36,6 +37,8 @@ LasDate lasCreationDate();
 
 class LasRecord {
   public:
+    static constexpr double kScale_m = 0.001;  // the records' scale
+
     /// `where`: "output: <path>" for messages.
     LasRecord(std::string where, const glm::dvec3& origin, const core::CloudFields& fields, const LasOptions& options);
 
@@ -48,7 +51,21 @@ class LasRecord {
     void fill(laszip_point_struct& q, const core::CloudPoint& p, std::uint64_t index) const;
     /// The integer coordinates fill() gives point `p` (millimetres from the origin). Throws
     /// as fill() does.
-    std::array<laszip_I32, 3> quantize(const core::CloudPoint& p, std::uint64_t index) const;
+    std::array<laszip_I32, 3> quantize(const core::CloudPoint& p, std::uint64_t index) const {
+        const double local[3] = {p.position.x, p.position.y, p.position.z};
+        std::array<laszip_I32, 3> xyz{};
+        for (std::size_t k = 0; k < 3; ++k) {
+            // std::round (half away from zero) without a call to libm: below 2^31 in
+            // magnitude the truncation and its remainder are exact. std::round gives at
+            // most 2^31 - 1 in magnitude exactly when |v| < 2^31 - 0.5; NaN fails too.
+            const double v = local[k] / kScale_m;
+            if (!(std::fabs(v) < 2147483647.5)) throwBeyondReach(index);
+            const auto t = std::int64_t(v);
+            const double rest = v - double(t);
+            xyz[k] = laszip_I32(t + (rest >= 0.5 ? 1 : 0) - (rest <= -0.5 ? 1 : 0));
+        }
+        return xyz;
+    }
     /// The GPS time fill() gives point `p`.
     double gpsTime(const core::CloudPoint& p) const;
     /// Throws Error(where + ": LASzip <what> failed: <its message>") unless rc is 0.
@@ -66,6 +83,8 @@ class LasRecord {
     const std::string& where() const { return where_; }
 
   private:
+    [[noreturn]] void throwBeyondReach(std::uint64_t index) const;
+
     struct Extra {
         enum What { Range, Label, Incidence, Height } what;
         int offset = 0;  // within the point's extra bytes
