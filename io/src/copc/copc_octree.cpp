@@ -279,12 +279,14 @@ void orderedParallel(std::size_t n, int threads, std::size_t window, const std::
 }
 
 std::vector<OctreeNode> buildOctree(std::span<const std::array<std::int32_t, 3>> xyz, const OctreeCube& cube,
-                                    std::uint32_t max_node_points, int threads) {
+                                    std::uint32_t max_node_points, int threads, std::vector<Marks>* marks_kept) {
     const Builder builder(xyz, cube, std::max<std::uint32_t>(max_node_points, 1));
     TreeNode root;
     std::vector<std::uint32_t> all(xyz.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = std::uint32_t(i);
-    Marks marks;
+    std::vector<Marks> own_marks;
+    std::vector<Marks>& marks = marks_kept ? *marks_kept : own_marks;
+    marks.resize(std::max<std::size_t>(marks.size(), std::size_t(std::max(threads, 0)) + 1));
     // Enough subtrees for the workers to share: 8^stop >= 4 (threads + 1).
     int stop = -1;
     if (threads > 0) {
@@ -292,15 +294,13 @@ std::vector<OctreeNode> buildOctree(std::span<const std::array<std::int32_t, 3>>
         while (stop < 3 && (std::size_t(1) << (3 * stop)) < 4 * std::size_t(threads + 1)) ++stop;
     }
     std::vector<TreeNode*> tasks;
-    builder.split(root, std::move(all), stop, &tasks, marks);
+    builder.split(root, std::move(all), stop, &tasks, marks[0]);
     if (stop >= 0) {
-        std::vector<std::unique_ptr<Marks>> own(std::size_t(threads) + 1);
         parallelFor(tasks.size(), threads, [&](std::size_t i, std::size_t worker) {
-            if (!own[worker]) own[worker] = std::make_unique<Marks>();
             TreeNode& t = *tasks[i];
-            builder.split(t, std::move(t.pending), -1, nullptr, *own[worker]);
+            builder.split(t, std::move(t.pending), -1, nullptr, marks[worker]);
         });
-        builder.sampleAbove(root, stop, marks);
+        builder.sampleAbove(root, stop, marks[0]);
     }
     std::vector<OctreeNode> out;
     flatten(root, out);

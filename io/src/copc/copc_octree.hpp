@@ -62,8 +62,10 @@ std::vector<std::uint32_t> gridSample(std::span<const std::array<std::int32_t, 3
 /// (the result is the same for any count). Returns every node, those left with no points
 /// (whose descendants hold points) included, in depth-first order: a node, then its
 /// children's subtrees in the order of their octant (x the lowest bit, then y, then z).
+/// `marks`, when given, holds the threads' marks from one call to the next (a caller that
+/// builds many trees saves clearing and faulting in 8 MiB a thread each time).
 std::vector<OctreeNode> buildOctree(std::span<const std::array<std::int32_t, 3>> xyz, const OctreeCube& cube,
-                                    std::uint32_t max_node_points, int threads);
+                                    std::uint32_t max_node_points, int threads, std::vector<Marks>* marks = nullptr);
 
 /// Runs fn(i, worker) for i in [0, n) on `threads` threads besides the caller's, `worker`
 /// in [0, threads] naming the thread (0 the caller); rethrows the error of the lowest i

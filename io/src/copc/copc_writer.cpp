@@ -20,6 +20,7 @@
 #include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -202,6 +203,7 @@ class Assembler {
 struct Scratch {
     std::FILE* f = nullptr;
     std::string where;
+    std::uint64_t discarded_ = 0;  // bytes freed by discardBefore()
     Scratch(const std::filesystem::path& dir, const std::string& w) : where(w) {
         f = platform::openScratchFile(dir, where);
     }
@@ -227,6 +229,16 @@ struct Scratch {
     void flush() {
         if (std::fflush(f) != 0)
             throw Error("output: " + where + ": writing a scratch file failed: " + std::strerror(errno));
+    }
+    // Frees the whole pages of [0, end), read for the last time: their bytes, written
+    // but perhaps not yet on the disk, need not go there. Where the file system cannot
+    // punch holes the bytes stay, which costs only time.
+    void discardBefore(std::uint64_t end) {
+        const std::uint64_t page = 4096, upto = end / page * page;
+        if (upto > discarded_)
+            (void)::fallocate(::fileno(f), FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, off_t(discarded_),
+                              off_t(upto - discarded_));
+        discarded_ = std::max(discarded_, upto);
     }
     void readAt(void* data, std::size_t size, std::uint64_t offset) {
         auto* bytes = static_cast<char*>(data);
@@ -373,14 +385,6 @@ class CopcWriter final : public FormatWriter {
         if (spill_write_.valid()) spill_write_.get();
     }
 
-    // Reads the spill's points [first, first + n) into `out` (of n), unpacked.
-    void readSpill(std::uint64_t first, std::size_t n, std::vector<unsigned char>& bytes, std::span<CloudPoint> out) {
-        const std::size_t size = packing_.size();
-        bytes.resize(n * size);
-        spill_->readAt(bytes.data(), bytes.size(), first * size);
-        for (std::size_t i = 0; i < n; ++i) out[i] = packing_.unpack(bytes.data() + i * size);
-    }
-
     // Compresses `nodes` (their points given by `pointOf`) on the threads, handing each to
     // `done` in order on the calling thread; at most kNodesPerThread nodes a thread are
     // compressed and not yet handed on.
@@ -515,18 +519,29 @@ class CopcWriter final : public FormatWriter {
     void histogram(const OctreeCube& cube) {
         hist_.assign(std::size_t(1) << (3 * hist_level_), 0);
         spill_->flush();
+        const std::size_t size = packing_.size();
         std::vector<std::vector<unsigned char>> bytes(std::size_t(threads_) + 1);
-        std::vector<std::vector<CloudPoint>> pts(std::size_t(threads_) + 1);
         const std::size_t blocks = std::size_t((count_ + kScratchBlock - 1) / kScratchBlock);
         parallelFor(blocks, threads_, [&](std::size_t block, std::size_t worker) {
             const std::uint64_t first = std::uint64_t(block) * kScratchBlock;
             const std::size_t n = std::size_t(std::min<std::uint64_t>(kScratchBlock, count_ - first));
-            pts[worker].resize(n);
-            readSpill(first, n, bytes[worker], pts[worker]);
+            std::vector<unsigned char>& b = bytes[worker];
+            b.resize(n * size);
+            spill_->readAt(b.data(), b.size(), first * size);
+            // Points in scan order fall in the same cell for long runs: one atomic add a run.
+            std::size_t run_cell = 0;
+            std::uint64_t run = 0;
             for (std::size_t i = 0; i < n; ++i) {
-                const std::size_t cell = histCell(cube, record_.quantize(pts[worker][i], first + i));
-                std::atomic_ref<std::uint64_t>(hist_[cell]).fetch_add(1, std::memory_order_relaxed);
+                const glm::vec3 p = PointPacking::position(b.data() + i * size);
+                const std::size_t cell = histCell(cube, record_.quantize(p, first + i));
+                if (run > 0 && cell != run_cell) {
+                    std::atomic_ref<std::uint64_t>(hist_[run_cell]).fetch_add(run, std::memory_order_relaxed);
+                    run = 0;
+                }
+                run_cell = cell;
+                ++run;
             }
+            if (run > 0) std::atomic_ref<std::uint64_t>(hist_[run_cell]).fetch_add(run, std::memory_order_relaxed);
         });
     }
 
@@ -607,7 +622,7 @@ class CopcWriter final : public FormatWriter {
             const std::size_t blocks = (r.n + kScratchBlock - 1) / kScratchBlock;
             parallelFor(blocks, threads_, [&](std::size_t b, std::size_t) {
                 for (std::size_t i = b * kScratchBlock; i < std::min(r.n, (b + 1) * kScratchBlock); ++i) {
-                    const CloudPoint p = packing_.unpack(r.bytes.data() + i * size);
+                    const glm::vec3 p = PointPacking::position(r.bytes.data() + i * size);
                     r.bucket[i] = std::uint32_t(bucketOf(cube, record_.quantize(p, first + i)));
                 }
             });
@@ -651,6 +666,8 @@ class CopcWriter final : public FormatWriter {
                     std::memcpy(at + size, &index, sizeof index);
                     g.used += record;
                 }
+                // One pass sorts every bucket: the spill's bytes up to here are done with.
+                if (buckets_.size() <= kOpenAtOnce) spill_->discardBefore((r.first + r.n) * size);
                 if (ahead.valid()) ahead.get();
                 cur ^= 1;
             }
@@ -673,10 +690,11 @@ class CopcWriter final : public FormatWriter {
         std::vector<OctreeNode> nodes;
     };
 
-    LoadedBucket loadBucket(const OctreeCube& cube, std::size_t b) {
+    // Loads bucket `b` into `loaded`, whose vectors keep their room from one bucket to the
+    // next (fresh pages for every bucket cost the kernel more than the copying).
+    void loadBucket(const OctreeCube& cube, std::size_t b, LoadedBucket& loaded) {
         Bucket& bucket = buckets_[b];
         Top& root = tops_[std::size_t(bucket.top)];
-        LoadedBucket loaded;
         loaded.bucket = b;
         std::vector<Spilled>& pts = loaded.pts;
         pts.resize(std::size_t(bucket.count));
@@ -697,14 +715,15 @@ class CopcWriter final : public FormatWriter {
             }
         }
         bucket.file.reset();
-        std::vector<std::array<std::int32_t, 3>> xyz(pts.size());
+        std::vector<std::array<std::int32_t, 3>>& xyz = bucket_xyz_;
+        xyz.resize(pts.size());
         for (std::size_t i = 0; i < pts.size(); ++i) xyz[i] = record_.quantize(pts[i].point, pts[i].index);
         OctreeCube sub;
         sub.bits = cube.bits - root.key.level;
         const int key[3] = {root.key.x, root.key.y, root.key.z};
         for (std::size_t k = 0; k < 3; ++k) sub.corner[k] = cube.corner[k] + (std::int64_t(key[k]) << sub.bits);
         std::vector<OctreeNode>& nodes = loaded.nodes;
-        nodes = buildOctree(xyz, sub, cap_, threads_);
+        nodes = buildOctree(xyz, sub, cap_, threads_, &bucket_marks_);
         // Keys from the bucket's subtree to the whole tree's.
         for (OctreeNode& n : nodes) {
             const int l = n.key.level;
@@ -724,7 +743,6 @@ class CopcWriter final : public FormatWriter {
             appendSet(run);
         }
         nodes.erase(nodes.begin());
-        return loaded;
     }
 
     // Compresses a loaded bucket's nodes into the scratch file of chunks, in order.
@@ -754,21 +772,24 @@ class CopcWriter final : public FormatWriter {
     void buildBuckets(const OctreeCube& cube) {
         chunks_ = std::make_unique<Scratch>(dir_, where_);
         if (threads_ == 0) {
+            LoadedBucket loaded;
             for (std::size_t b = 0; b < buckets_.size(); ++b) {
-                LoadedBucket loaded = loadBucket(cube, b);
+                loadBucket(cube, b, loaded);
                 compressBucket(loaded);
             }
-            return;
-        }
-        std::unique_ptr<LoadedBucket> compressing;
-        std::future<void> compressed;  // declared last: waited for before `compressing` goes
-        for (std::size_t b = 0; b < buckets_.size(); ++b) {
-            auto loaded = std::make_unique<LoadedBucket>(loadBucket(cube, b));
+        } else {
+            std::array<LoadedBucket, 2> slots;
+            std::future<void> compressed;  // declared last: waited for before the slots go
+            for (std::size_t b = 0; b < buckets_.size(); ++b) {
+                LoadedBucket& loaded = slots[b % 2];  // the other slot may be compressing
+                loadBucket(cube, b, loaded);
+                if (compressed.valid()) compressed.get();
+                compressed = std::async(std::launch::async, [this, &loaded] { compressBucket(loaded); });
+            }
             if (compressed.valid()) compressed.get();
-            compressing = std::move(loaded);
-            compressed = std::async(std::launch::async, [this, raw = compressing.get()] { compressBucket(*raw); });
         }
-        if (compressed.valid()) compressed.get();
+        std::vector<std::array<std::int32_t, 3>>().swap(bucket_xyz_);
+        std::vector<Marks>().swap(bucket_marks_);
     }
 
     void appendSet(std::span<const Lifted> run) {
@@ -940,6 +961,8 @@ class CopcWriter final : public FormatWriter {
     std::size_t spill_next_ = 0;                             // the one to pack into next
     std::future<void> spill_write_;                          // declared after what it writes, so waited for first
     std::uint64_t bucket_points_ = 0;
+    std::vector<std::array<std::int32_t, 3>> bucket_xyz_;  // the bucket being loaded's
+    std::vector<Marks> bucket_marks_;                      // its octree builder's
     int hist_level_ = 0;
     std::vector<std::uint64_t> hist_;
     std::vector<Top> tops_;

@@ -41,6 +41,13 @@ class PointPacking {
         if (fields_.intensity) put(out, &p.intensity, 2);
     }
 
+    /// The position of a packed point (its first 12 bytes), alone.
+    static glm::vec3 position(const unsigned char* in) {
+        glm::vec3 p;
+        std::memcpy(&p, in, 12);
+        return p;
+    }
+
     core::CloudPoint unpack(const unsigned char* in) const {
         core::CloudPoint p;
         get(in, &p.position, 12);

@@ -52,7 +52,11 @@ class LasRecord {
     /// The integer coordinates fill() gives point `p` (millimetres from the origin). Throws
     /// as fill() does.
     std::array<laszip_I32, 3> quantize(const core::CloudPoint& p, std::uint64_t index) const {
-        const double local[3] = {p.position.x, p.position.y, p.position.z};
+        return quantize(p.position, index);
+    }
+    /// The same, of a point's position alone.
+    std::array<laszip_I32, 3> quantize(const glm::vec3& position, std::uint64_t index) const {
+        const double local[3] = {position.x, position.y, position.z};
         std::array<laszip_I32, 3> xyz{};
         for (std::size_t k = 0; k < 3; ++k) {
             // std::round (half away from zero) without a call to libm: below 2^31 in
