@@ -686,38 +686,36 @@ class CopcWriter final : public FormatWriter {
     // compressed.
     struct LoadedBucket {
         std::size_t bucket = 0;
-        std::vector<Spilled> pts;
+        std::vector<unsigned char> records;  // as in its file: packed point, input index
         std::vector<OctreeNode> nodes;
     };
 
+    std::uint32_t recordIndex(const unsigned char* record) const {
+        std::uint32_t index = 0;
+        std::memcpy(&index, record + packing_.size(), sizeof index);
+        return index;
+    }
+
     // Loads bucket `b` into `loaded`, whose vectors keep their room from one bucket to the
-    // next (fresh pages for every bucket cost the kernel more than the copying).
+    // next (fresh pages for every bucket cost the kernel more than the copying). The
+    // points stay packed: the threads that compress a node unpack its points.
     void loadBucket(const OctreeCube& cube, std::size_t b, LoadedBucket& loaded) {
         Bucket& bucket = buckets_[b];
         Top& root = tops_[std::size_t(bucket.top)];
         loaded.bucket = b;
-        std::vector<Spilled>& pts = loaded.pts;
-        pts.resize(std::size_t(bucket.count));
-        {
-            const std::size_t size = packing_.size(), record = bucketRecordSize();
-            std::vector<unsigned char> bytes;
-            for (std::size_t done = 0; done < pts.size();) {
-                const std::size_t n = std::min(kScratchBlock, pts.size() - done);
-                bytes.resize(n * record);
-                bucket.file->read(bytes.data(), bytes.size());
-                for (std::size_t i = 0; i < n; ++i) {
-                    const unsigned char* r = bytes.data() + i * record;
-                    std::uint32_t index = 0;
-                    std::memcpy(&index, r + size, sizeof index);
-                    pts[done + i] = Spilled{packing_.unpack(r), index};
-                }
-                done += n;
-            }
-        }
+        const std::size_t record = bucketRecordSize(), n = std::size_t(bucket.count);
+        std::vector<unsigned char>& records = loaded.records;
+        records.resize(n * record);
+        bucket.file->read(records.data(), records.size());
         bucket.file.reset();
         std::vector<std::array<std::int32_t, 3>>& xyz = bucket_xyz_;
-        xyz.resize(pts.size());
-        for (std::size_t i = 0; i < pts.size(); ++i) xyz[i] = record_.quantize(pts[i].point, pts[i].index);
+        xyz.resize(n);
+        parallelFor((n + kScratchBlock - 1) / kScratchBlock, threads_, [&](std::size_t block, std::size_t) {
+            for (std::size_t i = block * kScratchBlock; i < std::min(n, (block + 1) * kScratchBlock); ++i) {
+                const unsigned char* r = records.data() + i * record;
+                xyz[i] = record_.quantize(PointPacking::position(r), recordIndex(r));
+            }
+        });
         OctreeCube sub;
         sub.bits = cube.bits - root.key.level;
         const int key[3] = {root.key.x, root.key.y, root.key.z};
@@ -725,19 +723,21 @@ class CopcWriter final : public FormatWriter {
         std::vector<OctreeNode>& nodes = loaded.nodes;
         nodes = buildOctree(xyz, sub, cap_, threads_, &bucket_marks_);
         // Keys from the bucket's subtree to the whole tree's.
-        for (OctreeNode& n : nodes) {
-            const int l = n.key.level;
-            n.key = {root.key.level + l, (root.key.x << l) + n.key.x, (root.key.y << l) + n.key.y,
-                     (root.key.z << l) + n.key.z};
+        for (OctreeNode& node : nodes) {
+            const int l = node.key.level;
+            node.key = {root.key.level + l, (root.key.x << l) + node.key.x, (root.key.y << l) + node.key.y,
+                        (root.key.z << l) + node.key.z};
         }
         // The root's points go up, in input order, to the sets file; the others are final.
         {
             std::vector<std::uint32_t> up = nodes.front().points;
-            std::sort(up.begin(), up.end(),
-                      [&](std::uint32_t a, std::uint32_t c) { return pts[a].index < pts[c].index; });
+            const auto indexOf = [&](std::uint32_t i) { return recordIndex(records.data() + std::size_t(i) * record); };
+            std::sort(up.begin(), up.end(), [&](std::uint32_t a, std::uint32_t c) { return indexOf(a) < indexOf(c); });
             std::vector<Lifted> run;
             run.reserve(up.size());
-            for (std::uint32_t i : up) run.push_back(Lifted{pts[i], xyz[i]});
+            for (std::uint32_t i : up)
+                run.push_back(
+                    Lifted{Spilled{packing_.unpack(records.data() + std::size_t(i) * record), indexOf(i)}, xyz[i]});
             root.set_at = sets_end_;
             root.set_n = run.size();
             appendSet(run);
@@ -748,9 +748,10 @@ class CopcWriter final : public FormatWriter {
     // Compresses a loaded bucket's nodes into the scratch file of chunks, in order.
     void compressBucket(LoadedBucket& loaded) {
         Bucket& bucket = buckets_[loaded.bucket];
-        const std::vector<Spilled>& pts = loaded.pts;
+        const std::size_t record = bucketRecordSize();
+        const unsigned char* records = loaded.records.data();
         compressNodes(
-            loaded.nodes, [&](std::uint32_t p) -> const CloudPoint& { return pts[p].point; },
+            loaded.nodes, [&](std::uint32_t p) { return packing_.unpack(records + std::size_t(p) * record); },
             [&](const OctreeNode& node, const LaszipFile& f, const LasInventory& inv) {
                 Bucket::Chunk c{node.key, chunks_at_, 0, node.points.size()};
                 if (!node.points.empty()) {
