@@ -14,9 +14,10 @@ namespace app {
 
 IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, std::string_view command,
                     bool fewer_threads) {
-    // Plan-or-refuse: the reader's chunk, and the writer within the rest (past it, it
-    // spills the points to scratch files and builds the octree a part at a time).
-    const std::uint64_t reading = io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
+    // Plan-or-refuse: the reader's two chunks (one read while the other is written), and
+    // the writer within the rest (past it, it spills the points to scratch files and
+    // builds the octree a part at a time).
+    const std::uint64_t reading = 2 * io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
     const auto least = [&](int t) { return io::copcMinimumBytes(t - 1) + reading; };
     if (fewer_threads)
         while (threads > 1 && budget_bytes < least(threads)) --threads;
@@ -37,17 +38,14 @@ std::size_t writeIndex(std::vector<std::unique_ptr<io::CloudReader>>& readers, c
                        const std::function<void()>& read_done) {
     const glm::dvec3 origin = readers.front()->origin();
     io::CloudWriter writer(out, io::CloudFormat::Copc, origin, readers.front()->fields(), plan.las, &plan.copc);
-    std::vector<core::CloudPoint> chunk;
     for (auto& reader : readers) {
         const glm::dvec3 shift = reader->origin() - origin;
-        chunk.clear();
-        while (reader->nextChunk(chunk)) {
+        io::forEachChunk(*reader, [&](std::vector<core::CloudPoint>& chunk) {
             if (shift != glm::dvec3(0.0))
                 for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + shift);
             writer.append(chunk);
             advance(chunk.size());
-            chunk.clear();
-        }
+        });
         if (const std::string w = reader->warning(); !w.empty()) warn(w);
         reader.reset();
     }

@@ -82,21 +82,17 @@ void writeInput(const fs::path& path, std::size_t n) {
     w.commit();
 }
 
-// What `ladarvr index` does, into `format`: COPC within `budget` bytes, the reader's chunk
+// What `ladarvr index` does, into `format`: COPC within `budget` bytes, the reader's two chunks
 // included, as the command plans it.
 void convert(const fs::path& in, const fs::path& out, io::CloudFormat format, int threads, std::uint64_t budget) {
     io::CloudReader reader(in);
     io::LasOptions las;
     las.threads = threads - 1;
     io::CopcOptions copc;
-    copc.memory_bytes = budget - io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
+    copc.memory_bytes = budget - 2 * io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
     io::CloudWriter writer(out, format, reader.origin(), reader.fields(), las,
                            format == io::CloudFormat::Copc ? &copc : nullptr);
-    std::vector<core::CloudPoint> chunk;
-    while (reader.nextChunk(chunk)) {
-        writer.append(chunk);
-        chunk.clear();
-    }
+    io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) { writer.append(chunk); });
     writer.commit();
 }
 
@@ -137,7 +133,7 @@ void run(BenchIndexCli& cli) {
     const int threads = cli.threads > 0 ? cli.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "bench index");
     const std::uint64_t least =
-        io::copcMinimumBytes(threads - 1) + io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
+        io::copcMinimumBytes(threads - 1) + 2 * io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
     if (budget < least)
         throw core::Error("bench index: --memory-mb " + core::shownNumber(cli.memory_mb) + " is below the " +
                           std::to_string((least >> 20) + 1) + " MiB indexing needs with " + std::to_string(threads) +

@@ -8,6 +8,7 @@
 #include "cloud_decode.hpp"
 
 #include <algorithm>
+#include <future>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -128,6 +129,25 @@ PointCloud readCloud(CloudReader& reader) {
     PointCloud cloud = readAll(reader);
     if (const std::string w = reader.warning(); !w.empty()) platform::printMessage("warning", w);
     return cloud;
+}
+
+void forEachChunk(CloudReader& reader, const std::function<void(std::vector<CloudPoint>&)>& fn) {
+    std::vector<CloudPoint> chunk, next;
+    bool more = reader.nextChunk(chunk);
+    while (more) {
+        std::future<bool> reading = std::async(std::launch::async, [&] {
+            next.clear();
+            return reader.nextChunk(next);
+        });
+        try {
+            fn(chunk);
+        } catch (...) {
+            reading.wait();
+            throw;
+        }
+        more = reading.get();
+        std::swap(chunk, next);
+    }
 }
 
 }  // namespace io

@@ -135,6 +135,65 @@ TEST_CASE("cloud_reader: chunked reads give the whole cloud in every format") {
     }
 }
 
+TEST_CASE("cloud_reader: forEachChunk hands every chunk over in order, and errors from either side") {
+    TempDir dir("read_ahead");
+    // 3 full chunks and a part: the reading thread is ahead of fn at every handover.
+    const std::size_t n = 3 * io::CloudReader::kChunkPoints + 12345;
+    const core::PointCloud cloud = knownCloud(n);
+    const fs::path p = dir.path / "c.pcd";
+    io::writeCloud(p, cloud, CloudFormat::PcdBinary);
+    {
+        io::CloudReader reader(p);
+        std::vector<core::CloudPoint> all;
+        std::vector<std::size_t> sizes;
+        io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+            sizes.push_back(chunk.size());
+            all.insert(all.end(), chunk.begin(), chunk.end());
+            chunk.clear();  // fn may empty its chunk; the next one is whole regardless
+        });
+        CHECK(sizes == std::vector<std::size_t>{io::CloudReader::kChunkPoints, io::CloudReader::kChunkPoints,
+                                                io::CloudReader::kChunkPoints, 12345});
+        CHECK(samePoints(all, cloud.points));
+    }
+    {
+        // fn's error stops the loop after the chunk that threw.
+        io::CloudReader reader(p);
+        std::size_t calls = 0;
+        CHECK_THROWS_WITH_AS(io::forEachChunk(reader,
+                                              [&](std::vector<core::CloudPoint>&) {
+                                                  if (++calls == 2) throw core::Error("fn: stop");
+                                              }),
+                             "fn: stop", core::Error);
+        CHECK(calls == 2);
+    }
+    {
+        // The reader's error in the second chunk (a word where a number goes) reaches the
+        // caller once fn has had the first chunk, whole.
+        const core::PointCloud small = knownCloud(io::CloudReader::kChunkPoints + 1000);
+        const fs::path text = dir.path / "t.pcd";
+        io::writeCloud(text, small, CloudFormat::PcdAscii);
+        std::string bytes = slurp(text);
+        std::size_t at = bytes.find("DATA ascii\n");
+        REQUIRE(at != std::string::npos);
+        at += 11;
+        for (std::size_t line = 0; line < io::CloudReader::kChunkPoints + 500; ++line) at = bytes.find('\n', at) + 1;
+        bytes.replace(at, 1, "x");
+        spit(text, bytes);
+        std::vector<std::size_t> sizes;
+        std::string error;
+        try {
+            io::CloudReader reader(text);
+            io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) { sizes.push_back(chunk.size()); });
+        } catch (const core::Error& e) {
+            error = e.what();
+        }
+        CHECK(sizes == std::vector<std::size_t>{io::CloudReader::kChunkPoints});
+        CHECK(error.rfind("pcd: " + text.string() + ": ", 0) == 0);
+        CHECK(error.find("of point " + std::to_string(io::CloudReader::kChunkPoints + 500) + " is not a number") !=
+              std::string::npos);
+    }
+}
+
 TEST_CASE("cloud_reader: NaN and inf points are dropped and counted, everywhere") {
     TempDir dir("nonfinite");
     const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -68,5 +69,11 @@ class CloudReader {
     std::unique_ptr<detail::FormatReader> format_;
     std::size_t read_ = 0, dropped_ = 0;
 };
+
+/// Calls fn(chunk) for each chunk reader.nextChunk() gives, in order, while the next chunk
+/// is read on a thread of its own: decoding the file overlaps what fn does with the
+/// points, and two chunks are held at once. fn may change or empty the chunk it is given.
+/// An error of the reading or of fn is rethrown once neither is running.
+void forEachChunk(CloudReader& reader, const std::function<void(std::vector<core::CloudPoint>&)>& fn);
 
 }  // namespace io
