@@ -10,13 +10,13 @@
 // chunk is cut out of a file LASzip writes for that node alone, in memory, on a worker.
 #include "copc_hierarchy.hpp"
 #include "copc_octree.hpp"
-#include "packed_point.hpp"
 #include "format_writer.hpp"
 #include "las/laz_chunk_table.hpp"
 #include "las/laz_compress.hpp"
 
 #include <core/error.hpp>
 #include <io/copc_writer.hpp>
+#include <io/point_packing.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
 

@@ -1,6 +1,6 @@
-// Tests for io/src/copc/packed_point.hpp: a point packed for the COPC writer's scratch
+// Tests for io/point_packing.hpp: a point packed for the COPC writer's scratch
 // files comes back with every field the cloud carries, in as many bytes as those fields.
-#include "../../io/src/copc/packed_point.hpp"
+#include <io/point_packing.hpp>
 
 #include <doctest/doctest.h>
 
@@ -30,7 +30,7 @@ core::CloudPoint sample() {
 TEST_CASE("packed_point: every field of a cloud that has them all survives, in 39 bytes") {
     core::CloudFields all;
     all.intensity = all.returns = all.incidence = all.scan_angle = all.height_above_ground = true;
-    const io::detail::PointPacking packing(all);
+    const io::PointPacking packing(all);
     CHECK(packing.size() == 39);
     const core::CloudPoint p = sample();
     std::array<unsigned char, 64> bytes{};
@@ -44,7 +44,7 @@ TEST_CASE("packed_point: every field of a cloud that has them all survives, in 3
 TEST_CASE("packed_point: a cloud of x y z alone keeps what a LAS record needs, in 17 bytes") {
     core::CloudFields xyz;
     xyz.rgb = xyz.label = xyz.view = xyz.range = false;
-    const io::detail::PointPacking packing(xyz);
+    const io::PointPacking packing(xyz);
     CHECK(packing.size() == 17);
     const core::CloudPoint p = sample();
     std::array<unsigned char, 64> bytes{};  // more than any packing takes

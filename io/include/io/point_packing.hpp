@@ -1,16 +1,16 @@
-// io/src/copc/packed_point.hpp (internal): a point in as few bytes as the fields a cloud
-// carries, for the COPC writer's scratch files. The record always holds what a LAS
-// record is made of whatever the fields (position, view, label, return number and
-// returns); the optional fields only when the cloud has them. unpack(pack(p)) gives a
-// point that LasRecord::fill() turns into the same record as p; the fields the cloud
-// lacks come back as their defaults.
+// io/point_packing.hpp: a point in as few bytes as the fields a cloud carries, for
+// scratch files (the COPC writer's spill and parts, the generator's spool). The record
+// always holds what a LAS record is made of whatever the fields (position, view, label,
+// return number and returns); the optional fields only when the cloud has them.
+// unpack(pack(p)) gives a point that LasRecord::fill() turns into the same record as p;
+// the fields the cloud lacks come back as their defaults.
 #pragma once
 #include <core/point_cloud.hpp>
 
 #include <cstddef>
 #include <cstring>
 
-namespace io::detail {
+namespace io {
 
 class PointPacking {
   public:
@@ -83,4 +83,4 @@ class PointPacking {
     std::size_t size_ = 0;
 };
 
-}  // namespace io::detail
+}  // namespace io
