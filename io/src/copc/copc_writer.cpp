@@ -52,8 +52,6 @@ constexpr laszip_U32 kVariableChunks = std::numeric_limits<laszip_U32>::max();
 // Bytes of records gathered per bucket before they are written (at most 256 buckets are
 // filled at once: 16 MiB).
 constexpr std::size_t kBucketBufferBytes = std::size_t(1) << 16;
-// Points a scratch file is read or written by at once.
-constexpr std::size_t kScratchBlockPoints = std::size_t(1) << 16;
 // Nodes compressed at once per thread before they are written in order.
 constexpr std::size_t kNodesPerThread = 4;
 // A compressed node's bytes per point, at most (as the LAZ writer's chunks).
@@ -325,7 +323,8 @@ class CopcWriter final : public FormatWriter {
 
   private:
     static constexpr std::size_t kBlockBits = 20;
-    static constexpr std::size_t kScratchBlock = kScratchBlockPoints;
+    // Points a scratch file is read or written by at once.
+    static constexpr std::size_t kScratchBlock = std::size_t(1) << 16;
     static constexpr std::size_t kBlockPoints = std::size_t(1) << kBlockBits;
 
     const CloudPoint& point(std::size_t i) const { return blocks_[i >> kBlockBits][i & (kBlockPoints - 1)]; }
