@@ -13,21 +13,22 @@
 namespace app {
 
 IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, std::string_view command,
-                    bool fewer_threads) {
+                    bool fewer_threads, std::uint32_t max_node_points) {
     // Plan-or-refuse: the reader's two chunks (one read while the other is written), and
     // the writer within the rest (past it, it spills the points to scratch files and
     // builds the octree a part at a time).
     const std::uint64_t reading = 2 * io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
-    const auto least = [&](int t) { return io::copcMinimumBytes(t - 1) + reading; };
+    const auto least = [&](int t) { return io::copcMinimumBytes(t - 1, max_node_points) + reading; };
     if (fewer_threads)
         while (threads > 1 && budget_bytes < least(threads)) --threads;
     if (budget_bytes < least(threads))
-        throw core::Error(
-            std::string(command) + ": --memory-mb " + core::shownNumber(memory_mb) + " is below the " +
-            std::to_string((least(threads) >> 20) + 1) + " MiB indexing needs with " + std::to_string(threads) +
-            (fewer_threads ? " thread; raise --memory-mb" : " threads; raise --memory-mb or lower --threads"));
+        throw core::Error(std::string(command) + ": --memory-mb " + core::shownNumber(memory_mb) + " is below the " +
+                          std::to_string((least(threads) >> 20) + 1) + " MiB indexing needs with " +
+                          std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
+                          (fewer_threads ? "; raise --memory-mb" : "; raise --memory-mb or lower --threads"));
     IndexPlan plan;
     plan.copc.memory_bytes = budget_bytes - reading;
+    plan.copc.max_node_points = max_node_points;
     plan.las.threads = threads - 1;
     plan.threads = threads;
     return plan;

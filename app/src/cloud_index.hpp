@@ -26,12 +26,12 @@ struct IndexPlan {
 };
 
 /// The writer's share of `budget_bytes` (the reader's chunk taken out first) on `threads`
-/// threads; with `fewer_threads`, the most threads (down to one) that fit instead of a
-/// refusal. Throws Error("<command>: --memory-mb <mb> is below the N MiB indexing needs
+/// threads, for nodes of at most `max_node_points`; with `fewer_threads`, the most threads
+/// (down to one) that fit instead of a refusal. Throws Error("<command>: --memory-mb <mb> is below the N MiB indexing needs
 /// with T threads; raise --memory-mb or lower --threads") (with `fewer_threads`: "... with
 /// 1 thread; raise --memory-mb").
 IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, std::string_view command,
-                    bool fewer_threads = false);
+                    bool fewer_threads = false, std::uint32_t max_node_points = io::kDefaultMaxNodePoints);
 
 /// Appends every reader's points (shifted into the first one's frame) to a COPC writer at
 /// `out`, then renames the whole file into place (CloudWriter). `advance(n)` is called

@@ -259,6 +259,10 @@ void registerGenerate(CLI::App& cli) {
                   "laz, copc; default from the --out extension");
     c->add_option("--las-target-class", state->las_target_class, "LAS/LAZ: the ASPRS class of target points, 0..255")
         ->capture_default_str();
+    c->add_option("--node-points", o.copc_node_points,
+                  "COPC output: the most points a node of the octree holds (larger nodes make a smaller file, "
+                  "smaller ones let a viewer load the cloud in finer steps)")
+        ->capture_default_str();
     c->add_option("--drone-speed-mps", o.drone_speed_mps,
                   "LAS/LAZ: drone speed along the orbit, m/s > 0 (sets each view's GPS time)")
         ->capture_default_str();

@@ -41,6 +41,7 @@ struct IndexCli {
     std::string check;
     int threads = 0;
     double memory_mb = 1024.0;
+    long long node_points = io::kDefaultMaxNodePoints;
 };
 
 std::string fieldList(const core::CloudFields& f) {
@@ -104,6 +105,9 @@ void run(IndexCli& cli) {
     if (io::formatForPath(out, "index: --out") != io::CloudFormat::Copc)
         throw core::Error("index: --out " + cli.out + ": allowed a name ending in .copc.laz");
     if (cli.threads < 0 || cli.threads > 1024) throw core::Error("index: --threads: allowed 0 (all cores) to 1024");
+    if (cli.node_points < io::kLeastNodeCap || cli.node_points > io::kMostNodeCap)
+        throw core::Error("index: --node-points " + std::to_string(cli.node_points) + ": allowed " +
+                          std::to_string(io::kLeastNodeCap) + " to " + std::to_string(io::kMostNodeCap));
     const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "index");
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     const int threads = cli.threads == 0 ? cores : cli.threads;
@@ -131,7 +135,7 @@ void run(IndexCli& cli) {
     createParentFolders(out, "index: --out");
     platform::checkWritableDestination(out);
 
-    const IndexPlan plan = planIndex(budget, cli.memory_mb, threads, "index");
+    const IndexPlan plan = planIndex(budget, cli.memory_mb, threads, "index", false, std::uint32_t(cli.node_points));
     platform::Progress progress("index: reading", std::size_t(bound));
     const std::size_t points =
         writeIndex(readers, out, plan, [&](std::size_t n) { progress.advance(n); }, [&] { progress.finish(); });
@@ -157,6 +161,10 @@ void registerIndex(CLI::App& cli) {
                   "check FILE against the COPC 1.0 rules instead (one line per broken rule on stdout; exit 1 "
                   "if any)");
     c->add_option("--threads", state->threads, "threads, 0 = all cores")->capture_default_str();
+    c->add_option("--node-points", state->node_points,
+                  "the most points a node of the octree holds: larger nodes make a smaller file, smaller ones let "
+                  "a viewer load the cloud in finer steps")
+        ->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,
                   "bound on memory; a cloud that does not fit is spilled to scratch files beside the output and "
                   "indexed a part at a time")

@@ -186,6 +186,9 @@ void validate(const GenerateOptions& o) {
     if (o.roles.bits == 0 || o.roles.bits > 0b111)
         throw core::Error("generate: roles (--roles): allowed a non-empty subset of ground, environment, target");
     if (o.memory_budget_bytes == 0) throw core::Error("generate: memory_budget_bytes = 0: allowed > 0");
+    if (o.copc_node_points < io::kLeastNodeCap || o.copc_node_points > io::kMostNodeCap)
+        throw core::Error("generate: node points (--node-points) = " + std::to_string(o.copc_node_points) +
+                          ": allowed " + std::to_string(io::kLeastNodeCap) + " to " + std::to_string(io::kMostNodeCap));
 }
 
 glm::dvec3 defaultCentre(const core::Scene& scene) {
@@ -690,12 +693,13 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
     las_options.memory_bytes =
         std::max(s.plan.writer_bytes, s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held));
     io::CopcOptions copc;
+    copc.max_node_points = std::uint32_t(s.options.copc_node_points);  // validated
     if (format == io::CloudFormat::Copc) {
         // The COPC writer holds the points until it has built the octree, within what the
         // run leaves it; past that it spills them to scratch files beside the output and
         // builds the octree a part at a time (the same file).
         const std::uint64_t room = s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held);
-        const std::uint64_t least = io::copcMinimumBytes(s.plan.threads);
+        const std::uint64_t least = io::copcMinimumBytes(s.plan.threads, copc.max_node_points);
         if (room < least)
             throw core::Error("generate: COPC output needs " + std::to_string((least >> 20) + 1) + " MiB beside the " +
                               std::to_string(held >> 20) + " MiB the run holds, more than --memory-mb " +

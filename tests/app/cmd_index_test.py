@@ -10,8 +10,10 @@ Usage: cmd_index_test.py LADARVR SCRATCH_DIR
      hierarchy EVLR whose pages (followed from the root page) hold every point once;
   3. `generate --out X.copc.laz` writes COPC; `--format laz` with that name is refused;
   4. the same file for --threads 1 and 3;
-  5. bad runs (an output that is an input, a name not ending in .copc.laz, inputs whose
-     fields differ, a missing input, a plan beyond --memory-mb): exit 1, one line, no file.
+  5. --node-points caps every node (index and generate), with more nodes for a lower cap;
+  6. bad runs (an output that is an input, a name not ending in .copc.laz, inputs whose
+     fields differ, a missing input, a plan beyond --memory-mb, a cap out of range): exit 1,
+     one line, no file.
 """
 import os
 import shutil
@@ -137,8 +139,27 @@ r = run("index", path("p.las"), path("p.laz"), "--out", path("m.copc.laz"))
 check(r.returncode == 0 and len(laspy.read(path("m.copc.laz")).points) == 2 * len(reference.points),
       "two inputs merged: " + r.stderr)
 
+# 5: the node cap.
+_, default_nodes = copc_layout(path("t1.copc.laz"))
+for cap in ("2000", "500"):
+    r = run("index", path("p.laz"), "--out", path("n" + cap + ".copc.laz"), "--node-points", cap)
+    check(r.returncode == 0, "index --node-points " + cap + ": " + r.stderr)
+    _, nodes = copc_layout(path("n" + cap + ".copc.laz"))
+    check(max(nodes.values()) <= int(cap), "--node-points " + cap + ": the largest node holds " +
+          str(max(nodes.values())))
+    check(len(nodes) > len(default_nodes), "--node-points " + cap + ": more nodes than the default cap's")
+    default_nodes = nodes
+r = run("generate", "--out", path("g500.copc.laz"), "--node-points", "500", *SMALL)
+check(r.returncode == 0, "generate --node-points 500: " + r.stderr)
+if r.returncode == 0:
+    _, nodes = copc_layout(path("g500.copc.laz"))
+    check(max(nodes.values()) <= 500, "generate --node-points 500: the largest node holds " + str(max(nodes.values())))
+r = run("generate", "--out", path("g50.copc.laz"), "--node-points", "50", *SMALL)
+check(r.returncode == 1 and "(--node-points) = 50: allowed 100 to 4000000" in r.stderr and
+      not os.path.exists(path("g50.copc.laz")), "generate --node-points 50: " + r.stderr)
 
-# 5: bad runs.
+
+# 6: bad runs.
 def bad(expect, *args):
     before = set(os.listdir(scratch))
     r = run("index", *args)
@@ -154,6 +175,10 @@ bad("allowed a name ending in .copc.laz", path("p.laz"), "--out", path("x.laz"))
 bad("merged inputs must carry the same fields", path("p.pcd"), path("p.las"), "--out", path("y.copc.laz"))
 bad("does not exist", path("missing.pcd"), "--out", path("y.copc.laz"))
 bad("raise --memory-mb", path("p.laz"), "--out", path("y.copc.laz"), "--memory-mb", "1")
+bad("index: --node-points 99: allowed 100 to 4000000", path("p.laz"), "--out", path("y.copc.laz"),
+    "--node-points", "99")
+bad("index: --node-points 4000001: allowed 100 to 4000000", path("p.laz"), "--out", path("y.copc.laz"),
+    "--node-points", "4000001")
 
 print("%d checks, %d failed" % (checks, len(failures)))
 sys.exit(1 if failures else 0)

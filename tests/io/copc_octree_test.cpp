@@ -1,6 +1,6 @@
 // Tests for io/src/copc/copc_octree.hpp's ordered work: every item worked once, emitted
-// in order on the caller's thread, never more than the window begun and not emitted,
-// and the first error rethrown with nothing begun after it.
+// in order on the caller's thread, never more than the window (in items, or in weight)
+// begun and not emitted, and the first error rethrown with nothing begun after it.
 #include "../../io/src/copc/copc_octree.hpp"
 
 #include <doctest/doctest.h>
@@ -44,6 +44,42 @@ TEST_CASE("copc_octree: ordered work emits every item once, in order, within its
             CHECK(std::size_t(most_open.load()) <= window);
             CHECK_FALSE(emitted_elsewhere);
         }
+    }
+}
+
+TEST_CASE("copc_octree: weighted ordered work holds at most the window's weight, or one item alone") {
+    // Weights 1 to 9 and one item heavier than the window: the weight begun and not
+    // emitted never passes the window, except by an item that begins alone.
+    for (const int threads : {0, 1, 3}) {
+        CAPTURE(threads);
+        constexpr std::size_t n = 150, window = 12, heavy = 40;
+        const auto weight = [](std::size_t i) { return i == heavy ? window + 5 : 1 + i % 9; };
+        std::mutex m;
+        std::size_t held = 0, items = 0;
+        bool over = false;
+        std::vector<std::size_t> emitted;
+        io::detail::orderedParallel(
+            n, threads, window,
+            [&](std::size_t i) {
+                {
+                    std::lock_guard<std::mutex> lock(m);
+                    held += weight(i);
+                    ++items;
+                    if (held > window && items > 1) over = true;
+                }
+                volatile std::size_t spin = 0;
+                for (std::size_t k = 0; k < (i % 5) * 20000; ++k) spin = spin + k;
+            },
+            [&](std::size_t i) {
+                std::lock_guard<std::mutex> lock(m);
+                held -= weight(i);
+                --items;
+                emitted.push_back(i);
+            },
+            weight);
+        REQUIRE(emitted.size() == n);
+        for (std::size_t i = 0; i < n; ++i) CHECK(emitted[i] == i);
+        CHECK_FALSE(over);
     }
 }
 

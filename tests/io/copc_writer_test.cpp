@@ -468,18 +468,22 @@ TEST_CASE("copc_writer: past its memory bound it spills and builds a part at a t
         io::writeCopc(dir.path / "memory.copc.laz", c, las, copc);
         // Less than the points need in memory (64 bytes each: 3.8 MB), room for buckets of
         // about 8000 points: many buckets, levels above them.
-        copc.memory_bytes = io::copcFixedBytes(threads) + 1800000;
+        copc.memory_bytes = io::copcFixedBytes(threads, copc.max_node_points) + 1800000;
         io::writeCopc(dir.path / "spilled.copc.laz", c, las, copc);
         const std::string a = slurp(dir.path / "memory.copc.laz"), b = slurp(dir.path / "spilled.copc.laz");
         CHECK(a.size() == b.size());
         CHECK(a == b);
         CHECK(dir.entries() == 2);  // the scratch files are gone
     }
-    // A bound below one node's room is one error naming the least allowed.
+    // A bound below one node's room is one error naming the least allowed (the bound is
+    // below what the points need beside the writer's fixed bytes, so they spill).
     io::CopcOptions tight;
-    tight.memory_bytes = io::copcMinimumBytes(0) / 2;
+    tight.memory_bytes = io::copcFixedBytes(0) + 1000;
+    REQUIRE(tight.memory_bytes < io::copcMinimumBytes(0));
     const std::string e = test_support::errorOf([&] { io::writeCopc(dir.path / "tight.copc.laz", c, {}, tight); });
-    CHECK(e.find("leaves no room for a node of 100000 points; allowed at least") != std::string::npos);
+    CHECK(e.find("leaves no room for a node of " + std::to_string(io::kDefaultMaxNodePoints) +
+                 " points; allowed at least " + std::to_string(io::copcMinimumBytes(0) >> 20) + " MiB") !=
+          std::string::npos);
     CHECK_FALSE(fs::exists(dir.path / "tight.copc.laz"));
 }
 

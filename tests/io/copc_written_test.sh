@@ -15,20 +15,21 @@ rm -rf "$dir"
 mkdir -p "$dir"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-# A cloud of a few hundred thousand points: several octree levels (nodes hold 100,000 at most).
-"$bin" generate --xres 128 --yres 128 --views 24 --out "$dir/gen.copc.laz" 2>"$dir/gen.log" ||
+# A cloud of a few hundred thousand points in nodes of at most 100,000: several octree levels.
+"$bin" generate --xres 128 --yres 128 --views 24 --node-points 100000 --out "$dir/gen.copc.laz" 2>"$dir/gen.log" ||
     fail "generate to COPC: $(cat "$dir/gen.log")"
 "$bin" generate --xres 128 --yres 128 --views 100 --out "$dir/plain.pcd" 2>"$dir/plain.log" ||
     fail "generate to PCD: $(cat "$dir/plain.log")"
-"$bin" index "$dir/plain.pcd" --out "$dir/mem.copc.laz" 2>"$dir/mem.log" || fail "index: $(cat "$dir/mem.log")"
-"$bin" index "$dir/plain.pcd" --out "$dir/spill.copc.laz" --memory-mb 120 --threads 1 2>"$dir/spill.log" ||
+"$bin" index "$dir/plain.pcd" --out "$dir/mem.copc.laz" --node-points 100000 2>"$dir/mem.log" || fail "index: $(cat "$dir/mem.log")"
+"$bin" index "$dir/plain.pcd" --out "$dir/spill.copc.laz" --node-points 100000 --memory-mb 120 --threads 1 2>"$dir/spill.log" ||
     fail "index past its bound: $(cat "$dir/spill.log")"
 cmp -s "$dir/mem.copc.laz" "$dir/spill.copc.laz" || fail "index past its memory bound wrote another file"
 # generate to COPC past its memory bound spills too (the octree's upper levels streamed
 # from a scratch file) and writes the file it writes in memory.
-"$bin" generate --xres 128 --yres 128 --views 100 --threads 1 --out "$dir/genmem.copc.laz" 2>"$dir/genmem.log" ||
+"$bin" generate --xres 128 --yres 128 --views 100 --threads 1 --node-points 100000 --out "$dir/genmem.copc.laz" 2>"$dir/genmem.log" ||
     fail "generate to COPC in memory: $(cat "$dir/genmem.log")"
-"$bin" generate --xres 128 --yres 128 --views 100 --threads 1 --memory-mb 160 --out "$dir/genspill.copc.laz" \
+"$bin" generate --xres 128 --yres 128 --views 100 --threads 1 --node-points 100000 --memory-mb 160 \
+    --out "$dir/genspill.copc.laz" \
     2>"$dir/genspill.log" || fail "generate to COPC past its bound: $(cat "$dir/genspill.log")"
 cmp -s "$dir/genmem.copc.laz" "$dir/genspill.copc.laz" || fail "generate past its memory bound wrote another file"
 

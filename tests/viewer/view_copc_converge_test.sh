@@ -2,7 +2,8 @@
 # tests/viewer/view_copc_converge_test.sh LADARVR: a still view of a COPC cloud at full
 # budget converges to the picture of the same points held in core.
 #
-# The demo scene (163,840 points) is generated to LAS and indexed to COPC (the same points:
+# The demo scene (163,840 points) is generated to LAS and indexed to COPC in nodes of at
+# most 100,000 points, so that more than one node loads (the same points:
 # both files quantise to the same 1 mm grid, which the equal bounds below confirm). Both files are viewed headless
 # in desktop mode from the same pose (the automatic orbit at its start angle: a period of
 # 10^12 s moves it by under 10^-9 rad in a run), the COPC one with a cache and a point
@@ -30,7 +31,7 @@ export LSAN_OPTIONS="suppressions=$here/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}
 
 "$bin" generate --xres 64 --yres 64 --views 40 --out "$work/demo.las" >"$work/generate.out" 2>&1 ||
   { cat "$work/generate.out" >&2; echo "view_copc_converge_test: generate failed" >&2; exit 1; }
-"$bin" index "$work/demo.las" --out "$work/demo.copc.laz" >"$work/index.out" 2>&1 ||
+"$bin" index "$work/demo.las" --out "$work/demo.copc.laz" --node-points 100000 >"$work/index.out" 2>&1 ||
   { cat "$work/index.out" >&2; echo "view_copc_converge_test: index failed" >&2; exit 1; }
 printf 'loaded+3 escape\n' >"$work/script.txt"
 

@@ -21,7 +21,7 @@ export LSAN_OPTIONS="suppressions=$here/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}
 
 python3 "$here/make_test_pcd.py" "$work/demo.pcd"
 # 163,840 points over nodes of at most 100,000: more than one level.
-"$bin" index "$work/demo.pcd" --out "$work/demo.copc.laz" --threads 1 2>"$work/index.err" ||
+"$bin" index "$work/demo.pcd" --out "$work/demo.copc.laz" --threads 1 --node-points 100000 2>"$work/index.err" ||
   { cat "$work/index.err" >&2; exit 1; }
 cat >"$work/candidates.json" <<'JSON'
 {"candidates": [{"id": "block", "centre": [1000000, 2000000, 51.5], "size_m": [8, 4, 3], "yaw_deg": 0, "score": 0.9},

@@ -2,7 +2,7 @@
 # tests/viewer/view_ooc_test.sh LADARVR: `ladarvr view` of a COPC cloud far larger than its
 # RAM cache and its GPU arena, along a scripted path, headless (Xvfb, desktop mode, llvmpipe):
 #   1. a cloud from `ladarvr generate` (the demo scene, 50 views: about 0.8 M points) indexed
-#      by `ladarvr index`, viewed with --cache-mb and --gpu-mb a small fraction of what the
+#      by `ladarvr index` in nodes of at most 100,000 points (many nodes to come and go), viewed with --cache-mb and --gpu-mb a small fraction of what the
 #      cloud takes (its points at 40 bytes in RAM, 20 on the GPU) and --upload-mb, along an
 #      orbit of 2 s a turn zoomed in and out by the script: in every frame record the
 #      resident bytes stay within the cache, the GPU bytes within the arena, the bytes
@@ -28,7 +28,7 @@ export LSAN_OPTIONS="suppressions=$here/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}
 
 "$bin" generate --out "$work/cloud.laz" --views 50 2>"$work/generate.err" ||
   { cat "$work/generate.err" >&2; exit 1; }
-"$bin" index "$work/cloud.laz" --out "$work/cloud.copc.laz" 2>"$work/index.err" ||
+"$bin" index "$work/cloud.laz" --out "$work/cloud.copc.laz" --node-points 100000 2>"$work/index.err" ||
   { cat "$work/index.err" >&2; exit 1; }
 cat >"$work/path.script" <<'S'
 # orbit (2 s a turn), fly in, out, in again, then the free mode

@@ -20,9 +20,18 @@
 
 namespace io {
 
+/// The node cap CopcOptions starts with. Large nodes keep long runs of each scan line
+/// together, which LAZ compresses well, and leave fewer sampled levels above the leaves;
+/// small ones let a viewer load the cloud in finer steps.
+inline constexpr std::uint32_t kDefaultMaxNodePoints = 400000;
+/// The node caps the commands accept (--node-points): below, a node's chunk and hierarchy
+/// entry cost more than its points; above, a reader decodes tens of megabytes for one node.
+inline constexpr std::uint32_t kLeastNodeCap = 100;
+inline constexpr std::uint32_t kMostNodeCap = 4000000;
+
 struct CopcOptions {
     /// The most points a node holds (a node whose cube is 1 mm wide holds all its points).
-    std::uint32_t max_node_points = 100000;
+    std::uint32_t max_node_points = kDefaultMaxNodePoints;
     /// The most the writer holds (0: no bound, every point in memory). Past it the points
     /// go to anonymous scratch files in the output's folder and the octree is built a part
     /// at a time (io/src/copc/copc_writer.cpp); the file is the same either way. Throws
@@ -34,12 +43,13 @@ struct CopcOptions {
 /// their integer coordinates, the octree's indices), for callers that plan memory.
 std::uint64_t copcBytesPerPoint();
 /// Bytes the COPC writer holds besides its points (the nodes being compressed, the
-/// sampling grids of its threads), with `threads` worker threads.
-std::uint64_t copcFixedBytes(int threads);
+/// sampling grids of its threads), with `threads` worker threads and nodes of at most
+/// `max_node_points`.
+std::uint64_t copcFixedBytes(int threads, std::uint32_t max_node_points = kDefaultMaxNodePoints);
 
 /// The least CopcOptions::memory_bytes that a cloud of any size can be written in, with
-/// `threads` worker threads and the default node size.
-std::uint64_t copcMinimumBytes(int threads);
+/// `threads` worker threads and nodes of at most `max_node_points`.
+std::uint64_t copcMinimumBytes(int threads, std::uint32_t max_node_points = kDefaultMaxNodePoints);
 
 /// Writes `cloud` as a COPC file at `path`, atomically (as writeCloud does). Throws
 /// Error("output: <path>: ...").

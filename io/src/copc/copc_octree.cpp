@@ -205,19 +205,24 @@ void parallelFor(std::size_t n, int threads, const std::function<void(std::size_
 }
 
 void orderedParallel(std::size_t n, int threads, std::size_t window, const std::function<void(std::size_t)>& work,
-                     const std::function<void(std::size_t)>& emit) {
+                     const std::function<void(std::size_t)>& emit,
+                     const std::function<std::size_t(std::size_t)>& weight) {
     window = std::max<std::size_t>(window, 1);
     std::mutex m;
     std::condition_variable changed;
     std::size_t next = 0, emitted = 0, running = 0;
+    std::size_t held = 0;  // the weight of the items begun and not yet emitted
     std::vector<char> done(n, 0);
     std::vector<std::exception_ptr> errors(n);
     std::exception_ptr emit_error;
     bool stop = false;
-    const auto canBegin = [&] { return !stop && next < n && next < emitted + window; };
+    const auto weightOf = [&](std::size_t i) { return weight ? weight(i) : std::size_t(1); };
+    // An item begins when the window has room for it, or when it would be alone in it.
+    const auto canBegin = [&] { return !stop && next < n && (next == emitted || held + weightOf(next) <= window); };
     // Runs item i with the lock released; returns with it held.
     const auto run = [&](std::unique_lock<std::mutex>& lock, std::size_t i) {
         ++running;
+        held += weightOf(i);
         lock.unlock();
         try {
             work(i);
@@ -258,6 +263,7 @@ void orderedParallel(std::size_t n, int threads, std::size_t window, const std::
                     changed.notify_all();
                     break;
                 }
+                held -= weightOf(i);
                 ++emitted;
                 changed.notify_all();
             } else if (canBegin()) {

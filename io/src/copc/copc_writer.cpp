@@ -52,8 +52,12 @@ constexpr laszip_U32 kVariableChunks = std::numeric_limits<laszip_U32>::max();
 // Bytes of records gathered per bucket before they are written (at most 256 buckets are
 // filled at once: 16 MiB).
 constexpr std::size_t kBucketBufferBytes = std::size_t(1) << 16;
-// Nodes compressed at once per thread before they are written in order.
+// Nodes compressed at once per thread before they are written in order (nodes a caller
+// of CopcNodeWriter made).
 constexpr std::size_t kNodesPerThread = 4;
+// The nodes the writer makes: per thread, nodes of this many times the node cap's points
+// together are compressed and not yet written.
+constexpr std::size_t kCapsPerThread = 2;
 // A compressed node's bytes per point, at most (as the LAZ writer's chunks).
 constexpr std::uint64_t kCompressedBytesPerPoint = 24;
 // Out of core, the upper levels' counts come from a histogram of the points over the
@@ -299,7 +303,8 @@ class CopcWriter final : public FormatWriter {
             points = points.subspan(n);
             count_ += n;
         }
-        if (copc_.memory_bytes > 0 && count_ * copcBytesPerPoint() + copcFixedBytes(threads_) > copc_.memory_bytes) {
+        if (copc_.memory_bytes > 0 &&
+            count_ * copcBytesPerPoint() + copcFixedBytes(threads_, cap_) > copc_.memory_bytes) {
             spill_ = std::make_unique<Scratch>(dir_, where_);
             const std::size_t held = count_;
             count_ = 0;
@@ -385,11 +390,11 @@ class CopcWriter final : public FormatWriter {
     }
 
     // Compresses `nodes` (their points given by `pointOf`) on the threads, handing each to
-    // `done` in order on the calling thread; at most kNodesPerThread nodes a thread are
-    // compressed and not yet handed on.
+    // `done` in order on the calling thread; the nodes compressed and not yet handed on
+    // hold at most kCapsPerThread node caps' points a thread (or one node alone).
     template <typename PointOf, typename Done>
     void compressNodes(std::vector<OctreeNode>& nodes, PointOf pointOf, Done done) {
-        const std::size_t window = kNodesPerThread * std::size_t(threads_ + 1);
+        const std::size_t window = kCapsPerThread * std::size_t(cap_) * std::size_t(threads_ + 1);
         std::vector<LaszipFile> files(nodes.size());
         std::vector<LasInventory> counted(nodes.size());
         orderedParallel(
@@ -406,7 +411,8 @@ class CopcWriter final : public FormatWriter {
                 done(nodes[i], files[i], counted[i]);
                 std::vector<std::uint32_t>().swap(nodes[i].points);
                 files[i] = LaszipFile{};
-            });
+            },
+            [&](std::size_t i) { return nodes[i].points.size(); });
     }
 
     void finishInMemory() {
@@ -476,7 +482,7 @@ class CopcWriter final : public FormatWriter {
         lo_ = spilled_bounds_.lo;
         hi_ = spilled_bounds_.hi;
         const OctreeCube cube = enclosingCube(lo_, hi_);
-        const std::uint64_t fixed = copcFixedBytes(threads_);
+        const std::uint64_t fixed = copcFixedBytes(threads_, cap_);
         const std::uint64_t per_point = copcBytesPerPoint() + sizeof(Spilled);
         const std::uint64_t room = copc_.memory_bytes > fixed ? copc_.memory_bytes - fixed : 0;
         hist_level_ = 1;
@@ -489,7 +495,7 @@ class CopcWriter final : public FormatWriter {
         if (bucket_points_ <= cap_)
             throw Error(record_.where() + ": a memory bound of " + std::to_string(copc_.memory_bytes >> 20) +
                         " MiB leaves no room for a node of " + std::to_string(cap_) + " points; allowed at least " +
-                        std::to_string((fixed + 2 * per_point * (cap_ + 1) * 8 / 7 + (1u << 20)) >> 20) + " MiB");
+                        std::to_string(copcMinimumBytes(threads_, cap_) >> 20) + " MiB");
         histogram(cube);
         makeTop(cube, CopcKey{});
         distribute(cube);
@@ -993,17 +999,19 @@ std::uint64_t copcBytesPerPoint() {
     return sizeof(core::CloudPoint) + 12 + 3 * sizeof(std::uint32_t);
 }
 
-std::uint64_t copcFixedBytes(int threads) {
-    const std::uint64_t per_thread = (std::uint64_t(1) << 21) * sizeof(std::uint32_t) +
-                                     detail::kNodesPerThread * CopcOptions{}.max_node_points *
-                                         (sizeof(core::CloudPoint) + detail::kCompressedBytesPerPoint);
+std::uint64_t copcFixedBytes(int threads, std::uint32_t max_node_points) {
+    // Per thread: its sampling marks, the copy of the node it compresses, and its share of
+    // the compressed nodes not yet written.
+    const std::uint64_t cap = std::max<std::uint32_t>(max_node_points, 1);
+    const std::uint64_t per_thread = (std::uint64_t(1) << 21) * sizeof(std::uint32_t) + cap * sizeof(core::CloudPoint) +
+                                     detail::kCapsPerThread * cap * detail::kCompressedBytesPerPoint;
     return std::uint64_t(std::max(threads, 0) + 1) * per_thread;
 }
 
-std::uint64_t copcMinimumBytes(int threads) {
+std::uint64_t copcMinimumBytes(int threads, std::uint32_t max_node_points) {
+    const std::uint64_t cap = std::max<std::uint32_t>(max_node_points, 1);
     const std::uint64_t per_point = copcBytesPerPoint() + sizeof(detail::Spilled);
-    return copcFixedBytes(threads) + 2 * per_point * (std::uint64_t(CopcOptions{}.max_node_points) + 1) * 8 / 7 +
-           (1u << 20);
+    return copcFixedBytes(threads, max_node_points) + 2 * per_point * (cap + 1) * 8 / 7 + (1u << 20);
 }
 
 struct CopcNodeWriter::Impl {

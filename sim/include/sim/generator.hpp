@@ -4,6 +4,7 @@
 #include <core/point_cloud.hpp>
 #include <core/scene.hpp>
 #include <io/cloud_io.hpp>
+#include <io/copc_writer.hpp>
 #include <sim/colour.hpp>
 #include <sim/ground.hpp>
 #include <sim/orbit.hpp>
@@ -61,6 +62,8 @@ struct GenerateOptions {
     /// v x (orbit length / views) / drone_speed_mps (view_interval_s is set from that).
     io::LasOptions las;
     double drone_speed_mps = 10.0;
+    /// COPC output only: the most points a node of the octree holds.
+    std::int64_t copc_node_points = io::kDefaultMaxNodePoints;
 };
 
 /// Validates every field (orbit, colour, ground, threads, centre within
