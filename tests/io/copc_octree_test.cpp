@@ -48,12 +48,16 @@ TEST_CASE("copc_octree: ordered work emits every item once, in order, within its
 }
 
 TEST_CASE("copc_octree: weighted ordered work holds at most the window's weight, or one item alone") {
-    // Weights 1 to 9 and one item heavier than the window: the weight begun and not
-    // emitted never passes the window, except by an item that begins alone.
+    // Items weigh 2 to 18 while they run and half that once worked, and one item is heavier
+    // than the window: the weight begun and not emitted never passes the window, except
+    // by an item that begins alone.
     for (const int threads : {0, 1, 3}) {
         CAPTURE(threads);
-        constexpr std::size_t n = 150, window = 12, heavy = 40;
-        const auto weight = [](std::size_t i) { return i == heavy ? window + 5 : 1 + i % 9; };
+        constexpr std::size_t n = 150, window = 24, heavy = 40;
+        const auto weight = [](std::size_t i, bool worked) {
+            const std::size_t w = i == heavy ? window + 5 : 2 * (1 + i % 9);
+            return worked ? w / 2 : w;
+        };
         std::mutex m;
         std::size_t held = 0, items = 0;
         bool over = false;
@@ -63,16 +67,18 @@ TEST_CASE("copc_octree: weighted ordered work holds at most the window's weight,
             [&](std::size_t i) {
                 {
                     std::lock_guard<std::mutex> lock(m);
-                    held += weight(i);
+                    held += weight(i, false);
                     ++items;
                     if (held > window && items > 1) over = true;
                 }
                 volatile std::size_t spin = 0;
                 for (std::size_t k = 0; k < (i % 5) * 20000; ++k) spin = spin + k;
+                std::lock_guard<std::mutex> lock(m);
+                held -= weight(i, false) - weight(i, true);
             },
             [&](std::size_t i) {
                 std::lock_guard<std::mutex> lock(m);
-                held -= weight(i);
+                held -= weight(i, true);
                 --items;
                 emitted.push_back(i);
             },

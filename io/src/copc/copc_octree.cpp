@@ -206,30 +206,38 @@ void parallelFor(std::size_t n, int threads, const std::function<void(std::size_
 
 void orderedParallel(std::size_t n, int threads, std::size_t window, const std::function<void(std::size_t)>& work,
                      const std::function<void(std::size_t)>& emit,
-                     const std::function<std::size_t(std::size_t)>& weight) {
+                     const std::function<std::size_t(std::size_t, bool)>& weight) {
     window = std::max<std::size_t>(window, 1);
     std::mutex m;
     std::condition_variable changed;
     std::size_t next = 0, emitted = 0, running = 0;
-    std::size_t held = 0;  // the weight of the items begun and not yet emitted
+    std::size_t held = 0;                // the weight of the items begun and not yet emitted
+    std::vector<std::size_t> weighs(n);  // each one's part of it
     std::vector<char> done(n, 0);
     std::vector<std::exception_ptr> errors(n);
     std::exception_ptr emit_error;
     bool stop = false;
-    const auto weightOf = [&](std::size_t i) { return weight ? weight(i) : std::size_t(1); };
+    const auto weightOf = [&](std::size_t i, bool worked) { return weight ? weight(i, worked) : std::size_t(1); };
     // An item begins when the window has room for it, or when it would be alone in it.
-    const auto canBegin = [&] { return !stop && next < n && (next == emitted || held + weightOf(next) <= window); };
+    const auto canBegin = [&] {
+        return !stop && next < n && (next == emitted || held + weightOf(next, false) <= window);
+    };
     // Runs item i with the lock released; returns with it held.
     const auto run = [&](std::unique_lock<std::mutex>& lock, std::size_t i) {
         ++running;
-        held += weightOf(i);
+        weighs[i] = weightOf(i, false);
+        held += weighs[i];
         lock.unlock();
+        std::size_t worked = 0;
         try {
             work(i);
+            worked = weightOf(i, true);
         } catch (...) {
             errors[i] = std::current_exception();
         }
         lock.lock();
+        held = held - weighs[i] + worked;
+        weighs[i] = worked;
         --running;
         done[i] = 1;
         if (errors[i]) stop = true;
@@ -263,7 +271,7 @@ void orderedParallel(std::size_t n, int threads, std::size_t window, const std::
                     changed.notify_all();
                     break;
                 }
-                held -= weightOf(i);
+                held -= weighs[i];
                 ++emitted;
                 changed.notify_all();
             } else if (canBegin()) {

@@ -74,14 +74,15 @@ void parallelFor(std::size_t n, int threads, const std::function<void(std::size_
 
 /// Runs work(i) for i in [0, n) on `threads` threads besides the caller's, and emit(i) on
 /// the caller's thread in ascending order of i as soon as work(i) and every emit before it
-/// are done. The items begun and not yet emitted weigh at most `window` together (each
-/// weighs weight(i), or 1 without `weight`), except that an item begins alone whatever
-/// its weight: so the results held are bounded. No thread waits at the end of a batch: a
-/// thread that finishes takes the next item while the window allows. After an error (the
-/// lowest i's work, or an emit) no item is begun, those begun finish, and the error is
-/// rethrown.
+/// are done. The items begun and not yet emitted weigh at most `window` together, except
+/// that an item begins alone whatever its weight: so what they hold is bounded. An item
+/// weighs weight(i, false) from its beginning and weight(i, true) once its work is done
+/// (what its result holds from then until its emit), or 1 throughout
+/// without `weight`. No thread waits at the end of a batch: a thread that finishes takes
+/// the next item while the window allows. After an error (the lowest i's work, or an
+/// emit) no item is begun, those begun finish, and the error is rethrown.
 void orderedParallel(std::size_t n, int threads, std::size_t window, const std::function<void(std::size_t)>& work,
                      const std::function<void(std::size_t)>& emit,
-                     const std::function<std::size_t(std::size_t)>& weight = {});
+                     const std::function<std::size_t(std::size_t, bool)>& weight = {});
 
 }  // namespace io::detail

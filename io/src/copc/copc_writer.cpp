@@ -55,8 +55,9 @@ constexpr std::size_t kBucketBufferBytes = std::size_t(1) << 16;
 // Nodes compressed at once per thread before they are written in order (nodes a caller
 // of CopcNodeWriter made).
 constexpr std::size_t kNodesPerThread = 4;
-// The nodes the writer makes: per thread, nodes of this many times the node cap's points
-// together are compressed and not yet written.
+// The nodes the writer makes: per thread, the compressed bytes of this many nodes of the
+// cap's points at most (kCompressedBytesPerPoint) are held at once, besides the nodes
+// being compressed.
 constexpr std::size_t kCapsPerThread = 2;
 // A compressed node's bytes per point, at most (as the LAZ writer's chunks).
 constexpr std::uint64_t kCompressedBytesPerPoint = 24;
@@ -390,11 +391,14 @@ class CopcWriter final : public FormatWriter {
     }
 
     // Compresses `nodes` (their points given by `pointOf`) on the threads, handing each to
-    // `done` in order on the calling thread; the nodes compressed and not yet handed on
-    // hold at most kCapsPerThread node caps' points a thread (or one node alone).
+    // `done` in order on the calling thread. A node being compressed holds a copy of its
+    // points and at most kCompressedBytesPerPoint a point; one compressed, its bytes until
+    // it is handed on. Together they stay within a thread's share of copcFixedBytes.
     template <typename PointOf, typename Done>
     void compressNodes(std::vector<OctreeNode>& nodes, PointOf pointOf, Done done) {
-        const std::size_t window = kCapsPerThread * std::size_t(cap_) * std::size_t(threads_ + 1);
+        const std::size_t per_point = sizeof(CloudPoint) + kCompressedBytesPerPoint;
+        const std::size_t window = (sizeof(CloudPoint) + kCapsPerThread * kCompressedBytesPerPoint) *
+                                   std::size_t(cap_) * std::size_t(threads_ + 1);
         std::vector<LaszipFile> files(nodes.size());
         std::vector<LasInventory> counted(nodes.size());
         orderedParallel(
@@ -412,7 +416,9 @@ class CopcWriter final : public FormatWriter {
                 std::vector<std::uint32_t>().swap(nodes[i].points);
                 files[i] = LaszipFile{};
             },
-            [&](std::size_t i) { return nodes[i].points.size(); });
+            [&](std::size_t i, bool compressed) {
+                return compressed ? files[i].bytes.capacity() : nodes[i].points.size() * per_point;
+            });
     }
 
     void finishInMemory() {
