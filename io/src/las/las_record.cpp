@@ -81,23 +81,6 @@ LasDate lasCreationDate() {
     return date;
 }
 
-void LasInventory::add(const laszip_point_struct& q) {
-    const laszip_I32 xyz[3] = {q.X, q.Y, q.Z};
-    if (points == 0) {
-        for (int k = 0; k < 3; ++k) min[std::size_t(k)] = max[std::size_t(k)] = xyz[k];
-        gps_min_s = gps_max_s = q.gps_time;
-    } else {
-        gps_min_s = std::min(gps_min_s, q.gps_time);
-        gps_max_s = std::max(gps_max_s, q.gps_time);
-        for (int k = 0; k < 3; ++k) {
-            min[std::size_t(k)] = std::min(min[std::size_t(k)], xyz[k]);
-            max[std::size_t(k)] = std::max(max[std::size_t(k)], xyz[k]);
-        }
-    }
-    ++points;
-    ++by_return[q.extended_return_number & 15u];
-}
-
 void LasInventory::merge(const LasInventory& o) {
     if (o.points == 0) return;
     if (points == 0) {
@@ -192,7 +175,8 @@ double LasRecord::gpsTime(const CloudPoint& p) const {
     return options_.gps_start_s + double(p.view) * options_.view_interval_s;
 }
 
-void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t index) const {
+void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t index,
+                     LasInventory* inventory) const {
     const std::array<laszip_I32, 3> xyz = quantize(p, index);
     q.X = xyz[0];
     q.Y = xyz[1];
@@ -217,7 +201,9 @@ void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t 
         q.scan_angle_rank = 0;
     }
     q.point_source_ID = p.view;
-    q.gps_time = gpsTime(p);
+    const double gps_time_s = gpsTime(p);
+    q.gps_time = gps_time_s;
+    if (inventory) inventory->add(xyz, gps_time_s, rn);
     if (fields_.rgb) {
         q.rgb[0] = laszip_U16(((p.rgb >> 16) & 0xFFu) * 257u);
         q.rgb[1] = laszip_U16(((p.rgb >> 8) & 0xFFu) * 257u);

@@ -6,6 +6,7 @@
 
 #include <laszip/laszip_api.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -21,7 +22,22 @@ struct LasInventory {
     std::array<std::uint64_t, 16> by_return{};  // [r]: records with return number r
     std::array<laszip_I32, 3> min{}, max{};
     double gps_min_s = 0.0, gps_max_s = 0.0;  // of the records' GPS times (0 when none)
-    void add(const laszip_point_struct& q);
+    /// Counts a record of these integer coordinates, GPS time and return number.
+    void add(const std::array<laszip_I32, 3>& xyz, double gps_time_s, unsigned return_number) {
+        if (points == 0) {
+            min = max = xyz;
+            gps_min_s = gps_max_s = gps_time_s;
+        } else {
+            gps_min_s = std::min(gps_min_s, gps_time_s);
+            gps_max_s = std::max(gps_max_s, gps_time_s);
+            for (std::size_t k = 0; k < 3; ++k) {
+                min[k] = std::min(min[k], xyz[k]);
+                max[k] = std::max(max[k], xyz[k]);
+            }
+        }
+        ++points;
+        ++by_return[return_number & 15u];
+    }
     void merge(const LasInventory& other);
 };
 
@@ -46,9 +62,12 @@ class LasRecord {
     /// the creation day and year of lasCreationDate()) and its extra bytes, before it is
     /// opened for writing. Throws Error.
     void setUp(laszip_POINTER zip) const;
-    /// Fills `q` with point `p`, the `index`-th of the file (for messages). Throws
-    /// Error(where + ": point N lies beyond ...") when it is out of the 1 mm grid's reach.
-    void fill(laszip_point_struct& q, const core::CloudPoint& p, std::uint64_t index) const;
+    /// Fills `q` with point `p`, the `index`-th of the file (for messages), and counts its
+    /// record into `inventory` when given (from the values it computes: reading them back
+    /// from `q` would wait on the stores just made). Throws Error(where + ": point N lies
+    /// beyond ...") when it is out of the 1 mm grid's reach.
+    void fill(laszip_point_struct& q, const core::CloudPoint& p, std::uint64_t index,
+              LasInventory* inventory = nullptr) const;
     /// The integer coordinates fill() gives point `p` (millimetres from the origin). Throws
     /// as fill() does.
     std::array<laszip_I32, 3> quantize(const core::CloudPoint& p, std::uint64_t index) const {

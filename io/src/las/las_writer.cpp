@@ -86,8 +86,7 @@ class LasWriter final : public FormatWriter {
 
     void append(std::span<const CloudPoint> points) override {
         for (const CloudPoint& p : points) {
-            record_.fill(*point_, p, inventory_.points);
-            inventory_.add(*point_);
+            record_.fill(*point_, p, inventory_.points, &inventory_);
             check(laszip_write_point(zip_), "write");
         }
     }

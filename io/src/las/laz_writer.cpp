@@ -55,8 +55,7 @@ LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoin
     record.check(zip.p, laszip_open_writer_stream(zip.p, out, 1, 0), "open");
     zip.open = true;
     for (std::size_t i = 0; i < points.size(); ++i) {
-        record.fill(*q, points[i], first_index + i);
-        inventory.add(*q);
+        record.fill(*q, points[i], first_index + i, &inventory);
         record.check(zip.p, laszip_write_point(zip.p), "write");
     }
     zip.open = false;
