@@ -49,9 +49,10 @@ constexpr std::size_t kEvlrHeaderSize = 60;
 constexpr std::size_t kInfoSize = 160;
 constexpr double kScale_m = 0.001;
 constexpr laszip_U32 kVariableChunks = std::numeric_limits<laszip_U32>::max();
-// Bytes of records gathered per bucket before they are written (at most 256 buckets are
-// filled at once: 16 MiB).
+// Bytes of records gathered per bucket before they are written, and the buckets filled at
+// once (16 MiB).
 constexpr std::size_t kBucketBufferBytes = std::size_t(1) << 16;
+constexpr std::size_t kBucketsAtOnce = 256;
 // Nodes compressed at once per thread before they are written in order (nodes a caller
 // of CopcNodeWriter made).
 constexpr std::size_t kNodesPerThread = 4;
@@ -255,6 +256,62 @@ struct Scratch {
     }
 };
 
+// The spilled points: their first bytes in memory (as many as the bound leaves beside the
+// histogram and the sort into parts), the rest in a scratch file. What stays in memory
+// is neither written to the disk nor copied back through the kernel.
+class Spill {
+  public:
+    Spill(const std::filesystem::path& dir, const std::string& where, std::size_t head_bytes)
+        : dir_(dir), where_(where), capacity_(head_bytes) {
+        head_.reserve(capacity_);  // address space only: pages are taken as they are written
+    }
+    // Appends; one thread at a time, and none reading.
+    void write(const void* data, std::size_t size) {
+        const auto* bytes = static_cast<const unsigned char*>(data);
+        const std::size_t here = std::min(size, capacity_ - head_.size());
+        head_.insert(head_.end(), bytes, bytes + here);
+        head_size_ = head_.size();
+        if (size == here) return;
+        if (!tail_) tail_ = std::make_unique<Scratch>(dir_, where_);
+        tail_->write(bytes + here, size - here);
+    }
+    // Makes what was written readable by readAt().
+    void flush() {
+        if (tail_) tail_->flush();
+    }
+    // Reads `size` bytes at `offset`; several threads may read at once.
+    void readAt(void* data, std::size_t size, std::uint64_t offset) {
+        auto* bytes = static_cast<unsigned char*>(data);
+        const std::uint64_t head = head_size_;
+        if (offset < head) {
+            const std::size_t n = std::size_t(std::min<std::uint64_t>(size, head - offset));
+            std::memcpy(bytes, head_.data() + offset, n);
+            bytes += n;
+            size -= n;
+            offset += n;
+        }
+        if (size > 0) {
+            if (!tail_) throw Error("output: " + where_ + ": reading past the spilled points");
+            tail_->readAt(bytes, size, offset - head);
+        }
+    }
+    // Frees [0, end), read for the last time (the memory once all of it is passed; the
+    // file's pages as Scratch::discardBefore does). A reader may meanwhile read past `end`.
+    void discardBefore(std::uint64_t end) {
+        const std::uint64_t head = head_size_;
+        if (tail_ && end > head) tail_->discardBefore(end - head);
+        if (end >= head) std::vector<unsigned char>().swap(head_);  // readers past `end` read the tail
+    }
+
+  private:
+    std::filesystem::path dir_;
+    std::string where_;
+    std::size_t capacity_;
+    std::vector<unsigned char> head_;
+    std::size_t head_size_ = 0;  // what the head holds (stays when its memory is freed)
+    std::unique_ptr<Scratch> tail_;
+};
+
 // A point spilled to a bucket: the point and its index in the input.
 struct Spilled {
     CloudPoint point;
@@ -306,7 +363,7 @@ class CopcWriter final : public FormatWriter {
         }
         if (copc_.memory_bytes > 0 &&
             count_ * copcBytesPerPoint() + copcFixedBytes(threads_, cap_) > copc_.memory_bytes) {
-            spill_ = std::make_unique<Scratch>(dir_, where_);
+            spill_ = std::make_unique<Spill>(dir_, where_, spillHeadBytes());
             const std::size_t held = count_;
             count_ = 0;
             for (std::vector<CloudPoint>& b : blocks_) {
@@ -383,6 +440,20 @@ class CopcWriter final : public FormatWriter {
             spill_next_ ^= 1;
             points = points.subspan(n);
         }
+    }
+
+    // The spilled points' bytes kept in memory: the bound less the fixed part, and less
+    // what the histogram (an eighth of the rest at most), the bucket buffers and the
+    // rounds of points read back (two being sorted, one a thread for the histogram) take
+    // while the spill is read. The memory is freed before the parts are built.
+    std::size_t spillHeadBytes() const {
+        if (copc_.memory_bytes == 0) return 0;
+        const std::uint64_t fixed = copcFixedBytes(threads_, cap_);
+        const std::uint64_t room = copc_.memory_bytes > fixed ? copc_.memory_bytes - fixed : 0;
+        const std::uint64_t parts = std::uint64_t(threads_) + 1;
+        const std::uint64_t reading = room / 8 + kBucketsAtOnce * kBucketBufferBytes +
+                                      3 * parts * kScratchBlock * (packing_.size() + sizeof(std::uint32_t));
+        return std::size_t(room > reading ? room - reading : 0);
     }
 
     // Waits for the spill's last round to be written (and rethrows its error).
@@ -615,7 +686,7 @@ class CopcWriter final : public FormatWriter {
     // gathers the round before into the buckets' buffers and writes them out (two rounds
     // held at once, in the room the parts are built in later).
     void distribute(const OctreeCube& cube) {
-        constexpr std::size_t kOpenAtOnce = 256;
+        constexpr std::size_t kOpenAtOnce = kBucketsAtOnce;
         const std::size_t size = packing_.size(), record = bucketRecordSize();
         const std::size_t parts = std::size_t(threads_) + 1;
         struct Round {
@@ -967,7 +1038,7 @@ class CopcWriter final : public FormatWriter {
     std::size_t count_ = 0;
     std::array<std::int32_t, 3> lo_{}, hi_{};
     // Out of core.
-    std::unique_ptr<Scratch> spill_;
+    std::unique_ptr<Spill> spill_;
     Bounds spilled_bounds_;
     std::array<std::vector<unsigned char>, 2> spill_bytes_;  // rounds packed, being written
     std::size_t spill_next_ = 0;                             // the one to pack into next
