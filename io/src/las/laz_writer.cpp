@@ -54,10 +54,15 @@ LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoin
     record.check(zip.p, laszip_get_point_pointer(zip.p, &q), "point");
     record.check(zip.p, laszip_open_writer_stream(zip.p, out, 1, 0), "open");
     zip.open = true;
+    // Counted on this thread's stack and merged once: callers keep the inventories of
+    // chunks compressed at once side by side, and counting into them point by point
+    // would make the threads fight over the cache lines they share.
+    LasInventory counted;
     for (std::size_t i = 0; i < points.size(); ++i) {
-        record.fill(*q, points[i], first_index + i, &inventory);
+        record.fill(*q, points[i], first_index + i, &counted);
         record.check(zip.p, laszip_write_point(zip.p), "write");
     }
+    inventory.merge(counted);
     zip.open = false;
     record.check(zip.p, laszip_close_writer(zip.p), "close");
     if (!out) throw Error(record.where() + ": LASzip's output in memory failed");
