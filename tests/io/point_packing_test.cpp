@@ -61,3 +61,22 @@ TEST_CASE("packed_point: a cloud of x y z alone keeps what a LAS record needs, i
     CHECK(q.intensity == defaults.intensity);
     CHECK(q.scan_angle_deg == defaults.scan_angle_deg);
 }
+
+TEST_CASE("packed_point: a quantized packing holds the integer coordinates in the position's place") {
+    core::CloudFields all;
+    all.intensity = all.returns = all.incidence = all.scan_angle = all.height_above_ground = true;
+    const io::PointPacking packing(all, io::PointPacking::Position::Quantized);
+    CHECK(packing.size() == 39);
+    const core::CloudPoint p = sample();
+    const std::array<std::int32_t, 3> xyz{-2147483647, 0, 2147483647};
+    std::array<unsigned char, 64> bytes{};
+    bytes.fill(0xAB);
+    packing.packQuantized(p, xyz, bytes.data());
+    CHECK(bytes[packing.size()] == 0xAB);
+    CHECK(io::PointPacking::quantized(bytes.data()) == xyz);
+    const core::CloudPoint q = packing.unpack(bytes.data());
+    CHECK(q.position == core::CloudPoint{}.position);  // the integers are not a position
+    core::CloudPoint without = p;
+    without.position = q.position;
+    CHECK(std::memcmp(&without, &q, sizeof q) == 0);
+}

@@ -4,17 +4,27 @@
 // return number and returns); the optional fields only when the cloud has them.
 // unpack(pack(p)) gives a point that LasRecord::fill() turns into the same record as p;
 // the fields the cloud lacks come back as their defaults.
+//
+// A packing made Quantized holds, in the position's 12 bytes, the integer coordinates the
+// writer's records will hold (packQuantized), so that the readers of a scratch file sort
+// and fill records without converting the position again; unpack() then leaves the
+// position at its default.
 #pragma once
 #include <core/point_cloud.hpp>
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 
 namespace io {
 
 class PointPacking {
   public:
-    explicit PointPacking(const core::CloudFields& fields) : fields_(fields) {
+    enum class Position { Float, Quantized };
+
+    explicit PointPacking(const core::CloudFields& fields, Position position = Position::Float)
+        : fields_(fields), quantized_(position == Position::Quantized) {
         size_ = 12 + 2 + 1 + 1 + 1;
         if (fields.rgb) size_ += 4;
         if (fields.range) size_ += 4;
@@ -29,6 +39,24 @@ class PointPacking {
 
     void pack(const core::CloudPoint& p, unsigned char* out) const {
         put(out, &p.position, 12);
+        packRest(p, out);
+    }
+
+    /// Packs `p` with `xyz` in place of its position (a Quantized packing's records).
+    void packQuantized(const core::CloudPoint& p, const std::array<std::int32_t, 3>& xyz, unsigned char* out) const {
+        put(out, xyz.data(), 12);
+        packRest(p, out);
+    }
+
+    /// The integer coordinates of a point packed by packQuantized (its first 12 bytes).
+    static std::array<std::int32_t, 3> quantized(const unsigned char* in) {
+        std::array<std::int32_t, 3> xyz;
+        std::memcpy(xyz.data(), in, 12);
+        return xyz;
+    }
+
+  private:
+    void packRest(const core::CloudPoint& p, unsigned char*& out) const {
         put(out, &p.view, 2);
         put(out, &p.label, 1);
         put(out, &p.return_number, 1);
@@ -41,6 +69,7 @@ class PointPacking {
         if (fields_.intensity) put(out, &p.intensity, 2);
     }
 
+  public:
     /// The position of a packed point (its first 12 bytes), alone.
     static glm::vec3 position(const unsigned char* in) {
         glm::vec3 p;
@@ -50,7 +79,10 @@ class PointPacking {
 
     core::CloudPoint unpack(const unsigned char* in) const {
         core::CloudPoint p;
-        get(in, &p.position, 12);
+        if (quantized_)
+            in += 12;
+        else
+            get(in, &p.position, 12);
         get(in, &p.view, 2);
         get(in, &p.label, 1);
         get(in, &p.return_number, 1);
@@ -80,6 +112,7 @@ class PointPacking {
 #pragma GCC diagnostic pop
 
     core::CloudFields fields_;
+    bool quantized_ = false;
     std::size_t size_ = 0;
 };
 

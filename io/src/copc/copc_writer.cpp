@@ -318,8 +318,9 @@ struct Spilled {
     std::uint64_t index;
 };
 
-// A point of an upper node's set, kept in a scratch file: the point, its index in the
-// input and its integer coordinates.
+// A point of an upper node's set, kept in a scratch file: the point (its position left at
+// its default: the integer coordinates stand for it), its index in the input and its
+// integer coordinates.
 struct Lifted {
     Spilled spilled;
     std::array<std::int32_t, 3> xyz;
@@ -330,7 +331,7 @@ class CopcWriter final : public FormatWriter {
     CopcWriter(platform::TempFile& file, LasRecord record, const glm::dvec3& origin, const core::CloudFields& fields,
                const LasOptions& las, const CopcOptions& copc)
         : record_(std::move(record)),
-          packing_(fields),
+          packing_(fields, PointPacking::Position::Quantized),
           file_(file.file()),
           dir_(file.destination().parent_path().empty() ? std::filesystem::path(".")
                                                         : file.destination().parent_path()),
@@ -405,7 +406,9 @@ class CopcWriter final : public FormatWriter {
         }
     };
 
-    // Packs the points on the threads, a block of kScratchBlock points each, and writes
+    // Packs the points on the threads, a block of kScratchBlock points each, with the
+    // integer coordinates their records will hold in place of their positions (what every
+    // later pass reads: none converts a position again), and writes
     // each round of blocks to the spill on a thread of its own while the next round is
     // packed. The two rounds' bytes (at most 2 x 2^16 x 39 bytes a thread) fit in what the
     // bound sets aside for the octree's parts, unused until the spill is read back: the
@@ -422,8 +425,9 @@ class CopcWriter final : public FormatWriter {
             const std::uint64_t first = count_;
             parallelFor(blocks, threads_, [&](std::size_t b, std::size_t) {
                 for (std::size_t i = b * kScratchBlock; i < std::min(n, (b + 1) * kScratchBlock); ++i) {
-                    bounds[b].widen(record_.quantize(points[i], first + i));
-                    packing_.pack(points[i], packed.data() + i * size);
+                    const std::array<std::int32_t, 3> xyz = record_.quantize(points[i], first + i);
+                    bounds[b].widen(xyz);
+                    packing_.packQuantized(points[i], xyz, packed.data() + i * size);
                 }
             });
             for (const Bounds& b : bounds) {
@@ -461,13 +465,14 @@ class CopcWriter final : public FormatWriter {
         if (spill_write_.valid()) spill_write_.get();
     }
 
-    // Compresses `nodes` (their points given by `pointOf`) on the threads, handing each to
-    // `done` in order on the calling thread. A node being compressed holds a copy of its
-    // points and at most kCompressedBytesPerPoint a point; one compressed, its bytes until
-    // it is handed on. Together they stay within a thread's share of copcFixedBytes.
-    template <typename PointOf, typename Done>
-    void compressNodes(std::vector<OctreeNode>& nodes, PointOf pointOf, Done done) {
-        const std::size_t per_point = sizeof(CloudPoint) + kCompressedBytesPerPoint;
+    // Compresses `nodes` on the threads, handing each to `done` in order on the calling
+    // thread; `fillRecord(p, q, inventory)` fills LASzip's record `q` with point `p` and
+    // counts it. A node being compressed holds at most kCompressedBytesPerPoint a point
+    // (its records are filled one at a time); once compressed, its bytes until it is handed
+    // on. Together they stay within the threads' share of copcFixedBytes.
+    template <typename FillRecord, typename Done>
+    void compressNodes(std::vector<OctreeNode>& nodes, FillRecord fillRecord, Done done) {
+        const std::size_t per_point = kCompressedBytesPerPoint;
         const std::size_t window = (sizeof(CloudPoint) + kCapsPerThread * kCompressedBytesPerPoint) *
                                    std::size_t(cap_) * std::size_t(threads_ + 1);
         std::vector<LaszipFile> files(nodes.size());
@@ -477,10 +482,14 @@ class CopcWriter final : public FormatWriter {
             [&](std::size_t i) {
                 const OctreeNode& node = nodes[i];
                 if (node.points.empty()) return;
-                std::vector<CloudPoint> pts;
-                pts.reserve(node.points.size());
-                for (std::uint32_t p : node.points) pts.push_back(pointOf(p));
-                files[i] = compressWithLaszip(record_, pts, 0, counted[i], kVariableChunks);
+                LaszipMemoryWriter zip(record_, kVariableChunks);
+                LasInventory inventory;  // on this thread's stack (see compressWithLaszip)
+                for (std::uint32_t p : node.points) {
+                    fillRecord(p, zip.point(), inventory);
+                    zip.write();
+                }
+                files[i] = zip.finish();
+                counted[i] = inventory;
             },
             [&](std::size_t i) {
                 done(nodes[i], files[i], counted[i]);
@@ -504,10 +513,12 @@ class CopcWriter final : public FormatWriter {
         }
         const OctreeCube cube = enclosingCube(lo_, hi_);
         std::vector<OctreeNode> nodes = buildOctree(xyz, cube, cap_, threads_);
-        std::vector<std::array<std::int32_t, 3>>().swap(xyz);
         Assembler out(record_, file_, origin_);
         compressNodes(
-            nodes, [&](std::uint32_t p) -> const CloudPoint& { return point(p); },
+            nodes,
+            [&](std::uint32_t p, laszip_point_struct& q, LasInventory& inventory) {
+                record_.fillQuantized(q, point(p), xyz[p], &inventory);
+            },
             [&](const OctreeNode& node, const LaszipFile& f, const LasInventory& inv) {
                 if (node.points.empty())
                     out.addEmpty(node.key);
@@ -614,8 +625,7 @@ class CopcWriter final : public FormatWriter {
             std::size_t run_cell = 0;
             std::uint64_t run = 0;
             for (std::size_t i = 0; i < n; ++i) {
-                const glm::vec3 p = PointPacking::position(b.data() + i * size);
-                const std::size_t cell = histCell(cube, record_.quantize(p, first + i));
+                const std::size_t cell = histCell(cube, PointPacking::quantized(b.data() + i * size));
                 if (run > 0 && cell != run_cell) {
                     std::atomic_ref<std::uint64_t>(hist_[run_cell]).fetch_add(run, std::memory_order_relaxed);
                     run = 0;
@@ -704,8 +714,7 @@ class CopcWriter final : public FormatWriter {
             const std::size_t blocks = (r.n + kScratchBlock - 1) / kScratchBlock;
             parallelFor(blocks, threads_, [&](std::size_t b, std::size_t) {
                 for (std::size_t i = b * kScratchBlock; i < std::min(r.n, (b + 1) * kScratchBlock); ++i) {
-                    const glm::vec3 p = PointPacking::position(r.bytes.data() + i * size);
-                    r.bucket[i] = std::uint32_t(bucketOf(cube, record_.quantize(p, first + i)));
+                    r.bucket[i] = std::uint32_t(bucketOf(cube, PointPacking::quantized(r.bytes.data() + i * size)));
                 }
             });
         };
@@ -795,7 +804,7 @@ class CopcWriter final : public FormatWriter {
         parallelFor((n + kScratchBlock - 1) / kScratchBlock, threads_, [&](std::size_t block, std::size_t) {
             for (std::size_t i = block * kScratchBlock; i < std::min(n, (block + 1) * kScratchBlock); ++i) {
                 const unsigned char* r = records.data() + i * record;
-                xyz[i] = record_.quantize(PointPacking::position(r), recordIndex(r));
+                xyz[i] = PointPacking::quantized(r);
             }
         });
         OctreeCube sub;
@@ -833,7 +842,11 @@ class CopcWriter final : public FormatWriter {
         const std::size_t record = bucketRecordSize();
         const unsigned char* records = loaded.records.data();
         compressNodes(
-            loaded.nodes, [&](std::uint32_t p) { return packing_.unpack(records + std::size_t(p) * record); },
+            loaded.nodes,
+            [&](std::uint32_t p, laszip_point_struct& q, LasInventory& inventory) {
+                const unsigned char* r = records + std::size_t(p) * record;
+                record_.fillQuantized(q, packing_.unpack(r), PointPacking::quantized(r), &inventory);
+            },
             [&](const OctreeNode& node, const LaszipFile& f, const LasInventory& inv) {
                 Bucket::Chunk c{node.key, chunks_at_, 0, node.points.size()};
                 if (!node.points.empty()) {
@@ -997,13 +1010,13 @@ class CopcWriter final : public FormatWriter {
             std::vector<Lifted> set(std::size_t(top.set_n));
             sets_->flush();
             sets_->readAt(set.data(), set.size() * sizeof(Lifted), top.set_at);
-            std::vector<CloudPoint> pts;
-            pts.reserve(set.size());
-            for (const Lifted& p : set) pts.push_back(p.spilled.point);
-            std::vector<Lifted>().swap(set);
+            LaszipMemoryWriter zip(record_, kVariableChunks);
             LasInventory inv;
-            const LaszipFile f = compressWithLaszip(record_, pts, 0, inv, kVariableChunks);
-            out.add(top.key, f, pts.size(), inv);
+            for (const Lifted& p : set) {
+                record_.fillQuantized(zip.point(), p.spilled.point, p.xyz, &inv);
+                zip.write();
+            }
+            out.add(top.key, zip.finish(), set.size(), inv);
         }
         if (top.bucket >= 0) {
             Bucket& bucket = buckets_[std::size_t(top.bucket)];
@@ -1025,7 +1038,7 @@ class CopcWriter final : public FormatWriter {
     }
 
     LasRecord record_;
-    PointPacking packing_;  // the scratch files' points
+    PointPacking packing_;  // the scratch files' points, quantized
     std::FILE* file_;
     std::filesystem::path dir_;
     std::string where_;

@@ -175,8 +175,8 @@ double LasRecord::gpsTime(const CloudPoint& p) const {
     return options_.gps_start_s + double(p.view) * options_.view_interval_s;
 }
 
-void LasRecord::fill(laszip_point_struct& q, const CloudPoint& p, std::uint64_t index, LasInventory* inventory) const {
-    const std::array<laszip_I32, 3> xyz = quantize(p, index);
+void LasRecord::fillQuantized(laszip_point_struct& q, const CloudPoint& p, const std::array<laszip_I32, 3>& xyz,
+                              LasInventory* inventory) const {
     q.X = xyz[0];
     q.Y = xyz[1];
     q.Z = xyz[2];

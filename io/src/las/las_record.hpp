@@ -67,7 +67,13 @@ class LasRecord {
     /// from `q` would wait on the stores just made). Throws Error(where + ": point N lies
     /// beyond ...") when it is out of the 1 mm grid's reach.
     void fill(laszip_point_struct& q, const core::CloudPoint& p, std::uint64_t index,
-              LasInventory* inventory = nullptr) const;
+              LasInventory* inventory = nullptr) const {
+        fillQuantized(q, p, quantize(p, index), inventory);
+    }
+    /// The same, of a point whose integer coordinates quantize() gave before: `xyz`; its
+    /// position is not read.
+    void fillQuantized(laszip_point_struct& q, const core::CloudPoint& p, const std::array<laszip_I32, 3>& xyz,
+                       LasInventory* inventory = nullptr) const;
     /// The integer coordinates fill() gives point `p` (millimetres from the origin). Throws
     /// as fill() does.
     std::array<laszip_I32, 3> quantize(const core::CloudPoint& p, std::uint64_t index) const {

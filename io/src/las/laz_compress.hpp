@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <sstream>
 #include <string>
 
 namespace io::detail {
@@ -17,6 +18,30 @@ struct LaszipFile {
     std::string bytes;
     std::size_t point_data_at = 0;  // offset_to_point_data
     std::size_t table_at = 0;       // where the chunk table starts
+};
+
+/// LASzip writing one file into memory, a record at a time: fill point() (as
+/// LasRecord::fill does), write() it, and finish() once every record is written. Throws
+/// Error(record.where() + ": ...").
+class LaszipMemoryWriter {
+  public:
+    /// LAZ chunks of `chunk_size` points (UINT32_MAX: variable chunks, here one).
+    LaszipMemoryWriter(const LasRecord& record, laszip_U32 chunk_size);
+    ~LaszipMemoryWriter();
+    LaszipMemoryWriter(const LaszipMemoryWriter&) = delete;
+    LaszipMemoryWriter& operator=(const LaszipMemoryWriter&) = delete;
+
+    laszip_point_struct& point() { return *point_; }
+    void write();
+    LaszipFile finish();
+
+  private:
+    const LasRecord& record_;
+    // Before LASzip's writer: a writer closed on an error still writes into it.
+    std::ostringstream out_;
+    laszip_POINTER zip_ = nullptr;
+    bool open_ = false;
+    laszip_point_struct* point_ = nullptr;
 };
 
 /// LASzip compresses `points` (`first_index` the first one's index in the whole file, for

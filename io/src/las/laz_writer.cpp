@@ -35,47 +35,61 @@ namespace io::detail {
 using core::CloudPoint;
 using core::Error;
 
-LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoint> points, std::uint64_t first_index,
-                              LasInventory& inventory, laszip_U32 chunk_size) {
-    // Before the writer's guard: a writer closed on an error still writes into it.
-    std::ostringstream out(std::ios::out | std::ios::binary);
-    struct Zip {
-        laszip_POINTER p = nullptr;
-        bool open = false;
-        ~Zip() {
-            if (open) laszip_close_writer(p);
-            if (p) laszip_destroy(p);
-        }
-    } zip;
-    if (laszip_create(&zip.p) != 0 || !zip.p) throw Error(record.where() + ": LASzip could not be started");
-    record.setUp(zip.p);
-    record.check(zip.p, laszip_set_chunk_size(zip.p, chunk_size), "chunk size");
-    laszip_point_struct* q = nullptr;
-    record.check(zip.p, laszip_get_point_pointer(zip.p, &q), "point");
-    record.check(zip.p, laszip_open_writer_stream(zip.p, out, 1, 0), "open");
-    zip.open = true;
-    // Counted on this thread's stack and merged once: callers keep the inventories of
-    // chunks compressed at once side by side, and counting into them point by point
-    // would make the threads fight over the cache lines they share.
-    LasInventory counted;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        record.fill(*q, points[i], first_index + i, &counted);
-        record.check(zip.p, laszip_write_point(zip.p), "write");
+LaszipMemoryWriter::LaszipMemoryWriter(const LasRecord& record, laszip_U32 chunk_size)
+    : record_(record), out_(std::ios::out | std::ios::binary) {
+    if (laszip_create(&zip_) != 0 || !zip_) {
+        if (zip_) laszip_destroy(zip_);
+        throw Error(record_.where() + ": LASzip could not be started");
     }
-    inventory.merge(counted);
-    zip.open = false;
-    record.check(zip.p, laszip_close_writer(zip.p), "close");
-    if (!out) throw Error(record.where() + ": LASzip's output in memory failed");
+    try {
+        record_.setUp(zip_);
+        record_.check(zip_, laszip_set_chunk_size(zip_, chunk_size), "chunk size");
+        record_.check(zip_, laszip_get_point_pointer(zip_, &point_), "point");
+        record_.check(zip_, laszip_open_writer_stream(zip_, out_, 1, 0), "open");
+    } catch (...) {
+        laszip_destroy(zip_);
+        throw;
+    }
+    open_ = true;
+}
+
+LaszipMemoryWriter::~LaszipMemoryWriter() {
+    if (open_) laszip_close_writer(zip_);
+    laszip_destroy(zip_);
+}
+
+void LaszipMemoryWriter::write() { record_.check(zip_, laszip_write_point(zip_), "write"); }
+
+LaszipFile LaszipMemoryWriter::finish() {
+    open_ = false;
+    record_.check(zip_, laszip_close_writer(zip_), "close");
+    if (!out_) throw Error(record_.where() + ": LASzip's output in memory failed");
     LaszipFile f;
-    f.bytes = std::move(out).str();
+    f.bytes = std::move(out_).str();
     std::uint32_t at = 0;
     std::int64_t table = 0;
     if (f.bytes.size() >= 100) std::memcpy(&at, f.bytes.data() + 96, 4);
     if (at + std::size_t(8) <= f.bytes.size()) std::memcpy(&table, f.bytes.data() + at, 8);
     if (at < 375 || table < std::int64_t(at) + 8 || std::uint64_t(table) > f.bytes.size())
-        throw Error(record.where() + ": LASzip wrote a LAZ layout this writer does not know");
+        throw Error(record_.where() + ": LASzip wrote a LAZ layout this writer does not know");
     f.point_data_at = at;
     f.table_at = std::size_t(table);
+    return f;
+}
+
+LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoint> points, std::uint64_t first_index,
+                              LasInventory& inventory, laszip_U32 chunk_size) {
+    LaszipMemoryWriter zip(record, chunk_size);
+    // Counted on this thread's stack and merged once: callers keep the inventories of
+    // chunks compressed at once side by side, and counting into them point by point
+    // would make the threads fight over the cache lines they share.
+    LasInventory counted;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        record.fill(zip.point(), points[i], first_index + i, &counted);
+        zip.write();
+    }
+    LaszipFile f = zip.finish();
+    inventory.merge(counted);
     return f;
 }
 
