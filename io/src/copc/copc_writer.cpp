@@ -473,8 +473,8 @@ class CopcWriter final : public FormatWriter {
     template <typename FillRecord, typename Done>
     void compressNodes(std::vector<OctreeNode>& nodes, FillRecord fillRecord, Done done) {
         const std::size_t per_point = kCompressedBytesPerPoint;
-        const std::size_t window = (sizeof(CloudPoint) + kCapsPerThread * kCompressedBytesPerPoint) *
-                                   std::size_t(cap_) * std::size_t(threads_ + 1);
+        const std::size_t window =
+            (1 + kCapsPerThread) * kCompressedBytesPerPoint * std::size_t(cap_) * std::size_t(threads_ + 1);
         std::vector<LaszipFile> files(nodes.size());
         std::vector<LasInventory> counted(nodes.size());
         orderedParallel(
@@ -1090,11 +1090,11 @@ std::uint64_t copcBytesPerPoint() {
 }
 
 std::uint64_t copcFixedBytes(int threads, std::uint32_t max_node_points) {
-    // Per thread: its sampling marks, the copy of the node it compresses, and its share of
+    // Per thread: its sampling marks, the bytes of the node it compresses, and its share of
     // the compressed nodes not yet written.
     const std::uint64_t cap = std::max<std::uint32_t>(max_node_points, 1);
-    const std::uint64_t per_thread = (std::uint64_t(1) << 21) * sizeof(std::uint32_t) + cap * sizeof(core::CloudPoint) +
-                                     detail::kCapsPerThread * cap * detail::kCompressedBytesPerPoint;
+    const std::uint64_t per_thread = (std::uint64_t(1) << 21) * sizeof(std::uint32_t) +
+                                     (1 + detail::kCapsPerThread) * cap * detail::kCompressedBytesPerPoint;
     return std::uint64_t(std::max(threads, 0) + 1) * per_thread;
 }
 
