@@ -681,9 +681,16 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
     core::CloudFields fields = s.sensor->fields();
     fields.height_above_ground = terrain.whitens();
     fields.rgb = !(las && s.options.white);  // LAS point format 6: no colours to store
-    // The fused cloud stays in memory when it fits beside the fusion's buffers.
+    // The fused cloud stays in memory when it fits beside the fusion's buffers and, for
+    // COPC, leaves the writer the least it needs (else it goes through the spool, which
+    // holds a chunk of it at a time: the same file).
     const std::uint64_t fused_bytes = s.hits_bound * sizeof(core::CloudPoint);
-    st.streamed = s.plan.fuse_bytes + fused_bytes > s.options.memory_budget_bytes;
+    const std::uint64_t copc_least =
+        format == io::CloudFormat::Copc
+            ? io::copcMinimumBytes(s.plan.threads, std::uint32_t(s.options.copc_node_points))  // validated
+            : 0;
+    st.streamed = s.plan.fuse_bytes + fused_bytes > s.options.memory_budget_bytes ||
+                  s.plan.kept_bytes - s.plan.writer_bytes + fused_bytes + copc_least > s.options.memory_budget_bytes;
     // LAZ compresses on the workers, once the fusion's buffers are gone, in what the
     // budget leaves beside the cloud (in memory, or the chunk read back from the spool).
     io::LasOptions las_options = lasOptions(s.scene, s.options);

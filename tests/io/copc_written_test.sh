@@ -36,6 +36,13 @@ done
     --out "$dir/genspill.copc.laz" \
     2>"$dir/genspill.log" || fail "generate to COPC past its bound: $(cat "$dir/genspill.log")"
 cmp -s "$dir/genmem.copc.laz" "$dir/genspill.copc.laz" || fail "generate past its memory bound wrote another file"
+# At 115 MiB the fusion fits in memory, but the fused cloud held there (62 MiB) would leave
+# the writer less than the least it needs (56 MiB with nodes of 100,000 points on one
+# thread): the run goes through the spool instead of refusing, and writes the same file.
+"$bin" generate --xres 128 --yres 128 --views 100 --threads 1 --node-points 100000 --memory-mb 115 \
+    --out "$dir/genspool.copc.laz" \
+    2>"$dir/genspool.log" || fail "generate to COPC through the spool: $(cat "$dir/genspool.log")"
+cmp -s "$dir/genmem.copc.laz" "$dir/genspool.copc.laz" || fail "generate through the spool wrote another file"
 
 for f in gen mem; do
     status=0
