@@ -45,7 +45,7 @@ struct BenchGenerateCli {
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
     std::string tmp;
-    std::string only;  // "sensors" or "formats": those rows alone
+    std::string only;  // "sensors", "formats" or "runs": those rows alone
 };
 
 // Peak resident set since the last resetPeakRss(), from /proc/self/status (VmHWM), MiB.
@@ -383,6 +383,14 @@ void run(const BenchGenerateCli& cli) {
     const fs::path dir = cli.tmp.empty() ? fs::temp_directory_path() / ("ladarvr_bench_" + std::to_string(::getpid()))
                                          : fs::path(cli.tmp);
     fs::create_directories(dir);
+    if (cli.only == "runs") {
+        const FormatRuns runs =
+            benchFormatRuns(largeScene(io::loadScene(io::demoScenePath()), cli.quick), largeOptions(cli), dir);
+        std::printf("%s\n%s\n", runs.table.c_str(), runs.verdict.c_str());
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+        return;
+    }
     if (cli.only == "formats") {
         benchFormats(largeScene(io::loadScene(io::demoScenePath()), cli.quick), largeOptions(cli), dir, largeName(cli),
                      cli.no_md ? "" : cli.md);
@@ -498,9 +506,10 @@ void registerGenerate(CLI::App& parent) {
     c->add_option("--md", state->md, "markdown file whose generator section is rewritten")->capture_default_str();
     c->add_flag("--no-md", state->no_md, "print only, leave BENCHMARKS.md alone");
     c->add_option("--only", state->only,
-                  "run only these rows: 'sensors' (the sensor models' table) or 'formats' (LAZ against binary PCD "
-                  "on the large configuration)")
-        ->check(CLI::IsMember({"sensors", "formats"}));
+                  "run only these rows: 'sensors' (the sensor models' table), 'formats' (the writers against "
+                  "binary PCD on the large configuration, then whole runs to LAZ and COPC) or 'runs' (those whole "
+                  "runs alone, printed)")
+        ->check(CLI::IsMember({"sensors", "formats", "runs"}));
     c->add_option("--tmp", state->tmp, "scratch directory for the outputs (default: a temporary one)");
     c->callback([state] { run(*state); });
 }

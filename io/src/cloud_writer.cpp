@@ -84,6 +84,16 @@ void CloudWriter::append(std::span<const core::CloudPoint> points) {
     count_ += points.size();
 }
 
+int CloudWriter::prescanPasses(std::uint64_t points, const core::Bounds* positions) {
+    if (!writer_) throw Error("output: " + path_.string() + ": prescan after commit");
+    return count_ == 0 ? writer_->prescanPasses(points, positions) : 0;
+}
+
+void CloudWriter::prescan(int pass, std::span<const core::CloudPoint> points) {
+    if (!writer_) throw Error("output: " + path_.string() + ": prescan after commit");
+    writer_->prescan(pass, points);
+}
+
 void CloudWriter::commit() {
     if (!writer_) throw Error("output: " + path_.string() + ": commit called twice");
     const std::unique_ptr<detail::FormatWriter> writer = std::move(writer_);

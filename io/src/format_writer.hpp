@@ -16,6 +16,9 @@ class FormatWriter {
     /// Appends points. Throws Error("output: <path>: ...") (a failed write, a point a
     /// format cannot hold).
     virtual void append(std::span<const core::CloudPoint> points) = 0;
+    /// CloudWriter::prescanPasses and prescan: none, unless the format says otherwise.
+    virtual int prescanPasses(std::uint64_t /*points*/, const core::Bounds* /*positions*/) { return 0; }
+    virtual void prescan(int /*pass*/, std::span<const core::CloudPoint> /*points*/) {}
     /// Completes the file (the header's counts, LAS bounds, LAZ's chunk table) and
     /// flushes; the caller then commits the TempFile. Throws Error("output: <path>: ...").
     virtual void finish() = 0;

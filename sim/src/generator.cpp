@@ -36,6 +36,7 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <future>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -93,22 +94,32 @@ class Spool {
     }
     /// Reads up to out.size() points; returns how many.
     std::size_t read(std::span<core::CloudPoint> out) {
+        return readWith(out, [&](const unsigned char* in, core::CloudPoint& p) { p = packing_.unpack(in); });
+    }
+    /// As read(), setting only the points' positions (the rest of `out` is left as it was).
+    std::size_t readPositions(std::span<core::CloudPoint> out) {
+        return readWith(
+            out, [](const unsigned char* in, core::CloudPoint& p) { p.position = io::PointPacking::position(in); });
+    }
+    std::size_t count() const { return count_; }
+
+  private:
+    static constexpr std::size_t kBlock = 4096;  // points packed or unpacked at once
+
+    template <typename Unpack>
+    std::size_t readWith(std::span<core::CloudPoint> out, Unpack unpack) {
         const std::size_t size = packing_.size();
         std::size_t done = 0;
         while (done < out.size()) {
             const std::size_t want = std::min(out.size() - done, kBlock);
             bytes_.resize(want * size);
             const std::size_t n = std::fread(bytes_.data(), size, want, file_);
-            for (std::size_t i = 0; i < n; ++i) out[done + i] = packing_.unpack(bytes_.data() + i * size);
+            for (std::size_t i = 0; i < n; ++i) unpack(bytes_.data() + i * size, out[done + i]);
             done += n;
             if (n < want) break;
         }
         return done;
     }
-    std::size_t count() const { return count_; }
-
-  private:
-    static constexpr std::size_t kBlock = 4096;  // points packed or unpacked at once
 
     std::filesystem::path path_;
     io::PointPacking packing_;
@@ -731,15 +742,52 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
         // is white, as unpacking gives it).
         Spool spool(out, fields);
         checkFreeSpace(out.parent_path(), s.hits_bound * spool.recordBytes(), "the spool file of the fused cloud");
+        // The positions' bounds, for a writer that asks to see the points first.
+        glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
         s.fuseViews(
             [&](std::span<const core::CloudPoint> pts) {
                 spool.append(pts);
                 terrain.add(pts);
+                if (format == io::CloudFormat::Copc)
+                    for (const core::CloudPoint& p : pts) {
+                        lo = glm::min(lo, p.position);
+                        hi = glm::max(hi, p.position);
+                    }
             },
             pool, st);
         terrain.fit();
-        spool.rewind();
         std::vector<core::CloudPoint> chunk(s.plan.colour_chunk);
+        // A COPC writer past its bound sorts the points straight into its octree's parts
+        // once it has seen them: their bounds from the fusion, the spool as often as it
+        // asks (their positions, which classifying and colouring leave as they are).
+        const auto tp = Clock::now();
+        core::Bounds positions;
+        if (spool.count() > 0) positions = core::Bounds{glm::dvec3(lo), glm::dvec3(hi)};
+        const int passes = writer.prescanPasses(spool.count(), &positions);
+        // Each pass reads one half of the chunk from the spool on a thread of its own while
+        // the writer takes the other half.
+        const bool overlap = chunk.size() >= 2;
+        const std::size_t half = overlap ? chunk.size() / 2 : chunk.size();
+        const std::array<std::span<core::CloudPoint>, 2> halves{std::span(chunk).first(half),
+                                                                std::span(chunk).last(half)};
+        for (int pass = 0; pass < passes; ++pass) {
+            spool.rewind();
+            std::size_t cur = 0, n = spool.readPositions(halves[0]);
+            while (n > 0) {
+                if (!overlap) {
+                    writer.prescan(pass, halves[0].first(n));
+                    n = spool.readPositions(halves[0]);
+                    continue;
+                }
+                std::future<std::size_t> next =
+                    std::async(std::launch::async, [&, other = cur ^ 1] { return spool.readPositions(halves[other]); });
+                writer.prescan(pass, halves[cur].first(n));
+                n = next.get();
+                cur ^= 1;
+            }
+        }
+        st.seconds.write += secondsSince(tp);
+        spool.rewind();
         for (;;) {
             auto tc = Clock::now();
             const std::size_t n = spool.read(chunk);

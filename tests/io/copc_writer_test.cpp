@@ -24,6 +24,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <span>
 #include <string>
 #include <tuple>
 
@@ -485,6 +486,111 @@ TEST_CASE("copc_writer: past its memory bound it spills and builds a part at a t
                  " points; allowed at least " + std::to_string(io::copcMinimumBytes(0) >> 20) + " MiB") !=
           std::string::npos);
     CHECK_FALSE(fs::exists(dir.path / "tight.copc.laz"));
+}
+
+// Writes `c` through a CloudWriter, giving it the points first as often as it asks, in
+// chunks of `chunk`, each pass's points from `pass_points` (the cloud's own by default);
+// returns the passes asked for.
+int writePrescanned(const fs::path& path, const core::PointCloud& c, const io::LasOptions& las,
+                    const io::CopcOptions& copc, const std::vector<core::CloudPoint>* appended = nullptr,
+                    std::size_t last_pass_points = std::numeric_limits<std::size_t>::max(),
+                    const core::Bounds* positions = nullptr) {
+    constexpr std::size_t kChunk = 7001;
+    io::CloudWriter w(path, io::CloudFormat::Copc, c.origin, c.fields, las, &copc);
+    const int passes = w.prescanPasses(c.points.size(), positions);
+    for (int pass = 0; pass < passes; ++pass) {
+        const std::size_t n = pass == passes - 1 ? std::min(last_pass_points, c.points.size()) : c.points.size();
+        for (std::size_t i = 0; i < n; i += kChunk)
+            w.prescan(pass, std::span(c.points).subspan(i, std::min(kChunk, n - i)));
+    }
+    const std::vector<core::CloudPoint>& points = appended ? *appended : c.points;
+    for (std::size_t i = 0; i < points.size(); i += kChunk)
+        w.append(std::span(points).subspan(i, std::min(kChunk, points.size() - i)));
+    w.commit();
+    return passes;
+}
+
+TEST_CASE(
+    "copc_writer: past its bound, given the points first, it sorts them into its parts as they come: the "
+    "same file") {
+    TempDir dir("copc_prescan");
+    const core::PointCloud c = terrain(60000, 17, glm::dvec3(1.0e7, 1.0e7, 0.0));
+    for (const int threads : {0, 2}) {
+        CAPTURE(threads);
+        io::LasOptions las;
+        las.threads = threads;
+        io::CopcOptions copc;
+        copc.max_node_points = 200;
+        io::writeCopc(dir.path / "memory.copc.laz", c, las, copc);
+        // Within the bound the writer holds the points and asks for nothing.
+        CHECK(writePrescanned(dir.path / "held.copc.laz", c, las, copc) == 0);
+        CHECK(slurp(dir.path / "held.copc.laz") == slurp(dir.path / "memory.copc.laz"));
+        // Buckets of about 8000 points: a few, sorted as they come.
+        copc.memory_bytes = io::copcFixedBytes(threads, copc.max_node_points) + 1800000;
+        CHECK(writePrescanned(dir.path / "prescanned.copc.laz", c, las, copc) == 2);
+        CHECK(slurp(dir.path / "prescanned.copc.laz") == slurp(dir.path / "memory.copc.laz"));
+        CHECK(dir.entries() == 3);  // no scratch file left
+        // Given the positions' bounds, it asks for one pass, their histogram.
+        core::Bounds positions;
+        for (const core::CloudPoint& p : c.points) positions.extend(glm::dvec3(p.position));
+        CHECK(writePrescanned(dir.path / "prescanned.copc.laz", c, las, copc, nullptr, SIZE_MAX, &positions) == 1);
+        CHECK(slurp(dir.path / "prescanned.copc.laz") == slurp(dir.path / "memory.copc.laz"));
+        CHECK(dir.entries() == 3);
+        // Points all through a cube, buckets of a few hundred: more than the writer keeps
+        // open at once, so it holds and spills them as it does unasked.
+        core::PointCloud cube = terrain(120000, 19, glm::dvec3(0.0));
+        std::mt19937 rng(23);
+        std::uniform_real_distribution<float> in(0.0f, 100.0f);
+        for (core::CloudPoint& p : cube.points) p.position = glm::vec3(in(rng), in(rng), in(rng));
+        copc.memory_bytes = 0;
+        io::writeCopc(dir.path / "memory.copc.laz", cube, las, copc);
+        copc.memory_bytes = io::copcFixedBytes(threads, copc.max_node_points) + 140000;
+        CHECK(writePrescanned(dir.path / "prescanned.copc.laz", cube, las, copc) == 2);
+        CHECK(slurp(dir.path / "prescanned.copc.laz") == slurp(dir.path / "memory.copc.laz"));
+        CHECK(dir.entries() == 3);
+    }
+    // Points appended that are not those prescanned are one error each, and no file.
+    io::CopcOptions copc;
+    copc.max_node_points = 200;
+    copc.memory_bytes = io::copcFixedBytes(0, copc.max_node_points) + 1800000;
+    const fs::path out = dir.path / "bad.copc.laz";
+    const auto errorWith = [&](const std::vector<core::CloudPoint>* appended, std::size_t second = SIZE_MAX) {
+        const std::string e = test_support::errorOf([&] { writePrescanned(out, c, {}, copc, appended, second); });
+        CHECK_FALSE(fs::exists(out));
+        return e;
+    };
+    std::vector<core::CloudPoint> moved = c.points;
+    moved[100].position.x += 1.0e4f;
+    CHECK(errorWith(&moved) ==
+          "output: " + out.string() + ": point 100 lies outside the bounds of the points prescanned");
+    // Within the bounds, the first point moved onto the one farthest from it: the parts
+    // would no longer hold what the prescan counted.
+    moved = c.points;
+    std::size_t far = 0;
+    for (std::size_t i = 0; i < moved.size(); ++i)
+        if (glm::distance(moved[i].position, moved[0].position) > glm::distance(moved[far].position, moved[0].position))
+            far = i;
+    moved[0].position = moved[far].position;
+    CHECK(errorWith(&moved) == "output: " + out.string() + ": the points appended are not the points prescanned");
+    moved = c.points;
+    moved.pop_back();
+    CHECK(errorWith(&moved) == "output: " + out.string() + ": 59999 points appended of the 60000 prescanned");
+    // Bounds given wider than the points', or narrower.
+    core::Bounds positions;
+    for (const core::CloudPoint& p : c.points) positions.extend(glm::dvec3(p.position));
+    core::Bounds wide = positions;
+    wide.hi.z += 1.0;
+    std::string e = test_support::errorOf([&] { writePrescanned(out, c, {}, copc, nullptr, SIZE_MAX, &wide); });
+    CHECK(e == "output: " + out.string() + ": the bounds given for the prescan are not the points' own");
+    core::Bounds narrow = positions;
+    narrow.lo.x += 1.0;
+    e = test_support::errorOf([&] { writePrescanned(out, c, {}, copc, nullptr, SIZE_MAX, &narrow); });
+    CHECK(e.find(": lies outside the bounds of the points prescanned") == std::string::npos);
+    CHECK(e.find(" lies outside the bounds of the points prescanned") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+    CHECK(errorWith(nullptr, 59000) ==
+          "output: " + out.string() + ": the prescan's last pass gave 59000 points of 60000");
+    CHECK(dir.entries() == 3);  // the earlier files alone
 }
 
 TEST_CASE("copc_writer: nodes made by the caller become a valid COPC file that reads back node by node") {

@@ -39,6 +39,8 @@ cmp -s "$dir/genmem.copc.laz" "$dir/genspill.copc.laz" || fail "generate past it
 # At 115 MiB the fusion fits in memory, but the fused cloud held there (62 MiB) would leave
 # the writer less than the least it needs (56 MiB with nodes of 100,000 points on one
 # thread): the run goes through the spool instead of refusing, and writes the same file.
+# Past its bound there, the writer is given the points from the spool first, and sorts
+# them into its octree's parts as they come instead of spilling them.
 "$bin" generate --xres 128 --yres 128 --views 100 --threads 1 --node-points 100000 --memory-mb 115 \
     --out "$dir/genspool.copc.laz" \
     2>"$dir/genspool.log" || fail "generate to COPC through the spool: $(cat "$dir/genspool.log")"

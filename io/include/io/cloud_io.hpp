@@ -7,6 +7,7 @@
 // PLY), so world = origin + (x, y, z). LAS/LAZ hold world coordinates at 1 mm. Readers
 // of PCL, Open3D, CloudCompare, laspy and PDAL load them (docs/formats.md).
 #pragma once
+#include <core/frames.hpp>
 #include <core/point_cloud.hpp>
 
 #include <cstdint>
@@ -86,6 +87,19 @@ class CloudWriter {
     CloudWriter& operator=(const CloudWriter&) = delete;
 
     void append(std::span<const core::CloudPoint> points);
+    /// How many times the writer asks to see the `points` points it is about to get before
+    /// they are appended: 0 for most formats. A COPC writer that would spill them to
+    /// scratch files (past CopcOptions::memory_bytes) asks for 2: it learns their bounds,
+    /// then how they spread, and sorts them straight into the octree's parts as they are
+    /// appended (the same file, written sooner); for 1 when `positions` gives the least
+    /// box holding their positions. Ask before the first append; a caller that cannot
+    /// give its points again appends them without asking.
+    int prescanPasses(std::uint64_t points, const core::Bounds* positions = nullptr);
+    /// Gives pass `pass` (0 up to the passes asked for) every point, in the order append()
+    /// will get them; only their positions are read. Throws Error("output: <path>: ...")
+    /// when the passes, the bounds given or the points appended after them differ in
+    /// count or position.
+    void prescan(int pass, std::span<const core::CloudPoint> points);
     /// Fixes up the point count in the header, flushes, renames into place.
     void commit();
     std::size_t count() const { return count_; }

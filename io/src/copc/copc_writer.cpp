@@ -347,6 +347,13 @@ class CopcWriter final : public FormatWriter {
     // doubles would hold up to three times the points while it grows). Past
     // CopcOptions::memory_bytes they go to a scratch file instead.
     void append(std::span<const CloudPoint> points) override {
+        if (prescan_ == Prescan::Histogram) startDirect();
+        if (prescan_ == Prescan::Direct) {
+            directAppend(points);
+            return;
+        }
+        if (prescan_ != Prescan::None && prescan_ != Prescan::Declined)
+            throw Error(record_.where() + ": points appended before the prescan's two passes ended");
         if (spill_) {
             spillAppend(points);
             return;
@@ -376,10 +383,86 @@ class CopcWriter final : public FormatWriter {
         }
     }
 
+    // Past the bound, a caller that can give the points twice more lets the writer sort
+    // them straight into the buckets' files as they are appended, instead of spilling
+    // them and reading the spill back twice (its bounds are then known from the first
+    // pass, its histogram from the second).
+    int prescanPasses(std::uint64_t points, const core::Bounds* positions) override {
+        if (prescan_ != Prescan::None || count_ > 0 || spill_) return 0;
+        if (copc_.memory_bytes == 0 || points == 0 || points >= std::numeric_limits<std::uint32_t>::max() ||
+            points * copcBytesPerPoint() + copcFixedBytes(threads_, cap_) <= copc_.memory_bytes)
+            return 0;
+        prescan_points_ = points;
+        if (positions && !positions->empty()) {
+            std::array<std::int32_t, 3> lo{}, hi{};
+            try {
+                lo = record_.quantize(glm::vec3(positions->lo), 0);
+                hi = record_.quantize(glm::vec3(positions->hi), 0);
+            } catch (const Error&) {
+                return 0;  // a point out of LAS's reach: the usual way names it
+            }
+            startHistogram(lo, hi);
+            return 1;
+        }
+        prescan_ = Prescan::Bounds;
+        return 2;
+    }
+
+    void prescan(int pass, std::span<const CloudPoint> points) override {
+        if (prescan_ == Prescan::Bounds && pass == prescan_pass_ + 1) {
+            if (prescanned_ != prescan_points_)
+                throw Error(record_.where() + ": the prescan's first pass gave " + std::to_string(prescanned_) +
+                            " points of " + std::to_string(prescan_points_));
+            startHistogram(prescan_bounds_.lo, prescan_bounds_.hi);
+            prescan_pass_ = pass;
+        }
+        if (pass != prescan_pass_ || (prescan_ != Prescan::Bounds && prescan_ != Prescan::Histogram))
+            throw Error(record_.where() + ": prescan pass " + std::to_string(pass) + " out of order");
+        const bool bounds = prescan_ == Prescan::Bounds;
+        const OctreeCube cube = enclosingCube(lo_, hi_);
+        const std::size_t blocks = (points.size() + kScratchBlock - 1) / kScratchBlock;
+        std::vector<Bounds> seen(blocks);
+        const std::uint64_t first = prescanned_;
+        parallelFor(blocks, threads_, [&](std::size_t b, std::size_t) {
+            std::size_t run_cell = 0;
+            std::uint64_t run = 0;
+            Bounds& local = seen[b];
+            Bounds mine;  // on the worker's stack: the blocks' bounds share cache lines
+            for (std::size_t i = b * kScratchBlock; i < std::min(points.size(), (b + 1) * kScratchBlock); ++i) {
+                const std::array<std::int32_t, 3> xyz = record_.quantize(points[i], first + i);
+                mine.widen(xyz);
+                if (bounds) continue;
+                if (!within(xyz))
+                    throw Error(record_.where() + ": point " + std::to_string(first + i) +
+                                " lies outside the bounds of the points prescanned");
+                const std::size_t cell = histCell(cube, xyz);
+                if (run > 0 && cell != run_cell) {
+                    std::atomic_ref<std::uint64_t>(hist_[run_cell]).fetch_add(run, std::memory_order_relaxed);
+                    run = 0;
+                }
+                run_cell = cell;
+                ++run;
+            }
+            if (run > 0) std::atomic_ref<std::uint64_t>(hist_[run_cell]).fetch_add(run, std::memory_order_relaxed);
+            local = mine;
+        });
+        for (const Bounds& b : seen)
+            if (b.any) {
+                prescan_bounds_.widen(b.lo);
+                prescan_bounds_.widen(b.hi);
+            }
+        prescanned_ += points.size();
+    }
+
     void finish() override {
         if (count_ >= std::numeric_limits<std::uint32_t>::max())
             throw Error(record_.where() + ": COPC output holds at most 4294967294 points");
-        if (spill_)
+        if (prescan_ == Prescan::Histogram) startDirect();  // no point appended
+        if (prescan_ == Prescan::Bounds)
+            throw Error(record_.where() + ": finished after the prescan's first pass alone");
+        if (prescan_ == Prescan::Direct)
+            finishDirect();
+        else if (spill_)
             finishSpilled();
         else
             finishInMemory();
@@ -424,11 +507,13 @@ class CopcWriter final : public FormatWriter {
             std::vector<Bounds> bounds(blocks);
             const std::uint64_t first = count_;
             parallelFor(blocks, threads_, [&](std::size_t b, std::size_t) {
+                Bounds local;  // on the worker's stack: the blocks' bounds share cache lines
                 for (std::size_t i = b * kScratchBlock; i < std::min(n, (b + 1) * kScratchBlock); ++i) {
                     const std::array<std::int32_t, 3> xyz = record_.quantize(points[i], first + i);
-                    bounds[b].widen(xyz);
+                    local.widen(xyz);
                     packing_.packQuantized(points[i], xyz, packed.data() + i * size);
                 }
+                bounds[b] = local;
             });
             for (const Bounds& b : bounds) {
                 spilled_bounds_.widen(b.lo);
@@ -540,7 +625,8 @@ class CopcWriter final : public FormatWriter {
     struct Bucket {
         int top = -1;  // its node in tops_
         std::unique_ptr<Scratch> file;
-        std::uint64_t count = 0;
+        std::uint64_t count = 0;   // from the histogram
+        std::uint64_t filled = 0;  // points sorted into its file
         // Its nodes below its root, compressed: key, place in chunks_, size, points.
         struct Chunk {
             CopcKey key;
@@ -570,6 +656,16 @@ class CopcWriter final : public FormatWriter {
         lo_ = spilled_bounds_.lo;
         hi_ = spilled_bounds_.hi;
         const OctreeCube cube = enclosingCube(lo_, hi_);
+        planParts(cube);
+        histogram(cube);
+        makeTop(cube, CopcKey{});
+        distribute(cube);
+        finishParts(cube);
+    }
+
+    // The histogram's level and the buckets' size, from the bound; throws when the bound
+    // leaves no room for a bucket of one node.
+    void planParts(const OctreeCube& cube) {
         const std::uint64_t fixed = copcFixedBytes(threads_, cap_);
         const std::uint64_t per_point = copcBytesPerPoint() + sizeof(Spilled);
         const std::uint64_t room = copc_.memory_bytes > fixed ? copc_.memory_bytes - fixed : 0;
@@ -584,9 +680,10 @@ class CopcWriter final : public FormatWriter {
             throw Error(record_.where() + ": a memory bound of " + std::to_string(copc_.memory_bytes >> 20) +
                         " MiB leaves no room for a node of " + std::to_string(cap_) + " points; allowed at least " +
                         std::to_string(copcMinimumBytes(threads_, cap_) >> 20) + " MiB");
-        histogram(cube);
-        makeTop(cube, CopcKey{});
-        distribute(cube);
+    }
+
+    // Once every point is in its bucket's file: the buckets' subtrees, the top and the file.
+    void finishParts(const OctreeCube& cube) {
         sets_ = std::make_unique<Scratch>(dir_, where_);
         buildBuckets(cube);
         Marks marks;
@@ -658,7 +755,7 @@ class CopcWriter final : public FormatWriter {
         tops_.push_back(Top{key, n, {-1, -1, -1, -1, -1, -1, -1, -1}, -1, 0, 0});
         if (n <= cap_ || key.level >= cube.bits || n <= bucket_points_) {
             tops_[std::size_t(index)].bucket = int(buckets_.size());
-            buckets_.push_back(Bucket{index, nullptr, n, {}});
+            buckets_.push_back(Bucket{index, nullptr, n, 0, {}});
             return index;
         }
         if (key.level >= hist_level_)
@@ -696,15 +793,8 @@ class CopcWriter final : public FormatWriter {
     // gathers the round before into the buckets' buffers and writes them out (two rounds
     // held at once, in the room the parts are built in later).
     void distribute(const OctreeCube& cube) {
-        constexpr std::size_t kOpenAtOnce = kBucketsAtOnce;
-        const std::size_t size = packing_.size(), record = bucketRecordSize();
+        const std::size_t size = packing_.size();
         const std::size_t parts = std::size_t(threads_) + 1;
-        struct Round {
-            std::uint64_t first = 0;
-            std::size_t n = 0;
-            std::vector<unsigned char> bytes;
-            std::vector<std::uint32_t> bucket;
-        };
         const auto prepare = [&](std::uint64_t first, Round& r) {
             r.first = first;
             r.n = std::size_t(std::min<std::uint64_t>(kScratchBlock * parts, count_ - first));
@@ -718,15 +808,10 @@ class CopcWriter final : public FormatWriter {
                 }
             });
         };
-        struct Gathered {
-            std::vector<unsigned char> bytes;
-            std::size_t used = 0;
-        };
-        std::vector<Gathered> gathered(std::min(kOpenAtOnce, buckets_.size()));
-        for (Gathered& g : gathered) g.bytes.resize(kBucketBufferBytes);
+        std::vector<Gathered> gathered(std::min(kBucketsAtOnce, buckets_.size()));
         spill_->flush();
-        for (std::size_t first = 0; first < buckets_.size(); first += kOpenAtOnce) {
-            const std::size_t last = std::min(buckets_.size(), first + kOpenAtOnce);
+        for (std::size_t first = 0; first < buckets_.size(); first += kBucketsAtOnce) {
+            const std::size_t last = std::min(buckets_.size(), first + kBucketsAtOnce);
             for (std::size_t b = first; b < last; ++b) buckets_[b].file = std::make_unique<Scratch>(dir_, where_);
             std::array<Round, 2> rounds;
             std::size_t cur = 0;
@@ -743,34 +828,161 @@ class CopcWriter final : public FormatWriter {
                     else
                         ahead = std::async(std::launch::async, [&, after] { prepare(after, next); });
                 }
-                for (std::size_t i = 0; i < r.n; ++i) {
-                    const std::uint32_t bucket = r.bucket[i];
-                    if (bucket < first || bucket >= last) continue;
-                    Gathered& g = gathered[bucket - first];
-                    if (g.used + record > g.bytes.size()) {
-                        buckets_[bucket].file->write(g.bytes.data(), g.used);
-                        g.used = 0;
-                    }
-                    unsigned char* at = g.bytes.data() + g.used;
-                    std::memcpy(at, r.bytes.data() + i * size, size);
-                    const std::uint32_t index = std::uint32_t(r.first + i);
-                    std::memcpy(at + size, &index, sizeof index);
-                    g.used += record;
-                }
+                gather(r, first, last, gathered);
                 // One pass sorts every bucket: the spill's bytes up to here are done with.
-                if (buckets_.size() <= kOpenAtOnce) spill_->discardBefore((r.first + r.n) * size);
+                if (buckets_.size() <= kBucketsAtOnce) spill_->discardBefore((r.first + r.n) * size);
                 if (ahead.valid()) ahead.get();
                 cur ^= 1;
             }
-            for (std::size_t b = first; b < last; ++b) {
-                Gathered& g = gathered[b - first];
-                buckets_[b].file->write(g.bytes.data(), g.used);
-                g.used = 0;
-            }
-            // Buckets are built one at a time later; their files stay, rewound.
-            for (std::size_t b = first; b < last; ++b) buckets_[b].file->rewind();
+            closeGathered(first, last, gathered);
         }
         spill_.reset();  // every point is in a bucket now
+    }
+
+    // A round of points being sorted into buckets: packed, with their buckets.
+    struct Round {
+        std::uint64_t first = 0;  // the input index of its first point
+        std::size_t n = 0;
+        std::vector<unsigned char> bytes;
+        std::vector<std::uint32_t> bucket;
+    };
+    // A bucket's records gathered before they are written to its file.
+    struct Gathered {
+        std::vector<unsigned char> bytes;
+        std::size_t used = 0;
+    };
+
+    // Appends the points of round `r` that fall in buckets [first, last) to their
+    // buckets' buffers (`gathered`, from bucket `first` on), each with its input index,
+    // writing a buffer out when it fills.
+    void gather(const Round& r, std::size_t first, std::size_t last, std::vector<Gathered>& gathered) {
+        const std::size_t size = packing_.size(), record = bucketRecordSize();
+        for (std::size_t i = 0; i < r.n; ++i) {
+            const std::uint32_t bucket = r.bucket[i];
+            if (bucket < first || bucket >= last) continue;
+            Gathered& g = gathered[bucket - first];
+            if (g.bytes.empty()) g.bytes.resize(kBucketBufferBytes);
+            if (g.used + record > g.bytes.size()) {
+                buckets_[bucket].file->write(g.bytes.data(), g.used);
+                g.used = 0;
+            }
+            unsigned char* at = g.bytes.data() + g.used;
+            std::memcpy(at, r.bytes.data() + i * size, size);
+            const std::uint32_t index = std::uint32_t(r.first + i);
+            std::memcpy(at + size, &index, sizeof index);
+            g.used += record;
+            ++buckets_[bucket].filled;
+        }
+    }
+
+    // Writes what buckets [first, last) still gather and rewinds their files, which stay
+    // until the buckets are built one at a time.
+    void closeGathered(std::size_t first, std::size_t last, std::vector<Gathered>& gathered) {
+        for (std::size_t b = first; b < last; ++b) {
+            Gathered& g = gathered[b - first];
+            buckets_[b].file->write(g.bytes.data(), g.used);
+            g.used = 0;
+            buckets_[b].file->rewind();
+        }
+    }
+
+    // After the prescan: the top of the tree from the histogram, and one file a bucket
+    // open for the points as they are appended, or, with more buckets than that, the
+    // usual way (the points held, then spilled).
+    // The histogram's pass of the prescan begins: the root cube from the points' integer
+    // bounds, the parts planned.
+    void startHistogram(const std::array<std::int32_t, 3>& lo, const std::array<std::int32_t, 3>& hi) {
+        lo_ = lo;
+        hi_ = hi;
+        planParts(enclosingCube(lo_, hi_));
+        hist_.assign(std::size_t(1) << (3 * hist_level_), 0);
+        prescanned_ = 0;
+        prescan_bounds_ = Bounds{};
+        prescan_ = Prescan::Histogram;
+    }
+
+    void startDirect() {
+        if (prescanned_ != prescan_points_)
+            throw Error(record_.where() + ": the prescan's last pass gave " + std::to_string(prescanned_) +
+                        " points of " + std::to_string(prescan_points_));
+        if (prescan_bounds_.lo != lo_ || prescan_bounds_.hi != hi_)
+            throw Error(record_.where() + ": the bounds given for the prescan are not the points' own");
+        makeTop(enclosingCube(lo_, hi_), CopcKey{});
+        if (buckets_.size() > kBucketsAtOnce) {
+            tops_.clear();
+            buckets_.clear();
+            std::vector<std::uint64_t>().swap(hist_);
+            prescan_ = Prescan::Declined;
+            return;
+        }
+        for (Bucket& b : buckets_) b.file = std::make_unique<Scratch>(dir_, where_);
+        gathered_.resize(buckets_.size());
+        prescan_ = Prescan::Direct;
+    }
+
+    bool within(const std::array<std::int32_t, 3>& xyz) const {
+        for (std::size_t k = 0; k < 3; ++k)
+            if (xyz[k] < lo_[k] || xyz[k] > hi_[k]) return false;
+        return true;
+    }
+
+    // Packs the points on the threads with their buckets, a round of kScratchBlock points
+    // a thread, and gathers each round into the buckets' files on a thread of its own
+    // while the caller makes the next points (two rounds held at once, as when the spill
+    // is sorted).
+    void directAppend(std::span<const CloudPoint> points) {
+        const OctreeCube cube = enclosingCube(lo_, hi_);
+        const std::size_t size = packing_.size();
+        const std::size_t parts = std::size_t(threads_) + 1;
+        while (!points.empty()) {
+            const std::size_t n = std::min(points.size(), kScratchBlock * parts);
+            if (count_ + n > prescan_points_)
+                throw Error(record_.where() + ": more points appended than the " + std::to_string(prescan_points_) +
+                            " prescanned");
+            Round& r = direct_rounds_[direct_next_];  // the other may be being gathered
+            r.first = count_;
+            r.n = n;
+            r.bytes.resize(n * size);
+            r.bucket.resize(n);
+            const std::size_t blocks = (n + kScratchBlock - 1) / kScratchBlock;
+            parallelFor(blocks, threads_, [&](std::size_t b, std::size_t) {
+                for (std::size_t i = b * kScratchBlock; i < std::min(n, (b + 1) * kScratchBlock); ++i) {
+                    const std::array<std::int32_t, 3> xyz = record_.quantize(points[i], r.first + i);
+                    if (!within(xyz))
+                        throw Error(record_.where() + ": point " + std::to_string(r.first + i) +
+                                    " lies outside the bounds of the points prescanned");
+                    r.bucket[i] = std::uint32_t(bucketOf(cube, xyz));
+                    packing_.packQuantized(points[i], xyz, r.bytes.data() + i * size);
+                }
+            });
+            count_ += n;
+            waitGather();
+            if (threads_ == 0)
+                gather(r, 0, buckets_.size(), gathered_);
+            else
+                gather_ = std::async(std::launch::async, [this, &r] { gather(r, 0, buckets_.size(), gathered_); });
+            direct_next_ ^= 1;
+            points = points.subspan(n);
+        }
+    }
+
+    // Waits for the last round to be gathered (and rethrows its error).
+    void waitGather() {
+        if (gather_.valid()) gather_.get();
+    }
+
+    void finishDirect() {
+        waitGather();
+        if (count_ != prescan_points_)
+            throw Error(record_.where() + ": " + std::to_string(count_) + " points appended of the " +
+                        std::to_string(prescan_points_) + " prescanned");
+        closeGathered(0, buckets_.size(), gathered_);
+        std::vector<Gathered>().swap(gathered_);
+        for (Round& r : direct_rounds_) r = Round{};
+        for (const Bucket& b : buckets_)
+            if (b.filled != b.count)
+                throw Error(record_.where() + ": the points appended are not the points prescanned");
+        finishParts(enclosingCube(lo_, hi_));
     }
 
     // A bucket read back and its subtree built, its nodes below its root waiting to be
@@ -1068,6 +1280,16 @@ class CopcWriter final : public FormatWriter {
     std::unique_ptr<Scratch> chunks_;
     std::uint64_t chunks_at_ = 0;
     LasInventory inventory_;  // of the buckets' chunks
+    // The prescan (prescanPasses): its passes, then the points sorted as they come.
+    enum class Prescan { None, Bounds, Histogram, Direct, Declined };
+    Prescan prescan_ = Prescan::None;
+    int prescan_pass_ = 0;  // the pass being given
+    std::uint64_t prescan_points_ = 0, prescanned_ = 0;
+    Bounds prescan_bounds_;
+    std::vector<Gathered> gathered_;
+    std::array<Round, 2> direct_rounds_;
+    std::size_t direct_next_ = 0;
+    std::future<void> gather_;  // declared after what it writes, so waited for first
 };
 
 }  // namespace
