@@ -691,6 +691,7 @@ class CopcWriter final : public FormatWriter {
         // The file, in depth-first order.
         Assembler out(record_, file_, origin_);
         chunks_->rewind();
+        orderTops(0);
         emit(out, 0);
         out.count(inventory_);
         out.finish(cube);
@@ -1219,16 +1220,14 @@ class CopcWriter final : public FormatWriter {
         if (top.set_n == 0) {
             out.addEmpty(top.key);
         } else {
-            std::vector<Lifted> set(std::size_t(top.set_n));
-            sets_->flush();
-            sets_->readAt(set.data(), set.size() * sizeof(Lifted), top.set_at);
-            LaszipMemoryWriter zip(record_, kVariableChunks);
-            LasInventory inv;
-            for (const Lifted& p : set) {
-                record_.fillQuantized(zip.point(), p.spilled.point, p.xyz, &inv);
-                zip.write();
-            }
-            out.add(top.key, zip.finish(), set.size(), inv);
+            // emit() takes the upper nodes in the order orderTops() listed them.
+            const std::size_t k = top_next_++;
+            if (k >= top_order_.size() || top_order_[k] != t)
+                throw Error(record_.where() + ": the upper nodes came out of order");
+            if (k >= top_batch_from_ + top_batch_.size()) compressTops(k);
+            TopChunk& chunk = top_batch_[k - top_batch_from_];
+            out.add(top.key, chunk.file, std::size_t(top.set_n), chunk.inventory);
+            chunk = TopChunk{};
         }
         if (top.bucket >= 0) {
             Bucket& bucket = buckets_[std::size_t(top.bucket)];
@@ -1247,6 +1246,37 @@ class CopcWriter final : public FormatWriter {
         }
         for (int c : top.child)
             if (c >= 0) emit(out, c);
+    }
+
+    // The upper nodes with points, in emit()'s depth-first order.
+    void orderTops(int t) {
+        const Top& top = tops_[std::size_t(t)];
+        if (top.set_n > 0) top_order_.push_back(t);
+        if (top.bucket >= 0) return;
+        for (int c : top.child)
+            if (c >= 0) orderTops(c);
+    }
+
+    // Compresses the upper nodes top_order_[from ..] on the threads, one a thread, for
+    // emit() to take in order. A thread holds its node's set and chunk in the room
+    // copcFixedBytes gives it for compressing the parts' nodes, unused by then.
+    void compressTops(std::size_t from) {
+        const std::size_t n = std::min(top_order_.size() - from, std::size_t(threads_) + 1);
+        top_batch_.assign(n, TopChunk{});
+        top_batch_from_ = from;
+        sets_->flush();
+        parallelFor(n, threads_, [&](std::size_t i, std::size_t) {
+            const Top& top = tops_[std::size_t(top_order_[from + i])];
+            std::vector<Lifted> set(std::size_t(top.set_n));
+            sets_->readAt(set.data(), set.size() * sizeof(Lifted), top.set_at);
+            LaszipMemoryWriter zip(record_, kVariableChunks);
+            LasInventory inventory;
+            for (const Lifted& p : set) {
+                record_.fillQuantized(zip.point(), p.spilled.point, p.xyz, &inventory);
+                zip.write();
+            }
+            top_batch_[i] = TopChunk{zip.finish(), inventory};
+        });
     }
 
     LasRecord record_;
@@ -1279,6 +1309,14 @@ class CopcWriter final : public FormatWriter {
     std::uint64_t sets_end_ = 0;
     std::unique_ptr<Scratch> chunks_;
     std::uint64_t chunks_at_ = 0;
+    // The upper nodes' chunks, compressed a batch at a time (compressTops).
+    struct TopChunk {
+        LaszipFile file;
+        LasInventory inventory;
+    };
+    std::vector<int> top_order_;
+    std::size_t top_next_ = 0, top_batch_from_ = 0;
+    std::vector<TopChunk> top_batch_;
     LasInventory inventory_;  // of the buckets' chunks
     // The prescan (prescanPasses): its passes, then the points sorted as they come.
     enum class Prescan { None, Bounds, Histogram, Direct, Declined };
