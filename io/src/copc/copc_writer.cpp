@@ -424,8 +424,7 @@ class CopcWriter final : public FormatWriter {
         std::vector<Bounds> seen(blocks);
         const std::uint64_t first = prescanned_;
         parallelFor(blocks, threads_, [&](std::size_t b, std::size_t) {
-            std::size_t run_cell = 0;
-            std::uint64_t run = 0;
+            CellCounter counter{hist_};
             Bounds& local = seen[b];
             Bounds mine;  // on the worker's stack: the blocks' bounds share cache lines
             for (std::size_t i = b * kScratchBlock; i < std::min(points.size(), (b + 1) * kScratchBlock); ++i) {
@@ -435,15 +434,9 @@ class CopcWriter final : public FormatWriter {
                 if (!within(xyz))
                     throw Error(record_.where() + ": point " + std::to_string(first + i) +
                                 " lies outside the bounds of the points prescanned");
-                const std::size_t cell = histCell(cube, xyz);
-                if (run > 0 && cell != run_cell) {
-                    std::atomic_ref<std::uint64_t>(hist_[run_cell]).fetch_add(run, std::memory_order_relaxed);
-                    run = 0;
-                }
-                run_cell = cell;
-                ++run;
+                counter.add(histCell(cube, xyz));
             }
-            if (run > 0) std::atomic_ref<std::uint64_t>(hist_[run_cell]).fetch_add(run, std::memory_order_relaxed);
+            counter.flush();
             local = mine;
         });
         for (const Bounds& b : seen)
@@ -697,6 +690,23 @@ class CopcWriter final : public FormatWriter {
         out.finish(cube);
     }
 
+    // Counts a thread's points into the histogram. Points in scan order fall in the same
+    // cell for long runs: one atomic add a run.
+    struct CellCounter {
+        std::vector<std::uint64_t>& hist;
+        std::size_t cell = 0;
+        std::uint64_t run = 0;
+        void add(std::size_t c) {
+            if (run > 0 && c != cell) flush();
+            cell = c;
+            ++run;
+        }
+        void flush() {
+            if (run > 0) std::atomic_ref<std::uint64_t>(hist[cell]).fetch_add(run, std::memory_order_relaxed);
+            run = 0;
+        }
+    };
+
     std::size_t histCell(const OctreeCube& cube, const std::array<std::int32_t, 3>& xyz) const {
         const int shift = cube.bits - hist_level_;
         std::size_t cell = 0;
@@ -719,19 +729,10 @@ class CopcWriter final : public FormatWriter {
             std::vector<unsigned char>& b = bytes[worker];
             b.resize(n * size);
             spill_->readAt(b.data(), b.size(), first * size);
-            // Points in scan order fall in the same cell for long runs: one atomic add a run.
-            std::size_t run_cell = 0;
-            std::uint64_t run = 0;
-            for (std::size_t i = 0; i < n; ++i) {
-                const std::size_t cell = histCell(cube, PointPacking::quantized(b.data() + i * size));
-                if (run > 0 && cell != run_cell) {
-                    std::atomic_ref<std::uint64_t>(hist_[run_cell]).fetch_add(run, std::memory_order_relaxed);
-                    run = 0;
-                }
-                run_cell = cell;
-                ++run;
-            }
-            if (run > 0) std::atomic_ref<std::uint64_t>(hist_[run_cell]).fetch_add(run, std::memory_order_relaxed);
+            CellCounter counter{hist_};
+            for (std::size_t i = 0; i < n; ++i)
+                counter.add(histCell(cube, PointPacking::quantized(b.data() + i * size)));
+            counter.flush();
         });
     }
 
