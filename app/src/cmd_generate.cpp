@@ -172,7 +172,7 @@ void run(GenerateCli& cli) {
                  "  ground: %llu points whitened (%d planes kept, %d dropped), %llu labelled ground; "
                  "precision %s, recall %s; kept coloured 0.5 m above the true terrain: target %s, environment %s\n"
                  "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, ground %.3f s, colour %.3f s, "
-                 "write %.3f s, total %.3f s (%d threads%s)\n",
+                 "write %.3f s, total %.3f s (%d threads%s%s)\n",
                  scene_path.string().c_str(), out.string().c_str(), formatName(*format), scene.meshes.size(),
                  st.triangles, roleList(o.roles).c_str(), scene.origin.x, scene.origin.y, scene.origin.z,
                  orbit.altitude_m, orbit.overlap_m, orbit.inclination_deg, orbit.fov_deg, orbit.xres, orbit.yres,
@@ -183,7 +183,8 @@ void run(GenerateCli& cli) {
                  percent(st.ground_precision).c_str(), percent(st.ground_recall).c_str(),
                  percent(st.target_kept).c_str(), percent(st.environment_kept).c_str(), load_s, st.seconds.bvh,
                  st.seconds.cast, st.seconds.fuse, st.seconds.ground, st.seconds.colour, st.seconds.write, seconds,
-                 st.threads, st.streamed ? ", streamed through a spool file" : "");
+                 st.threads, st.streamed ? ", streamed through a spool file" : "",
+                 st.pipelined ? "; ground and fuse beside the next views' cast, so stages overlap" : "");
     if (o.white) std::fprintf(stderr, "  --white: no colouring, no ground whitening\n");
     reportGround(cli.ground, o, st);
     if (o.threads > st.threads)
@@ -231,6 +232,7 @@ void run(GenerateCli& cli) {
         j["z_max_m"] = scene.origin.z + st.z_max;
         j["threads"] = st.threads;
         j["streamed"] = st.streamed;
+        j["pipelined"] = st.pipelined;
         j["seconds"] = seconds;
         j["stage_seconds"] = {{"load", load_s},           {"bvh", st.seconds.bvh},       {"cast", st.seconds.cast},
                               {"fuse", st.seconds.fuse},  {"ground", st.seconds.ground}, {"colour", st.seconds.colour},

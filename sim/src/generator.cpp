@@ -40,6 +40,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <fcntl.h>
 #include <unistd.h>
 
 namespace sim {
@@ -74,6 +75,8 @@ class Spool {
 
     /// Bytes a point takes in the spool.
     std::size_t recordBytes() const { return packing_.size(); }
+    /// Bytes the spool holds in memory while points are appended.
+    std::size_t bufferBytes() const { return kBlock * packing_.size(); }
 
     void append(std::span<const core::CloudPoint> points) {
         const std::size_t size = packing_.size();
@@ -102,6 +105,17 @@ class Spool {
             out, [](const unsigned char* in, core::CloudPoint& p) { p.position = io::PointPacking::position(in); });
     }
     std::size_t count() const { return count_; }
+    /// Frees the whole pages before the read position, read for the last time: their bytes
+    /// need not reach the disk, and their memory serves the output being written. Where the
+    /// file system cannot punch holes the bytes stay, which costs only time.
+    void discardRead() {
+        const off_t at = ::ftello(file_);
+        const off_t upto = at < 0 ? 0 : at / 4096 * 4096;
+        if (upto > discarded_)
+            (void)::fallocate(::fileno(file_), FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, discarded_,
+                              upto - discarded_);
+        discarded_ = std::max(discarded_, upto);
+    }
 
   private:
     static constexpr std::size_t kBlock = 4096;  // points packed or unpacked at once
@@ -126,6 +140,7 @@ class Spool {
     std::vector<unsigned char> bytes_;
     std::FILE* file_ = nullptr;
     std::size_t count_ = 0;
+    off_t discarded_ = 0;
 };
 
 // Pixels of one view that are traced: columns [x0, x1] x rows [y0, y1] (inclusive).
@@ -300,8 +315,11 @@ struct Generator::State {
 
     // Runs every view and hands the fused points, in (view, row, column) order, to
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
-    void fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit, Workers& pool,
-                   GenerateStats& st) const;
+    // `emit_bytes`: what the points handed on take beside the plan (the fused cloud when
+    // it stays in memory); where the budget leaves room for a second batch of hits, a
+    // batch is whitened and handed on by a thread of its own while the next one is traced.
+    void fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit, Workers& pool, GenerateStats& st,
+                   std::uint64_t emit_bytes) const;
 
     // Counts the target and environment points more than kAboveTerrain_m above the true
     // terrain, and those of them left coloured. A point is placed with its view's logged
@@ -350,7 +368,7 @@ struct Generator::State {
 };
 
 void Generator::State::fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit, Workers& pool,
-                                 GenerateStats& st) const {
+                                 GenerateStats& st, std::uint64_t emit_bytes) const {
     const OrbitOptions& orbit = options.orbit;
     const std::size_t xres = std::size_t(orbit.xres), yres = std::size_t(orbit.yres);
     const std::size_t npix = xres * yres;
@@ -360,17 +378,35 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
     // A tiled view is alone in its batch (the plan tiles only then); white, it needs no
     // RANSAC, so its hits are handed on band by band instead of waiting for the whole view.
     const bool emit_per_band = options.white && band_rows < yres;
+    // Whitening and handing on a batch (RANSAC, then packing and spooling when streamed)
+    // run on a thread of their own while the workers trace the next batch, when the budget
+    // holds a second batch of hits and there is a second core to use.
+    const std::uint64_t second_batch = std::uint64_t(batch_views) * plan.view_hits * sizeof(core::CloudPoint);
+    const bool pipelined = !emit_per_band && plan.threads >= 2 &&
+                           plan.fuse_bytes + emit_bytes + second_batch <= options.memory_budget_bytes;
+    st.pipelined = pipelined;
     std::vector<glm::dvec3> dirs(band_pixels);  // sensor frame, unit, rows [dirs_row, + band_rows)
     std::size_t dirs_row = yres;
     std::vector<core::CloudPoint> slots(batch_views * band_pixels * slots_per_pixel);
-    std::vector<std::vector<core::CloudPoint>> view_points(batch_views);
-    for (auto& v : view_points) v.reserve(std::size_t(plan.view_hits));
-    std::vector<std::size_t> view_missed(batch_views);  // pixels without a return
-    std::vector<GroundStats> ground_stats(batch_views);
+    // A batch's hits from compaction until they are handed on: two while pipelined.
+    struct Batch {
+        std::size_t first = 0, count = 0;
+        std::vector<std::vector<core::CloudPoint>> points;
+        std::vector<std::size_t> missed;  // pixels without a return
+        std::vector<GroundStats> ground;
+    };
+    std::array<Batch, 2> batches;
+    for (std::size_t b = 0; b < (pipelined ? 2u : 1u); ++b) {
+        batches[b].points.resize(batch_views);
+        for (auto& v : batches[b].points) v.reserve(std::size_t(plan.view_hits));
+        batches[b].missed.resize(batch_views);
+        batches[b].ground.resize(batch_views);
+    }
     std::optional<platform::Progress> progress;
     if (options.progress) progress.emplace("generate", views);
 
     float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
+    double ground_s = 0.0, handed_s = 0.0;  // written by whichever thread hands batches on
     // Counts `pts` (and `missed` pixels without a return) into the stats and hands them on.
     const auto fuse = [&](const std::vector<core::CloudPoint>& pts, std::size_t missed) {
         st.misses += missed;
@@ -386,11 +422,55 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         }
         emit(pts);
     };
+    // Whitens a batch's views (on the workers, or one after the other on the pipeline's
+    // thread, which the workers are not free for) and hands them on in view order.
+    const auto handOn = [&](Batch& batch, bool on_workers) {
+        if (!options.white && view_filter) {
+            const auto t0 = Clock::now();
+            const auto whiten = [&](std::size_t k) {
+                auto& pts = batch.points[k];
+                if (pts.size() < 3) {  // the band cannot hold 3 points: no RANSAC, no copy
+                    batch.ground[k] = GroundStats{};
+                    batch.ground[k].band_points = pts.size();
+                    return;
+                }
+                std::vector<glm::vec3> positions(pts.size());
+                for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
+                const std::uint64_t view = batch.first + k;
+                const auto is_ground = view_filter->classifyView(positions, options.seed ^ view, &batch.ground[k]);
+                for (std::size_t i = 0; i < pts.size(); ++i)
+                    if (is_ground[i]) pts[i].rgb = core::kWhite;
+            };
+            if (on_workers)
+                pool.run(batch.count, whiten);
+            else
+                for (std::size_t k = 0; k < batch.count; ++k) whiten(k);
+            ground_s += secondsSince(t0);
+        }
+        const auto t0 = Clock::now();
+        for (std::size_t k = 0; k < batch.count; ++k) {
+            if (!options.white && view_filter) {
+                st.planes_accepted += batch.ground[k].planes_accepted;
+                st.planes_rejected += batch.ground[k].planes_rejected;
+                st.views_without_ransac += batch.ground[k].band_points < 3;
+            }
+            fuse(batch.points[k], batch.missed[k]);
+        }
+        handed_s += secondsSince(t0);
+        if (progress) progress->advance(batch.count);
+    };
+    // The batch being handed on by the pipeline's thread; declared last, so that leaving
+    // early waits for it before what it uses goes.
+    std::future<void> handing;
+    std::size_t cur = 0;
     for (std::size_t first = 0; first < views; first += batch_views) {
+        Batch& batch = batches[cur];
         const std::size_t count = std::min(batch_views, views - first);
+        batch.first = first;
+        batch.count = count;
         for (std::size_t k = 0; k < count; ++k) {
-            view_points[k].clear();
-            view_missed[k] = 0;
+            batch.points[k].clear();
+            batch.missed[k] = 0;
         }
         for (std::size_t row0 = 0; row0 < yres; row0 += band_rows) {
             const std::size_t rows = std::min(band_rows, yres - row0);
@@ -415,7 +495,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
 
             t0 = Clock::now();
             pool.run(count, [&](std::size_t k) {
-                auto& out = view_points[k];
+                auto& out = batch.points[k];
                 const std::size_t n = slots_per_pixel;
                 const core::CloudPoint* s = slots.data() + k * band_pixels * n;
                 for (std::size_t i = 0; i < rows * xres; ++i) {
@@ -426,13 +506,13 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
                             out.push_back(s[r]);
                             if (options.white) out.back().rgb = core::kWhite;
                         }
-                    view_missed[k] += missed;
+                    batch.missed[k] += missed;
                 }
             });
             if (emit_per_band) {
-                fuse(view_points[0], view_missed[0]);
-                view_points[0].clear();
-                view_missed[0] = 0;
+                fuse(batch.points[0], batch.missed[0]);
+                batch.points[0].clear();
+                batch.missed[0] = 0;
             }
             st.seconds.fuse += secondsSince(t0);
         }
@@ -440,39 +520,21 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
             st.rays_traced += traced_count[first + k];
             st.sub_rays_traced += traced_count[first + k] * sensor->raysPerPixel();
         }
-
-        if (!options.white && view_filter) {
-            const auto t0 = Clock::now();
-            pool.run(count, [&](std::size_t k) {
-                auto& pts = view_points[k];
-                if (pts.size() < 3) {  // the band cannot hold 3 points: no RANSAC, no copy
-                    ground_stats[k] = GroundStats{};
-                    ground_stats[k].band_points = pts.size();
-                    return;
-                }
-                std::vector<glm::vec3> positions(pts.size());
-                for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
-                const std::uint64_t view = first + k;
-                const auto is_ground = view_filter->classifyView(positions, options.seed ^ view, &ground_stats[k]);
-                for (std::size_t i = 0; i < pts.size(); ++i)
-                    if (is_ground[i]) pts[i].rgb = core::kWhite;
-            });
-            st.seconds.ground += secondsSince(t0);
+        if (emit_per_band) {
+            if (progress) progress->advance(count);
+            continue;
         }
-
-        const auto t0 = Clock::now();
-        if (!emit_per_band)
-            for (std::size_t k = 0; k < count; ++k) {
-                if (!options.white && view_filter) {
-                    st.planes_accepted += ground_stats[k].planes_accepted;
-                    st.planes_rejected += ground_stats[k].planes_rejected;
-                    st.views_without_ransac += ground_stats[k].band_points < 3;
-                }
-                fuse(view_points[k], view_missed[k]);
-            }
-        st.seconds.fuse += secondsSince(t0);
-        if (progress) progress->advance(count);
+        if (!pipelined) {
+            handOn(batch, true);
+            continue;
+        }
+        if (handing.valid()) handing.get();  // the other batch is handed on: its buffers are free
+        handing = std::async(std::launch::async, [&handOn, &batch] { handOn(batch, false); });
+        cur ^= 1;
     }
+    if (handing.valid()) handing.get();
+    st.seconds.ground += ground_s;
+    st.seconds.fuse += handed_s;
     if (progress) progress->finish();
     st.rays = std::uint64_t(npix) * views;
     if (st.points > 0) {
@@ -619,7 +681,7 @@ void fuseFitColour(const Generator::State& s, std::vector<core::CloudPoint>& poi
             points.insert(points.end(), pts.begin(), pts.end());
             terrain.add(pts);
         },
-        pool, st);
+        pool, st, s.hits_bound * sizeof(core::CloudPoint));
     terrain.fit();
     terrain.classify(points, pool);
     const auto t0 = Clock::now();
@@ -754,7 +816,7 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
                         hi = glm::max(hi, p.position);
                     }
             },
-            pool, st);
+            pool, st, spool.bufferBytes());
         terrain.fit();
         std::vector<core::CloudPoint> chunk(s.plan.colour_chunk);
         // A COPC writer past its bound sorts the points straight into its octree's parts
@@ -787,21 +849,34 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
             }
         }
         st.seconds.write += secondsSince(tp);
+        // The last pass: each half of the chunk is read back, classified and coloured on a
+        // thread of its own while the writer takes the other half.
         spool.rewind();
-        for (;;) {
+        const auto prepare = [&](std::span<core::CloudPoint> into) {
             auto tc = Clock::now();
-            const std::size_t n = spool.read(chunk);
-            if (n == 0) break;
-            const std::span<core::CloudPoint> part(chunk.data(), n);
+            const std::span<core::CloudPoint> part = into.first(spool.read(into));
+            spool.discardRead();
             st.seconds.colour += secondsSince(tc);
             terrain.classify(part, pool);
             tc = Clock::now();
             s.colour(part, pool, st);
             s.countKept(part, pool, st);
             st.seconds.colour += secondsSince(tc);
-            tc = Clock::now();
-            writer.append(part);
+            return part.size();
+        };
+        std::size_t cur = 0, n = prepare(halves[0]);
+        while (n > 0) {
+            std::future<std::size_t> next;
+            if (overlap) next = std::async(std::launch::async, [&, other = cur ^ 1] { return prepare(halves[other]); });
+            const auto tc = Clock::now();
+            writer.append(halves[cur].first(n));
             st.seconds.write += secondsSince(tc);
+            if (overlap) {
+                n = next.get();
+                cur ^= 1;
+            } else {
+                n = prepare(halves[0]);
+            }
         }
         if (writer.count() != st.points) throw core::Error("output: " + out.string() + ": spool file came back short");
     }

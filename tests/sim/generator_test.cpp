@@ -209,6 +209,50 @@ TEST_CASE("streaming through a spool file writes the same bytes as the in-memory
     CHECK(different == 0);
 }
 
+TEST_CASE("a batch whitened and handed on beside the tracing of the next gives the same file") {
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
+    const test_support::TempDir scratch("sim_generator");
+    const fs::path& dir = scratch.path;
+    sim::GenerateOptions o = smallOptions();
+    o.orbit.xres = 256;  // batches of 10 views (0.5 M rays), the last of 4
+    o.orbit.yres = 192;
+    o.orbit.views = 24;
+    for (const auto format : {io::CloudFormat::PcdBinary, io::CloudFormat::Laz}) {
+        CAPTURE(int(format));
+        sim::GenerateStats piped, one, spooled, tight;
+        o.threads = 2;
+        o.memory_budget_bytes = std::size_t(1) << 30;
+        sim::generateToFile(scene, o, dir / "piped.out", format, &piped);
+        o.threads = 1;  // one worker: nothing to run beside it
+        sim::generateToFile(scene, o, dir / "one.out", format, &one);
+        // The roomy run's plan with 24 MiB beside it: room for a second batch of hits (10
+        // views of at most 49152, 40 bytes each), not for the fused cloud (24 views): spooled.
+        o.threads = 2;
+        o.memory_budget_bytes = std::size_t(piped.memory_planned_bytes) + (std::size_t(24) << 20);
+        sim::generateToFile(scene, o, dir / "spooled.out", format, &spooled);
+        // The same plan with 4 MiB beside it: no room for a second batch.
+        o.memory_budget_bytes = std::size_t(piped.memory_planned_bytes) + (std::size_t(4) << 20);
+        sim::generateToFile(scene, o, dir / "tight.out", format, &tight);
+        CHECK(piped.pipelined);
+        CHECK_FALSE(piped.streamed);
+        CHECK_FALSE(one.pipelined);
+        CHECK(spooled.streamed);
+        CHECK(spooled.pipelined);
+        CHECK(tight.streamed);
+        CHECK_FALSE(tight.pipelined);
+        CHECK(spooled.batch_views == piped.batch_views);
+        CHECK(tight.batch_views == piped.batch_views);
+        CHECK(piped.batch_views == 10);
+        CHECK(piped.planes_accepted > 0);
+        CHECK(piped.planes_accepted == tight.planes_accepted);
+        const std::string a = slurp(dir / "piped.out");
+        CHECK(a.size() > 1000);
+        CHECK(a == slurp(dir / "one.out"));
+        CHECK(a == slurp(dir / "spooled.out"));
+        CHECK(a == slurp(dir / "tight.out"));
+    }
+}
+
 TEST_CASE("bad options fail before any work and leave no output file") {
     const core::Scene scene = test_support::townScene(40.0, 2.0);
     const test_support::TempDir scratch("sim_generator");

@@ -117,6 +117,9 @@ struct GenerateStats {
     std::size_t skipped_zero_area_triangles = 0, skipped_nonfinite_triangles = 0;
     float z_min = 0, z_max = 0;  // height range used by the colour map (local)
     bool streamed = false;       // spooled through a temporary file
+    /// Each batch whitened and handed on by a thread of its own while the next batch was
+    /// traced (the budget held a second batch of hits, and there were two threads or more).
+    bool pipelined = false;
     GroundMethod ground_method = GroundMethod::Ransac;
     /// Points near the fitted terrain, and of those the ones left coloured: with --ground
     /// smrf or csf those within 1 m of the filter's terrain; for the check of RANSAC those
