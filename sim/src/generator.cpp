@@ -317,7 +317,7 @@ struct Generator::State {
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
     // `emit_bytes`: what the points handed on take beside the plan (the fused cloud when
     // it stays in memory); where the budget leaves room for a second batch of hits, a
-    // batch is whitened and handed on by a thread of its own while the next one is traced.
+    // batch is whitened and handed on while the next one is traced.
     void fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit, Workers& pool, GenerateStats& st,
                    std::uint64_t emit_bytes) const;
 
@@ -378,9 +378,10 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
     // A tiled view is alone in its batch (the plan tiles only then); white, it needs no
     // RANSAC, so its hits are handed on band by band instead of waiting for the whole view.
     const bool emit_per_band = options.white && band_rows < yres;
-    // Whitening and handing on a batch (RANSAC, then packing and spooling when streamed)
-    // run on a thread of their own while the workers trace the next batch, when the budget
-    // holds a second batch of hits and there is a second core to use.
+    // Pipelined when the budget holds a second batch of hits and there is a second core:
+    // a batch is whitened by the workers among the next batch's casting tasks, then handed
+    // on (packed and spooled when streamed) by a thread of its own while the batch after
+    // is cast. Otherwise each batch is whitened, then handed on, before the next is cast.
     const std::uint64_t second_batch = std::uint64_t(batch_views) * plan.view_hits * sizeof(core::CloudPoint);
     const bool pipelined = !emit_per_band && plan.threads >= 2 &&
                            plan.fuse_bytes + emit_bytes + second_batch <= options.memory_budget_bytes;
@@ -406,7 +407,8 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
     if (options.progress) progress.emplace("generate", views);
 
     float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
-    double ground_s = 0.0, handed_s = 0.0;  // written by whichever thread hands batches on
+    double ground_s = 0.0;  // whitening, on the workers
+    double handed_s = 0.0;  // handing on, by whichever thread does it
     // Counts `pts` (and `missed` pixels without a return) into the stats and hands them on.
     const auto fuse = [&](const std::vector<core::CloudPoint>& pts, std::size_t missed) {
         st.misses += missed;
@@ -422,34 +424,37 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         }
         emit(pts);
     };
-    // Whitens a batch's views (on the workers, or one after the other on the pipeline's
-    // thread, which the workers are not free for) and hands them on in view order.
-    const auto handOn = [&](Batch& batch, bool on_workers) {
-        if (!options.white && view_filter) {
-            const auto t0 = Clock::now();
-            const auto whiten = [&](std::size_t k) {
-                auto& pts = batch.points[k];
-                if (pts.size() < 3) {  // the band cannot hold 3 points: no RANSAC, no copy
-                    batch.ground[k] = GroundStats{};
-                    batch.ground[k].band_points = pts.size();
-                    return;
-                }
-                std::vector<glm::vec3> positions(pts.size());
-                for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
-                const std::uint64_t view = batch.first + k;
-                const auto is_ground = view_filter->classifyView(positions, options.seed ^ view, &batch.ground[k]);
-                for (std::size_t i = 0; i < pts.size(); ++i)
-                    if (is_ground[i]) pts[i].rgb = core::kWhite;
-            };
-            if (on_workers)
-                pool.run(batch.count, whiten);
-            else
-                for (std::size_t k = 0; k < batch.count; ++k) whiten(k);
-            ground_s += secondsSince(t0);
+    // Whitens view k of a batch (RANSAC on its points, PG turned white); returns the
+    // seconds it took.
+    const bool whitens = !options.white && view_filter;
+    const auto whiten = [&](Batch& batch, std::size_t k) {
+        const auto t0 = Clock::now();
+        auto& pts = batch.points[k];
+        if (pts.size() < 3) {  // the band cannot hold 3 points: no RANSAC, no copy
+            batch.ground[k] = GroundStats{};
+            batch.ground[k].band_points = pts.size();
+            return secondsSince(t0);
         }
+        std::vector<glm::vec3> positions(pts.size());
+        for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
+        const std::uint64_t view = batch.first + k;
+        const auto is_ground = view_filter->classifyView(positions, options.seed ^ view, &batch.ground[k]);
+        for (std::size_t i = 0; i < pts.size(); ++i)
+            if (is_ground[i]) pts[i].rgb = core::kWhite;
+        return secondsSince(t0);
+    };
+    // Whitens a whole batch on the workers.
+    const auto whitenAll = [&](Batch& batch) {
+        if (!whitens) return;
+        const auto t0 = Clock::now();
+        pool.run(batch.count, [&](std::size_t k) { whiten(batch, k); });
+        ground_s += secondsSince(t0);
+    };
+    // Hands a whitened batch on in view order.
+    const auto handOn = [&](Batch& batch) {
         const auto t0 = Clock::now();
         for (std::size_t k = 0; k < batch.count; ++k) {
-            if (!options.white && view_filter) {
+            if (whitens) {
                 st.planes_accepted += batch.ground[k].planes_accepted;
                 st.planes_rejected += batch.ground[k].planes_rejected;
                 st.views_without_ransac += batch.ground[k].band_points < 3;
@@ -459,19 +464,17 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         handed_s += secondsSince(t0);
         if (progress) progress->advance(batch.count);
     };
-    // The batch being handed on by the pipeline's thread; declared last, so that leaving
-    // early waits for it before what it uses goes.
+    // Pipelined: the batch compacted last, whitened by the workers among the next batch's
+    // casting tasks, then handed on by a thread of its own (`handing`, declared last, so
+    // that leaving early waits for it before what it uses goes) while the batch after is
+    // cast.
+    Batch* waiting = nullptr;
+    std::vector<double> whiten_s(batch_views);
     std::future<void> handing;
     std::size_t cur = 0;
     for (std::size_t first = 0; first < views; first += batch_views) {
         Batch& batch = batches[cur];
         const std::size_t count = std::min(batch_views, views - first);
-        batch.first = first;
-        batch.count = count;
-        for (std::size_t k = 0; k < count; ++k) {
-            batch.points[k].clear();
-            batch.missed[k] = 0;
-        }
         for (std::size_t row0 = 0; row0 < yres; row0 += band_rows) {
             const std::size_t rows = std::min(band_rows, yres - row0);
             const std::size_t p0 = row0 * xres, p1 = p0 + rows * xres;
@@ -483,17 +486,39 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
                 dirs_row = row0;
             }
             // Tasks are the blocks of kBlockRays pixels of the whole view cut to this band
-            // (bands start on rows), so a tiled view makes the very same ray calls.
+            // (bands start on rows), so a tiled view makes the very same ray calls; with
+            // the first band go the waiting batch's views to whiten, first.
             const std::size_t block0 = p0 / kBlockRays, blocks = (p1 + kBlockRays - 1) / kBlockRays - block0;
-            pool.run(count * blocks, [&](std::size_t task) {
+            const std::size_t whiten_tasks = row0 == 0 && waiting && whitens ? waiting->count : 0;
+            pool.run(whiten_tasks + count * blocks, [&](std::size_t task) {
+                if (task < whiten_tasks) {
+                    whiten_s[task] = whiten(*waiting, task);
+                    return;
+                }
+                task -= whiten_tasks;
                 const std::size_t k = task / blocks, block = block0 + task % blocks;
                 const Band band{dirs.data(), slots.data() + k * band_pixels * slots_per_pixel, p0};
                 castBlock(int(first + k), std::max(p0, block * kBlockRays), std::min(p1, (block + 1) * kBlockRays),
                           band);
             });
-            st.seconds.cast += secondsSince(t0);
+            // The whitening's share of the run: its tasks' time over the workers.
+            double share_s = 0.0;
+            for (std::size_t k = 0; k < whiten_tasks; ++k) share_s += whiten_s[k];
+            share_s /= double(plan.threads);
+            ground_s += share_s;
+            st.seconds.cast += std::max(0.0, secondsSince(t0) - share_s);
 
             t0 = Clock::now();
+            if (row0 == 0) {
+                // The batch this one's buffers held before (two batches ago) must be handed on.
+                if (handing.valid()) handing.get();
+                batch.first = first;
+                batch.count = count;
+                for (std::size_t k = 0; k < count; ++k) {
+                    batch.points[k].clear();
+                    batch.missed[k] = 0;
+                }
+            }
             pool.run(count, [&](std::size_t k) {
                 auto& out = batch.points[k];
                 const std::size_t n = slots_per_pixel;
@@ -525,14 +550,19 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
             continue;
         }
         if (!pipelined) {
-            handOn(batch, true);
+            whitenAll(batch);
+            handOn(batch);
             continue;
         }
-        if (handing.valid()) handing.get();  // the other batch is handed on: its buffers are free
-        handing = std::async(std::launch::async, [&handOn, &batch] { handOn(batch, false); });
+        if (waiting) handing = std::async(std::launch::async, [&handOn, b = waiting] { handOn(*b); });
+        waiting = &batch;
         cur ^= 1;
     }
-    if (handing.valid()) handing.get();
+    if (waiting) {
+        whitenAll(*waiting);
+        if (handing.valid()) handing.get();
+        handOn(*waiting);
+    }
     st.seconds.ground += ground_s;
     st.seconds.fuse += handed_s;
     if (progress) progress->finish();
