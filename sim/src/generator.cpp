@@ -39,6 +39,7 @@
 #include <future>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <fcntl.h>
 #include <unistd.h>
@@ -57,13 +58,16 @@ std::string mebibytes(std::uint64_t bytes) { return std::to_string((bytes + (1u 
 
 // The fused cloud on disk, in an anonymous file in the output's folder
 // (platform::openScratchFile), so nothing of it outlives the process. Each point is packed
-// (io::PointPacking) with the fields the run writes, its colour and its position, view,
-// label and returns: what the stages after the fusion read (colour, ground classification,
-// the kept shares) and what the writer writes, in 25 bytes for the ideal sensor's cloud
-// instead of a CloudPoint's 40. `path_` (the output) names it in messages.
+// (io::PointPacking) with the fields the run writes but its colour, and its position,
+// view, label and returns: what the stages after the fusion read (ground classification,
+// the kept shares) and what the writer writes. A fused point's colour is white (ground,
+// or --white) or not yet made (0): where the run writes colours, one byte says which.
+// 22 bytes for the ideal sensor's cloud instead of a CloudPoint's 40. `path_` (the
+// output) names it in messages.
 class Spool {
   public:
-    Spool(std::filesystem::path path, const core::CloudFields& fields) : path_(std::move(path)), packing_(fields) {
+    Spool(std::filesystem::path path, const core::CloudFields& fields)
+        : path_(std::move(path)), packing_(withoutColour(fields)), white_flag_(fields.rgb) {
         const std::filesystem::path dir = path_.parent_path();
         file_ = platform::openScratchFile(dir.empty() ? "." : dir, path_.string());
     }
@@ -74,16 +78,24 @@ class Spool {
     Spool& operator=(const Spool&) = delete;
 
     /// Bytes a point takes in the spool.
-    std::size_t recordBytes() const { return packing_.size(); }
+    std::size_t recordBytes() const { return packing_.size() + (white_flag_ ? 1 : 0); }
     /// Bytes the spool holds in memory while points are appended.
-    std::size_t bufferBytes() const { return kBlock * packing_.size(); }
+    std::size_t bufferBytes() const { return kBlock * recordBytes(); }
 
     void append(std::span<const core::CloudPoint> points) {
-        const std::size_t size = packing_.size();
+        const std::size_t size = recordBytes(), packed = packing_.size();
         while (!points.empty()) {
             const std::size_t n = std::min(points.size(), kBlock);
             bytes_.resize(n * size);
-            for (std::size_t i = 0; i < n; ++i) packing_.pack(points[i], bytes_.data() + i * size);
+            for (std::size_t i = 0; i < n; ++i) {
+                const core::CloudPoint& p = points[i];
+                unsigned char* out = bytes_.data() + i * size;
+                packing_.pack(p, out);
+                if (!white_flag_) continue;
+                if (p.rgb != core::kWhite && p.rgb != 0)
+                    throw std::logic_error("generate: a fused point is coloured before the colour pass");
+                out[packed] = p.rgb == core::kWhite;
+            }
             if (std::fwrite(bytes_.data(), size, n, file_) != n)
                 throw core::Error("output: " + path_.string() + ": cannot write the spool file after " +
                                   mebibytes(count_ * size) + " MiB: " + std::strerror(errno));
@@ -97,7 +109,11 @@ class Spool {
     }
     /// Reads up to out.size() points; returns how many.
     std::size_t read(std::span<core::CloudPoint> out) {
-        return readWith(out, [&](const unsigned char* in, core::CloudPoint& p) { p = packing_.unpack(in); });
+        const std::size_t packed = packing_.size();
+        return readWith(out, [&](const unsigned char* in, core::CloudPoint& p) {
+            p = packing_.unpack(in);  // white, where the run writes no colours
+            if (white_flag_) p.rgb = in[packed] ? core::kWhite : 0;
+        });
     }
     /// As read(), setting only the points' positions (the rest of `out` is left as it was).
     std::size_t readPositions(std::span<core::CloudPoint> out) {
@@ -120,9 +136,14 @@ class Spool {
   private:
     static constexpr std::size_t kBlock = 4096;  // points packed or unpacked at once
 
+    static core::CloudFields withoutColour(core::CloudFields fields) {
+        fields.rgb = false;
+        return fields;
+    }
+
     template <typename Unpack>
     std::size_t readWith(std::span<core::CloudPoint> out, Unpack unpack) {
-        const std::size_t size = packing_.size();
+        const std::size_t size = recordBytes();
         std::size_t done = 0;
         while (done < out.size()) {
             const std::size_t want = std::min(out.size() - done, kBlock);
@@ -137,6 +158,7 @@ class Spool {
 
     std::filesystem::path path_;
     io::PointPacking packing_;
+    bool white_flag_;  // a byte after each packed point: 1 white, 0 not yet coloured
     std::vector<unsigned char> bytes_;
     std::FILE* file_ = nullptr;
     std::size_t count_ = 0;
