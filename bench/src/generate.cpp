@@ -104,6 +104,7 @@ struct Result {
     // packet_rays = false (n = 0: not run).
     Spread gen_mrays, plain16_mrays, plain1_mrays, single_mrays;
     bool streamed = false;
+    bool in_output = false;
     double peak_rss_mib = 0, rss_before_mib = 0;
     bool peak_reset = false;
     double output_mib = 0;
@@ -183,6 +184,7 @@ Result runConfig(const std::string& name, const core::Scene& scene, const sim::G
         r.points = st.points;
         r.misses = st.misses;
         r.streamed = st.streamed;
+        r.in_output = st.in_output;
         r.precision = st.ground_precision;
         r.recall = st.ground_recall;
         if (single_too) {  // the generator tracing one ray at a time (rtcIntersect1)
@@ -334,7 +336,10 @@ std::string notes(const std::vector<Result>& results) {
     for (const Result& r : results) {
         s << "- " << r.name << ": " << r.orbit.xres << "x" << r.orbit.yres << " px x " << r.orbit.views << " views; "
           << r.points << " points, " << r.misses << " misses; ground precision " << percent(r.precision) << ", recall "
-          << percent(r.recall) << "; " << (r.streamed ? "streamed through a spool file" : "fused in memory")
+          << percent(r.recall) << "; "
+          << (r.in_output  ? "streamed into the output and coloured there"
+              : r.streamed ? "streamed through a spool file"
+                           : "fused in memory")
           << ", output " << fmt("%.0f", r.output_mib) << " MiB binary PCD; scene preparation "
           << fmt("%.2f", r.prepare_s) << " s (not in total); RSS before the run " << fmt("%.0f", r.rss_before_mib)
           << " MiB" << (r.peak_reset ? "" : " (peak not resettable: whole-process peak)") << "; medians of "
@@ -450,7 +455,7 @@ void run(const BenchGenerateCli& cli) {
     benchSensorModels(demo, paper, cli.quick, false, cli.no_md ? std::string() : cli.md);
 
     // 2. >= 100x larger: 512x512 x 400 views (64x the rays) on the demo scene subdivided to
-    // >= 2 M triangles (same surfaces), streamed to disk through the spool file.
+    // >= 2 M triangles (same surfaces), streamed to disk (into the binary PCD itself).
     t0 = Clock::now();
     const core::Scene big = largeScene(demo, cli.quick);
     const double big_prepare_s = demo_load_s + secondsSince(t0);
@@ -489,8 +494,9 @@ void run(const BenchGenerateCli& cli) {
              "(column 'rays traced'), the plain loops cast them all. Ratios are of medians; '(within "
              "spread)' marks a ratio whose two measurements' min..max ranges overlap, i.e. one the run-to-run "
              "noise could explain. Every figure is 'median [min..max]' over the runs (the median alone for a "
-             "single run). Stages: BVH = Embree build; fuse = per-view compaction and appending (to the spool file "
-             "when streamed); colour includes reading the spool back; total = BVH + cast + fuse + RANSAC "
+             "single run). Stages: BVH = Embree build; fuse = per-view compaction and appending (to the output or "
+             "the spool file when streamed); colour includes reading the points back; total = BVH + cast + fuse + "
+             "RANSAC "
              "+ colour + write (scene loading excluded, given per row). Peak RSS = VmHWM, reset just "
              "before the run (so it includes the scene and its BVH). The machine's 2 cores were shared "
              "with other jobs: read ratios rather than lone times.\n\n"

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <stdexcept>
 
 namespace io {
 
@@ -92,6 +93,25 @@ int CloudWriter::prescanPasses(std::uint64_t points, const core::Bounds* positio
 void CloudWriter::prescan(int pass, std::span<const core::CloudPoint> points) {
     if (!writer_) throw Error("output: " + path_.string() + ": prescan after commit");
     writer_->prescan(pass, points);
+}
+
+bool CloudWriter::rewritable() const { return writer_ && writer_->rewritable(); }
+
+std::size_t CloudWriter::recordBytes() const { return rewritable() ? writer_->recordBytes() : 0; }
+
+std::size_t CloudWriter::readBack(std::uint64_t first, std::span<core::CloudPoint> out) {
+    if (!writer_) throw Error("output: " + path_.string() + ": read back after commit");
+    if (!writer_->rewritable()) throw std::logic_error("io: the points of " + path_.string() + " cannot be read back");
+    if (first >= count_) return 0;
+    return writer_->readBack(first, out.first(std::size_t(std::min<std::uint64_t>(out.size(), count_ - first))));
+}
+
+void CloudWriter::rewrite(std::uint64_t first, std::span<const core::CloudPoint> points) {
+    if (!writer_) throw Error("output: " + path_.string() + ": rewrite after commit");
+    if (!writer_->rewritable()) throw std::logic_error("io: the points of " + path_.string() + " cannot be rewritten");
+    if (first > count_ || points.size() > count_ - first)
+        throw std::logic_error("io: rewrite past the points appended to " + path_.string());
+    writer_->rewrite(first, points);
 }
 
 void CloudWriter::commit() {

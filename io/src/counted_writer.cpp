@@ -8,6 +8,7 @@
 #include <bit>
 #include <cerrno>
 #include <charconv>
+#include <unistd.h>
 
 namespace io::detail {
 
@@ -90,7 +91,34 @@ void putTextFields(std::string& s, const core::CloudPoint& p, const core::CloudF
 CountedWriter::CountedWriter(platform::TempFile& file, std::string header, std::vector<long> count_at)
     : where_("output: " + file.destination().string()), file_(file.file()), count_at_(std::move(count_at)) {
     buffer_.reserve(kFlushBytes + 4096);
+    header_bytes_ = header.size();
     buffer_ = std::move(header);
+}
+
+std::uint64_t CountedWriter::recordOffset(std::uint64_t index, std::size_t record_bytes) {
+    const std::lock_guard lock(flushing_);
+    if (!buffer_.empty()) {
+        if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) fail("write failed");
+        buffer_.clear();
+        buffer_.shrink_to_fit();  // the records read back take its place in memory
+    }
+    if (std::fflush(file_) != 0) fail("write failed");
+    return header_bytes_ + index * record_bytes;
+}
+
+void CountedWriter::transfer(bool write, char* data, std::size_t bytes, std::uint64_t offset) const {
+    const int fd = ::fileno(file_);
+    while (bytes > 0) {
+        const ssize_t n = write ? ::pwrite(fd, data, bytes, off_t(offset)) : ::pread(fd, data, bytes, off_t(offset));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            if (n == 0) errno = EIO;  // the file is shorter than the records written to it
+            fail(write ? "cannot rewrite points" : "cannot read points back");
+        }
+        data += n;
+        bytes -= std::size_t(n);
+        offset += std::uint64_t(n);
+    }
 }
 
 void CountedWriter::fail(const std::string& what) const {

@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <mutex>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,6 +53,29 @@ void putBinaryFields(char*& out, const core::CloudPoint& p, const core::CloudFie
     if (f.scan_angle) putRaw(out, p.scan_angle_deg);
     if (f.height_above_ground) putRaw(out, p.height_above_ground_m);
 }
+/// Reads a `T` from `in` and moves past it.
+template <typename T>
+T getRaw(const char*& in) {
+    T v;
+    std::memcpy(&v, in, sizeof v);
+    in += sizeof v;
+    return v;
+}
+/// Reads back what putBinaryFields wrote, into the fields `f` turns on.
+template <typename ViewInt, typename IntensityInt>
+void getBinaryFields(const char*& in, core::CloudPoint& p, const core::CloudFields& f) {
+    if (f.label) p.label = core::Role(getRaw<std::uint8_t>(in));
+    if (f.view) p.view = std::uint16_t(getRaw<ViewInt>(in));
+    if (f.range) p.range_m = getRaw<float>(in);
+    if (f.intensity) p.intensity = std::uint16_t(getRaw<IntensityInt>(in));
+    if (f.returns) {
+        p.return_number = getRaw<std::uint8_t>(in);
+        p.returns = getRaw<std::uint8_t>(in);
+    }
+    if (f.incidence) p.incidence_deg = getRaw<float>(in);
+    if (f.scan_angle) p.scan_angle_deg = getRaw<float>(in);
+    if (f.height_above_ground) p.height_above_ground_m = getRaw<float>(in);
+}
 void putFloat(std::string& s, float v);
 void putUnsigned(std::string& s, std::uint32_t v);
 /// The optional fields of `p` that `fields` turns on, each after a space, as the ascii
@@ -83,6 +108,34 @@ class CountedWriter : public FormatWriter {
             flushIfFull();
         }
     }
+    /// FormatWriter::readBack for records of `record_bytes` each, `read(in, point)` filling
+    /// one point from one record. The caller (CloudWriter) keeps the range within count().
+    template <class Read>
+    std::size_t readBackBinary(std::uint64_t first, std::span<core::CloudPoint> out, std::size_t record_bytes,
+                               Read read) {
+        std::vector<char> bytes(std::min(out.size(), kRecordsPerCall) * record_bytes);
+        for (std::size_t done = 0; done < out.size();) {
+            const std::size_t n = std::min(out.size() - done, kRecordsPerCall);
+            transfer(false, bytes.data(), n * record_bytes, recordOffset(first + done, record_bytes));
+            const char* in = bytes.data();
+            for (std::size_t i = done; i < done + n; ++i) read(in, out[i]);
+            done += n;
+        }
+        return out.size();
+    }
+    /// FormatWriter::rewrite for records of `record_bytes` each, `write(out, point)` filling one.
+    template <class Write>
+    void rewriteBinary(std::uint64_t first, std::span<const core::CloudPoint> points, std::size_t record_bytes,
+                       Write write) {
+        std::vector<char> bytes(std::min(points.size(), kRecordsPerCall) * record_bytes);
+        for (std::size_t done = 0; done < points.size();) {
+            const std::size_t n = std::min(points.size() - done, kRecordsPerCall);
+            char* out = bytes.data();
+            for (std::size_t i = done; i < done + n; ++i) write(out, points[i]);
+            transfer(true, bytes.data(), n * record_bytes, recordOffset(first + done, record_bytes));
+            done += n;
+        }
+    }
     /// Appends one text line per point, `write(buffer, point)` adding it without its newline.
     template <class Write>
     void appendText(std::span<const core::CloudPoint> points, Write write) {
@@ -95,8 +148,15 @@ class CountedWriter : public FormatWriter {
     }
 
   private:
-    static constexpr std::size_t kFlushBytes = 8u << 20;
+    static constexpr std::size_t kFlushBytes = 256u << 10;
+    // Records read back or rewritten per system call: a buffer of well under a MiB.
+    static constexpr std::size_t kRecordsPerCall = 8192;
     void flushIfFull();
+    // The byte offset of record `index`, after flushing what is buffered (once, whichever
+    // thread comes first).
+    std::uint64_t recordOffset(std::uint64_t index, std::size_t record_bytes);
+    // pwrite (`write`) or pread of exactly `bytes` bytes at `offset` of the file.
+    void transfer(bool write, char* data, std::size_t bytes, std::uint64_t offset) const;
     [[noreturn]] void fail(const std::string& what) const;
 
     std::string where_;  // "output: <path>"
@@ -104,6 +164,44 @@ class CountedWriter : public FormatWriter {
     std::vector<long> count_at_;
     std::string buffer_;
     std::size_t count_ = 0;
+    std::uint64_t header_bytes_ = 0;
+    std::mutex flushing_;  // readBack and rewrite may run on two threads
+};
+
+/// A CountedWriter of text lines or binary records of `record_bytes` each, made by
+/// `Derived`'s text(line, point), binary(out, point) and unbinary(in, point) (the PCD and
+/// PLY writers); binary records can be read back and rewritten in place.
+template <class Derived>
+class RecordWriter : public CountedWriter {
+  public:
+    void append(std::span<const core::CloudPoint> points) override {
+        if (ascii_)
+            appendText(points, [this](std::string& s, const core::CloudPoint& p) { self().text(s, p); });
+        else
+            appendBinary(points, record_bytes_,
+                         [this](char*& out, const core::CloudPoint& p) { self().binary(out, p); });
+    }
+    bool rewritable() const override { return !ascii_; }
+    std::size_t recordBytes() const override { return record_bytes_; }
+    std::size_t readBack(std::uint64_t first, std::span<core::CloudPoint> out) override {
+        return readBackBinary(first, out, record_bytes_,
+                              [this](const char*& in, core::CloudPoint& p) { self().unbinary(in, p); });
+    }
+    void rewrite(std::uint64_t first, std::span<const core::CloudPoint> points) override {
+        rewriteBinary(first, points, record_bytes_,
+                      [this](char*& out, const core::CloudPoint& p) { self().binary(out, p); });
+    }
+
+  protected:
+    RecordWriter(platform::TempFile& file, std::string header, std::vector<long> count_at, bool ascii,
+                 std::size_t record_bytes)
+        : CountedWriter(file, std::move(header), std::move(count_at)), ascii_(ascii), record_bytes_(record_bytes) {}
+
+  private:
+    const Derived& self() const { return static_cast<const Derived&>(*this); }
+
+    bool ascii_;
+    std::size_t record_bytes_;
 };
 
 }  // namespace io::detail

@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <span>
+#include <stdexcept>
 
 namespace io::detail {
 
@@ -19,6 +20,15 @@ class FormatWriter {
     /// CloudWriter::prescanPasses and prescan: none, unless the format says otherwise.
     virtual int prescanPasses(std::uint64_t /*points*/, const core::Bounds* /*positions*/) { return 0; }
     virtual void prescan(int /*pass*/, std::span<const core::CloudPoint> /*points*/) {}
+    /// CloudWriter::rewritable, readBack and rewrite: none, unless the format says otherwise.
+    virtual bool rewritable() const { return false; }
+    virtual std::size_t recordBytes() const { return 0; }
+    virtual std::size_t readBack(std::uint64_t /*first*/, std::span<core::CloudPoint> /*out*/) {
+        throw std::logic_error("io: this format's points cannot be read back");
+    }
+    virtual void rewrite(std::uint64_t /*first*/, std::span<const core::CloudPoint> /*points*/) {
+        throw std::logic_error("io: this format's points cannot be rewritten");
+    }
     /// Completes the file (the header's counts, LAS bounds, LAZ's chunk table) and
     /// flushes; the caller then commits the TempFile. Throws Error("output: <path>: ...").
     virtual void finish() = 0;

@@ -596,7 +596,7 @@ TempFile::TempFile(fs::path destination) : destination_(std::move(destination)) 
     try {
         name_ = createUnique(
             [&](const std::string& name) {
-                fd = ::openat(dirfd_, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+                fd = ::openat(dirfd_, name.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
                 return fd >= 0;
             },
             destination_, dir);

@@ -39,6 +39,7 @@
 #include <future>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <fcntl.h>
@@ -851,16 +852,28 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
             writer.append(std::span(points).subspan(i, std::min(kColourChunk, points.size() - i)));
         st.seconds.write = secondsSince(tc);
     } else {
-        // Packed with the fields the run writes: the stages after the fusion read only the
-        // position, view, label and colour (white LAS has no colour field, and every point
-        // is white, as unpacking gives it).
-        Spool spool(out, fields);
-        checkFreeSpace(out.parent_path(), s.hits_bound * spool.recordBytes(), "the spool file of the fused cloud");
+        // Where the output's records can be read back and rewritten (binary PCD and PLY,
+        // which carry every field the stages after the fusion read: position, view, label
+        // and colour), the fused points go straight into it and the last pass classifies
+        // and colours them there: written once, never copied. Otherwise they go through
+        // the spool, packed with the fields the run writes (white LAS has no colour field,
+        // and every point is white, as unpacking gives it).
+        st.in_output = writer.rewritable() && fields.rgb && fields.label && fields.view;
+        std::optional<Spool> spool;
+        if (st.in_output) {
+            checkFreeSpace(out.parent_path(), s.hits_bound * writer.recordBytes(), "the output");
+        } else {
+            spool.emplace(out, fields);
+            checkFreeSpace(out.parent_path(), s.hits_bound * spool->recordBytes(), "the spool file of the fused cloud");
+        }
         // The positions' bounds, for a writer that asks to see the points first.
         glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
         s.fuseViews(
             [&](std::span<const core::CloudPoint> pts) {
-                spool.append(pts);
+                if (spool)
+                    spool->append(pts);
+                else
+                    writer.append(pts);  // its buffer is in the plan's fuse_bytes
                 terrain.add(pts);
                 if (format == io::CloudFormat::Copc)
                     for (const core::CloudPoint& p : pts) {
@@ -868,46 +881,54 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
                         hi = glm::max(hi, p.position);
                     }
             },
-            pool, st, spool.bufferBytes());
+            pool, st, spool ? spool->bufferBytes() : 0);
         terrain.fit();
         std::vector<core::CloudPoint> chunk(s.plan.colour_chunk);
-        // A COPC writer past its bound sorts the points straight into its octree's parts
-        // once it has seen them: their bounds from the fusion, the spool as often as it
-        // asks (their positions, which classifying and colouring leave as they are).
-        const auto tp = Clock::now();
-        core::Bounds positions;
-        if (spool.count() > 0) positions = core::Bounds{glm::dvec3(lo), glm::dvec3(hi)};
-        const int passes = writer.prescanPasses(spool.count(), &positions);
-        // Each pass reads one half of the chunk from the spool on a thread of its own while
-        // the writer takes the other half.
+        // Each pass reads one half of the chunk back on a thread of its own while the
+        // writer takes the other half.
         const bool overlap = chunk.size() >= 2;
         const std::size_t half = overlap ? chunk.size() / 2 : chunk.size();
         const std::array<std::span<core::CloudPoint>, 2> halves{std::span(chunk).first(half),
                                                                 std::span(chunk).last(half)};
-        for (int pass = 0; pass < passes; ++pass) {
-            spool.rewind();
-            std::size_t cur = 0, n = spool.readPositions(halves[0]);
-            while (n > 0) {
-                if (!overlap) {
-                    writer.prescan(pass, halves[0].first(n));
-                    n = spool.readPositions(halves[0]);
-                    continue;
+        if (spool) {
+            // A COPC writer past its bound sorts the points straight into its octree's parts
+            // once it has seen them: their bounds from the fusion, the spool as often as it
+            // asks (their positions, which classifying and colouring leave as they are).
+            const auto tp = Clock::now();
+            core::Bounds positions;
+            if (spool->count() > 0) positions = core::Bounds{glm::dvec3(lo), glm::dvec3(hi)};
+            const int passes = writer.prescanPasses(spool->count(), &positions);
+            for (int pass = 0; pass < passes; ++pass) {
+                spool->rewind();
+                std::size_t cur = 0, n = spool->readPositions(halves[0]);
+                while (n > 0) {
+                    if (!overlap) {
+                        writer.prescan(pass, halves[0].first(n));
+                        n = spool->readPositions(halves[0]);
+                        continue;
+                    }
+                    std::future<std::size_t> next = std::async(
+                        std::launch::async, [&, other = cur ^ 1] { return spool->readPositions(halves[other]); });
+                    writer.prescan(pass, halves[cur].first(n));
+                    n = next.get();
+                    cur ^= 1;
                 }
-                std::future<std::size_t> next =
-                    std::async(std::launch::async, [&, other = cur ^ 1] { return spool.readPositions(halves[other]); });
-                writer.prescan(pass, halves[cur].first(n));
-                n = next.get();
-                cur ^= 1;
             }
+            st.seconds.write += secondsSince(tp);
+            spool->rewind();
         }
-        st.seconds.write += secondsSince(tp);
-        // The last pass: each half of the chunk is read back, classified and coloured on a
-        // thread of its own while the writer takes the other half.
-        spool.rewind();
-        const auto prepare = [&](std::span<core::CloudPoint> into) {
+        // The last pass: each half of the chunk is read back (from the spool, or from the
+        // output), classified and coloured on a thread of its own while the writer takes
+        // the other half (appended, or rewritten where it was read).
+        std::uint64_t prepared = 0;                 // points read back so far
+        std::array<std::uint64_t, 2> firsts{0, 0};  // the index of each half's first point
+        const auto prepare = [&](std::size_t h) {
             auto tc = Clock::now();
-            const std::span<core::CloudPoint> part = into.first(spool.read(into));
-            spool.discardRead();
+            firsts[h] = prepared;
+            const std::span<core::CloudPoint> part =
+                halves[h].first(spool ? spool->read(halves[h]) : writer.readBack(prepared, halves[h]));
+            if (spool) spool->discardRead();
+            prepared += part.size();
             st.seconds.colour += secondsSince(tc);
             terrain.classify(part, pool);
             tc = Clock::now();
@@ -916,21 +937,25 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
             st.seconds.colour += secondsSince(tc);
             return part.size();
         };
-        std::size_t cur = 0, n = prepare(halves[0]);
+        std::size_t cur = 0, n = prepare(0);
         while (n > 0) {
             std::future<std::size_t> next;
-            if (overlap) next = std::async(std::launch::async, [&, other = cur ^ 1] { return prepare(halves[other]); });
+            if (overlap) next = std::async(std::launch::async, [&, other = cur ^ 1] { return prepare(other); });
             const auto tc = Clock::now();
-            writer.append(halves[cur].first(n));
+            if (spool)
+                writer.append(halves[cur].first(n));
+            else
+                writer.rewrite(firsts[cur], halves[cur].first(n));
             st.seconds.write += secondsSince(tc);
             if (overlap) {
                 n = next.get();
                 cur ^= 1;
             } else {
-                n = prepare(halves[0]);
+                n = prepare(0);
             }
         }
-        if (writer.count() != st.points) throw core::Error("output: " + out.string() + ": spool file came back short");
+        if (prepared != st.points || writer.count() != st.points)
+            throw core::Error("output: " + out.string() + ": the fused points came back short");
     }
     terrain.finish(st);
     keptShares(st);

@@ -140,13 +140,14 @@ TEST_CASE("the output is bit-identical with 1 and 3 threads, on terrain where th
     CHECK(recoloured > 100);
 }
 
-TEST_CASE("streaming through a spool file writes the same bytes as the in-memory path") {
+TEST_CASE("streaming through a spool file or into the output writes the same bytes as the in-memory path") {
     const core::Scene scene = test_support::townScene(120.0, 1.0);
     const test_support::TempDir scratch("sim_generator");
     const fs::path& dir = scratch.path;
     sim::GenerateOptions o = smallOptions();
     o.threads = 2;  // the budget below is sized for two workers
-    for (const auto format : {io::CloudFormat::PcdBinary, io::CloudFormat::PlyAscii}) {
+    for (const auto format : {io::CloudFormat::PcdBinary, io::CloudFormat::PlyBinary, io::CloudFormat::PlyAscii}) {
+        CAPTURE(int(format));
         sim::GenerateStats in_memory, streamed;
         o.memory_budget_bytes = std::size_t(1) << 30;
         sim::generateToFile(scene, o, dir / "memory.out", format, &in_memory);
@@ -154,6 +155,8 @@ TEST_CASE("streaming through a spool file writes the same bytes as the in-memory
         sim::generateToFile(scene, o, dir / "spool.out", format, &streamed);
         CHECK_FALSE(in_memory.streamed);
         CHECK(streamed.streamed);
+        // Binary PCD and PLY records are read back and coloured in the output itself.
+        CHECK(streamed.in_output == (format != io::CloudFormat::PlyAscii));
         CHECK(streamed.points == in_memory.points);
         const std::string a = slurp(dir / "memory.out"), b = slurp(dir / "spool.out");
         CHECK(a.size() > 1000);
@@ -183,6 +186,7 @@ TEST_CASE("streaming through a spool file writes the same bytes as the in-memory
                 sim::generateToFile(scene, m, dir / "spool.out", format, &streamed);
                 CHECK_FALSE(in_memory.streamed);
                 CHECK(streamed.streamed);
+                CHECK(streamed.in_output == (format == io::CloudFormat::PcdBinary));
                 CHECK(streamed.points == in_memory.points);
                 CHECK(streamed.ground_found == in_memory.ground_found);
                 CHECK(streamed.target_kept_points == in_memory.target_kept_points);

@@ -100,6 +100,24 @@ class CloudWriter {
     /// when the passes, the bounds given or the points appended after them differ in
     /// count or position.
     void prescan(int pass, std::span<const core::CloudPoint> points);
+    /// Whether the points appended can be read back and overwritten in place before
+    /// commit(): binary PCD and PLY, whose records all have one size and hold each field
+    /// they carry bit for bit. A caller whose points change after they are first written
+    /// (a colour known only once all have been seen) can then keep them in the output
+    /// alone instead of a copy of its own.
+    bool rewritable() const;
+    /// Reads back the points appended [first, first + out.size()), as far as there are;
+    /// returns how many. The fields the file carries come back as appended, the others as
+    /// CloudPoint's defaults. Throws std::logic_error where !rewritable(), and
+    /// Error("output: <path>: ...") when the read fails. Once one call to readBack or
+    /// rewrite has returned, two threads may read back and rewrite disjoint ranges at once.
+    std::size_t readBack(std::uint64_t first, std::span<core::CloudPoint> out);
+    /// The bytes of one point's record where rewritable(), else 0.
+    std::size_t recordBytes() const;
+    /// Overwrites the points appended [first, first + points.size()) with `points`.
+    /// Throws std::logic_error where !rewritable() or past the points appended, and
+    /// Error("output: <path>: ...") when the write fails.
+    void rewrite(std::uint64_t first, std::span<const core::CloudPoint> points);
     /// Fixes up the point count in the header, flushes, renames into place.
     void commit();
     std::size_t count() const { return count_; }

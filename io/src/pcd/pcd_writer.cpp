@@ -55,23 +55,22 @@ std::string pcdHeader(bool ascii, const glm::dvec3& origin, const core::CloudFie
     return h;
 }
 
-class PcdWriter final : public CountedWriter {
+// The record's size for `fields`.
+std::size_t pcdRecordBytes(const core::CloudFields& fields) {
+    std::size_t n = 12 + (fields.rgb ? 4 : 0);
+    for (OptionalField f : optionalFields(fields)) n += std::size_t(pcdField(f).size);
+    return n;
+}
+
+class PcdWriter final : public RecordWriter<PcdWriter> {
   public:
     PcdWriter(platform::TempFile& file, bool ascii, std::string header, std::vector<long> count_at,
               const core::CloudFields& fields)
-        : CountedWriter(file, std::move(header), std::move(count_at)), ascii_(ascii), fields_(fields) {
-        record_bytes_ = 12 + (fields.rgb ? 4 : 0);
-        for (OptionalField f : optionalFields(fields)) record_bytes_ += std::size_t(pcdField(f).size);
-    }
-
-    void append(std::span<const core::CloudPoint> points) override {
-        if (ascii_)
-            appendText(points, [this](std::string& s, const core::CloudPoint& p) { text(s, p); });
-        else
-            appendBinary(points, record_bytes_, [this](char*& out, const core::CloudPoint& p) { binary(out, p); });
-    }
+        : RecordWriter(file, std::move(header), std::move(count_at), ascii, pcdRecordBytes(fields)), fields_(fields) {}
 
   private:
+    friend class RecordWriter<PcdWriter>;
+
     void binary(char*& out, const core::CloudPoint& p) const {
         const core::CloudFields& f = fields_;
         putRaw(out, p.position.x);
@@ -79,6 +78,16 @@ class PcdWriter final : public CountedWriter {
         putRaw(out, p.position.z);
         if (f.rgb) putRaw(out, std::uint32_t(p.rgb & 0xFFFFFFu));  // PCL's packed float: the same 4 bytes
         putBinaryFields<std::uint16_t, std::uint16_t>(out, p, f);
+    }
+
+    // binary()'s record back into a point.
+    void unbinary(const char*& in, core::CloudPoint& p) const {
+        p = core::CloudPoint{};
+        p.position.x = getRaw<float>(in);
+        p.position.y = getRaw<float>(in);
+        p.position.z = getRaw<float>(in);
+        if (fields_.rgb) p.rgb = getRaw<std::uint32_t>(in);
+        getBinaryFields<std::uint16_t, std::uint16_t>(in, p, fields_);
     }
 
     void text(std::string& s, const core::CloudPoint& p) const {
@@ -100,9 +109,7 @@ class PcdWriter final : public CountedWriter {
         putTextFields(s, p, f);
     }
 
-    bool ascii_;
     core::CloudFields fields_;
-    std::size_t record_bytes_ = 0;
 };
 
 }  // namespace

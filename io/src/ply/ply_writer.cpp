@@ -50,23 +50,22 @@ std::string plyHeader(bool ascii, const glm::dvec3& origin, const core::CloudFie
     return h;
 }
 
-class PlyWriter final : public CountedWriter {
+// The record's size for `fields`.
+std::size_t plyRecordBytes(const core::CloudFields& fields) {
+    std::size_t n = 12 + (fields.rgb ? 3 : 0);
+    for (OptionalField f : optionalFields(fields)) n += std::size_t(plyProperty(f).size);
+    return n;
+}
+
+class PlyWriter final : public RecordWriter<PlyWriter> {
   public:
     PlyWriter(platform::TempFile& file, bool ascii, std::string header, std::vector<long> count_at,
               const core::CloudFields& fields)
-        : CountedWriter(file, std::move(header), std::move(count_at)), ascii_(ascii), fields_(fields) {
-        record_bytes_ = 12 + (fields.rgb ? 3 : 0);
-        for (OptionalField f : optionalFields(fields)) record_bytes_ += std::size_t(plyProperty(f).size);
-    }
-
-    void append(std::span<const core::CloudPoint> points) override {
-        if (ascii_)
-            appendText(points, [this](std::string& s, const core::CloudPoint& p) { text(s, p); });
-        else
-            appendBinary(points, record_bytes_, [this](char*& out, const core::CloudPoint& p) { binary(out, p); });
-    }
+        : RecordWriter(file, std::move(header), std::move(count_at), ascii, plyRecordBytes(fields)), fields_(fields) {}
 
   private:
+    friend class RecordWriter<PlyWriter>;
+
     void binary(char*& out, const core::CloudPoint& p) const {
         const core::CloudFields& f = fields_;
         putRaw(out, p.position.x);
@@ -79,6 +78,19 @@ class PlyWriter final : public CountedWriter {
             putRaw(out, std::uint8_t(rgb));
         }
         putBinaryFields<std::int32_t, std::int32_t>(out, p, f);
+    }
+
+    // binary()'s record back into a point.
+    void unbinary(const char*& in, core::CloudPoint& p) const {
+        p = core::CloudPoint{};
+        p.position.x = getRaw<float>(in);
+        p.position.y = getRaw<float>(in);
+        p.position.z = getRaw<float>(in);
+        if (fields_.rgb) {
+            const auto r = getRaw<std::uint8_t>(in), g = getRaw<std::uint8_t>(in), b = getRaw<std::uint8_t>(in);
+            p.rgb = core::packRgb(r, g, b);
+        }
+        getBinaryFields<std::int32_t, std::int32_t>(in, p, fields_);
     }
 
     void text(std::string& s, const core::CloudPoint& p) const {
@@ -99,9 +111,7 @@ class PlyWriter final : public CountedWriter {
         putTextFields(s, p, fields_);
     }
 
-    bool ascii_;
     core::CloudFields fields_;
-    std::size_t record_bytes_ = 0;
 };
 
 }  // namespace

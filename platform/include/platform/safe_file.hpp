@@ -85,7 +85,8 @@ class TempFile {
     TempFile(const TempFile&) = delete;
     TempFile& operator=(const TempFile&) = delete;
 
-    /// The open stream (binary, write); stays owned by the TempFile.
+    /// The open stream (binary, write); stays owned by the TempFile. Its descriptor also
+    /// reads, for a writer that reads back what it wrote.
     std::FILE* file() const { return file_; }
     /// The temporary's path, for tests and messages.
     std::filesystem::path path() const;

@@ -116,7 +116,8 @@ struct GenerateStats {
     /// skipped_nonfinite_triangles): zero-area ones, and NaN/inf ones with skip_nonfinite.
     std::size_t skipped_zero_area_triangles = 0, skipped_nonfinite_triangles = 0;
     float z_min = 0, z_max = 0;  // height range used by the colour map (local)
-    bool streamed = false;       // spooled through a temporary file
+    bool streamed = false;       // not held in memory: spooled, or in_output
+    bool in_output = false;      // streamed into the output itself and coloured there (binary PCD, PLY)
     /// Each batch whitened and handed on by a thread of its own while the next batch was
     /// traced (the budget held a second batch of hits, and there were two threads or more).
     bool pipelined = false;
