@@ -71,6 +71,7 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Ra
     for (const glm::vec3& p : points) z_min = std::min(z_min, p.z);
     const double z_top = double(z_min) + o.band_m;
     std::vector<std::uint32_t> band;  // indices into `points`
+    band.reserve(points.size());
     for (std::size_t i = 0; i < points.size(); ++i)
         if (double(points[i].z) <= z_top) band.push_back(std::uint32_t(i));
     local.band_points = band.size();
@@ -81,6 +82,11 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Ra
     std::mt19937_64 rng(seed);
     core::shuffle(band.begin(), band.end(), rng);
 
+    // PC: `cloud` holds its points in the shuffled order, and band[k] is the index in
+    // `points` of cloud point k; both shrink together, keeping that order, as planes
+    // leave PC. PCL sees the same points in the same order as it would through indices
+    // into a fixed cloud (its samples are drawn by position in the index list), and the
+    // passes below read PC from start to end.
     auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
     cloud->resize(band.size());
     // Centre the band before PCL fits planes in float: the view's points may be far from
@@ -97,61 +103,75 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Ra
     seg.setMethodType(pcl::SAC_RANSAC);
     seg.setDistanceThreshold(o.distance_threshold_m);
     seg.setMaxIterations(o.ransac_iterations);
-    seg.setInputCloud(cloud);
 
     // Degenerate samples (collinear or repeated points) are expected in small remainders
     // of PC; PCL would print a line for each. Outcomes are reported through GroundStats.
     static std::once_flag quiet;
     std::call_once(quiet, [] { pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS); });
 
-    auto remaining = std::make_shared<pcl::Indices>(band.size());
-    std::iota(remaining->begin(), remaining->end(), 0);
     const double min_plane_count = o.min_plane_fraction * double(band.size());
     const double stop_count = std::max(o.stop_fraction, o.min_plane_fraction) * double(band.size());
-    std::vector<std::uint8_t> removed(band.size(), 0);
+    std::vector<std::uint8_t> inlier;  // per point of PC
     int planes = 0;
     // Step 5's test before each pass of steps 2-4.
-    while (remaining->size() >= 3 && !(double(remaining->size()) < stop_count) && planes < o.max_planes) {
+    while (cloud->size() >= 3 && !(double(cloud->size()) < stop_count) && planes < o.max_planes) {
+        const std::size_t n = cloud->size();
         int iterations = o.ransac_iterations;
         if (min_plane_count > 0.0) {
             // Trials for a 3-point sample of a plane holding share w of PC: log(0.01) / log(1 - w^3).
-            const double w = std::min(1.0, min_plane_count / double(remaining->size()));
+            const double w = std::min(1.0, min_plane_count / double(n));
             const double needed = std::ceil(std::log(0.01) / std::log1p(-std::min(w * w * w, 0.999999)));
             iterations = int(std::clamp(needed, 1.0, double(o.ransac_iterations)));
         }
         seg.setMaxIterations(iterations);
         // PC keeps its shuffled order, so its first points are a uniform sample.
-        const bool sampled = o.ransac_sample_points > 0 && remaining->size() > std::size_t(o.ransac_sample_points);
-        seg.setIndices(
-            sampled ? std::make_shared<pcl::Indices>(remaining->begin(), remaining->begin() + o.ransac_sample_points)
-                    : remaining);
+        const bool sampled = o.ransac_sample_points > 0 && n > std::size_t(o.ransac_sample_points);
+        auto indices = std::make_shared<pcl::Indices>(sampled ? std::size_t(o.ransac_sample_points) : n);
+        std::iota(indices->begin(), indices->end(), 0);
+        seg.setInputCloud(cloud);
+        seg.setIndices(indices);
         pcl::PointIndices inliers;
         pcl::ModelCoefficients plane;
         seg.segment(inliers, plane);  // step 2
         if (inliers.indices.empty() || plane.values.size() < 4) break;
         ++planes;
         const double n_len = std::hypot(plane.values[0], plane.values[1], plane.values[2]);
+        inlier.assign(n, 0);
+        std::size_t count = 0;
         if (sampled && n_len > 0.0) {
             // The plane's inliers among all of PC, as PCL's selectWithinDistance would.
             const double a = plane.values[0] / n_len, b = plane.values[1] / n_len, c = plane.values[2] / n_len,
                          d = plane.values[3] / n_len;
-            inliers.indices.clear();
-            for (const pcl::index_t k : *remaining) {
-                const pcl::PointXYZ& p = (*cloud)[std::size_t(k)];
-                if (std::abs(a * p.x + b * p.y + c * p.z + d) <= o.distance_threshold_m) inliers.indices.push_back(k);
+            const pcl::PointXYZ* p = cloud->data();
+            for (std::size_t k = 0; k < n; ++k) {
+                const bool in = std::abs(a * p[k].x + b * p[k].y + c * p[k].z + d) <= o.distance_threshold_m;
+                inlier[k] = in;
+                count += in;
             }
-            if (inliers.indices.empty()) break;  // cannot happen (the sample's inliers are in PC)
+            if (count == 0) break;  // cannot happen (the sample's inliers are in PC)
+        } else {
+            for (const pcl::index_t k : inliers.indices) inlier[std::size_t(k)] = 1;
+            count = inliers.indices.size();
         }
         const bool horizontal = n_len > 0.0 && std::abs(plane.values[2]) / n_len >= o.min_normal_z;
-        const bool big_enough = double(inliers.indices.size()) >= min_plane_count;
+        const bool big_enough = double(count) >= min_plane_count;
         const bool accept = horizontal && big_enough;
         (accept ? local.planes_accepted : local.planes_rejected)++;
         if (horizontal && !big_enough) local.planes_too_small++;
-        for (const auto k : inliers.indices) {
-            if (accept) is_ground[band[k]] = 1;  // step 3
-            removed[k] = 1;                      // step 4
+        // Step 3 (the plane's inliers join PG) and step 4 (they leave PC, the others keep
+        // their order).
+        std::size_t kept = 0;
+        for (std::size_t k = 0; k < n; ++k) {
+            if (inlier[k]) {
+                if (accept) is_ground[band[k]] = 1;
+                continue;
+            }
+            (*cloud)[kept] = (*cloud)[k];
+            band[kept] = band[k];
+            ++kept;
         }
-        std::erase_if(*remaining, [&](pcl::index_t k) { return removed[k] != 0; });
+        cloud->resize(kept);
+        band.resize(kept);
     }
     local.ground_points = std::size_t(std::count(is_ground.begin(), is_ground.end(), 1));
     if (stats) *stats = local;
