@@ -719,4 +719,11 @@ std::FILE* openScratchFile(const fs::path& dir, std::string_view what) {
     return f;
 }
 
+std::uint64_t freeScratchBefore(std::FILE* scratch, std::uint64_t freed, std::uint64_t end) {
+    const std::uint64_t page = 4096, upto = end / page * page;
+    if (upto <= freed) return freed;
+    (void)::fallocate(::fileno(scratch), FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, off_t(freed), off_t(upto - freed));
+    return upto;
+}
+
 }  // namespace platform

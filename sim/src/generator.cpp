@@ -42,7 +42,6 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <fcntl.h>
 #include <unistd.h>
 
 namespace sim {
@@ -127,11 +126,7 @@ class Spool {
     /// file system cannot punch holes the bytes stay, which costs only time.
     void discardRead() {
         const off_t at = ::ftello(file_);
-        const off_t upto = at < 0 ? 0 : at / 4096 * 4096;
-        if (upto > discarded_)
-            (void)::fallocate(::fileno(file_), FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, discarded_,
-                              upto - discarded_);
-        discarded_ = std::max(discarded_, upto);
+        discarded_ = platform::freeScratchBefore(file_, discarded_, at < 0 ? 0 : std::uint64_t(at));
     }
 
   private:
@@ -163,7 +158,7 @@ class Spool {
     std::vector<unsigned char> bytes_;
     std::FILE* file_ = nullptr;
     std::size_t count_ = 0;
-    off_t discarded_ = 0;
+    std::uint64_t discarded_ = 0;
 };
 
 // Pixels of one view that are traced: columns [x0, x1] x rows [y0, y1] (inclusive).

@@ -20,7 +20,6 @@
 #include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -234,16 +233,8 @@ struct Scratch {
         if (std::fflush(f) != 0)
             throw Error("output: " + where + ": writing a scratch file failed: " + std::strerror(errno));
     }
-    // Frees the whole pages of [0, end), read for the last time: their bytes, written
-    // but perhaps not yet on the disk, need not go there. Where the file system cannot
-    // punch holes the bytes stay, which costs only time.
-    void discardBefore(std::uint64_t end) {
-        const std::uint64_t page = 4096, upto = end / page * page;
-        if (upto > discarded_)
-            (void)::fallocate(::fileno(f), FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, off_t(discarded_),
-                              off_t(upto - discarded_));
-        discarded_ = std::max(discarded_, upto);
-    }
+    // Frees the whole pages of [0, end), read for the last time (platform::freeScratchBefore).
+    void discardBefore(std::uint64_t end) { discarded_ = platform::freeScratchBefore(f, discarded_, end); }
     void readAt(void* data, std::size_t size, std::uint64_t offset) {
         auto* bytes = static_cast<char*>(data);
         while (size > 0) {

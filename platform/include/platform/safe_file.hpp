@@ -112,6 +112,13 @@ class TempFile {
 /// Throws Error("output: <what>: cannot create a scratch file in '<dir>': <reason>").
 std::FILE* openScratchFile(const std::filesystem::path& dir, std::string_view what);
 
+/// Frees the whole pages of the scratch file `scratch` from `freed` (0, or what an earlier
+/// call returned) up to `end`, bytes read for the last time: written but perhaps not yet
+/// on the disk, they need not go there, and their memory serves other writes at once.
+/// Returns the offset freed up to (`end` rounded down to a page, or `freed` if more).
+/// Where the file system cannot punch holes the bytes stay, which costs only time.
+std::uint64_t freeScratchBefore(std::FILE* scratch, std::uint64_t freed, std::uint64_t end);
+
 /// Decides whether a name found in an existing output folder is one we write there.
 using OwnedName = std::function<bool(const std::string& name)>;
 
