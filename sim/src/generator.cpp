@@ -5,9 +5,10 @@
 // rays of every (view, block of pixels) task are traced in parallel into per-pixel
 // slots; each view's hits are compacted in pixel order, whitened by the iterative RANSAC
 // (per view, in parallel, seeded per view) and appended in view order to the fused
-// cloud, which lives in memory or, for big runs, in a spool file next to the output.
-// Colouring needs the z range of the whole fused cloud, so it is a last pass that reads
-// the fused points back and streams them into the io::CloudWriter.
+// cloud, which lives in memory or, for big runs, in the output itself (binary PCD and
+// PLY, whose records can be rewritten) or a spool file next to it. Colouring needs the z
+// range of the whole fused cloud, so it is a last pass that reads the fused points back
+// and rewrites them in the output, or streams them into the io::CloudWriter.
 //
 // Memory (GenerateOptions::memory_budget_bytes, --memory-mb): before the BVH is built a
 // MemoryPlan sizes the buffers against the budget: fewer views per batch first, then a
