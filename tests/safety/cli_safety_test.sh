@@ -66,9 +66,12 @@ for p in $(seq "$next" $((next + 400))); do
     ln -s "$pl/victim" "$pl/out.pcd.tmp-$p"
     ln -s "$pl/victim" "$pl/out.pcd.spool-$p"
 done
-# A small budget makes this run stream through the spool file.
-"$bin" generate --xres 128 --yres 128 --views 8 --white --memory-mb 12 --out "$pl/out.pcd" >/dev/null 2>"$dir/err.txt" ||
-    fail "generate with planted links failed: $(cat "$dir/err.txt")"
+# A small budget makes these runs stream: binary PCD into the output itself, ASCII PCD
+# through the spool file.
+for format in pcd pcd-ascii; do
+    "$bin" generate --xres 128 --yres 128 --views 8 --white --memory-mb 12 --format "$format" --out "$pl/out.pcd" \
+        >/dev/null 2>"$dir/err.txt" || fail "generate ($format) with planted links failed: $(cat "$dir/err.txt")"
+done
 [ "$(cat "$pl/victim")" = unrelated ] || fail "a planted link was followed: the victim changed"
 [ -f "$pl/out.pcd" ] && [ ! -L "$pl/out.pcd" ] || fail "no output written"
 no_temporaries "$pl"
