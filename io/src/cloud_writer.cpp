@@ -97,7 +97,7 @@ void CloudWriter::prescan(int pass, std::span<const core::CloudPoint> points) {
 
 bool CloudWriter::rewritable() const { return writer_ && writer_->rewritable(); }
 
-std::size_t CloudWriter::recordBytes() const { return rewritable() ? writer_->recordBytes() : 0; }
+std::size_t CloudWriter::recordBytes() const { return writer_ ? writer_->recordBytes() : 0; }
 
 std::size_t CloudWriter::readBack(std::uint64_t first, std::span<core::CloudPoint> out) {
     if (!writer_) throw Error("output: " + path_.string() + ": read back after commit");

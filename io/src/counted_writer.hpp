@@ -182,7 +182,7 @@ class RecordWriter : public CountedWriter {
                          [this](char*& out, const core::CloudPoint& p) { self().binary(out, p); });
     }
     bool rewritable() const override { return !ascii_; }
-    std::size_t recordBytes() const override { return record_bytes_; }
+    std::size_t recordBytes() const override { return ascii_ ? 0 : record_bytes_; }
     std::size_t readBack(std::uint64_t first, std::span<core::CloudPoint> out) override {
         return readBackBinary(first, out, record_bytes_,
                               [this](const char*& in, core::CloudPoint& p) { self().unbinary(in, p); });

@@ -103,6 +103,7 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Ra
     seg.setMethodType(pcl::SAC_RANSAC);
     seg.setDistanceThreshold(o.distance_threshold_m);
     seg.setMaxIterations(o.ransac_iterations);
+    seg.setInputCloud(cloud);  // the same cloud, shrunk in place, for every plane
 
     // Degenerate samples (collinear or repeated points) are expected in small remainders
     // of PC; PCL would print a line for each. Outcomes are reported through GroundStats.
@@ -128,7 +129,6 @@ std::vector<std::uint8_t> findGround(std::span<const glm::vec3> points, const Ra
         const bool sampled = o.ransac_sample_points > 0 && n > std::size_t(o.ransac_sample_points);
         auto indices = std::make_shared<pcl::Indices>(sampled ? std::size_t(o.ransac_sample_points) : n);
         std::iota(indices->begin(), indices->end(), 0);
-        seg.setInputCloud(cloud);
         seg.setIndices(indices);
         pcl::PointIndices inliers;
         pcl::ModelCoefficients plane;

@@ -326,6 +326,7 @@ TEST_CASE("cloud_io: binary PCD and PLY read their points back and rewrite them 
         std::vector<core::CloudPoint> back(10);
         w.append(back);
         CHECK_FALSE(w.rewritable());
+        CHECK(w.recordBytes() == 0);
         CHECK_THROWS_AS(w.readBack(0, back), std::logic_error);
         CHECK_THROWS_AS(w.rewrite(0, back), std::logic_error);
     }
