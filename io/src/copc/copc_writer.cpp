@@ -1225,6 +1225,7 @@ class CopcWriter final : public FormatWriter {
             Bucket& bucket = buckets_[std::size_t(top.bucket)];
             std::string bytes;
             LasInventory none;
+            std::uint64_t read = 0;  // the end of the chunks copied
             for (const Bucket::Chunk& c : bucket.chunks) {
                 if (c.points == 0) {
                     out.addEmpty(c.key);
@@ -1233,7 +1234,11 @@ class CopcWriter final : public FormatWriter {
                 bytes.resize(std::size_t(c.size));
                 chunks_->read(bytes.data(), bytes.size());
                 out.addBytes(c.key, bytes.data(), bytes.size(), std::size_t(c.points), none);
+                read = c.at + c.size;
             }
+            // The chunks copied are read for the last time: their pages are freed for the
+            // file's next ones to take.
+            chunks_->discardBefore(read);
             return;
         }
         for (int c : top.child)
