@@ -409,11 +409,18 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
     std::size_t dirs_row = yres;
     std::vector<core::CloudPoint> slots(batch_views * band_pixels * slots_per_pixel);
     // A batch's hits from compaction until they are handed on: two while pipelined.
+    // What fusing counts of a view's points: its z range and its ground, true and found.
+    struct Tally {
+        float z_min = std::numeric_limits<float>::infinity(), z_max = -std::numeric_limits<float>::infinity();
+        std::uint64_t truth = 0, found = 0, true_positive = 0;
+    };
     struct Batch {
         std::size_t first = 0, count = 0;
         std::vector<std::vector<core::CloudPoint>> points;
         std::vector<std::size_t> missed;  // pixels without a return
         std::vector<GroundStats> ground;
+        std::vector<Tally> tally;     // per view, counted by the worker that whitened it
+        std::vector<double> tally_s;  // per view, the seconds that took
     };
     std::array<Batch, 2> batches;
     for (std::size_t b = 0; b < (pipelined ? 2u : 1u); ++b) {
@@ -421,30 +428,44 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         for (auto& v : batches[b].points) v.reserve(std::size_t(plan.view_hits));
         batches[b].missed.resize(batch_views);
         batches[b].ground.resize(batch_views);
+        batches[b].tally.resize(batch_views);
+        batches[b].tally_s.resize(batch_views);
     }
     std::optional<platform::Progress> progress;
     if (options.progress) progress.emplace("generate", views);
 
     float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
-    double ground_s = 0.0;  // whitening, on the workers
-    double handed_s = 0.0;  // handing on, by whichever thread does it
-    // Counts `pts` (and `missed` pixels without a return) into the stats and hands them on.
-    const auto fuse = [&](const std::vector<core::CloudPoint>& pts, std::size_t missed) {
-        st.misses += missed;
-        st.points += pts.size();
+    double ground_s = 0.0;   // whitening, on the workers
+    double handed_s = 0.0;   // handing on, by whichever thread does it
+    double tallied_s = 0.0;  // the whitened views' tallies, on the workers
+    // The tally of `pts`, once their ground is found.
+    const auto tallyOf = [&](std::span<const core::CloudPoint> pts) {
+        Tally t;
         for (const auto& p : pts) {
-            z_min = std::min(z_min, p.position.z);
-            z_max = std::max(z_max, p.position.z);
+            t.z_min = std::min(t.z_min, p.position.z);
+            t.z_max = std::max(t.z_max, p.position.z);
             const bool truth = p.label == core::Role::Ground;
             const bool found = !options.white && p.rgb == core::kWhite;
-            st.ground_truth += truth;
-            st.ground_found += found;
-            st.ground_true_positive += truth && found;
+            t.truth += truth;
+            t.found += found;
+            t.true_positive += truth && found;
         }
+        return t;
+    };
+    // Counts `pts` (their tally, and `missed` pixels without a return) into the stats and
+    // hands them on.
+    const auto fuse = [&](const std::vector<core::CloudPoint>& pts, std::size_t missed, const Tally& t) {
+        st.misses += missed;
+        st.points += pts.size();
+        z_min = std::min(z_min, t.z_min);
+        z_max = std::max(z_max, t.z_max);
+        st.ground_truth += t.truth;
+        st.ground_found += t.found;
+        st.ground_true_positive += t.true_positive;
         emit(pts);
     };
-    // Whitens view k of a batch (RANSAC on its points, PG turned white); returns the
-    // seconds it took.
+    // Whitens view k of a batch (RANSAC on its points, PG turned white) and tallies it;
+    // returns the seconds the whitening took (the tally's are in batch.tally_s).
     const bool whitens = !options.white && view_filter;
     const auto whiten = [&](Batch& batch, std::size_t k) {
         const auto t0 = Clock::now();
@@ -452,22 +473,33 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         if (pts.size() < 3) {  // the band cannot hold 3 points: no RANSAC, no copy
             batch.ground[k] = GroundStats{};
             batch.ground[k].band_points = pts.size();
-            return secondsSince(t0);
+        } else {
+            std::vector<glm::vec3> positions(pts.size());
+            for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
+            const std::uint64_t view = batch.first + k;
+            const auto is_ground = view_filter->classifyView(positions, options.seed ^ view, &batch.ground[k]);
+            for (std::size_t i = 0; i < pts.size(); ++i)
+                if (is_ground[i]) pts[i].rgb = core::kWhite;
         }
-        std::vector<glm::vec3> positions(pts.size());
-        for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
-        const std::uint64_t view = batch.first + k;
-        const auto is_ground = view_filter->classifyView(positions, options.seed ^ view, &batch.ground[k]);
-        for (std::size_t i = 0; i < pts.size(); ++i)
-            if (is_ground[i]) pts[i].rgb = core::kWhite;
-        return secondsSince(t0);
+        const auto t1 = Clock::now();
+        batch.tally[k] = tallyOf(pts);
+        batch.tally_s[k] = secondsSince(t1);
+        return std::chrono::duration<double>(t1 - t0).count();
+    };
+    // The share of a batch's tallies in the workers' time: fusing, not whitening.
+    const auto tallyShare = [&](const Batch& batch) {
+        double sum = 0.0;
+        for (std::size_t k = 0; k < batch.count; ++k) sum += batch.tally_s[k];
+        return sum / double(plan.threads);
     };
     // Whitens a whole batch on the workers.
     const auto whitenAll = [&](Batch& batch) {
         if (!whitens) return;
         const auto t0 = Clock::now();
         pool.run(batch.count, [&](std::size_t k) { whiten(batch, k); });
-        ground_s += secondsSince(t0);
+        const double tally_s = tallyShare(batch);
+        ground_s += std::max(0.0, secondsSince(t0) - tally_s);
+        tallied_s += tally_s;
     };
     // Hands a whitened batch on in view order.
     const auto handOn = [&](Batch& batch) {
@@ -478,7 +510,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
                 st.planes_rejected += batch.ground[k].planes_rejected;
                 st.views_without_ransac += batch.ground[k].band_points < 3;
             }
-            fuse(batch.points[k], batch.missed[k]);
+            fuse(batch.points[k], batch.missed[k], whitens ? batch.tally[k] : tallyOf(batch.points[k]));
         }
         handed_s += secondsSince(t0);
         if (progress) progress->advance(batch.count);
@@ -520,12 +552,15 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
                 castBlock(int(first + k), std::max(p0, block * kBlockRays), std::min(p1, (block + 1) * kBlockRays),
                           band);
             });
-            // The whitening's share of the run: its tasks' time over the workers.
+            // The whitening's share of the run: its tasks' time over the workers (the
+            // tallies in them are fusing's).
             double share_s = 0.0;
             for (std::size_t k = 0; k < whiten_tasks; ++k) share_s += whiten_s[k];
             share_s /= double(plan.threads);
+            const double tally_s = whiten_tasks > 0 ? tallyShare(*waiting) : 0.0;
             ground_s += share_s;
-            st.seconds.cast += std::max(0.0, secondsSince(t0) - share_s);
+            tallied_s += tally_s;
+            st.seconds.cast += std::max(0.0, secondsSince(t0) - share_s - tally_s);
 
             t0 = Clock::now();
             if (row0 == 0) {
@@ -554,7 +589,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
                 }
             });
             if (emit_per_band) {
-                fuse(batch.points[0], batch.missed[0]);
+                fuse(batch.points[0], batch.missed[0], tallyOf(batch.points[0]));
                 batch.points[0].clear();
                 batch.missed[0] = 0;
             }
@@ -583,7 +618,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         handOn(*waiting);
     }
     st.seconds.ground += ground_s;
-    st.seconds.fuse += handed_s;
+    st.seconds.fuse += handed_s + tallied_s;
     if (progress) progress->finish();
     st.rays = std::uint64_t(npix) * views;
     if (st.points > 0) {
