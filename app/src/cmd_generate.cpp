@@ -236,6 +236,7 @@ void run(GenerateCli& cli) {
         j["streamed"] = st.streamed;
         j["in_output"] = st.in_output;
         j["pipelined"] = st.pipelined;
+        j["packed_on_workers"] = st.packed_on_workers;
         j["seconds"] = seconds;
         j["stage_seconds"] = {{"load", load_s},           {"bvh", st.seconds.bvh},       {"cast", st.seconds.cast},
                               {"fuse", st.seconds.fuse},  {"ground", st.seconds.ground}, {"colour", st.seconds.colour},

@@ -106,6 +106,7 @@ struct Result {
     Spread gen_mrays, plain16_mrays, plain1_mrays, single_mrays;
     bool streamed = false;
     bool in_output = false;
+    bool packed_on_workers = false;
     double peak_rss_mib = 0, rss_before_mib = 0;
     bool peak_reset = false;
     double output_mib = 0;
@@ -194,6 +195,7 @@ Result runConfig(const std::string& name, const core::Scene& scene, const sim::G
         r.misses = st.misses;
         r.streamed = st.streamed;
         r.in_output = st.in_output;
+        r.packed_on_workers = st.packed_on_workers;
         r.precision = st.ground_precision;
         r.recall = st.ground_recall;
         if (single_too) {  // the generator tracing one ray at a time (rtcIntersect1)
@@ -361,10 +363,11 @@ std::string notes(const std::vector<Result>& results) {
           << (r.in_output  ? "streamed into the output and coloured there"
               : r.streamed ? "streamed through a spool file"
                            : "fused in memory")
-          << ", output " << fmt("%.0f", r.output_mib) << " MiB binary PCD; scene preparation "
-          << fmt("%.2f", r.prepare_s) << " s (not in total); RSS before the run " << fmt("%.0f", r.rss_before_mib)
-          << " MiB" << (r.peak_reset ? "" : " (peak not resettable: whole-process peak)") << "; medians of "
-          << r.repeats << " run(s)" << (r.warmed_up ? " after a warm-up" : "") << ".\n";
+          << (r.packed_on_workers ? " (records packed by the workers)" : "") << ", output " << fmt("%.0f", r.output_mib)
+          << " MiB binary PCD; scene preparation " << fmt("%.2f", r.prepare_s)
+          << " s (not in total); RSS before the run " << fmt("%.0f", r.rss_before_mib) << " MiB"
+          << (r.peak_reset ? "" : " (peak not resettable: whole-process peak)") << "; medians of " << r.repeats
+          << " run(s)" << (r.warmed_up ? " after a warm-up" : "") << ".\n";
     }
     return s.str();
 }

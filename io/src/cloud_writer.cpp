@@ -106,6 +106,22 @@ std::size_t CloudWriter::readBack(std::uint64_t first, std::span<core::CloudPoin
     return writer_->readBack(first, out.first(std::size_t(std::min<std::uint64_t>(out.size(), count_ - first))));
 }
 
+void CloudWriter::packRecords(std::span<const core::CloudPoint> points, char* out) const {
+    if (!writer_ || !writer_->rewritable())
+        throw std::logic_error("io: the records of " + path_.string() + " cannot be packed apart");
+    writer_->packRecords(points, out);
+}
+
+void CloudWriter::appendRecords(std::span<const char> records) {
+    if (!writer_) throw Error("output: " + path_.string() + ": append after commit");
+    const std::size_t size = writer_->recordBytes();
+    if (!writer_->rewritable() || size == 0 || records.size() % size != 0)
+        throw std::logic_error("io: " + std::to_string(records.size()) + " bytes are not whole records of " +
+                               path_.string());
+    writer_->appendRecords(records.data(), records.size() / size);
+    count_ += records.size() / size;
+}
+
 void CloudWriter::rewrite(std::uint64_t first, std::span<const core::CloudPoint> points) {
     if (!writer_) throw Error("output: " + path_.string() + ": rewrite after commit");
     if (!writer_->rewritable()) throw std::logic_error("io: the points of " + path_.string() + " cannot be rewritten");

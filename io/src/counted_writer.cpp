@@ -131,6 +131,17 @@ void CountedWriter::flushIfFull() {
     buffer_.clear();
 }
 
+void CountedWriter::appendPacked(const char* data, std::size_t bytes, std::size_t records) {
+    // What is buffered (the header, at first) goes first; the records, already packed in
+    // memory of the caller's, are written from there in one call.
+    if (!buffer_.empty()) {
+        if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) fail("write failed");
+        buffer_.clear();
+    }
+    if (bytes > 0 && std::fwrite(data, 1, bytes, file_) != bytes) fail("write failed");
+    count_ += records;
+}
+
 void CountedWriter::finish() {
     if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
         fail("write failed");

@@ -136,6 +136,8 @@ class CountedWriter : public FormatWriter {
             done += n;
         }
     }
+    /// Appends `records` records already packed, `bytes` bytes in all, after what is buffered.
+    void appendPacked(const char* data, std::size_t bytes, std::size_t records);
     /// Appends one text line per point, `write(buffer, point)` adding it without its newline.
     template <class Write>
     void appendText(std::span<const core::CloudPoint> points, Write write) {
@@ -190,6 +192,12 @@ class RecordWriter : public CountedWriter {
     void rewrite(std::uint64_t first, std::span<const core::CloudPoint> points) override {
         rewriteBinary(first, points, record_bytes_,
                       [this](char*& out, const core::CloudPoint& p) { self().binary(out, p); });
+    }
+    void packRecords(std::span<const core::CloudPoint> points, char* out) const override {
+        for (const core::CloudPoint& p : points) self().binary(out, p);
+    }
+    void appendRecords(const char* records, std::size_t count) override {
+        appendPacked(records, count * record_bytes_, count);
     }
 
   protected:

@@ -29,6 +29,13 @@ class FormatWriter {
     virtual void rewrite(std::uint64_t /*first*/, std::span<const core::CloudPoint> /*points*/) {
         throw std::logic_error("io: this format's points cannot be rewritten");
     }
+    /// CloudWriter::packRecords and appendRecords (`count` records): rewritable formats only.
+    virtual void packRecords(std::span<const core::CloudPoint> /*points*/, char* /*out*/) const {
+        throw std::logic_error("io: this format's records cannot be packed apart");
+    }
+    virtual void appendRecords(const char* /*records*/, std::size_t /*count*/) {
+        throw std::logic_error("io: this format's records cannot be appended packed");
+    }
     /// Completes the file (the header's counts, LAS bounds, LAZ's chunk table) and
     /// flushes; the caller then commits the TempFile. Throws Error("output: <path>: ...").
     virtual void finish() = 0;

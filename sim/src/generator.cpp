@@ -84,25 +84,36 @@ class Spool {
     std::size_t bufferBytes() const { return kBlock * recordBytes(); }
 
     void append(std::span<const core::CloudPoint> points) {
-        const std::size_t size = recordBytes(), packed = packing_.size();
+        const std::size_t size = recordBytes();
         while (!points.empty()) {
             const std::size_t n = std::min(points.size(), kBlock);
             bytes_.resize(n * size);
-            for (std::size_t i = 0; i < n; ++i) {
-                const core::CloudPoint& p = points[i];
-                unsigned char* out = bytes_.data() + i * size;
-                packing_.pack(p, out);
-                if (!white_flag_) continue;
+            pack(points.first(n), bytes_.data());
+            appendPacked(bytes_.data(), n);
+            points = points.subspan(n);
+        }
+    }
+    /// Packs `points` into `out` (recordBytes() each) as append() spools them; const, so
+    /// several threads may pack at once.
+    void pack(std::span<const core::CloudPoint> points, unsigned char* out) const {
+        const std::size_t size = recordBytes(), packed = packing_.size();
+        for (const core::CloudPoint& p : points) {
+            packing_.pack(p, out);
+            if (white_flag_) {
                 if (p.rgb != core::kWhite && p.rgb != 0)
                     throw std::logic_error("generate: a fused point is coloured before the colour pass");
                 out[packed] = p.rgb == core::kWhite;
             }
-            if (std::fwrite(bytes_.data(), size, n, file_) != n)
-                throw core::Error("output: " + path_.string() + ": cannot write the spool file after " +
-                                  mebibytes(count_ * size) + " MiB: " + std::strerror(errno));
-            count_ += n;
-            points = points.subspan(n);
+            out += size;
         }
+    }
+    /// Appends `n` points pack() packed.
+    void appendPacked(const unsigned char* records, std::size_t n) {
+        const std::size_t size = recordBytes();
+        if (n > 0 && std::fwrite(records, size, n, file_) != n)
+            throw core::Error("output: " + path_.string() + ": cannot write the spool file after " +
+                              mebibytes(count_ * size) + " MiB: " + std::strerror(errno));
+        count_ += n;
     }
     void rewind() {
         if (std::fflush(file_) != 0 || std::fseek(file_, 0, SEEK_SET) != 0)
@@ -336,9 +347,17 @@ struct Generator::State {
     // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
     // `emit_bytes`: what the points handed on take beside the plan (the fused cloud when
     // it stays in memory); where the budget leaves room for a second batch of hits, a
-    // batch is whitened and handed on while the next one is traced.
-    void fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit, Workers& pool, GenerateStats& st,
-                   std::uint64_t emit_bytes) const;
+    // batch is whitened and handed on while the next one is traced. `emit` gets a view's
+    // points and, where `packing` let the workers pack them, their records (else none).
+    using Emit = std::function<void(std::span<const core::CloudPoint>, std::span<const unsigned char>)>;
+    // How a worker may pack a view's points for `emit`: the bytes a point takes, and the
+    // packing (called on several threads at once).
+    struct FusePacking {
+        std::size_t bytes_per_point = 0;
+        std::function<void(std::span<const core::CloudPoint>, unsigned char*)> pack;
+    };
+    void fuseViews(const Emit& emit, Workers& pool, GenerateStats& st, std::uint64_t emit_bytes,
+                   const FusePacking* packing = nullptr) const;
 
     // Counts the target and environment points more than kAboveTerrain_m above the true
     // terrain, and those of them left coloured. A point is placed with its view's logged
@@ -386,8 +405,8 @@ struct Generator::State {
     }
 };
 
-void Generator::State::fuseViews(const std::function<void(std::span<const core::CloudPoint>)>& emit, Workers& pool,
-                                 GenerateStats& st, std::uint64_t emit_bytes) const {
+void Generator::State::fuseViews(const Emit& emit, Workers& pool, GenerateStats& st, std::uint64_t emit_bytes,
+                                 const FusePacking* packing) const {
     const OrbitOptions& orbit = options.orbit;
     const std::size_t xres = std::size_t(orbit.xres), yres = std::size_t(orbit.yres);
     const std::size_t npix = xres * yres;
@@ -419,8 +438,9 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         std::vector<std::vector<core::CloudPoint>> points;
         std::vector<std::size_t> missed;  // pixels without a return
         std::vector<GroundStats> ground;
-        std::vector<Tally> tally;     // per view, counted by the worker that whitened it
-        std::vector<double> tally_s;  // per view, the seconds that took
+        std::vector<Tally> tally;                        // per view, counted by the worker that whitened it
+        std::vector<double> tally_s;                     // per view, the seconds that took
+        std::vector<std::vector<unsigned char>> packed;  // per view, its records (FusePacking)
     };
     std::array<Batch, 2> batches;
     for (std::size_t b = 0; b < (pipelined ? 2u : 1u); ++b) {
@@ -430,6 +450,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         batches[b].ground.resize(batch_views);
         batches[b].tally.resize(batch_views);
         batches[b].tally_s.resize(batch_views);
+        batches[b].packed.resize(batch_views);
     }
     std::optional<platform::Progress> progress;
     if (options.progress) progress.emplace("generate", views);
@@ -454,7 +475,8 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
     };
     // Counts `pts` (their tally, and `missed` pixels without a return) into the stats and
     // hands them on.
-    const auto fuse = [&](const std::vector<core::CloudPoint>& pts, std::size_t missed, const Tally& t) {
+    const auto fuse = [&](const std::vector<core::CloudPoint>& pts, std::size_t missed, const Tally& t,
+                          std::span<const unsigned char> packed) {
         st.misses += missed;
         st.points += pts.size();
         z_min = std::min(z_min, t.z_min);
@@ -462,11 +484,21 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         st.ground_truth += t.truth;
         st.ground_found += t.found;
         st.ground_true_positive += t.true_positive;
-        emit(pts);
+        emit(pts, packed);
     };
     // Whitens view k of a batch (RANSAC on its points, PG turned white) and tallies it;
-    // returns the seconds the whitening took (the tally's are in batch.tally_s).
+    // returns the seconds the whitening took (the tally's, and the packing's, are in
+    // batch.tally_s).
     const bool whitens = !options.white && view_filter;
+    // Pipelined, where the budget also holds both batches' records, the worker that
+    // whitens a view packs it too, and the handing thread only appends the records.
+    const std::uint64_t packed_bytes = packing && packing->bytes_per_point > 0
+                                           ? 2 * std::uint64_t(batch_views) * plan.view_hits * packing->bytes_per_point
+                                           : 0;
+    const bool pack_on_workers =
+        pipelined && whitens && packed_bytes > 0 &&
+        plan.fuse_bytes + emit_bytes + second_batch + packed_bytes <= options.memory_budget_bytes;
+    st.packed_on_workers = pack_on_workers;
     const auto whiten = [&](Batch& batch, std::size_t k) {
         const auto t0 = Clock::now();
         auto& pts = batch.points[k];
@@ -483,6 +515,10 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
         }
         const auto t1 = Clock::now();
         batch.tally[k] = tallyOf(pts);
+        if (pack_on_workers) {
+            batch.packed[k].resize(pts.size() * packing->bytes_per_point);
+            packing->pack(pts, batch.packed[k].data());
+        }
         batch.tally_s[k] = secondsSince(t1);
         return std::chrono::duration<double>(t1 - t0).count();
     };
@@ -510,7 +546,8 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
                 st.planes_rejected += batch.ground[k].planes_rejected;
                 st.views_without_ransac += batch.ground[k].band_points < 3;
             }
-            fuse(batch.points[k], batch.missed[k], whitens ? batch.tally[k] : tallyOf(batch.points[k]));
+            fuse(batch.points[k], batch.missed[k], whitens ? batch.tally[k] : tallyOf(batch.points[k]),
+                 pack_on_workers ? std::span<const unsigned char>(batch.packed[k]) : std::span<const unsigned char>());
         }
         handed_s += secondsSince(t0);
         if (progress) progress->advance(batch.count);
@@ -589,7 +626,7 @@ void Generator::State::fuseViews(const std::function<void(std::span<const core::
                 }
             });
             if (emit_per_band) {
-                fuse(batch.points[0], batch.missed[0], tallyOf(batch.points[0]));
+                fuse(batch.points[0], batch.missed[0], tallyOf(batch.points[0]), {});
                 batch.points[0].clear();
                 batch.missed[0] = 0;
             }
@@ -761,7 +798,7 @@ void initStats(const Generator::State& s, GenerateStats& st) {
 void fuseFitColour(const Generator::State& s, std::vector<core::CloudPoint>& points, TerrainStage& terrain,
                    Workers& pool, GenerateStats& st) {
     s.fuseViews(
-        [&](std::span<const core::CloudPoint> pts) {
+        [&](std::span<const core::CloudPoint> pts, std::span<const unsigned char>) {
             points.insert(points.end(), pts.begin(), pts.end());
             terrain.add(pts);
         },
@@ -899,9 +936,26 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
         }
         // The positions' bounds, for a writer that asks to see the points first.
         glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+        // The workers may pack the points as the spool or the output holds them.
+        Generator::State::FusePacking packing;
+        if (spool) {
+            packing.bytes_per_point = spool->recordBytes();
+            packing.pack = [&spool](std::span<const core::CloudPoint> pts, unsigned char* records) {
+                spool->pack(pts, records);
+            };
+        } else {
+            packing.bytes_per_point = writer.recordBytes();
+            packing.pack = [&writer](std::span<const core::CloudPoint> pts, unsigned char* records) {
+                writer.packRecords(pts, reinterpret_cast<char*>(records));
+            };
+        }
         s.fuseViews(
-            [&](std::span<const core::CloudPoint> pts) {
-                if (spool)
+            [&](std::span<const core::CloudPoint> pts, std::span<const unsigned char> packed) {
+                if (!packed.empty() && spool)
+                    spool->appendPacked(packed.data(), pts.size());
+                else if (!packed.empty())
+                    writer.appendRecords(std::span(reinterpret_cast<const char*>(packed.data()), packed.size()));
+                else if (spool)
                     spool->append(pts);
                 else
                     writer.append(pts);  // its buffer is in the plan's fuse_bytes
@@ -912,7 +966,7 @@ void Generator::run(const std::filesystem::path& out, io::CloudFormat format, Ge
                         hi = glm::max(hi, p.position);
                     }
             },
-            pool, st, spool ? spool->bufferBytes() : 0);
+            pool, st, spool ? spool->bufferBytes() : 0, &packing);
         terrain.fit();
         std::vector<core::CloudPoint> chunk(s.plan.colour_chunk);
         // Each pass reads one half of the chunk back on a thread of its own while the

@@ -251,10 +251,11 @@ TEST_CASE("cloud_io: CloudWriter streams many chunks and counts them") {
 // Every field of a point, bit for bit.
 bool sameEveryField(const core::CloudPoint& a, const core::CloudPoint& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-TEST_CASE("cloud_io: binary PCD and PLY read their points back and rewrite them in place before commit") {
-    TempDir dir("rewrite");
-    // Every optional field on, 20,000 points: more than one system call's records and
-    // more than one flush of the writer's buffer.
+namespace {
+
+// Every optional field on, 20,000 points: more than one system call's records and more
+// than one flush of a writer's buffer.
+core::PointCloud everyFieldCloud() {
     core::PointCloud c;
     c.origin = {651000.5, 6862000.25, 85.0};
     c.fields = {};
@@ -272,6 +273,14 @@ TEST_CASE("cloud_io: binary PCD and PLY read their points back and rewrite them 
         p.height_above_ground_m = float(i) * 1e-3f;
         c.points.push_back(p);
     }
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("cloud_io: binary PCD and PLY read their points back and rewrite them in place before commit") {
+    TempDir dir("rewrite");
+    const core::PointCloud c = everyFieldCloud();
     for (const CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PlyBinary}) {
         CAPTURE(int(f));
         const fs::path p = dir.path / (std::string("r") + extensionOf(f));
@@ -329,6 +338,50 @@ TEST_CASE("cloud_io: binary PCD and PLY read their points back and rewrite them 
         CHECK(w.recordBytes() == 0);
         CHECK_THROWS_AS(w.readBack(0, back), std::logic_error);
         CHECK_THROWS_AS(w.rewrite(0, back), std::logic_error);
+    }
+}
+
+TEST_CASE("cloud_io: records packed on other threads and appended make the file append() makes") {
+    TempDir dir("packed");
+    const core::PointCloud c = everyFieldCloud();
+    for (const CloudFormat f : {CloudFormat::PcdBinary, CloudFormat::PlyBinary}) {
+        CAPTURE(int(f));
+        const fs::path p = dir.path / (std::string("packed") + extensionOf(f));
+        io::CloudWriter w(p, f, c.origin, c.fields);
+        const std::size_t size = w.recordBytes();
+        REQUIRE(size > 0);
+        // Points appended as points, then two runs packed at once on two threads and
+        // appended in order, then points again, then an empty run.
+        const std::span<const core::CloudPoint> all(c.points);
+        w.append(all.first(3000));
+        std::vector<char> a(9000 * size), b(8000 * size);
+        auto other = std::async(std::launch::async, [&] { w.packRecords(all.subspan(3000, 9000), a.data()); });
+        w.packRecords(all.subspan(12000, 8000), b.data());
+        other.get();
+        w.appendRecords(a);
+        CHECK(w.count() == 12000);
+        CHECK_THROWS_AS(w.appendRecords(std::span(b).first(size + 1)), std::logic_error);  // not whole records
+        CHECK(w.count() == 12000);
+        w.appendRecords(b);
+        w.appendRecords({});
+        CHECK(w.count() == 20000);
+        std::vector<core::CloudPoint> back(1);
+        REQUIRE(w.readBack(12345, back) == 1);
+        CHECK(sameEveryField(back[0], c.points[12345]));
+        w.commit();
+        const fs::path q = dir.path / (std::string("once") + extensionOf(f));
+        io::writeCloud(q, c, f);
+        CHECK(slurp(p) == slurp(q));
+    }
+    // Records packed apart come from the binary PCD and PLY writers alone.
+    for (const CloudFormat f : {CloudFormat::PcdAscii, CloudFormat::Laz}) {
+        CAPTURE(int(f));
+        io::CloudWriter w(dir.path / (f == CloudFormat::Laz ? std::string("t.laz") : std::string("t") + extensionOf(f)),
+                          f, c.origin, c.fields);
+        std::vector<char> bytes(64);
+        CHECK_THROWS_AS(w.packRecords(std::span(c.points).first(1), bytes.data()), std::logic_error);
+        CHECK_THROWS_AS(w.appendRecords(bytes), std::logic_error);
+        CHECK(w.count() == 0);
     }
 }
 

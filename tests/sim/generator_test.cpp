@@ -257,6 +257,47 @@ TEST_CASE("a batch whitened and handed on beside the tracing of the next gives t
     }
 }
 
+TEST_CASE("the workers that whiten the views may pack their records too: the same file") {
+    const core::Scene scene = test_support::townScene(120.0, 1.0);
+    const test_support::TempDir scratch("sim_generator");
+    const fs::path& dir = scratch.path;
+    sim::GenerateOptions o = smallOptions();
+    o.orbit.xres = 256;  // batches of 10 views (0.5 M rays), 48 views: a fused cloud of 94 MB
+    o.orbit.yres = 192;
+    o.orbit.views = 48;
+    o.threads = 2;
+    // Binary PCD packs as the output holds it, LAZ as the spool does.
+    for (const auto format : {io::CloudFormat::PcdBinary, io::CloudFormat::Laz}) {
+        CAPTURE(int(format));
+        sim::GenerateStats piped, packed, unpacked;
+        o.memory_budget_bytes = std::size_t(1) << 30;
+        sim::generateToFile(scene, o, dir / "piped.out", format, &piped);
+        // Beside the plan: room for a second batch of hits (20 MB) and both batches'
+        // records (at most 26 bytes a point: 26 MB), not for the fused cloud.
+        o.memory_budget_bytes = std::size_t(piped.memory_planned_bytes) + (std::size_t(64) << 20);
+        sim::generateToFile(scene, o, dir / "packed.out", format, &packed);
+        // Room for the second batch of hits alone: the handing thread packs.
+        o.memory_budget_bytes = std::size_t(piped.memory_planned_bytes) + (std::size_t(24) << 20);
+        sim::generateToFile(scene, o, dir / "unpacked.out", format, &unpacked);
+        CHECK_FALSE(piped.streamed);
+        CHECK_FALSE(piped.packed_on_workers);
+        CHECK(packed.streamed);
+        CHECK(packed.pipelined);
+        CHECK(packed.packed_on_workers);
+        CHECK(packed.in_output == (format == io::CloudFormat::PcdBinary));
+        CHECK(unpacked.streamed);
+        CHECK(unpacked.pipelined);
+        CHECK_FALSE(unpacked.packed_on_workers);
+        CHECK(packed.points == piped.points);
+        CHECK(packed.ground_found == piped.ground_found);
+        CHECK(packed.z_max == piped.z_max);
+        const std::string a = slurp(dir / "piped.out");
+        CHECK(a.size() > 1000);
+        CHECK(a == slurp(dir / "packed.out"));
+        CHECK(a == slurp(dir / "unpacked.out"));
+    }
+}
+
 TEST_CASE("bad options fail before any work and leave no output file") {
     const core::Scene scene = test_support::townScene(40.0, 2.0);
     const test_support::TempDir scratch("sim_generator");

@@ -114,6 +114,14 @@ class CloudWriter {
     std::size_t readBack(std::uint64_t first, std::span<core::CloudPoint> out);
     /// The bytes of one point's record where rewritable(), else 0.
     std::size_t recordBytes() const;
+    /// Where rewritable(): packs `points` into `out` (recordBytes() each) as append()
+    /// would write them, appending nothing. Const: several threads may pack at once,
+    /// beside anything else the writer does. Throws std::logic_error where !rewritable().
+    void packRecords(std::span<const core::CloudPoint> points, char* out) const;
+    /// Appends records packRecords() made (a whole number of them), as append() would
+    /// have appended their points. Throws std::logic_error where !rewritable() or the
+    /// bytes are not whole records, and Error("output: <path>: ...") when the write fails.
+    void appendRecords(std::span<const char> records);
     /// Overwrites the points appended [first, first + points.size()) with `points`.
     /// Throws std::logic_error where !rewritable() or past the points appended, and
     /// Error("output: <path>: ...") when the write fails.

@@ -121,6 +121,9 @@ struct GenerateStats {
     /// Each batch whitened and handed on by a thread of its own while the next batch was
     /// traced (the budget held a second batch of hits, and there were two threads or more).
     bool pipelined = false;
+    /// Pipelined and streamed, the workers that whitened each view also packed its records
+    /// for the spool or the output (the budget held both batches' records beside the rest).
+    bool packed_on_workers = false;
     GroundMethod ground_method = GroundMethod::Ransac;
     /// Points near the fitted terrain, and of those the ones left coloured: with --ground
     /// smrf or csf those within 1 m of the filter's terrain; for the check of RANSAC those
