@@ -486,9 +486,6 @@ void Generator::State::fuseViews(const Emit& emit, Workers& pool, GenerateStats&
         st.ground_true_positive += t.true_positive;
         emit(pts, packed);
     };
-    // Whitens view k of a batch (RANSAC on its points, PG turned white) and tallies it;
-    // returns the seconds the whitening took (the tally's, and the packing's, are in
-    // batch.tally_s).
     const bool whitens = !options.white && view_filter;
     // Pipelined, where the budget also holds both batches' records, the worker that
     // whitens a view packs it too, and the handing thread only appends the records.
@@ -499,6 +496,9 @@ void Generator::State::fuseViews(const Emit& emit, Workers& pool, GenerateStats&
         pipelined && whitens && packed_bytes > 0 &&
         plan.fuse_bytes + emit_bytes + second_batch + packed_bytes <= options.memory_budget_bytes;
     st.packed_on_workers = pack_on_workers;
+    // Whitens view k of a batch (RANSAC on its points, PG turned white), tallies it and,
+    // where the workers pack, packs it; returns the seconds the whitening took (the
+    // tally's and the packing's are in batch.tally_s).
     const auto whiten = [&](Batch& batch, std::size_t k) {
         const auto t0 = Clock::now();
         auto& pts = batch.points[k];
