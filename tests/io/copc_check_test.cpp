@@ -11,6 +11,7 @@
 #include "test_files.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -111,6 +112,23 @@ TEST_CASE("copc check: the LAS header rules") {
     }
     SUBCASE("header-bounds") {
         expectRule("header-bounds", {}, [](std::string& b) { put<double>(b, 179, get<double>(b, 179) - 0.5); });
+    }
+    SUBCASE("header-scale") {
+        expectRule("header-scale", {"las"}, [](std::string& b) { put<double>(b, 131, 0.0); });
+        expectRule("header-scale", {"las"}, [](std::string& b) { put<double>(b, 155 + 16, std::nan("")); });
+    }
+    SUBCASE("offsets: the point data past the file's end") {
+        expectRule("offsets", {"las"}, [](std::string& b) { put<std::uint32_t>(b, 96, std::uint32_t(b.size() + 1)); });
+    }
+    SUBCASE("offsets: the first EVLR past the file's end") {
+        expectRule("offsets", {"las", "copc-hierarchy"},
+                   [](std::string& b) { put<std::uint64_t>(b, 235, std::uint64_t(b.size()) + 60); });
+    }
+    SUBCASE("offsets: an EVLR longer than what follows it") {
+        expectRule("offsets", {"las", "copc-hierarchy"}, [](std::string& b) {
+            const std::uint64_t at = get<std::uint64_t>(b, 235);
+            put<std::uint64_t>(b, at + 20, std::uint64_t(b.size()) - at);
+        });
     }
     SUBCASE("legacy counts equal to the 64-bit ones are allowed") {
         std::string b = valid().bytes;
