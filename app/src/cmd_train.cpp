@@ -13,6 +13,7 @@
 #include <platform/safe_file.hpp>
 #include <sim/memory_budget.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -34,7 +35,7 @@ void run(TrainCli& cli) {
     detect::TrainOptions& o = cli.options;
     o.target_size_m = {cli.target_size_m[0], cli.target_size_m[1], cli.target_size_m[2]};
     detect::validate(o);
-    const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "train");
+    std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "train");
     std::vector<platform::RunPath> paths;
     for (const std::string& dir : cli.corpora) paths.push_back({"corpus", dir, platform::PathRole::InputFolder, {}});
     paths.push_back({"--out", cli.out, platform::PathRole::Output, {}});
@@ -46,7 +47,9 @@ void run(TrainCli& cli) {
     std::vector<std::string> manifests;
     std::size_t total = 0;
     for (const std::string& dir : cli.corpora) {
-        listings.push_back(detect::listCorpus(dir));
+        // The listings stay while the items are read: what they hold leaves the rest of the budget.
+        listings.push_back(detect::listCorpus(dir, budget));
+        budget -= std::min(budget, std::uint64_t(listings.back().held_bytes));
         manifests.push_back(listings.back().manifest_sha256);
         total += listings.back().ids.size();
     }
@@ -54,6 +57,7 @@ void run(TrainCli& cli) {
     std::size_t done = 0;
     for (const detect::CorpusListing& l : listings)
         for (std::size_t k = 0; k < l.ids.size(); ++k) {
+            platform::checkNoLinkBelow(l.dir, l.clouds[k].lexically_relative(l.dir), "train: item " + l.ids[k]);
             io::CloudReader reader(l.clouds[k]);
             sim::refuseOverBudget(
                 "train", budget, detect::BoostedDetector::memoryBytes(reader.pointsBound()),
@@ -125,7 +129,7 @@ void registerTrain(CLI::App& cli) {
     c->add_option("--threads", o.boost.threads, "threads for the features and XGBoost, >= 1")->capture_default_str();
     c->add_option("--seed", o.boost.seed, "XGBoost's seed")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,
-                  "bound on what one item's cloud and its segments hold, [1, 1048576] MiB")
+                  "bound on what the corpus listings and one item's cloud and its segments hold, [1, 1048576] MiB")
         ->capture_default_str();
     c->callback([state] { run(*state); });
 }

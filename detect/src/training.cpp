@@ -4,6 +4,7 @@
 #include <core/error.hpp>
 #include <detect/boosted_detector.hpp>
 #include <detect/segment_features.hpp>
+#include <io/strict_json.hpp>
 #include <platform/safe_file.hpp>
 
 #include <nlohmann/json.hpp>
@@ -17,6 +18,7 @@ namespace detect {
 namespace {
 
 constexpr std::size_t kMaxManifestBytes = std::size_t(1) << 30;
+constexpr std::size_t kMaxManifestLineBytes = std::size_t(1) << 20;  // a corpus writes lines of a few KiB
 constexpr double kMinTargetShare = 0.1;  // of the cloud's target points, for a positive segment
 
 std::string sha256Hex(std::string_view bytes) {
@@ -72,22 +74,53 @@ TrainingItem describeLabelledCloud(const core::PointCloud& cloud, const std::str
     return item;
 }
 
-CorpusListing listCorpus(const std::filesystem::path& dir) {
+namespace {
+// The heap blocks of one listing entry: a string's text once it outgrows the inline
+// buffer, plus the allocator's bookkeeping, for the id and for the path.
+std::size_t listingHeapBytes(const std::string& id, const std::filesystem::path& cloud) {
+    const auto heap = [](std::size_t length) { return length > 15 ? length + 1 + 16 : std::size_t(0); };
+    return heap(id.size()) + heap(cloud.native().size());
+}
+}  // namespace
+
+CorpusListing listCorpus(const std::filesystem::path& dir, std::size_t budget_bytes) {
     const std::string where = "train: " + platform::printableUtf8(dir.string(), 200);
+    const std::string manifest = where + "/manifest.jsonl";
     CorpusListing out;
     out.dir = dir;
+    // The manifest's text is held while it is listed, so it counts against the budget too,
+    // with the listing's fixed part (two vectors sized to the lines) and each entry's heap.
+    const std::string mib = "--memory-mb " + std::to_string(budget_bytes >> 20) + " MiB";
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(dir / "manifest.jsonl", ec);
+    if (!ec && size > budget_bytes && size <= kMaxManifestBytes)
+        throw core::Error(manifest + ": " + std::to_string(size) + " bytes, more than " + mib +
+                          " (the manifest and its listing are held in memory); raise --memory-mb");
     const std::string text =
-        platform::readTextFile(dir / "manifest.jsonl", kMaxManifestBytes, where + "/manifest.jsonl");
+        platform::readTextFile(dir / "manifest.jsonl", std::min(kMaxManifestBytes, budget_bytes), manifest);
     out.manifest_sha256 = sha256Hex(text);
-    std::istringstream lines(text);
-    std::string line;
+    const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
+    std::size_t held = text.size() + lines * (sizeof(std::string) + sizeof(std::filesystem::path));
+    const auto over = [&](const std::string& what) {
+        return core::Error(manifest + ": " + what + " pass " + mib + "; raise --memory-mb");
+    };
+    if (held > budget_bytes) throw over("its " + std::to_string(lines) + " lines and their listing");
+    out.ids.reserve(lines);
+    out.clouds.reserve(lines);
     std::size_t number = 0;
-    while (std::getline(lines, line)) {
+    for (std::size_t begin = 0; begin < text.size();) {
+        std::size_t end = text.find('\n', begin);
+        if (end == std::string::npos) end = text.size();
+        const std::string_view line(text.data() + begin, end - begin);
+        begin = end + 1;
         ++number;
         if (line.empty()) continue;
-        const std::string at = where + "/manifest.jsonl line " + std::to_string(number);
-        const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-        if (j.is_discarded() || !j.is_object()) throw core::Error(at + ": not a JSON object");
+        const std::string at = manifest + " line " + std::to_string(number);
+        if (line.size() > kMaxManifestLineBytes)
+            throw core::Error(at + ": " + std::to_string(line.size()) + " bytes; allowed at most " +
+                              std::to_string(kMaxManifestLineBytes) + " bytes a line");
+        const nlohmann::json j = io::parseStrictJson(line, at);
+        if (!j.is_object()) throw core::Error(at + ": not a JSON object");
         if (!j.contains("id") || !j["id"].is_string()) throw core::Error(at + ": no string 'id'");
         const std::string id = j["id"].get<std::string>();
         if (id.empty() || id.size() > 20 ||
@@ -98,10 +131,14 @@ CorpusListing listCorpus(const std::filesystem::path& dir) {
         for (const auto& [name, value] : j["files"].items())
             if (name.rfind("cloud.", 0) == 0 && name.find('/') == std::string::npos) cloud = name;
         if (cloud.empty()) throw core::Error(at + ": 'files' names no cloud file (cloud.pcd, cloud.ply, ...)");
+        std::filesystem::path path = dir / "items" / id / cloud;
+        held += listingHeapBytes(id, path);
+        if (held > budget_bytes) throw over("its text and its listing up to line " + std::to_string(number));
         out.ids.push_back(id);
-        out.clouds.push_back(dir / "items" / id / cloud);
+        out.clouds.push_back(std::move(path));
     }
-    if (out.ids.empty()) throw core::Error(where + "/manifest.jsonl: no items; allowed a corpus with finished items");
+    out.held_bytes = held - text.size();
+    if (out.ids.empty()) throw core::Error(manifest + ": no items; allowed a corpus with finished items");
     return out;
 }
 

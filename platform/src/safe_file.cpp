@@ -313,6 +313,32 @@ std::string readTextFile(const fs::path& path, std::size_t max_bytes, std::strin
     return readRegularFile(path, max_bytes, what, false);
 }
 
+void checkNoLinkBelow(const fs::path& dir, const fs::path& relative, std::string_view what) {
+    int fd = ::open(dir.c_str(), O_PATH | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return;  // the reader names the missing folder
+    fs::path walked;
+    for (auto it = relative.begin(); it != relative.end(); ++it) {
+        const std::string name = it->string();
+        if (name.empty() || name == ".") continue;
+        walked /= name;
+        struct stat st{};
+        const bool last = std::next(it) == relative.end();
+        if (name == ".." || ::fstatat(fd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) break;
+        if (S_ISLNK(st.st_mode)) {
+            ::close(fd);
+            throw Error(std::string(what) + " '" + shownPath(dir / relative) + "': '" + shownPath(walked) +
+                        "' in it is a symbolic link; allowed: the folder's own " + (last ? "file" : "folders") +
+                        ", not a link");
+        }
+        if (last || !S_ISDIR(st.st_mode)) break;
+        const int next = ::openat(fd, name.c_str(), O_PATH | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        ::close(fd);
+        fd = next;
+        if (fd < 0) return;
+    }
+    ::close(fd);
+}
+
 std::string readOwnOutput(const fs::path& path, std::size_t max_bytes, std::string_view what) {
     struct stat st{};
     if (::lstat(path.c_str(), &st) == 0 && S_ISLNK(st.st_mode))

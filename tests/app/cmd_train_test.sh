@@ -60,4 +60,34 @@ one_error "--model $dir/cut.ldm: .*cut short or damaged" detect "$dir/demo.pcd" 
 one_error "--model $dir/spec.json: not a ladarvr detector model" detect "$dir/demo.pcd" --model "$dir/spec.json" --out "$dir/bad.json"
 one_error "trained for 7.0* 3.50* 2.50*; allowed that size or none" detect "$dir/demo.pcd" --model "$dir/m.ldm" --out "$dir/bad.json" --target-size-m 8 2.5 3
 one_error "train: .*manifest.jsonl" train "$dir/corpus/items" --out "$dir/bad.json"
+
+# Links planted inside a corpus are not followed: an item's cloud linked to another file,
+# the items folder linked to another corpus.
+cp -r "$dir/corpus" "$dir/planted"
+first=$(ls "$dir/planted/items" | head -n1)
+cloud=$(ls "$dir/planted/items/$first" | grep '^cloud\.' | head -n1)
+rm "$dir/planted/items/$first/$cloud"
+ln -s /proc/self/environ "$dir/planted/items/$first/$cloud"
+one_error "train: item $first '.*': 'items/$first/$cloud' in it is a symbolic link; allowed" \
+    train "$dir/planted" --out "$dir/bad.json"
+rm -rf "$dir/planted/items"
+ln -s "$dir/corpus/items" "$dir/planted/items"
+one_error "'items' in it is a symbolic link; allowed" train "$dir/planted" --out "$dir/bad.json"
+
+# The manifest and its listing count against --memory-mb, read or not.
+mkdir -p "$dir/big"
+python3 -c "
+import sys
+with open(sys.argv[1], 'w') as f:
+    for k in range(int(sys.argv[2])):
+        f.write('{\"id\": \"%08d\", \"files\": {\"cloud.pcd\": {}}}\n' % k)
+" "$dir/big/manifest.jsonl" 15000
+one_error "manifest.jsonl: its 15001 lines and their listing pass --memory-mb 1 MiB; raise --memory-mb" \
+    train "$dir/big" --out "$dir/bad.json" --memory-mb 1
+python3 -c "
+import sys
+with open(sys.argv[1], 'a') as f:
+    f.write('x' * 1200000 + '\n')
+" "$dir/big/manifest.jsonl"
+one_error "manifest.jsonl: [0-9]* bytes, more than --memory-mb 1 MiB" train "$dir/big" --out "$dir/bad.json" --memory-mb 1
 echo ok

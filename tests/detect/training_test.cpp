@@ -120,3 +120,46 @@ TEST_CASE("the corpus listing reads the manifest's items and refuses malformed l
     CHECK(test_support::errorOf([&] { detect::listCorpus(dir.path); }).find("names no cloud file") !=
           std::string::npos);
 }
+
+TEST_CASE("the corpus listing is as strict as the other JSON readers: no duplicate key, no NUL in a key") {
+    test_support::TempDir dir("detect_listing_strict");
+    dir.write("manifest.jsonl", R"({"id": "0000", "id": "0001", "files": {"cloud.pcd": {}}})"
+                                "\n");
+    std::string e = test_support::errorOf([&] { detect::listCorpus(dir.path); });
+    CHECK(e.find("manifest.jsonl line 1: duplicate key 'id'") != std::string::npos);
+    dir.write("manifest.jsonl", R"({"id": "0000", "files": {"cloud.pcd\u0000.txt": {}}})"
+                                "\n");
+    e = test_support::errorOf([&] { detect::listCorpus(dir.path); });
+    CHECK(e.find("manifest.jsonl line 1: ") != std::string::npos);
+    CHECK(e.find("NUL") != std::string::npos);
+    dir.write("manifest.jsonl", std::string(R"({"id": "0000", "files": {"cloud.pcd": {}}, "pad": ")") +
+                                    std::string(2 << 20, 'x') + "\"}\n");
+    e = test_support::errorOf([&] { detect::listCorpus(dir.path); });
+    CHECK(e.find("manifest.jsonl line 1: 2097") != std::string::npos);
+    CHECK(e.find("bytes; allowed at most 1048576 bytes a line") != std::string::npos);
+}
+
+TEST_CASE("the corpus listing counts the manifest and the listing against the memory budget") {
+    test_support::TempDir dir("detect_listing_budget");
+    std::string text;
+    for (int k = 0; k < 4000; ++k) text += R"({"id": ")" + std::to_string(100000 + k) + R"(", "files": {"cloud.pcd": {}}})" "\n";
+    dir.write("manifest.jsonl", text);
+    const detect::CorpusListing l = detect::listCorpus(dir.path, std::size_t(64) << 20);
+    CHECK(l.ids.size() == 4000);
+    // The vectors' fixed part, and each entry's path (longer than the inline buffer).
+    CHECK(l.held_bytes >= 4000 * (sizeof(std::string) + sizeof(std::filesystem::path)));
+    CHECK(l.held_bytes < 4001 * (sizeof(std::string) + sizeof(std::filesystem::path) + 2 * 16 +
+                                 (dir.path / "items/100000/cloud.pcd").native().size() + 1));
+    // The text fits, the fixed part does not.
+    std::string e = test_support::errorOf([&] { detect::listCorpus(dir.path, text.size() + 1000); });
+    CHECK(e.find("manifest.jsonl: its 4001 lines and their listing pass --memory-mb 0 MiB; raise --memory-mb") !=
+          std::string::npos);
+    // The fixed part fits, the paths' heap does not: refused part way, naming the line.
+    const std::size_t fixed = text.size() + 4001 * (sizeof(std::string) + sizeof(std::filesystem::path));
+    e = test_support::errorOf([&] { detect::listCorpus(dir.path, fixed + l.held_bytes / 10); });
+    CHECK(e.find("manifest.jsonl: its text and its listing up to line ") != std::string::npos);
+    // The text alone is over.
+    e = test_support::errorOf([&] { detect::listCorpus(dir.path, text.size() - 1); });
+    CHECK(e.find("manifest.jsonl: " + std::to_string(text.size()) + " bytes, more than --memory-mb 0 MiB") !=
+          std::string::npos);
+}

@@ -184,6 +184,31 @@ TEST_CASE("text inputs: regular files only, size capped, messages say what the n
     CHECK(core::printable(std::string("a\x01\xff\x1b[31m", 8)) == "a\\x01\\xff\\x1b[31m");
 }
 
+TEST_CASE("a folder's own entries: a link planted on the way down is refused, the folder's own path may link") {
+    TempDir dir("below");
+    fs::create_directories(dir.path / "corpus/items/0001");
+    dir.write("corpus/items/0001/cloud.pcd", "x");
+    const std::string what = "test: item 0001";
+    CHECK_NOTHROW(platform::checkNoLinkBelow(dir.path / "corpus", "items/0001/cloud.pcd", what));
+    // The folder named by the user may itself be a link.
+    fs::create_directory_symlink(dir.path / "corpus", dir.path / "alias");
+    CHECK_NOTHROW(platform::checkNoLinkBelow(dir.path / "alias", "items/0001/cloud.pcd", what));
+    // Absent names are the reader's to report.
+    CHECK_NOTHROW(platform::checkNoLinkBelow(dir.path / "corpus", "items/0002/cloud.pcd", what));
+    fs::create_directories(dir.path / "other/items/0001");
+    fs::create_directory_symlink(dir.path / "corpus/items/0001", dir.path / "other/items/0003");
+    CHECK(contains(errorOf([&] { platform::checkNoLinkBelow(dir.path / "other", "items/0003/cloud.pcd", what); }),
+                   "': 'items/0003' in it is a symbolic link; allowed: the folder's own folders, not a link"));
+    fs::create_symlink("/proc/self/environ", dir.path / "other/items/0001/cloud.pcd");
+    const std::string e = errorOf([&] { platform::checkNoLinkBelow(dir.path / "other", "items/0001/cloud.pcd", what); });
+    CHECK(contains(e, "test: item 0001 '"));
+    CHECK(contains(e, "': 'items/0001/cloud.pcd' in it is a symbolic link; allowed: the folder's own file, not a link"));
+    fs::remove_all(dir.path / "other/items");
+    fs::create_directory_symlink(dir.path / "corpus/items", dir.path / "other/items");
+    CHECK(contains(errorOf([&] { platform::checkNoLinkBelow(dir.path / "other", "items/0001/cloud.pcd", what); }),
+                   "': 'items' in it is a symbolic link"));
+}
+
 TEST_CASE("messages: control characters and invalid bytes escaped, UTF-8 kept, long lines cut in the middle") {
     // C0, DEL and C1 (U+009B is a one-character CSI on some terminals) escaped byte by byte.
     CHECK(platform::printableUtf8("a\nb\x1b[2J\x7f\xc2\x9b") == "a\\x0ab\\x1b[2J\\x7f\\xc2\\x9b");

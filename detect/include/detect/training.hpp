@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -52,10 +53,14 @@ struct CorpusListing {
     std::vector<std::string> ids;
     std::vector<std::filesystem::path> clouds;
     std::string manifest_sha256;
+    std::size_t held_bytes = 0;  // what the listing holds in memory (the manifest's text is not kept)
 };
 /// Throws core::Error("train: <dir>: ...") naming what is missing or malformed (a manifest
-/// line without an id or a cloud file, an id that is not digits).
-CorpusListing listCorpus(const std::filesystem::path& dir);
+/// line without an id or a cloud file, an id that is not digits, a duplicate key or a NUL
+/// in a line's JSON), or when the manifest's text and the listing made of it would hold
+/// more than `budget_bytes` (the run's --memory-mb), counted as the lines are read.
+CorpusListing listCorpus(const std::filesystem::path& dir,
+                         std::size_t budget_bytes = std::numeric_limits<std::size_t>::max());
 
 /// How the training went; the calibration check is on the held-out items.
 struct TrainReport {

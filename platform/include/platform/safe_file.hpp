@@ -64,6 +64,13 @@ void checkInputFile(const std::filesystem::path& path, std::string_view what);
 /// or "<what> is larger than <max_bytes> bytes; allowed: ...", or "... cannot be read: <reason>".
 std::string readTextFile(const std::filesystem::path& path, std::size_t max_bytes, std::string_view what);
 
+/// Throws Error("<what> '<dir>/<relative>': '<name>' in it is a symbolic link; allowed: ...")
+/// when a name on the way from the folder `dir` down to `dir / relative` is a symbolic
+/// link: a folder's own entries (a corpus item's cloud) are read where the folder holds
+/// them, never through a link planted inside it. `dir` itself may be reached through
+/// links, as the user named it. Absent names are left to the reader to report.
+void checkNoLinkBelow(const std::filesystem::path& dir, const std::filesystem::path& relative, std::string_view what);
+
 /// readTextFile for a file this run will replace, one an earlier run wrote and this one
 /// continues (a resumed study's trials.csv): not remembered as an input, and never read
 /// through a symbolic link. Throws as readTextFile, or "<what> is a symbolic link; ...".
