@@ -57,15 +57,17 @@ void run(TrainCli& cli) {
     std::size_t done = 0;
     for (const detect::CorpusListing& l : listings)
         for (std::size_t k = 0; k < l.ids.size(); ++k) {
-            platform::checkNoLinkBelow(l.dir, l.clouds[k].lexically_relative(l.dir), "train: item " + l.ids[k]);
-            io::CloudReader reader(l.clouds[k]);
+            const std::filesystem::path path = l.cloud(k);
+            platform::checkNoLinkBelow(l.dir, std::filesystem::path("items") / l.ids[k] / l.cloud_files[k],
+                                       "train: item " + l.ids[k]);
+            io::CloudReader reader(path);
             sim::refuseOverBudget(
                 "train", budget, detect::BoostedDetector::memoryBytes(reader.pointsBound()),
                 "item " + l.ids[k] + ": a cloud of " + std::to_string(reader.pointsBound()) + " points, read whole",
                 "raise --memory-mb");
             const core::PointCloud cloud = io::readCloud(reader);
-            items.push_back(detect::describeLabelledCloud(cloud, l.clouds[k].string(), o));
-            std::fprintf(stderr, "train: %zu/%zu %s: %zu segments\n", ++done, total, l.clouds[k].string().c_str(),
+            items.push_back(detect::describeLabelledCloud(cloud, path.string(), o));
+            std::fprintf(stderr, "train: %zu/%zu %s: %zu segments\n", ++done, total, path.string().c_str(),
                          items.back().labels.size());
         }
     detect::TrainReport report;

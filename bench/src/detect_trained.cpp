@@ -256,8 +256,8 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
     for (const fs::path& dir : train_dirs) {
         const detect::CorpusListing l = detect::listCorpus(dir);
         manifests.push_back(l.manifest_sha256);
-        for (const fs::path& c : l.clouds)
-            items.push_back(detect::describeLabelledCloud(io::readCloud(c), c.string(), to));
+        for (std::size_t k = 0; k < l.ids.size(); ++k)
+            items.push_back(detect::describeLabelledCloud(io::readCloud(l.cloud(k)), l.cloud(k).string(), to));
     }
     detect::TrainReport report;
     const auto t_train = Clock::now();
@@ -291,10 +291,10 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
         left_out += buildCorpus(writeSpec(tmp, std::string("eval_") + scene, spec), dir, o.threads, true);
         const detect::CorpusListing l = detect::listCorpus(dir);
         const std::map<std::string, std::string> sensors = sensorOfItems(dir);
-        for (std::size_t k = 0; k < l.clouds.size(); ++k) {
+        for (std::size_t k = 0; k < l.ids.size(); ++k) {
             const std::string sensor = sensors.count(l.ids[k]) ? sensors.at(l.ids[k]) : "ideal";
             clouds.push_back(
-                {std::string(scene) + " " + l.ids[k] + " " + sensor, io::readCloud(l.clouds[k]), sensor == "ideal"});
+                {std::string(scene) + " " + l.ids[k] + " " + sensor, io::readCloud(l.cloud(k)), sensor == "ideal"});
         }
     }
     for (const std::string_view preset : sim::sensorPresetNames()) {

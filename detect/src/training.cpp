@@ -76,10 +76,10 @@ TrainingItem describeLabelledCloud(const core::PointCloud& cloud, const std::str
 
 namespace {
 // The heap blocks of one listing entry: a string's text once it outgrows the inline
-// buffer, plus the allocator's bookkeeping, for the id and for the path.
-std::size_t listingHeapBytes(const std::string& id, const std::filesystem::path& cloud) {
+// buffer, plus the allocator's bookkeeping, for the id and for the cloud file's name.
+std::size_t listingHeapBytes(const std::string& id, const std::string& cloud) {
     const auto heap = [](std::size_t length) { return length > 15 ? length + 1 + 16 : std::size_t(0); };
-    return heap(id.size()) + heap(cloud.native().size());
+    return heap(id.size()) + heap(cloud.size());
 }
 }  // namespace
 
@@ -100,13 +100,13 @@ CorpusListing listCorpus(const std::filesystem::path& dir, std::size_t budget_by
         platform::readTextFile(dir / "manifest.jsonl", std::min(kMaxManifestBytes, budget_bytes), manifest);
     out.manifest_sha256 = sha256Hex(text);
     const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
-    std::size_t held = text.size() + lines * (sizeof(std::string) + sizeof(std::filesystem::path));
+    std::size_t held = text.size() + lines * 2 * sizeof(std::string);
     const auto over = [&](const std::string& what) {
         return core::Error(manifest + ": " + what + " pass " + mib + "; raise --memory-mb");
     };
     if (held > budget_bytes) throw over("its " + std::to_string(lines) + " lines and their listing");
     out.ids.reserve(lines);
-    out.clouds.reserve(lines);
+    out.cloud_files.reserve(lines);
     std::size_t number = 0;
     for (std::size_t begin = 0; begin < text.size();) {
         std::size_t end = text.find('\n', begin);
@@ -131,11 +131,10 @@ CorpusListing listCorpus(const std::filesystem::path& dir, std::size_t budget_by
         for (const auto& [name, value] : j["files"].items())
             if (name.rfind("cloud.", 0) == 0 && name.find('/') == std::string::npos) cloud = name;
         if (cloud.empty()) throw core::Error(at + ": 'files' names no cloud file (cloud.pcd, cloud.ply, ...)");
-        std::filesystem::path path = dir / "items" / id / cloud;
-        held += listingHeapBytes(id, path);
+        held += listingHeapBytes(id, cloud);
         if (held > budget_bytes) throw over("its text and its listing up to line " + std::to_string(number));
         out.ids.push_back(id);
-        out.clouds.push_back(std::move(path));
+        out.cloud_files.push_back(std::move(cloud));
     }
     out.held_bytes = held - text.size();
     if (out.ids.empty()) throw core::Error(manifest + ": no items; allowed a corpus with finished items");

@@ -106,8 +106,8 @@ TEST_CASE("the corpus listing reads the manifest's items and refuses malformed l
                                 "\n");
     const detect::CorpusListing l = detect::listCorpus(dir.path);
     REQUIRE(l.ids.size() == 2);
-    CHECK(l.clouds[0] == dir.path / "items" / "0000" / "cloud.pcd");
-    CHECK(l.clouds[1] == dir.path / "items" / "0001" / "cloud.laz");
+    CHECK(l.cloud(0) == dir.path / "items" / "0000" / "cloud.pcd");
+    CHECK(l.cloud(1) == dir.path / "items" / "0001" / "cloud.laz");
     CHECK(l.manifest_sha256.size() == 64);
 
     dir.write("manifest.jsonl", R"({"id": "../x", "files": {"cloud.pcd": {}}})"
@@ -146,19 +146,24 @@ TEST_CASE("the corpus listing counts the manifest and the listing against the me
     dir.write("manifest.jsonl", text);
     const detect::CorpusListing l = detect::listCorpus(dir.path, std::size_t(64) << 20);
     CHECK(l.ids.size() == 4000);
-    // The vectors' fixed part, and each entry's path (longer than the inline buffer).
-    CHECK(l.held_bytes >= 4000 * (sizeof(std::string) + sizeof(std::filesystem::path)));
-    CHECK(l.held_bytes < 4001 * (sizeof(std::string) + sizeof(std::filesystem::path) + 2 * 16 +
-                                 (dir.path / "items/100000/cloud.pcd").native().size() + 1));
+    // The vectors' fixed part: two strings an entry, whose ids and names fit inside them.
+    CHECK(l.held_bytes == 4001 * 2 * sizeof(std::string));
     // The text fits, the fixed part does not.
     std::string e = test_support::errorOf([&] { detect::listCorpus(dir.path, text.size() + 1000); });
     CHECK(e.find("manifest.jsonl: its 4001 lines and their listing pass --memory-mb 0 MiB; raise --memory-mb") !=
           std::string::npos);
     // The fixed part fits, the paths' heap does not: refused part way, naming the line.
-    const std::size_t fixed = text.size() + 4001 * (sizeof(std::string) + sizeof(std::filesystem::path));
-    e = test_support::errorOf([&] { detect::listCorpus(dir.path, fixed + l.held_bytes / 10); });
+    std::string long_names;
+    for (int k = 0; k < 4000; ++k)
+        long_names += R"({"id": "0000000000)" + std::to_string(100000 + k) + R"(", "files": {"cloud.pcd": {}}})" "\n";
+    dir.write("manifest.jsonl", long_names);
+    const std::size_t fixed = long_names.size() + 4001 * 2 * sizeof(std::string);
+    e = test_support::errorOf([&] { detect::listCorpus(dir.path, fixed + 2000 * 33); });
     CHECK(e.find("manifest.jsonl: its text and its listing up to line ") != std::string::npos);
+    // An id of 16 digits outgrows the inline buffer: 33 bytes of heap each, so 2,000 fit.
+    CHECK(e.find("up to line 2001 pass") != std::string::npos);
     // The text alone is over.
+    dir.write("manifest.jsonl", text);
     e = test_support::errorOf([&] { detect::listCorpus(dir.path, text.size() - 1); });
     CHECK(e.find("manifest.jsonl: " + std::to_string(text.size()) + " bytes, more than --memory-mb 0 MiB") !=
           std::string::npos);

@@ -51,7 +51,10 @@ TrainingItem describeLabelledCloud(const core::PointCloud& cloud, const std::str
 struct CorpusListing {
     std::filesystem::path dir;
     std::vector<std::string> ids;
-    std::vector<std::filesystem::path> clouds;
+    std::vector<std::string> cloud_files;  // each item's cloud file name (cloud.pcd, cloud.laz, ...)
+    /// Item k's cloud: DIR/items/<id>/<cloud file>. Made when asked, so that the listing
+    /// holds two short strings an item, not a path of five parts.
+    std::filesystem::path cloud(std::size_t k) const { return dir / "items" / ids[k] / cloud_files[k]; }
     std::string manifest_sha256;
     std::size_t held_bytes = 0;  // what the listing holds in memory (the manifest's text is not kept)
 };
