@@ -1,6 +1,7 @@
 // detect/src/boosted_model.cpp: the model file and XGBoost's C API of
 // detect/boosted_model.hpp. XGBoost and OpenSSL (SHA-256) are used here only.
 #include <detect/boosted_model.hpp>
+#include <detect/model_check.hpp>
 #include <detect/segment_features.hpp>
 
 #include <core/error.hpp>
@@ -197,7 +198,10 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
         throw bad("not a ladarvr detector model (no LDVRDET1 magic); allowed a file written by `ladarvr train`");
     std::uint32_t hl = 0;
     for (int k = 0; k < 4; ++k) hl |= std::uint32_t(std::uint8_t(file[8 + k])) << (8 * k);
-    if (hl < 2 || hl > kMaxHeaderBytes || std::size_t(hl) + 20 > file.size())
+    if (hl < 2 || hl > kMaxHeaderBytes)
+        throw bad("header length " + std::to_string(hl) + ": allowed 2 .. " + std::to_string(kMaxHeaderBytes) +
+                  " (1 MiB); the file is damaged or not written by `ladarvr train`");
+    if (std::size_t(hl) + 20 > file.size())
         throw bad("header length " + std::to_string(hl) + " does not fit the file's " + std::to_string(file.size()) +
                   " bytes; the file is cut short or damaged");
     std::uint64_t ml = 0;
@@ -233,9 +237,19 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
         if (!f.is_string()) throw bad("header field 'features' holds a non-string");
         i.features.push_back(f.get<std::string>());
     }
-    if (i.features != segmentFeatureNames())
+    if (const std::vector<std::string>& ours = segmentFeatureNames(); i.features != ours) {
+        // The first feature that differs, by position: a reordered list has the same count.
+        const auto [mine, theirs] = std::mismatch(i.features.begin(), i.features.end(), ours.begin(), ours.end());
+        const std::size_t k = std::size_t(mine - i.features.begin());
+        const std::string first = mine != i.features.end() && theirs != ours.end()
+                                      ? "features[" + std::to_string(k) + "] is '" +
+                                            platform::printableUtf8(*mine, 60) + "', this build's is '" + *theirs + "'"
+                                      : "";
+        if (i.features.size() == ours.size()) throw bad(first + "; retrain with `ladarvr train`");
         throw bad("its " + std::to_string(i.features.size()) + " features differ from this build's " +
-                  std::to_string(segmentFeatureNames().size()) + "; retrain with `ladarvr train`");
+                  std::to_string(ours.size()) + (first.empty() ? "" : " (" + first + ")") +
+                  "; retrain with `ladarvr train`");
+    }
     const auto& size = field("target_size_m", T::array);
     if (size.size() != 3) throw bad("target_size_m must hold 3 numbers");
     for (int k = 0; k < 3; ++k) {
@@ -296,6 +310,10 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
     std::string bytes = file.substr(20 + hl);
     if (field("model_sha256", T::string).get<std::string>() != sha256Hex(bytes))
         throw bad("the model bytes do not match their SHA-256; the file is damaged");
+    // XGBoost trusts its model (a child index out of range reads out of bounds, a child
+    // leading back up loops forever), and the SHA-256 above is the file's own: the trees
+    // are checked here, before XGBoost parses them.
+    checkXgboostModel(bytes, i.features.size(), where);
     auto booster = std::make_unique<Booster>();
     LADARVR_XGB(XGBoosterCreate(nullptr, 0, &booster->h), where);
     LADARVR_XGB(XGBoosterLoadModelFromBuffer(booster->h, bytes.data(), bst_ulong(bytes.size())), where);

@@ -3,10 +3,13 @@
 # user runs it. Usage: cmd_detect_test.sh LADARVR_BINARY SCRATCH_DIR
 #  - the demo's tank (centre at the world origin, turned by 20 deg) is among the candidates
 #    with a high score and its yaw, with both the RANSAC and the labels' ground;
-#  - bad options and inputs: one line `ladarvr: error: ...`, exit 2 (usage) or 1, no file.
+#  - bad options and inputs: one line `ladarvr: error: ...`, exit 2 (usage) or 1, no file;
+#    a crafted --model (the shipped one with a tree's child out of range and a valid SHA-256)
+#    among them, which crashed XGBoost before the model's trees were checked.
 set -eu
 bin=$1
 dir=$2
+assets=$(cd "$(dirname "$0")/../../assets" && pwd)
 rm -rf "$dir"
 mkdir -p "$dir"
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -61,4 +64,17 @@ one_error 1 "--target-size-m = -7" detect "$dir/demo.pcd" --out "$dir/bad.json" 
 one_error 1 "--cluster-tolerance-m" detect "$dir/demo.pcd" --out "$dir/bad.json" --cluster-tolerance-m 0.1
 one_error 1 "missing.pcd" detect "$dir/missing.pcd" --out "$dir/bad.json"
 one_error 1 "name the same file" detect "$dir/demo.pcd" --out "$dir/demo.pcd"
+python3 - "$assets/detect/model.ldm" "$dir/crafted.ldm" <<'PY' || fail "crafting a model"
+import hashlib, struct, sys
+data = bytearray(open(sys.argv[1], "rb").read())
+model_at = 20 + struct.unpack_from("<I", data, 8)[0]
+old = hashlib.sha256(data[model_at:]).hexdigest().encode()
+key = b"L" + struct.pack(">q", 13) + b"left_children"
+at = data.index(key, model_at) + len(key) + 13  # tree 0's left child of node 0, after "[$l#L" and the count
+struct.pack_into(">i", data, at, 99)
+data[:model_at] = bytes(data[:model_at]).replace(old, hashlib.sha256(data[model_at:]).hexdigest().encode())
+open(sys.argv[2], "wb").write(data)
+PY
+one_error 1 "--model $dir/crafted.ldm: tree 0 node 0: left child 99: allowed -1 (a leaf) or 1\.\.12" \
+    detect "$dir/demo.pcd" --model "$dir/crafted.ldm" --out "$dir/bad.json"
 echo "cmd_detect: ok"

@@ -83,6 +83,16 @@ TEST_CASE("a bad or mismatching model file is refused in one line naming the fil
     std::string flipped = good;
     flipped[flipped.size() - 10] ^= 0x55;
     std::string renamed = editHeader(good, "\"log_points\"", "\"log_count\"");
+    // The first two features swapped: the same count, another order.
+    std::string swapped =
+        editHeader(editHeader(editHeader(good, "\"log_points\"", "\"x\""), "\"length_m\"", "\"log_points\""), "\"x\"",
+                   "\"length_m\"");
+    std::string dropped = editHeader(good, "\"intensity_std\"", "");
+    dropped = editHeader(dropped, "\"intensity_mean\",", "\"intensity_mean\"");
+    // A header length over the 1 MiB cap (the file is smaller still).
+    std::string huge = good;
+    const std::uint32_t over = (1u << 20) + 1;
+    std::memcpy(huge.data() + 8, &over, 4);
     const Case cases[] = {
         {"empty.ldm", "", "no LDVRDET1 magic"},
         {"text.ldm", "{\"not\": \"a model\"}\n", "no LDVRDET1 magic"},
@@ -90,7 +100,10 @@ TEST_CASE("a bad or mismatching model file is refused in one line naming the fil
         {"long.ldm", good + "x", "does not match the"},
         {"header_cut.ldm", good.substr(0, 40), "header length"},
         {"flipped.ldm", flipped, "do not match their SHA-256"},
-        {"features.ldm", renamed, "features differ from this build's"},
+        {"features.ldm", renamed, ": features[0] is 'log_count', this build's is 'log_points'; retrain"},
+        {"order.ldm", swapped, ": features[0] is 'length_m', this build's is 'log_points'; retrain"},
+        {"fewer.ldm", dropped, ": its 30 features differ from this build's 31; retrain"},
+        {"header_huge.ldm", huge, "header length 1048577: allowed 2 .. 1048576 (1 MiB)"},
         {"library.ldm", editHeader(good, "\"xgboost\"", "\"lightgbm\""), "library 'lightgbm': allowed xgboost"},
         {"newer.ldm", editHeader(good, "\"" + detect::xgboostVersion() + "\"", "\"99.0.0\""),
          "trained with XGBoost 99.0.0"},

@@ -16,7 +16,8 @@
 //
 // The reader checks the magic, both lengths against the file's size (which must be
 // exactly 20 + H + M), the header's fields, the features against this build's list, the
-// library's version against the linked one and the model's SHA-256, all before XGBoost
+// library's version against the linked one, the model's SHA-256 and the model itself
+// (detect/model_check.hpp: the trees' structure, which XGBoost trusts), all before XGBoost
 // sees the bytes.
 #pragma once
 #include <detect/segmentation.hpp>
