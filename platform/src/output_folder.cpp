@@ -34,6 +34,8 @@ bool writeAll(int fd, std::string_view data) {
     return true;
 }
 
+std::string foreignEntry(const fs::path& path, const std::string& name, const OwnedName& ours);
+
 // The folder to replace, after the checks of
 // checkOutputFolder. Missing parent folders are made when `make_parents`, else the
 // nearest existing one must be a writable folder.
@@ -70,13 +72,27 @@ fs::path resolveOutputFolder(const fs::path& dir, const OwnedName& ours, bool ma
     std::error_code ec;
     for (fs::directory_iterator it(target, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string name = it->path().filename().string();
-        if (!ours(name))
-            throw Error(out + "holds '" + core::printable(name, 80, true) +
-                        "', which this command does not "
-                        "write; refusing to replace the folder (give a new or empty folder)");
+        if (const std::string why = foreignEntry(it->path(), name, ours); !why.empty())
+            throw Error(out + "holds '" + core::printable(name, 80, true) + "', " + why +
+                        "; refusing to replace the folder (give a new or empty folder)");
     }
     if (ec) throw Error(out + "cannot list the folder: " + ec.message());
     return target;
+}
+
+// Why the entry `name` (at `path`) of a folder to replace is not one of the files this
+// command wrote there, in words that follow "holds 'NAME', "; empty when it is one. Only
+// regular files of this user with a name `ours` accepts pass: the same entries that
+// removeOwnFolder removes, so the previous folder, once swapped out, is always removed
+// and never left hidden beside the new one with someone's things inside.
+std::string foreignEntry(const fs::path& path, const std::string& name, const OwnedName& ours) {
+    if (!ours(name)) return "which this command does not write";
+    struct stat st{};
+    if (::lstat(path.c_str(), &st) != 0) return "which cannot be examined: " + errnoText(errno);
+    if (!S_ISREG(st.st_mode))
+        return std::string("which is ") + kindName(st.st_mode) + ", not a file this command writes";
+    if (st.st_uid != ::geteuid()) return "a file of another user, not one this command wrote";
+    return {};
 }
 
 }  // namespace
@@ -176,10 +192,19 @@ void AtomicFolder::commit() {
     } else {
         throw Error("output: " + shownPath(dir_) + ": cannot swap the new folder into place: " + errnoText(errno));
     }
+    // The previous folder, now under the name `tmp`, goes. It was checked just before the
+    // swap; should something not ours have slipped into it since, it moves back into place
+    // and the new folder is dropped, rather than hiding that thing under a temporary name.
+    if (swapped_old && !removeOwnFolder(pfd, tmp, ours_)) {
+        const bool back = tmp == temp_name_ ? ::renameat2(pfd, tmp.c_str(), pfd, base.c_str(), RENAME_EXCHANGE) == 0
+                                            : ::renameat(pfd, base.c_str(), pfd, temp_name_.c_str()) == 0 &&
+                                                  ::renameat(pfd, tmp.c_str(), pfd, base.c_str()) == 0;
+        if (back)
+            throw Error("output: " + shownPath(dir_) +
+                        ": the folder changed while the new one was written (it holds something this command "
+                        "does not write); left as it was");
+    }
     committed_ = true;
-    // The previous folder, now under the temporary name; left (hidden) if it holds
-    // anything this command does not write.
-    if (swapped_old) removeOwnFolder(pfd, tmp, ours_);
     removeTemporary();
 }
 

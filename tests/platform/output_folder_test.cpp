@@ -13,6 +13,8 @@
 #include <set>
 #include <string>
 
+#include <sys/stat.h>
+
 namespace fs = std::filesystem;
 using test_support::TempDir;
 
@@ -104,4 +106,83 @@ TEST_CASE("output_folder: writeFolderAtomic makes missing parent folders and wri
     CHECK(names(dir) == std::set<std::string>{"a.txt", "b.txt"});
     CHECK(test_support::slurp(dir / "b.txt") == "2");
     CHECK(names(dir.parent_path()) == std::set<std::string>{"out"});
+}
+
+TEST_CASE("output_folder: an entry named as ours but not a regular file is refused, nothing moved or left") {
+    // A link, a folder or a FIFO under a name the command writes would be swapped out with
+    // the previous folder and, not removable as ours, left hidden beside the new one.
+    for (const char* kind : {"link", "folder", "fifo"}) {
+        CAPTURE(kind);
+        TempDir tmp("atomic_folder_kinds");
+        const fs::path dir = tmp.path / "out";
+        fs::create_directory(dir);
+        tmp.write("out/a.txt", "old a");
+        tmp.write("victim.txt", "someone's");
+        std::string what;
+        if (std::string(kind) == "link") {
+            fs::create_symlink(tmp.path / "victim.txt", dir / "b.txt");
+            what = "which is a symbolic link, not a file this command writes";
+        } else if (std::string(kind) == "folder") {
+            fs::create_directory(dir / "b.txt");
+            tmp.write("out/b.txt/thesis.tex", "years of work");
+            what = "which is a directory, not a file this command writes";
+        } else {
+            REQUIRE(::mkfifo((dir / "b.txt").c_str(), 0600) == 0);
+            what = "which is a FIFO (named pipe), not a file this command writes";
+        }
+        const std::string m =
+            test_support::errorOf([&] { platform::writeFolderAtomic(dir, {{"a.txt", "new"}}, ours); });
+        CHECK(m == "output: " + dir.string() + ": holds 'b.txt', " + what +
+                       "; refusing to replace the folder (give a new or empty folder)");
+        CHECK(test_support::errorOf([&] { platform::checkOutputFolder(dir, ours); }) == m);
+        CHECK(names(dir) == std::set<std::string>{"a.txt", "b.txt"});
+        CHECK(test_support::slurp(dir / "a.txt") == "old a");
+        CHECK(names(tmp.path) == std::set<std::string>{"out", "victim.txt"});  // no hidden folder beside
+    }
+}
+
+TEST_CASE("output_folder: a link planted while the new folder is written stops the swap, leaving no hidden folder") {
+    TempDir tmp("atomic_folder_race");
+    const fs::path dir = tmp.path / "out";
+    fs::create_directory(dir);
+    tmp.write("out/a.txt", "old a");
+    tmp.write("victim.txt", "someone's");
+    // The check at commit() sees the link (or, were it planted just after that check, the
+    // removal of the previous folder finds it): either way the previous folder stays in place.
+    {
+        platform::AtomicFolder folder(dir, ours);
+        folder.writeFile("a.txt", "new a");
+        fs::create_symlink(tmp.path / "victim.txt", dir / "b.txt");
+        CHECK(test_support::errorOf([&] { folder.commit(); }).find("holds 'b.txt', which is a symbolic link") !=
+              std::string::npos);
+    }
+    CHECK(names(dir) == std::set<std::string>{"a.txt", "b.txt"});
+    CHECK(test_support::slurp(dir / "a.txt") == "old a");
+    CHECK(names(tmp.path) == std::set<std::string>{"out", "victim.txt"});
+
+    // Planted after commit()'s check, into the previous folder once it is swapped out and
+    // before it is removed: the name test, asked then, plants the link.
+    fs::remove(dir / "b.txt");
+    bool planted = false;
+    const platform::OwnedName planting = [&](const std::string& name) {
+        for (const auto& e : fs::directory_iterator(tmp.path)) {
+            const fs::path old_a = e.path() / "a.txt";
+            if (!planted && e.path().filename().string().starts_with(".ladarvr-tmp-") && fs::exists(old_a) &&
+                test_support::slurp(old_a) == "old a") {
+                planted = true;
+                fs::create_symlink(tmp.path / "victim.txt", e.path() / "b.txt");
+            }
+        }
+        return ours(name);
+    };
+    {
+        platform::AtomicFolder folder(dir, planting);
+        folder.writeFile("a.txt", "new a");
+        CHECK(test_support::errorOf([&] {
+                  folder.commit();
+              }).find("the folder changed while the new one was written") != std::string::npos);
+    }
+    CHECK(planted);
+    CHECK(fs::is_symlink(dir / "b.txt"));                                  // back in place, visible
+    CHECK(names(tmp.path) == std::set<std::string>{"out", "victim.txt"});  // nothing hidden beside
 }
