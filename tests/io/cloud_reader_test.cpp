@@ -323,3 +323,38 @@ TEST_CASE("cloud_reader: a header longer than 1 MiB is refused") {
     CHECK_THROWS_WITH_AS(io::readCloudData(pcd, "h.pcd"),
                          "pcd: h.pcd: the header is longer than 1 MiB; not a PCD file?", core::Error);
 }
+
+TEST_CASE("cloud_reader: a file that does not start like a PCD or PLY file is named so, nothing of it quoted") {
+    // A design or an option may name any file; run as root, quoting its first line would
+    // show what it holds (a password hash of /etc/shadow).
+    const std::string shadow = "root:$6$saltsalt$SECRETHASH:20786:0:99999:7:::\nbin:*:20786:0:99999:7:::\n";
+    const auto refused = [](const std::string& bytes, const std::string& name) {
+        try {
+            io::readCloudData(bytes, name);
+        } catch (const core::Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    const std::string not_pcd =
+        "line 1: not a PCD file (a PCD header starts with '#' comments and keywords such as VERSION or FIELDS)";
+    CHECK(refused(shadow, "shadow.pcd") == "pcd: shadow.pcd: " + not_pcd);
+    CHECK(refused("\n  \n" + shadow, "shadow.pcd").find("line 3: not a PCD file") != std::string::npos);
+    // Comments first, as a configuration file has them: still not a PCD at its first word.
+    const std::string config = refused("# settings\ntoken SECRETTOKEN\n", "config.pcd");
+    CHECK(config.find("line 2: not a PCD file") != std::string::npos);
+    CHECK(config.find("SECRET") == std::string::npos);
+    // Any file not starting with "ply" is read as a PCD whatever its name; one that starts
+    // so but has more on its first line is not a PLY file either.
+    CHECK(refused(shadow, "shadow.ply") == "pcd: shadow.ply: " + not_pcd);
+    CHECK(refused("plywood:SECRET\n", "wood.ply") ==
+          "ply: wood.ply: line 1: not a PLY file (a PLY file starts with the line 'ply')");
+    // Once the header has begun like a PCD's, an unknown keyword is named, printable and short.
+    CHECK(refused("VERSION 0.7\nFIELDSS x y z\n", "typo.pcd") ==
+          "pcd: typo.pcd: line 2: unknown header keyword 'FIELDSS'; allowed: VERSION, FIELDS, SIZE, TYPE, COUNT, "
+          "WIDTH, HEIGHT, VIEWPOINT, POINTS, DATA");
+    CHECK(refused("VERSION 0.7\n" + std::string(60, 'K') + "\n", "long.pcd")
+              .find("unknown header keyword '" + std::string(20, 'K') + "...'") != std::string::npos);
+    CHECK(refused("ply\nformat ascii 1.0\n" + std::string(60, 'k') + "\n", "long.ply")
+              .find("unknown header keyword '" + std::string(20, 'k') + "...'") != std::string::npos);
+}

@@ -43,6 +43,9 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
     std::vector<char> types;
     std::optional<std::size_t> width, height, points_field;
     bool have_size = false, have_type = false;
+    // Until the first keyword the file is not known to be a PCD (it may be any file a
+    // design or option names): nothing of it is quoted in a message before then.
+    bool started = false;
     while (h.data.empty()) {
         if (!lines.next(line)) {
             if (file_size > text.size()) throw Error(pre + ": the header is longer than 1 MiB; not a PCD file?");
@@ -64,6 +67,13 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
             continue;
         }
         const std::string_view key = words[0];
+        static constexpr std::array<std::string_view, 10> kKeywords{"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
+                                                                    "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+        if (!started && std::find(kKeywords.begin(), kKeywords.end(), key) == kKeywords.end())
+            throw Error(where +
+                        ": not a PCD file (a PCD header starts with '#' comments and keywords such as VERSION "
+                        "or FIELDS)");
+        started = true;
         auto one = [&](std::optional<std::size_t>& out) {
             out.emplace();
             if (words.size() != 2 || !parseExact(words[1], *out))
@@ -111,7 +121,7 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
                 throw Error(where + ": DATA must be one of ascii, binary, binary_compressed");
             h.data = std::string(words[1]);
         } else {
-            throw Error(where + ": unknown header keyword '" + core::printable(key, 40) +
+            throw Error(where + ": unknown header keyword '" + core::printable(key, 20) +
                         "'; allowed: VERSION, FIELDS, SIZE, TYPE, COUNT, WIDTH, HEIGHT, "
                         "VIEWPOINT, POINTS, DATA");
         }

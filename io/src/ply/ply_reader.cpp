@@ -139,7 +139,7 @@ class PlyReader final : public FormatReader {
         std::string_view line;
         lines.next(line);
         if (splitWords(line) != std::vector<std::string_view>{"ply"})
-            throw Error(pre + ": line 1: the file does not start with 'ply'");
+            throw Error(pre + ": line 1: not a PLY file (a PLY file starts with the line 'ply')");
         bool ended = false;
         const char* kTypes = "char, uchar, short, ushort, int, uint, float, double";
         while (!ended) {
@@ -196,7 +196,7 @@ class PlyReader final : public FormatReader {
             } else if (key == "end_header") {
                 ended = true;
             } else {
-                throw Error(where + ": unknown header keyword '" + core::printable(key, 40) +
+                throw Error(where + ": unknown header keyword '" + core::printable(key, 20) +
                             "'; allowed: format, comment, obj_info, element, property, end_header");
             }
         }
