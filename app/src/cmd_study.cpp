@@ -80,8 +80,10 @@ int runStudy(const StudyArgs& a) {
 
     study::StudyOptions s;
     // A design (a top-level "conditions" key) runs one participant's session; a plan its trials.
-    const bool design = study::isDesignText(
-        platform::readTextFile(a.plan, study::kMaxDesignBytes, "study: " + core::printable(a.plan, 400) + ":"));
+    // Text that does not parse is reported as such, whatever --participant says.
+    const std::string shown = core::printable(a.plan, 400);
+    const bool design =
+        study::isDesignText(platform::readTextFile(a.plan, study::kMaxDesignBytes, "study: " + shown + ":"), shown);
     if (design && a.participant.empty())
         throw core::Error("study: " + core::printable(a.plan, 400) +
                           " is a design (it has 'conditions'): give --participant ID, one of its participants");

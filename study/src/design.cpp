@@ -23,24 +23,14 @@ using detail::field;
 using detail::onlyKeys;
 using nlohmann::json;
 
-// Condition, block and participant names go into trials.csv and study.json: letters,
-// digits, '_', '-' and '.', 1 to 40 of them, so they need no quoting and show as written.
-bool plainName(const std::string& s) {
-    if (s.empty() || s.size() > 40) return false;
-    return std::all_of(s.begin(), s.end(), [](char c) {
-        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
-               c == '.';
-    });
-}
-
 std::string name(const json& o, const char* key, const std::string& where, const std::string& fallback) {
     const auto it = o.find(key);
     if (it == o.end()) return fallback;
-    if (!it->is_string() || !plainName(it->get<std::string>()))
+    if (!it->is_string() || !isStudyName(it->get<std::string>()))
         throw core::Error(field(where, key) + " " +
                           (it->is_string() ? "'" + core::printable(it->get<std::string>(), 40) + "'"
                                            : std::string(io::jsonTypeName(*it))) +
-                          " is not a name of 1 to 40 letters, digits, '_', '-' or '.'");
+                          " is not a name of " + std::string(kStudyNameRule));
     return it->get<std::string>();
 }
 
@@ -227,13 +217,17 @@ const char* questionWhenName(QuestionWhen when) {
     return "?";
 }
 
-bool isDesignText(std::string_view text) {
-    try {
-        const json root = io::parseStrictJson(text, "study");
-        return root.is_object() && root.contains("conditions");
-    } catch (const std::exception&) {
-        return false;
-    }
+bool isStudyName(std::string_view s) {
+    if (s.empty() || s.size() > 40 || s.front() == '-') return false;
+    return std::all_of(s.begin(), s.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+               c == '.';
+    });
+}
+
+bool isDesignText(std::string_view text, const std::string& name) {
+    const json root = io::parseStrictJson(text, "study: " + name);
+    return root.is_object() && root.contains("conditions");
 }
 
 Design parseDesign(std::string_view text_in, const std::string& name_in, const std::filesystem::path& base) {
@@ -328,11 +322,11 @@ Design parseDesign(std::string_view text_in, const std::string& name_in, const s
     for (std::size_t i = 0; i < participants.size(); ++i) {
         const std::string w = where + ": participants[" + std::to_string(i) + "]";
         const json& p = participants[i];
-        if (!p.is_string() || !plainName(p.get<std::string>()))
+        if (!p.is_string() || !isStudyName(p.get<std::string>()))
             throw core::Error(w + " " +
                               (p.is_string() ? "'" + core::printable(p.get<std::string>(), 40) + "'"
                                              : std::string(io::jsonTypeName(p))) +
-                              " is not an id of 1 to 40 letters, digits, '_', '-' or '.'");
+                              " is not an id of " + std::string(kStudyNameRule));
         if (!seen.insert(p.get<std::string>()).second)
             throw core::Error(w + " '" + p.get<std::string>() + "' is listed twice; allowed: each id once");
         design.participants.push_back(p.get<std::string>());

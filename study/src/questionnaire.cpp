@@ -2,8 +2,8 @@
 // rows (study/questionnaire.hpp).
 #include <study/questionnaire.hpp>
 
+#include <study/csv_cell.hpp>
 #include <study/instruments.hpp>
-#include <study/study_log.hpp>
 
 #include <cstdio>
 
@@ -90,8 +90,8 @@ std::string questionnaireRow(const std::string& participant, const ScheduledQues
                              double time_s) {
     char time[64];
     std::snprintf(time, sizeof time, "%.6f", time_s);
-    return participant + "," + q.condition + "," + instrumentName(q.instrument) + "," + questionWhenName(q.when) + "," +
-           q.item + "," + csvText(response) + "," + time;
+    return csvCell(participant) + "," + csvCell(q.condition) + "," + csvCell(instrumentName(q.instrument)) + "," +
+           csvCell(questionWhenName(q.when)) + "," + csvCell(q.item) + "," + csvCell(response) + "," + time;
 }
 
 }  // namespace study

@@ -3,6 +3,7 @@
 // every file and checked field by field, so a report never stands on a malformed row.
 #include <study/report.hpp>
 
+#include <study/design.hpp>
 #include <study/study_log.hpp>
 
 #include <core/error.hpp>
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <sys/stat.h>
 
@@ -94,6 +96,28 @@ std::vector<CsvRecord> csvRecords(std::string_view text, const std::string& file
                            std::string_view allowed) {
     throw core::Error(file + ": line " + std::to_string(line) + ", column " + std::string(column) + ": '" +
                       core::printable(value, 60) + "'; allowed " + std::string(allowed));
+}
+
+// The largest times (seconds) and distances (metres) a row may hold.
+constexpr double kMaxSeconds = 1e9;
+constexpr double kMaxMetres = 1e12;
+constexpr long long kMaxCount = 1000000000;
+
+// "lo .. hi" as the bounds read in a message: the same numbers the check uses, written
+// short (1e9, not 1e+09).
+std::string between(double lo, double hi) {
+    const auto shortNumber = [](double v) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", v);
+        std::string out = buf;
+        if (const std::size_t e = out.find("e+"); e != std::string::npos) {
+            std::size_t digits = e + 2;
+            while (digits + 1 < out.size() && out[digits] == '0') ++digits;
+            out = out.substr(0, e + 1) + out.substr(digits);
+        }
+        return out;
+    };
+    return shortNumber(lo) + " .. " + shortNumber(hi);
 }
 
 // A plain decimal number (no spaces, no '+'), finite.
@@ -213,14 +237,18 @@ std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::str
         const bool xyz_empty = row.at(kX).empty() && row.at(kY).empty() && row.at(kZ).empty();
         if (!xyz_empty)
             for (const std::size_t c : {kX, kY, kZ})
-                row.number(c, -1e12, 1e12, "three numbers (metres, within 1e12) or three empty fields");
-        t.target_distance_m = row.optionalNumber(kDistance, 0.0, 1e12, "a number >= 0 (metres) or empty");
+                row.number(c, -kMaxMetres, kMaxMetres,
+                           "three numbers " + between(-kMaxMetres, kMaxMetres) + " (metres) or three empty fields");
+        t.target_distance_m =
+            row.optionalNumber(kDistance, 0.0, kMaxMetres, "a number " + between(0, kMaxMetres) + " (metres) or empty");
         if (!row.at(kHit).empty()) t.hit = int(row.whole(kHit, 0, 1, "1, 0 or empty"));
-        row.optionalNumber(kFirst, 0.0, 1e9, "a number >= 0 (seconds) or empty");
-        t.time_to_decision_s = row.number(kTime, 0.0, 1e9, "a number >= 0 (seconds)");
-        row.whole(kDesignations, 0, 1000000000, "a whole number >= 0");
-        row.whole(kSwitches, 0, 1000000000, "a whole number >= 0");
-        row.number(kFree, 0.0, 1e9, "a number >= 0 (seconds)");
+        const std::string seconds = "a number " + between(0, kMaxSeconds) + " (seconds)";
+        row.optionalNumber(kFirst, 0.0, kMaxSeconds, seconds + " or empty");
+        t.time_to_decision_s = row.number(kTime, 0.0, kMaxSeconds, seconds);
+        const std::string count = "a whole number " + between(0, double(kMaxCount));
+        row.whole(kDesignations, 0, kMaxCount, count);
+        row.whole(kSwitches, 0, kMaxCount, count);
+        row.number(kFree, 0.0, kMaxSeconds, seconds);
         t.visibility_metric = row.optionalNumber(kMetric, 0.0, 1.0, "a number in [0, 1] or empty");
         t.participant = row.at(kParticipant);
         if (t.participant.empty()) row.bad(kParticipant, "the participant's id");
@@ -228,6 +256,8 @@ std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::str
         if (t.condition.empty()) row.bad(kCondition, "a condition's name");
         t.practice = row.whole(kPractice, 0, 1, "1 (a practice trial) or 0") == 1;
         t.block = row.at(kBlock);
+        if (!t.block.empty() && !isStudyName(t.block))
+            row.bad(kBlock, "a block's name, " + std::string(kStudyNameRule));
         if (t.practice != t.block.empty())
             row.bad(kBlock,
                     t.practice ? "empty for a practice trial" : "a block's name for a trial that is not practice");
@@ -265,7 +295,8 @@ void parseQuestionnaires(std::string_view text, const std::string& file, Partici
         if (occasion == "pre" && !condition.empty()) row.bad(kCondition, "empty with occasion pre");
         if (!condition.empty() && !conditions.contains(condition))
             row.bad(kCondition, "one of the session's conditions (study.json's condition_order) or empty");
-        row.number(kTime, 0.0, 1e9, "a number >= 0 (seconds from the start of the session)");
+        row.number(kTime, 0.0, kMaxSeconds,
+                   "a number " + between(0, kMaxSeconds) + " (seconds from the start of the session)");
         if (instrument == "ssq") {
             if (occasion == "after_condition") row.bad(kOccasion, "pre or post for the SSQ");
             const std::optional<int> item = ssqItemIndex(row.at(kItem));
@@ -284,10 +315,10 @@ void parseQuestionnaires(std::string_view text, const std::string& file, Partici
             if (v % kTlxStep != 0) row.bad(kResponse, "0 to 100 in steps of 5");
             tlx[condition][std::size_t(*item)] = int(v);
         } else if (instrument == "likert") {
-            if (row.at(kItem).empty()) row.bad(kItem, "the item's id");
+            if (!isStudyName(row.at(kItem))) row.bad(kItem, "the item's id, " + std::string(kStudyNameRule));
             row.whole(kResponse, 1, 11, "a rating 1 to 11");
         } else if (instrument == "text") {
-            if (row.at(kItem).empty()) row.bad(kItem, "the item's id");
+            if (!isStudyName(row.at(kItem))) row.bad(kItem, "the item's id, " + std::string(kStudyNameRule));
         } else {
             row.bad(kInstrument, "ssq, tlx, likert or text");
         }
@@ -365,13 +396,21 @@ StudyResults readStudyResults(const std::vector<fs::path>& session_folders) {
             record["condition_order"].empty())
             throw core::Error(where + ": no 'condition_order' list: not a design's session" + allowed);
         for (const nlohmann::json& c : record["condition_order"]) {
-            if (!c.is_string() || c.get<std::string>().empty())
+            if (!c.is_string())
                 throw core::Error(where + ": condition_order holds " + io::jsonTypeName(c) +
                                   "; allowed: the conditions' names");
+            if (!isStudyName(c.get<std::string>()))
+                throw core::Error(where + ": condition_order holds '" + core::printable(c.get<std::string>(), 40) +
+                                  "'; allowed: the conditions' names, each " + std::string(kStudyNameRule));
             p.condition_order.push_back(c.get<std::string>());
         }
         const std::string sha = record["design_sha256"].get<std::string>();
         p.participant = record["participant"].get<std::string>();
+        // The id goes into every table of the report: the design's rules, as `study
+        // --participant` had them.
+        if (!isStudyName(p.participant))
+            throw core::Error(where + ": participant '" + core::printable(p.participant, 40) + "' is not an id of " +
+                              std::string(kStudyNameRule) + allowed);
         if (results.participants.empty()) {
             results.design_sha256 = sha;
             first_record = shown(dir / "study.json");

@@ -6,6 +6,8 @@
 
 #include "report_plot.hpp"
 
+#include <study/csv_cell.hpp>
+
 #include <platform/output_folder.hpp>
 
 #include <nlohmann/json.hpp>
@@ -26,14 +28,6 @@ std::string num(double v) {
     char buf[40];
     std::snprintf(buf, sizeof buf, "%.9g", v);
     return buf;
-}
-
-// A text field quoted when it holds a comma, a quote or a line break (RFC 4180).
-std::string field(const std::string& s) {
-    if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
-    std::string out = "\"";
-    for (const char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
 }
 
 Json jnum(double v) { return std::isnan(v) ? Json(nullptr) : Json(v); }
@@ -68,8 +62,8 @@ Json summaryJson(const stats::Summary& s) {
                 {"ci95_high", jnum(s.ci95_high)}};
 }
 std::string testCsv(const stats::TestResult& t) {
-    return t.test + "," + std::to_string(t.n) + "," + std::to_string(t.k) + "," + num(t.statistic) + "," + num(t.df) +
-           "," + num(t.p);
+    return csvCell(t.test) + "," + std::to_string(t.n) + "," + std::to_string(t.k) + "," + num(t.statistic) + "," +
+           num(t.df) + "," + num(t.p);
 }
 Json testJson(const stats::TestResult& t) {
     return Json{{"test", t.test},   {"n", t.n},      {"k", t.k}, {"statistic", jnum(t.statistic)},
@@ -90,27 +84,27 @@ std::vector<std::pair<std::string, std::string>> reportTables(const StudyResults
     std::string conditions = "measure,condition,n,mean,sd,ci95_low,ci95_high\n";
     for (const std::string_view measure : reportMeasures())
         for (std::size_t j = 0; j < k; ++j)
-            conditions += std::string(measure) + "," + field(f.conditions[j]) + "," +
+            conditions += csvCell(measure) + "," + csvCell(f.conditions[j]) + "," +
                           summaryCsv(f.by_condition.find(measure)->second[j]) + "\n";
     out.emplace_back("conditions.csv", conditions);
 
     std::string cells = std::string("participant,condition,") + kCellColumns + ",tlx_raw\n";
     for (std::size_t i = 0; i < f.participants.size(); ++i)
         for (std::size_t j = 0; j < k; ++j)
-            cells += field(f.participants[i]) + "," + field(f.conditions[j]) + "," + cellCsv(f.cells[i][j]) + "," +
+            cells += csvCell(f.participants[i]) + "," + csvCell(f.conditions[j]) + "," + cellCsv(f.cells[i][j]) + "," +
                      num(f.cells[i][j].tlx_raw) + "\n";
     out.emplace_back("cells.csv", cells);
 
     std::string participants = std::string("participant,") + kCellColumns + ",questionnaires\n";
     for (std::size_t i = 0; i < f.participants.size(); ++i)
-        participants += field(f.participants[i]) + "," + cellCsv(f.participant_totals[i]) + "," +
+        participants += csvCell(f.participants[i]) + "," + cellCsv(f.participant_totals[i]) + "," +
                         (results.participants[i].questionnaires ? "1" : "0") + "\n";
     out.emplace_back("participants.csv", participants);
 
     std::string ssq = "participant,occasion,nausea,oculomotor,disorientation,total\n";
     for (std::size_t i = 0; i < f.participants.size(); ++i) {
         const auto row = [&](std::string_view occasion, auto value) {
-            ssq += field(f.participants[i]) + "," + std::string(occasion);
+            ssq += csvCell(f.participants[i]) + "," + csvCell(occasion);
             for (const std::string_view name : ssqScoreNames()) ssq += "," + num(value(name));
             ssq += "\n";
         };
@@ -124,21 +118,22 @@ std::vector<std::pair<std::string, std::string>> reportTables(const StudyResults
     std::string ssq_summary = "score,occasion,n,mean,sd,ci95_low,ci95_high\n";
     for (const std::string_view name : ssqScoreNames())
         for (std::size_t o = 0; o < kOccasions.size(); ++o)
-            ssq_summary += std::string(name) + "," + std::string(kOccasions[o]) + "," +
+            ssq_summary += csvCell(name) + "," + csvCell(kOccasions[o]) + "," +
                            summaryCsv(f.ssq_summary.find(name)->second[o]) + "\n";
     out.emplace_back("ssq_summary.csv", ssq_summary);
 
     std::string tests = "measure,test,n,k,statistic,df,p\n";
     for (const std::string_view measure : reportMeasures())
         if (const auto it = f.condition_tests.find(measure); it != f.condition_tests.end())
-            tests += std::string(measure) + "," + testCsv(it->second) + "\n";
+            tests += csvCell(measure) + "," + testCsv(it->second) + "\n";
     for (const std::string_view name : ssqScoreNames())
-        tests += "ssq_" + std::string(name) + "_post_vs_pre," + testCsv(f.ssq_tests.find(name)->second) + "\n";
+        tests +=
+            csvCell("ssq_" + std::string(name) + "_post_vs_pre") + "," + testCsv(f.ssq_tests.find(name)->second) + "\n";
     out.emplace_back("tests.csv", tests);
 
     std::string clouds = std::string("cloud,") + kCellColumns + ",visibility_metric\n";
     for (const CloudFigures& c : f.clouds)
-        clouds += field(c.cloud) + "," + cellCsv(c.all) + "," + num(c.visibility_metric) + "\n";
+        clouds += csvCell(c.cloud) + "," + cellCsv(c.all) + "," + num(c.visibility_metric) + "\n";
     out.emplace_back("clouds.csv", clouds);
 
     Json j;

@@ -1,6 +1,7 @@
 // study/src/resume.cpp: finding where a stopped design session resumes (study/resume.hpp).
 #include <study/resume.hpp>
 
+#include <study/csv_cell.hpp>
 #include <study/questionnaire.hpp>
 #include <study/study_folder.hpp>
 #include <study/study_log.hpp>
@@ -19,8 +20,8 @@ namespace study {
 
 namespace {
 // The lines of a CSV file that the study wrote: '\n' separated, the last one ending in
-// '\n' (the writer always ends its files so; a quoted field never holds a line break
-// here, csvText quotes one but the study's fields hold none).
+// '\n' (the writer always ends its files so; no field holds a line break: csvCell
+// writes one as an escape).
 std::vector<std::string> lines(const std::string& text) {
     std::vector<std::string> out;
     std::size_t start = 0;
@@ -85,6 +86,9 @@ std::optional<ResumePoint> findResumePoint(const std::filesystem::path& out, con
     if (record["design_sha256"].get<std::string>() != design_sha256)
         throw core::Error("study: --out " + shown + " holds a session of another design (SHA-256 " +
                           core::printable(record["design_sha256"].get<std::string>(), 64) + ")" + allowed);
+    if (!isStudyName(record["participant"].get<std::string>()))
+        throw core::Error("study: --out " + shown + "/study.json: participant is not an id of " +
+                          std::string(kStudyNameRule) + allowed);
     if (record["participant"].get<std::string>() != session.participant)
         throw core::Error("study: --out " + shown + " holds participant " +
                           core::printable(record["participant"].get<std::string>(), 40) + "'s session" + allowed);
@@ -107,8 +111,10 @@ std::optional<ResumePoint> findResumePoint(const std::filesystem::path& out, con
             const SessionTrial& s = session.trials[i - 1];
             const std::string block = s.practice ? "" : design.blocks[static_cast<std::size_t>(s.block)].name;
             const std::string condition = design.conditions[static_cast<std::size_t>(s.condition)].name;
-            if (n != 18 || f[0] != std::to_string(i) || f[1] != t.source || f[n - 4] != session.participant ||
-                f[n - 3] != condition || f[n - 2] != block || f[n - 1] != (s.practice ? "1" : "0"))
+            // Text cells as csvCell wrote them (a cloud name may hold escapes or a leading ').
+            if (n != 18 || f[0] != std::to_string(i) || f[1] != csvSafeText(t.source) ||
+                f[n - 4] != session.participant || f[n - 3] != condition || f[n - 2] != block ||
+                f[n - 1] != (s.practice ? "1" : "0"))
                 throw core::Error(line_where + ": not trial " + std::to_string(i) + " of this session (" + t.source +
                                   ", condition " + condition + (s.practice ? ", practice" : ", block " + block) + ")" +
                                   allowed);

@@ -69,6 +69,9 @@ RecordedStudy readStudyRecord(const std::filesystem::path& dir) {
         throw core::Error("study: --replay " + shown + ": not a study's record (needs 'plan' and 'order')");
     RecordedStudy record;
     if (design) {
+        if (!isStudyName(study["participant"].get<std::string>()))
+            throw core::Error("study: --replay " + shown + ": participant is not an id of " +
+                              std::string(kStudyNameRule));
         const std::string file = study["design"].get<std::string>();
         std::string sha;
         const Design d = readDesign(file, &sha);

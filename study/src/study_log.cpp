@@ -1,6 +1,7 @@
 // study/src/study_log.cpp: trials.csv, candidates.csv and the per-trial traces.
 #include <study/study_log.hpp>
 
+#include <study/csv_cell.hpp>
 #include <study/study_folder.hpp>
 
 #include <core/error.hpp>
@@ -24,16 +25,6 @@ std::string fixed(double v, int digits = 6) {
 }
 std::string optionalFixed(const std::optional<double>& v, int digits = 6) { return v ? fixed(*v, digits) : ""; }
 }  // namespace
-
-std::string csvText(const std::string& text) {
-    if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-    std::string out = "\"";
-    for (char c : text) {
-        if (c == '"') out += '"';
-        out += c;
-    }
-    return out + "\"";
-}
 
 const char* StudyLog::trialsHeader() {
     return "trial,cloud,decision,designated_x,designated_y,designated_z,target_distance_m,hit,"
@@ -134,15 +125,15 @@ void StudyLog::onFrame(int, const viewer::TraceSample& s) {
 }
 
 void StudyLog::onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) {
-    candidate_rows_.push_back(std::to_string(offset_ + trial + 1) + "," + csvText(candidate.id) + "," +
-                              fixed(candidate.score) + "," + viewer::verdictName(verdict) + "," + fixed(t_s));
+    candidate_rows_.push_back(std::to_string(offset_ + trial + 1) + "," + csvCell(candidate.id) + "," +
+                              fixed(candidate.score) + "," + csvCell(viewer::verdictName(verdict)) + "," + fixed(t_s));
 }
 
 void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     closeTrace();
     const TrialInfo info = info_ ? info_(offset_ + trial) : TrialInfo{};
-    std::string row =
-        std::to_string(offset_ + trial + 1) + "," + csvText(info.source) + "," + viewer::decisionName(o.decision);
+    std::string row = std::to_string(offset_ + trial + 1) + "," + csvCell(info.source) + "," +
+                      csvCell(viewer::decisionName(o.decision));
     for (int i = 0; i < 3; ++i) row += "," + (o.designated_world ? fixed((*o.designated_world)[i]) : std::string());
     row += "," + optionalFixed(o.target_distance_m);
     // hit: empty when the cloud has no ground truth (nothing to hit); else 1 only for a
@@ -161,7 +152,8 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     row += "," + fixed(o.seconds_in_free_mode);
     row += "," + optionalFixed(info.visibility_metric);
     if (design_columns_)
-        row += "," + info.participant + "," + info.condition + "," + info.block + (info.practice ? ",1" : ",0");
+        row += "," + csvCell(info.participant) + "," + csvCell(info.condition) + "," + csvCell(info.block) +
+               (info.practice ? ",1" : ",0");
     trial_rows_.push_back(std::move(row));
     // candidates.csv first: a trial whose row is in trials.csv has its verdicts written
     // too, so a resumed session can trust trials.csv as the record of what is done.

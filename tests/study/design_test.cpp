@@ -108,7 +108,18 @@ TEST_CASE("a design's refused keys: one line naming the key and what is allowed"
     fails(R"({"conditions": [{"name": "a"}, {"name": "a"}], )" + blocks + "}",
           "study: design.json: conditions[1].name 'a' is used twice; allowed: a different name per condition");
     fails(R"({"conditions": [{"name": "a b"}], )" + blocks + "}",
-          "study: design.json: conditions[0].name 'a b' is not a name of 1 to 40 letters, digits, '_', '-' or '.'");
+          "study: design.json: conditions[0].name 'a b' is not a name of 1 to 40 letters, digits, '_', '-' or '.', "
+          "not starting with '-'");
+    // A name is written into CSV files as it is: none may read as a formula there.
+    fails(R"({"conditions": [{"name": "-1+2"}], )" + blocks + "}",
+          "study: design.json: conditions[0].name '-1+2' is not a name of 1 to 40 letters, digits, '_', '-' or '.', "
+          "not starting with '-'");
+    fails(R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a"}]}], "participants": ["=1+2"]})",
+          "study: design.json: participants[0] '=1+2' is not an id of 1 to 40 letters, digits, '_', '-' or '.', not "
+          "starting with '-'");
+    fails(R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a"}]}], "participants": ["-P1"]})",
+          "study: design.json: participants[0] '-P1' is not an id of 1 to 40 letters, digits, '_', '-' or '.', not "
+          "starting with '-'");
     fails(R"({"conditions": [{"colour": "file"}], )" + blocks + "}",
           "study: design.json: conditions[0]: 'name' is required");
     fails(R"({"conditions": [{"name": "a", "time_limit_s": -2}], )" + blocks + "}",
@@ -163,10 +174,22 @@ TEST_CASE("a design's refused keys: one line naming the key and what is allowed"
 }
 
 TEST_CASE("a design is told from a plan by its top-level 'conditions' key") {
-    CHECK(study::isDesignText(R"({"conditions": [], "blocks": []})"));
-    CHECK_FALSE(study::isDesignText(R"({"trials": [{"cloud": "a"}]})"));
-    CHECK_FALSE(study::isDesignText("{not json"));
-    CHECK_FALSE(study::isDesignText("[1]"));
+    CHECK(study::isDesignText(R"({"conditions": [], "blocks": []})", "d.json"));
+    CHECK_FALSE(study::isDesignText(R"({"trials": [{"cloud": "a"}]})", "d.json"));
+    CHECK_FALSE(study::isDesignText("[1]", "d.json"));
+}
+
+TEST_CASE("a study file that is not strict JSON is reported as such, not taken for a plan") {
+    const auto error = [](const std::string& text) {
+        return test_support::errorOf([&] { study::isDesignText(text, "d.json"); });
+    };
+    CHECK(error("{not json").starts_with("study: d.json: JSON syntax error: "));
+    CHECK(error(R"({"conditions": [], "conditions": []})") ==
+          "study: d.json: duplicate key 'conditions'; allowed: each key once per object");
+    CHECK(error(R"({"conditions": [{"name": "a", "time_limit_s": NaN}]})")
+              .starts_with("study: d.json: JSON syntax error"));
+    CHECK(error(R"({"conditions": []} trailing)").starts_with("study: d.json: JSON syntax error"));
+    CHECK(error(std::string(1000, '[') + std::string(1000, ']')).find("nested deeper than") != std::string::npos);
 }
 
 TEST_CASE("Williams squares: positions and (even n) adjacent ordered pairs are balanced") {
@@ -309,7 +332,7 @@ TEST_CASE("a design's refused questionnaire keys: one line naming the key and wh
           "study: design.json: questionnaires.likert[0]: 'id' is required");
     fails(R"({"likert": [{"id": "a b", "statement": "s", "when": "post"}]})",
           "study: design.json: questionnaires.likert[0].id 'a b' is not a name of 1 to 40 letters, digits, '_', '-' "
-          "or '.'");
+          "or '.', not starting with '-'");
     fails(R"({"likert": [{"id": "a", "when": "post"}]})",
           "study: design.json: questionnaires.likert[0]: 'statement' is required");
     fails(R"({"likert": [{"id": "a", "statement": "", "when": "post"}]})",

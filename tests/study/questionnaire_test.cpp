@@ -98,4 +98,9 @@ TEST_CASE("questionnaires.csv's rows: the layout of study/instruments.hpp, text 
     CHECK(study::questionnaireRow("P01", q[6], "fine, \"thanks\"", 1.0) ==
           "P01,a,text,after_condition,remarks,\"fine, \"\"thanks\"\"\",1.000000");
     CHECK(study::questionnaireRow("P01", q[6], "", 1.0) == "P01,a,text,after_condition,remarks,,1.000000");
+    // A free-text answer is text in a spreadsheet, never a formula, and stays on its line.
+    CHECK(study::questionnaireRow("P01", q[6], "=HYPERLINK(\"http://x\")", 1.0) ==
+          "P01,a,text,after_condition,remarks,\"'=HYPERLINK(\"\"http://x\"\")\",1.000000");
+    CHECK(study::questionnaireRow("P01", q[6], "-1+1\n\x1b[2J", 1.0) ==
+          "P01,a,text,after_condition,remarks,'-1+1\\x0a\\x1b[2J,1.000000");
 }

@@ -61,7 +61,17 @@ TEST_CASE("trials.csv: malformed rows are refused with file, line, column and wh
     CHECK(errorOfTrials(kHeader + "1,demo.pcd,maybe,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,first,0\n") ==
           "T/trials.csv: line 2, column decision: 'maybe'; allowed confirm, no_target, timeout or quit");
     CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,-2,1,0,0,,P01,a,first,0\n") ==
-          "T/trials.csv: line 2, column time_to_decision_s: '-2'; allowed a number >= 0 (seconds)");
+          "T/trials.csv: line 2, column time_to_decision_s: '-2'; allowed a number 0 .. 1e9 (seconds)");
+    // The words name the bound the check uses.
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,1e308,1,0,0,,P01,a,first,0\n") ==
+          "T/trials.csv: line 2, column time_to_decision_s: '1e308'; allowed a number 0 .. 1e9 (seconds)");
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,2e12,1,1.5,2,1,0,0,,P01,a,first,0\n") ==
+          "T/trials.csv: line 2, column target_distance_m: '2e12'; allowed a number 0 .. 1e12 (metres) or empty");
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2,2000000000,0,0,,P01,a,first,0\n") ==
+          "T/trials.csv: line 2, column designations: '2000000000'; allowed a whole number 0 .. 1e9");
+    CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2,1,0,0,,P01,a,=1+2,0\n") ==
+          "T/trials.csv: line 2, column block: '=1+2'; allowed a block's name, 1 to 40 letters, digits, '_', '-' or "
+          "'.', not starting with '-'");
     CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2,1,0,0,1.5,P01,a,first,0\n") ==
           "T/trials.csv: line 2, column visibility_metric: '1.5'; allowed a number in [0, 1] or empty");
     CHECK(errorOfTrials(kHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2,1,0,0,,P01,a,,0\n") ==
@@ -161,6 +171,21 @@ TEST_CASE("session folders: different designs and a participant twice are refuse
           "study report: " + (d / "trials.csv").string() +
               ": line 2, column participant: 'P09'; allowed 'P01', as "
               "study.json");
+    // The participant's id goes into every table: the design's rules, checked on reading.
+    for (const std::string bad : {"=1+2", "<img src=x onerror=alert(1)>", "-P1", ""}) {
+        CAPTURE(bad);
+        dir.write("D/study.json", "{\"design\": \"/d.json\", \"design_sha256\": \"aaaa\", \"participant\": \"" + bad +
+                                      "\", \"condition_order\": [\"b\", \"a\"], \"order\": []}");
+        CHECK(test_support::errorOf([&] { study::readStudyResults({d}); }) ==
+              "study report: " + (d / "study.json").string() + ": participant '" + bad +
+                  "' is not an id of 1 to 40 letters, digits, '_', '-' or '.', not starting with '-'; allowed: the "
+                  "folder of a `ladarvr study DESIGN.json --participant P` session");
+    }
+    dir.write("D/study.json",
+              "{\"design\": \"/d.json\", \"design_sha256\": \"aaaa\", \"participant\": \"P01\", "
+              "\"condition_order\": [\"b\", \"@a\"], \"order\": []}");
+    CHECK(test_support::errorOf([&] { study::readStudyResults({d}); }).find("condition_order holds '@a'; allowed") !=
+          std::string::npos);
     dir.write("D/study.json", "{\"plan\": \"/p.json\", \"order\": [0]}");
     CHECK(test_support::errorOf([&] { study::readStudyResults({d}); }).find("not a design's session") !=
           std::string::npos);

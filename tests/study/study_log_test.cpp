@@ -158,10 +158,39 @@ TEST_CASE("a trace that exists already is not overwritten and the error is kept"
     CHECK(lines(dir.path / "trace_1.csv") == std::vector<std::string>{"someone else's"});
 }
 
-TEST_CASE("csv text is quoted only when it must be") {
-    CHECK(study::csvText("a.pcd") == "a.pcd");
-    CHECK(study::csvText("a,b") == "\"a,b\"");
-    CHECK(study::csvText("say \"x\"") == "\"say \"\"x\"\"\"");
+TEST_CASE("trials.csv and candidates.csv: text cells cannot become formulas or steer a terminal") {
+    test_support::TempDir dir("study_log_cells");
+    study::StudyLog log(
+        dir.path,
+        [](int) {
+            study::TrialInfo info;
+            info.source = "=HYPERLINK(\"http://x\",\"a\x1b[2J\u202e.pcd\")";
+            info.participant = "P01";
+            info.condition = "edl";
+            info.block = "b1";
+            return info;
+        },
+        1.0);
+    log.addDesignColumns();
+    log.onStart(0);
+    core::Candidate c;
+    c.id = "@SUM(1)";
+    c.score = -0.5;
+    log.onVerdict(0, 0.7, c, viewer::Verdict::Rejected);
+    viewer::TrialOutcome o;
+    o.decision = viewer::Decision::NoTarget;
+    o.designated_world = glm::dvec3(-1.5, 2.0, -3.0);
+    o.time_to_decision_s = 2.0;
+    log.onEnd(0, o);
+    const auto rows = lines(dir.path / "trials.csv");
+    REQUIRE(rows.size() == 2);
+    // The cloud's name: a leading ', escapes for ESC and U+202E; numbers stay numbers.
+    CHECK(rows[1] ==
+          "1,\"'=HYPERLINK(\"\"http://x\"\",\"\"a\\x1b[2J\\u202e.pcd\"\")\",no_target,-1.500000,2.000000,-3.000000,,,,"
+          "2.000000,0,0,0.000000,,P01,edl,b1,0");
+    const auto candidates = lines(dir.path / "candidates.csv");
+    REQUIRE(candidates.size() == 2);
+    CHECK(candidates[1] == "1,'@SUM(1),-0.500000,rejected,0.700000");
 }
 
 TEST_CASE("a trace sample becomes a row and back, mode, scale and hit kept") {

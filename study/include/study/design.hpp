@@ -110,10 +110,18 @@ inline constexpr std::size_t kMaxConditions = 26;
 inline constexpr std::size_t kMaxPermutationConditions = 8;  // 8! = 40320 orders
 inline constexpr std::size_t kMaxParticipants = 10000;
 
+/// Whether `s` may name a condition, a block, a questionnaire item or a participant:
+/// kStudyNameRule. Such names are written into study.json and the CSV files as they are
+/// (never starting with '-', no cell of them reads as a formula in a spreadsheet) and are
+/// checked again wherever a session's files are read back.
+bool isStudyName(std::string_view s);
+inline constexpr std::string_view kStudyNameRule = "1 to 40 letters, digits, '_', '-' or '.', not starting with '-'";
+
 /// A study file is a design when its top level is an object with a `conditions` key (a
-/// plan has `trials` instead). False for anything that does not parse: readPlan then
-/// reports what is wrong.
-bool isDesignText(std::string_view text);
+/// plan has `trials` instead). Text that is not strict JSON (study/plan.hpp's rules) is
+/// neither: throws core::Error("study: <name>: ...") naming what is wrong, so that is what
+/// the user reads rather than a guess at the file's kind.
+bool isDesignText(std::string_view text, const std::string& name);
 
 /// Parses design text; relative paths are taken from `base`. Throws core::Error("study:
 /// <name>: conditions[1].colour 'hue' is not one of file, height, white, label,

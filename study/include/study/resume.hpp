@@ -27,7 +27,7 @@ struct ResumePoint {
 /// The largest trials.csv or candidates.csv read back.
 inline constexpr std::size_t kMaxResumeCsvBytes = std::size_t(64) << 20;
 
-/// Splits one CSV line into its fields (RFC 4180 quoting, as csvText writes it). Throws
+/// Splits one CSV line into its fields (RFC 4180 quoting, as csvCell writes it). Throws
 /// core::Error("<where>: an unclosed quote") on a malformed line.
 std::vector<std::string> splitCsvLine(const std::string& line, const std::string& where);
 

@@ -8,8 +8,8 @@
 //                    io/trace_file.hpp)
 //   questionnaires.csv  a design session's answers, one row per answer, replaced
 //                    atomically at each answer (study/instruments.hpp has its layout)
-// Columns: viewer/trial.hpp; meanings: docs/study.md. Trials are numbered 1.. in the
-// order they ran.
+// Columns: viewer/trial.hpp; meanings: docs/study.md; text cells: study/csv_cell.hpp.
+// Trials are numbered 1.. in the order they ran.
 #pragma once
 #include <viewer/trial.hpp>
 
@@ -98,9 +98,5 @@ class StudyLog : public viewer::TrialObserver {
 /// A frame of the viewer's trace as a row of trace_<N>.csv, and back.
 io::TraceRow toTraceRow(const viewer::TraceSample& sample);
 viewer::TraceSample toTraceSample(const io::TraceRow& row);
-
-/// Formats a CSV field: numbers as given, text quoted when it holds a comma, quote or
-/// line break (RFC 4180).
-std::string csvText(const std::string& text);
 
 }  // namespace study
