@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -67,8 +68,19 @@ bool sameFields(const core::CloudFields& a, const core::CloudFields& b) {
            a.scan_angle == b.scan_angle && a.height_above_ground == b.height_above_ground;
 }
 
-// `index --check FILE`: the COPC rules (io::checkCopc), one line on stdout per broken rule,
-// exit 1 when any is broken; a valid file says so with its node and point counts.
+// "N rules broken" for the distinct rules of `findings`, with the lines they take on stdout
+// when a rule has several (io::checkCopc gives one per finding, up to 20 a rule and a line
+// counting the rest).
+std::string brokenRules(const std::vector<io::CopcFinding>& findings) {
+    std::set<std::string> rules;
+    for (const io::CopcFinding& f : findings) rules.insert(f.rule);
+    std::string s = std::to_string(rules.size()) + (rules.size() == 1 ? " rule" : " rules") + " broken";
+    if (findings.size() > rules.size()) s += " in " + std::to_string(findings.size()) + " lines";
+    return s;
+}
+
+// `index --check FILE`: the COPC rules (io::checkCopc), one line on stdout per finding,
+// exit 1 when any rule is broken; a valid file says so with its node and point counts.
 int check(const std::string& file) {
     platform::checkInputFile(file, "index: --check " + core::printable(file, 400) + ":");
     const std::vector<io::CopcFinding> findings = io::checkCopc(file);
@@ -79,8 +91,7 @@ int check(const std::string& file) {
     if (!findings.empty()) {
         std::fflush(stdout);
         platform::printMessage("error", "index --check: " + shown + ": not a valid COPC file (" +
-                                            std::to_string(findings.size()) + " rule" +
-                                            (findings.size() == 1 ? "" : "s") + " broken, listed on stdout)");
+                                            brokenRules(findings) + ", listed on stdout)");
         return 1;
     }
     const io::CopcReader reader(file);
@@ -158,8 +169,8 @@ void registerIndex(CLI::App& cli) {
     c->add_option("inputs", state->inputs, "the input clouds; they must carry the same fields");
     c->add_option("--out", state->out, "the COPC file to write, a name ending in .copc.laz");
     c->add_option("--check", state->check,
-                  "check FILE against the COPC 1.0 rules instead (one line per broken rule on stdout; exit 1 "
-                  "if any)");
+                  "check FILE against the COPC 1.0 rules instead (one line per finding on stdout; exit 1 "
+                  "if any rule is broken)");
     c->add_option("--threads", state->threads, "threads, 0 = all cores")->capture_default_str();
     c->add_option("--node-points", state->node_points,
                   "the most points a node of the octree holds: larger nodes make a smaller file, smaller ones let "

@@ -1,7 +1,7 @@
 // app/src/cmd_view.cpp: `ladarvr view [CLOUD | --scene S]`, the immersive viewer (paper §IV-A).
 //
 // A COPC file (a LAZ whose first VLR is COPC's info record) is read node by node by
-// viewer::CopcSource within --cache-mb; any other cloud file is streamed whole by the
+// viewer::CopcSource within --cache-mb (its hierarchy within --memory-mb); any other cloud file is streamed whole by the
 // viewer's own loader thread, unless it is large: then it is indexed into COPC first (into
 // the user's cache folder, view_index.hpp) and that index is read node by node. With no
 // file (or --scene) the
@@ -19,6 +19,7 @@
 #include <platform/cleanup.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
+#include <sim/memory_budget.hpp>
 #include <viewer/copc_source.hpp>
 #include <viewer/viewer.hpp>
 
@@ -156,6 +157,9 @@ int runView(const ViewArgs& a) {
         const std::filesystem::path file = copc ? std::filesystem::path(a.cloud) : indexed.copc;
         viewer::CopcSourceOptions copc_options;
         copc_options.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);
+        // --memory-mb bounds the hierarchy (its tree and the pages being read); the points
+        // held are --cache-mb's.
+        copc_options.hierarchy_bytes = sim::memoryBudgetBytes(a.memory_mb, "view");
         std::unique_ptr<viewer::CopcSource> opened;
         try {
             opened = std::make_unique<viewer::CopcSource>(file, copc_options);

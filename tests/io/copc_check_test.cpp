@@ -316,3 +316,26 @@ TEST_CASE("copc check: files that are not COPC give findings, never a crash") {
         }
     }
 }
+
+TEST_CASE("copc check: a cube too large to compute with is refused by its rule, with no nan") {
+    const std::size_t info = valid().info_at;
+    // A halfsize whose double overflows: every node's cube would be nan.
+    expectRule("info-values", {}, [&](std::string& b) { put<double>(b, info + 24, 1e308); });
+    // A cube past the world coordinates, on one axis.
+    expectRule("info-values", {}, [&](std::string& b) { put<double>(b, info + 8, 2e9); });
+    std::string b = valid().bytes;
+    put<double>(b, info + 24, 1e308);
+    const std::vector<io::CopcFinding> fs = checkBytes(b);
+    INFO("findings:" << shown(fs));
+    REQUIRE(fs.size() == 1);
+    CHECK(fs[0].message ==
+          "the info VLR's cube reaches x = 500064 +- 1e+308; allowed: |centre| + halfsize <= 1000000000 m (world "
+          "coordinates)");
+    for (const io::CopcFinding& f : fs) CHECK(f.message.find("nan") == std::string::npos);
+    // The reader refuses it too: no node of it is read with a cube of nan.
+    test_support::TempDir dir("copc_check_cube");
+    const std::filesystem::path p = dir.path / "t.copc.laz";
+    std::ofstream(p, std::ios::binary) << b;
+    CHECK(test_support::errorOf([&] { io::CopcReader r(p, io::CopcHierarchy::by_page); })
+              .find("info-values: the info VLR's cube reaches x") != std::string::npos);
+}

@@ -223,3 +223,36 @@ TEST_CASE("copc reader: by page, a broken child page gives one line when it is r
               self.readPage(self.pages()[0]);
           }).find("points to a child page for its own key") != std::string::npos);
 }
+
+TEST_CASE("copc reader: by page, a page of more entries than its bound is refused, naming both") {
+    test_support::TempDir dir("copc_reader_page_bound");
+    const copc_test::File f = copc_test::make();  // a root page of 6 entries, a child page of 3
+    const std::filesystem::path p = writeFile(dir, f.bytes);
+    const std::string m = test_support::errorOf([&] { io::CopcReader(p, io::CopcHierarchy::by_page, 5); });
+    CHECK(m == "copc: " + p.string() +
+                   ": hierarchy-page: the root hierarchy page has 6 entries; allowed at most 5 in one page (this "
+                   "reader's memory bound)");
+    // A child page is held to the same bound when it is read: the child page (last in the
+    // file) grown to 7 entries by empty nodes of its subtree.
+    std::string b = f.bytes;
+    for (const io::CopcKey& k : {io::CopcKey{2, 0, 2, 1}, {2, 1, 2, 0}, {2, 1, 2, 1}, {2, 0, 3, 0}})
+        b += copc_test::entry(k, 0, 0, 0);
+    copc_test::put<std::int32_t>(b, f.pointer_entry_at + 24, std::int32_t(f.child_page_size + 4 * 32));
+    copc_test::put<std::uint64_t>(b, f.evlr_at + 20, copc_test::get<std::uint64_t>(b, f.evlr_at + 20) + 4 * 32);
+    const std::filesystem::path q = dir.path / "grown.copc.laz";
+    std::ofstream(q, std::ios::binary) << b;
+    const io::CopcReader paged(q, io::CopcHierarchy::by_page, 6);
+    CHECK(test_support::errorOf([&] { paged.readPage(paged.pages()[0]); })
+              .find("page of 1-0-1-0: hierarchy-page: the page of 1-0-1-0 has 7 entries; allowed at most 6") !=
+          std::string::npos);
+    CHECK(io::CopcReader(q, io::CopcHierarchy::by_page, 7).readPage(paged.pages()[0]).empty_nodes.size() == 4);
+    // Within the bound, and read whole (no bound), the file opens.
+    CHECK(io::CopcReader(p, io::CopcHierarchy::by_page, 6).nodes().size() == 4);
+    CHECK(io::CopcReader(p, io::CopcHierarchy::whole, 1).nodes().size() == 7);
+}
+
+TEST_CASE("copc reader: the header's scale, the coordinates' step") {
+    test_support::TempDir dir("copc_reader_scale");
+    const io::CopcReader reader(writeFile(dir, copc_test::make().bytes), io::CopcHierarchy::by_page);
+    CHECK(reader.scale() == glm::dvec3(copc_test::kScale));
+}

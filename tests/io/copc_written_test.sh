@@ -75,6 +75,11 @@ grep -q "^index --check: .*broken.copc.laz: bounds-within-cube: " "$dir/broken.c
 grep -q "^index --check: .*broken.copc.laz: xyz: " "$dir/broken.check" ||
     fail "a moved cube: no xyz finding: $(cat "$dir/broken.check")"
 [ "$(wc -l <"$dir/broken.err")" -eq 1 ] || fail "a moved cube: stderr is not one line: $(cat "$dir/broken.err")"
+# The error line counts the distinct rules broken, and the lines they take on stdout.
+rules=$(sed 's/^index --check: .*broken.copc.laz: \([a-z-]*\): .*/\1/' "$dir/broken.check" | sort -u | wc -l)
+lines=$(wc -l <"$dir/broken.check")
+grep -q "not a valid COPC file ($rules rules broken in $lines lines, listed on stdout)" "$dir/broken.err" ||
+    fail "a moved cube: the error does not count $rules rules in $lines lines: $(cat "$dir/broken.err")"
 
 # Not COPC at all: a plain LAZ is refused by the info-VLR rule.
 "$bin" generate --xres 32 --yres 32 --views 4 --out "$dir/plain.laz" 2>/dev/null || fail "generate LAZ"

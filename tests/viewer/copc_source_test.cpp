@@ -231,3 +231,96 @@ TEST_CASE("copc source: several workers read the same pages and nodes as one") {
         }
     }
 }
+
+namespace {
+
+/// The hand-made file with its root page replaced: the page's first five entries (the
+/// nodes 0-0-0-0, 1-0-0-0, 1-1-0-0, 2-3-3-3 and the empty 1-1-1-1; no child page) and
+/// `extra` after them, the cube's halfsize set to `halfsize_m`.
+std::string withRootPage(const std::string& extra, double halfsize_m = copc_test::kHalf) {
+    const copc_test::File f = copc_test::make();
+    std::string b = f.bytes.substr(0, f.root_page_at + 5 * 32) + extra;
+    copc_test::put<std::uint64_t>(b, f.evlr_at + 20, 5 * 32 + extra.size());
+    copc_test::put<std::uint64_t>(b, f.info_at + 48, 5 * 32 + extra.size());
+    copc_test::put<double>(b, f.info_at + 24, halfsize_m);
+    return b;
+}
+
+/// `n` entries of level `level`, their keys spread over the level so that their ancestors
+/// differ below the first few levels; with no points, or each with the first node's chunk.
+std::string spreadEntries(int n, int level, bool with_points) {
+    const copc_test::File f = copc_test::make();
+    const copc_test::Node& chunk = f.nodes[0];
+    // Odd multipliers modulo 2^level: distinct keys, their high bits (the ancestors) mixed.
+    const std::uint64_t mask = (std::uint64_t(1) << level) - 1;
+    std::string out;
+    for (int i = 0; i < n; ++i) {
+        const std::uint64_t u = std::uint64_t(i);
+        const io::CopcKey k{level, std::int32_t((u * 0x9E3779B1u) & mask), std::int32_t((u * 0x85EBCA77u) & mask),
+                            std::int32_t((u * 0xC2B2AE3Du) & mask)};
+        out += with_points ? copc_test::entry(k, chunk.chunk_at, std::int32_t(chunk.chunk_bytes),
+                                              std::int32_t(chunk.points.size()))
+                           : copc_test::entry(k, 0, 0, 0);
+    }
+    return out;
+}
+
+// A cube 2^13 times wider than the hand-made one: at a scale of 1 mm its cells resolve all
+// 30 levels of COPC's keys.
+constexpr double kWideHalf_m = copc_test::kHalf * 8192.0;
+
+}  // namespace
+
+TEST_CASE("copc source: entries with no points make no nodes, however many and deep") {
+    test_support::TempDir dir("copc_source_empty");
+    CopcSourceOptions o;
+    o.quiet = true;
+    CopcSource s(writeFile(dir, withRootPage(spreadEntries(20000, 30, false), kWideHalf_m)), o);
+    // The four nodes with points and 1-1-1-1 above 2-3-3-3; not one node per empty entry
+    // and its ancestors (about 27 each).
+    CHECK(s.nodeCount() == 5);
+    CHECK(s.stats()->hierarchy_bytes < 4096);
+}
+
+TEST_CASE("copc source: a root page past the hierarchy's bound is refused in one line") {
+    test_support::TempDir dir("copc_source_bound");
+    // 750 nodes with points at level 30 make about 27 nodes each; 4 MiB holds a few
+    // thousand nodes, and pages of at most 819 entries with one worker.
+    const std::filesystem::path p = writeFile(dir, withRootPage(spreadEntries(750, 30, true), kWideHalf_m));
+    CopcSourceOptions o;
+    o.quiet = true;
+    o.workers = 1;
+    o.hierarchy_bytes = std::size_t(4) << 20;
+    const std::string m = test_support::errorOf([&] { CopcSource s(p, o); });
+    INFO(m);
+    CHECK(m.rfind("copc: " + p.string() + ": the root hierarchy page: its 754 entries with points or child pages "
+                                          "would take the tree past ",
+                  0) == 0);
+    CHECK(m.find("allowed the hierarchy's 4 MiB (--memory-mb)") != std::string::npos);
+    CHECK(m.find('\n') == std::string::npos);
+    // A page of more entries than a quarter of the bound holds is refused by the reader
+    // before its nodes are counted.
+    const std::filesystem::path q = writeFile(dir, withRootPage(spreadEntries(2000, 30, true), kWideHalf_m));
+    const std::string big = test_support::errorOf([&] { CopcSource s(q, o); });
+    CHECK(big.find("hierarchy-page: the root hierarchy page has 2005 entries; allowed at most 819 in one page") !=
+          std::string::npos);
+    // Within the default bound the same file opens, its tree counted in full.
+    o.hierarchy_bytes = CopcSourceOptions{}.hierarchy_bytes;
+    CopcSource s(p, o);
+    CHECK(s.nodeCount() > 750 * 20);
+    CHECK(s.stats()->hierarchy_bytes <= o.hierarchy_bytes);
+}
+
+TEST_CASE("copc source: nodes below the levels the cube resolves are refused") {
+    test_support::TempDir dir("copc_source_depth");
+    // A cube of halfsize 64 m at a scale of 1 mm: level 17's cells are under 1 mm wide.
+    CopcSourceOptions o;
+    o.quiet = true;
+    CopcSource ok(writeFile(dir, withRootPage(spreadEntries(1, 17, true))), o);
+    CHECK(ok.nodeCount() == 5 + 16);  // 2-0-0-0 to 17-0-0-0 below 1-0-0-0
+    const std::filesystem::path p = writeFile(dir, withRootPage(spreadEntries(1, 18, true)));
+    const std::string m = test_support::errorOf([&] { CopcSource s(p, o); });
+    CHECK(m == "copc: " + p.string() +
+                   ": the root hierarchy page: node 18-0-0-0 is at level 18; allowed levels 0 to 17 (deeper cells of "
+                   "its cube of halfsize 64 m are narrower than the file's coordinate step)");
+}

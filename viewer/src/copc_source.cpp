@@ -10,10 +10,12 @@
 #include <platform/safe_file.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <condition_variable>
 #include <deque>
 #include <exception>
 #include <mutex>
+#include <set>
 #include <thread>
 #include <utility>
 
@@ -28,6 +30,24 @@ constexpr std::size_t kMaxWaiting = 4;
 std::size_t residentBytes(const NodePoints& p) {
     return sizeof(NodePoints) + p.points.capacity() * sizeof(core::CloudPoint) + p.cells.capacity() * sizeof(LodCell);
 }
+
+/// What reading a hierarchy page holds per 32-byte entry until its nodes join the tree:
+/// the page's bytes, the reader's map of the keys seen and the entry lists handed back
+/// (each list up to twice its length while it grows), rounded up.
+constexpr std::size_t kPageEntryBytes = 256;
+
+/// The deepest level a COPC key may have for a cube of `halfsize_m` whose coordinates step
+/// by `scale_m`: the first level whose cells are at most one step wide. A cell that narrow
+/// holds one coordinate per axis, so no level below it can separate points.
+int resolvedLevels(double halfsize_m, double scale_m) {
+    const double cells = 2.0 * halfsize_m / scale_m;
+    if (!(cells > 1.0)) return 0;
+    return static_cast<int>(std::min(30.0, std::ceil(std::log2(cells))));
+}
+
+io::CopcKey parentKey(const io::CopcKey& k) { return {k.level - 1, k.x >> 1, k.y >> 1, k.z >> 1}; }
+
+std::string mib(std::size_t bytes) { return core::shownNumber(double(bytes) / 1048576.0, 4); }
 
 }  // namespace
 
@@ -64,6 +84,11 @@ class CopcTreeNode final : public PointNode {
     bool page_failed = false;  // its page did not read: its subtree stays unknown
 };
 
+/// What one node of the tree takes: the node, its slot in the source's list and in its
+/// parent's child list (each list up to twice its length while it grows), and the
+/// allocator's header.
+constexpr std::size_t kTreeNodeBytes = sizeof(CopcTreeNode) + 4 * sizeof(void*) + 16;
+
 struct CopcSource::Impl {
     std::unique_ptr<io::CopcReader> reader;
     std::string file;
@@ -73,6 +98,8 @@ struct CopcSource::Impl {
     io::CopcInfo info;
     std::vector<std::unique_ptr<CopcTreeNode>> nodes;
     std::vector<PointNode*> roots;
+    int max_level = 30;             // keys below it cannot separate points (resolvedLevels)
+    std::size_t max_nodes = 0;      // the tree's share of options.hierarchy_bytes
     std::size_t total_points = 0;
     std::size_t pages_wanted = 0;  // unexplored nodes the last selection reached
     // Frame thread only.
@@ -177,7 +204,7 @@ struct CopcSource::Impl {
         CopcTreeNode* parent = nullptr;
         std::vector<PointNode*>* siblings = &roots;
         if (k.level > 0) {
-            parent = ensure(io::CopcKey{k.level - 1, k.x >> 1, k.y >> 1, k.z >> 1});
+            parent = ensure(parentKey(k));
             siblings = &parent->children_;
         }
         for (PointNode* c : *siblings)
@@ -192,16 +219,73 @@ struct CopcSource::Impl {
         return nodes.back().get();
     }
 
-    /// Adds one page's entries to the tree: its nodes with their chunks and counts, its
-    /// empty nodes, and its child pages as unexplored nodes. An entry for a node already
-    /// described (a page that repeats another's keys) is ignored.
+    /// The level of the deepest node the tree has on the way to `k` (`k`'s own when it
+    /// has it); -1 when it has no root yet.
+    int deepestKnown(const io::CopcKey& k) const {
+        const PointNode* at = nullptr;
+        for (PointNode* r : roots)
+            if (static_cast<const CopcTreeNode*>(r)->key() == io::CopcKey{}) at = r;
+        if (!at) return -1;
+        for (int level = 1; level <= k.level; ++level) {
+            const int up = k.level - level;
+            const io::CopcKey a{level, k.x >> up, k.y >> up, k.z >> up};
+            const PointNode* next = nullptr;
+            for (PointNode* c : at->children())
+                if (static_cast<const CopcTreeNode*>(c)->key() == a) next = c;
+            if (!next) return level - 1;
+            at = next;
+        }
+        return k.level;
+    }
+
+    /// Why the page `where` (its entries `e`) cannot join the tree, or empty when it can: a
+    /// node with points or a child page below the levels the cube resolves, or more nodes
+    /// than the tree's bound allows. Counts the nodes the page would add (its keys and the
+    /// keys above them the tree lacks) without making them, stopping past the bound, so a
+    /// page refused costs no more than the bound.
+    std::string refusal(const io::CopcPageEntries& e, const std::string& where) const {
+        const auto too_deep = [&](const io::CopcKey& k, const char* what) {
+            return where + ": " + what + " " + keyText(k) + " is at level " + std::to_string(k.level) +
+                   "; allowed levels 0 to " + std::to_string(max_level) + " (deeper cells of its cube of halfsize " +
+                   core::shownNumber(info.halfsize_m, 10) + " m are narrower than the file's coordinate step)";
+        };
+        for (const io::CopcNode& c : e.nodes)
+            if (c.key.level > max_level) return too_deep(c.key, "node");
+        for (const io::CopcPage& p : e.pages)
+            if (p.key.level > max_level) return too_deep(p.key, "the child page of");
+        const std::size_t room = max_nodes > nodes.size() ? max_nodes - nodes.size() : 0;
+        std::set<io::CopcKey> fresh;  // at most `room` + 31 keys: the count stops past the bound
+        const auto add = [&](const io::CopcKey& k) {
+            const int known = deepestKnown(k);
+            for (io::CopcKey a = k; a.level > known; a = parentKey(a))
+                if (!fresh.insert(a).second) break;
+            return fresh.size() <= room;
+        };
+        bool fits = true;
+        for (std::size_t i = 0; fits && i < e.nodes.size(); ++i) fits = add(e.nodes[i].key);
+        for (std::size_t i = 0; fits && i < e.pages.size(); ++i) fits = add(e.pages[i].key);
+        if (fits) return {};
+        return where + ": its " + std::to_string(e.nodes.size() + e.pages.size()) +
+               " entries with points or child pages would take the tree past " + std::to_string(max_nodes) +
+               " nodes (" + std::to_string(nodes.size()) + " held, " + std::to_string(kTreeNodeBytes) +
+               " bytes each); allowed the hierarchy's " + mib(options.hierarchy_bytes) + " MiB (--memory-mb)";
+    }
+
+    static std::string keyText(const io::CopcKey& k) {
+        return std::to_string(k.level) + "-" + std::to_string(k.x) + "-" + std::to_string(k.y) + "-" +
+               std::to_string(k.z);
+    }
+
+    /// Adds one page's entries to the tree: its nodes with their chunks and counts, and
+    /// its child pages as unexplored nodes (refusal() said they fit). An entry with no
+    /// points makes no node: a node exists only on the way to points or to a page. An
+    /// entry for a node already described (a page that repeats another's keys) is ignored.
     void addPage(const io::CopcPageEntries& e) {
         for (const io::CopcNode& c : e.nodes) {
             CopcTreeNode* n = ensure(c.key);
             if (n->entry.point_count != 0 || n->page.bytes > 0) continue;
             n->entry = c;
         }
-        for (const io::CopcKey& k : e.empty_nodes) ensure(k);
         for (const io::CopcPage& p : e.pages) {
             CopcTreeNode* n = ensure(p.key);
             if (n->entry.point_count != 0 || n->page.bytes > 0) continue;
@@ -210,11 +294,7 @@ struct CopcSource::Impl {
         }
         ++stats.pages_read;
         stats.nodes = nodes.size();
-        // The tree as held: the nodes, their child lists and the root list.
-        stats.hierarchy_bytes =
-            nodes.capacity() * sizeof(std::unique_ptr<CopcTreeNode>) + roots.capacity() * sizeof(PointNode*);
-        for (const auto& n : nodes)
-            stats.hierarchy_bytes += sizeof(CopcTreeNode) + n->children_.capacity() * sizeof(PointNode*);
+        stats.hierarchy_bytes = nodes.size() * kTreeNodeBytes;
     }
 
     /// Makes room for `bytes` by evicting the least recently wanted resident nodes the
@@ -242,15 +322,25 @@ CopcSource::CopcSource(const std::filesystem::path& file, const CopcSourceOption
     Impl& m = *impl_;
     m.options = options;
     m.file = file.string();
-    m.reader = std::make_unique<io::CopcReader>(file, io::CopcHierarchy::by_page);
+    const std::size_t workers = std::max<std::size_t>(1, options.workers);
+    // The hierarchy's bound: a quarter for the pages being read at once (one per worker
+    // and those waiting for poll()), the rest for the tree.
+    const std::size_t page_entries = std::max<std::size_t>(
+        1, options.hierarchy_bytes / 4 / (workers + kMaxWaiting) / kPageEntryBytes);
+    m.max_nodes = (options.hierarchy_bytes - options.hierarchy_bytes / 4) / kTreeNodeBytes;
+    m.reader = std::make_unique<io::CopcReader>(file, io::CopcHierarchy::by_page, page_entries);
     m.origin = m.reader->origin();  // every node's points come in this frame
     m.info = m.reader->info();
+    const glm::dvec3 scale = m.reader->scale();
+    m.max_level = resolvedLevels(m.info.halfsize_m, std::min({scale.x, scale.y, scale.z}));
     m.total_points = std::size_t(m.reader->pointCount());
     m.stats.kind = "copc";
     m.stats.cache_bytes = options.cache_bytes;
+    const io::CopcPageEntries root{m.reader->nodes(), {}, m.reader->pages()};
+    const std::string refused = m.refusal(root, "copc: " + core::printable(m.file, 400) + ": the root hierarchy page");
+    if (!refused.empty()) throw core::Error(refused);
     m.ensure(io::CopcKey{});
-    m.addPage({m.reader->nodes(), m.reader->emptyNodes(), m.reader->pages()});
-    const std::size_t workers = std::max<std::size_t>(1, options.workers);
+    m.addPage(root);
     for (std::size_t w = 0; w < workers; ++w) m.workers.emplace_back([&m] { m.work(); });
 }
 
@@ -321,6 +411,16 @@ std::size_t CopcSource::poll() {
                 if (!m.options.quiet)
                     platform::printMessage("warning",
                                            "view: " + d.error + " (the nodes below it are skipped, the rest is drawn)");
+                continue;
+            }
+            const std::string refused = m.refusal(d.entries, "copc: " + core::printable(m.file, 400) + ": the page of " +
+                                                                 Impl::keyText(n->key()));
+            if (!refused.empty()) {
+                n->page_failed = true;
+                ++m.stats.pages_failed;
+                if (!m.options.quiet)
+                    platform::printMessage("warning",
+                                           "view: " + refused + " (the nodes below it are skipped, the rest is drawn)");
                 continue;
             }
             n->page = {};

@@ -87,8 +87,12 @@ std::vector<CopcFinding> checkCopc(const std::filesystem::path& file);
 class CopcReader {
   public:
     /// Opens and validates the header, the info VLR and the hierarchy (all of it, or by
-    /// page the root page); throws core::Error naming the file and what is wrong.
-    explicit CopcReader(const std::filesystem::path& file, CopcHierarchy hierarchy = CopcHierarchy::whole);
+    /// page the root page); throws core::Error naming the file and what is wrong. By page,
+    /// `page_entries_max` (0: no bound) bounds what one page read holds: a page of more
+    /// entries is refused (the root page here, a child page by readPage), naming its
+    /// entries and the bound.
+    explicit CopcReader(const std::filesystem::path& file, CopcHierarchy hierarchy = CopcHierarchy::whole,
+                        std::uint64_t page_entries_max = 0);
     ~CopcReader();
     CopcReader(const CopcReader&) = delete;
     CopcReader& operator=(const CopcReader&) = delete;
@@ -103,6 +107,8 @@ class CopcReader {
     /// Reads and checks one child page (one of pages() or of an earlier readPage's); throws
     /// core::Error naming the file, the page and what is wrong.
     CopcPageEntries readPage(const CopcPage& page) const;
+    /// The header's scale factors: the step of the coordinates, metres.
+    glm::dvec3 scale() const;
     /// The points in the file's header (known without reading a hierarchy page).
     std::uint64_t pointCount() const;
     /// The local frame readNode's points come in (the LAS reader's: whole metres near the

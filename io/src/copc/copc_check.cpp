@@ -215,7 +215,7 @@ std::vector<CopcFinding> checkCopc(const std::filesystem::path& file) {
             min[k] = std::min<std::int64_t>(min[k], st.min[k]);
             max[k] = std::max<std::int64_t>(max[k], st.max[k]);
         }
-        if (st.outside > 0) {
+        if (st.outside > 0 && detail::cubeUsable(l.info)) {  // else info-values says why
             glm::dvec3 lo, hi;
             detail::nodeCube(l.info, node.key, lo, hi);
             f.push_back({"xyz", name + ": " + n2s(st.outside) + " of its " + n2s(st.points) +

@@ -6,6 +6,7 @@
 #include "../las/laz_chunk_table.hpp"
 
 #include <core/error.hpp>
+#include <core/frames.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -423,13 +424,25 @@ class Parser {
             finding("info-values", "the info VLR's centre is not finite");
         if (!(std::isfinite(i.halfsize_m) && i.halfsize_m > 0.0))
             finding("info-values", "the info VLR's halfsize " + num(i.halfsize_m) + "; allowed: finite and > 0");
+        else
+            for (int k = 0; k < 3; ++k)
+                if (std::isfinite(i.center_m[std::size_t(k)]) &&
+                    !(std::abs(i.center_m[std::size_t(k)]) + i.halfsize_m <= core::kMaxWorldCoordinate_m)) {
+                    finding("info-values", std::string("the info VLR's cube reaches ") + "xyz"[k] + " = " +
+                                               num(i.center_m[std::size_t(k)]) + " +- " + num(i.halfsize_m) +
+                                               "; allowed: |centre| + halfsize <= " +
+                                               num(core::kMaxWorldCoordinate_m) + " m (world coordinates)");
+                    break;
+                }
         if (!(std::isfinite(i.spacing_m) && i.spacing_m > 0.0))
             finding("info-values", "the info VLR's spacing " + num(i.spacing_m) + "; allowed: finite and > 0");
         if (!(std::isfinite(i.gpstime_minimum) && std::isfinite(i.gpstime_maximum) &&
               i.gpstime_minimum <= i.gpstime_maximum))
             finding("info-values", "the info VLR's GPS time range " + num(i.gpstime_minimum) + " to " +
                                        num(i.gpstime_maximum) + " is not finite and ordered");
-        // The cube must hold the header's bounds (one scale unit of slack for rounding).
+        // The cube must hold the header's bounds (one scale unit of slack for rounding);
+        // a cube that is not usable has its own finding above.
+        if (!cubeUsable(i)) return;
         for (int k = 0; k < 3; ++k) {
             const double lo = i.center_m[std::size_t(k)] - i.halfsize_m - l_.scale[k];
             const double hi = i.center_m[std::size_t(k)] + i.halfsize_m + l_.scale[k];
@@ -554,6 +567,12 @@ class Parser {
                 finding("hierarchy-page", where + " (bytes " + n2s(p.at) + " to " + n2s(p.at + p.size) +
                                               ") is not inside the hierarchy EVLR's bytes " + n2s(hier_at_) + " to " +
                                               n2s(hier_at_ + hier_size_));
+                hierarchy_ok_ = false;
+                continue;
+            }
+            if (l_.page_entries_max > 0 && p.size / kEntrySize > l_.page_entries_max) {
+                finding("hierarchy-page", where + " has " + n2s(p.size / kEntrySize) + " entries; allowed at most " +
+                                              n2s(l_.page_entries_max) + " in one page (this reader's memory bound)");
                 hierarchy_ok_ = false;
                 continue;
             }
@@ -741,6 +760,7 @@ bool parseCopcPage(ByteSource& source, const CopcLayout& layout, const CopcPage&
     l.info = layout.info;
     l.hier_at = layout.hier_at;
     l.hier_size = layout.hier_size;
+    l.page_entries_max = layout.page_entries_max;
     const bool ok = Parser(source, l, findings).childPage(page);
     entries.nodes = std::move(l.nodes);
     entries.empty_nodes = std::move(l.empty_nodes);
@@ -751,6 +771,13 @@ bool parseCopcPage(ByteSource& source, const CopcLayout& layout, const CopcPage&
 std::string keyName(const CopcKey& key) {
     return std::to_string(key.level) + "-" + std::to_string(key.x) + "-" + std::to_string(key.y) + "-" +
            std::to_string(key.z);
+}
+
+bool cubeUsable(const CopcInfo& info) {
+    if (!(std::isfinite(info.halfsize_m) && info.halfsize_m > 0.0)) return false;
+    for (const double c : info.center_m)
+        if (!(std::abs(c) + info.halfsize_m <= core::kMaxWorldCoordinate_m)) return false;
+    return true;
 }
 
 void nodeCube(const CopcInfo& info, const CopcKey& key, glm::dvec3& lo, glm::dvec3& hi) {

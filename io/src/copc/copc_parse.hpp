@@ -48,6 +48,7 @@ struct CopcLayout {
     std::vector<CopcKey> empty_nodes;          // entries with no points
     std::uint64_t hier_at = 0, hier_size = 0;  // the hierarchy record's bytes
     std::vector<CopcPage> pages;               // by page: the root page's child pages, not read
+    std::uint64_t page_entries_max = 0;        // by page: a page of more entries is refused (0: no bound)
 };
 
 /// Reads the layout of the COPC file in `source` within bounded memory (the hierarchy's
@@ -75,7 +76,12 @@ std::string nodeLaz(ByteSource& source, const CopcLayout& layout, const CopcNode
 /// "level-x-y-z", as COPC and EPT name nodes.
 std::string keyName(const CopcKey& key);
 
-/// The node's cube in world coordinates: min and max corners.
+/// Whether the info VLR's cube can be computed with: a finite halfsize > 0, and centre +-
+/// halfsize within the world coordinates (|c| + halfsize <= core::kMaxWorldCoordinate_m on
+/// each axis), so that every node's cube is finite.
+bool cubeUsable(const CopcInfo& info);
+
+/// The node's cube in world coordinates: min and max corners (finite when cubeUsable).
 void nodeCube(const CopcInfo& info, const CopcKey& key, glm::dvec3& lo, glm::dvec3& hi);
 
 }  // namespace io::detail

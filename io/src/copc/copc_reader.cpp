@@ -37,9 +37,11 @@ bool readable(const CopcFinding& f) {
 
 }  // namespace
 
-CopcReader::CopcReader(const std::filesystem::path& file, CopcHierarchy hierarchy) : impl_(std::make_unique<Impl>()) {
+CopcReader::CopcReader(const std::filesystem::path& file, CopcHierarchy hierarchy, std::uint64_t page_entries_max)
+    : impl_(std::make_unique<Impl>()) {
     impl_->prefix = "copc: " + file.string();
     impl_->source = detail::fileSource(file, "copc");
+    if (hierarchy == CopcHierarchy::by_page) impl_->layout.page_entries_max = page_entries_max;
     std::vector<CopcFinding> findings;
     const bool ok = detail::parseCopc(*impl_->source, impl_->layout, findings, hierarchy);
     findings.erase(std::remove_if(findings.begin(), findings.end(), readable), findings.end());
@@ -60,6 +62,8 @@ const std::vector<CopcKey>& CopcReader::emptyNodes() const { return impl_->layou
 const std::vector<CopcPage>& CopcReader::pages() const { return impl_->layout.pages; }
 
 std::uint64_t CopcReader::pointCount() const { return impl_->layout.count; }
+
+glm::dvec3 CopcReader::scale() const { return impl_->layout.scale; }
 
 CopcPageEntries CopcReader::readPage(const CopcPage& page) const {
     CopcPageEntries entries;

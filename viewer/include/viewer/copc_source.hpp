@@ -1,11 +1,12 @@
 // viewer/copc_source.hpp: a COPC file (io/copc.hpp) as a point source, node by node.
 //
-// The nodes are the file's octree: every key of the hierarchy (and the keys above them),
-// its bounds the key's cube, its point count the hierarchy's. Opening the file reads the
-// root hierarchy page alone (its levels; the writer's pages hold four), so a file of any
-// size opens in a few kilobytes: a node whose subtree sits in a child page is unexplored
-// until a selection reaches it, and its page is then read by a worker before any node,
-// the subtree joining the tree on the frame thread. No point is decoded until a node is
+// The nodes are the file's octree: every key of the hierarchy that holds points or a child
+// page (and the keys above them), its bounds the key's cube, its point count the
+// hierarchy's. Opening the file reads the root hierarchy page alone (its levels; the
+// writer's pages hold four), so a file of any size opens in a few kilobytes: a node whose
+// subtree sits in a child page is unexplored until a selection reaches it, and its page
+// is then read by a worker before any node, the subtree joining the tree on the frame
+// thread. No point is decoded until a node is
 // wanted. Each frame the loop hands select() the last frame's view; the nodes it picks
 // (node_selection.hpp) within the point budget, the cache and the renderer's GPU arena are
 // queued for the worker threads (CopcSourceOptions::workers), which decode them
@@ -16,6 +17,14 @@
 // resident stays drawn (coarse nodes until their children arrive). A node whose chunk
 // does not decode is skipped for good with one warning line, and its children are still
 // read; a page that does not read leaves its subtree out, with one warning line.
+//
+// The hierarchy is bounded as the cache is (`hierarchy_bytes`, the viewer's --memory-mb):
+// a quarter of it for the pages being read at once (a larger page is refused by the
+// reader), the rest for the tree, counted before a page's nodes are made. An entry with no
+// points makes no node, and keys below the level whose cells are one coordinate step
+// wide (they cannot separate points) are refused. A root page that does not fit refuses
+// the file in one line; a child page that does not fit is left out like one that does
+// not read.
 #pragma once
 #include <viewer/point_source.hpp>
 
@@ -31,6 +40,8 @@ std::size_t defaultCopcWorkers();
 
 struct CopcSourceOptions {
     std::size_t cache_bytes = std::size_t(512) << 20;  // resident node points at most
+    /// The hierarchy at most: the tree's nodes and the pages being read (--memory-mb).
+    std::size_t hierarchy_bytes = std::size_t(512) << 20;
     bool quiet = false;                                // no warning lines
     std::size_t workers = defaultCopcWorkers();        // threads reading pages and decoding nodes
 };
@@ -38,7 +49,8 @@ struct CopcSourceOptions {
 class CopcSource final : public PointSource {
   public:
     /// Opens `file` (io::CopcReader: header, info and the root hierarchy page) and starts
-    /// the workers. Throws core::Error naming the file and what is wrong.
+    /// the workers. Throws core::Error naming the file and what is wrong, among it a root
+    /// page whose entries or nodes do not fit `hierarchy_bytes` (the count and the bound).
     CopcSource(const std::filesystem::path& file, const CopcSourceOptions& options);
     ~CopcSource() override;
     CopcSource(const CopcSource&) = delete;
