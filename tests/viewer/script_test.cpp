@@ -31,7 +31,7 @@ TEST_CASE("script text: tabs, CRLF line ends, comments and blank lines") {
 TEST_CASE("script text: refused frames name the line and what is allowed") {
     CHECK_THROWS_WITH_AS(
         parseScript("1 space\n99999999999999999999 space\n", kName),
-        "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number >= 0; "
+        "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number from 0 to 1000000000; "
         "allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
         "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N, "
         "pickable+N or +N",
@@ -166,4 +166,27 @@ TEST_CASE("script text: answer takes the rest of the line, trimmed, and writes b
                          core::Error);
     CHECK_THROWS_WITH_AS(parseScript("1 answer " + std::string(1001, 'x') + "\n", kName),
                          doctest::Contains("answer of 1001 bytes; at most 1000"), core::Error);
+}
+
+TEST_CASE("script text: frames are at most kMaxScriptFrame, alone and added up by +N lines") {
+    CHECK(parseScript("1000000000 space\n", kName)[0].frame == viewer::kMaxScriptFrame);
+    CHECK_THROWS_WITH_AS(parseScript("1000000001 space\n", kName),
+                         doctest::Contains("line 1: frame '1000000001' is not a whole number from 0 to 1000000000"),
+                         core::Error);
+    // A relative frame so large that adding it to the frame it follows would overflow.
+    CHECK_THROWS_WITH_AS(parseScript("3 space\n+9223372036854775806 escape\n", kName),
+                         doctest::Contains("line 2: frame '+9223372036854775806' is not a whole number from 0 to "
+                                           "1000000000"),
+                         core::Error);
+    CHECK_THROWS_WITH_AS(parseScript("loaded+9223372036854775806 escape\n", kName),
+                         doctest::Contains("line 1: frame 'loaded+9223372036854775806'"), core::Error);
+    // Each +N within the bound, their sum past it.
+    CHECK_THROWS_WITH_AS(parseScript("600000000 space\n+300000000 space\n+100000001 escape\n", kName),
+                         doctest::Contains("line 3: frame '+100000001' puts the action 1000000001 frames after the "
+                                           "start (or the last desktop+, loaded+ or pickable+ line); at most "
+                                           "1000000000"),
+                         core::Error);
+    // An absolute or anchored line starts the sum again.
+    CHECK(parseScript("600000000 space\n+300000000 space\nloaded+600000000 space\n+400000000 escape\n", kName)
+              .size() == 4);
 }

@@ -52,6 +52,9 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
     std::vector<ScriptEvent> events;
     std::istringstream in{std::string(text)};
     std::string line;
+    // Frames from the start, or from the last desktop+/loaded+/pickable+ line, that the
+    // previous line names: a +N line adds to it, and the sum is held to the same bound.
+    long chain = 0;
     for (int number = 1; std::getline(in, line); ++number) {
         if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
         std::istringstream ls(line);
@@ -78,10 +81,17 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
                 throw std::invalid_argument("frame");
             std::size_t used = 0;
             ev.frame = std::stol(number_text, &used);
-            if (used != number_text.size() || ev.frame < 0) throw std::invalid_argument("frame");
+            if (used != number_text.size() || ev.frame < 0 || ev.frame > kMaxScriptFrame)
+                throw std::invalid_argument("frame");
         } catch (const std::exception&) {
-            throw bad("frame " + quoted(frame_text) + " is not a whole number >= 0");
+            throw bad("frame " + quoted(frame_text) + " is not a whole number from 0 to " +
+                      std::to_string(kMaxScriptFrame));
         }
+        chain = ev.relative ? chain + ev.frame : ev.frame;  // both at most kMaxScriptFrame: no overflow
+        if (chain > kMaxScriptFrame)
+            throw bad("frame " + quoted(frame_text) + " puts the action " + std::to_string(chain) +
+                      " frames after the start (or the last desktop+, loaded+ or pickable+ line); at most " +
+                      std::to_string(kMaxScriptFrame));
         if (!(ls >> key)) throw bad("missing action");
         bool known = false;
         for (const auto& [k, key_name] : kKeys)

@@ -47,6 +47,11 @@ struct ScriptEvent {
     std::string text;                   // Answer: a rating's number or a text item's text
 };
 
+/// The latest frame a script line may name (about 4.6 months at 90 Hz): N in every form,
+/// and a run of +N lines added to the line before them. So the frame loop's sums of a
+/// line's frame and its base never overflow.
+inline constexpr long kMaxScriptFrame = 1'000'000'000;
+
 /// The largest script read (a line per action: a megabyte is tens of thousands).
 inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
 
@@ -57,7 +62,8 @@ inline constexpr std::size_t kMaxScriptAnswerBytes = 1000;
 /// "answer", "point_answer".
 const char* scriptKeyName(ScriptEvent::Key key);
 
-/// Parses script text: one "<frame> <action>" per line, frame a whole number >= 0,
+/// Parses script text: one "<frame> <action>" per line, frame a whole number from 0 to
+/// kMaxScriptFrame (and so the frame a +N line adds up to),
 /// desktop+N, loaded+N (after the whole cloud is on the GPU), pickable+N (after the pointer can first pick) or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
 /// reject, no_target, grab_scale S (a finite number > 0), next, answer TEXT (the rest of
 /// the line, spaces trimmed, 1 to kMaxScriptAnswerBytes bytes), point_answer N (a whole

@@ -13,7 +13,8 @@ OperatorInput ScriptPlayer::take(const ScriptClock& clock) {
                           : ev.after_pickable ? clock.pickable_since_frame
                           : ev.relative       ? last_frame_
                                               : 0;
-        if (base < 0 || ev.frame + base > clock.frame) break;
+        // Compared without a sum: neither side can overflow, whatever the event's frame.
+        if (base < 0 || ev.frame > clock.frame - base) break;
         if (ev.key == ScriptEvent::Key::Next && clock.ready_screen_waiting) break;
         if ((ev.key == ScriptEvent::Key::Answer || ev.key == ScriptEvent::Key::PointAnswer) && !clock.question_up)
             break;
