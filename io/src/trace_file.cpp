@@ -21,7 +21,6 @@ namespace io {
 
 using core::Error;
 using core::printable;
-using platform::readTextFile;
 namespace {
 
 constexpr std::array<std::string_view, 8> kHeadColumns = {"t_s",     "head_x",  "head_y",  "head_z",
@@ -112,6 +111,9 @@ class TraceParser {
         TraceRow r;
         r.t_s = v[0];
         if (r.t_s < 0.0) fail(line_no_, "t_s", "negative; allowed seconds >= 0");
+        if (r.t_s > kMaxTraceTime_s)
+            fail(line_no_, "t_s",
+                 core::shownNumber(r.t_s) + " s; allowed seconds from 0 to " + core::shownNumber(kMaxTraceTime_s));
         if (rows_ > 0 && r.t_s < last_t_s_)
             fail(line_no_, "t_s", "decreases (" + std::to_string(last_t_s_) + " before); allowed times in order");
         r.head_world = {v[1], v[2], v[3]};
@@ -134,8 +136,15 @@ class TraceParser {
             r.scale = number(m + 1, "scale");
             if (!(r.scale > 0.0))
                 fail(line_no_, "scale", "'" + printable(fields[m + 1], 40) + "'; allowed a number > 0");
-            if (!fields[m + 2].empty() || !fields[m + 3].empty() || !fields[m + 4].empty())
-                r.hit_world = glm::dvec3(number(m + 2, "hit_x"), number(m + 3, "hit_y"), number(m + 4, "hit_z"));
+            if (r.scale > kMaxTraceScale)
+                fail(line_no_, "scale",
+                     "'" + printable(fields[m + 1], 40) + "'; allowed at most " + core::shownNumber(kMaxTraceScale));
+            if (!fields[m + 2].empty() || !fields[m + 3].empty() || !fields[m + 4].empty()) {
+                const glm::dvec3 hit(number(m + 2, "hit_x"), number(m + 3, "hit_y"), number(m + 4, "hit_z"));
+                if (!(std::abs(hit.x) <= 1e9 && std::abs(hit.y) <= 1e9 && std::abs(hit.z) <= 1e9))
+                    fail(line_no_, "hit_x", "out of range; allowed world coordinates within 1e9 m");
+                r.hit_world = hit;
+            }
         }
         ++rows_;
         last_t_s_ = r.t_s;
@@ -178,13 +187,13 @@ Trace parseTrace(std::string_view text, const std::filesystem::path& name) {
     return trace;
 }
 
-Trace readTrace(const std::filesystem::path& file) {
-    const std::string text = readTextFile(file, kMaxTraceBytes, "trace: " + printable(file.string(), 400) + ":");
-    return parseTrace(text, file);
-}
+namespace {
 
-bool forEachTraceRow(const std::filesystem::path& file, const std::function<void(const TraceRow&)>& visit) {
-    const std::string what = "trace: " + printable(file.string(), 400) + ":";
+// The blocks of `file` read in order, each handed to `block`; at most `max_bytes` of them
+// (0: no bound). Throws Error("<what> ...") when the file cannot be read, is not a
+// regular file, or has more bytes than that.
+void forEachBlock(const std::filesystem::path& file, const std::string& what, std::uint64_t max_bytes,
+                  const std::function<void(std::string_view)>& block) {
     platform::checkInputFile(file, what);
     // O_NONBLOCK: should the name have become a FIFO since the check, open() must not wait.
     const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
@@ -196,18 +205,34 @@ bool forEachTraceRow(const std::filesystem::path& file, const std::function<void
     struct stat st{};
     if (::fstat(fd, &st) != 0) throw Error(what + " cannot be read: " + std::strerror(errno));
     if (!S_ISREG(st.st_mode)) throw Error(what + " is not a regular file; allowed: a regular file");
+    const auto too_long = [&](std::uint64_t bytes) {
+        return Error(what + " " + std::to_string(bytes) + " bytes or more; allowed at most " +
+                     std::to_string(max_bytes));
+    };
+    if (max_bytes > 0 && std::uint64_t(st.st_size) > max_bytes) throw too_long(std::uint64_t(st.st_size));
     ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
-    TraceParser parser(file);
-    std::vector<char> block(kTraceBlockBytes);
-    std::string carry;  // the line begun at the end of the previous block
+    std::vector<char> buffer(kTraceBlockBytes);
+    std::uint64_t read = 0;
     for (;;) {
-        const ssize_t n = ::read(fd, block.data(), block.size());
+        const ssize_t n = ::read(fd, buffer.data(), buffer.size());
         if (n < 0) {
             if (errno == EINTR) continue;
             throw Error(what + " cannot be read: " + std::strerror(errno));
         }
         if (n == 0) break;
-        std::string_view data(block.data(), std::size_t(n));
+        read += std::uint64_t(n);
+        if (max_bytes > 0 && read > max_bytes) throw too_long(read);  // grown since fstat
+        block(std::string_view(buffer.data(), std::size_t(n)));
+    }
+}
+
+// The rows of `file` by the parser's rules, a block at a time, each handed to `visit`;
+// returns whether the header has the study columns.
+bool forEachRow(const std::filesystem::path& file, const std::string& what, std::uint64_t max_bytes,
+                const std::function<void(const TraceRow&)>& visit) {
+    TraceParser parser(file);
+    std::string carry;  // the line begun at the end of the previous block
+    forEachBlock(file, what, max_bytes, [&](std::string_view data) {
         while (!data.empty()) {
             const std::size_t end = data.find('\n');
             if (end == std::string_view::npos) {
@@ -229,11 +254,40 @@ bool forEachTraceRow(const std::filesystem::path& file, const std::function<void
             if (row) visit(*row);
             data.remove_prefix(end + 1);
         }
-    }
+    });
     if (!carry.empty())
         if (std::optional<TraceRow> row = parser.line(carry)) visit(*row);
     parser.finish();
     return parser.studyColumns();
+}
+
+}  // namespace
+
+Trace readTrace(const std::filesystem::path& file) {
+    const std::string what = "trace: " + printable(file.string(), 400) + ":";
+    // The rows counted first (one per line after the header; the last line may lack its
+    // break), so that they are held in one allocation of their size rather than in a
+    // vector grown twice over.
+    std::size_t breaks = 0;
+    bool ends_with_break = true;
+    forEachBlock(file, what, kMaxTraceBytes, [&](std::string_view b) {
+        breaks += std::size_t(std::count(b.begin(), b.end(), '\n'));
+        ends_with_break = b.back() == '\n';
+    });
+    const std::size_t lines = breaks + (ends_with_break ? 0 : 1);
+    Trace trace;
+    trace.rows.reserve(std::min(lines > 0 ? lines - 1 : 0, kMaxTraceRows));
+    trace.study_columns = forEachRow(file, what, kMaxTraceBytes, [&](const TraceRow& row) {
+        if (trace.rows.size() == kMaxTraceRows)
+            throw Error(what + " line " + std::to_string(kMaxTraceRows + 2) + ": more than " +
+                        std::to_string(kMaxTraceRows) + " samples; allowed at most " + std::to_string(kMaxTraceRows));
+        trace.rows.push_back(row);
+    });
+    return trace;
+}
+
+bool forEachTraceRow(const std::filesystem::path& file, const std::function<void(const TraceRow&)>& visit) {
+    return forEachRow(file, "trace: " + printable(file.string(), 400) + ":", 0, visit);
 }
 
 }  // namespace io

@@ -213,3 +213,35 @@ TEST_CASE("trace: streamed rows are handed on before the file ends; the same ref
     const Streamed long_line = stream(kHeadOnly + std::string(io::kMaxTraceLineBytes + 10, '1'));
     CHECK(long_line.error.find("line 2: longer than 1048576 bytes") != std::string::npos);
 }
+
+TEST_CASE("trace: times past the bound, and hits and scales past theirs, are refused on their line") {
+    // A replay plays the trace in real time: a time of 1e300 s would hold it for good.
+    CHECK(error(kHeader + "0,1,2,3,1,0,0,0,free,1,,,\n1e300,1,2,3,1,0,0,0,free,1,,,\n")
+              .find("line 3, column t_s: 1e+300 s; allowed seconds from 0 to 1000000") != std::string::npos);
+    CHECK(io::parseTrace(kHeader + "1000000,1,2,3,1,0,0,0,free,1,,,\n", "end.csv").rows.size() == 1);
+    CHECK(error(kHeader + "1000000.5,1,2,3,1,0,0,0,free,1,,,\n").find("column t_s") != std::string::npos);
+    CHECK(error(kHeader + "0,1,2,3,1,0,0,0,free,1e300,,,\n").find("line 2, column scale: '1e300'; allowed at most") !=
+          std::string::npos);
+    CHECK(error(kHeader + "0,1,2,3,1,0,0,0,free,1,1e300,0,0\n").find("line 2, column hit_x: out of range") !=
+          std::string::npos);
+}
+
+TEST_CASE("trace: readTrace holds the rows alone, in one allocation, and at most kMaxTraceRows of them") {
+    test_support::TempDir dir("trace_rows");
+    std::string text = kHeadOnly;
+    for (std::size_t i = 0; i < 1000; ++i) text += row(i);
+    const io::Trace trace = io::readTrace(dir.write("t.csv", text));
+    REQUIRE(trace.rows.size() == 1000);
+    CHECK(trace.rows.capacity() <= 1001);  // counted first, not grown by doubling
+    // One row past the bound: refused on that line, naming the bound.
+    std::string many = kHeadOnly;
+    many.reserve(kHeadOnly.size() + (io::kMaxTraceRows + 1) * 16);
+    for (std::size_t i = 0; i <= io::kMaxTraceRows; ++i) many += "0,1,2,3,1,0,0,0\n";
+    const std::filesystem::path big = dir.write("big.csv", many);
+    CHECK(test_support::errorOf([&] { io::readTrace(big); }) ==
+          "trace: " + big.string() + ": line 1048578: more than 1048576 samples; allowed at most 1048576");
+    // forEachTraceRow holds none, and reads them all.
+    std::size_t seen = 0;
+    io::forEachTraceRow(big, [&](const io::TraceRow&) { ++seen; });
+    CHECK(seen == io::kMaxTraceRows + 1);
+}

@@ -16,11 +16,12 @@
 // - every row has as many fields as the header; no empty lines; a "\r" before a line
 //   break is dropped (CRLF files); the last line may lack its line break;
 // - numbers are plain decimal text (std::from_chars: no spaces, no leading '+') and
-//   finite; t_s >= 0 and never decreasing (equal times allowed: the writer's six
-//   decimals can round two close frames to one time); |head_x..z| <= 1e9 m; the
-//   quaternion's norm within 1e-3 of 1 (it is returned normalised);
-// - mode is automatic or free; scale > 0; hit_x..z all numbers or all empty;
-// - at least one row.
+//   finite; t_s from 0 to kMaxTraceTime_s and never decreasing (equal times allowed: the
+//   writer's six decimals can round two close frames to one time); |head_x..z| <= 1e9 m;
+//   the quaternion's norm within 1e-3 of 1 (it is returned normalised);
+// - mode is automatic or free; scale > 0 and at most kMaxTraceScale; hit_x..z all
+//   numbers (|hit_x..z| <= 1e9 m) or all empty;
+// - at least one row; readTrace, which holds them all, at most kMaxTraceRows.
 #pragma once
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
@@ -65,6 +66,17 @@ inline constexpr std::string_view kTraceHeader =
 /// Largest trace file read (a 2 h trial at 90 Hz is about 100 MB).
 inline constexpr std::size_t kMaxTraceBytes = std::size_t(512) << 20;
 
+/// Most rows readTrace holds (3.2 h at 90 Hz; about 117 MB as TraceRow): a longer trace
+/// is refused, naming the line past the bound (forEachTraceRow holds none and has none).
+inline constexpr std::size_t kMaxTraceRows = std::size_t(1) << 20;
+
+/// Latest t_s of a row, seconds (about 11.6 days, past any trial): a replay plays a trace
+/// in real time, so a later time would hold it for as long.
+inline constexpr double kMaxTraceTime_s = 1e6;
+
+/// Largest zoom scale of a row (the viewer's own range is far narrower).
+inline constexpr double kMaxTraceScale = 1e6;
+
 /// One row as the writer writes it, line break included: times and positions with six
 /// decimals, the quaternion with nine, the scale with up to nine significant digits.
 std::string formatTraceRow(const TraceRow& row);
@@ -73,7 +85,10 @@ std::string formatTraceRow(const TraceRow& row);
 /// core::Error "trace: <name>: line N, column <column>: <what>; allowed <what>" (the
 /// column left out where the whole line is wrong).
 Trace parseTrace(std::string_view text, const std::filesystem::path& name);
-/// Reads a trace file (regular file, at most kMaxTraceBytes) as parseTrace does.
+/// Reads a trace file (regular file, at most kMaxTraceBytes and kMaxTraceRows rows) as
+/// parseTrace does, a block at a time (forEachTraceRow): what it holds is the rows, no
+/// copy of the text. Throws as forEachTraceRow, "trace: <file>: <bytes> bytes; allowed
+/// at most 536870912" or "trace: <file>: line N: more than 1048576 samples; allowed at most 1048576".
 Trace readTrace(const std::filesystem::path& file);
 
 /// Bytes read at a time by forEachTraceRow, and the longest line it accepts.
