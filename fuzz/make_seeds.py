@@ -2,7 +2,9 @@
 """Writes the small seed inputs of the fuzz targets into fuzz/seeds/ (stdlib only,
 byte-identical on every run). Seeds are tiny so libFuzzer's mutations stay cheap:
 every PCD DATA kind and PLY encoding the reader accepts, with our fields and foreign
-layouts (double coordinates, rgba, float colours, list and padding properties)."""
+layouts (double coordinates, rgba, float colours, list and padding properties). The
+detector model seeds are XGBoost's bytes of the shipped assets/detect/model.ldm, cut to
+two trees and crafted from that."""
 import os
 import struct
 
@@ -11,6 +13,8 @@ CLOUD = os.path.join(HERE, "seeds", "cloud")
 SCENE = os.path.join(HERE, "seeds", "scene")
 SCRIPT = os.path.join(HERE, "seeds", "script")
 LAS = os.path.join(HERE, "seeds", "las")
+MODEL = os.path.join(HERE, "seeds", "model")
+SHIPPED_MODEL = os.path.join(HERE, "..", "assets", "detect", "model.ldm")
 
 PTS = [(0.0, 0.0, 0.0, 0xFF0000, 0, 0, 10.0), (1.5, -2.0, 0.25, 0x00FF00, 1, 1, 11.5),
        (3.0, 4.0, -1.0, 0x0000FF, 2, 7, 12.25)]
@@ -109,6 +113,121 @@ def laz_file(points, extra=b"", vlrs=b"", nvlrs=0, compressor=3, table="ok"):
     return out[:cut] if cut is not None else out
 
 
+# XGBoost's UBJSON as it writes it (lengths and counts as 'L', optimized arrays of numbers),
+# decoded into tuples that encode back to the same bytes: ("{", [(key, value)]),
+# ("[", [items]) (counted), ("$", type, count, raw bytes), ("S", bytes), (marker, raw bytes).
+UBJ_SIZES = {"i": 1, "U": 1, "I": 2, "l": 4, "L": 8, "d": 4, "D": 8}
+
+
+def ubj_length(b, i):
+    assert b[i:i + 1] == b"L", "length marker %r at %d" % (b[i:i + 1], i)
+    return struct.unpack_from(">q", b, i + 1)[0], i + 9
+
+
+def ubj_decode(b, i=0):
+    m = chr(b[i])
+    i += 1
+    if m in UBJ_SIZES:
+        return (m, b[i:i + UBJ_SIZES[m]]), i + UBJ_SIZES[m]
+    if m in "ZTF":
+        return (m, b""), i
+    if m == "S":
+        n, i = ubj_length(b, i)
+        return ("S", b[i:i + n]), i + n
+    if m == "{":
+        members = []
+        while b[i:i + 1] != b"}":
+            n, i = ubj_length(b, i)
+            key = b[i:i + n].decode()
+            value, i = ubj_decode(b, i + n)
+            members.append((key, value))
+        return ("{", members), i + 1
+    if m == "[" and b[i:i + 1] == b"$":
+        t = chr(b[i + 1])
+        assert b[i + 2:i + 3] == b"#"
+        n, i = ubj_length(b, i + 3)
+        return ("$", t, n, b[i:i + n * UBJ_SIZES[t]]), i + n * UBJ_SIZES[t]
+    assert m == "[" and b[i:i + 1] == b"#", "marker %r at %d" % (m, i - 1)
+    n, i = ubj_length(b, i + 1)
+    items = []
+    for _ in range(n):
+        item, i = ubj_decode(b, i)
+        items.append(item)
+    return ("[", items), i
+
+
+def ubj_encode(v):
+    def length(n):
+        return b"L" + struct.pack(">q", n)
+    m = v[0]
+    if m == "{":
+        return b"{" + b"".join(length(len(k)) + k.encode() + ubj_encode(x) for k, x in v[1]) + b"}"
+    if m == "[":
+        return b"[#" + length(len(v[1])) + b"".join(ubj_encode(x) for x in v[1])
+    if m == "$":
+        return b"[$" + v[1].encode() + b"#" + length(v[2]) + v[3]
+    if m == "S":
+        return b"S" + length(len(v[1])) + v[1]
+    return m.encode() + v[1]
+
+
+def ubj_get(v, *path):
+    for key in path:
+        v = v[1][key] if isinstance(key, int) else dict(v[1])[key]
+    return v
+
+
+def ubj_set(v, path, new):
+    """v with the value at `path` (keys and list indices) replaced by `new`."""
+    if not path:
+        return new
+    key, rest = path[0], path[1:]
+    if isinstance(key, int):
+        items = list(v[1])
+        items[key] = ubj_set(items[key], rest, new)
+        return (v[0], items)
+    return (v[0], [(k, ubj_set(x, rest, new) if k == key else x) for k, x in v[1]])
+
+
+def shipped_model_ubjson():
+    """XGBoost's bytes of the shipped detector model (after its 20 + header bytes)."""
+    with open(SHIPPED_MODEL, "rb") as f:
+        data = f.read()
+    assert data[:8] == b"LDVRDET1"
+    header = struct.unpack_from("<I", data, 8)[0]
+    return data[20 + header:]
+
+
+def model_seeds():
+    """The shipped model's bytes, the same cut to its first two trees (cheap to mutate), and
+    crafted ones that crashed or hung XGBoost before the checker: a child out of range, a
+    self-loop, a split on a feature out of range, an output group out of range."""
+    os.makedirs(MODEL, exist_ok=True)
+    full = shipped_model_ubjson()
+    model, end = ubj_decode(full)
+    assert end == len(full) and ubj_encode(model) == full, "the UBJSON codec does not round-trip"
+    write("shipped.ubj", full, MODEL)
+    gb = ("learner", "gradient_booster", "model")
+    small = ubj_set(model, gb + ("trees",), ("[", ubj_get(model, *gb, "trees")[1][:2]))
+    small = ubj_set(small, gb + ("tree_info",), ("[", ubj_get(model, *gb, "tree_info")[1][:2]))
+    small = ubj_set(small, gb + ("iteration_indptr",), ("[", ubj_get(model, *gb, "iteration_indptr")[1][:3]))
+    small = ubj_set(small, gb + ("gbtree_model_param", "num_trees"), ("S", b"2"))
+    write("two_trees.ubj", ubj_encode(small), MODEL)
+
+    def patched(path, k, value):
+        typed = ubj_get(small, *path)
+        raw = bytearray(typed[3])
+        fmt = {"l": ">i", "U": ">B", "d": ">f"}[typed[1]]
+        struct.pack_into(fmt, raw, k * struct.calcsize(fmt), value)
+        return ubj_encode(ubj_set(small, path, ("$", typed[1], typed[2], bytes(raw))))
+    tree0 = gb + ("trees", 0)
+    write("crafted_child_out_of_range.ubj", patched(tree0 + ("left_children",), 0, 99), MODEL)
+    write("crafted_self_loop.ubj", patched(tree0 + ("left_children",), 0, 0), MODEL)
+    write("crafted_split_feature.ubj", patched(tree0 + ("split_indices",), 0, 1000000), MODEL)
+    write("crafted_categorical.ubj", patched(tree0 + ("split_type",), 0, 1), MODEL)
+    write("crafted_group.ubj", ubj_encode(ubj_set(small, gb + ("tree_info", 0), ("i", b"\x05"))), MODEL)
+
+
 def main():
     os.makedirs(LAS, exist_ok=True)
     geo = [(5400000.125, 1000000.5, 12.0, 2), (5400001.0, 1000001.25, 14.5, 6), (5400002.5, 999999.0, 3.0, 64)]
@@ -195,6 +314,9 @@ def main():
     write("keys.txt", b"# frame key\n10 space\n\n25 space   # back\n40 escape\n", SCRIPT)
     write("crlf_tabs.txt", b"0\tspace\r\n7 escape\r\n#\r\n", SCRIPT)
     write("errors.txt", b"5 space now\n-3 space\nten space\n5 jump\n99999999999999999999 escape\n5\n", SCRIPT)
+
+    # Detector models: XGBoost's UBJSON bytes of assets/detect/model.ldm and cuts of it.
+    model_seeds()
 
 
 if __name__ == "__main__":
