@@ -12,6 +12,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CLOUD = os.path.join(HERE, "seeds", "cloud")
 SCENE = os.path.join(HERE, "seeds", "scene")
 SCRIPT = os.path.join(HERE, "seeds", "script")
+REPLAY = os.path.join(HERE, "seeds", "replay")
 LAS = os.path.join(HERE, "seeds", "las")
 MODEL = os.path.join(HERE, "seeds", "model")
 SHIPPED_MODEL = os.path.join(HERE, "..", "assets", "detect", "model.ldm")
@@ -319,5 +320,25 @@ def main():
     model_seeds()
 
 
+def replay_seeds():
+    """Traces as a study writes them (trace_<N>.csv) for fuzz_view_replay, and the lines
+    its reader refuses."""
+    os.makedirs(REPLAY, exist_ok=True)
+    header = b"t_s,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz,mode,scale,hit_x,hit_y,hit_z\n"
+    write("study.csv", header +
+          b"0.000000,1.000000,2.000000,30.000000,1.000000000,0.000000000,0.000000000,0.000000000,automatic,1,,,\n"
+          b"0.011111,1.000000,2.000000,30.000000,0.707106781,0.707106781,0.000000000,0.000000000,free,2.5,"
+          b"10.000000,20.000000,0.500000\n"
+          b"0.011111,1.500000,2.000000,30.000000,0.707106781,0.000000000,0.707106781,0.000000000,free,2.5,,,\n",
+          REPLAY)
+    write("head_only_crlf.csv", b"t_s,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz\r\n"
+          b"0,1,2,3,1,0,0,0\r\n0.5,1,2,3,1.0005,0,0,0", REPLAY)
+    write("extra_column.csv", header[:-1] + b",note\n0,1,2,3,1,0,0,0,free,2,,,,anything\n", REPLAY)
+    write("errors_time.csv", header + b"0,1,2,3,1,0,0,0,free,1,,,\n1e300,1,2,3,1,0,0,0,free,1,,,\n", REPLAY)
+    write("errors_back.csv", header + b"1,1,2,3,1,0,0,0,free,1,,,\n0.5,1,2,3,1,0,0,0,free,1,,,\n", REPLAY)
+    write("errors_values.csv", header + b"0,1,2,1e300,2,0,0,0,walk,0,4,,6\n", REPLAY)
+
+
 if __name__ == "__main__":
     main()
+    replay_seeds()
