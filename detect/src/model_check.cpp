@@ -159,7 +159,7 @@ class Parser {
     Value value(char m, int depth, std::size_t at) {
         if (++values_ > kMaxModelValues)
             fail(at, "more than " + std::to_string(kMaxModelValues) +
-                         " values; allowed at most that many (a model of 10000 trees holds about 250000)");
+                         " values; allowed at most that many (a model of 10000 trees holds about 232000)");
         Value v;
         v.marker = m;
         switch (m) {

@@ -25,6 +25,7 @@ namespace {
 
 const std::filesystem::path kShipped = std::filesystem::path(LADARVR_ASSETS_DIR) / "detect" / "model.ldm";
 constexpr std::size_t kFeatures = 31;
+constexpr int kMaxTreeDepth = detect::kMaxTreeDepth;
 
 std::string shippedFile() {
     const std::string file = test_support::slurp(kShipped);
@@ -100,6 +101,57 @@ std::string withInt32(const std::string& name, std::size_t tree, std::size_t k, 
     std::string ubj = shippedUbjson();
     ubj.replace(elementAt(ubj, name, tree, k), 4, bigEndian(std::uint32_t(v), 4));
     return ubj;
+}
+
+// A tree object as XGBoost writes it (keys sorted, per-node arrays optimized), of nodes
+// with these children; every node splits on feature 0 at 0.5 (a leaf's value).
+std::string treeObject(const std::vector<std::int32_t>& left, const std::vector<std::int32_t>& right) {
+    const std::size_t n = left.size();
+    std::vector<std::int32_t> parents(n, 2147483647);
+    for (std::size_t k = 0; k < n; ++k)
+        for (const std::int32_t c : {left[k], right[k]})
+            if (c > 0 && std::size_t(c) < n) parents[std::size_t(c)] = std::int32_t(k);
+    auto ints = [&](const std::vector<std::int32_t>& v) {
+        std::string s = "[$l#L" + bigEndian(v.size(), 8);
+        for (const std::int32_t x : v) s += bigEndian(std::uint32_t(x), 4);
+        return s;
+    };
+    auto floats = [&](float x) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &x, 4);
+        std::string s = "[$d#L" + bigEndian(n, 8);
+        for (std::size_t k = 0; k < n; ++k) s += bigEndian(bits, 4);
+        return s;
+    };
+    const std::string bytes = "[$U#L" + bigEndian(n, 8) + std::string(n, '\0');
+    const std::string none = "[$l#L" + bigEndian(0, 8), none64 = "[$L#L" + bigEndian(0, 8);
+    auto text = [](const std::string& t) { return "SL" + bigEndian(t.size(), 8) + t; };
+    return "{" + key("base_weights") + floats(0.5f) + key("categories") + none + key("categories_nodes") + none +
+           key("categories_segments") + none64 + key("categories_sizes") + none64 + key("default_left") + bytes +
+           key("id") + std::string("i\0", 2) + key("left_children") + ints(left) + key("loss_changes") + floats(1.0f) +
+           key("parents") + ints(parents) + key("right_children") + ints(right) + key("split_conditions") +
+           floats(0.5f) + key("split_indices") + ints(std::vector<std::int32_t>(n, 0)) + key("split_type") + bytes +
+           key("sum_hessian") + floats(2.0f) + key("tree_param") + "{" + key("num_deleted") + text("0") +
+           key("num_feature") + text("31") + key("num_nodes") + text(std::to_string(n)) + key("size_leaf_vector") +
+           text("1") + "}}";
+}
+// The shipped model with its tree 0 replaced by `tree`.
+std::string withTree0(const std::string& tree) {
+    std::string ubj = shippedUbjson();
+    const std::size_t begin = valueAt(ubj, "base_weights", 0) - key("base_weights").size() - 1;
+    const std::size_t end = valueAt(ubj, "base_weights", 1) - key("base_weights").size() - 1;
+    REQUIRE(ubj[begin] == '{');
+    REQUIRE(ubj[end] == '{');
+    return ubj.replace(begin, end - begin, tree);
+}
+// A tree `depth` deep: node 2i (i < depth) splits into the leaf 2i + 1 and node 2i + 2.
+std::string chainTree(int depth) {
+    std::vector<std::int32_t> left(std::size_t(2 * depth + 1), -1), right(std::size_t(2 * depth + 1), -1);
+    for (int i = 0; i < depth; ++i) {
+        left[std::size_t(2 * i)] = 2 * i + 1;
+        right[std::size_t(2 * i)] = 2 * i + 2;
+    }
+    return treeObject(left, right);
 }
 
 struct Case {
@@ -185,6 +237,12 @@ std::vector<Case> craftedCases() {
         ubj.replace(at + 5, 8, bigEndian(std::uint64_t(-1), 8));
         cases.push_back({"count_negative", ubj, "a container's count -1: allowed 0 or more"});
     }
+    cases.push_back({"too_deep", withTree0(chainTree(kMaxTreeDepth + 1)),
+                     "tree 0 node 128: children at depth 65: allowed a depth of at most 64"});
+    cases.push_back({"unreached", withTree0(treeObject({-1, -1, -1}, {-1, -1, -1})),
+                     "tree 0 node 1 is not reached from the root; allowed every node in the tree"});
+    cases.push_back({"too_many_values", "[" + std::string(detect::kMaxModelValues, 'Z') + "]",
+                     "byte 524288: more than 524288 values; allowed at most that many"});
     cases.push_back(
         {"deep_nesting", std::string(100000, '['), "byte 64: UBJSON containers nested 65 deep; allowed at most 64"});
     cases.push_back({"trailing_bytes", ok + "Z", "byte 132937: 1 byte after the model's last value; allowed none"});
@@ -236,6 +294,17 @@ TEST_CASE("crafted models are refused in one line naming the fault, before XGBoo
         CHECK(r.find(c.fault) != std::string::npos);
         CHECK(r.find('\n') == std::string::npos);
     }
+}
+
+TEST_CASE("a tree as deep as the cap passes, and XGBoost predicts down it") {
+    test_support::TempDir dir("detect_model_deep");
+    const std::string ubj = withTree0(chainTree(kMaxTreeDepth));
+    CHECK_NOTHROW(detect::checkXgboostModel(ubj, kFeatures, "test"));
+    const std::filesystem::path path = dir.path / "deep.ldm";
+    { std::ofstream(path, std::ios::binary) << modelFile(ubj); }
+    const detect::BoostedModel m = detect::BoostedModel::read(path);
+    const std::vector<float> rows(kFeatures, 1.0f);  // feature 0 above 0.5: right at each node, to the bottom
+    CHECK(m.margins(rows, 1).size() == 1);
 }
 
 TEST_CASE("the model file wrapper of this test rebuilds the shipped file byte for byte") {

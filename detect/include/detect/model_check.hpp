@@ -26,7 +26,7 @@ namespace detect {
 
 inline constexpr int kMaxModelNesting = 64;                           // UBJSON containers inside containers
 inline constexpr int kMaxTreeDepth = 64;                              // edges from a tree's root to a leaf
-inline constexpr std::size_t kMaxModelValues = std::size_t(1) << 20;  // parsed values (an optimized array is one)
+inline constexpr std::size_t kMaxModelValues = std::size_t(1) << 19;  // parsed values (an optimized array is one)
 
 /// Checks XGBoost's model bytes `ubjson` against what `ladarvr train` writes, for a model
 /// of `features` input columns. Throws core::Error(where + ": " + what), one line naming
