@@ -334,3 +334,24 @@ TEST_CASE("a model's other fields are checked against what `ladarvr train` write
     CHECK(refusal(nan).find("tree 2 node 4: ") != std::string::npos);
     CHECK(refusal(nan).find(" nan: allowed a finite number") != std::string::npos);
 }
+
+TEST_CASE("the fuzzer's model seeds: the shipped model and its cut pass, the crafted ones are refused") {
+    const std::filesystem::path seeds =
+        std::filesystem::path(LADARVR_ASSETS_DIR).parent_path() / "fuzz" / "seeds" / "model";
+    int passed = 0, refused = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
+        const std::string name = entry.path().filename().string();
+        CAPTURE(name);
+        const std::string e = test_support::errorOf(
+            [&] { detect::checkXgboostModel(test_support::slurp(entry.path()), kFeatures, "seed"); });
+        if (name.starts_with("crafted_")) {
+            CHECK(e.starts_with("seed: tree 0"));
+            ++refused;
+        } else {
+            CHECK(e == "(no error)");
+            ++passed;
+        }
+    }
+    CHECK(passed == 2);
+    CHECK(refused == 5);
+}
