@@ -91,6 +91,11 @@ class StrictKeys {
 }  // namespace
 
 nlohmann::json parseStrictJson(std::string_view json_text, const std::string& name) {
+    // A file that does not start as JSON does is not quoted: a design or a scene naming
+    // another file (a password file) would otherwise show its first bytes in the message.
+    const std::size_t first = json_text.find_first_not_of(" \t\r\n");
+    if (first != std::string_view::npos && json_text[first] != '{' && json_text[first] != '[')
+        throw Error(name + ": not JSON: the text starts with neither '{' nor '['; allowed: a JSON object");
     json root;
     try {
         root = json::parse(json_text, StrictKeys(name));

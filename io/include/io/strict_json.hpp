@@ -21,7 +21,8 @@ inline constexpr std::size_t kMaxJsonDepth = 256;
 /// Parses `text`. Throws core::Error("<name>: JSON syntax error: parse error at line L,
 /// column C: ..."), "<name>: <where>: duplicate key 'k'; allowed: each key once per
 /// object", a NUL in a key or string, a number beyond double range, or nesting deeper
-/// than kMaxJsonDepth.
+/// than kMaxJsonDepth. Text whose first byte after white space is neither '{' nor '[' is
+/// refused as "<name>: not JSON: ..." without quoting any of it.
 nlohmann::json parseStrictJson(std::string_view text, const std::string& name);
 
 /// "a string", "an array", "an object", "a number", ... for messages.
