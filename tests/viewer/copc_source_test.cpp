@@ -324,3 +324,33 @@ TEST_CASE("copc source: nodes below the levels the cube resolves are refused") {
                    ": the root hierarchy page: node 18-0-0-0 is at level 18; allowed levels 0 to 17 (deeper cells of "
                    "its cube of halfsize 64 m are narrower than the file's coordinate step)");
 }
+
+TEST_CASE("copc source: a child page past the hierarchy's bound is left out, the rest arrives") {
+    test_support::TempDir dir("copc_source_child_bound");
+    // The child page of 1-0-1-0 (last in the file) grown by 750 nodes with points at level
+    // 30 inside its subtree, in a cube wide enough to resolve them: about 26 new nodes each.
+    const copc_test::File f = copc_test::make();
+    std::string b = f.bytes;
+    const copc_test::Node& chunk = f.nodes[0];
+    const std::uint64_t half = std::uint64_t(1) << 29;
+    for (std::uint64_t i = 1; i <= 750; ++i) {
+        const io::CopcKey k{30, std::int32_t((i * 0x9E3779B1u) % half), std::int32_t(half + (i * 0x85EBCA77u) % half),
+                            std::int32_t((i * 0xC2B2AE3Du) % half)};
+        b += copc_test::entry(k, chunk.chunk_at, std::int32_t(chunk.chunk_bytes), std::int32_t(chunk.points.size()));
+    }
+    copc_test::put<std::int32_t>(b, f.pointer_entry_at + 24, std::int32_t(f.child_page_size + 750 * 32));
+    copc_test::put<std::uint64_t>(b, f.evlr_at + 20, copc_test::get<std::uint64_t>(b, f.evlr_at + 20) + 750 * 32);
+    copc_test::put<double>(b, f.info_at + 24, kWideHalf_m);
+    CopcSourceOptions o;
+    o.quiet = true;
+    o.workers = 1;
+    o.hierarchy_bytes = std::size_t(4) << 20;
+    CopcSource s(writeFile(dir, b), o);
+    const std::size_t at_open = s.nodeCount();
+    settlePaged(s, SourceView{{}, glm::dvec3(0.0), 0});
+    CHECK(s.stats()->pages_failed == 1);
+    CHECK(s.stats()->pages_unread == 0);
+    CHECK(s.nodeCount() == at_open);  // none of the page's nodes made
+    CHECK(s.stats()->hierarchy_bytes <= o.hierarchy_bytes);
+    CHECK(s.pointsArrived() > 0);  // the root page's nodes are drawn
+}
