@@ -68,7 +68,7 @@ void checkPlayback(const io::Trace& trace) {
     std::vector<viewer::TraceSample> samples;
     samples.reserve(trace.rows.size());
     for (const io::TraceRow& r : trace.rows) samples.push_back(sampleOf(r));
-    viewer::ReplayPlayer player(std::move(samples));
+    viewer::ReplayPlayer player(samples);
     using Clock = viewer::ReplayPlayer::Clock;
     const Clock::time_point start{};
     if (player.take(false, start).replay) std::abort();

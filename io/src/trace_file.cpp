@@ -82,13 +82,17 @@ class TraceParser {
         if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
         const std::vector<std::string_view> fields = splitFields(line);
         if (line_no_ == 1) {
-            for (std::size_t k = 0; k < kHeadColumns.size(); ++k)
+            const std::string allowed =
+                "; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz";
+            // A first line that does not start with t_s is not a trace, and none of it is
+            // quoted: the file may be anything (a password file named by mistake or not).
+            if (fields.empty() || fields[0] != kHeadColumns[0])
+                fail(1, "", "not a trace: the first line does not start with the column t_s" + allowed);
+            for (std::size_t k = 1; k < kHeadColumns.size(); ++k)
                 if (k >= fields.size() || fields[k] != kHeadColumns[k])
                     fail(1, "",
                          "header column " + std::to_string(k + 1) + " is '" +
-                             printable(k < fields.size() ? fields[k] : std::string_view(), 40) +
-                             "'; allowed a header starting t_s,head_x,head_y,head_z,head_qw,head_qx,"
-                             "head_qy,head_qz");
+                             printable(k < fields.size() ? fields[k] : std::string_view(), 20) + "'" + allowed);
             header_fields_ = fields.size();
             study_columns_ = hasStudyColumns(fields);
             return std::nullopt;

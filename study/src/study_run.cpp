@@ -199,18 +199,25 @@ Replay::Replay(const std::filesystem::path& dir, int trial_number, viewer::Viewe
     RecordedStudy recorded = readStudyRecord(dir);
     plan_ = std::move(recorded.plan);
     order_ = std::move(recorded.order);
+    if (order_.empty())
+        throw core::Error("study: --replay " + core::printable(dir.string(), 400) +
+                          ": study.json's trial order is empty; allowed a study folder with at least one trial");
     if (trial_number < 1 || trial_number > static_cast<int>(order_.size()))
         throw core::Error("study: --trial " + std::to_string(trial_number) + ": allowed 1.." +
                           std::to_string(order_.size()));
     trial_ = trial_number - 1;
     options_.use_xr = false;
     const std::filesystem::path file = dir / traceFileName(trial_number);
-    const io::Trace trace = io::readTrace(file);
+    io::Trace trace = io::readTrace(file);
     if (!trace.study_columns)
         throw core::Error("trace: " + core::printable(file.string(), 400) +
                           ": line 1: no mode,scale,hit_x,hit_y,hit_z columns after "
                           "head_qz; allowed a study's trace (docs/study.md)");
+    // The rows become samples in one allocation and are freed at once; the viewer plays the
+    // samples where they are (viewer::ReplayPlayer borrows them).
+    options_.replay.reserve(trace.rows.size());
     for (const io::TraceRow& row : trace.rows) options_.replay.push_back(toTraceSample(row));
+    trace = io::Trace{};
     viewer::validate(options_);
 }
 

@@ -130,8 +130,17 @@ TEST_CASE("trace: a quaternion within 1e-3 of unit length is normalised, another
 TEST_CASE("trace: a wrong header, number, mode, scale or hit names its line and column") {
     const std::string good = "0,1,2,3,1,0,0,0,automatic,1,,,\n";
     CHECK(error("t_s,head_x,head_y\n0,1,2\n").find("line 1: header column 4 is ''") != std::string::npos);
-    CHECK(error("t,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz\n").find("header column 1 is 't'") !=
+    CHECK(error("t,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz\n")
+              .find("line 1: not a trace: the first line does not start with the column t_s; allowed a header") !=
           std::string::npos);
+    // A file that is no trace is not quoted: a password file's first line stays out of the message.
+    const std::string shadow = error("root:$y$j9T$abcdefgh:20786:0:99999:7:::\n");
+    CHECK(shadow.find("not a trace") != std::string::npos);
+    CHECK(shadow.find("root") == std::string::npos);
+    CHECK(shadow.find("abcdefgh") == std::string::npos);
+    const std::string long_column = error("t_s,head_x,head_y,head_z,head_qw,head_qx,secret-secret-secret-secret\n");
+    CHECK(long_column.find("header column 7 is 'secret-") != std::string::npos);
+    CHECK(long_column.find("secret-secret-secret-secret") == std::string::npos);
     CHECK(error(kHeader + good + "0.1,1,2,x3,1,0,0,0,automatic,1,,,\n")
               .find("line 3, column head_z: 'x3' is not a finite number") != std::string::npos);
     CHECK(error(kHeader + "0,1,2,nan,1,0,0,0,automatic,1,,,\n").find("column head_z") != std::string::npos);

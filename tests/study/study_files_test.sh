@@ -8,7 +8,8 @@
 #   - --out over an earlier report holding a link, a folder or a FIFO under a report
 #     file's name: one line naming it, exit 1, nothing moved, no hidden folder beside;
 #   - a design with a duplicate key, NaN or trailing text given with --participant is
-#     reported for what is wrong with it, not as a plan.
+#     reported for what is wrong with it, not as a plan;
+#   - a replay of a folder whose trial order is empty is refused, saying so.
 set -euo pipefail
 bin=$(realpath "$1")
 work=$(mktemp -d /tmp/ladarvr-studyfiles.XXXXXX)
@@ -109,4 +110,12 @@ for d in nan trailing; do
   refused "$d.json: JSON syntax error" study "$work/designs/$d.json" --no-xr --out "$work/s1"
 done
 [ ! -e "$work/s1" ] || fail "a refused study made its folder"
+
+# A replay of a folder whose study.json orders no trial says so (not "allowed 1..0").
+mkdir -p "$work/empty"
+printf 'VERSION .7\n' >"$work/empty/c.pcd"
+printf '{"trials": [{"cloud": "c.pcd", "name": "one"}]}\n' >"$work/empty/plan.json"
+printf '{"plan": "%s", "order": []}\n' "$work/empty/plan.json" >"$work/empty/study.json"
+refused "study.json's trial order is empty; allowed a study folder with at least one trial" \
+  study --replay "$work/empty" --trial 1
 echo "PASS"

@@ -5,7 +5,9 @@
 #include <core/error.hpp>
 #include <platform/safe_file.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -63,8 +65,16 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         auto bad = [&](const std::string& what) {
             return core::Error(name + " line " + std::to_string(number) + ": " + what + kAllowed);
         };
-        // Tokens are quoted escaped and short: a binary file must not reach the terminal.
-        auto quoted = [](const std::string& token) { return "'" + core::printable(token, 40) + "'"; };
+        // A token is quoted only when it could be a script word (letters, digits, + - . _,
+        // at most 32 of them): a binary file must not reach the terminal, and a file that is
+        // no script (a password file named by mistake or not) shows nothing of itself.
+        auto quoted = [](const std::string& token) {
+            const bool word = token.size() <= 32 && std::all_of(token.begin(), token.end(), [](char c) {
+                                  return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' ||
+                                         c == '.' || c == '_';
+                              });
+            return word ? "'" + token + "'" : "(" + std::to_string(token.size()) + " bytes, not shown)";
+        };
         ScriptEvent ev;
         try {
             constexpr std::string_view kDesktop = "desktop+", kLoaded = "loaded+", kPickable = "pickable+";

@@ -6,21 +6,23 @@
 #include <chrono>
 #include <cstddef>
 #include <optional>
-#include <vector>
+#include <span>
 
 namespace viewer {
 
 class ReplayPlayer {
   public:
     using Clock = std::chrono::steady_clock;
-    explicit ReplayPlayer(std::vector<TraceSample> trace) : trace_(std::move(trace)) {}
+    /// Plays `trace`, borrowed: the samples (the viewer's options) outlive the player, so
+    /// a long trace is held once.
+    explicit ReplayPlayer(std::span<const TraceSample> trace) : trace_(trace) {}
     /// Nothing until `loaded` (the cloud is whole); then the sample due at `now` counted
     /// from the first loaded frame. The last sample is shown once; the call after it
     /// reports replay_done (and keeps showing it). An empty trace gives nothing.
     OperatorInput take(bool loaded, Clock::time_point now);
 
   private:
-    std::vector<TraceSample> trace_;
+    std::span<const TraceSample> trace_;
     std::optional<Clock::time_point> start_;
     std::optional<TraceSample> shown_;
     std::size_t next_ = 0;
