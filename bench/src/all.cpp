@@ -54,6 +54,7 @@ std::string runEcho(const std::string& cmd, int* status) {
 
 struct BenchFuzzCli {
     int seconds = 600;  // per target: ten minutes, the least a recorded run fuzzes each parser
+    std::vector<std::string> targets;  // empty: every target of scripts/fuzz.sh
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
 };
@@ -76,6 +77,9 @@ std::string fuzzParser(const std::string& target) {
     if (target == "fuzz_view_script") return "`viewer::parseScript` (the viewer's --script files)";
     if (target == "fuzz_las_reader") return "`io::CloudReader` on LAS/LAZ (our checks, then LASzip)";
     if (target == "fuzz_copc_reader") return "`io::checkCopc` and `io::CopcReader::readNode` on COPC";
+    if (target == "fuzz_detect_model")
+        return "`detect::checkXgboostModel` (the detector model's trees), then XGBoost on what it passes";
+    if (target == "fuzz_view_replay") return "`io::parseTrace` and the viewer's replay player (--replay traces)";
     return "?";
 }
 
@@ -87,7 +91,16 @@ void runFuzz(const BenchFuzzCli& cli) {
     const auto t0 = Clock::now();
     int status = 0;
     std::fprintf(stderr, "bench fuzz: building the clang targets and fuzzing each for %d s\n", cli.seconds);
-    const std::string out = runEcho("bash " + shellQuote(script.string()) + " " + std::to_string(cli.seconds), &status);
+    std::string command = "bash " + shellQuote(script.string()) + " " + std::to_string(cli.seconds);
+    std::string given;
+    for (const std::string& t : cli.targets) {
+        command += " " + shellQuote(t);
+        given += " --target " + t;
+    }
+    // A run of some targets keeps a section of its own, so the last run of all stays beside it.
+    const std::string heading = cli.targets.empty() ? "## Fuzzing (ladarvr bench fuzz)"
+                                                    : "## Fuzzing, selected targets (ladarvr bench fuzz --target)";
+    const std::string out = runEcho(command, &status);
     std::vector<FuzzRun> runs;
     std::istringstream lines(out);
     std::string line;
@@ -107,12 +120,14 @@ void runFuzz(const BenchFuzzCli& cli) {
         throw core::Error("bench fuzz: " + script.string() + " ran no target (exit " + std::to_string(status) +
                           "); is clang installed? (BENCH_PACKAGES of ./ladarvr)");
     std::ostringstream s;
-    s << "## Fuzzing (ladarvr bench fuzz)\n\n"
-      << "Command: `./ladarvr bench fuzz --seconds " << cli.seconds
+    s << heading << "\n\n"
+      << "Command: `" << (std::getenv("LADARVR_FUZZ_JOBS") ? "LADARVR_FUZZ_JOBS=" + std::string(std::getenv("LADARVR_FUZZ_JOBS")) + " " : "")
+      << "./ladarvr bench fuzz --seconds " << cli.seconds << given
       << "` (runs `scripts/fuzz.sh`); machine: " << std::thread::hardware_concurrency() << " cores, " << cpuName()
       << "; " << utcNow() << "; " << fmt("%.0f", secondsSince(t0))
       << " s in all, build included. libFuzzer from Debian's clang, core, platform and io "
-      << "compiled with ASan + UBSan (UB aborts), one process per target (as many at a time as there are cores), "
+      << "compiled with ASan + UBSan (UB aborts), one process per target (as many at a time as there are cores, "
+      << "or LADARVR_FUZZ_JOBS), "
       << "each held to -rss_limit_mb=2048 and -malloc_limit_mb=512, seeds from fuzz/seeds, "
       << "tests/data and earlier runs (corpus kept in build/fuzz/corpus). Not run in CI.\n\n"
       << "| target | parser | seconds | executions | exec/s | corpus | coverage (edges) | crashes |\n"
@@ -127,7 +142,7 @@ void runFuzz(const BenchFuzzCli& cli) {
     s << "\nCrashes found by earlier runs are kept as regression tests (tests/data/io/fuzz_regressions/, "
          "tests/io/fuzz_regression_test.cpp); docs/stress.md lists them.\n";
     if (!cli.no_md) {
-        replaceMarkdownSection(cli.md, "## Fuzzing (ladarvr bench fuzz)", s.str());
+        replaceMarkdownSection(cli.md, heading, s.str());
         std::fprintf(stderr, "bench fuzz: wrote the section to %s\n", cli.md.c_str());
     } else {
         std::fputs(s.str().c_str(), stdout);
@@ -283,9 +298,13 @@ void runAll(const BenchAllCli& cli) {
 void registerAll(CLI::App& parent) {
     auto fuzz = std::make_shared<BenchFuzzCli>();
     CLI::App* f = parent.add_subcommand("fuzz",
-                                        "libFuzzer targets of the scene JSON, cloud and viewer script readers "
+                                        "libFuzzer targets of the scene JSON, cloud, LAS/COPC, viewer script and replay readers and "
+                                        "the detector model checker "
                                         "for a bounded time each (clang build in build/fuzz; not CI)");
     f->add_option("--seconds", fuzz->seconds, "seconds per target")->capture_default_str();
+    f->add_option("--target", fuzz->targets,
+                  "fuzz only this target (repeatable; scripts/fuzz.sh names them); the section is then "
+                  "'Fuzzing, selected targets'");
     f->add_option("--md", fuzz->md, "markdown file whose fuzzing section is rewritten")->capture_default_str();
     f->add_flag("--no-md", fuzz->no_md, "print the section, leave the file alone");
     f->callback([fuzz] { runFuzz(*fuzz); });
