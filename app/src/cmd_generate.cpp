@@ -170,7 +170,7 @@ void run(GenerateCli& cli) {
         "centre C %.3f %.3f %.3f\n"
         "  derived: drone radius %.2f m, length sensed %.2f m, covered diameter %.2f m\n"
         "  rays %llu (%llu traced, the others cannot meet the geometry's bounds), hits %llu, misses %llu\n"
-        "  ground: %llu points whitened (%d planes kept, %d dropped), %llu labelled ground; "
+        "  ground: %s, %llu labelled ground; "
         "precision %s, recall %s; kept coloured 0.5 m above the true terrain: target %s, environment %s\n"
         "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, ground %.3f s, colour %.3f s, "
         "write %.3f s, total %.3f s (%d threads%s%s)\n",
@@ -179,8 +179,7 @@ void run(GenerateCli& cli) {
         orbit.inclination_deg, orbit.fov_deg, orbit.xres, orbit.yres, orbit.views, st.centre.x, st.centre.y,
         st.centre.z, st.drone_radius_m, st.length_sensed_m, st.coverage_diameter_m, (unsigned long long)st.rays,
         (unsigned long long)st.rays_traced, (unsigned long long)st.points, (unsigned long long)st.misses,
-        (unsigned long long)st.ground_found, st.planes_accepted, st.planes_rejected,
-        (unsigned long long)st.ground_truth, percent(st.ground_precision).c_str(), percent(st.ground_recall).c_str(),
+        groundFoundText(o, st).c_str(), (unsigned long long)st.ground_truth, percent(st.ground_precision).c_str(), percent(st.ground_recall).c_str(),
         percent(st.target_kept).c_str(), percent(st.environment_kept).c_str(), load_s, st.seconds.bvh, st.seconds.cast,
         st.seconds.fuse, st.seconds.ground, st.seconds.colour, st.seconds.write, seconds, st.threads,
         st.in_output  ? ", streamed into the output and coloured there"
@@ -253,7 +252,8 @@ void registerGenerate(CLI::App& cli) {
     CLI::App* c =
         cli.add_subcommand("generate",
                            "simulate the drone Ladar of paper §III: ray-cast NoV views on a circular orbit, fuse, "
-                           "whiten the ground (iterative RANSAC), colour by height (jet, 64 values)");
+                           "whiten the ground (iterative RANSAC, or SMRF or CSF: --ground), colour by height (jet, 64 "
+                           "values)");
     sim::GenerateOptions& o = state->options;
     sim::OrbitOptions& orbit = o.orbit;
     c->add_option("--scene", state->scene, "scene file (JSON); default: the bundled demo scene");

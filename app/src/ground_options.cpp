@@ -156,6 +156,19 @@ std::optional<std::string> groundAdvice(const sim::GenerateStats& st) {
     return std::nullopt;
 }
 
+std::string groundFoundText(const sim::GenerateOptions& o, const sim::GenerateStats& st) {
+    if (o.white) return "no filter ran (--white)";
+    const std::string found = std::to_string(st.ground_found) + " points ";
+    switch (st.ground_method) {
+        case sim::GroundMethod::Ransac:
+            return found + "whitened by RANSAC (" + std::to_string(st.planes_accepted) + " planes kept, " +
+                   std::to_string(st.planes_rejected) + " dropped)";
+        case sim::GroundMethod::Smrf: return found + "found on SMRF's terrain and whitened";
+        case sim::GroundMethod::Csf: return found + "found on CSF's cloth and whitened";
+    }
+    return found + "whitened";
+}
+
 void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st) {
     if (!o.white && o.ground.method == sim::GroundMethod::Csf)
         std::fprintf(stderr,

@@ -51,6 +51,12 @@ std::unique_ptr<platform::TempFile> stageDtm(const GroundCli& cli, const sim::Ge
 /// coloured. None otherwise (and never for a terrain-following method).
 std::optional<std::string> groundAdvice(const sim::GenerateStats& st);
 
+/// What the filter that ran found, for the run's "ground:" summary line, in its own
+/// words: "N points whitened by RANSAC (P planes kept, D dropped)" for the per-view
+/// RANSAC, "N points found on SMRF's terrain and whitened" (or CSF's cloth) for a
+/// terrain-following filter, "no filter ran (--white)" without one.
+std::string groundFoundText(const sim::GenerateOptions& o, const sim::GenerateStats& st);
+
 /// After the run: prints the filter's summary line, groundAdvice() and where --dtm went.
 void reportGround(const GroundCli& cli, const sim::GenerateOptions& o, const sim::GenerateStats& st);
 

@@ -2,7 +2,8 @@
 # tests/app/cmd_generate_test.sh: `ladarvr generate` as a user runs it.
 # Usage: cmd_generate_test.sh LADARVR_BINARY SCRATCH_DIR
 # Bad parameters: exit 1, one error line naming the option, no file left behind.
-# A small good run: the JSON summary has the required keys and matches the file.
+# A small good run: the JSON summary has the required keys and matches the file; the
+# human summary's ground line speaks of the filter that ran (RANSAC, SMRF, CSF, none).
 set -eu
 bin=$1
 dir=$2
@@ -71,6 +72,14 @@ assert 0.9 < s["ground_precision"] <= 1 and 0.9 < s["ground_recall"] <= 1, s
 EOF
 cp "$dir/err" "$dir/err.good"
 grep -q "drone radius 326.12 m" "$dir/err" || fail "human summary lacks the drone radius: $(cat "$dir/err")"
+# The ground line speaks of the filter that ran: planes for RANSAC only.
+grep -q "^  ground: [0-9]* points whitened by RANSAC ([0-9]* planes kept, [0-9]* dropped), [0-9]* labelled ground;" \
+    "$dir/err" || fail "RANSAC's ground line: $(cat "$dir/err")"
+"$bin" generate --out "$dir/white.pcd" --white --xres 8 --yres 8 --views 2 2>"$dir/err" >/dev/null ||
+    fail "--white run failed: $(cat "$dir/err")"
+grep -q "^  ground: no filter ran (--white), [0-9]* labelled ground;" "$dir/err" || fail "--white's ground line: $(cat "$dir/err")"
+! grep -q "planes" "$dir/err" || fail "--white: RANSAC's planes in the summary: $(cat "$dir/err")"
+rm -f "$dir/white.pcd"
 # --no-skip-rays traces every pixel and writes the same file (the ray skip changes no point).
 "$bin" generate --out "$dir/skip.pcd" --roles target --xres 32 --yres 24 --views 8 --json >"$dir/skip.json" \
     2>"$dir/err" || fail "--roles target run failed: $(cat "$dir/err")"
@@ -162,6 +171,12 @@ for m in smrf csf; do
     "$bin" generate --out "$dir/g.pcd" --xres 48 --yres 48 --views 16 --ground $m $thin --json >"$dir/g.json" 2>"$dir/g.err" || fail "generate --ground $m: $(cat "$dir/g.err")"
     grep -q "warning: generate: ground: $(echo $m | tr a-z A-Z) whitened only .*--$m-threshold-m" "$dir/g.err" ||
         fail "no ground warning for --ground $m with a thin threshold: $(cat "$dir/g.err")"
+    # The summary line names the filter that ran and what it found, not RANSAC's planes.
+    what="SMRF's terrain"
+    [ $m = smrf ] || what="CSF's cloth"
+    grep -q "^  ground: [0-9]* points found on $what and whitened, [0-9]* labelled ground;" "$dir/g.err" ||
+        fail "--ground $m: the ground line does not name $what: $(cat "$dir/g.err")"
+    ! grep -q "planes" "$dir/g.err" || fail "--ground $m: RANSAC's planes in the summary: $(cat "$dir/g.err")"
     python3 -c "import json,sys; s=json.load(open(sys.argv[1])); assert s['ground_recall'] < 0.8 and s['ground_advice'], s" \
         "$dir/g.json" || fail "--ground $m thin threshold: recall or advice"
     "$bin" generate --out "$dir/g.pcd" --xres 48 --yres 48 --views 16 --sensor livox-avia --ground $m \
