@@ -191,6 +191,16 @@ void applyConventions(CLI::App& app) {
     for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) applyConventions(*sub);
 }
 
+namespace {
+
+// "<path>: <what> (see 'ladarvr <path> --help')".
+std::string withHelpHint(const std::string& path, const std::string& what) {
+    const std::string command = path.empty() ? "ladarvr" : "ladarvr " + path;
+    return (path.empty() ? "" : path + ": ") + what + " (see '" + command + " --help')";
+}
+
+}  // namespace
+
 std::string usageError(const CLI::App& cli, const CLI::ParseError& e, int argc, char** argv) {
     std::string path;
     std::string what = subcommandProblem(cli, argc, argv, path);
@@ -199,8 +209,13 @@ std::string usageError(const CLI::App& cli, const CLI::ParseError& e, int argc, 
         deepestParsed(cli, path);
         what = describe(e);
     }
-    const std::string command = path.empty() ? "ladarvr" : "ladarvr " + path;
-    return (path.empty() ? "" : path + ": ") + what + " (see '" + command + " --help')";
+    return withHelpHint(path, what);
+}
+
+std::string subcommandError(const CLI::App& cli, int argc, char** argv) {
+    std::string path;
+    const std::string what = subcommandProblem(cli, argc, argv, path);
+    return what.empty() ? "" : withHelpHint(path, what);
 }
 
 void warn(const std::string& what) { platform::printMessage("warning", what); }

@@ -50,6 +50,12 @@ glm::dvec3 parseWorldTriple(const std::string& text, std::string_view what);
 /// <subcommand> --help')", with unknown and missing subcommands named from argv.
 std::string usageError(const CLI::App& cli, const CLI::ParseError& e, int argc, char** argv);
 
+/// The one-line message for an unknown or missing subcommand in argv, as usageError words
+/// it; "" when argv names existing subcommands. For --help and --version, which CLI11
+/// answers before it looks at the subcommands: help for a subcommand that does not exist
+/// is the same usage error as the command without --help.
+std::string subcommandError(const CLI::App& cli, int argc, char** argv);
+
 /// Prints "ladarvr: warning: <what>" on stderr.
 void warn(const std::string& what);
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <string>
 
 int main(int argc, char** argv) {
     CLI::App cli{
@@ -40,7 +41,15 @@ int main(int argc, char** argv) {
     } catch (const CLI::RuntimeError& e) {  // a subcommand's own exit status (view)
         return e.get_exit_code();
     } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() == 0) return cli.exit(e);  // --help, --version
+        if (e.get_exit_code() == 0) {  // --help, --version
+            // CLI11 answers them before it checks the subcommands: help for a subcommand
+            // that does not exist is the usage error it is without --help.
+            if (const std::string problem = app::subcommandError(cli, argc, argv); !problem.empty()) {
+                platform::printMessage("error", problem);
+                return app::kExitUsage;
+            }
+            return cli.exit(e);
+        }
         platform::printMessage("error", app::usageError(cli, e, argc, argv));
         return app::kExitUsage;
     } catch (const core::Error& e) {

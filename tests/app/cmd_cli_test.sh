@@ -2,8 +2,9 @@
 # tests/app/cmd_cli_test.sh: the command-line conventions of `ladarvr` as a user meets them.
 # Usage: cmd_cli_test.sh LADARVR_BINARY SCRATCH_DIR SOURCE_DIR PROJECT_VERSION
 #  - --version prints the project's version, exit 0;
-#  - usage errors (unknown or missing subcommand, unknown or repeated option, malformed or
-#    EMPTY values) print one line `ladarvr: error: ...` with a --help hint, exit 2;
+#  - usage errors (unknown or missing subcommand, with or without --help, unknown or
+#    repeated option, malformed or EMPTY values) print one line `ladarvr: error: ...` with
+#    a --help hint, exit 2;
 #  - numbers beyond what float/double can carry are refused in one short line, exit 1;
 #  - output folders are created (mkdir -p), a file in the way is refused;
 #  - `scene info` measures the demo scene; `generate` warns about misplaced targets.
@@ -57,6 +58,14 @@ grep -q 'Exit status: 0 success; 1 .*2 usage error.*70 internal error' "$dir/out
 usage "unknown subcommand 'frobnicate'; allowed: generate, metric, view, scene, detect, train, corpus, study" frobnicate
 usage "a subcommand is required" 
 usage "scene: unknown subcommand 'inf'" scene inf
+# --help after an unknown subcommand is the same usage error, not the top-level help.
+usage "unknown subcommand 'nosuchcommand'; allowed: generate, metric" nosuchcommand --help
+usage "unknown subcommand 'nosuchcommand'" nosuchcommand -h
+usage "unknown subcommand 'nosuchcommand'" nosuchcommand --version
+usage "scene: unknown subcommand 'inf'" scene inf --help
+run 0 scene --help
+grep -q "info" "$dir/out" || fail "scene --help lacks its subcommands: $(cat "$dir/out")"
+run 0 scene info --help
 usage "unknown option: --bogus" --bogus
 usage "generate: unknown option: --bogus" generate --bogus
 usage "generate: unexpected argument: x y" generate x y
