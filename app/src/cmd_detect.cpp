@@ -2,9 +2,11 @@
 // the baseline 3D ATR of detect/cluster_detector.hpp, or with --model the trained detector
 // of detect/boosted_detector.hpp, so `view --candidates` and studies have something to
 // validate. Writes io/candidates_file.hpp's JSON. The clustering options are the
-// baseline's own group; --model and --threads are the trained detector's.
+// baseline's own group, its terrain filters' (--smrf-*, --csf-*) the generator's groups;
+// --model and --threads are the trained detector's.
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "ground_options.hpp"
 
 #include <core/error.hpp>
 #include <detect/boosted_detector.hpp>
@@ -42,9 +44,11 @@ struct DetectCli {
 
 detect::GroundSource parseGround(const std::string& name) {
     if (name == "ransac") return detect::GroundSource::Ransac;
+    if (name == "smrf") return detect::GroundSource::Smrf;
+    if (name == "csf") return detect::GroundSource::Csf;
     if (name == "labels") return detect::GroundSource::Labels;
     if (name == "white") return detect::GroundSource::White;
-    throw core::Error("detect: --ground '" + name + "': allowed ransac, labels, white");
+    throw core::Error("detect: --ground '" + name + "': allowed ransac, smrf, csf, labels, white");
 }
 
 // The trained detector: the model decides the segmentation and the size class.
@@ -188,13 +192,16 @@ void registerDetect(CLI::App& cli) {
     c->add_option("--size-tolerance", o.size_tolerance, "size factor (> 1) that costs one side exp(-1/2) of the score")
         ->capture_default_str();
     c->add_option("--ground", state->ground,
-                  "what is ground: ransac (paper's RANSAC per tile), labels (the cloud's ground-truth labels), "
-                  "white (the generator's whitened points)")
-        ->check(CLI::IsMember({"ransac", "labels", "white"}))
+                  "what is ground: ransac (paper's RANSAC per tile; flat ground), smrf or csf (the generator's "
+                  "terrain-following filters on the whole cloud, for hilly or sloped ground), labels (the cloud's "
+                  "ground-truth labels), white (the generator's whitened points)")
+        ->check(CLI::IsMember({"ransac", "smrf", "csf", "labels", "white"}))
         ->capture_default_str();
     c->add_option("--ground-tile-m", o.ground_tile_m, "side of the RANSAC tiles, metres > 0")->capture_default_str();
     c->add_option("--band-m", o.ground_ransac.band_m, "RANSAC height band above each tile's lowest point, metres > 0")
         ->capture_default_str();
+    addSmrfOptions(*c, o.ground_smrf);
+    addCsfOptions(*c, o.ground_csf);
     c->add_option("--voxel-m", o.voxel_m, "voxel side for clustering, [0.01, 100] m")->capture_default_str();
     c->add_option("--cluster-tolerance-m", o.cluster_tolerance_m,
                   "voxels closer than this join one cluster, (voxel/2, 1000] m")

@@ -1,6 +1,6 @@
 // detect/src/cluster_detector.cpp: the baseline detector of detect/cluster_detector.hpp.
 // PCL is used here for the Euclidean cluster extraction only (its k-d tree answers the
-// radius searches); the RANSAC ground is sim's (sim/ground.hpp).
+// radius searches); the ground filters (RANSAC, SMRF, CSF) are sim's (sim/ground.hpp).
 #include <detect/cluster_detector.hpp>
 
 #include <core/error.hpp>
@@ -59,6 +59,35 @@ std::vector<std::uint8_t> ransacGroundByTile(const core::PointCloud& cloud, cons
     return ground;
 }
 
+// Step 1 with a terrain-following filter: the generator's whole-cloud run (a TerrainFit),
+// fed the points with their views, so that on a real sensor's cloud each view's height
+// error is taken off as the generator does; a cloud without views is fitted as one view.
+// The points are copied in chunks only when their view must be set.
+std::vector<std::uint8_t> terrainGround(const core::PointCloud& cloud, sim::TerrainFit& fit) {
+    const std::size_t n = cloud.points.size();
+    if (cloud.fields.view) {
+        fit.add(cloud.points);
+    } else {
+        constexpr std::size_t kChunk = std::size_t(1) << 16;
+        std::vector<core::CloudPoint> chunk;
+        for (std::size_t i = 0; i < n; i += kChunk) {
+            chunk.assign(cloud.points.begin() + std::ptrdiff_t(i),
+                         cloud.points.begin() + std::ptrdiff_t(std::min(n, i + kChunk)));
+            for (core::CloudPoint& p : chunk) p.view = 0;
+            fit.add(chunk);
+        }
+    }
+    fit.fit();
+    std::vector<std::uint8_t> ground(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        core::CloudPoint p = cloud.points[i];
+        if (!cloud.fields.view) p.view = 0;
+        float height_m = 0.0f;
+        ground[i] = fit.classify(p, height_m) ? 1 : 0;
+    }
+    return ground;
+}
+
 std::vector<std::uint8_t> findGroundPoints(const core::PointCloud& cloud, const ClusterOptions& o) {
     std::vector<std::uint8_t> ground(cloud.points.size(), 0);
     switch (o.ground) {
@@ -73,6 +102,8 @@ std::vector<std::uint8_t> findGroundPoints(const core::PointCloud& cloud, const 
                 throw core::Error("detect: --ground white: the cloud has no rgb field; use --ground ransac");
             for (std::size_t i = 0; i < cloud.points.size(); ++i) ground[i] = cloud.points[i].rgb == core::kWhite;
             return ground;
+        case GroundSource::Smrf: return terrainGround(cloud, *sim::startSmrf(o.ground_smrf));
+        case GroundSource::Csf: return terrainGround(cloud, *sim::startCsf(o.ground_csf));
         case GroundSource::Ransac: break;
     }
     return ransacGroundByTile(cloud, o);
@@ -97,6 +128,8 @@ void validate(const ClusterOptions& o) {
     if (!(o.min_score >= 0.0 && o.min_score <= 1.0)) fail("--min-score", o.min_score, "[0, 1]");
     if (o.max_candidates < 1 || o.max_candidates > 1000000) fail("--max-candidates", o.max_candidates, "[1, 1000000]");
     sim::validate(o.ground_ransac);
+    sim::validate(o.ground_smrf);
+    sim::validate(o.ground_csf);
 }
 
 double sizeScore(const glm::dvec3& size_m, const glm::dvec3& target_size_m, double size_tolerance) {
@@ -183,7 +216,9 @@ std::uint64_t ClusterDetector::memoryBytes(std::uint64_t points) {
     // Per point, at the larger of the two steps (each bound rounded up):
     // step 1, RANSAC per tile: the cloud (40), tile index lists with vector growth (8), the
     //   ground flags (1), one tile's positions with growth (24), findGround's buffers (64,
-    //   as in sim's memory plan), its flags (1): 138;
+    //   as in sim's memory plan), its flags (1): 138; SMRF or CSF instead: the cloud, the
+    //   flags, the terrain's raster and view tables (48, as the trained detector counts
+    //   them): 89;
     // step 2: the cloud, flags, the non-ground copy (40) and its indices with growth (8),
     //   the voxel bins (16), centroids (16), PCL's k-d tree (40), cluster indices (4): 165.
     // 256 leaves room for the allocator; the fixed part holds the reader's chunk buffer

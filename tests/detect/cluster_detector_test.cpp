@@ -1,11 +1,13 @@
 // tests/detect/cluster_detector_test.cpp: the baseline clustering detector on synthetic
-// clouds with known answers: a tank-sized box, a wall and a tree-like blob on a plane.
+// clouds with known answers: a tank-sized box, a wall and a tree-like blob on a plane; the
+// box on a level pad in hilly ground, where the terrain filters find it.
 #include <detect/cluster_detector.hpp>
 
 #include <core/error.hpp>
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -26,11 +28,13 @@ void add(core::PointCloud& c, glm::dvec3 p, core::Role role) {
 // The surface of a box (top and four sides, no bottom) of size l x w x h standing on z = 0,
 // centred at (cx, cy), turned by yaw_deg; points every step_m with a little noise.
 void addBox(core::PointCloud& c, std::mt19937& rng, glm::dvec2 centre, glm::dvec3 size, double yaw_deg, double step_m,
-            core::Role role) {
+            core::Role role, double base_z = 0.0) {
     std::uniform_real_distribution<double> noise(-0.02, 0.02);
     const double cs = std::cos(yaw_deg * kDeg), sn = std::sin(yaw_deg * kDeg);
     auto put = [&](double u, double v, double z) {
-        add(c, {centre.x + cs * u - sn * v + noise(rng), centre.y + sn * u + cs * v + noise(rng), z + noise(rng)},
+        add(c,
+            {centre.x + cs * u - sn * v + noise(rng), centre.y + sn * u + cs * v + noise(rng),
+             base_z + z + noise(rng)},
             role);
     };
     const double hl = size.x / 2, hw = size.y / 2;
@@ -67,6 +71,31 @@ core::PointCloud scene(double tank_yaw_deg = 30.0) {
         d = d / glm::length(d) * 3.0;
         add(c, {-15 + d.x, -20 + d.y, 6 + d.z}, core::Role::Environment);
     }
+    return c;
+}
+
+// Hilly ground of side 80 m (about 11 m of relief, slopes up to about 0.23: up to 6 m
+// within a 30 m RANSAC tile, more than its 3 m height band holds), levelled within 6 m of
+// (10, 5) and blended into the hills by 12 m, with the 7 x 3.5 x 2.5 box on that pad
+// turned by 30 deg.
+core::PointCloud hillyScene() {
+    core::PointCloud c;
+    c.origin = {500.0, 700.0, 120.0};
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> noise(-0.02, 0.02);
+    const auto hills = [](double x, double y) { return 4.0 * std::sin(x / 20.0) + 3.0 * std::cos(y / 25.0); };
+    const glm::dvec2 pad{10.0, 5.0};
+    const double pad_z = hills(pad.x, pad.y);
+    // 20 points per square metre at random, as a sensor's: SMRF measures the ground's
+    // thickness in the 1 m cells that hold 16 points or more.
+    std::uniform_real_distribution<double> across(-40.0, 40.0);
+    for (int k = 0; k < 128000; ++k) {
+        const double x = across(rng), y = across(rng);
+        const double t = std::clamp((glm::length(glm::dvec2(x, y) - pad) - 6.0) / 6.0, 0.0, 1.0);
+        const double blend = t * t * (3.0 - 2.0 * t);
+        add(c, {x, y, pad_z + blend * (hills(x, y) - pad_z) + noise(rng)}, core::Role::Ground);
+    }
+    addBox(c, rng, pad, {7, 3.5, 2.5}, 30.0, 0.2, core::Role::Target, pad_z);
     return c;
 }
 
@@ -107,6 +136,36 @@ TEST_CASE("detect: the tank-sized box scores highest, its box and yaw are recove
             for (const std::uint32_t i : found[0].points) REQUIRE(c.points[i].label == core::Role::Target);
         }
     }
+}
+
+TEST_CASE("detect: on hilly ground SMRF and CSF find the box, per-tile RANSAC does not") {
+    const core::PointCloud c = hillyScene();
+    const auto atBox = [&c](const core::Candidate& k) {
+        return std::abs(k.centre_world.x - (c.origin.x + 10)) < 0.3 && std::abs(k.centre_world.y - (c.origin.y + 5)) < 0.3;
+    };
+    for (const detect::GroundSource ground : {detect::GroundSource::Smrf, detect::GroundSource::Csf}) {
+        CAPTURE(int(ground));
+        detect::ClusterOptions o;
+        o.ground = ground;
+        detect::ClusterStats stats;
+        const std::vector<detect::Detection> found = detect::ClusterDetector(o).detect(c, stats);
+        REQUIRE(!found.empty());
+        const core::Candidate& best = found[0].candidate;
+        CHECK(atBox(best));
+        CHECK(best.score > 0.7);
+        CHECK(best.size_m.x == doctest::Approx(7.0).epsilon(0.05));
+        CHECK(best.size_m.y == doctest::Approx(3.5).epsilon(0.05));
+        CHECK(best.size_m.z > 1.8);  // the lowest half metre or so goes with the ground
+        CHECK(yawDifferenceDeg(best.yaw_deg, 30.0) < 3.0);
+        // Nearly all of the hills are ground: what is left is the box.
+        CHECK(stats.ground_points > c.points.size() * 95 / 100);
+        for (const std::uint32_t i : found[0].points) REQUIRE(c.points[i].label == core::Role::Target);
+    }
+    // The scene is one the tiles' 3 m band cannot follow: RANSAC leaves the hills' upper
+    // parts standing, and no candidate lies at the box.
+    detect::ClusterOptions o;
+    o.ground = detect::GroundSource::Ransac;
+    for (const detect::Detection& d : detect::ClusterDetector(o).detect(c)) CHECK(!atBox(d.candidate));
 }
 
 TEST_CASE("detect: the target size decides which cluster wins") {
@@ -163,6 +222,12 @@ TEST_CASE("detect: errors name the option and the missing field") {
     o = {};
     o.ground_ransac.band_m = 0.0;  // the RANSAC ground's own options are checked too
     CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--band-m"), core::Error);
+    o = {};
+    o.ground_smrf.slope = 0.0;  // and the terrain filters'
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--smrf-slope"), core::Error);
+    o = {};
+    o.ground_csf.rigidness = 4;
+    CHECK_THROWS_WITH_AS(detect::ClusterDetector{o}, doctest::Contains("--csf-rigidness"), core::Error);
     o = {};
     o.ground = detect::GroundSource::Labels;
     c.fields.label = false;

@@ -2,9 +2,11 @@
 // without an outside detector: remove the ground, cluster what is left, fit each cluster
 // an oriented box and score the box by how well its size matches the target's.
 //
-//   1) ground: the cloud's labels (ground role), the generator's whitening (white points)
-//      or paper §III-C's iterative RANSAC run on square tiles of the cloud (a whole scene
-//      is not one plane; a tile of a few tens of metres nearly is);
+//   1) ground: the cloud's labels (ground role), the generator's whitening (white points),
+//      paper §III-C's iterative RANSAC run on square tiles of the cloud (a whole scene
+//      is not one plane; a tile of a few tens of metres nearly is), or one of the
+//      generator's terrain-following filters (SMRF, CSF) on the whole cloud, for ground
+//      with more relief than a tile's height band holds;
 //   2) the other points are binned into small voxels and the voxels' centroids are
 //      clustered by PCL's Euclidean cluster extraction (two centroids closer than the
 //      tolerance join one cluster); every point follows its voxel;
@@ -28,6 +30,8 @@ namespace detect {
 
 enum class GroundSource {
     Ransac,  // §III-C RANSAC per tile (works on any cloud)
+    Smrf,    // SMRF's terrain fitted to the whole cloud (sim/ground.hpp; any cloud)
+    Csf,     // CSF's cloth dropped on the whole cloud (sim/ground.hpp; any cloud)
     Labels,  // points labelled ground (needs a cloud with labels: ground truth)
     White,   // white points (the generator's whitening; needs rgb)
 };
@@ -38,6 +42,8 @@ struct ClusterOptions {
     GroundSource ground = GroundSource::Ransac;
     double ground_tile_m = 30.0;       // side of the square RANSAC tiles (> 0)
     sim::RansacOptions ground_ransac;  // per tile
+    sim::SmrfOptions ground_smrf;      // with GroundSource::Smrf
+    sim::CsfOptions ground_csf;        // with GroundSource::Csf
     double voxel_m = 0.25;             // voxel side of step 2 (> 0)
     double cluster_tolerance_m = 0.5;  // Euclidean cluster distance (> voxel_m / 2)
     /// Fraction of a cluster's points left out at each end of each box axis (quantiles),
@@ -50,7 +56,8 @@ struct ClusterOptions {
     bool progress = false;        // progress bar over the tiles (tty only)
 };
 
-/// Throws core::Error("detect: <option> = <value>: allowed <range>").
+/// Throws core::Error("detect: <option> = <value>: allowed <range>"), or sim's
+/// ("ground: ...") for the ground filters' options (all three filters' are checked).
 void validate(const ClusterOptions& o);
 
 struct ClusterStats {
