@@ -1,9 +1,12 @@
 #!/usr/bin/env python3
-"""Hit rate and median time to decision per cloud, from a study's trials.csv (python3 stdlib).
+"""Hit rate and median time to decision per cloud, from studies' trials.csv (python3 stdlib).
 
     python3 scripts/study_summary.py DIR/trials.csv     (or the study's output folder DIR)
+    python3 scripts/study_summary.py DIR1 DIR2 ...      (several participants' studies, pooled)
 
-One row per cloud (in order of first appearance), then one for all trials:
+Given several folders or files, their trials are pooled: the clouds are matched by the
+cloud column's text. One row per cloud (in order of first appearance), then one for all
+trials:
   trials     trials of that cloud in the file
   decided    trials the operator ended with confirm or no_target
   timeouts   trials that ran out of time; quits: ended by the experimenter (Escape, Ctrl-C)
@@ -13,7 +16,8 @@ One row per cloud (in order of first appearance), then one for all trials:
   median_s   median time_to_decision_s over the decided trials, "n/a" when none
 
 docs/study.md explains every column of trials.csv. Exit status 2 with one line on stderr
-for a file that is not a trials.csv (missing column, bad number, unknown decision).
+for a file that is not a trials.csv (missing column, bad number, unknown decision), a file
+given twice, or a command line without one (--help prints this text on stdout, exit 0).
 """
 
 import csv
@@ -30,9 +34,12 @@ def fail(message):
     sys.exit(2)
 
 
+def trials_path(path):
+    return os.path.join(path, "trials.csv") if os.path.isdir(path) else path
+
+
 def read_trials(path):
-    if os.path.isdir(path):
-        path = os.path.join(path, "trials.csv")
+    path = trials_path(path)
     try:
         with open(path, newline="", encoding="utf-8") as f:
             rows = list(csv.DictReader(f))
@@ -75,10 +82,22 @@ def summarise(trials):
 
 
 def main():
-    if len(sys.argv) != 2 or sys.argv[1] in ("-h", "--help"):
+    args = sys.argv[1:]
+    if any(a in ("-h", "--help") for a in args):
         print(__doc__.strip())
-        sys.exit(0 if len(sys.argv) == 2 else 2)
-    trials = read_trials(sys.argv[1])
+        sys.exit(0)
+    if not args:
+        fail("no trials.csv given; usage: study_summary.py DIR|trials.csv [DIR|trials.csv ...] (--help for more)")
+    unknown = [a for a in args if a.startswith("-")]
+    if unknown:
+        fail("unknown option %s; allowed -h, --help, or study folders and trials.csv files" % unknown[0])
+    seen = {}
+    for path in args:
+        key = os.path.realpath(trials_path(path))
+        if key in seen:
+            fail("%s: the same trials.csv as %s; allowed each study once" % (path, seen[key]))
+        seen[key] = path
+    trials = [t for path in args for t in read_trials(path)]
     clouds = list(dict.fromkeys(t["cloud"] for t in trials))
     table = [["cloud", "trials", "decided", "timeouts", "quits", "hit_rate", "median_s"]]
     for cloud in clouds:
