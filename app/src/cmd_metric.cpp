@@ -14,8 +14,8 @@
 #include <metric/trace.hpp>
 #include <metric/visibility.hpp>
 #include <platform/atomic_file.hpp>
-#include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
+#include <study/study_folder.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace app {
@@ -64,6 +65,46 @@ void printTraceSummary(const MetricCli& cli, const metric::MetricResult& r, std:
         percent(whole).c_str());
 }
 
+// The scene a --trace was recorded on, into cli.scene: a trace_<N>.csv beside a study's
+// study.json is trial N of that study, whose plan names its scene. A trace whose scene
+// is not known needs --scene (or the three clouds): the demo scene is never assumed for
+// it. Returns the line that says where the scene came from (empty when --scene gave it).
+std::string resolveTraceScene(MetricCli& cli, bool from_files) {
+    const std::string trace = "--trace " + core::printable(cli.trace, 400);
+    const std::optional<study::RecordedTrial> recorded = study::recordedTraceTrial(cli.trace, "metric: --trace");
+    if (!recorded) {
+        if (cli.scene.empty() && !from_files)
+            throw core::Error("metric: " + trace +
+                              ": the scene it was recorded on is not known (no study.json beside a trace_<N>.csv); "
+                              "give --scene (the trial's scene file) or --p1, --p2, --p3");
+        return {};
+    }
+    const std::string trial = "trial " + std::to_string(recorded->number) + " of " +
+                              core::printable((recorded->folder / "study.json").string(), 400);
+    const std::filesystem::path& recorded_scene = recorded->trial.scene;
+    if (recorded_scene.empty()) {  // a cloud file's trial: its scene, if any, is the researcher's to name
+        if (cli.scene.empty() && !from_files)
+            throw core::Error("metric: " + trace + " is " + trial + ", which ran on the cloud file " +
+                              core::printable(recorded->trial.cloud.string(), 400) +
+                              ", not a scene; give --scene (the scene that cloud was generated from) or --p1, --p2, "
+                              "--p3");
+        return {};
+    }
+    if (from_files) return {};  // the three clouds stand for the scene; nothing to compare them with
+    if (cli.scene.empty()) {
+        cli.scene = recorded_scene.string();
+        return "metric: " + trace + " is " + trial + ", recorded on the scene " +
+               core::printable(recorded_scene.string(), 400);
+    }
+    std::error_code ec;
+    const bool same = std::filesystem::equivalent(cli.scene, recorded_scene, ec);
+    if (!same)
+        throw core::Error("metric: --scene " + core::printable(cli.scene, 400) + ": " + trace + " is " + trial +
+                          ", recorded on the scene " + core::printable(recorded_scene.string(), 400) +
+                          "; allowed: that scene, or no --scene");
+    return {};
+}
+
 void run(MetricCli& cli) {
     metric::MetricOptions& o = cli.options;
     o.skip = !cli.no_skip;
@@ -75,8 +116,17 @@ void run(MetricCli& cli) {
     else
         throw core::Error("metric: --rasterizer '" + cli.rasterizer + "': allowed compute, raster");
     if (!cli.look_at.empty()) o.look_at_world = parseWorldTriple(cli.look_at, "metric: --look-at");
+    const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
+    std::string scene_line;
+    if (!cli.trace.empty()) {
+        if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
+            throw core::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
+                              ": allowed [0, 3600] seconds");
+        platform::checkInputFile(cli.trace, "metric: --trace " + core::printable(cli.trace, 400));
+        scene_line = resolveTraceScene(cli, from_files);
+    }
     const std::filesystem::path out = cli.out;
-    // Before anything is read or made: no input inside the folder this run replaces.
+    // Before anything is made: no input inside the folder this run replaces.
     platform::checkDistinctPaths("metric", {{"--out", out, platform::PathRole::OutputFolder, {}},
                                             {"--scene", cli.scene, platform::PathRole::Input, {}},
                                             {"--p1", cli.p1, platform::PathRole::Input, {}},
@@ -85,13 +135,9 @@ void run(MetricCli& cli) {
                                             {"--trace", cli.trace, platform::PathRole::Input, {}}});
     std::size_t trace_samples = 0;
     if (!cli.trace.empty()) {
-        if (!(std::isfinite(cli.trace_step_s) && cli.trace_step_s >= 0.0 && cli.trace_step_s <= 3600.0))
-            throw core::Error("metric: --trace-step-s = " + std::to_string(cli.trace_step_s) +
-                              ": allowed [0, 3600] seconds");
         // Streamed: only the kept poses are held, at most as many as the metric evaluates.
         o.poses_world = metric::tracePoses(cli.trace, cli.trace_step_s, metric::kMaxPoses, trace_samples);
     }
-    const bool from_files = !cli.p1.empty() || !cli.p2.empty() || !cli.p3.empty();
     if (from_files && (cli.p1.empty() || cli.p2.empty() || cli.p3.empty()))
         throw core::Error("metric: --p1, --p2 and --p3 go together: give all three clouds");
     if (from_files && !cli.scene.empty()) throw core::Error("metric: --scene and --p1/--p2/--p3 exclude each other");
@@ -117,6 +163,7 @@ void run(MetricCli& cli) {
     } else {
         const std::filesystem::path path = cli.scene.empty() ? io::demoScenePath() : std::filesystem::path(cli.scene);
         scene = io::loadScene(path);
+        if (!cli.json && !scene_line.empty()) std::fprintf(stderr, "%s\n", scene_line.c_str());
         if (!cli.json) std::fprintf(stderr, "metric: generating P1, P2, P3 from %s\n", path.string().c_str());
         clouds = metric::generateClouds(*scene);
     }
@@ -152,7 +199,9 @@ void registerMetric(CLI::App& cli) {
                                      "visibility metric of the target (paper §IV-B): mean over an "
                                      "orbit of |I2 xor I3| / |I1|, with an exact mesh reference");
     metric::MetricOptions& o = state->options;
-    c->add_option("--scene", state->scene, "scene file (default: the bundled demo scene)");
+    c->add_option("--scene", state->scene,
+                  "scene file (default: the bundled demo scene; with --trace, the trial's scene as its study "
+                  "folder records it)");
     addCloudMemoryOption(*c, state->memory_mb, "the clouds of --p1, --p2 and --p3");
     c->add_option("--out", state->out, "output directory for views.csv, summary.json, PNGs")->capture_default_str();
     c->add_option("--p1", state->p1, "existing target-only cloud (PCD/PLY); with --p2 --p3, no exact reference");

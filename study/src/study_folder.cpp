@@ -6,7 +6,10 @@
 #include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
 
+#include <charconv>
 #include <system_error>
+
+#include <sys/stat.h>
 
 namespace study {
 
@@ -52,31 +55,29 @@ void writeDesignRecord(const std::filesystem::path& dir, const std::filesystem::
                                   "\n");
 }
 
-RecordedStudy readStudyRecord(const std::filesystem::path& dir) {
+RecordedStudy readStudyRecord(const std::filesystem::path& dir, const std::string& what) {
     const std::string shown = core::printable((dir / "study.json").string(), 400);
-    const nlohmann::json study = io::parseStrictJson(
-        platform::readTextFile(dir / "study.json", std::size_t(1) << 20, "study: --replay " + shown + ":"),
-        "study: --replay " + shown);
+    const std::string where = what + " " + shown;
+    const nlohmann::json study =
+        io::parseStrictJson(platform::readTextFile(dir / "study.json", std::size_t(1) << 20, where + ":"), where);
     const bool design = study.is_object() && study.contains("design");
     if (design && (!study["design"].is_string() || !study.contains("design_sha256") ||
                    !study["design_sha256"].is_string() || !study.contains("participant") ||
                    !study["participant"].is_string() || !study.contains("order") || !study["order"].is_array()))
         throw core::Error(
-            "study: --replay " + shown +
-            ": not a design session's record (needs 'design', 'design_sha256', 'participant' and 'order')");
+            where + ": not a design session's record (needs 'design', 'design_sha256', 'participant' and 'order')");
     if (!design && (!study.is_object() || !study.contains("plan") || !study["plan"].is_string() ||
                     !study.contains("order") || !study["order"].is_array()))
-        throw core::Error("study: --replay " + shown + ": not a study's record (needs 'plan' and 'order')");
+        throw core::Error(where + ": not a study's record (needs 'plan' and 'order')");
     RecordedStudy record;
     if (design) {
         if (!isStudyName(study["participant"].get<std::string>()))
-            throw core::Error("study: --replay " + shown + ": participant is not an id of " +
-                              std::string(kStudyNameRule));
+            throw core::Error(where + ": participant is not an id of " + std::string(kStudyNameRule));
         const std::string file = study["design"].get<std::string>();
         std::string sha;
         const Design d = readDesign(file, &sha);
         if (sha != study["design_sha256"].get<std::string>())
-            throw core::Error("study: --replay " + shown + ": the design " + core::printable(file, 400) +
+            throw core::Error(where + ": the design " + core::printable(file, 400) +
                               " changed since the run (its SHA-256 differs); allowed: the design as it was run");
         record.plan = expandSession(d, study["participant"].get<std::string>(), core::printable(file, 400)).plan;
     } else {
@@ -84,10 +85,35 @@ RecordedStudy readStudyRecord(const std::filesystem::path& dir) {
     }
     for (const auto& v : study["order"]) {
         if (!v.is_number_unsigned() || v.get<std::size_t>() >= record.plan.trials.size())
-            throw core::Error("study: --replay " + shown + ": 'order' does not match the plan's trials");
+            throw core::Error(where + ": 'order' does not match the plan's trials");
         record.order.push_back(v.get<int>());
     }
     return record;
+}
+
+std::optional<RecordedTrial> recordedTraceTrial(const std::filesystem::path& trace, const std::string& what) {
+    const std::string name = trace.filename().string();
+    if (!isStudyFile(name) || !name.starts_with("trace_")) return std::nullopt;
+    const std::string digits = name.substr(6, name.size() - 6 - 4);
+    int number = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), number);
+    // Only the name the study writes (traceFileName): no sign, no leading zero.
+    if (ec != std::errc() || end != digits.data() + digits.size() || number < 1 || traceFileName(number) != name)
+        return std::nullopt;
+    const std::filesystem::path folder = trace.parent_path().empty() ? std::filesystem::path(".") : trace.parent_path();
+    struct stat st{};
+    if (::lstat((folder / "study.json").c_str(), &st) != 0) return std::nullopt;
+    RecordedStudy study = readStudyRecord(folder, what);
+    if (static_cast<std::size_t>(number) > study.order.size())
+        throw core::Error(what + " " + core::printable(trace.string(), 400) + ": " +
+                          core::printable((folder / "study.json").string(), 400) + " records " +
+                          std::to_string(study.order.size()) + " trials, not trial " + std::to_string(number) +
+                          "; allowed the trace of one of its trials");
+    RecordedTrial recorded;
+    recorded.number = number;
+    recorded.folder = folder;
+    recorded.trial = std::move(study.plan.trials[static_cast<std::size_t>(study.order[std::size_t(number - 1)])]);
+    return recorded;
 }
 
 }  // namespace study

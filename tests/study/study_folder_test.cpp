@@ -55,3 +55,37 @@ TEST_CASE("study.json records the plan and the order, and is read back against t
     CHECK(errorOf([&] { study::readStudyRecord(out); }).ends_with("not a study's record (needs 'plan' and 'order')"));
     CHECK(errorOf([&] { study::readStudyRecord(dir.path / "none"); }).starts_with("study: --replay "));
 }
+
+TEST_CASE("a trace_<N>.csv beside study.json is trial N of that study, its scene or cloud as the plan names it") {
+    static test_support::TempDir dir("study_trace_trial");  // kept: see above
+    dir.write("a.pcd", "not read here\n");
+    dir.write("s.json", "not read here\n");
+    const std::filesystem::path plan =
+        dir.write("plan.json", R"({"trials": [{"cloud": "a.pcd"}, {"scene": "s.json", "name": "hills"}]})");
+    const std::filesystem::path out = dir.path / "out";
+    std::filesystem::create_directory(out);
+    study::writeStudyRecord(out, plan, {1, 0});  // trial 1 ran the plan's scene, trial 2 its cloud
+    const std::optional<study::RecordedTrial> first = study::recordedTraceTrial(out / "trace_1.csv", "metric: --trace");
+    REQUIRE(first);
+    CHECK(first->number == 1);
+    CHECK(first->folder == out);
+    CHECK(first->trial.scene == dir.path / "s.json");
+    CHECK(first->trial.name == "hills");
+    const std::optional<study::RecordedTrial> second = study::recordedTraceTrial(out / "trace_2.csv", "x");
+    REQUIRE(second);
+    CHECK(second->trial.scene.empty());
+    CHECK(second->trial.cloud == dir.path / "a.pcd");
+
+    CHECK(errorOf([&] { study::recordedTraceTrial(out / "trace_3.csv", "metric: --trace"); }) ==
+          "metric: --trace " + (out / "trace_3.csv").string() + ": " + (out / "study.json").string() +
+              " records 2 trials, not trial 3; allowed the trace of one of its trials");
+    // Not a study's trace name, or no study.json beside it: nothing recorded.
+    for (const char* name :
+         {"trace_01.csv", "trace_+1.csv", "trace_0.csv", "trace_1.csv.bak", "mine.csv", "trace_.csv"})
+        CHECK_FALSE(study::recordedTraceTrial(out / name, "metric: --trace"));
+    CHECK_FALSE(study::recordedTraceTrial(dir.path / "trace_1.csv", "metric: --trace"));
+    // A study.json that cannot be read is named, by the reader's words.
+    dir.write("out/study.json", R"({"order": [0]})");
+    CHECK(errorOf([&] { study::recordedTraceTrial(out / "trace_1.csv", "metric: --trace"); }) ==
+          "metric: --trace " + (out / "study.json").string() + ": not a study's record (needs 'plan' and 'order')");
+}

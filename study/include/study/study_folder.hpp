@@ -6,6 +6,7 @@
 #include <study/plan.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -44,8 +45,21 @@ struct RecordedStudy {
 };
 /// Reads DIR/study.json (regular file, at most 1 MiB) and the plan it names (or the design,
 /// whose SHA-256 must still match, expanded for the recorded participant), and checks the
-/// order against the plan's trials. Throws core::Error("study: --replay
-/// DIR/study.json: ...") naming what is wrong, or readPlan's error.
-RecordedStudy readStudyRecord(const std::filesystem::path& dir);
+/// order against the plan's trials. Throws core::Error("<what> DIR/study.json: ...")
+/// naming what is wrong, or readPlan's error; `what` says who reads it ("study: --replay").
+RecordedStudy readStudyRecord(const std::filesystem::path& dir, const std::string& what = "study: --replay");
+
+/// A trial as its study folder records it: number N (1.. in run order), the folder, and
+/// the plan's trial that ran (its scene or cloud file).
+struct RecordedTrial {
+    int number = 0;
+    std::filesystem::path folder;
+    PlanTrial trial;
+};
+/// The trial a trace file records when it lies in a study folder: `trace` named
+/// trace_<N>.csv (traceFileName) beside a study.json. Nothing for another name, or
+/// without a study.json beside it. Throws core::Error("<what> <trace>: ...") when that
+/// study.json cannot be read (readStudyRecord) or its order has no trial N.
+std::optional<RecordedTrial> recordedTraceTrial(const std::filesystem::path& trace, const std::string& what);
 
 }  // namespace study
