@@ -8,6 +8,7 @@
 #include <io/strict_json.hpp>
 #include <platform/safe_file.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -99,10 +100,16 @@ void parseRunSettings(const json& root, const std::string& where, Plan& plan) {
     if (const auto g = root.find("generate"); g != root.end()) {
         const std::string w = where + ": generate";
         if (!g->is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(*g));
-        onlyKeys(*g, w, {"xres", "yres", "views"});
+        onlyKeys(*g, w, {"xres", "yres", "views", "ground"});
         plan.xres = whole(*g, "xres", w, 1, 8192, plan.xres);
         plan.yres = whole(*g, "yres", w, 1, 8192, plan.yres);
         plan.views = whole(*g, "views", w, 1, 65535, plan.views);
+        if (const std::string ground = text(*g, "ground", w); !ground.empty()) {
+            if (std::find(kPlanGrounds.begin(), kPlanGrounds.end(), ground) == kPlanGrounds.end())
+                throw core::Error(field(w, "ground") + " '" + core::printable(ground, 40) +
+                                  "' is not one of ransac, smrf, csf, white");
+            plan.ground = ground;
+        }
     }
 }
 

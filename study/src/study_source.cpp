@@ -42,6 +42,19 @@ std::vector<core::Candidate> detectedCandidates(const PlanTrial& t) {
 
 }  // namespace
 
+sim::GenerateOptions sceneGenerateOptions(const Plan& plan) {
+    sim::GenerateOptions g;
+    g.orbit.xres = plan.xres;
+    g.orbit.yres = plan.yres;
+    g.orbit.views = plan.views;
+    if (plan.ground == "white")
+        g.white = true;
+    else
+        g.ground.method = sim::parseGroundMethod(plan.ground, "study: generate.ground");
+    sim::validate(g);
+    return g;
+}
+
 StudySource::StudySource(const Plan& plan, std::vector<int> order, int first)
     : plan_(plan), order_(std::move(order)), first_(first) {
     std::map<std::pair<std::string, std::string>, std::vector<core::Candidate>> detected;
@@ -58,11 +71,7 @@ StudySource::StudySource(const Plan& plan, std::vector<int> order, int first)
                                                        : io::readCandidates(t.candidates));
         }
     }
-    sim::GenerateOptions check;
-    check.orbit.xres = plan_.xres;
-    check.orbit.yres = plan_.yres;
-    check.orbit.views = plan_.views;
-    sim::validate(check);
+    sceneGenerateOptions(plan_);  // validated before the window opens
 }
 
 StudySource::~StudySource() { join(); }
@@ -80,11 +89,7 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
     if (!t.cloud.empty()) {
         feed.startFileLoader(t.cloud);
     } else {
-        sim::GenerateOptions g;
-        g.orbit.xres = plan_.xres;
-        g.orbit.yres = plan_.yres;
-        g.orbit.views = plan_.views;
-        generator_ = std::thread([&feed, scene = scenes_[k], g] {
+        generator_ = std::thread([&feed, scene = scenes_[k], g = sceneGenerateOptions(plan_)] {
             try {
                 feed.feedCloud(sim::generateCloud(*scene, g));
             } catch (const std::exception& e) {

@@ -37,10 +37,24 @@ TEST_CASE("a plan's trials, paths relative to the plan, defaults") {
     CHECK(plan.xres == 64);
     CHECK(plan.yres == 32);
     CHECK(plan.views == 10);
+    CHECK(plan.ground == "ransac");  // the generator's default
     const study::Plan bare = parsePlan(R"({"trials": [{"cloud": "a.pcd"}]})", "p.json", "/plans");
     CHECK_FALSE(bare.shuffle_seed);
     CHECK(bare.hit_radius_m == 1.0);
     CHECK(bare.orbit_radius_m == 60.0);
+}
+
+TEST_CASE("a plan's generate.ground chooses the scene trials' ground filter as the generator's --ground does") {
+    for (const char* ground : {"ransac", "smrf", "csf", "white"}) {
+        const study::Plan plan =
+            parsePlan(std::string(R"({"trials": [{"scene": "s.json"}], "generate": {"ground": ")") + ground + R"("}})",
+                      "p.json", "/plans");
+        CHECK(plan.ground == ground);
+    }
+    CHECK_THROWS_WITH_AS(parsePlan(R"({"trials": [{"scene": "s"}], "generate": {"ground": "SMRF"}})", "p.json", "/"),
+                         "study: p.json: generate.ground 'SMRF' is not one of ransac, smrf, csf, white", core::Error);
+    CHECK_THROWS_WITH_AS(parsePlan(R"({"trials": [{"scene": "s"}], "generate": {"ground": 1}})", "p.json", "/"),
+                         doctest::Contains("generate.ground must be a non-empty string"), core::Error);
 }
 
 TEST_CASE("a plan's refused fields name the field and what is allowed") {

@@ -5,12 +5,14 @@
 //    "shuffle_seed": 1,                                   (optional: trial order shuffled)
 //    "hit_radius_m": 1.0,                                 (optional)
 //    "orbit": {"radius_m": 60, "height_m": 40, "period_s": 60},   (optional, automatic mode)
-//    "generate": {"xres": 128, "yres": 128, "views": 100}}       (optional, scene trials)
+//    "generate": {"xres": 128, "yres": 128, "views": 100,        (optional, scene trials)
+//                 "ground": "ransac"}}
 // Paths are relative to the plan's folder. docs/study.md explains each field.
 #pragma once
 #include <core/candidates.hpp>
 #include <viewer/viewer.hpp>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -46,7 +48,13 @@ struct Plan {
     double hit_radius_m = 1.0;
     double orbit_radius_m = 60.0, orbit_height_m = 40.0, orbit_period_s = 60.0;
     int xres = 128, yres = 128, views = 100;  // generated clouds (the generator's defaults)
+    /// The generated clouds' ground filter, one of kPlanGrounds: the generator's --ground
+    /// (ransac, the paper's; smrf; csf), or white (its --white: no ground filter, no colours).
+    std::string ground = "ransac";
 };
+
+/// The names a plan's generate.ground takes.
+inline constexpr std::array<std::string_view, 4> kPlanGrounds = {"ransac", "smrf", "csf", "white"};
 
 /// The largest plan read.
 inline constexpr std::size_t kMaxPlanBytes = std::size_t(1) << 20;

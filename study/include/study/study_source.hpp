@@ -12,7 +12,16 @@
 #include <thread>
 #include <vector>
 
+namespace sim {
+struct GenerateOptions;  // sim/generator.hpp
+}
+
 namespace study {
+
+/// The generator's options for a plan's scene trials: its `generate` block (sensor
+/// resolution, views, ground filter; white: no ground filter, no colours), the rest the
+/// generator's defaults. Throws core::Error as sim::validate does.
+sim::GenerateOptions sceneGenerateOptions(const Plan& plan);
 
 class StudySource : public viewer::TrialSource {
   public:
@@ -33,6 +42,9 @@ class StudySource : public viewer::TrialSource {
     }
     /// The questions of each gap of this run (questions()).
     void setQuestions(std::vector<std::vector<viewer::Question>> by_gap) { questions_ = std::move(by_gap); }
+    /// The candidate boxes plan trial `plan_trial` (an index into the plan's trials) shows:
+    /// its candidates file's, or its condition's detector's.
+    const std::vector<core::Candidate>& candidatesOf(std::size_t plan_trial) const { return candidates_[plan_trial]; }
     /// The plan's trial that runs at position `trial`.
     const PlanTrial& planTrial(int trial) const { return plan_.trials[static_cast<std::size_t>(order_[trial])]; }
 
