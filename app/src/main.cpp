@@ -1,19 +1,47 @@
 // app/src/main.cpp: the `ladarvr` CLI. Every error becomes one line on stderr and an exit
 // status from cli_common.hpp: 1 for a failed run, 2 for a command line that does not
 // parse, 70 for a bug. Messages quote file contents and arguments: they are printed
-// through platform::printMessage, which escapes control bytes and caps the line.
+// through platform::printMessage, which escapes control bytes and caps the line. What
+// was printed on stdout and never reached it (a full disk) fails the run too.
 #include "cli_common.hpp"
 #include "commands.hpp"
 
 #include <core/error.hpp>
 #include <platform/safe_file.hpp>
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <iostream>
 #include <string>
 
-int main(int argc, char** argv) {
+namespace {
+
+// After the command: flushes stdout. Output that did not reach it (a full disk, an I/O
+// error) is one error line and exit 1 where the command had succeeded. A pipe or socket
+// whose reader has gone is not an error: with SIGPIPE ignored by the caller, that is how
+// `| head` ends a writer (with SIGPIPE's default the process ends at the first write
+// and prints nothing either), so the status is kept and nothing is printed.
+int finishStdout(int status) {
+    errno = 0;
+    std::cout.flush();  // in step with stdio: this flushes stdout, and may meet the error
+    const bool flushed = std::fflush(stdout) == 0;
+    const int error = errno;
+    if (flushed && !std::ferror(stdout) && std::cout.good()) return status;
+    struct stat st {};
+    const bool pipe = fstat(STDOUT_FILENO, &st) == 0 && (S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode));
+    if (error == EPIPE || (error == 0 && pipe)) return status;
+    // The errno of a write that failed before these flushes (std::flush mid-run) is gone.
+    platform::printMessage("error", std::string("stdout: write failed") +
+                                        (error != 0 ? std::string(": ") + std::strerror(error) : std::string()) +
+                                        "; the output is incomplete");
+    return status == app::kExitOk ? app::kExitError : status;
+}
+
+int run(int argc, char** argv) {
     CLI::App cli{
         "ladarvr: simulate a drone Ladar, view its point cloud in VR, "
         "measure how visible the target is (Berge et al., CEEC 2016)"};
@@ -61,3 +89,7 @@ int main(int argc, char** argv) {
     }
     return app::kExitOk;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return finishStdout(run(argc, argv)); }

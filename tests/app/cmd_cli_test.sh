@@ -6,6 +6,7 @@
 #    repeated option, malformed or EMPTY values) print one line `ladarvr: error: ...` with
 #    a --help hint, exit 2;
 #  - numbers beyond what float/double can carry are refused in one short line, exit 1;
+#  - output that cannot reach stdout (/dev/full) is one error line, exit 1;
 #  - output folders are created (mkdir -p), a file in the way is refused;
 #  - `scene info` measures the demo scene; `generate` warns about misplaced targets.
 set -eu
@@ -90,6 +91,18 @@ usage "metric: --out: the value is empty" metric --out ''
 usage "view: cloud: the value is empty" view ''
 usage "view: --screenshot: the value is empty" view --screenshot ''
 usage "scene info: scene: the value is empty" scene info ''
+
+# Output that cannot reach stdout (a full disk) fails the run in one line, exit 1:
+# --version's one line, and `scene info`'s lines, more than stdio's buffer holds.
+for args in "--version" "scene info"; do
+    status=0
+    # shellcheck disable=SC2086 # the words of $args are the arguments
+    "$bin" $args >/dev/full 2>"$dir/err" || status=$?
+    [ "$status" -eq 1 ] || fail "$args >/dev/full exited $status, expected 1"
+    [ "$(wc -l <"$dir/err")" -eq 1 ] || fail "$args >/dev/full: not one line: $(cat "$dir/err")"
+    grep -qx "ladarvr: error: stdout: write failed: No space left on device; the output is incomplete" \
+        "$dir/err" || fail "$args >/dev/full: $(cat "$dir/err")"
+done
 
 # The benchmarks are their own program (tests/bench/cli_test.sh): not in --help, and
 # `ladarvr bench` says where they are.
