@@ -18,6 +18,10 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace app {
 
@@ -50,6 +54,27 @@ viewer::ViewerOptions windowOptions(const StudyArgs& a) {
     o.window_height = a.height;
     o.log_json = a.log_json;
     return o;
+}
+
+// The folders of `out` that do not exist yet, deepest first: what createParentFolders
+// will make for it.
+std::vector<std::filesystem::path> missingFolders(std::filesystem::path out) {
+    std::vector<std::filesystem::path> missing;
+    if (!out.has_filename()) out = out.parent_path();  // "a/b/" is the folder a/b
+    for (std::filesystem::path p = out; !p.empty(); p = p.parent_path()) {
+        struct stat st{};
+        if (::lstat(p.c_str(), &st) == 0) break;
+        missing.push_back(p);
+        if (p == p.parent_path()) break;
+    }
+    return missing;
+}
+
+// Removes the folders a run made (missingFolders(), deepest first) while they are empty:
+// rmdir takes an empty folder only, so whatever anyone put there stays.
+void removeEmptyFolders(const std::vector<std::filesystem::path>& made) {
+    for (const std::filesystem::path& p : made)
+        if (::rmdir(p.c_str()) != 0) return;
 }
 
 /// `--replay DIR --trial N`: trial N's trace in the mirror, over its cloud.
@@ -109,10 +134,21 @@ int runStudy(const StudyArgs& a) {
         if (const std::filesystem::path& cloud = run.plan().trials[k].cloud; !cloud.empty())
             refuseCloudsOverBudget("study", a.memory_mb, {cloud}, 40 + 20 + 24,
                                    "trial " + std::to_string(k + 1) + "'s cloud held whole");
-    createParentFolders(std::filesystem::path(a.out) / "trials.csv", "study: --out");
-    run.checkFolder();
-    prepareOutputFile(run.viewerOptions().log_json, "study: --log-json");
-    return run.run(start);
+    // A run that ends before its first trial starts leaves --out as it found it: StudyRun
+    // removes its study.json, and the folders made here go while they are empty.
+    const std::vector<std::filesystem::path> made = missingFolders(a.out);
+    int status = 1;
+    try {
+        createParentFolders(std::filesystem::path(a.out) / "trials.csv", "study: --out");
+        run.checkFolder();
+        prepareOutputFile(run.viewerOptions().log_json, "study: --log-json");
+        status = run.run(start);
+    } catch (...) {
+        removeEmptyFolders(made);
+        throw;
+    }
+    removeEmptyFolders(made);
+    return status;
 }
 }  // namespace
 
@@ -126,16 +162,22 @@ void registerStudy(CLI::App& cli) {
                     "conditions, blocks and participants (a top-level 'conditions' key)");
     cmd->add_option("--participant", args->participant,
                     "with a design: the participant whose session runs (resumed when --out holds it)");
-    cmd->add_option("--replay", args->replay, "replay a study's trace in the mirror: the --out folder of a study");
-    cmd->add_option("--trial", args->trial, "with --replay: the trial (1 = the first run)")->capture_default_str();
-    cmd->add_option("--screenshot", args->screenshot, "with --replay: write the mirror as PNG at the last frame");
+    CLI::Option* replay =
+        cmd->add_option("--replay", args->replay, "replay a study's trace in the mirror: the --out folder of a study");
+    // Alone they would change nothing: refused rather than ignored.
+    cmd->add_option("--trial", args->trial, "with --replay: the trial (1 = the first run)")
+        ->capture_default_str()
+        ->needs(replay);
+    cmd->add_option("--screenshot", args->screenshot, "with --replay: write the mirror as PNG at the last frame")
+        ->needs(replay);
     cmd->add_option("--out", args->out,
                     "folder for trials.csv, candidates.csv and trace_<N>.csv (new or empty; or, with a design, "
                     "the participant's stopped session to resume)");
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
         ->capture_default_str();
-    cmd->add_option("--colour", args->colour, "point colours: file, height, white, label")->capture_default_str();
+    cmd->add_option("--colour", args->colour, "point colours: file, height, white, label, above-ground")
+        ->capture_default_str();
     cmd->add_option("--frames", args->frames, "stop after N frames of the whole run (0 = until the trials end)")
         ->capture_default_str();
     cmd->add_option("--timeout", args->timeout_s, "give up this many seconds after the start, exit 1 (0 = never)")

@@ -188,9 +188,12 @@ std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::str
     if (records.empty()) throw core::Error(file + ": empty; allowed: a design session's trials.csv");
     std::string first;
     for (std::size_t i = 0; i < records[0].fields.size(); ++i) first += (i ? "," : "") + records[0].fields[i];
-    if (first != header)
-        throw core::Error(file + ": line 1: not the header of a design session's trials.csv; allowed: " + header);
-    const std::vector<std::string> columns = splitHeader(header);
+    // Sessions written before name and candidates_shown came lack those two columns.
+    const bool named = first == header;
+    if (!named && first != StudyLog::designTrialsHeader(false))
+        throw core::Error(file + ": line 1: not the header of a design session's trials.csv; allowed: " + header +
+                          " (or the same without name,candidates_shown)");
+    const std::vector<std::string> columns = splitHeader(first);
     enum : std::size_t {
         kTrial,
         kCloud,
@@ -209,7 +212,9 @@ std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::str
         kParticipant,
         kCondition,
         kBlock,
-        kPractice
+        kPractice,
+        kName,
+        kCandidatesShown
     };
     std::vector<ReportTrial> out;
     for (std::size_t r = 1; r < records.size(); ++r) {
@@ -261,6 +266,11 @@ std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::str
         if (t.practice != t.block.empty())
             row.bad(kBlock,
                     t.practice ? "empty for a practice trial" : "a block's name for a trial that is not practice");
+        if (named) {
+            t.name = row.at(kName);
+            if (t.name.empty()) row.bad(kName, "the trial's name");
+            t.candidates_shown = int(row.whole(kCandidatesShown, 0, kMaxCount, count));
+        }
         out.push_back(std::move(t));
     }
     return out;

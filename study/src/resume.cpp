@@ -37,6 +37,11 @@ std::vector<std::string> lines(const std::string& text) {
     return out;
 }
 
+// A count as the log writes one: decimal digits, no sign, at most 9 of them.
+bool isCount(const std::string& text) {
+    return !text.empty() && text.size() <= 9 && text.find_first_not_of("0123456789") == std::string::npos;
+}
+
 bool nameExists(const std::filesystem::path& p) {
     struct stat st{};
     return ::lstat(p.c_str(), &st) == 0;
@@ -98,23 +103,29 @@ std::optional<ResumePoint> findResumePoint(const std::filesystem::path& out, con
     if (nameExists(trials_file)) {
         const std::string w = "study: --out " + core::printable(trials_file.string(), 400);
         const std::vector<std::string> rows = lines(platform::readOwnOutput(trials_file, kMaxResumeCsvBytes, w + ":"));
-        if (rows.empty() || rows[0] != StudyLog::designTrialsHeader())
+        // Sessions written before name and candidates_shown came lack them, and go on so.
+        if (rows.empty() ||
+            (rows[0] != StudyLog::designTrialsHeader() && rows[0] != StudyLog::designTrialsHeader(false)))
             throw core::Error(w + ": line 1: not the header of a design session's trials.csv" + allowed);
+        point.name_columns = rows[0] == StudyLog::designTrialsHeader();
+        const std::size_t columns = point.name_columns ? 20 : 18;
         if (rows.size() - 1 > session.plan.trials.size())
             throw core::Error(w + ": " + std::to_string(rows.size() - 1) + " trials; this session has " +
                               std::to_string(session.plan.trials.size()) + allowed);
         for (std::size_t i = 1; i < rows.size(); ++i) {
             const std::string line_where = w + ": line " + std::to_string(i + 1);
             const std::vector<std::string> f = splitCsvLine(rows[i], line_where);
-            const std::size_t n = f.size();
             const PlanTrial& t = session.plan.trials[i - 1];
             const SessionTrial& s = session.trials[i - 1];
             const std::string block = s.practice ? "" : design.blocks[static_cast<std::size_t>(s.block)].name;
             const std::string condition = design.conditions[static_cast<std::size_t>(s.condition)].name;
-            // Text cells as csvCell wrote them (a cloud name may hold escapes or a leading ').
-            if (n != 18 || f[0] != std::to_string(i) || f[1] != csvSafeText(t.source) ||
-                f[n - 4] != session.participant || f[n - 3] != condition || f[n - 2] != block ||
-                f[n - 1] != (s.practice ? "1" : "0"))
+            // Text cells as csvCell wrote them (a cloud name may hold escapes or a leading ');
+            // the design's columns are 14..17, name and candidates_shown 18 and 19.
+            const bool same = f.size() == columns && f[0] == std::to_string(i) && f[1] == csvSafeText(t.source) &&
+                              f[14] == session.participant && f[15] == condition && f[16] == block &&
+                              f[17] == (s.practice ? "1" : "0") &&
+                              (!point.name_columns || (f[18] == csvSafeText(t.name) && isCount(f[19])));
+            if (!same)
                 throw core::Error(line_where + ": not trial " + std::to_string(i) + " of this session (" + t.source +
                                   ", condition " + condition + (s.practice ? ", practice" : ", block " + block) + ")" +
                                   allowed);

@@ -26,13 +26,18 @@ std::string fixed(double v, int digits = 6) {
 std::string optionalFixed(const std::optional<double>& v, int digits = 6) { return v ? fixed(*v, digits) : ""; }
 }  // namespace
 
-const char* StudyLog::trialsHeader() {
-    return "trial,cloud,decision,designated_x,designated_y,designated_z,target_distance_m,hit,"
-           "time_to_first_designation_s,time_to_decision_s,designations,mode_switches,seconds_in_free_mode,"
-           "visibility_metric";
-}
-std::string StudyLog::designTrialsHeader() {
-    return std::string(trialsHeader()) + ",participant,condition,block,practice";
+namespace {
+constexpr const char* kTrialColumns =
+    "trial,cloud,decision,designated_x,designated_y,designated_z,target_distance_m,hit,"
+    "time_to_first_designation_s,time_to_decision_s,designations,mode_switches,seconds_in_free_mode,"
+    "visibility_metric";
+constexpr const char* kDesignColumns = ",participant,condition,block,practice";
+constexpr const char* kNameColumns = ",name,candidates_shown";
+}  // namespace
+
+std::string StudyLog::trialsHeader(bool named) { return std::string(kTrialColumns) + (named ? kNameColumns : ""); }
+std::string StudyLog::designTrialsHeader(bool named) {
+    return std::string(kTrialColumns) + kDesignColumns + (named ? kNameColumns : "");
 }
 const char* StudyLog::candidatesHeader() { return "trial,candidate,score,verdict,t_s"; }
 
@@ -83,6 +88,7 @@ void StudyLog::onAnswer(int gap, int question, const viewer::Answer& answer) {
         static_cast<std::size_t>(question) >= questions_[static_cast<std::size_t>(gap)].size())
         return;
     const ScheduledQuestion& q = questions_[static_cast<std::size_t>(gap)][static_cast<std::size_t>(question)];
+    recorded_ = true;
     const double t_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start_).count();
     question_rows_.push_back(questionnaireRow(participant_, q, answer.skipped ? std::string() : answer.response, t_s));
     writeAtomic("questionnaires.csv", questionnairesHeader(), question_rows_);
@@ -107,6 +113,7 @@ void StudyLog::closeTrace() {
 
 void StudyLog::onStart(int trial) {
     closeTrace();
+    recorded_ = true;
     trace_path_ = dir_ / traceFileName(offset_ + trial + 1);
     // A new file only, never through a link: the folder is checked for earlier studies
     // before the run, so an existing name here is someone else's file.
@@ -154,11 +161,13 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     if (design_columns_)
         row += "," + csvCell(info.participant) + "," + csvCell(info.condition) + "," + csvCell(info.block) +
                (info.practice ? ",1" : ",0");
+    if (name_columns_) row += "," + csvCell(info.name) + "," + std::to_string(info.candidates_shown);
     trial_rows_.push_back(std::move(row));
     // candidates.csv first: a trial whose row is in trials.csv has its verdicts written
     // too, so a resumed session can trust trials.csv as the record of what is done.
     writeAtomic("candidates.csv", candidatesHeader(), candidate_rows_);
-    writeAtomic("trials.csv", design_columns_ ? designTrialsHeader() : trialsHeader(), trial_rows_);
+    writeAtomic("trials.csv", design_columns_ ? designTrialsHeader(name_columns_) : trialsHeader(name_columns_),
+                trial_rows_);
 }
 
 }  // namespace study

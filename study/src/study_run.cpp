@@ -19,6 +19,8 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
+#include <system_error>
 #include <string>
 
 namespace study {
@@ -144,24 +146,43 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
     }
     source->setQuestions(std::move(screens));
     // What --replay needs to find a trial's cloud again (a resumed session has it already).
+    // Written before the window opens, so an unwritable folder fails first; a run that then
+    // ends before its first trial starts or its first answer (a window that cannot open, a
+    // first cloud that fails to load, Escape on the first ready screen) has recorded
+    // nothing, and its study.json goes again: the folder is as it was, and the same command
+    // runs there again.
+    std::optional<StudyLog> log;
+    struct RecordGuard {
+        std::filesystem::path file;  // empty: nothing written by this run
+        const std::optional<StudyLog>& log;
+        ~RecordGuard() {
+            std::error_code ec;
+            if (!file.empty() && !(log && log->recordedAnything())) std::filesystem::remove(file, ec);
+        }
+    } record{{}, log};
     if (design_ && !resume_) {
         std::vector<std::string> names;
         for (const Condition& c : design_->conditions) names.push_back(c.name);
         writeDesignRecord(out, options_.design, design_sha256_, names, session_);
+        record.file = out / "study.json";
     } else if (!design_) {
         writeStudyRecord(out, options_.plan, order);
+        record.file = out / "study.json";
     }
 
     // The metric renders with its own EGL context: before the window opens.
     const std::map<std::filesystem::path, double> metrics =
         options_.metric ? sceneMetrics(plan_, o.modes.orbit.radius_m, o.modes.orbit.altitude_m)
                         : std::map<std::filesystem::path, double>{};
-    StudyLog log(
+    log.emplace(
         out,
         [&](int position) {
-            const PlanTrial& t = plan_.trials[static_cast<std::size_t>(order[static_cast<std::size_t>(position)])];
+            const std::size_t k = static_cast<std::size_t>(order[static_cast<std::size_t>(position)]);
+            const PlanTrial& t = plan_.trials[k];
             TrialInfo info;
             info.source = t.source;
+            info.name = t.name;
+            info.candidates_shown = static_cast<int>(source->candidatesOf(k).size());
             if (design_) {
                 const SessionTrial& s = session_.trials[static_cast<std::size_t>(position)];
                 info.participant = session_.participant;
@@ -175,22 +196,25 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
             return info;
         },
         plan_.hit_radius_m);
-    if (design_) log.addDesignColumns();
-    if (resume_) log.resumeAt(resume_->trials_done, resume_->trial_rows, resume_->candidate_rows);
+    if (design_) log->addDesignColumns();
+    if (resume_ && !resume_->name_columns) log->leaveOutNameColumns();
+    if (resume_) log->resumeAt(resume_->trials_done, resume_->trial_rows, resume_->candidate_rows);
     if (questions_left)
-        log.setQuestions(session_.participant, std::move(pending),
-                         resume_ ? resume_->questionnaire_rows : std::vector<std::string>{}, started);
+        log->setQuestions(session_.participant, std::move(pending),
+                          resume_ ? resume_->questionnaire_rows : std::vector<std::string>{}, started);
     if (o.timeout_s > 0.0)
         o.timeout_s = std::max(
             0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
-    int status = viewer::runTrials(o, *source, log);
-    if (!log.error().empty()) {
-        std::fprintf(stderr, "ladarvr: study: %s\n", log.error().c_str());
+    int status = viewer::runTrials(o, *source, *log);
+    if (!log->error().empty()) {
+        std::fprintf(stderr, "ladarvr: study: %s\n", log->error().c_str());
         if (status == 0) status = 1;
     }
-    std::fprintf(stderr, "ladarvr: study: %zu of %zu trials written to %s\n", log.trialsWritten(), plan_.trials.size(),
+    std::fprintf(stderr, "ladarvr: study: %zu of %zu trials written to %s\n", log->trialsWritten(), plan_.trials.size(),
                  (out / "trials.csv").string().c_str());
-    if (questions_left) printSsqScores(log.questionRows());
+    if (!record.file.empty() && !log->recordedAnything())
+        std::fprintf(stderr, "ladarvr: study: no trial started: study.json removed, --out left as it was\n");
+    if (questions_left) printSsqScores(log->questionRows());
     return status;
 }
 

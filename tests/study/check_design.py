@@ -21,7 +21,7 @@ def check(ok, what):
 OLD_COLUMNS = ["trial", "cloud", "decision", "designated_x", "designated_y", "designated_z",
                "target_distance_m", "hit", "time_to_first_designation_s", "time_to_decision_s",
                "designations", "mode_switches", "seconds_in_free_mode", "visibility_metric"]
-COLUMNS = OLD_COLUMNS + ["participant", "condition", "block", "practice"]
+COLUMNS = OLD_COLUMNS + ["participant", "condition", "block", "practice", "name", "candidates_shown"]
 CONDITIONS = ["heightedl", "white", "label"]
 COLOUR = {"heightedl": "height", "white": "white", "label": "label"}
 CANDIDATES = {"heightedl": True, "white": False, "label": False}
@@ -64,6 +64,12 @@ def check_folder(folder, participant, index, log=None):
     for n, (row, (condition, block, practice)) in enumerate(zip(rows, trials), 1):
         got = (row["trial"], row["participant"], row["condition"], row["block"], row["practice"])
         check(got == (str(n), participant, condition, block, practice), f"{folder}: trial {n}: {got}")
+        # The design's trial names; the two candidate boxes where the condition shows them
+        # (the practice trial has none).
+        shown = (row["name"], row["candidates_shown"])
+        want_shown = ({"": "practice", "first": "one", "second": "two"}[block],
+                      "2" if CANDIDATES[condition] and block else "0")
+        check(shown == want_shown, f"{folder}: trial {n}: name and candidates shown {shown}, expected {want_shown}")
         check(row["decision"] == "confirm" and row["hit"] == "1", f"{folder}: trial {n}: {row['decision']} hit {row['hit']}")
         # The label condition starts in free mode; that is not one of the operator's switches.
         check(row["mode_switches"] == "0", f"{folder}: trial {n}: {row['mode_switches']} mode switches")
@@ -208,6 +214,8 @@ if scenario == "detector":
         want = [c["id"] for c in json.load(open(os.path.join(work, name + ".json")))["candidates"]]
         rows = [r for r in cands if r["trial"] == str(n)]
         check([r["candidate"] for r in rows] == want, f"trial {n} ({name}): candidates {[r['candidate'] for r in rows]}, detect gives {want}")
+        check(trials[n - 1]["candidates_shown"] == str(len(want)),
+              f"trial {n} ({name}): candidates_shown {trials[n - 1]['candidates_shown']}, detect gives {len(want)}")
         check(bool(rows) and rows[0]["verdict"] == "confirmed", f"trial {n} ({name}): c1 not confirmed: {rows[:1]}")
     lines = [l for l in open(os.path.join(work, "det.err")) if "detecting candidates" in l]
     check(len(lines) == 2, f"{len(lines)} detector runs, expected one per detector: {lines}")

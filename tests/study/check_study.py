@@ -22,7 +22,8 @@ def check(ok, what):
 
 TRIAL_COLUMNS = ["trial", "cloud", "decision", "designated_x", "designated_y", "designated_z",
                  "target_distance_m", "hit", "time_to_first_designation_s", "time_to_decision_s",
-                 "designations", "mode_switches", "seconds_in_free_mode", "visibility_metric"]
+                 "designations", "mode_switches", "seconds_in_free_mode", "visibility_metric",
+                 "name", "candidates_shown"]
 TRACE_COLUMNS = ["t_s", "head_x", "head_y", "head_z", "head_qw", "head_qx", "head_qy", "head_qz",
                  "mode", "scale", "hit_x", "hit_y", "hit_z"]
 
@@ -107,6 +108,9 @@ if scenario in ("xr", "desktop"):
             check(r["designations"] == "1", f"trial {r['trial']}: {r['designations']} designations")
             check(float(r["time_to_first_designation_s"]) <= float(r["time_to_decision_s"]), "times out of order")
             check(r["visibility_metric"] == "", "visibility_metric given with --no-metric")
+        # The plan's names, and trial 1's three candidate boxes (trial 2 has none).
+        check([(r["name"], r["candidates_shown"]) for r in trials] == [("demo A", "3"), ("demo B", "0")],
+              f"names and candidates shown: {[(r['name'], r['candidates_shown']) for r in trials]}")
     cands = read_csv("candidates.csv", ["trial", "candidate", "score", "verdict", "t_s"])
     verdicts = {(r["trial"], r["candidate"]): r["verdict"] for r in cands}
     print("candidates:", verdicts)

@@ -11,9 +11,12 @@
 #include <string>
 
 namespace {
-const std::string kHeader = study::StudyLog::designTrialsHeader() + "\n";
+// Most rows here are in the layout sessions had before name and candidates_shown came,
+// still read as they are (kNamedHeader's rows have the two columns).
+const std::string kHeader = study::StudyLog::designTrialsHeader(false) + "\n";
+const std::string kNamedHeader = study::StudyLog::designTrialsHeader() + "\n";
 // trial,cloud,decision,x,y,z,distance,hit,first,time,designations,switches,free,metric,
-// participant,condition,block,practice
+// participant,condition,block,practice[,name,candidates_shown]
 const std::string kRows =
     "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,,1\n"
     "2,demo.pcd,confirm,5,5,1,7.1,0,1.0,3.0,2,1,0.5,0.4,P01,a,first,0\n"
@@ -53,6 +56,36 @@ TEST_CASE("trials.csv: rows read, quoting and empty fields kept") {
     CHECK(t[2].time_to_decision_s == 4.0);
     CHECK(t[2].condition == "b");
     CHECK(t[2].participant == "P01");
+}
+
+TEST_CASE("trials.csv: the trial's name and the candidates shown, or an older session without them") {
+    const std::vector<study::ReportTrial> t =
+        study::parseReportTrials(kNamedHeader +
+                                     "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,,1,practice one,0\n"
+                                     "2,\"b,c.pcd\",no_target,,,,,,,4.0,0,0,0,,P01,b,first,0,\"'=village, east\",3\n",
+                                 "T/trials.csv");
+    REQUIRE(t.size() == 2);
+    CHECK(t[0].name == "practice one");
+    CHECK(t[0].candidates_shown == 0);
+    CHECK(t[1].cloud == "b,c.pcd");
+    CHECK(t[1].name == "'=village, east");
+    CHECK(t[1].candidates_shown == 3);
+    CHECK(t[1].block == "first");  // the design's columns where they were
+    const std::vector<study::ReportTrial> older = study::parseReportTrials(kHeader + kRows, "T/trials.csv");
+    REQUIRE(older.size() == 3);
+    CHECK(older[0].name.empty());
+    CHECK_FALSE(older[0].candidates_shown);
+
+    CHECK(errorOfTrials(kNamedHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,first,0,a,-1\n") ==
+          "T/trials.csv: line 2, column candidates_shown: '-1'; allowed a whole number 0 .. 1e9");
+    CHECK(errorOfTrials(kNamedHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,first,0,,1\n") ==
+          "T/trials.csv: line 2, column name: ''; allowed the trial's name");
+    // A row of the older layout under the newer header: counted, not read by position.
+    CHECK(errorOfTrials(kNamedHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,first,0\n") ==
+          "T/trials.csv: line 2: 18 fields; allowed: 20, as the header");
+    CHECK(errorOfTrials(study::StudyLog::designTrialsHeader(false) + ",name\n") ==
+          "T/trials.csv: line 1: not the header of a design session's trials.csv; allowed: " +
+              study::StudyLog::designTrialsHeader() + " (or the same without name,candidates_shown)");
 }
 
 TEST_CASE("trials.csv: malformed rows are refused with file, line, column and what is allowed") {

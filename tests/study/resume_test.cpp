@@ -35,6 +35,7 @@ struct Fixture {
             [&](int position) {
                 study::TrialInfo info;
                 info.source = session.plan.trials[std::size_t(position)].source;
+                info.name = session.plan.trials[std::size_t(position)].name;
                 info.participant = "P01";
                 info.condition = "edl";
                 info.block = "b1";
@@ -58,6 +59,29 @@ TEST_CASE("resume: a trial whose cloud name was made safe in trials.csv is this 
     const std::optional<study::ResumePoint> point = study::findResumePoint(f.out, "aaaa", f.design, f.session);
     REQUIRE(point);
     CHECK(point->trials_done == 1);
+    CHECK(point->name_columns);
+}
+
+TEST_CASE("resume: trials.csv's name must be the session trial's; an older trials.csv without it resumes as it is") {
+    Fixture f;
+    f.runFirstTrial();
+    const std::string header = study::StudyLog::designTrialsHeader();
+    const std::string row = test_support::slurp(f.out / "trials.csv").substr(header.size() + 1);
+    // The row up to the design's columns, then another trial's name: not this session's trial 1.
+    const std::string design_columns = ",P01,edl,b1,0";
+    const std::size_t name_at = row.find(design_columns + ",");
+    REQUIRE(name_at != std::string::npos);
+    const std::string older_row = row.substr(0, name_at + design_columns.size());
+    f.dir.write("out/trials.csv", header + "\n" + older_row + ",b.pcd,0\n");
+    CHECK(test_support::errorOf([&] {
+              study::findResumePoint(f.out, "aaaa", f.design, f.session);
+          }).find("trials.csv: line 2: not trial 1 of this session") != std::string::npos);
+    // The layout written before name and candidates_shown came: kept, and said so.
+    f.dir.write("out/trials.csv", study::StudyLog::designTrialsHeader(false) + "\n" + older_row + "\n");
+    const std::optional<study::ResumePoint> older = study::findResumePoint(f.out, "aaaa", f.design, f.session);
+    REQUIRE(older);
+    CHECK(older->trials_done == 1);
+    CHECK_FALSE(older->name_columns);
 }
 
 TEST_CASE("resume: study.json's participant must be an id by the design's rules") {

@@ -9,7 +9,11 @@
 #     file's name: one line naming it, exit 1, nothing moved, no hidden folder beside;
 #   - a design with a duplicate key, NaN or trailing text given with --participant is
 #     reported for what is wrong with it, not as a plan;
-#   - a replay of a folder whose trial order is empty is refused, saying so.
+#   - a replay of a folder whose trial order is empty is refused, saying so;
+#   - a run that fails before its first trial (no display: the desktop window cannot open)
+#     leaves --out as it found it: no study.json, no folder it made; the same command
+#     then fails the same way rather than finding a study there;
+#   - --screenshot and --trial without --replay are usage errors; --help lists the colours.
 set -euo pipefail
 bin=$(realpath "$1")
 work=$(mktemp -d /tmp/ladarvr-studyfiles.XXXXXX)
@@ -118,4 +122,40 @@ printf '{"trials": [{"cloud": "c.pcd", "name": "one"}]}\n' >"$work/empty/plan.js
 printf '{"plan": "%s", "order": []}\n' "$work/empty/plan.json" >"$work/empty/study.json"
 refused "study.json's trial order is empty; allowed a study folder with at least one trial" \
   study --replay "$work/empty" --trial 1
+# No display: the run fails as the window opens, before its first trial. Nothing of it
+# stays, so the same command runs again there (and fails for the same reason).
+mkdir -p "$work/one"
+printf 'VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n0 0 0\n' \
+  >"$work/one/c.pcd"
+printf '{"trials": [{"cloud": "c.pcd", "name": "one"}]}\n' >"$work/one/plan.json"
+nodisplay() {  # nodisplay OUT: `study` without a display, one line saying so, exit 1
+  local status=0
+  mkdir -p -m 700 "$work/xdg"  # a private runtime folder: no Wayland client complains of a missing one
+  env -u DISPLAY -u WAYLAND_DISPLAY XDG_RUNTIME_DIR="$work/xdg" \
+    "$bin" study "$work/one/plan.json" --no-xr --out "$1" 2>"$work/nodisplay.err" >/dev/null || status=$?
+  echo "no display: exit $status: $(cat "$work/nodisplay.err")"
+  [ "$status" = 1 ] && [ "$(wc -l <"$work/nodisplay.err")" = 1 ] &&
+    grep -q "cannot open the desktop window" "$work/nodisplay.err" || fail "not refused for want of a display"
+}
+nodisplay "$work/fresh/sub"
+[ ! -e "$work/fresh" ] || fail "a run that failed at start left the folders it made: $(find "$work/fresh")"
+mkdir "$work/kept" && echo "mine" >"$work/kept/notes.txt"
+for attempt in 1 2; do
+  nodisplay "$work/kept"
+  [ "$(ls -A "$work/kept")" = notes.txt ] || fail "attempt $attempt left $(ls -A "$work/kept") in --out"
+done
+
+# Options that only a replay uses are refused without --replay (exit 2, one line).
+usage() {  # usage WANT ARGS...
+  local want=$1 status=0
+  shift
+  "$bin" "$@" 2>"$work/usage.err" >/dev/null || status=$?
+  [ "$status" = 2 ] && [ "$(wc -l <"$work/usage.err")" = 1 ] && grep -q -F -- "$want" "$work/usage.err" ||
+    fail "exit $status, not a one-line usage error saying '$want': $(cat "$work/usage.err")"
+}
+usage "--screenshot requires --replay" study "$work/one/plan.json" --out "$work/s2" --screenshot "$work/s.png"
+usage "--trial requires --replay" study "$work/one/plan.json" --out "$work/s2" --trial 2
+[ ! -e "$work/s2" ] && [ ! -e "$work/s.png" ] || fail "a usage error left an output"
+"$bin" study --help | grep -q -- "--colour.*file, height, white, label, above-ground" ||
+  fail "study --help does not list above-ground among the colours"
 echo "PASS"

@@ -24,6 +24,8 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
         [](int trial) {
             study::TrialInfo info;
             info.source = trial == 0 ? "village, east.pcd" : "s.json";
+            info.name = trial == 0 ? "village" : "scene, again";
+            info.candidates_shown = trial == 0 ? 3 : 0;
             if (trial == 1) info.visibility_metric = 0.25;
             return info;
         },
@@ -60,9 +62,12 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     auto rows = lines(dir.path / "trials.csv");
     REQUIRE(rows.size() == 2);
     CHECK(rows[0] == study::StudyLog::trialsHeader());
+    // The trial's name and the candidate boxes it showed come last, after the columns
+    // older readers take by position.
+    CHECK(rows[0].ends_with(",visibility_metric,name,candidates_shown"));
     CHECK(rows[1] ==
           "1,\"village, east.pcd\",confirm,10.000000,20.000000,0.500000,0.250000,1,0.600000,0.800000,1,2,"
-          "0.100000,");
+          "0.100000,,village,3");
     std::vector<viewer::TraceSample> samples;  // and back
     for (const io::TraceRow& r : io::readTrace(dir.path / "trace_1.csv").rows)
         samples.push_back(study::toTraceSample(r));
@@ -95,7 +100,9 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     log.onEnd(1, miss);
     rows = lines(dir.path / "trials.csv");
     REQUIRE(rows.size() == 3);
-    CHECK(rows[2] == "2,s.json,timeout,-30.000000,22.000000,4.000000,36.500000,0,,120.000000,0,0,0.000000,0.250000");
+    CHECK(rows[2] ==
+          "2,s.json,timeout,-30.000000,22.000000,4.000000,36.500000,0,,120.000000,0,0,0.000000,0.250000,"
+          "\"scene, again\",0");
     CHECK(lines(dir.path / "trace_2.csv").size() == 1);  // the header only: no frame
     CHECK(log.trialsWritten() == 2);
     CHECK_MESSAGE(log.error().empty(), log.error());
@@ -120,11 +127,11 @@ TEST_CASE("hit: 1 only for a confirmed point near the target, 0 otherwise, empty
     }
     const auto rows = lines(dir.path / "trials.csv");
     REQUIRE(rows.size() == 7);
-    CHECK(rows[1] == "1,a.pcd,no_target,,,,,0,,2.000000,0,0,0.000000,");
-    CHECK(rows[2] == "2,a.pcd,timeout,,,,,0,,2.000000,0,0,0.000000,");
-    CHECK(rows[3] == "3,a.pcd,quit,,,,,0,,2.000000,0,0,0.000000,");
-    CHECK(rows[4] == "4,a.pcd,no_target,,,,,,,2.000000,0,0,0.000000,");
-    CHECK(rows[6] == "6,a.pcd,quit,,,,,,,2.000000,0,0,0.000000,");
+    CHECK(rows[1] == "1,a.pcd,no_target,,,,,0,,2.000000,0,0,0.000000,,,0");
+    CHECK(rows[2] == "2,a.pcd,timeout,,,,,0,,2.000000,0,0,0.000000,,,0");
+    CHECK(rows[3] == "3,a.pcd,quit,,,,,0,,2.000000,0,0,0.000000,,,0");
+    CHECK(rows[4] == "4,a.pcd,no_target,,,,,,,2.000000,0,0,0.000000,,,0");
+    CHECK(rows[6] == "6,a.pcd,quit,,,,,,,2.000000,0,0,0.000000,,,0");
     CHECK(dir.entries() == 8);  // trials, candidates, six traces named trace_1 .. trace_6
     CHECK(std::filesystem::exists(dir.path / "trace_6.csv"));
 
@@ -143,9 +150,9 @@ TEST_CASE("hit: 1 only for a confirmed point near the target, 0 otherwise, empty
     }
     const auto more = lines(dir.path / "trials.csv");
     REQUIRE(more.size() == 10);
-    CHECK(more[7] == "7,a.pcd,no_target,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,");
-    CHECK(more[8] == "8,a.pcd,timeout,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,");
-    CHECK(more[9] == "9,a.pcd,confirm,1.000000,2.000000,3.000000,0.500000,1,,2.000000,0,0,0.000000,");
+    CHECK(more[7] == "7,a.pcd,no_target,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,,,0");
+    CHECK(more[8] == "8,a.pcd,timeout,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,,,0");
+    CHECK(more[9] == "9,a.pcd,confirm,1.000000,2.000000,3.000000,0.500000,1,,2.000000,0,0,0.000000,,,0");
 }
 
 TEST_CASE("a trace that exists already is not overwritten and the error is kept") {
@@ -168,6 +175,8 @@ TEST_CASE("trials.csv and candidates.csv: text cells cannot become formulas or s
             info.participant = "P01";
             info.condition = "edl";
             info.block = "b1";
+            info.name = "-2+3 \x1b[1m";
+            info.candidates_shown = 1;
             return info;
         },
         1.0);
@@ -184,13 +193,49 @@ TEST_CASE("trials.csv and candidates.csv: text cells cannot become formulas or s
     log.onEnd(0, o);
     const auto rows = lines(dir.path / "trials.csv");
     REQUIRE(rows.size() == 2);
-    // The cloud's name: a leading ', escapes for ESC and U+202E; numbers stay numbers.
+    // The cloud's and the trial's names: a leading ', escapes for ESC and U+202E; numbers
+    // stay numbers. The name follows the design's columns.
+    CHECK(rows[0] == study::StudyLog::designTrialsHeader());
+    CHECK(rows[0].ends_with(",practice,name,candidates_shown"));
     CHECK(rows[1] ==
           "1,\"'=HYPERLINK(\"\"http://x\"\",\"\"a\\x1b[2J\\u202e.pcd\"\")\",no_target,-1.500000,2.000000,-3.000000,,,,"
-          "2.000000,0,0,0.000000,,P01,edl,b1,0");
+          "2.000000,0,0,0.000000,,P01,edl,b1,0,'-2+3 \\x1b[1m,1");
     const auto candidates = lines(dir.path / "candidates.csv");
     REQUIRE(candidates.size() == 2);
     CHECK(candidates[1] == "1,'@SUM(1),-0.500000,rejected,0.700000");
+}
+
+TEST_CASE("a resumed session whose trials.csv predates name and candidates_shown goes on without them") {
+    test_support::TempDir dir("study_log_older");
+    study::StudyLog log(
+        dir.path,
+        [](int) {
+            study::TrialInfo info;
+            info.source = "a.pcd";
+            info.participant = "P01";
+            info.condition = "edl";
+            info.block = "b1";
+            info.name = "a";
+            info.candidates_shown = 2;
+            return info;
+        },
+        1.0);
+    log.addDesignColumns();
+    log.leaveOutNameColumns();
+    const std::string kept = "1,a.pcd,quit,,,,,,,1.000000,0,0,0.000000,,P01,edl,b1,0";
+    log.resumeAt(1, {kept}, {});
+    CHECK_FALSE(log.recordedAnything());
+    log.onStart(0);
+    CHECK(log.recordedAnything());
+    viewer::TrialOutcome o;
+    o.time_to_decision_s = 2.0;
+    log.onEnd(0, o);
+    const auto rows = lines(dir.path / "trials.csv");
+    REQUIRE(rows.size() == 3);
+    CHECK(rows[0] == study::StudyLog::designTrialsHeader(false));
+    CHECK(rows[0].ends_with(",practice"));
+    CHECK(rows[1] == kept);
+    CHECK(rows[2] == "2,a.pcd,quit,,,,,,,2.000000,0,0,0.000000,,P01,edl,b1,0");
 }
 
 TEST_CASE("a trace sample becomes a row and back, mode, scale and hit kept") {

@@ -42,6 +42,10 @@ struct ReportTrial {
     std::optional<double> visibility_metric;
     std::string participant, condition, block;
     bool practice = false;
+    /// The plan trial's name and the candidate boxes shown; empty in a session written
+    /// before trials.csv had those columns.
+    std::string name;
+    std::optional<int> candidates_shown;
 };
 
 /// One participant's session as its folder holds it.
@@ -84,7 +88,8 @@ std::vector<std::filesystem::path> findSessionFolders(const std::vector<std::fil
 /// empty").
 StudyResults readStudyResults(const std::vector<std::filesystem::path>& session_folders);
 
-/// The rows of a design session's trials.csv `text` (`file` names it in messages).
+/// The rows of a design session's trials.csv `text` (`file` names it in messages), with or
+/// without the name and candidates_shown columns (StudyLog::designTrialsHeader).
 std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::string& file);
 
 /// questionnaires.csv `text` (instruments.hpp's layout) scored into `p`: the SSQ before

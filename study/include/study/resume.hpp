@@ -18,6 +18,9 @@ struct ResumePoint {
     std::size_t trials_done = 0;              // rows of trials.csv: trials 1..trials_done
     std::vector<std::string> trial_rows;      // as written, header excluded
     std::vector<std::string> candidate_rows;  // those of trials 1..trials_done
+    /// trials.csv has the name and candidates_shown columns (false: an older session's,
+    /// which goes on without them, StudyLog::leaveOutNameColumns).
+    bool name_columns = true;
     /// Rows of questionnaires.csv (header excluded): the answers to the first
     /// questions_answered questions of questionSchedule(), kept as written.
     std::vector<std::string> questionnaire_rows;
@@ -35,7 +38,8 @@ std::vector<std::string> splitCsvLine(const std::string& line, const std::string
 /// folder holds no study file (a fresh start). Otherwise its study.json must record the
 /// design with SHA-256 `design_sha256` and `session`'s participant, and every row of its
 /// trials.csv must be the session's trial of that number (cloud, participant, condition,
-/// block, practice), and every row of its questionnaires.csv the answer to the
+/// block, practice, and name where the file has that column: with or without name and
+/// candidates_shown, StudyLog::designTrialsHeader), and every row of its questionnaires.csv the answer to the
 /// session's question of that place (questionSchedule(); participant, condition,
 /// instrument, occasion, item; a rating within its range), those asked before trial
 /// trials_done + 1 all there; then the trace files of later trials (the one in progress when it

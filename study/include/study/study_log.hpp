@@ -35,6 +35,8 @@ struct TrialInfo {
     // A design's session (study/design.hpp): the columns trials.csv gains then.
     std::string participant{}, condition{}, block{};  // block: empty for a practice trial
     bool practice = false;
+    std::string name{};        // the plan trial's name (PlanTrial::name)
+    int candidates_shown = 0;  // the candidate boxes the trial showed
 };
 
 class StudyLog : public viewer::TrialObserver {
@@ -46,6 +48,9 @@ class StudyLog : public viewer::TrialObserver {
 
     /// trials.csv gets the design's columns (designTrialsHeader()).
     void addDesignColumns() { design_columns_ = true; }
+    /// trials.csv is written without name and candidates_shown, as sessions were before
+    /// those columns came: a resumed session whose trials.csv lacks them goes on so.
+    void leaveOutNameColumns() { name_columns_ = false; }
     /// Continues a study whose first `trials_done` trials are written: their rows of
     /// trials.csv and candidates.csv are kept as given, and the viewer's trial k is
     /// position trials_done + k (its number, trace and rows).
@@ -68,12 +73,19 @@ class StudyLog : public viewer::TrialObserver {
     std::size_t trialsWritten() const { return trial_rows_.size(); }
     /// Rows of questionnaires.csv so far (header excluded), resumed ones included.
     const std::vector<std::string>& questionRows() const { return question_rows_; }
+    /// Whether this run started a trial or wrote an answer (a run that ends before either
+    /// has nothing of the session to keep).
+    bool recordedAnything() const { return recorded_; }
     /// The first write error, if any (the run goes on; the command reports it).
     const std::string& error() const { return error_; }
 
-    static const char* trialsHeader();
-    /// trialsHeader() followed by participant,condition,block,practice.
-    static std::string designTrialsHeader();
+    /// trials.csv's header: trial .. visibility_metric, then name,candidates_shown (left
+    /// out with `named` false: the layout written before those two columns came).
+    static std::string trialsHeader(bool named = true);
+    /// A design session's: trial .. visibility_metric, participant,condition,block,practice,
+    /// then name,candidates_shown (left out with `named` false). New columns come last, so
+    /// a reader that picks columns by position keeps working.
+    static std::string designTrialsHeader(bool named = true);
     static const char* candidatesHeader();
 
   private:
@@ -84,7 +96,9 @@ class StudyLog : public viewer::TrialObserver {
     std::function<TrialInfo(int)> info_;
     double hit_radius_m_ = 1.0;
     bool design_columns_ = false;
-    int offset_ = 0;  // trials written before this run (a resumed session)
+    bool name_columns_ = true;
+    bool recorded_ = false;  // recordedAnything()
+    int offset_ = 0;         // trials written before this run (a resumed session)
     std::vector<std::string> trial_rows_, candidate_rows_;
     std::string participant_;
     std::vector<std::vector<ScheduledQuestion>> questions_;
