@@ -162,14 +162,15 @@ if r.returncode != 0: sys.exit("exit %d" % r.returncode)
 print(int(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024))' "$@"
 }
 tr="$dir/trace.csv"
+demo=$(cd "$(dirname "$0")/../../assets/demo" && pwd)/scene.json  # a trace outside a study names no scene
 awk 'BEGIN { print "t_s,head_x,head_y,head_z,head_qw,head_qx,head_qy,head_qz";
              for (i = 0; i < 3000000; i++) printf "%.3f,0,-60,40,1,0,0,0\n", i / 1000 }' >"$tr"
 head -n 4 "$tr" >"$dir/short.csv"
 refused "metric: --trace $tr: more than 1000000 samples are at least 0 s apart; allowed at most 1000000 views (raise --trace-step-s)" \
-    metric --trace "$tr" --trace-step-s 0 --no-exact --width 16 --height 16 --out "$dir/tm"
+    metric --trace "$tr" --scene "$demo" --trace-step-s 0 --no-exact --width 16 --height 16 --out "$dir/tm"
 # Every 1000 s: 3 views (0, 1000, 2000 s) of a 77 MB trace, read without holding it: the
 # run's peak memory is that of a 3-row trace's run, give or take the allocator.
-trace_run=(metric --trace-step-s 1000 --no-exact --width 16 --height 16 --out "$dir/tm")
+trace_run=(metric --scene "$demo" --trace-step-s 1000 --no-exact --width 16 --height 16 --out "$dir/tm")
 "$bin" "${trace_run[@]}" --trace "$tr" >"$dir/out.txt" 2>"$dir/err.txt" || fail "metric --trace failed: $(cat "$dir/err.txt")"
 grep -q -F "3 of 3000000 samples used" "$dir/out.txt" || fail "metric --trace kept the wrong samples: $(cat "$dir/out.txt")"
 base_mib=$(peak_mib "$bin" "${trace_run[@]}" --trace "$dir/short.csv") || fail "metric on a short trace failed"

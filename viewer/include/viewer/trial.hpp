@@ -10,7 +10,8 @@
 // Files the study runner writes from these reports (docs/study.md explains every column):
 //   trials.csv: trial, cloud, decision, designated_x, designated_y, designated_z,
 //     target_distance_m, hit, time_to_first_designation_s, time_to_decision_s,
-//     designations, mode_switches, seconds_in_free_mode, visibility_metric
+//     designations, mode_switches, seconds_in_free_mode, visibility_metric (a design's
+//     session adds participant, condition, block, practice), name, candidates_shown
 //   candidates.csv: trial, candidate, score, verdict, t_s
 //   trace_<trial>.csv: t_s, head_x, head_y, head_z, head_qw, head_qx, head_qy, head_qz,
 //     mode, scale, hit_x, hit_y, hit_z   (world coordinates; hit_* empty without a hit)
