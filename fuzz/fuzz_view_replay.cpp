@@ -35,18 +35,6 @@ bool within(const glm::dvec3& v, double bound) {
            std::abs(v.y) <= bound && std::abs(v.z) <= bound;
 }
 
-// What study --replay hands the viewer for a row (study's toTraceSample).
-viewer::TraceSample sampleOf(const io::TraceRow& r) {
-    viewer::TraceSample s;
-    s.t_s = r.t_s;
-    s.head_world = r.head_world;
-    s.head_orientation = r.head_orientation;
-    s.mode = r.mode == io::TraceMode::Free ? viewer::ViewMode::Free : viewer::ViewMode::Automatic;
-    s.scale = r.scale;
-    s.hit_world = r.hit_world;
-    return s;
-}
-
 void checkRows(const io::Trace& trace, std::string_view text) {
     const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
     if (trace.rows.empty() || trace.rows.size() >= lines) std::abort();  // the header takes a line
@@ -67,7 +55,7 @@ void checkRows(const io::Trace& trace, std::string_view text) {
 void checkPlayback(const io::Trace& trace) {
     std::vector<viewer::TraceSample> samples;
     samples.reserve(trace.rows.size());
-    for (const io::TraceRow& r : trace.rows) samples.push_back(sampleOf(r));
+    for (const io::TraceRow& r : trace.rows) samples.push_back(viewer::toTraceSample(r));
     viewer::ReplayPlayer player(samples);
     using Clock = viewer::ReplayPlayer::Clock;
     const Clock::time_point start{};

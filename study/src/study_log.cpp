@@ -41,28 +41,6 @@ std::string StudyLog::designTrialsHeader(bool named) {
 }
 const char* StudyLog::candidatesHeader() { return "trial,candidate,score,verdict,t_s"; }
 
-io::TraceRow toTraceRow(const viewer::TraceSample& s) {
-    io::TraceRow r;
-    r.t_s = s.t_s;
-    r.head_world = s.head_world;
-    r.head_orientation = s.head_orientation;
-    r.mode = s.mode == viewer::ViewMode::Free ? io::TraceMode::Free : io::TraceMode::Automatic;
-    r.scale = s.scale;
-    r.hit_world = s.hit_world;
-    return r;
-}
-
-viewer::TraceSample toTraceSample(const io::TraceRow& r) {
-    viewer::TraceSample s;
-    s.t_s = r.t_s;
-    s.head_world = r.head_world;
-    s.head_orientation = r.head_orientation;
-    s.mode = r.mode == io::TraceMode::Free ? viewer::ViewMode::Free : viewer::ViewMode::Automatic;
-    s.scale = r.scale;
-    s.hit_world = r.hit_world;
-    return s;
-}
-
 StudyLog::StudyLog(std::filesystem::path dir, std::function<TrialInfo(int)> info, double hit_radius_m)
     : dir_(std::move(dir)), info_(std::move(info)), hit_radius_m_(hit_radius_m) {}
 
@@ -128,7 +106,7 @@ void StudyLog::onStart(int trial) {
 
 void StudyLog::onFrame(int, const viewer::TraceSample& s) {
     if (!trace_) return;
-    std::fputs(io::formatTraceRow(toTraceRow(s)).c_str(), trace_);
+    std::fputs(io::formatTraceRow(viewer::toTraceRow(s)).c_str(), trace_);
 }
 
 void StudyLog::onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) {

@@ -240,7 +240,7 @@ Replay::Replay(const std::filesystem::path& dir, int trial_number, viewer::Viewe
     // The rows become samples in one allocation and are freed at once; the viewer plays the
     // samples where they are (viewer::ReplayPlayer borrows them).
     options_.replay.reserve(trace.rows.size());
-    for (const io::TraceRow& row : trace.rows) options_.replay.push_back(toTraceSample(row));
+    for (const io::TraceRow& row : trace.rows) options_.replay.push_back(viewer::toTraceSample(row));
     trace = io::Trace{};
     viewer::validate(options_);
 }

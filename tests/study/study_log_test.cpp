@@ -70,7 +70,7 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
           "0.100000,,village,3");
     std::vector<viewer::TraceSample> samples;  // and back
     for (const io::TraceRow& r : io::readTrace(dir.path / "trace_1.csv").rows)
-        samples.push_back(study::toTraceSample(r));
+        samples.push_back(viewer::toTraceSample(r));
     REQUIRE(samples.size() == 2);
     CHECK(samples[0].t_s == 0.5);
     CHECK(samples[0].head_world == glm::dvec3(1.0, 2.0, 3.0));
@@ -246,15 +246,15 @@ TEST_CASE("a trace sample becomes a row and back, mode, scale and hit kept") {
     s.mode = viewer::ViewMode::Free;
     s.scale = 4.0;
     s.hit_world = glm::dvec3(7.0, 8.0, 9.0);
-    const io::TraceRow r = study::toTraceRow(s);
+    const io::TraceRow r = viewer::toTraceRow(s);
     CHECK(r.mode == io::TraceMode::Free);
     CHECK(r.head_orientation.x == 1.0);
-    const viewer::TraceSample back = study::toTraceSample(r);
+    const viewer::TraceSample back = viewer::toTraceSample(r);
     CHECK(back.t_s == 2.5);
     CHECK(back.head_world == s.head_world);
     CHECK(back.head_orientation == s.head_orientation);
     CHECK(back.mode == viewer::ViewMode::Free);
     CHECK(back.scale == 4.0);
     CHECK(*back.hit_world == glm::dvec3(7.0, 8.0, 9.0));
-    CHECK(study::toTraceSample(study::toTraceRow(viewer::TraceSample{})).mode == viewer::ViewMode::Automatic);
+    CHECK(viewer::toTraceSample(viewer::toTraceRow(viewer::TraceSample{})).mode == viewer::ViewMode::Automatic);
 }

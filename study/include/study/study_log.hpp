@@ -109,8 +109,4 @@ class StudyLog : public viewer::TrialObserver {
     std::string error_;
 };
 
-/// A frame of the viewer's trace as a row of trace_<N>.csv, and back.
-io::TraceRow toTraceRow(const viewer::TraceSample& sample);
-viewer::TraceSample toTraceSample(const io::TraceRow& row);
-
 }  // namespace study

@@ -26,6 +26,10 @@
 #include <string>
 #include <vector>
 
+namespace io {
+struct TraceRow;
+}
+
 namespace viewer {
 
 class CloudFeed;
@@ -47,6 +51,11 @@ struct TraceSample {
     double scale = 1.0;                   // world scale of the zoom (1 = life size)
     std::optional<glm::dvec3> hit_world;  // where the pointer meets the cloud
 };
+
+/// A sample as a row of a trace file (io/trace_file.hpp: what a study records), and a row
+/// as the sample a replay plays.
+io::TraceRow toTraceRow(const TraceSample& sample);
+TraceSample toTraceSample(const io::TraceRow& row);
 
 /// How a trial ended.
 struct TrialOutcome {
