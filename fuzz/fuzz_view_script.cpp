@@ -46,9 +46,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (again[i].frame != events[i].frame || again[i].key != events[i].key ||
                 again[i].after_desktop != events[i].after_desktop || again[i].relative != events[i].relative ||
                 again[i].after_loaded != events[i].after_loaded ||
-                again[i].after_pickable != events[i].after_pickable ||
-                again[i].value != events[i].value || again[i].point[0] != events[i].point[0] ||
-                again[i].point[1] != events[i].point[1] || again[i].point[2] != events[i].point[2])
+                again[i].after_pickable != events[i].after_pickable || again[i].value != events[i].value ||
+                again[i].point[0] != events[i].point[0] || again[i].point[1] != events[i].point[1] ||
+                again[i].point[2] != events[i].point[2])
                 std::abort();
     } catch (const core::Error& e) {
         fuzz::checkMessage(e.what());

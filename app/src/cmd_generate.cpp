@@ -162,30 +162,31 @@ void run(GenerateCli& cli) {
              "misplaced? (see 'ladarvr scene info')");
 
     const sim::OrbitOptions& orbit = o.orbit;
-    std::fprintf(
-        stderr,
-        "generate: %s -> %s (%s)\n"
-        "  scene: %zu meshes, %zu triangles in the BVH (roles: %s), origin %.3f %.3f %.3f\n"
-        "  orbit: altitude %.2f m, CO %.2f m, alpha %.2f deg, FoV %.3f deg, %dx%d px, %d views, "
-        "centre C %.3f %.3f %.3f\n"
-        "  derived: drone radius %.2f m, length sensed %.2f m, covered diameter %.2f m\n"
-        "  rays %llu (%llu traced, the others cannot meet the geometry's bounds), hits %llu, misses %llu\n"
-        "  ground: %s, %llu labelled ground; "
-        "precision %s, recall %s; kept coloured 0.5 m above the true terrain: target %s, environment %s\n"
-        "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, ground %.3f s, colour %.3f s, "
-        "write %.3f s, total %.3f s (%d threads%s%s)\n",
-        scene_path.string().c_str(), out.string().c_str(), formatName(*format), scene.meshes.size(), st.triangles,
-        roleList(o.roles).c_str(), scene.origin.x, scene.origin.y, scene.origin.z, orbit.altitude_m, orbit.overlap_m,
-        orbit.inclination_deg, orbit.fov_deg, orbit.xres, orbit.yres, orbit.views, st.centre.x, st.centre.y,
-        st.centre.z, st.drone_radius_m, st.length_sensed_m, st.coverage_diameter_m, (unsigned long long)st.rays,
-        (unsigned long long)st.rays_traced, (unsigned long long)st.points, (unsigned long long)st.misses,
-        groundFoundText(o, st).c_str(), (unsigned long long)st.ground_truth, percent(st.ground_precision).c_str(), percent(st.ground_recall).c_str(),
-        percent(st.target_kept).c_str(), percent(st.environment_kept).c_str(), load_s, st.seconds.bvh, st.seconds.cast,
-        st.seconds.fuse, st.seconds.ground, st.seconds.colour, st.seconds.write, seconds, st.threads,
-        st.in_output  ? ", streamed into the output and coloured there"
-        : st.streamed ? ", streamed through a spool file"
-                      : "",
-        st.pipelined ? "; ground and fuse beside the next views' cast, so stages overlap" : "");
+    std::fprintf(stderr,
+                 "generate: %s -> %s (%s)\n"
+                 "  scene: %zu meshes, %zu triangles in the BVH (roles: %s), origin %.3f %.3f %.3f\n"
+                 "  orbit: altitude %.2f m, CO %.2f m, alpha %.2f deg, FoV %.3f deg, %dx%d px, %d views, "
+                 "centre C %.3f %.3f %.3f\n"
+                 "  derived: drone radius %.2f m, length sensed %.2f m, covered diameter %.2f m\n"
+                 "  rays %llu (%llu traced, the others cannot meet the geometry's bounds), hits %llu, misses %llu\n"
+                 "  ground: %s, %llu labelled ground; "
+                 "precision %s, recall %s; kept coloured 0.5 m above the true terrain: target %s, environment %s\n"
+                 "  time: load %.3f s, BVH %.3f s, cast %.3f s, fuse %.3f s, ground %.3f s, colour %.3f s, "
+                 "write %.3f s, total %.3f s (%d threads%s%s)\n",
+                 scene_path.string().c_str(), out.string().c_str(), formatName(*format), scene.meshes.size(),
+                 st.triangles, roleList(o.roles).c_str(), scene.origin.x, scene.origin.y, scene.origin.z,
+                 orbit.altitude_m, orbit.overlap_m, orbit.inclination_deg, orbit.fov_deg, orbit.xres, orbit.yres,
+                 orbit.views, st.centre.x, st.centre.y, st.centre.z, st.drone_radius_m, st.length_sensed_m,
+                 st.coverage_diameter_m, (unsigned long long)st.rays, (unsigned long long)st.rays_traced,
+                 (unsigned long long)st.points, (unsigned long long)st.misses, groundFoundText(o, st).c_str(),
+                 (unsigned long long)st.ground_truth, percent(st.ground_precision).c_str(),
+                 percent(st.ground_recall).c_str(), percent(st.target_kept).c_str(),
+                 percent(st.environment_kept).c_str(), load_s, st.seconds.bvh, st.seconds.cast, st.seconds.fuse,
+                 st.seconds.ground, st.seconds.colour, st.seconds.write, seconds, st.threads,
+                 st.in_output  ? ", streamed into the output and coloured there"
+                 : st.streamed ? ", streamed through a spool file"
+                               : "",
+                 st.pipelined ? "; ground and fuse beside the next views' cast, so stages overlap" : "");
     if (o.white) std::fprintf(stderr, "  --white: no colouring, no ground whitening\n");
     reportGround(cli.ground, o, st);
     if (o.threads > st.threads)

@@ -31,7 +31,7 @@ int finishStdout(int status) {
     const bool flushed = std::fflush(stdout) == 0;
     const int error = errno;
     if (flushed && !std::ferror(stdout) && std::cout.good()) return status;
-    struct stat st {};
+    struct stat st{};
     const bool pipe = fstat(STDOUT_FILENO, &st) == 0 && (S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode));
     if (error == EPIPE || (error == 0 && pipe)) return status;
     // The errno of a write that failed before these flushes (std::flush mid-run) is gone.

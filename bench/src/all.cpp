@@ -53,7 +53,7 @@ std::string runEcho(const std::string& cmd, int* status) {
 // --- bench fuzz -------------------------------------------------------------
 
 struct BenchFuzzCli {
-    int seconds = 600;  // per target: ten minutes, the least a recorded run fuzzes each parser
+    int seconds = 600;                 // per target: ten minutes, the least a recorded run fuzzes each parser
     std::vector<std::string> targets;  // empty: every target of scripts/fuzz.sh
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
@@ -121,7 +121,9 @@ void runFuzz(const BenchFuzzCli& cli) {
                           "); is clang installed? (BENCH_PACKAGES of ./ladarvr)");
     std::ostringstream s;
     s << heading << "\n\n"
-      << "Command: `" << (std::getenv("LADARVR_FUZZ_JOBS") ? "LADARVR_FUZZ_JOBS=" + std::string(std::getenv("LADARVR_FUZZ_JOBS")) + " " : "")
+      << "Command: `"
+      << (std::getenv("LADARVR_FUZZ_JOBS") ? "LADARVR_FUZZ_JOBS=" + std::string(std::getenv("LADARVR_FUZZ_JOBS")) + " "
+                                           : "")
       << "./ladarvr bench fuzz --seconds " << cli.seconds << given
       << "` (runs `scripts/fuzz.sh`); machine: " << std::thread::hardware_concurrency() << " cores, " << cpuName()
       << "; " << utcNow() << "; " << fmt("%.0f", secondsSince(t0))
@@ -297,10 +299,11 @@ void runAll(const BenchAllCli& cli) {
 
 void registerAll(CLI::App& parent) {
     auto fuzz = std::make_shared<BenchFuzzCli>();
-    CLI::App* f = parent.add_subcommand("fuzz",
-                                        "libFuzzer targets of the scene JSON, cloud, LAS/COPC, viewer script and replay readers and "
-                                        "the detector model checker "
-                                        "for a bounded time each (clang build in build/fuzz; not CI)");
+    CLI::App* f = parent.add_subcommand(
+        "fuzz",
+        "libFuzzer targets of the scene JSON, cloud, LAS/COPC, viewer script and replay readers and "
+        "the detector model checker "
+        "for a bounded time each (clang build in build/fuzz; not CI)");
     f->add_option("--seconds", fuzz->seconds, "seconds per target")->capture_default_str();
     f->add_option("--target", fuzz->targets,
                   "fuzz only this target (repeatable; scripts/fuzz.sh names them); the section is then "

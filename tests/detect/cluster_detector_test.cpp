@@ -33,8 +33,7 @@ void addBox(core::PointCloud& c, std::mt19937& rng, glm::dvec2 centre, glm::dvec
     const double cs = std::cos(yaw_deg * kDeg), sn = std::sin(yaw_deg * kDeg);
     auto put = [&](double u, double v, double z) {
         add(c,
-            {centre.x + cs * u - sn * v + noise(rng), centre.y + sn * u + cs * v + noise(rng),
-             base_z + z + noise(rng)},
+            {centre.x + cs * u - sn * v + noise(rng), centre.y + sn * u + cs * v + noise(rng), base_z + z + noise(rng)},
             role);
     };
     const double hl = size.x / 2, hw = size.y / 2;
@@ -141,7 +140,8 @@ TEST_CASE("detect: the tank-sized box scores highest, its box and yaw are recove
 TEST_CASE("detect: on hilly ground SMRF and CSF find the box, per-tile RANSAC does not") {
     const core::PointCloud c = hillyScene();
     const auto atBox = [&c](const core::Candidate& k) {
-        return std::abs(k.centre_world.x - (c.origin.x + 10)) < 0.3 && std::abs(k.centre_world.y - (c.origin.y + 5)) < 0.3;
+        return std::abs(k.centre_world.x - (c.origin.x + 10)) < 0.3 &&
+               std::abs(k.centre_world.y - (c.origin.y + 5)) < 0.3;
     };
     for (const detect::GroundSource ground : {detect::GroundSource::Smrf, detect::GroundSource::Csf}) {
         CAPTURE(int(ground));

@@ -142,7 +142,10 @@ TEST_CASE("the corpus listing is as strict as the other JSON readers: no duplica
 TEST_CASE("the corpus listing counts the manifest and the listing against the memory budget") {
     test_support::TempDir dir("detect_listing_budget");
     std::string text;
-    for (int k = 0; k < 4000; ++k) text += R"({"id": ")" + std::to_string(100000 + k) + R"(", "files": {"cloud.pcd": {}}})" "\n";
+    for (int k = 0; k < 4000; ++k)
+        text += R"({"id": ")" + std::to_string(100000 + k) +
+                R"(", "files": {"cloud.pcd": {}}})"
+                "\n";
     dir.write("manifest.jsonl", text);
     const detect::CorpusListing l = detect::listCorpus(dir.path, std::size_t(64) << 20);
     CHECK(l.ids.size() == 4000);
@@ -155,7 +158,9 @@ TEST_CASE("the corpus listing counts the manifest and the listing against the me
     // The fixed part fits, the paths' heap does not: refused part way, naming the line.
     std::string long_names;
     for (int k = 0; k < 4000; ++k)
-        long_names += R"({"id": "0000000000)" + std::to_string(100000 + k) + R"(", "files": {"cloud.pcd": {}}})" "\n";
+        long_names += R"({"id": "0000000000)" + std::to_string(100000 + k) +
+                      R"(", "files": {"cloud.pcd": {}}})"
+                      "\n";
     dir.write("manifest.jsonl", long_names);
     const std::size_t fixed = long_names.size() + 4001 * 2 * sizeof(std::string);
     e = test_support::errorOf([&] { detect::listCorpus(dir.path, fixed + 2000 * 33); });

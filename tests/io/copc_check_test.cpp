@@ -336,6 +336,7 @@ TEST_CASE("copc check: a cube too large to compute with is refused by its rule, 
     test_support::TempDir dir("copc_check_cube");
     const std::filesystem::path p = dir.path / "t.copc.laz";
     std::ofstream(p, std::ios::binary) << b;
-    CHECK(test_support::errorOf([&] { io::CopcReader r(p, io::CopcHierarchy::by_page); })
-              .find("info-values: the info VLR's cube reaches x") != std::string::npos);
+    CHECK(test_support::errorOf([&] {
+              io::CopcReader r(p, io::CopcHierarchy::by_page);
+          }).find("info-values: the info VLR's cube reaches x") != std::string::npos);
 }

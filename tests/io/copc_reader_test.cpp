@@ -242,8 +242,9 @@ TEST_CASE("copc reader: by page, a page of more entries than its bound is refuse
     const std::filesystem::path q = dir.path / "grown.copc.laz";
     std::ofstream(q, std::ios::binary) << b;
     const io::CopcReader paged(q, io::CopcHierarchy::by_page, 6);
-    CHECK(test_support::errorOf([&] { paged.readPage(paged.pages()[0]); })
-              .find("page of 1-0-1-0: hierarchy-page: the page of 1-0-1-0 has 7 entries; allowed at most 6") !=
+    CHECK(test_support::errorOf([&] {
+              paged.readPage(paged.pages()[0]);
+          }).find("page of 1-0-1-0: hierarchy-page: the page of 1-0-1-0 has 7 entries; allowed at most 6") !=
           std::string::npos);
     CHECK(io::CopcReader(q, io::CopcHierarchy::by_page, 7).readPage(paged.pages()[0]).empty_nodes.size() == 4);
     // Within the bound, and read whole (no bound), the file opens.

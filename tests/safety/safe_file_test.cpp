@@ -200,9 +200,11 @@ TEST_CASE("a folder's own entries: a link planted on the way down is refused, th
     CHECK(contains(errorOf([&] { platform::checkNoLinkBelow(dir.path / "other", "items/0003/cloud.pcd", what); }),
                    "': 'items/0003' in it is a symbolic link; allowed: the folder's own folders, not a link"));
     fs::create_symlink("/proc/self/environ", dir.path / "other/items/0001/cloud.pcd");
-    const std::string e = errorOf([&] { platform::checkNoLinkBelow(dir.path / "other", "items/0001/cloud.pcd", what); });
+    const std::string e =
+        errorOf([&] { platform::checkNoLinkBelow(dir.path / "other", "items/0001/cloud.pcd", what); });
     CHECK(contains(e, "test: item 0001 '"));
-    CHECK(contains(e, "': 'items/0001/cloud.pcd' in it is a symbolic link; allowed: the folder's own file, not a link"));
+    CHECK(
+        contains(e, "': 'items/0001/cloud.pcd' in it is a symbolic link; allowed: the folder's own file, not a link"));
     fs::remove_all(dir.path / "other/items");
     fs::create_directory_symlink(dir.path / "corpus/items", dir.path / "other/items");
     CHECK(contains(errorOf([&] { platform::checkNoLinkBelow(dir.path / "other", "items/0001/cloud.pcd", what); }),

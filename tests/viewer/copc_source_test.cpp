@@ -293,8 +293,9 @@ TEST_CASE("copc source: a root page past the hierarchy's bound is refused in one
     o.hierarchy_bytes = std::size_t(4) << 20;
     const std::string m = test_support::errorOf([&] { CopcSource s(p, o); });
     INFO(m);
-    CHECK(m.rfind("copc: " + p.string() + ": the root hierarchy page: its 754 entries with points or child pages "
-                                          "would take the tree past ",
+    CHECK(m.rfind("copc: " + p.string() +
+                      ": the root hierarchy page: its 754 entries with points or child pages "
+                      "would take the tree past ",
                   0) == 0);
     CHECK(m.find("allowed the hierarchy's 4 MiB (--memory-mb)") != std::string::npos);
     CHECK(m.find('\n') == std::string::npos);

@@ -197,6 +197,6 @@ TEST_CASE("script text: frames are at most kMaxScriptFrame, alone and added up b
                                            "1000000000"),
                          core::Error);
     // An absolute or anchored line starts the sum again.
-    CHECK(parseScript("600000000 space\n+300000000 space\nloaded+600000000 space\n+400000000 escape\n", kName)
-              .size() == 4);
+    CHECK(parseScript("600000000 space\n+300000000 space\nloaded+600000000 space\n+400000000 escape\n", kName).size() ==
+          4);
 }

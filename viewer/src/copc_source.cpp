@@ -98,8 +98,8 @@ struct CopcSource::Impl {
     io::CopcInfo info;
     std::vector<std::unique_ptr<CopcTreeNode>> nodes;
     std::vector<PointNode*> roots;
-    int max_level = 30;             // keys below it cannot separate points (resolvedLevels)
-    std::size_t max_nodes = 0;      // the tree's share of options.hierarchy_bytes
+    int max_level = 30;         // keys below it cannot separate points (resolvedLevels)
+    std::size_t max_nodes = 0;  // the tree's share of options.hierarchy_bytes
     std::size_t total_points = 0;
     std::size_t pages_wanted = 0;  // unexplored nodes the last selection reached
     // Frame thread only.
@@ -325,8 +325,8 @@ CopcSource::CopcSource(const std::filesystem::path& file, const CopcSourceOption
     const std::size_t workers = std::max<std::size_t>(1, options.workers);
     // The hierarchy's bound: a quarter for the pages being read at once (one per worker
     // and those waiting for poll()), the rest for the tree.
-    const std::size_t page_entries = std::max<std::size_t>(
-        1, options.hierarchy_bytes / 4 / (workers + kMaxWaiting) / kPageEntryBytes);
+    const std::size_t page_entries =
+        std::max<std::size_t>(1, options.hierarchy_bytes / 4 / (workers + kMaxWaiting) / kPageEntryBytes);
     m.max_nodes = (options.hierarchy_bytes - options.hierarchy_bytes / 4) / kTreeNodeBytes;
     m.reader = std::make_unique<io::CopcReader>(file, io::CopcHierarchy::by_page, page_entries);
     m.origin = m.reader->origin();  // every node's points come in this frame
@@ -413,8 +413,8 @@ std::size_t CopcSource::poll() {
                                            "view: " + d.error + " (the nodes below it are skipped, the rest is drawn)");
                 continue;
             }
-            const std::string refused = m.refusal(d.entries, "copc: " + core::printable(m.file, 400) + ": the page of " +
-                                                                 Impl::keyText(n->key()));
+            const std::string refused = m.refusal(
+                d.entries, "copc: " + core::printable(m.file, 400) + ": the page of " + Impl::keyText(n->key()));
             if (!refused.empty()) {
                 n->page_failed = true;
                 ++m.stats.pages_failed;

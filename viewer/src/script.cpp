@@ -69,10 +69,10 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         // at most 32 of them): a binary file must not reach the terminal, and a file that is
         // no script (a password file named by mistake or not) shows nothing of itself.
         auto quoted = [](const std::string& token) {
-            const bool word = token.size() <= 32 && std::all_of(token.begin(), token.end(), [](char c) {
-                                  return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' ||
-                                         c == '.' || c == '_';
-                              });
+            const bool word =
+                token.size() <= 32 && std::all_of(token.begin(), token.end(), [](char c) {
+                    return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.' || c == '_';
+                });
             return word ? "'" + token + "'" : "(" + std::to_string(token.size()) + " bytes, not shown)";
         };
         ScriptEvent ev;

@@ -430,8 +430,8 @@ class Parser {
                     !(std::abs(i.center_m[std::size_t(k)]) + i.halfsize_m <= core::kMaxWorldCoordinate_m)) {
                     finding("info-values", std::string("the info VLR's cube reaches ") + "xyz"[k] + " = " +
                                                num(i.center_m[std::size_t(k)]) + " +- " + num(i.halfsize_m) +
-                                               "; allowed: |centre| + halfsize <= " +
-                                               num(core::kMaxWorldCoordinate_m) + " m (world coordinates)");
+                                               "; allowed: |centre| + halfsize <= " + num(core::kMaxWorldCoordinate_m) +
+                                               " m (world coordinates)");
                     break;
                 }
         if (!(std::isfinite(i.spacing_m) && i.spacing_m > 0.0))

@@ -42,8 +42,8 @@ struct CopcSourceOptions {
     std::size_t cache_bytes = std::size_t(512) << 20;  // resident node points at most
     /// The hierarchy at most: the tree's nodes and the pages being read (--memory-mb).
     std::size_t hierarchy_bytes = std::size_t(512) << 20;
-    bool quiet = false;                                // no warning lines
-    std::size_t workers = defaultCopcWorkers();        // threads reading pages and decoding nodes
+    bool quiet = false;                          // no warning lines
+    std::size_t workers = defaultCopcWorkers();  // threads reading pages and decoding nodes
 };
 
 class CopcSource final : public PointSource {
