@@ -51,7 +51,7 @@ std::string escape(const char* format, unsigned value) {
 
 }  // namespace
 
-std::string csvSafeText(std::string_view text) {
+std::string escapeControlText(std::string_view text) {
     std::string out;
     out.reserve(text.size());
     for (std::size_t i = 0; i < text.size();) {
@@ -70,6 +70,11 @@ std::string csvSafeText(std::string_view text) {
             out.append(text.substr(i, n));
         i += n;
     }
+    return out;
+}
+
+std::string csvSafeText(std::string_view text) {
+    std::string out = escapeControlText(text);
     // OWASP's list also names a leading tab and carriage return: escaped above already.
     if (!out.empty() && (out[0] == '=' || out[0] == '+' || out[0] == '-' || out[0] == '@'))
         out.insert(out.begin(), '\'');

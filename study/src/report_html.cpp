@@ -1,6 +1,7 @@
 // study/src/report_html.cpp: the report's index.html (study/report.hpp): one page with the
 // tables and the plots beside it, its style inline and nothing fetched from elsewhere, so
-// it reads the same offline; every text from the inputs is escaped.
+// it reads the same offline; every text from the inputs is escaped, controls included.
+#include <study/csv_cell.hpp>
 #include <study/report.hpp>
 
 #include <cmath>
@@ -9,9 +10,12 @@
 namespace study {
 
 namespace {
+// Text from the inputs as HTML shows it: controls and bidirectional overrides written as
+// visible escapes (escapeControlText, as in the CSV cells), so a name cannot reorder the
+// page, then the HTML-special characters as entities.
 std::string esc(std::string_view s) {
     std::string out;
-    for (const char c : s) {
+    for (const char c : escapeControlText(s)) {
         switch (c) {
             case '&': out += "&amp;"; break;
             case '<': out += "&lt;"; break;

@@ -1,6 +1,7 @@
 // Tests of study/src/report_figures.cpp, report_plot.cpp and report_write.cpp: the
 // per-participant cells (practice left out, quits not scored, false confirmations), the
 // conditions' summaries and tests, the clouds, the plots decoded as PNG, and the folder.
+// Also report_html.cpp: text from the inputs escaped in index.html.
 #include <study/report.hpp>
 
 #include <png_decode.hpp>
@@ -150,4 +151,18 @@ TEST_CASE("report files: the tables, plots that decode, and the folder written w
     study::writeStudyReport(r, dir.path / "report");  // an earlier report is replaced whole
     CHECK(test_support::slurp(dir.path / "report" / "cells.csv") == files.at("cells.csv"));
     CHECK(dir.entries() == 2);  // notes.txt and report: no temporary left
+}
+
+TEST_CASE("report html: names show controls and bidirectional overrides as escapes") {
+    study::StudyResults r = twoConditions();
+    // A cloud name with RIGHT-TO-LEFT OVERRIDE (U+202E), a C1 control (U+0085) and markup,
+    // and a participant id with LEFT-TO-RIGHT ISOLATE (U+2066).
+    for (study::ParticipantResults& p : r.participants) p.trials[1].cloud = "gpj.\xE2\x80\xAEx\xC2\x85<b>.pcd";
+    r.participants[0].participant = "P\xE2\x81\xA6" "0";
+    const std::string html = study::reportHtml(r, study::computeFigures(r));
+    CHECK(html.find("\xE2\x80\xAE") == std::string::npos);
+    CHECK(html.find("\xE2\x81\xA6") == std::string::npos);
+    CHECK(html.find("\xC2\x85") == std::string::npos);
+    CHECK(html.find("<td>gpj.\\u202ex\\u0085&lt;b&gt;.pcd</td>") != std::string::npos);
+    CHECK(html.find("<td>P\\u20660</td>") != std::string::npos);
 }

@@ -12,6 +12,13 @@
 
 namespace study {
 
+/// `text` with control characters (C0, DEL) and bytes that are not valid UTF-8 written as
+/// \xNN, C1 controls and the bidirectional controls (U+200E, U+200F, U+202A..U+202E,
+/// U+2066..U+2069) as \uNNNN; other UTF-8 is kept. Shared by every study output that shows
+/// text from the inputs (the CSV cells here, the report's index.html), so such text can
+/// neither steer a terminal nor reorder what the reader sees. Applying it twice changes nothing more.
+std::string escapeControlText(std::string_view text);
+
 /// `text` as a spreadsheet shows it safely: control characters (C0, DEL) and bytes that
 /// are not valid UTF-8 as \xNN, C1 controls and the bidirectional controls (U+200E,
 /// U+200F, U+202A..U+202E, U+2066..U+2069) as \uNNNN (so a tab or a carriage return never leads),
