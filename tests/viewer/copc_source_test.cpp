@@ -303,8 +303,8 @@ TEST_CASE("copc source: a root page past the hierarchy's bound is refused in one
     // before its nodes are counted.
     const std::filesystem::path q = writeFile(dir, withRootPage(spreadEntries(2000, 30, true), kWideHalf_m));
     const std::string big = test_support::errorOf([&] { CopcSource s(q, o); });
-    CHECK(big.find("hierarchy-page: the root hierarchy page has 2005 entries; allowed at most 819 in one page") !=
-          std::string::npos);
+    CHECK(big.find("hierarchy-page: the root hierarchy page has 2005 entries; allowed at most 819 in one page (its "
+                   "share of the hierarchy's 4 MiB, --memory-mb)") != std::string::npos);
     // Within the default bound the same file opens, its tree counted in full.
     o.hierarchy_bytes = CopcSourceOptions{}.hierarchy_bytes;
     CopcSource s(p, o);

@@ -90,9 +90,11 @@ class CopcReader {
     /// page the root page); throws core::Error naming the file and what is wrong. By page,
     /// `page_entries_max` (0: no bound) bounds what one page read holds: a page of more
     /// entries is refused (the root page here, a child page by readPage), naming its
-    /// entries and the bound.
+    /// entries, the bound and `page_bound_source`: what sets the bound, in the words of
+    /// the caller's user (e.g. the option that sizes it).
     explicit CopcReader(const std::filesystem::path& file, CopcHierarchy hierarchy = CopcHierarchy::whole,
-                        std::uint64_t page_entries_max = 0);
+                        std::uint64_t page_entries_max = 0,
+                        std::string page_bound_source = "this reader's memory bound");
     ~CopcReader();
     CopcReader(const CopcReader&) = delete;
     CopcReader& operator=(const CopcReader&) = delete;

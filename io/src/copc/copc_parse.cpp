@@ -572,7 +572,7 @@ class Parser {
             }
             if (l_.page_entries_max > 0 && p.size / kEntrySize > l_.page_entries_max) {
                 finding("hierarchy-page", where + " has " + n2s(p.size / kEntrySize) + " entries; allowed at most " +
-                                              n2s(l_.page_entries_max) + " in one page (this reader's memory bound)");
+                                              n2s(l_.page_entries_max) + " in one page (" + l_.page_bound_source + ")");
                 hierarchy_ok_ = false;
                 continue;
             }
@@ -761,6 +761,7 @@ bool parseCopcPage(ByteSource& source, const CopcLayout& layout, const CopcPage&
     l.hier_at = layout.hier_at;
     l.hier_size = layout.hier_size;
     l.page_entries_max = layout.page_entries_max;
+    l.page_bound_source = layout.page_bound_source;
     const bool ok = Parser(source, l, findings).childPage(page);
     entries.nodes = std::move(l.nodes);
     entries.empty_nodes = std::move(l.empty_nodes);

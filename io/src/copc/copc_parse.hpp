@@ -49,6 +49,7 @@ struct CopcLayout {
     std::uint64_t hier_at = 0, hier_size = 0;  // the hierarchy record's bytes
     std::vector<CopcPage> pages;               // by page: the root page's child pages, not read
     std::uint64_t page_entries_max = 0;        // by page: a page of more entries is refused (0: no bound)
+    std::string page_bound_source;             // what sets page_entries_max, named in the refusal
 };
 
 /// Reads the layout of the COPC file in `source` within bounded memory (the hierarchy's

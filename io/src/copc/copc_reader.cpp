@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <mutex>
+#include <utility>
 
 namespace io {
 
@@ -37,11 +38,13 @@ bool readable(const CopcFinding& f) {
 
 }  // namespace
 
-CopcReader::CopcReader(const std::filesystem::path& file, CopcHierarchy hierarchy, std::uint64_t page_entries_max)
+CopcReader::CopcReader(const std::filesystem::path& file, CopcHierarchy hierarchy, std::uint64_t page_entries_max,
+                       std::string page_bound_source)
     : impl_(std::make_unique<Impl>()) {
     impl_->prefix = "copc: " + file.string();
     impl_->source = detail::fileSource(file, "copc");
     if (hierarchy == CopcHierarchy::by_page) impl_->layout.page_entries_max = page_entries_max;
+    impl_->layout.page_bound_source = std::move(page_bound_source);
     std::vector<CopcFinding> findings;
     const bool ok = detail::parseCopc(*impl_->source, impl_->layout, findings, hierarchy);
     findings.erase(std::remove_if(findings.begin(), findings.end(), readable), findings.end());
