@@ -9,6 +9,7 @@
 #include <platform/safe_file.hpp>
 
 #include <cmath>
+#include <numbers>
 
 #include <cerrno>
 #include <cstring>
@@ -40,6 +41,16 @@ std::string StudyLog::designTrialsHeader(bool named) {
     return std::string(kTrialColumns) + kDesignColumns + (named ? kNameColumns : "");
 }
 const char* StudyLog::candidatesHeader() { return "trial,candidate,score,verdict,t_s"; }
+
+bool StudyLog::boxHolds(const core::Candidate& box, const glm::dvec3& point_world) {
+    // Into the box's own axes: undo its yaw about +z around its centre.
+    const glm::dvec3 d = point_world - box.centre_world;
+    const double a = box.yaw_deg * std::numbers::pi / 180.0;
+    const double u = std::cos(a) * d.x + std::sin(a) * d.y;
+    const double v = -std::sin(a) * d.x + std::cos(a) * d.y;
+    return std::abs(u) <= box.size_m.x / 2.0 && std::abs(v) <= box.size_m.y / 2.0 &&
+           std::abs(d.z) <= box.size_m.z / 2.0;
+}
 
 StudyLog::StudyLog(std::filesystem::path dir, std::function<TrialInfo(int)> info, double hit_radius_m)
     : dir_(std::move(dir)), info_(std::move(info)), hit_radius_m_(hit_radius_m) {}
@@ -91,6 +102,7 @@ void StudyLog::closeTrace() {
 
 void StudyLog::onStart(int trial) {
     closeTrace();
+    confirmed_.reset();
     recorded_ = true;
     trace_path_ = dir_ / traceFileName(offset_ + trial + 1);
     // A new file only, never through a link: the folder is checked for earlier studies
@@ -112,6 +124,7 @@ void StudyLog::onFrame(int, const viewer::TraceSample& s) {
 void StudyLog::onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) {
     candidate_rows_.push_back(std::to_string(offset_ + trial + 1) + "," + csvCell(candidate.id) + "," +
                               fixed(candidate.score) + "," + csvCell(viewer::verdictName(verdict)) + "," + fixed(t_s));
+    if (verdict == viewer::Verdict::Confirmed) confirmed_ = candidate;
 }
 
 void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
@@ -122,14 +135,16 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     for (int i = 0; i < 3; ++i) row += "," + (o.designated_world ? fixed((*o.designated_world)[i]) : std::string());
     row += "," + optionalFixed(o.target_distance_m);
     // hit: empty when the cloud has no ground truth (nothing to hit); else 1 only for a
-    // confirmed point within the radius, 0 otherwise. A designation still standing at
-    // no_target, timeout or quit was not the operator's answer: its distance is kept, its
-    // hit is 0.
-    if (o.target_known)
-        row += (o.decision == viewer::Decision::Confirm && o.target_distance_m && *o.target_distance_m <= hit_radius_m_)
-                   ? ",1"
-                   : ",0";
-    else
+    // confirm whose point is within the radius or whose confirmed candidate box holds the
+    // target's centre (the operator's answer is the box then, wherever a designation
+    // stood), 0 otherwise. A designation still standing at no_target, timeout or quit was
+    // not the operator's answer: its distance is kept, its hit is 0.
+    if (o.target_known) {
+        const bool confirmed = o.decision == viewer::Decision::Confirm;
+        const bool near = o.target_distance_m && *o.target_distance_m <= hit_radius_m_;
+        const bool boxed = confirmed_ && info.target_centre_world && boxHolds(*confirmed_, *info.target_centre_world);
+        row += confirmed && (near || boxed) ? ",1" : ",0";
+    } else
         row += ",";
     row += "," + optionalFixed(o.time_to_first_designation_s);
     row += "," + fixed(o.time_to_decision_s);

@@ -9,6 +9,8 @@
 #include <study/study_source.hpp>
 
 #include <core/error.hpp>
+#include <core/scene.hpp>
+#include <io/scene_file.hpp>
 #include <io/trace_file.hpp>
 #include <platform/safe_file.hpp>
 #include <viewer/cloud_feed.hpp>
@@ -26,6 +28,21 @@
 namespace study {
 
 namespace {
+// The centre of each scene trial's target bounds, world coordinates (scenes without a
+// target left out): a confirmed candidate box that holds it is a hit (StudyLog).
+std::map<std::filesystem::path, glm::dvec3> sceneTargetCentres(const Plan& plan) {
+    std::map<std::filesystem::path, glm::dvec3> centres;
+    std::map<std::filesystem::path, bool> seen;
+    for (const PlanTrial& t : plan.trials) {
+        if (t.scene.empty() || seen[t.scene]) continue;
+        seen[t.scene] = true;
+        const core::Scene scene = io::loadScene(t.scene);
+        const core::Bounds target = scene.bounds(core::RoleMask::of({core::Role::Target}));
+        if (!target.empty()) centres[t.scene] = target.centre() + scene.origin;
+    }
+    return centres;
+}
+
 // How the questionnaire screen shows a scheduled question.
 viewer::Question screenQuestion(const ScheduledQuestion& q) {
     viewer::Question v;
@@ -174,6 +191,7 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
     const std::map<std::filesystem::path, double> metrics =
         options_.metric ? sceneMetrics(plan_, o.modes.orbit.radius_m, o.modes.orbit.altitude_m)
                         : std::map<std::filesystem::path, double>{};
+    const std::map<std::filesystem::path, glm::dvec3> target_centres = sceneTargetCentres(plan_);
     log.emplace(
         out,
         [&](int position) {
@@ -193,6 +211,8 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
             if (const auto it = metrics.find(t.scene);
                 !t.scene.empty() && it != metrics.end() && std::isfinite(it->second))
                 info.visibility_metric = it->second;
+            if (const auto it = target_centres.find(t.scene); !t.scene.empty() && it != target_centres.end())
+                info.target_centre_world = it->second;
             return info;
         },
         plan_.hit_radius_m);

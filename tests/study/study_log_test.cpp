@@ -155,6 +155,70 @@ TEST_CASE("hit: 1 only for a confirmed point near the target, 0 otherwise, empty
     CHECK(more[9] == "9,a.pcd,confirm,1.000000,2.000000,3.000000,0.500000,1,,2.000000,0,0,0.000000,,,0");
 }
 
+TEST_CASE("hit: a confirmed candidate box that holds the target is a hit, wherever the designation stood") {
+    test_support::TempDir dir("study_log_box_hit");
+    study::StudyLog log(
+        dir.path,
+        [](int) {
+            study::TrialInfo info{"s.json", {}};
+            info.target_centre_world = glm::dvec3(100.0, 50.0, 1.25);
+            return info;
+        },
+        1.0);
+    core::Candidate tank;  // 7 x 3.5 x 2.5 m, turned 90 degrees: long along y
+    tank.id = "c1";
+    tank.centre_world = {100.5, 51.5, 1.0};
+    tank.size_m = {7.0, 3.5, 2.5};
+    tank.yaw_deg = 90.0;
+    core::Candidate house = tank;  // a box beside the target
+    house.id = "c2";
+    house.centre_world = {120.0, 50.0, 3.0};
+    int trial = 0;
+    // The designation stands on a house 20 m away; the operator confirms a box.
+    for (const core::Candidate& box : {tank, house}) {
+        log.onStart(trial);
+        log.onVerdict(trial, 1.0, box, viewer::Verdict::Confirmed);
+        viewer::TrialOutcome o;
+        o.decision = viewer::Decision::Confirm;
+        o.target_known = true;
+        o.designated_world = glm::dvec3(120.0, 50.0, 6.0);
+        o.target_distance_m = 20.0;
+        o.time_to_decision_s = 2.0;
+        log.onEnd(trial++, o);
+    }
+    // A box confirmed in an earlier trial does not carry over to the next one.
+    log.onStart(trial);
+    viewer::TrialOutcome o;
+    o.decision = viewer::Decision::Confirm;
+    o.target_known = true;
+    o.designated_world = glm::dvec3(120.0, 50.0, 6.0);
+    o.target_distance_m = 20.0;
+    o.time_to_decision_s = 2.0;
+    log.onVerdict(trial, 1.0, tank, viewer::Verdict::Rejected);
+    log.onEnd(trial++, o);
+    const auto rows = lines(dir.path / "trials.csv");
+    REQUIRE(rows.size() == 4);
+    CHECK(rows[1] == "1,s.json,confirm,120.000000,50.000000,6.000000,20.000000,1,,2.000000,0,0,0.000000,,,0");
+    CHECK(rows[2] == "2,s.json,confirm,120.000000,50.000000,6.000000,20.000000,0,,2.000000,0,0,0.000000,,,0");
+    CHECK(rows[3] == "3,s.json,confirm,120.000000,50.000000,6.000000,20.000000,0,,2.000000,0,0,0.000000,,,0");
+    const auto verdicts = lines(dir.path / "candidates.csv");
+    REQUIRE(verdicts.size() == 4);
+    CHECK(verdicts[1] == "1,c1,0.000000,confirmed,1.000000");
+}
+
+TEST_CASE("boxHolds: the point inside the turned box, faces included") {
+    core::Candidate box;
+    box.centre_world = {10.0, 20.0, 1.0};
+    box.size_m = {4.0, 2.0, 2.0};
+    box.yaw_deg = 90.0;  // long along y
+    CHECK(study::StudyLog::boxHolds(box, {10.0, 20.0, 1.0}));
+    CHECK(study::StudyLog::boxHolds(box, {10.0, 21.9, 1.0}));
+    CHECK(study::StudyLog::boxHolds(box, {10.0, 20.0, 2.0}));
+    CHECK_FALSE(study::StudyLog::boxHolds(box, {11.9, 20.0, 1.0}));
+    CHECK_FALSE(study::StudyLog::boxHolds(box, {10.0, 22.1, 1.0}));
+    CHECK_FALSE(study::StudyLog::boxHolds(box, {10.0, 20.0, 2.1}));
+}
+
 TEST_CASE("a trace that exists already is not overwritten and the error is kept") {
     test_support::TempDir dir("study_log_exists");
     dir.write("trace_1.csv", "someone else's\n");

@@ -37,13 +37,17 @@ struct TrialInfo {
     bool practice = false;
     std::string name{};        // the plan trial's name (PlanTrial::name)
     int candidates_shown = 0;  // the candidate boxes the trial showed
+    /// The centre of the target's bounds, world coordinates, where the trial knows it (a
+    /// scene trial: its target meshes); a confirmed candidate box holding it is a hit.
+    std::optional<glm::dvec3> target_centre_world{};
 };
 
 class StudyLog : public viewer::TrialObserver {
   public:
     /// Writes into `dir` (which must exist). `info(position)` describes the trial at
     /// `position` (0-based run order of the whole study, resumed trials included);
-    /// `hit_radius_m`: a designation this close to a target point hits.
+    /// `hit_radius_m`: a confirmed designation this close to a target point hits; so does
+    /// a confirmed candidate box that holds TrialInfo::target_centre_world (boxHolds).
     StudyLog(std::filesystem::path dir, std::function<TrialInfo(int)> info, double hit_radius_m);
 
     /// trials.csv gets the design's columns (designTrialsHeader()).
@@ -87,6 +91,9 @@ class StudyLog : public viewer::TrialObserver {
     /// a reader that picks columns by position keeps working.
     static std::string designTrialsHeader(bool named = true);
     static const char* candidatesHeader();
+    /// Whether `point_world` lies inside `box` (its size about its centre, turned by its
+    /// yaw about +z; the faces count as inside).
+    static bool boxHolds(const core::Candidate& box, const glm::dvec3& point_world);
 
   private:
     void writeAtomic(const std::string& name, const std::string& header, const std::vector<std::string>& rows);
@@ -98,6 +105,7 @@ class StudyLog : public viewer::TrialObserver {
     bool design_columns_ = false;
     bool name_columns_ = true;
     bool recorded_ = false;  // recordedAnything()
+    std::optional<core::Candidate> confirmed_;  // the box confirmed in the trial in flight
     int offset_ = 0;         // trials written before this run (a resumed session)
     std::vector<std::string> trial_rows_, candidate_rows_;
     std::string participant_;
