@@ -104,9 +104,9 @@ class StudyLog : public viewer::TrialObserver {
     double hit_radius_m_ = 1.0;
     bool design_columns_ = false;
     bool name_columns_ = true;
-    bool recorded_ = false;  // recordedAnything()
+    bool recorded_ = false;                     // recordedAnything()
     std::optional<core::Candidate> confirmed_;  // the box confirmed in the trial in flight
-    int offset_ = 0;         // trials written before this run (a resumed session)
+    int offset_ = 0;                            // trials written before this run (a resumed session)
     std::vector<std::string> trial_rows_, candidate_rows_;
     std::string participant_;
     std::vector<std::vector<ScheduledQuestion>> questions_;
