@@ -243,10 +243,9 @@ TEST_CASE("copc reader: by page, a page of more entries than its bound is refuse
     std::ofstream(q, std::ios::binary) << b;
     // The caller names what sets the bound (the viewer: its option), here and by readPage.
     const io::CopcReader paged(q, io::CopcHierarchy::by_page, 6, "the test's 1 MiB, --memory-mb");
-    CHECK(test_support::errorOf([&] {
-              paged.readPage(paged.pages()[0]);
-          }).find("page of 1-0-1-0: hierarchy-page: the page of 1-0-1-0 has 7 entries; allowed at most 6 in one page "
-                  "(the test's 1 MiB, --memory-mb)") != std::string::npos);
+    CHECK(test_support::errorOf([&] { paged.readPage(paged.pages()[0]); })
+              .find("page of 1-0-1-0: hierarchy-page: the page of 1-0-1-0 has 7 entries; allowed at most 6 in one page "
+                    "(the test's 1 MiB, --memory-mb)") != std::string::npos);
     CHECK(io::CopcReader(q, io::CopcHierarchy::by_page, 7).readPage(paged.pages()[0]).empty_nodes.size() == 4);
     // Within the bound, and read whole (no bound), the file opens.
     CHECK(io::CopcReader(p, io::CopcHierarchy::by_page, 6).nodes().size() == 4);

@@ -158,7 +158,7 @@ TEST_CASE("report html: names show controls and bidirectional overrides as escap
     // A cloud name with RIGHT-TO-LEFT OVERRIDE (U+202E), a C1 control (U+0085) and markup,
     // and a participant id with LEFT-TO-RIGHT ISOLATE (U+2066).
     for (study::ParticipantResults& p : r.participants) p.trials[1].cloud = "gpj.\xE2\x80\xAEx\xC2\x85<b>.pcd";
-    r.participants[0].participant = "P\xE2\x81\xA6" "0";
+    r.participants[0].participant = std::string("P\xE2\x81\xA6") + "0";
     const std::string html = study::reportHtml(r, study::computeFigures(r));
     CHECK(html.find("\xE2\x80\xAE") == std::string::npos);
     CHECK(html.find("\xE2\x81\xA6") == std::string::npos);

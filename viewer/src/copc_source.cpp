@@ -328,9 +328,9 @@ CopcSource::CopcSource(const std::filesystem::path& file, const CopcSourceOption
     const std::size_t page_entries =
         std::max<std::size_t>(1, options.hierarchy_bytes / 4 / (workers + kMaxWaiting) / kPageEntryBytes);
     m.max_nodes = (options.hierarchy_bytes - options.hierarchy_bytes / 4) / kTreeNodeBytes;
-    m.reader = std::make_unique<io::CopcReader>(file, io::CopcHierarchy::by_page, page_entries,
-                                                "its share of the hierarchy's " + mib(options.hierarchy_bytes) +
-                                                    " MiB, --memory-mb");
+    m.reader = std::make_unique<io::CopcReader>(
+        file, io::CopcHierarchy::by_page, page_entries,
+        "its share of the hierarchy's " + mib(options.hierarchy_bytes) + " MiB, --memory-mb");
     m.origin = m.reader->origin();  // every node's points come in this frame
     m.info = m.reader->info();
     const glm::dvec3 scale = m.reader->scale();
