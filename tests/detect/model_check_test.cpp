@@ -168,6 +168,13 @@ std::vector<Case> craftedCases() {
     std::vector<Case> cases;
     cases.push_back({"child_out_of_range", withInt32("left_children", 0, 0, 99),
                      "tree 0 node 0: left child 99: allowed -1 (a leaf) or 1..12"});
+    // The bounds themselves: one past the last node, and the root (never a child).
+    cases.push_back({"child_one_past_the_last", withInt32("left_children", 0, 0, 13),
+                     "tree 0 node 0: left child 13: allowed -1 (a leaf) or 1..12"});
+    cases.push_back({"right_child_one_past_the_last", withInt32("right_children", 0, 0, 13),
+                     "tree 0 node 0: right child 13: allowed 1..12 (its left child is 1)"});
+    cases.push_back({"child_the_root", withInt32("left_children", 0, 1, 0),
+                     "tree 0 node 1: left child 0: allowed -1 (a leaf) or 1..12"});
     cases.push_back({"child_negative", withInt32("left_children", 0, 0, -5),
                      "tree 0 node 0: left child -5: allowed -1 (a leaf) or 1..12"});
     cases.push_back({"right_child_of_leaf", withInt32("right_children", 0, 12, 3),
