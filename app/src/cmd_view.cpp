@@ -78,6 +78,29 @@ bool startsAsCopc(const std::filesystem::path& file) {
            static_cast<unsigned char>(head[393]) == 1 && head[394] == 0;
 }
 
+// The COPC source of a COPC cloud, or of the index of a large cloud (made, or found in the
+// cache folder); `file` is set to the COPC file opened.
+std::unique_ptr<viewer::CopcSource> openCopc(const ViewArgs& a, bool copc, std::filesystem::path& file) {
+    ViewCloud indexed;
+    if (!copc) indexed = indexForView(a.cloud, a.index);
+    file = copc ? std::filesystem::path(a.cloud) : indexed.copc;
+    viewer::CopcSourceOptions copc_options;
+    copc_options.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);
+    // --memory-mb bounds the hierarchy (its tree and the pages being read); the points
+    // held are --cache-mb's.
+    copc_options.hierarchy_bytes = sim::memoryBudgetBytes(a.memory_mb, "view");
+    try {
+        return std::make_unique<viewer::CopcSource>(file, copc_options);
+    } catch (const core::Error& e) {
+        // A cached index that does not open (damaged on disk) is written again, once.
+        if (indexed.path != ViewPath::IndexReused) throw;
+        warn(std::string("view: the cached index does not open (") + e.what() + "); indexing again");
+        indexed = indexForView(a.cloud, a.index, true);
+        file = indexed.copc;
+        return std::make_unique<viewer::CopcSource>(indexed.copc, copc_options);
+    }
+}
+
 int runView(const ViewArgs& a) {
     const auto start = std::chrono::steady_clock::now();
     const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("view", a.timeout_s);
@@ -152,24 +175,8 @@ int runView(const ViewArgs& a) {
     if (copc || index) {
         prepareOutputFile(o.screenshot, "view: --screenshot");
         prepareOutputFile(o.log_json, "view: --log-json");
-        ViewCloud indexed;
-        if (index) indexed = indexForView(a.cloud, a.index);
-        const std::filesystem::path file = copc ? std::filesystem::path(a.cloud) : indexed.copc;
-        viewer::CopcSourceOptions copc_options;
-        copc_options.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);
-        // --memory-mb bounds the hierarchy (its tree and the pages being read); the points
-        // held are --cache-mb's.
-        copc_options.hierarchy_bytes = sim::memoryBudgetBytes(a.memory_mb, "view");
-        std::unique_ptr<viewer::CopcSource> opened;
-        try {
-            opened = std::make_unique<viewer::CopcSource>(file, copc_options);
-        } catch (const core::Error& e) {
-            // A cached index that does not open (damaged on disk) is written again, once.
-            if (indexed.path != ViewPath::IndexReused) throw;
-            warn(std::string("view: the cached index does not open (") + e.what() + "); indexing again");
-            indexed = indexForView(a.cloud, a.index, true);
-            opened = std::make_unique<viewer::CopcSource>(indexed.copc, copc_options);
-        }
+        std::filesystem::path file;
+        const std::unique_ptr<viewer::CopcSource> opened = openCopc(a, copc, file);
         viewer::CopcSource& source = *opened;
         const std::size_t pages = source.stats() ? source.stats()->pages_unread : 0;
         std::fprintf(stderr,

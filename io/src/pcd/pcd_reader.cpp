@@ -67,12 +67,7 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
             continue;
         }
         const std::string_view key = words[0];
-        static constexpr std::array<std::string_view, 10> kKeywords{"VERSION", "FIELDS", "SIZE",      "TYPE",   "COUNT",
-                                                                    "WIDTH",   "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
-        if (!started && std::find(kKeywords.begin(), kKeywords.end(), key) == kKeywords.end())
-            throw Error(where +
-                        ": not a PCD file (a PCD header starts with '#' comments and keywords such as VERSION "
-                        "or FIELDS)");
+        const bool first_keyword = !started;
         started = true;
         auto one = [&](std::optional<std::size_t>& out) {
             out.emplace();
@@ -121,6 +116,10 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
                 throw Error(where + ": DATA must be one of ascii, binary, binary_compressed");
             h.data = std::string(words[1]);
         } else {
+            if (first_keyword)
+                throw Error(where +
+                            ": not a PCD file (a PCD header starts with '#' comments and keywords such as "
+                            "VERSION or FIELDS)");
             throw Error(where + ": unknown header keyword '" + core::printable(key, 20) +
                         "'; allowed: VERSION, FIELDS, SIZE, TYPE, COUNT, WIDTH, HEIGHT, "
                         "VIEWPOINT, POINTS, DATA");
