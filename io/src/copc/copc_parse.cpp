@@ -681,6 +681,15 @@ class Parser {
             l_.nodes = std::move(nodes);
             return;
         }
+        wholeHierarchy(keys, page_keys, pages, used, nodes);
+        l_.nodes = std::move(nodes);
+    }
+
+    // The rules over the whole hierarchy once every page is read (not by page): parents,
+    // the root, dead space between pages, chunks of no node, the header's point count.
+    void wholeHierarchy(const std::map<CopcKey, int>& keys, const std::set<CopcKey>& page_keys,
+                        const std::map<std::uint64_t, std::uint64_t>& pages, const std::vector<bool>& used,
+                        const std::vector<CopcNode>& nodes) {
         // Every node's parent has an entry (a node, an empty node or a child page's).
         for (const auto& [key, count] : keys) {
             if (key.level == 0) continue;
@@ -714,7 +723,6 @@ class Parser {
         if (total != l_.count)
             finding("point-count",
                     "the hierarchy's nodes hold " + n2s(total) + " points but the header counts " + n2s(l_.count));
-        l_.nodes = std::move(nodes);
     }
 
     static bool validKey(const CopcKey& k) {
