@@ -33,6 +33,18 @@ struct PcdHeader {
     std::string data;           // ascii, binary, binary_compressed
 };
 
+/// A header comment: "# ladarvr origin X Y Z" (also "#ladarvr origin ...") sets the
+/// header's origin and marks it ours; other comments are free.
+void readComment(const std::vector<std::string_view>& words, const std::string& where, PcdHeader& h) {
+    if (words[0] == "#" && words.size() > 2 && words[1] == "ladarvr" && words[2] == "origin") {
+        h.origin = parseOrigin(words, 3, where);
+        h.ours = true;
+    } else if (words[0] == "#ladarvr" && words.size() > 1 && words[1] == "origin") {
+        h.origin = parseOrigin(words, 2, where);
+        h.ours = true;
+    }
+}
+
 /// Parses and checks the header in `text` (the first bytes of the file).
 PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std::string& pre) {
     PcdHeader h;
@@ -56,14 +68,7 @@ PcdHeader parseHeader(std::string_view text, std::uint64_t file_size, const std:
         if (words.empty()) continue;
         const std::string where = pre + ": line " + std::to_string(lines.line_no);
         if (words[0].front() == '#') {
-            // "# ladarvr origin X Y Z" (also "#ladarvr origin ..."); other comments are free.
-            if (words[0] == "#" && words.size() > 2 && words[1] == "ladarvr" && words[2] == "origin") {
-                h.origin = parseOrigin(words, 3, where);
-                h.ours = true;
-            } else if (words[0] == "#ladarvr" && words.size() > 1 && words[1] == "origin") {
-                h.origin = parseOrigin(words, 2, where);
-                h.ours = true;
-            }
+            readComment(words, where, h);
             continue;
         }
         const std::string_view key = words[0];
