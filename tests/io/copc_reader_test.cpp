@@ -257,3 +257,27 @@ TEST_CASE("copc reader: the header's scale, the coordinates' step") {
     const io::CopcReader reader(writeFile(dir, copc_test::make().bytes), io::CopcHierarchy::by_page);
     CHECK(reader.scale() == glm::dvec3(copc_test::kScale));
 }
+
+TEST_CASE("copc reader: isCopcFile tells a COPC file from other files by its first VLR") {
+    test_support::TempDir dir("copc_is");
+    const copc_test::File f = copc_test::make();
+    const std::filesystem::path copc = writeFile(dir, f.bytes);
+    CHECK(io::isCopcFile(copc));
+    // The same bytes with the info record's number changed, its user changed, or cut short.
+    std::string other = f.bytes;
+    other[375 + 2 + 16] = 2;
+    std::ofstream(dir.path / "record.laz", std::ios::binary) << other;
+    CHECK_FALSE(io::isCopcFile(dir.path / "record.laz"));
+    other = f.bytes;
+    other[375 + 2] = 'C';
+    std::ofstream(dir.path / "user.laz", std::ios::binary) << other;
+    CHECK_FALSE(io::isCopcFile(dir.path / "user.laz"));
+    std::ofstream(dir.path / "short.laz", std::ios::binary) << f.bytes.substr(0, 394);
+    CHECK_FALSE(io::isCopcFile(dir.path / "short.laz"));
+    other = f.bytes;
+    other[0] = 'X';
+    std::ofstream(dir.path / "signature.laz", std::ios::binary) << other;
+    CHECK_FALSE(io::isCopcFile(dir.path / "signature.laz"));
+    CHECK_FALSE(io::isCopcFile(dir.path / "missing.laz"));
+    CHECK_FALSE(io::isCopcFile(dir.path));  // a folder
+}

@@ -78,6 +78,13 @@ struct CopcFinding {
 /// file). Reads within bounded memory; a file that is not even a LAS file gives one finding.
 std::vector<CopcFinding> checkCopc(const std::filesystem::path& file);
 
+/// True when `file` is a regular file that starts as a COPC file does: a LAS header whose
+/// first VLR (right after the 375-byte LAS 1.4 header) is COPC's info record (user "copc",
+/// record 1). Reads 395 bytes at most and never throws; a shorter, unreadable or special
+/// file is not COPC (its reader then says what is wrong). This is the one place that tells
+/// a COPC file from another cloud file.
+bool isCopcFile(const std::filesystem::path& file);
+
 /// Node-by-node access to a COPC file: its info, its nodes with points, and one node's
 /// points decoded on demand (the LAZ chunk of that node, reached through the variable chunk
 /// table), so that a reader never holds more than the nodes it asked for. By page, the

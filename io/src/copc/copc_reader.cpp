@@ -13,6 +13,9 @@
 #include <core/error.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cstring>
+#include <fstream>
 #include <mutex>
 #include <utility>
 
@@ -119,6 +122,19 @@ core::PointCloud CopcReader::readNodeEntry(const CopcNode& node) const {
     cloud.points.reserve(std::size_t(node.point_count));
     while (reader.nextChunk(cloud.points, std::size_t(1) << 16)) {}
     return cloud;
+}
+
+bool isCopcFile(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) return false;
+    std::array<char, 395> head{};
+    std::ifstream in(file, std::ios::binary);
+    if (!in.read(head.data(), head.size())) return false;
+    constexpr std::size_t kFirstVlrUser = 375 + 2;  // after the header and the VLR's reserved field
+    constexpr std::size_t kFirstVlrRecord = kFirstVlrUser + 16;
+    const char user[16] = "copc";
+    return std::memcmp(head.data(), "LASF", 4) == 0 && std::memcmp(head.data() + kFirstVlrUser, user, 16) == 0 &&
+           static_cast<unsigned char>(head[kFirstVlrRecord]) == 1 && head[kFirstVlrRecord + 1] == 0;
 }
 
 }  // namespace io
