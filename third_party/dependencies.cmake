@@ -25,6 +25,9 @@ if(LADARVR_LASZIP_VERSION VERSION_LESS 3.4)
   message(FATAL_ERROR "LASzip ${LADARVR_LASZIP_VERSION} found; ladarvr needs 3.4 or newer (liblaszip-dev)")
 endif()
 
+# platform's SHA-256, in the fuzz build too.
+find_package(OpenSSL 3.0 REQUIRED COMPONENTS Crypto)    # libssl-dev
+
 if(LADARVR_FUZZ)
   return()  # the fuzz build compiles the parsers of core and io only
 endif()
@@ -38,7 +41,6 @@ find_package(glfw3 3.4 REQUIRED)                         # libglfw3-dev
 find_package(OpenXR 1.1 REQUIRED)                        # libopenxr-dev
 find_package(X11 REQUIRED)                               # libx11-dev
 find_package(CLI11 2.4 REQUIRED)                         # libcli11-dev
-find_package(OpenSSL 3.0 REQUIRED COMPONENTS Crypto)    # libssl-dev
 if(LADARVR_BUILD_TESTS)
   find_package(doctest 2.4.11 REQUIRED)                  # doctest-dev
 endif()

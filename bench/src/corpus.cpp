@@ -10,13 +10,13 @@
 
 #include <corpus/plan.hpp>
 #include <corpus/run.hpp>
-#include <corpus/sha256.hpp>
 #include <corpus/spec.hpp>
 
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
 #include <io/scene_file.hpp>
 #include <platform/atomic_file.hpp>
+#include <platform/sha256.hpp>
 #include <sim/generator.hpp>
 
 #include <nlohmann/json.hpp>
@@ -190,7 +190,7 @@ void run(const BenchCorpusCli& cli) {
     std::vector<double> hash_ms;
     for (int rep = 0; rep < 3; ++rep) {
         const auto t0 = Clock::now();
-        (void)corpus::sha256Hex(cloud_like);
+        (void)platform::sha256Hex(cloud_like);
         hash_ms.push_back(msSince(t0));
     }
     const Spread plan = spread(plan_ms), hash = spread(hash_ms);

@@ -2,7 +2,6 @@
 // memory (its points per label are counted there) and written with the other files into
 // a hidden folder that moves into place whole (platform/output_folder.hpp).
 #include <corpus/item.hpp>
-#include <corpus/sha256.hpp>
 
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
@@ -11,6 +10,7 @@
 #include <metric/report.hpp>
 #include <metric/visibility.hpp>
 #include <platform/output_folder.hpp>
+#include <platform/sha256.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -120,7 +120,7 @@ ItemOutcome buildItem(const Planner& planner, std::size_t index, const fs::path&
     // the folder moves into place.
     json listed = json::object();
     for (const std::string& name : names) {
-        const FileDigest d = sha256File(files.path(name));
+        const platform::FileDigest d = platform::sha256File(files.path(name), "corpus");
         listed[name] = {{"bytes", d.bytes}, {"sha256", d.sha256}};
     }
     holdForTest(index, plan.id);

@@ -1,11 +1,11 @@
 // corpus: SPEC.json parsing. Everything is checked here, before any item is built, so a
 // typo costs one line and no work; sim::validate sees the extreme corners of the ranges.
-#include <corpus/sha256.hpp>
 #include <corpus/spec.hpp>
 
 #include <core/error.hpp>
 #include <io/strict_json.hpp>
 #include <platform/safe_file.hpp>
+#include <platform/sha256.hpp>
 #include <sim/generator.hpp>
 #include <sim/sensor.hpp>
 
@@ -310,7 +310,7 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
                               e.what());
         }
     }
-    s.sha256 = sha256Hex(text);
+    s.sha256 = platform::sha256Hex(text);
     return s;
 }
 

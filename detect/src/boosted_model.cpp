@@ -1,5 +1,5 @@
 // detect/src/boosted_model.cpp: the model file and XGBoost's C API of
-// detect/boosted_model.hpp. XGBoost and OpenSSL (SHA-256) are used here only.
+// detect/boosted_model.hpp. XGBoost is used here only.
 #include <detect/boosted_model.hpp>
 #include <detect/model_check.hpp>
 #include <detect/segment_features.hpp>
@@ -7,9 +7,9 @@
 #include <core/error.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
+#include <platform/sha256.hpp>
 
 #include <nlohmann/json.hpp>
-#include <openssl/evp.h>
 #include <xgboost/c_api.h>
 
 #include <algorithm>
@@ -32,20 +32,6 @@ constexpr int kFormat = 1;
     do {                                   \
         if ((call) != 0) xgbFail(context); \
     } while (false)
-
-std::string sha256Hex(std::string_view bytes) {
-    unsigned char digest[EVP_MAX_MD_SIZE];
-    unsigned int length = 0;
-    if (EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr) != 1 || length != 32)
-        throw core::Error("detect: SHA-256: OpenSSL digest failed");
-    static const char* hex = "0123456789abcdef";
-    std::string s;
-    for (unsigned i = 0; i < length; ++i) {
-        s += hex[digest[i] >> 4];
-        s += hex[digest[i] & 15];
-    }
-    return s;
-}
 
 // RAII for a DMatrix.
 struct Matrix {
@@ -176,7 +162,7 @@ std::string BoostedModel::serialize() const {
     h["segmentation"] = segmentJson(i.segments);
     h["training"] = {{"items", i.items}, {"segments", i.segments_total}, {"positives", i.positives}};
     h["model_bytes"] = bytes_.size();
-    h["model_sha256"] = sha256Hex(bytes_);
+    h["model_sha256"] = platform::sha256Hex(bytes_);
     const std::string header = h.dump(1);
     std::string out(kMagic, sizeof kMagic);
     const std::uint32_t hl = std::uint32_t(header.size());
@@ -308,7 +294,7 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
     if (field("model_bytes", T::number_unsigned).get<std::uint64_t>() != ml)
         throw bad("header says " + h["model_bytes"].dump() + " model bytes, the file holds " + std::to_string(ml));
     std::string bytes = file.substr(20 + hl);
-    if (field("model_sha256", T::string).get<std::string>() != sha256Hex(bytes))
+    if (field("model_sha256", T::string).get<std::string>() != platform::sha256Hex(bytes))
         throw bad("the model bytes do not match their SHA-256; the file is damaged");
     // XGBoost trusts its model (a child index out of range reads out of bounds, a child
     // leading back up loops forever), and the SHA-256 above is the file's own: the trees

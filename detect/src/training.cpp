@@ -6,9 +6,9 @@
 #include <detect/segment_features.hpp>
 #include <io/strict_json.hpp>
 #include <platform/safe_file.hpp>
+#include <platform/sha256.hpp>
 
 #include <nlohmann/json.hpp>
-#include <openssl/evp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,20 +20,6 @@ namespace {
 constexpr std::size_t kMaxManifestBytes = std::size_t(1) << 30;
 constexpr std::size_t kMaxManifestLineBytes = std::size_t(1) << 20;  // a corpus writes lines of a few KiB
 constexpr double kMinTargetShare = 0.1;  // of the cloud's target points, for a positive segment
-
-std::string sha256Hex(std::string_view bytes) {
-    unsigned char digest[EVP_MAX_MD_SIZE];
-    unsigned int length = 0;
-    if (EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr) != 1 || length != 32)
-        throw core::Error("train: SHA-256: OpenSSL digest failed");
-    static const char* hex = "0123456789abcdef";
-    std::string s;
-    for (unsigned i = 0; i < length; ++i) {
-        s += hex[digest[i] >> 4];
-        s += hex[digest[i] & 15];
-    }
-    return s;
-}
 
 bool heldOut(std::size_t k, double f) { return std::floor(double(k + 1) * f) > std::floor(double(k) * f); }
 
@@ -98,7 +84,7 @@ CorpusListing listCorpus(const std::filesystem::path& dir, std::size_t budget_by
                           " (the manifest and its listing are held in memory); raise --memory-mb");
     const std::string text =
         platform::readTextFile(dir / "manifest.jsonl", std::min(kMaxManifestBytes, budget_bytes), manifest);
-    out.manifest_sha256 = sha256Hex(text);
+    out.manifest_sha256 = platform::sha256Hex(text);
     const std::size_t lines = std::size_t(std::count(text.begin(), text.end(), '\n')) + 1;
     std::size_t held = text.size() + lines * 2 * sizeof(std::string);
     const auto over = [&](const std::string& what) {

@@ -6,10 +6,10 @@
 
 #include <core/error.hpp>
 #include <core/random.hpp>
-#include <corpus/sha256.hpp>
 #include <corpus/stats.hpp>
 #include <io/strict_json.hpp>
 #include <platform/safe_file.hpp>
+#include <platform/sha256.hpp>
 
 #include <algorithm>
 #include <numeric>
@@ -384,7 +384,7 @@ Design readDesign(const std::filesystem::path& file, std::string* sha256) {
         if (!design.conditions[i].detector.empty() && design.conditions[i].detector != "baseline")
             platform::checkInputFile(design.conditions[i].detector,
                                      "study: " + shown + ": conditions[" + std::to_string(i) + "].detector");
-    if (sha256) *sha256 = corpus::sha256Hex(text);
+    if (sha256) *sha256 = platform::sha256Hex(text);
     return design;
 }
 

@@ -7,12 +7,12 @@
 #include <detect/boosted_model.hpp>
 #include <detect/model_check.hpp>
 #include <detect/segment_features.hpp>
+#include <platform/sha256.hpp>
 
 #include "test_files.hpp"
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
-#include <openssl/evp.h>
 
 #include <cmath>
 #include <cstdint>
@@ -43,26 +43,13 @@ std::string shippedUbjson() {
     return file.substr(20 + headerLength(file));
 }
 
-std::string sha256Hex(const std::string& bytes) {
-    unsigned char digest[EVP_MAX_MD_SIZE];
-    unsigned int length = 0;
-    REQUIRE(EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr) == 1);
-    std::string hex;
-    for (unsigned k = 0; k < length; ++k) {
-        static const char* digits = "0123456789abcdef";
-        hex += digits[digest[k] >> 4];
-        hex += digits[digest[k] & 15];
-    }
-    return hex;
-}
-
 // A model file of the shipped header with `ubjson` as its model: the lengths and the
 // SHA-256 made to match, so only the model bytes are wrong.
 std::string modelFile(const std::string& ubjson) {
     const std::string file = shippedFile();
     nlohmann::json h = nlohmann::json::parse(file.substr(12, headerLength(file)));
     h["model_bytes"] = ubjson.size();
-    h["model_sha256"] = sha256Hex(ubjson);
+    h["model_sha256"] = platform::sha256Hex(ubjson);
     const std::string header = h.dump(1);
     std::string out = "LDVRDET1";
     for (int k = 0; k < 4; ++k) out += char((header.size() >> (8 * k)) & 0xFF);
