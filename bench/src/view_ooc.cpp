@@ -18,9 +18,10 @@
 #include <render/gl.hpp>
 #include <render/orbit_camera.hpp>
 #include <sim/generator.hpp>
-#include <viewer/camera_rig.hpp>
 #include <viewer/cloud_feed.hpp>
+#include <viewer/cloud_feed_source.hpp>
 #include <viewer/copc_source.hpp>
+#include <viewer/mode_controller.hpp>
 #include <viewer/node_selection.hpp>
 #include <viewer/offscreen_stereo.hpp>
 #include <viewer/point_source.hpp>

@@ -1,6 +1,6 @@
 // tests/common/bad_clouds.hpp: one table of malformed cloud files with the exact message
 // each must be refused with. tests/io/cloud_reader_test.cpp runs it through
-// io::readCloud and tests/viewer/cloud_feed_test.cpp through the viewer's loader, so
+// io::readCloud and tests/viewer/points/cloud_feed_test.cpp through the viewer's loader, so
 // both are shown to refuse exactly the same files with exactly the same line.
 #pragma once
 #include <cstdint>

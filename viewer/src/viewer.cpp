@@ -2,10 +2,11 @@
 // §IV-A), in hello_xr's shape: poll events, gather the operator's input, update the
 // tools, the modes and the trials, render the eyes, present.
 //
-// Input sources each return one OperatorInput (desktop_input.cpp, input/script_player.cpp,
-// the OpenXR mapping in xr_actions.cpp, input/replay_player.cpp); the tools (tools/) and
-// the trial controller (trial_controller.cpp) consume their merge; eye_frame.cpp draws
-// what they decided; frame_log.cpp writes the run log. The points come from a point source
+// Input sources each return one OperatorInput (input/: desktop_input.cpp, script_player.cpp,
+// xr_input_mapping.cpp for the OpenXR actions, replay_player.cpp); the tools (tools/) and
+// the trial controller (trial/trial_controller.cpp) consume their merge;
+// ui/eye_frame_renderer.cpp draws what they decided; frame_facts.cpp is what the run log
+// records. The points come from a point source
 // (viewer/point_source.hpp). Setup throws core::Error; once the loop runs nothing
 // throws: OpenXR failures drop to the desktop mode with the cloud kept, GL errors are
 // logged.

@@ -2,30 +2,31 @@
 // sources, the tools, the trial controller, the point source's stream, the eye renderer
 // and the headset, each its own component; ViewerApp only runs them in order.
 #pragma once
+#include <viewer/cloud_feed_source.hpp>
 #include <viewer/viewer.hpp>
 
-#include "desktop_input.hpp"
-#include "desktop_window.hpp"
-#include "eye_frame.hpp"
-#include "frame_log.hpp"
-#include "headset.hpp"
+#include "input/desktop_input.hpp"
+#include "ui/desktop_window.hpp"
+#include "ui/eye_frame_renderer.hpp"
+#include "frame_facts.hpp"
+#include "xr/headset.hpp"
 #include "input/replay_player.hpp"
 #include "input/script_player.hpp"
-#include "panel.hpp"
-#include "panel_quad.hpp"
-#include "questionnaire_screen.hpp"
-#include "point_renderer.hpp"
+#include "ui/panel.hpp"
+#include "ui/panel_quad.hpp"
+#include "ui/questionnaire_screen.hpp"
+#include "points/point_renderer.hpp"
 #include "run_log.hpp"
-#include "source_stream.hpp"
+#include "points/source_stream.hpp"
 #include "stop_signal.hpp"
 #include "tools/candidates_tool.hpp"
 #include "tools/comfort_tool.hpp"
 #include "tools/cut_tool.hpp"
 #include "tools/pointer_tool.hpp"
 #include "tools/zoom_tool.hpp"
-#include "trial_controller.hpp"
-#include "xr_actions.hpp"
-#include "xr_session.hpp"
+#include "trial/trial_controller.hpp"
+#include "input/xr_input_mapping.hpp"
+#include "xr/xr_session.hpp"
 
 #include <chrono>
 #include <cstddef>

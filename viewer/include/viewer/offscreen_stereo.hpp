@@ -4,7 +4,7 @@
 // eye-dome lighting, mode indicator), so the headset path's GPU work can run, be checked
 // and be timed on any GPU with a headless context (render::EglContext).
 #pragma once
-#include <viewer/camera_rig.hpp>
+#include <viewer/mode_controller.hpp>
 #include <viewer/point_source.hpp>
 #include <viewer/viewer.hpp>
 

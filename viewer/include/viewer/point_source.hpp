@@ -10,9 +10,8 @@
 // A source that chooses which nodes to hold (CopcSource, copc_source.hpp) is told the last
 // frame's view through select(); a stream ignores it.
 //
-// CloudFeedSource is the first one: a streamed file or in-memory cloud (cloud_feed.hpp),
-// each chunk a leaf under no parent, resident from its arrival (the LOD order of lod.hpp
-// already built).
+// CloudFeedSource (cloud_feed_source.hpp) is the first one: a streamed file or in-memory
+// cloud (cloud_feed.hpp), each chunk a leaf under no parent, resident from its arrival.
 #pragma once
 #include <core/point_cloud.hpp>
 #include <viewer/lod.hpp>
@@ -30,8 +29,6 @@
 #include <vector>
 
 namespace viewer {
-
-class CloudFeed;
 
 /// A resident node's points in LOD order and their cells (lod.hpp). Shared, so a worker
 /// that indexes them keeps them alive if the node is evicted meanwhile.
@@ -127,27 +124,5 @@ std::vector<PointNode*> allNodes(const PointSource& source);
 /// for a COPC file is the key's level (the hierarchy's keys are filled in above their
 /// descendants).
 std::map<const PointNode*, int> nodeLevels(const PointSource& source);
-
-/// A CloudFeed seen as a point source: each chunk becomes a leaf when poll() takes it
-/// (its LOD order built there unless the feed built it on the producer's thread). A
-/// stream cannot be read twice: an evicted chunk stays known (bounds, count) but a later
-/// request() cannot bring its points back.
-class CloudFeedSource final : public PointSource {
-  public:
-    explicit CloudFeedSource(CloudFeed& feed) : feed_(&feed) {}
-    ~CloudFeedSource() override;
-    std::size_t poll() override;
-    std::span<PointNode* const> roots() const override { return roots_; }
-    glm::dvec3 origin() const override;
-    core::CloudFields fields() const override;
-    bool finished() const override;
-    std::string error() const override;
-    std::size_t pointsArrived() const override;
-
-  private:
-    CloudFeed* feed_;
-    std::vector<std::unique_ptr<PointNode>> nodes_;
-    std::vector<PointNode*> roots_;
-};
 
 }  // namespace viewer

@@ -17,7 +17,7 @@
 //     mode, scale, hit_x, hit_y, hit_z   (world coordinates; hit_* empty without a hit)
 #pragma once
 #include <core/candidates.hpp>
-#include <viewer/camera_rig.hpp>
+#include <viewer/mode_controller.hpp>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>

@@ -6,7 +6,7 @@
 // desktop viewer with a mouse-and-keyboard camera. Two modes (automatic orbit / free),
 // switched with the space bar or a controller button. See docs/viewer.md.
 #pragma once
-#include <viewer/camera_rig.hpp>
+#include <viewer/mode_controller.hpp>
 #include <viewer/cloud_feed.hpp>
 #include <viewer/pick_index.hpp>
 #include <viewer/point_source.hpp>

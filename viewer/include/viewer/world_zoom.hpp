@@ -2,11 +2,11 @@
 // mouse wheel, a script's grab_scale) as a similarity of the tracking frame.
 //
 // The zoom maps a tracking-frame point p to p / scale + offset, and the modes' rig maps
-// that into the cloud (viewer/camera_rig.hpp): a scale of 4 makes the cloud look four
+// that into the cloud (viewer/mode_controller.hpp): a scale of 4 makes the cloud look four
 // times larger. The eyes' view matrices carry the scale (computed in double), so
 // camera-relative precision holds at every scale. Pure maths, no GL.
 #pragma once
-#include <viewer/camera_rig.hpp>
+#include <viewer/mode_controller.hpp>
 
 #include <glm/vec3.hpp>
 

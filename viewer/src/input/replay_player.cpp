@@ -1,5 +1,5 @@
 // viewer/src/input/replay_player.cpp: a trace's samples in real time.
-#include "replay_player.hpp"
+#include "input/replay_player.hpp"
 
 namespace viewer {
 

@@ -1,7 +1,7 @@
 // viewer/src/input/replay_player.hpp: a recorded trace (--replay) played back in real time
 // as operator input: the sample to show each frame (head pose, zoom, mode, pointer hit).
 #pragma once
-#include "../operator_input.hpp"
+#include "input/operator_input.hpp"
 
 #include <chrono>
 #include <cstddef>

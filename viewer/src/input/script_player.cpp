@@ -1,5 +1,5 @@
 // viewer/src/input/script_player.cpp: a --script's lines as operator input.
-#include "script_player.hpp"
+#include "input/script_player.hpp"
 
 namespace viewer {
 

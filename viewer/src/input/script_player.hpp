@@ -1,7 +1,7 @@
 // viewer/src/input/script_player.hpp: a --script played back as operator input, one frame
 // at a time (viewer/script.hpp has the file format).
 #pragma once
-#include "../operator_input.hpp"
+#include "input/operator_input.hpp"
 
 #include <viewer/script.hpp>
 

@@ -1,5 +1,5 @@
 // viewer/src/tools/candidates_tool.cpp: candidate boxes, picked by the pointer's ray.
-#include "candidates_tool.hpp"
+#include "tools/candidates_tool.hpp"
 
 #include <algorithm>
 #include <cmath>

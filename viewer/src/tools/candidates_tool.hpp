@@ -3,8 +3,8 @@
 // yellow = unlikely), the one the pointer's ray meets highlighted, confirmed ones green,
 // rejected ones grey. Coordinates: world in the file, local (world - origin) here.
 #pragma once
-#include "../overlay_renderer.hpp"
-#include "pointer_tool.hpp"
+#include "ui/overlay_renderer.hpp"
+#include "tools/pointer_tool.hpp"
 
 #include <core/candidates.hpp>
 #include <viewer/trial.hpp>

@@ -1,5 +1,5 @@
 // viewer/src/tools/comfort_tool.cpp: snap turn and vignette.
-#include "comfort_tool.hpp"
+#include "tools/comfort_tool.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // step per thumbstick flick, at most one per debounce time) and a vignette that darkens
 // the edges of the view while moving (docs/viewer.md).
 #pragma once
-#include "tool.hpp"
+#include "tools/tool.hpp"
 
 #include <viewer/viewer.hpp>
 

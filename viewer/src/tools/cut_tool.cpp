@@ -1,5 +1,5 @@
 // viewer/src/tools/cut_tool.cpp: the cutting volume's switch and radius.
-#include "cut_tool.hpp"
+#include "tools/cut_tool.hpp"
 
 #include <algorithm>
 #include <cmath>

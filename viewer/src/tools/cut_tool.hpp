@@ -2,8 +2,8 @@
 // designated point are drawn (the point shader tests each point, so changes cost no
 // upload). V / a controller button toggles it, [ ] shrink and grow it, the panel edits it.
 #pragma once
-#include "../point_renderer.hpp"
-#include "tool.hpp"
+#include "points/point_renderer.hpp"
+#include "tools/tool.hpp"
 
 namespace viewer {
 

@@ -1,5 +1,5 @@
 // viewer/src/tools/pointer_tool.cpp: the laser pointer's pick and drawing.
-#include "pointer_tool.hpp"
+#include "tools/pointer_tool.hpp"
 
 #include <core/scene.hpp>
 

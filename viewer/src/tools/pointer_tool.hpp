@@ -2,8 +2,8 @@
 // pose (or the mouse cursor, or a script's aim at a world point), the cloud point it
 // picks (viewer/pick_index.hpp), drawn as a thin ray with a dot on the hit.
 #pragma once
-#include "../overlay_renderer.hpp"
-#include "tool.hpp"
+#include "ui/overlay_renderer.hpp"
+#include "tools/tool.hpp"
 
 #include <viewer/pick_index.hpp>
 #include <viewer/world_zoom.hpp>

@@ -3,10 +3,10 @@
 // A new tool is a new class here that the frame loop updates, draws and logs with the
 // others; it reads no device and decides nothing about the trial.
 #pragma once
-#include "../operator_input.hpp"
-#include "../overlay_renderer.hpp"
+#include "input/operator_input.hpp"
+#include "ui/overlay_renderer.hpp"
 
-#include <viewer/camera_rig.hpp>
+#include <viewer/mode_controller.hpp>
 
 #include <nlohmann/json.hpp>
 

@@ -1,5 +1,5 @@
 // viewer/src/tools/zoom_tool.cpp: wheel, script scale and two-hand grab.
-#include "zoom_tool.hpp"
+#include "tools/zoom_tool.hpp"
 
 #include <cmath>
 

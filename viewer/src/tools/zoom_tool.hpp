@@ -2,7 +2,7 @@
 // maths): the wheel about the pointer's hit (or the head), a script's grab_scale, the
 // two-hand grab, and the reset key / button.
 #pragma once
-#include "tool.hpp"
+#include "tools/tool.hpp"
 
 #include <viewer/world_zoom.hpp>
 

@@ -1,0 +1,174 @@
+// viewer/src/ui/panel.cpp: the ImGui windows of the desktop mirror.
+#include "ui/panel.hpp"  // glad first (render/gl.hpp)
+
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include <core/scene.hpp>
+
+namespace viewer {
+
+bool drawSettingsPanel(const PanelView& v) {
+    bool reset = false;
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.75f);
+    ImGui::Begin("ladarvr view", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    if (!v.trial.empty()) ImGui::TextUnformatted(v.trial.c_str());
+    ImGui::Text("Mode: %s  (space / controller button)", modeName(v.mode));
+    if (!v.xr_state.empty())
+        ImGui::Text("OpenXR: %s", v.xr_state.c_str());
+    else
+        ImGui::Text("Desktop mode (drag: look, WASD/QE: move in free mode)");
+    int colour = static_cast<int>(v.style->colour);
+    if (ImGui::Combo("colours (C)", &colour,
+                     "file colours\0height jet\0white\0ground truth (target red)\0height above ground\0"))
+        v.style->colour = static_cast<ColourMode>(colour);
+    // The rest folds away, so the panel stays small over the cloud.
+    if (ImGui::CollapsingHeader("display")) {
+        ImGui::SliderFloat("point size (px)", &v.style->point_size_px, 1.0f, 16.0f, "%.1f");
+        ImGui::Checkbox("attenuate with distance", &v.style->attenuate);
+        ImGui::Checkbox("eye-dome lighting", &v.style->eye_dome);
+        if (v.style->eye_dome) ImGui::SliderFloat("EDL strength", &v.style->edl_strength, 0.1f, 4.0f, "%.2f");
+        int rasterizer = static_cast<int>(v.style->rasterizer);
+        if (ImGui::Combo("rasterizer", &rasterizer, "GL_POINTS\0compute\0"))
+            v.style->rasterizer = static_cast<Rasterizer>(rasterizer);
+    }
+    if (ImGui::CollapsingHeader("tools")) {
+        ImGui::Text("click: designate  Enter: confirm  Backspace: reject  N: no target");
+        ImGui::Checkbox("cutting volume (V)", v.cut_enabled);
+        float radius = static_cast<float>(*v.cut_radius_m);
+        if (ImGui::SliderFloat("cut radius (m) [ ]", &radius, 1.0f, 200.0f, "%.1f", ImGuiSliderFlags_Logarithmic))
+            *v.cut_radius_m = radius;
+        if (v.candidates > 0) ImGui::Checkbox("highlight candidates", v.highlight_candidates);
+        ImGui::Text("zoom x%.2f (wheel, two-hand grab)", v.scale);
+        ImGui::SameLine();
+        if (ImGui::Button("reset (R)")) reset = true;
+        ImGui::Checkbox("snap turn", v.snap_turn);
+        ImGui::SameLine();
+        ImGui::Checkbox("vignette while moving", v.vignette);
+        if (v.headset_panel) ImGui::Checkbox("this panel in the headset", v.headset_panel);
+    }
+    if (!v.designation.empty()) ImGui::TextUnformatted(v.designation.c_str());
+    ImGui::Text("picking: %s (last pick %.3f ms)", v.picking_ready ? "ready" : "indexing the cloud", v.pick_ms);
+    ImGui::Text("frame %.2f ms (%.0f Hz)", v.frame_ms, v.frame_ms > 0 ? 1000.0 / v.frame_ms : 0.0);
+    ImGui::Text("points %zu on GPU / %zu read%s", v.points_uploaded, v.points_arrived, v.loading ? " (loading)" : "");
+    ImGui::Text("points drawn %zu / %zu (budget %s per eye, %zu cells)", v.points_drawn, v.points_uploaded,
+                v.point_budget ? std::to_string(v.point_budget).c_str() : "unlimited", v.cells);
+    // A source with a cache (COPC): its tree, its RAM cache and the GPU arena, in short
+    // lines (a wider panel would cover the view).
+    if (v.source) {
+        constexpr double kMiB = 1048576.0;
+        const SourceStats& c = *v.source;
+        ImGui::Text("tree %zu nodes, %zu pages read, %.1f MiB", c.nodes, c.pages_read, c.hierarchy_bytes / kMiB);
+        ImGui::Text("cache %.1f / %.1f MiB (peak %.1f)", c.resident_bytes / kMiB, c.cache_bytes / kMiB,
+                    c.resident_bytes_peak / kMiB);
+        ImGui::Text("GPU %.1f / %.1f MiB (peak %.1f)", v.arena.bytes / kMiB, v.arena.bytes_bound / kMiB,
+                    v.arena.bytes_peak / kMiB);
+        ImGui::Text("nodes %zu in RAM, %zu on GPU (+%zu -%zu)", c.nodes_resident, v.arena.nodes,
+                    v.arena.frame_nodes_added, v.arena.frame_nodes_evicted);
+    }
+    ImGui::End();
+    return reset;
+}
+
+void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,
+                   bool has_height) {
+    ImGui::SetNextWindowPos(ImVec2(x + 16.0f, y + 16.0f), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    ImGui::Begin("picked point", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
+                     ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+    const glm::dvec3 w = hit.local + origin;
+    ImGui::Text("%.2f %.2f %.2f m", w.x, w.y, w.z);
+    ImGui::Text("range %.1f m  %s", glm::length(hit.local - head_local),
+                std::string(core::roleName(hit.label)).c_str());
+    if (has_height) ImGui::Text("height %.2f m", double(hit.height_above_ground_m));
+    ImGui::End();
+}
+
+void drawReadyScreen(int trial, int trials, const std::string& name, bool loaded, double time_limit_s,
+                     double break_left_s) {
+    const ImVec2 size = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(size.x * 0.5f, size.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowBgAlpha(0.9f);
+    ImGui::Begin("ready", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize);
+    ImGui::Text("Trial %d of %d: %s", trial + 1, trials, name.c_str());
+    if (time_limit_s > 0) ImGui::Text("Time limit: %.0f s", time_limit_s);
+    ImGui::Text("Find the target, point at it, designate it and confirm;");
+    ImGui::Text("declare 'no target' if there is none.");
+    if (break_left_s > 0.0)
+        ImGui::Text("Break: please rest, %.0f s left.", std::ceil(break_left_s));
+    else if (loaded)
+        ImGui::Text("Ready: press the trigger or Enter to start.");
+    else
+        ImGui::Text("Loading the cloud...");
+    ImGui::End();
+}
+
+bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTarget* headset_target) {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    if (p.panel_pointer) {
+        // After the GLFW backend's own events, so the pointer's position wins this frame; a
+        // press and release queued together reach ImGui on two frames (its input trickling),
+        // which is a click on what the pointer is over.
+        ImGuiIO& io = ImGui::GetIO();
+        io.AddMousePosEvent(float(p.panel_pointer->x) * io.DisplaySize.x, float(p.panel_pointer->y) * io.DisplaySize.y);
+        if (p.panel_click) {
+            io.AddMouseButtonEvent(ImGuiMouseButton_Left, true);
+            io.AddMouseButtonEvent(ImGuiMouseButton_Left, false);
+        }
+    }
+    ImGui::NewFrame();
+    if (p.trial >= 0) {
+        char text[256];
+        std::snprintf(text, sizeof text, "trial %d of %d: %s, %.1f s", p.trial + 1, p.trials, p.trial_name.c_str(),
+                      p.trial_s);
+        v.trial = text;
+    }
+    if (p.designated_local) {
+        const glm::dvec3 w = *p.designated_local + p.origin;
+        char text[160];
+        std::snprintf(text, sizeof text, "designated %.2f %.2f %.2f (Enter / confirm button to confirm)", w.x, w.y,
+                      w.z);
+        v.designation = text;
+    }
+    const bool reset_zoom = drawSettingsPanel(v);
+    const bool asking = p.questionnaire && p.questionnaire->active();
+    if (asking) {
+        std::optional<Answer> a = p.questionnaire->draw(p.headset, p.panel_pointer);
+        if (a && p.answered) *p.answered = std::move(a);
+    } else if (p.ready_screen)
+        drawReadyScreen(p.trial, p.trials, p.trial_name, p.ready_to_start, p.time_limit_s, p.break_left_s);
+    // The picked point's panel beside the dot (desktop: where the dot is on screen).
+    if (p.hit && !p.headset && fb_w > 0 && fb_h > 0 && !p.ready_screen && !asking) {
+        const glm::dvec4 clip = p.view_projection * glm::dvec4(p.hit->local, 1.0);
+        if (clip.w > 0.0) {
+            const ImVec2 size = ImGui::GetIO().DisplaySize;
+            const float sx = float((clip.x / clip.w * 0.5 + 0.5) * size.x);
+            const float sy = float((0.5 - clip.y / clip.w * 0.5) * size.y);
+            drawPickPanel(sx, sy, *p.hit, p.origin, p.head_local, p.has_height);
+        }
+    } else if (p.hit && p.headset && !asking) {
+        drawPickPanel(10.0f, ImGui::GetIO().DisplaySize.y - 90.0f, *p.hit, p.origin, p.head_local, p.has_height);
+    }
+    ImGui::Render();
+    if (headset_target && fb_w > 0 && fb_h > 0 && headset_target->ensure(fb_w, fb_h)) {
+        // The same windows into a texture for the headset's quad (shown from the next frame).
+        glBindFramebuffer(GL_FRAMEBUFFER, headset_target->fbo);
+        glViewport(0, 0, fb_w, fb_h);
+        glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, fb_w, fb_h);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    return reset_zoom;
+}
+
+}  // namespace viewer
