@@ -19,6 +19,7 @@
 #include <io/point_packing.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
+#include <platform/scratch_file.hpp>
 
 #include <unistd.h>
 
@@ -202,51 +203,6 @@ class Assembler {
     LasInventory inventory_;
 };
 
-// A scratch file's buffered reading and writing, with the writer's messages.
-struct Scratch {
-    std::FILE* f = nullptr;
-    std::string where;
-    std::uint64_t discarded_ = 0;  // bytes freed by discardBefore()
-    Scratch(const std::filesystem::path& dir, const std::string& w) : where(w) {
-        f = platform::openScratchFile(dir, where);
-    }
-    ~Scratch() {
-        if (f) std::fclose(f);
-    }
-    Scratch(const Scratch&) = delete;
-    Scratch& operator=(const Scratch&) = delete;
-    void write(const void* data, std::size_t size) {
-        if (size > 0 && std::fwrite(data, 1, size, f) != size)
-            throw Error("output: " + where + ": writing a scratch file failed: " + std::strerror(errno));
-    }
-    void read(void* data, std::size_t size) {
-        if (size > 0 && std::fread(data, 1, size, f) != size)
-            throw Error("output: " + where + ": reading a scratch file back failed");
-    }
-    void rewind() {
-        if (std::fflush(f) != 0 || ::fseeko(f, 0, SEEK_SET) != 0)
-            throw Error("output: " + where + ": rewinding a scratch file failed: " + std::strerror(errno));
-    }
-    // Reads `size` bytes at `offset` without moving the stream (which keeps appending);
-    // flush() first makes what was written readable.
-    void flush() {
-        if (std::fflush(f) != 0)
-            throw Error("output: " + where + ": writing a scratch file failed: " + std::strerror(errno));
-    }
-    // Frees the whole pages of [0, end), read for the last time (platform::freeScratchBefore).
-    void discardBefore(std::uint64_t end) { discarded_ = platform::freeScratchBefore(f, discarded_, end); }
-    void readAt(void* data, std::size_t size, std::uint64_t offset) {
-        auto* bytes = static_cast<char*>(data);
-        while (size > 0) {
-            const ssize_t n = ::pread(::fileno(f), bytes, size, off_t(offset));
-            if (n <= 0) throw Error("output: " + where + ": reading a scratch file back failed");
-            bytes += n;
-            size -= std::size_t(n);
-            offset += std::uint64_t(n);
-        }
-    }
-};
-
 // The spilled points: their first bytes in memory (as many as the bound leaves beside the
 // histogram and the sort into parts), the rest in a scratch file. What stays in memory
 // is neither written to the disk nor copied back through the kernel.
@@ -263,8 +219,8 @@ class Spill {
         head_.insert(head_.end(), bytes, bytes + here);
         head_size_ = head_.size();
         if (size == here) return;
-        if (!tail_) tail_ = std::make_unique<Scratch>(dir_, where_);
-        tail_->write(bytes + here, size - here);
+        if (!tail_) tail_ = std::make_unique<platform::ScratchFile>(dir_, where_);
+        tail_->append(bytes + here, size - here);
     }
     // Makes what was written readable by readAt().
     void flush() {
@@ -287,7 +243,7 @@ class Spill {
         }
     }
     // Frees [0, end), read for the last time (the memory once all of it is passed; the
-    // file's pages as Scratch::discardBefore does). A reader may meanwhile read past `end`.
+    // file's pages as ScratchFile::discardBefore does). A reader may meanwhile read past `end`.
     void discardBefore(std::uint64_t end) {
         const std::uint64_t head = head_size_;
         if (tail_ && end > head) tail_->discardBefore(end - head);
@@ -300,7 +256,7 @@ class Spill {
     std::size_t capacity_;
     std::vector<unsigned char> head_;
     std::size_t head_size_ = 0;  // what the head holds (stays when its memory is freed)
-    std::unique_ptr<Scratch> tail_;
+    std::unique_ptr<platform::ScratchFile> tail_;
 };
 
 // A point spilled to a bucket: the point and its index in the input.
@@ -608,7 +564,7 @@ class CopcWriter final : public FormatWriter {
     };
     struct Bucket {
         int top = -1;  // its node in tops_
-        std::unique_ptr<Scratch> file;
+        std::unique_ptr<platform::ScratchFile> file;
         std::uint64_t count = 0;   // from the histogram
         std::uint64_t filled = 0;  // points sorted into its file
         // Its nodes below its root, compressed: key, place in chunks_, size, points.
@@ -668,7 +624,7 @@ class CopcWriter final : public FormatWriter {
 
     // Once every point is in its bucket's file: the buckets' subtrees, the top and the file.
     void finishParts(const OctreeCube& cube) {
-        sets_ = std::make_unique<Scratch>(dir_, where_);
+        sets_ = std::make_unique<platform::ScratchFile>(dir_, where_);
         buildBuckets(cube);
         Marks marks;
         sampleTop(cube, 0, marks);
@@ -805,7 +761,8 @@ class CopcWriter final : public FormatWriter {
         spill_->flush();
         for (std::size_t first = 0; first < buckets_.size(); first += kBucketsAtOnce) {
             const std::size_t last = std::min(buckets_.size(), first + kBucketsAtOnce);
-            for (std::size_t b = first; b < last; ++b) buckets_[b].file = std::make_unique<Scratch>(dir_, where_);
+            for (std::size_t b = first; b < last; ++b)
+                buckets_[b].file = std::make_unique<platform::ScratchFile>(dir_, where_);
             std::array<Round, 2> rounds;
             std::size_t cur = 0;
             if (count_ > 0) prepare(0, rounds[0]);
@@ -856,7 +813,7 @@ class CopcWriter final : public FormatWriter {
             Gathered& g = gathered[bucket - first];
             if (g.bytes.empty()) g.bytes.resize(kBucketBufferBytes);
             if (g.used + record > g.bytes.size()) {
-                buckets_[bucket].file->write(g.bytes.data(), g.used);
+                buckets_[bucket].file->append(g.bytes.data(), g.used);
                 g.used = 0;
             }
             unsigned char* at = g.bytes.data() + g.used;
@@ -873,7 +830,7 @@ class CopcWriter final : public FormatWriter {
     void closeGathered(std::size_t first, std::size_t last, std::vector<Gathered>& gathered) {
         for (std::size_t b = first; b < last; ++b) {
             Gathered& g = gathered[b - first];
-            buckets_[b].file->write(g.bytes.data(), g.used);
+            buckets_[b].file->append(g.bytes.data(), g.used);
             g.used = 0;
             buckets_[b].file->rewind();
         }
@@ -908,7 +865,7 @@ class CopcWriter final : public FormatWriter {
             prescan_ = Prescan::Declined;
             return;
         }
-        for (Bucket& b : buckets_) b.file = std::make_unique<Scratch>(dir_, where_);
+        for (Bucket& b : buckets_) b.file = std::make_unique<platform::ScratchFile>(dir_, where_);
         gathered_.resize(buckets_.size());
         prescan_ = Prescan::Direct;
     }
@@ -1057,7 +1014,7 @@ class CopcWriter final : public FormatWriter {
                 if (!node.points.empty()) {
                     const std::size_t begin = f.point_data_at + 8;
                     c.size = f.table_at - begin;
-                    chunks_->write(f.bytes.data() + begin, c.size);
+                    chunks_->append(f.bytes.data() + begin, c.size);
                     chunks_at_ += c.size;
                     inventory_.merge(inv);
                 }
@@ -1071,7 +1028,7 @@ class CopcWriter final : public FormatWriter {
     // being compressed (its points and their indices) in the other half, which the top of
     // the tree uses only once every bucket is done.
     void buildBuckets(const OctreeCube& cube) {
-        chunks_ = std::make_unique<Scratch>(dir_, where_);
+        chunks_ = std::make_unique<platform::ScratchFile>(dir_, where_);
         if (threads_ == 0) {
             LoadedBucket loaded;
             for (std::size_t b = 0; b < buckets_.size(); ++b) {
@@ -1094,7 +1051,7 @@ class CopcWriter final : public FormatWriter {
     }
 
     void appendSet(std::span<const Lifted> run) {
-        sets_->write(run.data(), run.size_bytes());
+        sets_->append(run.data(), run.size_bytes());
         sets_end_ += run.size_bytes();
     }
 
@@ -1302,9 +1259,9 @@ class CopcWriter final : public FormatWriter {
     std::vector<std::uint64_t> hist_;
     std::vector<Top> tops_;
     std::vector<Bucket> buckets_;
-    std::unique_ptr<Scratch> sets_;  // the upper nodes' sets (Lifted runs)
+    std::unique_ptr<platform::ScratchFile> sets_;  // the upper nodes' sets (Lifted runs)
     std::uint64_t sets_end_ = 0;
-    std::unique_ptr<Scratch> chunks_;
+    std::unique_ptr<platform::ScratchFile> chunks_;
     std::uint64_t chunks_at_ = 0;
     // The upper nodes' chunks, compressed a batch at a time (compressTops).
     struct TopChunk {
