@@ -4,6 +4,7 @@
 #include "copc_parse.hpp"
 
 #include "../las/laz_chunk_table.hpp"
+#include "../las/laz_models.hpp"
 
 #include <core/error.hpp>
 #include <core/frames.hpp>
@@ -52,64 +53,10 @@ std::string num(double v) { return core::shownNumber(v, 10); }
 
 std::string userId(std::string_view header) { return std::string(header.data() + 2, strnlen(header.data() + 2, 16)); }
 
-// The decoding half of LAZ's range coder, enough to read a chunk table: adaptive symbol
-// and bit models that refresh as the encoder's do (io/src/las/laz_chunk_table.cpp is the
-// encoding half), and the integer corrector. Reading past the coded bytes yields zeros
-// and sets `overrun`.
-class SymbolModel {
-  public:
-    explicit SymbolModel(std::uint32_t n) : n_(n), count_(n, 1u), cumulative_(n + 1, 0u) {
-        cycle_ = n;
-        refresh();
-        until_refresh_ = cycle_ = (n + 6) >> 1;
-    }
-    std::uint32_t symbols() const { return n_; }
-    std::uint32_t low(std::uint32_t s) const { return cumulative_[s]; }
-    void saw(std::uint32_t s) {
-        ++count_[s];
-        if (--until_refresh_ == 0) refresh();
-    }
-
-  private:
-    void refresh() {
-        if ((total_ += cycle_) > (1u << 15)) {
-            total_ = 0;
-            for (std::uint32_t& c : count_) total_ += (c = (c + 1) >> 1);
-        }
-        const std::uint32_t scale = 0x80000000u / total_;
-        std::uint32_t sum = 0;
-        for (std::uint32_t k = 0; k < n_; ++k) {
-            cumulative_[k] = (scale * sum) >> (31 - 15);
-            sum += count_[k];
-        }
-        cycle_ = std::min((5 * cycle_) >> 2, (n_ + 6) << 3);
-        until_refresh_ = cycle_;
-    }
-    std::uint32_t n_;
-    std::vector<std::uint32_t> count_, cumulative_;
-    std::uint32_t total_ = 0, cycle_ = 0, until_refresh_ = 0;
-};
-
-class BitModel {
-  public:
-    std::uint32_t zeroProbability() const { return p0_; }
-    void saw(bool bit) {
-        if (!bit) ++zeros_;
-        if (--until_refresh_ != 0) return;
-        if ((total_ += cycle_) > (1u << 13)) {
-            total_ = (total_ + 1) >> 1;
-            zeros_ = (zeros_ + 1) >> 1;
-            if (zeros_ == total_) ++total_;
-        }
-        p0_ = (zeros_ * (0x80000000u / total_)) >> (31 - 13);
-        cycle_ = std::min<std::uint32_t>((5 * cycle_) >> 2, 64);
-        until_refresh_ = cycle_;
-    }
-
-  private:
-    std::uint32_t zeros_ = 1, total_ = 2, p0_ = 1u << 12, cycle_ = 4, until_refresh_ = 4;
-};
-
+// The decoding half of LAZ's range coder, enough to read a chunk table: the models
+// (las/laz_models.hpp) refresh as the encoder's do (las/laz_chunk_table.cpp is the encoding
+// half), and the integer corrector. Reading past the coded bytes yields zeros and sets
+// `overrun`.
 class RangeDecoder {
   public:
     explicit RangeDecoder(std::string_view coded) : coded_(coded) {
@@ -119,7 +66,7 @@ class RangeDecoder {
 
     std::uint32_t decode(SymbolModel& m) {
         std::uint32_t sym = 0, x = 0, y = length_, n = m.symbols();
-        length_ >>= 15;
+        length_ >>= kLazSymbolShift;
         // The largest symbol whose interval starts at or below value_.
         for (std::uint32_t k = n >> 1; k != sym; k = (sym + n) >> 1) {
             const std::uint32_t z = length_ * m.low(k);
@@ -133,12 +80,12 @@ class RangeDecoder {
         }
         value_ -= x;
         length_ = y - x;
-        if (length_ < kMinLength) renormalise();
+        if (length_ < kLazMinLength) renormalise();
         m.saw(sym);
         return sym;
     }
     bool decode(BitModel& m) {
-        const std::uint32_t x = m.zeroProbability() * (length_ >> 13);
+        const std::uint32_t x = m.zeroProbability() * (length_ >> kLazBitShift);
         const bool bit = value_ >= x;
         if (!bit) {
             length_ = x;
@@ -146,7 +93,7 @@ class RangeDecoder {
             value_ -= x;
             length_ -= x;
         }
-        if (length_ < kMinLength) renormalise();
+        if (length_ < kLazMinLength) renormalise();
         m.saw(bit);
         return bit;
     }
@@ -159,12 +106,11 @@ class RangeDecoder {
     }
 
   private:
-    static constexpr std::uint32_t kMinLength = 1u << 24;
     std::uint32_t rawPart(int bits) {
         length_ >>= bits;
         const std::uint32_t sym = value_ / length_;
         value_ -= length_ * sym;
-        if (length_ < kMinLength) renormalise();
+        if (length_ < kLazMinLength) renormalise();
         return sym;
     }
     std::uint32_t byte() {
@@ -175,7 +121,7 @@ class RangeDecoder {
     void renormalise() {
         do {
             value_ = (value_ << 8) | byte();
-        } while ((length_ <<= 8) < kMinLength);
+        } while ((length_ <<= 8) < kLazMinLength);
     }
     std::string_view coded_;
     std::size_t at_ = 0;

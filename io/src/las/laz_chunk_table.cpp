@@ -3,10 +3,12 @@
 // The coder is a 32-bit range coder with adaptive models, the one LAZ uses everywhere:
 // an interval [base, base + length) narrowed by each symbol in proportion to its modelled
 // probability, bytes shifted out from the top whenever length falls under 2^24, a carry
-// rippling back through the bytes already out when base wraps. Models count what they see
-// and refresh their probabilities at growing intervals (the decoder does the same, so
-// the two stay in step).
+// rippling back through the bytes already out when base wraps. Its models
+// (laz_models.hpp) count what they see and refresh their probabilities at growing
+// intervals (the decoder's, the same models, do the same, so the two stay in step).
 #include "laz_chunk_table.hpp"
+
+#include "laz_models.hpp"
 
 #include <core/error.hpp>
 
@@ -19,92 +21,28 @@ namespace io::detail {
 using core::Error;
 namespace {
 
-constexpr std::uint32_t kMinLength = 1u << 24;  // renormalise below this
 constexpr std::uint32_t kMaxLength = 0xFFFFFFFFu;
-constexpr int kSymbolShift = 15;  // symbol models: probabilities in 1/2^15
-constexpr std::uint32_t kSymbolMaxCount = 1u << kSymbolShift;
-constexpr int kBitShift = 13;  // bit models: probabilities in 1/2^13
-constexpr std::uint32_t kBitMaxCount = 1u << kBitShift;
-
-// An adaptive model of `n` symbols: counts, and the cumulative distribution they give.
-class SymbolModel {
-  public:
-    explicit SymbolModel(std::uint32_t n) : n_(n), count_(n, 1u), cumulative_(n + 1, 0u) {
-        cycle_ = n;
-        refresh();
-        until_refresh_ = cycle_ = (n + 6) >> 1;
-    }
-    std::uint32_t symbols() const { return n_; }
-    std::uint32_t low(std::uint32_t s) const { return cumulative_[s]; }
-    void saw(std::uint32_t s) {
-        ++count_[s];
-        if (--until_refresh_ == 0) refresh();
-    }
-
-  private:
-    void refresh() {
-        if ((total_ += cycle_) > kSymbolMaxCount) {  // halve the counts, keeping each >= 1
-            total_ = 0;
-            for (std::uint32_t& c : count_) total_ += (c = (c + 1) >> 1);
-        }
-        const std::uint32_t scale = 0x80000000u / total_;
-        std::uint32_t sum = 0;
-        for (std::uint32_t k = 0; k < n_; ++k) {
-            cumulative_[k] = (scale * sum) >> (31 - kSymbolShift);
-            sum += count_[k];
-        }
-        cycle_ = (5 * cycle_) >> 2;
-        cycle_ = std::min(cycle_, (n_ + 6) << 3);
-        until_refresh_ = cycle_;
-    }
-
-    std::uint32_t n_;
-    std::vector<std::uint32_t> count_;
-    std::vector<std::uint32_t> cumulative_;  // cumulative_[s]: P(symbol < s) in 1/2^15
-    std::uint32_t total_ = 0, cycle_ = 0, until_refresh_ = 0;
-};
-
-// An adaptive model of one bit.
-class BitModel {
-  public:
-    std::uint32_t zeroProbability() const { return p0_; }
-    void saw(bool bit) {
-        if (!bit) ++zeros_;
-        if (--until_refresh_ != 0) return;
-        if ((total_ += cycle_) > kBitMaxCount) {
-            total_ = (total_ + 1) >> 1;
-            zeros_ = (zeros_ + 1) >> 1;
-            if (zeros_ == total_) ++total_;
-        }
-        p0_ = (zeros_ * (0x80000000u / total_)) >> (31 - kBitShift);
-        cycle_ = std::min<std::uint32_t>((5 * cycle_) >> 2, 64);
-        until_refresh_ = cycle_;
-    }
-
-  private:
-    std::uint32_t zeros_ = 1, total_ = 2, p0_ = 1u << (kBitShift - 1), cycle_ = 4, until_refresh_ = 4;
-};
 
 class RangeEncoder {
   public:
     void encode(SymbolModel& m, std::uint32_t s) {
         const std::uint32_t before = base_;
         if (s == m.symbols() - 1) {  // the last symbol takes the rest of the interval
-            const std::uint32_t x = m.low(s) * (length_ >> kSymbolShift);
+            const std::uint32_t x = m.low(s) * (length_ >> kLazSymbolShift);
             base_ += x;
             length_ -= x;
         } else {
-            length_ >>= kSymbolShift;
+            length_ >>= kLazSymbolShift;
             const std::uint32_t x = m.low(s) * length_;
             base_ += x;
             length_ = m.low(s + 1) * length_ - x;
         }
         if (before > base_) carry();
-        if (length_ < kMinLength) renormalise();
+        if (length_ < kLazMinLength) renormalise();
         m.saw(s);
     }
     void encode(BitModel& m, bool bit) {
-        const std::uint32_t x = m.zeroProbability() * (length_ >> kBitShift);
+        const std::uint32_t x = m.zeroProbability() * (length_ >> kLazBitShift);
         if (!bit) {
             length_ = x;
         } else {
@@ -113,7 +51,7 @@ class RangeEncoder {
             length_ -= x;
             if (before > base_) carry();
         }
-        if (length_ < kMinLength) renormalise();
+        if (length_ < kLazMinLength) renormalise();
         m.saw(bit);
     }
     // `bits` raw bits (at most 32) of `value`, uniformly distributed.
@@ -130,12 +68,12 @@ class RangeEncoder {
     std::vector<std::uint8_t> finish() {
         const std::uint32_t before = base_;
         bool third_zero = true;
-        if (length_ > 2 * kMinLength) {
-            base_ += kMinLength;
-            length_ = kMinLength >> 1;
+        if (length_ > 2 * kLazMinLength) {
+            base_ += kLazMinLength;
+            length_ = kLazMinLength >> 1;
         } else {
-            base_ += kMinLength >> 1;
-            length_ = kMinLength >> 9;
+            base_ += kLazMinLength >> 1;
+            length_ = kLazMinLength >> 9;
             third_zero = false;
         }
         if (before > base_) carry();
@@ -152,7 +90,7 @@ class RangeEncoder {
         length_ >>= bits;
         base_ += value * length_;
         if (before > base_) carry();
-        if (length_ < kMinLength) renormalise();
+        if (length_ < kLazMinLength) renormalise();
     }
     void carry() {
         std::size_t i = out_.size();
@@ -163,7 +101,7 @@ class RangeEncoder {
         do {
             out_.push_back(std::uint8_t(base_ >> 24));
             base_ <<= 8;
-        } while ((length_ <<= 8) < kMinLength);
+        } while ((length_ <<= 8) < kLazMinLength);
     }
 
     std::uint32_t base_ = 0, length_ = kMaxLength;
