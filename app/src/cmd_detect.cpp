@@ -15,6 +15,7 @@
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
 #include <platform/atomic_file.hpp>
+#include <platform/input_set.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/memory_budget.hpp>
 
@@ -24,6 +25,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace app {
@@ -51,6 +53,130 @@ detect::GroundSource parseGround(const std::string& name) {
     throw core::Error("detect: --ground '" + name + "': allowed ransac, smrf, csf, labels, white");
 }
 
+// One detector as `detect` runs it: the detection (a detect::Detector's, with the figures
+// it keeps while it runs), what it holds for a cloud, and those figures as the report
+// prints them. A new detector is a new DetectRun beside these two; the path from the
+// cloud to the report (detectAndReport) stays one.
+class DetectRun {
+  public:
+    virtual ~DetectRun() = default;
+    /// At most what reading a cloud of `points` points and detecting in it holds, bytes.
+    virtual std::uint64_t memoryBytes(std::uint64_t points) const = 0;
+    /// The candidates in `cloud`, best first; the run's figures are kept for the report.
+    virtual std::vector<detect::Detection> detect(const core::PointCloud& cloud) = 0;
+    /// The run's figures as fields of the --json object.
+    virtual void addFigures(nlohmann::json& j) const = 0;
+    /// Prints the first line of the text report.
+    virtual void printSummary(std::size_t candidates, const std::string& out) const = 0;
+    /// The word before each listed candidate's score.
+    virtual const char* scoreName() const = 0;
+};
+
+// The clustering baseline.
+class ClusterRun final : public DetectRun {
+  public:
+    ClusterRun(const detect::ClusterDetector& detector, std::string ground)
+        : detector_(detector), ground_(std::move(ground)) {}
+    std::uint64_t memoryBytes(std::uint64_t points) const override {
+        return detect::ClusterDetector::memoryBytes(points);
+    }
+    std::vector<detect::Detection> detect(const core::PointCloud& cloud) override {
+        return detector_.detect(cloud, stats_);
+    }
+    void addFigures(nlohmann::json& j) const override {
+        j["points"] = stats_.points;
+        j["ground_points"] = stats_.ground_points;
+        j["voxels"] = stats_.voxels;
+        j["clusters"] = stats_.clusters;
+        j["seconds"] = {
+            {"ground", stats_.seconds_ground}, {"cluster", stats_.seconds_cluster}, {"boxes", stats_.seconds_boxes}};
+    }
+    void printSummary(std::size_t candidates, const std::string& out) const override {
+        std::printf(
+            "detect: %zu points, %zu ground (%s), %zu clusters, %zu candidates with score >= %.2f; "
+            "%.2f s; wrote %s\n",
+            stats_.points, stats_.ground_points, ground_.c_str(), stats_.clusters, candidates,
+            detector_.options().min_score, stats_.seconds_ground + stats_.seconds_cluster + stats_.seconds_boxes,
+            out.c_str());
+    }
+    const char* scoreName() const override { return "score"; }
+
+  private:
+    const detect::ClusterDetector& detector_;
+    std::string ground_;
+    detect::ClusterStats stats_;
+};
+
+// The trained detector.
+class ModelRun final : public DetectRun {
+  public:
+    ModelRun(const detect::BoostedDetector& detector, const detect::BoostedOptions& options)
+        : detector_(detector), options_(options) {}
+    std::uint64_t memoryBytes(std::uint64_t points) const override {
+        return detect::BoostedDetector::memoryBytes(points);
+    }
+    std::vector<detect::Detection> detect(const core::PointCloud& cloud) override {
+        return detector_.detect(cloud, stats_);
+    }
+    void addFigures(nlohmann::json& j) const override {
+        j["model"] = options_.model.string();
+        j["points"] = stats_.points;
+        j["above_points"] = stats_.above_points;
+        j["segments"] = stats_.segments;
+        j["seconds"] = {{"segments_and_features", stats_.seconds_features}, {"trees", stats_.seconds_trees}};
+    }
+    void printSummary(std::size_t candidates, const std::string& out) const override {
+        std::printf(
+            "detect: %zu points, %zu above the terrain, %zu segments, %zu candidates with probability >= %.2f "
+            "(model %s); %.2f s; wrote %s\n",
+            stats_.points, stats_.above_points, stats_.segments, candidates, options_.min_probability,
+            options_.model.c_str(), stats_.seconds_features + stats_.seconds_trees, out.c_str());
+    }
+    const char* scoreName() const override { return "p"; }
+
+  private:
+    const detect::BoostedDetector& detector_;
+    detect::BoostedOptions options_;
+    detect::BoostedStats stats_;
+};
+
+// The one path of every detector, once its options and the run's paths are checked: the
+// destination made ready and kept off the run's `inputs`, the cloud's header weighed
+// against the budget (a cloud that would not fit is refused before a point is read), the
+// cloud read, the candidates found, written and reported (JSON or text, the first five
+// listed).
+void detectAndReport(const DetectCli& cli, const platform::InputSet& inputs, std::uint64_t budget, DetectRun& run) {
+    const std::filesystem::path out = cli.out;
+    createParentFolders(out, "detect: --out");
+    platform::checkWritableDestination(out, inputs);
+    io::CloudReader reader(cli.cloud);
+    sim::refuseOverBudget("detect", budget, run.memoryBytes(reader.pointsBound()),
+                          "a cloud of " + std::to_string(reader.pointsBound()) + " points, read whole",
+                          "raise --memory-mb, or detect in a thinned or cropped cloud");
+    const core::PointCloud cloud = io::readCloud(reader);
+    const std::vector<detect::Detection> found = run.detect(cloud);
+    std::vector<core::Candidate> candidates;
+    for (const detect::Detection& d : found) candidates.push_back(d.candidate);
+    io::writeCandidates(out, candidates);
+    if (cli.json) {
+        nlohmann::json j;
+        j["cloud"] = cli.cloud;
+        j["out"] = cli.out;
+        j["candidates"] = candidates.size();
+        run.addFigures(j);
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    run.printSummary(candidates.size(), cli.out);
+    for (std::size_t k = 0; k < candidates.size() && k < 5; ++k) {
+        const core::Candidate& c = candidates[k];
+        std::printf("  %-4s %s %.3f  centre %.2f %.2f %.2f  size %.2f x %.2f x %.2f m  yaw %.1f deg  %zu points\n",
+                    c.id.c_str(), run.scoreName(), c.score, c.centre_world.x, c.centre_world.y, c.centre_world.z,
+                    c.size_m.x, c.size_m.y, c.size_m.z, c.yaw_deg, found[k].points.size());
+    }
+    if (candidates.size() > 5) std::printf("  ... %zu more in %s\n", candidates.size() - 5, cli.out.c_str());
+}
+
 // The trained detector: the model decides the segmentation and the size class.
 void runModel(DetectCli& cli) {
     detect::BoostedOptions bo;
@@ -60,10 +186,9 @@ void runModel(DetectCli& cli) {
     if (cli.min_score_given) bo.min_probability = cli.options.min_score;
     detect::validate(bo);
     const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "detect");
-    const std::filesystem::path out = cli.out;
     platform::checkDistinctPaths("detect", {{"cloud", cli.cloud, platform::PathRole::Input, {}},
                                             {"--model", cli.model, platform::PathRole::Input, {}},
-                                            {"--out", out, platform::PathRole::Output, {}}});
+                                            {"--out", cli.out, platform::PathRole::Output, {}}});
     const detect::BoostedDetector detector(bo);  // reads and checks the model
     const glm::dvec3 size = detector.model().info().target_size_m;
     if (cli.target_size_given &&
@@ -73,45 +198,14 @@ void runModel(DetectCli& cli) {
                           ": the model " + cli.model + " was trained for " + std::to_string(size.x) + " " +
                           std::to_string(size.y) + " " + std::to_string(size.z) +
                           "; allowed that size or none (train a model for another size class)");
-    createParentFolders(out, "detect: --out");
-    platform::checkWritableDestination(out);
-    io::CloudReader reader(cli.cloud);
-    sim::refuseOverBudget("detect", budget, detect::BoostedDetector::memoryBytes(reader.pointsBound()),
-                          "a cloud of " + std::to_string(reader.pointsBound()) + " points, read whole",
-                          "raise --memory-mb, or detect in a thinned or cropped cloud");
-    const core::PointCloud cloud = io::readCloud(reader);
-    detect::BoostedStats stats;
-    const std::vector<detect::Detection> found = detector.detect(cloud, stats);
-    std::vector<core::Candidate> candidates;
-    for (const detect::Detection& d : found) candidates.push_back(d.candidate);
-    io::writeCandidates(out, candidates);
-    if (cli.json) {
-        nlohmann::json j;
-        j["cloud"] = cli.cloud;
-        j["out"] = cli.out;
-        j["model"] = cli.model;
-        j["points"] = stats.points;
-        j["above_points"] = stats.above_points;
-        j["segments"] = stats.segments;
-        j["candidates"] = candidates.size();
-        j["seconds"] = {{"segments_and_features", stats.seconds_features}, {"trees", stats.seconds_trees}};
-        std::printf("%s\n", j.dump(2).c_str());
-        return;
-    }
-    std::printf(
-        "detect: %zu points, %zu above the terrain, %zu segments, %zu candidates with probability >= %.2f "
-        "(model %s); %.2f s; wrote %s\n",
-        stats.points, stats.above_points, stats.segments, candidates.size(), bo.min_probability, cli.model.c_str(),
-        stats.seconds_features + stats.seconds_trees, cli.out.c_str());
-    for (std::size_t k = 0; k < candidates.size() && k < 5; ++k) {
-        const core::Candidate& c = candidates[k];
-        std::printf("  %-4s p %.3f  centre %.2f %.2f %.2f  size %.2f x %.2f x %.2f m  yaw %.1f deg  %zu points\n",
-                    c.id.c_str(), c.score, c.centre_world.x, c.centre_world.y, c.centre_world.z, c.size_m.x, c.size_m.y,
-                    c.size_m.z, c.yaw_deg, found[k].points.size());
-    }
-    if (candidates.size() > 5) std::printf("  ... %zu more in %s\n", candidates.size() - 5, cli.out.c_str());
+    platform::InputSet inputs;
+    inputs.addFile(cli.cloud);
+    inputs.addFile(cli.model);
+    ModelRun run(detector, bo);
+    detectAndReport(cli, inputs, budget, run);
 }
 
+// The clustering baseline: its own options, and the ground the --ground option names.
 void run(DetectCli& cli) {
     if (!cli.model.empty()) return runModel(cli);
     detect::ClusterOptions& o = cli.options;
@@ -119,53 +213,13 @@ void run(DetectCli& cli) {
     o.ground = parseGround(cli.ground);
     o.progress = true;                          // drawn only when stderr is a terminal
     const detect::ClusterDetector detector(o);  // validates the options
-
     const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "detect");
-
-    const std::filesystem::path out = cli.out;
     platform::checkDistinctPaths("detect", {{"cloud", cli.cloud, platform::PathRole::Input, {}},
-                                            {"--out", out, platform::PathRole::Output, {}}});
-    createParentFolders(out, "detect: --out");
-    platform::checkWritableDestination(out);
-
-    // The header first: a cloud that would not fit the budget is refused before a point is read.
-    io::CloudReader reader(cli.cloud);
-    sim::refuseOverBudget("detect", budget, detect::ClusterDetector::memoryBytes(reader.pointsBound()),
-                          "a cloud of " + std::to_string(reader.pointsBound()) + " points, read whole",
-                          "raise --memory-mb, or detect in a thinned or cropped cloud");
-    const core::PointCloud cloud = io::readCloud(reader);
-    detect::ClusterStats stats;
-    const std::vector<detect::Detection> found = detector.detect(cloud, stats);
-    std::vector<core::Candidate> candidates;
-    for (const detect::Detection& d : found) candidates.push_back(d.candidate);
-    io::writeCandidates(out, candidates);
-
-    if (cli.json) {
-        nlohmann::json j;
-        j["cloud"] = cli.cloud;
-        j["out"] = cli.out;
-        j["points"] = stats.points;
-        j["ground_points"] = stats.ground_points;
-        j["voxels"] = stats.voxels;
-        j["clusters"] = stats.clusters;
-        j["candidates"] = candidates.size();
-        j["seconds"] = {
-            {"ground", stats.seconds_ground}, {"cluster", stats.seconds_cluster}, {"boxes", stats.seconds_boxes}};
-        std::printf("%s\n", j.dump(2).c_str());
-        return;
-    }
-    std::printf(
-        "detect: %zu points, %zu ground (%s), %zu clusters, %zu candidates with score >= %.2f; "
-        "%.2f s; wrote %s\n",
-        stats.points, stats.ground_points, cli.ground.c_str(), stats.clusters, candidates.size(), o.min_score,
-        stats.seconds_ground + stats.seconds_cluster + stats.seconds_boxes, cli.out.c_str());
-    for (std::size_t k = 0; k < candidates.size() && k < 5; ++k) {
-        const core::Candidate& c = candidates[k];
-        std::printf("  %-4s score %.3f  centre %.2f %.2f %.2f  size %.2f x %.2f x %.2f m  yaw %.1f deg  %zu points\n",
-                    c.id.c_str(), c.score, c.centre_world.x, c.centre_world.y, c.centre_world.z, c.size_m.x, c.size_m.y,
-                    c.size_m.z, c.yaw_deg, found[k].points.size());
-    }
-    if (candidates.size() > 5) std::printf("  ... %zu more in %s\n", candidates.size() - 5, cli.out.c_str());
+                                            {"--out", cli.out, platform::PathRole::Output, {}}});
+    platform::InputSet inputs;
+    inputs.addFile(cli.cloud);
+    ClusterRun run(detector, cli.ground);
+    detectAndReport(cli, inputs, budget, run);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <io/cloud_io.hpp>
 #include <io/scene_file.hpp>
 #include <platform/atomic_file.hpp>
+#include <platform/input_set.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
 #include <sim/memory_budget.hpp>
@@ -142,9 +143,11 @@ void run(GenerateCli& cli) {
     for (const std::string& w : core::targetWarnings(core::summarize(scene)))
         warn("generate: " + scene_path.string() + ": " + w + " (see 'ladarvr scene info')");
     const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // The scene's own files are inputs now: no output may replace one of them either.
-    platform::checkNotAnInput(out);
-    if (!cli.ground.dtm.empty()) platform::checkNotAnInput(cli.ground.dtm);
+    // The scene's own files are the run's inputs: no output may replace one of them.
+    platform::InputSet inputs;
+    for (const fs::path& file : io::sceneFiles(scene, load_options.roles)) inputs.addFile(file);
+    inputs.checkNotAnInput(out);
+    if (!cli.ground.dtm.empty()) inputs.checkNotAnInput(cli.ground.dtm);
     sim::GenerateStats st;
     std::unique_ptr<platform::TempFile> dtm;  // written before the cloud lands, committed after it
     {

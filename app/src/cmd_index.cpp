@@ -12,6 +12,7 @@
 #include <io/copc.hpp>
 #include <io/copc_writer.hpp>
 #include <platform/atomic_file.hpp>
+#include <platform/input_set.hpp>
 #include <platform/progress.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/memory_budget.hpp>
@@ -127,8 +128,10 @@ void run(IndexCli& cli) {
     // inputs are known as such before the output is checked.
     std::vector<std::unique_ptr<io::CloudReader>> readers;
     std::uint64_t bound = 0;
+    platform::InputSet inputs;  // the output may not be one of them
     for (const std::string& in : cli.inputs) {
-        platform::checkInputFile(in, "index: input " + in);  // remembered: the output may not be it
+        platform::checkInputFile(in, "index: input " + in);
+        inputs.addFile(in);
         readers.push_back(std::make_unique<io::CloudReader>(in));
         const io::CloudReader& r = *readers.back();
         const io::CloudReader& first = *readers.front();
@@ -144,7 +147,7 @@ void run(IndexCli& cli) {
         bound += r.pointsBound();
     }
     createParentFolders(out, "index: --out");
-    platform::checkWritableDestination(out);
+    platform::checkWritableDestination(out, inputs);
 
     const IndexPlan plan = planIndex(budget, cli.memory_mb, threads, "index", false, std::uint32_t(cli.node_points));
     platform::Progress progress("index: reading", std::size_t(bound));

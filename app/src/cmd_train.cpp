@@ -10,6 +10,7 @@
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
 #include <platform/atomic_file.hpp>
+#include <platform/input_set.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/memory_budget.hpp>
 
@@ -45,10 +46,12 @@ void run(TrainCli& cli) {
 
     std::vector<detect::CorpusListing> listings;
     std::vector<std::string> manifests;
+    platform::InputSet inputs;  // the manifests read: the model may not replace one
     std::size_t total = 0;
     for (const std::string& dir : cli.corpora) {
         // The listings stay while the items are read: what they hold leaves the rest of the budget.
         listings.push_back(detect::listCorpus(dir, budget));
+        inputs.addFile(listings.back().manifest());
         budget -= std::min(budget, std::uint64_t(listings.back().held_bytes));
         manifests.push_back(listings.back().manifest_sha256);
         total += listings.back().ids.size();
@@ -72,6 +75,7 @@ void run(TrainCli& cli) {
         }
     detect::TrainReport report;
     const detect::BoostedModel model = detect::trainDetector(items, o, manifests, report);
+    platform::checkWritableDestination(cli.out, inputs);
     model.write(cli.out);
     std::printf(
         "train: %zu items (%zu held out), %zu segments, %zu target segments; %d trees of depth <= %d; "

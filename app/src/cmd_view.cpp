@@ -163,7 +163,7 @@ int runView(const ViewArgs& a) {
     if (!(a.cache_mb >= 1.0 / 64.0 && a.cache_mb <= 1048576.0))
         throw core::Error("view: --cache-mb " + std::to_string(a.cache_mb) + " is not in [1/64, 1048576]");
     validate(a.index);
-    // The cloud first: remembered as an input, so neither output may replace it.
+    // The cloud first: a regular file (checkDistinctPaths keeps the outputs off it).
     if (!a.cloud.empty()) platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
     std::error_code ec;
     const bool copc = !a.cloud.empty() && std::filesystem::is_regular_file(a.cloud, ec) && startsAsCopc(a.cloud);

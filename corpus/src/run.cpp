@@ -351,7 +351,7 @@ MergeReport mergeManifests(const fs::path& dir) {
     return report;
 }
 
-std::vector<std::string> readManifest(const fs::path& dir) {
+std::vector<std::string> readManifest(const fs::path& dir, platform::InputSet& inputs) {
     std::map<std::size_t, std::string> by_index;
     std::vector<fs::path> files;
     struct stat st{};
@@ -370,15 +370,16 @@ std::vector<std::string> readManifest(const fs::path& dir) {
                           "made by 'ladarvr corpus SPEC --out DIR'");
     // A corpus read as an input: its manifests, its record and its items are no place
     // for this run's outputs; beside them outputs may go (histogram.png, plan.json).
-    platform::rememberInputFolder(dir, [](const std::string& rel) {
+    inputs.addFolder(dir, [](const std::string& rel) {
         const std::string first = rel.substr(0, rel.find('/'));
         return first != "corpus.json" && first != "items" && first.rfind("manifest.", 0) != 0 &&
                first.rfind(platform::kTempPrefix, 0) != 0;
     });
-    for (const fs::path& f : files)
-        for (ManifestLine& l :
-             parseLines(platform::readTextFile(f, kMaxManifestBytes, "corpus: manifest " + shown(f)), nullptr))
-            by_index.emplace(l.index, std::move(l.text));
+    for (const fs::path& f : files) {
+        const std::string text = platform::readTextFile(f, kMaxManifestBytes, "corpus: manifest " + shown(f));
+        inputs.addFile(f);
+        for (ManifestLine& l : parseLines(text, nullptr)) by_index.emplace(l.index, std::move(l.text));
+    }
     std::vector<std::string> out;
     for (auto& [index, text] : by_index) out.push_back(std::move(text));
     return out;

@@ -77,8 +77,9 @@ void writeHistogram(const fs::path& path, const std::vector<std::size_t>& bins) 
 }  // namespace
 
 Stats computeStats(const fs::path& dir, const StatsOptions& o) {
-    const std::vector<std::string> lines = readManifest(dir);
-    platform::checkWritableDestination(o.histogram);  // before any work: not one of the inputs
+    platform::InputSet inputs;
+    const std::vector<std::string> lines = readManifest(dir, inputs);
+    platform::checkWritableDestination(o.histogram, inputs);  // before any work: not one of the inputs
     auto columns = columnsOf(lines);
     Stats st;
     st.items = lines.size();
@@ -251,7 +252,8 @@ SelectedItem selectedItem(const fs::path& dir, const json& m) {
 
 std::vector<SelectedItem> selectItems(const fs::path& dir, const std::string& expression, std::size_t count,
                                       std::uint64_t seed, const std::string& count_name) {
-    const std::vector<std::string> lines = readManifest(dir);
+    platform::InputSet inputs;  // selectItems writes nothing
+    const std::vector<std::string> lines = readManifest(dir, inputs);
     SelectResult r;
     std::vector<SelectedItem> out;
     for (const json& m : pickItems(lines, expression, count, seed, count_name, r)) out.push_back(selectedItem(dir, m));
@@ -261,8 +263,9 @@ std::vector<SelectedItem> selectItems(const fs::path& dir, const std::string& ex
 SelectResult selectTrials(const fs::path& dir, const SelectOptions& o) {
     if (!(o.time_limit_s > 0) || !std::isfinite(o.time_limit_s))
         throw core::Error("corpus: --time-limit-s " + core::shownNumber(o.time_limit_s) + ": allowed a number > 0");
-    const std::vector<std::string> lines = readManifest(dir);
-    platform::checkWritableDestination(o.plan);  // before any work: not one of the inputs
+    platform::InputSet inputs;
+    const std::vector<std::string> lines = readManifest(dir, inputs);
+    platform::checkWritableDestination(o.plan, inputs);  // before any work: not one of the inputs
     SelectResult r;
     const std::vector<json> matching = pickItems(lines, o.expression, o.count, o.seed, "--count", r);
     const fs::path plan_dir = fs::absolute(o.plan).lexically_normal().parent_path();

@@ -50,6 +50,12 @@ struct RawMesh {
 
 using Entry = core::SceneEntry;
 
+// The mesh file of an entry of the scene file `file`: its name as written, relative to the
+// scene file's folder.
+std::filesystem::path meshFile(const std::filesystem::path& file, const std::string& written) {
+    return (file.parent_path() / written).lexically_normal();
+}
+
 double finiteNumber(const json& v, const std::string& where, const std::string& key, const std::string& allowed) {
     if (!v.is_number()) throw Error(where + ": '" + key + "' must be " + allowed + ", not " + jsonTypeName(v));
     const double d = v.get<double>();
@@ -151,8 +157,8 @@ Entry parseEntry(const json& j, const std::string& scene_name, std::size_t index
 RawMesh importMesh(const std::filesystem::path& path, const std::string& where, bool skip_nonfinite) {
     namespace fs = std::filesystem;
     const std::string shown_path = core::printable(path.string(), 400, true);
-    // A regular file (not a FIFO Assimp would block on, nor a device), remembered as an
-    // input so that no output of this run replaces it.
+    // A regular file (not a FIFO Assimp would block on, nor a device); sceneFiles names it
+    // to the command, which keeps its outputs off it.
     checkInputFile(path, where + ": mesh file '" + shown_path + "'");
     {
         std::ifstream probe(path, std::ios::binary);
@@ -301,13 +307,12 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
 
     // Files used by several entries (trees, houses) are imported once.
     std::map<fs::path, std::shared_ptr<const RawMesh>> cache;
-    const fs::path dir = file.parent_path();
     for (std::size_t i = 0; i < entries.size(); ++i) {
         const Entry& e = entries[i];
         if (!options.roles.has(e.role)) continue;
         const std::string where =
             name + ": meshes[" + std::to_string(i) + "] ('" + core::printable(e.file, 120, true) + "')";
-        const fs::path mesh_path = (dir / e.file).lexically_normal();
+        const fs::path mesh_path = meshFile(file, e.file);
         auto& slot = cache[mesh_path];
         if (!slot) slot = std::make_shared<const RawMesh>(importMesh(mesh_path, where, options.skip_nonfinite));
         const RawMesh& raw = *slot;
@@ -366,6 +371,13 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
             return roles;
         }());
     return scene;
+}
+
+std::vector<std::filesystem::path> sceneFiles(const Scene& scene, core::RoleMask roles) {
+    std::vector<std::filesystem::path> files{scene.source};
+    for (const Entry& e : scene.entries)
+        if (roles.has(e.role)) files.push_back(meshFile(scene.source, e.file));
+    return files;
 }
 
 std::filesystem::path demoScenePath() { return std::filesystem::path(LADARVR_ASSETS_DIR) / "demo" / "scene.json"; }

@@ -2,6 +2,7 @@
 // and a rename, so a failed or interrupted run never leaves a truncated file behind.
 #include <core/error.hpp>
 #include <platform/atomic_file.hpp>
+#include <platform/input_set.hpp>
 #include <platform/safe_file.hpp>
 
 #include <cerrno>
@@ -46,7 +47,11 @@ void checkWritableDestination(const std::filesystem::path& path) {
                         "file is replaced)");
         }
     }
-    checkNotAnInput(path);
+}
+
+void checkWritableDestination(const std::filesystem::path& path, const InputSet& inputs) {
+    checkWritableDestination(path);
+    inputs.checkNotAnInput(path);
 }
 
 void writeFileAtomic(const std::filesystem::path& path, std::string_view content) {

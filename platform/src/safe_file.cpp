@@ -13,7 +13,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <mutex>
 #include <system_error>
 #include <vector>
 
@@ -102,29 +101,6 @@ std::pair<fs::path, std::string> splitDestination(const fs::path& destination) {
     fs::path dir = destination.parent_path();
     if (dir.empty()) dir = ".";
     return {dir, destination.filename().string()};
-}
-
-// Files read as inputs of this run, by device and inode.
-struct InputFile {
-    dev_t dev;
-    ino_t ino;
-    std::string path;
-};
-// Folders read as inputs, with the outputs that may still go inside them.
-struct InputFolder {
-    fs::path canonical;
-    std::string path;
-    OwnedName may_write;
-};
-std::mutex g_inputs_mutex;
-std::vector<InputFile> g_inputs;
-std::vector<InputFolder> g_input_folders;
-
-void rememberInput(const struct stat& st, const fs::path& path) {
-    std::lock_guard lock(g_inputs_mutex);
-    for (const InputFile& f : g_inputs)
-        if (f.dev == st.st_dev && f.ino == st.st_ino) return;
-    g_inputs.push_back({st.st_dev, st.st_ino, path.string()});
 }
 
 // Removes a dead run's temporary file (regular, ours) or folder (removeOwnFolder's checks) by name
@@ -263,8 +239,6 @@ void checkInputFile(const fs::path& path, std::string_view what) {
     if (!problem.empty())
         throw Error(std::string(what) + " " + problem +
                     (problem.rfind("is a", 0) == 0 ? "; allowed: a regular file" : ""));
-    struct stat st{};
-    if (::stat(path.c_str(), &st) == 0) rememberInput(st, path);
 }
 
 namespace {
@@ -304,7 +278,6 @@ std::string readRegularFile(const fs::path& path, std::size_t max_bytes, std::st
     }
     if (used > max_bytes) throw Error(std::string(what) + " holds more than " + sizeText(max_bytes) + allowed);
     text.resize(used);
-    if (!own_output) rememberInput(st, path);
     return text;
 }
 }  // namespace
@@ -344,37 +317,6 @@ std::string readOwnOutput(const fs::path& path, std::size_t max_bytes, std::stri
     if (::lstat(path.c_str(), &st) == 0 && S_ISLNK(st.st_mode))
         throw Error(std::string(what) + " is a symbolic link; allowed: the regular file a run wrote");
     return readRegularFile(path, max_bytes, what, true);
-}
-
-void rememberInputFolder(const fs::path& dir, const OwnedName& may_write) {
-    std::error_code ec;
-    fs::path canonical = fs::canonical(dir, ec);
-    if (ec) return;  // absent: nothing in it to protect
-    std::lock_guard lock(g_inputs_mutex);
-    g_input_folders.push_back({std::move(canonical), dir.string(), may_write});
-}
-
-void checkNotAnInput(const fs::path& path) {
-    std::lock_guard lock(g_inputs_mutex);
-    if (!g_input_folders.empty()) {
-        std::error_code ec;
-        const fs::path full = fs::weakly_canonical(fs::absolute(path, ec), ec);
-        for (const InputFolder& f : g_input_folders) {
-            if (ec) break;
-            const fs::path rel = full.lexically_relative(f.canonical);
-            if (rel.empty() || *rel.begin() == "..") continue;
-            if (rel == "." || !f.may_write || !f.may_write(rel.generic_string()))
-                throw Error("output: " + shownPath(path) + ": is '" + core::printable(rel.generic_string(), 120, true) +
-                            "' inside the input folder '" + shownPath(f.path) +
-                            "' of this run, which this command reads; give another name");
-        }
-    }
-    struct stat st{};
-    if (::stat(path.c_str(), &st) != 0) return;
-    for (const InputFile& f : g_inputs)
-        if (f.dev == st.st_dev && f.ino == st.st_ino)
-            throw Error("output: " + shownPath(path) + ": is the input file '" + shownPath(f.path) +
-                        "' of this run; give another name");
 }
 
 int openOwnFile(const fs::path& path, int flags, std::string_view what) {
@@ -685,12 +627,6 @@ void TempFile::commit() {
                          "; refusing to replace it (only a regular "
                          "file is replaced)",
                      0);
-            try {
-                checkNotAnInput(destination_);
-            } catch (const Error&) {
-                discard();
-                throw;
-            }
             if (::renameat(dirfd_, name_.c_str(), dirfd_, base.c_str()) != 0)
                 fail("cannot rename the temporary file into place", errno);
         } else if (errno == ENOENT) {

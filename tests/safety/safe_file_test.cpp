@@ -5,6 +5,7 @@
 #include <core/error.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/cleanup.hpp>
+#include <platform/input_set.hpp>
 #include <platform/output_folder.hpp>
 #include <platform/safe_file.hpp>
 
@@ -146,14 +147,17 @@ TEST_CASE("an output that is an input of the run is refused, through links too")
     TempDir dir("input");
     const fs::path scene = dir.write("scene.json", "{}");
     CHECK(platform::readTextFile(scene, 1000, "scene") == "{}");
+    platform::InputSet inputs;
+    inputs.addFile(scene);
     fs::create_hard_link(scene, dir.path / "hard");
     fs::create_directories(dir.path / "real");
     fs::create_symlink(dir.path, dir.path / "real" / "up");
     for (const fs::path& out : {scene, dir.path / "hard", dir.path / "real" / "up" / "scene.json"}) {
         CAPTURE(out);
-        CHECK(contains(errorOf([&] { platform::writeFileAtomic(out, "cloud"); }), "is the input file"));
+        CHECK(contains(errorOf([&] { platform::checkWritableDestination(out, inputs); }), "is the input file"));
     }
     CHECK(slurp(scene) == "{}");
+    CHECK_NOTHROW(platform::checkWritableDestination(dir.path / "other.json", inputs));
     CHECK_NOTHROW(platform::writeFileAtomic(dir.path / "other.json", "fine"));
 }
 

@@ -31,8 +31,6 @@ TEST_CASE("a folder that holds a study's file is refused, other files are allowe
 }
 
 TEST_CASE("study.json records the plan and the order, and is read back against the plan") {
-    // Kept to the end of the process: the plan read is remembered as this process's input
-    // (by inode), and a freed inode reused by a later test's output would be refused.
     static test_support::TempDir dir("study_record");
     dir.write("a.pcd", "not read here\n");
     const std::filesystem::path plan =

@@ -7,6 +7,7 @@
 // there and whose files still have the sizes it records; it drops torn or stale lines.
 #pragma once
 #include <corpus/spec.hpp>
+#include <platform/input_set.hpp>
 
 #include <cstddef>
 #include <filesystem>
@@ -63,7 +64,9 @@ struct MergeReport {
 MergeReport mergeManifests(const std::filesystem::path& dir);
 
 /// The manifest lines of DIR (manifest.jsonl, else every shard manifest), one per item,
-/// sorted by index, as JSON text. Throws core::Error when there is none.
-std::vector<std::string> readManifest(const std::filesystem::path& dir);
+/// sorted by index, as JSON text. Adds DIR to `inputs` as an input folder (its manifests,
+/// its record and its items are no place for the run's outputs; beside them outputs may
+/// go) and each manifest read as an input file. Throws core::Error when there is none.
+std::vector<std::string> readManifest(const std::filesystem::path& dir, platform::InputSet& inputs);
 
 }  // namespace corpus

@@ -55,6 +55,8 @@ struct CorpusListing {
     /// Item k's cloud: DIR/items/<id>/<cloud file>. Made when asked, so that the listing
     /// holds two short strings an item, not a path of five parts.
     std::filesystem::path cloud(std::size_t k) const { return dir / "items" / ids[k] / cloud_files[k]; }
+    /// The manifest the listing was read from: DIR/manifest.jsonl.
+    std::filesystem::path manifest() const { return dir / "manifest.jsonl"; }
     std::string manifest_sha256;
     std::size_t held_bytes = 0;  // what the listing holds in memory (the manifest's text is not kept)
 };

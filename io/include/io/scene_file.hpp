@@ -60,6 +60,12 @@ core::Scene loadSceneJson(std::string_view json_text, const std::filesystem::pat
 std::vector<glm::dvec3> loadMeshVertices(const std::filesystem::path& file, bool up_y, double scale,
                                          const std::string& where);
 
+/// The files loadScene read for `scene` when it loaded the meshes of the roles `roles`
+/// (SceneLoadOptions::roles): the scene file, then the mesh file of each such entry, in
+/// the entries' order (a file used twice is named twice). A command adds them to its
+/// platform::InputSet so that no output of the run replaces one.
+std::vector<std::filesystem::path> sceneFiles(const core::Scene& scene, core::RoleMask roles);
+
 /// The bundled demo scene: assets/demo/scene.json of the source tree this binary was built
 /// from (nothing installs the assets elsewhere). Whether it exists is loadScene's to check.
 std::filesystem::path demoScenePath();

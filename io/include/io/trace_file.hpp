@@ -100,7 +100,7 @@ inline constexpr std::size_t kMaxTraceLineBytes = std::size_t(1) << 20;
 /// trace too long for readTrace is read in bounded memory. Throws as parseTrace (a row
 /// handed on before a later line fails stays handed on), "trace: <file>: line N: longer
 /// than 1048576 bytes" for a line beyond kMaxTraceLineBytes, or when the file is not a
-/// regular file (remembered as an input, platform/safe_file.hpp). Returns whether the
+/// regular file (platform::checkInputFile). Returns whether the
 /// header has the study columns.
 bool forEachTraceRow(const std::filesystem::path& file, const std::function<void(const TraceRow&)>& visit);
 

@@ -3,9 +3,9 @@
 // The tool runs as root with the host's /dev bound in, so, like coreutils' install/mv
 // and rsync:
 // - inputs must be regular files (a FIFO would block, /dev/zero never ends, a directory
-//   reads as empty) of a bounded size, and every file read is remembered as an input so
-//   that no output replaces it (compared by device and inode: symlinks and hard links
-//   too);
+//   reads as empty) of a bounded size; a command lists what it reads in an InputSet
+//   (platform/input_set.hpp) and checks the outputs it names against it, so that no
+//   output replaces an input (compared by device and inode: symlinks and hard links too);
 // - outputs are written to a fresh temporary in the destination's folder, created with
 //   O_CREAT|O_EXCL|O_NOFOLLOW under a random name ".ladarvr-tmp-<pid>-XXXXXX", and
 //   renamed over the destination only if that is absent or a regular file (never a
@@ -54,13 +54,12 @@ void printMessage(std::string_view label, std::string_view what);
 /// (symbolic links followed).
 std::string regularFileProblem(const std::filesystem::path& path);
 
-/// Checks that `path` is a regular file and remembers it as an input of this run.
-/// Throws Error("<what> <problem>; allowed: a regular file"), e.g.
+/// Checks that `path` is a regular file. Throws Error("<what> <problem>; allowed: a regular file"), e.g.
 /// "scene: s.json: mesh file 'a.obj' is a FIFO (named pipe); allowed: a regular file".
 void checkInputFile(const std::filesystem::path& path, std::string_view what);
 
-/// The whole of a regular file of at most `max_bytes`, remembered as an input. Never
-/// blocks on a FIFO or reads a device. Throws Error("<what> <problem>") as checkInputFile,
+/// The whole of a regular file of at most `max_bytes`. Never blocks on a FIFO or reads a
+/// device. Throws Error("<what> <problem>") as checkInputFile,
 /// or "<what> is larger than <max_bytes> bytes; allowed: ...", or "... cannot be read: <reason>".
 std::string readTextFile(const std::filesystem::path& path, std::size_t max_bytes, std::string_view what);
 
@@ -72,13 +71,8 @@ std::string readTextFile(const std::filesystem::path& path, std::size_t max_byte
 void checkNoLinkBelow(const std::filesystem::path& dir, const std::filesystem::path& relative, std::string_view what);
 
 /// readTextFile for a file this run will replace, one an earlier run wrote and this one
-/// continues (a resumed study's trials.csv): not remembered as an input, and never read
-/// through a symbolic link. Throws as readTextFile, or "<what> is a symbolic link; ...".
+/// continues (a resumed study's trials.csv): never read through a symbolic link. Throws as readTextFile, or "<what> is a symbolic link; ...".
 std::string readOwnOutput(const std::filesystem::path& path, std::size_t max_bytes, std::string_view what);
-
-/// Throws Error("output: <path>: is the input file '<input>' of this run; give another
-/// name") when `path` names (via any link) a file remembered by checkInputFile/readTextFile.
-void checkNotAnInput(const std::filesystem::path& path);
 
 /// A new file next to `destination` (same folder) for its content, named
 /// ".ladarvr-tmp-<pid>-XXXXXX", registered for removal on a signal. The first creation
@@ -99,7 +93,7 @@ class TempFile {
     std::filesystem::path path() const;
     const std::filesystem::path& destination() const { return destination_; }
     /// Flushes, closes and renames over the destination if that is absent or a regular
-    /// file that is no input. On any failure the temporary is removed and
+    /// file. On any failure the temporary is removed and
     /// Error("output: <destination>: <what failed>: <reason>") is thrown.
     void commit();
     /// Closes and removes the temporary now (also what the destructor does).
@@ -180,7 +174,7 @@ bool removeOwnFolder(int parent_fd, const std::string& name, const OwnedName& ho
 int openOwnFile(const std::filesystem::path& path, int flags, std::string_view what);
 
 /// The whole of a file this command wrote and now reads back (openOwnFile's checks), at
-/// most `max_bytes`. Not remembered as an input: the command may replace it. Throws
+/// most `max_bytes`; the command may replace it afterwards. Throws
 /// Error("<what> <path>: ...").
 std::string readOwnFile(const std::filesystem::path& path, std::size_t max_bytes, std::string_view what);
 
@@ -188,11 +182,6 @@ std::string readOwnFile(const std::filesystem::path& path, std::size_t max_bytes
 /// there: a real folder of this user, not a symbolic link. Throws Error("<what> <path>:
 /// is ...; allowed: a folder this command made").
 void makeOwnFolder(const std::filesystem::path& path, std::string_view what);
-
-/// Remembers `dir` as an input folder of this run: checkNotAnInput then refuses any
-/// output inside it (at any depth, via any link) whose path relative to `dir` (generic,
-/// '/'-separated) `may_write` does not accept.
-void rememberInputFolder(const std::filesystem::path& dir, const OwnedName& may_write);
 
 /// The check every command runs on its paths before any work: no output is an input or
 /// another output, and no path lies inside an output folder where the run writes (or
