@@ -1,7 +1,8 @@
 // app/src/cmd_study_report.cpp: `ladarvr study report RESULTS... --out REPORT`
 // (docs/study.md "The report"): the paths checked at the boundary (no output inside an
 // input, nor an input inside the report folder), then study/report.hpp reads the session
-// folders and writes the report folder.
+// folders, a warning is printed for each session that is not complete, and the report
+// folder is written.
 #include "cli_common.hpp"
 #include "commands.hpp"
 
@@ -41,9 +42,16 @@ void runReport(const ReportArgs& a) {
     platform::checkOutputFolder(a.out, study::isReportFile);
     std::vector<std::filesystem::path> given(a.results.begin(), a.results.end());
     const study::StudyResults results = study::readStudyResults(study::findSessionFolders(given));
+    for (const std::string& w : study::sessionWarnings(results)) warn(w);
     study::writeStudyReport(results, a.out);
-    std::fprintf(stderr, "study report: %zu participant(s), %zu condition(s); wrote %s/index.html\n",
-                 results.participants.size(), results.conditions.size(), platform::printableUtf8(a.out, 400).c_str());
+    std::fprintf(stderr,
+                 "study report: %zu participant(s), %zu condition(s); sessions: %zu complete, %zu partial, %zu empty; "
+                 "wrote %s/index.html\n",
+                 results.participants.size(), results.conditions.size(),
+                 study::countSessions(results, study::SessionState::Complete),
+                 study::countSessions(results, study::SessionState::Partial),
+                 study::countSessions(results, study::SessionState::Empty),
+                 platform::printableUtf8(a.out, 400).c_str());
 }
 }  // namespace
 

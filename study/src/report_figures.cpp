@@ -1,17 +1,19 @@
 // study/src/report_figures.cpp: the study report's figures (study/report.hpp): each
 // participant's trials of each condition reduced to one value per measure, the
-// conditions' means with 95 % confidence intervals over participants, the within-subject
-// test of each measure across conditions, the SSQ before and after, and the clouds.
+// conditions' means with 95 % confidence intervals, medians and quartiles over
+// participants, the within-subject test of each measure across conditions, the SSQ before
+// and after, the clouds, and the Likert answers per question and condition.
 #include <study/report.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace study {
 
 namespace {
-constexpr std::array<std::string_view, 5> kMeasures{"hit_rate", "false_confirmations", "time_to_decision_s",
-                                                    "target_distance_m", "tlx_raw"};
+constexpr std::array<std::string_view, 6> kMeasures{
+    "hit_rate", "false_confirmations", "time_to_decision_s", "target_distance_m", "tlx_raw", "correct_rejection_rate"};
 constexpr std::array<std::string_view, 4> kSsqScores{"nausea", "oculomotor", "disorientation", "total"};
 
 // Adds trial `t` to the running sums of `c` (`distance_sum` for the mean distance).
@@ -21,6 +23,11 @@ void add(CellFigures& c, const ReportTrial& t, double& time_sum, double& distanc
     if (t.hit && t.decision != TrialDecision::Quit) {
         ++c.scored;
         c.hits += std::size_t(*t.hit);
+    }
+    // A cloud without target points (hit empty): the right answer is no_target.
+    if (!t.hit && t.decision != TrialDecision::Quit) {
+        ++c.absent;
+        if (t.decision == TrialDecision::NoTarget) ++c.correct_rejections;
     }
     // A confirm that is not a hit: away from the target, or on a cloud without one.
     if (t.decision == TrialDecision::Confirm && t.hit.value_or(0) == 0) ++false_confirms;
@@ -43,14 +50,17 @@ CellFigures cellOf(const std::vector<ReportTrial>& trials, Pick pick) {
     for (const ReportTrial& t : trials)
         if (!t.practice && pick(t)) add(c, t, time_sum, distance_sum, distances, false_confirms);
     if (c.scored > 0) c.hit_rate = double(c.hits) / double(c.scored);
+    if (c.absent > 0) c.correct_rejection_rate = double(c.correct_rejections) / double(c.absent);
     if (c.trials > 0) c.false_confirmations = double(false_confirms);
     if (c.decided > 0) c.time_to_decision_s = time_sum / double(c.decided);
     if (distances > 0) c.target_distance_m = distance_sum / double(distances);
     return c;
 }
 
-stats::TestResult acrossConditions(const std::vector<std::vector<double>>& complete) {
-    if (!complete.empty() && complete[0].size() == 2) {
+// The test across `k` conditions of the participants with a value in each (`complete`):
+// the signed-rank test for two, Friedman's for more.
+stats::TestResult acrossConditions(const std::vector<std::vector<double>>& complete, std::size_t k) {
+    if (k == 2) {
         std::vector<double> a, b;
         for (const auto& row : complete) {
             a.push_back(row[0]);
@@ -73,6 +83,7 @@ double measureValue(const CellFigures& c, std::string_view measure) {
     if (measure == "time_to_decision_s") return c.time_to_decision_s;
     if (measure == "target_distance_m") return c.target_distance_m;
     if (measure == "tlx_raw") return c.tlx_raw;
+    if (measure == "correct_rejection_rate") return c.correct_rejection_rate;
     return stats::kNaN;
 }
 
@@ -83,6 +94,74 @@ double ssqScore(const SsqScores& s, std::string_view name) {
     if (name == "total") return s.total;
     return stats::kNaN;
 }
+
+namespace {
+// The SSQ's summaries before, after and their difference, and the post-vs-pre test, per score.
+void addSsq(ReportFigures& f) {
+    for (const std::string_view score : kSsqScores) {
+        std::vector<double> pre, post, diff, paired_pre, paired_post;
+        for (std::size_t i = 0; i < f.participants.size(); ++i) {
+            if (f.ssq_pre[i]) pre.push_back(ssqScore(*f.ssq_pre[i], score));
+            if (f.ssq_post[i]) post.push_back(ssqScore(*f.ssq_post[i], score));
+            if (f.ssq_pre[i] && f.ssq_post[i]) {
+                paired_pre.push_back(ssqScore(*f.ssq_pre[i], score));
+                paired_post.push_back(ssqScore(*f.ssq_post[i], score));
+                diff.push_back(paired_post.back() - paired_pre.back());
+            }
+        }
+        f.ssq_summary.emplace(
+            std::string(score),
+            std::array<stats::Summary, 3>{stats::summarize(pre), stats::summarize(post), stats::summarize(diff)});
+        stats::TestResult r = stats::wilcoxonSignedRank(paired_pre, paired_post);
+        if (r.n == 0) r.n = diff.size();
+        f.ssq_tests.emplace(std::string(score), r);
+    }
+}
+
+// Per cloud: every participant's and condition's trials of it, and its visibility metric.
+void addClouds(ReportFigures& f, const StudyResults& results) {
+    std::vector<std::string> clouds;
+    for (const ParticipantResults& p : results.participants)
+        for (const ReportTrial& t : p.trials)
+            if (!t.practice) clouds.push_back(t.cloud);
+    std::sort(clouds.begin(), clouds.end());
+    clouds.erase(std::unique(clouds.begin(), clouds.end()), clouds.end());
+    for (const std::string& cloud : clouds) {
+        CloudFigures c;
+        c.cloud = cloud;
+        std::vector<ReportTrial> all;
+        double metric_sum = 0.0;
+        std::size_t metrics = 0;
+        for (const ParticipantResults& p : results.participants)
+            for (const ReportTrial& t : p.trials)
+                if (!t.practice && t.cloud == cloud) {
+                    all.push_back(t);
+                    if (t.visibility_metric) {
+                        metric_sum += *t.visibility_metric;
+                        ++metrics;
+                    }
+                }
+        c.all = cellOf(all, [](const ReportTrial&) { return true; });
+        if (metrics > 0) c.visibility_metric = metric_sum / double(metrics);
+        f.clouds.push_back(std::move(c));
+    }
+}
+
+// Per Likert question (and condition, for after_condition items): the count of each
+// rating and the ratings' summary over participants.
+void addLikert(ReportFigures& f, const StudyResults& results) {
+    std::map<LikertQuestion, std::vector<double>> answers;
+    for (const ParticipantResults& p : results.participants)
+        for (const auto& [question, rating] : p.likert) answers[question].push_back(double(rating));
+    for (const auto& [question, ratings] : answers) {
+        LikertFigures l;
+        l.question = question;
+        for (const double r : ratings) ++l.counts[std::size_t(r)];
+        l.summary = stats::summarize(ratings);
+        f.likert.push_back(std::move(l));
+    }
+}
+}  // namespace
 
 ReportFigures computeFigures(const StudyResults& results) {
     ReportFigures f;
@@ -120,56 +199,15 @@ ReportFigures computeFigures(const StudyResults& results) {
             if (values.size() == k) complete.push_back(std::move(values));
         }
         if (k >= 2) {
-            stats::TestResult r = acrossConditions(complete);
+            stats::TestResult r = acrossConditions(complete, k);
             if (complete.empty()) r.k = int(k);
             f.condition_tests.emplace(std::string(measure), r);
         }
     }
 
-    for (const std::string_view score : kSsqScores) {
-        std::vector<double> pre, post, diff, paired_pre, paired_post;
-        for (std::size_t i = 0; i < f.participants.size(); ++i) {
-            if (f.ssq_pre[i]) pre.push_back(ssqScore(*f.ssq_pre[i], score));
-            if (f.ssq_post[i]) post.push_back(ssqScore(*f.ssq_post[i], score));
-            if (f.ssq_pre[i] && f.ssq_post[i]) {
-                paired_pre.push_back(ssqScore(*f.ssq_pre[i], score));
-                paired_post.push_back(ssqScore(*f.ssq_post[i], score));
-                diff.push_back(paired_post.back() - paired_pre.back());
-            }
-        }
-        f.ssq_summary.emplace(
-            std::string(score),
-            std::array<stats::Summary, 3>{stats::summarize(pre), stats::summarize(post), stats::summarize(diff)});
-        stats::TestResult r = stats::wilcoxonSignedRank(paired_pre, paired_post);
-        if (r.n == 0) r.n = diff.size();
-        f.ssq_tests.emplace(std::string(score), r);
-    }
-
-    std::vector<std::string> clouds;
-    for (const ParticipantResults& p : results.participants)
-        for (const ReportTrial& t : p.trials)
-            if (!t.practice) clouds.push_back(t.cloud);
-    std::sort(clouds.begin(), clouds.end());
-    clouds.erase(std::unique(clouds.begin(), clouds.end()), clouds.end());
-    for (const std::string& cloud : clouds) {
-        CloudFigures c;
-        c.cloud = cloud;
-        std::vector<ReportTrial> all;
-        double metric_sum = 0.0;
-        std::size_t metrics = 0;
-        for (const ParticipantResults& p : results.participants)
-            for (const ReportTrial& t : p.trials)
-                if (!t.practice && t.cloud == cloud) {
-                    all.push_back(t);
-                    if (t.visibility_metric) {
-                        metric_sum += *t.visibility_metric;
-                        ++metrics;
-                    }
-                }
-        c.all = cellOf(all, [](const ReportTrial&) { return true; });
-        if (metrics > 0) c.visibility_metric = metric_sum / double(metrics);
-        f.clouds.push_back(std::move(c));
-    }
+    addSsq(f);
+    addClouds(f, results);
+    addLikert(f, results);
     return f;
 }
 

@@ -3,12 +3,14 @@
 // its continued fraction above; the incomplete beta function by its continued fraction
 // (evaluated with the modified Lentz method), mirrored through I_x(a, b) = 1 - I_{1-x}(b, a)
 // where that converges faster; Student's t from the incomplete beta function, its quantile
-// by bisection.
+// by bisection. The summaries add the median and quartiles beside the mean; the tests'
+// exact null distributions are counted in report_stats_exact.cpp.
 #include <study/report.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 namespace study::stats {
 
@@ -150,14 +152,31 @@ double studentTQuantile(double p, double df) {
 
 double normalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 
+double quantileSorted(std::span<const double> sorted, double q) {
+    if (sorted.empty() || !(q >= 0.0 && q <= 1.0)) return kNaN;
+    const double h = double(sorted.size() - 1) * q;
+    const std::size_t lo = std::size_t(std::floor(h));
+    if (lo + 1 >= sorted.size()) return sorted.back();
+    return sorted[lo] + (h - double(lo)) * (sorted[lo + 1] - sorted[lo]);
+}
+
 Summary summarize(std::span<const double> values) {
     Summary s;
     s.n = values.size();
     if (s.n == 0) return s;
-    s.mean = std::accumulate(values.begin(), values.end(), 0.0) / double(s.n);
+    std::vector<double> sorted(values.begin(), values.end());
+    std::sort(sorted.begin(), sorted.end());
+    s.median = quantileSorted(sorted, 0.5);
+    s.q1 = quantileSorted(sorted, 0.25);
+    s.q3 = quantileSorted(sorted, 0.75);
+    // Equal values have that value as mean and no spread: summed, they would leave a
+    // rounding residue (a standard deviation of 1e-15) where the answer is 0.
+    const bool constant = sorted.front() == sorted.back();
+    s.mean = constant ? sorted.front() : std::accumulate(values.begin(), values.end(), 0.0) / double(s.n);
     if (s.n < 2) return s;
     double ss = 0.0;
-    for (const double v : values) ss += (v - s.mean) * (v - s.mean);
+    if (!constant)
+        for (const double v : values) ss += (v - s.mean) * (v - s.mean);
     s.sd = std::sqrt(ss / double(s.n - 1));
     const double half = studentTQuantile(0.975, double(s.n - 1)) * s.sd / std::sqrt(double(s.n));
     s.ci95_low = s.mean - half;
@@ -168,31 +187,48 @@ Summary summarize(std::span<const double> values) {
 TestResult friedman(const std::vector<std::vector<double>>& rows) {
     TestResult r;
     r.test = "friedman";
+    r.effect = "kendall_w";
     r.n = rows.size();
     r.k = rows.empty() ? 0 : int(rows[0].size());
     if (r.n < 2 || r.k < 2) return r;
     const double n = double(r.n), k = double(r.k);
     std::vector<double> rank_sums(rows[0].size(), 0.0);
+    std::vector<std::vector<int>> doubled_ranks;
     double ties = 0.0;
     for (const std::vector<double>& row : rows) {
         double row_ties = 0.0;
         const std::vector<double> ranks = averageRanks(row, row_ties);
-        for (std::size_t j = 0; j < ranks.size(); ++j) rank_sums[j] += ranks[j];
+        std::vector<int> doubled;
+        for (std::size_t j = 0; j < ranks.size(); ++j) {
+            rank_sums[j] += ranks[j];
+            doubled.push_back(int(std::lround(2.0 * ranks[j])));
+        }
+        doubled_ranks.push_back(std::move(doubled));
         ties += row_ties;
     }
     double sum_sq = 0.0;
-    for (const double rs : rank_sums) sum_sq += rs * rs;
+    long long doubled_sum_sq = 0;
+    for (const double rs : rank_sums) {
+        sum_sq += rs * rs;
+        const long long d = std::llround(2.0 * rs);
+        doubled_sum_sq += d * d;
+    }
     const double correction = 1.0 - ties / (n * (k * k * k - k));
     r.df = k - 1.0;
     if (correction <= 0.0) return r;  // every row tied throughout: no ranking to test
     r.statistic = (12.0 / (n * k * (k + 1.0)) * sum_sq - 3.0 * n * (k + 1.0)) / correction;
-    r.p = chiSquareSurvival(r.statistic, r.df);
+    r.effect_size = r.statistic / (n * (k - 1.0));
+    const std::optional<double> exact =
+        r.n <= kMaxExactN ? friedmanExactP(doubled_ranks, doubled_sum_sq) : std::nullopt;
+    r.p = exact ? *exact : chiSquareSurvival(r.statistic, r.df);
+    r.p_method = exact ? "exact" : "chi_square";
     return r;
 }
 
 TestResult wilcoxonSignedRank(std::span<const double> a, std::span<const double> b) {
     TestResult r;
     r.test = "wilcoxon_signed_rank";
+    r.effect = "rank_biserial_r";
     r.k = 2;
     std::vector<double> magnitude;
     std::vector<bool> positive;
@@ -207,28 +243,23 @@ TestResult wilcoxonSignedRank(std::span<const double> a, std::span<const double>
     double ties = 0.0;
     const std::vector<double> ranks = averageRanks(magnitude, ties);
     double w_plus = 0.0;
-    for (std::size_t i = 0; i < ranks.size(); ++i)
+    std::vector<int> doubled_ranks;
+    for (std::size_t i = 0; i < ranks.size(); ++i) {
         if (positive[i]) w_plus += ranks[i];
+        doubled_ranks.push_back(int(std::lround(2.0 * ranks[i])));
+    }
     const double n = double(r.n);
     const double total = n * (n + 1.0) / 2.0;
     r.statistic = std::min(w_plus, total - w_plus);
-    if (ties == 0.0 && r.n <= 50) {
-        // Under the null each rank is positive or negative with probability 1/2: count the
-        // subsets of 1..n by their sum.
-        const std::size_t max_sum = r.n * (r.n + 1) / 2;
-        std::vector<double> count(max_sum + 1, 0.0);
-        count[0] = 1.0;
-        for (std::size_t rank = 1; rank <= r.n; ++rank)
-            for (std::size_t s = max_sum; s >= rank; --s) count[s] += count[s - rank];
-        double below = 0.0;
-        for (std::size_t s = 0; s <= std::size_t(r.statistic); ++s) below += count[s];
-        r.p = std::min(1.0, 2.0 * below / std::pow(2.0, n));
-    } else {
-        const double mean = total / 2.0;
-        const double var = n * (n + 1.0) * (2.0 * n + 1.0) / 24.0 - ties / 48.0;
-        if (var <= 0.0) return r;
-        const double z = (r.statistic - mean) / std::sqrt(var);
-        r.p = std::min(1.0, 2.0 * normalCdf(-std::fabs(z)));
+    r.effect_size = (w_plus - (total - w_plus)) / total;
+    const double var = n * (n + 1.0) * (2.0 * n + 1.0) / 24.0 - ties / 48.0;
+    if (var > 0.0) r.z = (w_plus - total / 2.0) / std::sqrt(var);
+    if (r.n <= kMaxExactN) {
+        r.p = signedRankExactP(doubled_ranks, std::lround(2.0 * r.statistic));
+        r.p_method = "exact";
+    } else if (!std::isnan(r.z)) {
+        r.p = std::min(1.0, 2.0 * normalCdf(-std::fabs(r.z)));
+        r.p_method = "normal";
     }
     return r;
 }

@@ -6,16 +6,20 @@
                            raw TLX after each condition, a Likert and a free-text answer,
                            one SSQ item answered twice).
   figures RESULTS REPORT   recomputes the report's figures from the raw CSV files, here
-                           and independently (scipy for the t quantiles and the tests), and
-                           compares them with REPORT/figures.json and its CSV tables.
+                           and independently (scipy for the t quantiles and the tests'
+                           statistics; the exact p by walking every sign arrangement or
+                           every order of each participant's ranks), and compares them with
+                           REPORT/figures.json and its CSV tables.
   screenshot PNG W H       the browser's screenshot: a PNG of W x H pixels showing dark
                            text and the plots' bar colour.
 """
 import csv
+import itertools
 import json
 import math
 import os
 import random
+import statistics
 import struct
 import sys
 import zlib
@@ -53,6 +57,8 @@ SSQ = {
     "stomach_awareness": "N", "burping": "N",
 }
 TLX = ["mental", "physical", "temporal", "performance", "effort", "frustration"]
+MEASURES = ["hit_rate", "false_confirmations", "time_to_decision_s", "target_distance_m", "tlx_raw",
+            "correct_rejection_rate"]
 
 
 def ssq_scores(ratings):
@@ -94,9 +100,21 @@ def mean(values):
     return sum(values) / len(values) if values else float("nan")
 
 
+def quartiles(values):
+    """Median and quartiles by linear interpolation between order statistics (type 7)."""
+    if not values:
+        return float("nan"), float("nan"), float("nan")
+    if len(values) == 1:
+        return values[0], values[0], values[0]
+    q1, median, q3 = statistics.quantiles(values, n=4, method="inclusive")
+    return median, q1, q3
+
+
 def summary(values):
     n = len(values)
-    out = {"n": n, "mean": mean(values), "sd": float("nan"), "ci95_low": float("nan"), "ci95_high": float("nan")}
+    median, q1, q3 = quartiles(values)
+    out = {"n": n, "mean": mean(values), "sd": float("nan"), "ci95_low": float("nan"), "ci95_high": float("nan"),
+           "median": median, "q1": q1, "q3": q3}
     if n >= 2:
         m = out["mean"]
         sd = math.sqrt(sum((v - m) ** 2 for v in values) / (n - 1))
@@ -105,16 +123,46 @@ def summary(values):
     return out
 
 
+def midranks(values):
+    return list(stats.rankdata(values))
+
+
 def wilcoxon(a, b):
+    """Signed-rank test of b - a: statistic, Z, rank-biserial r, and p exact over every sign
+    arrangement (the e2e sessions have two participants) or from Z past 16 pairs."""
     d = [y - x for x, y in zip(a, b) if y != x]
     if not d:
-        return {"n": 0, "statistic": float("nan"), "p": float("nan")}
-    mags = [abs(v) for v in d]
-    ties = len(set(mags)) != len(mags)
-    method = "exact" if not ties and len(d) <= 50 else "approx"
-    r = stats.wilcoxon([x for x, y in zip(a, b) if y != x], [y for x, y in zip(a, b) if y != x],
-                       zero_method="wilcox", correction=False, method=method)
-    return {"n": len(d), "statistic": float(r.statistic), "p": float(r.pvalue)}
+        return {"n": 0, "statistic": float("nan"), "p": float("nan"), "z": float("nan"),
+                "effect_size": float("nan"), "p_method": None}
+    n = len(d)
+    ranks = midranks([abs(v) for v in d])
+    w_plus = sum(r for r, v in zip(ranks, d) if v > 0)
+    total = n * (n + 1) / 2
+    w = min(w_plus, total - w_plus)
+    ties = sum(t ** 3 - t for t in (ranks.count(r) for r in set(ranks)))
+    z = (w_plus - total / 2) / math.sqrt(n * (n + 1) * (2 * n + 1) / 24 - ties / 48)
+    if n <= 16:
+        at_most = sum(1 for signs in itertools.product((0, 1), repeat=n)
+                      if sum(r for r, s in zip(ranks, signs) if s) <= w + 1e-9)
+        p, method = min(1.0, 2 * at_most / 2 ** n), "exact"
+    else:
+        p, method = 2 * stats.norm.cdf(-abs(z)), "normal"
+    return {"n": n, "statistic": w, "p": p, "z": z, "effect_size": (w_plus - (total - w_plus)) / total,
+            "p_method": method}
+
+
+def friedman_exact_p(rows):
+    """P(sum of squared rank sums >= observed) over every order of every row's ranks."""
+    ranks = [midranks(r) for r in rows]
+    k = len(rows[0])
+    observed = sum(sum(r[j] for r in ranks) ** 2 for j in range(k))
+    orders = [list(itertools.permutations(r)) for r in ranks]
+    total = at_least = 0
+    for pick in itertools.product(*orders):
+        total += 1
+        if sum(sum(o[j] for o in pick) ** 2 for j in range(k)) >= observed - 1e-9:
+            at_least += 1
+    return at_least / total
 
 
 def close(a, b, what, rel=1e-6):
@@ -152,6 +200,7 @@ def check_figures(results, report):
         scored = [r for r in rows if r["hit"] in ("0", "1") and r["decision"] != "quit"]
         decided = [r for r in rows if r["decision"] in ("confirm", "no_target")]
         dist = [float(r["target_distance_m"]) for r in rows if r["target_distance_m"] != ""]
+        absent = [r for r in rows if r["hit"] == "" and r["decision"] != "quit"]
         return {
             "trials": len(rows), "scored": len(scored), "hits": sum(r["hit"] == "1" for r in scored),
             "decided": len(decided),
@@ -160,6 +209,9 @@ def check_figures(results, report):
             if rows else float("nan"),
             "time_to_decision_s": mean([float(r["time_to_decision_s"]) for r in decided]),
             "target_distance_m": mean(dist),
+            "absent": len(absent), "correct_rejections": sum(r["decision"] == "no_target" for r in absent),
+            "correct_rejection_rate": sum(r["decision"] == "no_target" for r in absent) / len(absent)
+            if absent else float("nan"),
         }
 
     cells = {}
@@ -183,7 +235,7 @@ def check_figures(results, report):
     check(any(r["hit"] == "1" for r in all_rows), "fixture: a hit")
 
     participants = [p[0]["participant"] for p in parts]
-    for measure in ["hit_rate", "false_confirmations", "time_to_decision_s", "target_distance_m", "tlx_raw"]:
+    for measure in MEASURES:
         m = fig["measures"][measure]
         for c in conditions:
             values = [cells[(p, c)][measure] for p in participants if not math.isnan(cells[(p, c)][measure])]
@@ -198,7 +250,12 @@ def check_figures(results, report):
         if len(complete) >= 2 and any(len(set(row)) > 1 for row in complete):
             r = stats.friedmanchisquare(*zip(*complete))
             close(test["statistic"], float(r.statistic), f"{measure} friedman statistic")
-            close(test["p"], float(r.pvalue), f"{measure} friedman p")
+            close(test["effect_size"], float(r.statistic) / (len(complete) * (len(conditions) - 1)),
+                  f"{measure} Kendall's W")
+            check(test["effect"] == "kendall_w", f"{measure}: effect {test['effect']}")
+            # Two participants, three conditions: 6^2 orders, counted exactly.
+            check(test["p_method"] == "exact", f"{measure}: p_method {test['p_method']}, expected exact")
+            close(test["p"], friedman_exact_p(complete), f"{measure} friedman exact p")
         else:
             close(test["p"], float("nan"), f"{measure} friedman p (nothing to test)")
 
@@ -226,13 +283,49 @@ def check_figures(results, report):
         check(s["test"]["n"] == w["n"] or w["n"] == 0, f"ssq {score} test n")
         close(s["test"]["p"], w["p"], f"ssq {score} wilcoxon p")
         close(s["test"]["statistic"], w["statistic"], f"ssq {score} wilcoxon statistic")
+        close(s["test"]["z"], w["z"], f"ssq {score} wilcoxon Z")
+        close(s["test"]["effect_size"], w["effect_size"], f"ssq {score} rank-biserial r")
+        check(s["test"]["p_method"] == w["p_method"], f"ssq {score} p_method {s['test']['p_method']}")
+
+    # Likert answers: per question (and condition after a condition), the last answer counts.
+    likert = {}
+    for record, _, answers in parts:
+        for (instrument, occasion, condition, item), response in answers.items():
+            if instrument == "likert":
+                key = (item, occasion, condition if occasion == "after_condition" else "")
+                likert.setdefault(key, []).append(int(response))
+    reported_likert = {(x["item"], x["occasion"], x["condition"] or ""): x for x in fig["likert"]}
+    check(set(reported_likert) == set(likert), f"likert questions {sorted(reported_likert)} != {sorted(likert)}")
+    check(len(likert) == len(conditions), "fixture: a Likert item after each condition")
+    for key, ratings in likert.items():
+        got = reported_likert.get(key, {})
+        check(got.get("counts") == [ratings.count(v) for v in range(1, 12)], f"likert {key} counts")
+        median, q1, q3 = quartiles(sorted(ratings))
+        close(got.get("median"), median, f"likert {key} median")
+        close(got.get("q1"), q1, f"likert {key} q1")
+        close(got.get("q3"), q3, f"likert {key} q3")
+
+    # Every session ran its trials: complete, none left out.
+    s = fig["sessions"]
+    check((s["complete"], s["partial"], s["empty"]) == (len(parts), 0, 0), f"sessions {s}")
+    check([x["trials_recorded"] for x in s["list"]] == [len(p[1]) for p in parts], "sessions: trials recorded")
+    check([x["trials_planned"] for x in s["list"]] == [len(p[0]["order"]) for p in parts], "sessions: planned")
 
     # The CSV tables say what figures.json says.
     rows = read_csv(os.path.join(report, "conditions.csv"))
-    check(len(rows) == 5 * len(conditions), "conditions.csv rows")
+    check(len(rows) == len(MEASURES) * len(conditions), "conditions.csv rows")
     for row in rows:
         want = fig["measures"][row["measure"]]["by_condition"][row["condition"]]
-        close(float(row["mean"]) if row["mean"] else float("nan"), want["mean"], f"conditions.csv {row['measure']}")
+        for key in ("mean", "median", "q1", "q3"):
+            close(float(row[key]) if row[key] else float("nan"), want[key], f"conditions.csv {row['measure']} {key}")
+    tests = read_csv(os.path.join(report, "tests.csv"))
+    check(list(tests[0].keys()) == ["measure", "test", "n", "k", "statistic", "df", "p", "z", "effect", "effect_size",
+                                    "p_method"], "tests.csv columns")
+    for row in tests:
+        if row["measure"] in MEASURES:
+            want = fig["measures"][row["measure"]]["test"]
+            close(float(row["p"]) if row["p"] else float("nan"), want["p"], f"tests.csv {row['measure']} p")
+            check(row["p_method"] == (want["p_method"] or ""), f"tests.csv {row['measure']} p_method")
     rows = read_csv(os.path.join(report, "cells.csv"))
     for row in rows:
         want = cells[(row["participant"], row["condition"])]
@@ -243,7 +336,7 @@ def check_figures(results, report):
     every = cell(all_rows)
     close(float(rows[0]["hit_rate"]), every["hit_rate"], "clouds.csv hit_rate")
     for name in ["index.html", "time_to_decision.png", "hit_rate.png", "cloud_difficulty.png", "tests.csv",
-                 "ssq.csv", "ssq_summary.csv", "participants.csv"]:
+                 "ssq.csv", "ssq_summary.csv", "participants.csv", "likert.csv"]:
         check(os.path.isfile(os.path.join(report, name)), f"{name} missing")
     html = open(os.path.join(report, "index.html")).read()
     for needle in ['src="time_to_decision.png"', 'src="hit_rate.png"', 'src="cloud_difficulty.png"']:

@@ -115,8 +115,11 @@ TEST_CASE("figures: three conditions take the Friedman test over complete partic
     CHECK(t.test == "friedman");
     CHECK(t.n == 2);
     CHECK(t.k == 3);
-    CHECK(t.statistic == doctest::Approx(4.0));  // both participants order a < b < c
-    CHECK(t.p == doctest::Approx(std::exp(-2.0)));
+    CHECK(t.statistic == doctest::Approx(4.0));    // both participants order a < b < c
+    CHECK(t.effect_size == doctest::Approx(1.0));  // Kendall's W: complete agreement
+    // Exactly: 6 of the 6^2 arrangements have both rows in one order (chi-square: e^-2).
+    CHECK(t.p == doctest::Approx(1.0 / 6.0));
+    CHECK(t.p_method == "exact");
     CHECK(f.by_condition.at("time_to_decision_s")[2].n == 2);
 }
 
@@ -128,8 +131,33 @@ TEST_CASE("report files: the tables, plots that decode, and the folder written w
         CHECK(study::isReportFile(name));
         files[name] = content;
     }
-    CHECK(files.at("cells.csv").find("P1,a,3,2,1,2,0.5,1,11,6.5,20\n") != std::string::npos);
-    CHECK(files.at("tests.csv").find("time_to_decision_s,wilcoxon_signed_rank,3,2,0,,0.25\n") != std::string::npos);
+    // The columns added after the first reports come last: the older ones stay where they were.
+    CHECK(files.at("cells.csv")
+              .rfind("participant,condition,trials,scored,hits,decided,hit_rate,false_confirmations,"
+                     "time_to_decision_s,target_distance_m,tlx_raw,absent,correct_rejections,"
+                     "correct_rejection_rate\n",
+                     0) == 0);
+    CHECK(files.at("cells.csv").find("\nP1,a,3,2,1,2,0.5,1,11,6.5,20,0,0,\n") != std::string::npos);
+    CHECK(files.at("cells.csv").find("\nP1,b,3,2,1,2,0.5,0,22,0.5,40,1,1,1\n") != std::string::npos);
+    CHECK(files.at("conditions.csv").rfind("measure,condition,n,mean,sd,ci95_low,ci95_high,median,q1,q3\n", 0) == 0);
+    // Times in a: 10, 11, 12 (sd 1); hit rates 0.5 for all three (sd 0, no residue).
+    CHECK(files.at("conditions.csv").find("\ntime_to_decision_s,a,3,11,1,") != std::string::npos);
+    CHECK(files.at("conditions.csv").find("\nhit_rate,a,3,0.5,0,0.5,0.5,0.5,0.5,0.5\n") != std::string::npos);
+    CHECK(files.at("tests.csv").rfind("measure,test,n,k,statistic,df,p,z,effect,effect_size,p_method\n", 0) == 0);
+    // Every participant slower in b: W+ = 6 of 6, Z = 3 / sqrt(3.5), r = 1, p exact 2/8.
+    CHECK(files.at("tests.csv")
+              .find("\ntime_to_decision_s,wilcoxon_signed_rank,3,2,0,,0.25,1.60356745,"
+                    "rank_biserial_r,1,exact\n") != std::string::npos);
+    CHECK(files.at("tests.csv").find("\nhit_rate,wilcoxon_signed_rank,3,2,,,,,rank_biserial_r,,\n") !=
+          std::string::npos);
+    CHECK(files.at("participants.csv").find("\nP0,6,4,2,4,0.5,1,") != std::string::npos);
+    CHECK(files.at("participants.csv")
+              .find(",questionnaires,absent,correct_rejections,correct_rejection_rate,"
+                    "session,trials_recorded,trials_planned\n") != std::string::npos);
+    CHECK(files.at("clouds.csv").find("\nd.pcd,6,3,3,6,1,0,") != std::string::npos);
+    CHECK(files.at("likert.csv") ==
+          "item,occasion,condition,n,median,q1,q3,mean,count_1,count_2,count_3,count_4,count_5,count_6,count_7,"
+          "count_8,count_9,count_10,count_11\n");
     for (const char* png : {"time_to_decision.png", "hit_rate.png", "cloud_difficulty.png"}) {
         CAPTURE(png);
         const test_support::DecodedPng d = test_support::decodePng(files.at(png));
@@ -151,6 +179,80 @@ TEST_CASE("report files: the tables, plots that decode, and the folder written w
     study::writeStudyReport(r, dir.path / "report");  // an earlier report is replaced whole
     CHECK(test_support::slurp(dir.path / "report" / "cells.csv") == files.at("cells.csv"));
     CHECK(dir.entries() == 2);  // notes.txt and report: no temporary left
+}
+
+TEST_CASE("figures: target-absent trials give the correct-rejection rate") {
+    study::StudyResults r = twoConditions();
+    // P0 confirms something on b's target-absent cloud once more: 1 of 2 correct in b.
+    r.participants[0].trials.push_back(trial("b", D::Confirm, std::nullopt, 15.0, false, "d.pcd"));
+    // A quit on a target-absent cloud is the experimenter's: not counted.
+    r.participants[1].trials.push_back(trial("b", D::Quit, std::nullopt, 15.0, false, "d.pcd"));
+    const study::ReportFigures f = study::computeFigures(r);
+    CHECK(f.cells[0][1].absent == 2);
+    CHECK(f.cells[0][1].correct_rejections == 1);
+    CHECK(f.cells[0][1].correct_rejection_rate == doctest::Approx(0.5));
+    CHECK(f.cells[0][1].false_confirmations == 1.0);  // the confirm on a cloud without a target
+    CHECK(f.cells[1][1].absent == 1);
+    CHECK(f.cells[1][1].correct_rejection_rate == 1.0);
+    CHECK(std::isnan(f.cells[0][0].correct_rejection_rate));  // a has no target-absent trial
+    const study::stats::Summary& b = f.by_condition.at("correct_rejection_rate")[1];
+    CHECK(b.n == 3);
+    CHECK(b.mean == doctest::Approx(2.5 / 3.0));
+    CHECK(b.median == 1.0);
+    CHECK(f.clouds[1].all.absent == 4);
+    CHECK(f.clouds[1].all.correct_rejections == 3);
+    // Only b has target-absent trials: no participant has the rate in every condition.
+    CHECK(f.condition_tests.at("correct_rejection_rate").n == 0);
+}
+
+TEST_CASE("figures: the Likert answers per question and condition") {
+    study::StudyResults r = twoConditions();
+    const int ease_a[] = {2, 5, 5}, ease_b[] = {4, 4, 7};
+    for (std::size_t i = 0; i < 3; ++i) {
+        r.participants[i].likert[{"ease", "after_condition", "a"}] = ease_a[i];
+        r.participants[i].likert[{"ease", "after_condition", "b"}] = ease_b[i];
+    }
+    r.participants[0].likert[{"overall", "post", ""}] = 6;
+    const study::ReportFigures f = study::computeFigures(r);
+    REQUIRE(f.likert.size() == 3);
+    const study::LikertFigures& a = f.likert[0];
+    CHECK(a.question.item == "ease");
+    CHECK(a.question.condition == "a");
+    CHECK(a.summary.n == 3);
+    CHECK(a.counts[2] == 1);
+    CHECK(a.counts[5] == 2);
+    CHECK(a.counts[4] == 0);
+    CHECK(a.summary.median == 5.0);
+    CHECK(a.summary.q1 == 3.5);
+    CHECK(a.summary.q3 == 5.0);
+    CHECK(f.likert[1].question.condition == "b");
+    CHECK(f.likert[1].summary.median == 4.0);
+    CHECK(f.likert[2].question.item == "overall");
+    CHECK(f.likert[2].counts[6] == 1);
+    std::map<std::string, std::string> files;
+    for (auto& [name, content] : study::reportTables(r, f)) files[name] = content;
+    CHECK(files.at("likert.csv").find("\nease,after_condition,a,3,5,3.5,5,4,0,1,0,0,2,0,0,0,0,0,0\n") !=
+          std::string::npos);
+    CHECK(files.at("likert.csv").find("\noverall,post,,1,6,6,6,6,0,0,0,0,0,1,0,0,0,0,0\n") != std::string::npos);
+    const std::string html = study::reportHtml(r, f);
+    CHECK(html.find("<h2>Likert items</h2>") != std::string::npos);
+    CHECK(html.find("<tr><td>ease</td><td>after_condition</td><td>a</td><td>3</td><td>5 (3.5&ndash;5)</td>"
+                    "<td>0</td><td>1</td><td>0</td><td>0</td><td>2</td><td>0</td><td>0</td></tr>") !=
+          std::string::npos);
+}
+
+TEST_CASE("report html: medians, effect sizes, how p was found; rounding residue shown as 0") {
+    const study::StudyResults r = twoConditions();
+    const study::ReportFigures f = study::computeFigures(r);
+    const std::string html = study::reportHtml(r, f);
+    CHECK(html.find("<th>Z</th><th>effect size</th><th>p from</th>") != std::string::npos);
+    // Time to decision: a 10, 11, 12; b 20, 22, 24; the test exact, r 1.
+    CHECK(html.find("<td>11 <span class=ci>") != std::string::npos);
+    CHECK(html.find("median 11 (10.5&ndash;11.5)") != std::string::npos);
+    CHECK(html.find("<td>wilcoxon_signed_rank</td><td>3</td><td>0</td><td>&ndash;</td><td>0.2500</td><td>1.6</td>"
+                    "<td>r 1</td><td>exact</td>") != std::string::npos);
+    CHECK(html.find("e-1") == std::string::npos);  // no 7.1e-15 anywhere
+    CHECK(html.find("Sessions: 0 complete") != std::string::npos);
 }
 
 TEST_CASE("report html: names show controls and bidirectional overrides as escapes") {

@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include <map>
 #include <string>
 
 namespace {
@@ -141,6 +142,22 @@ TEST_CASE("questionnaires.csv: the SSQ before and after, the TLX per condition, 
     CHECK(p.ssq_post->total == doctest::Approx((21 + 4) * 3.74));
     REQUIRE(p.tlx_raw.size() == 1);
     CHECK(p.tlx_raw.at("a") == doctest::Approx(150.0 / 6.0));
+    REQUIRE(p.likert.size() == 1);
+    CHECK(p.likert.at({"liked", "after_condition", "b"}) == 4);
+
+    // Likert answers: per condition after a condition, once for pre and post (post's
+    // condition column names the last condition run); an answer given again counts last.
+    study::ParticipantResults l = participant();
+    study::parseQuestionnaires(kQHeader +
+                                   "P01,,likert,pre,ready,2,1\nP01,a,likert,after_condition,liked,6,2\n"
+                                   "P01,b,likert,after_condition,liked,3,3\nP01,b,likert,after_condition,liked,5,4\n"
+                                   "P01,b,likert,post,overall,7,5\n",
+                               "Q", l);
+    CHECK(l.likert.size() == 4);
+    CHECK(l.likert.at({"ready", "pre", ""}) == 2);
+    CHECK(l.likert.at({"liked", "after_condition", "a"}) == 6);
+    CHECK(l.likert.at({"liked", "after_condition", "b"}) == 5);
+    CHECK(l.likert.at({"overall", "post", ""}) == 7);
 
     study::ParticipantResults q = participant();
     study::parseQuestionnaires(kQHeader + ssqRows("pre", 1), "Q", q);
@@ -229,4 +246,90 @@ TEST_CASE("session folders: different designs and a participant twice are refuse
     CHECK(test_support::errorOf([&] {
               study::findSessionFolders({dir.path / "empty"});
           }).find("no study.json in it nor in a folder one level below") != std::string::npos);
+}
+
+TEST_CASE("session folders: empty and partial sessions are told apart, empty ones left out") {
+    static test_support::TempDir dir("report_sessions");
+    // A session of 8 planned trials (study.json's order) with `rows` of trials.csv, or
+    // without trials.csv when `rows` is empty and `with_trials` false.
+    const auto session = [&](const std::string& name, const std::string& participant, const std::string& rows,
+                             bool with_trials = true) {
+        std::filesystem::create_directories(dir.path / name);
+        dir.write(name + "/study.json", "{\"design\": \"/d.json\", \"design_sha256\": \"aaaa\", \"participant\": \"" +
+                                            participant +
+                                            "\", \"condition_order\": [\"a\", \"b\"], "
+                                            "\"order\": [0, 1, 2, 3, 4, 5, 6, 7]}");
+        if (with_trials) {
+            std::string text = rows;
+            for (std::size_t at = text.find("P01"); at != std::string::npos; at = text.find("P01", at + 1))
+                text.replace(at, 3, participant);
+            dir.write(name + "/trials.csv", kHeader + text);
+        }
+        return dir.path / name;
+    };
+    const std::string practice = "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,,1\n";
+    const std::string two =
+        "1,demo.pcd,confirm,5,5,1,7.1,0,1.0,3.0,2,1,0.5,0.4,P01,a,first,0\n"
+        "2,demo.pcd,no_target,,,,,,,4.0,0,0,0,,P01,b,first,0\n";
+    std::string eight;
+    for (int i = 1; i <= 8; ++i)
+        eight += std::to_string(i) + ",demo.pcd,no_target,,,,,,,4.0,0,0,0,,P01," + (i % 2 ? "a" : "b") + ",first,0\n";
+    const auto complete = session("complete", "P01", eight);
+    const auto partial = session("partial", "P02", two);
+    const auto bare = session("bare", "P03", "", false);  // study.json only
+    const auto header_only = session("header", "P04", "");
+    const auto practice_only = session("practice", "P05", practice);
+    std::string with_practice = practice + two;
+    with_practice.replace(with_practice.find("\n2,"), 3, "\n3,");
+    with_practice.replace(with_practice.find("\n1,demo.pcd,confirm,5"), 3, "\n2,");
+    const auto mixed = session("mixed", "P06", with_practice);
+
+    const study::StudyResults r = study::readStudyResults({complete, partial, bare, header_only, practice_only, mixed});
+    REQUIRE(r.participants.size() == 3);  // P01, P02, P06: the empty sessions are not participants
+    CHECK(r.participants[0].participant == "P01");
+    CHECK(r.participants[1].participant == "P02");
+    CHECK(r.participants[2].participant == "P06");
+    CHECK(r.participants[1].trials_planned == 8);
+    REQUIRE(r.sessions.size() == 6);
+    CHECK(r.sessions[0].state == study::SessionState::Complete);
+    CHECK(r.sessions[1].state == study::SessionState::Partial);
+    CHECK(r.sessions[1].trials_recorded == 2);
+    CHECK(r.sessions[2].state == study::SessionState::Empty);
+    CHECK(r.sessions[3].state == study::SessionState::Empty);
+    CHECK(r.sessions[4].state == study::SessionState::Empty);
+    CHECK(r.sessions[5].state == study::SessionState::Partial);
+    CHECK(study::countSessions(r, study::SessionState::Complete) == 1);
+    CHECK(study::countSessions(r, study::SessionState::Partial) == 2);
+    CHECK(study::countSessions(r, study::SessionState::Empty) == 3);
+    const std::vector<std::string> warnings = study::sessionWarnings(r);
+    REQUIRE(warnings.size() == 5);
+    CHECK(warnings[0] == "study report: " + partial.string() + ": 2 of 8 trials recorded; its figures count those 2");
+    CHECK(warnings[1] == "study report: " + bare.string() + ": no trial recorded; left out");
+    CHECK(warnings[2] == "study report: " + header_only.string() + ": no trial recorded; left out");
+    CHECK(warnings[3] ==
+          "study report: " + practice_only.string() + ": 1 of 8 trials recorded, practice only; left out");
+    CHECK(warnings[4] ==
+          "study report: " + mixed.string() + ": 3 of 8 trials recorded (1 practice); its figures count the other 2");
+
+    // The figures count the participants with trials; the JSON lists every session.
+    const study::ReportFigures f = study::computeFigures(r);
+    CHECK(f.participants.size() == 3);
+    std::map<std::string, std::string> files;
+    for (auto& [name, content] : study::reportFiles(r, f)) files[name] = content;
+    CHECK(files.at("figures.json").find("\"complete\": 1,\n  \"partial\": 2,\n  \"empty\": 3") != std::string::npos);
+    CHECK(files.at("participants.csv").find(",partial,2,8\n") != std::string::npos);
+    CHECK(files.at("index.html").find("Sessions: 1 complete, 2 partial") != std::string::npos);
+    CHECK(files.at("index.html").find("<tr><td>P03</td><td>empty</td><td>0</td><td>8</td><td>left out</td></tr>") !=
+          std::string::npos);
+
+    // Nothing to count anywhere: refused rather than a report of empty figures.
+    CHECK(test_support::errorOf([&] { study::readStudyResults({bare, header_only, practice_only}); }) ==
+          "study report: none of the 3 session(s) recorded a trial that is not practice; allowed: at least one "
+          "session with a trial to count");
+    dir.write("bare/study.json",
+              "{\"design\": \"/d.json\", \"design_sha256\": \"aaaa\", \"participant\": \"P03\", "
+              "\"condition_order\": [\"a\", \"b\"], \"order\": 8}");
+    CHECK(test_support::errorOf([&] { study::readStudyResults({bare}); }) ==
+          "study report: " + (bare / "study.json").string() +
+              ": order holds a number; allowed: the list of the session's trials");
 }

@@ -5,6 +5,9 @@
 #     U+202E, and '-x.pcd': every table of the report shows them as text (a leading ',
 #     escapes), and numbers, negative ones too, stay numbers;
 #   - a study.json whose participant breaks the id rules ('=1+2', an HTML tag) is refused;
+#   - a folder holding only study.json (empty) and one with 2 of its 8 trials (partial): a
+#     warning each naming the folder, the empty one left out of the participants, the
+#     counts in the summary line; only empty sessions: refused;
 #   - --out over an earlier report holding a link, a folder or a FIFO under a report
 #     file's name: one line naming it, exit 1, nothing moved, no hidden folder beside;
 #   - a design with a duplicate key, NaN or trailing text given with --participant is
@@ -63,6 +66,44 @@ for table in sorted(report.glob("*.csv")):
 print("report: every text cell is text")
 PY
 ls -A "$work" | grep -q '^\.ladarvr-tmp-' && fail "a temporary folder is left beside the report"
+
+# Empty and partial sessions: one warning each, the empty one not a participant.
+mkdir -p "$work/mixed"
+cp -r "$work/results/P01" "$work/results/P02" "$work/mixed/"
+mkdir -p "$work/mixed/P03" "$work/mixed/P04"
+planned='"order": [0, 1, 2, 3, 4, 5, 6, 7]'
+printf '{"design": "/d.json", "design_sha256": "aaaa", "participant": "P03", "condition_order": ["a", "b"], %s}\n' \
+  "$planned" >"$work/mixed/P03/study.json"
+printf '{"design": "/d.json", "design_sha256": "aaaa", "participant": "P04", "condition_order": ["b", "a"], %s}\n' \
+  "$planned" >"$work/mixed/P04/study.json"
+{
+  echo "$header"
+  echo "1,x.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P04,b,b1,0"
+  echo "2,y.pcd,no_target,,,,,,,4.0,0,0,0,,P04,b,b1,0"
+} >"$work/mixed/P04/trials.csv"
+"$bin" study report "$work/mixed" --out "$work/mixed_report" 2>"$work/mixed.err" || fail "mixed report: $(cat "$work/mixed.err")"
+cat >"$work/mixed.want" <<WANT
+ladarvr: warning: study report: $work/mixed/P03: no trial recorded; left out
+ladarvr: warning: study report: $work/mixed/P04: 2 of 8 trials recorded; its figures count those 2
+study report: 3 participant(s), 2 condition(s); sessions: 2 complete, 1 partial, 1 empty; wrote $work/mixed_report/index.html
+WANT
+diff "$work/mixed.want" "$work/mixed.err" || fail "mixed report: not the warnings and summary above"
+python3 - "$work/mixed_report" <<'PY' || fail "mixed report: figures"
+import json, sys
+fig = json.load(open(sys.argv[1] + "/figures.json"))
+assert fig["participants"] == ["P01", "P02", "P04"], fig["participants"]
+s = fig["sessions"]
+assert (s["complete"], s["partial"], s["empty"]) == (2, 1, 1), s
+assert [(x["participant"], x["state"]) for x in s["list"]] == [
+    ("P01", "complete"), ("P02", "complete"), ("P03", "empty"), ("P04", "partial")], s["list"]
+html = open(sys.argv[1] + "/index.html").read()
+assert "3 participants" in html and "Sessions: 2 complete, 1 partial" in html
+PY
+status=0
+"$bin" study report "$work/mixed/P03" --out "$work/empty_report" 2>"$work/empty.err" || status=$?
+[ "$status" = 1 ] && [ "$(wc -l <"$work/empty.err")" = 1 ] && [ ! -e "$work/empty_report" ] &&
+  grep -q "none of the 1 session(s) recorded a trial that is not practice" "$work/empty.err" ||
+  fail "a report of empty sessions only: exit $status, $(cat "$work/empty.err")"
 
 refused() {  # refused WANT ARGS...: exit 1, one line holding WANT
   local want=$1 status=0

@@ -5,14 +5,17 @@
 // within-subject tests across conditions, the plots, and the report folder (CSV, JSON,
 // PNG and one offline HTML page) written as a whole.
 //
-// Parts: report_read.cpp (the folders and their files), report_stats.cpp (the
-// distributions and tests), report_figures.cpp (the figures and their CSV and JSON),
-// report_plot.cpp (the PNG plots, text from report_font.cpp), report_html.cpp (index.html)
-// and report_write.cpp (the folder).
+// Parts: report_read.cpp (the folders and their files), report_sessions.cpp (which
+// sessions are complete, partial or empty, and the warnings saying so), report_stats.cpp
+// (the distributions, summaries and tests), report_stats_exact.cpp (the tests' exact null
+// distributions), report_figures.cpp (the figures), report_plot.cpp (the PNG plots, text
+// from report_font.cpp), report_html.cpp (index.html) and report_write.cpp (the CSV and
+// JSON tables and the folder).
 #pragma once
 #include <study/instruments.hpp>
 
 #include <array>
+#include <compare>
 #include <cstddef>
 #include <filesystem>
 #include <limits>
@@ -48,23 +51,64 @@ struct ReportTrial {
     std::optional<int> candidates_shown;
 };
 
+/// A Likert item as it was asked: its id, its occasion (pre, post or after_condition)
+/// and, after a condition, that condition (empty for pre and post).
+struct LikertQuestion {
+    std::string item, occasion, condition;
+    auto operator<=>(const LikertQuestion&) const = default;
+};
+
 /// One participant's session as its folder holds it.
 struct ParticipantResults {
     std::filesystem::path folder;
     std::string participant;
     std::vector<std::string> condition_order;  // study.json's, the order the session ran
+    std::size_t trials_planned = 0;            // study.json's `order`: the session's trials
     std::vector<ReportTrial> trials;           // in trials.csv's order, practice included
     bool questionnaires = false;               // the folder has a questionnaires.csv
     std::optional<SsqScores> ssq_pre, ssq_post;
     std::map<std::string, double> tlx_raw;  // condition name -> raw TLX
+    std::map<LikertQuestion, int> likert;   // the last answer to each Likert question
+};
+
+/// How much of its session a folder recorded: every trial of study.json's `order`
+/// (complete), some (partial), or no trial that is not practice (empty: left out of the
+/// figures and the participant count).
+enum class SessionState { Complete, Partial, Empty };
+
+/// A session folder read, whether or not its participant counts.
+struct SessionRecord {
+    std::filesystem::path folder;
+    std::string participant;
+    std::size_t trials_recorded = 0;  // trials.csv's rows, practice included
+    std::size_t trials_planned = 0;   // study.json's `order`
+    std::size_t practice_recorded = 0;
+    SessionState state = SessionState::Complete;
 };
 
 /// Every participant of one design.
 struct StudyResults {
     std::string design_sha256;
     std::vector<std::string> conditions;  // the design's condition names, sorted
+    /// The sessions with a trial to count (complete or partial), by participant id.
     std::vector<ParticipantResults> participants;
+    /// Every session folder read, empty ones included, by participant id.
+    std::vector<SessionRecord> sessions;
 };
+
+/// A session's state from its counts: Empty without a recorded trial that is not
+/// practice, Partial with fewer rows than `order` plans, else Complete.
+SessionState sessionState(std::size_t recorded, std::size_t practice, std::size_t planned);
+/// The session record of `p`'s folder: its counts and state.
+SessionRecord sessionRecord(const ParticipantResults& p);
+/// "complete", "partial" or "empty".
+std::string_view sessionStateName(SessionState s);
+/// The sessions in state `s`.
+std::size_t countSessions(const StudyResults& results, SessionState s);
+/// One warning per session that is not complete, naming its folder and what it holds:
+/// "study report: DIR: no trial recorded; left out", "study report: DIR: 2 of 8 trials
+/// recorded; its figures count those 2".
+std::vector<std::string> sessionWarnings(const StudyResults& results);
 
 /// The largest files read: trials.csv and questionnaires.csv, study.json.
 inline constexpr std::size_t kMaxReportCsvBytes = std::size_t(64) << 20;
@@ -81,11 +125,12 @@ bool isSessionFolder(const std::filesystem::path& dir);
 /// or a folder holds no session.
 std::vector<std::filesystem::path> findSessionFolders(const std::vector<std::filesystem::path>& paths);
 
-/// Reads every session folder (study.json, trials.csv, questionnaires.csv when present).
-/// Throws core::Error with one line when a folder is not a design's session, two folders
-/// are of different designs (design_sha256) or hold the same participant, or a row is
-/// malformed ("study report: DIR/trials.csv: line 3, column hit: '2'; allowed 1, 0 or
-/// empty").
+/// Reads every session folder (study.json, trials.csv, questionnaires.csv when present);
+/// the empty sessions are listed in `sessions` but not in `participants`. Throws
+/// core::Error with one line when a folder is not a design's session, two folders are of
+/// different designs (design_sha256) or hold the same participant, a row is malformed
+/// ("study report: DIR/trials.csv: line 3, column hit: '2'; allowed 1, 0 or empty"), or
+/// every session is empty.
 StudyResults readStudyResults(const std::vector<std::filesystem::path>& session_folders);
 
 /// The rows of a design session's trials.csv `text` (`file` names it in messages), with or
@@ -93,8 +138,8 @@ StudyResults readStudyResults(const std::vector<std::filesystem::path>& session_
 std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::string& file);
 
 /// questionnaires.csv `text` (instruments.hpp's layout) scored into `p`: the SSQ before
-/// and after the session, the raw TLX per condition. An item answered twice counts with
-/// its last answer; an instrument with an item missing is not scored.
+/// and after the session, the raw TLX per condition, the Likert answers. An item answered
+/// twice counts with its last answer; an instrument with an item missing is not scored.
 void parseQuestionnaires(std::string_view text, const std::string& file, ParticipantResults& p);
 
 // ---- statistics ----------------------------------------------------------------------
@@ -117,33 +162,64 @@ double studentTQuantile(double p, double df);
 /// The standard normal distribution's P(Z <= z).
 double normalCdf(double z);
 
-/// Mean, sample standard deviation and the 95 % confidence interval of the mean
-/// (mean -/+ t(0.975, n-1) sd / sqrt(n)); NaN where n is too small.
+/// The `q` quantile (0 <= q <= 1) of sorted `values` by linear interpolation between
+/// order statistics (Hyndman and Fan's type 7, R's and numpy's default); NaN when empty.
+double quantileSorted(std::span<const double> sorted, double q);
+
+/// Mean, sample standard deviation (exactly 0 when every value is the same) and the 95 %
+/// confidence interval of the mean (mean -/+ t(0.975, n-1) sd / sqrt(n)), the median and
+/// the quartiles (quantileSorted); NaN where n is too small.
 struct Summary {
     std::size_t n = 0;
     double mean = kNaN, sd = kNaN, ci95_low = kNaN, ci95_high = kNaN;
+    double median = kNaN, q1 = kNaN, q3 = kNaN;
 };
 Summary summarize(std::span<const double> values);
 
 /// A test's outcome: its name, participants n, conditions k, statistic, degrees of
-/// freedom (NaN when the test has none) and two-sided p (NaN when undefined, e.g. every
-/// value tied).
+/// freedom (NaN when the test has none), two-sided p (NaN when undefined, e.g. every value
+/// tied), Z (the signed-rank test's standard normal deviate; NaN for Friedman), the
+/// effect size and its name, and how p was found.
 struct TestResult {
     std::string test;
     std::size_t n = 0;
     int k = 0;
     double statistic = kNaN, df = kNaN, p = kNaN;
+    double z = kNaN;
+    std::string effect;  // "rank_biserial_r" (signed-rank) or "kendall_w" (Friedman)
+    double effect_size = kNaN;
+    std::string p_method;  // "exact", "normal" or "chi_square"; empty when p is NaN
 };
+
+/// The most participants an exact p is counted for; above, the approximation.
+inline constexpr std::size_t kMaxExactN = 50;
 
 /// The Friedman test of `rows` (one row per participant, one column per condition, k >=
 /// 2 columns): ranks within each row (ties get their average rank), the chi-square
-/// statistic corrected for ties, p from chi-square with k - 1 degrees of freedom.
+/// statistic corrected for ties, Kendall's W = chi2 / (n (k - 1)); p exact (the
+/// permutation distribution of the rank sums, each row's ranks permuted) when n <=
+/// kMaxExactN and counting it stays within bounds (friedmanExactP), else from chi-square
+/// with k - 1 degrees of freedom.
 TestResult friedman(const std::vector<std::vector<double>>& rows);
-/// The Wilcoxon signed-rank test of the pairs (a[i], b[i]): zero differences dropped,
-/// statistic min(W+, W-), p exact (the null distribution of W+ counted) when no
-/// absolute differences tie and n <= 50, else the normal approximation with the tie
-/// correction of the variance (no continuity correction).
+/// The Wilcoxon signed-rank test of the pairs (a[i], b[i]): zero differences b - a dropped,
+/// statistic min(W+, W-), Z = (W+ - n (n + 1) / 4) / sd with the tie correction of the
+/// variance (positive when b tends to exceed a), the matched-pairs rank-biserial
+/// correlation r = (W+ - W-) / (W+ + W-); p exact (every sign arrangement of the ranks,
+/// ties' average ranks included, counted) when n <= kMaxExactN, else from Z (no continuity
+/// correction).
 TestResult wilcoxonSignedRank(std::span<const double> a, std::span<const double> b);
+
+/// The exact two-sided p of the signed-rank statistic: `doubled_ranks` are twice the
+/// ranks of the nonzero |differences| (whole numbers, ties' average ranks included),
+/// `doubled_w` twice min(W+, W-). P(W <= w) over the 2^n equally likely sign arrangements,
+/// doubled, at most 1.
+double signedRankExactP(std::span<const int> doubled_ranks, long doubled_w);
+/// The exact p of the Friedman statistic: `doubled_ranks` holds each participant's
+/// within-row ranks times two (ties' average ranks included), `observed` the sum over
+/// conditions of the squared doubled rank sums. P(sum >= observed) when each row's ranks
+/// are permuted over the conditions, all k! orders equally likely; nullopt when counting
+/// would pass the bound on distinct rank-sum states (about k = 5 with a dozen rows).
+std::optional<double> friedmanExactP(const std::vector<std::vector<int>>& doubled_ranks, long long observed);
 
 }  // namespace stats
 
@@ -151,15 +227,18 @@ TestResult wilcoxonSignedRank(std::span<const double> a, std::span<const double>
 
 /// One participant's trials of one condition (or of all conditions), practice left out.
 struct CellFigures {
-    std::size_t trials = 0;                    // analysed trials
-    std::size_t scored = 0;                    // trials with hit 0 or 1, quits left out
-    std::size_t hits = 0;                      //
-    std::size_t decided = 0;                   // trials ended by confirm or no_target
-    double hit_rate = stats::kNaN;             // hits / scored
-    double false_confirmations = stats::kNaN;  // confirms that are not hits (count)
-    double time_to_decision_s = stats::kNaN;   // mean over decided trials
-    double target_distance_m = stats::kNaN;    // mean over trials with a distance
-    double tlx_raw = stats::kNaN;              // the condition's raw TLX (per condition only)
+    std::size_t trials = 0;                       // analysed trials
+    std::size_t scored = 0;                       // trials with hit 0 or 1, quits left out
+    std::size_t hits = 0;                         //
+    std::size_t decided = 0;                      // trials ended by confirm or no_target
+    double hit_rate = stats::kNaN;                // hits / scored
+    double false_confirmations = stats::kNaN;     // confirms that are not hits (count)
+    double time_to_decision_s = stats::kNaN;      // mean over decided trials
+    double target_distance_m = stats::kNaN;       // mean over trials with a distance
+    double tlx_raw = stats::kNaN;                 // the condition's raw TLX (per condition only)
+    std::size_t absent = 0;                       // target-absent trials (hit empty), quits left out
+    std::size_t correct_rejections = 0;           // of those, the no_target decisions
+    double correct_rejection_rate = stats::kNaN;  // correct_rejections / absent
 };
 
 /// The measures compared across conditions, in report order.
@@ -172,6 +251,16 @@ struct CloudFigures {
     CellFigures all;                         // every participant and condition
     double visibility_metric = stats::kNaN;  // the mean of the trials' values
 };
+
+/// The answers to one Likert question (per condition for after_condition items) over
+/// the participants: how many gave each rating 1..11, and their summary.
+struct LikertFigures {
+    LikertQuestion question;
+    std::array<std::size_t, 12> counts{};  // [rating], 1..11; [0] unused
+    stats::Summary summary;
+};
+/// The largest Likert rating (a design's `points` is 2 to 11).
+inline constexpr int kMaxLikertRating = 11;
 
 struct ReportFigures {
     std::vector<std::string> conditions;
@@ -187,7 +276,8 @@ struct ReportFigures {
     std::vector<std::optional<SsqScores>> ssq_pre, ssq_post;
     std::map<std::string, std::array<stats::Summary, 3>, std::less<>> ssq_summary;  // pre, post, difference
     std::map<std::string, stats::TestResult, std::less<>> ssq_tests;
-    std::vector<CloudFigures> clouds;  // in name order
+    std::vector<CloudFigures> clouds;   // in name order
+    std::vector<LikertFigures> likert;  // by item, occasion, condition
 };
 
 /// The SSQ scores' names, in report order, and a score by name.
@@ -197,8 +287,9 @@ double ssqScore(const SsqScores& s, std::string_view name);
 ReportFigures computeFigures(const StudyResults& results);
 
 /// The report's tables as CSV text, by file name (conditions.csv, cells.csv,
-/// participants.csv, ssq.csv, ssq_summary.csv, tests.csv, clouds.csv), and all figures as
-/// figures.json. Numbers with nine significant digits; an empty field (null in JSON) where
+/// participants.csv, ssq.csv, ssq_summary.csv, tests.csv, clouds.csv, likert.csv), and all
+/// figures as figures.json. Numbers with nine significant digits, a value within 1e-12 of
+/// 0 (rounding) written as 0 (p values as computed); an empty field (null in JSON) where
 /// a figure does not apply.
 std::vector<std::pair<std::string, std::string>> reportTables(const StudyResults& results,
                                                               const ReportFigures& figures);
