@@ -3,10 +3,12 @@
 
     python3 scripts/study_summary.py DIR/trials.csv     (or the study's output folder DIR)
     python3 scripts/study_summary.py DIR1 DIR2 ...      (several participants' studies, pooled)
+    python3 scripts/study_summary.py --each DIR1 DIR2   (one table per study, in the order given)
 
 Given several folders or files, their trials are pooled: the clouds are matched by the
-cloud column's text. One row per cloud (in order of first appearance), then one for all
-trials:
+cloud column's text. With --each, each folder or file is summarised on its own: its name
+on a line ending in ':', its table, and a blank line between two. One row per cloud (in
+order of first appearance), then one for all trials:
   trials     trials of that cloud in the file
   decided    trials the operator ended with confirm or no_target
   timeouts   trials that ran out of time; quits: ended by the experimenter (Escape, Ctrl-C)
@@ -16,8 +18,9 @@ trials:
   median_s   median time_to_decision_s over the decided trials, "n/a" when none
 
 docs/study.md explains every column of trials.csv. Exit status 2 with one line on stderr
-for a file that is not a trials.csv (missing column, bad number, unknown decision), a file
-given twice, or a command line without one (--help prints this text on stdout, exit 0).
+(and nothing on stdout) for a file that is not a trials.csv (missing column, bad number,
+unknown decision), a file given twice, or a command line without one (--help prints this
+text on stdout, exit 0).
 """
 
 import csv
@@ -81,23 +84,7 @@ def summarise(trials):
             str(sum(t["decision"] == "quit" for t in trials)), hit_rate, median]
 
 
-def main():
-    args = sys.argv[1:]
-    if any(a in ("-h", "--help") for a in args):
-        print(__doc__.strip())
-        sys.exit(0)
-    if not args:
-        fail("no trials.csv given; usage: study_summary.py DIR|trials.csv [DIR|trials.csv ...] (--help for more)")
-    unknown = [a for a in args if a.startswith("-")]
-    if unknown:
-        fail("unknown option %s; allowed -h, --help, or study folders and trials.csv files" % unknown[0])
-    seen = {}
-    for path in args:
-        key = os.path.realpath(trials_path(path))
-        if key in seen:
-            fail("%s: the same trials.csv as %s; allowed each study once" % (path, seen[key]))
-        seen[key] = path
-    trials = [t for path in args for t in read_trials(path)]
+def print_table(trials):
     clouds = list(dict.fromkeys(t["cloud"] for t in trials))
     table = [["cloud", "trials", "decided", "timeouts", "quits", "hit_rate", "median_s"]]
     for cloud in clouds:
@@ -106,6 +93,37 @@ def main():
     widths = [max(len(row[k]) for row in table) for k in range(len(table[0]))]
     for row in table:
         print("  ".join(cell.ljust(w) if k == 0 else cell.rjust(w) for k, (cell, w) in enumerate(zip(row, widths))).rstrip())
+
+
+def main():
+    args = sys.argv[1:]
+    if any(a in ("-h", "--help") for a in args):
+        print(__doc__.strip())
+        sys.exit(0)
+    each = "--each" in args
+    args = [a for a in args if a != "--each"]
+    if not args:
+        fail("no trials.csv given; usage: study_summary.py DIR|trials.csv [DIR|trials.csv ...] [--each] "
+             "(--help for more)")
+    unknown = [a for a in args if a.startswith("-")]
+    if unknown:
+        fail("unknown option %s; allowed -h, --help, --each, or study folders and trials.csv files" % unknown[0])
+    seen = {}
+    for path in args:
+        key = os.path.realpath(trials_path(path))
+        if key in seen:
+            fail("%s: the same trials.csv as %s; allowed each study once" % (path, seen[key]))
+        seen[key] = path
+    # Every file is read before anything is printed, so an error leaves stdout empty.
+    studies = [(path, read_trials(path)) for path in args]
+    if not each:
+        print_table([t for _, trials in studies for t in trials])
+        return
+    for i, (path, trials) in enumerate(studies):
+        if i:
+            print()
+        print(path + ":")
+        print_table(trials)
 
 
 if __name__ == "__main__":

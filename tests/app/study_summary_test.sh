@@ -3,8 +3,9 @@
 # small hand-made trials.csv (its header is StudyLog::trialsHeader(), study/src/study_log.cpp;
 # the study's headless tests run the script on a real one too): hit rate and median time to
 # decision per cloud, exactly, a quit's hit of 0 left out of the hit rate; several folders
-# pooled; files that are not a trials.csv, a file given twice and a command line without
-# one give one line on stderr (nothing on stdout) and exit 2; --help goes to stdout.
+# pooled, or summarised each on its own (--each); files that are not a trials.csv, a file
+# given twice and a command line without one give one line on stderr (nothing on stdout)
+# and exit 2; --help goes to stdout.
 set -eu
 src=$1
 dir=$2
@@ -74,6 +75,22 @@ $summary "$dir/study" "$dir/study2" >"$dir/out" 2>"$dir/err" || fail "study_summ
 diff "$dir/expected2" "$dir/out" || fail "unexpected pooled summary (above)"
 [ ! -s "$dir/err" ] || fail "stderr on a good run: $(cat "$dir/err")"
 
+# --each: one table per folder, in the order given, each under its name.
+{
+    echo "$dir/study2:"
+    cat <<'OUT'
+cloud  trials  decided  timeouts  quits    hit_rate  median_s
+b.pcd       1        1         0      0         n/a      12.0
+c.pcd       1        1         0      0  1.00 (1/1)       6.0
+all         2        2         0      0  1.00 (1/1)       9.0
+OUT
+    echo
+    echo "$dir/study:"
+    cat "$dir/expected"
+} >"$dir/expected_each"
+$summary --each "$dir/study2" "$dir/study" >"$dir/out" 2>"$dir/err" || fail "study_summary --each: $(cat "$dir/err")"
+diff "$dir/expected_each" "$dir/out" || fail "unexpected --each summary (above)"
+
 # usage_error STATUS PATTERN ARGS...: one line on stderr matching PATTERN, stdout empty.
 usage_error() {
     pattern=$1
@@ -86,6 +103,8 @@ usage_error() {
     grep -q -e "^study_summary: error: .*$pattern" "$dir/err" || fail "'$pattern' not in: $(cat "$dir/err")"
 }
 usage_error "no trials.csv given; usage: study_summary.py DIR"
+usage_error "no trials.csv given; usage: study_summary.py DIR" --each
+usage_error "missing.csv" --each "$dir/study" "$dir/missing.csv"
 usage_error "the same trials.csv as $dir/study" "$dir/study" "$dir/study/trials.csv"
 usage_error "unknown option --bogus" "$dir/study" --bogus
 status=0
