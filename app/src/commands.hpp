@@ -15,6 +15,7 @@ void registerTrain(CLI::App& cli);     // cmd_train.cpp:    `ladarvr train`
 void registerCorpus(CLI::App& cli);    // cmd_corpus.cpp:   `ladarvr corpus`
 void registerStudy(CLI::App& cli);     // cmd_study.cpp:    `ladarvr study`
 void registerIndex(CLI::App& cli);     // cmd_index.cpp:    `ladarvr index`
+void registerInfo(CLI::App& cli);      // cmd_info.cpp:     `ladarvr info`
 /// cmd_study_report.cpp: `ladarvr study report`, added under `study`; returns it.
 CLI::App* registerStudyReport(CLI::App& study);
 

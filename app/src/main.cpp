@@ -56,6 +56,7 @@ int run(int argc, char** argv) {
     app::registerCorpus(cli);
     app::registerStudy(cli);
     app::registerIndex(cli);
+    app::registerInfo(cli);
     app::applyConventions(cli);  // after every subcommand: the checks reach all options
     // The benchmarks are a program of their own (bench/), built and run from the checkout.
     if (argc > 1 && std::strcmp(argv[1], "bench") == 0) {

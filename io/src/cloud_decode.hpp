@@ -38,6 +38,12 @@ std::unique_ptr<ByteSource> memorySource(std::string_view bytes);
 /// directory, not a regular file" / ...).
 std::unique_ptr<ByteSource> fileSource(const std::filesystem::path& path, const char* module);
 
+/// The reader a file's content calls for: "las", "ply" or "pcd". PLY files start with
+/// "ply", LAS and LAZ with "LASF"; everything else is read as PCD (whose header may start
+/// with any comment), except a file named .las or .laz: the LAS reader says what it lacks
+/// (an empty or cut file is no PCD either).
+const char* moduleOf(ByteSource& source, const std::filesystem::path& name);
+
 /// Whitespace-separated tokens of the text after `begin`, with line numbers (1 = the
 /// first line after `begin`). A token is valid until the next call.
 class TextStream {

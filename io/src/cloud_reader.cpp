@@ -19,12 +19,9 @@ using core::CloudFields;
 using core::CloudPoint;
 using core::PointCloud;
 
-namespace {
+namespace detail {
 
-/// PLY files start with "ply", LAS and LAZ with "LASF"; everything else is read as PCD
-/// (whose header may start with any comment), except a file named .las or .laz: the LAS
-/// reader says what it lacks (an empty or cut file is no PCD either).
-const char* moduleOf(detail::ByteSource& source, const std::filesystem::path& name) {
+const char* moduleOf(ByteSource& source, const std::filesystem::path& name) {
     if (source.size() >= 4 && source.view(0, 4) == "LASF") return "las";
     if (source.size() >= 3 && source.view(0, 3) == "ply") return "ply";
     std::string ext = name.extension().string();
@@ -32,6 +29,10 @@ const char* moduleOf(detail::ByteSource& source, const std::filesystem::path& na
     if (ext == ".las" || ext == ".laz") return "las";
     return "pcd";
 }
+
+}  // namespace detail
+
+namespace {
 
 // The module named in messages about a file that cannot be opened, by its extension.
 const char* moduleFor(const std::filesystem::path& path) {
@@ -52,14 +53,14 @@ std::unique_ptr<detail::FormatReader> open(detail::ByteSource& source, const std
 }  // namespace
 
 CloudReader::CloudReader(const std::filesystem::path& path) : source_(detail::fileSource(path, moduleFor(path))) {
-    const std::string module = moduleOf(*source_, path);
+    const std::string module = detail::moduleOf(*source_, path);
     prefix_ = module + ": " + path.string();
     format_ = open(*source_, module, prefix_);
 }
 
 CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name)
     : source_(detail::memorySource(bytes)) {
-    const std::string module = moduleOf(*source_, name);
+    const std::string module = detail::moduleOf(*source_, name);
     prefix_ = module + ": " + name.string();
     format_ = open(*source_, module, prefix_);
 }

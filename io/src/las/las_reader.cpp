@@ -6,8 +6,11 @@
 // can have. Then LASzip decodes the points from a stream over the ByteSource, a chunk at
 // a time. Coordinates are computed in double and moved onto a double origin (whole metres
 // near the middle of the header's bounds) before the cast to float. Classes map to roles
-// (roleForClass), unless the file has our `label` extra bytes (docs/formats.md).
+// (roleForClass), unless the file has our `label` extra bytes (docs/formats.md). For
+// `ladarvr info` the same reader also records the header's fields and VLRs and counts
+// the raw records (las_facts.hpp).
 #include "cloud_decode.hpp"
+#include "las_facts.hpp"
 
 #include <core/error.hpp>
 
@@ -177,9 +180,10 @@ double extraValue(const unsigned char* bytes, const ExtraField& f) {
 
 class LasReader final : public FormatReader {
   public:
-    LasReader(ByteSource& source, const std::string& prefix)
-        : source_(source), prefix_(prefix), buf_(source), stream_(&buf_) {
+    LasReader(ByteSource& source, const std::string& prefix, LasFacts* facts = nullptr, LasTally* tally = nullptr)
+        : source_(source), prefix_(prefix), buf_(source), stream_(&buf_), facts_(facts), tally_(tally) {
         checkHeader();
+        if (tally_) label_ = ExtraField{};  // counted as it is, not read as our roles
         if (compressed_) {
             try {
                 startDecoder();
@@ -234,6 +238,7 @@ class LasReader final : public FormatReader {
     // The point LASzip decoded, as a CloudPoint in the local frame. Throws Error (a label
     // other than 0..2); counts unknown classes in `stats`.
     CloudPoint convert(const laszip_point_struct& q, std::size_t index) {
+        if (tally_) tallyRecord(q);
         CloudPoint p;
         p.position = glm::vec3(float(double(q.X) * scale_.x + offset_.x - origin.x),
                                float(double(q.Y) * scale_.y + offset_.y - origin.y),
@@ -275,15 +280,30 @@ class LasReader final : public FormatReader {
         return p;
     }
 
+    // Counts one record into tally_, as the file holds it.
+    void tallyRecord(const laszip_point_struct& q) {
+        LasTally& t = *tally_;
+        const std::array<std::int32_t, 3> xyz = {q.X, q.Y, q.Z};
+        for (std::size_t k = 0; k < 3; ++k) {
+            t.xyz_min[k] = t.points == 0 ? xyz[k] : std::min(t.xyz_min[k], xyz[k]);
+            t.xyz_max[k] = t.points == 0 ? xyz[k] : std::max(t.xyz_max[k], xyz[k]);
+            if (fields.rgb) t.rgb_max[k] = std::max(t.rgb_max[k], q.rgb[k]);
+        }
+        ++t.points;
+        ++t.classes[extended_ ? q.extended_classification : q.classification];
+        ++t.returns[(extended_ ? q.extended_return_number : q.return_number) & 15u];
+    }
+
     // Compressed points are decoded in a child process. LASzip trusts the arithmetic-coded
     // data inside a chunk, and a build with assertions aborts on symbols a corrupt file
     // makes (ArithmeticDecoder::decodeSymbol), which no check of sizes and offsets can
     // foresee short of decoding the data; in a child, a fault or an abort of LASzip ends
     // only the child, and the reader reports it as one line. The child (forked with the
     // header already checked, reading the same ByteSource) sends frames over a pipe: one
-    // "open" or error frame, then frames of converted points, or an error.
+    // "open" or error frame, then frames of converted points, or an error; when records
+    // are counted, each frame of points follows a frame of the tally so far.
     struct Frame {
-        char kind = 0;  // 'O' opened, 'P' points, 'E' error message
+        char kind = 0;  // 'O' opened, 'P' points, 'E' error message, 'T' tally
         std::uint32_t bytes = 0;
         std::uint64_t unknown_classes = 0;  // so far, with 'P'
         std::uint32_t first_unknown = 0;
@@ -339,6 +359,7 @@ class LasReader final : public FormatReader {
                     if (laszip_read_point(zip_) != 0) pointFailed(i);
                     batch.push_back(convert(*point_, i));
                 }
+                if (tally_) send(fd, Frame{'T', std::uint32_t(sizeof(LasTally))}, tally_);
                 Frame f{'P', std::uint32_t(batch.size() * sizeof(CloudPoint)), stats.unknown_classes,
                         stats.first_unknown};
                 send(fd, f, batch.data());
@@ -387,6 +408,10 @@ class LasReader final : public FormatReader {
     void receive(std::size_t index) {
         Frame f;
         if (!readAll(&f, sizeof f)) decoderDied(index);
+        if (f.kind == 'T') {
+            if (!tally_ || f.bytes != sizeof(LasTally) || !readAll(tally_, sizeof(LasTally))) decoderDied(index);
+            if (!readAll(&f, sizeof f)) decoderDied(index);
+        }
         if (f.kind == 'O') return;
         if (f.kind == 'E') {
             std::string m(f.bytes, '\0');
@@ -514,6 +539,10 @@ class LasReader final : public FormatReader {
             if (data_at - at - kVlrHeader < length)
                 throw Error(prefix_ + ": VLR " + std::to_string(v) + " runs into the point data");
             const std::string user(vh.data() + 2, strnlen(vh.data() + 2, 16));
+            if (facts_)
+                facts_->vlrs.push_back({user, le<std::uint16_t>(vh, 18),
+                                        std::string(vh.data() + 22, strnlen(vh.data() + 22, 32)), at + kVlrHeader,
+                                        length, false});
             // One extra bytes VLR and one LASzip VLR: the fields of one and the sizes of
             // another would describe different records.
             if (user == "LASF_Spec" && le<std::uint16_t>(vh, 18) == 4) {
@@ -554,6 +583,7 @@ class LasReader final : public FormatReader {
         if (!compressed) checkTrailingBytes(head, minor, data_at + count * record, count, record);
         if (compressed && (laz.compressor == kPointwiseChunked || laz.compressor == kLayeredChunked))
             checkChunks(laz, data_at, count, record);
+        if (facts_) recordFacts(head, format, compressed, record);
         compressed_ = compressed;
         declared = std::size_t(count);
         // LAZ: at least one byte per point is a safe amount to reserve (the real count
@@ -574,6 +604,26 @@ class LasReader final : public FormatReader {
         fields.scan_angle = true;
         fields.incidence = incidence_.present;
         fields.height_above_ground = height_.present;
+    }
+
+    // The header's fields into facts_ (the header checked: `head` holds all of them).
+    void recordFacts(const std::string& head, unsigned format, bool compressed, std::size_t record) {
+        LasFacts& f = *facts_;
+        f.major = std::uint8_t(head[24]);
+        f.minor = std::uint8_t(head[25]);
+        f.point_format = format;
+        f.compressed = compressed;
+        f.record_bytes = record;
+        f.legacy_points = le<std::uint32_t>(head, 107);
+        f.points_64 = f.minor >= 4 ? le<std::uint64_t>(head, 247) : 0;
+        f.system_id.assign(head.data() + 26, strnlen(head.data() + 26, 32));
+        f.software.assign(head.data() + 58, strnlen(head.data() + 58, 32));
+        f.creation_day = le<std::uint16_t>(head, 90);
+        f.creation_year = le<std::uint16_t>(head, 92);
+        f.scale = scale_;
+        f.offset = offset_;
+        f.max = {le<double>(head, 179), le<double>(head, 195), le<double>(head, 211)};
+        f.min = {le<double>(head, 187), le<double>(head, 203), le<double>(head, 219)};
     }
 
     struct LaszipVlr {
@@ -743,11 +793,16 @@ class LasReader final : public FormatReader {
             if (size - at < kEvlrHeader)
                 throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) +
                             " is cut short");
-            const std::uint64_t length = le<std::uint64_t>(std::string(source_.view(at + 20, 8)), 0);
+            const std::string eh(source_.view(at, kEvlrHeader));
+            const std::uint64_t length = le<std::uint64_t>(eh, 20);
             if (length > size - at - kEvlrHeader)
                 throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) + " declares " +
                             std::to_string(length) + " bytes but " + std::to_string(size - at - kEvlrHeader) +
                             " follow it");
+            if (facts_)
+                facts_->vlrs.push_back(
+                    {std::string(eh.data() + 2, strnlen(eh.data() + 2, 16)), le<std::uint16_t>(eh, 18),
+                     std::string(eh.data() + 28, strnlen(eh.data() + 28, 32)), at + kEvlrHeader, length, true});
             at += kEvlrHeader + length;
         }
     }
@@ -799,6 +854,8 @@ class LasReader final : public FormatReader {
     std::string prefix_;
     SourceBuf buf_;
     std::istream stream_;
+    LasFacts* facts_ = nullptr;  // filled when given
+    LasTally* tally_ = nullptr;  // counts the records when given
     laszip_POINTER zip_ = nullptr;
     laszip_point_struct* point_ = nullptr;
     bool open_ = false;
@@ -819,6 +876,11 @@ class LasReader final : public FormatReader {
 
 std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix) {
     return std::make_unique<LasReader>(source, prefix);
+}
+
+std::unique_ptr<FormatReader> openLasCounted(ByteSource& source, const std::string& prefix, LasFacts& facts,
+                                             LasTally& tally) {
+    return std::make_unique<LasReader>(source, prefix, &facts, &tally);
 }
 
 }  // namespace io::detail

@@ -1,0 +1,96 @@
+// io/cloud_info.hpp: what a cloud file holds, as `ladarvr info` reports it (pdal info,
+// lasinfo): for every format the format, point count, bounds and fields; for LAS, LAZ
+// and COPC also the header's version, point format, counts, scale and offset, the CRS
+// and its units (io/las_crs.hpp), the ASPRS classes and return numbers of the points,
+// the extra bytes fields, the colour depth, the point density and the COPC nodes.
+// The whole file is read once, in chunks, through the same checked readers as
+// CloudReader (LAZ decoded in their separate process), so memory stays bounded.
+#pragma once
+#include <io/las_crs.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace io {
+
+/// One field described by a LAS extra bytes VLR (LAS 1.4 R15 §2.5.2.6).
+struct LasExtraField {
+    std::string name;
+    std::string type;  // "uint8", ..., "float64"; "N bytes" for undocumented bytes
+    std::size_t bytes = 0;
+    std::string description;
+};
+
+/// One VLR or EVLR of a LAS file.
+struct LasRecordInfo {
+    std::string user;
+    unsigned record = 0;
+    std::string description;
+    std::uint64_t bytes = 0;  // of its payload
+    bool extended = false;    // an EVLR (after the points)
+};
+
+/// What 16-bit RGB fields hold.
+enum class ColourDepth {
+    None,        // the point format has no RGB
+    Zero,        // every value is 0
+    EightBit,    // every value is <= 255: 8-bit values in 16-bit fields
+    SixteenBit,  // some value is > 255
+};
+
+/// LAS, LAZ and COPC only.
+struct LasInfo {
+    int version_major = 1, version_minor = 0;
+    unsigned point_format = 0;
+    std::size_t record_bytes = 0;
+    bool compressed = false;
+    std::uint64_t legacy_points = 0;         // the header's 32-bit count
+    std::optional<std::uint64_t> points_64;  // LAS 1.4's 64-bit count
+    glm::dvec3 scale{1.0}, offset{0.0};
+    glm::dvec3 points_min{0.0}, points_max{0.0};  // of the points read (empty file: 0)
+    std::string system_id, software;
+    unsigned creation_day = 0, creation_year = 0;
+    std::vector<LasRecordInfo> records;
+    LasCrs crs;                                 // source empty: no CRS (problem says why when a record was there)
+    std::map<unsigned, std::uint64_t> classes;  // ASPRS class -> points
+    std::map<unsigned, std::uint64_t> returns;  // return number -> points
+    std::vector<LasExtraField> extra_fields;
+    ColourDepth colour = ColourDepth::None;
+    std::array<unsigned, 3> rgb_max{};  // the largest red, green, blue value
+    bool copc = false;
+    std::uint64_t copc_nodes = 0;  // COPC: nodes of the hierarchy holding points
+};
+
+struct CloudInfo {
+    std::filesystem::path file;
+    std::uint64_t file_bytes = 0;
+    std::string format;            // "LAS", "LAZ", "COPC", "PCD", "PLY"
+    std::string version;           // "1.2" (LAS), "0.7" (PCD), "1.0" (PLY); empty if not stated
+    std::string encoding;          // PCD and PLY: "ascii", "binary", "binary_compressed", "binary_little_endian", ...
+    std::uint64_t points = 0;      // the records read (non-finite ones included)
+    std::uint64_t non_finite = 0;  // PCD and PLY: points with a non-finite x, y or z
+    /// LAS: the header's bounds; PCD and PLY: those of the finite points (world coordinates).
+    bool has_bounds = false;
+    glm::dvec3 min{0.0}, max{0.0};
+    std::vector<std::string> fields;  // the fields each point has, as the format names them
+    std::optional<LasInfo> las;
+};
+
+/// Reads `file` (PCD, PLY, LAS, LAZ or COPC; the content decides, as CloudReader) and
+/// describes it. Throws core::Error("<context>: <file>: what is wrong"), naming the field
+/// and what is allowed, for a file that cannot be read.
+CloudInfo inspectCloud(const std::filesystem::path& file, const char* context);
+
+/// The ASPRS name of a classification code (LAS 1.4 R15 table 17; for files before LAS
+/// 1.4, classes 8 and 12 as LAS 1.0-1.3 define them): "ground", "building", ...,
+/// "reserved", "user-defined".
+std::string asprsClassName(unsigned code, int las_minor);
+
+}  // namespace io

@@ -1,0 +1,98 @@
+// io/src/cloud_info.cpp: io::inspectCloud: the reader the content calls for (as
+// CloudReader chooses it), the LAS part in las/las_info.cpp, and here the PCD and PLY
+// part: the header's version and encoding, the points' count, bounds and fields.
+#include "cloud_decode.hpp"
+#include "las/las_facts.hpp"
+
+#include <core/error.hpp>
+#include <io/cloud_info.hpp>
+
+#include <glm/common.hpp>
+
+#include <cmath>
+
+namespace io {
+namespace {
+
+constexpr std::size_t kChunkPoints = 1u << 16;
+
+std::vector<std::string> fieldNames(const core::CloudFields& f) {
+    std::vector<std::string> names = {"x", "y", "z"};
+    const auto add = [&](bool on, const char* name) {
+        if (on) names.emplace_back(name);
+    };
+    add(f.rgb, "rgb");
+    add(f.label, "label");
+    add(f.view, "view");
+    add(f.range, "range");
+    add(f.intensity, "intensity");
+    add(f.returns, "returns");
+    add(f.incidence, "incidence");
+    add(f.scan_angle, "scan_angle");
+    add(f.height_above_ground, "height_above_ground");
+    return names;
+}
+
+// The version and encoding the header states (PCD: VERSION and DATA; PLY: format), read
+// once the reader has checked the header.
+void headerWords(detail::ByteSource& source, bool ply, CloudInfo& info) {
+    const std::string head = detail::headerPrefix(source);
+    detail::LineReader lines{head};
+    std::string_view line;
+    while (lines.next(line)) {
+        const std::vector<std::string_view> w = detail::splitWords(line);
+        if (w.empty()) continue;
+        if (ply && w[0] == "format" && w.size() >= 3) {
+            info.encoding = core::printable(w[1], 40);
+            info.version = core::printable(w[2], 20);
+        } else if (!ply && w[0] == "VERSION" && w.size() >= 2) {
+            info.version = core::printable(w[1], 20);
+        } else if (!ply && w[0] == "DATA" && w.size() >= 2) {
+            info.encoding = core::printable(w[1], 40);
+        }
+        if ((ply && w[0] == "end_header") || (!ply && w[0] == "DATA")) break;
+    }
+    if (!ply && info.version.rfind(".", 0) == 0) info.version = "0" + info.version;  // "VERSION .7"
+}
+
+void inspectPointFile(detail::ByteSource& source, const std::string& prefix, bool ply, CloudInfo& info) {
+    const std::unique_ptr<detail::FormatReader> reader =
+        ply ? detail::openPly(source, prefix) : detail::openPcd(source, prefix);
+    info.format = ply ? "PLY" : "PCD";
+    headerWords(source, ply, info);
+    info.fields = fieldNames(reader->fields);
+    std::vector<core::CloudPoint> chunk;
+    chunk.reserve(kChunkPoints);
+    while (reader->next(chunk, kChunkPoints) > 0) {
+        for (const core::CloudPoint& p : chunk) {
+            const glm::dvec3 world = reader->origin + glm::dvec3(p.position);
+            if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z)) {
+                ++info.non_finite;
+                continue;
+            }
+            info.min = info.has_bounds ? glm::min(info.min, world) : world;
+            info.max = info.has_bounds ? glm::max(info.max, world) : world;
+            info.has_bounds = true;
+        }
+        info.points += chunk.size();
+        chunk.clear();
+    }
+}
+
+}  // namespace
+
+CloudInfo inspectCloud(const std::filesystem::path& file, const char* context) {
+    const std::unique_ptr<detail::ByteSource> source = detail::fileSource(file, context);
+    const std::string prefix = std::string(context) + ": " + file.string();
+    CloudInfo info;
+    info.file = file;
+    info.file_bytes = source->size();
+    const std::string module = detail::moduleOf(*source, file);
+    if (module == "las")
+        detail::inspectLas(*source, prefix, file, info);
+    else
+        inspectPointFile(*source, prefix, module == "ply", info);
+    return info;
+}
+
+}  // namespace io

@@ -1,0 +1,153 @@
+#!/bin/sh
+# tests/app/cmd_info_test.sh: `ladarvr info` as a user runs it, on the real surveys of
+# tests/data/real (their README's figures). Usage: cmd_info_test.sh LADARVR_BINARY SCRATCH_DIR DATA_DIR
+#  - the text output: grouped `key: value` lines, one section per file;
+#  - --json: one object for one file, an array for several, parsed here and checked
+#    against the README (counts, classes, CRS and units, colour depth);
+#  - a file with 8-bit colours in its 16-bit RGB fields, written by laspy, reported so;
+#  - a COPC file written by `ladarvr index`: its nodes as `index --check` counts them;
+#  - a truncated file and a VLR longer than the bytes before the points: one line
+#    `ladarvr: error: info: FILE: ...`, exit 1, nothing on stdout; no file: usage, exit 2.
+set -eu
+bin=$1
+dir=$2
+data=$3
+rm -rf "$dir"
+mkdir -p "$dir"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# Text: the figures a reader looks for, aligned after their keys.
+"$bin" info "$data/4_6_crop.las" >"$dir/out" 2>"$dir/err" || fail "info 4_6_crop.las: $(cat "$dir/err")"
+[ -s "$dir/err" ] && fail "info printed on stderr: $(cat "$dir/err")"
+head -1 "$dir/out" | grep -qx "$data/4_6_crop.las" || fail "the section does not start with the file: $(head -1 "$dir/out")"
+for want in '  format:            LAS 1.2' '  point format:      3 (34-byte records)' '  points:            23875' \
+    '  CRS:               EPSG:2903, projected (GeoTIFF keys)' '  horizontal units:  US survey foot (EPSG:9003)' \
+    '  vertical units:    US survey foot (EPSG:9003)' '  colour:            all 0 (the RGB fields hold no colour)' \
+    '      1 unclassified                      14872   62.3 %' '      2 ground                             9003   37.7 %'; do
+    grep -qxF -e "$want" "$dir/out" || fail "no line '$want' in: $(cat "$dir/out")"
+done
+grep -q '^  density:  *0.597 points per square US survey foot (6.43 points/m²) of the XY bounds$' "$dir/out" ||
+    fail "density not in the file's units: $(grep density "$dir/out")"
+
+# Several files: one section each, in order.
+"$bin" info "$data/hexbin-crop.las" "$data/FSite8_orig-utm.laz" "$data/sample_c.las" >"$dir/out" 2>"$dir/err" ||
+    fail "info of three files: $(cat "$dir/err")"
+[ "$(grep -c '^  format:' "$dir/out")" = 3 ] || fail "not three sections: $(cat "$dir/out")"
+grep -q '^  density:  *0.65 points/m² of the XY bounds$' "$dir/out" || fail "hexbin's density in m²"
+grep -q '^  density: .* per square unit of the XY bounds (the file states no units)$' "$dir/out" ||
+    fail "sample_c's density does not say its units are unknown"
+
+# --json, against the README's figures.
+"$bin" info --json "$data/4_6_crop.las" "$data/sample_c.las" "$data/hexbin-crop.las" "$data/warsaw_small.las" \
+    "$data/mvk-thin.las" "$data/FSite8_orig-utm.laz" >"$dir/all.json" 2>"$dir/err" || fail "info --json: $(cat "$dir/err")"
+"$bin" info --json "$data/warsaw_small.las" >"$dir/one.json" || fail "info --json of one file"
+python3 - "$dir/all.json" "$dir/one.json" <<'PY' || fail "the JSON of info --json"
+import json, sys
+files = json.load(open(sys.argv[1]))
+assert isinstance(files, list) and len(files) == 6, "not an array of 6"
+one = json.load(open(sys.argv[2]))
+assert isinstance(one, dict) and one["file"].endswith("warsaw_small.las"), "one file: not one object"
+by = {f["file"].rsplit("/", 1)[1]: f for f in files}
+def classes(f): return {c["class"]: c["points"] for c in f["las"]["classes"]}
+crop = by["4_6_crop.las"]
+assert crop["format"] == "LAS" and crop["version"] == "1.2" and crop["las"]["point_format"] == 3
+assert crop["points"] == 23875 and crop["las"]["legacy_points"] == 23875
+assert classes(crop) == {1: 14872, 2: 9003}, classes(crop)
+crs = crop["las"]["crs"]
+assert crs["epsg"] == 2903 and crs["source"] == "geotiff", crs
+assert crs["horizontal_unit"]["name"] == "US survey foot" and crs["horizontal_unit"]["epsg"] == 9003, crs
+assert abs(crs["horizontal_unit"]["metres"] - 1200 / 3937) < 1e-15, crs
+assert crs["vertical_unit"]["name"] == "US survey foot", crs
+assert crop["las"]["colour"] == "zero"
+d = crop["las"]["density"]
+assert d["unit"] == "US survey foot" and abs(d["points_per_m2"] * (1200 / 3937) ** 2 - d["points_per_unit2"]) < 1e-9, d
+sample = by["sample_c.las"]
+assert sample["points"] == 14408 and sorted(classes(sample)) == [2, 3, 4, 5, 6, 11, 14, 31], classes(sample)
+assert classes(sample)[6] == 12525
+assert sample["las"]["crs"]["source"] is None and sample["las"]["crs"]["horizontal_unit"] is None
+assert sample["las"]["colour"] == "16-bit" and max(sample["las"]["rgb_max"]) > 255
+assert sample["las"]["density"]["unit"] is None and sample["las"]["density"]["points_per_m2"] is None
+hexbin = by["hexbin-crop.las"]
+assert hexbin["points"] == 38367 and classes(hexbin) == {1: 3049, 2: 35318}
+assert hexbin["las"]["crs"]["epsg"] == 32642 and hexbin["las"]["crs"]["name"] == "WGS 84 / UTM zone 42N"
+assert hexbin["las"]["crs"]["horizontal_unit"]["name"] == "metre"
+assert hexbin["las"]["colour"] == "none" and hexbin["las"]["rgb_max"] is None
+warsaw = by["warsaw_small.las"]
+assert warsaw["points"] == 3000 and sorted(classes(warsaw)) == [0, 2, 3, 4, 5]
+assert warsaw["las"]["classes"][0]["name"] == "never classified"
+assert warsaw["las"]["crs"]["source"] is None and "holds no CRS" in warsaw["las"]["crs"]["problem"]
+mvk = by["mvk-thin.las"]
+assert mvk["points"] == 6280 and sorted(classes(mvk)) == [1, 2, 4, 5, 9, 12]
+site = by["FSite8_orig-utm.laz"]
+assert site["format"] == "LAZ" and site["las"]["compressed"] and site["points"] == 345966
+assert classes(site) == {0: 345966}
+assert site["las"]["crs"]["epsg"] == 32632 and site["las"]["crs"]["horizontal_unit"]["name"] == "metre"
+for f in files:
+    assert len(f["bounds"]["min"]) == 3 and all(a <= b for a, b in zip(f["bounds"]["min"], f["bounds"]["max"]))
+    assert not f["las"]["copc"] and f["las"]["copc_nodes"] is None
+PY
+
+# 8-bit colours in 16-bit fields, as some producers write them (laspy writes the file).
+python3 - "$dir/eight.las" <<'PY' || fail "laspy could not write the 8-bit colour file"
+import sys
+import laspy
+import numpy as np
+las = laspy.create(point_format=3, file_version="1.2")
+n = 1000
+las.x = np.arange(n) * 0.1
+las.y = np.arange(n) % 37 * 0.5
+las.z = np.zeros(n)
+las.red = np.arange(n) % 256
+las.green = (np.arange(n) * 3) % 200
+las.blue = np.full(n, 17)
+las.classification = np.full(n, 2)
+las.write(sys.argv[1])
+PY
+"$bin" info "$dir/eight.las" >"$dir/out" 2>"$dir/err" || fail "info eight.las: $(cat "$dir/err")"
+grep -qxF '  colour:            8-bit values in 16-bit fields (every value <= 255)' "$dir/out" ||
+    fail "8-bit colours not reported: $(grep colour "$dir/out")"
+grep -qxF '  largest RGB:       255 199 17' "$dir/out" || fail "largest RGB: $(grep 'largest RGB' "$dir/out")"
+"$bin" info --json "$dir/eight.las" | python3 -c '
+import json, sys
+f = json.load(sys.stdin)
+assert f["las"]["colour"] == "8-bit" and f["points"] == 1000, f["las"]["colour"]' || fail "8-bit colours in --json"
+
+# COPC: the nodes `index --check` counts.
+"$bin" index "$data/hexbin-crop.las" --out "$dir/hexbin.copc.laz" --node-points 5000 >/dev/null 2>"$dir/err" ||
+    fail "index: $(cat "$dir/err")"
+nodes=$("$bin" index --check "$dir/hexbin.copc.laz" | sed -n 's/.*valid COPC (\([0-9]*\) nodes with points.*/\1/p')
+[ -n "$nodes" ] && [ "$nodes" -gt 1 ] || fail "index --check gave no node count"
+"$bin" info "$dir/hexbin.copc.laz" >"$dir/out" 2>"$dir/err" || fail "info of the COPC file: $(cat "$dir/err")"
+grep -qxF "  COPC:              yes, $nodes nodes with points" "$dir/out" || fail "COPC nodes: $(grep COPC "$dir/out")"
+grep -qxF '  format:            COPC 1.4' "$dir/out" || fail "COPC format: $(grep format: "$dir/out")"
+grep -qxF '  points:            38367' "$dir/out" || fail "COPC points: $(grep points: "$dir/out")"
+
+# Bad input: one line, exit 1, nothing on stdout.
+refused() {
+    file=$1
+    want=$2
+    status=0
+    "$bin" info "$data/sample_c.las" "$file" >"$dir/out" 2>"$dir/err" || status=$?
+    [ "$status" = 1 ] || fail "info $file: exit $status, expected 1"
+    [ -s "$dir/out" ] && fail "info $file printed on stdout: $(head -3 "$dir/out")"
+    [ "$(wc -l <"$dir/err")" = 1 ] || fail "info $file: not one line: $(cat "$dir/err")"
+    grep -qxF -e "$want" "$dir/err" || fail "info $file said '$(cat "$dir/err")', expected '$want'"
+}
+head -c 300000 "$data/4_6_crop.las" >"$dir/cut.las"
+refused "$dir/cut.las" "ladarvr: error: info: $dir/cut.las: truncated: the header says 23875 points of 34 bytes but only 299540 bytes of point data follow"
+python3 - "$data/4_6_crop.las" "$dir/long_vlr.las" <<'PY'
+import struct, sys
+b = bytearray(open(sys.argv[1], "rb").read())
+first = struct.unpack_from("<H", b, 94)[0]
+second = first + 54 + struct.unpack_from("<H", b, first + 20)[0]
+struct.pack_into("<H", b, second + 20, 60000)  # VLR 1 claims 60000 bytes
+open(sys.argv[2], "wb").write(b)
+PY
+refused "$dir/long_vlr.las" "ladarvr: error: info: $dir/long_vlr.las: VLR 1 runs into the point data"
+refused "$dir/absent.las" "ladarvr: error: info: $dir/absent.las: file does not exist"
+status=0
+"$bin" info >"$dir/out" 2>"$dir/err" || status=$?
+[ "$status" = 2 ] || fail "info without a file: exit $status, expected 2"
+grep -q "^ladarvr: error: info: files is required (see 'ladarvr info --help')$" "$dir/err" ||
+    fail "info without a file said: $(cat "$dir/err")"
+echo "cmd_info: ok"
