@@ -201,163 +201,189 @@ SensorView Sensor::view(int index, const core::Pose& nominal) const {
     return SensorView{index, nominal, sensor_model::actualPose(state_->o, state_->seed, index, nominal)};
 }
 
+namespace {
+
+// The ideal sensor over one chunk of pixels (paper §III-B): one ray per pixel centre from
+// the pose, its first hit, into the pixel's one slot.
+void traceIdeal(const Sensor::State& s, const RayCaster& caster, const SensorView& v, std::span<const glm::dvec3> dirs,
+                std::span<core::CloudPoint> slots, bool packets, Scratch& sc) {
+    const std::size_t pixels = dirs.size();
+    const glm::vec3 origin(v.actual.translation);
+    growTo(sc.rays, pixels);
+    growTo(sc.hits, pixels);
+    const std::span<Ray> rays(sc.rays.data(), pixels);
+    const std::span<Hit> hits(sc.hits.data(), pixels);
+    for (std::size_t i = 0; i < pixels; ++i) rays[i] = Ray{origin, glm::vec3(v.actual.rotation * dirs[i]), s.t_far};
+    if (packets)
+        caster.intersect16(rays, hits);
+    else
+        caster.intersect(rays, hits);
+    const glm::dvec3 origin_d(origin);
+    for (std::size_t i = 0; i < pixels; ++i) {
+        core::CloudPoint& cp = slots[i];
+        const Hit& h = hits[i];
+        if (!h.hit()) {
+            cp.range_m = kNoReturn;
+            continue;
+        }
+        cp.position = glm::vec3(origin_d + double(h.t) * glm::dvec3(rays[i].direction));
+        cp.range_m = h.t;
+        cp.view = std::uint16_t(v.view);
+        cp.label = h.role;
+        cp.rgb = 0;
+    }
+}
+
+// Every other model, over one chunk of pixels from `first_pixel`: the beam's sub-rays
+// from the pose actually flown, those of beams on one plane (adaptive) replaced by their
+// axis (sc.planar, sc.axis_rays, sc.axis_hits), traced one beam after the other (16-ray
+// packets across beams) into sc.rays, sc.hits and their directions sc.dirs, beam i's
+// from sc.first[i].
+void castSubRays(const Sensor::State& s, const RayCaster& caster, const SensorView& v, std::uint64_t first_pixel,
+                 std::span<const glm::dvec3> dirs, bool packets, Scratch& sc) {
+    const std::size_t per = s.pattern.size(), pixels = dirs.size();
+    const bool adaptive = per > 1 && !s.o.footprint_exact;
+    sc.planar.assign(pixels, 0);
+    growTo(sc.axis_rays, pixels);
+    growTo(sc.axis_hits, pixels);
+    if (adaptive) {
+        const std::uint64_t xres = std::uint64_t(s.orbit.xres);
+        sensor_model::markPlanar(sensor_model::AxisSource{s.id, &s.orbit, s.t_far, s.axis_direction}, caster, v,
+                                 std::int64_t(first_pixel / xres), std::int64_t(first_pixel % xres), pixels, packets,
+                                 sc.planar, sc.axis_rays, sc.axis_hits);
+    }
+    std::size_t traced = 0;
+    growTo(sc.first, pixels);
+    for (std::size_t i = 0; i < pixels; ++i) {
+        sc.first[i] = traced;
+        traced += sc.planar[i] ? 0 : per;
+    }
+    growTo(sc.rays, traced);
+    growTo(sc.hits, traced);
+    growTo(sc.dirs, traced);
+    // (Locals, not members: the stores below could alias them and force reloads.)
+    Ray* const sub_rays = sc.rays.data();
+    glm::dvec3* const sub_dirs = sc.dirs.data();
+    const glm::dvec2* const tans = s.tans.data();
+    const glm::dmat3 rotation = v.actual.rotation;
+    const glm::vec3 origin(v.actual.translation);
+    const float t_far = s.t_far;
+    for (std::size_t i = 0; i < pixels; ++i) {
+        if (sc.planar[i]) continue;
+        const BeamFrame frame = per == 1 ? BeamFrame{dirs[i], {}, {}} : beamFrame(dirs[i]);
+        for (std::size_t k = 0, j = sc.first[i]; k < per; ++k, ++j) {
+            const glm::dvec3 d = subRayDirection(frame, tans[k].x, tans[k].y);
+            sub_dirs[j] = d;
+            Ray& ray = sub_rays[j];
+            ray.origin = origin;
+            ray.direction = glm::vec3(rotation * d);
+            ray.t_far = t_far;
+        }
+    }
+    const std::span<const Ray> sub_ray_span(sc.rays.data(), traced);
+    const std::span<Hit> sub_hit_span(sc.hits.data(), traced);
+    if (packets)
+        caster.intersect16(sub_ray_span, sub_hit_span);
+    else
+        caster.intersect(sub_ray_span, sub_hit_span);
+}
+
+// The echoes castSubRays traced for one chunk of pixels from `first_pixel`, turned into
+// returns (sensor_returns.cpp) and placed with the pose the drone believes it flew, into
+// each pixel's slots; a slot without a return gets range_m = kNoReturn. `same_pose`:
+// without a pose error the rays' own directions place the points.
+void placeReturns(const Sensor::State& s, const SensorView& v, std::uint64_t first_pixel,
+                  std::span<const glm::dvec3> dirs, std::span<core::CloudPoint> slots, bool same_pose, Scratch& sc) {
+    const std::size_t per = s.pattern.size(), pixels = dirs.size();
+    const bool noisy = s.o.range_noise_m > 0.0;
+    const glm::dvec3 origin_n(glm::vec3(v.nominal.translation));
+    sensor_model::Return out[kMaxReturns];
+    growTo(sc.echoes, per);
+    growTo(sc.cos_incidence, per);
+    sensor_model::Echo* const echoes = sc.echoes.data();
+    double* const cos_incidence = sc.cos_incidence.data();
+    const SubRay* const pattern = s.pattern.data();
+    const double* const reflectance = s.reflectance.data();
+    const double reference_range_m = s.o.intensity_reference_range_m;
+    const bool intensity = s.intensity;
+    for (std::size_t i = 0; i < pixels; ++i) {
+        const bool planar = sc.planar[i];
+        const std::size_t used = planar ? 1 : per;  // a planar beam: its axis, all its power
+        const Ray* rays = planar ? &sc.axis_rays[i] : sc.rays.data() + sc.first[i];
+        const Hit* hits = planar ? &sc.axis_hits[i] : sc.hits.data() + sc.first[i];
+        const glm::dvec3* ds = planar ? &dirs[i] : sc.dirs.data() + sc.first[i];
+        std::size_t echo_count = 0;
+        for (std::size_t k = 0; k < used; ++k) {
+            const Hit& h = hits[k];
+            if (!h.hit()) continue;
+            double power = planar ? 1.0 : pattern[k].weight;
+            if (intensity) {
+                const double c = sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
+                cos_incidence[k] = c;
+                power *= sensor_model::echoPower(reflectance[std::size_t(h.mesh)], c, double(h.t), reference_range_m);
+            }
+            echoes[echo_count++] = sensor_model::Echo{h.t, power, std::uint32_t(k)};
+        }
+        int detected = 0, first_rank = 1;
+        const std::size_t n =
+            sensor_model::formReturns(std::span(echoes, echo_count), s.resolution_m, s.min_power, s.o.returns,
+                                      s.o.max_returns, std::span(out, s.slots), &detected, &first_rank);
+        core::CloudPoint* px = &slots[i * s.slots];
+        const std::uint64_t pixel = first_pixel + i;
+        for (std::size_t r = 0; r < n; ++r) {
+            const sensor_model::Echo& e = echoes[out[r].strongest];
+            const std::size_t k = e.sub;
+            const Hit& h = hits[k];
+            const glm::dvec3& d = ds[k];
+            const int rank = std::min(kMaxReturns, first_rank + int(r));
+            const double t =
+                noisy ? std::max(0.0, double(e.t) + sensor_model::rangeError_m(s.o, s.seed, v.view, pixel, rank))
+                      : double(e.t);
+            const glm::dvec3 dir_n =
+                same_pose ? glm::dvec3(rays[k].direction) : glm::dvec3(glm::vec3(v.nominal.rotation * d));
+            const double cos_i = s.intensity
+                                     ? cos_incidence[k]
+                                     : sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
+            core::CloudPoint& cp = px[r];
+            cp.position = glm::vec3(origin_n + t * dir_n);
+            cp.range_m = float(t);
+            cp.view = std::uint16_t(v.view);
+            cp.label = h.role;
+            cp.rgb = 0;
+            cp.intensity = s.intensity ? sensor_model::intensityCounts(out[r].power) : 0;
+            cp.incidence_deg = float(std::acos(cos_i) * kRadToDeg);
+            // Sub-ray 0 is the axis (of the caller's pixelDirection, which the table holds).
+            cp.scan_angle_deg =
+                k == 0 && !s.axis_scan_angle_deg.empty() ? s.axis_scan_angle_deg[pixel] : scanAngle_deg(d);
+            cp.return_number = std::uint8_t(rank);
+            cp.returns = std::uint8_t(std::clamp(detected, rank, kMaxReturns));
+        }
+        for (std::size_t r = n; r < s.slots; ++r) px[r].range_m = kNoReturn;
+    }
+}
+
+}  // namespace
+
 void Sensor::trace(const RayCaster& caster, const SensorView& v, std::uint64_t first_pixel,
                    std::span<const glm::dvec3> dirs, std::span<core::CloudPoint> slots, bool packets) const {
     const State& s = *state_;
     const std::size_t per = s.pattern.size();
-    const glm::vec3 origin(v.actual.translation);
     Scratch& sc = t_scratch;
     // Chunks of whole pixels; with one ray per pixel a multiple of 16, so that packets start
     // at the same pixels however the caller splits its runs into chunks.
     const std::size_t chunk_pixels = per == 1 ? kChunkRays : std::max<std::size_t>(1, kChunkRays / per);
-    const bool noisy = s.o.range_noise_m > 0.0;
     // Without a pose error the rays' own directions place the points.
     const bool same_pose = std::memcmp(&v.nominal.rotation, &v.actual.rotation, sizeof v.actual.rotation) == 0;
     for (std::size_t c0 = 0; c0 < dirs.size(); c0 += chunk_pixels) {
         const std::size_t pixels = std::min(chunk_pixels, dirs.size() - c0);
-
+        const std::span<const glm::dvec3> chunk_dirs = dirs.subspan(c0, pixels);
+        const std::span<core::CloudPoint> chunk_slots = slots.subspan(c0 * s.slots, pixels * s.slots);
         if (s.ideal) {
-            growTo(sc.rays, pixels);
-            growTo(sc.hits, pixels);
-            const std::span<Ray> rays(sc.rays.data(), pixels);
-            const std::span<Hit> hits(sc.hits.data(), pixels);
-            // Paper §III-B: one ray per pixel centre from the pose, its first hit.
-            for (std::size_t i = 0; i < pixels; ++i)
-                rays[i] = Ray{origin, glm::vec3(v.actual.rotation * dirs[c0 + i]), s.t_far};
-            if (packets)
-                caster.intersect16(rays, hits);
-            else
-                caster.intersect(rays, hits);
-            const glm::dvec3 origin_d(origin);
-            for (std::size_t i = 0; i < pixels; ++i) {
-                core::CloudPoint& cp = slots[c0 + i];
-                const Hit& h = hits[i];
-                if (!h.hit()) {
-                    cp.range_m = kNoReturn;
-                    continue;
-                }
-                cp.position = glm::vec3(origin_d + double(h.t) * glm::dvec3(rays[i].direction));
-                cp.range_m = h.t;
-                cp.view = std::uint16_t(v.view);
-                cp.label = h.role;
-                cp.rgb = 0;
-            }
+            traceIdeal(s, caster, v, chunk_dirs, chunk_slots, packets, sc);
             continue;
         }
-
-        // Every other model: the beam's sub-rays from the pose actually flown, those of beams
-        // on one plane (adaptive) replaced by their axis ...
-        const bool adaptive = per > 1 && !s.o.footprint_exact;
-        sc.planar.assign(pixels, 0);
-        growTo(sc.axis_rays, pixels);
-        growTo(sc.axis_hits, pixels);
-        if (adaptive) {
-            const std::uint64_t p0 = first_pixel + c0;
-            const std::uint64_t xres = std::uint64_t(s.orbit.xres);
-            sensor_model::markPlanar(sensor_model::AxisSource{s.id, &s.orbit, s.t_far, s.axis_direction}, caster, v,
-                                     std::int64_t(p0 / xres), std::int64_t(p0 % xres), pixels, packets, sc.planar,
-                                     sc.axis_rays, sc.axis_hits);
-        }
-        std::size_t traced = 0;
-        growTo(sc.first, pixels);
-        for (std::size_t i = 0; i < pixels; ++i) {
-            sc.first[i] = traced;
-            traced += sc.planar[i] ? 0 : per;
-        }
-        growTo(sc.rays, traced);
-        growTo(sc.hits, traced);
-        growTo(sc.dirs, traced);
-        // (Locals, not members: the stores below could alias them and force reloads.)
-        Ray* const sub_rays = sc.rays.data();
-        glm::dvec3* const sub_dirs = sc.dirs.data();
-        const glm::dvec2* const tans = s.tans.data();
-        const glm::dmat3 rotation = v.actual.rotation;
-        const float t_far = s.t_far;
-        for (std::size_t i = 0; i < pixels; ++i) {
-            if (sc.planar[i]) continue;
-            const BeamFrame frame = per == 1 ? BeamFrame{dirs[c0 + i], {}, {}} : beamFrame(dirs[c0 + i]);
-            for (std::size_t k = 0, j = sc.first[i]; k < per; ++k, ++j) {
-                const glm::dvec3 d = subRayDirection(frame, tans[k].x, tans[k].y);
-                sub_dirs[j] = d;
-                Ray& ray = sub_rays[j];
-                ray.origin = origin;
-                ray.direction = glm::vec3(rotation * d);
-                ray.t_far = t_far;
-            }
-        }
-        // ... traced one beam after the other (16-ray packets across beams) ...
-        const std::span<const Ray> sub_ray_span(sc.rays.data(), traced);
-        const std::span<Hit> sub_hit_span(sc.hits.data(), traced);
-        if (packets)
-            caster.intersect16(sub_ray_span, sub_hit_span);
-        else
-            caster.intersect(sub_ray_span, sub_hit_span);
-        // ... and the returns placed with the pose the drone believes it flew.
-        const glm::dvec3 origin_n(glm::vec3(v.nominal.translation));
-        sensor_model::Return out[kMaxReturns];
-        growTo(sc.echoes, per);
-        growTo(sc.cos_incidence, per);
-        sensor_model::Echo* const echoes = sc.echoes.data();
-        double* const cos_incidence = sc.cos_incidence.data();
-        const SubRay* const pattern = s.pattern.data();
-        const double* const reflectance = s.reflectance.data();
-        const double reference_range_m = s.o.intensity_reference_range_m;
-        const bool intensity = s.intensity;
-        for (std::size_t i = 0; i < pixels; ++i) {
-            const bool planar = sc.planar[i];
-            const std::size_t used = planar ? 1 : per;  // a planar beam: its axis, all its power
-            const Ray* rays = planar ? &sc.axis_rays[i] : sc.rays.data() + sc.first[i];
-            const Hit* hits = planar ? &sc.axis_hits[i] : sc.hits.data() + sc.first[i];
-            const glm::dvec3* ds = planar ? &dirs[c0 + i] : sc.dirs.data() + sc.first[i];
-            std::size_t echo_count = 0;
-            for (std::size_t k = 0; k < used; ++k) {
-                const Hit& h = hits[k];
-                if (!h.hit()) continue;
-                double power = planar ? 1.0 : pattern[k].weight;
-                if (intensity) {
-                    const double c = sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
-                    cos_incidence[k] = c;
-                    power *=
-                        sensor_model::echoPower(reflectance[std::size_t(h.mesh)], c, double(h.t), reference_range_m);
-                }
-                echoes[echo_count++] = sensor_model::Echo{h.t, power, std::uint32_t(k)};
-            }
-            int detected = 0, first_rank = 1;
-            const std::size_t n =
-                sensor_model::formReturns(std::span(echoes, echo_count), s.resolution_m, s.min_power, s.o.returns,
-                                          s.o.max_returns, std::span(out, s.slots), &detected, &first_rank);
-            core::CloudPoint* px = &slots[(c0 + i) * s.slots];
-            const std::uint64_t pixel = first_pixel + c0 + i;
-            for (std::size_t r = 0; r < n; ++r) {
-                const sensor_model::Echo& e = echoes[out[r].strongest];
-                const std::size_t k = e.sub;
-                const Hit& h = hits[k];
-                const glm::dvec3& d = ds[k];
-                const int rank = std::min(kMaxReturns, first_rank + int(r));
-                const double t =
-                    noisy ? std::max(0.0, double(e.t) + sensor_model::rangeError_m(s.o, s.seed, v.view, pixel, rank))
-                          : double(e.t);
-                const glm::dvec3 dir_n =
-                    same_pose ? glm::dvec3(rays[k].direction) : glm::dvec3(glm::vec3(v.nominal.rotation * d));
-                const double cos_i =
-                    s.intensity ? cos_incidence[k]
-                                : sensor_model::cosIncidence(glm::dvec3(rays[k].direction), glm::dvec3(h.normal));
-                core::CloudPoint& cp = px[r];
-                cp.position = glm::vec3(origin_n + t * dir_n);
-                cp.range_m = float(t);
-                cp.view = std::uint16_t(v.view);
-                cp.label = h.role;
-                cp.rgb = 0;
-                cp.intensity = s.intensity ? sensor_model::intensityCounts(out[r].power) : 0;
-                cp.incidence_deg = float(std::acos(cos_i) * kRadToDeg);
-                // Sub-ray 0 is the axis (of the caller's pixelDirection, which the table holds).
-                cp.scan_angle_deg =
-                    k == 0 && !s.axis_scan_angle_deg.empty() ? s.axis_scan_angle_deg[pixel] : scanAngle_deg(d);
-                cp.return_number = std::uint8_t(rank);
-                cp.returns = std::uint8_t(std::clamp(detected, rank, kMaxReturns));
-            }
-            for (std::size_t r = n; r < s.slots; ++r) px[r].range_m = kNoReturn;
-        }
+        castSubRays(s, caster, v, first_pixel + c0, chunk_dirs, packets, sc);
+        placeReturns(s, v, first_pixel + c0, chunk_dirs, chunk_slots, same_pose, sc);
     }
 }
 
