@@ -1,14 +1,15 @@
 // sim/generator.cpp: paper §III-B (one ray per pixel, NoV views on the circular orbit,
 // fusion of all views) and §III-C (ground whitening per view, jet colouring by height).
 //
-// Data flow (see docs/generator.md): views are processed in batches. For a batch, the
-// rays of every (view, block of pixels) task are traced in parallel into per-pixel
-// slots; each view's hits are compacted in pixel order, whitened by the iterative RANSAC
-// (per view, in parallel, seeded per view) and appended in view order to the fused
-// cloud, which lives in memory or, for big runs, in the output itself (binary PCD and
-// PLY, whose records can be rewritten) or a spool file next to it. Colouring needs the z
-// range of the whole fused cloud, so it is a last pass that reads the fused points back
-// and rewrites them in the output, or streams them into the io::CloudWriter.
+// Data flow (see docs/generator.md): views are processed in batches (FusePipeline,
+// fuse.cpp, with this file's castBlock casting). For a batch, the rays of every (view,
+// block of pixels) task are traced in parallel into per-pixel slots; each view's hits
+// are compacted in pixel order, whitened by the iterative RANSAC (per view, in parallel,
+// seeded per view) and appended in view order to the fused cloud, which lives in memory
+// or, for big runs, in the output itself (binary PCD and PLY, whose records can be
+// rewritten) or a spool file next to it (StreamedWrite). Colouring needs the z range of
+// the whole fused cloud, so it is a last pass that reads the fused points back and
+// rewrites them in the output, or streams them into the io::CloudWriter.
 //
 // Memory (GenerateOptions::memory_budget_bytes, --memory-mb): before the BVH is built a
 // MemoryPlan sizes the buffers against the budget: fewer views per batch first, then a
@@ -16,6 +17,7 @@
 // then is refused. Batches, bands and threads change no output bit.
 #include <sim/generator.hpp>
 
+#include "fuse.hpp"
 #include "memory_plan.hpp"
 #include "parallel.hpp"
 #include "terrain_stage.hpp"
@@ -27,14 +29,13 @@
 #include <io/copc_writer.hpp>
 #include <io/point_packing.hpp>
 #include <platform/progress.hpp>
-#include <platform/safe_file.hpp>
+#include <platform/scratch_file.hpp>
 #include <sim/sensor.hpp>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <future>
@@ -43,7 +44,6 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <unistd.h>
 
 namespace sim {
 namespace {
@@ -51,32 +51,25 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-constexpr std::size_t kBlockRays = 4096;        // rays per task: one slot range per task
 constexpr std::size_t kBatchRays = 1u << 19;    // rays per batch of views (memory bound)
 constexpr std::size_t kColourChunk = 1u << 20;  // points per colour/write chunk
 
 std::string mebibytes(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20); }
 
-// The fused cloud on disk, in an anonymous file in the output's folder
-// (platform::openScratchFile), so nothing of it outlives the process. Each point is packed
-// (io::PointPacking) with the fields the run writes but its colour, and its position,
-// view, label and returns: what the stages after the fusion read (ground classification,
-// the kept shares) and what the writer writes. A fused point's colour is white (ground,
-// or --white) or not yet made (0): where the run writes colours, one byte says which.
-// 22 bytes for the ideal sensor's cloud instead of a CloudPoint's 40. `path_` (the
-// output) names it in messages.
+// The fused cloud on disk, in a platform::ScratchFile in the output's folder, so nothing
+// of it outlives the process. Each point is packed (io::PointPacking) with the fields the
+// run writes but its colour, and its position, view, label and returns: what the stages
+// after the fusion read (ground classification, the kept shares) and what the writer
+// writes. A fused point's colour is white (ground, or --white) or not yet made (0): where
+// the run writes colours, one byte says which. 22 bytes for the ideal sensor's cloud
+// instead of a CloudPoint's 40. `path_` (the output) names it in messages.
 class Spool {
   public:
     Spool(std::filesystem::path path, const core::CloudFields& fields)
-        : path_(std::move(path)), packing_(withoutColour(fields)), white_flag_(fields.rgb) {
-        const std::filesystem::path dir = path_.parent_path();
-        file_ = platform::openScratchFile(dir.empty() ? "." : dir, path_.string());
-    }
-    ~Spool() {
-        if (file_) std::fclose(file_);
-    }
-    Spool(const Spool&) = delete;
-    Spool& operator=(const Spool&) = delete;
+        : path_(std::move(path)),
+          packing_(withoutColour(fields)),
+          white_flag_(fields.rgb),
+          file_(path_.parent_path().empty() ? std::filesystem::path(".") : path_.parent_path(), path_.string()) {}
 
     /// Bytes a point takes in the spool.
     std::size_t recordBytes() const { return packing_.size() + (white_flag_ ? 1 : 0); }
@@ -110,14 +103,13 @@ class Spool {
     /// Appends `n` points pack() packed.
     void appendPacked(const unsigned char* records, std::size_t n) {
         const std::size_t size = recordBytes();
-        if (n > 0 && std::fwrite(records, size, n, file_) != n)
+        if (const int e = file_.tryAppend(records, n * size); e != 0)
             throw core::Error("output: " + path_.string() + ": cannot write the spool file after " +
-                              mebibytes(count_ * size) + " MiB: " + std::strerror(errno));
+                              mebibytes(count_ * size) + " MiB: " + std::strerror(e));
         count_ += n;
     }
     void rewind() {
-        if (std::fflush(file_) != 0 || std::fseek(file_, 0, SEEK_SET) != 0)
-            throw core::Error("output: " + path_.string() + ": cannot rewind spool file");
+        if (file_.tryRewind() != 0) throw core::Error("output: " + path_.string() + ": cannot rewind spool file");
     }
     /// Reads up to out.size() points; returns how many.
     std::size_t read(std::span<core::CloudPoint> out) {
@@ -136,10 +128,7 @@ class Spool {
     /// Frees the whole pages before the read position, read for the last time: their bytes
     /// need not reach the disk, and their memory serves the output being written. Where the
     /// file system cannot punch holes the bytes stay, which costs only time.
-    void discardRead() {
-        const off_t at = ::ftello(file_);
-        discarded_ = platform::freeScratchBefore(file_, discarded_, at < 0 ? 0 : std::uint64_t(at));
-    }
+    void discardRead() { file_.discardRead(); }
 
   private:
     static constexpr std::size_t kBlock = 4096;  // points packed or unpacked at once
@@ -156,7 +145,7 @@ class Spool {
         while (done < out.size()) {
             const std::size_t want = std::min(out.size() - done, kBlock);
             bytes_.resize(want * size);
-            const std::size_t n = std::fread(bytes_.data(), size, want, file_);
+            const std::size_t n = file_.readUpTo(bytes_.data(), want * size) / size;
             for (std::size_t i = 0; i < n; ++i) unpack(bytes_.data() + i * size, out[done + i]);
             done += n;
             if (n < want) break;
@@ -168,9 +157,8 @@ class Spool {
     io::PointPacking packing_;
     bool white_flag_;  // a byte after each packed point: 1 white, 0 not yet coloured
     std::vector<unsigned char> bytes_;
-    std::FILE* file_ = nullptr;
+    platform::ScratchFile file_;
     std::size_t count_ = 0;
-    std::uint64_t discarded_ = 0;
 };
 
 // Pixels of one view that are traced: columns [x0, x1] x rows [y0, y1] (inclusive).
@@ -303,18 +291,9 @@ struct Generator::State {
         return true;
     }
 
-    // A band of rows being traced: pixel i (row-major in the view) has its sensor-frame
-    // direction in dirs[i - first] and its slots_per_pixel return slots from
-    // slots[(i - first) * slots_per_pixel].
-    struct Band {
-        const glm::dvec3* dirs;
-        core::CloudPoint* slots;
-        std::size_t first;
-    };
-
     // Pixels [begin, end) of `view` (row-major) into their slots: those outside the
     // view's traced rectangle are misses without a ray, the others are cast by row runs.
-    void castBlock(int view, std::size_t begin, std::size_t end, const Band& band) const {
+    void castBlock(int view, std::size_t begin, std::size_t end, const FuseBand& band) const {
         const PixelRect& r = traced[std::size_t(view)];
         const std::size_t xres = std::size_t(options.orbit.xres), yres = std::size_t(options.orbit.yres);
         std::size_t i = begin;
@@ -344,19 +323,8 @@ struct Generator::State {
     }
 
     // Runs every view and hands the fused points, in (view, row, column) order, to
-    // `emit`. Points of PG (or all points with --white) carry rgb = kWhite, the others 0.
-    // `emit_bytes`: what the points handed on take beside the plan (the fused cloud when
-    // it stays in memory); where the budget leaves room for a second batch of hits, a
-    // batch is whitened and handed on while the next one is traced. `emit` gets a view's
-    // points and, where `packing` let the workers pack them, their records (else none).
-    using Emit = std::function<void(std::span<const core::CloudPoint>, std::span<const unsigned char>)>;
-    // How a worker may pack a view's points for `emit`: the bytes a point takes, and the
-    // packing (called on several threads at once).
-    struct FusePacking {
-        std::size_t bytes_per_point = 0;
-        std::function<void(std::span<const core::CloudPoint>, unsigned char*)> pack;
-    };
-    void fuseViews(const Emit& emit, Workers& pool, GenerateStats& st, std::uint64_t emit_bytes,
+    // `emit` (FusePipeline, with castBlock casting).
+    void fuseViews(const FuseEmit& emit, Workers& pool, GenerateStats& st, std::uint64_t emit_bytes,
                    const FusePacking* packing = nullptr) const;
 
     // Counts the target and environment points more than kAboveTerrain_m above the true
@@ -405,267 +373,23 @@ struct Generator::State {
     }
 };
 
-void Generator::State::fuseViews(const Emit& emit, Workers& pool, GenerateStats& st, std::uint64_t emit_bytes,
+void Generator::State::fuseViews(const FuseEmit& emit, Workers& pool, GenerateStats& st, std::uint64_t emit_bytes,
                                  const FusePacking* packing) const {
-    const OrbitOptions& orbit = options.orbit;
-    const std::size_t xres = std::size_t(orbit.xres), yres = std::size_t(orbit.yres);
-    const std::size_t npix = xres * yres;
-    const std::size_t views = std::size_t(orbit.views);
-    const std::size_t batch_views = plan.batch_views, band_rows = plan.band_rows;
-    const std::size_t band_pixels = band_rows * xres;
-    // A tiled view is alone in its batch (the plan tiles only then); white, it needs no
-    // RANSAC, so its hits are handed on band by band instead of waiting for the whole view.
-    const bool emit_per_band = options.white && band_rows < yres;
-    // Pipelined when the budget holds a second batch of hits and there is a second core:
-    // a batch is whitened by the workers among the next batch's casting tasks, then handed
-    // on (packed and spooled when streamed) by a thread of its own while the batch after
-    // is cast. Otherwise each batch is whitened, then handed on, before the next is cast.
-    const std::uint64_t second_batch = std::uint64_t(batch_views) * plan.view_hits * sizeof(core::CloudPoint);
-    const bool pipelined = !emit_per_band && plan.threads >= 2 &&
-                           plan.fuse_bytes + emit_bytes + second_batch <= options.memory_budget_bytes;
-    st.pipelined = pipelined;
-    std::vector<glm::dvec3> dirs(band_pixels);  // sensor frame, unit, rows [dirs_row, + band_rows)
-    std::size_t dirs_row = yres;
-    std::vector<core::CloudPoint> slots(batch_views * band_pixels * slots_per_pixel);
-    // A batch's hits from compaction until they are handed on: two while pipelined.
-    // What fusing counts of a view's points: its z range and its ground, true and found.
-    struct Tally {
-        float z_min = std::numeric_limits<float>::infinity(), z_max = -std::numeric_limits<float>::infinity();
-        std::uint64_t truth = 0, found = 0, true_positive = 0;
+    FuseSetup setup;
+    setup.orbit = options.orbit;
+    setup.plan = plan;
+    setup.budget_bytes = options.memory_budget_bytes;
+    setup.white = options.white;
+    setup.progress = options.progress;
+    setup.seed = options.seed;
+    setup.view_filter = view_filter.get();
+    setup.slots_per_pixel = slots_per_pixel;
+    setup.rays_per_pixel = sensor->raysPerPixel();
+    setup.traced_count = traced_count;
+    setup.cast_block = [this](int view, std::size_t begin, std::size_t end, const FuseBand& band) {
+        castBlock(view, begin, end, band);
     };
-    struct Batch {
-        std::size_t first = 0, count = 0;
-        std::vector<std::vector<core::CloudPoint>> points;
-        std::vector<std::size_t> missed;  // pixels without a return
-        std::vector<GroundStats> ground;
-        std::vector<Tally> tally;                        // per view, counted by the worker that whitened it
-        std::vector<double> tally_s;                     // per view, the seconds that took
-        std::vector<std::vector<unsigned char>> packed;  // per view, its records (FusePacking)
-    };
-    std::array<Batch, 2> batches;
-    for (std::size_t b = 0; b < (pipelined ? 2u : 1u); ++b) {
-        batches[b].points.resize(batch_views);
-        for (auto& v : batches[b].points) v.reserve(std::size_t(plan.view_hits));
-        batches[b].missed.resize(batch_views);
-        batches[b].ground.resize(batch_views);
-        batches[b].tally.resize(batch_views);
-        batches[b].tally_s.resize(batch_views);
-        batches[b].packed.resize(batch_views);
-    }
-    std::optional<platform::Progress> progress;
-    if (options.progress) progress.emplace("generate", views);
-
-    float z_min = std::numeric_limits<float>::infinity(), z_max = -z_min;
-    double ground_s = 0.0;   // whitening, on the workers
-    double handed_s = 0.0;   // handing on, by whichever thread does it
-    double tallied_s = 0.0;  // the whitened views' tallies, on the workers
-    // The tally of `pts`, once their ground is found.
-    const auto tallyOf = [&](std::span<const core::CloudPoint> pts) {
-        Tally t;
-        for (const auto& p : pts) {
-            t.z_min = std::min(t.z_min, p.position.z);
-            t.z_max = std::max(t.z_max, p.position.z);
-            const bool truth = p.label == core::Role::Ground;
-            const bool found = !options.white && p.rgb == core::kWhite;
-            t.truth += truth;
-            t.found += found;
-            t.true_positive += truth && found;
-        }
-        return t;
-    };
-    // Counts `pts` (their tally, and `missed` pixels without a return) into the stats and
-    // hands them on.
-    const auto fuse = [&](const std::vector<core::CloudPoint>& pts, std::size_t missed, const Tally& t,
-                          std::span<const unsigned char> packed) {
-        st.misses += missed;
-        st.points += pts.size();
-        z_min = std::min(z_min, t.z_min);
-        z_max = std::max(z_max, t.z_max);
-        st.ground_truth += t.truth;
-        st.ground_found += t.found;
-        st.ground_true_positive += t.true_positive;
-        emit(pts, packed);
-    };
-    const bool whitens = !options.white && view_filter;
-    // Pipelined, where the budget also holds both batches' records, the worker that
-    // whitens a view packs it too, and the handing thread only appends the records.
-    const std::uint64_t packed_bytes = packing && packing->bytes_per_point > 0
-                                           ? 2 * std::uint64_t(batch_views) * plan.view_hits * packing->bytes_per_point
-                                           : 0;
-    const bool pack_on_workers =
-        pipelined && whitens && packed_bytes > 0 &&
-        plan.fuse_bytes + emit_bytes + second_batch + packed_bytes <= options.memory_budget_bytes;
-    st.packed_on_workers = pack_on_workers;
-    // Whitens view k of a batch (RANSAC on its points, PG turned white), tallies it and,
-    // where the workers pack, packs it; returns the seconds the whitening took (the
-    // tally's and the packing's are in batch.tally_s).
-    const auto whiten = [&](Batch& batch, std::size_t k) {
-        const auto t0 = Clock::now();
-        auto& pts = batch.points[k];
-        if (pts.size() < 3) {  // the band cannot hold 3 points: no RANSAC, no copy
-            batch.ground[k] = GroundStats{};
-            batch.ground[k].band_points = pts.size();
-        } else {
-            std::vector<glm::vec3> positions(pts.size());
-            for (std::size_t i = 0; i < pts.size(); ++i) positions[i] = pts[i].position;
-            const std::uint64_t view = batch.first + k;
-            const auto is_ground = view_filter->classifyView(positions, options.seed ^ view, &batch.ground[k]);
-            for (std::size_t i = 0; i < pts.size(); ++i)
-                if (is_ground[i]) pts[i].rgb = core::kWhite;
-        }
-        const auto t1 = Clock::now();
-        batch.tally[k] = tallyOf(pts);
-        if (pack_on_workers) {
-            batch.packed[k].resize(pts.size() * packing->bytes_per_point);
-            packing->pack(pts, batch.packed[k].data());
-        }
-        batch.tally_s[k] = secondsSince(t1);
-        return std::chrono::duration<double>(t1 - t0).count();
-    };
-    // The share of a batch's tallies in the workers' time: fusing, not whitening.
-    const auto tallyShare = [&](const Batch& batch) {
-        double sum = 0.0;
-        for (std::size_t k = 0; k < batch.count; ++k) sum += batch.tally_s[k];
-        return sum / double(plan.threads);
-    };
-    // Whitens a whole batch on the workers.
-    const auto whitenAll = [&](Batch& batch) {
-        if (!whitens) return;
-        const auto t0 = Clock::now();
-        pool.run(batch.count, [&](std::size_t k) { whiten(batch, k); });
-        const double tally_s = tallyShare(batch);
-        ground_s += std::max(0.0, secondsSince(t0) - tally_s);
-        tallied_s += tally_s;
-    };
-    // Hands a whitened batch on in view order.
-    const auto handOn = [&](Batch& batch) {
-        const auto t0 = Clock::now();
-        for (std::size_t k = 0; k < batch.count; ++k) {
-            if (whitens) {
-                st.planes_accepted += batch.ground[k].planes_accepted;
-                st.planes_rejected += batch.ground[k].planes_rejected;
-                st.views_without_ransac += batch.ground[k].band_points < 3;
-            }
-            fuse(batch.points[k], batch.missed[k], whitens ? batch.tally[k] : tallyOf(batch.points[k]),
-                 pack_on_workers ? std::span<const unsigned char>(batch.packed[k]) : std::span<const unsigned char>());
-        }
-        handed_s += secondsSince(t0);
-        if (progress) progress->advance(batch.count);
-    };
-    // Pipelined: the batch compacted last, whitened by the workers among the next batch's
-    // casting tasks, then handed on by a thread of its own (`handing`, declared last, so
-    // that leaving early waits for it before what it uses goes) while the batch after is
-    // cast.
-    Batch* waiting = nullptr;
-    std::vector<double> whiten_s(batch_views);
-    std::future<void> handing;
-    std::size_t cur = 0;
-    for (std::size_t first = 0; first < views; first += batch_views) {
-        Batch& batch = batches[cur];
-        const std::size_t count = std::min(batch_views, views - first);
-        for (std::size_t row0 = 0; row0 < yres; row0 += band_rows) {
-            const std::size_t rows = std::min(band_rows, yres - row0);
-            const std::size_t p0 = row0 * xres, p1 = p0 + rows * xres;
-            auto t0 = Clock::now();
-            if (dirs_row != row0) {
-                for (std::size_t py = row0; py < row0 + rows; ++py)
-                    for (std::size_t px = 0; px < xres; ++px)
-                        dirs[(py - row0) * xres + px] = pixelDirection(orbit, double(px), double(py));
-                dirs_row = row0;
-            }
-            // Tasks are the blocks of kBlockRays pixels of the whole view cut to this band
-            // (bands start on rows), so a tiled view makes the very same ray calls; with
-            // the first band go the waiting batch's views to whiten, first.
-            const std::size_t block0 = p0 / kBlockRays, blocks = (p1 + kBlockRays - 1) / kBlockRays - block0;
-            const std::size_t whiten_tasks = row0 == 0 && waiting && whitens ? waiting->count : 0;
-            pool.run(whiten_tasks + count * blocks, [&](std::size_t task) {
-                if (task < whiten_tasks) {
-                    whiten_s[task] = whiten(*waiting, task);
-                    return;
-                }
-                task -= whiten_tasks;
-                const std::size_t k = task / blocks, block = block0 + task % blocks;
-                const Band band{dirs.data(), slots.data() + k * band_pixels * slots_per_pixel, p0};
-                castBlock(int(first + k), std::max(p0, block * kBlockRays), std::min(p1, (block + 1) * kBlockRays),
-                          band);
-            });
-            // The whitening's share of the run: its tasks' time over the workers (the
-            // tallies in them are fusing's).
-            double share_s = 0.0;
-            for (std::size_t k = 0; k < whiten_tasks; ++k) share_s += whiten_s[k];
-            share_s /= double(plan.threads);
-            const double tally_s = whiten_tasks > 0 ? tallyShare(*waiting) : 0.0;
-            ground_s += share_s;
-            tallied_s += tally_s;
-            st.seconds.cast += std::max(0.0, secondsSince(t0) - share_s - tally_s);
-
-            t0 = Clock::now();
-            if (row0 == 0) {
-                // The batch this one's buffers held before (two batches ago) must be handed on.
-                if (handing.valid()) handing.get();
-                batch.first = first;
-                batch.count = count;
-                for (std::size_t k = 0; k < count; ++k) {
-                    batch.points[k].clear();
-                    batch.missed[k] = 0;
-                }
-            }
-            pool.run(count, [&](std::size_t k) {
-                auto& out = batch.points[k];
-                const std::size_t n = slots_per_pixel;
-                const core::CloudPoint* s = slots.data() + k * band_pixels * n;
-                for (std::size_t i = 0; i < rows * xres; ++i) {
-                    bool missed = true;
-                    for (std::size_t r = i * n; r < (i + 1) * n; ++r)
-                        if (s[r].range_m != kNoReturn) {
-                            missed = false;
-                            out.push_back(s[r]);
-                            if (options.white) out.back().rgb = core::kWhite;
-                        }
-                    batch.missed[k] += missed;
-                }
-            });
-            if (emit_per_band) {
-                fuse(batch.points[0], batch.missed[0], tallyOf(batch.points[0]), {});
-                batch.points[0].clear();
-                batch.missed[0] = 0;
-            }
-            st.seconds.fuse += secondsSince(t0);
-        }
-        for (std::size_t k = 0; k < count; ++k) {
-            st.rays_traced += traced_count[first + k];
-            st.sub_rays_traced += traced_count[first + k] * sensor->raysPerPixel();
-        }
-        if (emit_per_band) {
-            if (progress) progress->advance(count);
-            continue;
-        }
-        if (!pipelined) {
-            whitenAll(batch);
-            handOn(batch);
-            continue;
-        }
-        if (waiting) handing = std::async(std::launch::async, [&handOn, b = waiting] { handOn(*b); });
-        waiting = &batch;
-        cur ^= 1;
-    }
-    if (waiting) {
-        whitenAll(*waiting);
-        if (handing.valid()) handing.get();
-        handOn(*waiting);
-    }
-    st.seconds.ground += ground_s;
-    st.seconds.fuse += handed_s + tallied_s;
-    if (progress) progress->finish();
-    st.rays = std::uint64_t(npix) * views;
-    if (st.points > 0) {
-        st.z_min = z_min;
-        st.z_max = z_max;
-    }
-    if (!options.white) {
-        if (st.ground_found > 0) st.ground_precision = double(st.ground_true_positive) / double(st.ground_found);
-        if (st.ground_truth > 0) st.ground_recall = double(st.ground_true_positive) / double(st.ground_truth);
-    }
+    FusePipeline(setup, pool, st, emit_bytes, packing, emit).run();
 }
 
 Generator::Generator(const core::Scene& scene, GenerateOptions options)
@@ -870,187 +594,264 @@ static io::LasOptions lasOptions(const core::Scene& scene, const GenerateOptions
     return las;
 }
 
+namespace {
+
+// What the output is written with: its fields, the LAS/LAZ writer's threads and memory,
+// COPC's node size and memory.
+struct OutputSetup {
+    core::CloudFields fields;
+    io::LasOptions las;
+    io::CopcOptions copc;
+};
+
+// The output's fields and its writer's options for a run to `format`; sets st.streamed
+// (the fused cloud does not stay in memory). Throws core::Error when COPC output cannot
+// have the memory it needs beside the run, or the scene's classes do not fit LAS.
+OutputSetup planOutput(const Generator::State& s, io::CloudFormat format, bool whitens, GenerateStats& st) {
+    OutputSetup o;
+    const bool las =
+        format == io::CloudFormat::Las || format == io::CloudFormat::Laz || format == io::CloudFormat::Copc;
+    o.fields = s.sensor->fields();
+    o.fields.height_above_ground = whitens;
+    o.fields.rgb = !(las && s.options.white);  // LAS point format 6: no colours to store
+    // The fused cloud stays in memory when it fits beside the fusion's buffers and, for
+    // COPC, leaves the writer the least it needs (else it goes through the spool, which
+    // holds a chunk of it at a time: the same file).
+    const std::uint64_t budget = s.options.memory_budget_bytes;
+    const std::uint64_t fused_bytes = s.hits_bound * sizeof(core::CloudPoint);
+    const std::uint64_t copc_least =
+        format == io::CloudFormat::Copc
+            ? io::copcMinimumBytes(s.plan.threads, std::uint32_t(s.options.copc_node_points))  // validated
+            : 0;
+    st.streamed = s.plan.fuse_bytes + fused_bytes > budget ||
+                  s.plan.kept_bytes - s.plan.writer_bytes + fused_bytes + copc_least > budget;
+    // LAZ compresses on the workers, once the fusion's buffers are gone, in what the
+    // budget leaves beside the cloud (in memory, or the chunk read back from the spool).
+    o.las = lasOptions(s.scene, s.options);
+    o.las.threads = s.plan.threads;
+    const std::uint64_t held = s.plan.kept_bytes - s.plan.writer_bytes +
+                               (st.streamed ? s.plan.colour_chunk * sizeof(core::CloudPoint) : fused_bytes);
+    o.las.memory_bytes = std::max(s.plan.writer_bytes, budget - std::min(budget, held));
+    o.copc.max_node_points = std::uint32_t(s.options.copc_node_points);  // validated
+    if (format == io::CloudFormat::Copc) {
+        // The COPC writer holds the points until it has built the octree, within what the
+        // run leaves it; past that it spills them to scratch files beside the output and
+        // builds the octree a part at a time (the same file).
+        const std::uint64_t room = budget - std::min(budget, held);
+        const std::uint64_t least = io::copcMinimumBytes(s.plan.threads, o.copc.max_node_points);
+        if (room < least)
+            throw core::Error("generate: COPC output needs " + std::to_string((least >> 20) + 1) + " MiB beside the " +
+                              std::to_string(held >> 20) + " MiB the run holds, more than --memory-mb " +
+                              std::to_string(budget >> 20) +
+                              " leaves; raise --memory-mb, or write .laz and convert it with 'ladarvr index'");
+        o.copc.memory_bytes = room;
+    }
+    return o;
+}
+
+// The cloud in memory: fused, fitted and coloured (fuseFitColour), then written.
+void writeInMemory(const Generator::State& s, io::CloudWriter& writer, TerrainStage& terrain, Workers& pool,
+                   GenerateStats& st) {
+    std::vector<core::CloudPoint> points;
+    points.reserve(std::size_t(s.hits_bound));
+    fuseFitColour(s, points, terrain, pool, st);
+    const auto tc = Clock::now();
+    for (std::size_t i = 0; i < points.size(); i += kColourChunk)
+        writer.append(std::span(points).subspan(i, std::min(kColourChunk, points.size() - i)));
+    st.seconds.write = secondsSince(tc);
+}
+
+// The fused cloud streamed: fused into the output itself or into a spool (fuse), the
+// terrain fitted, the spool's positions shown to a writer that asks to see them first
+// (prescan), then read back a chunk at a time, classified and coloured, and appended or
+// rewritten (colourBack). Each pass reads one half of the chunk back on a thread of its
+// own while the writer takes the other half.
+class StreamedWrite {
+  public:
+    StreamedWrite(const Generator::State& s, const std::filesystem::path& out, io::CloudFormat format,
+                  const core::CloudFields& fields, io::CloudWriter& writer, TerrainStage& terrain, Workers& pool,
+                  GenerateStats& st)
+        : s_(s),
+          out_(out),
+          format_(format),
+          fields_(fields),
+          writer_(writer),
+          terrain_(terrain),
+          pool_(pool),
+          st_(st) {}
+
+    void run() {
+        fuse();
+        terrain_.fit();
+        chunk_.resize(s_.plan.colour_chunk);
+        overlap_ = chunk_.size() >= 2;
+        const std::size_t half = overlap_ ? chunk_.size() / 2 : chunk_.size();
+        halves_ = {std::span(chunk_).first(half), std::span(chunk_).last(half)};
+        if (spool_) prescan();
+        colourBack();
+        if (prepared_ != st_.points || writer_.count() != st_.points)
+            throw core::Error("output: " + out_.string() + ": the fused points came back short");
+    }
+
+  private:
+    void fuse();
+    void prescan();
+    std::size_t prepare(std::size_t h);
+    void colourBack();
+
+    const Generator::State& s_;
+    const std::filesystem::path& out_;
+    io::CloudFormat format_;
+    const core::CloudFields& fields_;
+    io::CloudWriter& writer_;
+    TerrainStage& terrain_;
+    Workers& pool_;
+    GenerateStats& st_;
+    std::optional<Spool> spool_;  // none: the fused points are in the output (st.in_output)
+    // The positions' bounds, for a writer that asks to see the points first.
+    glm::vec3 lo_{std::numeric_limits<float>::infinity()}, hi_{-std::numeric_limits<float>::infinity()};
+    std::vector<core::CloudPoint> chunk_;  // the points read back, in two halves
+    bool overlap_ = false;                 // each half read on a thread of its own
+    std::array<std::span<core::CloudPoint>, 2> halves_;
+    std::uint64_t prepared_ = 0;                 // points read back so far
+    std::array<std::uint64_t, 2> firsts_{0, 0};  // the index of each half's first point
+};
+
+// Where the output's records can be read back and rewritten (binary PCD and PLY, which
+// carry every field the stages after the fusion read: position, view, label and colour),
+// the fused points go straight into it and the last pass classifies and colours them
+// there: written once, never copied. Otherwise they go through the spool, packed with the
+// fields the run writes (white LAS has no colour field, and every point is white, as
+// unpacking gives it).
+void StreamedWrite::fuse() {
+    st_.in_output = writer_.rewritable() && fields_.rgb && fields_.label && fields_.view;
+    if (st_.in_output) {
+        checkFreeSpace(out_.parent_path(), s_.hits_bound * writer_.recordBytes(), "the output");
+    } else {
+        spool_.emplace(out_, fields_);
+        checkFreeSpace(out_.parent_path(), s_.hits_bound * spool_->recordBytes(), "the spool file of the fused cloud");
+    }
+    // The workers may pack the points as the spool or the output holds them.
+    FusePacking packing;
+    if (spool_) {
+        packing.bytes_per_point = spool_->recordBytes();
+        packing.pack = [this](std::span<const core::CloudPoint> pts, unsigned char* records) {
+            spool_->pack(pts, records);
+        };
+    } else {
+        packing.bytes_per_point = writer_.recordBytes();
+        packing.pack = [this](std::span<const core::CloudPoint> pts, unsigned char* records) {
+            writer_.packRecords(pts, reinterpret_cast<char*>(records));
+        };
+    }
+    s_.fuseViews(
+        [this](std::span<const core::CloudPoint> pts, std::span<const unsigned char> packed) {
+            if (!packed.empty() && spool_)
+                spool_->appendPacked(packed.data(), pts.size());
+            else if (!packed.empty())
+                writer_.appendRecords(std::span(reinterpret_cast<const char*>(packed.data()), packed.size()));
+            else if (spool_)
+                spool_->append(pts);
+            else
+                writer_.append(pts);  // its buffer is in the plan's fuse_bytes
+            terrain_.add(pts);
+            if (format_ == io::CloudFormat::Copc)
+                for (const core::CloudPoint& p : pts) {
+                    lo_ = glm::min(lo_, p.position);
+                    hi_ = glm::max(hi_, p.position);
+                }
+        },
+        pool_, st_, spool_ ? spool_->bufferBytes() : 0, &packing);
+}
+
+// A COPC writer past its bound sorts the points straight into its octree's parts once it
+// has seen them: their bounds from the fusion, the spool as often as it asks (their
+// positions, which classifying and colouring leave as they are).
+void StreamedWrite::prescan() {
+    const auto tp = Clock::now();
+    core::Bounds positions;
+    if (spool_->count() > 0) positions = core::Bounds{glm::dvec3(lo_), glm::dvec3(hi_)};
+    const int passes = writer_.prescanPasses(spool_->count(), &positions);
+    for (int pass = 0; pass < passes; ++pass) {
+        spool_->rewind();
+        std::size_t cur = 0, n = spool_->readPositions(halves_[0]);
+        while (n > 0) {
+            if (!overlap_) {
+                writer_.prescan(pass, halves_[0].first(n));
+                n = spool_->readPositions(halves_[0]);
+                continue;
+            }
+            std::future<std::size_t> next = std::async(
+                std::launch::async, [this, other = cur ^ 1] { return spool_->readPositions(halves_[other]); });
+            writer_.prescan(pass, halves_[cur].first(n));
+            n = next.get();
+            cur ^= 1;
+        }
+    }
+    st_.seconds.write += secondsSince(tp);
+    spool_->rewind();
+}
+
+// Reads the next points back into half `h` (from the spool, or from the output),
+// classifies and colours them; returns how many (0: all were read).
+std::size_t StreamedWrite::prepare(std::size_t h) {
+    auto tc = Clock::now();
+    firsts_[h] = prepared_;
+    const std::span<core::CloudPoint> part =
+        halves_[h].first(spool_ ? spool_->read(halves_[h]) : writer_.readBack(prepared_, halves_[h]));
+    if (spool_) spool_->discardRead();
+    prepared_ += part.size();
+    st_.seconds.colour += secondsSince(tc);
+    terrain_.classify(part, pool_);
+    tc = Clock::now();
+    s_.colour(part, pool_, st_);
+    s_.countKept(part, pool_, st_);
+    st_.seconds.colour += secondsSince(tc);
+    return part.size();
+}
+
+// The last pass: each half of the chunk is read back, classified and coloured on a
+// thread of its own while the writer takes the other half (appended, or rewritten where
+// it was read).
+void StreamedWrite::colourBack() {
+    std::size_t cur = 0, n = prepare(0);
+    while (n > 0) {
+        std::future<std::size_t> next;
+        if (overlap_) next = std::async(std::launch::async, [this, other = cur ^ 1] { return prepare(other); });
+        const auto tc = Clock::now();
+        if (spool_)
+            writer_.append(halves_[cur].first(n));
+        else
+            writer_.rewrite(firsts_[cur], halves_[cur].first(n));
+        st_.seconds.write += secondsSince(tc);
+        if (overlap_) {
+            n = next.get();
+            cur ^= 1;
+        } else {
+            n = prepare(0);
+        }
+    }
+}
+
+}  // namespace
+
 void Generator::run(const std::filesystem::path& out, io::CloudFormat format, GenerateStats* stats,
                     const BeforeCommit& before_commit) {
     const State& s = *state_;
     const auto t0 = Clock::now();
     GenerateStats st;
     initStats(s, st);
-    // Opens the temporary beside `out` now: a bad destination fails before any ray is cast, and a
-    // failure later leaves nothing under `out`.
     TerrainStage terrain(s.cloud_filter.get(), s.options.ground.smrf, s.options.white, s.checkTerrain());
-    const bool las =
-        format == io::CloudFormat::Las || format == io::CloudFormat::Laz || format == io::CloudFormat::Copc;
-    core::CloudFields fields = s.sensor->fields();
-    fields.height_above_ground = terrain.whitens();
-    fields.rgb = !(las && s.options.white);  // LAS point format 6: no colours to store
-    // The fused cloud stays in memory when it fits beside the fusion's buffers and, for
-    // COPC, leaves the writer the least it needs (else it goes through the spool, which
-    // holds a chunk of it at a time: the same file).
-    const std::uint64_t fused_bytes = s.hits_bound * sizeof(core::CloudPoint);
-    const std::uint64_t copc_least =
-        format == io::CloudFormat::Copc
-            ? io::copcMinimumBytes(s.plan.threads, std::uint32_t(s.options.copc_node_points))  // validated
-            : 0;
-    st.streamed = s.plan.fuse_bytes + fused_bytes > s.options.memory_budget_bytes ||
-                  s.plan.kept_bytes - s.plan.writer_bytes + fused_bytes + copc_least > s.options.memory_budget_bytes;
-    // LAZ compresses on the workers, once the fusion's buffers are gone, in what the
-    // budget leaves beside the cloud (in memory, or the chunk read back from the spool).
-    io::LasOptions las_options = lasOptions(s.scene, s.options);
-    las_options.threads = s.plan.threads;
-    const std::uint64_t held = s.plan.kept_bytes - s.plan.writer_bytes +
-                               (st.streamed ? s.plan.colour_chunk * sizeof(core::CloudPoint) : fused_bytes);
-    las_options.memory_bytes =
-        std::max(s.plan.writer_bytes, s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held));
-    io::CopcOptions copc;
-    copc.max_node_points = std::uint32_t(s.options.copc_node_points);  // validated
-    if (format == io::CloudFormat::Copc) {
-        // The COPC writer holds the points until it has built the octree, within what the
-        // run leaves it; past that it spills them to scratch files beside the output and
-        // builds the octree a part at a time (the same file).
-        const std::uint64_t room = s.options.memory_budget_bytes - std::min(s.options.memory_budget_bytes, held);
-        const std::uint64_t least = io::copcMinimumBytes(s.plan.threads, copc.max_node_points);
-        if (room < least)
-            throw core::Error("generate: COPC output needs " + std::to_string((least >> 20) + 1) + " MiB beside the " +
-                              std::to_string(held >> 20) + " MiB the run holds, more than --memory-mb " +
-                              std::to_string(s.options.memory_budget_bytes >> 20) +
-                              " leaves; raise --memory-mb, or write .laz and convert it with 'ladarvr index'");
-        copc.memory_bytes = room;
-    }
-    io::CloudWriter writer(out, format, s.scene.origin, fields, las_options,
-                           format == io::CloudFormat::Copc ? &copc : nullptr);
+    const OutputSetup setup = planOutput(s, format, terrain.whitens(), st);
+    // Opens the temporary beside `out` now: a bad destination fails before any ray is cast,
+    // and a failure later leaves nothing under `out`.
+    io::CloudWriter writer(out, format, s.scene.origin, setup.fields, setup.las,
+                           format == io::CloudFormat::Copc ? &setup.copc : nullptr);
     Workers pool(s.plan.threads);
-    if (!st.streamed) {
-        std::vector<core::CloudPoint> points;
-        points.reserve(std::size_t(s.hits_bound));
-        fuseFitColour(s, points, terrain, pool, st);
-        const auto tc = Clock::now();
-        for (std::size_t i = 0; i < points.size(); i += kColourChunk)
-            writer.append(std::span(points).subspan(i, std::min(kColourChunk, points.size() - i)));
-        st.seconds.write = secondsSince(tc);
-    } else {
-        // Where the output's records can be read back and rewritten (binary PCD and PLY,
-        // which carry every field the stages after the fusion read: position, view, label
-        // and colour), the fused points go straight into it and the last pass classifies
-        // and colours them there: written once, never copied. Otherwise they go through
-        // the spool, packed with the fields the run writes (white LAS has no colour field,
-        // and every point is white, as unpacking gives it).
-        st.in_output = writer.rewritable() && fields.rgb && fields.label && fields.view;
-        std::optional<Spool> spool;
-        if (st.in_output) {
-            checkFreeSpace(out.parent_path(), s.hits_bound * writer.recordBytes(), "the output");
-        } else {
-            spool.emplace(out, fields);
-            checkFreeSpace(out.parent_path(), s.hits_bound * spool->recordBytes(), "the spool file of the fused cloud");
-        }
-        // The positions' bounds, for a writer that asks to see the points first.
-        glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-        // The workers may pack the points as the spool or the output holds them.
-        Generator::State::FusePacking packing;
-        if (spool) {
-            packing.bytes_per_point = spool->recordBytes();
-            packing.pack = [&spool](std::span<const core::CloudPoint> pts, unsigned char* records) {
-                spool->pack(pts, records);
-            };
-        } else {
-            packing.bytes_per_point = writer.recordBytes();
-            packing.pack = [&writer](std::span<const core::CloudPoint> pts, unsigned char* records) {
-                writer.packRecords(pts, reinterpret_cast<char*>(records));
-            };
-        }
-        s.fuseViews(
-            [&](std::span<const core::CloudPoint> pts, std::span<const unsigned char> packed) {
-                if (!packed.empty() && spool)
-                    spool->appendPacked(packed.data(), pts.size());
-                else if (!packed.empty())
-                    writer.appendRecords(std::span(reinterpret_cast<const char*>(packed.data()), packed.size()));
-                else if (spool)
-                    spool->append(pts);
-                else
-                    writer.append(pts);  // its buffer is in the plan's fuse_bytes
-                terrain.add(pts);
-                if (format == io::CloudFormat::Copc)
-                    for (const core::CloudPoint& p : pts) {
-                        lo = glm::min(lo, p.position);
-                        hi = glm::max(hi, p.position);
-                    }
-            },
-            pool, st, spool ? spool->bufferBytes() : 0, &packing);
-        terrain.fit();
-        std::vector<core::CloudPoint> chunk(s.plan.colour_chunk);
-        // Each pass reads one half of the chunk back on a thread of its own while the
-        // writer takes the other half.
-        const bool overlap = chunk.size() >= 2;
-        const std::size_t half = overlap ? chunk.size() / 2 : chunk.size();
-        const std::array<std::span<core::CloudPoint>, 2> halves{std::span(chunk).first(half),
-                                                                std::span(chunk).last(half)};
-        if (spool) {
-            // A COPC writer past its bound sorts the points straight into its octree's parts
-            // once it has seen them: their bounds from the fusion, the spool as often as it
-            // asks (their positions, which classifying and colouring leave as they are).
-            const auto tp = Clock::now();
-            core::Bounds positions;
-            if (spool->count() > 0) positions = core::Bounds{glm::dvec3(lo), glm::dvec3(hi)};
-            const int passes = writer.prescanPasses(spool->count(), &positions);
-            for (int pass = 0; pass < passes; ++pass) {
-                spool->rewind();
-                std::size_t cur = 0, n = spool->readPositions(halves[0]);
-                while (n > 0) {
-                    if (!overlap) {
-                        writer.prescan(pass, halves[0].first(n));
-                        n = spool->readPositions(halves[0]);
-                        continue;
-                    }
-                    std::future<std::size_t> next = std::async(
-                        std::launch::async, [&, other = cur ^ 1] { return spool->readPositions(halves[other]); });
-                    writer.prescan(pass, halves[cur].first(n));
-                    n = next.get();
-                    cur ^= 1;
-                }
-            }
-            st.seconds.write += secondsSince(tp);
-            spool->rewind();
-        }
-        // The last pass: each half of the chunk is read back (from the spool, or from the
-        // output), classified and coloured on a thread of its own while the writer takes
-        // the other half (appended, or rewritten where it was read).
-        std::uint64_t prepared = 0;                 // points read back so far
-        std::array<std::uint64_t, 2> firsts{0, 0};  // the index of each half's first point
-        const auto prepare = [&](std::size_t h) {
-            auto tc = Clock::now();
-            firsts[h] = prepared;
-            const std::span<core::CloudPoint> part =
-                halves[h].first(spool ? spool->read(halves[h]) : writer.readBack(prepared, halves[h]));
-            if (spool) spool->discardRead();
-            prepared += part.size();
-            st.seconds.colour += secondsSince(tc);
-            terrain.classify(part, pool);
-            tc = Clock::now();
-            s.colour(part, pool, st);
-            s.countKept(part, pool, st);
-            st.seconds.colour += secondsSince(tc);
-            return part.size();
-        };
-        std::size_t cur = 0, n = prepare(0);
-        while (n > 0) {
-            std::future<std::size_t> next;
-            if (overlap) next = std::async(std::launch::async, [&, other = cur ^ 1] { return prepare(other); });
-            const auto tc = Clock::now();
-            if (spool)
-                writer.append(halves[cur].first(n));
-            else
-                writer.rewrite(firsts[cur], halves[cur].first(n));
-            st.seconds.write += secondsSince(tc);
-            if (overlap) {
-                n = next.get();
-                cur ^= 1;
-            } else {
-                n = prepare(0);
-            }
-        }
-        if (prepared != st.points || writer.count() != st.points)
-            throw core::Error("output: " + out.string() + ": the fused points came back short");
-    }
+    if (!st.streamed)
+        writeInMemory(s, writer, terrain, pool, st);
+    else
+        StreamedWrite(s, out, format, setup.fields, writer, terrain, pool, st).run();
     terrain.finish(st);
     keptShares(st);
     if (before_commit) before_commit(st);
