@@ -1,9 +1,9 @@
 // io/src/copc/writer/assembler.cpp: the COPC file around its chunks (assembler.hpp).
 #include "assembler.hpp"
 
-#include "copc/copc_hierarchy.hpp"
-#include "copc/writer/setup.hpp"
-#include "las/laz_chunk_table.hpp"
+#include "../copc_hierarchy.hpp"
+#include "setup.hpp"
+#include "../../las/laz_chunk_table.hpp"
 
 #include <core/error.hpp>
 

@@ -9,9 +9,9 @@
 // header and the VLRs LASzip makes come from a file LASzip writes with no points; each
 // node's chunk is cut out of a file LASzip writes for that node alone.
 #pragma once
-#include "copc/copc_octree.hpp"
-#include "las/las_record.hpp"
-#include "las/laz_compress.hpp"
+#include "../copc_octree.hpp"
+#include "../../las/las_record.hpp"
+#include "../../las/laz_compress.hpp"
 
 #include <io/copc.hpp>
 

@@ -2,8 +2,8 @@
 // (bucket_builder.hpp).
 #include "bucket_builder.hpp"
 
-#include "copc/writer/bucket_sorter.hpp"
-#include "copc/writer/node_compression.hpp"
+#include "bucket_sorter.hpp"
+#include "node_compression.hpp"
 
 #include <algorithm>
 #include <array>

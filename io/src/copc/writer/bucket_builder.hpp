@@ -4,11 +4,11 @@
 // chunks, in the file's depth-first order; its root's points go up to the sets of the top
 // (top_sets.hpp), to be sampled with the nodes above.
 #pragma once
-#include "copc/copc_octree.hpp"
-#include "copc/writer/part_tree.hpp"
-#include "copc/writer/setup.hpp"
-#include "copc/writer/top_sets.hpp"
-#include "las/las_record.hpp"
+#include "../copc_octree.hpp"
+#include "part_tree.hpp"
+#include "setup.hpp"
+#include "top_sets.hpp"
+#include "../../las/las_record.hpp"
 
 #include <platform/scratch_file.hpp>
 

@@ -3,10 +3,10 @@
 // packed point and its index in the input. Rounds of points arrive with their buckets
 // found; a bucket's records are gathered in a buffer of its own and written when it fills.
 #pragma once
-#include "copc/copc_octree.hpp"
-#include "copc/writer/part_tree.hpp"
-#include "copc/writer/setup.hpp"
-#include "copc/writer/spill.hpp"
+#include "../copc_octree.hpp"
+#include "part_tree.hpp"
+#include "setup.hpp"
+#include "spill.hpp"
 
 #include <cstddef>
 #include <cstdint>

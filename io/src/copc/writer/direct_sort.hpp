@@ -3,10 +3,10 @@
 // sorted straight into their buckets' files as they are appended, instead of being
 // spilled and read back twice.
 #pragma once
-#include "copc/copc_octree.hpp"
-#include "copc/writer/bucket_sorter.hpp"
-#include "copc/writer/part_tree.hpp"
-#include "copc/writer/setup.hpp"
+#include "../copc_octree.hpp"
+#include "bucket_sorter.hpp"
+#include "part_tree.hpp"
+#include "setup.hpp"
 
 #include <core/point_cloud.hpp>
 

@@ -2,9 +2,9 @@
 // threads, each as one LAZ chunk, and handed on in order: the step the in-memory writer
 // and each bucket of the out-of-core one share.
 #pragma once
-#include "copc/copc_octree.hpp"
-#include "copc/writer/setup.hpp"
-#include "las/laz_compress.hpp"
+#include "../copc_octree.hpp"
+#include "setup.hpp"
+#include "../../las/laz_compress.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -4,9 +4,9 @@
 // and hold more than a bucket may. Their children that hold few enough are the buckets,
 // each a subtree built in memory on its own (bucket_builder.hpp).
 #pragma once
-#include "copc/copc_octree.hpp"
-#include "copc/writer/setup.hpp"
-#include "copc/writer/spill.hpp"
+#include "../copc_octree.hpp"
+#include "setup.hpp"
+#include "spill.hpp"
 
 #include <io/copc.hpp>
 

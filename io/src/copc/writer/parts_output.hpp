@@ -4,10 +4,10 @@
 // once on the threads; a bucket's nodes' chunks copied from the scratch file of chunks
 // (bucket_builder.hpp), whose pages are freed as they are copied.
 #pragma once
-#include "copc/writer/assembler.hpp"
-#include "copc/writer/part_tree.hpp"
-#include "copc/writer/setup.hpp"
-#include "copc/writer/top_sets.hpp"
+#include "assembler.hpp"
+#include "part_tree.hpp"
+#include "setup.hpp"
+#include "top_sets.hpp"
 
 #include <platform/scratch_file.hpp>
 

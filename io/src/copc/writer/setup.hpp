@@ -14,7 +14,7 @@
 // A cloud within the bound skips them all: its octree is built in memory
 // (copc_octree.hpp) and compressed (node_compression.hpp) straight into the assembler.
 #pragma once
-#include "las/las_record.hpp"
+#include "../../las/las_record.hpp"
 
 #include <io/point_packing.hpp>
 #include <platform/scratch_file.hpp>

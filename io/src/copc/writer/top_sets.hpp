@@ -4,9 +4,9 @@
 // (copc_octree.hpp) but streaming each node's children's runs from the file, so memory
 // holds one node's chosen points, never the whole top of the tree.
 #pragma once
-#include "copc/copc_octree.hpp"
-#include "copc/writer/part_tree.hpp"
-#include "copc/writer/setup.hpp"
+#include "../copc_octree.hpp"
+#include "part_tree.hpp"
+#include "setup.hpp"
 
 #include <cstdint>
 #include <span>
