@@ -52,7 +52,7 @@ TEST_CASE("voxel clusters: the radix sort equals a stable sort by key, whatever 
     }
 }
 
-TEST_CASE("voxel clusters: two blobs stay apart, and a sparse voxel between them joins the nearer without chaining them") {
+TEST_CASE("voxel clusters: a sparse voxel between two blobs joins the nearer and chains nothing") {
     detect::SegmentOptions o;  // voxel 0.25 m, tolerance 0.5 m
     std::vector<glm::vec3> points;
     addBlob(points, {0.1f, 0.1f, 0.1f}, 10);   // voxel (0, 0, 0), dense
