@@ -56,8 +56,9 @@ std::unique_ptr<FormatWriter> openLasWriter(platform::TempFile& file, const glm:
 std::unique_ptr<FormatWriter> openLazWriter(platform::TempFile& file, const glm::dvec3& origin,
                                             const core::CloudFields& fields, const LasOptions& options);
 
-/// COPC (copc/copc_writer.cpp): the LAZ writer's records in an octree of variable-size
-/// chunks, built once every point has arrived (the points are held in memory).
+/// COPC (copc/copc_writer.cpp over the stages in copc/writer/): the LAZ writer's records in
+/// an octree of variable-size chunks, built once every point has arrived (held in memory
+/// up to the writer's bound, spilled to scratch files past it).
 std::unique_ptr<FormatWriter> openCopcWriter(platform::TempFile& file, const glm::dvec3& origin,
                                              const core::CloudFields& fields, const LasOptions& las,
                                              const CopcOptions& copc);

@@ -185,8 +185,7 @@ TEST_CASE("questionnaires.csv: malformed rows are refused with one line") {
 }
 
 TEST_CASE("session folders: different designs and a participant twice are refused") {
-    // Kept to the end of the process: the files read are remembered as this process's
-    // inputs (by inode), and a freed inode reused by a later test's output would be refused.
+    // Kept to the end of the process, so that no later test reuses its folders.
     static test_support::TempDir dir("report_read");
     const auto session = [&](const std::string& name, const std::string& participant, const std::string& sha) {
         std::filesystem::create_directories(dir.path / name);
