@@ -2,12 +2,14 @@
 // names, EPSG codes and units of WKT 1 (projected, geographic, compound), WKT 2 and the
 // GeoTIFF keys as real files hold them (4_6_crop.las's keys, byte for byte), and records
 // that hold no CRS or are malformed, each said in `problem`, never a throw.
+#include <core/random.hpp>
 #include <io/las_crs.hpp>
 
 #include <doctest/doctest.h>
 
 #include <cstdint>
 #include <cstring>
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -182,4 +184,33 @@ TEST_CASE("las_crs: malformed GeoTIFF records say why, and indices outside the a
     CHECK(c.epsg == 32632);
     CHECK(c.name == "");
     CHECK_FALSE(c.horizontal_unit.stated());
+}
+
+TEST_CASE("las_crs: mutated WKT and GeoTIFF records: a result or a one-line problem, never a throw") {
+    // Seeded mutations of real records (bytes replaced by WKT's punctuation or any byte,
+    // the record cut short), as a fuzzer would try them; under the sanitizer preset a read
+    // out of bounds fails here.
+    const std::string wkt = kUtm42n;
+    const std::string dir =
+        shorts({1, 1, 0, 4, 1024, 0, 1, 1, 3072, 0, 1, 32642, 3073, 34737, 22, 0, 3076, 0, 1, 9001});
+    const std::string ascii = "WGS 84 / UTM zone 42N|WGS 84|";
+    core::SplitMix64 rng(20240601);
+    const char kPunctuation[] = "[](),\"\0 AZ";
+    for (int round = 0; round < 3000; ++round) {
+        std::string w = wkt, d = dir, a = ascii;
+        for (int k = 0; k < 1 + round % 6; ++k) {
+            const std::uint64_t r = rng.next();
+            w[r % w.size()] = r & 1u ? kPunctuation[(r >> 8) % (sizeof kPunctuation - 1)] : char(r >> 16);
+            d[(r >> 24) % d.size()] = char(r >> 32);
+            a[(r >> 40) % a.size()] = char(r >> 48);
+        }
+        if (round % 5 == 0) w.resize(rng.next() % w.size());
+        if (round % 7 == 0) d.resize(rng.next() % d.size());
+        for (const io::LasCrs& c : {io::crsFromWkt(w), io::crsFromGeoKeys(d, doubles({0.5}), a)}) {
+            CHECK(c.problem.find('\n') == std::string::npos);
+            CHECK(c.source.empty() != c.problem.empty());  // a CRS, or why there is none
+            CHECK(std::none_of(c.problem.begin(), c.problem.end(),
+                               [](char ch) { return static_cast<unsigned char>(ch) < 0x20; }));
+        }
+    }
 }
