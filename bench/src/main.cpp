@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     bench::registerDetect(*sub);
     bench::registerCorpus(*sub);
     bench::registerIndex(*sub);
+    bench::registerGroundIsprs(*sub);
     app::applyConventions(cli);
 
     // argv with "bench" after the program name: `ladarvr-bench generate` is `ladarvr bench generate`.

@@ -1,0 +1,66 @@
+// sim/ground_file.hpp: the ground of a cloud we did not generate (`ladarvr ground`): a
+// whole-cloud filter (SMRF or CSF, sim/ground.hpp) run on a file's points, read twice
+// (pass 1 fits the terrain, pass 2 labels each point and writes it), so the memory is the
+// terrain raster and two chunks whatever the file's size. The defaults are the options
+// that did best with one parameter set on the ISPRS filter-test samples (real airborne
+// surveys; `ladarvr bench ground-isprs`), not the generator's.
+#pragma once
+#include <io/cloud_io.hpp>
+#include <io/copc_writer.hpp>
+#include <sim/ground.hpp>
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace sim {
+
+/// SMRF's options for real airborne surveys: tuned on the ISPRS samples (one set).
+SmrfOptions surveySmrfOptions();
+
+/// What `ladarvr ground` runs.
+struct GroundFileOptions {
+    GroundMethod method = GroundMethod::Smrf;  // Smrf or Csf (RANSAC works per view)
+    SmrfOptions smrf = surveySmrfOptions();
+    CsfOptions csf;
+};
+
+/// Throws core::Error("ground: ...") naming the option when `o` cannot run: RANSAC named,
+/// or a filter's option out of its range (validate(SmrfOptions) etc.).
+void validate(const GroundFileOptions& o);
+/// One line: the method and its options, e.g. "smrf (cell 1 m, slope 0.15, ...)".
+std::string describe(const GroundFileOptions& o);
+
+/// The filter on points in memory: one flag per point, 1 = ground. The same labels as
+/// classifyGroundFile gives for a file of these points (a point's view is its LAS point
+/// source ID, whose height error a thick ground's fit estimates). Needs validate(o) passed.
+std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> points, const GroundFileOptions& o);
+
+/// What classifyGroundFile did.
+struct GroundFileStats {
+    std::size_t points = 0;         // written
+    std::size_t ground_points = 0;  // of them, labelled ground
+    std::size_t was_ground = 0;     // labelled ground in the input
+    int nx = 0, ny = 0;             // the terrain raster
+    double cell_m = 0;
+};
+
+/// Reads `in` (any cloud io::CloudReader reads) twice and writes every point to `out`
+/// (format from its name) with label Ground where the filter says ground and Environment
+/// elsewhere (a target label is kept), its height above the terrain, every other field
+/// as read. `max_cells` bounds the terrain raster (the caller's memory bound); a cloud
+/// wider than that is refused naming the cell option. `las` and `copc` go to the writer.
+/// `progress(points)` is called as points are read (both passes). The output is written
+/// through io::CloudWriter (a temporary renamed into place); the caller checks that `out`
+/// may be written and is not `in`. Throws core::Error.
+GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::filesystem::path& out,
+                                   const GroundFileOptions& o, std::size_t max_cells, const io::LasOptions& las,
+                                   const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress);
+
+}  // namespace sim

@@ -1,0 +1,109 @@
+// sim/src/ground_file.cpp: see sim/ground_file.hpp. The file is read twice through
+// io::CloudReader: pass 1 gives every point to the filter's TerrainFit, which keeps only
+// per-cell lowest heights, pass 2 labels each chunk and appends it to the writer.
+#include "ground_raster.hpp"
+
+#include <sim/ground_file.hpp>
+
+#include <core/error.hpp>
+#include <io/cloud_reader.hpp>
+
+#include <sstream>
+
+namespace sim {
+
+SmrfOptions surveySmrfOptions() {
+    SmrfOptions o;
+    return o;
+}
+
+void validate(const GroundFileOptions& o) {
+    if (o.method == GroundMethod::Ransac)
+        throw core::Error("ground: method ransac works per view of a generated cloud; allowed smrf, csf");
+    validate(o.smrf);
+    validate(o.csf);
+}
+
+std::string describe(const GroundFileOptions& o) {
+    std::ostringstream s;
+    if (o.method == GroundMethod::Csf) {
+        const CsfOptions& c = o.csf;
+        s << "csf (cloth " << c.cloth_m << " m, rigidness " << c.rigidness << ", threshold " << c.threshold_m
+          << " m, time step " << c.time_step << ", iterations " << c.iterations << ")";
+    } else {
+        const SmrfOptions& m = o.smrf;
+        s << "smrf (cell " << m.cell_m << " m, slope " << m.slope << ", window " << m.window_m << " m, threshold "
+          << m.threshold_m << " m, scalar " << m.scalar << ")";
+    }
+    return s.str();
+}
+
+namespace {
+
+std::unique_ptr<TerrainFit> startFit(const GroundFileOptions& o, std::size_t max_cells) {
+    if (o.method == GroundMethod::Csf) {
+        CsfOptions c = o.csf;
+        c.max_cells = std::min(c.max_cells, max_cells);
+        return startCsf(c);
+    }
+    SmrfOptions m = o.smrf;
+    m.max_cells = std::min(m.max_cells, max_cells);
+    return startSmrf(m);
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> points, const GroundFileOptions& o) {
+    const std::unique_ptr<TerrainFit> fit = startFit(o, std::size_t(-1));
+    fit->add(points);
+    fit->fit();
+    std::vector<std::uint8_t> ground(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        float height_m = 0;
+        ground[i] = fit->classify(points[i], height_m);
+    }
+    return ground;
+}
+
+GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::filesystem::path& out,
+                                   const GroundFileOptions& o, std::size_t max_cells, const io::LasOptions& las,
+                                   const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress) {
+    GroundFileStats st;
+    const std::unique_ptr<TerrainFit> fit = startFit(o, max_cells);
+    {
+        io::CloudReader reader(in);
+        io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+            fit->add(chunk);
+            progress(chunk.size());
+        });
+    }
+    fit->fit();
+    st.nx = fit->surface().nx;
+    st.ny = fit->surface().ny;
+    st.cell_m = fit->surface().cell_m;
+
+    io::CloudReader reader(in);
+    core::CloudFields fields = reader.fields();
+    fields.label = true;
+    fields.height_above_ground = true;
+    const io::CloudFormat format = io::formatForPath(out, "ground: --out");
+    io::CloudWriter writer(out, format, reader.origin(), fields, las,
+                           format == io::CloudFormat::Copc ? &copc : nullptr);
+    io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+        for (core::CloudPoint& p : chunk) {
+            if (p.label == core::Role::Ground) ++st.was_ground;
+            float height_m = 0;
+            const bool ground = fit->classify(p, height_m);
+            p.height_above_ground_m = height_m;
+            if (p.label != core::Role::Target) p.label = ground ? core::Role::Ground : core::Role::Environment;
+            if (p.label == core::Role::Ground) ++st.ground_points;
+        }
+        st.points += chunk.size();
+        writer.append(chunk);
+        progress(chunk.size());
+    });
+    writer.commit();
+    return st;
+}
+
+}  // namespace sim
