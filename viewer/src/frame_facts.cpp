@@ -21,11 +21,8 @@ nlohmann::json frameRecord(const FrameFacts& f) {
                         {"cpu_ms", f.result->cpu_ms},
                         {"frame_ms", f.frame_ms},
                         {"scale", f.scale},
-                        {"colour", f.colour},
-                        {"cut", f.cut},
-                        {"pointer", f.pointer},
-                        {"pick_ms", f.pick_ms},
-                        {"pick_ready", f.pick_ready}};
+                        {"colour", f.colour}};
+    for (const auto& [key, value] : f.tools.items()) j[key] = value;
     if (f.trial >= 0) j["trial"] = f.trial;
     if (f.gpu_ms >= 0.0) j["gpu_ms"] = f.gpu_ms;
     nlohmann::json tracking = nlohmann::json::array(), local = nlohmann::json::array();
@@ -68,10 +65,10 @@ void recordSummary(RunLog& log, const RunSummary& s) {
     log.set("orbit_centre_local", jsonOf(s.orbit_centre_local));
     log.set("origin", jsonOf(s.origin));
     log.set("actions", s.actions);
-    log.set("candidates", s.candidates);
     log.set("scale_final", s.scale);
     log.set("headset_panel", s.headset_panel);
     if (s.designated_world) log.set("designated_world", jsonOf(*s.designated_world));
+    for (const auto& [key, value] : s.tools.items()) log.set(key, value);
 }
 
 }  // namespace viewer

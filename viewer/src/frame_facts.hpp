@@ -26,12 +26,10 @@ struct FrameFacts {
     double frame_ms = 0.0;
     double scale = 1.0;
     const char* colour = "";
-    nlohmann::json cut, pointer;  // the tools' logs
-    double pick_ms = 0.0;
-    bool pick_ready = false;
     int trial = -1;        // -1: a plain run
     double gpu_ms = -1.0;  // < 0: not timed
     const FrameResult* result = nullptr;
+    nlohmann::json tools = nlohmann::json::object();  // the tools' keys (ToolSet::logFrame)
 };
 nlohmann::json frameRecord(const FrameFacts& f);
 
@@ -43,9 +41,10 @@ struct RunSummary {
     bool cull = true, xr_active_at_end = false, headset_panel = false;
     ViewMode mode = ViewMode::Automatic;
     glm::dvec3 orbit_centre_local{0.0}, origin{0.0};
-    nlohmann::json actions, candidates;
+    nlohmann::json actions;
     double scale = 1.0;
     std::optional<glm::dvec3> designated_world;
+    nlohmann::json tools = nlohmann::json::object();  // the tools' keys (ToolSet::logRun)
 };
 void recordSummary(RunLog& log, const RunSummary& s);
 

@@ -18,6 +18,11 @@
 
 #include "viewer_app.hpp"
 
+#include "tools/candidates_tool.hpp"
+#include "tools/comfort_tool.hpp"
+#include "tools/cut_tool.hpp"
+#include "tools/pointer_tool.hpp"
+
 #include <core/error.hpp>
 #include <platform/safe_file.hpp>
 
@@ -43,9 +48,7 @@ ViewerApp::ViewerApp(const ViewerOptions& options, bool record_frames, TrialSour
       trials_(trials, observer, log_, options.quiet),
       style_(options.style),
       modes_(options.modes, glm::dvec3(0.0)),
-      pointer_(options.pick),
-      cut_(options.cut_enabled, options.cut_radius_m),
-      comfort_(ComfortOptions::of(options)),
+      tools_(viewerTools(options)),
       headset_(log_, options.quiet),
       headset_panel_(options.headset_panel) {
     log_.set("gl", render::glDescription());
@@ -64,7 +67,7 @@ RigPose ViewerApp::headTracking() const {
 void ViewerApp::toggleMode(const std::string& source) {
     const ViewMode from = modes_.mode();
     if (headset_.session())
-        modes_.toggle(zoom_.zoom().apply(eyes_->lastHead()));
+        modes_.toggle(zoom_.apply(eyes_->lastHead()));
     else
         modes_.toggleDesktop(input_.lookYawRad(), input_.lookPitchRad());
     log_.modeSwitch(frames_, modeName(from), modeName(modes_.mode()), source);
@@ -82,7 +85,7 @@ void ViewerApp::startQuit(const std::string& reason) {
 
 bool ViewerApp::readyToStart() const {
     return (stream_.source().finished() && !stream_.source().error().empty()) ||
-           (pointer_.ready() && trials_.breakLeft() <= 0.0);
+           (tools_.get<PointerTool>().ready() && trials_.breakLeft() <= 0.0);
 }
 
 void ViewerApp::beginTrial(int index) {
@@ -92,18 +95,16 @@ void ViewerApp::beginTrial(int index) {
     if (trials_.setup().colour) style_.colour = *trials_.setup().colour;
     if (trials_.setup().eye_dome) style_.eye_dome = *trials_.setup().eye_dome;
     start_free_ = trials_.setup().start_mode == ViewMode::Free;
-    tools_ = trials_.setup().tools.value_or(kAllTrialTools);
-    pointer_.setIndex(nullptr);
-    pointer_.update(std::nullopt);
+    tools_.offer(trials_.setup().tools.value_or(kAllTrialTools));
+    tools_.beginTrial();  // no pick index, candidates or cutting volume of the last trial
     modes_ = ModeController(options_.modes, glm::dvec3(0.0));
     zoom_.reset();
     aim_world_.reset();
-    cut_.enabled() = false;
-    candidates_.set({}, glm::dvec3(0.0));
 }
 
 TrialContext ViewerApp::trialContext() {
-    return {frames_, stream_.source().origin(), &pointer_, &candidates_, stream_.picks().get()};
+    return {frames_, stream_.source().origin(), &tools_.get<PointerTool>(), &tools_.get<CandidatesTool>(),
+            stream_.picks().get()};
 }
 
 int ViewerApp::run(CloudFeed* feed, PointSource* points) {
@@ -137,7 +138,7 @@ int ViewerApp::run(CloudFeed* feed, PointSource* points) {
         last_ = now;
         if (headset_.running()) {  // the frame first: its controllers and eyes share its display time
             eyes_->beginXr(*headset_.session());
-            merge(in, xr_input_.map(headset_.session()->syncInput(), comfort_.snapTurn()));
+            merge(in, xr_input_.map(headset_.session()->syncInput(), tools_.get<ComfortTool>().snapTurn()));
         }
         merge(in, replay_.take(stream_.centreFinal(), Clock::now()));
         update(in, dt);
@@ -193,10 +194,11 @@ bool ViewerApp::pollXr() {
 /// index, places the candidates, and refuses a cloud that failed to load.
 void ViewerApp::updateSource() {
     const SourceEvents ev = stream_.update(frames_, log_);
-    if (ev.picks_ready) pointer_.setIndex(stream_.picks());
+    if (ev.picks_ready) tools_.get<PointerTool>().setIndex(stream_.picks());
     if (ev.picks_ready && pickable_since_frame_ < 0) pickable_since_frame_ = frames_;
     if (trials_.placeCandidates(stream_.source().originFinal()))
-        candidates_.set(trials_.study() ? trials_.setup().candidates : options_.candidates, stream_.source().origin());
+        tools_.get<CandidatesTool>().set(trials_.study() ? trials_.setup().candidates : options_.candidates,
+                                         stream_.source().origin());
     if (!ev.load_error.empty()) {
         // A file that does not read whole (or holds no point) is refused: one error line
         // (as main prints errors: escaped, capped), exit status 1, no screenshot and no
@@ -226,51 +228,19 @@ void ViewerApp::update(OperatorInput in, double dt) {
             start_free_ = false;
             if (modes_.mode() != ViewMode::Free) {
                 if (headset_.session())
-                    modes_.toggle(zoom_.zoom().apply(eyes_->lastHead()));
+                    modes_.toggle(zoom_.apply(eyes_->lastHead()));
                 else
                     modes_.toggleDesktop(input_.lookYawRad(), input_.lookPitchRad());
                 log_.modeSwitch(frames_, modeName(ViewMode::Automatic), modeName(ViewMode::Free), "condition");
             }
         }
         if (in.toggle_mode) toggleMode(in.toggle_source);
-        // The zoom's pivot: the pointer's hit (in the tracking frame), else the head.
-        const RigPose rig = modes_.rig();
-        ToolFrame f;
-        f.dt_s = dt;
-        f.now_s = std::chrono::duration<double>(Clock::now() - start_).count();
-        f.modes = &modes_;
-        f.zoom_pivot_tracking =
-            pointer_.hit() ? zoom_.zoom().unapply(glm::transpose(rig.rotation) * (pointer_.hit()->local - rig.position))
-                           : headTracking().position;
-        in.reset_zoom = in.reset_zoom || reset_zoom_button_;
-        if (tools_ & kToolZoom) {
-            zoom_.update(in, f);
-            if (in.set_scale) trials_.record("grab_scale", frames_, {{"scale", zoom_.zoom().scale()}});
-        }
-        if (in.cycle_colour && (tools_ & kToolColour)) {  // the next mode colourModeName knows, then the first again
-            const auto next = static_cast<ColourMode>(static_cast<int>(style_.colour) + 1);
-            style_.colour = std::string(colourModeName(next)) == "?" ? ColourMode::File : next;
-        }
-        if (tools_ & kToolCut)
-            cut_.update(in, f);
-        else
-            cut_.enabled() = false;  // the panel's switch too
-        // Modes advance with real time; free-mode speed follows the zoom.
-        const double k = 1.0 / zoom_.zoom().scale();
-        f.motion = {in.motion.forward * k, in.motion.right * k, in.motion.up * k, in.motion.turn};
-        if (modes_.mode() == ViewMode::Free) trials_.addFreeModeSeconds(dt);
-        comfort_.update(in, f);
-        modes_.update(dt, f.motion, zoom_.zoom().apply(headTracking()));
-        // The pointer and the candidates follow this frame's ray; the trial decides.
-        f.ray = pointerRay(in);
-        pointer_.update(in, f);
-        candidates_.update(in, f);
-        trials_.decide(in, trialContext());
+        updateTools(in, dt);
+        // The trial's designation mark goes over the pointer's dot and under the boxes.
         overlay_list_.clear();
-        pointer_.draw(overlay_list_);
-        trials_.draw(overlay_list_, zoom_.zoom().scale());
-        candidates_.draw(overlay_list_);
-        comfort_.draw(overlay_list_);
+        tools_.draw(ToolLayer::UnderDesignation, overlay_list_);
+        trials_.draw(overlay_list_, zoom_.scale());
+        tools_.draw(ToolLayer::OverDesignation, overlay_list_);
         if (replay_sample_ && replay_sample_->hit_world)
             overlay_list_.dots.push_back(
                 {*replay_sample_->hit_world - stream_.source().origin(), {1.0f, 1.0f, 0.2f, 1.0f}});
@@ -377,10 +347,50 @@ void ViewerApp::answerQuestion(const OperatorInput& in) {
         }
 }
 
+/// The tools' stages in order, the frame loop's work between them: the motion scaled by
+/// the zoom the View stage left, the rig moved after the comfort tool's snap turn, the
+/// pointer's ray after the rig, and the trial's decision last.
+void ViewerApp::updateTools(OperatorInput& in, double dt) {
+    const PointerTool& pointer = tools_.get<PointerTool>();
+    const RigPose rig = modes_.rig();
+    ToolFrame f;
+    f.dt_s = dt;
+    f.now_s = std::chrono::duration<double>(Clock::now() - start_).count();
+    f.modes = &modes_;
+    f.zoom = &zoom_;
+    f.style = &style_;
+    f.actions = &tool_actions_;
+    // The zoom's pivot: the pointer's hit (in the tracking frame), else the head.
+    f.zoom_pivot_tracking = pointer.hit()
+                                ? zoom_.unapply(glm::transpose(rig.rotation) * (pointer.hit()->local - rig.position))
+                                : headTracking().position;
+    in.reset_zoom = in.reset_zoom || reset_zoom_button_;
+    tools_.update(ToolStage::View, in, f);
+    recordToolActions();
+    // Modes advance with real time; free-mode speed follows the zoom.
+    const double k = 1.0 / zoom_.scale();
+    f.motion = {in.motion.forward * k, in.motion.right * k, in.motion.up * k, in.motion.turn};
+    if (modes_.mode() == ViewMode::Free) trials_.addFreeModeSeconds(dt);
+    tools_.update(ToolStage::Motion, in, f);
+    recordToolActions();
+    modes_.update(dt, f.motion, zoom_.apply(headTracking()));
+    // The pointer and the candidates follow this frame's ray; the trial decides.
+    f.ray = pointerRay(in);
+    tools_.update(ToolStage::Aim, in, f);
+    recordToolActions();
+    trials_.decide(in, trialContext());
+}
+
+/// What the tools asked to record (a script's grab_scale), into the trial's decisions.
+void ViewerApp::recordToolActions() {
+    for (ToolAction& a : tool_actions_) trials_.record(a.action, frames_, std::move(a.extra));
+    tool_actions_.clear();
+}
+
 std::optional<LocalRay> ViewerApp::pointerRay(const OperatorInput& in) const {
     PointerSources p{modes_.rig(),
                      headLocal(),
-                     &zoom_.zoom(),
+                     &zoom_,
                      std::nullopt,
                      in.controller_ray,
                      std::nullopt,
@@ -397,11 +407,11 @@ std::optional<LocalRay> ViewerApp::pointerRay(const OperatorInput& in) const {
 void ViewerApp::render(int fb_w, int fb_h) {
     FrameView view;
     view.rig = modes_.rig();
-    view.zoom = &zoom_.zoom();
+    view.zoom = &zoom_;
     view.head_tracking = headTracking();
     view.style = &style_;
     view.mode = replay_sample_ ? replay_sample_->mode : modes_.mode();
-    view.cut = cut_.volume(trials_.designated());
+    view.cut = tools_.get<CutTool>().volume(trials_.designated());
     view.overlay = &overlay_list_;
     view.blank = trials_.readyScreen() || questions_.active();
     view.headset = headset_.session() != nullptr;
@@ -440,11 +450,23 @@ void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
     if (frames_ == 1 && !options_.quiet) std::fprintf(stderr, "ladarvr: view: first frame drawn\n");
     const PointRenderer& points = stream_.renderer();
     if (record_frames_) {
-        nlohmann::json record =
-            frameRecord({frames_, std::chrono::duration<double>(Clock::now() - start_).count(), modes_.mode(),
-                         modes_.centre(), xr, points_drawn_, points.uploadedPoints(), stream_.source().pointsArrived(),
-                         frame_ms_, zoom_.zoom().scale(), colourModeName(style_.colour), cut_.log(), pointer_.log(),
-                         pointer_.lastPickMs(), pointer_.ready(), trials_.index(), eyes_->lastGpuMs(), &result});
+        FrameFacts facts{frames_,
+                         std::chrono::duration<double>(Clock::now() - start_).count(),
+                         modes_.mode(),
+                         modes_.centre(),
+                         xr,
+                         points_drawn_,
+                         points.uploadedPoints(),
+                         stream_.source().pointsArrived(),
+                         frame_ms_,
+                         zoom_.scale(),
+                         colourModeName(style_.colour),
+                         trials_.index(),
+                         eyes_->lastGpuMs(),
+                         &result,
+                         nlohmann::json::object()};
+        tools_.logFrame(facts.tools);
+        nlohmann::json record = frameRecord(facts);
         record["stream"] = stream_.frameFigures();
         log_.frame(std::move(record));
     }
@@ -470,9 +492,9 @@ void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
     const RigPose head = headLocal();
     const glm::dvec3 origin = stream_.source().origin();
     std::optional<glm::dvec3> hit_world;
-    if (pointer_.hit()) hit_world = pointer_.hit()->local + origin;
+    if (const std::optional<PickHit>& hit = tools_.get<PointerTool>().hit()) hit_world = hit->local + origin;
     trials_.observeFrame({trials_.time(), head.position + origin, glm::quat_cast(head.rotation), modes_.mode(),
-                          zoom_.zoom().scale(), hit_world});
+                          zoom_.scale(), hit_world});
 }
 
 void ViewerApp::present(int fb_w, int fb_h) {
@@ -507,22 +529,15 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     v.arena = stream_.renderer().arena();
     v.source = stream_.source().stats();
     v.loading = !stream_.source().finished();
-    v.picking_ready = pointer_.ready();
-    v.pick_ms = pointer_.lastPickMs();
-    v.scale = zoom_.zoom().scale();
-    v.cut_enabled = &cut_.enabled();
-    v.cut_radius_m = &cut_.radiusM();
-    v.highlight_candidates = &candidates_.highlight();
-    v.candidates = candidates_.size();
-    v.snap_turn = &comfort_.snapTurn();
-    v.vignette = &comfort_.vignette();
+    v.scale = zoom_.scale();
+    tools_.describe(v);
     v.headset_panel = headset_.session() ? &headset_panel_ : nullptr;
     PanelFrame p;
     p.origin = stream_.source().origin();
     p.has_height = stream_.source().fields().height_above_ground;
     trials_.describe(p);
     p.ready_to_start = readyToStart();
-    p.hit = pointer_.hit();
+    p.hit = tools_.get<PointerTool>().hit();
     p.headset = headset_.session() != nullptr;
     p.questionnaire = &questions_;
     p.answered = &panel_answer_;
@@ -532,7 +547,7 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     p.head_local = eye.position;
     p.view_projection = render::projectionMatrix(options_.modes.orbit.vfov_deg, double(fb_w) / std::max(fb_h, 1),
                                                  options_.modes.orbit.near_m, options_.modes.orbit.far_m) *
-                        scaledView(eye, zoom_.zoom().scale());
+                        scaledView(eye, zoom_.scale());
     EyeTarget* headset_target =
         headset_.session() && (headset_panel_ || questions_.active()) ? &eyes_->panelTarget() : nullptr;
     reset_zoom_button_ = drawFramePanels(v, p, fb_w, fb_h, headset_target);
@@ -561,9 +576,10 @@ int ViewerApp::finish(int status) {
                  modes_.centre(),
                  stream_.source().origin(),
                  trials_.decisions(),
-                 candidates_.log(),
-                 zoom_.zoom().scale(),
-                 std::nullopt};
+                 zoom_.scale(),
+                 std::nullopt,
+                 nlohmann::json::object()};
+    tools_.logRun(s.tools);
     if (trials_.designated()) s.designated_world = *trials_.designated() + stream_.source().origin();
     recordSummary(log_, s);
     if (const std::optional<std::size_t> hwm = peakResidentBytes()) log_.set("vm_hwm_bytes", *hwm);

@@ -1,31 +1,28 @@
 // viewer/src/viewer_app.hpp: the frame loop's state (viewer.cpp): the window, the input
-// sources, the tools, the trial controller, the point source's stream, the eye renderer
-// and the headset, each its own component; ViewerApp only runs them in order.
+// sources, the tools (one ToolSet), the trial controller, the point source's stream, the
+// eye renderer and the headset, each its own component; ViewerApp only runs them in order.
 #pragma once
 #include <viewer/cloud_feed_source.hpp>
 #include <viewer/viewer.hpp>
+#include <viewer/world_zoom.hpp>
 
-#include "input/desktop_input.hpp"
-#include "ui/desktop_window.hpp"
-#include "ui/eye_frame_renderer.hpp"
 #include "frame_facts.hpp"
-#include "xr/headset.hpp"
+#include "input/desktop_input.hpp"
 #include "input/replay_player.hpp"
 #include "input/script_player.hpp"
+#include "input/xr_input_mapping.hpp"
+#include "points/point_renderer.hpp"
+#include "points/source_stream.hpp"
+#include "run_log.hpp"
+#include "stop_signal.hpp"
+#include "tools/tool_set.hpp"
+#include "trial/trial_controller.hpp"
+#include "ui/desktop_window.hpp"
+#include "ui/eye_frame_renderer.hpp"
 #include "ui/panel.hpp"
 #include "ui/panel_quad.hpp"
 #include "ui/questionnaire_screen.hpp"
-#include "points/point_renderer.hpp"
-#include "run_log.hpp"
-#include "points/source_stream.hpp"
-#include "stop_signal.hpp"
-#include "tools/candidates_tool.hpp"
-#include "tools/comfort_tool.hpp"
-#include "tools/cut_tool.hpp"
-#include "tools/pointer_tool.hpp"
-#include "tools/zoom_tool.hpp"
-#include "trial/trial_controller.hpp"
-#include "input/xr_input_mapping.hpp"
+#include "xr/headset.hpp"
 #include "xr/xr_session.hpp"
 
 #include <chrono>
@@ -33,6 +30,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace viewer {
 
@@ -61,9 +59,11 @@ class ViewerApp {
     void beginTrial(int index);
     void askGap(int gap);
     void answerQuestion(const OperatorInput& in);
+    void updateTools(OperatorInput& in, double dt);
+    void recordToolActions();
     bool readyToStart() const;
     RigPose headTracking() const;
-    RigPose headLocal() const { return compose(modes_.rig(), zoom_.zoom().apply(headTracking())); }
+    RigPose headLocal() const { return compose(modes_.rig(), zoom_.apply(headTracking())); }
     std::optional<LocalRay> pointerRay(const OperatorInput& in) const;
     TrialContext trialContext();
     void frameCounted(const FrameResult& result, bool xr);
@@ -92,11 +92,9 @@ class ViewerApp {
     CloudFeed empty_feed_;                         // a run of questions only shows no cloud
     ViewStyle style_;
     ModeController modes_;
-    PointerTool pointer_;
-    CandidatesTool candidates_;
-    ZoomTool zoom_;
-    CutTool cut_;
-    ComfortTool comfort_;
+    WorldZoom zoom_;
+    ToolSet tools_;
+    std::vector<ToolAction> tool_actions_;  // this frame's, until recorded
     OverlayList overlay_list_;
     std::unique_ptr<CloudFeedSource> plain_source_;
     SourceStream stream_;
@@ -111,9 +109,8 @@ class ViewerApp {
     long first_points_frame_ = -1;
     std::size_t points_drawn_ = 0;
     std::string exit_reason_ = "window closed";
-    bool quitting_ = false;            // frames after the exit request are not counted
-    bool start_free_ = false;          // the trial begun starts in free mode (its condition's)
-    unsigned tools_ = kAllTrialTools;  // the tools the trial offers (TrialTool bits)
+    bool quitting_ = false;    // frames after the exit request are not counted
+    bool start_free_ = false;  // the trial begun starts in free mode (its condition's)
     bool screenshot_done_ = false, reset_zoom_button_ = false, headset_panel_ = true;
     int status_ = 0;
     double frame_ms_ = 0.0;                // wall time since the previous loop iteration

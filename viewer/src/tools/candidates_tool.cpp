@@ -1,6 +1,8 @@
 // viewer/src/tools/candidates_tool.cpp: candidate boxes, picked by the pointer's ray.
 #include "tools/candidates_tool.hpp"
 
+#include "ui/panel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -98,6 +100,11 @@ nlohmann::json CandidatesTool::log() const {
     for (std::size_t i = 0; i < candidates_.size(); ++i)
         list.push_back({{"id", candidates_[i].id}, {"verdict", verdictName(verdicts_[i])}});
     return list;
+}
+
+void CandidatesTool::describe(PanelView& v) {
+    v.highlight_candidates = &highlight_;
+    v.candidates = candidates_.size();
 }
 
 }  // namespace viewer

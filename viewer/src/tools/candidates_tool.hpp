@@ -25,6 +25,7 @@ class CandidatesTool final : public Tool {
   public:
     /// `origin`: world coordinates of the cloud's local frame.
     void set(std::vector<core::Candidate> candidates, const glm::dvec3& origin);
+    ToolStage stage() const override { return ToolStage::Aim; }
     bool empty() const { return candidates_.empty(); }
     std::size_t size() const { return candidates_.size(); }
     const core::Candidate& candidate(std::size_t i) const { return candidates_[i]; }
@@ -40,7 +41,14 @@ class CandidatesTool final : public Tool {
     void draw(OverlayList& out) const override { draw(out, highlight_); }
     /// Every box brighter and thicker (the panel's switch).
     bool& highlight() { return highlight_; }
-    nlohmann::json log() const override;
+    /// [{"id", "verdict"}, ...] in the file's order.
+    nlohmann::json log() const;
+    /// The end of the run's "candidates" (log()).
+    void logRun(nlohmann::json& summary) const override { summary["candidates"] = log(); }
+    /// No candidates until the new trial's are placed.
+    void beginTrial() override { set({}, glm::dvec3(0.0)); }
+    /// The panel's highlight switch and the number of boxes.
+    void describe(PanelView& v) override;
 
   private:
     std::vector<core::Candidate> candidates_;

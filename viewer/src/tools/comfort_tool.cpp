@@ -1,6 +1,8 @@
 // viewer/src/tools/comfort_tool.cpp: snap turn and vignette.
 #include "tools/comfort_tool.hpp"
 
+#include "ui/panel.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -22,6 +24,11 @@ void ComfortTool::draw(OverlayList& out) const {
     if (options_.vignette)
         out.vignette =
             VignetteStyle{float(options_.vignette_aperture), float(options_.vignette_feather), float(strength_)};
+}
+
+void ComfortTool::describe(PanelView& v) {
+    v.snap_turn = &options_.snap_turn;
+    v.vignette = &options_.vignette;
 }
 
 }  // namespace viewer

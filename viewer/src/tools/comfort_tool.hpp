@@ -24,11 +24,14 @@ struct ComfortOptions {
 class ComfortTool final : public Tool {
   public:
     explicit ComfortTool(const ComfortOptions& options) : options_(options) {}
+    ToolStage stage() const override { return ToolStage::Motion; }
     /// Turns frame.modes on a snap turn in free mode; eases the vignette in over 0.2 s of
     /// motion (or a snap) and out over 0.3 s at rest.
     void update(const OperatorInput& in, const ToolFrame& frame) override;
     /// The vignette, while it is switched on (the eye renderer draws it in the headset).
     void draw(OverlayList& out) const override;
+    /// The panel's snap turn and vignette switches.
+    void describe(PanelView& v) override;
     bool& snapTurn() { return options_.snap_turn; }
     bool& vignette() { return options_.vignette; }
 

@@ -1,6 +1,8 @@
 // viewer/src/tools/cut_tool.cpp: the cutting volume's switch and radius.
 #include "tools/cut_tool.hpp"
 
+#include "ui/panel.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -9,6 +11,11 @@ namespace viewer {
 void CutTool::update(const OperatorInput& in, const ToolFrame&) {
     if (in.toggle_cut) enabled_ = !enabled_;
     if (in.cut_radius_step != 0.0) radius_m_ = std::clamp(radius_m_ * std::pow(1.25, in.cut_radius_step), 1.0, 500.0);
+}
+
+void CutTool::describe(PanelView& v) {
+    v.cut_enabled = &enabled_;
+    v.cut_radius_m = &radius_m_;
 }
 
 CutVolume CutTool::volume(const std::optional<glm::dvec3>& designated_local) const {

@@ -5,14 +5,23 @@
 #include "points/point_renderer.hpp"
 #include "tools/tool.hpp"
 
+#include <viewer/trial.hpp>
+
 namespace viewer {
 
 class CutTool final : public Tool {
   public:
     CutTool(bool enabled, double radius_m) : enabled_(enabled), radius_m_(radius_m) {}
+    ToolStage stage() const override { return ToolStage::View; }
+    unsigned trialTool() const override { return kToolCut; }
     void update(const OperatorInput& in, const ToolFrame& frame) override;
+    /// Off while the trial leaves it out (the panel's switch too).
+    void withhold() override { enabled_ = false; }
+    void beginTrial() override { enabled_ = false; }
     /// Whether it is on (the frame record's "cut").
-    nlohmann::json log() const override { return enabled_; }
+    void logFrame(nlohmann::json& record) const override { record["cut"] = enabled_; }
+    /// The panel's switch and radius.
+    void describe(PanelView& v) override;
     /// The volume around `designated_local`; off without a designation.
     CutVolume volume(const std::optional<glm::dvec3>& designated_local) const;
     bool& enabled() { return enabled_; }

@@ -1,6 +1,8 @@
 // viewer/src/tools/pointer_tool.cpp: the laser pointer's pick and drawing.
 #include "tools/pointer_tool.hpp"
 
+#include "ui/panel.hpp"
+
 #include <core/scene.hpp>
 
 #include <chrono>
@@ -58,6 +60,22 @@ nlohmann::json PointerTool::log() const {
                           {"distance_m", hit_->distance_m}};
     if (hit_->level >= 0) out["level"] = hit_->level;  // an octree source: the picked node's level
     return out;
+}
+
+void PointerTool::logFrame(nlohmann::json& record) const {
+    record["pointer"] = log();
+    record["pick_ms"] = pick_ms_;
+    record["pick_ready"] = ready();
+}
+
+void PointerTool::beginTrial() {
+    setIndex(nullptr);
+    update(std::nullopt);
+}
+
+void PointerTool::describe(PanelView& v) {
+    v.picking_ready = ready();
+    v.pick_ms = pick_ms_;
 }
 
 }  // namespace viewer

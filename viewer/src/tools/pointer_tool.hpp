@@ -35,6 +35,9 @@ std::optional<LocalRay> pointerRayOf(const PointerSources& p);
 class PointerTool final : public Tool {
   public:
     explicit PointerTool(const PickOptions& options) : options_(options) {}
+    ToolStage stage() const override { return ToolStage::Aim; }
+    /// Under the designation mark (a designation's dot lies on the pointer's).
+    ToolLayer layer() const override { return ToolLayer::UnderDesignation; }
 
     /// The per-node indexes to pick from (null: the cloud is still loading, nothing is picked).
     void setIndex(std::shared_ptr<const PickSet> index) { index_ = std::move(index); }
@@ -54,7 +57,13 @@ class PointerTool final : public Tool {
     /// draw(out, 200 m, whether the last update's ray came from the eye).
     void draw(OverlayList& out) const override { draw(out, 200.0, from_eye_); }
     /// {"hit": [x, y, z] local, "label", "distance_m"} or {"hit": null}.
-    nlohmann::json log() const override;
+    nlohmann::json log() const;
+    /// The frame record's "pointer" (log()), "pick_ms" and "pick_ready".
+    void logFrame(nlohmann::json& record) const override;
+    /// No index and no ray until the new trial's cloud can be picked.
+    void beginTrial() override;
+    /// The panel's picking state.
+    void describe(PanelView& v) override;
 
   private:
     PickOptions options_;

@@ -6,18 +6,20 @@
 namespace viewer {
 
 void ZoomTool::update(const OperatorInput& in, const ToolFrame& frame) {
+    WorldZoom& zoom = *frame.zoom;
     const glm::dvec3& pivot = frame.zoom_pivot_tracking;
-    if (in.wheel != 0.0) zoom_.scaleAbout(pivot, zoom_.scale() * std::pow(1.15, in.wheel));
-    if (in.set_scale) zoom_.scaleAbout(pivot, *in.set_scale);
+    if (in.wheel != 0.0) zoom.scaleAbout(pivot, zoom.scale() * std::pow(1.15, in.wheel));
+    if (in.set_scale) zoom.scaleAbout(pivot, *in.set_scale);
     if (in.grab_hands) {
-        if (!zoom_.grabbing())
-            zoom_.beginGrab(in.grab_hands->first, in.grab_hands->second);
+        if (!zoom.grabbing())
+            zoom.beginGrab(in.grab_hands->first, in.grab_hands->second);
         else
-            zoom_.updateGrab(in.grab_hands->first, in.grab_hands->second);
-    } else if (zoom_.grabbing()) {
-        zoom_.endGrab();
+            zoom.updateGrab(in.grab_hands->first, in.grab_hands->second);
+    } else if (zoom.grabbing()) {
+        zoom.endGrab();
     }
-    if (in.reset_zoom) zoom_.reset();
+    if (in.reset_zoom) zoom.reset();
+    if (in.set_scale && frame.actions) frame.actions->push_back({"grab_scale", {{"scale", zoom.scale()}}});
 }
 
 }  // namespace viewer
