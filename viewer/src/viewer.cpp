@@ -46,6 +46,7 @@ ViewerApp::ViewerApp(const ViewerOptions& options, bool record_frames, TrialSour
       script_(options.script),
       replay_(options.replay),
       trials_(trials, observer, log_, options.quiet),
+      questions_(trials_, log_, options.quiet),
       style_(options.style),
       modes_(options.modes, glm::dvec3(0.0)),
       tools_(viewerTools(options)),
@@ -111,7 +112,7 @@ int ViewerApp::run(CloudFeed* feed, PointSource* points) {
     if (trials_.study()) {
         // The questions before the first trial come up over its ready screen (its cloud
         // loads meanwhile); a resumed session with only questions left shows no cloud.
-        askGap(0);
+        questions_.ask(0);
         if (trials_.total() > 0) {
             beginTrial(0);
         } else {
@@ -156,7 +157,7 @@ OperatorInput ViewerApp::gatherInput() {
                             headset_.desktopSinceFrame(),
                             stream_.loadedSinceFrame(),
                             trials_.readyScreen() && (!readyToStart() || questions_.active()),
-                            questions_.active() && questions_.shown() && !script_point_,
+                            questions_.awaitsPointAnswer(),
                             pickable_since_frame_};
     merge(in, script_.take(clock));
     return in;
@@ -219,7 +220,9 @@ void ViewerApp::update(OperatorInput in, double dt) {
     if (in.replay) replay_sample_ = in.replay;
     if (in.replay_done && !quitting_) startQuit("replay done");
     if (questions_.active()) {
-        answerQuestion(in);
+        const EyeTarget& panel = eyes_->panelTarget();
+        questions_.update(
+            in, {frames_, headset_.session() != nullptr, panel.width, panel.height, eyes_->lastHead().position});
         overlay_list_.clear();
     } else if (trials_.handleReadyScreen(in, readyToStart() && stream_.source().error().empty(), frames_)) {
         overlay_list_.clear();
@@ -248,7 +251,7 @@ void ViewerApp::update(OperatorInput in, double dt) {
     // The trial ended: the questions after it, then the next one, or the end of the run.
     if (trials_.study() && !trials_.running() && !trials_.readyScreen() && !quitting_ && !questions_.active()) {
         const int gap = trials_.index() + 1;
-        if (asked_gap_ < gap) askGap(gap);
+        questions_.ask(gap);
         if (!questions_.active()) {
             if (gap < trials_.total())
                 beginTrial(gap);
@@ -256,95 +259,6 @@ void ViewerApp::update(OperatorInput in, double dt) {
                 startQuit("trials done");
         }
     }
-}
-
-void ViewerApp::askGap(int gap) {
-    asked_gap_ = gap;
-    questions_.start(gap, trials_.questions(gap));
-    if (!questions_.active()) return;
-    log_.event("questionnaire at gap " + std::to_string(gap));
-    if (!options_.quiet)
-        std::fprintf(stderr, "ladarvr: study: questionnaire: %s\n", questions_.current().title.c_str());
-}
-
-/// A questionnaire item is up: a script's answer, else what was clicked or typed on the
-/// panel, is checked and reported; a text item in the headset is skipped. Then the
-/// controller's pointer is placed on the headset panel for the next panel frame.
-void ViewerApp::answerQuestion(const OperatorInput& in) {
-    std::optional<Answer> answer;
-    const char* source = "script";
-    if (in.answer) {
-        answer = Answer{*in.answer, false};
-    } else if (panel_answer_) {
-        answer = panel_answer_;
-        source = headset_.session() && panel_pointer_ ? "pointer" : "mouse";
-    }
-    panel_answer_.reset();
-    if (questions_.current().free_text && headset_.session()) {
-        answer = Answer{"", true};
-        source = "headset";
-    }
-    if (answer) {
-        const Question& q = questions_.current();
-        if (const std::string why = questions_.check(*answer); !why.empty()) {
-            platform::printMessage("warning",
-                                   "study: answer '" + answer->response + "' to '" + q.text + "' refused: " + why);
-        } else {
-            trials_.answered(questions_.gap(), questions_.index(), *answer, source, frames_);
-            script_panel_ray_.reset();
-            script_point_.reset();
-            if (!options_.quiet)
-                std::fprintf(stderr, "ladarvr: study: question %d of %d answered (%s)%s\n", q.number, q.count, source,
-                             answer->skipped ? ": skipped" : "");
-            questions_.advance();
-            if (!questions_.active()) {
-                if (!options_.quiet) std::fprintf(stderr, "ladarvr: study: questionnaire done\n");
-                if (trials_.readyScreen()) trials_.restartReadyClock();  // the break starts now
-            } else if (!options_.quiet && questions_.current().number == 1) {
-                std::fprintf(stderr, "ladarvr: study: questionnaire: %s\n", questions_.current().title.c_str());
-            }
-        }
-    }
-    panel_pointer_.reset();
-    panel_click_ = false;
-    const EyeTarget& panel = eyes_->panelTarget();
-    if (!headset_.session() || panel.width <= 0 || !questions_.active()) {
-        script_panel_ray_.reset();
-        script_point_.reset();
-        return;
-    }
-    const PanelQuad quad = headsetPanelQuad(panel.width, panel.height);
-    std::optional<TrackingRay> ray = in.controller_ray;
-    bool click = in.designate;
-    // A script standing in for the controller: a ray from the head to the rating's button
-    // where the panel shows it, held until the item is answered, and a trigger; pulled
-    // again every few frames while the item stays up (a window that moved meanwhile).
-    if (in.point_answer) {
-        script_point_ = *in.point_answer;
-        script_wait_frames_ = 0;
-    } else if (script_point_ && ++script_wait_frames_ >= 4) {
-        script_wait_frames_ = 0;
-    }
-    if (script_point_ && script_wait_frames_ == 0) {
-        if (const auto uv = questions_.buttonCentre(*script_point_)) {
-            const glm::dvec3 on_panel =
-                quad.centre + quad.right * ((uv->x - 0.5) * quad.width_m) + quad.up * ((0.5 - uv->y) * quad.height_m);
-            const glm::dvec3 head = eyes_->lastHead().position;
-            script_panel_ray_ = TrackingRay{head, glm::normalize(on_panel - head)};
-            click = true;
-        } else {
-            platform::printMessage(
-                "warning", "study: point_answer " + std::to_string(*script_point_) + ": no such rating on the item up");
-            script_point_.reset();
-            script_panel_ray_.reset();
-        }
-    }
-    if (script_panel_ray_) ray = script_panel_ray_;
-    if (ray)
-        if (const auto uv = panelHit(quad, *ray)) {
-            panel_pointer_ = *uv;
-            panel_click_ = click;
-        }
 }
 
 /// The tools' stages in order, the frame loop's work between them: the motion scaled by
@@ -539,10 +453,7 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     p.ready_to_start = readyToStart();
     p.hit = tools_.get<PointerTool>().hit();
     p.headset = headset_.session() != nullptr;
-    p.questionnaire = &questions_;
-    p.answered = &panel_answer_;
-    p.panel_pointer = panel_pointer_;
-    p.panel_click = panel_click_;
+    questions_.describe(p);
     const RigPose eye = headLocal();
     p.head_local = eye.position;
     p.view_projection = render::projectionMatrix(options_.modes.orbit.vfov_deg, double(fb_w) / std::max(fb_h, 1),

@@ -1,6 +1,7 @@
 // viewer/src/viewer_app.hpp: the frame loop's state (viewer.cpp): the window, the input
-// sources, the tools (one ToolSet), the trial controller, the point source's stream, the
-// eye renderer and the headset, each its own component; ViewerApp only runs them in order.
+// sources, the tools (one ToolSet), the trial controller and its questionnaires, the point
+// source's stream, the eye renderer and the headset, each its own component; ViewerApp
+// only runs them in order.
 #pragma once
 #include <viewer/cloud_feed_source.hpp>
 #include <viewer/viewer.hpp>
@@ -16,12 +17,11 @@
 #include "run_log.hpp"
 #include "stop_signal.hpp"
 #include "tools/tool_set.hpp"
+#include "trial/questionnaire_flow.hpp"
 #include "trial/trial_controller.hpp"
 #include "ui/desktop_window.hpp"
 #include "ui/eye_frame_renderer.hpp"
 #include "ui/panel.hpp"
-#include "ui/panel_quad.hpp"
-#include "ui/questionnaire_screen.hpp"
 #include "xr/headset.hpp"
 #include "xr/xr_session.hpp"
 
@@ -57,8 +57,6 @@ class ViewerApp {
     void startQuit(const std::string& reason);
     void toggleMode(const std::string& source);
     void beginTrial(int index);
-    void askGap(int gap);
-    void answerQuestion(const OperatorInput& in);
     void updateTools(OperatorInput& in, double dt);
     void recordToolActions();
     bool readyToStart() const;
@@ -80,16 +78,9 @@ class ViewerApp {
     ReplayPlayer replay_;
     XrInputMapping xr_input_;
     TrialController trials_;
-    QuestionnaireScreen questions_;
-    int asked_gap_ = -1;                           // the last gap whose questions were asked
-    std::optional<Answer> panel_answer_;           // clicked or typed in the last panel frame
-    std::optional<glm::dvec2> panel_pointer_;      // the controller's pointer on the headset panel
-    bool panel_click_ = false;                     // its trigger went down this frame
-    std::optional<int> script_point_;              // a script's point_answer rating, until answered
-    long pickable_since_frame_ = -1;               // when the pointer could first pick (a script's pickable+N)
-    int script_wait_frames_ = 0;                   // frames since its trigger
-    std::optional<TrackingRay> script_panel_ray_;  // a script's point_answer, held until answered
-    CloudFeed empty_feed_;                         // a run of questions only shows no cloud
+    QuestionnaireFlow questions_;
+    long pickable_since_frame_ = -1;  // when the pointer could first pick (a script's pickable+N)
+    CloudFeed empty_feed_;            // a run of questions only shows no cloud
     ViewStyle style_;
     ModeController modes_;
     WorldZoom zoom_;
