@@ -16,6 +16,7 @@ void registerCorpus(CLI::App& cli);    // cmd_corpus.cpp:   `ladarvr corpus`
 void registerStudy(CLI::App& cli);     // cmd_study.cpp:    `ladarvr study`
 void registerIndex(CLI::App& cli);     // cmd_index.cpp:    `ladarvr index`
 void registerInfo(CLI::App& cli);      // cmd_info.cpp:     `ladarvr info`
+void registerGround(CLI::App& cli);    // cmd_ground.cpp:   `ladarvr ground`
 /// cmd_study_report.cpp: `ladarvr study report`, added under `study`; returns it.
 CLI::App* registerStudyReport(CLI::App& study);
 

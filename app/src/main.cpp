@@ -57,6 +57,7 @@ int run(int argc, char** argv) {
     app::registerStudy(cli);
     app::registerIndex(cli);
     app::registerInfo(cli);
+    app::registerGround(cli);
     app::applyConventions(cli);  // after every subcommand: the checks reach all options
     // The benchmarks are a program of their own (bench/), built and run from the checkout.
     if (argc > 1 && std::strcmp(argv[1], "bench") == 0) {

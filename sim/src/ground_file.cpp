@@ -91,18 +91,22 @@ GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::f
                            format == io::CloudFormat::Copc ? &copc : nullptr);
     io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
         for (core::CloudPoint& p : chunk) {
-            if (p.label == core::Role::Ground) ++st.was_ground;
+            const bool was_ground = p.label == core::Role::Ground;
             float height_m = 0;
             const bool ground = fit->classify(p, height_m);
             p.height_above_ground_m = height_m;
             if (p.label != core::Role::Target) p.label = ground ? core::Role::Ground : core::Role::Environment;
-            if (p.label == core::Role::Ground) ++st.ground_points;
+            const bool is_ground = p.label == core::Role::Ground;
+            st.was_ground += was_ground;
+            st.still_ground += was_ground && is_ground;
+            st.ground_points += is_ground;
         }
         st.points += chunk.size();
         writer.append(chunk);
         progress(chunk.size());
     });
     writer.commit();
+    st.reader_warning = reader.warning();
     return st;
 }
 

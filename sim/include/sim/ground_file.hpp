@@ -46,7 +46,9 @@ std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> point
 struct GroundFileStats {
     std::size_t points = 0;         // written
     std::size_t ground_points = 0;  // of them, labelled ground
-    std::size_t was_ground = 0;     // labelled ground in the input
+    std::size_t was_ground = 0;     // labelled ground in the input (LAS class 2)
+    std::size_t still_ground = 0;   // of those, labelled ground again
+    std::string reader_warning;     // io::CloudReader::warning() of the input, or empty
     int nx = 0, ny = 0;             // the terrain raster
     double cell_m = 0;
 };

@@ -1,0 +1,77 @@
+#!/bin/sh
+# tests/app/cmd_ground_test.sh: `ladarvr ground` as a user runs it, on two real ISPRS
+# reference samples (tests/data/isprs, bare earth labelled as LAS class 2).
+# Usage: cmd_ground_test.sh LADARVR_BINARY SCRATCH_DIR DATA_DIR
+#  - the default (SMRF, the ISPRS-tuned set) and --method csf agree with the labels within
+#    a total error bound (misclassified / all points), read from --json;
+#  - the file written holds every point, its ground count as --json says (`info --json`);
+#  - bad options give one line naming the option and what is allowed, exit 2 or 1, and
+#    no output; the input is never overwritten.
+set -eu
+bin=$1
+dir=$2
+data=$3
+rm -rf "$dir"
+mkdir -p "$dir"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# field NAME FILE: the number after "NAME": in a --json object.
+field() { sed -n "s/^ *\"$1\": \([0-9.]*\),*$/\1/p" "$2" | head -1; }
+
+# check SAMPLE METHOD BOUND_PERCENT [OPTIONS...]: ground the sample, check the error bound.
+check() {
+    sample=$1 method=$2 bound=$3
+    shift 3
+    "$bin" ground "$data/$sample.las" --out "$dir/$sample-$method.laz" --method "$method" --json "$@" \
+        >"$dir/json" 2>"$dir/err" || fail "ground $sample --method $method: $(cat "$dir/err")"
+    [ -s "$dir/err" ] && fail "ground printed on stderr: $(cat "$dir/err")"
+    points=$(field points "$dir/json")
+    found=$(field ground_points "$dir/json")
+    labelled=$(field input_ground_points "$dir/json")
+    kept=$(field input_ground_points_kept "$dir/json")
+    [ -n "$points" ] && [ -n "$found" ] && [ -n "$labelled" ] && [ -n "$kept" ] ||
+        fail "--json lacks a count: $(cat "$dir/json")"
+    # Misclassified: labelled ground called object, plus object called ground.
+    error=$(awk -v n="$points" -v f="$found" -v l="$labelled" -v k="$kept" \
+        'BEGIN { printf "%.3f", 100 * ((l - k) + (f - k)) / n }')
+    awk -v e="$error" -v b="$bound" 'BEGIN { exit !(e <= b) }' ||
+        fail "$sample --method $method: total error $error % above $bound %"
+    "$bin" info --json "$dir/$sample-$method.laz" >"$dir/info" 2>"$dir/err" || fail "info: $(cat "$dir/err")"
+    flat=$(tr -d ' \n' <"$dir/info")
+    echo "$flat" | grep -q "\"points\":$points," || fail "$sample: the file does not hold $points points"
+    echo "$flat" | grep -q "{\"class\":2,\"name\":\"ground\",\"points\":$found}" ||
+        fail "$sample: the file's class 2 count is not $found: $flat"
+    echo "$sample $method: total error $error % (bound $bound %)"
+}
+
+check samp24 smrf 4.5
+check samp54 smrf 4.2
+check samp24 csf 6.5
+
+# Text output: one line naming the file and the counts.
+"$bin" ground "$data/samp54.las" --out "$dir/text.las" >"$dir/out" 2>"$dir/err" || fail "ground text: $(cat "$dir/err")"
+grep -q "^ground: wrote $dir/text.las: 8608 points, [0-9]* ground" "$dir/out" || fail "text line: $(cat "$dir/out")"
+
+# Bad options: one line, no output.
+bad() {
+    want=$1
+    shift
+    rm -f "$dir/bad.las"
+    if "$bin" ground "$@" >"$dir/out" 2>"$dir/err"; then fail "ground $* succeeded"; fi
+    [ "$(wc -l <"$dir/err")" = 1 ] || fail "ground $*: not one line: $(cat "$dir/err")"
+    grep -qF -e "$want" "$dir/err" || fail "ground $*: no '$want' in: $(cat "$dir/err")"
+    [ -e "$dir/bad.las" ] && fail "ground $* left $dir/bad.las"
+    return 0
+}
+bad "--method 'pmf': allowed ransac, smrf, csf" "$data/samp24.las" --out "$dir/bad.las" --method pmf
+bad "RANSAC works per view" "$data/samp24.las" --out "$dir/bad.las" --method ransac
+bad "--smrf-cell-m" "$data/samp24.las" --out "$dir/bad.las" --smrf-cell-m 0
+bad "--csf-rigidness" "$data/samp24.las" --out "$dir/bad.las" --method csf --csf-rigidness 7
+bad "--memory-mb" "$data/samp24.las" --out "$dir/bad.las" --memory-mb 2
+bad "--out" "$data/samp24.las" --out "$dir/bad.txt"
+bad "no-such.las" "$data/no-such.las" --out "$dir/bad.las"
+cp "$data/samp24.las" "$dir/in.las"
+before=$(cksum <"$dir/in.las")
+if "$bin" ground "$dir/in.las" --out "$dir/in.las" >"$dir/out" 2>"$dir/err"; then fail "ground overwrote its input"; fi
+[ "$(cksum <"$dir/in.las")" = "$before" ] || fail "the input changed"
+echo "cmd_ground: ok"
