@@ -14,6 +14,7 @@
 
 #include <core/error.hpp>
 #include <io/candidates_file.hpp>
+#include <io/copc.hpp>
 #include <io/scene_file.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/cleanup.hpp>
@@ -21,17 +22,15 @@
 #include <sim/generator.hpp>
 #include <sim/memory_budget.hpp>
 #include <viewer/copc_source.hpp>
+#include <viewer/open_point_source.hpp>
 #include <viewer/viewer.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <array>
-#include <cstring>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <system_error>
@@ -66,40 +65,28 @@ struct ViewArgs {
     sim::OrbitOptions orbit;  // only for the generated cloud
 };
 
-/// True when `file` starts as a COPC file does: a LAS header whose first VLR (right after
-/// the 375-byte LAS 1.4 header) is COPC's info record (user "copc", record 1). Reads 395
-/// bytes; a shorter or unreadable file is not COPC (the loader then says what is wrong).
-bool startsAsCopc(const std::filesystem::path& file) {
-    std::array<char, 395> head{};
-    std::ifstream in(file, std::ios::binary);
-    if (!in.read(head.data(), head.size())) return false;
-    const char user[16] = "copc";
-    return std::memcmp(head.data(), "LASF", 4) == 0 && std::memcmp(head.data() + 377, user, 16) == 0 &&
-           static_cast<unsigned char>(head[393]) == 1 && head[394] == 0;
-}
-
-// The COPC source of a COPC cloud, or of the index of a large cloud (made, or found in the
-// cache folder); `file` is set to the COPC file opened.
-std::unique_ptr<viewer::CopcSource> openCopc(const ViewArgs& a, bool copc, std::filesystem::path& file) {
-    ViewCloud indexed;
-    if (!copc) indexed = indexForView(a.cloud, a.index);
-    file = copc ? std::filesystem::path(a.cloud) : indexed.copc;
-    viewer::CopcSourceOptions copc_options;
-    copc_options.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);
-    // --memory-mb bounds the hierarchy (its tree and the pages being read); the points
-    // held are --cache-mb's.
-    copc_options.hierarchy_bytes = sim::memoryBudgetBytes(a.memory_mb, "view");
-    try {
-        return std::make_unique<viewer::CopcSource>(file, copc_options);
-    } catch (const core::Error& e) {
-        // A cached index that does not open (damaged on disk) is written again, once.
-        if (indexed.path != ViewPath::IndexReused) throw;
-        warn(std::string("view: the cached index does not open (") + e.what() + "); indexing again");
-        indexed = indexForView(a.cloud, a.index, true);
-        file = indexed.copc;
-        return std::make_unique<viewer::CopcSource>(indexed.copc, copc_options);
+/// The index of a large cloud file that is not COPC, for viewer::openPointSource: made, or
+/// found in the cache folder (view_index.hpp); a cached index that does not open is
+/// written again, once.
+class ViewIndexer final : public viewer::CloudIndexer {
+  public:
+    explicit ViewIndexer(const ViewIndexOptions& options) : options_(options) {}
+    bool wantsIndex(const std::filesystem::path& cloud) override { return shouldIndex(cloud, options_); }
+    std::filesystem::path index(const std::filesystem::path& cloud, const std::string& failed_open) override {
+        if (failed_open.empty()) {
+            last_ = indexForView(cloud, options_);
+            return last_.copc;
+        }
+        if (last_.path != ViewPath::IndexReused) return {};
+        warn("view: the cached index does not open (" + failed_open + "); indexing again");
+        last_ = indexForView(cloud, options_, true);
+        return last_.copc;
     }
-}
+
+  private:
+    const ViewIndexOptions& options_;
+    ViewCloud last_;
+};
 
 int runView(const ViewArgs& a) {
     const auto start = std::chrono::steady_clock::now();
@@ -165,25 +152,29 @@ int runView(const ViewArgs& a) {
     validate(a.index);
     // The cloud first: a regular file (checkDistinctPaths keeps the outputs off it).
     if (!a.cloud.empty()) platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
-    std::error_code ec;
-    const bool copc = !a.cloud.empty() && std::filesystem::is_regular_file(a.cloud, ec) && startsAsCopc(a.cloud);
-    if (!a.index.index_to.empty() && (a.cloud.empty() || copc))
+    ViewIndexer indexer(a.index);
+    viewer::OpenSourceOptions open;
+    open.copc.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);
+    open.indexer = &indexer;
+    const viewer::SourcePath path = a.cloud.empty() ? viewer::SourcePath::Whole : viewer::choosePath(a.cloud, &indexer);
+    if (!a.index.index_to.empty() && (a.cloud.empty() || path == viewer::SourcePath::Copc))
         throw core::Error("view: --index-to applies to a cloud file that is not COPC");
     // A large cloud that is not COPC is indexed (or its cached index found) first, once the
     // outputs are checked, so a bad name does not wait for the indexing.
-    const bool index = !a.cloud.empty() && !copc && shouldIndex(a.cloud, a.index);
-    if (copc || index) {
+    if (path != viewer::SourcePath::Whole) {
         prepareOutputFile(o.screenshot, "view: --screenshot");
         prepareOutputFile(o.log_json, "view: --log-json");
-        std::filesystem::path file;
-        const std::unique_ptr<viewer::CopcSource> opened = openCopc(a, copc, file);
-        viewer::CopcSource& source = *opened;
+        // --memory-mb bounds the hierarchy (its tree and the pages being read); the points
+        // held are --cache-mb's.
+        open.copc.hierarchy_bytes = sim::memoryBudgetBytes(a.memory_mb, "view");
+        const viewer::OpenedCloud opened = viewer::openPointSource(a.cloud, path, open);
+        viewer::CopcSource& source = *opened.copc;
         const std::size_t pages = source.stats() ? source.stats()->pages_unread : 0;
         std::fprintf(stderr,
                      "ladarvr: view: %s is COPC: %zu nodes, %zu points, read node by node within a %.6g MB cache "
                      "(nodes of the root hierarchy page; %zu child pages read as the view reaches them)\n",
-                     core::printable(file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(), a.cache_mb,
-                     pages);
+                     core::printable(opened.file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(),
+                     a.cache_mb, pages);
         if (o.timeout_s > 0.0)
             o.timeout_s = std::max(
                 0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -203,15 +194,16 @@ int runView(const ViewArgs& a) {
     prepareOutputFile(o.screenshot, "view: --screenshot");
     prepareOutputFile(o.log_json, "view: --log-json");
 
-    viewer::CloudFeed feed;
-    feed.enableLodOrder();  // LOD order of each chunk on the loader / generator thread, not in the frame loop
+    viewer::OpenedCloud opened;
     std::thread generator;
     if (!a.cloud.empty()) {
-        const std::filesystem::path path(a.cloud);
         std::fprintf(stderr, "ladarvr: view: %s is not COPC: streamed and held whole\n",
                      core::printable(a.cloud, 400).c_str());
-        feed.startFileLoader(path);
+        opened = viewer::openPointSource(a.cloud, path, open);
     } else {
+        opened.feed = std::make_unique<viewer::CloudFeed>();
+        // LOD order of each chunk on the generator thread, not in the frame loop.
+        opened.feed->enableLodOrder();
         // Load (and validate) the scene now, so a bad scene fails before a window opens.
         const std::filesystem::path scene_path = a.scene.empty() ? io::demoScenePath() : std::filesystem::path(a.scene);
         auto scene = std::make_shared<core::Scene>(io::loadScene(scene_path));
@@ -219,7 +211,7 @@ int runView(const ViewArgs& a) {
         sim::GenerateOptions check;
         check.orbit = a.orbit;
         sim::validate(check);
-        generator = std::thread([&feed, scene, orbit = a.orbit] {
+        generator = std::thread([&feed = *opened.feed, scene, orbit = a.orbit] {
             try {
                 sim::GenerateOptions g;
                 g.orbit = orbit;
@@ -235,7 +227,7 @@ int runView(const ViewArgs& a) {
             0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     int status = 1;
     try {
-        status = viewer::runViewer(o, feed);
+        status = viewer::runViewer(o, *opened.feed);
     } catch (...) {
         if (generator.joinable()) generator.join();
         throw;

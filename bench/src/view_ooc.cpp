@@ -23,6 +23,7 @@
 #include <viewer/copc_source.hpp>
 #include <viewer/mode_controller.hpp>
 #include <viewer/node_selection.hpp>
+#include <viewer/open_point_source.hpp>
 #include <viewer/offscreen_stereo.hpp>
 #include <viewer/point_source.hpp>
 
@@ -180,28 +181,25 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     so.eye_height_px = o.eye_height;
     viewer::OffscreenStereo stereo(so);
     const Clock::time_point t_open = Clock::now();
-    std::unique_ptr<viewer::CopcSource> copc;
-    viewer::CloudFeed feed;
-    std::unique_ptr<viewer::CloudFeedSource> stream_source;
     glm::dvec3 origin(0.0);
     const std::size_t cache_bytes = std::size_t(o.cache_mb * 1048576.0);
     const std::size_t gpu_bytes = std::size_t(o.gpu_mb * 1048576.0);
+    viewer::OpenSourceOptions open;
+    open.copc.cache_bytes = cache_bytes;
+    open.copc.quiet = true;
+    if (!ooc) origin = io::CloudReader(file).origin();  // the loader's frame (its reader reads the same header)
+    const viewer::OpenedCloud opened =
+        viewer::openPointSource(file, ooc ? viewer::SourcePath::Copc : viewer::SourcePath::Whole, open);
+    std::unique_ptr<viewer::CloudFeedSource> stream_source;  // after the feed it reads: destroyed before it
     if (ooc) {
-        viewer::CopcSourceOptions co;
-        co.cache_bytes = cache_bytes;
-        co.quiet = true;
-        copc = std::make_unique<viewer::CopcSource>(file, co);
-        origin = copc->origin();
-        stereo.follow(*copc, gpu_bytes);
+        origin = opened.copc->origin();
+        stereo.follow(*opened.copc, gpu_bytes);
     } else {
-        origin = io::CloudReader(file).origin();  // the loader's frame (its reader reads the same header)
-        feed.enableLodOrder();
-        feed.startFileLoader(file);
-        stream_source = std::make_unique<viewer::CloudFeedSource>(feed);
+        stream_source = std::make_unique<viewer::CloudFeedSource>(*opened.feed);
         stereo.follow(*stream_source, gpu_bytes);
     }
     const double open_s = secondsSince(t_open);
-    const viewer::PointSource& source = ooc ? static_cast<viewer::PointSource&>(*copc) : *stream_source;
+    const viewer::PointSource& source = ooc ? static_cast<viewer::PointSource&>(*opened.copc) : *stream_source;
 
     GLuint query = 0;
     glCreateQueries(GL_TIME_ELAPSED, 1, &query);
@@ -260,9 +258,9 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
         if (ooc) {
             // Full detail: every node the source wants for this still view (its last
             // selection) is resident and on the GPU.
-            const std::span<viewer::PointNode* const> wanted = copc->wanted();
+            const std::span<viewer::PointNode* const> wanted = opened.copc->wanted();
             full = stereo.lastView().has_value() && stereo.pendingPoints() == 0 && stereo.gpuNodesRefused() == 0 &&
-                   copc->pagesWanted() == 0 &&
+                   opened.copc->pagesWanted() == 0 &&
                    std::all_of(wanted.begin(), wanted.end(), [](const viewer::PointNode* n) { return n->resident(); });
         } else {
             // Every point the loader delivered is on the GPU (finished() may turn true
@@ -310,8 +308,8 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     r["gpu_peak_bytes"] = gpu_peak_bytes;
     r["max_drawn_eye"] = max_eye;
     r["over_budget_frames"] = over_budget_frames;
-    r["points"] = ooc ? copc->totalPoints() : source.pointsArrived();
-    r["nodes"] = ooc ? copc->nodeCount() : 0;
+    r["points"] = ooc ? opened.copc->totalPoints() : source.pointsArrived();
+    r["nodes"] = ooc ? opened.copc->nodeCount() : 0;
     if (const auto st = source.stats()) r["pages_read"] = st->pages_read;
     r["select_ms"] = toJson(summarise(select_ms));
     r["plan_ms"] = toJson(summarise(plan_ms));

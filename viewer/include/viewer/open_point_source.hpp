@@ -1,0 +1,59 @@
+// viewer/open_point_source.hpp: the one place that decides how a cloud file reaches the
+// viewer. A COPC file is read node by node (CopcSource); a file that is not COPC is read
+// node by node from a COPC index of it when the caller's indexer wants one, else streamed
+// and held whole (CloudFeed). `view`, `study` and `bench view` all open clouds here, so
+// they take the same path for the same file; the indexing itself (writing a COPC file,
+// the cache folder) stays with the caller, which links the writers.
+#pragma once
+#include <viewer/cloud_feed.hpp>
+#include <viewer/copc_source.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace viewer {
+
+/// How a cloud file is read for viewing.
+enum class SourcePath {
+    Copc,     // the file is COPC: node by node
+    Indexed,  // not COPC: node by node from its COPC index
+    Whole,    // not COPC: streamed and held whole
+};
+
+/// Makes or finds the COPC index of a cloud file that is not COPC.
+class CloudIndexer {
+  public:
+    virtual ~CloudIndexer() = default;
+    /// Whether `cloud` is to be read through an index rather than held whole.
+    virtual bool wantsIndex(const std::filesystem::path& cloud) = 0;
+    /// The COPC index of `cloud` to read. A non-empty `failed_open` is the error the index
+    /// returned before gave when opened: return one written again, or an empty path to
+    /// give up (that error is then thrown).
+    virtual std::filesystem::path index(const std::filesystem::path& cloud, const std::string& failed_open) = 0;
+};
+
+/// The path `cloud` takes: Copc when io::isCopcFile says so, else Indexed when `indexer`
+/// (may be null: never) wants an index, else Whole. Writes nothing.
+SourcePath choosePath(const std::filesystem::path& cloud, CloudIndexer* indexer);
+
+struct OpenSourceOptions {
+    CopcSourceOptions copc;           // for the Copc and Indexed paths
+    CloudIndexer* indexer = nullptr;  // needed for the Indexed path
+    bool lod_order = true;            // Whole: the feed builds each chunk's LOD order on its loader thread
+};
+
+/// A cloud file opened for viewing: one of `copc` (node by node) and `feed` (streamed,
+/// its loader thread started) is set.
+struct OpenedCloud {
+    SourcePath path = SourcePath::Whole;
+    std::filesystem::path file;  // what is read: the cloud itself, or its index
+    std::unique_ptr<CopcSource> copc;
+    std::unique_ptr<CloudFeed> feed;
+};
+
+/// Opens `cloud` on `path` (choosePath's answer). Throws core::Error naming the file when a
+/// COPC file or index does not open; a streamed file's errors come through the feed.
+OpenedCloud openPointSource(const std::filesystem::path& cloud, SourcePath path, const OpenSourceOptions& options);
+
+}  // namespace viewer
