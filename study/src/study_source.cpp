@@ -10,6 +10,7 @@
 #include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
 #include <viewer/cloud_feed.hpp>
+#include <viewer/open_point_source.hpp>
 
 #include <cstdio>
 #include <exception>
@@ -86,8 +87,14 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
     join();  // end() did already, unless the viewer skipped it
     const std::size_t k = static_cast<std::size_t>(order_[static_cast<std::size_t>(trial)]);
     const PlanTrial& t = plan_.trials[k];
+    viewer::TrialSetup setup;
     if (!t.cloud.empty()) {
-        feed.startFileLoader(t.cloud);
+        // A COPC file is read node by node, any other cloud file streamed whole, as `view`
+        // does (a study indexes nothing: its clouds are read as the plan names them).
+        viewer::OpenSourceOptions open;
+        open.feed = &feed;
+        viewer::OpenedCloud opened = viewer::openPointSource(t.cloud, viewer::choosePath(t.cloud, nullptr), open);
+        setup.points = std::move(opened.copc);
     } else {
         generator_ = std::thread([&feed, scene = scenes_[k], g = sceneGenerateOptions(plan_)] {
             try {
@@ -97,7 +104,6 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
             }
         });
     }
-    viewer::TrialSetup setup;
     setup.name = t.name;
     setup.candidates = candidates_[k];
     setup.time_limit_s = t.time_limit_s;

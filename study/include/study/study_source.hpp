@@ -1,6 +1,7 @@
 // study/study_source.hpp: a plan's trials for the viewer (viewer::TrialSource): each
-// trial's cloud is streamed from its file, or generated from its scene on a worker
-// thread, into the viewer's feed for that trial.
+// trial's cloud file is opened as `view` opens it (viewer::openPointSource: a COPC file
+// node by node, another file streamed into the viewer's feed for that trial), or its
+// scene's cloud is generated on a worker thread into that feed.
 #pragma once
 #include <study/plan.hpp>
 #include <viewer/trial.hpp>

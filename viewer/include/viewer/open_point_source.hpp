@@ -41,10 +41,12 @@ struct OpenSourceOptions {
     CopcSourceOptions copc;           // for the Copc and Indexed paths
     CloudIndexer* indexer = nullptr;  // needed for the Indexed path
     bool lod_order = true;            // Whole: the feed builds each chunk's LOD order on its loader thread
+    /// Whole: stream into this feed (as its owner set it up) instead of a new one.
+    CloudFeed* feed = nullptr;
 };
 
 /// A cloud file opened for viewing: one of `copc` (node by node) and `feed` (streamed,
-/// its loader thread started) is set.
+/// its loader thread started) is set; neither when it streams into OpenSourceOptions::feed.
 struct OpenedCloud {
     SourcePath path = SourcePath::Whole;
     std::filesystem::path file;  // what is read: the cloud itself, or its index

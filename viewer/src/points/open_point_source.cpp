@@ -20,6 +20,10 @@ OpenedCloud openPointSource(const std::filesystem::path& cloud, SourcePath path,
     opened.path = path;
     if (path == SourcePath::Whole) {
         opened.file = cloud;
+        if (options.feed != nullptr) {
+            options.feed->startFileLoader(cloud);
+            return opened;
+        }
         opened.feed = std::make_unique<CloudFeed>();
         if (options.lod_order) opened.feed->enableLodOrder();
         opened.feed->startFileLoader(cloud);
