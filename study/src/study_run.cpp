@@ -269,11 +269,10 @@ int Replay::run() {
     StudySource source(plan_, order_);
     viewer::CloudFeed feed;
     feed.enableLodOrder();
-    // The trial's cloud as the study opened it: a COPC file node by node, else the feed.
-    const viewer::TrialSetup setup = source.begin(trial_, feed);
+    source.begin(trial_, feed);
     int status = 1;
     try {
-        status = setup.points ? viewer::runViewer(options_, *setup.points) : viewer::runViewer(options_, feed);
+        status = viewer::runViewer(options_, feed);
     } catch (...) {
         source.end(trial_);
         throw;

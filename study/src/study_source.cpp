@@ -89,12 +89,12 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
     const PlanTrial& t = plan_.trials[k];
     viewer::TrialSetup setup;
     if (!t.cloud.empty()) {
-        // A COPC file is read node by node, any other cloud file streamed whole, as `view`
-        // does (a study indexes nothing: its clouds are read as the plan names them).
+        // Streamed whole, a COPC file too: a trial's hit and target distance are judged
+        // against every target point of the cloud, which resident nodes alone would not
+        // give (a study indexes nothing: its clouds are read as the plan names them).
         viewer::OpenSourceOptions open;
         open.feed = &feed;
-        viewer::OpenedCloud opened = viewer::openPointSource(t.cloud, viewer::choosePath(t.cloud, nullptr), open);
-        setup.points = std::move(opened.copc);
+        viewer::openPointSource(t.cloud, viewer::choosePath(t.cloud, nullptr, viewer::EveryPoint::Needed), open);
     } else {
         generator_ = std::thread([&feed, scene = scenes_[k], g = sceneGenerateOptions(plan_)] {
             try {

@@ -1,7 +1,7 @@
 // study/study_source.hpp: a plan's trials for the viewer (viewer::TrialSource): each
-// trial's cloud file is opened as `view` opens it (viewer::openPointSource: a COPC file
-// node by node, another file streamed into the viewer's feed for that trial), or its
-// scene's cloud is generated on a worker thread into that feed.
+// trial's cloud file is opened through viewer::openPointSource and streamed whole into
+// the viewer's feed for that trial (a COPC file too: hits are judged against every target
+// point), or its scene's cloud is generated on a worker thread into that feed.
 #pragma once
 #include <study/plan.hpp>
 #include <viewer/trial.hpp>

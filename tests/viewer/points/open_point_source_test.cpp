@@ -53,7 +53,10 @@ TEST_CASE("open point source: the path a file takes") {
     indexer.wants = true;
     CHECK(choosePath(other, &indexer) == SourcePath::Indexed);
     CHECK(choosePath(copc, &indexer) == SourcePath::Copc);  // a COPC file is never indexed
-    CHECK(indexer.failures.empty());                        // choosing writes nothing
+    // Every point needed (a study's hits): streamed whole, COPC or not, never indexed.
+    CHECK(choosePath(copc, &indexer, EveryPoint::Needed) == SourcePath::Whole);
+    CHECK(choosePath(other, &indexer, EveryPoint::Needed) == SourcePath::Whole);
+    CHECK(indexer.failures.empty());  // choosing writes nothing
 }
 
 TEST_CASE("open point source: COPC node by node, another file streamed whole") {

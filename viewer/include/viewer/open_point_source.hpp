@@ -33,9 +33,15 @@ class CloudIndexer {
     virtual std::filesystem::path index(const std::filesystem::path& cloud, const std::string& failed_open) = 0;
 };
 
-/// The path `cloud` takes: Copc when io::isCopcFile says so, else Indexed when `indexer`
-/// (may be null: never) wants an index, else Whole. Writes nothing.
-SourcePath choosePath(const std::filesystem::path& cloud, CloudIndexer* indexer);
+/// Whether the caller needs every point of the cloud at once (a study judges a designation
+/// against every target point, which the resident nodes of a COPC file would not give).
+enum class EveryPoint { NotNeeded, Needed };
+
+/// The path `cloud` takes: Whole when every point is needed; else Copc when
+/// io::isCopcFile says so, else Indexed when `indexer` (may be null: never) wants an
+/// index, else Whole. Writes nothing.
+SourcePath choosePath(const std::filesystem::path& cloud, CloudIndexer* indexer,
+                      EveryPoint every_point = EveryPoint::NotNeeded);
 
 struct OpenSourceOptions {
     CopcSourceOptions copc;           // for the Copc and Indexed paths

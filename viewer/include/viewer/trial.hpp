@@ -18,12 +18,10 @@
 #pragma once
 #include <core/candidates.hpp>
 #include <viewer/mode_controller.hpp>
-#include <viewer/point_source.hpp>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -93,10 +91,6 @@ struct TrialSetup {
     /// The operator's tools this trial offers (TrialTool bits); unset: every one. The
     /// pointer, designation and decisions are always there.
     std::optional<unsigned> tools;
-    /// The trial's points when they do not come through the feed (a COPC file read node
-    /// by node, from viewer::openPointSource); null: the feed's. Held until the next
-    /// trial begins.
-    std::shared_ptr<PointSource> points;
 };
 
 /// The tools a trial may leave out (TrialSetup::tools): the world zoom (grab scale), the
@@ -134,8 +128,7 @@ class TrialSource {
     /// numberOffset() + count(). The observer and the run log still count from 0.
     virtual int numberOffset() const { return 0; }
     /// Starts producing trial `trial`'s cloud into `feed` (a fresh feed per trial; e.g.
-    /// feed.startFileLoader, or a thread the source owns and joins), or hands its own point
-    /// source in the setup's `points`, and returns its setup.
+    /// feed.startFileLoader, or a thread the source owns and joins) and returns its setup.
     virtual TrialSetup begin(int trial, CloudFeed& feed) = 0;
     /// Called before trial `trial`'s feed is destroyed (at the next trial and at the end
     /// of the run): stop producing into it (join the thread that does).

@@ -9,7 +9,8 @@
 
 namespace viewer {
 
-SourcePath choosePath(const std::filesystem::path& cloud, CloudIndexer* indexer) {
+SourcePath choosePath(const std::filesystem::path& cloud, CloudIndexer* indexer, EveryPoint every_point) {
+    if (every_point == EveryPoint::Needed) return SourcePath::Whole;
     if (io::isCopcFile(cloud)) return SourcePath::Copc;
     if (indexer != nullptr && indexer->wantsIndex(cloud)) return SourcePath::Indexed;
     return SourcePath::Whole;

@@ -33,7 +33,6 @@ double TrialController::breakLeft() const {
 PointSource& TrialController::begin(int index) {
     if (index_ >= 0) source_->end(index_);  // before its feed goes
     points_.reset();
-    setup_.points.reset();
     feed_ = std::make_unique<CloudFeed>();
     feed_->enableLodOrder();
     points_ = std::make_unique<CloudFeedSource>(*feed_);
@@ -49,7 +48,7 @@ PointSource& TrialController::begin(int index) {
     if (!quiet_)
         std::fprintf(stderr, "ladarvr: study: trial %d of %d (%s): ready screen\n", offset_ + index + 1,
                      offset_ + total_, setup_.name.c_str());
-    return setup_.points ? *setup_.points : *points_;
+    return *points_;
 }
 
 void TrialController::finish() {
