@@ -7,6 +7,7 @@
 #include "commands.hpp"
 
 #include <core/error.hpp>
+#include <core/point_cloud.hpp>
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
 #include <io/copc.hpp>
@@ -47,19 +48,8 @@ struct IndexCli {
 };
 
 std::string fieldList(const core::CloudFields& f) {
-    std::string s = "x y z";
-    const auto add = [&](bool on, const char* name) {
-        if (on) s += std::string(" ") + name;
-    };
-    add(f.rgb, "rgb");
-    add(f.label, "label");
-    add(f.view, "view");
-    add(f.range, "range");
-    add(f.intensity, "intensity");
-    add(f.returns, "returns");
-    add(f.incidence, "incidence");
-    add(f.scan_angle, "scan_angle");
-    add(f.height_above_ground, "height_above_ground");
+    std::string s;
+    for (const std::string& name : core::fieldNames(f)) s += (s.empty() ? "" : " ") + name;
     return s;
 }
 

@@ -9,4 +9,21 @@ Bounds PointCloud::bounds() const {
     return b;
 }
 
+std::vector<std::string> fieldNames(const CloudFields& f) {
+    std::vector<std::string> names = {"x", "y", "z"};
+    const auto add = [&](bool on, const char* name) {
+        if (on) names.emplace_back(name);
+    };
+    add(f.rgb, "rgb");
+    add(f.label, "label");
+    add(f.view, "view");
+    add(f.range, "range");
+    add(f.intensity, "intensity");
+    add(f.returns, "returns");
+    add(f.incidence, "incidence");
+    add(f.scan_angle, "scan_angle");
+    add(f.height_above_ground, "height_above_ground");
+    return names;
+}
+
 }  // namespace core

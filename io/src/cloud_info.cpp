@@ -5,6 +5,7 @@
 #include "las/las_facts.hpp"
 
 #include <core/error.hpp>
+#include <core/point_cloud.hpp>
 #include <io/cloud_info.hpp>
 
 #include <glm/common.hpp>
@@ -15,23 +16,6 @@ namespace io {
 namespace {
 
 constexpr std::size_t kChunkPoints = 1u << 16;
-
-std::vector<std::string> fieldNames(const core::CloudFields& f) {
-    std::vector<std::string> names = {"x", "y", "z"};
-    const auto add = [&](bool on, const char* name) {
-        if (on) names.emplace_back(name);
-    };
-    add(f.rgb, "rgb");
-    add(f.label, "label");
-    add(f.view, "view");
-    add(f.range, "range");
-    add(f.intensity, "intensity");
-    add(f.returns, "returns");
-    add(f.incidence, "incidence");
-    add(f.scan_angle, "scan_angle");
-    add(f.height_above_ground, "height_above_ground");
-    return names;
-}
 
 // The version and encoding the header states (PCD: VERSION and DATA; PLY: format), read
 // once the reader has checked the header.
@@ -60,7 +44,7 @@ void inspectPointFile(detail::ByteSource& source, const std::string& prefix, boo
         ply ? detail::openPly(source, prefix) : detail::openPcd(source, prefix);
     info.format = ply ? "PLY" : "PCD";
     headerWords(source, ply, info);
-    info.fields = fieldNames(reader->fields);
+    info.fields = core::fieldNames(reader->fields);
     std::vector<core::CloudPoint> chunk;
     chunk.reserve(kChunkPoints);
     while (reader->next(chunk, kChunkPoints) > 0) {

@@ -4,6 +4,7 @@
 #include <core/scene.hpp>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace core {
@@ -42,6 +43,11 @@ struct CloudFields {
     bool scan_angle = false;
     bool height_above_ground = false;
 };
+
+/// The names of the fields `f` holds, x, y and z first, in the order the writers lay them
+/// out ("rgb", "label", "view", "range", "intensity", "returns", "incidence", "scan_angle",
+/// "height_above_ground").
+std::vector<std::string> fieldNames(const CloudFields& f);
 
 struct PointCloud {
     glm::dvec3 origin{0.0};  // world coordinates of the local frame's origin
