@@ -274,6 +274,9 @@ void ViewerApp::updateTools(OperatorInput& in, double dt) {
     f.zoom = &zoom_;
     f.style = &style_;
     f.actions = &tool_actions_;
+    CutVolume cut;  // what the cut tool leaves of it (off while the trial leaves the tool out)
+    f.designated = trials_.designated();
+    f.cut = &cut;
     // The zoom's pivot: the pointer's hit (in the tracking frame), else the head.
     f.zoom_pivot_tracking = pointer.hit()
                                 ? zoom_.unapply(glm::transpose(rig.rotation) * (pointer.hit()->local - rig.position))

@@ -203,3 +203,51 @@ TEST_CASE("the viewer's tools through the set: the pointer's ray meets a candida
     CHECK(tools.get<CandidatesTool>().empty());
     CHECK_FALSE(tools.get<PointerTool>().ray().has_value());
 }
+
+TEST_CASE("the viewer's tools through the set: boxes wholly outside the cutting volume are hidden") {
+    ViewerOptions options;
+    options.cut_radius_m = 15.0;
+    ToolSet tools = viewerTools(options);
+    std::vector<core::Candidate> list(3);
+    list[0].id = "inside";  // 10 m along x
+    list[0].centre_world = {10.0, 0.0, 0.0};
+    list[1].id = "meets";  // its centre 16 m out, its near face 14 m: within 15 m
+    list[1].centre_world = {0.0, 16.0, 0.0};
+    list[2].id = "outside";  // 100 m along x
+    list[2].centre_world = {100.0, 0.0, 0.0};
+    for (core::Candidate& c : list) c.size_m = {4.0, 4.0, 4.0};
+    tools.get<CandidatesTool>().set(list, glm::dvec3(0.0));
+    ModeController modes(options.modes, glm::dvec3(0.0));
+    WorldZoom zoom;
+    ViewStyle style;
+    CutVolume cut;
+    ToolFrame f;
+    f.modes = &modes;
+    f.zoom = &zoom;
+    f.style = &style;
+    f.designated = glm::dvec3(0.0);
+    f.cut = &cut;
+    f.ray = LocalRay{glm::dvec3(50.0, 0.0, 0.0), glm::dvec3(1.0, 0.0, 0.0)};  // towards the far box
+    auto frame = [&](bool toggle) {
+        OperatorInput in;
+        in.toggle_cut = toggle;
+        for (ToolStage stage : {ToolStage::View, ToolStage::Motion, ToolStage::Aim}) tools.update(stage, in, f);
+        OverlayList over;
+        tools.draw(ToolLayer::OverDesignation, over);
+        return over.lines.size();
+    };
+    // The volume off: every box drawn, the far one pointed at.
+    CHECK(frame(false) == 3 * 24);
+    CHECK(tools.get<CandidatesTool>().pointed() == std::optional<std::size_t>(2));
+    // V: the box outside goes (and cannot be pointed at); the two that meet the sphere stay.
+    CHECK(frame(true) == 2 * 24);
+    CHECK(cut.enabled);
+    CHECK_FALSE(tools.get<CandidatesTool>().shown(2));
+    CHECK(tools.get<CandidatesTool>().shown(1));
+    CHECK_FALSE(tools.get<CandidatesTool>().pointed());
+    // V again: all three back.
+    CHECK(frame(true) == 3 * 24);
+    // Without a designated point there is no volume: nothing hidden.
+    f.designated.reset();
+    CHECK(frame(true) == 3 * 24);
+}

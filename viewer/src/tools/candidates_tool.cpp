@@ -43,18 +43,42 @@ std::optional<double> rayBoxDistance(const LocalRay& ray, const glm::dvec3& cent
     return t0;
 }
 
+bool boxMeetsCut(const CutVolume& cut, const glm::dvec3& centre, const glm::dvec3& size_m, double yaw_deg) {
+    if (!cut.enabled) return true;
+    glm::dvec3 ax, ay;
+    axes(yaw_deg, ax, ay);
+    // The sphere's centre in the box's own frame; the box's nearest point to it within the sphere.
+    const glm::dvec3 rel = cut.centre_local - centre;
+    const glm::dvec3 c(glm::dot(rel, ax), glm::dot(rel, ay), rel.z);
+    double d2 = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        const double half = 0.5 * size_m[i];
+        const double outside = std::max(std::abs(c[i]) - half, 0.0);
+        d2 += outside * outside;
+    }
+    return d2 <= cut.radius_m * cut.radius_m;
+}
+
 void CandidatesTool::set(std::vector<core::Candidate> candidates, const glm::dvec3& origin) {
     candidates_ = std::move(candidates);
     verdicts_.assign(candidates_.size(), Verdict::Unreviewed);
     origin_ = origin;
     pointed_.reset();
+    cut_ = {};
 }
 
-void CandidatesTool::update(const std::optional<LocalRay>& ray) {
+bool CandidatesTool::shown(std::size_t i) const {
+    const core::Candidate& c = candidates_[i];
+    return boxMeetsCut(cut_, c.centre_world - origin_, c.size_m, c.yaw_deg);
+}
+
+void CandidatesTool::update(const std::optional<LocalRay>& ray, const CutVolume& cut) {
     pointed_.reset();
+    cut_ = cut;
     if (!ray) return;
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < candidates_.size(); ++i) {
+        if (!shown(i)) continue;
         const core::Candidate& c = candidates_[i];
         if (const auto t = rayBoxDistance(*ray, c.centre_world - origin_, c.size_m, c.yaw_deg); t && *t < best) {
             best = *t;
@@ -71,6 +95,7 @@ std::optional<std::size_t> CandidatesTool::decide(Verdict verdict) {
 
 void CandidatesTool::draw(OverlayList& out, bool highlight) const {
     for (std::size_t i = 0; i < candidates_.size(); ++i) {
+        if (!shown(i)) continue;
         const core::Candidate& c = candidates_[i];
         glm::vec4 colour;
         switch (verdicts_[i]) {

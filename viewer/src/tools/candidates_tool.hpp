@@ -21,6 +21,9 @@ namespace viewer {
 std::optional<double> rayBoxDistance(const LocalRay& ray, const glm::dvec3& centre, const glm::dvec3& size_m,
                                      double yaw_deg);
 
+/// Whether the oriented box meets the cutting volume's sphere (always, with the volume off).
+bool boxMeetsCut(const CutVolume& cut, const glm::dvec3& centre, const glm::dvec3& size_m, double yaw_deg);
+
 class CandidatesTool final : public Tool {
   public:
     /// `origin`: world coordinates of the cloud's local frame.
@@ -30,9 +33,14 @@ class CandidatesTool final : public Tool {
     std::size_t size() const { return candidates_.size(); }
     const core::Candidate& candidate(std::size_t i) const { return candidates_[i]; }
     Verdict verdict(std::size_t i) const { return verdicts_[i]; }
-    /// The candidate the ray meets first, if any.
-    void update(const std::optional<LocalRay>& ray);
-    void update(const OperatorInput&, const ToolFrame& frame) override { update(frame.ray); }
+    /// The candidate the ray meets first, if any, among those the cutting volume `cut`
+    /// leaves shown; a box wholly outside an enabled `cut` is hidden (not drawn, not pointed).
+    void update(const std::optional<LocalRay>& ray, const CutVolume& cut = {});
+    void update(const OperatorInput&, const ToolFrame& frame) override {
+        update(frame.ray, frame.cut ? *frame.cut : CutVolume{});
+    }
+    /// Whether box `i` is shown (the cutting volume of the last update meets it).
+    bool shown(std::size_t i) const;
     std::optional<std::size_t> pointed() const { return pointed_; }
     /// Gives the pointed candidate a verdict; returns its index, none when no box is pointed at.
     std::optional<std::size_t> decide(Verdict verdict);
@@ -55,6 +63,7 @@ class CandidatesTool final : public Tool {
     std::vector<Verdict> verdicts_;
     glm::dvec3 origin_{0.0};
     std::optional<std::size_t> pointed_;
+    CutVolume cut_;
     bool highlight_ = false;
 };
 

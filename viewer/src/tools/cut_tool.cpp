@@ -8,9 +8,10 @@
 
 namespace viewer {
 
-void CutTool::update(const OperatorInput& in, const ToolFrame&) {
+void CutTool::update(const OperatorInput& in, const ToolFrame& frame) {
     if (in.toggle_cut) enabled_ = !enabled_;
     if (in.cut_radius_step != 0.0) radius_m_ = std::clamp(radius_m_ * std::pow(1.25, in.cut_radius_step), 1.0, 500.0);
+    if (frame.cut) *frame.cut = volume(frame.designated);
 }
 
 void CutTool::describe(PanelView& v) {

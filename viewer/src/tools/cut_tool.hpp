@@ -14,6 +14,8 @@ class CutTool final : public Tool {
     CutTool(bool enabled, double radius_m) : enabled_(enabled), radius_m_(radius_m) {}
     ToolStage stage() const override { return ToolStage::View; }
     unsigned trialTool() const override { return kToolCut; }
+    /// Toggles and resizes it, then puts the volume around the frame's designated point
+    /// into the frame's cut (for the candidates tool).
     void update(const OperatorInput& in, const ToolFrame& frame) override;
     /// Off while the trial leaves it out (the panel's switch too).
     void withhold() override { enabled_ = false; }

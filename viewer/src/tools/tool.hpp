@@ -6,6 +6,7 @@
 // nothing about the trial.
 #pragma once
 #include "input/operator_input.hpp"
+#include "points/point_renderer.hpp"
 #include "ui/overlay_renderer.hpp"
 
 #include <viewer/mode_controller.hpp>
@@ -54,6 +55,9 @@ struct ToolFrame {
     glm::dvec3 zoom_pivot_tracking{0.0};         // what the wheel and a script's scale zoom about
     Motion motion;                               // this frame's motion, scaled by the zoom (from Motion on)
     std::optional<LocalRay> ray;                 // the pointer's ray (Aim)
+    std::optional<glm::dvec3> designated;        // the trial's designated point, local (none: none yet)
+    CutVolume* cut = nullptr;                    // the cutting volume: the cut tool sets it (View), the
+                                                 // candidates tool hides boxes outside it (Aim); null: none
     std::vector<ToolAction>* actions = nullptr;  // where a tool's actions go (null: dropped)
 };
 
