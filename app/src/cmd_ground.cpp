@@ -39,6 +39,7 @@ struct GroundFileCli {
     std::string in, out;
     std::string method = "smrf";
     sim::GroundFileOptions options;
+    double low_outlier_m = sim::kSurveyLowOutlier_m;
     double memory_mb = 1024.0;
     bool json = false;
 };
@@ -48,6 +49,7 @@ void run(GroundFileCli& cli) {
     cli.options.method = sim::parseGroundMethod(cli.method, "ground: --method");
     if (cli.options.method == sim::GroundMethod::Ransac)
         throw core::Error("ground: --method ransac: RANSAC works per view of a generated cloud; allowed smrf, csf");
+    cli.options.smrf.low_outlier_m = cli.options.csf.low_outlier_m = cli.low_outlier_m;
     sim::validate(cli.options);
     const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "ground");
     platform::checkDistinctPaths("ground", {{"input", cli.in, platform::PathRole::Input, {}},
@@ -125,6 +127,10 @@ void registerGround(CLI::App& cli) {
         ->capture_default_str();
     addSmrfOptions(*c, state->options.smrf);
     addCsfOptions(*c, state->options.csf);
+    c->add_option("--low-outlier-m", state->low_outlier_m,
+                  "a return this far below the ground around it (multipath, noise) is left out of the terrain and is "
+                  "not ground, metres [0, 1000], 0 = keep every return")
+        ->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb, "bound on memory: the terrain raster and the points in flight")
         ->capture_default_str();
     c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");

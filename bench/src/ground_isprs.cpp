@@ -77,8 +77,8 @@ Score score(const std::vector<std::uint8_t>& found, const std::vector<std::uint8
 Config parseTry(const std::string& spec) {
     const auto bad = [&](const std::string& why) {
         return core::Error("bench ground-isprs: --try '" + spec + "': " + why +
-                           "; allowed smrf:KEY=V,... (cell_m slope window_m threshold_m scalar) or "
-                           "csf:KEY=V,... (cloth_m rigidness threshold_m time_step iterations)");
+                           "; allowed smrf:KEY=V,... (cell_m slope window_m threshold_m scalar low_outlier_m) or "
+                           "csf:KEY=V,... (cloth_m rigidness threshold_m time_step iterations low_outlier_m)");
     };
     Config c;
     c.name = "--try " + spec;
@@ -100,7 +100,9 @@ Config parseTry(const std::string& spec) {
         sim::SmrfOptions& s = c.options.smrf;
         sim::CsfOptions& f = c.options.csf;
         const bool smrf = c.options.method == sim::GroundMethod::Smrf;
-        if (smrf && key == "cell_m")
+        if (key == "low_outlier_m")
+            s.low_outlier_m = f.low_outlier_m = v;
+        else if (smrf && key == "cell_m")
             s.cell_m = v;
         else if (smrf && key == "slope")
             s.slope = v;
@@ -155,8 +157,11 @@ void run(const GroundIsprsCli& cli) {
         Config csf{"CSF, defaults (the paper's)", {}};
         csf.options.method = sim::GroundMethod::Csf;
         csf.options.csf = sim::CsfOptions{};
-        configs = {smrf, csf, Config{"`ladarvr ground` default", sim::GroundFileOptions{}}};
+        Config survey_csf{"`ladarvr ground --method csf`", sim::GroundFileOptions{}};
+        survey_csf.options.method = sim::GroundMethod::Csf;
+        configs = {smrf, csf, Config{"`ladarvr ground` (its default, SMRF)", sim::GroundFileOptions{}}, survey_csf};
     }
+    const sim::GroundFileOptions survey_csf_options = configs[3].options;
     for (const std::string& t : cli.tries) configs.push_back(parseTry(t));
 
     std::ostringstream s;
@@ -212,7 +217,8 @@ void run(const GroundIsprsCli& cli) {
         per << " " << fmt("%.2f", csf_published[k]) << " |\n";
     }
     s << means.str() << "\nPer sample, type I / type II / total / kappa (CSF published: total):\n\n" << per.str();
-    s << "\nWhat `ladarvr ground` runs by default: " << sim::describe(sim::GroundFileOptions{}) << ".\n";
+    s << "\nWhat `ladarvr ground` runs by default: " << sim::describe(sim::GroundFileOptions{})
+      << "; with `--method csf`: " << sim::describe(survey_csf_options) << ".\n";
     std::printf("%s", s.str().c_str());
     if (!cli.no_md && cli.tries.empty()) replaceMarkdownSection(cli.md, kHeading, s.str());
 }
@@ -228,7 +234,8 @@ void registerGroundIsprs(CLI::App& parent) {
     c->add_option("--data", state->data,
                   "folder holding samp11.las ... samp71.las (default: ../shared/data/isprs beside the checkout)");
     c->add_option("--try", state->tries,
-                  "another configuration to score, e.g. smrf:cell_m=0.5,slope=0.2 (printed only; BENCHMARKS.md "
+                  "another configuration to score, from `ladarvr ground`'s defaults, e.g. smrf:cell_m=0.5,slope=0.2 "
+                  "(printed only; BENCHMARKS.md "
                   "stays)");
     c->add_option("--md", state->md, "markdown file whose section is rewritten")->capture_default_str();
     c->add_flag("--no-md", state->no_md, "print only, leave BENCHMARKS.md alone");

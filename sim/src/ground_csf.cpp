@@ -39,6 +39,7 @@ class CsfFit final : public RasterFit {
   public:
     explicit CsfFit(const CsfOptions& o) : RasterFit(o.cloth_m, o.max_cells, "csf cloth_m (--csf-cloth-m)"), o_(o) {
         threshold_m_ = o.threshold_m;
+        low_outlier_m_ = o.low_outlier_m;
     }
 
   private:
@@ -147,6 +148,8 @@ void validate(const CsfOptions& o) {
     if (o.iterations < 1 || o.iterations > 100000)
         failGroundOption("csf iterations (--csf-iterations)", o.iterations, "[1, 100000]");
     if (o.max_cells < 1) failGroundOption("csf max_cells", double(o.max_cells), ">= 1");
+    if (!(std::isfinite(o.low_outlier_m) && o.low_outlier_m >= 0.0 && o.low_outlier_m <= 1000.0))
+        failGroundOption("csf low_outlier_m (--low-outlier-m)", o.low_outlier_m, "[0, 1000] metres, 0 = off");
 }
 
 std::unique_ptr<const CloudGroundFilter> makeCsfFilter(const CsfOptions& o) { return std::make_unique<CsfFilter>(o); }

@@ -14,6 +14,13 @@ namespace sim {
 
 SmrfOptions surveySmrfOptions() {
     SmrfOptions o;
+    o.low_outlier_m = kSurveyLowOutlier_m;
+    return o;
+}
+
+CsfOptions surveyCsfOptions() {
+    CsfOptions o;
+    o.low_outlier_m = kSurveyLowOutlier_m;
     return o;
 }
 
@@ -24,16 +31,28 @@ void validate(const GroundFileOptions& o) {
     validate(o.csf);
 }
 
+namespace {
+std::string lowOutliers(double gap_m) {
+    std::ostringstream s;
+    if (gap_m > 0)
+        s << gap_m << " m below";
+    else
+        s << "kept";
+    return s.str();
+}
+}  // namespace
+
 std::string describe(const GroundFileOptions& o) {
     std::ostringstream s;
     if (o.method == GroundMethod::Csf) {
         const CsfOptions& c = o.csf;
         s << "csf (cloth " << c.cloth_m << " m, rigidness " << c.rigidness << ", threshold " << c.threshold_m
-          << " m, time step " << c.time_step << ", iterations " << c.iterations << ")";
+          << " m, time step " << c.time_step << ", iterations " << c.iterations << ", low outliers "
+          << lowOutliers(c.low_outlier_m) << ")";
     } else {
         const SmrfOptions& m = o.smrf;
         s << "smrf (cell " << m.cell_m << " m, slope " << m.slope << ", window " << m.window_m << " m, threshold "
-          << m.threshold_m << " m, scalar " << m.scalar << ")";
+          << m.threshold_m << " m, scalar " << m.scalar << ", low outliers " << lowOutliers(m.low_outlier_m) << ")";
     }
     return s.str();
 }

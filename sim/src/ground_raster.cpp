@@ -244,6 +244,56 @@ void RasterFit::merge(const RasterFit& other) {
     iy_max_ = std::max(iy_max_, other.iy_max_);
 }
 
+namespace {
+
+// Low outliers (ours, not the papers'): how many of each cell's lowest heights to skip.
+// A cell's lowest kept height is an outlier when it lies more than `gap_m` below the
+// kLowOutlierQuantile of the lowest kept heights of the other observed cells within
+// kLowOutlierReach cells (at least kLowOutlierMinCells of them). A quantile, not the
+// lowest, so that a cluster of low returns (multipath under a real survey, tens of
+// metres low and scattered over a few hundred square metres) is judged against the
+// ground around it; a low one, so that the foot of a cliff or a wall, about half of its
+// neighbourhood, is not. Rounds repeat, each on the previous round's counts (the result
+// does not depend on the visiting order), until nothing changes or kLowOutlierRounds.
+// `low[c]` points at cell c's heights (ascending), `m[c]` their number (0: no point);
+// a cell whose every height is an outlier gets m[c].
+constexpr int kLowOutlierReach = 5;
+constexpr double kLowOutlierQuantile = 0.2;
+constexpr std::size_t kLowOutlierMinCells = 8;
+constexpr int kLowOutlierRounds = 4;
+std::vector<int> lowOutliers(const std::vector<const float*>& low, const std::vector<int>& m, int w, int h,
+                             double gap_m) {
+    std::vector<int> skip(low.size(), 0), next(low.size(), 0);
+    std::vector<float> around;
+    for (int round = 0; round < kLowOutlierRounds; ++round) {
+        bool changed = false;
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                const std::size_t c = std::size_t(j) * std::size_t(w) + std::size_t(i);
+                next[c] = skip[c];
+                if (skip[c] >= m[c]) continue;
+                around.clear();
+                for (int b = std::max(0, j - kLowOutlierReach); b <= std::min(h - 1, j + kLowOutlierReach); ++b)
+                    for (int a = std::max(0, i - kLowOutlierReach); a <= std::min(w - 1, i + kLowOutlierReach); ++a) {
+                        const std::size_t d = std::size_t(b) * std::size_t(w) + std::size_t(a);
+                        if (d != c && skip[d] < m[d]) around.push_back(low[d][skip[d]]);
+                    }
+                if (around.size() < kLowOutlierMinCells) continue;
+                const auto q = around.begin() + std::ptrdiff_t(double(around.size() - 1) * kLowOutlierQuantile);
+                std::nth_element(around.begin(), q, around.end());
+                if (double(low[c][skip[c]]) < double(*q) - gap_m) {
+                    next[c] = skip[c] + 1;
+                    changed = true;
+                }
+            }
+        skip.swap(next);
+        if (!changed) break;
+    }
+    return skip;
+}
+
+}  // namespace
+
 void RasterFit::fit() {
     grid_ = TerrainGrid{};
     grid_.cell_m = cell_m_;
@@ -292,10 +342,25 @@ void RasterFit::fit() {
     // 2) the ground-level surface: each cell's level for that thickness, then the terrain.
     // A cell's lowest heights, each less its view's error at the cell's centre when
     // `corrected` (ascending); returns how many there are.
+    // Low outliers (low_outlier_m_ > 0): how many of each cell's lowest heights to skip.
+    std::vector<int> skip;
+    if (low_outlier_m_ > 0) {
+        std::vector<const float*> low(cells.size(), nullptr);
+        std::vector<int> m(cells.size(), 0);
+        for (std::size_t c = 0; c < cells.size(); ++c)
+            if (cells[c]) {
+                low[c] = cells[c]->low;
+                m[c] = int(std::min<std::uint32_t>(cells[c]->n, kCellLowest));
+            }
+        skip = lowOutliers(low, m, w, h, low_outlier_m_);
+        for (std::size_t c = 0; c < cells.size(); ++c)
+            if (cells[c] && skip[c] >= m[c]) cells[c] = nullptr;  // only outliers: interpolated
+    }
     const auto lowest = [&](std::size_t c, bool corrected, float* low) {
         const Cell* cell = cells[c];
-        const int m = int(std::min<std::uint32_t>(cell->n, kCellLowest));
-        std::copy(cell->low, cell->low + m, low);
+        const int first = skip.empty() ? 0 : skip[c];
+        const int m = int(std::min<std::uint32_t>(cell->n, kCellLowest)) - first;
+        std::copy(cell->low + first, cell->low + first + m, low);
         if (corrected) {
             const double x = grid_.x0_m + double(c % std::size_t(w)) * cell_m_;
             const double y = grid_.y0_m + double(c / std::size_t(w)) * cell_m_;
@@ -326,7 +391,9 @@ void RasterFit::fit() {
                 low[std::min(2, m - 1)] + float(kLevelWindowSigmas * grid_.ground_sigma_m + kLevelWindow_m);
             int kept = 1;
             while (kept < m && low[kept] <= top) ++kept;
-            minimum[c] = float(cellLevel(low, kept, cell->n, grid_.ground_sigma_m).level_m);
+            minimum[c] =
+                float(cellLevel(low, kept, cell->n - std::uint32_t(skip.empty() ? 0 : skip[c]), grid_.ground_sigma_m)
+                          .level_m);
         }
     };
     std::vector<std::uint8_t> observed(minimum.size());

@@ -105,6 +105,9 @@ class RasterFit : public TerrainFit {
     /// The filter's threshold (the part of limit_m_ that groundThreshold() widens); set by
     /// the filter, so that the limits follow the thickness once the views are corrected.
     double threshold_m_ = 0;
+    /// A cell's lowest heights this far below every height around it are low outliers,
+    /// left out of its level (dropLowOutliers); 0 = none are.
+    double low_outlier_m_ = 0;
     int threads_ = 1;  // fitTerrain()'s threads
 
     TerrainGrid grid_;

@@ -16,7 +16,8 @@
 // The paper fills cells with a spring-metaphor inpainting; ours is its membrane
 // analogue: a breadth-first fill from the known cells (each new ring takes the mean of
 // its known neighbours) relaxed by Gauss-Seidel iterations of Laplace's equation. The
-// paper's low-outlier pass is left out: simulated returns have no low noise.
+// paper's low-outlier pass is left out: simulated returns have no low noise (for real
+// surveys RasterFit has its own, SmrfOptions::low_outlier_m, off by default).
 //
 // Only the per-cell minima depend on the points, and a minimum does not depend on the
 // order it is taken in, so the result is the same whatever the batching or the threads.
@@ -95,6 +96,7 @@ class SmrfFit final : public RasterFit {
   public:
     explicit SmrfFit(const SmrfOptions& o) : RasterFit(o.cell_m, o.max_cells, "smrf cell_m (--smrf-cell-m)"), o_(o) {
         threshold_m_ = o.threshold_m;
+        low_outlier_m_ = o.low_outlier_m;
     }
 
   private:
@@ -153,6 +155,8 @@ void validate(const SmrfOptions& o) {
     if (!(std::isfinite(o.scalar) && o.scalar >= 0.0 && o.scalar <= 1000.0))
         failGroundOption("smrf scalar (--smrf-scalar)", o.scalar, "[0, 1000] metres per unit slope");
     if (o.max_cells < 1) failGroundOption("smrf max_cells", double(o.max_cells), ">= 1");
+    if (!(std::isfinite(o.low_outlier_m) && o.low_outlier_m >= 0.0 && o.low_outlier_m <= 1000.0))
+        failGroundOption("smrf low_outlier_m (--low-outlier-m)", o.low_outlier_m, "[0, 1000] metres, 0 = off");
 }
 
 std::unique_ptr<const CloudGroundFilter> makeSmrfFilter(const SmrfOptions& o) {

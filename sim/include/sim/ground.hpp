@@ -42,6 +42,11 @@ struct SmrfOptions {
     /// Ours: the terrain raster may hold at most this many cells (memory bound); a cloud
     /// wider than that at cell_m is refused, naming cell_m.
     std::size_t max_cells = std::size_t(1) << 24;
+    /// Ours: a cell's lowest height more than this below every height around it (the
+    /// lowest of the cells within 2 cells, the next one of its own) is a low outlier and
+    /// left out of the surface (multipath, noise under real surveys); 0 = off, as the
+    /// generator runs it (`ladarvr ground` sets it).
+    double low_outlier_m = 0.0;
 };
 
 /// Cloth simulation filter (Zhang, Qi, Wan, Wang, Xie, Wang, Yan 2016, "An easy-to-use
@@ -55,6 +60,8 @@ struct CsfOptions {
     int iterations = 500;      // at most; it stops earlier once the cloth is still
     /// Ours: the raster may hold at most this many cells (as SmrfOptions::max_cells).
     std::size_t max_cells = std::size_t(1) << 24;
+    /// Ours: low outliers left out of the surface, as SmrfOptions::low_outlier_m; 0 = off.
+    double low_outlier_m = 0.0;
 };
 
 /// Thresholds of the iterative RANSAC; defaults are the paper's where it gives them.

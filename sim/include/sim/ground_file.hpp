@@ -21,14 +21,20 @@
 
 namespace sim {
 
-/// SMRF's options for real airborne surveys: tuned on the ISPRS samples (one set).
+/// How far below the ground around it a return is a low outlier in a real survey
+/// (SmrfOptions::low_outlier_m): the best single value on the ISPRS samples.
+inline constexpr double kSurveyLowOutlier_m = 6.0;
+/// SMRF's options for real airborne surveys: PDAL's defaults (the best one set of cell,
+/// slope, window, threshold and scalar on the ISPRS samples) with low outliers left out.
 SmrfOptions surveySmrfOptions();
+/// CSF's options for real airborne surveys: the paper's with low outliers left out.
+CsfOptions surveyCsfOptions();
 
 /// What `ladarvr ground` runs.
 struct GroundFileOptions {
     GroundMethod method = GroundMethod::Smrf;  // Smrf or Csf (RANSAC works per view)
     SmrfOptions smrf = surveySmrfOptions();
-    CsfOptions csf;
+    CsfOptions csf = surveyCsfOptions();
 };
 
 /// Throws core::Error("ground: ...") naming the option when `o` cannot run: RANSAC named,
