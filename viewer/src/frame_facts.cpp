@@ -16,6 +16,7 @@ nlohmann::json frameRecord(const FrameFacts& f) {
                         {"orbit_centre_local", jsonOf(f.orbit_centre_local)},
                         {"xr", f.xr},
                         {"points_drawn", f.points_drawn},
+                        {"points_drawn_per_eye", f.points_drawn_per_eye},
                         {"points_uploaded", f.points_uploaded},
                         {"points_arrived", f.points_arrived},
                         {"cpu_ms", f.result->cpu_ms},

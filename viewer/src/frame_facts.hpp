@@ -30,6 +30,7 @@ struct FrameFacts {
     double gpu_ms = -1.0;  // < 0: not timed
     const FrameResult* result = nullptr;
     nlohmann::json tools = nlohmann::json::object();  // the tools' keys (ToolSet::logFrame)
+    std::size_t points_drawn_per_eye = 0;             // the most one eye drew (points_drawn: the sum)
 };
 nlohmann::json frameRecord(const FrameFacts& f);
 

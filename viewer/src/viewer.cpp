@@ -350,7 +350,10 @@ void ViewerApp::render(int fb_w, int fb_h) {
         if (!headset_.session()) {
             frameCounted(result, false);
         } else {  // waiting for READY: drawn, not counted
-            if (result.rendered) points_drawn_ = result.points_drawn;
+            if (result.rendered) {
+                points_drawn_ = result.points_drawn;
+                points_drawn_per_eye_ = result.points_drawn_per_eye;
+            }
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
         }
     }
@@ -361,6 +364,7 @@ void ViewerApp::render(int fb_w, int fb_h) {
 void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
     if (!result.rendered) return;
     points_drawn_ = result.points_drawn;
+    points_drawn_per_eye_ = result.points_drawn_per_eye;
     if (quitting_) return;
     ++frames_;
     // The first counted frame is an event a caller can wait for (a test's signal, a demo).
@@ -382,6 +386,7 @@ void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
                          eyes_->lastGpuMs(),
                          &result,
                          nlohmann::json::object()};
+        facts.points_drawn_per_eye = points_drawn_per_eye_;
         tools_.logFrame(facts.tools);
         nlohmann::json record = frameRecord(facts);
         record["stream"] = stream_.frameFigures();
@@ -440,7 +445,7 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     v.frame_ms = frame_ms_;
     v.points_uploaded = stream_.renderer().uploadedPoints();
     v.points_arrived = stream_.source().pointsArrived();
-    v.points_drawn = points_drawn_;
+    v.points_drawn = points_drawn_per_eye_;
     v.cells = stream_.renderer().cellCount();
     v.point_budget = stream_.pointBudget();
     v.arena = stream_.renderer().arena();

@@ -98,7 +98,8 @@ class ViewerApp {
     double display_period_ms_ = 0.0;    // the least step between them so far (0: none yet)
     long frames_submitted_ = 0;
     long first_points_frame_ = -1;
-    std::size_t points_drawn_ = 0;
+    std::size_t points_drawn_ = 0;          // the last frame's, summed over the eyes
+    std::size_t points_drawn_per_eye_ = 0;  // the most one eye of it drew (the panel's figure)
     std::string exit_reason_ = "window closed";
     bool quitting_ = false;    // frames after the exit request are not counted
     bool start_free_ = false;  // the trial begun starts in free mode (its condition's)

@@ -60,7 +60,7 @@ EyeFrameRenderer::~EyeFrameRenderer() {
 }
 
 void EyeFrameRenderer::drawEye(const EyeTarget& target, PointRenderer& points, const FrameView& view,
-                               const EyeDraw& draw, GLuint fbo, int x, int y, int w, int h, std::size_t& drawn) {
+                               const EyeDraw& draw, GLuint fbo, int x, int y, int w, int h, FrameResult& out) {
     if (view.blank) {  // nothing of the cloud before the trial starts
         glBindFramebuffer(GL_FRAMEBUFFER, fbo);
         glViewport(x, y, w, h);
@@ -68,7 +68,10 @@ void EyeFrameRenderer::drawEye(const EyeTarget& target, PointRenderer& points, c
         glClear(GL_COLOR_BUFFER_BIT);
         return;
     }
-    drawn += points.drawEye(target, draw, *view.style, view.mode, fbo, x, y, w, h, view.cut).points_drawn;
+    const std::size_t drawn =
+        points.drawEye(target, draw, *view.style, view.mode, fbo, x, y, w, h, view.cut).points_drawn;
+    out.points_drawn += drawn;
+    out.points_drawn_per_eye = std::max(out.points_drawn_per_eye, drawn);
     overlay_.draw(*view.overlay, draw.view, draw.projection, fbo, x, y, w, h, 8.0f);
     if (view.headset && view.overlay->vignette) {
         const VignetteStyle& v = *view.overlay->vignette;
@@ -146,7 +149,7 @@ bool EyeFrameRenderer::renderXr(XrStereoSession& xr, PointRenderer& points, cons
             const unsigned texture = xr.acquireEye(i);
             if (texture == 0) return false;
             glNamedFramebufferTexture(swapchain_fbo_[i], GL_COLOR_ATTACHMENT0, texture, 0);
-            drawEye(eye_targets_[i], points, view, draws[i], swapchain_fbo_[i], 0, 0, w, h, out.points_drawn);
+            drawEye(eye_targets_[i], points, view, draws[i], swapchain_fbo_[i], 0, 0, w, h, out);
             if (show_panel && panel_target_.colour != 0)
                 drawPanelQuad(out.eyes_tracking[i], draws[i].projection, swapchain_fbo_[i], w, h);
             mirror(i, w, h, fb_w, fb_h);
@@ -191,7 +194,7 @@ void EyeFrameRenderer::renderDesktop(PointRenderer& points, const FrameView& vie
     if (!desktop_target_.ensure(fb_w, fb_h)) return;
     if (timer_query_) glBeginQuery(GL_TIME_ELAPSED, timer_query_);
     points.planFrame(std::span<const EyeDraw>(&draw, 1), options_.point_budget, options_.cull);
-    drawEye(desktop_target_, points, view, draw, 0, 0, 0, fb_w, fb_h, out.points_drawn);
+    drawEye(desktop_target_, points, view, draw, 0, 0, 0, fb_w, fb_h, out);
     out.cpu_ms = msSince(t0);
     endGpuTimer();
     out.eyes_tracking = {view.head_tracking, view.head_tracking};

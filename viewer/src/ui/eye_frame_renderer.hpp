@@ -47,7 +47,8 @@ struct FrameResult {
     XrFrame xr_frame;                         // XR frames only
     std::optional<XrDepthRange> depth_range;  // XR frames whose depth went to the compositor
     double cpu_ms = 0.0;
-    std::size_t points_drawn = 0;
+    std::size_t points_drawn = 0;          // the sum over the eyes (the run log's "points_drawn")
+    std::size_t points_drawn_per_eye = 0;  // the most one eye drew (the desktop: its one view)
 };
 
 class EyeFrameRenderer {
@@ -80,7 +81,7 @@ class EyeFrameRenderer {
 
   private:
     void drawEye(const EyeTarget& target, PointRenderer& points, const FrameView& view, const EyeDraw& draw, GLuint fbo,
-                 int x, int y, int w, int h, std::size_t& drawn);
+                 int x, int y, int w, int h, FrameResult& out);
     void drawPanelQuad(const RigPose& eye_tracking, const glm::dmat4& projection, GLuint fbo, int w, int h);
     void mirror(int eye, int w, int h, int fb_w, int fb_h);
     void endGpuTimer();

@@ -12,6 +12,12 @@
 
 namespace viewer {
 
+std::string pointsDrawnText(const PanelView& v) {
+    const std::string budget = v.point_budget ? std::to_string(v.point_budget) : "unlimited";
+    return "points drawn per eye " + std::to_string(v.points_drawn) + " / " + std::to_string(v.points_uploaded) +
+           " (budget " + budget + ", " + std::to_string(v.cells) + " cells)";
+}
+
 bool drawSettingsPanel(const PanelView& v) {
     bool reset = false;
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
@@ -56,8 +62,7 @@ bool drawSettingsPanel(const PanelView& v) {
     ImGui::Text("picking: %s (last pick %.3f ms)", v.picking_ready ? "ready" : "indexing the cloud", v.pick_ms);
     ImGui::Text("frame %.2f ms (%.0f Hz)", v.frame_ms, v.frame_ms > 0 ? 1000.0 / v.frame_ms : 0.0);
     ImGui::Text("points %zu on GPU / %zu read%s", v.points_uploaded, v.points_arrived, v.loading ? " (loading)" : "");
-    ImGui::Text("points drawn %zu / %zu (budget %s per eye, %zu cells)", v.points_drawn, v.points_uploaded,
-                v.point_budget ? std::to_string(v.point_budget).c_str() : "unlimited", v.cells);
+    ImGui::TextUnformatted(pointsDrawnText(v).c_str());
     // A source with a cache (COPC): its tree, its RAM cache and the GPU arena, in short
     // lines (a wider panel would cover the view).
     if (v.source) {

@@ -18,6 +18,7 @@ struct PanelView {
     ViewMode mode = ViewMode::Automatic;
     std::string xr_state;  // empty: desktop mode
     double frame_ms = 0.0;
+    // points_drawn: per eye (the most one eye drew), the figure the budget bounds.
     std::size_t points_uploaded = 0, points_arrived = 0, points_drawn = 0, cells = 0, point_budget = 0;
     bool loading = false;
     bool picking_ready = false;
@@ -38,6 +39,9 @@ struct PanelView {
 
 /// The settings panel (top left). Returns true when the zoom reset button was pressed.
 bool drawSettingsPanel(const PanelView& v);
+/// The settings panel's line of points drawn: per eye, against the points on the GPU (one
+/// copy of the cloud, which each eye draws from), the same on the desktop and the headset.
+std::string pointsDrawnText(const PanelView& v);
 
 /// The picked point: world position, range from the head, label and height above ground,
 /// in a small window at (x, y) window pixels (beside the dot).

@@ -1,0 +1,18 @@
+// tests/viewer/ui/panel_test.cpp: the settings panel's text (no window): the points drawn
+// are shown per eye against the one copy of the cloud on the GPU.
+#include "ui/panel.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace viewer;
+
+TEST_CASE("the panel shows the points drawn per eye against the points on the GPU") {
+    PanelView v;
+    v.points_drawn = 1257064;  // one eye's, of a headset frame that drew 2514128 in all
+    v.points_uploaded = 1638400;
+    v.point_budget = 3000000;
+    v.cells = 512;
+    CHECK(pointsDrawnText(v) == "points drawn per eye 1257064 / 1638400 (budget 3000000, 512 cells)");
+    v.point_budget = 0;
+    CHECK(pointsDrawnText(v) == "points drawn per eye 1257064 / 1638400 (budget unlimited, 512 cells)");
+}
