@@ -222,6 +222,13 @@ def main():
     elif scenario == "escape":
         check(log["exit"] == "escape", f"exit {log['exit']}")
         check(log["frames_counted"] == 5, f"{log['frames_counted']} frames before Escape, expected 5")
+        # The script's cut (frame 2) and colour (frame 3) act before the next frame is drawn,
+        # through the tools as V and C do.
+        cuts = [f["cut"] for f in frames]
+        check(cuts == [False, False, True, True, True], f"cut flags {cuts}")
+        colours = [f["colour"] for f in frames]
+        check(len(set(colours[:3])) == 1 and len(set(colours[3:])) == 1 and colours[2] != colours[3],
+              f"colour modes {colours}: the script's colour did not step the mode after frame 3")
     elif scenario == "lost":
         check("FOCUSED" in log["states"], "never FOCUSED before the runtime went away")
         check(log["frames_submitted"] >= 1, "no XR frame before the runtime went away")

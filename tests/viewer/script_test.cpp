@@ -32,7 +32,7 @@ TEST_CASE("script text: refused frames name the line and what is allowed") {
     CHECK_THROWS_WITH_AS(
         parseScript("1 space\n99999999999999999999 space\n", kName),
         "view: --script s.txt line 2: frame '99999999999999999999' is not a whole number from 0 to 1000000000; "
-        "allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
+        "allowed '<frame> space|escape|designate|confirm|reject|no_target|next|cut|colour', '<frame> aim X Y Z', "
         "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N, "
         "pickable+N or +N",
         core::Error);
@@ -199,4 +199,13 @@ TEST_CASE("script text: frames are at most kMaxScriptFrame, alone and added up b
     // An absolute or anchored line starts the sum again.
     CHECK(parseScript("600000000 space\n+300000000 space\nloaded+600000000 space\n+400000000 escape\n", kName).size() ==
           4);
+}
+
+TEST_CASE("script text: cut and colour, the V and C keys' actions") {
+    const auto events = parseScript("4 cut\n+1 colour\n", kName);
+    REQUIRE(events.size() == 2);
+    CHECK(events[0].key == viewer::ScriptEvent::Key::Cut);
+    CHECK(events[1].key == viewer::ScriptEvent::Key::Colour);
+    CHECK(viewer::formatScript(events) == "4 cut\n+1 colour\n");
+    CHECK_THROWS_WITH_AS(parseScript("1 cutt\n", kName), doctest::Contains("point_answer, cut, colour"), core::Error);
 }

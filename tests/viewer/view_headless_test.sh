@@ -5,7 +5,8 @@
 #            40 frames submitted with both eyes from the runtime's poses, the poses move,
 #            scripted space bar automatic -> free -> automatic, target pixels in the mirror.
 #   desktop  no OpenXR runtime: one clear line, desktop fallback, same script and checks.
-#   escape   desktop, a scripted Escape at frame 5 closes the viewer cleanly.
+#   escape   desktop, a scripted cut (frame 2) and colour (frame 3) switch the cutting volume
+#            on and step the colour mode; a scripted Escape at frame 5 closes the viewer cleanly.
 #   lost     the runtime is killed once 2 XR frames are submitted (the scripted toggles'
 #            lines): the viewer drops to the desktop mode with the cloud kept and runs
 #            on until a scripted Escape 20 frames after the drop (desktop+20).
@@ -45,7 +46,7 @@ case "$scenario" in
       --script "$work/script.txt" --orbit-period 20 2>"$work/stderr" || status=$?
     ;;
   escape)
-    printf '5 escape\n' >"$work/escape.txt"
+    printf '2 cut\n3 colour\n5 escape\n' >"$work/escape.txt"
     "$here/headless_env.sh" --timeout 150 -- "$bin" "${common[@]}" --no-xr \
       --script "$work/escape.txt" 2>"$work/stderr" || status=$?
     ;;

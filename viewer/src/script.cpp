@@ -19,7 +19,7 @@ namespace viewer {
 
 namespace {
 using Key = ScriptEvent::Key;
-constexpr std::array<std::pair<Key, const char*>, 11> kKeys = {{{Key::Space, "space"},
+constexpr std::array<std::pair<Key, const char*>, 13> kKeys = {{{Key::Space, "space"},
                                                                 {Key::Escape, "escape"},
                                                                 {Key::Aim, "aim"},
                                                                 {Key::Designate, "designate"},
@@ -29,9 +29,11 @@ constexpr std::array<std::pair<Key, const char*>, 11> kKeys = {{{Key::Space, "sp
                                                                 {Key::GrabScale, "grab_scale"},
                                                                 {Key::Next, "next"},
                                                                 {Key::Answer, "answer"},
-                                                                {Key::PointAnswer, "point_answer"}}};
+                                                                {Key::PointAnswer, "point_answer"},
+                                                                {Key::Cut, "cut"},
+                                                                {Key::Colour, "colour"}}};
 constexpr const char* kAllowed =
-    "; allowed '<frame> space|escape|designate|confirm|reject|no_target|next', '<frame> aim X Y Z', "
+    "; allowed '<frame> space|escape|designate|confirm|reject|no_target|next|cut|colour', '<frame> aim X Y Z', "
     "'<frame> grab_scale S', '<frame> answer TEXT', '<frame> point_answer N', <frame> N, desktop+N, loaded+N, "
     "pickable+N or +N";
 
@@ -112,7 +114,7 @@ std::vector<ScriptEvent> parseScript(std::string_view text, const std::string& n
         if (!known)
             throw bad("action " + quoted(key) +
                       " is not one of space, escape, aim, designate, confirm, reject, no_target, grab_scale, next, "
-                      "answer, point_answer");
+                      "answer, point_answer, cut, colour");
         if (ev.key == Key::Aim) {
             for (int i = 0; i < 3; ++i) {
                 std::string token;

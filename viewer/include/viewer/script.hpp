@@ -27,6 +27,8 @@ struct ScriptEvent {
         Answer,       // answer the questionnaire item on screen with `text` (waits for one)
         PointAnswer,  // headset: aim a controller ray from the head at rating `value`'s button on
                       // the panel and pull the trigger (waits for an item)
+        Cut,          // toggle the cutting volume (as V does)
+        Colour,       // step to the next colour mode (as C does)
     } key = Key::Space;
     /// "desktop+N": N frames after the drop to desktop mode (a lost runtime), so a test
     /// acts on that event instead of guessing its frame; waits while none has happened.
@@ -59,13 +61,13 @@ inline constexpr std::size_t kMaxScriptBytes = std::size_t(1) << 20;
 inline constexpr std::size_t kMaxScriptAnswerBytes = 1000;
 
 /// "space", "escape", "aim", "designate", "confirm", "reject", "no_target", "grab_scale", "next",
-/// "answer", "point_answer".
+/// "answer", "point_answer", "cut", "colour".
 const char* scriptKeyName(ScriptEvent::Key key);
 
 /// Parses script text: one "<frame> <action>" per line, frame a whole number from 0 to
 /// kMaxScriptFrame (and so the frame a +N line adds up to),
 /// desktop+N, loaded+N (after the whole cloud is on the GPU), pickable+N (after the pointer can first pick) or +N (after the previous action); actions space, escape, aim X Y Z (finite numbers), designate, confirm,
-/// reject, no_target, grab_scale S (a finite number > 0), next, answer TEXT (the rest of
+/// reject, no_target, grab_scale S (a finite number > 0), next, cut, colour, answer TEXT (the rest of
 /// the line, spaces trimmed, 1 to kMaxScriptAnswerBytes bytes), point_answer N (a whole
 /// number); '#' starts a comment,
 /// blank lines skipped. Throws core::Error("<name> line N: ...; allowed '<frame>

@@ -38,6 +38,8 @@ OperatorInput ScriptPlayer::take(const ScriptClock& clock) {
             case ScriptEvent::Key::Next: in.next = true; break;
             case ScriptEvent::Key::Answer: in.answer = ev.text; break;
             case ScriptEvent::Key::PointAnswer: in.point_answer = static_cast<int>(ev.value); break;
+            case ScriptEvent::Key::Cut: in.toggle_cut = true; break;
+            case ScriptEvent::Key::Colour: in.cycle_colour = true; break;
         }
     }
     return in;
