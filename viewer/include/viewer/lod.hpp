@@ -1,7 +1,7 @@
 // viewer/lod.hpp: skip what a frame does not need: frustum culling of spatial
 // cells and a point budget over a level-of-detail order built once per chunk at load, in
 // the spirit of Potree (Schuetz 2016). Pure maths, no GL: the renderer
-// (viewer/src/point_renderer.cpp) calls these and draws the prefixes they choose.
+// (viewer/src/points/point_renderer.cpp) calls these and draws the prefixes they choose.
 //
 // Level of detail: every chunk that arrives from the stream is split into a grid of cells
 // in x/y (about kLodCellPoints points each), and the points of every cell are shuffled with
