@@ -5,6 +5,7 @@
 #   1. a PCD over --index-above-mb is indexed (progress lines, "indexed now") into
 #      $XDG_CACHE_HOME/ladarvr (made 0700) and viewed node by node;
 #   2. the same file again: "cached index ... is reused", no indexing line, no new file;
+#      the cached index damaged on disk: one warning, indexed again, viewed;
 #   3. the file's modification time changes: indexed again under another name; two views
 #      of a new file at once both run and leave one whole index and no temporary;
 #   4. another file with a cache bound of 2.5 indexes: the least recently used index goes
@@ -62,6 +63,16 @@ grep -q "indexing" "$work/second.err" && fail "the second run indexed again: $(c
 grep -q "^ladarvr: view: $work/a.pcd is not COPC: its cached index $cache/$first is reused$" "$work/second.err" ||
   fail "no 'reused' line: $(cat "$work/second.err")"
 [ "$(indexes)" = "$first" ] || fail "indexes after the reuse: $(indexes)"
+
+# 2b. A cached index damaged on disk: the view says so, indexes again once and runs.
+cp "$cache/$first" "$work/first.copc.laz"
+head -c 400 "$work/first.copc.laz" >"$cache/$first"
+view damaged "$work/a.pcd" --index-above-mb 1
+grep -q "^ladarvr: warning: view: the cached index does not open (.*); indexing again$" "$work/damaged.err" ||
+  fail "no 'indexing again' line: $(cat "$work/damaged.err")"
+grep -q "is COPC: .* 163840 points, read node by node" "$work/damaged.err" ||
+  fail "the index written again is not opened: $(cat "$work/damaged.err")"
+"$bin" index --check "$cache/$first" >/dev/null || fail "the index written again is no valid COPC file"
 
 # 3. A changed file (its modification time) is indexed again under another name.
 touch -d '2001-02-03 04:05:06' "$work/a.pcd"
