@@ -46,7 +46,6 @@ SourcePath choosePath(const std::filesystem::path& cloud, CloudIndexer* indexer,
 struct OpenSourceOptions {
     CopcSourceOptions copc;           // for the Copc and Indexed paths
     CloudIndexer* indexer = nullptr;  // needed for the Indexed path
-    bool lod_order = true;            // Whole: the feed builds each chunk's LOD order on its loader thread
     /// Whole: stream into this feed (as its owner set it up) instead of a new one.
     CloudFeed* feed = nullptr;
 };

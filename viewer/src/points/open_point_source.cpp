@@ -26,7 +26,7 @@ OpenedCloud openPointSource(const std::filesystem::path& cloud, SourcePath path,
             return opened;
         }
         opened.feed = std::make_unique<CloudFeed>();
-        if (options.lod_order) opened.feed->enableLodOrder();
+        opened.feed->enableLodOrder();  // each chunk's LOD order on the loader thread, not in the frame loop
         opened.feed->startFileLoader(cloud);
         return opened;
     }
