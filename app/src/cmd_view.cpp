@@ -52,6 +52,7 @@ struct ViewArgs {
     bool no_cull = false;
     double orbit_period_s = 60.0;
     double orbit_radius_m = 60.0, orbit_height_m = 40.0;
+    bool orbit_given = false;  // --orbit-radius or --orbit-height: no fit to the cloud
     double pick_angle_deg = 0.5, cut_radius_m = 15.0;
     std::string candidates;
     bool no_snap_turn = false, no_vignette = false, no_headset_panel = false;
@@ -135,6 +136,7 @@ int runView(const ViewArgs& a) {
     o.modes.orbit_period_s = a.orbit_period_s;
     o.modes.orbit.radius_m = a.orbit_radius_m;
     o.modes.orbit.altitude_m = a.orbit_height_m;
+    o.modes.fit_to_cloud = !a.orbit_given;
     o.pick.angle_deg = a.pick_angle_deg;
     o.cut_radius_m = a.cut_radius_m;
     o.cut_enabled = a.cut;
@@ -292,8 +294,14 @@ void registerView(CLI::App& cli) {
     cmd->add_flag("--no-cull", args->no_cull, "draw cells outside the view frustum too (for comparisons)");
     cmd->add_option("--orbit-period", args->orbit_period_s, "seconds per turn of the automatic orbit")
         ->capture_default_str();
-    cmd->add_option("--orbit-radius", args->orbit_radius_m, "automatic orbit radius, metres")->capture_default_str();
-    cmd->add_option("--orbit-height", args->orbit_height_m, "automatic orbit height above the cloud's centre, metres")
+    const auto fixed_orbit = [args](const std::string&) { args->orbit_given = true; };
+    cmd->add_option("--orbit-radius", args->orbit_radius_m,
+                    "automatic orbit radius, metres (default: fitted to a cloud file's extent)")
+        ->each(fixed_orbit)
+        ->capture_default_str();
+    cmd->add_option("--orbit-height", args->orbit_height_m,
+                    "automatic orbit height above the cloud's centre, metres (default: fitted with the radius)")
+        ->each(fixed_orbit)
         ->capture_default_str();
     cmd->add_option("--pick-angle", args->pick_angle_deg, "the pointer's angular radius, degrees (0, 10]")
         ->capture_default_str();

@@ -156,3 +156,34 @@ TEST_CASE("mode options are validated at the boundary") {
     CHECK(std::string(modeName(ViewMode::Automatic)) == "automatic");
     CHECK(std::string(modeName(ViewMode::Free)) == "free");
 }
+
+TEST_CASE("a cloud's extent sets the orbit, the start pose and the free speed when fitting is on") {
+    ModeOptions o;  // today's 60 m radius, 40 m height, 15 m/s
+    const ModeOptions f = fittedToExtent(o, glm::dvec3(300.0, 400.0, 50.0));
+    CHECK(f.orbit.radius_m == doctest::Approx(250.0));  // half the horizontal diagonal
+    CHECK(f.orbit.altitude_m == doctest::Approx(250.0 * 40.0 / 60.0));
+    CHECK(f.free_speed_mps == doctest::Approx(15.0 * 250.0 / 60.0));
+    CHECK(f.orbit.far_m >= o.orbit.far_m);
+    CHECK(fittedToExtent(o, glm::dvec3(0.0)).orbit.radius_m == doctest::Approx(1.0));
+
+    // The start pose follows: the rig sits on the fitted orbit, above the cloud's edge.
+    o.fit_to_cloud = true;
+    ModeController fitted(o, glm::dvec3(0.0));
+    fitted.setCloudBounds(glm::dvec3(1000.0, 2000.0, 0.0), glm::dvec3(1300.0, 2400.0, 50.0));
+    const glm::dvec3 centre(1150.0, 2200.0, 25.0);
+    CHECK(distance(fitted.centre(), centre) < 1e-9);
+    const RigPose start = fitted.rig();
+    CHECK(glm::length(glm::dvec2(start.position - centre)) == doctest::Approx(250.0));
+    CHECK(start.position.z - centre.z == doctest::Approx(250.0 * 40.0 / 60.0));
+    CHECK(fitted.options().orbit.radius_m == doctest::Approx(250.0));  // refits from the given values
+    fitted.setCloudBounds(glm::dvec3(0.0), glm::dvec3(30.0, 40.0, 5.0));
+    CHECK(fitted.options().orbit.radius_m == doctest::Approx(25.0));
+
+    // Off (a generated cloud, or --orbit-radius given): today's orbit whatever the cloud.
+    o.fit_to_cloud = false;
+    ModeController fixed(o, glm::dvec3(0.0));
+    fixed.setCloudBounds(glm::dvec3(0.0), glm::dvec3(3000.0, 4000.0, 50.0));
+    CHECK(fixed.options().orbit.radius_m == 60.0);
+    CHECK(fixed.options().orbit.altitude_m == 40.0);
+    CHECK(distance(fixed.centre(), glm::dvec3(1500.0, 2000.0, 25.0)) < 1e-9);
+}

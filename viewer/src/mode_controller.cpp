@@ -67,9 +67,27 @@ glm::mat4 chunkModelView(const glm::dmat4& view, const glm::dvec3& chunk_centre)
     return glm::mat4(view * glm::translate(glm::dmat4(1.0), chunk_centre));
 }
 
+ModeOptions fittedToExtent(const ModeOptions& o, const glm::dvec3& size_m) {
+    ModeOptions fitted = o;
+    const double radius_m = std::max(0.5 * std::hypot(size_m.x, size_m.y), 1.0);
+    if (!std::isfinite(radius_m)) return fitted;
+    const double scale = radius_m / o.orbit.radius_m;
+    fitted.orbit.radius_m = radius_m;
+    fitted.orbit.altitude_m = o.orbit.altitude_m * scale;
+    fitted.free_speed_mps = o.free_speed_mps * scale;
+    // The far side of the cloud from the orbit, with room for its height and free flight.
+    fitted.orbit.far_m = std::max(o.orbit.far_m, 10.0 * (radius_m + std::abs(fitted.orbit.altitude_m) + size_m.z));
+    return fitted;
+}
+
 ModeController::ModeController(const ModeOptions& options, const glm::dvec3& centre)
-    : options_(options), centre_(centre) {
+    : given_(options), options_(options), centre_(centre) {
     angle_rad_ = options_.orbit.start_deg * std::numbers::pi / 180.0;
+}
+
+void ModeController::setCloudBounds(const glm::dvec3& lo, const glm::dvec3& hi) {
+    centre_ = 0.5 * (lo + hi);
+    if (given_.fit_to_cloud) options_ = fittedToExtent(given_, hi - lo);
 }
 
 RigPose ModeController::rig() const {

@@ -211,7 +211,14 @@ void ViewerApp::updateSource() {
             trials_.end(Decision::Quit, trialContext());
         }
     }
-    if (stream_.centreChanged()) modes_.setCentre(stream_.renderer().bounds().centre());
+    if (stream_.centreChanged()) {
+        // A cloud our generator made (it carries the range field) keeps the paper's orbit.
+        const core::Bounds& cloud = stream_.renderer().bounds();
+        if (stream_.source().fields().range)
+            modes_.setCentre(cloud.centre());
+        else
+            modes_.setCloudBounds(cloud.lo, cloud.hi);
+    }
 }
 
 void ViewerApp::update(OperatorInput in, double dt) {

@@ -35,7 +35,16 @@ struct ModeOptions {
     double orbit_period_s = 60.0;      // one turn of the automatic orbit (> 0)
     double free_speed_mps = 15.0;      // keyboard / thumbstick speed in free mode (> 0)
     double turn_speed_dps = 90.0;      // thumbstick turn rate in free mode
+    /// Fit the orbit's radius and height, the start pose and the free-mode speed to the
+    /// cloud's extent (fittedToExtent) as its bounds arrive; off keeps the values above.
+    bool fit_to_cloud = false;
 };
+
+/// `o` scaled to a cloud of extent `size_m` (its bounds' hi - lo): the orbit radius becomes
+/// half the cloud's horizontal diagonal, so the camera circles above the cloud's edge and
+/// the cloud fills the view; the height and free-mode speed keep their ratio to the radius,
+/// the far plane reaches past the cloud. A radius under 1 m is taken as 1 m.
+ModeOptions fittedToExtent(const ModeOptions& o, const glm::dvec3& size_m);
 
 /// Throws core::Error("view: <field> = <value>: allowed ...") on bad values.
 void validate(const ModeOptions& o);
@@ -58,6 +67,9 @@ class ModeController {
     const ModeOptions& options() const { return options_; }
     double orbitAngleRad() const { return angle_rad_; }
     void setCentre(const glm::dvec3& centre) { centre_ = centre; }
+    /// Centres the orbit on the cloud's bounds and, when fit_to_cloud is on, fits the modes
+    /// to its extent (from the options given at construction, so growing bounds refit).
+    void setCloudBounds(const glm::dvec3& lo, const glm::dvec3& hi);
     const glm::dvec3& centre() const { return centre_; }
 
     /// Advances by dt: the orbit angle in automatic mode, the position/heading in free mode
@@ -77,6 +89,7 @@ class ModeController {
     ViewMode toggleDesktop(double& look_yaw_rad, double& look_pitch_rad);
 
   private:
+    ModeOptions given_;  // as constructed: what a fit starts from
     ModeOptions options_;
     glm::dvec3 centre_;
     ViewMode mode_ = ViewMode::Automatic;
