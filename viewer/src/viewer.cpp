@@ -328,6 +328,17 @@ std::optional<LocalRay> ViewerApp::pointerRay(const OperatorInput& in) const {
     return pointerRayOf(p);
 }
 
+/// Where the operator works, drawn whole whatever the point budget: around the pointer's
+/// hit, the designated point and inside the cutting volume.
+LodFocus ViewerApp::operatorFocus(const CutVolume& cut) const {
+    LodFocus focus;
+    if (const std::optional<PickHit>& hit = tools_.get<PointerTool>().hit())
+        focus.spheres.push_back({hit->local, kPointerFocusRadius_m});
+    if (trials_.designated()) focus.spheres.push_back({*trials_.designated(), kDesignationFocusRadius_m});
+    if (cut.enabled) focus.spheres.push_back({cut.centre_local, cut.radius_m});
+    return focus;
+}
+
 void ViewerApp::render(int fb_w, int fb_h) {
     FrameView view;
     view.rig = modes_.rig();
@@ -336,6 +347,7 @@ void ViewerApp::render(int fb_w, int fb_h) {
     view.style = &style_;
     view.mode = replay_sample_ ? replay_sample_->mode : modes_.mode();
     view.cut = tools_.get<CutTool>().volume(trials_.designated());
+    stream_.renderer().setFocus(operatorFocus(view.cut));
     view.overlay = &overlay_list_;
     view.blank = trials_.readyScreen() || questions_.active();
     view.headset = headset_.session() != nullptr;

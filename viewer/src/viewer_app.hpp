@@ -63,6 +63,7 @@ class ViewerApp {
     RigPose headTracking() const;
     RigPose headLocal() const { return compose(modes_.rig(), zoom_.apply(headTracking())); }
     std::optional<LocalRay> pointerRay(const OperatorInput& in) const;
+    LodFocus operatorFocus(const CutVolume& cut) const;
     TrialContext trialContext();
     void frameCounted(const FrameResult& result, bool xr);
     void drawPanel(int fb_w, int fb_h);

@@ -274,3 +274,32 @@ TEST_CASE("the feed builds the LOD order on the producer's side when enabled") {
     CHECK(chunks[1].points.size() == 10000);
     CHECK_FALSE(chunks[1].cells.empty());
 }
+
+TEST_CASE("allocateFocusedBudget: focused cells drawn whole, the rest shares what they leave") {
+    using V = std::vector<std::size_t>;
+    const std::vector<double> importance{1, 1, 2, 0};
+    const V sizes{100, 100, 100, 100};
+    // No focus: allocateBudget's answer.
+    CHECK(allocateFocusedBudget(importance, sizes, {false, false, false, false}, 100) == V{25, 25, 50, 0});
+    // The first cell focused: all of it; the other two share the 20 left by importance.
+    CHECK(allocateFocusedBudget(importance, sizes, {true, false, false, false}, 120) == V{100, 6, 13, 0});
+    // The focus takes more than the budget: it alone is drawn.
+    CHECK(allocateFocusedBudget(importance, sizes, {true, true, false, false}, 150) == V{100, 100, 0, 0});
+    // A focused cell out of view (importance 0) gets nothing.
+    CHECK(allocateFocusedBudget(importance, sizes, {false, false, false, true}, 100) == V{25, 25, 50, 0});
+    // Unlimited: everything in view.
+    CHECK(allocateFocusedBudget(importance, sizes, {true, false, false, false}, 0) == V{100, 100, 100, 0});
+}
+
+TEST_CASE("LodFocus::touches: a box within a sphere's radius of its centre") {
+    LodFocus focus;
+    core::Bounds box;
+    box.lo = glm::dvec3(0.0);
+    box.hi = glm::dvec3(10.0);
+    CHECK_FALSE(focus.touches(box));
+    focus.spheres.push_back({glm::dvec3(13.0, 5.0, 5.0), 2.9});
+    CHECK_FALSE(focus.touches(box));
+    focus.spheres.push_back({glm::dvec3(13.0, 14.0, 5.0), 5.1});  // 3 and 4 from the corner edge: 5
+    CHECK(focus.touches(box));
+    CHECK_FALSE(focus.touches(core::Bounds{}));
+}

@@ -170,3 +170,36 @@ TEST_CASE("selectNodes keeps the wanted nodes within the GPU arena's bytes") {
     const NodeSelection t = selectNodes(tree.roots, {}, eye, {500, 0, gpu});
     CHECK(t.wanted.size() == 5);
 }
+
+TEST_CASE("selectNodes: the nodes touching the focus are taken down to the leaves whatever the budget") {
+    const Tree tree(4);  // leaves 8 m wide
+    const glm::dvec3 eye(10.0, 10.0, 80.0);
+    LodFocus focus;
+    focus.spheres.push_back({glm::dvec3(52.0, 52.0, 4.0), 1.0});  // inside one leaf, far from the eye
+    const std::size_t budget = 250;
+    const NodeSelection plain = selectNodes(tree.roots, {}, eye, {budget, 0});
+    const NodeSelection focused = selectNodes(tree.roots, {}, eye, {budget, 0}, focus);
+    const auto touching = [&](const NodeSelection& s) {
+        return std::count_if(s.wanted.begin(), s.wanted.end(),
+                             [&](const PointNode* n) { return focus.touches(n->bounds()); });
+    };
+    // Without the focus the budget stops at level 1 near the eye; with it the focus's
+    // path from the root to its leaf (4 nodes) is all taken, first, and the rest gives way.
+    CHECK(touching(plain) < 4);
+    CHECK(touching(focused) == 4);
+    for (std::size_t i = 0; i < 4; ++i) CHECK(focus.touches(focused.wanted[i]->bounds()));
+    CHECK(focused.focus_points == 400);
+    CHECK(focused.points <= std::max<std::size_t>(budget, focused.focus_points));
+    // Parents still come before their children.
+    for (std::size_t i = 0; i < focused.wanted.size(); ++i)
+        if (const PointNode* p = parentOf(tree, focused.wanted[i]))
+            CHECK(std::find(focused.wanted.begin(), focused.wanted.begin() + std::ptrdiff_t(i), p) !=
+                  focused.wanted.begin() + std::ptrdiff_t(i));
+    // A budget smaller than the focus: the focus alone is taken.
+    const NodeSelection tight = selectNodes(tree.roots, {}, eye, {50, 0}, focus);
+    CHECK(tight.points == 400);
+    CHECK(tight.wanted.size() == 4);
+    // The RAM bound still holds for the focus.
+    const NodeSelection bytes = selectNodes(tree.roots, {}, eye, {0, 2 * nodeBytes(100)}, focus);
+    CHECK(bytes.wanted.size() == 2);
+}

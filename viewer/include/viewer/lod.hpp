@@ -11,6 +11,10 @@
 // ordered by place, blocks of the cell taken in a spread-out order: a GPU draws points
 // that land near each other on screen faster than points in random order, and a prefix
 // is still whole random layers plus an evenly spread part of the next one.
+//
+// Focus: what the operator works on (the pointer's hit, the designation, the cutting
+// volume) is a set of spheres; the cells and nodes that touch one are drawn whole whatever
+// the point budget, and the rest of the scene shares what is left of it.
 #pragma once
 #include <core/frames.hpp>
 #include <core/point_cloud.hpp>
@@ -56,11 +60,38 @@ std::vector<bool> visibleInAny(std::span<const render::Frustum> frusta, std::spa
 /// it covers over pi (1 when the eye is inside it). 0 for an empty box.
 double screenImportance(const core::Bounds& box, const glm::dvec3& eye);
 
+/// A ball of the local frame the operator works in.
+struct FocusSphere {
+    glm::dvec3 centre_local{0.0};
+    double radius_m = 0.0;
+};
+
+/// Where the operator works: the nodes and cells touching any of these spheres are loaded
+/// first and drawn at full density, whatever the point budget.
+struct LodFocus {
+    std::vector<FocusSphere> spheres;
+    bool empty() const { return spheres.empty(); }
+    /// True when `box` (not empty) comes within a sphere's radius of its centre.
+    bool touches(const core::Bounds& box) const;
+};
+
+/// Radii of the focus spheres the viewer puts around the pointer's hit and the designated
+/// point (the cutting volume brings its own): a vehicle-sized target and its shadow.
+inline constexpr double kPointerFocusRadius_m = 6.0;
+inline constexpr double kDesignationFocusRadius_m = 12.0;
+
 /// Points to draw per cell: count_i = min(sizes_i, floor(lambda * importance_i)) with the
 /// largest lambda that keeps the sum <= budget (water filling), so cells with more
 /// importance get more points, none gets more than it has, and cells with importance 0
 /// get none. budget 0 = unlimited (every cell with importance > 0 gets all of its points).
 std::vector<std::size_t> allocateBudget(std::span<const double> importance, std::span<const std::size_t> sizes,
                                         std::size_t budget);
+
+/// allocateBudget with a focus: cells with `focused` set and importance > 0 get all their
+/// points whatever the budget; the others share what the focused cells leave of `budget`
+/// (none when they take it all). budget 0 = unlimited. Equal to allocateBudget when no cell
+/// is focused.
+std::vector<std::size_t> allocateFocusedBudget(std::span<const double> importance, std::span<const std::size_t> sizes,
+                                               const std::vector<bool>& focused, std::size_t budget);
 
 }  // namespace viewer

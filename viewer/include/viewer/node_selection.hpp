@@ -32,6 +32,7 @@ struct SelectionBudget {
 struct NodeSelection {
     std::vector<PointNode*> wanted;      // in traversal order: parents first, most important first
     std::size_t points = 0;              // of the wanted nodes
+    std::size_t focus_points = 0;        // of the wanted nodes touching the focus
     std::size_t bytes = 0;               // nodeBytes() of the wanted nodes
     std::size_t gpu_bytes = 0;           // gpuBytes() of the wanted nodes
     std::vector<PointNode*> unexplored;  // reached and unexplored(): the source reads them next
@@ -50,7 +51,9 @@ std::size_t gpuBytes(std::size_t point_count);
 /// empty), by importance seen from `eye_local`, within `budget`. Nodes with no points
 /// (empty or unreadable) cost nothing and are walked through to their children; an
 /// unexplored node reached that way is listed, most important first, for its source to read.
+/// Nodes touching `focus` come first, down to the leaves, and the point budget does not
+/// bound them (the RAM and GPU bounds do); the other nodes share what they leave of it.
 NodeSelection selectNodes(std::span<PointNode* const> roots, std::span<const render::Frustum> frusta,
-                          const glm::dvec3& eye_local, const SelectionBudget& budget);
+                          const glm::dvec3& eye_local, const SelectionBudget& budget, const LodFocus& focus = {});
 
 }  // namespace viewer

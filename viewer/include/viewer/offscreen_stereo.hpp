@@ -86,6 +86,9 @@ class OffscreenStereo {
     /// per eye (0 = unlimited). Without a call, each eye draws every uploaded point of
     /// every cell in its frustum. Never throws.
     void plan(const RigPose& head, std::size_t point_budget, bool cull);
+    /// What the operator works on (lod.hpp's LodFocus): from the next plan() its cells are
+    /// drawn whole whatever the budget, and the followed source loads its nodes first.
+    void setFocus(LodFocus focus);
     /// Draws both eyes into their images. Returns the points drawn, both eyes together.
     /// Never throws (GL errors are logged).
     std::size_t draw(const RigPose& head, const ViewStyle& style, ViewMode mode);

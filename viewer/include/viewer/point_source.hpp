@@ -61,12 +61,14 @@ class PointNode {
 /// What the last frame drew from: the union of the eyes' frusta (widened by the predicted
 /// head motion, motion_prediction.hpp), the eyes' mean position (local frame), the point
 /// budget per eye (0 = unlimited) and the GPU arena's bound in bytes (0 = unlimited): what
-/// is drawn is what is on the GPU, so a source wants no more than the arena holds.
+/// is drawn is what is on the GPU, so a source wants no more than the arena holds. The
+/// focus (lod.hpp) is what the operator works on: its nodes come first, whatever the budget.
 struct SourceView {
     std::vector<render::Frustum> frusta;
     glm::dvec3 eye_local{0.0};
     std::size_t point_budget = 0;
     std::size_t gpu_bytes = 0;
+    LodFocus focus{};
 };
 
 /// The memory a source that holds nodes by choice reports (the run log's "source").

@@ -358,8 +358,9 @@ CopcSource::~CopcSource() {
 void CopcSource::select(const SourceView& view) {
     Impl& m = *impl_;
     ++m.round;
-    const NodeSelection sel = selectNodes(m.roots, view.frusta, view.eye_local,
-                                          SelectionBudget{view.point_budget, m.options.cache_bytes, view.gpu_bytes});
+    const NodeSelection sel =
+        selectNodes(m.roots, view.frusta, view.eye_local,
+                    SelectionBudget{view.point_budget, m.options.cache_bytes, view.gpu_bytes}, view.focus);
     m.stats.wanted_points = sel.points;
     m.wanted = sel.wanted;
     m.pages_wanted = sel.unexplored.size();

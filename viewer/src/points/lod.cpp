@@ -4,6 +4,9 @@
 
 #include <core/random.hpp>
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -175,6 +178,38 @@ std::vector<std::size_t> allocateBudget(std::span<const double> importance, std:
             if (sum == budget) break;
         }
     }
+    return counts;
+}
+
+bool LodFocus::touches(const core::Bounds& box) const {
+    if (box.empty()) return false;
+    for (const FocusSphere& s : spheres) {
+        const glm::dvec3 nearest = glm::clamp(s.centre_local, box.lo, box.hi);
+        if (glm::length(nearest - s.centre_local) <= s.radius_m) return true;
+    }
+    return false;
+}
+
+std::vector<std::size_t> allocateFocusedBudget(std::span<const double> importance, std::span<const std::size_t> sizes,
+                                               const std::vector<bool>& focused, std::size_t budget) {
+    const std::size_t n = std::min(importance.size(), sizes.size());
+    std::vector<double> rest(importance.begin(), importance.begin() + static_cast<std::ptrdiff_t>(n));
+    std::size_t taken = 0;
+    bool any = false;
+    for (std::size_t i = 0; i < n && i < focused.size(); ++i)
+        if (focused[i] && importance[i] > 0.0) {
+            taken += sizes[i];
+            rest[i] = 0.0;
+            any = true;
+        }
+    if (!any) return allocateBudget(importance, sizes, budget);
+    std::vector<std::size_t> counts;
+    if (budget != 0 && taken >= budget)
+        counts.assign(n, 0);  // the focus takes the whole budget: the rest gives way
+    else
+        counts = allocateBudget(rest, sizes, budget == 0 ? 0 : budget - taken);
+    for (std::size_t i = 0; i < n && i < focused.size(); ++i)
+        if (focused[i] && importance[i] > 0.0) counts[i] = sizes[i];
     return counts;
 }
 

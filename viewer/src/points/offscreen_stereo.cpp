@@ -16,6 +16,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace viewer {
@@ -140,6 +141,8 @@ void OffscreenStereo::plan(const RigPose& head, std::size_t point_budget, bool c
     const std::array<EyeDraw, 2> draws = impl_->eyeDraws(head);
     impl_->renderer.planFrame(draws, point_budget, cull);
 }
+
+void OffscreenStereo::setFocus(LodFocus focus) { impl_->renderer.setFocus(std::move(focus)); }
 
 std::size_t OffscreenStereo::draw(const RigPose& head, const ViewStyle& style, ViewMode mode) {
     const std::array<EyeDraw, 2> draws = impl_->eyeDraws(head);

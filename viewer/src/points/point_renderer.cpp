@@ -2,6 +2,7 @@
 // lighting for the immersive viewer (paper §IV-A; the jet map is the paper's §III-C one,
 // core::jetTable, the generator's table). The GLSL lives in shaders/.
 #include "points/point_renderer.hpp"
+#include "ui/panel_layout.hpp"
 
 #include <viewer/node_selection.hpp>
 
@@ -243,7 +244,7 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
     const auto& cells = chunks_.cells();
     plan_cull_ = cull;
     plan_.assign(cells.size(), 0);
-    planned_points_ = 0;
+    planned_points_ = focus_points_ = 0;
     plan_valid_ = true;
     if (eyes.empty()) return;
     std::vector<render::Frustum> frusta;
@@ -270,7 +271,7 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
         const std::vector<HeadSample> history(heads_.begin(), heads_.end());
         selection = widenedFrusta(views, projections, predictedMotion(history, kSelectionLookahead_s));
     }
-    last_view_ = SourceView{std::move(selection), eye_mean, point_budget, arena_.bytes_bound};
+    last_view_ = SourceView{std::move(selection), eye_mean, point_budget, arena_.bytes_bound, focus_};
     if (cells.empty()) return;
     std::vector<core::Bounds> boxes(cells.size());
     std::vector<std::size_t> sizes(cells.size());
@@ -280,11 +281,15 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
     }
     const std::vector<bool> visible = cull ? visibleInAny(frusta, boxes) : std::vector<bool>(boxes.size(), true);
     std::vector<double> importance(cells.size(), 0.0);
-    for (std::size_t i = 0; i < cells.size(); ++i)
+    std::vector<bool> focused(cells.size(), false);
+    for (std::size_t i = 0; i < cells.size(); ++i) {
         if (visible[i]) importance[i] = std::max(screenImportance(boxes[i], eye_mean), 1e-12);
-    plan_ = allocateBudget(importance, sizes, point_budget);
+        focused[i] = visible[i] && focus_.touches(boxes[i]);
+    }
+    plan_ = allocateFocusedBudget(importance, sizes, focused, point_budget);
     for (std::size_t i = 0; i < plan_.size(); ++i) {
         planned_points_ += plan_[i];
+        if (focused[i]) focus_points_ += plan_[i];
         if (plan_[i] > 0) chunk_used_[cells[i].chunk] = tick_;  // drawn: recently used
     }
 }
@@ -497,9 +502,9 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     std::array<int, 12> text{};
     const int length = static_cast<int>(std::strlen(word));
     for (int i = 0; i < length; ++i) text[i] = static_cast<int>(std::strchr(kGlyphs, word[i]) - kGlyphs);
-    const float cell = std::max(1.0f, std::floor(float(h) / 300.0f));
-    const float plate_w = (length * 6 + 1) * cell, plate_h = 9 * cell;
-    const float px0 = x + std::floor((w - plate_w) / 2), py0 = y + h - plate_h - std::floor(h * 0.2f);
+    const PixelRect plate_rect = modePlateRect(w, h, length);  // the panels keep off it
+    const float cell = plate_rect.h / 9.0f, plate_w = plate_rect.w, plate_h = plate_rect.h;
+    const float px0 = float(x) + plate_rect.x, py0 = float(y + h) - plate_rect.y - plate_h;
     auto ndc_x = [&](float p) { return (p - x) / w * 2.0f - 1.0f; };
     auto ndc_y = [&](float p) { return (p - y) / h * 2.0f - 1.0f; };
     indicator_.use();

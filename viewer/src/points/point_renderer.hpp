@@ -24,6 +24,7 @@
 #include <unordered_map>
 #include <unordered_set>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace viewer {
@@ -104,6 +105,14 @@ class PointRenderer {
     /// LOD order. Both eyes then draw the same points (no binocular flicker). Without a call,
     /// drawEye draws every uploaded point of every cell in its frustum. Never throws.
     void planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull = true);
+    /// What the operator works on (the pointer's hit, the designation, the cutting volume):
+    /// from the next planFrame its cells are drawn whole whatever the point budget and the
+    /// other cells share what is left, and the view handed to the source carries it (its
+    /// nodes are loaded first).
+    void setFocus(LodFocus focus) { focus_ = std::move(focus); }
+    const LodFocus& focus() const { return focus_; }
+    /// Points the last plan gives the focused cells (within plannedPoints()).
+    std::size_t focusPoints() const { return focus_points_; }
     /// Points the last plan draws per eye at most (before each eye's own frustum test).
     std::size_t plannedPoints() const { return planned_points_; }
     /// The eyes and budget of the last planFrame (a point source chooses its nodes by it):
@@ -182,7 +191,8 @@ class PointRenderer {
     std::unordered_set<const PointNode*> no_room_;  // resident, but the GPU had no room
     std::vector<std::size_t> plan_;                 // per cell: points to draw (planFrame)
     bool plan_valid_ = false, plan_cull_ = true;
-    std::size_t planned_points_ = 0;
+    std::size_t planned_points_ = 0, focus_points_ = 0;
+    LodFocus focus_;
     std::optional<SourceView> last_view_;
     std::deque<Pending> pending_;
     std::size_t pending_points_ = 0;
