@@ -37,7 +37,7 @@ const char* const kSamples[] = {"samp11", "samp12", "samp21", "samp22", "samp23"
                                 "samp42", "samp51", "samp52", "samp53", "samp54", "samp61", "samp71"};
 
 struct GroundIsprsCli {
-    std::string data;  // empty: ../shared/data/isprs beside the checkout
+    std::string data;  // empty: tests/data/isprs in the checkout
     std::vector<std::string> tries;
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
@@ -136,14 +136,21 @@ struct Sample {
 };
 
 void run(const GroundIsprsCli& cli) {
-    const fs::path dir = cli.data.empty() ? sourceRoot() / ".." / "shared" / "data" / "isprs" : fs::path(cli.data);
-    for (const char* name : kSamples)
-        if (!fs::is_regular_file(dir / (std::string(name) + ".las")))
-            throw core::Error("bench ground-isprs: --data " + dir.string() + ": no " + name +
-                              ".las there; allowed a folder holding the 15 ISPRS samples samp11.las ... samp71.las");
-    std::vector<Sample> samples;
+    const fs::path dir = cli.data.empty() ? sourceRoot() / "tests" / "data" / "isprs" : fs::path(cli.data);
+    // Each sample as LAZ (the copies in tests/data/isprs) or as LAS (the published files).
+    std::vector<fs::path> files;
     for (const char* name : kSamples) {
-        core::PointCloud cloud = io::readCloud(dir / (std::string(name) + ".las"));
+        const fs::path laz = dir / (std::string(name) + ".laz"), las = dir / (std::string(name) + ".las");
+        if (!fs::is_regular_file(laz) && !fs::is_regular_file(las))
+            throw core::Error("bench ground-isprs: --data " + dir.string() + ": no " + name +
+                              ".laz or .las there; allowed a folder holding the 15 ISPRS samples samp11 ... samp71 "
+                              "(.laz or .las)");
+        files.push_back(fs::is_regular_file(laz) ? laz : las);
+    }
+    std::vector<Sample> samples;
+    for (std::size_t k = 0; k < files.size(); ++k) {
+        const char* name = kSamples[k];
+        core::PointCloud cloud = io::readCloud(files[k]);
         Sample s{name, std::move(cloud.points), {}};
         for (const core::CloudPoint& p : s.points) s.truth.push_back(p.label == core::Role::Ground ? 1 : 0);
         samples.push_back(std::move(s));
@@ -232,7 +239,7 @@ void registerGroundIsprs(CLI::App& parent) {
         "ground filters (SMRF, CSF, `ladarvr ground`'s default) on the 15 ISPRS reference samples: type I, "
         "type II, total error and kappa against the published figures");
     c->add_option("--data", state->data,
-                  "folder holding samp11.las ... samp71.las (default: ../shared/data/isprs beside the checkout)");
+                  "folder holding the 15 samples samp11 ... samp71 as .laz or .las (default: tests/data/isprs)");
     c->add_option("--try", state->tries,
                   "another configuration to score, from `ladarvr ground`'s defaults, e.g. smrf:cell_m=0.5,slope=0.2 "
                   "(printed only; BENCHMARKS.md "
