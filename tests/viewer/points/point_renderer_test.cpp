@@ -2,7 +2,8 @@
 // heights drawn headless (EGL) with the "height" colour mode read back as exactly the
 // generator's jet colours, core::jetTable entry core::jetIndex (the table sim writes into
 // the files), for 64 entries and for 16; the colour, size and cutting-volume checks run
-// with both rasterizers (GL_POINTS and compute).
+// with both rasterizers (GL_POINTS and compute); the compute rasterizer's subgroup
+// reduction leaves its image and depth as they are without it.
 #include "points/point_renderer.hpp"
 
 #include <viewer/cloud_feed.hpp>
@@ -18,7 +19,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
+#include <random>
+#include <string>
 #include <vector>
 
 namespace {
@@ -423,4 +427,63 @@ TEST_CASE("the point budget set on the renderer replaces the one planFrame is ha
     renderer.setGpuBytes(123456);
     renderer.planFrame(std::span<const viewer::EyeDraw>(&eye, 1), 3000);
     CHECK(renderer.lastView()->gpu_bytes == 123456);
+}
+
+TEST_CASE("the compute rasterizer's subgroup reduction leaves the same image and depth, bit for bit") {
+    render::EglContext context;
+    // Many points a pixel: a 4 x 4 m patch of 120,000 points seen from 400 m, on 5 heights
+    // (ties of depth between points of different colours), in random colours.
+    core::PointCloud cloud;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> xy(-2.0f, 2.0f);
+    std::uniform_int_distribution<int> level(0, 4), byte(0, 255);
+    for (int k = 0; k < 120000; ++k) {
+        core::CloudPoint p;
+        p.position = {xy(rng), xy(rng), 0.25f * float(level(rng))};
+        p.rgb = core::packRgb(std::uint8_t(byte(rng)), std::uint8_t(byte(rng)), std::uint8_t(byte(rng)));
+        cloud.points.push_back(p);
+    }
+    const int width = 160, height = 120;
+    Uploaded uploaded(cloud);
+    viewer::PointRenderer& renderer = uploaded.renderer;
+    if (!renderer.subgroupAvailable()) {
+        const auto* renderer_name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+        const std::string gpu = renderer_name ? renderer_name : "this GPU";
+        MESSAGE(gpu, " has no GL_KHR_shader_subgroup in compute: the plain path alone is drawn");
+    }
+    for (float size_px : {1.0f, 3.0f}) {
+        std::vector<std::uint8_t> colours[2];
+        std::vector<float> depths[2];
+        for (int r = 0; r < 2; ++r) {
+            renderer.setSubgroupReduction(r == 1);
+            viewer::EyeTarget target, out;
+            REQUIRE(target.ensure(width, height));
+            REQUIRE(out.ensure(width, height));
+            viewer::EyeDraw eye;
+            eye.projection = glm::perspective(glm::radians(2.0), double(width) / height, 1.0, 2000.0);
+            eye.view = glm::lookAt(glm::dvec3(0.3, 0.2, 400.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
+            eye.near_m = 1.0;
+            eye.far_m = 2000.0;
+            viewer::ViewStyle style;
+            style.point_size_px = size_px;
+            style.rasterizer = viewer::Rasterizer::Compute;
+            renderer.drawEye(target, eye, style, viewer::ViewMode::Free, out.fbo, 0, 0, width, height);
+            renderer.depthInto(target);
+            colours[r].resize(std::size_t(width) * height * 4);
+            depths[r].resize(std::size_t(width) * height);
+            glPixelStorei(GL_PACK_ALIGNMENT, 1);
+            glGetTextureImage(out.colour, 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(colours[r].size()), colours[r].data());
+            glGetTextureImage(target.depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(depths[r].size() * sizeof(float)),
+                              depths[r].data());
+            REQUIRE(glGetError() == GL_NO_ERROR);
+            target.destroy();
+            out.destroy();
+        }
+        CAPTURE(size_px);
+        const auto covered = std::count_if(depths[0].begin(), depths[0].end(), [](float d) { return d < 1.0f; });
+        CHECK(covered > 1000);  // the patch covers many pixels, each of many points
+        CHECK(colours[0] == colours[1]);
+        CHECK(std::memcmp(depths[0].data(), depths[1].data(), depths[0].size() * sizeof(float)) == 0);
+    }
+    CHECK(renderer.subgroupReduction() == renderer.subgroupAvailable());
 }

@@ -6,6 +6,7 @@
 
 #include <viewer/node_selection.hpp>
 
+#include <core/error.hpp>
 #include <core/jet.hpp>
 #include <render/orbit_camera.hpp>
 #include <shaders/shaders.hpp>
@@ -34,6 +35,28 @@ constexpr std::array<int, 70> kFont = {
     0b11111, 0b10000, 0b10000, 0b11110, 0b10000, 0b10000, 0b11111,  // E
 };
 constexpr const char* kGlyphs = "AUTOMICFRE";
+
+// GL_KHR_shader_subgroup's queries (not in the GL 4.5 core loader).
+constexpr GLenum kSubgroupSupportedStages = 0x9533, kSubgroupSupportedFeatures = 0x9534;
+constexpr GLint kComputeStageBit = 0x20;
+constexpr GLint kSubgroupBasic = 0x1, kSubgroupVote = 0x2, kSubgroupArithmetic = 0x4;
+
+/// Whether the context runs subgroup basic, vote and arithmetic operations in compute.
+bool subgroupsInCompute() {
+    GLint n = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
+    bool found = false;
+    for (GLint i = 0; i < n && !found; ++i) {
+        const auto* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
+        found = e && std::strcmp(e, "GL_KHR_shader_subgroup") == 0;
+    }
+    if (!found) return false;
+    GLint stages = 0, features = 0;
+    glGetIntegerv(kSubgroupSupportedStages, &stages);
+    glGetIntegerv(kSubgroupSupportedFeatures, &features);
+    const GLint need = kSubgroupBasic | kSubgroupVote | kSubgroupArithmetic;
+    return (stages & kComputeStageBit) != 0 && (features & need) == need;
+}
 
 }  // namespace
 
@@ -81,6 +104,16 @@ PointRenderer::PointRenderer()
       depth_("viewer compute rasteriser depth",
              {{GL_VERTEX_SHADER, shaders::fullscreen_triangle_vert, shaders::fullscreen_triangle_vert_files},
               {GL_FRAGMENT_SHADER, shaders::viewer_points_depth_frag, shaders::viewer_points_depth_frag_files}}) {
+    if (subgroupsInCompute()) {
+        try {
+            splat_subgroup_ = render::Program("viewer compute rasteriser (subgroups)",
+                                              {{GL_COMPUTE_SHADER, shaders::viewer_points_splat_subgroup_comp,
+                                                shaders::viewer_points_splat_subgroup_comp_files}});
+        } catch (const core::Error&) {
+            // A driver that lists the extension and still refuses the program: the plain one.
+            splat_subgroup_ = render::Program();
+        }
+    }
     glCreateVertexArrays(1, &empty_vao_);
     indicator_.use();
     glUniform1iv(indicator_.uniform("u_font"), 70, kFont.data());
@@ -331,8 +364,8 @@ void PointRenderer::rasterizePoints(const EyeDraw& eye, std::span<const DrawnCel
     }
 }
 
-void PointRenderer::rasterizeCompute(const EyeTarget& target, const EyeDraw& eye, std::span<const DrawnCell> drawn,
-                                     const CutVolume& cut) const {
+void PointRenderer::rasterizeCompute(const render::Program& splat, const EyeTarget& target, const EyeDraw& eye,
+                                     std::span<const DrawnCell> drawn, const CutVolume& cut) const {
     if (target.width > raster_width_ || target.height > raster_height_) {
         if (raster_depth_) glDeleteTextures(1, &raster_depth_);
         if (raster_colour_) glDeleteTextures(1, &raster_colour_);
@@ -386,13 +419,13 @@ void PointRenderer::rasterizeCompute(const EyeTarget& target, const EyeDraw& eye
     if (!table.empty()) {
         glNamedBufferData(raster_cells_, static_cast<GLsizeiptr>(table.size() * sizeof(GpuCell)), table.data(),
                           GL_STREAM_DRAW);
-        glUniformMatrix4fv(splat_.uniform("u_projection"), 1, GL_FALSE, &glm::mat4(eye.projection)[0][0]);
-        glUniform2f(splat_.uniform("u_image_size"), float(target.width), float(target.height));
+        glUniformMatrix4fv(splat.uniform("u_projection"), 1, GL_FALSE, &glm::mat4(eye.projection)[0][0]);
+        glUniform2f(splat.uniform("u_image_size"), float(target.width), float(target.height));
         glBindImageTexture(0, raster_depth_, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
         glBindImageTexture(1, raster_colour_, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, raster_cells_);
-        const GLint u_pass = splat_.uniform("u_pass"), u_cell_first = splat_.uniform("u_cell_first");
-        const GLint u_cell_count = splat_.uniform("u_cell_count"), u_total = splat_.uniform("u_total");
+        const GLint u_pass = splat.uniform("u_pass"), u_cell_first = splat.uniform("u_cell_first");
+        const GLint u_cell_count = splat.uniform("u_cell_count"), u_total = splat.uniform("u_total");
         constexpr std::size_t kGroupSize = 128, kMaxGroups = 4096;  // grid-stride beyond
         for (int pass = 0; pass < 2; ++pass) {
             glUniform1i(u_pass, pass);
@@ -467,8 +500,9 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
         ++stats.chunks_drawn;
     }
     if (compute) {
-        setStyleUniforms(splat_, style, cut);
-        rasterizeCompute(target, eye, drawn, cut);
+        const render::Program& splat = subgroupReduction() ? splat_subgroup_ : splat_;
+        setStyleUniforms(splat, style, cut);
+        rasterizeCompute(splat, target, eye, drawn, cut);
     } else {
         setStyleUniforms(points_, style, cut);
         rasterizePoints(eye, drawn, cut);

@@ -128,6 +128,14 @@ class PointRenderer {
     DrawStats drawEye(const EyeTarget& target, const EyeDraw& eye, const ViewStyle& style, ViewMode mode,
                       GLuint out_fbo, int x, int y, int w, int h, const CutVolume& cut = {}) const;
 
+    /// Whether the compute rasteriser reduces equal pixels within a subgroup before its
+    /// atomics (shaders/include/viewer_points_splat.glsl): available where the context has
+    /// GL_KHR_shader_subgroup (basic, vote, arithmetic in compute), on unless turned off.
+    /// The images are the same bits either way; only the time differs.
+    bool subgroupAvailable() const { return splat_subgroup_.id() != 0; }
+    void setSubgroupReduction(bool on) { subgroup_on_ = on; }
+    bool subgroupReduction() const { return subgroup_on_ && subgroupAvailable(); }
+
     /// Leaves in `target`'s depth the points' depth of the last drawEye into it, as
     /// GL_POINTS leaves it (1 where no point is): with the compute rasterizer a full-screen
     /// pass writes it from the raster images, which still hold that eye (call it before the
@@ -146,8 +154,8 @@ class PointRenderer {
     void rasterizePoints(const EyeDraw& eye, std::span<const DrawnCell> drawn, const CutVolume& cut) const;
     /// `drawn` through the two compute passes into the raster images (of at least
     /// `target`'s size), which the eye-dome resolve then reads instead of `target`.
-    void rasterizeCompute(const EyeTarget& target, const EyeDraw& eye, std::span<const DrawnCell> drawn,
-                          const CutVolume& cut) const;
+    void rasterizeCompute(const render::Program& splat, const EyeTarget& target, const EyeDraw& eye,
+                          std::span<const DrawnCell> drawn, const CutVolume& cut) const;
     /// The jet table (core::jetTable(entries)) as a 1D RGBA8 texture, made on first use
     /// and again when `entries` changes. Never throws (a GL error is logged).
     GLuint jetTexture(int entries) const;
@@ -171,6 +179,10 @@ class PointRenderer {
     bool makeRoom(std::size_t bytes, std::deque<Evictable>& evictable);
 
     render::Program points_, resolve_, indicator_, splat_, depth_;
+    /// The compute rasteriser with the subgroup reduction (no program: the context lacks
+    /// GL_KHR_shader_subgroup's basic, vote and arithmetic operations in compute).
+    render::Program splat_subgroup_;
+    bool subgroup_on_ = true;
     render::PointChunks chunks_;
     GLuint empty_vao_ = 0;
     mutable GLuint jet_texture_ = 0;  // jetTexture()'s cache
