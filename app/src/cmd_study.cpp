@@ -36,7 +36,9 @@ struct StudyArgs {
     double memory_mb = 0.0;
     int width = 1280, height = 720;
     double pick_angle_deg = 0.5;
-    double hit_radius_m = -1.0;                                                          // < 0: the plan's
+    bool cut = false;            // the cutting volume on from each trial's start
+    double cut_radius_m = 15.0;  // its radius
+    double hit_radius_m = -1.0;  // < 0: the plan's
     double orbit_radius_m = -1.0, orbit_height_m = std::nan(""), orbit_period_s = -1.0;  // unset: the plan's
 };
 
@@ -123,6 +125,8 @@ int runStudy(const StudyArgs& a) {
     s.viewer.use_xr = !a.no_xr;
     s.viewer.vsync = a.frames == 0;
     s.viewer.pick.angle_deg = a.pick_angle_deg;
+    s.viewer.cut_enabled = a.cut;
+    s.viewer.cut_radius_m = a.cut_radius_m;
     if (a.hit_radius_m >= 0.0) s.hit_radius_m = a.hit_radius_m;
     if (a.orbit_radius_m > 0.0) s.orbit_radius_m = a.orbit_radius_m;
     if (!std::isnan(a.orbit_height_m)) s.orbit_height_m = a.orbit_height_m;
@@ -191,6 +195,12 @@ void registerStudy(CLI::App& cli) {
     cmd->add_option("--width", args->width, "window width, pixels")->capture_default_str();
     cmd->add_option("--height", args->height, "window height, pixels")->capture_default_str();
     cmd->add_option("--pick-angle", args->pick_angle_deg, "the pointer's angular radius, degrees (0, 10]")
+        ->capture_default_str();
+    cmd->add_flag("--cut", args->cut,
+                  "the cutting volume on from each trial's start: once a point is designated, only points within "
+                  "--cut-radius of it are drawn (a condition's 'cut' overrides it)");
+    cmd->add_option("--cut-radius", args->cut_radius_m,
+                    "the cutting volume's radius, metres [0.1, 10000] (a condition's 'cut_radius_m' overrides it)")
         ->capture_default_str();
     cmd->add_option("--hit-radius", args->hit_radius_m,
                     "a designation this close to a target point is a hit, metres "

@@ -61,7 +61,8 @@ const json& array(const json& root, const char* key, const std::string& where, s
 Condition parseCondition(const json& c, const std::string& w, const std::filesystem::path& base) {
     if (!c.is_object()) throw core::Error(w + " must be an object, not " + io::jsonTypeName(c));
     onlyKeys(c, w,
-             {"name", "colour", "eye_dome", "candidates", "time_limit_s", "start", "detector", "tools", "comment"});
+             {"name", "colour", "eye_dome", "candidates", "time_limit_s", "start", "detector", "tools", "cut",
+              "cut_radius_m", "comment"});
     Condition condition;
     if (!c.contains("name")) throw core::Error(w + ": 'name' is required");
     condition.name = name(c, "name", w, "");
@@ -77,6 +78,8 @@ Condition parseCondition(const json& c, const std::string& w, const std::filesys
         }
     }
     condition.eye_dome = flag(c, "eye_dome", w);
+    condition.cut = flag(c, "cut", w);
+    if (c.contains("cut_radius_m")) condition.cut_radius_m = detail::number(c, "cut_radius_m", w, 0.1, 10000.0, 15.0);
     condition.candidates = flag(c, "candidates", w).value_or(true);
     if (c.contains("time_limit_s")) condition.time_limit_s = detail::number(c, "time_limit_s", w, 0.0, 86400.0, 0.0);
     if (const auto it = c.find("start"); it != c.end()) {
@@ -461,6 +464,8 @@ Session expandSession(const Design& design, const std::string& participant, cons
             if (c.start) trial.start_mode = c.start;
             if (!c.detector.empty()) trial.detector = c.detector;
             if (c.tools) trial.tools = c.tools;
+            if (c.cut) trial.cut = c.cut;
+            if (c.cut_radius_m) trial.cut_radius_m = c.cut_radius_m;
             session.plan.trials.push_back(std::move(trial));
             session.trials.push_back({ci, block, block < 0});
         };

@@ -188,11 +188,14 @@ std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::str
     if (records.empty()) throw core::Error(file + ": empty; allowed: a design session's trials.csv");
     std::string first;
     for (std::size_t i = 0; i < records[0].fields.size(); ++i) first += (i ? "," : "") + records[0].fields[i];
-    // Sessions written before name and candidates_shown came lack those two columns.
-    const bool named = first == header;
-    if (!named && first != StudyLog::designTrialsHeader(false))
+    // Sessions written before the later column sets came lack them.
+    std::optional<TrialColumns> layout;
+    for (const TrialColumns c : {TrialColumns::Base, TrialColumns::Named, TrialColumns::Judged})
+        if (first == StudyLog::designTrialsHeader(c)) layout = c;
+    if (!layout)
         throw core::Error(file + ": line 1: not the header of a design session's trials.csv; allowed: " + header +
-                          " (or the same without name,candidates_shown)");
+                          " (or the same without designation_hit,box_hit, or without name,candidates_shown too)");
+    const bool named = *layout >= TrialColumns::Named;
     const std::vector<std::string> columns = splitHeader(first);
     enum : std::size_t {
         kTrial,
@@ -214,7 +217,9 @@ std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::str
         kBlock,
         kPractice,
         kName,
-        kCandidatesShown
+        kCandidatesShown,
+        kDesignationHit,
+        kBoxHit
     };
     std::vector<ReportTrial> out;
     for (std::size_t r = 1; r < records.size(); ++r) {
@@ -270,6 +275,11 @@ std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::str
             t.name = row.at(kName);
             if (t.name.empty()) row.bad(kName, "the trial's name");
             t.candidates_shown = int(row.whole(kCandidatesShown, 0, kMaxCount, count));
+        }
+        if (*layout == TrialColumns::Judged) {
+            if (!row.at(kDesignationHit).empty())
+                t.designation_hit = int(row.whole(kDesignationHit, 0, 1, "1, 0 or empty"));
+            if (!row.at(kBoxHit).empty()) t.box_hit = int(row.whole(kBoxHit, 0, 1, "1, 0 or empty"));
         }
         out.push_back(std::move(t));
     }

@@ -5,6 +5,7 @@
 #include <study/questionnaire.hpp>
 #include <study/study_folder.hpp>
 #include <study/study_log.hpp>
+#include <study/trial_shown.hpp>
 
 #include <core/error.hpp>
 #include <io/strict_json.hpp>
@@ -37,6 +38,8 @@ std::vector<std::string> lines(const std::string& text) {
     return out;
 }
 
+// A hit column as the log writes one: 1, 0 or empty.
+bool isFlag(const std::string& text) { return text.empty() || text == "0" || text == "1"; }
 // A count as the log writes one: decimal digits, no sign, at most 9 of them.
 bool isCount(const std::string& text) {
     return !text.empty() && text.size() <= 9 && text.find_first_not_of("0123456789") == std::string::npos;
@@ -103,12 +106,14 @@ std::optional<ResumePoint> findResumePoint(const std::filesystem::path& out, con
     if (nameExists(trials_file)) {
         const std::string w = "study: --out " + core::printable(trials_file.string(), 400);
         const std::vector<std::string> rows = lines(platform::readOwnOutput(trials_file, kMaxResumeCsvBytes, w + ":"));
-        // Sessions written before name and candidates_shown came lack them, and go on so.
-        if (rows.empty() ||
-            (rows[0] != StudyLog::designTrialsHeader() && rows[0] != StudyLog::designTrialsHeader(false)))
-            throw core::Error(w + ": line 1: not the header of a design session's trials.csv" + allowed);
-        point.name_columns = rows[0] == StudyLog::designTrialsHeader();
-        const std::size_t columns = point.name_columns ? 20 : 18;
+        // Sessions written before the later column sets came lack them, and go on so.
+        std::optional<TrialColumns> layout;
+        for (const TrialColumns c : {TrialColumns::Base, TrialColumns::Named, TrialColumns::Judged})
+            if (!rows.empty() && rows[0] == StudyLog::designTrialsHeader(c)) layout = c;
+        if (!layout) throw core::Error(w + ": line 1: not the header of a design session's trials.csv" + allowed);
+        point.columns = *layout;
+        const bool named = point.columns >= TrialColumns::Named;
+        const std::size_t columns = point.columns == TrialColumns::Judged ? 22 : named ? 20 : 18;
         if (rows.size() - 1 > session.plan.trials.size())
             throw core::Error(w + ": " + std::to_string(rows.size() - 1) + " trials; this session has " +
                               std::to_string(session.plan.trials.size()) + allowed);
@@ -120,11 +125,13 @@ std::optional<ResumePoint> findResumePoint(const std::filesystem::path& out, con
             const std::string block = s.practice ? "" : design.blocks[static_cast<std::size_t>(s.block)].name;
             const std::string condition = design.conditions[static_cast<std::size_t>(s.condition)].name;
             // Text cells as csvCell wrote them (a cloud name may hold escapes or a leading ');
-            // the design's columns are 14..17, name and candidates_shown 18 and 19.
+            // the design's columns are 14..17, name and candidates_shown 18 and 19, and
+            // designation_hit and box_hit 20 and 21 (each 1, 0 or empty).
             const bool same = f.size() == columns && f[0] == std::to_string(i) && f[1] == csvSafeText(t.source) &&
                               f[14] == session.participant && f[15] == condition && f[16] == block &&
                               f[17] == (s.practice ? "1" : "0") &&
-                              (!point.name_columns || (f[18] == csvSafeText(t.name) && isCount(f[19])));
+                              (!named || (f[18] == csvSafeText(t.name) && isCount(f[19]))) &&
+                              (point.columns != TrialColumns::Judged || (isFlag(f[20]) && isFlag(f[21])));
             if (!same)
                 throw core::Error(line_where + ": not trial " + std::to_string(i) + " of this session (" + t.source +
                                   ", condition " + condition + (s.practice ? ", practice" : ", block " + block) + ")" +
@@ -194,18 +201,20 @@ std::optional<ResumePoint> findResumePoint(const std::filesystem::path& out, con
             throw core::Error("study: --out " + shown + ": questionnaires.csv lacks the answers asked before trial " +
                               std::to_string(schedule[i].gap + 1) + allowed);
 
-    // The trace of the trial in progress (and any later one) goes: the trial runs again.
-    for (std::size_t n = point.trials_done + 1; n <= session.plan.trials.size(); ++n) {
-        const std::filesystem::path trace = out / traceFileName(static_cast<int>(n));
-        struct stat st{};
-        if (::lstat(trace.c_str(), &st) != 0) continue;
-        if (!S_ISREG(st.st_mode))
-            throw core::Error("study: --out " + core::printable(trace.string(), 400) +
-                              ": not a regular file; allowed: the trace a stopped session left");
-        if (::unlink(trace.c_str()) != 0)
-            throw core::Error("study: --out " + core::printable(trace.string(), 400) +
-                              ": cannot remove: " + std::strerror(errno));
-    }
+    // The trace and shown file of the trial in progress (and of any later one) go: the
+    // trial runs again.
+    for (std::size_t n = point.trials_done + 1; n <= session.plan.trials.size(); ++n)
+        for (const std::string& name : {traceFileName(static_cast<int>(n)), shownFileName(static_cast<int>(n))}) {
+            const std::filesystem::path file = out / name;
+            struct stat st{};
+            if (::lstat(file.c_str(), &st) != 0) continue;
+            if (!S_ISREG(st.st_mode))
+                throw core::Error("study: --out " + core::printable(file.string(), 400) +
+                                  ": not a regular file; allowed: the file a stopped session left");
+            if (::unlink(file.c_str()) != 0)
+                throw core::Error("study: --out " + core::printable(file.string(), 400) +
+                                  ": cannot remove: " + std::strerror(errno));
+        }
     return point;
 }
 

@@ -17,7 +17,8 @@ std::string traceFileName(int trial_number) { return "trace_" + std::to_string(t
 
 bool isStudyFile(std::string_view name) {
     return name == "trials.csv" || name == "candidates.csv" || name == "questionnaires.csv" || name == "study.json" ||
-           (name.starts_with("trace_") && name.ends_with(".csv"));
+           (name.starts_with("trace_") && name.ends_with(".csv")) ||
+           (name.starts_with("shown_") && name.ends_with(".json"));
 }
 
 void checkStudyFolder(const std::filesystem::path& out) {

@@ -34,11 +34,16 @@ constexpr const char* kTrialColumns =
     "visibility_metric";
 constexpr const char* kDesignColumns = ",participant,condition,block,practice";
 constexpr const char* kNameColumns = ",name,candidates_shown";
+constexpr const char* kJudgedColumns = ",designation_hit,box_hit";
+std::string laterColumns(TrialColumns columns) {
+    return std::string(columns >= TrialColumns::Named ? kNameColumns : "") +
+           (columns >= TrialColumns::Judged ? kJudgedColumns : "");
+}
 }  // namespace
 
-std::string StudyLog::trialsHeader(bool named) { return std::string(kTrialColumns) + (named ? kNameColumns : ""); }
-std::string StudyLog::designTrialsHeader(bool named) {
-    return std::string(kTrialColumns) + kDesignColumns + (named ? kNameColumns : "");
+std::string StudyLog::trialsHeader(TrialColumns columns) { return std::string(kTrialColumns) + laterColumns(columns); }
+std::string StudyLog::designTrialsHeader(TrialColumns columns) {
+    return std::string(kTrialColumns) + kDesignColumns + laterColumns(columns);
 }
 const char* StudyLog::candidatesHeader() { return "trial,candidate,score,verdict,t_s"; }
 
@@ -86,6 +91,10 @@ void StudyLog::onAnswer(int gap, int question, const viewer::Answer& answer) {
 void StudyLog::writeAtomic(const std::string& name, const std::string& header, const std::vector<std::string>& rows) {
     std::string content = header + "\n";
     for (const std::string& r : rows) content += r + "\n";
+    writeText(name, content);
+}
+
+void StudyLog::writeText(const std::string& name, const std::string& content) {
     try {
         platform::writeFileAtomic(dir_ / name, content);
     } catch (const std::exception& e) {
@@ -104,6 +113,10 @@ void StudyLog::onStart(int trial) {
     closeTrace();
     confirmed_.reset();
     recorded_ = true;
+    shown_ = info_ ? info_(offset_ + trial).shown : TrialShown{};
+    shown_.marks.clear();
+    shown_path_ = dir_ / shownFileName(offset_ + trial + 1);
+    writeText(shown_path_.filename().string(), formatTrialShown(shown_));
     trace_path_ = dir_ / traceFileName(offset_ + trial + 1);
     // A new file only, never through a link: the folder is checked for earlier studies
     // before the run, so an existing name here is someone else's file.
@@ -121,7 +134,27 @@ void StudyLog::onFrame(int, const viewer::TraceSample& s) {
     std::fputs(io::formatTraceRow(viewer::toTraceRow(s)).c_str(), trace_);
 }
 
+void StudyLog::onDesignate(int, double t_s, const glm::dvec3& point_world) {
+    viewer::TrialMark mark;
+    mark.t_s = t_s;
+    mark.designated_world = point_world;
+    shown_.marks.push_back(mark);
+}
+
+void StudyLog::onWithdraw(int, double t_s) {
+    viewer::TrialMark mark;
+    mark.t_s = t_s;
+    shown_.marks.push_back(mark);
+}
+
 void StudyLog::onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) {
+    if (verdict != viewer::Verdict::Unreviewed) {
+        viewer::TrialMark mark;
+        mark.t_s = t_s;
+        mark.candidate = candidate.id;
+        mark.verdict = verdict;
+        shown_.marks.push_back(mark);
+    }
     candidate_rows_.push_back(std::to_string(offset_ + trial + 1) + "," + csvCell(candidate.id) + "," +
                               fixed(candidate.score) + "," + csvCell(viewer::verdictName(verdict)) + "," + fixed(t_s));
     if (verdict == viewer::Verdict::Confirmed) confirmed_ = candidate;
@@ -135,17 +168,17 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     for (int i = 0; i < 3; ++i) row += "," + (o.designated_world ? fixed((*o.designated_world)[i]) : std::string());
     row += "," + optionalFixed(o.target_distance_m);
     // hit: empty when the cloud has no ground truth (nothing to hit); else 1 only for a
-    // confirm whose point is within the radius or whose confirmed candidate box holds the
-    // target's centre (the operator's answer is the box then, wherever a designation
-    // stood), 0 otherwise. A designation still standing at no_target, timeout or quit was
-    // not the operator's answer: its distance is kept, its hit is 0.
-    if (o.target_known) {
-        const bool confirmed = o.decision == viewer::Decision::Confirm;
-        const bool near = o.target_distance_m && *o.target_distance_m <= hit_radius_m_;
-        const bool boxed = confirmed_ && info.target_centre_world && boxHolds(*confirmed_, *info.target_centre_world);
-        row += confirmed && (near || boxed) ? ",1" : ",0";
-    } else
-        row += ",";
+    // confirm whose point is within the radius (designation_hit) or whose confirmed
+    // candidate box holds the target's centre (box_hit: the operator's answer is the box
+    // then, wherever a designation stood), 0 otherwise. A designation still standing at
+    // no_target, timeout or quit was not the operator's answer: its distance is kept, its
+    // hit is 0. The target's centre: the scene's target meshes, else the cloud's target points.
+    const bool confirmed = o.decision == viewer::Decision::Confirm;
+    const bool near = confirmed && o.target_distance_m && *o.target_distance_m <= hit_radius_m_;
+    const std::optional<glm::dvec3> centre =
+        info.target_centre_world ? info.target_centre_world : o.target_centre_world;
+    const bool boxed = confirmed && confirmed_ && centre && boxHolds(*confirmed_, *centre);
+    row += !o.target_known ? "," : near || boxed ? ",1" : ",0";
     row += "," + optionalFixed(o.time_to_first_designation_s);
     row += "," + fixed(o.time_to_decision_s);
     row += "," + std::to_string(o.designations) + "," + std::to_string(o.mode_switches);
@@ -154,13 +187,20 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
     if (design_columns_)
         row += "," + csvCell(info.participant) + "," + csvCell(info.condition) + "," + csvCell(info.block) +
                (info.practice ? ",1" : ",0");
-    if (name_columns_) row += "," + csvCell(info.name) + "," + std::to_string(info.candidates_shown);
+    if (columns_ >= TrialColumns::Named) row += "," + csvCell(info.name) + "," + std::to_string(info.candidates_shown);
+    // designation_hit and box_hit: the two ways to hit, each 1 or 0 (empty as hit is, and
+    // box_hit empty too when no candidate box was confirmed).
+    if (columns_ >= TrialColumns::Judged) {
+        row += !o.target_known ? "," : near ? ",1" : ",0";
+        row += !o.target_known || !confirmed_ ? "," : boxed ? ",1" : ",0";
+    }
     trial_rows_.push_back(std::move(row));
-    // candidates.csv first: a trial whose row is in trials.csv has its verdicts written
-    // too, so a resumed session can trust trials.csv as the record of what is done.
+    // candidates.csv and the trial's marks first: a trial whose row is in trials.csv has
+    // its verdicts written too, so a resumed session can trust trials.csv as the record of
+    // what is done.
+    if (!shown_path_.empty()) writeText(shown_path_.filename().string(), formatTrialShown(shown_));
     writeAtomic("candidates.csv", candidatesHeader(), candidate_rows_);
-    writeAtomic("trials.csv", design_columns_ ? designTrialsHeader(name_columns_) : trialsHeader(name_columns_),
-                trial_rows_);
+    writeAtomic("trials.csv", design_columns_ ? designTrialsHeader(columns_) : trialsHeader(columns_), trial_rows_);
 }
 
 }  // namespace study

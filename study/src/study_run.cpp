@@ -7,6 +7,7 @@
 #include <study/study_folder.hpp>
 #include <study/study_log.hpp>
 #include <study/study_source.hpp>
+#include <study/trial_shown.hpp>
 
 #include <core/error.hpp>
 #include <core/scene.hpp>
@@ -201,6 +202,9 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
             info.source = t.source;
             info.name = t.name;
             info.candidates_shown = static_cast<int>(source->candidatesOf(k).size());
+            info.shown.candidates = source->candidatesOf(k);
+            info.shown.colour = t.colour;
+            info.shown.eye_dome = t.eye_dome;
             if (design_) {
                 const SessionTrial& s = session_.trials[static_cast<std::size_t>(position)];
                 info.participant = session_.participant;
@@ -217,7 +221,7 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
         },
         plan_.hit_radius_m);
     if (design_) log->addDesignColumns();
-    if (resume_ && !resume_->name_columns) log->leaveOutNameColumns();
+    if (resume_) log->setColumns(resume_->columns);
     if (resume_) log->resumeAt(resume_->trials_done, resume_->trial_rows, resume_->candidate_rows);
     if (questions_left)
         log->setQuestions(session_.participant, std::move(pending),
@@ -262,11 +266,23 @@ Replay::Replay(const std::filesystem::path& dir, int trial_number, viewer::Viewe
     options_.replay.reserve(trace.rows.size());
     for (const io::TraceRow& row : trace.rows) options_.replay.push_back(viewer::toTraceSample(row));
     trace = io::Trace{};
+    // What the trial showed and the operator's marks, as the study recorded them (a
+    // study written before shown_<N>.json came has none: its replay shows no boxes).
+    const std::filesystem::path shown_file = dir / shownFileName(trial_number);
+    std::error_code ec;
+    if (std::filesystem::symlink_status(shown_file, ec).type() != std::filesystem::file_type::not_found) {
+        TrialShown shown = readTrialShown(shown_file);
+        options_.candidates = std::move(shown.candidates);
+        if (shown.colour) options_.style.colour = *shown.colour;
+        if (shown.eye_dome) options_.style.eye_dome = *shown.eye_dome;
+        options_.replay_marks = std::move(shown.marks);
+    }
     viewer::validate(options_);
 }
 
 int Replay::run() {
-    StudySource source(plan_, order_);
+    // The boxes come from the study folder: no candidates file is read, no detector runs.
+    StudySource source(plan_, order_, 0, false);
     viewer::CloudFeed feed;
     feed.enableLodOrder();
     source.begin(trial_, feed);

@@ -56,12 +56,14 @@ sim::GenerateOptions sceneGenerateOptions(const Plan& plan) {
     return g;
 }
 
-StudySource::StudySource(const Plan& plan, std::vector<int> order, int first)
+StudySource::StudySource(const Plan& plan, std::vector<int> order, int first, bool with_candidates)
     : plan_(plan), order_(std::move(order)), first_(first) {
     std::map<std::pair<std::string, std::string>, std::vector<core::Candidate>> detected;
     for (const PlanTrial& t : plan_.trials) {
         scenes_.push_back(t.scene.empty() ? nullptr : std::make_shared<const core::Scene>(io::loadScene(t.scene)));
-        if (!t.detector.empty()) {
+        if (!with_candidates) {
+            candidates_.emplace_back();
+        } else if (!t.detector.empty()) {
             if (t.cloud.empty()) throw core::Error("study: a condition's detector runs on cloud files, not scenes");
             const auto key = std::make_pair(t.cloud.string(), t.detector);
             auto it = detected.find(key);
@@ -112,6 +114,8 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
     setup.eye_dome = t.eye_dome;
     setup.start_mode = t.start_mode;
     setup.tools = t.tools;
+    setup.cut = t.cut;
+    setup.cut_radius_m = t.cut_radius_m;
     return setup;
 }
 

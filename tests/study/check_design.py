@@ -21,7 +21,8 @@ def check(ok, what):
 OLD_COLUMNS = ["trial", "cloud", "decision", "designated_x", "designated_y", "designated_z",
                "target_distance_m", "hit", "time_to_first_designation_s", "time_to_decision_s",
                "designations", "mode_switches", "seconds_in_free_mode", "visibility_metric"]
-COLUMNS = OLD_COLUMNS + ["participant", "condition", "block", "practice", "name", "candidates_shown"]
+COLUMNS = OLD_COLUMNS + ["participant", "condition", "block", "practice", "name", "candidates_shown",
+                         "designation_hit", "box_hit"]
 CONDITIONS = ["heightedl", "white", "label"]
 COLOUR = {"heightedl": "height", "white": "white", "label": "label"}
 CANDIDATES = {"heightedl": True, "white": False, "label": False}
@@ -146,8 +147,9 @@ elif scenario == "questionnaires_xr":
     answers = json.load(open(os.path.join(work, "answers.json")))
     want = [("P01", "", "ssq", "pre", item, a) for (item, _), a in zip(SSQ, answers["pre"])]
     want.append(("P01", "", "text", "pre", "expect", ""))
-    want += [("P01", "white", "ssq", "post", item, a) for (item, _), a in zip(SSQ, answers["post"])]
-    want.append(("P01", "white", "likert", "post", "sure", "4"))
+    want.append(("P01", "white", "likert", "after_condition", "sure", "4"))
+    want.append(("P01", "label", "likert", "after_condition", "sure", "2"))
+    want += [("P01", "label", "ssq", "post", item, a) for (item, _), a in zip(SSQ, answers["post"])]
     _, rows = read_csv(os.path.join(work, "xr", "questionnaires.csv"))
     got = [(r["participant"], r["condition"], r["instrument"], r["occasion"], r["item"], r["response"]) for r in rows]
     check(got == want, f"questionnaires.csv rows:\n    {got}\n  expected\n    {want}")
@@ -155,10 +157,11 @@ elif scenario == "questionnaires_xr":
     check(log.get("frames_submitted", 0) > 0, f"no frame submitted to OpenXR: {log.get('frames_submitted')}")
     actions = [a for a in log["actions"] if a["action"] == "answer"]
     sources = [(a["source"], a["skipped"]) for a in actions]
-    want_sources = [("pointer", False)] * 16 + [("headset", True)] + [("pointer", False)] * 17
+    want_sources = [("pointer", False)] * 16 + [("headset", True)] + [("pointer", False)] * 18
     check(sources == want_sources, f"answers' sources {sources}")
     _, trials = read_csv(os.path.join(work, "xr", "trials.csv"))
-    check(len(trials) == 1 and trials[0]["decision"] == "confirm", f"trials.csv {trials}")
+    check([(t["condition"], t["decision"]) for t in trials] == [("white", "confirm"), ("label", "confirm")],
+          f"trials.csv {trials}")
 elif scenario == "questionnaires":
     TLX = ["mental", "physical", "temporal", "performance", "effort", "frustration"]
     answers = json.load(open(os.path.join(work, "answers.json")))
@@ -228,6 +231,10 @@ if scenario == "tools":
         check(max(scales, default=0) == want, f"trial {n + 1}: scales {sorted(scales)}, expected at most {want}")
     grabs = [a for a in log["actions"] if a.get("action") == "grab_scale"]
     check([a.get("trial") for a in grabs] == [0], f"grab_scale actions {grabs}")
+    # The second condition turns the cutting volume on: every frame of its trial has it on.
+    for n, want in ((0, {False}), (1, {True})):
+        cuts = {f["cut"] for f in log["frames"] if f.get("trial") == n}
+        check(cuts == want, f"trial {n + 1}: cut {sorted(cuts)}, expected {want}")
 if failures:
     print("FAIL:\n  " + "\n  ".join(failures))
     sys.exit(1)

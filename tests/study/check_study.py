@@ -23,7 +23,7 @@ def check(ok, what):
 TRIAL_COLUMNS = ["trial", "cloud", "decision", "designated_x", "designated_y", "designated_z",
                  "target_distance_m", "hit", "time_to_first_designation_s", "time_to_decision_s",
                  "designations", "mode_switches", "seconds_in_free_mode", "visibility_metric",
-                 "name", "candidates_shown"]
+                 "name", "candidates_shown", "designation_hit", "box_hit"]
 TRACE_COLUMNS = ["t_s", "head_x", "head_y", "head_z", "head_qw", "head_qx", "head_qy", "head_qz",
                  "mode", "scale", "hit_x", "hit_y", "hit_z"]
 

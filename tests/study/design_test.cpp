@@ -126,7 +126,7 @@ TEST_CASE("a design's refused keys: one line naming the key and what is allowed"
           "study: design.json: conditions[0].time_limit_s -2 is not in [0, 86400]");
     fails(R"({"conditions": [{"name": "a", "sounds": []}], )" + blocks + "}",
           "study: design.json: conditions[0]: unknown key 'sounds'; allowed: name, colour, eye_dome, candidates, "
-          "time_limit_s, start, detector, tools, comment");
+          "time_limit_s, start, detector, tools, cut, cut_radius_m, comment");
     fails(R"({"conditions": [{"name": "a", "tools": ["zoom", "laser"]}], )" + blocks + "}",
           "study: design.json: conditions[0].tools 'laser' is not one of zoom, cut, colour");
     fails(R"({"conditions": [{"name": "a", "tools": "zoom"}], )" + blocks + "}",
@@ -390,6 +390,33 @@ TEST_CASE("a condition's tools: the ones named are offered, none with an empty l
     const study::Session s = study::expandSession(d, "P01", "d.json");
     for (std::size_t i = 0; i < s.plan.trials.size(); ++i)
         CHECK(s.plan.trials[i].tools == d.conditions[std::size_t(s.trials[i].condition)].tools);
+}
+
+TEST_CASE("a condition's cutting volume: on or off at each trial's start, and its radius") {
+    const study::Design d = study::parseDesign(R"({
+        "conditions": [{"name": "cut", "cut": true, "cut_radius_m": 8, "tools": []}, {"name": "plain", "cut": false},
+                       {"name": "as_run"}],
+        "blocks": [{"trials": [{"cloud": "a.pcd"}]}], "participants": ["P01"]})",
+                                               "d.json", "/d");
+    CHECK(d.conditions[0].cut == std::optional<bool>(true));
+    CHECK(d.conditions[0].cut_radius_m == std::optional<double>(8.0));
+    CHECK(d.conditions[1].cut == std::optional<bool>(false));
+    CHECK_FALSE(d.conditions[2].cut);
+    CHECK_FALSE(d.conditions[2].cut_radius_m);
+    const study::Session s = study::expandSession(d, "P01", "d.json");
+    for (std::size_t i = 0; i < s.plan.trials.size(); ++i) {
+        const study::Condition& c = d.conditions[std::size_t(s.trials[i].condition)];
+        CHECK(s.plan.trials[i].cut == c.cut);
+        CHECK(s.plan.trials[i].cut_radius_m == c.cut_radius_m);
+    }
+    const std::string blocks = R"("blocks": [{"trials": [{"cloud": "a"}]}], "participants": ["P1"])";
+    CHECK(test_support::errorOf([&] {
+              study::parseDesign(R"({"conditions": [{"name": "a", "cut": 1}], )" + blocks + "}", "design.json", "/d");
+          }).find("conditions[0].cut") != std::string::npos);
+    CHECK(test_support::errorOf([&] {
+              study::parseDesign(R"({"conditions": [{"name": "a", "cut_radius_m": 0}], )" + blocks + "}", "design.json",
+                                 "/d");
+          }) == "study: design.json: conditions[0].cut_radius_m 0 is not in [0.1, 10000]");
 }
 
 TEST_CASE("a block picked from a corpus by difficulty: its items become the block's cloud trials") {

@@ -14,8 +14,9 @@
 namespace {
 // Most rows here are in the layout sessions had before name and candidates_shown came,
 // still read as they are (kNamedHeader's rows have the two columns).
-const std::string kHeader = study::StudyLog::designTrialsHeader(false) + "\n";
-const std::string kNamedHeader = study::StudyLog::designTrialsHeader() + "\n";
+const std::string kHeader = study::StudyLog::designTrialsHeader(study::TrialColumns::Base) + "\n";
+const std::string kNamedHeader = study::StudyLog::designTrialsHeader(study::TrialColumns::Named) + "\n";
+const std::string kJudgedHeader = study::StudyLog::designTrialsHeader() + "\n";
 // trial,cloud,decision,x,y,z,distance,hit,first,time,designations,switches,free,metric,
 // participant,condition,block,practice[,name,candidates_shown]
 const std::string kRows =
@@ -84,9 +85,36 @@ TEST_CASE("trials.csv: the trial's name and the candidates shown, or an older se
     // A row of the older layout under the newer header: counted, not read by position.
     CHECK(errorOfTrials(kNamedHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,first,0\n") ==
           "T/trials.csv: line 2: 18 fields; allowed: 20, as the header");
-    CHECK(errorOfTrials(study::StudyLog::designTrialsHeader(false) + ",name\n") ==
+    CHECK(errorOfTrials(study::StudyLog::designTrialsHeader(study::TrialColumns::Base) + ",name\n") ==
           "T/trials.csv: line 1: not the header of a design session's trials.csv; allowed: " +
-              study::StudyLog::designTrialsHeader() + " (or the same without name,candidates_shown)");
+              study::StudyLog::designTrialsHeader() +
+              " (or the same without designation_hit,box_hit, or without name,candidates_shown too)");
+}
+
+TEST_CASE("trials.csv: the two ways to hit, or a session written before those columns") {
+    const std::vector<study::ReportTrial> t =
+        study::parseReportTrials(kJudgedHeader +
+                                     "1,demo.pcd,confirm,0,0,1,20,1,1.5,2.5,1,0,0,,P01,a,first,0,one,2,0,1\n"
+                                     "2,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,first,0,one,2,1,\n"
+                                     "3,demo.pcd,no_target,,,,,,,4.0,0,0,0,,P01,b,first,0,one,0,,\n",
+                                 "T/trials.csv");
+    REQUIRE(t.size() == 3);
+    CHECK(t[0].hit == 1);
+    CHECK(t[0].designation_hit == 0);
+    CHECK(t[0].box_hit == 1);
+    CHECK(t[1].designation_hit == 1);
+    CHECK_FALSE(t[1].box_hit);
+    CHECK_FALSE(t[2].designation_hit);
+    CHECK(t[2].candidates_shown == 0);
+    const std::vector<study::ReportTrial> named = study::parseReportTrials(
+        kNamedHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,,1,practice one,0\n", "T/trials.csv");
+    REQUIRE(named.size() == 1);
+    CHECK(named[0].name == "practice one");
+    CHECK_FALSE(named[0].designation_hit);
+    CHECK(errorOfTrials(kJudgedHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,first,0,one,2,2,\n") ==
+          "T/trials.csv: line 2, column designation_hit: '2'; allowed 1, 0 or empty");
+    CHECK(errorOfTrials(kJudgedHeader + "1,demo.pcd,confirm,0,0,1,0.2,1,1.5,2.5,1,0,0,,P01,a,first,0,one,2\n") ==
+          "T/trials.csv: line 2: 20 fields; allowed: 22, as the header");
 }
 
 TEST_CASE("trials.csv: malformed rows are refused with file, line, column and what is allowed") {

@@ -59,7 +59,7 @@ TEST_CASE("resume: a trial whose cloud name was made safe in trials.csv is this 
     const std::optional<study::ResumePoint> point = study::findResumePoint(f.out, "aaaa", f.design, f.session);
     REQUIRE(point);
     CHECK(point->trials_done == 1);
-    CHECK(point->name_columns);
+    CHECK(point->columns == study::TrialColumns::Judged);
 }
 
 TEST_CASE("resume: trials.csv's name must be the session trial's; an older trials.csv without it resumes as it is") {
@@ -77,11 +77,12 @@ TEST_CASE("resume: trials.csv's name must be the session trial's; an older trial
               study::findResumePoint(f.out, "aaaa", f.design, f.session);
           }).find("trials.csv: line 2: not trial 1 of this session") != std::string::npos);
     // The layout written before name and candidates_shown came: kept, and said so.
-    f.dir.write("out/trials.csv", study::StudyLog::designTrialsHeader(false) + "\n" + older_row + "\n");
+    f.dir.write("out/trials.csv",
+                study::StudyLog::designTrialsHeader(study::TrialColumns::Base) + "\n" + older_row + "\n");
     const std::optional<study::ResumePoint> older = study::findResumePoint(f.out, "aaaa", f.design, f.session);
     REQUIRE(older);
     CHECK(older->trials_done == 1);
-    CHECK_FALSE(older->name_columns);
+    CHECK(older->columns == study::TrialColumns::Base);
 }
 
 TEST_CASE("resume: study.json's participant must be an id by the design's rules") {

@@ -3,9 +3,15 @@
 # what is done with its results afterwards, headless (Xvfb, desktop mode):
 #   1. the demo cloud (64x64 x 40 views) written as COPC by `generate` is the cloud of both
 #      trials of a plan (read whole, within --memory-mb, by the one cloud reader); the
-#      script waits for each ready screen (`next`), designates the tank and confirms: two
-#      rows, both confirmed hits, with traces and the tank's candidate confirmed;
-#   2. `study --replay` plays trial 1's trace over its COPC cloud to the end;
+#      script waits for each ready screen (`next`); in trial 1 it designates the ground
+#      20 m from the tank, then points at the tank's candidate box and confirms it: a hit
+#      by the box (box_hit 1, designation_hit 0), judged on the cloud's target points; in
+#      trial 2 it designates the tank and confirms: a hit by the designation. Both rows
+#      are confirmed hits, with traces, the tank's candidate confirmed, and shown_N.json
+#      holding the boxes shown and the marks made;
+#   2. `study --replay` plays trial 1's trace over its COPC cloud to the end, with the
+#      boxes and marks of shown_1.json: the replay's log has the designation where it was
+#      made and the tank's box confirmed;
 #   3. `metric --trace` of trial 1's trace over P1, P2 and P3 given as COPC files gives
 #      the same per-view target figures as over the same clouds given as PCD files. Every
 #      trace row is a view (--trace-step-s 0): the script counts frames, so the trial's
@@ -35,8 +41,9 @@ cat >"$work/plan.json" <<PLAN
 PLAN
 cat >"$work/script.txt" <<'SCRIPT'
 1 next
-+4 aim 0 0 1.2
++4 aim 20 0 0
 +1 designate
++4 aim 0 0 1.2
 +6 confirm
 +2 next
 +4 aim 0 0 1.2
@@ -58,14 +65,31 @@ if len(rows) != 2:
 for r in rows:
     if not r["cloud"].endswith("demo.copc.laz"):
         problems.append(f"trial {r['trial']}: cloud {r['cloud']}")
-    if r["decision"] != "confirm" or r["hit"] != "1" or not float(r["target_distance_m"]) < 1.0:
+    if r["decision"] != "confirm" or r["hit"] != "1":
         problems.append(f"trial {r['trial']}: not a confirmed hit: {r}")
+# Trial 1: the designation stood on the ground away from the tank; the confirmed box
+# holds the tank's points (box_hit). Trial 2: the designation hit; no box was confirmed.
+if rows and (float(rows[0]["target_distance_m"] or 0) < 5.0 or rows[0]["designation_hit"] != "0"
+             or rows[0]["box_hit"] != "1"):
+    problems.append(f"trial 1: not a hit by the box alone: {rows[0]}")
+if len(rows) > 1 and (not float(rows[1]["target_distance_m"]) < 1.0 or rows[1]["designation_hit"] != "1"
+                      or rows[1]["box_hit"] != ""):
+    problems.append(f"trial 2: not a hit by the designation alone: {rows[1]}")
     trace = list(csv.DictReader(open(f"{out}/trace_{r['trial']}.csv")))
     if len(trace) < 5 or sum(1 for t in trace if t["hit_x"]) < 3:
         problems.append(f"trace_{r['trial']}: {len(trace)} rows")
 cands = list(csv.DictReader(open(f"{out}/candidates.csv")))
 if [(c["candidate"], c["verdict"]) for c in cands if c["trial"] == "1"] != [("tank", "confirmed")]:
     problems.append(f"candidates: {cands}")
+import json
+shown = [json.load(open(f"{out}/shown_{n}.json")) for n in (1, 2)]
+if [c["id"] for c in shown[0]["candidates"]] != ["tank"] or shown[1]["candidates"] != []:
+    problems.append(f"shown files' candidates: {shown}")
+marks = shown[0]["marks"]
+if len(marks) != 2 or "designate" not in marks[0] or marks[1].get("verdict") != "confirmed":
+    problems.append(f"shown_1.json's marks: {marks}")
+elif rows and any(abs(marks[0]["designate"][i] - float(rows[0]["designated_" + "xyz"[i]])) > 1e-3 for i in range(3)):
+    problems.append(f"shown_1.json's designation {marks[0]} is not trials.csv's")
 for p in problems:
     print("study_copc_test:", p, file=sys.stderr)
 sys.exit(1 if problems else 0)
@@ -78,6 +102,24 @@ status=0
 [ "$status" = 0 ] || { cat "$work/replay.err" >&2; fail "replay exited $status"; }
 python3 -c "import json,sys; e=json.load(open(sys.argv[1]))['exit']; sys.exit(e != 'replay done')" \
   "$work/replay.json" || fail "replay: $(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['exit'])" "$work/replay.json")"
+# The replay showed the trial's box and the operator's marks as recorded.
+python3 - "$work" <<'PY' || fail "the replay's boxes and marks"
+import json, sys
+work = sys.argv[1]
+log = json.load(open(f"{work}/replay.json"))
+shown = json.load(open(f"{work}/out/shown_1.json"))
+problems = []
+if log.get("candidates") != [{"id": "tank", "verdict": "confirmed"}]:
+    problems.append(f"candidates {log.get('candidates')}")
+replayed = [a for a in log["actions"] if a.get("source") == "replay"]
+if [a["action"] for a in replayed] != ["designate", "confirm"]:
+    problems.append(f"replayed actions {replayed}")
+elif any(abs(replayed[0]["world"][i] - shown["marks"][0]["designate"][i]) > 1e-6 for i in range(3)):
+    problems.append(f"the designation replayed at {replayed[0]['world']}, recorded at {shown['marks'][0]}")
+for p in problems:
+    print("study_copc_test:", p, file=sys.stderr)
+sys.exit(1 if problems else 0)
+PY
 
 # 3. metric --trace over COPC clouds, against the same clouds as PCD.
 for role in target environment target,environment; do

@@ -9,7 +9,8 @@
 #            block and practice columns follow each one's row of the Williams square, the
 #            frames of each trial show its condition's colours, the breaks held the ready
 #            screen, candidates.csv has rows only where the condition shows candidates;
-#            `study --replay` of one of P02's trials finds its cloud through the design.
+#            `study --replay` of one of P02's trials finds its cloud through the design and
+#            shows it in its condition's colours.
 #   resume   P01's session is killed (SIGKILL) once trial 4 has started (its line on
 #            stderr), then run again with the same command: the files equal an
 #            uninterrupted run's (times aside); the folder is refused to P02 and to a
@@ -28,12 +29,16 @@
 #            confirmed in both.
 #   tools    a condition that offers no tools: the operator's grab_scale 2 changes the world
 #            scale in the condition with every tool and is ignored (scale 1, no action
-#            logged) in the one without.
-#   questionnaires_xr  on Monado's simulated HMD: the SSQ before and after one trial and a
-#            Likert item after it answered by clicking the headset panel: the script stands
-#            in for the controller (`point_answer N`: a ray from the head to rating N's
-#            button on the panel, and the trigger), which goes through the panel's ray-quad
-#            hit and ImGui's click; the desktop-only text item is skipped with an empty row.
+#            logged) in the one without, whose cutting volume the condition turns on: on
+#            in its every frame (out of the operator's reach), off in the other's.
+#   questionnaires_xr  on Monado's simulated HMD: two conditions of one trial each, the SSQ
+#            before and after the session and a Likert item after each condition answered
+#            by clicking the headset panel: the script stands in for the controller
+#            (`point_answer N`: a ray from the head to rating N's button on the panel, and
+#            the trigger), which goes through the panel's ray-quad hit and ImGui's click;
+#            the desktop-only text item is skipped with an empty row. The `next` right
+#            after the first condition's Likert answer waits for the click to go through,
+#            and then starts the second trial (it is not spent on the questionnaire).
 # Event-driven: `next` waits for the trial's cloud and for the end of a break, +N counts
 # frames from the previous action, and the kill waits for the viewer's own line.
 set -euo pipefail
@@ -90,6 +95,9 @@ case "$scenario" in
     "$env_sh" --timeout 220 -- "$bin" study --replay "$work/P02" --trial 5 --width 320 --height 180 \
       --log-json "$work/replay.json" 2>"$work/replay.err" || { echo "FAIL: replay"; cat "$work/replay.err"; exit 1; }
     grep -q '"exit": *"replay done"' "$work/replay.json" || { echo "FAIL: the replay did not end as 'replay done'"; exit 1; }
+    # In the trial's condition's colours (label), as the participant saw it, not --colour's.
+    python3 -c 'import json,sys; c={f["colour"] for f in json.load(open(sys.argv[1]))["frames"]}; sys.exit(c != {"label"})' \
+      "$work/replay.json" || { echo "FAIL: the replay is not in the condition's colours"; exit 1; }
     ;;
   resume)
     run P01 "$work/whole" "$work/whole.log.json" 2>"$work/whole.err" || { echo "FAIL: uninterrupted run"; cat "$work/whole.err"; exit 1; }
@@ -217,20 +225,22 @@ RUN
     ;;
   questionnaires_xr)
     cat >"$work/xdesign.json" <<'XDESIGN'
-{"conditions": [{"name": "white", "colour": "white"}],
+{"conditions": [{"name": "white", "colour": "white"}, {"name": "label", "colour": "label"}],
  "blocks": [{"trials": [{"cloud": "demo.pcd", "name": "one"}]}],
  "participants": ["P01"],
  "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000},
  "questionnaires": {"ssq": true,
-   "likert": [{"id": "sure", "statement": "I was sure of my answer.", "points": 5, "when": "post"}],
+   "likert": [{"id": "sure", "statement": "I was sure of my answer.", "points": 5, "when": "after_condition"}],
    "text": [{"id": "expect", "question": "What do you expect?", "when": "pre"}]}}
 XDESIGN
     pre=(1 0 2 1 0 0 1 0 3 0 1 0 0 1 0 2); post=(2 1 3 2 1 0 2 1 3 1 2 1 0 2 1 3)
     {
       for a in "${pre[@]}"; do echo "+1 point_answer $a"; done
       echo "+2 next"; echo "+8 aim 0 0 1.2"; echo "+1 designate"; echo "+6 confirm"
-      for a in "${post[@]}"; do echo "+1 point_answer $a"; done
       echo "+1 point_answer 4"
+      echo "+2 next"; echo "+8 aim 0 0 1.2"; echo "+1 designate"; echo "+6 confirm"
+      echo "+1 point_answer 2"
+      for a in "${post[@]}"; do echo "+1 point_answer $a"; done
     } >"$work/xscript.txt"
     python3 -c 'import json,sys; a=sys.argv[1:]; print(json.dumps({"pre": a[0:16], "post": a[16:32]}))' \
       "${pre[@]}" "${post[@]}" >"$work/answers.json"
@@ -256,7 +266,7 @@ DDESIGN
     ;;
   tools)
     cat >"$work/tdesign.json" <<'TDESIGN'
-{"conditions": [{"name": "all"}, {"name": "none", "tools": []}],
+{"conditions": [{"name": "all"}, {"name": "none", "tools": [], "cut": true, "cut_radius_m": 8}],
  "blocks": [{"trials": [{"cloud": "demo.pcd", "name": "one"}]}],
  "participants": ["P01"],
  "orbit": {"radius_m": 60, "height_m": 40, "period_s": 100000}}

@@ -64,10 +64,10 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     CHECK(rows[0] == study::StudyLog::trialsHeader());
     // The trial's name and the candidate boxes it showed come last, after the columns
     // older readers take by position.
-    CHECK(rows[0].ends_with(",visibility_metric,name,candidates_shown"));
+    CHECK(rows[0].ends_with(",visibility_metric,name,candidates_shown,designation_hit,box_hit"));
     CHECK(rows[1] ==
           "1,\"village, east.pcd\",confirm,10.000000,20.000000,0.500000,0.250000,1,0.600000,0.800000,1,2,"
-          "0.100000,,village,3");
+          "0.100000,,village,3,1,");
     std::vector<viewer::TraceSample> samples;  // and back
     for (const io::TraceRow& r : io::readTrace(dir.path / "trace_1.csv").rows)
         samples.push_back(viewer::toTraceSample(r));
@@ -102,11 +102,11 @@ TEST_CASE("trials.csv holds one row per finished trial, rewritten whole as each 
     REQUIRE(rows.size() == 3);
     CHECK(rows[2] ==
           "2,s.json,timeout,-30.000000,22.000000,4.000000,36.500000,0,,120.000000,0,0,0.000000,0.250000,"
-          "\"scene, again\",0");
+          "\"scene, again\",0,0,");
     CHECK(lines(dir.path / "trace_2.csv").size() == 1);  // the header only: no frame
     CHECK(log.trialsWritten() == 2);
     CHECK_MESSAGE(log.error().empty(), log.error());
-    CHECK(dir.entries() == 4);  // trials, candidates, two traces
+    CHECK(dir.entries() == 6);  // trials, candidates, two traces, two shown files
 }
 
 TEST_CASE("hit: 1 only for a confirmed point near the target, 0 otherwise, empty without ground truth") {
@@ -127,12 +127,12 @@ TEST_CASE("hit: 1 only for a confirmed point near the target, 0 otherwise, empty
     }
     const auto rows = lines(dir.path / "trials.csv");
     REQUIRE(rows.size() == 7);
-    CHECK(rows[1] == "1,a.pcd,no_target,,,,,0,,2.000000,0,0,0.000000,,,0");
-    CHECK(rows[2] == "2,a.pcd,timeout,,,,,0,,2.000000,0,0,0.000000,,,0");
-    CHECK(rows[3] == "3,a.pcd,quit,,,,,0,,2.000000,0,0,0.000000,,,0");
-    CHECK(rows[4] == "4,a.pcd,no_target,,,,,,,2.000000,0,0,0.000000,,,0");
-    CHECK(rows[6] == "6,a.pcd,quit,,,,,,,2.000000,0,0,0.000000,,,0");
-    CHECK(dir.entries() == 8);  // trials, candidates, six traces named trace_1 .. trace_6
+    CHECK(rows[1] == "1,a.pcd,no_target,,,,,0,,2.000000,0,0,0.000000,,,0,0,");
+    CHECK(rows[2] == "2,a.pcd,timeout,,,,,0,,2.000000,0,0,0.000000,,,0,0,");
+    CHECK(rows[3] == "3,a.pcd,quit,,,,,0,,2.000000,0,0,0.000000,,,0,0,");
+    CHECK(rows[4] == "4,a.pcd,no_target,,,,,,,2.000000,0,0,0.000000,,,0,,");
+    CHECK(rows[6] == "6,a.pcd,quit,,,,,,,2.000000,0,0,0.000000,,,0,,");
+    CHECK(dir.entries() == 14);  // trials, candidates, six traces trace_1 .. trace_6, six shown_1 .. shown_6
     CHECK(std::filesystem::exists(dir.path / "trace_6.csv"));
 
     // A designation on the target still standing at no_target or timeout keeps its distance
@@ -150,9 +150,9 @@ TEST_CASE("hit: 1 only for a confirmed point near the target, 0 otherwise, empty
     }
     const auto more = lines(dir.path / "trials.csv");
     REQUIRE(more.size() == 10);
-    CHECK(more[7] == "7,a.pcd,no_target,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,,,0");
-    CHECK(more[8] == "8,a.pcd,timeout,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,,,0");
-    CHECK(more[9] == "9,a.pcd,confirm,1.000000,2.000000,3.000000,0.500000,1,,2.000000,0,0,0.000000,,,0");
+    CHECK(more[7] == "7,a.pcd,no_target,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,,,0,0,");
+    CHECK(more[8] == "8,a.pcd,timeout,1.000000,2.000000,3.000000,0.500000,0,,2.000000,0,0,0.000000,,,0,0,");
+    CHECK(more[9] == "9,a.pcd,confirm,1.000000,2.000000,3.000000,0.500000,1,,2.000000,0,0,0.000000,,,0,1,");
 }
 
 TEST_CASE("hit: a confirmed candidate box that holds the target is a hit, wherever the designation stood") {
@@ -198,12 +198,45 @@ TEST_CASE("hit: a confirmed candidate box that holds the target is a hit, wherev
     log.onEnd(trial++, o);
     const auto rows = lines(dir.path / "trials.csv");
     REQUIRE(rows.size() == 4);
-    CHECK(rows[1] == "1,s.json,confirm,120.000000,50.000000,6.000000,20.000000,1,,2.000000,0,0,0.000000,,,0");
-    CHECK(rows[2] == "2,s.json,confirm,120.000000,50.000000,6.000000,20.000000,0,,2.000000,0,0,0.000000,,,0");
-    CHECK(rows[3] == "3,s.json,confirm,120.000000,50.000000,6.000000,20.000000,0,,2.000000,0,0,0.000000,,,0");
+    // The designation missed in every one; the box hit in the first only (box_hit empty in
+    // the third: no box was confirmed there).
+    CHECK(rows[1] == "1,s.json,confirm,120.000000,50.000000,6.000000,20.000000,1,,2.000000,0,0,0.000000,,,0,0,1");
+    CHECK(rows[2] == "2,s.json,confirm,120.000000,50.000000,6.000000,20.000000,0,,2.000000,0,0,0.000000,,,0,0,0");
+    CHECK(rows[3] == "3,s.json,confirm,120.000000,50.000000,6.000000,20.000000,0,,2.000000,0,0,0.000000,,,0,0,");
     const auto verdicts = lines(dir.path / "candidates.csv");
     REQUIRE(verdicts.size() == 4);
     CHECK(verdicts[1] == "1,c1,0.000000,confirmed,1.000000");
+}
+
+TEST_CASE("hit: a cloud trial's confirmed box is judged on the centre of the cloud's target points") {
+    // A cloud file (a COPC file too) has no target meshes: the viewer reports the centre of
+    // the bounds of the points labelled target, and the box holding it is a hit.
+    test_support::TempDir dir("study_log_cloud_box_hit");
+    study::StudyLog log(dir.path, [](int) { return study::TrialInfo{"c.copc.laz", {}}; }, 1.0);
+    core::Candidate tank;
+    tank.id = "c1";
+    tank.centre_world = {100.5, 51.5, 1.0};
+    tank.size_m = {7.0, 3.5, 2.5};
+    core::Candidate house = tank;
+    house.id = "c2";
+    house.centre_world = {120.0, 50.0, 3.0};
+    int trial = 0;
+    for (const core::Candidate& box : {tank, house}) {
+        log.onStart(trial);
+        log.onVerdict(trial, 1.0, box, viewer::Verdict::Confirmed);
+        viewer::TrialOutcome o;
+        o.decision = viewer::Decision::Confirm;
+        o.target_known = true;
+        o.target_centre_world = glm::dvec3(100.0, 51.0, 1.25);
+        o.designated_world = glm::dvec3(120.0, 50.0, 6.0);
+        o.target_distance_m = 20.0;
+        o.time_to_decision_s = 2.0;
+        log.onEnd(trial++, o);
+    }
+    const auto rows = lines(dir.path / "trials.csv");
+    REQUIRE(rows.size() == 3);
+    CHECK(rows[1] == "1,c.copc.laz,confirm,120.000000,50.000000,6.000000,20.000000,1,,2.000000,0,0,0.000000,,,0,0,1");
+    CHECK(rows[2] == "2,c.copc.laz,confirm,120.000000,50.000000,6.000000,20.000000,0,,2.000000,0,0,0.000000,,,0,0,0");
 }
 
 TEST_CASE("boxHolds: the point inside the turned box, faces included") {
@@ -260,10 +293,10 @@ TEST_CASE("trials.csv and candidates.csv: text cells cannot become formulas or s
     // The cloud's and the trial's names: a leading ', escapes for ESC and U+202E; numbers
     // stay numbers. The name follows the design's columns.
     CHECK(rows[0] == study::StudyLog::designTrialsHeader());
-    CHECK(rows[0].ends_with(",practice,name,candidates_shown"));
+    CHECK(rows[0].ends_with(",practice,name,candidates_shown,designation_hit,box_hit"));
     CHECK(rows[1] ==
           "1,\"'=HYPERLINK(\"\"http://x\"\",\"\"a\\x1b[2J\\u202e.pcd\"\")\",no_target,-1.500000,2.000000,-3.000000,,,,"
-          "2.000000,0,0,0.000000,,P01,edl,b1,0,'-2+3 \\x1b[1m,1");
+          "2.000000,0,0,0.000000,,P01,edl,b1,0,'-2+3 \\x1b[1m,1,,");
     const auto candidates = lines(dir.path / "candidates.csv");
     REQUIRE(candidates.size() == 2);
     CHECK(candidates[1] == "1,'@SUM(1),-0.500000,rejected,0.700000");
@@ -285,7 +318,7 @@ TEST_CASE("a resumed session whose trials.csv predates name and candidates_shown
         },
         1.0);
     log.addDesignColumns();
-    log.leaveOutNameColumns();
+    log.setColumns(study::TrialColumns::Base);
     const std::string kept = "1,a.pcd,quit,,,,,,,1.000000,0,0,0.000000,,P01,edl,b1,0";
     log.resumeAt(1, {kept}, {});
     CHECK_FALSE(log.recordedAnything());
@@ -296,7 +329,7 @@ TEST_CASE("a resumed session whose trials.csv predates name and candidates_shown
     log.onEnd(0, o);
     const auto rows = lines(dir.path / "trials.csv");
     REQUIRE(rows.size() == 3);
-    CHECK(rows[0] == study::StudyLog::designTrialsHeader(false));
+    CHECK(rows[0] == study::StudyLog::designTrialsHeader(study::TrialColumns::Base));
     CHECK(rows[0].ends_with(",practice"));
     CHECK(rows[1] == kept);
     CHECK(rows[2] == "2,a.pcd,quit,,,,,,,2.000000,0,0,0.000000,,P01,edl,b1,0");
@@ -321,4 +354,71 @@ TEST_CASE("a trace sample becomes a row and back, mode, scale and hit kept") {
     CHECK(back.scale == 4.0);
     CHECK(*back.hit_world == glm::dvec3(7.0, 8.0, 9.0));
     CHECK(viewer::toTraceSample(viewer::toTraceRow(viewer::TraceSample{})).mode == viewer::ViewMode::Automatic);
+}
+
+TEST_CASE("shown_N.json: the boxes and colours a trial showed and the operator's marks, read back for a replay") {
+    test_support::TempDir dir("study_log_shown");
+    core::Candidate tank;
+    tank.id = "c1";
+    tank.centre_world = {100.5, 51.5, 1.0};
+    tank.size_m = {7.0, 3.5, 2.5};
+    tank.yaw_deg = 20.0;
+    tank.score = 0.9;
+    core::Candidate house = tank;
+    house.id = "c2";
+    house.centre_world = {120.0, 50.0, 3.0};
+    house.score = 0.25;
+    study::StudyLog log(
+        dir.path,
+        [&](int) {
+            study::TrialInfo info{"a.pcd", {}};
+            info.shown.candidates = {tank, house};
+            info.shown.colour = viewer::ColourMode::HeightJet;
+            return info;
+        },
+        1.0);
+    log.onStart(0);
+    // Written at the start: the boxes and colours, no mark yet.
+    study::TrialShown started = study::readTrialShown(dir.path / "shown_1.json");
+    CHECK(started.candidates.size() == 2);
+    CHECK(started.marks.empty());
+    log.onDesignate(0, 0.5, {120.0, 50.0, 6.0});
+    log.onWithdraw(0, 0.75);
+    log.onVerdict(0, 1.0, house, viewer::Verdict::Rejected);
+    log.onDesignate(0, 1.25, {100.0, 51.0, 1.5});
+    log.onVerdict(0, 1.5, tank, viewer::Verdict::Confirmed);
+    log.onVerdict(0, 1.5, house, viewer::Verdict::Unreviewed);  // not a mark
+    viewer::TrialOutcome o;
+    o.decision = viewer::Decision::Confirm;
+    o.time_to_decision_s = 1.5;
+    log.onEnd(0, o);
+    REQUIRE(log.error().empty());
+    const study::TrialShown shown = study::readTrialShown(dir.path / "shown_1.json");
+    REQUIRE(shown.colour);
+    CHECK(*shown.colour == viewer::ColourMode::HeightJet);
+    CHECK_FALSE(shown.eye_dome);
+    REQUIRE(shown.candidates.size() == 2);
+    CHECK(shown.candidates[0].id == "c1");
+    CHECK(shown.candidates[0].centre_world == tank.centre_world);
+    CHECK(shown.candidates[0].yaw_deg == 20.0);
+    CHECK(shown.candidates[1].score == 0.25);
+    REQUIRE(shown.marks.size() == 5);
+    CHECK(*shown.marks[0].designated_world == glm::dvec3(120.0, 50.0, 6.0));
+    CHECK(shown.marks[1].t_s == 0.75);
+    CHECK_FALSE(shown.marks[1].designated_world);
+    CHECK(shown.marks[1].candidate.empty());
+    CHECK(shown.marks[2].candidate == "c2");
+    CHECK(shown.marks[2].verdict == viewer::Verdict::Rejected);
+    CHECK(shown.marks[4].verdict == viewer::Verdict::Confirmed);
+
+    // A damaged file is refused in one line naming the field.
+    test_support::TempDir bad("study_log_shown_bad");
+    bad.write("shown_1.json", R"({"candidates": [], "marks": [{"t_s": 1, "candidate": "c1", "verdict": "maybe"}]})");
+    CHECK(test_support::errorOf([&] { study::readTrialShown(bad.path / "shown_1.json"); }) ==
+          "study: --replay " + (bad.path / "shown_1.json").string() +
+              ": marks[0].verdict 'maybe': allowed confirmed or rejected");
+    bad.write("shown_2.json", R"({"candidates": [], "marks": [], "colours": "x"})");
+    CHECK(test_support::errorOf([&] { study::readTrialShown(bad.path / "shown_2.json"); }) ==
+          "study: --replay " + (bad.path / "shown_2.json").string() +
+              ": key 'colours': allowed colour, eye_dome, candidates, marks");
 }

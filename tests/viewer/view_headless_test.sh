@@ -17,6 +17,13 @@
 #   stream   a known binary PCD (make_test_pcd.py, origin 10^6 m away) is streamed in: at
 #            most --upload-budget points reach the GPU per frame, points are drawn from the
 #            first frames, the red target block is on screen.
+#   xr_shot  Monado's simulated HMD, a scripted Escape at frame 10 with --screenshot: the
+#            session ends after the frame is saved (exit 0, exit reason escape, a PNG of
+#            the window's size), not before any frame could be saved.
+#   xr_controllers  Monado's simulated HMD alone binds no controller: one warning line,
+#            the run log's xr_controllers false and its event; with QWERTY_ENABLE=1 (Monado's
+#            qwerty driver: both controllers emulated from keyboard and mouse) they are
+#            bound: xr_controllers true and no warning.
 #   refused  files the reader refuses (0 points, label 7, truncated): exit 1 with one line
 #            naming the file, and no screenshot; one inf point among the stream test's
 #            163,840 is dropped with a warning and the other 163,839 are drawn.
@@ -167,6 +174,62 @@ PY
     python3 -c 'import json,sys; n=json.load(open(sys.argv[1]))["points_arrived"]; print("las: points arrived", n); sys.exit(n != 163840)' \
       "$work/las.json" || { echo "FAIL: las: not 163,840 points"; fail=1; }
     [ -s "$work/las.png" ] || { echo "FAIL: las: no screenshot"; fail=1; }
+    [ "$fail" = 0 ] && echo PASS
+    exit "$fail"
+    ;;
+  xr_shot)
+    printf '10 escape\n' >"$work/shot_escape.txt"
+    rc=0
+    "$here/headless_env.sh" --monado --timeout 150 -- "$bin" "${common[@]}" --script "$work/shot_escape.txt" \
+      2>"$work/stderr" || rc=$?
+    fail=0
+    [ "$rc" = 0 ] || { echo "FAIL: xr_shot: exit $rc"; cat "$work/stderr"; fail=1; }
+    grep -q "no frame was rendered" "$work/stderr" && { echo "FAIL: xr_shot: no frame saved"; fail=1; }
+    python3 - "$work/log.json" "$work/shot.png" <<'PY' || fail=1
+import json, struct, sys
+log = json.load(open(sys.argv[1]))
+problems = []
+if log["exit"] != "escape" or log["frames_counted"] not in (10, 11) or log["frames_submitted"] < 1:
+    problems.append(f"exit {log['exit']} after {log['frames_counted']} frames ({log['frames_submitted']} submitted)")
+shot = log.get("screenshot")
+if not shot or shot["frame"] not in (10, 11):
+    problems.append(f"screenshot record {shot}")
+png = open(sys.argv[2], "rb").read()
+if png[:8] != b"\x89PNG\r\n\x1a\n" or struct.unpack(">II", png[16:24]) != (960, 540):
+    problems.append("the screenshot is not a 960x540 PNG")
+for p in problems:
+    print("FAIL: xr_shot:", p)
+sys.exit(1 if problems else 0)
+PY
+    [ "$fail" = 0 ] && echo PASS
+    exit "$fail"
+    ;;
+  xr_controllers)
+    fail=0
+    for qwerty in 0 1; do
+      rc=0
+      env $([ "$qwerty" = 1 ] && echo QWERTY_ENABLE=1) "$here/headless_env.sh" --monado --timeout 150 -- \
+        "$bin" view --xres 64 --yres 64 --views 40 --width 320 --height 180 --frames 30 \
+        --log-json "$work/c$qwerty.json" 2>"$work/c$qwerty.err" || rc=$?
+      [ "$rc" = 0 ] || { echo "FAIL: xr_controllers (qwerty $qwerty): exit $rc"; cat "$work/c$qwerty.err"; fail=1; }
+      python3 - "$qwerty" "$work/c$qwerty.json" "$work/c$qwerty.err" <<'PY' || fail=1
+import json, sys
+qwerty, log, err = sys.argv[1] == "1", json.load(open(sys.argv[2])), open(sys.argv[3]).read()
+warnings = [l for l in err.splitlines() if "reports no controllers" in l]
+problems = []
+if log["frames_submitted"] < 20:
+    problems.append(f"{log['frames_submitted']} frames submitted")
+if log.get("xr_controllers") is not qwerty:
+    problems.append(f"xr_controllers {log.get('xr_controllers')}")
+if len(warnings) != (0 if qwerty else 1) or any(not w.startswith("ladarvr: warning: view: ") for w in warnings):
+    problems.append(f"warning lines {warnings}")
+if ("xr: the runtime reports no controllers" in log["events"]) == qwerty:
+    problems.append(f"events {log['events']}")
+for p in problems:
+    print(f"FAIL: xr_controllers (qwerty {int(qwerty)}):", p)
+sys.exit(1 if problems else 0)
+PY
+    done
     [ "$fail" = 0 ] && echo PASS
     exit "$fail"
     ;;

@@ -44,7 +44,7 @@ ViewerApp::ViewerApp(const ViewerOptions& options, bool record_frames, TrialSour
       record_frames_(record_frames),
       window_(options, input_),
       script_(options.script),
-      replay_(options.replay),
+      replay_(options.replay, options.replay_marks),
       trials_(trials, observer, log_, options.quiet),
       questions_(trials_, log_, options.quiet),
       style_(options.style),
@@ -81,7 +81,10 @@ void ViewerApp::startQuit(const std::string& reason) {
     quitting_ = true;
     exit_reason_ = reason;
     quit_deadline_ = Clock::now() + std::chrono::seconds(3);
-    if (headset_.running()) headset_.session()->requestExit();
+    // A screenshot still to take is taken of this frame first (present() asks the session
+    // to end then): the runtime may end it within the next poll, before a frame is drawn.
+    const bool shot = options_.screenshot.empty() || screenshot_done_ || stream_.failed();
+    if (headset_.running() && shot) headset_.session()->requestExit();
 }
 
 bool ViewerApp::readyToStart() const {
@@ -98,6 +101,7 @@ void ViewerApp::beginTrial(int index) {
     start_free_ = trials_.setup().start_mode == ViewMode::Free;
     tools_.offer(trials_.setup().tools.value_or(kAllTrialTools));
     tools_.beginTrial();  // no pick index, candidates or cutting volume of the last trial
+    tools_.get<CutTool>().startTrial(trials_.setup().cut, trials_.setup().cut_radius_m);
     modes_ = ModeController(options_.modes, glm::dvec3(0.0));
     zoom_.reset();
     aim_world_.reset();
@@ -158,7 +162,8 @@ OperatorInput ViewerApp::gatherInput() {
                             stream_.loadedSinceFrame(),
                             trials_.readyScreen() && (!readyToStart() || questions_.active()),
                             questions_.awaitsPointAnswer(),
-                            pickable_since_frame_};
+                            pickable_since_frame_,
+                            questions_.active()};
     merge(in, script_.take(clock));
     return in;
 }
@@ -226,6 +231,7 @@ void ViewerApp::update(OperatorInput in, double dt) {
     if (in.release_aim) aim_world_.reset();
     if (in.replay) replay_sample_ = in.replay;
     if (in.replay_done && !quitting_) startQuit("replay done");
+    for (const TrialMark& mark : in.replay_marks) trials_.replayMark(mark, trialContext());
     if (questions_.active()) {
         const EyeTarget& panel = eyes_->panelTarget();
         questions_.update(
@@ -325,6 +331,7 @@ std::optional<LocalRay> ViewerApp::pointerRay(const OperatorInput& in) const {
     double cx = 0.0, cy = 0.0;
     glfwGetWindowSize(window_.handle, &p.window_w, &p.window_h);
     if (!headset_.session() && input_.cursor(cx, cy)) p.cursor_px = glm::dvec2(cx, cy);
+    p.replay = !options_.replay.empty();
     return pointerRayOf(p);
 }
 
@@ -444,6 +451,7 @@ void ViewerApp::present(int fb_w, int fb_h) {
     if (!options_.screenshot.empty() && !screenshot_done_ && !stream_.failed() && (last_frame || quitting_) &&
         fb_w > 0) {
         screenshot_done_ = true;
+        if (quitting_ && headset_.running()) headset_.session()->requestExit();  // held for the shot
         if (writeScreenshot(options_.screenshot, fb_w, fb_h))
             log_.set(
                 "screenshot",
@@ -460,7 +468,8 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     v.style = &style_;
     v.mode = modes_.mode();
     if (const XrStereoSession* xr = headset_.session())
-        v.xr_state = xr->focused() ? "focused" : (xr->running() ? "running" : "waiting");
+        v.xr_state = xr->focused() ? (xr->noControllers() ? "focused, no controllers: no pointer" : "focused")
+                                   : (xr->running() ? "running" : "waiting");
     v.frame_ms = frame_ms_;
     v.points_uploaded = stream_.renderer().uploadedPoints();
     v.points_arrived = stream_.source().pointsArrived();

@@ -39,8 +39,10 @@ struct Condition {
     std::optional<viewer::ViewMode> start;  // the mode each trial starts in (automatic: the paper's)
     // The candidates come from this detector run on each trial's cloud instead of the
     // trial's file: "baseline" (the clustering detector) or a model file of `ladarvr train`.
-    std::string detector;           // empty: the trials' own candidates
-    std::optional<unsigned> tools;  // viewer::TrialTool bits offered; unset: every tool
+    std::string detector;                // empty: the trials' own candidates
+    std::optional<unsigned> tools;       // viewer::TrialTool bits offered; unset: every tool
+    std::optional<bool> cut;             // the cutting volume on (or off) at each trial's start
+    std::optional<double> cut_radius_m;  // its radius
 };
 
 struct DesignBlock {

@@ -39,7 +39,9 @@ struct PlanTrial {
     std::optional<viewer::ViewMode> start_mode;  // the mode the trial starts in
     std::string detector;           // "baseline" or a model file: candidates detected in the cloud; empty: `candidates`
     std::optional<unsigned> tools;  // viewer::TrialTool bits offered; unset: every tool
-    double min_ready_s = 0.0;       // the ready screen stays up at least this long (a break)
+    std::optional<bool> cut;        // the cutting volume on (or off) at the start
+    std::optional<double> cut_radius_m;  // its radius
+    double min_ready_s = 0.0;            // the ready screen stays up at least this long (a break)
 };
 
 struct Plan {

@@ -49,6 +49,9 @@ struct ReportTrial {
     /// before trials.csv had those columns.
     std::string name;
     std::optional<int> candidates_shown;
+    /// The two ways to hit (0 or 1; empty as hit is, box_hit also when no box was
+    /// confirmed, and both in a session written before trials.csv had those columns).
+    std::optional<int> designation_hit, box_hit;
 };
 
 /// A Likert item as it was asked: its id, its occasion (pre, post or after_condition)
@@ -134,7 +137,8 @@ std::vector<std::filesystem::path> findSessionFolders(const std::vector<std::fil
 StudyResults readStudyResults(const std::vector<std::filesystem::path>& session_folders);
 
 /// The rows of a design session's trials.csv `text` (`file` names it in messages), with or
-/// without the name and candidates_shown columns (StudyLog::designTrialsHeader).
+/// without the later column sets (name,candidates_shown; designation_hit,box_hit;
+/// StudyLog::designTrialsHeader).
 std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::string& file);
 
 /// questionnaires.csv `text` (instruments.hpp's layout) scored into `p`: the SSQ before

@@ -4,6 +4,7 @@
 // trials.csv does not hold (docs/study.md "Resuming a session").
 #pragma once
 #include <study/design.hpp>
+#include <study/study_log.hpp>
 
 #include <cstddef>
 #include <filesystem>
@@ -18,9 +19,9 @@ struct ResumePoint {
     std::size_t trials_done = 0;              // rows of trials.csv: trials 1..trials_done
     std::vector<std::string> trial_rows;      // as written, header excluded
     std::vector<std::string> candidate_rows;  // those of trials 1..trials_done
-    /// trials.csv has the name and candidates_shown columns (false: an older session's,
-    /// which goes on without them, StudyLog::leaveOutNameColumns).
-    bool name_columns = true;
+    /// The later column sets trials.csv has (an older session's lacks some, and goes on
+    /// without them, StudyLog::setColumns).
+    TrialColumns columns = TrialColumns::Judged;
     /// Rows of questionnaires.csv (header excluded): the answers to the first
     /// questions_answered questions of questionSchedule(), kept as written.
     std::vector<std::string> questionnaire_rows;

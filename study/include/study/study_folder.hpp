@@ -17,7 +17,7 @@ namespace study {
 std::string traceFileName(int trial_number);
 
 /// A name a study writes into its folder: trials.csv, candidates.csv, questionnaires.csv,
-/// study.json or trace_*.csv.
+/// study.json, trace_*.csv or shown_*.json.
 bool isStudyFile(std::string_view name);
 
 /// Checks that `out` (made by the caller) is a folder that holds no study yet, so one run

@@ -6,6 +6,9 @@
 //   candidates.csv   each candidate's verdict and when it was given, replaced the same way
 //   trace_<N>.csv    one row per frame of trial N, written as the frames come (its format:
 //                    io/trace_file.hpp)
+//   shown_<N>.json   what trial N showed (its candidate boxes, its condition's colours)
+//                    and the operator's marks (study/trial_shown.hpp), written atomically
+//                    at the trial's start and again at its end
 //   questionnaires.csv  a design session's answers, one row per answer, replaced
 //                    atomically at each answer (study/instruments.hpp has its layout)
 // Columns: viewer/trial.hpp; meanings: docs/study.md; text cells: study/csv_cell.hpp.
@@ -14,6 +17,7 @@
 #include <viewer/trial.hpp>
 
 #include <study/questionnaire.hpp>
+#include <study/trial_shown.hpp>
 
 #include <io/trace_file.hpp>
 
@@ -28,6 +32,11 @@
 
 namespace study {
 
+/// Which of trials.csv's later column sets a file has (a session written before a set
+/// came lacks it, and a resumed one goes on so): `Named` adds name,candidates_shown after
+/// the others, `Judged` adds designation_hit,box_hit after those.
+enum class TrialColumns { Base, Named, Judged };
+
 /// What the log needs to know of each trial besides the viewer's reports.
 struct TrialInfo {
     std::string source;                       // the cloud or scene as the plan names it
@@ -39,7 +48,10 @@ struct TrialInfo {
     int candidates_shown = 0;  // the candidate boxes the trial showed
     /// The centre of the target's bounds, world coordinates, where the trial knows it (a
     /// scene trial: its target meshes); a confirmed candidate box holding it is a hit.
+    /// Unset: the centre of the cloud's points labelled target (TrialOutcome).
     std::optional<glm::dvec3> target_centre_world{};
+    /// What the trial shows besides its cloud (its marks left empty): shown_<N>.json.
+    TrialShown shown{};
 };
 
 class StudyLog : public viewer::TrialObserver {
@@ -52,9 +64,9 @@ class StudyLog : public viewer::TrialObserver {
 
     /// trials.csv gets the design's columns (designTrialsHeader()).
     void addDesignColumns() { design_columns_ = true; }
-    /// trials.csv is written without name and candidates_shown, as sessions were before
-    /// those columns came: a resumed session whose trials.csv lacks them goes on so.
-    void leaveOutNameColumns() { name_columns_ = false; }
+    /// trials.csv is written with the column sets `columns` only, as sessions were before
+    /// the later ones came: a resumed session whose trials.csv lacks them goes on so.
+    void setColumns(TrialColumns columns) { columns_ = columns; }
     /// Continues a study whose first `trials_done` trials are written: their rows of
     /// trials.csv and candidates.csv are kept as given, and the viewer's trial k is
     /// position trials_done + k (its number, trace and rows).
@@ -69,6 +81,8 @@ class StudyLog : public viewer::TrialObserver {
 
     void onStart(int trial) override;
     void onFrame(int trial, const viewer::TraceSample& sample) override;
+    void onDesignate(int trial, double t_s, const glm::dvec3& point_world) override;
+    void onWithdraw(int trial, double t_s) override;
     void onVerdict(int trial, double t_s, const core::Candidate& candidate, viewer::Verdict verdict) override;
     void onEnd(int trial, const viewer::TrialOutcome& outcome) override;
     void onAnswer(int gap, int question, const viewer::Answer& answer) override;
@@ -83,13 +97,14 @@ class StudyLog : public viewer::TrialObserver {
     /// The first write error, if any (the run goes on; the command reports it).
     const std::string& error() const { return error_; }
 
-    /// trials.csv's header: trial .. visibility_metric, then name,candidates_shown (left
-    /// out with `named` false: the layout written before those two columns came).
-    static std::string trialsHeader(bool named = true);
+    /// trials.csv's header: trial .. visibility_metric, then name,candidates_shown and
+    /// designation_hit,box_hit (as far as `columns` has them: the layouts written before
+    /// the later columns came).
+    static std::string trialsHeader(TrialColumns columns = TrialColumns::Judged);
     /// A design session's: trial .. visibility_metric, participant,condition,block,practice,
-    /// then name,candidates_shown (left out with `named` false). New columns come last, so
-    /// a reader that picks columns by position keeps working.
-    static std::string designTrialsHeader(bool named = true);
+    /// then the later columns as trialsHeader's. New columns come last, so a reader that
+    /// picks columns by position keeps working.
+    static std::string designTrialsHeader(TrialColumns columns = TrialColumns::Judged);
     static const char* candidatesHeader();
     /// Whether `point_world` lies inside `box` (its size about its centre, turned by its
     /// yaw about +z; the faces count as inside).
@@ -97,16 +112,20 @@ class StudyLog : public viewer::TrialObserver {
 
   private:
     void writeAtomic(const std::string& name, const std::string& header, const std::vector<std::string>& rows);
+    /// Replaces dir/name with `content` atomically; the first failure is kept in error_.
+    void writeText(const std::string& name, const std::string& content);
     void closeTrace();
 
     std::filesystem::path dir_;
     std::function<TrialInfo(int)> info_;
     double hit_radius_m_ = 1.0;
     bool design_columns_ = false;
-    bool name_columns_ = true;
+    TrialColumns columns_ = TrialColumns::Judged;
     bool recorded_ = false;                     // recordedAnything()
     std::optional<core::Candidate> confirmed_;  // the box confirmed in the trial in flight
-    int offset_ = 0;                            // trials written before this run (a resumed session)
+    TrialShown shown_;                          // what the trial in flight shows, its marks so far
+    std::filesystem::path shown_path_;
+    int offset_ = 0;  // trials written before this run (a resumed session)
     std::vector<std::string> trial_rows_, candidate_rows_;
     std::string participant_;
     std::vector<std::vector<ScheduledQuestion>> questions_;

@@ -28,8 +28,10 @@ class StudySource : public viewer::TrialSource {
   public:
     /// Loads every scene and candidates file of the plan now, so a bad one fails before
     /// the window opens (core::Error naming it). `order` from trialOrder(); `first`: the
-    /// trials of the study already run (a resumed session, numberOffset()).
-    StudySource(const Plan& plan, std::vector<int> order, int first = 0);
+    /// trials of the study already run (a resumed session, numberOffset()). Without
+    /// `with_candidates` no candidates file is read and no detector runs: every trial
+    /// shows none (a replay takes the boxes shown from the study folder).
+    StudySource(const Plan& plan, std::vector<int> order, int first = 0, bool with_candidates = true);
     ~StudySource() override;
 
     int count() const override { return static_cast<int>(order_.size()); }

@@ -47,3 +47,20 @@ TEST_CASE("script player: a relative frame near the largest long is not due at o
     clock.frame = 1000000;
     CHECK_FALSE(p.take(clock).quit);
 }
+
+TEST_CASE("script player: a next waits while a questionnaire is up, then dismisses the ready screen") {
+    // `1 point_answer 4` then `+2 next`: the click takes frames to go through the panel,
+    // during which the next must not be spent on the questionnaire.
+    ScriptEvent answer = event(1, ScriptEvent::Key::PointAnswer);
+    answer.value = 4;
+    ScriptPlayer p({answer, event(2, ScriptEvent::Key::Next, true)});
+    ScriptClock clock;
+    clock.question_up = true;
+    clock.questionnaire_up = true;
+    clock.frame = 1;
+    CHECK(p.take(clock).point_answer == 4);
+    clock.question_up = false;  // the click is in flight; the item is still up
+    for (clock.frame = 2; clock.frame < 8; ++clock.frame) CHECK_FALSE(p.take(clock).next);
+    clock.questionnaire_up = false;  // answered: the next trial's ready screen is up
+    CHECK(p.take(clock).next);
+}

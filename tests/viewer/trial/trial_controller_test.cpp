@@ -111,6 +111,10 @@ TEST_CASE("a designation is recorded, confirmed, and ends the trial with its dis
     CHECK(observer.outcome.target_known);
     REQUIRE(observer.outcome.target_distance_m);
     CHECK(*observer.outcome.target_distance_m < 1e-6);
+    // The centre of the target points' bounds, in world coordinates (a candidate box
+    // holding it holds the target).
+    REQUIRE(observer.outcome.target_centre_world);
+    CHECK(glm::length(*observer.outcome.target_centre_world - (local + origin)) < 1e-4);
     CHECK(trials.decisions().back() ==
           nlohmann::json{{"trial", 0}, {"frame", 5}, {"action", "end"}, {"decision", "confirm"}});
     // Ending again does nothing.
@@ -173,4 +177,68 @@ TEST_CASE("a plain run is one trial without a ready screen: its decisions carry 
     CHECK_FALSE(trials.placeCandidates(false));
     CHECK(trials.placeCandidates(true));
     CHECK_FALSE(trials.placeCandidates(true));
+}
+
+TEST_CASE("withdrawing a designation is reported, and a replay's marks designate, withdraw and judge boxes") {
+    RunLog log;
+    FakeTrialSource source;
+    FakeTrialObserver observer;
+    TrialController trials(&source, &observer, log, true);
+    trials.begin(0);
+    trials.handleReadyScreen(pressed(&OperatorInput::next), true, 1);
+    const glm::dvec3 local(3.0, 4.0, 5.0);
+    PointerAt at(local);
+    CandidatesTool none;
+    const TrialContext c{2, glm::dvec3(0.0), &at.pointer, &none, at.set.get()};
+    trials.decide(pressed(&OperatorInput::designate), c);
+    trials.decide(pressed(&OperatorInput::reject), c);  // no box pointed at: withdrawn
+    CHECK_FALSE(trials.designated());
+    CHECK(observer.calls == std::vector<std::string>{"start 0", "designate 0", "withdraw 0"});
+
+    // A replay (a plain run): the recorded marks, as the operator made them.
+    RunLog replay_log;
+    TrialController replay(nullptr, nullptr, replay_log, true);
+    std::vector<core::Candidate> boxes(1);
+    boxes[0].id = "c1";
+    boxes[0].size_m = {2.0, 2.0, 2.0};
+    CandidatesTool candidates;
+    const glm::dvec3 origin(1000.0, 0.0, 0.0);
+    candidates.set(boxes, origin);
+    PointerTool idle{PickOptions{}};
+    const TrialContext rc{7, origin, &idle, &candidates, nullptr};
+    TrialMark designate;
+    designate.t_s = 1.5;
+    designate.designated_world = glm::dvec3(1003.0, 4.0, 5.0);
+    replay.replayMark(designate, rc);
+    REQUIRE(replay.designated());
+    CHECK(glm::length(*replay.designated() - glm::dvec3(3.0, 4.0, 5.0)) < 1e-9);
+    CHECK(replay.decisions().back()["action"] == "designate");
+    CHECK(replay.decisions().back()["source"] == "replay");
+    TrialMark verdict;
+    verdict.t_s = 2.0;
+    verdict.candidate = "c1";
+    verdict.verdict = Verdict::Rejected;
+    replay.replayMark(verdict, rc);
+    CHECK(candidates.verdict(0) == Verdict::Rejected);
+    CHECK(replay.decisions().back()["candidate"] == "c1");
+    replay.replayMark(TrialMark{}, rc);  // a withdrawn designation
+    CHECK_FALSE(replay.designated());
+}
+
+TEST_CASE("the designation is marked by a thin cross sized in the world, not a screen-sized dot") {
+    RunLog log;
+    TrialController trials(nullptr, nullptr, log, true);
+    CandidatesTool candidates;
+    PointerTool idle{PickOptions{}};
+    TrialMark mark;
+    mark.designated_world = glm::dvec3(3.0, 4.0, 5.0);
+    trials.replayMark(mark, {1, glm::dvec3(0.0), &idle, &candidates, nullptr});
+    for (const double scale : {1.0, 4.0}) {
+        OverlayList out;
+        trials.draw(out, scale);
+        CHECK(out.dots.empty());  // a dot is a square of fixed pixels: it covers the target in a headset
+        REQUIRE(out.lines.size() == 6);
+        for (std::size_t i = 0; i < 6; i += 2)
+            CHECK(glm::length(out.lines[i + 1].local - out.lines[i].local) == doctest::Approx(2.0 / scale));
+    }
 }

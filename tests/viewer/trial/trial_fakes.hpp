@@ -40,6 +40,7 @@ class FakeTrialObserver final : public TrialObserver {
         calls.push_back("designate " + std::to_string(trial));
         designated.push_back(w);
     }
+    void onWithdraw(int trial, double) override { calls.push_back("withdraw " + std::to_string(trial)); }
     void onVerdict(int trial, double, const core::Candidate& c, Verdict v) override {
         calls.push_back(std::string("verdict ") + std::to_string(trial) + " " + c.id + " " + verdictName(v));
     }

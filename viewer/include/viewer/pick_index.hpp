@@ -60,6 +60,9 @@ class PickIndex {
     std::optional<double> nearestTargetDistance(const glm::dvec3& p) const;
     /// Whether any point is labelled target.
     bool hasTargets() const { return !targets_.empty(); }
+    /// The bounds of the points labelled target (local frame); meaningless without them.
+    const glm::dvec3& targetLow() const { return target_lo_; }
+    const glm::dvec3& targetHigh() const { return target_hi_; }
     /// Sphere queries the last pick made (for the benchmark's report).
     std::size_t lastQueries() const { return last_queries_; }
 
@@ -73,7 +76,8 @@ class PickIndex {
     std::vector<core::Role> labels_;
     std::vector<float> heights_;
     std::vector<glm::vec3> targets_;
-    glm::dvec3 lo_{0.0}, hi_{0.0};  // bounds of the positions
+    glm::dvec3 lo_{0.0}, hi_{0.0};                // bounds of the positions
+    glm::dvec3 target_lo_{0.0}, target_hi_{0.0};  // bounds of the targets
     std::unique_ptr<Tree> tree_;
     std::unique_ptr<TargetTree> target_tree_;
     mutable std::size_t last_queries_ = 0;
@@ -94,6 +98,9 @@ class PickSet {
                                 const PickOptions& options = {}) const;
     std::optional<double> nearestTargetDistance(const glm::dvec3& p) const;
     bool hasTargets() const;
+    /// The centre of the bounds of every node's points labelled target (local frame); none
+    /// without target points.
+    std::optional<glm::dvec3> targetCentre() const;
 
   private:
     std::vector<std::shared_ptr<const PickIndex>> indexes_;

@@ -11,7 +11,8 @@
 //   trials.csv: trial, cloud, decision, designated_x, designated_y, designated_z,
 //     target_distance_m, hit, time_to_first_designation_s, time_to_decision_s,
 //     designations, mode_switches, seconds_in_free_mode, visibility_metric (a design's
-//     session adds participant, condition, block, practice), name, candidates_shown
+//     session adds participant, condition, block, practice), name, candidates_shown,
+//     designation_hit, box_hit
 //   candidates.csv: trial, candidate, score, verdict, t_s
 //   trace_<trial>.csv: t_s, head_x, head_y, head_z, head_qw, head_qx, head_qy, head_qz,
 //     mode, scale, hit_x, hit_y, hit_z   (world coordinates; hit_* empty without a hit)
@@ -71,6 +72,19 @@ struct TrialOutcome {
     std::optional<double> target_distance_m;
     /// The cloud holds points labelled target (ground truth), so a hit can be judged.
     bool target_known = false;
+    /// The centre of the bounds of the cloud's points labelled target, world coordinates;
+    /// none without target points. A confirmed candidate box holding it holds the target.
+    std::optional<glm::dvec3> target_centre_world;
+};
+
+/// A mark the operator made during a trial, as a replay shows it again at its time: a
+/// designation (`candidate` empty: the point, or none when the designation was withdrawn)
+/// or a candidate's verdict.
+struct TrialMark {
+    double t_s = 0.0;  // since the ready screen was dismissed
+    std::optional<glm::dvec3> designated_world;
+    std::string candidate;  // the candidate's id, for a verdict
+    Verdict verdict = Verdict::Unreviewed;
 };
 
 /// What a trial shows besides its cloud.
@@ -91,6 +105,11 @@ struct TrialSetup {
     /// The operator's tools this trial offers (TrialTool bits); unset: every one. The
     /// pointer, designation and decisions are always there.
     std::optional<unsigned> tools;
+    /// The cutting volume on or off when the trial starts (on: it cuts once a point is
+    /// designated, and stays on even where the trial leaves the cut tool out), and its
+    /// radius; unset: the run's (--cut, --cut-radius).
+    std::optional<bool> cut;
+    std::optional<double> cut_radius_m;
 };
 
 /// The tools a trial may leave out (TrialSetup::tools): the world zoom (grab scale), the
@@ -147,6 +166,8 @@ class TrialObserver {
     virtual void onStart(int /*trial*/) {}
     virtual void onFrame(int /*trial*/, const TraceSample& /*sample*/) {}
     virtual void onDesignate(int /*trial*/, double /*t_s*/, const glm::dvec3& /*point_world*/) {}
+    /// The operator withdrew the standing designation (reject pointing at no box).
+    virtual void onWithdraw(int /*trial*/, double /*t_s*/) {}
     virtual void onVerdict(int /*trial*/, double /*t_s*/, const core::Candidate& /*candidate*/, Verdict /*verdict*/) {}
     /// Called once per trial that started; candidates never reviewed are reported before it
     /// with Verdict::Unreviewed.

@@ -89,6 +89,8 @@ struct ViewerOptions {
     /// the view follows the trace's head poses, zoom and mode in real time, its pointer hit
     /// shown as a dot, and the run ends after its last sample (exit "replay done").
     std::vector<TraceSample> replay;
+    /// The replayed trial's marks (designations, verdicts), shown as their times come.
+    std::vector<TrialMark> replay_marks;
     // Out of core (docs/viewer.md "Large clouds").
     /// Bytes the points' GPU buffers take at most (--gpu-mb): nodes the view no longer wants
     /// leave the GPU, least recently drawn first, to make room for those it wants.

@@ -33,6 +33,7 @@ void merge(OperatorInput& into, const OperatorInput& from) {
     if (from.grab_hands) into.grab_hands = from.grab_hands;
     if (from.aim_world) into.aim_world = from.aim_world;
     if (from.replay) into.replay = from.replay;
+    into.replay_marks.insert(into.replay_marks.end(), from.replay_marks.begin(), from.replay_marks.end());
 }
 
 }  // namespace viewer

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace viewer {
 
@@ -56,6 +57,8 @@ struct OperatorInput {
     /// A replayed trace: the sample to show this frame, and whether its last one was shown.
     std::optional<TraceSample> replay;
     bool replay_done = false;
+    /// A replay's recorded marks (designations, verdicts) that came due this frame, in order.
+    std::vector<TrialMark> replay_marks;
 };
 
 /// Adds `from` to `into`: flags are or-ed, steps and motion summed, and what `from` sets

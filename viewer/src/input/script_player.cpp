@@ -15,7 +15,7 @@ OperatorInput ScriptPlayer::take(const ScriptClock& clock) {
                                               : 0;
         // Compared without a sum: neither side can overflow, whatever the event's frame.
         if (base < 0 || ev.frame > clock.frame - base) break;
-        if (ev.key == ScriptEvent::Key::Next && clock.ready_screen_waiting) break;
+        if (ev.key == ScriptEvent::Key::Next && (clock.ready_screen_waiting || clock.questionnaire_up)) break;
         if ((ev.key == ScriptEvent::Key::Answer || ev.key == ScriptEvent::Key::PointAnswer) && !clock.question_up)
             break;
         ++next_;

@@ -22,6 +22,10 @@ struct ScriptClock {
     /// `answer` or `point_answer` waits for one.
     bool question_up = false;
     long pickable_since_frame = -1;  // when the pointer could first pick (-1: not yet)
+    /// A questionnaire is up (an item on screen, or a scripted click on it still going
+    /// through the panel): a `next` waits for it to end, so it dismisses the ready screen
+    /// that follows instead of being spent on the questionnaire.
+    bool questionnaire_up = false;
 };
 
 class ScriptPlayer {

@@ -98,11 +98,17 @@ PickIndex::PickIndex(std::span<const core::CloudPoint> points) {
     heights_.reserve(points.size());
     lo_ = glm::dvec3(std::numeric_limits<double>::infinity());
     hi_ = -lo_;
+    target_lo_ = lo_;
+    target_hi_ = hi_;
     for (const core::CloudPoint& p : points) {
         positions_.push_back(p.position);
         labels_.push_back(p.label);
         heights_.push_back(p.height_above_ground_m);
-        if (p.label == core::Role::Target) targets_.push_back(p.position);
+        if (p.label == core::Role::Target) {
+            targets_.push_back(p.position);
+            target_lo_ = glm::min(target_lo_, glm::dvec3(p.position));
+            target_hi_ = glm::max(target_hi_, glm::dvec3(p.position));
+        }
         lo_ = glm::min(lo_, glm::dvec3(p.position));
         hi_ = glm::max(hi_, glm::dvec3(p.position));
     }
@@ -222,6 +228,17 @@ std::optional<double> PickSet::nearestTargetDistance(const glm::dvec3& p) const 
     for (const auto& index : indexes_)
         if (const auto d = index->nearestTargetDistance(p); d && (!best || *d < *best)) best = d;
     return best;
+}
+
+std::optional<glm::dvec3> PickSet::targetCentre() const {
+    std::optional<glm::dvec3> lo, hi;
+    for (const auto& index : indexes_)
+        if (index->hasTargets()) {
+            lo = lo ? glm::min(*lo, index->targetLow()) : index->targetLow();
+            hi = hi ? glm::max(*hi, index->targetHigh()) : index->targetHigh();
+        }
+    if (!lo) return std::nullopt;
+    return (*lo + *hi) * 0.5;
 }
 
 bool PickSet::hasTargets() const {

@@ -87,6 +87,15 @@ void CandidatesTool::update(const std::optional<LocalRay>& ray, const CutVolume&
     }
 }
 
+std::optional<std::size_t> CandidatesTool::setVerdict(const std::string& id, Verdict verdict) {
+    for (std::size_t i = 0; i < candidates_.size(); ++i)
+        if (candidates_[i].id == id) {
+            verdicts_[i] = verdict;
+            return i;
+        }
+    return std::nullopt;
+}
+
 std::optional<std::size_t> CandidatesTool::decide(Verdict verdict) {
     if (!pointed_) return std::nullopt;
     verdicts_[*pointed_] = verdict;

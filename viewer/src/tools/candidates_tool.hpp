@@ -44,6 +44,9 @@ class CandidatesTool final : public Tool {
     std::optional<std::size_t> pointed() const { return pointed_; }
     /// Gives the pointed candidate a verdict; returns its index, none when no box is pointed at.
     std::optional<std::size_t> decide(Verdict verdict);
+    /// Gives the candidate of id `id` a verdict (a replay's recorded one); returns its
+    /// index, none when no candidate has that id.
+    std::optional<std::size_t> setVerdict(const std::string& id, Verdict verdict);
     /// Colours by score unless reviewed; `highlight` draws every box brighter and thicker.
     void draw(OverlayList& out, bool highlight) const;
     void draw(OverlayList& out) const override { draw(out, highlight_); }

@@ -21,7 +21,7 @@ std::optional<LocalRay> pointerRayOf(const PointerSources& p) {
         const glm::dvec3 o = p.rig.apply(p.zoom->apply(p.controller->origin));
         return LocalRay{o, glm::normalize(p.rig.rotation * p.controller->direction)};
     }
-    if (!p.cursor_px || p.window_w <= 0 || p.window_h <= 0) return std::nullopt;
+    if (p.replay || !p.cursor_px || p.window_w <= 0 || p.window_h <= 0) return std::nullopt;
     const double t = std::tan(p.vfov_deg * std::numbers::pi / 360.0);
     const double w = p.window_w, h = p.window_h;
     const double nx = 2.0 * p.cursor_px->x / w - 1.0, ny = 1.0 - 2.0 * p.cursor_px->y / h;

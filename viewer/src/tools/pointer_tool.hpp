@@ -27,9 +27,12 @@ struct PointerSources {
     std::optional<glm::dvec2> cursor_px;    // the desktop cursor (from the window's top left)
     int window_w = 0, window_h = 0;
     double vfov_deg = 60.0;  // the desktop view's vertical field of view
+    /// A replay: the pointer shown is the recorded one, so the live cursor picks nothing.
+    bool replay = false;
 };
 /// A script's aim (from the head to its point), else the controller's ray (through the
-/// zoom and the rig), else the cursor's ray through the desktop view; none without any.
+/// zoom and the rig), else the cursor's ray through the desktop view (not in a replay);
+/// none without any.
 std::optional<LocalRay> pointerRayOf(const PointerSources& p);
 
 class PointerTool final : public Tool {

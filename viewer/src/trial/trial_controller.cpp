@@ -121,6 +121,7 @@ void TrialController::decide(const OperatorInput& in, const TrialContext& c) {
             if (observer_ && running_) observer_->onVerdict(index_, t_s, candidates.candidate(*i), Verdict::Rejected);
             record("reject", c.frame, {{"candidate", candidates.candidate(*i).id}});
         } else {
+            if (designated_local_ && running_ && observer_) observer_->onWithdraw(index_, t_s);
             designated_local_.reset();
             record("reject", c.frame, {{"candidate", nullptr}});
         }
@@ -149,6 +150,20 @@ void TrialController::decide(const OperatorInput& in, const TrialContext& c) {
     if (running_ && setup_.time_limit_s > 0.0 && time() >= setup_.time_limit_s) end(Decision::Timeout, c);
 }
 
+void TrialController::replayMark(const TrialMark& mark, const TrialContext& c) {
+    if (!mark.candidate.empty()) {
+        c.candidates->setVerdict(mark.candidate, mark.verdict);
+        record(mark.verdict == Verdict::Confirmed ? "confirm" : "reject", c.frame,
+               {{"candidate", mark.candidate}, {"t_s", mark.t_s}, {"source", "replay"}});
+    } else if (mark.designated_world) {
+        designated_local_ = *mark.designated_world - c.origin;
+        record("designate", c.frame, {{"world", vec(*mark.designated_world)}, {"t_s", mark.t_s}, {"source", "replay"}});
+    } else {
+        designated_local_.reset();
+        record("reject", c.frame, {{"candidate", nullptr}, {"t_s", mark.t_s}, {"source", "replay"}});
+    }
+}
+
 void TrialController::end(Decision decision, const TrialContext& c) {
     if (!running_) return;
     running_ = false;
@@ -156,6 +171,8 @@ void TrialController::end(Decision decision, const TrialContext& c) {
     o.decision = decision;
     o.time_to_decision_s = std::chrono::duration<double>(Clock::now() - started_).count();
     o.target_known = c.picks && c.picks->hasTargets();
+    if (c.picks)
+        if (const auto centre = c.picks->targetCentre()) o.target_centre_world = *centre + c.origin;
     if (designated_local_) {
         o.designated_world = *designated_local_ + c.origin;
         if (c.picks) o.target_distance_m = c.picks->nearestTargetDistance(*designated_local_);
@@ -188,9 +205,11 @@ void TrialController::describe(PanelFrame& p) const {
 
 void TrialController::draw(OverlayList& out, double scale) const {
     if (!designated_local_) return;
+    // Lines only, sized in the world: a dot is a square of fixed pixels, which in a
+    // headset's eye image (fewer pixels over a wider view than the desktop's) covers the
+    // target it marks.
     const glm::vec4 colour(1.0f, 0.2f, 1.0f, 1.0f);
     const glm::dvec3 c = *designated_local_;
-    out.dots.push_back({c, colour});
     const double r = 1.0 / scale;  // a 2 m cross at life size
     out.line(c - glm::dvec3(r, 0, 0), c + glm::dvec3(r, 0, 0), colour);
     out.line(c - glm::dvec3(0, r, 0), c + glm::dvec3(0, r, 0), colour);

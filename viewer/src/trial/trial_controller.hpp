@@ -58,6 +58,10 @@ class TrialController {
     bool handleReadyScreen(const OperatorInput& in, bool ready, long frame);
     /// Designate, reject, confirm, no target, and the time limit.
     void decide(const OperatorInput& in, const TrialContext& c);
+    /// A replay's recorded mark (TrialMark): the designation set or withdrawn, or a
+    /// candidate's verdict, shown as the operator made it and recorded in the decisions
+    /// log with "source": "replay". Reports nothing to the observer.
+    void replayMark(const TrialMark& mark, const TrialContext& c);
     /// Ends the running trial (nothing when none runs) and reports it.
     void end(Decision decision, const TrialContext& c);
     /// The source's questions at gap `gap` of the run (TrialSource::questions).
@@ -86,7 +90,8 @@ class TrialController {
     }
     /// Appends {"frame", "action", "trial"?, ...extra} to the decisions log.
     void record(const char* action, long frame, nlohmann::json extra = nlohmann::json::object());
-    /// The designated point: a dot and a cross 2 m wide at life size.
+    /// The designated point: a thin cross 2 m wide at life size (lines in the world, no
+    /// screen-sized dot), on the desktop and in the headset alike.
     void draw(OverlayList& out, double scale) const;
     const nlohmann::json& decisions() const { return decisions_; }
     /// Candidates go in once the source's origin is final (PointSource::originFinal); true once.

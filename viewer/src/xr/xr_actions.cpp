@@ -159,6 +159,12 @@ XrInput XrActions::sync(XrSpace space, XrTime time) {
     sync_info.countActiveActionSets = 1;
     sync_info.activeActionSets = &active;
     if (!XR_LOG(instance_, xrSyncActions(session_, &sync_info))) return input;
+    for (const XrPath hand : hands_) {
+        XrInteractionProfileState profile{XR_TYPE_INTERACTION_PROFILE_STATE};
+        if (XR_SUCCEEDED(xrGetCurrentInteractionProfile(session_, hand, &profile)) &&
+            profile.interactionProfile != XR_NULL_PATH)
+            ++input.hands_bound;
+    }
     auto went_down = [&](XrAction action, XrPath hand = XR_NULL_PATH) {
         bool down = false;
         pressed(action, hand, &down);

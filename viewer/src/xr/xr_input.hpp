@@ -32,6 +32,8 @@ struct XrInput {
     float turn = 0.0f;                             // right thumbstick x
     std::array<std::optional<XrHandPose>, 2> aim;  // left, right: when tracked
     int last_designate_hand = 1;                   // the hand whose designate went down last (0 left, 1 right)
+    /// Hands the runtime has bound to an interaction profile (0: it reports no controller).
+    int hands_bound = 0;
 };
 
 }  // namespace viewer

@@ -33,6 +33,7 @@ GLXWindow glfwGetGLXWindow(GLFWwindow* window);
 #include "xr/xr_session.hpp"
 
 #include <core/error.hpp>
+#include <platform/safe_file.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -90,6 +91,9 @@ struct XrStereoSession::Impl {
     XrTime last_display_time = 0;
     XrTime input_time = 0;  // what syncInput located at since the last beginFrame
     RunLog* log = nullptr;
+    int focused_syncs = 0;         // frames whose input was read while focused
+    bool controller_seen = false;  // a hand was bound to an interaction profile
+    bool no_controllers = false;   // none after kControllerWaitFrames focused frames (said once)
 
     ~Impl() {
         for (auto& e : eyes)
@@ -104,6 +108,30 @@ struct XrStereoSession::Impl {
 };
 
 XrStereoSession::XrStereoSession(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+namespace {
+/// Whether the runtime has bound a controller: the run log's `xr_controllers` says so
+/// once it is known; a runtime that binds none within kControllerWaitFrames focused
+/// frames (Monado's simulated HMD alone) gets one warning line and an event, and a
+/// controller bound later still counts.
+void noteControllers(XrStereoSession::Impl& s, int hands_bound) {
+    ++s.focused_syncs;
+    if (hands_bound > 0 && !s.controller_seen) {
+        s.controller_seen = true;
+        s.no_controllers = false;
+        s.log->set("xr_controllers", true);
+        if (s.focused_syncs > XrStereoSession::kControllerWaitFrames) s.log->event("xr: a controller was bound");
+    } else if (!s.controller_seen && !s.no_controllers && s.focused_syncs == XrStereoSession::kControllerWaitFrames) {
+        s.no_controllers = true;
+        s.log->set("xr_controllers", false);
+        s.log->event("xr: the runtime reports no controllers");
+        platform::printMessage("warning",
+                               "view: the OpenXR runtime reports no controllers: the pointer cannot be used in "
+                               "the headset (no designation, no box to point at; the desktop's keys still work); "
+                               "Monado emulates both controllers with QWERTY_ENABLE=1 (docs/headset.md)");
+    }
+}
+}  // namespace
 XrStereoSession::~XrStereoSession() = default;
 
 // The steps of create(), in order; each returns false with `reason` set when the runtime
@@ -503,8 +531,12 @@ XrInput XrStereoSession::syncInput() {
     Impl& s = *impl_;
     if (s.state != XR_SESSION_STATE_FOCUSED) return {};
     s.input_time = s.last_display_time;
-    return s.actions.sync(s.space, s.last_display_time);
+    XrInput input = s.actions.sync(s.space, s.last_display_time);
+    noteControllers(s, input.hands_bound);
+    return input;
 }
+
+bool XrStereoSession::noControllers() const { return impl_->no_controllers; }
 
 void XrStereoSession::requestExit() {
     Impl& s = *impl_;

@@ -96,6 +96,11 @@ class XrStereoSession {
     double predictedDisplayPeriod_s() const;
     /// The time syncInput located the controllers at since the last beginFrame, 0 if none.
     std::int64_t inputTime_ns() const;
+    /// The runtime has bound no controller after kControllerWaitFrames focused frames
+    /// (said once on stderr and in the run log): the pointer needs the desktop then.
+    bool noControllers() const;
+    /// Focused frames a runtime has to bind a controller before noControllers().
+    static constexpr int kControllerWaitFrames = 10;
     /// Asks the runtime to end the session (Escape / window closed): EXITING follows.
     void requestExit();
 
