@@ -56,28 +56,27 @@ work, here = sys.argv[1], sys.argv[2]
 sys.path.insert(0, here)
 from check_view_log import read_png, check, failures
 
-TITLE = (41, 74, 122)    # ImGui's active title bar (the panel at 10,10)
-BORDER = (92, 92, 101)   # its left border over the window background and the points
-PANEL_ROWS = 360         # the panel ends above this row (checked)
+TITLE = (41, 74, 122)    # ImGui's active title bar (the panel at the bottom left)
 
-def panel_right(name, w, h, px):
-    """The panel's right edge from its title bar; checks that it ends above PANEL_ROWS."""
+def panel_box(name, w, h, px):
+    """The panel's top row and right edge from its title bar, which is in the lower half."""
     at = lambda x, y: tuple(px[3 * (y * w + x):3 * (y * w + x) + 3])
-    title = [x for x in range(w) if at(x, 15) == TITLE]
-    border = [y for y in range(h) if at(10, y) == BORDER]
-    check(title, f"{name}: no ImGui panel title bar found at the top left")
-    if border:  # the border blends with what is behind the panel: found over most scenes
-        check(max(border) < PANEL_ROWS, f"{name}: the panel reaches row {max(border)}, over {PANEL_ROWS}")
-    return (max(title) + 2) if title else w
+    rows = [y for y in range(h // 2, h) if at(15, y) == TITLE]
+    check(rows, f"{name}: no ImGui panel title bar found at the bottom left")
+    if not rows:
+        return h, w
+    title = [x for x in range(w) if at(x, rows[0]) == TITLE]
+    return rows[0] - 2, max(title) + 2
 
 def compare(core, copc):
     w, h, a = read_png(f"{work}/{core}.png")
     w2, h2, b = read_png(f"{work}/{copc}.png")
     check((w, h) == (w2, h2), f"{core} {w}x{h} against {copc} {w2}x{h2}")
-    right = max(panel_right(core, w, h, a), panel_right(copc, w, h, b))
+    (top_a, right_a), (top_b, right_b) = panel_box(core, w, h, a), panel_box(copc, w, h, b)
+    top, right = min(top_a, top_b), max(right_a, right_b)
     compared = differ = over3 = lit = 0
     for y in range(h):
-        for x in range(right if y < PANEL_ROWS else 0, w):
+        for x in range(right if y >= top else 0, w):
             i = 3 * (y * w + x)
             compared += 1
             d = max(abs(a[i + k] - b[i + k]) for k in range(3))

@@ -1,10 +1,13 @@
 // viewer/src/ui/panel.cpp: the ImGui windows of the desktop mirror.
 #include "ui/panel.hpp"  // glad first (render/gl.hpp)
+#include "ui/panel_layout.hpp"
 
 #include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -18,22 +21,11 @@ std::string pointsDrawnText(const PanelView& v) {
            " (budget " + budget + ", " + std::to_string(v.cells) + " cells)";
 }
 
-bool drawSettingsPanel(const PanelView& v) {
+namespace {
+
+// The settings panel's folding sections: display and tools.
+bool drawSettingsSections(const PanelView& v) {
     bool reset = false;
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowBgAlpha(0.75f);
-    ImGui::Begin("ladarvr view", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-    if (!v.trial.empty()) ImGui::TextUnformatted(v.trial.c_str());
-    ImGui::Text("Mode: %s  (space / controller button)", modeName(v.mode));
-    if (!v.xr_state.empty())
-        ImGui::Text("OpenXR: %s", v.xr_state.c_str());
-    else
-        ImGui::Text("Desktop mode (drag: look, WASD/QE: move in free mode)");
-    int colour = static_cast<int>(v.style->colour);
-    if (ImGui::Combo("colours (C)", &colour,
-                     "file colours\0height jet\0white\0ground truth (target red)\0height above ground\0"))
-        v.style->colour = static_cast<ColourMode>(colour);
-    // The rest folds away, so the panel stays small over the cloud.
     if (ImGui::CollapsingHeader("display")) {
         ImGui::SliderFloat("point size (px)", &v.style->point_size_px, 1.0f, 16.0f, "%.1f");
         ImGui::Checkbox("attenuate with distance", &v.style->attenuate);
@@ -58,40 +50,102 @@ bool drawSettingsPanel(const PanelView& v) {
         ImGui::Checkbox("vignette while moving", v.vignette);
         if (v.headset_panel) ImGui::Checkbox("this panel in the headset", v.headset_panel);
     }
-    if (!v.designation.empty()) ImGui::TextUnformatted(v.designation.c_str());
-    ImGui::Text("picking: %s (last pick %.3f ms)", v.picking_ready ? "ready" : "indexing the cloud", v.pick_ms);
-    ImGui::Text("frame %.2f ms (%.0f Hz)", v.frame_ms, v.frame_ms > 0 ? 1000.0 / v.frame_ms : 0.0);
-    ImGui::Text("points %zu on GPU / %zu read%s", v.points_uploaded, v.points_arrived, v.loading ? " (loading)" : "");
-    ImGui::TextUnformatted(pointsDrawnText(v).c_str());
-    // A source with a cache (COPC): its tree, its RAM cache and the GPU arena, in short
-    // lines (a wider panel would cover the view).
-    if (v.source) {
-        constexpr double kMiB = 1048576.0;
-        const SourceStats& c = *v.source;
-        ImGui::Text("tree %zu nodes, %zu pages read, %.1f MiB", c.nodes, c.pages_read, c.hierarchy_bytes / kMiB);
-        ImGui::Text("cache %.1f / %.1f MiB (peak %.1f)", c.resident_bytes / kMiB, c.cache_bytes / kMiB,
-                    c.resident_bytes_peak / kMiB);
-        ImGui::Text("GPU %.1f / %.1f MiB (peak %.1f)", v.arena.bytes / kMiB, v.arena.bytes_bound / kMiB,
-                    v.arena.bytes_peak / kMiB);
-        ImGui::Text("nodes %zu in RAM, %zu on GPU (+%zu -%zu)", c.nodes_resident, v.arena.nodes,
-                    v.arena.frame_nodes_added, v.arena.frame_nodes_evicted);
+    return reset;
+}
+
+// A source with a cache (COPC): its tree, its RAM cache and the GPU arena, in short lines.
+void drawSourceLines(const PanelView& v) {
+    constexpr double kMiB = 1048576.0;
+    const SourceStats& c = *v.source;
+    ImGui::Text("tree %zu nodes, %zu pages read, %.1f MiB", c.nodes, c.pages_read, c.hierarchy_bytes / kMiB);
+    ImGui::Text("cache %.1f / %.1f MiB (peak %.1f)", c.resident_bytes / kMiB, c.cache_bytes / kMiB,
+                c.resident_bytes_peak / kMiB);
+    ImGui::Text("GPU %.1f / %.1f MiB (peak %.1f)", v.arena.bytes / kMiB, v.arena.bytes_bound / kMiB,
+                v.arena.bytes_peak / kMiB);
+    ImGui::Text("nodes %zu in RAM, %zu on GPU (+%zu -%zu)", c.nodes_resident, v.arena.nodes, v.arena.frame_nodes_added,
+                v.arena.frame_nodes_evicted);
+}
+
+}  // namespace
+
+bool drawSettingsPanel(const PanelView& v) {
+    // Bottom left, in the lower half and inside the window (settingsPanelLayout): off the
+    // mode plate and, on a small mirror, off most of the view; its lines wrap, not cut.
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const SettingsPanelLayout layout = settingsPanelLayout(int(display.x), int(display.y));
+    ImGui::SetNextWindowPos(ImVec2(layout.x, layout.y), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(layout.max_w, layout.max_h));
+    ImGui::SetNextWindowBgAlpha(0.75f);
+    if (layout.compact) {  // tighter rows, so the few lines fit the small panel
+        ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(4.0f, 3.0f));
+        ImGui::PushStyleVar(ImGuiStyleVar_FramePadding, ImVec2(3.0f, 1.0f));
+        ImGui::PushStyleVar(ImGuiStyleVar_ItemSpacing, ImVec2(4.0f, 2.0f));
     }
+    // Compact: its lines fit without a scrollbar, which would only take their room.
+    ImGui::Begin("ladarvr view", nullptr,
+                 ImGuiWindowFlags_AlwaysAutoResize | (layout.compact ? ImGuiWindowFlags_NoScrollbar : 0));
+    ImGui::SetWindowFontScale(layout.font_scale);
+    ImGui::PushTextWrapPos(layout.max_w - ImGui::GetStyle().WindowPadding.x);
+    if (!v.trial.empty()) ImGui::TextUnformatted(v.trial.c_str());
+    if (!layout.compact) {  // a small mirror keeps the mode to its plate
+        ImGui::Text("Mode: %s  (space / controller button)", modeName(v.mode));
+        if (!v.xr_state.empty())
+            ImGui::Text("OpenXR: %s", v.xr_state.c_str());
+        else
+            ImGui::Text("Desktop mode (drag: look, WASD/QE: move in free mode)");
+    } else if (!v.xr_state.empty()) {
+        ImGui::Text("OpenXR: %s", v.xr_state.c_str());
+    }
+    int colour = static_cast<int>(v.style->colour);
+    // Compact: the combo alone, as wide as its longest name (C still cycles it).
+    if (layout.compact)
+        ImGui::SetNextItemWidth(ImGui::CalcTextSize("ground truth (target red)").x + 2.0f * ImGui::GetFrameHeight());
+    if (ImGui::Combo(layout.compact ? "##colours" : "colours (C)", &colour,
+                     "file colours\0height jet\0white\0ground truth (target red)\0height above ground\0"))
+        v.style->colour = static_cast<ColourMode>(colour);
+    // The rest folds away, so the panel stays small over the cloud.
+    const bool reset = drawSettingsSections(v);
+    if (!v.designation.empty()) ImGui::TextUnformatted(v.designation.c_str());
+    if (layout.compact) {
+        ImGui::Text("%.0f ms, %zu pts%s", v.frame_ms, v.points_drawn, v.loading ? " (loading)" : "");
+    } else {
+        ImGui::Text("picking: %s (last pick %.3f ms)", v.picking_ready ? "ready" : "indexing the cloud", v.pick_ms);
+        ImGui::Text("frame %.2f ms (%.0f Hz)", v.frame_ms, v.frame_ms > 0 ? 1000.0 / v.frame_ms : 0.0);
+        ImGui::Text("points %zu on GPU / %zu read%s", v.points_uploaded, v.points_arrived,
+                    v.loading ? " (loading)" : "");
+        ImGui::TextUnformatted(pointsDrawnText(v).c_str());
+        if (v.source) drawSourceLines(v);
+    }
+    ImGui::PopTextWrapPos();
     ImGui::End();
+    if (layout.compact) ImGui::PopStyleVar(3);
     return reset;
 }
 
 void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,
-                   bool has_height) {
-    ImGui::SetNextWindowPos(ImVec2(x + 16.0f, y + 16.0f), ImGuiCond_Always);
+                   bool has_height, bool corner) {
+    const glm::dvec3 w = hit.local + origin;
+    std::array<char, 160> lines[3];
+    std::snprintf(lines[0].data(), lines[0].size(), "%.2f %.2f %.2f m", w.x, w.y, w.z);
+    std::snprintf(lines[1].data(), lines[1].size(), "range %.1f m  %s", glm::length(hit.local - head_local),
+                  std::string(core::roleName(hit.label)).c_str());
+    std::snprintf(lines[2].data(), lines[2].size(), "height %.2f m", double(hit.height_above_ground_m));
+    const int count = has_height ? 3 : 2;
+    // Its size before it is drawn, so it can be placed beside the point and inside the window.
+    const ImGuiStyle& style = ImGui::GetStyle();
+    float text_w = 0.0f;
+    for (int i = 0; i < count; ++i) text_w = std::max(text_w, ImGui::CalcTextSize(lines[i].data()).x);
+    const float panel_w = text_w + 2.0f * style.WindowPadding.x;
+    const float panel_h = float(count) * ImGui::GetTextLineHeightWithSpacing() + 2.0f * style.WindowPadding.y;
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const PanelPosition at = corner ? PanelPosition{display.x - panel_w - 10.0f, display.y - panel_h - 10.0f}
+                                    : pickPanelPosition(x, y, panel_w, panel_h, int(display.x), int(display.y));
+    ImGui::SetNextWindowPos(ImVec2(std::max(at.x, 0.0f), std::max(at.y, 0.0f)), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.6f);
     ImGui::Begin("picked point", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
                      ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
-    const glm::dvec3 w = hit.local + origin;
-    ImGui::Text("%.2f %.2f %.2f m", w.x, w.y, w.z);
-    ImGui::Text("range %.1f m  %s", glm::length(hit.local - head_local),
-                std::string(core::roleName(hit.label)).c_str());
-    if (has_height) ImGui::Text("height %.2f m", double(hit.height_above_ground_m));
+    for (int i = 0; i < count; ++i) ImGui::TextUnformatted(lines[i].data());
     ImGui::End();
 }
 
@@ -156,10 +210,10 @@ bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTa
             const ImVec2 size = ImGui::GetIO().DisplaySize;
             const float sx = float((clip.x / clip.w * 0.5 + 0.5) * size.x);
             const float sy = float((0.5 - clip.y / clip.w * 0.5) * size.y);
-            drawPickPanel(sx, sy, *p.hit, p.origin, p.head_local, p.has_height);
+            drawPickPanel(sx, sy, *p.hit, p.origin, p.head_local, p.has_height, false);
         }
-    } else if (p.hit && p.headset && !asking) {
-        drawPickPanel(10.0f, ImGui::GetIO().DisplaySize.y - 90.0f, *p.hit, p.origin, p.head_local, p.has_height);
+    } else if (p.hit && p.headset && !asking) {  // the headset's panel: its bottom right corner
+        drawPickPanel(0.0f, 0.0f, *p.hit, p.origin, p.head_local, p.has_height, true);
     }
     ImGui::Render();
     if (headset_target && fb_w > 0 && fb_h > 0 && headset_target->ensure(fb_w, fb_h)) {

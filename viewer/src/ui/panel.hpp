@@ -37,16 +37,17 @@ struct PanelView {
     std::optional<SourceStats> source;  // a source with a cache: its hierarchy and cache
 };
 
-/// The settings panel (top left). Returns true when the zoom reset button was pressed.
+/// The settings panel (bottom left, settingsPanelLayout). Returns true when the zoom reset button was pressed.
 bool drawSettingsPanel(const PanelView& v);
 /// The settings panel's line of points drawn: per eye, against the points on the GPU (one
 /// copy of the cloud, which each eye draws from), the same on the desktop and the headset.
 std::string pointsDrawnText(const PanelView& v);
 
 /// The picked point: world position, range from the head, label and height above ground,
-/// in a small window at (x, y) window pixels (beside the dot).
+/// in a small window beside the dot at (x, y) window pixels (pickPanelPosition: off the
+/// point, inside the window), or in the window's bottom right corner with `corner`.
 void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,
-                   bool has_height);
+                   bool has_height, bool corner);
 
 /// A trial's ready screen (centred): its name, and either "loading" or how to start.
 /// `break_left_s` > 0: a break, "Break: N s left" instead of how to start.
