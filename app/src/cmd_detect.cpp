@@ -17,6 +17,7 @@
 #include <platform/atomic_file.hpp>
 #include <platform/input_set.hpp>
 #include <platform/safe_file.hpp>
+#include <sim/ground_units.hpp>
 #include <sim/memory_budget.hpp>
 
 #include <nlohmann/json.hpp>
@@ -123,6 +124,8 @@ class ModelRun final : public DetectRun {
         j["points"] = stats_.points;
         j["above_points"] = stats_.above_points;
         j["segments"] = stats_.segments;
+        if (stats_.spacing_scale > 1.0)
+            j["segment_scale"] = {{"spacing_m", stats_.spacing_m}, {"scale", stats_.spacing_scale}};
         j["seconds"] = {{"segments_and_features", stats_.seconds_features}, {"trees", stats_.seconds_trees}};
     }
     void printSummary(std::size_t candidates, const std::string& out) const override {
@@ -131,6 +134,9 @@ class ModelRun final : public DetectRun {
             "(model %s); %.2f s; wrote %s\n",
             stats_.points, stats_.above_points, stats_.segments, candidates, options_.min_probability,
             options_.model.c_str(), stats_.seconds_features + stats_.seconds_trees, out.c_str());
+        if (stats_.spacing_scale > 1.0)
+            std::printf("  sparse cloud: point spacing %.2f m, segment voxel and join distance scaled %.2f times\n",
+                        stats_.spacing_m, stats_.spacing_scale);
     }
     const char* scoreName() const override { return "p"; }
 
@@ -146,6 +152,7 @@ class ModelRun final : public DetectRun {
 // cloud read, the candidates found, written and reported (JSON or text, the first five
 // listed).
 void detectAndReport(const DetectCli& cli, const platform::InputSet& inputs, std::uint64_t budget, DetectRun& run) {
+    sim::requireMetres(cli.cloud, "detect", "its sizes, distances and models are in metres");
     const std::filesystem::path out = cli.out;
     createParentFolders(out, "detect: --out");
     platform::checkWritableDestination(out, inputs);

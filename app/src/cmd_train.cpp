@@ -29,12 +29,14 @@ struct TrainCli {
     std::string out;
     std::vector<double> target_size_m{7.0, 3.5, 2.5};
     double memory_mb = sim::kDefaultMemoryMb;
+    bool fixed_segment_lengths = false;
     detect::TrainOptions options;
 };
 
 void run(TrainCli& cli) {
     detect::TrainOptions& o = cli.options;
     o.target_size_m = {cli.target_size_m[0], cli.target_size_m[1], cli.target_size_m[2]};
+    o.segments.scale_with_spacing = !cli.fixed_segment_lengths;
     detect::validate(o);
     std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "train");
     std::vector<platform::RunPath> paths;
@@ -132,6 +134,9 @@ void registerTrain(CLI::App& cli) {
                   "a segment reaching above this height over the terrain loses what stands free below it "
                   "(a vehicle against a wall or under touching crowns), 0 (no split) or [1, 100] m")
         ->capture_default_str();
+    c->add_flag("--fixed-segment-lengths", state->fixed_segment_lengths,
+                "keep the voxel, join distance and noise bar as given on sparse clouds too, instead of scaling "
+                "them with the measured point spacing (recorded in the model)");
     c->add_option("--threads", o.boost.threads, "threads for the features and XGBoost, >= 1")->capture_default_str();
     c->add_option("--seed", o.boost.seed, "XGBoost's seed")->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,

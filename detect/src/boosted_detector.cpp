@@ -102,6 +102,8 @@ std::vector<Detection> BoostedDetector::detect(const core::PointCloud& cloud, Bo
     local.ground_sigma_m = described.segmentation.ground_sigma_m;
     local.min_height_m = described.segmentation.min_height_m;
     local.core_points = described.segmentation.core_points;
+    local.spacing_m = described.segmentation.spacing_m;
+    local.spacing_scale = described.segmentation.spacing_scale;
     local.seconds_features = secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
     const std::vector<float> margins = model_->margins(described.rows, options_.threads);

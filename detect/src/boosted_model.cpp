@@ -64,7 +64,8 @@ nlohmann::json segmentJson(const SegmentOptions& o) {
             {"cluster_tolerance_m", o.cluster_tolerance_m},
             {"core_points", o.core_points},
             {"min_points", o.min_points},
-            {"split_height_m", o.split_height_m}};
+            {"split_height_m", o.split_height_m},
+            {"scale_with_spacing", o.scale_with_spacing}};
 }
 
 }  // namespace
@@ -279,6 +280,11 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
     i.segments.min_points = int(min_points);
     // ... and before tall segments were split, none was.
     i.segments.split_height_m = seg.contains("split_height_m") ? num("split_height_m") : 0.0;
+    // A file written before the lengths followed the point spacing was trained on dense
+    // clouds, where the scale is 1: it is read as scaling, so it forms segments on sparse ones.
+    if (seg.contains("scale_with_spacing") && !seg["scale_with_spacing"].is_boolean())
+        throw bad("segmentation.scale_with_spacing: allowed true or false");
+    i.segments.scale_with_spacing = seg.value("scale_with_spacing", true);
     try {
         validate(i.segments);
     } catch (const core::Error& e) {

@@ -6,6 +6,7 @@
 #include <core/error.hpp>
 
 #include "parts.hpp"
+#include "point_spacing.hpp"
 #include "voxel_clusters.hpp"
 
 #include <algorithm>
@@ -208,6 +209,22 @@ void validate(const SegmentOptions& o) {
         fail("--split-height-m", o.split_height_m, "0 (no split) or [1, 100] m");
 }
 
+SegmentOptions scaledForSpacing(const SegmentOptions& o, double spacing_m, double* scale_out) {
+    // The join distance max(tolerance, 3 spacing - tolerance / 2): as given up to a spacing
+    // of half of it, then growing three times as fast as the spacing (a sparse cloud's
+    // random gaps reach well past its median spacing).
+    double scale = 1.0;
+    if (o.scale_with_spacing && std::isfinite(spacing_m) && spacing_m > o.cluster_tolerance_m / 2.0)
+        scale = std::min((3.0 * spacing_m - o.cluster_tolerance_m / 2.0) / o.cluster_tolerance_m, kMaxSpacingScale);
+    if (scale_out) *scale_out = scale;
+    if (scale == 1.0) return o;
+    SegmentOptions e = o;
+    e.voxel_m = o.voxel_m * scale;
+    e.cluster_tolerance_m = o.cluster_tolerance_m * scale;
+    e.min_points = std::max(std::min(o.min_points, kMinScaledPoints), int(std::lround(o.min_points / (scale * scale))));
+    return e;
+}
+
 Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o, int threads) {
     validate(o);
     if (threads < 1) throw core::Error("detect: threads = " + std::to_string(threads) + ": allowed >= 1");
@@ -215,6 +232,7 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     if (cloud.points.size() >= std::size_t(UINT32_MAX))
         throw core::Error("detect: the cloud has too many points (at most 4294967294)");
     Segmentation out;
+    out.used = o;
     const std::size_t n = cloud.points.size();
     if (n == 0) return out;
 
@@ -227,20 +245,26 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     for (std::size_t i = 0; i < n; ++i)
         if (!ground[i] && out.height_m[i] > out.min_height_m) above.push_back(std::uint32_t(i));
     out.above_points = above.size();
+    // A sparse cloud's lengths follow its point spacing; a dense one's stay as given.
+    if (o.scale_with_spacing) out.spacing_m = detail::medianSpacing(cloud, above);
+    out.used = scaledForSpacing(o, out.spacing_m, &out.spacing_scale);
+    const SegmentOptions& u = out.used;
+    // The terrain's sampling per voxel face, at the voxel step 2 uses.
+    out.points_per_voxel_face *= out.spacing_scale * out.spacing_scale;
     // The bar follows the cloud's sampling: at most half the points a voxel's face of
     // level ground holds on average (the cloud's points over the terrain's observed
     // area), so a sparsely sampled cloud (few views, a far orbit), whose surfaces hold one
     // or two points a voxel, still joins them.
-    out.core_points = int(std::clamp(std::floor(out.points_per_voxel_face / 2.0), 1.0, double(o.core_points)));
+    out.core_points = int(std::clamp(std::floor(out.points_per_voxel_face / 2.0), 1.0, double(u.core_points)));
     const glm::dvec3 lo = cloud.bounds().lo;
     std::vector<std::vector<std::uint32_t>> segments =
-        clusterPoints(cloud, above, lo, o, out.core_points, work_parts, &out.voxels);
+        clusterPoints(cloud, above, lo, u, out.core_points, work_parts, &out.voxels);
 
     // Step 3: small segments are noise.
     for (auto& s : segments)
-        if (s.size() >= std::size_t(o.min_points)) out.segments.push_back(std::move(s));
+        if (s.size() >= std::size_t(u.min_points)) out.segments.push_back(std::move(s));
 
-    if (o.split_height_m > 0) splitTallSegments(cloud, lo, o, work_parts, out);
+    if (u.split_height_m > 0) splitTallSegments(cloud, lo, u, work_parts, out);
     return out;
 }
 

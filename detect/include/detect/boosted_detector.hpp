@@ -39,6 +39,7 @@ struct BoostedStats {
     std::size_t points = 0, above_points = 0, segments = 0;
     int core_points = 1;                          // the segmentation's dense voxels' bar
     double ground_sigma_m = 0, min_height_m = 0;  // the segmentation's measured ground thickness and threshold
+    double spacing_m = 0, spacing_scale = 1;      // the points' measured spacing and the lengths' scale
     double seconds_segment = 0, seconds_features = 0, seconds_trees = 0;
 };
 

@@ -13,6 +13,14 @@
 //      (union-find, the Euclidean clustering of Rusu's thesis on voxel centroids, as the
 //      baseline does); a sparse voxel joins the segment of its nearest dense voxel
 //      within reach (DBSCAN's border points), so it never chains two segments;
+//      on a sparsely sampled cloud (an airborne survey at a metre's spacing) the voxel,
+//      the join distance and min_points follow the measured point spacing (the median
+//      distance from a point above the terrain to its second nearest, as a survey's
+//      first and last returns of one pulse often lie together): past a spacing of half
+//      the join distance, the join distance grows three times as fast as the spacing,
+//      the voxel by the same factor (at most kMaxSpacingScale) and min_points shrinks by
+//      its square (not under kMinScaledPoints); on a drone's dense cloud the factor is 1
+//      and nothing changes;
 //   3) segments under min_points points are dropped as noise;
 //   4) a segment reaching above split_height_m gives up what stands free below that
 //      height: the points below it in columns of its footprint that do not rise without
@@ -41,7 +49,15 @@ struct SegmentOptions {
     // step 4: segments reaching above this height over the terrain give up what stands
     // free below it; 0 splits none, else [1, 100] m
     double split_height_m = 4.0;
+    // step 2: whether voxel_m, cluster_tolerance_m and min_points follow the cloud's
+    // measured point spacing where it is sparser than cluster_tolerance_m / 2
+    bool scale_with_spacing = true;
 };
+
+/// The largest factor step 2 scales its lengths by on a sparse cloud.
+inline constexpr double kMaxSpacingScale = 8.0;
+/// A scaled min_points goes no lower than this (nor than min_points itself).
+inline constexpr int kMinScaledPoints = 4;
 
 /// Throws core::Error("detect: <option> = <value>: allowed <range>").
 void validate(const SegmentOptions& o);
@@ -58,7 +74,17 @@ struct Segmentation {
     double points_per_voxel_face = 0;  // the cloud's points per voxel_m^2 of observed terrain
     int core_points = 1;               // the dense voxels' bar step 2 used
     std::size_t split_segments = 0;    // segments step 4 split
+    double spacing_m = 0;              // the points' median nearest-neighbour distance (0 unmeasured)
+    double spacing_scale = 1;          // the factor step 2 scaled its lengths by (1: as given)
+    SegmentOptions used;               // the options steps 2-4 ran with, after that scaling
 };
+
+/// The options steps 2-4 use on a cloud of median point spacing `spacing_m`: `o` itself
+/// when o.scale_with_spacing is off or the spacing is at most o.cluster_tolerance_m / 2;
+/// else the voxel and join distance times scale = min((3 spacing - tolerance / 2) /
+/// tolerance, kMaxSpacingScale) and min_points over scale^2 (rounded, at least
+/// min(min_points, kMinScaledPoints)). Returns the scale through `scale_out`.
+SegmentOptions scaledForSpacing(const SegmentOptions& o, double spacing_m, double* scale_out = nullptr);
 
 /// Steps 1-4 on `cloud`: a pure function of the cloud and the options, the same whatever
 /// `threads` (the clustering's parts run on up to that many threads, at most 4). Throws

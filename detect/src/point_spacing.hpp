@@ -1,0 +1,32 @@
+// detect/src/point_spacing.hpp (internal): the cloud's local point spacing, measured on the
+// points the segmentation clusters, and the scale it sets for the clustering's lengths
+// (detect/segmentation.hpp, step 2), so that a sparse airborne survey forms segments as a
+// drone's dense cloud does.
+#pragma once
+#include <core/point_cloud.hpp>
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+namespace detect::detail {
+
+// The spacing is measured on at most this many of the points, evenly along their list.
+inline constexpr std::size_t kSpacingSamples = 4096;
+// The spacing is the distance to this nearest neighbour (not the first: a survey's first
+// and last returns of one pulse often lie together).
+inline constexpr std::size_t kSpacingNeighbour = 2;
+// The search for a neighbour stops at this distance: the spacing is then reported as
+// this (a cloud that sparse gets the largest scale anyway).
+inline constexpr double kSpacingMaxM = 16.0;
+
+/// The median distance from a point of `idx` (indices into the cloud) to its nearest other
+/// point of `idx`, over up to kSpacingSamples of them taken evenly along `idx`; at most
+/// kSpacingMaxM, 0 when `idx` holds fewer than two points. A pure function of its inputs.
+/// Exact: the neighbours are searched on a grid whose cell doubles from 0.125 m until
+/// the median neighbour lies within one cell.
+double medianSpacing(const core::PointCloud& cloud, std::span<const std::uint32_t> idx);
+
+}  // namespace detect::detail

@@ -1,0 +1,157 @@
+// tests/detect/point_spacing_test.cpp: the segmentation at any point density
+// (detect/src/point_spacing.hpp, detect/segmentation.hpp step 2): the measured spacing of
+// known grids (with a survey's twin first and last returns too), the scaled options, a
+// thinned scene whose vehicle forms a segment only with the scaling, a dense scene left
+// exactly as it was, and a real airborne survey (tests/data/real/FSite8) that forms
+// segments.
+#include "point_spacing.hpp"
+
+#include <detect/segmentation.hpp>
+#include <io/cloud_io.hpp>
+
+#include "labelled_scenes.hpp"
+
+#include <doctest/doctest.h>
+
+#include <numeric>
+#include <random>
+#include <vector>
+
+namespace {
+
+// A vertical wall of points every step_m (x along, z up), each twice when `twins` (a
+// first and a last return 1 cm apart, across the wall).
+core::PointCloud wall(double step_m, bool twins) {
+    core::PointCloud c;
+    for (double x = 0; x <= 40; x += step_m)
+        for (double z = 0; z <= 10; z += step_m) {
+            core::CloudPoint p;
+            p.position = glm::vec3(float(x), 0.0f, float(z));
+            c.points.push_back(p);
+            if (twins) {
+                p.position.y += 0.01f;
+                c.points.push_back(p);
+            }
+        }
+    return c;
+}
+
+std::vector<std::uint32_t> allOf(const core::PointCloud& c) {
+    std::vector<std::uint32_t> idx(c.points.size());
+    std::iota(idx.begin(), idx.end(), 0u);
+    return idx;
+}
+
+// The share of the target's points above the height threshold that the segment holding
+// most target points holds, and that segment's share of target points.
+std::pair<double, double> targetSegment(const core::PointCloud& c, const detect::Segmentation& s) {
+    std::size_t targets = 0;
+    for (std::size_t i = 0; i < c.points.size(); ++i)
+        targets += c.points[i].label == core::Role::Target && s.height_m[i] > s.min_height_m;
+    std::size_t best = 0, best_size = 1;
+    for (const auto& seg : s.segments) {
+        std::size_t t = 0;
+        for (const std::uint32_t i : seg) t += c.points[i].label == core::Role::Target;
+        if (t > best) best = t, best_size = seg.size();
+    }
+    return {double(best) / double(std::max<std::size_t>(targets, 1)), double(best) / double(best_size)};
+}
+
+// labelledScene with every point kept with probability `keep` (seeded).
+core::PointCloud thinned(const core::PointCloud& c, double keep, std::uint32_t seed) {
+    core::PointCloud out = c;
+    out.points.clear();
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (const core::CloudPoint& p : c.points)
+        if (u(rng) < keep) out.points.push_back(p);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("point spacing: a grid's step, whether or not each point has a twin return") {
+    for (const double step : {0.1, 0.5, 1.3}) {
+        for (const bool twins : {false, true}) {
+            const core::PointCloud c = wall(step, twins);
+            const std::vector<std::uint32_t> idx = allOf(c);
+            CHECK(detect::detail::medianSpacing(c, idx) == doctest::Approx(step).epsilon(0.02));
+        }
+    }
+    core::PointCloud one = wall(1.0, false);
+    one.points.resize(1);
+    CHECK(detect::detail::medianSpacing(one, allOf(one)) == 0.0);
+    // Points farther apart than the search reaches: the largest spacing.
+    const core::PointCloud far = wall(20.0, false);
+    CHECK(detect::detail::medianSpacing(far, allOf(far)) == detect::detail::kSpacingMaxM);
+}
+
+TEST_CASE("point spacing: the options are kept on a dense cloud and scaled on a sparse one") {
+    const detect::SegmentOptions o;  // voxel 0.25 m, tolerance 0.5 m, 20 points
+    double scale = 0;
+    detect::SegmentOptions e = detect::scaledForSpacing(o, 0.25, &scale);
+    CHECK(scale == 1.0);
+    CHECK(e.voxel_m == o.voxel_m);
+    CHECK(e.cluster_tolerance_m == o.cluster_tolerance_m);
+    CHECK(e.min_points == o.min_points);
+    e = detect::scaledForSpacing(o, 0.75, &scale);  // join distance 3 x 0.75 - 0.25 = 2 m
+    CHECK(scale == doctest::Approx(4.0));
+    CHECK(e.voxel_m == doctest::Approx(1.0));
+    CHECK(e.cluster_tolerance_m == doctest::Approx(2.0));
+    CHECK(e.min_points == detect::kMinScaledPoints);  // 20 / 16 rounds below the bar
+    e = detect::scaledForSpacing(o, 0.3, &scale);
+    CHECK(scale == doctest::Approx(1.3));
+    CHECK(e.min_points == 12);  // 20 / 1.69
+    e = detect::scaledForSpacing(o, 50.0, &scale);
+    CHECK(scale == detect::kMaxSpacingScale);
+    detect::SegmentOptions fixed;
+    fixed.scale_with_spacing = false;
+    e = detect::scaledForSpacing(fixed, 2.0, &scale);
+    CHECK(scale == 1.0);
+    CHECK(e.voxel_m == fixed.voxel_m);
+    fixed.min_points = 2;  // a bar already under kMinScaledPoints stays
+    fixed.scale_with_spacing = true;
+    CHECK(detect::scaledForSpacing(fixed, 2.0).min_points == 2);
+}
+
+TEST_CASE("point spacing: a dense scene is segmented with the options as given") {
+    const core::PointCloud c = test_support::labelledScene(11, 3);
+    const detect::SegmentOptions o;
+    const detect::Segmentation s = detect::segmentCloud(c, o);
+    CHECK(s.spacing_m > 0.0);
+    CHECK(s.spacing_m <= o.cluster_tolerance_m / 2);
+    CHECK(s.spacing_scale == 1.0);
+    CHECK(s.used.voxel_m == o.voxel_m);
+    CHECK(s.used.cluster_tolerance_m == o.cluster_tolerance_m);
+    // The same segments as with the scaling off.
+    detect::SegmentOptions fixed = o;
+    fixed.scale_with_spacing = false;
+    const detect::Segmentation f = detect::segmentCloud(c, fixed);
+    CHECK(f.spacing_m == 0.0);
+    CHECK(f.segments == s.segments);
+}
+
+TEST_CASE("point spacing: a thinned scene's vehicle forms one segment once the lengths follow the spacing") {
+    // A 0.2 m scene kept at 1 point in 30: about 1.1 m between points.
+    const core::PointCloud c = thinned(test_support::labelledScene(12, 3), 1.0 / 30.0, 3);
+    detect::SegmentOptions fixed;
+    fixed.scale_with_spacing = false;
+    const detect::Segmentation f = detect::segmentCloud(c, fixed);
+    CHECK(targetSegment(c, f).first < 0.2);  // the fixed lengths lose the vehicle
+    const detect::Segmentation s = detect::segmentCloud(c, detect::SegmentOptions{});
+    INFO("spacing " << s.spacing_m << " m, scale " << s.spacing_scale);
+    CHECK(s.spacing_m > 0.6);
+    CHECK(s.spacing_scale > 2.0);
+    const auto [share, purity] = targetSegment(c, s);
+    CHECK(share > 0.8);
+    CHECK(purity > 0.9);
+}
+
+TEST_CASE("point spacing: a real airborne survey at about 2.5 m between points forms segments") {
+    const core::PointCloud c = io::readCloud(std::filesystem::path(LADARVR_REAL_DATA_DIR) / "FSite8_orig-utm.laz");
+    const detect::Segmentation s = detect::segmentCloud(c, detect::SegmentOptions{}, 2);
+    INFO("spacing " << s.spacing_m << " m, scale " << s.spacing_scale << ", above " << s.above_points);
+    CHECK(s.spacing_m > 1.0);
+    CHECK(s.spacing_scale > 1.0);
+    CHECK(s.segments.size() >= 10);
+}
