@@ -12,7 +12,10 @@ uniform float u_cut_radius;                // cutting volume: < 0 off
 // height in the local frame.
 vec3 viewerPointColour(vec4 rgb_label, float z, float above_ground_m) {
     if (u_colour_mode == 0) return rgb_label.rgb;
-    if (u_colour_mode == 1) return jetColour(z, u_z_min, u_z_max);
+    // Above ground on a cloud with no height above ground (no terrain fitted) shows the
+    // height colours instead (viewer::shownColourMode; the viewer warns once).
+    if (u_colour_mode == 1 || (u_colour_mode == 4 && u_above_ground_max_m <= 0.0))
+        return jetColour(z, u_z_min, u_z_max);
     if (u_colour_mode == 2) return vec3(1.0);
     if (u_colour_mode == 4) {
         // The file's whitened ground stays white; the rest by height above the terrain, so a

@@ -5,6 +5,9 @@
 #           cloud's extent shows the survey from outside, so the points fill the upper half
 #           of the frame (the panel is in the lower left); today's fixed 60 m orbit
 #           (--orbit-radius 60) sees it from inside one corner, sparse.
+#   above-ground  hexbin-crop.las holds no height above ground: --colour above-ground warns
+#           once on stderr, records the fallback in the run log and shows the height colours
+#           (most of the survey is not the jet's dark red).
 # Each run has a timeout; headless_env.sh starts and kills Xvfb (trap).
 set -euo pipefail
 bin=$(realpath "$1")
@@ -51,6 +54,28 @@ case "$scenario" in
     echo "upper half lit: fitted orbit $fitted, fixed 60 m orbit $fixed"
     above 0.5 "$fitted" "the fitted orbit's view of hexbin-crop.las is not filled"
     above "$fixed" "$fitted" "the fitted orbit shows no more of the survey than the fixed one"
+    ;;
+  above-ground)
+    "$here/headless_env.sh" --timeout 150 -- "$bin" "${common[@]}" "$data/hexbin-crop.las" --point-size 4 \
+      --colour above-ground --log-json "$work/log.json" --screenshot "$work/ag.png" 2>"$work/stderr" ||
+      { cat "$work/stderr" >&2; exit 1; }
+    warnings=$(grep -c "showing height colours instead" "$work/stderr" || true)
+    [ "$warnings" = 1 ] || { cat "$work/stderr" >&2; echo "FAIL: $warnings fallback warnings, want 1" >&2; exit 1; }
+    python3 - "$here" "$work" <<'PY'
+import json, sys
+sys.path.insert(0, sys.argv[1])
+from check_view_log import read_png, count
+log = json.load(open(f"{sys.argv[2]}/log.json"))
+fallback = log.get("colour_fallback")
+assert fallback == {"wanted": "above-ground", "shown": "height"}, f"run log colour_fallback: {fallback}"
+w, h, px = read_png(f"{sys.argv[2]}/ag.png")
+px = px[:w * (h // 2) * 3]  # the upper half (the panel keeps to the lower)
+dark_red = count(px, lambda r, g, b: r > 60 and g < 30 and b < 30)
+lit = count(px, lambda r, g, b: r + g + b > 90)
+print(f"upper half: {lit} lit, {dark_red} dark red")
+assert lit > w * (h // 2) // 2, f"only {lit} pixels show the survey"
+assert dark_red < lit // 10, f"{dark_red} of {lit} pixels dark red: not the height colours"
+PY
     ;;
   *)
     echo "view_real_test: unknown scenario '$scenario'" >&2

@@ -19,6 +19,7 @@
 #include "viewer_app.hpp"
 
 #include "tools/candidates_tool.hpp"
+#include "tools/colour_tool.hpp"
 #include "tools/comfort_tool.hpp"
 #include "tools/cut_tool.hpp"
 #include "tools/pointer_tool.hpp"
@@ -216,6 +217,10 @@ void ViewerApp::updateSource() {
             trials_.end(Decision::Quit, trialContext());
         }
     }
+    // Once points are in, the cloud's fields are known: above-ground colours without heights
+    // above ground fall back to height colours, said once (the point shader shows them).
+    if (stream_.renderer().uploadedPoints() > 0)
+        tools_.get<ColourTool>().noteCloud(style_.colour, stream_.source().fields().height_above_ground);
     if (stream_.centreChanged()) {
         // A cloud our generator made (it carries the range field) keeps the paper's orbit.
         const core::Bounds& cloud = stream_.renderer().bounds();
