@@ -34,6 +34,7 @@ struct BenchViewArgs {
     std::size_t point_budget = 3000000;
     std::vector<std::string> rasterizers = {"points"};
     OocBenchOptions ooc;  // --paths ooc
+    std::string subgroup = "on";
     bool no_md = false;
 };
 
@@ -54,7 +55,8 @@ bool rerunHeadless(const BenchViewArgs& a) {
                    std::to_string(a.ooc.cache_mb) + " --gpu-mb " + std::to_string(a.ooc.gpu_mb) + " --in-core-max " +
                    std::to_string(a.ooc.in_core_max_points) +
                    (a.ooc.dir.empty() ? std::string() : " --ooc-dir " + shellQuote(a.ooc.dir)) +
-                   (a.ooc.synthetic ? " --ooc-synthetic" : "") + (a.no_md ? " --no-md" : "");
+                   (a.ooc.synthetic ? " --ooc-synthetic" : "") + " --subgroup " + a.subgroup +
+                   (a.no_md ? " --no-md" : "");
     }
     std::string points, rasterizers;
     for (std::size_t n : a.points) points += (points.empty() ? "" : ",") + std::to_string(n);
@@ -116,6 +118,7 @@ void run(const BenchViewArgs& a) {
         if (a.rasterizers.size() != 1)
             throw core::Error("bench view: --paths ooc measures one rasterizer: give --rasterizer points or compute");
         ooc.rasterizer = a.rasterizers.front();
+        ooc.subgroup = a.subgroup == "on";
         runOocBench(ooc, stdout);
         if (!(o.mirror || o.xr || o.egl || o.skip || o.tools || a.paths.find("pick") != std::string::npos)) return;
     }
@@ -242,6 +245,9 @@ void registerView(CLI::App& parent) {
     cmd->add_option("--ooc-dir", args->ooc.dir,
                     "ooc: folder where the COPC files are made and kept, reused by later runs (default: a "
                     "temporary folder, removed)");
+    cmd->add_option("--subgroup", args->subgroup, "ooc, compute: the subgroup reduction where the GPU has it, on|off")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
     cmd->add_flag("--no-md", args->no_md, "ooc: print only, leave BENCHMARKS.md alone");
     cmd->add_option("--point-budget", args->point_budget, "skip rows: points per eye with the LOD budget")
         ->capture_default_str();

@@ -205,6 +205,7 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     glCreateQueries(GL_TIME_ELAPSED, 1, &query);
     viewer::ViewStyle style;
     style.rasterizer = viewer::parseRasterizer(o.rasterizer);
+    stereo.setSubgroupReduction(o.subgroup);
     std::vector<double> select_ms, plan_ms, upload_ms, gpu_eye_ms, frame_ms, loaded, evicted;
     std::vector<double> gpu_upload_eye_ms, gpu_quiet_eye_ms;  // frames that uploaded points / the others
     double first_frame_s = NAN, full_s = NAN, gpu_peak_bytes = 0.0;
@@ -278,7 +279,11 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     // A second lap over the same views once the first has converged: both paths then draw
     // what they hold with nothing left to load, so their frame times compare like for like
     // (the first lap's in-core frames include those before its cloud had arrived).
+    // Its GPU time is also split by pass (timestamp queries), and every 8th frame counts
+    // the pixels the points cover (eye 1) for the points drawn per pixel.
     std::vector<double> lap_gpu_eye_ms, lap_frame_ms, lap_drawn_eye;
+    std::vector<double> lap_raster_ms, lap_colour_ms, lap_resolve_ms, lap_per_pixel;
+    stereo.setPassTiming(true);
     for (long g = 0; g <= path_world.moving_frames; ++g) {
         viewer::RigPose head = path_world.pose(g);
         head.position -= origin;
@@ -295,7 +300,16 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
         lap_gpu_eye_ms.push_back(double(ns) * 1e-6 / 2.0);
         const auto drawn = stereo.lastDrawnPerEye();
         lap_drawn_eye.push_back(0.5 * double(drawn[0] + drawn[1]));
+        if (const viewer::OffscreenStereo::PassTimes t = stereo.takePassTimes(); t.eyes > 0) {
+            lap_raster_ms.push_back(t.raster_ms / t.eyes);
+            lap_colour_ms.push_back(t.colour_ms / t.eyes);
+            lap_resolve_ms.push_back(t.resolve_ms / t.eyes);
+        }
+        if (g % 8 == 0)
+            if (const std::size_t covered = stereo.coveredPixels(); covered > 0)
+                lap_per_pixel.push_back(double(drawn[1]) / double(covered));
     }
+    stereo.setPassTiming(false);
     glDeleteQueries(1, &query);
     if (!source.error().empty()) return json{{"error", "the in-core loader failed: " + source.error()}};
     json r;
@@ -322,6 +336,11 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     r["lap_gpu_eye_ms"] = toJson(summarise(lap_gpu_eye_ms));
     r["lap_frame_ms"] = toJson(summarise(lap_frame_ms));
     r["lap_drawn_eye"] = toJson(summarise(lap_drawn_eye));
+    r["lap_raster_eye_ms"] = toJson(summarise(lap_raster_ms));
+    r["lap_colour_eye_ms"] = toJson(summarise(lap_colour_ms));
+    r["lap_resolve_eye_ms"] = toJson(summarise(lap_resolve_ms));
+    r["lap_points_per_pixel"] = toJson(summarise(lap_per_pixel));
+    r["subgroup"] = o.subgroup && stereo.subgroupAvailable();
     r["loaded_per_frame"] = toJson(summarise(loaded));
     r["evicted_per_frame"] = toJson(summarise(evicted));
     if (const auto s = source.stats()) r["cache_peak_bytes"] = s->resident_bytes_peak;
@@ -563,12 +582,16 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
                 std::fprintf(out, "%s", line.c_str());
                 std::fflush(out);
                 if (const json& r = rows[k]; !r.contains("error"))
-                    by_frame += "- " + std::to_string(r.value("points", std::size_t{0})) + " points, " + name + ", " +
-                                (ooc ? "ooc" : "in-core") + ": frames that uploaded points (" +
-                                std::to_string(r.value("upload_frames", std::size_t{0})) + ") " +
-                                summ(r, "gpu_upload_eye_ms", "%.2f") + ", the other frames " +
-                                summ(r, "gpu_quiet_eye_ms", "%.2f") + ", the second lap " +
-                                summ(r, "lap_gpu_eye_ms", "%.2f") + "\n";
+                    by_frame +=
+                        "- " + std::to_string(r.value("points", std::size_t{0})) + " points, " + name + ", " +
+                        (ooc ? "ooc" : "in-core") + ": frames that uploaded points (" +
+                        std::to_string(r.value("upload_frames", std::size_t{0})) + ") " +
+                        summ(r, "gpu_upload_eye_ms", "%.2f") + ", the other frames " +
+                        summ(r, "gpu_quiet_eye_ms", "%.2f") + ", the second lap " + summ(r, "lap_gpu_eye_ms", "%.2f") +
+                        " (by pass: points " + summ(r, "lap_raster_eye_ms", "%.2f") + ", colour " +
+                        summ(r, "lap_colour_eye_ms", "%.2f") + ", resolve " + summ(r, "lap_resolve_eye_ms", "%.2f") +
+                        "; points per covered pixel " + summ(r, "lap_points_per_pixel", "%.1f") +
+                        (r.value("subgroup", false) ? "; subgroup reduction" : "") + ")\n";
             }
             const auto measured = [](const json& r) {
                 return !r.contains("error") && r["first_frame_s"].is_number() && r["frame_ms"]["median"].is_number();

@@ -20,7 +20,8 @@ struct OocBenchOptions {
     double gpu_mb = 2048.0;                        // the renderer's GPU arena, as `view --gpu-mb`
     std::size_t upload_points = std::size_t(1) << 18;  // per frame, as `view --upload-budget`
     int eye_width = 1440, eye_height = 1600;
-    std::string rasterizer = "points";          // as `view --rasterizer`
+    std::string rasterizer = "points";  // as `view --rasterizer`
+    bool subgroup = true;               // compute: the subgroup reduction where the GPU has it (--subgroup on|off)
     std::size_t in_core_max_points = 20000000;  // the in-core baseline only up to this size
     int still_frames_max = 600;                 // frames held still waiting for full detail
     bool synthetic = false;  // synthetic surveys written node by node (synthetic_survey.hpp), not the generator's

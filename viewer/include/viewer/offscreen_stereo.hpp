@@ -98,6 +98,24 @@ class OffscreenStereo {
     /// position, the budget), as a point source is handed it.
     const std::optional<SourceView>& lastView() const;
 
+    /// GPU time per pass of the draws (timestamp queries; reading them waits for the GPU):
+    /// off by default. `raster_ms` GL_POINTS or the compute depth pass, `colour_ms` the
+    /// compute colour pass, `resolve_ms` eye-dome lighting; summed over `eyes` eye draws.
+    struct PassTimes {
+        double raster_ms = 0.0, colour_ms = 0.0, resolve_ms = 0.0;
+        int eyes = 0;
+    };
+    void setPassTiming(bool on);
+    /// The passes' times of the draws since the last call.
+    PassTimes takePassTimes();
+    /// Whether the compute rasteriser reduces equal pixels within a subgroup (where the
+    /// context can); on by default.
+    bool subgroupAvailable() const;
+    void setSubgroupReduction(bool on);
+    /// Pixels of eye 1 (the last drawn) that a point covers: the points drawn per pixel
+    /// are lastDrawnPerEye()[1] over it. Waits for the GPU.
+    std::size_t coveredPixels() const;
+
     /// Eye 0's or 1's image as RGBA8, rows bottom-up (glReadPixels order).
     std::vector<std::uint8_t> readEye(int eye) const;
 

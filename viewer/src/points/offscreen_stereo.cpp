@@ -11,6 +11,7 @@
 #include <core/error.hpp>
 #include <render/gl.hpp>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -152,6 +153,26 @@ std::size_t OffscreenStereo::draw(const RigPose& head, const ViewStyle& style, V
                                        impl_->options.eye_width_px, impl_->options.eye_height_px)
                               .points_drawn;
     return impl_->drawn[0] + impl_->drawn[1];
+}
+
+void OffscreenStereo::setPassTiming(bool on) { impl_->renderer.setPassTiming(on); }
+
+OffscreenStereo::PassTimes OffscreenStereo::takePassTimes() {
+    const PointRenderer::PassTimes t = impl_->renderer.takePassTimes();
+    return {t.raster_ms, t.colour_ms, t.resolve_ms, t.eyes};
+}
+
+bool OffscreenStereo::subgroupAvailable() const { return impl_->renderer.subgroupAvailable(); }
+void OffscreenStereo::setSubgroupReduction(bool on) { impl_->renderer.setSubgroupReduction(on); }
+
+std::size_t OffscreenStereo::coveredPixels() const {
+    const EyeTarget& target = impl_->targets[1];
+    impl_->renderer.depthInto(target);  // the compute rasteriser's depth; GL_POINTS left it there
+    std::vector<float> depth(std::size_t(target.width) * std::size_t(target.height));
+    glGetTextureImage(target.depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(depth.size() * sizeof(float)),
+                      depth.data());
+    render::logGl("OffscreenStereo::coveredPixels", __FILE__, __LINE__);
+    return std::size_t(std::count_if(depth.begin(), depth.end(), [](float d) { return d < 1.0f; }));
 }
 
 std::vector<std::uint8_t> OffscreenStereo::readEye(int eye) const {

@@ -126,6 +126,40 @@ PointRenderer::~PointRenderer() {
     if (raster_colour_) glDeleteTextures(1, &raster_colour_);
     if (raster_cells_) glDeleteBuffers(1, &raster_cells_);
     if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
+    if (!pass_queries_.empty()) glDeleteQueries(GLsizei(pass_queries_.size()), pass_queries_.data());
+}
+
+void PointRenderer::setPassTiming(bool on) {
+    pass_timing_ = on;
+    pass_used_ = 0;
+}
+
+GLuint PointRenderer::passMark() const {
+    if (!pass_timing_) return 0;
+    if (pass_used_ == pass_queries_.size()) {
+        GLuint q = 0;
+        glGenQueries(1, &q);
+        pass_queries_.push_back(q);
+    }
+    const GLuint q = pass_queries_[pass_used_++];
+    glQueryCounter(q, GL_TIMESTAMP);
+    return q;
+}
+
+PointRenderer::PassTimes PointRenderer::takePassTimes() {
+    PassTimes t;
+    const std::size_t used = pass_used_ - pass_used_ % 4;
+    for (std::size_t e = 0; e + 4 <= used; e += 4) {
+        GLuint64 ns[4] = {0, 0, 0, 0};
+        for (int k = 0; k < 4; ++k) glGetQueryObjectui64v(pass_queries_[e + std::size_t(k)], GL_QUERY_RESULT, &ns[k]);
+        t.raster_ms += double(ns[1] - ns[0]) * 1e-6;
+        t.colour_ms += double(ns[2] - ns[1]) * 1e-6;
+        t.resolve_ms += double(ns[3] - ns[2]) * 1e-6;
+        ++t.eyes;
+    }
+    pass_used_ = 0;
+    render::logGl("PointRenderer::takePassTimes", __FILE__, __LINE__);
+    return t;
 }
 
 GLuint PointRenderer::jetTexture(int entries) const {
@@ -438,7 +472,10 @@ void PointRenderer::rasterizeCompute(const render::Program& splat, const EyeTarg
                                   1, 1);
             }
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            if (pass == 0) passMark();  // the depth pass ends
         }
+    } else {
+        passMark();
     }
 }
 
@@ -499,6 +536,7 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
         stats.points_drawn += n;
         ++stats.chunks_drawn;
     }
+    passMark();  // the points start
     if (compute) {
         const render::Program& splat = subgroupReduction() ? splat_subgroup_ : splat_;
         setStyleUniforms(splat, style, cut);
@@ -506,7 +544,9 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     } else {
         setStyleUniforms(points_, style, cut);
         rasterizePoints(eye, drawn, cut);
+        passMark();  // no colour pass: it takes no time
     }
+    passMark();  // the colour pass ends
     // 2. resolve (eye-dome lighting) into the output
     glBindFramebuffer(GL_FRAMEBUFFER, out_fbo);
     glViewport(x, y, w, h);
@@ -552,6 +592,7 @@ DrawStats PointRenderer::drawEye(const EyeTarget& target, const EyeDraw& eye, co
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     glBindVertexArray(0);
     glUseProgram(0);
+    passMark();  // the resolve and the indicator end
     render::logGl("PointRenderer::drawEye", __FILE__, __LINE__);
     return stats;
 }

@@ -136,6 +136,19 @@ class PointRenderer {
     void setSubgroupReduction(bool on) { subgroup_on_ = on; }
     bool subgroupReduction() const { return subgroup_on_ && subgroupAvailable(); }
 
+    /// GPU time of the passes of the drawEye calls since the last takePassTimes(), from
+    /// timestamp queries around them (only while on: reading them waits for the GPU, which
+    /// a benchmark can afford and a frame loop cannot). `raster_ms`: GL_POINTS, or the
+    /// compute rasteriser's depth pass; `colour_ms`: its colour pass (0 with GL_POINTS);
+    /// `resolve_ms`: eye-dome lighting and the indicator.
+    struct PassTimes {
+        double raster_ms = 0.0, colour_ms = 0.0, resolve_ms = 0.0;
+        int eyes = 0;  // drawEye calls measured
+    };
+    void setPassTiming(bool on);
+    /// Sums the passes' times since the last call (waits for their queries). Never throws.
+    PassTimes takePassTimes();
+
     /// Leaves in `target`'s depth the points' depth of the last drawEye into it, as
     /// GL_POINTS leaves it (1 where no point is): with the compute rasterizer a full-screen
     /// pass writes it from the raster images, which still hold that eye (call it before the
@@ -183,6 +196,13 @@ class PointRenderer {
     /// GL_KHR_shader_subgroup's basic, vote and arithmetic operations in compute).
     render::Program splat_subgroup_;
     bool subgroup_on_ = true;
+    // Pass timing: four timestamps a drawEye (before the points, after the depth pass,
+    // after the colour pass, after the resolve), queries reused from a pool.
+    bool pass_timing_ = false;
+    mutable std::vector<GLuint> pass_queries_;  // the pool
+    mutable std::size_t pass_used_ = 0;         // queries issued since the last takePassTimes
+    /// The next timestamp query of the pool (made when it runs out), or 0 when not timing.
+    GLuint passMark() const;
     render::PointChunks chunks_;
     GLuint empty_vao_ = 0;
     mutable GLuint jet_texture_ = 0;  // jetTexture()'s cache
