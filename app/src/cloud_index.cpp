@@ -38,13 +38,18 @@ std::size_t writeIndex(std::vector<std::unique_ptr<io::CloudReader>>& readers, c
                        const IndexPlan& plan, const std::function<void(std::size_t)>& advance,
                        const std::function<void()>& read_done) {
     const glm::dvec3 origin = readers.front()->origin();
-    io::CloudWriter writer(out, io::CloudFormat::Copc, origin, readers.front()->fields(), plan.las, &plan.copc);
+    // Readers that keep a foreign file's side records give them to the writer (the
+    // caller checked that every input has the same header facts).
+    io::LasOptions las = plan.las;
+    las.foreign = readers.front()->foreignHeader();
+    if (las.foreign && !las.foreign->crs_problem.empty()) warn(las.foreign->crs_problem + "; written without a CRS");
+    io::CloudWriter writer(out, io::CloudFormat::Copc, origin, readers.front()->fields(), las, &plan.copc);
     for (auto& reader : readers) {
         const glm::dvec3 shift = reader->origin() - origin;
-        io::forEachChunk(*reader, [&](std::vector<core::CloudPoint>& chunk) {
+        io::forEachChunk(*reader, [&](std::vector<core::CloudPoint>& chunk, std::vector<unsigned char>& records) {
             if (shift != glm::dvec3(0.0))
                 for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + shift);
-            writer.append(chunk);
+            writer.append(chunk, records);
             advance(chunk.size());
         });
         if (const std::string w = reader->warning(); !w.empty()) warn(w);

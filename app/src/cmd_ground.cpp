@@ -1,7 +1,8 @@
 // app/src/cmd_ground.cpp: `ladarvr ground IN --out OUT [--method smrf|csf] [--smrf-*|--csf-*]
-// [--json]`: the ground of a cloud we did not generate (a real survey's LAS/LAZ, or any cloud
-// we read), classified by a whole-cloud filter (sim/ground_file.hpp) and written to OUT with
-// every point labelled ground (LAS class 2) or not (class 1). Options are parsed and checked
+// [--reclassify] [--json]`: the ground of a cloud we did not generate (a real survey's
+// LAS/LAZ, or any cloud we read), classified by a whole-cloud filter (sim/ground_file.hpp)
+// and written to OUT with every ground point labelled ground (LAS class 2); a LAS/LAZ/COPC
+// input keeps its other classes and every other field it carries. Options are parsed and checked
 // here; the work is sim::classifyGroundFile. The defaults are the set tuned on the ISPRS
 // samples (docs/ground.md), not `generate --ground`'s.
 #include "cli_common.hpp"
@@ -133,6 +134,9 @@ void registerGround(CLI::App& cli) {
         ->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb, "bound on memory: the terrain raster and the points in flight")
         ->capture_default_str();
+    c->add_flag("--reclassify", state->options.reclassify,
+                "a LAS/LAZ/COPC input's points that are not ground all become class 1 (by default its classes other "
+                "than ground are kept)");
     c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");
     c->callback([state] { run(*state); });
 }

@@ -59,6 +59,23 @@ bool sameFields(const core::CloudFields& a, const core::CloudFields& b) {
            a.scan_angle == b.scan_angle && a.height_above_ground == b.height_above_ground;
 }
 
+// Whether two inputs' side records and CRS are alike (both null: clouds we generated, or
+// formats without them).
+bool sameForeignHeader(const core::ForeignHeader* a, const core::ForeignHeader* b) {
+    if (!a || !b) return a == b;
+    return a->nir == b->nir && a->extra_bytes == b->extra_bytes && a->extra_bytes_vlr == b->extra_bytes_vlr &&
+           a->wkt == b->wkt;
+}
+
+// An input's layout in words, for the refusal of unlike inputs.
+std::string foreignLayout(const io::CloudReader& r) {
+    const auto h = r.foreignHeader();
+    if (!h) return "no side records: generated, PCD or PLY";
+    return "point format " + std::to_string(h->point_format) + ", " + std::to_string(h->extra_bytes) +
+           " extra bytes, " +
+           (h->wkt.empty() ? std::string("no CRS") : "WKT of " + std::to_string(h->wkt.size()) + " bytes");
+}
+
 // "N rules broken" for the distinct rules of `findings`, with the lines they take on stdout
 // when a rule has several (io::checkCopc gives one per finding, up to 20 a rule and a line
 // counting the rest).
@@ -122,9 +139,13 @@ void run(IndexCli& cli) {
     for (const std::string& in : cli.inputs) {
         platform::checkInputFile(in, "index: input " + in);
         inputs.addFile(in);
-        readers.push_back(std::make_unique<io::CloudReader>(in));
+        readers.push_back(std::make_unique<io::CloudReader>(in, io::SideRecords::Keep));
         const io::CloudReader& r = *readers.back();
         const io::CloudReader& first = *readers.front();
+        if (!sameForeignHeader(r.foreignHeader().get(), first.foreignHeader().get()))
+            throw core::Error("index: " + r.where() + ": its LAS point layout or CRS (" + foreignLayout(r) +
+                              ") differs from " + first.where() + "'s (" + foreignLayout(first) +
+                              "); merged inputs must be alike");
         if (!sameFields(r.fields(), first.fields()))
             throw core::Error("index: " + r.where() + ": its fields (" + fieldList(r.fields()) + ") differ from " +
                               first.where() + "'s (" + fieldList(first.fields()) +

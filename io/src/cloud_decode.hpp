@@ -191,6 +191,10 @@ class FormatReader {
     std::size_t declared = 0;  // the header's point count
     std::size_t bound = 0;     // at most this many points fit in the data (for reserve)
     DecodeStats stats;
+    /// Set by a LAS/LAZ reader opened to keep side records of a foreign file; next() then
+    /// appends each point's record (foreign->stride() bytes) to *foreign_out.
+    std::shared_ptr<const core::ForeignHeader> foreign;
+    std::vector<unsigned char>* foreign_out = nullptr;
 };
 
 /// The PCD v0.7 reader (ascii, binary, binary_compressed). Throws Error("<prefix>: ...").
@@ -198,6 +202,8 @@ std::unique_ptr<FormatReader> openPcd(ByteSource& source, const std::string& pre
 /// The PLY 1.0 reader (ascii, binary little and big endian). Throws Error("<prefix>: ...").
 std::unique_ptr<FormatReader> openPly(ByteSource& source, const std::string& prefix);
 /// The LAS 1.0-1.4 / LAZ reader (LASzip). Throws Error("<prefix>: ...").
-std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix);
+/// With `keep_foreign`, a file without our `label` extra bytes keeps side records
+/// (FormatReader::foreign).
+std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix, bool keep_foreign = false);
 
 }  // namespace io::detail

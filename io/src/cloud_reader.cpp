@@ -12,6 +12,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <stdexcept>
 
 namespace io {
 
@@ -44,8 +46,8 @@ const char* moduleFor(const std::filesystem::path& path) {
 }
 
 std::unique_ptr<detail::FormatReader> open(detail::ByteSource& source, const std::string& module,
-                                           const std::string& prefix) {
-    if (module == "las") return detail::openLas(source, prefix);
+                                           const std::string& prefix, bool keep_foreign = false) {
+    if (module == "las") return detail::openLas(source, prefix, keep_foreign);
     if (module == "ply") return detail::openPly(source, prefix);
     return detail::openPcd(source, prefix);
 }
@@ -56,6 +58,13 @@ CloudReader::CloudReader(const std::filesystem::path& path) : source_(detail::fi
     const std::string module = detail::moduleOf(*source_, path);
     prefix_ = module + ": " + path.string();
     format_ = open(*source_, module, prefix_);
+}
+
+CloudReader::CloudReader(const std::filesystem::path& path, SideRecords side)
+    : source_(detail::fileSource(path, moduleFor(path))) {
+    const std::string module = detail::moduleOf(*source_, path);
+    prefix_ = module + ": " + path.string();
+    format_ = open(*source_, module, prefix_, side == SideRecords::Keep);
 }
 
 CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name)
@@ -71,8 +80,55 @@ const glm::dvec3& CloudReader::origin() const { return format_->origin; }
 const CloudFields& CloudReader::fields() const { return format_->fields; }
 std::size_t CloudReader::declaredPoints() const { return format_->declared; }
 std::size_t CloudReader::pointsBound() const { return format_->bound; }
+std::shared_ptr<const core::ForeignHeader> CloudReader::foreignHeader() const { return format_->foreign; }
+
+bool CloudReader::nextChunk(std::vector<CloudPoint>& out, std::vector<unsigned char>& records, std::size_t max_points) {
+    if (!format_->foreign) return nextChunk(out, max_points);
+    const std::size_t stride = format_->foreign->stride();
+    const std::size_t old = out.size(), old_records = records.size();
+    if (old_records != old * stride)
+        throw std::logic_error("io: nextChunk: the side records do not match the points given");
+    format_->foreign_out = &records;
+    std::size_t n = 0;
+    try {
+        n = format_->next(out, std::max<std::size_t>(max_points, 1));
+    } catch (...) {
+        format_->foreign_out = nullptr;
+        throw;
+    }
+    format_->foreign_out = nullptr;
+    if (n == 0) return false;
+    read_ += n;
+    if (records.size() != out.size() * stride)
+        throw std::logic_error("io: nextChunk: the reader gave side records that do not match its points");
+    // Non-finite points leave with their records (LAS coordinates beyond float range).
+    std::size_t kept = old;
+    for (std::size_t i = old; i < out.size(); ++i) {
+        const CloudPoint& p = out[i];
+        if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) || !std::isfinite(p.position.z) ||
+            (format_->fields.range && !std::isfinite(p.range_m)))
+            continue;
+        if (kept != i) {
+            out[kept] = p;
+            std::memmove(records.data() + kept * stride, records.data() + i * stride, stride);
+        }
+        ++kept;
+    }
+    dropped_ += out.size() - kept;
+    out.resize(kept);
+    records.resize(kept * stride);
+    return true;
+}
 
 bool CloudReader::nextChunk(std::vector<CloudPoint>& out, std::size_t max_points) {
+    if (format_->foreign) {
+        // A reader keeping side records makes them whatever the caller asks: dropped here.
+        std::vector<unsigned char> records;
+        std::vector<CloudPoint> fresh;
+        const bool more = nextChunk(fresh, records, max_points);
+        out.insert(out.end(), fresh.begin(), fresh.end());
+        return more;
+    }
     const std::size_t old = out.size();
     const std::size_t n = format_->next(out, std::max<std::size_t>(max_points, 1));
     if (n == 0) return false;
@@ -110,6 +166,12 @@ PointCloud readAll(CloudReader& reader) {
     cloud.origin = reader.origin();
     cloud.fields = reader.fields();
     cloud.points.reserve(reader.pointsBound());
+    if (const auto header = reader.foreignHeader()) {
+        cloud.foreign.emplace();
+        cloud.foreign->header = *header;
+        while (reader.nextChunk(cloud.points, cloud.foreign->records, std::size_t(1) << 20)) {}
+        return cloud;
+    }
     while (reader.nextChunk(cloud.points, std::size_t(1) << 20)) {}
     return cloud;
 }
@@ -130,6 +192,29 @@ PointCloud readCloud(CloudReader& reader) {
     PointCloud cloud = readAll(reader);
     if (const std::string w = reader.warning(); !w.empty()) platform::printMessage("warning", w);
     return cloud;
+}
+
+void forEachChunk(CloudReader& reader,
+                  const std::function<void(std::vector<CloudPoint>&, std::vector<unsigned char>&)>& fn) {
+    std::vector<CloudPoint> chunk, next;
+    std::vector<unsigned char> records, next_records;
+    bool more = reader.nextChunk(chunk, records);
+    while (more) {
+        std::future<bool> reading = std::async(std::launch::async, [&] {
+            next.clear();
+            next_records.clear();
+            return reader.nextChunk(next, next_records);
+        });
+        try {
+            fn(chunk, records);
+        } catch (...) {
+            reading.wait();
+            throw;
+        }
+        more = reading.get();
+        std::swap(chunk, next);
+        std::swap(records, next_records);
+    }
 }
 
 void forEachChunk(CloudReader& reader, const std::function<void(std::vector<CloudPoint>&)>& fn) {

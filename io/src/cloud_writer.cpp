@@ -62,6 +62,7 @@ CloudWriter::CloudWriter(std::filesystem::path path, CloudFormat format, glm::dv
     platform::checkWritableDestination(path_);
     if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z))
         throw Error("output: " + path_.string() + ": the cloud origin is not finite");
+    foreign_stride_ = las.foreign ? las.foreign->stride() : 0;
     temp_ = std::make_unique<platform::TempFile>(path_);
     switch (format) {
         case CloudFormat::PcdBinary: writer_ = detail::openPcdWriter(*temp_, false, origin, fields); break;
@@ -82,6 +83,20 @@ CloudWriter::~CloudWriter() = default;
 void CloudWriter::append(std::span<const core::CloudPoint> points) {
     if (!writer_) throw Error("output: " + path_.string() + ": append after commit");
     writer_->append(points);
+    count_ += points.size();
+}
+
+void CloudWriter::append(std::span<const core::CloudPoint> points, std::span<const unsigned char> records) {
+    if (!writer_) throw Error("output: " + path_.string() + ": append after commit");
+    if (foreign_stride_ == 0) {
+        writer_->append(points);
+    } else {
+        if (records.size() != points.size() * foreign_stride_)
+            throw std::logic_error("io: " + std::to_string(records.size()) +
+                                   " bytes are not one side record for each of " + std::to_string(points.size()) +
+                                   " points of " + path_.string());
+        writer_->appendForeign(points, records.data());
+    }
     count_ += points.size();
 }
 
@@ -143,8 +158,18 @@ void CloudWriter::commit() {
 }
 
 void writeCloud(const std::filesystem::path& path, const PointCloud& cloud, CloudFormat format, const LasOptions& las) {
-    CloudWriter writer(path, format, cloud.origin, cloud.fields, las);
-    writer.append(cloud.points);
+    const bool foreign =
+        cloud.foreign && cloud.foreign->records.size() == cloud.points.size() * cloud.foreign->header.stride();
+    if (!foreign) {
+        CloudWriter writer(path, format, cloud.origin, cloud.fields, las);
+        writer.append(cloud.points);
+        writer.commit();
+        return;
+    }
+    LasOptions with = las;
+    with.foreign = std::make_shared<const core::ForeignHeader>(cloud.foreign->header);
+    CloudWriter writer(path, format, cloud.origin, cloud.fields, with);
+    writer.append(cloud.points, cloud.foreign->records);
     writer.commit();
 }
 

@@ -17,6 +17,11 @@ class FormatWriter {
     /// Appends points. Throws Error("output: <path>: ...") (a failed write, a point a
     /// format cannot hold).
     virtual void append(std::span<const core::CloudPoint> points) = 0;
+    /// Appends points with their side records (LasOptions::foreign's stride() bytes each):
+    /// the LAS, LAZ and COPC writers write them back; the others drop them.
+    virtual void appendForeign(std::span<const core::CloudPoint> points, const unsigned char* /*records*/) {
+        append(points);
+    }
     /// CloudWriter::prescanPasses and prescan: none, unless the format says otherwise.
     virtual int prescanPasses(std::uint64_t /*points*/, const core::Bounds* /*positions*/) { return 0; }
     virtual void prescan(int /*pass*/, std::span<const core::CloudPoint> /*points*/) {}

@@ -8,6 +8,7 @@
 #include <core/error.hpp>
 #include <io/cloud_reader.hpp>
 
+#include <cstring>
 #include <sstream>
 
 namespace sim {
@@ -101,31 +102,55 @@ GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::f
     st.ny = fit->surface().ny;
     st.cell_m = fit->surface().cell_m;
 
-    io::CloudReader reader(in);
+    const io::CloudFormat format = io::formatForPath(out, "ground: --out");
+    const bool las_out =
+        format == io::CloudFormat::Las || format == io::CloudFormat::Laz || format == io::CloudFormat::Copc;
+    io::CloudReader reader(in, las_out ? io::SideRecords::Keep : io::SideRecords::Drop);
     core::CloudFields fields = reader.fields();
     fields.label = true;
     fields.height_above_ground = true;
-    const io::CloudFormat format = io::formatForPath(out, "ground: --out");
-    io::CloudWriter writer(out, format, reader.origin(), fields, las,
+    io::LasOptions with = las;
+    with.foreign = reader.foreignHeader();
+    io::CloudWriter writer(out, format, reader.origin(), fields, with,
                            format == io::CloudFormat::Copc ? &copc : nullptr);
-    io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
-        for (core::CloudPoint& p : chunk) {
+    const std::size_t stride = with.foreign ? with.foreign->stride() : 0;
+    io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk, std::vector<unsigned char>& records) {
+        for (std::size_t i = 0; i < chunk.size(); ++i) {
+            core::CloudPoint& p = chunk[i];
             const bool was_ground = p.label == core::Role::Ground;
             float height_m = 0;
             const bool ground = fit->classify(p, height_m);
             p.height_above_ground_m = height_m;
-            if (p.label != core::Role::Target) p.label = ground ? core::Role::Ground : core::Role::Environment;
+            if (stride > 0) {
+                // The file's own class: ground 2, its ground that is not ground 1, the rest kept.
+                core::ForeignPoint f;
+                unsigned char* at = records.data() + i * stride;
+                std::memcpy(&f, at, sizeof f);
+                f.classification = ground                                  ? std::uint8_t(2)
+                                   : f.classification == 2 || o.reclassify ? std::uint8_t(1)
+                                                                           : f.classification;
+                std::memcpy(at, &f, sizeof f);
+                if (ground)
+                    p.label = core::Role::Ground;
+                else if (p.label == core::Role::Ground || o.reclassify)
+                    p.label = core::Role::Environment;
+            } else if (p.label != core::Role::Target) {
+                p.label = ground ? core::Role::Ground : core::Role::Environment;
+            }
             const bool is_ground = p.label == core::Role::Ground;
             st.was_ground += was_ground;
             st.still_ground += was_ground && is_ground;
             st.ground_points += is_ground;
         }
         st.points += chunk.size();
-        writer.append(chunk);
+        writer.append(chunk, records);
         progress(chunk.size());
     });
     writer.commit();
     st.reader_warning = reader.warning();
+    if (with.foreign && !with.foreign->crs_problem.empty())
+        st.reader_warning +=
+            (st.reader_warning.empty() ? "" : "; ") + with.foreign->crs_problem + "; written without a CRS";
     return st;
 }
 

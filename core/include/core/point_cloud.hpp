@@ -3,7 +3,9 @@
 #include <core/frames.hpp>
 #include <core/scene.hpp>
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,10 +51,53 @@ struct CloudFields {
 /// "height_above_ground").
 std::vector<std::string> fieldNames(const CloudFields& f);
 
+/// What a LAS, LAZ or COPC file made elsewhere holds per point beyond a CloudPoint, so
+/// that a file read and written again keeps it. CloudPoint stays small for the clouds we
+/// generate; these travel beside the points (ForeignFields) only for files that have them.
+struct ForeignPoint {
+    double gps_time_s = 0.0;
+    std::uint16_t rgb[3] = {0, 0, 0};  // colour at the file's 16-bit depth
+    std::uint16_t nir = 0;             // near infrared (point formats 8 and 10)
+    std::uint16_t point_source_id = 0;
+    std::uint8_t classification = 0;  // ASPRS class 0..255
+    /// Bits 0-3 the class flags (synthetic, key-point, withheld, overlap), 4-5 the
+    /// scanner channel, 6 the scan direction, 7 the edge of flight line.
+    std::uint8_t flags = 0;
+    std::uint8_t user_data = 0;
+    std::uint8_t reserved[3] = {0, 0, 0};  // always 0: no padding bytes
+};
+static_assert(sizeof(ForeignPoint) == 24, "ForeignPoint must have no padding bytes");
+
+/// What such a file holds once, for the writers: its CRS and its extra bytes' layout.
+struct ForeignHeader {
+    int point_format = 0;  // the source's LAS point format (0..10)
+    bool nir = false;      // its records hold near infrared
+    /// The payload of its extra bytes VLR (192-byte descriptors), as the file holds it, and
+    /// the bytes a record has after its format's fields (all of them kept, described or not).
+    std::string extra_bytes_vlr;
+    std::size_t extra_bytes = 0;
+    /// The CRS as OGC WKT: the file's WKT record as it is, or one made from its GeoTIFF
+    /// keys' EPSG code; empty when it has none.
+    std::string wkt;
+    /// Why a CRS the file declares could not be given as WKT; empty otherwise.
+    std::string crs_problem;
+    /// Bytes of one point's side record: a ForeignPoint, then the extra bytes.
+    std::size_t stride() const { return sizeof(ForeignPoint) + extra_bytes; }
+};
+
+/// A foreign file's per-point side records, point k's at records[k * header.stride()].
+struct ForeignFields {
+    ForeignHeader header;
+    std::vector<unsigned char> records;
+};
+
 struct PointCloud {
     glm::dvec3 origin{0.0};  // world coordinates of the local frame's origin
     CloudFields fields;
     std::vector<CloudPoint> points;
+    /// Set only for a cloud read from another producer's LAS/LAZ/COPC file by a reader
+    /// asked to keep it; one record per point, in the points' order.
+    std::optional<ForeignFields> foreign;
 
     Bounds bounds() const;
 };

@@ -59,6 +59,14 @@ struct LasOptions {
     /// LAZ: the most the writer holds in chunks being filled, waiting or being compressed
     /// (lazChunkBytes() each; two at least). 0: what `threads` can use, threads + 2 chunks.
     std::uint64_t memory_bytes = 0;
+    /// Set for points read from another producer's file (CloudReader::foreignHeader()):
+    /// the records then take their class, class flags, GPS time, 16-bit colour, near
+    /// infrared, user data, point source ID and extra bytes from each point's side record
+    /// (CloudWriter::append with records), the file gets the CRS as an OGC WKT record, and
+    /// our label, view and range are not added (class_of_role and the GPS times above are
+    /// unused). Of our fields only height_above_ground is added, as PDAL's
+    /// `HeightAboveGround` (written in place where the source has that field already).
+    std::shared_ptr<const core::ForeignHeader> foreign;
 };
 
 /// Points per LAZ chunk (LASzip's default chunk size): the unit a LAZ reader can seek
@@ -87,6 +95,9 @@ class CloudWriter {
     CloudWriter& operator=(const CloudWriter&) = delete;
 
     void append(std::span<const core::CloudPoint> points);
+    /// Appends points with their side records (LasOptions::foreign's stride() bytes each,
+    /// in the points' order). LAS, LAZ and COPC write them back; other formats drop them.
+    void append(std::span<const core::CloudPoint> points, std::span<const unsigned char> records);
     /// How many times the writer asks to see the `points` points it is about to get before
     /// they are appended: 0 for most formats. A COPC writer that would spill them to
     /// scratch files (past CopcOptions::memory_bytes) asks for 2: it learns their bounds,
@@ -135,9 +146,11 @@ class CloudWriter {
     std::unique_ptr<platform::TempFile> temp_;
     std::unique_ptr<detail::FormatWriter> writer_;  // null once committed
     std::size_t count_ = 0;
+    std::size_t foreign_stride_ = 0;  // LasOptions::foreign's side record bytes; 0 without
 };
 
-/// Writes a whole cloud atomically (a CloudWriter in one go).
+/// Writes a whole cloud atomically (a CloudWriter in one go); a cloud with foreign side
+/// records (one per point) writes them back as LasOptions::foreign says.
 void writeCloud(const std::filesystem::path& path, const core::PointCloud& cloud, CloudFormat format,
                 const LasOptions& las = {});
 

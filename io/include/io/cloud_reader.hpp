@@ -24,6 +24,9 @@ class ByteSource;
 class FormatReader;
 }  // namespace detail
 
+/// Whether a reader gives a foreign LAS/LAZ/COPC file's side records (CloudReader).
+enum class SideRecords { Drop, Keep };
+
 class CloudReader {
   public:
     static constexpr std::size_t kChunkPoints = 1u << 18;
@@ -32,6 +35,11 @@ class CloudReader {
     /// endian) or LAS/LAZ (1.0-1.4) file; the content decides, not the extension. Throws
     /// Error("pcd: <file>: ...") / ("ply: ...") / ("las: ...") naming the line or field.
     explicit CloudReader(const std::filesystem::path& path);
+    /// The same; with SideRecords::Keep, a LAS/LAZ/COPC file made by another producer (one
+    /// without our `label` extra bytes) also gives each point's side record
+    /// (core::ForeignPoint and its extra bytes) to nextChunk's `records`, and its header
+    /// facts to foreignHeader().
+    CloudReader(const std::filesystem::path& path, SideRecords side);
     /// The same over bytes in memory, which must outlive the reader; `name` is used in
     /// messages. Never reads outside `bytes` whatever they hold (the fuzzing entry point).
     CloudReader(std::string_view bytes, const std::filesystem::path& name);
@@ -48,12 +56,18 @@ class CloudReader {
     /// At most this many points can be in the data (the declared count where the file's
     /// size confirms it): a safe amount to reserve.
     std::size_t pointsBound() const;
+    /// The foreign file's header facts where the reader keeps side records, else null.
+    std::shared_ptr<const core::ForeignHeader> foreignHeader() const;
 
     /// Appends the next points, at most `max_points` (>= 1) of the file's records, to
     /// `out`, leaving out non-finite ones. Returns false, appending nothing, once every
     /// point has been read and the end of the data checked. Throws Error on bad data
     /// (points returned before stay valid).
     bool nextChunk(std::vector<core::CloudPoint>& out, std::size_t max_points = kChunkPoints);
+    /// The same, appending each point's side record to `records` where foreignHeader()
+    /// is set (nothing otherwise).
+    bool nextChunk(std::vector<core::CloudPoint>& out, std::vector<unsigned char>& records,
+                   std::size_t max_points = kChunkPoints);
 
     /// Records decoded so far, and how many of them were dropped as non-finite.
     std::size_t pointsRead() const { return read_; }
@@ -75,5 +89,9 @@ class CloudReader {
 /// points, and two chunks are held at once. fn may change or empty the chunk it is given.
 /// An error of the reading or of fn is rethrown once neither is running.
 void forEachChunk(CloudReader& reader, const std::function<void(std::vector<core::CloudPoint>&)>& fn);
+/// The same with each chunk's side records (empty unless reader.foreignHeader() is set);
+/// fn may change them but must keep one per point.
+void forEachChunk(CloudReader& reader,
+                  const std::function<void(std::vector<core::CloudPoint>&, std::vector<unsigned char>&)>& fn);
 
 }  // namespace io

@@ -32,6 +32,7 @@
 #include "writer/bucket_builder.hpp"
 #include "writer/bucket_sorter.hpp"
 #include "writer/direct_sort.hpp"
+#include "writer/foreign_store.hpp"
 #include "writer/node_compression.hpp"
 #include "writer/part_tree.hpp"
 #include "writer/parts_output.hpp"
@@ -93,12 +94,42 @@ class CopcWriter final : public FormatWriter {
               std::max(las.threads, 0),
               std::max<std::uint32_t>(copc.max_node_points, 1),
               file.destination().parent_path().empty() ? std::filesystem::path(".") : file.destination().parent_path(),
-              file.destination().string()} {}
+              file.destination().string(),
+              nullptr} {
+        if (const core::ForeignHeader* f = record_.foreign()) {
+            // The side records take their share of the bound, as much per point as the
+            // points' own share (copcBytesPerPoint), so both leave memory at about one count.
+            const std::uint64_t stride = f->stride();
+            const std::uint64_t share = copc_.memory_bytes * stride / (stride + copcBytesPerPoint());
+            foreign_ = std::make_unique<ForeignStore>(setup_.dir, setup_.where, std::size_t(stride), share);
+            copc_.memory_bytes -= share;
+            setup_.foreign = foreign_.get();
+        }
+    }
+
+    // A foreign file's points come with their side records, kept apart in input order.
+    void appendForeign(std::span<const CloudPoint> points, const unsigned char* records) override {
+        if (!foreign_ || !records) {
+            append(points);
+            return;
+        }
+        foreign_->append(records, points.size());
+        appendPoints(points);
+    }
 
     // The points are held in blocks, so that the store never reallocates (a vector that
     // doubles would hold up to three times the points while it grows). Past
     // CopcOptions::memory_bytes they go to a scratch file instead.
     void append(std::span<const CloudPoint> points) override {
+        if (foreign_) {
+            // Points without side records get empty ones (class 0, no GPS time).
+            const std::vector<unsigned char> none(points.size() * foreign_->stride(), 0);
+            foreign_->append(none.data(), points.size());
+        }
+        appendPoints(points);
+    }
+
+    void appendPoints(std::span<const CloudPoint> points) {
         if (prescan_ == Prescan::Histogram) startDirect();
         if (prescan_ == Prescan::Direct) {
             direct_->append(points);
@@ -141,7 +172,7 @@ class CopcWriter final : public FormatWriter {
     // them and reading the spill back twice (its bounds are then known from the first
     // pass, its histogram from the second).
     int prescanPasses(std::uint64_t points, const core::Bounds* positions) override {
-        if (prescan_ != Prescan::None || count_ > 0 || spill_) return 0;
+        if (prescan_ != Prescan::None || count_ > 0 || spill_ || foreign_) return 0;
         if (copc_.memory_bytes == 0 || points == 0 || points >= std::numeric_limits<std::uint32_t>::max() ||
             points * copcBytesPerPoint() + copcFixedBytes(setup_.threads, setup_.cap) <= copc_.memory_bytes)
             return 0;
@@ -204,6 +235,7 @@ class CopcWriter final : public FormatWriter {
         if (count_ >= std::numeric_limits<std::uint32_t>::max())
             throw Error(record_.where() + ": COPC output holds at most 4294967294 points");
         if (prescan_ == Prescan::Histogram) startDirect();  // no point appended
+        if (foreign_) foreign_->flush();
         if (prescan_ == Prescan::Bounds)
             throw Error(record_.where() + ": finished after the prescan's first pass alone");
         if (prescan_ == Prescan::Direct)
@@ -297,7 +329,7 @@ class CopcWriter final : public FormatWriter {
         compressNodes(
             setup_, nodes,
             [&](std::uint32_t p, laszip_point_struct& q, LasInventory& inventory) {
-                record_.fillQuantized(q, point(p), xyz[p], &inventory);
+                record_.fillQuantized(q, point(p), xyz[p], &inventory, foreign_ ? foreign_->record(p) : nullptr);
             },
             [&](const OctreeNode& node, const LaszipFile& f, const LasInventory& inv) {
                 if (node.points.empty())
@@ -405,6 +437,7 @@ class CopcWriter final : public FormatWriter {
     std::uint64_t prescan_points_ = 0, prescanned_ = 0;
     Bounds prescan_bounds_;
     std::unique_ptr<DirectSort> direct_;
+    std::unique_ptr<ForeignStore> foreign_;  // a foreign file's side records, by input index
 };
 
 }  // namespace

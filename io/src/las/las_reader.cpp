@@ -10,7 +10,10 @@
 // `ladarvr info` the same reader also records the header's fields and VLRs and counts
 // the raw records (las_facts.hpp).
 #include "cloud_decode.hpp"
+#include "crs_wkt.hpp"
 #include "las_facts.hpp"
+
+#include <io/las_crs.hpp>
 
 #include <core/error.hpp>
 
@@ -180,9 +183,18 @@ double extraValue(const unsigned char* bytes, const ExtraField& f) {
 
 class LasReader final : public FormatReader {
   public:
-    LasReader(ByteSource& source, const std::string& prefix, LasFacts* facts = nullptr, LasTally* tally = nullptr)
-        : source_(source), prefix_(prefix), buf_(source), stream_(&buf_), facts_(facts), tally_(tally) {
+    LasReader(ByteSource& source, const std::string& prefix, LasFacts* facts = nullptr, LasTally* tally = nullptr,
+              bool keep_foreign = false)
+        : source_(source),
+          prefix_(prefix),
+          buf_(source),
+          stream_(&buf_),
+          facts_(facts),
+          tally_(tally),
+          keep_foreign_(keep_foreign) {
         checkHeader();
+        if (keep_foreign_ && !label_.present) makeForeignHeader();
+        stride_ = foreign ? foreign->stride() : 0;
         if (tally_) label_ = ExtraField{};  // counted as it is, not read as our roles
         if (compressed_) {
             try {
@@ -207,12 +219,17 @@ class LasReader final : public FormatReader {
     std::size_t next(std::vector<CloudPoint>& out, std::size_t max_points) override {
         const std::size_t n = std::min(max_points, declared - done_);
         out.reserve(out.size() + n);
+        std::vector<unsigned char>* records = stride_ > 0 ? foreign_out : nullptr;
+        if (records) records->reserve(records->size() + n * stride_);
         if (compressed_) {
             for (std::size_t k = 0; k < n;) {
                 if (pending_at_ == pending_.size()) receive(done_ + k);
                 const std::size_t take = std::min(n - k, pending_.size() - pending_at_);
                 out.insert(out.end(), pending_.begin() + std::ptrdiff_t(pending_at_),
                            pending_.begin() + std::ptrdiff_t(pending_at_ + take));
+                if (records)
+                    records->insert(records->end(), pending_foreign_.begin() + std::ptrdiff_t(pending_at_ * stride_),
+                                    pending_foreign_.begin() + std::ptrdiff_t((pending_at_ + take) * stride_));
                 pending_at_ += take;
                 k += take;
             }
@@ -220,6 +237,10 @@ class LasReader final : public FormatReader {
             for (std::size_t k = 0; k < n; ++k) {
                 if (laszip_read_point(zip_) != 0) pointFailed(done_ + k);
                 out.push_back(convert(*point_, done_ + k));
+                if (records) {
+                    records->resize(records->size() + stride_);
+                    foreignRecord(*point_, records->data() + records->size() - stride_);
+                }
             }
         }
         done_ += n;
@@ -350,18 +371,22 @@ class LasReader final : public FormatReader {
         try {
             openLaszip();
             send(fd, Frame{'O'}, nullptr);
-            std::vector<CloudPoint> batch;
-            batch.reserve(kFramePoints);
+            // A frame's payload: its points, then their side records when kept.
+            std::vector<unsigned char> batch;
+            const std::size_t per_point = sizeof(CloudPoint) + stride_;
+            batch.reserve(kFramePoints * per_point);
             for (std::size_t i = 0; i < declared;) {
-                batch.clear();
-                for (; batch.size() < kFramePoints && i < declared; ++i) {
+                const std::size_t n = std::min(kFramePoints, declared - i);
+                batch.resize(n * per_point);
+                for (std::size_t k = 0; k < n; ++k, ++i) {
                     __atomic_store_n(decoding_, std::uint64_t(i), __ATOMIC_RELAXED);
                     if (laszip_read_point(zip_) != 0) pointFailed(i);
-                    batch.push_back(convert(*point_, i));
+                    const CloudPoint p = convert(*point_, i);
+                    std::memcpy(batch.data() + k * sizeof(CloudPoint), &p, sizeof p);
+                    if (stride_ > 0) foreignRecord(*point_, batch.data() + n * sizeof(CloudPoint) + k * stride_);
                 }
                 if (tally_) send(fd, Frame{'T', std::uint32_t(sizeof(LasTally))}, tally_);
-                Frame f{'P', std::uint32_t(batch.size() * sizeof(CloudPoint)), stats.unknown_classes,
-                        stats.first_unknown};
+                Frame f{'P', std::uint32_t(batch.size()), stats.unknown_classes, stats.first_unknown};
                 send(fd, f, batch.data());
             }
         } catch (const Error& e) {
@@ -418,12 +443,15 @@ class LasReader final : public FormatReader {
             if (!readAll(m.data(), m.size())) decoderDied(index);
             throw Error(m);
         }
-        if (f.kind != 'P' || f.bytes == 0 || f.bytes % sizeof(CloudPoint) != 0 ||
-            f.bytes / sizeof(CloudPoint) > kFramePoints)
+        const std::size_t per_point = sizeof(CloudPoint) + stride_;
+        if (f.kind != 'P' || f.bytes == 0 || f.bytes % per_point != 0 || f.bytes / per_point > kFramePoints)
             decoderDied(index);
-        pending_.resize(f.bytes / sizeof(CloudPoint));
+        const std::size_t n = f.bytes / per_point;
+        pending_.resize(n);
         pending_at_ = 0;
-        if (!readAll(pending_.data(), f.bytes)) decoderDied(index);
+        if (!readAll(pending_.data(), n * sizeof(CloudPoint))) decoderDied(index);
+        pending_foreign_.resize(n * stride_);
+        if (stride_ > 0 && !readAll(pending_foreign_.data(), pending_foreign_.size())) decoderDied(index);
         stats.unknown_classes = std::size_t(f.unknown_classes);
         stats.first_unknown = f.first_unknown;
     }
@@ -545,6 +573,7 @@ class LasReader final : public FormatReader {
                                         length, false});
             // One extra bytes VLR and one LASzip VLR: the fields of one and the sizes of
             // another would describe different records.
+            if (keep_foreign_) keepVlr(user, le<std::uint16_t>(vh, 18), at + kVlrHeader, length);
             if (user == "LASF_Spec" && le<std::uint16_t>(vh, 18) == 4) {
                 if (extra_vlr)
                     throw Error(prefix_ + ": VLR " + std::to_string(v) +
@@ -572,6 +601,8 @@ class LasReader final : public FormatReader {
             throw Error(prefix_ + ": the extra bytes VLR describes " + std::to_string(extra_declared) +
                         " bytes but the records have " + std::to_string(record - kMinRecord[format]));
         extra_size_ = extra_declared;
+        record_extra_ = record - kMinRecord[format];
+        point_format_ = format;
         const std::uint64_t remaining = size - data_at;
         if (!compressed && count > remaining / record)
             throw Error(prefix_ + ": truncated: the header says " + std::to_string(count) + " points of " +
@@ -799,6 +830,9 @@ class LasReader final : public FormatReader {
                 throw Error(prefix_ + ": EVLR " + std::to_string(e) + " at byte " + std::to_string(at) + " declares " +
                             std::to_string(length) + " bytes but " + std::to_string(size - at - kEvlrHeader) +
                             " follow it");
+            if (keep_foreign_)
+                keepVlr(std::string(eh.data() + 2, strnlen(eh.data() + 2, 16)), le<std::uint16_t>(eh, 18),
+                        at + kEvlrHeader, length);
             if (facts_)
                 facts_->vlrs.push_back(
                     {std::string(eh.data() + 2, strnlen(eh.data() + 2, 16)), le<std::uint16_t>(eh, 18),
@@ -842,12 +876,71 @@ class LasReader final : public FormatReader {
                     label_ = f;
                 else if (name == "incidence_deg")
                     incidence_ = f;
-                else if (name == "height_above_ground_m")
+                else if (name == "height_above_ground_m" || name == "HeightAboveGround")
                     height_ = f;
             }
             offset += size;
         }
         return offset;
+    }
+
+    // Keeps the payload of a VLR or EVLR the writers give back (the CRS, the extra bytes'
+    // descriptors); the reader checked that it lies inside the file.
+    void keepVlr(const std::string& user, std::uint16_t record, std::uint64_t at, std::uint64_t length) {
+        constexpr std::uint64_t kMostKept = 1u << 20;  // a CRS record is a few kilobytes
+        if (length > kMostKept) return;
+        const auto payload = [&] { return std::string(source_.view(at, std::size_t(length))); };
+        if (user == "LASF_Projection" && record == 2112 && wkt_vlr_.empty()) wkt_vlr_ = payload();
+        if (user == "LASF_Projection" && record == 34735) geo_keys_ = payload();
+        if (user == "LASF_Projection" && record == 34736) geo_doubles_ = payload();
+        if (user == "LASF_Projection" && record == 34737) geo_ascii_ = payload();
+        if (user == "LASF_Spec" && record == 4) extra_vlr_ = payload();
+    }
+
+    // The foreign file's header facts, from the VLRs kept: the WKT record as it is, else
+    // the GeoTIFF keys' EPSG code as WKT.
+    void makeForeignHeader() {
+        auto h = std::make_shared<core::ForeignHeader>();
+        h->point_format = int(point_format_);
+        h->nir = point_format_ == 8 || point_format_ == 10;
+        h->extra_bytes = record_extra_;
+        h->extra_bytes_vlr = extra_vlr_;
+        if (!wkt_vlr_.empty()) {
+            h->wkt = wkt_vlr_;
+        } else if (!geo_keys_.empty()) {
+            const LasCrs crs = crsFromGeoKeys(geo_keys_, geo_doubles_, geo_ascii_);
+            std::string problem = crs.problem;
+            if (problem.empty()) h->wkt = wktForEpsg(crs.epsg, crs.vertical_epsg, problem);
+            if (h->wkt.empty()) h->crs_problem = prefix_ + ": its GeoTIFF CRS cannot be written as WKT: " + problem;
+        }
+        foreign = std::move(h);
+    }
+
+    // Point `q`'s side record (core::ForeignPoint, then its extra bytes) into `out`.
+    void foreignRecord(const laszip_point_struct& q, unsigned char* out) const {
+        core::ForeignPoint f;
+        f.gps_time_s = q.gps_time;
+        f.rgb[0] = q.rgb[0];
+        f.rgb[1] = q.rgb[1];
+        f.rgb[2] = q.rgb[2];
+        f.nir = q.rgb[3];
+        f.point_source_id = q.point_source_ID;
+        f.user_data = q.user_data;
+        if (extended_) {
+            f.classification = q.extended_classification;
+            f.flags = std::uint8_t((q.extended_classification_flags & 15u) | ((q.extended_scanner_channel & 3u) << 4));
+        } else {
+            f.classification = q.classification;
+            f.flags =
+                std::uint8_t((q.synthetic_flag ? 1u : 0u) | (q.keypoint_flag ? 2u : 0u) | (q.withheld_flag ? 4u : 0u));
+        }
+        f.flags = std::uint8_t(f.flags | (q.scan_direction_flag ? 64u : 0u) | (q.edge_of_flight_line ? 128u : 0u));
+        std::memcpy(out, &f, sizeof f);
+        if (record_extra_ == 0) return;
+        if (q.extra_bytes && q.num_extra_bytes >= int(record_extra_))
+            std::memcpy(out + sizeof f, q.extra_bytes, record_extra_);
+        else
+            std::memset(out + sizeof f, 0, record_extra_);
     }
 
     ByteSource& source_;
@@ -856,6 +949,12 @@ class LasReader final : public FormatReader {
     std::istream stream_;
     LasFacts* facts_ = nullptr;  // filled when given
     LasTally* tally_ = nullptr;  // counts the records when given
+    bool keep_foreign_ = false;  // side records for a file without our label
+    std::size_t stride_ = 0;     // bytes of a point's side record; 0: none kept
+    std::string wkt_vlr_, geo_keys_, geo_doubles_, geo_ascii_, extra_vlr_;
+    std::size_t record_extra_ = 0;  // bytes a record has after its format's fields
+    unsigned point_format_ = 0;
+    std::vector<unsigned char> pending_foreign_;  // the side records of pending_
     laszip_POINTER zip_ = nullptr;
     laszip_point_struct* point_ = nullptr;
     bool open_ = false;
@@ -874,8 +973,8 @@ class LasReader final : public FormatReader {
 
 }  // namespace
 
-std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix) {
-    return std::make_unique<LasReader>(source, prefix);
+std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix, bool keep_foreign) {
+    return std::make_unique<LasReader>(source, prefix, nullptr, nullptr, keep_foreign);
 }
 
 std::unique_ptr<FormatReader> openLasCounted(ByteSource& source, const std::string& prefix, LasFacts& facts,

@@ -112,6 +112,16 @@ LasRecord::LasRecord(std::string where, const glm::dvec3& origin, const CloudFie
         extras_.push_back({what, at});
         at += size;
     };
+    if (const core::ForeignHeader* f = options_.foreign.get()) {
+        // A foreign file's extra bytes come first, as they are; of ours only the height
+        // above ground, unless the file has that field already.
+        at = extra_at_ = int(f->extra_bytes);
+        for (const ExtraDescriptor& d : extraDescriptors(*f))
+            if (d.name == kForeignHeightName && d.type == 9) height_in_place_ = d.offset;
+        if (fields.height_above_ground && height_in_place_ < 0) add(Extra::Height, 4);
+        extra_bytes_ = at;
+        return;
+    }
     if (fields.range) add(Extra::Range, 4);
     if (fields.label) add(Extra::Label, 1);
     if (fields.incidence) add(Extra::Incidence, 4);
@@ -119,11 +129,72 @@ LasRecord::LasRecord(std::string where, const glm::dvec3& origin, const CloudFie
     extra_bytes_ = at;
 }
 
+std::vector<ExtraDescriptor> extraDescriptors(const core::ForeignHeader& f) {
+    static constexpr std::array<int, 11> kTypeSize = {0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
+    constexpr std::size_t kDescriptor = 192;
+    std::vector<ExtraDescriptor> out;
+    const std::string& v = f.extra_bytes_vlr;
+    int at = 0;
+    for (std::size_t d = 0; d + kDescriptor <= v.size(); d += kDescriptor) {
+        const int type = std::uint8_t(v[d + 2]);
+        const int options = std::uint8_t(v[d + 3]);
+        const int size = type == 0 ? options : type < 11 ? kTypeSize[std::size_t(type)] : 0;
+        if (type >= 11 || size == 0 || at + size > int(f.extra_bytes)) break;  // the rest stays undescribed
+        ExtraDescriptor e;
+        e.type = type;
+        e.size = size;
+        e.offset = at;
+        e.name.assign(v.data() + d + 4, strnlen(v.data() + d + 4, 32));
+        e.description.assign(v.data() + d + 160, strnlen(v.data() + d + 160, 32));
+        if (options & 8) std::memcpy(&e.scale, v.data() + d + 112, 8);
+        if (options & 16) std::memcpy(&e.offset_value, v.data() + d + 136, 8);
+        out.push_back(e);
+        at += size;
+    }
+    return out;
+}
+
 void LasRecord::check(laszip_POINTER zip, laszip_I32 rc, const char* what) const {
     if (rc == 0) return;
     laszip_CHAR* message = nullptr;
     if (zip) laszip_get_error(zip, &message);
     throw Error(where_ + ": LASzip " + what + " failed: " + (message ? std::string(message) : "unknown error"));
+}
+
+// A foreign file's extra bytes described again (LASzip writes the extra bytes VLR from
+// the attributes it is given: each described field with its type, name, description,
+// scale and offset; bytes no descriptor covers as single unsigned bytes), then its CRS
+// as an OGC WKT record.
+void LasRecord::setUpForeign(laszip_POINTER zip) const {
+    const core::ForeignHeader& f = *options_.foreign;
+    int at = 0;
+    const auto raw = [&](int upto) {
+        for (; at < upto; ++at) {
+            const std::string name = "extra_byte_" + std::to_string(at);
+            check(zip, laszip_add_attribute(zip, kExtraUChar, name.c_str(), "undescribed byte", 1.0, 0.0),
+                  "extra bytes");
+        }
+    };
+    for (const ExtraDescriptor& d : extraDescriptors(f)) {
+        if (d.type == 0) {
+            raw(d.offset + d.size);
+            continue;
+        }
+        check(zip,
+              laszip_add_attribute(zip, laszip_U32(d.type - 1), d.name.c_str(), d.description.c_str(), d.scale,
+                                   d.offset_value),
+              "extra bytes");
+        at = d.offset + d.size;
+    }
+    raw(int(f.extra_bytes));
+    if (!f.wkt.empty() && f.wkt.size() < 65535) {
+        std::string payload = f.wkt;
+        if (payload.back() != '\0') payload.push_back('\0');
+        check(zip,
+              laszip_add_vlr(zip, "LASF_Projection", 2112, laszip_U16(payload.size()), "OGC WKT",
+                             reinterpret_cast<const laszip_U8*>(payload.data())),
+              "the WKT record");
+    }
 }
 
 void LasRecord::setUp(laszip_POINTER zip) const {
@@ -139,12 +210,14 @@ void LasRecord::setUp(laszip_POINTER zip) const {
     std::snprintf(h->system_identifier, sizeof h->system_identifier, "ladarvr simulation");
     h->file_creation_day = date_.day;
     h->file_creation_year = date_.year;
-    h->point_data_format = fields_.rgb ? 7 : 6;
-    h->point_data_record_length = laszip_U16((fields_.rgb ? 36 : 30) + extra_bytes_);
+    const bool nir = fields_.rgb && options_.foreign && options_.foreign->nir;
+    h->point_data_format = nir ? 8 : fields_.rgb ? 7 : 6;
+    h->point_data_record_length = laszip_U16((nir ? 38 : fields_.rgb ? 36 : 30) + extra_bytes_);
     h->x_scale_factor = h->y_scale_factor = h->z_scale_factor = kScale_m;
     h->x_offset = origin_.x;
     h->y_offset = origin_.y;
     h->z_offset = origin_.z;
+    if (options_.foreign) setUpForeign(zip);
     for (const Extra& e : extras_) {
         switch (e.what) {
             case Extra::Range:
@@ -159,7 +232,9 @@ void LasRecord::setUp(laszip_POINTER zip) const {
                 break;
             case Extra::Height:
                 check(zip,
-                      laszip_add_attribute(zip, kExtraFloat, "height_above_ground_m", kHeightDescription, 1.0, 0.0),
+                      laszip_add_attribute(zip, kExtraFloat,
+                                           options_.foreign ? kForeignHeightName : "height_above_ground_m",
+                                           kHeightDescription, 1.0, 0.0),
                       "height_above_ground_m");
                 break;
         }
@@ -175,8 +250,72 @@ double LasRecord::gpsTime(const CloudPoint& p) const {
     return options_.gps_start_s + double(p.view) * options_.view_interval_s;
 }
 
+// The fields a foreign point's side record holds.
+void LasRecord::fillForeign(laszip_point_struct& q, const unsigned char* foreign) const {
+    core::ForeignPoint f;
+    std::memcpy(&f, foreign, sizeof f);
+    q.extended_classification = f.classification;
+    q.classification = f.classification < 32 ? f.classification & 31u : 0u;
+    q.extended_classification_flags = f.flags & 15u;
+    q.synthetic_flag = f.flags & 1u;
+    q.keypoint_flag = (f.flags >> 1) & 1u;
+    q.withheld_flag = (f.flags >> 2) & 1u;
+    q.extended_scanner_channel = (f.flags >> 4) & 3u;
+    q.scan_direction_flag = (f.flags >> 6) & 1u;
+    q.edge_of_flight_line = (f.flags >> 7) & 1u;
+    q.user_data = f.user_data;
+    q.point_source_ID = f.point_source_id;
+    q.gps_time = f.gps_time_s;
+    q.rgb[0] = f.rgb[0];
+    q.rgb[1] = f.rgb[1];
+    q.rgb[2] = f.rgb[2];
+    q.rgb[3] = f.nir;
+    const std::size_t own = options_.foreign->extra_bytes;
+    if (own == 0) return;
+    if (q.num_extra_bytes < int(own) || !q.extra_bytes) throw Error(where_ + ": LASzip did not size the extra bytes");
+    std::memcpy(q.extra_bytes, foreign + sizeof f, own);
+}
+
+// A foreign point: position, intensity, returns and scan angle from `p`, the rest from
+// its side record, and the height above ground when this file adds it.
+void LasRecord::fillForeignQuantized(laszip_point_struct& q, const CloudPoint& p, const std::array<laszip_I32, 3>& xyz,
+                                     LasInventory* inventory, const unsigned char* foreign) const {
+    q.X = xyz[0];
+    q.Y = xyz[1];
+    q.Z = xyz[2];
+    q.intensity = fields_.intensity ? p.intensity : 0;
+    const std::uint8_t rn = std::clamp<std::uint8_t>(p.return_number, 1, 15);
+    const std::uint8_t nr = std::clamp<std::uint8_t>(std::max(p.returns, rn), 1, 15);
+    q.extended_point_type = 1;
+    q.extended_return_number = rn & 15u;
+    q.extended_number_of_returns = nr & 15u;
+    q.return_number = std::min<std::uint8_t>(rn, 7) & 7u;
+    q.number_of_returns = std::min<std::uint8_t>(nr, 7) & 7u;
+    if (fields_.scan_angle) {
+        const double angle = std::clamp(std::round(p.scan_angle_deg / kScanAngleUnit_deg), -30000.0, 30000.0);
+        q.extended_scan_angle = laszip_I16(angle);
+        q.scan_angle_rank = laszip_I8(std::clamp(std::lround(p.scan_angle_deg), -90L, 90L));
+    } else {
+        q.extended_scan_angle = 0;
+        q.scan_angle_rank = 0;
+    }
+    fillForeign(q, foreign);
+    if (inventory) inventory->add(xyz, q.gps_time, rn);
+    if (!fields_.height_above_ground) return;
+    if (height_in_place_ >= 0) {
+        std::memcpy(q.extra_bytes + height_in_place_, &p.height_above_ground_m, 4);
+        return;
+    }
+    for (const Extra& e : extras_)
+        if (e.what == Extra::Height) std::memcpy(q.extra_bytes + e.offset, &p.height_above_ground_m, 4);
+}
+
 void LasRecord::fillQuantized(laszip_point_struct& q, const CloudPoint& p, const std::array<laszip_I32, 3>& xyz,
-                              LasInventory* inventory) const {
+                              LasInventory* inventory, const unsigned char* foreign) const {
+    if (options_.foreign && foreign) {
+        fillForeignQuantized(q, p, xyz, inventory, foreign);
+        return;
+    }
     q.X = xyz[0];
     q.Y = xyz[1];
     q.Z = xyz[2];

@@ -51,6 +51,20 @@ struct LasDate {
 };
 LasDate lasCreationDate();
 
+/// One field of a foreign file's extra bytes, from its descriptor (LAS 1.4 R15 §2.6.3).
+struct ExtraDescriptor {
+    int type = 0;    // LAS data type 1..10, or 0: `size` undocumented bytes
+    int size = 0;    // bytes
+    int offset = 0;  // within the record's extra bytes
+    std::string name, description;
+    double scale = 1.0, offset_value = 0.0;
+};
+/// The fields `f`'s extra bytes VLR describes, in order, as far as they fit its records'
+/// extra bytes (an array type or an overrun ends the list: the bytes after stay raw).
+std::vector<ExtraDescriptor> extraDescriptors(const core::ForeignHeader& f);
+/// The height above ground's extra bytes name in files of other producers (PDAL's).
+inline constexpr const char* kForeignHeightName = "HeightAboveGround";
+
 class LasRecord {
   public:
     static constexpr double kScale_m = 0.001;  // the records' scale
@@ -64,16 +78,19 @@ class LasRecord {
     void setUp(laszip_POINTER zip) const;
     /// Fills `q` with point `p`, the `index`-th of the file (for messages), and counts its
     /// record into `inventory` when given (from the values it computes: reading them back
-    /// from `q` would wait on the stores just made). Throws Error(where + ": point N lies
-    /// beyond ...") when it is out of the 1 mm grid's reach.
-    void fill(laszip_point_struct& q, const core::CloudPoint& p, std::uint64_t index,
-              LasInventory* inventory = nullptr) const {
-        fillQuantized(q, p, quantize(p, index), inventory);
+    /// from `q` would wait on the stores just made). `foreign`: the point's side record
+    /// where LasOptions::foreign is set (else ignored). Throws Error(where + ": point N
+    /// lies beyond ...") when it is out of the 1 mm grid's reach.
+    void fill(laszip_point_struct& q, const core::CloudPoint& p, std::uint64_t index, LasInventory* inventory = nullptr,
+              const unsigned char* foreign = nullptr) const {
+        fillQuantized(q, p, quantize(p, index), inventory, foreign);
     }
     /// The same, of a point whose integer coordinates quantize() gave before: `xyz`; its
     /// position is not read.
     void fillQuantized(laszip_point_struct& q, const core::CloudPoint& p, const std::array<laszip_I32, 3>& xyz,
-                       LasInventory* inventory = nullptr) const;
+                       LasInventory* inventory = nullptr, const unsigned char* foreign = nullptr) const;
+    /// The foreign header the records take side records of (LasOptions::foreign), or null.
+    const core::ForeignHeader* foreign() const { return options_.foreign.get(); }
     /// The integer coordinates fill() gives point `p` (millimetres from the origin). Throws
     /// as fill() does.
     std::array<laszip_I32, 3> quantize(const core::CloudPoint& p, std::uint64_t index) const {
@@ -113,6 +130,10 @@ class LasRecord {
 
   private:
     [[noreturn]] void throwBeyondReach(std::uint64_t index) const;
+    void setUpForeign(laszip_POINTER zip) const;
+    void fillForeign(laszip_point_struct& q, const unsigned char* foreign) const;
+    void fillForeignQuantized(laszip_point_struct& q, const core::CloudPoint& p, const std::array<laszip_I32, 3>& xyz,
+                              LasInventory* inventory, const unsigned char* foreign) const;
 
     struct Extra {
         enum What { Range, Label, Incidence, Height } what;
@@ -124,6 +145,8 @@ class LasRecord {
     LasOptions options_;
     std::vector<Extra> extras_;
     int extra_bytes_ = 0;
+    int extra_at_ = 0;          // where our extra bytes start (after a foreign file's)
+    int height_in_place_ = -1;  // a foreign file's own HeightAboveGround (float), where it is
     LasDate date_;
 };
 

@@ -91,6 +91,14 @@ class LasWriter final : public FormatWriter {
         }
     }
 
+    void appendForeign(std::span<const CloudPoint> points, const unsigned char* records) override {
+        const std::size_t stride = record_.foreign() ? record_.foreign()->stride() : 0;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            record_.fill(*point_, points[i], inventory_.points, &inventory_, records + i * stride);
+            check(laszip_write_point(zip_), "write");
+        }
+    }
+
     void finish() override {
         open_ = false;
         check(laszip_close_writer(zip_), "close");

@@ -47,7 +47,9 @@ class LaszipMemoryWriter {
 /// LASzip compresses `points` (`first_index` the first one's index in the whole file, for
 /// messages) with LAZ chunks of `chunk_size` points (UINT32_MAX: variable chunks, here
 /// one), and counts them into `inventory`. Throws Error(record.where() + ": ...").
+/// `foreign`: the points' side records where the record takes them (else null).
 LaszipFile compressWithLaszip(const LasRecord& record, std::span<const core::CloudPoint> points,
-                              std::uint64_t first_index, LasInventory& inventory, laszip_U32 chunk_size);
+                              std::uint64_t first_index, LasInventory& inventory, laszip_U32 chunk_size,
+                              const unsigned char* foreign = nullptr);
 
 }  // namespace io::detail

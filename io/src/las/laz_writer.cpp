@@ -78,14 +78,15 @@ LaszipFile LaszipMemoryWriter::finish() {
 }
 
 LaszipFile compressWithLaszip(const LasRecord& record, std::span<const CloudPoint> points, std::uint64_t first_index,
-                              LasInventory& inventory, laszip_U32 chunk_size) {
+                              LasInventory& inventory, laszip_U32 chunk_size, const unsigned char* foreign) {
+    const std::size_t stride = foreign && record.foreign() ? record.foreign()->stride() : 0;
     LaszipMemoryWriter zip(record, chunk_size);
     // Counted on this thread's stack and merged once: callers keep the inventories of
     // chunks compressed at once side by side, and counting into them point by point
     // would make the threads fight over the cache lines they share.
     LasInventory counted;
     for (std::size_t i = 0; i < points.size(); ++i) {
-        record.fill(zip.point(), points[i], first_index + i, &counted);
+        record.fill(zip.point(), points[i], first_index + i, &counted, stride > 0 ? foreign + i * stride : nullptr);
         zip.write();
     }
     LaszipFile f = zip.finish();
@@ -126,7 +127,11 @@ class LazWriter final : public FormatWriter {
     LazWriter(const LazWriter&) = delete;
     LazWriter& operator=(const LazWriter&) = delete;
 
-    void append(std::span<const CloudPoint> points) override {
+    void append(std::span<const CloudPoint> points) override { appendForeign(points, nullptr); }
+
+    // A chunk holds its points' side records beside them (none where `records` is null).
+    void appendForeign(std::span<const CloudPoint> points, const unsigned char* records) override {
+        const std::size_t stride = records && record_.foreign() ? record_.foreign()->stride() : 0;
         while (!points.empty()) {
             if (!filling_) {
                 filling_ = std::make_unique<Job>();
@@ -139,6 +144,10 @@ class LazWriter final : public FormatWriter {
             }
             const std::size_t n = std::min(points.size(), kChunkPoints - filling_->points.size());
             filling_->points.insert(filling_->points.end(), points.begin(), points.begin() + std::ptrdiff_t(n));
+            if (stride > 0) {
+                filling_->foreign.insert(filling_->foreign.end(), records, records + n * stride);
+                records += n * stride;
+            }
             next_index_ += n;
             points = points.subspan(n);
             if (filling_->points.size() == kChunkPoints) submit();
@@ -167,6 +176,7 @@ class LazWriter final : public FormatWriter {
   private:
     struct Job {
         std::vector<CloudPoint> points;
+        std::vector<unsigned char> foreign;  // the points' side records, when kept
         std::uint64_t first_index = 0;
         bool taken = false, done = false;
         LaszipFile result;
@@ -177,7 +187,8 @@ class LazWriter final : public FormatWriter {
     void run(Job& job) const {
         try {
             job.result =
-                compressWithLaszip(record_, job.points, job.first_index, job.inventory, laszip_U32(kChunkPoints));
+                compressWithLaszip(record_, job.points, job.first_index, job.inventory, laszip_U32(kChunkPoints),
+                                   job.foreign.empty() ? nullptr : job.foreign.data());
         } catch (...) {
             job.error = std::current_exception();
         }

@@ -35,6 +35,10 @@ struct GroundFileOptions {
     GroundMethod method = GroundMethod::Smrf;  // Smrf or Csf (RANSAC works per view)
     SmrfOptions smrf = surveySmrfOptions();
     CsfOptions csf = surveyCsfOptions();
+    /// A LAS/LAZ/COPC input from another producer keeps its ASPRS classes: ground points
+    /// become class 2, its class-2 points that are not ground become 1, every other class
+    /// stays. With `reclassify`, every point that is not ground becomes class 1.
+    bool reclassify = false;
 };
 
 /// Throws core::Error("ground: ...") naming the option when `o` cannot run: RANSAC named,
@@ -62,8 +66,11 @@ struct GroundFileStats {
 /// Reads `in` (any cloud io::CloudReader reads) twice and writes every point to `out`
 /// (format from its name) with label Ground where the filter says ground and Environment
 /// elsewhere (a target label is kept), its height above the terrain, every other field
-/// as read. `max_cells` bounds the terrain raster (the caller's memory bound); a cloud
-/// wider than that is refused naming the cell option. `las` and `copc` go to the writer.
+/// as read. A LAS/LAZ/COPC file from another producer keeps every field it carries (its
+/// classes as GroundFileOptions::reclassify says, its CRS, colours, GPS times, extra
+/// bytes: io::LasOptions::foreign) when `out` is LAS, LAZ or COPC. `max_cells` bounds
+/// the terrain raster (the caller's memory bound); a cloud wider than that is refused
+/// naming the cell option. `las` and `copc` go to the writer.
 /// `progress(points)` is called as points are read (both passes). The output is written
 /// through io::CloudWriter (a temporary renamed into place); the caller checks that `out`
 /// may be written and is not `in`. Throws core::Error.

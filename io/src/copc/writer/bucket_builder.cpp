@@ -3,6 +3,7 @@
 #include "bucket_builder.hpp"
 
 #include "bucket_sorter.hpp"
+#include "foreign_store.hpp"
 #include "node_compression.hpp"
 
 #include <algorithm>
@@ -110,7 +111,8 @@ void BucketBuilder::compress(LoadedBucket& loaded) {
         setup_, loaded.nodes,
         [&](std::uint32_t p, laszip_point_struct& q, LasInventory& inventory) {
             const unsigned char* r = records + std::size_t(p) * record;
-            setup_.record.fillQuantized(q, setup_.packing.unpack(r), PointPacking::quantized(r), &inventory);
+            setup_.record.fillQuantized(q, setup_.packing.unpack(r), PointPacking::quantized(r), &inventory,
+                                        setup_.foreign ? setup_.foreign->record(recordIndex(r)) : nullptr);
         },
         [&](const OctreeNode& node, const LaszipFile& f, const LasInventory& inv) {
             Bucket::Chunk c{node.key, chunks_at_, 0, node.points.size()};

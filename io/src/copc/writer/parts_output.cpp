@@ -2,6 +2,8 @@
 // (parts_output.hpp).
 #include "parts_output.hpp"
 
+#include "foreign_store.hpp"
+
 #include <core/error.hpp>
 
 #include <algorithm>
@@ -38,7 +40,8 @@ void PartsOutput::compressTops(std::size_t from) {
         LaszipMemoryWriter zip(setup_.record, kVariableChunks);
         LasInventory inventory;
         for (const Lifted& p : set) {
-            setup_.record.fillQuantized(zip.point(), p.spilled.point, p.xyz, &inventory);
+            setup_.record.fillQuantized(zip.point(), p.spilled.point, p.xyz, &inventory,
+                                        setup_.foreign ? setup_.foreign->record(p.spilled.index) : nullptr);
             zip.write();
         }
         top_batch_[i] = TopChunk{zip.finish(), inventory};

@@ -39,6 +39,8 @@ inline constexpr std::size_t kCapsPerThread = 2;
 /// A compressed node's bytes per point, at most (as the LAZ writer's chunks).
 inline constexpr std::uint64_t kCompressedBytesPerPoint = 24;
 
+class ForeignStore;
+
 struct WriterSetup {
     const LasRecord& record;
     const PointPacking& packing;  // the scratch files' points, quantized
@@ -46,6 +48,8 @@ struct WriterSetup {
     std::uint32_t cap = 1;        // the most points a node holds
     std::filesystem::path dir;    // where scratch files go: the output's folder
     std::string where;            // the output, as messages name it
+    /// A foreign file's side records by input index, or null (foreign_store.hpp).
+    const ForeignStore* foreign = nullptr;
 
     /// A new scratch file in the output's folder.
     platform::ScratchFile scratchFile() const { return platform::ScratchFile(dir, where); }
