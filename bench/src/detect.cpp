@@ -8,6 +8,7 @@
 // candidates; target recall = scenes whose target is among the candidates; point recall =
 // target points inside true-positive clusters / all target points.
 #include "common.hpp"
+#include "detect_families.hpp"
 #include "detect_trained.hpp"
 #include "register.hpp"
 
@@ -35,7 +36,33 @@ struct BenchDetectCli {
     double threshold = 0.5;           // a second operating point besides the detector's min_score
     detect::ClusterOptions detector;  // the detector's options (defaults unless given)
     TrainedBenchOptions trained;      // the trained detector against the baseline
+    std::string families;             // "small" or "full": only the leave-one-family-out run
 };
+
+// `bench detect --families small|full`: the leave-one-family-out run alone, its own
+// section of the markdown file (unless --no-md).
+void runFamilies(const BenchDetectCli& cli, Clock::time_point start) {
+    if (cli.families != "small" && cli.families != "full")
+        throw core::Error("bench detect: --families = '" + cli.families + "': allowed small or full");
+    FamilyBenchOptions fo;
+    fo.full = cli.families == "full";
+    fo.tmp = cli.trained.tmp;
+    fo.threads = cli.trained.threads;
+    fo.shipped_model = sourceRoot() / "assets" / "detect" / "model.ldm";
+    const std::string body = runFamilyComparison(fo);
+    std::printf("%s", body.c_str());
+    if (cli.no_md) return;
+    const std::string heading = "## Detector on vehicle families it never saw (ladarvr bench detect --families)";
+    std::ostringstream s;
+    s << heading << "\n\n"
+      << "Command: `./ladarvr bench detect --families " << cli.families << " --threads " << cli.trained.threads
+      << "`; machine: " << std::thread::hardware_concurrency() << " cores, " << cpuName() << "; " << utcNow() << "; "
+      << fmt("%.0f", secondsSince(start)) << " s in all.\n\n"
+      << "bench/src/detect_families.cpp: leave one vehicle family out (scripts/make_vehicles.py's families).\n\n"
+      << body << "\n";
+    replaceMarkdownSection(cli.md, heading, s.str());
+    std::fprintf(stderr, "bench detect: wrote the section to %s\n", cli.md.c_str());
+}
 
 struct Row {
     std::string scene, ground;
@@ -131,6 +158,7 @@ void run(const BenchDetectCli& cli) {
     if (!(cli.threshold >= 0.0 && cli.threshold <= 1.0))
         throw core::Error("bench detect: --threshold = " + fmt("%g", cli.threshold) + ": allowed [0, 1]");
     const auto start = Clock::now();
+    if (!cli.families.empty()) return runFamilies(cli, start);
     if (!cli.trained.clouds.empty()) {  // the per-cloud table only; BENCHMARKS.md stays
         if (cli.trained.model.empty()) throw core::Error("bench detect: --clouds needs --model");
         std::printf("%s", rankClouds(cli.trained).c_str());
@@ -237,6 +265,9 @@ void registerDetect(CLI::App& parent) {
     c->add_flag("--no-md", state->no_md, "print only, leave BENCHMARKS.md alone");
     c->add_flag("--quick", state->trained.quick,
                 "smoke run: only the trained-against-baseline comparison on tiny corpora; BENCHMARKS.md stays");
+    c->add_option("--families", state->families,
+                  "only the leave-one-family-out run (scripts/make_vehicles.py's vehicle families): small (minutes "
+                  "on 2 cores) or full; its own section of the markdown file");
     c->add_option("--clouds", state->trained.clouds,
                   "only rank the target in these labelled clouds with --model and the baseline; BENCHMARKS.md stays");
     c->add_option("--model", state->trained.model, "the trained model --clouds uses");

@@ -41,22 +41,18 @@
 #include <unistd.h>
 
 namespace bench {
-namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-    int rank = 0;                                 // 1-based rank of the first true positive, 0 when none
-    double seconds = 0;                           // median of the repeated detections
-    double seconds_min = 0, seconds_max = 0;      // their spread
-    std::vector<std::pair<double, bool>> scored;  // every candidate: score, true positive
-};
+namespace {
 
 struct Cloud {
     std::string name;
     core::PointCloud cloud;
     bool ideal = true;  // seen by the ideal sensor (else by a preset)
 };
+
+}  // namespace
 
 // Each item's sensor preset, from its manifest line's replay options (no --sensor: ideal).
 std::map<std::string, std::string> sensorOfItems(const fs::path& dir) {
@@ -106,11 +102,6 @@ Outcome evaluate(const detect::Detector& d, const core::PointCloud& c, int repea
     return o;
 }
 
-struct Summary {
-    std::size_t clouds = 0, rank1 = 0, top3 = 0, found = 0;
-    double threshold = -1, false_per_cloud = -1, median_s = 0, max_s = 0;
-};
-
 Summary summarise(const std::vector<Outcome>& outcomes) {
     Summary s;
     s.clouds = outcomes.size();
@@ -149,6 +140,8 @@ Summary summarise(const std::vector<Outcome>& outcomes) {
     return s;
 }
 
+namespace {
+
 // The precision-recall curve of a detector over the clouds, one row per distinct score
 // threshold from the highest down: precision = true candidates / candidates at or above
 // it, recall = clouds whose target a candidate at or above it finds / clouds, and the
@@ -176,6 +169,8 @@ std::string prRows(const std::string& detector, const std::vector<Outcome>& outc
     return s.str();
 }
 
+}  // namespace
+
 fs::path writeSpec(const fs::path& dir, const std::string& name, nlohmann::json spec) {
     const fs::path path = dir / (name + ".json");
     platform::writeFileAtomic(path, spec.dump(2));
@@ -184,7 +179,7 @@ fs::path writeSpec(const fs::path& dir, const std::string& name, nlohmann::json 
 
 // Builds a corpus; with allow_failed, items that cannot be planned (a target with no free
 // place in a dense forest) are left out with a line each and their count returned.
-std::size_t buildCorpus(const fs::path& spec, const fs::path& out, int threads, bool allow_failed = false) {
+std::size_t buildCorpus(const fs::path& spec, const fs::path& out, int threads, bool allow_failed) {
     corpus::RunOptions ro;
     ro.spec = spec;
     ro.out = out;
@@ -199,7 +194,7 @@ std::size_t buildCorpus(const fs::path& spec, const fs::path& out, int threads, 
     return r.failed.size();
 }
 
-std::string row(const char* name, const Summary& s) {
+std::string summaryRow(const char* name, const Summary& s) {
     std::ostringstream r;
     r << "| " << name << " | " << s.clouds << " | " << s.rank1 << " ("
       << fmt("%.0f", 100.0 * double(s.rank1) / double(std::max<std::size_t>(1, s.clouds))) << " %) | " << s.top3 << " ("
@@ -210,8 +205,6 @@ std::string row(const char* name, const Summary& s) {
       << " | " << fmt("%.2f", s.median_s) << " | " << fmt("%.2f", s.max_s) << " |\n";
     return r.str();
 }
-
-}  // namespace
 
 std::string runTrainedComparison(const TrainedBenchOptions& o) {
     const fs::path root = sourceRoot();
@@ -361,10 +354,11 @@ std::string runTrainedComparison(const TrainedBenchOptions& o) {
       << "| detector | clouds | target ranked 1st | in the top 3 | found at all | threshold for >= 90 % found | "
          "false candidates per cloud there | median detect s | slowest detect s "
          "|\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
-      << row("trained (`--model`)", ts) << row("clustering baseline", bs)
-      << row("trained, ideal sensor", summarise(t_ideal)) << row("baseline, ideal sensor", summarise(b_ideal))
-      << row("trained, sensor presets", summarise(t_noisy)) << row("baseline, sensor presets", summarise(b_noisy))
-      << "\n"
+      << summaryRow("trained (`--model`)", ts) << summaryRow("clustering baseline", bs)
+      << summaryRow("trained, ideal sensor", summarise(t_ideal))
+      << summaryRow("baseline, ideal sensor", summarise(b_ideal))
+      << summaryRow("trained, sensor presets", summarise(t_noisy))
+      << summaryRow("baseline, sensor presets", summarise(b_noisy)) << "\n"
       << per.str();
     return s.str();
 }

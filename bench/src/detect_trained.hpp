@@ -1,8 +1,16 @@
 // bench/src/detect_trained.hpp: the trained detector against the clustering baseline on
 // clouds neither saw in training (part of `ladarvr bench detect`).
 #pragma once
+#include <core/point_cloud.hpp>
+#include <detect/detector.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
 #include <filesystem>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bench {
@@ -31,5 +39,37 @@ std::string runTrainedComparison(const TrainedBenchOptions& o);
 /// a second table lists each cloud's o.explain best candidates and the target's: what
 /// outranks the target.
 std::string rankClouds(const TrainedBenchOptions& o);
+
+// What the detector benchmarks share (bench/src/detect_trained.cpp).
+
+/// One detector on one labelled cloud.
+struct Outcome {
+    int rank = 0;                                 // 1-based rank of the first true positive, 0 when none
+    double seconds = 0;                           // median of the repeated detections
+    double seconds_min = 0, seconds_max = 0;      // their spread
+    std::vector<std::pair<double, bool>> scored;  // every candidate: score, true positive
+};
+
+/// Outcomes over clouds: rank-1 and top-3 counts, and the false candidates per cloud at
+/// the highest score threshold that still finds >= 90 % of the targets (-1: not reached).
+struct Summary {
+    std::size_t clouds = 0, rank1 = 0, top3 = 0, found = 0;
+    double threshold = -1, false_per_cloud = -1, median_s = 0, max_s = 0;
+};
+
+/// Detects `repeats` times (the time their median); every run must give the same
+/// candidates. A candidate is a true positive when most of its points are labelled target.
+Outcome evaluate(const detect::Detector& d, const core::PointCloud& c, int repeats, const std::string& name);
+Summary summarise(const std::vector<Outcome>& outcomes);
+/// A markdown row: name, clouds, ranked 1st, top 3, found, threshold, false per cloud, times.
+std::string summaryRow(const char* name, const Summary& s);
+/// Writes SPEC `spec` as DIR/NAME.json; returns its path.
+std::filesystem::path writeSpec(const std::filesystem::path& dir, const std::string& name, nlohmann::json spec);
+/// Builds a corpus; with allow_failed, items that cannot be planned are left out with a
+/// line each and their count returned.
+std::size_t buildCorpus(const std::filesystem::path& spec, const std::filesystem::path& out, int threads,
+                        bool allow_failed = false);
+/// Each item's sensor preset, from its manifest line's replay options (no --sensor: ideal).
+std::map<std::string, std::string> sensorOfItems(const std::filesystem::path& dir);
 
 }  // namespace bench

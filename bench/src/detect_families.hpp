@@ -1,0 +1,23 @@
+// bench/src/detect_families.hpp: the trained detector on vehicle families it never saw
+// (part of `ladarvr bench detect`, its --families run): leave one family out.
+#pragma once
+#include <filesystem>
+#include <string>
+
+namespace bench {
+
+struct FamilyBenchOptions {
+    bool full = false;                    // the full configuration (else the small one, minutes on 2 cores)
+    std::filesystem::path tmp;            // scratch folder (empty: a new one under the temp dir, removed)
+    int threads = 2;                      // the generator's, the features' and XGBoost's threads
+    std::filesystem::path shipped_model;  // evaluated beside the others (empty: not)
+};
+
+/// Generates the vehicle families (scripts/make_vehicles.py), builds a training and an
+/// evaluation corpus per family (other vehicles of the family in each), trains one model
+/// per family on all the other families' items and one on all, and evaluates on each
+/// family's clouds: the model that never saw the family, the model trained on all, the
+/// shipped model and the clustering baseline. Returns the markdown section's body.
+std::string runFamilyComparison(const FamilyBenchOptions& o);
+
+}  // namespace bench
