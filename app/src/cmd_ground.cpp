@@ -18,6 +18,7 @@
 #include <platform/progress.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/ground_file.hpp>
+#include <sim/ground_units.hpp>
 #include <sim/memory_budget.hpp>
 
 #include <nlohmann/json.hpp>
@@ -80,11 +81,14 @@ void run(GroundFileCli& cli) {
         const io::CloudReader reader(cli.in);  // the header checked before the output is touched
         declared = reader.declaredPoints();
     }
+    const sim::CoordinateUnits units = sim::readCoordinateUnits(cli.in, "ground");  // options in metres to its units
+    if (!units.metres())
+        std::fprintf(stderr, "ground: coordinates in %s: options converted\n", sim::describe(units).c_str());
     createParentFolders(out, "ground: --out");
     platform::checkWritableDestination(out, inputs);
     platform::Progress progress("ground: reading twice", 2 * declared);
-    const sim::GroundFileStats st = sim::classifyGroundFile(cli.in, out, cli.options, max_cells, las, copc,
-                                                            [&](std::size_t n) { progress.advance(n); });
+    const sim::GroundFileStats st = sim::classifyGroundFile(cli.in, out, sim::inUnits(cli.options, units), max_cells,
+                                                            las, copc, [&](std::size_t n) { progress.advance(n); });
     progress.finish();
     if (!st.reader_warning.empty()) platform::printMessage("warning", st.reader_warning);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -99,7 +103,7 @@ void run(GroundFileCli& cli) {
         j["ground_points"] = st.ground_points;
         j["input_ground_points"] = st.was_ground;
         j["input_ground_points_kept"] = st.still_ground;
-        j["raster"] = {{"nx", st.nx}, {"ny", st.ny}, {"cell_m", st.cell_m}};
+        j["raster"] = {{"nx", st.nx}, {"ny", st.ny}, {"cell_m", st.cell_m * units.horizontal_m}};
         j["seconds"] = seconds;
         std::printf("%s\n", j.dump(2).c_str());
         return;

@@ -11,6 +11,7 @@
 #include <glm/common.hpp>
 
 #include <cmath>
+#include <string_view>
 
 namespace io {
 namespace {
@@ -77,6 +78,12 @@ CloudInfo inspectCloud(const std::filesystem::path& file, const char* context) {
     else
         inspectPointFile(*source, prefix, module == "ply", info);
     return info;
+}
+
+LasCrs readCloudCrs(const std::filesystem::path& file, const char* context) {
+    const std::unique_ptr<detail::ByteSource> source = detail::fileSource(file, context);
+    if (std::string_view(detail::moduleOf(*source, file)) != "las") return {};
+    return detail::readLasCrs(*source, std::string(context) + ": " + file.string());
 }
 
 }  // namespace io

@@ -6,7 +6,8 @@
 #    a total error bound (misclassified / all points), read from --json;
 #  - the file written holds every point, its ground count as --json says (`info --json`);
 #  - bad options give one line naming the option and what is allowed, exit 2 or 1, and
-#    no output; the input is never overwritten.
+#    no output; the input is never overwritten;
+#  - a survey in feet gets its options converted from metres (stderr says so).
 set -eu
 bin=$1
 dir=$2
@@ -52,6 +53,27 @@ check samp54 csf 8.2
 # Text output: one line naming the file and the counts.
 "$bin" ground "$data/samp54.las" --out "$dir/text.las" >"$dir/out" 2>"$dir/err" || fail "ground text: $(cat "$dir/err")"
 grep -q "^ground: wrote $dir/text.las: 8608 points, [0-9]* ground" "$dir/out" || fail "text line: $(cat "$dir/out")"
+
+# A survey in US survey feet (tests/data/real/4_6_crop.las, its GeoTIFF keys say so): the
+# options, in metres, are converted to feet, and stderr says so; the raster's 1 m cells
+# are 3.28 ft wide (62 x 62 over its 200 ft x 200 ft). The same options divided by
+# 3.2808 give what a run that took feet for metres gave: 1 ft cells (about 200 x 200) and
+# another ground.
+real=$data/../real
+"$bin" ground "$real/4_6_crop.las" --out "$dir/feet.las" --json >"$dir/json" 2>"$dir/err" ||
+    fail "ground feet: $(cat "$dir/err")"
+[ "$(cat "$dir/err")" = "ground: coordinates in US survey feet (0.3048006 m): options converted" ] ||
+    fail "ground feet: stderr: $(cat "$dir/err")"
+[ "$(field nx "$dir/json") $(field ny "$dir/json") $(field cell_m "$dir/json")" = "62 62 1.0" ] ||
+    fail "ground feet: raster: $(cat "$dir/json")"
+feet_ground=$(field ground_points "$dir/json")
+"$bin" ground "$real/4_6_crop.las" --out "$dir/feet-as-m.las" --json --smrf-cell-m 0.3048006096 \
+    --smrf-window-m 5.4864109728 --smrf-threshold-m 0.1524003048 --smrf-scalar 0.381000762 \
+    --low-outlier-m 1.8288036576 >"$dir/json" 2>"$dir/err" || fail "ground feet as metres: $(cat "$dir/err")"
+[ "$(field nx "$dir/json")" -ge 200 ] && [ "$(field ny "$dir/json")" -ge 200 ] ||
+    fail "ground feet as metres: raster: $(cat "$dir/json")"
+[ "$(field ground_points "$dir/json")" != "$feet_ground" ] ||
+    fail "ground feet: the same ground ($feet_ground points) with options in feet and in metres"
 
 # Bad options: one line, no output.
 bad() {

@@ -88,6 +88,11 @@ struct CloudInfo {
 /// and what is allowed, for a file that cannot be read.
 CloudInfo inspectCloud(const std::filesystem::path& file, const char* context);
 
+/// The CRS `file` declares, only its header and VLRs read: a LAS, LAZ or COPC file's WKT
+/// record, else its GeoTIFF keys (as inspectCloud reads them); source empty for PCD and
+/// PLY (they state none) and for a LAS file without one. Throws core::Error as inspectCloud.
+LasCrs readCloudCrs(const std::filesystem::path& file, const char* context);
+
 /// The ASPRS name of a classification code (LAS 1.4 R15 table 17; for files before LAS
 /// 1.4, classes 8 and 12 as LAS 1.0-1.3 define them): "ground", "building", ...,
 /// "reserved", "user-defined".

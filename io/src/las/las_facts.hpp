@@ -58,6 +58,10 @@ struct LasTally {
 std::unique_ptr<FormatReader> openLasCounted(ByteSource& source, const std::string& prefix, LasFacts& facts,
                                              LasTally& tally);
 
+/// The CRS of the LAS, LAZ or COPC file open in `source` (its WKT record, else its
+/// GeoTIFF keys), only its header and VLRs read. Throws Error("<prefix>: ...").
+LasCrs readLasCrs(ByteSource& source, const std::string& prefix);
+
 /// The LAS part of inspectCloud (las_info.cpp): reads every point of the LAS, LAZ or
 /// COPC file `file` open in `source` and fills `info`. Throws Error("<prefix>: ...").
 void inspectLas(ByteSource& source, const std::string& prefix, const std::filesystem::path& file, CloudInfo& info);

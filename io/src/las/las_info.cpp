@@ -63,6 +63,8 @@ const LasVlrPlace* findRecord(const LasFacts& facts, std::uint16_t record) {
     return nullptr;
 }
 
+}  // namespace
+
 // The CRS from the WKT record, else from the GeoTIFF keys; the problems of both when
 // neither gives one.
 LasCrs readCrs(ByteSource& source, const LasFacts& facts) {
@@ -87,6 +89,15 @@ LasCrs readCrs(ByteSource& source, const LasFacts& facts) {
     if (!geotiff.problem.empty()) none.problem += (none.problem.empty() ? "" : "; ") + geotiff.problem;
     return none;
 }
+
+LasCrs readLasCrs(ByteSource& source, const std::string& prefix) {
+    LasFacts facts;
+    LasTally tally;
+    openLasCounted(source, prefix, facts, tally);  // the header and the records' places checked
+    return readCrs(source, facts);
+}
+
+namespace {
 
 // The fields of the extra bytes VLR's descriptors.
 std::vector<LasExtraField> readExtraFields(ByteSource& source, const LasFacts& facts) {

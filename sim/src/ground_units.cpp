@@ -1,0 +1,102 @@
+// sim/src/ground_units.cpp: see sim/ground_units.hpp.
+#include <sim/ground_units.hpp>
+
+#include <core/error.hpp>
+#include <io/cloud_info.hpp>
+
+#include <cstdio>
+#include <string_view>
+
+namespace sim {
+namespace {
+
+// The CRS as a message names it: "'NAD83 / New Mexico Central (ftUS)' (EPSG:2903)".
+std::string crsText(const io::LasCrs& crs) {
+    std::string s = crs.name.empty() ? std::string("a ") + (crs.kind.empty() ? "" : crs.kind + " ") + "CRS"
+                                     : "'" + core::printable(crs.name, 80) + "'";
+    if (crs.epsg != 0) s += " (EPSG:" + std::to_string(crs.epsg) + ")";
+    return s;
+}
+
+// The unit's plural for a message: "US survey feet", "metres", "kilometres".
+std::string plural(const std::string& name) {
+    const std::string_view n = name;
+    if (n.empty()) return "metres";
+    if (n.ends_with("foot")) return name.substr(0, name.size() - 4) + "feet";
+    if (n.ends_with("metre") || n.ends_with("mile") || n.ends_with("degree") || n.ends_with("radian"))
+        return name + "s";
+    return "units of " + core::printable(name, 40);
+}
+
+std::string withLength(const std::string& name, double metres) {
+    if (metres == 1.0) return plural(name);
+    char length[32];
+    std::snprintf(length, sizeof length, "%.7g", metres);
+    return plural(name) + " (" + length + " m)";
+}
+
+}  // namespace
+
+CoordinateUnits coordinateUnits(const io::LasCrs& crs, const std::filesystem::path& file, const char* context) {
+    CoordinateUnits u;
+    if (crs.source.empty()) return u;  // no CRS: metres, as the generator writes
+    const std::string where = std::string(context) + ": " + core::printable(file.string(), 400) + ": ";
+    const io::CrsUnit& h = crs.horizontal_unit;
+    if (h.angular)
+        throw core::Error(where + "its CRS " + crsText(crs) + " is geographic (x and y in " + plural(h.name) +
+                          "), and distances in degrees cannot take options in metres; allowed a projected CRS in "
+                          "metres or feet (reproject it, e.g. with PDAL's filters.reprojection)");
+    if (h.stated() && h.metres <= 0.0)
+        throw core::Error(where + "its CRS " + crsText(crs) + " gives x and y in " + core::printable(h.name, 40) +
+                          ", a unit of unknown length; allowed a CRS in metres, feet or another known length");
+    const io::CrsUnit& v = crs.vertical_unit.stated() && !crs.vertical_unit.angular && crs.vertical_unit.metres > 0.0
+                               ? crs.vertical_unit
+                               : h;
+    if (h.stated()) {
+        u.horizontal_m = h.metres;
+        u.horizontal_name = h.name;
+    }
+    if (v.stated()) {
+        u.vertical_m = v.metres;
+        u.vertical_name = v.name;
+    }
+    return u;
+}
+
+CoordinateUnits readCoordinateUnits(const std::filesystem::path& file, const char* context) {
+    return coordinateUnits(io::readCloudCrs(file, context), file, context);
+}
+
+void requireMetres(const std::filesystem::path& file, const char* context, const char* why) {
+    const CoordinateUnits u = readCoordinateUnits(file, context);
+    if (u.metres()) return;
+    throw core::Error(std::string(context) + ": " + core::printable(file.string(), 400) + ": coordinates in " +
+                      describe(u) + "; allowed a cloud in metres (" + why +
+                      "): reproject it, e.g. with PDAL's filters.reprojection");
+}
+
+std::string describe(const CoordinateUnits& u) {
+    const std::string h = withLength(u.horizontal_name, u.horizontal_m);
+    const std::string v = withLength(u.vertical_name, u.vertical_m);
+    if (h == v) return h;
+    return h + " horizontally, " + v + " vertically";
+}
+
+GroundFileOptions inUnits(const GroundFileOptions& o, const CoordinateUnits& u) {
+    GroundFileOptions r = o;
+    const double h = u.horizontal_m, v = u.vertical_m;
+    r.smrf.cell_m /= h;
+    r.smrf.window_m /= h;
+    r.smrf.threshold_m /= v;
+    r.smrf.low_outlier_m /= v;
+    // A rise over a run: (dz / v) / (dxy / h). The scalar times that slope is a height:
+    // (scalar' * slope * h / v) = scalar * slope / v, so scalar' = scalar / h.
+    r.smrf.slope *= h / v;
+    r.smrf.scalar /= h;
+    r.csf.cloth_m /= h;
+    r.csf.threshold_m /= v;
+    r.csf.low_outlier_m /= v;
+    return r;
+}
+
+}  // namespace sim
