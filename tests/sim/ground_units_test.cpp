@@ -115,3 +115,15 @@ TEST_CASE("ground_units: options in metres turned into the file's units") {
     CHECK(u.smrf.scalar == 1.25);
     CHECK(u.smrf.threshold_m == doctest::Approx(0.5 / 0.3048));
 }
+
+TEST_CASE("ground_units: a command that cannot convert refuses a cloud not in metres, in one line") {
+    CHECK_NOTHROW(sim::requireMetres(fs::path(LADARVR_ISPRS_DIR) / "samp24.las", "detect", "its sizes are in metres"));
+    CHECK_NOTHROW(sim::requireMetres(kReal / "hexbin-crop.las", "detect", "its sizes are in metres"));
+    const fs::path feet = kReal / "4_6_crop.las";
+    CHECK_THROWS_WITH_AS(sim::requireMetres(feet, "detect", "its sizes are in metres"),
+                         ("detect: " + feet.string() +
+                          ": coordinates in US survey feet (0.3048006 m); allowed a cloud in metres (its sizes are in "
+                          "metres): reproject it, e.g. with PDAL's filters.reprojection")
+                             .c_str(),
+                         core::Error);
+}
