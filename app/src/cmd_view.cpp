@@ -62,6 +62,7 @@ struct ViewArgs {
     bool cut = false;        // the cutting volume on from the start
     double gpu_mb = 2048.0, upload_mb = 0.0;
     std::string adaptive_budget;  // on, off; empty: on unless --frames
+    std::string measure_budget;   // on, off; empty: on unless --frames, --script or --screenshot
     bool point_budget_given = false, upload_budget_given = false;
     sim::OrbitOptions orbit;  // only for the generated cloud
 };
@@ -132,6 +133,12 @@ int runView(const ViewArgs& a) {
     if (a.adaptive_budget != "" && a.adaptive_budget != "on" && a.adaptive_budget != "off")
         throw core::Error("view: --adaptive-budget '" + a.adaptive_budget + "' is not one of on, off");
     o.adaptive_budget = a.adaptive_budget.empty() ? a.frames == 0 : a.adaptive_budget == "on";
+    if (a.measure_budget != "" && a.measure_budget != "on" && a.measure_budget != "off")
+        throw core::Error("view: --measure-budget '" + a.measure_budget + "' is not one of on, off");
+    // Measured by default only when a person is viewing: a scripted or counted run must draw
+    // the same points every time.
+    const bool person = a.frames == 0 && a.script.empty() && a.screenshot.empty();
+    o.measure_budget = a.measure_budget.empty() ? person : a.measure_budget == "on";
     o.cull = !a.no_cull;
     o.modes.orbit_period_s = a.orbit_period_s;
     o.modes.orbit.radius_m = a.orbit_radius_m;
@@ -291,6 +298,10 @@ void registerView(CLI::App& cli) {
         ->capture_default_str();
     cmd->add_option("--adaptive-budget", args->adaptive_budget,
                     "on, off: lower the point budget while frames run late (default: on, off with --frames)");
+    cmd->add_option("--measure-budget", args->measure_budget,
+                    "on, off: choose the default point budget and rasterizer from the first frames' times, "
+                    "remembered per GPU in the cache folder (default: on, off with --frames, --script or "
+                    "--screenshot)");
     cmd->add_flag("--no-cull", args->no_cull, "draw cells outside the view frustum too (for comparisons)");
     cmd->add_option("--orbit-period", args->orbit_period_s, "seconds per turn of the automatic orbit")
         ->capture_default_str();

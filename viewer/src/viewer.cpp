@@ -439,7 +439,16 @@ void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
         if (const GLFWvidmode* mode = glfwGetVideoMode(glfwGetPrimaryMonitor()); mode && mode->refreshRate > 0)
             period_ms = 1000.0 / mode->refreshRate;
     if (xr) last_display_ns_ = result.xr_frame.display_time_ns;
-    stream_.frameTimed(source_ms_ + result.cpu_ms + std::max(0.0, eyes_->lastGpuMs()), period_ms, frames_, log_);
+    // While the budget is measured the GPU's share must count: without --gpu-timing the
+    // frame waits for the GPU here, and the wait is its share.
+    double gpu_ms = std::max(0.0, eyes_->lastGpuMs());
+    if (stream_.measuring() && eyes_->lastGpuMs() < 0.0) {
+        const Clock::time_point t0 = Clock::now();
+        glFinish();
+        gpu_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    }
+    if (stream_.frameTimed(source_ms_ + result.cpu_ms + gpu_ms, period_ms, points_drawn_, frames_, log_))
+        style_.rasterizer = stream_.rasterizer();  // the budget's measure draws with each in turn
     if (first_points_frame_ < 0 && points_drawn_ > 0) first_points_frame_ = frames_;
     if (!trials_.running()) return;
     const RigPose head = headLocal();

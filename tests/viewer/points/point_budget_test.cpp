@@ -77,3 +77,32 @@ TEST_CASE("adaptive budget: the same frame times give the same budgets") {
     CHECK(adaptiveFloor(400000) == 100000);
     CHECK(adaptiveFloor(50000) == 50000);
 }
+
+TEST_CASE("budget measure: each rasterizer in turn, the faster per point chosen, its budget from the frame budget") {
+    using viewer::BudgetMeasure;
+    using viewer::Rasterizer;
+    BudgetMeasure m(Rasterizer::Points, true);
+    CHECK(m.rasterizer() == Rasterizer::Points);
+    m.add(0, 5.0);  // nothing drawn: not counted
+    for (int i = 0; i < BudgetMeasure::kSettle + BudgetMeasure::kFrames; ++i) m.add(1000000, 10.0);  // 10 ms / M
+    CHECK_FALSE(m.done());
+    CHECK(m.rasterizer() == Rasterizer::Compute);
+    for (int i = 0; i < BudgetMeasure::kSettle; ++i) m.add(1000000, 100.0);  // settling: not judged
+    for (int i = 0; i < BudgetMeasure::kFrames; ++i) m.add(2000000, 5.0);    // 2.5 ms / M
+    REQUIRE(m.done());
+    const BudgetMeasure::Choice c = m.choice(10.0);
+    CHECK(c.rasterizer == Rasterizer::Compute);
+    CHECK(c.ms_per_million[0] == doctest::Approx(10.0));
+    CHECK(c.ms_per_million[1] == doctest::Approx(2.5));
+    // 70 % of 10 ms at 2.5 ms per million points, both eyes: 1.4 M per eye.
+    CHECK(c.point_budget == 1400000);
+    // A slow GPU gets the least budget, a fast one the most.
+    CHECK(m.choice(0.001).point_budget == BudgetMeasure::kLeastBudget);
+    CHECK(m.choice(1e6).point_budget == BudgetMeasure::kMostBudget);
+    // One rasterizer only (the user chose it): measured alone.
+    BudgetMeasure one(Rasterizer::Points, false);
+    for (int i = 0; i < BudgetMeasure::kSettle + BudgetMeasure::kFrames; ++i) one.add(500000, 7.0);
+    REQUIRE(one.done());
+    CHECK(one.choice(10.0).rasterizer == Rasterizer::Points);
+    CHECK(one.choice(10.0).ms_per_million[1] < 0.0);
+}

@@ -2,10 +2,14 @@
 // from the GPU class (the GL_RENDERER / GL_VENDOR strings) and the adaptive budget that
 // follows the frame time (Valve's adaptive quality in The Lab: raise quality while the
 // frame's CPU + GPU time stays under 70 % of the frame budget, lower it over 90 %).
+// BudgetMeasure chooses both from the frame times of the viewer's first frames instead.
 // Pure: strings and frame times in, budgets out; the frame loop measures and applies.
 #pragma once
+#include <viewer/viewer.hpp>
+
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace viewer {
 
@@ -61,5 +65,44 @@ class AdaptiveBudget {
 /// The floor of the adaptive budget under a ceiling of `ceiling` points: an eighth of it,
 /// not under 100 000 points (a cloud still legible), never over the ceiling itself.
 std::size_t adaptiveFloor(std::size_t ceiling);
+
+/// The default point budget and rasterizer from measurement: the first counted frames that
+/// draw points are drawn kFrames with one rasterizer, then (when both are to be compared)
+/// kFrames with the other, the first kSettle after each start not judged; each rasterizer's
+/// cost per point is the median frame cost over the median points drawn. The faster per
+/// point is chosen, and the budget per eye is the points both eyes draw within kShare of
+/// the frame budget at its rate, between kLeastBudget and kMostBudget. Deterministic: the
+/// same frames give the same choice.
+class BudgetMeasure {
+  public:
+    static constexpr int kFrames = 20, kSettle = 4;
+    static constexpr double kShare = 0.7;
+    static constexpr std::size_t kLeastBudget = 100000, kMostBudget = 12000000;
+    /// Measures `first`, then the other rasterizer too when `both`.
+    BudgetMeasure(Rasterizer first, bool both);
+    /// The rasterizer the next frame draws with.
+    Rasterizer rasterizer() const;
+    /// One counted frame drawn with rasterizer(): the points both eyes drew and its cost
+    /// (ms); a frame that drew nothing is not counted.
+    void add(std::size_t points_drawn, double cost_ms);
+    bool done() const;
+    struct Choice {
+        Rasterizer rasterizer = Rasterizer::Points;
+        std::size_t point_budget = 0;             // per eye
+        double ms_per_million[2] = {-1.0, -1.0};  // Points, Compute; -1: not measured
+    };
+    /// The choice for a frame budget of `frame_budget_ms` (> 0); needs done().
+    Choice choice(double frame_budget_ms) const;
+
+  private:
+    struct Samples {
+        std::vector<double> points, cost_ms;
+    };
+    Rasterizer first_;
+    bool both_;
+    int phase_ = 0;  // 0: first, 1: second, 2: done
+    int seen_ = 0;   // frames with points in this phase, judged or not
+    Samples samples_[2];
+};
 
 }  // namespace viewer

@@ -106,6 +106,10 @@ struct ViewerOptions {
     /// Lower the point budget while frames run late, raise it again up to point_budget
     /// (--adaptive-budget; `view` turns it on for interactive runs, off with --frames).
     bool adaptive_budget = false;
+    /// Choose the automatic point budget and rasterizer from the first frames' times
+    /// instead of the GPU class (point_budget.hpp's BudgetMeasure), remembered per GPU in
+    /// the cache folder (--measure-budget; `view` turns it on for interactive runs).
+    bool measure_budget = false;
 };
 
 /// Throws core::Error("view: ...") for values out of range.

@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cctype>
 #include <cmath>
+#include <vector>
 
 namespace viewer {
 
@@ -83,6 +84,56 @@ std::size_t AdaptiveBudget::update(double frame_cost_ms, double frame_budget_ms)
     if (next != budget_) settle_ = kSettle;
     budget_ = next;
     return budget_;
+}
+
+namespace {
+double medianOf(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+}
+Rasterizer other(Rasterizer r) { return r == Rasterizer::Points ? Rasterizer::Compute : Rasterizer::Points; }
+}  // namespace
+
+BudgetMeasure::BudgetMeasure(Rasterizer first, bool both) : first_(first), both_(both) {}
+
+Rasterizer BudgetMeasure::rasterizer() const { return phase_ == 1 ? other(first_) : first_; }
+
+bool BudgetMeasure::done() const { return phase_ == 2; }
+
+void BudgetMeasure::add(std::size_t points_drawn, double cost_ms) {
+    if (done() || points_drawn == 0 || !std::isfinite(cost_ms) || cost_ms < 0.0) return;
+    if (++seen_ > kSettle) {
+        Samples& s = samples_[static_cast<int>(rasterizer())];
+        s.points.push_back(double(points_drawn));
+        s.cost_ms.push_back(cost_ms);
+    }
+    if (seen_ >= kSettle + kFrames) {
+        seen_ = 0;
+        phase_ = phase_ == 0 && both_ ? 1 : 2;
+    }
+}
+
+BudgetMeasure::Choice BudgetMeasure::choice(double frame_budget_ms) const {
+    assert(done() && frame_budget_ms > 0.0);
+    Choice c;
+    double best = -1.0;
+    for (int r = 0; r < 2; ++r) {
+        const Samples& s = samples_[r];
+        if (s.points.empty()) continue;
+        const double points = medianOf(s.points);
+        const double ms_per_point = std::max(medianOf(s.cost_ms), 1e-6) / std::max(points, 1.0);
+        c.ms_per_million[r] = ms_per_point * 1e6;
+        if (best < 0.0 || ms_per_point < best) {
+            best = ms_per_point;
+            c.rasterizer = static_cast<Rasterizer>(r);
+        }
+    }
+    const double per_eye = best > 0.0 ? kShare * frame_budget_ms / best / 2.0 : double(kMostBudget);
+    const auto rounded = static_cast<std::size_t>(std::floor(per_eye / 1000.0)) * 1000;
+    c.point_budget = std::clamp(rounded, kLeastBudget, kMostBudget);
+    return c;
 }
 
 }  // namespace viewer

@@ -1,12 +1,17 @@
 // viewer/src/points/source_stream.cpp: a point source streamed into the renderer and the picking.
 #include "points/source_stream.hpp"
 
+#include <platform/atomic_file.hpp>
+#include <platform/cache_folder.hpp>
 #include <platform/safe_file.hpp>
 #include <render/gl.hpp>
 #include <render/point_chunks.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
 #include <map>
 #include <tuple>
 #include <utility>
@@ -43,7 +48,14 @@ void SourceStream::start(const ViewerOptions& options, RunLog& log) {
     } else {
         log.set("rasterizer_choice", nlohmann::json{{"from", "option"}, {"rasterizer", rasterizerName(rasterizer_)}});
     }
-    if (options.adaptive_budget && budget_points_ > 0) adaptive_.emplace(adaptiveFloor(budget_points_), budget_points_);
+    measure_budget_points_ = options.measure_budget && options.point_budget_auto;
+    measure_rasterizer_ = options.measure_budget && options.rasterizer_auto;
+    gpu_name_ = str(GL_RENDERER);
+    adaptive_wanted_ = options.adaptive_budget;
+    if (measure_budget_points_ || measure_rasterizer_) recallBudget(options, log);
+    // While the budget is measured, the adaptive budget waits for its ceiling.
+    if (options.adaptive_budget && budget_points_ > 0 && !measure_)
+        adaptive_.emplace(adaptiveFloor(budget_points_), budget_points_);
     log.set("adaptive_budget", adaptive_
                                    ? nlohmann::json{{"floor", adaptive_->floor()}, {"ceiling", adaptive_->ceiling()}}
                                    : nlohmann::json(false));
@@ -56,17 +68,163 @@ void SourceStream::applyBudget() {
     renderer_->setPointBudget(budget_points_);
 }
 
-void SourceStream::frameTimed(double cost_ms, double frame_budget_ms, long frame, RunLog& log) {
-    if (!adaptive_) return;
+namespace {
+
+constexpr std::size_t kMaxBudgetFileBytes = 64 * 1024;
+constexpr const char* kBudgetFormat = "ladarvr view budget";
+
+/// 16 hex digits of a 64-bit FNV-1a hash of `text`.
+std::string hashName(const std::string& text) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ull;
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    return hex;
+}
+
+/// A remembered choice read back: what the file says, or why it cannot be used.
+struct Remembered {
+    std::string problem;  // empty: valid
+    Rasterizer rasterizer = Rasterizer::Points;
+    std::size_t point_budget = 0;
+};
+
+Remembered readRemembered(const std::filesystem::path& file, const std::string& gpu) {
+    Remembered r;
+    try {
+        const std::string text = platform::readOwnFile(file, kMaxBudgetFileBytes, "view: budget cache");
+        const nlohmann::json j = nlohmann::json::parse(text);
+        if (!j.is_object() || j.value("format", "") != kBudgetFormat || j.value("version", 0) != 1)
+            r.problem = "not a budget file of this version";
+        else if (j.value("gl_renderer", "") != gpu)
+            r.problem = "made for another GPU";
+        else if (!j.contains("rasterizer") || !j["rasterizer"].is_string() ||
+                 (j["rasterizer"] != "points" && j["rasterizer"] != "compute"))
+            r.problem = "its rasterizer is not one of points, compute";
+        else if (!j.contains("point_budget") || !j["point_budget"].is_number_unsigned() ||
+                 j["point_budget"].get<std::size_t>() < BudgetMeasure::kLeastBudget ||
+                 j["point_budget"].get<std::size_t>() > BudgetMeasure::kMostBudget)
+            r.problem = "its point_budget is not a whole number in [" + std::to_string(BudgetMeasure::kLeastBudget) +
+                        ", " + std::to_string(BudgetMeasure::kMostBudget) + "]";
+        else {
+            r.rasterizer = parseRasterizer(j["rasterizer"].get<std::string>());
+            r.point_budget = j["point_budget"].get<std::size_t>();
+        }
+    } catch (const std::exception& e) {
+        r.problem = e.what();
+    }
+    return r;
+}
+
+}  // namespace
+
+bool SourceStream::recallBudget(const ViewerOptions& options, RunLog& log) {
+    try {
+        const std::filesystem::path folder = platform::userCacheFolder("ladarvr", "view: budget cache");
+        platform::makeCacheFolder(folder, "view: budget cache");
+        budget_file_ = folder / ("budget-" + hashName(gpu_name_) + ".json");
+        if (platform::useCachedFile(budget_file_, "view: budget cache")) {
+            const Remembered r = readRemembered(budget_file_, gpu_name_);
+            if (r.problem.empty()) {
+                if (measure_budget_points_) {
+                    budget_points_ = r.point_budget;
+                    log.set("point_budget_choice", nlohmann::json{{"from", "remembered"},
+                                                                  {"gpu", gpu_name_},
+                                                                  {"file", budget_file_.string()},
+                                                                  {"point_budget", budget_points_}});
+                }
+                if (measure_rasterizer_) {
+                    rasterizer_ = r.rasterizer;
+                    log.set("rasterizer_choice", nlohmann::json{{"from", "remembered"},
+                                                                {"gpu", gpu_name_},
+                                                                {"rasterizer", rasterizerName(rasterizer_)}});
+                }
+                log.event("budget remembered for GPU '" + gpu_name_ + "' (" + budget_file_.string() + "): " +
+                          rasterizerName(r.rasterizer) + ", " + std::to_string(r.point_budget) + " points per eye");
+                return true;
+            }
+            const std::string line =
+                "view: budget cache " + budget_file_.string() + ": " + r.problem + "; measured again";
+            log.event(line);
+            if (!options.quiet) platform::printMessage("warning", line);
+        }
+    } catch (const std::exception& e) {  // no cache folder: measured, not remembered
+        budget_file_.clear();
+        log.event(std::string("budget not remembered: ") + e.what());
+    }
+    measure_.emplace(rasterizer_, measure_rasterizer_);
+    rasterizer_ = measure_->rasterizer();
+    return false;
+}
+
+void SourceStream::finishMeasure(double frame_budget_ms, long frame, RunLog& log) {
+    const BudgetMeasure::Choice c = measure_->choice(frame_budget_ms);
+    measure_.reset();
+    const auto rate = [&](int r) {
+        return c.ms_per_million[r] < 0.0 ? nlohmann::json(nullptr) : nlohmann::json(c.ms_per_million[r]);
+    };
+    const nlohmann::json rates = {{"points", rate(0)}, {"compute", rate(1)}};
+    if (measure_budget_points_) {
+        budget_points_ = c.point_budget;
+        renderer_->setPointBudget(budget_points_);
+        log.set("point_budget_choice", nlohmann::json{{"from", "measured"},
+                                                      {"gpu", gpu_name_},
+                                                      {"ms_per_million_points", rates},
+                                                      {"frame_budget_ms", frame_budget_ms},
+                                                      {"point_budget", budget_points_}});
+    }
+    if (measure_rasterizer_) {
+        rasterizer_ = c.rasterizer;
+        log.set("rasterizer_choice", nlohmann::json{{"from", "measured"},
+                                                    {"gpu", gpu_name_},
+                                                    {"ms_per_million_points", rates},
+                                                    {"rasterizer", rasterizerName(rasterizer_)}});
+    }
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "budget measured for GPU '%s' by frame %ld: ms per million points drawn: points %.3f, compute "
+                  "%.3f (-1: not measured); chose %s, %zu points per eye (%.0f %% of %.2f ms)",
+                  gpu_name_.c_str(), frame, c.ms_per_million[0], c.ms_per_million[1], rasterizerName(c.rasterizer),
+                  c.point_budget, BudgetMeasure::kShare * 100.0, frame_budget_ms);
+    log.event(line);
+    if (adaptive_wanted_ && budget_points_ > 0) {
+        adaptive_.emplace(adaptiveFloor(budget_points_), budget_points_);
+        log.set("adaptive_budget", nlohmann::json{{"floor", adaptive_->floor()}, {"ceiling", adaptive_->ceiling()}});
+    }
+    if (budget_file_.empty()) return;
+    const nlohmann::json file = {{"format", kBudgetFormat},           {"version", 1},
+                                 {"gl_renderer", gpu_name_},          {"rasterizer", rasterizerName(c.rasterizer)},
+                                 {"point_budget", c.point_budget},    {"ms_per_million_points", rates},
+                                 {"frame_budget_ms", frame_budget_ms}};
+    try {
+        platform::writeFileAtomic(budget_file_, file.dump(2) + "\n");
+    } catch (const std::exception& e) {
+        log.event(std::string("budget not remembered: ") + e.what());
+    }
+}
+
+bool SourceStream::frameTimed(double cost_ms, double frame_budget_ms, std::size_t points_drawn, long frame,
+                              RunLog& log) {
+    if (measure_) {
+        const Rasterizer before = rasterizer_;
+        measure_->add(points_drawn, cost_ms);
+        if (measure_->done())
+            finishMeasure(frame_budget_ms, frame, log);
+        else
+            rasterizer_ = measure_->rasterizer();
+        return rasterizer_ != before;
+    }
+    if (!adaptive_) return false;
     const std::size_t before = adaptive_->budget();
     const std::size_t after = adaptive_->update(cost_ms, frame_budget_ms);
-    if (after == before) return;
+    if (after == before) return false;
     budget_points_ = after;
     renderer_->setPointBudget(budget_points_);
     char line[160];
     std::snprintf(line, sizeof line, "point budget %zu -> %zu at frame %ld (frame %.2f of %.2f ms)", before, after,
                   frame, cost_ms, frame_budget_ms);
     log.event(line);
+    return false;
 }
 
 nlohmann::json SourceStream::frameFigures() {

@@ -16,6 +16,7 @@
 #include <viewer/viewer.hpp>
 
 #include <cstddef>
+#include <filesystem>
 #include <future>
 #include <map>
 #include <memory>
@@ -44,9 +45,14 @@ class SourceStream {
     /// The point budget per eye frames draw with now (0 = unlimited).
     std::size_t pointBudget() const { return budget_points_; }
     /// After a counted frame: its cost (CPU + GPU ms spent on it) against the frame budget
-    /// (ms); with the adaptive budget on, a new budget is logged as an event and used from
-    /// the next frame. Never throws.
-    void frameTimed(double cost_ms, double frame_budget_ms, long frame, RunLog& log);
+    /// (ms) and the points it drew (both eyes); with the adaptive budget on, a new budget
+    /// is logged as an event and used from the next frame. While the budget is measured
+    /// (options.measure_budget), the frame feeds the measure instead, and its end sets the
+    /// budget and rasterizer, logged and remembered for this GPU. Returns true when the
+    /// rasterizer() for the next frame changed. Never throws.
+    /// The budget is being measured (the frame loop then makes sure the GPU's time counts).
+    bool measuring() const { return measure_.has_value(); }
+    bool frameTimed(double cost_ms, double frame_budget_ms, std::size_t points_drawn, long frame, RunLog& log);
     /// This frame's figures for its run log record: the budget, the GPU arena, the upload,
     /// and for a source with a cache its resident bytes and nodes loaded / evicted since
     /// the last call.
@@ -70,6 +76,15 @@ class SourceStream {
 
   private:
     void applyBudget();
+    /// The remembered choice for this GPU applied (true), or the measure started.
+    bool recallBudget(const ViewerOptions& options, RunLog& log);
+    void finishMeasure(double frame_budget_ms, long frame, RunLog& log);
+    std::optional<BudgetMeasure> measure_;
+    std::string gpu_name_;                // GL_RENDERER: what the remembered choice is keyed by
+    std::filesystem::path budget_file_;   // where it is remembered; empty: nowhere (no cache folder)
+    bool measure_budget_points_ = false;  // the measure sets the point budget / the rasterizer
+    bool measure_rasterizer_ = false;
+    bool adaptive_wanted_ = false;
     std::size_t budget_ = 0;  // points uploaded per frame at most
     std::size_t gpu_bytes_ = 0;
     std::size_t budget_points_ = 0;  // the point budget frames draw with
