@@ -8,6 +8,9 @@
 #   above-ground  hexbin-crop.las holds no height above ground: --colour above-ground warns
 #           once on stderr, records the fallback in the run log and shows the height colours
 #           (most of the survey is not the jet's dark red).
+#   eight-bit  hexbin-crop.las's points written by laspy with 8-bit colours (a yellow,
+#           255 200 40) in LAS's 16-bit fields, as many producers do: `--colour file` shows
+#           them yellow, not black (the high byte of an 8-bit value is 0).
 # Each run has a timeout; headless_env.sh starts and kills Xvfb (trap).
 set -euo pipefail
 bin=$(realpath "$1")
@@ -75,6 +78,34 @@ lit = count(px, lambda r, g, b: r + g + b > 90)
 print(f"upper half: {lit} lit, {dark_red} dark red")
 assert lit > w * (h // 2) // 2, f"only {lit} pixels show the survey"
 assert dark_red < lit // 10, f"{dark_red} of {lit} pixels dark red: not the height colours"
+PY
+    ;;
+  eight-bit)
+    python3 - "$data/hexbin-crop.las" "$work/eight.las" <<'PY'
+import sys
+import laspy
+import numpy as np
+src = laspy.read(sys.argv[1])
+header = laspy.LasHeader(point_format=3, version="1.2")
+header.scales, header.offsets = src.header.scales, src.header.offsets
+out = laspy.LasData(header)
+out.X, out.Y, out.Z = src.X, src.Y, src.Z
+out.classification = src.classification
+n = len(src.points)
+out.red, out.green, out.blue = (np.full(n, v, dtype=np.uint16) for v in (255, 200, 40))
+out.write(sys.argv[2])
+PY
+    "$here/headless_env.sh" --timeout 150 -- "$bin" "${common[@]}" "$work/eight.las" --point-size 4 --no-edl \
+      --colour file --screenshot "$work/eight.png" 2>"$work/stderr" || { cat "$work/stderr" >&2; exit 1; }
+    python3 - "$here" "$work/eight.png" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+from check_view_log import read_png, count
+w, h, px = read_png(sys.argv[2])
+px = px[:w * (h // 2) * 3]  # the upper half (the panel keeps to the lower)
+yellow = count(px, lambda r, g, b: r > 200 and g > 150 and b < 90)
+print(f"upper half: {yellow} of {w * (h // 2)} pixels the file's yellow")
+assert yellow > w * (h // 2) // 2, f"only {yellow} yellow pixels: the 8-bit colours are not shown"
 PY
     ;;
   *)

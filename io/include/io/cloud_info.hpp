@@ -45,6 +45,12 @@ enum class ColourDepth {
     SixteenBit,  // some value is > 255
 };
 
+/// The depth of a file's colours from the largest red, green or blue value it holds (as
+/// CloudCompare reads them: none over 255 means 8-bit values in 16-bit fields).
+constexpr ColourDepth colourDepthOf(unsigned largest) {
+    return largest == 0 ? ColourDepth::Zero : largest <= 255 ? ColourDepth::EightBit : ColourDepth::SixteenBit;
+}
+
 /// LAS, LAZ and COPC only.
 struct LasInfo {
     int version_major = 1, version_minor = 0;

@@ -213,7 +213,7 @@ void inspectLas(ByteSource& source, const std::string& prefix, const std::filesy
     if (f == 2 || f == 3 || f == 5 || f == 7 || f == 8 || f == 10) {
         las.rgb_max = {tally.rgb_max[0], tally.rgb_max[1], tally.rgb_max[2]};
         const unsigned most = *std::max_element(las.rgb_max.begin(), las.rgb_max.end());
-        las.colour = most == 0 ? ColourDepth::Zero : most <= 255 ? ColourDepth::EightBit : ColourDepth::SixteenBit;
+        las.colour = colourDepthOf(most);
     }
     las.copc = isCopcFile(file);
     if (las.copc) las.copc_nodes = copcNodes(file, prefix);

@@ -1,6 +1,8 @@
 // viewer/src/points/cloud_feed.cpp: the producer/consumer queue that streams a cloud into the viewer.
 #include <viewer/cloud_feed.hpp>
 
+#include "points/file_colours.hpp"
+
 #include <core/error.hpp>
 #include <io/cloud_reader.hpp>
 #include <platform/safe_file.hpp>
@@ -95,14 +97,20 @@ void CloudFeed::feedFile(const std::filesystem::path& path, std::size_t chunk_po
     try {
         // The same reader as io::readCloud: the header is checked whole before the
         // first chunk, so a bad file is refused before anything is shown.
-        io::CloudReader reader(path);
+        // A file from elsewhere gives its 16-bit colours too, to be shown at their depth.
+        io::CloudReader reader(path, io::SideRecords::Keep);
         setOrigin(reader.origin());
         setFields(reader.fields());
         chunk_points = std::max<std::size_t>(chunk_points, 1);
+        const auto foreign = reader.foreignHeader();
+        FileColours colours;
+        std::vector<unsigned char> records;
         for (;;) {
             std::vector<core::CloudPoint> chunk;
             chunk.reserve(std::min(chunk_points, reader.pointsBound()));
-            if (!reader.nextChunk(chunk, chunk_points)) break;
+            records.clear();
+            if (!reader.nextChunk(chunk, records, chunk_points)) break;
+            if (foreign && reader.fields().rgb) colours.recolour(chunk, records, foreign->stride());
             if (!chunk.empty()) append(std::move(chunk));
         }
         if (const std::string warning = reader.warning(); !warning.empty()) platform::printMessage("warning", warning);
