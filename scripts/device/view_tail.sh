@@ -31,7 +31,10 @@ if [ ! -e /work/main/assets ]; then mkdir -p /work && ln -sfn "$PWD" /work/main;
 for f in /usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json /usr/share/glvnd/egl_vendor.d/10_nvidia.json; do
   if [ -f "$f" ]; then export __EGL_VENDOR_LIBRARY_FILENAMES=$f; break; fi
 done
-run() { "$work/pack/ld-linux-x86-64.so.2" --library-path "$work/pack/lib" "$work/pack/bin/$1" "${@:2}"; }
+# The programs through the carried loader and libraries.
+loader=("$work/pack/ld-linux-x86-64.so.2" --library-path "$work/pack/lib")
+bench=("${loader[@]}" "$work/pack/bin/ladarvr-bench")
+tests=("${loader[@]}" "$work/pack/bin/viewer_tests")
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | sed 's/^/gpu: /' >>"$summary"
 
 # step NAME ESTIMATE_S LOG COMMAND...: runs COMMAND (appending to LOG) if ESTIMATE_S fits.
@@ -55,19 +58,19 @@ step() {
 common=(view --paths ooc --display none --no-md --eye 1440x1600 --ooc-dir "$work/copc")
 synthetic=("${common[@]}" --ooc-synthetic --in-core-max 0)
 step "subgroup test" 20 "$out/subgroup_test.txt" \
-  run viewer_tests -tc='*subgroup*' -s
+  "${tests[@]}" -tc='*subgroup*' -s
 step "1e8 compute, subgroup on" 70 "$out/v1e8.md" \
-  run ladarvr-bench "${synthetic[@]}" --ooc-points 100000000 --head-paths orbit,turn,fly-in --rasterizer compute
+  "${bench[@]}" "${synthetic[@]}" --ooc-points 100000000 --head-paths orbit,turn,fly-in --rasterizer compute
 step "1e8 compute, subgroup off" 35 "$out/v1e8.md" \
-  run ladarvr-bench "${synthetic[@]}" --ooc-points 100000000 --head-paths orbit,turn,fly-in --rasterizer compute --subgroup off
+  "${bench[@]}" "${synthetic[@]}" --ooc-points 100000000 --head-paths orbit,turn,fly-in --rasterizer compute --subgroup off
 step "1e8 points" 35 "$out/v1e8.md" \
-  run ladarvr-bench "${synthetic[@]}" --ooc-points 100000000 --head-paths orbit,turn,fly-in --rasterizer points
+  "${bench[@]}" "${synthetic[@]}" --ooc-points 100000000 --head-paths orbit,turn,fly-in --rasterizer points
 step "1e9 compute, subgroup on" 200 "$out/v1e9.md" \
-  run ladarvr-bench "${synthetic[@]}" --ooc-points 1000000000 --head-paths orbit,turn,fly-in --rasterizer compute
+  "${bench[@]}" "${synthetic[@]}" --ooc-points 1000000000 --head-paths orbit,turn,fly-in --rasterizer compute
 step "1e9 compute, subgroup off" 40 "$out/v1e9.md" \
-  run ladarvr-bench "${synthetic[@]}" --ooc-points 1000000000 --head-paths orbit,turn --rasterizer compute --subgroup off
+  "${bench[@]}" "${synthetic[@]}" --ooc-points 1000000000 --head-paths orbit,turn --rasterizer compute --subgroup off
 step "paper cloud, ooc against in core, compute" 60 "$out/paper.md" \
-  run ladarvr-bench "${common[@]}" --ooc-points 1638400 --head-paths orbit,turn,fly-in --rasterizer compute
+  "${bench[@]}" "${common[@]}" --ooc-points 1638400 --head-paths orbit,turn,fly-in --rasterizer compute
 step "1e9 points" 30 "$out/v1e9.md" \
-  run ladarvr-bench "${synthetic[@]}" --ooc-points 1000000000 --head-paths orbit,turn --rasterizer points
+  "${bench[@]}" "${synthetic[@]}" --ooc-points 1000000000 --head-paths orbit,turn --rasterizer points
 note "total: $(( $(date +%s) - start )) s"
