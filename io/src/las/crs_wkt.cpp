@@ -5,6 +5,7 @@
 
 #include <proj.h>
 
+#include <cmath>
 #include <memory>
 
 namespace io::detail {
@@ -25,10 +26,26 @@ Pj fromEpsg(PJ_CONTEXT* ctx, int code) {
     return Pj(proj_create_from_database(ctx, "EPSG", text.c_str(), PJ_CATEGORY_CRS, 0, nullptr));
 }
 
+// `pj` with its axes in `unit` where the unit is stated, of length, and not the one
+// its axes have: the keys' ProjLinearUnits or VerticalUnits win over the EPSG CRS's.
+Pj withUnit(PJ_CONTEXT* ctx, Pj pj, const CrsUnit& unit) {
+    if (!unit.stated() || unit.angular || !(unit.metres > 0.0)) return pj;
+    const Pj cs(proj_crs_get_coordinate_system(ctx, pj.get()));
+    double factor = 0.0;
+    if (!cs || !proj_cs_get_axis_info(ctx, cs.get(), 0, nullptr, nullptr, nullptr, &factor, nullptr, nullptr, nullptr))
+        return pj;
+    if (std::fabs(factor - unit.metres) <= 1e-12 * unit.metres) return pj;
+    const std::string code = unit.epsg > 0 ? std::to_string(unit.epsg) : std::string();
+    Pj altered(proj_crs_alter_cs_linear_unit(ctx, pj.get(), unit.name.c_str(), unit.metres,
+                                             code.empty() ? nullptr : "EPSG", code.empty() ? nullptr : code.c_str()));
+    return altered ? std::move(altered) : std::move(pj);
+}
+
 }  // namespace
 
-std::string wktForEpsg(int epsg, int vertical_epsg, std::string& problem) {
+std::string wktForCrs(const LasCrs& las, std::string& problem) {
     problem.clear();
+    const int epsg = las.epsg;
     if (epsg <= 0 || epsg >= 32767) {
         problem = "the GeoTIFF keys give no EPSG code for the CRS";
         return {};
@@ -44,14 +61,25 @@ std::string wktForEpsg(int epsg, int vertical_epsg, std::string& problem) {
         problem = "EPSG:" + std::to_string(epsg) + " is not in PROJ's database";
         return {};
     }
-    if (vertical_epsg > 0 && vertical_epsg < 32767) {
-        if (Pj vertical = fromEpsg(ctx.get(), vertical_epsg)) {
-            const char* name = proj_get_name(crs.get());
-            const std::string compound_name = std::string(name ? name : "") + " + " +
-                                              (proj_get_name(vertical.get()) ? proj_get_name(vertical.get()) : "");
-            if (Pj compound = Pj(proj_create_compound_crs(ctx.get(), compound_name.c_str(), crs.get(), vertical.get())))
-                crs = std::move(compound);
-        }
+    crs = withUnit(ctx.get(), std::move(crs), las.horizontal_unit);
+    // The vertical CRS: its code's, in the stated unit; else, where the keys state only a
+    // vertical unit, an unknown datum in that unit (as GDAL reads such keys), so that the
+    // heights' unit is not lost.
+    Pj vertical;
+    if (las.vertical_epsg > 0 && las.vertical_epsg < 32767) vertical = fromEpsg(ctx.get(), las.vertical_epsg);
+    if (vertical) {
+        vertical = withUnit(ctx.get(), std::move(vertical), las.vertical_unit);
+    } else if (las.vertical_unit.stated() && !las.vertical_unit.angular && las.vertical_unit.metres > 0.0) {
+        const std::string name = las.vertical_name.empty() ? "unknown" : las.vertical_name;
+        vertical = Pj(proj_create_vertical_crs(ctx.get(), name.c_str(), "unknown", las.vertical_unit.name.c_str(),
+                                               las.vertical_unit.metres));
+    }
+    if (vertical) {
+        const char* h_name = proj_get_name(crs.get());
+        const char* v_name = proj_get_name(vertical.get());
+        const std::string name = std::string(h_name ? h_name : "") + " + " + (v_name ? v_name : "");
+        if (Pj compound = Pj(proj_create_compound_crs(ctx.get(), name.c_str(), crs.get(), vertical.get())))
+            crs = std::move(compound);
     }
     const char* const options[] = {"MULTILINE=NO", nullptr};
     const char* wkt = proj_as_wkt(ctx.get(), crs.get(), PJ_WKT1_GDAL, options);

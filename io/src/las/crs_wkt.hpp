@@ -2,13 +2,17 @@
 // LAS 1.4 point formats 6-10 need, from PROJ's EPSG database. The LAS reader gives it to
 // the writers for a foreign file that declares its CRS only by GeoTIFF keys.
 #pragma once
+#include <io/las_crs.hpp>
+
 #include <string>
 
 namespace io::detail {
 
-/// WKT 1 (GDAL's flavour, as PDAL writes it) of EPSG `epsg`, compounded with the vertical
-/// CRS EPSG `vertical_epsg` when that is not 0. Empty, with `problem` saying why, when
-/// PROJ does not know the code. Never throws.
-std::string wktForEpsg(int epsg, int vertical_epsg, std::string& problem);
+/// WKT 1 (GDAL's flavour, as PDAL writes it) of `crs`'s EPSG code, compounded with its
+/// vertical CRS code when it has one. Where the keys state a linear unit other than the
+/// EPSG CRS's own (a State Plane CRS in metres whose file is in US survey feet), the
+/// axes get the stated unit, as GDAL reads such keys. Empty, with `problem` saying why,
+/// when there is no code or PROJ does not know it. Never throws.
+std::string wktForCrs(const LasCrs& crs, std::string& problem);
 
 }  // namespace io::detail

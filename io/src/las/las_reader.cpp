@@ -910,7 +910,7 @@ class LasReader final : public FormatReader {
         } else if (!geo_keys_.empty()) {
             const LasCrs crs = crsFromGeoKeys(geo_keys_, geo_doubles_, geo_ascii_);
             std::string problem = crs.problem;
-            if (problem.empty()) h->wkt = wktForEpsg(crs.epsg, crs.vertical_epsg, problem);
+            if (problem.empty()) h->wkt = wktForCrs(crs, problem);
             if (h->wkt.empty()) h->crs_problem = prefix_ + ": its GeoTIFF CRS cannot be written as WKT: " + problem;
         }
         foreign = std::move(h);
