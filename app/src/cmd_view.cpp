@@ -14,12 +14,14 @@
 
 #include <core/error.hpp>
 #include <io/candidates_file.hpp>
+#include <io/cloud_info.hpp>
 #include <io/copc.hpp>
 #include <io/scene_file.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/cleanup.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
+#include <sim/ground_units.hpp>
 #include <sim/memory_budget.hpp>
 #include <viewer/copc_source.hpp>
 #include <viewer/open_point_source.hpp>
@@ -161,6 +163,14 @@ int runView(const ViewArgs& a) {
     validate(a.index);
     // The cloud first: a regular file (checkDistinctPaths keeps the outputs off it).
     if (!a.cloud.empty()) platform::checkInputFile(a.cloud, "view: cloud '" + core::printable(a.cloud, 400) + "'");
+    // The panel's units line, from the cloud's CRS (a file that does not read says so below).
+    if (!a.cloud.empty()) {
+        try {
+            o.units = sim::describeUnits(io::readCloudCrs(a.cloud, "view"));
+        } catch (const core::Error&) {
+            o.units.clear();  // not shown: the reader names what is wrong with the file below
+        }
+    }
     ViewIndexer indexer(a.index);
     viewer::OpenSourceOptions open;
     open.copc.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);

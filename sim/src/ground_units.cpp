@@ -82,6 +82,21 @@ std::string describe(const CoordinateUnits& u) {
     return h + " horizontally, " + v + " vertically";
 }
 
+std::string describeUnits(const io::LasCrs& crs) {
+    if (crs.source.empty() || !crs.horizontal_unit.stated()) return {};
+    const io::CrsUnit& h = crs.horizontal_unit;
+    if (h.angular) return plural(h.name) + " (geographic" + (crs.name.empty() ? "" : " " + crsText(crs)) + ")";
+    if (h.metres <= 0.0) return core::printable(h.name, 40) + " (length unknown)";
+    CoordinateUnits u;
+    u.horizontal_m = h.metres;
+    u.horizontal_name = h.name;
+    const io::CrsUnit& v = crs.vertical_unit;
+    const bool own = v.stated() && !v.angular && v.metres > 0.0;
+    u.vertical_m = own ? v.metres : h.metres;
+    u.vertical_name = own ? v.name : h.name;
+    return describe(u);
+}
+
 GroundFileOptions inUnits(const GroundFileOptions& o, const CoordinateUnits& u) {
     GroundFileOptions r = o;
     const double h = u.horizontal_m, v = u.vertical_m;

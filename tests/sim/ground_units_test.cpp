@@ -5,6 +5,7 @@
 #include <sim/ground_units.hpp>
 
 #include <core/error.hpp>
+#include <io/cloud_info.hpp>
 #include <io/las_crs.hpp>
 
 #include <doctest/doctest.h>
@@ -126,4 +127,14 @@ TEST_CASE("ground_units: a command that cannot convert refuses a cloud not in me
                           "metres): reproject it, e.g. with PDAL's filters.reprojection")
                              .c_str(),
                          core::Error);
+}
+
+TEST_CASE("ground_units: the units for a display, a geographic CRS included, never throwing") {
+    CHECK(sim::describeUnits(io::LasCrs{}).empty());
+    CHECK(sim::describeUnits(io::readCloudCrs(kReal / "4_6_crop.las", "view")) == "US survey feet (0.3048006 m)");
+    CHECK(sim::describeUnits(io::readCloudCrs(kReal / "hexbin-crop.las", "view")) == "metres");
+    const io::LasCrs geo = io::crsFromWkt(
+        "GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],"
+        "UNIT[\"degree\",0.0174532925199433,AUTHORITY[\"EPSG\",\"9122\"]],AUTHORITY[\"EPSG\",\"4326\"]]");
+    CHECK(sim::describeUnits(geo) == "degrees (geographic 'WGS 84' (EPSG:4326))");
 }

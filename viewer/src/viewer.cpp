@@ -481,6 +481,7 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     PanelView v;
     v.style = &style_;
     v.mode = modes_.mode();
+    v.units = options_.units;
     if (const XrStereoSession* xr = headset_.session())
         v.xr_state = xr->focused() ? (xr->noControllers() ? "focused, no controllers: no pointer" : "focused")
                                    : (xr->running() ? "running" : "waiting");

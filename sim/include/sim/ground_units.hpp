@@ -41,6 +41,10 @@ void requireMetres(const std::filesystem::path& file, const char* context, const
 /// vertically" when the two differ.
 std::string describe(const CoordinateUnits& u);
 
+/// The units of `crs`'s coordinates for a display, never throwing: "US survey feet
+/// (0.3048006 m)", "degrees (geographic 'WGS 84')"; empty when it has no CRS or states no unit.
+std::string describeUnits(const io::LasCrs& crs);
+
 /// `o` (every length in metres) in units `u`: the horizontal lengths (SMRF's cell and
 /// window, CSF's cloth) divided by horizontal_m, the vertical ones (thresholds, the
 /// low-outlier gap) by vertical_m, SMRF's slope (a rise over a run) and its scalar (a

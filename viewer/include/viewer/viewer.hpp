@@ -63,6 +63,7 @@ struct ViewerOptions {
     std::vector<ScriptEvent> script;
     std::filesystem::path screenshot;  // PNG of the mirror at the last frame
     std::filesystem::path log_json;    // machine-readable run log
+    std::string units;  // the units of the cloud's coordinates, as its CRS says, for the panel; empty: not shown
     ViewStyle style;
     ModeOptions modes;
     std::size_t upload_points_per_frame = 1u << 18;  // streaming budget per frame

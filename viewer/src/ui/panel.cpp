@@ -96,6 +96,7 @@ bool drawSettingsPanel(const PanelView& v) {
     } else if (!v.xr_state.empty()) {
         ImGui::Text("OpenXR: %s", v.xr_state.c_str());
     }
+    if (!v.units.empty()) ImGui::Text("Units: %s", v.units.c_str());
     int colour = static_cast<int>(v.style->colour);
     // Compact: the combo alone, as wide as its longest name (C still cycles it).
     if (layout.compact)

@@ -17,6 +17,7 @@ struct PanelView {
     ViewStyle* style = nullptr;
     ViewMode mode = ViewMode::Automatic;
     std::string xr_state;  // empty: desktop mode
+    std::string units;     // ViewerOptions::units; empty: not shown
     double frame_ms = 0.0;
     // points_drawn: per eye (the most one eye drew), the figure the budget bounds.
     std::size_t points_uploaded = 0, points_arrived = 0, points_drawn = 0, cells = 0, point_budget = 0;
