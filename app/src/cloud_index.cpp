@@ -13,11 +13,11 @@
 namespace app {
 
 IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, std::string_view command,
-                    bool fewer_threads, std::uint32_t max_node_points) {
+                    bool fewer_threads, std::uint32_t max_node_points, std::size_t side_record_bytes) {
     // Plan-or-refuse: the reader's two chunks (one read while the other is written), and
     // the writer within the rest (past it, it spills the points to scratch files and
     // builds the octree a part at a time).
-    const std::uint64_t reading = 2 * io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
+    const std::uint64_t reading = 2 * io::CloudReader::kChunkPoints * (sizeof(core::CloudPoint) + side_record_bytes);
     const auto least = [&](int t) { return io::copcMinimumBytes(t - 1, max_node_points) + reading; };
     if (fewer_threads)
         while (threads > 1 && budget_bytes < least(threads)) --threads;

@@ -30,8 +30,11 @@ struct IndexPlan {
 /// (down to one) that fit instead of a refusal. Throws Error("<command>: --memory-mb <mb> is below the N MiB indexing needs
 /// with T threads; raise --memory-mb or lower --threads") (with `fewer_threads`: "... with
 /// 1 thread; raise --memory-mb").
+/// `side_record_bytes`: the bytes of each point's side record the readers give besides it
+/// (io::CloudReader::foreignHeader()->stride(); 0 for none), held with the chunks read.
 IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, std::string_view command,
-                    bool fewer_threads = false, std::uint32_t max_node_points = io::kDefaultMaxNodePoints);
+                    bool fewer_threads = false, std::uint32_t max_node_points = io::kDefaultMaxNodePoints,
+                    std::size_t side_record_bytes = 0);
 
 /// Appends every reader's points (shifted into the first one's frame) to a COPC writer at
 /// `out`, then renames the whole file into place (CloudWriter). `advance(n)` is called

@@ -160,7 +160,9 @@ void run(IndexCli& cli) {
     createParentFolders(out, "index: --out");
     platform::checkWritableDestination(out, inputs);
 
-    const IndexPlan plan = planIndex(budget, cli.memory_mb, threads, "index", false, std::uint32_t(cli.node_points));
+    const auto side = readers.front()->foreignHeader();
+    const IndexPlan plan = planIndex(budget, cli.memory_mb, threads, "index", false, std::uint32_t(cli.node_points),
+                                     side ? side->stride() : 0);
     platform::Progress progress("index: reading", std::size_t(bound));
     const std::size_t points =
         writeIndex(readers, out, plan, [&](std::size_t n) { progress.advance(n); }, [&] { progress.finish(); });

@@ -78,6 +78,12 @@ TEST_CASE("foreign fields: a real survey's side records survive LAS, LAZ and COP
             REQUIRE(back.points.size() == in.points.size());
             CHECK(keyed(back) == keyed(in));
         }
+        // writeCopc, the whole-cloud COPC writer, too.
+        const fs::path whole = dir.path / "w.copc.laz";
+        io::writeCopc(whole, in);
+        const core::PointCloud back = readKept(whole);
+        REQUIRE(back.foreign);
+        CHECK(keyed(back) == keyed(in));
     }
 }
 

@@ -51,8 +51,8 @@ std::uint64_t copcFixedBytes(int threads, std::uint32_t max_node_points = kDefau
 /// `threads` worker threads and nodes of at most `max_node_points`.
 std::uint64_t copcMinimumBytes(int threads, std::uint32_t max_node_points = kDefaultMaxNodePoints);
 
-/// Writes `cloud` as a COPC file at `path`, atomically (as writeCloud does). Throws
-/// Error("output: <path>: ...").
+/// Writes `cloud` as a COPC file at `path`, atomically (as writeCloud does), with its
+/// foreign side records where it has them. Throws Error("output: <path>: ...").
 void writeCopc(const std::filesystem::path& path, const core::PointCloud& cloud, const LasOptions& las = {},
                const CopcOptions& copc = {});
 

@@ -482,9 +482,17 @@ void writeCopc(const std::filesystem::path& path, const core::PointCloud& cloud,
         throw core::Error("output: " + path.string() + ": the cloud origin is not finite");
     platform::TempFile temp(path);
     {
+        // A cloud read with its side records (one a point) writes them back.
+        const bool foreign =
+            cloud.foreign && cloud.foreign->records.size() == cloud.points.size() * cloud.foreign->header.stride();
+        LasOptions with = las;
+        if (foreign) with.foreign = std::make_shared<const core::ForeignHeader>(cloud.foreign->header);
         const std::unique_ptr<detail::FormatWriter> writer =
-            detail::openCopcWriter(temp, cloud.origin, cloud.fields, las, copc);
-        writer->append(cloud.points);
+            detail::openCopcWriter(temp, cloud.origin, cloud.fields, with, copc);
+        if (foreign)
+            writer->appendForeign(cloud.points, cloud.foreign->records.data());
+        else
+            writer->append(cloud.points);
         try {
             writer->finish();
         } catch (...) {
