@@ -7,7 +7,8 @@
 #  - the file written holds every point, its ground count as --json says (`info --json`);
 #  - bad options give one line naming the option and what is allowed, exit 2 or 1, and
 #    no output; the input is never overwritten;
-#  - a survey in feet gets its options converted from metres (stderr says so).
+#  - a survey in feet gets its options converted from metres (stderr says so); one in
+#    degrees (a geographic CRS) is refused.
 set -eu
 bin=$1
 dir=$2
@@ -94,6 +95,21 @@ bad "--csf-rigidness" "$data/samp24.las" --out "$dir/bad.las" --method csf --csf
 bad "--memory-mb" "$data/samp24.las" --out "$dir/bad.las" --memory-mb 2
 bad "--out" "$data/samp24.las" --out "$dir/bad.txt"
 bad "no-such.las" "$data/no-such.las" --out "$dir/bad.las"
+# A geographic CRS (x and y in degrees): hexbin-crop.las with its WKT record's UTM 42N
+# overwritten by WGS 84 (padded with NULs, the record's length kept).
+python3 - "$real/hexbin-crop.las" "$dir/degrees.las" <<'PY'
+import sys
+data = bytearray(open(sys.argv[1], "rb").read())
+at = data.find(b'PROJCS["WGS 84 / UTM zone 42N"')
+end = data.find(b"\0", at)
+wkt = (b'GEOGCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563]],'
+       b'UNIT["degree",0.0174532925199433,AUTHORITY["EPSG","9122"]],AUTHORITY["EPSG","4326"]]')
+assert at > 0 and end - at > len(wkt)
+data[at:end] = wkt + bytes(end - at - len(wkt))
+open(sys.argv[2], "wb").write(data)
+PY
+bad "its CRS 'WGS 84' (EPSG:4326) is geographic (x and y in degrees), and distances in degrees cannot take options in metres; allowed a projected CRS in metres or feet" \
+    "$dir/degrees.las" --out "$dir/bad.las"
 cp "$data/samp24.las" "$dir/in.las"
 before=$(cksum <"$dir/in.las")
 if "$bin" ground "$dir/in.las" --out "$dir/in.las" >"$dir/out" 2>"$dir/err"; then fail "ground overwrote its input"; fi
