@@ -10,7 +10,8 @@
 #     is one of the file's levels; the frames' pointer records give the level too;
 #   - confirms the block's candidate box;
 #   - the cutting volume then hides the points far from the designation: the mirror shows
-#     far fewer lit pixels than the same run without --cut, and the red block is on screen.
+#     far fewer lit pixels than the same run without --cut, and the red block is on screen;
+#   - frames after the designation draw a focus (the run log's stream.focus_points).
 # The runs end on a scripted Escape (no sleeps); headless_env.sh starts and kills Xvfb.
 set -euo pipefail
 bin=$(realpath "$1")
@@ -92,6 +93,9 @@ for run in ("cut", "whole"):
     hits = [f["pointer"] for f in log["frames"] if f["pointer"].get("hit") is not None]
     check(hits and all(h.get("level") in levels for h in hits), f"{run}: pointer records without a level: {hits[:3]}")
     check(all(f["colour"] == "label" for f in log["frames"]), f"{run}: colour modes")
+    # The designation (and the pointer's hit) make a focus drawn whatever the budget.
+    focus = [f["stream"].get("focus_points", 0) for f in log["frames"]]
+    check(max(focus) > 0, f"{run}: no frame drew a focus")
     check(all(f["cut"] == (run == "cut") for f in log["frames"]), f"{run}: cut flags")
 
 lit = {}

@@ -235,6 +235,8 @@ nlohmann::json SourceStream::frameFigures() {
                         {"gpu_nodes_added", a.frame_nodes_added},
                         {"gpu_nodes_evicted", a.frame_nodes_evicted},
                         {"upload_bytes", a.frame_upload_bytes}};
+    // The points of the operator's focus, drawn whatever the budget (lod.hpp's LodFocus).
+    if (!renderer_->focus().empty()) j["focus_points"] = renderer_->focusPoints();
     if (const std::optional<SourceStats> s = source_->stats()) {
         j["resident_bytes"] = s->resident_bytes;
         j["nodes_loaded"] = s->nodes_loaded - std::min(last_loaded_, s->nodes_loaded);
