@@ -35,23 +35,13 @@ std::string withLength(const std::string& name, double metres) {
     return plural(name) + " (" + length + " m)";
 }
 
-}  // namespace
-
-CoordinateUnits coordinateUnits(const io::LasCrs& crs, const std::filesystem::path& file, const char* context) {
+// The lengths of a CRS's units, its horizontal one a known length or not stated: the
+// vertical unit where it is a known length, else the horizontal one for z too.
+CoordinateUnits lengthsOf(const io::LasCrs& crs) {
     CoordinateUnits u;
-    if (crs.source.empty()) return u;  // no CRS: metres, as the generator writes
-    const std::string where = std::string(context) + ": " + core::printable(file.string(), 400) + ": ";
     const io::CrsUnit& h = crs.horizontal_unit;
-    if (h.angular)
-        throw core::Error(where + "its CRS " + crsText(crs) + " is geographic (x and y in " + plural(h.name) +
-                          "), and distances in degrees cannot take options in metres; allowed a projected CRS in "
-                          "metres or feet (reproject it, e.g. with PDAL's filters.reprojection)");
-    if (h.stated() && h.metres <= 0.0)
-        throw core::Error(where + "its CRS " + crsText(crs) + " gives x and y in " + core::printable(h.name, 40) +
-                          ", a unit of unknown length; allowed a CRS in metres, feet or another known length");
-    const io::CrsUnit& v = crs.vertical_unit.stated() && !crs.vertical_unit.angular && crs.vertical_unit.metres > 0.0
-                               ? crs.vertical_unit
-                               : h;
+    const io::CrsUnit& z = crs.vertical_unit;
+    const io::CrsUnit& v = z.stated() && !z.angular && z.metres > 0.0 ? z : h;
     if (h.stated()) {
         u.horizontal_m = h.metres;
         u.horizontal_name = h.name;
@@ -61,6 +51,22 @@ CoordinateUnits coordinateUnits(const io::LasCrs& crs, const std::filesystem::pa
         u.vertical_name = v.name;
     }
     return u;
+}
+
+}  // namespace
+
+CoordinateUnits coordinateUnits(const io::LasCrs& crs, const std::filesystem::path& file, const char* context) {
+    if (crs.source.empty()) return {};  // no CRS: metres, as the generator writes
+    const std::string where = std::string(context) + ": " + core::printable(file.string(), 400) + ": ";
+    const io::CrsUnit& h = crs.horizontal_unit;
+    if (h.angular)
+        throw core::Error(where + "its CRS " + crsText(crs) + " is geographic (x and y in " + plural(h.name) +
+                          "), and distances in degrees cannot take options in metres; allowed a projected CRS in "
+                          "metres or feet (reproject it, e.g. with PDAL's filters.reprojection)");
+    if (h.stated() && h.metres <= 0.0)
+        throw core::Error(where + "its CRS " + crsText(crs) + " gives x and y in " + core::printable(h.name, 40) +
+                          ", a unit of unknown length; allowed a CRS in metres, feet or another known length");
+    return lengthsOf(crs);
 }
 
 CoordinateUnits readCoordinateUnits(const std::filesystem::path& file, const char* context) {
@@ -83,18 +89,12 @@ std::string describe(const CoordinateUnits& u) {
 }
 
 std::string describeUnits(const io::LasCrs& crs) {
-    if (crs.source.empty() || !crs.horizontal_unit.stated()) return {};
+    if (crs.source.empty()) return {};
     const io::CrsUnit& h = crs.horizontal_unit;
     if (h.angular) return plural(h.name) + " (geographic" + (crs.name.empty() ? "" : " " + crsText(crs)) + ")";
-    if (h.metres <= 0.0) return core::printable(h.name, 40) + " (length unknown)";
-    CoordinateUnits u;
-    u.horizontal_m = h.metres;
-    u.horizontal_name = h.name;
-    const io::CrsUnit& v = crs.vertical_unit;
-    const bool own = v.stated() && !v.angular && v.metres > 0.0;
-    u.vertical_m = own ? v.metres : h.metres;
-    u.vertical_name = own ? v.name : h.name;
-    return describe(u);
+    if (h.stated() && h.metres <= 0.0) return core::printable(h.name, 40) + " (length unknown)";
+    const CoordinateUnits u = lengthsOf(crs);
+    return u.horizontal_name.empty() && u.vertical_name.empty() ? std::string() : describe(u);
 }
 
 GroundFileOptions inUnits(const GroundFileOptions& o, const CoordinateUnits& u) {
