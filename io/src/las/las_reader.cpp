@@ -291,7 +291,8 @@ class LasReader final : public FormatReader {
             const unsigned cls = extended_ ? q.extended_classification : q.classification;
             bool known = true;
             p.label = roleForClass(cls, known);
-            if (!known && stats.unknown_classes++ == 0) stats.first_unknown = cls;
+            // With side records kept, the class itself is written back: nothing to warn of.
+            if (!known && stride_ == 0 && stats.unknown_classes++ == 0) stats.first_unknown = cls;
         }
         if (extra) {
             if (range_.present) p.range_m = float(extraValue(extra, range_));
