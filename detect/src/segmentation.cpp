@@ -210,12 +210,13 @@ void validate(const SegmentOptions& o) {
 }
 
 SegmentOptions scaledForSpacing(const SegmentOptions& o, double spacing_m, double* scale_out) {
-    // The join distance max(tolerance, 3 spacing - tolerance / 2): as given up to a spacing
-    // of half of it, then growing three times as fast as the spacing (a sparse cloud's
-    // random gaps reach well past its median spacing).
+    // The join distance max(tolerance, 3 spacing - 2 tolerance): as given up to a spacing
+    // of the join distance itself (twice the sparsest drone cloud's), then growing three
+    // times as fast as the spacing (a sparse cloud's random gaps reach well past its
+    // median spacing).
     double scale = 1.0;
-    if (o.scale_with_spacing && std::isfinite(spacing_m) && spacing_m > o.cluster_tolerance_m / 2.0)
-        scale = std::min((3.0 * spacing_m - o.cluster_tolerance_m / 2.0) / o.cluster_tolerance_m, kMaxSpacingScale);
+    if (o.scale_with_spacing && std::isfinite(spacing_m) && spacing_m > o.cluster_tolerance_m)
+        scale = std::min((3.0 * spacing_m - 2.0 * o.cluster_tolerance_m) / o.cluster_tolerance_m, kMaxSpacingScale);
     if (scale_out) *scale_out = scale;
     if (scale == 1.0) return o;
     SegmentOptions e = o;

@@ -13,8 +13,11 @@
 
 #include <doctest/doctest.h>
 
+#include <array>
+#include <cmath>
+#include <cstdint>
 #include <numeric>
-#include <random>
+#include <set>
 #include <vector>
 
 namespace {
@@ -57,14 +60,18 @@ std::pair<double, double> targetSegment(const core::PointCloud& c, const detect:
     return {double(best) / double(std::max<std::size_t>(targets, 1)), double(best) / double(best_size)};
 }
 
-// labelledScene with every point kept with probability `keep` (seeded).
-core::PointCloud thinned(const core::PointCloud& c, double keep, std::uint32_t seed) {
+// The cloud thinned to its first point in each cube of side cell_m (a survey thinned on a
+// grid, as PDAL's voxel filters do).
+core::PointCloud thinned(const core::PointCloud& c, double cell_m) {
     core::PointCloud out = c;
     out.points.clear();
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (const core::CloudPoint& p : c.points)
-        if (u(rng) < keep) out.points.push_back(p);
+    std::set<std::array<std::int64_t, 3>> taken;
+    for (const core::CloudPoint& p : c.points) {
+        const std::array<std::int64_t, 3> key{std::int64_t(std::floor(p.position.x / cell_m)),
+                                              std::int64_t(std::floor(p.position.y / cell_m)),
+                                              std::int64_t(std::floor(p.position.z / cell_m))};
+        if (taken.insert(key).second) out.points.push_back(p);
+    }
     return out;
 }
 
@@ -89,19 +96,19 @@ TEST_CASE("point spacing: a grid's step, whether or not each point has a twin re
 TEST_CASE("point spacing: the options are kept on a dense cloud and scaled on a sparse one") {
     const detect::SegmentOptions o;  // voxel 0.25 m, tolerance 0.5 m, 20 points
     double scale = 0;
-    detect::SegmentOptions e = detect::scaledForSpacing(o, 0.25, &scale);
+    detect::SegmentOptions e = detect::scaledForSpacing(o, 0.5, &scale);
     CHECK(scale == 1.0);
     CHECK(e.voxel_m == o.voxel_m);
     CHECK(e.cluster_tolerance_m == o.cluster_tolerance_m);
     CHECK(e.min_points == o.min_points);
-    e = detect::scaledForSpacing(o, 0.75, &scale);  // join distance 3 x 0.75 - 0.25 = 2 m
+    e = detect::scaledForSpacing(o, 1.0, &scale);  // join distance 3 x 1 - 2 x 0.5 = 2 m
     CHECK(scale == doctest::Approx(4.0));
     CHECK(e.voxel_m == doctest::Approx(1.0));
     CHECK(e.cluster_tolerance_m == doctest::Approx(2.0));
     CHECK(e.min_points == detect::kMinScaledPoints);  // 20 / 16 rounds below the bar
-    e = detect::scaledForSpacing(o, 0.3, &scale);
-    CHECK(scale == doctest::Approx(1.3));
-    CHECK(e.min_points == 12);  // 20 / 1.69
+    e = detect::scaledForSpacing(o, 0.6, &scale);
+    CHECK(scale == doctest::Approx(1.6));
+    CHECK(e.min_points == 8);  // 20 / 2.56
     e = detect::scaledForSpacing(o, 50.0, &scale);
     CHECK(scale == detect::kMaxSpacingScale);
     detect::SegmentOptions fixed;
@@ -119,7 +126,7 @@ TEST_CASE("point spacing: a dense scene is segmented with the options as given")
     const detect::SegmentOptions o;
     const detect::Segmentation s = detect::segmentCloud(c, o);
     CHECK(s.spacing_m > 0.0);
-    CHECK(s.spacing_m <= o.cluster_tolerance_m / 2);
+    CHECK(s.spacing_m <= o.cluster_tolerance_m / 2);  // twice as dense as where the scaling starts
     CHECK(s.spacing_scale == 1.0);
     CHECK(s.used.voxel_m == o.voxel_m);
     CHECK(s.used.cluster_tolerance_m == o.cluster_tolerance_m);
@@ -132,8 +139,8 @@ TEST_CASE("point spacing: a dense scene is segmented with the options as given")
 }
 
 TEST_CASE("point spacing: a thinned scene's vehicle forms one segment once the lengths follow the spacing") {
-    // A 0.2 m scene kept at 1 point in 30: about 1.1 m between points.
-    const core::PointCloud c = thinned(test_support::labelledScene(12, 3), 1.0 / 30.0, 3);
+    // A 0.2 m scene thinned to a point per 1.2 m cube.
+    const core::PointCloud c = thinned(test_support::labelledScene(12, 3), 1.2);
     detect::SegmentOptions fixed;
     fixed.scale_with_spacing = false;
     const detect::Segmentation f = detect::segmentCloud(c, fixed);

@@ -16,8 +16,8 @@
 //      on a sparsely sampled cloud (an airborne survey at a metre's spacing) the voxel,
 //      the join distance and min_points follow the measured point spacing (the median
 //      distance from a point above the terrain to its second nearest, as a survey's
-//      first and last returns of one pulse often lie together): past a spacing of half
-//      the join distance, the join distance grows three times as fast as the spacing,
+//      first and last returns of one pulse often lie together): past a spacing of the
+//      join distance itself, the join distance grows three times as fast as the spacing,
 //      the voxel by the same factor (at most kMaxSpacingScale) and min_points shrinks by
 //      its square (not under kMinScaledPoints); on a drone's dense cloud the factor is 1
 //      and nothing changes;
@@ -50,7 +50,7 @@ struct SegmentOptions {
     // free below it; 0 splits none, else [1, 100] m
     double split_height_m = 4.0;
     // step 2: whether voxel_m, cluster_tolerance_m and min_points follow the cloud's
-    // measured point spacing where it is sparser than cluster_tolerance_m / 2
+    // measured point spacing where it is sparser than cluster_tolerance_m
     bool scale_with_spacing = true;
 };
 
@@ -80,8 +80,8 @@ struct Segmentation {
 };
 
 /// The options steps 2-4 use on a cloud of median point spacing `spacing_m`: `o` itself
-/// when o.scale_with_spacing is off or the spacing is at most o.cluster_tolerance_m / 2;
-/// else the voxel and join distance times scale = min((3 spacing - tolerance / 2) /
+/// when o.scale_with_spacing is off or the spacing is at most o.cluster_tolerance_m;
+/// else the voxel and join distance times scale = min((3 spacing - 2 tolerance) /
 /// tolerance, kMaxSpacingScale) and min_points over scale^2 (rounded, at least
 /// min(min_points, kMinScaledPoints)). Returns the scale through `scale_out`.
 SegmentOptions scaledForSpacing(const SegmentOptions& o, double spacing_m, double* scale_out = nullptr);
