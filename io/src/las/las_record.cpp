@@ -276,10 +276,10 @@ void LasRecord::fillForeign(laszip_point_struct& q, const unsigned char* foreign
     std::memcpy(q.extra_bytes, foreign + sizeof f, own);
 }
 
-// A foreign point: position, intensity, returns and scan angle from `p`, the rest from
-// its side record, and the height above ground when this file adds it.
-void LasRecord::fillForeignQuantized(laszip_point_struct& q, const CloudPoint& p, const std::array<laszip_I32, 3>& xyz,
-                                     LasInventory* inventory, const unsigned char* foreign) const {
+// What every point record takes from the point itself: position, intensity, returns and
+// scan angle. Returns the point's return number as written (1..15).
+std::uint8_t LasRecord::fillMeasured(laszip_point_struct& q, const CloudPoint& p,
+                                     const std::array<laszip_I32, 3>& xyz) const {
     q.X = xyz[0];
     q.Y = xyz[1];
     q.Z = xyz[2];
@@ -299,6 +299,14 @@ void LasRecord::fillForeignQuantized(laszip_point_struct& q, const CloudPoint& p
         q.extended_scan_angle = 0;
         q.scan_angle_rank = 0;
     }
+    return rn;
+}
+
+// A foreign point: position, intensity, returns and scan angle from `p`, the rest from
+// its side record, and the height above ground when this file adds it.
+void LasRecord::fillForeignQuantized(laszip_point_struct& q, const CloudPoint& p, const std::array<laszip_I32, 3>& xyz,
+                                     LasInventory* inventory, const unsigned char* foreign) const {
+    const std::uint8_t rn = fillMeasured(q, p, xyz);
     fillForeign(q, foreign);
     if (inventory) inventory->add(xyz, q.gps_time, rn);
     if (!fields_.height_above_ground) return;
@@ -316,28 +324,10 @@ void LasRecord::fillQuantized(laszip_point_struct& q, const CloudPoint& p, const
         fillForeignQuantized(q, p, xyz, inventory, foreign);
         return;
     }
-    q.X = xyz[0];
-    q.Y = xyz[1];
-    q.Z = xyz[2];
-    q.intensity = fields_.intensity ? p.intensity : 0;
-    const std::uint8_t rn = std::clamp<std::uint8_t>(p.return_number, 1, 15);
-    const std::uint8_t nr = std::clamp<std::uint8_t>(std::max(p.returns, rn), 1, 15);
-    q.extended_point_type = 1;
-    q.extended_return_number = rn & 15u;
-    q.extended_number_of_returns = nr & 15u;
-    q.return_number = std::min<std::uint8_t>(rn, 7) & 7u;
-    q.number_of_returns = std::min<std::uint8_t>(nr, 7) & 7u;
+    const std::uint8_t rn = fillMeasured(q, p, xyz);
     const std::uint8_t cls = options_.class_of_role[std::min<int>(int(p.label), kRoleCount - 1)];
     q.extended_classification = cls;
     q.classification = cls < 32 ? cls & 31u : 0u;
-    if (fields_.scan_angle) {
-        const double angle = std::clamp(std::round(p.scan_angle_deg / kScanAngleUnit_deg), -30000.0, 30000.0);
-        q.extended_scan_angle = laszip_I16(angle);
-        q.scan_angle_rank = laszip_I8(std::clamp(std::lround(p.scan_angle_deg), -90L, 90L));
-    } else {
-        q.extended_scan_angle = 0;
-        q.scan_angle_rank = 0;
-    }
     q.point_source_ID = p.view;
     const double gps_time_s = gpsTime(p);
     q.gps_time = gps_time_s;

@@ -132,6 +132,8 @@ class LasRecord {
     [[noreturn]] void throwBeyondReach(std::uint64_t index) const;
     void setUpForeign(laszip_POINTER zip) const;
     void fillForeign(laszip_point_struct& q, const unsigned char* foreign) const;
+    std::uint8_t fillMeasured(laszip_point_struct& q, const core::CloudPoint& p,
+                              const std::array<laszip_I32, 3>& xyz) const;
     void fillForeignQuantized(laszip_point_struct& q, const core::CloudPoint& p, const std::array<laszip_I32, 3>& xyz,
                               LasInventory* inventory, const unsigned char* foreign) const;
 
