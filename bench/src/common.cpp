@@ -9,6 +9,9 @@
 #include <ctime>
 #include <fstream>
 #include <sstream>
+#include <system_error>
+
+#include <unistd.h>
 
 namespace bench {
 
@@ -107,6 +110,17 @@ void replaceMarkdownHeader(const std::filesystem::path& path, const std::string&
     const std::size_t first = text.rfind("## ", 0) == 0 ? 0 : text.find("\n## ");
     platform::writeFileAtomic(path,
                               header + (first == std::string::npos ? "" : "\n" + text.substr(first + (first ? 1 : 0))));
+}
+
+WorkFolder::WorkFolder(const std::filesystem::path& given, const std::string& prefix)
+    : path_(given.empty() ? std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid())) : given),
+      own_(given.empty()) {
+    std::filesystem::create_directories(path_);
+}
+
+WorkFolder::~WorkFolder() {
+    std::error_code ec;
+    if (own_) std::filesystem::remove_all(path_, ec);
 }
 
 }  // namespace bench

@@ -48,6 +48,22 @@ std::string shellQuote(const std::string& s);
 /// The whole file as a string; empty if it cannot be read.
 std::string readText(const std::filesystem::path& path);
 
+/// A bench's working folder: `given` when the user named one (kept afterwards), else a
+/// folder of its own under the system's temporary folder, named `prefix` and the process
+/// id, removed with everything in it when this object goes.
+class WorkFolder {
+  public:
+    WorkFolder(const std::filesystem::path& given, const std::string& prefix);
+    ~WorkFolder();
+    WorkFolder(const WorkFolder&) = delete;
+    WorkFolder& operator=(const WorkFolder&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+
+  private:
+    std::filesystem::path path_;
+    bool own_ = false;
+};
+
 /// Replaces the section that starts with `heading` (a "## ..." line) up to the next
 /// "## " heading with `section`, or appends it; writes atomically. A missing file
 /// starts as "# Benchmarks".

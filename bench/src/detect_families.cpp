@@ -162,18 +162,8 @@ std::string cells(const Summary& s) {
 std::string runFamilyComparison(const FamilyBenchOptions& o) {
     const FamilyConfig cfg = configFor(o.full);
     const fs::path assets = sourceRoot() / "assets";
-    const bool own_tmp = o.tmp.empty();
-    const fs::path tmp =
-        own_tmp ? fs::temp_directory_path() / ("ladarvr-bench-families-" + std::to_string(::getpid())) : o.tmp;
-    fs::create_directories(tmp);
-    struct Cleanup {
-        fs::path p;
-        bool on;
-        ~Cleanup() {
-            std::error_code ec;
-            if (on) fs::remove_all(p, ec);
-        }
-    } cleanup{tmp, own_tmp};
+    const WorkFolder work(o.tmp, "ladarvr-bench-families-");
+    const fs::path& tmp = work.path();
 
     std::vector<Family> families = makeFamilies(tmp / "vehicles", cfg.per_family);
     std::size_t left_out = 0;

@@ -209,18 +209,8 @@ std::string summaryRow(const char* name, const Summary& s) {
 std::string runTrainedComparison(const TrainedBenchOptions& o) {
     const fs::path root = sourceRoot();
     const fs::path assets = root / "assets";
-    const bool own_tmp = o.tmp.empty();
-    const fs::path tmp =
-        own_tmp ? fs::temp_directory_path() / ("ladarvr-bench-detect-" + std::to_string(::getpid())) : o.tmp;
-    fs::create_directories(tmp);
-    struct Cleanup {
-        fs::path p;
-        bool on;
-        ~Cleanup() {
-            std::error_code ec;
-            if (on) fs::remove_all(p, ec);
-        }
-    } cleanup{tmp, own_tmp};
+    const WorkFolder work(o.tmp, "ladarvr-bench-detect-");
+    const fs::path& tmp = work.path();
 
     // Training corpora: the shipped model's SPECs (smaller with --quick).
     std::vector<fs::path> train_dirs;
