@@ -82,8 +82,10 @@ CloudInfo inspectCloud(const std::filesystem::path& file, const char* context) {
 
 LasCrs readCloudCrs(const std::filesystem::path& file, const char* context) {
     const std::unique_ptr<detail::ByteSource> source = detail::fileSource(file, context);
-    if (std::string_view(detail::moduleOf(*source, file)) != "las") return {};
-    return detail::readLasCrs(*source, std::string(context) + ": " + file.string());
+    const std::string module = detail::moduleOf(*source, file);
+    if (module != "las") return {};
+    // The reader's own prefix, so a damaged header reads the same here as when its points are read.
+    return detail::readLasCrs(*source, module + ": " + file.string());
 }
 
 }  // namespace io
