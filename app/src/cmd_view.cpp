@@ -92,20 +92,9 @@ class ViewIndexer final : public viewer::CloudIndexer {
     ViewCloud last_;
 };
 
-int runView(const ViewArgs& a) {
-    const auto start = std::chrono::steady_clock::now();
-    const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("view", a.timeout_s);
-    if (!a.cloud.empty() && !a.scene.empty()) throw core::Error("view: give a cloud file or --scene, not both");
-    const sim::OrbitOptions paper;
-    if (!a.cloud.empty() && (a.orbit.xres != paper.xres || a.orbit.yres != paper.yres || a.orbit.views != paper.views))
-        throw core::Error("view: --xres/--yres/--views apply to a generated cloud, not to a cloud file");
-    platform::checkDistinctPaths("view", {{"cloud", a.cloud, platform::PathRole::Input, {}},
-                                          {"--scene", a.scene, platform::PathRole::Input, {}},
-                                          {"--script", a.script, platform::PathRole::Input, {}},
-                                          {"--candidates", a.candidates, platform::PathRole::Input, {}},
-                                          {"--screenshot", a.screenshot, platform::PathRole::Output, {}},
-                                          {"--log-json", a.log_json, platform::PathRole::Output, {}},
-                                          {"--index-to", a.index.index_to, platform::PathRole::Output, {}}});
+/// The viewer's options from the command line, checked (the cloud and its outputs are
+/// checked by runView).
+viewer::ViewerOptions viewerOptions(const ViewArgs& a) {
     viewer::ViewerOptions o;
     o.use_xr = !a.no_xr;
     o.mirror = viewer::parseMirrorEyes(a.mirror);
@@ -158,6 +147,30 @@ int runView(const ViewArgs& a) {
     o.screenshot = a.screenshot;
     o.log_json = a.log_json;
     viewer::validate(o);
+    return o;
+}
+
+/// What is left of a --timeout that counts from `start` (0: none), at least a millisecond.
+double timeLeft(double timeout_s, std::chrono::steady_clock::time_point start) {
+    if (timeout_s <= 0.0) return timeout_s;
+    return std::max(0.001, timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+int runView(const ViewArgs& a) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("view", a.timeout_s);
+    if (!a.cloud.empty() && !a.scene.empty()) throw core::Error("view: give a cloud file or --scene, not both");
+    const sim::OrbitOptions paper;
+    if (!a.cloud.empty() && (a.orbit.xres != paper.xres || a.orbit.yres != paper.yres || a.orbit.views != paper.views))
+        throw core::Error("view: --xres/--yres/--views apply to a generated cloud, not to a cloud file");
+    platform::checkDistinctPaths("view", {{"cloud", a.cloud, platform::PathRole::Input, {}},
+                                          {"--scene", a.scene, platform::PathRole::Input, {}},
+                                          {"--script", a.script, platform::PathRole::Input, {}},
+                                          {"--candidates", a.candidates, platform::PathRole::Input, {}},
+                                          {"--screenshot", a.screenshot, platform::PathRole::Output, {}},
+                                          {"--log-json", a.log_json, platform::PathRole::Output, {}},
+                                          {"--index-to", a.index.index_to, platform::PathRole::Output, {}}});
+    viewer::ViewerOptions o = viewerOptions(a);
     if (!(a.cache_mb >= 1.0 / 64.0 && a.cache_mb <= 1048576.0))
         throw core::Error("view: --cache-mb " + std::to_string(a.cache_mb) + " is not in [1/64, 1048576]");
     validate(a.index);
@@ -194,9 +207,7 @@ int runView(const ViewArgs& a) {
                      "(nodes of the root hierarchy page; %zu child pages read as the view reaches them)\n",
                      core::printable(opened.file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(),
                      a.cache_mb, pages);
-        if (o.timeout_s > 0.0)
-            o.timeout_s = std::max(
-                0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        o.timeout_s = timeLeft(o.timeout_s, start);
         return viewer::runViewer(o, source);
     }
     if (!a.cloud.empty()) {
@@ -241,9 +252,7 @@ int runView(const ViewArgs& a) {
         });
     }
     // --timeout counts from the start of the command: the loop gets what start-up left.
-    if (o.timeout_s > 0.0)
-        o.timeout_s = std::max(
-            0.001, o.timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    o.timeout_s = timeLeft(o.timeout_s, start);
     int status = 1;
     try {
         status = viewer::runViewer(o, *opened.feed);
