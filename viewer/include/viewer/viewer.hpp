@@ -12,11 +12,13 @@
 #include <viewer/point_source.hpp>
 #include <viewer/script.hpp>
 #include <viewer/trial.hpp>
+#include <viewer/terrain_feed.hpp>
 
 #include <core/candidates.hpp>
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -111,6 +113,10 @@ struct ViewerOptions {
     /// instead of the GPU class (point_budget.hpp's BudgetMeasure), remembered per GPU in
     /// the cache folder (--measure-budget; `view` turns it on for interactive runs).
     bool measure_budget = false;
+    /// The ground under the cloud, when it comes from elsewhere than the points' own
+    /// heights above ground (terrain_feed.hpp): the file's class 2, or a terrain fitted in
+    /// the background. Null: none.
+    std::shared_ptr<TerrainFeed> terrain;
 };
 
 /// Throws core::Error("view: ...") for values out of range.
