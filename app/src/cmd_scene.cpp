@@ -1,8 +1,10 @@
 // app/src/cmd_scene.cpp: `ladarvr scene info [SCENE]`: what a scene holds, measured
 // (core::summarize): each mesh's role, file, triangles, size and position, the target's
 // size and height above the ground under it, and the warnings `generate` would print.
+// `ladarvr scene from-cloud` (a scene made from a real survey) is scene_from_cloud.cpp.
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "scene_from_cloud.hpp"
 
 #include <core/scene_info.hpp>
 #include <io/scene_file.hpp>
@@ -113,7 +115,7 @@ void run(const SceneInfoCli& cli) {
 }  // namespace
 
 void registerScene(CLI::App& cli) {
-    CLI::App* scene = cli.add_subcommand("scene", "inspect a scene file");
+    CLI::App* scene = cli.add_subcommand("scene", "inspect a scene file, or make one from a real survey");
     scene->require_subcommand(1);
     auto state = std::make_shared<SceneInfoCli>();
     CLI::App* info = scene->add_subcommand(
@@ -123,6 +125,7 @@ void registerScene(CLI::App& cli) {
     info->add_option("scene", state->scene, "scene file (JSON); default: the bundled demo scene");
     info->add_flag("--json", state->json, "print the same as JSON on stdout");
     info->callback([state] { run(*state); });
+    addSceneFromCloud(*scene);
 }
 
 }  // namespace app

@@ -1,0 +1,143 @@
+// app/src/scene_from_cloud.cpp: `ladarvr scene from-cloud SURVEY --out DIR [--voxel-m V]
+// [--cell-m C] [--max-boxes N] [--coarsen] [--ground-from auto|classes|filter] [--method
+// smrf|csf] [--vehicle MESH [--vehicle-at X,Y] [--yaw-deg D] [--seed S] ...]`: a real survey
+// turned into a scene folder the generator reads (sim/scene_from_cloud.hpp). Options are
+// parsed and checked here; the work is sim::buildSceneFromCloud and sim::writeSceneFolder.
+#include "scene_from_cloud.hpp"
+
+#include "cli_common.hpp"
+#include "ground_options.hpp"
+
+#include <core/error.hpp>
+#include <io/cloud_reader.hpp>
+#include <platform/input_set.hpp>
+#include <platform/progress.hpp>
+#include <platform/safe_file.hpp>
+#include <sim/scene_from_cloud.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace app {
+namespace {
+
+struct SceneFromCloudCli {
+    std::string survey, out, ground_from = "auto", method = "smrf", vehicle, vehicle_at;
+    std::optional<double> yaw_deg;
+    sim::SceneFromCloudOptions options;
+};
+
+sim::SceneGroundSource groundSource(const std::string& text) {
+    if (text == "auto") return sim::SceneGroundSource::Auto;
+    if (text == "classes") return sim::SceneGroundSource::Classes;
+    if (text == "filter") return sim::SceneGroundSource::Filter;
+    throw core::Error("scene from-cloud: --ground-from '" + core::printable(text) +
+                      "' is not one of auto, classes, filter");
+}
+
+void run(SceneFromCloudCli& cli) {
+    const auto t0 = std::chrono::steady_clock::now();
+    sim::SceneFromCloudOptions& o = cli.options;
+    o.ground_source = groundSource(cli.ground_from);
+    o.ground.method = sim::parseGroundMethod(cli.method, "scene from-cloud: --method");
+    o.vehicle.mesh = cli.vehicle;
+    o.vehicle.yaw_deg = cli.yaw_deg;
+    if (!cli.vehicle_at.empty()) {
+        if (cli.vehicle.empty()) throw core::Error("scene from-cloud: --vehicle-at needs --vehicle");
+        const glm::dvec3 at = parseWorldTriple(cli.vehicle_at + ",0", "scene from-cloud: --vehicle-at");
+        o.vehicle.at_world = glm::dvec2(at);
+    }
+    sim::validate(o);
+    const std::filesystem::path survey = cli.survey, out = cli.out;
+    platform::checkDistinctPaths("scene from-cloud",
+                                 {{"survey", survey, platform::PathRole::Input, {}},
+                                  {"--vehicle", cli.vehicle, platform::PathRole::Input, {}},
+                                  {"--out", out, platform::PathRole::OutputFolder, sim::isSceneFromCloudFile}});
+    platform::checkInputFile(survey, "scene from-cloud: survey " + core::printable(cli.survey, 400));
+    if (!cli.vehicle.empty()) platform::checkInputFile(cli.vehicle, "scene from-cloud: --vehicle");
+    platform::InputSet inputs;
+    inputs.addFile(survey);
+    if (!cli.vehicle.empty()) inputs.addFile(cli.vehicle);
+    for (const char* name : {"scene.json", "ground.obj", "environment.obj", "from_cloud.json"})
+        inputs.checkNotAnInput(out / name);
+
+    std::size_t declared = 0;
+    {
+        const io::CloudReader reader(survey);  // the header checked before the work
+        declared = reader.declaredPoints();
+    }
+    platform::Progress progress("scene from-cloud: reading", 3 * declared);
+    const sim::SceneFromCloud s = sim::buildSceneFromCloud(survey, o, [&](std::size_t n) { progress.advance(n); });
+    progress.finish();
+    if (!s.reader_warning.empty()) platform::printMessage("warning", s.reader_warning);
+    if (!s.units.metres())
+        std::fprintf(stderr, "scene from-cloud: coordinates in %s: converted to metres\n",
+                     sim::describe(s.units).c_str());
+    if (s.voxel_m != s.voxel_requested_m)
+        std::fprintf(stderr,
+                     "scene from-cloud: more than --max-boxes %zu boxes at --voxel-m %g: coarsened to %g m voxels "
+                     "(%zu boxes)\n",
+                     o.max_boxes, s.voxel_requested_m, s.voxel_m, s.boxes.size());
+    if (s.vehicle) inputs.checkNotAnInput(out / s.vehicle->file);
+    sim::writeSceneFolder(out, s, o);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf(
+        "scene from-cloud: wrote %s: %zu points, %zu ground (%s), terrain %d x %d nodes every %g m, %zu "
+        "boxes of %g m, offset %.3f %.3f %.3f",
+        platform::messageLine(cli.out, 400).c_str(), s.points, s.ground_points, s.ground_from.c_str(), s.terrain.nx,
+        s.terrain.ny, s.terrain.cell_m, s.boxes.size(), s.voxel_m, s.offset_m.x, s.offset_m.y, s.offset_m.z);
+    if (s.vehicle)
+        std::printf(", vehicle at %.2f %.2f %.2f (yaw %g deg, slope %.3f)", s.vehicle->footprint_centre.x,
+                    s.vehicle->footprint_centre.y, s.vehicle->footprint_centre.z, s.vehicle->yaw_deg, s.vehicle->slope);
+    std::printf(", %.3f s\n", seconds);
+}
+
+}  // namespace
+
+void addSceneFromCloud(CLI::App& scene) {
+    auto state = std::make_shared<SceneFromCloudCli>();
+    sim::SceneFromCloudOptions& o = state->options;
+    CLI::App* c = scene.add_subcommand(
+        "from-cloud",
+        "turn a real survey (LAS/LAZ/COPC, PCD, PLY) into a scene folder: its ground as a terrain mesh, its other "
+        "points as voxel boxes, a vehicle on its ground as the target, for generate");
+    c->add_option("survey", state->survey, "the survey cloud; it is never overwritten")->required();
+    c->add_option("--out", state->out, "the scene folder to write (replaced as a whole)")->required();
+    c->add_option("--voxel-m", o.voxel_m, "edge of the boxes made of the points that are not ground, (0.05, 100] m")
+        ->capture_default_str();
+    c->add_option("--cell-m", o.cell_m,
+                  "terrain grid spacing, [0.1, 100] m; 0: 1.5 times the ground points' spacing, within [1, 10] m")
+        ->capture_default_str();
+    c->add_option("--max-boxes", o.max_boxes, "boxes at most, 1..50000000; past it refused unless --coarsen")
+        ->capture_default_str();
+    c->add_flag("--coarsen", o.coarsen, "past --max-boxes, double the voxel until the boxes fit instead of refusing");
+    c->add_option("--ground-from", state->ground_from,
+                  "auto (class 2 where at least 1 % of the points are class 2, else the filter), classes or filter")
+        ->capture_default_str();
+    c->add_option("--method", state->method, "the ground filter where it runs: smrf or csf (ladarvr ground's)")
+        ->capture_default_str();
+    addSmrfOptions(*c, o.ground.smrf);
+    addCsfOptions(*c, o.ground.csf);
+    c->add_option("--vehicle", state->vehicle,
+                  "a vehicle mesh (z up; e.g. scripts/make_vehicles.py's OBJ), copied into the folder and put on "
+                  "the ground as the target");
+    c->add_option("--vehicle-at", state->vehicle_at,
+                  "x,y of the vehicle's centre in the survey's coordinates (metres); default: a random flat, free "
+                  "spot");
+    c->add_option("--yaw-deg", state->yaw_deg, "the vehicle's heading, [-360, 360] degrees; default: random");
+    c->add_option("--seed", o.vehicle.seed, "seed of the random spot and heading")->capture_default_str();
+    c->add_option("--max-slope", o.vehicle.max_slope, "flat enough: the ground's slope under the vehicle, [0, 1]")
+        ->capture_default_str();
+    c->add_option("--max-roughness-m", o.vehicle.max_roughness_m,
+                  "the ground under the vehicle at most this far off its plane, [0, 10] m")
+        ->capture_default_str();
+    c->add_option("--clearance-m", o.vehicle.clearance_m,
+                  "free: no box within this distance of the vehicle's footprint, [0, 100] m")
+        ->capture_default_str();
+    c->callback([state] { run(*state); });
+}
+
+}  // namespace app
