@@ -22,6 +22,7 @@ struct Cell {
     mat4 model_view;   // view * translate(cell centre), folded in double on the CPU
     vec4 cut_centre;   // xyz: the cutting volume's centre relative to the cell's centre; w: the centre's height
     uvec4 range;       // x: first point in the chunk, y: points drawn, z: first invocation index
+    vec4 grid;         // xy: the cell's centre from the terrain grid's origin (viewer_point_style.glsl)
 };
 layout(std430, binding = 1) readonly buffer Points { uint words[]; };   // render::GpuPoint, 5 words each
 layout(std430, binding = 2) readonly buffer Cells { Cell cells[]; };
@@ -39,7 +40,8 @@ uint pointColour(uint i, vec3 position, uint cell) {
     uint w = words[i + 3u];   // 0xLLRRGGBB
     vec4 rgb_label = unpackUnorm4x8(w).zyxw;
     float z = position.z + cells[cell].cut_centre.w;
-    return packUnorm4x8(vec4(viewerPointColour(rgb_label, z, uintBitsToFloat(words[i + 4u])), 1.0));
+    vec2 grid_m = position.xy + cells[cell].grid.xy;
+    return packUnorm4x8(vec4(viewerPointColour(rgb_label, z, uintBitsToFloat(words[i + 4u]), grid_m), 1.0));
 }
 
 void main() {

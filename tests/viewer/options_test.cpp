@@ -68,8 +68,31 @@ TEST_CASE("mirror and colour names") {
     CHECK(std::string(colourModeName(ColourMode::White)) == "white");
     CHECK(parseColourMode("above-ground") == ColourMode::AboveGround);
     CHECK(std::string(colourModeName(ColourMode::AboveGround)) == "above-ground");
-    CHECK_THROWS_WITH_AS(parseColourMode("rainbow"),
-                         doctest::Contains("not one of file, height, white, label, above-ground"), core::Error);
+    CHECK_THROWS_WITH_AS(
+        parseColourMode("rainbow"),
+        doctest::Contains("not one of file, height, white, label, above-ground, class, intensity, return"),
+        core::Error);
+    for (const ColourMode m : {ColourMode::Class, ColourMode::Intensity, ColourMode::Return})
+        CHECK(parseColourMode(colourModeName(m)) == m);
+    CHECK(std::string(colourModeName(ColourMode::Return)) == "return");
+}
+
+TEST_CASE("the colours shown: a mode the cloud cannot show falls back to the height colours") {
+    const ColourSources bare{};                                 // x y z only
+    const ColourSources smrf{true, false, true, true};          // our whitened cloud
+    const ColourSources survey{false, false, true, true};       // a file from elsewhere
+    const ColourSources with_terrain{false, true, true, true};  // ... once its terrain is bound
+    CHECK(shownColourMode(ColourMode::AboveGround, bare) == ColourMode::HeightJet);
+    CHECK(shownColourMode(ColourMode::AboveGround, smrf) == ColourMode::AboveGround);
+    CHECK(shownColourMode(ColourMode::AboveGround, survey) == ColourMode::HeightJet);
+    CHECK(shownColourMode(ColourMode::AboveGround, with_terrain) == ColourMode::AboveGround);
+    CHECK(shownColourMode(ColourMode::Class, bare) == ColourMode::Class);  // from the labels
+    CHECK(shownColourMode(ColourMode::Intensity, bare) == ColourMode::HeightJet);
+    CHECK(shownColourMode(ColourMode::Intensity, survey) == ColourMode::Intensity);
+    CHECK(shownColourMode(ColourMode::Return, survey) == ColourMode::Return);
+    // The heights take the attributes' place on the GPU: a whitened cloud shows neither.
+    CHECK(shownColourMode(ColourMode::Intensity, smrf) == ColourMode::HeightJet);
+    CHECK(shownColourMode(ColourMode::Return, smrf) == ColourMode::HeightJet);
 }
 
 TEST_CASE("viewer options are validated before a window opens") {

@@ -21,7 +21,11 @@ ColourMode parseColourMode(const std::string& name) {
     if (name == "white") return ColourMode::White;
     if (name == "label") return ColourMode::Label;
     if (name == "above-ground") return ColourMode::AboveGround;
-    throw core::Error("view: --colour '" + name + "' is not one of file, height, white, label, above-ground");
+    if (name == "class") return ColourMode::Class;
+    if (name == "intensity") return ColourMode::Intensity;
+    if (name == "return") return ColourMode::Return;
+    throw core::Error("view: --colour '" + name +
+                      "' is not one of file, height, white, label, above-ground, class, intensity, return");
 }
 
 const char* colourModeName(ColourMode mode) {
@@ -31,8 +35,18 @@ const char* colourModeName(ColourMode mode) {
         case ColourMode::White: return "white";
         case ColourMode::Label: return "label";
         case ColourMode::AboveGround: return "above-ground";
+        case ColourMode::Class: return "class";
+        case ColourMode::Intensity: return "intensity";
+        case ColourMode::Return: return "return";
     }
     return "?";
+}
+
+ColourMode shownColourMode(ColourMode wanted, const ColourSources& cloud) {
+    const bool shown = (wanted != ColourMode::AboveGround || cloud.terrain || cloud.height_above_ground) &&
+                       (wanted != ColourMode::Intensity || (cloud.intensity && !cloud.height_above_ground)) &&
+                       (wanted != ColourMode::Return || (cloud.returns && !cloud.height_above_ground));
+    return shown ? wanted : ColourMode::HeightJet;
 }
 
 Rasterizer parseRasterizer(const std::string& name) {

@@ -218,9 +218,13 @@ void ViewerApp::updateSource() {
         }
     }
     // Once points are in, the cloud's fields are known: above-ground colours without heights
-    // above ground fall back to height colours, said once (the point shader shows them).
-    if (stream_.renderer().uploadedPoints() > 0)
-        tools_.get<ColourTool>().noteCloud(style_.colour, stream_.source().fields().height_above_ground);
+    // above ground fall back to height colours, said once (the point shader shows them);
+    // with a terrain coming, they wait for it instead.
+    if (stream_.renderer().uploadedPoints() > 0) {
+        takeTerrain();
+        if (!options_.terrain)
+            tools_.get<ColourTool>().noteCloud(style_.colour, stream_.source().fields().height_above_ground);
+    }
     if (stream_.centreChanged()) {
         // A cloud our generator made (it carries the range field) keeps the paper's orbit.
         const core::Bounds& cloud = stream_.renderer().bounds();
@@ -228,6 +232,23 @@ void ViewerApp::updateSource() {
             modes_.setCentre(cloud.centre());
         else
             modes_.setCloudBounds(cloud.lo, cloud.hi);
+    }
+}
+
+void ViewerApp::takeTerrain() {
+    if (!options_.terrain) return;
+    if (std::optional<ViewTerrain> terrain = options_.terrain->take()) {
+        stream_.renderer().setTerrain(*terrain, stream_.source().origin(), stream_.source());
+        if (!options_.quiet)
+            std::fprintf(stderr, "ladarvr: view: above-ground colours from %s\n",
+                         platform::messageLine(terrain->source).c_str());
+        log_.set("terrain", nlohmann::json{{"source", terrain->source},
+                                           {"cells", std::size_t(terrain->nx) * std::size_t(terrain->ny)}});
+    }
+    if (std::optional<std::string> why = options_.terrain->takeFailure()) {
+        terrain_failed_ = true;
+        platform::printMessage("warning", "view: no terrain for above-ground colours: " + *why + "; showing heights");
+        log_.set("terrain", nlohmann::json{{"failure", *why}});
     }
 }
 
@@ -499,10 +520,15 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     v.headset_panel = headset_.session() ? &headset_panel_ : nullptr;
     PanelFrame p;
     p.origin = stream_.source().origin();
-    p.has_height = stream_.source().fields().height_above_ground;
+    p.has_height = stream_.source().fields().height_above_ground || stream_.renderer().hasTerrain();
+    v.colour_note =
+        colourNote(style_.colour, stream_.renderer().colourSources(), options_.terrain != nullptr, terrain_failed_);
     trials_.describe(p);
     p.ready_to_start = readyToStart();
     p.hit = tools_.get<PointerTool>().hit();
+    if (p.hit)  // the height above a bound terrain, where there is one
+        if (const std::optional<double> h = stream_.renderer().heightAboveTerrain(p.hit->local))
+            p.hit->height_above_ground_m = float(*h);
     p.headset = headset_.session() != nullptr;
     questions_.describe(p);
     const RigPose eye = headLocal();

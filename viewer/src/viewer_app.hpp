@@ -50,6 +50,8 @@ class ViewerApp {
     void checkQuit(const OperatorInput& in);
     bool pollXr();
     void updateSource();
+    /// Takes the terrain ViewerOptions::terrain hands over (or its failure), once.
+    void takeTerrain();
     void update(OperatorInput in, double dt);
     void render(int fb_w, int fb_h);
     void present(int fb_w, int fb_h);
@@ -105,6 +107,7 @@ class ViewerApp {
     bool quitting_ = false;    // frames after the exit request are not counted
     bool start_free_ = false;  // the trial begun starts in free mode (its condition's)
     bool screenshot_done_ = false, reset_zoom_button_ = false, headset_panel_ = true;
+    bool terrain_failed_ = false;  // the terrain feed said none will come
     int status_ = 0;
     double frame_ms_ = 0.0;                // wall time since the previous loop iteration
     std::optional<glm::dvec3> aim_world_;  // a script's aim: the pointer follows the head to it

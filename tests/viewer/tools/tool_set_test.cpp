@@ -144,7 +144,9 @@ TEST_CASE("the viewer's tools through the set: a script's scale, the cut switch 
     // The colour key runs through every mode the viewer names and back to the file's.
     OperatorInput colour;
     colour.cycle_colour = true;
-    for (int i = 0; i < 4; ++i) tools.update(ToolStage::View, colour, f);
+    for (int i = 0; i < 6; ++i) tools.update(ToolStage::View, colour, f);
+    CHECK(style.colour == ColourMode::Return);
+    tools.update(ToolStage::View, colour, f);
     CHECK(style.colour == ColourMode::File);
 
     // A trial offering only the zoom: the cutting volume goes off, the colour key does nothing.

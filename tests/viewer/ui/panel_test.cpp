@@ -1,5 +1,6 @@
 // tests/viewer/ui/panel_test.cpp: the settings panel's text (no window): the points drawn
-// are shown per eye against the one copy of the cloud on the GPU.
+// are shown per eye against the one copy of the cloud on the GPU; the line saying why the
+// colours shown are not the mode chosen.
 #include "ui/panel.hpp"
 
 #include <doctest/doctest.h>
@@ -15,4 +16,16 @@ TEST_CASE("the panel shows the points drawn per eye against the points on the GP
     CHECK(pointsDrawnText(v) == "points drawn per eye 1257064 / 1638400 (budget 3000000, 512 cells)");
     v.point_budget = 0;
     CHECK(pointsDrawnText(v) == "points drawn per eye 1257064 / 1638400 (budget unlimited, 512 cells)");
+}
+
+TEST_CASE("the panel says why the colours shown are not the mode chosen") {
+    const ColourSources survey{false, false, true, true};
+    const ColourSources bound{false, true, true, true};
+    CHECK(colourNote(ColourMode::AboveGround, survey, true, false) == "above-ground: waiting for the terrain");
+    CHECK(colourNote(ColourMode::AboveGround, survey, true, true) == "above-ground: no terrain; showing heights");
+    CHECK(colourNote(ColourMode::AboveGround, survey, false, false) == "above-ground: no terrain; showing heights");
+    CHECK(colourNote(ColourMode::AboveGround, bound, true, false).empty());
+    CHECK(colourNote(ColourMode::Intensity, ColourSources{}, false, false) ==
+          "intensity: not in this cloud; showing heights");
+    CHECK(colourNote(ColourMode::Class, ColourSources{}, false, false).empty());
 }

@@ -25,7 +25,7 @@
 namespace viewer {
 
 enum class MirrorEyes { Left, Right, Both };
-enum class ColourMode { File, HeightJet, White, Label, AboveGround };
+enum class ColourMode { File, HeightJet, White, Label, AboveGround, Class, Intensity, Return };
 /// How points reach the eye images: GL_POINTS through the graphics pipeline, or two compute
 /// passes (nearest depth by atomic minimum, then the colour of the nearest point) whose result
 /// is copied into the same colour and depth targets. Both give the same picture; which is
@@ -34,12 +34,27 @@ enum class Rasterizer { Points, Compute };
 
 /// "left" / "right" / "both"; throws core::Error("view: --mirror 'x' is not one of left, right, both").
 MirrorEyes parseMirrorEyes(const std::string& name);
-/// "file" / "height" / "white" / "label" / "above-ground"; throws core::Error("view: --colour 'x' is not one of ...").
+/// "file" / "height" / "white" / "label" / "above-ground" / "class" / "intensity" / "return";
+/// throws core::Error("view: --colour 'x' is not one of ...").
 /// "label" shows the ground truth: target red, environment grey, ground dark grey.
-/// "above-ground" colours by height above the fitted terrain (clouds made with
+/// "above-ground" colours by height above the ground (a terrain handed in through
+/// ViewerOptions::terrain, else the points' own heights above the terrain fitted by
 /// `generate --ground smrf|csf`), the jet over [0, the cloud's highest], ground left white.
+/// "class" shows the ASPRS classes' palette, "intensity" a grey stretch of the intensities,
+/// "return" single, first, intermediate and last returns each in their colour (docs/viewer.md).
 ColourMode parseColourMode(const std::string& name);
 const char* colourModeName(ColourMode mode);
+
+/// What a cloud on screen can be coloured by beyond its positions and labels.
+struct ColourSources {
+    bool height_above_ground = false;  // its points carry heights above a fitted terrain
+    bool terrain = false;              // a terrain is bound (ViewerOptions::terrain)
+    bool intensity = false;            // intensities, on a cloud without heights above ground
+    bool returns = false;              // return numbers, likewise
+};
+/// The mode drawn for `wanted`: above-ground without a terrain or heights, intensity or
+/// return on a cloud that does not carry them, show the height colours; the others as they are.
+ColourMode shownColourMode(ColourMode wanted, const ColourSources& cloud);
 /// "points" / "compute"; throws core::Error("view: --rasterizer 'x' is not one of points, compute").
 Rasterizer parseRasterizer(const std::string& name);
 const char* rasterizerName(Rasterizer rasterizer);

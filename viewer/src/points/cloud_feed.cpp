@@ -2,6 +2,7 @@
 #include <viewer/cloud_feed.hpp>
 
 #include "points/file_colours.hpp"
+#include "points/point_attributes.hpp"
 
 #include <core/error.hpp>
 #include <io/cloud_reader.hpp>
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <span>
 #include <utility>
 
 namespace viewer {
@@ -85,8 +87,18 @@ void CloudFeed::feedCloud(core::PointCloud cloud, std::size_t chunk_points) {
     setOrigin(cloud.origin);
     setFields(cloud.fields);
     chunk_points = std::max<std::size_t>(chunk_points, 1);
+    // A cloud without heights above ground carries its class, intensity and returns in
+    // their place (point_attributes.hpp), as a file read by feedFile does.
+    PointAttributes attributes;
     for (std::size_t i = 0; i < cloud.points.size(); i += chunk_points) {
         const std::size_t end = std::min(cloud.points.size(), i + chunk_points);
+        if (!cloud.fields.height_above_ground) {
+            const std::size_t stride = cloud.foreign ? cloud.foreign->header.stride() : 0;
+            std::span<const unsigned char> records;
+            if (cloud.foreign) records = std::span<const unsigned char>(cloud.foreign->records);
+            records = records.subspan(std::min(records.size(), i * stride));
+            attributes.pack(std::span(cloud.points).subspan(i, end - i), records, stride);
+        }
         append(std::vector<core::CloudPoint>(cloud.points.begin() + static_cast<std::ptrdiff_t>(i),
                                              cloud.points.begin() + static_cast<std::ptrdiff_t>(end)));
     }
@@ -104,6 +116,7 @@ void CloudFeed::feedFile(const std::filesystem::path& path, std::size_t chunk_po
         chunk_points = std::max<std::size_t>(chunk_points, 1);
         const auto foreign = reader.foreignHeader();
         FileColours colours;
+        PointAttributes attributes;
         std::vector<unsigned char> records;
         for (;;) {
             std::vector<core::CloudPoint> chunk;
@@ -111,6 +124,8 @@ void CloudFeed::feedFile(const std::filesystem::path& path, std::size_t chunk_po
             records.clear();
             if (!reader.nextChunk(chunk, records, chunk_points)) break;
             if (foreign && reader.fields().rgb) colours.recolour(chunk, records, foreign->stride());
+            // Without heights above ground, their place holds the class, intensity and returns.
+            if (!reader.fields().height_above_ground) attributes.pack(chunk, records, foreign ? foreign->stride() : 0);
             if (!chunk.empty()) append(std::move(chunk));
         }
         if (const std::string warning = reader.warning(); !warning.empty()) platform::printMessage("warning", warning);

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -122,6 +123,7 @@ PointRenderer::PointRenderer()
 
 PointRenderer::~PointRenderer() {
     if (jet_texture_) glDeleteTextures(1, &jet_texture_);
+    if (terrain_ && terrain_->texture) glDeleteTextures(1, &terrain_->texture);
     if (raster_depth_) glDeleteTextures(1, &raster_depth_);
     if (raster_colour_) glDeleteTextures(1, &raster_colour_);
     if (raster_cells_) glDeleteBuffers(1, &raster_cells_);
@@ -236,6 +238,7 @@ bool PointRenderer::makeRoom(std::size_t bytes, std::deque<Evictable>& evictable
 
 std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_points) {
     ++tick_;
+    fields_ = source.fields();
     arena_.frame_nodes_added = arena_.frame_nodes_evicted = arena_.frame_upload_bytes = 0;
     arena_.nodes_refused = 0;
     // Nodes that left RAM leave the GPU (in chunk order: the same run drops the same way).
@@ -293,8 +296,10 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
         const std::vector<core::CloudPoint>& points = job.node->points;
         const std::size_t n = std::min(budget_points - uploaded, points.size() - job.next);
         const std::span<const core::CloudPoint> part(points.data() + job.next, n);
-        for (const core::CloudPoint& p : part)
-            above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
+        if (fields_.height_above_ground)  // else the slot holds the packed attributes
+            for (const core::CloudPoint& p : part)
+                above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
+        if (terrain_) raiseTerrainMax(part);
         chunks_.upload(job.chunk, part);
         job.next += n;
         uploaded += n;
@@ -304,6 +309,74 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
     arena_.frame_upload_bytes = uploaded * sizeof(render::GpuPoint);
     if (uploaded) render::logGl("glNamedBufferSubData (point chunk)", __FILE__, __LINE__);
     return uploaded;
+}
+
+namespace {
+
+/// The bound terrain's height at local (x, y): bilinear between the four nearest cells'
+/// centres, the edge cells' heights beyond the grid (shaders/include/viewer_point_style.glsl's
+/// terrainHeight, in double).
+template <class Terrain>
+double terrainHeightAt(const Terrain& t, double x, double y) {
+    const double gx = std::clamp((x - t.x0) / t.cell, 0.0, double(t.nx - 1));
+    const double gy = std::clamp((y - t.y0) / t.cell, 0.0, double(t.ny - 1));
+    const int i0 = int(std::floor(gx)), j0 = int(std::floor(gy));
+    const int i1 = std::min(i0 + 1, t.nx - 1), j1 = std::min(j0 + 1, t.ny - 1);
+    const double fx = gx - i0, fy = gy - j0;
+    auto z = [&](int i, int j) { return double(t.z[std::size_t(j) * std::size_t(t.nx) + std::size_t(i)]); };
+    const double lo = z(i0, j0) + (z(i1, j0) - z(i0, j0)) * fx;
+    const double hi = z(i0, j1) + (z(i1, j1) - z(i0, j1)) * fx;
+    return lo + (hi - lo) * fy;
+}
+
+}  // namespace
+
+void PointRenderer::setTerrain(const ViewTerrain& terrain, const glm::dvec3& origin, const PointSource& source) {
+    if (terrain.empty() || !(terrain.cell > 0.0)) return;
+    if (terrain_ && terrain_->texture) glDeleteTextures(1, &terrain_->texture);
+    // A grid wider than the GPU's largest texture keeps every k-th cell (a coarser terrain
+    // rather than none).
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    max_size = std::max(max_size, 1);
+    const int step = (std::max(terrain.nx, terrain.ny) + max_size - 1) / max_size;
+    LocalTerrain t;
+    t.x0 = terrain.x0 - origin.x;
+    t.y0 = terrain.y0 - origin.y;
+    t.cell = terrain.cell * step;
+    t.nx = (terrain.nx + step - 1) / step;
+    t.ny = (terrain.ny + step - 1) / step;
+    t.z.resize(std::size_t(t.nx) * std::size_t(t.ny));
+    for (int j = 0; j < t.ny; ++j)
+        for (int i = 0; i < t.nx; ++i)
+            t.z[std::size_t(j) * std::size_t(t.nx) + std::size_t(i)] = float(
+                double(terrain.z[std::size_t(j * step) * std::size_t(terrain.nx) + std::size_t(i * step)]) - origin.z);
+    glCreateTextures(GL_TEXTURE_2D, 1, &t.texture);
+    glTextureStorage2D(t.texture, 1, GL_R32F, t.nx, t.ny);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(t.texture, 0, 0, 0, t.nx, t.ny, GL_RED, GL_FLOAT, t.z.data());
+    glTextureParameteri(t.texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    render::logGl("PointRenderer::setTerrain", __FILE__, __LINE__);
+    terrain_ = std::move(t);
+    terrain_max_m_ = 0.0f;
+    for (const PointNode* node : allNodes(source))
+        if (const std::shared_ptr<const NodePoints> points = node->points()) raiseTerrainMax(points->points);
+}
+
+std::optional<double> PointRenderer::heightAboveTerrain(const glm::dvec3& local) const {
+    if (!terrain_) return std::nullopt;
+    return local.z - terrainHeightAt(*terrain_, local.x, local.y);
+}
+
+void PointRenderer::raiseTerrainMax(std::span<const core::CloudPoint> points) {
+    for (const core::CloudPoint& p : points)
+        terrain_max_m_ = std::max(terrain_max_m_,
+                                  float(double(p.position.z) - terrainHeightAt(*terrain_, p.position.x, p.position.y)));
+}
+
+ColourSources PointRenderer::colourSources() const {
+    return {fields_.height_above_ground, terrain_.has_value(), fields_.intensity, fields_.returns};
 }
 
 void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull) {
@@ -367,8 +440,14 @@ void PointRenderer::setStyleUniforms(const render::Program& program, const ViewS
     const core::Bounds& bounds = chunks_.bounds();
     glUniform1f(program.uniform("u_z_min"), bounds.empty() ? 0.0f : float(bounds.lo.z));
     glUniform1f(program.uniform("u_z_max"), bounds.empty() ? 1.0f : float(bounds.hi.z));
-    glUniform1i(program.uniform("u_colour_mode"), static_cast<int>(style.colour));
-    glUniform1f(program.uniform("u_above_ground_max_m"), above_ground_max_m_);
+    glUniform1i(program.uniform("u_colour_mode"), static_cast<int>(shownColourMode(style.colour, colourSources())));
+    glUniform1f(program.uniform("u_above_ground_max_m"), aboveGroundMax());
+    glUniform1i(program.uniform("u_attributes"), fields_.height_above_ground ? 0 : 1);
+    glUniform1i(program.uniform("u_terrain_on"), terrain_ ? 1 : 0);
+    glUniform1f(program.uniform("u_terrain_cell"), terrain_ ? float(terrain_->cell) : 1.0f);
+    glUniform1f(program.uniform("u_ground_threshold_m"), kGroundThreshold_m);
+    glUniform1i(program.uniform("u_terrain"), kTerrainTextureUnit);
+    if (terrain_) glBindTextureUnit(kTerrainTextureUnit, terrain_->texture);
     glBindTextureUnit(kJetTextureUnit, jetTexture(style.jet_entries));
     glUniform1i(program.uniform("u_jet"), kJetTextureUnit);
     glUniform1f(program.uniform("u_size_px"), style.point_size_px);
@@ -383,6 +462,7 @@ void PointRenderer::rasterizePoints(const EyeDraw& eye, std::span<const DrawnCel
     const GLint u_model_view = points_.uniform("u_model_view");
     const GLint u_chunk_z = points_.uniform("u_chunk_z");
     const GLint u_cut_centre = points_.uniform("u_cut_centre");
+    const GLint u_chunk_grid = points_.uniform("u_chunk_grid_m");
     const auto& cells = chunks_.cells();
     std::size_t bound_chunk = SIZE_MAX;
     for (const DrawnCell& d : drawn) {
@@ -390,6 +470,8 @@ void PointRenderer::rasterizePoints(const EyeDraw& eye, std::span<const DrawnCel
         const glm::mat4 mv = chunkModelView(eye.view, c.centre);
         glUniformMatrix4fv(u_model_view, 1, GL_FALSE, &mv[0][0]);
         glUniform1f(u_chunk_z, float(c.centre.z));
+        const glm::vec2 grid = gridOffset(c.centre);
+        glUniform2f(u_chunk_grid, grid.x, grid.y);
         if (cut.enabled) {  // relative to the cell's centre, like its points
             const glm::vec3 rel(cut.centre_local - c.centre);
             glUniform3f(u_cut_centre, rel.x, rel.y, rel.z);
@@ -422,8 +504,9 @@ void PointRenderer::rasterizeCompute(const render::Program& splat, const EyeTarg
         float model_view[16];
         float cut_centre[4];
         std::uint32_t range[4];
+        float grid[4];
     };
-    static_assert(sizeof(GpuCell) == 96);
+    static_assert(sizeof(GpuCell) == 112);
     struct Group {
         std::size_t chunk = 0, first = 0, cells = 0, points = 0;
     };
@@ -446,6 +529,9 @@ void PointRenderer::rasterizeCompute(const render::Program& splat, const EyeTarg
         gc.range[0] = static_cast<std::uint32_t>(c.first);
         gc.range[1] = static_cast<std::uint32_t>(d.count);
         gc.range[2] = static_cast<std::uint32_t>(g.points);
+        const glm::vec2 grid = gridOffset(c.centre);
+        gc.grid[0] = grid.x;
+        gc.grid[1] = grid.y;
         table.push_back(gc);
         ++g.cells;
         g.points += d.count;

@@ -1,7 +1,8 @@
 // viewer/src/points/point_renderer.hpp: the viewer's point drawing: the resident nodes of a point
 // source (viewer/point_source.hpp) streamed to the GPU in render::PointChunks (the storage
 // the metric's splat renderer draws from too), camera-relative positions, file /
-// height-jet / white colours, pixel or distance-attenuated point size, drawn with GL_POINTS
+// height-jet / white / label / above-ground (the points' own heights or a bound terrain) /
+// class / intensity / return colours, pixel or distance-attenuated point size, drawn with GL_POINTS
 // or the compute rasterizer, eye-dome lighting, and the mode indicator drawn into every eye
 // view.
 #pragma once
@@ -9,6 +10,7 @@
 #include <viewer/lod.hpp>
 #include <viewer/motion_prediction.hpp>
 #include <viewer/point_source.hpp>
+#include <viewer/terrain_feed.hpp>
 #include <viewer/viewer.hpp>
 
 #include <core/frames.hpp>
@@ -99,6 +101,26 @@ class PointRenderer {
     /// Bounds (local frame) of everything received so far, and heights for the jet colours.
     const core::Bounds& bounds() const { return chunks_.bounds(); }
 
+    /// The ground's height under every point for the above-ground colours from now on:
+    /// `terrain` (world coordinates) taken into the frame of `origin` (the source's) and
+    /// uploaded as a texture the shaders sample bilinearly; the colour range's top becomes
+    /// the highest height above it among `source`'s resident points and those uploaded
+    /// later. Points less than kGroundThreshold_m above it are ground (white). Never throws.
+    void setTerrain(const ViewTerrain& terrain, const glm::dvec3& origin, const PointSource& source);
+    bool hasTerrain() const { return terrain_.has_value(); }
+    /// The height above the bound terrain of a point at `local` (bilinear, as the shaders
+    /// sample it); none without a terrain.
+    std::optional<double> heightAboveTerrain(const glm::dvec3& local) const;
+    /// The top of the above-ground colours' range: the highest height above ground seen so
+    /// far (above the bound terrain when there is one, else the points' own).
+    float aboveGroundMax() const { return terrain_ ? terrain_max_m_ : above_ground_max_m_; }
+    /// What the streamed cloud can be coloured by (its fields as the source reports them
+    /// at the last stream(), and whether a terrain is bound).
+    ColourSources colourSources() const;
+    /// A point less than this above a bound terrain is ground: the class threshold of the
+    /// generator's SMRF and CSF (sim/ground.hpp), in the cloud's units.
+    static constexpr float kGroundThreshold_m = 0.5f;
+
     /// Picks what this frame draws: cells outside the union of `eyes`' frusta get
     /// nothing (when `cull`); the others share `point_budget` points per eye (0 = unlimited)
     /// by screen-space importance seen from the eyes' mean position, as prefixes of their
@@ -173,6 +195,20 @@ class PointRenderer {
     /// and again when `entries` changes. Never throws (a GL error is logged).
     GLuint jetTexture(int entries) const;
     static constexpr GLuint kJetTextureUnit = 2;  // units 0 and 1: the resolve's inputs
+    static constexpr GLuint kTerrainTextureUnit = 3;
+    /// A bound terrain in the local frame: cell (i, j) at (x0 + i cell, y0 + j cell).
+    struct LocalTerrain {
+        double x0 = 0.0, y0 = 0.0, cell = 1.0;
+        int nx = 0, ny = 0;
+        std::vector<float> z;  // local heights, row j at j * nx
+        GLuint texture = 0;
+    };
+    /// A cell centre's horizontal offset from the bound terrain's grid origin (0 without one).
+    glm::vec2 gridOffset(const glm::dvec3& centre) const {
+        return terrain_ ? glm::vec2(float(centre.x - terrain_->x0), float(centre.y - terrain_->y0)) : glm::vec2(0.0f);
+    }
+    /// The highest height above the terrain among `points`, into terrain_max_m_.
+    void raiseTerrainMax(std::span<const core::CloudPoint> points);
 
     struct Pending {
         std::shared_ptr<const NodePoints> node;  // kept until uploaded whole
@@ -229,6 +265,9 @@ class PointRenderer {
     std::deque<Pending> pending_;
     std::size_t pending_points_ = 0;
     float above_ground_max_m_ = 0.0f;  // highest height above ground uploaded (colour range)
+    core::CloudFields fields_;         // the source's, at the last stream()
+    std::optional<LocalTerrain> terrain_;
+    float terrain_max_m_ = 0.0f;  // highest height above terrain_ of the points seen
 };
 
 }  // namespace viewer

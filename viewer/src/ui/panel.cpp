@@ -102,8 +102,10 @@ bool drawSettingsPanel(const PanelView& v) {
     if (layout.compact)
         ImGui::SetNextItemWidth(ImGui::CalcTextSize("ground truth (target red)").x + 2.0f * ImGui::GetFrameHeight());
     if (ImGui::Combo(layout.compact ? "##colours" : "colours (C)", &colour,
-                     "file colours\0height jet\0white\0ground truth (target red)\0height above ground\0"))
+                     "file colours\0height jet\0white\0ground truth (target red)\0height above ground\0"
+                     "class (ASPRS)\0intensity\0return number\0"))
         v.style->colour = static_cast<ColourMode>(colour);
+    if (!v.colour_note.empty()) ImGui::TextUnformatted(v.colour_note.c_str());
     // The rest folds away, so the panel stays small over the cloud.
     const bool reset = drawSettingsSections(v);
     if (!v.designation.empty()) ImGui::TextUnformatted(v.designation.c_str());
@@ -121,6 +123,18 @@ bool drawSettingsPanel(const PanelView& v) {
     ImGui::End();
     if (layout.compact) ImGui::PopStyleVar(3);
     return reset;
+}
+
+std::string colourNote(ColourMode wanted, const ColourSources& cloud, bool terrain_coming, bool terrain_failed) {
+    if (shownColourMode(wanted, cloud) == wanted) return {};
+    switch (wanted) {
+        case ColourMode::AboveGround:
+            return terrain_coming && !terrain_failed ? "above-ground: waiting for the terrain"
+                                                     : "above-ground: no terrain; showing heights";
+        case ColourMode::Intensity: return "intensity: not in this cloud; showing heights";
+        case ColourMode::Return: return "return: not in this cloud; showing heights";
+        default: return {};
+    }
 }
 
 void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,

@@ -36,7 +36,12 @@ struct PanelView {
     std::string designation;            // "designated (x, y, z)" or empty
     ArenaStats arena;                   // the GPU arena
     std::optional<SourceStats> source;  // a source with a cache: its hierarchy and cache
+    std::string colour_note;            // colourNote's line under the colour modes, or empty
 };
+
+/// Why the colours shown are not the mode chosen, for a line under the colour modes
+/// ("above-ground: waiting for the terrain" while a terrain is coming); empty when they are.
+std::string colourNote(ColourMode wanted, const ColourSources& cloud, bool terrain_coming, bool terrain_failed);
 
 /// The settings panel (bottom left, settingsPanelLayout). Returns true when the zoom reset button was pressed.
 bool drawSettingsPanel(const PanelView& v);
