@@ -294,6 +294,31 @@ std::vector<int> lowOutliers(const std::vector<const float*>& low, const std::ve
 
 }  // namespace
 
+bool RasterFit::cellSpread(const Cell& cell, double& spread_m) {
+    if (cell.n < std::uint32_t(kCellLowest)) return false;
+    const float top = cell.low[2] + float(kThicknessWindow_m);
+    int kept = 3;
+    while (kept < kCellLowest && cell.low[kept] <= top) ++kept;
+    if (kept < kThicknessMinPoints) return false;
+    spread_m = std::max(0.0, cellLevel(cell.low, kept, cell.n, -1).slope_sigma_m);
+    return true;
+}
+
+void RasterFit::thicknessSamples(const glm::dvec2& lo, const glm::dvec2& hi, std::vector<double>& out) const {
+    for (const auto& [key, index] : tiles_) {
+        const int tx = int(std::int32_t(std::uint32_t(key >> 32))), ty = int(std::int32_t(std::uint32_t(key)));
+        const Cell* tile = tile_data_.data() + std::size_t(index) * kTile * kTile;
+        for (int b = 0; b < kTile; ++b)
+            for (int a = 0; a < kTile; ++a) {
+                const double x = (double((tx << kTileBits) + a) + 0.5) * cell_m_;
+                const double y = (double((ty << kTileBits) + b) + 0.5) * cell_m_;
+                double spread_m = 0;
+                if (x >= lo.x && x < hi.x && y >= lo.y && y < hi.y && cellSpread(tile[(b << kTileBits) | a], spread_m))
+                    out.push_back(spread_m);
+            }
+    }
+}
+
 void RasterFit::fit() {
     grid_ = TerrainGrid{};
     grid_.cell_m = cell_m_;
@@ -327,18 +352,15 @@ void RasterFit::fit() {
     }
     std::vector<double> spreads;
     for (const Cell* cell : cells) {
-        if (!cell || cell->n < std::uint32_t(kCellLowest)) continue;
-        const float top = cell->low[2] + float(kThicknessWindow_m);
-        int kept = 3;
-        while (kept < kCellLowest && cell->low[kept] <= top) ++kept;
-        if (kept < kThicknessMinPoints) continue;
-        spreads.push_back(std::max(0.0, cellLevel(cell->low, kept, cell->n, -1).slope_sigma_m));
+        double spread_m = 0;
+        if (cell && cellSpread(*cell, spread_m)) spreads.push_back(spread_m);
     }
     if (!spreads.empty()) {
         const auto mid = spreads.begin() + std::ptrdiff_t(spreads.size() / 2);
         std::nth_element(spreads.begin(), mid, spreads.end());
         grid_.ground_sigma_m = *mid;
     }
+    if (fixed_sigma_m_ >= 0) grid_.ground_sigma_m = fixed_sigma_m_;
     // 2) the ground-level surface: each cell's level for that thickness, then the terrain.
     // A cell's lowest heights, each less its view's error at the cell's centre when
     // `corrected` (ascending); returns how many there are.

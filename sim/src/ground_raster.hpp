@@ -84,6 +84,8 @@ class RasterFit : public TerrainFit {
     /// same as add()'s.
     void addAll(std::span<const core::CloudPoint> points, int threads) override;
     void setFitThreads(int threads) override { threads_ = std::max(1, threads); }
+    void thicknessSamples(const glm::dvec2& lo, const glm::dvec2& hi, std::vector<double>& out) const override;
+    void setGroundThickness(double sigma_m) override { fixed_sigma_m_ = sigma_m; }
     /// Builds the ground-level surface over the cells the points touched (each cell's
     /// level from its lowest heights, cellLevel(), with the ground thickness estimated
     /// over all cells), then fitTerrain().
@@ -147,6 +149,10 @@ class RasterFit : public TerrainFit {
     };
     Cell* cellFor(int tx, int ty);
     static void keepLowest(Cell& cell, float z, std::uint16_t view);
+    /// The spread of a cell's lowest heights, the thickness's sample; false for a cell
+    /// with too few points, or too few near its lowest, to give one.
+    static bool cellSpread(const Cell& cell, double& spread_m);
+    double fixed_sigma_m_ = -1;  // setGroundThickness()
     void keepViewLow(std::uint64_t key, const ViewLow& low);
     void merge(const RasterFit& other);  // other's points, as if added here
     std::vector<Cell> tile_data_;

@@ -165,6 +165,15 @@ class TerrainFit {
     /// As above for a point of a view: a filter that estimated each view's height error
     /// (misregistered views of a real sensor) takes it off first.
     virtual bool classify(const core::CloudPoint& p, float& height_m) const { return classify(p.position, height_m); }
+    /// Tiles of one survey share its ground thickness. After add(), before fit(): appends
+    /// to `out` the samples fit() takes the thickness's median over, those of the cells
+    /// whose centre lies in [lo, hi) (x-y); nothing for a filter that measures none.
+    virtual void thicknessSamples(const glm::dvec2& lo, const glm::dvec2& hi, std::vector<double>& out) const {
+        (void)lo, (void)hi, (void)out;
+    }
+    /// Before fit(): the ground thickness to use instead of the one measured (the median
+    /// of the whole survey's thicknessSamples); < 0 measures it (the default).
+    virtual void setGroundThickness(double sigma_m) { (void)sigma_m; }
 };
 
 /// A per-view filter (RANSAC): the generator labels each view's points as the view is
