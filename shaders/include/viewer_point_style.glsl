@@ -35,25 +35,26 @@ float terrainHeight(vec2 grid_m) {
     return mix(mix(z00, z10, f.x), mix(z01, z11, f.x), f.y);
 }
 
-// The ASPRS standard classes' colours (docs/viewer.md's table).
+// The ASPRS standard classes' colours (docs/viewer.md's table), as bytes so that they reach
+// the screen exactly.
 vec3 classColour(uint c) {
-    if (c == 2u) return vec3(0.60, 0.40, 0.20);                    // ground: brown
-    if (c == 3u) return vec3(0.60, 0.85, 0.45);                    // low vegetation
-    if (c == 4u) return vec3(0.25, 0.70, 0.25);                    // medium vegetation
-    if (c == 5u) return vec3(0.00, 0.45, 0.00);                    // high vegetation
-    if (c == 6u) return vec3(0.90, 0.40, 0.15);                    // building: orange red
-    if (c == 9u) return vec3(0.15, 0.40, 0.90);                    // water: blue
-    if (c == 7u || c == 18u) return vec3(1.00, 0.00, 1.00);        // low / high noise: magenta
-    return vec3(0.60);                                             // any other: grey
+    if (c == 2u) return vec3(153.0, 102.0, 51.0) / 255.0;      // ground: brown
+    if (c == 3u) return vec3(150.0, 220.0, 110.0) / 255.0;     // low vegetation: light green
+    if (c == 4u) return vec3(60.0, 180.0, 60.0) / 255.0;       // medium vegetation: green
+    if (c == 5u) return vec3(0.0, 115.0, 0.0) / 255.0;         // high vegetation: dark green
+    if (c == 6u) return vec3(230.0, 100.0, 40.0) / 255.0;      // building: orange red
+    if (c == 9u) return vec3(40.0, 100.0, 230.0) / 255.0;      // water: blue
+    if (c == 7u || c == 18u) return vec3(255.0, 0.0, 255.0) / 255.0;   // low / high noise: magenta
+    return vec3(153.0) / 255.0;                                // any other: grey
 }
 
 // Single returns yellow, the first of several green, intermediate ones blue, the last red.
 vec3 returnColour(uint number, uint returns) {
-    if (number == 0u || returns == 0u) return vec3(0.60);   // not recorded: grey
-    if (returns == 1u) return vec3(1.00, 0.85, 0.00);
-    if (number == 1u) return vec3(0.00, 0.80, 0.30);
-    if (number >= returns) return vec3(0.90, 0.15, 0.15);
-    return vec3(0.25, 0.45, 1.00);
+    if (number == 0u || returns == 0u) return vec3(153.0) / 255.0;   // not recorded: grey
+    if (returns == 1u) return vec3(255.0, 215.0, 0.0) / 255.0;
+    if (number == 1u) return vec3(0.0, 205.0, 75.0) / 255.0;
+    if (number >= returns) return vec3(230.0, 40.0, 40.0) / 255.0;
+    return vec3(65.0, 115.0, 255.0) / 255.0;
 }
 
 // rgb_label: the file's colour and label byte as normalised (R, G, B, L); z: the point's

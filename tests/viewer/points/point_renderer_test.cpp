@@ -3,14 +3,20 @@
 // generator's jet colours, core::jetTable entry core::jetIndex (the table sim writes into
 // the files), for 64 entries and for 16; the colour, size and cutting-volume checks run
 // with both rasterizers (GL_POINTS and compute); the compute rasterizer's subgroup
-// reduction leaves its image and depth as they are without it.
+// reduction leaves its image and depth as they are without it. Above-ground colours over a
+// terrain handed to the renderer (a slope with a box on it: the ground white, the box by its
+// height above the slope), and the class, intensity and return colours of a LAS file
+// written as another producer writes it.
 #include "points/point_renderer.hpp"
 
 #include <viewer/cloud_feed.hpp>
 #include <viewer/cloud_feed_source.hpp>
 
+#include <test_files.hpp>
+
 #include <core/jet.hpp>
 #include <core/point_cloud.hpp>
+#include <io/cloud_io.hpp>
 #include <render/egl_context.hpp>
 
 #include <doctest/doctest.h>
@@ -20,6 +26,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <random>
 #include <string>
@@ -42,19 +49,29 @@ struct Uploaded {
     std::unique_ptr<viewer::CloudFeedSource> source;
     explicit Uploaded(const core::PointCloud& cloud) {
         feed.feedCloud(cloud);
+        upload(cloud.points.size());
+    }
+    /// The points of a file, read as `view` reads it (CloudFeed::feedFile).
+    Uploaded(const std::filesystem::path& file, std::size_t points) {
+        feed.feedFile(file);
+        REQUIRE(feed.error().empty());
+        upload(points);
+    }
+    void upload(std::size_t points) {
         source = std::make_unique<viewer::CloudFeedSource>(feed);
         source->poll();
-        renderer.stream(*source, cloud.points.size());
-        REQUIRE(renderer.uploadedPoints() == cloud.points.size());
+        renderer.stream(*source, points);
+        REQUIRE(renderer.uploadedPoints() == points);
     }
 };
 
 // Draws `cloud` from straight above with an orthographic camera (1 m = 8 px, grid cell
 // (i, j) centred on pixel (8i + 4, 8j + 4)) and returns the resolved image (the points'
 // colours where the style has eye-dome lighting off).
-std::vector<Pixel> drawFromAbove(const core::PointCloud& cloud, int rows, const viewer::ViewStyle& style,
-                                 const viewer::CutVolume& cut = {}) {
-    Uploaded uploaded(cloud);
+// `shift`: where the cloud's local (0, 0, 0) lies in the source's local frame (a file's
+// reader chooses its own origin).
+std::vector<Pixel> drawUploaded(Uploaded& uploaded, int rows, const viewer::ViewStyle& style,
+                                const viewer::CutVolume& cut = {}, const glm::dvec3& shift = glm::dvec3(0.0)) {
     viewer::PointRenderer& renderer = uploaded.renderer;
     // Empty rows above the grid keep the mode indicator (drawn near the top) off it.
     const int width = kColumns * kPixelsPerMetre, height = (rows + kIndicatorRows) * kPixelsPerMetre;
@@ -62,7 +79,7 @@ std::vector<Pixel> drawFromAbove(const core::PointCloud& cloud, int rows, const 
     REQUIRE(target.ensure(width, height));
     REQUIRE(out.ensure(width, height));
     viewer::EyeDraw eye;
-    eye.view = glm::lookAt(glm::dvec3(0.0, 0.0, 1000.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
+    eye.view = glm::lookAt(shift + glm::dvec3(0.0, 0.0, 1000.0), shift, glm::dvec3(0.0, 1.0, 0.0));
     eye.projection = glm::ortho(-0.5, kColumns - 0.5, -0.5, rows + kIndicatorRows - 0.5, 1.0, 2000.0);
     eye.near_m = 1.0;
     eye.far_m = 2000.0;
@@ -74,6 +91,19 @@ std::vector<Pixel> drawFromAbove(const core::PointCloud& cloud, int rows, const 
     target.destroy();
     out.destroy();
     return pixels;
+}
+
+std::vector<Pixel> drawFromAbove(const core::PointCloud& cloud, int rows, const viewer::ViewStyle& style,
+                                 const viewer::CutVolume& cut = {}) {
+    Uploaded uploaded(cloud);
+    return drawUploaded(uploaded, rows, style, cut);
+}
+
+// The colour of grid cell (i, j)'s centre pixel in a drawFromAbove image.
+std::uint32_t cellColour(const std::vector<Pixel>& pixels, int i, int j) {
+    const Pixel p = pixels[static_cast<std::size_t>(j * kPixelsPerMetre + 4) * kColumns * kPixelsPerMetre +
+                           static_cast<std::size_t>(i * kPixelsPerMetre + 4)];
+    return core::packRgb(p.r, p.g, p.b);
 }
 
 // One point per jet entry at the middle of its height bin over [z_min, z_max], plus one
@@ -155,6 +185,53 @@ void checkAboveGroundColours(viewer::Rasterizer rasterizer) {
 }
 
 constexpr viewer::Rasterizer kRasterizers[] = {viewer::Rasterizer::Points, viewer::Rasterizer::Compute};
+
+// A cloud far from the world's origin on a slope (z = 0.8 x + 0.3 y) with a box standing on
+// it, and the slope as a terrain in world coordinates: a coarse grid (2 m cells, offset by
+// 1 m from the points) the shaders must interpolate between its cells.
+constexpr int kSlopeRows = 4;
+const glm::dvec3 kSlopeOrigin(512000.0, 4100000.0, 230.0);
+double slopeZ(double x, double y) { return 0.8 * x + 0.3 * y; }
+// The box's cells and their heights above the slope.
+struct BoxCell {
+    int i, j;
+    float above_m;
+};
+constexpr BoxCell kBox[] = {{5, 1, 4.0f}, {6, 1, 2.03f}, {5, 2, 3.1f}, {6, 2, 1.2f}};
+
+core::PointCloud slopeWithBox() {
+    core::PointCloud cloud;
+    cloud.origin = kSlopeOrigin;
+    for (int j = 0; j < kSlopeRows; ++j)
+        for (int i = 0; i < kColumns; ++i) {
+            core::CloudPoint p;
+            float above = 0.0f;
+            for (const BoxCell& b : kBox)
+                if (b.i == i && b.j == j) above = b.above_m;
+            p.position = {float(i), float(j), float(slopeZ(i, j)) + above};
+            p.rgb = 0x808080u;
+            cloud.points.push_back(p);
+        }
+    return cloud;
+}
+
+viewer::ViewTerrain slopeTerrain() {
+    viewer::ViewTerrain t;
+    t.x0 = kSlopeOrigin.x - 1.0;
+    t.y0 = kSlopeOrigin.y - 1.0;
+    t.cell = 2.0;
+    t.nx = 8;
+    t.ny = 4;
+    for (int j = 0; j < t.ny; ++j)
+        for (int i = 0; i < t.nx; ++i) t.z.push_back(float(kSlopeOrigin.z + slopeZ(-1.0 + 2.0 * i, -1.0 + 2.0 * j)));
+    t.source = "the test's slope";
+    return t;
+}
+
+bool isBox(int i, int j) {
+    return std::any_of(std::begin(kBox), std::end(kBox), [&](const BoxCell& b) { return b.i == i && b.j == j; });
+}
+bool reddish(std::uint32_t rgb) { return (rgb >> 16) >= 128 && ((rgb >> 8) & 0xFFu) < 100 && (rgb & 0xFFu) < 100; }
 
 }  // namespace
 
@@ -486,4 +563,178 @@ TEST_CASE("the compute rasterizer's subgroup reduction leaves the same image and
         CHECK(std::memcmp(depths[0].data(), depths[1].data(), depths[0].size() * sizeof(float)) == 0);
     }
     CHECK(renderer.subgroupReduction() == renderer.subgroupAvailable());
+}
+
+TEST_CASE("above-ground colours from a terrain: the ground on a slope white, a box on it by its height above it") {
+    render::EglContext context;
+    constexpr int entries = 64;
+    const core::PointCloud cloud = slopeWithBox();
+    const std::vector<std::uint32_t> jet = core::jetTable(entries);
+    std::vector<std::vector<Pixel>> images;
+    for (const viewer::Rasterizer r : kRasterizers) {
+        CAPTURE(viewer::rasterizerName(r));
+        viewer::ViewStyle style;
+        style.eye_dome = false;
+        style.point_size_px = 5.0f;
+        style.jet_entries = entries;
+        style.rasterizer = r;
+        Uploaded uploaded(cloud);
+        // The height colours make the low end of the slope red, as they make nothing else.
+        style.colour = viewer::ColourMode::HeightJet;
+        const std::vector<Pixel> height = drawUploaded(uploaded, kSlopeRows, style);
+        int red_ground = 0;
+        for (int j = 0; j < kSlopeRows; ++j)
+            for (int i = 0; i < kColumns; ++i) red_ground += !isBox(i, j) && reddish(cellColour(height, i, j));
+        CHECK(red_ground > 0);
+        // Before the terrain comes, above-ground on a cloud without heights shows the heights.
+        style.colour = viewer::ColourMode::AboveGround;
+        CHECK(drawUploaded(uploaded, kSlopeRows, style).size() == height.size());
+        CHECK(cellColour(drawUploaded(uploaded, kSlopeRows, style), 0, 0) == cellColour(height, 0, 0));
+        CHECK_FALSE(uploaded.renderer.hasTerrain());
+
+        uploaded.renderer.setTerrain(slopeTerrain(), uploaded.source->origin(), *uploaded.source);
+        REQUIRE(uploaded.renderer.hasTerrain());
+        CHECK(uploaded.renderer.aboveGroundMax() == doctest::Approx(4.0).epsilon(1e-5));
+        const std::optional<double> at_box = uploaded.renderer.heightAboveTerrain({5.0, 1.0, slopeZ(5, 1) + 4.0});
+        REQUIRE(at_box);
+        CHECK(*at_box == doctest::Approx(4.0).epsilon(1e-6));
+        const std::vector<Pixel> above = drawUploaded(uploaded, kSlopeRows, style);
+        int white_ground = 0, ground = 0;
+        for (int j = 0; j < kSlopeRows; ++j)
+            for (int i = 0; i < kColumns; ++i) {
+                if (isBox(i, j)) continue;
+                ++ground;
+                white_ground += cellColour(above, i, j) == core::kWhite;
+                CHECK_FALSE(reddish(cellColour(above, i, j)));
+            }
+        CHECK(white_ground == ground);
+        for (const BoxCell& b : kBox) {
+            CAPTURE(b.above_m);
+            CHECK(cellColour(above, b.i, b.j) == jet[core::jetIndex(b.above_m, 0.0, 4.0, entries)]);
+        }
+        images.push_back(above);
+    }
+    // Both rasterizers give the same picture.
+    REQUIRE(images.size() == 2);
+    CHECK(std::memcmp(images[0].data(), images[1].data(), images[0].size() * sizeof(Pixel)) == 0);
+}
+
+namespace {
+
+// A LAS file as another producer writes it (point format 1: no colours, no label of ours):
+// one row of points with ASPRS classes, intensities 0, 100, ..., 1100 and returns.
+constexpr std::uint8_t kClasses[kColumns] = {2, 5, 6, 2, 5, 6, 9, 7, 18, 1, 3, 4};
+constexpr std::uint8_t kReturn[4][2] = {{1, 1}, {1, 3}, {2, 3}, {3, 3}};  // number, of returns
+const glm::dvec3 kSurveyOrigin(300000.0, 5000000.0, 100.0);
+
+std::filesystem::path writeSurvey(const std::filesystem::path& dir) {
+    core::PointCloud cloud;
+    cloud.origin = kSurveyOrigin;
+    cloud.fields = core::CloudFields{};
+    cloud.fields.rgb = cloud.fields.label = cloud.fields.view = cloud.fields.range = false;
+    cloud.fields.intensity = cloud.fields.returns = true;
+    cloud.foreign.emplace();
+    cloud.foreign->header.point_format = 1;
+    for (int i = 0; i < kColumns; ++i) {
+        core::CloudPoint p;
+        p.position = {float(i), 0.0f, 0.25f * float(i)};
+        p.intensity = std::uint16_t(100 * i);
+        p.return_number = kReturn[i % 4][0];
+        p.returns = kReturn[i % 4][1];
+        cloud.points.push_back(p);
+        core::ForeignPoint f;
+        f.classification = kClasses[i];
+        const auto* bytes = reinterpret_cast<const unsigned char*>(&f);
+        cloud.foreign->records.insert(cloud.foreign->records.end(), bytes, bytes + sizeof f);
+    }
+    const std::filesystem::path file = dir / "survey.las";
+    io::writeCloud(file, cloud, io::CloudFormat::Las);
+    return file;
+}
+
+// docs/viewer.md's palette, as the screen shows it.
+std::uint32_t classColour(std::uint8_t c) {
+    switch (c) {
+        case 2: return core::packRgb(153, 102, 51);
+        case 3: return core::packRgb(150, 220, 110);
+        case 4: return core::packRgb(60, 180, 60);
+        case 5: return core::packRgb(0, 115, 0);
+        case 6: return core::packRgb(230, 100, 40);
+        case 9: return core::packRgb(40, 100, 230);
+        case 7:
+        case 18: return core::packRgb(255, 0, 255);
+        default: return core::packRgb(153, 153, 153);
+    }
+}
+
+std::uint32_t returnColour(int number, int returns) {
+    if (returns == 1) return core::packRgb(255, 215, 0);
+    if (number == 1) return core::packRgb(0, 205, 75);
+    if (number == returns) return core::packRgb(230, 40, 40);
+    return core::packRgb(65, 115, 255);
+}
+
+}  // namespace
+
+TEST_CASE("a survey's classes, intensities and returns in their colour modes, the same with either rasterizer") {
+    render::EglContext context;
+    test_support::TempDir dir("viewer_class_colours");
+    const std::filesystem::path file = writeSurvey(dir.path);
+    std::vector<Pixel> first[3];
+    for (const viewer::Rasterizer r : kRasterizers) {
+        CAPTURE(viewer::rasterizerName(r));
+        Uploaded uploaded(file, kColumns);
+        const viewer::ColourSources sources = uploaded.renderer.colourSources();
+        CHECK_FALSE(sources.height_above_ground);
+        CHECK((sources.intensity && sources.returns));
+        viewer::ViewStyle style;
+        style.eye_dome = false;
+        style.point_size_px = 5.0f;
+        style.rasterizer = r;
+        const viewer::ColourMode modes[3] = {viewer::ColourMode::Class, viewer::ColourMode::Intensity,
+                                             viewer::ColourMode::Return};
+        for (int m = 0; m < 3; ++m) {
+            style.colour = modes[m];
+            const std::vector<Pixel> image =
+                drawUploaded(uploaded, 1, style, {}, kSurveyOrigin - uploaded.source->origin());
+            for (int i = 0; i < kColumns; ++i) {
+                CAPTURE(viewer::colourModeName(modes[m]));
+                CAPTURE(i);
+                const std::uint32_t got = cellColour(image, i, 0);
+                if (m == 0) CHECK(got == classColour(kClasses[i]));
+                // The 2nd and 98th percentiles of 0, 100, ..., 1100 are 0 and 1000.
+                const auto grey = std::uint8_t(std::lround(std::min(1.0, 100.0 * i / 1000.0) * 255.0));
+                if (m == 1) CHECK(got == core::packRgb(grey, grey, grey));
+                if (m == 2) CHECK(got == returnColour(kReturn[i % 4][0], kReturn[i % 4][1]));
+            }
+            if (r == viewer::Rasterizer::Points)
+                first[m] = image;
+            else
+                CHECK(std::memcmp(first[m].data(), image.data(), image.size() * sizeof(Pixel)) == 0);
+        }
+    }
+}
+
+TEST_CASE("a cloud of ours shows its labels as the classes our LAS writer gives them") {
+    render::EglContext context;
+    core::PointCloud cloud;
+    const core::Role roles[3] = {core::Role::Ground, core::Role::Environment, core::Role::Target};
+    for (int i = 0; i < 3; ++i) {
+        core::CloudPoint p;
+        p.position = {float(i), 0.0f, 0.0f};
+        p.label = roles[i];
+        cloud.points.push_back(p);
+    }
+    for (const bool heights : {false, true}) {  // packed attributes, or heights above ground
+        CAPTURE(heights);
+        cloud.fields.height_above_ground = heights;
+        viewer::ViewStyle style;
+        style.eye_dome = false;
+        style.point_size_px = 5.0f;
+        style.colour = viewer::ColourMode::Class;
+        const std::vector<Pixel> image = drawFromAbove(cloud, 1, style);
+        CHECK(cellColour(image, 0, 0) == classColour(2));
+        CHECK(cellColour(image, 1, 0) == classColour(1));
+        CHECK(cellColour(image, 2, 0) == classColour(64));
+    }
 }
