@@ -1,5 +1,5 @@
 // app/src/scene_from_cloud.cpp: `ladarvr scene from-cloud SURVEY --out DIR [--voxel-m V]
-// [--cell-m C] [--max-boxes N] [--coarsen] [--ground-from auto|classes|filter] [--method
+// [--cell-m C] [--max-boxes N] [--coarsen] [--max-height-m H] [--ground-from auto|classes|filter] [--method
 // smrf|csf] [--vehicle MESH [--vehicle-at X,Y] [--yaw-deg D] [--seed S] ...]`: a real survey
 // turned into a scene folder the generator reads (sim/scene_from_cloud.hpp). Options are
 // parsed and checked here; the work is sim::buildSceneFromCloud and sim::writeSceneFolder.
@@ -57,7 +57,8 @@ void run(SceneFromCloudCli& cli) {
                                   {"--vehicle", cli.vehicle, platform::PathRole::Input, {}},
                                   {"--out", out, platform::PathRole::OutputFolder, sim::isSceneFromCloudFile}});
     platform::checkInputFile(survey, "scene from-cloud: survey " + core::printable(cli.survey, 400));
-    if (!cli.vehicle.empty()) platform::checkInputFile(cli.vehicle, "scene from-cloud: --vehicle");
+    if (!cli.vehicle.empty())
+        platform::checkInputFile(cli.vehicle, "scene from-cloud: --vehicle " + core::printable(cli.vehicle, 400));
     platform::InputSet inputs;
     inputs.addFile(survey);
     if (!cli.vehicle.empty()) inputs.addFile(cli.vehicle);
@@ -81,6 +82,11 @@ void run(SceneFromCloudCli& cli) {
                      "scene from-cloud: more than --max-boxes %zu boxes at --voxel-m %g: coarsened to %g m voxels "
                      "(%zu boxes)\n",
                      o.max_boxes, s.voxel_requested_m, s.voxel_m, s.boxes.size());
+    if (s.dropped_high + s.dropped_low > 0)
+        std::fprintf(stderr,
+                     "scene from-cloud: outliers that made no box: %zu more than --max-height-m %g m above the "
+                     "terrain, %zu more than %g m below it\n",
+                     s.dropped_high, o.max_height_m, s.dropped_low, sim::kSurveyLowOutlier_m);
     if (s.vehicle) inputs.checkNotAnInput(out / s.vehicle->file);
     sim::writeSceneFolder(out, s, o);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -112,6 +118,10 @@ void addSceneFromCloud(CLI::App& scene) {
                   "terrain grid spacing, [0.1, 100] m; 0: 1.5 times the ground points' spacing, within [1, 10] m")
         ->capture_default_str();
     c->add_option("--max-boxes", o.max_boxes, "boxes at most, 1..50000000; past it refused unless --coarsen")
+        ->capture_default_str();
+    c->add_option("--max-height-m", o.max_height_m,
+                  "points more than this above the terrain (birds, noise) make no box, (0, 10000] m; those more than "
+                  "6 m below it neither")
         ->capture_default_str();
     c->add_flag("--coarsen", o.coarsen, "past --max-boxes, double the voxel until the boxes fit instead of refusing");
     c->add_option("--ground-from", state->ground_from,

@@ -1,7 +1,7 @@
 // sim/src/scene_from_cloud.cpp: see sim/scene_from_cloud.hpp. The survey is read in
 // chunks: pass 1 measures its bounds and counts its class-2 points, an optional pass
-// feeds the ground filter's TerrainFit, and the last pass puts each ground point into
-// the terrain grid's node nearest it and each other point into its voxel. The vehicle's
+// feeds the ground filter's TerrainFit, the next puts each ground point into the terrain
+// grid's node nearest it, and the last each other point into its voxel. The vehicle's
 // placement is scene_from_cloud_vehicle.cpp; the files, scene_from_cloud_write.cpp.
 #include "scene_from_cloud_internal.hpp"
 
@@ -172,28 +172,67 @@ struct GroundTest {
     }
 };
 
-// The last pass: ground points into the grid's nodes, the others into voxels.
-void binPoints(SceneFromCloud& s, const SceneFromCloudOptions& o, const GroundTest& is_ground,
-               const std::function<void(std::size_t)>& progress) {
-    TerrainMesh& t = s.terrain;
-    std::vector<double> sums(std::size_t(t.nx) * std::size_t(t.ny), 0.0);
-    std::vector<std::uint32_t> counts(sums.size(), 0);
-    VoxelSet voxels;
-    double voxel = o.voxel_m;
+// Calls fn(point) for every point of the survey in the local frame (metres; its
+// position moved there), chunk by chunk.
+void forEachLocal(const SceneFromCloud& s, const std::function<void(core::CloudPoint&)>& fn,
+                  const std::function<void(std::size_t)>& progress) {
     io::CloudReader reader(s.survey);
     const glm::dvec3 origin = reader.origin();
     io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
         for (core::CloudPoint& p : chunk) {
-            const glm::dvec3 m = toLocal(p.position, origin, s.units, s.offset_m);
-            p.position = glm::vec3(m);
-            if (is_ground(p)) {
-                const int i = std::clamp(int(std::lround((m.x - t.x0_m) / t.cell_m)), 0, t.nx - 1);
-                const int j = std::clamp(int(std::lround((m.y - t.y0_m) / t.cell_m)), 0, t.ny - 1);
-                const std::size_t n = std::size_t(j) * std::size_t(t.nx) + std::size_t(i);
-                sums[n] += m.z;
-                ++counts[n];
-                ++s.ground_points;
-                continue;
+            p.position = glm::vec3(toLocal(p.position, origin, s.units, s.offset_m));
+            fn(p);
+        }
+        progress(chunk.size());
+    });
+}
+
+// The ground pass: each ground point into the grid's node nearest it; the nodes' means,
+// the empty ones filled.
+void binGround(SceneFromCloud& s, const GroundTest& is_ground, const std::function<void(std::size_t)>& progress) {
+    TerrainMesh& t = s.terrain;
+    std::vector<double> sums(std::size_t(t.nx) * std::size_t(t.ny), 0.0);
+    std::vector<std::uint32_t> counts(sums.size(), 0);
+    forEachLocal(
+        s,
+        [&](core::CloudPoint& p) {
+            if (!is_ground(p)) return;
+            const int i = std::clamp(int(std::lround((p.position.x - t.x0_m) / t.cell_m)), 0, t.nx - 1);
+            const int j = std::clamp(int(std::lround((p.position.y - t.y0_m) / t.cell_m)), 0, t.ny - 1);
+            const std::size_t n = std::size_t(j) * std::size_t(t.nx) + std::size_t(i);
+            sums[n] += p.position.z;
+            ++counts[n];
+            ++s.ground_points;
+        },
+        progress);
+    if (s.ground_points == 0)
+        throw core::Error(std::string(kWhere) + ": " + s.survey.string() + ": no ground points (" + s.ground_from +
+                          "); allowed a survey with ground: try --ground-from filter");
+    t.z_m.assign(sums.size(), 0.0f);
+    for (std::size_t n = 0; n < sums.size(); ++n)
+        if (counts[n] > 0) {
+            t.z_m[n] = float(sums[n] / counts[n]);
+            ++t.observed_nodes;
+        }
+    fillEmpty(t, counts);
+}
+
+// The boxes' pass: every other point into its voxel, unless it lies more than
+// kSurveyLowOutlier_m below the terrain or more than max_height_m above it (noise,
+// birds, multipath: a floating box would stand in the sensor's way).
+void binOthers(SceneFromCloud& s, const SceneFromCloudOptions& o, const GroundTest& is_ground,
+               const std::function<void(std::size_t)>& progress) {
+    VoxelSet voxels;
+    double voxel = o.voxel_m;
+    forEachLocal(
+        s,
+        [&](core::CloudPoint& p) {
+            if (is_ground(p)) return;
+            const glm::dvec3 m(p.position);
+            const double above = m.z - s.terrain.heightAt(m.x, m.y);
+            if (above < -kSurveyLowOutlier_m || above > o.max_height_m) {
+                ++(above < 0 ? s.dropped_low : s.dropped_high);
+                return;
             }
             voxels.insert({std::int32_t(std::floor(m.x / voxel)), std::int32_t(std::floor(m.y / voxel)),
                            std::int32_t(std::floor(m.z / voxel))});
@@ -206,19 +245,8 @@ void binPoints(SceneFromCloud& s, const SceneFromCloudOptions& o, const GroundTe
                 voxels = coarser(voxels);
                 voxel *= 2.0;
             }
-        }
-        progress(chunk.size());
-    });
-    if (s.ground_points == 0)
-        throw core::Error(std::string(kWhere) + ": " + s.survey.string() + ": no ground points (" + s.ground_from +
-                          "); allowed a survey with ground: try --ground-from filter");
-    t.z_m.assign(sums.size(), 0.0f);
-    for (std::size_t n = 0; n < sums.size(); ++n)
-        if (counts[n] > 0) {
-            t.z_m[n] = float(sums[n] / counts[n]);
-            ++t.observed_nodes;
-        }
-    fillEmpty(t, counts);
+        },
+        progress);
     s.voxel_m = voxel;
     s.boxes.assign(voxels.begin(), voxels.end());
     std::sort(s.boxes.begin(), s.boxes.end());
@@ -235,6 +263,8 @@ void validate(const SceneFromCloudOptions& o) {
     if (o.max_boxes < 1 || o.max_boxes > 50000000)
         fail("--max-boxes is " + number(double(o.max_boxes)) + "; allowed 1..50000000");
     const VehiclePlacement& v = o.vehicle;
+    if (!(o.max_height_m > 0.0 && o.max_height_m <= 10000.0))
+        fail("--max-height-m is " + number(o.max_height_m) + "; allowed (0, 10000] metres");
     if (!(v.max_slope >= 0.0 && v.max_slope <= 1.0))
         fail("--max-slope is " + number(v.max_slope) + "; allowed [0, 1] (rise over run)");
     if (!(v.max_roughness_m >= 0.0 && v.max_roughness_m <= 10.0))
@@ -284,7 +314,8 @@ SceneFromCloud buildSceneFromCloud(const std::filesystem::path& survey, const Sc
     const double cell = chooseCell(o, m, classes ? m.class2 : m.points / 2);
     s.terrain = startGrid(m.lo - s.offset_m, m.hi - s.offset_m, cell, o.max_cells);
     s.voxel_requested_m = o.voxel_m;
-    binPoints(s, o, GroundTest{fit.get()}, progress);
+    binGround(s, GroundTest{fit.get()}, progress);
+    binOthers(s, o, GroundTest{fit.get()}, progress);
     if (!o.vehicle.mesh.empty()) s.vehicle = detail::placeVehicle(s.terrain, s.boxes, s.voxel_m, s.offset_m, o.vehicle);
     return s;
 }

@@ -114,10 +114,11 @@ std::string recordJson(const SceneFromCloud& s, const SceneFromCloudOptions& o) 
         "{\n  \"survey\": " + quoted(std::filesystem::absolute(s.survey).string()) +
         ",\n  \"units\": " + quoted(describe(s.units)) + ",\n  \"offset_m\": " + triple(s.offset_m, 3) +
         ",\n  \"points\": " + std::to_string(s.points) + ",\n  \"ground_points\": " + std::to_string(s.ground_points) +
-        ",\n  \"ground_from\": " + quoted(s.ground_from) + ",\n  \"terrain\": {\"cell_m\": " + fixed(t.cell_m, 3) +
-        ", \"nx\": " + std::to_string(t.nx) + ", \"ny\": " + std::to_string(t.ny) +
-        ", \"observed_nodes\": " + std::to_string(t.observed_nodes) + "},\n  \"voxel_m\": " + fixed(s.voxel_m, 4) +
-        ",\n  \"voxel_requested_m\": " + fixed(s.voxel_requested_m, 4) +
+        ",\n  \"dropped_high\": " + std::to_string(s.dropped_high) +
+        ",\n  \"dropped_low\": " + std::to_string(s.dropped_low) + ",\n  \"ground_from\": " + quoted(s.ground_from) +
+        ",\n  \"terrain\": {\"cell_m\": " + fixed(t.cell_m, 3) + ", \"nx\": " + std::to_string(t.nx) +
+        ", \"ny\": " + std::to_string(t.ny) + ", \"observed_nodes\": " + std::to_string(t.observed_nodes) +
+        "},\n  \"voxel_m\": " + fixed(s.voxel_m, 4) + ",\n  \"voxel_requested_m\": " + fixed(s.voxel_requested_m, 4) +
         ",\n  \"boxes\": " + std::to_string(s.boxes.size()) + ",\n  \"max_boxes\": " + std::to_string(o.max_boxes) +
         ",\n  \"vehicle\": ";
     if (!s.vehicle) return j + "null\n}\n";

@@ -99,6 +99,7 @@ TEST_CASE("scene_from_cloud: a real survey's ground as terrain, its other points
                                               std::int32_t(std::floor(lp.p.z / s.voxel_m))};
         outside += !std::binary_search(s.boxes.begin(), s.boxes.end(), key);
     }
+    CHECK(s.dropped_high + s.dropped_low == 0);
     CHECK(outside == 0);  // every point that is not ground lies in a box
     CHECK(s.boxes.size() > 100);
     std::nth_element(residuals.begin(), residuals.begin() + std::ptrdiff_t(residuals.size() / 2), residuals.end());

@@ -50,6 +50,9 @@ struct SceneFromCloudOptions {
     std::size_t max_boxes = 500000;   // boxes written at most
     bool coarsen = false;             // past max_boxes: double the voxel until they fit (else refuse)
     std::size_t max_cells = 4000000;  // terrain grid nodes at most
+    /// Points more than this above the terrain (birds, noise) or kSurveyLowOutlier_m below
+    /// it make no box.
+    double max_height_m = 150.0;
     SceneGroundSource ground_source = SceneGroundSource::Auto;
     GroundFileOptions ground;  // the filter, in metres
     VehiclePlacement vehicle;
@@ -91,7 +94,8 @@ struct SceneFromCloud {
     glm::dvec3 offset_m{0.0};  // local = survey coordinates (metres) - offset_m
     CoordinateUnits units;     // the survey's; converted to metres
     std::size_t points = 0, ground_points = 0;
-    std::string ground_from;  // "class 2" or the filter's describe()
+    std::size_t dropped_high = 0, dropped_low = 0;  // outliers that made no box
+    std::string ground_from;                        // "class 2" or the filter's describe()
     TerrainMesh terrain;
     double voxel_m = 0, voxel_requested_m = 0;       // differ when coarsened
     std::vector<std::array<std::int32_t, 3>> boxes;  // occupied voxels (i, j, k), box [i, i+1) * voxel_m..., sorted
