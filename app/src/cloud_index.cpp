@@ -8,9 +8,63 @@
 
 #include <glm/vec3.hpp>
 
+#include <cmath>
 #include <string>
 
 namespace app {
+
+namespace {
+
+// Inputs further than this from the first one's origin would lose the millimetre in the
+// points' float coordinates relative to that origin.
+constexpr double kMaxOriginShift_m = 10000.0;
+
+std::string fieldList(const core::CloudFields& f) {
+    std::string s;
+    for (const std::string& name : core::fieldNames(f)) s += (s.empty() ? "" : " ") + name;
+    return s;
+}
+
+bool sameFields(const core::CloudFields& a, const core::CloudFields& b) {
+    return a.rgb == b.rgb && a.label == b.label && a.view == b.view && a.range == b.range &&
+           a.intensity == b.intensity && a.returns == b.returns && a.incidence == b.incidence &&
+           a.scan_angle == b.scan_angle && a.height_above_ground == b.height_above_ground;
+}
+
+// Whether two inputs' side records and CRS are alike (both null: clouds we generated, or
+// formats without them, or readers that drop them).
+bool sameForeignHeader(const core::ForeignHeader* a, const core::ForeignHeader* b) {
+    if (!a || !b) return a == b;
+    return a->nir == b->nir && a->extra_bytes == b->extra_bytes && a->extra_bytes_vlr == b->extra_bytes_vlr &&
+           a->wkt == b->wkt;
+}
+
+// An input's layout in words, for the refusal of unlike inputs.
+std::string foreignLayout(const io::CloudReader& r) {
+    const auto h = r.foreignHeader();
+    if (!h) return "no side records: generated, PCD or PLY";
+    return "point format " + std::to_string(h->point_format) + ", " + std::to_string(h->extra_bytes) +
+           " extra bytes, " +
+           (h->wkt.empty() ? std::string("no CRS") : "WKT of " + std::to_string(h->wkt.size()) + " bytes");
+}
+
+}  // namespace
+
+void checkMergeable(const io::CloudReader& r, const io::CloudReader& first, std::string_view command) {
+    const std::string head = std::string(command) + ": ";
+    if (!sameForeignHeader(r.foreignHeader().get(), first.foreignHeader().get()))
+        throw core::Error(head + r.where() + ": its LAS point layout or CRS (" + foreignLayout(r) + ") differs from " +
+                          first.where() + "'s (" + foreignLayout(first) + "); merged inputs must be alike");
+    if (!sameFields(r.fields(), first.fields()))
+        throw core::Error(head + r.where() + ": its fields (" + fieldList(r.fields()) + ") differ from " +
+                          first.where() + "'s (" + fieldList(first.fields()) +
+                          "); merged inputs must carry the same fields");
+    const glm::dvec3 shift = r.origin() - first.origin();
+    if (!(std::fabs(shift.x) <= kMaxOriginShift_m && std::fabs(shift.y) <= kMaxOriginShift_m &&
+          std::fabs(shift.z) <= kMaxOriginShift_m))
+        throw core::Error(head + r.where() + ": its origin lies more than 10 km from " + first.where() +
+                          "'s; merged inputs must lie within 10 km of each other");
+}
 
 IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, std::string_view command,
                     bool fewer_threads, std::uint32_t max_node_points, std::size_t side_record_bytes) {
@@ -39,9 +93,9 @@ std::size_t writeIndex(std::vector<std::unique_ptr<io::CloudReader>>& readers, c
                        const std::function<void()>& read_done) {
     const glm::dvec3 origin = readers.front()->origin();
     // Readers that keep a foreign file's side records give them to the writer (the
-    // caller checked that every input has the same header facts).
+    // caller checked that every input has the same header facts), at the finest scale.
     io::LasOptions las = plan.las;
-    las.foreign = readers.front()->foreignHeader();
+    las.foreign = io::mergedForeignHeader(readers);
     if (las.foreign && !las.foreign->crs_problem.empty()) warn(las.foreign->crs_problem + "; written without a CRS");
     io::CloudWriter writer(out, io::CloudFormat::Copc, origin, readers.front()->fields(), las, &plan.copc);
     for (auto& reader : readers) {

@@ -18,6 +18,12 @@ class CloudReader;
 
 namespace app {
 
+/// Throws Error("<command>: <reader>: its LAS point layout or CRS (...) differs from
+/// <first>'s (...); merged inputs must be alike"), "...: its fields (...) differ from
+/// ...", or "...: its origin lies more than 10 km from <first>'s; ..." when `reader`'s
+/// points cannot be merged into one index with `first`'s.
+void checkMergeable(const io::CloudReader& reader, const io::CloudReader& first, std::string_view command);
+
 /// The COPC writer's options for indexing within `budget_bytes`.
 struct IndexPlan {
     io::LasOptions las;

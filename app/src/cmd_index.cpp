@@ -34,10 +34,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Inputs further than this from the first one's origin would lose the millimetre in the
-// points' float coordinates relative to that origin.
-constexpr double kMaxOriginShift_m = 10000.0;
-
 struct IndexCli {
     std::vector<std::string> inputs;
     std::string out;
@@ -47,33 +43,21 @@ struct IndexCli {
     long long node_points = io::kDefaultMaxNodePoints;
 };
 
-std::string fieldList(const core::CloudFields& f) {
-    std::string s;
-    for (const std::string& name : core::fieldNames(f)) s += (s.empty() ? "" : " ") + name;
-    return s;
-}
-
-bool sameFields(const core::CloudFields& a, const core::CloudFields& b) {
-    return a.rgb == b.rgb && a.label == b.label && a.view == b.view && a.range == b.range &&
-           a.intensity == b.intensity && a.returns == b.returns && a.incidence == b.incidence &&
-           a.scan_angle == b.scan_angle && a.height_above_ground == b.height_above_ground;
-}
-
-// Whether two inputs' side records and CRS are alike (both null: clouds we generated, or
-// formats without them).
-bool sameForeignHeader(const core::ForeignHeader* a, const core::ForeignHeader* b) {
-    if (!a || !b) return a == b;
-    return a->nir == b->nir && a->extra_bytes == b->extra_bytes && a->extra_bytes_vlr == b->extra_bytes_vlr &&
-           a->wkt == b->wkt;
-}
-
-// An input's layout in words, for the refusal of unlike inputs.
-std::string foreignLayout(const io::CloudReader& r) {
-    const auto h = r.foreignHeader();
-    if (!h) return "no side records: generated, PCD or PLY";
-    return "point format " + std::to_string(h->point_format) + ", " + std::to_string(h->extra_bytes) +
-           " extra bytes, " +
-           (h->wkt.empty() ? std::string("no CRS") : "WKT of " + std::to_string(h->wkt.size()) + " bytes");
+// The inputs' LAS grids, where they differ: the output keeps one, the finest
+// (io::mergedForeignHeader), and says so, since the other inputs' integer coordinates
+// are then rewritten on it.
+void warnOfScales(const std::vector<std::unique_ptr<io::CloudReader>>& readers) {
+    const auto merged = io::mergedForeignHeader(readers);
+    if (!merged) return;
+    bool differ = false;
+    for (const auto& r : readers)
+        if (const auto h = r->foreignHeader(); h && (h->scale != merged->scale || h->offset != merged->offset))
+            differ = true;
+    if (!differ) return;
+    char grid[160];
+    std::snprintf(grid, sizeof grid, "scale %.9g %.9g %.9g, offset %.9g %.9g %.9g", merged->scale.x, merged->scale.y,
+                  merged->scale.z, merged->offset.x, merged->offset.y, merged->offset.z);
+    warn("index: the inputs' LAS scales or offsets differ; written at the finest scale (" + std::string(grid) + ")");
 }
 
 // "N rules broken" for the distinct rules of `findings`, with the lines they take on stdout
@@ -141,24 +125,12 @@ void run(IndexCli& cli) {
         inputs.addFile(in);
         readers.push_back(std::make_unique<io::CloudReader>(in, io::SideRecords::Keep));
         const io::CloudReader& r = *readers.back();
-        const io::CloudReader& first = *readers.front();
-        if (!sameForeignHeader(r.foreignHeader().get(), first.foreignHeader().get()))
-            throw core::Error("index: " + r.where() + ": its LAS point layout or CRS (" + foreignLayout(r) +
-                              ") differs from " + first.where() + "'s (" + foreignLayout(first) +
-                              "); merged inputs must be alike");
-        if (!sameFields(r.fields(), first.fields()))
-            throw core::Error("index: " + r.where() + ": its fields (" + fieldList(r.fields()) + ") differ from " +
-                              first.where() + "'s (" + fieldList(first.fields()) +
-                              "); merged inputs must carry the same fields");
-        const glm::dvec3 shift = r.origin() - first.origin();
-        if (!(std::fabs(shift.x) <= kMaxOriginShift_m && std::fabs(shift.y) <= kMaxOriginShift_m &&
-              std::fabs(shift.z) <= kMaxOriginShift_m))
-            throw core::Error("index: " + r.where() + ": its origin lies more than 10 km from " + first.where() +
-                              "'s; merged inputs must lie within 10 km of each other");
+        checkMergeable(r, *readers.front(), "index");
         bound += r.pointsBound();
     }
     createParentFolders(out, "index: --out");
     platform::checkWritableDestination(out, inputs);
+    warnOfScales(readers);
 
     const auto side = readers.front()->foreignHeader();
     const IndexPlan plan = planIndex(budget, cli.memory_mb, threads, "index", false, std::uint32_t(cli.node_points),
