@@ -7,10 +7,15 @@
 // file (or --scene) the
 // cloud is generated here, in memory, by sim::generateCloud on a worker thread and handed to
 // the viewer through viewer::CloudFeed: the app links sim, the viewer never links Embree.
+// Several files, or a folder of LAS/LAZ/COPC tiles, are viewed as one survey through one
+// COPC index of them all (view_index.hpp). The ground under a cloud file whose points do
+// not carry their height above ground is built in the background while the view runs
+// (view_terrain.hpp), for the above-ground colours.
 #include "cli_common.hpp"
 #include "cloud_budget.hpp"
 #include "commands.hpp"
 #include "view_index.hpp"
+#include "view_terrain.hpp"
 
 #include <core/error.hpp>
 #include <io/candidates_file.hpp>
@@ -19,6 +24,7 @@
 #include <io/scene_file.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/cleanup.hpp>
+#include <platform/input_set.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
 #include <sim/ground_units.hpp>
@@ -28,6 +34,7 @@
 #include <viewer/viewer.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -37,11 +44,21 @@
 #include <string>
 #include <system_error>
 #include <thread>
+#include <vector>
 
 namespace app {
 
+namespace fs = std::filesystem;
+
 namespace {
+
+// The most tiles a folder or a command line may give one survey.
+constexpr std::size_t kMostSurveyFiles = 65536;
+
 struct ViewArgs {
+    std::vector<std::string> clouds;  // as given: files, or one folder of tiles
+    std::vector<fs::path> survey;     // several files viewed as one (from clouds)
+    std::string survey_folder;        // the folder they came from, if one
     std::string cloud, scene, script, screenshot, log_json, mirror = "both", colour = "file";
     std::string rasterizer = "auto";
     long frames = 0;
@@ -156,13 +173,167 @@ double timeLeft(double timeout_s, std::chrono::steady_clock::time_point start) {
     return std::max(0.001, timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
+// Whether `name` ends as a LAS, LAZ or COPC file's does (.las, .laz, .copc.laz; any case).
+bool isLasName(const std::string& name) {
+    std::string lower = name;
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return lower.size() > 4 && (lower.ends_with(".las") || lower.ends_with(".laz"));
+}
+
+// The command line's clouds into one cloud file (a.cloud) or a survey of several
+// (a.survey): a folder gives its LAS/LAZ/COPC files, in name order.
+void resolveClouds(ViewArgs& a) {
+    const auto isFolder = [](const std::string& path) {
+        std::error_code ec;
+        return fs::is_directory(path, ec);
+    };
+    if (a.clouds.size() == 1 && !isFolder(a.clouds.front())) {
+        a.cloud = a.clouds.front();
+        return;
+    }
+    for (const std::string& given : a.clouds) {
+        if (!isFolder(given)) {
+            a.survey.emplace_back(given);
+            continue;
+        }
+        if (a.clouds.size() > 1)
+            throw core::Error("view: '" + core::printable(given, 400) +
+                              "' is a folder; allowed: one folder of tiles alone, or cloud files");
+        a.survey_folder = given;
+        std::vector<fs::path> tiles;
+        std::error_code ec;
+        for (fs::directory_iterator it(given, ec), end; !ec && it != end; it.increment(ec)) {
+            if (!isLasName(it->path().filename().string()) || !it->is_regular_file()) continue;
+            if (tiles.size() >= kMostSurveyFiles)
+                throw core::Error("view: folder '" + core::printable(given, 400) + "' holds more than " +
+                                  std::to_string(kMostSurveyFiles) + " LAS/LAZ files; allowed at most that many");
+            tiles.push_back(it->path());
+        }
+        if (ec) throw core::Error("view: folder '" + core::printable(given, 400) + "': " + ec.message());
+        if (tiles.empty())
+            throw core::Error("view: folder '" + core::printable(given, 400) +
+                              "' holds no LAS, LAZ or COPC file; allowed: a folder of .las/.laz tiles");
+        std::sort(tiles.begin(), tiles.end());
+        a.survey = std::move(tiles);
+    }
+    if (a.survey.size() > kMostSurveyFiles)
+        throw core::Error("view: " + std::to_string(a.survey.size()) + " cloud files; allowed at most " +
+                          std::to_string(kMostSurveyFiles));
+    if (a.survey.size() == 1) {  // a folder of one tile
+        a.cloud = a.survey.front().string();
+        a.survey.clear();
+    }
+}
+
+// A file's CRS and units in words, for the refusal of unlike files.
+std::string crsWords(const io::LasCrs& crs) {
+    if (crs.source.empty()) return "no CRS";
+    std::string s = crs.name.empty() ? std::string("unnamed CRS") : "'" + crs.name + "'";
+    if (crs.epsg != 0) s += " EPSG:" + std::to_string(crs.epsg);
+    if (const std::string units = sim::describeUnits(crs); !units.empty()) s += ", " + units;
+    return s;
+}
+
+// Throws Error("view: <file>: its CRS (...) differs from <first>'s (...); ...") unless
+// every file of the survey declares the same CRS and units.
+void checkSurveyCrs(const std::vector<fs::path>& files) {
+    const std::string first = crsWords(io::readCloudCrs(files.front(), "view"));
+    for (const fs::path& file : files) {
+        const std::string crs = crsWords(io::readCloudCrs(file, "view"));
+        if (crs != first)
+            throw core::Error("view: " + core::printable(file.string(), 400) + ": its CRS (" + crs + ") differs from " +
+                              core::printable(files.front().string(), 400) + "'s (" + first +
+                              "); files viewed as one survey must share their CRS and units");
+    }
+}
+
+// The ground under `cloud` for `--colour above-ground`, built from `read` (the file the
+// viewer reads: the cloud itself or its index) on a thread of its own, unless the cloud's
+// points carry their height above ground. Only when the view starts in that mode: the
+// sample read and the fit take a core for a few seconds, which a view in another mode
+// should not pay. A cloud whose units cannot take lengths in metres gets the feed's
+// failure at once. Null when no terrain is built.
+std::unique_ptr<TerrainProducer> startTerrain(viewer::ViewerOptions& o, const fs::path& cloud, const fs::path& read,
+                                              const std::string& what) {
+    if (o.style.colour != viewer::ColourMode::AboveGround || carriesHeightAboveGround(cloud)) return nullptr;
+    o.terrain = std::make_shared<viewer::TerrainFeed>();
+    sim::CoordinateUnits units;
+    try {
+        units = sim::readCoordinateUnits(cloud, "view");
+    } catch (const core::Error& e) {
+        o.terrain->fail(e.what());
+        return nullptr;
+    }
+    return std::make_unique<TerrainProducer>(read, units, what, o.terrain);
+}
+
+// Several cloud files viewed as one survey: checked as inputs, alike in CRS and units,
+// indexed together (or their cached index found) and read node by node.
+int runSurvey(const ViewArgs& a, std::chrono::steady_clock::time_point start) {
+    std::vector<platform::RunPath> paths;
+    platform::InputSet inputs;
+    if (!a.survey_folder.empty())
+        paths.push_back({"cloud folder", a.survey_folder, platform::PathRole::InputFolder,
+                         [](const std::string& name) { return isLasName(name); }});
+    for (const fs::path& file : a.survey) {
+        paths.push_back({"cloud", file, platform::PathRole::Input, {}});
+        inputs.addFile(file);
+    }
+    for (const auto& [option, path] :
+         {std::pair<const char*, const std::string*>{"--script", &a.script}, {"--candidates", &a.candidates}})
+        paths.push_back({option, *path, platform::PathRole::Input, {}});
+    paths.push_back({"--screenshot", a.screenshot, platform::PathRole::Output, {}});
+    paths.push_back({"--log-json", a.log_json, platform::PathRole::Output, {}});
+    paths.push_back({"--index-to", a.index.index_to, platform::PathRole::Output, {}});
+    platform::checkDistinctPaths("view", paths);
+    viewer::ViewerOptions o = viewerOptions(a);
+    if (!(a.cache_mb >= 1.0 / 64.0 && a.cache_mb <= 1048576.0))
+        throw core::Error("view: --cache-mb " + std::to_string(a.cache_mb) + " is not in [1/64, 1048576]");
+    validate(a.index);
+    if (a.index.in_core)
+        throw core::Error(
+            "view: --in-core applies to one cloud file; allowed: several files viewed through their index");
+    for (const fs::path& file : a.survey)
+        platform::checkInputFile(file, "view: cloud '" + core::printable(file.string(), 400) + "'");
+    checkSurveyCrs(a.survey);
+    o.units = sim::describeUnits(io::readCloudCrs(a.survey.front(), "view"));
+    prepareOutputFile(o.screenshot, "view: --screenshot");
+    prepareOutputFile(o.log_json, "view: --log-json");
+    for (const std::string& out : {o.screenshot.string(), o.log_json.string(), a.index.index_to})
+        if (!out.empty()) inputs.checkNotAnInput(out);
+    viewer::OpenSourceOptions open;
+    open.copc.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);
+    open.copc.hierarchy_bytes = sim::memoryBudgetBytes(a.memory_mb, "view");
+    ViewCloud index = indexSurveyForView(a.survey, a.index);
+    viewer::OpenedCloud opened;
+    try {
+        opened = viewer::openPointSource(index.copc, viewer::SourcePath::Copc, open);
+    } catch (const core::Error& e) {
+        if (index.path != ViewPath::IndexReused) throw;
+        warn(std::string("view: the cached index does not open (") + e.what() + "); indexing again");
+        index = indexSurveyForView(a.survey, a.index, true);
+        opened = viewer::openPointSource(index.copc, viewer::SourcePath::Copc, open);
+    }
+    viewer::CopcSource& source = *opened.copc;
+    std::fprintf(stderr,
+                 "ladarvr: view: %s is COPC: %zu nodes, %zu points, read node by node within a %.6g MB cache "
+                 "(the survey of %zu files)\n",
+                 core::printable(opened.file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(),
+                 a.cache_mb, a.survey.size());
+    const std::unique_ptr<TerrainProducer> terrain = startTerrain(o, a.survey.front(), opened.file, "the survey's");
+    o.timeout_s = timeLeft(o.timeout_s, start);
+    return viewer::runViewer(o, source);
+}
+
 int runView(const ViewArgs& a) {
     const auto start = std::chrono::steady_clock::now();
     const std::unique_ptr<platform::Watchdog> watchdog = viewerWatchdog("view", a.timeout_s);
-    if (!a.cloud.empty() && !a.scene.empty()) throw core::Error("view: give a cloud file or --scene, not both");
+    const bool from_file = !a.cloud.empty() || !a.survey.empty();
+    if (from_file && !a.scene.empty()) throw core::Error("view: give a cloud file or --scene, not both");
     const sim::OrbitOptions paper;
-    if (!a.cloud.empty() && (a.orbit.xres != paper.xres || a.orbit.yres != paper.yres || a.orbit.views != paper.views))
+    if (from_file && (a.orbit.xres != paper.xres || a.orbit.yres != paper.yres || a.orbit.views != paper.views))
         throw core::Error("view: --xres/--yres/--views apply to a generated cloud, not to a cloud file");
+    if (!a.survey.empty()) return runSurvey(a, start);
     platform::checkDistinctPaths("view", {{"cloud", a.cloud, platform::PathRole::Input, {}},
                                           {"--scene", a.scene, platform::PathRole::Input, {}},
                                           {"--script", a.script, platform::PathRole::Input, {}},
@@ -207,6 +378,7 @@ int runView(const ViewArgs& a) {
                      "(nodes of the root hierarchy page; %zu child pages read as the view reaches them)\n",
                      core::printable(opened.file.string(), 400).c_str(), source.nodeCount(), source.totalPoints(),
                      a.cache_mb, pages);
+        const std::unique_ptr<TerrainProducer> terrain = startTerrain(o, a.cloud, opened.file, "the file's");
         o.timeout_s = timeLeft(o.timeout_s, start);
         return viewer::runViewer(o, source);
     }
@@ -226,10 +398,12 @@ int runView(const ViewArgs& a) {
 
     viewer::OpenedCloud opened;
     std::thread generator;
+    std::unique_ptr<TerrainProducer> terrain;
     if (!a.cloud.empty()) {
         std::fprintf(stderr, "ladarvr: view: %s is not COPC: streamed and held whole\n",
                      core::printable(a.cloud, 400).c_str());
         opened = viewer::openPointSource(a.cloud, path, open);
+        terrain = startTerrain(o, a.cloud, a.cloud, "the file's");
     } else {
         opened.feed = std::make_unique<viewer::CloudFeed>();
         // LOD order of each chunk on the generator thread, not in the frame loop.
@@ -270,7 +444,9 @@ void registerView(CLI::App& cli) {
     CLI::App* cmd = cli.add_subcommand("view",
                                        "view a cloud in an OpenXR HMD with a desktop mirror, or on the desktop "
                                        "(space: automatic orbit <-> free mode; see docs/viewer.md)");
-    cmd->add_option("cloud", args->cloud, "PCD, PLY, LAS or LAZ cloud (default: generate the bundled demo scene)");
+    cmd->add_option("clouds", args->clouds,
+                    "PCD, PLY, LAS, LAZ or COPC cloud; several LAS/LAZ files, or a folder of them, are viewed as one "
+                    "survey through one index (default: generate the bundled demo scene)");
     cmd->add_option("--scene", args->scene, "generate this scene's cloud and view it");
     addCloudMemoryOption(*cmd, args->memory_mb, "a cloud file");
     cmd->add_option("--cache-mb", args->cache_mb,
@@ -365,6 +541,7 @@ void registerView(CLI::App& cli) {
         args->upload_budget_given = upload_budget->count() > 0;
         args->point_budget_given = point_budget->count() > 0;
         args->index.memory_mb = args->memory_mb;
+        resolveClouds(*args);
         const int status = runView(*args);
         if (status != 0) throw CLI::RuntimeError(status);
     });

@@ -5,7 +5,8 @@
 // or not this user's folder. An index is named "index-<key>.copc.laz", the key hashed from
 // the cloud's identity (device, inode, size, modification time in ns, canonical path) and
 // the index format's version, so a changed cloud gets a new index and the old one ages out
-// under the size bound. The index is written as every cloud is (a TempFile created
+// under the size bound; a survey of several files is keyed by every file's identity in
+// order. The index is written as every cloud is (a TempFile created
 // O_EXCL|O_NOFOLLOW in the cache folder, scratch files that vanish with the process, one
 // rename at the end): two views of the same cloud at once each write a whole index and
 // rename it into place, the last rename wins with the same bytes (the writer is
@@ -22,6 +23,7 @@
 #include <platform/atomic_file.hpp>
 #include <platform/cache_folder.hpp>
 #include <platform/safe_file.hpp>
+#include <platform/sha256.hpp>
 #include <sim/memory_budget.hpp>
 
 #include <algorithm>
@@ -41,6 +43,8 @@ namespace {
 // The index format's version: a writer that lays nodes out differently changes it, so
 // indexes of an older writer are not reused (and age out).
 constexpr std::string_view kIndexSalt = "ladarvr COPC index 1";
+// What a survey's key hashes before its files' keys, so no survey shares a single file's key.
+constexpr std::string_view kSurveySalt = "ladarvr COPC survey index 1\n";
 
 // "index-" + 32 lowercase hex digits + ".copc.laz": the only names the cache bound touches.
 bool isIndexName(const std::string& name) {
@@ -54,13 +58,18 @@ bool isIndexName(const std::string& name) {
 
 std::uint64_t mebibytes(double mb) { return static_cast<std::uint64_t>(mb * 1048576.0); }
 
-// Writes `cloud`'s index at `out` within --memory-mb, with a progress line at each quarter.
-void indexCloud(const fs::path& cloud, const fs::path& out, const ViewIndexOptions& o) {
-    const std::string shown = core::printable(cloud.string(), 400);
+// Writes the index of `clouds` (merged in order) at `out` within --memory-mb, with a
+// progress line at each quarter; `shown` names them in the lines.
+void indexClouds(const std::vector<fs::path>& clouds, const std::string& shown, const fs::path& out,
+                 const ViewIndexOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<std::unique_ptr<io::CloudReader>> readers;
-    readers.push_back(std::make_unique<io::CloudReader>(cloud));
-    const std::size_t total = readers.front()->pointsBound();
+    std::size_t total = 0;
+    for (const fs::path& cloud : clouds) {
+        readers.push_back(std::make_unique<io::CloudReader>(cloud));
+        checkMergeable(*readers.back(), *readers.front(), "view");
+        total += readers.back()->pointsBound();
+    }
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     const IndexPlan plan = planIndex(sim::memoryBudgetBytes(o.memory_mb, "view"), o.memory_mb, cores, "view", true);
     std::fprintf(stderr, "ladarvr: view: indexing %s (%zu points) into %s within %.6g MB\n", shown.c_str(), total,
@@ -80,6 +89,45 @@ void indexCloud(const fs::path& cloud, const fs::path& out, const ViewIndexOptio
     const std::size_t points = writeIndex(readers, out, plan, advance, read_done);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(stderr, "ladarvr: view: indexing %s: done, %zu points in %.3f s\n", shown.c_str(), points, seconds);
+}
+
+// The index of `clouds` (one file, or a survey's files) named by `key`, as
+// indexForView describes; `shown` names the cloud or the survey in the lines.
+ViewCloud findOrIndex(const std::vector<fs::path>& clouds, const std::string& shown, const std::string& key,
+                      const ViewIndexOptions& o, bool force_reindex) {
+    if (!o.index_to.empty()) {
+        const fs::path out = o.index_to;
+        if (io::formatForPath(out, "view: --index-to") != io::CloudFormat::Copc)
+            throw core::Error("view: --index-to " + core::printable(o.index_to, 400) +
+                              ": allowed a name ending in .copc.laz");
+        createParentFolders(out, "view: --index-to");
+        platform::checkWritableDestination(out);
+        indexClouds(clouds, shown, out, o);
+        std::fprintf(stderr, "ladarvr: view: %s is not COPC: indexed now into %s (--index-to)\n", shown.c_str(),
+                     core::printable(out.string(), 400).c_str());
+        return {ViewPath::IndexedNow, out};
+    }
+    const fs::path folder = platform::userCacheFolder("ladarvr", "view: index cache");
+    platform::makeCacheFolder(folder, "view: index cache");
+    const std::string name = "index-" + key + ".copc.laz";
+    const fs::path index = folder / name;
+    const std::string shown_index = core::printable(index.string(), 400);
+    ViewCloud v;
+    if (!force_reindex && platform::useCachedFile(index, "view: index cache: index")) {
+        std::fprintf(stderr, "ladarvr: view: %s is not COPC: its cached index %s is reused\n", shown.c_str(),
+                     shown_index.c_str());
+        v = {ViewPath::IndexReused, index};
+    } else {
+        indexClouds(clouds, shown, index, o);
+        std::fprintf(stderr, "ladarvr: view: %s is not COPC: indexed now into %s\n", shown.c_str(),
+                     shown_index.c_str());
+        v = {ViewPath::IndexedNow, index};
+    }
+    for (const std::string& gone : platform::boundCacheFolder(folder, isIndexName, mebibytes(o.index_cache_mb), name))
+        std::fprintf(stderr, "ladarvr: view: index cache: removed %s (least recently used; --index-cache-mb %s)\n",
+                     core::printable((folder / gone).string(), 400).c_str(),
+                     core::shownNumber(o.index_cache_mb).c_str());
+    return v;
 }
 
 }  // namespace
@@ -108,41 +156,22 @@ bool shouldIndex(const fs::path& cloud, const ViewIndexOptions& o) {
 }
 
 ViewCloud indexForView(const fs::path& cloud, const ViewIndexOptions& o, bool force_reindex) {
-    const std::string shown = core::printable(cloud.string(), 400);
-    ViewCloud v;
-    if (!o.index_to.empty()) {
-        const fs::path out = o.index_to;
-        if (io::formatForPath(out, "view: --index-to") != io::CloudFormat::Copc)
-            throw core::Error("view: --index-to " + core::printable(o.index_to, 400) +
-                              ": allowed a name ending in .copc.laz");
-        createParentFolders(out, "view: --index-to");
-        platform::checkWritableDestination(out);
-        indexCloud(cloud, out, o);
-        std::fprintf(stderr, "ladarvr: view: %s is not COPC: indexed now into %s (--index-to)\n", shown.c_str(),
-                     core::printable(out.string(), 400).c_str());
-        return {ViewPath::IndexedNow, out};
+    const std::string key = o.index_to.empty()
+                                ? platform::identityKey(platform::fileIdentity(cloud, "view: cloud"), kIndexSalt)
+                                : std::string();
+    return findOrIndex({cloud}, core::printable(cloud.string(), 400), key, o, force_reindex);
+}
+
+ViewCloud indexSurveyForView(const std::vector<fs::path>& clouds, const ViewIndexOptions& o, bool force_reindex) {
+    std::string key;
+    if (o.index_to.empty()) {
+        // Every file's own key, in order, hashed into one of the same form.
+        std::string keys(kSurveySalt);
+        for (const fs::path& cloud : clouds)
+            keys += platform::identityKey(platform::fileIdentity(cloud, "view: cloud"), kIndexSalt) + "\n";
+        key = platform::sha256Hex(keys).substr(0, 32);
     }
-    const fs::path folder = platform::userCacheFolder("ladarvr", "view: index cache");
-    platform::makeCacheFolder(folder, "view: index cache");
-    const std::string name =
-        "index-" + platform::identityKey(platform::fileIdentity(cloud, "view: cloud"), kIndexSalt) + ".copc.laz";
-    const fs::path index = folder / name;
-    const std::string shown_index = core::printable(index.string(), 400);
-    if (!force_reindex && platform::useCachedFile(index, "view: index cache: index")) {
-        std::fprintf(stderr, "ladarvr: view: %s is not COPC: its cached index %s is reused\n", shown.c_str(),
-                     shown_index.c_str());
-        v = {ViewPath::IndexReused, index};
-    } else {
-        indexCloud(cloud, index, o);
-        std::fprintf(stderr, "ladarvr: view: %s is not COPC: indexed now into %s\n", shown.c_str(),
-                     shown_index.c_str());
-        v = {ViewPath::IndexedNow, index};
-    }
-    for (const std::string& gone : platform::boundCacheFolder(folder, isIndexName, mebibytes(o.index_cache_mb), name))
-        std::fprintf(stderr, "ladarvr: view: index cache: removed %s (least recently used; --index-cache-mb %s)\n",
-                     core::printable((folder / gone).string(), 400).c_str(),
-                     core::shownNumber(o.index_cache_mb).c_str());
-    return v;
+    return findOrIndex(clouds, "the survey of " + std::to_string(clouds.size()) + " files", key, o, force_reindex);
 }
 
 }  // namespace app

@@ -1,11 +1,12 @@
 // app/src/view_index.hpp: the path a cloud file that is not COPC takes in `view`: streamed
 // and held whole (small clouds), or indexed into COPC first (once, into the user's cache
-// folder, or into --index-to) and then read node by node. docs/viewer.md, "Which path a
-// cloud takes".
+// folder, or into --index-to) and then read node by node; several files viewed as one
+// survey always take the second path. docs/viewer.md, "Which path a cloud takes".
 #pragma once
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace app {
 
@@ -49,5 +50,13 @@ bool shouldIndex(const std::filesystem::path& cloud, const ViewIndexOptions& o);
 /// (it did not open). Throws Error("view: ...") naming the cache folder, the index or the
 /// option.
 ViewCloud indexForView(const std::filesystem::path& cloud, const ViewIndexOptions& o, bool force_reindex = false);
+
+/// The same for several cloud files viewed as one survey (their points merged, in the
+/// order given): one index, cached under a key from every file's identity (a changed file
+/// gives another), or written into --index-to. The lines name "the survey of N files".
+/// Throws Error("view: ...") as indexForView, and as `index` when the files cannot be
+/// merged (their fields differ, or they lie more than 10 km apart).
+ViewCloud indexSurveyForView(const std::vector<std::filesystem::path>& clouds, const ViewIndexOptions& o,
+                             bool force_reindex = false);
 
 }  // namespace app
