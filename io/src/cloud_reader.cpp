@@ -82,6 +82,20 @@ std::size_t CloudReader::declaredPoints() const { return format_->declared; }
 std::size_t CloudReader::pointsBound() const { return format_->bound; }
 std::shared_ptr<const core::ForeignHeader> CloudReader::foreignHeader() const { return format_->foreign; }
 
+std::shared_ptr<const core::ForeignHeader> mergedForeignHeader(
+    const std::vector<std::unique_ptr<CloudReader>>& readers) {
+    if (readers.empty() || !readers.front()->foreignHeader()) return nullptr;
+    const auto finest = [](const core::ForeignHeader& h) { return std::min({h.scale.x, h.scale.y, h.scale.z}); };
+    std::shared_ptr<const core::ForeignHeader> best = readers.front()->foreignHeader();
+    for (const auto& r : readers)
+        if (const auto h = r->foreignHeader(); h && finest(*h) > 0.0 && finest(*h) < finest(*best)) best = h;
+    if (best == readers.front()->foreignHeader()) return best;
+    auto merged = std::make_shared<core::ForeignHeader>(*readers.front()->foreignHeader());
+    merged->scale = best->scale;
+    merged->offset = best->offset;
+    return merged;
+}
+
 bool CloudReader::nextChunk(std::vector<CloudPoint>& out, std::vector<unsigned char>& records, std::size_t max_points) {
     if (!format_->foreign) return nextChunk(out, max_points);
     const std::size_t stride = format_->foreign->stride();

@@ -4,10 +4,13 @@ and `ladarvr ground` (to LAS and LAZ), read back by laspy and compared field by 
 with the input.
 
 Usage: real_fields_test.py LADARVR SCRATCH_DIR DATA_DIR (tests/data/real)
-  1. every LAS 1.2 file of DATA_DIR, and a LAS 1.4 point format 8 file written here from
+  1. every LAS 1.2 file of DATA_DIR, a LAS 1.4 point format 8 file written here from
      one of them (near infrared, classes above 31, the four class flags, the scanner
-     channel, user data, two extra bytes fields, a WKT record), through `index` and
-     `ground`: positions (to the millimetre, the outputs' scale), intensity, returns,
+     channel, user data, two extra bytes fields, one with a no-data value, minimum,
+     maximum, scale and offset, a WKT record), and one rewritten at a scale finer than
+     1 mm (0.25 mm, 0.1 mm on z), through `index` and `ground`: the input's scale and
+     offset (COPC: its finest scale on every axis) and integer coordinates, its extra
+     bytes descriptors byte for byte, positions, intensity, returns,
      scan angle, user data, point source ID, GPS time, 16-bit colour, near infrared, the
      class flags and every extra bytes field as in the input; the COPC file holds the
      same points in its own order, matched by sorting both;
@@ -21,6 +24,7 @@ Usage: real_fields_test.py LADARVR SCRATCH_DIR DATA_DIR (tests/data/real)
 import json
 import os
 import shutil
+import struct
 import subprocess
 import sys
 
@@ -74,9 +78,10 @@ def make_las14(source, out):
     new.nir = rng.integers(0, 65535, n, dtype=np.uint16)
     new.red = rng.integers(0, 65535, n, dtype=np.uint16)
     new.add_extra_dim(laspy.ExtraBytesParams(name="Amplitude", type=np.float32, description="pulse amplitude"))
-    new.add_extra_dim(laspy.ExtraBytesParams(name="Deviation", type=np.int16, scales=[0.1], offsets=[0.0]))
+    new.add_extra_dim(laspy.ExtraBytesParams(name="Deviation", type=np.int16, description="deviation in tenths",
+                                             scales=[0.1], offsets=[2.5]))
     new.Amplitude = rng.random(n).astype(np.float32) * 40
-    new.Deviation = rng.integers(-300, 300, n) * 0.1
+    new.Deviation = rng.integers(-300, 300, n) * 0.1 + 2.5
     wkt = (b'PROJCS["NAD83 / Mississippi West (ftUS)",GEOGCS["NAD83",DATUM["North_American_Datum_1983",'
            b'SPHEROID["GRS 1980",6378137,298.257222101]],PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433]],'
            b'PROJECTION["Transverse_Mercator"],UNIT["US survey foot",0.304800609601219],'
@@ -85,7 +90,77 @@ def make_las14(source, out):
     new.header.vlrs.append(laspy.VLR("LASF_Projection", 2112, "OGC WKT", wkt))
     new.header.global_encoding.wkt = True
     new.write(out)
+    # laspy writes no no-data value, minimum or maximum: they are set in the file.
+    data = bytearray(open(out, "rb").read())
+    at = data.index(b"Deviation\0") - 4
+    data[at + 3] |= 1 | 2 | 4
+    data[at + 40:at + 48] = struct.pack("<q", -32768)
+    data[at + 64:at + 72] = struct.pack("<q", -300)
+    data[at + 88:at + 96] = struct.pack("<q", 300)
+    open(out, "wb").write(bytes(data))
     return wkt
+
+
+def make_fine(source, out):
+    """`source` at 0.25 mm (0.1 mm on z) with an offset off its own: a sub-millimetre grid."""
+    las = laspy.read(source)
+    x, y, z = np.asarray(las.x), np.asarray(las.y), np.asarray(las.z)
+    las.header.scales = np.array([0.00025, 0.00025, 0.0001])
+    las.header.offsets = np.asarray(las.header.offsets) + np.array([12.3456, -7.891, 0.5])
+    las.x, las.y, las.z = x + 0.00075 * (np.arange(len(x)) % 13), y, z + 0.0003 * (np.arange(len(x)) % 7)
+    las.write(out)
+
+
+def extra_descriptors(file):
+    """The 192-byte descriptors of the file's extra bytes VLR, as they are in the file."""
+    data = open(file, "rb").read()
+    header_size, = struct.unpack_from("<H", data, 94)
+    count, = struct.unpack_from("<I", data, 100)
+    at = header_size
+    for _ in range(count):
+        user = data[at + 2:at + 18].rstrip(b"\0")
+        record, length = struct.unpack_from("<HH", data, at + 18)
+        if user == b"LASF_Spec" and record == 4:
+            payload = data[at + 54:at + 54 + length]
+            return [payload[i:i + 192] for i in range(0, len(payload) - 191, 192)]
+        at += 54 + length
+    return []
+
+
+def check_descriptors(name, source, out, what):
+    """Each of the input's extra bytes descriptors is the output's, byte for byte, in the
+    same place; a HeightAboveGround the output adds comes after them."""
+    din, dout = extra_descriptors(source), extra_descriptors(out)
+    check(dout[:len(din)] == din, f"{name} {what}: the extra bytes descriptors are not the input's: "
+          f"{[d[4:36].rstrip(bytes(1)) for d in din]} in, {[d[4:36].rstrip(bytes(1)) for d in dout]} out")
+
+
+def common_step(scales):
+    """COPC's one scale for these: the finest, or the largest fraction 1/n of it that
+    divides all three (0.25 mm and 0.1 mm: 0.05 mm)."""
+    finest = scales.min()
+    for n in range(1, 17):
+        ratios = scales / (finest / n)
+        if np.all(np.abs(ratios - np.round(ratios)) <= 1e-9 * ratios):
+            return finest / n
+    return finest
+
+
+def check_integers(name, src, out, fin, fout, what, one_scale):
+    """The input's scale and offset are the output's (a COPC file: the finest of the
+    input's scales on every axis), and so are its integer coordinates (scaled up by a whole
+    factor where the scale is finer)."""
+    s_in, s_out = np.asarray(src.header.scales), np.asarray(out.header.scales)
+    o_in, o_out = np.asarray(src.header.offsets), np.asarray(out.header.offsets)
+    want = np.full(3, common_step(s_in)) if one_scale else s_in
+    check(np.array_equal(s_out, want) and np.array_equal(o_out, o_in),
+          f"{name} {what}: scale {s_out} and offset {o_out}, not {want} and the input's {o_in}")
+    if len(fin["X"]) != len(fout["X"]) or not np.array_equal(s_out, want):
+        return
+    for k, axis in enumerate("XYZ"):
+        ratio = int(round(s_in[k] / s_out[k]))
+        same = np.array_equal(fout[axis], fin[axis] * ratio)
+        check(same, f"{name} {what}: integer {axis} not the input's (times {ratio})")
 
 
 FIELDS = ["intensity", "return_number", "number_of_returns", "user_data", "point_source_id"]
@@ -112,6 +187,7 @@ def fields_of(las):
     for name in las.point_format.extra_dimension_names:
         f["extra:" + name] = np.asarray(las[name], dtype=float)
     f["x"], f["y"], f["z"] = np.asarray(las.x), np.asarray(las.y), np.asarray(las.z)
+    f["X"], f["Y"], f["Z"] = (np.asarray(las[a], dtype=np.int64) for a in "XYZ")
     f["classification"] = np.asarray(las.classification)
     return f
 
@@ -120,7 +196,7 @@ def sorted_by_position(f, scale):
     """f's arrays in the order of (GPS time, intensity, x, y, z at 1 cm or the input's
     scale): the GPS time first, where there is one, since a position rounded again may
     cross a rounding step."""
-    keys = []
+    keys = [f["z"], f["y"], f["x"]]  # the last ties broken by the exact position
     for axis in ["z", "y", "x"]:
         keys.append(np.round(f[axis] / max(scale, 0.01)).astype(np.int64))
     keys.append(f["intensity"])
@@ -139,7 +215,7 @@ def compare(name, fin, fout, what, classes="same"):
         err = np.max(np.abs(fin[axis] - fout[axis])) if n else 0.0
         check(err <= 0.0015, f"{name} {what}: {axis} off by up to {err}")
     for key, value in fin.items():
-        if key in ("x", "y", "z", "classification"):
+        if key in ("x", "y", "z", "X", "Y", "Z", "classification"):
             continue
         if key == "overlap" and key not in fout:
             continue
@@ -204,7 +280,9 @@ inputs = [
 EPSG = {"4_6_crop.las": 2903, "FSite8_orig-utm.laz": 32632}
 las14 = path("sample_c_14.las")
 make_las14(os.path.join(data, "sample_c.las"), las14)
-cases = [(os.path.join(data, f), holds) for f, holds in inputs] + [(las14, None)]
+fine = path("warsaw_fine.las")
+make_fine(os.path.join(data, "warsaw_small.las"), fine)
+cases = [(os.path.join(data, f), holds) for f, holds in inputs] + [(las14, None), (fine, None)]
 
 for source, wkt_holds in cases:
     name = os.path.basename(source)
@@ -222,7 +300,10 @@ for source, wkt_holds in cases:
         out = laspy.read(stem + ".copc.laz")
         check(out.header.point_format.id in (6, 7, 8), f"{name} index: point format {out.header.point_format.id}")
         check(not ours(out), f"{name} index: our fields {ours(out)} added to a file we did not write")
-        compare(name, sorted_by_position(fin, scale), sorted_by_position(fields_of(out), scale), "index")
+        fin_sorted, fout_sorted = sorted_by_position(fin, scale), sorted_by_position(fields_of(out), scale)
+        compare(name, fin_sorted, fout_sorted, "index")
+        check_integers(name, src, out, fin_sorted, fout_sorted, "index", one_scale=True)
+        check_descriptors(name, source, stem + ".copc.laz", "index")
         check_crs(name, src, out, "index", wkt_holds)
         info = run("info", "--json", stem + ".copc.laz")
         check(info.returncode == 0, f"{name}: info of the index failed: {info.stderr.strip()}")
@@ -241,6 +322,8 @@ for source, wkt_holds in cases:
         check(hag is not None and np.all(np.isfinite(hag)), f"{name} ground: no finite HeightAboveGround field")
         check(not ours(out), f"{name} ground: our fields {ours(out)} added to a file we did not write")
         compare(name, fin, fout, "ground", classes="ground")
+        check_integers(name, src, out, fin, fout, "ground", one_scale=False)
+        check_descriptors(name, source, stem + "-ground" + ext, "ground")
         check_crs(name, src, out, "ground", wkt_holds)
         # Back again: a ground output read and indexed keeps its HeightAboveGround.
         r = run("index", stem + "-ground" + ext, "--out", stem + "-ground.copc.laz")
@@ -249,18 +332,21 @@ for source, wkt_holds in cases:
             back = laspy.read(stem + "-ground.copc.laz")
             check(list(back.point_format.extra_dimension_names) == list(out.point_format.extra_dimension_names),
                   f"{name}: ground -> index changed the extra bytes: {list(back.point_format.extra_dimension_names)}")
-            f2 = fields_of(out)
-            compare(name, sorted_by_position(f2, scale), sorted_by_position(fields_of(back), scale), "ground -> index")
+            f2, f3 = sorted_by_position(fields_of(out), scale), sorted_by_position(fields_of(back), scale)
+            compare(name, f2, f3, "ground -> index")
+            check_integers(name, out, back, f2, f3, "ground -> index", one_scale=True)
+            check_descriptors(name, stem + "-ground" + ext, stem + "-ground.copc.laz", "ground -> index")
 
 # Past --memory-mb the COPC writer spills the points and builds the octree a part at a
 # time: the side records follow each point there too.
 fsite = os.path.join(data, "FSite8_orig-utm.laz")
-r = run("index", fsite, "--out", path("spilled.copc.laz"), "--memory-mb", "48", "--threads", "1", "--node-points", "1000")
-check(r.returncode == 0, f"index within 48 MB failed: {r.stderr.strip()}")
+r = run("index", fsite, "--out", path("spilled.copc.laz"), "--memory-mb", "60", "--threads", "1", "--node-points", "1000")
+check(r.returncode == 0, f"index within 60 MB failed: {r.stderr.strip()}")
 if r.returncode == 0:
-    src = laspy.read(fsite)
-    compare("FSite8_orig-utm.laz", sorted_by_position(fields_of(src), 0.01),
-            sorted_by_position(fields_of(laspy.read(path("spilled.copc.laz"))), 0.01), "index --memory-mb 48")
+    src, spilled = laspy.read(fsite), laspy.read(path("spilled.copc.laz"))
+    fin_sorted, fout_sorted = sorted_by_position(fields_of(src), 0.01), sorted_by_position(fields_of(spilled), 0.01)
+    compare("FSite8_orig-utm.laz", fin_sorted, fout_sorted, "index --memory-mb 60")
+    check_integers("FSite8_orig-utm.laz", src, spilled, fin_sorted, fout_sorted, "index --memory-mb 60", one_scale=True)
 
 # --reclassify: every point not ground becomes class 1.
 r = run("ground", os.path.join(data, "sample_c.las"), "--out", path("reclassified.las"), "--reclassify")

@@ -56,6 +56,10 @@ std::vector<std::string> fieldNames(const CloudFields& f);
 /// generate; these travel beside the points (ForeignFields) only for files that have them.
 struct ForeignPoint {
     double gps_time_s = 0.0;
+    /// The integer coordinates the file gave the point (ForeignHeader's scale and offset):
+    /// a float position may not hold them (0.1 mm steps 1 km from the origin), so a writer
+    /// on the same grid gives them back from here while the point is where they say.
+    std::int32_t xyz[3] = {0, 0, 0};
     std::uint16_t rgb[3] = {0, 0, 0};  // colour at the file's 16-bit depth
     std::uint16_t nir = 0;             // near infrared (point formats 8 and 10)
     std::uint16_t point_source_id = 0;
@@ -64,14 +68,17 @@ struct ForeignPoint {
     /// scanner channel, 6 the scan direction, 7 the edge of flight line.
     std::uint8_t flags = 0;
     std::uint8_t user_data = 0;
-    std::uint8_t reserved[3] = {0, 0, 0};  // always 0: no padding bytes
+    std::uint8_t reserved[7] = {0, 0, 0, 0, 0, 0, 0};  // always 0: no padding bytes
 };
-static_assert(sizeof(ForeignPoint) == 24, "ForeignPoint must have no padding bytes");
+static_assert(sizeof(ForeignPoint) == 40, "ForeignPoint must have no padding bytes");
 
 /// What such a file holds once, for the writers: its CRS and its extra bytes' layout.
 struct ForeignHeader {
     int point_format = 0;  // the source's LAS point format (0..10)
     bool nir = false;      // its records hold near infrared
+    /// Its scale and offset per axis: writers that use them give each point the integer
+    /// coordinates it had. A scale of 0 leaves the writer's own (1 mm, the cloud origin).
+    glm::dvec3 scale{0.0}, offset{0.0};
     /// The payload of its extra bytes VLR (192-byte descriptors), as the file holds it, and
     /// the bytes a record has after its format's fields (all of them kept, described or not).
     std::string extra_bytes_vlr;

@@ -84,6 +84,13 @@ class CloudReader {
     std::size_t read_ = 0, dropped_ = 0;
 };
 
+/// The header facts for several readers' points written as one file: the first's (the
+/// caller checked that their layouts and CRS agree) at the finest scale among them, with
+/// that reader's offset, so that its points keep their integer coordinates (the finest
+/// scale: the least on any axis; the first of equals). Null where the first has none.
+std::shared_ptr<const core::ForeignHeader> mergedForeignHeader(
+    const std::vector<std::unique_ptr<CloudReader>>& readers);
+
 /// Calls fn(chunk) for each chunk reader.nextChunk() gives, in order, while the next chunk
 /// is read on a thread of its own: decoding the file overlaps what fn does with the
 /// points, and two chunks are held at once. fn may change or empty the chunk it is given.

@@ -37,13 +37,15 @@ struct CopcNodeWriter::Impl {
 
     Impl(const std::filesystem::path& path, const glm::dvec3& origin, const core::CloudFields& fields, int bits,
          const LasOptions& las)
-        : temp(path), record("output: " + path.string(), origin, fields, las), threads(std::max(las.threads, 0)) {
+        : temp(path),
+          record("output: " + path.string(), origin, fields, las, detail::LasRecord::Scales::One),
+          threads(std::max(las.threads, 0)) {
         if (bits < 1 || bits > 31)
             throw core::Error("output: " + path.string() + ": a COPC cube of 2^" + std::to_string(bits) +
                               " mm; allowed bits 1 to 31");
         cube.bits = bits;
         cube.corner.fill(-(std::int64_t(1) << (bits - 1)));
-        out = std::make_unique<detail::copc_writer::Assembler>(record, temp.file(), origin);
+        out = std::make_unique<detail::copc_writer::Assembler>(record, temp.file());
     }
 
     // One line naming the node and what is allowed.

@@ -81,12 +81,11 @@ struct Bounds {
 
 class CopcWriter final : public FormatWriter {
   public:
-    CopcWriter(platform::TempFile& file, LasRecord record, const glm::dvec3& origin, const core::CloudFields& fields,
-               const LasOptions& las, const CopcOptions& copc)
+    CopcWriter(platform::TempFile& file, LasRecord record, const core::CloudFields& fields, const LasOptions& las,
+               const CopcOptions& copc)
         : record_(std::move(record)),
           packing_(fields, PointPacking::Position::Quantized),
           file_(file.file()),
-          origin_(origin),
           copc_(copc),
           setup_{
               record_,
@@ -114,7 +113,7 @@ class CopcWriter final : public FormatWriter {
             return;
         }
         foreign_->append(records, points.size());
-        appendPoints(points);
+        appendPoints(points, records);
     }
 
     // The points are held in blocks, so that the store never reallocates (a vector that
@@ -129,7 +128,9 @@ class CopcWriter final : public FormatWriter {
         appendPoints(points);
     }
 
-    void appendPoints(std::span<const CloudPoint> points) {
+    // `records`: the points' side records where they came with them (their integer
+    // coordinates are then the records'), else null.
+    void appendPoints(std::span<const CloudPoint> points, const unsigned char* records = nullptr) {
         if (prescan_ == Prescan::Histogram) startDirect();
         if (prescan_ == Prescan::Direct) {
             direct_->append(points);
@@ -139,7 +140,7 @@ class CopcWriter final : public FormatWriter {
         if (prescan_ != Prescan::None && prescan_ != Prescan::Declined)
             throw Error(record_.where() + ": points appended before the prescan's two passes ended");
         if (spill_) {
-            spillAppend(points);
+            spillAppend(points, records);
             return;
         }
         while (!points.empty()) {
@@ -259,8 +260,12 @@ class CopcWriter final : public FormatWriter {
     // packed. The two rounds' bytes (at most 2 x 2^16 x 39 bytes a thread) fit in what the
     // bound sets aside for the octree's parts, unused until the spill is read back: the
     // points held in memory before the spill take 40 of the 64 bytes counted for each.
-    void spillAppend(std::span<const CloudPoint> points) {
+    // A foreign point's integer coordinates come from its side record: from `records`
+    // (the points', in their order), else from those appended to the store before.
+    void spillAppend(std::span<const CloudPoint> points, const unsigned char* records = nullptr) {
         const std::size_t size = packing_.size();
+        const std::size_t stride = foreign_ ? foreign_->stride() : 0;
+        if (foreign_ && !records) foreign_->flush();
         const std::size_t parts = std::size_t(setup_.threads) + 1;
         while (!points.empty()) {
             const std::size_t n = std::min(points.size(), kScratchBlock * parts);
@@ -272,7 +277,10 @@ class CopcWriter final : public FormatWriter {
             parallelFor(blocks, setup_.threads, [&](std::size_t b, std::size_t) {
                 Bounds local;  // on the worker's stack: the blocks' bounds share cache lines
                 for (std::size_t i = b * kScratchBlock; i < std::min(n, (b + 1) * kScratchBlock); ++i) {
-                    const std::array<std::int32_t, 3> xyz = record_.quantize(points[i], first + i);
+                    const unsigned char* side = !foreign_ ? nullptr
+                                                : records ? records + i * stride
+                                                          : foreign_->record(first + i);
+                    const std::array<std::int32_t, 3> xyz = record_.quantize(points[i], first + i, side);
                     local.widen(xyz);
                     packing_.packQuantized(points[i], xyz, packed.data() + i * size);
                 }
@@ -291,6 +299,7 @@ class CopcWriter final : public FormatWriter {
                     std::async(std::launch::async, [this, &packed] { spill_->write(packed.data(), packed.size()); });
             spill_next_ ^= 1;
             points = points.subspan(n);
+            if (records) records += n * stride;
         }
     }
 
@@ -317,7 +326,7 @@ class CopcWriter final : public FormatWriter {
         // The points' integer coordinates, as the records will hold them.
         std::vector<std::array<std::int32_t, 3>> xyz(count_);
         for (std::size_t i = 0; i < count_; ++i) {
-            xyz[i] = record_.quantize(point(i), i);
+            xyz[i] = record_.quantize(point(i), i, foreign_ ? foreign_->record(i) : nullptr);
             for (std::size_t k = 0; k < 3; ++k) {
                 lo_[k] = i ? std::min(lo_[k], xyz[i][k]) : xyz[i][k];
                 hi_[k] = i ? std::max(hi_[k], xyz[i][k]) : xyz[i][k];
@@ -325,7 +334,7 @@ class CopcWriter final : public FormatWriter {
         }
         const OctreeCube cube = enclosingCube(lo_, hi_);
         std::vector<OctreeNode> nodes = buildOctree(xyz, cube, setup_.cap, setup_.threads);
-        Assembler out(record_, file_, origin_);
+        Assembler out(record_, file_);
         compressNodes(
             setup_, nodes,
             [&](std::uint32_t p, laszip_point_struct& q, LasInventory& inventory) {
@@ -365,7 +374,7 @@ class CopcWriter final : public FormatWriter {
         Marks marks;
         sets.sample(tree_, cube, 0, marks);
         // The file, in depth-first order.
-        Assembler out(record_, file_, origin_);
+        Assembler out(record_, file_);
         chunks.rewind();
         PartsOutput(setup_, tree_, sets, chunks).write(out);
         out.count(inventory);
@@ -417,7 +426,6 @@ class CopcWriter final : public FormatWriter {
     LasRecord record_;
     PointPacking packing_;  // the scratch files' points, quantized
     std::FILE* file_;
-    glm::dvec3 origin_;
     CopcOptions copc_;
     WriterSetup setup_;
     std::vector<std::vector<CloudPoint>> blocks_;
@@ -445,8 +453,8 @@ class CopcWriter final : public FormatWriter {
 std::unique_ptr<FormatWriter> openCopcWriter(platform::TempFile& file, const glm::dvec3& origin,
                                              const core::CloudFields& fields, const LasOptions& las,
                                              const CopcOptions& copc) {
-    LasRecord record("output: " + file.destination().string(), origin, fields, las);
-    return std::make_unique<CopcWriter>(file, std::move(record), origin, fields, las, copc);
+    LasRecord record("output: " + file.destination().string(), origin, fields, las, LasRecord::Scales::One);
+    return std::make_unique<CopcWriter>(file, std::move(record), fields, las, copc);
 }
 
 }  // namespace io::detail

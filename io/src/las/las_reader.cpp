@@ -906,6 +906,8 @@ class LasReader final : public FormatReader {
         h->nir = point_format_ == 8 || point_format_ == 10;
         h->extra_bytes = record_extra_;
         h->extra_bytes_vlr = extra_vlr_;
+        h->scale = scale_;
+        h->offset = offset_;
         if (!wkt_vlr_.empty()) {
             h->wkt = wkt_vlr_;
         } else if (!geo_keys_.empty()) {
@@ -921,6 +923,9 @@ class LasReader final : public FormatReader {
     void foreignRecord(const laszip_point_struct& q, unsigned char* out) const {
         core::ForeignPoint f;
         f.gps_time_s = q.gps_time;
+        f.xyz[0] = q.X;
+        f.xyz[1] = q.Y;
+        f.xyz[2] = q.Z;
         f.rgb[0] = q.rgb[0];
         f.rgb[1] = q.rgb[1];
         f.rgb[2] = q.rgb[2];

@@ -1,6 +1,7 @@
 // io/src/las/las_record.cpp: see las_record.hpp. Point format 7 (RGB) or 6, scale
 // 0.001 m and the cloud's double origin as the offsets, so the georeferencing survives
-// any coordinate magnitude; classification from the role, GPS time from the view's time
+// any coordinate magnitude (a foreign file's points: its own scale and offset, so their
+// integer coordinates come back as they were); classification from the role, GPS time from the view's time
 // along the orbit, point source ID = view, and extra bytes for our range, label and
 // (when the cloud has them) incidence angle and height above ground (docs/formats.md).
 #include "las_record.hpp"
@@ -37,7 +38,8 @@ constexpr off_t kBoundsAt = 179;   // max x, min x, max y, min y, max z, min z (
 constexpr off_t kCountsAt = 247;   // points (u64), then points by return 1..15 (u64)
 constexpr off_t kSoftwareAt = 58;  // generating software, 32 characters, NUL-padded
 constexpr std::size_t kSoftwareSize = 32;
-constexpr std::size_t kDescriptionSize = 32;  // an extra bytes description, NUL-padded
+constexpr std::size_t kDescriptionSize = 32;       // an extra bytes description, NUL-padded
+constexpr std::size_t kExtraDescriptorSize = 192;  // an extra bytes descriptor
 
 // Extra bytes descriptions: whole words within the 32-character field (with its NUL).
 constexpr const char* kRangeDescription = "sensor-to-hit distance (m)";
@@ -100,13 +102,15 @@ void LasInventory::merge(const LasInventory& o) {
     for (std::size_t r = 0; r < by_return.size(); ++r) by_return[r] += o.by_return[r];
 }
 
-LasRecord::LasRecord(std::string where, const glm::dvec3& origin, const CloudFields& fields, const LasOptions& options)
-    : where_(std::move(where)), origin_(origin), fields_(fields), options_(options) {
+LasRecord::LasRecord(std::string where, const glm::dvec3& origin, const CloudFields& fields, const LasOptions& options,
+                     Scales scales)
+    : where_(std::move(where)), origin_(origin), offset_(origin), fields_(fields), options_(options) {
     try {
         date_ = lasCreationDate();
     } catch (const Error& e) {
         throw Error(where_ + ": " + e.what());
     }
+    if (const core::ForeignHeader* f = options_.foreign.get()) useForeignGrid(*f, scales);
     int at = 0;
     const auto add = [&](Extra::What what, int size) {
         extras_.push_back({what, at});
@@ -129,9 +133,69 @@ LasRecord::LasRecord(std::string where, const glm::dvec3& origin, const CloudFie
     extra_bytes_ = at;
 }
 
+namespace {
+
+// The one scale of a COPC file that holds every axis' steps of `scale`: the finest of
+// them, or the largest fraction 1/n of it (n up to 16) that divides all three (0.25 mm
+// and 0.1 mm: 0.05 mm), so that every axis' integer coordinates become whole multiples;
+// the finest alone when none does.
+double commonStep(const glm::dvec3& scale) {
+    const double finest = std::min({scale.x, scale.y, scale.z});
+    for (int n = 1; n <= 16; ++n) {
+        const double step = finest / n;
+        bool whole = true;
+        for (int k = 0; k < 3; ++k) {
+            const double ratio = scale[k] / step;
+            whole = whole && std::fabs(ratio - std::round(ratio)) <= 1e-9 * ratio;
+        }
+        if (whole) return step;
+    }
+    return finest;
+}
+
+}  // namespace
+
+// A foreign file's integer grid: its scale and offset, where they are usable (positive
+// finite scales; a reader always gives them). One scale: commonStep's.
+void LasRecord::useForeignGrid(const core::ForeignHeader& f, Scales scales) {
+    for (int k = 0; k < 3; ++k)
+        if (!(f.scale[k] > 0.0 && std::isfinite(f.scale[k]) && std::isfinite(f.offset[k]))) return;
+    scale_ = f.scale;
+    if (scales == Scales::One) scale_ = glm::dvec3(commonStep(f.scale));
+    offset_ = f.offset;
+    shift_ = origin_ - offset_;
+    in_scale_ = f.scale;
+    in_offset_ = f.offset;
+    kept_grid_ = true;
+}
+
+std::array<laszip_I32, 3> LasRecord::quantize(const CloudPoint& p, std::uint64_t index,
+                                              const unsigned char* foreign) const {
+    if (!kept_grid_ || !foreign) return quantize(p, index);
+    core::ForeignPoint f;
+    std::memcpy(&f, foreign, sizeof f);
+    const float position[3] = {p.position.x, p.position.y, p.position.z};
+    std::array<laszip_I32, 3> xyz{};
+    for (int k = 0; k < 3; ++k) {
+        const std::size_t a = std::size_t(k);
+        // The reader's float of the record's coordinate, computed as it computes it.
+        const double world = double(f.xyz[a]) * in_scale_[k] + in_offset_[k];
+        if (float(world - origin_[k]) != position[a]) return quantize(p, index);  // the point moved
+        if (in_scale_[k] == scale_[k] && in_offset_[k] == offset_[k]) {
+            xyz[a] = f.xyz[a];
+            continue;
+        }
+        // A finer grid (COPC's one scale): the steps in double, exact well within a half.
+        const double v = std::round((double(f.xyz[a]) * in_scale_[k] + (in_offset_[k] - offset_[k])) / scale_[k]);
+        if (!(std::fabs(v) < 2147483647.5)) return quantize(p, index);
+        xyz[a] = laszip_I32(v);
+    }
+    return xyz;
+}
+
 std::vector<ExtraDescriptor> extraDescriptors(const core::ForeignHeader& f) {
     static constexpr std::array<int, 11> kTypeSize = {0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
-    constexpr std::size_t kDescriptor = 192;
+    constexpr std::size_t kDescriptor = kExtraDescriptorSize;
     std::vector<ExtraDescriptor> out;
     const std::string& v = f.extra_bytes_vlr;
     int at = 0;
@@ -161,32 +225,65 @@ void LasRecord::check(laszip_POINTER zip, laszip_I32 rc, const char* what) const
     throw Error(where_ + ": LASzip " + what + " failed: " + (message ? std::string(message) : "unknown error"));
 }
 
-// A foreign file's extra bytes described again (LASzip writes the extra bytes VLR from
-// the attributes it is given: each described field with its type, name, description,
-// scale and offset; bytes no descriptor covers as single unsigned bytes), then its CRS
-// as an OGC WKT record.
+namespace {
+
+// One extra bytes descriptor (LAS 1.4 R15 §2.6.3), all its other fields zero: no scale,
+// offset, no-data value, minimum or maximum. `name` and `description` up to 31 bytes.
+std::string extraDescriptor(int type, int options, std::string_view name, std::string_view description) {
+    std::string d(kExtraDescriptorSize, '\0');
+    d[2] = char(type);
+    d[3] = char(options);
+    name.substr(0, 31).copy(d.data() + 4, 31);
+    description.substr(0, kDescriptionSize - 1).copy(d.data() + 160, kDescriptionSize - 1);
+    return d;
+}
+
+}  // namespace
+
+// A foreign file's extra bytes VLR: its own descriptors byte for byte (their scale,
+// offset, no-data value, minimum, maximum and description kept). Where our height above
+// ground follows them, the bytes no descriptor covers are described as undocumented
+// (type 0, at most 255 a descriptor) first, so that the height lies where its descriptor
+// says. A height written over the file's own loses that field's minimum and maximum,
+// which no longer hold.
+std::string LasRecord::foreignExtraVlr() const {
+    const core::ForeignHeader& f = *options_.foreign;
+    const std::vector<ExtraDescriptor> known = extraDescriptors(f);
+    const std::string& own = f.extra_bytes_vlr;
+    const bool adds =
+        std::any_of(extras_.begin(), extras_.end(), [](const Extra& e) { return e.what == Extra::Height; });
+    std::string v;
+    if (!adds) {
+        v = own.substr(0, own.size() / kExtraDescriptorSize * kExtraDescriptorSize);
+    } else {
+        v = own.substr(0, known.size() * kExtraDescriptorSize);
+        int at = known.empty() ? 0 : known.back().offset + known.back().size;
+        while (at < int(f.extra_bytes)) {
+            const int n = std::min(255, int(f.extra_bytes) - at);
+            v += extraDescriptor(0, n, "extra_bytes_" + std::to_string(at), "undescribed bytes");
+            at += n;
+        }
+        v += extraDescriptor(9, 0, kForeignHeightName, kHeightDescription);
+    }
+    if (fields_.height_above_ground && height_in_place_ >= 0)
+        for (std::size_t i = 0; i < known.size(); ++i)
+            if (known[i].offset == height_in_place_) v[i * kExtraDescriptorSize + 3] &= char(~6);
+    if (v.size() > 65535)
+        throw Error(where_ + ": the extra bytes descriptors take " + std::to_string(v.size()) +
+                    " bytes, more than a LAS VLR holds (65535)");
+    return v;
+}
+
+// A foreign file's extra bytes descriptors (foreignExtraVlr), then its CRS as an OGC WKT
+// record.
 void LasRecord::setUpForeign(laszip_POINTER zip) const {
     const core::ForeignHeader& f = *options_.foreign;
-    int at = 0;
-    const auto raw = [&](int upto) {
-        for (; at < upto; ++at) {
-            const std::string name = "extra_byte_" + std::to_string(at);
-            check(zip, laszip_add_attribute(zip, kExtraUChar, name.c_str(), "undescribed byte", 1.0, 0.0),
-                  "extra bytes");
-        }
-    };
-    for (const ExtraDescriptor& d : extraDescriptors(f)) {
-        if (d.type == 0) {
-            raw(d.offset + d.size);
-            continue;
-        }
+    const std::string extra = foreignExtraVlr();
+    if (!extra.empty())
         check(zip,
-              laszip_add_attribute(zip, laszip_U32(d.type - 1), d.name.c_str(), d.description.c_str(), d.scale,
-                                   d.offset_value),
+              laszip_add_vlr(zip, "LASF_Spec", 4, laszip_U16(extra.size()), nullptr,
+                             reinterpret_cast<const laszip_U8*>(extra.data())),
               "extra bytes");
-        at = d.offset + d.size;
-    }
-    raw(int(f.extra_bytes));
     if (!f.wkt.empty() && f.wkt.size() < 65535) {
         std::string payload = f.wkt;
         if (payload.back() != '\0') payload.push_back('\0');
@@ -213,11 +310,16 @@ void LasRecord::setUp(laszip_POINTER zip) const {
     const bool nir = fields_.rgb && options_.foreign && options_.foreign->nir;
     h->point_data_format = nir ? 8 : fields_.rgb ? 7 : 6;
     h->point_data_record_length = laszip_U16((nir ? 38 : fields_.rgb ? 36 : 30) + extra_bytes_);
-    h->x_scale_factor = h->y_scale_factor = h->z_scale_factor = kScale_m;
-    h->x_offset = origin_.x;
-    h->y_offset = origin_.y;
-    h->z_offset = origin_.z;
-    if (options_.foreign) setUpForeign(zip);
+    h->x_scale_factor = scale_.x;
+    h->y_scale_factor = scale_.y;
+    h->z_scale_factor = scale_.z;
+    h->x_offset = offset_.x;
+    h->y_offset = offset_.y;
+    h->z_offset = offset_.z;
+    if (options_.foreign) {
+        setUpForeign(zip);  // its extra bytes VLR describes the height above ground too
+        return;
+    }
     for (const Extra& e : extras_) {
         switch (e.what) {
             case Extra::Range:
@@ -232,9 +334,7 @@ void LasRecord::setUp(laszip_POINTER zip) const {
                 break;
             case Extra::Height:
                 check(zip,
-                      laszip_add_attribute(zip, kExtraFloat,
-                                           options_.foreign ? kForeignHeightName : "height_above_ground_m",
-                                           kHeightDescription, 1.0, 0.0),
+                      laszip_add_attribute(zip, kExtraFloat, "height_above_ground_m", kHeightDescription, 1.0, 0.0),
                       "height_above_ground_m");
                 break;
         }
@@ -242,8 +342,13 @@ void LasRecord::setUp(laszip_POINTER zip) const {
 }
 
 void LasRecord::throwBeyondReach(std::uint64_t index) const {
-    throw Error(where_ + ": point " + std::to_string(index) +
-                " lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm");
+    if (scale_ == glm::dvec3(kScale_m) && shift_ == glm::dvec3(0.0))
+        throw Error(where_ + ": point " + std::to_string(index) +
+                    " lies beyond 2,147 km of the cloud origin, out of LAS's reach at 1 mm");
+    char steps[96];
+    std::snprintf(steps, sizeof steps, "%.17g, %.17g, %.17g", scale_.x, scale_.y, scale_.z);
+    throw Error(where_ + ": point " + std::to_string(index) + " lies beyond 2^31 steps of the input's LAS scale (" +
+                steps + ") from its offset, out of LAS's reach");
 }
 
 double LasRecord::gpsTime(const CloudPoint& p) const {
@@ -364,10 +469,10 @@ void LasRecord::patchHeader(int fd, const LasInventory& inv) const {
     if (inv.points == 0) return;
     // The bounds as LASzip computes them: scale times the integer extreme plus the offset.
     unsigned char bounds[48], *b = bounds;
-    const double offsets[3] = {origin_.x, origin_.y, origin_.z};
     for (std::size_t k = 0; k < 3; ++k) {
-        putLe(b, kScale_m * double(inv.max[k]) + offsets[k]);
-        putLe(b, kScale_m * double(inv.min[k]) + offsets[k]);
+        const int a = int(k);
+        putLe(b, scale_[a] * double(inv.max[k]) + offset_[a]);
+        putLe(b, scale_[a] * double(inv.min[k]) + offset_[a]);
     }
     unsigned char counts[128], *c = counts;
     putLe(c, std::uint64_t(inv.points));

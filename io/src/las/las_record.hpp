@@ -67,23 +67,30 @@ inline constexpr const char* kForeignHeightName = "HeightAboveGround";
 
 class LasRecord {
   public:
-    static constexpr double kScale_m = 0.001;  // the records' scale
+    static constexpr double kScale_m = 0.001;  // the records' scale for clouds we generated
 
-    /// `where`: "output: <path>" for messages.
-    LasRecord(std::string where, const glm::dvec3& origin, const core::CloudFields& fields, const LasOptions& options);
+    /// Whether every axis must have the same scale (a COPC file: its octree's cubes are
+    /// cubes of integer steps).
+    enum class Scales { PerAxis, One };
 
-    /// Sets `zip`'s header (LAS 1.4, point format 7 or 6, scale 0.001 m, offsets = origin,
-    /// the creation day and year of lasCreationDate()) and its extra bytes, before it is
+    /// `where`: "output: <path>" for messages. The records' scale and offset: a foreign
+    /// file's (LasOptions::foreign), so that its points keep their integer coordinates,
+    /// with `scales` One its finest scale on every axis; else 1 mm and the origin.
+    LasRecord(std::string where, const glm::dvec3& origin, const core::CloudFields& fields, const LasOptions& options,
+              Scales scales = Scales::PerAxis);
+
+    /// Sets `zip`'s header (LAS 1.4, point format 7 or 6, the scale and offset above, the
+    /// creation day and year of lasCreationDate()) and its extra bytes, before it is
     /// opened for writing. Throws Error.
     void setUp(laszip_POINTER zip) const;
     /// Fills `q` with point `p`, the `index`-th of the file (for messages), and counts its
     /// record into `inventory` when given (from the values it computes: reading them back
     /// from `q` would wait on the stores just made). `foreign`: the point's side record
     /// where LasOptions::foreign is set (else ignored). Throws Error(where + ": point N
-    /// lies beyond ...") when it is out of the 1 mm grid's reach.
+    /// lies beyond ...") when it is out of the integer grid's reach.
     void fill(laszip_point_struct& q, const core::CloudPoint& p, std::uint64_t index, LasInventory* inventory = nullptr,
               const unsigned char* foreign = nullptr) const {
-        fillQuantized(q, p, quantize(p, index), inventory, foreign);
+        fillQuantized(q, p, foreign ? quantize(p, index, foreign) : quantize(p, index), inventory, foreign);
     }
     /// The same, of a point whose integer coordinates quantize() gave before: `xyz`; its
     /// position is not read.
@@ -91,11 +98,16 @@ class LasRecord {
                        LasInventory* inventory = nullptr, const unsigned char* foreign = nullptr) const;
     /// The foreign header the records take side records of (LasOptions::foreign), or null.
     const core::ForeignHeader* foreign() const { return options_.foreign.get(); }
-    /// The integer coordinates fill() gives point `p` (millimetres from the origin). Throws
-    /// as fill() does.
+    /// The integer coordinates fill() gives point `p` (scale steps from the offset: for a
+    /// cloud we generated, millimetres from the origin). Throws as fill() does.
     std::array<laszip_I32, 3> quantize(const core::CloudPoint& p, std::uint64_t index) const {
         return quantize(p.position, index);
     }
+    /// The same, of a foreign point with its side record `foreign` (null: as above): the
+    /// integer coordinates the record holds, on this file's grid, while the point lies where
+    /// they say (its position is the float the reader made of them); else as above.
+    std::array<laszip_I32, 3> quantize(const core::CloudPoint& p, std::uint64_t index,
+                                       const unsigned char* foreign) const;
     /// The same, of a point's position alone.
     std::array<laszip_I32, 3> quantize(const glm::vec3& position, std::uint64_t index) const {
         const double local[3] = {position.x, position.y, position.z};
@@ -104,7 +116,7 @@ class LasRecord {
             // std::round (half away from zero) without a call to libm: below 2^31 in
             // magnitude the truncation and its remainder are exact. std::round gives at
             // most 2^31 - 1 in magnitude exactly when |v| < 2^31 - 0.5; NaN fails too.
-            const double v = local[k] / kScale_m;
+            const double v = (local[k] + shift_[int(k)]) / scale_[int(k)];
             if (!(std::fabs(v) < 2147483647.5)) throwBeyondReach(index);
             const auto t = std::int64_t(v);
             const double rest = v - double(t);
@@ -127,10 +139,15 @@ class LasRecord {
     void stampSoftware(int fd) const;
 
     const std::string& where() const { return where_; }
+    /// The records' scale and offset per axis, as the header holds them.
+    const glm::dvec3& scale() const { return scale_; }
+    const glm::dvec3& offset() const { return offset_; }
 
   private:
     [[noreturn]] void throwBeyondReach(std::uint64_t index) const;
+    void useForeignGrid(const core::ForeignHeader& f, Scales scales);
     void setUpForeign(laszip_POINTER zip) const;
+    std::string foreignExtraVlr() const;
     void fillForeign(laszip_point_struct& q, const unsigned char* foreign) const;
     std::uint8_t fillMeasured(laszip_point_struct& q, const core::CloudPoint& p,
                               const std::array<laszip_I32, 3>& xyz) const;
@@ -143,6 +160,11 @@ class LasRecord {
     };
     std::string where_;
     glm::dvec3 origin_;
+    glm::dvec3 scale_{kScale_m};
+    glm::dvec3 offset_;                          // the origin, or a foreign file's offset
+    glm::dvec3 shift_{0.0};                      // origin - offset: a point's position plus this is from the offset
+    bool kept_grid_ = false;                     // a foreign file's records: their integer coordinates are used
+    glm::dvec3 in_scale_{1.0}, in_offset_{0.0};  // the grid of those integer coordinates
     core::CloudFields fields_;
     LasOptions options_;
     std::vector<Extra> extras_;

@@ -24,7 +24,6 @@ constexpr std::size_t kHeaderSize = 375;
 constexpr std::size_t kVlrHeaderSize = 54;
 constexpr std::size_t kEvlrHeaderSize = 60;
 constexpr std::size_t kInfoSize = 160;
-constexpr double kScale_m = 0.001;
 
 template <typename T>
 void put(std::string& s, T v) {
@@ -54,8 +53,7 @@ std::string recordHeader(std::uint16_t record_id, std::uint64_t length, const ch
 
 }  // namespace
 
-Assembler::Assembler(const LasRecord& record, std::FILE* file, const glm::dvec3& origin)
-    : record_(record), file_(file), origin_(origin) {
+Assembler::Assembler(const LasRecord& record, std::FILE* file) : record_(record), file_(file) {
     // The header and VLRs: LASzip's, with the info VLR first.
     LasInventory none;
     const LaszipFile empty = compressWithLaszip(record_, {}, 0, none, kVariableChunks);
@@ -109,9 +107,12 @@ void Assembler::finish(const OctreeCube& cube) {
     write(pages.bytes.data(), pages.bytes.size());
     // The info VLR, the table's position, the EVLR's place, the counts and bounds.
     std::string info;
-    const double halfsize_m = kScale_m * std::ldexp(1.0, cube.bits - 1);
-    const double o[3] = {origin_.x, origin_.y, origin_.z};
-    for (std::size_t k = 0; k < 3; ++k) put(info, o[k] + kScale_m * (double(cube.corner[k]) - 0.5) + halfsize_m);
+    // The cube in the records' units: one scale on every axis (LasRecord::Scales::One),
+    // from the records' offset (the origin for a cloud we generated).
+    const double step = record_.scale().x;
+    const double halfsize_m = step * std::ldexp(1.0, cube.bits - 1);
+    const glm::dvec3& o = record_.offset();
+    for (std::size_t k = 0; k < 3; ++k) put(info, o[int(k)] + step * (double(cube.corner[k]) - 0.5) + halfsize_m);
     put(info, halfsize_m);
     put(info, 2.0 * halfsize_m / 128.0);
     put(info, evlr_at + kEvlrHeaderSize);

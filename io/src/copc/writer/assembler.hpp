@@ -27,8 +27,9 @@ namespace io::detail::copc_writer {
 /// fields. Every write that fails throws Error(record.where() + ": write failed: ...").
 class Assembler {
   public:
-    /// Writes the header and the VLRs to `file` (positioned at its start).
-    Assembler(const LasRecord& record, std::FILE* file, const glm::dvec3& origin);
+    /// Writes the header and the VLRs to `file` (positioned at its start); the octree's
+    /// cube is placed by the record's scale and offset.
+    Assembler(const LasRecord& record, std::FILE* file);
 
     /// The chunk of one node cut out of the file LASzip wrote for it; `inventory` counts
     /// its records.
@@ -51,7 +52,6 @@ class Assembler {
 
     const LasRecord& record_;
     std::FILE* file_;
-    glm::dvec3 origin_;
     std::string laszip_header_, empty_table_, header_;
     std::uint64_t at_ = 0;
     std::vector<CopcNode> entries_;

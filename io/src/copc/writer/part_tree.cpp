@@ -13,7 +13,6 @@ namespace io::detail::copc_writer {
 
 namespace {
 
-constexpr double kScale_m = 0.001;
 // Out of core, the upper levels' counts come from a histogram of the points over the
 // cells of one level: this one (128^3 cells, 16 MiB of counts) at most, and at most an
 // eighth of the memory bound.
@@ -92,7 +91,7 @@ int PartTree::makeTop(const WriterSetup& setup, const OctreeCube& cube, const Co
     }
     if (key.level >= hist_level_)
         throw core::Error(setup.record.where() + ": " + std::to_string(n) + " points lie within " +
-                          std::to_string(std::ldexp(kScale_m, cube.bits - key.level)) +
+                          std::to_string(std::ldexp(setup.record.scale().x, cube.bits - key.level)) +
                           " m of each other, more than the memory bound lets one part of the octree hold; raise it");
     for (int o = 0; o < 8; ++o) {
         const CopcKey c{key.level + 1, 2 * key.x + (o & 1), 2 * key.y + ((o >> 1) & 1), 2 * key.z + ((o >> 2) & 1)};
