@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -88,6 +89,28 @@ double medianSpacing(const core::PointCloud& cloud, std::span<const std::uint32_
         if (std::isfinite(*mid)) return std::min(*mid, kSpacingMaxM);
         if (cell_m >= kSpacingMaxM) return kSpacingMaxM;
     }
+}
+
+double coveredDensity(const core::PointCloud& cloud) {
+    if (cloud.points.empty()) return 0.0;
+    glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const core::CloudPoint& p : cloud.points) {
+        const glm::dvec2 q(p.position.x, p.position.y);
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+    }
+    double cell_m = kCoverCell_m;
+    const auto across = [&](double extent_m) { return std::size_t(extent_m / cell_m) + 1; };
+    while (double(across(hi.x - lo.x)) * double(across(hi.y - lo.y)) > double(kCoverMaxCells)) cell_m *= 2.0;
+    const std::size_t nx = across(hi.x - lo.x), ny = across(hi.y - lo.y);
+    std::vector<std::uint8_t> occupied(nx * ny, 0);
+    for (const core::CloudPoint& p : cloud.points) {
+        const std::size_t i = std::min(nx - 1, std::size_t((double(p.position.x) - lo.x) / cell_m));
+        const std::size_t j = std::min(ny - 1, std::size_t((double(p.position.y) - lo.y) / cell_m));
+        occupied[j * nx + i] = 1;
+    }
+    const auto cells = double(std::count(occupied.begin(), occupied.end(), std::uint8_t(1)));
+    return double(cloud.points.size()) / (cells * cell_m * cell_m);
 }
 
 }  // namespace detect::detail

@@ -29,4 +29,15 @@ inline constexpr double kSpacingMaxM = 16.0;
 /// the median neighbour lies within one cell.
 double medianSpacing(const core::PointCloud& cloud, std::span<const std::uint32_t> idx);
 
+// The covered area is counted on cells of this side (larger on a cloud so wide that the
+// grid would hold more than kCoverMaxCells of them).
+inline constexpr double kCoverCell_m = 8.0;
+inline constexpr std::size_t kCoverMaxCells = std::size_t(1) << 22;
+
+/// The cloud's points per square metre of the ground it covers: all its points over the
+/// area of the kCoverCell_m cells of x, y that hold at least one (so a drone's round
+/// footprint or a survey's ragged edge is not counted as empty ground); 0 for an empty
+/// cloud. One pass over the points and a bitmap of at most kCoverMaxCells cells.
+double coveredDensity(const core::PointCloud& cloud);
+
 }  // namespace detect::detail

@@ -40,14 +40,16 @@ constexpr std::size_t kSplitMinFactor = 10;
 // Step 1: the whole-cloud SMRF run sees the points with their views, so on a real
 // sensor's thick ground it measures the thickness, takes each view's height error off
 // and levels each cell at its ground's centre (docs/ground.md); on the ideal sensor's
-// thin ground it is the published minimum-surface SMRF. Fills out.height_m,
+// thin ground it is the published minimum-surface SMRF. Fills out.height_m, out.terrain_cell_m,
 // out.ground_sigma_m and out.points_per_voxel_face; returns whether each point is ground.
 std::vector<std::uint8_t> fitTerrain(const core::PointCloud& cloud, const SegmentOptions& o, int threads,
                                      std::size_t work_parts, Segmentation& out) {
     const std::size_t n = cloud.points.size();
     std::vector<std::uint8_t> ground(n);
     out.height_m.resize(n);
-    const std::unique_ptr<sim::TerrainFit> fit = sim::startSmrf(o.terrain);
+    const sim::SmrfOptions terrain = terrainForDensity(o.terrain, detail::coveredDensity(cloud));
+    out.terrain_cell_m = terrain.cell_m;
+    const std::unique_ptr<sim::TerrainFit> fit = sim::startSmrf(terrain);
     fit->setFitThreads(threads);
     if (cloud.fields.view) {
         fit->addAll(cloud.points, threads);
@@ -207,6 +209,15 @@ void validate(const SegmentOptions& o) {
     if (!(std::isfinite(o.split_height_m) &&
           (o.split_height_m == 0.0 || (o.split_height_m >= 1.0 && o.split_height_m <= 100.0))))
         fail("--split-height-m", o.split_height_m, "0 (no split) or [1, 100] m");
+}
+
+sim::SmrfOptions terrainForDensity(const sim::SmrfOptions& o, double density_m2) {
+    if (!(std::isfinite(density_m2) && density_m2 > 0.0) || density_m2 * o.cell_m * o.cell_m >= kTerrainPointsPerCell)
+        return o;
+    sim::SmrfOptions e = o;
+    const double cell_m = std::ceil(std::sqrt(kTerrainPointsPerCell / density_m2) * 10.0) / 10.0;
+    e.cell_m = std::max(o.cell_m, std::min(cell_m, std::max(o.window_m, o.cell_m)));
+    return e;
 }
 
 SegmentOptions scaledForSpacing(const SegmentOptions& o, double spacing_m, double* scale_out) {

@@ -3,7 +3,7 @@
 // known grids (with a survey's twin first and last returns too), the scaled options, a
 // thinned scene whose vehicle forms a segment only with the scaling, a dense scene left
 // exactly as it was, and a real airborne survey (tests/data/real/FSite8) that forms
-// segments.
+// segments; the covered density and the terrain cell it sets (step 1).
 #include "point_spacing.hpp"
 
 #include <detect/segmentation.hpp>
@@ -130,6 +130,7 @@ TEST_CASE("point spacing: a dense scene is segmented with the options as given")
     CHECK(s.spacing_scale == 1.0);
     CHECK(s.used.voxel_m == o.voxel_m);
     CHECK(s.used.cluster_tolerance_m == o.cluster_tolerance_m);
+    CHECK(s.terrain_cell_m == o.terrain.cell_m);
     // The same segments as with the scaling off.
     detect::SegmentOptions fixed = o;
     fixed.scale_with_spacing = false;
@@ -161,4 +162,29 @@ TEST_CASE("point spacing: a real airborne survey at about 2.5 m between points f
     CHECK(s.spacing_m > 1.0);
     CHECK(s.spacing_scale > 1.0);
     CHECK(s.segments.size() >= 10);
+    // About 0.3 points per square metre: the terrain's cells grow from 1 m to hold two.
+    CHECK(s.terrain_cell_m > 2.0);
+    CHECK(s.terrain_cell_m < 3.5);
+}
+
+TEST_CASE("point spacing: the covered density and the terrain cell it sets") {
+    // A grid every 0.5 m (4 points per square metre) in an L shape: the empty corner of
+    // its bounds is not counted as covered.
+    core::PointCloud c;
+    for (double x = 0; x < 64; x += 0.5)
+        for (double y = 0; y < 64; y += 0.5) {
+            if (x >= 32 && y >= 32) continue;
+            core::CloudPoint p;
+            p.position = glm::vec3(float(x), float(y), 0.0f);
+            c.points.push_back(p);
+        }
+    CHECK(detect::detail::coveredDensity(c) == doctest::Approx(4.0).epsilon(0.01));
+    CHECK(detect::detail::coveredDensity(core::PointCloud{}) == 0.0);
+    const sim::SmrfOptions o;  // a 1 m cell, an 18 m window
+    CHECK(detect::terrainForDensity(o, 4.0).cell_m == o.cell_m);
+    CHECK(detect::terrainForDensity(o, 2.0).cell_m == o.cell_m);
+    CHECK(detect::terrainForDensity(o, 0.0).cell_m == o.cell_m);  // unknown
+    CHECK(detect::terrainForDensity(o, 0.5).cell_m == doctest::Approx(2.0));
+    CHECK(detect::terrainForDensity(o, 0.3).cell_m == doctest::Approx(2.6));  // sqrt(2 / 0.3) = 2.58, rounded up
+    CHECK(detect::terrainForDensity(o, 1e-6).cell_m == o.window_m);           // one opening remains
 }

@@ -6,7 +6,12 @@
 //   1) terrain: SMRF on the whole cloud, fed each point with its view, so on a noisy
 //      sensor's thick ground each view's height error is taken off and the terrain runs
 //      through the ground's centre (sim's whole-cloud fit, docs/ground.md); every point
-//      gets its height above the terrain, and the ground's thickness is measured;
+//      gets its height above the terrain, and the ground's thickness is measured; on a
+//      cloud so sparse that the terrain's cells would hold fewer than
+//      kTerrainPointsPerCell points on average (an airborne survey at a metre's spacing
+//      or more), the cell grows to hold that many (the window stays in metres): most
+//      cells of a finer grid are empty and only interpolated, at a cost that grows with
+//      their number;
 //   2) the points higher than min_height_m or ground_sigmas thicknesses above it (and not
 //      SMRF ground) are binned into voxels of voxel_m; two dense voxels (core_points
 //      points or more) whose centroids are within cluster_tolerance_m join one segment
@@ -54,6 +59,9 @@ struct SegmentOptions {
     bool scale_with_spacing = true;
 };
 
+/// Step 1's terrain cell holds at least this many of the cloud's points on average.
+inline constexpr double kTerrainPointsPerCell = 2.0;
+
 /// The largest factor step 2 scales its lengths by on a sparse cloud.
 inline constexpr double kMaxSpacingScale = 8.0;
 /// A scaled min_points goes no lower than this (nor than min_points itself).
@@ -76,6 +84,7 @@ struct Segmentation {
     std::size_t split_segments = 0;    // segments step 4 split
     double spacing_m = 0;              // the points' median nearest-neighbour distance (0 unmeasured)
     double spacing_scale = 1;          // the factor step 2 scaled its lengths by (1: as given)
+    double terrain_cell_m = 0;         // the terrain cell step 1 used (SmrfOptions::cell_m or larger)
     SegmentOptions used;               // the options steps 2-4 ran with, after that scaling
 };
 
@@ -85,6 +94,12 @@ struct Segmentation {
 /// tolerance, kMaxSpacingScale) and min_points over scale^2 (rounded, at least
 /// min(min_points, kMinScaledPoints)). Returns the scale through `scale_out`.
 SegmentOptions scaledForSpacing(const SegmentOptions& o, double spacing_m, double* scale_out = nullptr);
+
+/// Step 1's SMRF options on a cloud of `density_m2` points per square metre of covered
+/// ground: `o` itself when its cell holds kTerrainPointsPerCell points or more on
+/// average (or the density is unknown, 0), else the cell that holds that many, rounded
+/// up to 0.1 m (at most the window, so that one opening remains).
+sim::SmrfOptions terrainForDensity(const sim::SmrfOptions& o, double density_m2);
 
 /// Steps 1-4 on `cloud`: a pure function of the cloud and the options, the same whatever
 /// `threads` (the clustering's parts run on up to that many threads, at most 4). Throws
