@@ -63,7 +63,8 @@ std::vector<std::uint8_t> ransacGroundByTile(const core::PointCloud& cloud, cons
 // fed the points with their views, so that on a real sensor's cloud each view's height
 // error is taken off as the generator does; a cloud without views is fitted as one view.
 // The points are copied in chunks only when their view must be set.
-std::vector<std::uint8_t> terrainGround(const core::PointCloud& cloud, sim::TerrainFit& fit) {
+std::vector<std::uint8_t> terrainGround(const core::PointCloud& cloud, sim::TerrainFit& fit,
+                                        std::vector<float>& height_m) {
     const std::size_t n = cloud.points.size();
     if (cloud.fields.view) {
         fit.add(cloud.points);
@@ -79,16 +80,19 @@ std::vector<std::uint8_t> terrainGround(const core::PointCloud& cloud, sim::Terr
     }
     fit.fit();
     std::vector<std::uint8_t> ground(n, 0);
+    height_m.assign(n, 0.0f);
     for (std::size_t i = 0; i < n; ++i) {
         core::CloudPoint p = cloud.points[i];
         if (!cloud.fields.view) p.view = 0;
-        float height_m = 0.0f;
-        ground[i] = fit.classify(p, height_m) ? 1 : 0;
+        ground[i] = fit.classify(p, height_m[i]) ? 1 : 0;
     }
     return ground;
 }
 
-std::vector<std::uint8_t> findGroundPoints(const core::PointCloud& cloud, const ClusterOptions& o) {
+// Step 1: whether each point is ground; with a terrain-following filter also each
+// point's height above the terrain into `height_m` (left empty otherwise).
+std::vector<std::uint8_t> findGroundPoints(const core::PointCloud& cloud, const ClusterOptions& o,
+                                           std::vector<float>& height_m) {
     std::vector<std::uint8_t> ground(cloud.points.size(), 0);
     switch (o.ground) {
         case GroundSource::Labels:
@@ -102,11 +106,77 @@ std::vector<std::uint8_t> findGroundPoints(const core::PointCloud& cloud, const 
                 throw core::Error("detect: --ground white: the cloud has no rgb field; use --ground ransac");
             for (std::size_t i = 0; i < cloud.points.size(); ++i) ground[i] = cloud.points[i].rgb == core::kWhite;
             return ground;
-        case GroundSource::Smrf: return terrainGround(cloud, *sim::startSmrf(o.ground_smrf));
-        case GroundSource::Csf: return terrainGround(cloud, *sim::startCsf(o.ground_csf));
+        case GroundSource::Smrf: return terrainGround(cloud, *sim::startSmrf(o.ground_smrf), height_m);
+        case GroundSource::Csf: return terrainGround(cloud, *sim::startCsf(o.ground_csf), height_m);
         case GroundSource::Ransac: break;
     }
     return ransacGroundByTile(cloud, o);
+}
+
+// The median of `v` (not empty), reordered.
+double medianOf(std::vector<double>& v) {
+    const auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+}
+
+// Step 3's thin ends: the cluster's points cut along the box's length into slices of
+// kSliceM; from each end, slices holding fewer than thin_end_fraction of the median
+// slice's points (a gun barrel, a mast, a wire) are left out. Returns the points kept
+// (all of them when nothing is thin, or when the cut would leave under half).
+constexpr double kSliceM = 0.25;
+std::vector<std::uint32_t> withoutThinEnds(const core::PointCloud& cloud, const std::vector<std::uint32_t>& points,
+                                           const OrientedBox& box, double thin_end_fraction) {
+    if (thin_end_fraction <= 0.0 || box.size_m.x < 4.0 * kSliceM) return points;
+    const double yaw = box.yaw_deg * std::numbers::pi / 180.0, c = std::cos(yaw), s = std::sin(yaw);
+    const glm::dvec3 centre = box.centre;
+    const auto along = [&](std::uint32_t i) {
+        const glm::dvec3 p = glm::dvec3(cloud.points[i].position) - centre;
+        return c * p.x + s * p.y;
+    };
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const std::uint32_t i : points) {
+        lo = std::min(lo, along(i));
+        hi = std::max(hi, along(i));
+    }
+    const std::size_t slices = std::size_t((hi - lo) / kSliceM) + 1;
+    std::vector<std::size_t> count(slices, 0);
+    const auto sliceOf = [&](std::uint32_t i) { return std::min(slices - 1, std::size_t((along(i) - lo) / kSliceM)); };
+    for (const std::uint32_t i : points) ++count[sliceOf(i)];
+    std::vector<double> occupied;
+    for (const std::size_t k : count)
+        if (k > 0) occupied.push_back(double(k));
+    const double bar = thin_end_fraction * medianOf(occupied);
+    std::size_t first = 0, last = slices;
+    while (first < last && double(count[first]) < bar) ++first;
+    while (last > first && double(count[last - 1]) < bar) --last;
+    if (first == 0 && last == slices) return points;
+    std::vector<std::uint32_t> kept;
+    for (const std::uint32_t i : points) {
+        const std::size_t k = sliceOf(i);
+        if (k >= first && k < last) kept.push_back(i);
+    }
+    return 2 * kept.size() >= points.size() ? kept : points;
+}
+
+// Steps 3 and 4's box of one cluster: fitBox without the thin ends; with a terrain
+// (`height_m` not empty) its bottom reaches down to the terrain under the cluster (the
+// median of the terrain's heights under its points), so the lowest part of a vehicle
+// that the filter took with the ground still counts in its height.
+OrientedBox clusterBox(const core::PointCloud& cloud, const std::vector<std::uint32_t>& points,
+                       const std::vector<float>& height_m, const ClusterOptions& o) {
+    OrientedBox box = fitBox(cloud, points, o.trim_fraction);
+    const std::vector<std::uint32_t> kept = withoutThinEnds(cloud, points, box, o.thin_end_fraction);
+    if (kept.size() != points.size()) box = fitBox(cloud, kept, o.trim_fraction);
+    if (height_m.empty()) return box;
+    std::vector<double> terrain;
+    terrain.reserve(kept.size());
+    for (const std::uint32_t i : kept) terrain.push_back(double(cloud.points[i].position.z) - double(height_m[i]));
+    const double top = box.centre.z + 0.5 * box.size_m.z;
+    const double bottom = std::min(box.centre.z - 0.5 * box.size_m.z, medianOf(terrain));
+    box.size_m.z = top - bottom;
+    box.centre.z = 0.5 * (top + bottom);
+    return box;
 }
 
 }  // namespace
@@ -124,6 +194,8 @@ void validate(const ClusterOptions& o) {
           o.cluster_tolerance_m <= 1000.0))
         fail("--cluster-tolerance-m", o.cluster_tolerance_m, "(voxel_m / 2, 1000] m");
     if (!(o.trim_fraction >= 0.0 && o.trim_fraction < 0.5)) fail("--trim-fraction", o.trim_fraction, "[0, 0.5)");
+    if (!(o.thin_end_fraction >= 0.0 && o.thin_end_fraction < 1.0))
+        fail("thin_end_fraction", o.thin_end_fraction, "[0, 1)");
     if (o.min_cluster_points < 1) fail("--min-cluster-points", o.min_cluster_points, ">= 1");
     if (!(o.min_score >= 0.0 && o.min_score <= 1.0)) fail("--min-score", o.min_score, "[0, 1]");
     if (o.max_candidates < 1 || o.max_candidates > 1000000) fail("--max-candidates", o.max_candidates, "[1, 1000000]");
@@ -241,7 +313,8 @@ std::vector<Detection> ClusterDetector::detect(const core::PointCloud& cloud, Cl
         throw core::Error("detect: the cloud has too many points (at most 4294967294)");
 
     auto t0 = std::chrono::steady_clock::now();
-    const std::vector<std::uint8_t> ground = findGroundPoints(cloud, o);
+    std::vector<float> height_m;
+    const std::vector<std::uint8_t> ground = findGroundPoints(cloud, o, height_m);
     local.ground_points = std::size_t(std::count(ground.begin(), ground.end(), 1));
     local.seconds_ground = secondsSince(t0);
 
@@ -289,7 +362,7 @@ std::vector<Detection> ClusterDetector::detect(const core::PointCloud& cloud, Cl
         if (d.points.size() < std::size_t(o.min_cluster_points)) continue;
         ++local.clusters;
         std::sort(d.points.begin(), d.points.end());
-        const OrientedBox box = fitBox(cloud, d.points, o.trim_fraction);
+        const OrientedBox box = clusterBox(cloud, d.points, height_m, o);
         d.candidate.centre_world = cloud.origin + box.centre;
         d.candidate.size_m = box.size_m;
         d.candidate.yaw_deg = box.yaw_deg;

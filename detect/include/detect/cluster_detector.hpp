@@ -12,7 +12,11 @@
 //      tolerance join one cluster); every point follows its voxel;
 //   3) each cluster gets an oriented box: yaw from the principal axis of its points' x, y
 //      (PCA), length along that axis, width across it, height from z, each extent between
-//      quantiles (trim_fraction) so that a barrel or an antenna does not count;
+//      quantiles (trim_fraction) so that a barrel or an antenna does not count; the
+//      slices at the ends of its length that hold few points (thin_end_fraction: a gun
+//      barrel of a densely sampled vehicle) are left out; with a terrain (SMRF, CSF) the
+//      box stands on the terrain under the cluster, so the lowest part of a vehicle that
+//      the filter took with the ground still counts in its height;
 //   4) score = exp(-sum_i ln(size_i / target_i)^2 / (2 ln(size_tolerance)^2)) over length,
 //      width, height: 1 for a box of exactly the target's size, exp(-1/2) when one side is
 //      off by the factor size_tolerance, ~0 for a wall or a tree.
@@ -49,6 +53,11 @@ struct ClusterOptions {
     /// Fraction of a cluster's points left out at each end of each box axis (quantiles),
     /// [0, 0.5): thin protrusions such as a gun barrel do not count in the box's size.
     double trim_fraction = 0.01;
+    /// Step 3: cut along the box's length into 0.25 m slices, the slices at either end
+    /// holding fewer than this fraction of the median slice's points (a gun barrel seen
+    /// by many rays, which trim_fraction cannot drop) are left out of the box; 0 keeps
+    /// them, [0, 1).
+    double thin_end_fraction = 0.25;
     int min_cluster_points = 20;  // smaller clusters are noise (>= 1)
     double min_score = 0.05;      // candidates below are dropped, [0, 1]
     int max_candidates = 50;      // best first (>= 1)
