@@ -211,8 +211,9 @@ void resolveClouds(ViewArgs& a) {
         }
         if (ec) throw core::Error("view: folder '" + core::printable(given, 400) + "': " + ec.message());
         if (tiles.empty())
-            throw core::Error("view: folder '" + core::printable(given, 400) +
-                              "' holds no LAS, LAZ or COPC file; allowed: a folder of .las/.laz tiles");
+            throw core::Error("view: cloud '" + core::printable(given, 400) +
+                              "': is a directory; allowed: a regular file, or a folder of .las/.laz tiles (this one "
+                              "holds none)");
         std::sort(tiles.begin(), tiles.end());
         a.survey = std::move(tiles);
     }
@@ -444,7 +445,7 @@ void registerView(CLI::App& cli) {
     CLI::App* cmd = cli.add_subcommand("view",
                                        "view a cloud in an OpenXR HMD with a desktop mirror, or on the desktop "
                                        "(space: automatic orbit <-> free mode; see docs/viewer.md)");
-    cmd->add_option("clouds", args->clouds,
+    cmd->add_option("cloud", args->clouds,
                     "PCD, PLY, LAS, LAZ or COPC cloud; several LAS/LAZ files, or a folder of them, are viewed as one "
                     "survey through one index (default: generate the bundled demo scene)");
     cmd->add_option("--scene", args->scene, "generate this scene's cloud and view it");

@@ -122,7 +122,7 @@ before=$(ls "$work/cache/ladarvr")
 refused "view: $data/4_6_crop.las: its CRS (.*) differs from $data/hexbin-crop.las's (.*); files viewed as one survey must share their CRS and units" \
   "$data/hexbin-crop.las" "$data/4_6_crop.las"
 mkdir "$work/empty"
-refused "view: folder '$work/empty' holds no LAS, LAZ or COPC file" "$work/empty"
+refused "view: cloud '$work/empty': is a directory; allowed: a regular file, or a folder of .las/.laz tiles" "$work/empty"
 refused "view: '$work/tiles' is a folder; allowed: one folder of tiles alone" "$work/tiles" "$data/hexbin-crop.las"
 refused "view: --in-core applies to one cloud file" "$work/tiles" --in-core
 refused "view: .*--screenshot.*tiles/north.las" "$work/tiles" --screenshot "$work/tiles/north.las"
