@@ -42,6 +42,16 @@ bool overlaps(const core::Bounds& a, const core::Bounds& b) {
     return true;
 }
 
+// Whether the box of one of `mesh`'s triangles (local frame) overlaps `box` (world).
+bool trianglesOverlap(const core::Mesh& mesh, const glm::dvec3& origin, const core::Bounds& box) {
+    for (const glm::uvec3& t : mesh.triangles) {
+        core::Bounds b;
+        for (int k = 0; k < 3; ++k) b.extend(origin + glm::dvec3(mesh.vertices[t[k]]));
+        if (overlaps(box, b)) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 std::string ItemPlan::sceneText(const fs::path& folder) const {
@@ -297,7 +307,10 @@ ItemPlan Planner::plan(std::size_t index) const {
                 box.extend(pos + local.lo);
                 box.extend(pos + local.hi);
                 bool clear = true;
-                for (std::size_t k : kept) clear = clear && !overlaps(box, s.boxes[k]);
+                for (std::size_t k : kept)
+                    clear = clear &&
+                            !(overlaps(box, s.boxes[k]) &&
+                              (!spec.place_by_triangles || trianglesOverlap(s.base.meshes[k], s.base.origin, box)));
                 if (!clear) continue;
                 target->position = pos;
                 if (offset) p.values["target_offset_m"] = radius;

@@ -288,10 +288,14 @@ Spec parseSpec(std::string_view text, const fs::path& file) {
                 if (!k) c.fail(name, "unknown key; allowed " + keyList());
                 s.numbers[m.key()] = parseNumber(c, name, m.value(), *k);
             }
+        } else if (key == "placement") {
+            if (!v.is_string() || (v.get<std::string>() != "boxes" && v.get<std::string>() != "triangles"))
+                c.fail(key, "'" + core::printable(v.dump(), 40) + "'; allowed \"boxes\" or \"triangles\"");
+            s.place_by_triangles = v.get<std::string>() == "triangles";
         } else if (key == "comment") {
             if (!v.is_string()) c.fail(key, "allowed a string");
         } else {
-            c.fail(key, "unknown key; allowed scene, count, seed, vary, metric, format, comment");
+            c.fail(key, "unknown key; allowed scene, count, seed, vary, metric, format, placement, comment");
         }
     }
     if (s.scene.empty()) c.fail("scene", "missing; allowed a scene file name (relative to the SPEC)");

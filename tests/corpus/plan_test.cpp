@@ -217,3 +217,56 @@ TEST_CASE("plan: a tilted mesh keeps its tilt, and the target's box follows it")
     CHECK(lo.z == doctest::Approx(b.lo.z).epsilon(1e-4));
     CHECK(hi.z == doctest::Approx(b.hi.z).epsilon(1e-4));
 }
+
+namespace {
+
+// An OBJ cube of edge `e` with its bottom centre at (x, y, 0); vertex numbers from `first`.
+std::string cube(double x, double y, double e, int first) {
+    std::string s;
+    for (int k = 0; k < 8; ++k)
+        s += "v " + std::to_string(x + ((k & 1) ? e / 2 : -e / 2)) + " " +
+             std::to_string(y + ((k & 2) ? e / 2 : -e / 2)) + " " + std::to_string((k & 4) ? e : 0.0) + "\n";
+    const int f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                          {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    for (const auto& t : f)
+        s += "f " + std::to_string(first + t[0]) + " " + std::to_string(first + t[1]) + " " +
+             std::to_string(first + t[2]) + "\n";
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("plan: placement by triangles lets a target move inside one environment mesh spread over the scene") {
+    // One environment mesh of two cubes 40 m apart (as `scene from-cloud` makes one mesh of
+    // a survey's boxes): its box covers the whole ground, so by boxes no place is free.
+    const test_support::TempDir dir("plan_triangles");
+    dir.write("ground.obj", "v -50 -50 0\nv 50 -50 0\nv 50 50 0\nv -50 50 0\nf 1 2 3\nf 1 3 4\n");
+    dir.write("clutter.obj", cube(-20, -20, 6, 1) + cube(20, 20, 6, 9));
+    dir.write("target.obj", cube(0, 0, 2, 1));
+    dir.write("scene.json", R"({"meshes": [{"file": "ground.obj", "role": "ground"},
+        {"file": "clutter.obj", "role": "environment"}, {"file": "target.obj", "role": "target"}]})");
+    auto make = [&](const std::string& placement) {
+        return corpus::parseSpec(R"({"scene": "scene.json", "count": 20, "seed": 3, )" + placement +
+                                     R"("vary": {"target_offset_m": {"min": 0, "max": 20}}})",
+                                 dir.path / "spec.json");
+    };
+    const corpus::Planner by_boxes(make(""));
+    CHECK(errorOf([&] { by_boxes.plan(0); }).find("the target cannot be placed") != std::string::npos);
+    const corpus::Spec s = make(R"("placement": "triangles", )");
+    CHECK(s.place_by_triangles);
+    const corpus::Planner by_triangles(s);
+    core::Bounds a, b;
+    a.extend({-23, -23, 0}), a.extend({-17, -17, 6});
+    b.extend({17, 17, 0}), b.extend({23, 23, 6});
+    std::size_t moved = 0;
+    for (std::size_t i = 0; i < s.count; ++i) {
+        const corpus::ItemPlan p = by_triangles.plan(i);
+        CHECK_FALSE(overlaps(p.target_box_world, a));
+        CHECK_FALSE(overlaps(p.target_box_world, b));
+        CHECK(p.target_box_world.lo.z == doctest::Approx(0.0));
+        moved += p.target_position_world.x != 0.0;
+    }
+    CHECK(moved == s.count);
+    CHECK(errorOf([&] { make(R"("placement": "exact", )"); }).find("allowed \"boxes\" or \"triangles\"") !=
+          std::string::npos);
+}

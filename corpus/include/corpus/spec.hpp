@@ -95,6 +95,10 @@ struct Spec {
     std::vector<TargetModel> target_files;      // empty: the base scene's target
     MetricSpec metric;
     io::CloudFormat format = io::CloudFormat::PcdBinary;
+    /// "placement": "triangles": a moved target is blocked by the triangles of an environment
+    /// mesh (their boxes), not by the mesh's whole box; for a mesh that covers the whole
+    /// scene, such as the boxes `scene from-cloud` makes of a real survey. Default "boxes".
+    bool place_by_triangles = false;
 
     bool varies(std::string_view key) const;
     /// The cloud's file name in an item folder: cloud.pcd or cloud.ply.
