@@ -1,10 +1,14 @@
-// app/src/cmd_ground.cpp: `ladarvr ground IN --out OUT [--method smrf|csf] [--smrf-*|--csf-*]
-// [--reclassify] [--json]`: the ground of a cloud we did not generate (a real survey's
+// app/src/cmd_ground.cpp: `ladarvr ground IN... (--out OUT | --out-dir DIR) [--method
+// smrf|csf] [--smrf-*|--csf-*] [--reclassify] [--whiten] [--jobs K] [--threads N]
+// [--only-tile I] [--json]`: the ground of clouds we did not generate (real surveys'
 // LAS/LAZ, or any cloud we read), classified by a whole-cloud filter (sim/ground_file.hpp)
-// and written to OUT with every ground point labelled ground (LAS class 2); a LAS/LAZ/COPC
-// input keeps its other classes and every other field it carries. Options are parsed and checked
-// here; the work is sim::classifyGroundFile. The defaults are the set tuned on the ISPRS
-// samples (docs/ground.md), not `generate --ground`'s.
+// and written with every ground point labelled ground (LAS class 2); a LAS/LAZ/COPC input
+// keeps its other classes and every other field it carries. One input whose terrain
+// raster fits the memory is classified in one run; a larger survey, or several inputs
+// merged into --out, tile by tile with a buffer (sim/ground_tiles.hpp); with --out-dir
+// each input is a tile written to a file of its own, its neighbours its buffer. Options
+// are parsed and checked here. The defaults are the set tuned on the ISPRS samples
+// (docs/ground.md), not `generate --ground`'s.
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "ground_options.hpp"
@@ -18,17 +22,24 @@
 #include <platform/progress.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/ground_file.hpp>
+#include <sim/ground_tiles.hpp>
 #include <sim/ground_units.hpp>
 #include <sim/memory_budget.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <string>
+#include <thread>
 
 namespace app {
 namespace {
@@ -36,67 +47,102 @@ namespace {
 // What the terrain raster holds per cell while it is gathered and fitted: the lowest
 // heights with their views (100 bytes) and the fit's working rasters.
 constexpr std::uint64_t kBytesPerCell = 160;
+// A tile's side at most, metres: the tiles of a large survey stay a few rasters' size even
+// where the memory would allow one huge one, so that --jobs has tiles to share.
+constexpr double kLargestTile_m = 2000.0;
 
 struct GroundFileCli {
-    std::string in, out;
+    std::vector<std::string> in;
+    std::string out, out_dir;
     std::string method = "smrf";
     sim::GroundFileOptions options;
     double low_outlier_m = sim::kSurveyLowOutlier_m;
     double memory_mb = 1024.0;
+    double tile_m = 0;  // 0: tiles only where one raster does not fit
+    int jobs = 1, threads = 1, only_tile = -1;
     bool json = false;
 };
 
-void run(GroundFileCli& cli) {
-    const auto t0 = std::chrono::steady_clock::now();
-    cli.options.method = sim::parseGroundMethod(cli.method, "ground: --method");
-    if (cli.options.method == sim::GroundMethod::Ransac)
-        throw core::Error("ground: --method ransac: RANSAC works per view of a generated cloud; allowed smrf, csf");
-    cli.options.smrf.low_outlier_m = cli.options.csf.low_outlier_m = cli.low_outlier_m;
-    sim::validate(cli.options);
-    const std::uint64_t budget = sim::memoryBudgetBytes(cli.memory_mb, "ground");
-    platform::checkDistinctPaths("ground", {{"input", cli.in, platform::PathRole::Input, {}},
-                                            {"--out", cli.out, platform::PathRole::Output, {}}});
-    platform::checkInputFile(cli.in, "ground: input " + core::printable(cli.in, 400));
-    platform::InputSet inputs;
-    inputs.addFile(cli.in);
-    const std::filesystem::path out = cli.out;
-    const io::CloudFormat format = io::formatForPath(out, "ground: --out");
-
-    // The memory: the reader's two chunks, the writer's share, the rest for the raster.
-    const std::uint64_t reading = 2 * io::CloudReader::kChunkPoints * sizeof(core::CloudPoint);
-    io::LasOptions las;
+// The memory of one job: the reader's two chunks of points and of side records (a
+// foreign LAS file's ForeignPoint and extra bytes), the writer's share, and a raster.
+struct MemoryPlan {
+    std::uint64_t budget = 0, per_job = 0;
     io::CopcOptions copc;
+    std::size_t max_cells = 0;  // a raster's cells in each job
+};
+
+std::size_t sideBytes(const std::string& file, io::CloudFormat format) {
+    if (format != io::CloudFormat::Las && format != io::CloudFormat::Laz && format != io::CloudFormat::Copc) return 0;
+    const io::CloudReader reader(file, io::SideRecords::Keep);
+    const auto foreign = reader.foreignHeader();
+    return foreign ? foreign->stride() : 0;
+}
+
+MemoryPlan planMemory(const GroundFileCli& cli, io::CloudFormat format, std::size_t side_bytes, int jobs) {
+    MemoryPlan plan;
+    plan.budget = sim::memoryBudgetBytes(cli.memory_mb, "ground");
+    const std::uint64_t reading =
+        2 * io::CloudReader::kChunkPoints * (sizeof(core::CloudPoint) + std::uint64_t(side_bytes));
     std::uint64_t writing = 2 * io::lazChunkBytes();
+    const std::uint64_t share = plan.budget / std::uint64_t(jobs);
     if (format == io::CloudFormat::Copc) {
-        writing = std::max<std::uint64_t>(io::copcMinimumBytes(0), budget > reading ? (budget - reading) / 2 : 0);
-        copc.memory_bytes = writing;
+        writing = std::max<std::uint64_t>(io::copcMinimumBytes(0), share > reading ? (share - reading) / 2 : 0);
+        plan.copc.memory_bytes = writing;
     }
     const std::uint64_t least = reading + writing + 1024 * kBytesPerCell;
-    sim::refuseOverBudget("ground", budget, least, "two chunks of points read, the writer's buffers and a raster",
-                          "raise --memory-mb");
-    const std::size_t max_cells = std::size_t((budget - reading - writing) / kBytesPerCell);
+    sim::refuseOverBudget("ground", share, least,
+                          (jobs > 1 ? "per job of --jobs: " : std::string()) +
+                              "two chunks of points and their side records read, the writer's buffers and a raster",
+                          jobs > 1 ? "raise --memory-mb or lower --jobs" : "raise --memory-mb");
+    plan.per_job = share;
+    plan.max_cells = std::size_t((share - reading - writing) / kBytesPerCell);
+    return plan;
+}
 
-    std::size_t declared = 0;
-    {
-        const io::CloudReader reader(cli.in);  // the header checked before the output is touched
-        declared = reader.declaredPoints();
+// The cells one run's raster spans over `box` (the filter's grid, in the file's frame).
+std::uint64_t cellsOver(const sim::GroundBox& box, const glm::dvec3& origin, double cell) {
+    const auto span = [&](double lo, double hi, double o) {
+        return std::uint64_t(std::floor((hi - o) / cell) - std::floor((lo - o) / cell)) + 1;
+    };
+    return span(box.min.x, box.max.x, origin.x) * span(box.min.y, box.max.y, origin.y);
+}
+
+double filterCell(const sim::GroundFileOptions& o) {
+    return o.method == sim::GroundMethod::Csf ? o.csf.cloth_m : o.smrf.cell_m;
+}
+std::size_t filterMaxCells(const sim::GroundFileOptions& o) {
+    return o.method == sim::GroundMethod::Csf ? o.csf.max_cells : o.smrf.max_cells;
+}
+
+// The tile side (file units) whose raster, buffer included, fits `max_cells`.
+double tileSide(const GroundFileCli& cli, const sim::GroundFileOptions& o, const sim::CoordinateUnits& units,
+                std::size_t max_cells, double buffer) {
+    const double cell = filterCell(o);
+    const double fits = std::floor(std::sqrt(double(std::min(max_cells, filterMaxCells(o))))) - 2.0;
+    const double side = fits * cell - 2.0 * buffer;
+    if (cli.tile_m > 0) {
+        const double forced = cli.tile_m / units.horizontal_m;
+        if (forced > side)
+            throw core::Error("ground: --tile-m " + core::printable(std::to_string(cli.tile_m), 40) +
+                              ": a tile's raster with its buffer is over the memory's share; allowed at most " +
+                              std::to_string(std::max(0.0, side * units.horizontal_m)) + " m (or raise --memory-mb)");
+        return forced;
     }
-    const sim::CoordinateUnits units = sim::readCoordinateUnits(cli.in, "ground");  // options in metres to its units
-    if (!units.metres())
-        std::fprintf(stderr, "ground: coordinates in %s: options converted\n", sim::describe(units).c_str());
-    createParentFolders(out, "ground: --out");
-    platform::checkWritableDestination(out, inputs);
-    platform::Progress progress("ground: reading twice", 2 * declared);
-    const sim::GroundFileStats st = sim::classifyGroundFile(cli.in, out, sim::inUnits(cli.options, units), max_cells,
-                                                            las, copc, [&](std::size_t n) { progress.advance(n); });
-    progress.finish();
-    if (!st.reader_warning.empty()) platform::printMessage("warning", st.reader_warning);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (side < 4.0 * buffer)
+        throw core::Error("ground: --memory-mb " + std::to_string(cli.memory_mb) +
+                          ": a tile with its buffer does not fit; raise --memory-mb" +
+                          (cli.jobs > 1 ? " or lower --jobs" : ""));
+    return std::min(side, kLargestTile_m / units.horizontal_m);
+}
+
+void printStats(const GroundFileCli& cli, const std::string& in, const std::string& out, const sim::GroundFileStats& st,
+                const sim::CoordinateUnits& units, bool tiled, double seconds, nlohmann::json* array) {
     const double share = st.points > 0 ? 100.0 * double(st.ground_points) / double(st.points) : 0.0;
     if (cli.json) {
         nlohmann::json j;
-        j["in"] = cli.in;
-        j["out"] = cli.out;
+        j["in"] = in;
+        if (cli.in.size() > 1 && cli.out_dir.empty()) j["inputs"] = cli.in;
+        j["out"] = out;
         j["method"] = sim::groundMethodName(cli.options.method);
         j["options"] = sim::describe(cli.options);
         j["points"] = st.points;
@@ -104,13 +150,211 @@ void run(GroundFileCli& cli) {
         j["input_ground_points"] = st.was_ground;
         j["input_ground_points_kept"] = st.still_ground;
         j["raster"] = {{"nx", st.nx}, {"ny", st.ny}, {"cell_m", st.cell_m * units.horizontal_m}};
+        if (tiled) j["tiles"] = st.tiles;
         j["seconds"] = seconds;
+        if (array) {
+            array->push_back(std::move(j));
+            return;
+        }
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
-    std::printf("ground: wrote %s: %zu points, %zu ground (%.2f %%), %s, raster %d x %d, %.3f s\n",
-                platform::messageLine(cli.out, 400).c_str(), st.points, st.ground_points, share,
-                sim::describe(cli.options).c_str(), st.nx, st.ny, seconds);
+    std::printf("ground: wrote %s: %zu points, %zu ground (%.2f %%), %s, ", platform::messageLine(out, 400).c_str(),
+                st.points, st.ground_points, share, sim::describe(cli.options).c_str());
+    if (tiled)
+        std::printf("%zu tiles, largest raster %d x %d, %.3f s\n", st.tiles, st.nx, st.ny, seconds);
+    else
+        std::printf("raster %d x %d, %.3f s\n", st.nx, st.ny, seconds);
+}
+
+// `ground IN... --out OUT`: one run, or tiles where one raster does not fit or several
+// inputs are merged.
+void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::GroundFileOptions& o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<platform::RunPath> paths;
+    for (const std::string& in : cli.in) paths.push_back({"input", in, platform::PathRole::Input, {}});
+    paths.push_back({"--out", cli.out, platform::PathRole::Output, {}});
+    platform::checkDistinctPaths("ground", paths);
+    platform::InputSet inputs;
+    std::vector<std::filesystem::path> files;
+    for (const std::string& in : cli.in) {
+        platform::checkInputFile(in, "ground: input " + core::printable(in, 400));
+        inputs.addFile(in);
+        files.emplace_back(in);
+    }
+    const std::filesystem::path out = cli.out;
+    const io::CloudFormat format = io::formatForPath(out, "ground: --out");
+    std::size_t side = 0, declared = 0;
+    glm::dvec3 origin{0.0};
+    for (const std::string& in : cli.in) {
+        side = std::max(side, sideBytes(in, format));  // the header checked before the output is touched
+        const io::CloudReader reader(in);
+        declared += reader.declaredPoints();
+        if (&in == &cli.in.front()) origin = reader.origin();
+    }
+    if (cli.in.size() > 1) sim::checkMergeable(files);
+    const MemoryPlan one = planMemory(cli, format, side, 1);
+    const double buffer = sim::tileBuffer(o);
+    bool tiled = cli.in.size() > 1 || cli.tile_m > 0;
+    if (!tiled) {
+        const sim::GroundBox box = sim::readGroundBox(files[0]);
+        tiled = cellsOver(box, origin, filterCell(o)) > std::min(one.max_cells, filterMaxCells(o));
+    }
+    createParentFolders(out, "ground: --out");
+    platform::checkWritableDestination(out, inputs);
+    sim::GroundFileStats st;
+    if (!tiled) {
+        platform::Progress progress(o.whiten ? "ground: reading three times" : "ground: reading twice",
+                                    (o.whiten ? 3 : 2) * declared);
+        st = sim::classifyGroundFile(
+            files[0], out, o, one.max_cells, {}, one.copc, [&](std::size_t n) { progress.advance(n); }, cli.threads);
+        progress.finish();
+    } else {
+        // The tiles' rasters share the memory among --jobs; the reading and writing passes
+        // run alone.
+        const MemoryPlan jobs = planMemory(cli, format, side, cli.jobs);
+        sim::GroundTiling t;
+        t.buffer_m = buffer;
+        t.tile_m = tileSide(cli, o, units, jobs.max_cells, buffer);
+        t.jobs = cli.jobs;
+        t.threads = cli.threads;
+        t.max_cells = jobs.max_cells;
+        t.scratch_dir = out.parent_path().empty() ? std::filesystem::path(".") : out.parent_path();
+        platform::Progress progress("ground: tiles (spill, thickness, fit, write)", 4 * declared);
+        st = sim::classifyGroundTiled(files, out, o, t, {}, one.copc, [&](std::size_t n) { progress.advance(n); });
+        progress.finish();
+    }
+    if (!st.reader_warning.empty()) platform::printMessage("warning", st.reader_warning);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    printStats(cli, cli.in.front(), cli.out, st, units, tiled, seconds, nullptr);
+}
+
+// `ground IN... --out-dir DIR`: each input a tile of its own, its neighbours its buffer.
+void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::GroundFileOptions& o) {
+    const std::filesystem::path dir = cli.out_dir;
+    std::vector<std::filesystem::path> files, outs;
+    std::vector<platform::RunPath> paths;
+    std::set<std::string> names;
+    for (const std::string& in : cli.in) {
+        const std::filesystem::path name = std::filesystem::path(in).filename();
+        if (!names.insert(name.string()).second)
+            throw core::Error("ground: --out-dir: two inputs are named '" + core::printable(name.string(), 400) +
+                              "'; allowed inputs of distinct names (each output takes its input's name)");
+        files.emplace_back(in);
+        outs.push_back(dir / name);
+        paths.push_back({"input", in, platform::PathRole::Input, {}});
+    }
+    if (cli.only_tile >= int(cli.in.size()))
+        throw core::Error("ground: --only-tile " + std::to_string(cli.only_tile) + ": allowed [0, " +
+                          std::to_string(cli.in.size() - 1) + "] (an index into the " + std::to_string(cli.in.size()) +
+                          " inputs)");
+    for (const auto& p : outs) paths.push_back({"--out-dir", p, platform::PathRole::Output, {}});
+    platform::checkDistinctPaths("ground", paths);
+    platform::InputSet inputs;
+    for (const std::string& in : cli.in) {
+        platform::checkInputFile(in, "ground: input " + core::printable(in, 400));
+        inputs.addFile(in);
+    }
+    std::vector<std::size_t> todo;
+    for (std::size_t i = 0; i < files.size(); ++i)
+        if (cli.only_tile < 0 || std::size_t(cli.only_tile) == i) todo.push_back(i);
+    std::size_t side = 0, declared = 0, all = 0;
+    std::vector<sim::GroundBox> boxes;
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        const io::CloudFormat format = io::formatForPath(outs[i], "ground: --out-dir");
+        side = std::max(side, sideBytes(cli.in[i], format));
+        boxes.push_back(sim::readGroundBox(files[i]));
+        if (sim::readCoordinateUnits(files[i], "ground").horizontal_m != units.horizontal_m)
+            throw core::Error("ground: inputs " + core::printable(cli.in[0], 400) + " and " +
+                              core::printable(cli.in[i], 400) +
+                              " are in different units; allowed tiles of one survey, in one unit");
+        const std::size_t n = io::CloudReader(files[i]).declaredPoints();
+        all += n;
+        if (std::find(todo.begin(), todo.end(), i) != todo.end()) declared += n;
+    }
+    const int jobs = std::max(1, std::min<int>(cli.jobs, int(todo.size())));
+    const io::CloudFormat first_format = io::formatForPath(outs[todo.empty() ? 0 : todo[0]], "ground: --out-dir");
+    const MemoryPlan plan = planMemory(cli, first_format, side, jobs);
+    createParentFolders(outs[0], "ground: --out-dir");
+    for (std::size_t i : todo) platform::checkWritableDestination(outs[i], inputs);
+
+    sim::GroundTiling t;
+    t.buffer_m = sim::tileBuffer(o);
+    t.threads = cli.threads;
+    t.max_cells = plan.max_cells;
+    t.jobs = jobs;
+    platform::Progress progress("ground: the survey's ground thickness, then each tile",
+                                all + (o.whiten ? 3 : 2) * declared);
+    std::mutex mutex;
+    // One thickness for every tile, as one run over the whole survey measures it.
+    t.thickness_m = sim::surveyThickness(files, boxes, o, t, [&](std::size_t n) { progress.advance(n); });
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr error;
+    std::vector<sim::GroundFileStats> stats(files.size());
+    std::vector<double> seconds(files.size(), 0.0);
+    const auto worker = [&] {
+        for (std::size_t k = next++; k < todo.size(); k = next++) {
+            const std::size_t i = todo[k];
+            const auto t0 = std::chrono::steady_clock::now();
+            try {
+                stats[i] =
+                    sim::classifyGroundNeighbours(files, boxes, i, outs[i], o, t, {}, plan.copc, [&](std::size_t n) {
+                        const std::lock_guard lock(mutex);
+                        progress.advance(n);
+                    });
+            } catch (...) {
+                const std::lock_guard lock(mutex);
+                if (!error) error = std::current_exception();
+                next = todo.size();
+                return;
+            }
+            seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        }
+    };
+    if (jobs == 1) {
+        worker();
+    } else {
+        std::vector<std::thread> threads;
+        for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
+        for (std::thread& th : threads) th.join();
+    }
+    if (error) std::rethrow_exception(error);
+    progress.finish();
+    nlohmann::json array = nlohmann::json::array();
+    for (std::size_t i : todo) {
+        if (!stats[i].reader_warning.empty()) platform::printMessage("warning", stats[i].reader_warning);
+        printStats(cli, cli.in[i], outs[i].string(), stats[i], units, false, seconds[i], &array);
+    }
+    if (cli.json) std::printf("%s\n", array.dump(2).c_str());
+}
+
+void run(GroundFileCli& cli) {
+    cli.options.method = sim::parseGroundMethod(cli.method, "ground: --method");
+    if (cli.options.method == sim::GroundMethod::Ransac)
+        throw core::Error("ground: --method ransac: RANSAC works per view of a generated cloud; allowed smrf, csf");
+    cli.options.smrf.low_outlier_m = cli.options.csf.low_outlier_m = cli.low_outlier_m;
+    sim::validate(cli.options);
+    if (cli.jobs < 1 || cli.jobs > 256)
+        throw core::Error("ground: --jobs " + std::to_string(cli.jobs) + ": allowed [1, 256]");
+    if (cli.threads < 0 || cli.threads > 1024)
+        throw core::Error("ground: --threads " + std::to_string(cli.threads) + ": allowed [0, 1024], 0 = all cores");
+    if (cli.threads == 0) cli.threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    if (!(cli.tile_m >= 0) || cli.tile_m > 1e6)
+        throw core::Error("ground: --tile-m " + std::to_string(cli.tile_m) +
+                          ": allowed [0, 1000000] metres, 0 = tiles only where needed");
+    if (cli.only_tile >= 0 && cli.out_dir.empty())
+        throw core::Error("ground: --only-tile: allowed only with --out-dir (it names the input written there)");
+    sim::memoryBudgetBytes(cli.memory_mb, "ground");
+    for (const std::string& in : cli.in) platform::checkInputFile(in, "ground: input " + core::printable(in, 400));
+    // Options in metres to the file's units (the inputs share them, as checked later).
+    const sim::CoordinateUnits units = sim::readCoordinateUnits(cli.in.front(), "ground");
+    if (!units.metres())
+        std::fprintf(stderr, "ground: coordinates in %s: options converted\n", sim::describe(units).c_str());
+    const sim::GroundFileOptions o = sim::inUnits(cli.options, units);
+    if (cli.out_dir.empty())
+        runOne(cli, units, o);
+    else
+        runEach(cli, units, o);
 }
 
 }  // namespace
@@ -119,13 +363,18 @@ void registerGround(CLI::App& cli) {
     auto state = std::make_shared<GroundFileCli>();
     CLI::App* c = cli.add_subcommand(
         "ground",
-        "classify the ground of a cloud (a real survey's LAS/LAZ, or PCD, PLY, COPC) with a whole-cloud filter "
-        "and write it with every point labelled ground (LAS class 2) or not (class 1)");
-    c->add_option("in", state->in, "the input cloud; it is never overwritten")->required();
-    c->add_option("--out", state->out,
-                  "the cloud to write; its name gives the format (.las, .laz, .copc.laz, .pcd, "
-                  ".ply)")
-        ->required();
+        "classify the ground of clouds (real surveys' LAS/LAZ, or PCD, PLY, COPC) with a whole-cloud filter "
+        "and write them with every point labelled ground (LAS class 2) or not (class 1)");
+    c->add_option("in", state->in, "the input clouds (a survey's tiles); they are never overwritten")->required();
+    CLI::Option_group* dest = c->add_option_group("output", "where the classified points go (one of)");
+    dest->add_option("--out", state->out,
+                     "the one cloud to write, every input merged; its name gives the format (.las, .laz, "
+                     ".copc.laz, .pcd, .ply)");
+    CLI::Option* out_dir = dest->add_option(
+        "--out-dir", state->out_dir,
+        "write one cloud per input into this folder, under the input's name; each input is classified with the "
+        "inputs around it as its buffer");
+    dest->require_option(1);
     c->add_option("--method", state->method,
                   "smrf (Pingel et al. 2013, the default: the best on the ISPRS samples with one parameter set) or "
                   "csf (Zhang et al. 2016)")
@@ -136,11 +385,27 @@ void registerGround(CLI::App& cli) {
                   "a return this far below the ground around it (multipath, noise) is left out of the terrain and is "
                   "not ground, metres [0, 1000], 0 = keep every return")
         ->capture_default_str();
-    c->add_option("--memory-mb", state->memory_mb, "bound on memory: the terrain raster and the points in flight")
+    c->add_option("--memory-mb", state->memory_mb,
+                  "bound on memory: the terrain rasters, the points and side records in flight")
         ->capture_default_str();
     c->add_flag("--reclassify", state->options.reclassify,
                 "a LAS/LAZ/COPC input's points that are not ground all become class 1 (by default its classes other "
                 "than ground are kept)");
+    c->add_flag("--whiten", state->options.whiten,
+                "write the paper's colours as RGB: ground white, every other point by its height above the ground "
+                "on the jet map (red low, blue at the highest)");
+    c->add_option("--jobs", state->jobs, "tiles classified at once, [1, 256]; they share --memory-mb")
+        ->capture_default_str();
+    c->add_option("--threads", state->threads, "threads of each tile's terrain fit, [0, 1024], 0 = all cores")
+        ->capture_default_str();
+    c->add_option("--tile-m", state->tile_m,
+                  "advanced: classify in square tiles this wide, metres (0: tiles only where one terrain raster "
+                  "does not fit --memory-mb, sized to fit)")
+        ->capture_default_str();
+    c->add_option("--only-tile", state->only_tile,
+                  "with --out-dir: classify and write only input I (0-based), the others read as its buffer: one "
+                  "Slurm array task per input (scripts/slurm/ground.sbatch)")
+        ->needs(out_dir);
     c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");
     c->callback([state] { run(*state); });
 }

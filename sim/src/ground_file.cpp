@@ -1,13 +1,17 @@
 // sim/src/ground_file.cpp: see sim/ground_file.hpp. The file is read twice through
 // io::CloudReader: pass 1 gives every point to the filter's TerrainFit, which keeps only
 // per-cell lowest heights, pass 2 labels each chunk and appends it to the writer.
+#include "ground_label.hpp"
 #include "ground_raster.hpp"
 
 #include <sim/ground_file.hpp>
 
 #include <core/error.hpp>
+#include <core/jet.hpp>
 #include <io/cloud_reader.hpp>
+#include <sim/colour.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <sstream>
 
@@ -16,6 +20,7 @@ namespace sim {
 SmrfOptions surveySmrfOptions() {
     SmrfOptions o;
     o.low_outlier_m = kSurveyLowOutlier_m;
+    o.raised_segments = true;
     return o;
 }
 
@@ -58,8 +63,6 @@ std::string describe(const GroundFileOptions& o) {
     return s.str();
 }
 
-namespace {
-
 std::unique_ptr<TerrainFit> startFit(const GroundFileOptions& o, std::size_t max_cells) {
     if (o.method == GroundMethod::Csf) {
         CsfOptions c = o.csf;
@@ -71,7 +74,12 @@ std::unique_ptr<TerrainFit> startFit(const GroundFileOptions& o, std::size_t max
     return startSmrf(m);
 }
 
-}  // namespace
+void addToFit(TerrainFit& fit, std::span<const core::CloudPoint> points, int threads) {
+    if (threads > 1)
+        fit.addAll(points, threads);
+    else
+        fit.add(points);
+}
 
 std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> points, const GroundFileOptions& o) {
     const std::unique_ptr<TerrainFit> fit = startFit(o, std::size_t(-1));
@@ -85,22 +93,110 @@ std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> point
     return ground;
 }
 
-GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::filesystem::path& out,
-                                   const GroundFileOptions& o, std::size_t max_cells, const io::LasOptions& las,
-                                   const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress) {
-    GroundFileStats st;
-    const std::unique_ptr<TerrainFit> fit = startFit(o, max_cells);
+GroundLabeller::GroundLabeller(const GroundFileOptions& o, std::size_t stride, float colour_top_m)
+    : o_(o), stride_(stride), top_m_(colour_top_m) {
+    if (o.whiten) jet_ = core::jetTable(ColourOptions{}.entries);
+}
+
+void GroundLabeller::apply(core::CloudPoint& p, unsigned char* record, bool ground, float height_m,
+                           GroundFileStats& st) const {
+    const bool was_ground = p.label == core::Role::Ground;
+    p.height_above_ground_m = height_m;
+    core::ForeignPoint f;
+    if (stride_ > 0) {
+        // The file's own class: ground 2, its ground that is not ground 1, the rest kept.
+        std::memcpy(&f, record, sizeof f);
+        f.classification = ground                                   ? std::uint8_t(2)
+                           : f.classification == 2 || o_.reclassify ? std::uint8_t(1)
+                                                                    : f.classification;
+        if (ground)
+            p.label = core::Role::Ground;
+        else if (p.label == core::Role::Ground || o_.reclassify)
+            p.label = core::Role::Environment;
+    } else if (p.label != core::Role::Target) {
+        p.label = ground ? core::Role::Ground : core::Role::Environment;
+    }
+    const bool is_ground = p.label == core::Role::Ground;
+    if (o_.whiten) {
+        // The generator's colours: white ground, the rest by height on the jet map.
+        p.rgb = is_ground ? core::kWhite : heightColour(std::max(height_m, 0.0f), 0.0f, top_m_, jet_);
+        f.rgb[0] = std::uint16_t(((p.rgb >> 16) & 0xFFu) * 257u);
+        f.rgb[1] = std::uint16_t(((p.rgb >> 8) & 0xFFu) * 257u);
+        f.rgb[2] = std::uint16_t((p.rgb & 0xFFu) * 257u);
+    }
+    if (stride_ > 0) std::memcpy(record, &f, sizeof f);
+    st.was_ground += was_ground;
+    st.still_ground += was_ground && is_ground;
+    st.ground_points += is_ground;
+}
+
+namespace {
+
+bool zeroShift(const glm::dvec3& shift) { return shift.x == 0.0 && shift.y == 0.0 && shift.z == 0.0; }
+
+void moveBy(std::vector<core::CloudPoint>& chunk, const glm::dvec3& shift) {
+    if (zeroShift(shift)) return;
+    for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + shift);
+}
+
+// Pass 1: the terrain fitted on `in`'s points and `extra`'s within their boxes.
+void fitOn(TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& shift,
+           const std::vector<FitSource>& extra, int threads, double thickness_m,
+           const std::function<void(std::size_t)>& progress) {
     {
         io::CloudReader reader(in);
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
-            fit->add(chunk);
+            moveBy(chunk, shift);
+            addToFit(fit, chunk, threads);
             progress(chunk.size());
         });
     }
-    fit->fit();
+    for (const FitSource& source : extra) {
+        io::CloudReader reader(source.file);
+        io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+            moveBy(chunk, source.shift);
+            std::erase_if(chunk, [&](const core::CloudPoint& p) {
+                return p.position.x < source.min.x || p.position.x > source.max.x || p.position.y < source.min.y ||
+                       p.position.y > source.max.y;
+            });
+            addToFit(fit, chunk, threads);
+        });
+    }
+    fit.setFitThreads(threads);
+    if (thickness_m >= 0) fit.setGroundThickness(thickness_m);
+    fit.fit();
+}
+
+// The top of the jet map: the highest point above the terrain that is not ground.
+float colourTop(const TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& shift,
+                const std::function<void(std::size_t)>& progress) {
+    float top_m = 0;
+    io::CloudReader reader(in);
+    io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+        for (core::CloudPoint p : chunk) {
+            if (!zeroShift(shift)) p.position = glm::vec3(glm::dvec3(p.position) + shift);
+            float height_m = 0;
+            if (!fit.classify(p, height_m)) top_m = std::max(top_m, height_m);
+        }
+        progress(chunk.size());
+    });
+    return top_m;
+}
+
+}  // namespace
+
+GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec3& shift,
+                                const std::vector<FitSource>& extra, const std::filesystem::path& out,
+                                const GroundFileOptions& o, std::size_t max_cells, int threads, double thickness_m,
+                                const io::LasOptions& las, const io::CopcOptions& copc,
+                                const std::function<void(std::size_t)>& progress) {
+    GroundFileStats st;
+    const std::unique_ptr<TerrainFit> fit = startFit(o, max_cells);
+    fitOn(*fit, in, shift, extra, threads, thickness_m, progress);
     st.nx = fit->surface().nx;
     st.ny = fit->surface().ny;
     st.cell_m = fit->surface().cell_m;
+    if (o.whiten) st.colour_top_m = colourTop(*fit, in, shift, progress);
 
     const io::CloudFormat format = io::formatForPath(out, "ground: --out");
     const bool las_out =
@@ -109,38 +205,27 @@ GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::f
     core::CloudFields fields = reader.fields();
     fields.label = true;
     fields.height_above_ground = true;
+    if (o.whiten) fields.rgb = true;
     io::LasOptions with = las;
     with.foreign = reader.foreignHeader();
     io::CloudWriter writer(out, format, reader.origin(), fields, with,
                            format == io::CloudFormat::Copc ? &copc : nullptr);
     const std::size_t stride = with.foreign ? with.foreign->stride() : 0;
+    const GroundLabeller labeller(o, stride, st.colour_top_m);
+    const bool moved = !zeroShift(shift);
     io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk, std::vector<unsigned char>& records) {
         for (std::size_t i = 0; i < chunk.size(); ++i) {
             core::CloudPoint& p = chunk[i];
-            const bool was_ground = p.label == core::Role::Ground;
             float height_m = 0;
-            const bool ground = fit->classify(p, height_m);
-            p.height_above_ground_m = height_m;
-            if (stride > 0) {
-                // The file's own class: ground 2, its ground that is not ground 1, the rest kept.
-                core::ForeignPoint f;
-                unsigned char* at = records.data() + i * stride;
-                std::memcpy(&f, at, sizeof f);
-                f.classification = ground                                  ? std::uint8_t(2)
-                                   : f.classification == 2 || o.reclassify ? std::uint8_t(1)
-                                                                           : f.classification;
-                std::memcpy(at, &f, sizeof f);
-                if (ground)
-                    p.label = core::Role::Ground;
-                else if (p.label == core::Role::Ground || o.reclassify)
-                    p.label = core::Role::Environment;
-            } else if (p.label != core::Role::Target) {
-                p.label = ground ? core::Role::Ground : core::Role::Environment;
+            bool ground = false;
+            if (moved) {
+                core::CloudPoint q = p;
+                q.position = glm::vec3(glm::dvec3(p.position) + shift);
+                ground = fit->classify(q, height_m);
+            } else {
+                ground = fit->classify(p, height_m);
             }
-            const bool is_ground = p.label == core::Role::Ground;
-            st.was_ground += was_ground;
-            st.still_ground += was_ground && is_ground;
-            st.ground_points += is_ground;
+            labeller.apply(p, stride > 0 ? records.data() + i * stride : nullptr, ground, height_m, st);
         }
         st.points += chunk.size();
         writer.append(chunk, records);
@@ -152,6 +237,13 @@ GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::f
         st.reader_warning +=
             (st.reader_warning.empty() ? "" : "; ") + with.foreign->crs_problem + "; written without a CRS";
     return st;
+}
+
+GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::filesystem::path& out,
+                                   const GroundFileOptions& o, std::size_t max_cells, const io::LasOptions& las,
+                                   const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress,
+                                   int threads) {
+    return classifyOneFile(in, glm::dvec3(0.0), {}, out, o, max_cells, std::max(1, threads), -1.0, las, copc, progress);
 }
 
 }  // namespace sim

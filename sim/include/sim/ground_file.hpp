@@ -39,6 +39,10 @@ struct GroundFileOptions {
     /// become class 2, its class-2 points that are not ground become 1, every other class
     /// stays. With `reclassify`, every point that is not ground becomes class 1.
     bool reclassify = false;
+    /// The paper's colours written as each point's RGB: ground white, every other point
+    /// by its height above the terrain on the jet map (sim/colour.hpp; red at the ground,
+    /// blue at the highest point above it in the output).
+    bool whiten = false;
 };
 
 /// Throws core::Error("ground: ...") naming the option when `o` cannot run: RANSAC named,
@@ -59,8 +63,10 @@ struct GroundFileStats {
     std::size_t was_ground = 0;     // labelled ground in the input (LAS class 2)
     std::size_t still_ground = 0;   // of those, labelled ground again
     std::string reader_warning;     // io::CloudReader::warning() of the input, or empty
-    int nx = 0, ny = 0;             // the terrain raster
+    int nx = 0, ny = 0;             // the terrain raster (the largest tile's when tiled)
     double cell_m = 0;
+    std::size_t tiles = 1;   // terrain fits run (tiles with points of their own)
+    float colour_top_m = 0;  // with whiten: the height above ground the jet map ends at
 };
 
 /// Reads `in` (any cloud io::CloudReader reads) twice and writes every point to `out`
@@ -71,11 +77,14 @@ struct GroundFileStats {
 /// bytes: io::LasOptions::foreign) when `out` is LAS, LAZ or COPC. `max_cells` bounds
 /// the terrain raster (the caller's memory bound); a cloud wider than that is refused
 /// naming the cell option. `las` and `copc` go to the writer.
-/// `progress(points)` is called as points are read (both passes). The output is written
+/// `progress(points)` is called as points are read (both passes; a third before the
+/// writing with GroundFileOptions::whiten, which finds the colour map's top). The output is written
 /// through io::CloudWriter (a temporary renamed into place); the caller checks that `out`
-/// may be written and is not `in`. Throws core::Error.
+/// may be written and is not `in`. `threads` share the fit (the same fit whatever their
+/// number). Throws core::Error.
 GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::filesystem::path& out,
                                    const GroundFileOptions& o, std::size_t max_cells, const io::LasOptions& las,
-                                   const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress);
+                                   const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress,
+                                   int threads = 1);
 
 }  // namespace sim

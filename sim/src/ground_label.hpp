@@ -1,0 +1,60 @@
+// sim/src/ground_label.hpp: what the one-file and the tiled `ladarvr ground` share: the
+// filter started with a raster bound, a point's class and colour from its fit, and the
+// classification of one file whose terrain is fitted on its points and on points of other
+// files around it (a folder of tiles).
+#pragma once
+#include <sim/ground.hpp>
+#include <sim/ground_file.hpp>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace sim {
+
+/// `o`'s filter with its raster bounded by `max_cells` (and its own bound).
+std::unique_ptr<TerrainFit> startFit(const GroundFileOptions& o, std::size_t max_cells);
+
+/// Gives a point its class as classifyGroundFile writes it: label, height above ground,
+/// the foreign record's ASPRS class, and with GroundFileOptions::whiten its colour.
+class GroundLabeller {
+  public:
+    /// `stride`: the side records' bytes per point (0: none); `colour_top_m`: the height
+    /// above ground where the jet map ends (whiten only).
+    GroundLabeller(const GroundFileOptions& o, std::size_t stride, float colour_top_m);
+    /// Labels `p` (and its side record at `record` when stride > 0) and counts it in `st`.
+    void apply(core::CloudPoint& p, unsigned char* record, bool ground, float height_m, GroundFileStats& st) const;
+
+  private:
+    const GroundFileOptions& o_;
+    std::size_t stride_;
+    float top_m_;
+    std::vector<std::uint32_t> jet_;
+};
+
+/// Where a fit takes more points from: a file, its points moved by `shift` into the fit's
+/// frame, only those within [min, max] (x-y, in that frame) kept.
+struct FitSource {
+    std::filesystem::path file;
+    glm::dvec3 shift{0.0};
+    glm::dvec2 min{0.0}, max{0.0};
+};
+
+/// classifyGroundFile with the fit in another frame and fed more points: `in`'s points
+/// are moved by `shift` for the fit and the test (written where they are), and `extra`'s
+/// points join the fit. `threads` >= 1 share each fit's gathering and fitting;
+/// `thickness_m` >= 0 is the ground thickness the fit uses (TerrainFit::setGroundThickness).
+GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec3& shift,
+                                const std::vector<FitSource>& extra, const std::filesystem::path& out,
+                                const GroundFileOptions& o, std::size_t max_cells, int threads, double thickness_m,
+                                const io::LasOptions& las, const io::CopcOptions& copc,
+                                const std::function<void(std::size_t)>& progress);
+
+/// Adds `points` to `fit`, with `threads` threads when more than one.
+void addToFit(TerrainFit& fit, std::span<const core::CloudPoint> points, int threads);
+
+}  // namespace sim

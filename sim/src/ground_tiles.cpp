@@ -1,0 +1,469 @@
+// sim/src/ground_tiles.cpp: see sim/ground_tiles.hpp. Three passes over the inputs: the
+// spill (each point to its tile's scratch file, and to those of the neighbours whose
+// buffer holds it), the tiles (each fitted from its file and its own points labelled into
+// a results file, in the order they were spilled), and the writing (the inputs read again
+// in the same order, each point's label taken from its tile's results in turn).
+#include "ground_label.hpp"
+
+#include <sim/ground_tiles.hpp>
+
+#include <core/error.hpp>
+#include <io/cloud_info.hpp>
+#include <io/cloud_reader.hpp>
+#include <platform/scratch_file.hpp>
+#include <sim/ground_units.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+namespace sim {
+
+double tileBuffer(const GroundFileOptions& o) {
+    if (o.method == GroundMethod::Csf) return 60.0 * o.csf.cloth_m;
+    return 4.0 * o.smrf.window_m + 4.0 * o.smrf.cell_m;
+}
+
+GroundBox readGroundBox(const std::filesystem::path& file) {
+    const io::CloudInfo info = io::inspectCloud(file, "ground");
+    GroundBox box;
+    if (info.has_bounds) {
+        box.min = glm::dvec2(info.min.x, info.min.y);
+        box.max = glm::dvec2(info.max.x, info.max.y);
+    }
+    return box;
+}
+
+namespace {
+
+std::string quoted(const std::filesystem::path& p) { return "'" + core::printable(p.string(), 400) + "'"; }
+
+// What must agree between inputs merged into one output.
+struct InputKind {
+    CoordinateUnits units;
+    std::string crs;
+    bool foreign = false;
+    int point_format = 0;
+    bool nir = false;
+    std::string extra_bytes;
+    core::CloudFields fields;
+};
+
+InputKind kindOf(const std::filesystem::path& file) {
+    InputKind k;
+    k.units = readCoordinateUnits(file, "ground");
+    const io::CloudReader reader(file, io::SideRecords::Keep);
+    k.fields = reader.fields();
+    if (const auto f = reader.foreignHeader()) {
+        k.foreign = true;
+        k.crs = f->wkt;
+        k.point_format = f->point_format;
+        k.nir = f->nir;
+        k.extra_bytes = f->extra_bytes_vlr;
+    }
+    return k;
+}
+
+bool sameFields(const core::CloudFields& a, const core::CloudFields& b) {
+    return a.rgb == b.rgb && a.label == b.label && a.view == b.view && a.range == b.range &&
+           a.intensity == b.intensity && a.returns == b.returns && a.incidence == b.incidence &&
+           a.scan_angle == b.scan_angle && a.height_above_ground == b.height_above_ground;
+}
+
+}  // namespace
+
+void checkMergeable(const std::vector<std::filesystem::path>& inputs) {
+    if (inputs.size() < 2) return;
+    const InputKind first = kindOf(inputs[0]);
+    for (std::size_t i = 1; i < inputs.size(); ++i) {
+        const InputKind k = kindOf(inputs[i]);
+        std::string why;
+        if (k.units.horizontal_m != first.units.horizontal_m || k.units.vertical_m != first.units.vertical_m)
+            why = "are in different units";
+        else if (k.crs != first.crs)
+            why = "declare different CRSs";
+        else if (k.foreign != first.foreign || k.point_format != first.point_format || k.nir != first.nir ||
+                 k.extra_bytes != first.extra_bytes || (!k.foreign && !sameFields(k.fields, first.fields)))
+            why = "have different point formats";
+        if (!why.empty())
+            throw core::Error("ground: inputs " + quoted(inputs[0]) + " and " + quoted(inputs[i]) + " " + why +
+                              "; allowed into one --out: inputs of one CRS, unit and point format (or one output "
+                              "each with --out-dir)");
+    }
+}
+
+namespace {
+
+// Spilled: a point in the survey's frame; `reserved` says whether it is the tile's own.
+constexpr std::size_t kSpillChunk = 1u << 16;
+
+constexpr std::size_t kResultBytes = 1 + sizeof(float);
+
+struct Tile {
+    std::optional<platform::ScratchFile> spill;
+    std::optional<platform::ScratchFile> results;
+    std::int64_t tx = 0, ty = 0;
+    std::uint64_t own = 0, all = 0;
+    int nx = 0, ny = 0;
+    float top_m = 0;
+};
+
+std::uint64_t tileKey(std::int64_t tx, std::int64_t ty) {
+    return (std::uint64_t(std::uint32_t(std::int32_t(tx))) << 32) | std::uint32_t(std::int32_t(ty));
+}
+
+class Tiler {
+  public:
+    Tiler(const GroundTiling& t, std::filesystem::path scratch) : t_(t), scratch_(std::move(scratch)) {}
+
+    std::uint64_t ownKey(const core::CloudPoint& p) const { return tileKey(index(p.position.x), index(p.position.y)); }
+
+    // The point to its tile's file and to its neighbours' where it lies in their buffer.
+    void spill(core::CloudPoint p) {
+        const std::int64_t tx = index(p.position.x), ty = index(p.position.y);
+        const double fx = double(p.position.x) - double(tx) * t_.tile_m;
+        const double fy = double(p.position.y) - double(ty) * t_.tile_m;
+        const int dx0 = fx < t_.buffer_m ? -1 : 0, dx1 = fx >= t_.tile_m - t_.buffer_m ? 1 : 0;
+        const int dy0 = fy < t_.buffer_m ? -1 : 0, dy1 = fy >= t_.tile_m - t_.buffer_m ? 1 : 0;
+        for (int dy = dy0; dy <= dy1; ++dy)
+            for (int dx = dx0; dx <= dx1; ++dx) {
+                Tile& tile = at(tileKey(tx + dx, ty + dy));
+                const bool own = dx == 0 && dy == 0;
+                p.reserved = own ? 1 : 0;
+                tile.spill->append(&p, sizeof p);
+                tile.all += 1;
+                tile.own += own;
+            }
+    }
+
+    std::map<std::uint64_t, Tile>& tiles() { return tiles_; }
+
+  private:
+    std::int64_t index(float v) const { return std::int64_t(std::floor(double(v) / t_.tile_m)); }
+
+    Tile& at(std::uint64_t key) {
+        auto it = tiles_.find(key);
+        if (it != tiles_.end()) return it->second;
+        if (tiles_.size() >= kMaxTiles)
+            throw core::Error("ground: --tile-m " + std::to_string(t_.tile_m) + ": the survey makes over " +
+                              std::to_string(kMaxTiles) + " tiles; allowed at most " + std::to_string(kMaxTiles) +
+                              " (raise --tile-m or --memory-mb)");
+        Tile& tile = tiles_[key];
+        tile.tx = std::int32_t(std::uint32_t(key >> 32));
+        tile.ty = std::int32_t(std::uint32_t(key));
+        tile.spill.emplace(scratch_, "ground tiles");
+        return tile;
+    }
+
+    GroundTiling t_;
+    std::filesystem::path scratch_;
+    std::map<std::uint64_t, Tile> tiles_;
+};
+
+// Calls fn(chunk) for each chunk of a tile's spilled points, the own-point flag cleared
+// into `own` (one per point).
+void eachSpilled(Tile& tile, std::vector<core::CloudPoint>& chunk, std::vector<std::uint8_t>& own,
+                 const std::function<void()>& fn) {
+    tile.spill->rewind();
+    for (std::uint64_t left = tile.all; left > 0;) {
+        const std::size_t n = std::size_t(std::min<std::uint64_t>(left, kSpillChunk));
+        chunk.resize(n);
+        own.resize(n);
+        tile.spill->read(chunk.data(), n * sizeof(core::CloudPoint));
+        for (std::size_t i = 0; i < n; ++i) {
+            own[i] = chunk[i].reserved;
+            chunk[i].reserved = 0;
+        }
+        left -= n;
+        fn();
+    }
+}
+
+// A tile's fit with every point of its file added.
+std::unique_ptr<TerrainFit> gather(Tile& tile, const GroundFileOptions& o, const GroundTiling& t) {
+    std::unique_ptr<TerrainFit> fit = startFit(o, t.max_cells);
+    std::vector<core::CloudPoint> chunk;
+    std::vector<std::uint8_t> own;
+    eachSpilled(tile, chunk, own, [&] { addToFit(*fit, chunk, t.threads); });
+    return fit;
+}
+
+// The ground thickness's samples of the cells in a tile's own square.
+void tileSamples(Tile& tile, const GroundFileOptions& o, const GroundTiling& t, std::vector<double>& out) {
+    const std::unique_ptr<TerrainFit> fit = gather(tile, o, t);
+    const glm::dvec2 lo(double(tile.tx) * t.tile_m, double(tile.ty) * t.tile_m);
+    fit->thicknessSamples(lo, lo + glm::dvec2(t.tile_m), out);
+}
+
+// One tile: fitted on every point of its file with the survey's thickness, its own
+// points labelled in order.
+void runTile(Tile& tile, const GroundFileOptions& o, const GroundTiling& t, double thickness_m,
+             const std::filesystem::path& scratch) {
+    const std::unique_ptr<TerrainFit> fit = gather(tile, o, t);
+    fit->setGroundThickness(thickness_m);
+    fit->setFitThreads(t.threads);
+    fit->fit();
+    tile.nx = fit->surface().nx;
+    tile.ny = fit->surface().ny;
+    tile.results.emplace(scratch, "ground tiles");
+    std::vector<core::CloudPoint> chunk;
+    std::vector<std::uint8_t> own;
+    eachSpilled(tile, chunk, own, [&] {
+        for (std::size_t i = 0; i < chunk.size(); ++i) {
+            if (own[i] == 0) continue;
+            float height_m = 0;
+            const std::uint8_t ground = fit->classify(chunk[i], height_m) ? 1 : 0;
+            if (!ground) tile.top_m = std::max(tile.top_m, height_m);
+            unsigned char bytes[kResultBytes];
+            bytes[0] = ground;
+            std::memcpy(bytes + 1, &height_m, sizeof(float));
+            tile.results->append(bytes, kResultBytes);
+        }
+    });
+    tile.spill.reset();
+    tile.results->rewind();
+}
+
+// Runs fn(i) for i in [0, n), `jobs` at once; the first error is rethrown.
+void inJobs(std::size_t n, int jobs, const std::function<void(std::size_t)>& fn) {
+    std::atomic<std::size_t> next{0};
+    std::mutex mutex;
+    std::exception_ptr error;
+    const auto worker = [&] {
+        for (std::size_t i = next++; i < n; i = next++) {
+            try {
+                fn(i);
+            } catch (...) {
+                const std::lock_guard lock(mutex);
+                if (!error) error = std::current_exception();
+                next = n;
+                return;
+            }
+        }
+    };
+    jobs = std::max(1, std::min<int>(jobs, int(std::min<std::size_t>(n, 1024))));
+    if (jobs == 1) {
+        worker();
+    } else {
+        std::vector<std::thread> threads;
+        for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
+        for (std::thread& th : threads) th.join();
+    }
+    if (error) std::rethrow_exception(error);
+}
+
+// The median of the samples, as one fit over them all takes it; -1 (measure) for none.
+double medianThickness(std::vector<double>& samples) {
+    if (samples.empty()) return -1;
+    const auto mid = samples.begin() + std::ptrdiff_t(samples.size() / 2);
+    std::nth_element(samples.begin(), mid, samples.end());
+    return *mid;
+}
+
+// Every tile with points of its own, `jobs` at once: first the survey's ground thickness
+// from every tile's own cells, then each tile's fit and labels.
+void runTiles(std::map<std::uint64_t, Tile>& tiles, const GroundFileOptions& o, const GroundTiling& t,
+              const std::filesystem::path& scratch, const std::function<void(std::size_t)>& progress) {
+    std::vector<Tile*> work;
+    for (auto& [key, tile] : tiles) {
+        if (tile.own > 0)
+            work.push_back(&tile);
+        else
+            tile.spill.reset();  // only the buffer of others
+    }
+    std::mutex mutex;
+    std::vector<double> samples;
+    inJobs(work.size(), t.jobs, [&](std::size_t i) {
+        std::vector<double> mine;
+        tileSamples(*work[i], o, t, mine);
+        const std::lock_guard lock(mutex);
+        samples.insert(samples.end(), mine.begin(), mine.end());
+    });
+    for (const Tile* tile : work) progress(std::size_t(tile->own));
+    const double thickness_m = medianThickness(samples);
+    inJobs(work.size(), t.jobs, [&](std::size_t i) { runTile(*work[i], o, t, thickness_m, scratch); });
+    for (const Tile* tile : work) progress(std::size_t(tile->own));
+}
+
+}  // namespace
+
+GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& inputs, const std::filesystem::path& out,
+                                    const GroundFileOptions& o, const GroundTiling& tiling, const io::LasOptions& las,
+                                    const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress) {
+    GroundFileStats st;
+    // Tiles of whole cells: each cell of the raster, and its thickness sample, in one tile.
+    GroundTiling t = tiling;
+    const double cell = o.method == GroundMethod::Csf ? o.csf.cloth_m : o.smrf.cell_m;
+    t.tile_m = std::max(1.0, std::round(t.tile_m / cell)) * cell;
+    std::vector<glm::dvec3> shifts;
+    glm::dvec3 origin{0.0};
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        const io::CloudReader reader(inputs[i]);
+        if (i == 0) origin = reader.origin();
+        shifts.push_back(reader.origin() - origin);
+    }
+    const auto moveBy = [](core::CloudPoint& p, const glm::dvec3& shift) {
+        if (shift != glm::dvec3(0.0)) p.position = glm::vec3(glm::dvec3(p.position) + shift);
+    };
+
+    // Pass 1: the spill.
+    Tiler tiler(t, t.scratch_dir);
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        io::CloudReader reader(inputs[i]);
+        io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+            for (core::CloudPoint& p : chunk) {
+                moveBy(p, shifts[i]);
+                tiler.spill(p);
+            }
+            progress(chunk.size());
+        });
+    }
+    // Pass 2: the tiles.
+    auto& tiles = tiler.tiles();
+    runTiles(tiles, o, t, t.scratch_dir, progress);
+    st.tiles = 0;
+    for (const auto& [key, tile] : tiles) {
+        if (tile.own == 0) continue;
+        st.tiles += 1;
+        if (std::size_t(tile.nx) * std::size_t(tile.ny) > std::size_t(st.nx) * std::size_t(st.ny)) {
+            st.nx = tile.nx;
+            st.ny = tile.ny;
+        }
+        st.colour_top_m = std::max(st.colour_top_m, tile.top_m);
+    }
+    st.cell_m = o.method == GroundMethod::Csf ? o.csf.cloth_m : o.smrf.cell_m;
+
+    // Pass 3: the writing, each point's label from its tile's results in turn.
+    const io::CloudFormat format = io::formatForPath(out, "ground: --out");
+    const bool las_out =
+        format == io::CloudFormat::Las || format == io::CloudFormat::Laz || format == io::CloudFormat::Copc;
+    std::optional<io::CloudWriter> writer;
+    std::optional<GroundLabeller> labeller;
+    std::size_t stride = 0;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        io::CloudReader reader(inputs[i], las_out ? io::SideRecords::Keep : io::SideRecords::Drop);
+        if (i == 0) {
+            core::CloudFields fields = reader.fields();
+            fields.label = true;
+            fields.height_above_ground = true;
+            if (o.whiten) fields.rgb = true;
+            io::LasOptions with = las;
+            with.foreign = reader.foreignHeader();
+            stride = with.foreign ? with.foreign->stride() : 0;
+            writer.emplace(out, format, origin, fields, with, format == io::CloudFormat::Copc ? &copc : nullptr);
+            labeller.emplace(o, stride, st.colour_top_m);
+            if (with.foreign && !with.foreign->crs_problem.empty())
+                st.reader_warning = with.foreign->crs_problem + "; written without a CRS";
+        }
+        io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk, std::vector<unsigned char>& records) {
+            for (std::size_t k = 0; k < chunk.size(); ++k) {
+                core::CloudPoint& p = chunk[k];
+                moveBy(p, shifts[i]);
+                auto it = tiles.find(tiler.ownKey(p));
+                if (it == tiles.end() || !it->second.results)
+                    throw core::Error("ground: " + quoted(inputs[i]) + ": changed while it was read");
+                unsigned char bytes[kResultBytes];
+                it->second.results->read(bytes, kResultBytes);
+                float height_m = 0;
+                std::memcpy(&height_m, bytes + 1, sizeof(float));
+                labeller->apply(p, stride > 0 ? records.data() + k * stride : nullptr, bytes[0] != 0, height_m, st);
+            }
+            st.points += chunk.size();
+            writer->append(chunk, records);
+            progress(chunk.size());
+        });
+        if (!reader.warning().empty()) st.reader_warning += (st.reader_warning.empty() ? "" : "; ") + reader.warning();
+    }
+    writer->commit();
+    return st;
+}
+
+namespace {
+
+glm::dvec3 originOf(const std::filesystem::path& file) {
+    const io::CloudReader reader(file);
+    return reader.origin();
+}
+
+// The other inputs whose box comes within t.buffer_m of input `index`'s, their points
+// moved into the frame of `frame` and kept within that distance.
+std::vector<FitSource> neighbours(const std::vector<std::filesystem::path>& inputs, const std::vector<GroundBox>& boxes,
+                                  std::size_t index, const glm::dvec3& frame, double buffer_m) {
+    const GroundBox& box = boxes[index];
+    std::vector<FitSource> extra;
+    for (std::size_t k = 0; k < inputs.size(); ++k) {
+        if (k == index) continue;
+        const GroundBox& b = boxes[k];
+        if (b.max.x < box.min.x - buffer_m || b.min.x > box.max.x + buffer_m || b.max.y < box.min.y - buffer_m ||
+            b.min.y > box.max.y + buffer_m)
+            continue;
+        FitSource s;
+        s.file = inputs[k];
+        s.shift = originOf(inputs[k]) - frame;
+        s.min = glm::dvec2(box.min.x - buffer_m - frame.x, box.min.y - buffer_m - frame.y);
+        s.max = glm::dvec2(box.max.x + buffer_m - frame.x, box.max.y + buffer_m - frame.y);
+        extra.push_back(std::move(s));
+    }
+    return extra;
+}
+
+}  // namespace
+
+double surveyThickness(const std::vector<std::filesystem::path>& inputs, const std::vector<GroundBox>& boxes,
+                       const GroundFileOptions& o, const GroundTiling& t,
+                       const std::function<void(std::size_t)>& progress) {
+    const glm::dvec3 frame = originOf(inputs[0]);
+    std::mutex mutex;
+    std::vector<double> samples;
+    inJobs(inputs.size(), t.jobs, [&](std::size_t i) {
+        const std::unique_ptr<TerrainFit> fit = startFit(o, t.max_cells);
+        std::vector<FitSource> sources = neighbours(inputs, boxes, i, frame, t.buffer_m);
+        FitSource own;
+        own.file = inputs[i];
+        own.shift = originOf(inputs[i]) - frame;
+        own.min = glm::dvec2(-1e300);
+        own.max = glm::dvec2(1e300);
+        sources.insert(sources.begin(), own);
+        std::size_t read = 0;
+        for (const FitSource& source : sources) {
+            io::CloudReader reader(source.file);
+            io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+                if (source.file == inputs[i]) read += chunk.size();
+                if (source.shift != glm::dvec3(0.0))
+                    for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + source.shift);
+                std::erase_if(chunk, [&](const core::CloudPoint& p) {
+                    return p.position.x < source.min.x || p.position.x > source.max.x || p.position.y < source.min.y ||
+                           p.position.y > source.max.y;
+                });
+                addToFit(*fit, chunk, t.threads);
+            });
+        }
+        std::vector<double> mine;
+        const GroundBox& box = boxes[i];
+        fit->thicknessSamples(box.min - glm::dvec2(frame), box.max - glm::dvec2(frame), mine);
+        const std::lock_guard lock(mutex);
+        samples.insert(samples.end(), mine.begin(), mine.end());
+        progress(read);
+    });
+    return medianThickness(samples);
+}
+
+GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path>& inputs,
+                                         const std::vector<GroundBox>& boxes, std::size_t index,
+                                         const std::filesystem::path& out, const GroundFileOptions& o,
+                                         const GroundTiling& t, const io::LasOptions& las, const io::CopcOptions& copc,
+                                         const std::function<void(std::size_t)>& progress) {
+    // The first input's frame: the raster's cells lie where one merged run puts them.
+    const glm::dvec3 frame = originOf(inputs[0]);
+    return classifyOneFile(inputs[index], originOf(inputs[index]) - frame,
+                           neighbours(inputs, boxes, index, frame, t.buffer_m), out, o, t.max_cells, t.threads,
+                           t.thickness_m, las, copc, progress);
+}
+
+}  // namespace sim

@@ -1,0 +1,112 @@
+#!/bin/sh
+# tests/app/cmd_ground_tiles_test.sh: `ladarvr ground` on several inputs and in tiles, as a
+# user runs it, on real ISPRS reference samples (tests/data/isprs).
+# Usage: cmd_ground_tiles_test.sh LADARVR_BINARY SCRATCH_DIR DATA_DIR
+#  - a small forced --tile-m gives the points the classes of the untiled run (the same
+#    ground count within 0.01 % of the points), and --jobs 2 writes the bytes of --jobs 1;
+#  - two inputs merged into --out and written one per input into --out-dir: the same
+#    ground counts; --only-tile writes the one file --out-dir writes for that input, byte
+#    for byte, and --jobs 2 the bytes of --jobs 1;
+#  - --out-dir refuses two inputs of one name and an output that would replace an input,
+#    in one line, writing nothing; --out with inputs of other point formats is refused;
+#  - a survey 5 km wide, once refused (its raster over 16.8 M cells), runs in tiles;
+#  - --whiten writes RGB (white ground).
+set -eu
+bin=$1
+dir=$2
+data=$3
+rm -rf "$dir"
+mkdir -p "$dir"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+field() { sed -n "s/^ *\"$1\": \([0-9.]*\),*$/\1/p" "$2" | head -1; }
+# ground_count FILE: its class 2 points (`info --json`).
+ground_count() {
+    "$bin" info --json "$1" >"$dir/info" 2>"$dir/err" || fail "info $1: $(cat "$dir/err")"
+    tr -d ' \n' <"$dir/info" | sed -n 's/.*{"class":2,"name":"ground","points":\([0-9]*\)}.*/\1/p'
+}
+
+# Tiles of 50 m over samp11 (about 300 m wide): the untiled run's classes.
+"$bin" ground "$data/samp11.laz" --out "$dir/one.laz" --json >"$dir/one.json" 2>"$dir/err" ||
+    fail "untiled: $(cat "$dir/err")"
+"$bin" ground "$data/samp11.laz" --out "$dir/tiled1.laz" --tile-m 50 --json >"$dir/tiled.json" 2>"$dir/err" ||
+    fail "tiled: $(cat "$dir/err")"
+[ "$(field tiles "$dir/tiled.json")" -gt 10 ] || fail "not tiled: $(cat "$dir/tiled.json")"
+[ -z "$(field tiles "$dir/one.json")" ] || fail "the untiled run says tiles: $(cat "$dir/one.json")"
+points=$(field points "$dir/one.json")
+a=$(field ground_points "$dir/one.json")
+b=$(field ground_points "$dir/tiled.json")
+awk -v a="$a" -v b="$b" -v n="$points" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 0.0001 * n) }' ||
+    fail "tiled ground $b vs untiled $a of $points points"
+"$bin" ground "$data/samp11.laz" --out "$dir/tiled2.laz" --tile-m 50 --jobs 2 >/dev/null 2>"$dir/err" ||
+    fail "tiled --jobs 2: $(cat "$dir/err")"
+cmp -s "$dir/tiled1.laz" "$dir/tiled2.laz" || fail "--jobs 2 wrote other bytes than --jobs 1"
+
+# Two inputs: merged into one output, and one output each.
+cp "$data/samp54.laz" "$dir/a.laz"
+cp "$data/samp24.laz" "$dir/b.laz"
+"$bin" ground "$dir/a.laz" "$dir/b.laz" --out "$dir/merged.laz" --json >"$dir/merged.json" 2>"$dir/err" ||
+    fail "merged: $(cat "$dir/err")"
+"$bin" ground "$dir/a.laz" "$dir/b.laz" --out-dir "$dir/each" --json >"$dir/each.json" 2>"$dir/err" ||
+    fail "--out-dir: $(cat "$dir/err")"
+[ -f "$dir/each/a.laz" ] && [ -f "$dir/each/b.laz" ] || fail "--out-dir wrote: $(ls "$dir/each")"
+merged=$(ground_count "$dir/merged.laz")
+each=$(($(ground_count "$dir/each/a.laz") + $(ground_count "$dir/each/b.laz")))
+[ "$merged" = "$each" ] || fail "merged ground $merged, one output each $each"
+"$bin" ground "$dir/a.laz" "$dir/b.laz" --out-dir "$dir/jobs" --jobs 2 >/dev/null 2>"$dir/err" ||
+    fail "--out-dir --jobs 2: $(cat "$dir/err")"
+cmp -s "$dir/each/a.laz" "$dir/jobs/a.laz" && cmp -s "$dir/each/b.laz" "$dir/jobs/b.laz" ||
+    fail "--out-dir --jobs 2 wrote other bytes than --jobs 1"
+"$bin" ground "$dir/a.laz" "$dir/b.laz" --out-dir "$dir/only" --only-tile 1 >/dev/null 2>"$dir/err" ||
+    fail "--only-tile: $(cat "$dir/err")"
+[ ! -e "$dir/only/a.laz" ] || fail "--only-tile 1 wrote input 0's output"
+cmp -s "$dir/each/b.laz" "$dir/only/b.laz" || fail "--only-tile 1 wrote other bytes than --out-dir"
+
+# Refusals: one line, nothing written.
+bad() {
+    want=$1
+    shift
+    if "$bin" ground "$@" >"$dir/out" 2>"$dir/err"; then fail "ground $* succeeded"; fi
+    [ "$(wc -l <"$dir/err")" = 1 ] || fail "ground $*: not one line: $(cat "$dir/err")"
+    grep -qF -e "$want" "$dir/err" || fail "ground $*: no '$want' in: $(cat "$dir/err")"
+    return 0
+}
+mkdir -p "$dir/twin"
+cp "$data/samp24.laz" "$dir/twin/a.laz"
+bad "two inputs are named 'a.laz'; allowed inputs of distinct names" "$dir/a.laz" "$dir/twin/a.laz" --out-dir "$dir/bad"
+[ ! -e "$dir/bad" ] || fail "a refused --out-dir left $dir/bad"
+before=$(cksum <"$dir/a.laz")
+bad "allowed" "$dir/a.laz" "$dir/b.laz" --out-dir "$dir"
+[ "$(cksum <"$dir/a.laz")" = "$before" ] || fail "--out-dir replaced its input"
+bad "--only-tile 2: allowed [0, 1]" "$dir/a.laz" "$dir/b.laz" --out-dir "$dir/bad" --only-tile 2
+bad "--only-tile" "$dir/a.laz" --out "$dir/bad.laz" --only-tile 0
+bad "have different point formats" "$dir/a.laz" "$dir/merged.laz" --out "$dir/bad.laz"
+[ ! -e "$dir/bad.laz" ] || fail "a refused merge left $dir/bad.laz"
+bad "--jobs 0: allowed [1, 256]" "$dir/a.laz" --out "$dir/bad.laz" --jobs 0
+
+# A survey 5 km wide: two patches of samp54 5 km apart (a PLY written here); one raster of
+# 1 m cells over it is 25 M cells, more than the filter's 16.8 M, so it runs in tiles.
+python3 - "$dir/wide.ply" <<'PY'
+import random, sys
+random.seed(1)
+pts = []
+for at in (0.0, 5000.0):
+    for j in range(80):
+        for i in range(80):
+            box = 30 <= i < 50 and 30 <= j < 50
+            pts.append((at + 0.5 * i + random.uniform(-0.2, 0.2), at + 0.5 * j + random.uniform(-0.2, 0.2),
+                        5.0 if box else 0.0))
+with open(sys.argv[1], "w") as f:
+    f.write("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n" % len(pts))
+    for p in pts:
+        f.write("%.3f %.3f %.3f\n" % p)
+PY
+"$bin" ground "$dir/wide.ply" --out "$dir/wide-out.ply" --json >"$dir/wide.json" 2>"$dir/err" ||
+    fail "the 5 km survey: $(cat "$dir/err")"
+[ "$(field tiles "$dir/wide.json")" -ge 2 ] || fail "the 5 km survey: $(cat "$dir/wide.json")"
+[ "$(field ground_points "$dir/wide.json")" = 12000 ] || fail "the 5 km survey's ground: $(cat "$dir/wide.json")"
+
+# --whiten: RGB written, the ground white.
+"$bin" ground "$data/samp54.laz" --out "$dir/white.las" --whiten >/dev/null 2>"$dir/err" || fail "--whiten: $(cat "$dir/err")"
+"$bin" info --json "$dir/white.las" >"$dir/info" 2>"$dir/err" || fail "info: $(cat "$dir/err")"
+tr -d ' \n' <"$dir/info" | grep -q '"Red"' || fail "--whiten wrote no colours: $(cat "$dir/info")"
+echo "cmd_ground_tiles: ok"

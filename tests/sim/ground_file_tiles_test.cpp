@@ -1,0 +1,227 @@
+// tests/sim/ground_file_tiles_test.cpp: `ladarvr ground` tile by tile (sim/ground_tiles.hpp):
+// a survey classified in small tiles with a buffer gives each point the class of one
+// untiled run (at least 99.99 % of the points, real ISPRS samples and a survey in feet);
+// two files merged into one output and the same two classified each as a tile with the
+// other as its buffer agree; tiles fitted two at a time write the same bytes as one at a
+// time; a survey too wide for one raster runs in tiles; --whiten's colours.
+#include <sim/ground_tiles.hpp>
+
+#include <core/error.hpp>
+#include <core/jet.hpp>
+#include <io/cloud_io.hpp>
+#include <sim/ground_units.hpp>
+
+#include <doctest/doctest.h>
+
+#include <unistd.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Scratch {
+    fs::path dir;
+    explicit Scratch(const std::string& name)
+        : dir(fs::temp_directory_path() / ("ladarvr-ground-tiles-" + name + "-" + std::to_string(::getpid()))) {
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
+    ~Scratch() { fs::remove_all(dir); }
+};
+
+sim::GroundTiling tiling(double tile_m, const sim::GroundFileOptions& o, const fs::path& dir, int jobs = 1) {
+    sim::GroundTiling t;
+    t.tile_m = tile_m;
+    t.buffer_m = sim::tileBuffer(o);
+    t.jobs = jobs;
+    t.max_cells = std::size_t(1) << 24;
+    t.scratch_dir = dir;
+    return t;
+}
+
+void none(std::size_t) {}
+
+// The share of points whose ground label is the same in two files of the same points.
+double agreement(const fs::path& a, const fs::path& b) {
+    const core::PointCloud x = io::readCloud(a), y = io::readCloud(b);
+    REQUIRE(x.points.size() == y.points.size());
+    std::size_t same = 0;
+    for (std::size_t i = 0; i < x.points.size(); ++i)
+        same += (x.points[i].label == core::Role::Ground) == (y.points[i].label == core::Role::Ground);
+    return double(same) / double(x.points.size());
+}
+
+std::string bytesOf(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace
+
+TEST_CASE("ground tiles: small tiles with a buffer give the untiled run's classes to 99.99 % of the points") {
+    const Scratch s("agree");
+    const fs::path isprs = LADARVR_ISPRS_DIR;
+    for (const fs::path& in : std::vector<fs::path>{isprs / "samp11.laz", isprs / "samp54.las", isprs / "samp31.laz",
+                                                    isprs.parent_path() / "real" / "4_6_crop.las"}) {
+        CAPTURE(in);
+        const sim::CoordinateUnits units = sim::readCoordinateUnits(in, "test");
+        const sim::GroundFileOptions o = sim::inUnits(sim::GroundFileOptions{}, units);
+        const sim::GroundFileStats one =
+            sim::classifyGroundFile(in, s.dir / "one.las", o, std::size_t(1) << 24, {}, {}, none);
+        // Tiles of 60 m (a sample is 200-400 m wide): a few dozen, most points near an edge.
+        const sim::GroundFileStats tiled = sim::classifyGroundTiled(
+            {in}, s.dir / "tiled.las", o, tiling(60.0 / units.horizontal_m, o, s.dir), {}, {}, none);
+        CHECK(tiled.tiles >= 4);
+        CHECK(tiled.points == one.points);
+        const double share = agreement(s.dir / "one.las", s.dir / "tiled.las");
+        MESSAGE(in.filename().string() << ": " << tiled.tiles << " tiles, " << 100.0 * share << " % agree");
+        CHECK(share >= 0.9999);
+    }
+}
+
+TEST_CASE("ground tiles: two files merged and the two classified each with the other as buffer agree") {
+    const Scratch s("merge");
+    const core::PointCloud cloud = io::readCloud(fs::path(LADARVR_ISPRS_DIR) / "samp54.las");
+    // The sample cut in two at its middle x, each half in a file of its own.
+    const core::Bounds b = cloud.bounds();
+    const float mid = float(0.5 * (b.lo.x + b.hi.x));
+    core::PointCloud west = cloud, east = cloud;
+    west.points.clear();
+    east.points.clear();
+    west.foreign.reset();
+    east.foreign.reset();
+    for (const core::CloudPoint& p : cloud.points) (p.position.x < mid ? west : east).points.push_back(p);
+    io::writeCloud(s.dir / "west.ply", west, io::CloudFormat::PlyBinary);
+    io::writeCloud(s.dir / "east.ply", east, io::CloudFormat::PlyBinary);
+    const std::vector<fs::path> inputs = {s.dir / "west.ply", s.dir / "east.ply"};
+    CHECK_NOTHROW(sim::checkMergeable(inputs));
+    const sim::GroundFileOptions o;
+    const sim::GroundTiling t = tiling(1000.0, o, s.dir);
+    sim::classifyGroundTiled(inputs, s.dir / "merged.ply", o, t, {}, {}, none);
+    const std::vector<sim::GroundBox> boxes = {sim::readGroundBox(inputs[0]), sim::readGroundBox(inputs[1])};
+    std::size_t measured = 0;
+    sim::GroundTiling each = t;
+    each.thickness_m = sim::surveyThickness(inputs, boxes, o, t, [&](std::size_t n) { measured += n; });
+    CHECK(measured == cloud.points.size());
+    for (std::size_t i = 0; i < 2; ++i)
+        sim::classifyGroundNeighbours(inputs, boxes, i, s.dir / ("each" + std::to_string(i) + ".ply"), o, each, {}, {},
+                                      none);
+    const core::PointCloud merged = io::readCloud(s.dir / "merged.ply");
+    const core::PointCloud each0 = io::readCloud(s.dir / "each0.ply"), each1 = io::readCloud(s.dir / "each1.ply");
+    REQUIRE(merged.points.size() == each0.points.size() + each1.points.size());
+    std::size_t same = 0, ground = 0;
+    for (std::size_t i = 0; i < merged.points.size(); ++i) {
+        const core::CloudPoint& p = i < each0.points.size() ? each0.points[i] : each1.points[i - each0.points.size()];
+        same += merged.points[i].label == p.label;
+        ground += p.label == core::Role::Ground;
+    }
+    CHECK(ground > 1000);
+    CHECK(double(same) / double(merged.points.size()) >= 0.9999);
+    // Without the buffer, each half's edge is fitted on its own and more points differ.
+    sim::GroundTiling bare = t;
+    bare.buffer_m = 0;
+    sim::classifyGroundNeighbours(inputs, boxes, 0, s.dir / "bare.ply", o, bare, {}, {}, none);
+    const core::PointCloud lone = io::readCloud(s.dir / "bare.ply");
+    std::size_t lone_same = 0;
+    for (std::size_t i = 0; i < lone.points.size(); ++i) lone_same += merged.points[i].label == lone.points[i].label;
+    MESSAGE("merged vs each: " << same << " of " << merged.points.size() << " the same; without a buffer " << lone_same
+                               << " of " << lone.points.size());
+    CHECK(lone_same <= same);
+    // Inputs of other fields cannot be merged into one output.
+    core::PointCloud other = west;
+    other.fields.intensity = !other.fields.intensity;
+    io::writeCloud(s.dir / "other.ply", other, io::CloudFormat::PlyBinary);
+    CHECK_THROWS_WITH_AS(sim::checkMergeable({inputs[0], s.dir / "other.ply"}),
+                         doctest::Contains("have different point formats; allowed"), core::Error);
+}
+
+TEST_CASE("ground tiles: tiles fitted two at a time write the bytes of one at a time") {
+    const Scratch s("jobs");
+    const fs::path in = fs::path(LADARVR_ISPRS_DIR) / "samp11.laz";
+    const sim::GroundFileOptions o;
+    sim::classifyGroundTiled({in}, s.dir / "one.laz", o, tiling(80.0, o, s.dir, 1), {}, {}, none);
+    sim::classifyGroundTiled({in}, s.dir / "two.laz", o, tiling(80.0, o, s.dir, 2), {}, {}, none);
+    const std::string one = bytesOf(s.dir / "one.laz");
+    CHECK(one.size() > 1000);
+    CHECK(one == bytesOf(s.dir / "two.laz"));
+}
+
+TEST_CASE("ground tiles: a survey too wide for one raster is classified in tiles") {
+    const Scratch s("wide");
+    // Two 40 m x 40 m patches of flat ground with a box on each, 5 km apart on the
+    // diagonal: one raster of 1 m cells spans 25 M cells, over the filter's 16.8 M.
+    core::PointCloud cloud;
+    cloud.fields = core::CloudFields{};
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<float> jitter(-0.2f, 0.2f);
+    std::size_t ground = 0;
+    for (const float at : {0.0f, 5000.0f})
+        for (int j = 0; j < 80; ++j)
+            for (int i = 0; i < 80; ++i) {
+                core::CloudPoint p;
+                p.position = {at + 0.5f * float(i) + jitter(rng), at + 0.5f * float(j) + jitter(rng), 0.0f};
+                const bool box = i >= 30 && i < 50 && j >= 30 && j < 50;
+                if (box) p.position.z = 5.0f;
+                ground += !box;
+                cloud.points.push_back(p);
+            }
+    io::writeCloud(s.dir / "wide.ply", cloud, io::CloudFormat::PlyBinary);
+    const sim::GroundFileOptions o;
+    CHECK_THROWS_WITH_AS(
+        sim::classifyGroundFile(s.dir / "wide.ply", s.dir / "one.ply", o, std::size_t(1) << 24, {}, {}, none),
+        doctest::Contains("allowed at most 16777216"), core::Error);
+    const sim::GroundFileStats st =
+        sim::classifyGroundTiled({s.dir / "wide.ply"}, s.dir / "tiled.ply", o, tiling(2000.0, o, s.dir), {}, {}, none);
+    CHECK(st.tiles >= 2);  // the patches' tiles (a patch may straddle a tile's edge)
+    CHECK(st.points == cloud.points.size());
+    CHECK(st.ground_points == ground);
+}
+
+TEST_CASE("ground tiles: --whiten writes white ground and the jet map by height above it") {
+    const Scratch s("whiten");
+    const fs::path in = fs::path(LADARVR_ISPRS_DIR) / "samp54.las";
+    sim::GroundFileOptions o;
+    o.whiten = true;
+    std::size_t progressed = 0;
+    const sim::GroundFileStats st = sim::classifyGroundFile(in, s.dir / "white.las", o, std::size_t(1) << 24, {}, {},
+                                                            [&](std::size_t n) { progressed += n; });
+    const core::PointCloud out = io::readCloud(s.dir / "white.las");
+    REQUIRE(out.points.size() == st.points);
+    CHECK(progressed == 3 * st.points);
+    CHECK(out.fields.rgb);
+    CHECK(st.colour_top_m > 5.0f);
+    const std::vector<std::uint32_t> jet = core::jetTable(64);
+    std::size_t white = 0, red = 0, blue = 0;
+    for (const core::CloudPoint& p : out.points) {
+        if (p.label == core::Role::Ground) {
+            CHECK(p.rgb == core::kWhite);
+            white += 1;
+            continue;
+        }
+        const float h = std::max(p.height_above_ground_m, 0.0f);
+        CHECK(p.rgb == jet[core::jetIndex(h, 0.0f, st.colour_top_m, 64)]);
+        red += p.rgb == jet[core::jetIndex(0.0f, 0.0f, st.colour_top_m, 64)];
+        blue += p.rgb == jet[core::jetIndex(st.colour_top_m, 0.0f, st.colour_top_m, 64)];
+    }
+    CHECK(white == st.ground_points);
+    CHECK(red > 0);
+    CHECK(blue > 0);
+    // Tiled, the same colours (one colour map over the whole output).
+    sim::classifyGroundTiled({in}, s.dir / "tiled.las", o, tiling(1000.0, o, s.dir), {}, {}, none);
+    const core::PointCloud tiled = io::readCloud(s.dir / "tiled.las");
+    REQUIRE(tiled.points.size() == out.points.size());
+    std::size_t same = 0;
+    for (std::size_t i = 0; i < out.points.size(); ++i) same += tiled.points[i].rgb == out.points[i].rgb;
+    CHECK(same == out.points.size());
+    // Without --whiten the colours are the file's.
+    sim::classifyGroundFile(in, s.dir / "plain.las", sim::GroundFileOptions{}, std::size_t(1) << 24, {}, {}, none);
+    CHECK(!io::readCloud(s.dir / "plain.las").fields.rgb);
+}
