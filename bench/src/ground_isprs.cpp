@@ -76,9 +76,10 @@ Score score(const std::vector<std::uint8_t>& found, const std::vector<std::uint8
 // "smrf:cell_m=0.5,slope=0.2" / "csf:cloth_m=0.5,rigidness=2" into a configuration.
 Config parseTry(const std::string& spec) {
     const auto bad = [&](const std::string& why) {
-        return core::Error("bench ground-isprs: --try '" + spec + "': " + why +
-                           "; allowed smrf:KEY=V,... (cell_m slope window_m threshold_m scalar low_outlier_m) or "
-                           "csf:KEY=V,... (cloth_m rigidness threshold_m time_step iterations low_outlier_m)");
+        return core::Error(
+            "bench ground-isprs: --try '" + spec + "': " + why +
+            "; allowed smrf:KEY=V,... (cell_m slope window_m threshold_m scalar raised_segments low_outlier_m) or "
+            "csf:KEY=V,... (cloth_m rigidness threshold_m time_step iterations low_outlier_m)");
     };
     Config c;
     c.name = "--try " + spec;
@@ -112,6 +113,8 @@ Config parseTry(const std::string& spec) {
             s.threshold_m = v;
         else if (smrf && key == "scalar")
             s.scalar = v;
+        else if (smrf && key == "raised_segments")
+            s.raised_segments = v != 0;
         else if (!smrf && key == "cloth_m")
             f.cloth_m = v;
         else if (!smrf && key == "rigidness")

@@ -13,6 +13,11 @@
 //   4) a point is ground when |z - terrain(x, y)| <= threshold_m + scalar * slope(x, y),
 //      terrain bilinear between cell centres, slope its local gradient.
 //
+// Ours, for real surveys (SmrfOptions::raised_segments, off in the generator): between
+// 2) and 3), a patch of the surface left ground that stands more than 2 m above the
+// surface around it on most of its border (a roof too wide for the openings, a bridge
+// deck) is an object too.
+//
 // The paper fills cells with a spring-metaphor inpainting; ours is its membrane
 // analogue: a breadth-first fill from the known cells (each new ring takes the mean of
 // its known neighbours) relaxed by Gauss-Seidel iterations of Laplace's equation. The
@@ -92,6 +97,106 @@ void diskFilter(const std::vector<float>& in, std::vector<float>& out, int nx, i
     }
 }
 
+// Raised segments (SmrfOptions::raised_segments): the observed cells of the ground-level
+// surface joined into segments, two cells within kSegmentReach cells of each other
+// joined when their levels differ by at most kSegmentJoin_m + kSegmentJoinSlope x their
+// distance. A segment that holds ground and at most kSegmentMaxArea_m2, and whose level
+// lies more than kSegmentDrop_m above that of the other segments' cells next to it on at
+// least kSegmentDropShare of its border, stands above everything around it: a roof
+// wider than the openings. Only neighbours in segments of at least kSegmentLowerArea_m2
+// count as the lower side, so a few low returns left in a cell do not make the ground
+// around them a roof, and the border runs on beyond the data's edge without a drop, so
+// a terrace that the survey's edge cuts is not one either.
+constexpr int kSegmentReach = 2;
+constexpr double kSegmentJoin_m = 0.5, kSegmentJoinSlope = 0.5;
+constexpr double kSegmentDrop_m = 2.0, kSegmentDropShare = 0.7;
+constexpr double kSegmentLowerArea_m2 = 100.0, kSegmentMaxArea_m2 = 20000.0;
+
+constexpr std::uint32_t kNoSegment = std::numeric_limits<std::uint32_t>::max();
+
+// Each observed cell's segment (0, 1, ... in raster order; kNoSegment where no point
+// fell); `count` gets the number of segments. Union-find towards the lowest index, then
+// renumbered in place: a cell's root comes before it, so its number is already set.
+std::vector<std::uint32_t> segmentCells(const std::vector<float>& level, const std::vector<std::uint8_t>& observed,
+                                        int w, int h, double cell_m, std::uint32_t& count) {
+    const std::size_t n = level.size();
+    std::vector<std::uint32_t> parent(n);
+    for (std::size_t c = 0; c < n; ++c) parent[c] = std::uint32_t(c);
+    const auto find = [&](std::uint32_t c) {
+        while (parent[c] != c) c = parent[c] = parent[parent[c]];
+        return c;
+    };
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            const std::size_t c = std::size_t(j) * std::size_t(w) + std::size_t(i);
+            if (!observed[c]) continue;
+            for (int dj = 0; dj <= kSegmentReach; ++dj)
+                for (int di = -kSegmentReach; di <= kSegmentReach; ++di) {
+                    const int ii = i + di, jj = j + dj;
+                    if ((dj == 0 && di <= 0) || ii < 0 || ii >= w || jj >= h) continue;
+                    const std::size_t d = std::size_t(jj) * std::size_t(w) + std::size_t(ii);
+                    const double dist_m = std::sqrt(double(di * di + dj * dj)) * cell_m;
+                    if (!observed[d] ||
+                        std::abs(double(level[c]) - double(level[d])) > kSegmentJoin_m + kSegmentJoinSlope * dist_m)
+                        continue;
+                    const std::uint32_t a = find(std::uint32_t(c)), b = find(std::uint32_t(d));
+                    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+                }
+        }
+    for (std::size_t c = 0; c < n; ++c) parent[c] = observed[c] ? find(std::uint32_t(c)) : kNoSegment;
+    count = 0;
+    for (std::size_t c = 0; c < n; ++c) {
+        if (parent[c] == kNoSegment) continue;
+        parent[c] = parent[c] == c ? count++ : parent[parent[c]];
+    }
+    return parent;
+}
+
+// Takes the raised segments (above) out of `ground`.
+void removeRaisedSegments(const std::vector<float>& level, const std::vector<std::uint8_t>& observed,
+                          std::vector<std::uint8_t>& ground, int w, int h, double cell_m) {
+    std::uint32_t count = 0;
+    const std::vector<std::uint32_t> segment = segmentCells(level, observed, w, h, cell_m, count);
+    struct Tally {
+        std::uint32_t cells = 0, ground = 0, border = 0, drops = 0;
+    };
+    std::vector<Tally> tally(count);
+    for (std::size_t c = 0; c < segment.size(); ++c)
+        if (segment[c] != kNoSegment) {
+            ++tally[segment[c]].cells;
+            tally[segment[c]].ground += ground[c];
+        }
+    const double cell_area_m2 = cell_m * cell_m;
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            const std::size_t c = std::size_t(j) * std::size_t(w) + std::size_t(i);
+            const std::uint32_t s = segment[c];
+            if (s == kNoSegment) continue;
+            for (int dj = -kSegmentReach; dj <= kSegmentReach; ++dj)
+                for (int di = -kSegmentReach; di <= kSegmentReach; ++di) {
+                    const int ii = i + di, jj = j + dj;
+                    if (ii < 0 || ii >= w || jj < 0 || jj >= h) {  // beyond the data: not seen to drop
+                        ++tally[s].border;
+                        continue;
+                    }
+                    const std::size_t d = std::size_t(jj) * std::size_t(w) + std::size_t(ii);
+                    const std::uint32_t t = segment[d];
+                    if (t == kNoSegment || t == s) continue;
+                    ++tally[s].border;
+                    if (double(tally[t].cells) * cell_area_m2 >= kSegmentLowerArea_m2 &&
+                        double(level[c]) - double(level[d]) > kSegmentDrop_m)
+                        ++tally[s].drops;
+                }
+        }
+    for (std::size_t c = 0; c < segment.size(); ++c) {
+        if (segment[c] == kNoSegment) continue;
+        const Tally& t = tally[segment[c]];
+        if (t.ground > 0 && t.border > 0 && double(t.cells) * cell_area_m2 <= kSegmentMaxArea_m2 &&
+            double(t.drops) >= kSegmentDropShare * double(t.border))
+            ground[c] = 0;
+    }
+}
+
 class SmrfFit final : public RasterFit {
   public:
     explicit SmrfFit(const SmrfOptions& o) : RasterFit(o.cell_m, o.max_cells, "smrf cell_m (--smrf-cell-m)"), o_(o) {
@@ -122,6 +227,7 @@ class SmrfFit final : public RasterFit {
         // 3) the terrain from the cells that are ground.
         std::vector<std::uint8_t> ground(minimum.size());
         for (std::size_t c = 0; c < minimum.size(); ++c) ground[c] = observed[c] && !object[c];
+        if (o_.raised_segments) removeRaisedSegments(minimum, observed, ground, w, h, o_.cell_m);
         if (std::find(ground.begin(), ground.end(), 1) == ground.end()) ground = observed;
         grid_.z_m = std::move(minimum);
         inpaint(grid_.z_m, ground, w, h);

@@ -89,6 +89,30 @@ TEST_CASE("SMRF: a building wider than twice the window stays ground (the window
     CHECK(wide.high_found == 0);
 }
 
+TEST_CASE("SMRF with raised segments: a building wider than twice the window is an object, the ground stays") {
+    const Height flat = [](double, double) { return 0.0; };
+    const Labelled l = sample(flat, 50.0, {{0, 0, 25, 6}, {-40, 35, 5, 4}});  // 50 m wide, and a small one
+    sim::SmrfOptions o;
+    o.window_m = 6.0;  // openings up to 6 m radius leave the large roof ground
+    const Score plain = score(l, sim::findGroundSmrf(l.points, o));
+    CHECK(plain.high_found > 1000);
+    o.raised_segments = true;
+    const Score raised = score(l, sim::findGroundSmrf(l.points, o));
+    CHECK(raised.high_found == 0);
+    CHECK(raised.recall >= 0.99);
+}
+
+TEST_CASE("SMRF with raised segments keeps a 2 m terrace and a hill: their patches rise on one side or join the rest") {
+    for (const Height& z : std::vector<Height>{
+             [](double x, double) { return x < 0.0 ? 0.0 : 2.5; },
+             [](double x, double y) { return 15.0 * std::exp(-(x * x + y * y) / (2.0 * 20.0 * 20.0)); }}) {
+        const Labelled l = sample(z, 50.0, {});
+        sim::SmrfOptions o;
+        o.raised_segments = true;
+        CHECK(score(l, sim::findGroundSmrf(l.points, o)).recall >= 0.99);
+    }
+}
+
 TEST_CASE("SMRF's windows are disks: a cone steeper than a square's corners allow keeps its top") {
     // Flanks rising at 0.6 under a slope bar of 0.7: a disk of radius r lowers the top by
     // 0.6 r, under the bar; a square's corners, r * sqrt(2) away, would lower it by 0.85 r
