@@ -67,6 +67,21 @@ std::string exact(double v) {
     return buffer;
 }
 
+// An extra bytes field as the text report gives it: "Deviation (int16; scale 0.1, offset
+// 2.5, no data -32768, min -300, max 300)", the values its descriptor states.
+std::string extraText(const io::LasExtraField& e) {
+    std::string s = e.name + " (" + e.type;
+    const std::pair<const char*, const std::optional<double>*> parts[] = {
+        {"scale", &e.scale}, {"offset", &e.offset}, {"no data", &e.no_data}, {"min", &e.min}, {"max", &e.max}};
+    bool first = true;
+    for (const auto& [label, value] : parts) {
+        if (!*value) continue;
+        s += std::string(first ? "; " : ", ") + label + " " + exact(**value);
+        first = false;
+    }
+    return s + ")";
+}
+
 // Three significant digits at least, whatever the magnitude (densities run from 1e-4 up).
 std::string figure(double v) {
     char buffer[64];
@@ -165,8 +180,7 @@ void printLasPart(const io::CloudInfo& info) {
         line("largest RGB", std::to_string(las.rgb_max[0]) + " " + std::to_string(las.rgb_max[1]) + " " +
                                 std::to_string(las.rgb_max[2]));
     std::string extra;
-    for (const io::LasExtraField& e : las.extra_fields)
-        extra += (extra.empty() ? "" : ", ") + e.name + " (" + e.type + ")";
+    for (const io::LasExtraField& e : las.extra_fields) extra += (extra.empty() ? "" : ", ") + extraText(e);
     line("extra bytes", extra.empty() ? "none" : extra);
     printHistogram("classes", las.classes, info.points, las.version_minor, true);
     printHistogram("return numbers", las.returns, info.points, las.version_minor, false);
@@ -270,9 +284,17 @@ Json lasJson(const io::CloudInfo& info) {
     j["returns"] = Json::array();
     for (const auto& [r, n] : las.returns) j["returns"].push_back({{"return_number", r}, {"points", n}});
     j["extra_bytes"] = Json::array();
+    const auto maybe = [](const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); };
     for (const io::LasExtraField& e : las.extra_fields)
-        j["extra_bytes"].push_back(
-            {{"name", e.name}, {"type", e.type}, {"bytes", e.bytes}, {"description", e.description}});
+        j["extra_bytes"].push_back({{"name", e.name},
+                                    {"type", e.type},
+                                    {"bytes", e.bytes},
+                                    {"description", e.description},
+                                    {"scale", maybe(e.scale)},
+                                    {"offset", maybe(e.offset)},
+                                    {"no_data", maybe(e.no_data)},
+                                    {"min", maybe(e.min)},
+                                    {"max", maybe(e.max)}});
     j["colour"] = colourWord(las.colour);
     j["rgb_max"] = las.colour == io::ColourDepth::None ? Json(nullptr) : Json(las.rgb_max);
     j["copc"] = las.copc;

@@ -5,6 +5,8 @@
 #  - --json: one object for one file, an array for several, parsed here and checked
 #    against the README (counts, classes, CRS and units, colour depth);
 #  - a file with 8-bit colours in its 16-bit RGB fields, written by laspy, reported so;
+#  - a file with a scale per axis and an extra bytes field whose descriptor states its
+#    scale, offset, no-data value, minimum and maximum: all of them reported;
 #  - a COPC file written by `ladarvr index`: its nodes as `index --check` counts them;
 #  - a truncated file and a VLR longer than the bytes before the points: one line
 #    `ladarvr: error: info: FILE: ...`, exit 1, nothing on stdout; no file: usage, exit 2.
@@ -111,6 +113,42 @@ grep -qxF '  largest RGB:       255 199 17' "$dir/out" || fail "largest RGB: $(g
 import json, sys
 f = json.load(sys.stdin)
 assert f["las"]["colour"] == "8-bit" and f["points"] == 1000, f["las"]["colour"]' || fail "8-bit colours in --json"
+
+# Extra bytes descriptors: every value they state, and the scale on each axis (laspy
+# writes the file; the no-data value, minimum and maximum are set in its descriptor).
+python3 - "$dir/extra.las" <<'PY' || fail "laspy could not write the extra bytes file"
+import struct, sys
+import laspy
+import numpy as np
+las = laspy.create(point_format=6, file_version="1.4")
+las.header.scales = np.array([0.00025, 0.00025, 0.0001])
+las.add_extra_dim(laspy.ExtraBytesParams(name="Deviation", type=np.int16, description="deviation in tenths",
+                                         scales=[0.1], offsets=[2.5]))
+las.add_extra_dim(laspy.ExtraBytesParams(name="Amplitude", type=np.float32))
+las.x = np.arange(10) * 0.5
+las.y = np.zeros(10)
+las.z = np.zeros(10)
+las.Deviation = np.arange(10) * 0.1 + 2.5
+las.write(sys.argv[1])
+b = bytearray(open(sys.argv[1], "rb").read())
+at = b.index(b"Deviation\0") - 4
+b[at + 3] |= 1 | 2 | 4
+struct.pack_into("<qqq", b, at + 40, -32768, 0, 0)
+struct.pack_into("<q", b, at + 64, -300)
+struct.pack_into("<q", b, at + 88, 300)
+open(sys.argv[1], "wb").write(b)
+PY
+"$bin" info "$dir/extra.las" >"$dir/out" 2>"$dir/err" || fail "info extra.las: $(cat "$dir/err")"
+grep -qxF '  scale:             0.00025 0.00025 0.0001' "$dir/out" || fail "scale per axis: $(grep scale: "$dir/out")"
+grep -qxF '  extra bytes:       Deviation (int16; scale 0.1, offset 2.5, no data -32768, min -300, max 300), Amplitude (float32)' \
+    "$dir/out" || fail "extra bytes: $(grep 'extra bytes' "$dir/out")"
+"$bin" info --json "$dir/extra.las" | python3 -c '
+import json, sys
+e = json.load(sys.stdin)["las"]["extra_bytes"]
+assert e[0] == {"name": "Deviation", "type": "int16", "bytes": 2, "description": "deviation in tenths", "scale": 0.1,
+                "offset": 2.5, "no_data": -32768, "min": -300, "max": 300}, e[0]
+assert e[1]["name"] == "Amplitude" and e[1]["scale"] is None and e[1]["no_data"] is None, e[1]' ||
+    fail "extra bytes in --json"
 
 # COPC: the nodes `index --check` counts.
 "$bin" index "$data/hexbin-crop.las" --out "$dir/hexbin.copc.laz" --node-points 5000 >/dev/null 2>"$dir/err" ||

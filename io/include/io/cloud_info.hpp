@@ -26,6 +26,11 @@ struct LasExtraField {
     std::string type;  // "uint8", ..., "float64"; "N bytes" for undocumented bytes
     std::size_t bytes = 0;
     std::string description;
+    /// What the descriptor's options say it holds (absent where its bit is clear): the
+    /// no-data value, minimum and maximum as stored (before the scale and offset), and the
+    /// scale and offset that give a value from a stored one (value = stored x scale +
+    /// offset). Of a single value (types 1 to 10) only.
+    std::optional<double> no_data, min, max, scale, offset;
 };
 
 /// One VLR or EVLR of a LAS file.

@@ -9,7 +9,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <optional>
 #include <deque>
 
 namespace io {
@@ -99,6 +102,31 @@ LasCrs readLasCrs(ByteSource& source, const std::string& prefix) {
 
 namespace {
 
+// A little-endian value at `at` of `d` (x86-64 and aarch64 are little-endian, as LAS is).
+template <class T>
+T valueAt(const std::string& d, std::size_t at) {
+    T v;
+    std::memcpy(&v, d.data() + at, sizeof v);
+    return v;
+}
+
+// The optional values of a descriptor of a single value of `type` (1..10): "anytype"
+// fields (8 bytes) that hold an unsigned, a signed or a floating value as the type is.
+void describeValues(const std::string& d, unsigned type, LasExtraField& f) {
+    const unsigned options = std::uint8_t(d[3]);
+    const auto any = [&](std::size_t at) {
+        if (type == 9 || type == 10) return valueAt<double>(d, at);
+        if (type % 2 == 0) return double(valueAt<std::int64_t>(d, at));  // int8, int16, int32, int64
+        return double(valueAt<std::uint64_t>(d, at));
+    };
+    const auto finite = [](double v) { return std::isfinite(v) ? std::optional<double>(v) : std::nullopt; };
+    if (options & 1u) f.no_data = finite(any(40));
+    if (options & 2u) f.min = finite(any(64));
+    if (options & 4u) f.max = finite(any(88));
+    if (options & 8u) f.scale = finite(valueAt<double>(d, 112));
+    if (options & 16u) f.offset = finite(valueAt<double>(d, 136));
+}
+
 // The fields of the extra bytes VLR's descriptors.
 std::vector<LasExtraField> readExtraFields(ByteSource& source, const LasFacts& facts) {
     static constexpr std::array<const char*, 11> kTypes = {"",      "uint8",  "int8",  "uint16",  "int16",  "uint32",
@@ -119,6 +147,7 @@ std::vector<LasExtraField> readExtraFields(ByteSource& source, const LasFacts& f
             } else if (type <= 10) {
                 f.bytes = kSizes[type];
                 f.type = kTypes[type];
+                describeValues(p.substr(d, kExtraBytesDescriptor), type, f);
             } else if (type <= 30) {  // deprecated arrays of 2 or 3
                 const unsigned base = (type - 1) % 10 + 1, n = (type - 1) / 10 + 1;
                 f.bytes = kSizes[base] * n;
