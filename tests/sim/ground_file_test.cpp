@@ -147,6 +147,6 @@ TEST_CASE("ground file: the default's mean total error on all 15 ISPRS samples s
         worst = std::max(worst, total);
     }
     MESSAGE("mean total error " << mean_total << " %, worst sample " << worst << " %");
-    CHECK(mean_total <= 4.0);  // 3.95 %
+    CHECK(mean_total <= 3.92);  // 3.89 %
     CHECK(worst <= 8.5);       // samp11 8.28 %
 }
