@@ -5,9 +5,12 @@
 #           cloud's extent shows the survey from outside, so the points fill the upper half
 #           of the frame (the panel is in the lower left); today's fixed 60 m orbit
 #           (--orbit-radius 60) sees it from inside one corner, sparse.
-#   above-ground  hexbin-crop.las holds no height above ground: --colour above-ground warns
-#           once on stderr, records the fallback in the run log and shows the height colours
-#           (most of the survey is not the jet's dark red).
+#   above-ground  hexbin-crop.las holds no height above ground but classifies its ground
+#           (class 2): --colour above-ground says once on stderr that its colours come from
+#           the file's class 2, records the terrain in the run log, and shows the ground
+#           white (the run's last frame waits for the terrain); the red is the lowest objects.
+#   class   hexbin-crop.las's classes 1 and 2 in the ASPRS palette: mostly ground brown,
+#           some grey; --colour intensity shows many levels of grey.
 #   eight-bit  hexbin-crop.las's points written by laspy with 8-bit colours (a yellow,
 #           255 200 40) in LAS's 16-bit fields, as many producers do: `--colour file` shows
 #           them yellow, not black (the high byte of an 8-bit value is 0).
@@ -62,22 +65,49 @@ case "$scenario" in
     "$here/headless_env.sh" --timeout 150 -- "$bin" "${common[@]}" "$data/hexbin-crop.las" --point-size 4 \
       --colour above-ground --log-json "$work/log.json" --screenshot "$work/ag.png" 2>"$work/stderr" ||
       { cat "$work/stderr" >&2; exit 1; }
-    warnings=$(grep -c "showing height colours instead" "$work/stderr" || true)
-    [ "$warnings" = 1 ] || { cat "$work/stderr" >&2; echo "FAIL: $warnings fallback warnings, want 1" >&2; exit 1; }
+    lines=$(grep -c "view: above-ground colours from the file's class 2" "$work/stderr" || true)
+    [ "$lines" = 1 ] || { cat "$work/stderr" >&2; echo "FAIL: $lines terrain lines, want 1" >&2; exit 1; }
+    if grep -q "showing height" "$work/stderr"; then cat "$work/stderr" >&2; echo "FAIL: a fallback warning" >&2; exit 1; fi
     python3 - "$here" "$work" <<'PY'
 import json, sys
 sys.path.insert(0, sys.argv[1])
 from check_view_log import read_png, count
 log = json.load(open(f"{sys.argv[2]}/log.json"))
-fallback = log.get("colour_fallback")
-assert fallback == {"wanted": "above-ground", "shown": "height"}, f"run log colour_fallback: {fallback}"
+terrain = log.get("terrain")
+assert terrain and terrain["source"].startswith("the file's class 2") and terrain["cells"] > 0, f"run log terrain: {terrain}"
+assert "colour_fallback" not in log, f"run log colour_fallback: {log.get('colour_fallback')}"
 w, h, px = read_png(f"{sys.argv[2]}/ag.png")
 px = px[:w * (h // 2) * 3]  # the upper half (the panel keeps to the lower)
-dark_red = count(px, lambda r, g, b: r > 60 and g < 30 and b < 30)
+red = count(px, lambda r, g, b: r > 60 and g < 30 and b < 30)
+white = count(px, lambda r, g, b: min(r, g, b) > 90 and max(r, g, b) - min(r, g, b) < 12)
 lit = count(px, lambda r, g, b: r + g + b > 90)
-print(f"upper half: {lit} lit, {dark_red} dark red")
+print(f"upper half: {lit} lit, {white} white (shaded), {red} red")
 assert lit > w * (h // 2) // 2, f"only {lit} pixels show the survey"
-assert dark_red < lit // 10, f"{dark_red} of {lit} pixels dark red: not the height colours"
+assert white > lit // 2, f"{white} of {lit} pixels white: the ground is not white"
+assert red < lit // 10, f"{red} of {lit} pixels red: the ground is not white"
+PY
+    ;;
+  class)
+    for mode in class intensity; do
+      "$here/headless_env.sh" --timeout 150 -- "$bin" "${common[@]}" "$data/hexbin-crop.las" --point-size 4 \
+        --no-edl --colour "$mode" --screenshot "$work/$mode.png" 2>"$work/stderr" || { cat "$work/stderr" >&2; exit 1; }
+    done
+    python3 - "$here" "$work" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+from check_view_log import read_png, count
+w, h, px = read_png(f"{sys.argv[2]}/class.png")
+px = px[:w * (h // 2) * 3]
+brown = count(px, lambda r, g, b: (r, g, b) == (153, 102, 51))
+grey = count(px, lambda r, g, b: (r, g, b) == (153, 153, 153))
+print(f"class: {brown} ground brown, {grey} unclassified grey")
+assert brown > w * (h // 2) // 3, f"only {brown} ground brown pixels"
+assert 0 < grey < brown, f"{grey} grey pixels against {brown} brown"
+w, h, px = read_png(f"{sys.argv[2]}/intensity.png")
+px = px[:w * (h // 2) * 3]
+levels = {p for p in zip(px[0::3], px[1::3], px[2::3]) if p[0] == p[1] == p[2]}
+print(f"intensity: {len(levels)} levels of grey")
+assert len(levels) > 50, f"{len(levels)} levels of grey: no intensity stretch"
 PY
     ;;
   eight-bit)

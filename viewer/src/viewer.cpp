@@ -172,7 +172,7 @@ OperatorInput ViewerApp::gatherInput() {
 void ViewerApp::checkQuit(const OperatorInput& in) {
     if (quitting_) return;
     const double elapsed_s = std::chrono::duration<double>(Clock::now() - start_).count();
-    if (options_.frames > 0 && frames_ >= options_.frames)
+    if (framesDone())
         startQuit("frames");
     else if (in.quit)
         startQuit("escape");
@@ -235,9 +235,21 @@ void ViewerApp::updateSource() {
     }
 }
 
+bool ViewerApp::framesDone() const {
+    // Above-ground colours waiting for their terrain are not the picture the run is for.
+    const bool awaiting_terrain = options_.terrain && style_.colour == ColourMode::AboveGround &&
+                                  !stream_.renderer().hasTerrain() && !terrain_failed_ && !stream_.failed();
+    return options_.frames > 0 && frames_ >= options_.frames && !awaiting_terrain;
+}
+
 void ViewerApp::takeTerrain() {
     if (!options_.terrain) return;
-    if (std::optional<ViewTerrain> terrain = options_.terrain->take()) {
+    std::optional<ViewTerrain> terrain = options_.terrain->take();
+    if (terrain && terrain->empty()) {
+        terrain.reset();
+        options_.terrain->fail("the terrain handed over holds no cells");
+    }
+    if (terrain) {
         stream_.renderer().setTerrain(*terrain, stream_.source().origin(), stream_.source());
         if (!options_.quiet)
             std::fprintf(stderr, "ladarvr: view: above-ground colours from %s\n",
@@ -482,7 +494,7 @@ void ViewerApp::frameCounted(const FrameResult& result, bool xr) {
 
 void ViewerApp::present(int fb_w, int fb_h) {
     drawPanel(fb_w, fb_h);
-    const bool last_frame = options_.frames > 0 && frames_ >= options_.frames;
+    const bool last_frame = framesDone();
     if (!options_.screenshot.empty() && !screenshot_done_ && !stream_.failed() && (last_frame || quitting_) &&
         fb_w > 0) {
         screenshot_done_ = true;

@@ -52,6 +52,9 @@ class ViewerApp {
     void updateSource();
     /// Takes the terrain ViewerOptions::terrain hands over (or its failure), once.
     void takeTerrain();
+    /// The --frames count is reached, and above-ground colours wait for no terrain (a run
+    /// that asks for them shows them in its last frame and screenshot; --timeout bounds it).
+    bool framesDone() const;
     void update(OperatorInput in, double dt);
     void render(int fb_w, int fb_h);
     void present(int fb_w, int fb_h);

@@ -75,8 +75,8 @@ struct ViewerOptions {
     MirrorEyes mirror = MirrorEyes::Both;
     int window_width = 1280, window_height = 720;
     bool hidden_window = false;  // open the window unmapped (nothing shown on the desktop)
-    long frames = 0;             // stop after N frames (XR: submitted), 0 = until closed
-    double timeout_s = 0.0;      // stop with an error after this long (0 = never)
+    long frames = 0;  // stop after N frames (XR: submitted; above-ground colours: and their terrain), 0 = until closed
+    double timeout_s = 0.0;  // stop with an error after this long (0 = never)
     std::vector<ScriptEvent> script;
     std::filesystem::path screenshot;  // PNG of the mirror at the last frame
     std::filesystem::path log_json;    // machine-readable run log

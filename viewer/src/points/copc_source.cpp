@@ -2,6 +2,9 @@
 // (copc_source.hpp): the tree from the hierarchy, read page by page, workers for pages
 // and nodes, LRU eviction.
 #include <viewer/copc_source.hpp>
+
+#include "points/point_attributes.hpp"
+
 #include <viewer/lod.hpp>
 #include <viewer/node_selection.hpp>
 
@@ -15,6 +18,7 @@
 #include <deque>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <thread>
 #include <utility>
@@ -119,6 +123,9 @@ struct CopcSource::Impl {
     };
     mutable std::mutex mutex;
     std::condition_variable wake;
+    /// The intensities' stretch of the class, intensity and return colours (point_attributes.hpp):
+    /// the first decoded node's.
+    std::optional<IntensityStretch> stretch;
     std::deque<CopcTreeNode*> page_queue;  // read before any node: they open the tree below
     std::deque<CopcTreeNode*> queue;
     std::deque<Done> done;
@@ -182,6 +189,15 @@ struct CopcSource::Impl {
             try {
                 core::PointCloud cloud = reader->readNodeEntry(entry);
                 d.fields = cloud.fields;
+                if (!cloud.fields.height_above_ground) {  // the attributes in the heights' place
+                    std::optional<IntensityStretch> s;
+                    {
+                        std::lock_guard stretch_lock(mutex);
+                        if (!stretch) stretch = IntensityStretch::of(cloud.points);
+                        s = stretch;
+                    }
+                    PointAttributes(s).pack(cloud.points);
+                }
                 auto points = std::make_shared<NodePoints>();
                 points->points = std::move(cloud.points);
                 points->cells = buildLodOrder(points->points);

@@ -33,6 +33,9 @@ struct IntensityStretch {
 /// Packs a cloud's points chunk by chunk as they are read.
 class PointAttributes {
   public:
+    /// `stretch`: the intensities' stretch, when one was chosen already (else the first
+    /// chunk's).
+    explicit PointAttributes(std::optional<IntensityStretch> stretch = std::nullopt) : stretch_(stretch) {}
     /// Writes each point's packed word (as a float) into its height_above_ground_m. The
     /// class is its side record's (`records`, `stride` bytes each, a core::ForeignPoint
     /// first; stride 0: none) where there is one, else classOfLabel. The stretch is taken
