@@ -112,13 +112,19 @@ core::PointCloud copcSample(const fs::path& file, std::size_t most_points, const
     const io::CopcReader reader(file, io::CopcHierarchy::by_page, std::uint64_t(1) << 20, "the terrain sample's bound");
     core::PointCloud sample;
     sample.origin = reader.origin();
-    for (const io::CopcNode& node : topNodes(reader, most_points)) {
+    const std::vector<io::CopcNode> nodes = topNodes(reader, most_points);
+    std::size_t total = 0;
+    for (const io::CopcNode& node : nodes) total += std::size_t(node.point_count);
+    // Every k-th point where the root alone passes the bound (k = 1 otherwise).
+    const std::size_t k = std::max<std::size_t>(1, (total + most_points - 1) / std::max<std::size_t>(1, most_points));
+    std::size_t index = 0;
+    for (const io::CopcNode& node : nodes) {
         if (stop.load()) break;
         core::PointCloud part = reader.readNodeEntry(node);
         sample.fields = part.fields;
         const glm::dvec3 shift = part.origin - sample.origin;
         for (core::CloudPoint& p : part.points) {
-            if (sample.points.size() >= most_points) break;
+            if (index++ % k != 0 || sample.points.size() >= most_points) continue;
             p.position = glm::vec3(glm::dvec3(p.position) + shift);
             sample.points.push_back(p);
         }

@@ -1,17 +1,21 @@
 // The ground under a viewed cloud (app/src/view_terrain.cpp), without a window: the grid
 // built from a file's class 2 follows the ground, not what stands on it; its cells are
 // bounded; the SMRF fit of a cloud without class 2 finds the same slope; a file's
-// even sample stays within its bound.
+// even sample stays within its bound, a COPC file's is its top levels.
 #include <test_files.hpp>
 #include <view_terrain.hpp>
 
 #include <io/cloud_io.hpp>
+#include <io/copc.hpp>
+#include <io/copc_writer.hpp>
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <filesystem>
+#include <map>
 #include <vector>
 
 namespace {
@@ -117,4 +121,35 @@ TEST_CASE("a file's terrain sample is even and within its bound") {
     CHECK(some.points.size() >= 9000);
     const std::atomic<bool> stopped{true};
     CHECK(app::readTerrainSample(file, 10000, stopped).points.empty());
+}
+
+TEST_CASE("a COPC file's terrain sample is its top levels, whole, within the bound") {
+    // The sloped ground and building as COPC with small nodes: several levels.
+    const std::vector<core::CloudPoint> points = slopeWithBox();
+    const test_support::TempDir dir("view_terrain_copc");
+    const std::filesystem::path file = dir.path / "slope.copc.laz";
+    io::CopcOptions copc;
+    copc.max_node_points = 1000;
+    {
+        io::CloudWriter writer(file, io::CloudFormat::Copc, glm::dvec3(0.0), core::CloudFields{}, {}, &copc);
+        writer.append(points);
+        writer.commit();
+    }
+    const io::CopcReader reader(file);
+    std::map<int, std::size_t> per_level;
+    for (const io::CopcNode& n : reader.nodes()) per_level[n.key.level] += std::size_t(n.point_count);
+    REQUIRE(per_level.size() >= 3);
+    // A bound that takes the two top levels whole but not the third.
+    const std::size_t two = per_level[0] + per_level[1];
+    const std::atomic<bool> go{false};
+    const core::PointCloud sample = app::readTerrainSample(file, two + per_level[2] / 2, go);
+    CHECK(sample.points.size() == two);
+    // The top levels keep the ground below the building: the class 2 grid follows the slope.
+    const viewer::ViewTerrain t = app::groundGrid(sample.points, sample.origin, 1.0);
+    REQUIRE_FALSE(t.empty());
+    CHECK(std::fabs(heightAt(t, 80.0, 10.0) - kSlope * 80.0) < kSlope * t.cell + 0.2);
+    // The root alone when even the second level is over the bound, and of a root over
+    // the bound every k-th point.
+    CHECK(app::readTerrainSample(file, per_level[0] + 1, go).points.size() == per_level[0]);
+    CHECK(app::readTerrainSample(file, 10, go).points.size() == 10);
 }
