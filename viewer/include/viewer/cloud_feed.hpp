@@ -63,6 +63,9 @@ class CloudFeed {
     /// feedFile on a thread, which the destructor joins.
     void startFileLoader(std::filesystem::path path, std::size_t chunk_points = 262144);
     /// Feeds an in-memory cloud in chunks (no thread; the viewer still uploads gradually).
+    /// On a cloud without heights above ground (fields), feedFile and feedCloud put each
+    /// point's packed class, intensity and returns in its height_above_ground_m instead
+    /// (viewer/src/points/point_attributes.hpp: what the class, intensity and return colours read).
     void feedCloud(core::PointCloud cloud, std::size_t chunk_points = 262144);
 
   private:
