@@ -78,13 +78,15 @@ std::size_t sideBytes(const std::string& file, io::CloudFormat format) {
     return foreign ? foreign->stride() : 0;
 }
 
-MemoryPlan planMemory(const GroundFileCli& cli, io::CloudFormat format, std::size_t side_bytes, int jobs) {
+// `held`: bytes the run holds beside the jobs (the tiles' ground thickness samples).
+MemoryPlan planMemory(const GroundFileCli& cli, io::CloudFormat format, std::size_t side_bytes, int jobs,
+                      std::uint64_t held = 0) {
     MemoryPlan plan;
     plan.budget = sim::memoryBudgetBytes(cli.memory_mb, "ground");
     const std::uint64_t reading =
         2 * io::CloudReader::kChunkPoints * (sizeof(core::CloudPoint) + std::uint64_t(side_bytes));
     std::uint64_t writing = 2 * io::lazChunkBytes();
-    const std::uint64_t share = plan.budget / std::uint64_t(jobs);
+    const std::uint64_t share = (plan.budget > held ? plan.budget - held : 0) / std::uint64_t(jobs);
     if (format == io::CloudFormat::Copc) {
         writing = std::max<std::uint64_t>(io::copcMinimumBytes(0), share > reading ? (share - reading) / 2 : 0);
         plan.copc.memory_bytes = writing;
@@ -212,7 +214,8 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     } else {
         // The tiles' rasters share the memory among --jobs; the reading and writing passes
         // run alone.
-        const MemoryPlan jobs = planMemory(cli, format, side, cli.jobs);
+        // At most one thickness sample (8 bytes) per 16 points: a cell's sample needs 16.
+        const MemoryPlan jobs = planMemory(cli, format, side, cli.jobs, declared / 16 * sizeof(double));
         sim::GroundTiling t;
         t.buffer_m = buffer;
         t.tile_m = tileSide(cli, o, units, jobs.max_cells, buffer);
@@ -274,7 +277,7 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
     }
     const int jobs = std::max(1, std::min<int>(cli.jobs, int(todo.size())));
     const io::CloudFormat first_format = io::formatForPath(outs[todo.empty() ? 0 : todo[0]], "ground: --out-dir");
-    const MemoryPlan plan = planMemory(cli, first_format, side, jobs);
+    const MemoryPlan plan = planMemory(cli, first_format, side, jobs, all / 16 * sizeof(double));
     createParentFolders(outs[0], "ground: --out-dir");
     for (std::size_t i : todo) platform::checkWritableDestination(outs[i], inputs);
 

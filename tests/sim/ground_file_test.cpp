@@ -148,5 +148,5 @@ TEST_CASE("ground file: the default's mean total error on all 15 ISPRS samples s
     }
     MESSAGE("mean total error " << mean_total << " %, worst sample " << worst << " %");
     CHECK(mean_total <= 3.92);  // 3.89 %
-    CHECK(worst <= 8.5);       // samp11 8.28 %
+    CHECK(worst <= 8.5);        // samp11 8.28 %
 }
