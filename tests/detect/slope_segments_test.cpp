@@ -1,8 +1,9 @@
-// tests/detect/slope_segments_test.cpp: a vehicle on a slope stays one segment. A car-sized
-// box (4.5 x 1.8 x 1.5 m) or a box truck's (8 x 2.5 x 3.2 m) resting on a plane of 0 to
-// 30 % slope, pointing up the slope or across it, seen by each sensor preset on the
-// paper's orbit (40 views): the segment holding most of its points holds nearly all the
-// target points in segments and little else.
+// tests/detect/slope_segments_test.cpp: a vehicle on a slope stays one segment. A box of
+// each size of scripts/make_vehicles.py's families, from the smallest car (3.5 x 1.6 x
+// 1.3 m) through a car, a box truck (8 x 2.5 x 3.2 m) to the largest bus (12 x 3.6 x 3.5 m),
+// resting on a plane of 0 to 30 % slope, pointing up the slope or across it, seen by each
+// sensor preset on the paper's orbit (40 views): the segment holding most of its points
+// holds nearly all the target points in segments and little else.
 #include <detect/segmentation.hpp>
 #include <sim/generator.hpp>
 #include <sim/sensor.hpp>
@@ -58,8 +59,10 @@ core::Scene slopeScene(double grade, double yaw_deg, glm::dvec3 size) {
 }  // namespace
 
 TEST_CASE("slopes: a vehicle on a 0-30 % slope is one segment under both sensor presets") {
-    // A car and a box truck.
-    for (const glm::dvec3 size : {glm::dvec3(4.5, 1.8, 1.5), glm::dvec3(8.0, 2.5, 3.2)})
+    // The smallest and the largest of scripts/make_vehicles.py's families' sizes (a car of
+    // 3.5 x 1.6 x 1.3 m, a bus of 12 x 3.6 x 3.5 m), a mid-size car and a box truck.
+    for (const glm::dvec3 size :
+         {glm::dvec3(3.5, 1.6, 1.3), glm::dvec3(4.5, 1.8, 1.5), glm::dvec3(8.0, 2.5, 3.2), glm::dvec3(12.0, 3.6, 3.5)})
         for (const char* preset : {"riegl-vux1uav", "livox-avia"}) {
             for (const double grade : {0.0, 0.1, 0.2, 0.3}) {
                 for (const double yaw_deg : {0.0, 90.0}) {
