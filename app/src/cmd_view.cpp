@@ -262,7 +262,8 @@ std::unique_ptr<TerrainProducer> startTerrain(viewer::ViewerOptions& o, const fs
     try {
         units = sim::readCoordinateUnits(cloud, "view");
     } catch (const core::Error& e) {
-        o.terrain->fail(e.what());
+        const std::string why = e.what();  // said after "view: no terrain ...": without its own "view: "
+        o.terrain->fail(why.starts_with("view: ") ? why.substr(6) : why);
         return nullptr;
     }
     return std::make_unique<TerrainProducer>(read, units, what, o.terrain);
@@ -458,7 +459,9 @@ void registerView(CLI::App& cli) {
         ->capture_default_str();
     cmd->add_option("--colour", args->colour,
                     "point colours: file, height (jet), white, label (ground truth: "
-                    "target red), above-ground (jet by height above the terrain)")
+                    "target red), above-ground (jet by height above the terrain: the cloud's own heights, else "
+                    "its class 2 or a terrain fitted in the background), class (ASPRS palette), intensity, "
+                    "return (number)")
         ->capture_default_str();
     cmd->add_option("--point-size", args->point_size_px, "point size in pixels [1, 64] (at 100 m with --attenuate)")
         ->capture_default_str();
