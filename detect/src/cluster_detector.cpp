@@ -290,9 +290,10 @@ std::uint64_t ClusterDetector::memoryBytes(std::uint64_t points) {
     //   ground flags (1), one tile's positions with growth (24), findGround's buffers (64,
     //   as in sim's memory plan), its flags (1): 138; SMRF or CSF instead: the cloud, the
     //   flags, the terrain's raster and view tables (48, as the trained detector counts
-    //   them): 89;
+    //   them) and each point's height above the terrain (4): 93;
     // step 2: the cloud, flags, the non-ground copy (40) and its indices with growth (8),
-    //   the voxel bins (16), centroids (16), PCL's k-d tree (40), cluster indices (4): 165.
+    //   the voxel bins (16), centroids (16), PCL's k-d tree (40), cluster indices (4), with a
+    //   terrain the heights kept from step 1 (4): 169.
     // 256 leaves room for the allocator; the fixed part holds the reader's chunk buffer
     // (1 Mi points of 40 bytes), PCL's and the process's own.
     constexpr std::uint64_t kBytesPerPoint = 256;
