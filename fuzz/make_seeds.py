@@ -15,6 +15,8 @@ SCRIPT = os.path.join(HERE, "seeds", "script")
 REPLAY = os.path.join(HERE, "seeds", "replay")
 LAS = os.path.join(HERE, "seeds", "las")
 MODEL = os.path.join(HERE, "seeds", "model")
+CRS = os.path.join(HERE, "seeds", "las_crs")
+REAL = os.path.join(HERE, "..", "tests", "data", "real")
 SHIPPED_MODEL = os.path.join(HERE, "..", "assets", "detect", "model.ldm")
 
 PTS = [(0.0, 0.0, 0.0, 0xFF0000, 0, 0, 10.0), (1.5, -2.0, 0.25, 0x00FF00, 1, 1, 11.5),
@@ -339,6 +341,78 @@ def replay_seeds():
     write("errors_values.csv", header + b"0,1,2,1e300,2,0,0,0,walk,0,4,,6\n", REPLAY)
 
 
+def las_vlrs(path):
+    """The (user id, record id, payload) of a LAS file's VLRs (its header is read as far
+    as they go: a LAZ file's are not compressed)."""
+    with open(path, "rb") as f:
+        data = f.read(1 << 16)
+    header_size, = struct.unpack_from("<H", data, 94)
+    count, = struct.unpack_from("<I", data, 100)
+    at, out = header_size, []
+    for _ in range(count):
+        user = data[at + 2:at + 18].rstrip(b"\0")
+        record, length = struct.unpack_from("<HH", data, at + 18)
+        out.append((user, record, data[at + 54:at + 54 + length]))
+        at += 54 + length
+    return out
+
+
+def crs_input(wkt=None, keys=b"", doubles=b"", ascii=b""):
+    """fuzz_las_crs's input: byte 0 even and a WKT payload, or odd and the GeoTIFF
+    records behind their two lengths."""
+    if wkt is not None:
+        return b"\0" + wkt
+    return b"\1" + struct.pack("<HH", len(keys), len(doubles)) + keys + doubles + ascii
+
+
+def geokeys(*keys):
+    """A GeoKeyDirectory of (key, location, count, value) entries."""
+    out = struct.pack("<4H", 1, 1, 0, len(keys))
+    for k in keys:
+        out += struct.pack("<4H", *k)
+    return out
+
+
+def crs_seeds():
+    """fuzz_las_crs: the CRS records of tests/data/real's files (WKT, GeoTIFF keys with
+    their doubles and ASCII), and crafted ones: WKT 2 with units on the axes, a compound
+    CRS, user-defined units, keys pointing outside their records."""
+    os.makedirs(CRS, exist_ok=True)
+    for name in sorted(os.listdir(REAL)):
+        if not name.endswith((".las", ".laz")):
+            continue
+        records = {(u, r): p for u, r, p in las_vlrs(os.path.join(REAL, name))}
+        stem = name.rsplit(".", 1)[0]
+        if (b"LASF_Projection", 2112) in records:
+            write(stem + "_wkt.bin", crs_input(records[(b"LASF_Projection", 2112)]), CRS)
+        if (b"LASF_Projection", 34735) in records:
+            write(stem + "_geotiff.bin", crs_input(None, records[(b"LASF_Projection", 34735)],
+                                                   records.get((b"LASF_Projection", 34736), b""),
+                                                   records.get((b"LASF_Projection", 34737), b"")), CRS)
+    write("wkt2_axes.bin", crs_input(
+        b'PROJCRS["WGS 84 / UTM zone 32N",BASEGEOGCRS["WGS 84",DATUM["World Geodetic System 1984",'
+        b'ELLIPSOID["WGS 84",6378137,298.257223563,LENGTHUNIT["metre",1]]],'
+        b'PRIMEM["Greenwich",0,ANGLEUNIT["degree",0.0174532925199433]]],CONVERSION["UTM zone 32N",'
+        b'METHOD["Transverse Mercator",ID["EPSG",9807]]],CS[Cartesian,2],'
+        b'AXIS["(E)",east,ORDER[1],LENGTHUNIT["US survey foot",0.304800609601219]],'
+        b'AXIS["(N)",north,ORDER[2],LENGTHUNIT["US survey foot",0.304800609601219]],ID["EPSG",32632]]'), CRS)
+    write("wkt1_compound.bin", crs_input(
+        b'COMPD_CS["NAD83 + NAVD88",PROJCS["NAD83 / UTM 15N",GEOGCS["NAD83",DATUM["NAD83",'
+        b'SPHEROID["GRS 1980",6378137,298.257222101]],PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433]],'
+        b'PROJECTION["Transverse_Mercator"],UNIT["metre",1,AUTHORITY["EPSG","9001"]],AUTHORITY["EPSG","26915"]],'
+        b'VERT_CS["NAVD88",VERT_DATUM["NAVD88",2005],UNIT["foot",0.3048],AUTHORITY["EPSG","8228"]]]\0'), CRS)
+    write("wkt_unit_code_angle.bin", crs_input(b'PROJCS["x",UNIT["metre",1,AUTHORITY["EPSG","9102"]]]'), CRS)
+    write("geotiff_user_units.bin", crs_input(
+        None, geokeys((1024, 0, 1, 1), (3072, 0, 1, 32767), (3073, 34737, 9, 0), (3076, 0, 1, 32767),
+                      (3077, 34736, 1, 0), (4099, 0, 1, 9003)),
+        struct.pack("<d", 0.3048006096), b"My grid|\0"), CRS)
+    write("geotiff_outside.bin", crs_input(
+        None, geokeys((1024, 0, 1, 2), (2048, 0, 1, 4326), (2049, 34737, 200, 5), (3077, 34736, 1, 7)),
+        b"", b"WGS 84|"), CRS)
+    write("geotiff_vertical_only.bin", crs_input(None, geokeys((4096, 0, 1, 5703), (4099, 0, 1, 9001))), CRS)
+
+
 if __name__ == "__main__":
     main()
     replay_seeds()
+    crs_seeds()

@@ -5,6 +5,8 @@
 #include <core/random.hpp>
 #include <io/las_crs.hpp>
 
+#include "../../io/src/las/crs_wkt.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cstdint>
@@ -213,4 +215,36 @@ TEST_CASE("las_crs: mutated WKT and GeoTIFF records: a result or a one-line prob
                                [](char ch) { return static_cast<unsigned char>(ch) < 0x20; }));
         }
     }
+}
+
+TEST_CASE("las_crs: the WKT made of GeoTIFF keys is one line whatever the vertical citation holds") {
+    // EPSG:2903 in US survey feet, its heights in feet under a citation with a newline,
+    // a quote, a control byte and bytes past ASCII (found by fuzz_las_crs): the name is
+    // kept printable, and the WKT reads back as a CRS.
+    const std::string dir = shorts({1, 1, 0, 4, 1024, 0, 1, 1, 3072, 0, 1, 2903, 4097, 34737, 20, 0, 4099, 0, 1, 9003});
+    const std::string citation = std::string("NAVD88\n\"feet\"\x01\xff|", 17);
+    const io::LasCrs keys = io::crsFromGeoKeys(dir, "", citation);
+    REQUIRE(keys.source == "geotiff");
+    REQUIRE(keys.vertical_unit.name == "US survey foot");
+    std::string problem;
+    const std::string wkt = io::detail::wktForCrs(keys, problem);
+    REQUIRE(!wkt.empty());
+    CHECK(problem.empty());
+    CHECK(std::none_of(wkt.begin(), wkt.end(), [](char c) {
+        return static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f;
+    }));
+    CHECK(wkt.find("NAVD88feet") != std::string::npos);
+    const io::LasCrs back = io::crsFromWkt(wkt);
+    CHECK(back.source == "wkt");
+    CHECK(back.vertical_unit.name == "US survey foot");
+}
+
+TEST_CASE("las_crs: a UNIT whose EPSG code names an angle has no length, whatever its factor") {
+    // Found by fuzz_las_crs's contract: the degree's code under a factor of 1 gave an
+    // angular unit of 1 m.
+    const io::LasCrs c = io::crsFromWkt("PROJCS[\"x\",UNIT[\"metre\",1,AUTHORITY[\"EPSG\",\"9102\"]]]");
+    REQUIRE(c.source == "wkt");
+    CHECK(c.horizontal_unit.angular);
+    CHECK(c.horizontal_unit.name == "degree");
+    CHECK(c.horizontal_unit.metres == 0.0);
 }

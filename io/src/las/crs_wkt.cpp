@@ -41,6 +41,16 @@ Pj withUnit(PJ_CONTEXT* ctx, Pj pj, const CrsUnit& unit) {
     return altered ? std::move(altered) : std::move(pj);
 }
 
+// A name from the file (the keys' vertical citation) as the WKT may hold it: printable
+// ASCII without the quote that ends a WKT string, at most 80 characters; "unknown" when
+// nothing is left. Control bytes or a newline would make a record of several lines.
+std::string wktName(const std::string& text) {
+    std::string name;
+    for (const char c : text)
+        if (c >= 0x20 && c < 0x7f && c != '"' && name.size() < 80) name.push_back(c);
+    return name.empty() ? "unknown" : name;
+}
+
 }  // namespace
 
 std::string wktForCrs(const LasCrs& las, std::string& problem) {
@@ -70,7 +80,7 @@ std::string wktForCrs(const LasCrs& las, std::string& problem) {
     if (vertical) {
         vertical = withUnit(ctx.get(), std::move(vertical), las.vertical_unit);
     } else if (las.vertical_unit.stated() && !las.vertical_unit.angular && las.vertical_unit.metres > 0.0) {
-        const std::string name = las.vertical_name.empty() ? "unknown" : las.vertical_name;
+        const std::string name = wktName(las.vertical_name);
         vertical = Pj(proj_create_vertical_crs(ctx.get(), name.c_str(), "unknown", las.vertical_unit.name.c_str(),
                                                las.vertical_unit.metres));
     }

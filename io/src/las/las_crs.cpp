@@ -203,7 +203,7 @@ CrsUnit unitOf(const WktNode& u, bool angular) {
             unit.name = k.name;
             unit.epsg = k.epsg;
             unit.angular = k.angular;
-            if (!k.angular) unit.metres = k.metres;
+            unit.metres = k.angular ? 0.0 : k.metres;  // a code naming an angle: no length, whatever the factor
             break;
         }
     }
