@@ -5,8 +5,8 @@
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      (inside the root: ./ladarvr shell -c ...)
 #
 # SECONDS per target (default 600); targets default to all (fuzz_scene_json,
-# fuzz_cloud_reader, fuzz_view_script, fuzz_las_reader, fuzz_copc_reader, fuzz_detect_model,
-# fuzz_view_replay). Targets run as many at a time as the machine
+# fuzz_cloud_reader, fuzz_view_script, fuzz_las_reader, fuzz_copc_reader, fuzz_las_crs,
+# fuzz_detect_model, fuzz_view_replay). Targets run as many at a time as the machine
 # has cores (LADARVR_FUZZ_JOBS overrides), each a single libFuzzer process held to
 # -rss_limit_mb=2048 (the whole process, ASan included) and -malloc_limit_mb=512 (one
 # allocation); going over either is reported as a crash (oom-*). The working corpus
@@ -19,7 +19,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds=${1:-600}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene_json fuzz_cloud_reader fuzz_view_script fuzz_las_reader fuzz_copc_reader fuzz_detect_model fuzz_view_replay)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene_json fuzz_cloud_reader fuzz_view_script fuzz_las_reader fuzz_copc_reader fuzz_las_crs fuzz_detect_model fuzz_view_replay)
 build="${LADARVR_FUZZ_BUILD:-$repo/build/fuzz}"
 rss_limit_mb=2048
 malloc_limit_mb=512
@@ -29,8 +29,8 @@ jobs=${LADARVR_FUZZ_JOBS:-$(nproc)}
 
 for t in "${targets[@]}"; do
   case $t in
-    fuzz_scene_json|fuzz_cloud_reader|fuzz_view_script|fuzz_las_reader|fuzz_copc_reader|fuzz_detect_model|fuzz_view_replay) ;;
-    *) echo "fuzz: unknown target '$t'; allowed: fuzz_scene_json, fuzz_cloud_reader, fuzz_view_script, fuzz_las_reader, fuzz_copc_reader, fuzz_detect_model, fuzz_view_replay" >&2; exit 2 ;;
+    fuzz_scene_json|fuzz_cloud_reader|fuzz_view_script|fuzz_las_reader|fuzz_copc_reader|fuzz_las_crs|fuzz_detect_model|fuzz_view_replay) ;;
+    *) echo "fuzz: unknown target '$t'; allowed: fuzz_scene_json, fuzz_cloud_reader, fuzz_view_script, fuzz_las_reader, fuzz_copc_reader, fuzz_las_crs, fuzz_detect_model, fuzz_view_replay" >&2; exit 2 ;;
   esac
 done
 command -v clang++ >/dev/null || { echo "fuzz: clang++ is missing (apt-get install clang libclang-rt-dev)" >&2; exit 2; }
@@ -63,6 +63,9 @@ run_one() {
     fuzz_copc_reader)
       seeds=("$repo"/fuzz/seeds/copc/*)
       dict="$repo/fuzz/las.dict"; max_len=65536 ;;
+    fuzz_las_crs)
+      seeds=("$repo"/fuzz/seeds/las_crs/*)
+      dict="$repo/fuzz/crs.dict"; max_len=4096 ;;
     fuzz_detect_model)
       # The shipped model (133 KB) is cut at max_len; the small seeds cover its structure.
       seeds=("$repo"/fuzz/seeds/model/*)

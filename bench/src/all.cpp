@@ -77,6 +77,7 @@ std::string fuzzParser(const std::string& target) {
     if (target == "fuzz_view_script") return "`viewer::parseScript` (the viewer's --script files)";
     if (target == "fuzz_las_reader") return "`io::CloudReader` on LAS/LAZ (our checks, then LASzip)";
     if (target == "fuzz_copc_reader") return "`io::checkCopc` and `io::CopcReader::readNode` on COPC";
+    if (target == "fuzz_las_crs") return "`io::crsFromWkt` and `io::crsFromGeoKeys` (a LAS file's CRS records)";
     if (target == "fuzz_detect_model")
         return "`detect::checkXgboostModel` (the detector model's trees), then XGBoost on what it passes";
     if (target == "fuzz_view_replay") return "`io::parseTrace` and the viewer's replay player (--replay traces)";
