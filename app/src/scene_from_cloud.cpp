@@ -1,8 +1,9 @@
 // app/src/scene_from_cloud.cpp: `ladarvr scene from-cloud SURVEY --out DIR [--voxel-m V]
-// [--cell-m C] [--max-boxes N] [--coarsen] [--max-height-m H] [--ground-from auto|classes|filter] [--method
-// smrf|csf] [--vehicle MESH [--vehicle-at X,Y] [--yaw-deg D] [--seed S] ...]`: a real survey
-// turned into a scene folder the generator reads (sim/scene_from_cloud.hpp). Options are
-// parsed and checked here; the work is sim::buildSceneFromCloud and sim::writeSceneFolder.
+// [--cell-m C] [--max-boxes N] [--coarsen] [--max-height-m H] [--ground-from
+// auto|classes|filter] [--method smrf|csf] [--vehicle MESH|vehicles.json [--family F]
+// [--vehicle-at X,Y] [--yaw-deg D] [--seed S] ...]`: a real survey turned into a scene
+// folder the generator reads (sim/scene_from_cloud.hpp). Options are parsed and checked
+// here; the work is sim::buildSceneFromCloud and sim::writeSceneFolder.
 #include "scene_from_cloud.hpp"
 
 #include "cli_common.hpp"
@@ -15,6 +16,10 @@
 #include <platform/safe_file.hpp>
 #include <sim/scene_from_cloud.hpp>
 
+#include <core/random.hpp>
+
+#include <nlohmann/json.hpp>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -25,7 +30,7 @@ namespace app {
 namespace {
 
 struct SceneFromCloudCli {
-    std::string survey, out, ground_from = "auto", method = "smrf", vehicle, vehicle_at;
+    std::string survey, out, ground_from = "auto", method = "smrf", vehicle, vehicle_at, family;
     std::optional<double> yaw_deg;
     sim::SceneFromCloudOptions options;
 };
@@ -38,11 +43,59 @@ sim::SceneGroundSource groundSource(const std::string& text) {
                       "' is not one of auto, classes, filter");
 }
 
+// The largest vehicles.json read: scripts/make_vehicles.py's list is kilobytes.
+constexpr std::size_t kMaxVehicleListBytes = std::size_t(16) << 20;
+
+// --vehicle naming scripts/make_vehicles.py's vehicles.json: one of its vehicles (of
+// --family when given) drawn with the seed, its mesh beside the list. Returns the mesh and
+// sets `family` to the one drawn.
+std::filesystem::path drawVehicle(const std::filesystem::path& list, std::string& family, std::uint64_t seed) {
+    const std::string where = "scene from-cloud: --vehicle " + core::printable(list.string(), 400);
+    const nlohmann::json j =
+        nlohmann::json::parse(platform::readTextFile(list, kMaxVehicleListBytes, where), nullptr, false);
+    if (!j.is_object() || !j.contains("vehicles") || !j["vehicles"].is_array())
+        throw core::Error(where +
+                          ": not a vehicle list; allowed a mesh file or scripts/make_vehicles.py's "
+                          "vehicles.json (an object whose \"vehicles\" is a list)");
+    std::vector<std::pair<std::string, std::string>> found;  // file, family
+    for (const nlohmann::json& v : j["vehicles"]) {
+        if (!v.is_object() || !v.contains("file") || !v["file"].is_string() || !v.contains("family") ||
+            !v["family"].is_string())
+            throw core::Error(where +
+                              ": a vehicle without a \"file\" and a \"family\" string; allowed "
+                              "scripts/make_vehicles.py's vehicles.json");
+        if (family.empty() || v["family"].get<std::string>() == family)
+            found.emplace_back(v["file"].get<std::string>(), v["family"].get<std::string>());
+    }
+    if (found.empty())
+        throw core::Error(where + ": no vehicle" +
+                          (family.empty() ? "" : " of --family '" + core::printable(family) + "'") +
+                          "; allowed a family the list holds");
+    core::SplitMix64 rng(seed ^ 0x76656869636C65ull);  // "vehicle": a stream apart from the spot's
+    const auto& [file, drawn] = found[std::size_t(rng.below(found.size()))];
+    const std::filesystem::path name(file);
+    if (name.empty() || name.is_absolute() || name.has_parent_path())
+        throw core::Error(where + ": vehicle file '" + core::printable(file) +
+                          "'; allowed a file name beside the list");
+    family = drawn;
+    return list.parent_path() / name;
+}
+
 void run(SceneFromCloudCli& cli) {
     const auto t0 = std::chrono::steady_clock::now();
     sim::SceneFromCloudOptions& o = cli.options;
     o.ground_source = groundSource(cli.ground_from);
     o.ground.method = sim::parseGroundMethod(cli.method, "scene from-cloud: --method");
+    if (!cli.family.empty() && !cli.vehicle.ends_with(".json"))
+        throw core::Error("scene from-cloud: --family needs --vehicle naming a vehicles.json list");
+    std::filesystem::path list;  // a vehicles.json the mesh was drawn from
+    if (cli.vehicle.ends_with(".json")) {
+        list = cli.vehicle;
+        platform::checkInputFile(cli.vehicle, "scene from-cloud: --vehicle " + core::printable(cli.vehicle, 400));
+        cli.vehicle = drawVehicle(cli.vehicle, cli.family, o.vehicle.seed).string();
+        std::fprintf(stderr, "scene from-cloud: vehicle %s (%s) drawn from the list\n",
+                     platform::messageLine(cli.vehicle, 400).c_str(), cli.family.c_str());
+    }
     o.vehicle.mesh = cli.vehicle;
     o.vehicle.yaw_deg = cli.yaw_deg;
     if (!cli.vehicle_at.empty()) {
@@ -62,6 +115,7 @@ void run(SceneFromCloudCli& cli) {
     platform::InputSet inputs;
     inputs.addFile(survey);
     if (!cli.vehicle.empty()) inputs.addFile(cli.vehicle);
+    if (!list.empty()) inputs.addFile(list);
     for (const char* name : {"scene.json", "ground.obj", "environment.obj", "from_cloud.json"})
         inputs.checkNotAnInput(out / name);
 
@@ -132,8 +186,10 @@ void addSceneFromCloud(CLI::App& scene) {
     addSmrfOptions(*c, o.ground.smrf);
     addCsfOptions(*c, o.ground.csf);
     c->add_option("--vehicle", state->vehicle,
-                  "a vehicle mesh (z up; e.g. scripts/make_vehicles.py's OBJ), copied into the folder and put on "
-                  "the ground as the target");
+                  "a vehicle mesh (z up; e.g. one of scripts/make_vehicles.py's OBJ files), or that script's "
+                  "vehicles.json to draw one with --seed; copied into the folder and put on the ground as the target");
+    c->add_option("--family", state->family,
+                  "with --vehicle naming a vehicles.json list: draw a vehicle of this family only (car, tank, ...)");
     c->add_option("--vehicle-at", state->vehicle_at,
                   "x,y of the vehicle's centre in the survey's coordinates (metres); default: a random flat, free "
                   "spot");

@@ -6,6 +6,7 @@
 #    vehicle sits on the ground (`scene info` warns of nothing); `generate` flies it and
 #    labels target points;
 #  - a survey in feet is converted (stderr says so); --coarsen says in one line what it did;
+#    a vehicle of one family is drawn from scripts/make_vehicles.py's list;
 #  - bad options, too many boxes and a geographic CRS give one line and no folder; the
 #    survey is never overwritten; a second run replaces the folder whole.
 set -eu
@@ -50,6 +51,15 @@ grep -q '"voxel_m": 2.0000' "$dir/hex/from_cloud.json" || fail "record: $(cat "$
 [ "$(wc -l <"$dir/err")" = 1 ] && grep -q "^scene from-cloud: more than --max-boxes 500 boxes at --voxel-m 0.5: coarsened to 8 m voxels ([0-9]* boxes)$" \
     "$dir/err" || fail "coarsen line: $(cat "$dir/err")"
 
+# A vehicle drawn from scripts/make_vehicles.py's list, of one family: copied as the target.
+python3 "$assets/../scripts/make_vehicles.py" --out "$dir/veh" --per-family 1 --families car,tank >/dev/null ||
+    fail "make_vehicles.py"
+"$bin" scene from-cloud "$real/hexbin-crop.las" --out "$dir/fam" --vehicle "$dir/veh/vehicles.json" --family tank \
+    >"$dir/out" 2>"$dir/err" || fail "from-cloud --family: $(cat "$dir/err")"
+[ "$(cat "$dir/err")" = "scene from-cloud: vehicle $dir/veh/tank_00.obj (tank) drawn from the list" ] ||
+    fail "--family: stderr: $(cat "$dir/err")"
+cmp -s "$dir/veh/tank_00.obj" "$dir/fam/target.obj" || fail "--family: the target is not tank_00.obj"
+
 # Refusals: one line, no folder.
 bad() {
     want=$1
@@ -68,6 +78,9 @@ bad "--vehicle-at needs --vehicle" "$real/hexbin-crop.las" --out "$dir/bad" --ve
 bad "no room at --vehicle-at" "$real/hexbin-crop.las" --out "$dir/bad" --vehicle "$assets/common/van.obj" \
     --vehicle-at 393923,3689173 --max-slope 0
 bad "no-such.las" "$real/no-such.las" --out "$dir/bad"
+bad "no vehicle of --family 'boat'; allowed a family the list holds" "$real/hexbin-crop.las" --out "$dir/bad" \
+    --vehicle "$dir/veh/vehicles.json" --family boat
+bad "--family needs --vehicle naming a vehicles.json list" "$real/hexbin-crop.las" --out "$dir/bad" --family tank
 python3 - "$real/hexbin-crop.las" "$dir/degrees.las" <<'PY'
 import sys
 data = bytearray(open(sys.argv[1], "rb").read())
