@@ -348,6 +348,18 @@ if r.returncode == 0:
     compare("FSite8_orig-utm.laz", fin_sorted, fout_sorted, "index --memory-mb 60")
     check_integers("FSite8_orig-utm.laz", src, spilled, fin_sorted, fout_sorted, "index --memory-mb 60", one_scale=True)
 
+# Merged inputs of different grids: the finest input's scale and offset, said once.
+r = run("index", os.path.join(data, "warsaw_small.las"), fine, "--out", path("merged.copc.laz"))
+check(r.returncode == 0, f"index of two grids failed: {r.stderr.strip()}")
+if r.returncode == 0:
+    check("written at the finest scale" in r.stderr, f"index of two grids does not say which grid: {r.stderr.strip()}")
+    merged, src = laspy.read(path("merged.copc.laz")), laspy.read(fine)
+    check(np.array_equal(np.asarray(merged.header.scales), np.full(3, common_step(np.asarray(src.header.scales))))
+          and np.array_equal(np.asarray(merged.header.offsets), np.asarray(src.header.offsets)),
+          f"index of two grids: scale {merged.header.scales} and offset {merged.header.offsets}, not the finest's")
+    check(len(merged.points) == len(src.points) + len(laspy.read(os.path.join(data, "warsaw_small.las")).points),
+          "index of two grids lost points")
+
 # --reclassify: every point not ground becomes class 1.
 r = run("ground", os.path.join(data, "sample_c.las"), "--out", path("reclassified.las"), "--reclassify")
 check(r.returncode == 0, f"ground --reclassify failed: {r.stderr.strip()}")
