@@ -38,6 +38,7 @@
 #include <memory>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -92,8 +93,8 @@ MemoryPlan planMemory(const GroundFileCli& cli, io::CloudFormat format, std::siz
         plan.copc.memory_bytes = writing;
     }
     const std::uint64_t least = reading + writing + 1024 * kBytesPerCell;
-    sim::refuseOverBudget("ground", share, least,
-                          (jobs > 1 ? "per job of --jobs: " : std::string()) +
+    sim::refuseOverBudget("ground", plan.budget, held + std::uint64_t(jobs) * least,
+                          (jobs > 1 ? "for each job of --jobs: " : std::string()) +
                               "two chunks of points and their side records read, the writer's buffers and a raster",
                           jobs > 1 ? "raise --memory-mb or lower --jobs" : "raise --memory-mb");
     plan.per_job = share;
@@ -130,10 +131,14 @@ double tileSide(const GroundFileCli& cli, const sim::GroundFileOptions& o, const
                               std::to_string(std::max(0.0, side * units.horizontal_m)) + " m (or raise --memory-mb)");
         return forced;
     }
-    if (side < 4.0 * buffer)
-        throw core::Error("ground: --memory-mb " + std::to_string(cli.memory_mb) +
-                          ": a tile with its buffer does not fit; raise --memory-mb" +
+    // A tile narrower than its buffer would fit more buffer than points of its own.
+    if (side < std::max(buffer, 16.0 * cell)) {
+        std::ostringstream mb;
+        mb << cli.memory_mb;
+        throw core::Error("ground: --memory-mb " + mb.str() +
+                          ": a tile at least as wide as its buffer does not fit with its buffer; raise --memory-mb" +
                           (cli.jobs > 1 ? " or lower --jobs" : ""));
+    }
     return std::min(side, kLargestTile_m / units.horizontal_m);
 }
 
