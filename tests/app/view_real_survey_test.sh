@@ -12,8 +12,10 @@
 #   5. refusals in one line, exit 1: tiles of different CRS, a folder without LAS/LAZ
 #      files, a folder beside other clouds, --in-core with several files, an output
 #      inside the tiles' folder named like a tile.
-# The terrain arrives while the view runs: each view runs a few frames, then more, until
-# its log shows the terrain (the program's event) or a frame limit; no sleeps.
+# The terrain arrives while the view runs. A --frames run with above-ground colours ends
+# only once it is bound or has failed (the viewer's wait); a view still runs a few frames,
+# then more, until its log shows the terrain and the first points, or a frame limit, so the
+# survey's points have all arrived too; no sleeps.
 set -euo pipefail
 bin=$(realpath "$1")
 data=$(realpath "$2")
