@@ -57,7 +57,8 @@ void warnOfScales(const std::vector<std::unique_ptr<io::CloudReader>>& readers) 
     char grid[160];
     std::snprintf(grid, sizeof grid, "scale %.9g %.9g %.9g, offset %.9g %.9g %.9g", merged->scale.x, merged->scale.y,
                   merged->scale.z, merged->offset.x, merged->offset.y, merged->offset.z);
-    warn("index: the inputs' LAS scales or offsets differ; written at the finest scale (" + std::string(grid) + ")");
+    warn("index: the inputs' LAS scales or offsets differ; written on the finest input's grid (" + std::string(grid) +
+         ")");
 }
 
 // "N rules broken" for the distinct rules of `findings`, with the lines they take on stdout
