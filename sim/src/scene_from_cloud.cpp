@@ -20,6 +20,8 @@ namespace sim {
 namespace {
 
 constexpr const char* kWhere = "scene from-cloud";
+// The widest survey taken: the voxels' indices (32-bit) then stay far from overflowing.
+constexpr double kMaxExtent_m = 1e6;
 
 std::string number(double v) { return core::shownNumber(v); }
 
@@ -299,6 +301,10 @@ SceneFromCloud buildSceneFromCloud(const std::filesystem::path& survey, const Sc
     if (m.points == 0)
         throw core::Error(std::string(kWhere) + ": " + survey.string() +
                           ": the cloud has no points; allowed a survey with points");
+    if (m.hi.x - m.lo.x > kMaxExtent_m || m.hi.y - m.lo.y > kMaxExtent_m)
+        throw core::Error(std::string(kWhere) + ": " + survey.string() + ": the survey is " + number(m.hi.x - m.lo.x) +
+                          " m x " + number(m.hi.y - m.lo.y) + " m; allowed at most " + number(kMaxExtent_m) +
+                          " m across (cut it into tiles)");
     s.offset_m =
         glm::dvec3(std::round(0.5 * (m.lo.x + m.hi.x)), std::round(0.5 * (m.lo.y + m.hi.y)), std::floor(m.lo.z));
 

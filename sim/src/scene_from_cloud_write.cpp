@@ -134,7 +134,7 @@ std::string recordJson(const SceneFromCloud& s, const SceneFromCloudOptions& o) 
 
 bool isSceneFromCloudFile(const std::string& name) {
     return name == "scene.json" || name == "ground.obj" || name == "environment.obj" || name == "from_cloud.json" ||
-           name.starts_with("target");
+           name == "target" || name.starts_with("target.");
 }
 
 void writeSceneFolder(const std::filesystem::path& dir, const SceneFromCloud& s, const SceneFromCloudOptions& o) {
