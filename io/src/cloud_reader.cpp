@@ -67,11 +67,11 @@ CloudReader::CloudReader(const std::filesystem::path& path, SideRecords side)
     format_ = open(*source_, module, prefix_, side == SideRecords::Keep);
 }
 
-CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name)
+CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name, SideRecords side)
     : source_(detail::memorySource(bytes)) {
     const std::string module = detail::moduleOf(*source_, name);
     prefix_ = module + ": " + name.string();
-    format_ = open(*source_, module, prefix_);
+    format_ = open(*source_, module, prefix_, side == SideRecords::Keep);
 }
 
 CloudReader::~CloudReader() = default;

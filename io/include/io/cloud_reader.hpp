@@ -41,8 +41,8 @@ class CloudReader {
     /// facts to foreignHeader().
     CloudReader(const std::filesystem::path& path, SideRecords side);
     /// The same over bytes in memory, which must outlive the reader; `name` is used in
-    /// messages. Never reads outside `bytes` whatever they hold (the fuzzing entry point).
-    CloudReader(std::string_view bytes, const std::filesystem::path& name);
+    /// messages; `side` as above. Never reads outside `bytes` whatever they hold (the fuzzing entry point).
+    CloudReader(std::string_view bytes, const std::filesystem::path& name, SideRecords side = SideRecords::Drop);
     ~CloudReader();
     CloudReader(const CloudReader&) = delete;
     CloudReader& operator=(const CloudReader&) = delete;

@@ -10,6 +10,7 @@
 // child page, 0 for a node with no points).
 #pragma once
 #include <core/point_cloud.hpp>
+#include <io/cloud_reader.hpp>
 
 #include <array>
 #include <cstdint>
@@ -129,6 +130,9 @@ class CopcReader {
     /// The same for a node entry of nodes() or of a page readPage returned (by page, the
     /// nodes below the root page are reached that way).
     core::PointCloud readNodeEntry(const CopcNode& node) const;
+    /// The same; with SideRecords::Keep, a file made by another producer gives each point's
+    /// side record too (cloud.foreign, as CloudReader gives them).
+    core::PointCloud readNodeEntry(const CopcNode& node, SideRecords side) const;
 
   private:
     struct Impl;

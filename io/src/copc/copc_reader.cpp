@@ -100,6 +100,10 @@ core::PointCloud CopcReader::readNode(const CopcKey& key) const {
 }
 
 core::PointCloud CopcReader::readNodeEntry(const CopcNode& node) const {
+    return readNodeEntry(node, SideRecords::Drop);
+}
+
+core::PointCloud CopcReader::readNodeEntry(const CopcNode& node, SideRecords side) const {
     const detail::CopcLayout& l = impl_->layout;
     const std::string name = impl_->prefix + " node " + detail::keyName(node.key);
     // An entry of this reader's pages lies in the point data (their checks); any other is
@@ -115,11 +119,17 @@ core::PointCloud CopcReader::readNodeEntry(const CopcNode& node) const {
         std::lock_guard lock(impl_->source_mutex);  // the bytes copied; decoding runs unlocked
         laz = detail::nodeLaz(*impl_->source, l, node);
     }
-    CloudReader reader(laz, name);
+    CloudReader reader(laz, name, side);
     core::PointCloud cloud;
     cloud.origin = reader.origin();
     cloud.fields = reader.fields();
     cloud.points.reserve(std::size_t(node.point_count));
+    if (const std::shared_ptr<const core::ForeignHeader> foreign = reader.foreignHeader()) {
+        cloud.foreign.emplace();
+        cloud.foreign->header = *foreign;
+        while (reader.nextChunk(cloud.points, cloud.foreign->records, std::size_t(1) << 16)) {}
+        return cloud;
+    }
     while (reader.nextChunk(cloud.points, std::size_t(1) << 16)) {}
     return cloud;
 }

@@ -1,12 +1,15 @@
 // tests/viewer/points/copc_source_test.cpp: a COPC file as a point source (no GL): the tree
 // known at open from the hierarchy alone, nodes decoded by the worker only when the
 // selection wants them, resident bytes within the cache with the least recently wanted
-// evicted first, and an unreadable node skipped while the others arrive.
+// evicted first, and an unreadable node skipped while the others arrive; a file from
+// elsewhere's 8-bit colours and classes reach the points as a streamed file's do.
 #include <viewer/copc_source.hpp>
 #include <viewer/node_selection.hpp>
 
 #include "../../io/copc_test_file.hpp"
 #include "test_files.hpp"
+
+#include <io/cloud_io.hpp>
 
 #include <doctest/doctest.h>
 
@@ -354,4 +357,44 @@ TEST_CASE("copc source: a child page past the hierarchy's bound is left out, the
     CHECK(s.nodeCount() == at_open);  // none of the page's nodes made
     CHECK(s.stats()->hierarchy_bytes <= o.hierarchy_bytes);
     CHECK(s.pointsArrived() > 0);  // the root page's nodes are drawn
+}
+
+TEST_CASE("copc source: a file from elsewhere shows its 8-bit colours and carries its classes to the colour modes") {
+    test_support::TempDir dir("copc_source_foreign");
+    core::PointCloud cloud;
+    cloud.origin = {400000.0, 6000000.0, 50.0};
+    cloud.fields = core::CloudFields{};
+    cloud.fields.label = cloud.fields.view = cloud.fields.range = false;
+    cloud.fields.intensity = cloud.fields.returns = true;
+    cloud.foreign.emplace();
+    cloud.foreign->header.point_format = 7;
+    const std::uint8_t classes[3] = {2, 5, 6};
+    for (int i = 0; i < 300; ++i) {
+        core::CloudPoint p;
+        p.position = {float(i % 20), float(i / 20), float(i % 7)};
+        cloud.points.push_back(p);
+        core::ForeignPoint f;
+        f.rgb[0] = 200;  // 8-bit values in the 16-bit fields
+        f.rgb[1] = 180;
+        f.rgb[2] = 40;
+        f.classification = classes[i % 3];
+        const auto* bytes = reinterpret_cast<const unsigned char*>(&f);
+        cloud.foreign->records.insert(cloud.foreign->records.end(), bytes, bytes + sizeof f);
+    }
+    const std::filesystem::path file = dir.path / "survey.copc.laz";
+    io::writeCloud(file, cloud, io::CloudFormat::Copc);
+    CopcSource s(file, {});
+    settle(s, SourceView{{}, glm::dvec3(0.0), 0});
+    std::size_t seen = 0, by_class[256] = {};
+    for (const PointNode* n : allNodes(s))
+        if (const auto points = n->points())
+            for (const core::CloudPoint& p : points->points) {
+                ++seen;
+                CHECK(p.rgb == core::packRgb(200, 180, 40));
+                ++by_class[std::uint32_t(p.height_above_ground_m) & 0xFFu];  // point_attributes.hpp
+            }
+    CHECK(seen == 300);
+    CHECK(by_class[2] == 100);
+    CHECK(by_class[5] == 100);
+    CHECK(by_class[6] == 100);
 }

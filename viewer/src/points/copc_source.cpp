@@ -3,6 +3,7 @@
 // and nodes, LRU eviction.
 #include <viewer/copc_source.hpp>
 
+#include "points/file_colours.hpp"
 #include "points/point_attributes.hpp"
 
 #include <viewer/lod.hpp>
@@ -20,6 +21,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <span>
 #include <thread>
 #include <utility>
 
@@ -126,6 +128,26 @@ struct CopcSource::Impl {
     /// The intensities' stretch of the class, intensity and return colours (point_attributes.hpp):
     /// the first decoded node's.
     std::optional<IntensityStretch> stretch;
+    /// A file from elsewhere's colours at the depth its values read so far show.
+    FileColours colours;
+
+    /// A decoded node's points as the viewer draws them (a worker, unlocked): a file from
+    /// elsewhere's colours at their depth (file_colours.hpp: the values read so far decide,
+    /// as for a streamed file's chunks), and without heights above ground the packed class,
+    /// intensity and returns in their place.
+    void prepare(core::PointCloud& cloud) {
+        const std::size_t stride = cloud.foreign ? cloud.foreign->header.stride() : 0;
+        const std::span<const unsigned char> records =
+            cloud.foreign ? std::span<const unsigned char>(cloud.foreign->records) : std::span<const unsigned char>();
+        std::optional<IntensityStretch> s;
+        {
+            std::lock_guard lock(mutex);
+            if (cloud.foreign && cloud.fields.rgb) colours.recolour(cloud.points, records, stride);
+            if (!stretch) stretch = IntensityStretch::of(cloud.points);
+            s = stretch;
+        }
+        if (!cloud.fields.height_above_ground) PointAttributes(s).pack(cloud.points, records, stride);
+    }
     std::deque<CopcTreeNode*> page_queue;  // read before any node: they open the tree below
     std::deque<CopcTreeNode*> queue;
     std::deque<Done> done;
@@ -187,17 +209,9 @@ struct CopcSource::Impl {
                 continue;
             }
             try {
-                core::PointCloud cloud = reader->readNodeEntry(entry);
+                core::PointCloud cloud = reader->readNodeEntry(entry, io::SideRecords::Keep);
                 d.fields = cloud.fields;
-                if (!cloud.fields.height_above_ground) {  // the attributes in the heights' place
-                    std::optional<IntensityStretch> s;
-                    {
-                        std::lock_guard stretch_lock(mutex);
-                        if (!stretch) stretch = IntensityStretch::of(cloud.points);
-                        s = stretch;
-                    }
-                    PointAttributes(s).pack(cloud.points);
-                }
+                prepare(cloud);
                 auto points = std::make_shared<NodePoints>();
                 points->points = std::move(cloud.points);
                 points->cells = buildLodOrder(points->points);
