@@ -8,7 +8,8 @@
 #      no terrain is built;
 #   4. a folder of two tiles (hexbin-crop.las cut in two by laspy) viewed as one survey:
 #      one index, the points of both, the survey's class 2; the same tiles named on the
-#      command line reuse that index;
+#      command line reuse that index (the survey lies 3,100 m up, far from the frame's
+#      origin: the orbit must find it from the index's bounds before any node is read);
 #   5. refusals in one line, exit 1: tiles of different CRS, a folder without LAS/LAZ
 #      files, a folder beside other clouds, --in-core with several files, an output
 #      inside the tiles' folder named like a tile.
@@ -90,9 +91,6 @@ mid = np.median(src.x)
 for name, keep in (("west.las", src.x < mid), ("east.las", src.x >= mid)):
     tile = laspy.LasData(src.header)
     tile.points = src.points[keep]
-    # Near z = 0, where the automatic orbit looks before the first points arrive (the
-    # survey lies 3,100 m up, above the view of a cloud read node by node).
-    tile.Z = tile.Z - int(round(3100.0 / src.header.scales[2]))
     tile.write(sys.argv[2] + "/" + name)
 PY
 echo "not a cloud" >"$work/tiles/README.txt"

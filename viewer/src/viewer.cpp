@@ -227,7 +227,7 @@ void ViewerApp::updateSource() {
     }
     if (stream_.centreChanged()) {
         // A cloud our generator made (it carries the range field) keeps the paper's orbit.
-        const core::Bounds& cloud = stream_.renderer().bounds();
+        const core::Bounds& cloud = stream_.cloudBounds();
         if (stream_.source().fields().range)
             modes_.setCentre(cloud.centre());
         else

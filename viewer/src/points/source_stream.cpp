@@ -261,6 +261,7 @@ void SourceStream::reset(PointSource& source) {
     loaded_since_frame_ = -1;
     log_nodes_ = false;
     centre_changed_ = centre_final_ = false;
+    cloud_bounds_ = {};
 }
 
 SourceEvents SourceStream::update(long frame, RunLog& log) {
@@ -372,8 +373,23 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
         ev.load_error = error_;
     }
     if (loaded_since_frame_ < 0 && whole) loaded_since_frame_ = frame;
-    centre_changed_ = !centre_final_ && !renderer_->bounds().empty();
-    if (centre_changed_) centre_final_ = finished && renderer_->pendingPoints() == 0;
+    // The cloud's bounds are its drawn points' once there are any; before that, a source
+    // that chooses its nodes (a COPC hierarchy, known unread) gives its roots', so the
+    // orbit is placed on the survey before the first node is chosen: a real survey far
+    // from the frame's origin (a COPC file's heights at 3,000 m) would otherwise be
+    // outside every frustum and never be asked for.
+    if (!renderer_->bounds().empty()) {
+        cloud_bounds_ = renderer_->bounds();
+        centre_changed_ = !centre_final_;
+        if (centre_changed_) centre_final_ = finished && renderer_->pendingPoints() == 0;
+    } else if (chooses) {
+        core::Bounds roots;
+        for (const PointNode* node : source_->roots())
+            if (node->pointCount() > 0) roots.extend(node->bounds());
+        centre_changed_ =
+            !roots.empty() && (cloud_bounds_.empty() || roots.lo != cloud_bounds_.lo || roots.hi != cloud_bounds_.hi);
+        if (centre_changed_) cloud_bounds_ = roots;
+    }
     return ev;
 }
 

@@ -73,6 +73,9 @@ class SourceStream {
     /// The cloud's bounds grew this update (the orbit centres on them) / will not any more.
     bool centreChanged() const { return centre_changed_; }
     bool centreFinal() const { return centre_final_; }
+    /// The bounds the orbit centres on: the drawn points' once there are any, before that
+    /// the source's roots' (empty until either is known).
+    const core::Bounds& cloudBounds() const { return cloud_bounds_; }
 
   private:
     void applyBudget();
@@ -111,6 +114,7 @@ class SourceStream {
     std::string error_;
     long loaded_since_frame_ = -1;
     bool centre_changed_ = false, centre_final_ = false;
+    core::Bounds cloud_bounds_;
     bool log_nodes_ = false;  // "first node resident" logged
 };
 
