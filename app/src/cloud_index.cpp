@@ -72,7 +72,12 @@ IndexPlan planIndex(std::uint64_t budget_bytes, double memory_mb, int threads, s
     // the writer within the rest (past it, it spills the points to scratch files and
     // builds the octree a part at a time).
     const std::uint64_t reading = 2 * io::CloudReader::kChunkPoints * (sizeof(core::CloudPoint) + side_record_bytes);
-    const auto least = [&](int t) { return io::copcMinimumBytes(t - 1, max_node_points) + reading; };
+    // The COPC writer gives a foreign file's side records their share of its bound (as many
+    // bytes per point as the points' own share), so its minimum grows by as much.
+    const std::uint64_t per_point = io::copcBytesPerPoint();
+    const auto least = [&](int t) {
+        return io::copcMinimumBytes(t - 1, max_node_points) * (per_point + side_record_bytes) / per_point + reading;
+    };
     if (fewer_threads)
         while (threads > 1 && budget_bytes < least(threads)) --threads;
     if (budget_bytes < least(threads))

@@ -348,6 +348,13 @@ if r.returncode == 0:
     compare("FSite8_orig-utm.laz", fin_sorted, fout_sorted, "index --memory-mb 60")
     check_integers("FSite8_orig-utm.laz", src, spilled, fin_sorted, fout_sorted, "index --memory-mb 60", one_scale=True)
 
+# Below what the writer needs once the side records take their share, the plan refuses in
+# one line before anything is read (not the writer, with no room for a node, at the end).
+r = run("index", fsite, "--out", path("tight.copc.laz"), "--memory-mb", "52", "--threads", "1", "--node-points", "1000")
+check(r.returncode != 0 and r.stderr.count("\n") == 1 and "indexing needs with 1 thread" in r.stderr
+      and not os.path.exists(path("tight.copc.laz")),
+      f"index within 52 MB: exit {r.returncode}: {r.stderr.strip()}")
+
 # Merged inputs of different grids: the finest input's scale and offset, said once.
 r = run("index", os.path.join(data, "warsaw_small.las"), fine, "--out", path("merged.copc.laz"))
 check(r.returncode == 0, f"index of two grids failed: {r.stderr.strip()}")
