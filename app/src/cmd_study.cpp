@@ -180,7 +180,8 @@ void registerStudy(CLI::App& cli) {
     cmd->add_flag("--no-xr", args->no_xr, "desktop mode only, do not look for an OpenXR runtime");
     cmd->add_option("--mirror", args->mirror, "eyes shown in the desktop mirror: left, right, both")
         ->capture_default_str();
-    cmd->add_option("--colour", args->colour, "point colours: file, height, white, label, above-ground")
+    cmd->add_option("--colour", args->colour,
+                    "point colours: file, height, white, label, above-ground, class, intensity, return")
         ->capture_default_str();
     cmd->add_option("--frames", args->frames, "stop after N frames of the whole run (0 = until the trials end)")
         ->capture_default_str();

@@ -69,12 +69,12 @@ Condition parseCondition(const json& c, const std::string& w, const std::filesys
     if (const auto it = c.find("colour"); it != c.end()) {
         if (!it->is_string())
             throw core::Error(field(w, "colour") + " must be a string, not " + io::jsonTypeName(*it) +
-                              "; allowed: file, height, white, label, above-ground");
+                              "; allowed: file, height, white, label, above-ground, class, intensity, return");
         try {
             condition.colour = viewer::parseColourMode(it->get<std::string>());
         } catch (const core::Error&) {
             throw core::Error(field(w, "colour") + " '" + core::printable(it->get<std::string>(), 40) +
-                              "' is not one of file, height, white, label, above-ground");
+                              "' is not one of file, height, white, label, above-ground, class, intensity, return");
         }
     }
     condition.eye_dome = flag(c, "eye_dome", w);

@@ -91,12 +91,12 @@ TrialShown readTrialShown(const std::filesystem::path& file) {
             r.bad("key '" + core::printable(it.key(), 40) + "'", "colour, eye_dome, candidates, marks");
     TrialShown shown;
     if (const auto it = doc.find("colour"); it != doc.end()) {
-        if (!it->is_string()) r.bad("colour", "file, height, white, label or above-ground");
+        if (!it->is_string()) r.bad("colour", "file, height, white, label, above-ground, class, intensity or return");
         try {
             shown.colour = viewer::parseColourMode(it->get<std::string>());
         } catch (const core::Error&) {
             r.bad("colour '" + core::printable(it->get<std::string>(), 40) + "'",
-                  "file, height, white, label or above-ground");
+                  "file, height, white, label, above-ground, class, intensity or return");
         }
     }
     if (const auto it = doc.find("eye_dome"); it != doc.end()) {

@@ -100,7 +100,8 @@ TEST_CASE("a design's refused keys: one line naming the key and what is allowed"
     };
     const std::string blocks = R"("blocks": [{"trials": [{"cloud": "a"}]}], "participants": ["P01"])";
     fails(R"({"conditions": [{"name": "a"}, {"name": "b", "colour": "hue"}], )" + blocks + "}",
-          "study: design.json: conditions[1].colour 'hue' is not one of file, height, white, label, above-ground");
+          "study: design.json: conditions[1].colour 'hue' is not one of file, height, white, label, above-ground, "
+          "class, intensity, return");
     fails(R"({"conditions": [], )" + blocks + "}",
           "study: design.json: 'conditions' must be a non-empty array, not an empty one");
     fails(R"({"conditions": [{"name": "a", "eye_dome": 1}], )" + blocks + "}",
