@@ -6,102 +6,16 @@
 # waits (bounded), merges, and checks the merged manifest has the ids and cloud SHA-256s
 # of a single-process run. Every daemon it started is stopped on exit.
 # Usage: slurm_test.sh LADARVR_BINARY SCRATCH_DIR SCENE SBATCH_SCRIPT
-# Exit 77 (skipped) only when the Slurm or munge programs are not installed.
+# Exit 77 (skipped) only when the Slurm or munge programs are not installed (the cluster
+# is tests/slurm_cluster.sh's).
 set -eu
 bin=$1
 dir=$2
 scene=$3
 sbatch_script=$4
-fail() {
-    echo "FAIL: $*" >&2
-    for f in "$run"/slurmctld.log "$run"/slurmd.log "$run"/munged.log; do
-        [ -f "$f" ] && { echo "--- $f" >&2; tail -n 15 "$f" >&2; }
-    done
-    exit 1
-}
-for program in munged mungekey slurmctld slurmd sbatch squeue scontrol; do
-    command -v "$program" >/dev/null 2>&1 || { echo "SKIP: $program is not installed"; exit 77; }
-done
 rm -rf "$dir"
 mkdir -p "$dir"
-# munged wants every folder above its socket searchable by all; a short /tmp path also
-# keeps the socket's name under the 108 bytes of sun_path.
-run=$(mktemp -d /tmp/ladarvr-slurm.XXXXXX)
-chmod 755 "$run"
-pids=""
-stop() {
-    [ -n "${SLURM_CONF:-}" ] && scancel --quiet --user="$(id -un)" 2>/dev/null || true
-    for pid in $pids; do kill "$pid" 2>/dev/null || true; done
-    for pid in $pids; do
-        n=0
-        while kill -0 "$pid" 2>/dev/null && [ "$n" -lt 50 ]; do sleep 0.1; n=$((n + 1)); done
-        kill -9 "$pid" 2>/dev/null || true
-    done
-    rm -rf "$run"
-}
-trap stop EXIT
-trap 'exit 1' INT TERM
-
-mungekey --create --keyfile="$run/munge.key" >/dev/null 2>&1 || fail "mungekey could not make a key"
-chmod 600 "$run/munge.key"
-munged --foreground --key-file="$run/munge.key" --socket="$run/munge.sock" --pid-file="$run/munged.pid" \
-    --log-file="$run/munged.log" --seed-file="$run/munged.seed" 2>"$run/munged.log" &
-pids="$pids $!"
-n=0
-while [ ! -S "$run/munge.sock" ]; do
-    n=$((n + 1))
-    [ "$n" -lt 100 ] || fail "munged did not create its socket in 10 s"
-    sleep 0.1
-done
-
-set -- $(python3 -c 'import socket
-s = [socket.socket() for _ in range(2)]
-for x in s: x.bind(("127.0.0.1", 0))
-print(" ".join(str(x.getsockname()[1]) for x in s))')
-host=$(hostname)
-cpus=$(nproc)
-mkdir -p "$run/state" "$run/spool"
-cat >"$run/slurm.conf" <<END
-ClusterName=ladarvrtest
-SlurmctldHost=$host(127.0.0.1)
-SlurmctldPort=$1
-SlurmdPort=$2
-SlurmUser=$(id -un)
-SlurmdUser=root
-AuthType=auth/munge
-CredType=cred/munge
-AuthInfo=socket=$run/munge.sock
-StateSaveLocation=$run/state
-SlurmdSpoolDir=$run/spool
-SlurmctldPidFile=$run/slurmctld.pid
-SlurmdPidFile=$run/slurmd.pid
-SlurmctldLogFile=$run/slurmctld.log
-SlurmdLogFile=$run/slurmd.log
-ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
-JobAcctGatherType=jobacct_gather/none
-AccountingStorageType=accounting_storage/none
-JobCompType=jobcomp/none
-SelectType=select/cons_tres
-SelectTypeParameters=CR_Core
-SchedulerType=sched/builtin
-ReturnToService=2
-MpiDefault=none
-NodeName=$host NodeAddr=127.0.0.1 CPUs=$cpus State=UNKNOWN
-PartitionName=test Nodes=$host Default=YES MaxTime=INFINITE State=UP
-END
-echo "CgroupPlugin=disabled" >"$run/cgroup.conf"
-export SLURM_CONF="$run/slurm.conf"
-slurmctld -D -i >"$run/slurmctld.out" 2>&1 &
-pids="$pids $!"
-slurmd -D -N "$host" >"$run/slurmd.out" 2>&1 &
-pids="$pids $!"
-n=0
-until sinfo -h -o %t 2>/dev/null | grep -q -e idle -e mix; do
-    n=$((n + 1))
-    [ "$n" -lt 150 ] || fail "the node did not come up in 30 s"
-    sleep 0.2
-done
+. "$(dirname "$0")/../slurm_cluster.sh"
 
 cat >"$dir/spec.json" <<END
 {
@@ -121,12 +35,7 @@ END
 job=$(sbatch --parsable --array=0-3 --chdir="$dir" --output="$dir/task-%a.out" \
     --export=ALL,LADARVR="$bin" "$sbatch_script" "$dir/spec.json" "$dir/out") || fail "sbatch refused the array"
 job=${job%%;*}
-n=0
-while [ -n "$(squeue -h -j "$job" -o %i 2>/dev/null)" ]; do
-    n=$((n + 1))
-    [ "$n" -lt 450 ] || fail "the array job $job did not finish in 90 s: $(squeue -j "$job")"
-    sleep 0.2
-done
+slurm_wait "$job" 90
 for i in 0 1 2 3; do
     [ -f "$dir/out/manifest.$i.jsonl" ] || fail "task $i wrote no manifest.$i.jsonl: $(cat "$dir/task-$i.out" 2>/dev/null)"
     grep -q "built" "$dir/task-$i.out" || fail "task $i: $(cat "$dir/task-$i.out")"
