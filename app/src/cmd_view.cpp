@@ -226,6 +226,14 @@ void resolveClouds(ViewArgs& a) {
     }
 }
 
+// The panel's units line and the pick panel's symbols, from the cloud's CRS.
+void setUnits(viewer::ViewerOptions& o, const io::LasCrs& crs) {
+    o.units = sim::describeUnits(crs);
+    const sim::UnitSymbols symbols = sim::unitSymbols(crs);
+    o.length_unit = symbols.horizontal;
+    o.height_unit = symbols.vertical;
+}
+
 // A file's CRS and units in words, for the refusal of unlike files.
 std::string crsWords(const io::LasCrs& crs) {
     if (crs.source.empty()) return "no CRS";
@@ -298,7 +306,7 @@ int runSurvey(const ViewArgs& a, std::chrono::steady_clock::time_point start) {
     for (const fs::path& file : a.survey)
         platform::checkInputFile(file, "view: cloud '" + core::printable(file.string(), 400) + "'");
     checkSurveyCrs(a.survey);
-    o.units = sim::describeUnits(io::readCloudCrs(a.survey.front(), "view"));
+    setUnits(o, io::readCloudCrs(a.survey.front(), "view"));
     prepareOutputFile(o.screenshot, "view: --screenshot");
     prepareOutputFile(o.log_json, "view: --log-json");
     for (const std::string& out : {o.screenshot.string(), o.log_json.string(), a.index.index_to})
@@ -352,7 +360,7 @@ int runView(const ViewArgs& a) {
     // The panel's units line, from the cloud's CRS (a file that does not read says so below).
     if (!a.cloud.empty()) {
         try {
-            o.units = sim::describeUnits(io::readCloudCrs(a.cloud, "view"));
+            setUnits(o, io::readCloudCrs(a.cloud, "view"));
         } catch (const core::Error&) {
             o.units.clear();  // not shown: the reader names what is wrong with the file below
         }

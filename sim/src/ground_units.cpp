@@ -97,6 +97,36 @@ std::string describeUnits(const io::LasCrs& crs) {
     return u.horizontal_name.empty() && u.vertical_name.empty() ? std::string() : describe(u);
 }
 
+namespace {
+
+std::string symbolOf(const io::CrsUnit& u) {
+    switch (u.epsg) {
+        case 9001: return "m";
+        case 9002: return "ft";
+        case 9003: return "US ft";
+        case 9102:
+        case 9122: return "deg";
+        default: break;
+    }
+    if (u.name.empty() || u.name == "metre" || u.name == "meter") return "m";
+    if (u.name == "foot") return "ft";
+    if (u.name == "US survey foot") return "US ft";
+    if (u.name == "degree") return "deg";
+    return core::printable(u.name, 24);
+}
+
+}  // namespace
+
+UnitSymbols unitSymbols(const io::LasCrs& crs) {
+    UnitSymbols s;
+    if (crs.source.empty()) return s;
+    const io::CrsUnit& h = crs.horizontal_unit;
+    const io::CrsUnit& z = crs.vertical_unit;
+    s.horizontal = symbolOf(h);
+    s.vertical = symbolOf(z.stated() && !z.angular && z.metres > 0.0 ? z : h);
+    return s;
+}
+
 GroundFileOptions inUnits(const GroundFileOptions& o, const CoordinateUnits& u) {
     GroundFileOptions r = o;
     const double h = u.horizontal_m, v = u.vertical_m;

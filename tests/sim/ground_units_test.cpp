@@ -138,3 +138,19 @@ TEST_CASE("ground_units: the units for a display, a geographic CRS included, nev
         "UNIT[\"degree\",0.0174532925199433,AUTHORITY[\"EPSG\",\"9122\"]],AUTHORITY[\"EPSG\",\"4326\"]]");
     CHECK(sim::describeUnits(geo) == "degrees (geographic 'WGS 84' (EPSG:4326))");
 }
+
+TEST_CASE("ground_units: the units' symbols for labels, metres without a CRS") {
+    const sim::UnitSymbols none = sim::unitSymbols(io::LasCrs{});
+    CHECK(none.horizontal == "m");
+    CHECK(none.vertical == "m");
+    const sim::UnitSymbols ft = sim::unitSymbols(io::readCloudCrs(kReal / "4_6_crop.las", "view"));
+    CHECK(ft.horizontal == "US ft");
+    CHECK(ft.vertical == "US ft");  // no vertical unit stated: z as x and y
+    CHECK(sim::unitSymbols(io::readCloudCrs(kReal / "hexbin-crop.las", "view")).vertical == "m");
+    io::LasCrs mixed;
+    mixed.source = "wkt";
+    mixed.horizontal_unit = io::epsgUnit(9001);
+    mixed.vertical_unit = io::epsgUnit(9002);
+    CHECK(sim::unitSymbols(mixed).horizontal == "m");
+    CHECK(sim::unitSymbols(mixed).vertical == "ft");
+}

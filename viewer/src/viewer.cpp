@@ -515,6 +515,8 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     v.style = &style_;
     v.mode = modes_.mode();
     v.units = options_.units;
+    v.length_unit = options_.length_unit;
+    v.height_unit = options_.height_unit;
     if (const XrStereoSession* xr = headset_.session())
         v.xr_state = xr->focused() ? (xr->noControllers() ? "focused, no controllers: no pointer" : "focused")
                                    : (xr->running() ? "running" : "waiting");

@@ -45,6 +45,16 @@ std::string describe(const CoordinateUnits& u);
 /// (0.3048006 m)", "degrees (geographic 'WGS 84')"; empty when it has no CRS or states no unit.
 std::string describeUnits(const io::LasCrs& crs);
 
+/// Short labels of `crs`'s horizontal and vertical units for a number shown to a user:
+/// "m", "ft", "US ft", "deg", or the unit's own name when it has no usual symbol; "m" for
+/// a unit not stated (no CRS: metres, as the generator writes). The vertical one is the
+/// horizontal one where the CRS states no vertical length, as describeUnits reads it.
+struct UnitSymbols {
+    std::string horizontal = "m";
+    std::string vertical = "m";
+};
+UnitSymbols unitSymbols(const io::LasCrs& crs);
+
 /// `o` (every length in metres) in units `u`: the horizontal lengths (SMRF's cell and
 /// window, CSF's cloth) divided by horizontal_m, the vertical ones (thresholds, the
 /// low-outlier gap) by vertical_m, SMRF's slope (a rise over a run) and its scalar (a

@@ -29,3 +29,20 @@ TEST_CASE("the panel says why the colours shown are not the mode chosen") {
           "intensity: not in this cloud; showing heights");
     CHECK(colourNote(ColourMode::Class, ColourSources{}, false, false).empty());
 }
+
+TEST_CASE("the pick panel gives lengths in the cloud's own units") {
+    PickHit hit;
+    hit.local = {3.0, 4.0, 1.0};
+    hit.height_above_ground_m = 2.5f;
+    PanelView v;
+    std::array<std::string, 3> lines = pickPanelLines(hit, {100.0, 200.0, 10.0}, {0.0, 0.0, 1.0}, v);
+    CHECK(lines[0] == "103.00 204.00 11.00 m");
+    CHECK(lines[1].starts_with("range 5.0 m  "));
+    CHECK(lines[2] == "height 2.50 m");
+    v.length_unit = "US ft";
+    v.height_unit = "ft";
+    lines = pickPanelLines(hit, {100.0, 200.0, 10.0}, {0.0, 0.0, 1.0}, v);
+    CHECK(lines[0] == "103.00 204.00 11.00 US ft");
+    CHECK(lines[1].starts_with("range 5.0 US ft  "));
+    CHECK(lines[2] == "height 2.50 ft");
+}

@@ -81,6 +81,9 @@ struct ViewerOptions {
     std::filesystem::path screenshot;  // PNG of the mirror at the last frame
     std::filesystem::path log_json;    // machine-readable run log
     std::string units;  // the units of the cloud's coordinates, as its CRS says, for the panel; empty: not shown
+    /// The symbols the pick panel gives its coordinates and ranges (horizontal) and heights
+    /// (vertical) in: the cloud's own units, as its CRS says.
+    std::string length_unit = "m", height_unit = "m";
     ViewStyle style;
     ModeOptions modes;
     std::size_t upload_points_per_frame = 1u << 18;  // streaming budget per frame

@@ -137,14 +137,21 @@ std::string colourNote(ColourMode wanted, const ColourSources& cloud, bool terra
     }
 }
 
-void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,
-                   bool has_height, bool corner) {
+std::array<std::string, 3> pickPanelLines(const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,
+                                          const PanelView& v) {
     const glm::dvec3 w = hit.local + origin;
     std::array<char, 160> lines[3];
-    std::snprintf(lines[0].data(), lines[0].size(), "%.2f %.2f %.2f m", w.x, w.y, w.z);
-    std::snprintf(lines[1].data(), lines[1].size(), "range %.1f m  %s", glm::length(hit.local - head_local),
-                  std::string(core::roleName(hit.label)).c_str());
-    std::snprintf(lines[2].data(), lines[2].size(), "height %.2f m", double(hit.height_above_ground_m));
+    std::snprintf(lines[0].data(), lines[0].size(), "%.2f %.2f %.2f %s", w.x, w.y, w.z, v.length_unit.c_str());
+    std::snprintf(lines[1].data(), lines[1].size(), "range %.1f %s  %s", glm::length(hit.local - head_local),
+                  v.length_unit.c_str(), std::string(core::roleName(hit.label)).c_str());
+    std::snprintf(lines[2].data(), lines[2].size(), "height %.2f %s", double(hit.height_above_ground_m),
+                  v.height_unit.c_str());
+    return {lines[0].data(), lines[1].data(), lines[2].data()};
+}
+
+void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,
+                   bool has_height, bool corner, const PanelView& v) {
+    const std::array<std::string, 3> lines = pickPanelLines(hit, origin, head_local, v);
     const int count = has_height ? 3 : 2;
     // Its size before it is drawn, so it can be placed beside the point and inside the window.
     const ImGuiStyle& style = ImGui::GetStyle();
@@ -225,10 +232,10 @@ bool drawFramePanels(PanelView v, const PanelFrame& p, int fb_w, int fb_h, EyeTa
             const ImVec2 size = ImGui::GetIO().DisplaySize;
             const float sx = float((clip.x / clip.w * 0.5 + 0.5) * size.x);
             const float sy = float((0.5 - clip.y / clip.w * 0.5) * size.y);
-            drawPickPanel(sx, sy, *p.hit, p.origin, p.head_local, p.has_height, false);
+            drawPickPanel(sx, sy, *p.hit, p.origin, p.head_local, p.has_height, false, v);
         }
     } else if (p.hit && p.headset && !asking) {  // the headset's panel: its bottom right corner
-        drawPickPanel(0.0f, 0.0f, *p.hit, p.origin, p.head_local, p.has_height, true);
+        drawPickPanel(0.0f, 0.0f, *p.hit, p.origin, p.head_local, p.has_height, true, v);
     }
     ImGui::Render();
     if (headset_target && fb_w > 0 && fb_h > 0 && headset_target->ensure(fb_w, fb_h)) {

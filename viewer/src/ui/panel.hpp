@@ -7,6 +7,7 @@
 #include <viewer/pick_index.hpp>
 #include <viewer/viewer.hpp>
 
+#include <array>
 #include <optional>
 #include <string>
 
@@ -16,8 +17,9 @@ namespace viewer {
 struct PanelView {
     ViewStyle* style = nullptr;
     ViewMode mode = ViewMode::Automatic;
-    std::string xr_state;  // empty: desktop mode
-    std::string units;     // ViewerOptions::units; empty: not shown
+    std::string xr_state;                              // empty: desktop mode
+    std::string units;                                 // ViewerOptions::units; empty: not shown
+    std::string length_unit = "m", height_unit = "m";  // ViewerOptions' symbols, for the pick panel
     double frame_ms = 0.0;
     // points_drawn: per eye (the most one eye drew), the figure the budget bounds.
     std::size_t points_uploaded = 0, points_arrived = 0, points_drawn = 0, cells = 0, point_budget = 0;
@@ -53,7 +55,11 @@ std::string pointsDrawnText(const PanelView& v);
 /// in a small window beside the dot at (x, y) window pixels (pickPanelPosition: off the
 /// point, inside the window), or in the window's bottom right corner with `corner`.
 void drawPickPanel(float x, float y, const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,
-                   bool has_height, bool corner);
+                   bool has_height, bool corner, const PanelView& v);
+/// The picked point's three lines: world position and range in v.length_unit, the label,
+/// and the height above ground in v.height_unit.
+std::array<std::string, 3> pickPanelLines(const PickHit& hit, const glm::dvec3& origin, const glm::dvec3& head_local,
+                                          const PanelView& v);
 
 /// A trial's ready screen (centred): its name, and either "loading" or how to start.
 /// `break_left_s` > 0: a break, "Break: N s left" instead of how to start.
