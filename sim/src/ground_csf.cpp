@@ -13,7 +13,7 @@
 //      stops there for good; the simulation ends when no movable particle moved more
 //      than 5 mm in a step, or after `iterations` steps;
 //   4) post-processing on steep slopes: a particle still hanging next to one that
-//      stopped, whose IHV differs from that neighbour's by under 0.3 m, is moved to its
+//      stopped, whose IHV differs from that neighbour's by under slope_join_m (0.3 m), is moved to its
 //      IHV and stops (repeated until none changes), as the paper describes;
 //   5) a point within threshold_m of the cloth (turned back up: the DTM) is ground.
 //
@@ -32,8 +32,7 @@ namespace sim {
 namespace {
 
 constexpr double kGravity = 0.2, kDamping = 0.01;
-constexpr double kStill_m = 0.005;    // a step moving no particle more than this ends the run
-constexpr double kSlopeJoin_m = 0.3;  // post-processing: IHV step to a stopped neighbour
+constexpr double kStill_m = 0.005;  // a step moving no particle more than this ends the run
 
 class CsfFit final : public RasterFit {
   public:
@@ -114,7 +113,7 @@ class CsfFit final : public RasterFit {
             queue.pop_front();
             const int i = int(c % std::size_t(w)), j = int(c / std::size_t(w));
             const auto visit = [&](bool inside, std::size_t d) {
-                if (!inside || !movable[d] || std::abs(ihv[d] - ihv[c]) >= kSlopeJoin_m) return;
+                if (!inside || !movable[d] || std::abs(ihv[d] - ihv[c]) >= o_.slope_join_m) return;
                 z[d] = ihv[d];
                 movable[d] = 0;
                 queue.push_back(d);

@@ -141,6 +141,7 @@ GroundFileOptions inUnits(const GroundFileOptions& o, const CoordinateUnits& u) 
     r.csf.cloth_m /= h;
     r.csf.threshold_m /= v;
     r.csf.low_outlier_m /= v;
+    r.csf.slope_join_m /= v;
     return r;
 }
 

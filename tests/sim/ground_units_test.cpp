@@ -92,6 +92,7 @@ TEST_CASE("ground_units: options in metres turned into the file's units") {
     CHECK(same.csf.cloth_m == o.csf.cloth_m);
     CHECK(same.csf.threshold_m == o.csf.threshold_m);
     CHECK(same.csf.low_outlier_m == o.csf.low_outlier_m);
+    CHECK(same.csf.slope_join_m == o.csf.slope_join_m);
 
     sim::CoordinateUnits ft;
     ft.horizontal_m = ft.vertical_m = kUsFoot_m;
@@ -104,6 +105,7 @@ TEST_CASE("ground_units: options in metres turned into the file's units") {
     CHECK(f.smrf.scalar == doctest::Approx(1.25 * 3.2808333).epsilon(1e-7));
     CHECK(f.csf.cloth_m == doctest::Approx(3.2808333).epsilon(1e-7));
     CHECK(f.csf.threshold_m == doctest::Approx(0.5 * 3.2808333).epsilon(1e-7));
+    CHECK(f.csf.slope_join_m == doctest::Approx(0.3 * 3.2808333).epsilon(1e-7));
     CHECK(f.csf.rigidness == o.csf.rigidness);
 
     // Metres across, feet up: a slope of 0.15 m/m is 0.49 ft/m; the scalar's height per

@@ -67,6 +67,9 @@ struct CsfOptions {
     std::size_t max_cells = std::size_t(1) << 24;
     /// Ours: low outliers left out of the surface, as SmrfOptions::low_outlier_m; 0 = off.
     double low_outlier_m = 0.0;
+    /// The slope post-processing's step: a hanging particle beside a stopped one joins it
+    /// when their lowest heights differ by less than this (the paper's 0.3 m).
+    double slope_join_m = 0.3;
 };
 
 /// Thresholds of the iterative RANSAC; defaults are the paper's where it gives them.
