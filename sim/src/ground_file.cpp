@@ -58,7 +58,8 @@ std::string describe(const GroundFileOptions& o) {
     } else {
         const SmrfOptions& m = o.smrf;
         s << "smrf (cell " << m.cell_m << " m, slope " << m.slope << ", window " << m.window_m << " m, threshold "
-          << m.threshold_m << " m, scalar " << m.scalar << ", low outliers " << lowOutliers(m.low_outlier_m) << ")";
+          << m.threshold_m << " m, scalar " << m.scalar << ", low outliers " << lowOutliers(m.low_outlier_m)
+          << (m.raised_segments ? ", raised segments" : "") << ")";
     }
     return s.str();
 }
