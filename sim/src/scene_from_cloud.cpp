@@ -3,6 +3,7 @@
 // feeds the ground filter's TerrainFit, the next puts each ground point into the terrain
 // grid's node nearest it, and the last each other point into its voxel. The vehicle's
 // placement is scene_from_cloud_vehicle.cpp; the files, scene_from_cloud_write.cpp.
+#include "ground_label.hpp"
 #include "scene_from_cloud_internal.hpp"
 
 #include <core/error.hpp>
@@ -68,22 +69,11 @@ Survey measure(const std::filesystem::path& file, const CoordinateUnits& u,
     return s;
 }
 
-std::unique_ptr<TerrainFit> startFilter(const GroundFileOptions& o, std::size_t max_cells) {
-    if (o.method == GroundMethod::Csf) {
-        CsfOptions c = o.csf;
-        c.max_cells = std::min(c.max_cells, max_cells);
-        return startCsf(c);
-    }
-    SmrfOptions m = o.smrf;
-    m.max_cells = std::min(m.max_cells, max_cells);
-    return startSmrf(m);
-}
-
 // The filter's pass: every point, in the local frame (metres), into its TerrainFit.
 std::unique_ptr<TerrainFit> fitFilter(const std::filesystem::path& file, const CoordinateUnits& u,
                                       const glm::dvec3& offset, const SceneFromCloudOptions& o,
                                       const std::function<void(std::size_t)>& progress) {
-    std::unique_ptr<TerrainFit> fit = startFilter(o.ground, o.max_cells);
+    std::unique_ptr<TerrainFit> fit = startFit(o.ground, o.max_cells);
     io::CloudReader reader(file);
     const glm::dvec3 origin = reader.origin();
     io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
