@@ -19,6 +19,7 @@
 #include <io/copc_writer.hpp>
 #include <platform/atomic_file.hpp>
 #include <platform/input_set.hpp>
+#include <platform/jobs.hpp>
 #include <platform/progress.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/ground_file.hpp>
@@ -29,11 +30,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -296,37 +295,17 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
     std::mutex mutex;
     // One thickness for every tile, as one run over the whole survey measures it.
     t.thickness_m = sim::surveyThickness(files, boxes, o, t, [&](std::size_t n) { progress.advance(n); });
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr error;
     std::vector<sim::GroundFileStats> stats(files.size());
     std::vector<double> seconds(files.size(), 0.0);
-    const auto worker = [&] {
-        for (std::size_t k = next++; k < todo.size(); k = next++) {
-            const std::size_t i = todo[k];
-            const auto t0 = std::chrono::steady_clock::now();
-            try {
-                stats[i] =
-                    sim::classifyGroundNeighbours(files, boxes, i, outs[i], o, t, {}, plan.copc, [&](std::size_t n) {
-                        const std::lock_guard lock(mutex);
-                        progress.advance(n);
-                    });
-            } catch (...) {
-                const std::lock_guard lock(mutex);
-                if (!error) error = std::current_exception();
-                next = todo.size();
-                return;
-            }
-            seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        }
-    };
-    if (jobs == 1) {
-        worker();
-    } else {
-        std::vector<std::thread> threads;
-        for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
-        for (std::thread& th : threads) th.join();
-    }
-    if (error) std::rethrow_exception(error);
+    platform::runJobs(todo.size(), jobs, [&](std::size_t k) {
+        const std::size_t i = todo[k];
+        const auto t0 = std::chrono::steady_clock::now();
+        stats[i] = sim::classifyGroundNeighbours(files, boxes, i, outs[i], o, t, {}, plan.copc, [&](std::size_t n) {
+            const std::lock_guard lock(mutex);
+            progress.advance(n);
+        });
+        seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    });
     progress.finish();
     nlohmann::json array = nlohmann::json::array();
     for (std::size_t i : todo) {

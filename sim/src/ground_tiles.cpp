@@ -10,18 +10,16 @@
 #include <core/error.hpp>
 #include <io/cloud_info.hpp>
 #include <io/cloud_reader.hpp>
+#include <platform/jobs.hpp>
 #include <platform/scratch_file.hpp>
 #include <sim/ground_units.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
-#include <exception>
 #include <map>
 #include <mutex>
 #include <optional>
-#include <thread>
 
 namespace sim {
 
@@ -230,34 +228,6 @@ void runTile(Tile& tile, const GroundFileOptions& o, const GroundTiling& t, doub
     tile.results->rewind();
 }
 
-// Runs fn(i) for i in [0, n), `jobs` at once; the first error is rethrown.
-void inJobs(std::size_t n, int jobs, const std::function<void(std::size_t)>& fn) {
-    std::atomic<std::size_t> next{0};
-    std::mutex mutex;
-    std::exception_ptr error;
-    const auto worker = [&] {
-        for (std::size_t i = next++; i < n; i = next++) {
-            try {
-                fn(i);
-            } catch (...) {
-                const std::lock_guard lock(mutex);
-                if (!error) error = std::current_exception();
-                next = n;
-                return;
-            }
-        }
-    };
-    jobs = std::max(1, std::min<int>(jobs, int(std::min<std::size_t>(n, 1024))));
-    if (jobs == 1) {
-        worker();
-    } else {
-        std::vector<std::thread> threads;
-        for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
-        for (std::thread& th : threads) th.join();
-    }
-    if (error) std::rethrow_exception(error);
-}
-
 // The median of the samples, as one fit over them all takes it; -1 (measure) for none.
 double medianThickness(std::vector<double>& samples) {
     if (samples.empty()) return -1;
@@ -279,7 +249,7 @@ void runTiles(std::map<std::uint64_t, Tile>& tiles, const GroundFileOptions& o, 
     }
     std::mutex mutex;
     std::vector<double> samples;
-    inJobs(work.size(), t.jobs, [&](std::size_t i) {
+    platform::runJobs(work.size(), t.jobs, [&](std::size_t i) {
         std::vector<double> mine;
         tileSamples(*work[i], o, t, mine);
         const std::lock_guard lock(mutex);
@@ -287,7 +257,7 @@ void runTiles(std::map<std::uint64_t, Tile>& tiles, const GroundFileOptions& o, 
     });
     for (const Tile* tile : work) progress(std::size_t(tile->own));
     const double thickness_m = medianThickness(samples);
-    inJobs(work.size(), t.jobs, [&](std::size_t i) { runTile(*work[i], o, t, thickness_m, scratch); });
+    platform::runJobs(work.size(), t.jobs, [&](std::size_t i) { runTile(*work[i], o, t, thickness_m, scratch); });
     for (const Tile* tile : work) progress(std::size_t(tile->own));
 }
 
@@ -421,7 +391,7 @@ double surveyThickness(const std::vector<std::filesystem::path>& inputs, const s
     const glm::dvec3 frame = originOf(inputs[0]);
     std::mutex mutex;
     std::vector<double> samples;
-    inJobs(inputs.size(), t.jobs, [&](std::size_t i) {
+    platform::runJobs(inputs.size(), t.jobs, [&](std::size_t i) {
         const std::unique_ptr<TerrainFit> fit = startFit(o, t.max_cells);
         std::vector<FitSource> sources = neighbours(inputs, boxes, i, frame, t.buffer_m);
         FitSource own;
