@@ -14,6 +14,7 @@
 #include "ground_options.hpp"
 
 #include <core/error.hpp>
+#include <io/cloud_info.hpp>
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
 #include <io/copc_writer.hpp>
@@ -99,6 +100,38 @@ MemoryPlan planMemory(const GroundFileCli& cli, io::CloudFormat format, std::siz
     plan.per_job = share;
     plan.max_cells = std::size_t((share - reading - writing) / kBytesPerCell);
     return plan;
+}
+
+// The box a run plans its raster and tiles over: a LAS/LAZ/COPC file's header bounds, read
+// without decoding its points (the passes that classify them decode them), or a PCD or
+// PLY file's points' bounds.
+sim::GroundBox groundBox(const std::filesystem::path& file) {
+    const io::CloudBounds bounds = io::readCloudBounds(file, "ground");
+    sim::GroundBox box;
+    if (bounds.has_bounds) {
+        box.min = glm::dvec2(bounds.min.x, bounds.min.y);
+        box.max = glm::dvec2(bounds.max.x, bounds.max.y);
+    }
+    return box;
+}
+
+// The LAZ writer's compressing threads for one run whose raster spans `cells` (the
+// output is the same whatever their number): one per core, fewer where the memory left
+// beside `plan`'s raster cannot hold their chunks (each thread holds one more chunk of
+// points and their side records), none where it holds no more. Lowers
+// `plan.max_cells` by what the threads' chunks take.
+int writerThreads(MemoryPlan& plan, io::CloudFormat format, std::size_t side_bytes, std::uint64_t cells) {
+    if (format != io::CloudFormat::Laz) return 0;
+    const std::uint64_t chunk = io::lazChunkBytes() + io::lazChunkPoints() * std::uint64_t(side_bytes);
+    int threads = int(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
+    for (; threads > 0; --threads) {
+        const std::uint64_t cells_left = std::uint64_t(threads) * chunk / kBytesPerCell + 1;
+        if (plan.max_cells > cells_left && cells <= plan.max_cells - cells_left) {
+            plan.max_cells -= std::size_t(cells_left);
+            break;
+        }
+    }
+    return threads;
 }
 
 // The cells one run's raster spans over `box` (the filter's grid, in the file's frame).
@@ -202,18 +235,23 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     const MemoryPlan one = planMemory(cli, format, side, 1);
     const double buffer = sim::tileBuffer(o);
     bool tiled = cli.in.size() > 1 || cli.tile_m > 0;
+    std::uint64_t cells = 0;
     if (!tiled) {
-        const sim::GroundBox box = sim::readGroundBox(files[0]);
-        tiled = cellsOver(box, origin, filterCell(o)) > std::min(one.max_cells, filterMaxCells(o));
+        cells = cellsOver(groundBox(files[0]), origin, filterCell(o));
+        tiled = cells > std::min(one.max_cells, filterMaxCells(o));
     }
     createParentFolders(out, "ground: --out");
     platform::checkWritableDestination(out, inputs);
     sim::GroundFileStats st;
     if (!tiled) {
+        MemoryPlan run = one;
+        io::LasOptions las;
+        las.threads = writerThreads(run, format, side, cells);
+        las.memory_bytes = std::uint64_t(las.threads + 2) * io::lazChunkBytes();
         platform::Progress progress(o.whiten ? "ground: reading three times" : "ground: reading twice",
                                     (o.whiten ? 3 : 2) * declared);
         st = sim::classifyGroundFile(
-            files[0], out, o, one.max_cells, {}, one.copc, [&](std::size_t n) { progress.advance(n); }, cli.threads);
+            files[0], out, o, run.max_cells, las, run.copc, [&](std::size_t n) { progress.advance(n); }, cli.threads);
         progress.finish();
     } else {
         // The tiles' rasters share the memory among --jobs; the reading and writing passes
@@ -270,7 +308,7 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
     for (std::size_t i = 0; i < files.size(); ++i) {
         const io::CloudFormat format = io::formatForPath(outs[i], "ground: --out-dir");
         side = std::max(side, sideBytes(cli.in[i], format));
-        boxes.push_back(sim::readGroundBox(files[i]));
+        boxes.push_back(groundBox(files[i]));
         if (sim::readCoordinateUnits(files[i], "ground").horizontal_m != units.horizontal_m)
             throw core::Error("ground: inputs " + core::printable(cli.in[0], 400) + " and " +
                               core::printable(cli.in[i], 400) +

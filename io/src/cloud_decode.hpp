@@ -203,7 +203,9 @@ std::unique_ptr<FormatReader> openPcd(ByteSource& source, const std::string& pre
 std::unique_ptr<FormatReader> openPly(ByteSource& source, const std::string& prefix);
 /// The LAS 1.0-1.4 / LAZ reader (LASzip). Throws Error("<prefix>: ...").
 /// With `keep_foreign`, a file without our `label` extra bytes keeps side records
-/// (FormatReader::foreign).
-std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix, bool keep_foreign = false);
+/// (FormatReader::foreign). With `positions_only`, a LAZ file of LAS 1.4's layered point
+/// formats (6-10) has LASzip decode only what PointFields::Positions names.
+std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix, bool keep_foreign = false,
+                                      bool positions_only = false);
 
 }  // namespace io::detail

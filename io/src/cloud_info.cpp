@@ -80,6 +80,19 @@ CloudInfo inspectCloud(const std::filesystem::path& file, const char* context) {
     return info;
 }
 
+CloudBounds readCloudBounds(const std::filesystem::path& file, const char* context) {
+    const std::unique_ptr<detail::ByteSource> source = detail::fileSource(file, context);
+    if (std::string_view(detail::moduleOf(*source, file)) != "las") {
+        const CloudInfo info = inspectCloud(file, context);
+        return {info.has_bounds, info.min, info.max};
+    }
+    // inspectLas's prefix, so a damaged header reads the same as there.
+    detail::LasFacts facts;
+    detail::LasTally tally;
+    detail::openLasCounted(*source, std::string(context) + ": " + file.string(), facts, tally);
+    return {true, facts.min, facts.max};
+}
+
 LasCrs readCloudCrs(const std::filesystem::path& file, const char* context) {
     const std::unique_ptr<detail::ByteSource> source = detail::fileSource(file, context);
     const std::string module = detail::moduleOf(*source, file);

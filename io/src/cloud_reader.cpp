@@ -46,8 +46,9 @@ const char* moduleFor(const std::filesystem::path& path) {
 }
 
 std::unique_ptr<detail::FormatReader> open(detail::ByteSource& source, const std::string& module,
-                                           const std::string& prefix, bool keep_foreign = false) {
-    if (module == "las") return detail::openLas(source, prefix, keep_foreign);
+                                           const std::string& prefix, bool keep_foreign = false,
+                                           PointFields fields = PointFields::All) {
+    if (module == "las") return detail::openLas(source, prefix, keep_foreign, fields == PointFields::Positions);
     if (module == "ply") return detail::openPly(source, prefix);
     return detail::openPcd(source, prefix);
 }
@@ -65,6 +66,13 @@ CloudReader::CloudReader(const std::filesystem::path& path, SideRecords side)
     const std::string module = detail::moduleOf(*source_, path);
     prefix_ = module + ": " + path.string();
     format_ = open(*source_, module, prefix_, side == SideRecords::Keep);
+}
+
+CloudReader::CloudReader(const std::filesystem::path& path, PointFields fields)
+    : source_(detail::fileSource(path, moduleFor(path))) {
+    const std::string module = detail::moduleOf(*source_, path);
+    prefix_ = module + ": " + path.string();
+    format_ = open(*source_, module, prefix_, false, fields);
 }
 
 CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name, SideRecords side)

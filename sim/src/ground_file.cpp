@@ -145,7 +145,7 @@ void fitOn(TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& s
            const std::vector<FitSource>& extra, int threads, double thickness_m,
            const std::function<void(std::size_t)>& progress) {
     {
-        io::CloudReader reader(in);
+        io::CloudReader reader(in, io::PointFields::Positions);
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
             moveBy(chunk, shift);
             addToFit(fit, chunk, threads);
@@ -153,7 +153,7 @@ void fitOn(TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& s
         });
     }
     for (const FitSource& source : extra) {
-        io::CloudReader reader(source.file);
+        io::CloudReader reader(source.file, io::PointFields::Positions);
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
             moveBy(chunk, source.shift);
             std::erase_if(chunk, [&](const core::CloudPoint& p) {
@@ -172,7 +172,7 @@ void fitOn(TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& s
 float colourTop(const TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& shift,
                 const std::function<void(std::size_t)>& progress) {
     float top_m = 0;
-    io::CloudReader reader(in);
+    io::CloudReader reader(in, io::PointFields::Positions);
     io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
         for (core::CloudPoint p : chunk) {
             if (!zeroShift(shift)) p.position = glm::vec3(glm::dvec3(p.position) + shift);

@@ -358,3 +358,30 @@ TEST_CASE("cloud_reader: a file that does not start like a PCD or PLY file is na
     CHECK(refused("ply\nformat ascii 1.0\n" + std::string(60, 'k') + "\n", "long.ply")
               .find("unknown header keyword '" + std::string(20, 'k') + "...'") != std::string::npos);
 }
+
+TEST_CASE("cloud_reader: PointFields::Positions gives the same points, views and ranges, other layers skipped") {
+    TempDir dir("positions");
+    const core::PointCloud cloud = knownCloud(120000);  // several LAZ chunks of 50,000
+    for (CloudFormat f : {CloudFormat::Laz, CloudFormat::Copc, CloudFormat::Las}) {
+        CAPTURE(int(f));
+        const fs::path p = dir.path / (f == CloudFormat::Laz    ? "c.laz"
+                                       : f == CloudFormat::Copc ? "c.copc.laz"
+                                                                : "c.las");
+        io::writeCloud(p, cloud, f);
+        const core::PointCloud all = io::readCloud(p);
+        io::CloudReader reader(p, io::PointFields::Positions);
+        CHECK(reader.origin() == all.origin);
+        std::vector<core::CloudPoint> some;
+        while (reader.nextChunk(some, 7777)) {}
+        REQUIRE(some.size() == all.points.size());
+        bool same = true, colours_skipped = false;
+        for (std::size_t i = 0; i < some.size(); ++i) {
+            same = same && std::memcmp(&some[i].position, &all.points[i].position, sizeof some[i].position) == 0 &&
+                   some[i].view == all.points[i].view && some[i].range_m == all.points[i].range_m;
+            colours_skipped = colours_skipped || some[i].rgb != all.points[i].rgb;
+        }
+        CHECK(same);
+        // A compressed file of LAS 1.4 point format 7 skips the colour layer; LAS decodes all.
+        CHECK(colours_skipped == (f != CloudFormat::Las));
+    }
+}

@@ -99,6 +99,16 @@ struct CloudInfo {
 /// and what is allowed, for a file that cannot be read.
 CloudInfo inspectCloud(const std::filesystem::path& file, const char* context);
 
+/// Where a cloud's points lie, as inspectCloud gives them (has_bounds, min, max).
+struct CloudBounds {
+    bool has_bounds = false;
+    glm::dvec3 min{0.0}, max{0.0};
+};
+/// inspectCloud's bounds of `file`, reading only what they need: a LAS, LAZ or COPC
+/// file's header (checked as inspectCloud checks it; its points are not decoded), every
+/// point of a PCD or PLY file. Throws core::Error as inspectCloud.
+CloudBounds readCloudBounds(const std::filesystem::path& file, const char* context);
+
 /// The CRS `file` declares, only its header and VLRs read: a LAS, LAZ or COPC file's WKT
 /// record, else its GeoTIFF keys (as inspectCloud reads them); source empty for PCD and
 /// PLY (they state none) and for a LAS file without one. Throws core::Error as inspectCloud.

@@ -27,6 +27,13 @@ class FormatReader;
 /// Whether a reader gives a foreign LAS/LAZ/COPC file's side records (CloudReader).
 enum class SideRecords { Drop, Keep };
 
+/// What a reader must decode of each point (CloudReader). Positions: each point's
+/// position, its view (LAS point source ID) and whatever decides which points are left
+/// out (the range); its other fields are unspecified. The same points come in the same
+/// order either way; a LAZ file of LAS 1.4 point formats 6-10 (COPC's) is then read
+/// faster, its other fields' layers skipped.
+enum class PointFields { All, Positions };
+
 class CloudReader {
   public:
     static constexpr std::size_t kChunkPoints = 1u << 18;
@@ -40,6 +47,8 @@ class CloudReader {
     /// (core::ForeignPoint and its extra bytes) to nextChunk's `records`, and its header
     /// facts to foreignHeader().
     CloudReader(const std::filesystem::path& path, SideRecords side);
+    /// The same without side records, decoding what `fields` asks for.
+    CloudReader(const std::filesystem::path& path, PointFields fields);
     /// The same over bytes in memory, which must outlive the reader; `name` is used in
     /// messages; `side` as above. Never reads outside `bytes` whatever they hold (the fuzzing entry point).
     CloudReader(std::string_view bytes, const std::filesystem::path& name, SideRecords side = SideRecords::Drop);

@@ -184,14 +184,15 @@ double extraValue(const unsigned char* bytes, const ExtraField& f) {
 class LasReader final : public FormatReader {
   public:
     LasReader(ByteSource& source, const std::string& prefix, LasFacts* facts = nullptr, LasTally* tally = nullptr,
-              bool keep_foreign = false)
+              bool keep_foreign = false, bool positions_only = false)
         : source_(source),
           prefix_(prefix),
           buf_(source),
           stream_(&buf_),
           facts_(facts),
           tally_(tally),
-          keep_foreign_(keep_foreign) {
+          keep_foreign_(keep_foreign),
+          positions_only_(positions_only) {
         checkHeader();
         if (keep_foreign_ && !label_.present) makeForeignHeader();
         stride_ = foreign ? foreign->stride() : 0;
@@ -250,6 +251,17 @@ class LasReader final : public FormatReader {
   private:
     void openLaszip() {
         if (laszip_create(&zip_) != 0 || !zip_) throw Error(prefix_ + ": LASzip could not be started");
+        if (positions_only_ && compressed_) {
+            // LAS 1.4's layered compression keeps each field group in a layer of its own
+            // within a chunk, so the others are skipped, not decoded: x, y (with the
+            // returns), z and the point source ID (the view), and the extra bytes where
+            // they hold the range that decides which points are dropped. Older formats
+            // are decoded whole whatever is asked.
+            laszip_U32 layers = laszip_DECOMPRESS_SELECTIVE_CHANNEL_RETURNS_XY | laszip_DECOMPRESS_SELECTIVE_Z |
+                                laszip_DECOMPRESS_SELECTIVE_POINT_SOURCE;
+            if (range_.present) layers |= laszip_DECOMPRESS_SELECTIVE_EXTRA_BYTES;
+            check(laszip_decompress_selective(zip_, layers), "cannot select the fields to decode");
+        }
         laszip_BOOL compressed = 0;
         check(laszip_open_reader_stream(zip_, stream_, &compressed), "cannot open");
         open_ = true;
@@ -953,10 +965,11 @@ class LasReader final : public FormatReader {
     std::string prefix_;
     SourceBuf buf_;
     std::istream stream_;
-    LasFacts* facts_ = nullptr;  // filled when given
-    LasTally* tally_ = nullptr;  // counts the records when given
-    bool keep_foreign_ = false;  // side records for a file without our label
-    std::size_t stride_ = 0;     // bytes of a point's side record; 0: none kept
+    LasFacts* facts_ = nullptr;    // filled when given
+    LasTally* tally_ = nullptr;    // counts the records when given
+    bool keep_foreign_ = false;    // side records for a file without our label
+    bool positions_only_ = false;  // PointFields::Positions: LASzip skips the other layers
+    std::size_t stride_ = 0;       // bytes of a point's side record; 0: none kept
     std::string wkt_vlr_, geo_keys_, geo_doubles_, geo_ascii_, extra_vlr_;
     std::size_t record_extra_ = 0;  // bytes a record has after its format's fields
     unsigned point_format_ = 0;
@@ -979,8 +992,9 @@ class LasReader final : public FormatReader {
 
 }  // namespace
 
-std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix, bool keep_foreign) {
-    return std::make_unique<LasReader>(source, prefix, nullptr, nullptr, keep_foreign);
+std::unique_ptr<FormatReader> openLas(ByteSource& source, const std::string& prefix, bool keep_foreign,
+                                      bool positions_only) {
+    return std::make_unique<LasReader>(source, prefix, nullptr, nullptr, keep_foreign, positions_only);
 }
 
 std::unique_ptr<FormatReader> openLasCounted(ByteSource& source, const std::string& prefix, LasFacts& facts,
