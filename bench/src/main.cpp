@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
     bench::registerCorpus(*sub);
     bench::registerIndex(*sub);
     bench::registerGroundIsprs(*sub);
+    bench::registerGroundSurvey(*sub);
     app::applyConventions(cli);
 
     // argv with "bench" after the program name: `ladarvr-bench generate` is `ladarvr bench generate`.
