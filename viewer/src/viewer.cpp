@@ -54,6 +54,7 @@ ViewerApp::ViewerApp(const ViewerOptions& options, bool record_frames, TrialSour
       headset_(log_, options.quiet),
       headset_panel_(options.headset_panel) {
     log_.set("gl", render::glDescription());
+    terrain_ = options_.terrain;
     stream_.start(options_, log_);
     style_.rasterizer = stream_.rasterizer();
     eyes_ = std::make_unique<EyeFrameRenderer>(options_);
@@ -89,13 +90,23 @@ void ViewerApp::startQuit(const std::string& reason) {
 }
 
 bool ViewerApp::readyToStart() const {
+    // A trial in above-ground colours starts with its terrain bound (or refused), so the
+    // participant never sees its colours change under them.
     return (stream_.source().finished() && !stream_.source().error().empty()) ||
-           (tools_.get<PointerTool>().ready() && trials_.breakLeft() <= 0.0);
+           (tools_.get<PointerTool>().ready() && trials_.breakLeft() <= 0.0 && !awaitingTerrain());
+}
+
+bool ViewerApp::awaitingTerrain() const {
+    return terrain_ && style_.colour == ColourMode::AboveGround && !stream_.renderer().hasTerrain() &&
+           !terrain_failed_ && !stream_.failed();
 }
 
 void ViewerApp::beginTrial(int index) {
     stream_.reset(trials_.begin(index));  // a fresh cloud on the GPU
     pickable_since_frame_ = -1;           // and no pick index yet
+    // The trial's own terrain for its cloud, else the run's (none in a study).
+    terrain_ = trials_.setup().terrain ? trials_.setup().terrain : options_.terrain;
+    terrain_failed_ = false;
     // A trial's own display settings (a study's condition); the others stay as they stand.
     if (trials_.setup().colour) style_.colour = *trials_.setup().colour;
     if (trials_.setup().eye_dome) style_.eye_dome = *trials_.setup().eye_dome;
@@ -146,7 +157,8 @@ int ViewerApp::run(CloudFeed* feed, PointSource* points) {
             eyes_->beginXr(*headset_.session());
             merge(in, xr_input_.map(headset_.session()->syncInput(), tools_.get<ComfortTool>().snapTurn()));
         }
-        merge(in, replay_.take(stream_.centreFinal(), Clock::now()));
+        // A replay plays once its cloud is whole and the terrain of its colours is bound.
+        merge(in, replay_.take(stream_.centreFinal() && !awaitingTerrain(), Clock::now()));
         update(in, dt);
         int fb_w = 0, fb_h = 0;
         glfwGetFramebufferSize(window_.handle, &fb_w, &fb_h);
@@ -222,8 +234,7 @@ void ViewerApp::updateSource() {
     // with a terrain coming, they wait for it instead.
     if (stream_.renderer().uploadedPoints() > 0) {
         takeTerrain();
-        if (!options_.terrain)
-            tools_.get<ColourTool>().noteCloud(style_.colour, stream_.source().fields().height_above_ground);
+        if (!terrain_) tools_.get<ColourTool>().noteCloud(style_.colour, stream_.source().fields().height_above_ground);
     }
     if (stream_.centreChanged()) {
         // A cloud our generator made (it carries the range field) keeps the paper's orbit.
@@ -237,17 +248,15 @@ void ViewerApp::updateSource() {
 
 bool ViewerApp::framesDone() const {
     // Above-ground colours waiting for their terrain are not the picture the run is for.
-    const bool awaiting_terrain = options_.terrain && style_.colour == ColourMode::AboveGround &&
-                                  !stream_.renderer().hasTerrain() && !terrain_failed_ && !stream_.failed();
-    return options_.frames > 0 && frames_ >= options_.frames && !awaiting_terrain;
+    return options_.frames > 0 && frames_ >= options_.frames && !awaitingTerrain();
 }
 
 void ViewerApp::takeTerrain() {
-    if (!options_.terrain) return;
-    std::optional<ViewTerrain> terrain = options_.terrain->take();
+    if (!terrain_) return;
+    std::optional<ViewTerrain> terrain = terrain_->take();
     if (terrain && terrain->empty()) {
         terrain.reset();
-        options_.terrain->fail("the terrain handed over holds no cells");
+        terrain_->fail("the terrain handed over holds no cells");
     }
     if (terrain) {
         stream_.renderer().setTerrain(*terrain, stream_.source().origin(), stream_.source());
@@ -256,11 +265,13 @@ void ViewerApp::takeTerrain() {
                          platform::messageLine(terrain->source).c_str());
         log_.set("terrain", nlohmann::json{{"source", terrain->source},
                                            {"cells", std::size_t(terrain->nx) * std::size_t(terrain->ny)}});
+        trials_.noteTerrain(terrain->source, {});
     }
-    if (std::optional<std::string> why = options_.terrain->takeFailure()) {
+    if (std::optional<std::string> why = terrain_->takeFailure()) {
         terrain_failed_ = true;
         platform::printMessage("warning", "view: no terrain for above-ground colours: " + *why + "; showing heights");
         log_.set("terrain", nlohmann::json{{"failure", *why}});
+        trials_.noteTerrain({}, *why);
     }
 }
 
@@ -535,8 +546,7 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     PanelFrame p;
     p.origin = stream_.source().origin();
     p.has_height = stream_.source().fields().height_above_ground || stream_.renderer().hasTerrain();
-    v.colour_note =
-        colourNote(style_.colour, stream_.renderer().colourSources(), options_.terrain != nullptr, terrain_failed_);
+    v.colour_note = colourNote(style_.colour, stream_.renderer().colourSources(), terrain_ != nullptr, terrain_failed_);
     trials_.describe(p);
     p.ready_to_start = readyToStart();
     p.hit = tools_.get<PointerTool>().hit();

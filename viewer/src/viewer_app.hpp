@@ -50,8 +50,10 @@ class ViewerApp {
     void checkQuit(const OperatorInput& in);
     bool pollXr();
     void updateSource();
-    /// Takes the terrain ViewerOptions::terrain hands over (or its failure), once.
+    /// Takes the terrain terrain_ hands over (or its failure), once.
     void takeTerrain();
+    /// Above-ground colours are asked for and their terrain is coming but not yet bound.
+    bool awaitingTerrain() const;
     /// The --frames count is reached, and above-ground colours wait for no terrain (a run
     /// that asks for them shows them in its last frame and screenshot; --timeout bounds it).
     bool framesDone() const;
@@ -110,7 +112,8 @@ class ViewerApp {
     bool quitting_ = false;    // frames after the exit request are not counted
     bool start_free_ = false;  // the trial begun starts in free mode (its condition's)
     bool screenshot_done_ = false, reset_zoom_button_ = false, headset_panel_ = true;
-    bool terrain_failed_ = false;  // the terrain feed said none will come
+    std::shared_ptr<TerrainFeed> terrain_;  // the shown cloud's: the trial's, else ViewerOptions::terrain
+    bool terrain_failed_ = false;           // the terrain feed said none will come
     int status_ = 0;
     double frame_ms_ = 0.0;                // wall time since the previous loop iteration
     std::optional<glm::dvec3> aim_world_;  // a script's aim: the pointer follows the head to it

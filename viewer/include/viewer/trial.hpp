@@ -23,6 +23,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,7 @@ struct TraceRow;
 namespace viewer {
 
 class CloudFeed;
+class TerrainFeed;      // viewer/terrain_feed.hpp
 enum class ColourMode;  // viewer/viewer.hpp
 
 enum class Decision { Confirm, NoTarget, Timeout, Quit };
@@ -75,6 +77,10 @@ struct TrialOutcome {
     /// The centre of the bounds of the cloud's points labelled target, world coordinates;
     /// none without target points. A confirmed candidate box holding it holds the target.
     std::optional<glm::dvec3> target_centre_world;
+    /// The terrain the trial's above-ground colours were drawn with (ViewTerrain::source),
+    /// or why none came (the feed's failure); both empty when it had no terrain coming or
+    /// ended before it came.
+    std::string terrain_source, terrain_failure;
 };
 
 /// A mark the operator made during a trial, as a replay shows it again at its time: a
@@ -110,6 +116,10 @@ struct TrialSetup {
     /// radius; unset: the run's (--cut, --cut-radius).
     std::optional<bool> cut;
     std::optional<double> cut_radius_m;
+    /// The ground under the trial's cloud for above-ground colours (viewer/terrain_feed.hpp),
+    /// published by a producer the source stops at end(); the ready screen waits for it
+    /// while the trial's colours are above-ground. Null: the run's (ViewerOptions::terrain).
+    std::shared_ptr<TerrainFeed> terrain;
 };
 
 /// The tools a trial may leave out (TrialSetup::tools): the world zoom (grab scale), the

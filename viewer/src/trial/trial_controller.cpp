@@ -51,6 +51,14 @@ PointSource& TrialController::begin(int index) {
     return *points_;
 }
 
+void TrialController::noteTerrain(const std::string& source, const std::string& failure) {
+    if (!source_ || index_ < 0) return;
+    outcome_.terrain_source = source;
+    outcome_.terrain_failure = failure;
+    log_->event("trial " + std::to_string(index_) + ": " +
+                (source.empty() ? "no terrain: " + failure : "above-ground colours from " + source));
+}
+
 void TrialController::finish() {
     if (source_ && index_ >= 0) source_->end(index_);
 }

@@ -94,6 +94,9 @@ class TrialController {
     /// screen-sized dot), on the desktop and in the headset alike.
     void draw(OverlayList& out, double scale) const;
     const nlohmann::json& decisions() const { return decisions_; }
+    /// The trial's above-ground terrain was bound (`source`, ViewTerrain::source) or will
+    /// not come (`failure`): kept in its outcome, and an event of the run log in a study.
+    void noteTerrain(const std::string& source, const std::string& failure);
     /// Candidates go in once the source's origin is final (PointSource::originFinal); true once.
     bool placeCandidates(bool origin_final);
 
