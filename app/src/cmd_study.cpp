@@ -1,9 +1,11 @@
 // app/src/cmd_study.cpp: `ladarvr study PLAN.json --out DIR` and `ladarvr study --replay
 // DIR --trial N` (docs/study.md): the options, parsed into study::StudyOptions and the
-// viewer's options; the run itself is study/study_run.hpp.
+// viewer's options; the run itself is study/study_run.hpp. Cloud trials in above-ground
+// colours get their ground from view's terrain producer (view_terrain.hpp).
 #include "cli_common.hpp"
 #include "cloud_budget.hpp"
 #include "commands.hpp"
+#include "view_terrain.hpp"
 
 #include <core/error.hpp>
 #include <platform/cleanup.hpp>
@@ -15,6 +17,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -79,6 +82,29 @@ void removeEmptyFolders(const std::vector<std::filesystem::path>& made) {
         if (::rmdir(p.c_str()) != 0) return;
 }
 
+// A trial's terrain, built as `view` builds a cloud's (view_terrain.hpp): a failure to
+// start is the feed's, said by the viewer like any other.
+struct TrialTerrainJob final : study::TerrainJob {
+    std::unique_ptr<TerrainProducer> producer;
+};
+
+study::CloudTerrain startTrialTerrain(const std::filesystem::path& cloud) {
+    study::CloudTerrain out;
+    try {
+        StartedTerrain t = startCloudTerrain(cloud, cloud, "the file's", "study");
+        out.feed = std::move(t.feed);
+        if (t.producer) {
+            auto job = std::make_unique<TrialTerrainJob>();
+            job->producer = std::move(t.producer);
+            out.job = std::move(job);
+        }
+    } catch (const std::exception& e) {
+        if (!out.feed) out.feed = std::make_shared<viewer::TerrainFeed>();
+        out.feed->fail(e.what());
+    }
+    return out;
+}
+
 /// `--replay DIR --trial N`: trial N's trace in the mirror, over its cloud.
 int runReplay(const StudyArgs& a) {
     platform::checkDistinctPaths("study", {{"--replay", a.replay, platform::PathRole::InputFolder, studyFile},
@@ -87,6 +113,7 @@ int runReplay(const StudyArgs& a) {
     viewer::ViewerOptions o = windowOptions(a);
     o.screenshot = a.screenshot;
     study::Replay replay(a.replay, a.trial, o);
+    replay.setTerrain(startTrialTerrain);
     prepareOutputFile(replay.viewerOptions().log_json, "study: --log-json");
     prepareOutputFile(replay.viewerOptions().screenshot, "study: --screenshot");
     return replay.run();
@@ -132,6 +159,7 @@ int runStudy(const StudyArgs& a) {
     if (!std::isnan(a.orbit_height_m)) s.orbit_height_m = a.orbit_height_m;
     if (a.orbit_period_s > 0.0) s.orbit_period_s = a.orbit_period_s;
     s.metric = !a.no_metric;
+    s.terrain = startTrialTerrain;
     study::StudyRun run(std::move(s));
     // A trial's cloud file is held whole while it runs, as view holds it (one at a time).
     for (std::size_t k = 0; k < run.plan().trials.size(); ++k)

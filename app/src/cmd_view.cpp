@@ -264,17 +264,10 @@ void checkSurveyCrs(const std::vector<fs::path>& files) {
 // failure at once. Null when no terrain is built.
 std::unique_ptr<TerrainProducer> startTerrain(viewer::ViewerOptions& o, const fs::path& cloud, const fs::path& read,
                                               const std::string& what) {
-    if (o.style.colour != viewer::ColourMode::AboveGround || carriesHeightAboveGround(cloud)) return nullptr;
-    o.terrain = std::make_shared<viewer::TerrainFeed>();
-    sim::CoordinateUnits units;
-    try {
-        units = sim::readCoordinateUnits(cloud, "view");
-    } catch (const core::Error& e) {
-        const std::string why = e.what();  // said after "view: no terrain ...": without its own "view: "
-        o.terrain->fail(why.starts_with("view: ") ? why.substr(6) : why);
-        return nullptr;
-    }
-    return std::make_unique<TerrainProducer>(read, units, what, o.terrain);
+    if (o.style.colour != viewer::ColourMode::AboveGround) return nullptr;
+    StartedTerrain t = startCloudTerrain(cloud, read, what, "view");
+    o.terrain = std::move(t.feed);
+    return std::move(t.producer);
 }
 
 // Several cloud files viewed as one survey: checked as inputs, alike in CRS and units,

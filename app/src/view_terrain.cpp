@@ -285,4 +285,21 @@ TerrainProducer::~TerrainProducer() {
     if (thread_.joinable()) thread_.join();
 }
 
+StartedTerrain startCloudTerrain(const fs::path& cloud, const fs::path& read, const std::string& what,
+                                 const std::string& context) {
+    StartedTerrain t;
+    if (carriesHeightAboveGround(cloud)) return t;
+    t.feed = std::make_shared<viewer::TerrainFeed>();
+    sim::CoordinateUnits units;
+    try {
+        units = sim::readCoordinateUnits(cloud, context.c_str());
+    } catch (const core::Error& e) {
+        const std::string why = e.what(), prefix = context + ": ";
+        t.feed->fail(why.starts_with(prefix) ? why.substr(prefix.size()) : why);
+        return t;
+    }
+    t.producer = std::make_unique<TerrainProducer>(read, units, what, t.feed);
+    return t;
+}
+
 }  // namespace app

@@ -4,7 +4,8 @@
 // point of a streamed file, the top levels of a COPC file), builds the ground grid from
 // its class 2 points when it has them, else fits SMRF to the sample with `ladarvr
 // ground`'s defaults in the file's units, and publishes the grid to the viewer's
-// TerrainFeed (viewer/terrain_feed.hpp). docs/view-real-surveys.md.
+// TerrainFeed (viewer/terrain_feed.hpp). `study` starts the same thread for each cloud
+// trial shown in above-ground colours (and its replay). docs/view-real-surveys.md.
 #pragma once
 #include <core/point_cloud.hpp>
 #include <sim/ground.hpp>
@@ -72,5 +73,21 @@ class TerrainProducer {
     std::atomic<bool> stop_{false};
     std::thread thread_;
 };
+
+/// A cloud's terrain as it starts: the feed (null: none needed) and its producer (null:
+/// none runs).
+struct StartedTerrain {
+    std::shared_ptr<viewer::TerrainFeed> feed;
+    std::unique_ptr<TerrainProducer> producer;
+};
+
+/// The ground under `cloud` for above-ground colours, built from `read` (the file the
+/// viewer reads: the cloud itself or its index) by a TerrainProducer into a new feed,
+/// unless the cloud's points carry their height above ground (then both are null). A
+/// cloud whose units cannot take lengths in metres gets the feed's failure at once, with
+/// no producer; `context` ("view", "study") is the command the units' errors would name,
+/// left out of the failure (the viewer says it after its own "view: no terrain ...").
+StartedTerrain startCloudTerrain(const std::filesystem::path& cloud, const std::filesystem::path& read,
+                                 const std::string& what, const std::string& context);
 
 }  // namespace app

@@ -195,6 +195,8 @@ void StudyLog::onEnd(int trial, const viewer::TrialOutcome& o) {
         row += !o.target_known || !confirmed_ ? "," : boxed ? ",1" : ",0";
     }
     trial_rows_.push_back(std::move(row));
+    shown_.terrain_source = o.terrain_source;
+    shown_.terrain_failure = o.terrain_failure;
     // candidates.csv and the trial's marks first: a trial whose row is in trials.csv has
     // its verdicts written too, so a resumed session can trust trials.csv as the record of
     // what is done.

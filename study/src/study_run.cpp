@@ -163,6 +163,7 @@ int StudyRun::run(std::chrono::steady_clock::time_point started) {
         for (const ScheduledQuestion& q : gap) screens.back().push_back(screenQuestion(q));
     }
     source->setQuestions(std::move(screens));
+    source->setTerrain(options_.terrain, o.style.colour);
     // What --replay needs to find a trial's cloud again (a resumed session has it already).
     // Written before the window opens, so an unwritable folder fails first; a run that then
     // ends before its first trial starts or its first answer (a window that cannot open, a
@@ -286,6 +287,13 @@ int Replay::run() {
     viewer::CloudFeed feed;
     feed.enableLodOrder();
     source.begin(trial_, feed);
+    // The trial's ground, as the study built it, when it is replayed in above-ground colours.
+    const std::filesystem::path& cloud = source.planTrial(trial_).cloud;
+    CloudTerrain terrain;  // its job stops and joins before the feed goes
+    if (start_terrain_ && !cloud.empty() && options_.style.colour == viewer::ColourMode::AboveGround) {
+        terrain = start_terrain_(cloud);
+        options_.terrain = terrain.feed;
+    }
     int status = 1;
     try {
         status = viewer::runViewer(options_, feed);

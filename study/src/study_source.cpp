@@ -83,6 +83,14 @@ void StudySource::end(int) { join(); }
 
 void StudySource::join() {
     if (generator_.joinable()) generator_.join();
+    terrain_.job.reset();  // stops and joins its thread
+    terrain_.feed.reset();
+}
+
+viewer::ColourMode StudySource::startColour(int trial) const {
+    for (int k = trial; k >= 0; --k)
+        if (const std::optional<viewer::ColourMode>& c = planTrial(k).colour) return *c;
+    return run_colour_;
 }
 
 viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
@@ -97,6 +105,11 @@ viewer::TrialSetup StudySource::begin(int trial, viewer::CloudFeed& feed) {
         viewer::OpenSourceOptions open;
         open.feed = &feed;
         viewer::openPointSource(t.cloud, viewer::choosePath(t.cloud, nullptr, viewer::EveryPoint::Needed), open);
+        // Its ground, for above-ground colours, while the ready screen is up.
+        if (start_terrain_ && startColour(trial) == viewer::ColourMode::AboveGround) {
+            terrain_ = start_terrain_(t.cloud);
+            setup.terrain = terrain_.feed;
+        }
     } else {
         generator_ = std::thread([&feed, scene = scenes_[k], g = sceneGenerateOptions(plan_)] {
             try {

@@ -78,6 +78,10 @@ std::string formatTrialShown(const TrialShown& shown) {
                 {{"t_s", m.t_s}, {"designate", m.designated_world ? triple(*m.designated_world) : json(nullptr)}});
     }
     out["marks"] = std::move(marks);
+    if (!shown.terrain_source.empty())
+        out["terrain"] = {{"source", shown.terrain_source}};
+    else if (!shown.terrain_failure.empty())
+        out["terrain"] = {{"failure", shown.terrain_failure}};
     return out.dump() + "\n";
 }
 
@@ -87,8 +91,9 @@ TrialShown readTrialShown(const std::filesystem::path& file) {
     const json doc = io::parseStrictJson(platform::readOwnOutput(file, kMaxShownBytes, what), what);
     if (!doc.is_object()) r.bad("the top level", "an object");
     for (auto it = doc.begin(); it != doc.end(); ++it)
-        if (it.key() != "colour" && it.key() != "eye_dome" && it.key() != "candidates" && it.key() != "marks")
-            r.bad("key '" + core::printable(it.key(), 40) + "'", "colour, eye_dome, candidates, marks");
+        if (it.key() != "colour" && it.key() != "eye_dome" && it.key() != "candidates" && it.key() != "marks" &&
+            it.key() != "terrain")
+            r.bad("key '" + core::printable(it.key(), 40) + "'", "colour, eye_dome, candidates, marks, terrain");
     TrialShown shown;
     if (const auto it = doc.find("colour"); it != doc.end()) {
         if (!it->is_string()) r.bad("colour", "file, height, white, label, above-ground, class, intensity or return");
@@ -142,6 +147,14 @@ TrialShown readTrialShown(const std::filesystem::path& file) {
                 r.bad(where + ".verdict '" + core::printable(v, 40) + "'", "confirmed or rejected");
         }
         shown.marks.push_back(std::move(mark));
+    }
+    if (const auto it = doc.find("terrain"); it != doc.end()) {
+        if (!it->is_object() || it->size() != 1 || !(it->contains("source") || it->contains("failure")))
+            r.bad("terrain", "an object with one key, source or failure");
+        if (it->contains("source"))
+            shown.terrain_source = r.text(*it, "source", "terrain");
+        else
+            shown.terrain_failure = r.text(*it, "failure", "terrain");
     }
     return shown;
 }

@@ -391,9 +391,12 @@ TEST_CASE("shown_N.json: the boxes and colours a trial showed and the operator's
     viewer::TrialOutcome o;
     o.decision = viewer::Decision::Confirm;
     o.time_to_decision_s = 1.5;
+    o.terrain_source = "the file's class 2 (35,318 points)";
     log.onEnd(0, o);
     REQUIRE(log.error().empty());
     const study::TrialShown shown = study::readTrialShown(dir.path / "shown_1.json");
+    CHECK(shown.terrain_source == "the file's class 2 (35,318 points)");
+    CHECK(shown.terrain_failure.empty());
     REQUIRE(shown.colour);
     CHECK(*shown.colour == viewer::ColourMode::HeightJet);
     CHECK_FALSE(shown.eye_dome);
@@ -420,5 +423,28 @@ TEST_CASE("shown_N.json: the boxes and colours a trial showed and the operator's
     bad.write("shown_2.json", R"({"candidates": [], "marks": [], "colours": "x"})");
     CHECK(test_support::errorOf([&] { study::readTrialShown(bad.path / "shown_2.json"); }) ==
           "study: --replay " + (bad.path / "shown_2.json").string() +
-              ": key 'colours': allowed colour, eye_dome, candidates, marks");
+              ": key 'colours': allowed colour, eye_dome, candidates, marks, terrain");
+    bad.write("shown_3.json", R"({"candidates": [], "marks": [], "terrain": {"source": "a", "failure": "b"}})");
+    CHECK(test_support::errorOf([&] { study::readTrialShown(bad.path / "shown_3.json"); }) ==
+          "study: --replay " + (bad.path / "shown_3.json").string() +
+              ": terrain: allowed an object with one key, source or failure");
+}
+
+TEST_CASE("shown_N.json: a terrain's failure is kept, and a trial without a terrain coming has none") {
+    test_support::TempDir dir("study_log_shown_terrain");
+    study::StudyLog log(dir.path, [](int) { return study::TrialInfo{"a.las", {}}; }, 1.0);
+    viewer::TrialOutcome failed;
+    failed.terrain_failure = "the cloud has no points";
+    log.onStart(0);
+    log.onEnd(0, failed);
+    log.onStart(1);
+    log.onEnd(1, viewer::TrialOutcome{});
+    REQUIRE(log.error().empty());
+    const study::TrialShown first = study::readTrialShown(dir.path / "shown_1.json");
+    CHECK(first.terrain_source.empty());
+    CHECK(first.terrain_failure == "the cloud has no points");
+    const study::TrialShown second = study::readTrialShown(dir.path / "shown_2.json");
+    CHECK(second.terrain_source.empty());
+    CHECK(second.terrain_failure.empty());
+    CHECK(test_support::slurp(dir.path / "shown_2.json").find("terrain") == std::string::npos);
 }

@@ -7,6 +7,7 @@
 #include <study/design.hpp>
 #include <study/plan.hpp>
 #include <study/resume.hpp>
+#include <study/study_source.hpp>
 #include <viewer/viewer.hpp>
 
 #include <chrono>
@@ -27,6 +28,9 @@ struct StudyOptions {
     /// Overrides of the plan's values; empty: the plan's.
     std::optional<double> hit_radius_m, orbit_radius_m, orbit_height_m, orbit_period_s;
     bool metric = true;  // false: visibility_metric left empty
+    /// The ground under a cloud trial's file for above-ground colours (StudySource::
+    /// setTerrain); empty: such a trial shows height colours, said on its panel.
+    TerrainStarter terrain;
 };
 
 class StudyRun {
@@ -73,6 +77,9 @@ class Replay {
     Replay(const std::filesystem::path& dir, int trial_number, viewer::ViewerOptions viewer);
 
     const viewer::ViewerOptions& viewerOptions() const { return options_; }
+    /// A cloud trial replayed in above-ground colours gets its terrain from `start`, as the
+    /// study's trial did (StudyOptions::terrain).
+    void setTerrain(TerrainStarter start) { start_terrain_ = std::move(start); }
 
     /// Shows the replay; returns the viewer's exit status.
     int run();
@@ -82,6 +89,7 @@ class Replay {
     std::vector<int> order_;
     int trial_ = 0;  // 0-based run position
     viewer::ViewerOptions options_;
+    TerrainStarter start_terrain_;
 };
 
 }  // namespace study

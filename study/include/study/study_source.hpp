@@ -1,15 +1,23 @@
 // study/study_source.hpp: a plan's trials for the viewer (viewer::TrialSource): each
 // trial's cloud file is opened through viewer::openPointSource and streamed whole into
 // the viewer's feed for that trial (a COPC file too: hits are judged against every target
-// point), or its scene's cloud is generated on a worker thread into that feed.
+// point), or its scene's cloud is generated on a worker thread into that feed. A cloud
+// trial in above-ground colours gets the ground under its file from a terrain starter
+// (`ladarvr study` hands it view's, app/src/view_terrain.hpp), built while its ready
+// screen is up and stopped when the trial ends.
 #pragma once
 #include <study/plan.hpp>
+#include <viewer/terrain_feed.hpp>
 #include <viewer/trial.hpp>
+#include <viewer/viewer.hpp>
 
 #include <core/candidates.hpp>
 #include <core/scene.hpp>
 
+#include <filesystem>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -18,6 +26,25 @@ struct GenerateOptions;  // sim/generator.hpp
 }
 
 namespace study {
+
+/// The ground under a cloud file being built on a thread of its own; destroying it stops
+/// that thread and joins it.
+class TerrainJob {
+  public:
+    virtual ~TerrainJob() = default;
+};
+
+/// A cloud file's terrain as it starts: the feed it is published to (null: the cloud needs
+/// none, its points carry their heights above ground) and the job building it (null:
+/// nothing runs, its failure is in the feed already).
+struct CloudTerrain {
+    std::shared_ptr<viewer::TerrainFeed> feed;
+    std::unique_ptr<TerrainJob> job;
+};
+
+/// Starts the terrain of cloud file `cloud` for above-ground colours. Throws nothing: a
+/// terrain that cannot be built is the feed's failure.
+using TerrainStarter = std::function<CloudTerrain(const std::filesystem::path& cloud)>;
 
 /// The generator's options for a plan's scene trials: its `generate` block (sensor
 /// resolution, views, ground filter; white: no ground filter, no colours), the rest the
@@ -50,6 +77,17 @@ class StudySource : public viewer::TrialSource {
     const std::vector<core::Candidate>& candidatesOf(std::size_t plan_trial) const { return candidates_[plan_trial]; }
     /// The plan's trial that runs at position `trial`.
     const PlanTrial& planTrial(int trial) const { return plan_.trials[static_cast<std::size_t>(order_[trial])]; }
+    /// Cloud trials that start in above-ground colours get their terrain from `start`.
+    /// `run_colour`: the colours the run starts in (--colour), which a trial whose
+    /// condition sets none keeps unless an earlier trial's condition changed them.
+    void setTerrain(TerrainStarter start, viewer::ColourMode run_colour) {
+        start_terrain_ = std::move(start);
+        run_colour_ = run_colour;
+    }
+    /// The colours trial `trial` starts in as far as the plan knows them (the operator's
+    /// colour key aside): its condition's, else the last earlier trial's that set some,
+    /// else the run's.
+    viewer::ColourMode startColour(int trial) const;
 
   private:
     void join();
@@ -61,6 +99,9 @@ class StudySource : public viewer::TrialSource {
     std::vector<std::vector<core::Candidate>> candidates_;    // per plan trial
     std::vector<std::vector<viewer::Question>> questions_;
     std::thread generator_;
+    TerrainStarter start_terrain_;
+    viewer::ColourMode run_colour_ = viewer::ColourMode::File;
+    CloudTerrain terrain_;  // the trial in flight's
 };
 
 }  // namespace study
