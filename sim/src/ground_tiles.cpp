@@ -118,21 +118,30 @@ std::uint64_t tileKey(std::int64_t tx, std::int64_t ty) {
 
 class Tiler {
   public:
-    Tiler(const GroundTiling& t, std::filesystem::path scratch) : t_(t), scratch_(std::move(scratch)) {}
+    // `survey`: the inputs' bounds in the survey's frame; tiles beyond them hold no point
+    // of their own, so no buffer is spilled to them.
+    Tiler(const GroundTiling& t, std::filesystem::path scratch, const GroundBox& survey)
+        : t_(t),
+          scratch_(std::move(scratch)),
+          kx_min_(index(survey.min.x)),
+          kx_max_(index(survey.max.x)),
+          ky_min_(index(survey.min.y)),
+          ky_max_(index(survey.max.y)) {}
 
     std::uint64_t ownKey(const core::CloudPoint& p) const { return tileKey(index(p.position.x), index(p.position.y)); }
 
-    // The point to its tile's file and to its neighbours' where it lies in their buffer.
+    // The point to its tile's file and to every other tile whose buffer holds it. Tile k
+    // spans [k T, (k + 1) T) and its buffer reaches `buffer_m` beyond, so those are the
+    // tiles from the one holding x - buffer_m to the one holding x + buffer_m: more than
+    // the next one where the buffer is wider than a tile.
     void spill(core::CloudPoint p) {
-        const std::int64_t tx = index(p.position.x), ty = index(p.position.y);
-        const double fx = double(p.position.x) - double(tx) * t_.tile_m;
-        const double fy = double(p.position.y) - double(ty) * t_.tile_m;
-        const int dx0 = fx < t_.buffer_m ? -1 : 0, dx1 = fx >= t_.tile_m - t_.buffer_m ? 1 : 0;
-        const int dy0 = fy < t_.buffer_m ? -1 : 0, dy1 = fy >= t_.tile_m - t_.buffer_m ? 1 : 0;
-        for (int dy = dy0; dy <= dy1; ++dy)
-            for (int dx = dx0; dx <= dx1; ++dx) {
-                Tile& tile = at(tileKey(tx + dx, ty + dy));
-                const bool own = dx == 0 && dy == 0;
+        const double x = p.position.x, y = p.position.y;
+        const std::int64_t tx = index(x), ty = index(y);
+        for (std::int64_t ky = index(y - t_.buffer_m); ky <= index(y + t_.buffer_m); ++ky)
+            for (std::int64_t kx = index(x - t_.buffer_m); kx <= index(x + t_.buffer_m); ++kx) {
+                const bool own = kx == tx && ky == ty;
+                if (!own && (kx < kx_min_ || kx > kx_max_ || ky < ky_min_ || ky > ky_max_)) continue;
+                Tile& tile = at(tileKey(kx, ky));
                 p.reserved = own ? 1 : 0;
                 tile.spill->append(&p, sizeof p);
                 tile.all += 1;
@@ -143,7 +152,7 @@ class Tiler {
     std::map<std::uint64_t, Tile>& tiles() { return tiles_; }
 
   private:
-    std::int64_t index(float v) const { return std::int64_t(std::floor(double(v) / t_.tile_m)); }
+    std::int64_t index(double v) const { return std::int64_t(std::floor(v / t_.tile_m)); }
 
     Tile& at(std::uint64_t key) {
         auto it = tiles_.find(key);
@@ -161,6 +170,7 @@ class Tiler {
 
     GroundTiling t_;
     std::filesystem::path scratch_;
+    std::int64_t kx_min_, kx_max_, ky_min_, ky_max_;  // the tiles the survey's bounds reach
     std::map<std::uint64_t, Tile> tiles_;
 };
 
@@ -282,8 +292,15 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
         if (shift != glm::dvec3(0.0)) p.position = glm::vec3(glm::dvec3(p.position) + shift);
     };
 
-    // Pass 1: the spill.
-    Tiler tiler(t, t.scratch_dir);
+    // Pass 1: the spill, to the tiles within the inputs' bounds (a cell's margin for the
+    // header's rounding).
+    GroundBox survey{glm::dvec2(1e300), glm::dvec2(-1e300)};
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        const GroundBox box = readGroundBox(inputs[i]);
+        survey.min = glm::min(survey.min, box.min - glm::dvec2(origin) - cell);
+        survey.max = glm::max(survey.max, box.max - glm::dvec2(origin) + cell);
+    }
+    Tiler tiler(t, t.scratch_dir, survey);
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         io::CloudReader reader(inputs[i]);
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {

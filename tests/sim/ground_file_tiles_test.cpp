@@ -1,6 +1,8 @@
 // tests/sim/ground_file_tiles_test.cpp: `ladarvr ground` tile by tile (sim/ground_tiles.hpp):
 // a survey classified in small tiles with a buffer gives each point the class of one
-// untiled run (at least 99.99 % of the points, real ISPRS samples and a survey in feet);
+// untiled run (at least 99.99 % of the points of the 15 ISPRS samples and a survey in
+// feet in 60 m tiles, and in 30 m tiles, narrower than the buffer; less on four samples
+// where a step of the filter reaches further, floorOf);
 // two files merged into one output and the same two classified each as a tile with the
 // other as its buffer agree; tiles fitted two at a time write the same bytes as one at a
 // time; a survey too wide for one raster runs in tiles; --whiten's colours.
@@ -64,26 +66,60 @@ std::string bytesOf(const fs::path& p) {
     return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
 }
 
+// The share of `in`'s points whose class in tiles `tile_m` metres wide (its buffer
+// tileBuffer's) is the class of one untiled run.
+double tiledAgreement(const fs::path& in, double tile_m, const fs::path& dir) {
+    const sim::CoordinateUnits units = sim::readCoordinateUnits(in, "test");
+    const sim::GroundFileOptions o = sim::inUnits(sim::GroundFileOptions{}, units);
+    const sim::GroundFileStats one =
+        sim::classifyGroundFile(in, dir / "one.las", o, std::size_t(1) << 24, {}, {}, none);
+    const sim::GroundFileStats tiled =
+        sim::classifyGroundTiled({in}, dir / "tiled.las", o, tiling(tile_m / units.horizontal_m, o, dir), {}, {}, none);
+    CHECK(tiled.tiles >= 4);
+    CHECK(tiled.points == one.points);
+    const double share = agreement(dir / "one.las", dir / "tiled.las");
+    MESSAGE(in.filename().string() << " in " << tile_m << " m tiles: " << tiled.tiles << " tiles, " << 100.0 * share
+                                   << " % agree");
+    return share;
+}
+
+// The agreement each sample keeps at least: 99.99 %, less where it was measured lower in
+// 60 m or 30 m tiles. The raised-segment step joins the cells of sample 42's station
+// roofs into patches up to 200 m across, wider than a tile's buffer (99.56 %); on 52, 53
+// and 61 the hole filling, whose sweeps stop when the largest change over the whole
+// raster is small, leaves a tile's surface a few millimetres from the untiled run's, on
+// the edge of an opening's slope test for a cell or two (99.98 %, 99.98 %, 99.99 %).
+double floorOf(const std::string& sample) {
+    if (sample == "samp42.laz") return 0.995;
+    if (sample == "samp52.laz" || sample == "samp53.laz") return 0.9997;
+    if (sample == "samp61.laz") return 0.9998;
+    return 0.9999;
+}
+
 }  // namespace
 
-TEST_CASE("ground tiles: small tiles with a buffer give the untiled run's classes to 99.99 % of the points") {
+TEST_CASE("ground tiles: 60 m tiles with a buffer give each ISPRS sample the untiled run's classes") {
     const Scratch s("agree");
     const fs::path isprs = LADARVR_ISPRS_DIR;
-    for (const fs::path& in : std::vector<fs::path>{isprs / "samp11.laz", isprs / "samp54.las", isprs / "samp31.laz",
-                                                    isprs.parent_path() / "real" / "4_6_crop.las"}) {
+    std::vector<fs::path> inputs;
+    for (const char* name : {"samp11", "samp12", "samp21", "samp22", "samp23", "samp24", "samp31", "samp41", "samp42",
+                             "samp51", "samp52", "samp53", "samp54", "samp61", "samp71"})
+        inputs.push_back(isprs / (std::string(name) + ".laz"));
+    inputs.push_back(isprs.parent_path() / "real" / "4_6_crop.las");
+    // Tiles of 60 m (a sample is 200-400 m wide): a few dozen, most points near an edge.
+    for (const fs::path& in : inputs) {
         CAPTURE(in);
-        const sim::CoordinateUnits units = sim::readCoordinateUnits(in, "test");
-        const sim::GroundFileOptions o = sim::inUnits(sim::GroundFileOptions{}, units);
-        const sim::GroundFileStats one =
-            sim::classifyGroundFile(in, s.dir / "one.las", o, std::size_t(1) << 24, {}, {}, none);
-        // Tiles of 60 m (a sample is 200-400 m wide): a few dozen, most points near an edge.
-        const sim::GroundFileStats tiled = sim::classifyGroundTiled(
-            {in}, s.dir / "tiled.las", o, tiling(60.0 / units.horizontal_m, o, s.dir), {}, {}, none);
-        CHECK(tiled.tiles >= 4);
-        CHECK(tiled.points == one.points);
-        const double share = agreement(s.dir / "one.las", s.dir / "tiled.las");
-        MESSAGE(in.filename().string() << ": " << tiled.tiles << " tiles, " << 100.0 * share << " % agree");
-        CHECK(share >= 0.9999);
+        CHECK(tiledAgreement(in, 60.0, s.dir) >= floorOf(in.filename().string()));
+    }
+}
+
+TEST_CASE("ground tiles: tiles narrower than their buffer take it from every tile within it") {
+    // 30 m tiles under a 76 m buffer: each point is in the buffer of tiles three away.
+    const Scratch s("narrow");
+    const fs::path isprs = LADARVR_ISPRS_DIR;
+    for (const char* name : {"samp42.laz", "samp51.laz", "samp52.laz", "samp53.laz", "samp61.laz"}) {
+        CAPTURE(name);
+        CHECK(tiledAgreement(isprs / name, 30.0, s.dir) >= floorOf(name));
     }
 }
 
