@@ -7,6 +7,7 @@
 #  - two inputs merged into --out and written one per input into --out-dir: the same
 #    ground counts; --only-tile writes the one file --out-dir writes for that input, byte
 #    for byte, and --jobs 2 the bytes of --jobs 1;
+#  - PCD and PLY inputs on each of those paths get the classes the LAS inputs get;
 #  - --out-dir refuses two inputs of one name and an output that would replace an input,
 #    in one line, writing nothing; --out with inputs of other point formats is refused;
 #  - a survey 5 km wide, once refused (its raster over 16.8 M cells), runs in tiles;
@@ -60,6 +61,74 @@ cmp -s "$dir/each/a.laz" "$dir/jobs/a.laz" && cmp -s "$dir/each/b.laz" "$dir/job
     fail "--only-tile: $(cat "$dir/err")"
 [ ! -e "$dir/only/a.laz" ] || fail "--only-tile 1 wrote input 0's output"
 cmp -s "$dir/each/b.laz" "$dir/only/b.laz" || fail "--only-tile 1 wrote other bytes than --out-dir"
+
+# PCD and PLY inputs through every path (one input, tiles with --jobs 2, two merged,
+# --out-dir, --only-tile): each point gets the class the LAS inputs get it on the same
+# path. The clouds are written by ground itself from the LAS samples, so they hold the
+# LAS reader's points in its frame (their "ladarvr origin" comment).
+for ext in pcd ply; do
+    for name in a b; do
+        "$bin" ground "$dir/$name.laz" --out "$dir/$name.$ext" >/dev/null 2>"$dir/err" ||
+            fail "writing $name.$ext: $(cat "$dir/err")"
+    done
+done
+# same_ground A B: every point of A is ground exactly where it is in B (LAS/LAZ class 2,
+# PCD/PLY label 0), in the same order.
+same_ground() {
+    python3 - "$1" "$2" <<'PY' || fail "$1 and $2 differ in their ground"
+import sys
+import laspy, numpy as np
+
+def ground(path):
+    if path.endswith((".las", ".laz")):
+        return np.asarray(laspy.read(path).classification) == 2
+    with open(path, "rb") as f:
+        data = f.read()
+    types = {"float": "<f4", "double": "<f8", "uchar": "u1", "char": "i1", "ushort": "<u2", "short": "<i2",
+             "uint": "<u4", "int": "<i4"}
+    names, dtype = [], []
+    if path.endswith(".ply"):
+        end = data.index(b"end_header\n") + len(b"end_header\n")
+        for line in data[:end].decode().splitlines():
+            w = line.split()
+            if w[:1] == ["property"]:
+                names.append(w[2])
+                dtype.append(types[w[1]])
+        label = "scalar_label"
+    else:
+        end = data.index(b"DATA binary\n") + len(b"DATA binary\n")
+        head = {l.split()[0]: l.split()[1:] for l in data[:end].decode().splitlines() if l and l[0] != "#"}
+        names = head["FIELDS"]
+        dtype = [{"F": "<f", "U": "<u", "I": "<i"}[t] + s for t, s in zip(head["TYPE"], head["SIZE"])]
+        label = "label"
+    points = np.frombuffer(data[end:], dtype=np.dtype(list(zip(names, dtype))))
+    return points[label] == 0
+
+a, b = ground(sys.argv[1]), ground(sys.argv[2])
+sys.exit(0 if len(a) == len(b) and len(a) > 0 and (a == b).all() and a.any() else 1)
+PY
+}
+run() { "$bin" ground "$@" >/dev/null 2>"$dir/err" || fail "ground $*: $(cat "$dir/err")"; }
+run "$dir/a.laz" --out "$dir/one-las.las"
+run "$dir/a.pcd" --out "$dir/one-pcd.pcd"
+run "$dir/a.ply" --out "$dir/one-ply.ply"
+same_ground "$dir/one-pcd.pcd" "$dir/one-las.las"
+same_ground "$dir/one-ply.ply" "$dir/one-las.las"
+run "$dir/a.laz" --out "$dir/tiled-las.las" --tile-m 40 --jobs 2
+run "$dir/a.pcd" --out "$dir/tiled-pcd.pcd" --tile-m 40 --jobs 2
+run "$dir/a.ply" --out "$dir/tiled-ply.ply" --tile-m 40 --jobs 2
+same_ground "$dir/tiled-pcd.pcd" "$dir/tiled-las.las"
+same_ground "$dir/tiled-ply.ply" "$dir/tiled-las.las"
+run "$dir/a.pcd" "$dir/b.pcd" --out "$dir/merged-pcd.ply"
+run "$dir/a.ply" "$dir/b.ply" --out "$dir/merged-ply.pcd"
+same_ground "$dir/merged-pcd.ply" "$dir/merged.laz"
+same_ground "$dir/merged-ply.pcd" "$dir/merged.laz"
+for ext in pcd ply; do
+    run "$dir/a.$ext" "$dir/b.$ext" --out-dir "$dir/each-$ext" --jobs 2
+    run "$dir/a.$ext" "$dir/b.$ext" --out-dir "$dir/only-$ext" --only-tile 1
+    for name in a b; do same_ground "$dir/each-$ext/$name.$ext" "$dir/each/$name.laz"; done
+    same_ground "$dir/only-$ext/b.$ext" "$dir/each/b.laz"
+done
 
 # Refusals: one line, nothing written.
 bad() {
