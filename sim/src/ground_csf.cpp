@@ -45,6 +45,7 @@ class CsfFit final : public RasterFit {
     explicit CsfFit(const CsfOptions& o) : RasterFit(o.cloth_m, o.max_cells, "csf cloth_m (--csf-cloth-m)"), o_(o) {
         threshold_m_ = o.threshold_m;
         low_outlier_m_ = o.low_outlier_m;
+        z_unit_m_ = o.z_unit_m;
     }
 
   private:

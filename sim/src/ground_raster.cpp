@@ -294,9 +294,9 @@ std::vector<int> lowOutliers(const std::vector<const float*>& low, const std::ve
 
 }  // namespace
 
-bool RasterFit::cellSpread(const Cell& cell, double& spread_m) {
+bool RasterFit::cellSpread(const Cell& cell, double& spread_m) const {
     if (cell.n < std::uint32_t(kCellLowest)) return false;
-    const float top = cell.low[2] + float(kThicknessWindow_m);
+    const float top = cell.low[2] + float(kThicknessWindow_m / z_unit_m_);
     int kept = 3;
     while (kept < kCellLowest && cell.low[kept] <= top) ++kept;
     if (kept < kThicknessMinPoints) return false;
@@ -399,7 +399,8 @@ void RasterFit::fit() {
             const Cell* cell = cells[c];
             if (!cell) continue;
             const int m = lowest(c, corrected, low);
-            if (!corrected && grid_.ground_sigma_m < kThinGround_m) {  // thin: the minimum, as SMRF and CSF have it
+            // Thin: the minimum, as SMRF and CSF have it.
+            if (!corrected && grid_.ground_sigma_m < kThinGround_m / z_unit_m_) {
                 minimum[c] = low[0];
                 continue;
             }
@@ -410,7 +411,7 @@ void RasterFit::fit() {
             // Heights far above the third lowest (an object's in a cell it shares with
             // the ground) are left out; the median below rejects up to two low outliers.
             const float top =
-                low[std::min(2, m - 1)] + float(kLevelWindowSigmas * grid_.ground_sigma_m + kLevelWindow_m);
+                low[std::min(2, m - 1)] + float(kLevelWindowSigmas * grid_.ground_sigma_m + kLevelWindow_m / z_unit_m_);
             int kept = 1;
             while (kept < m && low[kept] <= top) ++kept;
             minimum[c] =
@@ -425,7 +426,7 @@ void RasterFit::fit() {
     fitTerrain(minimum, observed);
     // 3) a ground thicker than kRegisterViews_m: each view's height error against that terrain; when the views were corrected,
     // the levels again from the corrected heights (a thinner ground), and the terrain.
-    if (grid_.ground_sigma_m >= kRegisterViews_m && correctViews()) {
+    if (grid_.ground_sigma_m >= kRegisterViews_m / z_unit_m_ && correctViews()) {
         levels(true);
         fitTerrain(minimum, observed);
     }
@@ -470,7 +471,7 @@ bool RasterFit::correctViews() {
             // of them lies metres up). None there: nothing to register this view by.
             dev.clear();  // the residuals within reach, until the passes reuse it
             for (const double v : r)
-                if (std::abs(v) <= kViewReach_m) dev.push_back(v);
+                if (std::abs(v) <= kViewReach_m / z_unit_m_) dev.push_back(v);
             if (dev.size() < 3) {
                 planes[view] = plane;
                 a = b;
@@ -484,7 +485,8 @@ bool RasterFit::correctViews() {
                            plane.dzdy * (lows[k].second.y - plane.y0_m);
                 };
                 for (std::size_t k = a; k < b; ++k) dev[k - a] = std::abs(r[k - a] - at(k));
-                const double gate = std::clamp(3.0 * 1.4826 * median(dev), kViewGate_m, kViewReach_m);
+                const double gate =
+                    std::clamp(3.0 * 1.4826 * median(dev), kViewGate_m / z_unit_m_, kViewReach_m / z_unit_m_);
                 double sxx = 0, sxy = 0, syy = 0, sx = 0, sy = 0, s1 = 0, sr = 0, sxr = 0, syr = 0;
                 for (std::size_t k = a; k < b; ++k) {
                     if (dev[k - a] > gate) continue;
@@ -516,7 +518,8 @@ bool RasterFit::correctViews() {
                 plane.dzdx = c[1];
                 plane.dzdy = c[2];
             }
-            const double gate = std::clamp(3.0 * 1.4826 * median(dev), kViewGate_m, kViewReach_m);
+            const double gate =
+                std::clamp(3.0 * 1.4826 * median(dev), kViewGate_m / z_unit_m_, kViewReach_m / z_unit_m_);
             for (std::size_t k = a; k < b; ++k) {
                 const double v = r[k - a] - (plane.offset_m + plane.dzdx * (lows[k].second.x - plane.x0_m) +
                                              plane.dzdy * (lows[k].second.y - plane.y0_m));

@@ -110,6 +110,10 @@ class RasterFit : public TerrainFit {
     /// A cell's lowest heights this far below every height around it are low outliers,
     /// left out of its level (dropLowOutliers); 0 = none are.
     double low_outlier_m_ = 0;
+    /// Metres per unit of the cloud's heights (SmrfOptions::z_unit_m): the fixed heights
+    /// here, in metres (kThicknessWindow_m, kLevelWindow_m, kThinGround_m,
+    /// kRegisterViews_m, kViewGate_m, kViewReach_m), are divided by it.
+    double z_unit_m_ = 1;
     int threads_ = 1;  // fitTerrain()'s threads
 
     TerrainGrid grid_;
@@ -151,7 +155,7 @@ class RasterFit : public TerrainFit {
     static void keepLowest(Cell& cell, float z, std::uint16_t view);
     /// The spread of a cell's lowest heights, the thickness's sample; false for a cell
     /// with too few points, or too few near its lowest, to give one.
-    static bool cellSpread(const Cell& cell, double& spread_m);
+    bool cellSpread(const Cell& cell, double& spread_m) const;
     double fixed_sigma_m_ = -1;  // setGroundThickness()
     void keepViewLow(std::uint64_t key, const ViewLow& low);
     void merge(const RasterFit& other);  // other's points, as if added here

@@ -202,6 +202,7 @@ class SmrfFit final : public RasterFit {
     explicit SmrfFit(const SmrfOptions& o) : RasterFit(o.cell_m, o.max_cells, "smrf cell_m (--smrf-cell-m)"), o_(o) {
         threshold_m_ = o.threshold_m;
         low_outlier_m_ = o.low_outlier_m;
+        z_unit_m_ = o.z_unit_m;
     }
 
   private:

@@ -142,6 +142,9 @@ GroundFileOptions inUnits(const GroundFileOptions& o, const CoordinateUnits& u) 
     r.csf.threshold_m /= v;
     r.csf.low_outlier_m /= v;
     r.csf.slope_join_m /= v;
+    // The raster's own fixed heights (the ground thickness's windows) follow the heights' unit.
+    r.smrf.z_unit_m *= v;
+    r.csf.z_unit_m *= v;
     return r;
 }
 

@@ -1,7 +1,8 @@
 // tests/sim/ground_units_test.cpp: the units of a file's coordinates from its CRS and the
 // ground filter's options (given in metres) turned into them (sim/ground_units.hpp): US
 // survey feet read from a real survey's GeoTIFF keys (tests/data/real/4_6_crop.las), a
-// geographic CRS refused, a file without CRS left in metres with its options unchanged.
+// geographic CRS refused, a file without CRS left in metres with its options unchanged;
+// a survey in feet classified as the same survey in metres.
 #include <sim/ground_units.hpp>
 
 #include <core/error.hpp>
@@ -10,8 +11,11 @@
 
 #include <doctest/doctest.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <random>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -107,6 +111,9 @@ TEST_CASE("ground_units: options in metres turned into the file's units") {
     CHECK(f.csf.threshold_m == doctest::Approx(0.5 * 3.2808333).epsilon(1e-7));
     CHECK(f.csf.slope_join_m == doctest::Approx(0.3 * 3.2808333).epsilon(1e-7));
     CHECK(f.csf.rigidness == o.csf.rigidness);
+    CHECK(same.smrf.z_unit_m == 1.0);
+    CHECK(f.smrf.z_unit_m == doctest::Approx(kUsFoot_m));
+    CHECK(f.csf.z_unit_m == doctest::Approx(kUsFoot_m));
 
     // Metres across, feet up: a slope of 0.15 m/m is 0.49 ft/m; the scalar's height per
     // slope stays 1.25 m (4.1 ft) at a 1 m/m slope, which is 3.28 ft/m: 1.25 ft per ft/m.
@@ -117,6 +124,46 @@ TEST_CASE("ground_units: options in metres turned into the file's units") {
     CHECK(u.smrf.slope == doctest::Approx(0.15 / 0.3048));
     CHECK(u.smrf.scalar == 1.25);
     CHECK(u.smrf.threshold_m == doctest::Approx(0.5 / 0.3048));
+}
+
+TEST_CASE("ground_units: a survey in feet gets the classes of the same survey in metres") {
+    // A dense ground (40 points a square metre) 0.05 m thick, under a thin layer 0.45 m
+    // above it. In metres the ground is thin (under kThinGround_m, 0.1 m): the terrain is
+    // each cell's lowest point, about 0.1 m down, and most of the layer stands over the
+    // 0.5 m threshold. The same ground in feet is 0.16 ft thick; were the raster's thickness
+    // windows taken in feet, it would read as thick, the terrain would be its centre, and
+    // most of the layer would be ground (4 % of the points classed otherwise).
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> across(0.0, 60.0);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    std::vector<core::CloudPoint> metres;
+    for (int i = 0; i < 40 * 60 * 60; ++i) {
+        core::CloudPoint p;
+        const double x = across(rng), y = across(rng);
+        p.position = glm::vec3(float(x), float(y), float(0.02 * x + noise(rng)));
+        metres.push_back(p);
+    }
+    const std::size_t ground_points = metres.size();
+    for (int i = 0; i < 2 * 60 * 60; ++i) {
+        core::CloudPoint p;
+        const double x = across(rng), y = across(rng);
+        p.position = glm::vec3(float(x), float(y), float(0.02 * x + 0.45));
+        metres.push_back(p);
+    }
+    std::vector<core::CloudPoint> feet = metres;
+    for (core::CloudPoint& p : feet) p.position = glm::vec3(glm::dvec3(p.position) / kUsFoot_m);
+    sim::CoordinateUnits ft;
+    ft.horizontal_m = ft.vertical_m = kUsFoot_m;
+    const sim::GroundFileOptions o;
+    const std::vector<std::uint8_t> in_metres = sim::classifyGround(metres, o);
+    const std::vector<std::uint8_t> in_feet = sim::classifyGround(feet, sim::inUnits(o, ft));
+    std::size_t layer_ground = 0, same = 0;
+    for (std::size_t i = 0; i < metres.size(); ++i) {
+        same += in_metres[i] == in_feet[i];
+        if (i >= ground_points) layer_ground += in_metres[i];
+    }
+    CHECK(layer_ground < (metres.size() - ground_points) / 4);  // the layer is mostly no ground in metres
+    CHECK(double(same) >= 0.999 * double(metres.size()));
 }
 
 TEST_CASE("ground_units: a command that cannot convert refuses a cloud not in metres, in one line") {

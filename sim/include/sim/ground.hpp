@@ -47,6 +47,10 @@ struct SmrfOptions {
     /// left out of the surface (multipath, noise under real surveys); 0 = off, as the
     /// generator runs it (`ladarvr ground` sets it).
     double low_outlier_m = 0.0;
+    /// Ours: metres per unit of the cloud's heights (sim::inUnits sets it for a survey in
+    /// feet): the raster's own fixed heights, given in metres (the ground thickness's
+    /// windows), are divided by it. 1 for a cloud in metres.
+    double z_unit_m = 1.0;
     /// Ours: after the openings, a connected patch of the surface left ground that stands
     /// more than 2 m above the surface around it on most of its border (a roof wider than
     /// twice the window, a bridge deck) is an object too. Off as the generator runs it
@@ -67,6 +71,8 @@ struct CsfOptions {
     std::size_t max_cells = std::size_t(1) << 24;
     /// Ours: low outliers left out of the surface, as SmrfOptions::low_outlier_m; 0 = off.
     double low_outlier_m = 0.0;
+    /// Ours: the length of the cloud's height unit, as SmrfOptions::z_unit_m.
+    double z_unit_m = 1.0;
     /// The slope post-processing's step: a hanging particle beside a stopped one joins it
     /// when their lowest heights differ by less than this (the paper's 0.3 m).
     double slope_join_m = 0.3;

@@ -58,7 +58,8 @@ UnitSymbols unitSymbols(const io::LasCrs& crs);
 /// `o` (every length in metres) in units `u`: the horizontal lengths (SMRF's cell and
 /// window, CSF's cloth) divided by horizontal_m, the vertical ones (thresholds, the
 /// low-outlier gap) by vertical_m, SMRF's slope (a rise over a run) and its scalar (a
-/// height per unit of slope) so that they mean what they meant in metres.
+/// height per unit of slope) so that they mean what they meant in metres; z_unit_m (the
+/// raster's own fixed heights, the ground thickness's windows) times vertical_m.
 GroundFileOptions inUnits(const GroundFileOptions& o, const CoordinateUnits& u);
 
 }  // namespace sim
