@@ -235,6 +235,11 @@ if scenario == "tools":
     for n, want in ((0, {False}), (1, {True})):
         cuts = {f["cut"] for f in log["frames"] if f.get("trial") == n}
         check(cuts == want, f"trial {n + 1}: cut {sorted(cuts)}, expected {want}")
+    # With --cut, the condition that sets no cut starts each trial with it on as well.
+    log = json.load(open(os.path.join(work, "tools_cut.log.json")))
+    for n in (0, 1):
+        cuts = {f["cut"] for f in log["frames"] if f.get("trial") == n}
+        check(cuts == {True}, f"--cut: trial {n + 1}: cut {sorted(cuts)}, expected on")
 if failures:
     print("FAIL:\n  " + "\n  ".join(failures))
     sys.exit(1)

@@ -30,7 +30,9 @@
 #   tools    a condition that offers no tools: the operator's grab_scale 2 changes the world
 #            scale in the condition with every tool and is ignored (scale 1, no action
 #            logged) in the one without, whose cutting volume the condition turns on: on
-#            in its every frame (out of the operator's reach), off in the other's.
+#            in its every frame (out of the operator's reach), off in the other's; run
+#            again with `--cut --cut-radius 12`, the condition that sets no `cut` has it on
+#            in its every frame too (the command's options reach the trials).
 #   questionnaires_xr  on Monado's simulated HMD: two conditions of one trial each, the SSQ
 #            before and after the session and a Likert item after each condition answered
 #            by clicking the headset panel: the script stands in for the controller
@@ -277,6 +279,10 @@ TDESIGN
     "$env_sh" --timeout 220 -- "$bin" study "$work/tdesign.json" --participant P01 --out "$work/tools" --no-xr \
       --width 320 --height 180 --timeout 200 --script "$work/tscript.txt" --log-json "$work/tools.log.json" \
       --no-metric 2>"$work/tools.err" || { echo "FAIL: the tools session exited $?"; cat "$work/tools.err"; exit 1; }
+    "$env_sh" --timeout 220 -- "$bin" study "$work/tdesign.json" --participant P01 --out "$work/tools_cut" --no-xr \
+      --width 320 --height 180 --timeout 200 --script "$work/tscript.txt" --log-json "$work/tools_cut.log.json" \
+      --no-metric --cut --cut-radius 12 2>"$work/tools_cut.err" ||
+      { echo "FAIL: the --cut session exited $?"; cat "$work/tools_cut.err"; exit 1; }
     ;;
   *) echo "study_design_test: unknown scenario '$scenario'" >&2; exit 2 ;;
 esac
