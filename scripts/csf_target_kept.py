@@ -5,22 +5,25 @@ scenes, along the slope and across it, generated with each sensor preset.
 
     python3 scripts/csf_target_kept.py [--ladarvr PATH] [--out DIR] [--families car,tank]
         [--scenes hilly,slopes] [--sensors ideal,riegl-vux1uav,livox-avia]
-        [--ground csf] [--res 128] [--views 100] [--spots 2]
+        [--rest tilted,level] [--ground csf] [--res 128] [--views 100] [--spots 2]
 
 Run it inside the build environment (`./ladarvr shell -c "python3 scripts/..."`), after
-building `ladarvr`. For each case it writes DIR/<scene>_<spot>_<orientation>_<vehicle>/
-scene.json (the base scene with its target replaced by the vehicle, the environment
-meshes within 12 m of it left out), runs `generate --ground G --sensor S --json` on it and
-prints one line: scene, spot, slope, orientation, vehicle, sensor, the target's points
-more than 0.5 m above the true terrain and the share of them left coloured (`target
-kept`, docs/ground.md). The last lines give the lowest share per sensor.
+building `ladarvr`. For each case it writes DIR/<scene>_<spot>_<orientation>_<rest>_
+<vehicle>/scene.json (the base scene with its target replaced by the vehicle, the
+environment meshes within 12 m of it left out), runs `generate --ground G --sensor S
+--json` on it (the cloud is removed once measured) and prints one line: scene, spot,
+slope, orientation, rest, vehicle, sensor, the target's points more than 0.5 m above the
+true terrain and the share of them left coloured (`target kept`, docs/ground.md). The
+last lines give the lowest share per sensor.
 
 A spot is the first point of a ring 25-45 m out from the scene's centre (every 5 degrees)
-where the ground under a 6 m disc slopes 12-25 %, no environment mesh stands within 12 m
-and it is at least 25 m from the spots taken before. The vehicle rests on the slope as
-the forest scene's tank does: the plane that best fits the ground under its footprint
-gives its pitch and roll, its bottom 5 cm into that plane. "along": its long axis up the
-slope; "across": along the contour.
+where the ground slopes --slope-min to --slope-max (12-25 %), at most 5 % more over a
+6 m disc, no environment mesh stands within 12 m and it is at least 25 m from the spots
+taken before. "along": the vehicle's long axis up the slope; "across": along the
+contour. "tilted": it rests on the slope as the forest scene's tank does, the plane that
+best fits the ground under its footprint giving its pitch and roll, its bottom 5 cm into
+that plane; "level": no pitch or roll, its centre's bottom 5 cm into the ground (the
+uphill end sunk, the downhill end floating), as a vehicle dropped on the terrain.
 """
 
 import argparse
@@ -143,11 +146,14 @@ def main():
                     scene_file = os.path.join(cdir, "scene.json")
                     with open(scene_file, "w") as fh:
                         json.dump({"comment": "csf_target_kept.py case " + case, "meshes": meshes}, fh, indent=1)
+                    cloud = os.path.join(cdir, "cloud.pcd")  # 50-100 MB each: removed once measured
                     for sensor in [s for s in a.sensors.split(",") if s]:
                         cmd = [a.ladarvr, "generate", "--scene", scene_file, "--ground", a.ground, "--sensor", sensor,
                                "--xres", str(a.res), "--yres", str(a.res), "--views", str(a.views), "--json",
-                               "--out", os.path.join(cdir, sensor + ".pcd")] + a.extra.split()
+                               "--out", cloud] + a.extra.split()
                         run = subprocess.run(cmd, capture_output=True, text=True)
+                        if os.path.exists(cloud):
+                            os.remove(cloud)
                         if run.returncode != 0:
                             print(case, sensor, "failed:", run.stderr.strip().splitlines()[-1:], flush=True)
                             continue
