@@ -75,11 +75,12 @@ CloudReader::CloudReader(const std::filesystem::path& path, PointFields fields)
     format_ = open(*source_, module, prefix_, false, fields);
 }
 
-CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name, SideRecords side)
+CloudReader::CloudReader(std::string_view bytes, const std::filesystem::path& name, SideRecords side,
+                         PointFields fields)
     : source_(detail::memorySource(bytes)) {
     const std::string module = detail::moduleOf(*source_, name);
     prefix_ = module + ": " + name.string();
-    format_ = open(*source_, module, prefix_, side == SideRecords::Keep);
+    format_ = open(*source_, module, prefix_, side == SideRecords::Keep, fields);
 }
 
 CloudReader::~CloudReader() = default;

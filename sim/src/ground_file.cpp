@@ -9,11 +9,16 @@
 #include <core/error.hpp>
 #include <core/jet.hpp>
 #include <io/cloud_reader.hpp>
+#include <io/copc.hpp>
 #include <sim/colour.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
+#include <exception>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 namespace sim {
 
@@ -140,11 +145,58 @@ void moveBy(std::vector<core::CloudPoint>& chunk, const glm::dvec3& shift) {
     for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + shift);
 }
 
+// Pass 1's points of a COPC file, its nodes (each a LAZ chunk of its own) decoded two at
+// a time, each in its own decoding process: the fit keeps per-cell lowest heights, the
+// same whatever the order its points come in. Two nodes in flight hold no more than the
+// reader's two chunks. False, having added nothing, where `in` is not COPC, its nodes do
+// not hold all its points, or a node is larger than a reader's chunk.
+bool fitCopcNodes(TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& shift,
+                  const std::function<void(std::size_t)>& progress) {
+    if (!io::isCopcFile(in)) return false;
+    std::unique_ptr<io::CopcReader> copc;
+    try {
+        copc = std::make_unique<io::CopcReader>(in);
+    } catch (const core::Error&) {
+        return false;  // the LAS reader reads it in order, or says what is wrong
+    }
+    const std::vector<io::CopcNode>& nodes = copc->nodes();
+    std::uint64_t points = 0;
+    for (const io::CopcNode& node : nodes) {
+        if (std::size_t(node.point_count) > io::CloudReader::kChunkPoints) return false;
+        points += std::uint64_t(node.point_count);
+    }
+    if (points != copc->pointCount()) return false;
+    std::mutex mutex;
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr error;
+    const auto work = [&] {
+        try {
+            for (std::size_t i = next++; i < nodes.size(); i = next++) {
+                core::PointCloud cloud =
+                    copc->readNodeEntry(nodes[i], io::SideRecords::Drop, io::PointFields::Positions);
+                moveBy(cloud.points, shift);
+                const std::lock_guard lock(mutex);
+                fit.add(cloud.points);
+                progress(cloud.points.size());
+            }
+        } catch (...) {
+            const std::lock_guard lock(mutex);
+            if (!error) error = std::current_exception();
+            next = nodes.size();
+        }
+    };
+    std::thread other(work);
+    work();
+    other.join();
+    if (error) std::rethrow_exception(error);
+    return true;
+}
+
 // Pass 1: the terrain fitted on `in`'s points and `extra`'s within their boxes.
 void fitOn(TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& shift,
            const std::vector<FitSource>& extra, int threads, double thickness_m,
            const std::function<void(std::size_t)>& progress) {
-    {
+    if (!fitCopcNodes(fit, in, shift, progress)) {
         io::CloudReader reader(in, io::PointFields::Positions);
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
             moveBy(chunk, shift);

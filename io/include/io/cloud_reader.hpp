@@ -51,7 +51,8 @@ class CloudReader {
     CloudReader(const std::filesystem::path& path, PointFields fields);
     /// The same over bytes in memory, which must outlive the reader; `name` is used in
     /// messages; `side` as above. Never reads outside `bytes` whatever they hold (the fuzzing entry point).
-    CloudReader(std::string_view bytes, const std::filesystem::path& name, SideRecords side = SideRecords::Drop);
+    CloudReader(std::string_view bytes, const std::filesystem::path& name, SideRecords side = SideRecords::Drop,
+                PointFields fields = PointFields::All);
     ~CloudReader();
     CloudReader(const CloudReader&) = delete;
     CloudReader& operator=(const CloudReader&) = delete;

@@ -133,6 +133,8 @@ class CopcReader {
     /// The same; with SideRecords::Keep, a file made by another producer gives each point's
     /// side record too (cloud.foreign, as CloudReader gives them).
     core::PointCloud readNodeEntry(const CopcNode& node, SideRecords side) const;
+    /// The same, decoding what `fields` asks for (CloudReader's PointFields).
+    core::PointCloud readNodeEntry(const CopcNode& node, SideRecords side, PointFields fields) const;
 
   private:
     struct Impl;

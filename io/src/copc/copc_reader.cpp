@@ -104,6 +104,10 @@ core::PointCloud CopcReader::readNodeEntry(const CopcNode& node) const {
 }
 
 core::PointCloud CopcReader::readNodeEntry(const CopcNode& node, SideRecords side) const {
+    return readNodeEntry(node, side, PointFields::All);
+}
+
+core::PointCloud CopcReader::readNodeEntry(const CopcNode& node, SideRecords side, PointFields fields) const {
     const detail::CopcLayout& l = impl_->layout;
     const std::string name = impl_->prefix + " node " + detail::keyName(node.key);
     // An entry of this reader's pages lies in the point data (their checks); any other is
@@ -119,7 +123,7 @@ core::PointCloud CopcReader::readNodeEntry(const CopcNode& node, SideRecords sid
         std::lock_guard lock(impl_->source_mutex);  // the bytes copied; decoding runs unlocked
         laz = detail::nodeLaz(*impl_->source, l, node);
     }
-    CloudReader reader(laz, name, side);
+    CloudReader reader(laz, name, side, fields);
     core::PointCloud cloud;
     cloud.origin = reader.origin();
     cloud.fields = reader.fields();
