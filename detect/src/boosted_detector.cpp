@@ -35,11 +35,15 @@ void validate(const BoostedOptions& o) {
 }
 
 DescribedSegments describeSegments(const core::PointCloud& cloud, const SegmentOptions& segments,
-                                   const glm::dvec3& target_size_m, int threads) {
+                                   const glm::dvec3& target_size_m, int threads, FeatureSet features) {
     DescribedSegments out;
     out.segmentation = segmentCloud(cloud, segments, threads);
     const auto& segs = out.segmentation.segments;
-    const std::size_t columns = segmentFeatureNames().size();
+    const std::size_t columns = segmentFeatureNames(features).size();
+    // The cloud's points per square metre of observed terrain, which the relative
+    // features divide by.
+    const double voxel_m = out.segmentation.used.voxel_m;
+    const double density_m2 = out.segmentation.points_per_voxel_face / (voxel_m * voxel_m);
     out.rows.assign(segs.size() * columns, 0.0f);
     // Each segment's row is computed alone and written to its own place: the rows are the
     // same whatever the number of threads. The threads take the segments largest first,
@@ -54,7 +58,8 @@ DescribedSegments describeSegments(const core::PointCloud& cloud, const SegmentO
     runParts(t, [&](std::size_t) {
         for (std::size_t k = next++; k < order.size(); k = next++) {
             const std::uint32_t s = order[k];
-            const std::vector<float> f = segmentFeatures(cloud, segs[s], out.segmentation.height_m, target_size_m);
+            const std::vector<float> f =
+                segmentFeatures(cloud, segs[s], out.segmentation.height_m, target_size_m, features, density_m2);
             std::copy(f.begin(), f.end(), out.rows.begin() + std::ptrdiff_t(std::size_t(s) * columns));
         }
     });
@@ -80,7 +85,8 @@ std::uint64_t BoostedDetector::memoryBytes(std::uint64_t points) {
     // 157. The radix sort's two buffers (32) come before the voxel tables; SMRF's raster
     // and view tables (48) before that, and a segment's feature scratch (32) after.
     // Rounded up to 192 for the allocator. The fixed part holds the reader's chunk
-    // buffer, the terrain fit's chunk of points, XGBoost and the model.
+    // buffer, the terrain fit's chunk of points, the terrain levelling's tables (at most
+    // 9 MB), XGBoost and the model.
     constexpr std::uint64_t kBytesPerPoint = 192;
     constexpr std::uint64_t kFixedBytes = std::uint64_t(96) << 20;
     return kFixedBytes + points * kBytesPerPoint;
@@ -96,7 +102,8 @@ std::vector<Detection> BoostedDetector::detect(const core::PointCloud& cloud, Bo
     local.points = cloud.points.size();
     const ModelInfo& info = model_->info();
     auto t0 = std::chrono::steady_clock::now();
-    DescribedSegments described = describeSegments(cloud, info.segments, info.target_size_m, options_.threads);
+    DescribedSegments described =
+        describeSegments(cloud, info.segments, info.target_size_m, options_.threads, info.feature_set);
     local.above_points = described.segmentation.above_points;
     local.segments = described.segmentation.segments.size();
     local.ground_sigma_m = described.segmentation.ground_sigma_m;

@@ -17,6 +17,7 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 namespace detect {
@@ -65,7 +66,8 @@ nlohmann::json segmentJson(const SegmentOptions& o) {
             {"core_points", o.core_points},
             {"min_points", o.min_points},
             {"split_height_m", o.split_height_m},
-            {"scale_with_spacing", o.scale_with_spacing}};
+            {"scale_with_spacing", o.scale_with_spacing},
+            {"level_cell_m", o.level_cell_m}};
 }
 
 }  // namespace
@@ -224,18 +226,24 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
         if (!f.is_string()) throw bad("header field 'features' holds a non-string");
         i.features.push_back(f.get<std::string>());
     }
-    if (const std::vector<std::string>& ours = segmentFeatureNames(); i.features != ours) {
-        // The first feature that differs, by position: a reordered list has the same count.
+    if (const std::optional<FeatureSet> set = featureSetOf(i.features)) {
+        i.feature_set = *set;
+    } else {
+        // Against this build's newest list: the first feature that differs, by position
+        // (a reordered list has the same count).
+        const std::vector<std::string>& ours = segmentFeatureNames(kCurrentFeatures);
+        const std::vector<std::string>& first_set = segmentFeatureNames(FeatureSet::kV1);
         const auto [mine, theirs] = std::mismatch(i.features.begin(), i.features.end(), ours.begin(), ours.end());
         const std::size_t k = std::size_t(mine - i.features.begin());
         const std::string first = mine != i.features.end() && theirs != ours.end()
                                       ? "features[" + std::to_string(k) + "] is '" +
                                             platform::printableUtf8(*mine, 60) + "', this build's is '" + *theirs + "'"
                                       : "";
-        if (i.features.size() == ours.size()) throw bad(first + "; retrain with `ladarvr train`");
+        if (i.features.size() == ours.size() || i.features.size() == first_set.size())
+            throw bad(first + "; retrain with `ladarvr train`");
         throw bad("its " + std::to_string(i.features.size()) + " features differ from this build's " +
-                  std::to_string(ours.size()) + (first.empty() ? "" : " (" + first + ")") +
-                  "; retrain with `ladarvr train`");
+                  std::to_string(first_set.size()) + " or " + std::to_string(ours.size()) +
+                  (first.empty() ? "" : " (" + first + ")") + "; retrain with `ladarvr train`");
     }
     const auto& size = field("target_size_m", T::array);
     if (size.size() != 3) throw bad("target_size_m must hold 3 numbers");
@@ -285,6 +293,8 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
     if (seg.contains("scale_with_spacing") && !seg["scale_with_spacing"].is_boolean())
         throw bad("segmentation.scale_with_spacing: allowed true or false");
     i.segments.scale_with_spacing = seg.value("scale_with_spacing", true);
+    // ... and before the terrain was levelled on the ground's own points, it was not.
+    i.segments.level_cell_m = seg.contains("level_cell_m") ? num("level_cell_m") : 0.0;
     try {
         validate(i.segments);
     } catch (const core::Error& e) {

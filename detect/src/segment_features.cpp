@@ -64,10 +64,81 @@ double quantile(std::vector<double>& x, double q) {
     return x[k];
 }
 
+// kV2's features, appended to `f`: what a vehicle's shape has whatever its size (see
+// segment_features.hpp). `hag` holds the points' heights above the terrain, in the order
+// of `points`; `box` is the segment's oriented box.
+void shapeFeatures(const core::PointCloud& cloud, std::span<const std::uint32_t> points, const std::vector<double>& hag,
+                   const OrientedBox& box, double density_m2, std::vector<float>& f) {
+    const double n = double(points.size());
+    const double length = std::max(box.size_m.x, 1e-3), width = std::max(box.size_m.y, 1e-3),
+                 height = std::max(box.size_m.z, 1e-3);
+    const auto [lo_it, hi_it] = std::minmax_element(hag.begin(), hag.end());
+    const double hag_min = *lo_it, hag_max = std::max(*hi_it, 1e-3);
+    f.push_back(float(width / length));
+    f.push_back(float(height / length));
+    f.push_back(float(height / width));
+    f.push_back(float(hag_max / length));
+    std::vector<double> sorted = hag;
+    f.push_back(float(quantile(sorted, 0.1) / hag_max));
+    f.push_back(float(quantile(sorted, 0.5) / hag_max));
+    f.push_back(float(quantile(sorted, 0.9) / hag_max));
+    f.push_back(float(std::max(0.0, hag_min) / hag_max));
+
+    // Each point's place in the box: u along the length, v across, both in [0, 1).
+    const double a = box.yaw_deg * 3.14159265358979323846 / 180.0, c = std::cos(a), s = std::sin(a);
+    constexpr int kLong = 5, kCross = 3, kGridU = 8, kGridV = 4;
+    double long_top[kLong] = {}, cross_top[kCross] = {};
+    bool grid[kGridU][kGridV] = {}, grid_top[kGridU][kGridV] = {};
+    double top_sum = 0, top_sum2 = 0;
+    std::size_t top_n = 0, side = 0, end = 0, mid = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const glm::dvec3 p = glm::dvec3(cloud.points[points[k]].position) - box.centre;
+        const double u = std::clamp((c * p.x + s * p.y) / length + 0.5, 0.0, 0.999999),
+                     v = std::clamp((-s * p.x + c * p.y) / width + 0.5, 0.0, 0.999999);
+        const double h = hag[k] / hag_max;
+        long_top[int(u * kLong)] = std::max(long_top[int(u * kLong)], h);
+        cross_top[int(v * kCross)] = std::max(cross_top[int(v * kCross)], h);
+        grid[int(u * kGridU)][int(v * kGridV)] = true;
+        if (h >= 0.8) {
+            grid_top[int(u * kGridU)][int(v * kGridV)] = true;
+            top_sum += h, top_sum2 += h * h, ++top_n;
+        }
+        if (h >= 0.25 && h <= 0.75) {
+            ++mid;
+            side += std::abs(v - 0.5) > 0.35;
+            end += std::abs(u - 0.5) > 0.4;
+        }
+    }
+    f.push_back(float((long_top[0] + long_top[kLong - 1]) / 2));
+    f.push_back(float((long_top[1] + long_top[kLong - 2]) / 2));
+    f.push_back(float(long_top[kLong / 2]));
+    f.push_back(float(std::abs(long_top[0] - long_top[kLong - 1])));
+    int empty = 0;
+    for (const double t : long_top) empty += t <= 0.0;
+    f.push_back(float(empty) / float(kLong));
+    f.push_back(float((cross_top[0] + cross_top[kCross - 1]) / 2));
+    const double top_mean = top_n ? top_sum / double(top_n) : 0.0;
+    f.push_back(float(top_n ? std::sqrt(std::max(0.0, top_sum2 / double(top_n) - top_mean * top_mean)) : 0.0));
+    int filled = 0, covered = 0;
+    for (int u = 0; u < kGridU; ++u)
+        for (int v = 0; v < kGridV; ++v) filled += grid[u][v], covered += grid_top[u][v];
+    f.push_back(float(covered) / float(kGridU * kGridV));
+    f.push_back(float(filled) / float(kGridU * kGridV));
+    f.push_back(mid ? float(double(side) / double(mid)) : 0.0f);
+    f.push_back(mid ? float(double(end) / double(mid)) : 0.0f);
+    if (density_m2 > 0) {
+        f.push_back(float(std::log(n / density_m2)));
+        f.push_back(float(n / std::max(length * width, 0.01) / density_m2));
+    } else {
+        f.push_back(kMissing);
+        f.push_back(kMissing);
+    }
+}
+
 }  // namespace
 
-const std::vector<std::string>& segmentFeatureNames() {
-    static const std::vector<std::string> names = {
+const std::vector<std::string>& segmentFeatureNames(FeatureSet set) {
+    static const std::vector<std::string> v1 = {
         "log_points",
         "length_m",
         "width_m",
@@ -100,13 +171,32 @@ const std::vector<std::string>& segmentFeatureNames() {
         "intensity_mean",
         "intensity_std",
     };
-    return names;
+    static const std::vector<std::string> v2 = [] {
+        std::vector<std::string> n = v1;
+        for (const char* extra :
+             {"width_over_length",  "height_over_length",  "height_over_width",   "hag_max_over_length",
+              "rel_hag_p10",        "rel_hag_p50",         "rel_hag_p90",         "gap_under_share",
+              "long_profile_ends",  "long_profile_next",   "long_profile_centre", "long_profile_asymmetry",
+              "long_profile_empty", "cross_profile_sides", "top_spread",          "top_cover",
+              "box_grid_fill",      "side_wall_share",     "end_wall_share",      "log_points_rel",
+              "points_per_m2_rel"})
+            n.push_back(extra);
+        return n;
+    }();
+    return set == FeatureSet::kV1 ? v1 : v2;
+}
+
+std::optional<FeatureSet> featureSetOf(const std::vector<std::string>& names) {
+    for (const FeatureSet set : {FeatureSet::kV1, FeatureSet::kV2})
+        if (names == segmentFeatureNames(set)) return set;
+    return std::nullopt;
 }
 
 std::vector<float> segmentFeatures(const core::PointCloud& cloud, std::span<const std::uint32_t> points,
-                                   std::span<const float> height_m, const glm::dvec3& target_size_m) {
+                                   std::span<const float> height_m, const glm::dvec3& target_size_m, FeatureSet set,
+                                   double density_m2) {
     std::vector<float> f;
-    f.reserve(segmentFeatureNames().size());
+    f.reserve(segmentFeatureNames(set).size());
     const double n = double(points.size());
     const std::vector<std::uint32_t> list(points.begin(), points.end());
     const OrientedBox box = fitBox(cloud, list, 0.01);
@@ -244,6 +334,7 @@ std::vector<float> segmentFeatures(const core::PointCloud& cloud, std::span<cons
         f.push_back(kMissing);
         f.push_back(kMissing);
     }
+    if (set != FeatureSet::kV1) shapeFeatures(cloud, points, hag, box, density_m2, f);
     return f;
 }
 

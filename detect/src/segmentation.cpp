@@ -7,6 +7,7 @@
 
 #include "parts.hpp"
 #include "point_spacing.hpp"
+#include "terrain_level.hpp"
 #include "voxel_clusters.hpp"
 
 #include <algorithm>
@@ -206,6 +207,9 @@ void validate(const SegmentOptions& o) {
         fail("--segment-tolerance-m", o.cluster_tolerance_m, "(voxel / 2, 10] m");
     if (o.core_points < 1 || o.core_points > 1000) fail("--segment-core-points", o.core_points, "[1, 1000]");
     if (o.min_points < 1) fail("--segment-min-points", o.min_points, ">= 1");
+    if (!(std::isfinite(o.level_cell_m) &&
+          (o.level_cell_m == 0.0 || (o.level_cell_m >= 1.0 && o.level_cell_m <= 100.0))))
+        fail("--level-cell-m", o.level_cell_m, "0 (no levelling) or [1, 100] m");
     if (!(std::isfinite(o.split_height_m) &&
           (o.split_height_m == 0.0 || (o.split_height_m >= 1.0 && o.split_height_m <= 100.0))))
         fail("--split-height-m", o.split_height_m, "0 (no split) or [1, 100] m");
@@ -249,6 +253,7 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
     if (n == 0) return out;
 
     const std::vector<std::uint8_t> ground = fitTerrain(cloud, o, threads, work_parts, out);
+    if (o.level_cell_m > 0) detail::levelTerrain(cloud, o.level_cell_m, out.height_m);
     // A thick ground reaches higher: the threshold grows with its measured thickness.
     out.min_height_m = std::max(o.min_height_m, o.ground_sigmas * out.ground_sigma_m);
 

@@ -37,12 +37,12 @@ void validate(const TrainOptions& o) {
 TrainingItem describeLabelledCloud(const core::PointCloud& cloud, const std::string& name, const TrainOptions& o) {
     if (!cloud.fields.label)
         throw core::Error("train: " + name + ": the cloud has no label field; allowed corpus clouds (labelled points)");
-    const DescribedSegments d = describeSegments(cloud, o.segments, o.target_size_m, o.boost.threads);
+    const DescribedSegments d = describeSegments(cloud, o.segments, o.target_size_m, o.boost.threads, o.features);
     TrainingItem item;
     item.name = name;
     std::size_t cloud_target = 0;
     for (const core::CloudPoint& p : cloud.points) cloud_target += p.label == core::Role::Target;
-    const std::size_t columns = segmentFeatureNames().size();
+    const std::size_t columns = segmentFeatureNames(o.features).size();
     for (std::size_t s = 0; s < d.segmentation.segments.size(); ++s) {
         const auto& seg = d.segmentation.segments[s];
         std::size_t target = 0;
@@ -131,7 +131,7 @@ BoostedModel trainDetector(const std::vector<TrainingItem>& items, const TrainOp
                            const std::vector<std::string>& manifests_sha256, TrainReport& report) {
     validate(o);
     report = TrainReport{};
-    const std::size_t columns = segmentFeatureNames().size();
+    const std::size_t columns = segmentFeatureNames(o.features).size();
     std::vector<float> train_rows, train_labels, held_rows, held_labels;
     for (std::size_t k = 0; k < items.size(); ++k) {
         const TrainingItem& it = items[k];
@@ -158,7 +158,8 @@ BoostedModel trainDetector(const std::vector<TrainingItem>& items, const TrainOp
     (void)columns;
 
     ModelInfo info;
-    info.features = segmentFeatureNames();
+    info.features = segmentFeatureNames(o.features);
+    info.feature_set = o.features;
     info.target_size_m = o.target_size_m;
     info.corpus_manifests_sha256 = manifests_sha256;
     info.segments = o.segments;

@@ -57,6 +57,8 @@ TEST_CASE("a model file reads back with its record and the same margins") {
     CHECK(r.info().target_size_m == glm::dvec3(7.0, 3.5, 2.5));
     CHECK(r.info().platt_a == m.info().platt_a);
     CHECK(r.info().segments.split_height_m == m.info().segments.split_height_m);
+    CHECK(r.info().feature_set == detect::FeatureSet::kV2);
+    CHECK(r.info().segments.level_cell_m == 8.0);
     CHECK(r.serialize() == m.serialize());
     const std::vector<float> rows(detect::segmentFeatureNames().size() * 2, 1.0f);
     CHECK(r.margins(rows, 1) == m.margins(rows, 1));
@@ -70,6 +72,23 @@ TEST_CASE("a model file from before the split height reads as splitting nothing"
     REQUIRE(old != good);
     { std::ofstream(dir.path / "old.ldm", std::ios::binary) << old; }
     CHECK(detect::BoostedModel::read(dir.path / "old.ldm").info().segments.split_height_m == 0.0);
+}
+
+TEST_CASE("a model file from before the terrain levelling reads as levelling nothing") {
+    test_support::TempDir dir("detect_model_level");
+    const std::string good = smallModel().serialize();
+    const std::string old = editHeader(good, "\"level_cell_m\"", "\"level_cell_x\"");
+    REQUIRE(old != good);
+    { std::ofstream(dir.path / "old.ldm", std::ios::binary) << old; }
+    CHECK(detect::BoostedModel::read(dir.path / "old.ldm").info().segments.level_cell_m == 0.0);
+}
+
+TEST_CASE("the shipped model reads as the first feature set, without levelling") {
+    const detect::BoostedModel m =
+        detect::BoostedModel::read(std::filesystem::path(LADARVR_ASSETS_DIR) / "detect" / "model.ldm");
+    CHECK(m.info().feature_set == detect::FeatureSet::kV1);
+    CHECK(m.info().features == detect::segmentFeatureNames(detect::FeatureSet::kV1));
+    CHECK(m.info().segments.level_cell_m == 0.0);
 }
 
 TEST_CASE("a bad or mismatching model file is refused in one line naming the file and the fault") {
@@ -87,8 +106,8 @@ TEST_CASE("a bad or mismatching model file is refused in one line naming the fil
     std::string swapped =
         editHeader(editHeader(editHeader(good, "\"log_points\"", "\"x\""), "\"length_m\"", "\"log_points\""), "\"x\"",
                    "\"length_m\"");
-    std::string dropped = editHeader(good, "\"intensity_std\"", "");
-    dropped = editHeader(dropped, "\"intensity_mean\",", "\"intensity_mean\"");
+    std::string dropped = editHeader(good, "\"points_per_m2_rel\"", "");
+    dropped = editHeader(dropped, "\"log_points_rel\",", "\"log_points_rel\"");
     // A header length over the 1 MiB cap (the file is smaller still).
     std::string huge = good;
     const std::uint32_t over = (1u << 20) + 1;
@@ -102,7 +121,7 @@ TEST_CASE("a bad or mismatching model file is refused in one line naming the fil
         {"flipped.ldm", flipped, "do not match their SHA-256"},
         {"features.ldm", renamed, ": features[0] is 'log_count', this build's is 'log_points'; retrain"},
         {"order.ldm", swapped, ": features[0] is 'length_m', this build's is 'log_points'; retrain"},
-        {"fewer.ldm", dropped, ": its 30 features differ from this build's 31; retrain"},
+        {"fewer.ldm", dropped, ": its 51 features differ from this build's 31 or 52; retrain"},
         {"header_huge.ldm", huge, "header length 1048577: allowed 2 .. 1048576 (1 MiB)"},
         {"library.ldm", editHeader(good, "\"xgboost\"", "\"lightgbm\""), "library 'lightgbm': allowed xgboost"},
         {"newer.ldm", editHeader(good, "\"" + detect::xgboostVersion() + "\"", "\"99.0.0\""),

@@ -253,7 +253,7 @@ std::vector<Case> craftedCases() {
 TEST_CASE("the shipped model passes the check, loads and predicts as before") {
     const std::string ubj = shippedUbjson();
     CHECK_NOTHROW(detect::checkXgboostModel(ubj, kFeatures, "test"));
-    REQUIRE(detect::segmentFeatureNames().size() == kFeatures);
+    REQUIRE(detect::segmentFeatureNames(detect::FeatureSet::kV1).size() == kFeatures);
     const detect::BoostedModel m = detect::BoostedModel::read(kShipped);
     // A row of missing features, one of zeros and one of ones: the margins XGBoost gave
     // for these bytes before the check existed (so the check changes nothing it passes).

@@ -77,3 +77,79 @@ TEST_CASE("footprint fill counts the occupied cells of the box's footprint, near
     // tens of thousands: they are counted by sorting, and still match.
     CHECK(fill(slab(true, true)) < fill(slab(false, true)));
 }
+
+namespace {
+
+// A box's top and its four sides, l x w x h m standing on the terrain (heights = z),
+// each face sampled on a grid of 20 x 20 points: the same points, whatever the size.
+core::PointCloud boxSurface(double l, double w, double h) {
+    core::PointCloud c;
+    const auto add = [&](double x, double y, double z) {
+        core::CloudPoint p;
+        p.position = glm::vec3(float(x), float(y), float(z));
+        c.points.push_back(p);
+    };
+    for (int i = 0; i < 20; ++i)
+        for (int j = 0; j < 20; ++j) {
+            const double a = (i + 0.5) / 20.0, b = (j + 0.5) / 20.0;
+            add(l * (a - 0.5), w * (b - 0.5), h);  // top
+            add(l * (a - 0.5), -w / 2, h * b);     // sides
+            add(l * (a - 0.5), w / 2, h * b);
+            add(-l / 2, w * (a - 0.5), h * b);  // ends
+            add(l / 2, w * (a - 0.5), h * b);
+        }
+    return c;
+}
+
+std::vector<float> features(const core::PointCloud& c, detect::FeatureSet set, double density_m2) {
+    std::vector<std::uint32_t> points(c.points.size());
+    std::vector<float> height(c.points.size());
+    for (std::uint32_t i = 0; i < points.size(); ++i) points[i] = i, height[i] = c.points[i].position.z;
+    return detect::segmentFeatures(c, points, height, {7.0, 3.5, 2.5}, set, density_m2);
+}
+
+float named(const std::vector<float>& f, const char* name) {
+    const auto& names = detect::segmentFeatureNames(detect::FeatureSet::kV2);
+    const auto it = std::find(names.begin(), names.end(), name);
+    REQUIRE(it != names.end());
+    return f[std::size_t(it - names.begin())];
+}
+
+}  // namespace
+
+TEST_CASE("the second feature set keeps the first's values and adds the box's proportions") {
+    const core::PointCloud c = boxSurface(6.0, 2.0, 2.0);
+    const std::vector<float> v1 = features(c, detect::FeatureSet::kV1, 0.0);
+    const std::vector<float> v2 = features(c, detect::FeatureSet::kV2, 50.0);
+    REQUIRE(v1.size() == detect::segmentFeatureNames(detect::FeatureSet::kV1).size());
+    REQUIRE(v2.size() == detect::segmentFeatureNames(detect::FeatureSet::kV2).size());
+    REQUIRE(v2.size() > v1.size());
+    for (std::size_t k = 0; k < v1.size(); ++k) {
+        CAPTURE(k);
+        CHECK((v1[k] == v2[k] || (std::isnan(v1[k]) && std::isnan(v2[k]))));
+    }
+    CHECK(named(v2, "width_over_length") == doctest::Approx(1.0 / 3.0).epsilon(0.05));
+    CHECK(named(v2, "height_over_length") == doctest::Approx(1.0 / 3.0).epsilon(0.05));
+    CHECK(named(v2, "height_over_width") == doctest::Approx(1.0).epsilon(0.05));
+    CHECK(named(v2, "top_cover") == doctest::Approx(1.0));  // the top covers every cell of the box
+    CHECK(named(v2, "box_grid_fill") == doctest::Approx(1.0));
+    CHECK(named(v2, "long_profile_empty") == 0.0f);
+    CHECK(named(v2, "side_wall_share") > 0.3f);  // the sides hold most of the mid-height points
+    CHECK(named(v2, "log_points_rel") == doctest::Approx(std::log(2000.0 / 50.0)).epsilon(1e-4));
+    CHECK(std::isnan(named(features(c, detect::FeatureSet::kV2, 0.0), "log_points_rel")));  // density unknown
+}
+
+TEST_CASE("the second feature set's shape features do not change with the vehicle's size") {
+    // The same box at twice its size, sampled by as many points: the shape features
+    // agree, the absolute sizes of the first set do not.
+    const std::vector<float> small = features(boxSurface(5.0, 2.0, 1.5), detect::FeatureSet::kV2, 40.0);
+    const std::vector<float> large = features(boxSurface(10.0, 4.0, 3.0), detect::FeatureSet::kV2, 10.0);
+    for (const char* name : {"width_over_length", "height_over_length", "height_over_width", "hag_max_over_length",
+                             "rel_hag_p10", "rel_hag_p50", "rel_hag_p90", "gap_under_share", "long_profile_ends",
+                             "long_profile_centre", "cross_profile_sides", "top_spread", "top_cover", "box_grid_fill",
+                             "side_wall_share", "end_wall_share", "points_per_m2_rel"}) {
+        CAPTURE(std::string(name));
+        CHECK(named(small, name) == doctest::Approx(named(large, name)).epsilon(0.02));
+    }
+    CHECK(named(large, "length_m") > 1.9f * named(small, "length_m"));
+}

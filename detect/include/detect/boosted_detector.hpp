@@ -6,6 +6,7 @@
 #pragma once
 #include <detect/boosted_model.hpp>
 #include <detect/detector.hpp>
+#include <detect/segment_features.hpp>
 #include <detect/segmentation.hpp>
 
 #include <cstdint>
@@ -30,10 +31,11 @@ struct DescribedSegments {
     Segmentation segmentation;
     std::vector<float> rows;
 };
-/// Segments `cloud` and computes every segment's features on `threads` threads (the
-/// result does not depend on the count).
+/// Segments `cloud` and computes every segment's features of `features` on `threads`
+/// threads (the result does not depend on the count).
 DescribedSegments describeSegments(const core::PointCloud& cloud, const SegmentOptions& segments,
-                                   const glm::dvec3& target_size_m, int threads);
+                                   const glm::dvec3& target_size_m, int threads,
+                                   FeatureSet features = kCurrentFeatures);
 
 struct BoostedStats {
     std::size_t points = 0, above_points = 0, segments = 0;

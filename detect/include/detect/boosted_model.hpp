@@ -20,6 +20,7 @@
 // (detect/model_check.hpp: the trees' structure, which XGBoost trusts), all before XGBoost
 // sees the bytes.
 #pragma once
+#include <detect/segment_features.hpp>
 #include <detect/segmentation.hpp>
 
 #include <glm/glm.hpp>
@@ -40,7 +41,8 @@ inline constexpr std::size_t kMaxModelBytes = std::size_t(64) << 20;
 struct ModelInfo {
     std::string library = "xgboost";
     std::string library_version;                       // the XGBoost that trained it, "major.minor.patch"
-    std::vector<std::string> features;                 // segmentFeatureNames() at training time
+    std::vector<std::string> features;                 // segmentFeatureNames(feature_set) at training time
+    FeatureSet feature_set = kCurrentFeatures;         // the set those names are
     glm::dvec3 target_size_m{7.0, 3.5, 2.5};           // the size class the size_match feature scores against
     std::vector<std::string> corpus_manifests_sha256;  // of each training corpus's manifest.jsonl
     double platt_a = 1.0, platt_b = 0.0;               // probability = 1 / (1 + exp(-(a * margin + b)))

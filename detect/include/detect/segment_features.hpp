@@ -13,21 +13,40 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 namespace detect {
 
-/// The feature names, in the order segmentFeatures() returns them. A model file records
-/// this list; a model trained on another list is refused.
-const std::vector<std::string>& segmentFeatureNames();
+/// The feature lists a model may name. kV1 is the list models were first trained on (the
+/// shipped model's): sizes, heights, eigenvalue shapes, profile, fill, returns. kV2 adds,
+/// after those, features of "a vehicle" rather than of the vehicles seen: the box's
+/// proportions, heights as shares of the segment's top, the height profile along the
+/// long axis and across it, how flat and how covered the top is, the share of points in
+/// side and end walls, the box's fill on a grid scaled to the box, and the point count
+/// and density over the cloud's own density (so the same shape sampled by another sensor
+/// or orbit gives the same numbers).
+enum class FeatureSet { kV1 = 1, kV2 = 2 };
+/// What `ladarvr train` learns on.
+inline constexpr FeatureSet kCurrentFeatures = FeatureSet::kV2;
+
+/// The feature names of `set`, in the order segmentFeatures() returns them. A model file
+/// records this list; a model whose list is no known set is refused.
+const std::vector<std::string>& segmentFeatureNames(FeatureSet set = kCurrentFeatures);
+/// The set whose names are exactly `names`, if any.
+std::optional<FeatureSet> featureSetOf(const std::vector<std::string>& names);
 
 /// The features of one segment: `points` (ascending indices, not empty) of `cloud`,
 /// `height_m` each point's height above the terrain (one per cloud point),
 /// `target_size_m` the size class (length, width, height) the size match is scored
-/// against. Returns segmentFeatureNames().size() values.
+/// against, `density_m2` the cloud's points per square metre of observed terrain (0:
+/// unknown, the relative features are then missing). Returns
+/// segmentFeatureNames(set).size() values; a set's values are the same whatever later
+/// sets add.
 std::vector<float> segmentFeatures(const core::PointCloud& cloud, std::span<const std::uint32_t> points,
-                                   std::span<const float> height_m, const glm::dvec3& target_size_m);
+                                   std::span<const float> height_m, const glm::dvec3& target_size_m,
+                                   FeatureSet set = kCurrentFeatures, double density_m2 = 0.0);
 
 }  // namespace detect

@@ -12,6 +12,11 @@
 //      or more), the cell grows to hold that many (the window stays in metres): most
 //      cells of a finer grid are empty and only interpolated, at a cost that grows with
 //      their number;
+//   1b) with level_cell_m > 0, the terrain is levelled on the ground's own points: in
+//      squares of that side, the heights of the low points gather in a narrow band (the
+//      ground; a vehicle's or a shrub's points spread), whose mean height is taken off
+//      (interpolated between the squares), so ground the fit passed under (a patch of
+//      misregistered views on a sparse orbit) no longer stands above it;
 //   2) the points higher than min_height_m or ground_sigmas thicknesses above it (and not
 //      SMRF ground) are binned into voxels of voxel_m; two dense voxels (core_points
 //      points or more) whose centroids are within cluster_tolerance_m join one segment
@@ -57,6 +62,10 @@ struct SegmentOptions {
     // step 2: whether voxel_m, cluster_tolerance_m and min_points follow the cloud's
     // measured point spacing where it is sparser than cluster_tolerance_m
     bool scale_with_spacing = true;
+    // step 1b: the terrain levelled on the ground's own points in squares of this side
+    // (the fullest height band of each square's low points is its ground); 0 levels
+    // nothing (models written before the step), else [1, 100] m
+    double level_cell_m = 8.0;
 };
 
 /// Step 1's terrain cell holds at least this many of the cloud's points on average.

@@ -12,6 +12,7 @@
 // scaling is fitted on the training margins instead, and the report says so.
 #pragma once
 #include <detect/boosted_model.hpp>
+#include <detect/segment_features.hpp>
 #include <detect/segmentation.hpp>
 
 #include <core/point_cloud.hpp>
@@ -30,7 +31,8 @@ struct TrainOptions {
     glm::dvec3 target_size_m{7.0, 3.5, 2.5};  // the size class (the size_match feature)
     SegmentOptions segments;
     BoostParams boost;
-    double holdout_fraction = 0.2;  // [0, 0.9]
+    double holdout_fraction = 0.2;           // [0, 0.9]
+    FeatureSet features = kCurrentFeatures;  // the features learned (a comparison may pick the first list)
 };
 
 /// Throws core::Error("train: <option> = <value>: allowed <range>").
