@@ -49,6 +49,10 @@ void runFamilies(const BenchDetectCli& cli, Clock::time_point start) {
     fo.tmp = cli.trained.tmp;
     fo.threads = cli.trained.threads;
     fo.shipped_model = sourceRoot() / "assets" / "detect" / "model.ldm";
+    if (!cli.no_md) {
+        fo.pr_link = "docs/img/detect_families_pr.svg";
+        fo.pr_svg = std::filesystem::path(cli.md).parent_path() / fo.pr_link;
+    }
     const std::string body = runFamilyComparison(fo);
     std::printf("%s", body.c_str());
     if (cli.no_md) return;

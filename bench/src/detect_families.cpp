@@ -2,12 +2,15 @@
 // scripts/make_vehicles.py's families (cars to tanks and towed guns); each family's first
 // half of vehicles makes its training corpora, its second half its evaluation corpora, on
 // flat and hilly ground (and, in the full configuration, the dense forest and the steep
-// slopes), each item seen by the ideal sensor or one of the presets. The training items are
+// slopes), each item seen by the ideal sensor or one of the presets; the training items
+// also from lower orbits and with fewer rays, so that the models learn vehicles at more
+// point densities than the evaluation shows. The training items are
 // described once (segments and features); a model per family learns from every other
 // family's items, one more from all. Each family's evaluation clouds are then ranked by
 // the model that never saw the family, the model that saw all, the shipped model and the
 // clustering baseline, on the same clouds in the same run; and how well calibrated the
-// models are there (Brier score, reliability table) on the families they never saw.
+// models are there (Brier score, reliability table) on the families they never saw, and
+// the precision-recall curves of all families pooled, drawn as an SVG picture.
 #include "detect_families.hpp"
 
 #include "common.hpp"
@@ -18,6 +21,7 @@
 #include <detect/cluster_detector.hpp>
 #include <detect/training.hpp>
 #include <io/cloud_io.hpp>
+#include <platform/atomic_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -50,21 +54,28 @@ FamilyConfig configFor(bool full) {
 // A SPEC for a corpus of `scene` whose target is one of `files`: moved, turned, seen from
 // varied orbits within the shorter-ranged preset's reach, by the ideal sensor or a preset.
 nlohmann::json familySpec(const fs::path& assets, const std::string& scene, const std::vector<std::string>& files,
-                          int count, std::uint64_t seed, int views) {
+                          int count, std::uint64_t seed, int views, bool densities) {
     const int reach_m = scene == "slopes" ? 20 : 40;
-    return {{"scene", (assets / scene / "scene.json").string()},
-            {"count", count},
-            {"seed", seed},
-            {"vary",
-             {{"target_yaw_deg", {{"min", 0}, {"max", 360}}},
-              {"target_offset_m", {{"min", 0}, {"max", reach_m}}},
-              {"target_files", files},
-              {"environment_keep_fraction", {{"min", 0.6}, {"max", 1.0}}},
-              {"sensor_preset", {"ideal", "riegl-vux1uav", "livox-avia"}},
-              {"altitude_m", {{"min", 200}, {"max", 300}}},
-              {"alpha_deg", {{"min", 30}, {"max", 45}}},
-              {"views", views},
-              {"resolution", 128}}}};
+    nlohmann::json spec = {{"scene", (assets / scene / "scene.json").string()},
+                           {"count", count},
+                           {"seed", seed},
+                           {"vary",
+                            {{"target_yaw_deg", {{"min", 0}, {"max", 360}}},
+                             {"target_offset_m", {{"min", 0}, {"max", reach_m}}},
+                             {"target_files", files},
+                             {"environment_keep_fraction", {{"min", 0.6}, {"max", 1.0}}},
+                             {"sensor_preset", {"ideal", "riegl-vux1uav", "livox-avia"}},
+                             {"altitude_m", {{"min", 200}, {"max", 300}}},
+                             {"alpha_deg", {{"min", 30}, {"max", 45}}},
+                             {"views", views},
+                             {"resolution", 128}}}};
+    // Training across densities: lower orbits (denser clouds) and a quarter of the rays
+    // (sparser ones) beside the evaluation's.
+    if (densities) {
+        spec["vary"]["altitude_m"] = {{"min", 100}, {"max", 300}};
+        spec["vary"]["resolution"] = {64, 128};
+    }
+    return spec;
 }
 
 struct Family {
@@ -103,8 +114,10 @@ struct Detectors {
 };
 
 // Describes every training item once and trains a model per family without it, and one
-// on all; `report` receives the last (all families) training's report.
-Detectors trainModels(const std::vector<Family>& families, int threads, detect::TrainReport& report) {
+// on all; `report` receives the last (all families) training's report. With `models_dir`,
+// each model is written there too (without_<family>.ldm, all.ldm).
+Detectors trainModels(const std::vector<Family>& families, int threads, const fs::path& models_dir,
+                      detect::TrainReport& report) {
     detect::TrainOptions to;
     to.boost.threads = threads;
     std::vector<std::vector<detect::TrainingItem>> items(families.size());
@@ -138,6 +151,10 @@ Detectors trainModels(const std::vector<Family>& families, int threads, detect::
         std::fprintf(stderr, "bench detect: model %s: %zu items, %zu segments, %zu positives\n",
                      f < families.size() ? ("without " + families[f].name).c_str() : "of all families", r.items,
                      r.segments, r.positives);
+        if (!models_dir.empty()) {
+            fs::create_directories(models_dir);
+            model->write(models_dir / (f < families.size() ? "without_" + families[f].name + ".ldm" : "all.ldm"));
+        }
         if (f < families.size()) {
             d.without.push_back(std::move(model));
         } else {
@@ -199,6 +216,70 @@ std::string calibrationRow(const std::string& name, const Calibration& c) {
     return row + " |\n";
 }
 
+// printf into a string, for the picture's numbers.
+template <class... Args>
+std::string svgText(const char* format, Args... args) {
+    char buffer[256];
+    std::snprintf(buffer, sizeof buffer, format, args...);
+    return buffer;
+}
+
+// One detector's curve: its name, colour and outcomes.
+struct Curve {
+    const char* name;
+    const char* colour;
+    const std::vector<Outcome>* outcomes;
+};
+
+// The precision-recall curves of `curves` as an SVG picture: recall along x, precision up
+// y, a dot where each curve first finds 90 % of the targets with the false candidates per
+// cloud there.
+std::string prSvg(const std::vector<Curve>& curves, const std::string& title) {
+    constexpr double kW = 640, kH = 440, kX0 = 60, kX1 = 620, kY0 = 30, kY1 = 390;
+    const auto X = [&](double r) { return kX0 + r * (kX1 - kX0); };
+    const auto Y = [&](double p) { return kY1 - p * (kY1 - kY0); };
+    std::ostringstream s;
+    s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kW << "\" height=\"" << kH
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+      << "<text x=\"" << kW / 2 << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" << title << "</text>\n";
+    for (int k = 0; k <= 5; ++k) {
+        const double v = k / 5.0;
+        s << svgText("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>", X(v), kY0, X(v), kY1)
+          << svgText("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>", kX0, Y(v), kX1, Y(v))
+          << svgText("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%.1f</text>", X(v), kY1 + 16, v)
+          << svgText("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%.1f</text>\n", kX0 - 6, Y(v) + 4, v);
+    }
+    s << svgText("<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" stroke=\"black\"/>\n", kX0,
+                 kY0, kX1 - kX0, kY1 - kY0)
+      << svgText("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">", (kX0 + kX1) / 2, kY1 + 34)
+      << "recall (share of clouds whose target a candidate at or above the threshold finds)</text>\n"
+      << svgText("<text transform=\"translate(16 %.1f) rotate(-90)\" text-anchor=\"middle\">", (kY0 + kY1) / 2)
+      << "precision (targets among the candidates at or above it)</text>\n";
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+        const std::vector<PrPoint> pts = prCurve(*curves[c].outcomes);
+        s << "<polyline fill=\"none\" stroke-width=\"2\" stroke=\"" << curves[c].colour << "\" points=\"";
+        for (const PrPoint& p : pts) s << svgText("%.1f,%.1f ", X(p.recall), Y(p.precision));
+        s << "\"/>\n";
+        for (const PrPoint& p : pts)
+            if (p.recall >= 0.9) {
+                s << svgText("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"", X(p.recall), Y(p.precision))
+                  << curves[c].colour << "\"/>"
+                  << svgText("<text x=\"%.1f\" y=\"%.1f\" fill=\"", X(p.recall) - 6,
+                             Y(p.precision) - 6 - 12.0 * double(c))
+                  << curves[c].colour << "\" text-anchor=\"end\">" << fmt("%.2f", p.false_per_cloud)
+                  << " false per cloud</text>\n";
+                break;
+            }
+        const double ly = Y(0.62) + 16.0 * double(c);
+        s << svgText("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke-width=\"2\" stroke=\"", kX0 + 12, ly,
+                     kX0 + 36, ly)
+          << curves[c].colour << "\"/>" << svgText("<text x=\"%.1f\" y=\"%.1f\">", kX0 + 42, ly + 4) << curves[c].name
+          << "</text>\n";
+    }
+    s << "</svg>\n";
+    return s.str();
+}
+
 }  // namespace
 
 std::string runFamilyComparison(const FamilyBenchOptions& o) {
@@ -216,7 +297,7 @@ std::string runFamilyComparison(const FamilyBenchOptions& o) {
             fam.train_dirs.push_back(tmp / name);
             left_out += buildCorpus(writeSpec(tmp, name,
                                               familySpec(assets, cfg.train_scenes[s], fam.train_files, cfg.train_items,
-                                                         7000 + 10 * f + s, cfg.views)),
+                                                         7000 + 10 * f + s, cfg.views, true)),
                                     fam.train_dirs.back(), o.threads, true);
         }
         for (std::size_t s = 0; s < cfg.eval_scenes.size(); ++s) {
@@ -224,13 +305,13 @@ std::string runFamilyComparison(const FamilyBenchOptions& o) {
             fam.eval_dirs.push_back(tmp / name);
             left_out += buildCorpus(writeSpec(tmp, name,
                                               familySpec(assets, cfg.eval_scenes[s], fam.eval_files, cfg.eval_items,
-                                                         8000 + 10 * f + s, cfg.views)),
+                                                         8000 + 10 * f + s, cfg.views, false)),
                                     fam.eval_dirs.back(), o.threads, true);
         }
     }
     detect::TrainReport report;
     const auto t_train = Clock::now();
-    const Detectors models = trainModels(families, o.threads, report);
+    const Detectors models = trainModels(families, o.threads, o.tmp.empty() ? fs::path() : tmp / "models", report);
     const double train_s = secondsSince(t_train);
 
     detect::BoostedOptions bo;
@@ -288,6 +369,27 @@ std::string runFamilyComparison(const FamilyBenchOptions& o) {
           << cells(summarise(overall[3])) << " |\n"
           << rows;
 
+    std::string picture;
+    if (!o.pr_svg.empty()) {
+        fs::create_directories(o.pr_svg.parent_path());
+        platform::writeFileAtomic(
+            o.pr_svg,
+            prSvg(shipped ? std::vector<Curve>{{"trained without the family", "#1f77b4", &overall[0]},
+                                               {"trained on all families", "#2ca02c", &overall[1]},
+                                               {"shipped model", "#7f7f7f", &overall[2]},
+                                               {"clustering baseline", "#ff7f0e", &overall[3]}}
+                          : std::vector<Curve>{{"trained without the family", "#1f77b4", &overall[0]},
+                                               {"trained on all families", "#2ca02c", &overall[1]},
+                                               {"clustering baseline", "#ff7f0e", &overall[3]}},
+                  "Families held out: every evaluation cloud, pooled (" + std::to_string(t0.clouds) + " clouds)"));
+        std::fprintf(stderr, "bench detect: precision-recall curves in %s\n", o.pr_svg.c_str());
+        picture = "\nPrecision-recall curves over the " + std::to_string(t0.clouds) +
+                  " evaluation clouds of all families pooled (each family's clouds scored by the model trained "
+                  "without it; recall: the share of clouds whose target a candidate at or above the threshold finds; "
+                  "precision: the share of those candidates that are the target; the dot: where 90 % are found, "
+                  "with the false candidates per cloud there):\n\n![precision-recall, families held out](" +
+                  o.pr_link + ")\n";
+    }
     std::ostringstream s;
     s << (o.full ? "Full configuration" : "Small configuration (`--families small`: few items, 16 views a cloud)")
       << ": " << families.size() << " families of " << cfg.per_family
@@ -297,7 +399,10 @@ std::string runFamilyComparison(const FamilyBenchOptions& o) {
     for (const std::string& n : cfg.train_scenes) s << " " << n;
     s << "), evaluation items per family and scene " << cfg.eval_items << " (scenes";
     for (const std::string& n : cfg.eval_scenes) s << " " << n;
-    s << "), " << cfg.views << " views of 128 x 128 rays, each item seen by the ideal sensor or a preset. The model of "
+    s << "), " << cfg.views
+      << " views of 128 x 128 rays from 200 to 300 m up, each item seen by the ideal sensor or a preset; the "
+         "training items also from lower orbits and with fewer rays (100 to 300 m up, 64 or 128 rays across: "
+         "denser and sparser clouds). The model of "
       << "all families learned from " << report.items << " items (" << report.segments << " segments, "
       << report.positives << " target segments; held-out Brier score " << fmt("%.4f", report.brier) << "); the "
       << families.size() + 1 << " trainings took " << fmt("%.1f", train_s)
@@ -322,7 +427,7 @@ std::string runFamilyComparison(const FamilyBenchOptions& o) {
       << (shipped ? calibrationRow("shipped model", calibrate(overall[2])) : std::string())
       << "\n| family held out | segments | targets | Brier, model without it | Brier, model of all families |\n"
          "|---|---:|---:|---:|---:|\n"
-      << brier_rows;
+      << brier_rows << picture;
     return s.str();
 }
 

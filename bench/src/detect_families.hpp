@@ -8,9 +8,11 @@ namespace bench {
 
 struct FamilyBenchOptions {
     bool full = false;                    // the full configuration (else the small one, minutes on 2 cores)
-    std::filesystem::path tmp;            // scratch folder (empty: a new one under the temp dir, removed)
+    std::filesystem::path tmp;            // scratch folder, kept, the models in tmp/models (empty: a temporary one)
     int threads = 2;                      // the generator's, the features' and XGBoost's threads
     std::filesystem::path shipped_model;  // evaluated beside the others (empty: not)
+    std::filesystem::path pr_svg;         // the precision-recall curves drawn here (empty: none)
+    std::string pr_link;                  // ... and linked from the section by this path
 };
 
 /// Generates the vehicle families (scripts/make_vehicles.py), builds a training and an

@@ -140,13 +140,7 @@ Summary summarise(const std::vector<Outcome>& outcomes) {
     return s;
 }
 
-namespace {
-
-// The precision-recall curve of a detector over the clouds, one row per distinct score
-// threshold from the highest down: precision = true candidates / candidates at or above
-// it, recall = clouds whose target a candidate at or above it finds / clouds, and the
-// false candidates per cloud there.
-std::string prRows(const std::string& detector, const std::vector<Outcome>& outcomes) {
+std::vector<PrPoint> prCurve(const std::vector<Outcome>& outcomes) {
     struct Entry {
         double score;
         bool first_tp, tp;
@@ -156,16 +150,27 @@ std::string prRows(const std::string& detector, const std::vector<Outcome>& outc
         for (std::size_t k = 0; k < o.scored.size(); ++k)
             all.push_back({o.scored[k].first, o.rank == int(k + 1), o.scored[k].second});
     std::stable_sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) { return a.score > b.score; });
-    std::ostringstream s;
+    std::vector<PrPoint> out;
     std::size_t found = 0, tps = 0;
     for (std::size_t k = 0; k < all.size(); ++k) {
         found += all[k].first_tp;
         tps += all[k].tp;
         if (k + 1 < all.size() && all[k + 1].score == all[k].score) continue;
-        s << detector << "," << fmt("%.6f", all[k].score) << "," << fmt("%.6f", double(tps) / double(k + 1)) << ","
-          << fmt("%.6f", double(found) / double(outcomes.size())) << ","
-          << fmt("%.4f", double(k + 1 - tps) / double(outcomes.size())) << "\n";
+        out.push_back({all[k].score, double(tps) / double(k + 1), double(found) / double(outcomes.size()),
+                       double(k + 1 - tps) / double(outcomes.size())});
     }
+    return out;
+}
+
+namespace {
+
+// The precision-recall curve of a detector over the clouds as CSV rows: detector,
+// threshold, precision, recall, false candidates per cloud.
+std::string prRows(const std::string& detector, const std::vector<Outcome>& outcomes) {
+    std::ostringstream s;
+    for (const PrPoint& p : prCurve(outcomes))
+        s << detector << "," << fmt("%.6f", p.threshold) << "," << fmt("%.6f", p.precision) << ","
+          << fmt("%.6f", p.recall) << "," << fmt("%.4f", p.false_per_cloud) << "\n";
     return s.str();
 }
 

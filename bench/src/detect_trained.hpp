@@ -63,6 +63,14 @@ Outcome evaluate(const detect::Detector& d, const core::PointCloud& c, int repea
 Summary summarise(const std::vector<Outcome>& outcomes);
 /// A markdown row: name, clouds, ranked 1st, top 3, found, threshold, false per cloud, times.
 std::string summaryRow(const char* name, const Summary& s);
+/// One point of a precision-recall curve over clouds, per distinct score threshold from
+/// the highest down: precision = true candidates / candidates at or above it, recall =
+/// clouds whose target a candidate at or above it finds / clouds, and the false
+/// candidates per cloud there.
+struct PrPoint {
+    double threshold, precision, recall, false_per_cloud;
+};
+std::vector<PrPoint> prCurve(const std::vector<Outcome>& outcomes);
 /// Writes SPEC `spec` as DIR/NAME.json; returns its path.
 std::filesystem::path writeSpec(const std::filesystem::path& dir, const std::string& name, nlohmann::json spec);
 /// Builds a corpus; with allow_failed, items that cannot be planned are left out with a
