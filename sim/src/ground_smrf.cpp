@@ -27,6 +27,7 @@
 // Only the per-cell minima depend on the points, and a minimum does not depend on the
 // order it is taken in, so the result is the same whatever the batching or the threads.
 #include "ground_internal.hpp"
+#include "ground_learned_terrains.hpp"
 #include "ground_raster.hpp"
 #include "parallel.hpp"
 
@@ -152,9 +153,17 @@ std::vector<std::uint32_t> segmentCells(const std::vector<float>& level, const s
     return parent;
 }
 
-// Takes the raised segments (above) out of `ground`.
+// A segment whose class the raised-segment test decides (it holds ground and is no
+// larger than kSegmentMaxArea_m2): its bounding box in cells.
+struct SegmentBox {
+    int i0, i1, j0, j1;
+};
+
+// Takes the raised segments (above) out of `ground`; `decided` gets the boxes of the
+// segments the test decided.
 void removeRaisedSegments(const std::vector<float>& level, const std::vector<std::uint8_t>& observed,
-                          std::vector<std::uint8_t>& ground, int w, int h, double cell_m) {
+                          std::vector<std::uint8_t>& ground, int w, int h, double cell_m,
+                          std::vector<SegmentBox>& decided) {
     std::uint32_t count = 0;
     const std::vector<std::uint32_t> segment = segmentCells(level, observed, w, h, cell_m, count);
     struct Tally {
@@ -188,6 +197,17 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
                         ++tally[s].drops;
                 }
         }
+    std::vector<SegmentBox> box(count, SegmentBox{w, -1, h, -1});
+    for (std::size_t c = 0; c < segment.size(); ++c) {
+        if (segment[c] == kNoSegment) continue;
+        SegmentBox& b = box[segment[c]];
+        const int i = int(c % std::size_t(w)), j = int(c / std::size_t(w));
+        b = {std::min(b.i0, i), std::max(b.i1, i), std::min(b.j0, j), std::max(b.j1, j)};
+    }
+    decided.clear();
+    for (std::uint32_t s = 0; s < count; ++s)
+        if (tally[s].ground > 0 && double(tally[s].cells) * cell_area_m2 <= kSegmentMaxArea_m2)
+            decided.push_back(box[s]);
     for (std::size_t c = 0; c < segment.size(); ++c) {
         if (segment[c] == kNoSegment) continue;
         const Tally& t = tally[segment[c]];
@@ -197,13 +217,19 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
     }
 }
 
-class SmrfFit final : public RasterFit {
+class SmrfFit : public RasterFit {
   public:
-    explicit SmrfFit(const SmrfOptions& o) : RasterFit(o.cell_m, o.max_cells, "smrf cell_m (--smrf-cell-m)"), o_(o) {
+    explicit SmrfFit(const SmrfOptions& o, std::vector<SmrfVariant> variants = {})
+        : RasterFit(o.cell_m, o.max_cells, "smrf cell_m (--smrf-cell-m)"), o_(o), variants_(std::move(variants)) {
         threshold_m_ = o.threshold_m;
         low_outlier_m_ = o.low_outlier_m;
         z_unit_m_ = o.z_unit_m;
     }
+
+  protected:
+    // With variants: each one's terrain and the ground-level surface (SmrfTerrains).
+    std::vector<TerrainGrid> variant_grids_;
+    std::vector<float> levels_;
 
   private:
     void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) override {
@@ -215,20 +241,46 @@ class SmrfFit final : public RasterFit {
         std::vector<std::uint8_t> object(minimum.size(), 0);
         std::vector<float> eroded, opened, scratch;
         Workers pool(threads_);
-        const int radii = std::max(1, int(std::ceil(o_.window_m / o_.cell_m - 1e-9)));
-        for (int r = 1; r <= radii; ++r) {
+        const auto radiiOf = [&](double window_m) { return std::max(1, int(std::ceil(window_m / o_.cell_m - 1e-9))); };
+        const int radii = radiiOf(o_.window_m);
+        // The variants see the same openings (each the opening of the one before), each
+        // up to its own window with its own slope: one loop to the largest window.
+        int all_radii = radii;
+        for (const SmrfVariant& v : variants_) all_radii = std::max(all_radii, radiiOf(v.window_m));
+        std::vector<std::vector<std::uint8_t>> variant_object(variants_.size(),
+                                                              std::vector<std::uint8_t>(minimum.size(), 0));
+        for (int r = 1; r <= all_radii; ++r) {
             diskFilter(surface, eroded, w, h, r, false, scratch, pool);
             diskFilter(eroded, opened, w, h, r, true, scratch, pool);
-            const float limit = float(o_.slope * double(r) * o_.cell_m);
-            for (std::size_t c = 0; c < surface.size(); ++c)
-                if (surface[c] - opened[c] > limit) object[c] = 1;
+            if (r <= radii) {
+                const float limit = float(o_.slope * double(r) * o_.cell_m);
+                for (std::size_t c = 0; c < surface.size(); ++c)
+                    if (surface[c] - opened[c] > limit) object[c] = 1;
+            }
+            for (std::size_t k = 0; k < variants_.size(); ++k) {
+                if (r > radiiOf(variants_[k].window_m)) continue;
+                const float limit = float(variants_[k].slope * double(r) * o_.cell_m);
+                for (std::size_t c = 0; c < surface.size(); ++c)
+                    if (surface[c] - opened[c] > limit) variant_object[k][c] = 1;
+            }
             surface.swap(opened);
+        }
+        if (!variants_.empty()) {
+            levels_ = minimum;
+            variant_grids_.assign(variants_.size(), grid_);
+            for (std::size_t k = 0; k < variants_.size(); ++k) {
+                std::vector<std::uint8_t> known(minimum.size());
+                for (std::size_t c = 0; c < minimum.size(); ++c) known[c] = observed[c] && !variant_object[k][c];
+                if (std::find(known.begin(), known.end(), 1) == known.end()) known = observed;
+                variant_grids_[k].z_m = minimum;
+                inpaint(variant_grids_[k].z_m, known, w, h);
+            }
         }
 
         // 3) the terrain from the cells that are ground.
         std::vector<std::uint8_t> ground(minimum.size());
         for (std::size_t c = 0; c < minimum.size(); ++c) ground[c] = observed[c] && !object[c];
-        if (o_.raised_segments) removeRaisedSegments(minimum, observed, ground, w, h, o_.cell_m);
+        if (o_.raised_segments) removeRaisedSegments(minimum, observed, ground, w, h, o_.cell_m, decided_);
         if (std::find(ground.begin(), ground.end(), 1) == ground.end()) ground = observed;
         grid_.z_m = std::move(minimum);
         inpaint(grid_.z_m, ground, w, h);
@@ -242,7 +294,55 @@ class SmrfFit final : public RasterFit {
                           o_.scalar * grid_.slopeAt(grid_.x0_m + i * o_.cell_m, grid_.y0_m + j * o_.cell_m));
     }
 
+  public:
+    // The decided segments' boxes that come within kSegmentReach cells of [lo, hi): how
+    // far the furthest lies beyond it, plus a cell.
+    double patchReach(const glm::dvec2& lo, const glm::dvec2& hi) const override {
+        const auto index = [&](double v, double v0) { return int(std::floor((v - v0) / o_.cell_m + 0.5)); };
+        const int i0 = index(lo.x, grid_.x0_m), i1 = index(hi.x, grid_.x0_m) - 1;
+        const int j0 = index(lo.y, grid_.y0_m), j1 = index(hi.y, grid_.y0_m) - 1;
+        int beyond = -1;
+        for (const SegmentBox& b : decided_) {
+            if (b.i1 < i0 - kSegmentReach || b.i0 > i1 + kSegmentReach || b.j1 < j0 - kSegmentReach ||
+                b.j0 > j1 + kSegmentReach)
+                continue;
+            beyond = std::max({beyond, i0 - b.i0, b.i1 - i1, j0 - b.j0, b.j1 - j1});
+        }
+        return beyond < 0 ? 0.0 : double(beyond + 1) * o_.cell_m;
+    }
+
+  private:
     SmrfOptions o_;
+    std::vector<SegmentBox> decided_;  // removeRaisedSegments()'s
+    std::vector<SmrfVariant> variants_;
+};
+
+class SmrfTerrainsFit final : public SmrfTerrains {
+  public:
+    SmrfTerrainsFit(const SmrfOptions& o, const std::vector<SmrfVariant>& variants) : fit_(o, variants) {}
+    void add(std::span<const core::CloudPoint> points) override { fit_.add(points); }
+    void addAll(std::span<const core::CloudPoint> points, int threads) override { fit_.addAll(points, threads); }
+    void setFitThreads(int threads) override { fit_.setFitThreads(threads); }
+    void fit() override { fit_.fit(); }
+    const TerrainGrid& surface() const override { return fit_.surface(); }
+    bool classify(const glm::vec3& p, float& height_m) const override { return fit_.classify(p, height_m); }
+    bool classify(const core::CloudPoint& p, float& height_m) const override { return fit_.classify(p, height_m); }
+    void thicknessSamples(const glm::dvec2& lo, const glm::dvec2& hi, std::vector<double>& out) const override {
+        fit_.thicknessSamples(lo, hi, out);
+    }
+    void setGroundThickness(double sigma_m) override { fit_.setGroundThickness(sigma_m); }
+    const TerrainGrid& variant(std::size_t k) const override { return fit_.variantGrid(k); }
+    const std::vector<float>& levels() const override { return fit_.levelsOf(); }
+    float limit(std::size_t cell) const override { return fit_.limitOf(cell); }
+
+  private:
+    struct Fit final : SmrfFit {
+        using SmrfFit::SmrfFit;
+        const TerrainGrid& variantGrid(std::size_t k) const { return variant_grids_[k]; }
+        const std::vector<float>& levelsOf() const { return levels_; }
+        float limitOf(std::size_t cell) const { return limit_m_[cell]; }
+    };
+    Fit fit_;
 };
 
 using SmrfFilter = WholeCloudFilter<SmrfFit, SmrfOptions, GroundMethod::Smrf>;
@@ -270,6 +370,10 @@ std::unique_ptr<const CloudGroundFilter> makeSmrfFilter(const SmrfOptions& o) {
     return std::make_unique<SmrfFilter>(o);
 }
 std::unique_ptr<TerrainFit> startSmrf(const SmrfOptions& o) { return std::make_unique<SmrfFit>(o); }
+
+std::unique_ptr<SmrfTerrains> startSmrfTerrains(const SmrfOptions& o, const std::vector<SmrfVariant>& variants) {
+    return std::make_unique<SmrfTerrainsFit>(o, variants);
+}
 
 std::vector<std::uint8_t> findGroundSmrf(std::span<const glm::vec3> points, const SmrfOptions& o, TerrainGrid* surface,
                                          std::vector<float>* height_m) {
