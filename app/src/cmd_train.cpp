@@ -134,6 +134,10 @@ void registerTrain(CLI::App& cli) {
                   "a segment reaching above this height over the terrain loses what stands free below it "
                   "(a vehicle against a wall or under touching crowns), 0 (no split) or [1, 100] m")
         ->capture_default_str();
+    c->add_option("--level-cell-m", o.segments.level_cell_m,
+                  "the terrain is levelled on the ground's own points in squares of this side (recorded in the "
+                  "model), 0 (no levelling) or [1, 100] m")
+        ->capture_default_str();
     c->add_flag("--fixed-segment-lengths", state->fixed_segment_lengths,
                 "keep the voxel, join distance and noise bar as given on sparse clouds too, instead of scaling "
                 "them with the measured point spacing (recorded in the model)");
