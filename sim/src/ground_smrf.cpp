@@ -153,17 +153,9 @@ std::vector<std::uint32_t> segmentCells(const std::vector<float>& level, const s
     return parent;
 }
 
-// A segment whose class the raised-segment test decides (it holds ground and is no
-// larger than kSegmentMaxArea_m2): its bounding box in cells.
-struct SegmentBox {
-    int i0, i1, j0, j1;
-};
-
-// Takes the raised segments (above) out of `ground`; `decided` gets the boxes of the
-// segments the test decided.
+// Takes the raised segments (above) out of `ground`.
 void removeRaisedSegments(const std::vector<float>& level, const std::vector<std::uint8_t>& observed,
-                          std::vector<std::uint8_t>& ground, int w, int h, double cell_m,
-                          std::vector<SegmentBox>& decided) {
+                          std::vector<std::uint8_t>& ground, int w, int h, double cell_m) {
     std::uint32_t count = 0;
     const std::vector<std::uint32_t> segment = segmentCells(level, observed, w, h, cell_m, count);
     struct Tally {
@@ -197,17 +189,6 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
                         ++tally[s].drops;
                 }
         }
-    std::vector<SegmentBox> box(count, SegmentBox{w, -1, h, -1});
-    for (std::size_t c = 0; c < segment.size(); ++c) {
-        if (segment[c] == kNoSegment) continue;
-        SegmentBox& b = box[segment[c]];
-        const int i = int(c % std::size_t(w)), j = int(c / std::size_t(w));
-        b = {std::min(b.i0, i), std::max(b.i1, i), std::min(b.j0, j), std::max(b.j1, j)};
-    }
-    decided.clear();
-    for (std::uint32_t s = 0; s < count; ++s)
-        if (tally[s].ground > 0 && double(tally[s].cells) * cell_area_m2 <= kSegmentMaxArea_m2)
-            decided.push_back(box[s]);
     for (std::size_t c = 0; c < segment.size(); ++c) {
         if (segment[c] == kNoSegment) continue;
         const Tally& t = tally[segment[c]];
@@ -280,7 +261,7 @@ class SmrfFit : public RasterFit {
         // 3) the terrain from the cells that are ground.
         std::vector<std::uint8_t> ground(minimum.size());
         for (std::size_t c = 0; c < minimum.size(); ++c) ground[c] = observed[c] && !object[c];
-        if (o_.raised_segments) removeRaisedSegments(minimum, observed, ground, w, h, o_.cell_m, decided_);
+        if (o_.raised_segments) removeRaisedSegments(minimum, observed, ground, w, h, o_.cell_m);
         if (std::find(ground.begin(), ground.end(), 1) == ground.end()) ground = observed;
         grid_.z_m = std::move(minimum);
         inpaint(grid_.z_m, ground, w, h);
@@ -294,26 +275,7 @@ class SmrfFit : public RasterFit {
                           o_.scalar * grid_.slopeAt(grid_.x0_m + i * o_.cell_m, grid_.y0_m + j * o_.cell_m));
     }
 
-  public:
-    // The decided segments' boxes that come within kSegmentReach cells of [lo, hi): how
-    // far the furthest lies beyond it, plus a cell.
-    double patchReach(const glm::dvec2& lo, const glm::dvec2& hi) const override {
-        const auto index = [&](double v, double v0) { return int(std::floor((v - v0) / o_.cell_m + 0.5)); };
-        const int i0 = index(lo.x, grid_.x0_m), i1 = index(hi.x, grid_.x0_m) - 1;
-        const int j0 = index(lo.y, grid_.y0_m), j1 = index(hi.y, grid_.y0_m) - 1;
-        int beyond = -1;
-        for (const SegmentBox& b : decided_) {
-            if (b.i1 < i0 - kSegmentReach || b.i0 > i1 + kSegmentReach || b.j1 < j0 - kSegmentReach ||
-                b.j0 > j1 + kSegmentReach)
-                continue;
-            beyond = std::max({beyond, i0 - b.i0, b.i1 - i1, j0 - b.j0, b.j1 - j1});
-        }
-        return beyond < 0 ? 0.0 : double(beyond + 1) * o_.cell_m;
-    }
-
-  private:
     SmrfOptions o_;
-    std::vector<SegmentBox> decided_;  // removeRaisedSegments()'s
     std::vector<SmrfVariant> variants_;
 };
 

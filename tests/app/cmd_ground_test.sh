@@ -48,7 +48,7 @@ check() {
 
 check samp24 smrf 4.3
 check samp54 smrf 4.0
-check samp24 csf 6.0
+check samp24 csf 12.0
 check samp54 csf 8.2
 
 # Text output: one line naming the file and the counts.

@@ -188,14 +188,6 @@ class TerrainFit {
     /// Before fit(): the ground thickness to use instead of the one measured (the median
     /// of the whole survey's thicknessSamples); < 0 measures it (the default).
     virtual void setGroundThickness(double sigma_m) { (void)sigma_m; }
-    /// After fit(): how far beyond the box [lo, hi) (x-y, the cloud's units) lie the
-    /// cells of the patches that decided a class inside it, for a step whose reach no
-    /// fixed buffer bounds (SMRF's raised segments); 0 for a filter without one. A tile
-    /// fitted with less buffer than that (plus the bounded steps' reach) is fitted again.
-    virtual double patchReach(const glm::dvec2& lo, const glm::dvec2& hi) const {
-        (void)lo, (void)hi;
-        return 0;
-    }
 };
 
 /// A per-view filter (RANSAC): the generator labels each view's points as the view is
