@@ -42,10 +42,10 @@ struct BenchDetectCli {
 // `bench detect --families small|full`: the leave-one-family-out run alone, its own
 // section of the markdown file (unless --no-md).
 void runFamilies(const BenchDetectCli& cli, Clock::time_point start) {
-    if (cli.families != "small" && cli.families != "full")
-        throw core::Error("bench detect: --families = '" + cli.families + "': allowed small or full");
+    if (cli.families != "small" && cli.families != "full" && cli.families != "test")
+        throw core::Error("bench detect: --families = '" + cli.families + "': allowed small, full or test");
     FamilyBenchOptions fo;
-    fo.full = cli.families == "full";
+    fo.configuration = cli.families;
     fo.tmp = cli.trained.tmp;
     fo.threads = cli.trained.threads;
     fo.shipped_model = sourceRoot() / "assets" / "detect" / "model.ldm";
@@ -270,8 +270,9 @@ void registerDetect(CLI::App& parent) {
     c->add_flag("--quick", state->trained.quick,
                 "smoke run: only the trained-against-baseline comparison on tiny corpora; BENCHMARKS.md stays");
     c->add_option("--families", state->families,
-                  "only the leave-one-family-out run (scripts/make_vehicles.py's vehicle families): small (minutes "
-                  "on 2 cores) or full; its own section of the markdown file");
+                  "only the leave-one-family-out run (scripts/make_vehicles.py's vehicle families, synthetic scenes "
+                  "and real places, across densities): small (minutes on 2 cores), full, or test (seconds, for "
+                  "the tests); its own section of the markdown file");
     c->add_option("--clouds", state->trained.clouds,
                   "only rank the target in these labelled clouds with --model and the baseline; BENCHMARKS.md stays");
     c->add_option("--model", state->trained.model, "the trained model --clouds uses");

@@ -7,7 +7,7 @@
 namespace bench {
 
 struct FamilyBenchOptions {
-    bool full = false;                    // the full configuration (else the small one, minutes on 2 cores)
+    std::string configuration = "small";  // "full", "small" (minutes on 2 cores) or "test" (seconds)
     std::filesystem::path tmp;            // scratch folder, kept, the models in tmp/models (empty: a temporary one)
     int threads = 2;                      // the generator's, the features' and XGBoost's threads
     std::filesystem::path shipped_model;  // evaluated beside the others (empty: not)
@@ -16,10 +16,13 @@ struct FamilyBenchOptions {
 };
 
 /// Generates the vehicle families (scripts/make_vehicles.py), builds a training and an
-/// evaluation corpus per family (other vehicles of the family in each), trains one model
+/// evaluation corpus per family (other vehicles of the family in each) on synthetic scenes
+/// and on real places (training and evaluation on different ISPRS sites), trains one model
 /// per family on all the other families' items and one on all, and evaluates on each
 /// family's clouds: the model that never saw the family, the model trained on all, the
-/// shipped model and the clustering baseline. Returns the markdown section's body.
+/// shipped model and the clustering baseline; then the first and the last on every
+/// evaluation cloud thinned, per band of density on the target. Returns the markdown
+/// section's body.
 std::string runFamilyComparison(const FamilyBenchOptions& o);
 
 }  // namespace bench

@@ -57,8 +57,8 @@ run 1 all --dry-run --only bogus
 grep -q "^ladarvr: error: bench all: --only 'bogus': allowed a list of generate, metric, view, peers, detect, fuzz$" \
     "$dir/err" || fail "all --only bogus: $(cat "$dir/err")"
 [ -e "$dir/BENCHMARKS.md" ] && fail "a dry run wrote BENCHMARKS.md"
-# bench detect --families takes small or full, checked before any corpus is built.
+# bench detect --families takes small, full or test, checked before any corpus is built.
 run 1 detect --families bogus
-grep -q "^ladarvr: error: bench detect: --families = 'bogus': allowed small or full$" "$dir/err" ||
+grep -q "^ladarvr: error: bench detect: --families = 'bogus': allowed small, full or test$" "$dir/err" ||
     fail "detect --families bogus: $(cat "$dir/err")"
 echo "bench cli_test: all checks passed"
