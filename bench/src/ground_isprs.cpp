@@ -10,6 +10,7 @@
 // `--try` adds configurations to compare (printed only). Rewrites the section
 // "## Ground filters on ISPRS samples (ladarvr bench ground-isprs)" of BENCHMARKS.md.
 #include "common.hpp"
+#include "ground_isprs_adaptive.hpp"
 #include "ground_isprs_learned.hpp"
 #include "register.hpp"
 
@@ -47,6 +48,8 @@ struct GroundIsprsCli {
     bool no_md = false;
     std::string write_model;  // --write-model: the trees learned from all samples, to this file
     bool variants = false;    // --learned-variants: the feature sets and depths tried
+    std::string grid_csv;     // --adaptive-grid: every sample over a grid of SMRF options, to this CSV
+    std::string traits_csv;   // --adaptive-traits: every sample's survey traits, to this CSV
 };
 
 // One filter configuration to score: a label and the options `ladarvr ground` takes.
@@ -221,6 +224,13 @@ void run(const GroundIsprsCli& cli) {
         for (const core::CloudPoint& p : s.points) s.truth.push_back(p.label == core::Role::Ground ? 1 : 0);
         samples.push_back(std::move(s));
     }
+    if (!cli.grid_csv.empty() || !cli.traits_csv.empty()) {
+        std::vector<AdaptiveSample> adaptive;
+        for (const Sample& sample : samples) adaptive.push_back({sample.name, &sample.points, &sample.truth});
+        if (!cli.traits_csv.empty()) writeAdaptiveTraits(adaptive, cli.traits_csv);
+        if (!cli.grid_csv.empty()) writeAdaptiveGrid(adaptive, cli.grid_csv);
+        return;
+    }
     std::vector<LearnedSample> learned;
     for (const Sample& sample : samples)
         learned.push_back(describeSample(sample.name, sample.points, sample.truth, sim::surveySmrfOptions()));
@@ -344,6 +354,12 @@ void registerGroundIsprs(CLI::App& parent) {
                   "(sim::loadGroundModel reads it; the program ships none), then stop");
     c->add_flag("--learned-variants", state->variants,
                 "score the learned refinement's feature sets and tree depths leave-one-site-out, then stop");
+    c->add_option("--adaptive-grid", state->grid_csv,
+                  "score every sample over a grid of SMRF's cell, slope, window, threshold and scalar and write "
+                  "the table to this CSV (the oracle the adaptive choice is measured against), then stop");
+    c->add_option("--adaptive-traits", state->traits_csv,
+                  "write every sample's survey traits (what the adaptive choice of SMRF's options reads) to this "
+                  "CSV, then stop");
     c->callback([state] { run(*state); });
 }
 
