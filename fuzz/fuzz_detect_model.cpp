@@ -23,7 +23,7 @@
 
 namespace {
 
-constexpr std::size_t kFeatures = 31;                    // detect::segmentFeatureNames().size(), the seeds' num_feature
+constexpr std::size_t kFeatures = 52;  // the shipped model's features (the second set), the seeds' num_feature
 constexpr std::size_t kMaxBytes = std::size_t(1) << 20;  // the seeds are at most 133 KB
 
 bool verbose() {

@@ -56,7 +56,7 @@ TEST_CASE("the shipped model loads and ranks the demo scene's tank first") {
     bo.threads = 2;
     const detect::BoostedDetector detector(bo);
     CHECK(detector.model().info().library == "xgboost");
-    CHECK(detector.model().info().corpus_manifests_sha256.size() == 4);  // assets/detect/train_*.json
+    CHECK(detector.model().info().corpus_manifests_sha256.size() == 18);  // assets/detect/shipped_*.json
     const core::Scene scene = io::loadScene(assets / "demo" / "scene.json");
     const core::PointCloud cloud = sim::generateCloud(scene, sim::GenerateOptions{});
     const std::vector<detect::Detection> found = detector.detect(cloud);

@@ -83,12 +83,12 @@ TEST_CASE("a model file from before the terrain levelling reads as levelling not
     CHECK(detect::BoostedModel::read(dir.path / "old.ldm").info().segments.level_cell_m == 0.0);
 }
 
-TEST_CASE("the shipped model reads as the first feature set, without levelling") {
+TEST_CASE("the shipped model reads as the second feature set, levelled in 8 m squares") {
     const detect::BoostedModel m =
         detect::BoostedModel::read(std::filesystem::path(LADARVR_ASSETS_DIR) / "detect" / "model.ldm");
-    CHECK(m.info().feature_set == detect::FeatureSet::kV1);
-    CHECK(m.info().features == detect::segmentFeatureNames(detect::FeatureSet::kV1));
-    CHECK(m.info().segments.level_cell_m == 0.0);
+    CHECK(m.info().feature_set == detect::FeatureSet::kV2);
+    CHECK(m.info().features == detect::segmentFeatureNames(detect::FeatureSet::kV2));
+    CHECK(m.info().segments.level_cell_m == 8.0);
 }
 
 TEST_CASE("a bad or mismatching model file is refused in one line naming the file and the fault") {

@@ -24,7 +24,7 @@
 namespace {
 
 const std::filesystem::path kShipped = std::filesystem::path(LADARVR_ASSETS_DIR) / "detect" / "model.ldm";
-constexpr std::size_t kFeatures = 31;
+constexpr std::size_t kFeatures = 52;  // the second feature set
 constexpr int kMaxTreeDepth = detect::kMaxTreeDepth;
 
 std::string shippedFile() {
@@ -119,8 +119,8 @@ std::string treeObject(const std::vector<std::int32_t>& left, const std::vector<
            key("parents") + ints(parents) + key("right_children") + ints(right) + key("split_conditions") +
            floats(0.5f) + key("split_indices") + ints(std::vector<std::int32_t>(n, 0)) + key("split_type") + bytes +
            key("sum_hessian") + floats(2.0f) + key("tree_param") + "{" + key("num_deleted") + text("0") +
-           key("num_feature") + text("31") + key("num_nodes") + text(std::to_string(n)) + key("size_leaf_vector") +
-           text("1") + "}}";
+           key("num_feature") + text(std::to_string(kFeatures)) + key("num_nodes") + text(std::to_string(n)) +
+           key("size_leaf_vector") + text("1") + "}}";
 }
 // The shipped model with its tree 0 replaced by `tree`.
 std::string withTree0(const std::string& tree) {
@@ -148,24 +148,24 @@ struct Case {
     bool as_file = true;  // also as a model file (an empty model is refused before the check)
 };
 
-// Tree 0 of the shipped model: 13 nodes; node 0's children are 1 and 2, node 1's 3 and 4,
-// node 3's 7 and 8.
+// Tree 0 of the shipped model: 19 nodes; node 0's children are 1 and 2, node 1's 3 and 4,
+// node 3's 7 and 8; node 18, the last, is a leaf.
 std::vector<Case> craftedCases() {
     const std::string ok = shippedUbjson();
     std::vector<Case> cases;
     cases.push_back({"child_out_of_range", withInt32("left_children", 0, 0, 99),
-                     "tree 0 node 0: left child 99: allowed -1 (a leaf) or 1..12"});
+                     "tree 0 node 0: left child 99: allowed -1 (a leaf) or 1..18"});
     // The bounds themselves: one past the last node, and the root (never a child).
-    cases.push_back({"child_one_past_the_last", withInt32("left_children", 0, 0, 13),
-                     "tree 0 node 0: left child 13: allowed -1 (a leaf) or 1..12"});
-    cases.push_back({"right_child_one_past_the_last", withInt32("right_children", 0, 0, 13),
-                     "tree 0 node 0: right child 13: allowed 1..12 (its left child is 1)"});
+    cases.push_back({"child_one_past_the_last", withInt32("left_children", 0, 0, 19),
+                     "tree 0 node 0: left child 19: allowed -1 (a leaf) or 1..18"});
+    cases.push_back({"right_child_one_past_the_last", withInt32("right_children", 0, 0, 19),
+                     "tree 0 node 0: right child 19: allowed 1..18 (its left child is 1)"});
     cases.push_back({"child_the_root", withInt32("left_children", 0, 1, 0),
-                     "tree 0 node 1: left child 0: allowed -1 (a leaf) or 1..12"});
+                     "tree 0 node 1: left child 0: allowed -1 (a leaf) or 1..18"});
     cases.push_back({"child_negative", withInt32("left_children", 0, 0, -5),
-                     "tree 0 node 0: left child -5: allowed -1 (a leaf) or 1..12"});
-    cases.push_back({"right_child_of_leaf", withInt32("right_children", 0, 12, 3),
-                     "tree 0 node 12: right child 3: allowed -1 (its left child is -1: a leaf)"});
+                     "tree 0 node 0: left child -5: allowed -1 (a leaf) or 1..18"});
+    cases.push_back({"right_child_of_leaf", withInt32("right_children", 0, 18, 3),
+                     "tree 0 node 18: right child 3: allowed -1 (its left child is -1: a leaf)"});
     cases.push_back(
         {"self_loop", withInt32("left_children", 0, 1, 1), "tree 0 node 1: left child 1 is the node itself"});
     cases.push_back({"two_node_cycle", withInt32("left_children", 0, 3, 1),
@@ -173,8 +173,8 @@ std::vector<Case> craftedCases() {
     cases.push_back({"shared_child", withInt32("right_children", 0, 0, 1),
                      "tree 0 node 0: right child 1 is reached a second time"});
     cases.push_back({"wrong_parent", withInt32("parents", 0, 3, 2), "tree 0 node 3: parent 2: allowed 1"});
-    cases.push_back({"split_feature", withInt32("split_indices", 0, 0, 31),
-                     "tree 0 node 0: split feature 31: allowed 0..30 (the model's 31 features)"});
+    cases.push_back({"split_feature", withInt32("split_indices", 0, 0, 52),
+                     "tree 0 node 0: split feature 52: allowed 0..51 (the model's 52 features)"});
     cases.push_back(
         {"split_feature_negative", withInt32("split_indices", 7, 0, -1), "tree 7 node 0: split feature -1"});
     {
@@ -239,7 +239,7 @@ std::vector<Case> craftedCases() {
                      "byte 524288: more than 524288 values; allowed at most that many"});
     cases.push_back(
         {"deep_nesting", std::string(100000, '['), "byte 64: UBJSON containers nested 65 deep; allowed at most 64"});
-    cases.push_back({"trailing_bytes", ok + "Z", "byte 132937: 1 byte after the model's last value; allowed none"});
+    cases.push_back({"trailing_bytes", ok + "Z", "byte 154540: 1 byte after the model's last value; allowed none"});
     cases.push_back({"cut_short", ok.substr(0, ok.size() - 1), "the model ends inside"});
     cases.push_back(
         {"unknown_marker", std::string("{") + key("learner") + "Q", "marker 'Q' (0x51): allowed a UBJSON value"});
@@ -253,7 +253,7 @@ std::vector<Case> craftedCases() {
 TEST_CASE("the shipped model passes the check, loads and predicts as before") {
     const std::string ubj = shippedUbjson();
     CHECK_NOTHROW(detect::checkXgboostModel(ubj, kFeatures, "test"));
-    REQUIRE(detect::segmentFeatureNames(detect::FeatureSet::kV1).size() == kFeatures);
+    REQUIRE(detect::segmentFeatureNames(detect::FeatureSet::kV2).size() == kFeatures);
     const detect::BoostedModel m = detect::BoostedModel::read(kShipped);
     // A row of missing features, one of zeros and one of ones: the margins XGBoost gave
     // for these bytes before the check existed (so the check changes nothing it passes).
@@ -264,9 +264,9 @@ TEST_CASE("the shipped model passes the check, loads and predicts as before") {
     }
     const std::vector<float> margins = m.margins(rows, 1);
     REQUIRE(margins.size() == 3);
-    CHECK(margins[0] == doctest::Approx(-8.49805832).epsilon(1e-6));
-    CHECK(margins[1] == doctest::Approx(-8.86296082).epsilon(1e-6));
-    CHECK(margins[2] == doctest::Approx(-8.41994762).epsilon(1e-6));
+    CHECK(margins[0] == doctest::Approx(-7.64346313).epsilon(1e-6));
+    CHECK(margins[1] == doctest::Approx(-10.2603531).epsilon(1e-6));
+    CHECK(margins[2] == doctest::Approx(-4.15670252).epsilon(1e-6));
 }
 
 TEST_CASE("crafted models are refused in one line naming the fault, before XGBoost sees them") {
@@ -311,7 +311,7 @@ TEST_CASE("a model's other fields are checked against what `ladarvr train` write
     auto refusal = [](const std::string& ubj, std::size_t features = kFeatures) {
         return test_support::errorOf([&] { detect::checkXgboostModel(ubj, features, "m"); });
     };
-    CHECK(refusal(ok, 30).find("model field learner.learner_model_param.num_feature '31': allowed 30") !=
+    CHECK(refusal(ok, 30).find("model field learner.learner_model_param.num_feature '52': allowed 30") !=
           std::string::npos);
     std::string objective = ok;
     const std::size_t at = valueAt(objective, "name", 1);
