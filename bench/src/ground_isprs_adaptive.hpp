@@ -2,11 +2,14 @@
 // samples: the oracle (each sample's best over a grid of slope, window, threshold, scalar
 // and cell), written as a table for the selection rule to be fitted from.
 #pragma once
-#include <core/point_cloud.hpp>
-
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+namespace core {
+struct CloudPoint;
+}
 
 namespace bench {
 
@@ -19,8 +22,30 @@ struct AdaptiveSample {
 
 /// Scores every sample over the grid of SMRF options (`ladarvr ground`'s defaults otherwise)
 /// and writes one CSV line per sample and grid point to `csv`: name, the options, type I,
-/// type II, total, kappa. Prints each sample's best. Throws core::Error.
+/// type II, total, kappa. Then prints each sample's best (the oracle, which sees the
+/// reference labels) and the selection rule's figures leave-one-site-out (each sample's
+/// options chosen by a rule fitted on the other sites' samples). Throws core::Error.
 void writeAdaptiveGrid(const std::vector<AdaptiveSample>& samples, const std::string& csv);
+
+/// A choice of SMRF options per survey from its traits (sim::SurveyTraits): the base set,
+/// or the alternative set where the trait lies above (or at most at) the threshold.
+struct SelectionRule {
+    int trait = -1;  // index into sim::surveyTraitNames(); -1: always the base set
+    double threshold = 0;
+    bool above = true;                      // the alternative where trait > threshold (else <=)
+    std::size_t base = 0, alternative = 0;  // indices of option sets
+    /// The option set for a survey with these traits.
+    std::size_t choose(const std::vector<double>& traits) const;
+};
+
+/// The rule that minimises the mean error over the `train` samples: `errors[k][g]` is sample
+/// k's error under option set g, `traits[k]` its traits. Each trait and each threshold
+/// midway between two training values is tried, each side, with the alternative set best
+/// on the samples it picks (at least two of them); the base set is kept where no rule does
+/// better than it alone.
+SelectionRule fitSelectionRule(const std::vector<std::vector<double>>& errors,
+                               const std::vector<std::vector<double>>& traits, const std::vector<std::size_t>& train,
+                               std::size_t base);
 
 /// Writes each sample's survey traits (sim::measureSurvey with `ladarvr ground`'s SMRF
 /// defaults) to `csv`: name, then one column per trait. Throws core::Error.
