@@ -6,7 +6,9 @@
 // the samples, beside the published figures. One parameter set for all samples per
 // configuration: SMRF and CSF with their defaults, what `ladarvr ground` runs by default,
 // and SMRF refined by learned trees (sim/ground_learned.hpp) scored leave-one-site-out
-// (ground_isprs_learned.hpp); `--learned-variants` scores its feature sets and depths.
+// (ground_isprs_learned.hpp); `--learned-variants` scores its feature sets and depths;
+// `--adaptive-grid` scores SMRF's options chosen per sample, by the oracle and by a rule
+// on the survey's traits fitted leave-one-site-out (ground_isprs_adaptive.hpp).
 // `--try` adds configurations to compare (printed only). Rewrites the section
 // "## Ground filters on ISPRS samples (ladarvr bench ground-isprs)" of BENCHMARKS.md.
 #include "common.hpp"

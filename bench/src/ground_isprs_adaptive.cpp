@@ -59,14 +59,17 @@ std::string describeSet(const GridPoint& g) {
 }
 
 void printMean(const char* what, const std::vector<AdaptiveSample>& samples, const std::vector<Counts>& chosen) {
-    double total = 0, kappa = 0;
+    Counts mean;
     std::ostringstream per;
     for (std::size_t k = 0; k < chosen.size(); ++k) {
-        total += chosen[k].total / double(chosen.size());
-        kappa += chosen[k].kappa / double(chosen.size());
+        mean.type1 += chosen[k].type1 / double(chosen.size());
+        mean.type2 += chosen[k].type2 / double(chosen.size());
+        mean.total += chosen[k].total / double(chosen.size());
+        mean.kappa += chosen[k].kappa / double(chosen.size());
         per << " " << samples[k].name << " " << std::fixed << std::setprecision(2) << chosen[k].total;
     }
-    std::printf("%s: mean total %.2f %%, kappa %.1f %% (%s)\n", what, total, kappa, per.str().c_str() + 1);
+    std::printf("%s: mean type I %.2f, type II %.2f, total %.2f %%, kappa %.1f %% (%s)\n", what, mean.type1, mean.type2,
+                mean.total, mean.kappa, per.str().c_str() + 1);
 }
 
 void summarise(const std::vector<AdaptiveSample>& samples, const std::vector<GridPoint>& grid,
