@@ -1,6 +1,6 @@
 // bench/src/ground_isprs_adaptive.hpp: SMRF's parameters chosen per input on the ISPRS
-// samples: the oracle (each sample's best over a grid of slope, window, threshold, scalar
-// and cell), written as a table for the selection rule to be fitted from.
+// samples: the oracle (each sample's or tile's best over a grid of slope, window,
+// threshold and scalar), and a rule on the survey's traits fitted leave-one-site-out.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -24,7 +24,9 @@ struct AdaptiveSample {
 /// and writes one CSV line per sample and grid point to `csv`: name, the options, type I,
 /// type II, total, kappa. Then prints each sample's best (the oracle, which sees the
 /// reference labels) and the selection rule's figures leave-one-site-out (each sample's
-/// options chosen by a rule fitted on the other sites' samples). Throws core::Error.
+/// options chosen by a rule fitted on the other sites' samples), and the same per square
+/// tile of 100 and 50 m (each tile's points labelled by the whole sample's fit with the
+/// options chosen for the tile from its own traits). Throws core::Error.
 void writeAdaptiveGrid(const std::vector<AdaptiveSample>& samples, const std::string& csv);
 
 /// A choice of SMRF options per survey from its traits (sim::SurveyTraits): the base set,
