@@ -6,7 +6,7 @@
 #
 #   scripts/train_shipped_model.sh [--work DIR] [--out MODEL] [--jobs K]
 #
-# --work (default /tmp/ladarvr-shipped-model) receives the corpora (about 3 GB; a rerun
+# --work (default /tmp/ladarvr-shipped-model) receives the corpora (about 4 GB; a rerun
 # resumes them, and finished corpora are kept, so training again costs only `train`);
 # --out (default assets/detect/model.ldm) the model; --jobs (default 2) the items a corpus
 # builds at once. The vehicles and the real places' scenes are written under
