@@ -26,6 +26,7 @@ SmrfOptions surveySmrfOptions() {
     SmrfOptions o;
     o.low_outlier_m = kSurveyLowOutlier_m;
     o.raised_segments = true;
+    o.fill_sweeps = kSurveyFillSweeps;
     return o;
 }
 

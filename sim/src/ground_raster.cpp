@@ -47,7 +47,7 @@ CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m) {
     return out;
 }
 
-void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny) {
+void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps) {
     const std::size_t n = z.size();
     std::vector<int> ring(n, -1);  // ring of each cell: 0 known, k filled in the k-th ring
     std::vector<std::size_t> layer, next_layer, holes;
@@ -100,7 +100,7 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
     // Gauss-Seidel; the sweep order is fixed, so the result is too.
     constexpr int kMaxSweeps = 100;
     constexpr double kSettled_m = 1e-3, kOmega = 1.8;
-    for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+    for (int sweep = 0; sweep < (sweeps > 0 ? sweeps : kMaxSweeps); ++sweep) {
         double change = 0;
         for (const std::size_t c : holes) {
             const int i = int(c % std::size_t(nx)), j = int(c / std::size_t(nx));
@@ -120,7 +120,7 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
             change = std::max(change, double(std::abs(v - z[c])));
             z[c] = v;
         }
-        if (change < kSettled_m) break;
+        if (sweeps == 0 && change < kSettled_m) break;
     }
 }
 
@@ -319,10 +319,25 @@ void RasterFit::thicknessSamples(const glm::dvec2& lo, const glm::dvec2& hi, std
     }
 }
 
+void RasterFit::setExtent(const glm::dvec2& lo, const glm::dvec2& hi) {
+    // The cells whose centre (i + 0.5) * cell_m lies in [lo, hi).
+    const auto first = [&](double v) { return std::clamp(std::ceil(v * inv_cell_ - 0.5), -1e9, 1e9); };
+    extent_i0_ = int(first(lo.x));
+    extent_i1_ = int(first(hi.x)) - 1;
+    extent_j0_ = int(first(lo.y));
+    extent_j1_ = int(first(hi.y)) - 1;
+}
+
 void RasterFit::fit() {
     grid_ = TerrainGrid{};
     grid_.cell_m = cell_m_;
     if (ix_max_ < ix_min_) return;
+    if (extent_i0_ <= extent_i1_ && extent_j0_ <= extent_j1_) {
+        ix_min_ = std::min(ix_min_, extent_i0_);
+        ix_max_ = std::max(ix_max_, extent_i1_);
+        iy_min_ = std::min(iy_min_, extent_j0_);
+        iy_max_ = std::max(iy_max_, extent_j1_);
+    }
     const std::uint64_t nx = std::uint64_t(ix_max_ - ix_min_) + 1, ny = std::uint64_t(iy_max_ - iy_min_) + 1;
     if (nx * ny > max_cells_) {
         std::ostringstream s;

@@ -68,8 +68,11 @@ CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m);
 /// Fills the cells of `z` (nx x ny, row-major) whose `known` is 0: rings of cells next to
 /// filled ones take the mean of their filled 8-neighbours, then successive
 /// over-relaxation moves the filled values towards the mean of their 4-neighbours (a
-/// membrane held by the known cells). Deterministic. Nothing known: `z` is left alone.
-void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny);
+/// membrane held by the known cells). `sweeps` 0: until the largest change anywhere is
+/// under 1 mm (at most 100 sweeps); > 0: exactly that many, so that a cell's value does
+/// not hang on how far the raster reaches (SmrfOptions::fill_sweeps). Deterministic.
+/// Nothing known: `z` is left alone.
+void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps = 0);
 
 class RasterFit : public TerrainFit {
   public:
@@ -86,6 +89,7 @@ class RasterFit : public TerrainFit {
     void setFitThreads(int threads) override { threads_ = std::max(1, threads); }
     void thicknessSamples(const glm::dvec2& lo, const glm::dvec2& hi, std::vector<double>& out) const override;
     void setGroundThickness(double sigma_m) override { fixed_sigma_m_ = sigma_m; }
+    void setExtent(const glm::dvec2& lo, const glm::dvec2& hi) override;
     /// Builds the ground-level surface over the cells the points touched (each cell's
     /// level from its lowest heights, cellLevel(), with the ground thickness estimated
     /// over all cells), then fitTerrain().
@@ -157,6 +161,8 @@ class RasterFit : public TerrainFit {
     /// with too few points, or too few near its lowest, to give one.
     bool cellSpread(const Cell& cell, double& spread_m) const;
     double fixed_sigma_m_ = -1;  // setGroundThickness()
+    // setExtent()'s cells (first > last: none given).
+    int extent_i0_ = 1, extent_i1_ = 0, extent_j0_ = 1, extent_j1_ = 0;
     void keepViewLow(std::uint64_t key, const ViewLow& low);
     void merge(const RasterFit& other);  // other's points, as if added here
     std::vector<Cell> tile_data_;

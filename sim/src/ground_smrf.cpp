@@ -216,7 +216,7 @@ class SmrfFit : public RasterFit {
     void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) override {
         const int w = grid_.nx, h = grid_.ny;
         std::vector<float> surface = minimum;
-        inpaint(surface, observed, w, h);
+        inpaint(surface, observed, w, h, o_.fill_sweeps);
 
         // 2) objects, by openings of growing radius.
         std::vector<std::uint8_t> object(minimum.size(), 0);
@@ -254,7 +254,7 @@ class SmrfFit : public RasterFit {
                 for (std::size_t c = 0; c < minimum.size(); ++c) known[c] = observed[c] && !variant_object[k][c];
                 if (std::find(known.begin(), known.end(), 1) == known.end()) known = observed;
                 variant_grids_[k].z_m = minimum;
-                inpaint(variant_grids_[k].z_m, known, w, h);
+                inpaint(variant_grids_[k].z_m, known, w, h, o_.fill_sweeps);
             }
         }
 
@@ -264,7 +264,7 @@ class SmrfFit : public RasterFit {
         if (o_.raised_segments) removeRaisedSegments(minimum, observed, ground, w, h, o_.cell_m);
         if (std::find(ground.begin(), ground.end(), 1) == ground.end()) ground = observed;
         grid_.z_m = std::move(minimum);
-        inpaint(grid_.z_m, ground, w, h);
+        inpaint(grid_.z_m, ground, w, h, o_.fill_sweeps);
 
         // 4)'s threshold per cell, so that classify() looks it up.
         limit_m_.resize(grid_.z_m.size());
@@ -326,6 +326,8 @@ void validate(const SmrfOptions& o) {
     if (o.max_cells < 1) failGroundOption("smrf max_cells", double(o.max_cells), ">= 1");
     if (!(std::isfinite(o.low_outlier_m) && o.low_outlier_m >= 0.0 && o.low_outlier_m <= 1000.0))
         failGroundOption("smrf low_outlier_m (--low-outlier-m)", o.low_outlier_m, "[0, 1000] metres, 0 = off");
+    if (o.fill_sweeps < 0 || o.fill_sweeps > 10000)
+        failGroundOption("smrf fill_sweeps", double(o.fill_sweeps), "[0, 10000], 0 = until settled");
 }
 
 std::unique_ptr<const CloudGroundFilter> makeSmrfFilter(const SmrfOptions& o) {

@@ -20,6 +20,8 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <utility>
+#include <vector>
 
 namespace sim {
 
@@ -120,8 +122,10 @@ class Tiler {
   public:
     // `survey`: the inputs' bounds in the survey's frame; tiles beyond them hold no point
     // of their own, so no buffer is spilled to them.
-    Tiler(const GroundTiling& t, std::filesystem::path scratch, const GroundBox& survey)
+    Tiler(const GroundTiling& t, double cell_m, std::filesystem::path scratch, const GroundBox& survey)
         : t_(t),
+          cell_m_(cell_m),
+          inv_cell_(1.0 / cell_m),
           scratch_(std::move(scratch)),
           kx_min_(index(survey.min.x)),
           kx_max_(index(survey.max.x)),
@@ -134,8 +138,14 @@ class Tiler {
     // spans [k T, (k + 1) T) and its buffer reaches `buffer_m` beyond, so those are the
     // tiles from the one holding x - buffer_m to the one holding x + buffer_m: more than
     // the next one where the buffer is wider than a tile.
-    void spill(core::CloudPoint p) {
+    void spill(core::CloudPoint p, std::size_t input) {
         const double x = p.position.x, y = p.position.y;
+        if (std::isfinite(p.position.z) && std::abs(x * inv_cell_) < 1e9 && std::abs(y * inv_cell_) < 1e9) {
+            if (input >= cells_.size()) cells_.resize(input + 1, {glm::dvec2(1e300), glm::dvec2(-1e300)});
+            const glm::dvec2 cell(std::floor(x * inv_cell_), std::floor(y * inv_cell_));
+            cells_[input].first = glm::min(cells_[input].first, cell);
+            cells_[input].second = glm::max(cells_[input].second, cell);
+        }
         const std::int64_t tx = index(x), ty = index(y);
         for (std::int64_t ky = index(y - t_.buffer_m); ky <= index(y + t_.buffer_m); ++ky)
             for (std::int64_t kx = index(x - t_.buffer_m); kx <= index(x + t_.buffer_m); ++kx) {
@@ -150,6 +160,24 @@ class Tiler {
     }
 
     std::map<std::uint64_t, Tile>& tiles() { return tiles_; }
+
+    // The extent of a tile's raster (TerrainFit::setExtent): the raster one run over the
+    // inputs that reach its buffer would have (the cells from the lowest to the highest
+    // their points touch), within that buffer. A tile's points may stop short of it (a
+    // survey's ragged edge), and the filling of the empty cells up to it moves the
+    // surface near that edge.
+    std::pair<glm::dvec2, glm::dvec2> rasterBox(const Tile& tile) const {
+        const glm::dvec2 lo = glm::dvec2(double(tile.tx), double(tile.ty)) * t_.tile_m - t_.buffer_m;
+        const glm::dvec2 hi = glm::dvec2(double(tile.tx + 1), double(tile.ty + 1)) * t_.tile_m + t_.buffer_m;
+        glm::dvec2 reach_lo(1e300), reach_hi(-1e300);
+        for (const auto& [first, last] : cells_) {
+            const glm::dvec2 a = first * cell_m_, b = (last + 1.0) * cell_m_;
+            if (b.x <= lo.x || a.x >= hi.x || b.y <= lo.y || a.y >= hi.y) continue;
+            reach_lo = glm::min(reach_lo, a);
+            reach_hi = glm::max(reach_hi, b);
+        }
+        return {glm::max(lo, reach_lo), glm::min(hi, reach_hi)};
+    }
 
   private:
     std::int64_t index(double v) const { return std::int64_t(std::floor(v / t_.tile_m)); }
@@ -169,6 +197,8 @@ class Tiler {
     }
 
     GroundTiling t_;
+    double cell_m_, inv_cell_;
+    std::vector<std::pair<glm::dvec2, glm::dvec2>> cells_;  // by input: the lowest and highest cell its points touched
     std::filesystem::path scratch_;
     std::int64_t kx_min_, kx_max_, ky_min_, ky_max_;  // the tiles the survey's bounds reach
     std::map<std::uint64_t, Tile> tiles_;
@@ -212,8 +242,9 @@ void tileSamples(Tile& tile, const GroundFileOptions& o, const GroundTiling& t, 
 // One tile: fitted on every point of its file with the survey's thickness, its own
 // points labelled in order.
 void runTile(Tile& tile, const GroundFileOptions& o, const GroundTiling& t, double thickness_m,
-             const std::filesystem::path& scratch) {
+             const std::pair<glm::dvec2, glm::dvec2>& box, const std::filesystem::path& scratch) {
     const std::unique_ptr<TerrainFit> fit = gather(tile, o, t);
+    fit->setExtent(box.first, box.second);
     fit->setGroundThickness(thickness_m);
     fit->setFitThreads(t.threads);
     fit->fit();
@@ -248,8 +279,9 @@ double medianThickness(std::vector<double>& samples) {
 
 // Every tile with points of its own, `jobs` at once: first the survey's ground thickness
 // from every tile's own cells, then each tile's fit and labels.
-void runTiles(std::map<std::uint64_t, Tile>& tiles, const GroundFileOptions& o, const GroundTiling& t,
-              const std::filesystem::path& scratch, const std::function<void(std::size_t)>& progress) {
+void runTiles(const Tiler& tiler, std::map<std::uint64_t, Tile>& tiles, const GroundFileOptions& o,
+              const GroundTiling& t, const std::filesystem::path& scratch,
+              const std::function<void(std::size_t)>& progress) {
     std::vector<Tile*> work;
     for (auto& [key, tile] : tiles) {
         if (tile.own > 0)
@@ -267,7 +299,8 @@ void runTiles(std::map<std::uint64_t, Tile>& tiles, const GroundFileOptions& o, 
     });
     for (const Tile* tile : work) progress(std::size_t(tile->own));
     const double thickness_m = medianThickness(samples);
-    platform::runJobs(work.size(), t.jobs, [&](std::size_t i) { runTile(*work[i], o, t, thickness_m, scratch); });
+    platform::runJobs(work.size(), t.jobs,
+                      [&](std::size_t i) { runTile(*work[i], o, t, thickness_m, tiler.rasterBox(*work[i]), scratch); });
     for (const Tile* tile : work) progress(std::size_t(tile->own));
 }
 
@@ -300,20 +333,20 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
         survey.min = glm::min(survey.min, box.min - glm::dvec2(origin) - cell);
         survey.max = glm::max(survey.max, box.max - glm::dvec2(origin) + cell);
     }
-    Tiler tiler(t, t.scratch_dir, survey);
+    Tiler tiler(t, cell, t.scratch_dir, survey);
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         io::CloudReader reader(inputs[i]);
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
             for (core::CloudPoint& p : chunk) {
                 moveBy(p, shifts[i]);
-                tiler.spill(p);
+                tiler.spill(p, i);
             }
             progress(chunk.size());
         });
     }
     // Pass 2: the tiles.
     auto& tiles = tiler.tiles();
-    runTiles(tiles, o, t, t.scratch_dir, progress);
+    runTiles(tiler, tiles, o, t, t.scratch_dir, progress);
     st.tiles = 0;
     for (const auto& [key, tile] : tiles) {
         if (tile.own == 0) continue;

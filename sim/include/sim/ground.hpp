@@ -56,6 +56,11 @@ struct SmrfOptions {
     /// twice the window, a bridge deck) is an object too. Off as the generator runs it
     /// (`ladarvr ground` sets it): it lowered the mean total error on the ISPRS samples.
     bool raised_segments = false;
+    /// Ours: the hole filling's relaxation runs exactly this many sweeps; 0 = until the
+    /// largest change over the whole raster is under 1 mm, as the generator runs it.
+    /// A fixed count (`ladarvr ground` sets kSurveyFillSweeps) makes a filled cell the
+    /// same whether the raster is one tile with its buffer or the whole survey.
+    int fill_sweeps = 0;
 };
 
 /// Cloth simulation filter (Zhang, Qi, Wan, Wang, Xie, Wang, Yan 2016, "An easy-to-use
@@ -188,6 +193,11 @@ class TerrainFit {
     /// Before fit(): the ground thickness to use instead of the one measured (the median
     /// of the whole survey's thicknessSamples); < 0 measures it (the default).
     virtual void setGroundThickness(double sigma_m) { (void)sigma_m; }
+    /// Before fit(): the raster spans at least the cells whose centres lie in [lo, hi)
+    /// (x-y), empty ones included, besides those the points touched. A tile gives the
+    /// survey's cells within its buffer, so that its raster ends where one run over the
+    /// whole survey has its own, not where the tile's points happen to stop.
+    virtual void setExtent(const glm::dvec2& lo, const glm::dvec2& hi) { (void)lo, (void)hi; }
 };
 
 /// A per-view filter (RANSAC): the generator labels each view's points as the view is

@@ -24,6 +24,8 @@ namespace sim {
 /// How far below the ground around it a return is a low outlier in a real survey
 /// (SmrfOptions::low_outlier_m): the best single value on the ISPRS samples.
 inline constexpr double kSurveyLowOutlier_m = 6.0;
+/// The hole filling's sweeps in a real survey (SmrfOptions::fill_sweeps).
+inline constexpr int kSurveyFillSweeps = 100;
 /// SMRF's options for real airborne surveys: PDAL's defaults (the best one set of cell,
 /// slope, window, threshold and scalar on the ISPRS samples) with low outliers left out.
 SmrfOptions surveySmrfOptions();
