@@ -24,7 +24,7 @@
 namespace {
 
 constexpr std::size_t kFeatures = 52;  // the shipped model's features (the second set), the seeds' num_feature
-constexpr std::size_t kMaxBytes = std::size_t(1) << 20;  // the seeds are at most 133 KB
+constexpr std::size_t kMaxBytes = std::size_t(1) << 20;  // the seeds are at most 155 KB
 
 bool verbose() {
     static const bool v = std::getenv("LADARVR_FUZZ_VERBOSE") != nullptr;

@@ -67,14 +67,16 @@ run_one() {
       seeds=("$repo"/fuzz/seeds/las_crs/*)
       dict="$repo/fuzz/crs.dict"; max_len=4096 ;;
     fuzz_detect_model)
-      # The shipped model (133 KB) is cut at max_len; the small seeds cover its structure.
+      # The shipped model (155 KB) is cut at max_len; the small seeds cover its structure.
       seeds=("$repo"/fuzz/seeds/model/*)
       dict="$repo/fuzz/model.dict"; max_len=8192 ;;
     fuzz_view_replay)
       seeds=("$repo"/fuzz/seeds/replay/*)
       dict="$repo/fuzz/replay.dict"; max_len=4096 ;;
   esac
-  for s in "${seeds[@]}"; do [ -f "$s" ] && cp -n "$s" "$corpus/" 2>/dev/null || true; done
+  # A seed replaces its earlier copy, so a seed remade since the last run (the shipped
+  # model retrained, its cuts remade) is fuzzed as it is now, not as it was.
+  for s in "${seeds[@]}"; do [ -f "$s" ] && cp "$s" "$corpus/" 2>/dev/null || true; done
   set +e
   "$build/fuzz/$t" "$corpus" -dict="$dict" -max_len=$max_len -max_total_time="$seconds" \
     -rss_limit_mb=$rss_limit_mb -malloc_limit_mb=$malloc_limit_mb -timeout=10 -print_final_stats=1 \
