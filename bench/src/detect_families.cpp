@@ -84,6 +84,9 @@ FamilyConfig configFor(const std::string& name) {
 
 // The keep fractions the evaluation clouds are thinned to (1: the cloud as generated).
 constexpr double kKeepFractions[] = {1.0, 0.3, 0.1, 0.03, 0.01};
+// Each training cloud is also described thinned to these fractions of its points, so the
+// models learn vehicles at the sparse end of the density range too.
+constexpr double kTrainKeepFractions[] = {0.1, 0.02};
 
 // A SPEC for a corpus of `scene` whose target is one of `files`: moved, turned, seen from
 // varied orbits within the shorter-ranged preset's reach, by the ideal sensor or a preset.
@@ -149,8 +152,8 @@ struct Detectors {
     std::shared_ptr<const detect::BoostedModel> all;                   // trained on every family
 };
 
-// Describes every training item once and trains a model per family without it, and one
-// on all; `report` receives the last (all families) training's report. With `models_dir`,
+// Describes every training item once (as generated and thinned to kTrainKeepFractions)
+// and trains a model per family without it, and one on all; `report` receives the last (all families) training's report. With `models_dir`,
 // each model is written there too (without_<family>.ldm, all.ldm).
 Detectors trainModels(const std::vector<Family>& families, int threads, const fs::path& models_dir,
                       detect::TrainReport& report) {
@@ -162,8 +165,14 @@ Detectors trainModels(const std::vector<Family>& families, int threads, const fs
         for (const fs::path& dir : families[f].train_dirs) {
             const detect::CorpusListing l = detect::listCorpus(dir);
             manifests[f].push_back(l.manifest_sha256);
-            for (std::size_t k = 0; k < l.ids.size(); ++k)
-                items[f].push_back(detect::describeLabelledCloud(io::readCloud(l.cloud(k)), l.cloud(k).string(), to));
+            for (std::size_t k = 0; k < l.ids.size(); ++k) {
+                const core::PointCloud c = io::readCloud(l.cloud(k));
+                items[f].push_back(detect::describeLabelledCloud(c, l.cloud(k).string(), to));
+                for (std::size_t t = 0; t < std::size(kTrainKeepFractions); ++t)
+                    items[f].push_back(detect::describeLabelledCloud(
+                        thinCloud(c, kTrainKeepFractions[t], 77 + 1000 * items[f].size() + t),
+                        l.cloud(k).string() + " thinned to " + fmt("%g", kTrainKeepFractions[t]), to));
+            }
         }
     // A family's items are interleaved with the others' (item k of each family in turn),
     // so that the calibration's held-out fifth draws from every family.
@@ -503,7 +512,10 @@ std::string describeConfig(const std::string& name, const FamilyConfig& cfg, std
     s << "), " << cfg.views
       << " views of 128 x 128 rays from 200 to 300 m up, each item seen by the ideal sensor or a preset; the "
          "training items also from lower orbits and with fewer rays (100 to 300 m up, 64 or 128 rays across: "
-         "denser and sparser clouds). Real places: training items per family and place "
+         "denser and sparser clouds), and each training cloud also thinned at random to keep";
+    for (std::size_t k = 0; k < std::size(kTrainKeepFractions); ++k)
+        s << (k ? " and " : " ") << fmt("%g", kTrainKeepFractions[k]);
+    s << " of its points (each a training item of its own). Real places: training items per family and place "
       << cfg.place_train_items << " (";
     for (std::size_t k = 0; k < cfg.train_places.size(); ++k) s << (k ? ", " : "") << cfg.train_places[k];
     s << "), evaluation items per family and place " << cfg.place_eval_items << " (";
