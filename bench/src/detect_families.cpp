@@ -92,26 +92,9 @@ constexpr double kTrainKeepFractions[] = {0.1, 0.02};
 // varied orbits within the shorter-ranged preset's reach, by the ideal sensor or a preset.
 nlohmann::json familySpec(const fs::path& assets, const std::string& scene, const std::vector<std::string>& files,
                           int count, std::uint64_t seed, int views, bool densities) {
-    const int reach_m = scene == "slopes" ? 20 : 40;
-    nlohmann::json spec = {{"scene", (assets / scene / "scene.json").string()},
-                           {"count", count},
-                           {"seed", seed},
-                           {"vary",
-                            {{"target_yaw_deg", {{"min", 0}, {"max", 360}}},
-                             {"target_offset_m", {{"min", 0}, {"max", reach_m}}},
-                             {"target_files", files},
-                             {"environment_keep_fraction", {{"min", 0.6}, {"max", 1.0}}},
-                             {"sensor_preset", {"ideal", "riegl-vux1uav", "livox-avia"}},
-                             {"altitude_m", {{"min", 200}, {"max", 300}}},
-                             {"alpha_deg", {{"min", 30}, {"max", 45}}},
-                             {"views", views},
-                             {"resolution", 128}}}};
-    // Training across densities: lower orbits (denser clouds) and a quarter of the rays
-    // (sparser ones) beside the evaluation's.
-    if (densities) {
-        spec["vary"]["altitude_m"] = {{"min", 100}, {"max", 300}};
-        spec["vary"]["resolution"] = {64, 128};
-    }
+    nlohmann::json spec = vehicleSpec((assets / scene / "scene.json").string(), files, count, seed, views, densities,
+                                      scene == "slopes" ? 20 : 40);
+    spec["vary"]["environment_keep_fraction"] = {{"min", 0.6}, {"max", 1.0}};
     return spec;
 }
 

@@ -67,12 +67,11 @@ RealPlace makeRealPlace(const std::string& name, const fs::path& dir, const fs::
     return place;
 }
 
-nlohmann::json placeSpec(const RealPlace& place, const std::vector<std::string>& files, int count, std::uint64_t seed,
-                         int views, bool densities, int reach_m) {
-    nlohmann::json spec = {{"scene", place.scene.string()},
+nlohmann::json vehicleSpec(const std::string& scene, const std::vector<std::string>& files, int count,
+                           std::uint64_t seed, int views, bool densities, int reach_m) {
+    nlohmann::json spec = {{"scene", scene},
                            {"count", count},
                            {"seed", seed},
-                           {"placement", "triangles"},
                            {"vary",
                             {{"target_yaw_deg", {{"min", 0}, {"max", 360}}},
                              {"target_offset_m", {{"min", 0}, {"max", reach_m}}},
@@ -82,10 +81,19 @@ nlohmann::json placeSpec(const RealPlace& place, const std::vector<std::string>&
                              {"alpha_deg", {{"min", 30}, {"max", 45}}},
                              {"views", views},
                              {"resolution", 128}}}};
+    // Training across densities: lower orbits (denser clouds) and a quarter of the rays
+    // (sparser ones) beside the evaluation's.
     if (densities) {
         spec["vary"]["altitude_m"] = {{"min", 100}, {"max", 300}};
         spec["vary"]["resolution"] = {64, 128};
     }
+    return spec;
+}
+
+nlohmann::json placeSpec(const RealPlace& place, const std::vector<std::string>& files, int count, std::uint64_t seed,
+                         int views, bool densities, int reach_m) {
+    nlohmann::json spec = vehicleSpec(place.scene.string(), files, count, seed, views, densities, reach_m);
+    spec["placement"] = "triangles";
     return spec;
 }
 

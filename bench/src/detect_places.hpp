@@ -33,6 +33,12 @@ struct RealPlace {
 RealPlace makeRealPlace(const std::string& name, const std::filesystem::path& dir, const std::filesystem::path& vehicle,
                         double voxel_m, std::uint64_t seed);
 
+/// A corpus SPEC of `scene` (a scene.json) whose target is one of `files`, moved up to
+/// `reach_m` and turned, seen from orbits 200 to 300 m up by the ideal sensor or a
+/// preset; with `densities` (training), from 100 to 300 m and with 64 or 128 rays across.
+nlohmann::json vehicleSpec(const std::string& scene, const std::vector<std::string>& files, int count,
+                           std::uint64_t seed, int views, bool densities, int reach_m);
+
 /// A corpus SPEC on a real place: `placement` "triangles" (only the boxes near the target
 /// block it), the target one of `files`, moved up to `reach_m` and turned, seen from
 /// orbits 200 to 300 m up by the ideal sensor or a preset; with `densities` (training), from
