@@ -153,13 +153,20 @@ std::vector<std::uint32_t> segmentCells(const std::vector<float>& level, const s
     return parent;
 }
 
-// Takes the raised segments (above) out of `ground`.
+// A segment's bounding box in cells, inclusive.
+struct SegmentBox {
+    int i0, i1, j0, j1;
+};
+
+// Takes the raised segments (above) out of `ground`; `tested` gets the boxes of the
+// segments whose test a wider raster could turn (below).
 void removeRaisedSegments(const std::vector<float>& level, const std::vector<std::uint8_t>& observed,
-                          std::vector<std::uint8_t>& ground, int w, int h, double cell_m) {
+                          std::vector<std::uint8_t>& ground, int w, int h, double cell_m,
+                          std::vector<SegmentBox>& tested) {
     std::uint32_t count = 0;
     const std::vector<std::uint32_t> segment = segmentCells(level, observed, w, h, cell_m, count);
     struct Tally {
-        std::uint32_t cells = 0, ground = 0, border = 0, drops = 0;
+        std::uint32_t cells = 0, ground = 0, border = 0, drops = 0, beyond = 0;
     };
     std::vector<Tally> tally(count);
     for (std::size_t c = 0; c < segment.size(); ++c)
@@ -178,6 +185,7 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
                     const int ii = i + di, jj = j + dj;
                     if (ii < 0 || ii >= w || jj < 0 || jj >= h) {  // beyond the data: not seen to drop
                         ++tally[s].border;
+                        ++tally[s].beyond;
                         continue;
                     }
                     const std::size_t d = std::size_t(jj) * std::size_t(w) + std::size_t(ii);
@@ -189,6 +197,23 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
                         ++tally[s].drops;
                 }
         }
+    std::vector<SegmentBox> box(count, SegmentBox{w, -1, h, -1});
+    for (std::size_t c = 0; c < segment.size(); ++c) {
+        if (segment[c] == kNoSegment) continue;
+        SegmentBox& b = box[segment[c]];
+        const int i = int(c % std::size_t(w)), j = int(c / std::size_t(w));
+        b = {std::min(b.i0, i), std::max(b.i1, i), std::min(b.j0, j), std::max(b.j1, j)};
+    }
+    // Those that could be raised seen whole: the drops on at least kSegmentDropShare / 2
+    // of the border within the raster (a stretch of ground, with few or none, is not
+    // worth a wider look).
+    tested.clear();
+    for (std::uint32_t s = 0; s < count; ++s) {
+        const Tally& t = tally[s];
+        if (t.ground > 0 && t.border > t.beyond && double(t.cells) * cell_area_m2 <= kSegmentMaxArea_m2 &&
+            double(t.drops) >= 0.5 * kSegmentDropShare * double(t.border - t.beyond))
+            tested.push_back(box[s]);
+    }
     for (std::size_t c = 0; c < segment.size(); ++c) {
         if (segment[c] == kNoSegment) continue;
         const Tally& t = tally[segment[c]];
@@ -261,7 +286,7 @@ class SmrfFit : public RasterFit {
         // 3) the terrain from the cells that are ground.
         std::vector<std::uint8_t> ground(minimum.size());
         for (std::size_t c = 0; c < minimum.size(); ++c) ground[c] = observed[c] && !object[c];
-        if (o_.raised_segments) removeRaisedSegments(minimum, observed, ground, w, h, o_.cell_m);
+        if (o_.raised_segments) removeRaisedSegments(minimum, observed, ground, w, h, o_.cell_m, tested_);
         if (std::find(ground.begin(), ground.end(), 1) == ground.end()) ground = observed;
         grid_.z_m = std::move(minimum);
         inpaint(grid_.z_m, ground, w, h, o_.fill_sweeps);
@@ -275,8 +300,23 @@ class SmrfFit : public RasterFit {
                           o_.scalar * grid_.slopeAt(grid_.x0_m + i * o_.cell_m, grid_.y0_m + j * o_.cell_m));
     }
 
+  public:
+    void testedPatches(const glm::dvec2& lo, const glm::dvec2& hi, double reach_m,
+                       std::vector<std::pair<glm::dvec2, glm::dvec2>>& out) const override {
+        for (const SegmentBox& b : tested_) {
+            // The cells' edges: cell i spans x0_m + (i -+ 0.5) cell_m.
+            const glm::dvec2 a(grid_.x0_m + (b.i0 - 0.5) * o_.cell_m, grid_.y0_m + (b.j0 - 0.5) * o_.cell_m);
+            const glm::dvec2 z(grid_.x0_m + (b.i1 + 0.5) * o_.cell_m, grid_.y0_m + (b.j1 + 0.5) * o_.cell_m);
+            if (z.x <= lo.x - reach_m || a.x >= hi.x + reach_m || z.y <= lo.y - reach_m || a.y >= hi.y + reach_m)
+                continue;
+            out.emplace_back(a, z);
+        }
+    }
+
+  private:
     SmrfOptions o_;
     std::vector<SmrfVariant> variants_;
+    std::vector<SegmentBox> tested_;  // removeRaisedSegments()'s
 };
 
 class SmrfTerrainsFit final : public SmrfTerrains {

@@ -160,6 +160,8 @@ class Tiler {
     }
 
     std::map<std::uint64_t, Tile>& tiles() { return tiles_; }
+    const std::map<std::uint64_t, Tile>& tiles() const { return tiles_; }
+    std::int64_t index(double v) const { return std::int64_t(std::floor(v / t_.tile_m)); }
 
     // The extent of a tile's raster (TerrainFit::setExtent): the raster one run over the
     // inputs that reach its buffer would have (the cells from the lowest to the highest
@@ -169,6 +171,11 @@ class Tiler {
     std::pair<glm::dvec2, glm::dvec2> rasterBox(const Tile& tile) const {
         const glm::dvec2 lo = glm::dvec2(double(tile.tx), double(tile.ty)) * t_.tile_m - t_.buffer_m;
         const glm::dvec2 hi = glm::dvec2(double(tile.tx + 1), double(tile.ty + 1)) * t_.tile_m + t_.buffer_m;
+        return clip(lo, hi);
+    }
+
+    // [lo, hi) within the cells of the inputs that reach it.
+    std::pair<glm::dvec2, glm::dvec2> clip(const glm::dvec2& lo, const glm::dvec2& hi) const {
         glm::dvec2 reach_lo(1e300), reach_hi(-1e300);
         for (const auto& [first, last] : cells_) {
             const glm::dvec2 a = first * cell_m_, b = (last + 1.0) * cell_m_;
@@ -180,8 +187,6 @@ class Tiler {
     }
 
   private:
-    std::int64_t index(double v) const { return std::int64_t(std::floor(v / t_.tile_m)); }
-
     Tile& at(std::uint64_t key) {
         auto it = tiles_.find(key);
         if (it != tiles_.end()) return it->second;
@@ -239,15 +244,81 @@ void tileSamples(Tile& tile, const GroundFileOptions& o, const GroundTiling& t, 
     fit->thicknessSamples(lo, lo + glm::dvec2(t.tile_m), out);
 }
 
-// One tile: fitted on every point of its file with the survey's thickness, its own
-// points labelled in order.
-void runTile(Tile& tile, const GroundFileOptions& o, const GroundTiling& t, double thickness_m,
-             const std::pair<glm::dvec2, glm::dvec2>& box, const std::filesystem::path& scratch) {
-    const std::unique_ptr<TerrainFit> fit = gather(tile, o, t);
-    fit->setExtent(box.first, box.second);
-    fit->setGroundThickness(thickness_m);
-    fit->setFitThreads(t.threads);
-    fit->fit();
+// A fit on the own points of every tile that lie in [box.first, box.second): a buffer
+// wider than the one spilled.
+std::unique_ptr<TerrainFit> gatherBox(const Tiler& tiler, const std::pair<glm::dvec2, glm::dvec2>& box,
+                                      const GroundFileOptions& o, const GroundTiling& t) {
+    std::unique_ptr<TerrainFit> fit = startFit(o, t.max_cells);
+    const auto& [lo, hi] = box;
+    std::vector<core::CloudPoint> chunk;
+    for (std::int64_t ky = tiler.index(lo.y); ky <= tiler.index(hi.y); ++ky)
+        for (std::int64_t kx = tiler.index(lo.x); kx <= tiler.index(hi.x); ++kx) {
+            const auto it = tiler.tiles().find(tileKey(kx, ky));
+            if (it == tiler.tiles().end() || !it->second.spill || it->second.own == 0) continue;
+            const Tile& other = it->second;
+            for (std::uint64_t at = 0; at < other.all;) {
+                const std::size_t n = std::size_t(std::min<std::uint64_t>(other.all - at, kSpillChunk));
+                chunk.resize(n);
+                other.spill->readAt(chunk.data(), n * sizeof(core::CloudPoint), at * sizeof(core::CloudPoint));
+                at += n;
+                std::erase_if(chunk, [&](const core::CloudPoint& p) {
+                    return p.reserved == 0 || p.position.x < lo.x || p.position.x >= hi.x || p.position.y < lo.y ||
+                           p.position.y >= hi.y;
+                });
+                for (core::CloudPoint& p : chunk) p.reserved = 0;
+                addToFit(*fit, chunk, t.threads);
+            }
+        }
+    return fit;
+}
+
+// A tile is fitted again, at most kMaxRefits times, over the whole of a patch that the
+// raised-segment test decided near it (within kCutCells cells of its square) when the
+// patch comes within kCutCells cells of an edge of its raster beyond which the survey
+// goes on: the test sees a patch whole or not at all, and a cut one has another area and
+// border. kCutCells: the low-outlier test's reach over its rounds (20 cells), within
+// which a level near the cut differs from the untiled run's, and the segments' joining.
+constexpr int kMaxRefits = 4;
+constexpr double kCutCells = 22;
+
+// One tile: fitted on every point of its file with the survey's thickness (again over a
+// wider box where a patch needs it, above), its own points labelled in order.
+void runTile(Tile& tile, const Tiler& tiler, const GroundFileOptions& o, const GroundTiling& t, double thickness_m,
+             double cell_m, const std::filesystem::path& scratch) {
+    std::pair<glm::dvec2, glm::dvec2> box = tiler.rasterBox(tile);
+    std::unique_ptr<TerrainFit> fit = gather(tile, o, t);
+    const auto finish = [&] {
+        fit->setExtent(box.first, box.second);
+        fit->setGroundThickness(thickness_m);
+        fit->setFitThreads(t.threads);
+        fit->fit();
+    };
+    finish();
+    const glm::dvec2 own_lo = glm::dvec2(double(tile.tx), double(tile.ty)) * t.tile_m;
+    const double margin_m = kCutCells * cell_m;
+    std::vector<std::pair<glm::dvec2, glm::dvec2>> patches;
+    for (int refit = 0; refit < kMaxRefits; ++refit) {
+        patches.clear();
+        fit->testedPatches(own_lo, own_lo + t.tile_m, margin_m, patches);
+        // The sides beyond which the survey goes on.
+        const auto wider = tiler.clip(box.first - cell_m, box.second + cell_m);
+        const glm::bvec2 cut_lo = glm::lessThan(wider.first, box.first);
+        const glm::bvec2 cut_hi = glm::greaterThan(wider.second, box.second);
+        glm::dvec2 lo = box.first, hi = box.second;
+        for (const auto& [a, b] : patches) {
+            if (!((cut_lo.x && a.x < box.first.x + margin_m) || (cut_lo.y && a.y < box.first.y + margin_m) ||
+                  (cut_hi.x && b.x > box.second.x - margin_m) || (cut_hi.y && b.y > box.second.y - margin_m)))
+                continue;
+            lo = glm::min(lo, a - t.buffer_m);
+            hi = glm::max(hi, b + t.buffer_m);
+        }
+        const auto grown = tiler.clip(lo, hi);
+        const glm::dvec2 cells = (grown.second - grown.first) / cell_m + 2.0;
+        if (grown == box || cells.x * cells.y > double(t.max_cells)) break;
+        box = grown;
+        fit = gatherBox(tiler, box, o, t);
+        finish();
+    }
     tile.nx = fit->surface().nx;
     tile.ny = fit->surface().ny;
     tile.results.emplace(scratch, "ground tiles");
@@ -265,7 +336,6 @@ void runTile(Tile& tile, const GroundFileOptions& o, const GroundTiling& t, doub
             tile.results->append(bytes, kResultBytes);
         }
     });
-    tile.spill.reset();
     tile.results->rewind();
 }
 
@@ -279,14 +349,15 @@ double medianThickness(std::vector<double>& samples) {
 
 // Every tile with points of its own, `jobs` at once: first the survey's ground thickness
 // from every tile's own cells, then each tile's fit and labels.
-void runTiles(const Tiler& tiler, std::map<std::uint64_t, Tile>& tiles, const GroundFileOptions& o,
-              const GroundTiling& t, const std::filesystem::path& scratch,
-              const std::function<void(std::size_t)>& progress) {
+void runTiles(Tiler& tiler, const GroundFileOptions& o, const GroundTiling& t, double cell_m,
+              const std::filesystem::path& scratch, const std::function<void(std::size_t)>& progress) {
+    std::map<std::uint64_t, Tile>& tiles = tiler.tiles();
     std::vector<Tile*> work;
     for (auto& [key, tile] : tiles) {
-        if (tile.own > 0)
+        if (tile.own > 0) {
+            tile.spill->flush();  // readable by the other tiles' wider fits
             work.push_back(&tile);
-        else
+        } else
             tile.spill.reset();  // only the buffer of others
     }
     std::mutex mutex;
@@ -299,9 +370,13 @@ void runTiles(const Tiler& tiler, std::map<std::uint64_t, Tile>& tiles, const Gr
     });
     for (const Tile* tile : work) progress(std::size_t(tile->own));
     const double thickness_m = medianThickness(samples);
+    // A tile's wider fit reads the others' files: they go once every tile is done.
     platform::runJobs(work.size(), t.jobs,
-                      [&](std::size_t i) { runTile(*work[i], o, t, thickness_m, tiler.rasterBox(*work[i]), scratch); });
-    for (const Tile* tile : work) progress(std::size_t(tile->own));
+                      [&](std::size_t i) { runTile(*work[i], tiler, o, t, thickness_m, cell_m, scratch); });
+    for (Tile* tile : work) {
+        tile->spill.reset();
+        progress(std::size_t(tile->own));
+    }
 }
 
 }  // namespace
@@ -346,7 +421,7 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
     }
     // Pass 2: the tiles.
     auto& tiles = tiler.tiles();
-    runTiles(tiler, tiles, o, t, t.scratch_dir, progress);
+    runTiles(tiler, o, t, cell, t.scratch_dir, progress);
     st.tiles = 0;
     for (const auto& [key, tile] : tiles) {
         if (tile.own == 0) continue;

@@ -13,6 +13,7 @@
 #include <memory>
 #include <span>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace sim {
@@ -198,6 +199,14 @@ class TerrainFit {
     /// survey's cells within its buffer, so that its raster ends where one run over the
     /// whole survey has its own, not where the tile's points happen to stop.
     virtual void setExtent(const glm::dvec2& lo, const glm::dvec2& hi) { (void)lo, (void)hi; }
+    /// After fit(): appends to `out` the boxes (x-y, lo and hi) of the patches that a step
+    /// without a bounded reach tested (SMRF's raised segments) and that come within
+    /// `reach_m` of [lo, hi); nothing for a filter without such a step. A tile whose
+    /// raster cuts such a patch is fitted again over all of it (sim/ground_tiles.hpp).
+    virtual void testedPatches(const glm::dvec2& lo, const glm::dvec2& hi, double reach_m,
+                               std::vector<std::pair<glm::dvec2, glm::dvec2>>& out) const {
+        (void)lo, (void)hi, (void)reach_m, (void)out;
+    }
 };
 
 /// A per-view filter (RANSAC): the generator labels each view's points as the view is

@@ -7,6 +7,8 @@
 // the neighbours' whose buffer it is in), each tile is then fitted and labelled from its
 // file alone (several at once), and a last pass reads the inputs again and writes them
 // out with their tile's labels, so the memory is a few rasters and chunks, not the points.
+// A tile whose raster cuts a patch that SMRF's raised-segment test could decide otherwise
+// seen whole is fitted again over the patch, from the other tiles' files.
 // A folder of tiles (one output per input) uses each input as a tile and the inputs
 // whose bounds touch it as its buffer.
 #pragma once
