@@ -605,7 +605,7 @@ std::string runFamilyComparison(const FamilyBenchOptions& o) {
       << "Per family held out, on that family's evaluation clouds: the target ranked 1st, in the top 3, and the "
          "false candidates per cloud at the highest threshold that still finds 90 % of the targets, for the model "
          "trained without the family, the model trained on all families (other vehicles of the same family), the "
-         "shipped model (assets/detect/model.ldm: the tank, an APC and a van) and the clustering baseline. The "
+         "shipped model (assets/detect/model.ldm, scripts/train_shipped_model.sh) and the clustering baseline. The "
          "goal: for every family held out, 1st in at least 90 % of clouds, in the top 3 in at least 98 %, at most 1 "
          "false candidate per cloud at 90 %; the same on the real places.\n\n"
       << familyTable(families, ranked.scenes, shipped != nullptr) << "\n"
