@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -164,11 +165,39 @@ TEST_CASE("SMRF options are checked, naming the option and what is allowed") {
     o = {};
     o.scalar = INFINITY;
     CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("--smrf-scalar"), core::Error);
+    o = {};
+    o.fill_sweeps = -1;
+    CHECK_THROWS_WITH_AS(sim::validate(o), doctest::Contains("fill_sweeps = -1: allowed [0, 10000]"), core::Error);
     // A cloud wider than the raster may hold is refused, naming the cell size.
     o = {};
     o.max_cells = 100;
     std::vector<glm::vec3> wide{{0, 0, 0}, {50, 50, 0}};
     CHECK_THROWS_WITH_AS(sim::findGroundSmrf(wide, o), doctest::Contains("--smrf-cell-m"), core::Error);
+}
+
+TEST_CASE("a raster given an extent spans it, the empty cells filled, as a tile spans its buffer") {
+    // Flat ground on [0, 10) x [0, 10); the extent [-5, 20) x [-3, 12) holds the cells whose
+    // centres lie in it: 25 x 15 of 1 m, the first at (-4.5, -2.5).
+    std::vector<core::CloudPoint> points;
+    for (int j = 0; j < 20; ++j)
+        for (int i = 0; i < 20; ++i) {
+            core::CloudPoint p;
+            p.position = {0.25f + 0.5f * float(i), 0.25f + 0.5f * float(j), 2.0f};
+            points.push_back(p);
+        }
+    const std::unique_ptr<sim::TerrainFit> fit = sim::startSmrf(sim::SmrfOptions{});
+    fit->add(points);
+    fit->setExtent({-5.0, -3.0}, {20.0, 12.0});
+    fit->fit();
+    const sim::TerrainGrid& grid = fit->surface();
+    CHECK(grid.nx == 25);
+    CHECK(grid.ny == 15);
+    CHECK(grid.x0_m == doctest::Approx(-4.5));
+    CHECK(grid.y0_m == doctest::Approx(-2.5));
+    CHECK(grid.observed_cells == 100);
+    CHECK(grid.at(0, 0) == doctest::Approx(2.0));  // filled from the ground, 5 cells away
+    float h = 0;
+    CHECK(fit->classify(points.front(), h));
 }
 
 TEST_CASE("an empty cloud fits an empty terrain and no point is ground") {
