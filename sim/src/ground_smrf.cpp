@@ -20,9 +20,11 @@
 //
 // The paper fills cells with a spring-metaphor inpainting; ours is its membrane
 // analogue: a breadth-first fill from the known cells (each new ring takes the mean of
-// its known neighbours) relaxed by Gauss-Seidel iterations of Laplace's equation. The
-// paper's low-outlier pass is left out: simulated returns have no low noise (for real
-// surveys RasterFit has its own, SmrfOptions::low_outlier_m, off by default).
+// its known neighbours) relaxed by Gauss-Seidel iterations of Laplace's equation (until
+// settled, or a fixed number of sweeps with SmrfOptions::fill_sweeps, so that a tile's
+// filled cells are the whole survey's). The paper's low-outlier pass is left out:
+// simulated returns have no low noise (for real surveys RasterFit has its own,
+// SmrfOptions::low_outlier_m, off by default).
 //
 // Only the per-cell minima depend on the points, and a minimum does not depend on the
 // order it is taken in, so the result is the same whatever the batching or the threads.
