@@ -15,22 +15,33 @@
 
 namespace {
 
-// Two trees: the first splits on feature 0 at 0.25 (left 1.5, right -2), the second is a leaf.
-sim::GroundModel tinyModel() {
-    sim::GroundModel m;
+// A tree of one split on feature 0 at `threshold`: `below` to the left (and for a missing
+// value), `above` to the right.
+sim::GroundTree stump(float threshold, float below, float above) {
     sim::GroundTree t;
     t.feature = {0, -1, -1};
-    t.value = {0.25f, 1.5f, -2.0f};
+    t.value = {threshold, below, above};
     t.left = {1, 0, 0};
     t.right = {2, 0, 0};
     t.default_left = {1, 0, 0};
-    m.trees.push_back(t);
+    return t;
+}
+
+// A tree that is one leaf of `value`.
+sim::GroundTree leafTree(float value) {
     sim::GroundTree leaf;
     leaf.feature = {-1};
-    leaf.value = {0.1234567f};
+    leaf.value = {value};
     leaf.left = leaf.right = {0};
     leaf.default_left = {0};
-    m.trees.push_back(leaf);
+    return leaf;
+}
+
+// Two trees: the first splits on feature 0 at 0.25 (left 1.5, right -2), the second is a leaf.
+sim::GroundModel tinyModel() {
+    sim::GroundModel m;
+    m.trees.push_back(stump(0.25f, 1.5f, -2.0f));
+    m.trees.push_back(leafTree(0.1234567f));
     return m;
 }
 
@@ -115,20 +126,9 @@ TEST_CASE("ground learned: the features of a box on a plane say how high it stan
     // One tree: a point more than 1 m above SMRF's terrain is not ground (logit -3), any
     // other is (+3); and a tree that calls every point ground with a logit of 0.5.
     sim::GroundModel cut;
-    sim::GroundTree t;
-    t.feature = {0, -1, -1};
-    t.value = {1.0f, 3.0f, -3.0f};
-    t.left = {1, 0, 0};
-    t.right = {2, 0, 0};
-    t.default_left = {1, 0, 0};
-    cut.trees.push_back(t);
+    cut.trees.push_back(stump(1.0f, 3.0f, -3.0f));
     sim::GroundModel all_ground;
-    sim::GroundTree leaf;
-    leaf.feature = {-1};
-    leaf.value = {0.5f};
-    leaf.left = leaf.right = {0};
-    leaf.default_left = {0};
-    all_ground.trees.push_back(leaf);
+    all_ground.trees.push_back(leafTree(0.5f));
     const auto run = [&](const sim::GroundModel& m, double confidence) {
         const std::unique_ptr<sim::TerrainFit> fit =
             sim::startLearned(o, std::make_shared<const sim::GroundModel>(m), confidence);
