@@ -5,6 +5,7 @@
 # (docs/detect.md, "The trained detector").
 #
 #   scripts/train_shipped_model.sh [--work DIR] [--out MODEL] [--jobs K]
+#   scripts/train_shipped_model.sh --scenes-to DIR
 #
 # --work (default /tmp/ladarvr-shipped-model) receives the corpora (about 4 GB; a rerun
 # resumes them, and finished corpora are kept, so training again costs only `train`);
@@ -12,7 +13,9 @@
 # builds at once. The vehicles and the real places' scenes are written under
 # assets/detect/generated/ (ignored by git: the SPECs name them there). Every step runs at
 # nice 19. LADARVR names the ladarvr command (default: the repository's ./ladarvr wrapper;
-# inside `./ladarvr shell`, build/release/app/ladarvr).
+# inside `./ladarvr shell`, build/release/app/ladarvr). --scenes-to DIR makes only the
+# vehicles and the real places' scenes (steps 1 and 2), under DIR instead of
+# assets/detect/generated, and stops: scripts/time_training.sh builds its own corpora on them.
 #
 # The vehicles are scripts/make_vehicles.py's seed 2: `bench detect --families` evaluates
 # the vehicles of seed 1, which this model never sees. The real places are the surveys of
@@ -23,20 +26,23 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 work=/tmp/ladarvr-shipped-model
 out="$repo/assets/detect/model.ldm"
 jobs=2
-usage="usage: scripts/train_shipped_model.sh [--work DIR] [--out MODEL] [--jobs K]"
+scenes_to=
+usage="usage: scripts/train_shipped_model.sh [--work DIR] [--out MODEL] [--jobs K] | --scenes-to DIR"
 while [ $# -gt 0 ]; do
     case "$1" in
         --work) [ $# -ge 2 ] || { echo "$usage" >&2; exit 2; }; work=$2; shift 2 ;;
         --out) [ $# -ge 2 ] || { echo "$usage" >&2; exit 2; }; out=$2; shift 2 ;;
         --jobs) [ $# -ge 2 ] || { echo "$usage" >&2; exit 2; }; jobs=$2; shift 2 ;;
+        --scenes-to) [ -n "${2-}" ] || { echo "$usage" >&2; exit 2; }; scenes_to=$2; shift 2 ;;
         -h|--help) echo "$usage"; exit 0 ;;
         *) echo "train_shipped_model: unknown argument '$1'; $usage" >&2; exit 2 ;;
     esac
 done
 [[ $jobs =~ ^[1-9][0-9]?$ ]] || { echo "train_shipped_model: --jobs '$jobs': allowed a whole number 1..99" >&2; exit 2; }
+[ -z "$scenes_to" ] || scenes_to=$(realpath -m -- "$scenes_to")
 ladarvr=${LADARVR:-"$repo/ladarvr"}
 detect="$repo/assets/detect"
-generated="$detect/generated"
+generated="${scenes_to:-$detect/generated}"
 real="$repo/tests/data/real"
 run() { nice -n 19 "$@"; }
 start=$(date +%s)
@@ -55,6 +61,11 @@ run "$ladarvr" scene from-cloud "$real/sample_c.las" --out "$generated/real/samp
     --vehicle "$detect/../common/van.obj" --seed 1
 run "$ladarvr" scene from-cloud "$real/4_6_crop.las" --out "$generated/real/crop_4_6" \
     --vehicle "$generated/vehicles/car_00.obj" --seed 1 --clearance-m 0 --max-slope 0.3 --max-roughness-m 0.5
+
+if [ -n "$scenes_to" ]; then
+    echo "train_shipped_model: wrote the vehicles and real places under $generated in $(($(date +%s) - start)) s" >&2
+    exit 0
+fi
 
 # 3. Corpora, one per SPEC, in a fixed order. Where the scene leaves no room for a drawn
 #    target (forest, street, wooded tile) the corpus leaves that item out and exits 1;
