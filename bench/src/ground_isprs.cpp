@@ -8,12 +8,15 @@
 // and SMRF refined by learned trees (sim/ground_learned.hpp) scored leave-one-site-out
 // (ground_isprs_learned.hpp); `--learned-variants` scores its feature sets and depths;
 // `--adaptive-grid` scores SMRF's options chosen per sample, by the oracle and by a rule
-// on the survey's traits fitted leave-one-site-out (ground_isprs_adaptive.hpp).
+// on the survey's traits fitted leave-one-site-out (ground_isprs_adaptive.hpp);
+// `--selector` scores a few option sets chosen per tile by learned trees, leave-one-site-out
+// (ground_isprs_selector.hpp), with `--selector-refine` the learned refinement on top.
 // `--try` adds configurations to compare (printed only). Rewrites the section
 // "## Ground filters on ISPRS samples (ladarvr bench ground-isprs)" of BENCHMARKS.md.
 #include "common.hpp"
 #include "ground_isprs_adaptive.hpp"
 #include "ground_isprs_learned.hpp"
+#include "ground_isprs_selector.hpp"
 #include "register.hpp"
 
 #include <core/error.hpp>
@@ -48,10 +51,13 @@ struct GroundIsprsCli {
     std::vector<std::string> tries;
     std::string md = "BENCHMARKS.md";
     bool no_md = false;
-    std::string write_model;  // --write-model: the trees learned from all samples, to this file
-    bool variants = false;    // --learned-variants: the feature sets and depths tried
-    std::string grid_csv;     // --adaptive-grid: every sample over a grid of SMRF options, to this CSV
-    std::string traits_csv;   // --adaptive-traits: every sample's survey traits, to this CSV
+    std::string write_model;          // --write-model: the trees learned from all samples, to this file
+    bool variants = false;            // --learned-variants: the feature sets and depths tried
+    std::string grid_csv;             // --adaptive-grid: every sample over a grid of SMRF options, to this CSV
+    std::string traits_csv;           // --adaptive-traits: every sample's survey traits, to this CSV
+    bool selector = false;            // --selector: SMRF's option set chosen per tile by learned trees
+    bool selector_refine = false;     // --selector-refine: the learned refinement on the selector's answer
+    std::vector<std::string> subset;  // --samples: only these samples (with --selector)
 };
 
 // One filter configuration to score: a label and the options `ladarvr ground` takes.
@@ -206,11 +212,45 @@ void learnedVariants(const std::vector<LearnedSample>& learned) {
     }
 }
 
+// The selector's table, and with `refine` the learned refinement (trees learned
+// leave-one-site-out, as its own row) applied to the selector's answer instead of SMRF's.
+void runSelectorStudy(const std::vector<Sample>& samples, bool refine) {
+    std::vector<AdaptiveSample> adaptive;
+    for (const Sample& sample : samples) adaptive.push_back({sample.name, &sample.points, &sample.truth});
+    const std::vector<std::vector<std::uint8_t>> selected = runSelector(adaptive);
+    if (!refine) return;
+    std::vector<LearnedSample> learned;
+    for (const Sample& sample : samples)
+        learned.push_back(describeSample(sample.name, sample.points, sample.truth, sim::surveySmrfOptions()));
+    const std::vector<std::vector<float>> margins = leaveOneSiteOut(learned, TreeParams{});
+    std::vector<Score> alone, on_selector;
+    std::ostringstream per;
+    for (std::size_t k = 0; k < learned.size(); ++k) {
+        alone.push_back(score(refinedLabels(learned[k], margins[k], kRefineConfidence), learned[k].truth));
+        learned[k].smrf = selected[k];
+        on_selector.push_back(score(refinedLabels(learned[k], margins[k], kRefineConfidence), learned[k].truth));
+        per << " " << learned[k].name << " " << fmt("%.2f", on_selector.back().total);
+    }
+    const Score a = meanScore(alone), b = meanScore(on_selector);
+    std::printf(
+        "\nthe learned refinement on SMRF's answer: mean total %.2f %%, kappa %.1f %%; on the selector's "
+        "answer: mean type I %.2f, type II %.2f, total %.2f %%, kappa %.1f %% (leave-one-site-out;%s)\n",
+        a.total, a.kappa, b.type1, b.type2, b.total, b.kappa, per.str().c_str());
+}
+
 void run(const GroundIsprsCli& cli) {
     const fs::path dir = cli.data.empty() ? sourceRoot() / "tests" / "data" / "isprs" : fs::path(cli.data);
     // Each sample as LAZ (the copies in tests/data/isprs) or as LAS (the published files).
+    for (const std::string& name : cli.subset)
+        if (std::find_if(std::begin(kSamples), std::end(kSamples), [&](const char* k) { return name == k; }) ==
+            std::end(kSamples))
+            throw core::Error("bench ground-isprs: --samples: '" + name +
+                              "' is not an ISPRS sample; allowed samp11, samp12, samp21 ... samp71");
     std::vector<fs::path> files;
+    std::vector<const char*> names;
     for (const char* name : kSamples) {
+        if (!cli.subset.empty() && std::find(cli.subset.begin(), cli.subset.end(), name) == cli.subset.end()) continue;
+        names.push_back(name);
         const fs::path laz = dir / (std::string(name) + ".laz"), las = dir / (std::string(name) + ".las");
         if (!fs::is_regular_file(laz) && !fs::is_regular_file(las))
             throw core::Error("bench ground-isprs: --data " + dir.string() + ": no " + name +
@@ -220,7 +260,7 @@ void run(const GroundIsprsCli& cli) {
     }
     std::vector<Sample> samples;
     for (std::size_t k = 0; k < files.size(); ++k) {
-        const char* name = kSamples[k];
+        const char* name = names[k];
         core::PointCloud cloud = io::readCloud(files[k]);
         Sample s{name, std::move(cloud.points), {}};
         for (const core::CloudPoint& p : s.points) s.truth.push_back(p.label == core::Role::Ground ? 1 : 0);
@@ -231,6 +271,10 @@ void run(const GroundIsprsCli& cli) {
         for (const Sample& sample : samples) adaptive.push_back({sample.name, &sample.points, &sample.truth});
         if (!cli.traits_csv.empty()) writeAdaptiveTraits(adaptive, cli.traits_csv);
         if (!cli.grid_csv.empty()) writeAdaptiveGrid(adaptive, cli.grid_csv);
+        return;
+    }
+    if (cli.selector) {
+        runSelectorStudy(samples, cli.selector_refine);
         return;
     }
     std::vector<LearnedSample> learned;
@@ -318,15 +362,12 @@ void run(const GroundIsprsCli& cli) {
     means << "| SMRF published (parameters per sample) | | | 2.97 | 90.0 | | |\n"
           << "| SMRF published (one set) | | | | 85.4 | | |\n"
           << "| CSF published (three parameter groups) | | | 4.39 | | | |\n";
-    // CSF's per-sample totals as published (Zhang et al. 2016, table).
-    const double csf_published[] = {12.01, 2.97, 3.42, 8.94, 4.79, 2.87, 1.61, 5.14,
-                                    1.58,  3.08, 3.93, 5.20, 3.18, 1.49, 5.71};
     for (std::size_t k = 0; k < samples.size(); ++k) {
         per << "| " << samples[k].name << " |";
         for (std::size_t c = 0; c < configs.size(); ++c)
             per << " " << fmt("%.2f", all[c][k].type1) << " / " << fmt("%.2f", all[c][k].type2) << " / "
                 << fmt("%.2f", all[c][k].total) << " / " << fmt("%.1f", all[c][k].kappa) << " |";
-        per << " " << fmt("%.2f", csf_published[k]) << " |\n";
+        per << " " << fmt("%.2f", csfPublishedTotal(samples[k].name)) << " |\n";
     }
     s << means.str() << "\nPer sample, type I / type II / total / kappa (CSF published: total):\n\n" << per.str();
     s << "\nWhat `ladarvr ground` runs by default: " << sim::describe(sim::GroundFileOptions{})
@@ -362,6 +403,18 @@ void registerGroundIsprs(CLI::App& parent) {
     c->add_option("--adaptive-traits", state->traits_csv,
                   "write every sample's survey traits (what the adaptive choice of SMRF's options reads) to this "
                   "CSV, then stop");
+    CLI::Option* selector =
+        c->add_flag("--selector", state->selector,
+                    "score SMRF's option set chosen per tile by learned trees among a few sets, leave-one-site-out, "
+                    "beside the per-tile oracle, then stop (prints only)");
+    c->add_flag("--selector-refine", state->selector_refine,
+                "with --selector: also the learned refinement applied to the selector's answer (learns its trees "
+                "leave-one-site-out: minutes)")
+        ->needs(selector);
+    c->add_option("--samples", state->subset,
+                  "with --selector: only these samples, e.g. samp24,samp41 (of at least two sites)")
+        ->delimiter(',')
+        ->needs(selector);
     c->callback([state] { run(*state); });
 }
 

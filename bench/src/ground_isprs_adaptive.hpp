@@ -13,6 +13,37 @@ struct CloudPoint;
 
 namespace bench {
 
+/// Reference x found (ground / object) over some points, and the scores papers give.
+struct Confusion {
+    double gg = 0, go = 0, og = 0, oo = 0;
+    void add(bool truth, bool found) {
+        if (truth)
+            (found ? gg : go) += 1;
+        else
+            (found ? og : oo) += 1;
+    }
+    void add(const Confusion& c) { gg += c.gg, go += c.go, og += c.og, oo += c.oo; }
+    double wrong() const { return go + og; }
+    double points() const { return gg + go + og + oo; }
+};
+
+/// Type I, type II, total error and Cohen's kappa, percent.
+struct Counts {
+    double type1 = 0, type2 = 0, total = 0, kappa = 0;
+};
+Counts countsOf(const Confusion& c);
+
+/// The square tiles of `tile_m` a sample's points fall in, numbered from its lowest corner.
+struct Tiles {
+    std::vector<std::uint32_t> of;                  // per point
+    std::vector<std::vector<std::size_t>> members;  // per tile, its points
+};
+Tiles tilesOf(const std::vector<core::CloudPoint>& points, double tile_m);
+
+/// CSF's published total error (Zhang et al. 2016) for an ISPRS sample ("samp11"), percent;
+/// -1 for another name.
+double csfPublishedTotal(const std::string& sample);
+
 /// One sample as the adaptive measurements see it.
 struct AdaptiveSample {
     std::string name;
