@@ -67,7 +67,9 @@ nlohmann::json segmentJson(const SegmentOptions& o) {
             {"min_points", o.min_points},
             {"split_height_m", o.split_height_m},
             {"scale_with_spacing", o.scale_with_spacing},
-            {"level_cell_m", o.level_cell_m}};
+            {"level_cell_m", o.level_cell_m},
+            {"max_vehicle_length_m", o.max_vehicle_length_m},
+            {"max_vehicle_width_m", o.max_vehicle_width_m}};
 }
 
 }  // namespace
@@ -295,6 +297,9 @@ BoostedModel BoostedModel::read(const std::filesystem::path& path) {
     i.segments.scale_with_spacing = seg.value("scale_with_spacing", true);
     // ... and before the terrain was levelled on the ground's own points, it was not.
     i.segments.level_cell_m = seg.contains("level_cell_m") ? num("level_cell_m") : 0.0;
+    // ... and before oversized segments were split, none was.
+    i.segments.max_vehicle_length_m = seg.contains("max_vehicle_length_m") ? num("max_vehicle_length_m") : 0.0;
+    if (seg.contains("max_vehicle_width_m")) i.segments.max_vehicle_width_m = num("max_vehicle_width_m");
     try {
         validate(i.segments);
     } catch (const core::Error& e) {

@@ -1,10 +1,12 @@
 // detect/src/segmentation.cpp: the segments of detect/segmentation.hpp, a step each: the
 // terrain fit, the clustering of the points above it (detect/src/voxel_clusters.hpp), the
-// small segments dropped, and the tall segments split.
+// small segments dropped, the tall segments split, and the oversized low ones split
+// (detect/src/oversized_segments.hpp).
 #include <detect/segmentation.hpp>
 
 #include <core/error.hpp>
 
+#include "oversized_segments.hpp"
 #include "parts.hpp"
 #include "point_spacing.hpp"
 #include "terrain_level.hpp"
@@ -213,6 +215,12 @@ void validate(const SegmentOptions& o) {
     if (!(std::isfinite(o.split_height_m) &&
           (o.split_height_m == 0.0 || (o.split_height_m >= 1.0 && o.split_height_m <= 100.0))))
         fail("--split-height-m", o.split_height_m, "0 (no split) or [1, 100] m");
+    if (!(std::isfinite(o.max_vehicle_length_m) &&
+          (o.max_vehicle_length_m == 0.0 || (o.max_vehicle_length_m >= 2.0 && o.max_vehicle_length_m <= 100.0))))
+        fail("max_vehicle_length_m", o.max_vehicle_length_m, "0 (no split) or [2, 100] m");
+    if (o.max_vehicle_length_m > 0.0 && !(std::isfinite(o.max_vehicle_width_m) && o.max_vehicle_width_m >= 1.0 &&
+                                          o.max_vehicle_width_m <= o.max_vehicle_length_m))
+        fail("max_vehicle_width_m", o.max_vehicle_width_m, "[1, max_vehicle_length_m] m");
 }
 
 sim::SmrfOptions terrainForDensity(const sim::SmrfOptions& o, double density_m2) {
@@ -282,6 +290,7 @@ Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o
         if (s.size() >= std::size_t(u.min_points)) out.segments.push_back(std::move(s));
 
     if (u.split_height_m > 0) splitTallSegments(cloud, lo, u, work_parts, out);
+    detail::splitOversizedSegments(cloud, lo, u, work_parts, out);
     return out;
 }
 

@@ -36,7 +36,15 @@
 //      height: the points below it in columns of its footprint that do not rise without
 //      a gap to above it (walls, trunks) are clustered as in step 2, and each cluster of
 //      ten times min_points or more becomes a segment (a vehicle against a wall, or
-//      under crowns that touch each other); the rest stays one segment.
+//      under crowns that touch each other); the rest stays one segment;
+//   5) a segment that is not tall but larger in plan than any vehicle (longer than
+//      max_vehicle_length_m or wider than max_vehicle_width_m along its principal axes: a
+//      vehicle that touched low clutter or a raised sheet of noisy ground) is split
+//      hierarchically: its points more than 0.3, 0.6 and 1.0 m above its own lower
+//      envelope (the lowest height above the terrain within 2 m) are clustered as in step
+//      2, lowest cut first, and each cluster of vehicle size and ten times min_points or
+//      more takes the segment's points inside its hull in plan, at every height, as a
+//      segment of its own; the rest stays one segment.
 #pragma once
 #include <core/point_cloud.hpp>
 #include <sim/ground.hpp>
@@ -66,6 +74,11 @@ struct SegmentOptions {
     // (the fullest height band of each square's low points is its ground); 0 levels
     // nothing (models written before the step), else [1, 100] m
     double level_cell_m = 8.0;
+    // step 5: segments longer or wider than these in plan (the vehicle families reach
+    // 12 m by 3.6 m) are split into vehicle-sized children; length 0 splits none (models
+    // written before the step), else length [2, 100] m and width [1, length] m
+    double max_vehicle_length_m = 14.0;
+    double max_vehicle_width_m = 5.0;
 };
 
 /// Step 1's terrain cell holds at least this many of the cloud's points on average.
@@ -84,17 +97,18 @@ struct Segmentation {
     std::vector<float> height_m;
     /// Each segment's point indices, ascending; segments ordered by their first point.
     std::vector<std::vector<std::uint32_t>> segments;
-    std::size_t above_points = 0;      // points that went into step 2
-    std::size_t voxels = 0;            // the voxels step 2 clustered them on
-    double ground_sigma_m = 0;         // the ground thickness step 1 measured (one sigma)
-    double min_height_m = 0;           // the height threshold step 2 used
-    double points_per_voxel_face = 0;  // the cloud's points per voxel_m^2 of observed terrain
-    int core_points = 1;               // the dense voxels' bar step 2 used
-    std::size_t split_segments = 0;    // segments step 4 split
-    double spacing_m = 0;              // the points' median nearest-neighbour distance (0 unmeasured)
-    double spacing_scale = 1;          // the factor step 2 scaled its lengths by (1: as given)
-    double terrain_cell_m = 0;         // the terrain cell step 1 used (SmrfOptions::cell_m or larger)
-    SegmentOptions used;               // the options steps 2-4 ran with, after that scaling
+    std::size_t above_points = 0;        // points that went into step 2
+    std::size_t voxels = 0;              // the voxels step 2 clustered them on
+    double ground_sigma_m = 0;           // the ground thickness step 1 measured (one sigma)
+    double min_height_m = 0;             // the height threshold step 2 used
+    double points_per_voxel_face = 0;    // the cloud's points per voxel_m^2 of observed terrain
+    int core_points = 1;                 // the dense voxels' bar step 2 used
+    std::size_t split_segments = 0;      // segments step 4 split
+    std::size_t oversized_segments = 0;  // segments step 5 split
+    double spacing_m = 0;                // the points' median nearest-neighbour distance (0 unmeasured)
+    double spacing_scale = 1;            // the factor step 2 scaled its lengths by (1: as given)
+    double terrain_cell_m = 0;           // the terrain cell step 1 used (SmrfOptions::cell_m or larger)
+    SegmentOptions used;                 // the options steps 2-4 ran with, after that scaling
 };
 
 /// The options steps 2-4 use on a cloud of median point spacing `spacing_m`: `o` itself
@@ -110,7 +124,7 @@ SegmentOptions scaledForSpacing(const SegmentOptions& o, double spacing_m, doubl
 /// up to 0.1 m (at most the window, so that one opening remains).
 sim::SmrfOptions terrainForDensity(const sim::SmrfOptions& o, double density_m2);
 
-/// Steps 1-4 on `cloud`: a pure function of the cloud and the options, the same whatever
+/// Steps 1-5 on `cloud`: a pure function of the cloud and the options, the same whatever
 /// `threads` (the clustering's parts run on up to that many threads, at most 4). Throws
 /// core::Error for clouds SMRF cannot grid.
 Segmentation segmentCloud(const core::PointCloud& cloud, const SegmentOptions& o, int threads = 1);
