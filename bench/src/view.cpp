@@ -249,6 +249,10 @@ void registerView(CLI::App& parent) {
         ->check(CLI::IsMember({"on", "off"}))
         ->capture_default_str();
     cmd->add_flag("--no-md", args->no_md, "ooc: print only, leave BENCHMARKS.md alone");
+    cmd->add_option("--frame-log", args->ooc.frame_log,
+                    "ooc: existing folder that receives each run's second-lap frames as CSV (GPU and pass ms, "
+                    "points drawn per eye), to place the slow frames along the head path")
+        ->check(CLI::ExistingDirectory);
     cmd->add_option("--point-budget", args->point_budget, "skip rows: points per eye with the LOD budget")
         ->capture_default_str();
     cmd->add_option("--rasterizer", args->rasterizers,

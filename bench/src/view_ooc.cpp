@@ -14,6 +14,7 @@
 #include <core/roles.hpp>
 #include <io/cloud_reader.hpp>
 #include <io/scene_file.hpp>
+#include <platform/atomic_file.hpp>
 #include <render/egl_context.hpp>
 #include <render/gl.hpp>
 #include <render/orbit_camera.hpp>
@@ -184,6 +185,23 @@ std::string lapStereo(const json& r) {
            (median > 0.0 ? fmt("%.2fx", p99 / median) : std::string("-")) + " the median";
 }
 
+/// The second lap's frames of one run as CSV, one row a frame in the lap's order, so the
+/// slow frames can be placed along the head path (`--frame-log`).
+void writeFrameLog(const fs::path& path, const json& lap) {
+    const char* columns[] = {"gpu_eye_ms", "frame_ms", "drawn_eye", "raster_eye_ms", "colour_eye_ms", "resolve_eye_ms"};
+    std::string csv = "frame";
+    for (const char* c : columns) csv += std::string(",") + c;
+    csv += "\n";
+    const std::size_t frames = lap["gpu_eye_ms"].size();
+    for (std::size_t i = 0; i < frames; ++i) {
+        csv += std::to_string(i);
+        for (const char* c : columns)
+            csv += "," + (i < lap[c].size() ? fmt("%.4f", lap[c][i].get<double>()) : std::string());
+        csv += "\n";
+    }
+    platform::writeFileAtomic(path, csv);
+}
+
 /// One head path over `file`, out of core (CopcSource) or in core (the file streamed
 /// whole through a CloudFeed, as `view` does with any non-COPC file).
 json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, const OocBenchOptions& o) {
@@ -352,6 +370,10 @@ json measurePath(const fs::path& file, bool ooc, const HeadPath& path_world, con
     r["lap_colour_eye_ms"] = toJson(summarise(lap_colour_ms));
     r["lap_resolve_eye_ms"] = toJson(summarise(lap_resolve_ms));
     r["lap_points_per_pixel"] = toJson(summarise(lap_per_pixel));
+    if (!o.frame_log.empty())
+        r["lap_frames"] = json{{"gpu_eye_ms", lap_gpu_eye_ms},   {"frame_ms", lap_frame_ms},
+                               {"drawn_eye", lap_drawn_eye},     {"raster_eye_ms", lap_raster_ms},
+                               {"colour_eye_ms", lap_colour_ms}, {"resolve_eye_ms", lap_resolve_ms}};
     r["subgroup"] = o.subgroup && stereo.subgroupAvailable();
     r["loaded_per_frame"] = toJson(summarise(loaded));
     r["evicted_per_frame"] = toJson(summarise(evicted));
@@ -565,6 +587,12 @@ void runOocBench(const OocBenchOptions& o, std::FILE* out) {
                 std::fprintf(stderr, "bench view: %s, %s, %s\n", file.filename().c_str(), name.c_str(),
                              ooc ? "ooc" : "in-core");
                 rows[k] = inChild([&] { return measurePath(file, ooc, path, o); }, rss[k]);
+                if (rows[k].contains("lap_frames")) {
+                    writeFrameLog(fs::path(o.frame_log) / (file.stem().stem().string() + "_" + name + "_" +
+                                                           (ooc ? "ooc" : "in-core") + ".csv"),
+                                  rows[k]["lap_frames"]);
+                    rows[k].erase("lap_frames");
+                }
                 if (rows[k].contains("gl")) gl = rows[k]["gl"].get<std::string>();
                 std::string line;
                 if (rows[k].contains("error")) {

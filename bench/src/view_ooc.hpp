@@ -28,6 +28,7 @@ struct OocBenchOptions {
     std::string dir;         // where the COPC files are made and kept (reused); empty: a temporary folder
     std::size_t selection_nodes = 100000;  // the synthetic tree of the selection-only rows
     std::string md;                        // markdown file whose ooc section is rewritten; empty: none
+    std::string frame_log;  // folder for each run's second-lap frames as CSV (where the slow frames are); empty: none
 };
 
 /// Runs the out-of-core measurements and prints their tables (markdown) to `out`.
