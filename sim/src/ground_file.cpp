@@ -146,6 +146,24 @@ void moveBy(std::vector<core::CloudPoint>& chunk, const glm::dvec3& shift) {
     for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + shift);
 }
 
+}  // namespace
+
+void addSource(TerrainFit& fit, const FitSource& source, int threads,
+               const std::function<void(std::size_t)>& progress) {
+    io::CloudReader reader(source.file, io::PointFields::Positions);
+    io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+        if (progress) progress(chunk.size());
+        moveBy(chunk, source.shift);
+        std::erase_if(chunk, [&](const core::CloudPoint& p) {
+            return p.position.x < source.min.x || p.position.x > source.max.x || p.position.y < source.min.y ||
+                   p.position.y > source.max.y;
+        });
+        addToFit(fit, chunk, threads);
+    });
+}
+
+namespace {
+
 // Pass 1's points of a COPC file, its nodes (each a LAZ chunk of its own) decoded two at
 // a time, each in its own decoding process: the fit keeps per-cell lowest heights, the
 // same whatever the order its points come in. Two nodes in flight hold no more than the
@@ -194,31 +212,24 @@ bool fitCopcNodes(TerrainFit& fit, const std::filesystem::path& in, const glm::d
 }
 
 // Pass 1: the terrain fitted on `in`'s points and `extra`'s within their boxes.
-void fitOn(TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& shift,
+void fitOn(std::unique_ptr<TerrainFit>& fit, const std::filesystem::path& in, const glm::dvec3& shift,
            const std::vector<FitSource>& extra, int threads, double thickness_m,
-           const std::function<void(std::size_t)>& progress) {
-    if (!fitCopcNodes(fit, in, shift, progress)) {
+           const std::function<void(std::size_t)>& progress, const FitOver& fit_over) {
+    if (!fitCopcNodes(*fit, in, shift, progress)) {
         io::CloudReader reader(in, io::PointFields::Positions);
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
             moveBy(chunk, shift);
-            addToFit(fit, chunk, threads);
+            addToFit(*fit, chunk, threads);
             progress(chunk.size());
         });
     }
-    for (const FitSource& source : extra) {
-        io::CloudReader reader(source.file, io::PointFields::Positions);
-        io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
-            moveBy(chunk, source.shift);
-            std::erase_if(chunk, [&](const core::CloudPoint& p) {
-                return p.position.x < source.min.x || p.position.x > source.max.x || p.position.y < source.min.y ||
-                       p.position.y > source.max.y;
-            });
-            addToFit(fit, chunk, threads);
-        });
-    }
-    fit.setFitThreads(threads);
-    if (thickness_m >= 0) fit.setGroundThickness(thickness_m);
-    fit.fit();
+    for (const FitSource& source : extra) addSource(*fit, source, threads);
+    fit->setFitThreads(threads);
+    if (thickness_m >= 0) fit->setGroundThickness(thickness_m);
+    if (fit_over)
+        fit_over(fit);
+    else
+        fit->fit();
 }
 
 // The top of the jet map: the highest point above the terrain that is not ground.
@@ -243,10 +254,10 @@ GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec
                                 const std::vector<FitSource>& extra, const std::filesystem::path& out,
                                 const GroundFileOptions& o, std::size_t max_cells, int threads, double thickness_m,
                                 const io::LasOptions& las, const io::CopcOptions& copc,
-                                const std::function<void(std::size_t)>& progress) {
+                                const std::function<void(std::size_t)>& progress, const FitOver& fit_over) {
     GroundFileStats st;
-    const std::unique_ptr<TerrainFit> fit = startFit(o, max_cells);
-    fitOn(*fit, in, shift, extra, threads, thickness_m, progress);
+    std::unique_ptr<TerrainFit> fit = startFit(o, max_cells);
+    fitOn(fit, in, shift, extra, threads, thickness_m, progress, fit_over);
     st.nx = fit->surface().nx;
     st.ny = fit->surface().ny;
     st.cell_m = fit->surface().cell_m;

@@ -44,17 +44,27 @@ struct FitSource {
     glm::dvec2 min{0.0}, max{0.0};
 };
 
+/// Fits a terrain whose points are added (its threads and thickness set), and may
+/// replace it by another fit over a wider box (a tile's re-fit over a patch it cuts).
+using FitOver = std::function<void(std::unique_ptr<TerrainFit>& fit)>;
+
 /// classifyGroundFile with the fit in another frame and fed more points: `in`'s points
 /// are moved by `shift` for the fit and the test (written where they are), and `extra`'s
 /// points join the fit. `threads` >= 1 share each fit's gathering and fitting;
 /// `thickness_m` >= 0 is the ground thickness the fit uses (TerrainFit::setGroundThickness).
+/// `fit_over`, where given, runs the fit in place of TerrainFit::fit().
 GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec3& shift,
                                 const std::vector<FitSource>& extra, const std::filesystem::path& out,
                                 const GroundFileOptions& o, std::size_t max_cells, int threads, double thickness_m,
                                 const io::LasOptions& las, const io::CopcOptions& copc,
-                                const std::function<void(std::size_t)>& progress);
+                                const std::function<void(std::size_t)>& progress, const FitOver& fit_over = {});
 
 /// Adds `points` to `fit`, with `threads` threads when more than one.
 void addToFit(TerrainFit& fit, std::span<const core::CloudPoint> points, int threads);
+
+/// Adds `source`'s points within its box to `fit`, read a chunk at a time; `progress`,
+/// where given, is called with each chunk's points as read.
+void addSource(TerrainFit& fit, const FitSource& source, int threads,
+               const std::function<void(std::size_t)>& progress = {});
 
 }  // namespace sim

@@ -118,6 +118,22 @@ std::uint64_t tileKey(std::int64_t tx, std::int64_t ty) {
     return (std::uint64_t(std::uint32_t(std::int32_t(tx))) << 32) | std::uint32_t(std::int32_t(ty));
 }
 
+// An x-y box, lo and hi.
+using XyBox = std::pair<glm::dvec2, glm::dvec2>;
+
+// [lo, hi) within the cells of the inputs that reach it; `cells` holds each input's
+// lowest and highest cell (index, not metres).
+XyBox clipToCells(const std::vector<XyBox>& cells, double cell_m, const glm::dvec2& lo, const glm::dvec2& hi) {
+    glm::dvec2 reach_lo(1e300), reach_hi(-1e300);
+    for (const auto& [first, last] : cells) {
+        const glm::dvec2 a = first * cell_m, b = (last + 1.0) * cell_m;
+        if (b.x <= lo.x || a.x >= hi.x || b.y <= lo.y || a.y >= hi.y) continue;
+        reach_lo = glm::min(reach_lo, a);
+        reach_hi = glm::max(reach_hi, b);
+    }
+    return {glm::max(lo, reach_lo), glm::min(hi, reach_hi)};
+}
+
 class Tiler {
   public:
     // `survey`: the inputs' bounds in the survey's frame; tiles beyond them hold no point
@@ -175,16 +191,7 @@ class Tiler {
     }
 
     // [lo, hi) within the cells of the inputs that reach it.
-    std::pair<glm::dvec2, glm::dvec2> clip(const glm::dvec2& lo, const glm::dvec2& hi) const {
-        glm::dvec2 reach_lo(1e300), reach_hi(-1e300);
-        for (const auto& [first, last] : cells_) {
-            const glm::dvec2 a = first * cell_m_, b = (last + 1.0) * cell_m_;
-            if (b.x <= lo.x || a.x >= hi.x || b.y <= lo.y || a.y >= hi.y) continue;
-            reach_lo = glm::min(reach_lo, a);
-            reach_hi = glm::max(reach_hi, b);
-        }
-        return {glm::max(lo, reach_lo), glm::min(hi, reach_hi)};
-    }
+    XyBox clip(const glm::dvec2& lo, const glm::dvec2& hi) const { return clipToCells(cells_, cell_m_, lo, hi); }
 
   private:
     Tile& at(std::uint64_t key) {
@@ -203,7 +210,7 @@ class Tiler {
 
     GroundTiling t_;
     double cell_m_, inv_cell_;
-    std::vector<std::pair<glm::dvec2, glm::dvec2>> cells_;  // by input: the lowest and highest cell its points touched
+    std::vector<XyBox> cells_;  // by input: the lowest and highest cell its points touched
     std::filesystem::path scratch_;
     std::int64_t kx_min_, kx_max_, ky_min_, ky_max_;  // the tiles the survey's bounds reach
     std::map<std::uint64_t, Tile> tiles_;
@@ -281,12 +288,16 @@ std::unique_ptr<TerrainFit> gatherBox(const Tiler& tiler, const std::pair<glm::d
 constexpr int kMaxRefits = 4;
 constexpr double kCutCells = 22;
 
-// One tile: fitted on every point of its file with the survey's thickness (again over a
-// wider box where a patch needs it, above), its own points labelled in order.
-void runTile(Tile& tile, const Tiler& tiler, const GroundFileOptions& o, const GroundTiling& t, double thickness_m,
-             double cell_m, const std::filesystem::path& scratch) {
-    std::pair<glm::dvec2, glm::dvec2> box = tiler.rasterBox(tile);
-    std::unique_ptr<TerrainFit> fit = gather(tile, o, t);
+// The survey's cells within a box (clipToCells over the inputs), and a fit on the
+// survey's points within a box: what a tile's re-fit needs from the tiles around it.
+using ClipBox = std::function<XyBox(const glm::dvec2& lo, const glm::dvec2& hi)>;
+using GatherBox = std::function<std::unique_ptr<TerrainFit>(const XyBox& box)>;
+
+// Fits `fit` (a tile's points added) over `box` with the survey's thickness, then again
+// over a wider box, gathered by `gather`, while a patch near the tile's square `own`
+// needs it (above), within the raster bound t.max_cells.
+void fitOverPatches(std::unique_ptr<TerrainFit>& fit, XyBox box, const XyBox& own, double cell_m, double thickness_m,
+                    const GroundTiling& t, const ClipBox& clip, const GatherBox& gather) {
     const auto finish = [&] {
         fit->setExtent(box.first, box.second);
         fit->setGroundThickness(thickness_m);
@@ -294,14 +305,13 @@ void runTile(Tile& tile, const Tiler& tiler, const GroundFileOptions& o, const G
         fit->fit();
     };
     finish();
-    const glm::dvec2 own_lo = glm::dvec2(double(tile.tx), double(tile.ty)) * t.tile_m;
     const double margin_m = kCutCells * cell_m;
-    std::vector<std::pair<glm::dvec2, glm::dvec2>> patches;
+    std::vector<XyBox> patches;
     for (int refit = 0; refit < kMaxRefits; ++refit) {
         patches.clear();
-        fit->testedPatches(own_lo, own_lo + t.tile_m, margin_m, patches);
+        fit->testedPatches(own.first, own.second, margin_m, patches);
         // The sides beyond which the survey goes on.
-        const auto wider = tiler.clip(box.first - cell_m, box.second + cell_m);
+        const XyBox wider = clip(box.first - cell_m, box.second + cell_m);
         const glm::bvec2 cut_lo = glm::lessThan(wider.first, box.first);
         const glm::bvec2 cut_hi = glm::greaterThan(wider.second, box.second);
         glm::dvec2 lo = box.first, hi = box.second;
@@ -312,13 +322,25 @@ void runTile(Tile& tile, const Tiler& tiler, const GroundFileOptions& o, const G
             lo = glm::min(lo, a - t.buffer_m);
             hi = glm::max(hi, b + t.buffer_m);
         }
-        const auto grown = tiler.clip(lo, hi);
+        const XyBox grown = clip(lo, hi);
         const glm::dvec2 cells = (grown.second - grown.first) / cell_m + 2.0;
         if (grown == box || cells.x * cells.y > double(t.max_cells)) break;
         box = grown;
-        fit = gatherBox(tiler, box, o, t);
+        fit = gather(box);
         finish();
     }
+}
+
+// One tile: fitted on every point of its file with the survey's thickness (again over a
+// wider box where a patch needs it, above), its own points labelled in order.
+void runTile(Tile& tile, const Tiler& tiler, const GroundFileOptions& o, const GroundTiling& t, double thickness_m,
+             double cell_m, const std::filesystem::path& scratch) {
+    std::unique_ptr<TerrainFit> fit = gather(tile, o, t);
+    const glm::dvec2 own_lo = glm::dvec2(double(tile.tx), double(tile.ty)) * t.tile_m;
+    fitOverPatches(
+        fit, tiler.rasterBox(tile), {own_lo, own_lo + t.tile_m}, cell_m, thickness_m, t,
+        [&](const glm::dvec2& lo, const glm::dvec2& hi) { return tiler.clip(lo, hi); },
+        [&](const XyBox& box) { return gatherBox(tiler, box, o, t); });
     tile.nx = fit->surface().nx;
     tile.ny = fit->surface().ny;
     tile.results.emplace(scratch, "ground tiles");
@@ -486,6 +508,12 @@ glm::dvec3 originOf(const std::filesystem::path& file) {
     return reader.origin();
 }
 
+// Whether box `b` comes within `reach_m` of box `a`.
+bool within(const GroundBox& a, const GroundBox& b, double reach_m) {
+    return b.max.x >= a.min.x - reach_m && b.min.x <= a.max.x + reach_m && b.max.y >= a.min.y - reach_m &&
+           b.min.y <= a.max.y + reach_m;
+}
+
 // The other inputs whose box comes within t.buffer_m of input `index`'s, their points
 // moved into the frame of `frame` and kept within that distance.
 std::vector<FitSource> neighbours(const std::vector<std::filesystem::path>& inputs, const std::vector<GroundBox>& boxes,
@@ -493,11 +521,7 @@ std::vector<FitSource> neighbours(const std::vector<std::filesystem::path>& inpu
     const GroundBox& box = boxes[index];
     std::vector<FitSource> extra;
     for (std::size_t k = 0; k < inputs.size(); ++k) {
-        if (k == index) continue;
-        const GroundBox& b = boxes[k];
-        if (b.max.x < box.min.x - buffer_m || b.min.x > box.max.x + buffer_m || b.max.y < box.min.y - buffer_m ||
-            b.min.y > box.max.y + buffer_m)
-            continue;
+        if (k == index || !within(box, boxes[k], buffer_m)) continue;
         FitSource s;
         s.file = inputs[k];
         s.shift = originOf(inputs[k]) - frame;
@@ -506,6 +530,34 @@ std::vector<FitSource> neighbours(const std::vector<std::filesystem::path>& inpu
         extra.push_back(std::move(s));
     }
     return extra;
+}
+
+// The bounds of the survey input `index` belongs to: the inputs joined to it through
+// boxes within `buffer_m` of each other (a folder of tiles is one survey; inputs further
+// apart are surveys of their own, as tiles of the merged run take them). Sorted by their
+// lowest x, an input meets only those after it that start within its reach.
+GroundBox surveyBox(const std::vector<GroundBox>& boxes, std::size_t index, double buffer_m) {
+    std::vector<std::size_t> order(boxes.size()), parent(boxes.size());
+    for (std::size_t k = 0; k < boxes.size(); ++k) order[k] = parent[k] = k;
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return boxes[a].min.x < boxes[b].min.x; });
+    const auto find = [&](std::size_t k) {
+        while (parent[k] != k) k = parent[k] = parent[parent[k]];
+        return k;
+    };
+    for (std::size_t a = 0; a < order.size(); ++a)
+        for (std::size_t b = a + 1; b < order.size(); ++b) {
+            const GroundBox &p = boxes[order[a]], &q = boxes[order[b]];
+            if (q.min.x > p.max.x + buffer_m) break;
+            if (within(p, q, buffer_m)) parent[find(order[b])] = find(order[a]);
+        }
+    GroundBox survey{glm::dvec2(1e300), glm::dvec2(-1e300)};
+    for (std::size_t k = 0; k < boxes.size(); ++k)
+        if (find(k) == find(index)) {
+            survey.min = glm::min(survey.min, boxes[k].min);
+            survey.max = glm::max(survey.max, boxes[k].max);
+        }
+    return survey;
 }
 
 }  // namespace
@@ -526,19 +578,8 @@ double surveyThickness(const std::vector<std::filesystem::path>& inputs, const s
         own.max = glm::dvec2(1e300);
         sources.insert(sources.begin(), own);
         std::size_t read = 0;
-        for (const FitSource& source : sources) {
-            io::CloudReader reader(source.file);
-            io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
-                if (source.file == inputs[i]) read += chunk.size();
-                if (source.shift != glm::dvec3(0.0))
-                    for (core::CloudPoint& p : chunk) p.position = glm::vec3(glm::dvec3(p.position) + source.shift);
-                std::erase_if(chunk, [&](const core::CloudPoint& p) {
-                    return p.position.x < source.min.x || p.position.x > source.max.x || p.position.y < source.min.y ||
-                           p.position.y > source.max.y;
-                });
-                addToFit(*fit, chunk, t.threads);
-            });
-        }
+        for (const FitSource& source : sources)
+            addSource(*fit, source, t.threads, [&](std::size_t n) { read += source.file == inputs[i] ? n : 0; });
         std::vector<double> mine;
         const GroundBox& box = boxes[i];
         fit->thicknessSamples(box.min - glm::dvec2(frame), box.max - glm::dvec2(frame), mine);
@@ -556,9 +597,33 @@ GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path
                                          const std::function<void(std::size_t)>& progress) {
     // The first input's frame: the raster's cells lie where one merged run puts them.
     const glm::dvec3 frame = originOf(inputs[0]);
+    const glm::dvec2 at(frame);
+    const double cell_m = o.method == GroundMethod::Csf ? o.csf.cloth_m : o.smrf.cell_m;
+    // The cells of the survey's bounds (one merged run's raster), and the input's own
+    // box, in the frame.
+    const GroundBox survey = surveyBox(boxes, index, t.buffer_m);
+    const std::vector<XyBox> cells{{glm::floor((survey.min - at) / cell_m), glm::floor((survey.max - at) / cell_m)}};
+    const XyBox own{boxes[index].min - at, boxes[index].max - at};
+    const ClipBox clip = [&](const glm::dvec2& lo, const glm::dvec2& hi) { return clipToCells(cells, cell_m, lo, hi); };
+    // A wider fit reads every input whose bounds reach its box (the inputs stay where
+    // they are, so there is nothing to keep).
+    const GatherBox gather = [&](const XyBox& box) {
+        std::unique_ptr<TerrainFit> fit = startFit(o, t.max_cells);
+        const GroundBox world{box.first + at, box.second + at};
+        for (std::size_t k = 0; k < inputs.size(); ++k)
+            if (within(world, boxes[k], 0.0))
+                addSource(*fit, FitSource{inputs[k], originOf(inputs[k]) - frame, box.first, box.second}, t.threads);
+        return fit;
+    };
+    // The raster spans the survey's cells within the buffer of the input's box, as a
+    // tile's does, and is fitted again over a raised-segment patch that it cuts.
+    const FitOver over = [&](std::unique_ptr<TerrainFit>& fit) {
+        fitOverPatches(fit, clip(own.first - t.buffer_m, own.second + t.buffer_m), own, cell_m, t.thickness_m, t, clip,
+                       gather);
+    };
     return classifyOneFile(inputs[index], originOf(inputs[index]) - frame,
                            neighbours(inputs, boxes, index, frame, t.buffer_m), out, o, t.max_cells, t.threads,
-                           t.thickness_m, las, copc, progress);
+                           t.thickness_m, las, copc, progress, over);
 }
 
 }  // namespace sim

@@ -7,6 +7,8 @@
 #  - two inputs merged into --out and written one per input into --out-dir: the same
 #    ground counts; --only-tile writes the one file --out-dir writes for that input, byte
 #    for byte, and --jobs 2 the bytes of --jobs 1;
+#  - a sample cut into a folder of 3 x 3 tile files, written one per input with
+#    --jobs 2: every point gets the class of the untiled run;
 #  - PCD and PLY inputs on each of those paths get the classes the LAS inputs get;
 #  - --out-dir refuses two inputs of one name and an output that would replace an input,
 #    in one line, writing nothing; --out with inputs of other point formats is refused;
@@ -93,6 +95,45 @@ cmp -s "$dir/each/a.laz" "$dir/jobs/a.laz" && cmp -s "$dir/each/b.laz" "$dir/job
     fail "--only-tile: $(cat "$dir/err")"
 [ ! -e "$dir/only/a.laz" ] || fail "--only-tile 1 wrote input 0's output"
 cmp -s "$dir/each/b.laz" "$dir/only/b.laz" || fail "--only-tile 1 wrote other bytes than --out-dir"
+
+# A folder of tile files: samp42 cut into 3 x 3 LAS files at its x and y terciles, each
+# classified with the others as its buffer, two at a time. Every point gets the class of
+# the untiled run (the station roofs, one raised-segment patch that a file's buffer cuts,
+# need the file fitted again over the whole patch).
+mkdir -p "$dir/folder"
+python3 - "$data/samp42.laz" "$dir/folder" <<'PY' || fail "cutting samp42 into tile files"
+import sys
+import laspy, numpy as np
+f = laspy.read(sys.argv[1])
+x, y = np.asarray(f.x), np.asarray(f.y)
+ix = np.digitize(x, np.quantile(x, [1 / 3, 2 / 3]))
+iy = np.digitize(y, np.quantile(y, [1 / 3, 2 / 3]))
+for i in range(3):
+    for j in range(3):
+        o = laspy.LasData(f.header)
+        o.points = f.points[(ix == i) & (iy == j)]
+        o.write(f"{sys.argv[2]}/t{i}{j}.las")
+PY
+"$bin" ground "$data/samp42.laz" --out "$dir/folder-one.las" >/dev/null 2>"$dir/err" ||
+    fail "samp42 untiled: $(cat "$dir/err")"
+"$bin" ground "$dir/folder"/t*.las --out-dir "$dir/folder-out" --jobs 2 >/dev/null 2>"$dir/err" ||
+    fail "a folder of tile files: $(cat "$dir/err")"
+python3 - "$dir/folder-one.las" "$dir/folder-out" <<'PY' ||
+import collections, glob, sys
+import laspy, numpy as np
+
+def points(path):
+    f = laspy.read(path)
+    mm = lambda a: np.round(np.asarray(a) * 1000).astype(np.int64).tolist()
+    return zip(mm(f.x), mm(f.y), mm(f.z), (np.asarray(f.classification) == 2).tolist())
+
+one = collections.Counter(points(sys.argv[1]))
+tiles = collections.Counter()
+for path in glob.glob(sys.argv[2] + "/*.las"):
+    tiles.update(points(path))
+sys.exit(0 if sum(one.values()) > 40000 and one == tiles else 1)
+PY
+    fail "the folder of samp42's tile files and its untiled run differ in their ground"
 
 # PCD and PLY inputs through every path (one input, tiles with --jobs 2, two merged,
 # --out-dir, --only-tile): each point gets the class the LAS inputs get it on the same

@@ -10,7 +10,7 @@
 // A tile whose raster cuts a patch that SMRF's raised-segment test could decide otherwise
 // seen whole is fitted again over the patch, from the other tiles' files.
 // A folder of tiles (one output per input) uses each input as a tile and the inputs
-// whose bounds touch it as its buffer.
+// whose bounds touch it as its buffer, fitted again the same way from the other inputs.
 #pragma once
 #include <sim/ground_file.hpp>
 
@@ -81,7 +81,11 @@ double surveyThickness(const std::vector<std::filesystem::path>& inputs, const s
 /// bounds of inputs[k]): its terrain fitted on its points and on the other inputs' points
 /// within t.buffer_m of its box, in the first input's frame so that the raster's cells
 /// are those of one merged run, with t.thickness_m (surveyThickness) where it is >= 0;
-/// written to `out` as classifyGroundFile writes it.
+/// written to `out` as classifyGroundFile writes it. The raster spans the cells within
+/// that buffer of the bounds of the inputs joined to it through their buffers (one run's
+/// raster over them); where a raised-segment patch it cuts needs it, the terrain is
+/// fitted again over the patch from the inputs around it (at most four times, within
+/// t.max_cells), as a tile of classifyGroundTiled is.
 /// `progress` as classifyGroundFile's (thread-safe where the caller runs several).
 GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path>& inputs,
                                          const std::vector<GroundBox>& boxes, std::size_t index,
