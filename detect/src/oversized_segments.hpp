@@ -34,8 +34,9 @@ inline constexpr std::array<double, 3> kOversizeCuts_m = {0.3, 0.6, 1.0};
 inline constexpr double kEnvelopeReach_m = 2.0;
 /// The envelope's cells are this many voxels a side (1 m at the default voxel).
 inline constexpr double kEnvelopeCellVoxels = 4.0;
-/// A child's hull in plan is widened by this many voxels.
-inline constexpr double kHullMargin = 1.0;
+/// A child's hull in plan is widened by this many voxels (the points' noise; a wider
+/// margin takes the clutter that touches the vehicle).
+inline constexpr double kHullMargin = 0.5;
 /// The envelope's grid has at most this many cells (larger cells past it).
 inline constexpr double kMaxEnvelopeCells = double(1 << 20);
 
