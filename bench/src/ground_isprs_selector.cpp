@@ -1,14 +1,14 @@
-// bench/src/ground_isprs_selector.cpp: see ground_isprs_selector.hpp. XGBoost's C API
-// learns the trees on the tiles' rows (histogram method, a fixed seed, one thread: a few
-// thousand rows at most) and predicts the left-out site's tiles; no model is kept.
+// bench/src/ground_isprs_selector.cpp: see ground_isprs_selector.hpp. The trees learn on
+// the tiles' rows of the other sites and predict the left-out site's tiles.
 #include "ground_isprs_selector.hpp"
+
+#include "ground_isprs_selector_fits.hpp"
+#include "ground_isprs_selector_segments.hpp"
 
 #include <core/error.hpp>
 #include <core/point_cloud.hpp>
 #include <sim/ground.hpp>
 #include <sim/ground_file.hpp>
-
-#include <xgboost/c_api.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,114 +19,6 @@
 
 namespace bench {
 namespace {
-
-[[noreturn]] void xgbFail(const char* what) {
-    throw core::Error(std::string("bench ground-isprs --selector: XGBoost: ") + what + ": " + XGBGetLastError());
-}
-#define LADARVR_SELECTOR_XGB(call, what) \
-    do {                                 \
-        if ((call) != 0) xgbFail(what);  \
-    } while (false)
-
-struct Matrix {
-    DMatrixHandle h = nullptr;
-    Matrix(const std::vector<float>& rows, std::size_t columns) {
-        LADARVR_SELECTOR_XGB(XGDMatrixCreateFromMat(rows.data(), bst_ulong(rows.size() / columns), bst_ulong(columns),
-                                                    std::numeric_limits<float>::quiet_NaN(), &h),
-                             "matrix");
-    }
-    ~Matrix() { XGDMatrixFree(h); }
-    Matrix(const Matrix&) = delete;
-    Matrix& operator=(const Matrix&) = delete;
-};
-
-struct Booster {
-    BoosterHandle h = nullptr;
-    ~Booster() { XGBoosterFree(h); }
-};
-
-// Trees learned on (train, labels, weights) predict `test`: per row, the probability of
-// label 1 (classes 2: binary logistic) or of each class (softprob). Shallow trees: the
-// rows are few.
-std::vector<float> learnAndPredict(const std::vector<float>& train, const std::vector<float>& labels,
-                                   const std::vector<float>& weights, const std::vector<float>& test,
-                                   std::size_t columns, int classes) {
-    Matrix m(train, columns), t(test, columns);
-    LADARVR_SELECTOR_XGB(XGDMatrixSetFloatInfo(m.h, "label", labels.data(), bst_ulong(labels.size())), "labels");
-    LADARVR_SELECTOR_XGB(XGDMatrixSetFloatInfo(m.h, "weight", weights.data(), bst_ulong(weights.size())), "weights");
-    Booster b;
-    LADARVR_SELECTOR_XGB(XGBoosterCreate(&m.h, 1, &b.h), "create");
-    std::vector<std::pair<const char*, std::string>> params = {
-        {"tree_method", "hist"}, {"max_depth", "3"},        {"eta", "0.1"}, {"subsample", "0.8"},
-        {"nthread", "1"},        {"min_child_weight", "1"}, {"seed", "1"},  {"verbosity", "0"},
-    };
-    if (classes == 2) {
-        params.push_back({"objective", "binary:logistic"});
-        params.push_back({"base_score", "0.5"});
-    } else {
-        params.push_back({"objective", "multi:softprob"});
-        params.push_back({"num_class", std::to_string(classes)});
-    }
-    for (const auto& [key, value] : params)
-        LADARVR_SELECTOR_XGB(XGBoosterSetParam(b.h, key, value.c_str()), "parameter");
-    for (int round = 0; round < 100; ++round) LADARVR_SELECTOR_XGB(XGBoosterUpdateOneIter(b.h, round, m.h), "train");
-    bst_ulong length = 0;
-    const float* out = nullptr;
-    LADARVR_SELECTOR_XGB(XGBoosterPredict(b.h, t.h, 0, 0, 0, &length, &out), "predict");
-    return std::vector<float>(out, out + length);
-}
-
-double quantile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    const std::size_t k = std::min(v.size() - 1, std::size_t(q * double(v.size())));
-    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-    return v[k];
-}
-
-// A sample under every set: each point's label and height above the set's terrain, and
-// the base terrain's slope and curvature at it, and its 1 m cell.
-struct SampleFits {
-    std::vector<std::vector<std::uint8_t>> ground;  // per set, per point
-    std::vector<std::vector<float>> height_m;       // per set, per point
-    std::vector<float> slope, rough_m, terrain_m;   // the base terrain, per point
-    std::vector<std::uint64_t> cell;                // per point
-    double points_per_cell = 0;                     // over the cells holding a point
-};
-
-SampleFits fitSample(const std::vector<core::CloudPoint>& points) {
-    SampleFits f;
-    const std::size_t n = points.size();
-    for (const SelectorSet& s : selectorSets()) {
-        sim::SmrfOptions o = sim::surveySmrfOptions();
-        o.slope = s.slope, o.window_m = s.window_m, o.threshold_m = s.threshold_m, o.scalar = s.scalar;
-        const std::unique_ptr<sim::TerrainFit> fit = sim::startSmrf(o);
-        fit->add(points);
-        fit->fit();
-        f.ground.emplace_back(n);
-        f.height_m.emplace_back(n);
-        for (std::size_t i = 0; i < n; ++i) f.ground.back()[i] = fit->classify(points[i], f.height_m.back()[i]);
-        if (f.ground.size() > 1) continue;
-        const sim::TerrainGrid& g = fit->surface();
-        for (const core::CloudPoint& p : points) {
-            const double x = p.position.x, y = p.position.y, z = g.heightAt(x, y);
-            const double around =
-                (g.heightAt(x - 2, y) + g.heightAt(x + 2, y) + g.heightAt(x, y - 2) + g.heightAt(x, y + 2)) / 4.0;
-            f.slope.push_back(float(g.slopeAt(x, y)));
-            f.rough_m.push_back(float(std::abs(z - around)));
-            f.terrain_m.push_back(float(z));
-        }
-    }
-    double x0 = std::numeric_limits<double>::max(), y0 = x0;
-    for (const core::CloudPoint& p : points)
-        x0 = std::min(x0, double(p.position.x)), y0 = std::min(y0, double(p.position.y));
-    for (const core::CloudPoint& p : points)
-        f.cell.push_back((std::uint64_t(double(p.position.y) - y0) << 32) | std::uint64_t(double(p.position.x) - x0));
-    std::vector<std::uint64_t> cells = f.cell;
-    std::sort(cells.begin(), cells.end());
-    const std::size_t occupied = std::size_t(std::unique(cells.begin(), cells.end()) - cells.begin());
-    f.points_per_cell = occupied > 0 ? double(n) / double(occupied) : 0.0;
-    return f;
-}
 
 // What the sets say over `members`: the place's density (a ratio to the sample's), share of
 // its area with points, terrain slope, relief and curvature; per set the share called
@@ -189,6 +81,7 @@ struct Variant {
     std::vector<std::size_t> sets;
     bool multiclass = false;
     bool context = false;
+    TreeShape shape;
     std::string place() const {
         std::ostringstream s;
         s << sets.size() << " sets (";
@@ -198,7 +91,7 @@ struct Variant {
     }
     std::string describe() const {
         return place() + (multiclass ? ", one multi-class tree set" : ", pairwise trees") +
-               (context ? ", with the sample's description" : "");
+               (context ? ", with the sample's description" : "") + shape.describe();
     }
 };
 
@@ -262,7 +155,7 @@ std::vector<std::size_t> chooseTiles(const std::vector<AdaptiveSample>& samples,
         }
         for (float& w : weights) w = float(w * double(weights.size()) / sum);
         if (labels.empty()) return std::vector<float>(test.size() * std::size_t(classes == 2 ? 1 : classes), 0.0f);
-        return learnAndPredict(x, labels, weights, test_x, columns, classes);
+        return learnAndPredict(x, labels, weights, test_x, columns, classes, v.shape);
     };
     const auto points = [&](const TileRow& r) { return double(samples[r.sample].points->size()); };
     std::vector<std::size_t> chosen(test.size(), 0);
@@ -331,33 +224,6 @@ Outcome scoreVariant(const std::vector<AdaptiveSample>& samples, const std::vect
     return out;
 }
 
-Counts meanOf(const std::vector<Counts>& c) {
-    Counts m;
-    for (const Counts& x : c) {
-        m.type1 += x.type1 / double(c.size());
-        m.type2 += x.type2 / double(c.size());
-        m.total += x.total / double(c.size());
-        m.kappa += x.kappa / double(c.size());
-    }
-    return m;
-}
-
-// "24 31 53": the samples more than a point past CSF's published total error.
-std::string pastCsf(const std::vector<AdaptiveSample>& samples, const std::vector<Counts>& c) {
-    std::string past;
-    for (std::size_t k = 0; k < samples.size(); ++k)
-        if (const double csf = csfPublishedTotal(samples[k].name); csf >= 0 && c[k].total > csf + 1.0)
-            past += (past.empty() ? "" : " ") + samples[k].name.substr(4);
-    return past.empty() ? "none" : past;
-}
-
-void printLine(const std::string& what, const std::vector<AdaptiveSample>& samples, const std::vector<Counts>& c) {
-    const Counts m = meanOf(c);
-    std::printf("| %s | %.2f | %.2f | %.2f | %.1f | %s |\n", what.c_str(), m.type1, m.type2, m.total, m.kappa,
-                pastCsf(samples, c).c_str());
-    std::fflush(stdout);
-}
-
 std::vector<Counts> baseCounts(const std::vector<AdaptiveSample>& samples, const std::vector<SampleFits>& fits) {
     std::vector<Counts> base;
     for (std::size_t k = 0; k < samples.size(); ++k) {
@@ -419,7 +285,7 @@ std::vector<std::vector<std::uint8_t>> runSelector(const std::vector<AdaptiveSam
     const std::vector<Counts> base = baseCounts(samples, fits);
     printLine("`ladarvr ground` (the default set)", samples, base);
     const std::vector<std::vector<std::size_t>> subsets = {{0, 1}, {0, 2}, {0, 1, 2}, {0, 1, 2, 3}};
-    const Variant primary{50.0, {0, 1, 2}, false, false};
+    const Variant primary{50.0, {0, 1, 2}, false, false, TreeShape{}};
     Outcome chosen;
     for (const double tile_m : {100.0, 50.0, 25.0}) {
         std::vector<Tiles> tiles;
@@ -429,7 +295,7 @@ std::vector<std::vector<std::uint8_t>> runSelector(const std::vector<AdaptiveSam
             for (const bool multiclass : {false, true})
                 for (const bool context : {false, true}) {
                     if (multiclass && sets.size() == 2) continue;  // the same choice as the pairwise trees
-                    const Variant v{tile_m, sets, multiclass, context};
+                    const Variant v{tile_m, sets, multiclass, context, TreeShape{}};
                     Outcome o = scoreVariant(samples, fits, tiles, v);
                     if (!oracle_printed) printLine("oracle, each tile's best of " + v.place(), samples, o.oracle);
                     oracle_printed = true;
@@ -439,17 +305,31 @@ std::vector<std::vector<std::uint8_t>> runSelector(const std::vector<AdaptiveSam
                 }
         }
     }
+    const std::vector<Counts> patches = printSegmentSelector(samples, fits, TreeShape{});
+    // Other shapes of trees, for the variant fixed beforehand and the patches of 3 sets.
+    for (const TreeShape shape : {TreeShape{2, 100, 1}, TreeShape{4, 100, 1}, TreeShape{3, 30, 1}, TreeShape{3, 300, 1},
+                                  TreeShape{3, 100, 10}}) {
+        std::vector<Tiles> tiles;
+        for (const AdaptiveSample& a : samples) tiles.push_back(tilesOf(*a.points, primary.tile_m));
+        Variant v = primary;
+        v.shape = shape;
+        printLine("selector, " + v.describe(), samples, scoreVariant(samples, fits, tiles, v).selector);
+        printSegmentSelector(samples, fits, shape, true);
+    }
     std::printf(
-        "\nPer sample, total error %% (kappa), the selector fixed beforehand (%s):\n\n"
-        "| sample | `ladarvr ground` | oracle | selector | CSF published |\n|---|---:|---:|---:|---:|\n",
+        "\nPer sample, total error %% (kappa), the selector fixed beforehand (%s) and the same 3 sets "
+        "chosen per patch of disagreement:\n\n"
+        "| sample | `ladarvr ground` | oracle | selector | per patch | CSF published |\n"
+        "|---|---:|---:|---:|---:|---:|\n",
         primary.describe().c_str());
     for (std::size_t k = 0; k < samples.size(); ++k)
-        std::printf("| %s | %.2f (%.1f) | %.2f (%.1f) | %.2f (%.1f) | %.2f |\n", samples[k].name.c_str(), base[k].total,
-                    base[k].kappa, chosen.oracle[k].total, chosen.oracle[k].kappa, chosen.selector[k].total,
-                    chosen.selector[k].kappa, csfPublishedTotal(samples[k].name));
-    const Counts mb = meanOf(base), mo = meanOf(chosen.oracle), ms = meanOf(chosen.selector);
-    std::printf("| mean | %.2f (%.1f) | %.2f (%.1f) | %.2f (%.1f) | |\n", mb.total, mb.kappa, mo.total, mo.kappa,
-                ms.total, ms.kappa);
+        std::printf("| %s | %.2f (%.1f) | %.2f (%.1f) | %.2f (%.1f) | %.2f (%.1f) | %.2f |\n", samples[k].name.c_str(),
+                    base[k].total, base[k].kappa, chosen.oracle[k].total, chosen.oracle[k].kappa,
+                    chosen.selector[k].total, chosen.selector[k].kappa, patches[k].total, patches[k].kappa,
+                    csfPublishedTotal(samples[k].name));
+    const Counts mb = meanOf(base), mo = meanOf(chosen.oracle), ms = meanOf(chosen.selector), mp = meanOf(patches);
+    std::printf("| mean | %.2f (%.1f) | %.2f (%.1f) | %.2f (%.1f) | %.2f (%.1f) | |\n", mb.total, mb.kappa, mo.total,
+                mo.kappa, ms.total, ms.kappa, mp.total, mp.kappa);
     std::fflush(stdout);
     return std::move(chosen.labels);
 }

@@ -20,10 +20,10 @@ grep -q "^| \`ladarvr ground\` (the default set) | [0-9.]* | [0-9.]* | [0-9.]* |
     fail "no row of the default set: $(cat "$dir/out")"
 grep -q "^| oracle, each tile's best of 3 sets (.*), 50 m tiles | " "$dir/out" || fail "no oracle row"
 grep -q "^| selector, 3 sets (.*), 50 m tiles, pairwise trees | " "$dir/out" || fail "no selector row"
-grep -q "^| sample | \`ladarvr ground\` | oracle | selector | CSF published |$" "$dir/out" ||
+grep -q "^| sample | \`ladarvr ground\` | oracle | selector | per patch | CSF published |$" "$dir/out" ||
     fail "no per-sample table: $(cat "$dir/out")"
-grep -q "^| samp24 | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | 2.87 |$" "$dir/out" || fail "no samp24 row"
-grep -q "^| samp41 | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | 5.14 |$" "$dir/out" || fail "no samp41 row"
+grep -q "^| samp24 | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | 2.87 |$" "$dir/out" || fail "no samp24 row"
+grep -q "^| samp41 | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | [0-9.]* ([0-9.]*) | 5.14 |$" "$dir/out" || fail "no samp41 row"
 # `ladarvr ground`'s figure for samp24 as the main table gives it.
 grep -q "^| samp24 | 4.22 (89.4) | " "$dir/out" || fail "samp24's default-set figure is not 4.22: $(grep samp24 "$dir/out")"
 [ "$(grep -c "^| samp[0-9]" "$dir/out")" -eq 2 ] || fail "not two sample rows"
