@@ -124,15 +124,16 @@ bool inWidenedHull(const std::vector<glm::dvec2>& hull, const glm::dvec2& q, dou
 }
 
 // The points of `s` not yet `taken` inside the hull in plan of the cluster `c` widened
-// by `margin_m`, taken as a new child (when any).
+// by `margin_m`, at most `top_m` above the terrain, taken as a new child (when any).
 void takeHull(const core::PointCloud& cloud, const std::vector<std::uint32_t>& s, const std::vector<std::uint32_t>& c,
-              double margin_m, std::vector<std::uint8_t>& taken, std::vector<std::vector<std::uint32_t>>& children) {
+              double margin_m, const std::vector<float>& height_m, double top_m, std::vector<std::uint8_t>& taken,
+              std::vector<std::vector<std::uint32_t>>& children) {
     const std::vector<glm::dvec2> hull = planHull(cloud, c);
     glm::dvec2 box_lo(std::numeric_limits<double>::max()), box_hi(std::numeric_limits<double>::lowest());
     for (const glm::dvec2& h : hull) box_lo = glm::min(box_lo, h - margin_m), box_hi = glm::max(box_hi, h + margin_m);
     std::vector<std::uint32_t> child;
     for (std::size_t k = 0; k < s.size(); ++k) {
-        if (taken[k]) continue;
+        if (taken[k] || double(height_m[s[k]]) > top_m) continue;
         const glm::dvec2 q(cloud.points[s[k]].position);
         if (q.x < box_lo.x || q.y < box_lo.y || q.x > box_hi.x || q.y > box_hi.y) continue;
         if (inWidenedHull(hull, q, margin_m)) {
@@ -154,16 +155,27 @@ std::vector<std::vector<std::uint32_t>> splitOversized(const core::PointCloud& c
     std::vector<std::vector<std::uint32_t>> children;
     std::vector<std::uint32_t> above;
     const std::size_t min_child = kChildMinFactor * std::size_t(o.min_points);
-    for (const double cut_m : kOversizeCuts_m) {
+    // Each point's height above the envelope.
+    std::vector<float> above_m(s.size());
+    for (std::size_t k = 0; k < s.size(); ++k) above_m[k] = out.height_m[s[k]] - envelope[k];
+    for (const OversizeBand& band : kOversizeBands) {
         above.clear();
         for (std::size_t k = 0; k < s.size(); ++k)
-            if (!taken[k] && double(out.height_m[s[k]]) - double(envelope[k]) > cut_m) above.push_back(s[k]);
-        if (above.size() < min_child) break;
+            if (!taken[k] && above_m[k] > band.cut_m && above_m[k] <= band.cap_m) above.push_back(s[k]);
+        if (above.size() < min_child) continue;
         for (const auto& c : clusterPoints(cloud, above, lo, o, out.core_points, work_parts)) {
             if (c.size() < min_child) continue;
             const PlanExtent e = planExtent(cloud, c);
             if (e.length_m > o.max_vehicle_length_m || e.width_m > o.max_vehicle_width_m) continue;
-            takeHull(cloud, s, c, kHullMargin * o.voxel_m, taken, children);
+            // An uncapped band's cluster takes its hull at every height; a capped one's up
+            // to its own top, not the crown above it.
+            double top_m = kNoCap;
+            if (band.cap_m < kNoCap) {
+                top_m = 0;
+                for (const std::uint32_t i : c) top_m = std::max(top_m, double(out.height_m[i]));
+                top_m += o.voxel_m;
+            }
+            takeHull(cloud, s, c, kHullMargin * o.voxel_m, out.height_m, top_m, taken, children);
         }
     }
     if (children.empty()) return children;

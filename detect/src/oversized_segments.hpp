@@ -5,12 +5,11 @@
 // metre up) joins it into one low segment many metres across, which the model scores as
 // clutter. Such a segment's points are measured against its own lower envelope (the
 // lowest height above the terrain within kEnvelopeReach_m of each point), and the points
-// more than each of kOversizeCuts_m above it are clustered again (as in step 2), lowest
-// cut first: each cluster of vehicle size (at most max_vehicle_length_m by
-// max_vehicle_width_m along its principal axes in plan, kSplitMinFactor x min_points
-// points or more) takes every point of the segment inside its convex hull in plan
-// (widened by kHullMargin voxels), at any height, as a segment of its own; what no cluster
-// took stays one segment.
+// in each of kOversizeBands above it are clustered again (as in step 2): each cluster of
+// vehicle size (at most max_vehicle_length_m by max_vehicle_width_m along its principal
+// axes in plan, kChildMinFactor x min_points points or more) takes every point of the
+// segment inside its convex hull in plan (widened by kHullMargin voxels) up to its own top
+// (plus a voxel), as a segment of its own; what no cluster took stays one segment.
 #pragma once
 #include <detect/segmentation.hpp>
 
@@ -26,8 +25,17 @@
 
 namespace detect::detail {
 
-/// The cuts above a segment's lower envelope, metres, tried in this order.
-inline constexpr std::array<double, 3> kOversizeCuts_m = {0.3, 0.6, 1.0};
+/// The height bands above a segment's lower envelope whose points are clustered again,
+/// metres (lower cut, upper cap), tried in this order: cuts rising from 0.3 m (a vehicle
+/// beside low clutter or in a raised sheet of ground), then caps falling from 3 m (a
+/// vehicle under a crown that reaches down to its roof).
+struct OversizeBand {
+    double cut_m;
+    double cap_m;
+};
+inline constexpr double kNoCap = 1e9;
+inline constexpr std::array<OversizeBand, 6> kOversizeBands = {
+    {{0.3, kNoCap}, {0.6, kNoCap}, {1.0, kNoCap}, {0.3, 3.0}, {0.3, 2.5}, {0.3, 2.0}}};
 /// The lower envelope at a point: the lowest point of the segment within this many
 /// metres in plan (a square window of envelope cells): more than half the widest
 /// vehicle, so that the envelope under a vehicle's roof is the ground beside it.

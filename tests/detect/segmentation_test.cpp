@@ -99,8 +99,9 @@ TEST_CASE("segments: a sparse trail of points does not chain a vehicle to the cr
     // The trail: single points every 0.2 m from the roof up to the crown (mixed returns).
     for (double z = 2.6; z < 4.0; z += 0.2) test_support::addPoint(c, {1.0, 0.5, z}, core::Role::Environment);
     detect::SegmentOptions o;
-    o.split_height_m = 0;  // step 2 alone (the split below would part them too)
-    o.core_points = 1;     // every voxel joins: the trail chains the vehicle and the crown
+    o.split_height_m = 0;        // step 2 alone (the split below would part them too,
+    o.max_vehicle_length_m = 0;  // and so would step 5's under the crown)
+    o.core_points = 1;           // every voxel joins: the trail chains the vehicle and the crown
     const detect::Segmentation chained = detect::segmentCloud(c, o);
     o.core_points = 3;
     const detect::Segmentation apart = detect::segmentCloud(c, o);

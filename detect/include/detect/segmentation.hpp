@@ -41,10 +41,11 @@
 //      max_vehicle_length_m or wider than max_vehicle_width_m along its principal axes: a
 //      vehicle that touched low clutter or a raised sheet of noisy ground) is split
 //      hierarchically: its points more than 0.3, 0.6 and 1.0 m above its own lower
-//      envelope (the lowest height above the terrain within 2 m) are clustered as in step
-//      2, lowest cut first, and each cluster of vehicle size and ten times min_points or
-//      more takes the segment's points inside its hull in plan, at every height, as a
-//      segment of its own; the rest stays one segment.
+//      envelope (the lowest height above the terrain within 2 m), then those between 0.3
+//      m and 3, 2.5 or 2 m above it (under a crown), are clustered as in step 2, and each
+//      cluster of vehicle size and ten times min_points or more takes the segment's
+//      points inside its hull in plan (up to its own top under a cap) as a segment of its
+//      own; the rest stays one segment.
 #pragma once
 #include <core/point_cloud.hpp>
 #include <sim/ground.hpp>
