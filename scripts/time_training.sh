@@ -15,9 +15,11 @@
 # against the free space first): the vehicles and the real places' scenes
 # (scripts/train_shipped_model.sh --scenes-to), one corpus per SPEC at nice 19 with --jobs
 # (default 2) items at once, then `ladarvr train CORPORA --threads 2 --memory-mb 2048` at
-# normal priority, timed (wall seconds, and peak resident memory of the largest process).
-# It prints, one per line: items built and left out, the scenes' seconds, the corpora's
-# seconds, train's seconds, train's peak RSS, and the load average before and after train.
+# normal priority, timed (wall and CPU seconds, and peak resident memory of the largest
+# process). It prints, one per line: items built and left out, the scenes' seconds, the
+# corpora's seconds, train's seconds, train's peak RSS, and the load average before and
+# after train. On cores shared with other work the wall time is an upper bound; the CPU
+# seconds over the threads bound a quiet machine's from below.
 # A rerun resumes finished corpora, so only train is timed again. The folder is kept: delete
 # it when the figures are taken. LADARVR names the ladarvr command (default ./ladarvr).
 set -euo pipefail
@@ -142,15 +144,16 @@ start = time.monotonic()
 rc = subprocess.call(sys.argv[2:])
 wall_s = time.monotonic() - start
 with open(sys.argv[1], "w") as f:
-    f.write("%.1f %d\n" % (wall_s, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss // 1024))
+    use = resource.getrusage(resource.RUSAGE_CHILDREN)
+    f.write("%.1f %.1f %d\n" % (wall_s, use.ru_utime + use.ru_stime, use.ru_maxrss // 1024))
 sys.exit(rc)
 EOF
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
-read -r train_s peak_mb <"$work/train.time"
+read -r train_s train_cpu_s peak_mb <"$work/train.time"
 
 echo "items: $built built, $left_out left out (asked $items)"
 echo "scenes: $scenes_s s"
 echo "corpus build: $corpus_s s (nice 19, --jobs $jobs)"
-echo "train: $train_s s (--threads 2 --memory-mb 2048)"
+echo "train: $train_s s, $train_cpu_s CPU s (--threads 2 --memory-mb 2048)"
 echo "train peak RSS: $peak_mb MiB"
 echo "load average before train: $load_before; after: $load_after"
