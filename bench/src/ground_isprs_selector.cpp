@@ -7,14 +7,10 @@
 
 #include <core/error.hpp>
 #include <core/point_cloud.hpp>
-#include <sim/ground.hpp>
-#include <sim/ground_file.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
-#include <memory>
 #include <sstream>
 
 namespace bench {

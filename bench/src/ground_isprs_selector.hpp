@@ -4,7 +4,8 @@
 // points each calls ground, how far their terrains part, the heights above them, the
 // terrain's slope and roughness, the density as a ratio to the sample's); gradient-boosted
 // trees (XGBoost) learned on the other sites' tiles choose the set whose labels the tile's
-// points take (leave-one-site-out), beside the per-tile oracle over the same sets.
+// points take (leave-one-site-out), beside the per-tile oracle over the same sets. The same
+// choice per patch where the sets disagree is ground_isprs_selector_segments.hpp.
 #pragma once
 #include "ground_isprs_adaptive.hpp"
 
@@ -39,10 +40,11 @@ struct PairTarget {
 PairTarget pairTarget(double wrong_base, double wrong_other, double sample_points);
 
 /// Scores the selector leave-one-site-out (the site is the sample name's first digit) over
-/// tile sizes, subsets of the sets and kinds of trees, prints one line per variant and a
-/// per-sample table of the variant fixed beforehand (3 sets, 50 m tiles, pairwise trees)
-/// beside `ladarvr ground`'s set and the oracle, and returns that variant's labels per
-/// sample (1 = ground). Needs at least two sites. Throws core::Error.
+/// tile sizes, subsets of the sets, kinds and shapes of trees, and per patch of
+/// disagreement; prints one line per variant and a per-sample table of the variant fixed
+/// beforehand (3 sets, 50 m tiles, pairwise trees) beside `ladarvr ground`'s set, the oracle
+/// and the patches, and returns that variant's labels per sample (1 = ground). Needs
+/// samples of at least two sites. Throws core::Error.
 std::vector<std::vector<std::uint8_t>> runSelector(const std::vector<AdaptiveSample>& samples);
 
 }  // namespace bench
