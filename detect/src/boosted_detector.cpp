@@ -86,7 +86,8 @@ std::uint64_t BoostedDetector::memoryBytes(std::uint64_t points) {
     // and view tables (48) before that, and a segment's feature scratch (32) after.
     // Rounded up to 192 for the allocator. The fixed part holds the reader's chunk
     // buffer, the terrain fit's chunk of points, the terrain levelling's tables (at most
-    // 9 MB), XGBoost and the model.
+    // 9 MB; freed before the oversized segments' envelope grid, at most 8 MB, is made),
+    // XGBoost and the model.
     constexpr std::uint64_t kBytesPerPoint = 192;
     constexpr std::uint64_t kFixedBytes = std::uint64_t(96) << 20;
     return kFixedBytes + points * kBytesPerPoint;

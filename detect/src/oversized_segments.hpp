@@ -8,8 +8,10 @@
 // in each of kOversizeBands above it are clustered again (as in step 2): each cluster of
 // vehicle size (at most max_vehicle_length_m by max_vehicle_width_m along its principal
 // axes in plan, kChildMinFactor x min_points points or more) takes every point of the
-// segment inside its convex hull in plan (widened by kHullMargin voxels) up to its own top
-// (plus a voxel), as a segment of its own; what no cluster took stays one segment.
+// segment inside its convex hull in plan (widened by kHullMargin voxels; under a cap, only
+// up to the cluster's own top and a voxel) as a segment of its own; what no cluster took
+// stays one segment. Its tables per point of the one segment split at a time stay under
+// step 2's peak for the whole cloud, and its envelope grid under 8 MB.
 #pragma once
 #include <detect/segmentation.hpp>
 
