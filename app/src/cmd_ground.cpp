@@ -237,7 +237,7 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     bool tiled = cli.in.size() > 1 || cli.tile_m > 0;
     std::uint64_t cells = 0;
     if (!tiled) {
-        cells = cellsOver(groundBox(files[0]), origin, filterCell(o));
+        cells = cellsOver(groundBox(files[0]), sim::groundFrame(origin, o), filterCell(o));
         tiled = cells > std::min(one.max_cells, filterMaxCells(o));
     }
     createParentFolders(out, "ground: --out");

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <mutex>
@@ -68,6 +69,13 @@ std::string describe(const GroundFileOptions& o) {
           << (m.raised_segments ? ", raised segments" : "") << ")";
     }
     return s.str();
+}
+
+double groundCell(const GroundFileOptions& o) { return o.method == GroundMethod::Csf ? o.csf.cloth_m : o.smrf.cell_m; }
+
+glm::dvec3 groundFrame(const glm::dvec3& origin, const GroundFileOptions& o) {
+    const double cell = groundCell(o);
+    return {std::floor(origin.x / cell) * cell, std::floor(origin.y / cell) * cell, origin.z};
 }
 
 std::unique_ptr<TerrainFit> startFit(const GroundFileOptions& o, std::size_t max_cells) {
@@ -308,7 +316,10 @@ GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::f
                                    const GroundFileOptions& o, std::size_t max_cells, const io::LasOptions& las,
                                    const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress,
                                    int threads) {
-    return classifyOneFile(in, glm::dvec3(0.0), {}, out, o, max_cells, std::max(1, threads), -1.0, las, copc, progress);
+    // The points moved from their reader's origin into the cell lattice's frame.
+    const glm::dvec3 origin = io::CloudReader(in).origin();
+    return classifyOneFile(in, origin - groundFrame(origin, o), {}, out, o, max_cells, std::max(1, threads), -1.0, las,
+                           copc, progress);
 }
 
 }  // namespace sim

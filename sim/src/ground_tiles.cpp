@@ -134,6 +134,44 @@ XyBox clipToCells(const std::vector<XyBox>& cells, double cell_m, const glm::dve
     return {glm::max(lo, reach_lo), glm::min(hi, reach_hi)};
 }
 
+// Whether box `b` comes within `reach_m` of box `a`.
+bool within(const GroundBox& a, const GroundBox& b, double reach_m) {
+    return b.max.x >= a.min.x - reach_m && b.min.x <= a.max.x + reach_m && b.max.y >= a.min.y - reach_m &&
+           b.min.y <= a.max.y + reach_m;
+}
+
+// Each box's survey: the bounds of the boxes joined to it through boxes within
+// `reach_m` of each other (a folder of tiles is one survey; inputs further apart are
+// surveys of their own, as the tiles of one run over them take them). An empty box (min
+// over max) joins none. Sorted by their lowest x, a box meets only those after it that
+// start within its reach.
+std::vector<GroundBox> surveyBoxes(const std::vector<GroundBox>& boxes, double reach_m) {
+    std::vector<std::size_t> order(boxes.size()), parent(boxes.size());
+    for (std::size_t k = 0; k < boxes.size(); ++k) order[k] = parent[k] = k;
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return boxes[a].min.x < boxes[b].min.x; });
+    const auto find = [&](std::size_t k) {
+        while (parent[k] != k) k = parent[k] = parent[parent[k]];
+        return k;
+    };
+    const auto empty = [](const GroundBox& b) { return b.min.x > b.max.x || b.min.y > b.max.y; };
+    for (std::size_t a = 0; a < order.size(); ++a)
+        for (std::size_t b = a + 1; b < order.size(); ++b) {
+            const GroundBox &p = boxes[order[a]], &q = boxes[order[b]];
+            if (q.min.x > p.max.x + reach_m) break;
+            if (!empty(p) && !empty(q) && within(p, q, reach_m)) parent[find(order[b])] = find(order[a]);
+        }
+    std::vector<GroundBox> joined(boxes.size(), GroundBox{glm::dvec2(1e300), glm::dvec2(-1e300)});
+    for (std::size_t k = 0; k < boxes.size(); ++k) {
+        GroundBox& survey = joined[find(k)];
+        survey.min = glm::min(survey.min, boxes[k].min);
+        survey.max = glm::max(survey.max, boxes[k].max);
+    }
+    std::vector<GroundBox> out(boxes.size());
+    for (std::size_t k = 0; k < boxes.size(); ++k) out[k] = joined[find(k)];
+    return out;
+}
+
 class Tiler {
   public:
     // `survey`: the inputs' bounds in the survey's frame; tiles beyond them hold no point
@@ -180,8 +218,8 @@ class Tiler {
     std::int64_t index(double v) const { return std::int64_t(std::floor(v / t_.tile_m)); }
 
     // The extent of a tile's raster (TerrainFit::setExtent): the raster one run over the
-    // inputs that reach its buffer would have (the cells from the lowest to the highest
-    // their points touch), within that buffer. A tile's points may stop short of it (a
+    // surveys that reach its buffer would have (the cells from the lowest to the highest
+    // their inputs' points touch), within that buffer. A tile's points may stop short of it (a
     // survey's ragged edge), and the filling of the empty cells up to it moves the
     // surface near that edge.
     std::pair<glm::dvec2, glm::dvec2> rasterBox(const Tile& tile) const {
@@ -190,8 +228,21 @@ class Tiler {
         return clip(lo, hi);
     }
 
-    // [lo, hi) within the cells of the inputs that reach it.
+    // [lo, hi) within the cells of the surveys that reach it (after joinSurveys()).
     XyBox clip(const glm::dvec2& lo, const glm::dvec2& hi) const { return clipToCells(cells_, cell_m_, lo, hi); }
+
+    // Once every point is spilled: each input's cells widened to its survey's, the inputs
+    // joined through their buffers (surveyBoxes), so that a tile's raster ends where one
+    // run over the survey ends, not where the inputs that reach its buffer do (a survey
+    // cut into files, its edge set by a file beyond the buffer).
+    void joinSurveys() {
+        std::vector<GroundBox> boxes;
+        for (const auto& [first, last] : cells_) boxes.push_back({first * cell_m_, (last + 1.0) * cell_m_});
+        const std::vector<GroundBox> surveys = surveyBoxes(boxes, t_.buffer_m);
+        for (std::size_t k = 0; k < cells_.size(); ++k)
+            if (surveys[k].min.x <= surveys[k].max.x)
+                cells_[k] = {glm::round(surveys[k].min * inv_cell_), glm::round(surveys[k].max * inv_cell_) - 1.0};
+    }
 
   private:
     Tile& at(std::uint64_t key) {
@@ -210,7 +261,7 @@ class Tiler {
 
     GroundTiling t_;
     double cell_m_, inv_cell_;
-    std::vector<XyBox> cells_;  // by input: the lowest and highest cell its points touched
+    std::vector<XyBox> cells_;  // by input: the lowest and highest cell its points (its survey's) touched
     std::filesystem::path scratch_;
     std::int64_t kx_min_, kx_max_, ky_min_, ky_max_;  // the tiles the survey's bounds reach
     std::map<std::uint64_t, Tile> tiles_;
@@ -409,14 +460,20 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
     GroundFileStats st;
     // Tiles of whole cells: each cell of the raster, and its thickness sample, in one tile.
     GroundTiling t = tiling;
-    const double cell = o.method == GroundMethod::Csf ? o.csf.cloth_m : o.smrf.cell_m;
+    const double cell = groundCell(o);
     t.tile_m = std::max(1.0, std::round(t.tile_m / cell)) * cell;
-    std::vector<glm::dvec3> shifts;
-    glm::dvec3 origin{0.0};
+    // The points are fitted in the survey's frame (the first input's origin on the cell
+    // lattice, groundFrame) and written in the first input's frame.
+    std::vector<glm::dvec3> shifts, writes;
+    glm::dvec3 origin{0.0}, frame{0.0};
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         const io::CloudReader reader(inputs[i]);
-        if (i == 0) origin = reader.origin();
-        shifts.push_back(reader.origin() - origin);
+        if (i == 0) {
+            origin = reader.origin();
+            frame = groundFrame(origin, o);
+        }
+        shifts.push_back(reader.origin() - frame);
+        writes.push_back(reader.origin() - origin);
     }
     const auto moveBy = [](core::CloudPoint& p, const glm::dvec3& shift) {
         if (shift != glm::dvec3(0.0)) p.position = glm::vec3(glm::dvec3(p.position) + shift);
@@ -427,8 +484,8 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
     GroundBox survey{glm::dvec2(1e300), glm::dvec2(-1e300)};
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         const GroundBox box = readGroundBox(inputs[i]);
-        survey.min = glm::min(survey.min, box.min - glm::dvec2(origin) - cell);
-        survey.max = glm::max(survey.max, box.max - glm::dvec2(origin) + cell);
+        survey.min = glm::min(survey.min, box.min - glm::dvec2(frame) - cell);
+        survey.max = glm::max(survey.max, box.max - glm::dvec2(frame) + cell);
     }
     Tiler tiler(t, cell, t.scratch_dir, survey);
     for (std::size_t i = 0; i < inputs.size(); ++i) {
@@ -441,6 +498,7 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
             progress(chunk.size());
         });
     }
+    tiler.joinSurveys();
     // Pass 2: the tiles.
     auto& tiles = tiler.tiles();
     runTiles(tiler, o, t, cell, t.scratch_dir, progress);
@@ -454,7 +512,7 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
         }
         st.colour_top_m = std::max(st.colour_top_m, tile.top_m);
     }
-    st.cell_m = o.method == GroundMethod::Csf ? o.csf.cloth_m : o.smrf.cell_m;
+    st.cell_m = cell;
 
     // Pass 3: the writing, each point's label from its tile's results in turn.
     const io::CloudFormat format = io::formatForPath(out, "ground: --out");
@@ -481,8 +539,10 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk, std::vector<unsigned char>& records) {
             for (std::size_t k = 0; k < chunk.size(); ++k) {
                 core::CloudPoint& p = chunk[k];
-                moveBy(p, shifts[i]);
-                auto it = tiles.find(tiler.ownKey(p));
+                core::CloudPoint fitted = p;
+                moveBy(fitted, shifts[i]);
+                moveBy(p, writes[i]);
+                auto it = tiles.find(tiler.ownKey(fitted));
                 if (it == tiles.end() || !it->second.results)
                     throw core::Error("ground: " + quoted(inputs[i]) + ": changed while it was read");
                 unsigned char bytes[kResultBytes];
@@ -508,12 +568,6 @@ glm::dvec3 originOf(const std::filesystem::path& file) {
     return reader.origin();
 }
 
-// Whether box `b` comes within `reach_m` of box `a`.
-bool within(const GroundBox& a, const GroundBox& b, double reach_m) {
-    return b.max.x >= a.min.x - reach_m && b.min.x <= a.max.x + reach_m && b.max.y >= a.min.y - reach_m &&
-           b.min.y <= a.max.y + reach_m;
-}
-
 // The other inputs whose box comes within t.buffer_m of input `index`'s, their points
 // moved into the frame of `frame` and kept within that distance.
 std::vector<FitSource> neighbours(const std::vector<std::filesystem::path>& inputs, const std::vector<GroundBox>& boxes,
@@ -532,40 +586,12 @@ std::vector<FitSource> neighbours(const std::vector<std::filesystem::path>& inpu
     return extra;
 }
 
-// The bounds of the survey input `index` belongs to: the inputs joined to it through
-// boxes within `buffer_m` of each other (a folder of tiles is one survey; inputs further
-// apart are surveys of their own, as tiles of the merged run take them). Sorted by their
-// lowest x, an input meets only those after it that start within its reach.
-GroundBox surveyBox(const std::vector<GroundBox>& boxes, std::size_t index, double buffer_m) {
-    std::vector<std::size_t> order(boxes.size()), parent(boxes.size());
-    for (std::size_t k = 0; k < boxes.size(); ++k) order[k] = parent[k] = k;
-    std::sort(order.begin(), order.end(),
-              [&](std::size_t a, std::size_t b) { return boxes[a].min.x < boxes[b].min.x; });
-    const auto find = [&](std::size_t k) {
-        while (parent[k] != k) k = parent[k] = parent[parent[k]];
-        return k;
-    };
-    for (std::size_t a = 0; a < order.size(); ++a)
-        for (std::size_t b = a + 1; b < order.size(); ++b) {
-            const GroundBox &p = boxes[order[a]], &q = boxes[order[b]];
-            if (q.min.x > p.max.x + buffer_m) break;
-            if (within(p, q, buffer_m)) parent[find(order[b])] = find(order[a]);
-        }
-    GroundBox survey{glm::dvec2(1e300), glm::dvec2(-1e300)};
-    for (std::size_t k = 0; k < boxes.size(); ++k)
-        if (find(k) == find(index)) {
-            survey.min = glm::min(survey.min, boxes[k].min);
-            survey.max = glm::max(survey.max, boxes[k].max);
-        }
-    return survey;
-}
-
 }  // namespace
 
 double surveyThickness(const std::vector<std::filesystem::path>& inputs, const std::vector<GroundBox>& boxes,
                        const GroundFileOptions& o, const GroundTiling& t,
                        const std::function<void(std::size_t)>& progress) {
-    const glm::dvec3 frame = originOf(inputs[0]);
+    const glm::dvec3 frame = groundFrame(originOf(inputs[0]), o);
     std::mutex mutex;
     std::vector<double> samples;
     platform::runJobs(inputs.size(), t.jobs, [&](std::size_t i) {
@@ -595,13 +621,14 @@ GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path
                                          const std::filesystem::path& out, const GroundFileOptions& o,
                                          const GroundTiling& t, const io::LasOptions& las, const io::CopcOptions& copc,
                                          const std::function<void(std::size_t)>& progress) {
-    // The first input's frame: the raster's cells lie where one merged run puts them.
-    const glm::dvec3 frame = originOf(inputs[0]);
+    // The first input's frame on the cell lattice: the raster's cells lie where one
+    // merged run, or one run over the uncut survey, puts them.
+    const glm::dvec3 frame = groundFrame(originOf(inputs[0]), o);
     const glm::dvec2 at(frame);
-    const double cell_m = o.method == GroundMethod::Csf ? o.csf.cloth_m : o.smrf.cell_m;
+    const double cell_m = groundCell(o);
     // The cells of the survey's bounds (one merged run's raster), and the input's own
     // box, in the frame.
-    const GroundBox survey = surveyBox(boxes, index, t.buffer_m);
+    const GroundBox survey = surveyBoxes(boxes, t.buffer_m)[index];
     const std::vector<XyBox> cells{{glm::floor((survey.min - at) / cell_m), glm::floor((survey.max - at) / cell_m)}};
     const XyBox own{boxes[index].min - at, boxes[index].max - at};
     const ClipBox clip = [&](const glm::dvec2& lo, const glm::dvec2& hi) { return clipToCells(cells, cell_m, lo, hi); };

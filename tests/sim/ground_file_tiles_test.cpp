@@ -3,9 +3,10 @@
 // untiled run (every point of the 15 ISPRS samples and a survey in feet in 60 m tiles,
 // and in 30 m tiles, narrower than the buffer, floorOf); two files merged into one
 // output and the same two classified each as a tile with the other as its buffer agree;
-// a sample cut into a folder of 3 x 3 files, each classified with the others as its
-// buffer, gets the classes of one run; tiles fitted two at a time write the same bytes
-// as one at a time; a survey too wide for one raster runs in tiles; --whiten's colours.
+// a sample or a survey in feet cut into a folder of 3 x 3 files, each classified with
+// the others as its buffer, or classified together in forced tiles, gets the classes of
+// one run over the uncut file; tiles fitted two at a time write the same bytes as one at
+// a time; a survey too wide for one raster runs in tiles; --whiten's colours.
 #include <sim/ground_tiles.hpp>
 
 #include <core/error.hpp>
@@ -193,14 +194,22 @@ TEST_CASE("ground tiles: two files merged and the two classified each with the o
 
 namespace {
 
-// The share of `sample`'s points whose class, when the sample is cut into 3 x 3 LAS
-// files at its x and y terciles and each file is classified with the others as its
-// buffer (a folder of tiles, `ground DIR/*.las --out-dir`), is the class of one run
-// over the whole sample.
-double folderAgreement(const std::string& sample, const fs::path& dir) {
-    const core::PointCloud cloud = io::readCloud(fs::path(LADARVR_ISPRS_DIR) / (sample + ".laz"));
-    const sim::GroundFileOptions o;
-    const std::vector<std::uint8_t> one = sim::classifyGround(cloud.points, o);
+// A survey cut into 3 x 3 LAS files at its x and y terciles (each file's origin its own,
+// near its middle, as a reader puts it): the files, their bounds, where each file's
+// points came from in the survey, and the options in the survey's units.
+struct CutSurvey {
+    std::vector<fs::path> inputs;
+    std::vector<sim::GroundBox> boxes;
+    std::vector<std::vector<std::size_t>> from;
+    std::size_t points = 0;
+    sim::GroundFileOptions o;
+};
+
+CutSurvey cutIntoFiles(const fs::path& in, const fs::path& dir) {
+    const core::PointCloud cloud = io::readCloud(in);
+    CutSurvey cut;
+    cut.points = cloud.points.size();
+    cut.o = sim::inUnits(sim::GroundFileOptions{}, sim::readCoordinateUnits(in, "test"));
     const auto terciles = [&](int axis) {
         std::vector<float> v;
         for (const core::CloudPoint& p : cloud.points) v.push_back(p.position[axis]);
@@ -209,9 +218,8 @@ double folderAgreement(const std::string& sample, const fs::path& dir) {
     };
     const auto [x1, x2] = terciles(0);
     const auto [y1, y2] = terciles(1);
-    // Each file's points, and where each came from in the sample.
     std::vector<core::PointCloud> files(9, cloud);
-    std::vector<std::vector<std::size_t>> from(9);
+    cut.from.resize(9);
     for (core::PointCloud& f : files) {
         f.points.clear();
         f.foreign.reset();
@@ -220,28 +228,68 @@ double folderAgreement(const std::string& sample, const fs::path& dir) {
         const glm::vec3 p = cloud.points[i].position;
         const std::size_t k = std::size_t((p.x >= x1) + (p.x >= x2)) * 3 + std::size_t((p.y >= y1) + (p.y >= y2));
         files[k].points.push_back(cloud.points[i]);
-        from[k].push_back(i);
+        cut.from[k].push_back(i);
     }
-    std::vector<fs::path> inputs;
-    std::vector<sim::GroundBox> boxes;
+    const std::string name = in.stem().string();
     for (std::size_t k = 0; k < files.size(); ++k) {
-        inputs.push_back(dir / (sample + "_t" + std::to_string(k) + ".las"));
-        io::writeCloud(inputs.back(), files[k], io::CloudFormat::Las);
-        boxes.push_back(sim::readGroundBox(inputs.back()));
+        cut.inputs.push_back(dir / (name + "_t" + std::to_string(k) + ".las"));
+        io::writeCloud(cut.inputs.back(), files[k], io::CloudFormat::Las);
+        cut.boxes.push_back(sim::readGroundBox(cut.inputs.back()));
     }
-    sim::GroundTiling t = tiling(1000.0, o, dir);
-    t.thickness_m = sim::surveyThickness(inputs, boxes, o, t, none);
+    return cut;
+}
+
+// Each point's ground flag from one untiled run over the uncut survey `in`.
+std::vector<bool> oneRun(const fs::path& in, const sim::GroundFileOptions& o, const fs::path& dir) {
+    const fs::path out = dir / (in.stem().string() + "_one.las");
+    sim::classifyGroundFile(in, out, o, std::size_t(1) << 24, {}, {}, none);
+    std::vector<bool> ground;
+    for (const core::CloudPoint& p : io::readCloud(out).points) ground.push_back(p.label == core::Role::Ground);
+    return ground;
+}
+
+// The share of `in`'s points whose class, when the survey is cut into 3 x 3 files and
+// each file is classified with the others as its buffer (a folder of tiles, `ground
+// DIR/*.las --out-dir`), is the class of one run over the uncut survey.
+double folderAgreement(const fs::path& in, const fs::path& dir) {
+    const CutSurvey cut = cutIntoFiles(in, dir);
+    const std::vector<bool> one = oneRun(in, cut.o, dir);
+    REQUIRE(one.size() == cut.points);
+    sim::GroundTiling t = tiling(1000.0, cut.o, dir);
+    t.thickness_m = sim::surveyThickness(cut.inputs, cut.boxes, cut.o, t, none);
     std::size_t same = 0;
-    for (std::size_t k = 0; k < inputs.size(); ++k) {
-        const fs::path out = dir / (sample + "_out" + std::to_string(k) + ".las");
-        sim::classifyGroundNeighbours(inputs, boxes, k, out, o, t, {}, {}, none);
+    for (std::size_t k = 0; k < cut.inputs.size(); ++k) {
+        const fs::path out = dir / (in.stem().string() + "_out" + std::to_string(k) + ".las");
+        sim::classifyGroundNeighbours(cut.inputs, cut.boxes, k, out, cut.o, t, {}, {}, none);
         const core::PointCloud got = io::readCloud(out);
-        REQUIRE(got.points.size() == from[k].size());
+        REQUIRE(got.points.size() == cut.from[k].size());
         for (std::size_t i = 0; i < got.points.size(); ++i)
-            same += (got.points[i].label == core::Role::Ground) == (one[from[k][i]] != 0);
+            same += (got.points[i].label == core::Role::Ground) == one[cut.from[k][i]];
     }
-    const double share = double(same) / double(cloud.points.size());
-    MESSAGE(sample << " as a folder of 3 x 3 files: " << 100.0 * share << " % agree");
+    const double share = double(same) / double(cut.points);
+    MESSAGE(in.filename().string() << " as a folder of 3 x 3 files: " << 100.0 * share << " % agree");
+    return share;
+}
+
+// The share of `in`'s points whose class, when the survey is cut into 3 x 3 files and
+// the files are classified together in forced tiles `tile_m` metres wide (`ground
+// DIR/*.las --out ONE --tile-m`), is the class of one run over the uncut survey.
+double forcedAgreement(const fs::path& in, double tile_m, const fs::path& dir) {
+    const CutSurvey cut = cutIntoFiles(in, dir);
+    const std::vector<bool> one = oneRun(in, cut.o, dir);
+    REQUIRE(one.size() == cut.points);
+    const double unit_m = sim::readCoordinateUnits(in, "test").horizontal_m;
+    const fs::path out = dir / (in.stem().string() + "_forced.las");
+    const sim::GroundFileStats st =
+        sim::classifyGroundTiled(cut.inputs, out, cut.o, tiling(tile_m / unit_m, cut.o, dir), {}, {}, none);
+    CHECK(st.tiles >= 4);
+    const core::PointCloud got = io::readCloud(out);
+    REQUIRE(got.points.size() == cut.points);
+    std::size_t same = 0, at = 0;
+    for (const std::vector<std::size_t>& from : cut.from)
+        for (const std::size_t i : from) same += (got.points[at++].label == core::Role::Ground) == one[i];
+    const double share = double(same) / double(cut.points);
+    MESSAGE(in.filename().string() << " as 3 x 3 files in " << tile_m << " m tiles: " << 100.0 * share << " % agree");
     return share;
 }
 
@@ -253,10 +301,31 @@ double folderAgreement(const std::string& sample, const fs::path& dir) {
 // north edge made a patch's border longer and four points were called ground (99.98 %).
 TEST_CASE("ground tiles: a folder of tile files gives each point the class of one run over the survey") {
     const Scratch s("folder");
-    for (const char* sample : {"samp42", "samp52"}) {
+    const fs::path isprs = LADARVR_ISPRS_DIR;
+    for (const char* sample : {"samp42.laz", "samp52.laz"}) {
         CAPTURE(sample);
-        CHECK(folderAgreement(sample, s.dir) == 1.0);
+        CHECK(folderAgreement(isprs / sample, s.dir) == 1.0);
     }
+}
+
+// A survey in US survey feet: its 1 m cells are 3.28 feet, so with the raster's cells
+// placed from each run's first input (whole feet) rather than on one lattice of the
+// survey's coordinates (groundFrame), a folder cut from the file had its cells a fraction
+// of a cell off the uncut file's (3 points differed, 99.987 %).
+TEST_CASE("ground tiles: a folder of tile files in feet gives each point the class of one run over the uncut file") {
+    const Scratch s("folder-feet");
+    CHECK(folderAgreement(fs::path(LADARVR_ISPRS_DIR).parent_path() / "real" / "4_6_crop.las", s.dir) == 1.0);
+}
+
+// Forced tiles over a survey's files: with a tile's raster ending where the inputs that
+// reach its buffer end rather than where the survey does, sample 52's north edge (set by
+// a file beyond the buffer of the tiles near it) kept four points' ground (99.98 %); in
+// feet, off the survey's cell lattice, points differed as in the folder.
+TEST_CASE("ground tiles: forced tiles over a survey's files give each point the class of one run over it") {
+    const Scratch s("forced-files");
+    const fs::path isprs = LADARVR_ISPRS_DIR;
+    CHECK(forcedAgreement(isprs / "samp52.laz", 60.0, s.dir) == 1.0);
+    CHECK(forcedAgreement(isprs.parent_path() / "real" / "4_6_crop.las", 60.0, s.dir) == 1.0);
 }
 
 TEST_CASE("ground tiles: tiles fitted two at a time write the bytes of one at a time") {

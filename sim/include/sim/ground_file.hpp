@@ -53,9 +53,20 @@ void validate(const GroundFileOptions& o);
 /// One line: the method and its options, e.g. "smrf (cell 1 m, slope 0.15, ...)".
 std::string describe(const GroundFileOptions& o);
 
+/// The side of `o`'s raster cells, in its units: SMRF's cell, CSF's cloth.
+double groundCell(const GroundFileOptions& o);
+
+/// The frame `ladarvr ground` fits a file's points in: `origin` (its reader's) moved down
+/// in x and y to a whole multiple of groundCell(o), z kept. The raster's cells then lie on
+/// one lattice of the survey's coordinates, whatever file, cut or tile of the survey is
+/// read and wherever its reader puts its origin; a reader's origin is in whole units, so
+/// with a cell that divides one unit the frame is that origin.
+glm::dvec3 groundFrame(const glm::dvec3& origin, const GroundFileOptions& o);
+
 /// The filter on points in memory: one flag per point, 1 = ground. The same labels as
-/// classifyGroundFile gives for a file of these points (a point's view is its LAS point
-/// source ID, whose height error a thick ground's fit estimates). Needs validate(o) passed.
+/// classifyGroundFile gives for a file of these points whose origin is its groundFrame()
+/// (a point's view is its LAS point source ID, whose height error a thick ground's fit
+/// estimates). Needs validate(o) passed.
 std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> points, const GroundFileOptions& o);
 
 /// What classifyGroundFile did.
@@ -71,7 +82,8 @@ struct GroundFileStats {
     float colour_top_m = 0;  // with whiten: the height above ground the jet map ends at
 };
 
-/// Reads `in` (any cloud io::CloudReader reads) twice and writes every point to `out`
+/// Reads `in` (any cloud io::CloudReader reads) twice, fitted in its groundFrame(), and
+/// writes every point to `out`
 /// (format from its name) with label Ground where the filter says ground and Environment
 /// elsewhere (a target label is kept), its height above the terrain, every other field
 /// as read. A LAS/LAZ/COPC file from another producer keeps every field it carries (its

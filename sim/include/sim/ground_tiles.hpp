@@ -58,7 +58,8 @@ GroundBox readGroundBox(const std::filesystem::path& file);
 void checkMergeable(const std::vector<std::filesystem::path>& inputs);
 
 /// Every point of `inputs` (in order; positions in the first one's frame) classified tile
-/// by tile (`t`) and written to `out`, as classifyGroundFile writes one input. Throws
+/// by tile (`t`) and written to `out`, as classifyGroundFile writes one input; tiles and
+/// cells lie on the cell lattice of the first one's groundFrame. Throws
 /// core::Error("ground: ...") when the tiles would be too many (kMaxTiles; raise tile_m)
 /// or a fit's raster is over t.max_cells, and the reader's and writer's errors.
 /// `progress(points)` is called as points are read (four passes: the spill, the tiles'
@@ -79,8 +80,8 @@ double surveyThickness(const std::vector<std::filesystem::path>& inputs, const s
 
 /// `inputs[index]` classified as one tile of the survey `inputs` make (`boxes[k]` the
 /// bounds of inputs[k]): its terrain fitted on its points and on the other inputs' points
-/// within t.buffer_m of its box, in the first input's frame so that the raster's cells
-/// are those of one merged run, with t.thickness_m (surveyThickness) where it is >= 0;
+/// within t.buffer_m of its box, in the first input's groundFrame so that the raster's
+/// cells are those of one merged run and of one run over the uncut survey, with t.thickness_m (surveyThickness) where it is >= 0;
 /// written to `out` as classifyGroundFile writes it. The raster spans the cells within
 /// that buffer of the bounds of the inputs joined to it through their buffers (one run's
 /// raster over them); where a raised-segment patch it cuts needs it, the terrain is
