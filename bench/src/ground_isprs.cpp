@@ -180,7 +180,8 @@ void learnedVariants(const std::vector<LearnedSample>& learned) {
     {
         TreeParams p;
         p.left_out = neighbourhood;
-        variants.push_back({"terrain heights only (SMRF and its 3 variants, slope), depth 6", p});
+        variants.push_back(
+            {"terrain heights only (SMRF and its 3 variants, slope), depth " + std::to_string(p.max_depth), p});
     }
     for (const int depth : {4, 6, 8}) {
         TreeParams p;
@@ -191,7 +192,7 @@ void learnedVariants(const std::vector<LearnedSample>& learned) {
         TreeParams p;
         p.rounds = 400;
         p.eta = 0.05;
-        variants.push_back({"all features, depth 6, 400 rounds of 0.05", p});
+        variants.push_back({"all features, depth " + std::to_string(p.max_depth) + ", 400 rounds of 0.05", p});
     }
     for (const Variant& v : variants) {
         const auto margins = leaveOneSiteOut(learned, v.p);
