@@ -3,6 +3,7 @@
 // turned into sim::GroundModel's trees, and the margins of both are compared on the
 // training rows so that the file says what XGBoost learned.
 #include "ground_isprs_learned.hpp"
+#include "xgboost_handles.hpp"
 
 #include <core/error.hpp>
 
@@ -18,30 +19,13 @@
 namespace bench {
 namespace {
 
-[[noreturn]] void xgbFail(const char* what) {
-    throw core::Error(std::string("bench ground-isprs: XGBoost: ") + what + ": " + XGBGetLastError());
-}
+constexpr const char* kXgbContext = "bench ground-isprs";
+
+[[noreturn]] void xgbFail(const char* what) { xgboostFail(kXgbContext, what); }
 #define LADARVR_XGB(call, what)         \
     do {                                \
         if ((call) != 0) xgbFail(what); \
     } while (false)
-
-struct Matrix {
-    DMatrixHandle h = nullptr;
-    Matrix(const std::vector<float>& rows, std::size_t columns) {
-        LADARVR_XGB(XGDMatrixCreateFromMat(rows.data(), bst_ulong(rows.size() / columns), bst_ulong(columns),
-                                           std::numeric_limits<float>::quiet_NaN(), &h),
-                    "matrix");
-    }
-    ~Matrix() { XGDMatrixFree(h); }
-    Matrix(const Matrix&) = delete;
-    Matrix& operator=(const Matrix&) = delete;
-};
-
-struct Booster {
-    BoosterHandle h = nullptr;
-    ~Booster() { XGBoosterFree(h); }
-};
 
 // A number XGBoost's JSON model writes as a string, maybe in brackets ("[5E-1]").
 double jsonNumber(const nlohmann::json& j) {
@@ -51,7 +35,7 @@ double jsonNumber(const nlohmann::json& j) {
     return std::strtod(s.c_str(), nullptr);
 }
 
-sim::GroundModel fromXgboost(const Booster& b) {
+sim::GroundModel fromXgboost(const XgbBooster& b) {
     bst_ulong length = 0;
     const char* data = nullptr;
     LADARVR_XGB(XGBoosterSaveModelToBuffer(b.h, R"({"format": "json"})", &length, &data), "save");
@@ -115,10 +99,10 @@ sim::GroundModel learnGroundModel(const std::vector<const LearnedSample*>& sampl
     }
     for (std::size_t c : p.left_out)
         for (std::size_t r = 0; r < labels.size(); ++r) rows[r * columns + c] = 0.0f;
-    Matrix m(rows, columns);
+    XgbMatrix m(rows, columns, kXgbContext);
     LADARVR_XGB(XGDMatrixSetFloatInfo(m.h, "label", labels.data(), bst_ulong(labels.size())), "labels");
     LADARVR_XGB(XGDMatrixSetFloatInfo(m.h, "weight", weights.data(), bst_ulong(weights.size())), "weights");
-    Booster b;
+    XgbBooster b;
     LADARVR_XGB(XGBoosterCreate(&m.h, 1, &b.h), "create");
     const std::pair<const char*, std::string> params[] = {
         {"objective", "binary:logistic"},

@@ -5,6 +5,7 @@
 
 #include "common.hpp"
 #include "ground_isprs_selector.hpp"
+#include "xgboost_handles.hpp"
 
 #include <core/error.hpp>
 #include <core/point_cloud.hpp>
@@ -22,30 +23,13 @@
 namespace bench {
 namespace {
 
-[[noreturn]] void xgbFail(const char* what) {
-    throw core::Error(std::string("bench ground-isprs --selector: XGBoost: ") + what + ": " + XGBGetLastError());
-}
+constexpr const char* kXgbContext = "bench ground-isprs --selector";
+
+[[noreturn]] void xgbFail(const char* what) { xgboostFail(kXgbContext, what); }
 #define LADARVR_SELECTOR_XGB(call, what) \
     do {                                 \
         if ((call) != 0) xgbFail(what);  \
     } while (false)
-
-struct Matrix {
-    DMatrixHandle h = nullptr;
-    Matrix(const std::vector<float>& rows, std::size_t columns) {
-        LADARVR_SELECTOR_XGB(XGDMatrixCreateFromMat(rows.data(), bst_ulong(rows.size() / columns), bst_ulong(columns),
-                                                    std::numeric_limits<float>::quiet_NaN(), &h),
-                             "matrix");
-    }
-    ~Matrix() { XGDMatrixFree(h); }
-    Matrix(const Matrix&) = delete;
-    Matrix& operator=(const Matrix&) = delete;
-};
-
-struct Booster {
-    BoosterHandle h = nullptr;
-    ~Booster() { XGBoosterFree(h); }
-};
 
 }  // namespace
 
@@ -59,10 +43,10 @@ std::string TreeShape::describe() const {
 std::vector<float> learnAndPredict(const std::vector<float>& train, const std::vector<float>& labels,
                                    const std::vector<float>& weights, const std::vector<float>& test,
                                    std::size_t columns, int classes, const TreeShape& shape) {
-    Matrix m(train, columns), t(test, columns);
+    XgbMatrix m(train, columns, kXgbContext), t(test, columns, kXgbContext);
     LADARVR_SELECTOR_XGB(XGDMatrixSetFloatInfo(m.h, "label", labels.data(), bst_ulong(labels.size())), "labels");
     LADARVR_SELECTOR_XGB(XGDMatrixSetFloatInfo(m.h, "weight", weights.data(), bst_ulong(weights.size())), "weights");
-    Booster b;
+    XgbBooster b;
     LADARVR_SELECTOR_XGB(XGBoosterCreate(&m.h, 1, &b.h), "create");
     std::vector<std::pair<const char*, std::string>> params = {
         {"tree_method", "hist"}, {"max_depth", std::to_string(shape.max_depth)},
