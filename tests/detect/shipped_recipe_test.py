@@ -5,7 +5,8 @@ and its SPECs, assets/detect/shipped_*.json, agree without running it.
     shipped_recipe_test.py LADARVR REPO SCRATCH_DIR
 
 Every SPEC's scene and target files are ones the recipe makes (the vehicles of its
-make_vehicles.py call, the real places of its scene from-cloud calls) or bundled assets;
+make_vehicles.py call, the real places of its scene from-cloud calls), bundled assets or
+Debian's assimp-testmodels vehicles (every SPEC draws both; never flightgear-data-models);
 its vehicles are not seed 1's (bench detect --families evaluates those) and its surveys
 are none of the real places kept for evaluation; each SPEC names a sensor, an orbit
 range and densities as the docs say; the bundled scenes' SPECs build an item with
@@ -22,6 +23,8 @@ import subprocess
 import sys
 
 EVALUATION_ONLY = ("CSite2", "CSite3", "FSite5")
+DEBIAN_VEHICLES = ("/usr/share/assimp/models/glTF/CesiumMilkTruck/CesiumMilkTruck.gltf",
+                   "/usr/share/assimp/models/MS3D/jeep1.ms3d")
 
 
 def fail(msg):
@@ -82,8 +85,13 @@ def main():
             if f.startswith("generated/vehicles/"):
                 if f[len("generated/vehicles/"):] not in made:
                     fail("%s: target %s is not a vehicle the script makes" % (name, f))
+            elif f in DEBIAN_VEHICLES:
+                if not os.path.isfile(f):
+                    fail("%s: %s missing: the root lacks assimp-testmodels (third_party/packages-build.txt)" % (name, f))
             elif not os.path.isfile(os.path.join(detect, f)) or "truck" in f:
-                fail("%s: target %s: allowed the script's vehicles and the tank, APC and van" % (name, f))
+                fail("%s: target %s: allowed the script's vehicles, the tank, APC and van, and Debian's vehicles" % (name, f))
+        if any(v not in files for v in DEBIAN_VEHICLES):
+            fail("%s: Debian's vehicles %s are not all drawn" % (name, DEBIAN_VEHICLES))
         vary = spec["vary"]
         presets = vary.get("sensor_preset")
         top_m = vary["altitude_m"]["max"]
