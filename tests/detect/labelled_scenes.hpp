@@ -1,12 +1,15 @@
 // tests/detect/labelled_scenes.hpp: synthetic labelled clouds for the trained detector's
 // tests: flat ground, one tank-sized box (the target) and trees (trunk and a scattered
-// crown) and a house-sized box (environment) at places drawn from a seed.
+// crown) and a house-sized box (environment) at places drawn from a seed; and how much of
+// the target one segment holds.
 #pragma once
 #include <core/point_cloud.hpp>
+#include <detect/segmentation.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace test_support {
@@ -85,6 +88,20 @@ inline core::PointCloud labelledScene(std::uint32_t seed, int trees, glm::dvec2*
         addTree(c, rng, place(std::size_t(t) + 2), radius(rng));
     c.fields.rgb = c.fields.label = true;
     return c;
+}
+
+// The share of the target's points in the segment holding most of them, and that
+// segment's share of target points.
+inline std::pair<double, double> targetSegment(const core::PointCloud& c, const detect::Segmentation& s) {
+    std::size_t total = 0;
+    for (const core::CloudPoint& p : c.points) total += p.label == core::Role::Target;
+    std::size_t best = 0, best_size = 1;
+    for (const auto& seg : s.segments) {
+        std::size_t t = 0;
+        for (const std::uint32_t i : seg) t += c.points[i].label == core::Role::Target;
+        if (t > best) best = t, best_size = seg.size();
+    }
+    return {double(best) / double(std::max<std::size_t>(total, 1)), double(best) / double(best_size)};
 }
 
 }  // namespace test_support

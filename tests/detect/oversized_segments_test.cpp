@@ -33,20 +33,6 @@ core::PointCloud flatGround(double sigma_m, std::uint32_t seed, Skip&& skip) {
     return c;
 }
 
-// The share of the target's points in the segment holding most of them, and the share of
-// that segment's points that are the target's.
-std::pair<double, double> targetSegment(const core::PointCloud& c, const detect::Segmentation& s) {
-    std::size_t total = 0;
-    for (const core::CloudPoint& p : c.points) total += p.label == core::Role::Target;
-    std::size_t best = 0, best_size = 1;
-    for (const auto& seg : s.segments) {
-        std::size_t t = 0;
-        for (const std::uint32_t i : seg) t += c.points[i].label == core::Role::Target;
-        if (t > best) best = t, best_size = seg.size();
-    }
-    return {double(best) / double(std::max<std::size_t>(total, 1)), double(best) / double(best_size)};
-}
-
 // A car of 4.8 x 1.9 x 1.5 m at the origin, its long side along x, and beside it a field
 // of 0.5 m boxes 0.5 to 1.1 m high (drawn) 0.25 m apart, 30 m by 4 m, whose near edge is 0.05 m from the
 // car's side (a real place's hedges and low clutter as `scene from-cloud` makes them).
@@ -71,12 +57,12 @@ TEST_CASE("oversized segments: a car touching a 30 m low sheet of boxes is a seg
     o.max_vehicle_length_m = 0;  // step 5 off: the car joins the sheet
     const detect::Segmentation whole = detect::segmentCloud(c, o);
     CHECK(whole.oversized_segments == 0);
-    CHECK(targetSegment(c, whole).first > 0.75);  // less its rows under the height threshold
-    CHECK(targetSegment(c, whole).second < 0.2);
+    CHECK(test_support::targetSegment(c, whole).first > 0.75);  // less its rows under the height threshold
+    CHECK(test_support::targetSegment(c, whole).second < 0.2);
 
     const detect::Segmentation split = detect::segmentCloud(c, detect::SegmentOptions{});
     CHECK(split.oversized_segments == 1);
-    const auto [found, purity] = targetSegment(c, split);
+    const auto [found, purity] = test_support::targetSegment(c, split);
     INFO(found << " of the car in a segment " << purity << " car");
     CHECK(found > 0.75);
     CHECK(purity > 0.8);  // with the nearest boxes' points inside its hull's margin
@@ -101,12 +87,13 @@ TEST_CASE("oversized segments: a vehicle in a raised strip of noisy ground is a 
     detect::SegmentOptions o;
     o.max_vehicle_length_m = 0;
     const detect::Segmentation whole = detect::segmentCloud(c, o);
-    INFO("without step 5: " << targetSegment(c, whole).second << " of the target's segment is the vehicle");
-    CHECK(targetSegment(c, whole).second < 0.7);
+    INFO("without step 5: " << test_support::targetSegment(c, whole).second
+                            << " of the target's segment is the vehicle");
+    CHECK(test_support::targetSegment(c, whole).second < 0.7);
 
     const detect::Segmentation split = detect::segmentCloud(c, detect::SegmentOptions{});
     CHECK(split.oversized_segments == 1);
-    const auto [found, purity] = targetSegment(c, split);
+    const auto [found, purity] = test_support::targetSegment(c, split);
     INFO(found << " of the vehicle in a segment " << purity << " vehicle");
     CHECK(found > 0.75);  // less its lowest rows, within the terrain's tolerance and the strip's
     CHECK(purity > 0.9);

@@ -124,20 +124,6 @@ TEST_CASE("segments: a sparse trail of points does not chain a vehicle to the cr
 
 namespace {
 
-// The share of the target's points in the segment holding most of them, and that
-// segment's share of target points.
-std::pair<double, double> targetSegment(const core::PointCloud& c, const detect::Segmentation& s) {
-    std::size_t total = 0;
-    for (const core::CloudPoint& p : c.points) total += p.label == core::Role::Target;
-    std::size_t best = 0, best_size = 1;
-    for (const auto& seg : s.segments) {
-        std::size_t t = 0;
-        for (const std::uint32_t i : seg) t += c.points[i].label == core::Role::Target;
-        if (t > best) best = t, best_size = seg.size();
-    }
-    return {double(best) / double(std::max<std::size_t>(total, 1)), double(best) / double(best_size)};
-}
-
 // A wall 20 m long, 0.3 m thick and `height_m` tall along y = y0, sampled every 0.1 m.
 void addWall(core::PointCloud& c, double y0, double height_m) {
     for (double x = -10; x <= 10; x += 0.1)
@@ -158,11 +144,11 @@ TEST_CASE("segments: a vehicle parked 0.3 m from a tall wall is split from it") 
     o.split_height_m = 0;
     const detect::Segmentation whole = detect::segmentCloud(c, o);
     CHECK(whole.split_segments == 0);
-    CHECK(targetSegment(c, whole).second < 0.5);  // one segment, mostly wall
+    CHECK(test_support::targetSegment(c, whole).second < 0.5);  // one segment, mostly wall
     o.split_height_m = 4.0;
     const detect::Segmentation split = detect::segmentCloud(c, o);
     CHECK(split.split_segments == 1);
-    const auto [found, purity] = targetSegment(c, split);
+    const auto [found, purity] = test_support::targetSegment(c, split);
     INFO(found << " of the vehicle in a segment " << purity << " vehicle");
     CHECK(found > 0.8);  // less its lowest rows, within the terrain's tolerance
     CHECK(purity > 0.95);
@@ -189,11 +175,11 @@ TEST_CASE("segments: a vehicle under a crown that touches a wall keeps its roof 
         test_support::addPoint(c, {6.0 * u(rng), 4.0 * u(rng), 4.5 + 0.5 * u(rng)}, core::Role::Environment);
     detect::SegmentOptions o;
     o.split_height_m = 0;
-    CHECK(targetSegment(c, detect::segmentCloud(c, o)).second < 0.5);
+    CHECK(test_support::targetSegment(c, detect::segmentCloud(c, o)).second < 0.5);
     o.split_height_m = 4.0;
     const detect::Segmentation split = detect::segmentCloud(c, o);
     CHECK(split.split_segments == 1);
-    const auto [found, purity] = targetSegment(c, split);
+    const auto [found, purity] = test_support::targetSegment(c, split);
     INFO(found << " of the vehicle in a segment " << purity << " vehicle");
     CHECK(found > 0.8);
     CHECK(purity > 0.95);
