@@ -16,7 +16,8 @@
 // Ours, for real surveys (SmrfOptions::raised_segments, off in the generator): between
 // 2) and 3), a patch of the surface left ground that stands more than 2 m above the
 // surface around it on most of its border (a roof too wide for the openings, a bridge
-// deck) is an object too.
+// deck) is an object too. SmrfOptions::reconstruct (off; measured, see ground.hpp) puts
+// morphological reconstruction (ground_reconstruct.hpp) into the object test or after it.
 //
 // The paper fills cells with a spring-metaphor inpainting; ours is its membrane
 // analogue: a breadth-first fill from the known cells (each new ring takes the mean of
@@ -31,6 +32,7 @@
 #include "ground_internal.hpp"
 #include "ground_learned_terrains.hpp"
 #include "ground_raster.hpp"
+#include "ground_reconstruct.hpp"
 #include "parallel.hpp"
 
 #include <core/error.hpp>
@@ -244,6 +246,11 @@ class SmrfFit : public RasterFit {
         const int w = grid_.nx, h = grid_.ny;
         std::vector<float> surface = minimum;
         inpaint(surface, observed, w, h, o_.fill_sweeps);
+        // The filled surface and the levels as they were, for the reconstructions after the
+        // openings (SmrfOptions::reconstruct 2 to 5).
+        std::vector<float> filled, levels;
+        if (o_.reconstruct >= 2) filled = surface;
+        if (o_.reconstruct == 3 || o_.reconstruct == 4) levels = minimum;
 
         // 2) objects, by openings of growing radius.
         std::vector<std::uint8_t> object(minimum.size(), 0);
@@ -259,7 +266,13 @@ class SmrfFit : public RasterFit {
                                                               std::vector<std::uint8_t>(minimum.size(), 0));
         for (int r = 1; r <= all_radii; ++r) {
             diskFilter(surface, eroded, w, h, r, false, scratch, pool);
-            diskFilter(eroded, opened, w, h, r, true, scratch, pool);
+            if (o_.reconstruct == 1 && o_.reconstruct_steps == 0) {
+                opened = eroded;
+                reconstructByDilation(opened, surface, w, h);
+            } else {
+                diskFilter(eroded, opened, w, h, r, true, scratch, pool);
+                if (o_.reconstruct == 1) geodesicDilation(opened, surface, w, h, o_.reconstruct_steps);
+            }
             if (r <= radii) {
                 const float limit = float(o_.slope * double(r) * o_.cell_m);
                 for (std::size_t c = 0; c < surface.size(); ++c)
@@ -289,9 +302,11 @@ class SmrfFit : public RasterFit {
         std::vector<std::uint8_t> ground(minimum.size());
         for (std::size_t c = 0; c < minimum.size(); ++c) ground[c] = observed[c] && !object[c];
         if (o_.raised_segments) removeRaisedSegments(minimum, observed, ground, w, h, o_.cell_m, tested_);
+        reconstructObjects(filled, observed, ground, pool);
         if (std::find(ground.begin(), ground.end(), 1) == ground.end()) ground = observed;
         grid_.z_m = std::move(minimum);
         inpaint(grid_.z_m, ground, w, h, o_.fill_sweeps);
+        reconstructSteps(filled, levels, observed, ground);
 
         // 4)'s threshold per cell, so that classify() looks it up.
         limit_m_.resize(grid_.z_m.size());
@@ -300,6 +315,36 @@ class SmrfFit : public RasterFit {
                 limit_m_[std::size_t(j) * std::size_t(w) + std::size_t(i)] =
                     float(groundThreshold(o_.threshold_m) +
                           o_.scalar * grid_.slopeAt(grid_.x0_m + i * o_.cell_m, grid_.y0_m + j * o_.cell_m));
+    }
+
+    // A height in metres in the cloud's units.
+    float inUnits(double m) const { return float(m / o_.z_unit_m); }
+
+    // SmrfOptions::reconstruct 2 and 5, on the ground the openings left, before the terrain
+    // is fitted from it (`filled`: the surface before the openings).
+    void reconstructObjects(const std::vector<float>& filled, const std::vector<std::uint8_t>& observed,
+                            std::vector<std::uint8_t>& ground, Workers& pool) const {
+        const int w = grid_.nx, h = grid_.ny;
+        if (o_.reconstruct == 2)
+            domeGroundBack(filled, observed, ground, w, h, inUnits(o_.reconstruct_h_m), inUnits(o_.reconstruct_tol_m));
+        if (o_.reconstruct == 5) {
+            std::vector<float> eroded, scratch;
+            diskFilter(filled, eroded, w, h, std::max(1, o_.reconstruct_steps), false, scratch, pool);
+            topHatObjects(filled, eroded, ground, w, h, inUnits(o_.reconstruct_h_m));
+        }
+    }
+
+    // SmrfOptions::reconstruct 3 and 4, after the terrain is fitted: the ground given back
+    // up steps, and the terrain fitted again from `levels` (the cells' levels) if any was.
+    void reconstructSteps(const std::vector<float>& filled, std::vector<float>& levels,
+                          const std::vector<std::uint8_t>& observed, std::vector<std::uint8_t>& ground) {
+        if (o_.reconstruct != 3 && o_.reconstruct != 4) return;
+        const int w = grid_.nx, h = grid_.ny;
+        if (stepGroundBack(filled, grid_.z_m, observed, ground, w, h, inUnits(o_.reconstruct_tol_m),
+                           inUnits(o_.reconstruct_h_m), o_.reconstruct_steps, o_.reconstruct == 4) == 0)
+            return;
+        grid_.z_m = std::move(levels);
+        inpaint(grid_.z_m, ground, w, h, o_.fill_sweeps);
     }
 
   public:
@@ -370,6 +415,16 @@ void validate(const SmrfOptions& o) {
         failGroundOption("smrf low_outlier_m (--low-outlier-m)", o.low_outlier_m, "[0, 1000] metres, 0 = off");
     if (o.fill_sweeps < 0 || o.fill_sweeps > 10000)
         failGroundOption("smrf fill_sweeps", double(o.fill_sweeps), "[0, 10000], 0 = until settled");
+    if (o.reconstruct < 0 || o.reconstruct > 5)
+        failGroundOption("smrf reconstruct", double(o.reconstruct),
+                         "0 (off), 1 (opening by reconstruction), 2 (h-dome test), 3 (terrain up steps), 4 (ground up "
+                         "steps), 5 (top-hat by reconstruction)");
+    if (!(std::isfinite(o.reconstruct_h_m) && o.reconstruct_h_m > 0.0 && o.reconstruct_h_m <= 1000.0))
+        failGroundOption("smrf reconstruct_h_m", o.reconstruct_h_m, "(0, 1000] metres");
+    if (!(std::isfinite(o.reconstruct_tol_m) && o.reconstruct_tol_m >= 0.0 && o.reconstruct_tol_m <= 1000.0))
+        failGroundOption("smrf reconstruct_tol_m", o.reconstruct_tol_m, "[0, 1000] metres");
+    if (o.reconstruct_steps < 0 || o.reconstruct_steps > 1000)
+        failGroundOption("smrf reconstruct_steps", double(o.reconstruct_steps), "[0, 1000] cells, 0 = however far");
 }
 
 std::unique_ptr<const CloudGroundFilter> makeSmrfFilter(const SmrfOptions& o) {

@@ -62,6 +62,26 @@ struct SmrfOptions {
     /// A fixed count (`ladarvr ground` sets kSurveyFillSweeps) makes a filled cell the
     /// same whether the raster is one tile with its buffer or the whole survey.
     int fill_sweeps = 0;
+    /// Ours, measured on the ISPRS samples and not run by default: morphological
+    /// (geodesic) reconstruction in SMRF (sim/src/ground_reconstruct.hpp), which gives back
+    /// what joins higher ground without a drop (a terrace's upper edge) and not what stands
+    /// above everything around it (a roof). 0 = off;
+    /// 1 = the object test's openings by reconstruction: the erosion reconstructed under
+    ///     the surface (reconstruct_steps 0), or the opening dilated that many cells
+    ///     further under it;
+    /// 2 = a cell the openings called an object whose h-dome of height reconstruct_h_m is
+    ///     at most reconstruct_tol_m is ground again;
+    /// 3 = observed cells that the fitted terrain (plus reconstruct_tol_m), reconstructed
+    ///     under the surface within reconstruct_steps cells, reaches and that lie at most
+    ///     reconstruct_h_m above it are ground too, and the terrain is fitted again;
+    /// 4 = as 3, from the ground cells' own levels instead of the terrain;
+    /// 5 = a ground cell whose top-hat by reconstruction (the surface less its erosion by
+    ///     a disk of reconstruct_steps cells, at least 1, reconstructed under it) exceeds
+    ///     reconstruct_h_m is an object.
+    int reconstruct = 0;
+    double reconstruct_h_m = 2.0;    // 2: the domes' height; 3, 4: the highest rise given back; 5: the top-hat's
+    double reconstruct_tol_m = 0.3;  // 2: the largest dome still ground; 3, 4: the seeds' and the reach's slack
+    int reconstruct_steps = 0;       // 1, 3, 4: how many cells the reconstruction reaches (0: however far); 5: radius
 };
 
 /// Cloth simulation filter (Zhang, Qi, Wan, Wang, Xie, Wang, Yan 2016, "An easy-to-use
