@@ -331,6 +331,7 @@ void RasterFit::setExtent(const glm::dvec2& lo, const glm::dvec2& hi) {
 void RasterFit::fit() {
     grid_ = TerrainGrid{};
     grid_.cell_m = cell_m_;
+    observed_.clear();
     if (ix_max_ < ix_min_) return;
     if (extent_i0_ <= extent_i1_ && extent_j0_ <= extent_j1_) {
         ix_min_ = std::min(ix_min_, extent_i0_);
@@ -437,6 +438,7 @@ void RasterFit::fit() {
     std::vector<std::uint8_t> observed(minimum.size());
     for (std::size_t c = 0; c < minimum.size(); ++c) observed[c] = cells[c] != nullptr;
     grid_.observed_cells = std::size_t(std::count(observed.begin(), observed.end(), 1));
+    observed_.assign(observed.begin(), observed.end());
     levels(false);
     fitTerrain(minimum, observed);
     // 3) a ground thicker than kRegisterViews_m: each view's height error against that terrain; when the views were corrected,

@@ -95,6 +95,9 @@ class RasterFit : public TerrainFit {
     /// over all cells), then fitTerrain().
     void fit() override;
     const TerrainGrid& surface() const override { return grid_; }
+    /// After fit(): one flag per cell of surface() (row-major), set where the cell held a
+    /// point its level was taken from; the others were filled (inpaint).
+    const std::vector<bool>& observedCells() const { return observed_; }
     /// Ground when |z - terrain (bilinear)| <= limit_m_ of the nearest cell.
     bool classify(const glm::vec3& p, float& height_m) const override;
     /// Takes the height error of the point's view off first (when views were corrected).
@@ -160,7 +163,8 @@ class RasterFit : public TerrainFit {
     /// The spread of a cell's lowest heights, the thickness's sample; false for a cell
     /// with too few points, or too few near its lowest, to give one.
     bool cellSpread(const Cell& cell, double& spread_m) const;
-    double fixed_sigma_m_ = -1;  // setGroundThickness()
+    double fixed_sigma_m_ = -1;   // setGroundThickness()
+    std::vector<bool> observed_;  // observedCells()
     // setExtent()'s cells (first > last: none given).
     int extent_i0_ = 1, extent_i1_ = 0, extent_j0_ = 1, extent_j1_ = 0;
     void keepViewLow(std::uint64_t key, const ViewLow& low);

@@ -4,6 +4,7 @@
 // a results file, in the order they were spilled), and the writing (the inputs read again
 // in the same order, each point's label taken from its tile's results in turn).
 #include "ground_label.hpp"
+#include "ground_raster.hpp"
 
 #include <sim/ground_tiles.hpp>
 
@@ -17,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -344,27 +346,92 @@ constexpr double kCutCells = 22;
 using ClipBox = std::function<XyBox(const glm::dvec2& lo, const glm::dvec2& hi)>;
 using GatherBox = std::function<std::unique_ptr<TerrainFit>(const XyBox& box)>;
 
-// Fits `fit` (a tile's points added) over `box` with the survey's thickness, then again
-// over a wider box, gathered by `gather`, while a patch near the tile's square `own`
-// needs it (above), within the raster bound t.max_cells.
+// The sides of a raster over `box` beyond which the survey goes on (its cut edges), low
+// x and y, then high.
+std::pair<glm::bvec2, glm::bvec2> cutSides(const XyBox& box, double cell_m, const ClipBox& clip) {
+    const XyBox wider = clip(box.first - cell_m, box.second + cell_m);
+    return {glm::lessThan(wider.first, box.first), glm::greaterThan(wider.second, box.second)};
+}
+
+// Whether a hole of `fit`'s raster (cells without a point, joined through their four
+// neighbours, as the fill's relaxation joins them) runs from a cut edge (`cut`) into the
+// tile's square `own`: the filled heights there then hang on where the raster was cut,
+// as far as the fixed sweeps have not settled them. False for a fit that is not a
+// raster's. Memory: a flag and at most one index per cell.
+bool holeCutAcross(const TerrainFit& fit, const XyBox& own, const std::pair<glm::bvec2, glm::bvec2>& cut) {
+    const auto* raster = dynamic_cast<const RasterFit*>(&fit);
+    if (!raster) return false;
+    const TerrainGrid& g = raster->surface();
+    const std::vector<bool>& observed = raster->observedCells();
+    const std::size_t w = std::size_t(g.nx), h = std::size_t(g.ny);
+    if (g.empty() || observed.size() != w * h || w * h > std::numeric_limits<std::uint32_t>::max()) return false;
+    // The cells whose centres lie in the tile's square.
+    const auto first = [&](double v, double x0) { return std::ceil((v - x0) / g.cell_m); };
+    const double i0 = first(own.first.x, g.x0_m), i1 = first(own.second.x, g.x0_m) - 1;
+    const double j0 = first(own.first.y, g.y0_m), j1 = first(own.second.y, g.y0_m) - 1;
+    std::vector<bool> seen(w * h, false);
+    std::vector<std::uint32_t> stack;
+    const auto push = [&](std::size_t i, std::size_t j) {
+        const std::size_t c = j * w + i;
+        if (observed[c] || seen[c]) return;
+        seen[c] = true;
+        stack.push_back(std::uint32_t(c));
+    };
+    const auto& [lo, hi] = cut;
+    for (std::size_t j = 0; j < h; ++j) {
+        if (lo.x) push(0, j);
+        if (hi.x) push(w - 1, j);
+    }
+    for (std::size_t i = 0; i < w; ++i) {
+        if (lo.y) push(i, 0);
+        if (hi.y) push(i, h - 1);
+    }
+    while (!stack.empty()) {
+        const std::size_t c = stack.back();
+        stack.pop_back();
+        const std::size_t i = c % w, j = c / w;
+        if (double(i) >= i0 && double(i) <= i1 && double(j) >= j0 && double(j) <= j1) return true;
+        if (i > 0) push(i - 1, j);
+        if (i + 1 < w) push(i + 1, j);
+        if (j > 0) push(i, j - 1);
+        if (j + 1 < h) push(i, j + 1);
+    }
+    return false;
+}
+
+// Fits `fit` (a tile's points added) over `box` with the survey's thickness. Where
+// `holes` (SMRF's fill of a fixed number of sweeps) and a hole runs from a cut edge into
+// the tile's square `own` (holeCutAcross), it is fitted again with its buffer doubled.
+// Then again over a wider box, gathered by `gather`, while a patch near `own` needs it
+// (above). Every raster within the bound t.max_cells.
 void fitOverPatches(std::unique_ptr<TerrainFit>& fit, XyBox box, const XyBox& own, double cell_m, double thickness_m,
-                    const GroundTiling& t, const ClipBox& clip, const GatherBox& gather) {
+                    const GroundTiling& t, bool holes, const ClipBox& clip, const GatherBox& gather) {
     const auto finish = [&] {
         fit->setExtent(box.first, box.second);
         fit->setGroundThickness(thickness_m);
         fit->setFitThreads(t.threads);
         fit->fit();
     };
+    const auto fits = [&](const XyBox& b) {
+        const glm::dvec2 cells = (b.second - b.first) / cell_m + 2.0;
+        return cells.x * cells.y <= double(t.max_cells);
+    };
     finish();
+    if (holes && holeCutAcross(*fit, own, cutSides(box, cell_m, clip))) {
+        const XyBox wide = clip(glm::min(box.first, own.first - 2.0 * t.buffer_m),
+                                glm::max(box.second, own.second + 2.0 * t.buffer_m));
+        if (wide != box && fits(wide)) {
+            box = wide;
+            fit = gather(box);
+            finish();
+        }
+    }
     const double margin_m = kCutCells * cell_m;
     std::vector<XyBox> patches;
     for (int refit = 0; refit < kMaxRefits; ++refit) {
         patches.clear();
         fit->testedPatches(own.first, own.second, margin_m, patches);
-        // The sides beyond which the survey goes on.
-        const XyBox wider = clip(box.first - cell_m, box.second + cell_m);
-        const glm::bvec2 cut_lo = glm::lessThan(wider.first, box.first);
-        const glm::bvec2 cut_hi = glm::greaterThan(wider.second, box.second);
+        const auto [cut_lo, cut_hi] = cutSides(box, cell_m, clip);
         glm::dvec2 lo = box.first, hi = box.second;
         for (const auto& [a, b] : patches) {
             if (!((cut_lo.x && a.x < box.first.x + margin_m) || (cut_lo.y && a.y < box.first.y + margin_m) ||
@@ -374,8 +441,7 @@ void fitOverPatches(std::unique_ptr<TerrainFit>& fit, XyBox box, const XyBox& ow
             hi = glm::max(hi, b + t.buffer_m);
         }
         const XyBox grown = clip(lo, hi);
-        const glm::dvec2 cells = (grown.second - grown.first) / cell_m + 2.0;
-        if (grown == box || cells.x * cells.y > double(t.max_cells)) break;
+        if (grown == box || !fits(grown)) break;
         box = grown;
         fit = gather(box);
         finish();
@@ -389,7 +455,7 @@ void runTile(Tile& tile, const Tiler& tiler, const GroundFileOptions& o, const G
     std::unique_ptr<TerrainFit> fit = gather(tile, o, t);
     const glm::dvec2 own_lo = glm::dvec2(double(tile.tx), double(tile.ty)) * t.tile_m;
     fitOverPatches(
-        fit, tiler.rasterBox(tile), {own_lo, own_lo + t.tile_m}, cell_m, thickness_m, t,
+        fit, tiler.rasterBox(tile), {own_lo, own_lo + t.tile_m}, cell_m, thickness_m, t, o.method == GroundMethod::Smrf,
         [&](const glm::dvec2& lo, const glm::dvec2& hi) { return tiler.clip(lo, hi); },
         [&](const XyBox& box) { return gatherBox(tiler, box, o, t); });
     tile.nx = fit->surface().nx;
@@ -645,8 +711,8 @@ GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path
     // The raster spans the survey's cells within the buffer of the input's box, as a
     // tile's does, and is fitted again over a raised-segment patch that it cuts.
     const FitOver over = [&](std::unique_ptr<TerrainFit>& fit) {
-        fitOverPatches(fit, clip(own.first - t.buffer_m, own.second + t.buffer_m), own, cell_m, t.thickness_m, t, clip,
-                       gather);
+        fitOverPatches(fit, clip(own.first - t.buffer_m, own.second + t.buffer_m), own, cell_m, t.thickness_m, t,
+                       o.method == GroundMethod::Smrf, clip, gather);
     };
     return classifyOneFile(inputs[index], originOf(inputs[index]) - frame,
                            neighbours(inputs, boxes, index, frame, t.buffer_m), out, o, t.max_cells, t.threads,

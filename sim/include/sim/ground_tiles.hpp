@@ -8,7 +8,10 @@
 // file alone (several at once), and a last pass reads the inputs again and writes them
 // out with their tile's labels, so the memory is a few rasters and chunks, not the points.
 // A tile whose raster cuts a patch that SMRF's raised-segment test could decide otherwise
-// seen whole is fitted again over the patch, from the other tiles' files.
+// seen whole is fitted again over the patch, from the other tiles' files. With SMRF, a
+// tile whose raster a hole (cells without a point) crosses from a cut edge into its
+// square is first fitted again with its buffer doubled: the fill's fixed sweeps do not
+// settle such a hole, and its filled heights hang on where the raster cuts it.
 // A folder of tiles (one output per input) uses each input as a tile and the inputs
 // whose bounds touch it as its buffer, fitted again the same way from the other inputs.
 #pragma once
@@ -59,7 +62,8 @@ void checkMergeable(const std::vector<std::filesystem::path>& inputs);
 
 /// Every point of `inputs` (in order; positions in the first one's frame) classified tile
 /// by tile (`t`) and written to `out`, as classifyGroundFile writes one input; tiles and
-/// cells lie on the cell lattice of the first one's groundFrame. Throws
+/// cells lie on the cell lattice of the first one's groundFrame (a tile's buffer doubled
+/// where a hole crosses its raster from a cut edge into its square, within t.max_cells). Throws
 /// core::Error("ground: ...") when the tiles would be too many (kMaxTiles; raise tile_m)
 /// or a fit's raster is over t.max_cells, and the reader's and writer's errors.
 /// `progress(points)` is called as points are read (four passes: the spill, the tiles'
@@ -86,7 +90,8 @@ double surveyThickness(const std::vector<std::filesystem::path>& inputs, const s
 /// that buffer of the bounds of the inputs joined to it through their buffers (one run's
 /// raster over them); where a raised-segment patch it cuts needs it, the terrain is
 /// fitted again over the patch from the inputs around it (at most four times, within
-/// t.max_cells), as a tile of classifyGroundTiled is.
+/// t.max_cells), and with its buffer doubled where a hole crosses it from a cut edge, as
+/// a tile of classifyGroundTiled is.
 /// `progress` as classifyGroundFile's (thread-safe where the caller runs several).
 GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path>& inputs,
                                          const std::vector<GroundBox>& boxes, std::size_t index,
