@@ -10,12 +10,15 @@
 // `--adaptive-grid` scores SMRF's options chosen per sample, by the oracle and by a rule
 // on the survey's traits fitted leave-one-site-out (ground_isprs_adaptive.hpp);
 // `--selector` scores a few option sets chosen per tile by learned trees, leave-one-site-out
-// (ground_isprs_selector.hpp), with `--selector-refine` the learned refinement on top.
+// (ground_isprs_selector.hpp), with `--selector-refine` the learned refinement on top;
+// `--multiscale` scores multiscale surface filters (MCC, a residual pyramid) and each on
+// SMRF's answer (ground_isprs_mcc.hpp).
 // `--try` adds configurations to compare (printed only). Rewrites the section
 // "## Ground filters on ISPRS samples (ladarvr bench ground-isprs)" of BENCHMARKS.md.
 #include "common.hpp"
 #include "ground_isprs_adaptive.hpp"
 #include "ground_isprs_learned.hpp"
+#include "ground_isprs_mcc.hpp"
 #include "ground_isprs_selector.hpp"
 #include "register.hpp"
 
@@ -57,7 +60,8 @@ struct GroundIsprsCli {
     std::string traits_csv;           // --adaptive-traits: every sample's survey traits, to this CSV
     bool selector = false;            // --selector: SMRF's option set chosen per tile by learned trees
     bool selector_refine = false;     // --selector-refine: the learned refinement on the selector's answer
-    std::vector<std::string> subset;  // --samples: only these samples (with --selector)
+    bool multiscale = false;          // --multiscale: MCC and the residual pyramid beside `ladarvr ground`
+    std::vector<std::string> subset;  // --samples: only these samples (with --selector or --multiscale)
 };
 
 // One filter configuration to score: a label and the options `ladarvr ground` takes.
@@ -278,6 +282,12 @@ void run(const GroundIsprsCli& cli) {
         runSelectorStudy(samples, cli.selector_refine);
         return;
     }
+    if (cli.multiscale) {
+        std::vector<AdaptiveSample> adaptive;
+        for (const Sample& sample : samples) adaptive.push_back({sample.name, &sample.points, &sample.truth});
+        runMultiscale(adaptive);
+        return;
+    }
     std::vector<LearnedSample> learned;
     for (const Sample& sample : samples)
         learned.push_back(describeSample(sample.name, sample.points, sample.truth, sim::surveySmrfOptions()));
@@ -412,11 +422,19 @@ void registerGroundIsprs(CLI::App& parent) {
                 "with --selector: also the learned refinement applied to the selector's answer (learns its trees "
                 "leave-one-site-out: minutes)")
         ->needs(selector);
+    c->add_flag("--multiscale", state->multiscale,
+                "score multiscale surface filters (MCC, a coarse-to-fine residual pyramid, each also on SMRF's "
+                "answer) beside `ladarvr ground`, then stop (prints only)")
+        ->excludes(selector);
     c->add_option("--samples", state->subset,
-                  "with --selector: only these samples, e.g. samp24,samp41 (of at least two sites)")
-        ->delimiter(',')
-        ->needs(selector);
-    c->callback([state] { run(*state); });
+                  "with --selector or --multiscale: only these samples, e.g. samp24,samp41 (--selector: of at "
+                  "least two sites)")
+        ->delimiter(',');
+    c->callback([state] {
+        if (!state->subset.empty() && !state->selector && !state->multiscale)
+            throw CLI::RequiresError("--samples", "--selector or --multiscale");
+        run(*state);
+    });
 }
 
 }  // namespace bench
