@@ -266,12 +266,15 @@ class SmrfFit : public RasterFit {
                                                               std::vector<std::uint8_t>(minimum.size(), 0));
         for (int r = 1; r <= all_radii; ++r) {
             diskFilter(surface, eroded, w, h, r, false, scratch, pool);
-            if (o_.reconstruct == 1 && o_.reconstruct_steps == 0) {
+            const double radius_m = double(r) * o_.cell_m;
+            const bool by_reconstruction = o_.reconstruct == 1 && radius_m >= o_.reconstruct_from_m &&
+                                           (o_.reconstruct_to_m == 0.0 || radius_m <= o_.reconstruct_to_m);
+            if (by_reconstruction && o_.reconstruct_steps == 0) {
                 opened = eroded;
                 reconstructByDilation(opened, surface, w, h);
             } else {
                 diskFilter(eroded, opened, w, h, r, true, scratch, pool);
-                if (o_.reconstruct == 1) geodesicDilation(opened, surface, w, h, o_.reconstruct_steps);
+                if (by_reconstruction) geodesicDilation(opened, surface, w, h, o_.reconstruct_steps);
             }
             if (r <= radii) {
                 const float limit = float(o_.slope * double(r) * o_.cell_m);
@@ -423,6 +426,10 @@ void validate(const SmrfOptions& o) {
         failGroundOption("smrf reconstruct_h_m", o.reconstruct_h_m, "(0, 1000] metres");
     if (!(std::isfinite(o.reconstruct_tol_m) && o.reconstruct_tol_m >= 0.0 && o.reconstruct_tol_m <= 1000.0))
         failGroundOption("smrf reconstruct_tol_m", o.reconstruct_tol_m, "[0, 1000] metres");
+    if (!(std::isfinite(o.reconstruct_from_m) && o.reconstruct_from_m >= 0.0 && o.reconstruct_from_m <= 1000.0))
+        failGroundOption("smrf reconstruct_from_m", o.reconstruct_from_m, "[0, 1000] metres");
+    if (!(std::isfinite(o.reconstruct_to_m) && o.reconstruct_to_m >= 0.0 && o.reconstruct_to_m <= 1000.0))
+        failGroundOption("smrf reconstruct_to_m", o.reconstruct_to_m, "[0, 1000] metres, 0 = up to the window");
     if (o.reconstruct_steps < 0 || o.reconstruct_steps > 1000)
         failGroundOption("smrf reconstruct_steps", double(o.reconstruct_steps), "[0, 1000] cells, 0 = however far");
 }

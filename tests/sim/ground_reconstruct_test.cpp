@@ -200,5 +200,8 @@ TEST_CASE("SMRF's reconstruction options are checked") {
     o.reconstruct_steps = -1;
     CHECK_THROWS_WITH(sim::validate(o), doctest::Contains("reconstruct_steps"));
     o.reconstruct_steps = 0;
+    o.reconstruct_to_m = -1.0;
+    CHECK_THROWS_WITH(sim::validate(o), doctest::Contains("reconstruct_to_m"));
+    o.reconstruct_to_m = 1.0;
     CHECK_NOTHROW(sim::validate(o));
 }

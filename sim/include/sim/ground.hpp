@@ -66,9 +66,9 @@ struct SmrfOptions {
     /// (geodesic) reconstruction in SMRF (sim/src/ground_reconstruct.hpp), which gives back
     /// what joins higher ground without a drop (a terrace's upper edge) and not what stands
     /// above everything around it (a roof). 0 = off;
-    /// 1 = the object test's openings by reconstruction: the erosion reconstructed under
-    ///     the surface (reconstruct_steps 0), or the opening dilated that many cells
-    ///     further under it;
+    /// 1 = the object test's openings by reconstruction, those of radius reconstruct_from_m
+    ///     to reconstruct_to_m: the erosion reconstructed under the surface
+    ///     (reconstruct_steps 0), or the opening dilated that many cells further under it;
     /// 2 = a cell the openings called an object whose h-dome of height reconstruct_h_m is
     ///     at most reconstruct_tol_m is ground again;
     /// 3 = observed cells that the fitted terrain (plus reconstruct_tol_m), reconstructed
@@ -79,9 +79,11 @@ struct SmrfOptions {
     ///     a disk of reconstruct_steps cells, at least 1, reconstructed under it) exceeds
     ///     reconstruct_h_m is an object.
     int reconstruct = 0;
-    double reconstruct_h_m = 2.0;    // 2: the domes' height; 3, 4: the highest rise given back; 5: the top-hat's
-    double reconstruct_tol_m = 0.3;  // 2: the largest dome still ground; 3, 4: the seeds' and the reach's slack
-    int reconstruct_steps = 0;       // 1, 3, 4: how many cells the reconstruction reaches (0: however far); 5: radius
+    double reconstruct_h_m = 2.0;     // 2: the domes' height; 3, 4: the highest rise given back; 5: the top-hat's
+    double reconstruct_tol_m = 0.3;   // 2: the largest dome still ground; 3, 4: the seeds' and the reach's slack
+    int reconstruct_steps = 0;        // 1, 3, 4: how many cells the reconstruction reaches (0: however far); 5: radius
+    double reconstruct_from_m = 0.0;  // 1: openings of a smaller radius (metres) stay plain
+    double reconstruct_to_m = 0.0;    // 1: and those of a larger one (0: none)
 };
 
 /// Cloth simulation filter (Zhang, Qi, Wan, Wang, Xie, Wang, Yan 2016, "An easy-to-use
