@@ -449,6 +449,17 @@ std::vector<Variant> variants() {
                      pyramid(o, true)});
     }
     {
+        MccOptions m;
+        m.max_slope = 0.1;
+        PyramidOptions p;
+        p.top_cell_m = 4, p.tolerance_m = 0.15, p.tolerance_per_m = 0, p.threshold_m = 0.3, p.scalar = 0.5;
+        v.push_back({"SMRF, MCC's test where gentler than 0.1, then ground given back by the pyramid (both as above)",
+                     [m, p](const std::vector<core::CloudPoint>& points, const std::vector<std::uint8_t>& smrf) {
+                         const std::vector<std::uint8_t> fewer = mccGround(points, m, &smrf);
+                         return pyramidGround(points, p, &fewer);
+                     }});
+    }
+    {
         MccOptions o;
         v.push_back({"SMRF's ground or MCC's (lambda 1 m, tolerance 0.3 m)",
                      [o](const std::vector<core::CloudPoint>& points, const std::vector<std::uint8_t>& smrf) {
