@@ -98,10 +98,11 @@ Score score(const std::vector<std::uint8_t>& found, const std::vector<std::uint8
 // "smrf:cell_m=0.5,slope=0.2" / "csf:cloth_m=0.5,rigidness=2" into a configuration.
 Config parseTry(const std::string& spec) {
     const auto bad = [&](const std::string& why) {
-        return core::Error(
-            "bench ground-isprs: --try '" + spec + "': " + why +
-            "; allowed smrf:KEY=V,... (cell_m slope window_m threshold_m scalar raised_segments low_outlier_m) or "
-            "csf:KEY=V,... (cloth_m rigidness threshold_m time_step iterations low_outlier_m)");
+        return core::Error("bench ground-isprs: --try '" + spec + "': " + why +
+                           "; allowed smrf:KEY=V,... (cell_m slope window_m threshold_m scalar raised_segments "
+                           "low_outlier_m reconstruct reconstruct_h_m "
+                           "reconstruct_tol_m reconstruct_steps reconstruct_from_m reconstruct_to_m) or "
+                           "csf:KEY=V,... (cloth_m rigidness threshold_m time_step iterations low_outlier_m)");
     };
     Config c;
     c.name = "--try " + spec;
@@ -137,6 +138,18 @@ Config parseTry(const std::string& spec) {
             s.scalar = v;
         else if (smrf && key == "raised_segments")
             s.raised_segments = v != 0;
+        else if (smrf && key == "reconstruct")
+            s.reconstruct = int(v);
+        else if (smrf && key == "reconstruct_h_m")
+            s.reconstruct_h_m = v;
+        else if (smrf && key == "reconstruct_tol_m")
+            s.reconstruct_tol_m = v;
+        else if (smrf && key == "reconstruct_steps")
+            s.reconstruct_steps = int(v);
+        else if (smrf && key == "reconstruct_from_m")
+            s.reconstruct_from_m = v;
+        else if (smrf && key == "reconstruct_to_m")
+            s.reconstruct_to_m = v;
         else if (!smrf && key == "cloth_m")
             f.cloth_m = v;
         else if (!smrf && key == "rigidness")

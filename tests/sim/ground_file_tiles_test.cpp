@@ -27,6 +27,7 @@
 #include <iterator>
 #include <random>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -98,43 +99,70 @@ double floorOf(const std::string&) { return 1.0; }
 
 }  // namespace
 
-TEST_CASE("ground tiles: 60 m tiles with a buffer give each ISPRS sample the untiled run's classes") {
-    const Scratch s("agree");
-    const fs::path isprs = LADARVR_ISPRS_DIR;
-    std::vector<fs::path> inputs;
-    for (const char* name : {"samp11", "samp12", "samp21", "samp22", "samp23", "samp24", "samp31", "samp41", "samp42",
-                             "samp51", "samp52", "samp53", "samp54", "samp61", "samp71"})
-        inputs.push_back(isprs / (std::string(name) + ".laz"));
-    inputs.push_back(isprs.parent_path() / "real" / "4_6_crop.las");
-    // Tiles of 60 m (a sample is 200-400 m wide): a few dozen, most points near an edge.
-    for (const fs::path& in : inputs) {
-        CAPTURE(in);
-        CHECK(tiledAgreement(in, 60.0, s.dir) >= floorOf(in.filename().string()));
-    }
-}
-
 namespace {
 
-// 30 m tiles under a 76 m buffer: each point is in the buffer of tiles three away. The
-// samples are split over two test cases so that each runs in a few minutes under the
-// sanitizers.
-void checkNarrowTiles(const char* scratch, std::initializer_list<const char*> names) {
+// Each named input of the ISPRS folder (or "real/..." beside it) in tiles `tile_m` wide
+// keeps every point's class. The inputs are spread over several test cases so that each
+// runs in a few minutes under the sanitizers: the sparse samples fit each tile twice
+// (their holes cross every tile's cut edge).
+void checkTiles(const char* scratch, double tile_m, std::initializer_list<const char*> names) {
     const Scratch s(scratch);
     const fs::path isprs = LADARVR_ISPRS_DIR;
     for (const char* name : names) {
         CAPTURE(name);
-        CHECK(tiledAgreement(isprs / name, 30.0, s.dir) >= floorOf(name));
+        const fs::path in = std::string_view(name).starts_with("real/") ? isprs.parent_path() / name : isprs / name;
+        CHECK(tiledAgreement(in, tile_m, s.dir) >= floorOf(in.filename().string()));
     }
 }
 
 }  // namespace
 
-TEST_CASE("ground tiles: tiles narrower than their buffer take it from every tile within it (samples 42, 51, 52)") {
-    checkNarrowTiles("narrow1", {"samp42.laz", "samp51.laz", "samp52.laz"});
+// Tiles of 60 m (a sample is 200-400 m wide): a few dozen, most points near an edge.
+TEST_CASE("ground tiles: 60 m tiles with a buffer give samples 11-24 the untiled run's classes") {
+    checkTiles("agree_1x2x", 60.0,
+               {"samp11.laz", "samp12.laz", "samp21.laz", "samp22.laz", "samp23.laz", "samp24.laz"});
 }
 
-TEST_CASE("ground tiles: tiles narrower than their buffer take it from every tile within it (samples 53, 61)") {
-    checkNarrowTiles("narrow2", {"samp53.laz", "samp61.laz"});
+TEST_CASE(
+    "ground tiles: 60 m tiles with a buffer give samples 31-42, 71 and a survey in feet the untiled run's classes") {
+    checkTiles("agree_3x4x", 60.0, {"samp31.laz", "samp41.laz", "samp42.laz", "samp71.laz", "real/4_6_crop.las"});
+}
+
+TEST_CASE("ground tiles: 60 m tiles with a buffer give samples 51 and 54 the untiled run's classes") {
+    checkTiles("agree_51", 60.0, {"samp51.laz", "samp54.laz"});
+}
+
+TEST_CASE("ground tiles: 60 m tiles with a buffer give sample 52 the untiled run's classes") {
+    checkTiles("agree_52", 60.0, {"samp52.laz"});
+}
+
+TEST_CASE("ground tiles: 60 m tiles with a buffer give sample 53 the untiled run's classes") {
+    checkTiles("agree_53", 60.0, {"samp53.laz"});
+}
+
+TEST_CASE("ground tiles: 60 m tiles with a buffer give sample 61 the untiled run's classes") {
+    checkTiles("agree_61", 60.0, {"samp61.laz"});
+}
+
+// 30 m tiles under a 76 m buffer: each point is in the buffer of tiles three away.
+TEST_CASE("ground tiles: tiles narrower than their buffer take it from every tile within it (sample 42)") {
+    checkTiles("narrow1", 30.0, {"samp42.laz"});
+}
+
+TEST_CASE("ground tiles: tiles narrower than their buffer take it from every tile within it (sample 51)") {
+    checkTiles("narrow5", 30.0, {"samp51.laz"});
+}
+
+TEST_CASE("ground tiles: tiles narrower than their buffer take it from every tile within it (sample 52)") {
+    checkTiles("narrow2", 30.0, {"samp52.laz"});
+}
+
+TEST_CASE("ground tiles: tiles narrower than their buffer take it from every tile within it (sample 53)") {
+    checkTiles("narrow3", 30.0, {"samp53.laz"});
+}
+
+TEST_CASE("ground tiles: tiles narrower than their buffer take it from every tile within it (sample 61)") {
+    checkTiles("narrow4", 30.0, {"samp61.laz"});
 }
 
 TEST_CASE("ground tiles: two files merged and the two classified each with the other as buffer agree") {
