@@ -47,6 +47,39 @@ CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m) {
     return out;
 }
 
+bool holeReaches(const std::vector<bool>& observed, int nx, int ny, const CutSides& cut, double i0, double i1,
+                 double j0, double j1) {
+    const std::size_t w = std::size_t(std::max(nx, 0)), h = std::size_t(std::max(ny, 0));
+    if (w == 0 || h == 0 || observed.size() != w * h || w * h > std::numeric_limits<std::uint32_t>::max()) return false;
+    std::vector<bool> seen(w * h, false);
+    std::vector<std::uint32_t> stack;
+    const auto push = [&](std::size_t i, std::size_t j) {
+        const std::size_t c = j * w + i;
+        if (observed[c] || seen[c]) return;
+        seen[c] = true;
+        stack.push_back(std::uint32_t(c));
+    };
+    for (std::size_t j = 0; j < h; ++j) {
+        if (cut.low_x) push(0, j);
+        if (cut.high_x) push(w - 1, j);
+    }
+    for (std::size_t i = 0; i < w; ++i) {
+        if (cut.low_y) push(i, 0);
+        if (cut.high_y) push(i, h - 1);
+    }
+    while (!stack.empty()) {
+        const std::size_t c = stack.back();
+        stack.pop_back();
+        const std::size_t i = c % w, j = c / w;
+        if (double(i) >= i0 && double(i) <= i1 && double(j) >= j0 && double(j) <= j1) return true;
+        if (i > 0) push(i - 1, j);
+        if (i + 1 < w) push(i + 1, j);
+        if (j > 0) push(i, j - 1);
+        if (j + 1 < h) push(i, j + 1);
+    }
+    return false;
+}
+
 void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps) {
     const std::size_t n = z.size();
     std::vector<int> ring(n, -1);  // ring of each cell: 0 known, k filled in the k-th ring

@@ -74,6 +74,18 @@ CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m);
 /// Nothing known: `z` is left alone.
 void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps = 0);
 
+/// The sides of a raster beyond which the survey goes on (its cut edges).
+struct CutSides {
+    bool low_x = false, low_y = false, high_x = false, high_y = false;
+};
+
+/// Whether a hole of an nx x ny raster (cells not `observed`, joined through their four
+/// neighbours, as inpaint's relaxation joins them) runs from a side in `cut` into the
+/// cells [i0, i1] x [j0, j1] (inclusive; an empty range reaches none). Memory: a flag and
+/// at most one index per cell.
+bool holeReaches(const std::vector<bool>& observed, int nx, int ny, const CutSides& cut, double i0, double i1,
+                 double j0, double j1);
+
 class RasterFit : public TerrainFit {
   public:
     /// `cell_option` names the cell size in errors, e.g. "smrf cell_m (--smrf-cell-m)".

@@ -357,46 +357,17 @@ std::pair<glm::bvec2, glm::bvec2> cutSides(const XyBox& box, double cell_m, cons
 // neighbours, as the fill's relaxation joins them) runs from a cut edge (`cut`) into the
 // tile's square `own`: the filled heights there then hang on where the raster was cut,
 // as far as the fixed sweeps have not settled them. False for a fit that is not a
-// raster's. Memory: a flag and at most one index per cell.
+// raster's.
 bool holeCutAcross(const TerrainFit& fit, const XyBox& own, const std::pair<glm::bvec2, glm::bvec2>& cut) {
     const auto* raster = dynamic_cast<const RasterFit*>(&fit);
     if (!raster) return false;
     const TerrainGrid& g = raster->surface();
-    const std::vector<bool>& observed = raster->observedCells();
-    const std::size_t w = std::size_t(g.nx), h = std::size_t(g.ny);
-    if (g.empty() || observed.size() != w * h || w * h > std::numeric_limits<std::uint32_t>::max()) return false;
     // The cells whose centres lie in the tile's square.
     const auto first = [&](double v, double x0) { return std::ceil((v - x0) / g.cell_m); };
     const double i0 = first(own.first.x, g.x0_m), i1 = first(own.second.x, g.x0_m) - 1;
     const double j0 = first(own.first.y, g.y0_m), j1 = first(own.second.y, g.y0_m) - 1;
-    std::vector<bool> seen(w * h, false);
-    std::vector<std::uint32_t> stack;
-    const auto push = [&](std::size_t i, std::size_t j) {
-        const std::size_t c = j * w + i;
-        if (observed[c] || seen[c]) return;
-        seen[c] = true;
-        stack.push_back(std::uint32_t(c));
-    };
     const auto& [lo, hi] = cut;
-    for (std::size_t j = 0; j < h; ++j) {
-        if (lo.x) push(0, j);
-        if (hi.x) push(w - 1, j);
-    }
-    for (std::size_t i = 0; i < w; ++i) {
-        if (lo.y) push(i, 0);
-        if (hi.y) push(i, h - 1);
-    }
-    while (!stack.empty()) {
-        const std::size_t c = stack.back();
-        stack.pop_back();
-        const std::size_t i = c % w, j = c / w;
-        if (double(i) >= i0 && double(i) <= i1 && double(j) >= j0 && double(j) <= j1) return true;
-        if (i > 0) push(i - 1, j);
-        if (i + 1 < w) push(i + 1, j);
-        if (j > 0) push(i, j - 1);
-        if (j + 1 < h) push(i, j + 1);
-    }
-    return false;
+    return holeReaches(raster->observedCells(), g.nx, g.ny, {lo.x, lo.y, hi.x, hi.y}, i0, i1, j0, j1);
 }
 
 // Fits `fit` (a tile's points added) over `box` with the survey's thickness. Where

@@ -4,6 +4,7 @@
 // by Gaussian range noise: the fitted terrain stays within a stated tolerance of the true
 // surface, the ground is recovered, a vehicle-sized box on a 30 % slope stays coloured,
 // and the result does not depend on the points' order, batching or gathering threads.
+// A hole of empty cells reaches a tile's square only from a cut side (holeReaches).
 #include "ground_raster.hpp"
 #include "ground_surfaces.hpp"
 
@@ -321,4 +322,29 @@ TEST_CASE("a cell's level from its lowest heights: the centre of Gaussian height
     CHECK(all.front() < 4.6f);  // the minimum alone would sit 2 sigma low
     CHECK(sim::normalQuantile(0.5) == doctest::Approx(0.0).epsilon(1e-3));
     CHECK(sim::normalQuantile(0.025) == doctest::Approx(-1.96).epsilon(1e-3));
+}
+
+TEST_CASE("a hole reaches a tile's square only from a cut side and through the four neighbours") {
+    // A 10 x 6 raster, every cell observed but a hole along row 3 from the low-x side to
+    // x = 3; the tile's square is cells [2, 4] x [2, 4].
+    constexpr int nx = 10, ny = 6;
+    std::vector<bool> observed(nx * ny, true);
+    for (int i = 0; i <= 3; ++i) observed[3 * nx + i] = false;
+    const auto reaches = [&](const sim::CutSides& cut) { return sim::holeReaches(observed, nx, ny, cut, 2, 4, 2, 4); };
+    CHECK(reaches({.low_x = true}));
+    CHECK_FALSE(reaches({.high_x = true}));
+    CHECK_FALSE(reaches({.low_y = true, .high_y = true}));
+    CHECK_FALSE(reaches({}));
+    // An empty square is reached by nothing.
+    CHECK_FALSE(sim::holeReaches(observed, nx, ny, {.low_x = true}, 2, 1, 2, 4));
+    // Cells that touch only at a corner are two holes: the one at the side stops short.
+    for (int i = 2; i <= 3; ++i) observed[3 * nx + i] = true;
+    observed[2 * nx + 2] = false;
+    CHECK_FALSE(reaches({.low_x = true}));
+    // Joined again through a side, it reaches the square from below too.
+    observed[2 * nx + 1] = false;
+    CHECK(reaches({.low_x = true}));
+    for (int j = 0; j <= 1; ++j) observed[j * nx + 2] = false;
+    CHECK(reaches({.low_y = true}));
+    CHECK_FALSE(sim::holeReaches(observed, nx, ny - 1, {.low_x = true}, 2, 4, 2, 4));  // sizes disagree
 }
