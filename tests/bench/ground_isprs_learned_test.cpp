@@ -3,7 +3,7 @@
 // classified by trees learned on the other): two runs give the same margins (the trees
 // learn on two threads with a fixed seed), and each sample's confusion counts are pinned,
 // so that a change to the features, the trees' parameters or XGBoost is seen before the
-// figures of docs/ground.md and BENCHMARKS.md silently stop being this build's.
+// figures of docs/ground-isprs.md and BENCHMARKS.md silently stop being this build's.
 #include "ground_isprs_learned.hpp"
 
 #include <core/point_cloud.hpp>

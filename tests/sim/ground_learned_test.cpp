@@ -165,7 +165,7 @@ std::vector<double> columnSums(const std::vector<float>& rows) {
 
 TEST_CASE("ground learned: the features of ISPRS sample 24 as ladarvr ground fits it are pinned") {
     // The sum of each feature column over the sample's points, as this build gives them:
-    // the trees' figures on the ISPRS samples (docs/ground.md) move when these do, so a
+    // the trees' figures on the ISPRS samples (docs/ground-isprs.md) move when these do, so a
     // change to SMRF's terrains, their hole filling or the rasters the features read
     // must come with a new bench ground-isprs run and new pins.
     const core::PointCloud cloud = io::readCloud(std::string(LADARVR_ISPRS_DIR) + "/samp24.laz");

@@ -7,7 +7,7 @@
 // say whether it is bare earth. The trees are learned from the ISPRS filter-test samples
 // (`ladarvr bench ground-isprs --write-model`); the model file holds them in a format of
 // our own, read here without XGBoost. Scored on a site the trees never saw it lowered
-// SMRF's error too little to replace it (docs/ground.md), so `ladarvr ground` does not
+// SMRF's error too little to replace it (docs/ground-isprs.md), so `ladarvr ground` does not
 // run it: this is the bench's and an experiment's tool.
 #pragma once
 #include <sim/ground.hpp>
