@@ -100,7 +100,7 @@ Config parseTry(const std::string& spec) {
     const auto bad = [&](const std::string& why) {
         return core::Error("bench ground-isprs: --try '" + spec + "': " + why +
                            "; allowed smrf:KEY=V,... (cell_m slope window_m threshold_m scalar raised_segments "
-                           "low_outlier_m reconstruct reconstruct_h_m "
+                           "low_outlier_m sparse_openings reconstruct reconstruct_h_m "
                            "reconstruct_tol_m reconstruct_steps reconstruct_from_m reconstruct_to_m) or "
                            "csf:KEY=V,... (cloth_m rigidness threshold_m time_step iterations low_outlier_m)");
     };
@@ -138,6 +138,8 @@ Config parseTry(const std::string& spec) {
             s.scalar = v;
         else if (smrf && key == "raised_segments")
             s.raised_segments = v != 0;
+        else if (smrf && key == "sparse_openings")
+            s.sparse_openings = v != 0;
         else if (smrf && key == "reconstruct")
             s.reconstruct = int(v);
         else if (smrf && key == "reconstruct_h_m")

@@ -27,6 +27,7 @@ SmrfOptions surveySmrfOptions() {
     SmrfOptions o;
     o.low_outlier_m = kSurveyLowOutlier_m;
     o.raised_segments = true;
+    o.sparse_openings = true;
     o.fill_sweeps = kSurveyFillSweeps;
     return o;
 }
@@ -66,7 +67,7 @@ std::string describe(const GroundFileOptions& o) {
         const SmrfOptions& m = o.smrf;
         s << "smrf (cell " << m.cell_m << " m, slope " << m.slope << ", window " << m.window_m << " m, threshold "
           << m.threshold_m << " m, scalar " << m.scalar << ", low outliers " << lowOutliers(m.low_outlier_m)
-          << (m.raised_segments ? ", raised segments" : "") << ")";
+          << (m.raised_segments ? ", raised segments" : "") << (m.sparse_openings ? ", sparse openings" : "") << ")";
     }
     return s.str();
 }

@@ -47,6 +47,25 @@ CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m) {
     return out;
 }
 
+std::vector<std::uint8_t> sparseEmptyCells(const std::vector<std::uint8_t>& known, int nx, int ny) {
+    std::vector<std::uint8_t> out(known.size(), 0);
+    const auto at = [&](int i, int j) { return known[std::size_t(j) * std::size_t(nx) + std::size_t(i)] != 0; };
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            if (at(i, j)) continue;
+            int near = 0, held = 0, cells = 0;
+            for (int b = std::max(0, j - 2); b <= std::min(ny - 1, j + 2); ++b)
+                for (int a = std::max(0, i - 2); a <= std::min(nx - 1, i + 2); ++a) {
+                    ++cells;
+                    if (!at(a, b)) continue;
+                    ++held;
+                    if (std::abs(a - i) <= 1 && std::abs(b - j) <= 1) ++near;
+                }
+            if (near > 0 && 2 * held < cells) out[std::size_t(j) * std::size_t(nx) + std::size_t(i)] = 1;
+        }
+    return out;
+}
+
 bool holeReaches(const std::vector<bool>& observed, int nx, int ny, const CutSides& cut, double i0, double i1,
                  double j0, double j1) {
     const std::size_t w = std::size_t(std::max(nx, 0)), h = std::size_t(std::max(ny, 0));

@@ -74,6 +74,14 @@ CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m);
 /// Nothing known: `z` is left alone.
 void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps = 0);
 
+/// The empty cells that the openings of a sparse survey leave out
+/// (SmrfOptions::sparse_openings): those (not `known`) with a known cell among their 8
+/// neighbours, where fewer than half of the 5 x 5 cells around them (as far as the raster
+/// reaches) are known. There the empty cells lie between the points' rows, and the filled
+/// surface would make each known cell a peak or a pit of its own; deeper inside a gap, or
+/// in a dense survey, the cells are filled as inpaint() fills them. One flag per cell.
+std::vector<std::uint8_t> sparseEmptyCells(const std::vector<std::uint8_t>& known, int nx, int ny);
+
 /// The sides of a raster beyond which the survey goes on (its cut edges).
 struct CutSides {
     bool low_x = false, low_y = false, high_x = false, high_y = false;

@@ -246,6 +246,13 @@ class SmrfFit : public RasterFit {
         const int w = grid_.nx, h = grid_.ny;
         std::vector<float> surface = minimum;
         inpaint(surface, observed, w, h, o_.fill_sweeps);
+        // SmrfOptions::sparse_openings: the cells left out hold kNoPoint, which no erosion
+        // takes; an eroded kNoPoint (a disk without a point) becomes -kNoPoint, which no
+        // dilation takes, and the opened surface keeps them out for the next radius.
+        const std::vector<std::uint8_t> left_out =
+            o_.sparse_openings ? sparseEmptyCells(observed, w, h) : std::vector<std::uint8_t>{};
+        for (std::size_t c = 0; c < left_out.size(); ++c)
+            if (left_out[c]) surface[c] = kNoPoint;
         // The filled surface and the levels as they were, for the reconstructions after the
         // openings (SmrfOptions::reconstruct 2 to 5).
         std::vector<float> filled, levels;
@@ -266,6 +273,9 @@ class SmrfFit : public RasterFit {
                                                               std::vector<std::uint8_t>(minimum.size(), 0));
         for (int r = 1; r <= all_radii; ++r) {
             diskFilter(surface, eroded, w, h, r, false, scratch, pool);
+            if (!left_out.empty())
+                for (float& e : eroded)
+                    if (e == kNoPoint) e = -kNoPoint;
             const double radius_m = double(r) * o_.cell_m;
             const bool by_reconstruction = o_.reconstruct == 1 && radius_m >= o_.reconstruct_from_m &&
                                            (o_.reconstruct_to_m == 0.0 || radius_m <= o_.reconstruct_to_m);
@@ -276,6 +286,8 @@ class SmrfFit : public RasterFit {
                 diskFilter(eroded, opened, w, h, r, true, scratch, pool);
                 if (by_reconstruction) geodesicDilation(opened, surface, w, h, o_.reconstruct_steps);
             }
+            for (std::size_t c = 0; c < left_out.size(); ++c)
+                if (left_out[c]) opened[c] = kNoPoint;  // kNoPoint - kNoPoint: no object test
             if (r <= radii) {
                 const float limit = float(o_.slope * double(r) * o_.cell_m);
                 for (std::size_t c = 0; c < surface.size(); ++c)
@@ -418,6 +430,8 @@ void validate(const SmrfOptions& o) {
         failGroundOption("smrf low_outlier_m (--low-outlier-m)", o.low_outlier_m, "[0, 1000] metres, 0 = off");
     if (o.fill_sweeps < 0 || o.fill_sweeps > 10000)
         failGroundOption("smrf fill_sweeps", double(o.fill_sweeps), "[0, 10000], 0 = until settled");
+    if (o.sparse_openings && o.reconstruct != 0)
+        failGroundOption("smrf reconstruct", double(o.reconstruct), "0 when sparse_openings is on");
     if (o.reconstruct < 0 || o.reconstruct > 5)
         failGroundOption("smrf reconstruct", double(o.reconstruct),
                          "0 (off), 1 (opening by reconstruction), 2 (h-dome test), 3 (terrain up steps), 4 (ground up "

@@ -4,7 +4,9 @@
 // by Gaussian range noise: the fitted terrain stays within a stated tolerance of the true
 // surface, the ground is recovered, a vehicle-sized box on a 30 % slope stays coloured,
 // and the result does not depend on the points' order, batching or gathering threads.
-// A hole of empty cells reaches a tile's square only from a cut side (holeReaches).
+// A hole of empty cells reaches a tile's square only from a cut side (holeReaches); the
+// empty cells between a sparse survey's points are told from a dense survey's gaps
+// (sparseEmptyCells).
 #include "ground_raster.hpp"
 #include "ground_surfaces.hpp"
 
@@ -347,4 +349,32 @@ TEST_CASE("a hole reaches a tile's square only from a cut side and through the f
     for (int j = 0; j <= 1; ++j) observed[j * nx + 2] = false;
     CHECK(reaches({.low_y = true}));
     CHECK_FALSE(sim::holeReaches(observed, nx, ny - 1, {.low_x = true}, 2, 4, 2, 4));  // sizes disagree
+}
+
+TEST_CASE("the empty cells left out of sparse openings lie beside a point where most cells are empty") {
+    constexpr int nx = 13, ny = 13;
+    const auto at = [](int i, int j) { return std::size_t(j) * nx + std::size_t(i); };
+    // A point in every third cell both ways (one cell in nine): every empty cell has one
+    // beside it.
+    std::vector<std::uint8_t> known(nx * ny, 0);
+    for (int j = 0; j < ny; j += 3)
+        for (int i = 0; i < nx; i += 3) known[at(i, j)] = 1;
+    std::vector<std::uint8_t> out = sim::sparseEmptyCells(known, nx, ny);
+    for (std::size_t c = 0; c < out.size(); ++c) CHECK(out[c] == (known[c] ? 0 : 1));
+    // Every fourth cell: the cells two away from any point are not beside one.
+    std::fill(known.begin(), known.end(), 0);
+    for (int j = 0; j < ny; j += 4)
+        for (int i = 0; i < nx; i += 4) known[at(i, j)] = 1;
+    out = sim::sparseEmptyCells(known, nx, ny);
+    CHECK(out[at(1, 1)] == 1);
+    CHECK(out[at(2, 2)] == 0);
+    CHECK(out[at(0, 0)] == 0);
+    // A dense survey with a 4 x 4 gap: half or more of the cells around each are known.
+    std::fill(known.begin(), known.end(), 1);
+    for (int j = 4; j < 8; ++j)
+        for (int i = 4; i < 8; ++i) known[at(i, j)] = 0;
+    out = sim::sparseEmptyCells(known, nx, ny);
+    CHECK(std::count(out.begin(), out.end(), 1) == 0);
+    CHECK(sim::sparseEmptyCells(std::vector<std::uint8_t>(nx * ny, 0), nx, ny) ==
+          std::vector<std::uint8_t>(nx * ny, 0));
 }

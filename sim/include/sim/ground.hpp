@@ -62,6 +62,13 @@ struct SmrfOptions {
     /// A fixed count (`ladarvr ground` sets kSurveyFillSweeps) makes a filled cell the
     /// same whether the raster is one tile with its buffer or the whole survey.
     int fill_sweeps = 0;
+    /// Ours: where the survey is sparser than the raster (fewer than half the cells around
+    /// hold a point), the openings leave out the empty cells between the points instead of
+    /// seeing them filled: a filled cell between two rows of returns on a slope or a step
+    /// lies below the upper row, so each of its cells stood as a peak the smallest
+    /// openings cut (sim::sparseEmptyCells says which cells). Off as the generator runs it;
+    /// `ladarvr ground` sets it: it lowered the mean total error on the ISPRS samples.
+    bool sparse_openings = false;
     /// Ours, measured on the ISPRS samples and not run by default: morphological
     /// (geodesic) reconstruction in SMRF (sim/src/ground_reconstruct.hpp), which gives back
     /// what joins higher ground without a drop (a terrace's upper edge) and not what stands

@@ -27,7 +27,8 @@ inline constexpr double kSurveyLowOutlier_m = 6.0;
 /// The hole filling's sweeps in a real survey (SmrfOptions::fill_sweeps).
 inline constexpr int kSurveyFillSweeps = 100;
 /// SMRF's options for real airborne surveys: PDAL's defaults (the best one set of cell,
-/// slope, window, threshold and scalar on the ISPRS samples) with low outliers left out.
+/// slope, window, threshold and scalar on the ISPRS samples) with low outliers left out,
+/// raised segments taken out and sparse openings.
 SmrfOptions surveySmrfOptions();
 /// CSF's options for real airborne surveys: the paper's with low outliers left out.
 CsfOptions surveyCsfOptions();
