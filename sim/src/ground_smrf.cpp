@@ -247,8 +247,9 @@ class SmrfFit : public RasterFit {
         std::vector<float> surface = minimum;
         inpaint(surface, observed, w, h, o_.fill_sweeps);
         // SmrfOptions::sparse_openings: the cells left out hold kNoPoint, which no erosion
-        // takes; an eroded kNoPoint (a disk without a point) becomes -kNoPoint, which no
-        // dilation takes, and the opened surface keeps them out for the next radius.
+        // takes. Every cell within r of one that holds a value has it in its disk, so the
+        // erosions a valued cell dilates are finite and so is its opening; a left-out cell's
+        // opening is set back to kNoPoint below, so that the next radius leaves it out too.
         const std::vector<std::uint8_t> left_out =
             o_.sparse_openings ? sparseEmptyCells(observed, w, h) : std::vector<std::uint8_t>{};
         for (std::size_t c = 0; c < left_out.size(); ++c)
@@ -273,9 +274,6 @@ class SmrfFit : public RasterFit {
                                                               std::vector<std::uint8_t>(minimum.size(), 0));
         for (int r = 1; r <= all_radii; ++r) {
             diskFilter(surface, eroded, w, h, r, false, scratch, pool);
-            if (!left_out.empty())
-                for (float& e : eroded)
-                    if (e == kNoPoint) e = -kNoPoint;
             const double radius_m = double(r) * o_.cell_m;
             const bool by_reconstruction = o_.reconstruct == 1 && radius_m >= o_.reconstruct_from_m &&
                                            (o_.reconstruct_to_m == 0.0 || radius_m <= o_.reconstruct_to_m);

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -121,12 +122,19 @@ TEST_CASE("ground file: the file written carries the labels the in-memory filter
 TEST_CASE("ground file: the default's mean total error on two ISPRS samples stays under its floor") {
     // Type I + type II errors over all points, in percent, averaged over the samples as
     // the ISPRS filter test scores them (`./ladarvr bench ground-isprs` scores all 15).
+    // The misclassified counts are pinned as this build gives them: a change to SMRF's
+    // openings that leaves the mean about where it was (sparse openings that let a
+    // left-out cell carry an opened height to the next radius move 1 and 15 points here)
+    // must come with a new bench ground-isprs run.
     double mean_total = 0;
-    for (const char* name : {"samp24.las", "samp54.las"}) {
+    const std::pair<const char*, std::size_t> samples[] = {{"samp24.las", 310}, {"samp54.las", 313}};
+    for (const auto& [name, pinned] : samples) {
         const core::PointCloud cloud = io::readCloud(fs::path(LADARVR_ISPRS_DIR) / name);
         const std::vector<std::uint8_t> ground = sim::classifyGround(cloud.points, sim::GroundFileOptions{});
-        const double total = 100.0 * double(wrong(cloud.points, ground)) / double(cloud.points.size());
+        const std::size_t misclassified = wrong(cloud.points, ground);
+        const double total = 100.0 * double(misclassified) / double(cloud.points.size());
         MESSAGE(std::string(name) << ": total error " << total << " %");
+        CHECK(misclassified == pinned);
         mean_total += total / 2.0;
     }
     CHECK(mean_total <= 3.95);  // 3.89 % (samp24 4.14 %, samp54 3.64 %)
