@@ -16,8 +16,10 @@
 // Ours, for real surveys (SmrfOptions::raised_segments, off in the generator): between
 // 2) and 3), a patch of the surface left ground that stands more than 2 m above the
 // surface around it on most of its border (a roof too wide for the openings, a bridge
-// deck) is an object too. SmrfOptions::reconstruct (off; measured, see ground.hpp) puts
-// morphological reconstruction (ground_reconstruct.hpp) into the object test or after it.
+// deck) is an object too; with SmrfOptions::sparse_openings (also off in the generator),
+// the openings of 2) leave out the empty cells between a sparse survey's points.
+// SmrfOptions::reconstruct (off; measured, see ground.hpp) puts morphological
+// reconstruction (ground_reconstruct.hpp) into the object test or after it.
 //
 // The paper fills cells with a spring-metaphor inpainting; ours is its membrane
 // analogue: a breadth-first fill from the known cells (each new ring takes the mean of

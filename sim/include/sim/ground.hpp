@@ -64,9 +64,9 @@ struct SmrfOptions {
     int fill_sweeps = 0;
     /// Ours: where the survey is sparser than the raster (fewer than half the cells around
     /// hold a point), the openings leave out the empty cells between the points instead of
-    /// seeing them filled: a filled cell between two rows of returns on a slope or a step
-    /// lies below the upper row, so each of its cells stood as a peak the smallest
-    /// openings cut (sim::sparseEmptyCells says which cells). Off as the generator runs it;
+    /// seeing them filled: the filled cells between two rows of returns on a step lie below
+    /// the upper row, so each of its cells stood as a peak that the smallest openings cut
+    /// (sim::sparseEmptyCells says which cells are left out). Off as the generator runs it;
     /// `ladarvr ground` sets it: it lowered the mean total error on the ISPRS samples.
     bool sparse_openings = false;
     /// Ours, measured on the ISPRS samples and not run by default: morphological
