@@ -13,17 +13,21 @@
 // (ground_isprs_selector.hpp), with `--selector-refine` the learned refinement on top;
 // `--multiscale` scores multiscale surface filters (MCC, a residual pyramid) and each on
 // SMRF's answer (ground_isprs_mcc.hpp).
-// `--try` adds configurations to compare (printed only). Rewrites the section
-// "## Ground filters on ISPRS samples (ladarvr bench ground-isprs)" of BENCHMARKS.md.
+// `--try` adds configurations to compare (printed only); `--map` draws where one errs
+// (ground_isprs_map.hpp). Rewrites the section "## Ground filters on ISPRS samples (ladarvr
+// bench ground-isprs)" of BENCHMARKS.md and the picture of `ladarvr ground`'s errors beside it
+// (docs/img/ground_isprs_errors.png).
 #include "common.hpp"
 #include "ground_isprs_adaptive.hpp"
 #include "ground_isprs_learned.hpp"
+#include "ground_isprs_map.hpp"
 #include "ground_isprs_mcc.hpp"
 #include "ground_isprs_selector.hpp"
 #include "register.hpp"
 
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
+#include <io/png.hpp>
 #include <platform/atomic_file.hpp>
 #include <sim/ground.hpp>
 #include <sim/ground_file.hpp>
@@ -35,7 +39,9 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace bench {
@@ -62,7 +68,12 @@ struct GroundIsprsCli {
     bool selector_refine = false;     // --selector-refine: the learned refinement on the selector's answer
     bool multiscale = false;          // --multiscale: MCC and the residual pyramid beside `ladarvr ground`
     std::vector<std::string> subset;  // --samples: only these samples (with --selector or --multiscale)
+    std::string map;                  // --map: the error picture of the last configuration, to this PNG
 };
+
+// The error picture the bench writes beside its section of BENCHMARKS.md (docs/ground.md shows it).
+const char* const kMapDocPath = "docs/img/ground_isprs_errors.png";
+constexpr int kMapPanel_px = 300, kMapColumns = 5, kMapGap_px = 6;
 
 // One filter configuration to score: a label and the options `ladarvr ground` takes.
 struct Config {
@@ -175,6 +186,18 @@ struct Sample {
     std::vector<std::uint8_t> truth;  // 1 = bare earth
 };
 
+// The error picture of one configuration's labels on every sample (ground_isprs_map.hpp).
+void writeErrorMap(const fs::path& path, const std::vector<Sample>& samples,
+                   const std::vector<std::vector<std::uint8_t>>& found) {
+    std::vector<MapImage> panels;
+    for (std::size_t k = 0; k < samples.size(); ++k)
+        panels.push_back(renderErrorPanel(samples[k].points, samples[k].truth, found[k], kMapPanel_px,
+                                          std::string_view(samples[k].name).substr(4)));
+    const MapImage image = mosaic(panels, kMapColumns, kMapGap_px);
+    io::writePng(path, image.rgb, image.width, image.height, 3);
+    std::fprintf(stderr, "bench ground-isprs: wrote %s (%d x %d)\n", path.string().c_str(), image.width, image.height);
+}
+
 Score meanScore(const std::vector<Score>& scores) {
     Score mean;
     for (const Score& x : scores) {
@@ -260,6 +283,13 @@ void runSelectorStudy(const std::vector<Sample>& samples, bool refine) {
 
 void run(const GroundIsprsCli& cli) {
     const fs::path dir = cli.data.empty() ? sourceRoot() / "tests" / "data" / "isprs" : fs::path(cli.data);
+    if (!cli.map.empty()) {
+        // A PNG name keeps the picture off every input (samples are .laz or .las) and off the section's file.
+        if (fs::path(cli.map).extension() != ".png")
+            throw core::Error("bench ground-isprs: --map '" + cli.map + "': allowed a file name ending in .png");
+        if (fs::weakly_canonical(cli.map) == fs::weakly_canonical(cli.md))
+            throw core::Error("bench ground-isprs: --map '" + cli.map + "' is the --md file; allowed another file");
+    }
     // Each sample as LAZ (the copies in tests/data/isprs) or as LAS (the published files).
     for (const std::string& name : cli.subset)
         if (std::find_if(std::begin(kSamples), std::end(kSamples), [&](const char* k) { return name == k; }) ==
@@ -362,12 +392,19 @@ void run(const GroundIsprsCli& cli) {
     for (std::size_t c = 0; c <= configs.size(); ++c) per << "---:|";
     per << "\n";
     std::vector<std::vector<Score>> all(configs.size());
+    // The labels of `ladarvr ground`'s default (configs[2]) and of the last --try, for the
+    // error pictures.
+    std::vector<std::vector<std::uint8_t>> default_found, last_found;
     for (std::size_t c = 0; c < configs.size(); ++c) {
         const auto t0 = Clock::now();
-        for (std::size_t k = 0; k < samples.size(); ++k)
-            all[c].push_back(score(configs[c].learned ? refinedLabels(learned[k], learned_margins[k], kRefineConfidence)
-                                                      : sim::classifyGround(samples[k].points, configs[c].options),
-                                   samples[k].truth));
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+            std::vector<std::uint8_t> found = configs[c].learned
+                                                  ? refinedLabels(learned[k], learned_margins[k], kRefineConfidence)
+                                                  : sim::classifyGround(samples[k].points, configs[c].options);
+            all[c].push_back(score(found, samples[k].truth));
+            if (c == 2) default_found.push_back(found);
+            if (c + 1 == configs.size() && !cli.tries.empty()) last_found.push_back(std::move(found));
+        }
         const double seconds = configs[c].learned ? learned_seconds : secondsSince(t0);
         Score mean;
         std::size_t worst = 0;
@@ -398,8 +435,18 @@ void run(const GroundIsprsCli& cli) {
     s << means.str() << "\nPer sample, type I / type II / total / kappa (CSF published: total):\n\n" << per.str();
     s << "\nWhat `ladarvr ground` runs by default: " << sim::describe(sim::GroundFileOptions{})
       << "; with `--method csf`: " << sim::describe(survey_csf_options) << ".\n";
+    const bool rewrite = !cli.no_md && cli.tries.empty();
+    if (rewrite)
+        s << "\nWhere `ladarvr ground` errs on each sample (seen from above, numbered as the samples; grey: right, "
+             "light on bare earth and darker on objects; red: bare earth called object, type I; blue: an object "
+             "called bare earth, type II):\n\n![ladarvr ground's errors on the ISPRS samples]("
+          << kMapDocPath << ")\n";
     std::printf("%s", s.str().c_str());
-    if (!cli.no_md && cli.tries.empty()) replaceMarkdownSection(cli.md, kHeading, s.str());
+    if (!cli.map.empty()) writeErrorMap(cli.map, samples, cli.tries.empty() ? default_found : last_found);
+    if (rewrite) {
+        writeErrorMap(sourceRoot() / kMapDocPath, samples, default_found);
+        replaceMarkdownSection(cli.md, kHeading, s.str());
+    }
 }
 
 }  // namespace
@@ -441,6 +488,10 @@ void registerGroundIsprs(CLI::App& parent) {
                 "score multiscale surface filters (MCC, a coarse-to-fine residual pyramid, each also on SMRF's "
                 "answer) beside `ladarvr ground`, then stop (prints only)")
         ->excludes(selector);
+    c->add_option("--map", state->map,
+                  "also draw where the last configuration scored (the last --try, else `ladarvr ground`'s default) "
+                  "errs on each sample, to this PNG (without --try or --no-md the bench draws the default's to "
+                  "docs/img/ground_isprs_errors.png)");
     c->add_option("--samples", state->subset,
                   "with --selector or --multiscale: only these samples, e.g. samp24,samp41 (--selector: of at "
                   "least two sites)")
@@ -448,6 +499,15 @@ void registerGroundIsprs(CLI::App& parent) {
     c->callback([state] {
         if (!state->subset.empty() && !state->selector && !state->multiscale)
             throw CLI::RequiresError("--samples", "--selector or --multiscale");
+        // The picture comes from the main table's run, which these modes stop before.
+        const std::pair<bool, const char*> modes[] = {{!state->write_model.empty(), "--write-model"},
+                                                      {state->variants, "--learned-variants"},
+                                                      {!state->grid_csv.empty(), "--adaptive-grid"},
+                                                      {!state->traits_csv.empty(), "--adaptive-traits"},
+                                                      {state->selector, "--selector"},
+                                                      {state->multiscale, "--multiscale"}};
+        for (const auto& [on, name] : modes)
+            if (!state->map.empty() && on) throw CLI::ExcludesError("--map", name);
         run(*state);
     });
 }

@@ -61,4 +61,14 @@ grep -q "^ladarvr: error: bench all: --only 'bogus': allowed a list of generate,
 run 1 detect --families bogus
 grep -q "^ladarvr: error: bench detect: --families = 'bogus': allowed small, full or test$" "$dir/err" ||
     fail "detect --families bogus: $(cat "$dir/err")"
+# bench ground-isprs --map takes a PNG name other than the --md file, checked before any sample
+# is read, and not with the modes that stop before the main table.
+run 1 ground-isprs --map errors.txt
+grep -q "^ladarvr: error: bench ground-isprs: --map 'errors.txt': allowed a file name ending in .png$" "$dir/err" ||
+    fail "ground-isprs --map errors.txt: $(cat "$dir/err")"
+run 1 ground-isprs --map notes.png --md notes.png
+grep -q "^ladarvr: error: bench ground-isprs: --map 'notes.png' is the --md file; allowed another file$" "$dir/err" ||
+    fail "ground-isprs --map = --md: $(cat "$dir/err")"
+usage "bench ground-isprs: --map excludes --selector" ground-isprs --map errors.png --selector
+[ -e "$dir/errors.png" ] || [ -e "$dir/notes.png" ] && fail "a refused --map wrote a picture"
 echo "bench cli_test: all checks passed"
