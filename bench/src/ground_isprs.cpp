@@ -68,7 +68,7 @@ struct GroundIsprsCli {
     bool selector_refine = false;     // --selector-refine: the learned refinement on the selector's answer
     bool multiscale = false;          // --multiscale: MCC and the residual pyramid beside `ladarvr ground`
     std::vector<std::string> subset;  // --samples: only these samples (with --selector or --multiscale)
-    std::string map;                  // --map: the error picture of the last configuration, to this PNG
+    std::string map;                  // --map: the error picture of the last --try (else the default's), to this PNG
 };
 
 // The error picture the bench writes beside its section of BENCHMARKS.md (docs/ground.md shows it).
@@ -442,9 +442,12 @@ void run(const GroundIsprsCli& cli) {
              "called bare earth, type II):\n\n![ladarvr ground's errors on the ISPRS samples]("
           << kMapDocPath << ")\n";
     std::printf("%s", s.str().c_str());
-    if (!cli.map.empty()) writeErrorMap(cli.map, samples, cli.tries.empty() ? default_found : last_found);
+    const fs::path doc_map = sourceRoot() / kMapDocPath;
+    // Without --try, --map asks for the picture the rewrite draws: one file is written once.
+    if (!cli.map.empty() && !(rewrite && fs::weakly_canonical(cli.map) == fs::weakly_canonical(doc_map)))
+        writeErrorMap(cli.map, samples, cli.tries.empty() ? default_found : last_found);
     if (rewrite) {
-        writeErrorMap(sourceRoot() / kMapDocPath, samples, default_found);
+        writeErrorMap(doc_map, samples, default_found);
         replaceMarkdownSection(cli.md, kHeading, s.str());
     }
 }
