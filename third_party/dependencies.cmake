@@ -59,8 +59,13 @@ find_path(LADARVR_XGBOOST_INCLUDE_DIR xgboost/c_api.h REQUIRED)  # libxgboost-de
 find_library(LADARVR_XGBOOST_LIBRARY NAMES xgboost REQUIRED)
 
 # Shares compiled objects between clones, worktrees and presets when ccache is there.
+# Paths under the checkout are hashed relative to it (CCACHE_BASEDIR), and the build
+# folder is left out of the hash of objects with debug information (CCACHE_NOHASHDIR),
+# so the asan preset's objects are shared between clones too; their debug information
+# then names the folder of the clone that compiled them first.
 find_program(LADARVR_CCACHE ccache)
 if(LADARVR_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
-  set(CMAKE_C_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env CCACHE_BASEDIR=${CMAKE_SOURCE_DIR} ${LADARVR_CCACHE})
-  set(CMAKE_CXX_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env CCACHE_BASEDIR=${CMAKE_SOURCE_DIR} ${LADARVR_CCACHE})
+  set(LADARVR_CCACHE_ENV CCACHE_BASEDIR=${CMAKE_SOURCE_DIR} CCACHE_NOHASHDIR=true)
+  set(CMAKE_C_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env ${LADARVR_CCACHE_ENV} ${LADARVR_CCACHE})
+  set(CMAKE_CXX_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env ${LADARVR_CCACHE_ENV} ${LADARVR_CCACHE})
 endif()
