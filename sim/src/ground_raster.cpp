@@ -148,61 +148,64 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
         std::sort(next_layer.begin(), next_layer.end());
         layer.swap(next_layer);
     }
-    std::sort(holes.begin(), holes.end());
     // Successive over-relaxation (factor kOmega) settles in far fewer sweeps than plain
-    // Gauss-Seidel; the sweep order is fixed, so the result is too. A cell is computed
-    // again only when its own value or one of its four neighbours' changed since its last
-    // update (bit for bit): otherwise that update would repeat the last one, which left
-    // the cell as it was. Skipping it changes nothing, and a wide hole that has settled
-    // (a sparse survey's empty tiles) costs a flag per cell and sweep.
-    constexpr int kMaxSweeps = 100;
+    // Gauss-Seidel; the sweep order is fixed (row by row), so the result is too.
+    // A cell is computed again only when its own value or one of its four neighbours'
+    // changed since its last update (bit for bit): otherwise that update would repeat the
+    // last one, which left the cell as it was. Skipping it changes nothing, and a wide
+    // hole that has settled (a sparse survey's empty tiles) costs a flag per cell and sweep.
+    // The rows are swept kLanes at a time, each lane a cell behind the one above it: a
+    // cell still sees its left and upper neighbours updated and its right and lower ones
+    // not, as in row order, so the values are those of row order; the lanes' cells are
+    // not neighbours, so the processor overlaps their updates.
+    constexpr int kMaxSweeps = 100, kLanes = 4;
     constexpr double kSettled_m = 1e-3, kOmega = 1.8;
-    // Which of its four neighbours each hole has inside the raster (bits: -x, +x, -y, +y).
-    enum : std::uint8_t { kLowX = 1, kHighX = 2, kLowY = 4, kHighY = 8 };
-    std::vector<std::uint8_t> sides(holes.size());
-    for (std::size_t k = 0; k < holes.size(); ++k) {
-        const int i = int(holes[k] % std::size_t(nx)), j = int(holes[k] / std::size_t(nx));
-        sides[k] = std::uint8_t((i > 0 ? kLowX : 0) | (i + 1 < nx ? kHighX : 0) | (j > 0 ? kLowY : 0) |
-                                (j + 1 < ny ? kHighY : 0));
-    }
-    std::vector<std::uint8_t> stale(n, 0);  // 1: the cell's next update may change it
-    for (const std::size_t c : holes) stale[c] = 1;
-    const auto sameBits = [](float a, float b) {
-        return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
-    };
+    enum : std::uint8_t { kHole = 1, kStale = 2, kUpdate = kHole | kStale };
+    std::vector<std::uint8_t> state(n, 0);
+    for (const std::size_t c : holes) state[c] = kUpdate;
     const std::size_t row = std::size_t(nx);
+    double change = 0;
+    const auto update = [&](std::size_t c, int i, int j) {
+        double sum = 0;
+        int count = 0;
+        const auto take = [&](bool inside, std::size_t d) {
+            if (!inside) return;
+            sum += z[d];
+            ++count;
+        };
+        take(i > 0, c - 1);
+        take(i + 1 < nx, c + 1);
+        take(j > 0, c - row);
+        take(j + 1 < ny, c + row);
+        if (count == 0) {
+            state[c] = kHole;
+            return;
+        }
+        // sum / count; a division by 4, 2 or 1 is the multiplication by its exact inverse.
+        const double mean = count == 4 ? sum * 0.25 : count == 2 ? sum * 0.5 : count == 1 ? sum : sum / count;
+        const float v = float(z[c] + kOmega * (mean - z[c]));
+        change = std::max(change, double(std::abs(v - z[c])));
+        if (std::bit_cast<std::uint32_t>(v) == std::bit_cast<std::uint32_t>(z[c])) {
+            state[c] = kHole;
+            return;
+        }
+        z[c] = v;
+        if (i > 0) state[c - 1] |= kStale;
+        if (i + 1 < nx) state[c + 1] |= kStale;
+        if (j > 0) state[c - row] |= kStale;
+        if (j + 1 < ny) state[c + row] |= kStale;
+    };
     for (int sweep = 0; sweep < (sweeps > 0 ? sweeps : kMaxSweeps); ++sweep) {
-        double change = 0;
-        for (std::size_t k = 0; k < holes.size(); ++k) {
-            const std::size_t c = holes[k];
-            if (!stale[c]) continue;
-            const std::uint8_t in = sides[k];
-            double sum = 0;
-            int count = 0;
-            const auto take = [&](std::uint8_t side, std::size_t d) {
-                if (!(in & side)) return;
-                sum += z[d];
-                ++count;
-            };
-            take(kLowX, c - 1);
-            take(kHighX, c + 1);
-            take(kLowY, c - row);
-            take(kHighY, c + row);
-            if (count == 0) {
-                stale[c] = 0;
-                continue;
-            }
-            const float v = float(z[c] + kOmega * (sum / count - z[c]));
-            change = std::max(change, double(std::abs(v - z[c])));
-            if (sameBits(v, z[c])) {
-                stale[c] = 0;
-                continue;
-            }
-            z[c] = v;
-            if (in & kLowX) stale[c - 1] = 1;
-            if (in & kHighX) stale[c + 1] = 1;
-            if (in & kLowY) stale[c - row] = 1;
-            if (in & kHighY) stale[c + row] = 1;
+        change = 0;
+        for (int j0 = 0; j0 < ny; j0 += kLanes) {
+            const int lanes = std::min(kLanes, ny - j0);
+            for (int t = 0; t < nx + lanes - 1; ++t)
+                for (int r = 0; r < lanes; ++r) {
+                    const int i = t - r;
+                    if (i < 0 || i >= nx) continue;
+                    const std::size_t c = std::size_t(j0 + r) * row + std::size_t(i);
+                    if (state[c] == kUpdate) update(c, i, j0 + r);
+                }
         }
         if (sweeps == 0 && change < kSettled_m) break;
     }
