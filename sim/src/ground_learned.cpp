@@ -122,34 +122,23 @@ class CellStats {
 };
 
 // Running minimum (or maximum) over [i - r, i + r] along rows (step 1) or columns (step
-// w) of a w x h raster, in place through `tmp`.
-void runningExtreme(std::vector<float>& v, int w, int h, int r, bool rows, bool take_max) {
+// w) of a w x h raster, in place: each line copied out, its running extreme taken
+// (sim::runningExtreme) and copied back.
+void extremeAlong(std::vector<float>& v, int w, int h, int r, bool rows, bool take_max) {
     const int n = rows ? w : h, lines = rows ? h : w;
     const std::size_t step = rows ? 1 : std::size_t(w);
-    std::vector<float> line(static_cast<std::size_t>(n)), out(static_cast<std::size_t>(n));
-    std::vector<int> queue(static_cast<std::size_t>(n));
+    std::vector<float> line(static_cast<std::size_t>(n)), out(static_cast<std::size_t>(n)), scratch;
     for (int l = 0; l < lines; ++l) {
         const std::size_t base = rows ? std::size_t(l) * std::size_t(w) : std::size_t(l);
         for (int i = 0; i < n; ++i) line[std::size_t(i)] = v[base + std::size_t(i) * step];
-        int head = 0, tail = 0, next = 0;
-        for (int i = 0; i < n; ++i) {
-            for (; next < n && next <= i + r; ++next) {
-                const float x = line[std::size_t(next)];
-                while (tail > head && (take_max ? line[std::size_t(queue[std::size_t(tail - 1)])] <= x
-                                                : line[std::size_t(queue[std::size_t(tail - 1)])] >= x))
-                    --tail;
-                queue[std::size_t(tail++)] = next;
-            }
-            while (queue[std::size_t(head)] < i - r) ++head;
-            out[std::size_t(i)] = line[std::size_t(queue[std::size_t(head)])];
-        }
+        sim::runningExtreme(line.data(), out.data(), n, r, take_max, scratch);
         for (int i = 0; i < n; ++i) v[base + std::size_t(i) * step] = out[std::size_t(i)];
     }
 }
 
 void squareExtreme(std::vector<float>& v, int w, int h, int r, bool take_max) {
-    runningExtreme(v, w, h, r, true, take_max);
-    runningExtreme(v, w, h, r, false, take_max);
+    extremeAlong(v, w, h, r, true, take_max);
+    extremeAlong(v, w, h, r, false, take_max);
 }
 
 // Box sums over the (2r + 1)^2 cells around each cell (clipped at the edges).

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -100,10 +101,49 @@ bool holeReaches(const std::vector<bool>& observed, int nx, int ny, const CutSid
     return false;
 }
 
+namespace {
+
+// out[i] = min (or max) of in[i - r .. i + r] clipped to [0, n), by van Herk and
+// Gil-Werman: the row, padded by r identity values on each side, is cut into blocks of
+// 2r + 1; each window spans the end of one block and the start of the next, so its
+// extreme is that of a running extreme from the block's end and one from the next
+// block's start. Three passes without branches on the data, O(n) whatever r.
+template <bool kTakeMax>
+void runningExtremeOf(const float* in, float* out, int n, int r, std::vector<float>& scratch) {
+    constexpr float kIdentity =
+        kTakeMax ? -std::numeric_limits<float>::infinity() : std::numeric_limits<float>::infinity();
+    const auto fold = [](float a, float b) { return kTakeMax ? std::max(a, b) : std::min(a, b); };
+    const std::size_t b = std::size_t(2 * r + 1), m = std::size_t(n) + 2 * std::size_t(r);
+    scratch.resize(3 * m);
+    float* padded = scratch.data();
+    float* from_start = scratch.data() + m;  // extreme of the block's values up to here
+    float* to_end = scratch.data() + 2 * m;  // extreme of the block's values from here
+    std::fill(padded, padded + r, kIdentity);
+    std::copy(in, in + n, padded + r);
+    std::fill(padded + r + n, padded + m, kIdentity);
+    for (std::size_t start = 0; start < m; start += b) {
+        const std::size_t end = std::min(start + b, m);
+        from_start[start] = padded[start];
+        for (std::size_t k = start + 1; k < end; ++k) from_start[k] = fold(from_start[k - 1], padded[k]);
+        to_end[end - 1] = padded[end - 1];
+        for (std::size_t k = end - 1; k-- > start;) to_end[k] = fold(to_end[k + 1], padded[k]);
+    }
+    for (std::size_t i = 0; i < std::size_t(n); ++i) out[i] = fold(to_end[i], from_start[i + b - 1]);
+}
+
+}  // namespace
+
+void runningExtreme(const float* in, float* out, int n, int r, bool take_max, std::vector<float>& scratch) {
+    if (take_max)
+        runningExtremeOf<true>(in, out, n, r, scratch);
+    else
+        runningExtremeOf<false>(in, out, n, r, scratch);
+}
+
 void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps) {
     const std::size_t n = z.size();
     std::vector<int> ring(n, -1);  // ring of each cell: 0 known, k filled in the k-th ring
-    std::vector<std::size_t> layer, next_layer, holes;
+    std::vector<std::size_t> layer, next_layer;
     for (std::size_t c = 0; c < n; ++c)
         if (known[c]) ring[c] = 0;
     if (std::find(known.begin(), known.end(), 1) == known.end()) return;
@@ -135,7 +175,6 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
                 }
             });
             z[c] = float(sum / count);
-            holes.push_back(c);
         }
         next_layer.clear();
         for (const std::size_t c : layer)
@@ -161,8 +200,13 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
     constexpr int kMaxSweeps = 100, kLanes = 4;
     constexpr double kSettled_m = 1e-3, kOmega = 1.8;
     enum : std::uint8_t { kHole = 1, kStale = 2, kUpdate = kHole | kStale };
+    // Every cell the rings reached is a hole to relax; the rings are not needed after.
     std::vector<std::uint8_t> state(n, 0);
-    for (const std::size_t c : holes) state[c] = kUpdate;
+    for (std::size_t c = 0; c < n; ++c)
+        if (ring[c] > 0) state[c] = kUpdate;
+    ring = {};
+    layer = {};
+    next_layer = {};
     const std::size_t row = std::size_t(nx);
     double change = 0;
     const auto update = [&](std::size_t c, int i, int j) {

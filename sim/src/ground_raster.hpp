@@ -65,6 +65,11 @@ struct CellLowest {
 };
 CellLowest cellLevel(const float* low, int m, std::uint32_t n, double sigma_m);
 
+/// out[i] = the minimum (`take_max` false) or the maximum of in[i - r .. i + r], the
+/// window clipped to [0, n); `in` and `out` do not overlap. O(n) whatever r (van Herk and
+/// Gil-Werman blocks); `scratch` is resized to 3 (n + 2r) values and reused by the caller.
+void runningExtreme(const float* in, float* out, int n, int r, bool take_max, std::vector<float>& scratch);
+
 /// Fills the cells of `z` (nx x ny, row-major) whose `known` is 0: rings of cells next to
 /// filled ones take the mean of their filled 8-neighbours, then successive
 /// over-relaxation moves the filled values towards the mean of their 4-neighbours (a

@@ -48,41 +48,6 @@
 namespace sim {
 namespace {
 
-// out[i] = min (or max) of in[i - r .. i + r] clipped to [0, n), by van Herk and
-// Gil-Werman: the row, padded by r identity values on each side, is cut into blocks of
-// 2r + 1; each window spans the end of one block and the start of the next, so its
-// extreme is that of a running extreme from the block's end and one from the next
-// block's start. Three passes without branches on the data, O(n) whatever r.
-template <bool kTakeMax>
-void runningExtremeOf(const float* in, float* out, int n, int r, std::vector<float>& scratch) {
-    constexpr float kIdentity =
-        kTakeMax ? -std::numeric_limits<float>::infinity() : std::numeric_limits<float>::infinity();
-    const auto fold = [](float a, float b) { return kTakeMax ? std::max(a, b) : std::min(a, b); };
-    const std::size_t b = std::size_t(2 * r + 1), m = std::size_t(n) + 2 * std::size_t(r);
-    scratch.resize(3 * m);
-    float* padded = scratch.data();
-    float* from_start = scratch.data() + m;  // extreme of the block's values up to here
-    float* to_end = scratch.data() + 2 * m;  // extreme of the block's values from here
-    std::fill(padded, padded + r, kIdentity);
-    std::copy(in, in + n, padded + r);
-    std::fill(padded + r + n, padded + m, kIdentity);
-    for (std::size_t start = 0; start < m; start += b) {
-        const std::size_t end = std::min(start + b, m);
-        from_start[start] = padded[start];
-        for (std::size_t k = start + 1; k < end; ++k) from_start[k] = fold(from_start[k - 1], padded[k]);
-        to_end[end - 1] = padded[end - 1];
-        for (std::size_t k = end - 1; k-- > start;) to_end[k] = fold(to_end[k + 1], padded[k]);
-    }
-    for (std::size_t i = 0; i < std::size_t(n); ++i) out[i] = fold(to_end[i], from_start[i + b - 1]);
-}
-
-void runningExtreme(const float* in, float* out, int n, int r, bool take_max, std::vector<float>& scratch) {
-    if (take_max)
-        runningExtremeOf<true>(in, out, n, r, scratch);
-    else
-        runningExtremeOf<false>(in, out, n, r, scratch);
-}
-
 // Erosion (take_max false) or dilation of an nx x ny raster by the disk of radius r cells
 // (the cells whose centres are within r of the centre). The disk is a stack of rows:
 // row dy spans |dx| <= floor(sqrt(r^2 - dy^2)), so each row offset is one running

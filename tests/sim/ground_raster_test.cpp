@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -377,4 +378,28 @@ TEST_CASE("the empty cells left out of sparse openings lie beside a point where 
     CHECK(std::count(out.begin(), out.end(), 1) == 0);
     CHECK(sim::sparseEmptyCells(std::vector<std::uint8_t>(nx * ny, 0), nx, ny) ==
           std::vector<std::uint8_t>(nx * ny, 0));
+}
+
+TEST_CASE("a row's running minimum and maximum are those of every window, whatever the radius") {
+    // Against the windows taken one by one: rows shorter and longer than a block, radii
+    // from 0 to past the row's length, empty cells (+-infinity) and ties among the values.
+    std::mt19937 rng(21);
+    std::uniform_int_distribution<int> level(-3, 3);
+    std::vector<float> scratch;
+    for (const int n : {1, 2, 5, 16, 37}) {
+        std::vector<float> in(std::size_t(n), 0.0f), out(std::size_t(n), 0.0f);
+        for (float& v : in) v = float(level(rng)) * 0.5f;
+        in[std::size_t(n) / 2] = std::numeric_limits<float>::infinity();
+        if (n > 3) in[1] = -std::numeric_limits<float>::infinity();
+        for (const int r : {0, 1, 2, 3, 7, 40})
+            for (const bool take_max : {false, true}) {
+                sim::runningExtreme(in.data(), out.data(), n, r, take_max, scratch);
+                for (int i = 0; i < n; ++i) {
+                    const auto first = in.begin() + std::max(0, i - r), last = in.begin() + std::min(n, i + r + 1);
+                    const float want = take_max ? *std::max_element(first, last) : *std::min_element(first, last);
+                    INFO("n " << n << ", r " << r << ", i " << i << (take_max ? ", max" : ", min"));
+                    CHECK(out[std::size_t(i)] == want);
+                }
+            }
+    }
 }
