@@ -51,6 +51,9 @@ constexpr std::uint64_t kBytesPerCell = 160;
 // A tile's side at most, metres: the tiles of a large survey stay a few rasters' size even
 // where the memory would allow one huge one, so that --jobs has tiles to share.
 constexpr double kLargestTile_m = 2000.0;
+// A raster at least this large with at least this many cells a point: SMRF's run is mostly
+// the filling and opening of empty cells, and a coarser cell would shorten it.
+constexpr std::uint64_t kSparseRasterCells = 500000, kSparseCellsPerPoint = 50;
 
 struct GroundFileCli {
     std::vector<std::string> in;
@@ -206,6 +209,22 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         std::printf("raster %d x %d, %.3f s\n", st.nx, st.ny, seconds);
 }
 
+// One line on stderr when SMRF's raster is far sparser than the points: its time then goes
+// to the empty cells (docs/ground.md, "Sparse surveys"), and the user can choose a coarser
+// cell. Tiles are left out: their rasters are sized to the memory, not the survey.
+void noteSparseRaster(const sim::GroundFileOptions& o, const sim::GroundFileStats& st,
+                      const sim::CoordinateUnits& units) {
+    if (o.method != sim::GroundMethod::Smrf || st.points == 0 || st.nx <= 0 || st.ny <= 0) return;
+    const std::uint64_t cells = std::uint64_t(st.nx) * std::uint64_t(st.ny);
+    if (cells < kSparseRasterCells || cells < kSparseCellsPerPoint * std::uint64_t(st.points)) return;
+    std::fprintf(stderr,
+                 "ground: %zu points over %llu cells of %g m, one point per %.0f cells: most of the run fills "
+                 "empty cells; a coarser --smrf-cell-m is faster on so sparse a survey (docs/ground.md, \"Sparse "
+                 "surveys\")\n",
+                 st.points, static_cast<unsigned long long>(cells), st.cell_m * units.horizontal_m,
+                 double(cells) / double(st.points));
+}
+
 // `ground IN... --out OUT`: one run, or tiles where one raster does not fit or several
 // inputs are merged.
 void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::GroundFileOptions& o) {
@@ -272,6 +291,7 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     if (!st.reader_warning.empty()) platform::printMessage("warning", st.reader_warning);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     printStats(cli, cli.in.front(), cli.out, st, units, tiled, seconds, nullptr);
+    if (!tiled) noteSparseRaster(o, st, units);
 }
 
 // `ground IN... --out-dir DIR`: each input a tile of its own, its neighbours its buffer.

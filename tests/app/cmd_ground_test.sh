@@ -8,7 +8,8 @@
 #  - bad options give one line naming the option and what is allowed, exit 2 or 1, and
 #    no output; the input is never overwritten;
 #  - a survey in feet gets its options converted from metres (stderr says so); one in
-#    degrees (a geographic CRS) is refused.
+#    degrees (a geographic CRS) is refused;
+#  - a survey far sparser than SMRF's cells gets one line saying so and what helps.
 set -eu
 bin=$1
 dir=$2
@@ -75,6 +76,15 @@ feet_ground=$(field ground_points "$dir/json")
     fail "ground feet as metres: raster: $(cat "$dir/json")"
 [ "$(field ground_points "$dir/json")" != "$feet_ground" ] ||
     fail "ground feet: the same ground ($feet_ground points) with options in feet and in metres"
+
+# A survey far sparser than its cells (tests/data/real/mvk-thin.las: 6,280 points over
+# 5 km, in feet; 2 m cells, 762 x 763): the run says so in one line after the units', with
+# the option that helps; the raster's size is the one --json reports.
+"$bin" ground "$real/mvk-thin.las" --out "$dir/sparse.laz" --json --smrf-cell-m 2 >"$dir/json" 2>"$dir/err" ||
+    fail "ground sparse: $(cat "$dir/err")"
+[ "$(field nx "$dir/json") $(field ny "$dir/json")" = "762 763" ] || fail "ground sparse: raster: $(cat "$dir/json")"
+[ "$(sed -n 2p "$dir/err")" = 'ground: 6280 points over 581406 cells of 2 m, one point per 93 cells: most of the run fills empty cells; a coarser --smrf-cell-m is faster on so sparse a survey (docs/ground.md, "Sparse surveys")' ] &&
+    [ "$(wc -l <"$dir/err")" -eq 2 ] || fail "ground sparse: stderr: $(cat "$dir/err")"
 
 # Bad options: one line, no output.
 bad() {
