@@ -5,14 +5,11 @@
 #include <core/error.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <sstream>
-#include <system_error>
-#include <thread>
 
 namespace sim {
 namespace {
@@ -143,7 +140,7 @@ void runningExtreme(const float* in, float* out, int n, int r, bool take_max, st
         runningExtremeOf<false>(in, out, n, r, scratch);
 }
 
-void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps, int threads) {
+void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps) {
     const std::size_t n = z.size();
     std::vector<int> ring(n, -1);  // ring of each cell: 0 known, k filled in the k-th ring
     std::vector<std::size_t> layer, next_layer;
@@ -211,7 +208,8 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
     layer = {};
     next_layer = {};
     const std::size_t row = std::size_t(nx);
-    const auto update = [&](std::size_t c, int i, int j, double& change) {
+    double change = 0;
+    const auto update = [&](std::size_t c, int i, int j) {
         double sum = 0;
         int count = 0;
         const auto take = [&](bool inside, std::size_t d) {
@@ -241,86 +239,20 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
         if (j > 0) state[c - row] |= kStale;
         if (j + 1 < ny) state[c + row] |= kStale;
     };
-    // Rows j0 .. j0 + kLanes - 1 (up to `end`), one sweep.
-    const auto sweepLanes = [&](int j0, int end, double& change) {
-        const int lanes = std::min(kLanes, end - j0);
-        for (int t = 0; t < nx + lanes - 1; ++t)
-            for (int r = 0; r < lanes; ++r) {
-                const int i = t - r;
-                if (i < 0 || i >= nx) continue;
-                const std::size_t c = std::size_t(j0 + r) * row + std::size_t(i);
-                if (state[c] == kUpdate) update(c, i, j0 + r, change);
-            }
-    };
-    // A fixed number of sweeps over a raster tall enough runs in bands of rows, one thread
-    // each, pipelined over the sweeps: band k sweeps sweep s once band k - 1 has swept it
-    // (its upper neighbours are then those of sweep s), and sweeps its last rows once band
-    // k + 1 has swept the first rows of sweep s - 1 and not yet those of sweep s (its lower
-    // neighbours are then those of sweep s - 1, as in row order; band k + 1 starts sweep s
-    // only after band k has swept it). Every cell reads what it reads in row order, so the
-    // values are those of one thread. Until settled, each sweep waits for the last one's
-    // largest change: one thread.
-    constexpr int kMinBandRows = 8 * kLanes;
-    const int bands = sweeps > 0 ? std::clamp(std::min(threads, ny / kMinBandRows), 1, 64) : 1;
-    const auto sweepAll = [&] {
-        for (int sweep = 0; sweep < (sweeps > 0 ? sweeps : kMaxSweeps); ++sweep) {
-            double change = 0;
-            for (int j0 = 0; j0 < ny; j0 += kLanes) sweepLanes(j0, ny, change);
-            if (sweeps == 0 && change < kSettled_m) break;
+    for (int sweep = 0; sweep < (sweeps > 0 ? sweeps : kMaxSweeps); ++sweep) {
+        change = 0;
+        for (int j0 = 0; j0 < ny; j0 += kLanes) {
+            const int lanes = std::min(kLanes, ny - j0);
+            for (int t = 0; t < nx + lanes - 1; ++t)
+                for (int r = 0; r < lanes; ++r) {
+                    const int i = t - r;
+                    if (i < 0 || i >= nx) continue;
+                    const std::size_t c = std::size_t(j0 + r) * row + std::size_t(i);
+                    if (state[c] == kUpdate) update(c, i, j0 + r);
+                }
         }
-    };
-    if (bands == 1) {
-        sweepAll();
-        return;
+        if (sweeps == 0 && change < kSettled_m) break;
     }
-    const int band_rows = (ny + bands * kLanes - 1) / (bands * kLanes) * kLanes;
-    struct Progress {
-        std::atomic<int> swept{0};        // sweeps this band has finished
-        std::atomic<int> first_swept{0};  // sweeps this band's first kLanes rows have finished
-    };
-    const std::unique_ptr<Progress[]> progress(new Progress[std::size_t(bands)]);
-    std::atomic<bool> abandoned{false};  // a thread could not be started: no band sweeps
-    const auto waitFor = [&](std::atomic<int>& a, int at_least) {
-        for (int v = a.load(std::memory_order_acquire); v < at_least; v = a.load(std::memory_order_acquire)) {
-            if (abandoned.load(std::memory_order_acquire)) return false;
-            a.wait(v, std::memory_order_acquire);
-        }
-        return true;
-    };
-    const auto publish = [](std::atomic<int>& a, int v) {
-        a.store(v, std::memory_order_release);
-        a.notify_all();
-    };
-    const auto sweepBand = [&](int k) {
-        const int from = std::min(ny, k * band_rows), to = std::min(ny, from + band_rows);
-        double change = 0;  // unused: the sweeps are fixed
-        for (int sweep = 0; sweep < sweeps; ++sweep) {
-            if (k > 0 && !waitFor(progress[std::size_t(k - 1)].swept, sweep + 1)) return;
-            for (int j0 = from; j0 < to; j0 += kLanes) {
-                if (j0 + kLanes >= to && k + 1 < bands && !waitFor(progress[std::size_t(k + 1)].first_swept, sweep))
-                    return;
-                sweepLanes(j0, to, change);
-                if (j0 == from) publish(progress[std::size_t(k)].first_swept, sweep + 1);
-            }
-            publish(progress[std::size_t(k)].swept, sweep + 1);
-        }
-    };
-    std::vector<std::jthread> others;
-    try {
-        for (int k = 1; k < bands; ++k) others.emplace_back(sweepBand, k);
-    } catch (const std::system_error&) {
-        // The started bands wait for band 0, which has not begun: wake them to return,
-        // then sweep on this thread alone.
-        abandoned.store(true, std::memory_order_release);
-        for (int k = 0; k < bands; ++k) {
-            publish(progress[std::size_t(k)].swept, -1);
-            publish(progress[std::size_t(k)].first_swept, -1);
-        }
-        others.clear();
-        sweepAll();
-        return;
-    }
-    sweepBand(0);
 }
 
 RasterFit::RasterFit(double cell_m, std::size_t max_cells, const char* cell_option)

@@ -75,11 +75,9 @@ void runningExtreme(const float* in, float* out, int n, int r, bool take_max, st
 /// over-relaxation moves the filled values towards the mean of their 4-neighbours (a
 /// membrane held by the known cells). `sweeps` 0: until the largest change anywhere is
 /// under 1 mm (at most 100 sweeps); > 0: exactly that many, so that a cell's value does
-/// not hang on how far the raster reaches (SmrfOptions::fill_sweeps). Deterministic:
-/// with `sweeps` > 0 up to `threads` threads sweep bands of rows, and the values are those
-/// of one thread. Nothing known: `z` is left alone.
-void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps = 0,
-             int threads = 1);
+/// not hang on how far the raster reaches (SmrfOptions::fill_sweeps). Deterministic.
+/// Nothing known: `z` is left alone.
+void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps = 0);
 
 /// The empty cells that the openings of a sparse survey leave out
 /// (SmrfOptions::sparse_openings): those (not `known`) with a known cell among their 8

@@ -403,36 +403,3 @@ TEST_CASE("a row's running minimum and maximum are those of every window, whatev
             }
     }
 }
-
-TEST_CASE("the fill's fixed sweeps give the same values bit for bit on any number of threads") {
-    // Rasters shorter and taller than the bands, with scattered and wide holes: every
-    // value filled by 2, 3, 5 or 8 threads is the one the single thread fills.
-    std::mt19937 rng(33);
-    std::uniform_real_distribution<float> height(0.0f, 10.0f);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    for (const auto& [nx, ny] :
-         {std::pair{40, 30}, std::pair{7, 64}, std::pair{50, 65}, std::pair{33, 200}, std::pair{120, 301}}) {
-        std::vector<float> z(std::size_t(nx) * std::size_t(ny), 0.0f);
-        std::vector<std::uint8_t> known(z.size(), 0);
-        for (std::size_t c = 0; c < z.size(); ++c) {
-            const int i = int(c % std::size_t(nx)), j = int(c / std::size_t(nx));
-            const bool in_gap = i > nx / 3 && i < 2 * nx / 3 && j > ny / 4;  // a wide hole
-            if (!in_gap && unit(rng) < 0.3) {
-                known[c] = 1;
-                z[c] = height(rng);
-            }
-        }
-        std::vector<float> one = z;
-        sim::inpaint(one, known, nx, ny, 100, 1);
-        for (const int threads : {2, 3, 5, 8}) {
-            std::vector<float> many = z;
-            sim::inpaint(many, known, nx, ny, 100, threads);
-            INFO(nx << " x " << ny << ", " << threads << " threads");
-            CHECK(std::memcmp(many.data(), one.data(), one.size() * sizeof(float)) == 0);
-        }
-        // The fill is not trivial: the hole's cells moved from their first ring values.
-        std::vector<float> ringed = z;
-        sim::inpaint(ringed, known, nx, ny, 1, 1);
-        CHECK(std::memcmp(ringed.data(), one.data(), one.size() * sizeof(float)) != 0);
-    }
-}
