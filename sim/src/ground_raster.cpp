@@ -14,6 +14,9 @@
 namespace sim {
 namespace {
 constexpr int kTileBits = 6, kTile = 1 << kTileBits;  // cells of a sparse tile: 64 x 64
+constexpr int kTileCells = kTile * kTile;
+// A tile keeps every cell once this many of its cells hold a point (RasterFit::Tile).
+constexpr std::size_t kDenseAfter = kTileCells / 16;
 }  // namespace
 
 double normalQuantile(double p) {
@@ -301,8 +304,9 @@ void RasterFit::add(std::span<const core::CloudPoint> points) {
         const double fy = std::floor(double(p.position.y) * inv_cell_);
         if (!(std::abs(fx) < 1e9 && std::abs(fy) < 1e9) || !std::isfinite(p.position.z)) continue;
         const int ix = int(fx), iy = int(fy);
-        Cell* tile = cellFor(ix >> kTileBits, iy >> kTileBits);
-        Cell& cell = tile[((iy & (kTile - 1)) << kTileBits) | (ix & (kTile - 1))];
+        Tile* tile = tileFor(ix >> kTileBits, iy >> kTileBits);
+        const int c = ((iy & (kTile - 1)) << kTileBits) | (ix & (kTile - 1));
+        Cell& cell = tile->dense ? tile->dense[c] : cellAt(*tile, c);
         cell.n += cell.n < std::numeric_limits<std::uint32_t>::max();
         keepLowest(cell, p.position.z, p.view);
         static_assert(kViewBlock == 4);
@@ -352,11 +356,13 @@ void RasterFit::addAll(std::span<const core::CloudPoint> points, int threads) {
 
 void RasterFit::merge(const RasterFit& other) {
     for (const auto& [key, index] : other.tiles_) {
-        Cell* mine = cellFor(int(std::uint32_t(key >> 32)), int(std::uint32_t(key)));
-        const Cell* theirs = other.tile_data_.data() + std::size_t(index) * kTile * kTile;
-        for (std::size_t c = 0; c < std::size_t(kTile) * kTile; ++c) {
-            const Cell& t = theirs[c];
-            Cell& m = mine[c];
+        Tile* mine = tileFor(int(std::uint32_t(key >> 32)), int(std::uint32_t(key)));
+        const Tile& theirs = other.tile_data_[index];
+        for (int c = 0; c < kTileCells; ++c) {
+            const Cell* found = findCell(theirs, c);
+            if (found == nullptr || found->n == 0) continue;
+            const Cell& t = *found;
+            Cell& m = cellAt(*mine, c);
             m.n = std::uint32_t(
                 std::min<std::uint64_t>(std::uint64_t(m.n) + t.n, std::numeric_limits<std::uint32_t>::max()));
             for (std::size_t k = 0; k < std::min<std::size_t>(t.n, kCellLowest); ++k)
@@ -438,13 +444,15 @@ bool RasterFit::cellSpread(const Cell& cell, double& spread_m) const {
 void RasterFit::thicknessSamples(const glm::dvec2& lo, const glm::dvec2& hi, std::vector<double>& out) const {
     for (const auto& [key, index] : tiles_) {
         const int tx = int(std::int32_t(std::uint32_t(key >> 32))), ty = int(std::int32_t(std::uint32_t(key)));
-        const Cell* tile = tile_data_.data() + std::size_t(index) * kTile * kTile;
+        const Tile& tile = tile_data_[index];
         for (int b = 0; b < kTile; ++b)
             for (int a = 0; a < kTile; ++a) {
+                const Cell* cell = findCell(tile, (b << kTileBits) | a);
+                if (cell == nullptr) continue;
                 const double x = (double((tx << kTileBits) + a) + 0.5) * cell_m_;
                 const double y = (double((ty << kTileBits) + b) + 0.5) * cell_m_;
                 double spread_m = 0;
-                if (x >= lo.x && x < hi.x && y >= lo.y && y < hi.y && cellSpread(tile[(b << kTileBits) | a], spread_m))
+                if (x >= lo.x && x < hi.x && y >= lo.y && y < hi.y && cellSpread(*cell, spread_m))
                     out.push_back(spread_m);
             }
     }
@@ -488,13 +496,13 @@ void RasterFit::fit() {
     std::vector<const Cell*> cells(std::size_t(w) * std::size_t(h), nullptr);
     for (const auto& [key, index] : tiles_) {
         const int tx = int(std::int32_t(std::uint32_t(key >> 32))), ty = int(std::int32_t(std::uint32_t(key)));
-        const Cell* tile = tile_data_.data() + std::size_t(index) * kTile * kTile;
+        const Tile& tile = tile_data_[index];
         for (int b = 0; b < kTile; ++b)
             for (int a = 0; a < kTile; ++a) {
-                const Cell& cell = tile[(b << kTileBits) | a];
-                if (cell.n == 0) continue;
+                const Cell* cell = findCell(tile, (b << kTileBits) | a);
+                if (cell == nullptr || cell->n == 0) continue;
                 const int i = (tx << kTileBits) + a - ix_min_, j = (ty << kTileBits) + b - iy_min_;
-                cells[std::size_t(j) * std::size_t(w) + std::size_t(i)] = &cell;
+                cells[std::size_t(j) * std::size_t(w) + std::size_t(i)] = cell;
             }
     }
     std::vector<double> spreads;
@@ -722,24 +730,49 @@ bool RasterFit::classify(const glm::vec3& p, float& height_m) const {
     return std::abs(dz) <= double(limit_m_[nearest]);
 }
 
-RasterFit::Cell* RasterFit::cellFor(int tx, int ty) {
+RasterFit::Tile* RasterFit::tileFor(int tx, int ty) {
     const std::uint64_t key = (std::uint64_t(std::uint32_t(tx)) << 32) | std::uint32_t(ty);
     if (key == last_key_ && last_tile_ != nullptr) return last_tile_;
     auto [it, added] = tiles_.try_emplace(key, std::uint32_t(tiles_.size()));
     if (added) {
-        if (std::uint64_t(tiles_.size()) * kTile * kTile > 4 * std::uint64_t(max_cells_) + kTile * kTile) {
+        if (std::uint64_t(tiles_.size()) * kTileCells > 4 * std::uint64_t(max_cells_) + kTileCells) {
             std::ostringstream s;
             s << "ground: " << cell_option_ << " = " << cell_m_ << ": the cloud covers more than " << max_cells_
               << " cells (raise it)";
             throw core::Error(s.str());
         }
-        Cell empty{};
-        std::fill(std::begin(empty.low), std::end(empty.low), kNoPoint);
-        tile_data_.resize(tile_data_.size() + kTile * kTile, empty);
+        Tile& tile = tile_data_.emplace_back();
+        tile.slot = std::make_unique<std::uint16_t[]>(kTileCells);  // zeroed: no cell kept
     }
     last_key_ = key;
-    last_tile_ = tile_data_.data() + std::size_t(it->second) * kTile * kTile;
+    last_tile_ = &tile_data_[it->second];
     return last_tile_;
+}
+
+RasterFit::Cell& RasterFit::cellAt(Tile& tile, int c) {
+    if (tile.dense) return tile.dense[c];
+    if (const std::uint16_t s = tile.slot[c]; s != 0) return tile.few[s - 1];
+    Cell empty{};
+    std::fill(std::begin(empty.low), std::end(empty.low), kNoPoint);
+    if (tile.few.size() < kDenseAfter) {
+        tile.few.push_back(empty);
+        tile.slot[c] = std::uint16_t(tile.few.size());
+        return tile.few.back();
+    }
+    // Many cells hold a point: keep every cell, and the lookup goes.
+    tile.dense = std::make_unique_for_overwrite<Cell[]>(kTileCells);
+    std::fill(tile.dense.get(), tile.dense.get() + kTileCells, empty);
+    for (int k = 0; k < kTileCells; ++k)
+        if (tile.slot[k] != 0) tile.dense[k] = tile.few[tile.slot[k] - 1];
+    tile.slot.reset();
+    tile.few = {};
+    return tile.dense[c];
+}
+
+const RasterFit::Cell* RasterFit::findCell(const Tile& tile, int c) {
+    if (tile.dense) return &tile.dense[c];
+    const std::uint16_t s = tile.slot[c];
+    return s != 0 ? &tile.few[s - 1] : nullptr;
 }
 
 std::vector<std::uint8_t> classifyInMemory(TerrainFit& fit, std::span<const glm::vec3> points, TerrainGrid* surface,

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -176,14 +177,27 @@ class RasterFit : public TerrainFit {
     double cell_m_, inv_cell_;
     std::size_t max_cells_;
     const char* cell_option_;
-    std::unordered_map<std::uint64_t, std::uint32_t> tiles_;  // tile (tx, ty) -> its block in tile_data_
+    std::unordered_map<std::uint64_t, std::uint32_t> tiles_;  // tile (tx, ty) -> its index in tile_data_
     // Per cell: its kCellLowest lowest heights (ascending, kNoPoint-padded) and its count.
     struct Cell {
         float low[kCellLowest];
         std::uint16_t view[kCellLowest];  // the view of each
         std::uint32_t n;
     };
-    Cell* cellFor(int tx, int ty);
+    // A square tile of cells. It keeps only the cells that hold a point (`few`, found
+    // through `slot`) until they are many; then every cell of the tile, row-major
+    // (`dense`). A sparse survey or a corridor touches many tiles with a few points each,
+    // and a cell costs about 40 times less memory kept that way.
+    struct Tile {
+        std::unique_ptr<Cell[]> dense;
+        std::unique_ptr<std::uint16_t[]> slot;  // per cell: 1 + its index in few; 0: no point
+        std::vector<Cell> few;
+    };
+    Tile* tileFor(int tx, int ty);
+    /// The tile's cell `c` (row-major within the tile), created empty when it is not kept.
+    static Cell& cellAt(Tile& tile, int c);
+    /// The tile's cell `c`, or nullptr when no point fell in it.
+    static const Cell* findCell(const Tile& tile, int c);
     static void keepLowest(Cell& cell, float z, std::uint16_t view);
     /// The spread of a cell's lowest heights, the thickness's sample; false for a cell
     /// with too few points, or too few near its lowest, to give one.
@@ -194,9 +208,9 @@ class RasterFit : public TerrainFit {
     int extent_i0_ = 1, extent_i1_ = 0, extent_j0_ = 1, extent_j1_ = 0;
     void keepViewLow(std::uint64_t key, const ViewLow& low);
     void merge(const RasterFit& other);  // other's points, as if added here
-    std::vector<Cell> tile_data_;
+    std::vector<Tile> tile_data_;
     std::uint64_t last_key_ = 0;
-    Cell* last_tile_ = nullptr;
+    Tile* last_tile_ = nullptr;
     int ix_min_ = std::numeric_limits<int>::max(), ix_max_ = std::numeric_limits<int>::min();
     int iy_min_ = std::numeric_limits<int>::max(), iy_max_ = std::numeric_limits<int>::min();
 };

@@ -86,6 +86,20 @@ feet_ground=$(field ground_points "$dir/json")
 [ "$(sed -n 2p "$dir/err")" = 'ground: 6280 points over 581406 cells of 2 m, one point per 93 cells: most of the run fills empty cells; a coarser --smrf-cell-m is faster on so sparse a survey (docs/ground.md, "Sparse surveys")' ] &&
     [ "$(wc -l <"$dir/err")" -eq 2 ] || fail "ground sparse: stderr: $(cat "$dir/err")"
 
+# Its memory follows the cells that hold a point, not the 64 x 64 tiles they touch: at
+# 1 m cells (1523 x 1524) the run peaks at most 80 bytes a cell above a small sample's run
+# (the lowest heights of every cell of each touched tile would be 100 bytes a cell).
+peak_mib() {
+    python3 -c 'import resource, subprocess, sys
+r = subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+if r.returncode != 0: sys.exit("exit %d" % r.returncode)
+print(int(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024))' "$@"
+}
+small_mib=$(peak_mib "$bin" ground "$data/samp24.las" --out "$dir/small.laz") || fail "ground samp24 failed"
+sparse_mib=$(peak_mib "$bin" ground "$real/mvk-thin.las" --out "$dir/sparse.laz") || fail "ground mvk-thin failed"
+[ "$sparse_mib" -le $((small_mib + 1523 * 1524 * 80 / 1048576)) ] ||
+    fail "ground sparse: peak $sparse_mib MiB, $small_mib MiB on samp24: more than 80 bytes a cell"
+
 # Bad options: one line, no output.
 bad() {
     want=$1

@@ -6,7 +6,8 @@
 // and the result does not depend on the points' order, batching or gathering threads.
 // A hole of empty cells reaches a tile's square only from a cut side (holeReaches); the
 // empty cells between a sparse survey's points are told from a dense survey's gaps
-// (sparseEmptyCells).
+// (sparseEmptyCells). Every cell that holds a point is kept, whether its tile keeps only
+// such cells or every cell.
 #include "ground_raster.hpp"
 #include "ground_surfaces.hpp"
 
@@ -402,4 +403,60 @@ TEST_CASE("a row's running minimum and maximum are those of every window, whatev
                 }
             }
     }
+}
+
+TEST_CASE("every cell that holds a point is kept, in tiles with few such cells, many, or turning from few to many") {
+    // 1 m cells of 64 x 64 m tiles: one point in each of ten tiles (a sparse survey); eight
+    // tiles with every cell full (dense, and enough points for addAll() to share); two tiles
+    // whose first 256 cells come first and 44 more after (the tile turns dense midway, in
+    // whichever order the points come). On a plane, each of those cells must be observed and
+    // its level the plane's, and the fit must be the same whatever the order or threads.
+    const auto plane = [](double x, double y) { return 100.0 + 0.01 * x + 0.02 * y; };
+    std::vector<core::CloudPoint> points;
+    const auto put = [&](double x, double y) {
+        core::CloudPoint p{};
+        p.position = glm::vec3(float(x), float(y), float(plane(x, y)));
+        points.push_back(p);
+    };
+    for (int t = 0; t < 10; ++t) put(64.0 * t + 5.5, 3.5);
+    for (int k = 0; k < 4; ++k)
+        for (int y = 128; y < 192; ++y)
+            for (int x = 0; x < 8 * 64; ++x) put(x + 0.25 + 0.15 * k, y + 0.5);
+    for (const int first : {1, 0})
+        for (int t = 0; t < 2; ++t)
+            for (int c = 0; c < 300; ++c)
+                if ((c < 256) == bool(first)) put(64.0 * t + c % 64 + 0.5, 256.0 + c / 64 + 0.5);
+    REQUIRE(points.size() >= 2 * 65536);
+
+    sim::SmrfOptions o;
+    auto reference = sim::startSmrf(o);
+    const Result ra = run(*reference, points);
+    const auto* raster = dynamic_cast<const sim::RasterFit*>(reference.get());
+    REQUIRE(raster != nullptr);
+    const sim::TerrainGrid& g = ra.grid;
+    std::size_t unobserved = 0, off_plane = 0;
+    for (const core::CloudPoint& p : points) {
+        const int i = int(std::floor(p.position.x - (g.x0_m - 0.5))),
+                  j = int(std::floor(p.position.y - (g.y0_m - 0.5)));
+        REQUIRE((i >= 0 && i < g.nx && j >= 0 && j < g.ny));
+        const std::size_t c = std::size_t(j) * std::size_t(g.nx) + std::size_t(i);
+        unobserved += !raster->observedCells()[c];
+        off_plane += std::abs(g.z_m[c] - plane(g.x0_m + i, g.y0_m + j)) > 0.05;
+    }
+    CHECK(unobserved == 0);
+    CHECK(off_plane == 0);
+
+    std::vector<core::CloudPoint> reversed(points.rbegin(), points.rend()), shuffled = points;
+    std::mt19937 rng(9);
+    std::shuffle(shuffled.begin(), shuffled.end(), rng);
+    for (const int threads : {1, 2, 3})
+        for (const auto* order : {&points, &reversed, &shuffled}) {
+            CAPTURE(threads);
+            auto b = sim::startSmrf(o);
+            b->addAll(*order, threads);
+            b->fit();
+            REQUIRE(b->surface().z_m.size() == g.z_m.size());
+            CHECK(std::memcmp(b->surface().z_m.data(), g.z_m.data(), g.z_m.size() * sizeof(float)) == 0);
+            CHECK(dynamic_cast<const sim::RasterFit&>(*b).observedCells() == raster->observedCells());
+        }
 }
