@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <type_traits>
 
 namespace sim {
 namespace {
@@ -212,7 +213,8 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
     next_layer = {};
     const std::size_t row = std::size_t(nx);
     double change = 0;
-    const auto update = [&](std::size_t c, int i, int j) {
+    // `track`: whether the largest change is kept (only the settling mode reads it).
+    const auto update = [&](std::size_t c, int i, int j, auto track) {
         double sum = 0;
         int count = 0;
         const auto take = [&](bool inside, std::size_t d) {
@@ -231,7 +233,7 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
         // sum / count; a division by 4, 2 or 1 is the multiplication by its exact inverse.
         const double mean = count == 4 ? sum * 0.25 : count == 2 ? sum * 0.5 : count == 1 ? sum : sum / count;
         const float v = float(z[c] + kOmega * (mean - z[c]));
-        change = std::max(change, double(std::abs(v - z[c])));
+        if constexpr (decltype(track)::value) change = std::max(change, double(std::abs(v - z[c])));
         if (std::bit_cast<std::uint32_t>(v) == std::bit_cast<std::uint32_t>(z[c])) {
             state[c] = kHole;
             return;
@@ -242,8 +244,7 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
         if (j > 0) state[c - row] |= kStale;
         if (j + 1 < ny) state[c + row] |= kStale;
     };
-    for (int sweep = 0; sweep < (sweeps > 0 ? sweeps : kMaxSweeps); ++sweep) {
-        change = 0;
+    const auto sweep = [&](auto track) {
         for (int j0 = 0; j0 < ny; j0 += kLanes) {
             const int lanes = std::min(kLanes, ny - j0);
             for (int t = 0; t < nx + lanes - 1; ++t)
@@ -251,10 +252,18 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
                     const int i = t - r;
                     if (i < 0 || i >= nx) continue;
                     const std::size_t c = std::size_t(j0 + r) * row + std::size_t(i);
-                    if (state[c] == kUpdate) update(c, i, j0 + r);
+                    if (state[c] == kUpdate) update(c, i, j0 + r, track);
                 }
         }
-        if (sweeps == 0 && change < kSettled_m) break;
+    };
+    if (sweeps > 0) {
+        for (int k = 0; k < sweeps; ++k) sweep(std::false_type{});
+        return;
+    }
+    for (int k = 0; k < kMaxSweeps; ++k) {
+        change = 0;
+        sweep(std::true_type{});
+        if (change < kSettled_m) break;
     }
 }
 
