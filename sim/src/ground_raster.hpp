@@ -186,8 +186,8 @@ class RasterFit : public TerrainFit {
     };
     // A square tile of cells. It keeps only the cells that hold a point (`few`, found
     // through `slot`) until they are many; then every cell of the tile, row-major
-    // (`dense`). A sparse survey or a corridor touches many tiles with a few points each,
-    // and a cell costs about 40 times less memory kept that way.
+    // (`dense`). A sparse survey or a corridor touches many tiles with a few points each:
+    // such a tile costs its 2-byte slots and its few cells, about a fortieth of every cell.
     struct Tile {
         std::unique_ptr<Cell[]> dense;
         std::unique_ptr<std::uint16_t[]> slot;  // per cell: 1 + its index in few; 0: no point
