@@ -414,55 +414,71 @@ void RasterFit::merge(const RasterFit& other) {
     iy_max_ = std::max(iy_max_, other.iy_max_);
 }
 
-namespace {
-
-// Low outliers (ours, not the papers'): how many of each cell's lowest heights to skip.
-// A cell's lowest kept height is an outlier when it lies more than `gap_m` below the
-// kLowOutlierQuantile of the lowest kept heights of the other observed cells within
-// kLowOutlierReach cells (at least kLowOutlierMinCells of them). A quantile, not the
-// lowest, so that a cluster of low returns (multipath under a real survey, tens of
+// Low outliers (ours, not the papers'; declared in ground_raster.hpp). A quantile, not
+// the lowest, so that a cluster of low returns (multipath under a real survey, tens of
 // metres low and scattered over a few hundred square metres) is judged against the
 // ground around it; a low one, so that the foot of a cliff or a wall, about half of its
-// neighbourhood, is not. Rounds repeat, each on the previous round's counts (the result
-// does not depend on the visiting order), until nothing changes or kLowOutlierRounds.
-// `low[c]` points at cell c's heights (ascending), `m[c]` their number (0: no point);
-// a cell whose every height is an outlier gets m[c].
+// neighbourhood, is not.
+namespace {
 constexpr int kLowOutlierReach = 5;
 constexpr double kLowOutlierQuantile = 0.2;
 constexpr std::size_t kLowOutlierMinCells = 8;
 constexpr int kLowOutlierRounds = 4;
+}  // namespace
+
 std::vector<int> lowOutliers(const std::vector<const float*>& low, const std::vector<int>& m, int w, int h,
                              double gap_m) {
-    std::vector<int> skip(low.size(), 0), next(low.size(), 0);
+    const std::size_t n = low.size();
+    std::vector<int> skip(n, 0);
+    // What each cell offers its neighbours in a round: its lowest height not skipped
+    // (`offers` 0 when it has none), in one raster so that a window reads rows of it.
+    std::vector<float> offer(n, 0.0f);
+    std::vector<std::uint8_t> offers(n, 0);
+    const auto refresh = [&](std::size_t c) {
+        offers[c] = skip[c] < m[c];
+        offer[c] = offers[c] ? low[c][skip[c]] : 0.0f;
+    };
+    for (std::size_t c = 0; c < n; ++c) refresh(c);
+    // The cells to test: every one in the first round; after it, only those with a cell
+    // that changed within reach (themselves included). Any other cell sees what it saw in
+    // the round before and was not an outlier then, so it would not be one now.
+    std::vector<std::uint8_t> test(n, 1);
+    std::vector<std::size_t> changed;
     std::vector<float> around;
     for (int round = 0; round < kLowOutlierRounds; ++round) {
-        bool changed = false;
+        changed.clear();
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i) {
                 const std::size_t c = std::size_t(j) * std::size_t(w) + std::size_t(i);
-                next[c] = skip[c];
-                if (skip[c] >= m[c]) continue;
+                if (!test[c] || !offers[c]) continue;
                 around.clear();
-                for (int b = std::max(0, j - kLowOutlierReach); b <= std::min(h - 1, j + kLowOutlierReach); ++b)
-                    for (int a = std::max(0, i - kLowOutlierReach); a <= std::min(w - 1, i + kLowOutlierReach); ++a) {
-                        const std::size_t d = std::size_t(b) * std::size_t(w) + std::size_t(a);
-                        if (d != c && skip[d] < m[d]) around.push_back(low[d][skip[d]]);
+                const int a0 = std::max(0, i - kLowOutlierReach), a1 = std::min(w - 1, i + kLowOutlierReach);
+                for (int b = std::max(0, j - kLowOutlierReach); b <= std::min(h - 1, j + kLowOutlierReach); ++b) {
+                    const std::size_t row = std::size_t(b) * std::size_t(w);
+                    for (int a = a0; a <= a1; ++a) {
+                        const std::size_t d = row + std::size_t(a);
+                        if (offers[d] && d != c) around.push_back(offer[d]);
                     }
+                }
                 if (around.size() < kLowOutlierMinCells) continue;
                 const auto q = around.begin() + std::ptrdiff_t(double(around.size() - 1) * kLowOutlierQuantile);
                 std::nth_element(around.begin(), q, around.end());
-                if (double(low[c][skip[c]]) < double(*q) - gap_m) {
-                    next[c] = skip[c] + 1;
-                    changed = true;
-                }
+                if (double(offer[c]) < double(*q) - gap_m) changed.push_back(c);
             }
-        skip.swap(next);
-        if (!changed) break;
+        if (changed.empty()) break;
+        // Every decision of the round was made on the counts it started with.
+        std::fill(test.begin(), test.end(), 0);
+        for (const std::size_t c : changed) {
+            ++skip[c];
+            refresh(c);
+            const int i = int(c % std::size_t(w)), j = int(c / std::size_t(w));
+            for (int b = std::max(0, j - kLowOutlierReach); b <= std::min(h - 1, j + kLowOutlierReach); ++b)
+                for (int a = std::max(0, i - kLowOutlierReach); a <= std::min(w - 1, i + kLowOutlierReach); ++a)
+                    test[std::size_t(b) * std::size_t(w) + std::size_t(a)] = 1;
+        }
     }
     return skip;
 }
-
-}  // namespace
 
 bool RasterFit::cellSpread(const Cell& cell, double& spread_m) const {
     if (cell.n < std::uint32_t(kCellLowest)) return false;

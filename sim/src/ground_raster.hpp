@@ -80,6 +80,16 @@ void runningExtreme(const float* in, float* out, int n, int r, bool take_max, st
 /// Nothing known: `z` is left alone.
 void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps = 0);
 
+/// Low outliers: how many of each cell's lowest heights to skip. `low[c]` points at cell
+/// c's heights (ascending), `m[c]` their number (0: no point); w x h cells, row-major. A
+/// cell's lowest kept height is an outlier when it lies more than `gap_m` below the 20 %
+/// quantile of the lowest kept heights of the other cells within 5 cells that keep one
+/// (at least 8 of them). Rounds repeat, each deciding every cell on the counts the round
+/// began with (so the result does not depend on the visiting order), until nothing
+/// changes or 4 rounds; a cell whose every height is an outlier gets m[c].
+std::vector<int> lowOutliers(const std::vector<const float*>& low, const std::vector<int>& m, int w, int h,
+                             double gap_m);
+
 /// The empty cells that the openings of a sparse survey leave out
 /// (SmrfOptions::sparse_openings): those (not `known`) with a known cell among their 8
 /// neighbours, where fewer than half of the 5 x 5 cells around them (as far as the raster
