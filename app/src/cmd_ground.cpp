@@ -1,6 +1,6 @@
 // app/src/cmd_ground.cpp: `ladarvr ground IN... (--out OUT | --out-dir DIR) [--method
 // smrf|csf] [--smrf-*|--csf-*] [--reclassify] [--whiten] [--jobs K] [--threads N]
-// [--only-tile I] [--json]`: the ground of clouds we did not generate (real surveys'
+// [--only-tile I] [--dtm DTM.asc] [--json]`: the ground of clouds we did not generate (real surveys'
 // LAS/LAZ, or any cloud we read), classified by a whole-cloud filter (sim/ground_file.hpp)
 // and written with every ground point labelled ground (LAS class 2); a LAS/LAZ/COPC input
 // keeps its other classes and every other field it carries. One input whose terrain
@@ -23,6 +23,7 @@
 #include <platform/jobs.hpp>
 #include <platform/progress.hpp>
 #include <platform/safe_file.hpp>
+#include <sim/dtm.hpp>
 #include <sim/ground_file.hpp>
 #include <sim/ground_tiles.hpp>
 #include <sim/ground_units.hpp>
@@ -37,6 +38,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -58,6 +60,7 @@ constexpr std::uint64_t kSparseRasterCells = 500000, kSparseCellsPerPoint = 50;
 struct GroundFileCli {
     std::vector<std::string> in;
     std::string out, out_dir;
+    std::string dtm;  // --dtm: the terrain as an ESRI ASCII grid; empty: none
     std::string method = "smrf";
     sim::GroundFileOptions options;
     double low_outlier_m = sim::kSurveyLowOutlier_m;
@@ -178,7 +181,8 @@ double tileSide(const GroundFileCli& cli, const sim::GroundFileOptions& o, const
 }
 
 void printStats(const GroundFileCli& cli, const std::string& in, const std::string& out, const sim::GroundFileStats& st,
-                const sim::CoordinateUnits& units, bool tiled, double seconds, nlohmann::json* array) {
+                const sim::CoordinateUnits& units, bool tiled, double seconds, nlohmann::json* array,
+                const sim::DtmMosaic* dtm = nullptr) {
     const double share = st.points > 0 ? 100.0 * double(st.ground_points) / double(st.points) : 0.0;
     if (cli.json) {
         nlohmann::json j;
@@ -193,6 +197,11 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         j["input_ground_points_kept"] = st.still_ground;
         j["raster"] = {{"nx", st.nx}, {"ny", st.ny}, {"cell_m", st.cell_m * units.horizontal_m}};
         if (tiled) j["tiles"] = st.tiles;
+        if (dtm)
+            j["dtm"] = {{"path", std::filesystem::absolute(cli.dtm).string()},
+                        {"columns", dtm->columns()},
+                        {"rows", dtm->rows()},
+                        {"cell_m", st.cell_m * units.horizontal_m}};
         j["seconds"] = seconds;
         if (array) {
             array->push_back(std::move(j));
@@ -207,6 +216,10 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         std::printf("%zu tiles, largest raster %d x %d, %.3f s\n", st.tiles, st.nx, st.ny, seconds);
     else
         std::printf("raster %d x %d, %.3f s\n", st.nx, st.ny, seconds);
+    if (dtm)
+        std::printf("ground: wrote %s: the terrain, %d x %d cells of %g m\n",
+                    platform::messageLine(cli.dtm, 400).c_str(), dtm->columns(), dtm->rows(),
+                    st.cell_m * units.horizontal_m);
 }
 
 // One line on stderr when SMRF's raster is far sparser than the points: its time then goes
@@ -232,6 +245,7 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     std::vector<platform::RunPath> paths;
     for (const std::string& in : cli.in) paths.push_back({"input", in, platform::PathRole::Input, {}});
     paths.push_back({"--out", cli.out, platform::PathRole::Output, {}});
+    if (!cli.dtm.empty()) paths.push_back({"--dtm", cli.dtm, platform::PathRole::Output, {}});
     platform::checkDistinctPaths("ground", paths);
     platform::InputSet inputs;
     std::vector<std::filesystem::path> files;
@@ -261,6 +275,23 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     }
     createParentFolders(out, "ground: --out");
     platform::checkWritableDestination(out, inputs);
+    // --dtm: the terrain's cells gathered on the runs' cell lattice, written after the cloud.
+    std::optional<sim::DtmMosaic> dtm;
+    if (!cli.dtm.empty()) {
+        createParentFolders(cli.dtm, "ground: --dtm");
+        platform::checkWritableDestination(cli.dtm, inputs);
+        const std::filesystem::path folder = std::filesystem::path(cli.dtm).parent_path();
+        dtm.emplace(folder.empty() ? std::filesystem::path(".") : folder, core::printable(cli.dtm, 400), filterCell(o),
+                    sim::groundFrame(origin, o));
+    }
+    // Written to its temporary before the cloud lands, renamed into place after it.
+    std::unique_ptr<platform::TempFile> dtm_file;
+    if (dtm)
+        dtm->on_complete = [&](sim::DtmMosaic& grid) {
+            dtm_file = std::make_unique<platform::TempFile>(cli.dtm);
+            grid.write(dtm_file->file());
+        };
+    sim::DtmMosaic* const terrain = dtm ? &*dtm : nullptr;
     sim::GroundFileStats st;
     if (!tiled) {
         MemoryPlan run = one;
@@ -270,7 +301,8 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
         platform::Progress progress(o.whiten ? "ground: reading three times" : "ground: reading twice",
                                     (o.whiten ? 3 : 2) * declared);
         st = sim::classifyGroundFile(
-            files[0], out, o, run.max_cells, las, run.copc, [&](std::size_t n) { progress.advance(n); }, cli.threads);
+            files[0], out, o, run.max_cells, las, run.copc, [&](std::size_t n) { progress.advance(n); }, cli.threads,
+            terrain);
         progress.finish();
     } else {
         // The tiles' rasters share the memory among --jobs; the reading and writing passes
@@ -284,13 +316,15 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
         t.threads = cli.threads;
         t.max_cells = jobs.max_cells;
         t.scratch_dir = out.parent_path().empty() ? std::filesystem::path(".") : out.parent_path();
+        t.dtm = terrain;
         platform::Progress progress("ground: tiles (spill, thickness, fit, write)", 4 * declared);
         st = sim::classifyGroundTiled(files, out, o, t, {}, one.copc, [&](std::size_t n) { progress.advance(n); });
         progress.finish();
     }
+    if (dtm_file) dtm_file->commit();
     if (!st.reader_warning.empty()) platform::printMessage("warning", st.reader_warning);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printStats(cli, cli.in.front(), cli.out, st, units, tiled, seconds, nullptr);
+    printStats(cli, cli.in.front(), cli.out, st, units, tiled, seconds, nullptr, terrain);
     if (!tiled) noteSparseRaster(o, st, units);
 }
 
@@ -387,6 +421,11 @@ void run(GroundFileCli& cli) {
     if (!(cli.tile_m >= 0) || cli.tile_m > 1e6)
         throw core::Error("ground: --tile-m " + std::to_string(cli.tile_m) +
                           ": allowed [0, 1000000] metres, 0 = tiles only where needed");
+    if (!cli.dtm.empty()) {
+        if (!cli.out_dir.empty())
+            throw core::Error("ground: --dtm: allowed with --out (one DTM of every input), not with --out-dir");
+        checkDtmName(cli.dtm, "ground");
+    }
     if (cli.only_tile >= 0 && cli.out_dir.empty())
         throw core::Error("ground: --only-tile: allowed only with --out-dir (it names the input written there)");
     sim::memoryBudgetBytes(cli.memory_mb, "ground");
@@ -451,6 +490,10 @@ void registerGround(CLI::App& cli) {
                   "with --out-dir: classify and write only input I (0-based), the others read as its buffer: one "
                   "Slurm array task per input (scripts/slurm/ground.sbatch)")
         ->needs(out_dir);
+    c->add_option("--dtm", state->dtm,
+                  "with --out: also write the terrain the points were classified against (the DTM) as an ESRI ASCII "
+                  "grid (.asc) of the filter's cells, in the input's coordinates and units; a tiled run's tiles put "
+                  "together, -9999 where no tile held a point");
     c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");
     c->callback([state] { run(*state); });
 }

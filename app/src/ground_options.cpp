@@ -87,17 +87,21 @@ void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundChoice& ground) {
                  "ESRI ASCII grid (.asc), world metres");
 }
 
+void checkDtmName(const std::string& dtm, const char* command) {
+    std::string ext = std::filesystem::path(dtm).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".asc")
+        throw core::Error(std::string(command) + ": --dtm " + core::printable(dtm, 400) +
+                          ": allowed a name ending in .asc (the DTM is written as an ESRI ASCII grid)");
+}
+
 void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o) {
     o.ground.method = sim::parseGroundMethod(cli.method, "generate: --ground");
     o.fit_terrain = !cli.dtm.empty();
     if (!cli.dtm.empty()) {
         if (o.white)
             throw core::Error("generate: --dtm: not with --white (no ground filter runs, no terrain is fitted)");
-        std::string ext = std::filesystem::path(cli.dtm).extension().string();
-        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (ext != ".asc")
-            throw core::Error("generate: --dtm " + core::printable(cli.dtm, 400) +
-                              ": allowed a name ending in .asc (the DTM is written as an ESRI ASCII grid)");
+        checkDtmName(cli.dtm, "generate");
     }
 }
 

@@ -29,6 +29,10 @@ void addCsfOptions(CLI::App& command, sim::CsfOptions& csf);
 /// Adds every filter's group, --ground (the choice) and --dtm to `generate`.
 void addGroundOptions(CLI::App& generate, GroundCli& cli, sim::GroundChoice& ground);
 
+/// Throws core::Error("<command>: --dtm <name>: allowed a name ending in .asc ...") unless
+/// `dtm`'s name ends in .asc (any case): the DTM is written as an ESRI ASCII grid.
+void checkDtmName(const std::string& dtm, const char* command);
+
 /// Before any work: --ground into `o.ground.method`; --dtm refused with --white (no
 /// terrain is fitted) and unless its name ends in .asc (the format it is written in).
 void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o);

@@ -11,12 +11,14 @@
 #include <io/cloud_reader.hpp>
 #include <io/copc.hpp>
 #include <sim/colour.hpp>
+#include <sim/dtm.hpp>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -263,10 +265,15 @@ GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec
                                 const std::vector<FitSource>& extra, const std::filesystem::path& out,
                                 const GroundFileOptions& o, std::size_t max_cells, int threads, double thickness_m,
                                 const io::LasOptions& las, const io::CopcOptions& copc,
-                                const std::function<void(std::size_t)>& progress, const FitOver& fit_over) {
+                                const std::function<void(std::size_t)>& progress, const FitOver& fit_over,
+                                DtmMosaic* dtm) {
     GroundFileStats st;
     std::unique_ptr<TerrainFit> fit = startFit(o, max_cells);
     fitOn(fit, in, shift, extra, threads, thickness_m, progress, fit_over);
+    if (dtm) {
+        constexpr double kEverywhere = std::numeric_limits<double>::infinity();
+        dtm->add(fit->surface(), glm::dvec2(-kEverywhere), glm::dvec2(kEverywhere));
+    }
     st.nx = fit->surface().nx;
     st.ny = fit->surface().ny;
     st.cell_m = fit->surface().cell_m;
@@ -305,6 +312,7 @@ GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec
         writer.append(chunk, records);
         progress(chunk.size());
     });
+    if (dtm) dtm->complete();
     writer.commit();
     st.reader_warning = reader.warning();
     if (with.foreign && !with.foreign->crs_problem.empty())
@@ -316,11 +324,11 @@ GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec
 GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::filesystem::path& out,
                                    const GroundFileOptions& o, std::size_t max_cells, const io::LasOptions& las,
                                    const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress,
-                                   int threads) {
+                                   int threads, DtmMosaic* dtm) {
     // The points moved from their reader's origin into the cell lattice's frame.
     const glm::dvec3 origin = io::CloudReader(in).origin();
     return classifyOneFile(in, origin - groundFrame(origin, o), {}, out, o, max_cells, std::max(1, threads), -1.0, las,
-                           copc, progress);
+                           copc, progress, {}, dtm);
 }
 
 }  // namespace sim

@@ -52,12 +52,14 @@ using FitOver = std::function<void(std::unique_ptr<TerrainFit>& fit)>;
 /// are moved by `shift` for the fit and the test (written where they are), and `extra`'s
 /// points join the fit. `threads` >= 1 share each fit's gathering and fitting;
 /// `thickness_m` >= 0 is the ground thickness the fit uses (TerrainFit::setGroundThickness).
-/// `fit_over`, where given, runs the fit in place of TerrainFit::fit().
+/// `fit_over`, where given, runs the fit in place of TerrainFit::fit(). `dtm`, where given,
+/// gets the fitted terrain's every cell.
 GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec3& shift,
                                 const std::vector<FitSource>& extra, const std::filesystem::path& out,
                                 const GroundFileOptions& o, std::size_t max_cells, int threads, double thickness_m,
                                 const io::LasOptions& las, const io::CopcOptions& copc,
-                                const std::function<void(std::size_t)>& progress, const FitOver& fit_over = {});
+                                const std::function<void(std::size_t)>& progress, const FitOver& fit_over = {},
+                                DtmMosaic* dtm = nullptr);
 
 /// Adds `points` to `fit`, with `threads` threads when more than one.
 void addToFit(TerrainFit& fit, std::span<const core::CloudPoint> points, int threads);

@@ -13,6 +13,7 @@
 #include <io/cloud_reader.hpp>
 #include <platform/jobs.hpp>
 #include <platform/scratch_file.hpp>
+#include <sim/dtm.hpp>
 #include <sim/ground_units.hpp>
 
 #include <algorithm>
@@ -431,6 +432,7 @@ void runTile(Tile& tile, const Tiler& tiler, const GroundFileOptions& o, const G
         [&](const XyBox& box) { return gatherBox(tiler, box, o, t); });
     tile.nx = fit->surface().nx;
     tile.ny = fit->surface().ny;
+    if (t.dtm) t.dtm->add(fit->surface(), own_lo, own_lo + t.tile_m);
     tile.results.emplace(scratch, "ground tiles");
     std::vector<core::CloudPoint> chunk;
     std::vector<std::uint8_t> own;
@@ -594,6 +596,7 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
         });
         if (!reader.warning().empty()) st.reader_warning += (st.reader_warning.empty() ? "" : "; ") + reader.warning();
     }
+    if (t.dtm) t.dtm->complete();
     writer->commit();
     return st;
 }

@@ -21,6 +21,8 @@
 
 namespace sim {
 
+class DtmMosaic;
+
 /// How far below the ground around it a return is a low outlier in a real survey
 /// (SmrfOptions::low_outlier_m): the best single value on the ISPRS samples.
 inline constexpr double kSurveyLowOutlier_m = 6.0;
@@ -96,10 +98,11 @@ struct GroundFileStats {
 /// writing with GroundFileOptions::whiten, which finds the colour map's top). The output is written
 /// through io::CloudWriter (a temporary renamed into place); the caller checks that `out`
 /// may be written and is not `in`. `threads` share the fit (the same fit whatever their
-/// number). Throws core::Error.
+/// number). `dtm`, where given, gets the fitted terrain (its frame groundFrame() of `in`'s
+/// reader's origin), and its complete() is called before the output lands. Throws core::Error.
 GroundFileStats classifyGroundFile(const std::filesystem::path& in, const std::filesystem::path& out,
                                    const GroundFileOptions& o, std::size_t max_cells, const io::LasOptions& las,
                                    const io::CopcOptions& copc, const std::function<void(std::size_t)>& progress,
-                                   int threads = 1);
+                                   int threads = 1, DtmMosaic* dtm = nullptr);
 
 }  // namespace sim

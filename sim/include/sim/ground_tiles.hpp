@@ -37,6 +37,10 @@ struct GroundTiling {
     /// classifyGroundNeighbours: the survey's ground thickness (surveyThickness), < 0: the
     /// tile's own (measured on it and its buffer).
     double thickness_m = -1;
+    /// classifyGroundTiled: where given, gets each tile's terrain over its own square (the
+    /// frame groundFrame() of the first input's reader's origin); its complete() is called
+    /// before the output lands.
+    DtmMosaic* dtm = nullptr;
 };
 
 /// The buffer `o`'s filter needs around a tile, in `o`'s units (inUnits applied): four
