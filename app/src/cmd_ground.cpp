@@ -32,9 +32,11 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -182,7 +184,7 @@ double tileSide(const GroundFileCli& cli, const sim::GroundFileOptions& o, const
 
 void printStats(const GroundFileCli& cli, const std::string& in, const std::string& out, const sim::GroundFileStats& st,
                 const sim::CoordinateUnits& units, bool tiled, double seconds, nlohmann::json* array,
-                const sim::DtmMosaic* dtm = nullptr) {
+                const sim::DtmMosaic* dtm = nullptr, const std::string& prj = {}) {
     const double share = st.points > 0 ? 100.0 * double(st.ground_points) / double(st.points) : 0.0;
     if (cli.json) {
         nlohmann::json j;
@@ -201,7 +203,9 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
             j["dtm"] = {{"path", std::filesystem::absolute(cli.dtm).string()},
                         {"columns", dtm->columns()},
                         {"rows", dtm->rows()},
-                        {"cell_m", st.cell_m * units.horizontal_m}};
+                        {"cell_m", st.cell_m * units.horizontal_m},
+                        {"crs", prj.empty() ? nlohmann::json(nullptr)
+                                            : nlohmann::json(std::filesystem::absolute(prj).string())}};
         j["seconds"] = seconds;
         if (array) {
             array->push_back(std::move(j));
@@ -217,9 +221,11 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
     else
         std::printf("raster %d x %d, %.3f s\n", st.nx, st.ny, seconds);
     if (dtm)
-        std::printf("ground: wrote %s: the terrain, %d x %d cells of %g m\n",
+        std::printf("ground: wrote %s: the terrain, %d x %d cells of %g m%s\n",
                     platform::messageLine(cli.dtm, 400).c_str(), dtm->columns(), dtm->rows(),
-                    st.cell_m * units.horizontal_m);
+                    st.cell_m * units.horizontal_m,
+                    prj.empty() ? ", no CRS (the input has none)"
+                                : (", its CRS in " + platform::messageLine(prj, 400)).c_str());
 }
 
 // One line on stderr when SMRF's raster is far sparser than the points: its time then goes
@@ -245,7 +251,13 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     std::vector<platform::RunPath> paths;
     for (const std::string& in : cli.in) paths.push_back({"input", in, platform::PathRole::Input, {}});
     paths.push_back({"--out", cli.out, platform::PathRole::Output, {}});
-    if (!cli.dtm.empty()) paths.push_back({"--dtm", cli.dtm, platform::PathRole::Output, {}});
+    // --dtm's CRS goes beside it, in a .prj of its name (as GIS read an ASCII grid's).
+    const std::filesystem::path prj =
+        cli.dtm.empty() ? std::filesystem::path() : std::filesystem::path(cli.dtm).replace_extension(".prj");
+    if (!cli.dtm.empty()) {
+        paths.push_back({"--dtm", cli.dtm, platform::PathRole::Output, {}});
+        paths.push_back({"--dtm's CRS", prj.string(), platform::PathRole::Output, {}});
+    }
     platform::checkDistinctPaths("ground", paths);
     platform::InputSet inputs;
     std::vector<std::filesystem::path> files;
@@ -275,21 +287,32 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     }
     createParentFolders(out, "ground: --out");
     platform::checkWritableDestination(out, inputs);
-    // --dtm: the terrain's cells gathered on the runs' cell lattice, written after the cloud.
+    // --dtm: the terrain's cells gathered on the runs' cell lattice, and the first input's
+    // CRS (OGC WKT, up to a NUL), if it has one.
     std::optional<sim::DtmMosaic> dtm;
+    std::string wkt;
     if (!cli.dtm.empty()) {
+        if (const auto foreign = io::CloudReader(files[0], io::SideRecords::Keep).foreignHeader())
+            wkt = foreign->wkt.substr(0, foreign->wkt.find('\0'));
         createParentFolders(cli.dtm, "ground: --dtm");
         platform::checkWritableDestination(cli.dtm, inputs);
+        if (!wkt.empty()) platform::checkWritableDestination(prj, inputs);
         const std::filesystem::path folder = std::filesystem::path(cli.dtm).parent_path();
         dtm.emplace(folder.empty() ? std::filesystem::path(".") : folder, core::printable(cli.dtm, 400), filterCell(o),
                     sim::groundFrame(origin, o));
     }
-    // Written to its temporary before the cloud lands, renamed into place after it.
-    std::unique_ptr<platform::TempFile> dtm_file;
+    // Written to their temporaries before the cloud lands, renamed into place after it.
+    std::unique_ptr<platform::TempFile> dtm_file, prj_file;
     if (dtm)
         dtm->on_complete = [&](sim::DtmMosaic& grid) {
             dtm_file = std::make_unique<platform::TempFile>(cli.dtm);
             grid.write(dtm_file->file());
+            if (wkt.empty()) return;
+            prj_file = std::make_unique<platform::TempFile>(prj);
+            if (std::fwrite(wkt.data(), 1, wkt.size(), prj_file->file()) != wkt.size() ||
+                std::fflush(prj_file->file()) != 0)
+                throw core::Error("output: " + core::printable(prj.string(), 400) +
+                                  ": write failed: " + std::strerror(errno));
         };
     sim::DtmMosaic* const terrain = dtm ? &*dtm : nullptr;
     sim::GroundFileStats st;
@@ -322,9 +345,11 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
         progress.finish();
     }
     if (dtm_file) dtm_file->commit();
+    if (prj_file) prj_file->commit();
     if (!st.reader_warning.empty()) platform::printMessage("warning", st.reader_warning);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printStats(cli, cli.in.front(), cli.out, st, units, tiled, seconds, nullptr, terrain);
+    printStats(cli, cli.in.front(), cli.out, st, units, tiled, seconds, nullptr, terrain,
+               prj_file ? prj.string() : std::string());
     if (!tiled) noteSparseRaster(o, st, units);
 }
 
@@ -492,8 +517,8 @@ void registerGround(CLI::App& cli) {
         ->needs(out_dir);
     c->add_option("--dtm", state->dtm,
                   "with --out: also write the terrain the points were classified against (the DTM) as an ESRI ASCII "
-                  "grid (.asc) of the filter's cells, in the input's coordinates and units; a tiled run's tiles put "
-                  "together, -9999 where no tile held a point");
+                  "grid (.asc) of the filter's cells, in the input's coordinates and units, and its CRS beside it "
+                  "(.prj) when the input has one; a tiled run's tiles put together, -9999 where no tile held a point");
     c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");
     c->callback([state] { run(*state); });
 }

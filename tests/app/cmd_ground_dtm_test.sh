@@ -4,7 +4,8 @@
 # Usage: cmd_ground_dtm_test.sh LADARVR_BINARY SCRATCH_DIR DATA_DIR (tests/data)
 #  - one run: the grid is the run's raster (--json's size), it covers every point, and
 #    each point's height above it, interpolated as the filter does, is the
-#    HeightAboveGround the output carries;
+#    HeightAboveGround the output carries; its CRS is beside it in a .prj (the cloud's
+#    WKT record; GeoTIFF keys as WKT; none for an input without a CRS);
 #  - a run in tiles gives the grid of the same cells, nearly every cell as one run's;
 #  - a survey in feet gets its grid in feet (cells of 1 m given as 3.28 ft);
 #  - --dtm with --out-dir, or a name not ending in .asc, or a folder in its place: one
@@ -55,10 +56,22 @@ assert off.max() < 0.003, "height above the grid differs from HeightAboveGround 
 print("one run: %d x %d cells, %d points within %.4f m of their height above the grid" % (nx, ny, len(x), off.max()))
 PY
 
+# Its CRS beside it: the sample's WKT record (UTM 32N), as the cloud written holds it.
+[ -s "$dir/one.prj" ] || fail "ground --dtm: no .prj beside the grid"
+python3 - "$dir/one.prj" "$dir/one.laz" <<'PY' || fail "ground --dtm: the .prj is not the cloud's CRS"
+import sys
+import laspy
+prj = open(sys.argv[1]).read()
+assert 'UTM zone 32N' in prj and '32632' in prj, prj[:200]
+las = laspy.read(sys.argv[2])
+record = [v for v in las.header.vlrs if v.record_id == 2112]
+assert record and record[0].string.rstrip('\0') == prj, "the .prj is not the cloud's WKT record"
+PY
+
 # In tiles (150 m): the same cells, nearly every one as one run's.
 "$bin" ground "$data/isprs/samp53.laz" --out "$dir/whole.laz" --dtm "$dir/whole.asc" >"$dir/out" 2>"$dir/err" ||
     fail "ground --dtm samp53: $(cat "$dir/err")"
-grep -q "^ground: wrote $dir/whole.asc: the terrain, [0-9]* x [0-9]* cells of 1 m$" "$dir/out" ||
+grep -q "^ground: wrote $dir/whole.asc: the terrain, [0-9]* x [0-9]* cells of 1 m, no CRS (the input has none)$" "$dir/out" ||
     fail "ground --dtm: no line for the grid: $(cat "$dir/out")"
 "$bin" ground "$data/isprs/samp53.laz" --out "$dir/tiles.laz" --dtm "$dir/tiles.asc" --tile-m 150 >"$dir/out" \
     2>"$dir/err" || fail "ground --dtm --tile-m: $(cat "$dir/err")"
@@ -88,6 +101,15 @@ las = laspy.read(sys.argv[2])
 ground = np.asarray(las.z)[np.asarray(las.classification) == 2]
 assert abs(np.median(z) - np.median(ground)) < 10, (np.median(z), np.median(ground))
 PY
+
+# A survey in feet whose CRS is GeoTIFF keys gets them as WKT; one without a CRS no .prj,
+# and the run's line says so.
+grep -q "US survey foot" "$dir/feet.prj" || fail "ground --dtm feet: the .prj does not say feet: $(head -c 300 "$dir/feet.prj")"
+"$bin" ground "$data/real/sample_c.las" --out "$dir/nocrs.laz" --dtm "$dir/nocrs.asc" >"$dir/out" 2>"$dir/err" ||
+    fail "ground --dtm sample_c: $(cat "$dir/err")"
+[ ! -e "$dir/nocrs.prj" ] || fail "ground --dtm wrote a .prj for an input without a CRS"
+grep -q "^ground: wrote $dir/nocrs.asc: the terrain, .*, no CRS (the input has none)$" "$dir/out" ||
+    fail "ground --dtm sample_c: $(cat "$dir/out")"
 
 # Refusals: one line naming --dtm, nothing written.
 bad() {
