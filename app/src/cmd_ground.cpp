@@ -1,6 +1,6 @@
 // app/src/cmd_ground.cpp: `ladarvr ground IN... (--out OUT | --out-dir DIR) [--method
 // smrf|csf] [--smrf-*|--csf-*] [--reclassify] [--whiten] [--jobs K] [--threads N]
-// [--only-tile I] [--dtm DTM.asc] [--json]`: the ground of clouds we did not generate (real surveys'
+// [--only-tile I] [--dtm DTM.asc | --dtm-dir DIR] [--json]`: the ground of clouds we did not generate (real surveys'
 // LAS/LAZ, or any cloud we read), classified by a whole-cloud filter (sim/ground_file.hpp)
 // and written with every ground point labelled ground (LAS class 2); a LAS/LAZ/COPC input
 // keeps its other classes and every other field it carries. One input whose terrain
@@ -62,7 +62,8 @@ constexpr std::uint64_t kSparseRasterCells = 500000, kSparseCellsPerPoint = 50;
 struct GroundFileCli {
     std::vector<std::string> in;
     std::string out, out_dir;
-    std::string dtm;  // --dtm: the terrain as an ESRI ASCII grid; empty: none
+    std::string dtm;      // --dtm: the terrain as an ESRI ASCII grid; empty: none
+    std::string dtm_dir;  // --dtm-dir: with --out-dir, one grid per input in this folder
     std::string method = "smrf";
     sim::GroundFileOptions options;
     double low_outlier_m = sim::kSurveyLowOutlier_m;
@@ -182,9 +183,68 @@ double tileSide(const GroundFileCli& cli, const sim::GroundFileOptions& o, const
     return std::min(side, kLargestTile_m / units.horizontal_m);
 }
 
+// One grid of the terrain (--dtm, or one of --dtm-dir's), with its input's CRS beside it in a
+// .prj of its name (as GIS read an ASCII grid's) when the input has one (OGC WKT, up to a
+// NUL); both written to temporaries before the cloud lands, renamed into place after it.
+class DtmOutput {
+  public:
+    DtmOutput(const std::filesystem::path& asc, const std::filesystem::path& input)
+        : asc_(asc), prj_(std::filesystem::path(asc).replace_extension(".prj")) {
+        if (const auto foreign = io::CloudReader(input, io::SideRecords::Keep).foreignHeader())
+            wkt_ = foreign->wkt.substr(0, foreign->wkt.find('\0'));
+    }
+    DtmOutput(const DtmOutput&) = delete;
+    DtmOutput& operator=(const DtmOutput&) = delete;
+
+    const std::filesystem::path& asc() const { return asc_; }
+    const std::filesystem::path& prj() const { return prj_; }
+
+    // Before any work: its folder made, the grid's destination and the .prj's checked.
+    void prepare(const platform::InputSet& inputs, std::string_view option) const {
+        createParentFolders(asc_, option);
+        platform::checkWritableDestination(asc_, inputs);
+        if (!wkt_.empty()) platform::checkWritableDestination(prj_, inputs);
+    }
+
+    // The grid of `cell` cells on the lattice of `frame`, for the classifier to fill.
+    sim::DtmMosaic& start(double cell, const glm::dvec3& frame) {
+        const std::filesystem::path folder = asc_.parent_path();
+        mosaic_.emplace(folder.empty() ? std::filesystem::path(".") : folder, core::printable(asc_.string(), 400), cell,
+                        frame);
+        mosaic_->on_complete = [this](sim::DtmMosaic& grid) {
+            asc_file_ = std::make_unique<platform::TempFile>(asc_);
+            grid.write(asc_file_->file());
+            if (wkt_.empty()) return;
+            prj_file_ = std::make_unique<platform::TempFile>(prj_);
+            if (std::fwrite(wkt_.data(), 1, wkt_.size(), prj_file_->file()) != wkt_.size() ||
+                std::fflush(prj_file_->file()) != 0)
+                throw core::Error("output: " + core::printable(prj_.string(), 400) +
+                                  ": write failed: " + std::strerror(errno));
+        };
+        return *mosaic_;
+    }
+
+    // After the cloud landed.
+    void commit() {
+        if (asc_file_) asc_file_->commit();
+        if (prj_file_) prj_file_->commit();
+    }
+
+    int columns() const { return mosaic_ ? mosaic_->columns() : 0; }
+    int rows() const { return mosaic_ ? mosaic_->rows() : 0; }
+    bool wroteCrs() const { return prj_file_ != nullptr; }
+    sim::DtmMosaic* mosaic() { return mosaic_ ? &*mosaic_ : nullptr; }
+
+  private:
+    std::filesystem::path asc_, prj_;
+    std::string wkt_;
+    std::optional<sim::DtmMosaic> mosaic_;
+    std::unique_ptr<platform::TempFile> asc_file_, prj_file_;
+};
+
 void printStats(const GroundFileCli& cli, const std::string& in, const std::string& out, const sim::GroundFileStats& st,
                 const sim::CoordinateUnits& units, bool tiled, double seconds, nlohmann::json* array,
-                const sim::DtmMosaic* dtm = nullptr, const std::string& prj = {}) {
+                const DtmOutput* dtm = nullptr) {
     const double share = st.points > 0 ? 100.0 * double(st.ground_points) / double(st.points) : 0.0;
     if (cli.json) {
         nlohmann::json j;
@@ -200,12 +260,12 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         j["raster"] = {{"nx", st.nx}, {"ny", st.ny}, {"cell_m", st.cell_m * units.horizontal_m}};
         if (tiled) j["tiles"] = st.tiles;
         if (dtm)
-            j["dtm"] = {{"path", std::filesystem::absolute(cli.dtm).string()},
+            j["dtm"] = {{"path", std::filesystem::absolute(dtm->asc()).string()},
                         {"columns", dtm->columns()},
                         {"rows", dtm->rows()},
                         {"cell_m", st.cell_m * units.horizontal_m},
-                        {"crs", prj.empty() ? nlohmann::json(nullptr)
-                                            : nlohmann::json(std::filesystem::absolute(prj).string())}};
+                        {"crs", dtm->wroteCrs() ? nlohmann::json(std::filesystem::absolute(dtm->prj()).string())
+                                                : nlohmann::json(nullptr)}};
         j["seconds"] = seconds;
         if (array) {
             array->push_back(std::move(j));
@@ -222,10 +282,10 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         std::printf("raster %d x %d, %.3f s\n", st.nx, st.ny, seconds);
     if (dtm)
         std::printf("ground: wrote %s: the terrain, %d x %d cells of %g m%s\n",
-                    platform::messageLine(cli.dtm, 400).c_str(), dtm->columns(), dtm->rows(),
+                    platform::messageLine(dtm->asc().string(), 400).c_str(), dtm->columns(), dtm->rows(),
                     st.cell_m * units.horizontal_m,
-                    prj.empty() ? ", no CRS (the input has none)"
-                                : (", its CRS in " + platform::messageLine(prj, 400)).c_str());
+                    dtm->wroteCrs() ? (", its CRS in " + platform::messageLine(dtm->prj().string(), 400)).c_str()
+                                    : ", no CRS (the input has none)");
 }
 
 // One line on stderr when SMRF's raster is far sparser than the points: its time then goes
@@ -251,12 +311,12 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     std::vector<platform::RunPath> paths;
     for (const std::string& in : cli.in) paths.push_back({"input", in, platform::PathRole::Input, {}});
     paths.push_back({"--out", cli.out, platform::PathRole::Output, {}});
-    // --dtm's CRS goes beside it, in a .prj of its name (as GIS read an ASCII grid's).
-    const std::filesystem::path prj =
-        cli.dtm.empty() ? std::filesystem::path() : std::filesystem::path(cli.dtm).replace_extension(".prj");
     if (!cli.dtm.empty()) {
         paths.push_back({"--dtm", cli.dtm, platform::PathRole::Output, {}});
-        paths.push_back({"--dtm's CRS", prj.string(), platform::PathRole::Output, {}});
+        paths.push_back({"--dtm's CRS",
+                         std::filesystem::path(cli.dtm).replace_extension(".prj").string(),
+                         platform::PathRole::Output,
+                         {}});
     }
     platform::checkDistinctPaths("ground", paths);
     platform::InputSet inputs;
@@ -287,34 +347,14 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     }
     createParentFolders(out, "ground: --out");
     platform::checkWritableDestination(out, inputs);
-    // --dtm: the terrain's cells gathered on the runs' cell lattice, and the first input's
-    // CRS (OGC WKT, up to a NUL), if it has one.
-    std::optional<sim::DtmMosaic> dtm;
-    std::string wkt;
+    // --dtm: the terrain's cells gathered on the run's cell lattice, the first input's CRS.
+    std::optional<DtmOutput> dtm;
+    sim::DtmMosaic* terrain = nullptr;
     if (!cli.dtm.empty()) {
-        if (const auto foreign = io::CloudReader(files[0], io::SideRecords::Keep).foreignHeader())
-            wkt = foreign->wkt.substr(0, foreign->wkt.find('\0'));
-        createParentFolders(cli.dtm, "ground: --dtm");
-        platform::checkWritableDestination(cli.dtm, inputs);
-        if (!wkt.empty()) platform::checkWritableDestination(prj, inputs);
-        const std::filesystem::path folder = std::filesystem::path(cli.dtm).parent_path();
-        dtm.emplace(folder.empty() ? std::filesystem::path(".") : folder, core::printable(cli.dtm, 400), filterCell(o),
-                    sim::groundFrame(origin, o));
+        dtm.emplace(cli.dtm, files[0]);
+        dtm->prepare(inputs, "ground: --dtm");
+        terrain = &dtm->start(filterCell(o), sim::groundFrame(origin, o));
     }
-    // Written to their temporaries before the cloud lands, renamed into place after it.
-    std::unique_ptr<platform::TempFile> dtm_file, prj_file;
-    if (dtm)
-        dtm->on_complete = [&](sim::DtmMosaic& grid) {
-            dtm_file = std::make_unique<platform::TempFile>(cli.dtm);
-            grid.write(dtm_file->file());
-            if (wkt.empty()) return;
-            prj_file = std::make_unique<platform::TempFile>(prj);
-            if (std::fwrite(wkt.data(), 1, wkt.size(), prj_file->file()) != wkt.size() ||
-                std::fflush(prj_file->file()) != 0)
-                throw core::Error("output: " + core::printable(prj.string(), 400) +
-                                  ": write failed: " + std::strerror(errno));
-        };
-    sim::DtmMosaic* const terrain = dtm ? &*dtm : nullptr;
     sim::GroundFileStats st;
     if (!tiled) {
         MemoryPlan run = one;
@@ -344,12 +384,10 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
         st = sim::classifyGroundTiled(files, out, o, t, {}, one.copc, [&](std::size_t n) { progress.advance(n); });
         progress.finish();
     }
-    if (dtm_file) dtm_file->commit();
-    if (prj_file) prj_file->commit();
+    if (dtm) dtm->commit();
     if (!st.reader_warning.empty()) platform::printMessage("warning", st.reader_warning);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printStats(cli, cli.in.front(), cli.out, st, units, tiled, seconds, nullptr, terrain,
-               prj_file ? prj.string() : std::string());
+    printStats(cli, cli.in.front(), cli.out, st, units, tiled, seconds, nullptr, dtm ? &*dtm : nullptr);
     if (!tiled) noteSparseRaster(o, st, units);
 }
 
@@ -373,6 +411,17 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
                           std::to_string(cli.in.size() - 1) + "] (an index into the " + std::to_string(cli.in.size()) +
                           " inputs)");
     for (const auto& p : outs) paths.push_back({"--out-dir", p, platform::PathRole::Output, {}});
+    // --dtm-dir: each input's grid under its name, .asc (and its CRS's .prj).
+    std::vector<std::filesystem::path> grids;
+    if (!cli.dtm_dir.empty())
+        for (const auto& f : files) {
+            grids.push_back(std::filesystem::path(cli.dtm_dir) / f.filename().replace_extension(".asc"));
+            paths.push_back({"--dtm-dir", grids.back().string(), platform::PathRole::Output, {}});
+            paths.push_back({"--dtm-dir",
+                             std::filesystem::path(grids.back()).replace_extension(".prj").string(),
+                             platform::PathRole::Output,
+                             {}});
+        }
     platform::checkDistinctPaths("ground", paths);
     platform::InputSet inputs;
     for (const std::string& in : cli.in) {
@@ -401,6 +450,16 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
     const MemoryPlan plan = planMemory(cli, first_format, side, jobs, all / 16 * sizeof(double));
     createParentFolders(outs[0], "ground: --out-dir");
     for (std::size_t i : todo) platform::checkWritableDestination(outs[i], inputs);
+    // Each input's grid on the first input's cell lattice, over the input's own box.
+    std::vector<std::unique_ptr<DtmOutput>> dtms(files.size());
+    if (!grids.empty()) {
+        const glm::dvec3 frame = sim::groundFrame(io::CloudReader(files[0]).origin(), o);
+        for (std::size_t i : todo) {
+            dtms[i] = std::make_unique<DtmOutput>(grids[i], files[i]);
+            dtms[i]->prepare(inputs, "ground: --dtm-dir");
+            dtms[i]->start(filterCell(o), frame);
+        }
+    }
 
     sim::GroundTiling t;
     t.buffer_m = sim::tileBuffer(o);
@@ -417,17 +476,21 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
     platform::runJobs(todo.size(), jobs, [&](std::size_t k) {
         const std::size_t i = todo[k];
         const auto t0 = std::chrono::steady_clock::now();
-        stats[i] = sim::classifyGroundNeighbours(files, boxes, i, outs[i], o, t, {}, plan.copc, [&](std::size_t n) {
-            const std::lock_guard lock(mutex);
-            progress.advance(n);
-        });
+        stats[i] = sim::classifyGroundNeighbours(
+            files, boxes, i, outs[i], o, t, {}, plan.copc,
+            [&](std::size_t n) {
+                const std::lock_guard lock(mutex);
+                progress.advance(n);
+            },
+            dtms[i] ? dtms[i]->mosaic() : nullptr);
+        if (dtms[i]) dtms[i]->commit();
         seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     });
     progress.finish();
     nlohmann::json array = nlohmann::json::array();
     for (std::size_t i : todo) {
         if (!stats[i].reader_warning.empty()) platform::printMessage("warning", stats[i].reader_warning);
-        printStats(cli, cli.in[i], outs[i].string(), stats[i], units, false, seconds[i], &array);
+        printStats(cli, cli.in[i], outs[i].string(), stats[i], units, false, seconds[i], &array, dtms[i].get());
     }
     if (cli.json) std::printf("%s\n", array.dump(2).c_str());
 }
@@ -448,7 +511,9 @@ void run(GroundFileCli& cli) {
                           ": allowed [0, 1000000] metres, 0 = tiles only where needed");
     if (!cli.dtm.empty()) {
         if (!cli.out_dir.empty())
-            throw core::Error("ground: --dtm: allowed with --out (one DTM of every input), not with --out-dir");
+            throw core::Error(
+                "ground: --dtm: allowed with --out (one DTM of every input); with --out-dir, --dtm-dir "
+                "DIR writes one per input");
         checkDtmName(cli.dtm, "ground");
     }
     if (cli.only_tile >= 0 && cli.out_dir.empty())
@@ -519,6 +584,10 @@ void registerGround(CLI::App& cli) {
                   "with --out: also write the terrain the points were classified against (the DTM) as an ESRI ASCII "
                   "grid (.asc) of the filter's cells, in the input's coordinates and units, and its CRS beside it "
                   "(.prj) when the input has one; a tiled run's tiles put together, -9999 where no tile held a point");
+    c->add_option("--dtm-dir", state->dtm_dir,
+                  "with --out-dir: also write each input's terrain over its own bounds into this folder, under the "
+                  "input's name with .asc (and .prj), as --dtm does")
+        ->needs(out_dir);
     c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");
     c->callback([state] { run(*state); });
 }

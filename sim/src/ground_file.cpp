@@ -18,7 +18,6 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
-#include <limits>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -266,14 +265,12 @@ GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec
                                 const GroundFileOptions& o, std::size_t max_cells, int threads, double thickness_m,
                                 const io::LasOptions& las, const io::CopcOptions& copc,
                                 const std::function<void(std::size_t)>& progress, const FitOver& fit_over,
-                                DtmMosaic* dtm) {
+                                DtmMosaic* dtm, const glm::dvec2& dtm_lo, const glm::dvec2& dtm_hi) {
     GroundFileStats st;
     std::unique_ptr<TerrainFit> fit = startFit(o, max_cells);
     fitOn(fit, in, shift, extra, threads, thickness_m, progress, fit_over);
-    if (dtm) {
-        constexpr double kEverywhere = std::numeric_limits<double>::infinity();
-        dtm->add(fit->surface(), glm::dvec2(-kEverywhere), glm::dvec2(kEverywhere));
-    }
+    // [lo, hi] as add()'s half-open box: a cell whose centre lies on hi is kept too.
+    if (dtm) dtm->add(fit->surface(), dtm_lo, dtm_hi + 1e-6 * fit->surface().cell_m);
     st.nx = fit->surface().nx;
     st.ny = fit->surface().ny;
     st.cell_m = fit->surface().cell_m;

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -53,13 +54,15 @@ using FitOver = std::function<void(std::unique_ptr<TerrainFit>& fit)>;
 /// points join the fit. `threads` >= 1 share each fit's gathering and fitting;
 /// `thickness_m` >= 0 is the ground thickness the fit uses (TerrainFit::setGroundThickness).
 /// `fit_over`, where given, runs the fit in place of TerrainFit::fit(). `dtm`, where given,
-/// gets the fitted terrain's every cell.
+/// gets the fitted terrain's cells whose centres lie in [dtm_lo, dtm_hi] (the fit's frame).
 GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec3& shift,
                                 const std::vector<FitSource>& extra, const std::filesystem::path& out,
                                 const GroundFileOptions& o, std::size_t max_cells, int threads, double thickness_m,
                                 const io::LasOptions& las, const io::CopcOptions& copc,
                                 const std::function<void(std::size_t)>& progress, const FitOver& fit_over = {},
-                                DtmMosaic* dtm = nullptr);
+                                DtmMosaic* dtm = nullptr,
+                                const glm::dvec2& dtm_lo = glm::dvec2(-std::numeric_limits<double>::infinity()),
+                                const glm::dvec2& dtm_hi = glm::dvec2(std::numeric_limits<double>::infinity()));
 
 /// Adds `points` to `fit`, with `threads` threads when more than one.
 void addToFit(TerrainFit& fit, std::span<const core::CloudPoint> points, int threads);

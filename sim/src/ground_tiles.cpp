@@ -660,7 +660,7 @@ GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path
                                          const std::vector<GroundBox>& boxes, std::size_t index,
                                          const std::filesystem::path& out, const GroundFileOptions& o,
                                          const GroundTiling& t, const io::LasOptions& las, const io::CopcOptions& copc,
-                                         const std::function<void(std::size_t)>& progress) {
+                                         const std::function<void(std::size_t)>& progress, DtmMosaic* dtm) {
     // The first input's frame on the cell lattice: the raster's cells lie where one
     // merged run, or one run over the uncut survey, puts them.
     const glm::dvec3 frame = groundFrame(originOf(inputs[0]), o);
@@ -690,7 +690,7 @@ GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path
     };
     return classifyOneFile(inputs[index], originOf(inputs[index]) - frame,
                            neighbours(inputs, boxes, index, frame, t.buffer_m), out, o, t.max_cells, t.threads,
-                           t.thickness_m, las, copc, progress, over);
+                           t.thickness_m, las, copc, progress, over, dtm, own.first, own.second);
 }
 
 }  // namespace sim

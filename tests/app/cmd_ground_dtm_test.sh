@@ -8,6 +8,8 @@
 #    WKT record; GeoTIFF keys as WKT; none for an input without a CRS);
 #  - a run in tiles gives the grid of the same cells, nearly every cell as one run's;
 #  - a survey in feet gets its grid in feet (cells of 1 m given as 3.28 ft);
+#  - a folder of tiles (--out-dir) gets a grid per input with --dtm-dir, each the merged
+#    run's over the input's bounds;
 #  - --dtm with --out-dir, or a name not ending in .asc, or a folder in its place: one
 #    line naming --dtm, and neither the cloud nor the grid written; on a full disk the
 #    same, the grid being written before the cloud lands.
@@ -111,6 +113,49 @@ grep -q "US survey foot" "$dir/feet.prj" || fail "ground --dtm feet: the .prj do
 grep -q "^ground: wrote $dir/nocrs.asc: the terrain, .*, no CRS (the input has none)$" "$dir/out" ||
     fail "ground --dtm sample_c: $(cat "$dir/out")"
 
+# A folder of tiles (--out-dir): --dtm-dir writes each input's grid over its own bounds,
+# under its name; each is the merged run's grid where they overlap, and each point's
+# height above it is the HeightAboveGround of its output away from the grid's edges.
+"$bin" ground "$data/isprs/samp41.laz" "$data/isprs/samp42.laz" --out "$dir/merged.laz" --dtm "$dir/merged.asc" \
+    >"$dir/out" 2>"$dir/err" || fail "ground --dtm merged: $(cat "$dir/err")"
+"$bin" ground "$data/isprs/samp41.laz" "$data/isprs/samp42.laz" --out-dir "$dir/each" --dtm-dir "$dir/grids" \
+    >"$dir/out" 2>"$dir/err" || fail "ground --dtm-dir: $(cat "$dir/err")"
+[ "$(grep -c "^ground: wrote $dir/grids/samp4[12].asc: the terrain, " "$dir/out")" = 2 ] ||
+    fail "ground --dtm-dir: not one line per grid: $(cat "$dir/out")"
+python3 - "$dir/merged.asc" "$dir/grids" "$dir/each" <<'PY' || fail "ground --dtm-dir: a grid differs from the merged run's"
+import sys
+import laspy, numpy as np
+def grid(path):
+    head = dict(line.split() for line in open(path).readlines()[:6])
+    z = np.loadtxt(path, skiprows=6, ndmin=2)[::-1]
+    return float(head["xllcorner"]), float(head["yllcorner"]), float(head["cellsize"]), z
+mx, my, cell, mz = grid(sys.argv[1])
+for name in ("samp41", "samp42"):
+    x0, y0, c, z = grid("%s/%s.asc" % (sys.argv[2], name))
+    assert c == cell and not (z == -9999).any()
+    i, j = int(round((x0 - mx) / cell)), int(round((y0 - my) / cell))
+    ny, nx = z.shape
+    assert i >= 0 and j >= 0 and j + ny <= mz.shape[0] and i + nx <= mz.shape[1], (name, i, j, z.shape, mz.shape)
+    near = np.abs(z - mz[j:j + ny, i:i + nx]) <= 0.01
+    las = laspy.read("%s/%s.laz" % (sys.argv[3], name))
+    names = list(las.point_format.dimension_names)
+    h = np.asarray(las["HeightAboveGround" if "HeightAboveGround" in names else "height_above_ground_m"])
+    x, y = np.asarray(las.x), np.asarray(las.y)
+    # The cells whose centres lie in the input's bounds: its points within half a cell.
+    assert x.min() >= x0 - c / 2 and x.max() <= x0 + (nx + 0.5) * c, name
+    assert y.min() >= y0 - c / 2 and y.max() <= y0 + (ny + 0.5) * c, name
+    fx, fy = (x - x0) / c - 0.5, (y - y0) / c - 0.5
+    inside = (fx >= 1) & (fx <= nx - 2) & (fy >= 1) & (fy <= ny - 2)
+    fx, fy, x, y, h = fx[inside], fy[inside], x[inside], y[inside], h[inside]
+    i0, j0 = fx.astype(int), fy.astype(int)
+    tx, ty = fx - i0, fy - j0
+    t = (1 - ty) * ((1 - tx) * z[j0, i0] + tx * z[j0, i0 + 1]) + ty * ((1 - tx) * z[j0 + 1, i0] + tx * z[j0 + 1, i0 + 1])
+    off = np.abs(np.asarray(las.z)[inside] - h - t)
+    print("%s: %d x %d cells, %.4f within 1 cm of the merged grid; %d points within %.4f m" %
+          (name, nx, ny, near.mean(), inside.sum(), off.max()))
+    assert near.mean() >= 0.999 and off.max() < 0.003
+PY
+
 # Refusals: one line naming --dtm, nothing written.
 bad() {
     want=$1
@@ -123,7 +168,7 @@ bad() {
     [ -e "$dir/outs" ] && fail "ground $* made $dir/outs"
     return 0
 }
-bad "ground: --dtm: allowed with --out (one DTM of every input), not with --out-dir" \
+bad "ground: --dtm: allowed with --out (one DTM of every input); with --out-dir, --dtm-dir DIR writes one per input" \
     "$data/isprs/samp24.las" --out-dir "$dir/outs" --dtm "$dir/bad.asc"
 bad "ground: --dtm $dir/bad.tif: allowed a name ending in .asc" \
     "$data/isprs/samp24.las" --out "$dir/bad.laz" --dtm "$dir/bad.tif"

@@ -96,11 +96,14 @@ double surveyThickness(const std::vector<std::filesystem::path>& inputs, const s
 /// fitted again over the patch from the inputs around it (at most four times, within
 /// t.max_cells), and with its buffer doubled where a hole crosses it from a cut edge, as
 /// a tile of classifyGroundTiled is.
-/// `progress` as classifyGroundFile's (thread-safe where the caller runs several).
+/// `progress` as classifyGroundFile's (thread-safe where the caller runs several). `dtm`,
+/// where given, gets the terrain's cells whose centres lie in the input's box (the frame
+/// groundFrame() of the first input's reader's origin), and its complete() is called before
+/// the output lands.
 GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path>& inputs,
                                          const std::vector<GroundBox>& boxes, std::size_t index,
                                          const std::filesystem::path& out, const GroundFileOptions& o,
                                          const GroundTiling& t, const io::LasOptions& las, const io::CopcOptions& copc,
-                                         const std::function<void(std::size_t)>& progress);
+                                         const std::function<void(std::size_t)>& progress, DtmMosaic* dtm = nullptr);
 
 }  // namespace sim
