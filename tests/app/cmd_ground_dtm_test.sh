@@ -175,6 +175,12 @@ bad "ground: --dtm $dir/bad.tif: allowed a name ending in .asc" \
 mkdir -p "$dir/folder.asc"
 bad "folder.asc" "$data/isprs/samp24.las" --out "$dir/bad.laz" --dtm "$dir/folder.asc"
 [ -d "$dir/folder.asc" ] || fail "the folder in --dtm's place is gone"
+# A symbolic link where the grid's CRS would go: refused before any work, the link kept.
+: >"$dir/target"
+ln -s target "$dir/linked.prj"
+bad "linked.prj: is a symbolic link" "$data/isprs/samp24.las" --out "$dir/bad.laz" --dtm "$dir/linked.asc"
+[ -L "$dir/linked.prj" ] && [ ! -s "$dir/target" ] && [ ! -e "$dir/linked.asc" ] ||
+    fail "ground --dtm wrote through the .prj's link, or wrote the grid"
 
 # A full disk under --dtm: the grid is written before the cloud lands, so the run stops
 # with one line and neither lands, and no temporary is left in either folder.
