@@ -58,6 +58,9 @@ constexpr double kLargestTile_m = 2000.0;
 // A raster at least this large with at least this many cells a point: SMRF's run is mostly
 // the filling and opening of empty cells, and a coarser cell would shorten it.
 constexpr std::uint64_t kSparseRasterCells = 500000, kSparseCellsPerPoint = 50;
+// --dtm over several inputs: one grid may span at most this many times the cells of the
+// inputs' bounds, plus this many (tiles of one survey, not surveys far apart).
+constexpr std::uint64_t kDtmSpread = 16, kDtmSpreadCells = 1000000;
 
 struct GroundFileCli {
     std::vector<std::string> in;
@@ -350,6 +353,24 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     // --dtm: the terrain's cells gathered on the run's cell lattice, the first input's CRS.
     std::optional<DtmOutput> dtm;
     sim::DtmMosaic* terrain = nullptr;
+    if (!cli.dtm.empty() && files.size() > 1) {
+        // One grid spans the box around every input: refused where most of it would lie
+        // over no input (inputs far apart), before any work.
+        const glm::dvec3 frame = sim::groundFrame(origin, o);
+        sim::GroundBox all{glm::dvec2(1e300), glm::dvec2(-1e300)};
+        std::uint64_t covered = 0;
+        for (const auto& f : files) {
+            const sim::GroundBox b = groundBox(f);
+            covered += cellsOver(b, frame, filterCell(o));
+            all.min = glm::min(all.min, b.min);
+            all.max = glm::max(all.max, b.max);
+        }
+        const std::uint64_t spanned = cellsOver(all, frame, filterCell(o));
+        if (spanned > kDtmSpread * covered + kDtmSpreadCells)
+            throw core::Error("ground: --dtm: the inputs lie far apart: one grid over them would hold " +
+                              std::to_string(spanned) + " cells, their bounds " + std::to_string(covered) +
+                              "; allowed inputs of one survey, or --out-dir with --dtm-dir (a grid per input)");
+    }
     if (!cli.dtm.empty()) {
         dtm.emplace(cli.dtm, files[0]);
         dtm->prepare(inputs, "ground: --dtm");

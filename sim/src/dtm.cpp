@@ -5,6 +5,8 @@
 #include <core/error.hpp>
 #include <platform/atomic_file.hpp>
 
+#include "memory_plan.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -50,7 +52,7 @@ void writeDtm(const std::filesystem::path& path, const TerrainGrid& grid, const 
 }
 
 DtmMosaic::DtmMosaic(const std::filesystem::path& scratch_dir, std::string what, double cell, const glm::dvec3& frame)
-    : what_(std::move(what)), cell_(cell), frame_(frame), heights_(scratch_dir, what_) {}
+    : what_(std::move(what)), cell_(cell), frame_(frame), scratch_dir_(scratch_dir), heights_(scratch_dir, what_) {}
 
 void DtmMosaic::add(const TerrainGrid& grid, const glm::dvec2& lo, const glm::dvec2& hi) {
     if (grid.empty()) return;
@@ -87,6 +89,9 @@ void DtmMosaic::write(std::FILE* out) {
         if (std::fwrite(s.data(), 1, s.size(), out) != s.size())
             throw core::Error("output: " + what_ + ": write failed: " + std::strerror(errno));
     };
+    // Each value takes at least 6 bytes ("0.000" or "-9999" and a space or the newline).
+    const std::uint64_t cells = std::uint64_t(columns) * std::uint64_t(j1_ - j0_ + 1);
+    checkFreeSpace(scratch_dir_, header.size() + 6 * cells, "the grid");
     put(header);
     constexpr float kNoData = std::numeric_limits<float>::quiet_NaN();
     std::vector<float> row(static_cast<std::size_t>(columns));

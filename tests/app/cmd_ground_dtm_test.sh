@@ -10,7 +10,8 @@
 #  - a survey in feet gets its grid in feet (cells of 1 m given as 3.28 ft);
 #  - a folder of tiles (--out-dir) gets a grid per input with --dtm-dir, each the merged
 #    run's over the input's bounds;
-#  - --dtm with --out-dir, or a name not ending in .asc, or a folder in its place: one
+#  - --dtm with --out-dir, over inputs far apart, or a name not ending in .asc, or a
+#    folder or a link in its place: one
 #    line naming --dtm, and neither the cloud nor the grid written; on a full disk the
 #    same, the grid being written before the cloud lands.
 set -eu
@@ -172,6 +173,8 @@ bad "ground: --dtm: allowed with --out (one DTM of every input); with --out-dir,
     "$data/isprs/samp24.las" --out-dir "$dir/outs" --dtm "$dir/bad.asc"
 bad "ground: --dtm $dir/bad.tif: allowed a name ending in .asc" \
     "$data/isprs/samp24.las" --out "$dir/bad.laz" --dtm "$dir/bad.tif"
+bad "ground: --dtm: the inputs lie far apart" \
+    "$data/isprs/samp11.laz" "$data/isprs/samp71.laz" --out "$dir/bad.laz" --dtm "$dir/bad.asc"
 mkdir -p "$dir/folder.asc"
 bad "folder.asc" "$data/isprs/samp24.las" --out "$dir/bad.laz" --dtm "$dir/folder.asc"
 [ -d "$dir/folder.asc" ] || fail "the folder in --dtm's place is gone"
@@ -198,6 +201,17 @@ if [ "$(id -u)" -eq 0 ] && mount -t tmpfs -o size=16k tmpfs "$dir/full" 2>/dev/n
     [ -z "$listed" ] || fail "a full disk under --dtm left: $listed"
     leftover=$(find "$dir" -maxdepth 1 -name '.*' ! -name '.' | head -1)
     [ -z "$leftover" ] || fail "a temporary was left: $leftover"
+    # Room for the heights' scratch (4 bytes a cell) but not for the grid (6 bytes a cell
+    # at least): refused before the grid is written, nothing left either.
+    mount -t tmpfs -o size=48k tmpfs "$dir/full"
+    status=0
+    "$bin" ground "$data/isprs/samp24.las" --out "$dir/full.laz" --dtm "$dir/full/dtm.asc" >"$dir/out" 2>"$dir/err" ||
+        status=$?
+    listed=$(ls -A "$dir/full")
+    umount "$dir/full"
+    [ "$status" -eq 1 ] && grep -q "MiB free, but the grid may need" "$dir/err" ||
+        fail "ground --dtm with no room for the grid: exit $status: $(cat "$dir/err")"
+    [ ! -e "$dir/full.laz" ] && [ -z "$listed" ] || fail "ground --dtm with no room for the grid left files"
 else
     echo "cmd_ground_dtm: mounting a tmpfs needs root: the full-disk case is skipped"
 fi

@@ -50,7 +50,9 @@ class DtmMosaic {
 
     /// Writes the box around every piece as an ESRI ASCII grid (dtmAscii's layout, in the
     /// frame's units), NODATA_value -9999 in its cells no piece holds. Throws
-    /// core::Error("output: <what>: ...") when there is no piece or a write fails.
+    /// core::Error("output: <what>: ...") when there is no piece or a write fails, and
+    /// core::Error("output: <folder>: ...") when the scratch folder's filesystem has less
+    /// free than the grid takes at least (6 bytes a cell).
     void write(std::FILE* out);
 
     /// What the run does with the grid once every piece is in, before the cloud's output
@@ -70,6 +72,7 @@ class DtmMosaic {
     std::string what_;
     double cell_;
     glm::dvec3 frame_;
+    std::filesystem::path scratch_dir_;  // the grid's folder
     std::mutex mutex_;
     platform::ScratchFile heights_;
     std::vector<Piece> pieces_;
