@@ -142,9 +142,11 @@ for name in ("samp41", "samp42"):
     names = list(las.point_format.dimension_names)
     h = np.asarray(las["HeightAboveGround" if "HeightAboveGround" in names else "height_above_ground_m"])
     x, y = np.asarray(las.x), np.asarray(las.y)
-    # The cells whose centres lie in the input's bounds: its points within half a cell.
-    assert x.min() >= x0 - c / 2 and x.max() <= x0 + (nx + 0.5) * c, name
-    assert y.min() >= y0 - c / 2 and y.max() <= y0 + (ny + 0.5) * c, name
+    # The cells whose centres lie in the input's bounds (its header's), no more.
+    lo, hi = las.header.mins, las.header.maxs
+    for first, count, a, b in ((x0 + c / 2, nx, lo[0], hi[0]), (y0 + c / 2, ny, lo[1], hi[1])):
+        last = first + (count - 1) * c
+        assert a <= first < a + c and b - c < last <= b + 1e-6, (name, first, last, a, b)
     fx, fy = (x - x0) / c - 0.5, (y - y0) / c - 0.5
     inside = (fx >= 1) & (fx <= nx - 2) & (fy >= 1) & (fy <= ny - 2)
     fx, fy, x, y, h = fx[inside], fy[inside], x[inside], y[inside], h[inside]
