@@ -186,13 +186,17 @@ double tileSide(const GroundFileCli& cli, const sim::GroundFileOptions& o, const
     return std::min(side, kLargestTile_m / units.horizontal_m);
 }
 
+// Where a grid's CRS goes: beside it, under its name with .prj.
+std::filesystem::path prjFor(const std::filesystem::path& asc) {
+    return std::filesystem::path(asc).replace_extension(".prj");
+}
+
 // One grid of the terrain (--dtm, or one of --dtm-dir's), with its input's CRS beside it in a
 // .prj of its name (as GIS read an ASCII grid's) when the input has one (OGC WKT, up to a
 // NUL); both written to temporaries before the cloud lands, renamed into place after it.
 class DtmOutput {
   public:
-    DtmOutput(const std::filesystem::path& asc, const std::filesystem::path& input)
-        : asc_(asc), prj_(std::filesystem::path(asc).replace_extension(".prj")) {
+    DtmOutput(const std::filesystem::path& asc, const std::filesystem::path& input) : asc_(asc), prj_(prjFor(asc)) {
         if (const auto foreign = io::CloudReader(input, io::SideRecords::Keep).foreignHeader())
             wkt_ = foreign->wkt.substr(0, foreign->wkt.find('\0'));
     }
@@ -316,10 +320,7 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     paths.push_back({"--out", cli.out, platform::PathRole::Output, {}});
     if (!cli.dtm.empty()) {
         paths.push_back({"--dtm", cli.dtm, platform::PathRole::Output, {}});
-        paths.push_back({"--dtm's CRS",
-                         std::filesystem::path(cli.dtm).replace_extension(".prj").string(),
-                         platform::PathRole::Output,
-                         {}});
+        paths.push_back({"--dtm's CRS", prjFor(cli.dtm).string(), platform::PathRole::Output, {}});
     }
     platform::checkDistinctPaths("ground", paths);
     platform::InputSet inputs;
@@ -342,10 +343,12 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     if (cli.in.size() > 1) sim::checkMergeable(files);
     const MemoryPlan one = planMemory(cli, format, side, 1);
     const double buffer = sim::tileBuffer(o);
+    // The first input's frame on the cell lattice: the raster's, the tiles' and the grid's.
+    const glm::dvec3 frame = sim::groundFrame(origin, o);
     bool tiled = cli.in.size() > 1 || cli.tile_m > 0;
     std::uint64_t cells = 0;
     if (!tiled) {
-        cells = cellsOver(groundBox(files[0]), sim::groundFrame(origin, o), filterCell(o));
+        cells = cellsOver(groundBox(files[0]), frame, filterCell(o));
         tiled = cells > std::min(one.max_cells, filterMaxCells(o));
     }
     createParentFolders(out, "ground: --out");
@@ -356,7 +359,6 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     if (!cli.dtm.empty() && files.size() > 1) {
         // One grid spans the box around every input: refused where most of it would lie
         // over no input (inputs far apart), before any work.
-        const glm::dvec3 frame = sim::groundFrame(origin, o);
         sim::GroundBox all{glm::dvec2(1e300), glm::dvec2(-1e300)};
         std::uint64_t covered = 0;
         for (const auto& f : files) {
@@ -374,7 +376,7 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     if (!cli.dtm.empty()) {
         dtm.emplace(cli.dtm, files[0]);
         dtm->prepare(inputs, "ground: --dtm");
-        terrain = &dtm->start(filterCell(o), sim::groundFrame(origin, o));
+        terrain = &dtm->start(filterCell(o), frame);
     }
     sim::GroundFileStats st;
     if (!tiled) {
@@ -438,10 +440,7 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
         for (const auto& f : files) {
             grids.push_back(std::filesystem::path(cli.dtm_dir) / f.filename().replace_extension(".asc"));
             paths.push_back({"--dtm-dir", grids.back().string(), platform::PathRole::Output, {}});
-            paths.push_back({"--dtm-dir",
-                             std::filesystem::path(grids.back()).replace_extension(".prj").string(),
-                             platform::PathRole::Output,
-                             {}});
+            paths.push_back({"--dtm-dir", prjFor(grids.back()).string(), platform::PathRole::Output, {}});
         }
     platform::checkDistinctPaths("ground", paths);
     platform::InputSet inputs;

@@ -24,11 +24,15 @@ std::string asciiHeader(int columns, int rows, double x_ll, double y_ll, double 
     return line;
 }
 
-// One row of heights (z0 + each), millimetre precision, separated by spaces.
+// One row of heights (z0 + each), millimetre precision, separated by spaces; a NaN (a
+// cell no piece of a mosaic holds) is written as the NODATA value.
 void appendRow(std::string& s, const float* z, int n, double z0) {
     char value[64];
     for (int i = 0; i < n; ++i) {
-        std::snprintf(value, sizeof value, i == 0 ? "%.3f" : " %.3f", z0 + double(z[i]));
+        if (std::isnan(z[i]))
+            std::snprintf(value, sizeof value, i == 0 ? "-9999" : " -9999");
+        else
+            std::snprintf(value, sizeof value, i == 0 ? "%.3f" : " %.3f", z0 + double(z[i]));
         s += value;
     }
     s += '\n';
@@ -96,7 +100,6 @@ void DtmMosaic::write(std::FILE* out) {
     constexpr float kNoData = std::numeric_limits<float>::quiet_NaN();
     std::vector<float> row(static_cast<std::size_t>(columns));
     std::string text;
-    char value[64];
     for (int j = j1_; j >= j0_; --j) {
         std::fill(row.begin(), row.end(), kNoData);
         for (const Piece& p : pieces_) {
@@ -106,15 +109,7 @@ void DtmMosaic::write(std::FILE* out) {
                             p.offset + std::uint64_t(j - p.j0) * width * sizeof(float));
         }
         text.clear();
-        for (int i = 0; i < columns; ++i) {
-            const float z = row[std::size_t(i)];
-            if (std::isnan(z))
-                std::snprintf(value, sizeof value, i == 0 ? "-9999" : " -9999");
-            else
-                std::snprintf(value, sizeof value, i == 0 ? "%.3f" : " %.3f", frame_.z + double(z));
-            text += value;
-        }
-        text += '\n';
+        appendRow(text, row.data(), columns, frame_.z);
         put(text);
     }
     if (std::fflush(out) != 0) throw core::Error("output: " + what_ + ": write failed: " + std::strerror(errno));
