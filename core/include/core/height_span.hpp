@@ -1,0 +1,73 @@
+// core/height_span.hpp: the span of a cloud's heights without its stray returns. Real
+// surveys carry a few returns from birds, clouds or multipath, hundreds of metres above
+// or below everything else; a colour map stretched over them shows the whole survey in
+// one colour. The span here leaves out a tail of at most a thousandth of the heights
+// when an empty gap parts it from the rest, and is the heights' own span otherwise.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <unordered_map>
+
+namespace core {
+
+/// A histogram of heights in bins of min_gap / 64, each with its count and its lowest
+/// and highest height. Only the bins that hold a height are kept; when they would be more
+/// than kMaxBins, the width doubles as often as it takes to bring them back. Memory stays
+/// under kMaxBins + 1 bins whatever the heights (a return at 10^30 is one bin), and the
+/// bins, hence the span, depend only on the heights added, not on their order.
+class HeightSpan {
+  public:
+    static constexpr std::int64_t kMaxBins = 8192;
+
+    /// `min_gap`: the least gap, in the heights' units, that can part a stray tail from
+    /// the rest (callers pass 20 m in their units). Needs a finite min_gap > 0.
+    explicit HeightSpan(double min_gap);
+    HeightSpan(const HeightSpan& other) { *this = other; }
+    HeightSpan& operator=(const HeightSpan& other) {
+        min_gap_ = other.min_gap_;
+        width_ = other.width_;
+        bins_ = other.bins_;
+        count_ = other.count_;
+        last_ = nullptr;  // it pointed into the other's bins
+        return *this;
+    }
+
+    /// Not-a-number and infinite heights are skipped.
+    void add(float z);
+    /// The heights of another span with the same min_gap (threads that gathered apart).
+    void merge(const HeightSpan& other);
+    std::size_t count() const { return count_; }
+
+    struct Span {
+        double lo = 0, hi = 0;        // the body's lowest and highest height
+        std::size_t strays_low = 0;   // heights left out below lo
+        std::size_t strays_high = 0;  // heights left out above hi
+    };
+    /// The body of the heights added. A tail is left out when an empty gap of at least
+    /// max(min_gap, half the span of the middle 98 % of the heights) parts it from the
+    /// median's side and it holds at most max(1, count / 1000) heights; of such gaps the
+    /// one nearest the median cuts. Where nothing is left out, lo or hi is the lowest or
+    /// highest height added, exactly. No heights: all zero.
+    Span span() const;
+
+  private:
+    struct Bin {
+        std::uint64_t n = 0;
+        float lo = 0, hi = 0;
+    };
+    std::int64_t keyOf(double z) const;
+    static void fold(Bin& into, const Bin& b);
+    /// Folds `b` into the bin of `key` (at the current width), then widens the bins when
+    /// they are more than kMaxBins.
+    void put(std::int64_t key, const Bin& b);
+    /// Doubles the bins' width `times` times, rebuilding them once.
+    void widen(int times);
+
+    double min_gap_ = 1, width_ = 1;
+    std::unordered_map<std::int64_t, Bin> bins_;  // key: floor(height / width_)
+    std::int64_t last_key_ = 0;                   // the bin put() touched last, for runs of near heights
+    Bin* last_ = nullptr;
+    std::size_t count_ = 0;
+};
+
+}  // namespace core
