@@ -133,6 +133,18 @@ std::string crsText(const io::LasCrs& c) {
     return s + (c.source == "wkt" ? " (WKT record)" : " (GeoTIFF keys)");
 }
 
+// The heights left out of the survey's span (io::LasInfo::heights), in words.
+std::string strayText(const io::CloudInfo& info) {
+    const core::HeightSpan::Span& h = info.las->heights;
+    if (h.strays_low == 0 && h.strays_high == 0) return "none (no heights far apart from the rest)";
+    const int dec = decimalsFor(info, 2);
+    std::string s = std::to_string(h.strays_low + h.strays_high) + " apart from the rest by an empty gap:";
+    if (h.strays_low) s += " " + std::to_string(h.strays_low) + " below " + number(h.lo, dec) + ",";
+    if (h.strays_high) s += " " + std::to_string(h.strays_high) + " above " + number(h.hi, dec) + ",";
+    s.back() = ';';
+    return s + " z without them " + number(h.lo, dec) + " to " + number(h.hi, dec);
+}
+
 void line(const std::string& key, const std::string& value) {
     std::printf("  %-*s %s\n", kKeyWidth, (key + ":").c_str(), value.c_str());
 }
@@ -226,6 +238,7 @@ void printHuman(const io::CloudInfo& info) {
         line(std::string("bounds ") + axes[k], number(info.min[k], dec) + " to " + number(info.max[k], dec) +
                                                    " (extent " + number(info.max[k] - info.min[k], dec) + ")");
     }
+    if (info.las && info.points > 0) line("stray returns", strayText(info));
     if (info.las) {
         const io::LasInfo& las = *info.las;
         line("scale", exact(las.scale.x) + " " + exact(las.scale.y) + " " + exact(las.scale.z));
@@ -269,6 +282,9 @@ Json lasJson(const io::CloudInfo& info) {
     j["scale"] = vec(las.scale);
     j["offset"] = vec(las.offset);
     j["points_bounds"] = {{"min", vec(las.points_min)}, {"max", vec(las.points_max)}};
+    j["stray_returns"] = {{"below", las.heights.strays_low},
+                          {"above", las.heights.strays_high},
+                          {"z_without", {las.heights.lo, las.heights.hi}}};
     j["software"] = las.software;
     j["system_id"] = las.system_id;
     j["creation"] = {{"day", las.creation_day}, {"year", las.creation_year}};

@@ -232,6 +232,11 @@ void setUnits(viewer::ViewerOptions& o, const io::LasCrs& crs) {
     const sim::UnitSymbols symbols = sim::unitSymbols(crs);
     o.length_unit = symbols.horizontal;
     o.height_unit = symbols.vertical;
+    try {
+        o.height_unit_m = sim::coordinateUnits(crs, {}, "view").vertical_m;
+    } catch (const core::Error&) {
+        o.height_unit_m = 1.0;  // an angle or an unknown length: the reader names it below
+    }
 }
 
 // A file's CRS and units in words, for the refusal of unlike files.

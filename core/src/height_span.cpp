@@ -95,7 +95,7 @@ void HeightSpan::merge(const HeightSpan& other) {
     count_ += other.count_;
 }
 
-HeightSpan::Span HeightSpan::span() const {
+HeightSpan::Span HeightSpan::span(double min_gap) const {
     Span s;
     if (count_ == 0) return s;
     std::vector<std::pair<std::int64_t, const Bin*>> sorted;
@@ -117,7 +117,7 @@ HeightSpan::Span HeightSpan::span() const {
         return full.size() - 1;
     };
     const std::size_t b01 = rankBin(0.01), b99 = rankBin(0.99), median = rankBin(0.5);
-    const double gap = std::max(min_gap_, 0.5 * (double(full[b99]->hi) - double(full[b01]->lo)));
+    const double gap = std::max(min_gap, 0.5 * (double(full[b99]->hi) - double(full[b01]->lo)));
     const std::uint64_t max_tail = std::max<std::uint64_t>(1, count_ / 1000);
 
     std::uint64_t below = 0;  // the heights in full[0 .. i - 1]

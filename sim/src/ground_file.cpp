@@ -242,20 +242,24 @@ void fitOn(std::unique_ptr<TerrainFit>& fit, const std::filesystem::path& in, co
         fit->fit();
 }
 
-// The top of the jet map: the highest point above the terrain that is not ground.
+// The top of the jet map: the highest point above the terrain that is not ground, a few
+// stray returns far above the rest left out (core::HeightSpan over every point's height,
+// so that the strays may be a thousandth of the survey, not of its objects).
 float colourTop(const TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& shift,
-                const std::function<void(std::size_t)>& progress) {
+                const GroundFileOptions& o, const std::function<void(std::size_t)>& progress) {
     float top_m = 0;
+    core::HeightSpan heights = aboveGroundHeights(o);
     io::CloudReader reader(in, io::PointFields::Positions);
     io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
         for (core::CloudPoint p : chunk) {
             if (!zeroShift(shift)) p.position = glm::vec3(glm::dvec3(p.position) + shift);
             float height_m = 0;
             if (!fit.classify(p, height_m)) top_m = std::max(top_m, height_m);
+            heights.add(height_m);
         }
         progress(chunk.size());
     });
-    return top_m;
+    return core::topWithoutStrays(heights, top_m);
 }
 
 }  // namespace
@@ -274,7 +278,7 @@ GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec
     st.nx = fit->surface().nx;
     st.ny = fit->surface().ny;
     st.cell_m = fit->surface().cell_m;
-    if (o.whiten) st.colour_top_m = colourTop(*fit, in, shift, progress);
+    if (o.whiten) st.colour_top_m = colourTop(*fit, in, shift, o, progress);
 
     const io::CloudFormat format = io::formatForPath(out, "ground: --out");
     const bool las_out =

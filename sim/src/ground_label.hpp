@@ -3,6 +3,7 @@
 // classification of one file whose terrain is fitted on its points and on points of other
 // files around it (a folder of tiles).
 #pragma once
+#include <core/height_span.hpp>
 #include <sim/ground.hpp>
 #include <sim/ground_file.hpp>
 
@@ -19,6 +20,12 @@ namespace sim {
 
 /// `o`'s filter with its raster bounded by `max_cells` (and its own bound).
 std::unique_ptr<TerrainFit> startFit(const GroundFileOptions& o, std::size_t max_cells);
+
+/// No heights above the terrain yet: with every point's, they give the top of the jet map
+/// of `whiten`, stray returns left out (core::kStrayGap_m in the cloud's height unit).
+inline core::HeightSpan aboveGroundHeights(const GroundFileOptions& o) {
+    return core::HeightSpan(core::kStrayGap_m / (o.method == GroundMethod::Csf ? o.csf.z_unit_m : o.smrf.z_unit_m));
+}
 
 /// Gives a point its class as classifyGroundFile writes it: label, height above ground,
 /// the foreign record's ASPRS class, and with GroundFileOptions::whiten its colour.

@@ -115,6 +115,7 @@ struct Tile {
     std::uint64_t own = 0, all = 0;
     int nx = 0, ny = 0;
     float top_m = 0;
+    std::optional<core::HeightSpan> heights;  // its own points' heights above ground (whiten)
 };
 
 std::uint64_t tileKey(std::int64_t tx, std::int64_t ty) {
@@ -442,6 +443,10 @@ void runTile(Tile& tile, const Tiler& tiler, const GroundFileOptions& o, const G
             float height_m = 0;
             const std::uint8_t ground = fit->classify(chunk[i], height_m) ? 1 : 0;
             if (!ground) tile.top_m = std::max(tile.top_m, height_m);
+            if (o.whiten) {
+                if (!tile.heights) tile.heights = aboveGroundHeights(o);
+                tile.heights->add(height_m);
+            }
             unsigned char bytes[kResultBytes];
             bytes[0] = ground;
             std::memcpy(bytes + 1, &height_m, sizeof(float));
@@ -542,7 +547,8 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
     auto& tiles = tiler.tiles();
     runTiles(tiler, o, t, cell, t.scratch_dir, progress);
     st.tiles = 0;
-    for (const auto& [key, tile] : tiles) {
+    core::HeightSpan heights = aboveGroundHeights(o);
+    for (auto& [key, tile] : tiles) {
         if (tile.own == 0) continue;
         st.tiles += 1;
         if (std::size_t(tile.nx) * std::size_t(tile.ny) > std::size_t(st.nx) * std::size_t(st.ny)) {
@@ -550,7 +556,10 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
             st.ny = tile.ny;
         }
         st.colour_top_m = std::max(st.colour_top_m, tile.top_m);
+        if (tile.heights) heights.merge(*tile.heights);
+        tile.heights.reset();
     }
+    st.colour_top_m = core::topWithoutStrays(heights, st.colour_top_m);
     st.cell_m = cell;
 
     // Pass 3: the writing, each point's label from its tile's results in turn.

@@ -8,6 +8,9 @@
 #  - a file with a scale per axis and an extra bytes field whose descriptor states its
 #    scale, offset, no-data value, minimum and maximum: all of them reported;
 #  - a COPC file written by `ladarvr index`: its nodes as `index --check` counts them;
+#  - stray returns: FSite8's one return 560 m above the rest (laspy finds the heights
+#    without it), none in hexbin; in feet (4_6_crop.las with one return added by laspy),
+#    the gap that parts a stray is 20 m in feet: 50 ft above the rest is not one, 80 ft is;
 #  - a truncated file and a VLR longer than the bytes before the points: one line
 #    `ladarvr: error: info: FILE: ...`, exit 1, nothing on stdout; no file: usage, exit 2.
 set -eu
@@ -38,12 +41,40 @@ grep -q '^  density:  *0.597 points per square US survey foot (6.43 points/m²) 
 grep -q '^  density:  *0.65 points/m² of the XY bounds$' "$dir/out" || fail "hexbin's density in m²"
 grep -q '^  density: .* per square unit of the XY bounds (the file states no units)$' "$dir/out" ||
     fail "sample_c's density does not say its units are unknown"
+grep -qxF '  stray returns:     1 apart from the rest by an empty gap: 1 above 328.86; z without them 241.67 to 328.86' \
+    "$dir/out" || fail "FSite8's stray return: $(grep stray "$dir/out")"
+[ "$(grep -c '^  stray returns:     none (no heights far apart from the rest)$' "$dir/out")" = 2 ] ||
+    fail "hexbin and sample_c hold no stray returns: $(grep stray "$dir/out")"
+
+# Stray returns in feet: one return 50 ft above 4_6_crop.las's highest, then 80 ft.
+for rise in 50 80; do
+    python3 - "$data/4_6_crop.las" "$dir/rise$rise.las" "$rise" <<'PY' || fail "laspy could not add a return"
+import sys
+import laspy
+import numpy as np
+las = laspy.read(sys.argv[1])
+top = int(np.argmax(las.z))
+las.points = las.points[np.r_[np.arange(len(las.points)), top]]
+z = np.asarray(las.z)
+z[-1] += float(sys.argv[3])
+las.z = z
+las.write(sys.argv[2])
+PY
+    "$bin" info "$dir/rise$rise.las" >"$dir/out" 2>"$dir/err" || fail "info rise$rise.las: $(cat "$dir/err")"
+    line=$(grep '^  stray returns:' "$dir/out")
+    case $rise in
+        50) [ "$line" = '  stray returns:     none (no heights far apart from the rest)' ] ||
+                fail "50 ft above is within 20 m: $line" ;;
+        80) [ "$line" = '  stray returns:     1 apart from the rest by an empty gap: 1 above 7139.70; z without them 7077.92 to 7139.70' ] ||
+                fail "80 ft above is past 20 m: $line" ;;
+    esac
+done
 
 # --json, against the README's figures.
 "$bin" info --json "$data/4_6_crop.las" "$data/sample_c.las" "$data/hexbin-crop.las" "$data/warsaw_small.las" \
     "$data/mvk-thin.las" "$data/FSite8_orig-utm.laz" >"$dir/all.json" 2>"$dir/err" || fail "info --json: $(cat "$dir/err")"
 "$bin" info --json "$data/warsaw_small.las" >"$dir/one.json" || fail "info --json of one file"
-python3 - "$dir/all.json" "$dir/one.json" <<'PY' || fail "the JSON of info --json"
+python3 - "$dir/all.json" "$dir/one.json" "$data/FSite8_orig-utm.laz" <<'PY' || fail "the JSON of info --json"
 import json, sys
 files = json.load(open(sys.argv[1]))
 assert isinstance(files, list) and len(files) == 6, "not an array of 6"
@@ -82,6 +113,14 @@ mvk = by["mvk-thin.las"]
 assert mvk["points"] == 6280 and sorted(classes(mvk)) == [1, 2, 4, 5, 9, 12]
 site = by["FSite8_orig-utm.laz"]
 assert site["format"] == "LAZ" and site["las"]["compressed"] and site["points"] == 345966
+import laspy
+z = laspy.read(sys.argv[3]).z
+strays = site["las"]["stray_returns"]
+assert strays["below"] == 0 and strays["above"] == 1 and (z > 500).sum() == 1, strays
+assert abs(strays["z_without"][1] - z[z < 500].max()) < 1e-3 and abs(strays["z_without"][0] - z.min()) < 1e-3, strays
+h = by["hexbin-crop.las"]["las"]["stray_returns"]
+assert h["below"] == 0 and h["above"] == 0, h
+assert [round(v, 5) for v in h["z_without"]] == [3107.8627, 3209.3205], h
 assert classes(site) == {0: 345966}
 assert site["las"]["crs"]["epsg"] == 32632 and site["las"]["crs"]["horizontal_unit"]["name"] == "metre"
 for f in files:

@@ -92,6 +92,16 @@ TEST_CASE("height span: a gap narrower than min_gap, or than half the body's mid
     u.add(230.0f);
     CHECK(u.span().hi == 150.0);
     CHECK(u.span().strays_high == 1);
+    // The least gap given when the span is read (the heights' unit learned after them):
+    // 20 m in feet is 65.6 ft, so a return 60 ft above a flat survey stays, 70 ft above goes.
+    core::HeightSpan sixty(20.0), seventy(20.0);
+    addEven(sixty, 10000, 0.0, 3.0);
+    sixty.add(63.0f);
+    addEven(seventy, 10000, 0.0, 3.0);
+    seventy.add(73.0f);
+    CHECK(sixty.span().strays_high == 1);  // 60 metres apart
+    CHECK(sixty.span(20.0 / 0.3048).strays_high == 0);
+    CHECK(seventy.span(20.0 / 0.3048).strays_high == 1);
 }
 
 TEST_CASE("height span: heights far apart widen the bins, in bounded memory, whatever their order") {

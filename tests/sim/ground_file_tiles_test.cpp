@@ -450,3 +450,46 @@ TEST_CASE("ground tiles: --whiten writes white ground and the jet map by height 
     sim::classifyGroundFile(in, s.dir / "plain.las", sim::GroundFileOptions{}, std::size_t(1) << 24, {}, {}, none);
     CHECK(!io::readCloud(s.dir / "plain.las").fields.rgb);
 }
+
+TEST_CASE("ground tiles: --whiten's colour map ends at the survey's objects, not at a few stray returns far above") {
+    // Sample 54 with returns 400-500 m above it (birds, clouds): up to a thousandth of its
+    // points they are left out of the colour map's range, one run or tiled; more, and they
+    // are its top, as before.
+    const Scratch s("strays");
+    const fs::path in = fs::path(LADARVR_ISPRS_DIR) / "samp54.las";
+    sim::GroundFileOptions o;
+    o.whiten = true;
+    const sim::GroundFileStats clean =
+        sim::classifyGroundFile(in, s.dir / "clean.ply", o, std::size_t(1) << 24, {}, {}, none);
+    const core::PointCloud survey = io::readCloud(in);
+    const std::size_t most = survey.points.size() / 1000;
+    REQUIRE(most >= 4);
+    const auto withStrays = [&](std::size_t n, const fs::path& path) {
+        core::PointCloud c = survey;
+        for (std::size_t k = 0; k < n; ++k) {
+            core::CloudPoint p = survey.points[k * 97];
+            p.position.z += 400.0f + 100.0f * float(k) / float(n);
+            c.points.push_back(p);
+        }
+        io::writeCloud(path, c, io::CloudFormat::PlyBinary);
+    };
+    withStrays(most, s.dir / "few.ply");
+    const sim::GroundFileStats few =
+        sim::classifyGroundFile(s.dir / "few.ply", s.dir / "few_out.ply", o, std::size_t(1) << 24, {}, {}, none);
+    CHECK(clean.colour_top_m > 5.0f);
+    CHECK(clean.colour_top_m < 50.0f);
+    CHECK(few.colour_top_m == clean.colour_top_m);
+    const sim::GroundFileStats few_tiled = sim::classifyGroundTiled({s.dir / "few.ply"}, s.dir / "few_tiled.ply", o,
+                                                                    tiling(100.0, o, s.dir), {}, {}, none);
+    CHECK(few_tiled.tiles >= 2);  // each tile's heights gathered apart, then merged
+    CHECK(few_tiled.colour_top_m == clean.colour_top_m);
+    // The strays themselves take the map's top colour (blue).
+    const core::PointCloud out = io::readCloud(s.dir / "few_out.ply");
+    const std::vector<std::uint32_t> jet = core::jetTable(64);
+    for (std::size_t k = survey.points.size(); k < out.points.size(); ++k)
+        CHECK(out.points[k].rgb == jet[core::jetIndex(clean.colour_top_m, 0.0f, clean.colour_top_m, 64)]);
+    withStrays(most + 1, s.dir / "many.ply");
+    const sim::GroundFileStats many =
+        sim::classifyGroundFile(s.dir / "many.ply", s.dir / "many_out.ply", o, std::size_t(1) << 24, {}, {}, none);
+    CHECK(many.colour_top_m > 350.0f);
+}

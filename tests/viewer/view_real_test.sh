@@ -14,6 +14,11 @@
 #   eight-bit  hexbin-crop.las's points written by laspy with 8-bit colours (a yellow,
 #           255 200 40) in LAS's 16-bit fields, as many producers do: `--colour file` shows
 #           them yellow, not black (the high byte of an 8-bit value is 0).
+#   strays  FSite5_orig-utm.laz holds 187 returns 610-899 m up (birds, clouds) over a
+#           survey whose trees reach 400 m: --colour height spans the survey's own heights,
+#           so its picture has as many blue, cyan and green pixels as that of a copy
+#           without those returns (stretched to 899 m, the survey is red to orange, with
+#           none), and the orbit centres on the survey, not 250 m above it.
 # Each run has a timeout; headless_env.sh starts and kills Xvfb (trap).
 set -euo pipefail
 bin=$(realpath "$1")
@@ -136,6 +141,48 @@ px = px[:w * (h // 2) * 3]  # the upper half (the panel keeps to the lower)
 yellow = count(px, lambda r, g, b: r > 200 and g > 150 and b < 90)
 print(f"upper half: {yellow} of {w * (h // 2)} pixels the file's yellow")
 assert yellow > w * (h // 2) // 2, f"only {yellow} yellow pixels: the 8-bit colours are not shown"
+PY
+    ;;
+  strays)
+    python3 - "$data/FSite5_orig-utm.laz" "$work/clean.las" <<'PY'
+import sys
+import laspy
+src = laspy.read(sys.argv[1])
+keep = (src.z > 200) & (src.z < 500)
+assert (~keep).sum() >= 150, f"{(~keep).sum()} stray returns in FSite5, want the file's 188"
+src.points = src.points[keep]
+src.write(sys.argv[2])
+PY
+    # The file loads beside the frames: each view runs more frames than the last until its
+    # log shows every point of the file on the GPU.
+    for name in strays clean; do
+      cloud="$data/FSite5_orig-utm.laz"
+      want=628320
+      [ "$name" = clean ] && { cloud="$work/clean.las"; want=628132; }
+      loaded=no
+      for frames in 10 60 300 1500; do
+        "$here/headless_env.sh" --timeout 200 -- "$bin" view --no-xr --frames "$frames" --width 640 --height 480 \
+          --timeout 180 "$cloud" --no-edl --colour height --log-json "$work/$name.json" \
+          --screenshot "$work/$name.png" 2>"$work/stderr" || { cat "$work/stderr" >&2; exit 1; }
+        if python3 -c "import json, sys; j = json.load(open(sys.argv[1])); sys.exit(0 if j['points_uploaded'] == $want else 1)" \
+          "$work/$name.json"; then loaded=yes; break; fi
+      done
+      [ "$loaded" = yes ] || { echo "FAIL: $name: not every point on the GPU after 1500 frames" >&2; exit 1; }
+    done
+    python3 - "$here" "$work" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+from check_view_log import read_png, count
+cool = {}
+for name in ("strays", "clean"):
+    w, h, px = read_png(f"{sys.argv[2]}/{name}.png")
+    px = px[:w * (h // 2) * 3]  # the upper half (the panel keeps to the lower)
+    lit = count(px, lambda r, g, b: r + g + b > 90)
+    cool[name] = count(px, lambda r, g, b: r + g + b > 90 and max(g, b) > r + 40)
+    print(f"{name}: {lit} lit pixels, {cool[name]} blue, cyan or green")
+    assert lit > w * (h // 2) // 3, f"{name}: only {lit} pixels show the survey"
+assert cool["clean"] > 0, "the survey without strays shows no blue, cyan or green"
+assert cool["strays"] > 0.7 * cool["clean"], f"with its stray returns {cool['strays']} cool pixels, want near {cool['clean']}"
 PY
     ;;
   *)

@@ -10,6 +10,10 @@
 
 namespace core {
 
+/// The least gap, in metres, that parts stray returns from the rest of a survey's heights
+/// where a colour range is chosen (the viewer's height colours, `ground --whiten`).
+inline constexpr double kStrayGap_m = 20.0;
+
 /// A histogram of heights in bins of min_gap / 64, each with its count and its lowest
 /// and highest height. Only the bins that hold a height are kept; when they would be more
 /// than kMaxBins, the width doubles as often as it takes to bring them back. Memory stays
@@ -48,7 +52,10 @@ class HeightSpan {
     /// median's side and it holds at most max(1, count / 1000) heights; of such gaps the
     /// one nearest the median cuts. Where nothing is left out, lo or hi is the lowest or
     /// highest height added, exactly. No heights: all zero.
-    Span span() const;
+    Span span() const { return span(min_gap_); }
+    /// The same with another least gap (a reader that learns the heights' unit after
+    /// reading them); the bins stay those of the constructor's min_gap.
+    Span span(double min_gap) const;
 
   private:
     struct Bin {
@@ -69,5 +76,12 @@ class HeightSpan {
     Bin* last_ = nullptr;
     std::size_t count_ = 0;
 };
+
+/// The top of a colour range over heights whose highest is `highest`: the body's top
+/// when `span` leaves strays out above it, else `highest` itself.
+inline float topWithoutStrays(const HeightSpan& span, float highest) {
+    const HeightSpan::Span s = span.span();
+    return s.strays_high ? float(s.hi) : highest;
+}
 
 }  // namespace core

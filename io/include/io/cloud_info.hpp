@@ -6,6 +6,7 @@
 // The whole file is read once, in chunks, through the same checked readers as
 // CloudReader (LAZ decoded in their separate process), so memory stays bounded.
 #pragma once
+#include <core/height_span.hpp>
 #include <io/las_crs.hpp>
 
 #include <glm/vec3.hpp>
@@ -77,6 +78,10 @@ struct LasInfo {
     std::array<unsigned, 3> rgb_max{};  // the largest red, green, blue value
     bool copc = false;
     std::uint64_t copc_nodes = 0;  // COPC: nodes of the hierarchy holding points
+    /// The points' heights without their stray returns (core::HeightSpan, a gap of at least
+    /// core::kStrayGap_m in the file's height unit: its vertical unit, else its horizontal
+    /// one, else metres); world coordinates. No points: all zero.
+    core::HeightSpan::Span heights;
 };
 
 struct CloudInfo {

@@ -205,11 +205,17 @@ std::uint64_t copcNodes(const std::filesystem::path& file, const std::string& pr
 void inspectLas(ByteSource& source, const std::string& prefix, const std::filesystem::path& file, CloudInfo& info) {
     LasFacts facts;
     LasTally tally;
+    // Bins for gaps of kStrayGap_m in metres or in any shorter unit (feet): the span is
+    // read with the file's own unit once its CRS is known, after the points.
+    core::HeightSpan heights(core::kStrayGap_m);
     {
         const std::unique_ptr<FormatReader> reader = openLasCounted(source, prefix, facts, tally);
         std::vector<core::CloudPoint> chunk;
         chunk.reserve(kChunkPoints);
-        while (reader->next(chunk, kChunkPoints) > 0) chunk.clear();
+        while (reader->next(chunk, kChunkPoints) > 0) {
+            for (const core::CloudPoint& p : chunk) heights.add(float(double(p.position.z) + reader->origin.z));
+            chunk.clear();
+        }
     }
     LasInfo las;
     las.version_major = facts.major;
@@ -233,6 +239,11 @@ void inspectLas(ByteSource& source, const std::string& prefix, const std::filesy
         las.records.push_back(
             {core::printable(v.user, 40), v.record, core::printable(v.description, 40), v.bytes, v.extended});
     las.crs = readCrs(source, facts);
+    const CrsUnit& z_unit = las.crs.vertical_unit.metres > 0.0 ? las.crs.vertical_unit : las.crs.horizontal_unit;
+    las.heights = heights.span(core::kStrayGap_m / (z_unit.metres > 0.0 ? z_unit.metres : 1.0));
+    // A side without strays: the points' own extreme, exactly (the span holds floats).
+    if (las.heights.strays_low == 0) las.heights.lo = las.points_min.z;
+    if (las.heights.strays_high == 0) las.heights.hi = las.points_max.z;
     for (unsigned c = 0; c < tally.classes.size(); ++c)
         if (tally.classes[c] > 0) las.classes[c] = tally.classes[c];
     for (unsigned r = 0; r < tally.returns.size(); ++r)

@@ -84,6 +84,9 @@ struct ViewerOptions {
     /// The symbols the pick panel gives its coordinates and ranges (horizontal) and heights
     /// (vertical) in: the cloud's own units, as its CRS says.
     std::string length_unit = "m", height_unit = "m";
+    /// Metres per unit of the cloud's heights, as its CRS says (1: none stated): the
+    /// colour ranges' stray returns are parted by gaps given in metres.
+    double height_unit_m = 1.0;
     ViewStyle style;
     ModeOptions modes;
     std::size_t upload_points_per_frame = 1u << 18;  // streaming budget per frame

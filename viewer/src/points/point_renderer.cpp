@@ -297,8 +297,11 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
         const std::size_t n = std::min(budget_points - uploaded, points.size() - job.next);
         const std::span<const core::CloudPoint> part(points.data() + job.next, n);
         if (fields_.height_above_ground)  // else the slot holds the packed attributes
-            for (const core::CloudPoint& p : part)
+            for (const core::CloudPoint& p : part) {
                 above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
+                above_ground_span_.add(p.height_above_ground_m);
+            }
+        for (const core::CloudPoint& p : part) z_span_.add(p.position.z);
         if (terrain_) raiseTerrainMax(part);
         chunks_.upload(job.chunk, part);
         job.next += n;
@@ -306,6 +309,7 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
         pending_points_ -= n;
         if (job.next == points.size()) pending_.pop_front();
     }
+    if (uploaded) updateSpans();
     arena_.frame_upload_bytes = uploaded * sizeof(render::GpuPoint);
     if (uploaded) render::logGl("glNamedBufferSubData (point chunk)", __FILE__, __LINE__);
     return uploaded;
@@ -360,8 +364,31 @@ void PointRenderer::setTerrain(const ViewTerrain& terrain, const glm::dvec3& ori
     render::logGl("PointRenderer::setTerrain", __FILE__, __LINE__);
     terrain_ = std::move(t);
     terrain_max_m_ = 0.0f;
+    terrain_span_ = core::HeightSpan(core::kStrayGap_m / height_unit_m_);
     for (const PointNode* node : allNodes(source))
         if (const std::shared_ptr<const NodePoints> points = node->points()) raiseTerrainMax(points->points);
+    updateSpans();
+}
+
+void PointRenderer::setHeightUnit(double metres) {
+    if (!(std::isfinite(metres) && metres > 0.0)) metres = 1.0;
+    height_unit_m_ = metres;
+    const core::HeightSpan fresh(core::kStrayGap_m / metres);
+    z_span_ = above_ground_span_ = terrain_span_ = fresh;
+}
+
+void PointRenderer::updateSpans() {
+    z_body_ = z_span_.span();
+    above_ground_top_m_ = core::topWithoutStrays(above_ground_span_, above_ground_max_m_);
+    terrain_top_m_ = core::topWithoutStrays(terrain_span_, terrain_max_m_);
+}
+
+core::Bounds PointRenderer::bodyBounds() const {
+    core::Bounds b = chunks_.bounds();
+    if (b.empty()) return b;
+    if (z_body_.strays_low) b.lo.z = z_body_.lo;
+    if (z_body_.strays_high) b.hi.z = z_body_.hi;
+    return b;
 }
 
 std::optional<double> PointRenderer::heightAboveTerrain(const glm::dvec3& local) const {
@@ -370,9 +397,11 @@ std::optional<double> PointRenderer::heightAboveTerrain(const glm::dvec3& local)
 }
 
 void PointRenderer::raiseTerrainMax(std::span<const core::CloudPoint> points) {
-    for (const core::CloudPoint& p : points)
-        terrain_max_m_ = std::max(terrain_max_m_,
-                                  float(double(p.position.z) - terrainHeightAt(*terrain_, p.position.x, p.position.y)));
+    for (const core::CloudPoint& p : points) {
+        const float h = float(double(p.position.z) - terrainHeightAt(*terrain_, p.position.x, p.position.y));
+        terrain_max_m_ = std::max(terrain_max_m_, h);
+        terrain_span_.add(h);
+    }
 }
 
 ColourSources PointRenderer::colourSources() const {
@@ -437,7 +466,7 @@ void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_b
 void PointRenderer::setStyleUniforms(const render::Program& program, const ViewStyle& style,
                                      const CutVolume& cut) const {
     program.use();
-    const core::Bounds& bounds = chunks_.bounds();
+    const core::Bounds bounds = bodyBounds();
     glUniform1f(program.uniform("u_z_min"), bounds.empty() ? 0.0f : float(bounds.lo.z));
     glUniform1f(program.uniform("u_z_max"), bounds.empty() ? 1.0f : float(bounds.hi.z));
     glUniform1i(program.uniform("u_colour_mode"), static_cast<int>(shownColourMode(style.colour, colourSources())));

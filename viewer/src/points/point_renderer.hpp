@@ -14,6 +14,7 @@
 #include <viewer/viewer.hpp>
 
 #include <core/frames.hpp>
+#include <core/height_span.hpp>
 #include <render/gl.hpp>
 #include <render/point_chunks.hpp>
 #include <render/shader.hpp>
@@ -98,8 +99,15 @@ class PointRenderer {
     /// Points on the GPU / waiting in CPU memory.
     std::size_t uploadedPoints() const { return chunks_.uploadedPoints(); }
     std::size_t pendingPoints() const { return pending_points_; }
-    /// Bounds (local frame) of everything received so far, and heights for the jet colours.
+    /// Bounds (local frame) of everything received so far.
     const core::Bounds& bounds() const { return chunks_.bounds(); }
+    /// bounds() with the heights of its body: a few stray returns (birds, clouds, multipath)
+    /// parted from the rest by a wide empty gap left out (core::HeightSpan, a gap of at
+    /// least core::kStrayGap_m). The height colours span it, and the camera centres on it.
+    core::Bounds bodyBounds() const;
+    /// Metres per unit of the cloud's heights (its CRS's), for core::kStrayGap_m; before
+    /// any upload.
+    void setHeightUnit(double metres);
 
     /// The ground's height under every point for the above-ground colours from now on:
     /// `terrain` (world coordinates) taken into the frame of `origin` (the source's) and
@@ -112,8 +120,9 @@ class PointRenderer {
     /// sample it); none without a terrain.
     std::optional<double> heightAboveTerrain(const glm::dvec3& local) const;
     /// The top of the above-ground colours' range: the highest height above ground seen so
-    /// far (above the bound terrain when there is one, else the points' own).
-    float aboveGroundMax() const { return terrain_ ? terrain_max_m_ : above_ground_max_m_; }
+    /// far (above the bound terrain when there is one, else the points' own), stray
+    /// returns left out as bodyBounds() leaves them out.
+    float aboveGroundMax() const { return terrain_ ? terrain_top_m_ : above_ground_top_m_; }
     /// What the streamed cloud can be coloured by (its fields as the source reports them
     /// at the last stream(), and whether a terrain is bound).
     ColourSources colourSources() const;
@@ -265,7 +274,16 @@ class PointRenderer {
     std::deque<Pending> pending_;
     std::size_t pending_points_ = 0;
     float above_ground_max_m_ = 0.0f;  // highest height above ground uploaded (colour range)
-    core::CloudFields fields_;         // the source's, at the last stream()
+    // The heights uploaded, their heights above ground and above terrain_ (for the spans
+    // without stray returns), and what those spans gave after the last upload.
+    double height_unit_m_ = 1.0;
+    core::HeightSpan z_span_{core::kStrayGap_m}, above_ground_span_{core::kStrayGap_m},
+        terrain_span_{core::kStrayGap_m};
+    core::HeightSpan::Span z_body_;
+    float above_ground_top_m_ = 0.0f, terrain_top_m_ = 0.0f;
+    /// z_body_, above_ground_top_m_ and terrain_top_m_ from the spans.
+    void updateSpans();
+    core::CloudFields fields_;  // the source's, at the last stream()
     std::optional<LocalTerrain> terrain_;
     float terrain_max_m_ = 0.0f;  // highest height above terrain_ of the points seen
 };

@@ -25,6 +25,7 @@ void SourceStream::start(const ViewerOptions& options, RunLog& log) {
                   : options.upload_points_per_frame;
     gpu_bytes_ = options.gpu_bytes;
     quiet_ = options.quiet;
+    height_unit_m_ = options.height_unit_m;
     budget_points_ = options.point_budget;
     rasterizer_ = options.style.rasterizer;
     auto str = [](GLenum name) {
@@ -64,6 +65,7 @@ void SourceStream::start(const ViewerOptions& options, RunLog& log) {
 }
 
 void SourceStream::applyBudget() {
+    renderer_->setHeightUnit(height_unit_m_);
     renderer_->setGpuBytes(gpu_bytes_);
     renderer_->setPointBudget(budget_points_);
 }
@@ -373,13 +375,14 @@ SourceEvents SourceStream::update(long frame, RunLog& log) {
         ev.load_error = error_;
     }
     if (loaded_since_frame_ < 0 && whole) loaded_since_frame_ = frame;
-    // The cloud's bounds are its drawn points' once there are any; before that, a source
+    // The cloud's bounds are its drawn points' once there are any (their heights without
+    // stray returns, PointRenderer::bodyBounds); before that, a source
     // that chooses its nodes (a COPC hierarchy, known unread) gives its roots', so the
     // orbit is placed on the survey before the first node is chosen: a real survey far
     // from the frame's origin (a COPC file's heights at 3,000 m) would otherwise be
     // outside every frustum and never be asked for.
     if (!renderer_->bounds().empty()) {
-        cloud_bounds_ = renderer_->bounds();
+        cloud_bounds_ = renderer_->bodyBounds();
         centre_changed_ = !centre_final_;
         if (centre_changed_) centre_final_ = finished && renderer_->pendingPoints() == 0;
     } else if (chooses) {

@@ -95,7 +95,8 @@ class SourceStream {
     std::optional<AdaptiveBudget> adaptive_;
     std::size_t last_loaded_ = 0, last_evicted_ = 0;  // the source's counts at the last frameFigures()
     bool quiet_ = false;
-    std::string arena_warned_;  // the one warning of a full arena, once given
+    double height_unit_m_ = 1.0;  // metres per unit of the cloud's heights
+    std::string arena_warned_;    // the one warning of a full arena, once given
     PointSource* source_ = nullptr;
     std::unique_ptr<PointRenderer> renderer_;
     std::future<std::shared_ptr<const PickSet>> building_;
