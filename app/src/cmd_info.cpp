@@ -133,6 +133,17 @@ std::string crsText(const io::LasCrs& c) {
     return s + (c.source == "wkt" ? " (WKT record)" : " (GeoTIFF keys)");
 }
 
+// Whether the LAS header's bounds hold every point read (within half a scale step: the
+// header's doubles and the points' integers round apart).
+bool headerHoldsPoints(const io::CloudInfo& info) {
+    const io::LasInfo& las = *info.las;
+    for (int k = 0; k < 3; ++k) {
+        const double slack = 0.5 * std::abs(las.scale[k]);
+        if (las.points_min[k] < info.min[k] - slack || las.points_max[k] > info.max[k] + slack) return false;
+    }
+    return true;
+}
+
 // The heights left out of the survey's span (io::LasInfo::heights), in words.
 std::string strayText(const io::CloudInfo& info) {
     const core::HeightSpan::Span& h = info.las->heights;
@@ -238,6 +249,16 @@ void printHuman(const io::CloudInfo& info) {
         line(std::string("bounds ") + axes[k], number(info.min[k], dec) + " to " + number(info.max[k], dec) +
                                                    " (extent " + number(info.max[k] - info.min[k], dec) + ")");
     }
+    if (info.las && info.points > 0 && !headerHoldsPoints(info)) {
+        const io::LasInfo& las = *info.las;
+        std::string s = "do not hold the points, which lie in";
+        for (int k = 0; k < 3; ++k) {
+            const int dec = decimalsFor(info, k);
+            s += std::string(k ? "," : "") + " " + axes[k] + " " + number(las.points_min[k], dec) + " to " +
+                 number(las.points_max[k], dec);
+        }
+        line("header bounds", s);
+    }
     if (info.las && info.points > 0) line("stray returns", strayText(info));
     if (info.las) {
         const io::LasInfo& las = *info.las;
@@ -282,6 +303,7 @@ Json lasJson(const io::CloudInfo& info) {
     j["scale"] = vec(las.scale);
     j["offset"] = vec(las.offset);
     j["points_bounds"] = {{"min", vec(las.points_min)}, {"max", vec(las.points_max)}};
+    j["header_bounds_hold_points"] = info.points == 0 || headerHoldsPoints(info);
     j["stray_returns"] = {{"below", las.heights.strays_low},
                           {"above", las.heights.strays_high},
                           {"z_without", {las.heights.lo, las.heights.hi}}};

@@ -11,6 +11,8 @@
 #  - stray returns: FSite8's one return 560 m above the rest (laspy finds the heights
 #    without it), none in hexbin; in feet (4_6_crop.las with one return added by laspy),
 #    the gap that parts a stray is 20 m in feet: 50 ft above the rest is not one, 80 ft is;
+#  - a header whose bounds are zeros (hexbin-crop.las's, changed here): a line says they do
+#    not hold the points and where the points lie; none for the real files as they are;
 #  - a truncated file and a VLR longer than the bytes before the points: one line
 #    `ladarvr: error: info: FILE: ...`, exit 1, nothing on stdout; no file: usage, exit 2.
 set -eu
@@ -45,6 +47,20 @@ grep -qxF '  stray returns:     1 apart from the rest by an empty gap: 1 above 3
     "$dir/out" || fail "FSite8's stray return: $(grep stray "$dir/out")"
 [ "$(grep -c '^  stray returns:     none (no heights far apart from the rest)$' "$dir/out")" = 2 ] ||
     fail "hexbin and sample_c hold no stray returns: $(grep stray "$dir/out")"
+
+# Header bounds that do not hold the points: hexbin-crop.las's set to zeros.
+python3 - "$data/hexbin-crop.las" "$dir/zeroed.las" <<'PY' || fail "could not write zeroed.las"
+import struct, sys
+b = bytearray(open(sys.argv[1], "rb").read())
+struct.pack_into("<6d", b, 179, 0, 0, 0, 0, 0, 0)
+open(sys.argv[2], "wb").write(bytes(b))
+PY
+"$bin" info "$dir/zeroed.las" "$data/hexbin-crop.las" >"$dir/out" 2>"$dir/err" || fail "info zeroed.las: $(cat "$dir/err")"
+[ "$(grep -c '^  header bounds:' "$dir/out")" = 1 ] || fail "not one header bounds line: $(grep bounds "$dir/out")"
+grep -qxF '  header bounds:     do not hold the points, which lie in x 393775.823 to 394069.238, y 3689071.943 to 3689273.095, z 3107.86270 to 3209.32050' \
+    "$dir/out" || fail "zeroed.las's header bounds: $(grep 'header bounds' "$dir/out")"
+"$bin" info --json "$dir/zeroed.las" | python3 -c "import json, sys; sys.exit(0 if json.load(sys.stdin)['las']['header_bounds_hold_points'] is False else 1)" ||
+    fail "--json: header_bounds_hold_points is not false for zeroed.las"
 
 # Stray returns in feet: one return 50 ft above 4_6_crop.las's highest, then 80 ft.
 for rise in 50 80; do
@@ -126,6 +142,7 @@ assert site["las"]["crs"]["epsg"] == 32632 and site["las"]["crs"]["horizontal_un
 for f in files:
     assert len(f["bounds"]["min"]) == 3 and all(a <= b for a, b in zip(f["bounds"]["min"], f["bounds"]["max"]))
     assert not f["las"]["copc"] and f["las"]["copc_nodes"] is None
+    assert f["las"]["header_bounds_hold_points"] is True, f["file"]
 PY
 
 # 8-bit colours in 16-bit fields, as some producers write them (laspy writes the file).

@@ -9,7 +9,10 @@
 #include <io/cloud_reader.hpp>
 
 #include <doctest/doctest.h>
+#include <glm/glm.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <string>
@@ -247,4 +250,42 @@ TEST_CASE("las_reader: LASzip aborting on corrupt compressed data ends only its 
     // The reader, and the process, go on: the same file twice, then a good one.
     CHECK(readError(slurp(kept)) == e);
     CHECK(readError(written(CloudFormat::Laz)) == "ok");
+}
+
+TEST_CASE("las reader: header bounds far from the points do not cost the coordinates their precision") {
+    // Real files with their header's bounds zeroed (as some scripts write them): the frame
+    // is placed on the first point, so every point's world coordinates are those of the
+    // file as written, within a millimetre (from the zeroed bounds' frame, y near 3,689 km
+    // would be rounded to 0.25 m). Bounds nearly right keep their own frame.
+    TempDir dir("las_reader_bounds");
+    const fs::path real = fs::path(LADARVR_TEST_DATA_DIR) / "real";
+    for (const char* name : {"hexbin-crop.las", "FSite8_orig-utm.laz"}) {
+        CAPTURE(name);
+        std::string bytes = slurp(real / name);
+        io::CloudReader original(real / name);
+        const core::PointCloud want = io::readCloud(original);
+        for (int k = 0; k < 6; ++k) put<double>(bytes, 179 + 8 * std::size_t(k), 0.0);
+        const fs::path zeroed = dir.path / (std::string("zeroed_") + name);
+        std::ofstream(zeroed, std::ios::binary) << bytes;
+        io::CloudReader reader(zeroed);
+        const core::PointCloud got = io::readCloud(reader);
+        REQUIRE(got.points.size() == want.points.size());
+        double worst = 0.0;
+        for (std::size_t i = 0; i < got.points.size(); ++i) {
+            const glm::dvec3 a = reader.origin() + glm::dvec3(got.points[i].position);
+            const glm::dvec3 b = original.origin() + glm::dvec3(want.points[i].position);
+            worst = std::max({worst, std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.z - b.z)});
+        }
+        CHECK(worst < 0.001);
+        CHECK(glm::length(reader.origin()) > 1e5);  // on the survey, not at the zeroed bounds
+    }
+    // Bounds that miss the points by less than a kilometre keep the frame they give.
+    std::string bytes = slurp(real / "hexbin-crop.las");
+    const double max_x = get<double>(bytes, 179);
+    put<double>(bytes, 179, max_x - 100.0);
+    const fs::path shrunk = dir.path / "shrunk.las";
+    std::ofstream(shrunk, std::ios::binary) << bytes;
+    io::CloudReader original(real / "hexbin-crop.las");
+    io::CloudReader reader(shrunk);
+    CHECK(reader.origin().x == doctest::Approx(original.origin().x - 50.0).epsilon(1e-9));
 }

@@ -5,7 +5,8 @@
 // and count against the file, and each layered chunk's layer sizes against the bytes it
 // can have. Then LASzip decodes the points from a stream over the ByteSource, a chunk at
 // a time. Coordinates are computed in double and moved onto a double origin (whole metres
-// near the middle of the header's bounds) before the cast to float. Classes map to roles
+// near the middle of the header's bounds, or of the first point when the bounds are far
+// from it) before the cast to float. Classes map to roles
 // (roleForClass), unless the file has our `label` extra bytes (docs/formats.md). For
 // `ladarvr info` the same reader also records the header's fields and VLRs and counts
 // the raw records (las_facts.hpp).
@@ -52,6 +53,11 @@ constexpr std::size_t kExtraBytesDescriptor = 192;
 
 // LASzip's compressors (the VLR's first field) and item types.
 constexpr unsigned kPointwise = 1, kPointwiseChunked = 2, kLayeredChunked = 3;
+// How far (in the file's units) the first point may lie outside the header's bounds before
+// the local frame is placed on it instead: far enough that rounding or a stale header that
+// is nearly right keeps the bounds' frame (and its outputs), near enough that floats there
+// still hold millimetres.
+constexpr double kBoundsSlack = 1000.0;
 enum ItemType : unsigned {
     kByte = 0,
     kPoint10 = 6,
@@ -638,6 +644,21 @@ class LasReader final : public FormatReader {
         const glm::dvec3 max{le<double>(head, 179), le<double>(head, 195), le<double>(head, 211)};
         const glm::dvec3 min{le<double>(head, 187), le<double>(head, 203), le<double>(head, 219)};
         origin = shiftFor(0.5 * (min + max));
+        // Bounds far from the points (zeros, stale values) would put the origin far away and
+        // cost the floats their precision (0.25 m at 3,700 km): the first point decides then.
+        // It is stored raw, first in the point data (uncompressed, and LAZ's first chunk
+        // too, after the chunk table's position when there are chunks).
+        const std::uint64_t first_at = compressed && laz.compressor != kPointwise ? data_at + 8 : data_at;
+        if (count > 0 && first_at + 12 <= size) {
+            const std::string xyz(source_.view(first_at, 12));
+            glm::dvec3 first;
+            bool outside = false;
+            for (int k = 0; k < 3; ++k) {
+                first[k] = double(le<std::int32_t>(xyz, 4 * std::size_t(k))) * scale_[k] + offset_[k];
+                outside = outside || !(first[k] >= min[k] - kBoundsSlack && first[k] <= max[k] + kBoundsSlack);
+            }
+            if (outside) origin = shiftFor(first);
+        }
         fields = CloudFields{};
         fields.rgb = format == 2 || format == 3 || format == 5 || format == 7 || format == 8 || format == 10;
         fields.label = true;
