@@ -4,9 +4,11 @@
 // one colour. The span here leaves out a tail of at most a thousandth of the heights
 // when an empty gap parts it from the rest, and is the heights' own span otherwise.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <unordered_map>
+#include <vector>
 
 namespace core {
 
@@ -30,14 +32,30 @@ class HeightSpan {
     HeightSpan& operator=(const HeightSpan& other) {
         min_gap_ = other.min_gap_;
         width_ = other.width_;
+        per_width_ = other.per_width_;
         bins_ = other.bins_;
         count_ = other.count_;
         last_ = nullptr;  // it pointed into the other's bins
         return *this;
     }
 
-    /// Not-a-number and infinite heights are skipped.
-    void add(float z);
+    /// Not-a-number and infinite heights are skipped. Inline: the viewer adds every point
+    /// it uploads, and runs of near heights fall in the bin added to last.
+    void add(float z) { add(z, 1); }
+    /// `z` counted `weight` times (a sample standing for the heights beside it).
+    void add(float z, std::uint64_t weight) {
+        if (!std::isfinite(z)) return;
+        // Far beyond any height a key can hold: clamped, so the keys cannot overflow.
+        const auto key = std::int64_t(std::clamp(std::floor(double(z) * per_width_), -1e15, 1e15));
+        count_ += weight;
+        if (last_ && key == last_key_) {
+            last_->n += weight;
+            last_->lo = std::min(last_->lo, z);
+            last_->hi = std::max(last_->hi, z);
+            return;
+        }
+        put(key, Bin{weight, z, z});
+    }
     /// The heights of another span with the same min_gap (threads that gathered apart).
     void merge(const HeightSpan& other);
     std::size_t count() const { return count_; }
@@ -62,6 +80,21 @@ class HeightSpan {
         std::uint64_t n = 0;
         float lo = 0, hi = 0;
     };
+    /// The bins by key: open addressing with linear probing, at most half full (a lookup
+    /// is a few nanoseconds; the viewer adds every point it uploads).
+    struct Table {
+        static constexpr std::int64_t kFree = INT64_MIN;  // keys are clamped far from it
+        std::vector<std::int64_t> keys;
+        std::vector<Bin> bins;
+        std::size_t used = 0;
+        /// The bin of `key`, added empty if new; valid until the next call.
+        Bin& at(std::int64_t key);
+        template <class F>
+        void each(F f) const {
+            for (std::size_t i = 0; i < keys.size(); ++i)
+                if (keys[i] != kFree) f(keys[i], bins[i]);
+        }
+    };
     std::int64_t keyOf(double z) const;
     static void fold(Bin& into, const Bin& b);
     /// Folds `b` into the bin of `key` (at the current width), then widens the bins when
@@ -71,8 +104,9 @@ class HeightSpan {
     void widen(int times);
 
     double min_gap_ = 1, width_ = 1;
-    std::unordered_map<std::int64_t, Bin> bins_;  // key: floor(height / width_)
-    std::int64_t last_key_ = 0;                   // the bin put() touched last, for runs of near heights
+    double per_width_ = 1;       // 1 / width_, halved exactly as width_ doubles
+    Table bins_;                 // key: floor(height / width_)
+    std::int64_t last_key_ = 0;  // the bin put() touched last, for runs of near heights
     Bin* last_ = nullptr;
     std::size_t count_ = 0;
 };

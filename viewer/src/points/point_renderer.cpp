@@ -299,9 +299,9 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
         if (fields_.height_above_ground)  // else the slot holds the packed attributes
             for (const core::CloudPoint& p : part) {
                 above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
-                above_ground_span_.add(p.height_above_ground_m);
+                addSampled(above_ground_span_, above_ground_body_, p.height_above_ground_m);
             }
-        for (const core::CloudPoint& p : part) z_span_.add(p.position.z);
+        for (const core::CloudPoint& p : part) addSampled(z_span_, z_body_, p.position.z);
         if (terrain_) raiseTerrainMax(part);
         chunks_.upload(job.chunk, part);
         job.next += n;
@@ -365,6 +365,7 @@ void PointRenderer::setTerrain(const ViewTerrain& terrain, const glm::dvec3& ori
     terrain_ = std::move(t);
     terrain_max_m_ = 0.0f;
     terrain_span_ = core::HeightSpan(core::kStrayGap_m / height_unit_m_);
+    terrain_body_ = {};
     for (const PointNode* node : allNodes(source))
         if (const std::shared_ptr<const NodePoints> points = node->points()) raiseTerrainMax(points->points);
     updateSpans();
@@ -375,12 +376,22 @@ void PointRenderer::setHeightUnit(double metres) {
     height_unit_m_ = metres;
     const core::HeightSpan fresh(core::kStrayGap_m / metres);
     z_span_ = above_ground_span_ = terrain_span_ = fresh;
+    z_body_ = above_ground_body_ = terrain_body_ = {};
 }
 
 void PointRenderer::updateSpans() {
     z_body_ = z_span_.span();
-    above_ground_top_m_ = core::topWithoutStrays(above_ground_span_, above_ground_max_m_);
-    terrain_top_m_ = core::topWithoutStrays(terrain_span_, terrain_max_m_);
+    above_ground_body_ = above_ground_span_.span();
+    terrain_body_ = terrain_span_.span();
+    above_ground_top_m_ = above_ground_body_.strays_high ? float(above_ground_body_.hi) : above_ground_max_m_;
+    terrain_top_m_ = terrain_body_.strays_high ? float(terrain_body_.hi) : terrain_max_m_;
+}
+
+void PointRenderer::addSampled(core::HeightSpan& span, const core::HeightSpan::Span& body, float z) {
+    if (span.count() == 0 || !(z >= body.lo && z <= body.hi))
+        span.add(z);
+    else if (++sample_tick_ % kHeightSample == 0)
+        span.add(z, kHeightSample);
 }
 
 core::Bounds PointRenderer::bodyBounds() const {
@@ -400,7 +411,7 @@ void PointRenderer::raiseTerrainMax(std::span<const core::CloudPoint> points) {
     for (const core::CloudPoint& p : points) {
         const float h = float(double(p.position.z) - terrainHeightAt(*terrain_, p.position.x, p.position.y));
         terrain_max_m_ = std::max(terrain_max_m_, h);
-        terrain_span_.add(h);
+        addSampled(terrain_span_, terrain_body_, h);
     }
 }
 
