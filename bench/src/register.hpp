@@ -16,5 +16,6 @@ void registerCorpus(CLI::App& parent);        // corpus.cpp:   `bench corpus`
 void registerIndex(CLI::App& parent);         // index.cpp:    `bench index`
 void registerGroundIsprs(CLI::App& parent);   // ground_isprs.cpp: `bench ground-isprs`
 void registerGroundSurvey(CLI::App& parent);  // ground_survey.cpp: `bench ground-survey`
+void registerHeights(CLI::App& parent);       // heights.cpp: `bench heights`
 
 }  // namespace bench

@@ -22,26 +22,6 @@ std::int64_t shifted(std::int64_t k, int times) {
 
 }  // namespace
 
-HeightSpan::Bin& HeightSpan::Table::at(std::int64_t key) {
-    if (2 * (used + 1) > keys.size()) {  // grow to keep at most half full
-        std::vector<std::int64_t> old_keys(std::max<std::size_t>(64, 2 * keys.size()), kFree);
-        std::vector<Bin> old_bins(old_keys.size());
-        old_keys.swap(keys);
-        old_bins.swap(bins);
-        used = 0;
-        for (std::size_t i = 0; i < old_keys.size(); ++i)
-            if (old_keys[i] != kFree) at(old_keys[i]) = old_bins[i];
-    }
-    const std::size_t mask = keys.size() - 1;
-    std::size_t i = std::size_t((std::uint64_t(key) * 0x9E3779B97F4A7C15ull) >> 17) & mask;
-    while (keys[i] != kFree && keys[i] != key) i = (i + 1) & mask;
-    if (keys[i] == kFree) {
-        keys[i] = key;
-        ++used;
-    }
-    return bins[i];
-}
-
 HeightSpan::HeightSpan(double min_gap) : min_gap_(min_gap), width_(min_gap / 64.0), per_width_(64.0 / min_gap) {
     if (!(std::isfinite(min_gap) && min_gap > 0.0))
         throw Error("HeightSpan: min_gap " + std::to_string(min_gap) + "; allowed a finite value > 0");
@@ -62,16 +42,16 @@ void HeightSpan::put(std::int64_t key, const Bin& b) {
         fold(*last_, b);
         return;
     }
-    Bin& t = bins_.at(key);
+    Bin& t = bins_[key];
     fold(t, b);
     last_key_ = key;
     last_ = &t;
-    if (std::int64_t(bins_.used) > kMaxBins) {
+    if (std::int64_t(bins_.size()) > kMaxBins) {
         // The fewest doublings that bring the bins held back to kMaxBins.
         int times = 0;
         std::vector<std::int64_t> keys;
-        keys.reserve(bins_.used);
-        bins_.each([&](std::int64_t k, const Bin&) { keys.push_back(k); });
+        keys.reserve(bins_.size());
+        for (const auto& kv : bins_) keys.push_back(kv.first);
         for (;;) {
             ++times;
             for (std::int64_t& k : keys) k = half(k);
@@ -85,13 +65,13 @@ void HeightSpan::put(std::int64_t key, const Bin& b) {
 
 void HeightSpan::widen(int times) {
     if (times <= 0) return;
-    Table old;
-    std::swap(old, bins_);
+    std::unordered_map<std::int64_t, Bin> old;
+    old.swap(bins_);
     for (int t = 0; t < times; ++t) {
         width_ *= 2.0;
         per_width_ *= 0.5;
     }
-    old.each([&](std::int64_t key, const Bin& bin) { fold(bins_.at(shifted(key, times)), bin); });
+    for (const auto& [key, bin] : old) fold(bins_[shifted(key, times)], bin);
     last_ = nullptr;
 }
 
@@ -102,12 +82,12 @@ void HeightSpan::merge(const HeightSpan& other) {
     int times = 0;
     for (double w = width_; w < other.width_; w *= 2.0) ++times;
     widen(times);
-    other.bins_.each([&](std::int64_t key, const Bin& bin) {
+    for (const auto& [key, bin] : other.bins_) {
         // put() may widen the bins again: each key is taken to the width of the moment.
         int other_times = 0;
         for (double w = other.width_; w < width_; w *= 2.0) ++other_times;
         put(shifted(key, other_times), bin);
-    });
+    }
     count_ += other.count_;
 }
 
@@ -115,8 +95,8 @@ HeightSpan::Span HeightSpan::span(double min_gap) const {
     Span s;
     if (count_ == 0) return s;
     std::vector<std::pair<std::int64_t, const Bin*>> sorted;
-    sorted.reserve(bins_.used);
-    bins_.each([&](std::int64_t key, const Bin& bin) { sorted.emplace_back(key, &bin); });
+    sorted.reserve(bins_.size());
+    for (const auto& [key, bin] : bins_) sorted.emplace_back(key, &bin);
     std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<const Bin*> full;  // lowest first
     for (const auto& kb : sorted) full.push_back(kb.second);

@@ -259,7 +259,7 @@ float colourTop(const TerrainFit& fit, const std::filesystem::path& in, const gl
         }
         progress(chunk.size());
     });
-    return core::topWithoutStrays(heights, top_m);
+    return core::topWithoutStrays(heights.span(), top_m);
 }
 
 }  // namespace

@@ -559,7 +559,7 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
         if (tile.heights) heights.merge(*tile.heights);
         tile.heights.reset();
     }
-    st.colour_top_m = core::topWithoutStrays(heights, st.colour_top_m);
+    st.colour_top_m = core::topWithoutStrays(heights.span(), st.colour_top_m);
     st.cell_m = cell;
 
     // Pass 3: the writing, each point's label from its tile's results in turn.

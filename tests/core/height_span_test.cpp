@@ -158,3 +158,26 @@ TEST_CASE("height span: refusals") {
     CHECK_THROWS_AS(core::HeightSpan{-1.0}, core::Error);
     CHECK_THROWS_AS(core::HeightSpan{double(INFINITY)}, core::Error);
 }
+
+TEST_CASE("height span: the viewer's sample keeps the strays and the body's ends exact") {
+    // 200,000 heights over 250-390 m with 20 strays at 800-900 m among the later ones: one
+    // height in 8 inside the body once it is known, every height outside it.
+    core::HeightSpan every(20.0), sampled(20.0);
+    for (int k = 0; k < 200000; ++k) {
+        const float z = float(250.0 + 140.0 * double((k * 7919) % 200000) / 199999.0);
+        every.add(z);
+        sampled.addSampled(z, 8);
+        if (k % 5000 == 4999 && k > 100000) {
+            const float stray = float(800.0 + k % 97);
+            every.add(stray);
+            sampled.addSampled(stray, 8);
+        }
+    }
+    const core::HeightSpan::Span a = every.span(), b = sampled.span();
+    CHECK(a.strays_high == 20);
+    CHECK(b.strays_high == a.strays_high);
+    CHECK(b.hi == a.hi);
+    CHECK(b.lo == a.lo);
+    // The inside counted in eights: the count is the same to within a bin's sampling.
+    CHECK(double(sampled.count()) == doctest::Approx(double(every.count())).epsilon(0.01));
+}

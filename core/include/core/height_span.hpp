@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <vector>
+#include <unordered_map>
 
 namespace core {
 
@@ -35,12 +35,14 @@ class HeightSpan {
         per_width_ = other.per_width_;
         bins_ = other.bins_;
         count_ = other.count_;
+        sample_body_ = other.sample_body_;
+        sample_calls_ = other.sample_calls_;
         last_ = nullptr;  // it pointed into the other's bins
         return *this;
     }
 
-    /// Not-a-number and infinite heights are skipped. Inline: the viewer adds every point
-    /// it uploads, and runs of near heights fall in the bin added to last.
+    /// Not-a-number and infinite heights are skipped. Inline, with the bin added to last
+    /// kept at hand: callers add every point of a cloud, and near heights come in runs.
     void add(float z) { add(z, 1); }
     /// `z` counted `weight` times (a sample standing for the heights beside it).
     void add(float z, std::uint64_t weight) {
@@ -74,28 +76,25 @@ class HeightSpan {
     /// The same with another least gap (a reader that learns the heights' unit after
     /// reading them); the bins stay those of the constructor's min_gap.
     Span span(double min_gap) const;
+    /// A sample of the heights for a caller that sees very many (the viewer's uploads):
+    /// `z` is added when it lies outside the body (as read every kSampleBody calls; none
+    /// before the first read); inside it, one call in `every` adds `z` counted `every`
+    /// times. The strays and the body's ends stay exact, the inside is a sample, at about
+    /// 1 / `every` of the cost.
+    void addSampled(float z, std::uint64_t every) {
+        if (sample_calls_ < kSampleBody || !(z >= sample_body_.lo && z <= sample_body_.hi))
+            add(z);
+        else if (sample_calls_ % every == 0)
+            add(z, every);
+        if (++sample_calls_ % kSampleBody == 0) sample_body_ = span();
+    }
+    static constexpr std::uint64_t kSampleBody = 65536;
 
   private:
     struct Bin {
         std::uint64_t n = 0;
         float lo = 0, hi = 0;
     };
-    /// The bins by key: open addressing with linear probing, at most half full (a lookup
-    /// is a few nanoseconds; the viewer adds every point it uploads).
-    struct Table {
-        static constexpr std::int64_t kFree = INT64_MIN;  // keys are clamped far from it
-        std::vector<std::int64_t> keys;
-        std::vector<Bin> bins;
-        std::size_t used = 0;
-        /// The bin of `key`, added empty if new; valid until the next call.
-        Bin& at(std::int64_t key);
-        template <class F>
-        void each(F f) const {
-            for (std::size_t i = 0; i < keys.size(); ++i)
-                if (keys[i] != kFree) f(keys[i], bins[i]);
-        }
-    };
-    std::int64_t keyOf(double z) const;
     static void fold(Bin& into, const Bin& b);
     /// Folds `b` into the bin of `key` (at the current width), then widens the bins when
     /// they are more than kMaxBins.
@@ -104,18 +103,19 @@ class HeightSpan {
     void widen(int times);
 
     double min_gap_ = 1, width_ = 1;
-    double per_width_ = 1;       // 1 / width_, halved exactly as width_ doubles
-    Table bins_;                 // key: floor(height / width_)
-    std::int64_t last_key_ = 0;  // the bin put() touched last, for runs of near heights
+    double per_width_ = 1;                        // 1 / width_, halved exactly as width_ doubles
+    std::unordered_map<std::int64_t, Bin> bins_;  // key: floor(height * per_width_)
+    std::int64_t last_key_ = 0;                   // the bin put() touched last, for runs of near heights
     Bin* last_ = nullptr;
     std::size_t count_ = 0;
+    Span sample_body_;  // addSampled's body, read every kSampleBody of its calls
+    std::uint64_t sample_calls_ = 0;
 };
 
 /// The top of a colour range over heights whose highest is `highest`: the body's top
-/// when `span` leaves strays out above it, else `highest` itself.
-inline float topWithoutStrays(const HeightSpan& span, float highest) {
-    const HeightSpan::Span s = span.span();
-    return s.strays_high ? float(s.hi) : highest;
+/// when strays lie above it, else `highest` itself.
+inline float topWithoutStrays(const HeightSpan::Span& body, float highest) {
+    return body.strays_high ? float(body.hi) : highest;
 }
 
 }  // namespace core

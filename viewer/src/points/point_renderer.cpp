@@ -299,9 +299,9 @@ std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_
         if (fields_.height_above_ground)  // else the slot holds the packed attributes
             for (const core::CloudPoint& p : part) {
                 above_ground_max_m_ = std::max(above_ground_max_m_, p.height_above_ground_m);
-                addSampled(above_ground_span_, above_ground_body_, p.height_above_ground_m);
+                above_ground_span_.addSampled(p.height_above_ground_m, kHeightSample);
             }
-        for (const core::CloudPoint& p : part) addSampled(z_span_, z_body_, p.position.z);
+        for (const core::CloudPoint& p : part) z_span_.addSampled(p.position.z, kHeightSample);
         if (terrain_) raiseTerrainMax(part);
         chunks_.upload(job.chunk, part);
         job.next += n;
@@ -383,15 +383,8 @@ void PointRenderer::updateSpans() {
     z_body_ = z_span_.span();
     above_ground_body_ = above_ground_span_.span();
     terrain_body_ = terrain_span_.span();
-    above_ground_top_m_ = above_ground_body_.strays_high ? float(above_ground_body_.hi) : above_ground_max_m_;
-    terrain_top_m_ = terrain_body_.strays_high ? float(terrain_body_.hi) : terrain_max_m_;
-}
-
-void PointRenderer::addSampled(core::HeightSpan& span, const core::HeightSpan::Span& body, float z) {
-    if (span.count() == 0 || !(z >= body.lo && z <= body.hi))
-        span.add(z);
-    else if (++sample_tick_ % kHeightSample == 0)
-        span.add(z, kHeightSample);
+    above_ground_top_m_ = core::topWithoutStrays(above_ground_body_, above_ground_max_m_);
+    terrain_top_m_ = core::topWithoutStrays(terrain_body_, terrain_max_m_);
 }
 
 core::Bounds PointRenderer::bodyBounds() const {
@@ -411,7 +404,7 @@ void PointRenderer::raiseTerrainMax(std::span<const core::CloudPoint> points) {
     for (const core::CloudPoint& p : points) {
         const float h = float(double(p.position.z) - terrainHeightAt(*terrain_, p.position.x, p.position.y));
         terrain_max_m_ = std::max(terrain_max_m_, h);
-        addSampled(terrain_span_, terrain_body_, h);
+        terrain_span_.addSampled(h, kHeightSample);
     }
 }
 

@@ -283,13 +283,9 @@ class PointRenderer {
     float above_ground_top_m_ = 0.0f, terrain_top_m_ = 0.0f;
     /// The bodies, above_ground_top_m_ and terrain_top_m_ from the spans.
     void updateSpans();
-    /// Adds `z` to `span`: every height outside `body` (the span's body at the last
-    /// updateSpans, none before), every kHeightSample-th inside it, counted kHeightSample
-    /// times. The strays and the body's ends are exact, its inside a sample, at about an
-    /// eighth of the cost of every point on a frame that uploads many.
-    void addSampled(core::HeightSpan& span, const core::HeightSpan::Span& body, float z);
+    /// The spans take their heights through HeightSpan::addSampled: every height outside
+    /// the body found so far, one in kHeightSample inside it.
     static constexpr std::uint64_t kHeightSample = 8;
-    std::uint64_t sample_tick_ = 0;
     core::CloudFields fields_;  // the source's, at the last stream()
     std::optional<LocalTerrain> terrain_;
     float terrain_max_m_ = 0.0f;  // highest height above terrain_ of the points seen
