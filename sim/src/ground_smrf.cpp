@@ -15,8 +15,8 @@
 //
 // Ours, for real surveys (SmrfOptions::raised_segments, off in the generator): between
 // 2) and 3), a patch of the surface left ground that stands more than 2 m above the
-// surface around it on most of its border (a roof too wide for the openings, a bridge
-// deck) is an object too; with SmrfOptions::sparse_openings (also off in the generator),
+// surface around it on most of its border, or more than 5 m above wherever it is seen
+// (a roof too wide for the openings, a bridge deck), is an object too; with SmrfOptions::sparse_openings (also off in the generator),
 // the openings of 2) leave out the empty cells between a sparse survey's points.
 // SmrfOptions::reconstruct (off; measured, see ground.hpp) puts morphological
 // reconstruction (ground_reconstruct.hpp) into the object test or after it.
@@ -96,10 +96,21 @@ void diskFilter(const std::vector<float>& in, std::vector<float>& out, int nx, i
 // count as the lower side, so a few low returns left in a cell do not make the ground
 // around them a roof, and the border runs on beyond the data's edge without a drop, so
 // a terrace that the survey's edge cuts is not one either.
+// A tall segment is raised even where the edge cuts it: looking out from each of its
+// cells along the 8 rays of the raster, up to kTallReach cells, over the empty cells and
+// over the small segments (under kSegmentLowerArea_m2) no more than kSegmentDrop_m below
+// it (what stands on a roof), a ray ends on another segment (seen) or beyond the data.
+// When at least kTallSeenShare of its rays are seen, and at least kSegmentDropShare of
+// those end more than kTallDrop_m below it, on a segment of at least kSegmentLowerArea_m2,
+// it is a roof cut by the edge (a tall building's shadow leaves no point between roof and
+// ground, hence the reach): terrain that the edge cuts does not end in a step that high
+// wherever it is seen.
 constexpr int kSegmentReach = 2;
 constexpr double kSegmentJoin_m = 0.5, kSegmentJoinSlope = 0.5;
 constexpr double kSegmentDrop_m = 2.0, kSegmentDropShare = 0.7;
 constexpr double kSegmentLowerArea_m2 = 100.0, kSegmentMaxArea_m2 = 20000.0;
+constexpr int kTallReach = 18;
+constexpr double kTallDrop_m = 5.0, kTallSeenShare = 0.1;
 
 constexpr std::uint32_t kNoSegment = std::numeric_limits<std::uint32_t>::max();
 
@@ -155,6 +166,7 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
     const std::vector<std::uint32_t> segment = segmentCells(level, observed, w, h, cell_m, count);
     struct Tally {
         std::uint32_t cells = 0, ground = 0, border = 0, drops = 0, beyond = 0;
+        std::uint32_t rays = 0, rays_seen = 0, rays_tall = 0;  // the tall test's (above)
     };
     std::vector<Tally> tally(count);
     for (std::size_t c = 0; c < segment.size(); ++c)
@@ -185,6 +197,38 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
                         ++tally[s].drops;
                 }
         }
+    const auto large = [&](std::uint32_t t) { return double(tally[t].cells) * cell_area_m2 >= kSegmentLowerArea_m2; };
+    constexpr int kRayDi[8] = {1, 1, 0, -1, -1, -1, 0, 1}, kRayDj[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            const std::size_t c = std::size_t(j) * std::size_t(w) + std::size_t(i);
+            const std::uint32_t s = segment[c];
+            if (s == kNoSegment || tally[s].ground == 0 || !large(s) ||
+                double(tally[s].cells) * cell_area_m2 > kSegmentMaxArea_m2)
+                continue;
+            for (int k = 0; k < 8; ++k)
+                for (int step = 1; step <= kTallReach; ++step) {
+                    const int ii = i + kRayDi[k] * step, jj = j + kRayDj[k] * step;
+                    if (ii < 0 || ii >= w || jj < 0 || jj >= h) {
+                        ++tally[s].rays;
+                        break;
+                    }
+                    const std::size_t d = std::size_t(jj) * std::size_t(w) + std::size_t(ii);
+                    const std::uint32_t t = segment[d];
+                    if (t == kNoSegment) continue;
+                    if (t == s) break;
+                    const double drop_m = double(level[c]) - double(level[d]);
+                    if (!large(t) && drop_m <= kSegmentDrop_m) continue;
+                    ++tally[s].rays;
+                    ++tally[s].rays_seen;
+                    if (large(t) && drop_m > kTallDrop_m) ++tally[s].rays_tall;
+                    break;
+                }
+        }
+    const auto tall = [&](const Tally& t) {
+        return t.rays_seen > 0 && double(t.rays_seen) >= kTallSeenShare * double(t.rays) &&
+               double(t.rays_tall) >= kSegmentDropShare * double(t.rays_seen);
+    };
     std::vector<SegmentBox> box(count, SegmentBox{w, -1, h, -1});
     for (std::size_t c = 0; c < segment.size(); ++c) {
         if (segment[c] == kNoSegment) continue;
@@ -198,15 +242,16 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
     tested.clear();
     for (std::uint32_t s = 0; s < count; ++s) {
         const Tally& t = tally[s];
-        if (t.ground > 0 && t.border > t.beyond && double(t.cells) * cell_area_m2 <= kSegmentMaxArea_m2 &&
-            double(t.drops) >= 0.5 * kSegmentDropShare * double(t.border - t.beyond))
+        if (t.ground > 0 && double(t.cells) * cell_area_m2 <= kSegmentMaxArea_m2 &&
+            ((t.border > t.beyond && double(t.drops) >= 0.5 * kSegmentDropShare * double(t.border - t.beyond)) ||
+             (t.rays_seen > 0 && double(t.rays_tall) >= 0.5 * kSegmentDropShare * double(t.rays_seen))))
             tested.push_back(box[s]);
     }
     for (std::size_t c = 0; c < segment.size(); ++c) {
         if (segment[c] == kNoSegment) continue;
         const Tally& t = tally[segment[c]];
-        if (t.ground > 0 && t.border > 0 && double(t.cells) * cell_area_m2 <= kSegmentMaxArea_m2 &&
-            double(t.drops) >= kSegmentDropShare * double(t.border))
+        if (t.ground > 0 && double(t.cells) * cell_area_m2 <= kSegmentMaxArea_m2 &&
+            ((t.border > 0 && double(t.drops) >= kSegmentDropShare * double(t.border)) || tall(t)))
             ground[c] = 0;
     }
 }

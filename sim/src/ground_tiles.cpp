@@ -339,7 +339,8 @@ std::unique_ptr<TerrainFit> gatherBox(const Tiler& tiler, const std::pair<glm::d
 // patch comes within kCutCells cells of an edge of its raster beyond which the survey
 // goes on: the test sees a patch whole or not at all, and a cut one has another area and
 // border. kCutCells: the low-outlier test's reach over its rounds (20 cells), within
-// which a level near the cut differs from the untiled run's, and the segments' joining.
+// which a level near the cut differs from the untiled run's, and the segments' joining;
+// it also covers the tall-segment test's rays (18 cells).
 constexpr int kMaxRefits = 4;
 constexpr double kCutCells = 22;
 

@@ -7,6 +7,7 @@
 #  - the file written holds every point, its ground count as --json says (`info --json`);
 #  - bad options give one line naming the option and what is allowed, exit 2 or 1, and
 #    no output; the input is never overwritten;
+#  - a tall roof that runs out of a small real tile is not ground;
 #  - a survey in feet gets its options converted from metres (stderr says so); one in
 #    degrees (a geographic CRS) is refused;
 #  - a survey far sparser than SMRF's cells gets one line saying so and what helps.
@@ -76,6 +77,18 @@ feet_ground=$(field ground_points "$dir/json")
     fail "ground feet as metres: raster: $(cat "$dir/json")"
 [ "$(field ground_points "$dir/json")" != "$feet_ground" ] ||
     fail "ground feet: the same ground ($feet_ground points) with options in feet and in metres"
+
+# A building 26 m tall whose flat roof covers most of a small tile and runs out of it
+# (tests/data/real/sample_c.las; its producer classified the roof as building, class 6,
+# and the ground beside it, class 2): no point lies between roof and ground over the
+# building's 15 m shadow, and the tile's edge cuts the roof. The roof is not ground; the
+# producer's ground is. Misclassified against the producer's classes, from --json.
+"$bin" ground "$real/sample_c.las" --out "$dir/roof.las" --json >"$dir/json" 2>"$dir/err" ||
+    fail "ground sample_c: $(cat "$dir/err")"
+points=$(field points "$dir/json") found=$(field ground_points "$dir/json")
+labelled=$(field input_ground_points "$dir/json") kept=$(field input_ground_points_kept "$dir/json")
+[ "$points $labelled $kept" = "14408 1368 1368" ] || fail "ground sample_c: counts: $(cat "$dir/json")"
+[ "$found" -le 1600 ] || fail "ground sample_c: $found points called ground (the producer's ground: 1368)"
 
 # A survey far sparser than its cells (tests/data/real/mvk-thin.las: 6,280 points over
 # 5 km, in feet; 2 m cells, 762 x 763): the run says so in one line after the units', with

@@ -104,6 +104,39 @@ TEST_CASE("SMRF with raised segments: a building wider than twice the window is 
     CHECK(raised.recall >= 0.99);
 }
 
+TEST_CASE("SMRF with raised segments: a tall roof that the data's edge cuts is an object, seen across its shadow") {
+    // A flat roof 20 m up over [0, 50] x [0, 50], the data's corner: the edge cuts it on
+    // two sides. On the other two, 10 m of shadow without a point (no wall returns)
+    // between roof and ground, as a tall building leaves under an oblique scan.
+    const Height flat = [](double, double) { return 0.0; };
+    const Labelled all = sample(flat, 50.0, {{25, 25, 25, 20}});
+    Labelled l;
+    for (std::size_t i = 0; i < all.points.size(); ++i) {
+        const glm::vec3& p = all.points[i];
+        const bool wall = !all.ground[i] && p.z < 19.9f;
+        const bool shadow = all.ground[i] && p.x > -10.0f && p.y > -10.0f;
+        if (wall || shadow || p.x > 50.0f || p.y > 50.0f) continue;
+        l.points.push_back(p);
+        l.ground.push_back(all.ground[i]);
+        l.high_object.push_back(all.high_object[i]);
+    }
+    sim::SmrfOptions o;
+    const Score plain = score(l, sim::findGroundSmrf(l.points, o));
+    CHECK(plain.high_found > 10000);  // 50 m wide: more than the openings remove
+    o.raised_segments = true;
+    const Score raised = score(l, sim::findGroundSmrf(l.points, o));
+    CHECK(raised.high_found == 0);
+    CHECK(raised.recall >= 0.99);
+}
+
+TEST_CASE("SMRF with raised segments keeps a plateau 12 m up that the data's edge cuts, reached by a slope") {
+    const Height plateau = [](double x, double) { return std::clamp(0.5 * (x - 5.0), 0.0, 12.0); };
+    const Labelled l = sample(plateau, 50.0, {});
+    sim::SmrfOptions o;
+    o.raised_segments = true;
+    CHECK(score(l, sim::findGroundSmrf(l.points, o)).recall >= 0.99);
+}
+
 TEST_CASE("SMRF with raised segments keeps a 2 m terrace and a hill: their patches rise on one side or join the rest") {
     for (const Height& z : std::vector<Height>{
              [](double x, double) { return x < 0.0 ? 0.0 : 2.5; },
