@@ -23,6 +23,7 @@
 #include "ground_isprs_map.hpp"
 #include "ground_isprs_mcc.hpp"
 #include "ground_isprs_selector.hpp"
+#include "ground_score.hpp"
 #include "register.hpp"
 
 #include <core/error.hpp>
@@ -82,28 +83,10 @@ struct Config {
     bool learned = false;  // the learned refinement scored leave-one-site-out
 };
 
-// Per-sample confusion counts against the reference labels.
-struct Score {
-    double type1 = 0, type2 = 0, total = 0, kappa = 0;  // percent
-};
-
+// Per-sample scores against the reference labels.
+using Score = GroundScore;
 Score score(const std::vector<std::uint8_t>& found, const std::vector<std::uint8_t>& truth) {
-    double gg = 0, go = 0, og = 0, oo = 0;  // reference x found: ground/object
-    for (std::size_t i = 0; i < truth.size(); ++i) {
-        if (truth[i])
-            (found[i] ? gg : go) += 1;
-        else
-            (found[i] ? og : oo) += 1;
-    }
-    const double n = gg + go + og + oo;
-    Score s;
-    s.type1 = gg + go > 0 ? 100.0 * go / (gg + go) : 0.0;
-    s.type2 = og + oo > 0 ? 100.0 * og / (og + oo) : 0.0;
-    s.total = n > 0 ? 100.0 * (go + og) / n : 0.0;
-    const double po = n > 0 ? (gg + oo) / n : 1.0;
-    const double pe = n > 0 ? ((gg + go) * (gg + og) + (og + oo) * (go + oo)) / (n * n) : 0.0;
-    s.kappa = pe < 1.0 ? 100.0 * (po - pe) / (1.0 - pe) : 100.0;
-    return s;
+    return scoreGround(found, truth);
 }
 
 // "smrf:cell_m=0.5,slope=0.2" / "csf:cloth_m=0.5,rigidness=2" into a configuration.

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
     bench::registerIndex(*sub);
     bench::registerGroundIsprs(*sub);
     bench::registerGroundSurvey(*sub);
+    bench::registerGroundReal(*sub);
     bench::registerHeights(*sub);
     app::applyConventions(cli);
 

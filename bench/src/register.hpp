@@ -16,6 +16,7 @@ void registerCorpus(CLI::App& parent);        // corpus.cpp:   `bench corpus`
 void registerIndex(CLI::App& parent);         // index.cpp:    `bench index`
 void registerGroundIsprs(CLI::App& parent);   // ground_isprs.cpp: `bench ground-isprs`
 void registerGroundSurvey(CLI::App& parent);  // ground_survey.cpp: `bench ground-survey`
+void registerGroundReal(CLI::App& parent);    // ground_real.cpp: `bench ground-real`
 void registerHeights(CLI::App& parent);       // heights.cpp: `bench heights`
 
 }  // namespace bench
