@@ -90,8 +90,8 @@ int check(const std::string& file) {
     const io::CopcReader reader(file);
     std::uint64_t points = 0;
     for (const io::CopcNode& n : reader.nodes()) points += std::uint64_t(n.point_count);
-    std::printf("index --check: %s: valid COPC (%zu nodes with points, %llu points)\n", shown.c_str(),
-                reader.nodes().size(), static_cast<unsigned long long>(points));
+    std::printf("index --check: %s: valid COPC (%zu node%s with points, %llu points)\n", shown.c_str(),
+                reader.nodes().size(), reader.nodes().size() == 1 ? "" : "s", static_cast<unsigned long long>(points));
     return 0;
 }
 

@@ -225,7 +225,9 @@ void printHuman(const io::CloudInfo& info) {
         line("point format",
              std::to_string(las.point_format) + " (" + std::to_string(las.record_bytes) + "-byte records)");
         line("compressed", las.compressed ? "yes (LAZ)" : "no");
-        line("COPC", las.copc ? "yes, " + std::to_string(las.copc_nodes) + " nodes with points" : "no");
+        line("COPC", las.copc ? "yes, " + std::to_string(las.copc_nodes) +
+                                    (las.copc_nodes == 1 ? " node with points" : " nodes with points")
+                              : "no");
         if (!las.software.empty()) line("software", las.software);
         if (!las.system_id.empty()) line("system", las.system_id);
         if (las.creation_year != 0)

@@ -215,6 +215,12 @@ nodes=$("$bin" index --check "$dir/hexbin.copc.laz" | sed -n 's/.*valid COPC (\(
 grep -qxF "  COPC:              yes, $nodes nodes with points" "$dir/out" || fail "COPC nodes: $(grep COPC "$dir/out")"
 grep -qxF '  format:            COPC 1.4' "$dir/out" || fail "COPC format: $(grep format: "$dir/out")"
 grep -qxF '  points:            38367' "$dir/out" || fail "COPC points: $(grep points: "$dir/out")"
+# One node: said in the singular.
+"$bin" index "$data/warsaw_small.las" --out "$dir/one.copc.laz" >/dev/null 2>"$dir/err" || fail "index: $(cat "$dir/err")"
+"$bin" index --check "$dir/one.copc.laz" | grep -q "valid COPC (1 node with points, 3000 points)" ||
+    fail "index --check of one node: $("$bin" index --check "$dir/one.copc.laz")"
+"$bin" info "$dir/one.copc.laz" | grep -qxF "  COPC:              yes, 1 node with points" ||
+    fail "info of one node: $("$bin" info "$dir/one.copc.laz" | grep COPC)"
 
 # Bad input: one line, exit 1, nothing on stdout.
 refused() {

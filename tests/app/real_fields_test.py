@@ -19,7 +19,8 @@ Usage: real_fields_test.py LADARVR SCRATCH_DIR DATA_DIR (tests/data/real)
      --reclassify; it adds PDAL's `HeightAboveGround` and none of our own fields (label,
      range) to a file we did not write;
   3. the CRS: a WKT record kept byte for byte; GeoTIFF keys become one WKT record naming
-     their EPSG code (the outputs are LAS 1.4, point formats 6-8); `info` reads it back.
+     their EPSG code (the outputs are LAS 1.4, point formats 6-8); `info` reads it back;
+  4. the header's system identifier (the hardware that collected the points) as the input's.
 """
 import json
 import os
@@ -262,6 +263,13 @@ def check_crs(name, src, out, what, wkt_holds):
         check(not wkts_out, f"{name} {what}: a CRS appeared in a file that has none")
 
 
+def check_system(name, src, out, what):
+    # The system that collected the points, as the producer named it (not our simulation's).
+    check(out.header.system_identifier == src.header.system_identifier,
+          f"{name} {what}: system identifier {out.header.system_identifier!r}, "
+          f"not the input's {src.header.system_identifier!r}")
+
+
 def ours(las):
     return [d for d in las.point_format.extra_dimension_names if d in ("label", "range", "height_above_ground_m")]
 
@@ -305,6 +313,7 @@ for source, wkt_holds in cases:
         check_integers(name, src, out, fin_sorted, fout_sorted, "index", one_scale=True)
         check_descriptors(name, source, stem + ".copc.laz", "index")
         check_crs(name, src, out, "index", wkt_holds)
+        check_system(name, src, out, "index")
         info = run("info", "--json", stem + ".copc.laz")
         check(info.returncode == 0, f"{name}: info of the index failed: {info.stderr.strip()}")
         if name in EPSG and info.returncode == 0:
@@ -325,6 +334,7 @@ for source, wkt_holds in cases:
         check_integers(name, src, out, fin, fout, "ground", one_scale=False)
         check_descriptors(name, source, stem + "-ground" + ext, "ground")
         check_crs(name, src, out, "ground", wkt_holds)
+        check_system(name, src, out, "ground")
         # Back again: a ground output read and indexed keeps its HeightAboveGround.
         r = run("index", stem + "-ground" + ext, "--out", stem + "-ground.copc.laz")
         check(r.returncode == 0, f"{name}: index of the ground output failed: {r.stderr.strip()}")

@@ -88,6 +88,9 @@ struct ForeignHeader {
     std::string wkt;
     /// Why a CRS the file declares could not be given as WKT; empty otherwise.
     std::string crs_problem;
+    /// Its header's system identifier (the hardware that collected the points, as its
+    /// producer named it; at most 32 bytes), written back in place of ours.
+    std::string system_identifier;
     /// Bytes of one point's side record: a ForeignPoint, then the extra bytes.
     std::size_t stride() const { return sizeof(ForeignPoint) + extra_bytes; }
 };

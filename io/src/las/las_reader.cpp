@@ -634,6 +634,7 @@ class LasReader final : public FormatReader {
         if (compressed && (laz.compressor == kPointwiseChunked || laz.compressor == kLayeredChunked))
             checkChunks(laz, data_at, count, record);
         if (facts_) recordFacts(head, format, compressed, record);
+        system_id_.assign(head.data() + 26, strnlen(head.data() + 26, 32));
         compressed_ = compressed;
         declared = std::size_t(count);
         // LAZ: at least one byte per point is a safe amount to reserve (the real count
@@ -941,6 +942,7 @@ class LasReader final : public FormatReader {
         h->extra_bytes_vlr = extra_vlr_;
         h->scale = scale_;
         h->offset = offset_;
+        h->system_identifier = system_id_;
         if (!wkt_vlr_.empty()) {
             h->wkt = wkt_vlr_;
         } else if (!geo_keys_.empty()) {
@@ -992,6 +994,7 @@ class LasReader final : public FormatReader {
     bool positions_only_ = false;  // PointFields::Positions: LASzip skips the other layers
     std::size_t stride_ = 0;       // bytes of a point's side record; 0: none kept
     std::string wkt_vlr_, geo_keys_, geo_doubles_, geo_ascii_, extra_vlr_;
+    std::string system_id_;         // the header's system identifier, up to its first NUL
     std::size_t record_extra_ = 0;  // bytes a record has after its format's fields
     unsigned point_format_ = 0;
     std::vector<unsigned char> pending_foreign_;  // the side records of pending_

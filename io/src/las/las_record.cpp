@@ -304,7 +304,16 @@ void LasRecord::setUp(laszip_POINTER zip) const {
     h->global_encoding = 1u << 4;  // WKT (required by point formats 6..10); GPS week time
     // LASzip replaces the generating software when it opens the writer (stampSoftware).
     std::snprintf(h->generating_software, sizeof h->generating_software, "%s", kSoftware);
-    std::snprintf(h->system_identifier, sizeof h->system_identifier, "ladarvr simulation");
+    // A survey's points were collected by its producer's system, not simulated by ours:
+    // its identifier is kept, all 32 bytes of it (the field needs no terminating NUL),
+    // or none where it named none.
+    if (options_.foreign) {
+        const std::string& system = options_.foreign->system_identifier;
+        std::memset(h->system_identifier, 0, sizeof h->system_identifier);
+        std::memcpy(h->system_identifier, system.data(), std::min(system.size(), sizeof h->system_identifier));
+    } else {
+        std::snprintf(h->system_identifier, sizeof h->system_identifier, "ladarvr simulation");
+    }
     h->file_creation_day = date_.day;
     h->file_creation_year = date_.year;
     const bool nir = fields_.rgb && options_.foreign && options_.foreign->nir;
