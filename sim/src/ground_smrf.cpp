@@ -16,8 +16,9 @@
 // Ours, for real surveys (SmrfOptions::raised_segments, off in the generator): between
 // 2) and 3), a patch of the surface left ground that stands more than 2 m above the
 // surface around it on most of its border, or more than 5 m above wherever it is seen
-// (a roof too wide for the openings, a bridge deck), is an object too; with SmrfOptions::sparse_openings (also off in the generator),
-// the openings of 2) leave out the empty cells between a sparse survey's points.
+// (a roof too wide for the openings, a bridge deck), is an object too; with
+// SmrfOptions::sparse_openings (also off in the generator), the openings of 2) leave out
+// the empty cells between a sparse survey's points.
 // SmrfOptions::reconstruct (off; measured, see ground.hpp) puts morphological
 // reconstruction (ground_reconstruct.hpp) into the object test or after it.
 //
@@ -99,12 +100,13 @@ void diskFilter(const std::vector<float>& in, std::vector<float>& out, int nx, i
 // A tall segment is raised even where the edge cuts it: looking out from each of its
 // cells along the 8 rays of the raster, up to kTallReach cells, over the empty cells and
 // over the small segments (under kSegmentLowerArea_m2) no more than kSegmentDrop_m below
-// it (what stands on a roof), a ray ends on another segment (seen) or beyond the data.
-// When at least kTallSeenShare of its rays are seen, and at least kSegmentDropShare of
-// those end more than kTallDrop_m below it, on a segment of at least kSegmentLowerArea_m2,
-// it is a roof cut by the edge (a tall building's shadow leaves no point between roof and
-// ground, hence the reach): terrain that the edge cuts does not end in a step that high
-// wherever it is seen.
+// it (what stands on a roof), a ray ends on another segment (seen) or beyond the data
+// (one that meets neither within its reach counts for neither). When at least
+// kTallSeenShare of its rays are seen, and at least kSegmentDropShare of those end more
+// than kTallDrop_m below it, on a segment of at least kSegmentLowerArea_m2, it is a roof
+// cut by the edge (a tall building's shadow leaves no point between roof and ground,
+// hence the reach): terrain that the edge cuts does not end in a step that high wherever
+// it is seen.
 constexpr int kSegmentReach = 2;
 constexpr double kSegmentJoin_m = 0.5, kSegmentJoinSlope = 0.5;
 constexpr double kSegmentDrop_m = 2.0, kSegmentDropShare = 0.7;

@@ -3,7 +3,8 @@
 # tests/data/real's five files whose producer classified the ground: a row per file and
 # the means, BENCHMARKS.md left alone with --no-md; sample_c's SMRF total error is the one
 # `ladarvr ground --json` gives for the same file (the bench classifies as the command
-# does); a file whose producer classified no ground is one line naming it.
+# does); a file whose producer classified no ground, or a cloud without a producer's
+# classes, is one line naming it.
 set -eu
 bench=$1
 app=$2
@@ -38,4 +39,10 @@ if "$bench" ground-real --no-md --in "$data/CSite2_orig-utm.laz" >"$dir/out" 2>"
 fi
 grep -q "CSite2_orig-utm.laz: its producer classified no point as ground (class 2); allowed " "$dir/err" ||
     fail "unclear refusal: $(cat "$dir/err")"
+# A cloud without a producer's classes (PLY).
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' \
+    >"$dir/plain.ply"
+if "$bench" ground-real --no-md --in "$dir/plain.ply" >"$dir/out" 2>"$dir/err"; then fail "a PLY cloud accepted"; fi
+grep -q "plain.ply: holds no producer's classes (a cloud of ours, or not LAS/LAZ/COPC); allowed " "$dir/err" ||
+    fail "unclear refusal of a PLY cloud: $(cat "$dir/err")"
 echo "ground_real_test: ok"
