@@ -84,6 +84,33 @@ TEST_CASE("copc reader: info, nodes and every node's points") {
     CHECK(whole.points.size() == total);
 }
 
+TEST_CASE("copc reader: header bounds far from the cube give way to the cube's frame") {
+    // Zeros (a writer that left them) and NaN: the frame comes from the info VLR's cube,
+    // the same for the reader and every node, and the points keep their millimetres.
+    for (const double bad : {0.0, std::nan("")}) {
+        CAPTURE(bad);
+        test_support::TempDir dir("copc_reader_bounds");
+        copc_test::File f = copc_test::make();
+        const io::CopcReader good(writeFile(dir, f.bytes));
+        const glm::dvec3 framed = good.origin();
+        for (std::size_t at = 179; at < 227; at += 8) std::memcpy(f.bytes.data() + at, &bad, sizeof bad);
+        const io::CopcReader reader(writeFile(dir, f.bytes));
+        CHECK(reader.origin() == glm::dvec3(copc_test::kCenter[0], copc_test::kCenter[1], 0.0));
+        CHECK(std::abs(reader.origin().x - framed.x) < 2.0 * copc_test::kHalf);
+        for (const copc_test::Node& want : f.nodes) {
+            const core::PointCloud cloud = reader.readNode(want.key);
+            REQUIRE(cloud.points.size() == want.points.size());
+            CHECK(cloud.origin == reader.origin());
+            for (std::size_t i = 0; i < want.points.size(); ++i) {
+                const std::int32_t raw[3] = {want.points[i].X, want.points[i].Y, want.points[i].Z};
+                for (int k = 0; k < 3; ++k)
+                    CHECK(std::abs(cloud.origin[k] + double(cloud.points[i].position[k]) -
+                                   (double(raw[k]) * copc_test::kScale + copc_test::kOffset[k])) < 1e-4);
+            }
+        }
+    }
+}
+
 TEST_CASE("copc reader: 73 nodes in one page, read alone and whole") {
     test_support::TempDir dir("copc_reader_many");
     const copc_test::File f = copc_test::make({}, true);

@@ -122,7 +122,8 @@ class CopcReader {
     /// The points in the file's header (known without reading a hierarchy page).
     std::uint64_t pointCount() const;
     /// The local frame readNode's points come in (the LAS reader's: whole metres near the
-    /// middle of the header's bounds), known without decoding a node.
+    /// middle of the header's bounds, or of the info VLR's cube when the bounds lie far
+    /// outside it), known without decoding a node.
     glm::dvec3 origin() const;
     /// The points of one node, as the LAS reader gives them (world coordinates through the
     /// cloud's origin, roles from the classes, view from the point source id).

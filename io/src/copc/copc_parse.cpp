@@ -744,6 +744,24 @@ void nodeCube(const CopcInfo& info, const CopcKey& key, glm::dvec3& lo, glm::dve
     }
 }
 
+void frameBounds(const CopcLayout& layout, glm::dvec3& min, glm::dvec3& max) {
+    min = layout.min;
+    max = layout.max;
+    if (!layout.info_found || !cubeUsable(layout.info)) return;
+    const CopcInfo& i = layout.info;
+    bool sane = true;
+    for (int k = 0; k < 3; ++k) {
+        const double lo = i.center_m[std::size_t(k)] - i.halfsize_m - kFrameSlack;
+        const double hi = i.center_m[std::size_t(k)] + i.halfsize_m + kFrameSlack;
+        sane = sane && min[k] >= lo && min[k] <= hi && max[k] >= lo && max[k] <= hi;
+    }
+    if (sane) return;
+    for (int k = 0; k < 3; ++k) {
+        min[k] = i.center_m[std::size_t(k)] - i.halfsize_m;
+        max[k] = i.center_m[std::size_t(k)] + i.halfsize_m;
+    }
+}
+
 std::string nodeLaz(ByteSource& source, const CopcLayout& layout, const CopcNode& node) {
     std::string laszip = layout.laszip_vlr;
     put<std::uint32_t>(laszip, kVlrHeader + 12, std::uint32_t(node.point_count));  // one chunk of them all
@@ -759,6 +777,12 @@ std::string nodeLaz(ByteSource& source, const CopcLayout& layout, const CopcNode
     put<std::uint32_t>(out, 243, 0u);
     put<std::uint64_t>(out, 247, std::uint64_t(node.point_count));
     for (std::size_t r = 0; r < 15; ++r) put<std::uint64_t>(out, 255 + 8 * r, 0u);
+    glm::dvec3 min, max;
+    frameBounds(layout, min, max);
+    for (std::size_t k = 0; k < 3; ++k) {
+        put<double>(out, 179 + 16 * k, max[int(k)]);
+        put<double>(out, 187 + 16 * k, min[int(k)]);
+    }
     out += laszip;
     out += layout.extra_vlr;
     const std::uint64_t table_at = data_at + 8 + std::uint64_t(node.byte_size);

@@ -68,8 +68,17 @@ bool parseCopc(ByteSource& source, CopcLayout& layout, std::vector<CopcFinding>&
 bool parseCopcPage(ByteSource& source, const CopcLayout& layout, const CopcPage& page, CopcPageEntries& entries,
                    std::vector<CopcFinding>& findings);
 
+/// The bounds the file's points are framed by: the header's, unless they are not finite
+/// or lie more than kFrameSlack outside the info VLR's cube (zeros or stale values that a
+/// writer left), when the cube's are taken instead (a usable cube is where every node's
+/// points lie). The reader's origin and every node's come from their middle.
+void frameBounds(const CopcLayout& layout, glm::dvec3& min, glm::dvec3& max);
+/// How far (in the file's units) the header's bounds may lie outside the cube: the LAS
+/// reader's slack for a first point outside the bounds, so that the nodes' frames agree.
+inline constexpr double kFrameSlack = 1000.0;
+
 /// A LAZ file of one node alone: the file's header (point count, offsets and EVLRs
-/// rewritten), its LASzip VLR (a fixed chunk size of the node's count) and extra bytes
+/// rewritten, the bounds frameBounds'), its LASzip VLR (a fixed chunk size of the node's count) and extra bytes
 /// VLR, the node's chunk bytes and a one-chunk table. `node` must be one of layout.nodes
 /// and lie inside the file (parseCopc checked both).
 std::string nodeLaz(ByteSource& source, const CopcLayout& layout, const CopcNode& node);

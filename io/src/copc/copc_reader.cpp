@@ -2,7 +2,8 @@
 // (copc_parse.cpp: the header, the info VLR, every hierarchy page and the chunk table);
 // a node is then read by wrapping its chunk as a LAZ file of its own and decoding that
 // with the LAS reader, so a node's points come exactly as the LAS reader gives them
-// (through the file's origin: the whole file's header bounds decide it for every node)
+// (through the file's origin: the whole file's header bounds decide it for every node,
+// or its cube when the bounds lie far outside it)
 // and LASzip decodes in the LAS reader's separate process.
 #include <io/cloud_reader.hpp>
 #include <io/copc.hpp>
@@ -88,7 +89,11 @@ CopcPageEntries CopcReader::readPage(const CopcPage& page) const {
     return entries;
 }
 
-glm::dvec3 CopcReader::origin() const { return detail::shiftFor(0.5 * (impl_->layout.min + impl_->layout.max)); }
+glm::dvec3 CopcReader::origin() const {
+    glm::dvec3 min, max;
+    detail::frameBounds(impl_->layout, min, max);
+    return detail::shiftFor(0.5 * (min + max));
+}
 
 core::PointCloud CopcReader::readNode(const CopcKey& key) const {
     const std::vector<CopcNode>& nodes = impl_->layout.nodes;
