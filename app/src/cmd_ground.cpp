@@ -65,8 +65,9 @@ constexpr std::uint64_t kDtmSpread = 16, kDtmSpreadCells = 1000000;
 struct GroundFileCli {
     std::vector<std::string> in;
     std::string out, out_dir;
-    std::string dtm;      // --dtm: the terrain as an ESRI ASCII grid; empty: none
-    std::string dtm_dir;  // --dtm-dir: with --out-dir, one grid per input in this folder
+    std::string dtm;                 // --dtm: the terrain as an ESRI ASCII grid or a GeoTIFF; empty: none
+    std::string dtm_dir;             // --dtm-dir: with --out-dir, one grid per input in this folder
+    std::string dtm_format = "asc";  // --dtm-format: --dtm-dir's grids, asc or tif
     std::string method = "smrf";
     sim::GroundFileOptions options;
     double low_outlier_m = sim::kSurveyLowOutlier_m;
@@ -186,46 +187,57 @@ double tileSide(const GroundFileCli& cli, const sim::GroundFileOptions& o, const
     return std::min(side, kLargestTile_m / units.horizontal_m);
 }
 
-// Where a grid's CRS goes: beside it, under its name with .prj.
-std::filesystem::path prjFor(const std::filesystem::path& asc) {
-    return std::filesystem::path(asc).replace_extension(".prj");
+// Where an ASCII grid's CRS goes: beside it, under its name with .prj. A GeoTIFF holds its
+// own (its GeoTIFF keys): none.
+std::optional<std::filesystem::path> prjFor(const std::filesystem::path& grid) {
+    if (isGeoTiffName(grid)) return std::nullopt;
+    return std::filesystem::path(grid).replace_extension(".prj");
 }
 
-// One grid of the terrain (--dtm, or one of --dtm-dir's), with its input's CRS beside it in a
-// .prj of its name (as GIS read an ASCII grid's) when the input has one (OGC WKT, up to a
-// NUL); both written to temporaries before the cloud lands, renamed into place after it.
+// One grid of the terrain (--dtm, or one of --dtm-dir's) with its input's CRS: an ESRI
+// ASCII grid with the CRS beside it in a .prj of its name (as GIS read an ASCII grid's)
+// when the input has one (OGC WKT, up to a NUL), or a GeoTIFF with the CRS in its keys.
+// Written to temporaries before the cloud lands, renamed into place after it.
 class DtmOutput {
   public:
-    DtmOutput(const std::filesystem::path& asc, const std::filesystem::path& input) : asc_(asc), prj_(prjFor(asc)) {
+    DtmOutput(const std::filesystem::path& grid, const std::filesystem::path& input) : grid_(grid), prj_(prjFor(grid)) {
         if (const auto foreign = io::CloudReader(input, io::SideRecords::Keep).foreignHeader())
             wkt_ = foreign->wkt.substr(0, foreign->wkt.find('\0'));
     }
     DtmOutput(const DtmOutput&) = delete;
     DtmOutput& operator=(const DtmOutput&) = delete;
 
-    const std::filesystem::path& asc() const { return asc_; }
-    const std::filesystem::path& prj() const { return prj_; }
+    const std::filesystem::path& grid() const { return grid_; }
 
     // Before any work: its folder made, the grid's destination and the .prj's checked.
     void prepare(const platform::InputSet& inputs, std::string_view option) const {
-        createParentFolders(asc_, option);
-        platform::checkWritableDestination(asc_, inputs);
-        if (!wkt_.empty()) platform::checkWritableDestination(prj_, inputs);
+        createParentFolders(grid_, option);
+        platform::checkWritableDestination(grid_, inputs);
+        if (prj_ && !wkt_.empty()) platform::checkWritableDestination(*prj_, inputs);
     }
 
     // The grid of `cell` cells on the lattice of `frame`, for the classifier to fill.
     sim::DtmMosaic& start(double cell, const glm::dvec3& frame) {
-        const std::filesystem::path folder = asc_.parent_path();
-        mosaic_.emplace(folder.empty() ? std::filesystem::path(".") : folder, core::printable(asc_.string(), 400), cell,
-                        frame);
+        const std::filesystem::path folder = grid_.parent_path();
+        mosaic_.emplace(folder.empty() ? std::filesystem::path(".") : folder, core::printable(grid_.string(), 400),
+                        cell, frame);
         mosaic_->on_complete = [this](sim::DtmMosaic& grid) {
-            asc_file_ = std::make_unique<platform::TempFile>(asc_);
-            grid.write(asc_file_->file());
+            grid_file_ = std::make_unique<platform::TempFile>(grid_);
+            if (!prj_) {
+                std::string problem;
+                const std::vector<io::GeoKey> keys = io::geoKeysForWkt(wkt_, problem);
+                for (const io::GeoKey& k : keys)
+                    if ((k.id == 3072 || k.id == 2048) && k.value != 32767) epsg_ = k.value;
+                keyed_ = !keys.empty();
+                grid.writeGeoTiff(grid_file_->file(), keys);
+                return;
+            }
+            grid.write(grid_file_->file());
             if (wkt_.empty()) return;
-            prj_file_ = std::make_unique<platform::TempFile>(prj_);
+            prj_file_ = std::make_unique<platform::TempFile>(*prj_);
             if (std::fwrite(wkt_.data(), 1, wkt_.size(), prj_file_->file()) != wkt_.size() ||
                 std::fflush(prj_file_->file()) != 0)
-                throw core::Error("output: " + core::printable(prj_.string(), 400) +
+                throw core::Error("output: " + core::printable(prj_->string(), 400) +
                                   ": write failed: " + std::strerror(errno));
         };
         return *mosaic_;
@@ -233,20 +245,38 @@ class DtmOutput {
 
     // After the cloud landed.
     void commit() {
-        if (asc_file_) asc_file_->commit();
+        if (grid_file_) grid_file_->commit();
         if (prj_file_) prj_file_->commit();
     }
 
     int columns() const { return mosaic_ ? mosaic_->columns() : 0; }
     int rows() const { return mosaic_ ? mosaic_->rows() : 0; }
-    bool wroteCrs() const { return prj_file_ != nullptr; }
     sim::DtmMosaic* mosaic() { return mosaic_ ? &*mosaic_ : nullptr; }
 
+    // Where the CRS went, for the JSON: the .prj's path, the GeoTIFF's keys ("EPSG:N", or
+    // "GeoTIFF keys" for a CRS without a code), or null.
+    nlohmann::json crsJson() const {
+        if (prj_file_) return std::filesystem::absolute(*prj_).string();
+        if (keyed_) return epsg_ ? "EPSG:" + std::to_string(epsg_) : std::string("GeoTIFF keys");
+        return nullptr;
+    }
+    // The same for the text line.
+    std::string crsLine() const {
+        if (prj_file_) return ", its CRS in " + platform::messageLine(prj_->string(), 400);
+        if (keyed_)
+            return epsg_ ? ", its CRS in its GeoTIFF keys (EPSG:" + std::to_string(epsg_) + ")"
+                         : std::string(", its CRS in its GeoTIFF keys");
+        return wkt_.empty() ? ", no CRS (the input has none)" : ", no CRS (PROJ cannot read the input's)";
+    }
+
   private:
-    std::filesystem::path asc_, prj_;
+    std::filesystem::path grid_;
+    std::optional<std::filesystem::path> prj_;  // an ASCII grid's .prj
     std::string wkt_;
     std::optional<sim::DtmMosaic> mosaic_;
-    std::unique_ptr<platform::TempFile> asc_file_, prj_file_;
+    std::unique_ptr<platform::TempFile> grid_file_, prj_file_;
+    int epsg_ = 0;        // a GeoTIFF's horizontal EPSG code, 0 none
+    bool keyed_ = false;  // a GeoTIFF with keys
 };
 
 void printStats(const GroundFileCli& cli, const std::string& in, const std::string& out, const sim::GroundFileStats& st,
@@ -267,12 +297,11 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         j["raster"] = {{"nx", st.nx}, {"ny", st.ny}, {"cell_m", st.cell_m * units.horizontal_m}};
         if (tiled) j["tiles"] = st.tiles;
         if (dtm)
-            j["dtm"] = {{"path", std::filesystem::absolute(dtm->asc()).string()},
+            j["dtm"] = {{"path", std::filesystem::absolute(dtm->grid()).string()},
                         {"columns", dtm->columns()},
                         {"rows", dtm->rows()},
                         {"cell_m", st.cell_m * units.horizontal_m},
-                        {"crs", dtm->wroteCrs() ? nlohmann::json(std::filesystem::absolute(dtm->prj()).string())
-                                                : nlohmann::json(nullptr)}};
+                        {"crs", dtm->crsJson()}};
         j["seconds"] = seconds;
         if (array) {
             array->push_back(std::move(j));
@@ -289,10 +318,8 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         std::printf("raster %d x %d, %.3f s\n", st.nx, st.ny, seconds);
     if (dtm)
         std::printf("ground: wrote %s: the terrain, %d x %d cells of %g m%s\n",
-                    platform::messageLine(dtm->asc().string(), 400).c_str(), dtm->columns(), dtm->rows(),
-                    st.cell_m * units.horizontal_m,
-                    dtm->wroteCrs() ? (", its CRS in " + platform::messageLine(dtm->prj().string(), 400)).c_str()
-                                    : ", no CRS (the input has none)");
+                    platform::messageLine(dtm->grid().string(), 400).c_str(), dtm->columns(), dtm->rows(),
+                    st.cell_m * units.horizontal_m, dtm->crsLine().c_str());
 }
 
 // One line on stderr when SMRF's raster is far sparser than the points: its time then goes
@@ -320,7 +347,8 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     paths.push_back({"--out", cli.out, platform::PathRole::Output, {}});
     if (!cli.dtm.empty()) {
         paths.push_back({"--dtm", cli.dtm, platform::PathRole::Output, {}});
-        paths.push_back({"--dtm's CRS", prjFor(cli.dtm).string(), platform::PathRole::Output, {}});
+        if (const auto prj = prjFor(cli.dtm))
+            paths.push_back({"--dtm's CRS", prj->string(), platform::PathRole::Output, {}});
     }
     platform::checkDistinctPaths("ground", paths);
     platform::InputSet inputs;
@@ -434,13 +462,14 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
                           std::to_string(cli.in.size() - 1) + "] (an index into the " + std::to_string(cli.in.size()) +
                           " inputs)");
     for (const auto& p : outs) paths.push_back({"--out-dir", p, platform::PathRole::Output, {}});
-    // --dtm-dir: each input's grid under its name, .asc (and its CRS's .prj).
+    // --dtm-dir: each input's grid under its name, .asc (and its CRS's .prj) or .tif.
     std::vector<std::filesystem::path> grids;
     if (!cli.dtm_dir.empty())
         for (const auto& f : files) {
-            grids.push_back(std::filesystem::path(cli.dtm_dir) / f.filename().replace_extension(".asc"));
+            grids.push_back(std::filesystem::path(cli.dtm_dir) / f.filename().replace_extension("." + cli.dtm_format));
             paths.push_back({"--dtm-dir", grids.back().string(), platform::PathRole::Output, {}});
-            paths.push_back({"--dtm-dir", prjFor(grids.back()).string(), platform::PathRole::Output, {}});
+            if (const auto prj = prjFor(grids.back()))
+                paths.push_back({"--dtm-dir", prj->string(), platform::PathRole::Output, {}});
         }
     platform::checkDistinctPaths("ground", paths);
     platform::InputSet inputs;
@@ -601,13 +630,19 @@ void registerGround(CLI::App& cli) {
                   "Slurm array task per input (scripts/slurm/ground.sbatch)")
         ->needs(out_dir);
     c->add_option("--dtm", state->dtm,
-                  "with --out: also write the terrain the points were classified against (the DTM) as an ESRI ASCII "
-                  "grid (.asc) of the filter's cells, in the input's coordinates and units, and its CRS beside it "
-                  "(.prj) when the input has one; a tiled run's tiles put together, -9999 where no tile held a point");
-    c->add_option("--dtm-dir", state->dtm_dir,
-                  "with --out-dir: also write each input's terrain over its own bounds into this folder, under the "
-                  "input's name with .asc (and .prj), as --dtm does")
-        ->needs(out_dir);
+                  "with --out: also write the terrain the points were classified against (the DTM), a grid of the "
+                  "filter's cells in the input's coordinates and units: an ESRI ASCII grid (.asc) with its CRS "
+                  "beside it (.prj) when the input has one, or a GeoTIFF (.tif, .tiff) with its CRS in its keys; a "
+                  "tiled run's tiles put together, -9999 where no tile held a point");
+    auto* dtm_dir = c->add_option("--dtm-dir", state->dtm_dir,
+                                  "with --out-dir: also write each input's terrain over its own bounds into this "
+                                  "folder, under the input's name with --dtm-format's extension, as --dtm does")
+                        ->needs(out_dir);
+    c->add_option("--dtm-format", state->dtm_format,
+                  "--dtm-dir's grids: asc (ESRI ASCII grid and .prj) or tif (GeoTIFF)")
+        ->check(CLI::IsMember({"asc", "tif"}))
+        ->needs(dtm_dir)
+        ->capture_default_str();
     c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");
     c->callback([state] { run(*state); });
 }

@@ -84,15 +84,21 @@ void addGroundOptions(CLI::App& c, GroundCli& cli, sim::GroundChoice& ground) {
     addCsfOptions(c, ground.csf);
     c.add_option("--dtm", cli.dtm,
                  "also write the fitted terrain (SMRF's or CSF's surface; SMRF's with --ground ransac) as an "
-                 "ESRI ASCII grid (.asc), world metres");
+                 "ESRI ASCII grid (.asc) or a GeoTIFF (.tif, .tiff), world metres");
+}
+
+bool isGeoTiffName(const std::filesystem::path& dtm) {
+    std::string ext = dtm.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".tif" || ext == ".tiff";
 }
 
 void checkDtmName(const std::string& dtm, const char* command) {
     std::string ext = std::filesystem::path(dtm).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".asc")
+    if (ext != ".asc" && !isGeoTiffName(dtm))
         throw core::Error(std::string(command) + ": --dtm " + core::printable(dtm, 400) +
-                          ": allowed a name ending in .asc (the DTM is written as an ESRI ASCII grid)");
+                          ": allowed a name ending in .asc (an ESRI ASCII grid) or .tif, .tiff (a GeoTIFF)");
 }
 
 void applyGroundOptions(const GroundCli& cli, sim::GenerateOptions& o) {
@@ -117,8 +123,13 @@ std::unique_ptr<platform::TempFile> stageDtm(const GroundCli& cli, const sim::Ge
     const std::string out = "output: " + core::printable(cli.dtm, 400) + ": ";
     if (!st.terrain || st.terrain->empty())
         throw core::Error(out + "no terrain was fitted (--white, or an empty cloud)");
-    const std::string text = sim::dtmAscii(*st.terrain, origin);
     auto file = std::make_unique<platform::TempFile>(cli.dtm);
+    if (isGeoTiffName(cli.dtm)) {
+        // A generated cloud has no CRS: the grid is placed, without keys.
+        sim::dtmGeoTiff(file->file(), *st.terrain, origin, {}, core::printable(cli.dtm, 400));
+        return file;
+    }
+    const std::string text = sim::dtmAscii(*st.terrain, origin);
     if (std::fwrite(text.data(), 1, text.size(), file->file()) != text.size() || std::fflush(file->file()) != 0)
         throw core::Error(out + "write failed: " + std::strerror(errno));
     return file;

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json_fwd.hpp>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -30,7 +31,11 @@ void addCsfOptions(CLI::App& command, sim::CsfOptions& csf);
 void addGroundOptions(CLI::App& generate, GroundCli& cli, sim::GroundChoice& ground);
 
 /// Throws core::Error("<command>: --dtm <name>: allowed a name ending in .asc ...") unless
-/// `dtm`'s name ends in .asc (any case): the DTM is written as an ESRI ASCII grid.
+/// `dtm`'s name ends in .asc (an ESRI ASCII grid) or .tif, .tiff (a GeoTIFF), any case.
+/// Whether a DTM's name asks for a GeoTIFF (.tif, .tiff, any case) rather than an ESRI
+/// ASCII grid.
+bool isGeoTiffName(const std::filesystem::path& dtm);
+
 void checkDtmName(const std::string& dtm, const char* command);
 
 /// Before any work: --ground into `o.ground.method`; --dtm refused with --white (no

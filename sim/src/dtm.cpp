@@ -97,22 +97,63 @@ void DtmMosaic::write(std::FILE* out) {
     const std::uint64_t cells = std::uint64_t(columns) * std::uint64_t(j1_ - j0_ + 1);
     checkFreeSpace(scratch_dir_, header.size() + 6 * cells, "the grid");
     put(header);
-    constexpr float kNoData = std::numeric_limits<float>::quiet_NaN();
     std::vector<float> row(static_cast<std::size_t>(columns));
     std::string text;
     for (int j = j1_; j >= j0_; --j) {
-        std::fill(row.begin(), row.end(), kNoData);
-        for (const Piece& p : pieces_) {
-            if (j < p.j0 || j > p.j1) continue;
-            const std::size_t width = std::size_t(p.i1 - p.i0 + 1);
-            heights_.readAt(row.data() + (p.i0 - i0_), width * sizeof(float),
-                            p.offset + std::uint64_t(j - p.j0) * width * sizeof(float));
-        }
+        readRow(j, row.data());
         text.clear();
         appendRow(text, row.data(), columns, frame_.z);
         put(text);
     }
     if (std::fflush(out) != 0) throw core::Error("output: " + what_ + ": write failed: " + std::strerror(errno));
+}
+
+void DtmMosaic::readRow(int j, float* row) {
+    std::fill(row, row + (i1_ - i0_ + 1), std::numeric_limits<float>::quiet_NaN());
+    for (const Piece& p : pieces_) {
+        if (j < p.j0 || j > p.j1) continue;
+        const std::size_t width = std::size_t(p.i1 - p.i0 + 1);
+        heights_.readAt(row + (p.i0 - i0_), width * sizeof(float),
+                        p.offset + std::uint64_t(j - p.j0) * width * sizeof(float));
+    }
+}
+
+void DtmMosaic::writeGeoTiff(std::FILE* out, const std::vector<io::GeoKey>& keys) {
+    if (pieces_.empty()) throw core::Error("output: " + what_ + ": no terrain was fitted (no point was read)");
+    heights_.flush();
+    io::GeoTiffGrid g;
+    g.columns = i1_ - i0_ + 1;
+    g.rows = j1_ - j0_ + 1;
+    g.west = frame_.x + double(i0_) * cell_;
+    g.north = frame_.y + double(j1_ + 1) * cell_;
+    g.cell = cell_;
+    checkFreeSpace(scratch_dir_, io::geoTiffBytes(g, keys), "the grid");
+    std::vector<float> local(static_cast<std::size_t>(g.columns));
+    io::writeGeoTiff(
+        out, g, keys,
+        [&](int r, float* values) {
+            readRow(j1_ - r, local.data());
+            for (std::size_t i = 0; i < local.size(); ++i) values[i] = float(frame_.z + double(local[i]));
+        },
+        what_);
+}
+
+void dtmGeoTiff(std::FILE* out, const TerrainGrid& grid, const glm::dvec3& origin, const std::vector<io::GeoKey>& keys,
+                const std::string& what) {
+    if (grid.empty()) throw core::Error("output: " + what + ": no terrain was fitted (the cloud is empty)");
+    io::GeoTiffGrid g;
+    g.columns = grid.nx;
+    g.rows = grid.ny;
+    g.west = origin.x + grid.x0_m - 0.5 * grid.cell_m;
+    g.north = origin.y + grid.y0_m + (double(grid.ny) - 0.5) * grid.cell_m;
+    g.cell = grid.cell_m;
+    io::writeGeoTiff(
+        out, g, keys,
+        [&](int r, float* values) {
+            const float* z = grid.z_m.data() + std::size_t(grid.ny - 1 - r) * std::size_t(grid.nx);
+            for (int i = 0; i < grid.nx; ++i) values[i] = float(origin.z + double(z[i]));
+        },
+        what);
 }
 
 }  // namespace sim

@@ -10,7 +10,7 @@
 #  - a survey in feet gets its grid in feet (cells of 1 m given as 3.28 ft);
 #  - a folder of tiles (--out-dir) gets a grid per input with --dtm-dir, each the merged
 #    run's over the input's bounds;
-#  - --dtm with --out-dir, over inputs far apart, or a name not ending in .asc, or a
+#  - --dtm with --out-dir, over inputs far apart, or a name not ending in .asc or .tif, or a
 #    folder or a link in its place: one
 #    line naming --dtm, and neither the cloud nor the grid written; on a full disk the
 #    same, the grid being written before the cloud lands.
@@ -173,8 +173,8 @@ bad() {
 }
 bad "ground: --dtm: allowed with --out (one DTM of every input); with --out-dir, --dtm-dir DIR writes one per input" \
     "$data/isprs/samp24.las" --out-dir "$dir/outs" --dtm "$dir/bad.asc"
-bad "ground: --dtm $dir/bad.tif: allowed a name ending in .asc" \
-    "$data/isprs/samp24.las" --out "$dir/bad.laz" --dtm "$dir/bad.tif"
+bad "ground: --dtm $dir/bad.grd: allowed a name ending in .asc" \
+    "$data/isprs/samp24.las" --out "$dir/bad.laz" --dtm "$dir/bad.grd"
 bad "ground: --dtm: the inputs lie far apart" \
     "$data/isprs/samp11.laz" "$data/isprs/samp71.laz" --out "$dir/bad.laz" --dtm "$dir/bad.asc"
 mkdir -p "$dir/folder.asc"

@@ -1,9 +1,9 @@
 #!/bin/sh
 # copcjs_setup.sh THIRD_PARTY DIR: installs the JavaScript test clients pinned in
-# THIRD_PARTY/npm-tests.json (copc.js and laz-perf, exact versions from
+# THIRD_PARTY/npm-tests.json (copc.js and laz-perf; geotiff.js; exact versions from
 # npm-tests-lock.json) into DIR/node_modules from the npm registry, once: a DIR whose
 # manifest and lockfile equal the pinned ones is left as it is. The ctest fixture "copcjs"
-# of the copc.js tests.
+# of the copc.js and geotiff.js tests.
 set -eu
 src="$1"
 dir="$2"
@@ -23,4 +23,4 @@ cd "$dir"
 npm_config_cache="$dir/.npm-cache" timeout 300 npm ci --no-audit --no-fund --ignore-scripts ||
   { echo "copcjs_setup: npm ci failed; the npm registry must be reachable to set up the copc.js tests" >&2; exit 1; }
 touch node_modules/.ladarvr-installed
-echo "copcjs_setup: installed $(node -p 'require("./node_modules/copc/package.json").version' 2>/dev/null || echo '?') of copc into $dir"
+echo "copcjs_setup: installed $(node -p 'require("./node_modules/copc/package.json").version' 2>/dev/null || echo '?') of copc and $(node -p 'require("./node_modules/geotiff/package.json").version' 2>/dev/null || echo '?') of geotiff into $dir"

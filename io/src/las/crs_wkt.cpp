@@ -3,7 +3,7 @@
 // its logging off: a code PROJ does not know is reported through `problem` alone.
 #include "crs_wkt.hpp"
 
-#include <proj.h>
+#include "../proj_ptr.hpp"
 
 #include <cmath>
 #include <memory>
@@ -11,15 +11,6 @@
 namespace io::detail {
 
 namespace {
-
-struct ContextDeleter {
-    void operator()(PJ_CONTEXT* c) const { proj_context_destroy(c); }
-};
-struct PjDeleter {
-    void operator()(PJ* p) const { proj_destroy(p); }
-};
-using Context = std::unique_ptr<PJ_CONTEXT, ContextDeleter>;
-using Pj = std::unique_ptr<PJ, PjDeleter>;
 
 Pj fromEpsg(PJ_CONTEXT* ctx, int code) {
     const std::string text = std::to_string(code);
@@ -60,7 +51,7 @@ std::string wktForCrs(const LasCrs& las, std::string& problem) {
         problem = "the GeoTIFF keys give no EPSG code for the CRS";
         return {};
     }
-    const Context ctx(proj_context_create());
+    const ProjContext ctx(proj_context_create());
     if (!ctx) {
         problem = "PROJ could not be started";
         return {};

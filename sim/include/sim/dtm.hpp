@@ -2,6 +2,7 @@
 #pragma once
 #include <sim/ground.hpp>
 
+#include <io/geotiff.hpp>
 #include <platform/scratch_file.hpp>
 
 #include <glm/glm.hpp>
@@ -27,6 +28,12 @@ std::string dtmAscii(const TerrainGrid& grid, const glm::dvec3& origin);
 /// Writes dtmAscii() atomically to `path` (platform::writeFileAtomic). Throws core::Error
 /// ("output: <path>: ...") on failure, or when the grid is empty.
 void writeDtm(const std::filesystem::path& path, const TerrainGrid& grid, const glm::dvec3& origin);
+
+/// Writes `grid` in world coordinates (local + origin) to `out` as a GeoTIFF
+/// (io::writeGeoTiff, with `keys`): the northernmost row first, as dtmAscii. Throws
+/// core::Error("output: <what>: ...") on failure, or when the grid is empty.
+void dtmGeoTiff(std::FILE* out, const TerrainGrid& grid, const glm::dvec3& origin, const std::vector<io::GeoKey>& keys,
+                const std::string& what);
 
 /// A DTM put together from pieces of terrains fitted on one cell lattice (`ladarvr ground
 /// --dtm`: one fit's whole raster, or each tile's own square). Cell (i, j) of the lattice
@@ -54,6 +61,9 @@ class DtmMosaic {
     /// core::Error("output: <folder>: ...") when the scratch folder's filesystem has less
     /// free than the grid takes at least (6 bytes a cell).
     void write(std::FILE* out);
+    /// The same box as a GeoTIFF (io::writeGeoTiff with `keys`), its cells no piece holds
+    /// as the file's nodata value; the same errors (4 bytes a cell).
+    void writeGeoTiff(std::FILE* out, const std::vector<io::GeoKey>& keys);
 
     /// What the run does with the grid once every piece is in, before the cloud's output
     /// is renamed into place (so that a grid that cannot be written stops the run while
@@ -65,6 +75,9 @@ class DtmMosaic {
     }
 
   private:
+    // Row j of the lattice (frame heights, NaN where no piece holds a cell) into `row`.
+    void readRow(int j, float* row);
+
     struct Piece {
         int i0, i1, j0, j1;  // the lattice cells held, inclusive
         std::uint64_t offset;

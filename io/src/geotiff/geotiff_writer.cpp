@@ -1,0 +1,323 @@
+// io/src/geotiff/geotiff_writer.cpp: io/geotiff.hpp. A little-endian classic TIFF: the
+// 8-byte header, one IFD right after it, the tags' values that do not fit in their entry,
+// then the rows of heights, each a strip of its own. The keys come from the WKT through
+// PROJ (a context per call, logging off, as the LAS reader's CRS conversion does).
+#include <io/geotiff.hpp>
+
+#include <core/error.hpp>
+
+#include "../proj_ptr.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+
+namespace io {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the heights are written as the host holds them");
+
+using detail::Pj;
+using detail::ProjContext;
+
+// GeoTIFF 1.1 key ids and codes.
+enum : std::uint16_t {
+    kModelType = 1024,
+    kRasterType = 1025,
+    kCitation = 1026,
+    kGeographicType = 2048,
+    kGeogCitation = 2049,
+    kGeogAngularUnits = 2054,
+    kProjectedType = 3072,
+    kProjLinearUnits = 3076,
+    kVerticalType = 4096,
+    kVerticalCitation = 4097,
+    kVerticalUnits = 4099,
+};
+constexpr std::uint16_t kUserDefined = 32767;
+constexpr std::uint16_t kModelProjected = 1, kModelGeographic = 2, kModelGeocentric = 3;
+constexpr std::uint16_t kPixelIsArea = 1;
+
+// A WKT's BoundCRS (WKT 1 with TOWGS84) is its source CRS with a transformation: the
+// keys describe the source.
+Pj unbound(PJ_CONTEXT* ctx, Pj pj) {
+    if (pj && proj_get_type(pj.get()) == PJ_TYPE_BOUND_CRS)
+        if (Pj source = Pj(proj_get_source_crs(ctx, pj.get()))) return source;
+    return pj;
+}
+
+// An EPSG code that fits a key (1..32766): the object's own, else the one PROJ identifies
+// with full confidence; 0 when there is none.
+std::uint16_t epsgOf(PJ_CONTEXT* ctx, const PJ* pj) {
+    const auto fits = [](const char* auth, const char* code) -> std::uint16_t {
+        if (!auth || !code || std::strcmp(auth, "EPSG") != 0) return 0;
+        char* end = nullptr;
+        const long v = std::strtol(code, &end, 10);
+        return end && *end == '\0' && v > 0 && v < kUserDefined ? std::uint16_t(v) : 0;
+    };
+    if (const std::uint16_t own = fits(proj_get_id_auth_name(pj, 0), proj_get_id_code(pj, 0))) return own;
+    int* confidence = nullptr;
+    PJ_OBJ_LIST* list = proj_identify(ctx, pj, "EPSG", nullptr, &confidence);
+    std::uint16_t found = 0;
+    if (list && proj_list_get_count(list) > 0 && confidence && confidence[0] == 100)
+        if (const Pj best = Pj(proj_list_get(ctx, list, 0)))
+            found = fits(proj_get_id_auth_name(best.get(), 0), proj_get_id_code(best.get(), 0));
+    proj_int_list_destroy(confidence);
+    proj_list_destroy(list);
+    return found;
+}
+
+// The EPSG code of the unit of the CRS's first axis: the unit's own, else the one of its
+// length for metre, foot and US survey foot (a unit named without a code); 0 unknown.
+std::uint16_t unitOf(PJ_CONTEXT* ctx, const PJ* crs) {
+    const Pj cs(proj_crs_get_coordinate_system(ctx, crs));
+    double factor = 0.0;
+    const char* auth = nullptr;
+    const char* code = nullptr;
+    if (!cs || !proj_cs_get_axis_info(ctx, cs.get(), 0, nullptr, nullptr, nullptr, &factor, nullptr, &auth, &code))
+        return 0;
+    if (auth && code && std::strcmp(auth, "EPSG") == 0) {
+        const long v = std::strtol(code, nullptr, 10);
+        if (v > 0 && v < kUserDefined) return std::uint16_t(v);
+    }
+    struct Known {
+        double metres;
+        std::uint16_t code;
+    };
+    for (const Known k : {Known{1.0, 9001}, Known{0.3048, 9002}, Known{1200.0 / 3937.0, 9003}})
+        if (std::fabs(factor - k.metres) <= 1e-9 * k.metres) return k.code;
+    return 0;
+}
+
+std::string nameOf(const PJ* pj) {
+    const char* n = proj_get_name(pj);
+    std::string s;
+    for (const char* c = n ? n : ""; *c; ++c)
+        if (*c >= 0x20 && *c < 0x7f && *c != '|' && s.size() < 200) s.push_back(*c);
+    return s.empty() ? "unknown" : s;
+}
+
+void put16(std::string& b, std::uint16_t v) {
+    b.push_back(char(v & 0xff));
+    b.push_back(char(v >> 8));
+}
+void put32(std::string& b, std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) b.push_back(char((v >> (8 * k)) & 0xff));
+}
+void putDouble(std::string& b, double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    for (int k = 0; k < 8; ++k) b.push_back(char((bits >> (8 * k)) & 0xff));
+}
+
+// TIFF field types.
+constexpr std::uint16_t kAscii = 2, kShort = 3, kLong = 4, kDouble = 12;
+
+struct Tag {
+    std::uint16_t id, type;
+    std::uint32_t count;
+    std::string bytes;  // the value, little-endian
+};
+
+// The tags of `grid` with `keys`; the strip offsets from `data_at` (0 while sizing).
+std::vector<Tag> tagsFor(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys, std::uint64_t data_at) {
+    const std::uint32_t rows = std::uint32_t(grid.rows), row_bytes = std::uint32_t(grid.columns) * 4u;
+    std::vector<Tag> tags;
+    const auto shortTag = [&](std::uint16_t id, std::uint16_t v) {
+        std::string b;
+        put16(b, v);
+        tags.push_back({id, kShort, 1, b});
+    };
+    const auto longTag = [&](std::uint16_t id, std::uint32_t v) {
+        std::string b;
+        put32(b, v);
+        tags.push_back({id, kLong, 1, b});
+    };
+    longTag(256, std::uint32_t(grid.columns));  // ImageWidth
+    longTag(257, rows);                         // ImageLength
+    shortTag(258, 32);                          // BitsPerSample
+    shortTag(259, 1);                           // Compression: none
+    shortTag(262, 1);                           // PhotometricInterpretation: BlackIsZero
+    std::string offsets, counts;
+    for (std::uint32_t r = 0; r < rows; ++r) {
+        put32(offsets, std::uint32_t(data_at + std::uint64_t(r) * row_bytes));
+        put32(counts, row_bytes);
+    }
+    tags.push_back({273, kLong, rows, offsets});  // StripOffsets
+    shortTag(277, 1);                             // SamplesPerPixel
+    longTag(278, 1);                              // RowsPerStrip
+    tags.push_back({279, kLong, rows, counts});   // StripByteCounts
+    shortTag(284, 1);                             // PlanarConfiguration: contiguous
+    shortTag(339, 3);                             // SampleFormat: IEEE floating point
+    std::string scale, tie;
+    for (const double v : {grid.cell, grid.cell, 0.0}) putDouble(scale, v);
+    for (const double v : {0.0, 0.0, 0.0, grid.west, grid.north, 0.0}) putDouble(tie, v);
+    tags.push_back({33550, kDouble, 3, scale});  // ModelPixelScaleTag
+    tags.push_back({33922, kDouble, 6, tie});    // ModelTiepointTag: raster (0, 0) at the top-left corner
+    if (!keys.empty()) {
+        std::string directory, ascii;
+        put16(directory, 1);  // KeyDirectoryVersion
+        put16(directory, 1);  // KeyRevision
+        put16(directory, 1);  // MinorRevision: GeoTIFF 1.1
+        put16(directory, std::uint16_t(keys.size()));
+        for (const GeoKey& k : keys) {
+            put16(directory, k.id);
+            if (k.text.empty()) {
+                put16(directory, 0);
+                put16(directory, 1);
+                put16(directory, k.value);
+            } else {
+                put16(directory, 34737);
+                put16(directory, std::uint16_t(k.text.size() + 1));
+                put16(directory, std::uint16_t(ascii.size()));
+                ascii += k.text + '|';
+            }
+        }
+        tags.push_back({34735, kShort, std::uint32_t(directory.size() / 2), directory});  // GeoKeyDirectoryTag
+        if (!ascii.empty()) {
+            ascii.push_back('\0');
+            tags.push_back({34737, kAscii, std::uint32_t(ascii.size()), ascii});  // GeoAsciiParamsTag
+        }
+    }
+    const std::string nodata = "-9999";
+    tags.push_back({42113, kAscii, std::uint32_t(nodata.size() + 1), nodata + '\0'});  // GDAL_NODATA
+    return tags;
+}
+
+// The bytes before the heights: header, IFD and the values outside their entries (each
+// at an even offset). Its size does not depend on `data_at`.
+std::string headOf(const std::vector<Tag>& tags) {
+    const std::uint32_t ifd_bytes = 2 + 12 * std::uint32_t(tags.size()) + 4;
+    std::string head = "II";
+    put16(head, 42);
+    put32(head, 8);
+    std::string extra;
+    put16(head, std::uint16_t(tags.size()));
+    for (const Tag& t : tags) {
+        put16(head, t.id);
+        put16(head, t.type);
+        put32(head, t.count);
+        if (t.bytes.size() <= 4) {
+            head += t.bytes;
+            head.append(4 - t.bytes.size(), '\0');
+        } else {
+            put32(head, 8 + ifd_bytes + std::uint32_t(extra.size()));
+            extra += t.bytes;
+            if (extra.size() % 2) extra.push_back('\0');
+        }
+    }
+    put32(head, 0);  // no next IFD
+    return head + extra;
+}
+
+}  // namespace
+
+std::vector<GeoKey> geoKeysForWkt(std::string_view wkt_in, std::string& problem) {
+    problem.clear();
+    std::string wkt(wkt_in.substr(0, wkt_in.find('\0')));
+    if (wkt.find_first_not_of(" \t\r\n") == std::string::npos) return {};
+    const ProjContext ctx(proj_context_create());
+    if (!ctx) {
+        problem = "PROJ could not be started";
+        return {};
+    }
+    proj_log_level(ctx.get(), PJ_LOG_NONE);
+    Pj crs = unbound(ctx.get(), Pj(proj_create(ctx.get(), wkt.c_str())));
+    if (!crs || !proj_is_crs(crs.get())) {
+        problem = "PROJ cannot read the CRS's WKT";
+        return {};
+    }
+    Pj horizontal, vertical;
+    const PJ_TYPE type = proj_get_type(crs.get());
+    if (type == PJ_TYPE_COMPOUND_CRS) {
+        horizontal = unbound(ctx.get(), Pj(proj_crs_get_sub_crs(ctx.get(), crs.get(), 0)));
+        vertical = unbound(ctx.get(), Pj(proj_crs_get_sub_crs(ctx.get(), crs.get(), 1)));
+    } else if (type == PJ_TYPE_VERTICAL_CRS) {
+        vertical = std::move(crs);
+    } else {
+        horizontal = std::move(crs);
+    }
+    std::vector<GeoKey> keys;
+    const auto add = [&](std::uint16_t id, std::uint16_t value) { keys.push_back({id, value, {}}); };
+    const auto text = [&](std::uint16_t id, const std::string& s) { keys.push_back({id, 0, s}); };
+    if (horizontal) {
+        const PJ_TYPE h = proj_get_type(horizontal.get());
+        const std::uint16_t code = epsgOf(ctx.get(), horizontal.get());
+        const std::uint16_t unit = unitOf(ctx.get(), horizontal.get());
+        if (h == PJ_TYPE_PROJECTED_CRS) {
+            add(kModelType, kModelProjected);
+            add(kRasterType, kPixelIsArea);
+            if (!code) text(kCitation, nameOf(horizontal.get()));
+            add(kProjectedType, code ? code : kUserDefined);
+            if (unit) add(kProjLinearUnits, unit);
+        } else if (h == PJ_TYPE_GEOGRAPHIC_2D_CRS || h == PJ_TYPE_GEOGRAPHIC_3D_CRS) {
+            add(kModelType, kModelGeographic);
+            add(kRasterType, kPixelIsArea);
+            add(kGeographicType, code ? code : kUserDefined);
+            if (!code) text(kGeogCitation, nameOf(horizontal.get()));
+            if (unit) add(kGeogAngularUnits, unit);
+        } else if (h == PJ_TYPE_GEOCENTRIC_CRS) {
+            add(kModelType, kModelGeocentric);
+            add(kRasterType, kPixelIsArea);
+            if (!code) text(kCitation, nameOf(horizontal.get()));
+        } else {
+            problem = "the horizontal CRS is of a kind GeoTIFF keys do not describe";
+            return {};
+        }
+    } else {
+        add(kRasterType, kPixelIsArea);
+    }
+    if (vertical) {
+        const std::uint16_t code = epsgOf(ctx.get(), vertical.get());
+        add(kVerticalType, code ? code : kUserDefined);
+        if (!code) text(kVerticalCitation, nameOf(vertical.get()));
+        if (const std::uint16_t unit = unitOf(ctx.get(), vertical.get())) add(kVerticalUnits, unit);
+    }
+    std::sort(keys.begin(), keys.end(), [](const GeoKey& a, const GeoKey& b) { return a.id < b.id; });
+    return keys;
+}
+
+std::uint64_t geoTiffBytes(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys) {
+    if (grid.columns <= 0 || grid.rows <= 0) return 0;
+    const std::uint64_t head = headOf(tagsFor(grid, keys, 0)).size();
+    return head + (head % 4 ? 4 - head % 4 : 0) + std::uint64_t(grid.columns) * std::uint64_t(grid.rows) * 4u;
+}
+
+void writeGeoTiff(std::FILE* out, const GeoTiffGrid& grid, const std::vector<GeoKey>& keys,
+                  const std::function<void(int, float*)>& row, const std::string& what) {
+    const std::string prefix = "output: " + what + ": ";
+    if (grid.columns <= 0 || grid.rows <= 0)
+        throw core::Error(prefix + "a grid of " + std::to_string(grid.columns) + " x " + std::to_string(grid.rows) +
+                          " cells; allowed at least 1 x 1");
+    if (!(std::isfinite(grid.cell) && grid.cell > 0.0) || !std::isfinite(grid.west) || !std::isfinite(grid.north))
+        throw core::Error(prefix + "the grid's corner and cell must be finite, the cell > 0");
+    const std::uint64_t bytes = geoTiffBytes(grid, keys);
+    if (bytes > std::uint64_t(0xffffffffu))
+        throw core::Error(prefix + "a grid of " + std::to_string(grid.columns) + " x " + std::to_string(grid.rows) +
+                          " cells takes " + std::to_string(bytes) +
+                          " bytes; a GeoTIFF holds at most 4 GiB: write an ESRI ASCII grid (.asc) instead");
+    // The heights start at a multiple of 4 after the head, whose size the offsets leave alone.
+    std::size_t head_bytes = headOf(tagsFor(grid, keys, 0)).size();
+    head_bytes += head_bytes % 4 ? 4 - head_bytes % 4 : 0;
+    std::string head = headOf(tagsFor(grid, keys, head_bytes));
+    head.resize(head_bytes, '\0');
+    const auto put = [&](const void* data, std::size_t n) {
+        if (std::fwrite(data, 1, n, out) != n) throw core::Error(prefix + "write failed: " + std::strerror(errno));
+    };
+    put(head.data(), head.size());
+    std::vector<float> values(static_cast<std::size_t>(grid.columns));
+    for (int r = 0; r < grid.rows; ++r) {
+        std::fill(values.begin(), values.end(), std::nanf(""));
+        row(r, values.data());
+        for (float& v : values)
+            if (!std::isfinite(v)) v = kGeoTiffNoData;
+        put(values.data(), values.size() * sizeof(float));
+    }
+    if (std::fflush(out) != 0) throw core::Error(prefix + "write failed: " + std::strerror(errno));
+}
+
+}  // namespace io

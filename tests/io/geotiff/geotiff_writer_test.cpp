@@ -1,0 +1,193 @@
+// Tests of io::geoKeysForWkt and io::writeGeoTiff: the keys of each kind of CRS (an EPSG
+// code where the WKT has one, user-defined with its name where not, the vertical part of a
+// compound CRS, none for an empty WKT, a problem for one PROJ cannot read); the file's
+// layout read back tag by tag here (geotiff.js reads it in tests/app/cmd_ground_geotiff_test.sh);
+// one-line errors.
+#include <doctest/doctest.h>
+
+#include <core/error.hpp>
+#include <io/geotiff.hpp>
+
+#include "test_files.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+const char* const kUtm32 =
+    "PROJCS[\"WGS 84 / UTM zone 32N\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS "
+    "84\",6378137,298.257223563]],PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433]],"
+    "PROJECTION[\"Transverse_Mercator\"],PARAMETER[\"latitude_of_origin\",0],PARAMETER[\"central_meridian\",9],"
+    "PARAMETER[\"scale_factor\",0.9996],PARAMETER[\"false_easting\",500000],PARAMETER[\"false_northing\",0],"
+    "UNIT[\"metre\",1,AUTHORITY[\"EPSG\",\"9001\"]],AUTHORITY[\"EPSG\",\"32632\"]]";
+
+// A local Transverse Mercator no EPSG code names, in US survey feet.
+const char* const kLocalFeet =
+    "PROJCS[\"site grid\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS "
+    "84\",6378137,298.257223563]],PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433]],"
+    "PROJECTION[\"Transverse_Mercator\"],PARAMETER[\"latitude_of_origin\",48.123],PARAMETER[\"central_meridian\",9.321]"
+    ","
+    "PARAMETER[\"scale_factor\",1],PARAMETER[\"false_easting\",1000],PARAMETER[\"false_northing\",2000],"
+    "UNIT[\"US survey foot\",0.304800609601219]]";
+
+std::map<std::uint16_t, io::GeoKey> byId(const std::vector<io::GeoKey>& keys) {
+    std::map<std::uint16_t, io::GeoKey> m;
+    for (const io::GeoKey& k : keys) m[k.id] = k;
+    return m;
+}
+
+template <class T>
+T le(const std::string& b, std::size_t at) {
+    T v;
+    std::memcpy(&v, b.data() + at, sizeof v);
+    return v;
+}
+
+struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+std::string written(const io::GeoTiffGrid& g, const std::vector<io::GeoKey>& keys,
+                    const std::vector<std::vector<float>>& rows) {
+    const std::unique_ptr<std::FILE, FileCloser> f(std::tmpfile());
+    REQUIRE(f);
+    io::writeGeoTiff(
+        f.get(), g, keys, [&](int r, float* v) { std::memcpy(v, rows[std::size_t(r)].data(), rows[0].size() * 4); },
+        "t.tif");
+    std::string bytes(std::size_t(std::ftell(f.get())), '\0');
+    std::rewind(f.get());
+    REQUIRE(std::fread(bytes.data(), 1, bytes.size(), f.get()) == bytes.size());
+    return bytes;
+}
+
+}  // namespace
+
+TEST_CASE("geotiff: keys of a projected CRS with its EPSG code") {
+    std::string problem;
+    const auto keys = io::geoKeysForWkt(kUtm32, problem);
+    CHECK(problem.empty());
+    const auto k = byId(keys);
+    CHECK(k.at(1024).value == 1);  // projected
+    CHECK(k.at(1025).value == 1);  // pixel is area
+    CHECK(k.at(3072).value == 32632);
+    CHECK(k.at(3076).value == 9001);
+    CHECK(k.count(1026) == 0);  // no citation where a code says it
+    for (std::size_t i = 1; i < keys.size(); ++i) CHECK(keys[i - 1].id < keys[i].id);
+}
+
+TEST_CASE("geotiff: a CRS without a code is user-defined, named, in its unit") {
+    std::string problem;
+    const auto k = byId(io::geoKeysForWkt(kLocalFeet, problem));
+    CHECK(problem.empty());
+    CHECK(k.at(1024).value == 1);
+    CHECK(k.at(3072).value == 32767);
+    CHECK(k.at(1026).text == "site grid");
+    CHECK(k.at(3076).value == 9003);  // US survey foot, from its length
+}
+
+TEST_CASE("geotiff: a geographic CRS and a compound CRS's vertical part") {
+    std::string problem;
+    const std::string geographic =
+        "GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],PRIMEM[\"Greenwich\",0],"
+        "UNIT[\"degree\",0.0174532925199433,AUTHORITY[\"EPSG\",\"9122\"]],AUTHORITY[\"EPSG\",\"4326\"]]";
+    const auto g = byId(io::geoKeysForWkt(geographic, problem));
+    CHECK(problem.empty());
+    CHECK(g.at(1024).value == 2);
+    CHECK(g.at(2048).value == 4326);
+    CHECK(g.at(2054).value == 9122);
+    CHECK(g.count(3072) == 0);
+
+    const std::string compound = std::string("COMPD_CS[\"UTM 32N + EGM96 height\",") + kUtm32 +
+                                 ",VERT_CS[\"EGM96 height\",VERT_DATUM[\"EGM96 geoid\",2005],UNIT[\"metre\",1],"
+                                 "AUTHORITY[\"EPSG\",\"5773\"]]]";
+    const auto c = byId(io::geoKeysForWkt(compound, problem));
+    CHECK(problem.empty());
+    CHECK(c.at(3072).value == 32632);
+    CHECK(c.at(4096).value == 5773);
+    CHECK(c.at(4099).value == 9001);
+}
+
+TEST_CASE("geotiff: no keys for no CRS; a problem for a WKT PROJ cannot read") {
+    std::string problem = "stale";
+    CHECK(io::geoKeysForWkt("", problem).empty());
+    CHECK(problem.empty());
+    CHECK(io::geoKeysForWkt(std::string("\0\0", 2), problem).empty());
+    CHECK(problem.empty());
+    CHECK(io::geoKeysForWkt("PROJCS[\"broken\"", problem).empty());
+    CHECK(problem == "PROJ cannot read the CRS's WKT");
+}
+
+TEST_CASE("geotiff: the file holds the rows as given, NaN as nodata, placed by its corner") {
+    io::GeoTiffGrid g;
+    g.columns = 3;
+    g.rows = 2;
+    g.west = 500000.5;
+    g.north = 4000002.0;
+    g.cell = 0.5;
+    std::string problem;
+    const std::vector<io::GeoKey> keys = io::geoKeysForWkt(kLocalFeet, problem);
+    const std::vector<std::vector<float>> rows = {{1.5f, std::nanf(""), -2.25f}, {100.125f, 0.0f, 7.0f}};
+    const std::string b = written(g, keys, rows);
+    CHECK(b.size() == io::geoTiffBytes(g, keys));
+    REQUIRE(b.substr(0, 4) == std::string("II*\0", 4));
+    const std::uint32_t ifd = le<std::uint32_t>(b, 4);
+    const std::uint16_t n = le<std::uint16_t>(b, ifd);
+    std::map<std::uint16_t, std::size_t> entry;  // tag -> the entry's offset
+    std::uint16_t previous = 0;
+    for (std::uint16_t i = 0; i < n; ++i) {
+        const std::size_t at = ifd + 2 + 12 * std::size_t(i);
+        const std::uint16_t tag = le<std::uint16_t>(b, at);
+        CHECK(tag > previous);  // TIFF wants them in order
+        previous = tag;
+        entry[tag] = at;
+    }
+    const auto value32 = [&](std::uint16_t tag) { return le<std::uint32_t>(b, entry.at(tag) + 8); };
+    CHECK(value32(256) == 3);
+    CHECK(value32(257) == 2);
+    CHECK(le<std::uint16_t>(b, entry.at(258) + 8) == 32);
+    CHECK(le<std::uint16_t>(b, entry.at(339) + 8) == 3);
+    const std::uint32_t offsets = value32(273);  // two strips: an array elsewhere
+    const std::uint32_t tie = value32(33922);
+    CHECK(le<double>(b, tie + 24) == g.west);
+    CHECK(le<double>(b, tie + 32) == g.north);
+    CHECK(le<double>(b, value32(33550)) == g.cell);
+    CHECK(b.substr(value32(42113), 6) == std::string("-9999\0", 6));
+    for (int r = 0; r < 2; ++r) {
+        const std::uint32_t strip = le<std::uint32_t>(b, offsets + 4 * std::size_t(r));
+        CHECK(strip % 4 == 0);
+        for (int i = 0; i < 3; ++i) {
+            const float want = std::isnan(rows[std::size_t(r)][std::size_t(i)]) ? io::kGeoTiffNoData
+                                                                                : rows[std::size_t(r)][std::size_t(i)];
+            CHECK(le<float>(b, strip + 4 * std::size_t(i)) == want);
+        }
+    }
+    // The citation through GeoAsciiParams, '|'-ended.
+    const std::uint32_t ascii = value32(34737);
+    CHECK(b.substr(ascii, 10) == "site grid|");
+}
+
+TEST_CASE("geotiff: bad grids give one line naming the output") {
+    io::GeoTiffGrid g;
+    g.columns = 0;
+    g.rows = 2;
+    g.cell = 1.0;
+    const std::unique_ptr<std::FILE, FileCloser> f(std::tmpfile());
+    const auto none = [](int, float*) {};
+    CHECK(test_support::errorOf([&] { io::writeGeoTiff(f.get(), g, {}, none, "d.tif"); }) ==
+          "output: d.tif: a grid of 0 x 2 cells; allowed at least 1 x 1");
+    g.columns = 2;
+    g.cell = std::nan("");
+    CHECK(test_support::errorOf([&] { io::writeGeoTiff(f.get(), g, {}, none, "d.tif"); }) ==
+          "output: d.tif: the grid's corner and cell must be finite, the cell > 0");
+    g.cell = 1.0;
+    g.columns = 70000;
+    g.rows = 70000;
+    CHECK(test_support::errorOf([&] {
+              io::writeGeoTiff(f.get(), g, {}, none, "d.tif");
+          }).starts_with("output: d.tif: a grid of 70000 x 70000 cells takes "));
+}
