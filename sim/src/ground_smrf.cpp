@@ -176,7 +176,11 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
             ++tally[segment[c]].cells;
             tally[segment[c]].ground += ground[c];
         }
+    // A segment's area against the rule's bounds: large enough to be the ground below a
+    // step, small enough to be an object.
     const double cell_area_m2 = cell_m * cell_m;
+    const auto large = [&](std::uint32_t t) { return double(tally[t].cells) * cell_area_m2 >= kSegmentLowerArea_m2; };
+    const auto capped = [&](const Tally& t) { return double(t.cells) * cell_area_m2 <= kSegmentMaxArea_m2; };
     for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {
             const std::size_t c = std::size_t(j) * std::size_t(w) + std::size_t(i);
@@ -194,20 +198,15 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
                     const std::uint32_t t = segment[d];
                     if (t == kNoSegment || t == s) continue;
                     ++tally[s].border;
-                    if (double(tally[t].cells) * cell_area_m2 >= kSegmentLowerArea_m2 &&
-                        double(level[c]) - double(level[d]) > kSegmentDrop_m)
-                        ++tally[s].drops;
+                    if (large(t) && double(level[c]) - double(level[d]) > kSegmentDrop_m) ++tally[s].drops;
                 }
         }
-    const auto large = [&](std::uint32_t t) { return double(tally[t].cells) * cell_area_m2 >= kSegmentLowerArea_m2; };
     constexpr int kRayDi[8] = {1, 1, 0, -1, -1, -1, 0, 1}, kRayDj[8] = {0, 1, 1, 1, 0, -1, -1, -1};
     for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {
             const std::size_t c = std::size_t(j) * std::size_t(w) + std::size_t(i);
             const std::uint32_t s = segment[c];
-            if (s == kNoSegment || tally[s].ground == 0 || !large(s) ||
-                double(tally[s].cells) * cell_area_m2 > kSegmentMaxArea_m2)
-                continue;
+            if (s == kNoSegment || tally[s].ground == 0 || !large(s) || !capped(tally[s])) continue;
             for (int k = 0; k < 8; ++k)
                 for (int step = 1; step <= kTallReach; ++step) {
                     const int ii = i + kRayDi[k] * step, jj = j + kRayDj[k] * step;
@@ -244,7 +243,7 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
     tested.clear();
     for (std::uint32_t s = 0; s < count; ++s) {
         const Tally& t = tally[s];
-        if (t.ground > 0 && double(t.cells) * cell_area_m2 <= kSegmentMaxArea_m2 &&
+        if (t.ground > 0 && capped(t) &&
             ((t.border > t.beyond && double(t.drops) >= 0.5 * kSegmentDropShare * double(t.border - t.beyond)) ||
              (t.rays_seen > 0 && double(t.rays_tall) >= 0.5 * kSegmentDropShare * double(t.rays_seen))))
             tested.push_back(box[s]);
@@ -252,7 +251,7 @@ void removeRaisedSegments(const std::vector<float>& level, const std::vector<std
     for (std::size_t c = 0; c < segment.size(); ++c) {
         if (segment[c] == kNoSegment) continue;
         const Tally& t = tally[segment[c]];
-        if (t.ground > 0 && double(t.cells) * cell_area_m2 <= kSegmentMaxArea_m2 &&
+        if (t.ground > 0 && capped(t) &&
             ((t.border > 0 && double(t.drops) >= kSegmentDropShare * double(t.border)) || tall(t)))
             ground[c] = 0;
     }
