@@ -5,6 +5,7 @@
 #include <platform/atomic_file.hpp>
 #include <platform/safe_file.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cerrno>
@@ -219,6 +220,29 @@ std::string subcommandError(const CLI::App& cli, int argc, char** argv) {
 }
 
 void warn(const std::string& what) { platform::printMessage("warning", what); }
+
+bool isLasName(const std::string& name) {
+    std::string lower = name;
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return lower.size() > 4 && (lower.ends_with(".las") || lower.ends_with(".laz"));
+}
+
+std::vector<std::filesystem::path> lasFilesIn(const std::filesystem::path& folder, std::string_view command,
+                                              std::size_t most) {
+    const std::string name = core::printable(folder.string(), 400);
+    std::vector<std::filesystem::path> files;
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+        if (!isLasName(it->path().filename().string()) || !it->is_regular_file()) continue;
+        if (files.size() >= most)
+            throw core::Error(std::string(command) + ": folder '" + name + "' holds more than " + std::to_string(most) +
+                              " LAS/LAZ files; allowed at most that many");
+        files.push_back(it->path());
+    }
+    if (ec) throw core::Error(std::string(command) + ": folder '" + name + "': " + ec.message());
+    std::sort(files.begin(), files.end());
+    return files;
+}
 
 void createParentFolders(const fs::path& file, std::string_view option) {
     platform::checkPathLength(file, option);

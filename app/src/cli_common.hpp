@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace app {
 
@@ -63,6 +64,15 @@ void warn(const std::string& what);
 /// core::Error naming `option` when a component exists and is not a folder, or
 /// cannot be created.
 void createParentFolders(const std::filesystem::path& file, std::string_view option);
+
+/// Whether `name` ends as a LAS, LAZ or COPC file's does (.las, .laz, .copc.laz; any case).
+bool isLasName(const std::string& name);
+
+/// The LAS, LAZ and COPC files (isLasName, regular files) directly in `folder`, in name
+/// order; empty when it holds none. Throws core::Error("<command>: folder '<folder>' ...")
+/// when it cannot be listed or holds more than `most` of them.
+std::vector<std::filesystem::path> lasFilesIn(const std::filesystem::path& folder, std::string_view command,
+                                              std::size_t most);
 
 /// An optional output file of a run (a screenshot, a log): when `file` is not empty,
 /// creates its folders and checks the destination (platform::checkWritableDestination), so a

@@ -1,7 +1,8 @@
 // app/src/cmd_ground.cpp: `ladarvr ground IN... (--out OUT | --out-dir DIR) [--method
 // smrf|csf] [--smrf-*|--csf-*] [--reclassify] [--whiten] [--jobs K] [--threads N]
-// [--only-tile I] [--dtm DTM.asc | --dtm-dir DIR] [--json]`: the ground of clouds we did not generate (real surveys'
-// LAS/LAZ, or any cloud we read), classified by a whole-cloud filter (sim/ground_file.hpp)
+// [--only-tile I] [--dtm DTM.asc|DTM.tif | --dtm-dir DIR [--dtm-format asc|tif]] [--json]`: the
+// ground of clouds we did not generate (real surveys' LAS/LAZ, a folder of their tiles, or
+// any cloud we read), classified by a whole-cloud filter (sim/ground_file.hpp)
 // and written with every ground point labelled ground (LAS class 2); a LAS/LAZ/COPC input
 // keeps its other classes and every other field it carries. One input whose terrain
 // raster fits the memory is classified in one run; a larger survey, or several inputs
@@ -61,6 +62,8 @@ constexpr std::uint64_t kSparseRasterCells = 500000, kSparseCellsPerPoint = 50;
 // --dtm over several inputs: one grid may span at most this many times the cells of the
 // inputs' bounds, plus this many (tiles of one survey, not surveys far apart).
 constexpr std::uint64_t kDtmSpread = 16, kDtmSpreadCells = 1000000;
+// Input files of one run at most (a folder's tiles included).
+constexpr std::size_t kMostInputs = 65536;
 
 struct GroundFileCli {
     std::vector<std::string> in;
@@ -544,7 +547,31 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
     if (cli.json) std::printf("%s\n", array.dump(2).c_str());
 }
 
+// A folder among the inputs stands for its LAS, LAZ and COPC files, in name order (a
+// survey's tiles, as `view FOLDER` takes them).
+void expandFolders(std::vector<std::string>& in) {
+    std::vector<std::string> files;
+    for (const std::string& given : in) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(given, ec)) {
+            files.push_back(given);
+            continue;
+        }
+        const std::vector<std::filesystem::path> tiles = lasFilesIn(given, "ground", kMostInputs);
+        if (tiles.empty())
+            throw core::Error("ground: input '" + core::printable(given, 400) +
+                              "' is a folder that holds no .las or .laz file; allowed: cloud files, or folders of "
+                              "LAS/LAZ tiles");
+        for (const std::filesystem::path& t : tiles) files.push_back(t.string());
+    }
+    if (files.size() > kMostInputs)
+        throw core::Error("ground: " + std::to_string(files.size()) + " input files; allowed at most " +
+                          std::to_string(kMostInputs));
+    in = std::move(files);
+}
+
 void run(GroundFileCli& cli) {
+    expandFolders(cli.in);
     cli.options.method = sim::parseGroundMethod(cli.method, "ground: --method");
     if (cli.options.method == sim::GroundMethod::Ransac)
         throw core::Error("ground: --method ransac: RANSAC works per view of a generated cloud; allowed smrf, csf");
@@ -588,7 +615,10 @@ void registerGround(CLI::App& cli) {
         "ground",
         "classify the ground of clouds (real surveys' LAS/LAZ, or PCD, PLY, COPC) with a whole-cloud filter "
         "and write them with every point labelled ground (LAS class 2) or not (class 1)");
-    c->add_option("in", state->in, "the input clouds (a survey's tiles); they are never overwritten")->required();
+    c->add_option("in", state->in,
+                  "the input clouds (a survey's tiles; a folder gives its .las/.laz files in name order); they are "
+                  "never overwritten")
+        ->required();
     CLI::Option_group* dest = c->add_option_group("output", "where the classified points go (one of)");
     dest->add_option("--out", state->out,
                      "the one cloud to write, every input merged; its name gives the format (.las, .laz, "

@@ -173,13 +173,6 @@ double timeLeft(double timeout_s, std::chrono::steady_clock::time_point start) {
     return std::max(0.001, timeout_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
-// Whether `name` ends as a LAS, LAZ or COPC file's does (.las, .laz, .copc.laz; any case).
-bool isLasName(const std::string& name) {
-    std::string lower = name;
-    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return lower.size() > 4 && (lower.ends_with(".las") || lower.ends_with(".laz"));
-}
-
 // The command line's clouds into one cloud file (a.cloud) or a survey of several
 // (a.survey): a folder gives its LAS/LAZ/COPC files, in name order.
 void resolveClouds(ViewArgs& a) {
@@ -200,21 +193,11 @@ void resolveClouds(ViewArgs& a) {
             throw core::Error("view: '" + core::printable(given, 400) +
                               "' is a folder; allowed: one folder of tiles alone, or cloud files");
         a.survey_folder = given;
-        std::vector<fs::path> tiles;
-        std::error_code ec;
-        for (fs::directory_iterator it(given, ec), end; !ec && it != end; it.increment(ec)) {
-            if (!isLasName(it->path().filename().string()) || !it->is_regular_file()) continue;
-            if (tiles.size() >= kMostSurveyFiles)
-                throw core::Error("view: folder '" + core::printable(given, 400) + "' holds more than " +
-                                  std::to_string(kMostSurveyFiles) + " LAS/LAZ files; allowed at most that many");
-            tiles.push_back(it->path());
-        }
-        if (ec) throw core::Error("view: folder '" + core::printable(given, 400) + "': " + ec.message());
+        std::vector<fs::path> tiles = lasFilesIn(given, "view", kMostSurveyFiles);
         if (tiles.empty())
             throw core::Error("view: cloud '" + core::printable(given, 400) +
                               "': is a directory; allowed: a regular file, or a folder of .las/.laz tiles (this one "
                               "holds none)");
-        std::sort(tiles.begin(), tiles.end());
         a.survey = std::move(tiles);
     }
     if (a.survey.size() > kMostSurveyFiles)

@@ -10,6 +10,7 @@
 #  - a sample cut into a folder of 3 x 3 tile files, written one per input with
 #    --jobs 2: every point gets the class of the untiled run;
 #  - PCD and PLY inputs on each of those paths get the classes the LAS inputs get;
+#  - a folder as the input: its tiles, the bytes --out-dir writes for them given one by one;
 #  - --out-dir refuses two inputs of one name and an output that would replace an input,
 #    in one line, writing nothing; --out with inputs of other point formats is refused;
 #  - a survey 5 km wide, once refused (its raster over 16.8 M cells), runs in tiles;
@@ -134,6 +135,22 @@ for path in glob.glob(sys.argv[2] + "/*.las"):
 sys.exit(0 if sum(one.values()) > 40000 and one == tiles else 1)
 PY
     fail "the folder of samp42's tile files and its untiled run differ in their ground"
+# The folder itself as the input: its .las files in name order, the same bytes; a file
+# of another kind in it is left out, and a folder without tiles is refused in one line.
+printf 'not a cloud\n' >"$dir/folder/notes.txt"
+"$bin" ground "$dir/folder" --out-dir "$dir/folder-given" --jobs 2 --json >"$dir/folder.json" 2>"$dir/err" ||
+    fail "a folder as the input: $(cat "$dir/err")"
+for t in "$dir/folder-out"/*.las; do
+    cmp -s "$t" "$dir/folder-given/$(basename "$t")" || fail "the folder given wrote other bytes for $(basename "$t")"
+done
+[ "$(ls "$dir/folder-given" | wc -l)" = 9 ] || fail "the folder given wrote: $(ls "$dir/folder-given")"
+python3 - "$dir/folder.json" "$dir/folder" <<'PY' || fail "the folder's inputs are not its tiles in name order"
+import json, sys
+runs = json.load(open(sys.argv[1]))
+assert [r["in"] for r in runs] == ["%s/t%d%d.las" % (sys.argv[2], i, j) for i in range(3) for j in range(3)], runs
+PY
+mkdir -p "$dir/no-tiles"
+cp "$dir/folder/notes.txt" "$dir/no-tiles/"
 
 # PCD and PLY inputs through every path (one input, tiles with --jobs 2, two merged,
 # --out-dir, --only-tile): each point gets the class the LAS inputs get it on the same
@@ -188,6 +205,9 @@ bad "--only-tile" "$dir/a.laz" --out "$dir/bad.laz" --only-tile 0
 bad "have different point formats" "$dir/a.laz" "$dir/merged.laz" --out "$dir/bad.laz"
 [ ! -e "$dir/bad.laz" ] || fail "a refused merge left $dir/bad.laz"
 bad "--jobs 0: allowed [1, 256]" "$dir/a.laz" --out "$dir/bad.laz" --jobs 0
+bad "ground: input '$dir/no-tiles' is a folder that holds no .las or .laz file; allowed: cloud files, or folders of LAS/LAZ tiles" \
+    "$dir/no-tiles" --out-dir "$dir/bad"
+[ ! -e "$dir/bad" ] || fail "a refused folder left $dir/bad"
 
 # A survey 5 km wide: two patches of samp54 5 km apart (a PLY written here); one raster of
 # 1 m cells over it is 25 M cells, more than the filter's 16.8 M, so it runs in tiles.
