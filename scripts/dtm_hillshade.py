@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""Draws a DTM written by `ladarvr ground --dtm` (an ESRI ASCII grid) as a shaded relief,
+"""Draws a DTM written by `ladarvr ground --dtm` (an ESRI ASCII grid or a GeoTIFF) as a shaded relief,
 and beside it, with --cloud, the surface of the survey's highest returns over the same
 cells, so the two show what the ground filter took away (python3 with numpy and
 matplotlib; laspy for --cloud).
 
-    python3 scripts/dtm_hillshade.py DTM.asc --out PICTURE.png [--cloud SURVEY.laz]
+    python3 scripts/dtm_hillshade.py DTM.asc|DTM.tif --out PICTURE.png [--cloud SURVEY.laz]
                                      [--block K] [--title TEXT] [--width-px 1400]
 
 The relief is lit from the north-west, 45 degrees up (the cartographer's convention),
@@ -22,8 +22,33 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+def read_geotiff(path):
+    """A GeoTIFF as ladarvr writes one (one band of floats, north up, placed by its
+    pixel scale and one tie point at its top-left corner; PIL reads it): its heights and
+    the ASCII grid's header for them."""
+    from PIL import Image
+
+    with Image.open(path) as img:
+        z = np.asarray(img, dtype=np.float64)
+        scale = img.tag_v2.get(33550)
+        tie = img.tag_v2.get(33922)
+        nodata = img.tag_v2.get(42113)
+    if not scale or not tie or len(tie) < 6 or tie[0] != 0 or tie[1] != 0:
+        sys.exit("dtm_hillshade: %s: no pixel scale and top-left tie point (not a GeoTIFF of ladarvr ground --dtm)"
+                 % path)
+    rows, cols = z.shape
+    head = {"ncols": cols, "nrows": rows, "cellsize": float(scale[0]), "xllcorner": float(tie[3]),
+            "yllcorner": float(tie[4]) - rows * float(scale[1])}
+    if nodata is not None:
+        z[z == float(str(nodata).strip("\0 "))] = np.nan
+    return z, head
+
+
 def read_grid(path):
-    """The grid's heights (row 0 the northernmost, NaN where NODATA) and its header."""
+    """The grid's heights (row 0 the northernmost, NaN where NODATA) and its header (the
+    ESRI ASCII grid's keys, lower case)."""
+    if path.lower().endswith((".tif", ".tiff")):
+        return read_geotiff(path)
     head = {}
     with open(path) as f:
         for _ in range(6):
@@ -79,7 +104,7 @@ def highest_surface(cloud, head, shape, block):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("dtm", help="an ESRI ASCII grid written by ladarvr ground --dtm")
+    parser.add_argument("dtm", help="an ESRI ASCII grid (.asc) or a GeoTIFF (.tif) written by ladarvr ground --dtm")
     parser.add_argument("--out", required=True, help="the PNG to write")
     parser.add_argument("--cloud", help="the survey (LAS/LAZ): its highest returns drawn beside the DTM")
     parser.add_argument("--block", type=int, default=1,

@@ -14,6 +14,7 @@
 #    grids alike;
 #  - a folder of tiles with --dtm-dir and --dtm-format tif: one GeoTIFF per input, each
 #    with its input's CRS;
+#  - scripts/dtm_hillshade.py draws a GeoTIFF as it draws the .asc;
 #  - generate --dtm X.tif: the generator's terrain as its .asc, no keys;
 #  - a name not .asc, .tif or .tiff: one line naming --dtm, nothing written.
 set -eu
@@ -93,6 +94,24 @@ echo "merged: $(echo "$t" | python3 -c 'import json,sys; print(json.load(sys.std
 check "$t" "t['asc']['nodata_mismatch'] == 0 and t['asc']['largest_difference'] <= 0.0006" \
     "the merged GeoTIFF differs from its .asc"
 check "$t" "t['asc']['heights'] < t['asc']['cells']" "the merged grid has no cell without a tile (nothing tested)"
+
+# scripts/dtm_hillshade.py draws the GeoTIFF as it draws the .asc (the same relief, the
+# cells without a tile white in both).
+for g in m.tif m.asc; do
+    timeout 120 python3 "$here/../../scripts/dtm_hillshade.py" "$dir/$g" --out "$dir/$g.png" --width-px 400 \
+        >/dev/null 2>"$dir/err" || fail "dtm_hillshade.py $g: $(cat "$dir/err")"
+done
+python3 - "$dir/m.tif.png" "$dir/m.asc.png" <<'PY' || fail "dtm_hillshade.py draws the GeoTIFF otherwise than the .asc"
+import sys
+import numpy as np
+from PIL import Image
+a, b = (np.asarray(Image.open(p).convert("RGB"), dtype=np.int16) for p in sys.argv[1:])
+assert a.shape == b.shape, (a.shape, b.shape)
+# Float 32 against millimetres moves the shading's slopes a little on a few pixels.
+d = np.abs(a - b)
+assert d.mean() < 0.05 and np.percentile(d, 99.9) <= 2, (d.mean(), np.percentile(d, 99.9))
+assert (a == 255).all(axis=2).sum() > 100, "no white (no-tile) cells drawn"
+PY
 
 # A folder of tiles: one GeoTIFF per input, each with its input's CRS (samp24.las has
 # UTM 32N, samp23.laz none).
