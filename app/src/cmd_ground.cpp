@@ -297,6 +297,7 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         j["ground_points"] = st.ground_points;
         j["input_ground_points"] = st.was_ground;
         j["input_ground_points_kept"] = st.still_ground;
+        if (cli.options.mark_noise) j["noise_points"] = st.noise_points;
         j["raster"] = {{"nx", st.nx}, {"ny", st.ny}, {"cell_m", st.cell_m * units.horizontal_m}};
         if (tiled) j["tiles"] = st.tiles;
         if (dtm)
@@ -313,8 +314,10 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
-    std::printf("ground: wrote %s: %zu points, %zu ground (%.2f %%), %s, ", platform::messageLine(out, 400).c_str(),
-                st.points, st.ground_points, share, sim::describe(cli.options).c_str());
+    std::printf("ground: wrote %s: %zu points, %zu ground (%.2f %%), ", platform::messageLine(out, 400).c_str(),
+                st.points, st.ground_points, share);
+    if (cli.options.mark_noise) std::printf("%zu low noise (class 7), ", st.noise_points);
+    std::printf("%s, ", sim::describe(cli.options).c_str());
     if (tiled)
         std::printf("%zu tiles, largest raster %d x %d, %.3f s\n", st.tiles, st.nx, st.ny, seconds);
     else
@@ -644,6 +647,9 @@ void registerGround(CLI::App& cli) {
     c->add_flag("--reclassify", state->options.reclassify,
                 "a LAS/LAZ/COPC input's points that are not ground all become class 1 (by default its classes other "
                 "than ground are kept)");
+    c->add_flag("--noise", state->options.mark_noise,
+                "a LAS/LAZ/COPC input's returns more than --low-outlier-m below the terrain (those the filter left "
+                "out) become class 7, low point (noise)");
     c->add_flag("--whiten", state->options.whiten,
                 "write the paper's colours as RGB: ground white, every other point by its height above the ground "
                 "on the jet map (red low, blue at the highest)");

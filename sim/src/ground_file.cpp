@@ -110,6 +110,9 @@ std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> point
     return ground;
 }
 
+// ASPRS class 7: low point (noise).
+constexpr std::uint8_t kLowNoiseClass = 7;
+
 GroundLabeller::GroundLabeller(const GroundFileOptions& o, std::size_t stride, float colour_top_m)
     : o_(o), stride_(stride), top_m_(colour_top_m) {
     if (o.whiten) jet_ = core::jetTable(ColourOptions{}.entries);
@@ -126,6 +129,11 @@ void GroundLabeller::apply(core::CloudPoint& p, unsigned char* record, bool grou
         f.classification = ground                                   ? std::uint8_t(2)
                            : f.classification == 2 || o_.reclassify ? std::uint8_t(1)
                                                                     : f.classification;
+        const double gap = o_.method == GroundMethod::Csf ? o_.csf.low_outlier_m : o_.smrf.low_outlier_m;
+        if (o_.mark_noise && !ground && gap > 0.0 && double(height_m) < -gap) {
+            f.classification = kLowNoiseClass;
+            ++st.noise_points;
+        }
         if (ground)
             p.label = core::Role::Ground;
         else if (p.label == core::Role::Ground || o_.reclassify)

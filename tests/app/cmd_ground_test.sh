@@ -10,7 +10,8 @@
 #  - a tall roof that runs out of a small real tile is not ground;
 #  - a survey in feet gets its options converted from metres (stderr says so); one in
 #    degrees (a geographic CRS) is refused;
-#  - a survey far sparser than SMRF's cells gets one line saying so and what helps.
+#  - a survey far sparser than SMRF's cells gets one line saying so and what helps;
+#  - --noise gives the low outliers of another producer's LAS class 7 and moves no other.
 set -eu
 bin=$1
 dir=$2
@@ -151,4 +152,36 @@ cp "$data/samp24.las" "$dir/in.las"
 before=$(cksum <"$dir/in.las")
 if "$bin" ground "$dir/in.las" --out "$dir/in.las" >"$dir/out" 2>"$dir/err"; then fail "ground overwrote its input"; fi
 [ "$(cksum <"$dir/in.las")" = "$before" ] || fail "the input changed"
+# --noise: sample 41's low returns (its reference calls them objects), written by laspy as
+# another producer's LAS, become class 7 when more than --low-outlier-m below the terrain;
+# every other point's class is the run's without --noise.
+python3 - "$data/samp41.laz" "$dir/low.las" <<'PY'
+import sys
+import laspy, numpy as np
+src = laspy.read(sys.argv[1])
+out = laspy.LasData(laspy.LasHeader(point_format=1, version="1.2"))
+out.header.scales = [0.01, 0.01, 0.01]
+out.header.offsets = [float(np.floor(src.x.min())), float(np.floor(src.y.min())), 0.0]
+out.x, out.y, out.z = src.x, src.y, src.z
+out.classification = np.asarray(src.classification)
+out.write(sys.argv[2])
+PY
+"$bin" ground "$dir/low.las" --out "$dir/low-plain.las" >"$dir/out" 2>"$dir/err" || fail "ground low.las: $(cat "$dir/err")"
+"$bin" ground "$dir/low.las" --out "$dir/low-noise.las" --noise --json >"$dir/json" 2>"$dir/err" ||
+    fail "ground low.las --noise: $(cat "$dir/err")"
+python3 - "$dir/low.las" "$dir/low-plain.las" "$dir/low-noise.las" "$(field noise_points "$dir/json")" <<'PY' ||
+import sys
+import laspy, numpy as np
+ref, plain, noise = (laspy.read(p) for p in sys.argv[1:4])
+c0, c1 = np.asarray(plain.classification), np.asarray(noise.classification)
+h = np.asarray(noise.HeightAboveGround)
+seven = c1 == 7
+assert seven.sum() >= 20 and seven.sum() == int(sys.argv[4]), (seven.sum(), sys.argv[4])
+assert (h[seven] < -6).all() and not ((h < -6) & ~seven & (c1 != 2)).any(), "class 7 is not the returns 6 m below"
+assert not (c0 == 7).any(), "class 7 without --noise"
+assert (c0[~seven] == c1[~seven]).all(), "--noise moved other classes"
+assert (np.asarray(ref.classification)[seven] != 2).all(), "bare earth of the reference marked noise"
+print("--noise: %d low returns of sample 41 marked class 7" % seven.sum())
+PY
+    fail "ground --noise: class 7 is not the low outliers"
 echo "cmd_ground: ok"

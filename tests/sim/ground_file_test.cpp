@@ -6,6 +6,8 @@
 // above what it reaches.
 #include <sim/ground_file.hpp>
 
+#include "ground_label.hpp"
+
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
 
@@ -15,6 +17,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -157,4 +160,40 @@ TEST_CASE("ground file: the default's mean total error on all 15 ISPRS samples s
     MESSAGE("mean total error " << mean_total << " %, worst sample " << worst << " %");
     CHECK(mean_total <= 3.70);  // 3.67 %
     CHECK(worst <= 8.5);        // samp11 8.16 %
+}
+
+TEST_CASE("ground labeller: mark_noise gives class 7 beyond the low-outlier gap, and nothing else") {
+    // One foreign record per case: its class after apply(), as the writer gets it.
+    const auto labelled = [](const sim::GroundFileOptions& o, std::uint8_t cls, bool ground, float height_m,
+                             sim::GroundFileStats& st) {
+        const sim::GroundLabeller labeller(o, sizeof(core::ForeignPoint), 0.0f);
+        core::CloudPoint p;
+        core::ForeignPoint f;
+        f.classification = cls;
+        unsigned char record[sizeof f];
+        std::memcpy(record, &f, sizeof f);
+        labeller.apply(p, record, ground, height_m, st);
+        std::memcpy(&f, record, sizeof f);
+        return f.classification;
+    };
+    sim::GroundFileOptions o;
+    o.mark_noise = true;
+    o.smrf.low_outlier_m = 6.0;
+    sim::GroundFileStats st;
+    CHECK(labelled(o, 5, false, -7.0f, st) == 7);  // far below: noise, whatever its class
+    CHECK(labelled(o, 2, false, -7.0f, st) == 7);
+    CHECK(labelled(o, 5, false, -5.0f, st) == 5);  // within the gap: kept
+    CHECK(labelled(o, 2, false, -5.0f, st) == 1);
+    CHECK(labelled(o, 1, true, -7.0f, st) == 2);  // ground stays ground
+    CHECK(st.noise_points == 2);
+    o.smrf.low_outlier_m = 0.0;  // low outliers kept by the fit: none is noise
+    CHECK(labelled(o, 1, false, -70.0f, st) == 1);
+    o.smrf.low_outlier_m = 6.0;
+    o.method = sim::GroundMethod::Csf;  // CSF's own gap
+    o.csf.low_outlier_m = 10.0;
+    CHECK(labelled(o, 1, false, -7.0f, st) == 1);
+    CHECK(labelled(o, 1, false, -11.0f, st) == 7);
+    o.mark_noise = false;
+    CHECK(labelled(o, 1, false, -11.0f, st) == 1);
+    CHECK(st.noise_points == 3);
 }

@@ -48,6 +48,11 @@ struct GroundFileOptions {
     /// by its height above the terrain on the jet map (sim/colour.hpp; red at the ground,
     /// blue at the highest point above it in the output).
     bool whiten = false;
+    /// A LAS/LAZ/COPC input's point more than the filter's low-outlier gap below the
+    /// terrain (SmrfOptions::low_outlier_m, CsfOptions::low_outlier_m: the returns the fit
+    /// left out as low outliers) gets ASPRS class 7, low point (noise), rather than 1 or
+    /// its own class. Nothing with the gap 0 (low outliers kept) or without side records.
+    bool mark_noise = false;
 };
 
 /// Throws core::Error("ground: ...") naming the option when `o` cannot run: RANSAC named,
@@ -78,6 +83,7 @@ struct GroundFileStats {
     std::size_t ground_points = 0;  // of them, labelled ground
     std::size_t was_ground = 0;     // labelled ground in the input (LAS class 2)
     std::size_t still_ground = 0;   // of those, labelled ground again
+    std::size_t noise_points = 0;   // given class 7 (GroundFileOptions::mark_noise)
     std::string reader_warning;     // io::CloudReader::warning() of the input, or empty
     int nx = 0, ny = 0;             // the terrain raster (the largest tile's when tiled)
     double cell_m = 0;
