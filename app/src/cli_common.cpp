@@ -244,6 +244,27 @@ std::vector<std::filesystem::path> lasFilesIn(const std::filesystem::path& folde
     return files;
 }
 
+void expandFolderInputs(std::vector<std::string>& inputs, std::string_view command, std::size_t most) {
+    std::vector<std::string> files;
+    for (const std::string& given : inputs) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(given, ec)) {
+            files.push_back(given);
+            continue;
+        }
+        const std::vector<std::filesystem::path> tiles = lasFilesIn(given, command, most);
+        if (tiles.empty())
+            throw core::Error(std::string(command) + ": input '" + core::printable(given, 400) +
+                              "' is a folder that holds no .las or .laz file; allowed: cloud files, or folders of "
+                              "LAS/LAZ tiles");
+        for (const std::filesystem::path& t : tiles) files.push_back(t.string());
+    }
+    if (files.size() > most)
+        throw core::Error(std::string(command) + ": " + std::to_string(files.size()) +
+                          " input files; allowed at most " + std::to_string(most));
+    inputs = std::move(files);
+}
+
 void createParentFolders(const fs::path& file, std::string_view option) {
     platform::checkPathLength(file, option);
     const fs::path parent = file.parent_path();

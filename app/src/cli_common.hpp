@@ -74,6 +74,12 @@ bool isLasName(const std::string& name);
 std::vector<std::filesystem::path> lasFilesIn(const std::filesystem::path& folder, std::string_view command,
                                               std::size_t most);
 
+/// The inputs of a command with each folder among them replaced by its lasFilesIn() (a
+/// survey's tiles, in name order). Throws core::Error("<command>: input '<folder>' is a
+/// folder that holds no .las or .laz file; ...") for a folder without them, and when more
+/// than `most` files result.
+void expandFolderInputs(std::vector<std::string>& inputs, std::string_view command, std::size_t most);
+
 /// An optional output file of a run (a screenshot, a log): when `file` is not empty,
 /// creates its folders and checks the destination (platform::checkWritableDestination), so a
 /// bad name fails before the run starts.

@@ -550,31 +550,8 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
     if (cli.json) std::printf("%s\n", array.dump(2).c_str());
 }
 
-// A folder among the inputs stands for its LAS, LAZ and COPC files, in name order (a
-// survey's tiles, as `view FOLDER` takes them).
-void expandFolders(std::vector<std::string>& in) {
-    std::vector<std::string> files;
-    for (const std::string& given : in) {
-        std::error_code ec;
-        if (!std::filesystem::is_directory(given, ec)) {
-            files.push_back(given);
-            continue;
-        }
-        const std::vector<std::filesystem::path> tiles = lasFilesIn(given, "ground", kMostInputs);
-        if (tiles.empty())
-            throw core::Error("ground: input '" + core::printable(given, 400) +
-                              "' is a folder that holds no .las or .laz file; allowed: cloud files, or folders of "
-                              "LAS/LAZ tiles");
-        for (const std::filesystem::path& t : tiles) files.push_back(t.string());
-    }
-    if (files.size() > kMostInputs)
-        throw core::Error("ground: " + std::to_string(files.size()) + " input files; allowed at most " +
-                          std::to_string(kMostInputs));
-    in = std::move(files);
-}
-
 void run(GroundFileCli& cli) {
-    expandFolders(cli.in);
+    expandFolderInputs(cli.in, "ground", kMostInputs);
     cli.options.method = sim::parseGroundMethod(cli.method, "ground: --method");
     if (cli.options.method == sim::GroundMethod::Ransac)
         throw core::Error("ground: --method ransac: RANSAC works per view of a generated cloud; allowed smrf, csf");

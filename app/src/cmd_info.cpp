@@ -1,4 +1,4 @@
-// app/src/cmd_info.cpp: `ladarvr info FILE... [--json]`: what cloud files hold, as
+// app/src/cmd_info.cpp: `ladarvr info FILE|FOLDER... [--json]`: what cloud files hold, as
 // pdal info and lasinfo tell it (io::inspectCloud): format, counts, bounds, fields, and
 // for LAS, LAZ and COPC the header, the CRS and its units, the classes and returns, the
 // extra bytes, the colour depth, the point density and the COPC nodes. Every file is read
@@ -28,7 +28,8 @@ struct InfoCli {
     bool json = false;
 };
 
-constexpr int kKeyWidth = 18;  // the text output's keys, padded so the values align
+constexpr int kKeyWidth = 18;              // the text output's keys, padded so the values align
+constexpr std::size_t kMostFiles = 65536;  // files of one run, a folder's included
 
 // The points per square unit of the XY bounds, and per square metre when the unit's
 // length is known.
@@ -364,7 +365,8 @@ Json toJson(const io::CloudInfo& info) {
     return j;
 }
 
-void run(const InfoCli& cli) {
+void run(InfoCli& cli) {
+    expandFolderInputs(cli.files, "info", kMostFiles);
     std::vector<io::CloudInfo> infos;
     for (const std::string& file : cli.files) infos.push_back(io::inspectCloud(file, "info"));
     if (cli.json) {
@@ -389,7 +391,8 @@ void registerInfo(CLI::App& cli) {
         "info",
         "what cloud files hold (PCD, PLY, LAS, LAZ, COPC): format, point count, bounds, fields; for LAS/LAZ the "
         "header, the CRS and its units, the classes and returns, extra bytes, colour depth, density, COPC nodes");
-    c->add_option("files", state->files, "the cloud files")->required();
+    c->add_option("files", state->files, "the cloud files (a folder gives its .las/.laz files in name order)")
+        ->required();
     c->add_flag("--json", state->json, "print one JSON object per file (an array for several) instead");
     c->callback([state] { run(*state); });
 }

@@ -13,6 +13,7 @@
 #    the gap that parts a stray is 20 m in feet: 50 ft above the rest is not one, 80 ft is;
 #  - a header whose bounds are zeros (hexbin-crop.las's, changed here): a line says they do
 #    not hold the points and where the points lie; none for the real files as they are;
+#  - a folder: its LAS/LAZ files in name order; one without them refused in one line;
 #  - a truncated file and a VLR longer than the bytes before the points: one line
 #    `ladarvr: error: info: FILE: ...`, exit 1, nothing on stdout; no file: usage, exit 2.
 set -eu
@@ -245,6 +246,20 @@ open(sys.argv[2], "wb").write(b)
 PY
 refused "$dir/long_vlr.las" "ladarvr: error: info: $dir/long_vlr.las: VLR 1 runs into the point data"
 refused "$dir/absent.las" "ladarvr: error: info: $dir/absent.las: file does not exist"
+# A folder: its .las/.laz files in name order (a file of another kind left out); one
+# without them refused.
+mkdir -p "$dir/tiles" "$dir/no-tiles"
+cp "$data/warsaw_small.las" "$data/hexbin-crop.las" "$dir/tiles/"
+printf 'notes\n' >"$dir/tiles/README.txt"
+cp "$dir/tiles/README.txt" "$dir/no-tiles/"
+"$bin" info "$dir/tiles" --json >"$dir/out" 2>"$dir/err" || fail "info FOLDER: $(cat "$dir/err")"
+python3 - "$dir/out" "$dir/tiles" <<'PY' || fail "info FOLDER: not its two files in name order: $(cat "$dir/out")"
+import json, sys
+files = json.load(open(sys.argv[1]))
+assert [f["file"] for f in files] == [sys.argv[2] + "/hexbin-crop.las", sys.argv[2] + "/warsaw_small.las"], files
+assert [f["points"] for f in files] == [38367, 3000], [f["points"] for f in files]
+PY
+refused "$dir/no-tiles" "ladarvr: error: info: input '$dir/no-tiles' is a folder that holds no .las or .laz file; allowed: cloud files, or folders of LAS/LAZ tiles"
 status=0
 "$bin" info >"$dir/out" 2>"$dir/err" || status=$?
 [ "$status" = 2 ] || fail "info without a file: exit $status, expected 2"
