@@ -129,10 +129,12 @@ void GroundLabeller::apply(core::CloudPoint& p, unsigned char* record, bool grou
         f.classification = ground                                   ? std::uint8_t(2)
                            : f.classification == 2 || o_.reclassify ? std::uint8_t(1)
                                                                     : f.classification;
-        const double gap = o_.method == GroundMethod::Csf ? o_.csf.low_outlier_m : o_.smrf.low_outlier_m;
-        if (o_.mark_noise && !ground && gap > 0.0 && double(height_m) < -gap) {
-            f.classification = kLowNoiseClass;
-            ++st.noise_points;
+        if (o_.mark_noise && !ground) {
+            const double gap = o_.method == GroundMethod::Csf ? o_.csf.low_outlier_m : o_.smrf.low_outlier_m;
+            if (gap > 0.0 && double(height_m) < -gap) {
+                f.classification = kLowNoiseClass;
+                ++st.noise_points;
+            }
         }
         if (ground)
             p.label = core::Role::Ground;
