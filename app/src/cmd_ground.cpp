@@ -1,5 +1,5 @@
 // app/src/cmd_ground.cpp: `ladarvr ground IN... (--out OUT | --out-dir DIR) [--method
-// smrf|csf] [--smrf-*|--csf-*] [--reclassify] [--whiten] [--jobs K] [--threads N]
+// smrf|csf] [--smrf-*|--csf-*] [--returns auto|last|all] [--reclassify] [--whiten] [--jobs K] [--threads N]
 // [--only-tile I] [--dtm DTM.asc|DTM.tif | --dtm-dir DIR [--dtm-format asc|tif]] [--json]`: the
 // ground of clouds we did not generate (real surveys' LAS/LAZ, a folder of their tiles, or
 // any cloud we read), classified by a whole-cloud filter (sim/ground_file.hpp)
@@ -72,6 +72,7 @@ struct GroundFileCli {
     std::string dtm_dir;             // --dtm-dir: with --out-dir, one grid per input in this folder
     std::string dtm_format = "asc";  // --dtm-format: --dtm-dir's grids, asc or tif
     std::string method = "smrf";
+    std::string returns = "auto";
     sim::GroundFileOptions options;
     double low_outlier_m = sim::kSurveyLowOutlier_m;
     double memory_mb = 1024.0;
@@ -298,6 +299,8 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
         j["input_ground_points"] = st.was_ground;
         j["input_ground_points_kept"] = st.still_ground;
         if (cli.options.mark_noise) j["noise_points"] = st.noise_points;
+        j["ground_returns"] = st.last_returns_only ? "last" : "all";
+        j["not_last_points"] = st.not_last_points;
         j["raster"] = {{"nx", st.nx}, {"ny", st.ny}, {"cell_m", st.cell_m * units.horizontal_m}};
         if (tiled) j["tiles"] = st.tiles;
         if (dtm)
@@ -317,6 +320,8 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
     std::printf("ground: wrote %s: %zu points, %zu ground (%.2f %%), ", platform::messageLine(out, 400).c_str(),
                 st.points, st.ground_points, share);
     if (cli.options.mark_noise) std::printf("%zu low noise (class 7), ", st.noise_points);
+    if (st.last_returns_only)
+        std::printf("last returns only (%zu earlier returns on the terrain left out), ", st.not_last_points);
     std::printf("%s, ", sim::describe(cli.options).c_str());
     if (tiled)
         std::printf("%zu tiles, largest raster %d x %d, %.3f s\n", st.tiles, st.nx, st.ny, seconds);
@@ -555,6 +560,7 @@ void run(GroundFileCli& cli) {
     cli.options.method = sim::parseGroundMethod(cli.method, "ground: --method");
     if (cli.options.method == sim::GroundMethod::Ransac)
         throw core::Error("ground: --method ransac: RANSAC works per view of a generated cloud; allowed smrf, csf");
+    cli.options.returns = sim::parseGroundReturns(cli.returns, "ground: --returns");
     cli.options.smrf.low_outlier_m = cli.options.csf.low_outlier_m = cli.low_outlier_m;
     sim::validate(cli.options);
     if (cli.jobs < 1 || cli.jobs > 256)
@@ -617,6 +623,12 @@ void registerGround(CLI::App& cli) {
     c->add_option("--low-outlier-m", state->low_outlier_m,
                   "a return this far below the ground around it (multipath, noise) is left out of the terrain and is "
                   "not ground, metres [0, 1000], 0 = keep every return")
+        ->capture_default_str();
+    c->add_option("--returns", state->returns,
+                  "which returns may be ground: last (a return with a later one behind it is never ground), all, "
+                  "or auto (last where the input is a discrete-return survey: some pulses with one return and some "
+                  "with several; all where it holds no single returns, as files storing each pulse's first and last "
+                  "echo as two full sets)")
         ->capture_default_str();
     c->add_option("--memory-mb", state->memory_mb,
                   "bound on memory: the terrain rasters, the points and side records in flight")

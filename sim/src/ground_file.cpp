@@ -39,6 +39,33 @@ CsfOptions surveyCsfOptions() {
     return o;
 }
 
+GroundReturns parseGroundReturns(const std::string& name, const std::string& what) {
+    if (name == "auto") return GroundReturns::Auto;
+    if (name == "last") return GroundReturns::Last;
+    if (name == "all") return GroundReturns::All;
+    throw core::Error(what + " " + core::printable(name, 40) + ": allowed auto, last, all");
+}
+
+const char* groundReturnsName(GroundReturns r) {
+    switch (r) {
+        case GroundReturns::Auto: return "auto";
+        case GroundReturns::Last: return "last";
+        case GroundReturns::All: return "all";
+    }
+    return "auto";
+}
+
+void ReturnCounts::add(std::span<const core::CloudPoint> points) {
+    for (const core::CloudPoint& p : points) {
+        single += p.returns == 1;
+        not_last += notLastReturn(p);
+    }
+}
+
+bool lastReturnsOnly(const GroundFileOptions& o, const ReturnCounts& counts) {
+    return o.returns == GroundReturns::Last || (o.returns == GroundReturns::Auto && counts.discrete());
+}
+
 void validate(const GroundFileOptions& o) {
     if (o.method == GroundMethod::Ransac)
         throw core::Error("ground: method ransac works per view of a generated cloud; allowed smrf, csf");
@@ -102,10 +129,13 @@ std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> point
     const std::unique_ptr<TerrainFit> fit = startFit(o, std::size_t(-1));
     fit->add(points);
     fit->fit();
+    ReturnCounts counts;
+    counts.add(points);
+    const bool last_only = lastReturnsOnly(o, counts);
     std::vector<std::uint8_t> ground(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         float height_m = 0;
-        ground[i] = fit->classify(points[i], height_m);
+        ground[i] = fit->classify(points[i], height_m) && !(last_only && notLastReturn(points[i]));
     }
     return ground;
 }
@@ -113,13 +143,17 @@ std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> point
 // ASPRS class 7: low point (noise).
 constexpr std::uint8_t kLowNoiseClass = 7;
 
-GroundLabeller::GroundLabeller(const GroundFileOptions& o, std::size_t stride, float colour_top_m)
-    : o_(o), stride_(stride), top_m_(colour_top_m) {
+GroundLabeller::GroundLabeller(const GroundFileOptions& o, std::size_t stride, float colour_top_m, bool last_only)
+    : o_(o), stride_(stride), top_m_(colour_top_m), last_only_(last_only) {
     if (o.whiten) jet_ = core::jetTable(ColourOptions{}.entries);
 }
 
 void GroundLabeller::apply(core::CloudPoint& p, unsigned char* record, bool ground, float height_m,
                            GroundFileStats& st) const {
+    if (ground && last_only_ && notLastReturn(p)) {
+        ground = false;
+        ++st.not_last_points;
+    }
     const bool was_ground = p.label == core::Role::Ground;
     p.height_above_ground_m = height_m;
     core::ForeignPoint f;
@@ -190,7 +224,7 @@ namespace {
 // reader's two chunks. False, having added nothing, where `in` is not COPC, its nodes do
 // not hold all its points, or a node is larger than a reader's chunk.
 bool fitCopcNodes(TerrainFit& fit, const std::filesystem::path& in, const glm::dvec3& shift,
-                  const std::function<void(std::size_t)>& progress) {
+                  const std::function<void(std::size_t)>& progress, ReturnCounts& counts) {
     if (!io::isCopcFile(in)) return false;
     std::unique_ptr<io::CopcReader> copc;
     try {
@@ -214,7 +248,10 @@ bool fitCopcNodes(TerrainFit& fit, const std::filesystem::path& in, const glm::d
                 core::PointCloud cloud =
                     copc->readNodeEntry(nodes[i], io::SideRecords::Drop, io::PointFields::Positions);
                 moveBy(cloud.points, shift);
+                ReturnCounts mine;
+                mine.add(cloud.points);
                 const std::lock_guard lock(mutex);
+                counts.add(mine);
                 fit.add(cloud.points);
                 progress(cloud.points.size());
             }
@@ -231,13 +268,15 @@ bool fitCopcNodes(TerrainFit& fit, const std::filesystem::path& in, const glm::d
     return true;
 }
 
-// Pass 1: the terrain fitted on `in`'s points and `extra`'s within their boxes.
+// Pass 1: the terrain fitted on `in`'s points and `extra`'s within their boxes; `in`'s
+// points counted by their returns into `counts`.
 void fitOn(std::unique_ptr<TerrainFit>& fit, const std::filesystem::path& in, const glm::dvec3& shift,
            const std::vector<FitSource>& extra, int threads, double thickness_m,
-           const std::function<void(std::size_t)>& progress, const FitOver& fit_over) {
-    if (!fitCopcNodes(*fit, in, shift, progress)) {
+           const std::function<void(std::size_t)>& progress, const FitOver& fit_over, ReturnCounts& counts) {
+    if (!fitCopcNodes(*fit, in, shift, progress, counts)) {
         io::CloudReader reader(in, io::PointFields::Positions);
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+            counts.add(chunk);
             moveBy(chunk, shift);
             addToFit(*fit, chunk, threads);
             progress(chunk.size());
@@ -282,7 +321,8 @@ GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec
                                 DtmMosaic* dtm, const glm::dvec2& dtm_lo, const glm::dvec2& dtm_hi) {
     GroundFileStats st;
     std::unique_ptr<TerrainFit> fit = startFit(o, max_cells);
-    fitOn(fit, in, shift, extra, threads, thickness_m, progress, fit_over);
+    ReturnCounts counts;
+    fitOn(fit, in, shift, extra, threads, thickness_m, progress, fit_over, counts);
     // [lo, hi] as add()'s half-open box: a cell whose centre lies on hi is kept too.
     if (dtm) dtm->add(fit->surface(), dtm_lo, dtm_hi + 1e-6 * fit->surface().cell_m);
     st.nx = fit->surface().nx;
@@ -303,7 +343,8 @@ GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec
     io::CloudWriter writer(out, format, reader.origin(), fields, with,
                            format == io::CloudFormat::Copc ? &copc : nullptr);
     const std::size_t stride = with.foreign ? with.foreign->stride() : 0;
-    const GroundLabeller labeller(o, stride, st.colour_top_m);
+    st.last_returns_only = lastReturnsOnly(o, counts);
+    const GroundLabeller labeller(o, stride, st.colour_top_m, st.last_returns_only);
     const bool moved = !zeroShift(shift);
     io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk, std::vector<unsigned char>& records) {
         for (std::size_t i = 0; i < chunk.size(); ++i) {

@@ -32,15 +32,18 @@ inline core::HeightSpan aboveGroundHeights(const GroundFileOptions& o) {
 class GroundLabeller {
   public:
     /// `stride`: the side records' bytes per point (0: none); `colour_top_m`: the height
-    /// above ground where the jet map ends (whiten only).
-    GroundLabeller(const GroundFileOptions& o, std::size_t stride, float colour_top_m);
-    /// Labels `p` (and its side record at `record` when stride > 0) and counts it in `st`.
+    /// above ground where the jet map ends (whiten only); `last_only`: a return that is not
+    /// its pulse's last is not ground (lastReturnsOnly).
+    GroundLabeller(const GroundFileOptions& o, std::size_t stride, float colour_top_m, bool last_only);
+    /// Labels `p` (and its side record at `record` when stride > 0) and counts it in `st`;
+    /// `ground` is the fit's word, which `last_only` may overrule.
     void apply(core::CloudPoint& p, unsigned char* record, bool ground, float height_m, GroundFileStats& st) const;
 
   private:
     const GroundFileOptions& o_;
     std::size_t stride_;
     float top_m_;
+    bool last_only_;
     std::vector<std::uint32_t> jet_;
 };
 
@@ -58,7 +61,7 @@ using FitOver = std::function<void(std::unique_ptr<TerrainFit>& fit)>;
 
 /// classifyGroundFile with the fit in another frame and fed more points: `in`'s points
 /// are moved by `shift` for the fit and the test (written where they are), and `extra`'s
-/// points join the fit. `threads` >= 1 share each fit's gathering and fitting;
+/// points join the fit (GroundFileOptions::returns decided on `in`'s points alone). `threads` >= 1 share each fit's gathering and fitting;
 /// `thickness_m` >= 0 is the ground thickness the fit uses (TerrainFit::setGroundThickness).
 /// `fit_over`, where given, runs the fit in place of TerrainFit::fit(). `dtm`, where given,
 /// gets the fitted terrain's cells whose centres lie in [dtm_lo, dtm_hi] (the fit's frame).

@@ -533,9 +533,11 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
         survey.max = glm::max(survey.max, box.max - glm::dvec2(frame) + cell);
     }
     Tiler tiler(t, cell, t.scratch_dir, survey);
+    ReturnCounts counts;  // every input's: the rule of the returns is the survey's
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         io::CloudReader reader(inputs[i]);
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
+            counts.add(chunk);
             for (core::CloudPoint& p : chunk) {
                 moveBy(p, shifts[i]);
                 tiler.spill(p, i);
@@ -581,7 +583,8 @@ GroundFileStats classifyGroundTiled(const std::vector<std::filesystem::path>& in
             with.foreign = reader.foreignHeader();
             stride = with.foreign ? with.foreign->stride() : 0;
             writer.emplace(out, format, origin, fields, with, format == io::CloudFormat::Copc ? &copc : nullptr);
-            labeller.emplace(o, stride, st.colour_top_m);
+            st.last_returns_only = lastReturnsOnly(o, counts);
+            labeller.emplace(o, stride, st.colour_top_m, st.last_returns_only);
             if (with.foreign && !with.foreign->crs_problem.empty())
                 st.reader_warning = with.foreign->crs_problem + "; written without a CRS";
         }

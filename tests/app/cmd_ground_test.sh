@@ -11,7 +11,10 @@
 #  - a survey in feet gets its options converted from metres (stderr says so); one in
 #    degrees (a geographic CRS) is refused;
 #  - a survey far sparser than SMRF's cells gets one line saying so and what helps;
-#  - --noise gives the low outliers of another producer's LAS class 7 and moves no other.
+#  - --noise gives the low outliers of another producer's LAS class 7 and moves no other;
+#  - in a discrete-return survey a return with a later one behind it is not ground by
+#    default (--returns auto), is with --returns all; a survey of single returns keeps
+#    every return whatever --returns says.
 set -eu
 bin=$1
 dir=$2
@@ -100,6 +103,43 @@ labelled=$(field input_ground_points "$dir/json") kept=$(field input_ground_poin
 [ "$(sed -n 2p "$dir/err")" = 'ground: 6280 points over 581406 cells of 2 m, one point per 93 cells: most of the run fills empty cells; a coarser --smrf-cell-m is faster on so sparse a survey (docs/ground.md, "Sparse surveys")' ] &&
     [ "$(wc -l <"$dir/err")" -eq 2 ] || fail "ground sparse: stderr: $(cat "$dir/err")"
 
+# Returns (tests/data/real/mvk-thin.las: a discrete-return survey, some pulses with one
+# return and some with several): by default only a pulse's last return may be ground, and
+# --json counts the earlier returns the filter found on the terrain; with --returns all
+# those are ground too, every other point as before. The file written holds no class 2
+# point that is not its pulse's last. A survey of single returns (hexbin-crop.las) keeps
+# every return whatever --returns says, as auto decides.
+"$bin" ground "$real/mvk-thin.las" --out "$dir/last.las" --json >"$dir/json" 2>"$dir/err" ||
+    fail "ground returns: $(cat "$dir/err")"
+grep -q '"ground_returns": "last",' "$dir/json" || fail "ground returns: not last: $(cat "$dir/json")"
+last_ground=$(field ground_points "$dir/json") not_last=$(field not_last_points "$dir/json")
+[ "$not_last" -gt 0 ] || fail "ground returns: no earlier return on the terrain: $(cat "$dir/json")"
+"$bin" ground "$real/mvk-thin.las" --out "$dir/all.las" --json --returns all >"$dir/json" 2>"$dir/err" ||
+    fail "ground returns all: $(cat "$dir/err")"
+grep -q '"ground_returns": "all",' "$dir/json" && [ "$(field not_last_points "$dir/json")" = 0 ] &&
+    [ "$(field ground_points "$dir/json")" = $((last_ground + not_last)) ] ||
+    fail "ground --returns all: not $last_ground + $not_last ground: $(cat "$dir/json")"
+python3 - "$dir/last.las" "$dir/all.las" <<'PY' || fail "ground returns: the classes written"
+import sys
+import laspy, numpy as np
+last, every = laspy.read(sys.argv[1]), laspy.read(sys.argv[2])
+rn, nr = np.asarray(last.return_number), np.asarray(last.number_of_returns)
+earlier = (rn >= 1) & (rn < nr)
+c0, c1 = np.asarray(last.classification), np.asarray(every.classification)
+assert not ((c0 == 2) & earlier).any(), "an earlier return written as class 2"
+assert ((c1 == 2) & earlier).any(), "--returns all: no earlier return is ground"
+moved = c0 != c1
+assert earlier[moved].all() and (c1[moved] == 2).all(), "--returns moved other points"
+PY
+"$bin" ground "$real/hexbin-crop.las" --out "$dir/single.las" --json >"$dir/json" 2>"$dir/err" ||
+    fail "ground single returns: $(cat "$dir/err")"
+grep -q '"ground_returns": "all",' "$dir/json" || fail "ground single returns: not all: $(cat "$dir/json")"
+single_ground=$(field ground_points "$dir/json")
+"$bin" ground "$real/hexbin-crop.las" --out "$dir/single-last.las" --json --returns last >"$dir/json" 2>"$dir/err" ||
+    fail "ground single returns, last: $(cat "$dir/err")"
+[ "$(field ground_points "$dir/json")" = "$single_ground" ] ||
+    fail "ground single returns: --returns last changed the ground: $(cat "$dir/json")"
+
 # Its memory follows the cells that hold a point, not the 64 x 64 tiles they touch: at
 # 1 m cells (1523 x 1524) the run peaks at most 80 bytes a cell above a small sample's run
 # (the lowest heights of every cell of each touched tile would be 100 bytes a cell).
@@ -130,6 +170,7 @@ bad "RANSAC works per view" "$data/samp24.las" --out "$dir/bad.las" --method ran
 bad "--smrf-cell-m" "$data/samp24.las" --out "$dir/bad.las" --smrf-cell-m 0
 bad "--low-outlier-m" "$data/samp24.las" --out "$dir/bad.las" --low-outlier-m -1
 bad "--csf-rigidness" "$data/samp24.las" --out "$dir/bad.las" --method csf --csf-rigidness 7
+bad "--returns first: allowed auto, last, all" "$data/samp24.las" --out "$dir/bad.las" --returns first
 bad "--memory-mb" "$data/samp24.las" --out "$dir/bad.las" --memory-mb 2
 bad "--out" "$data/samp24.las" --out "$dir/bad.txt"
 bad "no-such.las" "$data/no-such.las" --out "$dir/bad.las"

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -76,6 +77,113 @@ TEST_CASE("ground file: low outliers are left out of the terrain, so the ground 
         o.smrf.low_outlier_m = o.csf.low_outlier_m = 0;
         CHECK(wrong(points, sim::classifyGround(points, o)) > 40);
     }
+}
+
+TEST_CASE(
+    "ground file: a discrete-return cloud's earlier returns are never ground; first and last echo sets keep them") {
+    // The plane's points, every 10th one made the first of two returns (a pulse that
+    // also hit something below it in a discrete-return survey), the rest single returns.
+    std::vector<core::CloudPoint> points = planeWithLowCluster();
+    std::size_t marked = 0;
+    for (std::size_t i = 0; i < points.size(); i += 10) {
+        if (points[i].label != core::Role::Ground) continue;
+        points[i].return_number = 1;
+        points[i].returns = 2;
+        ++marked;
+    }
+    sim::ReturnCounts counts;
+    counts.add(points);
+    CHECK(counts.not_last == marked);
+    CHECK(counts.single == points.size() - marked);
+    CHECK(counts.discrete());
+    sim::GroundFileOptions all;
+    all.returns = sim::GroundReturns::All;
+    const std::vector<std::uint8_t> every = sim::classifyGround(points, all);
+    CHECK(wrong(points, every) == 0);  // the fit does not look at the returns
+    const std::vector<std::uint8_t> last = sim::classifyGround(points, sim::GroundFileOptions{});
+    std::size_t dropped = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        if (sim::notLastReturn(points[i]))
+            dropped += every[i] && !last[i];
+        else
+            CHECK(every[i] == last[i]);
+    }
+    CHECK(dropped == marked);
+    // A return number of 0 (not recorded) or above the count is taken as last.
+    core::CloudPoint odd;
+    odd.return_number = 0;
+    odd.returns = 3;
+    CHECK(!sim::notLastReturn(odd));
+    odd.return_number = 4;
+    CHECK(!sim::notLastReturn(odd));
+
+    // Every pulse stored as a first and a last echo (no single return): auto keeps every
+    // return the fit calls ground; last, asked for, drops the first echoes.
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        points[i].returns = 2;
+        points[i].return_number = std::uint8_t(1 + i % 2);
+    }
+    counts = {};
+    counts.add(points);
+    CHECK(!counts.discrete());
+    CHECK(!sim::lastReturnsOnly(sim::GroundFileOptions{}, counts));
+    CHECK(sim::classifyGround(points, sim::GroundFileOptions{}) == every);
+    sim::GroundFileOptions last_only;
+    last_only.returns = sim::GroundReturns::Last;
+    CHECK(sim::lastReturnsOnly(last_only, counts));
+    const std::vector<std::uint8_t> halved = sim::classifyGround(points, last_only);
+    for (std::size_t i = 0; i < points.size(); ++i) CHECK(halved[i] == (every[i] && i % 2 == 1));
+
+    CHECK(sim::parseGroundReturns("last", "--returns") == sim::GroundReturns::Last);
+    CHECK(std::string(sim::groundReturnsName(sim::GroundReturns::Auto)) == "auto");
+    CHECK_THROWS_WITH_AS(sim::parseGroundReturns("first", "ground: --returns"),
+                         "ground: --returns first: allowed auto, last, all", core::Error);
+}
+
+TEST_CASE("ground file: the file's returns decide as the in-memory filter's, whether read by chunk or by COPC node") {
+    const fs::path dir = fs::temp_directory_path() / ("ladarvr-ground-returns-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    core::PointCloud cloud;
+    cloud.points = planeWithLowCluster();
+    for (std::size_t i = 0; i < cloud.points.size(); i += 7) {
+        cloud.points[i].return_number = 1;
+        cloud.points[i].returns = 3;
+    }
+    // Whole millimetres, which the files hold exactly: a point is found again by them.
+    for (core::CloudPoint& p : cloud.points) p.position = glm::round(p.position * 1000.0f) / 1000.0f;
+    cloud.fields.returns = true;
+    const sim::GroundFileOptions o;
+    const std::vector<std::uint8_t> expected = sim::classifyGround(cloud.points, o);
+    for (const char* name : {"in.las", "in.copc.laz"}) {
+        CAPTURE(name);
+        const fs::path in = dir / name;
+        io::writeCloud(in, cloud, io::formatForPath(in, "test"));
+        const fs::path out = dir / "out.las";
+        const sim::GroundFileStats st =
+            sim::classifyGroundFile(in, out, o, std::size_t(1) << 20, {}, {}, [](std::size_t) {});
+        CHECK(st.last_returns_only);
+        const core::PointCloud written = io::readCloud(out);
+        REQUIRE(written.points.size() == cloud.points.size());
+        // The COPC writer orders the points by node: matched by position.
+        std::vector<std::pair<std::pair<long, long>, bool>> got, want;
+        std::size_t not_last = 0;
+        for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+            const glm::vec3 a = glm::vec3(glm::dvec3(written.points[i].position) + written.origin - cloud.origin);
+            got.push_back({{std::lround(a.x * 1000.0f), std::lround(a.y * 1000.0f)},
+                           written.points[i].label == core::Role::Ground});
+            want.push_back(
+                {{std::lround(cloud.points[i].position.x * 1000.0f), std::lround(cloud.points[i].position.y * 1000.0f)},
+                 expected[i] != 0});
+            not_last += sim::notLastReturn(written.points[i]) && written.points[i].label != core::Role::Ground;
+        }
+        std::sort(got.begin(), got.end());
+        std::sort(want.begin(), want.end());
+        CHECK(got == want);
+        CHECK(st.not_last_points > 0);
+        CHECK(st.not_last_points <= not_last);
+        fs::remove(out);
+    }
+    fs::remove_all(dir);
 }
 
 TEST_CASE("ground file: the generator's filters keep every return (low_outlier_m is 0 unless asked)") {
@@ -166,7 +274,7 @@ TEST_CASE("ground labeller: mark_noise gives class 7 beyond the low-outlier gap,
     // One foreign record per case: its class after apply(), as the writer gets it.
     const auto labelled = [](const sim::GroundFileOptions& o, std::uint8_t cls, bool ground, float height_m,
                              sim::GroundFileStats& st) {
-        const sim::GroundLabeller labeller(o, sizeof(core::ForeignPoint), 0.0f);
+        const sim::GroundLabeller labeller(o, sizeof(core::ForeignPoint), 0.0f, false);
         core::CloudPoint p;
         core::ForeignPoint f;
         f.classification = cls;

@@ -28,8 +28,8 @@ class FormatReader;
 enum class SideRecords { Drop, Keep };
 
 /// What a reader must decode of each point (CloudReader). Positions: each point's
-/// position, its view (LAS point source ID) and whatever decides which points are left
-/// out (the range); its other fields are unspecified. The same points come in the same
+/// position, its return number and returns, its view (LAS point source ID) and whatever
+/// decides which points are left out (the range); its other fields are unspecified. The same points come in the same
 /// order either way; a LAZ file of LAS 1.4 point formats 6-10 (COPC's) is then read
 /// faster, its other fields' layers skipped.
 enum class PointFields { All, Positions };

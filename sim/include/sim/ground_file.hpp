@@ -35,6 +35,40 @@ SmrfOptions surveySmrfOptions();
 /// CSF's options for real airborne surveys: the paper's with low outliers left out.
 CsfOptions surveyCsfOptions();
 
+/// Which of a pulse's returns may be ground.
+enum class GroundReturns {
+    Auto,  // Last in a discrete-return cloud (ReturnCounts::discrete), All otherwise
+    Last,  // only a pulse's last return (or its only one)
+    All,   // any return the filter finds on the terrain
+};
+
+/// "auto", "last" or "all"; throws core::Error("<what> <name>: allowed auto, last, all").
+GroundReturns parseGroundReturns(const std::string& name, const std::string& what);
+/// The option's name of `r`.
+const char* groundReturnsName(GroundReturns r);
+
+/// Whether `p` is not its pulse's last return: its return number 1 .. returns - 1. A
+/// return number of 0 (not recorded), or one at or above the count, is taken as last.
+inline bool notLastReturn(const core::CloudPoint& p) { return p.return_number >= 1 && p.return_number < p.returns; }
+
+/// A cloud's points counted by their returns: what GroundReturns::Auto decides on.
+struct ReturnCounts {
+    std::size_t single = 0;    // the only return of their pulse
+    std::size_t not_last = 0;  // notLastReturn
+    void add(std::span<const core::CloudPoint> points);
+    void add(const ReturnCounts& other) {
+        single += other.single;
+        not_last += other.not_last;
+    }
+    /// A discrete-return cloud: some pulses gave one return and some points are not their
+    /// pulse's last. In such a survey a return that is not the last has a farther one
+    /// behind it and is not the ground (no producer's class 2 of the real surveys holds
+    /// one). A file that stores every pulse's first and last echo as two full sets (the
+    /// ISPRS raw sites: each point "1 of 2" or "2 of 2", no single return) is not: its
+    /// first echo lies on the ground wherever the pulse hit only the ground.
+    bool discrete() const { return single > 0 && not_last > 0; }
+};
+
 /// What `ladarvr ground` runs.
 struct GroundFileOptions {
     GroundMethod method = GroundMethod::Smrf;  // Smrf or Csf (RANSAC works per view)
@@ -53,7 +87,14 @@ struct GroundFileOptions {
     /// left out as low outliers) gets ASPRS class 7, low point (noise), rather than 1 or
     /// its own class. Nothing with the gap 0 (low outliers kept) or without side records.
     bool mark_noise = false;
+    /// Which returns may be ground: with Last (Auto in a discrete-return cloud), a return
+    /// that is not its pulse's last is never ground, whatever its height; the terrain is
+    /// fitted on every return either way.
+    GroundReturns returns = GroundReturns::Auto;
 };
+
+/// Whether only last returns may be ground under `o` in a cloud of these counts.
+bool lastReturnsOnly(const GroundFileOptions& o, const ReturnCounts& counts);
 
 /// Throws core::Error("ground: ...") naming the option when `o` cannot run: RANSAC named,
 /// or a filter's option out of its range (validate(SmrfOptions) etc.).
@@ -74,18 +115,21 @@ glm::dvec3 groundFrame(const glm::dvec3& origin, const GroundFileOptions& o);
 /// The filter on points in memory: one flag per point, 1 = ground. The same labels as
 /// classifyGroundFile gives for a file of these points whose origin is its groundFrame()
 /// (a point's view is its LAS point source ID, whose height error a thick ground's fit
-/// estimates). Needs validate(o) passed.
+/// estimates; GroundFileOptions::returns decided on these points' returns). Needs
+/// validate(o) passed.
 std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> points, const GroundFileOptions& o);
 
 /// What classifyGroundFile did.
 struct GroundFileStats {
-    std::size_t points = 0;         // written
-    std::size_t ground_points = 0;  // of them, labelled ground
-    std::size_t was_ground = 0;     // labelled ground in the input (LAS class 2)
-    std::size_t still_ground = 0;   // of those, labelled ground again
-    std::size_t noise_points = 0;   // given class 7 (GroundFileOptions::mark_noise)
-    std::string reader_warning;     // io::CloudReader::warning() of the input, or empty
-    int nx = 0, ny = 0;             // the terrain raster (the largest tile's when tiled)
+    std::size_t points = 0;           // written
+    std::size_t ground_points = 0;    // of them, labelled ground
+    std::size_t was_ground = 0;       // labelled ground in the input (LAS class 2)
+    std::size_t still_ground = 0;     // of those, labelled ground again
+    std::size_t noise_points = 0;     // given class 7 (GroundFileOptions::mark_noise)
+    bool last_returns_only = false;   // lastReturnsOnly held
+    std::size_t not_last_points = 0;  // on the terrain but not ground: not their pulse's last return
+    std::string reader_warning;       // io::CloudReader::warning() of the input, or empty
+    int nx = 0, ny = 0;               // the terrain raster (the largest tile's when tiled)
     double cell_m = 0;
     std::size_t tiles = 1;   // terrain fits run (tiles with points of their own)
     float colour_top_m = 0;  // with whiten: the height above ground the jet map ends at
@@ -93,7 +137,8 @@ struct GroundFileStats {
 
 /// Reads `in` (any cloud io::CloudReader reads) twice, fitted in its groundFrame(), and
 /// writes every point to `out`
-/// (format from its name) with label Ground where the filter says ground and Environment
+/// (format from its name) with label Ground where the filter says ground and
+/// GroundFileOptions::returns allows it (decided on `in`'s own returns) and Environment
 /// elsewhere (a target label is kept), its height above the terrain, every other field
 /// as read. A LAS/LAZ/COPC file from another producer keeps every field it carries (its
 /// classes as GroundFileOptions::reclassify says, its CRS, colours, GPS times, extra
