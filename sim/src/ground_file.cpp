@@ -46,15 +46,6 @@ GroundReturns parseGroundReturns(const std::string& name, const std::string& wha
     throw core::Error(what + " " + core::printable(name, 40) + ": allowed auto, last, all");
 }
 
-const char* groundReturnsName(GroundReturns r) {
-    switch (r) {
-        case GroundReturns::Auto: return "auto";
-        case GroundReturns::Last: return "last";
-        case GroundReturns::All: return "all";
-    }
-    return "auto";
-}
-
 void ReturnCounts::add(std::span<const core::CloudPoint> points) {
     for (const core::CloudPoint& p : points) {
         single += p.returns == 1;

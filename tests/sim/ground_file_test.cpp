@@ -135,7 +135,6 @@ TEST_CASE(
     for (std::size_t i = 0; i < points.size(); ++i) CHECK(halved[i] == (every[i] && i % 2 == 1));
 
     CHECK(sim::parseGroundReturns("last", "--returns") == sim::GroundReturns::Last);
-    CHECK(std::string(sim::groundReturnsName(sim::GroundReturns::Auto)) == "auto");
     CHECK_THROWS_WITH_AS(sim::parseGroundReturns("first", "ground: --returns"),
                          "ground: --returns first: allowed auto, last, all", core::Error);
 }

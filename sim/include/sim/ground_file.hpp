@@ -44,8 +44,6 @@ enum class GroundReturns {
 
 /// "auto", "last" or "all"; throws core::Error("<what> <name>: allowed auto, last, all").
 GroundReturns parseGroundReturns(const std::string& name, const std::string& what);
-/// The option's name of `r`.
-const char* groundReturnsName(GroundReturns r);
 
 /// Whether `p` is not its pulse's last return: its return number 1 .. returns - 1. A
 /// return number of 0 (not recorded), or one at or above the count, is taken as last.
