@@ -453,25 +453,18 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
     if (!tiled) noteSparseRaster(o, st, units);
 }
 
-// `ground IN... --out-dir DIR`: each input a tile of its own, its neighbours its buffer.
-void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::GroundFileOptions& o) {
+// One survey of `ground IN... --out-dir DIR` (inputs of one CRS and unit): each input a
+// tile of its own, its neighbours its buffer; its outputs' --json objects go to `array`.
+void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::GroundFileOptions& o,
+             nlohmann::json& array) {
     const std::filesystem::path dir = cli.out_dir;
     std::vector<std::filesystem::path> files, outs;
     std::vector<platform::RunPath> paths;
-    std::set<std::string> names;
     for (const std::string& in : cli.in) {
-        const std::filesystem::path name = std::filesystem::path(in).filename();
-        if (!names.insert(name.string()).second)
-            throw core::Error("ground: --out-dir: two inputs are named '" + core::printable(name.string(), 400) +
-                              "'; allowed inputs of distinct names (each output takes its input's name)");
         files.emplace_back(in);
-        outs.push_back(dir / name);
+        outs.push_back(dir / std::filesystem::path(in).filename());
         paths.push_back({"input", in, platform::PathRole::Input, {}});
     }
-    if (cli.only_tile >= int(cli.in.size()))
-        throw core::Error("ground: --only-tile " + std::to_string(cli.only_tile) + ": allowed [0, " +
-                          std::to_string(cli.in.size() - 1) + "] (an index into the " + std::to_string(cli.in.size()) +
-                          " inputs)");
     for (const auto& p : outs) paths.push_back({"--out-dir", p, platform::PathRole::Output, {}});
     // --dtm-dir: each input's grid under its name, .asc (and its CRS's .prj) or .tif.
     std::vector<std::filesystem::path> grids;
@@ -497,10 +490,6 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
         const io::CloudFormat format = io::formatForPath(outs[i], "ground: --out-dir");
         side = std::max(side, sideBytes(cli.in[i], format));
         boxes.push_back(groundBox(files[i]));
-        if (sim::readCoordinateUnits(files[i], "ground").horizontal_m != units.horizontal_m)
-            throw core::Error("ground: inputs " + core::printable(cli.in[0], 400) + " and " +
-                              core::printable(cli.in[i], 400) +
-                              " are in different units; allowed tiles of one survey, in one unit");
         const std::size_t n = io::CloudReader(files[i]).declaredPoints();
         all += n;
         if (std::find(todo.begin(), todo.end(), i) != todo.end()) declared += n;
@@ -547,10 +536,54 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
         seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     });
     progress.finish();
-    nlohmann::json array = nlohmann::json::array();
     for (std::size_t i : todo) {
         if (!stats[i].reader_warning.empty()) platform::printMessage("warning", stats[i].reader_warning);
         printStats(cli, cli.in[i], outs[i].string(), stats[i], units, false, seconds[i], &array, dtms[i].get());
+    }
+}
+
+// Says that the options given in metres were converted to a survey's units; `survey`
+// names its first input when the run holds several surveys.
+void noteUnits(const sim::CoordinateUnits& units, const std::string& survey) {
+    if (units.metres()) return;
+    if (survey.empty())
+        std::fprintf(stderr, "ground: coordinates in %s: options converted\n", sim::describe(units).c_str());
+    else
+        std::fprintf(stderr, "ground: %s and the inputs in its CRS: coordinates in %s: options converted\n",
+                     core::printable(survey, 400).c_str(), sim::describe(units).c_str());
+}
+
+// `ground IN... --out-dir DIR`: the inputs split into surveys of one CRS and unit (a
+// folder of downloads may mix them), each run as tiles of one another.
+void runSurveys(GroundFileCli& cli) {
+    std::set<std::string> names;
+    std::vector<std::filesystem::path> files;
+    for (const std::string& in : cli.in) {
+        const std::string name = std::filesystem::path(in).filename().string();
+        if (!names.insert(name).second)
+            throw core::Error("ground: --out-dir: two inputs are named '" + core::printable(name, 400) +
+                              "'; allowed inputs of distinct names (each output takes its input's name)");
+        files.emplace_back(in);
+    }
+    if (cli.only_tile >= int(cli.in.size()))
+        throw core::Error("ground: --only-tile " + std::to_string(cli.only_tile) + ": allowed [0, " +
+                          std::to_string(cli.in.size() - 1) + "] (an index into the " + std::to_string(cli.in.size()) +
+                          " inputs)");
+    const std::vector<std::vector<std::size_t>> surveys =
+        files.size() > 1 ? sim::surveysOf(files) : std::vector<std::vector<std::size_t>>{{0}};
+    nlohmann::json array = nlohmann::json::array();
+    for (const std::vector<std::size_t>& survey : surveys) {
+        GroundFileCli one = cli;
+        one.in.clear();
+        one.only_tile = -1;
+        for (std::size_t k = 0; k < survey.size(); ++k) {
+            one.in.push_back(cli.in[survey[k]]);
+            if (int(survey[k]) == cli.only_tile) one.only_tile = int(k);
+        }
+        if (cli.only_tile >= 0 && one.only_tile < 0) continue;
+        const sim::CoordinateUnits units = sim::readCoordinateUnits(one.in.front(), "ground");
+        noteUnits(units, surveys.size() > 1 ? one.in.front() : std::string());
+        runEach(one, units, sim::inUnits(cli.options, units), array);
     }
     if (cli.json) std::printf("%s\n", array.dump(2).c_str());
 }
@@ -582,15 +615,11 @@ void run(GroundFileCli& cli) {
         throw core::Error("ground: --only-tile: allowed only with --out-dir (it names the input written there)");
     sim::memoryBudgetBytes(cli.memory_mb, "ground");
     for (const std::string& in : cli.in) platform::checkInputFile(in, "ground: input " + core::printable(in, 400));
+    if (!cli.out_dir.empty()) return runSurveys(cli);
     // Options in metres to the file's units (the inputs share them, as checked later).
     const sim::CoordinateUnits units = sim::readCoordinateUnits(cli.in.front(), "ground");
-    if (!units.metres())
-        std::fprintf(stderr, "ground: coordinates in %s: options converted\n", sim::describe(units).c_str());
-    const sim::GroundFileOptions o = sim::inUnits(cli.options, units);
-    if (cli.out_dir.empty())
-        runOne(cli, units, o);
-    else
-        runEach(cli, units, o);
+    noteUnits(units, {});
+    runOne(cli, units, sim::inUnits(cli.options, units));
 }
 
 }  // namespace

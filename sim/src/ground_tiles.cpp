@@ -101,6 +101,24 @@ void checkMergeable(const std::vector<std::filesystem::path>& inputs) {
     }
 }
 
+std::vector<std::vector<std::size_t>> surveysOf(const std::vector<std::filesystem::path>& inputs) {
+    std::vector<std::vector<std::size_t>> surveys;
+    std::vector<InputKind> firsts;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        const InputKind k = kindOf(inputs[i]);
+        std::size_t s = 0;
+        while (s < firsts.size() && !(firsts[s].units.horizontal_m == k.units.horizontal_m &&
+                                      firsts[s].units.vertical_m == k.units.vertical_m && firsts[s].crs == k.crs))
+            ++s;
+        if (s == firsts.size()) {
+            firsts.push_back(k);
+            surveys.emplace_back();
+        }
+        surveys[s].push_back(i);
+    }
+    return surveys;
+}
+
 namespace {
 
 // Spilled: a point in the survey's frame; `reserved` says whether it is the tile's own.

@@ -10,6 +10,8 @@
 #  - a tall roof that runs out of a small real tile is not ground;
 #  - a survey in feet gets its options converted from metres (stderr says so); one in
 #    degrees (a geographic CRS) is refused;
+#  - --out-dir over surveys of other CRSs and units classifies each as a run over it
+#    alone does, none the buffer of another;
 #  - a survey far sparser than SMRF's cells gets one line saying so and what helps;
 #  - --noise gives the low outliers of another producer's LAS class 7 and moves no other;
 #  - in a discrete-return survey a return with a later one behind it is not ground by
@@ -81,6 +83,40 @@ feet_ground=$(field ground_points "$dir/json")
     fail "ground feet as metres: raster: $(cat "$dir/json")"
 [ "$(field ground_points "$dir/json")" != "$feet_ground" ] ||
     fail "ground feet: the same ground ($feet_ground points) with options in feet and in metres"
+
+# A folder of unrelated surveys with --out-dir: each set of inputs of one CRS and unit is a
+# survey of its own, classified as a run over it alone would (the same bytes), and the
+# inputs of one are never the buffer of another's, even where the same numbers stand for
+# two places. Here a survey in feet, one in UTM 42N and a copy of that one without its CRS
+# and 30 m higher: as the other's buffer, either would change the other's ground.
+mkdir -p "$dir/mixed"
+cp "$real/4_6_crop.las" "$real/hexbin-crop.las" "$dir/mixed/"
+python3 - "$real/hexbin-crop.las" "$dir/mixed/nocrs.las" <<'PY' || fail "writing a copy without a CRS"
+import sys
+import laspy
+f = laspy.read(sys.argv[1])
+f.header.vlrs = [v for v in f.header.vlrs if v.user_id != "LASF_Projection"]
+f.z = f.z + 30.0
+f.write(sys.argv[2])
+PY
+"$bin" ground "$dir/mixed" --out-dir "$dir/mixed-out" --json >"$dir/json" 2>"$dir/err" ||
+    fail "ground --out-dir over mixed surveys: $(cat "$dir/err")"
+[ "$(cat "$dir/err")" = "ground: $dir/mixed/4_6_crop.las and the inputs in its CRS: coordinates in US survey feet (0.3048006 m): options converted" ] ||
+    fail "mixed surveys: stderr: $(cat "$dir/err")"
+[ "$(grep -c '"ground_points"' "$dir/json")" = 3 ] || fail "mixed surveys: --json: $(cat "$dir/json")"
+for f in 4_6_crop.las hexbin-crop.las nocrs.las; do
+    "$bin" ground "$dir/mixed/$f" --out-dir "$dir/alone" >/dev/null 2>&1 || fail "ground $f alone"
+    cmp -s "$dir/alone/$f" "$dir/mixed-out/$f" || fail "mixed surveys: $f differs from a run over it alone"
+done
+python3 -c '
+import json, sys
+g = {o["in"].rsplit("/", 1)[-1]: o["ground_points"] for o in json.load(open(sys.argv[1]))}
+assert g["nocrs.las"] == g["hexbin-crop.las"] > 30000, g
+' "$dir/json" || fail "mixed surveys: the copy 30 m higher lost its ground to the other CRS's points"
+"$bin" ground "$dir/mixed" --out-dir "$dir/mixed-only" --only-tile 2 >/dev/null 2>"$dir/err" ||
+    fail "mixed surveys --only-tile 2: $(cat "$dir/err")"
+[ "$(ls "$dir/mixed-only")" = "nocrs.las" ] || fail "--only-tile 2 wrote: $(ls "$dir/mixed-only")"
+cmp -s "$dir/mixed-only/nocrs.las" "$dir/mixed-out/nocrs.las" || fail "--only-tile 2 wrote other bytes"
 
 # A building 26 m tall whose flat roof covers most of a small tile and runs out of it
 # (tests/data/real/sample_c.las; its producer classified the roof as building, class 6,

@@ -165,7 +165,9 @@ TEST_CASE("ground tiles: tiles narrower than their buffer take it from every til
     checkTiles("narrow4", 30.0, {"samp61.laz"});
 }
 
-TEST_CASE("ground tiles: two files merged and the two classified each with the other as buffer agree") {
+TEST_CASE(
+    "ground tiles: two files merged and the two classified each with the other as buffer agree; surveys split by CRS "
+    "and unit") {
     const Scratch s("merge");
     const core::PointCloud cloud = io::readCloud(fs::path(LADARVR_ISPRS_DIR) / "samp54.las");
     // The sample cut in two at its middle x, each half in a file of its own.
@@ -219,6 +221,13 @@ TEST_CASE("ground tiles: two files merged and the two classified each with the o
     io::writeCloud(s.dir / "other.ply", other, io::CloudFormat::PlyBinary);
     CHECK_THROWS_WITH_AS(sim::checkMergeable({inputs[0], s.dir / "other.ply"}),
                          doctest::Contains("have different point formats; allowed"), core::Error);
+    // For one output each, fields may differ but a CRS or unit may not: those are surveys
+    // of their own (real files in US survey feet and in UTM 42N), in the order of their
+    // first input.
+    const fs::path real = fs::path(LADARVR_ISPRS_DIR).parent_path() / "real";
+    const std::vector<std::vector<std::size_t>> surveys =
+        sim::surveysOf({real / "4_6_crop.las", inputs[0], real / "hexbin-crop.las", s.dir / "other.ply", inputs[1]});
+    CHECK(surveys == std::vector<std::vector<std::size_t>>{{0}, {1, 3, 4}, {2}});
 }
 
 namespace {

@@ -64,6 +64,12 @@ GroundBox readGroundBox(const std::filesystem::path& file);
 /// PLY carries).
 void checkMergeable(const std::vector<std::filesystem::path>& inputs);
 
+/// `inputs` split into surveys: the indices of the inputs that share one CRS and one pair of
+/// coordinate units, in input order, each survey in the order of its first input. Inputs of
+/// two surveys are never one another's buffer: the same numbers in two CRSs are two places.
+/// Throws core::Error("ground: ...") when an input's header cannot be read.
+std::vector<std::vector<std::size_t>> surveysOf(const std::vector<std::filesystem::path>& inputs);
+
 /// Every point of `inputs` (in order; positions in the first one's frame) classified tile
 /// by tile (`t`) and written to `out`, as classifyGroundFile writes one input; tiles and
 /// cells lie on the cell lattice of the first one's groundFrame (a tile's buffer doubled
