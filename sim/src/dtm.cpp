@@ -127,6 +127,7 @@ void DtmMosaic::writeGeoTiff(std::FILE* out, const std::vector<io::GeoKey>& keys
     g.west = frame_.x + double(i0_) * cell_;
     g.north = frame_.y + double(j1_ + 1) * cell_;
     g.cell = cell_;
+    g.deflate = true;
     checkFreeSpace(scratch_dir_, io::geoTiffBytes(g, keys), "the grid");
     std::vector<float> local(static_cast<std::size_t>(g.columns));
     io::writeGeoTiff(
@@ -147,6 +148,7 @@ void dtmGeoTiff(std::FILE* out, const TerrainGrid& grid, const glm::dvec3& origi
     g.west = origin.x + grid.x0_m - 0.5 * grid.cell_m;
     g.north = origin.y + grid.y0_m + (double(grid.ny) - 0.5) * grid.cell_m;
     g.cell = grid.cell_m;
+    g.deflate = true;
     io::writeGeoTiff(
         out, g, keys,
         [&](int r, float* values) {

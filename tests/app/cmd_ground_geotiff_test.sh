@@ -4,9 +4,10 @@
 # independent reader, from npm) against the ESRI ASCII grid of the same run.
 # Usage: cmd_ground_geotiff_test.sh LADARVR_BINARY SCRATCH_DIR DATA_DIR (tests/data) NPM_DIR
 #  - a survey in UTM (EPSG:32642, WKT and GeoTIFF keys): the same size, corner, cells and
-#    heights (to the ASCII grid's millimetre) as the .asc, float 32, nodata -9999, the
-#    keys projected, pixel is area, EPSG:32642 in metres; no .prj beside it; the run's
-#    line and --json name the code;
+#    heights (to the ASCII grid's millimetre) as the .asc, float 32 compressed with
+#    Deflate and the floating-point predictor, nodata -9999, the keys projected, pixel
+#    is area, EPSG:32642 in metres; no .prj beside it; the run's line and --json name
+#    the code;
 #  - a survey in US survey feet whose CRS is GeoTIFF keys (EPSG:2903): that code, units
 #    9003, cells of 3.28 ft;
 #  - one without a CRS: placed, no keys, and the run's line says so;
@@ -52,6 +53,8 @@ check "$t" "abs(t['origin'][0] - t['asc']['west']) < 1e-6 and abs(t['origin'][1]
 check "$t" "t['resolution'][:2] == [t['asc']['cell'], -t['asc']['cell']]" "the cell differs from the .asc"
 check "$t" "t['bands'] == 1 and t['bits'] == 32 and t['sample_format'] == 3 and t['array'] == 'Float32Array'" \
     "not one band of float 32"
+check "$t" "t['compression'] == 8 and t['predictor'] == 3 and t['strips'] == -(-203 // (65536 // (4 * 295)))" \
+    "not Deflate with the floating-point predictor in strips of up to 64 KiB"
 check "$t" "t['nodata'] == -9999 and t['asc']['nodata_mismatch'] == 0 and t['asc']['heights'] == t['asc']['cells']" \
     "nodata where the .asc has heights"
 check "$t" "t['asc']['largest_difference'] <= 0.0006" "a height differs from the .asc by more than its rounding"

@@ -1,9 +1,9 @@
 // geotiff_read.mjs NODE_MODULES FILE.tif [FILE.asc]: reads a GeoTIFF with geotiff.js (the
 // npm package `geotiff`, an independent reader) and prints, as one JSON object, what a
 // GIS takes from it: its size, origin (top-left corner), resolution, nodata value, GeoTIFF
-// keys and sample format. With an ESRI ASCII grid beside it, also compares every cell:
-// the largest difference between the two where both have a height, and the cells where
-// one has the nodata value and the other not.
+// keys, sample format, compression, predictor and strip count. With an ESRI ASCII grid
+// beside it, also compares every cell: the largest difference between the two where both
+// have a height, and the cells where one has the nodata value and the other not.
 import { createRequire } from 'node:module'
 import { readFileSync } from 'node:fs'
 import { join } from 'node:path'
@@ -34,6 +34,9 @@ const out = {
   nodata: image.getGDALNoData(),
   geokeys: image.getGeoKeys(),
   array: band.constructor.name,
+  compression: image.fileDirectory.getValue('Compression') ?? 1,
+  predictor: image.fileDirectory.getValue('Predictor') ?? 1,
+  strips: image.fileDirectory.getValue('StripOffsets').length,
 }
 if (asc) {
   const lines = readFileSync(asc, 'utf8').split('\n')

@@ -1,9 +1,10 @@
 // io/geotiff.hpp: a grid of heights as a GeoTIFF (TIFF 6.0 with the GeoTIFF 1.1 tags),
-// the raster GIS open first: one band of 32-bit floats, uncompressed, one row per strip,
+// the raster GIS open first: one band of 32-bit floats, one row per strip uncompressed, or
+// rows of up to 64 KiB a strip compressed with Deflate and the floating-point predictor,
 // its place given by the pixel scale and one tie point at the top-left corner, its CRS by
 // GeoTIFF keys (EPSG codes where the CRS has them, found through PROJ), cells without a
 // height as GDAL's nodata value. Streamed: the caller hands the rows in order, so the
-// memory is one row whatever the grid's size.
+// memory is one strip whatever the grid's size.
 #pragma once
 #include <cstdint>
 #include <cstdio>
@@ -18,9 +19,10 @@ namespace io {
 struct GeoTiffGrid {
     int columns = 0;
     int rows = 0;
-    double west = 0.0;   // world x of the grid's left edge (the first column's left side)
-    double north = 0.0;  // world y of the grid's top edge (the first row's upper side)
-    double cell = 0.0;   // a cell's side, in the CRS's horizontal unit
+    double west = 0.0;     // world x of the grid's left edge (the first column's left side)
+    double north = 0.0;    // world y of the grid's top edge (the first row's upper side)
+    double cell = 0.0;     // a cell's side, in the CRS's horizontal unit
+    bool deflate = false;  // strips of rows compressed with Deflate and the floating-point predictor
 };
 
 /// The value written for a cell without a height, declared in the GDAL_NODATA tag.
@@ -42,7 +44,8 @@ struct GeoKey {
 /// cannot read (`problem` says why; empty otherwise). Never throws.
 std::vector<GeoKey> geoKeysForWkt(std::string_view wkt, std::string& problem);
 
-/// The file's size in bytes for `grid` with `keys` (its header, tags and heights).
+/// The file's size in bytes for `grid` with `keys` (its header, tags and heights); with
+/// `grid.deflate`, the most it can take (zlib's bound on each strip).
 std::uint64_t geoTiffBytes(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys);
 
 /// Writes `grid` to `out` with `keys` (geoKeysForWkt's; none: no GeoTIFF keys, the grid

@@ -1,6 +1,9 @@
-// io/src/geotiff/geotiff_writer.cpp: io/geotiff.hpp. A little-endian classic TIFF: the
-// 8-byte header, one IFD right after it, the tags' values that do not fit in their entry,
-// then the rows of heights, each a strip of its own. The keys come from the WKT through
+// io/src/geotiff/geotiff_writer.cpp: io/geotiff.hpp. A little-endian classic TIFF.
+// Uncompressed: the 8-byte header, one IFD right after it, the tags' values that do not
+// fit in their entry, then the rows of heights, each a strip of its own. Deflate: the
+// header, the strips (rows of at most 64 KiB together, each row through the
+// floating-point predictor, then zlib), then the IFD and its values, whose place the
+// header is given once the strips' sizes are known. The keys come from the WKT through
 // PROJ (a context per call, logging off, as the LAS reader's CRS conversion does).
 #include <io/geotiff.hpp>
 
@@ -15,6 +18,8 @@
 #include <cstring>
 #include <memory>
 #include <string>
+
+#include <zlib.h>
 
 namespace io {
 namespace {
@@ -123,9 +128,32 @@ struct Tag {
     std::string bytes;  // the value, little-endian
 };
 
-// The tags of `grid` with `keys`; the strip offsets from `data_at` (0 while sizing).
-std::vector<Tag> tagsFor(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys, std::uint64_t data_at) {
-    const std::uint32_t rows = std::uint32_t(grid.rows), row_bytes = std::uint32_t(grid.columns) * 4u;
+// Where the heights lie: rows_per_strip rows a strip, each strip's offset and size.
+struct Strips {
+    std::uint32_t rows_per_strip = 1;
+    std::vector<std::uint32_t> offsets, counts;
+};
+
+// Rows a Deflate strip holds: as many as fit in 64 KiB, at least one.
+std::uint32_t deflateRowsPerStrip(const GeoTiffGrid& grid) {
+    const std::uint64_t row_bytes = std::uint64_t(grid.columns) * 4u;
+    return std::uint32_t(std::clamp<std::uint64_t>((64u << 10) / row_bytes, 1, std::uint64_t(grid.rows)));
+}
+
+// Uncompressed: one row a strip, the strips one after another from `data_at`.
+Strips plainStrips(const GeoTiffGrid& grid, std::uint64_t data_at) {
+    const std::uint32_t row_bytes = std::uint32_t(grid.columns) * 4u;
+    Strips s;
+    for (std::uint32_t r = 0; r < std::uint32_t(grid.rows); ++r) {
+        s.offsets.push_back(std::uint32_t(data_at + std::uint64_t(r) * row_bytes));
+        s.counts.push_back(row_bytes);
+    }
+    return s;
+}
+
+// The tags of `grid` with `keys` and the heights in `strips`.
+std::vector<Tag> tagsFor(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys, const Strips& strips) {
+    const std::uint32_t rows = std::uint32_t(grid.rows);
     std::vector<Tag> tags;
     const auto shortTag = [&](std::uint16_t id, std::uint16_t v) {
         std::string b;
@@ -140,19 +168,21 @@ std::vector<Tag> tagsFor(const GeoTiffGrid& grid, const std::vector<GeoKey>& key
     longTag(256, std::uint32_t(grid.columns));  // ImageWidth
     longTag(257, rows);                         // ImageLength
     shortTag(258, 32);                          // BitsPerSample
-    shortTag(259, 1);                           // Compression: none
+    shortTag(259, grid.deflate ? 8 : 1);        // Compression: Deflate (Adobe's code, as GDAL writes) or none
     shortTag(262, 1);                           // PhotometricInterpretation: BlackIsZero
     std::string offsets, counts;
-    for (std::uint32_t r = 0; r < rows; ++r) {
-        put32(offsets, std::uint32_t(data_at + std::uint64_t(r) * row_bytes));
-        put32(counts, row_bytes);
+    for (std::size_t k = 0; k < strips.offsets.size(); ++k) {
+        put32(offsets, strips.offsets[k]);
+        put32(counts, strips.counts[k]);
     }
-    tags.push_back({273, kLong, rows, offsets});  // StripOffsets
-    shortTag(277, 1);                             // SamplesPerPixel
-    longTag(278, 1);                              // RowsPerStrip
-    tags.push_back({279, kLong, rows, counts});   // StripByteCounts
-    shortTag(284, 1);                             // PlanarConfiguration: contiguous
-    shortTag(339, 3);                             // SampleFormat: IEEE floating point
+    const auto n = std::uint32_t(strips.offsets.size());
+    tags.push_back({273, kLong, n, offsets});  // StripOffsets
+    shortTag(277, 1);                          // SamplesPerPixel
+    longTag(278, strips.rows_per_strip);       // RowsPerStrip
+    tags.push_back({279, kLong, n, counts});   // StripByteCounts
+    shortTag(284, 1);                          // PlanarConfiguration: contiguous
+    if (grid.deflate) shortTag(317, 3);        // Predictor: floating point (TIFF Technical Note 3)
+    shortTag(339, 3);                          // SampleFormat: IEEE floating point
     std::string scale, tie;
     for (const double v : {grid.cell, grid.cell, 0.0}) putDouble(scale, v);
     for (const double v : {0.0, 0.0, 0.0, grid.west, grid.north, 0.0}) putDouble(tie, v);
@@ -188,13 +218,11 @@ std::vector<Tag> tagsFor(const GeoTiffGrid& grid, const std::vector<GeoKey>& key
     return tags;
 }
 
-// The bytes before the heights: header, IFD and the values outside their entries (each
-// at an even offset). Its size does not depend on `data_at`.
-std::string headOf(const std::vector<Tag>& tags) {
+// The IFD and the values outside their entries (each at an even offset), to be written at
+// `at` (even). Its size depends only on the tags' sizes.
+std::string ifdAt(const std::vector<Tag>& tags, std::uint32_t at) {
     const std::uint32_t ifd_bytes = 2 + 12 * std::uint32_t(tags.size()) + 4;
-    std::string head = "II";
-    put16(head, 42);
-    put32(head, 8);
+    std::string head;
     std::string extra;
     put16(head, std::uint16_t(tags.size()));
     for (const Tag& t : tags) {
@@ -205,13 +233,53 @@ std::string headOf(const std::vector<Tag>& tags) {
             head += t.bytes;
             head.append(4 - t.bytes.size(), '\0');
         } else {
-            put32(head, 8 + ifd_bytes + std::uint32_t(extra.size()));
+            put32(head, at + ifd_bytes + std::uint32_t(extra.size()));
             extra += t.bytes;
             if (extra.size() % 2) extra.push_back('\0');
         }
     }
     put32(head, 0);  // no next IFD
     return head + extra;
+}
+
+// The TIFF header pointing at the first IFD.
+std::string headerFor(std::uint32_t ifd_at) {
+    std::string b = "II";
+    put16(b, 42);
+    put32(b, ifd_at);
+    return b;
+}
+
+// The bytes before the heights of an uncompressed file: header, IFD and its values. Its
+// size does not depend on where the strips lie.
+std::string headOf(const std::vector<Tag>& tags) { return headerFor(8) + ifdAt(tags, 8); }
+
+// One row through the floating-point predictor: each height's bytes spread over four
+// planes, its most significant byte in the first, then each byte less the one before it.
+void predictRow(const float* values, std::size_t columns, unsigned char* out) {
+    for (std::size_t i = 0; i < columns; ++i) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &values[i], sizeof bits);
+        for (std::size_t b = 0; b < 4; ++b) out[b * columns + i] = (unsigned char)(bits >> (8 * (3 - b)));
+    }
+    for (std::size_t k = 4 * columns; k-- > 1;) out[k] = (unsigned char)(out[k] - out[k - 1]);
+}
+
+// Bytes a Deflate file of `grid` with `keys` takes at most: each strip compressed no
+// smaller than zlib's bound says, the IFD after them.
+std::uint64_t deflateBoundBytes(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys) {
+    const std::uint32_t per = deflateRowsPerStrip(grid);
+    const std::uint32_t n = (std::uint32_t(grid.rows) + per - 1) / per;
+    const std::uint64_t row_bytes = std::uint64_t(grid.columns) * 4u;
+    std::uint64_t bytes = 8;
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const std::uint64_t rows = std::min<std::uint64_t>(per, std::uint64_t(grid.rows) - std::uint64_t(k) * per);
+        bytes += compressBound(uLong(rows * row_bytes));
+    }
+    Strips sizing;
+    sizing.offsets.assign(n, 0);
+    sizing.counts.assign(n, 0);
+    return bytes + 1 + ifdAt(tagsFor(grid, keys, sizing), 0).size();
 }
 
 }  // namespace
@@ -283,7 +351,8 @@ std::vector<GeoKey> geoKeysForWkt(std::string_view wkt_in, std::string& problem)
 
 std::uint64_t geoTiffBytes(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys) {
     if (grid.columns <= 0 || grid.rows <= 0) return 0;
-    const std::uint64_t head = headOf(tagsFor(grid, keys, 0)).size();
+    if (grid.deflate) return deflateBoundBytes(grid, keys);
+    const std::uint64_t head = headOf(tagsFor(grid, keys, plainStrips(grid, 0))).size();
     return head + (head % 4 ? 4 - head % 4 : 0) + std::uint64_t(grid.columns) * std::uint64_t(grid.rows) * 4u;
 }
 
@@ -300,22 +369,62 @@ void writeGeoTiff(std::FILE* out, const GeoTiffGrid& grid, const std::vector<Geo
         throw core::Error(prefix + "a grid of " + std::to_string(grid.columns) + " x " + std::to_string(grid.rows) +
                           " cells takes " + std::to_string(bytes) +
                           " bytes; a GeoTIFF holds at most 4 GiB: write an ESRI ASCII grid (.asc) instead");
-    // The heights start at a multiple of 4 after the head, whose size the offsets leave alone.
-    std::size_t head_bytes = headOf(tagsFor(grid, keys, 0)).size();
-    head_bytes += head_bytes % 4 ? 4 - head_bytes % 4 : 0;
-    std::string head = headOf(tagsFor(grid, keys, head_bytes));
-    head.resize(head_bytes, '\0');
     const auto put = [&](const void* data, std::size_t n) {
         if (std::fwrite(data, 1, n, out) != n) throw core::Error(prefix + "write failed: " + std::strerror(errno));
     };
-    put(head.data(), head.size());
     std::vector<float> values(static_cast<std::size_t>(grid.columns));
-    for (int r = 0; r < grid.rows; ++r) {
+    const auto next = [&](int r) {
         std::fill(values.begin(), values.end(), std::nanf(""));
         row(r, values.data());
         for (float& v : values)
             if (!std::isfinite(v)) v = kGeoTiffNoData;
-        put(values.data(), values.size() * sizeof(float));
+    };
+    if (!grid.deflate) {
+        // The heights start at a multiple of 4 after the head, whose size the offsets leave alone.
+        std::size_t head_bytes = headOf(tagsFor(grid, keys, plainStrips(grid, 0))).size();
+        head_bytes += head_bytes % 4 ? 4 - head_bytes % 4 : 0;
+        std::string head = headOf(tagsFor(grid, keys, plainStrips(grid, head_bytes)));
+        head.resize(head_bytes, '\0');
+        put(head.data(), head.size());
+        for (int r = 0; r < grid.rows; ++r) {
+            next(r);
+            put(values.data(), values.size() * sizeof(float));
+        }
+    } else {
+        const long start = std::ftell(out);
+        if (start < 0) throw core::Error(prefix + "cannot tell the file's position: " + std::strerror(errno));
+        put(headerFor(0).data(), 8);
+        Strips strips;
+        strips.rows_per_strip = deflateRowsPerStrip(grid);
+        const std::size_t row_bytes = values.size() * sizeof(float);
+        std::vector<unsigned char> raw(row_bytes * strips.rows_per_strip);
+        std::vector<unsigned char> packed(compressBound(uLong(raw.size())));
+        std::uint64_t at = 8;
+        for (int r0 = 0; r0 < grid.rows; r0 += int(strips.rows_per_strip)) {
+            const int rows = std::min(int(strips.rows_per_strip), grid.rows - r0);
+            for (int r = 0; r < rows; ++r) {
+                next(r0 + r);
+                predictRow(values.data(), values.size(), raw.data() + std::size_t(r) * row_bytes);
+            }
+            uLongf size = uLongf(packed.size());
+            if (compress2(packed.data(), &size, raw.data(), uLong(std::size_t(rows) * row_bytes), 6) != Z_OK)
+                throw core::Error(prefix + "Deflate failed on rows " + std::to_string(r0) + "+");
+            put(packed.data(), size);
+            strips.offsets.push_back(std::uint32_t(at));
+            strips.counts.push_back(std::uint32_t(size));
+            at += size;
+        }
+        if (at % 2) {
+            put("", 1);
+            ++at;
+        }
+        const std::string ifd = ifdAt(tagsFor(grid, keys, strips), std::uint32_t(at));
+        put(ifd.data(), ifd.size());
+        if (std::fseek(out, start, SEEK_SET) != 0)
+            throw core::Error(prefix + "cannot go back to the header: " + std::strerror(errno));
+        put(headerFor(std::uint32_t(at)).data(), 8);
+        if (std::fseek(out, 0, SEEK_END) != 0)
+            throw core::Error(prefix + "cannot go back to the end: " + std::strerror(errno));
     }
     if (std::fflush(out) != 0) throw core::Error(prefix + "write failed: " + std::strerror(errno));
 }

@@ -1,7 +1,8 @@
 // Tests of io::geoKeysForWkt and io::writeGeoTiff: the keys of each kind of CRS (an EPSG
 // code where the WKT has one, user-defined with its name where not, the vertical part of a
 // compound CRS, none for an empty WKT, a problem for one PROJ cannot read); the file's
-// layout read back tag by tag here (geotiff.js reads it in tests/app/cmd_ground_geotiff_test.sh);
+// layout read back tag by tag here, its Deflate strips inflated and the floating-point
+// predictor undone (geotiff.js reads both in tests/app/cmd_ground_geotiff_test.sh);
 // one-line errors.
 #include <doctest/doctest.h>
 
@@ -16,6 +17,8 @@
 #include <memory>
 #include <string>
 #include <vector>
+
+#include <zlib.h>
 
 namespace {
 
@@ -169,6 +172,65 @@ TEST_CASE("geotiff: the file holds the rows as given, NaN as nodata, placed by i
     // The citation through GeoAsciiParams, '|'-ended.
     const std::uint32_t ascii = value32(34737);
     CHECK(b.substr(ascii, 10) == "site grid|");
+}
+
+TEST_CASE("geotiff: Deflate strips of up to 64 KiB with the floating-point predictor hold the rows as given") {
+    io::GeoTiffGrid g;
+    g.columns = 3000;  // 12,000 bytes a row: 5 rows a strip
+    g.rows = 12;
+    g.west = 1000.0;
+    g.north = 2000.0;
+    g.cell = 2.0;
+    g.deflate = true;
+    std::vector<std::vector<float>> rows(std::size_t(g.rows), std::vector<float>(std::size_t(g.columns)));
+    for (std::size_t r = 0; r < rows.size(); ++r)
+        for (std::size_t i = 0; i < rows[r].size(); ++i)
+            rows[r][i] = (i + r) % 97 == 0 ? std::nanf("") : 250.0f + 0.01f * float(i) - 0.5f * float(r);
+    std::string problem;
+    const std::vector<io::GeoKey> keys = io::geoKeysForWkt(kUtm32, problem);
+    const std::string b = written(g, keys, rows);
+    CHECK(b.size() <= io::geoTiffBytes(g, keys));
+    CHECK(b.size() < std::size_t(g.columns * g.rows * 4) / 2);  // smooth heights compress
+    REQUIRE(b.substr(0, 4) == std::string("II*\0", 4));
+    const std::uint32_t ifd = le<std::uint32_t>(b, 4);
+    CHECK(ifd % 2 == 0);
+    const std::uint16_t n = le<std::uint16_t>(b, ifd);
+    std::map<std::uint16_t, std::size_t> entry;
+    std::uint16_t previous = 0;
+    for (std::uint16_t i = 0; i < n; ++i) {
+        const std::size_t at = ifd + 2 + 12 * std::size_t(i);
+        const std::uint16_t tag = le<std::uint16_t>(b, at);
+        CHECK(tag > previous);
+        previous = tag;
+        entry[tag] = at;
+    }
+    CHECK(le<std::uint16_t>(b, entry.at(259) + 8) == 8);  // Deflate
+    CHECK(le<std::uint16_t>(b, entry.at(317) + 8) == 3);  // floating-point predictor
+    CHECK(le<std::uint32_t>(b, entry.at(278) + 8) == 5);  // rows a strip
+    REQUIRE(le<std::uint32_t>(b, entry.at(273) + 4) == 3);
+    const std::uint32_t offsets = le<std::uint32_t>(b, entry.at(273) + 8);
+    const std::uint32_t counts = le<std::uint32_t>(b, entry.at(279) + 8);
+    const std::size_t width = std::size_t(g.columns);
+    for (std::size_t k = 0; k < 3; ++k) {
+        const std::uint32_t at = le<std::uint32_t>(b, offsets + 4 * k), size = le<std::uint32_t>(b, counts + 4 * k);
+        const std::size_t strip_rows = std::min<std::size_t>(5, rows.size() - 5 * k);
+        std::vector<unsigned char> raw(strip_rows * width * 4);
+        uLongf raw_size = uLongf(raw.size());
+        REQUIRE(uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(b.data() + at), size) == Z_OK);
+        REQUIRE(raw_size == raw.size());
+        for (std::size_t r = 0; r < strip_rows; ++r) {
+            unsigned char* row = raw.data() + r * width * 4;
+            for (std::size_t j = 1; j < width * 4; ++j) row[j] = (unsigned char)(row[j] + row[j - 1]);
+            for (std::size_t i = 0; i < width; ++i) {
+                std::uint32_t bits = 0;
+                for (std::size_t p = 0; p < 4; ++p) bits |= std::uint32_t(row[p * width + i]) << (8 * (3 - p));
+                float v;
+                std::memcpy(&v, &bits, sizeof v);
+                const float given = rows[5 * k + r][i];
+                CHECK(v == (std::isnan(given) ? io::kGeoTiffNoData : given));
+            }
+        }
+    }
 }
 
 TEST_CASE("geotiff: bad grids give one line naming the output") {
