@@ -11,7 +11,7 @@
 #  - a survey in feet gets its options converted from metres (stderr says so); one in
 #    degrees (a geographic CRS) is refused;
 #  - --out-dir over surveys of other CRSs and units classifies each as a run over it
-#    alone does, none the buffer of another;
+#    alone does, none the buffer of another, and refuses two surveys' outputs of one name;
 #  - a survey far sparser than SMRF's cells gets one line saying so and what helps;
 #  - --noise gives the low outliers of another producer's LAS class 7 and moves no other;
 #  - in a discrete-return survey a return with a later one behind it is not ground by
@@ -117,6 +117,17 @@ assert g["nocrs.las"] == g["hexbin-crop.las"] > 30000, g
     fail "mixed surveys --only-tile 2: $(cat "$dir/err")"
 [ "$(ls "$dir/mixed-only")" = "nocrs.las" ] || fail "--only-tile 2 wrote: $(ls "$dir/mixed-only")"
 cmp -s "$dir/mixed-only/nocrs.las" "$dir/mixed-out/nocrs.las" || fail "--only-tile 2 wrote other bytes"
+# Two surveys whose inputs share a stem (hexbin-crop.las, and nocrs.las renamed
+# hexbin-crop.laz) would write one grid under --dtm-dir: refused in one line, nothing written.
+mkdir -p "$dir/stems"
+cp "$dir/mixed/hexbin-crop.las" "$dir/stems/"
+"$bin" ground "$dir/mixed/nocrs.las" --out "$dir/stems/hexbin-crop.laz" >/dev/null 2>&1 || fail "writing hexbin-crop.laz"
+if "$bin" ground "$dir/stems" --out-dir "$dir/stems-out" --dtm-dir "$dir/stems-dtm" >"$dir/out" 2>"$dir/err"; then
+    fail "two surveys writing one grid were not refused"
+fi
+grep -q "^ladarvr: error: ground: .*stems-dtm/hexbin-crop.asc" "$dir/err" && [ "$(wc -l <"$dir/err")" = 1 ] ||
+    fail "two surveys writing one grid: $(cat "$dir/err")"
+[ ! -e "$dir/stems-out" ] && [ ! -e "$dir/stems-dtm" ] || fail "two surveys writing one grid: something was written"
 
 # A building 26 m tall whose flat roof covers most of a small tile and runs out of it
 # (tests/data/real/sample_c.las; its producer classified the roof as building, class 6,
