@@ -454,31 +454,36 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
 }
 
 // What `ground IN... --out-dir DIR` reads and writes: each input, its output under its
-// name, with --dtm-dir its grid (.asc and its CRS's .prj, or .tif); refused in one line
-// (platform::checkDistinctPaths) when two of them name one file.
+// name, with --dtm-dir its grid (.asc and its CRS's .prj, or .tif).
 struct EachPaths {
     std::vector<std::filesystem::path> files, outs, grids;
 };
 
 EachPaths eachPaths(const GroundFileCli& cli) {
     EachPaths e;
-    std::vector<platform::RunPath> paths;
     for (const std::string& in : cli.in) {
         e.files.emplace_back(in);
         e.outs.push_back(std::filesystem::path(cli.out_dir) / std::filesystem::path(in).filename());
-        paths.push_back({"input", in, platform::PathRole::Input, {}});
     }
-    for (const auto& p : e.outs) paths.push_back({"--out-dir", p, platform::PathRole::Output, {}});
     if (!cli.dtm_dir.empty())
-        for (const auto& f : e.files) {
+        for (const auto& f : e.files)
             e.grids.push_back(std::filesystem::path(cli.dtm_dir) /
                               f.filename().replace_extension("." + cli.dtm_format));
-            paths.push_back({"--dtm-dir", e.grids.back().string(), platform::PathRole::Output, {}});
-            if (const auto prj = prjFor(e.grids.back()))
-                paths.push_back({"--dtm-dir", prj->string(), platform::PathRole::Output, {}});
-        }
-    platform::checkDistinctPaths("ground", paths);
     return e;
+}
+
+// Refuses in one line (platform::checkDistinctPaths) a run where two of the inputs,
+// outputs and grids of all its surveys name one file.
+void checkEachPaths(const GroundFileCli& cli) {
+    const EachPaths e = eachPaths(cli);
+    std::vector<platform::RunPath> paths;
+    for (const std::string& in : cli.in) paths.push_back({"input", in, platform::PathRole::Input, {}});
+    for (const auto& p : e.outs) paths.push_back({"--out-dir", p, platform::PathRole::Output, {}});
+    for (const auto& g : e.grids) {
+        paths.push_back({"--dtm-dir", g.string(), platform::PathRole::Output, {}});
+        if (const auto prj = prjFor(g)) paths.push_back({"--dtm-dir", prj->string(), platform::PathRole::Output, {}});
+    }
+    platform::checkDistinctPaths("ground", paths);
 }
 
 // One survey of `ground IN... --out-dir DIR` (inputs of one CRS and unit): each input a
@@ -582,7 +587,7 @@ void runSurveys(GroundFileCli& cli) {
         throw core::Error("ground: --only-tile " + std::to_string(cli.only_tile) + ": allowed [0, " +
                           std::to_string(cli.in.size() - 1) + "] (an index into the " + std::to_string(cli.in.size()) +
                           " inputs)");
-    eachPaths(cli);  // no output of one survey may name an input or output of another
+    checkEachPaths(cli);  // no output of one survey may name an input or output of another
     const std::vector<std::vector<std::size_t>> surveys =
         files.size() > 1 ? sim::surveysOf(files) : std::vector<std::vector<std::size_t>>{{0}};
     nlohmann::json array = nlohmann::json::array();
