@@ -62,7 +62,9 @@ find_library(LADARVR_XGBOOST_LIBRARY NAMES xgboost REQUIRED)
 # Paths under the checkout are hashed relative to it (CCACHE_BASEDIR), and the build
 # folder is left out of the hash of objects with debug information (CCACHE_NOHASHDIR),
 # so the asan preset's objects are shared between clones too; their debug information
-# then names the folder of the clone that compiled them first.
+# then names the folder of the clone that compiled them first. The checkout's own path is
+# compiled into three objects only (tests/common/test_paths.cpp, io's scene_file.cpp,
+# bench's common.cpp): every other object one clone compiled, the next finds in the cache.
 find_program(LADARVR_CCACHE ccache)
 if(LADARVR_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
   set(LADARVR_CCACHE_ENV CCACHE_BASEDIR=${CMAKE_SOURCE_DIR} CCACHE_NOHASHDIR=true)

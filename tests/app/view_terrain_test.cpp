@@ -3,6 +3,7 @@
 // bounded; the SMRF fit of a cloud without class 2 finds the same slope; a file's
 // even sample stays within its bound, a COPC file's is its top levels.
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <view_terrain.hpp>
 
 #include <io/cloud_io.hpp>
@@ -111,7 +112,7 @@ TEST_CASE("SMRF's fit of the same cloud without classes follows the slope too") 
 
 TEST_CASE("a file's terrain sample is even and within its bound") {
     // hexbin-crop.las: 38,367 points, 35,318 of them class 2.
-    const std::filesystem::path file = std::filesystem::path(LADARVR_TEST_DATA_DIR) / "real" / "hexbin-crop.las";
+    const std::filesystem::path file = std::filesystem::path(test_support::dataDir()) / "real" / "hexbin-crop.las";
     const std::atomic<bool> go{false};
     const core::PointCloud all = app::readTerrainSample(file, 1000000, go);
     CHECK(all.points.size() == 38367);

@@ -4,6 +4,7 @@
 // learn on two threads with a fixed seed), and each sample's confusion counts are pinned,
 // so that a change to the features, the trees' parameters or XGBoost is seen before the
 // figures of docs/ground-isprs.md and BENCHMARKS.md silently stop being this build's.
+#include <test_paths.hpp>
 #include "ground_isprs_learned.hpp"
 
 #include <core/point_cloud.hpp>
@@ -21,7 +22,7 @@ namespace {
 
 // A sample of tests/data/isprs with its reference labels and features, as the bench reads it.
 bench::LearnedSample load(const std::string& name) {
-    const core::PointCloud cloud = io::readCloud(std::string(LADARVR_ISPRS_DIR) + "/" + name + ".laz");
+    const core::PointCloud cloud = io::readCloud(std::string(test_support::isprsDir()) + "/" + name + ".laz");
     std::vector<std::uint8_t> truth;
     for (const core::CloudPoint& p : cloud.points) truth.push_back(p.label == core::Role::Ground ? 1 : 0);
     return bench::describeSample(name, cloud.points, truth, sim::surveySmrfOptions());

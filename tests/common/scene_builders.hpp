@@ -1,6 +1,7 @@
 // tests/common/scene_builders.hpp: meshes and scenes with known geometry, built in code,
 // shared by every test suite (core types and the scene loader only, so any module's tests may use them).
 #pragma once
+#include <test_paths.hpp>
 #include <io/scene_file.hpp>
 
 #include <cmath>
@@ -134,7 +135,7 @@ inline double closedFormVisible(double a, double distance_d, double wall_top, do
 }
 
 /// tests/data/scenes/basic, where basicScene's mesh files live.
-inline std::filesystem::path basicDir() { return std::filesystem::path(LADARVR_TEST_DATA_DIR) / "scenes" / "basic"; }
+inline std::filesystem::path basicDir() { return std::filesystem::path(test_support::dataDir()) / "scenes" / "basic"; }
 
 /// tests/data/scenes/basic's meshes (a 20 m ground scaled to 200 m, unit boxes scaled 2x
 /// and 3x) placed around world point `offset`, with the local origin at `origin`, as scene

@@ -9,6 +9,7 @@
 #include <doctest/doctest.h>
 
 #include "test_files.hpp"
+#include <test_paths.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -20,12 +21,12 @@ using test_support::errorOf;
 
 namespace {
 
-const std::string kScene = std::string(LADARVR_CORPUS_DATA_DIR) + "/scene.json";
+const std::string kScene = std::string(test_support::corpusDataDir()) + "/scene.json";
 
 corpus::Spec spec(const std::string& vary, std::size_t count = 300) {
     return corpus::parseSpec(R"({"scene": ")" + kScene + R"(", "count": )" + std::to_string(count) +
                                  R"(, "seed": 7, "vary": {)" + vary + "}}",
-                             std::filesystem::path(LADARVR_CORPUS_DATA_DIR) / "spec.json");
+                             std::filesystem::path(test_support::corpusDataDir()) / "spec.json");
 }
 
 const std::string kVaried = R"("target_yaw_deg": {"min": 0, "max": 360}, "target_offset_m": {"min": 0, "max": 20},
@@ -151,7 +152,7 @@ TEST_CASE("plan: the scene file names meshes relative to the item folder and rep
     const corpus::Spec s = spec(kVaried, 5);
     const corpus::Planner planner(s);
     const corpus::ItemPlan p = planner.plan(1);
-    const std::filesystem::path folder = std::filesystem::path(LADARVR_CORPUS_DATA_DIR) / "out" / "items" / p.id;
+    const std::filesystem::path folder = std::filesystem::path(test_support::corpusDataDir()) / "out" / "items" / p.id;
     const std::string text = p.sceneText(folder);
     CHECK(text.find("\"../../../../../../assets/common/tank.obj\"") != std::string::npos);
     CHECK(text.find("--altitude-m") != std::string::npos);
@@ -171,7 +172,7 @@ TEST_CASE("plan: an item's sensor preset is replayed by its name") {
 }
 
 TEST_CASE("plan: target_files draws every model, each placed clear of the buildings") {
-    const std::string assets = LADARVR_ASSETS_DIR;
+    const std::string assets = test_support::assetsDir();
     const corpus::Spec s =
         spec(R"("target_files": [")" + assets + R"(/common/tank.obj", {"file": ")" + assets +
                  R"(/common/house_small.obj", "scale": 0.5}], "target_offset_m": {"min": 0, "max": 25})",
@@ -199,9 +200,9 @@ TEST_CASE("plan: target_files draws every model, each placed clear of the buildi
 TEST_CASE("plan: a tilted mesh keeps its tilt, and the target's box follows it") {
     // The forest's tank rests tilted across its slope (roll_deg); an item that does not
     // move it places it exactly as the scene does.
-    const std::string forest = std::string(LADARVR_ASSETS_DIR) + "/forest/scene.json";
+    const std::string forest = std::string(test_support::assetsDir()) + "/forest/scene.json";
     const corpus::Spec s = corpus::parseSpec(R"({"scene": ")" + forest + R"(", "count": 1, "seed": 3, "vary": {}})",
-                                             std::filesystem::path(LADARVR_CORPUS_DATA_DIR) / "spec.json");
+                                             std::filesystem::path(test_support::corpusDataDir()) / "spec.json");
     const corpus::ItemPlan p = corpus::Planner(s).plan(0);
     const std::string text = p.sceneText({});
     CHECK(text.find("\"roll_deg\"") != std::string::npos);

@@ -9,6 +9,7 @@
 #include <doctest/doctest.h>
 
 #include "test_files.hpp"
+#include <test_paths.hpp>
 
 #include <string>
 #include <vector>
@@ -17,7 +18,7 @@ using test_support::errorOf;
 
 namespace {
 
-const std::string kScene = std::string(LADARVR_CORPUS_DATA_DIR) + "/scene.json";
+const std::string kScene = std::string(test_support::corpusDataDir()) + "/scene.json";
 
 std::string specError(const std::string& body) {
     test_support::TempDir dir("corpus_spec");
@@ -42,8 +43,8 @@ void checkOneLine(const std::string& message, const std::string& key, const std:
 TEST_CASE("spec: a good SPEC is read as written") {
     test_support::TempDir dir("corpus_spec_good");
     const std::string text = withVary(R"("altitude_m": {"min": 200, "max": 400}, "resolution": [16, 32], "views": 5,
-        "target_files": [")" + std::string(LADARVR_ASSETS_DIR) +
-                                      R"(/common/tank.obj", {"file": ")" + std::string(LADARVR_ASSETS_DIR) +
+        "target_files": [")" + std::string(test_support::assetsDir()) +
+                                      R"(/common/tank.obj", {"file": ")" + std::string(test_support::assetsDir()) +
                                       R"(/common/tower.obj", "up": "z", "scale": 0.5}])");
     const corpus::Spec s = corpus::parseSpec(text, dir.path / "spec.json");
     CHECK(s.count == 3);

@@ -1,6 +1,7 @@
 // tests/detect/boosted_detector_test.cpp: the trained detector gives the same candidates
 // whatever its thread count, and the shipped model (assets/detect/) loads and ranks the
 // demo scene's tank first.
+#include <test_paths.hpp>
 #include <detect/boosted_detector.hpp>
 #include <detect/training.hpp>
 
@@ -50,7 +51,7 @@ TEST_CASE("the trained detector's candidates do not depend on the thread count")
 }
 
 TEST_CASE("the shipped model loads and ranks the demo scene's tank first") {
-    const std::filesystem::path assets = LADARVR_ASSETS_DIR;
+    const std::filesystem::path assets = test_support::assetsDir();
     detect::BoostedOptions bo;
     bo.model = assets / "detect" / "model.ldm";
     bo.threads = 2;

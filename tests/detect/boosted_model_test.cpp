@@ -7,6 +7,7 @@
 
 #include "labelled_scenes.hpp"
 #include "test_files.hpp"
+#include <test_paths.hpp>
 
 #include <doctest/doctest.h>
 
@@ -85,7 +86,7 @@ TEST_CASE("a model file from before the terrain levelling reads as levelling not
 
 TEST_CASE("the shipped model reads as the second feature set, levelled in 8 m squares") {
     const detect::BoostedModel m =
-        detect::BoostedModel::read(std::filesystem::path(LADARVR_ASSETS_DIR) / "detect" / "model.ldm");
+        detect::BoostedModel::read(std::filesystem::path(test_support::assetsDir()) / "detect" / "model.ldm");
     CHECK(m.info().feature_set == detect::FeatureSet::kV2);
     CHECK(m.info().features == detect::segmentFeatureNames(detect::FeatureSet::kV2));
     CHECK(m.info().segments.level_cell_m == 8.0);

@@ -2,6 +2,7 @@
 // clouds with known answers: a tank-sized box, a wall and a tree-like blob on a plane; the
 // box on a level pad in hilly ground, where the terrain filters find it; the bundled hilly
 // and slopes scenes' tank among the three best with a terrain filter at two densities.
+#include <test_paths.hpp>
 #include <detect/cluster_detector.hpp>
 #include <io/scene_file.hpp>
 #include <sim/generator.hpp>
@@ -258,7 +259,7 @@ TEST_CASE("detect: with a terrain filter the hilly and slopes scenes' tank is am
     // half metre of the tank goes with the ground; the box leaves thin ends out and
     // stands on the terrain, so the tank's size is recovered at both densities.
     for (const char* name : {"hilly", "slopes"}) {
-        const core::Scene scene = io::loadScene(std::string(LADARVR_ASSETS_DIR) + "/" + name + "/scene.json");
+        const core::Scene scene = io::loadScene(std::string(test_support::assetsDir()) + "/" + name + "/scene.json");
         for (const int pixels : {64, 128}) {
             sim::GenerateOptions g;
             g.orbit.xres = g.orbit.yres = pixels;

@@ -10,6 +10,7 @@
 #include <platform/sha256.hpp>
 
 #include "test_files.hpp"
+#include <test_paths.hpp>
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
@@ -23,7 +24,7 @@
 
 namespace {
 
-const std::filesystem::path kShipped = std::filesystem::path(LADARVR_ASSETS_DIR) / "detect" / "model.ldm";
+const std::filesystem::path kShipped = std::filesystem::path(test_support::assetsDir()) / "detect" / "model.ldm";
 constexpr std::size_t kFeatures = 52;  // the second feature set
 constexpr int kMaxTreeDepth = detect::kMaxTreeDepth;
 
@@ -331,7 +332,7 @@ TEST_CASE("a model's other fields are checked against what `ladarvr train` write
 
 TEST_CASE("the fuzzer's model seeds: the shipped model and its cut pass, the crafted ones are refused") {
     const std::filesystem::path seeds =
-        std::filesystem::path(LADARVR_ASSETS_DIR).parent_path() / "fuzz" / "seeds" / "model";
+        std::filesystem::path(test_support::assetsDir()).parent_path() / "fuzz" / "seeds" / "model";
     int passed = 0, refused = 0;
     for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
         const std::string name = entry.path().filename().string();

@@ -4,6 +4,7 @@
 // thinned scene whose vehicle forms a segment only with the scaling, a dense scene left
 // exactly as it was, and a real airborne survey (tests/data/real/FSite8) that forms
 // segments; the covered density and the terrain cell it sets (step 1).
+#include <test_paths.hpp>
 #include "point_spacing.hpp"
 
 #include <detect/segmentation.hpp>
@@ -156,7 +157,8 @@ TEST_CASE("point spacing: a thinned scene's vehicle forms one segment once the l
 }
 
 TEST_CASE("point spacing: a real airborne survey at about 2.5 m between points forms segments") {
-    const core::PointCloud c = io::readCloud(std::filesystem::path(LADARVR_REAL_DATA_DIR) / "FSite8_orig-utm.laz");
+    const core::PointCloud c =
+        io::readCloud(std::filesystem::path(test_support::realDataDir()) / "FSite8_orig-utm.laz");
     const detect::Segmentation s = detect::segmentCloud(c, detect::SegmentOptions{}, 2);
     INFO("spacing " << s.spacing_m << " m, scale " << s.spacing_scale << ", above " << s.above_points);
     CHECK(s.spacing_m > 1.0);

@@ -1,6 +1,7 @@
 // The bundled scenes are generated: the committed files must be exactly what
 // scripts/make_scenes.py makes, so nobody edits one by hand and the script stays true.
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <doctest/doctest.h>
 
 #include <cstdlib>
@@ -28,7 +29,7 @@ std::set<std::string> filesUnder(const fs::path& root) {
 }  // namespace
 
 TEST_CASE("assets: the committed scenes are exactly what scripts/make_scenes.py makes") {
-    const fs::path assets = fs::path(LADARVR_ASSETS_DIR);
+    const fs::path assets = fs::path(test_support::assetsDir());
     const fs::path script = assets.parent_path() / "scripts" / "make_scenes.py";
     const fs::path out = fs::temp_directory_path() / ("ladarvr_assets_test_" + std::to_string(::getpid()));
     fs::remove_all(out);

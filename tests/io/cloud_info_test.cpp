@@ -3,6 +3,7 @@
 // finite points in world coordinates and the fields; the reader chosen by content, not by
 // the file's name; bad files refused in one line.
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <core/error.hpp>
 #include <io/cloud_info.hpp>
 #include <io/cloud_io.hpp>
@@ -22,7 +23,7 @@ using test_support::errorOf;
 using test_support::slurp;
 using test_support::TempDir;
 
-const fs::path kData = fs::path(LADARVR_TEST_DATA_DIR) / "io";
+const fs::path kData = fs::path(test_support::dataDir()) / "io";
 
 using Fields = std::vector<std::string>;
 

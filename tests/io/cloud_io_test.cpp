@@ -1,6 +1,7 @@
 // Cloud I/O: exact round trips of every format, atomic streaming writes, files written
 // by PCL (ascii, binary, binary_compressed), foreign layouts, and corrupt input.
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
 #include <platform/atomic_file.hpp>
@@ -26,7 +27,7 @@ using io::CloudFormat;
 
 namespace {
 
-const fs::path kData = fs::path(LADARVR_TEST_DATA_DIR) / "io";
+const fs::path kData = fs::path(test_support::dataDir()) / "io";
 
 using test_support::slurp;
 using test_support::TempDir;

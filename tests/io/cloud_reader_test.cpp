@@ -4,6 +4,7 @@
 // files, and liblzf on PCL's compressed files.
 #include <bad_clouds.hpp>
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
@@ -24,7 +25,7 @@ using test_support::TempDir;
 
 namespace {
 
-const fs::path kData = fs::path(LADARVR_TEST_DATA_DIR) / "io";
+const fs::path kData = fs::path(test_support::dataDir()) / "io";
 
 void spit(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 

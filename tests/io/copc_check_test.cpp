@@ -9,6 +9,7 @@
 
 #include "copc_test_file.hpp"
 #include "test_files.hpp"
+#include <test_paths.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -299,7 +300,8 @@ TEST_CASE("copc check: files that are not COPC give findings, never a crash") {
         std::vector<std::filesystem::path> files = {dir.path / "c.las", dir.path / "c.laz"};
         io::writeCloud(files[0], c, io::CloudFormat::Las);
         io::writeCloud(files[1], c, io::CloudFormat::Laz);
-        for (const auto& e : std::filesystem::directory_iterator(LADARVR_TEST_DATA_DIR "/io/fuzz_regressions"))
+        for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(test_support::dataDir()) / "io" /
+                                                                 "fuzz_regressions"))
             if (e.path().extension() == ".las" || e.path().extension() == ".laz") files.push_back(e.path());
         for (const auto& p : files) {
             const std::vector<io::CopcFinding> fs = io::checkCopc(p);

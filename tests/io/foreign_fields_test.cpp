@@ -4,6 +4,7 @@
 // from GeoTIFF keys, the input's scale and offset and its extra bytes descriptors kept,
 // and none kept for a cloud we generated.
 #include <test_files.hpp>
+#include <test_paths.hpp>
 
 #include <core/point_cloud.hpp>
 #include <io/cloud_info.hpp>
@@ -24,7 +25,7 @@ namespace {
 
 using test_support::TempDir;
 
-const fs::path kReal = fs::path(LADARVR_TEST_DATA_DIR) / "real";
+const fs::path kReal = fs::path(test_support::dataDir()) / "real";
 
 core::PointCloud readKept(const fs::path& file) {
     io::CloudReader reader(file, io::SideRecords::Keep);

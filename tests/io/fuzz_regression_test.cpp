@@ -3,6 +3,7 @@
 // give a result or an core::Error whose message is one printable line (the house rule
 // for errors), never another exception.
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
 #include <io/copc.hpp>
@@ -19,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kData = LADARVR_TEST_DATA_DIR;
+const fs::path kData = test_support::dataDir();
 const fs::path kRegressions = kData / "io" / "fuzz_regressions";
 const fs::path kSeeds = kData.parent_path().parent_path() / "fuzz" / "seeds";
 

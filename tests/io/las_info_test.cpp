@@ -6,6 +6,7 @@
 #include "copc_test_file.hpp"
 
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <core/error.hpp>
 #include <io/cloud_info.hpp>
 #include <io/cloud_io.hpp>
@@ -25,7 +26,7 @@ using test_support::errorOf;
 using test_support::slurp;
 using test_support::TempDir;
 
-const fs::path kReal = fs::path(LADARVR_TEST_DATA_DIR) / "real";
+const fs::path kReal = fs::path(test_support::dataDir()) / "real";
 
 template <typename T>
 T get(const std::string& b, std::size_t at) {

@@ -4,6 +4,7 @@
 // each must give one line naming the field and what is allowed, never a crash. Also the
 // trailing bytes of a header that counts too few points, and what a decoding failure says.
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <core/error.hpp>
 #include <io/cloud_io.hpp>
 #include <io/cloud_reader.hpp>
@@ -242,7 +243,8 @@ TEST_CASE("las_reader: EVLRs after the points are allowed, and must lie inside t
 TEST_CASE("las_reader: LASzip aborting on corrupt compressed data ends only its decoding process") {
     // Valid header, VLRs, chunk table and layer sizes; corrupt arithmetic-coded points,
     // on which LASzip (built with assertions) aborts in ArithmeticDecoder::decodeSymbol.
-    const fs::path kept = fs::path(LADARVR_TEST_DATA_DIR) / "io" / "fuzz_regressions" / "las_laszip_symbol_assert.laz";
+    const fs::path kept =
+        fs::path(test_support::dataDir()) / "io" / "fuzz_regressions" / "las_laszip_symbol_assert.laz";
     const std::string e = readError(slurp(kept));
     CHECK(e ==
           "las: x.laz: point 1 of 475: the compressed point data cannot be decoded; the LAZ file is corrupt "
@@ -258,7 +260,7 @@ TEST_CASE("las reader: header bounds far from the points do not cost the coordin
     // file as written, within a millimetre (from the zeroed bounds' frame, y near 3,689 km
     // would be rounded to 0.25 m). Bounds nearly right keep their own frame.
     TempDir dir("las_reader_bounds");
-    const fs::path real = fs::path(LADARVR_TEST_DATA_DIR) / "real";
+    const fs::path real = fs::path(test_support::dataDir()) / "real";
     for (const char* name : {"hexbin-crop.las", "FSite8_orig-utm.laz"}) {
         CAPTURE(name);
         std::string bytes = slurp(real / name);

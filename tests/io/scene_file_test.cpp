@@ -1,6 +1,7 @@
 // Scene loading: transforms, frames, roles, the bundled scenes, and one test per kind
 // of bad scene file (each must give its one-line error naming the file and the reason).
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <core/error.hpp>
 #include <io/scene_file.hpp>
 
@@ -18,9 +19,9 @@ using core::RoleMask;
 
 namespace {
 
-const fs::path kScenes = fs::path(LADARVR_TEST_DATA_DIR) / "scenes";
+const fs::path kScenes = fs::path(test_support::dataDir()) / "scenes";
 const fs::path kBad = kScenes / "bad";
-const fs::path kAssets = fs::path(LADARVR_ASSETS_DIR);
+const fs::path kAssets = fs::path(test_support::assetsDir());
 
 // The message of the Error that loading `file` throws; fails the test if none is thrown.
 std::string loadError(const fs::path& file, io::SceneLoadOptions options = {}) {

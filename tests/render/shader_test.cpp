@@ -1,6 +1,7 @@
 // The embedded shaders (<shaders/shaders.hpp>) on the real driver: the #line directives
 // of the include resolution make the driver's error name the include file's own line,
 // and a compile error quotes which file each source-string number is.
+#include <test_paths.hpp>
 #include <render/egl_context.hpp>
 #include <render/shader.hpp>
 #include <shaders/shaders.hpp>
@@ -17,7 +18,7 @@ namespace {
 
 // 1-based line of the first line of `path` (under shaders/) that contains `text`; 0 if none.
 int lineOf(const std::string& path, const std::string& text) {
-    std::ifstream in(std::string(LADARVR_SHADERS_DIR) + "/" + path);
+    std::ifstream in(std::string(test_support::shadersDir()) + "/" + path);
     REQUIRE(in);
     std::string line;
     for (int n = 1; std::getline(in, line); ++n)

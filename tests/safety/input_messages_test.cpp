@@ -4,6 +4,7 @@
 // coordinates past any world frame. Each gives one line naming the place and what is
 // allowed, and what is echoed of them is printable.
 #include <test_files.hpp>
+#include <test_paths.hpp>
 #include <core/error.hpp>
 #include <io/candidates_file.hpp>
 #include <io/scene_file.hpp>
@@ -25,7 +26,7 @@ using test_support::errorOf;
 
 namespace {
 
-const fs::path kBasic = fs::path(LADARVR_TEST_DATA_DIR) / "scenes" / "basic";
+const fs::path kBasic = fs::path(test_support::dataDir()) / "scenes" / "basic";
 
 std::string sceneError(const std::string& json) {
     return errorOf([&] { io::loadSceneJson(json, kBasic / "test.json"); });

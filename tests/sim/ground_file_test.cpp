@@ -4,6 +4,7 @@
 // gives, and the accuracy of `ladarvr ground`'s default on the ISPRS reference samples
 // (tests/data/isprs: two published LAS files, and all 15 as LAZ) kept under a floor just
 // above what it reaches.
+#include <test_paths.hpp>
 #include <sim/ground_file.hpp>
 
 #include "ground_label.hpp"
@@ -199,7 +200,7 @@ TEST_CASE("ground file: the generator's filters keep every return (low_outlier_m
 TEST_CASE("ground file: the file written carries the labels the in-memory filter gives, every point kept") {
     const fs::path dir = fs::temp_directory_path() / ("ladarvr-ground-file-" + std::to_string(::getpid()));
     fs::create_directories(dir);
-    const fs::path in = fs::path(LADARVR_ISPRS_DIR) / "samp54.las", out = dir / "out.laz";
+    const fs::path in = fs::path(test_support::isprsDir()) / "samp54.las", out = dir / "out.laz";
     const core::PointCloud cloud = io::readCloud(in);
     const sim::GroundFileOptions o;
     const std::vector<std::uint8_t> expected = sim::classifyGround(cloud.points, o);
@@ -239,7 +240,7 @@ TEST_CASE("ground file: the default's mean total error on two ISPRS samples stay
     double mean_total = 0;
     const std::pair<const char*, std::size_t> samples[] = {{"samp24.las", 310}, {"samp54.las", 313}};
     for (const auto& [name, pinned] : samples) {
-        const core::PointCloud cloud = io::readCloud(fs::path(LADARVR_ISPRS_DIR) / name);
+        const core::PointCloud cloud = io::readCloud(fs::path(test_support::isprsDir()) / name);
         const std::vector<std::uint8_t> ground = sim::classifyGround(cloud.points, sim::GroundFileOptions{});
         const std::size_t misclassified = wrong(cloud.points, ground);
         const double total = 100.0 * double(misclassified) / double(cloud.points.size());
@@ -257,7 +258,7 @@ TEST_CASE("ground file: the default's mean total error on all 15 ISPRS samples s
                                    "samp42", "samp51", "samp52", "samp53", "samp54", "samp61", "samp71"};
     double mean_total = 0, worst = 0;
     for (const char* name : samples) {
-        const core::PointCloud cloud = io::readCloud(fs::path(LADARVR_ISPRS_DIR) / (std::string(name) + ".laz"));
+        const core::PointCloud cloud = io::readCloud(fs::path(test_support::isprsDir()) / (std::string(name) + ".laz"));
         REQUIRE(!cloud.points.empty());
         const std::vector<std::uint8_t> ground = sim::classifyGround(cloud.points, sim::GroundFileOptions{});
         const double total = 100.0 * double(wrong(cloud.points, ground)) / double(cloud.points.size());

@@ -8,6 +8,7 @@
 // one run over the uncut file (sample 53's files too, whose empty cells make one hole
 // across the survey); tiles fitted two at a time write the same bytes as one at a time;
 // a survey too wide for one raster runs in tiles; --whiten's colours.
+#include <test_paths.hpp>
 #include <sim/ground_tiles.hpp>
 
 #include <core/error.hpp>
@@ -107,7 +108,7 @@ namespace {
 // (their holes cross every tile's cut edge).
 void checkTiles(const char* scratch, double tile_m, std::initializer_list<const char*> names) {
     const Scratch s(scratch);
-    const fs::path isprs = LADARVR_ISPRS_DIR;
+    const fs::path isprs = test_support::isprsDir();
     for (const char* name : names) {
         CAPTURE(name);
         const fs::path in = std::string_view(name).starts_with("real/") ? isprs.parent_path() / name : isprs / name;
@@ -169,7 +170,7 @@ TEST_CASE(
     "ground tiles: two files merged and the two classified each with the other as buffer agree; surveys split by CRS "
     "and unit") {
     const Scratch s("merge");
-    const core::PointCloud cloud = io::readCloud(fs::path(LADARVR_ISPRS_DIR) / "samp54.las");
+    const core::PointCloud cloud = io::readCloud(fs::path(test_support::isprsDir()) / "samp54.las");
     // The sample cut in two at its middle x, each half in a file of its own.
     const core::Bounds b = cloud.bounds();
     const float mid = float(0.5 * (b.lo.x + b.hi.x));
@@ -224,7 +225,7 @@ TEST_CASE(
     // For one output each, fields may differ but a CRS or unit may not: those are surveys
     // of their own (real files in US survey feet and in UTM 42N), in the order of their
     // first input.
-    const fs::path real = fs::path(LADARVR_ISPRS_DIR).parent_path() / "real";
+    const fs::path real = fs::path(test_support::isprsDir()).parent_path() / "real";
     const std::vector<std::vector<std::size_t>> surveys =
         sim::surveysOf({real / "4_6_crop.las", inputs[0], real / "hexbin-crop.las", s.dir / "other.ply", inputs[1]});
     CHECK(surveys == std::vector<std::vector<std::size_t>>{{0}, {1, 3, 4}, {2}});
@@ -339,7 +340,7 @@ double forcedAgreement(const fs::path& in, double tile_m, const fs::path& dir) {
 // north edge made a patch's border longer and four points were called ground (99.98 %).
 TEST_CASE("ground tiles: a folder of tile files gives each point the class of one run over the survey") {
     const Scratch s("folder");
-    const fs::path isprs = LADARVR_ISPRS_DIR;
+    const fs::path isprs = test_support::isprsDir();
     for (const char* sample : {"samp42.laz", "samp52.laz"}) {
         CAPTURE(sample);
         CHECK(folderAgreement(isprs / sample, s.dir) == 1.0);
@@ -352,7 +353,7 @@ TEST_CASE("ground tiles: a folder of tile files gives each point the class of on
 // of a cell off the uncut file's (3 points differed, 99.987 %).
 TEST_CASE("ground tiles: a folder of tile files in feet gives each point the class of one run over the uncut file") {
     const Scratch s("folder-feet");
-    CHECK(folderAgreement(fs::path(LADARVR_ISPRS_DIR).parent_path() / "real" / "4_6_crop.las", s.dir) == 1.0);
+    CHECK(folderAgreement(fs::path(test_support::isprsDir()).parent_path() / "real" / "4_6_crop.las", s.dir) == 1.0);
 }
 
 // Forced tiles over a survey's files: with a tile's raster ending where the inputs that
@@ -361,7 +362,7 @@ TEST_CASE("ground tiles: a folder of tile files in feet gives each point the cla
 // feet, off the survey's cell lattice, points differed as in the folder.
 TEST_CASE("ground tiles: forced tiles over a survey's files give each point the class of one run over it") {
     const Scratch s("forced-files");
-    const fs::path isprs = LADARVR_ISPRS_DIR;
+    const fs::path isprs = test_support::isprsDir();
     CHECK(forcedAgreement(isprs / "samp52.laz", 60.0, s.dir) == 1.0);
     CHECK(forcedAgreement(isprs.parent_path() / "real" / "4_6_crop.las", 60.0, s.dir) == 1.0);
 }
@@ -374,12 +375,12 @@ TEST_CASE("ground tiles: forced tiles over a survey's files give each point the 
 // its square is fitted again with its buffer doubled.
 TEST_CASE("ground tiles: forced tiles over sample 53's files, one hole across the survey, agree with one run") {
     const Scratch s("forced-hole");
-    CHECK(forcedAgreement(fs::path(LADARVR_ISPRS_DIR) / "samp53.laz", 60.0, s.dir) == 1.0);
+    CHECK(forcedAgreement(fs::path(test_support::isprsDir()) / "samp53.laz", 60.0, s.dir) == 1.0);
 }
 
 TEST_CASE("ground tiles: tiles fitted two at a time write the bytes of one at a time") {
     const Scratch s("jobs");
-    const fs::path in = fs::path(LADARVR_ISPRS_DIR) / "samp11.laz";
+    const fs::path in = fs::path(test_support::isprsDir()) / "samp11.laz";
     const sim::GroundFileOptions o;
     sim::classifyGroundTiled({in}, s.dir / "one.laz", o, tiling(80.0, o, s.dir, 1), {}, {}, none);
     sim::classifyGroundTiled({in}, s.dir / "two.laz", o, tiling(80.0, o, s.dir, 2), {}, {}, none);
@@ -421,7 +422,7 @@ TEST_CASE("ground tiles: a survey too wide for one raster is classified in tiles
 
 TEST_CASE("ground tiles: --whiten writes white ground and the jet map by height above it") {
     const Scratch s("whiten");
-    const fs::path in = fs::path(LADARVR_ISPRS_DIR) / "samp54.las";
+    const fs::path in = fs::path(test_support::isprsDir()) / "samp54.las";
     sim::GroundFileOptions o;
     o.whiten = true;
     std::size_t progressed = 0;
@@ -465,7 +466,7 @@ TEST_CASE("ground tiles: --whiten's colour map ends at the survey's objects, not
     // points they are left out of the colour map's range, one run or tiled; more, and they
     // are its top, as before.
     const Scratch s("strays");
-    const fs::path in = fs::path(LADARVR_ISPRS_DIR) / "samp54.las";
+    const fs::path in = fs::path(test_support::isprsDir()) / "samp54.las";
     sim::GroundFileOptions o;
     o.whiten = true;
     const sim::GroundFileStats clean =

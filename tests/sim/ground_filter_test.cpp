@@ -3,6 +3,7 @@
 // the line `generate` prints when RANSAC leaves the terrain coloured.
 #include <test_files.hpp>
 #include <scene_builders.hpp>
+#include <test_paths.hpp>
 
 #include <sim/dtm.hpp>
 #include <sim/generator.hpp>
@@ -281,8 +282,8 @@ TEST_CASE("generate names --ground smrf when RANSAC leaves the bundled hilly sce
     REQUIRE(fs::exists(hilly));
     const auto generate = [&](const std::string& method, const std::string& name) {
         const fs::path err = scratch.path / (name + ".err");
-        const std::string command = std::string(LADARVR_CLI) + " generate --scene '" + hilly.string() + "' --out '" +
-                                    (scratch.path / (name + ".pcd")).string() +
+        const std::string command = std::string(test_support::cliPath()) + " generate --scene '" + hilly.string() +
+                                    "' --out '" + (scratch.path / (name + ".pcd")).string() +
                                     "' --xres 96 --yres 64 --views 8 --threads 2 --ground " + method + " --dtm '" +
                                     (scratch.path / (name + ".asc")).string() + "' 2> '" + err.string() + "'";
         REQUIRE(std::system(command.c_str()) == 0);
@@ -301,8 +302,9 @@ TEST_CASE("generate names --ground smrf when RANSAC leaves the bundled hilly sce
 TEST_CASE("generate refuses an unknown --ground and a bad --smrf-* value before any work") {
     const test_support::TempDir scratch("sim_ground_cli_bad");
     const auto status = [&](const std::string& args) {
-        const std::string command = std::string(LADARVR_CLI) + " generate --out '" + (scratch.path / "x.pcd").string() +
-                                    "' " + args + " 2> '" + (scratch.path / "err").string() + "'";
+        const std::string command = std::string(test_support::cliPath()) + " generate --out '" +
+                                    (scratch.path / "x.pcd").string() + "' " + args + " 2> '" +
+                                    (scratch.path / "err").string() + "'";
         const int rc = std::system(command.c_str());
         return std::pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, test_support::slurp(scratch.path / "err"));
     };

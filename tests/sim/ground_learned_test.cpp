@@ -3,6 +3,7 @@
 // refused in one line naming what is wrong, the features of a box on a plane, trees
 // changing SMRF's answer only where they are confident enough, and the features of an
 // ISPRS sample pinned, so that a change to the terrains they read is seen.
+#include <test_paths.hpp>
 #include <sim/ground_file.hpp>
 #include <sim/ground_learned.hpp>
 
@@ -168,7 +169,7 @@ TEST_CASE("ground learned: the features of ISPRS sample 24 as ladarvr ground fit
     // the trees' figures on the ISPRS samples (docs/ground-isprs.md) move when these do, so a
     // change to SMRF's terrains, their hole filling or the rasters the features read
     // must come with a new bench ground-isprs run and new pins.
-    const core::PointCloud cloud = io::readCloud(std::string(LADARVR_ISPRS_DIR) + "/samp24.laz");
+    const core::PointCloud cloud = io::readCloud(std::string(test_support::isprsDir()) + "/samp24.laz");
     REQUIRE(cloud.points.size() == 7492);
     std::vector<std::uint8_t> smrf;
     const std::vector<double> sums = columnSums(sim::learnedFeatures(cloud.points, sim::surveySmrfOptions(), &smrf));

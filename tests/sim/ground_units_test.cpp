@@ -3,6 +3,7 @@
 // survey feet read from a real survey's GeoTIFF keys (tests/data/real/4_6_crop.las), a
 // geographic CRS refused, a file without CRS left in metres with its options unchanged;
 // a survey in feet classified as the same survey in metres.
+#include <test_paths.hpp>
 #include <sim/ground_units.hpp>
 
 #include <core/error.hpp>
@@ -21,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kReal = fs::path(LADARVR_ISPRS_DIR) / ".." / "real";
+const fs::path kReal = fs::path(test_support::isprsDir()) / ".." / "real";
 constexpr double kUsFoot_m = 1200.0 / 3937.0;
 
 std::string errorOf(const io::LasCrs& crs) {
@@ -79,7 +80,7 @@ TEST_CASE("ground_units: the units of real files: US survey feet from GeoTIFF ke
     CHECK(sim::describe(ft) == "US survey feet (0.3048006 m)");
     CHECK(sim::readCoordinateUnits(kReal / "hexbin-crop.las", "ground").metres());
     CHECK(sim::readCoordinateUnits(kReal / "sample_c.las", "ground").metres());  // no CRS
-    CHECK(sim::readCoordinateUnits(fs::path(LADARVR_ISPRS_DIR) / "samp24.las", "ground").metres());
+    CHECK(sim::readCoordinateUnits(fs::path(test_support::isprsDir()) / "samp24.las", "ground").metres());
     CHECK_THROWS_WITH_AS(sim::readCoordinateUnits(kReal / "missing.las", "ground"), doctest::Contains("missing.las"),
                          core::Error);
 }
@@ -167,7 +168,8 @@ TEST_CASE("ground_units: a survey in feet gets the classes of the same survey in
 }
 
 TEST_CASE("ground_units: a command that cannot convert refuses a cloud not in metres, in one line") {
-    CHECK_NOTHROW(sim::requireMetres(fs::path(LADARVR_ISPRS_DIR) / "samp24.las", "detect", "its sizes are in metres"));
+    CHECK_NOTHROW(
+        sim::requireMetres(fs::path(test_support::isprsDir()) / "samp24.las", "detect", "its sizes are in metres"));
     CHECK_NOTHROW(sim::requireMetres(kReal / "hexbin-crop.las", "detect", "its sizes are in metres"));
     const fs::path feet = kReal / "4_6_crop.las";
     CHECK_THROWS_WITH_AS(sim::requireMetres(feet, "detect", "its sizes are in metres"),

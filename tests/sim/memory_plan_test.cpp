@@ -5,6 +5,7 @@
 #include <test_files.hpp>
 #include "memory_plan.hpp"
 #include <scene_builders.hpp>
+#include <test_paths.hpp>
 
 #include <sim/generator.hpp>
 
@@ -238,8 +239,8 @@ TEST_CASE("peak RSS of `ladarvr generate` stays within --memory-mb (child proces
     test_support::TempDir dir("rss");
     const auto generate = [&](const std::string& size, int views, const std::string& mib, long& rss_kib,
                               const char* out = "c.pcd") {
-        return runChild({LADARVR_CLI, "generate", "--out", (dir.path / out).string(), "--xres", size, "--yres", size,
-                         "--views", std::to_string(views), "--threads", "2", "--memory-mb", mib},
+        return runChild({test_support::cliPath(), "generate", "--out", (dir.path / out).string(), "--xres", size,
+                         "--yres", size, "--views", std::to_string(views), "--threads", "2", "--memory-mb", mib},
                         rss_kib);
     };
     long base = 0, roomy = 0, tight = 0, tight_laz = 0;

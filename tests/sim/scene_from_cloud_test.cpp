@@ -4,6 +4,7 @@
 // ground, the generator flies the folder's scene with the vehicle's points labelled
 // target; a survey in feet converted to metres; the filter used where the file has no
 // ground class; refusals in one line (no points, a geographic CRS, too many boxes).
+#include <test_paths.hpp>
 #include <sim/scene_from_cloud.hpp>
 
 #include <core/error.hpp>
@@ -28,8 +29,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kReal = fs::path(LADARVR_ISPRS_DIR) / ".." / "real";
-const fs::path kVan = fs::path(LADARVR_ISPRS_DIR) / ".." / ".." / ".." / "assets" / "common" / "van.obj";
+const fs::path kReal = fs::path(test_support::isprsDir()) / ".." / "real";
+const fs::path kVan = fs::path(test_support::isprsDir()) / ".." / ".." / ".." / "assets" / "common" / "van.obj";
 
 void noProgress(std::size_t) {}
 
@@ -176,7 +177,8 @@ TEST_CASE("scene_from_cloud: a survey in US survey feet is converted to metres")
 }
 
 TEST_CASE("scene_from_cloud: the ground filter where the file has no ground class, or when asked") {
-    const fs::path survey = fs::path(LADARVR_ISPRS_DIR) / "samp24.las";  // ISPRS reference: bare earth is class 2
+    const fs::path survey =
+        fs::path(test_support::isprsDir()) / "samp24.las";  // ISPRS reference: bare earth is class 2
     sim::SceneFromCloudOptions o;
     o.ground_source = sim::SceneGroundSource::Filter;
     const sim::SceneFromCloud f = sim::buildSceneFromCloud(survey, o, noProgress);

@@ -3,6 +3,7 @@
 // scene, with packets and single rays; and the metric evaluated twice in one process.
 #include <generate_options.hpp>
 #include <scene_builders.hpp>
+#include <test_paths.hpp>
 
 #include <io/scene_file.hpp>
 #include <metric/clouds.hpp>
@@ -30,7 +31,7 @@ bool identical(const core::PointCloud& a, const core::PointCloud& b) {
 }  // namespace
 
 TEST_CASE("generator: bit-identical clouds with 1, 2, 5 and 16 threads on the hilly scene") {
-    const std::filesystem::path hilly = std::filesystem::path(LADARVR_ASSETS_DIR) / "hilly" / "scene.json";
+    const std::filesystem::path hilly = std::filesystem::path(test_support::assetsDir()) / "hilly" / "scene.json";
     const core::Scene scene = io::loadScene(hilly);
     sim::GenerateOptions o;
     o.orbit.xres = o.orbit.yres = 64;
