@@ -3,8 +3,8 @@
 #
 # Reads bench/mutants.txt (name :: file :: sed script :: ctest regex). Copies the tracked
 # tree (working-tree contents) into $LADARVR_MUTANTS_DIR (default /tmp/ladarvr-mutants/src),
-# configures it once with the release preset (its own build folder; ccache makes the
-# first build mostly cache hits), then for each mutant (all, or the NAMEs given):
+# configures it once with the release preset, warnings not errors (its own build
+# folder), then for each mutant (all, or the NAMEs given):
 #   restore the file from the repository, apply the sed script (refused if the file does
 #   not change), rebuild, run `ctest -R REGEX`, restore the file.
 # A mutant is killed when the build fails or a test fails. Before the mutants, each
@@ -52,7 +52,9 @@ mkdir -p "$src"
 (cd "$root" && git ls-files -z | tar --null -cf - -T -) | tar -xf - -C "$src"
 echo "mutants: copy in $src, ${#selected[@]} mutant(s), build in $build" >&2
 if [ ! -f "$build/build.ninja" ]; then
-  (cd "$src" && cmake --preset release >"$work/configure.log" 2>&1) ||
+  # Warnings stay warnings: a mutant is killed by a failing build or test, not by a
+  # warning its change raises.
+  (cd "$src" && cmake --preset release -DLADARVR_WERROR=OFF >"$work/configure.log" 2>&1) ||
     { tail -n 20 "$work/configure.log" >&2; echo "mutants: configure failed" >&2; exit 1; }
 fi
 cmake --build "$build" -j "$jobs" >"$work/build.log" 2>&1 ||
