@@ -3,7 +3,6 @@
 // the line `generate` prints when RANSAC leaves the terrain coloured.
 #include <test_files.hpp>
 #include <scene_builders.hpp>
-#include <test_paths.hpp>
 
 #include <sim/dtm.hpp>
 #include <sim/generator.hpp>
@@ -274,52 +273,4 @@ TEST_CASE("CSF under riegl-vux1uav over a dense, 9 cm thick ground corrects the 
     REQUIRE(st.target_kept);
     CHECK(*st.ground_recall >= 0.999);
     CHECK(*st.target_kept >= 0.999);
-}
-
-TEST_CASE("generate names --ground smrf when RANSAC leaves the bundled hilly scene's ground coloured") {
-    const test_support::TempDir scratch("sim_ground_cli");
-    const fs::path hilly = io::demoScenePath().parent_path().parent_path() / "hilly" / "scene.json";
-    REQUIRE(fs::exists(hilly));
-    const auto generate = [&](const std::string& method, const std::string& name) {
-        const fs::path err = scratch.path / (name + ".err");
-        const std::string command = std::string(test_support::cliPath()) + " generate --scene '" + hilly.string() +
-                                    "' --out '" + (scratch.path / (name + ".pcd")).string() +
-                                    "' --xres 96 --yres 64 --views 8 --threads 2 --ground " + method + " --dtm '" +
-                                    (scratch.path / (name + ".asc")).string() + "' 2> '" + err.string() + "'";
-        REQUIRE(std::system(command.c_str()) == 0);
-        return test_support::slurp(err);
-    };
-    const std::string ransac = generate("ransac", "ransac");
-    CHECK(ransac.find("--ground smrf") != std::string::npos);
-    CHECK(ransac.find("RANSAC whitened only") != std::string::npos);
-    const std::string smrf = generate("smrf", "smrf");
-    CHECK(smrf.find("--ground smrf") == std::string::npos);
-    CHECK(smrf.find("ground filter: smrf") != std::string::npos);
-    CHECK(fs::file_size(scratch.path / "smrf.asc") > 1000);
-    CHECK(fs::file_size(scratch.path / "ransac.asc") > 1000);
-}
-
-TEST_CASE("generate refuses an unknown --ground and a bad --smrf-* value before any work") {
-    const test_support::TempDir scratch("sim_ground_cli_bad");
-    const auto status = [&](const std::string& args) {
-        const std::string command = std::string(test_support::cliPath()) + " generate --out '" +
-                                    (scratch.path / "x.pcd").string() + "' " + args + " 2> '" +
-                                    (scratch.path / "err").string() + "'";
-        const int rc = std::system(command.c_str());
-        return std::pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, test_support::slurp(scratch.path / "err"));
-    };
-    auto [rc, err] = status("--ground pmf");
-    CHECK(rc == 1);
-    CHECK(err.find("--ground 'pmf': allowed ransac, smrf, csf") != std::string::npos);
-    std::tie(rc, err) = status("--ground csf --csf-rigidness 5");
-    CHECK(rc == 1);
-    CHECK(err.find("--csf-rigidness") != std::string::npos);
-    std::tie(rc, err) = status("--white --dtm '" + (scratch.path / "t.asc").string() + "'");
-    CHECK(rc == 1);
-    CHECK(err.find("--dtm: not with --white") != std::string::npos);
-    CHECK_FALSE(fs::exists(scratch.path / "t.asc"));
-    std::tie(rc, err) = status("--ground smrf --smrf-window-m -3");
-    CHECK(rc == 1);
-    CHECK(err.find("--smrf-window-m") != std::string::npos);
-    CHECK_FALSE(fs::exists(scratch.path / "x.pcd"));
 }
