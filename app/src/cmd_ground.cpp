@@ -1,6 +1,7 @@
 // app/src/cmd_ground.cpp: `ladarvr ground IN... (--out OUT | --out-dir DIR) [--method
 // smrf|csf] [--smrf-*|--csf-*] [--returns auto|last|all] [--reclassify] [--whiten] [--jobs K] [--threads N]
-// [--only-tile I] [--dtm DTM.asc|DTM.tif | --dtm-dir DIR [--dtm-format asc|tif]] [--json]`: the
+// [--only-tile I] [--dtm DTM.asc|DTM.tif | --dtm-dir DIR [--dtm-format asc|tif]] [--dtm-tiff
+// auto|classic|bigtiff] [--json]`: the
 // ground of clouds we did not generate (real surveys' LAS/LAZ, a folder of their tiles, or
 // any cloud we read), classified by a whole-cloud filter (sim/ground_file.hpp)
 // and written with every ground point labelled ground (LAS class 2); a LAS/LAZ/COPC input
@@ -71,6 +72,7 @@ struct GroundFileCli {
     std::string dtm;                 // --dtm: the terrain as an ESRI ASCII grid or a GeoTIFF; empty: none
     std::string dtm_dir;             // --dtm-dir: with --out-dir, one grid per input in this folder
     std::string dtm_format = "asc";  // --dtm-format: --dtm-dir's grids, asc or tif
+    std::string dtm_tiff = "auto";   // --dtm-tiff: a GeoTIFF grid as classic TIFF or BigTIFF
     std::string method = "smrf";
     std::string returns = "auto";
     sim::GroundFileOptions options;
@@ -198,13 +200,21 @@ std::optional<std::filesystem::path> prjFor(const std::filesystem::path& grid) {
     return std::filesystem::path(grid).replace_extension(".prj");
 }
 
+// --dtm-tiff's value as the writer's kind.
+io::TiffKind tiffKind(const GroundFileCli& cli) {
+    if (cli.dtm_tiff == "classic") return io::TiffKind::classic;
+    if (cli.dtm_tiff == "bigtiff") return io::TiffKind::big;
+    return io::TiffKind::automatic;
+}
+
 // One grid of the terrain (--dtm, or one of --dtm-dir's) with its input's CRS: an ESRI
 // ASCII grid with the CRS beside it in a .prj of its name (as GIS read an ASCII grid's)
 // when the input has one (OGC WKT, up to a NUL), or a GeoTIFF with the CRS in its keys.
 // Written to temporaries before the cloud lands, renamed into place after it.
 class DtmOutput {
   public:
-    DtmOutput(const std::filesystem::path& grid, const std::filesystem::path& input) : grid_(grid), prj_(prjFor(grid)) {
+    DtmOutput(const std::filesystem::path& grid, const std::filesystem::path& input, io::TiffKind kind)
+        : grid_(grid), prj_(prjFor(grid)), kind_(kind) {
         if (const auto foreign = io::CloudReader(input, io::SideRecords::Keep).foreignHeader())
             wkt_ = foreign->wkt.substr(0, foreign->wkt.find('\0'));
     }
@@ -233,7 +243,7 @@ class DtmOutput {
                 for (const io::GeoKey& k : keys)
                     if ((k.id == 3072 || k.id == 2048) && k.value != 32767) epsg_ = k.value;
                 keyed_ = !keys.empty();
-                grid.writeGeoTiff(grid_file_->file(), keys);
+                big_ = grid.writeGeoTiff(grid_file_->file(), keys, kind_);
                 return;
             }
             grid.write(grid_file_->file());
@@ -264,6 +274,12 @@ class DtmOutput {
         if (keyed_) return epsg_ ? "EPSG:" + std::to_string(epsg_) : std::string("GeoTIFF keys");
         return nullptr;
     }
+    bool bigTiff() const { return big_; }
+    // "bigtiff" for a BigTIFF, "classic" for a classic TIFF, null for an ASCII grid.
+    nlohmann::json tiffJson() const {
+        if (prj_) return nullptr;
+        return big_ ? "bigtiff" : "classic";
+    }
     // The same for the text line.
     std::string crsLine() const {
         if (prj_file_) return ", its CRS in " + platform::messageLine(prj_->string(), 400);
@@ -276,11 +292,13 @@ class DtmOutput {
   private:
     std::filesystem::path grid_;
     std::optional<std::filesystem::path> prj_;  // an ASCII grid's .prj
+    io::TiffKind kind_;                         // a GeoTIFF's: classic, BigTIFF, or as its size needs
     std::string wkt_;
     std::optional<sim::DtmMosaic> mosaic_;
     std::unique_ptr<platform::TempFile> grid_file_, prj_file_;
     int epsg_ = 0;        // a GeoTIFF's horizontal EPSG code, 0 none
     bool keyed_ = false;  // a GeoTIFF with keys
+    bool big_ = false;    // a GeoTIFF written as a BigTIFF
 };
 
 void printStats(const GroundFileCli& cli, const std::string& in, const std::string& out, const sim::GroundFileStats& st,
@@ -308,7 +326,8 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
                         {"columns", dtm->columns()},
                         {"rows", dtm->rows()},
                         {"cell_m", st.cell_m * units.horizontal_m},
-                        {"crs", dtm->crsJson()}};
+                        {"crs", dtm->crsJson()},
+                        {"tiff", dtm->tiffJson()}};
         j["seconds"] = seconds;
         if (array) {
             array->push_back(std::move(j));
@@ -328,9 +347,9 @@ void printStats(const GroundFileCli& cli, const std::string& in, const std::stri
     else
         std::printf("raster %d x %d, %.3f s\n", st.nx, st.ny, seconds);
     if (dtm)
-        std::printf("ground: wrote %s: the terrain, %d x %d cells of %g m%s\n",
-                    platform::messageLine(dtm->grid().string(), 400).c_str(), dtm->columns(), dtm->rows(),
-                    st.cell_m * units.horizontal_m, dtm->crsLine().c_str());
+        std::printf("ground: wrote %s: the terrain%s, %d x %d cells of %g m%s\n",
+                    platform::messageLine(dtm->grid().string(), 400).c_str(), dtm->bigTiff() ? " as a BigTIFF" : "",
+                    dtm->columns(), dtm->rows(), st.cell_m * units.horizontal_m, dtm->crsLine().c_str());
 }
 
 // One line on stderr when SMRF's raster is far sparser than the points: its time then goes
@@ -413,7 +432,7 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
                               "; allowed inputs of one survey, or --out-dir with --dtm-dir (a grid per input)");
     }
     if (!cli.dtm.empty()) {
-        dtm.emplace(cli.dtm, files[0]);
+        dtm.emplace(cli.dtm, files[0], tiffKind(cli));
         dtm->prepare(inputs, "ground: --dtm");
         terrain = &dtm->start(filterCell(o), frame);
     }
@@ -522,7 +541,7 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
     if (!grids.empty()) {
         const glm::dvec3 frame = sim::groundFrame(io::CloudReader(files[0]).origin(), o);
         for (std::size_t i : todo) {
-            dtms[i] = std::make_unique<DtmOutput>(grids[i], files[i]);
+            dtms[i] = std::make_unique<DtmOutput>(grids[i], files[i], tiffKind(cli));
             dtms[i]->prepare(inputs, "ground: --dtm-dir");
             dtms[i]->start(filterCell(o), frame);
         }
@@ -630,6 +649,9 @@ void run(GroundFileCli& cli) {
                 "DIR writes one per input");
         checkDtmName(cli.dtm, "ground");
     }
+    if (cli.dtm_tiff != "auto" && !(isGeoTiffName(cli.dtm) || (!cli.dtm_dir.empty() && cli.dtm_format == "tif")))
+        throw core::Error("ground: --dtm-tiff " + cli.dtm_tiff +
+                          ": allowed only with a GeoTIFF grid (--dtm NAME.tif, or --dtm-dir with --dtm-format tif)");
     if (cli.only_tile >= 0 && cli.out_dir.empty())
         throw core::Error("ground: --only-tile: allowed only with --out-dir (it names the input written there)");
     sim::memoryBudgetBytes(cli.memory_mb, "ground");
@@ -715,6 +737,12 @@ void registerGround(CLI::App& cli) {
                   "--dtm-dir's grids: asc (ESRI ASCII grid and .prj) or tif (GeoTIFF)")
         ->check(CLI::IsMember({"asc", "tif"}))
         ->needs(dtm_dir)
+        ->capture_default_str();
+    c->add_option("--dtm-tiff", state->dtm_tiff,
+                  "a GeoTIFF grid as a classic TIFF (read by every TIFF reader, at most 4 GiB: a grid that might "
+                  "pass it is refused), a BigTIFF (64-bit offsets, no such bound; GDAL, QGIS and libtiff 4 read "
+                  "it), or auto: classic unless the grid might pass 4 GiB")
+        ->check(CLI::IsMember({"auto", "classic", "bigtiff"}))
         ->capture_default_str();
     c->add_flag("--json", state->json, "print the run's figures as JSON on stdout");
     c->callback([state] { run(*state); });

@@ -118,7 +118,7 @@ void DtmMosaic::readRow(int j, float* row) {
     }
 }
 
-void DtmMosaic::writeGeoTiff(std::FILE* out, const std::vector<io::GeoKey>& keys) {
+bool DtmMosaic::writeGeoTiff(std::FILE* out, const std::vector<io::GeoKey>& keys, io::TiffKind kind) {
     if (pieces_.empty()) throw core::Error("output: " + what_ + ": no terrain was fitted (no point was read)");
     heights_.flush();
     io::GeoTiffGrid g;
@@ -128,6 +128,7 @@ void DtmMosaic::writeGeoTiff(std::FILE* out, const std::vector<io::GeoKey>& keys
     g.north = frame_.y + double(j1_ + 1) * cell_;
     g.cell = cell_;
     g.deflate = true;
+    g.kind = kind;
     checkFreeSpace(scratch_dir_, io::geoTiffBytes(g, keys), "the grid");
     std::vector<float> local(static_cast<std::size_t>(g.columns));
     io::writeGeoTiff(
@@ -137,6 +138,7 @@ void DtmMosaic::writeGeoTiff(std::FILE* out, const std::vector<io::GeoKey>& keys
             for (std::size_t i = 0; i < local.size(); ++i) values[i] = float(frame_.z + double(local[i]));
         },
         what_);
+    return io::geoTiffIsBig(g, keys);
 }
 
 void dtmGeoTiff(std::FILE* out, const TerrainGrid& grid, const glm::dvec3& origin, const std::vector<io::GeoKey>& keys,

@@ -17,6 +17,9 @@
 #    with its input's CRS;
 #  - scripts/dtm_hillshade.py draws a GeoTIFF as it draws the .asc;
 #  - generate --dtm X.tif: the generator's terrain as its .asc, no keys;
+#  - --dtm-tiff bigtiff: a BigTIFF (its header's 43, the strips' 64-bit offsets) with the
+#    same cells as the .asc, said by the run's line and --json, drawn by dtm_hillshade.py;
+#    classic TIFF otherwise; --dtm-dir's grids too; --dtm-tiff without a GeoTIFF grid refused;
 #  - a name not .asc, .tif or .tiff: one line naming --dtm, nothing written.
 set -eu
 bin=$1
@@ -60,11 +63,48 @@ check "$t" "t['nodata'] == -9999 and t['asc']['nodata_mismatch'] == 0 and t['asc
 check "$t" "t['asc']['largest_difference'] <= 0.0006" "a height differs from the .asc by more than its rounding"
 check "$t" "t['geokeys'] == {'GTModelTypeGeoKey': 1, 'GTRasterTypeGeoKey': 1, 'ProjectedCSTypeGeoKey': 32642, 'ProjLinearUnitsGeoKey': 9001}" \
     "the keys are not EPSG:32642 in metres"
+check "$t" "t['bigtiff'] is False" "a grid this small is not a classic TIFF"
 python3 - "$dir/json" "$dir/utm.tif" <<'PY' || fail "ground --json does not name the GeoTIFF and its code: $(cat "$dir/json")"
 import json, os, sys
 j = json.load(open(sys.argv[1]))["dtm"]
-assert j["path"] == os.path.abspath(sys.argv[2]) and j["crs"] == "EPSG:32642", j
+assert j["path"] == os.path.abspath(sys.argv[2]) and j["crs"] == "EPSG:32642" and j["tiff"] == "classic", j
 PY
+
+# The same grid as a BigTIFF: the same cells, keys and strips.
+"$bin" ground "$data/real/hexbin-crop.las" --out "$dir/big.laz" --dtm "$dir/big.tif" --dtm-tiff bigtiff --json \
+    >"$dir/json" 2>"$dir/err" || fail "ground --dtm-tiff bigtiff: $(cat "$dir/err")"
+t=$(read_tif "$dir/big.tif" "$dir/utm.asc") || fail "geotiff.js cannot read big.tif"
+echo "bigtiff: $t"
+check "$t" "t['bigtiff'] is True" "--dtm-tiff bigtiff did not write a BigTIFF"
+check "$t" "t['width'] == 295 and t['height'] == 203 and t['asc']['nodata_mismatch'] == 0 and t['asc']['largest_difference'] <= 0.0006" \
+    "the BigTIFF's cells differ from the .asc"
+check "$t" "t['geokeys']['ProjectedCSTypeGeoKey'] == 32642 and t['compression'] == 8 and t['predictor'] == 3 and t['strips'] == 4" \
+    "the BigTIFF's keys or strips differ from the classic file's"
+python3 - "$dir/big.tif" "$dir/json" <<'PY' || fail "big.tif's header or --json: $(cat "$dir/json")"
+import json, struct, sys
+with open(sys.argv[1], "rb") as f:
+    assert struct.unpack("<2sHHH", f.read(8)) == (b"II", 43, 8, 0)
+assert json.load(open(sys.argv[2]))["dtm"]["tiff"] == "bigtiff"
+PY
+"$bin" ground "$data/real/hexbin-crop.las" --out "$dir/big2.laz" --dtm "$dir/big2.tif" --dtm-tiff bigtiff \
+    >"$dir/out" 2>"$dir/err" || fail "ground --dtm-tiff bigtiff: $(cat "$dir/err")"
+grep -q "^ground: wrote $dir/big2.tif: the terrain as a BigTIFF, 295 x 203 cells of 1 m, its CRS in its GeoTIFF keys (EPSG:32642)$" \
+    "$dir/out" || fail "the line does not say BigTIFF: $(cat "$dir/out")"
+timeout 120 python3 "$here/../../scripts/dtm_hillshade.py" "$dir/big.tif" --out "$dir/big.png" --width-px 300 \
+    >"$dir/out" 2>"$dir/err" || fail "dtm_hillshade.py cannot draw the BigTIFF: $(cat "$dir/err")"
+grep -q "(295 x 203 cells)" "$dir/out" || fail "dtm_hillshade.py: $(cat "$dir/out")"
+"$bin" ground "$data/real/hexbin-crop.las" --out-dir "$dir/bigeach" --dtm-dir "$dir/biggrids" --dtm-format tif \
+    --dtm-tiff bigtiff >"$dir/out" 2>"$dir/err" || fail "ground --dtm-dir --dtm-tiff bigtiff: $(cat "$dir/err")"
+t=$(read_tif "$dir/biggrids/hexbin-crop.tif") || fail "geotiff.js cannot read biggrids/hexbin-crop.tif"
+check "$t" "t['bigtiff'] is True and t['width'] > 200 and t['geokeys']['ProjectedCSTypeGeoKey'] == 32642" \
+    "--dtm-dir's grid with --dtm-tiff bigtiff is not a BigTIFF of the input's cells"
+status=0
+"$bin" ground "$data/real/hexbin-crop.las" --out "$dir/big3.laz" --dtm "$dir/big3.asc" --dtm-tiff classic \
+    >"$dir/out" 2>"$dir/err" || status=$?
+[ "$status" -eq 1 ] || fail "--dtm-tiff with an ASCII grid exited $status"
+[ "$(cat "$dir/err")" = "ladarvr: error: ground: --dtm-tiff classic: allowed only with a GeoTIFF grid (--dtm NAME.tif, or --dtm-dir with --dtm-format tif)" ] ||
+    fail "--dtm-tiff with an ASCII grid: $(cat "$dir/err")"
+[ ! -e "$dir/big3.laz" ] && [ ! -e "$dir/big3.asc" ] || fail "--dtm-tiff with an ASCII grid wrote something"
 "$bin" ground "$data/real/hexbin-crop.las" --out "$dir/utm3.laz" --dtm "$dir/utm3.TIFF" >"$dir/out" 2>"$dir/err" ||
     fail "ground --dtm utm3.TIFF: $(cat "$dir/err")"
 grep -q "^ground: wrote $dir/utm3.TIFF: the terrain, 295 x 203 cells of 1 m, its CRS in its GeoTIFF keys (EPSG:32642)$" \

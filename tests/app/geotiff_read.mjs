@@ -1,7 +1,7 @@
 // geotiff_read.mjs NODE_MODULES FILE.tif [FILE.asc]: reads a GeoTIFF with geotiff.js (the
 // npm package `geotiff`, an independent reader) and prints, as one JSON object, what a
 // GIS takes from it: its size, origin (top-left corner), resolution, nodata value, GeoTIFF
-// keys, sample format, compression, predictor and strip count. With an ESRI ASCII grid
+// keys, sample format, compression, predictor, strip count and whether it is a BigTIFF. With an ESRI ASCII grid
 // beside it, also compares every cell: the largest difference between the two where both
 // have a height, and the cells where one has the nodata value and the other not.
 import { createRequire } from 'node:module'
@@ -37,6 +37,7 @@ const out = {
   compression: image.fileDirectory.getValue('Compression') ?? 1,
   predictor: image.fileDirectory.getValue('Predictor') ?? 1,
   strips: image.fileDirectory.getValue('StripOffsets').length,
+  bigtiff: tiff.bigTiff,
 }
 if (asc) {
   const lines = readFileSync(asc, 'utf8').split('\n')

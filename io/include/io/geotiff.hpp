@@ -3,8 +3,10 @@
 // rows of up to 64 KiB a strip compressed with Deflate and the floating-point predictor,
 // its place given by the pixel scale and one tie point at the top-left corner, its CRS by
 // GeoTIFF keys (EPSG codes where the CRS has them, found through PROJ), cells without a
-// height as GDAL's nodata value. Streamed: the caller hands the rows in order, so the
-// memory is one strip whatever the grid's size.
+// height as GDAL's nodata value. A classic TIFF (32-bit offsets, at most 4 GiB, read by
+// every TIFF reader), or a BigTIFF (64-bit offsets, read by libtiff 4 and so GDAL, QGIS
+// and Pillow, and by geotiff.js) for a grid that a classic file might not hold. Streamed:
+// the caller hands the rows in order, so the memory is one strip whatever the grid's size.
 #pragma once
 #include <cstdint>
 #include <cstdio>
@@ -15,6 +17,13 @@
 
 namespace io {
 
+/// Which TIFF a grid is written as.
+enum class TiffKind {
+    automatic,  // classic, unless the file might pass classic TIFF's 4 GiB (with Deflate: zlib's bound)
+    classic,    // always classic: a grid whose file might pass 4 GiB is refused
+    big,        // always BigTIFF
+};
+
 /// What the file says besides its heights.
 struct GeoTiffGrid {
     int columns = 0;
@@ -23,6 +32,7 @@ struct GeoTiffGrid {
     double north = 0.0;    // world y of the grid's top edge (the first row's upper side)
     double cell = 0.0;     // a cell's side, in the CRS's horizontal unit
     bool deflate = false;  // strips of rows compressed with Deflate and the floating-point predictor
+    TiffKind kind = TiffKind::automatic;
 };
 
 /// The value written for a cell without a height, declared in the GDAL_NODATA tag.
@@ -44,15 +54,21 @@ struct GeoKey {
 /// cannot read (`problem` says why; empty otherwise). Never throws.
 std::vector<GeoKey> geoKeysForWkt(std::string_view wkt, std::string& problem);
 
-/// The file's size in bytes for `grid` with `keys` (its header, tags and heights); with
-/// `grid.deflate`, the most it can take (zlib's bound on each strip).
+/// Whether `grid` with `keys` is written as a BigTIFF (`grid.kind`; automatic: when its
+/// classic file's size, as geoTiffBytes gives it, passes 4 GiB - 1).
+bool geoTiffIsBig(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys);
+
+/// The file's size in bytes for `grid` with `keys` (its header, tags and heights, in the
+/// kind geoTiffIsBig says); with `grid.deflate`, the most it can take (zlib's bound on
+/// each strip).
 std::uint64_t geoTiffBytes(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys);
 
 /// Writes `grid` to `out` with `keys` (geoKeysForWkt's; none: no GeoTIFF keys, the grid
 /// placed without a CRS): `row(r, values)` fills row r (0 the northernmost) with `columns`
 /// heights, NaN for a cell without one (written as kGeoTiffNoData). Throws
 /// core::Error("output: <what>: ...") when the sizes are not > 0, the corner or the cell
-/// not finite (the cell > 0), when the file would exceed TIFF's 4 GiB, or when a write fails.
+/// not finite (the cell > 0), when a classic TIFF is asked for (TiffKind::classic) and the
+/// file might pass its 4 GiB, or when a write fails.
 void writeGeoTiff(std::FILE* out, const GeoTiffGrid& grid, const std::vector<GeoKey>& keys,
                   const std::function<void(int, float*)>& row, const std::string& what);
 

@@ -1,5 +1,7 @@
-// io/src/geotiff/geotiff_writer.cpp: io/geotiff.hpp. A little-endian classic TIFF.
-// Uncompressed: the 8-byte header, one IFD right after it, the tags' values that do not
+// io/src/geotiff/geotiff_writer.cpp: io/geotiff.hpp. A little-endian classic TIFF, or a
+// BigTIFF where the grid needs one (the same layout with 64-bit offsets and counts: a
+// 16-byte header, IFD entries of 20 bytes).
+// Uncompressed: the header, one IFD right after it, the tags' values that do not
 // fit in their entry, then the rows of heights, each a strip of its own. Deflate: the
 // header, the strips (rows of at most 64 KiB together, each row through the
 // floating-point predictor, then zlib), then the IFD and its values, whose place the
@@ -113,6 +115,9 @@ void put16(std::string& b, std::uint16_t v) {
 void put32(std::string& b, std::uint32_t v) {
     for (int k = 0; k < 4; ++k) b.push_back(char((v >> (8 * k)) & 0xff));
 }
+void put64(std::string& b, std::uint64_t v) {
+    for (int k = 0; k < 8; ++k) b.push_back(char((v >> (8 * k)) & 0xff));
+}
 void putDouble(std::string& b, double v) {
     std::uint64_t bits;
     std::memcpy(&bits, &v, sizeof bits);
@@ -120,19 +125,22 @@ void putDouble(std::string& b, double v) {
 }
 
 // TIFF field types.
-constexpr std::uint16_t kAscii = 2, kShort = 3, kLong = 4, kDouble = 12;
+constexpr std::uint16_t kAscii = 2, kShort = 3, kLong = 4, kDouble = 12, kLong8 = 16;
 
 struct Tag {
     std::uint16_t id, type;
-    std::uint32_t count;
+    std::uint64_t count;
     std::string bytes;  // the value, little-endian
 };
 
 // Where the heights lie: rows_per_strip rows a strip, each strip's offset and size.
 struct Strips {
     std::uint32_t rows_per_strip = 1;
-    std::vector<std::uint32_t> offsets, counts;
+    std::vector<std::uint64_t> offsets, counts;
 };
+
+// The header's size: classic TIFF's 8 bytes, BigTIFF's 16.
+std::uint64_t headerBytes(bool big) { return big ? 16 : 8; }
 
 // Rows a Deflate strip holds: as many as fit in 64 KiB, at least one.
 std::uint32_t deflateRowsPerStrip(const GeoTiffGrid& grid) {
@@ -142,17 +150,18 @@ std::uint32_t deflateRowsPerStrip(const GeoTiffGrid& grid) {
 
 // Uncompressed: one row a strip, the strips one after another from `data_at`.
 Strips plainStrips(const GeoTiffGrid& grid, std::uint64_t data_at) {
-    const std::uint32_t row_bytes = std::uint32_t(grid.columns) * 4u;
+    const std::uint64_t row_bytes = std::uint64_t(grid.columns) * 4u;
     Strips s;
     for (std::uint32_t r = 0; r < std::uint32_t(grid.rows); ++r) {
-        s.offsets.push_back(std::uint32_t(data_at + std::uint64_t(r) * row_bytes));
+        s.offsets.push_back(data_at + std::uint64_t(r) * row_bytes);
         s.counts.push_back(row_bytes);
     }
     return s;
 }
 
-// The tags of `grid` with `keys` and the heights in `strips`.
-std::vector<Tag> tagsFor(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys, const Strips& strips) {
+// The tags of `grid` with `keys` and the heights in `strips`; in a BigTIFF (`big`) the
+// strips' offsets and sizes are 64-bit.
+std::vector<Tag> tagsFor(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys, const Strips& strips, bool big) {
     const std::uint32_t rows = std::uint32_t(grid.rows);
     std::vector<Tag> tags;
     const auto shortTag = [&](std::uint16_t id, std::uint16_t v) {
@@ -172,17 +181,23 @@ std::vector<Tag> tagsFor(const GeoTiffGrid& grid, const std::vector<GeoKey>& key
     shortTag(262, 1);                           // PhotometricInterpretation: BlackIsZero
     std::string offsets, counts;
     for (std::size_t k = 0; k < strips.offsets.size(); ++k) {
-        put32(offsets, strips.offsets[k]);
-        put32(counts, strips.counts[k]);
+        if (big) {
+            put64(offsets, strips.offsets[k]);
+            put64(counts, strips.counts[k]);
+        } else {
+            put32(offsets, std::uint32_t(strips.offsets[k]));
+            put32(counts, std::uint32_t(strips.counts[k]));
+        }
     }
-    const auto n = std::uint32_t(strips.offsets.size());
-    tags.push_back({273, kLong, n, offsets});  // StripOffsets
-    shortTag(277, 1);                          // SamplesPerPixel
-    longTag(278, strips.rows_per_strip);       // RowsPerStrip
-    tags.push_back({279, kLong, n, counts});   // StripByteCounts
-    shortTag(284, 1);                          // PlanarConfiguration: contiguous
-    if (grid.deflate) shortTag(317, 3);        // Predictor: floating point (TIFF Technical Note 3)
-    shortTag(339, 3);                          // SampleFormat: IEEE floating point
+    const std::uint64_t n = strips.offsets.size();
+    const std::uint16_t offset_type = big ? kLong8 : kLong;
+    tags.push_back({273, offset_type, n, offsets});  // StripOffsets
+    shortTag(277, 1);                                // SamplesPerPixel
+    longTag(278, strips.rows_per_strip);             // RowsPerStrip
+    tags.push_back({279, offset_type, n, counts});   // StripByteCounts
+    shortTag(284, 1);                                // PlanarConfiguration: contiguous
+    if (grid.deflate) shortTag(317, 3);              // Predictor: floating point (TIFF Technical Note 3)
+    shortTag(339, 3);                                // SampleFormat: IEEE floating point
     std::string scale, tie;
     for (const double v : {grid.cell, grid.cell, 0.0}) putDouble(scale, v);
     for (const double v : {0.0, 0.0, 0.0, grid.west, grid.north, 0.0}) putDouble(tie, v);
@@ -219,40 +234,57 @@ std::vector<Tag> tagsFor(const GeoTiffGrid& grid, const std::vector<GeoKey>& key
 }
 
 // The IFD and the values outside their entries (each at an even offset), to be written at
-// `at` (even). Its size depends only on the tags' sizes.
-std::string ifdAt(const std::vector<Tag>& tags, std::uint32_t at) {
-    const std::uint32_t ifd_bytes = 2 + 12 * std::uint32_t(tags.size()) + 4;
+// `at` (even). Its size depends only on the tags' sizes. Classic TIFF: a 2-byte entry
+// count, entries of 12 bytes holding a value of up to 4 bytes, a 4-byte link; BigTIFF: 8,
+// 20 holding up to 8, 8.
+std::string ifdAt(const std::vector<Tag>& tags, std::uint64_t at, bool big) {
+    const std::uint64_t inline_bytes = big ? 8 : 4;
+    const std::uint64_t ifd_bytes = big ? 8 + 20 * tags.size() + 8 : 2 + 12 * tags.size() + 4;
+    const auto word = [&](std::string& b, std::uint64_t v) { big ? put64(b, v) : put32(b, std::uint32_t(v)); };
     std::string head;
     std::string extra;
-    put16(head, std::uint16_t(tags.size()));
+    if (big)
+        put64(head, tags.size());
+    else
+        put16(head, std::uint16_t(tags.size()));
     for (const Tag& t : tags) {
         put16(head, t.id);
         put16(head, t.type);
-        put32(head, t.count);
-        if (t.bytes.size() <= 4) {
+        word(head, t.count);
+        if (t.bytes.size() <= inline_bytes) {
             head += t.bytes;
-            head.append(4 - t.bytes.size(), '\0');
+            head.append(inline_bytes - t.bytes.size(), '\0');
         } else {
-            put32(head, at + ifd_bytes + std::uint32_t(extra.size()));
+            word(head, at + ifd_bytes + extra.size());
             extra += t.bytes;
             if (extra.size() % 2) extra.push_back('\0');
         }
     }
-    put32(head, 0);  // no next IFD
+    word(head, 0);  // no next IFD
     return head + extra;
 }
 
-// The TIFF header pointing at the first IFD.
-std::string headerFor(std::uint32_t ifd_at) {
+// The TIFF header pointing at the first IFD: byte order, 42 and the offset; BigTIFF: byte
+// order, 43, the offsets' size (8), 0 and the offset.
+std::string headerFor(std::uint64_t ifd_at, bool big) {
     std::string b = "II";
-    put16(b, 42);
-    put32(b, ifd_at);
+    if (big) {
+        put16(b, 43);
+        put16(b, 8);
+        put16(b, 0);
+        put64(b, ifd_at);
+    } else {
+        put16(b, 42);
+        put32(b, std::uint32_t(ifd_at));
+    }
     return b;
 }
 
 // The bytes before the heights of an uncompressed file: header, IFD and its values. Its
 // size does not depend on where the strips lie.
-std::string headOf(const std::vector<Tag>& tags) { return headerFor(8) + ifdAt(tags, 8); }
+std::string headOf(const std::vector<Tag>& tags, bool big) {
+    return headerFor(headerBytes(big), big) + ifdAt(tags, headerBytes(big), big);
+}
 
 // One row through the floating-point predictor: each height's bytes spread over four
 // planes, its most significant byte in the first, then each byte less the one before it.
@@ -267,11 +299,11 @@ void predictRow(const float* values, std::size_t columns, unsigned char* out) {
 
 // Bytes a Deflate file of `grid` with `keys` takes at most: each strip compressed no
 // smaller than zlib's bound says, the IFD after them.
-std::uint64_t deflateBoundBytes(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys) {
+std::uint64_t deflateBoundBytes(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys, bool big) {
     const std::uint32_t per = deflateRowsPerStrip(grid);
     const std::uint32_t n = (std::uint32_t(grid.rows) + per - 1) / per;
     const std::uint64_t row_bytes = std::uint64_t(grid.columns) * 4u;
-    std::uint64_t bytes = 8;
+    std::uint64_t bytes = headerBytes(big);
     for (std::uint32_t k = 0; k < n; ++k) {
         const std::uint64_t rows = std::min<std::uint64_t>(per, std::uint64_t(grid.rows) - std::uint64_t(k) * per);
         bytes += compressBound(uLong(rows * row_bytes));
@@ -279,8 +311,17 @@ std::uint64_t deflateBoundBytes(const GeoTiffGrid& grid, const std::vector<GeoKe
     Strips sizing;
     sizing.offsets.assign(n, 0);
     sizing.counts.assign(n, 0);
-    return bytes + 1 + ifdAt(tagsFor(grid, keys, sizing), 0).size();
+    return bytes + 1 + ifdAt(tagsFor(grid, keys, sizing, big), 0, big).size();
 }
+
+// The file's size (at most, with Deflate) as a classic TIFF or as a BigTIFF.
+std::uint64_t bytesAs(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys, bool big) {
+    if (grid.deflate) return deflateBoundBytes(grid, keys, big);
+    const std::uint64_t head = headOf(tagsFor(grid, keys, plainStrips(grid, 0), big), big).size();
+    return head + (head % 4 ? 4 - head % 4 : 0) + std::uint64_t(grid.columns) * std::uint64_t(grid.rows) * 4u;
+}
+
+constexpr std::uint64_t kClassicMaxBytes = 0xffffffffu;
 
 }  // namespace
 
@@ -349,11 +390,18 @@ std::vector<GeoKey> geoKeysForWkt(std::string_view wkt_in, std::string& problem)
     return keys;
 }
 
+bool geoTiffIsBig(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys) {
+    switch (grid.kind) {
+        case TiffKind::classic: return false;
+        case TiffKind::big: return true;
+        case TiffKind::automatic: break;
+    }
+    return grid.columns > 0 && grid.rows > 0 && bytesAs(grid, keys, false) > kClassicMaxBytes;
+}
+
 std::uint64_t geoTiffBytes(const GeoTiffGrid& grid, const std::vector<GeoKey>& keys) {
     if (grid.columns <= 0 || grid.rows <= 0) return 0;
-    if (grid.deflate) return deflateBoundBytes(grid, keys);
-    const std::uint64_t head = headOf(tagsFor(grid, keys, plainStrips(grid, 0))).size();
-    return head + (head % 4 ? 4 - head % 4 : 0) + std::uint64_t(grid.columns) * std::uint64_t(grid.rows) * 4u;
+    return bytesAs(grid, keys, geoTiffIsBig(grid, keys));
 }
 
 void writeGeoTiff(std::FILE* out, const GeoTiffGrid& grid, const std::vector<GeoKey>& keys,
@@ -364,11 +412,12 @@ void writeGeoTiff(std::FILE* out, const GeoTiffGrid& grid, const std::vector<Geo
                           " cells; allowed at least 1 x 1");
     if (!(std::isfinite(grid.cell) && grid.cell > 0.0) || !std::isfinite(grid.west) || !std::isfinite(grid.north))
         throw core::Error(prefix + "the grid's corner and cell must be finite, the cell > 0");
-    const std::uint64_t bytes = geoTiffBytes(grid, keys);
-    if (bytes > std::uint64_t(0xffffffffu))
+    const bool big = geoTiffIsBig(grid, keys);
+    const std::uint64_t bytes = bytesAs(grid, keys, big);
+    if (!big && bytes > kClassicMaxBytes)
         throw core::Error(prefix + "a grid of " + std::to_string(grid.columns) + " x " + std::to_string(grid.rows) +
                           " cells takes " + std::to_string(bytes) +
-                          " bytes; a GeoTIFF holds at most 4 GiB: write an ESRI ASCII grid (.asc) instead");
+                          " bytes; a classic TIFF holds at most 4 GiB: write it as a BigTIFF instead");
     const auto put = [&](const void* data, std::size_t n) {
         if (std::fwrite(data, 1, n, out) != n) throw core::Error(prefix + "write failed: " + std::strerror(errno));
     };
@@ -381,9 +430,9 @@ void writeGeoTiff(std::FILE* out, const GeoTiffGrid& grid, const std::vector<Geo
     };
     if (!grid.deflate) {
         // The heights start at a multiple of 4 after the head, whose size the offsets leave alone.
-        std::size_t head_bytes = headOf(tagsFor(grid, keys, plainStrips(grid, 0))).size();
+        std::size_t head_bytes = headOf(tagsFor(grid, keys, plainStrips(grid, 0), big), big).size();
         head_bytes += head_bytes % 4 ? 4 - head_bytes % 4 : 0;
-        std::string head = headOf(tagsFor(grid, keys, plainStrips(grid, head_bytes)));
+        std::string head = headOf(tagsFor(grid, keys, plainStrips(grid, head_bytes), big), big);
         head.resize(head_bytes, '\0');
         put(head.data(), head.size());
         for (int r = 0; r < grid.rows; ++r) {
@@ -393,13 +442,13 @@ void writeGeoTiff(std::FILE* out, const GeoTiffGrid& grid, const std::vector<Geo
     } else {
         const long start = std::ftell(out);
         if (start < 0) throw core::Error(prefix + "cannot tell the file's position: " + std::strerror(errno));
-        put(headerFor(0).data(), 8);
+        put(headerFor(0, big).data(), headerBytes(big));
         Strips strips;
         strips.rows_per_strip = deflateRowsPerStrip(grid);
         const std::size_t row_bytes = values.size() * sizeof(float);
         std::vector<unsigned char> raw(row_bytes * strips.rows_per_strip);
         std::vector<unsigned char> packed(compressBound(uLong(raw.size())));
-        std::uint64_t at = 8;
+        std::uint64_t at = headerBytes(big);
         for (int r0 = 0; r0 < grid.rows; r0 += int(strips.rows_per_strip)) {
             const int rows = std::min(int(strips.rows_per_strip), grid.rows - r0);
             for (int r = 0; r < rows; ++r) {
@@ -410,19 +459,19 @@ void writeGeoTiff(std::FILE* out, const GeoTiffGrid& grid, const std::vector<Geo
             if (compress2(packed.data(), &size, raw.data(), uLong(std::size_t(rows) * row_bytes), 6) != Z_OK)
                 throw core::Error(prefix + "Deflate failed on rows " + std::to_string(r0) + "+");
             put(packed.data(), size);
-            strips.offsets.push_back(std::uint32_t(at));
-            strips.counts.push_back(std::uint32_t(size));
+            strips.offsets.push_back(at);
+            strips.counts.push_back(size);
             at += size;
         }
         if (at % 2) {
             put("", 1);
             ++at;
         }
-        const std::string ifd = ifdAt(tagsFor(grid, keys, strips), std::uint32_t(at));
+        const std::string ifd = ifdAt(tagsFor(grid, keys, strips, big), at, big);
         put(ifd.data(), ifd.size());
         if (std::fseek(out, start, SEEK_SET) != 0)
             throw core::Error(prefix + "cannot go back to the header: " + std::strerror(errno));
-        put(headerFor(std::uint32_t(at)).data(), 8);
+        put(headerFor(at, big).data(), headerBytes(big));
         if (std::fseek(out, 0, SEEK_END) != 0)
             throw core::Error(prefix + "cannot go back to the end: " + std::strerror(errno));
     }

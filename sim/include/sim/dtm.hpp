@@ -61,9 +61,10 @@ class DtmMosaic {
     /// core::Error("output: <folder>: ...") when the scratch folder's filesystem has less
     /// free than the grid takes at least (6 bytes a cell).
     void write(std::FILE* out);
-    /// The same box as a GeoTIFF (io::writeGeoTiff with `keys`), its cells no piece holds
-    /// as the file's nodata value; the same errors (4 bytes a cell).
-    void writeGeoTiff(std::FILE* out, const std::vector<io::GeoKey>& keys);
+    /// The same box as a GeoTIFF (io::writeGeoTiff with `keys`, a classic TIFF or a BigTIFF
+    /// as `kind` says), its cells no piece holds as the file's nodata value; the same
+    /// errors (4 bytes a cell). Returns whether it wrote a BigTIFF.
+    bool writeGeoTiff(std::FILE* out, const std::vector<io::GeoKey>& keys, io::TiffKind kind = io::TiffKind::automatic);
 
     /// What the run does with the grid once every piece is in, before the cloud's output
     /// is renamed into place (so that a grid that cannot be written stops the run while

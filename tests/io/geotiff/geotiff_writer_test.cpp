@@ -2,7 +2,8 @@
 // code where the WKT has one, user-defined with its name where not, the vertical part of a
 // compound CRS, none for an empty WKT, a problem for one PROJ cannot read); the file's
 // layout read back tag by tag here, its Deflate strips inflated and the floating-point
-// predictor undone (geotiff.js reads both in tests/app/cmd_ground_geotiff_test.sh);
+// predictor undone, as a classic TIFF and as a BigTIFF, and which of the two a grid gets
+// (geotiff.js reads both in tests/app/cmd_ground_geotiff_test.sh);
 // one-line errors.
 #include <doctest/doctest.h>
 
@@ -68,6 +69,78 @@ std::string written(const io::GeoTiffGrid& g, const std::vector<io::GeoKey>& key
     return bytes;
 }
 
+// The first IFD of a little-endian TIFF, classic or BigTIFF, read as a reader would: for
+// each tag its type, count and where its value lies (in the entry when it fits, else at
+// the offset the entry gives).
+struct Ifd {
+    struct Entry {
+        std::uint16_t type = 0;
+        std::uint64_t count = 0;
+        std::size_t value_at = 0;
+    };
+    bool big = false;
+    std::uint64_t at = 0;
+    std::map<std::uint16_t, Entry> entries;
+
+    explicit Ifd(const std::string& b) {
+        REQUIRE(b.size() >= 16);
+        REQUIRE(b.substr(0, 2) == "II");
+        const std::uint16_t version = le<std::uint16_t>(b, 2);
+        REQUIRE((version == 42 || version == 43));
+        big = version == 43;
+        if (big) {
+            REQUIRE(le<std::uint16_t>(b, 4) == 8);  // the offsets' size
+            REQUIRE(le<std::uint16_t>(b, 6) == 0);
+        }
+        at = big ? le<std::uint64_t>(b, 8) : le<std::uint32_t>(b, 4);
+        REQUIRE(at % 2 == 0);
+        const std::uint64_t n = big ? le<std::uint64_t>(b, at) : le<std::uint16_t>(b, at);
+        const std::size_t entry_bytes = big ? 20 : 12, first = at + (big ? 8 : 2), inline_bytes = big ? 8 : 4;
+        REQUIRE(first + n * entry_bytes + inline_bytes <= b.size());
+        std::uint16_t previous = 0;
+        for (std::uint64_t i = 0; i < n; ++i) {
+            const std::size_t e = first + i * entry_bytes;
+            const std::uint16_t tag = le<std::uint16_t>(b, e);
+            CHECK(tag > previous);  // TIFF wants them in order
+            previous = tag;
+            Entry entry;
+            entry.type = le<std::uint16_t>(b, e + 2);
+            entry.count = big ? le<std::uint64_t>(b, e + 4) : le<std::uint32_t>(b, e + 4);
+            const std::size_t value = e + (big ? 12 : 8);
+            const std::size_t size = entry.count * std::size_t(sizeOf(entry.type));
+            entry.value_at = size <= inline_bytes
+                                 ? value
+                                 : std::size_t(big ? le<std::uint64_t>(b, value) : le<std::uint32_t>(b, value));
+            REQUIRE(entry.value_at + size <= b.size());
+            entries[tag] = entry;
+        }
+        // No next IFD.
+        CHECK((big ? le<std::uint64_t>(b, first + n * 20) : le<std::uint32_t>(b, first + n * 12)) == 0);
+    }
+    static int sizeOf(std::uint16_t type) {
+        switch (type) {
+            case 2: return 1;   // ASCII
+            case 3: return 2;   // SHORT
+            case 4: return 4;   // LONG
+            case 12: return 8;  // DOUBLE
+            case 16: return 8;  // LONG8
+            default: FAIL("a tag of type " << type); return 0;
+        }
+    }
+    // Element k of an integer tag (SHORT, LONG or LONG8).
+    std::uint64_t value(const std::string& b, std::uint16_t tag, std::size_t k = 0) const {
+        const Entry& e = entries.at(tag);
+        REQUIRE(k < e.count);
+        const std::size_t at_k = e.value_at + k * std::size_t(sizeOf(e.type));
+        switch (e.type) {
+            case 3: return le<std::uint16_t>(b, at_k);
+            case 4: return le<std::uint32_t>(b, at_k);
+            case 16: return le<std::uint64_t>(b, at_k);
+            default: FAIL("tag " << tag << " is not an integer"); return 0;
+        }
+    }
+};
+
 }  // namespace
 
 TEST_CASE("geotiff: keys of a projected CRS with its EPSG code") {
@@ -126,111 +199,130 @@ TEST_CASE("geotiff: no keys for no CRS; a problem for a WKT PROJ cannot read") {
 }
 
 TEST_CASE("geotiff: the file holds the rows as given, NaN as nodata, placed by its corner") {
-    io::GeoTiffGrid g;
-    g.columns = 3;
-    g.rows = 2;
-    g.west = 500000.5;
-    g.north = 4000002.0;
-    g.cell = 0.5;
-    std::string problem;
-    const std::vector<io::GeoKey> keys = io::geoKeysForWkt(kLocalFeet, problem);
-    const std::vector<std::vector<float>> rows = {{1.5f, std::nanf(""), -2.25f}, {100.125f, 0.0f, 7.0f}};
-    const std::string b = written(g, keys, rows);
-    CHECK(b.size() == io::geoTiffBytes(g, keys));
-    REQUIRE(b.substr(0, 4) == std::string("II*\0", 4));
-    const std::uint32_t ifd = le<std::uint32_t>(b, 4);
-    const std::uint16_t n = le<std::uint16_t>(b, ifd);
-    std::map<std::uint16_t, std::size_t> entry;  // tag -> the entry's offset
-    std::uint16_t previous = 0;
-    for (std::uint16_t i = 0; i < n; ++i) {
-        const std::size_t at = ifd + 2 + 12 * std::size_t(i);
-        const std::uint16_t tag = le<std::uint16_t>(b, at);
-        CHECK(tag > previous);  // TIFF wants them in order
-        previous = tag;
-        entry[tag] = at;
-    }
-    const auto value32 = [&](std::uint16_t tag) { return le<std::uint32_t>(b, entry.at(tag) + 8); };
-    CHECK(value32(256) == 3);
-    CHECK(value32(257) == 2);
-    CHECK(le<std::uint16_t>(b, entry.at(258) + 8) == 32);
-    CHECK(le<std::uint16_t>(b, entry.at(339) + 8) == 3);
-    const std::uint32_t offsets = value32(273);  // two strips: an array elsewhere
-    const std::uint32_t tie = value32(33922);
-    CHECK(le<double>(b, tie + 24) == g.west);
-    CHECK(le<double>(b, tie + 32) == g.north);
-    CHECK(le<double>(b, value32(33550)) == g.cell);
-    CHECK(b.substr(value32(42113), 6) == std::string("-9999\0", 6));
-    for (int r = 0; r < 2; ++r) {
-        const std::uint32_t strip = le<std::uint32_t>(b, offsets + 4 * std::size_t(r));
-        CHECK(strip % 4 == 0);
-        for (int i = 0; i < 3; ++i) {
-            const float want = std::isnan(rows[std::size_t(r)][std::size_t(i)]) ? io::kGeoTiffNoData
-                                                                                : rows[std::size_t(r)][std::size_t(i)];
-            CHECK(le<float>(b, strip + 4 * std::size_t(i)) == want);
+    for (const io::TiffKind kind : {io::TiffKind::automatic, io::TiffKind::big}) {
+        CAPTURE(int(kind));
+        io::GeoTiffGrid g;
+        g.columns = 3;
+        g.rows = 2;
+        g.west = 500000.5;
+        g.north = 4000002.0;
+        g.cell = 0.5;
+        g.kind = kind;
+        std::string problem;
+        const std::vector<io::GeoKey> keys = io::geoKeysForWkt(kLocalFeet, problem);
+        const std::vector<std::vector<float>> rows = {{1.5f, std::nanf(""), -2.25f}, {100.125f, 0.0f, 7.0f}};
+        const std::string b = written(g, keys, rows);
+        CHECK(b.size() == io::geoTiffBytes(g, keys));
+        const Ifd ifd(b);
+        // A grid this small is a classic TIFF unless a BigTIFF is asked for.
+        CHECK(ifd.big == (kind == io::TiffKind::big));
+        CHECK(io::geoTiffIsBig(g, keys) == ifd.big);
+        CHECK(ifd.value(b, 256) == 3);
+        CHECK(ifd.value(b, 257) == 2);
+        CHECK(ifd.value(b, 258) == 32);
+        CHECK(ifd.value(b, 339) == 3);
+        CHECK(ifd.entries.at(273).type == (ifd.big ? 16 : 4));  // LONG8 offsets in a BigTIFF
+        const std::size_t tie = ifd.entries.at(33922).value_at;
+        CHECK(le<double>(b, tie + 24) == g.west);
+        CHECK(le<double>(b, tie + 32) == g.north);
+        CHECK(le<double>(b, ifd.entries.at(33550).value_at) == g.cell);
+        CHECK(b.substr(ifd.entries.at(42113).value_at, 6) == std::string("-9999\0", 6));
+        REQUIRE(ifd.entries.at(273).count == 2);
+        for (int r = 0; r < 2; ++r) {
+            const std::uint64_t strip = ifd.value(b, 273, std::size_t(r));
+            CHECK(strip % 4 == 0);
+            CHECK(ifd.value(b, 279, std::size_t(r)) == 12);
+            for (int i = 0; i < 3; ++i) {
+                const float want = std::isnan(rows[std::size_t(r)][std::size_t(i)])
+                                       ? io::kGeoTiffNoData
+                                       : rows[std::size_t(r)][std::size_t(i)];
+                CHECK(le<float>(b, strip + 4 * std::size_t(i)) == want);
+            }
         }
+        // The citation through GeoAsciiParams, '|'-ended.
+        CHECK(b.substr(ifd.entries.at(34737).value_at, 10) == "site grid|");
     }
-    // The citation through GeoAsciiParams, '|'-ended.
-    const std::uint32_t ascii = value32(34737);
-    CHECK(b.substr(ascii, 10) == "site grid|");
 }
 
 TEST_CASE("geotiff: Deflate strips of up to 64 KiB with the floating-point predictor hold the rows as given") {
-    io::GeoTiffGrid g;
-    g.columns = 3000;  // 12,000 bytes a row: 5 rows a strip
-    g.rows = 12;
-    g.west = 1000.0;
-    g.north = 2000.0;
-    g.cell = 2.0;
-    g.deflate = true;
-    std::vector<std::vector<float>> rows(std::size_t(g.rows), std::vector<float>(std::size_t(g.columns)));
-    for (std::size_t r = 0; r < rows.size(); ++r)
-        for (std::size_t i = 0; i < rows[r].size(); ++i)
-            rows[r][i] = (i + r) % 97 == 0 ? std::nanf("") : 250.0f + 0.01f * float(i) - 0.5f * float(r);
-    std::string problem;
-    const std::vector<io::GeoKey> keys = io::geoKeysForWkt(kUtm32, problem);
-    const std::string b = written(g, keys, rows);
-    CHECK(b.size() <= io::geoTiffBytes(g, keys));
-    CHECK(b.size() < std::size_t(g.columns * g.rows * 4) / 2);  // smooth heights compress
-    REQUIRE(b.substr(0, 4) == std::string("II*\0", 4));
-    const std::uint32_t ifd = le<std::uint32_t>(b, 4);
-    CHECK(ifd % 2 == 0);
-    const std::uint16_t n = le<std::uint16_t>(b, ifd);
-    std::map<std::uint16_t, std::size_t> entry;
-    std::uint16_t previous = 0;
-    for (std::uint16_t i = 0; i < n; ++i) {
-        const std::size_t at = ifd + 2 + 12 * std::size_t(i);
-        const std::uint16_t tag = le<std::uint16_t>(b, at);
-        CHECK(tag > previous);
-        previous = tag;
-        entry[tag] = at;
-    }
-    CHECK(le<std::uint16_t>(b, entry.at(259) + 8) == 8);  // Deflate
-    CHECK(le<std::uint16_t>(b, entry.at(317) + 8) == 3);  // floating-point predictor
-    CHECK(le<std::uint32_t>(b, entry.at(278) + 8) == 5);  // rows a strip
-    REQUIRE(le<std::uint32_t>(b, entry.at(273) + 4) == 3);
-    const std::uint32_t offsets = le<std::uint32_t>(b, entry.at(273) + 8);
-    const std::uint32_t counts = le<std::uint32_t>(b, entry.at(279) + 8);
-    const std::size_t width = std::size_t(g.columns);
-    for (std::size_t k = 0; k < 3; ++k) {
-        const std::uint32_t at = le<std::uint32_t>(b, offsets + 4 * k), size = le<std::uint32_t>(b, counts + 4 * k);
-        const std::size_t strip_rows = std::min<std::size_t>(5, rows.size() - 5 * k);
-        std::vector<unsigned char> raw(strip_rows * width * 4);
-        uLongf raw_size = uLongf(raw.size());
-        REQUIRE(uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(b.data() + at), size) == Z_OK);
-        REQUIRE(raw_size == raw.size());
-        for (std::size_t r = 0; r < strip_rows; ++r) {
-            unsigned char* row = raw.data() + r * width * 4;
-            for (std::size_t j = 1; j < width * 4; ++j) row[j] = (unsigned char)(row[j] + row[j - 1]);
-            for (std::size_t i = 0; i < width; ++i) {
-                std::uint32_t bits = 0;
-                for (std::size_t p = 0; p < 4; ++p) bits |= std::uint32_t(row[p * width + i]) << (8 * (3 - p));
-                float v;
-                std::memcpy(&v, &bits, sizeof v);
-                const float given = rows[5 * k + r][i];
-                CHECK(v == (std::isnan(given) ? io::kGeoTiffNoData : given));
+    for (const io::TiffKind kind : {io::TiffKind::automatic, io::TiffKind::big}) {
+        CAPTURE(int(kind));
+        io::GeoTiffGrid g;
+        g.columns = 3000;  // 12,000 bytes a row: 5 rows a strip
+        g.rows = 12;
+        g.west = 1000.0;
+        g.north = 2000.0;
+        g.cell = 2.0;
+        g.deflate = true;
+        g.kind = kind;
+        std::vector<std::vector<float>> rows(std::size_t(g.rows), std::vector<float>(std::size_t(g.columns)));
+        for (std::size_t r = 0; r < rows.size(); ++r)
+            for (std::size_t i = 0; i < rows[r].size(); ++i)
+                rows[r][i] = (i + r) % 97 == 0 ? std::nanf("") : 250.0f + 0.01f * float(i) - 0.5f * float(r);
+        std::string problem;
+        const std::vector<io::GeoKey> keys = io::geoKeysForWkt(kUtm32, problem);
+        const std::string b = written(g, keys, rows);
+        CHECK(b.size() <= io::geoTiffBytes(g, keys));
+        CHECK(b.size() < std::size_t(g.columns * g.rows * 4) / 2);  // smooth heights compress
+        const Ifd ifd(b);
+        CHECK(ifd.big == (kind == io::TiffKind::big));
+        CHECK(ifd.value(b, 259) == 8);  // Deflate
+        CHECK(ifd.value(b, 317) == 3);  // floating-point predictor
+        CHECK(ifd.value(b, 278) == 5);  // rows a strip
+        REQUIRE(ifd.entries.at(273).count == 3);
+        REQUIRE(ifd.entries.at(279).count == 3);
+        CHECK(ifd.entries.at(279).type == (ifd.big ? 16 : 4));
+        const std::size_t width = std::size_t(g.columns);
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::uint64_t at = ifd.value(b, 273, k), size = ifd.value(b, 279, k);
+            REQUIRE(at + size <= ifd.at);  // the strips come before the IFD
+            const std::size_t strip_rows = std::min<std::size_t>(5, rows.size() - 5 * k);
+            std::vector<unsigned char> raw(strip_rows * width * 4);
+            uLongf raw_size = uLongf(raw.size());
+            REQUIRE(uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(b.data() + at), uLong(size)) ==
+                    Z_OK);
+            REQUIRE(raw_size == raw.size());
+            for (std::size_t r = 0; r < strip_rows; ++r) {
+                unsigned char* row = raw.data() + r * width * 4;
+                for (std::size_t j = 1; j < width * 4; ++j) row[j] = (unsigned char)(row[j] + row[j - 1]);
+                for (std::size_t i = 0; i < width; ++i) {
+                    std::uint32_t bits = 0;
+                    for (std::size_t p = 0; p < 4; ++p) bits |= std::uint32_t(row[p * width + i]) << (8 * (3 - p));
+                    float v;
+                    std::memcpy(&v, &bits, sizeof v);
+                    const float given = rows[5 * k + r][i];
+                    CHECK(v == (std::isnan(given) ? io::kGeoTiffNoData : given));
+                }
             }
         }
     }
+}
+
+TEST_CASE("geotiff: a grid a classic TIFF might not hold is a BigTIFF unless classic is asked for") {
+    io::GeoTiffGrid g;
+    g.columns = 65536;  // 256 KiB a row: 16,384 rows uncompressed take 4 GiB, one byte past classic TIFF's offsets
+    g.rows = 16383;
+    g.cell = 1.0;
+    CHECK_FALSE(io::geoTiffIsBig(g, {}));
+    CHECK(io::geoTiffBytes(g, {}) <= 0xffffffffu);
+    g.rows = 16384;
+    CHECK(io::geoTiffIsBig(g, {}));
+    const std::uint64_t big_bytes = io::geoTiffBytes(g, {});
+    g.kind = io::TiffKind::classic;
+    CHECK_FALSE(io::geoTiffIsBig(g, {}));
+    const std::uint64_t classic_bytes = io::geoTiffBytes(g, {});
+    CHECK(classic_bytes > 0xffffffffu);
+    CHECK(big_bytes > classic_bytes);  // 8-byte offsets
+    // With Deflate, on zlib's bound: a grid that compressed would surely fit still goes big.
+    g.kind = io::TiffKind::automatic;
+    g.deflate = true;
+    g.rows = 16300;
+    CHECK_FALSE(io::geoTiffIsBig(g, {}));
+    g.rows = 16384;
+    CHECK(io::geoTiffIsBig(g, {}));
+    g.kind = io::TiffKind::big;
+    g.rows = 1;
+    CHECK(io::geoTiffIsBig(g, {}));
 }
 
 TEST_CASE("geotiff: bad grids give one line naming the output") {
@@ -249,7 +341,9 @@ TEST_CASE("geotiff: bad grids give one line naming the output") {
     g.cell = 1.0;
     g.columns = 70000;
     g.rows = 70000;
-    CHECK(test_support::errorOf([&] {
-              io::writeGeoTiff(f.get(), g, {}, none, "d.tif");
-          }).starts_with("output: d.tif: a grid of 70000 x 70000 cells takes "));
+    g.kind = io::TiffKind::classic;
+    const std::string error = test_support::errorOf([&] { io::writeGeoTiff(f.get(), g, {}, none, "d.tif"); });
+    CHECK(error.starts_with("output: d.tif: a grid of 70000 x 70000 cells takes "));
+    CHECK(error.ends_with(" bytes; a classic TIFF holds at most 4 GiB: write it as a BigTIFF instead"));
+    CHECK(std::ftell(f.get()) == 0);  // refused before a byte is written
 }
