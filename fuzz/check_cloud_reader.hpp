@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -70,6 +71,54 @@ inline void checkCloudReader(std::string_view bytes) {
         if (points.size() != whole.points.size()) std::abort();
         for (std::size_t i = 0; i < points.size(); ++i)
             if (!samePoint(points[i], whole.points[i])) std::abort();
+    }
+
+    // With a foreign file's side records kept (index and ground writing its fields back):
+    // a refusal is one line; where the whole read succeeded, the same points, each with
+    // one side record.
+    std::vector<core::CloudPoint> kept;
+    try {
+        io::CloudReader reader(bytes, "fuzz.pcd", io::SideRecords::Keep);
+        const std::shared_ptr<const core::ForeignHeader> header = reader.foreignHeader();
+        std::vector<unsigned char> records;
+        while (reader.nextChunk(kept, records, chunk)) {}
+        const std::size_t stride = header ? header->stride() : 0;
+        if (records.size() != kept.size() * stride) {
+            std::fprintf(stderr, "%zu side record bytes for %zu points of stride %zu\n", records.size(), kept.size(),
+                         stride);
+            std::abort();
+        }
+        if (whole_error.empty()) {
+            if (kept.size() != whole.points.size()) std::abort();
+            for (std::size_t i = 0; i < kept.size(); ++i)
+                if (!samePoint(kept[i], whole.points[i])) std::abort();
+        }
+    } catch (const core::Error& e) {
+        fuzz::checkMessage(e.what(), true);
+        if (whole_error.empty()) {
+            std::fprintf(stderr, "side records kept: '%s' but whole: read\n", e.what());
+            std::abort();
+        }
+    }
+
+    // Positions only (the ground fit's passes): where the whole read succeeded, the same
+    // points in the same order at the same positions.
+    std::vector<core::CloudPoint> located;
+    try {
+        io::CloudReader reader(bytes, "fuzz.pcd", io::SideRecords::Drop, io::PointFields::Positions);
+        while (reader.nextChunk(located, chunk)) {}
+        if (whole_error.empty()) {
+            if (located.size() != whole.points.size()) std::abort();
+            for (std::size_t i = 0; i < located.size(); ++i)
+                if (std::memcmp(&located[i].position, &whole.points[i].position, sizeof located[i].position) != 0)
+                    std::abort();
+        }
+    } catch (const core::Error& e) {
+        fuzz::checkMessage(e.what(), true);
+        if (whole_error.empty()) {
+            std::fprintf(stderr, "positions only: '%s' but whole: read\n", e.what());
+            std::abort();
+        }
     }
 }
 
