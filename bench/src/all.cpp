@@ -73,10 +73,13 @@ long long field(const std::string& line, const std::string& key) {
 /// What a fuzz target exercises, for the table.
 std::string fuzzParser(const std::string& target) {
     if (target == "fuzz_scene_json") return "`io::loadSceneJson` (scene JSON + Assimp meshes)";
-    if (target == "fuzz_cloud_reader") return "`io::readCloudData` (PCD ascii/binary/compressed, PLY)";
+    if (target == "fuzz_cloud_reader")
+        return "`io::readCloudData` and `io::CloudReader` (PCD ascii/binary/compressed, PLY)";
     if (target == "fuzz_view_script") return "`viewer::parseScript` (the viewer's --script files)";
-    if (target == "fuzz_las_reader") return "`io::CloudReader` on LAS/LAZ (our checks, then LASzip)";
-    if (target == "fuzz_copc_reader") return "`io::checkCopc` and `io::CopcReader::readNode` on COPC";
+    if (target == "fuzz_las_reader")
+        return "`io::CloudReader` on LAS/LAZ (our checks, then LASzip), side records kept and positions only too";
+    if (target == "fuzz_copc_reader")
+        return "`io::checkCopc` and `io::CopcReader` on COPC, the whole hierarchy and by page";
     if (target == "fuzz_las_crs") return "`io::crsFromWkt` and `io::crsFromGeoKeys` (a LAS file's CRS records)";
     if (target == "fuzz_detect_model")
         return "`detect::checkXgboostModel` (the detector model's trees), then XGBoost on what it passes";
