@@ -13,7 +13,8 @@
 //   nodes the whole hierarchy holds, and each node it decodes gives exactly its point
 //   count, every point finite and inside its node's cube (to a scale unit), with one side
 //   record per point where they are kept.
-// Seeds: fuzz/seeds/copc (files written by `ladarvr index`).
+// Seeds: fuzz/seeds/copc (files written by `ladarvr index`, and two of tests/io/copc_tool
+// with a child page).
 #include "check_message.hpp"
 
 #include <core/error.hpp>
