@@ -16,6 +16,8 @@ REPLAY = os.path.join(HERE, "seeds", "replay")
 LAS = os.path.join(HERE, "seeds", "las")
 MODEL = os.path.join(HERE, "seeds", "model")
 CRS = os.path.join(HERE, "seeds", "las_crs")
+CANDIDATES = os.path.join(HERE, "seeds", "candidates")
+STUDY = os.path.join(HERE, "seeds", "study")
 REAL = os.path.join(HERE, "..", "tests", "data", "real")
 SHIPPED_MODEL = os.path.join(HERE, "..", "assets", "detect", "model.ldm")
 
@@ -412,7 +414,58 @@ def crs_seeds():
     write("geotiff_vertical_only.bin", crs_input(None, geokeys((4096, 0, 1, 5703), (4099, 0, 1, 9001))), CRS)
 
 
+def candidates_seeds():
+    """Candidates files as `ladarvr detect` writes them and as a researcher might, for
+    fuzz_candidates_file, and values its reader refuses."""
+    os.makedirs(CANDIDATES, exist_ok=True)
+    write("detect.json", b'{\n  "candidates": [\n    {\n      "centre": [12.5, -3.25, 1.0],\n'
+          b'      "id": "c1",\n      "score": 0.8,\n      "size_m": [4.5, 2.0, 1.75],\n      "yaw_deg": 30.0\n'
+          b'    },\n    {\n      "centre": [1e6, 2e6, 150.0],\n      "id": "c2",\n      "score": 0.0,\n'
+          b'      "size_m": [0.5, 0.5, 0.5],\n      "yaw_deg": -720.0\n    }\n  ]\n}\n', CANDIDATES)
+    write("hand.json", b'{"candidates": [{"id": "tank \\u00e9", "centre": [0, 0, 0], "size_m": [7, 3.5, 2.5],'
+          b' "score": 1}]}', CANDIDATES)
+    write("empty.json", b'{"candidates": []}', CANDIDATES)
+    write("errors.json", b'{"candidates": [{"id": "a", "centre": [1, 2], "size_m": [0, 1, 1], "score": 1.5},'
+          b' {"id": "a", "centre": [1e300, 0, 0], "size_m": [1, 1, 1], "score": 0.5, "colour": 1}]}', CANDIDATES)
+
+
+def study_seeds():
+    """Plans and designs as docs/study.md gives them, for fuzz_study_file, and values their
+    readers refuse."""
+    os.makedirs(STUDY, exist_ok=True)
+    write("plan.json", b'{"trials": [{"scene": "../assets/demo/scene.json", "time_limit_s": 120, "name": "village"},\n'
+          b'            {"cloud": "clouds/hilly.pcd", "candidates": "clouds/hilly_candidates.json"}],\n'
+          b' "shuffle_seed": 1,\n "hit_radius_m": 1.0,\n "orbit": {"radius_m": 60, "height_m": 40, "period_s": 60},\n'
+          b' "generate": {"xres": 128, "yres": 128, "views": 100, "ground": "smrf"}, "comment": "x"}\n', STUDY)
+    write("plan_minimal.json", b'{"trials": [{"cloud": "a.laz", "time_limit_s": 0, "name": "a\\nb"}]}', STUDY)
+    write("plan_errors.json", b'{"trials": [{"cloud": "a.pcd", "scene": "s.json", "time_limit_s": -1}],'
+          b' "shuffle_seed": -2, "generate": {"ground": "lidar", "xres": 0.5}}', STUDY)
+    write("design.json", b'{"conditions": [{"name": "edl", "colour": "height", "eye_dome": true, "candidates": true},\n'
+          b'                {"name": "plain", "colour": "file", "eye_dome": false, "candidates": false,\n'
+          b'                 "time_limit_s": 90, "start": "free", "tools": ["zoom", "cut"], "cut": true,'
+          b' "cut_radius_m": 10}],\n'
+          b' "practice": [{"cloud": "clouds/practice.pcd"}],\n'
+          b' "blocks": [{"name": "easy", "trials": [{"cloud": "clouds/a.pcd", "candidates": "clouds/a_c.json"}]},\n'
+          b'            {"name": "hard", "trials": [{"scene": "scenes/b.json"}]}],\n'
+          b' "break_s": 60,\n "order": "latin",\n "participants": ["P01", "P02", "P03", "P04"],\n'
+          b' "orbit": {"radius_m": 60, "height_m": 40, "period_s": 60}}\n', STUDY)
+    write("design_questionnaires.json", b'{"conditions": [{"name": "a", "detector": "baseline"}, {"name": "b",'
+          b' "detector": "model.ldm"}, {"name": "c", "colour": "above-ground"}],'
+          b' "blocks": [{"trials": [{"cloud": "x.laz"}]}, {"name": "picked", "corpus": "corpus", "select": "metric<0.3",'
+          b' "count": 3, "seed": 2, "time_limit_s": 60}], "order": "random", "seed": 7,'
+          b' "participants": ["P1", "P2", "P3"], "questionnaires": {"ssq": true, "tlx": true,'
+          b' "likert": [{"id": "confident", "statement": "I was confident.", "points": 5, "when": "after_condition"}],'
+          b' "text": [{"id": "remarks", "question": "Anything else?", "when": "post"}]}}', STUDY)
+    write("design_corpus_only.json", b'{"conditions": [{"name": "a"}, {"name": "b"}], "order": "permutation",'
+          b' "blocks": [{"corpus": "c", "select": "metric>0.2", "count": 2}], "break_s": 30,'
+          b' "participants": ["P1", "P2"]}', STUDY)
+    write("design_errors.json", b'{"conditions": [{"name": "-a"}, {"name": "a", "colour": "hue", "tools": ["pen"]}],'
+          b' "blocks": [], "order": "random", "participants": ["P1", "P1"]}', STUDY)
+
+
 if __name__ == "__main__":
     main()
     replay_seeds()
     crs_seeds()
+    candidates_seeds()
+    study_seeds()

@@ -84,6 +84,11 @@ std::string fuzzParser(const std::string& target) {
     if (target == "fuzz_detect_model")
         return "`detect::checkXgboostModel` (the detector model's trees), then XGBoost on what it passes";
     if (target == "fuzz_view_replay") return "`io::parseTrace` and the viewer's replay player (--replay traces)";
+    if (target == "fuzz_candidates_file")
+        return "`io::parseCandidates` (candidates files of `view --candidates` and study plans), read back when "
+               "written";
+    if (target == "fuzz_study_file")
+        return "`study::parsePlan` and `study::parseDesign` (study files), the sessions a design expands to";
     return "?";
 }
 

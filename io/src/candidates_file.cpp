@@ -59,7 +59,13 @@ glm::dvec3 triple(const json& o, const char* key, const std::string& where, cons
 
 std::vector<Candidate> readCandidates(const std::filesystem::path& file) {
     const std::string name = "candidates: " + core::printable(file.string(), 400, true);
-    const std::string text = readTextFile(file, kMaxCandidatesBytes, name + ": the candidates file");
+    return parseCandidates(readTextFile(file, kMaxCandidatesBytes, name + ": the candidates file"), name);
+}
+
+std::vector<Candidate> parseCandidates(std::string_view text, const std::string& name) {
+    if (text.size() > kMaxCandidatesBytes)
+        throw Error(name + ": " + std::to_string(text.size()) + " bytes; allowed: at most " +
+                    std::to_string(kMaxCandidatesBytes));
     const json root = parseStrictJson(text, name);
     if (!root.is_object() || !root.contains("candidates"))
         throw Error(name + ": the top level must be an object with 'candidates', a list of detections");
@@ -105,7 +111,7 @@ std::vector<Candidate> readCandidates(const std::filesystem::path& file) {
     return out;
 }
 
-void writeCandidates(const std::filesystem::path& file, const std::vector<Candidate>& candidates) {
+std::string candidatesJson(const std::vector<Candidate>& candidates) {
     json list = json::array();
     for (const Candidate& c : candidates) {
         list.push_back({{"id", c.id},
@@ -114,8 +120,13 @@ void writeCandidates(const std::filesystem::path& file, const std::vector<Candid
                         {"yaw_deg", c.yaw_deg},
                         {"score", c.score}});
     }
+    return json{{"candidates", list}}.dump(2) + "\n";
+}
+
+void writeCandidates(const std::filesystem::path& file, const std::vector<Candidate>& candidates) {
+    const std::string text = candidatesJson(candidates);
     checkWritableDestination(file);
-    writeFileAtomic(file, json{{"candidates", list}}.dump(2) + "\n");
+    writeFileAtomic(file, text);
 }
 
 }  // namespace io

@@ -3,6 +3,7 @@
 #include <io/candidates_file.hpp>
 
 #include "../common/test_files.hpp"
+#include "../common/test_paths.hpp"
 
 #include <doctest/doctest.h>
 
@@ -73,4 +74,42 @@ TEST_CASE("candidates: bad files are refused in one line naming the field") {
         CHECK(m.find(p.filename().string()) != std::string::npos);
         CHECK(m.find('\n') == std::string::npos);
     }
+}
+
+TEST_CASE("candidates: the written text reads back from memory as from the file") {
+    std::vector<core::Candidate> in(1);
+    in[0] = {"c\xC3\xA9", {-0.0, 1e-300, 4.0e6}, {1e-3, 2.0, 3.0}, 1e9, 1.0};
+    const auto out = io::parseCandidates(io::candidatesJson(in), "candidates: mem");
+    REQUIRE(out.size() == 1);
+    CHECK(out[0].id == in[0].id);
+    CHECK(out[0].centre_world == in[0].centre_world);
+    CHECK(out[0].size_m == in[0].size_m);
+    CHECK(out[0].yaw_deg == in[0].yaw_deg);
+    CHECK(io::parseCandidates(R"({"candidates": []})", "candidates: mem").empty());
+    CHECK_THROWS_WITH_AS(io::parseCandidates(std::string((std::size_t(16) << 20) + 1, ' '), "candidates: mem"),
+                         "candidates: mem: 16777217 bytes; allowed: at most 16777216", core::Error);
+}
+
+TEST_CASE("candidates: the fuzz seeds are read, or refused in one line, as fuzz_candidates_file expects") {
+    // fuzz/seeds/candidates (fuzz/make_seeds.py): what detect writes, a hand-written file,
+    // an empty list, and refused forms.
+    const std::filesystem::path seeds =
+        std::filesystem::path(test_support::dataDir()).parent_path().parent_path() / "fuzz" / "seeds" / "candidates";
+    int read = 0, refused = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
+        CAPTURE(entry.path().string());
+        try {
+            const auto list = io::readCandidates(entry.path());
+            const auto back = io::parseCandidates(io::candidatesJson(list), "candidates: back");
+            CHECK(back.size() == list.size());
+            ++read;
+        } catch (const core::Error& e) {
+            const std::string m = e.what();
+            CHECK(m.find('\n') == std::string::npos);
+            CHECK(entry.path().filename().string().find("errors") != std::string::npos);
+            ++refused;
+        }
+    }
+    CHECK(read >= 3);
+    CHECK(refused >= 1);
 }

@@ -6,10 +6,12 @@
 #include <core/error.hpp>
 
 #include <test_files.hpp>
+#include <test_paths.hpp>
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -474,4 +476,69 @@ TEST_CASE("a corpus block's refused forms: one line naming the key") {
     fails(R"({"corpus": "c", "select": "metric<1", "count": 2, "trials": [{"cloud": "a"}]})",
           "study: design.json: blocks[0]: give either 'trials' or 'corpus' with 'select' and 'count', not both");
     fails(R"({"trials": [{"cloud": "a"}], "count": 2})", "study: design.json: blocks[0]: 'count' goes with 'corpus'");
+}
+
+TEST_CASE("a design whose blocks are all from a corpus expands, before they are picked, to no trials and no break") {
+    // readDesign fills a corpus block with its items; parseDesign alone leaves it empty, and
+    // a condition without a trial has no first trial to carry the break.
+    const study::Design d = study::parseDesign(
+        R"({"conditions": [{"name": "a"}, {"name": "b"}], "break_s": 30,
+            "blocks": [{"corpus": "c", "select": "metric<1", "count": 2}], "participants": ["P1"]})",
+        "d.json", "/d");
+    const study::Session s = study::expandSession(d, "P1", "d.json");
+    CHECK(s.condition_order.size() == 2);
+    CHECK(s.plan.trials.empty());
+    CHECK(s.trials.empty());
+}
+
+TEST_CASE("a design's paths with a NUL character are refused in one line (the strict JSON reader's rule)") {
+    CHECK_THROWS_WITH_AS(
+        study::parseDesign(R"({"conditions": [{"name": "a"}],
+            "blocks": [{"corpus": "c\u0000d", "select": "metric<1", "count": 2}], "participants": ["P1"]})",
+                           "d.json", "/"),
+        "study: d.json: blocks[0].corpus: the string 'c\\x00d' holds a NUL character (\\u0000); allowed: text "
+        "without NUL",
+        core::Error);
+    CHECK_THROWS_WITH_AS(
+        study::parseDesign(R"({"conditions": [{"name": "a", "detector": "m\u0000.ldm"}],
+            "blocks": [{"trials": [{"cloud": "x"}]}], "participants": ["P1"]})",
+                           "d.json", "/"),
+        "study: d.json: conditions[0].detector: the string 'm\\x00.ldm' holds a NUL character (\\u0000); "
+        "allowed: text without NUL",
+        core::Error);
+}
+
+TEST_CASE("the study files' fuzz seeds: each a plan or design read, or one line, as fuzz_study_file expects") {
+    // fuzz/seeds/study (fuzz/make_seeds.py): the examples of docs/study.md and refused forms.
+    const std::filesystem::path seeds =
+        std::filesystem::path(test_support::dataDir()).parent_path().parent_path() / "fuzz" / "seeds" / "study";
+    int read = 0, refused = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
+        const std::string text = test_support::slurp(entry.path());
+        CAPTURE(entry.path().string());
+        try {
+            std::size_t trials = 0;
+            if (study::isDesignText(text, "seed.json")) {
+                const study::Design d = study::parseDesign(text, "seed.json", "/s");
+                for (std::size_t p = 0; p < d.participants.size(); ++p) {
+                    const study::Session s = study::expandSession(d, d.participants[p], "seed.json");
+                    CHECK(s.condition_order.size() == d.conditions.size());
+                    trials += s.plan.trials.size();
+                }
+                trials += d.blocks.size();  // a corpus-only design has no trial before its items are picked
+            } else {
+                trials = study::parsePlan(text, "seed.json", "/s").trials.size();
+            }
+            CHECK(trials > 0);
+            ++read;
+        } catch (const core::Error& e) {
+            const std::string m = e.what();
+            CHECK(m.rfind("study: seed.json: ", 0) == 0);
+            CHECK(m.find('\n') == std::string::npos);
+            CHECK(entry.path().filename().string().find("errors") != std::string::npos);
+            ++refused;
+        }
+    }
+    CHECK(read >= 5);
+    CHECK(refused >= 2);
 }

@@ -79,6 +79,13 @@ TEST_CASE("a plan's refused fields name the field and what is allowed") {
     fails(R"({"trials": [{"cloud": "a"}], "orbit": {"radius_m": 0}})", "study: p.json: orbit.radius_m 0 is not in");
     fails(R"({"trials": [{"cloud": "a"}], "generate": {"xres": 2.5}})", "study: p.json: generate.xres 2.5");
     fails(R"({"trials": [{"cloud": "a"}], "shuffle_seed": -1})", "study: p.json: shuffle_seed must be");
+    // A NUL would make the system open the path cut short, not the file the plan names:
+    // the strict JSON reader refuses it in any string.
+    fails(R"({"trials": [{"cloud": "a.pcd\u0000/x"}]})",
+          "study: p.json: trials[0].cloud: the string 'a.pcd\\x00/x' holds a NUL character (\\u0000); allowed: "
+          "text without NUL");
+    fails(R"({"trials": [{"cloud": "a", "candidates": "\u0000c.json"}]})",
+          "trials[0].candidates: the string '\\x00c.json' holds a NUL character");
 }
 
 TEST_CASE("the trial order: as written, or shuffled the same way for the same seed") {

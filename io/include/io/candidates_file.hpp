@@ -13,6 +13,8 @@
 #include <core/candidates.hpp>
 
 #include <filesystem>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace io {
@@ -20,6 +22,11 @@ namespace io {
 /// Reads a candidates file (regular file, bounded size). Throws core::Error naming the
 /// file and the field, e.g. "candidates: a.json: candidates[2].score 1.5 is not in [0, 1]".
 std::vector<core::Candidate> readCandidates(const std::filesystem::path& file);
+/// As readCandidates, from text already read (at most 16 MiB); `name` begins every message
+/// ("candidates: a.json").
+std::vector<core::Candidate> parseCandidates(std::string_view text, const std::string& name);
+/// The text writeCandidates writes: parseCandidates reads the same candidates back.
+std::string candidatesJson(const std::vector<core::Candidate>& candidates);
 /// Writes a candidates file atomically (platform/atomic_file.hpp).
 void writeCandidates(const std::filesystem::path& file, const std::vector<core::Candidate>& candidates);
 
