@@ -13,7 +13,8 @@
 # lives in build/fuzz/corpus/<target> (seeded from fuzz/seeds and the test data, kept
 # between runs); crashes land in build/fuzz/artifacts/<target>/ and make the script
 # exit 1. When all targets are done, one line per target, in the order given:
-# "fuzz: <target> seconds=S runs=N corpus=C cov=V crashes=K rc=R".
+# "fuzz: <target> seconds=S runs=N corpus=C cov=V crashes=K rc=R", S the seconds it ran
+# (SECONDS, or fewer where it stopped at a crash).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds=${1:-600}
@@ -83,16 +84,18 @@ run_one() {
   # A seed replaces its earlier copy, so a seed remade since the last run (the shipped
   # model retrained, its cuts remade) is fuzzed as it is now, not as it was.
   for s in "${seeds[@]}"; do [ -f "$s" ] && cp "$s" "$corpus/" 2>/dev/null || true; done
+  local started=$SECONDS
   set +e
   "$build/fuzz/$t" "$corpus" -dict="$dict" -max_len=$max_len -max_total_time="$seconds" \
     -rss_limit_mb=$rss_limit_mb -malloc_limit_mb=$malloc_limit_mb -timeout=10 -print_final_stats=1 \
     -artifact_prefix="$artifacts/" -close_fd_mask=1 >"$log" 2>&1
   rc=$?
   set -e
+  local ran=$((SECONDS - started))
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
   cov=$(grep -oE '(DONE|pulse|NEW|REDUCE|INITED) +cov: [0-9]+' "$log" | tail -n1 | grep -oE '[0-9]+$' || echo 0)
   crashes=$(find "$artifacts" -type f \( -name 'crash-*' -o -name 'leak-*' -o -name 'timeout-*' -o -name 'oom-*' \) | wc -l)
-  echo "fuzz: $t seconds=$seconds runs=${runs:-0} corpus=$(ls "$corpus" | wc -l) cov=${cov:-0} crashes=$crashes rc=$rc" \
+  echo "fuzz: $t seconds=$ran runs=${runs:-0} corpus=$(ls "$corpus" | wc -l) cov=${cov:-0} crashes=$crashes rc=$rc" \
     >"$build/$t.result"
   if [ $rc -ne 0 ] || [ "$crashes" -gt 0 ]; then
     grep -m3 -E 'ERROR|SUMMARY|deadly|Test unit written' "$log" >&2 || true

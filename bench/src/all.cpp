@@ -136,11 +136,14 @@ void runFuzz(const BenchFuzzCli& cli) {
       << "./ladarvr bench fuzz --seconds " << cli.seconds << given
       << "` (runs `scripts/fuzz.sh`); machine: " << std::thread::hardware_concurrency() << " cores, " << cpuName()
       << "; " << utcNow() << "; " << fmt("%.0f", secondsSince(t0))
-      << " s in all, build included. libFuzzer from Debian's clang, core, platform and io "
-      << "compiled with ASan + UBSan (UB aborts), one process per target (as many at a time as there are cores, "
+      << " s in all, build included. libFuzzer from Debian's clang, core, platform, io and the sources each "
+      << "target compiles in compiled with ASan + UBSan (UB aborts), one process per target (as many at a time as "
+         "there are cores, "
       << "or LADARVR_FUZZ_JOBS), "
       << "each held to -rss_limit_mb=2048 and -malloc_limit_mb=512, seeds from fuzz/seeds, "
       << "tests/data and earlier runs (corpus kept in build/fuzz/corpus). Not run in CI.\n\n"
+      << "Seconds: how long each target's process ran, loading its corpus included (fewer than asked where it "
+         "stopped at a crash).\n\n"
       << "| target | parser | seconds | executions | exec/s | corpus | coverage (edges) | crashes |\n"
       << "|---|---|---|---|---|---|---|---|\n";
     long long crashes = 0;

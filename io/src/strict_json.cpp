@@ -71,7 +71,9 @@ class StrictKeys {
     void countElement() {
         if (!stack_->empty() && stack_->back().array) ++stack_->back().index;
     }
-    // "meshes[0].file: " for the value being parsed, "" at the top level.
+    // "meshes[0].file: " for the value being parsed, "" at the top level. A path deeper
+    // than a message can hold keeps its last kMaxWhereBytes bytes after "...", cut at a
+    // character's first byte: the innermost keys say where the fault is.
     std::string where() const {
         std::string w;
         for (const Frame& f : *stack_) {
@@ -81,8 +83,14 @@ class StrictKeys {
                 w += (w.empty() ? "" : ".") + core::printable(f.key, 40, true);
             }
         }
+        if (w.size() > kMaxWhereBytes) {
+            std::size_t cut = w.size() - kMaxWhereBytes;
+            while (cut < w.size() && (static_cast<unsigned char>(w[cut]) & 0xC0) == 0x80) ++cut;
+            w = "..." + w.substr(cut);
+        }
         return w.empty() ? w : w + ": ";
     }
+    static constexpr std::size_t kMaxWhereBytes = 240;
     std::string name_;
     // Shared: nlohmann copies the callback.
     std::shared_ptr<std::vector<Frame>> stack_ = std::make_shared<std::vector<Frame>>();

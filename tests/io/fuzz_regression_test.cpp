@@ -8,6 +8,7 @@
 #include <io/cloud_io.hpp>
 #include <io/copc.hpp>
 #include <io/scene_file.hpp>
+#include <io/strict_json.hpp>
 
 #include <doctest/doctest.h>
 
@@ -86,6 +87,26 @@ TEST_CASE("fuzz regression: a newline and an escape sequence in a mesh name stay
     CHECK(m.find("meshes[0] ('no\\x0asuch\\x1b[31m.obj'): mesh file '") != std::string::npos);
     CHECK(m.find("' does not exist") != std::string::npos);
     CHECK(printableLine(m, false));
+}
+
+TEST_CASE("fuzz regression: a fault deep in nested objects names the innermost part of its path, in one short line") {
+    const std::string m = loadSceneOutcome(kRegressions / "json_deep_duplicate_key.json");
+    INFO(m);
+    CHECK(printableLine(m, false));
+    CHECK(m.find(": ...") != std::string::npos);
+    CHECK(m.find("level29_") != std::string::npos);  // the innermost key is kept
+    CHECK(m.find("level00_") == std::string::npos);  // the outermost is cut
+    CHECK(m.find("duplicate key 'a'; allowed: each key once per object") != std::string::npos);
+    // A cut never splits a character of a key: the path's bytes stay UTF-8.
+    std::string deep;
+    for (int i = 0; i < 30; ++i) deep += "{\"\xC3\xA9\xC3\xA9\xC3\xA9\xC3\xA9\xC3\xA9" + std::to_string(i) + "\": ";
+    deep += "{\"a\": 1, \"a\": 2}" + std::string(30, '}');
+    const std::string cut = test_support::errorOf([&] { io::parseStrictJson(deep, "d.json"); });
+    INFO(cut);
+    CHECK(cut.size() < 400);
+    const std::size_t dots = cut.find("d.json: ...");
+    REQUIRE(dots != std::string::npos);
+    CHECK((static_cast<unsigned char>(cut[dots + 11]) & 0xC0) != 0x80);  // not a continuation byte
 }
 
 TEST_CASE("every kept fuzz input and seed: a result or a one-line core::Error") {
