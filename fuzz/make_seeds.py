@@ -18,6 +18,7 @@ MODEL = os.path.join(HERE, "seeds", "model")
 CRS = os.path.join(HERE, "seeds", "las_crs")
 CANDIDATES = os.path.join(HERE, "seeds", "candidates")
 STUDY = os.path.join(HERE, "seeds", "study")
+REPORT = os.path.join(HERE, "seeds", "study_report")
 REAL = os.path.join(HERE, "..", "tests", "data", "real")
 SHIPPED_MODEL = os.path.join(HERE, "..", "assets", "detect", "model.ldm")
 
@@ -463,9 +464,46 @@ def study_seeds():
           b' "blocks": [], "order": "random", "participants": ["P1", "P1"]}', STUDY)
 
 
+def study_report_seeds():
+    """A design session's trials.csv (first byte 0) and questionnaires.csv (first byte 1)
+    as `ladarvr study` writes them, for fuzz_study_report, and rows its reader refuses."""
+    os.makedirs(REPORT, exist_ok=True)
+    base = (b"trial,cloud,decision,designated_x,designated_y,designated_z,target_distance_m,hit,"
+            b"time_to_first_designation_s,time_to_decision_s,designations,mode_switches,seconds_in_free_mode,"
+            b"visibility_metric,participant,condition,block,practice")
+    judged = base + b",name,candidates_shown,designation_hit,box_hit"
+    write("trials_judged.csv", b"\0" + judged + b"\n"
+          b"1,practice.pcd,confirm,1.000000,2.000000,0.500000,0.200000,1,1.500000,2.500000,1,0,0.000000,,P01,a,,1,"
+          b"practice,0,,\n"
+          b"2,\"clouds/a,b.pcd\",no_target,,,,,,,4.000000,0,2,1.250000,0.400000,P01,a,easy,0,\"a \"\"b\"\"\",3,0,1\n"
+          b"3,scenes/b.json,timeout,,,,7.100000,0,,120.000000,0,0,0.000000,0.910000,P01,b,hard,0,b,1,0,0\r\n",
+          REPORT)
+    write("trials_base.csv", b"\0" + base + b"\n1,demo.pcd,quit,,,,,,,0.5,0,0,0,,P01,a,first,0", REPORT)
+    write("trials_errors.csv", b"\0" + base + b"\n1,demo.pcd,maybe,1,2,,x,2,,-1,0,0,0,1.5,P01,a,,0\n", REPORT)
+    write("trials_csv_errors.csv", b"\0" + base + b"\n1,a\"b,\"c\"d\n\n\"unclosed\n", REPORT)
+    ssq = [b"general_discomfort", b"fatigue", b"headache", b"eyestrain", b"difficulty_focusing",
+           b"salivation_increasing", b"sweating", b"nausea", b"difficulty_concentrating", b"fullness_of_head",
+           b"blurred_vision", b"dizziness_eyes_open", b"dizziness_eyes_closed", b"vertigo", b"stomach_awareness",
+           b"burping"]
+    tlx = [b"mental", b"physical", b"temporal", b"performance", b"effort", b"frustration"]
+    rows = b"participant,condition,instrument,occasion,item,response,time_s\n"
+    for i, item in enumerate(ssq):
+        rows += b"P1,,ssq,pre," + item + b"," + str(i % 4).encode() + b",1.5\n"
+    for i, item in enumerate(tlx):
+        rows += b"P1,a,tlx,after_condition," + item + b"," + str(5 * i).encode() + b",60\n"
+    rows += b"P1,a,likert,after_condition,liked,4,61\nP1,,likert,pre,ready,7,2\nP1,b,likert,post,overall,11,90\n"
+    rows += b"P1,b,text,post,remarks,\"fine, \"\"thanks\"\"\",91\n"
+    for i, item in enumerate(ssq):
+        rows += b"P1,b,ssq,post," + item + b",3,92\n"
+    write("questionnaires.csv", b"\1" + rows, REPORT)
+    write("questionnaires_errors.csv", b"\1participant,condition,instrument,occasion,item,response,time_s\n"
+          b"P1,c,tlx,after_condition,mental,52,1\nP2,,ssq,pre,itching,4,1e300\n", REPORT)
+
+
 if __name__ == "__main__":
     main()
     replay_seeds()
     crs_seeds()
     candidates_seeds()
     study_seeds()
+    study_report_seeds()

@@ -6,9 +6,10 @@
 #
 # SECONDS per target (default 600); targets default to all (fuzz_scene_json,
 # fuzz_cloud_reader, fuzz_view_script, fuzz_las_reader, fuzz_copc_reader, fuzz_las_crs,
-# fuzz_detect_model, fuzz_view_replay, fuzz_candidates_file, fuzz_study_file). Targets
-# run as many at a time as the machine has cores (LADARVR_FUZZ_JOBS overrides), each a
-# single libFuzzer process held to -rss_limit_mb=2048 (the whole process, ASan included) and -malloc_limit_mb=512 (one
+# fuzz_detect_model, fuzz_view_replay, fuzz_candidates_file, fuzz_study_file,
+# fuzz_study_report). Targets run as many at a time as the machine has cores
+# (LADARVR_FUZZ_JOBS overrides), each a single libFuzzer process held to
+# -rss_limit_mb=2048 (the whole process, ASan included) and -malloc_limit_mb=512 (one
 # allocation); going over either is reported as a crash (oom-*). The working corpus
 # lives in build/fuzz/corpus/<target> (seeded from fuzz/seeds and the test data, kept
 # between runs); crashes land in build/fuzz/artifacts/<target>/ and make the script
@@ -20,7 +21,7 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds=${1:-600}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene_json fuzz_cloud_reader fuzz_view_script fuzz_las_reader fuzz_copc_reader fuzz_las_crs fuzz_detect_model fuzz_view_replay fuzz_candidates_file fuzz_study_file)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene_json fuzz_cloud_reader fuzz_view_script fuzz_las_reader fuzz_copc_reader fuzz_las_crs fuzz_detect_model fuzz_view_replay fuzz_candidates_file fuzz_study_file fuzz_study_report)
 build="${LADARVR_FUZZ_BUILD:-$repo/build/fuzz}"
 rss_limit_mb=2048
 malloc_limit_mb=512
@@ -30,8 +31,8 @@ jobs=${LADARVR_FUZZ_JOBS:-$(nproc)}
 
 for t in "${targets[@]}"; do
   case $t in
-    fuzz_scene_json|fuzz_cloud_reader|fuzz_view_script|fuzz_las_reader|fuzz_copc_reader|fuzz_las_crs|fuzz_detect_model|fuzz_view_replay|fuzz_candidates_file|fuzz_study_file) ;;
-    *) echo "fuzz: unknown target '$t'; allowed: fuzz_scene_json, fuzz_cloud_reader, fuzz_view_script, fuzz_las_reader, fuzz_copc_reader, fuzz_las_crs, fuzz_detect_model, fuzz_view_replay, fuzz_candidates_file, fuzz_study_file" >&2; exit 2 ;;
+    fuzz_scene_json|fuzz_cloud_reader|fuzz_view_script|fuzz_las_reader|fuzz_copc_reader|fuzz_las_crs|fuzz_detect_model|fuzz_view_replay|fuzz_candidates_file|fuzz_study_file|fuzz_study_report) ;;
+    *) echo "fuzz: unknown target '$t'; allowed: fuzz_scene_json, fuzz_cloud_reader, fuzz_view_script, fuzz_las_reader, fuzz_copc_reader, fuzz_las_crs, fuzz_detect_model, fuzz_view_replay, fuzz_candidates_file, fuzz_study_file, fuzz_study_report" >&2; exit 2 ;;
   esac
 done
 command -v clang++ >/dev/null || { echo "fuzz: clang++ is missing (apt-get install clang libclang-rt-dev)" >&2; exit 2; }
@@ -80,6 +81,9 @@ run_one() {
     fuzz_study_file)
       seeds=("$repo"/fuzz/seeds/study/*)
       dict="$repo/fuzz/study.dict"; max_len=4096 ;;
+    fuzz_study_report)
+      seeds=("$repo"/fuzz/seeds/study_report/*)
+      dict="$repo/fuzz/study_report.dict"; max_len=4096 ;;
   esac
   # A seed replaces its earlier copy, so a seed remade since the last run (the shipped
   # model retrained, its cuts remade) is fuzzed as it is now, not as it was.

@@ -89,6 +89,8 @@ std::string fuzzParser(const std::string& target) {
                "written";
     if (target == "fuzz_study_file")
         return "`study::parsePlan` and `study::parseDesign` (study files), the sessions a design expands to";
+    if (target == "fuzz_study_report")
+        return "`study::parseReportTrials` and `study::parseQuestionnaires` (a session's CSV files, `study report`)";
     return "?";
 }
 

@@ -27,24 +27,6 @@ std::string fixed(double v, int digits = 6) {
 std::string optionalFixed(const std::optional<double>& v, int digits = 6) { return v ? fixed(*v, digits) : ""; }
 }  // namespace
 
-namespace {
-constexpr const char* kTrialColumns =
-    "trial,cloud,decision,designated_x,designated_y,designated_z,target_distance_m,hit,"
-    "time_to_first_designation_s,time_to_decision_s,designations,mode_switches,seconds_in_free_mode,"
-    "visibility_metric";
-constexpr const char* kDesignColumns = ",participant,condition,block,practice";
-constexpr const char* kNameColumns = ",name,candidates_shown";
-constexpr const char* kJudgedColumns = ",designation_hit,box_hit";
-std::string laterColumns(TrialColumns columns) {
-    return std::string(columns >= TrialColumns::Named ? kNameColumns : "") +
-           (columns >= TrialColumns::Judged ? kJudgedColumns : "");
-}
-}  // namespace
-
-std::string StudyLog::trialsHeader(TrialColumns columns) { return std::string(kTrialColumns) + laterColumns(columns); }
-std::string StudyLog::designTrialsHeader(TrialColumns columns) {
-    return std::string(kTrialColumns) + kDesignColumns + laterColumns(columns);
-}
 const char* StudyLog::candidatesHeader() { return "trial,candidate,score,verdict,t_s"; }
 
 bool StudyLog::boxHolds(const core::Candidate& box, const glm::dvec3& point_world) {

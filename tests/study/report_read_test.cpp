@@ -1,13 +1,17 @@
-// Tests of study/src/report_read.cpp: trials.csv and questionnaires.csv read field by field
+// Tests of study/src/report_read.cpp and report_csv.cpp: trials.csv and questionnaires.csv read field by field
 // (one line naming the file, line, column and what is allowed), the SSQ and TLX scored
 // from the answers, and the refusals of session folders that do not belong together.
 #include <study/report.hpp>
 
 #include <study/study_log.hpp>
+
+#include <core/error.hpp>
 #include <test_files.hpp>
+#include <test_paths.hpp>
 
 #include <doctest/doctest.h>
 
+#include <filesystem>
 #include <map>
 #include <string>
 
@@ -359,4 +363,42 @@ TEST_CASE("session folders: empty and partial sessions are told apart, empty one
     CHECK(test_support::errorOf([&] { study::readStudyResults({bare}); }) ==
           "study report: " + (bare / "study.json").string() +
               ": order holds a number; allowed: the list of the session's trials");
+}
+
+TEST_CASE("the report's fuzz seeds: each file read, or refused in one line naming it, as fuzz_study_report expects") {
+    // fuzz/seeds/study_report (fuzz/make_seeds.py): the first byte chooses the file, 0 for
+    // trials.csv and 1 for questionnaires.csv; what a session writes, and refused rows.
+    const std::filesystem::path seeds =
+        std::filesystem::path(test_support::dataDir()).parent_path().parent_path() / "fuzz" / "seeds" / "study_report";
+    int read = 0, refused = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
+        const std::string bytes = test_support::slurp(entry.path());
+        REQUIRE_FALSE(bytes.empty());
+        const bool questionnaires = (bytes[0] & 1) != 0;
+        const std::string text = bytes.substr(1);
+        CAPTURE(entry.path().string());
+        try {
+            if (questionnaires) {
+                study::ParticipantResults p = participant();
+                p.participant = "P1";
+                study::parseQuestionnaires(text, "questionnaires.csv", p);
+                CHECK(p.ssq_pre);
+                CHECK(p.ssq_post);
+                CHECK(p.tlx_raw.size() == 1);
+                CHECK(p.likert.size() == 3);
+            } else {
+                const std::size_t rows = study::parseReportTrials(text, "trials.csv").size();
+                CHECK(rows > 0);
+            }
+            ++read;
+        } catch (const core::Error& e) {
+            const std::string m = e.what();
+            CHECK(m.rfind(questionnaires ? "questionnaires.csv: line " : "trials.csv: line ", 0) == 0);
+            CHECK(m.find('\n') == std::string::npos);
+            CHECK(entry.path().filename().string().find("errors") != std::string::npos);
+            ++refused;
+        }
+    }
+    CHECK(read >= 3);
+    CHECK(refused >= 3);
 }

@@ -5,7 +5,8 @@
 // within-subject tests across conditions, the plots, and the report folder (CSV, JSON,
 // PNG and one offline HTML page) written as a whole.
 //
-// Parts: report_read.cpp (the folders and their files), report_sessions.cpp (which
+// Parts: report_read.cpp (the folders and their files), report_csv.cpp (trials.csv's
+// and questionnaires.csv's text, row by row), report_sessions.cpp (which
 // sessions are complete, partial or empty, and the warnings saying so), report_stats.cpp
 // (the distributions, summaries and tests), report_stats_exact.cpp (the tests' exact null
 // distributions), report_figures.cpp (the figures), report_plot.cpp (the PNG plots, text
