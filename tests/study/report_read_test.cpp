@@ -210,6 +210,11 @@ TEST_CASE("questionnaires.csv: malformed rows are refused with one line") {
           std::string::npos);
     CHECK(err("P01,,ssq,pre,itching,1,1\n").find("column item: 'itching'") != std::string::npos);
     CHECK(err("P01,,poll,pre,x,1,1\n") == "Q: line 2, column instrument: 'poll'; allowed ssq, tlx, likert or text");
+    // An answer asked after a condition names it (found by fuzz_study_report).
+    CHECK(err("P01,,likert,after_condition,liked,4,1\n") ==
+          "Q: line 2, column condition: ''; allowed the condition, with occasion after_condition");
+    CHECK(err("P01,,text,after_condition,remarks,fine,1\n") ==
+          "Q: line 2, column condition: ''; allowed the condition, with occasion after_condition");
     CHECK(test_support::errorOf([] {
               study::ParticipantResults p = participant();
               study::parseQuestionnaires("participant,item\n", "Q", p);
