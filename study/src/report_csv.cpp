@@ -158,6 +158,14 @@ struct RowReader {
     }
 };
 
+// Record `rec` as a row of the file whose header gave `columns`: as many fields, or one line.
+RowReader rowOf(const std::string& file, const CsvRecord& rec, const std::vector<std::string>& columns) {
+    if (rec.fields.size() != columns.size())
+        throw core::Error(file + ": line " + std::to_string(rec.line) + ": " + std::to_string(rec.fields.size()) +
+                          " fields; allowed: " + std::to_string(columns.size()) + ", as the header");
+    return RowReader{file, rec, columns};
+}
+
 std::vector<std::string> splitHeader(std::string_view header) {
     std::vector<std::string> out(1);
     for (const char c : header) {
@@ -212,10 +220,7 @@ std::vector<ReportTrial> parseReportTrials(std::string_view text, const std::str
     std::vector<ReportTrial> out;
     for (std::size_t r = 1; r < records.size(); ++r) {
         const CsvRecord& rec = records[r];
-        if (rec.fields.size() != columns.size())
-            throw core::Error(file + ": line " + std::to_string(rec.line) + ": " + std::to_string(rec.fields.size()) +
-                              " fields; allowed: " + std::to_string(columns.size()) + ", as the header");
-        const RowReader row{file, rec, columns};
+        const RowReader row = rowOf(file, rec, columns);
         ReportTrial t;
         t.trial = int(row.whole(kTrial, long(r), long(r),
                                 "the row's number " + std::to_string(r) + " (trials are numbered 1, 2, ... in order)"));
@@ -290,10 +295,7 @@ void parseQuestionnaires(std::string_view text, const std::string& file, Partici
     std::map<std::string, std::array<std::optional<int>, kTlxItemCount>> tlx;
     for (std::size_t r = 1; r < records.size(); ++r) {
         const CsvRecord& rec = records[r];
-        if (rec.fields.size() != columns.size())
-            throw core::Error(file + ": line " + std::to_string(rec.line) + ": " + std::to_string(rec.fields.size()) +
-                              " fields; allowed: " + std::to_string(columns.size()) + ", as the header");
-        const RowReader row{file, rec, columns};
+        const RowReader row = rowOf(file, rec, columns);
         if (row.at(kParticipant) != p.participant) row.bad(kParticipant, "'" + p.participant + "', as study.json");
         const std::string& instrument = row.at(kInstrument);
         const std::string& occasion = row.at(kOccasion);
