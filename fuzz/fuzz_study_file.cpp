@@ -113,12 +113,12 @@ void checkDesign(const study::Design& d) {
     // The first and the last participant's sessions: every condition once, in an order
     // that is a permutation, each with the practice and every block's trials (a corpus
     // block's are picked when the file is read, so none here).
+    std::size_t listed = d.practice.size();
+    for (const study::DesignBlock& b : d.blocks) listed += b.trials.size();
     for (const std::size_t p : {std::size_t(0), d.participants.size() - 1}) {
         if (!isPermutation(study::conditionOrder(d, p), n)) std::abort();
         const study::Session s = study::expandSession(d, d.participants[p], "fuzz.json");
         if (!isPermutation(s.condition_order, n)) std::abort();
-        std::size_t listed = d.practice.size();
-        for (const study::DesignBlock& b : d.blocks) listed += b.trials.size();
         if (s.plan.trials.size() != listed * n || s.trials.size() != s.plan.trials.size()) std::abort();
         for (const study::SessionTrial& t : s.trials)
             if (t.condition < 0 || std::size_t(t.condition) >= n || t.block >= int(d.blocks.size()) ||

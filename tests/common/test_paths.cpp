@@ -8,6 +8,7 @@ const char* assetsDir() { return LADARVR_ASSETS_DIR; }
 const char* isprsDir() { return LADARVR_TEST_SOURCE_DIR "/data/isprs"; }
 const char* realDataDir() { return LADARVR_TEST_SOURCE_DIR "/data/real"; }
 const char* corpusDataDir() { return LADARVR_TEST_SOURCE_DIR "/corpus/data"; }
+const char* fuzzSeedsDir() { return LADARVR_TEST_SOURCE_DIR "/../fuzz/seeds"; }
 const char* shadersDir() { return LADARVR_SHADERS_DIR; }
 const char* cliPath() { return LADARVR_CLI; }
 

@@ -17,6 +17,8 @@ const char* isprsDir();
 const char* realDataDir();
 /// tests/corpus/data
 const char* corpusDataDir();
+/// fuzz/seeds: the fuzz targets' seeds, one folder per target
+const char* fuzzSeedsDir();
 /// shaders
 const char* shadersDir();
 /// The `ladarvr` CLI of this build.

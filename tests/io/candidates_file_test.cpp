@@ -93,8 +93,7 @@ TEST_CASE("candidates: the written text reads back from memory as from the file"
 TEST_CASE("candidates: the fuzz seeds are read, or refused in one line, as fuzz_candidates_file expects") {
     // fuzz/seeds/candidates (fuzz/make_seeds.py): what detect writes, a hand-written file,
     // an empty list, and refused forms.
-    const std::filesystem::path seeds =
-        std::filesystem::path(test_support::dataDir()).parent_path().parent_path() / "fuzz" / "seeds" / "candidates";
+    const std::filesystem::path seeds = std::filesystem::path(test_support::fuzzSeedsDir()) / "candidates";
     int read = 0, refused = 0;
     for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
         CAPTURE(entry.path().string());

@@ -25,7 +25,7 @@ namespace {
 
 const fs::path kData = test_support::dataDir();
 const fs::path kRegressions = kData / "io" / "fuzz_regressions";
-const fs::path kSeeds = kData.parent_path().parent_path() / "fuzz" / "seeds";
+const fs::path kSeeds = test_support::fuzzSeedsDir();
 
 using test_support::slurp;
 

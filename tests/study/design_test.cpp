@@ -510,8 +510,7 @@ TEST_CASE("a design's paths with a NUL character are refused in one line (the st
 
 TEST_CASE("the study files' fuzz seeds: each a plan or design read, or one line, as fuzz_study_file expects") {
     // fuzz/seeds/study (fuzz/make_seeds.py): the examples of docs/study.md and refused forms.
-    const std::filesystem::path seeds =
-        std::filesystem::path(test_support::dataDir()).parent_path().parent_path() / "fuzz" / "seeds" / "study";
+    const std::filesystem::path seeds = std::filesystem::path(test_support::fuzzSeedsDir()) / "study";
     int read = 0, refused = 0;
     for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
         const std::string text = test_support::slurp(entry.path());

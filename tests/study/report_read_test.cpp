@@ -373,8 +373,7 @@ TEST_CASE("session folders: empty and partial sessions are told apart, empty one
 TEST_CASE("the report's fuzz seeds: each file read, or refused in one line naming it, as fuzz_study_report expects") {
     // fuzz/seeds/study_report (fuzz/make_seeds.py): the first byte chooses the file, 0 for
     // trials.csv and 1 for questionnaires.csv; what a session writes, and refused rows.
-    const std::filesystem::path seeds =
-        std::filesystem::path(test_support::dataDir()).parent_path().parent_path() / "fuzz" / "seeds" / "study_report";
+    const std::filesystem::path seeds = std::filesystem::path(test_support::fuzzSeedsDir()) / "study_report";
     int read = 0, refused = 0;
     for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
         const std::string bytes = test_support::slurp(entry.path());
