@@ -5,11 +5,14 @@
 #include <core/error.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <system_error>
+#include <thread>
 #include <type_traits>
 
 namespace sim {
@@ -144,7 +147,58 @@ void runningExtreme(const float* in, float* out, int n, int r, bool take_max, st
         runningExtremeOf<false>(in, out, n, r, scratch);
 }
 
-void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps) {
+namespace {
+
+// Runs `sweeps` sweeps of `blocks` blocks each, where block b of sweep s reads and writes
+// only blocks b - 1 to b + 1 and must see sweep s's earlier blocks and sweep s - 1's
+// later ones: sweep s goes to `threads` (s mod threads), and its block b waits until
+// sweep s - 1 has finished block b + 1. The thread of sweep s - 1 then works two blocks
+// or more below, on rows block b neither reads nor writes, and the thread of sweep s + 1
+// two blocks or more above; so every block sees what it sees in one sweep after the
+// other, and the result is the same bits whatever the threads. False when the threads
+// could not be started (nothing was run then).
+template <class Block>
+bool pipelinedSweeps(int sweeps, int blocks, int threads, const Block& run_block) {
+    const int workers = std::min(threads, sweeps);
+    std::vector<std::atomic<int>> done(static_cast<std::size_t>(sweeps));  // blocks of each sweep finished
+    std::atomic<int> go{0};                                                // 1: start, -1: give up
+    const auto wait_for = [](const std::atomic<int>& a, int at_least) {
+        // Blocks take microseconds: spin a little before sleeping on the value.
+        for (int spin = 0; spin < 4096; ++spin)
+            if (a.load(std::memory_order_acquire) >= at_least) return;
+        for (int v = a.load(std::memory_order_acquire); v < at_least; v = a.load(std::memory_order_acquire))
+            a.wait(v, std::memory_order_acquire);
+    };
+    const auto work = [&](int first) {
+        for (int v = go.load(std::memory_order_acquire); v == 0; v = go.load(std::memory_order_acquire))
+            go.wait(v, std::memory_order_acquire);
+        if (go.load(std::memory_order_acquire) < 0) return;
+        for (int s = first; s < sweeps; s += workers)
+            for (int b = 0; b < blocks; ++b) {
+                if (s > 0) wait_for(done[std::size_t(s - 1)], std::min(b + 2, blocks));
+                run_block(b);
+                done[std::size_t(s)].store(b + 1, std::memory_order_release);
+                done[std::size_t(s)].notify_all();
+            }
+    };
+    std::vector<std::jthread> helpers;
+    try {
+        helpers.reserve(std::size_t(workers - 1));
+        for (int w = 1; w < workers; ++w) helpers.emplace_back(work, w);
+    } catch (const std::exception&) {
+        go.store(-1, std::memory_order_release);
+        go.notify_all();
+        return false;  // the helpers started return at once and are joined here
+    }
+    go.store(1, std::memory_order_release);
+    go.notify_all();
+    work(0);
+    return true;
+}
+
+}  // namespace
+
+void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps, int threads) {
     const std::size_t n = z.size();
     std::vector<int> ring(n, -1);  // ring of each cell: 0 known, k filled in the k-th ring
     std::vector<std::size_t> layer, next_layer;
@@ -264,23 +318,29 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
         state[c - row] |= kStale;
         state[c + row] |= kStale;
     };
+    // One block of kLanes rows (the b-th) of a sweep.
+    const auto block = [&](int b, auto track) {
+        const int j0 = b * kLanes, lanes = std::min(kLanes, ny - j0);
+        for (int t = 0; t < nx + lanes - 1; ++t)
+            for (int r = 0; r < lanes; ++r) {
+                const int i = t - r;
+                if (i < 0 || i >= nx) continue;
+                const std::size_t c = std::size_t(j0 + r) * row + std::size_t(i);
+                if (state[c] != kUpdate) continue;
+                if (i > 0 && i + 1 < nx && j0 + r > 0 && j0 + r + 1 < ny)
+                    interior(c, track);
+                else
+                    update(c, i, j0 + r, track);
+            }
+    };
+    const int blocks = (ny + kLanes - 1) / kLanes;
     const auto sweep = [&](auto track) {
-        for (int j0 = 0; j0 < ny; j0 += kLanes) {
-            const int lanes = std::min(kLanes, ny - j0);
-            for (int t = 0; t < nx + lanes - 1; ++t)
-                for (int r = 0; r < lanes; ++r) {
-                    const int i = t - r;
-                    if (i < 0 || i >= nx) continue;
-                    const std::size_t c = std::size_t(j0 + r) * row + std::size_t(i);
-                    if (state[c] != kUpdate) continue;
-                    if (i > 0 && i + 1 < nx && j0 + r > 0 && j0 + r + 1 < ny)
-                        interior(c, track);
-                    else
-                        update(c, i, j0 + r, track);
-                }
-        }
+        for (int b = 0; b < blocks; ++b) block(b, track);
     };
     if (sweeps > 0) {
+        if (threads > 1 && blocks > 2 && sweeps > 1 &&
+            pipelinedSweeps(sweeps, blocks, threads, [&](int b) { block(b, std::false_type{}); }))
+            return;
         for (int k = 0; k < sweeps; ++k) sweep(std::false_type{});
         return;
     }

@@ -76,9 +76,12 @@ void runningExtreme(const float* in, float* out, int n, int r, bool take_max, st
 /// over-relaxation moves the filled values towards the mean of their 4-neighbours (a
 /// membrane held by the known cells). `sweeps` 0: until the largest change anywhere is
 /// under 1 mm (at most 100 sweeps); > 0: exactly that many, so that a cell's value does
-/// not hang on how far the raster reaches (SmrfOptions::fill_sweeps). Deterministic.
-/// Nothing known: `z` is left alone.
-void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps = 0);
+/// not hang on how far the raster reaches (SmrfOptions::fill_sweeps). Deterministic:
+/// `threads` > 1 shares those fixed sweeps among threads, each a sweep behind the other,
+/// with the same bits as one thread (the settling mode runs on one). Nothing known: `z`
+/// is left alone.
+void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int nx, int ny, int sweeps = 0,
+             int threads = 1);
 
 /// Low outliers: how many of each cell's lowest heights to skip. `low[c]` points at cell
 /// c's heights (ascending), `m[c]` their number (0: no point); w x h cells, row-major. A

@@ -275,7 +275,7 @@ class SmrfFit : public RasterFit {
     void fitTerrain(std::vector<float>& minimum, const std::vector<std::uint8_t>& observed) override {
         const int w = grid_.nx, h = grid_.ny;
         std::vector<float> surface = minimum;
-        inpaint(surface, observed, w, h, o_.fill_sweeps);
+        inpaint(surface, observed, w, h, o_.fill_sweeps, threads_);
         // SmrfOptions::sparse_openings: the cells left out hold kNoPoint, which no erosion
         // takes. Every cell within r of one that holds a value has it in its disk, so the
         // erosions a valued cell dilates are finite and so is its opening; a left-out cell's
@@ -337,7 +337,7 @@ class SmrfFit : public RasterFit {
                 for (std::size_t c = 0; c < minimum.size(); ++c) known[c] = observed[c] && !variant_object[k][c];
                 if (std::find(known.begin(), known.end(), 1) == known.end()) known = observed;
                 variant_grids_[k].z_m = minimum;
-                inpaint(variant_grids_[k].z_m, known, w, h, o_.fill_sweeps);
+                inpaint(variant_grids_[k].z_m, known, w, h, o_.fill_sweeps, threads_);
             }
         }
 
@@ -348,7 +348,7 @@ class SmrfFit : public RasterFit {
         reconstructObjects(filled, observed, ground, pool);
         if (std::find(ground.begin(), ground.end(), 1) == ground.end()) ground = observed;
         grid_.z_m = std::move(minimum);
-        inpaint(grid_.z_m, ground, w, h, o_.fill_sweeps);
+        inpaint(grid_.z_m, ground, w, h, o_.fill_sweeps, threads_);
         reconstructSteps(filled, levels, observed, ground);
 
         // 4)'s threshold per cell, so that classify() looks it up.
@@ -387,7 +387,7 @@ class SmrfFit : public RasterFit {
                            inUnits(o_.reconstruct_h_m), o_.reconstruct_steps, o_.reconstruct == 4) == 0)
             return;
         grid_.z_m = std::move(levels);
-        inpaint(grid_.z_m, ground, w, h, o_.fill_sweeps);
+        inpaint(grid_.z_m, ground, w, h, o_.fill_sweeps, threads_);
     }
 
   public:
