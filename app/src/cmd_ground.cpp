@@ -79,7 +79,7 @@ struct GroundFileCli {
     double low_outlier_m = sim::kSurveyLowOutlier_m;
     double memory_mb = 1024.0;
     double tile_m = 0;  // 0: tiles only where one raster does not fit
-    int jobs = 1, threads = 1, only_tile = -1;
+    int jobs = 1, threads = 0, only_tile = -1;
     bool json = false;
 };
 
@@ -637,8 +637,9 @@ void run(GroundFileCli& cli) {
     if (cli.jobs < 1 || cli.jobs > 256)
         throw core::Error("ground: --jobs " + std::to_string(cli.jobs) + ": allowed [1, 256]");
     if (cli.threads < 0 || cli.threads > 1024)
-        throw core::Error("ground: --threads " + std::to_string(cli.threads) + ": allowed [0, 1024], 0 = all cores");
-    if (cli.threads == 0) cli.threads = int(std::max(1u, std::thread::hardware_concurrency()));
+        throw core::Error("ground: --threads " + std::to_string(cli.threads) +
+                          ": allowed [0, 1024], 0 = the cores divided by --jobs");
+    if (cli.threads == 0) cli.threads = std::max(1, int(std::max(1u, std::thread::hardware_concurrency())) / cli.jobs);
     if (!(cli.tile_m >= 0) || cli.tile_m > 1e6)
         throw core::Error("ground: --tile-m " + std::to_string(cli.tile_m) +
                           ": allowed [0, 1000000] metres, 0 = tiles only where needed");
@@ -714,7 +715,8 @@ void registerGround(CLI::App& cli) {
                 "on the jet map (red low, blue at the highest)");
     c->add_option("--jobs", state->jobs, "tiles classified at once, [1, 256]; they share --memory-mb")
         ->capture_default_str();
-    c->add_option("--threads", state->threads, "threads of each tile's terrain fit, [0, 1024], 0 = all cores")
+    c->add_option("--threads", state->threads,
+                  "threads of each tile's terrain fit, [0, 1024], 0 = the cores divided by --jobs")
         ->capture_default_str();
     c->add_option("--tile-m", state->tile_m,
                   "advanced: classify in square tiles this wide, metres (0: tiles only where one terrain raster "
