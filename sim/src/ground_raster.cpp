@@ -149,6 +149,84 @@ void runningExtreme(const float* in, float* out, int n, int r, bool take_max, st
 
 namespace {
 
+// The fill's cell states: a hole, and whether it or one of its four neighbours changed
+// since its last update.
+enum : std::uint8_t { kHole = 1, kStale = 2, kUpdate = kHole | kStale };
+constexpr int kFillLanes = 4;
+constexpr double kFillOmega = 1.8;
+
+// One block of kFillLanes rows (the b-th) of a fill sweep (inpaint); returns the largest
+// change when kTrack. A function of its own, its pointers in registers: a lambda called
+// from several places kept them in memory, where every flag written could alias them.
+template <bool kTrack>
+double relaxBlock(float* z, std::uint8_t* state, int nx, int ny, int b) {
+    const std::size_t row = std::size_t(nx);
+    double change = 0;
+    const auto update = [&](std::size_t c, int i, int j) {
+        double sum = 0;
+        int count = 0;
+        const auto take = [&](bool inside, std::size_t d) {
+            if (!inside) return;
+            sum += z[d];
+            ++count;
+        };
+        take(i > 0, c - 1);
+        take(i + 1 < nx, c + 1);
+        take(j > 0, c - row);
+        take(j + 1 < ny, c + row);
+        if (count == 0) {
+            state[c] = kHole;
+            return;
+        }
+        // sum / count; a division by 4, 2 or 1 is the multiplication by its exact inverse.
+        const double mean = count == 4 ? sum * 0.25 : count == 2 ? sum * 0.5 : count == 1 ? sum : sum / count;
+        const float v = float(z[c] + kFillOmega * (mean - z[c]));
+        if constexpr (kTrack) change = std::max(change, double(std::abs(v - z[c])));
+        if (std::bit_cast<std::uint32_t>(v) == std::bit_cast<std::uint32_t>(z[c])) {
+            state[c] = kHole;
+            return;
+        }
+        z[c] = v;
+        if (i > 0) state[c - 1] |= kStale;
+        if (i + 1 < nx) state[c + 1] |= kStale;
+        if (j > 0) state[c - row] |= kStale;
+        if (j + 1 < ny) state[c + row] |= kStale;
+    };
+    // update() for a cell with all four neighbours inside the raster: the same operations in
+    // the same order (the sum from 0, left, right, up, down), without the edge tests.
+    const auto interior = [&](std::size_t c) {
+        double sum = 0;
+        sum += z[c - 1];
+        sum += z[c + 1];
+        sum += z[c - row];
+        sum += z[c + row];
+        const float v = float(z[c] + kFillOmega * (sum * 0.25 - z[c]));
+        if constexpr (kTrack) change = std::max(change, double(std::abs(v - z[c])));
+        if (std::bit_cast<std::uint32_t>(v) == std::bit_cast<std::uint32_t>(z[c])) {
+            state[c] = kHole;
+            return;
+        }
+        z[c] = v;
+        state[c - 1] |= kStale;
+        state[c + 1] |= kStale;
+        state[c - row] |= kStale;
+        state[c + row] |= kStale;
+    };
+    const int j0 = b * kFillLanes, lanes = std::min(kFillLanes, ny - j0);
+    for (int t = 0; t < nx + lanes - 1; ++t)
+        for (int r = 0; r < lanes; ++r) {
+            const int i = t - r;
+            if (i < 0 || i >= nx) continue;
+            const std::size_t c = std::size_t(j0 + r) * row + std::size_t(i);
+            if (state[c] != kUpdate) continue;
+            if (i > 0 && i + 1 < nx && j0 + r > 0 && j0 + r + 1 < ny)
+                interior(c);
+            else
+                update(c, i, j0 + r);
+        }
+    return change;
+}
+
 // Runs `sweeps` sweeps of `blocks` blocks each, where block b of sweep s reads and writes
 // only blocks b - 1 to b + 1 and must see sweep s's earlier blocks and sweep s - 1's
 // later ones: sweep s goes to `threads` (s mod threads), and its block b waits until
@@ -251,13 +329,12 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
     // changed since its last update (bit for bit): otherwise that update would repeat the
     // last one, which left the cell as it was. Skipping it changes nothing, and a wide
     // hole that has settled (a sparse survey's empty tiles) costs a flag per cell and sweep.
-    // The rows are swept kLanes at a time, each lane a cell behind the one above it: a
+    // The rows are swept kFillLanes at a time, each lane a cell behind the one above it: a
     // cell still sees its left and upper neighbours updated and its right and lower ones
     // not, as in row order, so the values are those of row order; the lanes' cells are
     // not neighbours, so the processor overlaps their updates.
-    constexpr int kMaxSweeps = 100, kLanes = 4;
-    constexpr double kSettled_m = 1e-3, kOmega = 1.8;
-    enum : std::uint8_t { kHole = 1, kStale = 2, kUpdate = kHole | kStale };
+    constexpr int kMaxSweeps = 100;
+    constexpr double kSettled_m = 1e-3;
     // Every cell the rings reached is a hole to relax; the rings are not needed after.
     std::vector<std::uint8_t> state(n, 0);
     for (std::size_t c = 0; c < n; ++c)
@@ -265,88 +342,20 @@ void inpaint(std::vector<float>& z, const std::vector<std::uint8_t>& known, int 
     ring = {};
     layer = {};
     next_layer = {};
-    const std::size_t row = std::size_t(nx);
-    double change = 0;
-    // `track`: whether the largest change is kept (only the settling mode reads it).
-    const auto update = [&](std::size_t c, int i, int j, auto track) {
-        double sum = 0;
-        int count = 0;
-        const auto take = [&](bool inside, std::size_t d) {
-            if (!inside) return;
-            sum += z[d];
-            ++count;
-        };
-        take(i > 0, c - 1);
-        take(i + 1 < nx, c + 1);
-        take(j > 0, c - row);
-        take(j + 1 < ny, c + row);
-        if (count == 0) {
-            state[c] = kHole;
-            return;
-        }
-        // sum / count; a division by 4, 2 or 1 is the multiplication by its exact inverse.
-        const double mean = count == 4 ? sum * 0.25 : count == 2 ? sum * 0.5 : count == 1 ? sum : sum / count;
-        const float v = float(z[c] + kOmega * (mean - z[c]));
-        if constexpr (decltype(track)::value) change = std::max(change, double(std::abs(v - z[c])));
-        if (std::bit_cast<std::uint32_t>(v) == std::bit_cast<std::uint32_t>(z[c])) {
-            state[c] = kHole;
-            return;
-        }
-        z[c] = v;
-        if (i > 0) state[c - 1] |= kStale;
-        if (i + 1 < nx) state[c + 1] |= kStale;
-        if (j > 0) state[c - row] |= kStale;
-        if (j + 1 < ny) state[c + row] |= kStale;
-    };
-    // update() for a cell with all four neighbours inside the raster: the same operations in
-    // the same order (the sum from 0, left, right, up, down), without the edge tests.
-    const auto interior = [&](std::size_t c, auto track) {
-        double sum = 0;
-        sum += z[c - 1];
-        sum += z[c + 1];
-        sum += z[c - row];
-        sum += z[c + row];
-        const float v = float(z[c] + kOmega * (sum * 0.25 - z[c]));
-        if constexpr (decltype(track)::value) change = std::max(change, double(std::abs(v - z[c])));
-        if (std::bit_cast<std::uint32_t>(v) == std::bit_cast<std::uint32_t>(z[c])) {
-            state[c] = kHole;
-            return;
-        }
-        z[c] = v;
-        state[c - 1] |= kStale;
-        state[c + 1] |= kStale;
-        state[c - row] |= kStale;
-        state[c + row] |= kStale;
-    };
-    // One block of kLanes rows (the b-th) of a sweep.
-    const auto block = [&](int b, auto track) {
-        const int j0 = b * kLanes, lanes = std::min(kLanes, ny - j0);
-        for (int t = 0; t < nx + lanes - 1; ++t)
-            for (int r = 0; r < lanes; ++r) {
-                const int i = t - r;
-                if (i < 0 || i >= nx) continue;
-                const std::size_t c = std::size_t(j0 + r) * row + std::size_t(i);
-                if (state[c] != kUpdate) continue;
-                if (i > 0 && i + 1 < nx && j0 + r > 0 && j0 + r + 1 < ny)
-                    interior(c, track);
-                else
-                    update(c, i, j0 + r, track);
-            }
-    };
-    const int blocks = (ny + kLanes - 1) / kLanes;
-    const auto sweep = [&](auto track) {
-        for (int b = 0; b < blocks; ++b) block(b, track);
-    };
+    float* const zp = z.data();
+    std::uint8_t* const sp = state.data();
+    const int blocks = (ny + kFillLanes - 1) / kFillLanes;
     if (sweeps > 0) {
         if (threads > 1 && blocks > 2 && sweeps > 1 &&
-            pipelinedSweeps(sweeps, blocks, threads, [&](int b) { block(b, std::false_type{}); }))
+            pipelinedSweeps(sweeps, blocks, threads, [&](int b) { relaxBlock<false>(zp, sp, nx, ny, b); }))
             return;
-        for (int k = 0; k < sweeps; ++k) sweep(std::false_type{});
+        for (int k = 0; k < sweeps; ++k)
+            for (int b = 0; b < blocks; ++b) relaxBlock<false>(zp, sp, nx, ny, b);
         return;
     }
     for (int k = 0; k < kMaxSweeps; ++k) {
-        change = 0;
-        sweep(std::true_type{});
+        double change = 0;
+        for (int b = 0; b < blocks; ++b) change = std::max(change, relaxBlock<true>(zp, sp, nx, ny, b));
         if (change < kSettled_m) break;
     }
 }
