@@ -12,7 +12,8 @@
 #    degrees (a geographic CRS) is refused;
 #  - --out-dir over surveys of other CRSs and units classifies each as a run over it
 #    alone does, none the buffer of another, and refuses two surveys' outputs of one name;
-#  - a survey far sparser than SMRF's cells gets one line saying so and what helps;
+#  - a survey far sparser than SMRF's cells gets one line saying so and what helps, and the
+#    same bytes on one thread, three and the default;
 #  - --noise gives the low outliers of another producer's LAS class 7 and moves no other;
 #  - in a discrete-return survey a return with a later one behind it is not ground by
 #    default (--returns auto), is with --returns all; a survey of single returns keeps
@@ -149,6 +150,13 @@ labelled=$(field input_ground_points "$dir/json") kept=$(field input_ground_poin
 [ "$(field nx "$dir/json") $(field ny "$dir/json")" = "762 763" ] || fail "ground sparse: raster: $(cat "$dir/json")"
 [ "$(sed -n 2p "$dir/err")" = 'ground: 6280 points over 581406 cells of 2 m, one point per 93 cells: most of the run fills empty cells; a coarser --smrf-cell-m is faster on so sparse a survey (docs/ground.md, "Sparse surveys")' ] &&
     [ "$(wc -l <"$dir/err")" -eq 2 ] || fail "ground sparse: stderr: $(cat "$dir/err")"
+# The same bytes on one thread and on three (the hole filling's sweeps shared among them,
+# which is most of this run) as with the default, the cores divided by --jobs.
+for threads in 1 3; do
+    "$bin" ground "$real/mvk-thin.las" --out "$dir/sparse-t$threads.laz" --smrf-cell-m 2 --threads "$threads" \
+        >/dev/null 2>"$dir/err" || fail "ground sparse --threads $threads: $(cat "$dir/err")"
+    cmp -s "$dir/sparse.laz" "$dir/sparse-t$threads.laz" || fail "ground sparse: --threads $threads wrote other bytes"
+done
 
 # Returns (tests/data/real/mvk-thin.las: a discrete-return survey, some pulses with one
 # return and some with several): by default only a pulse's last return may be ground, and
@@ -213,6 +221,7 @@ bad() {
     return 0
 }
 bad "--method 'pmf': allowed ransac, smrf, csf" "$data/samp24.las" --out "$dir/bad.las" --method pmf
+bad "--threads 1025: allowed [0, 1024], 0 = the cores divided by --jobs" "$data/samp24.las" --out "$dir/bad.las" --threads 1025
 bad "RANSAC works per view" "$data/samp24.las" --out "$dir/bad.las" --method ransac
 bad "--smrf-cell-m" "$data/samp24.las" --out "$dir/bad.las" --smrf-cell-m 0
 bad "--low-outlier-m" "$data/samp24.las" --out "$dir/bad.las" --low-outlier-m -1
