@@ -8,10 +8,10 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <sstream>
-#include <system_error>
 #include <thread>
 #include <type_traits>
 
@@ -229,15 +229,16 @@ double relaxBlock(float* z, std::uint8_t* state, int nx, int ny, int b) {
 
 // Runs `sweeps` sweeps of `blocks` blocks each, where block b of sweep s reads and writes
 // only blocks b - 1 to b + 1 and must see sweep s's earlier blocks and sweep s - 1's
-// later ones: sweep s goes to `threads` (s mod threads), and its block b waits until
+// later ones: sweep s goes to thread s mod `threads`, and its block b waits until
 // sweep s - 1 has finished block b + 1. The thread of sweep s - 1 then works two blocks
 // or more below, on rows block b neither reads nor writes, and the thread of sweep s + 1
 // two blocks or more above; so every block sees what it sees in one sweep after the
-// other, and the result is the same bits whatever the threads. False when the threads
-// could not be started (nothing was run then).
+// other, and the result is the same bits whatever the threads. No more threads than
+// sweeps, nor than half the blocks (the most sweeps that can be under way at once). False
+// when the threads could not be started (nothing was run then).
 template <class Block>
 bool pipelinedSweeps(int sweeps, int blocks, int threads, const Block& run_block) {
-    const int workers = std::min(threads, sweeps);
+    const int workers = std::max(1, std::min({threads, sweeps, blocks / 2}));
     std::vector<std::atomic<int>> done(static_cast<std::size_t>(sweeps));  // blocks of each sweep finished
     std::atomic<int> go{0};                                                // 1: start, -1: give up
     const auto wait_for = [](const std::atomic<int>& a, int at_least) {
