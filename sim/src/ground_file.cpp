@@ -109,12 +109,7 @@ std::unique_ptr<TerrainFit> startFit(const GroundFileOptions& o, std::size_t max
     return startSmrf(m);
 }
 
-void addToFit(TerrainFit& fit, std::span<const core::CloudPoint> points, int threads) {
-    if (threads > 1)
-        fit.addAll(points, threads);
-    else
-        fit.add(points);
-}
+void addToFit(TerrainFit& fit, std::span<const core::CloudPoint> points) { fit.add(points); }
 
 std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> points, const GroundFileOptions& o) {
     const std::unique_ptr<TerrainFit> fit = startFit(o, std::size_t(-1));
@@ -193,8 +188,7 @@ void moveBy(std::vector<core::CloudPoint>& chunk, const glm::dvec3& shift) {
 
 }  // namespace
 
-void addSource(TerrainFit& fit, const FitSource& source, int threads,
-               const std::function<void(std::size_t)>& progress) {
+void addSource(TerrainFit& fit, const FitSource& source, const std::function<void(std::size_t)>& progress) {
     io::CloudReader reader(source.file, io::PointFields::Positions);
     io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
         if (progress) progress(chunk.size());
@@ -203,7 +197,7 @@ void addSource(TerrainFit& fit, const FitSource& source, int threads,
             return p.position.x < source.min.x || p.position.x > source.max.x || p.position.y < source.min.y ||
                    p.position.y > source.max.y;
         });
-        addToFit(fit, chunk, threads);
+        addToFit(fit, chunk);
     });
 }
 
@@ -269,11 +263,11 @@ void fitOn(std::unique_ptr<TerrainFit>& fit, const std::filesystem::path& in, co
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
             counts.add(chunk);
             moveBy(chunk, shift);
-            addToFit(*fit, chunk, threads);
+            addToFit(*fit, chunk);
             progress(chunk.size());
         });
     }
-    for (const FitSource& source : extra) addSource(*fit, source, threads);
+    for (const FitSource& source : extra) addSource(*fit, source);
     fit->setFitThreads(threads);
     if (thickness_m >= 0) fit->setGroundThickness(thickness_m);
     if (fit_over)

@@ -313,7 +313,7 @@ std::unique_ptr<TerrainFit> gather(Tile& tile, const GroundFileOptions& o, const
     std::unique_ptr<TerrainFit> fit = startFit(o, t.max_cells);
     std::vector<core::CloudPoint> chunk;
     std::vector<std::uint8_t> own;
-    eachSpilled(tile, chunk, own, [&] { addToFit(*fit, chunk, t.threads); });
+    eachSpilled(tile, chunk, own, [&] { addToFit(*fit, chunk); });
     return fit;
 }
 
@@ -346,7 +346,7 @@ std::unique_ptr<TerrainFit> gatherBox(const Tiler& tiler, const std::pair<glm::d
                            p.position.y >= hi.y;
                 });
                 for (core::CloudPoint& p : chunk) p.reserved = 0;
-                addToFit(*fit, chunk, t.threads);
+                addToFit(*fit, chunk);
             }
         }
     return fit;
@@ -676,7 +676,7 @@ double surveyThickness(const std::vector<std::filesystem::path>& inputs, const s
         sources.insert(sources.begin(), own);
         std::size_t read = 0;
         for (const FitSource& source : sources)
-            addSource(*fit, source, t.threads, [&](std::size_t n) { read += source.file == inputs[i] ? n : 0; });
+            addSource(*fit, source, [&](std::size_t n) { read += source.file == inputs[i] ? n : 0; });
         std::vector<double> mine;
         const GroundBox& box = boxes[i];
         fit->thicknessSamples(box.min - glm::dvec2(frame), box.max - glm::dvec2(frame), mine);
@@ -710,7 +710,7 @@ GroundFileStats classifyGroundNeighbours(const std::vector<std::filesystem::path
         const GroundBox world{box.first + at, box.second + at};
         for (std::size_t k = 0; k < inputs.size(); ++k)
             if (within(world, boxes[k], 0.0))
-                addSource(*fit, FitSource{inputs[k], originOf(inputs[k]) - frame, box.first, box.second}, t.threads);
+                addSource(*fit, FitSource{inputs[k], originOf(inputs[k]) - frame, box.first, box.second});
         return fit;
     };
     // The raster spans the survey's cells within the buffer of the input's box, as a
