@@ -109,8 +109,6 @@ std::unique_ptr<TerrainFit> startFit(const GroundFileOptions& o, std::size_t max
     return startSmrf(m);
 }
 
-void addToFit(TerrainFit& fit, std::span<const core::CloudPoint> points) { fit.add(points); }
-
 std::vector<std::uint8_t> classifyGround(std::span<const core::CloudPoint> points, const GroundFileOptions& o) {
     const std::unique_ptr<TerrainFit> fit = startFit(o, std::size_t(-1));
     fit->add(points);
@@ -197,7 +195,7 @@ void addSource(TerrainFit& fit, const FitSource& source, const std::function<voi
             return p.position.x < source.min.x || p.position.x > source.max.x || p.position.y < source.min.y ||
                    p.position.y > source.max.y;
         });
-        addToFit(fit, chunk);
+        fit.add(chunk);
     });
 }
 
@@ -263,7 +261,7 @@ void fitOn(std::unique_ptr<TerrainFit>& fit, const std::filesystem::path& in, co
         io::forEachChunk(reader, [&](std::vector<core::CloudPoint>& chunk) {
             counts.add(chunk);
             moveBy(chunk, shift);
-            addToFit(*fit, chunk);
+            fit->add(chunk);
             progress(chunk.size());
         });
     }

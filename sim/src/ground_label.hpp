@@ -74,14 +74,12 @@ GroundFileStats classifyOneFile(const std::filesystem::path& in, const glm::dvec
                                 const glm::dvec2& dtm_lo = glm::dvec2(-std::numeric_limits<double>::infinity()),
                                 const glm::dvec2& dtm_hi = glm::dvec2(std::numeric_limits<double>::infinity()));
 
-/// Adds `points` to `fit`, on one thread: another thread would gather its share into a
-/// raster of its own beside the run's, which the run's memory plan (--memory-mb) does not
-/// count, and where the points are many the run is their reading and writing. The fit
-/// itself uses the run's threads (TerrainFit::setFitThreads).
-void addToFit(TerrainFit& fit, std::span<const core::CloudPoint> points);
-
 /// Adds `source`'s points within its box to `fit`, read a chunk at a time; `progress`,
-/// where given, is called with each chunk's points as read.
+/// where given, is called with each chunk's points as read. The points are gathered on
+/// one thread (TerrainFit::add), as every pass of a run gathers them: another thread would
+/// gather its share into a raster of its own beside the run's, which the run's memory plan
+/// (--memory-mb) does not count, and where the points are many the run is their reading and
+/// writing. The fit itself uses the run's threads (TerrainFit::setFitThreads).
 void addSource(TerrainFit& fit, const FitSource& source, const std::function<void(std::size_t)>& progress = {});
 
 }  // namespace sim

@@ -313,7 +313,7 @@ std::unique_ptr<TerrainFit> gather(Tile& tile, const GroundFileOptions& o, const
     std::unique_ptr<TerrainFit> fit = startFit(o, t.max_cells);
     std::vector<core::CloudPoint> chunk;
     std::vector<std::uint8_t> own;
-    eachSpilled(tile, chunk, own, [&] { addToFit(*fit, chunk); });
+    eachSpilled(tile, chunk, own, [&] { fit->add(chunk); });
     return fit;
 }
 
@@ -346,7 +346,7 @@ std::unique_ptr<TerrainFit> gatherBox(const Tiler& tiler, const std::pair<glm::d
                            p.position.y >= hi.y;
                 });
                 for (core::CloudPoint& p : chunk) p.reserved = 0;
-                addToFit(*fit, chunk);
+                fit->add(chunk);
             }
         }
     return fit;

@@ -324,20 +324,18 @@ void parseQuestionnaires(std::string_view text, const std::string& file, Partici
             const long long v = row.whole(kResponse, 0, kTlxMaxRating, "0 to 100 in steps of 5");
             if (v % kTlxStep != 0) row.bad(kResponse, "0 to 100 in steps of 5");
             tlx[condition][std::size_t(*item)] = int(v);
-        } else if (instrument == "likert") {
+        } else if (instrument == "likert" || instrument == "text") {
             // Asked after a condition: the session writes which one; without it the answer
             // would become a figure of no condition.
             if (occasion == "after_condition" && condition.empty())
                 row.bad(kCondition, "the condition, with occasion after_condition");
             if (!isStudyName(row.at(kItem))) row.bad(kItem, "the item's id, " + std::string(kStudyNameRule));
-            const long long v = row.whole(kResponse, 1, kMaxLikertRating, "a rating 1 to 11");
-            // Asked after a condition: per condition; pre and post: once per session (post's
-            // condition column names the last condition run, not a condition asked about).
-            p.likert[{row.at(kItem), occasion, occasion == "after_condition" ? condition : ""}] = int(v);
-        } else if (instrument == "text") {
-            if (occasion == "after_condition" && condition.empty())
-                row.bad(kCondition, "the condition, with occasion after_condition");
-            if (!isStudyName(row.at(kItem))) row.bad(kItem, "the item's id, " + std::string(kStudyNameRule));
+            if (instrument == "likert") {
+                const long long v = row.whole(kResponse, 1, kMaxLikertRating, "a rating 1 to 11");
+                // Asked after a condition: per condition; pre and post: once per session (post's
+                // condition column names the last condition run, not a condition asked about).
+                p.likert[{row.at(kItem), occasion, occasion == "after_condition" ? condition : ""}] = int(v);
+            }
         } else {
             row.bad(kInstrument, "ssq, tlx, likert or text");
         }
