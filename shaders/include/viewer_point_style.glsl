@@ -20,6 +20,10 @@ uniform float u_ground_threshold_m;
 // 16-18 its return number, 19-21 its pulse's number of returns
 // (viewer/src/points/point_attributes.hpp). 0: it holds the height above ground.
 uniform int u_attributes;
+// 1 (with u_attributes 0): the heights above ground are another producer's file's (`ladarvr
+// ground` writes them beside its class 2): its ground is the points labelled ground (class 2),
+// since its colours are its own. 0: the generator's cloud, whose colours whiten its ground.
+uniform int u_ground_by_label;
 
 // The terrain's height at `grid_m` (metres from the grid's origin along x and y), bilinear
 // between the four nearest cells' centres, the edge cells' heights beyond the grid; the
@@ -81,9 +85,10 @@ vec3 viewerPointColour(vec4 rgb_label, float z, float extra, vec2 grid_m) {
         return jetColour(z, u_z_min, u_z_max);
     if (u_colour_mode == 2) return vec3(1.0);
     if (u_colour_mode == 4) {
-        // The file's whitened ground stays white; the rest by height above the terrain, so a
-        // target on a hilltop takes the same colour as one in a valley.
-        bool white = all(greaterThanEqual(rgb_label.rgb, vec3(1.0)));
+        // The ground white (the generator's whitened points, or another producer's class 2);
+        // the rest by height above the terrain, so a target on a hilltop takes the same
+        // colour as one in a valley.
+        bool white = u_ground_by_label != 0 ? label == 0 : all(greaterThanEqual(rgb_label.rgb, vec3(1.0)));
         return white ? vec3(1.0) : jetColour(extra, 0.0, u_above_ground_max_m);
     }
     return label == 2 ? vec3(1.0, 0.0, 0.0) : label == 1 ? vec3(0.6) : vec3(0.3);

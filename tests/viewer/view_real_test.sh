@@ -9,6 +9,10 @@
 #           (class 2): --colour above-ground says once on stderr that its colours come from
 #           the file's class 2, records the terrain in the run log, and shows the ground
 #           white (the run's last frame waits for the terrain); the red is the lowest objects.
+#   heights  `ladarvr ground`'s output of CSite3_orig-utm.laz (a town, point format 0: no
+#           colours, so every point reads white) carries each point's height above ground:
+#           --colour above-ground shows its class 2 white and the roofs and trees in the jet
+#           colours, from the LAS file as from its COPC index, not every point white.
 #   class   hexbin-crop.las's classes 1 and 2 in the ASPRS palette: mostly ground brown,
 #           some grey; --colour intensity shows many levels of grey.
 #   eight-bit  hexbin-crop.las's points written by laspy with 8-bit colours (a yellow,
@@ -90,6 +94,39 @@ print(f"upper half: {lit} lit, {white} white (shaded), {red} red")
 assert lit > w * (h // 2) // 2, f"only {lit} pixels show the survey"
 assert white > lit // 2, f"{white} of {lit} pixels white: the ground is not white"
 assert red < lit // 10, f"{red} of {lit} pixels red: the ground is not white"
+PY
+    ;;
+  heights)
+    "$bin" ground "$data/CSite3_orig-utm.laz" --out "$work/hag.laz" 2>"$work/stderr" ||
+      { cat "$work/stderr" >&2; exit 1; }
+    "$bin" index "$work/hag.laz" --out "$work/hag.copc.laz" 2>"$work/stderr" || { cat "$work/stderr" >&2; exit 1; }
+    # More frames each time until the log shows every point on the GPU (the file streams in).
+    for name in hag hag.copc; do
+      for frames in 10 60 300 1500 6000; do
+        "$here/headless_env.sh" --timeout 150 -- "$bin" view --no-xr --frames "$frames" --width 640 --height 480 \
+          --timeout 120 "$work/$name.laz" --point-size 4 --no-edl --colour above-ground --log-json "$work/$name.json" \
+          --screenshot "$work/$name.png" 2>"$work/stderr" || { cat "$work/stderr" >&2; exit 1; }
+        uploaded=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['points_uploaded'])" "$work/$name.json")
+        [ "$uploaded" = 377028 ] && break
+      done
+      [ "$uploaded" = 377028 ] || { echo "FAIL: $name: $uploaded of 377028 points on the GPU after $frames frames" >&2; exit 1; }
+    done
+    python3 - "$here" "$work" <<'PY'
+import json, sys
+sys.path.insert(0, sys.argv[1])
+from check_view_log import read_png, count
+for name in ("hag", "hag.copc"):
+    log = json.load(open(f"{sys.argv[2]}/{name}.json"))
+    assert "terrain" not in log, f"{name}: a terrain built for a file with heights: {log['terrain']}"
+    w, h, px = read_png(f"{sys.argv[2]}/{name}.png")
+    px = px[:w * (h // 2) * 3]  # the upper half (the panel keeps to the lower)
+    white = count(px, lambda r, g, b: min(r, g, b) > 200)
+    jet = count(px, lambda r, g, b: max(r, g, b) - min(r, g, b) > 80)
+    lit = count(px, lambda r, g, b: r + g + b > 90)
+    print(f"{name}: upper half {lit} lit, {white} white, {jet} in jet colours")
+    assert lit > w * (h // 2) // 2, f"{name}: only {lit} pixels show the survey"
+    assert jet > lit // 4, f"{name}: {jet} of {lit} pixels in jet colours: the objects are not coloured"
+    assert white > lit // 10, f"{name}: {white} of {lit} pixels white: the ground is not white"
 PY
     ;;
   class)

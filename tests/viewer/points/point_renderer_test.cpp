@@ -184,6 +184,48 @@ void checkAboveGroundColours(viewer::Rasterizer rasterizer) {
     CHECK(core::jetIndex(0.0, 0.0, top_m, entries) == entries - 1);
 }
 
+// The same from another producer's file (`ladarvr ground`'s output of a survey without
+// colours): every point reads white (the default colour of a file without RGB), so the
+// ground is its class 2 (the label ground), white even where it lies above the ground
+// threshold, and every other point takes the jet by its height, white colour or not.
+void checkForeignAboveGroundColours(viewer::Rasterizer rasterizer) {
+    constexpr int entries = 64;
+    const float top_m = 12.8f;
+    std::vector<float> above = {0.0f, top_m};
+    for (int bin = 0; bin < entries; bin += 3) above.push_back((float(bin) + 0.5f) * top_m / entries);
+    const std::vector<float> ground_above = {-0.4f, 0.0f, 0.3f, 1.2f};
+    const std::size_t total = above.size() + ground_above.size();
+    const int rows = (static_cast<int>(total) + kColumns - 1) / kColumns;
+    core::PointCloud cloud;
+    cloud.fields.height_above_ground = true;
+    cloud.fields.rgb = false;
+    cloud.foreign.emplace();
+    for (std::size_t k = 0; k < total; ++k) {
+        core::CloudPoint p;
+        p.position = {float(k % kColumns), float(k / kColumns), 50.0f - float(k)};
+        const bool ground = k >= above.size();
+        p.label = ground ? core::Role::Ground : core::Role::Environment;
+        p.height_above_ground_m = ground ? ground_above[k - above.size()] : above[k];
+        cloud.points.push_back(p);
+    }
+    viewer::ViewStyle style;
+    style.colour = viewer::ColourMode::AboveGround;
+    style.eye_dome = false;
+    style.point_size_px = 5.0f;
+    style.jet_entries = entries;
+    style.rasterizer = rasterizer;
+    const std::vector<Pixel> pixels = drawFromAbove(cloud, rows, style);
+    const std::vector<std::uint32_t> jet = core::jetTable(entries);
+    for (std::size_t k = 0; k < total; ++k) {
+        const int x = int(k % kColumns) * kPixelsPerMetre + 4, y = int(k / kColumns) * kPixelsPerMetre + 4;
+        const Pixel got = pixels[static_cast<std::size_t>(y) * kColumns * kPixelsPerMetre + x];
+        const std::uint32_t want =
+            k >= above.size() ? core::kWhite : jet[core::jetIndex(above[k], 0.0, top_m, entries)];
+        CAPTURE(k);
+        CHECK(core::packRgb(got.r, got.g, got.b) == want);
+    }
+}
+
 constexpr viewer::Rasterizer kRasterizers[] = {viewer::Rasterizer::Points, viewer::Rasterizer::Compute};
 
 // A cloud far from the world's origin on a slope (z = 0.8 x + 0.3 y) with a box standing on
@@ -240,6 +282,14 @@ TEST_CASE("viewer above-ground colours: the jet by height above the terrain, whi
     for (const viewer::Rasterizer r : kRasterizers) {
         CAPTURE(viewer::rasterizerName(r));
         checkAboveGroundColours(r);
+    }
+}
+
+TEST_CASE("viewer above-ground colours of another producer's file: its class 2 white, the rest by height") {
+    render::EglContext context;
+    for (const viewer::Rasterizer r : kRasterizers) {
+        CAPTURE(viewer::rasterizerName(r));
+        checkForeignAboveGroundColours(r);
     }
 }
 
@@ -617,6 +667,30 @@ TEST_CASE("above-ground colours from a terrain: the ground on a slope white, a b
     // Both rasterizers give the same picture.
     REQUIRE(images.size() == 2);
     CHECK(std::memcmp(images[0].data(), images[1].data(), images[0].size() * sizeof(Pixel)) == 0);
+}
+
+TEST_CASE("above-ground colours in US survey feet: the ground is what lies within 0.5 m (1.64 ft) of the terrain") {
+    render::EglContext context;
+    // The slope, with one point 1 unit above it: 1 m is above the ground threshold, 1 ft
+    // (0.30 m) is not.
+    core::PointCloud cloud = slopeWithBox();
+    const int i = 2, j = 1;
+    cloud.points[std::size_t(j * kColumns + i)].position.z += 1.0f;
+    viewer::ViewStyle style;
+    style.eye_dome = false;
+    style.point_size_px = 5.0f;
+    style.colour = viewer::ColourMode::AboveGround;
+    for (const double unit_m : {1.0, 0.3048006}) {
+        CAPTURE(unit_m);
+        Uploaded uploaded(cloud);
+        uploaded.renderer.setHeightUnit(unit_m);
+        uploaded.renderer.setTerrain(slopeTerrain(), uploaded.source->origin(), *uploaded.source);
+        REQUIRE(uploaded.renderer.hasTerrain());
+        const std::vector<Pixel> above = drawUploaded(uploaded, kSlopeRows, style);
+        CHECK((cellColour(above, i, j) == core::kWhite) == (unit_m < 1.0));
+        CHECK(cellColour(above, 0, 0) == core::kWhite);
+        CHECK(cellColour(above, kBox[0].i, kBox[0].j) != core::kWhite);
+    }
 }
 
 namespace {

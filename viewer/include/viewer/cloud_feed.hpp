@@ -39,7 +39,8 @@ class CloudFeed {
     void enableLodOrder(const LodOptions& options = {});
     /// Producer side. setOrigin must come before the first append (default origin 0).
     void setOrigin(const glm::dvec3& origin);
-    void setFields(const core::CloudFields& fields);
+    /// `from_elsewhere`: the points come from another producer's file (PointSource::fromElsewhere).
+    void setFields(const core::CloudFields& fields, bool from_elsewhere = false);
     void append(std::vector<core::CloudPoint> chunk);
     /// Marks the end of the stream; `error` non-empty means the producer failed with it.
     void finish(std::string error = {});
@@ -48,6 +49,7 @@ class CloudFeed {
     std::vector<FeedChunk> take();
     glm::dvec3 origin() const;
     core::CloudFields fields() const;
+    bool fromElsewhere() const;
     bool finished() const { return finished_.load(); }
     /// The producer's error, if it failed (valid once finished()).
     std::string error() const;
@@ -72,6 +74,7 @@ class CloudFeed {
     mutable std::mutex mutex_;
     glm::dvec3 origin_{0.0};
     core::CloudFields fields_;
+    bool from_elsewhere_ = false;
     std::vector<FeedChunk> pending_;
     bool lod_order_ = false;
     LodOptions lod_options_;

@@ -23,6 +23,7 @@ class CloudFeedSource final : public PointSource {
     std::span<PointNode* const> roots() const override { return roots_; }
     glm::dvec3 origin() const override;
     core::CloudFields fields() const override;
+    bool fromElsewhere() const override;
     bool finished() const override;
     std::string error() const override;
     std::size_t pointsArrived() const override;

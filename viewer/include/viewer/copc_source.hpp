@@ -63,6 +63,8 @@ class CopcSource final : public PointSource {
     bool originFinal() const override { return true; }
     /// The file's fields as the first decoded node gives them (the defaults until then).
     core::CloudFields fields() const override;
+    /// Whether the file is another producer's, as the first decoded node shows it.
+    bool fromElsewhere() const override;
     /// True once a selection's pages and nodes have all been read (or skipped), the
     /// "loaded" mark of the frame loop.
     bool finished() const override;

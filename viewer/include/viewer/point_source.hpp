@@ -103,6 +103,9 @@ class PointSource {
     /// the local frame. A stream knows it at its end; a file with a header at once.
     virtual bool originFinal() const { return finished(); }
     virtual core::CloudFields fields() const = 0;
+    /// The points come from another producer's file: their label is their class's (class 2
+    /// ground) and their colours are the file's own, not the generator's whitened ground.
+    virtual bool fromElsewhere() const { return false; }
     /// Every node is known: the stream ended (or failed, see error()).
     virtual bool finished() const = 0;
     /// The producer's error, if it failed (valid once finished()).

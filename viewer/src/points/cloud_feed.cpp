@@ -25,9 +25,10 @@ void CloudFeed::setOrigin(const glm::dvec3& origin) {
     origin_ = origin;
 }
 
-void CloudFeed::setFields(const core::CloudFields& fields) {
+void CloudFeed::setFields(const core::CloudFields& fields, bool from_elsewhere) {
     std::lock_guard lock(mutex_);
     fields_ = fields;
+    from_elsewhere_ = from_elsewhere;
 }
 
 void CloudFeed::enableLodOrder(const LodOptions& options) {
@@ -78,6 +79,11 @@ core::CloudFields CloudFeed::fields() const {
     return fields_;
 }
 
+bool CloudFeed::fromElsewhere() const {
+    std::lock_guard lock(mutex_);
+    return from_elsewhere_;
+}
+
 std::string CloudFeed::error() const {
     std::lock_guard lock(mutex_);
     return error_;
@@ -85,7 +91,7 @@ std::string CloudFeed::error() const {
 
 void CloudFeed::feedCloud(core::PointCloud cloud, std::size_t chunk_points) {
     setOrigin(cloud.origin);
-    setFields(cloud.fields);
+    setFields(cloud.fields, cloud.foreign.has_value());
     chunk_points = std::max<std::size_t>(chunk_points, 1);
     // A cloud without heights above ground carries its class, intensity and returns in
     // their place (point_attributes.hpp), as a file read by feedFile does.
@@ -112,9 +118,9 @@ void CloudFeed::feedFile(const std::filesystem::path& path, std::size_t chunk_po
         // A file from elsewhere gives its 16-bit colours too, to be shown at their depth.
         io::CloudReader reader(path, io::SideRecords::Keep);
         setOrigin(reader.origin());
-        setFields(reader.fields());
-        chunk_points = std::max<std::size_t>(chunk_points, 1);
         const auto foreign = reader.foreignHeader();
+        setFields(reader.fields(), foreign != nullptr);
+        chunk_points = std::max<std::size_t>(chunk_points, 1);
         FileColours colours;
         PointAttributes attributes;
         std::vector<unsigned char> records;

@@ -51,6 +51,7 @@ std::size_t CloudFeedSource::poll() {
 
 glm::dvec3 CloudFeedSource::origin() const { return feed_->origin(); }
 core::CloudFields CloudFeedSource::fields() const { return feed_->fields(); }
+bool CloudFeedSource::fromElsewhere() const { return feed_->fromElsewhere(); }
 bool CloudFeedSource::finished() const { return feed_->finished(); }
 std::string CloudFeedSource::error() const { return feed_->error(); }
 std::size_t CloudFeedSource::pointsArrived() const { return feed_->pointsArrived(); }

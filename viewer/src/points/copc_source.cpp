@@ -101,6 +101,7 @@ struct CopcSource::Impl {
     CopcSourceOptions options;
     glm::dvec3 origin{0.0};
     core::CloudFields fields;
+    bool from_elsewhere = false;  // with fields: from the first decoded node
     io::CopcInfo info;
     std::vector<std::unique_ptr<CopcTreeNode>> nodes;
     std::vector<PointNode*> roots;
@@ -122,6 +123,7 @@ struct CopcSource::Impl {
         io::CopcPageEntries entries;         // a page
         std::string error;                   // empty: read
         core::CloudFields fields;
+        bool from_elsewhere = false;
     };
     mutable std::mutex mutex;
     std::condition_variable wake;
@@ -211,6 +213,7 @@ struct CopcSource::Impl {
             try {
                 core::PointCloud cloud = reader->readNodeEntry(entry, io::SideRecords::Keep);
                 d.fields = cloud.fields;
+                d.from_elsewhere = cloud.foreign.has_value();
                 prepare(cloud);
                 auto points = std::make_shared<NodePoints>();
                 points->points = std::move(cloud.points);
@@ -469,6 +472,7 @@ std::size_t CopcSource::poll() {
         }
         if (!m.fields_known) {  // the file's fields, as the first decoded node shows them
             m.fields = d.fields;
+            m.from_elsewhere = d.from_elsewhere;
             m.fields_known = true;
         }
         if (n->points_) continue;  // decoded twice (asked again meanwhile): keep the first
@@ -491,6 +495,7 @@ std::size_t CopcSource::poll() {
 std::span<PointNode* const> CopcSource::roots() const { return impl_->roots; }
 glm::dvec3 CopcSource::origin() const { return impl_->origin; }
 core::CloudFields CopcSource::fields() const { return impl_->fields; }
+bool CopcSource::fromElsewhere() const { return impl_->from_elsewhere; }
 bool CopcSource::finished() const { return impl_->settled; }
 
 std::size_t CopcSource::pointsArrived() const {

@@ -239,6 +239,7 @@ bool PointRenderer::makeRoom(std::size_t bytes, std::deque<Evictable>& evictable
 std::size_t PointRenderer::stream(const PointSource& source, std::size_t budget_points) {
     ++tick_;
     fields_ = source.fields();
+    from_elsewhere_ = source.fromElsewhere();
     arena_.frame_nodes_added = arena_.frame_nodes_evicted = arena_.frame_upload_bytes = 0;
     arena_.nodes_refused = 0;
     // Nodes that left RAM leave the GPU (in chunk order: the same run drops the same way).
@@ -476,9 +477,11 @@ void PointRenderer::setStyleUniforms(const render::Program& program, const ViewS
     glUniform1i(program.uniform("u_colour_mode"), static_cast<int>(shownColourMode(style.colour, colourSources())));
     glUniform1f(program.uniform("u_above_ground_max_m"), aboveGroundMax());
     glUniform1i(program.uniform("u_attributes"), fields_.height_above_ground ? 0 : 1);
+    glUniform1i(program.uniform("u_ground_by_label"), fields_.height_above_ground && from_elsewhere_ ? 1 : 0);
     glUniform1i(program.uniform("u_terrain_on"), terrain_ ? 1 : 0);
     glUniform1f(program.uniform("u_terrain_cell"), terrain_ ? float(terrain_->cell) : 1.0f);
-    glUniform1f(program.uniform("u_ground_threshold_m"), kGroundThreshold_m);
+    // In the cloud's height unit, as the terrain and the heights are (US survey feet: 1.64).
+    glUniform1f(program.uniform("u_ground_threshold_m"), float(kGroundThreshold_m / height_unit_m_));
     glUniform1i(program.uniform("u_terrain"), kTerrainTextureUnit);
     if (terrain_) glBindTextureUnit(kTerrainTextureUnit, terrain_->texture);
     glBindTextureUnit(kJetTextureUnit, jetTexture(style.jet_entries));

@@ -127,7 +127,8 @@ class PointRenderer {
     /// at the last stream(), and whether a terrain is bound).
     ColourSources colourSources() const;
     /// A point less than this above a bound terrain is ground: the class threshold of the
-    /// generator's SMRF and CSF (sim/ground.hpp), in the cloud's units.
+    /// generator's SMRF and CSF (sim/ground.hpp), in metres (the shaders get it in the
+    /// cloud's height unit).
     static constexpr float kGroundThreshold_m = 0.5f;
 
     /// Picks what this frame draws: cells outside the union of `eyes`' frusta get
@@ -286,7 +287,8 @@ class PointRenderer {
     /// The spans take their heights through HeightSpan::addSampled: every height outside
     /// the body found so far, one in kHeightSample inside it.
     static constexpr std::uint64_t kHeightSample = 8;
-    core::CloudFields fields_;  // the source's, at the last stream()
+    core::CloudFields fields_;     // the source's, at the last stream()
+    bool from_elsewhere_ = false;  // the source's fromElsewhere(), at the last stream()
     std::optional<LocalTerrain> terrain_;
     float terrain_max_m_ = 0.0f;  // highest height above terrain_ of the points seen
 };
