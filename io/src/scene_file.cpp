@@ -260,6 +260,12 @@ std::vector<glm::dvec3> loadMeshVertices(const std::filesystem::path& file, bool
 Scene loadScene(const std::filesystem::path& file, const SceneLoadOptions& options) {
     namespace fs = std::filesystem;
     const std::string name = "scene: " + core::printable(file.string(), 400, true);
+    // A folder that `scene from-cloud` wrote holds its scene file: the line names it.
+    std::error_code ec;
+    if (fs::is_directory(fs::symlink_status(file, ec)) &&
+        fs::is_regular_file(fs::symlink_status(file / "scene.json", ec)))
+        throw Error(name + ": is a folder; allowed a scene file (this folder's is " +
+                    core::printable((file / "scene.json").string(), 400, true) + ")");
     const std::string text = readTextFile(file, kMaxSceneBytes, name + ": the scene file");
     return loadSceneJson(text, file, options);
 }

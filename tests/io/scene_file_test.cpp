@@ -173,6 +173,13 @@ TEST_CASE("scene: require_target can be turned off") {
 
 TEST_CASE("scene: bad scene files give one clear line naming the file and the reason") {
     const std::string b = "scene: " + kBad.string() + "/";
+    SUBCASE("a folder that holds a scene file (as `scene from-cloud` writes): the line names that file") {
+        TempDir dir("scene_folder");
+        std::ofstream(dir.path / "scene.json") << "{}";
+        CHECK(loadError(dir.path) == "scene: " + dir.path.string() +
+                                         ": is a folder; allowed a scene file (this folder's is " +
+                                         (dir.path / "scene.json").string() + ")");
+    }
     SUBCASE("missing scene file") {
         CHECK(loadError(kBad / "nothing_here.json") == b + "nothing_here.json: the scene file does not exist");
     }
