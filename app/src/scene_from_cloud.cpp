@@ -1,6 +1,6 @@
 // app/src/scene_from_cloud.cpp: `ladarvr scene from-cloud SURVEY --out DIR [--voxel-m V]
 // [--cell-m C] [--max-boxes N] [--coarsen] [--max-height-m H] [--ground-from
-// auto|classes|filter] [--method smrf|csf] [--vehicle MESH|vehicles.json [--family F]
+// auto|classes|filter] [--method smrf|csf] [--vehicle MESH|vehicles.json [--family F] [--vehicle-up y|z]
 // [--vehicle-at X,Y] [--yaw-deg D] [--seed S] ...]`: a real survey turned into a scene
 // folder the generator reads (sim/scene_from_cloud.hpp). Options are parsed and checked
 // here; the work is sim::buildSceneFromCloud and sim::writeSceneFolder.
@@ -30,7 +30,7 @@ namespace app {
 namespace {
 
 struct SceneFromCloudCli {
-    std::string survey, out, ground_from = "auto", method = "smrf", vehicle, vehicle_at, family;
+    std::string survey, out, ground_from = "auto", method = "smrf", vehicle, vehicle_at, family, vehicle_up = "z";
     std::optional<double> yaw_deg;
     sim::SceneFromCloudOptions options;
 };
@@ -98,6 +98,9 @@ void run(SceneFromCloudCli& cli) {
     }
     o.vehicle.mesh = cli.vehicle;
     o.vehicle.yaw_deg = cli.yaw_deg;
+    if (cli.vehicle_up != "z" && cli.vehicle.empty())
+        throw core::Error("scene from-cloud: --vehicle-up needs --vehicle");
+    o.vehicle.up_y = cli.vehicle_up == "y";
     if (!cli.vehicle_at.empty()) {
         if (cli.vehicle.empty()) throw core::Error("scene from-cloud: --vehicle-at needs --vehicle");
         const glm::dvec3 at = parseWorldTriple(cli.vehicle_at + ",0", "scene from-cloud: --vehicle-at");
@@ -186,8 +189,12 @@ void addSceneFromCloud(CLI::App& scene) {
     addSmrfOptions(*c, o.ground.smrf);
     addCsfOptions(*c, o.ground.csf);
     c->add_option("--vehicle", state->vehicle,
-                  "a vehicle mesh (z up; e.g. one of scripts/make_vehicles.py's OBJ files), or that script's "
-                  "vehicles.json to draw one with --seed; copied into the folder and put on the ground as the target");
+                  "a vehicle mesh (e.g. one of scripts/make_vehicles.py's OBJ files), or that script's "
+                  "vehicles.json to draw one with --seed; copied into the folder (as target.obj, z up, when a .gltf "
+                  "or --vehicle-up y) and put on the ground as the target");
+    c->add_option("--vehicle-up", state->vehicle_up, "the vehicle mesh's up axis: z, or y (glTF's)")
+        ->check(CLI::IsMember({"y", "z"}))
+        ->capture_default_str();
     c->add_option("--family", state->family,
                   "with --vehicle naming a vehicles.json list: draw a vehicle of this family only (car, tank, ...)");
     c->add_option("--vehicle-at", state->vehicle_at,

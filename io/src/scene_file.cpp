@@ -248,12 +248,17 @@ RawMesh importMesh(const std::filesystem::path& path, const std::string& where, 
 
 std::vector<glm::dvec3> loadMeshVertices(const std::filesystem::path& file, bool up_y, double scale,
                                          const std::string& where) {
-    const RawMesh raw = importMesh(file, where, false);
-    std::vector<glm::dvec3> out;
-    out.reserve(raw.vertices.size());
+    return loadMeshTriangles(file, up_y, scale, where).vertices;
+}
+
+MeshTriangles loadMeshTriangles(const std::filesystem::path& file, bool up_y, double scale, const std::string& where) {
+    RawMesh raw = importMesh(file, where, false);
+    MeshTriangles out;
+    out.vertices.reserve(raw.vertices.size());
     // Through float, as loadScene's local frame holds them (the same numbers either way).
     for (const glm::dvec3& v : raw.vertices)
-        out.emplace_back(glm::vec3(scale * (up_y ? glm::dvec3(v.x, -v.z, v.y) : v)));
+        out.vertices.emplace_back(glm::vec3(scale * (up_y ? glm::dvec3(v.x, -v.z, v.y) : v)));
+    out.triangles = std::move(raw.triangles);
     return out;
 }
 

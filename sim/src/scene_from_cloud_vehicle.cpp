@@ -85,11 +85,11 @@ std::string number(double v) { return core::shownNumber(v); }
 PlacedVehicle placeVehicle(const TerrainMesh& t, const std::vector<std::array<std::int32_t, 3>>& boxes, double voxel_m,
                            const glm::dvec3& offset_m, const VehiclePlacement& o) {
     const std::string where = "scene from-cloud: --vehicle '" + core::printable(o.mesh.string(), 400) + "'";
-    const std::vector<glm::dvec3> vertices = io::loadMeshVertices(o.mesh, false, 1.0, where);
+    const std::vector<glm::dvec3> vertices = io::loadMeshVertices(o.mesh, o.up_y, 1.0, where);
     core::Bounds b;
     for (const glm::dvec3& v : vertices) b.extend(v);
     PlacedVehicle pv;
-    pv.file = "target" + o.mesh.extension().string();
+    pv.file = vehicleFileName(o);
     pv.size_m = b.size();
     const glm::dvec3 bottom((b.lo.x + b.hi.x) / 2, (b.lo.y + b.hi.y) / 2, b.lo.z);
     const double hl = pv.size_m.x / 2, hw = pv.size_m.y / 2, radius = std::hypot(hl, hw) + o.clearance_m;

@@ -4,6 +4,7 @@
 #include <sim/scene_from_cloud.hpp>
 
 #include <core/error.hpp>
+#include <io/scene_file.hpp>
 #include <platform/output_folder.hpp>
 #include <platform/safe_file.hpp>
 
@@ -44,7 +45,29 @@ void vertexLine(std::string& out, double x, double y, double z) {
     out += buffer;
 }
 
+// The vehicle's triangles as OBJ text, z up: every digit a float holds.
+std::string vehicleObj(const io::MeshTriangles& m, const std::filesystem::path& mesh) {
+    std::string out = "# ladarvr scene from-cloud: the triangles of " + core::printable(mesh.filename().string(), 200) +
+                      ", z up\no target\n";
+    char buffer[160];
+    for (const glm::dvec3& v : m.vertices) {
+        std::snprintf(buffer, sizeof buffer, "v %.9g %.9g %.9g\n", v.x, v.y, v.z);
+        out += buffer;
+    }
+    for (const glm::uvec3& t : m.triangles) {
+        std::snprintf(buffer, sizeof buffer, "f %u %u %u\n", t.x + 1, t.y + 1, t.z + 1);
+        out += buffer;
+    }
+    return out;
+}
+
 }  // namespace
+
+bool vehicleAsObj(const VehiclePlacement& v) { return v.up_y || v.mesh.extension() == ".gltf"; }
+
+std::string vehicleFileName(const VehiclePlacement& v) {
+    return vehicleAsObj(v) ? "target.obj" : "target" + v.mesh.extension().string();
+}
 
 std::string terrainObj(const TerrainMesh& t) {
     std::string out = "# ladarvr scene from-cloud: the survey's ground, a regular grid of " + std::to_string(t.nx) +
@@ -124,8 +147,8 @@ std::string recordJson(const SceneFromCloud& s, const SceneFromCloudOptions& o) 
     if (!s.vehicle) return j + "null\n}\n";
     const PlacedVehicle& v = *s.vehicle;
     return j + "{\"mesh\": " + quoted(std::filesystem::absolute(o.vehicle.mesh).string()) +
-           ", \"file\": " + quoted(v.file) + ", \"size_m\": " + triple(v.size_m, 3) +
-           ", \"bottom_centre\": " + triple(v.footprint_centre, 3) +
+           (o.vehicle.up_y ? ", \"up\": \"y\"" : "") + ", \"file\": " + quoted(v.file) +
+           ", \"size_m\": " + triple(v.size_m, 3) + ", \"bottom_centre\": " + triple(v.footprint_centre, 3) +
            ", \"bottom_centre_world\": " + triple(v.footprint_centre + s.offset_m, 3) +
            ", \"yaw_deg\": " + fixed(v.yaw_deg, 3) + ", \"slope\": " + fixed(v.slope, 4) +
            ", \"roughness_m\": " + fixed(v.roughness_m, 3) + ", \"seed\": " + std::to_string(o.vehicle.seed) +
@@ -139,9 +162,11 @@ bool isSceneFromCloudFile(const std::string& name) {
 
 void writeSceneFolder(const std::filesystem::path& dir, const SceneFromCloud& s, const SceneFromCloudOptions& o) {
     std::string vehicle_bytes;
-    if (s.vehicle)
-        vehicle_bytes = platform::readTextFile(o.vehicle.mesh, kMaxVehicleBytes,
-                                               "scene from-cloud: --vehicle '" + o.vehicle.mesh.string() + "'");
+    const std::string where = "scene from-cloud: --vehicle '" + o.vehicle.mesh.string() + "'";
+    if (s.vehicle && vehicleAsObj(o.vehicle))
+        vehicle_bytes = vehicleObj(io::loadMeshTriangles(o.vehicle.mesh, o.vehicle.up_y, 1.0, where), o.vehicle.mesh);
+    else if (s.vehicle)
+        vehicle_bytes = platform::readTextFile(o.vehicle.mesh, kMaxVehicleBytes, where);
     platform::removeStaleTemporaries(dir.parent_path().empty() ? "." : dir.parent_path(), isSceneFromCloudFile);
     platform::AtomicFolder folder(dir, isSceneFromCloudFile);
     folder.writeFile("ground.obj", terrainObj(s.terrain));

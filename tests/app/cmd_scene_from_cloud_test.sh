@@ -6,7 +6,9 @@
 #    vehicle sits on the ground (`scene info` warns of nothing); `generate` flies it and
 #    labels target points;
 #  - a survey in feet is converted (stderr says so); --coarsen says in one line what it did;
-#    a vehicle of one family is drawn from scripts/make_vehicles.py's list;
+#    a vehicle of one family is drawn from scripts/make_vehicles.py's list; a glTF vehicle
+#    with y up (Debian's assimp-testmodels milk truck, whose buffers are other files) is
+#    written as target.obj, z up, and stands on the ground upright;
 #  - bad options, too many boxes and a geographic CRS give one line and no folder; the
 #    survey is never overwritten; a second run replaces the folder whole.
 set -eu
@@ -60,6 +62,26 @@ python3 "$assets/../scripts/make_vehicles.py" --out "$dir/veh" --per-family 1 --
     fail "--family: stderr: $(cat "$dir/err")"
 cmp -s "$dir/veh/tank_00.obj" "$dir/fam/target.obj" || fail "--family: the target is not tank_00.obj"
 
+# A glTF with y up whose buffers are other files: its triangles written as target.obj, z up.
+truck=/usr/share/assimp/models/glTF/CesiumMilkTruck/CesiumMilkTruck.gltf
+"$bin" scene from-cloud "$real/hexbin-crop.las" --out "$dir/truck" --vehicle "$truck" --vehicle-up y \
+    >"$dir/out" 2>"$dir/err" || fail "from-cloud glTF: $(cat "$dir/err")"
+[ "$(ls "$dir/truck" | tr '\n' ' ')" = "environment.obj from_cloud.json ground.obj scene.json target.obj " ] ||
+    fail "glTF folder: $(ls "$dir/truck")"
+"$bin" scene info "$dir/truck/scene.json" --json >"$dir/info" 2>"$dir/err" || fail "scene info glTF: $(cat "$dir/err")"
+tr -d ' \n' <"$dir/info" | grep -q '"warnings":\[\]' || fail "scene info warns (glTF): $(cat "$dir/info")"
+# Upright: the truck is about 2.8 m high and longer than wide (lying on its side it would be
+# 2.8 m wide and 2.3 m high).
+python3 - "$dir/truck/from_cloud.json" <<'PY' || fail "glTF record: $(cat "$dir/truck/from_cloud.json")"
+import json, sys
+v = json.load(open(sys.argv[1]))["vehicle"]
+assert v["up"] == "y" and v["file"] == "target.obj", v
+length, width, height = v["size_m"]
+assert length > 4.5 and 2.5 < width < length and 2.7 < height < 3.0, v["size_m"]
+PY
+"$bin" generate --scene "$dir/truck/scene.json" --out "$dir/truck.pcd" --views 4 --xres 32 --yres 32 --json \
+    >"$dir/json" 2>"$dir/err" || fail "generate glTF: $(cat "$dir/err")"
+
 # Refusals: one line, no folder.
 bad() {
     want=$1
@@ -71,6 +93,7 @@ bad() {
     return 0
 }
 bad "--voxel-m is 0; allowed (0.05, 100] metres" "$real/hexbin-crop.las" --out "$dir/bad" --voxel-m 0
+bad "--vehicle-up needs --vehicle" "$real/hexbin-crop.las" --out "$dir/bad" --vehicle-up y
 bad "--ground-from 'x' is not one of auto, classes, filter" "$real/hexbin-crop.las" --out "$dir/bad" --ground-from x
 bad "allowed at most --max-boxes 10: raise --voxel-m or --max-boxes, or give --coarsen" "$real/hexbin-crop.las" \
     --out "$dir/bad" --max-boxes 10

@@ -60,6 +60,14 @@ core::Scene loadSceneJson(std::string_view json_text, const std::filesystem::pat
 std::vector<glm::dvec3> loadMeshVertices(const std::filesystem::path& file, bool up_y, double scale,
                                          const std::string& where);
 
+/// The same vertices with the triangles (indices into them) of every mesh of the file, as
+/// loadScene reads them: what a copy of the mesh in another format must hold.
+struct MeshTriangles {
+    std::vector<glm::dvec3> vertices;
+    std::vector<glm::uvec3> triangles;
+};
+MeshTriangles loadMeshTriangles(const std::filesystem::path& file, bool up_y, double scale, const std::string& where);
+
 /// The files loadScene read for `scene` when it loaded the meshes of the roles `roles`
 /// (SceneLoadOptions::roles): the scene file, then the mesh file of each such entry, in
 /// the entries' order (a file used twice is named twice). A command adds them to its

@@ -32,7 +32,8 @@ enum class SceneGroundSource {
 
 /// The vehicle put on the ground as the scene's target.
 struct VehiclePlacement {
-    std::filesystem::path mesh;  // a mesh file Assimp reads (z up); empty: no vehicle
+    std::filesystem::path mesh;  // a mesh file Assimp reads; empty: no vehicle
+    bool up_y = false;           // the mesh's up axis is y (glTF's), else z
     /// Where its centre goes, in the survey's coordinates (metres; feet files converted);
     /// unset: a random flat, free spot drawn with `seed`.
     std::optional<glm::dvec2> at_world;
@@ -78,7 +79,7 @@ struct TerrainMesh {
 
 /// The vehicle as placed: the scene entry's transform and what was measured.
 struct PlacedVehicle {
-    std::string file;          // its name in the scene folder: "target" + the mesh's extension
+    std::string file;          // its name in the scene folder (vehicleFileName)
     glm::dvec3 position{0.0};  // the entry's position, local frame
     double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;
     glm::dvec3 size_m{0.0};            // its mesh's bounding box
@@ -116,6 +117,12 @@ SceneFromCloud buildSceneFromCloud(const std::filesystem::path& survey, const Sc
 /// box a voxel, a face left out where the next voxel is occupied too).
 std::string terrainObj(const TerrainMesh& t);
 std::string boxesObj(const std::vector<std::array<std::int32_t, 3>>& boxes, double voxel_m);
+/// The vehicle's name in the scene folder: "target" + the mesh's extension where the mesh
+/// is copied as it is; "target.obj", its triangles written z up, where a copy would not
+/// do: a .gltf (its buffers are other files) or a mesh whose up axis is y.
+std::string vehicleFileName(const VehiclePlacement& v);
+/// Whether the vehicle is written as OBJ rather than copied (vehicleFileName).
+bool vehicleAsObj(const VehiclePlacement& v);
 
 /// The scene file's JSON (ground.obj, environment.obj when there are boxes, the vehicle
 /// as the target) and the record of the conversion (from_cloud.json).
