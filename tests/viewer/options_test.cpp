@@ -93,6 +93,12 @@ TEST_CASE("the colours shown: a mode the cloud cannot show falls back to the hei
     // The heights take the attributes' place on the GPU: a whitened cloud shows neither.
     CHECK(shownColourMode(ColourMode::Intensity, smrf) == ColourMode::HeightJet);
     CHECK(shownColourMode(ColourMode::Return, smrf) == ColourMode::HeightJet);
+    // A survey's file without colours (point formats 0, 1, 4, 6, 9) reads white throughout:
+    // its file colours are the heights'.
+    const ColourSources colourless{false, false, true, true, false};
+    CHECK(shownColourMode(ColourMode::File, survey) == ColourMode::File);
+    CHECK(shownColourMode(ColourMode::File, colourless) == ColourMode::HeightJet);
+    CHECK(shownColourMode(ColourMode::Class, colourless) == ColourMode::Class);
 }
 
 TEST_CASE("viewer options are validated before a window opens") {

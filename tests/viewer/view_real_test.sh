@@ -13,6 +13,8 @@
 #           colours, so every point reads white) carries each point's height above ground:
 #           --colour above-ground shows its class 2 white and the roofs and trees in the jet
 #           colours, from the LAS file as from its COPC index, not every point white.
+#   colourless  CSite3_orig-utm.laz (point format 0) without --colour: a file without colours
+#           reads white throughout, so its file colours are the height colours, not a white mass.
 #   class   hexbin-crop.las's classes 1 and 2 in the ASPRS palette: mostly ground brown,
 #           some grey; --colour intensity shows many levels of grey.
 #   eight-bit  hexbin-crop.las's points written by laspy with 8-bit colours (a yellow,
@@ -33,6 +35,22 @@ work=$(mktemp -d /tmp/ladarvr-viewreal.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 export LSAN_OPTIONS="suppressions=$here/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 common=(view --no-xr --frames 10 --width 640 --height 480 --timeout 120)
+# view_whole NAME POINTS CLOUD ARGS...: views CLOUD headless with more frames each time
+# until the run log NAME.json shows all POINTS on the GPU (the file streams in), the last
+# frame in NAME.png.
+view_whole() {
+    local name=$1 points=$2 cloud=$3 uploaded=0 frames
+    shift 3
+    for frames in 10 60 300 1500 6000; do
+        "$here/headless_env.sh" --timeout 150 -- "$bin" view --no-xr --frames "$frames" --width 640 --height 480 \
+          --timeout 120 "$cloud" --log-json "$work/$name.json" --screenshot "$work/$name.png" "$@" 2>"$work/stderr" ||
+          { cat "$work/stderr" >&2; exit 1; }
+        uploaded=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['points_uploaded'])" "$work/$name.json")
+        [ "$uploaded" = "$points" ] && return 0
+    done
+    echo "FAIL: $name: $uploaded of $points points on the GPU after $frames frames" >&2
+    exit 1
+}
 
 # lit SHOT.png ROWS: the fraction of pixels of the frame's upper half (ROWS=upper: the
 # settings panel keeps to the lower half) or all of it (ROWS=all) that are not the clear
@@ -100,16 +118,8 @@ PY
     "$bin" ground "$data/CSite3_orig-utm.laz" --out "$work/hag.laz" 2>"$work/stderr" ||
       { cat "$work/stderr" >&2; exit 1; }
     "$bin" index "$work/hag.laz" --out "$work/hag.copc.laz" 2>"$work/stderr" || { cat "$work/stderr" >&2; exit 1; }
-    # More frames each time until the log shows every point on the GPU (the file streams in).
     for name in hag hag.copc; do
-      for frames in 10 60 300 1500 6000; do
-        "$here/headless_env.sh" --timeout 150 -- "$bin" view --no-xr --frames "$frames" --width 640 --height 480 \
-          --timeout 120 "$work/$name.laz" --point-size 4 --no-edl --colour above-ground --log-json "$work/$name.json" \
-          --screenshot "$work/$name.png" 2>"$work/stderr" || { cat "$work/stderr" >&2; exit 1; }
-        uploaded=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))['points_uploaded'])" "$work/$name.json")
-        [ "$uploaded" = 377028 ] && break
-      done
-      [ "$uploaded" = 377028 ] || { echo "FAIL: $name: $uploaded of 377028 points on the GPU after $frames frames" >&2; exit 1; }
+      view_whole "$name" 377028 "$work/$name.laz" --point-size 4 --no-edl --colour above-ground
     done
     python3 - "$here" "$work" <<'PY'
 import json, sys
@@ -127,6 +137,22 @@ for name in ("hag", "hag.copc"):
     assert lit > w * (h // 2) // 2, f"{name}: only {lit} pixels show the survey"
     assert jet > lit // 4, f"{name}: {jet} of {lit} pixels in jet colours: the objects are not coloured"
     assert white > lit // 10, f"{name}: {white} of {lit} pixels white: the ground is not white"
+PY
+    ;;
+  colourless)
+    view_whole plain 377028 "$data/CSite3_orig-utm.laz" --point-size 4 --no-edl
+    python3 - "$here" "$work/plain.png" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+from check_view_log import read_png, count
+w, h, px = read_png(sys.argv[2])
+px = px[:w * (h // 2) * 3]
+jet = count(px, lambda r, g, b: max(r, g, b) - min(r, g, b) > 80)
+white = count(px, lambda r, g, b: min(r, g, b) > 200)
+lit = count(px, lambda r, g, b: r + g + b > 90)
+print(f"upper half: {lit} lit, {jet} in jet colours, {white} white")
+assert lit > w * (h // 2) // 2, f"only {lit} pixels show the survey"
+assert jet > lit // 2, f"{jet} of {lit} pixels in jet colours ({white} white): the file's missing colours shown white"
 PY
     ;;
   class)

@@ -44,6 +44,7 @@ const char* colourModeName(ColourMode mode) {
 
 ColourMode shownColourMode(ColourMode wanted, const ColourSources& cloud) {
     const bool shown = (wanted != ColourMode::AboveGround || cloud.terrain || cloud.height_above_ground) &&
+                       (wanted != ColourMode::File || cloud.rgb) &&
                        (wanted != ColourMode::Intensity || (cloud.intensity && !cloud.height_above_ground)) &&
                        (wanted != ColourMode::Return || (cloud.returns && !cloud.height_above_ground));
     return shown ? wanted : ColourMode::HeightJet;

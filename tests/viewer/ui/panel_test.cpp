@@ -28,6 +28,9 @@ TEST_CASE("the panel says why the colours shown are not the mode chosen") {
     CHECK(colourNote(ColourMode::Intensity, ColourSources{}, false, false) ==
           "intensity: not in this cloud; showing heights");
     CHECK(colourNote(ColourMode::Class, ColourSources{}, false, false).empty());
+    CHECK(colourNote(ColourMode::File, ColourSources{false, false, true, true, false}, false, false) ==
+          "file: no colours in this cloud; showing heights");
+    CHECK(colourNote(ColourMode::File, survey, false, false).empty());
 }
 
 TEST_CASE("the pick panel gives lengths in the cloud's own units") {

@@ -51,9 +51,11 @@ struct ColourSources {
     bool terrain = false;              // a terrain is bound (ViewerOptions::terrain)
     bool intensity = false;            // intensities, on a cloud without heights above ground
     bool returns = false;              // return numbers, likewise
+    bool rgb = true;                   // colours of its own (a survey's file may have none)
 };
-/// The mode drawn for `wanted`: above-ground without a terrain or heights, intensity or
-/// return on a cloud that does not carry them, show the height colours; the others as they are.
+/// The mode drawn for `wanted`: above-ground without a terrain or heights, file, intensity
+/// or return on a cloud that does not carry them, show the height colours; the others as
+/// they are.
 ColourMode shownColourMode(ColourMode wanted, const ColourSources& cloud);
 /// "points" / "compute"; throws core::Error("view: --rasterizer 'x' is not one of points, compute").
 Rasterizer parseRasterizer(const std::string& name);

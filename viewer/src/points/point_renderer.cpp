@@ -410,7 +410,7 @@ void PointRenderer::raiseTerrainMax(std::span<const core::CloudPoint> points) {
 }
 
 ColourSources PointRenderer::colourSources() const {
-    return {fields_.height_above_ground, terrain_.has_value(), fields_.intensity, fields_.returns};
+    return {fields_.height_above_ground, terrain_.has_value(), fields_.intensity, fields_.returns, fields_.rgb};
 }
 
 void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull) {

@@ -131,6 +131,7 @@ std::string colourNote(ColourMode wanted, const ColourSources& cloud, bool terra
         case ColourMode::AboveGround:
             return terrain_coming && !terrain_failed ? "above-ground: waiting for the terrain"
                                                      : "above-ground: no terrain; showing heights";
+        case ColourMode::File: return "file: no colours in this cloud; showing heights";
         case ColourMode::Intensity: return "intensity: not in this cloud; showing heights";
         case ColourMode::Return: return "return: not in this cloud; showing heights";
         default: return {};
