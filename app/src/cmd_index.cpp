@@ -34,6 +34,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Input files of one run at most (a folder's tiles included).
+constexpr std::size_t kMostInputs = 65536;
+
 struct IndexCli {
     std::vector<std::string> inputs;
     std::string out;
@@ -104,6 +107,7 @@ void run(IndexCli& cli) {
     }
     if (cli.inputs.empty() || cli.out.empty())
         throw core::Error("index: give the input clouds and --out OUT.copc.laz (or --check FILE)");
+    expandFolderInputs(cli.inputs, "index", kMostInputs);
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path out = cli.out;
     if (io::formatForPath(out, "index: --out") != io::CloudFormat::Copc)
@@ -155,7 +159,9 @@ void registerIndex(CLI::App& cli) {
         "index",
         "write clouds (PCD, PLY, LAS, LAZ, COPC; several are merged) as one COPC 1.0 file: a LAZ file "
         "whose chunks are the nodes of a level-of-detail octree");
-    c->add_option("inputs", state->inputs, "the input clouds; they must carry the same fields");
+    c->add_option("inputs", state->inputs,
+                  "the input clouds (a folder gives its .las/.laz files in name order); they must carry the same "
+                  "fields");
     c->add_option("--out", state->out, "the COPC file to write, a name ending in .copc.laz");
     c->add_option("--check", state->check,
                   "check FILE against the COPC 1.0 rules instead (one line per finding on stdout; exit 1 "

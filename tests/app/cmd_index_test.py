@@ -139,6 +139,19 @@ r = run("index", path("p.las"), path("p.laz"), "--out", path("m.copc.laz"))
 check(r.returncode == 0 and len(laspy.read(path("m.copc.laz")).points) == 2 * len(reference.points),
       "two inputs merged: " + r.stderr)
 
+# A folder of tiles: its .las/.laz files in name order, the same bytes as those files named.
+os.makedirs(path("tiles"))
+shutil.copy(path("p.las"), path("tiles/a.las"))
+shutil.copy(path("p.laz"), path("tiles/b.laz"))
+with open(path("tiles/README.txt"), "w") as f:
+    f.write("not a cloud\n")
+r = run("index", path("tiles"), "--out", path("f.copc.laz"))
+check(r.returncode == 0 and "2 inputs" in r.stdout + r.stderr, "a folder of two tiles: " + r.stdout + r.stderr)
+run("index", path("tiles/a.las"), path("tiles/b.laz"), "--out", path("fn.copc.laz"))
+check(open(path("f.copc.laz"), "rb").read() == open(path("fn.copc.laz"), "rb").read(),
+      "a folder of tiles: the same bytes as its files named")
+os.makedirs(path("empty_tiles"))
+
 # 5: the node cap.
 _, default_nodes = copc_layout(path("t1.copc.laz"))
 for cap in ("2000", "500"):
@@ -174,6 +187,7 @@ bad("is the input file", path("in.copc.laz"), "--out", path("in.copc.laz"))
 bad("allowed a name ending in .copc.laz", path("p.laz"), "--out", path("x.laz"))
 bad("merged inputs must carry the same fields", path("p.pcd"), path("p.las"), "--out", path("y.copc.laz"))
 bad("does not exist", path("missing.pcd"), "--out", path("y.copc.laz"))
+bad("is a folder that holds no .las or .laz file", path("empty_tiles"), "--out", path("y.copc.laz"))
 bad("raise --memory-mb", path("p.laz"), "--out", path("y.copc.laz"), "--memory-mb", "1")
 bad("index: --node-points 99: allowed 100 to 4000000", path("p.laz"), "--out", path("y.copc.laz"),
     "--node-points", "99")
