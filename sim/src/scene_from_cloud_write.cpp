@@ -16,7 +16,7 @@ namespace sim {
 
 namespace {
 
-// The largest vehicle mesh file copied into the folder.
+// The largest vehicle mesh file copied into the folder, and the most OBJ text written for one.
 constexpr std::size_t kMaxVehicleBytes = std::size_t(64) << 20;
 
 std::string fixed(double v, int decimals) {
@@ -163,9 +163,14 @@ bool isSceneFromCloudFile(const std::string& name) {
 void writeSceneFolder(const std::filesystem::path& dir, const SceneFromCloud& s, const SceneFromCloudOptions& o) {
     std::string vehicle_bytes;
     const std::string where = "scene from-cloud: --vehicle '" + o.vehicle.mesh.string() + "'";
-    if (s.vehicle && vehicleAsObj(o.vehicle))
-        vehicle_bytes = vehicleObj(io::loadMeshTriangles(o.vehicle.mesh, o.vehicle.up_y, 1.0, where), o.vehicle.mesh);
-    else if (s.vehicle)
+    if (s.vehicle && vehicleAsObj(o.vehicle)) {
+        const io::MeshTriangles mesh = io::loadMeshTriangles(o.vehicle.mesh, o.vehicle.up_y, 1.0, where);
+        // At most 52 bytes a vertex and 36 a triangle as text: refused before it is made.
+        if (mesh.vertices.size() * 52 + mesh.triangles.size() * 36 > kMaxVehicleBytes)
+            throw core::Error(where + ": " + std::to_string(mesh.triangles.size()) +
+                              " triangles; allowed a vehicle whose OBJ text takes at most 64 MiB");
+        vehicle_bytes = vehicleObj(mesh, o.vehicle.mesh);
+    } else if (s.vehicle)
         vehicle_bytes = platform::readTextFile(o.vehicle.mesh, kMaxVehicleBytes, where);
     platform::removeStaleTemporaries(dir.parent_path().empty() ? "." : dir.parent_path(), isSceneFromCloudFile);
     platform::AtomicFolder folder(dir, isSceneFromCloudFile);
