@@ -303,6 +303,29 @@ TEST_CASE("viewer file colours pass through byte-exact, with either rasterizer")
     }
 }
 
+TEST_CASE("file colours of a cloud without colours: another producer's shows heights, ours (generate --white) white") {
+    render::EglContext context;
+    for (const bool from_elsewhere : {false, true}) {
+        CAPTURE(from_elsewhere);
+        core::PointCloud cloud;
+        cloud.fields.rgb = false;  // every point reads white
+        if (from_elsewhere) cloud.foreign.emplace();
+        for (int k = 0; k < kColumns; ++k) {
+            core::CloudPoint p;
+            p.position = {float(k), 0.0f, float(k)};
+            cloud.points.push_back(p);
+        }
+        viewer::ViewStyle style;
+        style.eye_dome = false;
+        style.point_size_px = 5.0f;
+        const std::vector<Pixel> pixels = drawFromAbove(cloud, 1, style);
+        int white = 0;
+        for (int k = 0; k < kColumns; ++k) white += cellColour(pixels, k, 0) == core::kWhite;
+        CHECK(white == (from_elsewhere ? 0 : kColumns));
+        CHECK(reddish(cellColour(pixels, 0, 0)) == from_elsewhere);  // the lowest point, by height
+    }
+}
+
 TEST_CASE("the compute rasterizer leaves the depth GL_POINTS leaves, for the OpenXR depth layer") {
     render::EglContext context;
     // Points at many heights on the grid, seen from above: each pixel's depth is its point's.

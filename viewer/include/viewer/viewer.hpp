@@ -51,7 +51,7 @@ struct ColourSources {
     bool terrain = false;              // a terrain is bound (ViewerOptions::terrain)
     bool intensity = false;            // intensities, on a cloud without heights above ground
     bool returns = false;              // return numbers, likewise
-    bool rgb = true;                   // colours of its own (a survey's file may have none)
+    bool rgb = true;                   // colours of its own (a survey's file may have none), or a cloud we generated
 };
 /// The mode drawn for `wanted`: above-ground without a terrain or heights, file, intensity
 /// or return on a cloud that does not carry them, show the height colours; the others as

@@ -410,7 +410,10 @@ void PointRenderer::raiseTerrainMax(std::span<const core::CloudPoint> points) {
 }
 
 ColourSources PointRenderer::colourSources() const {
-    return {fields_.height_above_ground, terrain_.has_value(), fields_.intensity, fields_.returns, fields_.rgb};
+    // A cloud we generated (our labels, not another producer's file) that stores no colours
+    // is white by intent (`generate --white` as LAS): its file colours stay white.
+    const bool ours = fields_.label && !from_elsewhere_;
+    return {fields_.height_above_ground, terrain_.has_value(), fields_.intensity, fields_.returns, fields_.rgb || ours};
 }
 
 void PointRenderer::planFrame(std::span<const EyeDraw> eyes, std::size_t point_budget, bool cull) {
