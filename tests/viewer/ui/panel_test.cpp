@@ -31,6 +31,12 @@ TEST_CASE("the panel says why the colours shown are not the mode chosen") {
     CHECK(colourNote(ColourMode::File, ColourSources{false, false, true, true, false}, false, false) ==
           "file: no colours in this cloud; showing heights");
     CHECK(colourNote(ColourMode::File, survey, false, false).empty());
+    // `ladarvr ground`'s output: its intensities and returns are in the file, not on the GPU.
+    const ColourSources classified{true, false, true, true, true};
+    CHECK(colourNote(ColourMode::Intensity, classified, false, false) ==
+          "intensity: not drawn beside heights above ground; showing heights");
+    CHECK(colourNote(ColourMode::Return, classified, false, false) ==
+          "return: not drawn beside heights above ground; showing heights");
 }
 
 TEST_CASE("the pick panel gives lengths in the cloud's own units") {

@@ -132,8 +132,16 @@ std::string colourNote(ColourMode wanted, const ColourSources& cloud, bool terra
             return terrain_coming && !terrain_failed ? "above-ground: waiting for the terrain"
                                                      : "above-ground: no terrain; showing heights";
         case ColourMode::File: return "file: no colours in this cloud; showing heights";
-        case ColourMode::Intensity: return "intensity: not in this cloud; showing heights";
-        case ColourMode::Return: return "return: not in this cloud; showing heights";
+        // A cloud with heights above ground has its intensities and returns in the file, but
+        // its points' one float on the GPU holds the heights (docs/viewer.md, "On the GPU").
+        case ColourMode::Intensity:
+            return cloud.intensity && cloud.height_above_ground
+                       ? "intensity: not drawn beside heights above ground; showing heights"
+                       : "intensity: not in this cloud; showing heights";
+        case ColourMode::Return:
+            return cloud.returns && cloud.height_above_ground
+                       ? "return: not drawn beside heights above ground; showing heights"
+                       : "return: not in this cloud; showing heights";
         default: return {};
     }
 }
