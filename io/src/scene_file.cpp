@@ -311,7 +311,14 @@ Scene loadSceneJson(std::string_view json_text, const std::filesystem::path& fil
     if (options.require_target) {
         bool any = false;
         for (const Entry& e : entries) any = any || e.role == Role::Target;
-        if (!any) throw Error(name + ": no mesh has role 'target'; a scene needs at least one target mesh");
+        if (!any) {
+            // A folder `scene from-cloud` wrote holds its record beside the scene file.
+            std::error_code ec;
+            const bool from_cloud = fs::is_regular_file(fs::symlink_status(file.parent_path() / "from_cloud.json", ec));
+            throw Error(
+                name + ": no mesh has role 'target'; a scene needs at least one target mesh" +
+                (from_cloud ? " (scene from-cloud made this one without --vehicle: give it a vehicle mesh)" : ""));
+        }
     }
     if (!has_origin) scene.origin = entries.front().position;
     scene.entries = entries;

@@ -260,6 +260,16 @@ TEST_CASE("scene: bad scene files give one clear line naming the file and the re
         CHECK(loadError(kBad / "no_target.json") ==
               b + "no_target.json: no mesh has role 'target'; a scene needs at least one target mesh");
     }
+    SUBCASE("no target in a folder scene from-cloud wrote: the line says how to give one") {
+        TempDir dir("scene_no_vehicle");
+        fs::copy_file(kScenes / "basic" / "ground.obj", dir.path / "ground.obj");
+        std::ofstream(dir.path / "scene.json") << R"({"meshes": [{"file": "ground.obj", "role": "ground"}]})";
+        std::ofstream(dir.path / "from_cloud.json") << "{}";
+        CHECK(loadError(dir.path / "scene.json") ==
+              "scene: " + (dir.path / "scene.json").string() +
+                  ": no mesh has role 'target'; a scene needs at least one target mesh (scene from-cloud made this "
+                  "one without --vehicle: give it a vehicle mesh)");
+    }
     SUBCASE("non-finite position and yaw") {
         CHECK(loadError(kBad / "nonfinite_position.json") ==
               b + "nonfinite_position.json: number overflow parsing '1e999': the number is not "
