@@ -265,6 +265,21 @@ void expandFolderInputs(std::vector<std::string>& inputs, std::string_view comma
     inputs = std::move(files);
 }
 
+std::vector<std::string> folderInputs(const std::vector<std::string>& inputs) {
+    std::vector<std::string> folders;
+    for (const std::string& in : inputs) {
+        std::error_code ec;
+        if (std::filesystem::is_directory(in, ec)) folders.push_back(in);
+    }
+    return folders;
+}
+
+void addTileFolders(platform::InputSet& inputs, const std::vector<std::string>& folders) {
+    for (const std::string& folder : folders)
+        inputs.addFolder(folder,
+                         [](const std::string& name) { return name.find('/') != name.npos || !isLasName(name); });
+}
+
 void createParentFolders(const fs::path& file, std::string_view option) {
     platform::checkPathLength(file, option);
     const fs::path parent = file.parent_path();

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <platform/cleanup.hpp>
+#include <platform/input_set.hpp>
 
 #include <glm/vec3.hpp>
 
@@ -79,6 +80,12 @@ std::vector<std::filesystem::path> lasFilesIn(const std::filesystem::path& folde
 /// folder that holds no .las or .laz file; ...") for a folder without them, and when more
 /// than `most` files result.
 void expandFolderInputs(std::vector<std::string>& inputs, std::string_view command, std::size_t most);
+/// The inputs that are folders (of tiles), before expandFolderInputs replaces them.
+std::vector<std::string> folderInputs(const std::vector<std::string>& inputs);
+/// Adds each folder of tiles to `inputs` so that no output of the run lands among its tiles,
+/// where the next run would read it as one: a .las or .laz name directly inside it is
+/// refused (InputSet::checkNotAnInput); other names, and names in a subfolder, are not.
+void addTileFolders(platform::InputSet& inputs, const std::vector<std::string>& folders);
 
 /// An optional output file of a run (a screenshot, a log): when `file` is not empty,
 /// creates its folders and checks the destination (platform::checkWritableDestination), so a

@@ -68,6 +68,7 @@ constexpr std::size_t kMostInputs = 65536;
 
 struct GroundFileCli {
     std::vector<std::string> in;
+    std::vector<std::string> in_folders;  // the inputs that were folders of tiles
     std::string out, out_dir;
     std::string dtm;                 // --dtm: the terrain as an ESRI ASCII grid or a GeoTIFF; empty: none
     std::string dtm_dir;             // --dtm-dir: with --out-dir, one grid per input in this folder
@@ -388,6 +389,7 @@ void runOne(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::Gr
         inputs.addFile(in);
         files.emplace_back(in);
     }
+    addTileFolders(inputs, cli.in_folders);
     const std::filesystem::path out = cli.out;
     const io::CloudFormat format = io::formatForPath(out, "ground: --out");
     std::size_t side = 0, declared = 0;
@@ -518,6 +520,7 @@ void runEach(GroundFileCli& cli, const sim::CoordinateUnits& units, const sim::G
         platform::checkInputFile(in, "ground: input " + core::printable(in, 400));
         inputs.addFile(in);
     }
+    addTileFolders(inputs, cli.in_folders);
     std::vector<std::size_t> todo;
     for (std::size_t i = 0; i < files.size(); ++i)
         if (cli.only_tile < 0 || std::size_t(cli.only_tile) == i) todo.push_back(i);
@@ -627,6 +630,7 @@ void runSurveys(GroundFileCli& cli) {
 }
 
 void run(GroundFileCli& cli) {
+    cli.in_folders = folderInputs(cli.in);
     expandFolderInputs(cli.in, "ground", kMostInputs);
     cli.options.method = sim::parseGroundMethod(cli.method, "ground: --method");
     if (cli.options.method == sim::GroundMethod::Ransac)

@@ -107,6 +107,7 @@ void run(IndexCli& cli) {
     }
     if (cli.inputs.empty() || cli.out.empty())
         throw core::Error("index: give the input clouds and --out OUT.copc.laz (or --check FILE)");
+    const std::vector<std::string> folders = folderInputs(cli.inputs);
     expandFolderInputs(cli.inputs, "index", kMostInputs);
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path out = cli.out;
@@ -133,6 +134,7 @@ void run(IndexCli& cli) {
         checkMergeable(r, *readers.front(), "index");
         bound += r.pointsBound();
     }
+    addTileFolders(inputs, folders);
     createParentFolders(out, "index: --out");
     platform::checkWritableDestination(out, inputs);
     warnOfScales(readers);

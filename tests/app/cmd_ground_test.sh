@@ -114,6 +114,18 @@ import json, sys
 g = {o["in"].rsplit("/", 1)[-1]: o["ground_points"] for o in json.load(open(sys.argv[1]))}
 assert g["nocrs.las"] == g["hexbin-crop.las"] > 30000, g
 ' "$dir/json" || fail "mixed surveys: the copy 30 m higher lost its ground to the other CRS's points"
+# An output among a folder's tiles would be read as a tile by the next run: refused in one
+# line, nothing written; in a subfolder it may go.
+mkdir -p "$dir/tiles"
+cp "$real/hexbin-crop.las" "$dir/tiles/"
+if "$bin" ground "$dir/tiles" --out "$dir/tiles/merged.las" >/dev/null 2>"$dir/err"; then
+    fail "ground --out among the tiles it reads succeeded"
+fi
+[ "$(wc -l <"$dir/err")" = 1 ] && grep -q "is 'merged.las' inside the input folder '$dir/tiles' of this run" "$dir/err" ||
+    fail "ground --out among the tiles: $(cat "$dir/err")"
+[ -e "$dir/tiles/merged.las" ] && fail "ground --out among the tiles left merged.las"
+"$bin" ground "$dir/tiles" --out "$dir/tiles/sub/merged.las" >/dev/null 2>"$dir/err" ||
+    fail "ground --out in a subfolder of the tiles: $(cat "$dir/err")"
 "$bin" ground "$dir/mixed" --out-dir "$dir/mixed-only" --only-tile 2 >/dev/null 2>"$dir/err" ||
     fail "mixed surveys --only-tile 2: $(cat "$dir/err")"
 [ "$(ls "$dir/mixed-only")" = "nocrs.las" ] || fail "--only-tile 2 wrote: $(ls "$dir/mixed-only")"

@@ -151,6 +151,9 @@ run("index", path("tiles/a.las"), path("tiles/b.laz"), "--out", path("fn.copc.la
 check(open(path("f.copc.laz"), "rb").read() == open(path("fn.copc.laz"), "rb").read(),
       "a folder of tiles: the same bytes as its files named")
 os.makedirs(path("empty_tiles"))
+r = run("index", path("tiles"), "--out", path("tiles/all.copc.laz"))
+check(r.returncode == 1 and "inside the input folder" in r.stderr and not os.path.exists(path("tiles/all.copc.laz")),
+      "an output among the tiles it reads is refused: " + r.stderr)
 
 # 5: the node cap.
 _, default_nodes = copc_layout(path("t1.copc.laz"))
