@@ -630,6 +630,11 @@ void runSurveys(GroundFileCli& cli) {
 }
 
 void run(GroundFileCli& cli) {
+    // A name without an extension would be a PCD (io::formatForPath): a survey's CRS and classes lost.
+    if (!cli.out.empty() && std::filesystem::path(cli.out).extension().empty())
+        throw core::Error("ground: --out " + core::printable(cli.out, 400) +
+                          ": no extension; allowed a name ending in .las, .laz, .copc.laz, .pcd or .ply (the name "
+                          "gives the format)");
     cli.in_folders = folderInputs(cli.in);
     expandFolderInputs(cli.in, "ground", kMostInputs);
     cli.options.method = sim::parseGroundMethod(cli.method, "ground: --method");

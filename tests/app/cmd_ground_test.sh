@@ -241,6 +241,8 @@ bad "--csf-rigidness" "$data/samp24.las" --out "$dir/bad.las" --method csf --csf
 bad "--returns first: allowed auto, last, all" "$data/samp24.las" --out "$dir/bad.las" --returns first
 bad "--memory-mb" "$data/samp24.las" --out "$dir/bad.las" --memory-mb 2
 bad "--out" "$data/samp24.las" --out "$dir/bad.txt"
+bad "--out $dir/bad: no extension; allowed a name ending in .las, .laz, .copc.laz, .pcd or .ply" "$data/samp24.las" \
+    --out "$dir/bad"
 bad "no-such.las" "$data/no-such.las" --out "$dir/bad.las"
 # A geographic CRS (x and y in degrees): hexbin-crop.las with its WKT record's UTM 42N
 # overwritten by WGS 84 (padded with NULs, the record's length kept).
