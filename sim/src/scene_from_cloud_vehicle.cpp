@@ -85,11 +85,12 @@ std::string number(double v) { return core::shownNumber(v); }
 PlacedVehicle placeVehicle(const TerrainMesh& t, const std::vector<std::array<std::int32_t, 3>>& boxes, double voxel_m,
                            const glm::dvec3& offset_m, const VehiclePlacement& o) {
     const std::string where = "scene from-cloud: --vehicle '" + core::printable(o.mesh.string(), 400) + "'";
-    const std::vector<glm::dvec3> vertices = io::loadMeshVertices(o.mesh, o.up_y, 1.0, where);
+    const io::MeshTriangles mesh = io::loadMeshTriangles(o.mesh, o.up_y, 1.0, where);
     core::Bounds b;
-    for (const glm::dvec3& v : vertices) b.extend(v);
+    for (const glm::dvec3& v : mesh.vertices) b.extend(v);
     PlacedVehicle pv;
     pv.file = vehicleFileName(o);
+    if (vehicleAsObj(o)) pv.obj_text = vehicleObj(mesh, o.mesh, where);
     pv.size_m = b.size();
     const glm::dvec3 bottom((b.lo.x + b.hi.x) / 2, (b.lo.y + b.hi.y) / 2, b.lo.z);
     const double hl = pv.size_m.x / 2, hw = pv.size_m.y / 2, radius = std::hypot(hl, hw) + o.clearance_m;

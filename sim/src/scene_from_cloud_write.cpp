@@ -3,8 +3,9 @@
 // the conversion, all written as one folder (platform::AtomicFolder).
 #include <sim/scene_from_cloud.hpp>
 
+#include "scene_from_cloud_internal.hpp"
+
 #include <core/error.hpp>
-#include <io/scene_file.hpp>
 #include <platform/output_folder.hpp>
 #include <platform/safe_file.hpp>
 
@@ -45,8 +46,14 @@ void vertexLine(std::string& out, double x, double y, double z) {
     out += buffer;
 }
 
-// The vehicle's triangles as OBJ text, z up: every digit a float holds.
-std::string vehicleObj(const io::MeshTriangles& m, const std::filesystem::path& mesh) {
+}  // namespace
+
+std::string detail::vehicleObj(const io::MeshTriangles& m, const std::filesystem::path& mesh,
+                               const std::string& where) {
+    // At most 52 bytes a vertex and 36 a triangle as text: refused before it is made.
+    if (m.vertices.size() * 52 + m.triangles.size() * 36 > kMaxVehicleBytes)
+        throw core::Error(where + ": " + std::to_string(m.triangles.size()) +
+                          " triangles; allowed a vehicle whose OBJ text takes at most 64 MiB");
     std::string out = "# ladarvr scene from-cloud: the triangles of " + core::printable(mesh.filename().string(), 200) +
                       ", z up\no target\n";
     char buffer[160];
@@ -60,8 +67,6 @@ std::string vehicleObj(const io::MeshTriangles& m, const std::filesystem::path& 
     }
     return out;
 }
-
-}  // namespace
 
 bool vehicleAsObj(const VehiclePlacement& v) { return v.up_y || v.mesh.extension() == ".gltf"; }
 
@@ -162,21 +167,14 @@ bool isSceneFromCloudFile(const std::string& name) {
 
 void writeSceneFolder(const std::filesystem::path& dir, const SceneFromCloud& s, const SceneFromCloudOptions& o) {
     std::string vehicle_bytes;
-    const std::string where = "scene from-cloud: --vehicle '" + o.vehicle.mesh.string() + "'";
-    if (s.vehicle && vehicleAsObj(o.vehicle)) {
-        const io::MeshTriangles mesh = io::loadMeshTriangles(o.vehicle.mesh, o.vehicle.up_y, 1.0, where);
-        // At most 52 bytes a vertex and 36 a triangle as text: refused before it is made.
-        if (mesh.vertices.size() * 52 + mesh.triangles.size() * 36 > kMaxVehicleBytes)
-            throw core::Error(where + ": " + std::to_string(mesh.triangles.size()) +
-                              " triangles; allowed a vehicle whose OBJ text takes at most 64 MiB");
-        vehicle_bytes = vehicleObj(mesh, o.vehicle.mesh);
-    } else if (s.vehicle)
-        vehicle_bytes = platform::readTextFile(o.vehicle.mesh, kMaxVehicleBytes, where);
+    if (s.vehicle && !vehicleAsObj(o.vehicle))
+        vehicle_bytes = platform::readTextFile(o.vehicle.mesh, kMaxVehicleBytes,
+                                               "scene from-cloud: --vehicle '" + o.vehicle.mesh.string() + "'");
     platform::removeStaleTemporaries(dir.parent_path().empty() ? "." : dir.parent_path(), isSceneFromCloudFile);
     platform::AtomicFolder folder(dir, isSceneFromCloudFile);
     folder.writeFile("ground.obj", terrainObj(s.terrain));
     if (!s.boxes.empty()) folder.writeFile("environment.obj", boxesObj(s.boxes, s.voxel_m));
-    if (s.vehicle) folder.writeFile(s.vehicle->file, vehicle_bytes);
+    if (s.vehicle) folder.writeFile(s.vehicle->file, vehicleAsObj(o.vehicle) ? s.vehicle->obj_text : vehicle_bytes);
     folder.writeFile("scene.json", sceneJson(s));
     folder.writeFile("from_cloud.json", recordJson(s, o));
     folder.commit();

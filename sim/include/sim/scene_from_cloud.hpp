@@ -80,6 +80,7 @@ struct TerrainMesh {
 /// The vehicle as placed: the scene entry's transform and what was measured.
 struct PlacedVehicle {
     std::string file;          // its name in the scene folder (vehicleFileName)
+    std::string obj_text;      // where vehicleAsObj: the file's text, from the one import of the mesh
     glm::dvec3 position{0.0};  // the entry's position, local frame
     double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;
     glm::dvec3 size_m{0.0};            // its mesh's bounding box
