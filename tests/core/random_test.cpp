@@ -82,7 +82,7 @@ TEST_CASE("shuffle: the same permutation as libstdc++'s std::shuffle (RANSAC's c
 }
 #endif
 
-TEST_CASE("random: SplitMix64 gives the reference sequence; below is the high word of next() * n") {
+TEST_CASE("random: SplitMix64 gives the reference sequence, below is the high word of next() * n") {
     core::SplitMix64 r(0);
     CHECK(r.next() == 0xe220a8397b1dcdafull);  // the reference SplitMix64's first output for seed 0
     CHECK(r.next() == 0x6e789e6aa1b965f4ull);
@@ -97,7 +97,7 @@ TEST_CASE("random: SplitMix64 gives the reference sequence; below is the high wo
     }
 }
 
-TEST_CASE("random: the uniforms take the top 53 bits; unitOpen never reaches 0 or 1") {
+TEST_CASE("random: the uniforms take the top 53 bits, unitOpen never reaches 0 or 1") {
     CHECK(core::unitHalfOpen(0) == 0.0);
     CHECK(core::unitHalfOpen(~0ull) == 1.0 - 0x1.0p-53);
     CHECK(core::unitOpen(0) == 0x1.0p-54);

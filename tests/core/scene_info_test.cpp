@@ -64,7 +64,7 @@ TEST_CASE("summarize: sizes, triangles, positions and the target's height above 
     CHECK(core::targetWarnings(sum).empty());  // 1 m is still within the allowed gap
 }
 
-TEST_CASE("targetWarnings: too large, floating, sunk, off the ground; none without a target") {
+TEST_CASE("targetWarnings: too large, floating, sunk, off the ground, none without a target") {
     auto warnings = [](glm::vec3 lo, glm::vec3 hi) {
         return core::targetWarnings(core::summarize(sceneWithTarget(lo, hi)));
     };
@@ -74,7 +74,7 @@ TEST_CASE("targetWarnings: too large, floating, sunk, off the ground; none witho
         CHECK(w[0].find(part) != std::string::npos);
         CHECK(w[0].find('\n') == std::string::npos);
     };
-    only(warnings({-20, -1, -2}, {20, 1, 0}), "the target is 40.00 m x 2.00 m x 2.00 m, larger than 30 m");
+    only(warnings({-20, -1, 0}, {20, 1, 2}), "the target is 40.00 m x 2.00 m x 2.00 m, larger than 30 m");
     only(warnings({-1, -1, 1.5f}, {1, 1, 2}), "the target floats 1.50 m above the ground");
     only(warnings({-1, -1, -1.5f}, {1, 1, 0}), "the target sinks 1.50 m below the ground");
     only(warnings({99, 0, 0}, {100, 1, 1}), "no ground mesh lies under the target's centre");

@@ -47,7 +47,7 @@ TEST_CASE("cloud_info: PCL's PCD files: version, encoding, count, bounds and fie
     }
 }
 
-TEST_CASE("cloud_info: our PLY: world bounds through the origin; non-finite points counted apart") {
+TEST_CASE("cloud_info: our PLY: world bounds through the origin, non-finite points counted apart") {
     TempDir dir("cloud_info_ply");
     core::PointCloud c;
     c.origin = {500000.0, 4000000.0, 10.0};

@@ -202,7 +202,7 @@ TEST_CASE("trace: read a block at a time, a file gives what its text gives, line
     CHECK(stream(kHeader + "0.0,1,2,3,1,0,0,0,free,2,4,5,6\r\n").study_columns);
 }
 
-TEST_CASE("trace: streamed rows are handed on before the file ends; the same refusals as the whole-text reader") {
+TEST_CASE("trace: streamed rows are handed on before the file ends, the same refusals as the whole-text reader") {
     // A bad line after more than a block of good rows: the good ones were handed on first.
     std::string text = kHeadOnly;
     std::size_t good = 0;

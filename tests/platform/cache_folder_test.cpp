@@ -71,7 +71,7 @@ TEST_CASE("cache_folder: XDG_CACHE_HOME when absolute, else HOME/.cache, else an
     }
 }
 
-TEST_CASE("cache_folder: made 0700 with its parents; a link, a file or a missing parent path refused") {
+TEST_CASE("cache_folder: made 0700 with its parents, a link, a file or a missing parent path refused") {
     TempDir dir("cachefolder");
     const fs::path made = dir.path / "a" / "b" / "ladarvr";
     platform::makeCacheFolder(made, "view: cache folder");

@@ -54,7 +54,7 @@ TEST_CASE("scratch_file: appended pieces read back at any offset, across pieces,
           "output: out.copc.laz: reading a scratch file back failed");
 }
 
-TEST_CASE("scratch_file: rewound, it reads in sequence; a bounded read stops at the end") {
+TEST_CASE("scratch_file: rewound, it reads in sequence, a bounded read stops at the end") {
     TempDir dir("scratch_seq");
     platform::ScratchFile f(dir.path, "out.pcd");
     const std::string data = pattern(9000);

@@ -36,7 +36,7 @@ std::string errorOf(const io::LasCrs& crs) {
 
 }  // namespace
 
-TEST_CASE("ground_units: a CRS's units; metres without one; a geographic CRS refused") {
+TEST_CASE("ground_units: a CRS's units, metres without one, a geographic CRS refused") {
     const sim::CoordinateUnits none = sim::coordinateUnits(io::LasCrs{}, "a.las", "ground");
     CHECK(none.metres());
     CHECK(sim::describe(none) == "metres");

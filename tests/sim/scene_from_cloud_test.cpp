@@ -190,7 +190,7 @@ TEST_CASE("scene_from_cloud: the ground filter where the file has no ground clas
     CHECK(std::abs(double(f.ground_points) - double(c.ground_points)) < 0.1 * double(c.ground_points));
 }
 
-TEST_CASE("scene_from_cloud: refusals in one line: no points, degrees, too many boxes; --coarsen") {
+TEST_CASE("scene_from_cloud: refusals in one line: no points, degrees, too many boxes, --coarsen") {
     Scratch scratch;
     sim::SceneFromCloudOptions o;
 

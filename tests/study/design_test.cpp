@@ -286,7 +286,7 @@ TEST_CASE("readDesign checks the files the design names and gives the file's SHA
     CHECK(sha2 != sha);
 }
 
-TEST_CASE("a design's questionnaires: the SSQ, the TLX, Likert and text items; none by default") {
+TEST_CASE("a design's questionnaires: the SSQ, the TLX, Likert and text items, none by default") {
     const std::string head = R"({"conditions": [{"name": "a"}], "blocks": [{"trials": [{"cloud": "a.pcd"}]}],
         "participants": ["P01"])";
     const study::Design none = study::parseDesign(head + "}", "d.json", "/d");

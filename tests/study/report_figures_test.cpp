@@ -241,7 +241,7 @@ TEST_CASE("figures: the Likert answers per question and condition") {
           std::string::npos);
 }
 
-TEST_CASE("report html: medians, effect sizes, how p was found; rounding residue shown as 0") {
+TEST_CASE("report html: medians, effect sizes, how p was found, rounding residue shown as 0") {
     const study::StudyResults r = twoConditions();
     const study::ReportFigures f = study::computeFigures(r);
     const std::string html = study::reportHtml(r, f);

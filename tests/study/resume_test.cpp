@@ -62,7 +62,7 @@ TEST_CASE("resume: a trial whose cloud name was made safe in trials.csv is this 
     CHECK(point->columns == study::TrialColumns::Judged);
 }
 
-TEST_CASE("resume: trials.csv's name must be the session trial's; an older trials.csv without it resumes as it is") {
+TEST_CASE("resume: trials.csv's name must be the session trial's, an older trials.csv without it resumes as it is") {
     Fixture f;
     f.runFirstTrial();
     const std::string header = study::StudyLog::designTrialsHeader();

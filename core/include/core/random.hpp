@@ -12,6 +12,7 @@
 //   existed are reproduced bit for bit.
 // All of it is integer arithmetic (and one IEEE multiply per uniform double).
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <iterator>
 #include <limits>
@@ -32,7 +33,11 @@ inline constexpr std::uint64_t kGolden = 0x9e3779b97f4a7c15ull;
 /// Uniform in [0, 1): the top 53 bits of `bits` times 2^-53.
 constexpr double unitHalfOpen(std::uint64_t bits) { return double(bits >> 11) * 0x1.0p-53; }
 /// Uniform in (0, 1), never 0 (for a logarithm): the top 53 bits, plus one half, times 2^-53.
-constexpr double unitOpen(std::uint64_t bits) { return (double(bits >> 11) + 0.5) * 0x1.0p-53; }
+/// From 2^52 on, k + 0.5 rounds to an even neighbour; the top word alone would round to
+/// 2^53 and give 1, so it gives the largest double below 1 instead.
+constexpr double unitOpen(std::uint64_t bits) {
+    return std::min((double(bits >> 11) + 0.5) * 0x1.0p-53, 0x1.fffffffffffffp-1);
+}
 
 /// The high and low 64 bits of a * b, in portable integer arithmetic.
 constexpr void multiply64(std::uint64_t a, std::uint64_t b, std::uint64_t& hi, std::uint64_t& lo) {

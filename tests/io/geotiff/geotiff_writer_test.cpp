@@ -188,7 +188,7 @@ TEST_CASE("geotiff: a geographic CRS and a compound CRS's vertical part") {
     CHECK(c.at(4099).value == 9001);
 }
 
-TEST_CASE("geotiff: no keys for no CRS; a problem for a WKT PROJ cannot read") {
+TEST_CASE("geotiff: no keys for no CRS, a problem for a WKT PROJ cannot read") {
     std::string problem = "stale";
     CHECK(io::geoKeysForWkt("", problem).empty());
     CHECK(problem.empty());

@@ -203,7 +203,7 @@ TEST_CASE("LOD order: each layer is ordered by place, so neighbours in the order
     CHECK(spreadOrderKey(glm::dvec3(0.1, 0.1, 0.0), b) < spreadOrderKey(glm::dvec3(0.9, 0.9, 0.0), b));
 }
 
-TEST_CASE("headless draw: looking away from the cloud draws fewer points; the budget caps them") {
+TEST_CASE("headless draw: looking away from the cloud draws fewer points, the budget caps them") {
     render::EglContext context;
     viewer::PointRenderer renderer;
     // 40,000 points on a 200 m x 200 m patch in front of the camera (+x side).
