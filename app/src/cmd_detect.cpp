@@ -3,13 +3,15 @@
 // of detect/boosted_detector.hpp, so `view --candidates` and studies have something to
 // validate. Writes io/candidates_file.hpp's JSON. The clustering options are the
 // baseline's own group, its terrain filters' (--smrf-*, --csf-*) the generator's groups;
-// --model and --threads are the trained detector's.
+// --model and --threads are the trained detector's. A survey in feet is detected in
+// metres and its candidates' centres written in its own coordinates (detect/cloud_units.hpp).
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "ground_options.hpp"
 
 #include <core/error.hpp>
 #include <detect/boosted_detector.hpp>
+#include <detect/cloud_units.hpp>
 #include <detect/cluster_detector.hpp>
 #include <io/candidates_file.hpp>
 #include <io/cloud_io.hpp>
@@ -152,7 +154,7 @@ class ModelRun final : public DetectRun {
 // cloud read, the candidates found, written and reported (JSON or text, the first five
 // listed).
 void detectAndReport(const DetectCli& cli, const platform::InputSet& inputs, std::uint64_t budget, DetectRun& run) {
-    sim::requireMetres(cli.cloud, "detect", "its sizes, distances and models are in metres");
+    const sim::CoordinateUnits units = sim::readCoordinateUnits(cli.cloud, "detect");
     const std::filesystem::path out = cli.out;
     createParentFolders(out, "detect: --out");
     platform::checkWritableDestination(out, inputs);
@@ -160,21 +162,27 @@ void detectAndReport(const DetectCli& cli, const platform::InputSet& inputs, std
     sim::refuseOverBudget("detect", budget, run.memoryBytes(reader.pointsBound()),
                           "a cloud of " + std::to_string(reader.pointsBound()) + " points, read whole",
                           "raise --memory-mb, or detect in a thinned or cropped cloud");
-    const core::PointCloud cloud = io::readCloud(reader);
+    core::PointCloud cloud = io::readCloud(reader);
+    detect::scaleToMetres(cloud, units);
     const std::vector<detect::Detection> found = run.detect(cloud);
     std::vector<core::Candidate> candidates;
     for (const detect::Detection& d : found) candidates.push_back(d.candidate);
-    io::writeCandidates(out, candidates);
+    candidates = detect::centresInUnits(std::move(candidates), cloud.origin, units);
+    io::writeCandidates(out, candidates, detect::candidateUnits(units));
     if (cli.json) {
         nlohmann::json j;
         j["cloud"] = cli.cloud;
         j["out"] = cli.out;
         j["candidates"] = candidates.size();
+        if (!units.metres()) j["units"] = sim::describe(units);
         run.addFigures(j);
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
     run.printSummary(candidates.size(), cli.out);
+    if (!units.metres())
+        std::printf("  coordinates in %s: detected in metres, centres written in the cloud's coordinates\n",
+                    sim::describe(units).c_str());
     for (std::size_t k = 0; k < candidates.size() && k < 5; ++k) {
         const core::Candidate& c = candidates[k];
         std::printf("  %-4s %s %.3f  centre %.2f %.2f %.2f  size %.2f x %.2f x %.2f m  yaw %.1f deg  %zu points\n",

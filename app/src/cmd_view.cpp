@@ -18,6 +18,7 @@
 #include "view_terrain.hpp"
 
 #include <core/error.hpp>
+#include <detect/cloud_units.hpp>
 #include <io/candidates_file.hpp>
 #include <io/cloud_info.hpp>
 #include <io/copc.hpp>
@@ -158,7 +159,6 @@ viewer::ViewerOptions viewerOptions(const ViewArgs& a) {
     o.snap_turn = !a.no_snap_turn;
     o.vignette = !a.no_vignette;
     o.headset_panel = !a.no_headset_panel;
-    if (!a.candidates.empty()) o.candidates = io::readCandidates(a.candidates);
     o.vsync = a.frames == 0;
     if (!a.script.empty()) o.script = viewer::readScript(a.script);
     o.screenshot = a.screenshot;
@@ -220,6 +220,17 @@ void setUnits(viewer::ViewerOptions& o, const io::LasCrs& crs) {
     } catch (const core::Error&) {
         o.height_unit_m = 1.0;  // an angle or an unknown length: the reader names it below
     }
+}
+
+// The --candidates file's candidates over `cloud` (empty: a generated cloud, in metres),
+// their sizes turned into the cloud's units; refused when their centres are in other units.
+void setCandidates(viewer::ViewerOptions& o, const ViewArgs& a, const std::string& cloud) {
+    if (a.candidates.empty()) return;
+    io::CandidateUnits file_units;
+    std::vector<core::Candidate> read = io::readCandidates(a.candidates, &file_units);
+    const sim::CoordinateUnits units = cloud.empty() ? sim::CoordinateUnits{} : sim::readCoordinateUnits(cloud, "view");
+    o.candidates = detect::sizesInCloudUnits(std::move(read), file_units, units,
+                                             "view: --candidates " + core::printable(a.candidates, 400));
 }
 
 // A file's CRS and units in words, for the refusal of unlike files.
@@ -288,6 +299,7 @@ int runSurvey(const ViewArgs& a, std::chrono::steady_clock::time_point start) {
         platform::checkInputFile(file, "view: cloud '" + core::printable(file.string(), 400) + "'");
     checkSurveyCrs(a.survey);
     setUnits(o, io::readCloudCrs(a.survey.front(), "view"));
+    setCandidates(o, a, a.survey.front().string());
     prepareOutputFile(o.screenshot, "view: --screenshot");
     prepareOutputFile(o.log_json, "view: --log-json");
     for (const std::string& out : {o.screenshot.string(), o.log_json.string(), a.index.index_to})
@@ -346,6 +358,7 @@ int runView(const ViewArgs& a) {
             o.units.clear();  // not shown: the reader names what is wrong with the file below
         }
     }
+    setCandidates(o, a, a.cloud);
     ViewIndexer indexer(a.index);
     viewer::OpenSourceOptions open;
     open.copc.cache_bytes = static_cast<std::size_t>(a.cache_mb * 1048576.0);

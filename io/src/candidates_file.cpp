@@ -55,14 +55,33 @@ glm::dvec3 triple(const json& o, const char* key, const std::string& where, cons
     return v;
 }
 
-}  // namespace
-
-std::vector<Candidate> readCandidates(const std::filesystem::path& file) {
-    const std::string name = "candidates: " + core::printable(file.string(), 400, true);
-    return parseCandidates(readTextFile(file, kMaxCandidatesBytes, name + ": the candidates file"), name);
+// The "units" object: the length of the centres' units in metres, each in [1e-6, 1e6].
+CandidateUnits parseUnits(const json& u, const std::string& name) {
+    const std::string where = name + ": units";
+    const char* allowed = "a length in metres in [1e-06, 1e+06]";
+    if (!u.is_object())
+        throw Error(where + " must be an object {\"horizontal_m\": ..., \"vertical_m\": ...}, not " + jsonTypeName(u));
+    for (auto it = u.begin(); it != u.end(); ++it)
+        if (it.key() != "horizontal_m" && it.key() != "vertical_m")
+            throw Error(where + ": unknown key '" + core::printable(it.key(), 40, true) +
+                        "'; allowed: horizontal_m, vertical_m");
+    CandidateUnits out;
+    out.horizontal_m = number(u, "horizontal_m", where, allowed);
+    out.vertical_m = number(u, "vertical_m", where, allowed);
+    for (const auto& [key, v] : {std::pair{"horizontal_m", out.horizontal_m}, std::pair{"vertical_m", out.vertical_m}})
+        if (!(v >= 1e-6 && v <= 1e6))
+            throw Error(where + "." + key + " is " + shownNumber(v) + "; allowed: " + allowed);
+    return out;
 }
 
-std::vector<Candidate> parseCandidates(std::string_view text, const std::string& name) {
+}  // namespace
+
+std::vector<Candidate> readCandidates(const std::filesystem::path& file, CandidateUnits* units) {
+    const std::string name = "candidates: " + core::printable(file.string(), 400, true);
+    return parseCandidates(readTextFile(file, kMaxCandidatesBytes, name + ": the candidates file"), name, units);
+}
+
+std::vector<Candidate> parseCandidates(std::string_view text, const std::string& name, CandidateUnits* units) {
     if (text.size() > kMaxCandidatesBytes)
         throw Error(name + ": " + std::to_string(text.size()) + " bytes; allowed: at most " +
                     std::to_string(kMaxCandidatesBytes));
@@ -70,8 +89,11 @@ std::vector<Candidate> parseCandidates(std::string_view text, const std::string&
     if (!root.is_object() || !root.contains("candidates"))
         throw Error(name + ": the top level must be an object with 'candidates', a list of detections");
     for (auto it = root.begin(); it != root.end(); ++it)
-        if (it.key() != "candidates")
-            throw Error(name + ": unknown key '" + core::printable(it.key(), 40, true) + "'; allowed: candidates");
+        if (it.key() != "candidates" && it.key() != "units")
+            throw Error(name + ": unknown key '" + core::printable(it.key(), 40, true) +
+                        "'; allowed: candidates, units");
+    const CandidateUnits read_units = root.contains("units") ? parseUnits(root["units"], name) : CandidateUnits{};
+    if (units != nullptr) *units = read_units;
     const json& list = root["candidates"];
     if (!list.is_array()) throw Error(name + ": 'candidates' must be an array, not " + jsonTypeName(list));
     if (list.size() > kMaxCandidates)
@@ -111,7 +133,7 @@ std::vector<Candidate> parseCandidates(std::string_view text, const std::string&
     return out;
 }
 
-std::string candidatesJson(const std::vector<Candidate>& candidates) {
+std::string candidatesJson(const std::vector<Candidate>& candidates, const CandidateUnits& units) {
     json list = json::array();
     for (const Candidate& c : candidates) {
         list.push_back({{"id", c.id},
@@ -120,11 +142,14 @@ std::string candidatesJson(const std::vector<Candidate>& candidates) {
                         {"yaw_deg", c.yaw_deg},
                         {"score", c.score}});
     }
-    return json{{"candidates", list}}.dump(2) + "\n";
+    json root{{"candidates", list}};
+    if (!units.metres()) root["units"] = {{"horizontal_m", units.horizontal_m}, {"vertical_m", units.vertical_m}};
+    return root.dump(2) + "\n";
 }
 
-void writeCandidates(const std::filesystem::path& file, const std::vector<Candidate>& candidates) {
-    const std::string text = candidatesJson(candidates);
+void writeCandidates(const std::filesystem::path& file, const std::vector<Candidate>& candidates,
+                     const CandidateUnits& units) {
+    const std::string text = candidatesJson(candidates, units);
     checkWritableDestination(file);
     writeFileAtomic(file, text);
 }

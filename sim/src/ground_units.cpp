@@ -73,14 +73,6 @@ CoordinateUnits readCoordinateUnits(const std::filesystem::path& file, const cha
     return coordinateUnits(io::readCloudCrs(file, context), file, context);
 }
 
-void requireMetres(const std::filesystem::path& file, const char* context, const char* why) {
-    const CoordinateUnits u = readCoordinateUnits(file, context);
-    if (u.metres()) return;
-    throw core::Error(std::string(context) + ": " + core::printable(file.string(), 400) + ": coordinates in " +
-                      describe(u) + "; allowed a cloud in metres (" + why +
-                      "): reproject it, e.g. with PDAL's filters.reprojection");
-}
-
 std::string describe(const CoordinateUnits& u) {
     const std::string h = withLength(u.horizontal_name, u.horizontal_m);
     const std::string v = withLength(u.vertical_name, u.vertical_m);

@@ -3,12 +3,14 @@
 
 #include <core/error.hpp>
 #include <detect/boosted_detector.hpp>
+#include <detect/cloud_units.hpp>
 #include <detect/cluster_detector.hpp>
 #include <io/candidates_file.hpp>
 #include <io/cloud_io.hpp>
 #include <io/scene_file.hpp>
 #include <platform/safe_file.hpp>
 #include <sim/generator.hpp>
+#include <sim/ground_units.hpp>
 #include <viewer/cloud_feed.hpp>
 #include <viewer/open_point_source.hpp>
 
@@ -21,12 +23,14 @@ namespace study {
 namespace {
 
 // The candidates a condition's detector finds in a trial's cloud (best first, as `ladarvr
-// detect` writes them), once per cloud and detector.
-std::vector<core::Candidate> detectedCandidates(const PlanTrial& t) {
+// detect` writes them), once per cloud and detector: found in metres, centres in the
+// cloud's coordinates, sizes in metres.
+std::vector<core::Candidate> detectedCandidates(const PlanTrial& t, const sim::CoordinateUnits& units) {
     const std::string line = "study: detecting candidates in " + t.cloud.string() + " with " +
                              (t.detector == "baseline" ? std::string("the clustering baseline") : t.detector);
     std::fprintf(stderr, "ladarvr: %s\n", platform::messageLine(line).c_str());
-    const core::PointCloud cloud = io::readCloud(t.cloud);
+    core::PointCloud cloud = io::readCloud(t.cloud);
+    detect::scaleToMetres(cloud, units);
     std::vector<detect::Detection> found;
     if (t.detector == "baseline") {
         found = detect::ClusterDetector(detect::ClusterOptions{}).detect(cloud);
@@ -38,7 +42,7 @@ std::vector<core::Candidate> detectedCandidates(const PlanTrial& t) {
     std::vector<core::Candidate> out;
     out.reserve(found.size());
     for (detect::Detection& d : found) out.push_back(std::move(d.candidate));
-    return out;
+    return detect::centresInUnits(std::move(out), cloud.origin, units);
 }
 
 }  // namespace
@@ -61,17 +65,26 @@ StudySource::StudySource(const Plan& plan, std::vector<int> order, int first, bo
     std::map<std::pair<std::string, std::string>, std::vector<core::Candidate>> detected;
     for (const PlanTrial& t : plan_.trials) {
         scenes_.push_back(t.scene.empty() ? nullptr : std::make_shared<const core::Scene>(io::loadScene(t.scene)));
+        // The trial's cloud's units (a generated cloud's are metres): the viewer draws the
+        // candidates in them.
+        const sim::CoordinateUnits units =
+            t.cloud.empty() || !with_candidates ? sim::CoordinateUnits{} : sim::readCoordinateUnits(t.cloud, "study");
         if (!with_candidates) {
             candidates_.emplace_back();
         } else if (!t.detector.empty()) {
             if (t.cloud.empty()) throw core::Error("study: a condition's detector runs on cloud files, not scenes");
             const auto key = std::make_pair(t.cloud.string(), t.detector);
             auto it = detected.find(key);
-            if (it == detected.end()) it = detected.emplace(key, detectedCandidates(t)).first;
-            candidates_.push_back(it->second);
+            if (it == detected.end()) it = detected.emplace(key, detectedCandidates(t, units)).first;
+            candidates_.push_back(detect::sizesInCloudUnits(it->second, detect::candidateUnits(units), units,
+                                                            "study: " + t.cloud.string()));
+        } else if (t.candidates.empty()) {
+            candidates_.emplace_back();
         } else {
-            candidates_.push_back(t.candidates.empty() ? std::vector<core::Candidate>{}
-                                                       : io::readCandidates(t.candidates));
+            io::CandidateUnits file_units;
+            std::vector<core::Candidate> read = io::readCandidates(t.candidates, &file_units);
+            candidates_.push_back(detect::sizesInCloudUnits(std::move(read), file_units, units,
+                                                            "study: candidates " + t.candidates.string()));
         }
     }
     sceneGenerateOptions(plan_);  // validated before the window opens

@@ -5,6 +5,8 @@
 #    with a high score and its yaw, with both the RANSAC and the labels' ground;
 #  - on a sparse cloud of the hilly scene the terrain filters (--ground smrf, csf) rank
 #    its tank (at the world origin, turned by -35 deg) in the top 3;
+#  - the demo written in US survey feet gives the metre cloud's candidates, centres in
+#    feet, and their file is refused over a cloud in metres (and the other way round);
 #  - bad options and inputs: one line `ladarvr: error: ...`, exit 2 (usage) or 1, no file;
 #    a crafted --model (the shipped one with a tree's child out of range and a valid SHA-256)
 #    among them, which crashed XGBoost before the model's trees were checked.
@@ -67,6 +69,54 @@ done
 python3 -c "import json,sys; c=json.load(open(sys.argv[1]))['candidates']; assert all(x['score'] < 0.5 for x in c), c" \
     "$dir/big.json" || fail "a 60 x 40 x 20 target scored high"
 
+# A survey in US survey feet: the demo cloud written in feet, with 4_6_crop.las's CRS
+# (EPSG:2903, GeoTIFF keys), by laspy. Its candidates are the metre cloud's: found in
+# metres, their centres in feet, the file saying so; the sizes in metres.
+real=$(cd "$(dirname "$0")/../data/real" && pwd)
+"$bin" generate --out "$dir/demo.las" --xres 128 --yres 128 --views 40 >/dev/null 2>&1 || fail "generate demo.las"
+python3 - "$dir/demo.las" "$real/4_6_crop.las" "$dir/demo_ft.las" <<'PY' || fail "writing the demo in feet"
+import sys, laspy, numpy as np
+src, crs, out = laspy.read(sys.argv[1]), laspy.read(sys.argv[2]), sys.argv[3]
+foot = 1200.0 / 3937.0
+header = laspy.LasHeader(point_format=3, version="1.2")
+header.vlrs = [v for v in crs.header.vlrs if v.user_id == "LASF_Projection"]
+header.offsets = np.array([0.0, 0.0, 0.0])
+header.scales = np.array([0.001, 0.001, 0.001])
+new = laspy.LasData(header)
+new.x, new.y, new.z = src.x / foot, src.y / foot, src.z / foot
+for name in ("intensity", "red", "green", "blue"):
+    if name in src.point_format.dimension_names:
+        new[name] = src[name]
+new.write(out)
+PY
+# SMRF's terrain and the trained detector see the same metres in both (RANSAC's tiles are
+# laid from the cloud's local origin, which the reader puts elsewhere in feet).
+for how in "--ground smrf" "--model $assets/detect/model.ldm"; do
+"$bin" detect "$dir/demo.las" --out "$dir/c_m.json" $how >/dev/null 2>"$dir/err" ||
+    fail "detect demo.las $how: $(cat "$dir/err")"
+"$bin" detect "$dir/demo_ft.las" --out "$dir/c_ft.json" $how >"$dir/out" 2>"$dir/err" ||
+    fail "detect demo_ft.las $how: $(cat "$dir/err")"
+grep -q "coordinates in US survey feet (0.3048006 m): detected in metres" "$dir/out" ||
+    fail "no units line: $(cat "$dir/out")"
+python3 - "$dir/c_m.json" "$dir/c_ft.json" <<'PY' || fail "candidates of the survey in feet, $how"
+import json, math, sys
+metres, feet = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+foot = 1200.0 / 3937.0
+assert "units" not in metres, metres.keys()
+assert sorted(feet["units"]) == ["horizontal_m", "vertical_m"], feet["units"]
+assert all(abs(v - foot) < 1e-12 for v in feet["units"].values()), feet["units"]
+def tank(cands, unit):
+    near = [c for c in cands if math.hypot(c["centre"][0] * unit, c["centre"][1] * unit) < 2.0]
+    assert len(near) == 1, cands
+    return near[0]
+m, f = tank(metres["candidates"], 1.0), tank(feet["candidates"], foot)
+assert f["score"] > 0.5, f
+assert all(abs(a - b) < 0.05 for a, b in zip(m["size_m"], f["size_m"])), (m, f)
+assert all(abs(a - b * foot) < 0.05 for a, b in zip(m["centre"], f["centre"])), (m, f)
+assert abs(m["score"] - f["score"]) < 0.01, (m, f)
+PY
+done
+
 # one_error STATUS PATTERN ARGS...: exit STATUS, one line matching PATTERN, no output file.
 one_error() {
     expect=$1 pattern=$2
@@ -102,4 +152,10 @@ open(sys.argv[2], "wb").write(data)
 PY
 one_error 1 "--model $dir/crafted.ldm: tree 0 node 0: left child 99: allowed -1 (a leaf) or 1\.\.16" \
     detect "$dir/demo.pcd" --model "$dir/crafted.ldm" --out "$dir/bad.json"
+# Candidates found in feet drawn over a cloud in metres would stand elsewhere: refused
+# before a window opens (and the other way round).
+one_error 1 "view: --candidates $dir/c_ft.json: centres in units of 0.3048006096 m; the cloud is in metres" \
+    view "$dir/demo.pcd" --candidates "$dir/c_ft.json" --frames 1
+one_error 1 "view: --candidates $dir/c_m.json: centres in metres; the cloud is in US survey feet" \
+    view "$dir/demo_ft.las" --candidates "$dir/c_m.json" --frames 1
 echo "cmd_detect: ok"

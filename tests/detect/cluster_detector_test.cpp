@@ -1,8 +1,10 @@
 // tests/detect/cluster_detector_test.cpp: the baseline clustering detector on synthetic
 // clouds with known answers: a tank-sized box, a wall and a tree-like blob on a plane; the
 // box on a level pad in hilly ground, where the terrain filters find it; the bundled hilly
-// and slopes scenes' tank among the three best with a terrain filter at two densities.
+// and slopes scenes' tank among the three best with a terrain filter at two densities;
+// the scene in US survey feet, detected in metres (detect/cloud_units.hpp).
 #include <test_paths.hpp>
+#include <detect/cloud_units.hpp>
 #include <detect/cluster_detector.hpp>
 #include <io/scene_file.hpp>
 #include <sim/generator.hpp>
@@ -291,5 +293,40 @@ TEST_CASE("detect: with a terrain filter the hilly and slopes scenes' tank is am
                 }
             }
         }
+    }
+}
+
+TEST_CASE("detect: a survey in US survey feet is detected in metres, its centres put back in feet") {
+    // The same scene written in feet: its metre detection, and its candidates' centres in
+    // the feet cloud's coordinates, equal the metre scene's.
+    constexpr double kFoot_m = 1200.0 / 3937.0;
+    sim::CoordinateUnits feet;
+    feet.horizontal_m = feet.vertical_m = kFoot_m;
+    const core::PointCloud metres = scene();
+    core::PointCloud in_feet = metres;
+    in_feet.origin /= kFoot_m;
+    for (core::CloudPoint& p : in_feet.points) p.position = glm::vec3(glm::dvec3(p.position) / kFoot_m);
+    detect::ClusterOptions o;
+    o.ground = detect::GroundSource::Ransac;
+    const std::vector<detect::Detection> want = detect::ClusterDetector(o).detect(metres);
+    REQUIRE(!want.empty());
+
+    // Read as metres, the feet cloud is 3.28 times too large: the tank is not found.
+    const std::vector<detect::Detection> unscaled = detect::ClusterDetector(o).detect(in_feet);
+    CHECK((unscaled.empty() || unscaled[0].candidate.score < 0.5));
+
+    core::PointCloud scaled = in_feet;
+    detect::scaleToMetres(scaled, feet);
+    std::vector<core::Candidate> got;
+    for (const detect::Detection& d : detect::ClusterDetector(o).detect(scaled)) got.push_back(d.candidate);
+    got = detect::centresInUnits(std::move(got), scaled.origin, feet);
+    REQUIRE(got.size() == want.size());
+    for (std::size_t k = 0; k < got.size(); ++k) {
+        CAPTURE(k);
+        const core::Candidate& w = want[k].candidate;
+        CHECK(got[k].id == w.id);
+        CHECK(glm::length(got[k].centre_world * kFoot_m - w.centre_world) < 0.01);
+        CHECK(glm::length(got[k].size_m - w.size_m) < 0.01);
+        CHECK(got[k].score == doctest::Approx(w.score).epsilon(0.01));
     }
 }

@@ -167,19 +167,6 @@ TEST_CASE("ground_units: a survey in feet gets the classes of the same survey in
     CHECK(double(same) >= 0.999 * double(metres.size()));
 }
 
-TEST_CASE("ground_units: a command that cannot convert refuses a cloud not in metres, in one line") {
-    CHECK_NOTHROW(
-        sim::requireMetres(fs::path(test_support::isprsDir()) / "samp24.las", "detect", "its sizes are in metres"));
-    CHECK_NOTHROW(sim::requireMetres(kReal / "hexbin-crop.las", "detect", "its sizes are in metres"));
-    const fs::path feet = kReal / "4_6_crop.las";
-    CHECK_THROWS_WITH_AS(sim::requireMetres(feet, "detect", "its sizes are in metres"),
-                         ("detect: " + feet.string() +
-                          ": coordinates in US survey feet (0.3048006 m); allowed a cloud in metres (its sizes are in "
-                          "metres): reproject it, e.g. with PDAL's filters.reprojection")
-                             .c_str(),
-                         core::Error);
-}
-
 TEST_CASE("ground_units: the units for a display, a geographic CRS included, never throwing") {
     CHECK(sim::describeUnits(io::LasCrs{}).empty());
     CHECK(sim::describeUnits(io::readCloudCrs(kReal / "4_6_crop.las", "view")) == "US survey feet (0.3048006 m)");

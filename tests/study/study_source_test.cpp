@@ -1,7 +1,8 @@
 // tests/study/study_source_test.cpp: the generator's options of a plan's scene trials
 // (study/study_source.hpp): the plan's generate block, its ground filter included, reaches
 // the cloud a scene trial shows; and the terrain a cloud trial in above-ground colours
-// gets from the starter, held only while the trial runs.
+// gets from the starter, held only while the trial runs; a trial over a survey in feet
+// draws its candidates' sizes in feet.
 #include <study/plan.hpp>
 #include <study/study_source.hpp>
 
@@ -11,6 +12,7 @@
 
 #include <scene_builders.hpp>
 #include <test_files.hpp>
+#include <test_paths.hpp>
 
 #include <doctest/doctest.h>
 
@@ -130,4 +132,32 @@ TEST_CASE("a cloud trial in above-ground colours gets its terrain from the start
     study::StudySource none(plan, {0, 1, 2, 3}, 0, false);
     viewer::CloudFeed none_feed;
     CHECK(none.begin(0, none_feed).terrain == nullptr);
+}
+
+TEST_CASE("a trial over a survey in US survey feet draws its candidates' sizes in feet, a file in metres is refused") {
+    constexpr double kFoot_m = 1200.0 / 3937.0;
+    test_support::TempDir dir("study_source_feet");
+    const std::filesystem::path survey = std::filesystem::path(test_support::realDataDir()) / "4_6_crop.las";
+    const std::string box =
+        R"({"id": "c1", "centre": [1639700, 1454600, 7100], "size_m": [7, 3.5, 2.5], "score": 0.9})";
+    const std::filesystem::path in_feet = dir.write(
+        "feet.json", R"({"candidates": [)" + box +
+                         R"(], "units": {"horizontal_m": 0.3048006096012192, "vertical_m": 0.3048006096012192}})");
+    const std::filesystem::path in_metres = dir.write("metres.json", R"({"candidates": [)" + box + "]}");
+    study::Plan plan;
+    study::PlanTrial t;
+    t.cloud = survey;
+    t.candidates = in_feet;
+    plan.trials.push_back(t);
+    {
+        const study::StudySource source(plan, {0});
+        const core::Candidate& c = source.candidatesOf(0).at(0);
+        CHECK(c.centre_world == glm::dvec3(1639700, 1454600, 7100));
+        CHECK(c.size_m.x == doctest::Approx(7.0 / kFoot_m).epsilon(1e-6));
+        CHECK(c.size_m.z == doctest::Approx(2.5 / kFoot_m).epsilon(1e-6));
+    }
+    plan.trials[0].candidates = in_metres;
+    CHECK_THROWS_WITH_AS(study::StudySource(plan, {0}),
+                         doctest::Contains("metres.json: centres in metres; the cloud is in US survey feet"),
+                         core::Error);
 }

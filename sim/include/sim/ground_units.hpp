@@ -32,11 +32,6 @@ CoordinateUnits coordinateUnits(const io::LasCrs& crs, const std::filesystem::pa
 /// only); metres for a file without one. Throws core::Error as both.
 CoordinateUnits readCoordinateUnits(const std::filesystem::path& file, const char* context);
 
-/// Throws core::Error("<context>: <file>: coordinates in <units>; allowed a cloud in
-/// metres (<why>) ...") when `file` declares a CRS whose units are not metres (or, as
-/// coordinateUnits, an angle or an unknown length), for a command that cannot convert.
-void requireMetres(const std::filesystem::path& file, const char* context, const char* why);
-
 /// "US survey feet (0.3048006 m)", or "metres horizontally, US survey feet (0.3048006 m)
 /// vertically" when the two differ.
 std::string describe(const CoordinateUnits& u);
