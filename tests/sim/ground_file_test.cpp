@@ -81,7 +81,7 @@ TEST_CASE("ground file: low outliers are left out of the terrain, so the ground 
 }
 
 TEST_CASE(
-    "ground file: a discrete-return cloud's earlier returns are never ground; first and last echo sets keep them") {
+    "ground file: a discrete-return cloud's earlier returns are never ground, first and last echo sets keep them") {
     // The plane's points, every 10th one made the first of two returns (a pulse that
     // also hit something below it in a discrete-return survey), the rest single returns.
     std::vector<core::CloudPoint> points = planeWithLowCluster();

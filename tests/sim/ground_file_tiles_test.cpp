@@ -167,7 +167,7 @@ TEST_CASE("ground tiles: tiles narrower than their buffer take it from every til
 }
 
 TEST_CASE(
-    "ground tiles: two files merged and the two classified each with the other as buffer agree; surveys split by CRS "
+    "ground tiles: two files merged and the two classified each with the other as buffer agree, surveys split by CRS "
     "and unit") {
     const Scratch s("merge");
     const core::PointCloud cloud = io::readCloud(fs::path(test_support::isprsDir()) / "samp54.las");
