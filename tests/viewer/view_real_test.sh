@@ -14,7 +14,8 @@
 #           --colour above-ground shows its class 2 white and the roofs and trees in the jet
 #           colours, from the LAS file as from its COPC index, not every point white.
 #   colourless  CSite3_orig-utm.laz (point format 0) without --colour: a file without colours
-#           reads white throughout, so its file colours are the height colours, not a white mass.
+#           reads white throughout, so its file colours are the height colours, not a white mass;
+#           likewise 4_6_crop.las, whose RGB fields all hold 0 (not a black mass), and its COPC index.
 #   class   hexbin-crop.las's classes 1 and 2 in the ASPRS palette: mostly ground brown,
 #           some grey; --colour intensity shows many levels of grey.
 #   eight-bit  hexbin-crop.las's points written by laspy with 8-bit colours (a yellow,
@@ -141,18 +142,24 @@ PY
     ;;
   colourless)
     view_whole plain 377028 "$data/CSite3_orig-utm.laz" --point-size 4 --no-edl
-    python3 - "$here" "$work/plain.png" <<'PY'
+    # 4_6_crop.las has RGB fields (point format 3) that all hold 0, streamed and as COPC.
+    view_whole zeros 23875 "$data/4_6_crop.las" --point-size 6 --no-edl
+    "$bin" index "$data/4_6_crop.las" --out "$work/zeros.copc.laz" >/dev/null 2>"$work/stderr" ||
+      { cat "$work/stderr" >&2; exit 1; }
+    view_whole zeros_copc 23875 "$work/zeros.copc.laz" --point-size 6 --no-edl
+    python3 - "$here" "$work" <<'PY'
 import sys
 sys.path.insert(0, sys.argv[1])
 from check_view_log import read_png, count
-w, h, px = read_png(sys.argv[2])
-px = px[:w * (h // 2) * 3]
-jet = count(px, lambda r, g, b: max(r, g, b) - min(r, g, b) > 80)
-white = count(px, lambda r, g, b: min(r, g, b) > 200)
-lit = count(px, lambda r, g, b: r + g + b > 90)
-print(f"upper half: {lit} lit, {jet} in jet colours, {white} white")
-assert lit > w * (h // 2) // 2, f"only {lit} pixels show the survey"
-assert jet > lit // 2, f"{jet} of {lit} pixels in jet colours ({white} white): the file's missing colours shown white"
+for name, least_lit in (("plain", None), ("zeros", 20000), ("zeros_copc", 20000)):
+    w, h, px = read_png(f"{sys.argv[2]}/{name}.png")
+    px = px[:w * (h // 2) * 3]
+    jet = count(px, lambda r, g, b: max(r, g, b) - min(r, g, b) > 80)
+    white = count(px, lambda r, g, b: min(r, g, b) > 200)
+    lit = count(px, lambda r, g, b: r + g + b > 90)
+    print(f"{name}: upper half: {lit} lit, {jet} in jet colours, {white} white")
+    assert lit > (least_lit or w * (h // 2) // 2), f"{name}: only {lit} pixels show the survey"
+    assert jet > lit // 2, f"{name}: {jet} of {lit} pixels in jet colours ({white} white): no colours shown as colours"
 PY
     ;;
   class)

@@ -48,6 +48,8 @@ class CloudFeed {
     /// Viewer side: moves out every chunk that arrived since the last call.
     std::vector<FeedChunk> take();
     glm::dvec3 origin() const;
+    /// The fields set, except that a file from elsewhere whose colour values read so far
+    /// are all 0 has no colours (rgb false): its fields hold nothing to show.
     core::CloudFields fields() const;
     bool fromElsewhere() const;
     bool finished() const { return finished_.load(); }
@@ -75,6 +77,7 @@ class CloudFeed {
     glm::dvec3 origin_{0.0};
     core::CloudFields fields_;
     bool from_elsewhere_ = false;
+    bool colours_zero_ = false;  // a file from elsewhere's colour values read so far are all 0
     std::vector<FeedChunk> pending_;
     bool lod_order_ = false;
     LodOptions lod_options_;

@@ -61,7 +61,8 @@ class CopcSource final : public PointSource {
     glm::dvec3 origin() const override;
     /// The header's offsets, read at open: final from the start.
     bool originFinal() const override { return true; }
-    /// The file's fields as the first decoded node gives them (the defaults until then).
+    /// The file's fields as the first decoded node gives them (the defaults until then); a
+    /// file from elsewhere whose colour values decoded so far are all 0 has no colours.
     core::CloudFields fields() const override;
     /// Whether the file is another producer's, as the first decoded node shows it.
     bool fromElsewhere() const override;

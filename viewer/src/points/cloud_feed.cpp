@@ -76,7 +76,9 @@ glm::dvec3 CloudFeed::origin() const {
 
 core::CloudFields CloudFeed::fields() const {
     std::lock_guard lock(mutex_);
-    return fields_;
+    core::CloudFields f = fields_;
+    if (colours_zero_) f.rgb = false;
+    return f;
 }
 
 bool CloudFeed::fromElsewhere() const {
@@ -129,7 +131,11 @@ void CloudFeed::feedFile(const std::filesystem::path& path, std::size_t chunk_po
             chunk.reserve(std::min(chunk_points, reader.pointsBound()));
             records.clear();
             if (!reader.nextChunk(chunk, records, chunk_points)) break;
-            if (foreign && reader.fields().rgb) colours.recolour(chunk, records, foreign->stride());
+            if (foreign && reader.fields().rgb) {
+                colours.recolour(chunk, records, foreign->stride());
+                std::lock_guard lock(mutex_);
+                colours_zero_ = colours.depth() == io::ColourDepth::Zero;
+            }
             // Without heights above ground, their place holds the class, intensity and returns.
             if (!reader.fields().height_above_ground) attributes.pack(chunk, records, foreign ? foreign->stride() : 0);
             if (!chunk.empty()) append(std::move(chunk));

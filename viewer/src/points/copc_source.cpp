@@ -494,7 +494,15 @@ std::size_t CopcSource::poll() {
 
 std::span<PointNode* const> CopcSource::roots() const { return impl_->roots; }
 glm::dvec3 CopcSource::origin() const { return impl_->origin; }
-core::CloudFields CopcSource::fields() const { return impl_->fields; }
+core::CloudFields CopcSource::fields() const {
+    core::CloudFields f = impl_->fields;
+    // A file from elsewhere whose colour values decoded so far are all 0 has no colours.
+    if (f.rgb && impl_->from_elsewhere) {
+        std::lock_guard lock(impl_->mutex);
+        if (impl_->colours.depth() == io::ColourDepth::Zero) f.rgb = false;
+    }
+    return f;
+}
 bool CopcSource::fromElsewhere() const { return impl_->from_elsewhere; }
 bool CopcSource::finished() const { return impl_->settled; }
 
