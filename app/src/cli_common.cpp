@@ -125,8 +125,27 @@ std::string subcommandProblem(const CLI::App& cli, int argc, char** argv, std::s
 bool startsWith(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
 
 // CLI11's message, in this project's words where its own are unclear.
-std::string describe(const CLI::ParseError& e) {
+std::string describe(const CLI::ParseError& e, const CLI::App& app) {
     std::string what = e.what();
+    // "Exactly 1 option from [--a,--b] is required" (and " and N were given"): an either-or.
+    if (startsWith(what, "Exactly 1 option from [")) {
+        const std::size_t close = what.find(']');
+        if (close != std::string::npos) {
+            std::string names = what.substr(23, close - 23);
+            for (std::size_t at = names.find(','); at != std::string::npos; at = names.find(',', at + 2))
+                names.replace(at, 1, ", ");
+            return what.find(" were given", close) == std::string::npos
+                       ? "one of " + names + " is required"
+                       : "more than one of " + names + " given; allowed exactly one of them";
+        }
+    }
+    // "<name> is required" for a positional: name what it takes, from its help text.
+    if (what.ends_with(" is required")) {
+        const std::string name = what.substr(0, what.size() - 12);
+        const CLI::Option* option = app.get_option_no_throw(name);
+        if (option != nullptr && option->get_positional() && !option->get_description().empty())
+            return "missing " + name + ": " + option->get_description();
+    }
     for (const char* prefix :
          {"The following argument was not expected: ", "The following arguments were not expected: "}) {
         if (!startsWith(what, prefix)) continue;
@@ -207,8 +226,7 @@ std::string usageError(const CLI::App& cli, const CLI::ParseError& e, int argc, 
     std::string what = subcommandProblem(cli, argc, argv, path);
     if (what.empty()) {
         path.clear();
-        deepestParsed(cli, path);
-        what = describe(e);
+        what = describe(e, *deepestParsed(cli, path));
     }
     return withHelpHint(path, what);
 }

@@ -3,8 +3,8 @@
 # Usage: cmd_cli_test.sh LADARVR_BINARY SCRATCH_DIR SOURCE_DIR PROJECT_VERSION
 #  - --version prints the project's version, exit 0;
 #  - usage errors (unknown or missing subcommand, with or without --help, unknown or
-#    repeated option, malformed or EMPTY values) print one line `ladarvr: error: ...` with
-#    a --help hint, exit 2;
+#    repeated option, malformed or EMPTY values, a missing argument or either-or option)
+#    print one line `ladarvr: error: ...` with a --help hint, exit 2;
 #  - numbers beyond what float/double can carry are refused in one short line, exit 1;
 #  - output that cannot reach stdout (/dev/full) is one error line, exit 1;
 #  - output folders are created (mkdir -p), a file in the way is refused;
@@ -75,6 +75,11 @@ usage "generate: --xres: '1.5' is not a whole number" generate --xres 1.5
 usage "generate: --seed: '-1' is not a whole number >= 0" generate --seed -1
 usage "generate: --alpha-deg: 'abc' is not a number" generate --alpha-deg abc
 usage "generate: --xres: '99999999999' is out of range" generate --xres 99999999999
+# A missing positional names itself and what it takes; an either-or names its options.
+usage "detect: missing cloud: the cloud (PCD, PLY, LAS or LAZ) (see" detect
+usage "ground: missing in: the input clouds" ground
+usage "ground: one of --out, --out-dir is required (see" ground x.las
+usage "ground: more than one of --out, --out-dir given; allowed exactly one of them" ground x.las --out a.las --out-dir b
 
 # Every option refuses an empty value (CLI11 alone reads '' as 0).
 usage "generate: --alpha-deg: the value is empty" generate --alpha-deg ''

@@ -263,6 +263,6 @@ refused "$dir/no-tiles" "ladarvr: error: info: input '$dir/no-tiles' is a folder
 status=0
 "$bin" info >"$dir/out" 2>"$dir/err" || status=$?
 [ "$status" = 2 ] || fail "info without a file: exit $status, expected 2"
-grep -q "^ladarvr: error: info: files is required (see 'ladarvr info --help')$" "$dir/err" ||
+grep -q "^ladarvr: error: info: missing files: the cloud files (a folder gives its .las/.laz files in name order) (see 'ladarvr info --help')$" "$dir/err" ||
     fail "info without a file said: $(cat "$dir/err")"
 echo "cmd_info: ok"
