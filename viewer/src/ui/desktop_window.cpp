@@ -14,6 +14,7 @@
 
 #include <core/error.hpp>
 
+#include <cstdlib>
 #include <string>
 
 namespace viewer {
@@ -27,6 +28,10 @@ void glfwError(int code, const char* description) {
 
 DesktopWindow::DesktopWindow(const ViewerOptions& options, DesktopInput& input) {
     glfwSetErrorCallback(glfwError);
+    // Without a Wayland session GLFW would still probe for one first, and libwayland then
+    // prints its own line about XDG_RUNTIME_DIR before the error below: go straight to X11.
+    const char* wayland = std::getenv("WAYLAND_DISPLAY");
+    if (wayland == nullptr || *wayland == '\0') glfwInitHint(GLFW_PLATFORM, GLFW_PLATFORM_X11);
     if (!glfwInit())
         throw core::Error("view: cannot open the desktop window: " + g_glfw_error +
                           "; a display is needed (set DISPLAY, or run under Xvfb)");
