@@ -11,6 +11,7 @@
 #include <metric/visibility.hpp>
 #include <platform/output_folder.hpp>
 #include <platform/sha256.hpp>
+#include <platform/test_hold.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -48,23 +49,8 @@ void holdForTest(std::size_t index, const std::string& id) {
     const std::string text = hook;
     const std::size_t colon = text.find(':');
     if (colon == std::string::npos || text.substr(0, colon) != std::to_string(index)) return;
-    const std::string fifo = text.substr(colon + 1);
-    struct stat st{};
-    if (::stat(fifo.c_str(), &st) != 0 || !S_ISFIFO(st.st_mode))
-        throw core::Error("corpus: LADARVR_TEST_HOLD_ITEM: '" + core::printable(fifo) +
-                          "' is not a FIFO; allowed <index>:<a FIFO> (a test hook)");
-    const std::string line = "held " + id + "\n";
-    int fd = ::open(fifo.c_str(), O_WRONLY | O_CLOEXEC);  // waits for the test to listen
-    if (fd >= 0) {
-        [[maybe_unused]] const ssize_t wrote = ::write(fd, line.data(), line.size());
-        ::close(fd);
-    }
-    fd = ::open(fifo.c_str(), O_RDONLY | O_CLOEXEC);  // waits for the test to release it
-    if (fd >= 0) {
-        char buffer[64];
-        while (::read(fd, buffer, sizeof buffer) > 0) {}
-        ::close(fd);
-    }
+    platform::holdOnFifo(text.substr(colon + 1), "held " + id + "\n", "corpus: LADARVR_TEST_HOLD_ITEM",
+                         "<index>:<a FIFO>");
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <core/error.hpp>
 #include <platform/cleanup.hpp>
 #include <platform/safe_file.hpp>
+#include <platform/test_hold.hpp>
 
 #include "file_ops.hpp"
 
@@ -12,6 +13,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <system_error>
 #include <vector>
@@ -618,6 +620,8 @@ void TempFile::commit() {
         file_ = nullptr;
         if (!flushed || !closed) fail("write failed", flushed ? close_errno : flush_errno);
     }
+    if (const char* hold = std::getenv(kHoldCommitVariable))
+        holdOnFifo(hold, "held " + name_ + "\n", kHoldCommitVariable, "a FIFO");
     const std::string base = destination_.filename().string();
     for (int attempt = 0; attempt < 3; ++attempt) {
         struct stat st{};

@@ -90,19 +90,28 @@ no_temporaries "$in"
 
 # --- 4. signals mid-write: SIGTERM 143, SIGINT 130, nothing of ours left; SIGKILL: only
 #        a hidden temporary, removed by the next run ---
+# Event-driven: LADARVR_TEST_HOLD_COMMIT holds the run with its output written to the
+# temporary, not yet renamed into place, and says "held <temporary>" on a FIFO; the
+# signal goes then. A watcher wakes the reader should the run end without holding.
 sg="$dir/signals"
 mkdir -p "$sg"
 set -m  # background jobs keep SIGINT (a non-interactive shell would ignore it for them)
-# Starts a long generate into $sg/big.pcd and waits until its temporary exists.
+# Starts a generate into $sg/big.pcd and waits until it holds with its temporary written.
 start_big() {
-    "$bin" generate --xres 1024 --yres 1024 --views 64 --out "$sg/big.pcd" >/dev/null 2>"$sg/err.txt" &
+    rm -f "$dir/hold" && mkfifo "$dir/hold"
+    LADARVR_TEST_HOLD_COMMIT="$dir/hold" "$bin" generate "${small[@]}" --out "$sg/big.pcd" >/dev/null \
+        2>"$sg/err.txt" &
     big=$!
-    for _ in $(seq 1 200); do
-        ls -A "$sg" | grep -q '^\.ladarvr-tmp-' && break
-        sleep 0.05
-    done
-    ls -A "$sg" | grep -q '^\.ladarvr-tmp-' || fail "no temporary appeared: $(cat "$sg/err.txt")"
-    sleep 0.3
+    # O_RDWR: an open that never waits; what it writes is lost once no one reads.
+    (tail --pid="$big" -f /dev/null && echo "exited" 1<>"$dir/hold") &
+    watcher=$!
+    held=
+    read -r held <"$dir/hold" || true
+    case "$held" in
+        "held .ladarvr-tmp-$big-"*) ;;
+        *) fail "the run did not hold in its commit: '$held' $(cat "$sg/err.txt")" ;;
+    esac
+    [ -s "$sg/${held#held }" ] || fail "the held temporary '${held#held }' is not there, or empty: $(ls -A "$sg")"
 }
 for pair in TERM:143 INT:130; do
     sig=${pair%%:*}
@@ -110,12 +119,14 @@ for pair in TERM:143 INT:130; do
     kill -s "$sig" "$big"
     status=0
     wait "$big" || status=$?
+    wait "$watcher" || true
     [ "$status" -eq "${pair##*:}" ] || fail "SIG$sig: exit $status, expected ${pair##*:}"
     [ "$(ls -A "$sg")" = err.txt ] || fail "SIG$sig left files: $(ls -A "$sg")"
 done
 start_big
 kill -s KILL "$big"
 wait "$big" || true
+wait "$watcher" || true
 [ ! -e "$sg/big.pcd" ] || fail "SIGKILL left a file under the output's name"
 left=$(ls -A "$sg" | grep -v '^err.txt$')
 echo "$left" | grep -q -E "^\.ladarvr-tmp-$big-[A-Za-z0-9]{6}$" || fail "SIGKILL left '$left'"

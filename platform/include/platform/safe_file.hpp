@@ -94,7 +94,8 @@ class TempFile {
     const std::filesystem::path& destination() const { return destination_; }
     /// Flushes, closes and renames over the destination if that is absent or a regular
     /// file. On any failure the temporary is removed and
-    /// Error("output: <destination>: <what failed>: <reason>") is thrown.
+    /// Error("output: <destination>: <what failed>: <reason>") is thrown. A test may hold
+    /// it between the two steps (platform/test_hold.hpp, LADARVR_TEST_HOLD_COMMIT).
     void commit();
     /// Closes and removes the temporary now (also what the destructor does).
     void discard() noexcept;
