@@ -301,17 +301,14 @@ TEST_CASE("SIGTERM, SIGINT and SIGHUP remove the temporaries and end the process
 
 TEST_CASE("the watchdog ends a run stuck past its deadline, removing its temporaries") {
     TempDir dir("watchdog");
-    const auto t0 = std::chrono::steady_clock::now();
     const int status = inChild([&] {
         platform::TempFile a(dir.path / "a.json");
         platform::Watchdog w(0.3, "test: --timeout 0.3 s reached", 1);
         ::sleep(10);  // stuck start-up
         ::_exit(5);
     });
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     REQUIRE(WIFEXITED(status));
-    CHECK(WEXITSTATUS(status) == 1);
-    CHECK(s < 5.0);
+    CHECK(WEXITSTATUS(status) == 1);  // the watchdog's status, not the 5 of a start-up that ended
     CHECK(dir.entries() == 0);
     // Cancelled by going out of scope in time.
     { platform::Watchdog w(0.05, "never", 1); }
