@@ -8,12 +8,15 @@
 
 #include <core/error.hpp>
 #include <io/cloud_info.hpp>
+#include <platform/progress.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -368,7 +371,20 @@ Json toJson(const io::CloudInfo& info) {
 void run(InfoCli& cli) {
     expandFolderInputs(cli.files, "info", kMostFiles);
     std::vector<io::CloudInfo> infos;
-    for (const std::string& file : cli.files) infos.push_back(io::inspectCloud(file, "info"));
+    for (const std::string& file : cli.files) {
+        // A bar per file on a terminal (a large survey takes seconds to decode); none otherwise.
+        std::unique_ptr<platform::Progress> bar;
+        std::uint64_t shown = 0;
+        const io::InspectProgress tell = [&](std::uint64_t read, std::uint64_t declared) {
+            if (!bar)
+                bar = std::make_unique<platform::Progress>(
+                    "info: " + core::printable(std::filesystem::path(file).filename().string(), 60), declared);
+            bar->advance(std::size_t(read - shown));
+            shown = read;
+        };
+        infos.push_back(io::inspectCloud(file, "info", tell));
+        if (bar) bar->finish();
+    }
     if (cli.json) {
         Json out = Json::array();
         for (const io::CloudInfo& info : infos) out.push_back(toJson(info));

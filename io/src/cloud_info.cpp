@@ -40,7 +40,8 @@ void headerWords(detail::ByteSource& source, bool ply, CloudInfo& info) {
     if (!ply && info.version.rfind(".", 0) == 0) info.version = "0" + info.version;  // "VERSION .7"
 }
 
-void inspectPointFile(detail::ByteSource& source, const std::string& prefix, bool ply, CloudInfo& info) {
+void inspectPointFile(detail::ByteSource& source, const std::string& prefix, bool ply, CloudInfo& info,
+                      const InspectProgress& progress) {
     const std::unique_ptr<detail::FormatReader> reader =
         ply ? detail::openPly(source, prefix) : detail::openPcd(source, prefix);
     info.format = ply ? "PLY" : "PCD";
@@ -61,12 +62,13 @@ void inspectPointFile(detail::ByteSource& source, const std::string& prefix, boo
         }
         info.points += chunk.size();
         chunk.clear();
+        if (progress) progress(info.points, reader->declared);
     }
 }
 
 }  // namespace
 
-CloudInfo inspectCloud(const std::filesystem::path& file, const char* context) {
+CloudInfo inspectCloud(const std::filesystem::path& file, const char* context, const InspectProgress& progress) {
     const std::unique_ptr<detail::ByteSource> source = detail::fileSource(file, context);
     const std::string prefix = std::string(context) + ": " + file.string();
     CloudInfo info;
@@ -74,9 +76,9 @@ CloudInfo inspectCloud(const std::filesystem::path& file, const char* context) {
     info.file_bytes = source->size();
     const std::string module = detail::moduleOf(*source, file);
     if (module == "las")
-        detail::inspectLas(*source, prefix, file, info);
+        detail::inspectLas(*source, prefix, file, info, progress);
     else
-        inspectPointFile(*source, prefix, module == "ply", info);
+        inspectPointFile(*source, prefix, module == "ply", info, progress);
     return info;
 }
 

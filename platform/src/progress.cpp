@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 
 #include <unistd.h>
 
@@ -13,12 +14,21 @@ Progress::Progress(std::string label, std::size_t total, bool force)
     : label_(std::move(label)),
       total_(total),
       enabled_(force || ::isatty(STDERR_FILENO) == 1),
+      exceptions_at_start_(std::uncaught_exceptions()),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {
     if (enabled_) draw(false);
 }
 
-Progress::~Progress() { finish(); }
+Progress::~Progress() {
+    if (finished_) return;
+    if (std::uncaught_exceptions() > exceptions_at_start_) {
+        finished_ = true;
+        if (enabled_) draw(true);  // where the work stopped, with its newline
+        return;
+    }
+    finish();
+}
 
 void Progress::advance(std::size_t units) {
     done_ = std::min(total_, done_ + units);

@@ -13,6 +13,7 @@
 #    the gap that parts a stray is 20 m in feet: 50 ft above the rest is not one, 80 ft is;
 #  - a header whose bounds are zeros (hexbin-crop.las's, changed here): a line says they do
 #    not hold the points and where the points lie; none for the real files as they are;
+#  - a bar per file on a terminal (script's pseudo-terminal), nothing on stderr otherwise;
 #  - a folder: its LAS/LAZ files in name order; one without them refused in one line;
 #  - a truncated file and a VLR longer than the bytes before the points: one line
 #    `ladarvr: error: info: FILE: ...`, exit 1, nothing on stdout; no file: usage, exit 2.
@@ -48,6 +49,16 @@ grep -qxF '  stray returns:     1 apart from the rest by an empty gap: 1 above 3
     "$dir/out" || fail "FSite8's stray return: $(grep stray "$dir/out")"
 [ "$(grep -c '^  stray returns:     none (no heights far apart from the rest)$' "$dir/out")" = 2 ] ||
     fail "hexbin and sample_c hold no stray returns: $(grep stray "$dir/out")"
+[ ! -s "$dir/err" ] || fail "info wrote to stderr that is not a terminal: $(cat "$dir/err")"
+
+# On a terminal (script's pseudo-terminal), a bar per file ends at 100 % on its own line.
+script -qec "'$bin' info '$data/hexbin-crop.las' '$data/FSite8_orig-utm.laz'" /dev/null >"$dir/tty" </dev/null ||
+    fail "info on a terminal: $(cat "$dir/tty")"
+tr '\r' '\n' <"$dir/tty" >"$dir/tty.lines"
+for f in hexbin-crop.las FSite8_orig-utm.laz; do
+    grep -q "^info: $f \[#*\] 100% " "$dir/tty.lines" || fail "no bar at 100 % for $f on a terminal: $(cat "$dir/tty.lines")"
+done
+grep -q '^  format:            LAZ 1.2' "$dir/tty.lines" || fail "the report is missing on a terminal"
 
 # Header bounds that do not hold the points: hexbin-crop.las's set to zeros.
 python3 - "$data/hexbin-crop.las" "$dir/zeroed.las" <<'PY' || fail "could not write zeroed.las"

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include <fcntl.h>
@@ -52,4 +53,18 @@ TEST_CASE("progress: forced bar reaches 100 % with its label, silent when not a 
         p.advance(5);
     });
     CHECK(silent.empty());
+}
+
+TEST_CASE("progress: work that throws ends the bar's line where it stopped, not at 100 %") {
+    const std::string drawn = captureStderr([] {
+        try {
+            platform::Progress p("decode", 10, true);
+            p.advance(4);
+            throw std::runtime_error("damaged");
+        } catch (const std::runtime_error&) {}
+    });
+    CHECK(drawn.find("decode [") != std::string::npos);
+    CHECK(drawn.find("100%") == std::string::npos);
+    CHECK(drawn.find(" 40%") != std::string::npos);
+    CHECK(drawn.back() == '\n');  // the error line that follows starts a line of its own
 }

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -99,10 +100,14 @@ struct CloudInfo {
     std::optional<LasInfo> las;
 };
 
+/// Told after each chunk of points read: the points read so far and the header's count.
+using InspectProgress = std::function<void(std::uint64_t read, std::uint64_t declared)>;
+
 /// Reads `file` (PCD, PLY, LAS, LAZ or COPC; the content decides, as CloudReader) and
-/// describes it. Throws core::Error("<context>: <file>: what is wrong"), naming the field
-/// and what is allowed, for a file that cannot be read.
-CloudInfo inspectCloud(const std::filesystem::path& file, const char* context);
+/// describes it, telling `progress` (when given) as its points are read. Throws
+/// core::Error("<context>: <file>: what is wrong"), naming the field and what is
+/// allowed, for a file that cannot be read.
+CloudInfo inspectCloud(const std::filesystem::path& file, const char* context, const InspectProgress& progress = {});
 
 /// Where a cloud's points lie, as inspectCloud gives them (has_bounds, min, max).
 struct CloudBounds {

@@ -63,7 +63,9 @@ std::unique_ptr<FormatReader> openLasCounted(ByteSource& source, const std::stri
 LasCrs readLasCrs(ByteSource& source, const std::string& prefix);
 
 /// The LAS part of inspectCloud (las_info.cpp): reads every point of the LAS, LAZ or
-/// COPC file `file` open in `source` and fills `info`. Throws Error("<prefix>: ...").
-void inspectLas(ByteSource& source, const std::string& prefix, const std::filesystem::path& file, CloudInfo& info);
+/// COPC file `file` open in `source` and fills `info`, telling `progress` (when given)
+/// after each chunk. Throws Error("<prefix>: ...").
+void inspectLas(ByteSource& source, const std::string& prefix, const std::filesystem::path& file, CloudInfo& info,
+                const InspectProgress& progress);
 
 }  // namespace io::detail

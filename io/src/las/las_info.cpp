@@ -202,7 +202,8 @@ std::uint64_t copcNodes(const std::filesystem::path& file, const std::string& pr
 
 }  // namespace
 
-void inspectLas(ByteSource& source, const std::string& prefix, const std::filesystem::path& file, CloudInfo& info) {
+void inspectLas(ByteSource& source, const std::string& prefix, const std::filesystem::path& file, CloudInfo& info,
+                const InspectProgress& progress) {
     LasFacts facts;
     LasTally tally;
     // Bins for gaps of kStrayGap_m in metres or in any shorter unit (feet): the span is
@@ -212,9 +213,12 @@ void inspectLas(ByteSource& source, const std::string& prefix, const std::filesy
         const std::unique_ptr<FormatReader> reader = openLasCounted(source, prefix, facts, tally);
         std::vector<core::CloudPoint> chunk;
         chunk.reserve(kChunkPoints);
+        std::uint64_t read = 0;
         while (reader->next(chunk, kChunkPoints) > 0) {
             for (const core::CloudPoint& p : chunk) heights.add(float(double(p.position.z) + reader->origin.z));
+            read += chunk.size();
             chunk.clear();
+            if (progress) progress(read, reader->declared);
         }
     }
     LasInfo las;

@@ -14,6 +14,9 @@ class Progress {
     ~Progress();
     /// Thread-safe enough for one caller; call from the coordinating thread.
     void advance(std::size_t units = 1);
+    /// Draws the final 100 % line (once). The destructor calls it, except while an
+    /// exception unwinds the work: then the bar ends its line where the work stopped,
+    /// so the error that follows starts a line of its own and no failed run shows 100 %.
     void finish();
 
   private:
@@ -21,6 +24,7 @@ class Progress {
     std::string label_;
     std::size_t total_, done_ = 0;
     bool enabled_, finished_ = false;
+    int exceptions_at_start_ = 0;  // std::uncaught_exceptions() when made
     std::chrono::steady_clock::time_point start_, last_draw_;
 };
 
