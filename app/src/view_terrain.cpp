@@ -163,7 +163,7 @@ viewer::ViewTerrain buildTerrain(const fs::path& file, const sim::CoordinateUnit
         return t;
     }
     viewer::ViewTerrain t = fittedGrid(sample.points, sample.origin, units);
-    t.source = "fitted by SMRF on " + withCommas(sample.points.size()) + " of its points";
+    t.source = "a terrain fitted by SMRF on " + withCommas(sample.points.size()) + " of its points";
     return t;
 }
 

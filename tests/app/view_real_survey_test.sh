@@ -67,9 +67,9 @@ grep -q "^ladarvr: view: above-ground colours from the file's class 2 (35,318 po
 
 # 2. No class 2: the terrain is fitted by SMRF on the file's 345,966 points.
 until_terrain smrf "$data/FSite8_orig-utm.laz" -- --colour above-ground
-[ "$(log smrf "j['terrain'].get('source')")" = "fitted by SMRF on 345,966 of its points" ] ||
+[ "$(log smrf "j['terrain'].get('source')")" = "a terrain fitted by SMRF on 345,966 of its points" ] ||
   fail "fitted terrain: $(log smrf "j['terrain']")"
-grep -q "^ladarvr: view: above-ground colours from fitted by SMRF on 345,966 of its points$" "$work/smrf.err" ||
+grep -q "^ladarvr: view: above-ground colours from a terrain fitted by SMRF on 345,966 of its points$" "$work/smrf.err" ||
   fail "no terrain line: $(cat "$work/smrf.err")"
 
 # 3. Heights above ground in the file: no terrain is built, and in another colour mode

@@ -4,7 +4,7 @@
 # tests/viewer/headless_env.sh). Each of its cloud trials gets the ground under its file as
 # `view` gets it (app/src/view_terrain.hpp), not the height-colour fallback:
 #   hexbin-crop.las (class 2)   "the file's class 2 (35,318 points)"
-#   FSite8_orig-utm.laz (no class 2)   "fitted by SMRF on 345,966 of its points"
+#   FSite8_orig-utm.laz (no class 2)   "a terrain fitted by SMRF on 345,966 of its points"
 # Checked: the viewer's stderr line per trial, the run log's events and no colour
 # fallback (neither its warning nor the log's colour_fallback), shown_<N>.json's terrain
 # for the above-ground trials and none for the height ones, and `study --replay` of the
@@ -43,7 +43,7 @@ grep -v '^\s\|^LOG\|^$' "$work/stderr" || true
 [ "$status" = 0 ] || fail "the study exited with status $status"
 
 class2="the file's class 2 (35,318 points)"
-smrf="fitted by SMRF on 345,966 of its points"
+smrf="a terrain fitted by SMRF on 345,966 of its points"
 for source in "$class2" "$smrf"; do
   [ "$(grep -cxF "ladarvr: view: above-ground colours from $source" "$work/stderr")" = 1 ] ||
     fail "not one terrain line '$source' on stderr"

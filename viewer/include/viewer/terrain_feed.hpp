@@ -20,7 +20,7 @@ struct ViewTerrain {
     int nx = 0, ny = 0;
     std::vector<float> z;
     /// Where it came from, for the run log and the panel ("the file's class 2",
-    /// "fitted by SMRF on 1,000,000 of its points").
+    /// "a terrain fitted by SMRF on 1,000,000 of its points").
     std::string source;
 
     bool empty() const { return nx <= 0 || ny <= 0 || z.size() != std::size_t(nx) * std::size_t(ny); }
