@@ -18,6 +18,7 @@
 
 #include "viewer_app.hpp"
 
+#include "points/point_attributes.hpp"
 #include "tools/candidates_tool.hpp"
 #include "tools/colour_tool.hpp"
 #include "tools/comfort_tool.hpp"
@@ -550,6 +551,9 @@ void ViewerApp::drawPanel(int fb_w, int fb_h) {
     trials_.describe(p);
     p.ready_to_start = readyToStart();
     p.hit = tools_.get<PointerTool>().hit();
+    // A survey's points without heights above ground carry their class in the packed word.
+    if (p.hit && stream_.source().fromElsewhere() && !stream_.source().fields().height_above_ground)
+        p.hit->asprs_class = classOfPacked(p.hit->height_above_ground_m);
     if (p.hit)  // the height above a bound terrain, where there is one
         if (const std::optional<double> h = stream_.renderer().heightAboveTerrain(p.hit->local))
             p.hit->height_above_ground_m = float(*h);

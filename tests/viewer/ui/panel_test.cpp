@@ -1,6 +1,7 @@
 // tests/viewer/ui/panel_test.cpp: the settings panel's text (no window): the points drawn
 // are shown per eye against the one copy of the cloud on the GPU; the line saying why the
 // colours shown are not the mode chosen.
+#include "points/point_attributes.hpp"
 #include "ui/panel.hpp"
 
 #include <doctest/doctest.h>
@@ -54,4 +55,15 @@ TEST_CASE("the pick panel gives lengths in the cloud's own units") {
     CHECK(lines[0] == "103.00 204.00 11.00 US ft");
     CHECK(lines[1].starts_with("range 5.0 US ft  "));
     CHECK(lines[2] == "height 2.50 ft");
+}
+
+TEST_CASE("the pick panel names a survey's ASPRS class in place of our role") {
+    PickHit hit;
+    hit.local = {3.0, 4.0, 1.0};
+    PanelView v;
+    CHECK(pickPanelLines(hit, {}, {0.0, 0.0, 1.0}, v)[1] == "range 5.0 m  environment");
+    hit.asprs_class = 6;
+    CHECK(pickPanelLines(hit, {}, {0.0, 0.0, 1.0}, v)[1] == "range 5.0 m  class 6 building");
+    hit.asprs_class = classOfPacked(float(packAttributes(2, 200, 1, 1)));
+    CHECK(pickPanelLines(hit, {}, {0.0, 0.0, 1.0}, v)[1] == "range 5.0 m  class 2 ground");
 }

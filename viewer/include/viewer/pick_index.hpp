@@ -14,6 +14,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -37,6 +38,9 @@ struct PickHit {
     double distance_m = 0.0;  // from the ray's origin
     core::Role label = core::Role::Environment;
     float height_above_ground_m = 0.0f;
+    /// A survey's ASPRS class (a cloud from elsewhere, its classes kept): the pick panel
+    /// names it in place of the role our own clouds carry. Set by the viewer.
+    std::optional<std::uint8_t> asprs_class;
 };
 
 class PickIndex {

@@ -14,6 +14,10 @@ std::uint32_t packAttributes(std::uint8_t cls, std::uint8_t intensity, unsigned 
            (std::min(returns, 7u) << 19);
 }
 
+std::uint8_t classOfPacked(float packed) {
+    return packed >= 0.0f && packed < float(1u << 22) ? std::uint8_t(std::uint32_t(packed) & 0xFFu) : 0;
+}
+
 std::uint8_t classOfLabel(core::Role label) {
     switch (label) {
         case core::Role::Ground: return 2;

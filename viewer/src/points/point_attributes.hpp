@@ -17,6 +17,8 @@ namespace viewer {
 /// number, 19-21 the number of returns (both capped at 7). Below 2^22, so a float holds it
 /// exactly (shaders/include/viewer_point_style.glsl reads it back).
 std::uint32_t packAttributes(std::uint8_t cls, std::uint8_t intensity, unsigned return_number, unsigned returns);
+/// The class of a packed word as a point record holds it (a float of its value).
+std::uint8_t classOfPacked(float packed);
 /// The class our LAS writer gives a label (io::WriteOptions::class_of_role's default):
 /// ground 2, environment 1, target 64.
 std::uint8_t classOfLabel(core::Role label);

@@ -10,8 +10,10 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include <core/scene.hpp>
+#include <io/cloud_info.hpp>
 
 namespace viewer {
 
@@ -151,8 +153,11 @@ std::array<std::string, 3> pickPanelLines(const PickHit& hit, const glm::dvec3& 
     const glm::dvec3 w = hit.local + origin;
     std::array<char, 160> lines[3];
     std::snprintf(lines[0].data(), lines[0].size(), "%.2f %.2f %.2f %s", w.x, w.y, w.z, v.length_unit.c_str());
+    const std::string what =
+        hit.asprs_class ? "class " + std::to_string(*hit.asprs_class) + " " + io::asprsClassName(*hit.asprs_class, 4)
+                        : std::string(core::roleName(hit.label));
     std::snprintf(lines[1].data(), lines[1].size(), "range %.1f %s  %s", glm::length(hit.local - head_local),
-                  v.length_unit.c_str(), std::string(core::roleName(hit.label)).c_str());
+                  v.length_unit.c_str(), what.c_str());
     std::snprintf(lines[2].data(), lines[2].size(), "height %.2f %s", double(hit.height_above_ground_m),
                   v.height_unit.c_str());
     return {lines[0].data(), lines[1].data(), lines[2].data()};
