@@ -71,12 +71,6 @@ std::string engineError(const fs::path& p) {
     return "accepted";
 }
 
-// Waits for the loader thread's end, an event the feed reports; the bound (60 s) only
-// keeps a broken loader from hanging the suite.
-void waitFinished(const CloudFeed& feed) {
-    for (int i = 0; i < 6000 && !feed.finished(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-}
-
 }  // namespace
 
 TEST_CASE("every format streams in chunks with its origin and every field") {
@@ -108,7 +102,7 @@ TEST_CASE("the loader thread feeds the same points") {
     io::writeCloud(path, cloud, io::CloudFormat::PcdBinary);
     CloudFeed feed;
     feed.startFileLoader(path, 128);
-    waitFinished(feed);
+    feed.waitFinished();
     REQUIRE(feed.finished());
     CHECK(feed.error().empty());
     checkSame(drain(feed), cloud.points);
@@ -184,7 +178,7 @@ TEST_CASE("a missing file ends the feed with the reader's error") {
     TempDir dir("viewer_missing");
     CloudFeed feed;
     feed.startFileLoader(dir.path / "missing.pcd");
-    waitFinished(feed);
+    feed.waitFinished();
     REQUIRE(feed.finished());
     CHECK(feed.error() == "pcd: " + (dir.path / "missing.pcd").string() + ": file does not exist");
     CHECK(feed.pointsArrived() == 0);

@@ -53,6 +53,8 @@ class CloudFeed {
     core::CloudFields fields() const;
     bool fromElsewhere() const;
     bool finished() const { return finished_.load(); }
+    /// Blocks until finished() (the loader notifies when it ends).
+    void waitFinished() const { finished_.wait(false); }
     /// The producer's error, if it failed (valid once finished()).
     std::string error() const;
     /// Points appended so far (all chunks, taken or not).

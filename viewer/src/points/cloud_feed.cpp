@@ -62,6 +62,7 @@ void CloudFeed::finish(std::string error) {
         error_ = std::move(error);
     }
     finished_ = true;
+    finished_.notify_all();
 }
 
 std::vector<FeedChunk> CloudFeed::take() {
